@@ -1,0 +1,289 @@
+//! Plane geometry of the method: the *active region* `φ` a user selects (Section 3, "Parameter learning":
+//! "axis-aligned bounding boxes (default), circles, and polygons defined by sketching a nonintersecting closed
+//! contour") and the fraction `α` of a circle inside it used by the window-edge correction of Section 4.1:
+//!
+//! > "we approximate the area dA' = dA ∩ φ by computing for each point the proportion α_{x_i,r} of the outer
+//! > circle's circumference that intersects the active region, and by setting dA' = α_{x_i,r} dA."
+//!
+//! `α` is computed exactly (not by sampling): the circle is cut at its crossings with the region's boundary
+//! (line segments for rectangles and polygons, a second circle for circles), and each arc between two
+//! consecutive crossings is wholly inside or outside, which one test at its midpoint decides.
+
+use crate::error::{Error, Result};
+pub use glam::DVec2;
+use serde::{Deserialize, Serialize};
+use std::f64::consts::TAU;
+
+/// An area of the world plane (XY) selected by the user: where an exemplar is read or where content is painted.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "shape", rename_all = "snake_case")]
+pub enum Region {
+    Rect {
+        min: DVec2,
+        max: DVec2,
+    },
+    Circle {
+        center: DVec2,
+        radius: f64,
+    },
+    /// Closed implicitly, either orientation, non-self-intersecting.
+    Polygon {
+        points: Vec<DVec2>,
+    },
+}
+
+fn finite(p: DVec2) -> bool {
+    p.x.is_finite() && p.y.is_finite()
+}
+
+/// Distance from `p` to the segment `a`-`b`.
+pub fn segment_distance(p: DVec2, a: DVec2, b: DVec2) -> f64 {
+    let ab = b - a;
+    let len2 = ab.length_squared();
+    let t = if len2 > 0.0 {
+        ((p - a).dot(ab) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (a + ab * t).distance(p)
+}
+
+/// Signed area of a closed polygon (positive when counter-clockwise).
+pub fn polygon_signed_area(points: &[DVec2]) -> f64 {
+    let n = points.len();
+    (0..n)
+        .map(|i| points[i].perp_dot(points[(i + 1) % n]))
+        .sum::<f64>()
+        * 0.5
+}
+
+impl Region {
+    /// Rejects regions with zero area, non-finite coordinates or fewer than three polygon points.
+    pub fn validate(&self) -> Result<()> {
+        match self {
+            Region::Rect { min, max } => {
+                if !finite(*min) || !finite(*max) {
+                    return Err(Error::BadRegion("rectangle has non-finite corners".into()));
+                }
+                if max.x <= min.x || max.y <= min.y {
+                    return Err(Error::BadRegion(format!(
+                        "rectangle min {min:?} is not below max {max:?}"
+                    )));
+                }
+            }
+            Region::Circle { center, radius } => {
+                if !finite(*center) || !radius.is_finite() || *radius <= 0.0 {
+                    return Err(Error::BadRegion(format!(
+                        "circle at {center:?} with radius {radius}"
+                    )));
+                }
+            }
+            Region::Polygon { points } => {
+                if points.len() < 3 {
+                    return Err(Error::BadRegion(format!(
+                        "polygon has {} points, needs at least 3",
+                        points.len()
+                    )));
+                }
+                if points.iter().any(|p| !finite(*p)) {
+                    return Err(Error::BadRegion("polygon has non-finite points".into()));
+                }
+                if polygon_signed_area(points).abs() <= 0.0 {
+                    return Err(Error::BadRegion("polygon has zero area".into()));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    pub fn area(&self) -> f64 {
+        match self {
+            Region::Rect { min, max } => ((max.x - min.x) * (max.y - min.y)).max(0.0),
+            Region::Circle { radius, .. } => std::f64::consts::PI * radius * radius,
+            Region::Polygon { points } => polygon_signed_area(points).abs(),
+        }
+    }
+
+    pub fn contains(&self, p: DVec2) -> bool {
+        match self {
+            Region::Rect { min, max } => {
+                p.x >= min.x && p.x <= max.x && p.y >= min.y && p.y <= max.y
+            }
+            Region::Circle { center, radius } => p.distance_squared(*center) <= radius * radius,
+            Region::Polygon { points } => {
+                // even-odd rule by a horizontal ray
+                let n = points.len();
+                let mut inside = false;
+                let mut j = n.wrapping_sub(1);
+                for i in 0..n {
+                    let (a, b) = (points[i], points[j]);
+                    if (a.y > p.y) != (b.y > p.y) {
+                        let x = a.x + (p.y - a.y) * (b.x - a.x) / (b.y - a.y);
+                        if p.x < x {
+                            inside = !inside;
+                        }
+                    }
+                    j = i;
+                }
+                inside
+            }
+        }
+    }
+
+    /// Axis-aligned bounding box (min, max).
+    pub fn bbox(&self) -> (DVec2, DVec2) {
+        match self {
+            Region::Rect { min, max } => (*min, *max),
+            Region::Circle { center, radius } => (
+                *center - DVec2::splat(*radius),
+                *center + DVec2::splat(*radius),
+            ),
+            Region::Polygon { points } => points.iter().fold(
+                (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+                |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+            ),
+        }
+    }
+
+    /// Distance from `p` to the region's boundary (whether `p` is inside or not).
+    pub fn distance_to_boundary(&self, p: DVec2) -> f64 {
+        match self {
+            Region::Rect { min, max } => {
+                if self.contains(p) {
+                    (p.x - min.x)
+                        .min(max.x - p.x)
+                        .min(p.y - min.y)
+                        .min(max.y - p.y)
+                } else {
+                    let d = (*min - p).max(p - *max).max(DVec2::ZERO);
+                    d.length()
+                }
+            }
+            Region::Circle { center, radius } => (p.distance(*center) - radius).abs(),
+            Region::Polygon { points } => {
+                let n = points.len();
+                (0..n)
+                    .map(|i| segment_distance(p, points[i], points[(i + 1) % n]))
+                    .fold(f64::INFINITY, f64::min)
+            }
+        }
+    }
+
+    /// 0 inside, else the distance to the region's boundary.
+    pub fn distance_outside(&self, p: DVec2) -> f64 {
+        if self.contains(p) {
+            0.0
+        } else {
+            self.distance_to_boundary(p)
+        }
+    }
+
+    /// Fraction `α ∈ [0, 1]` of the circumference of the circle `C(p, r)` that lies inside the region
+    /// (the window-edge correction of Section 4.1). Exact: see the module documentation.
+    pub fn circle_fraction_inside(&self, p: DVec2, r: f64) -> f64 {
+        if !(r > 0.0) || !r.is_finite() {
+            return if self.contains(p) { 1.0 } else { 0.0 };
+        }
+        let inside_now = self.contains(p);
+        let d = self.distance_to_boundary(p);
+        if d >= r {
+            return if inside_now { 1.0 } else { 0.0 };
+        }
+        let mut angles: Vec<f64> = Vec::with_capacity(8);
+        let mut push_segment = |a: DVec2, b: DVec2| {
+            // |a + t (b - a) - p| = r, t in [0, 1]
+            let ab = b - a;
+            let ap = a - p;
+            let qa = ab.length_squared();
+            if qa <= 0.0 {
+                return;
+            }
+            let qb = 2.0 * ap.dot(ab);
+            let qc = ap.length_squared() - r * r;
+            let disc = qb * qb - 4.0 * qa * qc;
+            if disc < 0.0 {
+                return;
+            }
+            let s = disc.sqrt();
+            for t in [(-qb - s) / (2.0 * qa), (-qb + s) / (2.0 * qa)] {
+                if (0.0..=1.0).contains(&t) {
+                    let q = a + ab * t - p;
+                    angles.push(q.y.atan2(q.x).rem_euclid(TAU));
+                }
+            }
+        };
+        match self {
+            Region::Rect { min, max } => {
+                let c = [
+                    *min,
+                    DVec2::new(max.x, min.y),
+                    *max,
+                    DVec2::new(min.x, max.y),
+                ];
+                for i in 0..4 {
+                    push_segment(c[i], c[(i + 1) % 4]);
+                }
+            }
+            Region::Polygon { points } => {
+                let n = points.len();
+                for i in 0..n {
+                    push_segment(points[i], points[(i + 1) % n]);
+                }
+            }
+            Region::Circle { center, radius } => {
+                // intersection of two circles
+                let dv = *center - p;
+                let dist = dv.length();
+                if dist > 0.0 && dist <= r + radius && dist >= (r - radius).abs() {
+                    let base = dv.y.atan2(dv.x);
+                    let cos_half = ((r * r + dist * dist - radius * radius) / (2.0 * r * dist))
+                        .clamp(-1.0, 1.0);
+                    let half = cos_half.acos();
+                    angles.push((base - half).rem_euclid(TAU));
+                    angles.push((base + half).rem_euclid(TAU));
+                }
+            }
+        }
+        if angles.is_empty() {
+            let probe = p + DVec2::new(r, 0.0);
+            return if self.contains(probe) { 1.0 } else { 0.0 };
+        }
+        angles.sort_by(f64::total_cmp);
+        let mut inside = 0.0;
+        for i in 0..angles.len() {
+            let a0 = angles[i];
+            let a1 = if i + 1 < angles.len() {
+                angles[i + 1]
+            } else {
+                angles[0] + TAU
+            };
+            let span = a1 - a0;
+            if span <= 0.0 {
+                continue;
+            }
+            let mid = 0.5 * (a0 + a1);
+            if self.contains(p + DVec2::new(mid.cos(), mid.sin()) * r) {
+                inside += span;
+            }
+        }
+        (inside / TAU).clamp(0.0, 1.0)
+    }
+
+    /// The smaller side of the bounding box (a size scale of the region).
+    pub fn smaller_side(&self) -> f64 {
+        let (lo, hi) = self.bbox();
+        (hi.x - lo.x).min(hi.y - lo.y)
+    }
+
+    /// Uniform random point in the region (rejection from the bounding box); `None` after many misses.
+    pub fn sample_uniform<R: rand::Rng>(&self, rng: &mut R) -> Option<DVec2> {
+        let (lo, hi) = self.bbox();
+        for _ in 0..1000 {
+            let p = DVec2::new(rng.random_range(lo.x..=hi.x), rng.random_range(lo.y..=hi.y));
+            if self.contains(p) {
+                return Some(p);
+            }
+        }
+        None
+    }
+}

@@ -1,0 +1,33 @@
+//! # worldpaint-core
+//!
+//! The engine of worldpaint: an implementation of *WorldBrush: Interactive Example-based Synthesis of Procedural
+//! Virtual Worlds* (Emilien et al., SIGGRAPH 2015). An exemplar arrangement of instances (trees, rocks, grass on a
+//! terrain) is analysed into a *color* — interaction histograms between categories (radial distribution functions,
+//! eq. (2)), map-sampling histograms of external maps such as slope — and a Metropolis-Hastings birth-and-death
+//! sampler (eq. (1)) paints new arrangements with the same statistics into any region, consistent with what
+//! surrounds it (the region of influence).
+//!
+//! | module | part of the paper |
+//! |---|---|
+//! | [`geom`] | active regions, window-edge correction α (§3, §4.1) |
+//! | [`spatial`] | neighbour queries behind the product simplification (§6) |
+//! | [`terrain`] | the terrain and its external maps (§3) |
+//! | [`scene`] | categories, priority order, instances (§3) |
+//! | [`palette`] | histograms, colors, palettes (§3, §4.1) |
+//! | [`analysis`] | learning a color (§4.1) |
+//! | [`compare`] | fidelity metrics between two colors |
+//! | [`synthesis`] | Metropolis-Hastings synthesis with a region of influence (§4.1, §4.3, §5.1, §6) |
+//! | [`exemplar`] | generating processes for demo scenes, tests and benchmarks |
+
+pub mod error;
+pub mod geom;
+pub mod palette;
+pub mod scene;
+pub mod spatial;
+pub mod terrain;
+
+pub use error::{Error, Result};
+pub use geom::Region;
+pub use palette::{Color, Palette};
+pub use scene::{Category, CategoryKind, Instance, Scene};
+pub use terrain::Heightfield;

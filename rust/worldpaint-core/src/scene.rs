@@ -1,0 +1,97 @@
+//! The scene the user paints on (Section 3, "Input data"): object *categories* with a *layer* and a *type*
+//! (distribution, graph, polygon, external), a predefined *priority order* ("Scene objects are generated category
+//! by category ... we set a predefined category priority order"), the instances of distribution categories and
+//! the terrain that carries the external maps.
+
+use crate::terrain::Heightfield;
+use glam::DVec2;
+use serde::{Deserialize, Serialize};
+
+/// The data type of a category (Table 1 of the paper).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum CategoryKind {
+    Distribution,
+    Graph,
+    Polygon,
+    External,
+}
+
+/// A category of scene objects. Lower `priority` value = synthesized first (higher priority).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Category {
+    pub name: String,
+    pub layer: String,
+    pub kind: CategoryKind,
+    pub priority: i32,
+}
+
+impl Category {
+    /// A distribution category.
+    pub fn distribution(name: &str, layer: &str, priority: i32) -> Self {
+        Category {
+            name: name.to_string(),
+            layer: layer.to_string(),
+            kind: CategoryKind::Distribution,
+            priority,
+        }
+    }
+}
+
+/// One placed object: where it stands, how it is turned (about Z) and scaled, which category
+/// (index into `Scene::categories`) and which prototype model of that category it shows.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Instance {
+    pub position: DVec2,
+    pub rotation: f64,
+    pub scale: f64,
+    pub category: usize,
+    pub prototype: u32,
+}
+
+impl Instance {
+    /// An instance with no rotation, unit scale and the first prototype.
+    pub fn at(position: DVec2, category: usize) -> Self {
+        Instance {
+            position,
+            rotation: 0.0,
+            scale: 1.0,
+            category,
+            prototype: 0,
+        }
+    }
+}
+
+/// Categories, instances and the terrain of a virtual world.
+#[derive(Clone, Debug, Default)]
+pub struct Scene {
+    pub categories: Vec<Category>,
+    pub instances: Vec<Instance>,
+    pub terrain: Option<Heightfield>,
+}
+
+impl Scene {
+    pub fn category_index(&self, name: &str) -> Option<usize> {
+        self.categories.iter().position(|c| c.name == name)
+    }
+
+    /// Adds the category if absent (by name), returns its index.
+    pub fn ensure_category(&mut self, c: &Category) -> usize {
+        match self.category_index(&c.name) {
+            Some(i) => i,
+            None => {
+                self.categories.push(c.clone());
+                self.categories.len() - 1
+            }
+        }
+    }
+
+    /// Positions of the instances of one category.
+    pub fn positions_of(&self, category: usize) -> Vec<DVec2> {
+        self.instances
+            .iter()
+            .filter(|i| i.category == category)
+            .map(|i| i.position)
+            .collect()
+    }
+}

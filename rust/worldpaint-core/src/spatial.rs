@@ -1,0 +1,152 @@
+//! Uniform-grid index for fixed-radius neighbour queries. The Metropolis-Hastings inner loop of Section 4.1
+//! evaluates, for one changed point `p`, only the factors `h(d(p, y_j))` of its neighbours closer than the
+//! histograms' maximum radius (the product simplification of Section 6); with cells as large as that radius a
+//! query visits at most 3×3 cells.
+//!
+//! Points outside the grid's box are clamped into the border cells, so queries stay correct for them too.
+
+use glam::DVec2;
+
+/// One indexed point: its position, a caller-defined `tag` (e.g. which interaction table applies) and `id`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GridEntry {
+    pub position: DVec2,
+    pub tag: u32,
+    pub id: u32,
+}
+
+/// A uniform grid of square cells over a box.
+#[derive(Clone, Debug)]
+pub struct SpatialGrid {
+    origin: DVec2,
+    cell: f64,
+    nx: usize,
+    ny: usize,
+    cells: Vec<Vec<GridEntry>>,
+    len: usize,
+}
+
+impl SpatialGrid {
+    /// Grid over the box `min..max` with cells of side `cell` (normally the largest query radius).
+    /// The cell count is capped (4M cells) by enlarging cells, which keeps queries correct.
+    pub fn new(min: DVec2, max: DVec2, cell: f64) -> Self {
+        let ext = (max - min).max(DVec2::splat(1e-9));
+        let mut cell = if cell.is_finite() && cell > 0.0 {
+            cell
+        } else {
+            ext.x.max(ext.y)
+        };
+        let max_cells = 4_000_000.0;
+        if (ext.x / cell + 1.0) * (ext.y / cell + 1.0) > max_cells {
+            cell = (ext.x * ext.y / max_cells).sqrt().max(cell);
+        }
+        let nx = ((ext.x / cell).floor() as usize + 1).max(1);
+        let ny = ((ext.y / cell).floor() as usize + 1).max(1);
+        SpatialGrid {
+            origin: min,
+            cell,
+            nx,
+            ny,
+            cells: vec![Vec::new(); nx * ny],
+            len: 0,
+        }
+    }
+
+    pub fn len(&self) -> usize {
+        self.len
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    fn cell_coords(&self, p: DVec2) -> (usize, usize) {
+        let fx = ((p.x - self.origin.x) / self.cell).floor();
+        let fy = ((p.y - self.origin.y) / self.cell).floor();
+        let cx = if fx.is_finite() {
+            fx.clamp(0.0, (self.nx - 1) as f64) as usize
+        } else {
+            0
+        };
+        let cy = if fy.is_finite() {
+            fy.clamp(0.0, (self.ny - 1) as f64) as usize
+        } else {
+            0
+        };
+        (cx, cy)
+    }
+
+    pub fn insert(&mut self, entry: GridEntry) {
+        let (cx, cy) = self.cell_coords(entry.position);
+        self.cells[cy * self.nx + cx].push(entry);
+        self.len += 1;
+    }
+
+    /// Removes the entry with this `id` stored at `position`; returns whether it was found.
+    pub fn remove(&mut self, position: DVec2, id: u32) -> bool {
+        let (cx, cy) = self.cell_coords(position);
+        let cell = &mut self.cells[cy * self.nx + cx];
+        if let Some(k) = cell.iter().position(|e| e.id == id) {
+            cell.swap_remove(k);
+            self.len -= 1;
+            true
+        } else {
+            false
+        }
+    }
+
+    /// Changes the id of the entry stored at `position` with id `old` (used when the owner array compacts).
+    pub fn rename(&mut self, position: DVec2, old: u32, new: u32) -> bool {
+        let (cx, cy) = self.cell_coords(position);
+        let cell = &mut self.cells[cy * self.nx + cx];
+        if let Some(e) = cell.iter_mut().find(|e| e.id == old) {
+            e.id = new;
+            true
+        } else {
+            false
+        }
+    }
+
+    /// Calls `visit(entry, distance²)` for every entry within `radius` of `p` (inclusive).
+    #[inline]
+    pub fn for_each_within<F: FnMut(&GridEntry, f64)>(&self, p: DVec2, radius: f64, mut visit: F) {
+        let r2 = radius * radius;
+        let (x0, y0) = self.cell_coords(p - DVec2::splat(radius));
+        let (x1, y1) = self.cell_coords(p + DVec2::splat(radius));
+        for cy in y0..=y1 {
+            let row = cy * self.nx;
+            for cx in x0..=x1 {
+                for e in &self.cells[row + cx] {
+                    let d2 = e.position.distance_squared(p);
+                    if d2 <= r2 {
+                        visit(e, d2);
+                    }
+                }
+            }
+        }
+    }
+
+    /// Entries within `radius` of `p`.
+    pub fn query(&self, p: DVec2, radius: f64) -> Vec<GridEntry> {
+        let mut out = Vec::new();
+        self.for_each_within(p, radius, |e, _| out.push(*e));
+        out
+    }
+
+    /// Whether any entry other than `skip_id` lies strictly closer than `radius` to `p`.
+    pub fn any_closer_than(&self, p: DVec2, radius: f64, skip_id: Option<u32>) -> bool {
+        let r2 = radius * radius;
+        let (x0, y0) = self.cell_coords(p - DVec2::splat(radius));
+        let (x1, y1) = self.cell_coords(p + DVec2::splat(radius));
+        for cy in y0..=y1 {
+            for cx in x0..=x1 {
+                for e in &self.cells[cy * self.nx + cx] {
+                    if Some(e.id) != skip_id && e.position.distance_squared(p) < r2 {
+                        return true;
+                    }
+                }
+            }
+        }
+        false
+    }
+}
