@@ -19,15 +19,22 @@
 //! | [`synthesis`] | Metropolis-Hastings synthesis with a region of influence (§4.1, §4.3, §5.1, §6) |
 //! | [`exemplar`] | generating processes for demo scenes, tests and benchmarks |
 
+pub mod analysis;
+pub mod compare;
 pub mod error;
+pub mod exemplar;
 pub mod geom;
 pub mod palette;
 pub mod scene;
 pub mod spatial;
+pub mod synthesis;
 pub mod terrain;
 
+pub use analysis::{learn_color, AnalysisOptions};
+pub use compare::{compare, Fidelity};
 pub use error::{Error, Result};
 pub use geom::Region;
 pub use palette::{Color, Palette};
 pub use scene::{Category, CategoryKind, Instance, Scene};
+pub use synthesis::{synthesize, synthesize_with_progress, SynthesisOptions, SynthesisResult};
 pub use terrain::Heightfield;

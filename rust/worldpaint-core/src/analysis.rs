@@ -1,0 +1,558 @@
+//! Learning a color from an exemplar region (Section 4.1, "Distributions and Their Interactions").
+//!
+//! For every distribution category `C_X` (in priority order) and every category `C_Y` of equal or higher
+//! priority (including `C_X` itself) we compute the radial distribution function of eq. (2),
+//!
+//! ```text
+//! h_rdf(k) = Σ_{x_i ∈ X} Σ_{y_j ∈ Y, k d_r ≤ d(x_i, y_j) < (k+1) d_r}  A / (dA' n_X n_Y)
+//! ```
+//!
+//! with the window-edge correction `dA' = α_{x_i,r} dA` ("the proportion α of the outer circle's circumference
+//! that intersects the active region"). Two details differ from the letter of the paper, both so that a Poisson
+//! arrangement gives exactly `h ≡ 1` in expectation (the neutral factor of the synthesis product):
+//! * α is taken on the shell's middle circle `r = (k + ½) d_r`, a better estimate of `|dA ∩ φ| / |dA|` than
+//!   the outer circle;
+//! * for `Y = X` the normalization uses `n_X (n_X − 1)` pairs (a point is not its own neighbour).
+//!
+//! α is floored at 0.05 so a point in a sharp polygon corner cannot blow a bin up.
+//!
+//! Pairs listed in `AnalysisOptions::oriented` also get the oriented rdf `h_ordf` (distance × angle of the vector
+//! `y − x` relative to world X, folded to [0, π)), normalized the same way per angular sector.
+//!
+//! Map sampling `h_m` (Section 4.1): the histogram of a map's value at the instances, divided by `n_X`; we also
+//! store the histogram of the same map over the whole exemplar region, used by synthesis to turn `h_m` into a
+//! *preference* (see `synthesis`).
+//!
+//! ## Bin width and maximum radius (when not given)
+//! `max_radius = 3 / √λ_min`, where `λ_min` is the density of the sparsest category with at least 5 instances
+//! (any with 2 if none has 5): three mean spacings of the sparsest category, which spans its clusters or its
+//! hard-core ring and the first neighbours. It is bounded by a quarter of the region's smaller side so the
+//! window-edge correction stays reliable. `bin_width = max_radius / 24`.
+
+use crate::error::{Error, Result};
+use crate::geom::{DVec2, Region};
+use crate::palette::{
+    CategoryColor, Color, Histogram, Interaction, MapInteraction, PairInteraction,
+};
+use crate::scene::{Category, CategoryKind, Instance, Scene};
+use crate::spatial::{GridEntry, SpatialGrid};
+use crate::terrain::Heightfield;
+use rayon::prelude::*;
+use std::f64::consts::{PI, TAU};
+
+/// Number of distance bins when the bin width is chosen automatically.
+pub const DEFAULT_RDF_BINS: usize = 24;
+/// Angular bins of an oriented rdf over [0, π).
+pub const ORIENTED_ANGLE_BINS: usize = 12;
+/// Slope histograms use fixed bins of 2.5° from 0 (so any two are comparable bin by bin).
+pub const SLOPE_BIN_DEGREES: f64 = 2.5;
+/// Bins of the histogram of any other map, spread over the map's range in the exemplar region.
+pub const MAP_BINS: usize = 24;
+const ALPHA_FLOOR: f64 = 0.05;
+
+/// How to learn a color.
+#[derive(Clone, Debug, Default)]
+pub struct AnalysisOptions {
+    /// None = `max_radius / 24`.
+    pub bin_width: Option<f64>,
+    /// None = the rule in the module documentation.
+    pub max_radius: Option<f64>,
+    /// Category pairs (category, other) that also get an oriented rdf.
+    pub oriented: Vec<(String, String)>,
+    /// Map names to sample; empty = ["elevation", "slope"] when a terrain is present.
+    pub maps: Vec<String>,
+}
+
+/// Instances of one category inside the exemplar region.
+struct Group<'a> {
+    category: &'a Category,
+    instances: Vec<&'a Instance>,
+    positions: Vec<DVec2>,
+}
+
+/// Learn a color from the scene's instances of kind Distribution inside `region`.
+pub fn learn_color(
+    scene: &Scene,
+    region: &Region,
+    name: &str,
+    opts: &AnalysisOptions,
+) -> Result<Color> {
+    region.validate()?;
+    let area = region.area();
+    // categories in priority order (ties: order in the scene)
+    let mut order: Vec<usize> = (0..scene.categories.len())
+        .filter(|&c| scene.categories[c].kind == CategoryKind::Distribution)
+        .collect();
+    order.sort_by_key(|&c| (scene.categories[c].priority, c));
+    let mut groups: Vec<Group> = Vec::new();
+    for &c in &order {
+        let instances: Vec<&Instance> = scene
+            .instances
+            .iter()
+            .filter(|i| i.category == c && region.contains(i.position))
+            .collect();
+        if instances.is_empty() {
+            continue;
+        }
+        if instances
+            .iter()
+            .any(|i| !(i.position.x.is_finite() && i.position.y.is_finite()))
+        {
+            return Err(Error::InvalidInput(format!(
+                "category '{}' has instances at non-finite positions",
+                scene.categories[c].name
+            )));
+        }
+        let positions = instances.iter().map(|i| i.position).collect();
+        groups.push(Group {
+            category: &scene.categories[c],
+            instances,
+            positions,
+        });
+    }
+    if groups.is_empty() {
+        return Err(Error::EmptyExemplar(format!(
+            "no distribution instances inside the region (bbox {:?})",
+            region.bbox()
+        )));
+    }
+
+    let max_radius = match opts.max_radius {
+        Some(r) if r.is_finite() && r > 0.0 => r,
+        Some(r) => {
+            return Err(Error::InvalidInput(format!(
+                "max_radius {r} must be positive"
+            )))
+        }
+        None => default_max_radius(region, &groups),
+    };
+    let bin_width = match opts.bin_width {
+        Some(w) if w.is_finite() && w > 0.0 && w <= max_radius => w,
+        Some(w) => {
+            return Err(Error::InvalidInput(format!(
+                "bin_width {w} must be positive and at most max_radius {max_radius}"
+            )))
+        }
+        None => max_radius / DEFAULT_RDF_BINS as f64,
+    };
+    let n_bins = ((max_radius / bin_width).round() as usize).max(1);
+
+    let grids: Vec<SpatialGrid> = groups
+        .iter()
+        .map(|g| {
+            let (lo, hi) = region.bbox();
+            let mut grid = SpatialGrid::new(lo, hi, max_radius);
+            for (k, p) in g.positions.iter().enumerate() {
+                grid.insert(GridEntry {
+                    position: *p,
+                    tag: 0,
+                    id: k as u32,
+                });
+            }
+            grid
+        })
+        .collect();
+
+    let mut categories = Vec::with_capacity(groups.len());
+    for (gi, g) in groups.iter().enumerate() {
+        categories.push(category_color(g, area, &grids[gi], max_radius));
+    }
+
+    let mut pairs = Vec::new();
+    for (xi, gx) in groups.iter().enumerate() {
+        for (yi, gy) in groups.iter().enumerate().take(xi + 1) {
+            let same = xi == yi;
+            let hist = rdf(
+                region,
+                area,
+                &gx.positions,
+                &gy.positions,
+                &grids[yi],
+                same,
+                bin_width,
+                n_bins,
+            );
+            pairs.push(PairInteraction {
+                category: gx.category.name.clone(),
+                other: gy.category.name.clone(),
+                interaction: Interaction::Rdf { hist },
+            });
+            let wanted = opts.oriented.iter().any(|(a, b)| {
+                (a == &gx.category.name && b == &gy.category.name)
+                    || (b == &gx.category.name && a == &gy.category.name)
+            });
+            if wanted {
+                let values = oriented_rdf(
+                    region,
+                    area,
+                    &gx.positions,
+                    &gy.positions,
+                    &grids[yi],
+                    same,
+                    bin_width,
+                    n_bins,
+                );
+                pairs.push(PairInteraction {
+                    category: gx.category.name.clone(),
+                    other: gy.category.name.clone(),
+                    interaction: Interaction::OrientedRdf {
+                        distance_bin: bin_width,
+                        angle_bins: ORIENTED_ANGLE_BINS,
+                        values,
+                    },
+                });
+            }
+        }
+    }
+
+    let map_names: Vec<String> = if !opts.maps.is_empty() {
+        opts.maps.clone()
+    } else if scene.terrain.is_some() {
+        vec!["elevation".into(), "slope".into()]
+    } else {
+        Vec::new()
+    };
+    let mut maps = Vec::new();
+    if !map_names.is_empty() {
+        let terrain = scene.terrain.as_ref().ok_or_else(|| {
+            Error::InvalidInput(format!(
+                "maps {map_names:?} asked for but the scene has no terrain"
+            ))
+        })?;
+        let samples = region_lattice(region, terrain);
+        if samples.is_empty() {
+            return Err(Error::RegionOffTerrain(format!(
+                "exemplar region bbox {:?} does not overlap the terrain {:?}",
+                region.bbox(),
+                terrain.bbox()
+            )));
+        }
+        for map in &map_names {
+            if !terrain.maps.contains_key(map) {
+                return Err(Error::InvalidInput(format!("terrain has no map '{map}'")));
+            }
+            let values: Vec<f64> = samples
+                .iter()
+                .filter_map(|p| terrain.map_at(map, *p))
+                .collect();
+            let mut region_hist = map_bins(map, &values);
+            for v in &values {
+                region_hist.add(*v, 1.0);
+            }
+            let region_hist = region_hist.normalized();
+            for g in &groups {
+                let mut hist = Histogram::zeros(
+                    region_hist.start,
+                    region_hist.bin_width,
+                    region_hist.values.len(),
+                );
+                for p in &g.positions {
+                    if let Some(v) = terrain.map_at(map, *p) {
+                        // values beyond the region's range land in the end bins
+                        let v = v.clamp(hist.start, hist.end() - 1e-9 * hist.bin_width);
+                        hist.add(v, 1.0);
+                    }
+                }
+                maps.push(MapInteraction {
+                    category: g.category.name.clone(),
+                    map: map.clone(),
+                    hist: hist.normalized(),
+                    region_hist: region_hist.clone(),
+                });
+            }
+        }
+    }
+
+    let (lo, _) = region.bbox();
+    let total: usize = groups.iter().map(|g| g.positions.len()).sum();
+    let step = total.div_ceil(20_000).max(1);
+    let preview = groups
+        .iter()
+        .enumerate()
+        .flat_map(|(gi, g)| {
+            g.positions
+                .iter()
+                .map(move |p| [p.x - lo.x, p.y - lo.y, gi as f64])
+        })
+        .step_by(step)
+        .collect();
+
+    Ok(Color {
+        name: name.to_string(),
+        region: region.clone(),
+        region_area: area,
+        max_radius,
+        bin_width,
+        categories,
+        pairs,
+        maps,
+        preview,
+    })
+}
+
+fn default_max_radius(region: &Region, groups: &[Group]) -> f64 {
+    let area = region.area();
+    let cap = 0.25 * region.smaller_side();
+    let sparsest = |min_count: usize| {
+        groups
+            .iter()
+            .filter(|g| g.positions.len() >= min_count)
+            .map(|g| g.positions.len())
+            .min()
+    };
+    match sparsest(5).or_else(|| sparsest(2)) {
+        Some(n) => (3.0 / (n as f64 / area).sqrt()).min(cap),
+        None => cap,
+    }
+}
+
+/// Count, density, smallest same-category distance, scale / rotation histograms and prototype weights.
+fn category_color(g: &Group, area: f64, grid: &SpatialGrid, max_radius: f64) -> CategoryColor {
+    let n = g.positions.len();
+    let min_distance = (0..n)
+        .into_par_iter()
+        .map(|k| {
+            let p = g.positions[k];
+            let mut best = f64::INFINITY;
+            grid.for_each_within(p, max_radius, |e, d2| {
+                if e.id != k as u32 {
+                    best = best.min(d2);
+                }
+            });
+            best
+        })
+        .collect::<Vec<f64>>()
+        .into_iter()
+        .fold(f64::INFINITY, f64::min)
+        .sqrt();
+    // beyond max_radius the exact value does not matter to synthesis: report it only when seen
+    let scales: Vec<f64> = g
+        .instances
+        .iter()
+        .map(|i| i.scale)
+        .filter(|s| s.is_finite())
+        .collect();
+    let (smin, smax) = scales
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), s| {
+            (a.min(*s), b.max(*s))
+        });
+    let scale = if scales.is_empty() {
+        Histogram {
+            start: 1.0,
+            bin_width: 1e-6,
+            values: vec![1.0],
+        }
+    } else {
+        let width = ((smax - smin) / 16.0).max(1e-6 * smax.abs().max(1.0));
+        let mut h = Histogram::zeros(smin, width, ((smax - smin) / width).floor() as usize + 1);
+        for s in &scales {
+            h.add(*s, 1.0);
+        }
+        h.normalized()
+    };
+    let mut rotation = Histogram::zeros(0.0, TAU / 36.0, 36);
+    for i in &g.instances {
+        if i.rotation.is_finite() {
+            let r = i.rotation.rem_euclid(TAU).min(TAU - 1e-12);
+            rotation.add(r, 1.0);
+        }
+    }
+    let max_proto = g
+        .instances
+        .iter()
+        .map(|i| i.prototype.min(65_535) as usize)
+        .max()
+        .unwrap_or(0);
+    let mut prototype_weights = vec![0.0; max_proto + 1];
+    for i in &g.instances {
+        prototype_weights[i.prototype.min(65_535) as usize] += 1.0;
+    }
+    let total: f64 = prototype_weights.iter().sum();
+    prototype_weights.iter_mut().for_each(|w| *w /= total);
+    CategoryColor {
+        category: g.category.clone(),
+        count: n,
+        density: n as f64 / area,
+        min_distance,
+        scale,
+        rotation: rotation.normalized(),
+        prototype_weights,
+    }
+}
+
+/// α per distance bin for the point `p` (1 everywhere when the whole disc lies inside).
+fn alphas(region: &Region, p: DVec2, bin_width: f64, n_bins: usize) -> Vec<f64> {
+    if region.contains(p) && region.distance_to_boundary(p) >= bin_width * n_bins as f64 {
+        return vec![1.0; n_bins];
+    }
+    (0..n_bins)
+        .map(|k| {
+            region
+                .circle_fraction_inside(p, (k as f64 + 0.5) * bin_width)
+                .max(ALPHA_FLOOR)
+        })
+        .collect()
+}
+
+/// Window-corrected rdf of eq. (2) between `xs` and the points of `grid_y` (`ys`).
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn rdf(
+    region: &Region,
+    area: f64,
+    xs: &[DVec2],
+    ys: &[DVec2],
+    grid_y: &SpatialGrid,
+    same: bool,
+    bin_width: f64,
+    n_bins: usize,
+) -> Histogram {
+    let pairs_norm = xs.len() as f64 * (ys.len() as f64 - if same { 1.0 } else { 0.0 });
+    let mut hist = Histogram::zeros(0.0, bin_width, n_bins);
+    if pairs_norm <= 0.0 {
+        return hist;
+    }
+    let r_max = bin_width * n_bins as f64;
+    // per-point contributions in parallel, summed in a fixed order (deterministic)
+    let per_point: Vec<Vec<f64>> = xs
+        .par_iter()
+        .enumerate()
+        .map(|(k, &p)| {
+            let mut counts = vec![0.0; n_bins];
+            grid_y.for_each_within(p, r_max, |e, d2| {
+                if same && e.id == k as u32 {
+                    return;
+                }
+                let b = (d2.sqrt() / bin_width) as usize;
+                if b < n_bins {
+                    counts[b] += 1.0;
+                }
+            });
+            if counts.iter().any(|c| *c > 0.0) {
+                let a = alphas(region, p, bin_width, n_bins);
+                for (c, alpha) in counts.iter_mut().zip(&a) {
+                    *c /= alpha;
+                }
+            }
+            counts
+        })
+        .collect();
+    for counts in per_point {
+        for (h, c) in hist.values.iter_mut().zip(counts) {
+            *h += c;
+        }
+    }
+    for (k, h) in hist.values.iter_mut().enumerate() {
+        let shell = PI * bin_width * bin_width * ((k + 1).pow(2) - k.pow(2)) as f64;
+        *h *= area / (shell * pairs_norm);
+    }
+    hist
+}
+
+/// Oriented rdf: like [`rdf`] with each shell split into `ORIENTED_ANGLE_BINS` sectors of the folded angle.
+#[allow(clippy::too_many_arguments)]
+fn oriented_rdf(
+    region: &Region,
+    area: f64,
+    xs: &[DVec2],
+    ys: &[DVec2],
+    grid_y: &SpatialGrid,
+    same: bool,
+    bin_width: f64,
+    n_bins: usize,
+) -> Vec<f64> {
+    let na = ORIENTED_ANGLE_BINS;
+    let pairs_norm = xs.len() as f64 * (ys.len() as f64 - if same { 1.0 } else { 0.0 });
+    let mut values = vec![0.0; n_bins * na];
+    if pairs_norm <= 0.0 {
+        return values;
+    }
+    let r_max = bin_width * n_bins as f64;
+    let per_point: Vec<Vec<f64>> = xs
+        .par_iter()
+        .enumerate()
+        .map(|(k, &p)| {
+            let mut counts = vec![0.0; n_bins * na];
+            grid_y.for_each_within(p, r_max, |e, d2| {
+                if same && e.id == k as u32 {
+                    return;
+                }
+                let b = (d2.sqrt() / bin_width) as usize;
+                if b < n_bins {
+                    counts[b * na + folded_angle_bin(e.position - p, na)] += 1.0;
+                }
+            });
+            if counts.iter().any(|c| *c > 0.0) {
+                let a = alphas(region, p, bin_width, n_bins);
+                for (idx, c) in counts.iter_mut().enumerate() {
+                    *c /= a[idx / na];
+                }
+            }
+            counts
+        })
+        .collect();
+    for counts in per_point {
+        for (h, c) in values.iter_mut().zip(counts) {
+            *h += c;
+        }
+    }
+    for (idx, h) in values.iter_mut().enumerate() {
+        let k = idx / na;
+        let sector = PI * bin_width * bin_width * ((k + 1).pow(2) - k.pow(2)) as f64 / na as f64;
+        *h *= area / (sector * pairs_norm);
+    }
+    values
+}
+
+/// Bin of the direction of `v` relative to world X, folded to [0, π).
+#[inline]
+pub(crate) fn folded_angle_bin(v: DVec2, angle_bins: usize) -> usize {
+    let a = v.y.atan2(v.x).rem_euclid(PI);
+    ((a / PI * angle_bins as f64) as usize).min(angle_bins - 1)
+}
+
+/// Bins of a map histogram: fixed 2.5° bins for "slope", else the values' range in `MAP_BINS` bins.
+fn map_bins(map: &str, values: &[f64]) -> Histogram {
+    if map == "slope" {
+        let w = SLOPE_BIN_DEGREES.to_radians();
+        return Histogram::zeros(0.0, w, (90.0 / SLOPE_BIN_DEGREES) as usize + 1);
+    }
+    let (lo, hi) = values
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+            (a.min(*v), b.max(*v))
+        });
+    if !(lo.is_finite() && hi.is_finite()) {
+        return Histogram::zeros(0.0, 1.0, 1);
+    }
+    let span = (hi - lo).max(1e-6 * lo.abs().max(1.0));
+    Histogram::zeros(lo, span * (1.0 + 1e-9) / MAP_BINS as f64, MAP_BINS)
+}
+
+/// Sample positions on a lattice covering `region` and the terrain (spacing half a terrain cell, coarser when
+/// that would exceed a million points).
+pub(crate) fn region_lattice(region: &Region, terrain: &Heightfield) -> Vec<DVec2> {
+    let (lo, hi) = region.bbox();
+    let (tlo, thi) = terrain.bbox();
+    let lo = lo.max(tlo);
+    let hi = hi.min(thi);
+    if !(hi.x >= lo.x && hi.y >= lo.y) {
+        return Vec::new();
+    }
+    let ext = hi - lo;
+    let step = (0.5 * terrain.cell)
+        .max((ext.x * ext.y / 1e6).sqrt())
+        .max(1e-9);
+    let nx = (ext.x / step).floor() as usize + 1;
+    let ny = (ext.y / step).floor() as usize + 1;
+    let mut out = Vec::with_capacity(nx * ny);
+    for j in 0..ny {
+        for i in 0..nx {
+            let p = lo + DVec2::new((i as f64 + 0.5) * step, (j as f64 + 0.5) * step);
+            if p.x <= hi.x && p.y <= hi.y && region.contains(p) && terrain.contains(p) {
+                out.push(p);
+            }
+        }
+    }
+    out
+}

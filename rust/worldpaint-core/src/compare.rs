@@ -1,0 +1,125 @@
+//! Fidelity metrics between two colors (e.g. an exemplar and a color learned back from a synthesized result):
+//! how well synthesis reproduced the statistics of Section 4.1 — density per category, the rdf of eq. (2) per
+//! pair, and the map-sampling histograms `h_m` per category and map.
+//!
+//! * density ratio: candidate density / reference density;
+//! * rdf L2: `sqrt(Σ_k (h_ref(k) − h_cand(k))² d_r)`, the L2 norm of the difference of the two rdfs as functions
+//!   of distance, read at the reference's bin centres (so both colors should be learned with the same bins:
+//!   pass the reference's `max_radius` and `bin_width` in `AnalysisOptions` when learning the candidate);
+//! * map TV: total variation distance of the normalized map histograms.
+
+use crate::palette::{Color, Histogram, Interaction};
+use serde::Serialize;
+
+/// How close a candidate color is to a reference color.
+#[derive(Clone, Debug, Serialize)]
+pub struct Fidelity {
+    /// Per category: candidate / reference density.
+    pub density_ratio: Vec<(String, f64)>,
+    /// Per pair: L2 distance between rdf histograms.
+    pub rdf_l2: Vec<(String, String, f64)>,
+    /// Per category and map: total variation of map histograms.
+    pub map_tv: Vec<(String, String, f64)>,
+}
+
+/// L2 distance between two rdfs as functions of distance, at the reference's bin centres.
+pub fn rdf_l2(reference: &Histogram, candidate: &Histogram) -> f64 {
+    let w = reference.bin_width;
+    (reference
+        .values
+        .iter()
+        .enumerate()
+        .map(|(k, v)| {
+            let x = reference.start + (k as f64 + 0.5) * w;
+            (v - candidate.value_at(x)).powi(2)
+        })
+        .sum::<f64>()
+        * w)
+        .sqrt()
+}
+
+/// Compares a candidate color against a reference color (categories and pairs matched by name).
+pub fn compare(reference: &Color, candidate: &Color) -> Fidelity {
+    let density_ratio = reference
+        .categories
+        .iter()
+        .map(|r| {
+            let cand = candidate
+                .category(&r.category.name)
+                .map_or(0.0, |c| c.density);
+            let ratio = if r.density > 0.0 {
+                cand / r.density
+            } else if cand > 0.0 {
+                f64::INFINITY
+            } else {
+                1.0
+            };
+            (r.category.name.clone(), ratio)
+        })
+        .collect();
+    let find_rdf = |c: &Color, a: &str, b: &str| {
+        c.pairs.iter().find_map(|p| match &p.interaction {
+            Interaction::Rdf { hist }
+                if (p.category == a && p.other == b) || (p.category == b && p.other == a) =>
+            {
+                Some(hist.clone())
+            }
+            _ => None,
+        })
+    };
+    let rdf_l2s = reference
+        .pairs
+        .iter()
+        .filter_map(|p| match &p.interaction {
+            Interaction::Rdf { hist } => {
+                let cand = find_rdf(candidate, &p.category, &p.other)
+                    .unwrap_or_else(|| Histogram::zeros(hist.start, hist.bin_width, 0));
+                Some((p.category.clone(), p.other.clone(), rdf_l2(hist, &cand)))
+            }
+            _ => None,
+        })
+        .collect();
+    let map_tv = reference
+        .maps
+        .iter()
+        .map(|m| {
+            let tv = candidate
+                .maps
+                .iter()
+                .find(|c| c.category == m.category && c.map == m.map)
+                .map_or(1.0, |c| m.hist.total_variation(&c.hist));
+            (m.category.clone(), m.map.clone(), tv)
+        })
+        .collect();
+    Fidelity {
+        density_ratio,
+        rdf_l2: rdf_l2s,
+        map_tv,
+    }
+}
+
+impl Fidelity {
+    /// Largest |density ratio − 1| over the categories.
+    pub fn worst_density_error(&self) -> f64 {
+        self.density_ratio
+            .iter()
+            .map(|(_, r)| (r - 1.0).abs())
+            .fold(0.0, f64::max)
+    }
+
+    pub fn max_rdf_l2(&self) -> f64 {
+        self.rdf_l2.iter().map(|(_, _, v)| *v).fold(0.0, f64::max)
+    }
+
+    pub fn max_map_tv(&self) -> f64 {
+        self.map_tv.iter().map(|(_, _, v)| *v).fold(0.0, f64::max)
+    }
+
+    /// The rdf L2 of one pair (either order), if present.
+    pub fn rdf_l2_of(&self, a: &str, b: &str) -> Option<f64> {
+        self.rdf_l2
+            .iter()
+            .find(|(x, y, _)| (x == a && y == b) || (x == b && y == a))
+            .map(|(_, _, v)| *v)
+    }
+}

@@ -1,0 +1,253 @@
+//! Generating processes for demo scenes, tests and benchmarks (all seeded, deterministic): the kinds of
+//! arrangement the paper's examples are made of (Section 6, "Examples"; Figure 1's trees, rocks and grass) —
+//! uniform (Poisson), clustered (Thomas), hard-core (dart throwing) — a multi-category scene on a slope, and a
+//! smooth demo terrain.
+
+use crate::geom::{DVec2, Region};
+use crate::scene::{Category, Instance, Scene};
+use crate::spatial::{GridEntry, SpatialGrid};
+use crate::terrain::Heightfield;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use std::f64::consts::TAU;
+
+fn gaussian<R: Rng>(rng: &mut R) -> f64 {
+    let u1: f64 = rng.random::<f64>().max(1e-300);
+    let u2: f64 = rng.random();
+    (-2.0 * u1.ln()).sqrt() * (TAU * u2).cos()
+}
+
+/// A Poisson-distributed count: exact (Knuth) below a mean of 50, normal approximation above.
+pub fn poisson_count<R: Rng>(mean: f64, rng: &mut R) -> usize {
+    if !(mean > 0.0) || !mean.is_finite() {
+        return 0;
+    }
+    if mean < 50.0 {
+        let l = (-mean).exp();
+        let mut k = 0usize;
+        let mut p = 1.0;
+        loop {
+            p *= rng.random::<f64>();
+            if p <= l {
+                return k;
+            }
+            k += 1;
+        }
+    }
+    (mean + mean.sqrt() * gaussian(rng)).round().max(0.0) as usize
+}
+
+fn uniform_in_box<R: Rng>(lo: DVec2, hi: DVec2, rng: &mut R) -> DVec2 {
+    DVec2::new(
+        lo.x + rng.random::<f64>() * (hi.x - lo.x),
+        lo.y + rng.random::<f64>() * (hi.y - lo.y),
+    )
+}
+
+/// Poisson process of intensity `density` (per m²) in the region.
+pub fn uniform(region: &Region, density: f64, seed: u64) -> Vec<DVec2> {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let (lo, hi) = region.bbox();
+    let box_area = (hi.x - lo.x) * (hi.y - lo.y);
+    let n = poisson_count(density * box_area, &mut rng);
+    (0..n)
+        .map(|_| uniform_in_box(lo, hi, &mut rng))
+        .filter(|p| region.contains(*p))
+        .collect()
+}
+
+/// Thomas cluster process: parents Poisson(`parent_density`), each with Poisson(`children_mean`) children at
+/// isotropic Gaussian offsets of deviation `sigma`; parents are drawn in the region grown by 4σ, so clusters
+/// crossing the border are not thinned out. Only the children inside the region are returned.
+pub fn clustered(
+    region: &Region,
+    parent_density: f64,
+    children_mean: f64,
+    sigma: f64,
+    seed: u64,
+) -> Vec<DVec2> {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let (lo, hi) = region.bbox();
+    let grow = DVec2::splat(4.0 * sigma.max(0.0));
+    let (plo, phi) = (lo - grow, hi + grow);
+    let n_parents = poisson_count(parent_density * (phi.x - plo.x) * (phi.y - plo.y), &mut rng);
+    let mut out = Vec::new();
+    for _ in 0..n_parents {
+        let parent = uniform_in_box(plo, phi, &mut rng);
+        let n = poisson_count(children_mean, &mut rng);
+        for _ in 0..n {
+            let p = parent + DVec2::new(gaussian(&mut rng), gaussian(&mut rng)) * sigma;
+            if region.contains(p) {
+                out.push(p);
+            }
+        }
+    }
+    out
+}
+
+/// Hard-core arrangement by random sequential adsorption (dart throwing): uniform candidates are kept when no
+/// kept point is closer than `min_distance`, until `density × area` points or 50× that many attempts.
+pub fn hard_core(region: &Region, density: f64, min_distance: f64, seed: u64) -> Vec<DVec2> {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let want = (density * region.area()).round().max(0.0) as usize;
+    let (lo, hi) = region.bbox();
+    let mut grid = SpatialGrid::new(lo, hi, min_distance.max(1e-9));
+    let mut out = Vec::with_capacity(want);
+    for _ in 0..want.saturating_mul(50) {
+        if out.len() >= want {
+            break;
+        }
+        let p = uniform_in_box(lo, hi, &mut rng);
+        if !region.contains(p) || grid.any_closer_than(p, min_distance, None) {
+            continue;
+        }
+        grid.insert(GridEntry {
+            position: p,
+            tag: 0,
+            id: out.len() as u32,
+        });
+        out.push(p);
+    }
+    out
+}
+
+/// Smooth hills: a sum of a few seeded sinusoidal waves, amplitude ~5% of the size. Deterministic.
+pub fn demo_terrain(size: f64, cell: f64, seed: u64) -> Heightfield {
+    let size = if size.is_finite() && size > 0.0 {
+        size
+    } else {
+        100.0
+    };
+    let cell = if cell.is_finite() && cell > 0.0 {
+        cell
+    } else {
+        size / 256.0
+    };
+    let n = ((size / cell).round() as usize + 1).clamp(2, 4096);
+    let cell = size / (n - 1) as f64;
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let waves: Vec<(DVec2, f64, f64)> = (0..6)
+        .map(|k| {
+            let angle = rng.random::<f64>() * TAU;
+            let wavelength = size / (1.0 + k as f64 + rng.random::<f64>());
+            let phase = rng.random::<f64>() * TAU;
+            let amp = 0.05 * size / (1.0 + k as f64);
+            (
+                DVec2::new(angle.cos(), angle.sin()) * (TAU / wavelength),
+                phase,
+                amp,
+            )
+        })
+        .collect();
+    let heights = (0..n * n)
+        .map(|idx| {
+            let p = DVec2::new((idx % n) as f64, (idx / n) as f64) * cell;
+            waves
+                .iter()
+                .map(|(k, ph, a)| a * (k.dot(p) + ph).sin())
+                .sum::<f64>() as f32
+        })
+        .collect();
+    // the grid is valid by construction (n ≥ 2, finite heights)
+    match Heightfield::new(DVec2::ZERO, cell, n, n, heights) {
+        Ok(h) => h,
+        Err(_) => flat(n, cell),
+    }
+}
+
+fn flat(n: usize, cell: f64) -> Heightfield {
+    Heightfield {
+        origin: DVec2::ZERO,
+        cell,
+        nx: n,
+        ny: n,
+        heights: vec![0.0; n * n],
+        maps: Default::default(),
+    }
+}
+
+/// Terrain of the slope scene: ridges along Y with slopes sweeping 0..45° across X (period `size / 4`).
+fn slope_terrain(size: f64) -> Heightfield {
+    let n = 257;
+    let cell = size / (n - 1) as f64;
+    let wavelength = size / 4.0;
+    let k = TAU / wavelength;
+    // max slope atan(amp k) = 45°
+    let amp = 1.0 / k;
+    let heights = (0..n * n)
+        .map(|idx| (amp * (k * (idx % n) as f64 * cell).sin()) as f32)
+        .collect();
+    match Heightfield::new(DVec2::ZERO, cell, n, n, heights) {
+        Ok(h) => h,
+        Err(_) => flat(n, cell),
+    }
+}
+
+/// Multi-category exemplar on a slope (square `size × size` from the origin): trees only on 20–35° slopes
+/// (hard core 3 m), rocks anywhere (Poisson), grass clustered around the rocks (σ = 2 m, 12 per rock on
+/// average) over a sparse uniform background. Categories in priority order: tree, rock, grass.
+pub fn slope_scene(size: f64, seed: u64) -> Scene {
+    let size = if size.is_finite() && size > 0.0 {
+        size
+    } else {
+        200.0
+    };
+    let terrain = slope_terrain(size);
+    let region = Region::Rect {
+        min: DVec2::ZERO,
+        max: DVec2::splat(size),
+    };
+    let categories = vec![
+        Category::distribution("tree", "vegetation", 0),
+        Category::distribution("rock", "vegetation", 1),
+        Category::distribution("grass", "vegetation", 2),
+    ];
+    let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0x5105_e5ce);
+    let mut instances = Vec::new();
+    let mut push = |p: DVec2, category: usize, rng: &mut ChaCha8Rng| {
+        instances.push(Instance {
+            position: p,
+            rotation: rng.random::<f64>() * TAU,
+            scale: 0.8 + 0.4 * rng.random::<f64>(),
+            category,
+            prototype: rng.random_range(0..3u32),
+        });
+    };
+    let (lo_slope, hi_slope) = (20f64.to_radians(), 35f64.to_radians());
+    for p in hard_core(&region, 0.03, 3.0, seed.wrapping_add(1)) {
+        let s = terrain.map_at("slope", p).unwrap_or(0.0);
+        if s >= lo_slope && s <= hi_slope {
+            push(p, 0, &mut rng);
+        }
+    }
+    let rocks = uniform(&region, 0.002, seed.wrapping_add(2));
+    for p in &rocks {
+        push(*p, 1, &mut rng);
+    }
+    for r in &rocks {
+        let n = poisson_count(12.0, &mut rng);
+        for _ in 0..n {
+            let p = *r + DVec2::new(gaussian(&mut rng), gaussian(&mut rng)) * 2.0;
+            if region.contains(p) {
+                push(p, 2, &mut rng);
+            }
+        }
+    }
+    for p in uniform(&region, 0.004, seed.wrapping_add(3)) {
+        push(p, 2, &mut rng);
+    }
+    Scene {
+        categories,
+        instances,
+        terrain: Some(terrain),
+    }
+}
+
+/// A scene of one distribution category from points.
+pub fn scene_from_points(name: &str, points: &[DVec2]) -> Scene {
+    Scene {
+        categories: vec![Category::distribution(name, "vegetation", 0)],
+        instances: points.iter().map(|p| Instance::at(*p, 0)).collect(),
+        terrain: None,
+    }
+}
