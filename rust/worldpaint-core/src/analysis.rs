@@ -382,7 +382,7 @@ fn category_color(g: &Group, area: f64, grid: &SpatialGrid, max_radius: f64) -> 
 }
 
 /// α per distance bin for the point `p` (1 everywhere when the whole disc lies inside).
-fn alphas(region: &Region, p: DVec2, bin_width: f64, n_bins: usize) -> Vec<f64> {
+pub(crate) fn alphas(region: &Region, p: DVec2, bin_width: f64, n_bins: usize) -> Vec<f64> {
     if region.contains(p) && region.distance_to_boundary(p) >= bin_width * n_bins as f64 {
         return vec![1.0; n_bins];
     }

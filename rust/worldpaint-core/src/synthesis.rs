@@ -15,20 +15,31 @@
 //! births proposed uniformly in the region (density 1/A) and deaths uniformly among the points. Without
 //! interactions `f(X) = β^{n}` is a Poisson process of intensity β, whose expected count is `β A`: the
 //! intensity term β is what makes the density come out right, and the paper's `A / n_X` factor alone (β = 1)
-//! would give one instance per m². We start from β = the exemplar density.
+//! would give one instance per m². (How β is handled here: see "The count".)
 //!
 //! The product simplification of Section 6 — `R_b = A/n_X · Π_{C_Yk ≤ C_X} Π_{y_j} h_{X,Y_k}(p, y_j)` — means
 //! only factors involving the changed point are evaluated, through a uniform grid (`spatial`): a pair
 //! contributes `h(d)` for `d < max_radius` and 1 beyond. Shift moves (a point displaced by a small Gaussian
 //! step, symmetric proposal) use `f(X')/f(X)` alone and speed up mixing.
 //!
-//! ## Calibrating β
-//! Pair factors bias the count: `h > 1` at short range (clusters) favours births, `h < 1` (a hard core)
-//! suppresses them, so β = exemplar density does not give the exemplar count. During the first half of the
-//! iterations (burn-in) β is adjusted by stochastic approximation after every sweep,
-//! `β ← β · (target / n)^{1/2}`, where `target = λ_exemplar · ∫_φ ψ(m(x)) dx` (the exemplar density, weighted
-//! by the map preference over the painted region); β is then frozen at the geometric mean of its values over
-//! the second half of the burn-in, and the chain runs on with a fixed target density.
+//! ## The count (β)
+//! Pair factors bias the count of a birth-death chain with β fixed at the exemplar density: `h > 1` at short
+//! range (clusters) favours births, a hard core suppresses them, and with attraction an adaptive β lags behind
+//! a runaway. We therefore integrate β out: the chain samples the process *conditioned on its count*
+//! `n = target = λ_exemplar · ∫_φ ψ(m(x)) dx` (the exemplar density weighted by the map preference over the
+//! painted region, rounded stochastically). At fixed `n` a death followed by a birth is one *relocation* move
+//! (a point moved to a uniform position) with ratio `f(X')/f(X)`: the conditional of the chain of eq. (1),
+//! whatever β. Relocations and small Gaussian shifts alternate; when a hard core leaves the dart-throwing start
+//! short of `n`, allowed births fill the gap.
+//!
+//! ## Pair factors: inversion and saturation
+//! Used directly as pair factors, the exemplar's rdfs reproduce themselves only for weak interactions (a hard
+//! core at finite density shifts the first peak; clusters collapse into clumps). When the painted region holds
+//! enough points (≥ 100 expected), the isotropic tables start neutral and are refined during the first half of
+//! the iterations by iterative Boltzmann inversion (`refine_tables`); a point's total log pair factor is capped
+//! at `SATURATION_PAIRS` times the largest single-pair log factor (a Geyer-style saturation that keeps
+//! attraction from condensing everything into one clump). With fewer points the exemplar's `h` is used as is,
+//! as in the paper.
 //!
 //! ## Zeros of the histograms
 //! * Distances below the first non-empty bin of a pair (and below the exemplar's smallest same-category
@@ -63,6 +74,11 @@ pub const HISTOGRAM_FLOOR: f64 = 1e-3;
 /// Default Metropolis-Hastings proposals per expected instance.
 pub const DEFAULT_ITERATIONS_PER_INSTANCE: f64 = 60.0;
 const FIXED_ID: u32 = u32::MAX;
+/// A point's total log pair factor is capped at this many times the largest single-pair log factor.
+pub const SATURATION_PAIRS: f64 = 2.0;
+/// Expected count from which the pair tables are refined by inversion (below it, the exemplar's `h` is used
+/// as the pair factor directly, as in the paper).
+const MIN_COUNT_FOR_INVERSION: f64 = 100.0;
 
 /// How to synthesize.
 #[derive(Clone, Debug)]
@@ -108,6 +124,10 @@ pub fn synthesize(
 /// Log-factor table of one pair interaction, indexed by distance bin (× angle bin for an oriented rdf).
 struct PairTable {
     log_factor: Vec<f64>,
+    /// The learned histogram the table should reproduce (refined by inversion when isotropic).
+    target_hist: Vec<f64>,
+    /// Points of the other category inside the region (fixed); `None` for the self pair (the chain's own).
+    others_inside: Option<usize>,
     angle_bins: usize,
     bin_width: f64,
     n_bins: usize,
@@ -137,6 +157,8 @@ impl PairTable {
             .collect();
         PairTable {
             log_factor,
+            target_hist: values.to_vec(),
+            others_inside: None,
             angle_bins,
             bin_width,
             n_bins,
@@ -217,6 +239,8 @@ struct Target<'a> {
     maps: Vec<MapTable<'a>>,
     terrain: Option<&'a Heightfield>,
     radius: f64,
+    /// Upper bound of a point's total log pair factor (saturation, see the module documentation).
+    saturation: f64,
 }
 
 impl Target<'_> {
@@ -237,16 +261,17 @@ impl Target<'_> {
     /// `ln` of the product of all factors involving a point at `p` (skipping the grid entry `skip`).
     #[inline]
     fn energy(&self, p: DVec2, skip: u32) -> f64 {
-        let mut e = self.map_log(p);
-        if e == f64::NEG_INFINITY {
-            return e;
+        let m = self.map_log(p);
+        if m == f64::NEG_INFINITY {
+            return m;
         }
+        let mut pairs = 0.0;
         self.grid.for_each_within(p, self.radius, |entry, d2| {
             if entry.id != skip || skip == FIXED_ID {
-                e += self.tables[entry.tag as usize].log_factor(entry.position - p, d2);
+                pairs += self.tables[entry.tag as usize].log_factor(entry.position - p, d2);
             }
         });
-        e
+        m + pairs.min(self.saturation)
     }
 }
 
@@ -430,6 +455,10 @@ pub fn synthesize_with_progress(
                     values,
                 } => PairTable::new(values, *angle_bins, *distance_bin, hard_core),
             };
+            let mut table = table;
+            if !same {
+                table.others_inside = Some(synthesized[oi].as_ref().map_or(0, |v| v.len()));
+            }
             let tag = tables.len() as u32;
             tables.push(table);
             if same {
@@ -461,12 +490,19 @@ pub fn synthesize_with_progress(
             .iter()
             .map(|t| t.bin_width * t.n_bins as f64)
             .fold(color.max_radius, f64::max);
+        let saturation = SATURATION_PAIRS
+            * tables
+                .iter()
+                .flat_map(|t| t.target_hist.iter())
+                .fold(1.0f64, |m, v| m.max(*v))
+                .ln();
         let target = Target {
             grid,
             tables,
             maps,
             terrain,
             radius,
+            saturation,
         };
         // expected count: exemplar density times the map preference integrated over the region
         let preference = if target.maps.is_empty() || lattice.is_empty() {
@@ -532,6 +568,15 @@ fn run_chain<R: Rng>(
     if !(expected > 0.0) || !expected.is_finite() {
         return Ok(own);
     }
+    if expected >= MIN_COUNT_FOR_INVERSION {
+        // enough points to measure the rdf: start neutral (Poisson, hard cores kept) and let the inversion
+        // build the interactions up, rather than start from h and collapse into clumps first
+        for t in target.tables.iter_mut().filter(|t| t.angle_bins == 1) {
+            for v in t.log_factor.iter_mut().filter(|v| v.is_finite()) {
+                *v = 0.0;
+            }
+        }
+    }
     let insert = |target: &mut Target, own: &mut Vec<DVec2>, p: DVec2| {
         target.grid.insert(GridEntry {
             position: p,
@@ -540,18 +585,9 @@ fn run_chain<R: Rng>(
         });
         own.push(p);
     };
-    let remove = |target: &mut Target, own: &mut Vec<DVec2>, k: usize| {
-        let p = own[k];
-        target.grid.remove(p, k as u32);
-        let last = own.len() - 1;
-        if k != last {
-            let q = own[last];
-            target.grid.rename(q, last as u32, k as u32);
-        }
-        own.swap_remove(k);
-    };
-    // start near the target count: dart throwing among allowed positions
-    let want = expected.round() as usize;
+    // the count: the expected count, rounded stochastically (see "The count" in the module documentation)
+    let want = expected.floor() as usize + usize::from(rng.random::<f64>() < expected.fract());
+    // start from dart throwing among allowed positions
     for _ in 0..(4 * want + 100) {
         if own.len() >= want {
             break;
@@ -566,79 +602,55 @@ fn run_chain<R: Rng>(
     let total = (iterations_per_instance * expected.max(1.0)).ceil() as usize;
     let burn_in = total / 2;
     let sweep = (expected.ceil() as usize).max(64);
-    let ln_area = area.ln();
-    let ln_target = expected.ln();
-    let mut ln_beta = ln_target - ln_area; // exemplar density (times the map preference)
-    let (mut beta_sum, mut beta_n) = (0.0, 0usize);
     let shift_sigma = max_radius / 8.0;
     let mut done = 0usize;
-    let mut frozen = false;
     while done < total {
-        if !frozen && done >= burn_in {
-            if beta_n > 0 {
-                ln_beta = beta_sum / beta_n as f64;
-            }
-            frozen = true;
-        }
         let end = (done + sweep).min(total);
         for _ in done..end {
-            let u: f64 = rng.random();
-            if u < 1.0 / 3.0 {
-                // birth
-                let Some(p) = region.sample_uniform(rng) else {
-                    continue;
-                };
-                let e = target.energy(p, FIXED_ID);
-                let ln_r = ln_beta + ln_area - ((own.len() + 1) as f64).ln() + e;
-                if rng.random::<f64>().ln() < ln_r {
-                    insert(&mut target, &mut own, p);
+            if own.len() < want {
+                // a hard core left the start short: keep trying allowed births
+                if let Some(p) = region.sample_uniform(rng) {
+                    if target.energy(p, FIXED_ID) > f64::NEG_INFINITY {
+                        insert(&mut target, &mut own, p);
+                    }
                 }
-            } else if u < 2.0 / 3.0 {
-                // death
-                if own.is_empty() {
-                    continue;
-                }
-                let k = rng.random_range(0..own.len());
-                let e = target.energy(own[k], k as u32);
-                let ln_r = -ln_beta - ln_area + (own.len() as f64).ln() - e;
-                if rng.random::<f64>().ln() < ln_r {
-                    remove(&mut target, &mut own, k);
+                continue;
+            }
+            if own.is_empty() {
+                break;
+            }
+            let k = rng.random_range(0..own.len());
+            let p = own[k];
+            let q = if rng.random::<f64>() < 0.5 {
+                // relocation: the death of p and the birth of q in one move (f(X')/f(X), symmetric)
+                match region.sample_uniform(rng) {
+                    Some(q) => q,
+                    None => continue,
                 }
             } else {
-                // shift
-                if own.is_empty() {
-                    continue;
-                }
-                let k = rng.random_range(0..own.len());
-                let p = own[k];
-                let q = p + gaussian(rng) * shift_sigma;
-                if !region.contains(q) {
-                    continue;
-                }
-                let e_new = target.energy(q, k as u32);
-                if e_new == f64::NEG_INFINITY {
-                    continue;
-                }
-                let e_old = target.energy(p, k as u32);
-                if rng.random::<f64>().ln() < e_new - e_old {
-                    target.grid.remove(p, k as u32);
-                    target.grid.insert(GridEntry {
-                        position: q,
-                        tag: self_tag,
-                        id: k as u32,
-                    });
-                    own[k] = q;
-                }
+                // shift: a small Gaussian step
+                p + gaussian(rng) * shift_sigma
+            };
+            if !region.contains(q) {
+                continue;
+            }
+            let e_new = target.energy(q, k as u32);
+            if e_new == f64::NEG_INFINITY {
+                continue;
+            }
+            let e_old = target.energy(p, k as u32);
+            if rng.random::<f64>().ln() < e_new - e_old {
+                target.grid.remove(p, k as u32);
+                target.grid.insert(GridEntry {
+                    position: q,
+                    tag: self_tag,
+                    id: k as u32,
+                });
+                own[k] = q;
             }
         }
-        if !frozen {
-            // stochastic approximation of β toward the target count
-            let n = (own.len() as f64).max(0.5);
-            ln_beta += 0.5 * (ln_target - n.ln());
-            if end > burn_in / 2 {
-                beta_sum += ln_beta;
-                beta_n += 1;
-            }
+        if end <= burn_in && expected >= MIN_COUNT_FOR_INVERSION {
+            refine_tables(&mut target, &own, region, area, self_tag);
         }
         done = end;
         if !progress(done as f64 / total as f64) {
@@ -646,4 +658,104 @@ fn run_chain<R: Rng>(
         }
     }
     Ok(own)
+}
+
+/// Iterative Boltzmann inversion (Reith, Pütz & Müller 2003) of the isotropic pair tables during burn-in.
+///
+/// Using the exemplar's `h` itself as the pair factor (the paper's model) reproduces `h` only when the
+/// interactions are weak: with clusters (`h ≫ 1` at short range) the product of many factors makes clusters
+/// collapse into ever denser clumps, and a hard core at finite density shifts the first peak. So after every
+/// burn-in sweep we measure the rdf of the current points (eq. (2), window-corrected, inside the region) and
+/// correct each bin `ln φ_k ← ln φ_k + ½ (ln h_k − ln ĥ_k)`, for bins with at least 10 measured pairs; factors
+/// are kept within [floor, 10³] and the hard-core bins stay at 0. By Henderson's theorem the pair factor that
+/// reproduces a given rdf at a given density is unique, so this converges toward the model that has the
+/// exemplar's statistics; the tables are frozen for the second half.
+fn refine_tables(target: &mut Target, own: &[DVec2], region: &Region, area: f64, self_tag: u32) {
+    use rayon::prelude::*;
+    if own.len() < 2 {
+        return;
+    }
+    let n_tables = target.tables.len();
+    let layout: Vec<(usize, f64, bool)> = target
+        .tables
+        .iter()
+        .map(|t| (t.n_bins, t.bin_width, t.angle_bins == 1))
+        .collect();
+    let radius = target.radius;
+    let grid = &target.grid;
+    // raw pair counts and window-corrected sums per table and bin, per point (ordered, so deterministic)
+    let per_point: Vec<Vec<(Vec<f64>, Vec<f64>)>> = own
+        .par_iter()
+        .enumerate()
+        .map(|(k, &p)| {
+            let mut acc: Vec<(Vec<f64>, Vec<f64>)> = layout
+                .iter()
+                .map(|(n, _, _)| (vec![0.0; *n], vec![0.0; *n]))
+                .collect();
+            grid.for_each_within(p, radius, |e, d2| {
+                let t = e.tag as usize;
+                if (e.tag == self_tag && e.id == k as u32) || !layout[t].2 {
+                    return;
+                }
+                if !region.contains(e.position) {
+                    return;
+                }
+                let b = (d2.sqrt() / layout[t].1) as usize;
+                if b < layout[t].0 {
+                    acc[t].0[b] += 1.0;
+                }
+            });
+            for (t, (counts, corrected)) in acc.iter_mut().enumerate() {
+                if counts.iter().any(|c| *c > 0.0) {
+                    let a = crate::analysis::alphas(region, p, layout[t].1, layout[t].0);
+                    for b in 0..counts.len() {
+                        corrected[b] = counts[b] / a[b];
+                    }
+                }
+            }
+            acc
+        })
+        .collect();
+    let mut counts: Vec<Vec<f64>> = layout.iter().map(|(n, _, _)| vec![0.0; *n]).collect();
+    let mut corrected = counts.clone();
+    for point in per_point {
+        for (t, (c, w)) in point.into_iter().enumerate() {
+            for b in 0..c.len() {
+                counts[t][b] += c[b];
+                corrected[t][b] += w[b];
+            }
+        }
+    }
+    let min_log = HISTOGRAM_FLOOR.ln();
+    for t in 0..n_tables {
+        let table = &mut target.tables[t];
+        if table.angle_bins != 1 {
+            continue;
+        }
+        let max_log = table.target_hist.iter().fold(1.0f64, |m, v| m.max(*v)).ln();
+        let n_other = match table.others_inside {
+            Some(n) => n as f64,
+            None => own.len() as f64 - 1.0,
+        };
+        if n_other <= 0.0 {
+            continue;
+        }
+        let norm = area / (own.len() as f64 * n_other);
+        for b in 0..table.n_bins {
+            if counts[t][b] < 10.0 || table.log_factor[b] == f64::NEG_INFINITY {
+                continue;
+            }
+            let h = table.target_hist[b];
+            if h <= 0.0 {
+                continue;
+            }
+            let shell = std::f64::consts::PI
+                * table.bin_width
+                * table.bin_width
+                * ((b + 1).pow(2) - b.pow(2)) as f64;
+            let measured = corrected[t][b] * norm / shell;
+            let step = (0.5 * (h.ln() - measured.ln())).clamp(-0.5, 0.5);
+            table.log_factor[b] = (table.log_factor[b] + step).clamp(min_log, max_log);
+        }
+    }
 }
