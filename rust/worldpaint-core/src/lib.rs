@@ -19,6 +19,9 @@
 //! | [`synthesis`] | Metropolis-Hastings synthesis with a region of influence (§4.1, §4.3, §5.1, §6) |
 //! | [`exemplar`] | generating processes for demo scenes, tests and benchmarks |
 
+// `!(x > 0.0)` is used on purpose: it rejects NaN as well as non-positive values.
+#![allow(clippy::neg_cmp_op_on_partial_ord, clippy::nonminimal_bool)]
+
 pub mod analysis;
 pub mod compare;
 pub mod error;

@@ -340,8 +340,8 @@ fn rasterize(
         if j0 > j1 {
             continue;
         }
-        for b in (j0 / BAND)..=(j1 / BAND) {
-            buckets[b].push(t as u32);
+        for bucket in &mut buckets[(j0 / BAND)..=(j1 / BAND)] {
+            bucket.push(t as u32);
         }
     }
     let mut heights = vec![f32::NEG_INFINITY; nx * ny];
@@ -417,7 +417,7 @@ fn rasterize(
 
 /// Fills uncovered nodes (−∞) from the nearest covered node in their row, then in their column; 0 if none.
 fn fill_holes(h: &mut [f32], nx: usize, ny: usize) {
-    if !h.iter().any(|v| *v == f32::NEG_INFINITY) {
+    if !h.contains(&f32::NEG_INFINITY) {
         return;
     }
     let fill_line = |get: &dyn Fn(usize) -> f32, len: usize| -> Option<Vec<f32>> {
