@@ -1,0 +1,10 @@
+"""The only place that converts between bpy and the engine.
+
+``terrain`` extracts the terrain mesh, ``instances`` the example objects and synthesized points, ``regions`` the
+analysed or destination region, ``points`` builds the point clouds and the Geometry Nodes instancer, ``preview`` the
+palette pictures, ``engine`` gives the compiled engine module.
+"""
+
+
+class WorldPaintError(Exception):
+    """A problem with the user's input, reported in Blender's UI; nothing has been changed when it is raised."""

@@ -1,0 +1,177 @@
+"""Instances in the scene: hand-placed example objects and synthesized points, as engine arrays.
+
+A category is the instanced collection of an object, else its mesh data, else its custom property ``wp_category``;
+the custom property, when set, overrides the other two (an explicit choice wins over a derived one).
+Synthesized points live in point-cloud objects tagged with ``wp_points`` = category name.
+"""
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+POINTS_TAG = "wp_points"
+PROTOTYPE_TAG = "wp_prototype"
+TAU = 2.0 * np.pi
+
+
+def category_of(obj):
+    """The category name of an object, or None when it is not an instance of anything."""
+    value = obj.get("wp_category")
+    if isinstance(value, str) and value:
+        return value
+    if obj.instance_type == 'COLLECTION' and obj.instance_collection is not None:
+        return obj.instance_collection.name
+    if obj.type == 'MESH' and obj.data is not None:
+        return obj.data.name
+    return None
+
+
+def is_worldpaint_object(obj):
+    return obj.get(POINTS_TAG) is not None or obj.get(PROTOTYPE_TAG) is not None
+
+
+def example_objects(objects, exclude=()):
+    """(object, category) of the objects that are instances of a category, skipping WorldPaint's own objects."""
+    skip = {o.name for o in exclude if o is not None}
+    found = []
+    for obj in objects:
+        if obj.name in skip or is_worldpaint_object(obj) or obj.type in {'CURVE', 'CAMERA', 'LIGHT'}:
+            continue
+        category = category_of(obj)
+        if category is not None:
+            found.append((obj, category))
+    return found
+
+
+def transforms(objects):
+    """World XY positions (N, 2), z (N), rotation about Z in [0, 2pi) (N) and uniform scale (N) of objects."""
+    if not objects:
+        return np.zeros((0, 2)), np.zeros(0), np.zeros(0), np.zeros(0)
+    mats = np.array([np.array(o.matrix_world) for o in objects], dtype=np.float64)
+    rotation = np.mod(np.arctan2(mats[:, 1, 0], mats[:, 0, 0]), TAU)
+    scale = np.linalg.norm(mats[:, :3, :3], axis=1).mean(axis=1)
+    return mats[:, :2, 3].copy(), mats[:, 2, 3].copy(), rotation, scale
+
+
+@dataclass
+class InstanceSet:
+    """Instances as the engine takes them: columns plus the category list they index."""
+
+    categories: list
+    positions: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
+    rotations: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    scales: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    category_index: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int32))
+    prototype: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int32))
+
+    def __len__(self):
+        return len(self.positions)
+
+    def append(self, category, positions, rotations, scales, prototype):
+        index = [c["name"] for c in self.categories].index(category)
+        n = len(positions)
+        self.positions = np.concatenate([self.positions, np.asarray(positions, dtype=np.float64).reshape(-1, 2)])
+        self.rotations = np.concatenate([self.rotations, np.asarray(rotations, dtype=np.float64)])
+        self.scales = np.concatenate([self.scales, np.asarray(scales, dtype=np.float64)])
+        self.category_index = np.concatenate([self.category_index, np.full(n, index, dtype=np.int32)])
+        self.prototype = np.concatenate([self.prototype, np.asarray(prototype, dtype=np.int32)])
+
+    def engine_arrays(self):
+        """Keyword arguments for the engine's learn_color / synthesize."""
+        return {
+            "categories": self.categories,
+            "positions": np.ascontiguousarray(self.positions, dtype=np.float64).reshape(-1, 2),
+            "category_index": np.ascontiguousarray(self.category_index, dtype=np.int32),
+            "rotations": np.ascontiguousarray(self.rotations, dtype=np.float64),
+            "scales": np.ascontiguousarray(self.scales, dtype=np.float64),
+            "prototype": np.ascontiguousarray(self.prototype, dtype=np.int32),
+        }
+
+
+def settings_categories(settings):
+    """The scene's categories as engine dicts, in priority order."""
+    cats = [
+        {"name": c.name, "layer": c.layer, "kind": c.kind, "priority": c.priority} for c in settings.categories
+    ]
+    return sorted(cats, key=lambda c: c["priority"])
+
+
+def missing_categories(settings, names):
+    known = {c.name for c in settings.categories}
+    out = []
+    for name in names:
+        if name not in known and name not in out:
+            out.append(name)
+    return out
+
+
+def add_categories(settings, names, layer="default"):
+    """Adds categories the scene does not know yet, after the existing ones in the priority order."""
+    next_priority = max((c.priority for c in settings.categories), default=-1) + 1
+    for name in missing_categories(settings, names):
+        item = settings.categories.add()
+        item.name = name
+        item.layer = layer
+        item.kind = "distribution"
+        item.priority = next_priority
+        next_priority += 1
+
+
+def merged_categories(settings, extra):
+    """The scene's categories followed by those of ``extra`` (engine dicts) it does not know."""
+    cats = settings_categories(settings)
+    names = {c["name"] for c in cats}
+    for c in extra:
+        if c["name"] not in names:
+            cats.append({k: c[k] for k in ("name", "layer", "kind", "priority")})
+            names.add(c["name"])
+    return cats
+
+
+def example_set(pairs, categories):
+    """InstanceSet of (object, category) pairs whose category is in ``categories``."""
+    out = InstanceSet(categories=categories)
+    names = {c["name"] for c in categories}
+    by_category = {}
+    for obj, category in pairs:
+        if category in names:
+            by_category.setdefault(category, []).append(obj)
+    for category, objs in by_category.items():
+        xy, _z, rotation, scale = transforms(objs)
+        out.append(category, xy, rotation, scale, np.zeros(len(objs), dtype=np.int32))
+    return out
+
+
+def point_cloud_objects(scene):
+    """{category: object} of the synthesized point clouds in the scene."""
+    return {obj[POINTS_TAG]: obj for obj in scene.objects if obj.get(POINTS_TAG) is not None}
+
+
+def point_cloud_arrays(obj):
+    """Positions (N, 3), rotation (N), scale (N) and prototype (N) of a point-cloud object's points (world space)."""
+    mesh = obj.data
+    n = len(mesh.vertices)
+    co = np.empty(n * 3, dtype=np.float32)
+    mesh.vertices.foreach_get("co", co)
+    co = co.reshape(-1, 3).astype(np.float64)
+    matrix = np.array(obj.matrix_world, dtype=np.float64)
+    co = co @ matrix[:3, :3].T + matrix[:3, 3]
+    columns = {}
+    for name, dtype, default in (("rotation", np.float32, 0.0), ("scale", np.float32, 1.0), ("prototype", np.int32, 0)):
+        attr = mesh.attributes.get(name)
+        values = np.full(n, default, dtype=dtype)
+        if attr is not None and len(attr.data) == n:
+            attr.data.foreach_get("value", values)
+        columns[name] = values
+    return co, columns["rotation"].astype(np.float64), columns["scale"].astype(np.float64), columns["prototype"]
+
+
+def scene_instances(scene, categories, exclude=()):
+    """All instances of the given categories in the scene: synthesized points and hand-placed objects."""
+    out = example_set(example_objects(scene.objects, exclude=exclude), categories)
+    names = {c["name"] for c in categories}
+    for category, obj in point_cloud_objects(scene).items():
+        if category in names and len(obj.data.vertices):
+            co, rotation, scale, prototype = point_cloud_arrays(obj)
+            out.append(category, co[:, :2], rotation, scale, prototype)
+    return out

@@ -1,0 +1,214 @@
+"""Synthesized instances as point clouds with a shared Geometry Nodes instancer.
+
+Per category one vertex-only mesh object "WP_<category>" in the "WorldPaint" collection, with point attributes
+``rotation`` (FLOAT, radians about Z), ``scale`` (FLOAT) and ``prototype`` (INT). The node group
+"WorldPaint Instancer" instances the children of the category's prototype collection on the points (Pick Instance
+by ``prototype``); the modifier's Collection input says which collection. All writes use foreach_set.
+"""
+
+import bpy
+import numpy as np
+
+from . import WorldPaintError
+from .instances import POINTS_TAG, PROTOTYPE_TAG, example_objects, point_cloud_arrays
+
+COLLECTION_NAME = "WorldPaint"
+NODE_GROUP_NAME = "WorldPaint Instancer"
+MODIFIER_NAME = "WorldPaint"
+PROTO_PREFIX = "WP_proto_"
+ATTRIBUTES = (("rotation", 'FLOAT', np.float32), ("scale", 'FLOAT', np.float32), ("prototype", 'INT', np.int32))
+
+
+# --- the Geometry Nodes instancer ---------------------------------------------------------------------------------
+
+def instancer_node_group():
+    """The shared node group, built once per file."""
+    group = bpy.data.node_groups.get(NODE_GROUP_NAME)
+    if group is not None and group.bl_idname == 'GeometryNodeTree' and "Collection" in group.interface.items_tree:
+        return group
+    group = bpy.data.node_groups.new(NODE_GROUP_NAME, 'GeometryNodeTree')
+    group.interface.new_socket("Geometry", in_out='INPUT', socket_type='NodeSocketGeometry')
+    group.interface.new_socket("Collection", in_out='INPUT', socket_type='NodeSocketCollection')
+    group.interface.new_socket("Geometry", in_out='OUTPUT', socket_type='NodeSocketGeometry')
+    nodes, links = group.nodes, group.links
+
+    def node(kind, x, y):
+        n = nodes.new(kind)
+        n.location = (x, y)
+        return n
+
+    group_in = node('NodeGroupInput', -800, 0)
+    group_out = node('NodeGroupOutput', 400, 0)
+    info = node('GeometryNodeCollectionInfo', -500, -150)
+    info.transform_space = 'ORIGINAL'
+    info.inputs["Separate Children"].default_value = True
+    info.inputs["Reset Children"].default_value = True
+
+    def attribute(name, data_type, y):
+        n = node('GeometryNodeInputNamedAttribute', -500, y)
+        n.data_type = data_type
+        n.inputs["Name"].default_value = name
+        return n
+
+    prototype = attribute("prototype", 'INT', -350)
+    rotation = attribute("rotation", 'FLOAT', -500)
+    scale = attribute("scale", 'FLOAT', -650)
+    combine = node('ShaderNodeCombineXYZ', -250, -500)
+    euler = node('FunctionNodeEulerToRotation', -80, -500)
+    on_points = node('GeometryNodeInstanceOnPoints', 150, 0)
+    on_points.inputs["Pick Instance"].default_value = True
+
+    links.new(group_in.outputs["Collection"], info.inputs["Collection"])
+    links.new(group_in.outputs["Geometry"], on_points.inputs["Points"])
+    links.new(info.outputs["Instances"], on_points.inputs["Instance"])
+    links.new(prototype.outputs["Attribute"], on_points.inputs["Instance Index"])
+    links.new(rotation.outputs["Attribute"], combine.inputs["Z"])
+    links.new(combine.outputs["Vector"], euler.inputs["Euler"])
+    links.new(euler.outputs["Rotation"], on_points.inputs["Rotation"])
+    links.new(scale.outputs["Attribute"], on_points.inputs["Scale"])
+    links.new(on_points.outputs["Instances"], group_out.inputs["Geometry"])
+    return group
+
+
+def set_modifier_collection(obj, collection):
+    group = instancer_node_group()
+    mod = obj.modifiers.get(MODIFIER_NAME)
+    if mod is None:
+        mod = obj.modifiers.new(MODIFIER_NAME, 'NODES')
+    if mod.node_group is not group:
+        mod.node_group = group
+    identifier = group.interface.items_tree["Collection"].identifier
+    mod[identifier] = collection
+    obj.update_tag()
+
+
+# --- prototype collections ----------------------------------------------------------------------------------------
+
+def prototype_collection(scene, category, exclude=()):
+    """The collection whose children are the category's prototypes, making "WP_proto_<category>" when needed.
+
+    A collection category uses its own collection. Otherwise a hidden collection (not linked to the scene) holds
+    one object with the category's mesh data, or a copy of one example object of the category. None when the file
+    has nothing to instance for the category.
+    """
+    own = bpy.data.collections.get(category)
+    if own is not None and not own.get(PROTOTYPE_TAG):
+        return own
+    name = PROTO_PREFIX + category
+    existing = bpy.data.collections.get(name)
+    if existing is not None:
+        return existing
+    mesh = bpy.data.meshes.get(category)
+    if mesh is not None:
+        proto = bpy.data.objects.new(name, mesh)
+    else:
+        source = next((o for o, c in example_objects(scene.objects, exclude=exclude) if c == category), None)
+        if source is None:
+            return None
+        proto = source.copy()
+        proto.name = name
+    proto.matrix_world = ((1, 0, 0, 0), (0, 1, 0, 0), (0, 0, 1, 0), (0, 0, 0, 1))
+    proto[PROTOTYPE_TAG] = category
+    collection = bpy.data.collections.new(name)
+    collection[PROTOTYPE_TAG] = category
+    collection.objects.link(proto)
+    collection.use_fake_user = True
+    return collection
+
+
+# --- point clouds -------------------------------------------------------------------------------------------------
+
+def worldpaint_collection(scene):
+    collection = bpy.data.collections.get(COLLECTION_NAME)
+    if collection is None:
+        collection = bpy.data.collections.new(COLLECTION_NAME)
+    if collection.name not in scene.collection.children:
+        scene.collection.children.link(collection)
+    return collection
+
+
+def point_cloud_object(scene, category):
+    """The category's point-cloud object, created (empty, with the instancer) when absent."""
+    for obj in scene.objects:
+        if obj.get(POINTS_TAG) == category:
+            return obj
+    name = "WP_" + category
+    mesh = bpy.data.meshes.new(name)
+    obj = bpy.data.objects.new(name, mesh)
+    obj[POINTS_TAG] = category
+    worldpaint_collection(scene).objects.link(obj)
+    return obj
+
+
+def write_points(obj, co, rotation, scale, prototype):
+    """Replaces the object's points: co (N, 3) world space, rotation (N), scale (N), prototype (N)."""
+    mesh = obj.data
+    obj.matrix_world = ((1, 0, 0, 0), (0, 1, 0, 0), (0, 0, 1, 0), (0, 0, 0, 1))
+    n = len(co)
+    mesh.clear_geometry()
+    mesh.vertices.add(n)
+    mesh.vertices.foreach_set("co", np.ascontiguousarray(co, dtype=np.float32).ravel())
+    for (name, kind, dtype), values in zip(ATTRIBUTES, (rotation, scale, prototype), strict=True):
+        attr = mesh.attributes.get(name)
+        if attr is not None and (attr.data_type != kind or attr.domain != 'POINT'):
+            mesh.attributes.remove(attr)
+            attr = None
+        if attr is None:
+            attr = mesh.attributes.new(name, kind, 'POINT')
+        attr.data.foreach_set("value", np.ascontiguousarray(values, dtype=dtype))
+    mesh.update()
+
+
+def remove_object(obj):
+    mesh = obj.data if obj.type == 'MESH' else None
+    bpy.data.objects.remove(obj, do_unlink=True)
+    if mesh is not None and mesh.users == 0:
+        bpy.data.meshes.remove(mesh)
+
+
+# --- converting points to objects ---------------------------------------------------------------------------------
+
+def convert_to_objects(scene, obj):
+    """Real objects for every point of a point cloud, in a collection "WP_<category> objects"; removes the cloud.
+
+    Each point becomes a collection instance of the category's collection when that collection has a single child,
+    else a linked duplicate of the prototype the point picks (tagged ``wp_category`` so it keeps its category).
+    Returns the number of objects made.
+    """
+    category = obj[POINTS_TAG]
+    co, rotation, scale, prototype = point_cloud_arrays(obj)
+    mod = obj.modifiers.get(MODIFIER_NAME)
+    source = None
+    if mod is not None and mod.node_group is not None:
+        source = mod.get(mod.node_group.interface.items_tree["Collection"].identifier)
+    if source is None:
+        source = prototype_collection(scene, category)
+    if source is None:
+        raise WorldPaintError(f"Nothing to instance for category '{category}': no collection or mesh of that name")
+    children = list(source.objects)
+    own_collection = not source.get(PROTOTYPE_TAG)
+
+    target = bpy.data.collections.new(f"WP_{category} objects")
+    worldpaint_collection(scene).children.link(target)
+    made = []
+    for i in range(len(co)):
+        if own_collection and len(children) == 1 or not children:
+            new = bpy.data.objects.new(f"{category}.{i:05d}", None)
+            new.instance_type = 'COLLECTION'
+            new.instance_collection = source
+            new.empty_display_size = 0.5
+        else:
+            new = children[int(prototype[i]) % len(children)].copy()
+            new.name = f"{category}.{i:05d}"
+            if PROTOTYPE_TAG in new:
+                del new[PROTOTYPE_TAG]
+            if own_collection:
+                new["wp_category"] = category
+        new.location = tuple(co[i])
+        new.rotation_euler = (0.0, 0.0, float(rotation[i]))
+        new.scale = (float(scale[i]),) * 3
+        made.append(new)
+    for new in made:
+        target.objects.link(new)
+    remove_object(obj)
+    return len(made)

@@ -1,0 +1,55 @@
+"""Small preview pictures of colors: the exemplar's points drawn as dots, one hue per category."""
+
+import bpy
+import numpy as np
+
+from .engine import engine
+
+SIZE = 64
+BACKGROUND = (0.08, 0.09, 0.08, 1.0)
+HUES = np.array(
+    [
+        (0.15, 0.55, 0.15, 1.0),  # green
+        (0.60, 0.58, 0.55, 1.0),  # grey
+        (0.75, 0.85, 0.25, 1.0),  # yellow-green
+        (0.80, 0.45, 0.20, 1.0),  # orange
+        (0.30, 0.50, 0.85, 1.0),  # blue
+        (0.75, 0.30, 0.60, 1.0),  # purple
+    ],
+    dtype=np.float32,
+)
+
+
+def preview_pixels(summary, size=SIZE):
+    """RGBA float32 pixels (size * size * 4, bottom row first) of a color summary's preview points."""
+    pixels = np.empty((size, size, 4), dtype=np.float32)
+    pixels[:] = BACKGROUND
+    pts = np.asarray(summary["preview"], dtype=np.float64).reshape(-1, 3)
+    width, height = summary["preview_size"]
+    extent = max(width, height, 1e-9)
+    if len(pts):
+        px = np.clip((pts[:, 0] / extent * (size - 2)).astype(int), 0, size - 2)
+        py = np.clip((pts[:, 1] / extent * (size - 2)).astype(int), 0, size - 2)
+        hue = HUES[pts[:, 2].astype(int) % len(HUES)]
+        # 2x2 dots; later categories (lower priority, e.g. grass) are drawn under the earlier ones
+        order = np.argsort(-pts[:, 2], kind="stable")
+        for dy in (0, 1):
+            for dx in (0, 1):
+                pixels[py[order] + dy, px[order] + dx] = hue[order]
+    return pixels.ravel()
+
+
+def make_preview(color_json, name):
+    """A packed 64x64 image of the color's exemplar; returns the image's name."""
+    summary = engine().color_summary(color_json)
+    image = bpy.data.images.new(f"WP preview {name}", SIZE, SIZE, alpha=True)
+    image.pixels.foreach_set(preview_pixels(summary))
+    image.pack()
+    image.use_fake_user = True
+    return image.name
+
+
+def remove_preview(image_name):
+    image = bpy.data.images.get(image_name)
+    if image is not None:
+        bpy.data.images.remove(image)

@@ -1,0 +1,28 @@
+"""Operators, one per concern; each takes its inputs as properties defaulting to the selection and the panel."""
+
+import bpy
+
+from .clear import WORLDPAINT_OT_clear_region
+from .convert import WORLDPAINT_OT_convert_to_objects
+from .learn import WORLDPAINT_OT_learn_color
+from .palette_io import WORLDPAINT_OT_export_palette, WORLDPAINT_OT_import_palette
+from .paste import WORLDPAINT_OT_paste_color
+
+_classes = (
+    WORLDPAINT_OT_learn_color,
+    WORLDPAINT_OT_paste_color,
+    WORLDPAINT_OT_clear_region,
+    WORLDPAINT_OT_convert_to_objects,
+    WORLDPAINT_OT_export_palette,
+    WORLDPAINT_OT_import_palette,
+)
+
+
+def register():
+    for cls in _classes:
+        bpy.utils.register_class(cls)
+
+
+def unregister():
+    for cls in reversed(_classes):
+        bpy.utils.unregister_class(cls)

@@ -1,0 +1,76 @@
+"""What the operators share: region properties, the scene settings they default to, and error reporting."""
+
+from bpy.props import EnumProperty, FloatProperty, FloatVectorProperty, StringProperty
+
+from ..bridge import WorldPaintError
+from ..bridge.engine import engine_errors
+from ..props import REGION_MODES
+
+OPERATOR_REGION_MODES = (
+    (("SCENE", "Scene Setting", "The region mode chosen in the WorldPaint panel"),)
+    + REGION_MODES
+    + (
+        ("RECT", "Rectangle", "The rectangle given by Rect Min and Rect Max"),
+        ("CIRCLE", "Circle", "The circle given by Circle Center and Circle Radius"),
+    )
+)
+
+
+class RegionProperties:
+    """Operator properties choosing a region; by default the scene's region setting and the selection."""
+
+    region_mode: EnumProperty(name="Region", items=OPERATOR_REGION_MODES, default="SCENE")
+    rect_min: FloatVectorProperty(name="Rect Min", size=2, subtype='XYZ', unit='LENGTH')
+    rect_max: FloatVectorProperty(name="Rect Max", size=2, subtype='XYZ', unit='LENGTH')
+    circle_center: FloatVectorProperty(name="Circle Center", size=2, subtype='XYZ', unit='LENGTH')
+    circle_radius: FloatProperty(
+        name="Circle Radius", default=0.0, min=0.0, unit='LENGTH', description="0 uses the panel's radius"
+    )
+    curve: StringProperty(name="Curve", description="Closed curve object of the region (empty: the selected one)")
+
+    def resolved_region_mode(self, context):
+        if self.region_mode == "SCENE":
+            return context.scene.worldpaint.region_mode
+        return self.region_mode
+
+    def region_kwargs(self):
+        return {
+            "rect_min": tuple(self.rect_min),
+            "rect_max": tuple(self.rect_max),
+            "center": tuple(self.circle_center),
+            "radius": self.circle_radius,
+            "curve_name": self.curve,
+        }
+
+
+class TerrainProperty:
+    terrain: StringProperty(name="Terrain", description="Terrain object (empty: the one picked in the panel)")
+
+
+def report_errors(operator, action):
+    """Runs ``action`` (which changes nothing before it has validated everything); errors become UI reports."""
+    try:
+        return action()
+    except WorldPaintError as exc:
+        operator.report({'ERROR'}, str(exc))
+        return {'CANCELLED'}
+    except engine_errors() as exc:
+        if type(exc).__name__ == "Cancelled":
+            operator.report({'WARNING'}, "Cancelled; the scene is unchanged")
+        else:
+            operator.report({'ERROR'}, str(exc))
+        return {'CANCELLED'}
+
+
+def active_color(context, name=""):
+    """The palette entry of the given name, else the active one."""
+    palette = context.scene.worldpaint.palette
+    if len(palette) == 0:
+        raise WorldPaintError("The palette is empty: learn a color first (or import a palette)")
+    if name:
+        entry = palette.get(name)
+        if entry is None:
+            raise WorldPaintError(f"No color named '{name}' in the palette")
+        return entry
+    index = context.scene.worldpaint.active_color_index
+    return palette[min(max(index, 0), len(palette) - 1)]

@@ -1,0 +1,86 @@
+"""Scene data of WorldPaint: the terrain, the categories, the palette and the region settings.
+
+Everything lives on ``scene.worldpaint`` so it is saved in the .blend with the scene.
+"""
+
+import bpy
+from bpy.props import (
+    BoolProperty,
+    CollectionProperty,
+    EnumProperty,
+    FloatProperty,
+    IntProperty,
+    PointerProperty,
+    StringProperty,
+)
+
+CATEGORY_KINDS = (
+    ("distribution", "Distribution", "Instances scattered by the learned statistics"),
+    ("graph", "Graph", "Connected elements such as roads or rivers"),
+    ("polygon", "Polygon", "Areas such as fields or lakes"),
+    ("external", "External", "Context only: conditions others, never synthesized"),
+)
+
+REGION_MODES = (
+    ("SELECTION", "Selection", "The bounding rectangle of the selected objects"),
+    ("CURVE", "Closed Curve", "The polygon of the active (selected) closed curve"),
+    ("CURSOR", "Cursor Circle", "A circle around the 3D cursor"),
+)
+
+
+class WORLDPAINT_PG_category(bpy.types.PropertyGroup):
+    """A category of instances: what it is called, its layer, its kind and its place in the priority order."""
+
+    name: StringProperty(name="Name", description="Instanced collection, mesh data or wp_category of the objects")
+    layer: StringProperty(name="Layer", default="default", description="Layer the category belongs to")
+    kind: EnumProperty(name="Kind", items=CATEGORY_KINDS, default="distribution")
+    priority: IntProperty(
+        name="Priority", default=0, description="Lower values are synthesized first and condition the others"
+    )
+
+
+class WORLDPAINT_PG_color(bpy.types.PropertyGroup):
+    """A learned color: its name, the engine's JSON of it and the name of its preview image."""
+
+    name: StringProperty(name="Name")
+    json: StringProperty(name="JSON", description="The color as the engine's versioned JSON")
+    preview_image: StringProperty(name="Preview", description="Name of the preview image of the color's exemplar")
+
+
+class WORLDPAINT_PG_settings(bpy.types.PropertyGroup):
+    # no poll callback: a Python callback on a property keeps bpy (Blender as a module) from exiting; the
+    # operators check that the terrain is a mesh instead
+    terrain: PointerProperty(name="Terrain", type=bpy.types.Object, description="The terrain mesh instances stand on")
+    categories: CollectionProperty(type=WORLDPAINT_PG_category)
+    active_category_index: IntProperty(name="Active Category", default=0)
+    palette: CollectionProperty(type=WORLDPAINT_PG_color)
+    active_color_index: IntProperty(name="Active Color", default=0)
+    region_mode: EnumProperty(name="Region", items=REGION_MODES, default="SELECTION")
+    region_radius: FloatProperty(
+        name="Radius", default=20.0, min=0.01, soft_max=1000.0, unit='LENGTH',
+        description="Radius of the circle around the 3D cursor",
+    )
+    seed: IntProperty(name="Seed", default=0, min=0, description="Random seed of the synthesis")
+    auto_influence: BoolProperty(
+        name="Automatic Influence", default=True,
+        description="Region of influence as wide as the color's interaction radius",
+    )
+    influence_radius: FloatProperty(
+        name="Influence", default=10.0, min=0.0, unit='LENGTH',
+        description="Width of the band around the region whose content conditions the paste (0 disables it)",
+    )
+
+
+_classes = (WORLDPAINT_PG_category, WORLDPAINT_PG_color, WORLDPAINT_PG_settings)
+
+
+def register():
+    for cls in _classes:
+        bpy.utils.register_class(cls)
+    bpy.types.Scene.worldpaint = PointerProperty(type=WORLDPAINT_PG_settings)
+
+
+def unregister():
+    del bpy.types.Scene.worldpaint
+    for cls in reversed(_classes):
+        bpy.utils.unregister_class(cls)

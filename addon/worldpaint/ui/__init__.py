@@ -1,0 +1,18 @@
+"""The WorldPaint sidebar tab of the 3D viewport; it only draws."""
+
+import bpy
+
+from .lists import WORLDPAINT_UL_categories, WORLDPAINT_UL_palette
+from .panel import WORLDPAINT_PT_main
+
+_classes = (WORLDPAINT_UL_categories, WORLDPAINT_UL_palette, WORLDPAINT_PT_main)
+
+
+def register():
+    for cls in _classes:
+        bpy.utils.register_class(cls)
+
+
+def unregister():
+    for cls in reversed(_classes):
+        bpy.utils.unregister_class(cls)
