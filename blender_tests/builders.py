@@ -1,0 +1,192 @@
+"""Scene content for the tests, made by code: terrains, low-poly prototypes and exemplars of collection instances."""
+
+import math
+
+import bmesh
+import bpy
+import numpy as np
+import worldpaint_engine as engine
+from mathutils import Matrix
+
+CATEGORY_COLLECTIONS = {"tree": "Tree", "rock": "Rock", "grass": "Grass"}
+COLORS = {"Tree": (0.05, 0.45, 0.08, 1.0), "Rock": (0.50, 0.48, 0.45, 1.0), "Grass": (0.70, 0.85, 0.20, 1.0)}
+
+
+def mesh_object(name, co, faces):
+    """A mesh object from vertex coordinates (N, 3) and faces (F, k), written with foreach_set."""
+    co = np.asarray(co, dtype=np.float32)
+    faces = np.asarray(faces, dtype=np.int32)
+    mesh = bpy.data.meshes.new(name)
+    mesh.vertices.add(len(co))
+    mesh.vertices.foreach_set("co", co.ravel())
+    k = faces.shape[1]
+    mesh.loops.add(faces.size)
+    mesh.loops.foreach_set("vertex_index", faces.ravel())
+    mesh.polygons.add(len(faces))
+    mesh.polygons.foreach_set("loop_start", np.arange(0, faces.size, k, dtype=np.int32))
+    mesh.update()
+    mesh.validate()
+    obj = bpy.data.objects.new(name, mesh)
+    bpy.context.scene.collection.objects.link(obj)
+    return obj
+
+
+def grid_terrain(name, origin, cell, heights):
+    """A grid mesh terrain: heights (ny, nx) sampled at origin + (i, j) * cell."""
+    heights = np.asarray(heights, dtype=np.float64)
+    ny, nx = heights.shape
+    x, y = np.meshgrid(origin[0] + cell * np.arange(nx), origin[1] + cell * np.arange(ny))
+    co = np.column_stack([x.ravel(), y.ravel(), heights.ravel()])
+    i, j = np.meshgrid(np.arange(nx - 1), np.arange(ny - 1))
+    v0 = (j * nx + i).ravel()
+    quads = np.column_stack([v0, v0 + 1, v0 + 1 + nx, v0 + nx])
+    return mesh_object(name, co, quads)
+
+
+def engine_terrain_object(name, terrain):
+    """A grid mesh of an engine Terrain (e.g. from the exemplar generators)."""
+    g = terrain.grid()
+    return grid_terrain(name, g["origin"], g["cell"], g["heights"])
+
+
+def hills_terrain(name="Hills", size=120.0, cell=1.0, seed=5):
+    return engine_terrain_object(name, engine.exemplar_demo_terrain(size, cell, seed))
+
+
+def irregular_terrain(name="Irregular", size=100.0, n=60, seed=3):
+    """A non-grid triangle mesh: jittered vertices, triangles of varying shape, smooth analytic heights."""
+    rng = np.random.default_rng(seed)
+    step = size / (n - 1)
+    x, y = np.meshgrid(np.arange(n) * step, np.arange(n) * step)
+    jitter = rng.uniform(-0.3, 0.3, size=(2, n, n)) * step
+    inner = np.zeros((n, n), bool)
+    inner[1:-1, 1:-1] = True
+    x = x + np.where(inner, jitter[0], 0.0)
+    y = y + np.where(inner, jitter[1], 0.0)
+    z = 4.0 * np.sin(x / 17.0) * np.cos(y / 23.0) + 0.05 * x
+    co = np.column_stack([x.ravel(), y.ravel(), z.ravel()])
+    i, j = np.meshgrid(np.arange(n - 1), np.arange(n - 1))
+    v0 = (j * n + i).ravel()
+    flip = rng.random(len(v0)) < 0.5
+    t1 = np.where(flip[:, None], np.column_stack([v0, v0 + 1, v0 + n]), np.column_stack([v0, v0 + 1, v0 + n + 1]))
+    t2 = np.where(
+        flip[:, None], np.column_stack([v0 + 1, v0 + n + 1, v0 + n]), np.column_stack([v0, v0 + n + 1, v0 + n])
+    )
+    return mesh_object(name, co, np.concatenate([t1, t2]))
+
+
+def _material(name, rgba):
+    mat = bpy.data.materials.new(name)
+    mat.diffuse_color = rgba
+    return mat
+
+
+def _bmesh_object(name, bm, rgba):
+    mesh = bpy.data.meshes.new(name + "Mesh")
+    bm.to_mesh(mesh)
+    bm.free()
+    mesh.materials.append(_material(name, rgba))
+    return bpy.data.objects.new(name + "Proto", mesh)
+
+
+def prototypes():
+    """Collections Tree, Rock and Grass, each holding one tiny low-poly mesh, excluded from the view layer."""
+    scene = bpy.context.scene
+    parent = bpy.data.collections.new("Prototypes")
+    scene.collection.children.link(parent)
+    built = {}
+    for name in ("Tree", "Rock", "Grass"):
+        bm = bmesh.new()
+        if name == "Tree":
+            bmesh.ops.create_cone(bm, cap_ends=True, segments=6, radius1=1.5, radius2=0.0, depth=5.0,
+                                  matrix=Matrix.Translation((0.0, 0.0, 2.5)))
+        elif name == "Rock":
+            bmesh.ops.create_icosphere(bm, subdivisions=1, radius=0.8)
+        else:
+            bmesh.ops.create_cone(bm, cap_ends=False, segments=3, radius1=0.3, radius2=0.0, depth=0.5,
+                                  matrix=Matrix.Translation((0.0, 0.0, 0.25)))
+        collection = bpy.data.collections.new(name)
+        parent.children.link(collection)
+        collection.objects.link(_bmesh_object(name, bm, COLORS[name]))
+        built[name] = collection
+    bpy.context.view_layer.layer_collection.children["Prototypes"].exclude = True
+    return built
+
+
+def collection_instances(collection_name, positions, z, rotations=None, scales=None, parent=None):
+    """Collection-instance empties (hand-placed examples) at world positions (N, 2) and heights z (N)."""
+    target = parent or bpy.context.scene.collection
+    collection = bpy.data.collections[collection_name]
+    made = []
+    for k, (p, h) in enumerate(zip(positions, z, strict=True)):
+        obj = bpy.data.objects.new(f"{collection_name}.ex{k:04d}", None)
+        obj.instance_type = 'COLLECTION'
+        obj.instance_collection = collection
+        obj.location = (float(p[0]), float(p[1]), float(h))
+        if rotations is not None:
+            obj.rotation_euler = (0.0, 0.0, float(rotations[k]))
+        if scales is not None:
+            obj.scale = (float(scales[k]),) * 3
+        target.objects.link(obj)
+        made.append(obj)
+    return made
+
+
+def slope_exemplar(size=200.0, exemplar=100.0, seed=1):
+    """The engine's slope scene: its terrain as a grid mesh, and its instances inside [0, exemplar]² as examples.
+
+    Trees only on 20-35 degree slopes, rocks anywhere, grass clustered around rocks. Returns (terrain object,
+    example objects, engine scene dict).
+    """
+    scene_data = engine.exemplar_slope_scene(size, seed)
+    terrain_obj = engine_terrain_object("Terrain", scene_data["terrain"])
+    prototypes()
+    examples_collection = bpy.data.collections.new("Examples")
+    bpy.context.scene.collection.children.link(examples_collection)
+    pos = scene_data["positions"]
+    inside = (pos[:, 0] < exemplar) & (pos[:, 1] < exemplar)
+    examples = []
+    for index, category in enumerate(scene_data["categories"]):
+        mask = inside & (scene_data["category_index"] == index)
+        examples += collection_instances(
+            CATEGORY_COLLECTIONS[category["name"]],
+            pos[mask],
+            scene_data["heights"][mask],
+            scene_data["rotations"][mask],
+            scene_data["scales"][mask],
+            parent=examples_collection,
+        )
+    bpy.context.scene.worldpaint.terrain = terrain_obj
+    return terrain_obj, examples, scene_data
+
+
+def select_only(objects):
+    for obj in bpy.context.view_layer.objects:
+        obj.select_set(False)
+    for obj in objects:
+        obj.select_set(True)
+    if objects:
+        bpy.context.view_layer.objects.active = objects[0]
+
+
+def top_camera(center, height, ortho_scale):
+    cam = bpy.data.objects.new("TopCamera", bpy.data.cameras.new("TopCamera"))
+    cam.data.type = 'ORTHO'
+    cam.data.ortho_scale = ortho_scale
+    cam.data.clip_end = height * 4.0
+    cam.location = (center[0], center[1], height)
+    cam.rotation_euler = (0.0, 0.0, 0.0)
+    bpy.context.scene.collection.objects.link(cam)
+    bpy.context.scene.camera = cam
+    return cam
+
+
+def closed_circle_curve(name, center, radius):
+    bpy.ops.curve.primitive_bezier_circle_add(radius=radius, location=(center[0], center[1], 0.0))
+    obj = bpy.context.active_object
+    obj.name = name
+    return obj
+
+
+def degrees(x):
+    return math.degrees(x)
