@@ -3,7 +3,10 @@
 Per category one vertex-only mesh object "WP_<category>" in the "WorldPaint" collection, with point attributes
 ``rotation`` (FLOAT, radians about Z), ``scale`` (FLOAT) and ``prototype`` (INT). The node group
 "WorldPaint Instancer" instances the children of the category's prototype collection on the points (Pick Instance
-by ``prototype``); the modifier's Collection input says which collection. All writes use foreach_set.
+by ``prototype``); the modifier's Collection input says which collection. The points carry the engine's terrain
+height; the modifier's Terrain input, when set, snaps them onto the actual mesh surface (a vertical ray cast in
+Geometry Nodes), so instances sit exactly on any terrain topology and follow later terrain edits.
+All writes use foreach_set.
 """
 
 import bpy
@@ -16,6 +19,7 @@ COLLECTION_NAME = "WorldPaint"
 NODE_GROUP_NAME = "WorldPaint Instancer"
 MODIFIER_NAME = "WorldPaint"
 PROTO_PREFIX = "WP_proto_"
+SNAP_HEIGHT = 500.0  # the snapping ray starts this far above each point and is twice as long
 ATTRIBUTES = (("rotation", 'FLOAT', np.float32), ("scale", 'FLOAT', np.float32), ("prototype", 'INT', np.int32))
 
 
@@ -24,11 +28,12 @@ ATTRIBUTES = (("rotation", 'FLOAT', np.float32), ("scale", 'FLOAT', np.float32),
 def instancer_node_group():
     """The shared node group, built once per file."""
     group = bpy.data.node_groups.get(NODE_GROUP_NAME)
-    if group is not None and group.bl_idname == 'GeometryNodeTree' and "Collection" in group.interface.items_tree:
+    if group is not None and group.bl_idname == 'GeometryNodeTree' and "Terrain" in group.interface.items_tree:
         return group
     group = bpy.data.node_groups.new(NODE_GROUP_NAME, 'GeometryNodeTree')
     group.interface.new_socket("Geometry", in_out='INPUT', socket_type='NodeSocketGeometry')
     group.interface.new_socket("Collection", in_out='INPUT', socket_type='NodeSocketCollection')
+    group.interface.new_socket("Terrain", in_out='INPUT', socket_type='NodeSocketObject')
     group.interface.new_socket("Geometry", in_out='OUTPUT', socket_type='NodeSocketGeometry')
     nodes, links = group.nodes, group.links
 
@@ -38,7 +43,7 @@ def instancer_node_group():
         return n
 
     group_in = node('NodeGroupInput', -800, 0)
-    group_out = node('NodeGroupOutput', 400, 0)
+    group_out = node('NodeGroupOutput', 550, 0)
     info = node('GeometryNodeCollectionInfo', -500, -150)
     info.transform_space = 'ORIGINAL'
     info.inputs["Separate Children"].default_value = True
@@ -55,11 +60,30 @@ def instancer_node_group():
     scale = attribute("scale", 'FLOAT', -650)
     combine = node('ShaderNodeCombineXYZ', -250, -500)
     euler = node('FunctionNodeEulerToRotation', -80, -500)
-    on_points = node('GeometryNodeInstanceOnPoints', 150, 0)
+    on_points = node('GeometryNodeInstanceOnPoints', 300, 0)
     on_points.inputs["Pick Instance"].default_value = True
 
+    # snap onto the terrain: a ray from above each point; points without a hit keep the engine's height
+    terrain = node('GeometryNodeObjectInfo', -500, 300)
+    terrain.transform_space = 'RELATIVE'
+    position = node('GeometryNodeInputPosition', -500, 450)
+    lift = node('ShaderNodeVectorMath', -300, 450)
+    lift.operation = 'ADD'
+    lift.inputs[1].default_value = (0.0, 0.0, SNAP_HEIGHT)
+    ray = node('GeometryNodeRaycast', -100, 350)
+    ray.inputs["Ray Direction"].default_value = (0.0, 0.0, -1.0)
+    ray.inputs["Ray Length"].default_value = 2.0 * SNAP_HEIGHT
+    snap = node('GeometryNodeSetPosition', 100, 250)
+    links.new(group_in.outputs["Terrain"], terrain.inputs["Object"])
+    links.new(terrain.outputs["Geometry"], ray.inputs["Target Geometry"])
+    links.new(position.outputs["Position"], lift.inputs[0])
+    links.new(lift.outputs["Vector"], ray.inputs["Source Position"])
+    links.new(group_in.outputs["Geometry"], snap.inputs["Geometry"])
+    links.new(ray.outputs["Is Hit"], snap.inputs["Selection"])
+    links.new(ray.outputs["Hit Position"], snap.inputs["Position"])
+
     links.new(group_in.outputs["Collection"], info.inputs["Collection"])
-    links.new(group_in.outputs["Geometry"], on_points.inputs["Points"])
+    links.new(snap.outputs["Geometry"], on_points.inputs["Points"])
     links.new(info.outputs["Instances"], on_points.inputs["Instance"])
     links.new(prototype.outputs["Attribute"], on_points.inputs["Instance Index"])
     links.new(rotation.outputs["Attribute"], combine.inputs["Z"])
@@ -70,16 +94,28 @@ def instancer_node_group():
     return group
 
 
-def set_modifier_collection(obj, collection):
+def set_instancer(obj, collection=None, terrain=None):
+    """Gives a point cloud the instancer modifier; sets its Collection and Terrain inputs when given."""
     group = instancer_node_group()
     mod = obj.modifiers.get(MODIFIER_NAME)
     if mod is None:
         mod = obj.modifiers.new(MODIFIER_NAME, 'NODES')
     if mod.node_group is not group:
         mod.node_group = group
-    identifier = group.interface.items_tree["Collection"].identifier
-    mod[identifier] = collection
+    inputs = group.interface.items_tree
+    if collection is not None:
+        mod[inputs["Collection"].identifier] = collection
+    if terrain is not None:
+        mod[inputs["Terrain"].identifier] = terrain
     obj.update_tag()
+
+
+def instancer_collection(obj):
+    """The Collection input of a point cloud's instancer, or None."""
+    mod = obj.modifiers.get(MODIFIER_NAME)
+    if mod is None or mod.node_group is None or "Collection" not in mod.node_group.interface.items_tree:
+        return None
+    return mod.get(mod.node_group.interface.items_tree["Collection"].identifier)
 
 
 # --- prototype collections ----------------------------------------------------------------------------------------
@@ -177,10 +213,7 @@ def convert_to_objects(scene, obj):
     """
     category = obj[POINTS_TAG]
     co, rotation, scale, prototype = point_cloud_arrays(obj)
-    mod = obj.modifiers.get(MODIFIER_NAME)
-    source = None
-    if mod is not None and mod.node_group is not None:
-        source = mod.get(mod.node_group.interface.items_tree["Collection"].identifier)
+    source = instancer_collection(obj)
     if source is None:
         source = prototype_collection(scene, category)
     if source is None:

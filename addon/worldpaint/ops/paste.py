@@ -83,11 +83,12 @@ class WORLDPAINT_OT_paste_color(RegionProperties, TerrainProperty, bpy.types.Ope
             points.write_points(obj, *columns)
         missing = []
         for category, obj in instances.point_cloud_objects(scene).items():
-            if points.MODIFIER_NAME not in obj.modifiers:
+            collection = points.instancer_collection(obj)
+            if collection is None:
                 collection = points.prototype_collection(scene, category, exclude=[terrain_obj])
                 if collection is None:
                     missing.append(category)
-                points.set_modifier_collection(obj, collection)
+            points.set_instancer(obj, collection, terrain_obj)
         count = len(result["positions"]) - dropped
         self.report({'INFO'}, f"Pasted {count} instances of '{entry.name}'")
         if missing:

@@ -1,0 +1,129 @@
+"""Bad inputs give a clear error from the operator and leave the scene as it was."""
+
+import bpy
+import pytest
+from builders import select_only, slope_exemplar
+from worldpaint.bridge.instances import point_cloud_objects
+
+EXEMPLAR = {"region_mode": 'RECT', "rect_min": (0.0, 0.0), "rect_max": (100.0, 100.0)}
+
+
+def snapshot():
+    scene = bpy.context.scene
+    return (
+        len(bpy.data.objects),
+        len(bpy.data.collections),
+        len(scene.worldpaint.palette),
+        len(scene.worldpaint.categories),
+        {c: len(o.data.vertices) for c, o in point_cloud_objects(scene).items()},
+    )
+
+
+@pytest.fixture
+def learned():
+    terrain_obj, examples, _ = slope_exemplar()
+    select_only(examples)
+    bpy.ops.worldpaint.learn_color(name="Slope forest", **EXEMPLAR)
+    select_only([])
+    bpy.ops.worldpaint.paste_color(seed=1, region_mode='RECT', rect_min=(100.0, 100.0), rect_max=(200.0, 200.0))
+    return terrain_obj, examples
+
+
+def test_no_terrain(learned):
+    bpy.context.scene.worldpaint.terrain = None
+    before = snapshot()
+    with pytest.raises(RuntimeError, match="No terrain"):
+        bpy.ops.worldpaint.paste_color(region_mode='RECT', rect_min=(0.0, 100.0), rect_max=(100.0, 200.0))
+    with pytest.raises(RuntimeError, match="No terrain"):
+        bpy.ops.worldpaint.learn_color(**EXEMPLAR)
+    assert snapshot() == before
+
+
+def test_terrain_that_is_not_a_mesh(learned):
+    empty = bpy.data.objects.new("NotATerrain", None)
+    bpy.context.scene.collection.objects.link(empty)
+    before = snapshot()
+    with pytest.raises(RuntimeError, match="not a mesh"):
+        bpy.ops.worldpaint.paste_color(terrain="NotATerrain", **EXEMPLAR)
+    assert snapshot() == before
+
+
+def test_empty_selection(learned):
+    select_only([])
+    before = snapshot()
+    with pytest.raises(RuntimeError, match="Nothing to learn: select the example objects"):
+        bpy.ops.worldpaint.learn_color()
+    with pytest.raises(RuntimeError, match="Select objects to define the region"):
+        bpy.ops.worldpaint.paste_color(region_mode='SELECTION')
+    assert snapshot() == before
+
+
+def test_region_off_the_terrain(learned):
+    before = snapshot()
+    with pytest.raises(RuntimeError, match="lies outside the terrain"):
+        bpy.ops.worldpaint.paste_color(region_mode='RECT', rect_min=(500.0, 500.0), rect_max=(600.0, 600.0))
+    with pytest.raises(RuntimeError, match="lies outside the terrain"):
+        bpy.ops.worldpaint.paste_color(region_mode='CIRCLE', circle_center=(-300.0, 0.0), circle_radius=50.0)
+    assert snapshot() == before
+
+
+def test_degenerate_region(learned):
+    before = snapshot()
+    with pytest.raises(RuntimeError, match="region"):
+        bpy.ops.worldpaint.paste_color(region_mode='RECT', rect_min=(10.0, 10.0), rect_max=(10.0, 50.0))
+    assert snapshot() == before
+
+
+def test_open_curve_region(learned):
+    from builders import closed_circle_curve
+
+    curve = closed_circle_curve("Open", (50.0, 50.0), 20.0)
+    curve.data.splines[0].use_cyclic_u = False
+    select_only([curve])
+    before = snapshot()
+    with pytest.raises(RuntimeError, match="not closed"):
+        bpy.ops.worldpaint.paste_color(region_mode='CURVE')
+    assert snapshot() == before
+
+
+def test_empty_palette():
+    terrain_obj, _, _ = slope_exemplar()
+    before = snapshot()
+    with pytest.raises(RuntimeError, match="palette is empty"):
+        bpy.ops.worldpaint.paste_color(**EXEMPLAR)
+    with pytest.raises(RuntimeError, match="palette is empty"):
+        bpy.ops.worldpaint.export_palette(filepath="/nonexistent/never.json")
+    assert snapshot() == before
+
+
+@pytest.mark.parametrize(
+    ("content", "message"),
+    [
+        ("this is not json {", "not a usable WorldPaint palette"),
+        ('{"format": "worldpaint-palette", "version": 99, "colors": []}', "version 99"),
+        ('{"format": "worldpaint-palette", "version": 1, "colors": [{"name": 3}]}', "not a usable"),
+    ],
+)
+def test_corrupt_palette_file(learned, tmp_path, content, message):
+    path = tmp_path / "bad.json"
+    path.write_text(content)
+    before = snapshot()
+    with pytest.raises(RuntimeError, match=message):
+        bpy.ops.worldpaint.import_palette(filepath=str(path))
+    assert snapshot() == before
+
+
+def test_missing_palette_file(learned, tmp_path):
+    before = snapshot()
+    with pytest.raises(RuntimeError, match="Cannot read the palette file"):
+        bpy.ops.worldpaint.import_palette(filepath=str(tmp_path / "missing.json"))
+    assert snapshot() == before
+
+
+def test_unknown_color_and_category(learned):
+    before = snapshot()
+    with pytest.raises(RuntimeError, match="No color named 'Nope'"):
+        bpy.ops.worldpaint.paste_color(color="Nope", **EXEMPLAR)
+    with pytest.raises(RuntimeError, match="No synthesized instances of category 'Nope'"):
+        bpy.ops.worldpaint.convert_to_objects(category="Nope")
+    assert snapshot() == before
