@@ -1,0 +1,425 @@
+//! The Luquillo forest report, shared by `tests/forest.rs` and `benches/synthesis.rs` (included with `#[path]`).
+//!
+//! Real data (ForestGEO's Luquillo plot, Puerto Rico), read from `shared/data/real/forest` beside the project —
+//! never copied into the repository. The living trees of the one-hectare census (x 100–200 m, y 400–500 m) are
+//! split in two: a color is learned from the western half (x < 150) on the plot's 5 m elevation grid, painted
+//! into the eastern half (x 150–200) with the western trees as the surrounding context, and the result is
+//! compared with the real eastern trees, beside reference arrangements.
+//!
+//! Maps: only "slope" is learned. Elevation histograms are binned over the exemplar region's own elevation range
+//! and the eastern half lies partly outside the western half's range, where the learned preference would be
+//! zero; slope uses fixed 2.5° bins and transfers between the halves.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+use worldpaint_core::exemplar;
+use worldpaint_core::geom::DVec2;
+use worldpaint_core::{
+    compare, learn_color, synthesize, AnalysisOptions, Category, Color, Heightfield, Instance,
+    Region, Scene, SynthesisOptions,
+};
+
+/// Where the forest data lives, relative to this crate.
+pub fn data_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/real/forest")
+}
+
+const TREES_FILE: &str = "luquillo_tree6_1ha.csv";
+const ELEVATION_FILE: &str = "luquillo_elevation_5m.csv";
+
+/// A parsed CSV file: the header and the records (all as text).
+struct Csv {
+    header: Vec<String>,
+    records: Vec<Vec<String>>,
+}
+
+impl Csv {
+    /// Index of a column by name (trimmed, case-insensitive).
+    fn column(&self, name: &str) -> Result<usize, String> {
+        self.header
+            .iter()
+            .position(|h| h.trim().eq_ignore_ascii_case(name))
+            .ok_or_else(|| format!("no column '{name}' in header {:?}", self.header))
+    }
+}
+
+/// Splits CSV text into records: RFC 4180 quoting (quoted fields may hold commas, doubled quotes and line
+/// breaks), LF or CRLF line ends, a leading byte-order mark ignored, blank lines skipped.
+fn parse_csv(text: &str) -> Result<Csv, String> {
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    let mut records: Vec<Vec<String>> = Vec::new();
+    let mut record: Vec<String> = Vec::new();
+    let mut field = String::new();
+    let mut in_quotes = false;
+    let mut line = 1usize;
+    let mut chars = text.chars().peekable();
+    let end_record = |record: &mut Vec<String>, records: &mut Vec<Vec<String>>| {
+        let r = std::mem::take(record);
+        if !(r.len() == 1 && r[0].trim().is_empty()) {
+            records.push(r);
+        }
+    };
+    while let Some(c) = chars.next() {
+        if in_quotes {
+            match c {
+                '"' if chars.peek() == Some(&'"') => {
+                    chars.next();
+                    field.push('"');
+                }
+                '"' => in_quotes = false,
+                '\n' => {
+                    line += 1;
+                    field.push(c);
+                }
+                _ => field.push(c),
+            }
+            continue;
+        }
+        match c {
+            '"' if field.trim().is_empty() => {
+                field.clear();
+                in_quotes = true;
+            }
+            ',' => record.push(std::mem::take(&mut field)),
+            '\r' if chars.peek() == Some(&'\n') => {}
+            '\n' => {
+                record.push(std::mem::take(&mut field));
+                end_record(&mut record, &mut records);
+                line += 1;
+            }
+            _ => field.push(c),
+        }
+    }
+    if in_quotes {
+        return Err(format!("unterminated quoted field at line {line}"));
+    }
+    if !field.is_empty() || !record.is_empty() {
+        record.push(field);
+        end_record(&mut record, &mut records);
+    }
+    if records.is_empty() {
+        return Err("empty file".into());
+    }
+    let header = records.remove(0);
+    Ok(Csv { header, records })
+}
+
+fn read_csv(path: &Path) -> Result<Csv, String> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+    parse_csv(&text).map_err(|e| format!("{}: {e}", path.display()))
+}
+
+fn number(s: &str) -> Option<f64> {
+    s.trim().parse::<f64>().ok().filter(|v| v.is_finite())
+}
+
+/// Positions of the living trees (status "A"), and how many living rows had unusable coordinates.
+fn read_trees(path: &Path) -> Result<(Vec<DVec2>, usize), String> {
+    let csv = read_csv(path)?;
+    let (gx, gy, status) = (csv.column("gx")?, csv.column("gy")?, csv.column("status")?);
+    let mut trees = Vec::new();
+    let mut bad = 0usize;
+    for r in &csv.records {
+        if r.get(status).map(|s| s.trim()) != Some("A") {
+            continue;
+        }
+        match (
+            r.get(gx).and_then(|s| number(s)),
+            r.get(gy).and_then(|s| number(s)),
+        ) {
+            (Some(x), Some(y)) => trees.push(DVec2::new(x, y)),
+            _ => bad += 1,
+        }
+    }
+    if trees.is_empty() {
+        return Err(format!("{}: no living trees", path.display()));
+    }
+    Ok((trees, bad))
+}
+
+/// The elevation grid (x, y, elev on a regular square lattice) as a heightfield.
+fn read_elevation(path: &Path) -> Result<Heightfield, String> {
+    let csv = read_csv(path)?;
+    let (cx, cy, ce) = (csv.column("x")?, csv.column("y")?, csv.column("elev")?);
+    let mut samples = Vec::with_capacity(csv.records.len());
+    for (k, r) in csv.records.iter().enumerate() {
+        let get = |c: usize| r.get(c).and_then(|s| number(s));
+        match (get(cx), get(cy), get(ce)) {
+            (Some(x), Some(y), Some(z)) => samples.push((x, y, z)),
+            _ => return Err(format!("{}: bad record {}: {r:?}", path.display(), k + 2)),
+        }
+    }
+    let distinct = |mut v: Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        v.dedup_by(|a, b| (*a - *b).abs() < 1e-6);
+        v
+    };
+    let xs = distinct(samples.iter().map(|s| s.0).collect());
+    let ys = distinct(samples.iter().map(|s| s.1).collect());
+    if xs.len() < 2 || ys.len() < 2 {
+        return Err(format!("{}: not a grid", path.display()));
+    }
+    let cell = xs[1] - xs[0];
+    let regular = |v: &[f64]| {
+        v.windows(2)
+            .all(|w| ((w[1] - w[0]) - cell).abs() < 1e-6 * cell)
+    };
+    if cell <= 0.0 || !regular(&xs) || !regular(&ys) {
+        return Err(format!(
+            "{}: samples are not on a regular square grid",
+            path.display()
+        ));
+    }
+    let (nx, ny) = (xs.len(), ys.len());
+    let mut heights = vec![f32::NAN; nx * ny];
+    for (x, y, z) in samples {
+        let i = ((x - xs[0]) / cell).round() as usize;
+        let j = ((y - ys[0]) / cell).round() as usize;
+        heights[j * nx + i] = z as f32;
+    }
+    if let Some(k) = heights.iter().position(|h| h.is_nan()) {
+        return Err(format!(
+            "{}: grid node ({}, {}) has no sample",
+            path.display(),
+            xs[k % nx],
+            ys[k / nx]
+        ));
+    }
+    Heightfield::new(DVec2::new(xs[0], ys[0]), cell, nx, ny, heights)
+        .map_err(|e| format!("{}: {e}", path.display()))
+}
+
+/// The living trees and the terrain of the plot.
+pub struct ForestData {
+    pub trees: Vec<DVec2>,
+    /// Living trees whose coordinates could not be read.
+    pub unreadable: usize,
+    pub terrain: Heightfield,
+}
+
+/// Loads the forest data; `Ok(None)` when the data folder is absent.
+pub fn load(dir: &Path) -> Result<Option<ForestData>, String> {
+    let (trees_path, elev_path) = (dir.join(TREES_FILE), dir.join(ELEVATION_FILE));
+    if !trees_path.is_file() || !elev_path.is_file() {
+        return Ok(None);
+    }
+    let (trees, unreadable) = read_trees(&trees_path)?;
+    let terrain = read_elevation(&elev_path)?;
+    Ok(Some(ForestData {
+        trees,
+        unreadable,
+        terrain,
+    }))
+}
+
+/// One line of the report: a candidate arrangement of the eastern half against a reference.
+pub struct Row {
+    pub label: &'static str,
+    pub count: usize,
+    pub density_ratio: f64,
+    pub rdf_l2: f64,
+    pub slope_tv: f64,
+}
+
+pub struct ForestReport {
+    pub trees: usize,
+    pub unreadable: usize,
+    pub west_count: usize,
+    pub east_count: usize,
+    pub max_radius: f64,
+    pub bin_width: f64,
+    pub synthesis_seconds: f64,
+    /// Synthesized (seed 1) vs the real eastern trees.
+    pub synthesized: Row,
+    /// Real western trees vs the real eastern trees (natural variation between the two halves).
+    pub real_west: Row,
+    /// A second synthesis (seed 2) vs the first.
+    pub second_draw: Row,
+    /// Poisson-disk (dart throwing) scatter at the synthesized count vs the real eastern trees.
+    pub poisson_disk: Row,
+    pub poisson_disk_radius: f64,
+    /// Uniform random (Poisson) scatter at the synthesized count vs the real eastern trees.
+    pub uniform: Row,
+}
+
+pub fn west() -> Region {
+    Region::Rect {
+        min: DVec2::new(100.0, 400.0),
+        max: DVec2::new(150.0, 500.0),
+    }
+}
+
+pub fn east() -> Region {
+    Region::Rect {
+        min: DVec2::new(150.0, 400.0),
+        max: DVec2::new(200.0, 500.0),
+    }
+}
+
+fn tree_scene(points: &[DVec2], terrain: &Heightfield) -> Scene {
+    Scene {
+        categories: vec![Category::distribution("tree", "vegetation", 0)],
+        instances: points.iter().map(|p| Instance::at(*p, 0)).collect(),
+        terrain: Some(terrain.clone()),
+    }
+}
+
+fn row(label: &'static str, reference: &Color, candidate: &Color) -> Row {
+    let fid = compare(reference, candidate);
+    Row {
+        label,
+        count: candidate.categories.first().map_or(0, |c| c.count),
+        density_ratio: fid.density_ratio.first().map_or(f64::NAN, |d| d.1),
+        rdf_l2: fid.rdf_l2_of("tree", "tree").unwrap_or(f64::NAN),
+        slope_tv: fid
+            .map_tv
+            .iter()
+            .find(|(c, m, _)| c == "tree" && m == "slope")
+            .map_or(f64::NAN, |t| t.2),
+    }
+}
+
+/// Runs the whole report on loaded data.
+pub fn report(data: &ForestData) -> Result<ForestReport, String> {
+    let terrain = &data.terrain;
+    let (west, east) = (west(), east());
+    let all = tree_scene(&data.trees, terrain);
+    let slope_only = AnalysisOptions {
+        maps: vec!["slope".into()],
+        ..Default::default()
+    };
+    let err = |what: &str| {
+        let what = what.to_string();
+        move |e: worldpaint_core::Error| format!("{what}: {e}")
+    };
+    let west_color =
+        learn_color(&all, &west, "luquillo west", &slope_only).map_err(err("learn west"))?;
+    // every other color with the western color's bins, so rdfs compare bin by bin
+    let same_bins = AnalysisOptions {
+        bin_width: Some(west_color.bin_width),
+        max_radius: Some(west_color.max_radius),
+        maps: vec!["slope".into()],
+        ..Default::default()
+    };
+    let learn = |points: &[DVec2], name: &str| {
+        learn_color(&tree_scene(points, terrain), &east, name, &same_bins)
+            .map_err(err(&format!("learn {name}")))
+    };
+    let east_trees: Vec<DVec2> = data
+        .trees
+        .iter()
+        .copied()
+        .filter(|p| east.contains(*p))
+        .collect();
+    let real_east = learn(&east_trees, "luquillo east")?;
+
+    // paint the eastern half next to the real western trees (the eastern trees are what the paste replaces)
+    let context: Vec<DVec2> = data
+        .trees
+        .iter()
+        .copied()
+        .filter(|p| !east.contains(*p))
+        .collect();
+    let context_scene = tree_scene(&context, terrain);
+    let paint = |seed: u64| -> Result<Vec<DVec2>, String> {
+        let opts = SynthesisOptions {
+            seed,
+            ..Default::default()
+        };
+        let out =
+            synthesize(&context_scene, &west_color, &east, &opts).map_err(err("synthesize"))?;
+        Ok(out.instances.iter().map(|i| i.position).collect())
+    };
+    let t0 = Instant::now();
+    let first = paint(1)?;
+    let synthesis_seconds = t0.elapsed().as_secs_f64();
+    let second = paint(2)?;
+    let first_color = learn(&first, "synthesized 1")?;
+    let second_color = learn(&second, "synthesized 2")?;
+
+    // reference scatters at the synthesized count
+    let density = first.len() as f64 / east.area();
+    let radius = 0.5 / density.sqrt();
+    let disk = exemplar::hard_core(&east, density, radius, 11);
+    let disk_color = learn(&disk, "poisson disk")?;
+    let uniform = exemplar::uniform(&east, density, 12);
+    let uniform_color = learn(&uniform, "uniform")?;
+
+    let west_as_candidate =
+        learn_color(&all, &west, "luquillo west", &same_bins).map_err(err("learn west"))?;
+    Ok(ForestReport {
+        trees: data.trees.len(),
+        unreadable: data.unreadable,
+        west_count: west_color.categories.first().map_or(0, |c| c.count),
+        east_count: east_trees.len(),
+        max_radius: west_color.max_radius,
+        bin_width: west_color.bin_width,
+        synthesis_seconds,
+        synthesized: row(
+            "synthesized (seed 1) vs real east",
+            &real_east,
+            &first_color,
+        ),
+        real_west: row("real west vs real east", &real_east, &west_as_candidate),
+        second_draw: row("synthesized seed 2 vs seed 1", &first_color, &second_color),
+        poisson_disk: row("Poisson-disk vs real east", &real_east, &disk_color),
+        poisson_disk_radius: radius,
+        uniform: row("uniform random vs real east", &real_east, &uniform_color),
+    })
+}
+
+impl ForestReport {
+    /// The report as a plain-text table.
+    pub fn table(&self) -> String {
+        let mut s = format!(
+            "Luquillo forest plot, living trees: {} ({} unreadable rows skipped); western half (x 100-150 m) {} \
+             trees, eastern half (x 150-200 m) {} trees; rdf to {:.2} m in {:.3} m bins; map: slope\n\
+             eastern half painted with the western color next to the real western trees in {:.2} s\n",
+            self.trees,
+            self.unreadable,
+            self.west_count,
+            self.east_count,
+            self.max_radius,
+            self.bin_width,
+            self.synthesis_seconds,
+        );
+        s.push_str(&format!(
+            "{:<36} {:>6} {:>14} {:>8} {:>9}\n",
+            "candidate vs reference", "count", "density ratio", "rdf L2", "slope TV"
+        ));
+        for r in [
+            &self.synthesized,
+            &self.real_west,
+            &self.second_draw,
+            &self.poisson_disk,
+            &self.uniform,
+        ] {
+            s.push_str(&format!(
+                "{:<36} {:>6} {:>14.3} {:>8.4} {:>9.4}\n",
+                r.label, r.count, r.density_ratio, r.rdf_l2, r.slope_tv
+            ));
+        }
+        s.push_str(&format!(
+            "(Poisson-disk: dart throwing, hard core {:.2} m = half the mean spacing; uniform: Poisson process; \
+             both at the synthesized density)\n",
+            self.poisson_disk_radius
+        ));
+        s
+    }
+}
+
+/// Loads the data and runs the report; `Ok(None)` (after printing why) when the data is absent.
+pub fn run() -> Result<Option<ForestReport>, String> {
+    let dir = data_dir();
+    match load(&dir)? {
+        None => {
+            println!(
+                "forest report skipped: Luquillo data not found at {} (expected {TREES_FILE} and {ELEVATION_FILE})",
+                dir.display()
+            );
+            Ok(None)
+        }
+        Some(data) => report(&data).map(Some),
+    }
+}
