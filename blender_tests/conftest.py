@@ -3,7 +3,6 @@
 The add-on is imported from ``addon/`` and registered once; every test starts from Blender's empty factory scene.
 """
 
-import atexit
 import pathlib
 import sys
 
@@ -16,18 +15,7 @@ sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
 import bpy  # noqa: E402
 import worldpaint  # noqa: E402
 
-worldpaint.register()
-
-
-def _unregister():
-    # Blender-as-a-module does not exit while Python classes are still registered
-    try:
-        worldpaint.unregister()
-    except Exception:  # noqa: BLE001 - best effort at interpreter exit
-        pass
-
-
-atexit.register(_unregister)
+worldpaint.register()  # in module mode the add-on also unregisters itself at exit (bpy hangs otherwise)
 
 
 @pytest.fixture(autouse=True)

@@ -16,12 +16,16 @@ class WORLDPAINT_PT_main(bpy.types.Panel):
 
         layout.prop(settings, "terrain")
 
-        layout.label(text="Categories")
+        row = layout.row()
+        row.label(text="Categories")
+        row.operator("worldpaint.find_categories", text="", icon='VIEWZOOM')
         layout.template_list(
             "WORLDPAINT_UL_categories", "", settings, "categories", settings, "active_category_index", rows=3
         )
 
-        layout.label(text="Palette")
+        row = layout.row()
+        row.label(text="Palette")
+        row.operator("worldpaint.remove_color", text="", icon='REMOVE')
         layout.template_list("WORLDPAINT_UL_palette", "", settings, "palette", settings, "active_color_index", rows=3)
         if 0 <= settings.active_color_index < len(settings.palette):
             image = bpy.data.images.get(settings.palette[settings.active_color_index].preview_image)
