@@ -74,11 +74,13 @@ pub const HISTOGRAM_FLOOR: f64 = 1e-3;
 /// Default Metropolis-Hastings proposals per expected instance.
 pub const DEFAULT_ITERATIONS_PER_INSTANCE: f64 = 60.0;
 const FIXED_ID: u32 = u32::MAX;
+/// Tag bit of fixed content outside the region (the region of influence): such pairs enter as product factors.
+const CONTEXT_TAG: u32 = 1 << 31;
 /// A point's total log pair factor is capped at this many times the largest single-pair log factor.
 pub const SATURATION_PAIRS: f64 = 2.0;
-/// Expected count from which the pair tables are refined by inversion (below it, the exemplar's `h` is used
-/// as the pair factor directly, as in the paper).
-const MIN_COUNT_FOR_INVERSION: f64 = 100.0;
+/// Expected count from which synthesis matches the rdf directly (below it, the exemplar's `h` is used as the
+/// pair factor, as in the paper).
+const MIN_COUNT_FOR_RDF_MATCHING: f64 = 100.0;
 
 /// How to synthesize.
 #[derive(Clone, Debug)]
@@ -170,6 +172,30 @@ impl PairTable {
         }
     }
 
+    /// Histogram index (distance bin × angle bin) and distance bin of a pair at offset `v`, `d2 = |v|²`.
+    #[inline]
+    fn bin_of(&self, v: DVec2, d2: f64) -> Option<(usize, usize)> {
+        let k = (d2.sqrt() / self.bin_width) as usize;
+        if k >= self.n_bins {
+            return None;
+        }
+        if self.angle_bins == 1 {
+            Some((k, k))
+        } else {
+            Some((
+                k * self.angle_bins + folded_angle_bin(v, self.angle_bins),
+                k,
+            ))
+        }
+    }
+
+    /// Area of the cell (annulus, or annular sector) of histogram index `idx`.
+    fn cell_area(&self, idx: usize) -> f64 {
+        let k = (idx / self.angle_bins.max(1)) as f64;
+        std::f64::consts::PI * self.bin_width * self.bin_width * ((k + 1.0).powi(2) - k * k)
+            / self.angle_bins.max(1) as f64
+    }
+
     #[inline]
     fn log_factor(&self, v: DVec2, d2: f64) -> f64 {
         if d2 < self.hard_core2 {
@@ -241,6 +267,8 @@ struct Target<'a> {
     radius: f64,
     /// Upper bound of a point's total log pair factor (saturation, see the module documentation).
     saturation: f64,
+    /// Distance bin of the color (window-edge fractions are taken per distance bin).
+    bin_width: f64,
 }
 
 impl Target<'_> {
@@ -268,7 +296,8 @@ impl Target<'_> {
         let mut pairs = 0.0;
         self.grid.for_each_within(p, self.radius, |entry, d2| {
             if entry.id != skip || skip == FIXED_ID {
-                pairs += self.tables[entry.tag as usize].log_factor(entry.position - p, d2);
+                pairs += self.tables[(entry.tag & !CONTEXT_TAG) as usize]
+                    .log_factor(entry.position - p, d2);
             }
         });
         m + pairs.min(self.saturation)
@@ -464,11 +493,17 @@ pub fn synthesize_with_progress(
             if same {
                 self_tag = Some(tag);
             }
-            let fixed = synthesized[oi].iter().flatten().chain(context[oi].iter());
-            for p in fixed {
+            for p in synthesized[oi].iter().flatten() {
                 grid.insert(GridEntry {
                     position: *p,
                     tag,
+                    id: FIXED_ID,
+                });
+            }
+            for p in &context[oi] {
+                grid.insert(GridEntry {
+                    position: *p,
+                    tag: tag | CONTEXT_TAG,
                     id: FIXED_ID,
                 });
             }
@@ -503,6 +538,7 @@ pub fn synthesize_with_progress(
             terrain,
             radius,
             saturation,
+            bin_width: color.bin_width,
         };
         // expected count: exemplar density times the map preference integrated over the region
         let preference = if target.maps.is_empty() || lattice.is_empty() {
@@ -568,14 +604,18 @@ fn run_chain<R: Rng>(
     if !(expected > 0.0) || !expected.is_finite() {
         return Ok(own);
     }
-    if expected >= MIN_COUNT_FOR_INVERSION {
-        // enough points to measure the rdf: start neutral (Poisson, hard cores kept) and let the inversion
-        // build the interactions up, rather than start from h and collapse into clumps first
-        for t in target.tables.iter_mut().filter(|t| t.angle_bins == 1) {
-            for v in t.log_factor.iter_mut().filter(|v| v.is_finite()) {
-                *v = 0.0;
-            }
-        }
+    if expected >= MIN_COUNT_FOR_RDF_MATCHING {
+        return run_rdf_chain(
+            &target,
+            region,
+            area,
+            expected,
+            self_tag,
+            max_radius,
+            iterations_per_instance,
+            rng,
+            progress,
+        );
     }
     let insert = |target: &mut Target, own: &mut Vec<DVec2>, p: DVec2| {
         target.grid.insert(GridEntry {
@@ -600,7 +640,6 @@ fn run_chain<R: Rng>(
         }
     }
     let total = (iterations_per_instance * expected.max(1.0)).ceil() as usize;
-    let burn_in = total / 2;
     let sweep = (expected.ceil() as usize).max(64);
     let shift_sigma = max_radius / 8.0;
     let mut done = 0usize;
@@ -649,9 +688,6 @@ fn run_chain<R: Rng>(
                 own[k] = q;
             }
         }
-        if end <= burn_in && expected >= MIN_COUNT_FOR_INVERSION {
-            refine_tables(&mut target, &own, region, area, self_tag);
-        }
         done = end;
         if !progress(done as f64 / total as f64) {
             return Err(Error::Cancelled);
@@ -660,102 +696,504 @@ fn run_chain<R: Rng>(
     Ok(own)
 }
 
-/// Iterative Boltzmann inversion (Reith, Pütz & Müller 2003) of the isotropic pair tables during burn-in.
-///
-/// Using the exemplar's `h` itself as the pair factor (the paper's model) reproduces `h` only when the
-/// interactions are weak: with clusters (`h ≫ 1` at short range) the product of many factors makes clusters
-/// collapse into ever denser clumps, and a hard core at finite density shifts the first peak. So after every
-/// burn-in sweep we measure the rdf of the current points (eq. (2), window-corrected, inside the region) and
-/// correct each bin `ln φ_k ← ln φ_k + ½ (ln h_k − ln ĥ_k)`, for bins with at least 10 measured pairs; factors
-/// are kept within [floor, 10³] and the hard-core bins stay at 0. By Henderson's theorem the pair factor that
-/// reproduces a given rdf at a given density is unique, so this converges toward the model that has the
-/// exemplar's statistics; the tables are frozen for the second half.
-fn refine_tables(target: &mut Target, own: &[DVec2], region: &Region, area: f64, self_tag: u32) {
-    use rayon::prelude::*;
-    if own.len() < 2 {
-        return;
+/// Sweeps of the rdf-matching chain (tiles are redrawn, the exact pair histograms recomputed and the
+/// temperature lowered between sweeps).
+const RDF_SWEEPS: usize = 12;
+/// Temperature of the first and of the last sweeps (in units of the chi-square energy, see the module docs).
+const TAU_START: f64 = 1.0;
+const TAU_END: f64 = 0.02;
+/// Fraction of the sweeps over which the temperature decreases (it is then held at `TAU_END`).
+const ANNEALING_FRACTION: f64 = 0.75;
+/// Tiles hold at least this many expected instances (and are at least twice the interaction radius wide).
+const MIN_TILE_INSTANCES: f64 = 256.0;
+
+/// `1 / α` per distance bin at `p`, written into `out`; returns false (and leaves `out` alone) when the
+/// whole disc of the interaction radius lies inside the region (α = 1).
+fn inverse_alphas(region: &Region, p: DVec2, bin_width: f64, n: usize, out: &mut [f64]) -> bool {
+    if region.contains(p) && region.distance_to_boundary(p) >= bin_width * n as f64 {
+        return false;
     }
-    let n_tables = target.tables.len();
-    let layout: Vec<(usize, f64, bool)> = target
-        .tables
-        .iter()
-        .map(|t| (t.n_bins, t.bin_width, t.angle_bins == 1))
-        .collect();
-    let radius = target.radius;
-    let grid = &target.grid;
-    // raw pair counts and window-corrected sums per table and bin, per point (ordered, so deterministic)
-    let per_point: Vec<Vec<(Vec<f64>, Vec<f64>)>> = own
-        .par_iter()
+    for (o, a) in out
+        .iter_mut()
+        .zip(crate::analysis::alphas(region, p, bin_width, n))
+    {
+        *o = 1.0 / a;
+    }
+    true
+}
+
+/// Read-only state shared by the tiles of one phase.
+struct Shared<'a, 'b> {
+    target: &'a Target<'b>,
+    region: &'a Region,
+    self_tag: u32,
+    n_alpha: usize,
+    own: &'a [DVec2],
+    own_grid: &'a SpatialGrid,
+    /// Per table and histogram index: current pair histogram minus target, `H − T`, over the whole region.
+    dev: &'a [Vec<f64>],
+    /// Per table and histogram index: weight `1 / max(T, 1)`.
+    weight: &'a [Vec<f64>],
+    tau: f64,
+    shift_sigma: f64,
+}
+
+/// One tile of one phase: its rectangle `[lo, hi)`, its instances (global indices) and its share of the
+/// phase's instances.
+struct Tile {
+    lo: DVec2,
+    hi: DVec2,
+    members: Vec<u32>,
+    share: f64,
+    proposals: usize,
+    seed: u64,
+}
+
+/// Pair histograms `H` (per table, per index) of the own points with the own points and with the fixed content
+/// inside the region: `H(k) = Σ_i Σ_j [d(x_i, y_j) in cell k] / α_{x_i}(k)` — eq. (2) before normalization.
+fn pair_histograms(sh: &Shared) -> Vec<Vec<f64>> {
+    use rayon::prelude::*;
+    let tables = &sh.target.tables;
+    let zero = || -> Vec<Vec<f64>> {
+        tables
+            .iter()
+            .map(|t| vec![0.0; t.log_factor.len()])
+            .collect()
+    };
+    let chunks: Vec<Vec<Vec<f64>>> = sh
+        .own
+        .par_chunks(1024)
         .enumerate()
-        .map(|(k, &p)| {
-            let mut acc: Vec<(Vec<f64>, Vec<f64>)> = layout
-                .iter()
-                .map(|(n, _, _)| (vec![0.0; *n], vec![0.0; *n]))
-                .collect();
-            grid.for_each_within(p, radius, |e, d2| {
-                let t = e.tag as usize;
-                if (e.tag == self_tag && e.id == k as u32) || !layout[t].2 {
+        .map(|(c, chunk)| {
+            let mut h = zero();
+            let mut ia = vec![1.0; sh.n_alpha];
+            for (o, &p) in chunk.iter().enumerate() {
+                let id = (c * 1024 + o) as u32;
+                if !inverse_alphas(sh.region, p, sh.target.bin_width, sh.n_alpha, &mut ia) {
+                    ia.fill(1.0);
+                }
+                let mut visit = |e: &GridEntry, d2: f64| {
+                    if e.tag & CONTEXT_TAG != 0 || (e.tag == sh.self_tag && e.id == id) {
+                        return;
+                    }
+                    let t = &tables[e.tag as usize];
+                    if let Some((idx, k)) = t.bin_of(e.position - p, d2) {
+                        h[e.tag as usize][idx] += ia[k.min(sh.n_alpha - 1)];
+                    }
+                };
+                sh.own_grid.for_each_within(p, sh.target.radius, &mut visit);
+                sh.target
+                    .grid
+                    .for_each_within(p, sh.target.radius, &mut visit);
+            }
+            h
+        })
+        .collect();
+    let mut total = zero();
+    for h in chunks {
+        for (a, b) in total.iter_mut().zip(h) {
+            for (x, y) in a.iter_mut().zip(b) {
+                *x += y;
+            }
+        }
+    }
+    total
+}
+
+/// Moves of one tile: returns the new positions of its members (in order) and its change of `H`.
+fn run_tile(sh: &Shared, tile: &Tile) -> (Vec<DVec2>, Vec<Vec<f64>>) {
+    let target = sh.target;
+    let tables = &target.tables;
+    let r = target.radius;
+    let nb = sh.n_alpha;
+    let mut delta: Vec<Vec<f64>> = tables
+        .iter()
+        .map(|t| vec![0.0; t.log_factor.len()])
+        .collect();
+    let m = tile.members.len();
+    if m == 0 || tile.proposals == 0 {
+        return (Vec::new(), delta);
+    }
+    let mut rng = ChaCha8Rng::seed_from_u64(tile.seed);
+    let elo = tile.lo - DVec2::splat(r);
+    let ehi = tile.hi + DVec2::splat(r);
+    let in_tile =
+        |p: DVec2| p.x >= tile.lo.x && p.x < tile.hi.x && p.y >= tile.lo.y && p.y < tile.hi.y;
+    let in_halo = |p: DVec2| p.x >= elo.x && p.x <= ehi.x && p.y >= elo.y && p.y <= ehi.y;
+    // local copy: the tile's instances (ids 0..m), the own instances around it, the fixed content around it
+    let mut grid = SpatialGrid::new(elo, ehi, r);
+    let mut pos: Vec<DVec2> = tile.members.iter().map(|&g| sh.own[g as usize]).collect();
+    let centre = 0.5 * (elo + ehi);
+    let reach = 0.5 * (ehi - elo).length();
+    sh.own_grid.for_each_within(centre, reach, |e, _| {
+        if in_halo(e.position) && !in_tile(e.position) {
+            pos.push(e.position);
+        }
+    });
+    for (id, p) in pos.iter().enumerate() {
+        grid.insert(GridEntry {
+            position: *p,
+            tag: sh.self_tag,
+            id: id as u32,
+        });
+    }
+    target.grid.for_each_within(centre, reach, |e, _| {
+        if in_halo(e.position) {
+            grid.insert(*e);
+        }
+    });
+    // 1/α per local own point: slot into `pool` (u32::MAX = interior, all 1)
+    let mut slot = vec![u32::MAX; pos.len()];
+    let mut pool: Vec<f64> = Vec::new();
+    let mut scratch = vec![1.0; nb];
+    for (id, p) in pos.iter().enumerate() {
+        if inverse_alphas(sh.region, *p, target.bin_width, nb, &mut scratch) {
+            slot[id] = (pool.len() / nb) as u32;
+            pool.extend_from_slice(&scratch);
+        }
+    }
+    let (rlo, rhi) = sh.region.bbox();
+    let (slo, shi) = (tile.lo.max(rlo), tile.hi.min(rhi));
+    let mut d_h: Vec<Vec<f64>> = delta.clone();
+    let mut touched: Vec<(u32, u32)> = Vec::new();
+    let mut ia_new = vec![1.0; nb];
+    for _ in 0..tile.proposals {
+        let k = rng.random_range(0..m);
+        let p = pos[k];
+        let q = if rng.random::<f64>() < 0.5 {
+            // relocation inside the tile (the death of p and the birth of q), symmetric
+            DVec2::new(
+                slo.x + rng.random::<f64>() * (shi.x - slo.x),
+                slo.y + rng.random::<f64>() * (shi.y - slo.y),
+            )
+        } else {
+            p + gaussian(&mut rng) * sh.shift_sigma
+        };
+        if !in_tile(q) || !sh.region.contains(q) {
+            continue;
+        }
+        let map_new = target.map_log(q);
+        if map_new == f64::NEG_INFINITY {
+            continue;
+        }
+        let q_border = inverse_alphas(sh.region, q, target.bin_width, nb, &mut ia_new);
+        // pairs at q (added) and at p (removed)
+        let mut forbidden = false;
+        let mut ctx_new = 0.0;
+        let mut ctx_old = 0.0;
+        for (sign, at) in [(1.0, q), (-1.0, p)] {
+            let ia_x: &[f64] = if sign > 0.0 {
+                if q_border {
+                    &ia_new
+                } else {
+                    &[]
+                }
+            } else if slot[k] != u32::MAX {
+                &pool[slot[k] as usize * nb..(slot[k] as usize + 1) * nb]
+            } else {
+                &[]
+            };
+            let ctx = if sign > 0.0 {
+                &mut ctx_new
+            } else {
+                &mut ctx_old
+            };
+            grid.for_each_within(at, r, |e, d2| {
+                if forbidden || (e.tag == sh.self_tag && e.id == k as u32) {
                     return;
                 }
-                if !region.contains(e.position) {
+                let ti = (e.tag & !CONTEXT_TAG) as usize;
+                let t = &tables[ti];
+                let v = e.position - at;
+                if sign > 0.0 && t.log_factor(v, d2) == f64::NEG_INFINITY {
+                    forbidden = true;
                     return;
                 }
-                let b = (d2.sqrt() / layout[t].1) as usize;
-                if b < layout[t].0 {
-                    acc[t].0[b] += 1.0;
+                if e.tag & CONTEXT_TAG != 0 {
+                    *ctx += t.log_factor(v, d2);
+                    return;
+                }
+                let Some((idx, kd)) = t.bin_of(v, d2) else {
+                    return;
+                };
+                let kd = kd.min(nb - 1);
+                let mut w = ia_x.get(kd).copied().unwrap_or(1.0);
+                if e.tag == sh.self_tag {
+                    let j = e.id as usize;
+                    w += if slot[j] != u32::MAX {
+                        pool[slot[j] as usize * nb + kd]
+                    } else {
+                        1.0
+                    };
+                }
+                let cell = &mut d_h[ti][idx];
+                if *cell == 0.0 {
+                    touched.push((ti as u32, idx as u32));
+                }
+                *cell += sign * w;
+                if *cell == 0.0 {
+                    // keep it listed once: a tiny non-zero marks it as touched
+                    *cell = f64::MIN_POSITIVE;
                 }
             });
-            for (t, (counts, corrected)) in acc.iter_mut().enumerate() {
-                if counts.iter().any(|c| *c > 0.0) {
-                    let a = crate::analysis::alphas(region, p, layout[t].1, layout[t].0);
-                    for b in 0..counts.len() {
-                        corrected[b] = counts[b] / a[b];
+            if forbidden {
+                break;
+            }
+        }
+        let mut d_e = 0.0;
+        for &(ti, idx) in &touched {
+            let (ti, idx) = (ti as usize, idx as usize);
+            let dh = d_h[ti][idx];
+            let view = sh.dev[ti][idx] + delta[ti][idx] / tile.share;
+            d_e += sh.weight[ti][idx] * (2.0 * view * dh + dh * dh / tile.share);
+        }
+        if forbidden {
+            for &(ti, idx) in &touched {
+                d_h[ti as usize][idx as usize] = 0.0;
+            }
+            touched.clear();
+            continue;
+        }
+        let log_accept = -d_e / sh.tau
+            + (map_new - target.map_log(p))
+            + (ctx_new.min(target.saturation) - ctx_old.min(target.saturation));
+        let accept = rng.random::<f64>().ln() < log_accept;
+        for &(ti, idx) in &touched {
+            let (ti, idx) = (ti as usize, idx as usize);
+            if accept {
+                delta[ti][idx] += d_h[ti][idx];
+            }
+            d_h[ti][idx] = 0.0;
+        }
+        touched.clear();
+        if accept {
+            grid.remove(p, k as u32);
+            grid.insert(GridEntry {
+                position: q,
+                tag: sh.self_tag,
+                id: k as u32,
+            });
+            pos[k] = q;
+            if q_border {
+                if slot[k] == u32::MAX {
+                    slot[k] = (pool.len() / nb) as u32;
+                    pool.extend_from_slice(&ia_new);
+                } else {
+                    let s0 = slot[k] as usize * nb;
+                    pool[s0..s0 + nb].copy_from_slice(&ia_new);
+                }
+            } else {
+                slot[k] = u32::MAX;
+            }
+        }
+    }
+    pos.truncate(m);
+    (pos, delta)
+}
+
+/// Whether a point at `p` is allowed at all (map preference non-zero, no hard core violated with the fixed
+/// content or with `own_grid`'s points).
+fn allowed(target: &Target, own_grid: &SpatialGrid, self_tag: u32, p: DVec2) -> bool {
+    if target.map_log(p) == f64::NEG_INFINITY {
+        return false;
+    }
+    let mut ok = true;
+    let mut check = |e: &GridEntry, d2: f64| {
+        if ok
+            && target.tables[(e.tag & !CONTEXT_TAG) as usize].log_factor(e.position - p, d2)
+                == f64::NEG_INFINITY
+        {
+            ok = false;
+        }
+    };
+    target.grid.for_each_within(p, target.radius, &mut check);
+    let t = &target.tables[self_tag as usize];
+    own_grid.for_each_within(p, target.radius, |e, d2| {
+        if ok && t.log_factor(e.position - p, d2) == f64::NEG_INFINITY {
+            ok = false;
+        }
+    });
+    ok
+}
+
+/// The rdf-matching chain (see "Larger regions: matching the rdf" in the module documentation).
+#[allow(clippy::too_many_arguments)]
+fn run_rdf_chain<R: Rng>(
+    target: &Target,
+    region: &Region,
+    area: f64,
+    expected: f64,
+    self_tag: u32,
+    max_radius: f64,
+    iterations_per_instance: f64,
+    rng: &mut R,
+    progress: &dyn Fn(f64) -> bool,
+) -> Result<Vec<DVec2>> {
+    use rayon::prelude::*;
+    let r = target.radius;
+    let (rlo, rhi) = region.bbox();
+    let pad = DVec2::splat(r);
+    let new_own_grid = |own: &[DVec2]| {
+        let mut g = SpatialGrid::new(rlo - pad, rhi + pad, r);
+        for (id, p) in own.iter().enumerate() {
+            g.insert(GridEntry {
+                position: *p,
+                tag: self_tag,
+                id: id as u32,
+            });
+        }
+        g
+    };
+    // the count (see "The count"), then dart throwing among allowed positions
+    let want = expected.floor() as usize + usize::from(rng.random::<f64>() < expected.fract());
+    let mut own: Vec<DVec2> = Vec::with_capacity(want);
+    let mut own_grid = new_own_grid(&own);
+    for _ in 0..(30 * want + 1000) {
+        if own.len() >= want {
+            break;
+        }
+        let Some(p) = region.sample_uniform(rng) else {
+            break;
+        };
+        if allowed(target, &own_grid, self_tag, p) {
+            own_grid.insert(GridEntry {
+                position: p,
+                tag: self_tag,
+                id: own.len() as u32,
+            });
+            own.push(p);
+        }
+    }
+    let n = own.len() as f64;
+    if own.len() < 2 {
+        return Ok(own);
+    }
+    // targets T = h · cell area · n_X · n_Y / A (ordered pairs), weights 1 / max(T, 1)
+    let targets: Vec<Vec<f64>> = target
+        .tables
+        .iter()
+        .enumerate()
+        .map(|(ti, t)| {
+            let n_other = if ti as u32 == self_tag {
+                n - 1.0
+            } else {
+                t.others_inside.unwrap_or(0) as f64
+            };
+            t.target_hist
+                .iter()
+                .enumerate()
+                .map(|(idx, h)| h * t.cell_area(idx) * n * n_other / area)
+                .collect()
+        })
+        .collect();
+    let weight: Vec<Vec<f64>> = targets
+        .iter()
+        .map(|t| t.iter().map(|v| 1.0 / v.max(1.0)).collect())
+        .collect();
+    let n_alpha = ((r / target.bin_width).ceil() as usize).max(1);
+    let tile_size = (2.0 * r)
+        .max((MIN_TILE_INSTANCES / (n / area)).sqrt())
+        .max(1e-6);
+    let ext = rhi - rlo;
+    let tiled = ext.x >= 3.0 * tile_size && ext.y >= 3.0 * tile_size;
+    let base_seed: u64 = rng.random();
+    let shift_sigma = max_radius / 8.0;
+    for sweep in 0..RDF_SWEEPS {
+        let frac = (sweep as f64 / ((RDF_SWEEPS - 1) as f64 * ANNEALING_FRACTION)).min(1.0);
+        let tau = TAU_START * (TAU_END / TAU_START).powf(frac);
+        let sweep_seed = mix_seed(base_seed, sweep as u64);
+        let mut sweep_rng = ChaCha8Rng::seed_from_u64(sweep_seed);
+        // the tiling of this sweep: a random offset, 2 × 2 colour phases
+        let (origin, size, nx, ny) = if tiled {
+            let off = DVec2::new(sweep_rng.random::<f64>(), sweep_rng.random::<f64>()) * tile_size;
+            let origin = rlo - off;
+            let nx = ((rhi.x - origin.x) / tile_size).floor() as usize + 1;
+            let ny = ((rhi.y - origin.y) / tile_size).floor() as usize + 1;
+            (origin, DVec2::splat(tile_size), nx, ny)
+        } else {
+            (rlo, ext * (1.0 + 1e-9) + DVec2::splat(1e-9), 1, 1)
+        };
+        let tile_of = |p: DVec2| {
+            let ix = (((p.x - origin.x) / size.x).floor().max(0.0) as usize).min(nx - 1);
+            let iy = (((p.y - origin.y) / size.y).floor().max(0.0) as usize).min(ny - 1);
+            iy * nx + ix
+        };
+        let mut dev = pair_histograms(&Shared {
+            target,
+            region,
+            self_tag,
+            n_alpha,
+            own: &own,
+            own_grid: &own_grid,
+            dev: &[],
+            weight: &weight,
+            tau,
+            shift_sigma,
+        });
+        for (d, t) in dev.iter_mut().zip(&targets) {
+            for (x, y) in d.iter_mut().zip(t) {
+                *x -= y;
+            }
+        }
+        let phases = if tiled { 4 } else { 1 };
+        for phase in 0..phases {
+            let mut buckets: Vec<Vec<u32>> = vec![Vec::new(); nx * ny];
+            for (id, p) in own.iter().enumerate() {
+                buckets[tile_of(*p)].push(id as u32);
+            }
+            let active: Vec<usize> = (0..nx * ny)
+                .filter(|&t| !tiled || ((t % nx) % 2) + 2 * ((t / nx) % 2) == phase)
+                .collect();
+            let phase_total: usize = active.iter().map(|&t| buckets[t].len()).sum();
+            if phase_total == 0 {
+                continue;
+            }
+            let tiles: Vec<Tile> = active
+                .iter()
+                .map(|&t| {
+                    let lo = origin + DVec2::new((t % nx) as f64, (t / nx) as f64) * size;
+                    let members = std::mem::take(&mut buckets[t]);
+                    let count = members.len();
+                    Tile {
+                        lo,
+                        hi: lo + size,
+                        share: count as f64 / phase_total as f64,
+                        proposals: (count as f64 * iterations_per_instance / RDF_SWEEPS as f64)
+                            .ceil() as usize,
+                        members,
+                        seed: mix_seed(sweep_seed, (phase * nx * ny + t) as u64 + 1),
+                    }
+                })
+                .collect();
+            let shared = Shared {
+                target,
+                region,
+                self_tag,
+                n_alpha,
+                own: &own,
+                own_grid: &own_grid,
+                dev: &dev,
+                weight: &weight,
+                tau,
+                shift_sigma,
+            };
+            let results: Vec<(Vec<DVec2>, Vec<Vec<f64>>)> =
+                tiles.par_iter().map(|t| run_tile(&shared, t)).collect();
+            for (tile, (positions, delta)) in tiles.iter().zip(results) {
+                for (&g, p) in tile.members.iter().zip(positions) {
+                    own[g as usize] = p;
+                }
+                for (d, x) in dev.iter_mut().zip(delta) {
+                    for (a, b) in d.iter_mut().zip(x) {
+                        *a += b;
                     }
                 }
             }
-            acc
-        })
-        .collect();
-    let mut counts: Vec<Vec<f64>> = layout.iter().map(|(n, _, _)| vec![0.0; *n]).collect();
-    let mut corrected = counts.clone();
-    for point in per_point {
-        for (t, (c, w)) in point.into_iter().enumerate() {
-            for b in 0..c.len() {
-                counts[t][b] += c[b];
-                corrected[t][b] += w[b];
-            }
+            own_grid = new_own_grid(&own);
+        }
+        if !progress((sweep + 1) as f64 / RDF_SWEEPS as f64) {
+            return Err(Error::Cancelled);
         }
     }
-    let min_log = HISTOGRAM_FLOOR.ln();
-    for t in 0..n_tables {
-        let table = &mut target.tables[t];
-        if table.angle_bins != 1 {
-            continue;
-        }
-        let max_log = table.target_hist.iter().fold(1.0f64, |m, v| m.max(*v)).ln();
-        let n_other = match table.others_inside {
-            Some(n) => n as f64,
-            None => own.len() as f64 - 1.0,
-        };
-        if n_other <= 0.0 {
-            continue;
-        }
-        let norm = area / (own.len() as f64 * n_other);
-        for b in 0..table.n_bins {
-            if counts[t][b] < 10.0 || table.log_factor[b] == f64::NEG_INFINITY {
-                continue;
-            }
-            let h = table.target_hist[b];
-            if h <= 0.0 {
-                continue;
-            }
-            let shell = std::f64::consts::PI
-                * table.bin_width
-                * table.bin_width
-                * ((b + 1).pow(2) - b.pow(2)) as f64;
-            let measured = corrected[t][b] * norm / shell;
-            let step = (0.5 * (h.ln() - measured.ln())).clamp(-0.5, 0.5);
-            table.log_factor[b] = (table.log_factor[b] + step).clamp(min_log, max_log);
-        }
-    }
+    Ok(own)
 }
