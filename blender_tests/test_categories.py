@@ -4,7 +4,7 @@ import bpy
 import numpy as np
 import worldpaint_engine as engine
 from builders import engine_terrain_object, mesh_object, select_only
-from worldpaint.bridge.instances import point_cloud_objects
+from worldpaint.bridge.instances import point_cloud_arrays, point_cloud_objects
 
 SQUARE = {"region_mode": 'RECT', "rect_min": (0.0, 0.0), "rect_max": (60.0, 60.0)}
 DESTINATION = {"region_mode": 'RECT', "rect_min": (60.0, 0.0), "rect_max": (120.0, 60.0)}
@@ -102,3 +102,21 @@ def test_remove_color():
     bpy.ops.worldpaint.remove_color(index=0)
     assert [c.name for c in bpy.context.scene.worldpaint.palette] == ["B"]
     assert bpy.data.images.get(image) is None
+
+
+def test_paste_next_to_hand_placed_content_respects_the_spacing_across_the_border():
+    """Region of influence: a hard-core color pasted beside its own exemplar leaves no pair too close at the seam."""
+    flat_world()
+    region = {"shape": "rect", "min": [0, 0], "max": [60, 60]}
+    pts = engine.exemplar_hard_core(region, 0.04, 3.0, 5)
+    examples = linked_duplicates("Stone", pts)
+    select_only(examples)
+    bpy.ops.worldpaint.learn_color(name="Stones", **SQUARE)
+    min_distance = engine.color_summary(bpy.context.scene.worldpaint.palette[0].json)["categories"][0]["min_distance"]
+    select_only([])
+    assert bpy.ops.worldpaint.paste_color(seed=3, **DESTINATION) == {'FINISHED'}
+    pasted = point_cloud_arrays(point_cloud_objects(bpy.context.scene)["Stone"])[0][:, :2]
+    near_seam = pasted[pasted[:, 0] < 60.0 + 2 * min_distance]
+    examples_near = pts[pts[:, 0] > 60.0 - 2 * min_distance]
+    gaps = np.hypot(*(near_seam[:, None, :] - examples_near[None, :, :]).transpose(2, 0, 1))
+    assert len(near_seam) and gaps.min() >= 0.95 * min_distance, f"closest pair across the seam {gaps.min():.2f} m"
