@@ -161,7 +161,8 @@ def slope_exemplar(size=200.0, exemplar=100.0, seed=1):
 
 
 def select_only(objects):
-    for obj in bpy.context.view_layer.objects:
+    bpy.context.view_layer.update()
+    for obj in bpy.context.scene.objects:
         obj.select_set(False)
     for obj in objects:
         obj.select_set(True)
