@@ -152,7 +152,7 @@ fn bench_learn(c: &mut Criterion) {
     group
         .sample_size(20)
         .warm_up_time(Duration::from_millis(500))
-        .measurement_time(Duration::from_secs(3));
+        .measurement_time(Duration::from_secs(5));
     group.bench_function("slope_scene", |b| {
         b.iter(|| learn_color(black_box(&scene), &region, "slope", &opts))
     });
@@ -166,6 +166,7 @@ fn bench_terrain(c: &mut Criterion) {
     let mut group = c.benchmark_group("terrain");
     group
         .sample_size(10)
+        .sampling_mode(SamplingMode::Flat)
         .warm_up_time(Duration::from_millis(500))
         .measurement_time(Duration::from_secs(5));
     group.bench_function("from_mesh_1M_triangles_jittered", |b| {
