@@ -304,6 +304,78 @@ impl Target<'_> {
     }
 }
 
+/// Iterations of the raking of several map factors (iterative proportional fitting).
+const RAKING_ITERATIONS: usize = 12;
+
+/// Several maps (elevation and slope of one terrain) are correlated, so the product of their marginal factors
+/// `Π_m h_m / q_m` does not give each map the distribution the exemplar preferred. Raking (iterative
+/// proportional fitting) over the painted region's lattice rescales each map's factors, bin by bin, until the
+/// distribution `∝ Π_m ψ_m` over the region has, for every map, the marginal that map's own factor gives
+/// alone (`∝ h_m q_region / q_exemplar`, which is `h_m` on the same kind of terrain): the maximum-entropy
+/// arrangement with the learned marginals. Zero factors stay zero.
+fn rake_maps(target: &mut Target, lattice: &[DVec2]) {
+    let Some(terrain) = target.terrain else {
+        return;
+    };
+    let bins: Vec<Vec<Option<usize>>> = target
+        .maps
+        .iter()
+        .map(|m| {
+            lattice
+                .iter()
+                .map(|p| terrain.map_at(m.map, *p).and_then(|v| m.hist.bin_of(v)))
+                .collect()
+        })
+        .collect();
+    let marginals = |maps: &[MapTable], only: Option<usize>| -> Vec<Vec<f64>> {
+        let mut out: Vec<Vec<f64>> = maps
+            .iter()
+            .map(|m| vec![0.0; m.hist.values.len()])
+            .collect();
+        for i in 0..lattice.len() {
+            let mut log_w = 0.0;
+            for (mi, m) in maps.iter().enumerate() {
+                if only.is_some_and(|o| o != mi) {
+                    continue;
+                }
+                match bins[mi][i] {
+                    Some(b) => log_w += m.hist.values[b],
+                    None => log_w = f64::NEG_INFINITY,
+                }
+            }
+            let w = log_w.exp();
+            if w > 0.0 {
+                for (mi, out_m) in out.iter_mut().enumerate() {
+                    if let Some(b) = bins[mi][i] {
+                        out_m[b] += w;
+                    }
+                }
+            }
+        }
+        for o in &mut out {
+            let total: f64 = o.iter().sum();
+            if total > 0.0 {
+                o.iter_mut().for_each(|v| *v /= total);
+            }
+        }
+        out
+    };
+    // each map's wanted marginal: what its factor alone gives over the region
+    let wanted: Vec<Vec<f64>> = (0..target.maps.len())
+        .map(|mi| marginals(&target.maps, Some(mi)).swap_remove(mi))
+        .collect();
+    for _ in 0..RAKING_ITERATIONS {
+        for mi in 0..target.maps.len() {
+            let current = marginals(&target.maps, None).swap_remove(mi);
+            for (b, v) in target.maps[mi].hist.values.iter_mut().enumerate() {
+                if v.is_finite() && current[b] > 0.0 && wanted[mi][b] > 0.0 {
+                    *v += (wanted[mi][b] / current[b]).ln();
+                }
+            }
+        }
+    }
+}
+
 fn mix_seed(seed: u64, a: u64) -> u64 {
     // splitmix64 of the pair: independent streams per category
     let mut z = seed
@@ -449,6 +521,9 @@ pub fn synthesize_with_progress(
     let lattice = terrain
         .map(|t| region_lattice(region, t))
         .unwrap_or_default();
+    let exemplar_lattice = terrain
+        .map(|t| region_lattice(&color.region, t))
+        .filter(|l| !l.is_empty());
     let (rlo, rhi) = region.bbox();
     let pad = DVec2::splat(color.max_radius);
     let mut synthesized: Vec<Option<Vec<DVec2>>> = vec![None; color.categories.len()];
@@ -541,16 +616,27 @@ pub fn synthesize_with_progress(
             bin_width: color.bin_width,
         };
         // expected count: exemplar density times the map preference integrated over the region
+        let mean_preference = |points: &[DVec2]| {
+            points.iter().map(|p| target.map_log(*p).exp()).sum::<f64>() / points.len() as f64
+        };
         let preference = if target.maps.is_empty() || lattice.is_empty() {
             1.0
         } else {
-            lattice
-                .iter()
-                .map(|p| target.map_log(*p).exp())
-                .sum::<f64>()
-                / lattice.len() as f64
+            // relative to the exemplar region's own preference when it lies on this terrain: several maps
+            // (elevation and slope) are correlated, and the product of their marginal ratios averages to more
+            // than 1 over the exemplar itself
+            let own = exemplar_lattice
+                .as_deref()
+                .map(mean_preference)
+                .filter(|v| v.is_finite() && *v > 0.0)
+                .unwrap_or(1.0);
+            mean_preference(&lattice) / own
         };
         let expected = cat.density * area * preference;
+        let mut target = target;
+        if target.maps.len() >= 2 {
+            rake_maps(&mut target, &lattice);
+        }
         let mut rng = ChaCha8Rng::seed_from_u64(mix_seed(opts.seed, ci as u64 + 1));
         let points = run_chain(
             target,

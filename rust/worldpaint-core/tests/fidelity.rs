@@ -101,6 +101,119 @@ fn hard_core_exemplar_is_reproduced() {
     check("hard-core", &|r, s| exemplar::hard_core(r, 0.04, 3.0, s));
 }
 
+/// Slope, tree density, rock density, grass density, rock–grass rdf L2 (synthesized, second draw) for one seed.
+struct SlopeFidelity {
+    tree_slope_tv: f64,
+    trees_on_unseen_slopes: f64,
+    density: Vec<(String, f64)>,
+    synth_l2: f64,
+    reference_l2: f64,
+}
+
+fn slope_fidelity(seed: u64) -> SlopeFidelity {
+    // the slope scene's terrain repeats every 100 m across X (size / 4): the exemplar holds one period, the
+    // painted region 16× its area on the same terrain
+    let size = 400.0;
+    let learn_region = Region::Rect {
+        min: DVec2::ZERO,
+        max: DVec2::splat(100.0),
+    };
+    let paint = Region::Rect {
+        min: DVec2::ZERO,
+        max: DVec2::splat(size),
+    };
+    let scene = exemplar::slope_scene(size, seed);
+    let color = learn_color(&scene, &learn_region, "slope", &Default::default()).unwrap();
+    let second = exemplar::slope_scene(size, seed + 1000);
+    let second_color = learn_color(&second, &learn_region, "second", &same_bins(&color)).unwrap();
+    let reference_l2 = compare(&color, &second_color)
+        .rdf_l2_of("grass", "rock")
+        .unwrap();
+
+    let out = synthesize(
+        &scene,
+        &color,
+        &paint,
+        &SynthesisOptions {
+            seed,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let painted = Scene {
+        categories: out.categories,
+        instances: out.instances,
+        terrain: scene.terrain.clone(),
+    };
+    let back = learn_color(&painted, &paint, "painted", &same_bins(&color)).unwrap();
+    let fid = compare(&color, &back);
+    let slope_of = |c: &Color| {
+        c.maps
+            .iter()
+            .find(|m| m.category == "tree" && m.map == "slope")
+            .map(|m| m.hist.clone())
+            .unwrap()
+    };
+    let (ex_slope, syn_slope) = (slope_of(&color), slope_of(&back));
+    let trees_on_unseen_slopes = ex_slope
+        .values
+        .iter()
+        .zip(&syn_slope.values)
+        .filter(|(e, _)| **e == 0.0)
+        .map(|(_, s)| *s)
+        .sum::<f64>();
+    let result = SlopeFidelity {
+        tree_slope_tv: ex_slope.total_variation(&syn_slope),
+        trees_on_unseen_slopes,
+        density: fid.density_ratio.clone(),
+        synth_l2: fid.rdf_l2_of("grass", "rock").unwrap(),
+        reference_l2,
+    };
+    println!(
+        "slope seed {seed}: tree slope TV {:.4} (unseen-bin mass {:.4}), density {:?}, rock–grass rdf L2 synth \
+         {:.4} vs second draw {:.4}",
+        result.tree_slope_tv,
+        result.trees_on_unseen_slopes,
+        result.density,
+        result.synth_l2,
+        result.reference_l2
+    );
+    result
+}
+
+#[test]
+fn forest_learned_on_a_slope_stays_on_the_slope_and_grass_stays_around_rocks() {
+    let results: Vec<SlopeFidelity> = [1u64, 2].iter().map(|s| slope_fidelity(*s)).collect();
+    for r in &results {
+        assert!(
+            r.tree_slope_tv <= 0.15,
+            "tree slope histogram TV {:.3} > 0.15",
+            r.tree_slope_tv
+        );
+        assert_eq!(
+            r.trees_on_unseen_slopes, 0.0,
+            "trees synthesized on slopes the exemplar never had trees on"
+        );
+        for (cat, ratio) in &r.density {
+            assert!(
+                (ratio - 1.0).abs() <= 0.10,
+                "{cat}: density ratio {ratio:.3} is off by more than 10%"
+            );
+        }
+    }
+    let n = results.len() as f64;
+    let synth = results.iter().map(|r| r.synth_l2).sum::<f64>() / n;
+    let reference = results.iter().map(|r| r.reference_l2).sum::<f64>() / n;
+    println!(
+        "slope: mean rock–grass rdf L2 synthesized {synth:.4}, second draw {reference:.4}, ratio {:.2}",
+        synth / reference
+    );
+    assert!(
+        synth <= 1.5 * reference,
+        "rock–grass rdf L2 {synth:.4} exceeds 1.5 × the second-draw error {reference:.4}"
+    );
+}
+
 /// Three categories at 0.1 instances / m² (hard-core trees, uniform rocks, clustered grass) learned on
 /// 200 m × 200 m and painted on 1 km²: ~100k instances. A timing harness, not a pass / fail test:
 /// `cargo test -p worldpaint-core --release --test fidelity -- --ignored --nocapture timing`.
