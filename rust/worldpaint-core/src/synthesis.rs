@@ -313,6 +313,7 @@ const RAKING_ITERATIONS: usize = 12;
 /// distribution `∝ Π_m ψ_m` over the region has, for every map, the marginal that map's own factor gives
 /// alone (`∝ h_m q_region / q_exemplar`, which is `h_m` on the same kind of terrain): the maximum-entropy
 /// arrangement with the learned marginals. Zero factors stay zero.
+#[allow(clippy::needless_range_loop)] // bins[map][point]: the loops run over points and maps crosswise
 fn rake_maps(target: &mut Target, lattice: &[DVec2]) {
     let Some(terrain) = target.terrain else {
         return;
