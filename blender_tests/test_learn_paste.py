@@ -63,8 +63,11 @@ def test_pasted_forest_has_the_exemplar_density_and_slope_preference():
     fidelity = engine.compare(color_json, pasted)
     for category, ratio in fidelity["density_ratio"].items():
         assert abs(ratio - 1.0) <= 0.15, f"{category}: density ratio {ratio:.2f}"
-    slope_tv = {c: tv for c, m, tv in fidelity["map_tv"] if m == "slope"}
-    assert slope_tv and max(slope_tv.values()) <= 0.2, f"slope histogram TV {slope_tv}"
+    # slope histograms: a category seen fewer than 50 times in the exemplar (the ~20 rocks) has a histogram too
+    # noisy for a 0.2 bound (two independent draws of 20 points already differ by about that much)
+    well_sampled = {c["name"] for c in reference.values() if c["count"] >= 50}
+    slope_tv = {c: tv for c, m, tv in fidelity["map_tv"] if m == "slope" and c in well_sampled}
+    assert {"Tree", "Grass"} <= set(slope_tv) and max(slope_tv.values()) <= 0.2, f"slope histogram TV {slope_tv}"
 
 
 def test_trees_stay_on_the_slopes_they_were_learned_on():

@@ -178,17 +178,18 @@ def test_workbench_render_shows_the_instances(tmp_path):
     image = bpy.data.images.load(str(tmp_path / "render.png"))
     pixels = np.empty(160 * 120 * 4, dtype=np.float32)
     image.pixels.foreach_get(pixels)
-    rgb = pixels.reshape(-1, 4)[:, :3]
+    rgb = pixels.reshape(-1, 4)[:, :3].copy()
     assert rgb.std(axis=0).max() > 0.02, "the frame is flat"
     tree_green = (rgb[:, 1] > rgb[:, 0] + 0.1) & (rgb[:, 1] > rgb[:, 2] + 0.1)
-    assert tree_green.mean() > 0.01, "no instance-coloured pixels in the frame"
+    assert tree_green.mean() > 0.002, "no tree-coloured pixels in the frame"
 
-    # the same frame without the instancer's points has none of them: the colour comes from the instances
+    # the same frame without the point clouds: what differs is what the instancer drew
     for obj in point_cloud_objects(scene).values():
         obj.hide_render = True
     bpy.ops.render.render(write_still=True)
     image.reload()
     image.pixels.foreach_get(pixels)
-    rgb = pixels.reshape(-1, 4)[:, :3]
-    bare = (rgb[:, 1] > rgb[:, 0] + 0.1) & (rgb[:, 1] > rgb[:, 2] + 0.1)
-    assert bare.mean() < tree_green.mean() / 5
+    bare = pixels.reshape(-1, 4)[:, :3]
+    assert ((bare[:, 1] > bare[:, 0] + 0.1) & (bare[:, 1] > bare[:, 2] + 0.1)).mean() < tree_green.mean() / 5
+    drawn = np.abs(rgb - bare).max(axis=1) > 0.05
+    assert drawn.mean() > 0.01, f"instances cover only {drawn.mean():.2%} of the frame"
