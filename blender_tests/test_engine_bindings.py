@@ -1,0 +1,88 @@
+"""The engine's Python surface as the add-on and asset scripts use it: arrays in and out, clear errors, progress."""
+
+import json
+
+import numpy as np
+import pytest
+import worldpaint_engine as engine
+
+SQUARE = {"shape": "rect", "min": [0.0, 0.0], "max": [50.0, 50.0]}
+CATEGORIES = [{"name": "tree"}]
+
+
+def hard_core_color():
+    pts = engine.exemplar_hard_core(SQUARE, 0.04, 2.5, 1)
+    return engine.learn_color(None, CATEGORIES, pts, np.zeros(len(pts), np.int32), SQUARE, "trees"), len(pts)
+
+
+def nothing():
+    return np.zeros((0, 2)), np.zeros(0, np.int32)
+
+
+def test_engine_errors_are_value_errors_with_the_engine_message():
+    assert issubclass(engine.EngineError, ValueError)
+    with pytest.raises(engine.EngineError, match="region is empty or degenerate"):
+        engine.region_area({"shape": "rect", "min": [0, 0], "max": [0, 5]})
+    with pytest.raises(engine.EngineError, match="unknown region shape 'hexagon'"):
+        engine.region_area({"shape": "hexagon"})
+    with pytest.raises(engine.EngineError, match="missing the key 'radius'"):
+        engine.region_area({"shape": "circle", "center": [0, 0]})
+    with pytest.raises(engine.EngineError, match=r"shape \(N, 3\)"):
+        engine.Terrain(np.zeros((4, 2)), np.zeros((1, 3), np.uint32))
+    with pytest.raises(engine.EngineError, match="category index 3"):
+        engine.learn_color(None, CATEGORIES, np.zeros((1, 2)), np.array([3], np.int32), SQUARE, "x")
+    with pytest.raises(engine.EngineError, match="version 99"):
+        engine.palette_from_json(json.dumps({"format": "worldpaint-palette", "version": 99, "colors": []}))
+
+
+def test_terrain_from_a_mesh_samples_heights_and_maps():
+    x, y = np.meshgrid(np.arange(11.0), np.arange(11.0))
+    vertices = np.column_stack([x.ravel(), y.ravel(), 0.5 * x.ravel()])
+    v0 = (np.arange(10)[None, :] + 11 * np.arange(10)[:, None]).ravel()
+    triangles = np.concatenate([np.column_stack([v0, v0 + 1, v0 + 12]), np.column_stack([v0, v0 + 12, v0 + 11])])
+    terrain = engine.Terrain(vertices, triangles.astype(np.uint32))
+    assert terrain.bbox() == ((0.0, 0.0), (10.0, 10.0))
+    z = terrain.heights_at(np.array([[2.5, 3.0], [20.0, 20.0]]))
+    assert z[0] == pytest.approx(1.25) and np.isnan(z[1])
+    slope = terrain.map_at("slope", np.array([[5.0, 5.0]]))
+    assert slope[0] == pytest.approx(np.arctan(0.5), abs=1e-3)
+    with pytest.raises(engine.EngineError, match="no map 'rainfall'"):
+        terrain.map_at("rainfall", np.zeros((1, 2)))
+
+
+def test_synthesis_reports_progress_and_can_be_cancelled():
+    color, _ = hard_core_color()
+    seen = []
+    out = engine.synthesize(None, CATEGORIES, *nothing(), color, SQUARE, 1, progress=lambda f: seen.append(f) or True)
+    assert len(out["positions"]) > 0 and seen and seen == sorted(seen) and 0.0 <= seen[0] <= seen[-1] <= 1.0
+    with pytest.raises(engine.Cancelled):
+        engine.synthesize(None, CATEGORIES, *nothing(), color, SQUARE, 1, progress=lambda f: False)
+
+
+def test_an_exception_in_the_progress_callback_reaches_the_caller():
+    color, _ = hard_core_color()
+
+    def broken(_fraction):
+        raise KeyError("from the callback")
+
+    with pytest.raises(KeyError, match="from the callback"):
+        engine.synthesize(None, CATEGORIES, *nothing(), color, SQUARE, 1, progress=broken)
+
+
+def test_same_seed_same_result_and_palette_round_trip():
+    color, _ = hard_core_color()
+    a = engine.synthesize(None, CATEGORIES, *nothing(), color, SQUARE, 5)
+    b = engine.synthesize(None, CATEGORIES, *nothing(), color, SQUARE, 5)
+    np.testing.assert_array_equal(a["positions"], b["positions"])
+    assert engine.palette_from_json(engine.palette_to_json([color, color])) == [color, color]
+    summary = engine.color_summary(color)
+    assert summary["name"] == "trees" and summary["preview"].shape[1] == 3
+
+
+def test_region_contains_all_shapes():
+    xy = np.array([[1.0, 1.0], [9.0, 9.0], [20.0, 20.0]])
+    circle = {"shape": "circle", "center": [0.0, 0.0], "radius": 5.0}
+    polygon = {"shape": "polygon", "points": [[0, 0], [10, 0], [10, 10], [0, 10]]}
+    assert engine.region_contains(circle, xy).tolist() == [True, False, False]
+    assert engine.region_contains(polygon, xy).tolist() == [True, True, False]
+    assert engine.region_area(polygon) == pytest.approx(100.0)
