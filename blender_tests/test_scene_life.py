@@ -193,3 +193,38 @@ def test_workbench_render_shows_the_instances(tmp_path):
     assert ((bare[:, 1] > bare[:, 0] + 0.1) & (bare[:, 1] > bare[:, 2] + 0.1)).mean() < tree_green.mean() / 5
     drawn = np.abs(rgb - bare).max(axis=1) > 0.05
     assert drawn.mean() > 0.01, f"instances cover only {drawn.mean():.2%} of the frame"
+
+
+def test_a_moved_rotated_and_scaled_terrain_is_used_in_world_space():
+    _, examples, _ = slope_exemplar()
+    select_only(examples)
+    bpy.ops.worldpaint.learn_color(**EXEMPLAR)
+    color = bpy.context.scene.worldpaint.palette[0].json
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    prototypes()
+    terrain_obj = hills_terrain(size=80.0)
+    # the color prefers the exemplar's elevations (absolute heights), so keep the hills near z = 0
+    terrain_obj.location = (500.0, -200.0, -1.0)
+    terrain_obj.rotation_euler = (0.0, 0.0, 0.4)
+    terrain_obj.scale = (1.5, 1.5, 1.2)
+    settings = bpy.context.scene.worldpaint
+    settings.terrain = terrain_obj
+    entry = settings.palette.add()
+    entry.name, entry.json = "Slope forest", color
+    bpy.context.scene.cursor.location = (540.0, -150.0, 0.0)
+    assert bpy.ops.worldpaint.paste_color(seed=3, region_mode='CIRCLE', circle_center=(540.0, -150.0),
+                                          circle_radius=30.0) == {'FINISHED'}
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    inverse = terrain_obj.matrix_world.inverted()
+    errors = []
+    for inst in depsgraph.object_instances:
+        if inst.is_instance and inst.parent is not None and inst.parent.original.get("wp_points"):
+            t = inst.matrix_world.translation
+            assert (t.x - 540.0) ** 2 + (t.y + 150.0) ** 2 <= 30.0**2 + 1e-6
+            # cast in the terrain's own space: down in world is down in its space (rotation about Z only)
+            origin = inverse @ t.copy()
+            origin.z += 1000.0
+            hit, where, *_ = terrain_obj.ray_cast(origin, (0.0, 0.0, -1.0))
+            assert hit
+            errors.append(abs(t.z - (terrain_obj.matrix_world @ where).z))
+    assert errors and max(errors) < 0.01, f"worst height error {max(errors):.4f} m"
