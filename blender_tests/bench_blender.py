@@ -17,13 +17,13 @@ import time
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "addon"))
-sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
+sys.path.insert(0, str(ROOT / "assets"))
 
 import bpy  # noqa: E402
 import numpy as np  # noqa: E402
 import worldpaint  # noqa: E402
 import worldpaint_engine as engine  # noqa: E402
-from builders import engine_terrain_object, prototypes  # noqa: E402
+from scene_kit import engine_terrain_object, prototypes  # noqa: E402
 from worldpaint.bridge import points as wp_points  # noqa: E402
 from worldpaint.bridge.instances import point_cloud_arrays, point_cloud_objects  # noqa: E402
 

@@ -2,7 +2,7 @@
 
 import bpy
 import pytest
-from builders import select_only, slope_exemplar
+from scene_kit import select_only, slope_exemplar
 from worldpaint.bridge.instances import point_cloud_objects
 
 EXEMPLAR = {"region_mode": 'RECT', "rect_min": (0.0, 0.0), "rect_max": (100.0, 100.0)}
@@ -75,7 +75,7 @@ def test_degenerate_region(learned):
 
 
 def test_open_curve_region(learned):
-    from builders import closed_circle_curve
+    from scene_kit import closed_circle_curve
 
     curve = closed_circle_curve("Open", (50.0, 50.0), 20.0)
     curve.data.splines[0].use_cyclic_u = False

@@ -3,7 +3,7 @@
 import bpy
 import numpy as np
 import worldpaint_engine as engine
-from builders import engine_terrain_object, mesh_object, select_only
+from scene_kit import engine_terrain_object, mesh_object, select_only
 from worldpaint.bridge.instances import point_cloud_arrays, point_cloud_objects
 
 SQUARE = {"region_mode": 'RECT', "rect_min": (0.0, 0.0), "rect_max": (60.0, 60.0)}

@@ -4,7 +4,7 @@ import bpy
 import numpy as np
 import pytest
 import worldpaint_engine as engine
-from builders import select_only, slope_exemplar
+from scene_kit import select_only, slope_exemplar
 from worldpaint.bridge.instances import point_cloud_arrays, point_cloud_objects
 
 EXEMPLAR = {"region_mode": 'RECT', "rect_min": (0.0, 0.0), "rect_max": (100.0, 100.0)}
@@ -161,7 +161,7 @@ def test_clear_region_removes_only_the_points_inside():
 def test_learn_and_paste_with_curve_and_cursor_regions():
     terrain_obj, examples, _ = learn_slope_color()
     scene = bpy.context.scene
-    from builders import closed_circle_curve
+    from scene_kit import closed_circle_curve
 
     curve = closed_circle_curve("ExampleBoundary", (50.0, 50.0), 40.0)
     select_only(examples + [curve])

@@ -5,7 +5,7 @@ import json
 import bpy
 import numpy as np
 import worldpaint_engine as engine
-from builders import hills_terrain, irregular_terrain, prototypes, select_only, slope_exemplar, top_camera
+from scene_kit import hills_terrain, irregular_terrain, prototypes, select_only, slope_exemplar, top_camera
 from worldpaint.bridge.instances import point_cloud_arrays, point_cloud_objects
 
 EXEMPLAR = {"region_mode": 'RECT', "rect_min": (0.0, 0.0), "rect_max": (100.0, 100.0)}

@@ -1,4 +1,5 @@
-"""Scene content for the tests, made by code: terrains, low-poly prototypes and exemplars of collection instances."""
+"""Scene content for the demo, the tests and the benchmarks, made by code: terrains, low-poly prototypes and
+exemplars of collection instances. Nothing here is an opaque binary: anyone can regenerate every asset."""
 
 import math
 
