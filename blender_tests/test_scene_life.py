@@ -203,8 +203,7 @@ def test_a_moved_rotated_and_scaled_terrain_is_used_in_world_space():
     bpy.ops.wm.read_factory_settings(use_empty=True)
     prototypes()
     terrain_obj = hills_terrain(size=80.0)
-    # the color prefers the exemplar's elevations (absolute heights), so keep the hills near z = 0
-    terrain_obj.location = (500.0, -200.0, -1.0)
+    terrain_obj.location = (500.0, -200.0, 40.0)
     terrain_obj.rotation_euler = (0.0, 0.0, 0.4)
     terrain_obj.scale = (1.5, 1.5, 1.2)
     settings = bpy.context.scene.worldpaint

@@ -1,7 +1,7 @@
 """Learn Color: the statistics of the selected example objects become a new color in the palette."""
 
 import bpy
-from bpy.props import StringProperty
+from bpy.props import BoolProperty, StringProperty
 
 from ..bridge import WorldPaintError, instances, preview, regions, terrain
 from ..bridge.engine import engine
@@ -16,6 +16,12 @@ class WORLDPAINT_OT_learn_color(RegionProperties, TerrainProperty, bpy.types.Ope
     bl_options = {'REGISTER', 'UNDO'}
 
     name: StringProperty(name="Name", description="Name of the new color (empty: Color N)")
+    use_elevation: BoolProperty(
+        name="Height Preference",
+        default=False,
+        description="Also learn which terrain heights the example occupies; the color then pastes only at similar "
+        "heights (the slope preference is always learned)",
+    )
 
     def execute(self, context):
         return report_errors(self, lambda: self._learn(context))
@@ -53,7 +59,10 @@ class WORLDPAINT_OT_learn_color(RegionProperties, TerrainProperty, bpy.types.Ope
         categories = instances.merged_categories(settings, new)
         exemplar = instances.example_set(examples, categories)
         name = self.name or _unique_name(settings.palette, "Color")
-        color_json = engine().learn_color(heightfield, region=region, name=name, **exemplar.engine_arrays())
+        maps = ["slope", "elevation"] if self.use_elevation else ["slope"]
+        color_json = engine().learn_color(
+            heightfield, region=region, name=name, options={"maps": maps}, **exemplar.engine_arrays()
+        )
 
         # validated and computed: now change the scene
         for category in new:

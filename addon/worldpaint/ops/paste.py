@@ -165,6 +165,11 @@ class WORLDPAINT_OT_paste_color(RegionProperties, TerrainProperty, bpy.types.Ope
             points.set_instancer(obj, collection, job.terrain_obj)
         count = len(result["positions"]) - dropped
         self.report({'INFO'}, f"Pasted {count} instances of '{job.color_name}'")
+        empty = sorted(set(c["name"] for c in eng.color_summary(job.arguments["color"])["categories"])
+                       - set(result["categories"][i]["name"] for i in np.unique(result["category_index"])))
+        if empty:
+            self.report({'WARNING'}, f"Nothing pasted for {', '.join(empty)}: the destination's slopes (or heights, "
+                                     "for a color with a height preference) are ones the example never had")
         if missing:
             self.report({'WARNING'}, f"No collection or mesh to instance for: {', '.join(missing)}")
         return {'FINISHED'}

@@ -61,6 +61,11 @@ class WORLDPAINT_PG_settings(bpy.types.PropertyGroup):
         description="Radius of the circle around the 3D cursor",
     )
     seed: IntProperty(name="Seed", default=0, min=0, description="Random seed of the synthesis")
+    learn_elevation: BoolProperty(
+        name="Height Preference", default=False,
+        description="Learn Color also learns which terrain heights the example occupies; such a color pastes only "
+        "at similar heights",
+    )
     auto_influence: BoolProperty(
         name="Automatic Influence", default=True,
         description="Region of influence as wide as the color's interaction radius",

@@ -40,13 +40,14 @@ class WORLDPAINT_PT_main(bpy.types.Panel):
         if settings.region_mode == 'CURSOR':
             box.prop(settings, "region_radius")
         box.prop(settings, "seed")
+        box.prop(settings, "learn_elevation")
         box.prop(settings, "auto_influence")
         if not settings.auto_influence:
             box.prop(settings, "influence_radius")
 
         col = layout.column(align=True)
         col.scale_y = 1.3
-        col.operator("worldpaint.learn_color", icon='EYEDROPPER')
+        col.operator("worldpaint.learn_color", icon='EYEDROPPER').use_elevation = settings.learn_elevation
         col.operator("worldpaint.paste_color", icon='BRUSH_DATA')
         col.operator("worldpaint.clear_region", icon='TRASH')
         col.operator("worldpaint.convert_to_objects", icon='OUTLINER_OB_GROUP_INSTANCE')
