@@ -10,6 +10,7 @@ import worldpaint_engine as engine
 from mathutils import Matrix
 
 CATEGORY_COLLECTIONS = {"tree": "Tree", "rock": "Rock", "grass": "Grass"}
+TERRAIN_COLOR = (0.55, 0.50, 0.36, 1.0)
 COLORS = {"Tree": (0.05, 0.45, 0.08, 1.0), "Rock": (0.50, 0.48, 0.45, 1.0), "Grass": (0.70, 0.85, 0.20, 1.0)}
 
 
@@ -41,7 +42,9 @@ def grid_terrain(name, origin, cell, heights):
     i, j = np.meshgrid(np.arange(nx - 1), np.arange(ny - 1))
     v0 = (j * nx + i).ravel()
     quads = np.column_stack([v0, v0 + 1, v0 + 1 + nx, v0 + nx])
-    return mesh_object(name, co, quads)
+    obj = mesh_object(name, co, quads)
+    obj.data.materials.append(_material("Terrain", TERRAIN_COLOR))
+    return obj
 
 
 def engine_terrain_object(name, terrain):
