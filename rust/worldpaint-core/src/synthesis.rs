@@ -172,6 +172,30 @@ impl PairTable {
         }
     }
 
+    /// Drops the distance bins from which on the learned rdf no longer differs from 1 (the Poisson level)
+    /// by more than three standard deviations of its own counting noise in the exemplar, where the expected
+    /// pair count of cell `k` is `pairs_per_area · h(k) · |cell k|`. Those factors are neutral anyway; the
+    /// interaction radius (and the cost of every move, which grows with its square) shrinks to the range over
+    /// which the exemplar shows structure. Forbidden (hard-core) bins are kept.
+    fn truncate_to_significant(&mut self, pairs_per_area: f64) {
+        if !(pairs_per_area > 0.0) || !pairs_per_area.is_finite() {
+            return;
+        }
+        let a = self.angle_bins.max(1);
+        let mut keep = 0;
+        for idx in 0..self.log_factor.len() {
+            let h = self.target_hist[idx];
+            let count = (pairs_per_area * self.cell_area(idx)).max(1e-12);
+            let sigma = (h.max(1.0) / count).sqrt();
+            if self.log_factor[idx] == f64::NEG_INFINITY || (h - 1.0).abs() > 3.0 * sigma {
+                keep = keep.max(idx / a + 1);
+            }
+        }
+        self.n_bins = keep.min(self.n_bins);
+        self.log_factor.truncate(self.n_bins * a);
+        self.target_hist.truncate(self.n_bins * a);
+    }
+
     /// Histogram index (distance bin × angle bin) and distance bin of a pair at offset `v`, `d2 = |v|²`.
     #[inline]
     fn bin_of(&self, v: DVec2, d2: f64) -> Option<(usize, usize)> {
@@ -536,7 +560,7 @@ pub fn synthesize_with_progress(
         let name = &cat.category.name;
         // pair tables for the self pair and every already-present other category
         let mut tables = Vec::new();
-        let mut grid = SpatialGrid::new(rlo - pad, rhi + pad, color.max_radius);
+        let mut fixed_entries: Vec<GridEntry> = Vec::new();
         let mut self_tag = None;
         for (oi, other) in color.categories.iter().enumerate() {
             let same = oi == ci;
@@ -564,20 +588,22 @@ pub fn synthesize_with_progress(
             if !same {
                 table.others_inside = Some(synthesized[oi].as_ref().map_or(0, |v| v.len()));
             }
+            let n_other = other.count as f64 - if same { 1.0 } else { 0.0 };
+            table.truncate_to_significant(cat.count as f64 * n_other / color.region_area);
             let tag = tables.len() as u32;
             tables.push(table);
             if same {
                 self_tag = Some(tag);
             }
             for p in synthesized[oi].iter().flatten() {
-                grid.insert(GridEntry {
+                fixed_entries.push(GridEntry {
                     position: *p,
                     tag,
                     id: FIXED_ID,
                 });
             }
             for p in &context[oi] {
-                grid.insert(GridEntry {
+                fixed_entries.push(GridEntry {
                     position: *p,
                     tag: tag | CONTEXT_TAG,
                     id: FIXED_ID,
@@ -597,10 +623,23 @@ pub fn synthesize_with_progress(
             .filter(|m| &m.category == name)
             .map(|m| MapTable::new(&m.map, &m.hist, &m.region_hist))
             .collect();
+        // the interaction radius: as far as some pair's rdf differs from 1 (or a hard core reaches)
         let radius = tables
             .iter()
             .map(|t| t.bin_width * t.n_bins as f64)
-            .fold(color.max_radius, f64::max);
+            .fold(
+                if cat.min_distance.is_finite() {
+                    cat.min_distance
+                } else {
+                    0.0
+                },
+                f64::max,
+            )
+            .max(color.bin_width);
+        let mut grid = SpatialGrid::new(rlo - pad, rhi + pad, radius);
+        for e in fixed_entries {
+            grid.insert(e);
+        }
         let saturation = SATURATION_PAIRS
             * tables
                 .iter()
