@@ -32,14 +32,58 @@
 //! whatever β. Relocations and small Gaussian shifts alternate; when a hard core leaves the dart-throwing start
 //! short of `n`, allowed births fill the gap.
 //!
-//! ## Pair factors: inversion and saturation
-//! Used directly as pair factors, the exemplar's rdfs reproduce themselves only for weak interactions (a hard
-//! core at finite density shifts the first peak; clusters collapse into clumps). When the painted region holds
-//! enough points (≥ 100 expected), the isotropic tables start neutral and are refined during the first half of
-//! the iterations by iterative Boltzmann inversion (`refine_tables`); a point's total log pair factor is capped
-//! at `SATURATION_PAIRS` times the largest single-pair log factor (a Geyer-style saturation that keeps
-//! attraction from condensing everything into one clump). With fewer points the exemplar's `h` is used as is,
-//! as in the paper.
+//! ## Small counts: the product model of eq. (1)
+//! When the painted region holds fewer than 100 expected instances of a category, the chain is the paper's:
+//! relocations and shifts accepted with `f(X')/f(X)`, the exemplar's `h` used directly as pair factors, a
+//! point's total log pair factor capped at `SATURATION_PAIRS` times the largest single-pair log factor (a
+//! Geyer-style saturation that keeps attraction from condensing everything into one clump).
+//!
+//! ## Larger regions: matching the rdf (and the map histograms) directly
+//! Used as pair factors, the exemplar's rdfs reproduce themselves only for weak interactions: with clusters
+//! (`h ≫ 1` at short range) the product of many factors collapses clusters into clumps (the clustered
+//! exemplar came out at 3.4× the second-draw rdf error). With enough points we therefore sample, in the spirit
+//! of the rdf of Öztireli & Gross 2012 that the paper adopts, the tempered density
+//!
+//! ```text
+//! f(X) ∝ exp(−E(X) / τ) · Π_{x_i} Π_m ψ_m(m(x_i)) · Π_{x_i} Π_{context y_j} h(d(x_i, y_j))
+//! E(X) = Σ_pairs Σ_k (H(k) − T(k))² / max(T(k), 1)  +  Σ_maps Σ_b (M(b) − n w_m(b))² / max(n w_m(b), 1)
+//! ```
+//!
+//! * `H(k) = Σ_{x_i} Σ_{y_j} [d(x_i, y_j) in cell k] / α_{x_i}(k)` is the window-corrected pair count of eq.
+//!   (2) before normalization, for the self pair and for every higher-priority category already inside the
+//!   region; `T(k) = h(k) · |cell k| · n_X n_Y / A` is what the learned rdf `h` gives at the current counts.
+//!   Oriented rdfs use the same formula per (distance, angle) cell.
+//! * `M(b)` counts the instances in bin `b` of each map; `w_m` is the distribution of the map over the region
+//!   that the map factors give (see "Maps"), so the slope histogram is matched as well: at low τ the energy
+//!   would otherwise override the weak factor ψ.
+//! * Fixed content *outside* the region (the region of influence) keeps the product factors of eq. (1) (with
+//!   the saturation): its pairs cannot be window-corrected against the region.
+//! * Zeros stay hard: hard-core distances (with any neighbour, inside or outside) and map values where
+//!   `h_m = 0` are rejected outright.
+//!
+//! The weights make `E` a chi-square in units of counting noise. A move changes `H` only through the pairs of
+//! the moved point (O(neighbours + bins)); acceptance is `exp(−ΔE/τ)` times the ratio of the other factors,
+//! with τ lowered geometrically from `TAU_START` to `TAU_END` over the first `ANNEALING_FRACTION` of the
+//! `RDF_SWEEPS` sweeps (simulated annealing). This keeps eq. (1)'s Metropolis-Hastings chain, its birth/death
+//! pairs as relocations at fixed count, its product simplification (only the moved point's factors are
+//! evaluated) and its priority order; what changes is `f`: the learned histograms are the *targets* of the
+//! statistics rather than the factors, which by Henderson's theorem is what reproducing them at a given density
+//! requires. It holds for clusters, hard cores and cross-category pairs alike.
+//!
+//! **Interaction radius.** Each pair's rdf is cut after its last bin that differs from 1 by more than
+//! `SIGNIFICANCE` standard deviations of the exemplar's counting noise (the larger of the Poisson noise of
+//! the bin and the RMS deviation of the outer third of the bins, which measures clump noise), keeping hard-core
+//! bins. Beyond it the learned rdf is noise around 1 and the factor is neutral; the moves' cost grows with the
+//! radius squared.
+//!
+//! **Tiles and determinism.** The region is cut into square tiles at least twice the interaction radius wide
+//! (and holding ≥ `MIN_TILE_INSTANCES` expected instances), with a random offset per sweep; tiles are processed
+//! in four 2 × 2 colour phases, so tiles of a phase never share a neighbour, in parallel with rayon. Each
+//! tile moves only its own instances, inside itself, with its own ChaCha8 generator seeded from (seed,
+//! category, sweep, phase, tile). `E` is global: a tile sees the deviation `H − T` at the start of the phase
+//! plus its own changes scaled by its share of the phase's instances (it is responsible for that share of the
+//! correction), and the exact `H` is recomputed at every sweep. Results are merged in tile order: the same seed
+//! gives the same result whatever the thread count. Small regions are one tile.
 //!
 //! ## Zeros of the histograms
 //! * Distances below the first non-empty bin of a pair (and below the exemplar's smallest same-category
@@ -52,12 +96,15 @@
 //! ## Maps
 //! For a map `m` the factor is `ψ(v) = h_m(v) / q(v)`, where `q` is the histogram of the map over the whole
 //! exemplar region: the intensity then follows the exemplar's *preference* for values of `m` (a region with the
-//! exemplar's own map distribution gets the exemplar density). Values where `h_m = 0` — the exemplar never had
+//! exemplar's own map distribution gets the exemplar density; the count is calibrated by the mean of `Π ψ`
+//! over the exemplar region, when it lies on the terrain, since correlated maps such as elevation and slope do
+//! not average to 1). With several maps the factors are raked over the painted region (`rake_maps`) so each
+//! map's distribution is what its own factor gives. Values where `h_m = 0` — the exemplar never had
 //! an instance there, including values outside the exemplar's range — get factor 0: no instance lands there.
 //!
 //! ## Determinism
-//! The chain of each category is sequential, driven by a ChaCha8 generator seeded from (seed, category);
-//! nothing depends on the rayon thread count.
+//! Every random choice comes from ChaCha8 generators seeded from (seed, category) and, for tiles, (sweep,
+//! phase, tile); parallel results are merged in a fixed order, so nothing depends on the rayon thread count.
 
 use crate::analysis::{folded_angle_bin, region_lattice};
 use crate::error::{Error, Result};
@@ -72,7 +119,7 @@ use rand_chacha::ChaCha8Rng;
 /// Floor of empty rdf bins beyond the hard core (see the module documentation).
 pub const HISTOGRAM_FLOOR: f64 = 1e-3;
 /// Default Metropolis-Hastings proposals per expected instance.
-pub const DEFAULT_ITERATIONS_PER_INSTANCE: f64 = 60.0;
+pub const DEFAULT_ITERATIONS_PER_INSTANCE: f64 = 40.0;
 const FIXED_ID: u32 = u32::MAX;
 /// Tag bit of fixed content outside the region (the region of influence): such pairs enter as product factors.
 const CONTEXT_TAG: u32 = 1 << 31;
@@ -88,7 +135,7 @@ pub struct SynthesisOptions {
     pub seed: u64,
     /// None = `color.max_radius`; `Some(0.0)` disables the region of influence.
     pub influence_radius: Option<f64>,
-    /// Proposal count = this × expected count (default 60).
+    /// Proposal count = this × expected count (default 40).
     pub iterations_per_instance: f64,
     /// Restrict to these categories (None = all of the color).
     pub categories: Option<Vec<String>>,
@@ -126,7 +173,7 @@ pub fn synthesize(
 /// Log-factor table of one pair interaction, indexed by distance bin (× angle bin for an oriented rdf).
 struct PairTable {
     log_factor: Vec<f64>,
-    /// The learned histogram the table should reproduce (refined by inversion when isotropic).
+    /// The learned histogram (the target of the rdf-matching energy).
     target_hist: Vec<f64>,
     /// Points of the other category inside the region (fixed); `None` for the self pair (the chain's own).
     others_inside: Option<usize>,
@@ -173,7 +220,7 @@ impl PairTable {
     }
 
     /// Drops the distance bins from which on the learned rdf no longer differs from 1 (the Poisson level)
-    /// by more than three standard deviations of its own counting noise in the exemplar, where the expected
+    /// by more than `SIGNIFICANCE` standard deviations of its own counting noise in the exemplar, where the expected
     /// pair count of cell `k` is `pairs_per_area · h(k) · |cell k|`. Those factors are neutral anyway; the
     /// interaction radius (and the cost of every move, which grows with its square) shrinks to the range over
     /// which the exemplar shows structure. Forbidden (hard-core) bins are kept.
@@ -182,12 +229,22 @@ impl PairTable {
             return;
         }
         let a = self.angle_bins.max(1);
+        // clustered exemplars count pairs in clumps, far noisier than Poisson: the outer third of the bins
+        // (beyond two mean spacings of the sparsest category) measures that noise
+        let outer = &self.target_hist[(2 * self.n_bins / 3) * a..];
+        let outer_rms = if outer.is_empty() {
+            0.0
+        } else {
+            (outer.iter().map(|h| (h - 1.0).powi(2)).sum::<f64>() / outer.len() as f64).sqrt()
+        };
         let mut keep = 0;
         for idx in 0..self.log_factor.len() {
             let h = self.target_hist[idx];
             let count = (pairs_per_area * self.cell_area(idx)).max(1e-12);
             let sigma = (h.max(1.0) / count).sqrt();
-            if self.log_factor[idx] == f64::NEG_INFINITY || (h - 1.0).abs() > 3.0 * sigma {
+            if self.log_factor[idx] == f64::NEG_INFINITY
+                || (h - 1.0).abs() > SIGNIFICANCE * sigma.max(outer_rms)
+            {
                 keep = keep.max(idx / a + 1);
             }
         }
@@ -241,6 +298,9 @@ impl PairTable {
 struct MapTable<'a> {
     map: &'a str,
     hist: Histogram,
+    /// Wanted distribution of the instances over the bins in the painted region (normalized; empty when
+    /// unknown): what the map factors give over the region's lattice.
+    wanted: Vec<f64>,
 }
 
 impl<'a> MapTable<'a> {
@@ -278,6 +338,7 @@ impl<'a> MapTable<'a> {
                 bin_width: h.bin_width,
                 values,
             },
+            wanted: Vec::new(),
         }
     }
 }
@@ -293,6 +354,8 @@ struct Target<'a> {
     saturation: f64,
     /// Distance bin of the color (window-edge fractions are taken per distance bin).
     bin_width: f64,
+    /// Cell size of the spatial grids.
+    cell: f64,
 }
 
 impl Target<'_> {
@@ -389,7 +452,15 @@ fn rake_maps(target: &mut Target, lattice: &[DVec2]) {
     let wanted: Vec<Vec<f64>> = (0..target.maps.len())
         .map(|mi| marginals(&target.maps, Some(mi)).swap_remove(mi))
         .collect();
-    for _ in 0..RAKING_ITERATIONS {
+    for (m, w) in target.maps.iter_mut().zip(&wanted) {
+        m.wanted = w.clone();
+    }
+    let iterations = if target.maps.len() >= 2 {
+        RAKING_ITERATIONS
+    } else {
+        0
+    };
+    for _ in 0..iterations {
         for mi in 0..target.maps.len() {
             let current = marginals(&target.maps, None).swap_remove(mi);
             for (b, v) in target.maps[mi].hist.values.iter_mut().enumerate() {
@@ -636,7 +707,10 @@ pub fn synthesize_with_progress(
                 f64::max,
             )
             .max(color.bin_width);
-        let mut grid = SpatialGrid::new(rlo - pad, rhi + pad, radius);
+        // grid cells: the radius, but not much finer than the mean spacing of the content
+        let spacing = (area / (cat.density * area + fixed_entries.len() as f64).max(1.0)).sqrt();
+        let cell = radius.max(spacing);
+        let mut grid = SpatialGrid::new(rlo - pad, rhi + pad, cell);
         for e in fixed_entries {
             grid.insert(e);
         }
@@ -654,6 +728,7 @@ pub fn synthesize_with_progress(
             radius,
             saturation,
             bin_width: color.bin_width,
+            cell,
         };
         // expected count: exemplar density times the map preference integrated over the region
         let mean_preference = |points: &[DVec2]| {
@@ -674,7 +749,7 @@ pub fn synthesize_with_progress(
         };
         let expected = cat.density * area * preference;
         let mut target = target;
-        if target.maps.len() >= 2 {
+        if !target.maps.is_empty() && !lattice.is_empty() {
             rake_maps(&mut target, &lattice);
         }
         let mut rng = ChaCha8Rng::seed_from_u64(mix_seed(opts.seed, ci as u64 + 1));
@@ -822,6 +897,8 @@ fn run_chain<R: Rng>(
     Ok(own)
 }
 
+/// A learned rdf bin differs from 1 when it is this many standard deviations of counting noise away.
+const SIGNIFICANCE: f64 = 3.0;
 /// Sweeps of the rdf-matching chain (tiles are redrawn, the exact pair histograms recomputed and the
 /// temperature lowered between sweeps).
 const RDF_SWEEPS: usize = 12;
@@ -846,6 +923,30 @@ fn inverse_alphas(region: &Region, p: DVec2, bin_width: f64, n: usize, out: &mut
         *o = 1.0 / a;
     }
     true
+}
+
+/// Sizes of the matched histograms: every pair table, then every map (empty when its wanted distribution is
+/// unknown).
+fn histogram_shapes(target: &Target) -> Vec<Vec<f64>> {
+    target
+        .tables
+        .iter()
+        .map(|t| vec![0.0; t.log_factor.len()])
+        .chain(target.maps.iter().map(|m| vec![0.0; m.wanted.len()]))
+        .collect()
+}
+
+/// Bin of map `mi` at `p` (None for a map without a wanted distribution).
+#[inline]
+fn map_bin(target: &Target, mi: usize, p: DVec2) -> Option<usize> {
+    let m = &target.maps[mi];
+    if m.wanted.is_empty() {
+        return None;
+    }
+    target
+        .terrain
+        .and_then(|t| t.map_at(m.map, p))
+        .and_then(|v| m.hist.bin_of(v))
 }
 
 /// Read-only state shared by the tiles of one phase.
@@ -880,12 +981,7 @@ struct Tile {
 fn pair_histograms(sh: &Shared) -> Vec<Vec<f64>> {
     use rayon::prelude::*;
     let tables = &sh.target.tables;
-    let zero = || -> Vec<Vec<f64>> {
-        tables
-            .iter()
-            .map(|t| vec![0.0; t.log_factor.len()])
-            .collect()
-    };
+    let zero = || histogram_shapes(sh.target);
     let chunks: Vec<Vec<Vec<f64>>> = sh
         .own
         .par_chunks(1024)
@@ -911,6 +1007,11 @@ fn pair_histograms(sh: &Shared) -> Vec<Vec<f64>> {
                 sh.target
                     .grid
                     .for_each_within(p, sh.target.radius, &mut visit);
+                for mi in 0..sh.target.maps.len() {
+                    if let Some(b) = map_bin(sh.target, mi, p) {
+                        h[tables.len() + mi][b] += 1.0;
+                    }
+                }
             }
             h
         })
@@ -932,10 +1033,7 @@ fn run_tile(sh: &Shared, tile: &Tile) -> (Vec<DVec2>, Vec<Vec<f64>>) {
     let tables = &target.tables;
     let r = target.radius;
     let nb = sh.n_alpha;
-    let mut delta: Vec<Vec<f64>> = tables
-        .iter()
-        .map(|t| vec![0.0; t.log_factor.len()])
-        .collect();
+    let mut delta: Vec<Vec<f64>> = histogram_shapes(target);
     let m = tile.members.len();
     if m == 0 || tile.proposals == 0 {
         return (Vec::new(), delta);
@@ -947,7 +1045,7 @@ fn run_tile(sh: &Shared, tile: &Tile) -> (Vec<DVec2>, Vec<Vec<f64>>) {
         |p: DVec2| p.x >= tile.lo.x && p.x < tile.hi.x && p.y >= tile.lo.y && p.y < tile.hi.y;
     let in_halo = |p: DVec2| p.x >= elo.x && p.x <= ehi.x && p.y >= elo.y && p.y <= ehi.y;
     // local copy: the tile's instances (ids 0..m), the own instances around it, the fixed content around it
-    let mut grid = SpatialGrid::new(elo, ehi, r);
+    let mut grid = SpatialGrid::new(elo, ehi, target.cell);
     let mut pos: Vec<DVec2> = tile.members.iter().map(|&g| sh.own[g as usize]).collect();
     let centre = 0.5 * (elo + ehi);
     let reach = 0.5 * (ehi - elo).length();
@@ -1066,6 +1164,24 @@ fn run_tile(sh: &Shared, tile: &Tile) -> (Vec<DVec2>, Vec<Vec<f64>>) {
                 break;
             }
         }
+        if !forbidden {
+            // the map histograms: one instance leaves p's bins for q's
+            for mi in 0..target.maps.len() {
+                for (sign, at) in [(1.0, q), (-1.0, p)] {
+                    if let Some(b) = map_bin(target, mi, at) {
+                        let ti = tables.len() + mi;
+                        let cell = &mut d_h[ti][b];
+                        if *cell == 0.0 {
+                            touched.push((ti as u32, b as u32));
+                        }
+                        *cell += sign;
+                        if *cell == 0.0 {
+                            *cell = f64::MIN_POSITIVE;
+                        }
+                    }
+                }
+            }
+        }
         let mut d_e = 0.0;
         for &(ti, idx) in &touched {
             let (ti, idx) = (ti as usize, idx as usize);
@@ -1160,7 +1276,7 @@ fn run_rdf_chain<R: Rng>(
     let (rlo, rhi) = region.bbox();
     let pad = DVec2::splat(r);
     let new_own_grid = |own: &[DVec2]| {
-        let mut g = SpatialGrid::new(rlo - pad, rhi + pad, r);
+        let mut g = SpatialGrid::new(rlo - pad, rhi + pad, target.cell);
         for (id, p) in own.iter().enumerate() {
             g.insert(GridEntry {
                 position: *p,
@@ -1211,6 +1327,12 @@ fn run_rdf_chain<R: Rng>(
                 .map(|(idx, h)| h * t.cell_area(idx) * n * n_other / area)
                 .collect()
         })
+        .chain(
+            target
+                .maps
+                .iter()
+                .map(|m| m.wanted.iter().map(|w| w * n).collect()),
+        )
         .collect();
     let weight: Vec<Vec<f64>> = targets
         .iter()
