@@ -1,5 +1,7 @@
 """A forest learned from a hand-made example on a slope, pasted elsewhere through the operators, as a user would."""
 
+import json
+
 import bpy
 import numpy as np
 import pytest
@@ -189,19 +191,22 @@ def test_selection_region_is_the_default():
     assert 0.0 <= x0 < 3.0 and 97.0 < x1 <= 100.0 and 0.0 <= y0 < 3.0 and 97.0 < y1 <= 100.0
 
 
-def test_a_color_pastes_on_higher_ground_unless_it_learned_a_height_preference():
+def test_a_color_pastes_on_higher_ground_and_learns_heights_only_when_asked():
     terrain_obj, examples, _ = slope_exemplar()
     select_only(examples)
     assert bpy.ops.worldpaint.learn_color(name="Anywhere", **EXEMPLAR) == {'FINISHED'}
     assert bpy.ops.worldpaint.learn_color(name="Lowland", use_elevation=True, **EXEMPLAR) == {'FINISHED'}
+    palette = bpy.context.scene.worldpaint.palette
+
+    def learned_maps(name):
+        return {m["map"] for m in json.loads(palette[name].json)["color"]["maps"]}
+
+    assert learned_maps("Anywhere") == {"slope"}
+    assert learned_maps("Lowland") == {"slope", "elevation"}
+
     terrain_obj.location.z += 300.0  # the same slopes, 300 m higher than any example
     bpy.context.view_layer.update()
     select_only([])
-
     assert bpy.ops.worldpaint.paste_color(color="Anywhere", seed=3, **DESTINATION) == {'FINISHED'}
     counts = {c: len(p[0]) for c, p in synthesized_points().items()}
     assert counts.get("Tree", 0) > 20 and counts.get("Grass", 0) > 20, counts
-
-    bpy.ops.worldpaint.clear_region(**DESTINATION)
-    assert bpy.ops.worldpaint.paste_color(color="Lowland", seed=3, **DESTINATION) == {'FINISHED'}
-    assert sum(len(p[0]) for p in synthesized_points().values()) == 0

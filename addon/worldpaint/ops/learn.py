@@ -19,8 +19,8 @@ class WORLDPAINT_OT_learn_color(RegionProperties, TerrainProperty, bpy.types.Ope
     use_elevation: BoolProperty(
         name="Height Preference",
         default=False,
-        description="Also learn which terrain heights the example occupies; the color then pastes only at similar "
-        "heights (the slope preference is always learned)",
+        description="Also learn which terrain heights the example occupies (the slope preference is always learned); "
+        "heights beyond the example's range are treated like its highest or lowest ones",
     )
 
     def execute(self, context):

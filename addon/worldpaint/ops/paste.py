@@ -168,8 +168,8 @@ class WORLDPAINT_OT_paste_color(RegionProperties, TerrainProperty, bpy.types.Ope
         empty = sorted(set(c["name"] for c in eng.color_summary(job.arguments["color"])["categories"])
                        - set(result["categories"][i]["name"] for i in np.unique(result["category_index"])))
         if empty:
-            self.report({'WARNING'}, f"Nothing pasted for {', '.join(empty)}: the destination's slopes (or heights, "
-                                     "for a color with a height preference) are ones the example never had")
+            self.report({'WARNING'}, f"Nothing pasted for {', '.join(empty)}: the example had none on slopes (or, "
+                                     "for a color with a height preference, heights) like the destination's")
         if missing:
             self.report({'WARNING'}, f"No collection or mesh to instance for: {', '.join(missing)}")
         return {'FINISHED'}

@@ -63,8 +63,8 @@ class WORLDPAINT_PG_settings(bpy.types.PropertyGroup):
     seed: IntProperty(name="Seed", default=0, min=0, description="Random seed of the synthesis")
     learn_elevation: BoolProperty(
         name="Height Preference", default=False,
-        description="Learn Color also learns which terrain heights the example occupies; such a color pastes only "
-        "at similar heights",
+        description="Learn Color also learns which terrain heights the example occupies; heights beyond the "
+        "example's range are treated like its highest or lowest ones",
     )
     auto_influence: BoolProperty(
         name="Automatic Influence", default=True,

@@ -99,8 +99,10 @@
 //! exemplar's own map distribution gets the exemplar density; the count is calibrated by the mean of `Π ψ`
 //! over the exemplar region, when it lies on the terrain, since correlated maps such as elevation and slope do
 //! not average to 1). With several maps the factors are raked over the painted region (`rake_maps`) so each
-//! map's distribution is what its own factor gives. Values where `h_m = 0` — the exemplar never had
-//! an instance there, including values outside the exemplar's range — get factor 0: no instance lands there.
+//! map's distribution is what its own factor gives. Values the exemplar region showed but where `h_m = 0` —
+//! the exemplar never had an instance there — get factor 0: no instance lands there. Values the region never
+//! showed (beyond its range, or a gap) take the factor of the nearest value it did show: the exemplar holds no
+//! evidence about them, and a neutral reading keeps, say, a grove learned on flat ground pastable on hills.
 //!
 //! ## Determinism
 //! Every random choice comes from ChaCha8 generators seeded from (seed, category) and, for tiles, (sweep,
@@ -331,6 +333,9 @@ impl<'a> MapTable<'a> {
                 (hv / qv).ln()
             })
             .collect();
+        let values = extrapolate_unseen(values, |k| {
+            q.value_at(h.start + (k as f64 + 0.5) * h.bin_width) > 0.0
+        });
         MapTable {
             map,
             hist: Histogram {
@@ -341,6 +346,42 @@ impl<'a> MapTable<'a> {
             wanted: Vec::new(),
         }
     }
+}
+
+impl MapTable<'_> {
+    /// Bin of map value `v`; values beyond the learned range take the end bins (see `extrapolate_unseen`).
+    #[inline]
+    fn bin_of(&self, v: f64) -> Option<usize> {
+        let last = self.hist.values.len().checked_sub(1)?;
+        if !v.is_finite() || !(self.hist.bin_width > 0.0) {
+            return None;
+        }
+        let f = ((v - self.hist.start) / self.hist.bin_width).floor();
+        Some(f.clamp(0.0, last as f64) as usize)
+    }
+}
+
+/// The exemplar says nothing about map values its region never showed (a grove learned on flat ground knows
+/// nothing of slopes): such bins take the preference of the nearest bin the region did show, so a flat
+/// exemplar is neutral to slope, and a forest that avoided the steepest slopes it saw avoids steeper ones too.
+fn extrapolate_unseen(values: Vec<f64>, seen: impl Fn(usize) -> bool) -> Vec<f64> {
+    let seen_bins: Vec<usize> = (0..values.len()).filter(|&k| seen(k)).collect();
+    if seen_bins.is_empty() {
+        return values;
+    }
+    (0..values.len())
+        .map(|k| {
+            if seen(k) {
+                return values[k];
+            }
+            let nearest = seen_bins
+                .iter()
+                .copied()
+                .min_by_key(|&j| (j.abs_diff(k), j))
+                .unwrap_or(k);
+            values[nearest]
+        })
+        .collect()
 }
 
 /// Everything the chain of one category evaluates.
@@ -365,7 +406,7 @@ impl Target<'_> {
             let Some(t) = self.terrain else {
                 return f64::NEG_INFINITY;
             };
-            match t.map_at(m.map, p).and_then(|v| m.hist.bin_of(v)) {
+            match t.map_at(m.map, p).and_then(|v| m.bin_of(v)) {
                 Some(k) => sum += m.hist.values[k],
                 None => return f64::NEG_INFINITY,
             }
@@ -411,7 +452,7 @@ fn rake_maps(target: &mut Target, lattice: &[DVec2]) {
         .map(|m| {
             lattice
                 .iter()
-                .map(|p| terrain.map_at(m.map, *p).and_then(|v| m.hist.bin_of(v)))
+                .map(|p| terrain.map_at(m.map, *p).and_then(|v| m.bin_of(v)))
                 .collect()
         })
         .collect();
@@ -946,7 +987,7 @@ fn map_bin(target: &Target, mi: usize, p: DVec2) -> Option<usize> {
     target
         .terrain
         .and_then(|t| t.map_at(m.map, p))
-        .and_then(|v| m.hist.bin_of(v))
+        .and_then(|v| m.bin_of(v))
 }
 
 /// Read-only state shared by the tiles of one phase.

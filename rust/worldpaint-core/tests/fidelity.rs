@@ -272,3 +272,46 @@ fn timing_100k_instances_three_categories_on_a_square_kilometre() {
     let fid = compare(&color, &back);
     println!("{fid:?}");
 }
+
+#[test]
+fn a_grove_learned_on_flat_ground_pastes_on_hills_at_its_density() {
+    // the flat exemplar shows only slope 0: it holds no evidence against steeper ground
+    let flat =
+        worldpaint_core::Heightfield::new(DVec2::splat(-10.0), 2.0, 61, 61, vec![0.0; 61 * 61])
+            .unwrap();
+    let mut grove = scene_from_points(
+        "tree",
+        &exemplar::clustered(&exemplar_region(), 0.002, 8.0, 3.0, 4),
+    );
+    grove.terrain = Some(flat);
+    let maps = AnalysisOptions {
+        maps: vec!["slope".into()],
+        ..Default::default()
+    };
+    let color = learn_color(&grove, &exemplar_region(), "grove", &maps).unwrap();
+
+    let hills = exemplar::demo_terrain(600.0, 2.0, 11);
+    let slopes: Vec<f64> = hills.maps["slope"]
+        .iter()
+        .map(|s| f64::from(*s).to_degrees())
+        .collect();
+    assert!(
+        slopes.iter().filter(|s| **s > 10.0).count() * 4 > slopes.len(),
+        "the hills are not flat"
+    );
+    let scene = Scene {
+        terrain: Some(hills),
+        ..Default::default()
+    };
+    let paint = Region::Rect {
+        min: DVec2::splat(100.0),
+        max: DVec2::splat(500.0),
+    };
+    let out = synthesize(&scene, &color, &paint, &SynthesisOptions::default()).unwrap();
+    let expected = color.categories[0].density * paint.area();
+    let ratio = out.instances.len() as f64 / expected;
+    assert!(
+        (ratio - 1.0).abs() <= 0.1,
+        "density ratio {ratio:.3} on hills"
+    );
+}
