@@ -808,6 +808,17 @@ fn region_bbox(region: &Bound<'_, PyAny>) -> PyResult<((f64, f64), (f64, f64))> 
 // ---------------------------------------------------------------------------------------------------------------
 // exemplar generators (demo scenes, asset scripts, tests)
 
+/// Runs a point generator on a region with the GIL released: float64 (N, 2).
+fn generated_points<'py>(
+    py: Python<'py>,
+    region: &Bound<'py, PyAny>,
+    generate: impl FnOnce(&Region) -> Vec<DVec2> + Send,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let region = region_from_py(region)?;
+    let pts = py.detach(|| guarded(|| Ok(generate(&region))))?;
+    Ok(points_to_py(py, &pts))
+}
+
 /// Points of a Poisson process of the given density (per m²) in the region: float64 (N, 2).
 #[pyfunction]
 fn exemplar_uniform<'py>(
@@ -816,10 +827,9 @@ fn exemplar_uniform<'py>(
     density: f64,
     seed: u64,
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
-    let region = region_from_py(region)?;
-    let pts =
-        py.detach(|| guarded(|| Ok(worldpaint_core::exemplar::uniform(&region, density, seed))))?;
-    Ok(points_to_py(py, &pts))
+    generated_points(py, region, |r| {
+        worldpaint_core::exemplar::uniform(r, density, seed)
+    })
 }
 
 /// Points of a Thomas cluster process (parents per m², mean children per parent, spread sigma in m).
@@ -832,19 +842,9 @@ fn exemplar_clustered<'py>(
     sigma: f64,
     seed: u64,
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
-    let region = region_from_py(region)?;
-    let pts = py.detach(|| {
-        guarded(|| {
-            Ok(worldpaint_core::exemplar::clustered(
-                &region,
-                parent_density,
-                children_mean,
-                sigma,
-                seed,
-            ))
-        })
-    })?;
-    Ok(points_to_py(py, &pts))
+    generated_points(py, region, |r| {
+        worldpaint_core::exemplar::clustered(r, parent_density, children_mean, sigma, seed)
+    })
 }
 
 /// Points with a hard-core spacing (no pair closer than min_distance) at about the given density.
@@ -856,18 +856,9 @@ fn exemplar_hard_core<'py>(
     min_distance: f64,
     seed: u64,
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
-    let region = region_from_py(region)?;
-    let pts = py.detach(|| {
-        guarded(|| {
-            Ok(worldpaint_core::exemplar::hard_core(
-                &region,
-                density,
-                min_distance,
-                seed,
-            ))
-        })
-    })?;
-    Ok(points_to_py(py, &pts))
+    generated_points(py, region, |r| {
+        worldpaint_core::exemplar::hard_core(r, density, min_distance, seed)
+    })
 }
 
 /// The multi-category slope exemplar: {"terrain": Terrain, "categories": [...], "positions", "heights",
