@@ -126,6 +126,11 @@ impl SpatialGrid {
         }
     }
 
+    /// All entries, cell by cell.
+    pub(crate) fn entries(&self) -> impl Iterator<Item = &GridEntry> {
+        self.cells.iter().flatten()
+    }
+
     /// Entries within `radius` of `p`.
     pub fn query(&self, p: DVec2, radius: f64) -> Vec<GridEntry> {
         let mut out = Vec::new();
@@ -148,5 +153,140 @@ impl SpatialGrid {
             }
         }
         false
+    }
+}
+
+/// A static uniform grid stored flat: entries sorted by cell (struct of arrays), one offset per cell, so that
+/// consecutive cells of a row are one contiguous slice. Built once by a counting sort; read-only.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct FlatGrid {
+    origin: DVec2,
+    cell: f64,
+    nx: usize,
+    ny: usize,
+    start: Vec<u32>,
+    pub(crate) xs: Vec<f64>,
+    pub(crate) ys: Vec<f64>,
+    pub(crate) tags: Vec<u32>,
+    pub(crate) ids: Vec<u32>,
+}
+
+impl FlatGrid {
+    /// Grid over the box `min..max` with cells of side `cell` holding the `n` entries `entry(0..n)`.
+    pub(crate) fn build(
+        min: DVec2,
+        max: DVec2,
+        cell: f64,
+        n: usize,
+        entry: impl Fn(usize) -> GridEntry,
+    ) -> Self {
+        let shape = SpatialGrid::new(min, max, cell);
+        let (nx, ny, cell) = (shape.nx, shape.ny, shape.cell);
+        let mut grid = FlatGrid {
+            origin: min,
+            cell,
+            nx,
+            ny,
+            start: vec![0; nx * ny + 1],
+            xs: vec![0.0; n],
+            ys: vec![0.0; n],
+            tags: vec![0; n],
+            ids: vec![0; n],
+        };
+        let cells: Vec<u32> = (0..n)
+            .map(|i| {
+                let (cx, cy) = grid.cell_coords(entry(i).position);
+                (cy * nx + cx) as u32
+            })
+            .collect();
+        for &c in &cells {
+            grid.start[c as usize + 1] += 1;
+        }
+        for c in 0..nx * ny {
+            grid.start[c + 1] += grid.start[c];
+        }
+        let mut fill = grid.start.clone();
+        for (i, &c) in cells.iter().enumerate() {
+            let e = entry(i);
+            let slot = fill[c as usize] as usize;
+            fill[c as usize] += 1;
+            grid.xs[slot] = e.position.x;
+            grid.ys[slot] = e.position.y;
+            grid.tags[slot] = e.tag;
+            grid.ids[slot] = e.id;
+        }
+        grid
+    }
+
+    #[inline]
+    pub(crate) fn cell_coords(&self, p: DVec2) -> (usize, usize) {
+        let fx = ((p.x - self.origin.x) / self.cell).floor();
+        let fy = ((p.y - self.origin.y) / self.cell).floor();
+        let cx = if fx.is_finite() {
+            fx.clamp(0.0, (self.nx - 1) as f64) as usize
+        } else {
+            0
+        };
+        let cy = if fy.is_finite() {
+            fy.clamp(0.0, (self.ny - 1) as f64) as usize
+        } else {
+            0
+        };
+        (cx, cy)
+    }
+
+    pub(crate) fn nx(&self) -> usize {
+        self.nx
+    }
+
+    pub(crate) fn n_cells(&self) -> usize {
+        self.nx * self.ny
+    }
+
+    /// Calls `visit(index, distance²)` for every entry within `radius` of `p` (inclusive) until it returns
+    /// false.
+    #[inline]
+    pub(crate) fn for_each_within<F: FnMut(usize, f64) -> bool>(
+        &self,
+        p: DVec2,
+        radius: f64,
+        mut visit: F,
+    ) {
+        let r2 = radius * radius;
+        let (x0, y0) = self.cell_coords(p - DVec2::splat(radius));
+        let (x1, y1) = self.cell_coords(p + DVec2::splat(radius));
+        for cy in y0..=y1 {
+            let row = cy * self.nx;
+            let (a, b) = (
+                self.start[row + x0] as usize,
+                self.start[row + x1 + 1] as usize,
+            );
+            for i in a..b {
+                let dx = self.xs[i] - p.x;
+                let dy = self.ys[i] - p.y;
+                let d2 = dx * dx + dy * dy;
+                if d2 <= r2 && !visit(i, d2) {
+                    return;
+                }
+            }
+        }
+    }
+
+    /// Calls `visit(index)` for every entry in the cells overlapping the box `lo..hi` (a superset of the
+    /// entries inside it).
+    pub(crate) fn for_each_in_box_cells<F: FnMut(usize)>(
+        &self,
+        lo: DVec2,
+        hi: DVec2,
+        mut visit: F,
+    ) {
+        let (x0, y0) = self.cell_coords(lo);
+        let (x1, y1) = self.cell_coords(hi);
+        for cy in y0..=y1 {
+            let row = cy * self.nx;
+            for i in self.start[row + x0] as usize..self.start[row + x1 + 1] as usize {
+                visit(i);
+            }
+        }
     }
 }

@@ -113,7 +113,7 @@ use crate::error::{Error, Result};
 use crate::geom::{DVec2, Region};
 use crate::palette::{CategoryColor, Color, Histogram, Interaction};
 use crate::scene::{Category, Instance, Scene};
-use crate::spatial::{GridEntry, SpatialGrid};
+use crate::spatial::{FlatGrid, GridEntry, SpatialGrid};
 use crate::terrain::Heightfield;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -966,15 +966,19 @@ fn inverse_alphas(region: &Region, p: DVec2, bin_width: f64, n: usize, out: &mut
     true
 }
 
-/// Sizes of the matched histograms: every pair table, then every map (empty when its wanted distribution is
-/// unknown).
-fn histogram_shapes(target: &Target) -> Vec<Vec<f64>> {
-    target
+/// Offsets of the matched histograms in one flat array: every pair table, then every map (empty when its
+/// wanted distribution is unknown); the last entry is the total length.
+fn histogram_offsets(target: &Target) -> Vec<usize> {
+    let mut offs = vec![0];
+    let sizes = target
         .tables
         .iter()
-        .map(|t| vec![0.0; t.log_factor.len()])
-        .chain(target.maps.iter().map(|m| vec![0.0; m.wanted.len()]))
-        .collect()
+        .map(|t| t.log_factor.len())
+        .chain(target.maps.iter().map(|m| m.wanted.len()));
+    for len in sizes {
+        offs.push(offs[offs.len() - 1] + len);
+    }
+    offs
 }
 
 /// Bin of map `mi` at `p` (None for a map without a wanted distribution).
@@ -997,11 +1001,16 @@ struct Shared<'a, 'b> {
     self_tag: u32,
     n_alpha: usize,
     own: &'a [DVec2],
-    own_grid: &'a SpatialGrid,
-    /// Per table and histogram index: current pair histogram minus target, `H − T`, over the whole region.
-    dev: &'a [Vec<f64>],
-    /// Per table and histogram index: weight `1 / max(T, 1)`.
-    weight: &'a [Vec<f64>],
+    /// The own points (ids: indices into `own`).
+    own_grid: &'a FlatGrid,
+    /// The fixed content (other categories inside the region, context outside it).
+    fixed: &'a FlatGrid,
+    /// Offsets of the histograms in the flat arrays (see `histogram_offsets`).
+    offs: &'a [usize],
+    /// Per histogram index: current pair histogram minus target, `H − T`, over the whole region.
+    dev: &'a [f64],
+    /// Per histogram index: weight `1 / max(T, 1)`.
+    weight: &'a [f64],
     tau: f64,
     shift_sigma: f64,
 }
@@ -1017,64 +1026,112 @@ struct Tile {
     seed: u64,
 }
 
-/// Pair histograms `H` (per table, per index) of the own points with the own points and with the fixed content
-/// inside the region: `H(k) = Σ_i Σ_j [d(x_i, y_j) in cell k] / α_{x_i}(k)` — eq. (2) before normalization.
-fn pair_histograms(sh: &Shared) -> Vec<Vec<f64>> {
+/// Pair histograms `H` (flat, see `histogram_offsets`) of the own points with the own points and with the fixed
+/// content inside the region: `H(k) = Σ_i Σ_j [d(x_i, y_j) in cell k] / α_{x_i}(k)` — eq. (2) before
+/// normalization.
+fn pair_histograms(sh: &Shared) -> Vec<f64> {
     use rayon::prelude::*;
     let tables = &sh.target.tables;
-    let zero = || histogram_shapes(sh.target);
-    let chunks: Vec<Vec<Vec<f64>>> = sh
+    let offs = sh.offs;
+    let n_hist = offs[offs.len() - 1];
+    let r = sh.target.radius;
+    let chunks: Vec<Vec<f64>> = sh
         .own
         .par_chunks(1024)
         .enumerate()
         .map(|(c, chunk)| {
-            let mut h = zero();
+            let mut h = vec![0.0; n_hist];
             let mut ia = vec![1.0; sh.n_alpha];
             for (o, &p) in chunk.iter().enumerate() {
                 let id = (c * 1024 + o) as u32;
                 if !inverse_alphas(sh.region, p, sh.target.bin_width, sh.n_alpha, &mut ia) {
                     ia.fill(1.0);
                 }
-                let mut visit = |e: &GridEntry, d2: f64| {
-                    if e.tag & CONTEXT_TAG != 0 || (e.tag == sh.self_tag && e.id == id) {
-                        return;
-                    }
-                    let t = &tables[e.tag as usize];
-                    if let Some((idx, k)) = t.bin_of(e.position - p, d2) {
-                        h[e.tag as usize][idx] += ia[k.min(sh.n_alpha - 1)];
-                    }
-                };
-                sh.own_grid.for_each_within(p, sh.target.radius, &mut visit);
-                sh.target
-                    .grid
-                    .for_each_within(p, sh.target.radius, &mut visit);
+                for g in [sh.own_grid, sh.fixed] {
+                    g.for_each_within(p, r, |i, d2| {
+                        let tag = g.tags[i];
+                        if tag & CONTEXT_TAG != 0 || (tag == sh.self_tag && g.ids[i] == id) {
+                            return true;
+                        }
+                        let t = &tables[tag as usize];
+                        let v = DVec2::new(g.xs[i] - p.x, g.ys[i] - p.y);
+                        if let Some((idx, k)) = t.bin_of(v, d2) {
+                            h[offs[tag as usize] + idx] += ia[k.min(sh.n_alpha - 1)];
+                        }
+                        true
+                    });
+                }
                 for mi in 0..sh.target.maps.len() {
                     if let Some(b) = map_bin(sh.target, mi, p) {
-                        h[tables.len() + mi][b] += 1.0;
+                        h[offs[tables.len() + mi] + b] += 1.0;
                     }
                 }
             }
             h
         })
         .collect();
-    let mut total = zero();
+    let mut total = vec![0.0; n_hist];
     for h in chunks {
-        for (a, b) in total.iter_mut().zip(h) {
-            for (x, y) in a.iter_mut().zip(b) {
-                *x += y;
-            }
+        for (x, y) in total.iter_mut().zip(h) {
+            *x += y;
         }
     }
     total
 }
 
-/// Moves of one tile: returns the new positions of its members (in order) and its change of `H`.
-fn run_tile(sh: &Shared, tile: &Tile) -> (Vec<DVec2>, Vec<Vec<f64>>) {
+/// The moving instances of a tile, listed per cell of a `FlatGrid`'s layout (doubly linked lists).
+struct MemberCells {
+    head: Vec<u32>,
+    next: Vec<u32>,
+    prev: Vec<u32>,
+    cell_of: Vec<u32>,
+}
+
+const NONE: u32 = u32::MAX;
+
+impl MemberCells {
+    fn new(cells: usize, members: usize) -> Self {
+        MemberCells {
+            head: vec![NONE; cells],
+            next: vec![NONE; members],
+            prev: vec![NONE; members],
+            cell_of: vec![0; members],
+        }
+    }
+
+    fn insert(&mut self, k: usize, cell: usize) {
+        let h = self.head[cell];
+        self.next[k] = h;
+        self.prev[k] = NONE;
+        if h != NONE {
+            self.prev[h as usize] = k as u32;
+        }
+        self.head[cell] = k as u32;
+        self.cell_of[k] = cell as u32;
+    }
+
+    fn remove(&mut self, k: usize) {
+        let (p, n) = (self.prev[k], self.next[k]);
+        if p != NONE {
+            self.next[p as usize] = n;
+        } else {
+            self.head[self.cell_of[k] as usize] = n;
+        }
+        if n != NONE {
+            self.prev[n as usize] = p;
+        }
+    }
+}
+
+/// Moves of one tile: returns the new positions of its members (in order) and its change of `H` (flat).
+fn run_tile(sh: &Shared, tile: &Tile) -> (Vec<DVec2>, Vec<f64>) {
     let target = sh.target;
     let tables = &target.tables;
+    let offs = sh.offs;
     let r = target.radius;
+    let r2 = r * r;
     let nb = sh.n_alpha;
-    let mut delta: Vec<Vec<f64>> = histogram_shapes(target);
+    let mut delta = vec![0.0; offs[offs.len() - 1]];
     let m = tile.members.len();
     if m == 0 || tile.proposals == 0 {
         return (Vec::new(), delta);
@@ -1085,30 +1142,49 @@ fn run_tile(sh: &Shared, tile: &Tile) -> (Vec<DVec2>, Vec<Vec<f64>>) {
     let in_tile =
         |p: DVec2| p.x >= tile.lo.x && p.x < tile.hi.x && p.y >= tile.lo.y && p.y < tile.hi.y;
     let in_halo = |p: DVec2| p.x >= elo.x && p.x <= ehi.x && p.y >= elo.y && p.y <= ehi.y;
-    // local copy: the tile's instances (ids 0..m), the own instances around it, the fixed content around it
-    let mut grid = SpatialGrid::new(elo, ehi, target.cell);
+    // local copy: the tile's instances (ids 0..m, moving), the own instances around it (ids from m on) and the
+    // fixed content around it (static)
     let mut pos: Vec<DVec2> = tile.members.iter().map(|&g| sh.own[g as usize]).collect();
-    let centre = 0.5 * (elo + ehi);
-    let reach = 0.5 * (ehi - elo).length();
-    sh.own_grid.for_each_within(centre, reach, |e, _| {
-        if in_halo(e.position) && !in_tile(e.position) {
-            pos.push(e.position);
+    let og = sh.own_grid;
+    og.for_each_in_box_cells(elo, ehi, |i| {
+        let p = DVec2::new(og.xs[i], og.ys[i]);
+        if in_halo(p) && !in_tile(p) {
+            pos.push(p);
         }
     });
-    for (id, p) in pos.iter().enumerate() {
-        grid.insert(GridEntry {
+    let mut statics: Vec<GridEntry> = pos[m..]
+        .iter()
+        .enumerate()
+        .map(|(j, p)| GridEntry {
             position: *p,
             tag: sh.self_tag,
-            id: id as u32,
-        });
-    }
-    target.grid.for_each_within(centre, reach, |e, _| {
-        if in_halo(e.position) {
-            grid.insert(*e);
+            id: (m + j) as u32,
+        })
+        .collect();
+    let fg = sh.fixed;
+    fg.for_each_in_box_cells(elo, ehi, |i| {
+        let p = DVec2::new(fg.xs[i], fg.ys[i]);
+        if in_halo(p) {
+            statics.push(GridEntry {
+                position: p,
+                tag: fg.tags[i],
+                id: fg.ids[i],
+            });
         }
     });
-    // 1/α per local own point: slot into `pool` (u32::MAX = interior, all 1)
-    let mut slot = vec![u32::MAX; pos.len()];
+    let grid = FlatGrid::build(elo, ehi, 0.5 * target.cell, statics.len(), |i| statics[i]);
+    drop(statics);
+    let lnx = grid.nx();
+    let cell_index = |p: DVec2| {
+        let (cx, cy) = grid.cell_coords(p);
+        cy * lnx + cx
+    };
+    let mut cells = MemberCells::new(grid.n_cells(), m);
+    for (k, p) in pos[..m].iter().enumerate() {
+        cells.insert(k, cell_index(*p));
+    }
+    // 1/α per local own point: slot into `pool` (NONE = interior, all 1)
+    let mut slot = vec![NONE; pos.len()];
     let mut pool: Vec<f64> = Vec::new();
     let mut scratch = vec![1.0; nb];
     for (id, p) in pos.iter().enumerate() {
@@ -1119,8 +1195,8 @@ fn run_tile(sh: &Shared, tile: &Tile) -> (Vec<DVec2>, Vec<Vec<f64>>) {
     }
     let (rlo, rhi) = sh.region.bbox();
     let (slo, shi) = (tile.lo.max(rlo), tile.hi.min(rhi));
-    let mut d_h: Vec<Vec<f64>> = delta.clone();
-    let mut touched: Vec<(u32, u32)> = Vec::new();
+    let mut d_h: Vec<f64> = delta.clone();
+    let mut touched: Vec<u32> = Vec::new();
     let mut ia_new = vec![1.0; nb];
     for _ in 0..tile.proposals {
         let k = rng.random_range(0..m);
@@ -1153,56 +1229,100 @@ fn run_tile(sh: &Shared, tile: &Tile) -> (Vec<DVec2>, Vec<Vec<f64>>) {
                 } else {
                     &[]
                 }
-            } else if slot[k] != u32::MAX {
+            } else if slot[k] != NONE {
                 &pool[slot[k] as usize * nb..(slot[k] as usize + 1) * nb]
             } else {
                 &[]
             };
-            let ctx = if sign > 0.0 {
-                &mut ctx_new
-            } else {
-                &mut ctx_old
-            };
-            grid.for_each_within(at, r, |e, d2| {
-                if forbidden || (e.tag == sh.self_tag && e.id == k as u32) {
-                    return;
+            let mut ctx = 0.0;
+            // one pair of the point at `at` with a neighbour; false when it is forbidden (at q)
+            let mut pair = |tag: u32, id: u32, v: DVec2, d2: f64| -> bool {
+                if tag == sh.self_tag && id == k as u32 {
+                    return true;
                 }
-                let ti = (e.tag & !CONTEXT_TAG) as usize;
+                let ti = (tag & !CONTEXT_TAG) as usize;
                 let t = &tables[ti];
-                let v = e.position - at;
-                if sign > 0.0 && t.log_factor(v, d2) == f64::NEG_INFINITY {
-                    forbidden = true;
-                    return;
+                let kd = (d2.sqrt() / t.bin_width) as usize;
+                let idx = (kd < t.n_bins).then(|| {
+                    if t.angle_bins == 1 {
+                        kd
+                    } else {
+                        kd * t.angle_bins + folded_angle_bin(v, t.angle_bins)
+                    }
+                });
+                let lf = if d2 < t.hard_core2 {
+                    f64::NEG_INFINITY
+                } else {
+                    idx.map_or(0.0, |i| t.log_factor[i])
+                };
+                if sign > 0.0 && lf == f64::NEG_INFINITY {
+                    return false;
                 }
-                if e.tag & CONTEXT_TAG != 0 {
-                    *ctx += t.log_factor(v, d2);
-                    return;
+                if tag & CONTEXT_TAG != 0 {
+                    ctx += lf;
+                    return true;
                 }
-                let Some((idx, kd)) = t.bin_of(v, d2) else {
-                    return;
+                let Some(idx) = idx else {
+                    return true;
                 };
                 let kd = kd.min(nb - 1);
                 let mut w = ia_x.get(kd).copied().unwrap_or(1.0);
-                if e.tag == sh.self_tag {
-                    let j = e.id as usize;
-                    w += if slot[j] != u32::MAX {
-                        pool[slot[j] as usize * nb + kd]
+                if tag == sh.self_tag {
+                    let s = slot[id as usize];
+                    w += if s != NONE {
+                        pool[s as usize * nb + kd]
                     } else {
                         1.0
                     };
                 }
-                let cell = &mut d_h[ti][idx];
+                let h = offs[ti] + idx;
+                let cell = &mut d_h[h];
                 if *cell == 0.0 {
-                    touched.push((ti as u32, idx as u32));
+                    touched.push(h as u32);
                 }
                 *cell += sign * w;
                 if *cell == 0.0 {
                     // keep it listed once: a tiny non-zero marks it as touched
                     *cell = f64::MIN_POSITIVE;
                 }
+                true
+            };
+            let mut go = true;
+            grid.for_each_within(at, r, |i, d2| {
+                go = pair(
+                    grid.tags[i],
+                    grid.ids[i],
+                    DVec2::new(grid.xs[i] - at.x, grid.ys[i] - at.y),
+                    d2,
+                );
+                go
             });
-            if forbidden {
+            if go {
+                let (x0, y0) = grid.cell_coords(at - DVec2::splat(r));
+                let (x1, y1) = grid.cell_coords(at + DVec2::splat(r));
+                'rows: for cy in y0..=y1 {
+                    for c in cy * lnx + x0..=cy * lnx + x1 {
+                        let mut j = cells.head[c];
+                        while j != NONE {
+                            let pj = pos[j as usize];
+                            let d2 = pj.distance_squared(at);
+                            if d2 <= r2 && !pair(sh.self_tag, j, pj - at, d2) {
+                                go = false;
+                                break 'rows;
+                            }
+                            j = cells.next[j as usize];
+                        }
+                    }
+                }
+            }
+            if !go {
+                forbidden = true;
                 break;
+            }
+            if sign > 0.0 {
+                ctx_new = ctx;
+            } else {
+                ctx_old = ctx;
             }
         }
         if !forbidden {
@@ -1210,10 +1330,10 @@ fn run_tile(sh: &Shared, tile: &Tile) -> (Vec<DVec2>, Vec<Vec<f64>>) {
             for mi in 0..target.maps.len() {
                 for (sign, at) in [(1.0, q), (-1.0, p)] {
                     if let Some(b) = map_bin(target, mi, at) {
-                        let ti = tables.len() + mi;
-                        let cell = &mut d_h[ti][b];
+                        let h = offs[tables.len() + mi] + b;
+                        let cell = &mut d_h[h];
                         if *cell == 0.0 {
-                            touched.push((ti as u32, b as u32));
+                            touched.push(h as u32);
                         }
                         *cell += sign;
                         if *cell == 0.0 {
@@ -1223,42 +1343,38 @@ fn run_tile(sh: &Shared, tile: &Tile) -> (Vec<DVec2>, Vec<Vec<f64>>) {
                 }
             }
         }
-        let mut d_e = 0.0;
-        for &(ti, idx) in &touched {
-            let (ti, idx) = (ti as usize, idx as usize);
-            let dh = d_h[ti][idx];
-            let view = sh.dev[ti][idx] + delta[ti][idx] / tile.share;
-            d_e += sh.weight[ti][idx] * (2.0 * view * dh + dh * dh / tile.share);
-        }
         if forbidden {
-            for &(ti, idx) in &touched {
-                d_h[ti as usize][idx as usize] = 0.0;
+            for &h in &touched {
+                d_h[h as usize] = 0.0;
             }
             touched.clear();
             continue;
+        }
+        let mut d_e = 0.0;
+        for &h in &touched {
+            let h = h as usize;
+            let dh = d_h[h];
+            let view = sh.dev[h] + delta[h] / tile.share;
+            d_e += sh.weight[h] * (2.0 * view * dh + dh * dh / tile.share);
         }
         let log_accept = -d_e / sh.tau
             + (map_new - target.map_log(p))
             + (ctx_new.min(target.saturation) - ctx_old.min(target.saturation));
         let accept = rng.random::<f64>().ln() < log_accept;
-        for &(ti, idx) in &touched {
-            let (ti, idx) = (ti as usize, idx as usize);
+        for &h in &touched {
+            let h = h as usize;
             if accept {
-                delta[ti][idx] += d_h[ti][idx];
+                delta[h] += d_h[h];
             }
-            d_h[ti][idx] = 0.0;
+            d_h[h] = 0.0;
         }
         touched.clear();
         if accept {
-            grid.remove(p, k as u32);
-            grid.insert(GridEntry {
-                position: q,
-                tag: sh.self_tag,
-                id: k as u32,
-            });
+            cells.remove(k);
+            cells.insert(k, cell_index(q));
             pos[k] = q;
             if q_border {
-                if slot[k] == u32::MAX {
+                if slot[k] == NONE {
                     slot[k] = (pool.len() / nb) as u32;
                     pool.extend_from_slice(&ia_new);
                 } else {
@@ -1266,7 +1382,7 @@ fn run_tile(sh: &Shared, tile: &Tile) -> (Vec<DVec2>, Vec<Vec<f64>>) {
                     pool[s0..s0 + nb].copy_from_slice(&ia_new);
                 }
             } else {
-                slot[k] = u32::MAX;
+                slot[k] = NONE;
             }
         }
     }
@@ -1351,12 +1467,13 @@ fn run_rdf_chain<R: Rng>(
     if own.len() < 2 {
         return Ok(own);
     }
-    // targets T = h · cell area · n_X · n_Y / A (ordered pairs), weights 1 / max(T, 1)
-    let targets: Vec<Vec<f64>> = target
+    // targets T = h · cell area · n_X · n_Y / A (ordered pairs), weights 1 / max(T, 1), flat
+    let offs = histogram_offsets(target);
+    let targets: Vec<f64> = target
         .tables
         .iter()
         .enumerate()
-        .map(|(ti, t)| {
+        .flat_map(|(ti, t)| {
             let n_other = if ti as u32 == self_tag {
                 n - 1.0
             } else {
@@ -1365,20 +1482,36 @@ fn run_rdf_chain<R: Rng>(
             t.target_hist
                 .iter()
                 .enumerate()
-                .map(|(idx, h)| h * t.cell_area(idx) * n * n_other / area)
-                .collect()
+                .map(move |(idx, h)| h * t.cell_area(idx) * n * n_other / area)
         })
         .chain(
             target
                 .maps
                 .iter()
-                .map(|m| m.wanted.iter().map(|w| w * n).collect()),
+                .flat_map(|m| m.wanted.iter().map(move |w| w * n)),
         )
         .collect();
-    let weight: Vec<Vec<f64>> = targets
-        .iter()
-        .map(|t| t.iter().map(|v| 1.0 / v.max(1.0)).collect())
-        .collect();
+    let weight: Vec<f64> = targets.iter().map(|v| 1.0 / v.max(1.0)).collect();
+    let fixed_entries: Vec<GridEntry> = target.grid.entries().copied().collect();
+    let fixed = FlatGrid::build(
+        rlo - pad,
+        rhi + pad,
+        target.cell,
+        fixed_entries.len(),
+        |i| fixed_entries[i],
+    );
+    drop(fixed_entries);
+    let new_own_flat = |own: &[DVec2]| {
+        FlatGrid::build(rlo - pad, rhi + pad, target.cell, own.len(), |i| {
+            GridEntry {
+                position: own[i],
+                tag: self_tag,
+                id: i as u32,
+            }
+        })
+    };
+    let mut own_flat = new_own_flat(&own);
+    drop(own_grid);
     let n_alpha = ((r / target.bin_width).ceil() as usize).max(1);
     let tile_size = (2.0 * r)
         .max((MIN_TILE_INSTANCES / (n / area)).sqrt())
@@ -1413,16 +1546,16 @@ fn run_rdf_chain<R: Rng>(
             self_tag,
             n_alpha,
             own: &own,
-            own_grid: &own_grid,
+            own_grid: &own_flat,
+            fixed: &fixed,
+            offs: &offs,
             dev: &[],
             weight: &weight,
             tau,
             shift_sigma,
         });
-        for (d, t) in dev.iter_mut().zip(&targets) {
-            for (x, y) in d.iter_mut().zip(t) {
-                *x -= y;
-            }
+        for (x, y) in dev.iter_mut().zip(&targets) {
+            *x -= y;
         }
         let phases = if tiled { 4 } else { 1 };
         for phase in 0..phases {
@@ -1460,25 +1593,25 @@ fn run_rdf_chain<R: Rng>(
                 self_tag,
                 n_alpha,
                 own: &own,
-                own_grid: &own_grid,
+                own_grid: &own_flat,
+                fixed: &fixed,
+                offs: &offs,
                 dev: &dev,
                 weight: &weight,
                 tau,
                 shift_sigma,
             };
-            let results: Vec<(Vec<DVec2>, Vec<Vec<f64>>)> =
+            let results: Vec<(Vec<DVec2>, Vec<f64>)> =
                 tiles.par_iter().map(|t| run_tile(&shared, t)).collect();
             for (tile, (positions, delta)) in tiles.iter().zip(results) {
                 for (&g, p) in tile.members.iter().zip(positions) {
                     own[g as usize] = p;
                 }
-                for (d, x) in dev.iter_mut().zip(delta) {
-                    for (a, b) in d.iter_mut().zip(x) {
-                        *a += b;
-                    }
+                for (a, b) in dev.iter_mut().zip(delta) {
+                    *a += b;
                 }
             }
-            own_grid = new_own_grid(&own);
+            own_flat = new_own_flat(&own);
         }
         if !progress((sweep + 1) as f64 / RDF_SWEEPS as f64) {
             return Err(Error::Cancelled);
