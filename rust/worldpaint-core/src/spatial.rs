@@ -235,6 +235,16 @@ impl FlatGrid {
         (cx, cy)
     }
 
+    /// Entry index range of cells `x0..=x1` of row `cy` (one contiguous slice).
+    #[inline]
+    pub(crate) fn row_range(&self, cy: usize, x0: usize, x1: usize) -> (usize, usize) {
+        let row = cy * self.nx;
+        (
+            self.start[row + x0] as usize,
+            self.start[row + x1 + 1] as usize,
+        )
+    }
+
     pub(crate) fn nx(&self) -> usize {
         self.nx
     }
@@ -261,11 +271,11 @@ impl FlatGrid {
                 self.start[row + x0] as usize,
                 self.start[row + x1 + 1] as usize,
             );
-            for i in a..b {
-                let dx = self.xs[i] - p.x;
-                let dy = self.ys[i] - p.y;
+            for (o, (x, y)) in self.xs[a..b].iter().zip(&self.ys[a..b]).enumerate() {
+                let dx = x - p.x;
+                let dy = y - p.y;
                 let d2 = dx * dx + dy * dy;
-                if d2 <= r2 && !visit(i, d2) {
+                if d2 <= r2 && !visit(a + o, d2) {
                     return;
                 }
             }

@@ -1198,6 +1198,7 @@ fn run_tile(sh: &Shared, tile: &Tile) -> (Vec<DVec2>, Vec<f64>) {
     let mut d_h: Vec<f64> = delta.clone();
     let mut touched: Vec<u32> = Vec::new();
     let mut ia_new = vec![1.0; nb];
+    let mut cand: Vec<(u32, u32, DVec2, f64)> = Vec::new();
     for _ in 0..tile.proposals {
         let k = rng.random_range(0..m);
         let p = pos[k];
@@ -1287,34 +1288,43 @@ fn run_tile(sh: &Shared, tile: &Tile) -> (Vec<DVec2>, Vec<f64>) {
                 }
                 true
             };
-            let mut go = true;
-            grid.for_each_within(at, r, |i, d2| {
-                go = pair(
-                    grid.tags[i],
-                    grid.ids[i],
-                    DVec2::new(grid.xs[i] - at.x, grid.ys[i] - at.y),
-                    d2,
-                );
-                go
-            });
-            if go {
-                let (x0, y0) = grid.cell_coords(at - DVec2::splat(r));
-                let (x1, y1) = grid.cell_coords(at + DVec2::splat(r));
-                'rows: for cy in y0..=y1 {
-                    for c in cy * lnx + x0..=cy * lnx + x1 {
-                        let mut j = cells.head[c];
-                        while j != NONE {
-                            let pj = pos[j as usize];
-                            let d2 = pj.distance_squared(at);
-                            if d2 <= r2 && !pair(sh.self_tag, j, pj - at, d2) {
-                                go = false;
-                                break 'rows;
-                            }
-                            j = cells.next[j as usize];
+            // the neighbours within r, gathered without branching on the distance, then evaluated
+            let mut n = 0usize;
+            let (x0, y0) = grid.cell_coords(at - DVec2::splat(r));
+            let (x1, y1) = grid.cell_coords(at + DVec2::splat(r));
+            for cy in y0..=y1 {
+                let (a, b) = grid.row_range(cy, x0, x1);
+                if cand.len() < n + (b - a) {
+                    cand.resize(n + (b - a), (0, 0, DVec2::ZERO, 0.0));
+                }
+                for (i, c) in (a..b).zip(&mut cand[n..n + (b - a)]) {
+                    let v = DVec2::new(grid.xs[i] - at.x, grid.ys[i] - at.y);
+                    let d2 = v.x * v.x + v.y * v.y;
+                    *c = (grid.tags[i], grid.ids[i], v, d2);
+                }
+                let mut w = n;
+                for o in n..n + (b - a) {
+                    cand[w] = cand[o];
+                    w += usize::from(cand[o].3 <= r2);
+                }
+                n = w;
+                for c in cy * lnx + x0..=cy * lnx + x1 {
+                    let mut j = cells.head[c];
+                    while j != NONE {
+                        if cand.len() <= n {
+                            cand.resize(n + 64, (0, 0, DVec2::ZERO, 0.0));
                         }
+                        let v = pos[j as usize] - at;
+                        let d2 = v.length_squared();
+                        cand[n] = (sh.self_tag, j, v, d2);
+                        n += usize::from(d2 <= r2);
+                        j = cells.next[j as usize];
                     }
                 }
             }
+            let go = cand[..n]
+                .iter()
+                .all(|&(tag, id, v, d2)| pair(tag, id, v, d2));
             if !go {
                 forbidden = true;
                 break;
