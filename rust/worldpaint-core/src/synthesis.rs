@@ -966,14 +966,25 @@ fn inverse_alphas(region: &Region, p: DVec2, bin_width: f64, n: usize, out: &mut
     true
 }
 
-/// Offsets of the matched histograms in one flat array: every pair table, then every map (empty when its
-/// wanted distribution is unknown); the last entry is the total length.
+/// Distance bins of a pair table in the flat histograms: its own, then zero-weight padding up to the
+/// interaction radius so that any neighbour's bin is an index (bins beyond the table count for nothing).
+fn padded_bins(t: &PairTable, radius: f64) -> usize {
+    let reach = radius / t.bin_width;
+    if reach.is_finite() && reach >= 0.0 {
+        t.n_bins.max((reach.min(1e6)) as usize + 2)
+    } else {
+        t.n_bins
+    }
+}
+
+/// Offsets of the matched histograms in one flat array: every pair table (padded, see `padded_bins`), then
+/// every map (empty when its wanted distribution is unknown); the last entry is the total length.
 fn histogram_offsets(target: &Target) -> Vec<usize> {
     let mut offs = vec![0];
     let sizes = target
         .tables
         .iter()
-        .map(|t| t.log_factor.len())
+        .map(|t| padded_bins(t, target.radius) * t.angle_bins.max(1))
         .chain(target.maps.iter().map(|m| m.wanted.len()));
     for len in sizes {
         offs.push(offs[offs.len() - 1] + len);
@@ -1007,6 +1018,10 @@ struct Shared<'a, 'b> {
     fixed: &'a FlatGrid,
     /// Offsets of the histograms in the flat arrays (see `histogram_offsets`).
     offs: &'a [usize],
+    /// Per table: its last padded distance bin.
+    last_bin: &'a [usize],
+    /// Per pair histogram index: the log factor (0 in the padding).
+    log_factor: &'a [f64],
     /// Per histogram index: current pair histogram minus target, `H − T`, over the whole region.
     dev: &'a [f64],
     /// Per histogram index: weight `1 / max(T, 1)`.
@@ -1152,13 +1167,25 @@ fn run_tile(sh: &Shared, tile: &Tile) -> (Vec<DVec2>, Vec<f64>) {
             pos.push(p);
         }
     });
+    // 1/α per local own point: a row of `pool` (row 0: zeros, for the fixed content; row 1: ones, interior)
+    let mut pool: Vec<f64> = vec![0.0; nb];
+    pool.extend(std::iter::repeat_n(1.0, nb));
+    let mut slot = vec![1u32; pos.len()];
+    let mut scratch = vec![1.0; nb];
+    for (id, p) in pos.iter().enumerate() {
+        if inverse_alphas(sh.region, *p, target.bin_width, nb, &mut scratch) {
+            slot[id] = (pool.len() / nb) as u32;
+            pool.extend_from_slice(&scratch);
+        }
+    }
+    // the static content, with its weight row as id
     let mut statics: Vec<GridEntry> = pos[m..]
         .iter()
         .enumerate()
         .map(|(j, p)| GridEntry {
             position: *p,
             tag: sh.self_tag,
-            id: (m + j) as u32,
+            id: slot[m + j],
         })
         .collect();
     let fg = sh.fixed;
@@ -1168,7 +1195,7 @@ fn run_tile(sh: &Shared, tile: &Tile) -> (Vec<DVec2>, Vec<f64>) {
             statics.push(GridEntry {
                 position: p,
                 tag: fg.tags[i],
-                id: fg.ids[i],
+                id: 0,
             });
         }
     });
@@ -1183,20 +1210,11 @@ fn run_tile(sh: &Shared, tile: &Tile) -> (Vec<DVec2>, Vec<f64>) {
     for (k, p) in pos[..m].iter().enumerate() {
         cells.insert(k, cell_index(*p));
     }
-    // 1/α per local own point: slot into `pool` (NONE = interior, all 1)
-    let mut slot = vec![NONE; pos.len()];
-    let mut pool: Vec<f64> = Vec::new();
-    let mut scratch = vec![1.0; nb];
-    for (id, p) in pos.iter().enumerate() {
-        if inverse_alphas(sh.region, *p, target.bin_width, nb, &mut scratch) {
-            slot[id] = (pool.len() / nb) as u32;
-            pool.extend_from_slice(&scratch);
-        }
-    }
     let (rlo, rhi) = sh.region.bbox();
     let (slo, shi) = (tile.lo.max(rlo), tile.hi.min(rhi));
     let mut d_h: Vec<f64> = delta.clone();
-    let mut touched: Vec<u32> = Vec::new();
+    // every histogram index is listed at most once per move
+    let mut touched: Vec<u32> = vec![0; d_h.len() + 1];
     let mut ia_new = vec![1.0; nb];
     let mut cand: Vec<(u32, u32, DVec2, f64)> = Vec::new();
     for _ in 0..tile.proposals {
@@ -1223,72 +1241,15 @@ fn run_tile(sh: &Shared, tile: &Tile) -> (Vec<DVec2>, Vec<f64>) {
         let mut forbidden = false;
         let mut ctx_new = 0.0;
         let mut ctx_old = 0.0;
+        let mut nt = 0usize;
         for (sign, at) in [(1.0, q), (-1.0, p)] {
-            let ia_x: &[f64] = if sign > 0.0 {
-                if q_border {
-                    &ia_new
-                } else {
-                    &[]
-                }
-            } else if slot[k] != NONE {
-                &pool[slot[k] as usize * nb..(slot[k] as usize + 1) * nb]
+            let ia_x: &[f64] = if sign > 0.0 && q_border {
+                &ia_new
             } else {
-                &[]
+                let row = if sign > 0.0 { 1 } else { slot[k] as usize };
+                &pool[row * nb..(row + 1) * nb]
             };
-            let mut ctx = 0.0;
-            // one pair of the point at `at` with a neighbour; false when it is forbidden (at q)
-            let mut pair = |tag: u32, id: u32, v: DVec2, d2: f64| -> bool {
-                if tag == sh.self_tag && id == k as u32 {
-                    return true;
-                }
-                let ti = (tag & !CONTEXT_TAG) as usize;
-                let t = &tables[ti];
-                let kd = (d2.sqrt() / t.bin_width) as usize;
-                let idx = (kd < t.n_bins).then(|| {
-                    if t.angle_bins == 1 {
-                        kd
-                    } else {
-                        kd * t.angle_bins + folded_angle_bin(v, t.angle_bins)
-                    }
-                });
-                let lf = if d2 < t.hard_core2 {
-                    f64::NEG_INFINITY
-                } else {
-                    idx.map_or(0.0, |i| t.log_factor[i])
-                };
-                if sign > 0.0 && lf == f64::NEG_INFINITY {
-                    return false;
-                }
-                if tag & CONTEXT_TAG != 0 {
-                    ctx += lf;
-                    return true;
-                }
-                let Some(idx) = idx else {
-                    return true;
-                };
-                let kd = kd.min(nb - 1);
-                let mut w = ia_x.get(kd).copied().unwrap_or(1.0);
-                if tag == sh.self_tag {
-                    let s = slot[id as usize];
-                    w += if s != NONE {
-                        pool[s as usize * nb + kd]
-                    } else {
-                        1.0
-                    };
-                }
-                let h = offs[ti] + idx;
-                let cell = &mut d_h[h];
-                if *cell == 0.0 {
-                    touched.push(h as u32);
-                }
-                *cell += sign * w;
-                if *cell == 0.0 {
-                    // keep it listed once: a tiny non-zero marks it as touched
-                    *cell = f64::MIN_POSITIVE;
-                }
-                true
-            };
-            // the neighbours within r, gathered without branching on the distance, then evaluated
+            // the neighbours within r (tag, weight row, offset, d²), gathered without branching on the distance
             let mut n = 0usize;
             let (x0, y0) = grid.cell_coords(at - DVec2::splat(r));
             let (x1, y1) = grid.cell_coords(at + DVec2::splat(r));
@@ -1316,17 +1277,48 @@ fn run_tile(sh: &Shared, tile: &Tile) -> (Vec<DVec2>, Vec<f64>) {
                         }
                         let v = pos[j as usize] - at;
                         let d2 = v.length_squared();
-                        cand[n] = (sh.self_tag, j, v, d2);
-                        n += usize::from(d2 <= r2);
+                        cand[n] = (sh.self_tag, slot[j as usize], v, d2);
+                        n += usize::from(d2 <= r2 && j != k as u32);
                         j = cells.next[j as usize];
                     }
                 }
             }
-            let go = cand[..n]
-                .iter()
-                .all(|&(tag, id, v, d2)| pair(tag, id, v, d2));
-            if !go {
-                forbidden = true;
+            let mut ctx = 0.0;
+            for &(tag, row, v, d2) in &cand[..n] {
+                let ti = (tag & !CONTEXT_TAG) as usize;
+                let t = &tables[ti];
+                let kd = ((d2.sqrt() / t.bin_width) as usize).min(sh.last_bin[ti]);
+                let idx = if t.angle_bins == 1 {
+                    kd
+                } else {
+                    kd * t.angle_bins + folded_angle_bin(v, t.angle_bins)
+                };
+                let h = offs[ti] + idx;
+                let lf = if d2 < t.hard_core2 {
+                    f64::NEG_INFINITY
+                } else {
+                    sh.log_factor[h]
+                };
+                if sign > 0.0 && lf == f64::NEG_INFINITY {
+                    forbidden = true;
+                    break;
+                }
+                if tag & CONTEXT_TAG != 0 {
+                    ctx += lf;
+                    continue;
+                }
+                let kd = kd.min(nb - 1);
+                let w = ia_x[kd] + pool[row as usize * nb + kd];
+                let cell = &mut d_h[h];
+                touched[nt] = h as u32;
+                nt += usize::from(*cell == 0.0);
+                *cell += sign * w;
+                if *cell == 0.0 {
+                    // keep it listed once: a tiny non-zero marks it as touched
+                    *cell = f64::MIN_POSITIVE;
+                }
+            }
+            if forbidden {
                 break;
             }
             if sign > 0.0 {
@@ -1342,9 +1334,8 @@ fn run_tile(sh: &Shared, tile: &Tile) -> (Vec<DVec2>, Vec<f64>) {
                     if let Some(b) = map_bin(target, mi, at) {
                         let h = offs[tables.len() + mi] + b;
                         let cell = &mut d_h[h];
-                        if *cell == 0.0 {
-                            touched.push(h as u32);
-                        }
+                        touched[nt] = h as u32;
+                        nt += usize::from(*cell == 0.0);
                         *cell += sign;
                         if *cell == 0.0 {
                             *cell = f64::MIN_POSITIVE;
@@ -1354,14 +1345,13 @@ fn run_tile(sh: &Shared, tile: &Tile) -> (Vec<DVec2>, Vec<f64>) {
             }
         }
         if forbidden {
-            for &h in &touched {
+            for &h in &touched[..nt] {
                 d_h[h as usize] = 0.0;
             }
-            touched.clear();
             continue;
         }
         let mut d_e = 0.0;
-        for &h in &touched {
+        for &h in &touched[..nt] {
             let h = h as usize;
             let dh = d_h[h];
             let view = sh.dev[h] + delta[h] / tile.share;
@@ -1371,20 +1361,19 @@ fn run_tile(sh: &Shared, tile: &Tile) -> (Vec<DVec2>, Vec<f64>) {
             + (map_new - target.map_log(p))
             + (ctx_new.min(target.saturation) - ctx_old.min(target.saturation));
         let accept = rng.random::<f64>().ln() < log_accept;
-        for &h in &touched {
+        for &h in &touched[..nt] {
             let h = h as usize;
             if accept {
                 delta[h] += d_h[h];
             }
             d_h[h] = 0.0;
         }
-        touched.clear();
         if accept {
             cells.remove(k);
             cells.insert(k, cell_index(q));
             pos[k] = q;
             if q_border {
-                if slot[k] == NONE {
+                if slot[k] <= 1 {
                     slot[k] = (pool.len() / nb) as u32;
                     pool.extend_from_slice(&ia_new);
                 } else {
@@ -1392,7 +1381,7 @@ fn run_tile(sh: &Shared, tile: &Tile) -> (Vec<DVec2>, Vec<f64>) {
                     pool[s0..s0 + nb].copy_from_slice(&ia_new);
                 }
             } else {
-                slot[k] = NONE;
+                slot[k] = 1;
             }
         }
     }
@@ -1477,31 +1466,33 @@ fn run_rdf_chain<R: Rng>(
     if own.len() < 2 {
         return Ok(own);
     }
-    // targets T = h · cell area · n_X · n_Y / A (ordered pairs), weights 1 / max(T, 1), flat
+    // targets T = h · cell area · n_X · n_Y / A (ordered pairs), weights 1 / max(T, 1) (0 in the padding), flat
     let offs = histogram_offsets(target);
-    let targets: Vec<f64> = target
-        .tables
-        .iter()
-        .enumerate()
-        .flat_map(|(ti, t)| {
-            let n_other = if ti as u32 == self_tag {
-                n - 1.0
-            } else {
-                t.others_inside.unwrap_or(0) as f64
-            };
-            t.target_hist
-                .iter()
-                .enumerate()
-                .map(move |(idx, h)| h * t.cell_area(idx) * n * n_other / area)
-        })
-        .chain(
-            target
-                .maps
-                .iter()
-                .flat_map(|m| m.wanted.iter().map(move |w| w * n)),
-        )
-        .collect();
-    let weight: Vec<f64> = targets.iter().map(|v| 1.0 / v.max(1.0)).collect();
+    let mut targets: Vec<f64> = vec![0.0; offs[offs.len() - 1]];
+    let mut weight: Vec<f64> = vec![0.0; targets.len()];
+    let mut log_factor: Vec<f64> = vec![0.0; offs[target.tables.len()]];
+    let mut last_bin: Vec<usize> = Vec::new();
+    for (ti, t) in target.tables.iter().enumerate() {
+        let n_other = if ti as u32 == self_tag {
+            n - 1.0
+        } else {
+            t.others_inside.unwrap_or(0) as f64
+        };
+        for (idx, h) in t.target_hist.iter().enumerate() {
+            let v = h * t.cell_area(idx) * n * n_other / area;
+            targets[offs[ti] + idx] = v;
+            weight[offs[ti] + idx] = 1.0 / v.max(1.0);
+            log_factor[offs[ti] + idx] = t.log_factor[idx];
+        }
+        last_bin.push(padded_bins(t, r) - 1);
+    }
+    for (mi, m) in target.maps.iter().enumerate() {
+        let o = offs[target.tables.len() + mi];
+        for (b, w) in m.wanted.iter().enumerate() {
+            targets[o + b] = w * n;
+            weight[o + b] = 1.0 / (w * n).max(1.0);
+        }
+    }
     let fixed_entries: Vec<GridEntry> = target.grid.entries().copied().collect();
     let fixed = FlatGrid::build(
         rlo - pad,
@@ -1559,6 +1550,8 @@ fn run_rdf_chain<R: Rng>(
             own_grid: &own_flat,
             fixed: &fixed,
             offs: &offs,
+            last_bin: &last_bin,
+            log_factor: &log_factor,
             dev: &[],
             weight: &weight,
             tau,
@@ -1606,6 +1599,8 @@ fn run_rdf_chain<R: Rng>(
                 own_grid: &own_flat,
                 fixed: &fixed,
                 offs: &offs,
+                last_bin: &last_bin,
+                log_factor: &log_factor,
                 dev: &dev,
                 weight: &weight,
                 tau,
