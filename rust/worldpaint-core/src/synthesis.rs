@@ -82,8 +82,9 @@
 //! tile moves only its own instances, inside itself, with its own ChaCha8 generator seeded from (seed,
 //! category, sweep, phase, tile). `E` is global: a tile sees the deviation `H − T` at the start of the phase
 //! plus its own changes scaled by its share of the phase's instances (it is responsible for that share of the
-//! correction), and the exact `H` is recomputed at every sweep. Results are merged in tile order: the same seed
-//! gives the same result whatever the thread count. Small regions are one tile.
+//! correction). A tile's changes of `H` are exact (tiles of a phase are at least twice the radius apart, so no
+//! pair joins two moving tiles): `H` is computed in full once, then carried by the tiles' changes. Results are
+//! merged in tile order: the same seed gives the same result whatever the thread count. Small regions are one tile.
 //!
 //! ## Zeros of the histograms
 //! * Distances below the first non-empty bin of a pair (and below the exemplar's smallest same-category
@@ -940,8 +941,7 @@ fn run_chain<R: Rng>(
 
 /// A learned rdf bin differs from 1 when it is this many standard deviations of counting noise away.
 const SIGNIFICANCE: f64 = 3.0;
-/// Sweeps of the rdf-matching chain (tiles are redrawn, the exact pair histograms recomputed and the
-/// temperature lowered between sweeps).
+/// Sweeps of the rdf-matching chain (tiles are redrawn and the temperature lowered between sweeps).
 const RDF_SWEEPS: usize = 12;
 /// Temperature of the first and of the last sweeps (in units of the chi-square energy, see the module docs).
 const TAU_START: f64 = 1.0;
@@ -1521,6 +1521,7 @@ fn run_rdf_chain<R: Rng>(
     let tiled = ext.x >= 3.0 * tile_size && ext.y >= 3.0 * tile_size;
     let base_seed: u64 = rng.random();
     let shift_sigma = max_radius / 8.0;
+    let mut dev: Vec<f64> = Vec::new();
     for sweep in 0..RDF_SWEEPS {
         let frac = (sweep as f64 / ((RDF_SWEEPS - 1) as f64 * ANNEALING_FRACTION)).min(1.0);
         let tau = TAU_START * (TAU_END / TAU_START).powf(frac);
@@ -1541,24 +1542,27 @@ fn run_rdf_chain<R: Rng>(
             let iy = (((p.y - origin.y) / size.y).floor().max(0.0) as usize).min(ny - 1);
             iy * nx + ix
         };
-        let mut dev = pair_histograms(&Shared {
-            target,
-            region,
-            self_tag,
-            n_alpha,
-            own: &own,
-            own_grid: &own_flat,
-            fixed: &fixed,
-            offs: &offs,
-            last_bin: &last_bin,
-            log_factor: &log_factor,
-            dev: &[],
-            weight: &weight,
-            tau,
-            shift_sigma,
-        });
-        for (x, y) in dev.iter_mut().zip(&targets) {
-            *x -= y;
+        // H − T: computed in full once, then carried over by the tiles' changes (see "Tiles and determinism")
+        if sweep == 0 {
+            dev = pair_histograms(&Shared {
+                target,
+                region,
+                self_tag,
+                n_alpha,
+                own: &own,
+                own_grid: &own_flat,
+                fixed: &fixed,
+                offs: &offs,
+                last_bin: &last_bin,
+                log_factor: &log_factor,
+                dev: &[],
+                weight: &weight,
+                tau,
+                shift_sigma,
+            });
+            for (x, y) in dev.iter_mut().zip(&targets) {
+                *x -= y;
+            }
         }
         let phases = if tiled { 4 } else { 1 };
         for phase in 0..phases {
