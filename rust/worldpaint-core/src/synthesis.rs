@@ -1217,6 +1217,7 @@ fn run_tile(sh: &Shared, tile: &Tile) -> (Vec<DVec2>, Vec<f64>) {
     let mut touched: Vec<u32> = vec![0; d_h.len() + 1];
     let mut ia_new = vec![1.0; nb];
     let mut cand: Vec<(u32, u32, DVec2, f64)> = Vec::new();
+    let inv_share = 1.0 / tile.share;
     for _ in 0..tile.proposals {
         let k = rng.random_range(0..m);
         let p = pos[k];
@@ -1258,17 +1259,12 @@ fn run_tile(sh: &Shared, tile: &Tile) -> (Vec<DVec2>, Vec<f64>) {
                 if cand.len() < n + (b - a) {
                     cand.resize(n + (b - a), (0, 0, DVec2::ZERO, 0.0));
                 }
-                for (i, c) in (a..b).zip(&mut cand[n..n + (b - a)]) {
+                for i in a..b {
                     let v = DVec2::new(grid.xs[i] - at.x, grid.ys[i] - at.y);
                     let d2 = v.x * v.x + v.y * v.y;
-                    *c = (grid.tags[i], grid.ids[i], v, d2);
+                    cand[n] = (grid.tags[i], grid.ids[i], v, d2);
+                    n += usize::from(d2 <= r2);
                 }
-                let mut w = n;
-                for o in n..n + (b - a) {
-                    cand[w] = cand[o];
-                    w += usize::from(cand[o].3 <= r2);
-                }
-                n = w;
                 for c in cy * lnx + x0..=cy * lnx + x1 {
                     let mut j = cells.head[c];
                     while j != NONE {
@@ -1354,8 +1350,8 @@ fn run_tile(sh: &Shared, tile: &Tile) -> (Vec<DVec2>, Vec<f64>) {
         for &h in &touched[..nt] {
             let h = h as usize;
             let dh = d_h[h];
-            let view = sh.dev[h] + delta[h] / tile.share;
-            d_e += sh.weight[h] * (2.0 * view * dh + dh * dh / tile.share);
+            let view = sh.dev[h] + delta[h] * inv_share;
+            d_e += sh.weight[h] * (2.0 * view * dh + dh * dh * inv_share);
         }
         let log_accept = -d_e / sh.tau
             + (map_new - target.map_log(p))
