@@ -16,6 +16,7 @@
 //! | [`palette`] | histograms, colors, palettes (§3, §4.1) |
 //! | [`analysis`] | learning a color (§4.1) |
 //! | [`compare`] | fidelity metrics between two colors |
+//! | [`interpolate`] | distribution interpolation by optimal mass transport (§5.2) |
 //! | [`synthesis`] | Metropolis-Hastings synthesis with a region of influence (§4.1, §4.3, §5.1, §6) |
 //! | [`exemplar`] | generating processes for demo scenes, tests and benchmarks |
 
@@ -27,6 +28,7 @@ pub mod compare;
 pub mod error;
 pub mod exemplar;
 pub mod geom;
+pub mod interpolate;
 pub mod palette;
 pub mod scene;
 pub mod spatial;
@@ -37,6 +39,7 @@ pub use analysis::{learn_color, AnalysisOptions};
 pub use compare::{compare, Fidelity};
 pub use error::{Error, Result};
 pub use geom::Region;
+pub use interpolate::interpolate_colors;
 pub use palette::{Color, Palette};
 pub use scene::{Category, CategoryKind, Instance, Scene};
 pub use synthesis::{synthesize, synthesize_with_progress, SynthesisOptions, SynthesisResult};
