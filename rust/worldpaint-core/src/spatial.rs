@@ -18,18 +18,24 @@ pub struct GridEntry {
 /// A uniform grid of square cells over a box.
 #[derive(Clone, Debug)]
 pub struct SpatialGrid {
-    origin: DVec2,
-    cell: f64,
-    nx: usize,
-    ny: usize,
+    shape: GridShape,
     cells: Vec<Vec<GridEntry>>,
     len: usize,
 }
 
-impl SpatialGrid {
-    /// Grid over the box `min..max` with cells of side `cell` (normally the largest query radius).
-    /// The cell count is capped (4M cells) by enlarging cells, which keeps queries correct.
-    pub fn new(min: DVec2, max: DVec2, cell: f64) -> Self {
+/// The cells of a grid over a box: where they start, their side and how many there are across and up.
+#[derive(Clone, Copy, Debug, Default)]
+struct GridShape {
+    origin: DVec2,
+    cell: f64,
+    nx: usize,
+    ny: usize,
+}
+
+impl GridShape {
+    /// Cells of side `cell` over the box `min..max`; the cell count is capped (4M cells) by enlarging cells,
+    /// which keeps queries correct.
+    fn new(min: DVec2, max: DVec2, cell: f64) -> Self {
         let ext = (max - min).max(DVec2::splat(1e-9));
         let mut cell = if cell.is_finite() && cell > 0.0 {
             cell
@@ -42,24 +48,16 @@ impl SpatialGrid {
         }
         let nx = ((ext.x / cell).floor() as usize + 1).max(1);
         let ny = ((ext.y / cell).floor() as usize + 1).max(1);
-        SpatialGrid {
+        GridShape {
             origin: min,
             cell,
             nx,
             ny,
-            cells: vec![Vec::new(); nx * ny],
-            len: 0,
         }
     }
 
-    pub fn len(&self) -> usize {
-        self.len
-    }
-
-    pub fn is_empty(&self) -> bool {
-        self.len == 0
-    }
-
+    /// Cell of `p`; points outside the box are clamped into the border cells.
+    #[inline]
     fn cell_coords(&self, p: DVec2) -> (usize, usize) {
         let fx = ((p.x - self.origin.x) / self.cell).floor();
         let fy = ((p.y - self.origin.y) / self.cell).floor();
@@ -75,17 +73,42 @@ impl SpatialGrid {
         };
         (cx, cy)
     }
+}
+
+impl SpatialGrid {
+    /// Grid over the box `min..max` with cells of side `cell` (normally the largest query radius).
+    /// The cell count is capped (4M cells) by enlarging cells, which keeps queries correct.
+    pub fn new(min: DVec2, max: DVec2, cell: f64) -> Self {
+        let shape = GridShape::new(min, max, cell);
+        SpatialGrid {
+            shape,
+            cells: vec![Vec::new(); shape.nx * shape.ny],
+            len: 0,
+        }
+    }
+
+    pub fn len(&self) -> usize {
+        self.len
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    fn cell_coords(&self, p: DVec2) -> (usize, usize) {
+        self.shape.cell_coords(p)
+    }
 
     pub fn insert(&mut self, entry: GridEntry) {
         let (cx, cy) = self.cell_coords(entry.position);
-        self.cells[cy * self.nx + cx].push(entry);
+        self.cells[cy * self.shape.nx + cx].push(entry);
         self.len += 1;
     }
 
     /// Removes the entry with this `id` stored at `position`; returns whether it was found.
     pub fn remove(&mut self, position: DVec2, id: u32) -> bool {
         let (cx, cy) = self.cell_coords(position);
-        let cell = &mut self.cells[cy * self.nx + cx];
+        let cell = &mut self.cells[cy * self.shape.nx + cx];
         if let Some(k) = cell.iter().position(|e| e.id == id) {
             cell.swap_remove(k);
             self.len -= 1;
@@ -98,7 +121,7 @@ impl SpatialGrid {
     /// Changes the id of the entry stored at `position` with id `old` (used when the owner array compacts).
     pub fn rename(&mut self, position: DVec2, old: u32, new: u32) -> bool {
         let (cx, cy) = self.cell_coords(position);
-        let cell = &mut self.cells[cy * self.nx + cx];
+        let cell = &mut self.cells[cy * self.shape.nx + cx];
         if let Some(e) = cell.iter_mut().find(|e| e.id == old) {
             e.id = new;
             true
@@ -114,7 +137,7 @@ impl SpatialGrid {
         let (x0, y0) = self.cell_coords(p - DVec2::splat(radius));
         let (x1, y1) = self.cell_coords(p + DVec2::splat(radius));
         for cy in y0..=y1 {
-            let row = cy * self.nx;
+            let row = cy * self.shape.nx;
             for cx in x0..=x1 {
                 for e in &self.cells[row + cx] {
                     let d2 = e.position.distance_squared(p);
@@ -145,7 +168,7 @@ impl SpatialGrid {
         let (x1, y1) = self.cell_coords(p + DVec2::splat(radius));
         for cy in y0..=y1 {
             for cx in x0..=x1 {
-                for e in &self.cells[cy * self.nx + cx] {
+                for e in &self.cells[cy * self.shape.nx + cx] {
                     if Some(e.id) != skip_id && e.position.distance_squared(p) < r2 {
                         return true;
                     }
@@ -160,10 +183,7 @@ impl SpatialGrid {
 /// consecutive cells of a row are one contiguous slice. Built once by a counting sort; read-only.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct FlatGrid {
-    origin: DVec2,
-    cell: f64,
-    nx: usize,
-    ny: usize,
+    shape: GridShape,
     start: Vec<u32>,
     pub(crate) xs: Vec<f64>,
     pub(crate) ys: Vec<f64>,
@@ -180,13 +200,10 @@ impl FlatGrid {
         n: usize,
         entry: impl Fn(usize) -> GridEntry,
     ) -> Self {
-        let shape = SpatialGrid::new(min, max, cell);
-        let (nx, ny, cell) = (shape.nx, shape.ny, shape.cell);
+        let shape = GridShape::new(min, max, cell);
+        let (nx, ny) = (shape.nx, shape.ny);
         let mut grid = FlatGrid {
-            origin: min,
-            cell,
-            nx,
-            ny,
+            shape,
             start: vec![0; nx * ny + 1],
             xs: vec![0.0; n],
             ys: vec![0.0; n],
@@ -220,25 +237,13 @@ impl FlatGrid {
 
     #[inline]
     pub(crate) fn cell_coords(&self, p: DVec2) -> (usize, usize) {
-        let fx = ((p.x - self.origin.x) / self.cell).floor();
-        let fy = ((p.y - self.origin.y) / self.cell).floor();
-        let cx = if fx.is_finite() {
-            fx.clamp(0.0, (self.nx - 1) as f64) as usize
-        } else {
-            0
-        };
-        let cy = if fy.is_finite() {
-            fy.clamp(0.0, (self.ny - 1) as f64) as usize
-        } else {
-            0
-        };
-        (cx, cy)
+        self.shape.cell_coords(p)
     }
 
     /// Entry index range of cells `x0..=x1` of row `cy` (one contiguous slice).
     #[inline]
     pub(crate) fn row_range(&self, cy: usize, x0: usize, x1: usize) -> (usize, usize) {
-        let row = cy * self.nx;
+        let row = cy * self.shape.nx;
         (
             self.start[row + x0] as usize,
             self.start[row + x1 + 1] as usize,
@@ -246,11 +251,11 @@ impl FlatGrid {
     }
 
     pub(crate) fn nx(&self) -> usize {
-        self.nx
+        self.shape.nx
     }
 
     pub(crate) fn n_cells(&self) -> usize {
-        self.nx * self.ny
+        self.shape.nx * self.shape.ny
     }
 
     /// Calls `visit(index, distance²)` for every entry within `radius` of `p` (inclusive) until it returns
@@ -266,7 +271,7 @@ impl FlatGrid {
         let (x0, y0) = self.cell_coords(p - DVec2::splat(radius));
         let (x1, y1) = self.cell_coords(p + DVec2::splat(radius));
         for cy in y0..=y1 {
-            let row = cy * self.nx;
+            let row = cy * self.shape.nx;
             let (a, b) = (
                 self.start[row + x0] as usize,
                 self.start[row + x1 + 1] as usize,
@@ -293,7 +298,7 @@ impl FlatGrid {
         let (x0, y0) = self.cell_coords(lo);
         let (x1, y1) = self.cell_coords(hi);
         for cy in y0..=y1 {
-            let row = cy * self.nx;
+            let row = cy * self.shape.nx;
             for i in self.start[row + x0] as usize..self.start[row + x1 + 1] as usize {
                 visit(i);
             }

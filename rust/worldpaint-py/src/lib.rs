@@ -269,16 +269,19 @@ fn column<T: Copy + numpy::Element>(
     }
 }
 
-/// Instance arrays (one row per instance) -> core instances, checked against the category list.
-#[allow(clippy::too_many_arguments)]
-fn instances_from_py(
+/// The scene the engine works on: the category list, the instance arrays (one row per instance, checked against
+/// the categories) and the terrain.
+fn scene_from_py(
+    terrain: &Option<Py<Terrain>>,
+    categories: &Bound<'_, PyAny>,
     positions: &PyReadonlyArray2<'_, f64>,
     category_index: PyReadonlyArray1<'_, i32>,
     rotations: Option<PyReadonlyArray1<'_, f64>>,
     scales: Option<PyReadonlyArray1<'_, f64>>,
     prototype: Option<PyReadonlyArray1<'_, i32>>,
-    n_categories: usize,
-) -> PyResult<Vec<Instance>> {
+) -> PyResult<Scene> {
+    let categories = categories_from_py(categories)?;
+    let n_categories = categories.len();
     let pos = points_from_py(positions, "positions")?;
     let n = pos.len();
     let cat = column(Some(category_index), n, 0, "category_index")?;
@@ -304,7 +307,11 @@ fn instances_from_py(
             prototype: pro[i].max(0) as u32,
         });
     }
-    Ok(out)
+    Ok(Scene {
+        categories,
+        instances: out,
+        terrain: terrain_of(terrain).cloned(),
+    })
 }
 
 /// The instance columns of a result as a dict of numpy arrays.
@@ -550,29 +557,19 @@ fn learn_color(
     prototype: Option<PyReadonlyArray1<'_, i32>>,
     options: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<String> {
-    let categories = categories_from_py(categories)?;
-    let instances = instances_from_py(
+    let scene = scene_from_py(
+        &terrain,
+        categories,
         &positions,
         category_index,
         rotations,
         scales,
         prototype,
-        categories.len(),
     )?;
     let region = region_from_py(region)?;
     let opts = analysis_options(options)?;
-    let hf = terrain_of(&terrain);
     let name = name.to_string();
-    py.detach(|| {
-        guarded(|| {
-            let scene = Scene {
-                categories,
-                instances,
-                terrain: hf.cloned(),
-            };
-            worldpaint_core::learn_color(&scene, &region, &name, &opts)?.to_json()
-        })
-    })
+    py.detach(|| guarded(|| worldpaint_core::learn_color(&scene, &region, &name, &opts)?.to_json()))
 }
 
 /// Synthesize `color` (JSON) inside `region`, conditioned on the given existing instances: those inside the region
@@ -604,14 +601,14 @@ fn synthesize<'py>(
     only_categories: Option<Vec<String>>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let categories = categories_from_py(categories)?;
-    let instances = instances_from_py(
+    let scene = scene_from_py(
+        &terrain,
+        categories,
         &positions,
         category_index,
         rotations,
         scales,
         prototype,
-        categories.len(),
     )?;
     let region = region_from_py(region)?;
     let color = parse_color(color)?;
@@ -624,7 +621,6 @@ fn synthesize<'py>(
     if let Some(it) = iterations_per_instance {
         opts.iterations_per_instance = it;
     }
-    let hf = terrain_of(&terrain);
 
     // The callback re-acquires the GIL only when the fraction has moved by a percent; an exception raised by it
     // cancels the synthesis and is re-raised here.
@@ -653,11 +649,6 @@ fn synthesize<'py>(
 
     let result = py.detach(|| {
         guarded(|| {
-            let scene = Scene {
-                categories,
-                instances,
-                terrain: hf.cloned(),
-            };
             worldpaint_core::synthesis::synthesize_with_progress(
                 &scene, &color, &region, &opts, &report,
             )
@@ -671,7 +662,7 @@ fn synthesize<'py>(
     let result = result?;
     let d = PyDict::new(py);
     d.set_item("categories", categories_to_py(py, &result.categories)?)?;
-    instances_to_py(py, &d, &result.instances, hf)?;
+    instances_to_py(py, &d, &result.instances, scene.terrain.as_ref())?;
     Ok(d)
 }
 
