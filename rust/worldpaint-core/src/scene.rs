@@ -85,13 +85,4 @@ impl Scene {
             }
         }
     }
-
-    /// Positions of the instances of one category.
-    pub fn positions_of(&self, category: usize) -> Vec<DVec2> {
-        self.instances
-            .iter()
-            .filter(|i| i.category == category)
-            .map(|i| i.position)
-            .collect()
-    }
 }

@@ -154,13 +154,6 @@ impl SpatialGrid {
         self.cells.iter().flatten()
     }
 
-    /// Entries within `radius` of `p`.
-    pub fn query(&self, p: DVec2, radius: f64) -> Vec<GridEntry> {
-        let mut out = Vec::new();
-        self.for_each_within(p, radius, |e, _| out.push(*e));
-        out
-    }
-
     /// Whether any entry other than `skip_id` lies strictly closer than `radius` to `p`.
     pub fn any_closer_than(&self, p: DVec2, radius: f64, skip_id: Option<u32>) -> bool {
         let r2 = radius * radius;

@@ -623,20 +623,17 @@ pub fn synthesize_with_progress(
         }
     }
 
-    let mut out_categories = scene.categories.clone();
+    // the scene's categories, then the color's new ones
+    let mut listed = Scene {
+        categories: scene.categories.clone(),
+        ..Default::default()
+    };
     let scene_index: Vec<usize> = color
         .categories
         .iter()
-        .map(|c| {
-            let idx = out_categories
-                .iter()
-                .position(|x| x.name == c.category.name);
-            idx.unwrap_or_else(|| {
-                out_categories.push(c.category.clone());
-                out_categories.len() - 1
-            })
-        })
+        .map(|c| listed.ensure_category(&c.category))
         .collect();
+    let out_categories = listed.categories;
 
     // existing content in the region of influence (outside the region), per color category
     let context: Vec<Vec<DVec2>> = scene_index
