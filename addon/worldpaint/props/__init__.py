@@ -76,16 +76,16 @@ class WORLDPAINT_PG_settings(bpy.types.PropertyGroup):
     )
 
 
-_classes = (WORLDPAINT_PG_category, WORLDPAINT_PG_color, WORLDPAINT_PG_settings)
+_register_classes, _unregister_classes = bpy.utils.register_classes_factory(
+    (WORLDPAINT_PG_category, WORLDPAINT_PG_color, WORLDPAINT_PG_settings)
+)
 
 
 def register():
-    for cls in _classes:
-        bpy.utils.register_class(cls)
+    _register_classes()
     bpy.types.Scene.worldpaint = PointerProperty(type=WORLDPAINT_PG_settings)
 
 
 def unregister():
     del bpy.types.Scene.worldpaint
-    for cls in reversed(_classes):
-        bpy.utils.unregister_class(cls)
+    _unregister_classes()

@@ -7,12 +7,4 @@ from .panel import WORLDPAINT_PT_main
 
 _classes = (WORLDPAINT_UL_categories, WORLDPAINT_UL_palette, WORLDPAINT_PT_main)
 
-
-def register():
-    for cls in _classes:
-        bpy.utils.register_class(cls)
-
-
-def unregister():
-    for cls in reversed(_classes):
-        bpy.utils.unregister_class(cls)
+register, unregister = bpy.utils.register_classes_factory(_classes)
