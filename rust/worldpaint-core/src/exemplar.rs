@@ -211,6 +211,7 @@ pub fn slope_scene(size: f64, seed: u64) -> Scene {
             scale: 0.8 + 0.4 * rng.random::<f64>(),
             category,
             prototype: rng.random_range(0..3u32),
+            locked: false,
         });
     };
     let (lo_slope, hi_slope) = (20f64.to_radians(), 35f64.to_radians());

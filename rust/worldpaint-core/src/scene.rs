@@ -39,7 +39,8 @@ impl Category {
 }
 
 /// One placed object: where it stands, how it is turned (about Z) and scaled, which category
-/// (index into `Scene::categories`) and which prototype model of that category it shows.
+/// (index into `Scene::categories`) and which prototype model of that category it shows. A *locked* instance
+/// (an object the user placed by hand) is never removed by the tools; it conditions what they paint around it.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Instance {
     pub position: DVec2,
@@ -47,6 +48,8 @@ pub struct Instance {
     pub scale: f64,
     pub category: usize,
     pub prototype: u32,
+    #[serde(default)]
+    pub locked: bool,
 }
 
 impl Instance {
@@ -58,6 +61,7 @@ impl Instance {
             scale: 1.0,
             category,
             prototype: 0,
+            locked: false,
         }
     }
 }

@@ -305,6 +305,7 @@ fn scene_from_py(
             scale: sca[i],
             category: c as usize,
             prototype: pro[i].max(0) as u32,
+            locked: false,
         });
     }
     Ok(Scene {

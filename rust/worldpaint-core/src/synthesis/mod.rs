@@ -1,0 +1,462 @@
+//! Synthesis of a color in a region (Sections 4.1, 4.3, 5.1 and 6): Metropolis-Hastings birth-and-death
+//! sampling, category by category in priority order, with a region of influence.
+//!
+//! ## The target density and eq. (1)
+//! For the category `X` being synthesized, with `Y_k` the content of equal or higher priority (already
+//! synthesized categories inside the region, and existing instances within the region of influence),
+//!
+//! ```text
+//! f(X) ∝ β^{n_X} · Π_{x_i ∈ X} Π_m ψ_m(m(x_i)) · Π_{C_Yk ≤ C_X} Π_{x_i ∈ X} Π_{y_j ∈ Y_k} h_{X,Y_k}(d(x_i, y_j))
+//! ```
+//!
+//! and the birth / death acceptance ratios of eq. (1) (Geyer & Møller 1994),
+//! `R_b = f(X ∪ {p}) / f(X) · A / (n_X + 1)` and `R_d = f(X \ {x}) / f(X) · n_X / A`.
+//! These are the Metropolis-Hastings ratios for a density `f` *relative to a unit-rate Poisson process*, with
+//! births proposed uniformly in the region (density 1/A) and deaths uniformly among the points. Without
+//! interactions `f(X) = β^{n}` is a Poisson process of intensity β, whose expected count is `β A`: the
+//! intensity term β is what makes the density come out right, and the paper's `A / n_X` factor alone (β = 1)
+//! would give one instance per m². (How β is handled here: see "The count".)
+//!
+//! The product simplification of Section 6 — `R_b = A/n_X · Π_{C_Yk ≤ C_X} Π_{y_j} h_{X,Y_k}(p, y_j)` — means
+//! only factors involving the changed point are evaluated, through a uniform grid (`spatial`): a pair
+//! contributes `h(d)` for `d < max_radius` and 1 beyond. Shift moves (a point displaced by a small Gaussian
+//! step, symmetric proposal) use `f(X')/f(X)` alone and speed up mixing.
+//!
+//! ## The count (β)
+//! Pair factors bias the count of a birth-death chain with β fixed at the exemplar density: `h > 1` at short
+//! range (clusters) favours births, a hard core suppresses them, and with attraction an adaptive β lags behind
+//! a runaway. We therefore integrate β out: the chain samples the process *conditioned on its count*
+//! `n = target = λ_exemplar · ∫_φ ψ(m(x)) dx` (the exemplar density weighted by the map preference over the
+//! painted region, rounded stochastically). At fixed `n` a death followed by a birth is one *relocation* move
+//! (a point moved to a uniform position) with ratio `f(X')/f(X)`: the conditional of the chain of eq. (1),
+//! whatever β. Relocations and small Gaussian shifts alternate; when a hard core leaves the dart-throwing start
+//! short of `n`, allowed births fill the gap.
+//!
+//! ## Small counts: the product model of eq. (1)
+//! When the painted region holds fewer than 100 expected instances of a category, the chain is the paper's:
+//! relocations and shifts accepted with `f(X')/f(X)`, the exemplar's `h` used directly as pair factors, a
+//! point's total log pair factor capped at `SATURATION_PAIRS` times the largest single-pair log factor (a
+//! Geyer-style saturation that keeps attraction from condensing everything into one clump).
+//!
+//! ## Larger regions: matching the rdf (and the map histograms) directly
+//! Used as pair factors, the exemplar's rdfs reproduce themselves only for weak interactions: with clusters
+//! (`h ≫ 1` at short range) the product of many factors collapses clusters into clumps (the clustered
+//! exemplar came out at 3.4× the second-draw rdf error). With enough points we therefore sample, in the spirit
+//! of the rdf of Öztireli & Gross 2012 that the paper adopts, the tempered density
+//!
+//! ```text
+//! f(X) ∝ exp(−E(X) / τ) · Π_{x_i} Π_m ψ_m(m(x_i)) · Π_{x_i} Π_{context y_j} h(d(x_i, y_j))
+//! E(X) = Σ_pairs Σ_k (H(k) − T(k))² / max(T(k), 1)  +  Σ_maps Σ_b (M(b) − n w_m(b))² / max(n w_m(b), 1)
+//! ```
+//!
+//! * `H(k) = Σ_{x_i} Σ_{y_j} [d(x_i, y_j) in cell k] / α_{x_i}(k)` is the window-corrected pair count of eq.
+//!   (2) before normalization, for the self pair and for every higher-priority category already inside the
+//!   region; `T(k) = h(k) · |cell k| · n_X n_Y / A` is what the learned rdf `h` gives at the current counts.
+//!   Oriented rdfs use the same formula per (distance, angle) cell.
+//! * `M(b)` counts the instances in bin `b` of each map; `w_m` is the distribution of the map over the region
+//!   that the map factors give (see "Maps"), so the slope histogram is matched as well: at low τ the energy
+//!   would otherwise override the weak factor ψ.
+//! * Fixed content *outside* the region (the region of influence) keeps the product factors of eq. (1) (with
+//!   the saturation): its pairs cannot be window-corrected against the region.
+//! * Zeros stay hard: hard-core distances (with any neighbour, inside or outside) and map values where
+//!   `h_m = 0` are rejected outright.
+//!
+//! The weights make `E` a chi-square in units of counting noise. A move changes `H` only through the pairs of
+//! the moved point (O(neighbours + bins)); acceptance is `exp(−ΔE/τ)` times the ratio of the other factors,
+//! with τ lowered geometrically from `TAU_START` to `TAU_END` over the first `ANNEALING_FRACTION` of the
+//! `RDF_SWEEPS` sweeps (simulated annealing). This keeps eq. (1)'s Metropolis-Hastings chain, its birth/death
+//! pairs as relocations at fixed count, its product simplification (only the moved point's factors are
+//! evaluated) and its priority order; what changes is `f`: the learned histograms are the *targets* of the
+//! statistics rather than the factors, which by Henderson's theorem is what reproducing them at a given density
+//! requires. It holds for clusters, hard cores and cross-category pairs alike.
+//!
+//! **Interaction radius.** Each pair's rdf is cut after its last bin that differs from 1 by more than
+//! `SIGNIFICANCE` standard deviations of the exemplar's counting noise (the larger of the Poisson noise of
+//! the bin and the RMS deviation of the outer third of the bins, which measures clump noise), keeping hard-core
+//! bins. Beyond it the learned rdf is noise around 1 and the factor is neutral; the moves' cost grows with the
+//! radius squared.
+//!
+//! **Tiles and determinism.** The region is cut into square tiles at least twice the interaction radius wide
+//! (and holding ≥ `MIN_TILE_INSTANCES` expected instances), with a random offset per sweep; tiles are processed
+//! in four 2 × 2 colour phases, so tiles of a phase never share a neighbour, in parallel with rayon. Each
+//! tile moves only its own instances, inside itself, with its own ChaCha8 generator seeded from (seed,
+//! category, sweep, phase, tile). `E` is global: a tile sees the deviation `H − T` at the start of the phase
+//! plus its own changes scaled by its share of the phase's instances (it is responsible for that share of the
+//! correction). A tile's changes of `H` are exact (tiles of a phase are at least twice the radius apart, so no
+//! pair joins two moving tiles): `H` is computed in full once, then carried by the tiles' changes. Results are
+//! merged in tile order: the same seed gives the same result whatever the thread count. Small regions are one tile.
+//!
+//! ## Zeros of the histograms
+//! * Distances below the first non-empty bin of a pair (and below the exemplar's smallest same-category
+//!   distance) were never seen: a hard core, factor 0 (rejected outright), which is what keeps a pasted
+//!   hard-core color from crowding its neighbours across the region's border.
+//! * Empty bins further out are sampling noise of a finite exemplar: they get the floor `1e-3` (relative to
+//!   the rdf's Poisson level 1), so log-probabilities stay finite and a chance gap does not forbid a distance,
+//!   while one such pair still costs a factor 1000.
+//!
+//! ## Maps
+//! For a map `m` the factor is `ψ(v) = h_m(v) / q(v)`, where `q` is the histogram of the map over the whole
+//! exemplar region: the intensity then follows the exemplar's *preference* for values of `m` (a region with the
+//! exemplar's own map distribution gets the exemplar density; the count is calibrated by the mean of `Π ψ`
+//! over the exemplar region, when it lies on the terrain, since correlated maps such as elevation and slope do
+//! not average to 1). With several maps the factors are raked over the painted region (`rake_maps`) so each
+//! map's distribution is what its own factor gives. Values the exemplar region showed but where `h_m = 0` —
+//! the exemplar never had an instance there — get factor 0: no instance lands there. Values the region never
+//! showed (beyond its range, or a gap) take the factor of the nearest value it did show: the exemplar holds no
+//! evidence about them, and a neutral reading keeps, say, a grove learned on flat ground pastable on hills.
+//!
+//! ## Determinism
+//! Every random choice comes from ChaCha8 generators seeded from (seed, category) and, for tiles, (sweep,
+//! phase, tile); parallel results are merged in a fixed order, so nothing depends on the rayon thread count.
+
+mod product;
+mod rdf;
+mod target;
+
+use crate::analysis::region_lattice;
+use crate::error::{Error, Result};
+use crate::geom::{DVec2, Region};
+use crate::palette::{CategoryColor, Color, Histogram};
+use crate::scene::{Category, Instance, Scene};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use target::{build_target, rake_maps, Conditioning};
+
+/// Floor of empty rdf bins beyond the hard core (see the module documentation).
+pub const HISTOGRAM_FLOOR: f64 = 1e-3;
+/// Default Metropolis-Hastings proposals per expected instance.
+pub const DEFAULT_ITERATIONS_PER_INSTANCE: f64 = 40.0;
+/// A point's total log pair factor is capped at this many times the largest single-pair log factor.
+pub const SATURATION_PAIRS: f64 = 2.0;
+/// Expected count from which synthesis matches the rdf directly (below it, the exemplar's `h` is used as the
+/// pair factor, as in the paper).
+const MIN_COUNT_FOR_RDF_MATCHING: f64 = 100.0;
+
+/// How to synthesize.
+#[derive(Clone, Debug)]
+pub struct SynthesisOptions {
+    pub seed: u64,
+    /// None = `color.max_radius`; `Some(0.0)` disables the region of influence.
+    pub influence_radius: Option<f64>,
+    /// Proposal count = this × expected count (default 40).
+    pub iterations_per_instance: f64,
+    /// Restrict to these categories (None = all of the color).
+    pub categories: Option<Vec<String>>,
+}
+
+impl Default for SynthesisOptions {
+    fn default() -> Self {
+        SynthesisOptions {
+            seed: 0,
+            influence_radius: None,
+            iterations_per_instance: DEFAULT_ITERATIONS_PER_INSTANCE,
+            categories: None,
+        }
+    }
+}
+
+/// New instances, with `category` indices into `categories` (the scene's categories plus any the color added).
+#[derive(Clone, Debug)]
+pub struct SynthesisResult {
+    pub categories: Vec<Category>,
+    pub instances: Vec<Instance>,
+}
+
+/// Synthesize the color in `region`. The scene's unlocked instances *inside* the region are treated as removed
+/// (paste replaces); locked ones inside it and all within the influence radius outside it condition the result.
+pub fn synthesize(
+    scene: &Scene,
+    color: &Color,
+    region: &Region,
+    opts: &SynthesisOptions,
+) -> Result<SynthesisResult> {
+    synthesize_with_progress(scene, color, region, opts, &|_| true)
+}
+
+/// As [`synthesize`], calling `progress` with the fraction done; returning false cancels
+/// ([`Error::Cancelled`]).
+pub fn synthesize_with_progress(
+    scene: &Scene,
+    color: &Color,
+    region: &Region,
+    opts: &SynthesisOptions,
+    progress: &(dyn Fn(f64) -> bool + Sync),
+) -> Result<SynthesisResult> {
+    synthesize_keeping(scene, color, region, opts, progress, &|i: &Instance| {
+        i.locked || !region.contains(i.position)
+    })
+}
+
+pub(crate) fn mix_seed(seed: u64, a: u64) -> u64 {
+    // splitmix64 of the pair: independent streams per category
+    let mut z = seed
+        ^ a.wrapping_mul(0x9E37_79B9_7F4A_7C15)
+            .wrapping_add(0xD1B5_4A32_D192_ED03);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^ (z >> 31)
+}
+
+pub(crate) fn gaussian<R: Rng>(rng: &mut R) -> DVec2 {
+    let u1: f64 = rng.random::<f64>().max(1e-300);
+    let u2: f64 = rng.random();
+    let r = (-2.0 * u1.ln()).sqrt();
+    let a = std::f64::consts::TAU * u2;
+    DVec2::new(r * a.cos(), r * a.sin())
+}
+
+fn draw_from_histogram<R: Rng>(h: &Histogram, rng: &mut R, fallback: f64) -> f64 {
+    let total = h.total();
+    if !(total > 0.0) || !(h.bin_width > 0.0) {
+        return fallback;
+    }
+    let mut u = rng.random::<f64>() * total;
+    for (k, v) in h.values.iter().enumerate() {
+        if u < *v {
+            return h.start + (k as f64 + rng.random::<f64>()) * h.bin_width;
+        }
+        u -= v;
+    }
+    h.start + (h.values.len() as f64 - 0.5) * h.bin_width
+}
+
+fn draw_index<R: Rng>(weights: &[f64], rng: &mut R) -> u32 {
+    let total: f64 = weights.iter().sum();
+    if !(total > 0.0) {
+        return 0;
+    }
+    let mut u = rng.random::<f64>() * total;
+    for (k, w) in weights.iter().enumerate() {
+        if u < *w {
+            return k as u32;
+        }
+        u -= w;
+    }
+    (weights.len().saturating_sub(1)) as u32
+}
+
+/// The color's categories in priority order (ties: order in the color), restricted to `only` when given.
+pub(crate) fn priority_order(color: &Color, only: Option<&[String]>) -> Result<Vec<usize>> {
+    let mut order: Vec<usize> = (0..color.categories.len()).collect();
+    order.sort_by_key(|&c| (color.categories[c].category.priority, c));
+    if let Some(names) = only {
+        for n in names {
+            if color.category(n).is_none() {
+                return Err(Error::InvalidInput(format!(
+                    "category '{n}' is not in color '{}'",
+                    color.name
+                )));
+            }
+        }
+        order.retain(|&c| names.contains(&color.categories[c].category.name));
+    }
+    Ok(order)
+}
+
+/// Index of each of the color's categories in the scene's category list, extended by the color's new ones.
+pub(crate) fn scene_categories(scene: &Scene, color: &Color) -> (Vec<Category>, Vec<usize>) {
+    let mut listed = Scene {
+        categories: scene.categories.clone(),
+        ..Default::default()
+    };
+    let scene_index: Vec<usize> = color
+        .categories
+        .iter()
+        .map(|c| listed.ensure_category(&c.category))
+        .collect();
+    (listed.categories, scene_index)
+}
+
+/// A clear error when the color follows terrain maps (for the given categories) and the region misses the terrain.
+pub(crate) fn check_terrain(
+    scene: &Scene,
+    color: &Color,
+    order: &[usize],
+    region: &Region,
+) -> Result<()> {
+    let uses_maps = color.maps.iter().any(|m| {
+        order
+            .iter()
+            .any(|&c| color.categories[c].category.name == m.category)
+    });
+    if !uses_maps {
+        return Ok(());
+    }
+    let t = scene.terrain.as_ref().ok_or_else(|| {
+        Error::InvalidInput(format!(
+            "color '{}' follows terrain maps but the scene has no terrain",
+            color.name
+        ))
+    })?;
+    let (lo, hi) = region.bbox();
+    let (tlo, thi) = t.bbox();
+    if hi.x < tlo.x || hi.y < tlo.y || lo.x > thi.x || lo.y > thi.y {
+        return Err(Error::RegionOffTerrain(format!(
+            "region bbox {:?} misses the terrain {:?}",
+            (lo, hi),
+            (tlo, thi)
+        )));
+    }
+    Ok(())
+}
+
+/// Positions of the scene's instances, per color category (`scene_index`), for which `keep` holds and that lie
+/// within `influence` of the region (inside it too).
+pub(crate) fn conditioning_content(
+    scene: &Scene,
+    scene_index: &[usize],
+    region: &Region,
+    influence: f64,
+    keep: &dyn Fn(&Instance) -> bool,
+) -> Vec<Vec<DVec2>> {
+    let (lo, hi) = region.bbox();
+    let (lo, hi) = (lo - DVec2::splat(influence), hi + DVec2::splat(influence));
+    let mut out = vec![Vec::new(); scene_index.len()];
+    for i in &scene.instances {
+        let p = i.position;
+        if p.x < lo.x || p.y < lo.y || p.x > hi.x || p.y > hi.y || !keep(i) {
+            continue;
+        }
+        if let Some(ci) = scene_index.iter().position(|&s| s == i.category) {
+            if region.distance_outside(p) <= influence {
+                out[ci].push(p);
+            }
+        }
+    }
+    out
+}
+
+/// Synthesize `color` in `region`, conditioned on the scene's instances for which `keep` holds: those inside the
+/// region (locked content) and those within the influence radius around it enter as fixed content, and the kept
+/// instances of a category inside the region count towards its expected number. Instances for which `keep` fails
+/// are ignored (the caller removes them).
+pub fn synthesize_keeping(
+    scene: &Scene,
+    color: &Color,
+    region: &Region,
+    opts: &SynthesisOptions,
+    progress: &(dyn Fn(f64) -> bool + Sync),
+    keep: &(dyn Fn(&Instance) -> bool + Sync),
+) -> Result<SynthesisResult> {
+    region.validate()?;
+    color.validate()?;
+    if !(opts.iterations_per_instance.is_finite() && opts.iterations_per_instance > 0.0) {
+        return Err(Error::InvalidInput(format!(
+            "iterations_per_instance {} must be positive",
+            opts.iterations_per_instance
+        )));
+    }
+    let influence = opts.influence_radius.unwrap_or(color.max_radius);
+    if !(influence.is_finite() && influence >= 0.0) {
+        return Err(Error::InvalidInput(format!(
+            "influence radius {influence} must be zero or positive"
+        )));
+    }
+    let order = priority_order(color, opts.categories.as_deref())?;
+    check_terrain(scene, color, &order, region)?;
+    let terrain = scene.terrain.as_ref();
+    let (out_categories, scene_index) = scene_categories(scene, color);
+    let context = conditioning_content(scene, &scene_index, region, influence, keep);
+
+    let area = region.area();
+    let lattice = terrain
+        .map(|t| region_lattice(region, t))
+        .unwrap_or_default();
+    let exemplar_lattice = terrain
+        .map(|t| region_lattice(&color.region, t))
+        .filter(|l| !l.is_empty());
+    let (rlo, rhi) = region.bbox();
+    let pad = DVec2::splat(color.max_radius);
+    let bounds = (rlo - pad, rhi + pad);
+    let mut synthesized: Vec<Option<Vec<DVec2>>> = vec![None; color.categories.len()];
+    let mut instances = Vec::new();
+    let n_cats = order.len().max(1);
+
+    for (step, &ci) in order.iter().enumerate() {
+        let cat = &color.categories[ci];
+        let conditioning = Conditioning {
+            inside: &synthesized,
+            context: &context,
+        };
+        let (target, self_tag) = build_target(color, ci, &conditioning, terrain, bounds, area);
+        // expected count: exemplar density times the map preference integrated over the region, less the kept
+        // (locked) instances already inside it
+        let mean_preference = |points: &[DVec2]| {
+            points.iter().map(|p| target.map_log(*p).exp()).sum::<f64>() / points.len() as f64
+        };
+        let preference = if target.maps.is_empty() || lattice.is_empty() {
+            1.0
+        } else {
+            // relative to the exemplar region's own preference when it lies on this terrain: several maps
+            // (elevation and slope) are correlated, and the product of their marginal ratios averages to more
+            // than 1 over the exemplar itself
+            let own = exemplar_lattice
+                .as_deref()
+                .map(mean_preference)
+                .filter(|v| v.is_finite() && *v > 0.0)
+                .unwrap_or(1.0);
+            mean_preference(&lattice) / own
+        };
+        let kept_inside = context[ci].iter().filter(|p| region.contains(**p)).count() as f64;
+        let expected = (cat.density * area * preference - kept_inside).max(0.0);
+        let mut target = target;
+        if !target.maps.is_empty() && !lattice.is_empty() {
+            rake_maps(&mut target, &lattice);
+        }
+        let mut rng = ChaCha8Rng::seed_from_u64(mix_seed(opts.seed, ci as u64 + 1));
+        let report = |f: f64| progress((step as f64 + f) / n_cats as f64);
+        let points = if !(expected > 0.0) || !expected.is_finite() {
+            Vec::new()
+        } else if expected >= MIN_COUNT_FOR_RDF_MATCHING {
+            rdf::run_rdf_chain(
+                &target,
+                region,
+                area,
+                expected,
+                self_tag,
+                color.max_radius,
+                opts.iterations_per_instance,
+                &mut rng,
+                &report,
+            )?
+        } else {
+            product::run_chain(
+                target,
+                region,
+                expected,
+                self_tag,
+                color.max_radius,
+                opts.iterations_per_instance,
+                &mut rng,
+                &report,
+            )?
+        };
+        for p in &points {
+            instances.push(attributes(cat, *p, scene_index[ci], &mut rng));
+        }
+        synthesized[ci] = Some(points);
+    }
+    if !progress(1.0) {
+        return Err(Error::Cancelled);
+    }
+    Ok(SynthesisResult {
+        categories: out_categories,
+        instances,
+    })
+}
+
+pub(crate) fn attributes<R: Rng>(
+    cat: &CategoryColor,
+    p: DVec2,
+    category: usize,
+    rng: &mut R,
+) -> Instance {
+    Instance {
+        position: p,
+        rotation: draw_from_histogram(&cat.rotation, rng, 0.0).rem_euclid(std::f64::consts::TAU),
+        scale: draw_from_histogram(&cat.scale, rng, 1.0),
+        category,
+        prototype: draw_index(&cat.prototype_weights, rng),
+        locked: false,
+    }
+}

@@ -1,0 +1,479 @@
+//! What the chain of one category evaluates (Section 4.1, eq. (1) and the product simplification of Section 6):
+//! the pair factors `h` of the category with itself and with every category of equal or higher priority present,
+//! the map factors `ψ`, and a grid of the fixed content they apply to.
+
+use super::{HISTOGRAM_FLOOR, SATURATION_PAIRS};
+use crate::analysis::folded_angle_bin;
+use crate::geom::DVec2;
+use crate::palette::{Color, Histogram, Interaction};
+use crate::spatial::{GridEntry, SpatialGrid};
+use crate::terrain::Heightfield;
+
+/// Id of fixed grid entries (content that does not move in the chain).
+pub(super) const FIXED_ID: u32 = u32::MAX;
+/// Tag bit of fixed content that conditions by product factors (the region of influence, locked content).
+pub(super) const CONTEXT_TAG: u32 = 1 << 31;
+/// A learned rdf bin differs from 1 when it is this many standard deviations of counting noise away.
+const SIGNIFICANCE: f64 = 3.0;
+
+/// Log-factor table of one pair interaction, indexed by distance bin (× angle bin for an oriented rdf).
+pub(super) struct PairTable {
+    pub(super) log_factor: Vec<f64>,
+    /// The learned histogram (the target of the rdf-matching energy).
+    pub(super) target_hist: Vec<f64>,
+    /// Points of the other category inside the region (fixed); `None` for the self pair (the chain's own).
+    pub(super) others_inside: Option<usize>,
+    pub(super) angle_bins: usize,
+    pub(super) bin_width: f64,
+    pub(super) n_bins: usize,
+    pub(super) hard_core2: f64,
+}
+
+impl PairTable {
+    pub(super) fn new(values: &[f64], angle_bins: usize, bin_width: f64, hard_core: f64) -> Self {
+        let n_bins = values.len() / angle_bins.max(1);
+        let first_seen = (0..n_bins)
+            .find(|&k| {
+                values[k * angle_bins..(k + 1) * angle_bins]
+                    .iter()
+                    .any(|v| *v > 0.0)
+            })
+            .unwrap_or(n_bins);
+        let log_factor = values
+            .iter()
+            .enumerate()
+            .map(|(idx, &v)| {
+                if idx / angle_bins < first_seen {
+                    f64::NEG_INFINITY
+                } else {
+                    v.max(HISTOGRAM_FLOOR).ln()
+                }
+            })
+            .collect();
+        PairTable {
+            log_factor,
+            target_hist: values.to_vec(),
+            others_inside: None,
+            angle_bins,
+            bin_width,
+            n_bins,
+            hard_core2: if hard_core.is_finite() {
+                hard_core * hard_core
+            } else {
+                0.0
+            },
+        }
+    }
+
+    /// Drops the distance bins from which on the learned rdf no longer differs from 1 (the Poisson level)
+    /// by more than `SIGNIFICANCE` standard deviations of its own counting noise in the exemplar, where the expected
+    /// pair count of cell `k` is `pairs_per_area · h(k) · |cell k|`. Those factors are neutral anyway; the
+    /// interaction radius (and the cost of every move, which grows with its square) shrinks to the range over
+    /// which the exemplar shows structure. Forbidden (hard-core) bins are kept.
+    pub(super) fn truncate_to_significant(&mut self, pairs_per_area: f64) {
+        if !(pairs_per_area > 0.0) || !pairs_per_area.is_finite() {
+            return;
+        }
+        let a = self.angle_bins.max(1);
+        // clustered exemplars count pairs in clumps, far noisier than Poisson: the outer third of the bins
+        // (beyond two mean spacings of the sparsest category) measures that noise
+        let outer = &self.target_hist[(2 * self.n_bins / 3) * a..];
+        let outer_rms = if outer.is_empty() {
+            0.0
+        } else {
+            (outer.iter().map(|h| (h - 1.0).powi(2)).sum::<f64>() / outer.len() as f64).sqrt()
+        };
+        let mut keep = 0;
+        for idx in 0..self.log_factor.len() {
+            let h = self.target_hist[idx];
+            let count = (pairs_per_area * self.cell_area(idx)).max(1e-12);
+            let sigma = (h.max(1.0) / count).sqrt();
+            if self.log_factor[idx] == f64::NEG_INFINITY
+                || (h - 1.0).abs() > SIGNIFICANCE * sigma.max(outer_rms)
+            {
+                keep = keep.max(idx / a + 1);
+            }
+        }
+        self.n_bins = keep.min(self.n_bins);
+        self.log_factor.truncate(self.n_bins * a);
+        self.target_hist.truncate(self.n_bins * a);
+    }
+
+    /// Histogram index (distance bin × angle bin) and distance bin of a pair at offset `v`, `d2 = |v|²`.
+    #[inline]
+    pub(super) fn bin_of(&self, v: DVec2, d2: f64) -> Option<(usize, usize)> {
+        let k = (d2.sqrt() / self.bin_width) as usize;
+        if k >= self.n_bins {
+            return None;
+        }
+        if self.angle_bins == 1 {
+            Some((k, k))
+        } else {
+            Some((
+                k * self.angle_bins + folded_angle_bin(v, self.angle_bins),
+                k,
+            ))
+        }
+    }
+
+    /// Area of the cell (annulus, or annular sector) of histogram index `idx`.
+    pub(super) fn cell_area(&self, idx: usize) -> f64 {
+        let k = (idx / self.angle_bins.max(1)) as f64;
+        std::f64::consts::PI * self.bin_width * self.bin_width * ((k + 1.0).powi(2) - k * k)
+            / self.angle_bins.max(1) as f64
+    }
+
+    #[inline]
+    pub(super) fn log_factor(&self, v: DVec2, d2: f64) -> f64 {
+        if d2 < self.hard_core2 {
+            return f64::NEG_INFINITY;
+        }
+        let k = (d2.sqrt() / self.bin_width) as usize;
+        if k >= self.n_bins {
+            return 0.0;
+        }
+        if self.angle_bins == 1 {
+            self.log_factor[k]
+        } else {
+            self.log_factor[k * self.angle_bins + folded_angle_bin(v, self.angle_bins)]
+        }
+    }
+}
+
+/// `ln ψ` per bin of one map.
+pub(super) struct MapTable<'a> {
+    pub(super) map: &'a str,
+    pub(super) hist: Histogram,
+    /// Wanted distribution of the instances over the bins in the painted region (normalized; empty when
+    /// unknown): what the map factors give over the region's lattice.
+    pub(super) wanted: Vec<f64>,
+}
+
+impl<'a> MapTable<'a> {
+    pub(super) fn new(map: &'a str, h: &Histogram, q: &Histogram) -> Self {
+        let min_q = q
+            .values
+            .iter()
+            .copied()
+            .filter(|v| *v > 0.0)
+            .fold(f64::INFINITY, f64::min);
+        let values = h
+            .values
+            .iter()
+            .enumerate()
+            .map(|(k, &hv)| {
+                if hv <= 0.0 {
+                    return f64::NEG_INFINITY;
+                }
+                let x = h.start + (k as f64 + 0.5) * h.bin_width;
+                let qv = q.value_at(x);
+                let qv = if qv > 0.0 {
+                    qv
+                } else if min_q.is_finite() {
+                    min_q
+                } else {
+                    hv
+                };
+                (hv / qv).ln()
+            })
+            .collect();
+        let values = extrapolate_unseen(values, |k| {
+            q.value_at(h.start + (k as f64 + 0.5) * h.bin_width) > 0.0
+        });
+        MapTable {
+            map,
+            hist: Histogram {
+                start: h.start,
+                bin_width: h.bin_width,
+                values,
+            },
+            wanted: Vec::new(),
+        }
+    }
+}
+
+impl MapTable<'_> {
+    /// Bin of map value `v`; values beyond the learned range take the end bins (see `extrapolate_unseen`).
+    #[inline]
+    pub(super) fn bin_of(&self, v: f64) -> Option<usize> {
+        let last = self.hist.values.len().checked_sub(1)?;
+        if !v.is_finite() || !(self.hist.bin_width > 0.0) {
+            return None;
+        }
+        let f = ((v - self.hist.start) / self.hist.bin_width).floor();
+        Some(f.clamp(0.0, last as f64) as usize)
+    }
+}
+
+/// The exemplar says nothing about map values its region never showed (a grove learned on flat ground knows
+/// nothing of slopes): such bins take the preference of the nearest bin the region did show, so a flat
+/// exemplar is neutral to slope, and a forest that avoided the steepest slopes it saw avoids steeper ones too.
+fn extrapolate_unseen(values: Vec<f64>, seen: impl Fn(usize) -> bool) -> Vec<f64> {
+    let seen_bins: Vec<usize> = (0..values.len()).filter(|&k| seen(k)).collect();
+    if seen_bins.is_empty() {
+        return values;
+    }
+    (0..values.len())
+        .map(|k| {
+            if seen(k) {
+                return values[k];
+            }
+            let nearest = seen_bins
+                .iter()
+                .copied()
+                .min_by_key(|&j| (j.abs_diff(k), j))
+                .unwrap_or(k);
+            values[nearest]
+        })
+        .collect()
+}
+
+/// Everything the chain of one category evaluates.
+pub(super) struct Target<'a> {
+    pub(super) grid: SpatialGrid,
+    pub(super) tables: Vec<PairTable>,
+    pub(super) maps: Vec<MapTable<'a>>,
+    pub(super) terrain: Option<&'a Heightfield>,
+    pub(super) radius: f64,
+    /// Upper bound of a point's total log pair factor (saturation, see the module documentation).
+    pub(super) saturation: f64,
+    /// Distance bin of the color (window-edge fractions are taken per distance bin).
+    pub(super) bin_width: f64,
+    /// Cell size of the spatial grids.
+    pub(super) cell: f64,
+}
+
+impl Target<'_> {
+    pub(super) fn map_log(&self, p: DVec2) -> f64 {
+        let mut sum = 0.0;
+        for m in &self.maps {
+            let Some(t) = self.terrain else {
+                return f64::NEG_INFINITY;
+            };
+            match t.map_at(m.map, p).and_then(|v| m.bin_of(v)) {
+                Some(k) => sum += m.hist.values[k],
+                None => return f64::NEG_INFINITY,
+            }
+        }
+        sum
+    }
+
+    /// `ln` of the product of all factors involving a point at `p` (skipping the grid entry `skip`).
+    #[inline]
+    pub(super) fn energy(&self, p: DVec2, skip: u32) -> f64 {
+        let m = self.map_log(p);
+        if m == f64::NEG_INFINITY {
+            return m;
+        }
+        let mut pairs = 0.0;
+        self.grid.for_each_within(p, self.radius, |entry, d2| {
+            if entry.id != skip || skip == FIXED_ID {
+                pairs += self.tables[(entry.tag & !CONTEXT_TAG) as usize]
+                    .log_factor(entry.position - p, d2);
+            }
+        });
+        m + pairs.min(self.saturation)
+    }
+}
+
+/// Iterations of the raking of several map factors (iterative proportional fitting).
+const RAKING_ITERATIONS: usize = 12;
+
+/// Several maps (elevation and slope of one terrain) are correlated, so the product of their marginal factors
+/// `Π_m h_m / q_m` does not give each map the distribution the exemplar preferred. Raking (iterative
+/// proportional fitting) over the painted region's lattice rescales each map's factors, bin by bin, until the
+/// distribution `∝ Π_m ψ_m` over the region has, for every map, the marginal that map's own factor gives
+/// alone (`∝ h_m q_region / q_exemplar`, which is `h_m` on the same kind of terrain): the maximum-entropy
+/// arrangement with the learned marginals. Zero factors stay zero.
+#[allow(clippy::needless_range_loop)] // bins[map][point]: the loops run over points and maps crosswise
+pub(super) fn rake_maps(target: &mut Target, lattice: &[DVec2]) {
+    let Some(terrain) = target.terrain else {
+        return;
+    };
+    let bins: Vec<Vec<Option<usize>>> = target
+        .maps
+        .iter()
+        .map(|m| {
+            lattice
+                .iter()
+                .map(|p| terrain.map_at(m.map, *p).and_then(|v| m.bin_of(v)))
+                .collect()
+        })
+        .collect();
+    let marginals = |maps: &[MapTable], only: Option<usize>| -> Vec<Vec<f64>> {
+        let mut out: Vec<Vec<f64>> = maps
+            .iter()
+            .map(|m| vec![0.0; m.hist.values.len()])
+            .collect();
+        for i in 0..lattice.len() {
+            let mut log_w = 0.0;
+            for (mi, m) in maps.iter().enumerate() {
+                if only.is_some_and(|o| o != mi) {
+                    continue;
+                }
+                match bins[mi][i] {
+                    Some(b) => log_w += m.hist.values[b],
+                    None => log_w = f64::NEG_INFINITY,
+                }
+            }
+            let w = log_w.exp();
+            if w > 0.0 {
+                for (mi, out_m) in out.iter_mut().enumerate() {
+                    if let Some(b) = bins[mi][i] {
+                        out_m[b] += w;
+                    }
+                }
+            }
+        }
+        for o in &mut out {
+            let total: f64 = o.iter().sum();
+            if total > 0.0 {
+                o.iter_mut().for_each(|v| *v /= total);
+            }
+        }
+        out
+    };
+    // each map's wanted marginal: what its factor alone gives over the region
+    let wanted: Vec<Vec<f64>> = (0..target.maps.len())
+        .map(|mi| marginals(&target.maps, Some(mi)).swap_remove(mi))
+        .collect();
+    for (m, w) in target.maps.iter_mut().zip(&wanted) {
+        m.wanted = w.clone();
+    }
+    let iterations = if target.maps.len() >= 2 {
+        RAKING_ITERATIONS
+    } else {
+        0
+    };
+    for _ in 0..iterations {
+        for mi in 0..target.maps.len() {
+            let current = marginals(&target.maps, None).swap_remove(mi);
+            for (b, v) in target.maps[mi].hist.values.iter_mut().enumerate() {
+                if v.is_finite() && current[b] > 0.0 && wanted[mi][b] > 0.0 {
+                    *v += (wanted[mi][b] / current[b]).ln();
+                }
+            }
+        }
+    }
+}
+
+/// What conditions the chain of one category, per color category: the content synthesized inside the region in
+/// this call (window-corrected pairs in the rdf-matching chain) and the fixed content that conditions by product
+/// factors (the region of influence, locked content inside the region).
+pub(super) struct Conditioning<'c> {
+    pub(super) inside: &'c [Option<Vec<DVec2>>],
+    pub(super) context: &'c [Vec<DVec2>],
+}
+
+/// The target of the chain of color category `ci`: the self pair and a pair with every category present in
+/// `cond`, the category's map factors, and a grid over `bounds` of the fixed content. Returns it with the tag of
+/// the self pair.
+pub(super) fn build_target<'a>(
+    color: &'a Color,
+    ci: usize,
+    cond: &Conditioning,
+    terrain: Option<&'a Heightfield>,
+    bounds: (DVec2, DVec2),
+    area: f64,
+) -> (Target<'a>, u32) {
+    let cat = &color.categories[ci];
+    let name = &cat.category.name;
+    let mut tables = Vec::new();
+    let mut fixed_entries: Vec<GridEntry> = Vec::new();
+    let mut self_tag = None;
+    for (oi, other) in color.categories.iter().enumerate() {
+        let same = oi == ci;
+        if !same && cond.inside[oi].is_none() && cond.context[oi].is_empty() {
+            continue;
+        }
+        let pair = color
+            .pairs
+            .iter()
+            .filter(|p| &p.category == name && p.other == other.category.name)
+            .max_by_key(|p| matches!(p.interaction, Interaction::OrientedRdf { .. }));
+        let Some(pair) = pair else { continue };
+        let hard_core = if same { cat.min_distance } else { 0.0 };
+        let mut table = match &pair.interaction {
+            Interaction::Rdf { hist } => PairTable::new(&hist.values, 1, hist.bin_width, hard_core),
+            Interaction::OrientedRdf {
+                distance_bin,
+                angle_bins,
+                values,
+            } => PairTable::new(values, *angle_bins, *distance_bin, hard_core),
+        };
+        if !same {
+            table.others_inside = Some(cond.inside[oi].as_ref().map_or(0, |v| v.len()));
+        }
+        let n_other = other.count as f64 - if same { 1.0 } else { 0.0 };
+        table.truncate_to_significant(cat.count as f64 * n_other / color.region_area);
+        let tag = tables.len() as u32;
+        tables.push(table);
+        if same {
+            self_tag = Some(tag);
+        }
+        for p in cond.inside[oi].iter().flatten() {
+            fixed_entries.push(GridEntry {
+                position: *p,
+                tag,
+                id: FIXED_ID,
+            });
+        }
+        for p in &cond.context[oi] {
+            fixed_entries.push(GridEntry {
+                position: *p,
+                tag: tag | CONTEXT_TAG,
+                id: FIXED_ID,
+            });
+        }
+    }
+    let self_tag = match self_tag {
+        Some(t) => t,
+        None => {
+            tables.push(PairTable::new(&[], 1, color.bin_width, cat.min_distance));
+            (tables.len() - 1) as u32
+        }
+    };
+    let maps: Vec<MapTable> = color
+        .maps
+        .iter()
+        .filter(|m| &m.category == name)
+        .map(|m| MapTable::new(&m.map, &m.hist, &m.region_hist))
+        .collect();
+    // the interaction radius: as far as some pair's rdf differs from 1 (or a hard core reaches)
+    let radius = tables
+        .iter()
+        .map(|t| t.bin_width * t.n_bins as f64)
+        .fold(
+            if cat.min_distance.is_finite() {
+                cat.min_distance
+            } else {
+                0.0
+            },
+            f64::max,
+        )
+        .max(color.bin_width);
+    // grid cells: the radius, but not much finer than the mean spacing of the content
+    let spacing = (area / (cat.density * area + fixed_entries.len() as f64).max(1.0)).sqrt();
+    let cell = radius.max(spacing);
+    let mut grid = SpatialGrid::new(bounds.0, bounds.1, cell);
+    for e in fixed_entries {
+        grid.insert(e);
+    }
+    let saturation = SATURATION_PAIRS
+        * tables
+            .iter()
+            .flat_map(|t| t.target_hist.iter())
+            .fold(1.0f64, |m, v| m.max(*v))
+            .ln();
+    let target = Target {
+        grid,
+        tables,
+        maps,
+        terrain,
+        radius,
+        saturation,
+        bin_width: color.bin_width,
+        cell,
+    };
+    (target, self_tag)
+}
