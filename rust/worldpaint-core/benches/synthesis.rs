@@ -59,7 +59,7 @@ fn synthesis_setup() -> (Scene, Color, Region) {
             Category::distribution("grass", "vegetation", 2),
         ],
         instances,
-        terrain: Some(terrain),
+        terrain: Some(terrain.into()),
     };
     let opts = AnalysisOptions {
         maps: vec!["slope".into()],

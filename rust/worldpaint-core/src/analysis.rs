@@ -214,7 +214,7 @@ pub fn learn_color(
     };
     let mut maps = Vec::new();
     if !map_names.is_empty() {
-        let terrain = scene.terrain.as_ref().ok_or_else(|| {
+        let terrain = scene.terrain.as_deref().ok_or_else(|| {
             Error::InvalidInput(format!(
                 "maps {map_names:?} asked for but the scene has no terrain"
             ))

@@ -240,7 +240,7 @@ pub fn slope_scene(size: f64, seed: u64) -> Scene {
     Scene {
         categories,
         instances,
-        terrain: Some(terrain),
+        terrain: Some(terrain.into()),
     }
 }
 

@@ -8,6 +8,11 @@
 //! `α` is computed exactly (not by sampling): the circle is cut at its crossings with the region's boundary
 //! (line segments for rectangles and polygons, a second circle for circles), and each arc between two
 //! consecutive crossings is wholly inside or outside, which one test at its midpoint decides.
+//!
+//! The painting tools synthesize in parts of regions (Section 5.3: a brush step `φ_k` without the regions
+//! `φ_i, i < k` already painted in the stroke; the bands of a gradient): a [`Region::Clipped`] is the part of
+//! its `within` regions outside all of its `without` regions. Its boundary is made of pieces of theirs, so the
+//! same crossing-and-midpoint rule gives its `α` exactly; its area is integrated on a fine lattice.
 
 use crate::error::{Error, Result};
 pub use glam::DVec2;
@@ -30,7 +35,16 @@ pub enum Region {
     Polygon {
         points: Vec<DVec2>,
     },
+    /// The points inside every `within` region and inside none of the `without` regions.
+    Clipped {
+        within: Vec<Region>,
+        without: Vec<Region>,
+    },
 }
+
+/// Cells across the lattice that integrates the area of a clipped region (relative error about 1/this for a
+/// region filling its bounding box).
+const AREA_LATTICE: f64 = 400.0;
 
 fn finite(p: DVec2) -> bool {
     p.x.is_finite() && p.y.is_finite()
@@ -92,8 +106,50 @@ impl Region {
                     return Err(Error::BadRegion("polygon has zero area".into()));
                 }
             }
+            Region::Clipped { within, without } => {
+                if within.is_empty() {
+                    return Err(Error::BadRegion("clipped region has nothing within".into()));
+                }
+                for r in within.iter().chain(without) {
+                    r.validate()?;
+                }
+                let (lo, hi) = self.bbox();
+                if !(hi.x > lo.x && hi.y > lo.y) {
+                    return Err(Error::BadRegion(
+                        "clipped region's parts do not overlap".into(),
+                    ));
+                }
+            }
         }
         Ok(())
+    }
+
+    /// The same region moved by `offset`.
+    pub fn translated(&self, offset: DVec2) -> Region {
+        match self {
+            Region::Rect { min, max } => Region::Rect {
+                min: *min + offset,
+                max: *max + offset,
+            },
+            Region::Circle { center, radius } => Region::Circle {
+                center: *center + offset,
+                radius: *radius,
+            },
+            Region::Polygon { points } => Region::Polygon {
+                points: points.iter().map(|p| *p + offset).collect(),
+            },
+            Region::Clipped { within, without } => Region::Clipped {
+                within: within.iter().map(|r| r.translated(offset)).collect(),
+                without: without.iter().map(|r| r.translated(offset)).collect(),
+            },
+        }
+    }
+
+    /// Whether the two regions' bounding boxes overlap.
+    pub fn bbox_overlaps(&self, other: &Region) -> bool {
+        let (a0, a1) = self.bbox();
+        let (b0, b1) = other.bbox();
+        a0.x < b1.x && b0.x < a1.x && a0.y < b1.y && b0.y < a1.y
     }
 
     pub fn area(&self) -> f64 {
@@ -101,6 +157,28 @@ impl Region {
             Region::Rect { min, max } => ((max.x - min.x) * (max.y - min.y)).max(0.0),
             Region::Circle { radius, .. } => std::f64::consts::PI * radius * radius,
             Region::Polygon { points } => polygon_signed_area(points).abs(),
+            Region::Clipped { within, without } => {
+                if within.len() == 1 && without.iter().all(|w| !w.bbox_overlaps(&within[0])) {
+                    return within[0].area();
+                }
+                let (lo, hi) = self.bbox();
+                let ext = hi - lo;
+                if !(ext.x > 0.0 && ext.y > 0.0) {
+                    return 0.0;
+                }
+                let step = (ext.x * ext.y).sqrt() / AREA_LATTICE;
+                let nx = (ext.x / step).ceil().max(1.0) as usize;
+                let ny = (ext.y / step).ceil().max(1.0) as usize;
+                let (dx, dy) = (ext.x / nx as f64, ext.y / ny as f64);
+                let mut inside = 0usize;
+                for j in 0..ny {
+                    for i in 0..nx {
+                        let p = lo + DVec2::new((i as f64 + 0.5) * dx, (j as f64 + 0.5) * dy);
+                        inside += usize::from(self.contains(p));
+                    }
+                }
+                inside as f64 * dx * dy
+            }
         }
     }
 
@@ -127,6 +205,9 @@ impl Region {
                 }
                 inside
             }
+            Region::Clipped { within, without } => {
+                within.iter().all(|r| r.contains(p)) && !without.iter().any(|r| r.contains(p))
+            }
         }
     }
 
@@ -142,10 +223,18 @@ impl Region {
                 (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
                 |(lo, hi), p| (lo.min(*p), hi.max(*p)),
             ),
+            Region::Clipped { within, .. } => within.iter().fold(
+                (DVec2::splat(f64::NEG_INFINITY), DVec2::splat(f64::INFINITY)),
+                |(lo, hi), r| {
+                    let (a, b) = r.bbox();
+                    (lo.max(a), hi.min(b))
+                },
+            ),
         }
     }
 
-    /// Distance from `p` to the region's boundary (whether `p` is inside or not).
+    /// Distance from `p` to the region's boundary (whether `p` is inside or not). For a clipped region, the
+    /// distance to the nearest boundary of its parts: never more than the true distance.
     pub fn distance_to_boundary(&self, p: DVec2) -> f64 {
         match self {
             Region::Rect { min, max } => {
@@ -166,6 +255,11 @@ impl Region {
                     .map(|i| segment_distance(p, points[i], points[(i + 1) % n]))
                     .fold(f64::INFINITY, f64::min)
             }
+            Region::Clipped { within, without } => within
+                .iter()
+                .chain(without)
+                .map(|r| r.distance_to_boundary(p))
+                .fold(f64::INFINITY, f64::min),
         }
     }
 
@@ -190,6 +284,34 @@ impl Region {
             return if inside_now { 1.0 } else { 0.0 };
         }
         let mut angles: Vec<f64> = Vec::with_capacity(8);
+        self.push_circle_crossings(p, r, &mut angles);
+        if angles.is_empty() {
+            let probe = p + DVec2::new(r, 0.0);
+            return if self.contains(probe) { 1.0 } else { 0.0 };
+        }
+        angles.sort_by(f64::total_cmp);
+        let mut inside = 0.0;
+        for i in 0..angles.len() {
+            let a0 = angles[i];
+            let a1 = if i + 1 < angles.len() {
+                angles[i + 1]
+            } else {
+                angles[0] + TAU
+            };
+            let span = a1 - a0;
+            if span <= 0.0 {
+                continue;
+            }
+            let mid = 0.5 * (a0 + a1);
+            if self.contains(p + DVec2::new(mid.cos(), mid.sin()) * r) {
+                inside += span;
+            }
+        }
+        (inside / TAU).clamp(0.0, 1.0)
+    }
+
+    /// Angles (in [0, 2π)) at which the circle `C(p, r)` crosses the region's boundary (or its parts' boundaries).
+    fn push_circle_crossings(&self, p: DVec2, r: f64, angles: &mut Vec<f64>) {
         let mut push_segment = |a: DVec2, b: DVec2| {
             // |a + t (b - a) - p| = r, t in [0, 1]
             let ab = b - a;
@@ -243,30 +365,15 @@ impl Region {
                     angles.push((base + half).rem_euclid(TAU));
                 }
             }
-        }
-        if angles.is_empty() {
-            let probe = p + DVec2::new(r, 0.0);
-            return if self.contains(probe) { 1.0 } else { 0.0 };
-        }
-        angles.sort_by(f64::total_cmp);
-        let mut inside = 0.0;
-        for i in 0..angles.len() {
-            let a0 = angles[i];
-            let a1 = if i + 1 < angles.len() {
-                angles[i + 1]
-            } else {
-                angles[0] + TAU
-            };
-            let span = a1 - a0;
-            if span <= 0.0 {
-                continue;
-            }
-            let mid = 0.5 * (a0 + a1);
-            if self.contains(p + DVec2::new(mid.cos(), mid.sin()) * r) {
-                inside += span;
+            Region::Clipped { within, without } => {
+                for part in within.iter().chain(without) {
+                    // parts whose boundary the circle cannot reach add nothing
+                    if part.distance_to_boundary(p) <= r {
+                        part.push_circle_crossings(p, r, angles);
+                    }
+                }
             }
         }
-        (inside / TAU).clamp(0.0, 1.0)
     }
 
     /// The smaller side of the bounding box (a size scale of the region).

@@ -17,7 +17,8 @@
 //! | [`analysis`] | learning a color (§4.1) |
 //! | [`compare`] | fidelity metrics between two colors |
 //! | [`interpolate`] | distribution interpolation by optimal mass transport (§5.2) |
-//! | [`synthesis`] | Metropolis-Hastings synthesis with a region of influence (§4.1, §4.3, §5.1, §6) |
+//! | [`synthesis`] | Metropolis-Hastings synthesis with a region of influence (§4.1, §4.3, §5.1, §6); adapting moved content (§5.4) |
+//! | [`tools`] | the painting tools: paste, brush and eraser, move, seam-carving stretch, gradient, blur (§5) |
 //! | [`exemplar`] | generating processes for demo scenes, tests and benchmarks |
 
 // `!(x > 0.0)` is used on purpose: it rejects NaN as well as non-positive values.
@@ -34,6 +35,7 @@ pub mod scene;
 pub mod spatial;
 pub mod synthesis;
 pub mod terrain;
+pub mod tools;
 
 pub use analysis::{learn_color, AnalysisOptions};
 pub use compare::{compare, Fidelity};

@@ -6,6 +6,7 @@
 use crate::terrain::Heightfield;
 use glam::DVec2;
 use serde::{Deserialize, Serialize};
+use std::sync::Arc;
 
 /// The data type of a category (Table 1 of the paper).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -71,7 +72,8 @@ impl Instance {
 pub struct Scene {
     pub categories: Vec<Category>,
     pub instances: Vec<Instance>,
-    pub terrain: Option<Heightfield>,
+    /// Shared: the tools hand the same terrain to many syntheses without copying it.
+    pub terrain: Option<Arc<Heightfield>>,
 }
 
 impl Scene {

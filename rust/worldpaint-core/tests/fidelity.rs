@@ -283,7 +283,7 @@ fn a_grove_learned_on_flat_ground_pastes_on_hills_at_its_density() {
         "tree",
         &exemplar::clustered(&exemplar_region(), 0.002, 8.0, 3.0, 4),
     );
-    grove.terrain = Some(flat);
+    grove.terrain = Some(flat.into());
     let maps = AnalysisOptions {
         maps: vec!["slope".into()],
         ..Default::default()
@@ -300,7 +300,7 @@ fn a_grove_learned_on_flat_ground_pastes_on_hills_at_its_density() {
         "the hills are not flat"
     );
     let scene = Scene {
-        terrain: Some(hills),
+        terrain: Some(hills.into()),
         ..Default::default()
     };
     let paint = Region::Rect {

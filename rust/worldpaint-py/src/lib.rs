@@ -7,7 +7,7 @@
 //! crosses into Python: an internal failure is reported as an `EngineError` too.
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
-use std::sync::Mutex;
+use std::sync::{Arc, Mutex};
 
 use numpy::ndarray::{Array1, Array2};
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyReadonlyArray1, PyReadonlyArray2};
@@ -86,8 +86,9 @@ fn vec2(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<DVec2> {
     }
 }
 
-/// `{"shape": "rect", "min": [x, y], "max": [x, y]}`, `{"shape": "circle", "center": [x, y], "radius": r}` or
-/// `{"shape": "polygon", "points": [[x, y], ...]}`.
+/// `{"shape": "rect", "min": [x, y], "max": [x, y]}`, `{"shape": "circle", "center": [x, y], "radius": r}`,
+/// `{"shape": "polygon", "points": [[x, y], ...]}` or `{"shape": "clipped", "within": [region, ...],
+/// "without": [region, ...]}`.
 fn region_from_py(obj: &Bound<'_, PyAny>) -> PyResult<Region> {
     let shape: String = field(obj, "shape", "region")?
         .extract()
@@ -114,9 +115,29 @@ fn region_from_py(obj: &Bound<'_, PyAny>) -> PyResult<Region> {
             }
             Region::Polygon { points }
         }
+        "clipped" => {
+            let parts = |key: &str| -> PyResult<Vec<Region>> {
+                let mut out = Vec::new();
+                let list = match obj.get_item(key) {
+                    Ok(v) if !v.is_none() => v,
+                    _ => return Ok(out),
+                };
+                for r in list
+                    .try_iter()
+                    .map_err(|_| input_err(format!("region '{key}' must be a list of regions")))?
+                {
+                    out.push(region_from_py(&r?)?);
+                }
+                Ok(out)
+            };
+            Region::Clipped {
+                within: parts("within")?,
+                without: parts("without")?,
+            }
+        }
         other => {
             return Err(input_err(format!(
-                "unknown region shape '{other}' (rect, circle or polygon)"
+                "unknown region shape '{other}' (rect, circle, polygon or clipped)"
             )))
         }
     };
@@ -143,6 +164,16 @@ fn region_to_py<'py>(py: Python<'py>, region: &Region) -> PyResult<Bound<'py, Py
                 "points",
                 points.iter().map(|p| [p.x, p.y]).collect::<Vec<_>>(),
             )?;
+        }
+        Region::Clipped { within, without } => {
+            d.set_item("shape", "clipped")?;
+            for (key, parts) in [("within", within), ("without", without)] {
+                let list = PyList::empty(py);
+                for r in parts {
+                    list.append(region_to_py(py, r)?)?;
+                }
+                d.set_item(key, list)?;
+            }
         }
     }
     Ok(d)
@@ -377,7 +408,7 @@ fn parse_color(json: &str) -> PyResult<Color> {
 /// uint32 (M, 3)); a regular grid mesh is used directly. `cell` overrides the sample spacing in metres.
 #[pyclass(module = "worldpaint_engine", frozen)]
 struct Terrain {
-    hf: Heightfield,
+    hf: Arc<Heightfield>,
 }
 
 #[pymethods]
@@ -407,7 +438,7 @@ impl Terrain {
         let verts: Vec<[f64; 3]> = v.rows().into_iter().map(|r| [r[0], r[1], r[2]]).collect();
         let tris: Vec<[u32; 3]> = t.rows().into_iter().map(|r| [r[0], r[1], r[2]]).collect();
         let hf = py.detach(|| guarded(|| Heightfield::from_mesh(&verts, &tris, cell)))?;
-        Ok(Terrain { hf })
+        Ok(Terrain { hf: hf.into() })
     }
 
     /// A terrain from a regular grid of heights, shape (ny, nx), sample (i, j) at origin + (i, j) * cell.
@@ -421,7 +452,7 @@ impl Terrain {
         let (ny, nx) = a.dim();
         let h: Vec<f32> = a.iter().map(|&z| z as f32).collect();
         let hf = guarded(|| Heightfield::new(DVec2::new(origin.0, origin.1), cell, nx, ny, h))?;
-        Ok(Terrain { hf })
+        Ok(Terrain { hf: hf.into() })
     }
 
     /// Terrain heights at world XY points (float64 (N, 2)); NaN outside the terrain.
@@ -497,7 +528,7 @@ impl Terrain {
     }
 }
 
-fn terrain_of(t: &Option<Py<Terrain>>) -> Option<&Heightfield> {
+fn terrain_of(t: &Option<Py<Terrain>>) -> Option<&Arc<Heightfield>> {
     t.as_ref().map(|t| &t.get().hf)
 }
 
@@ -663,7 +694,7 @@ fn synthesize<'py>(
     let result = result?;
     let d = PyDict::new(py);
     d.set_item("categories", categories_to_py(py, &result.categories)?)?;
-    instances_to_py(py, &d, &result.instances, scene.terrain.as_ref())?;
+    instances_to_py(py, &d, &result.instances, scene.terrain.as_deref())?;
     Ok(d)
 }
 
@@ -864,7 +895,7 @@ fn exemplar_slope_scene<'py>(
     let scene = py.detach(|| guarded(|| Ok(worldpaint_core::exemplar::slope_scene(size, seed))))?;
     let d = PyDict::new(py);
     d.set_item("categories", categories_to_py(py, &scene.categories)?)?;
-    instances_to_py(py, &d, &scene.instances, scene.terrain.as_ref())?;
+    instances_to_py(py, &d, &scene.instances, scene.terrain.as_deref())?;
     match scene.terrain {
         Some(hf) => d.set_item("terrain", Py::new(py, Terrain { hf })?)?,
         None => d.set_item("terrain", py.None())?,
@@ -877,7 +908,7 @@ fn exemplar_slope_scene<'py>(
 fn exemplar_demo_terrain(py: Python<'_>, size: f64, cell: f64, seed: u64) -> PyResult<Terrain> {
     let hf =
         py.detach(|| guarded(|| Ok(worldpaint_core::exemplar::demo_terrain(size, cell, seed))))?;
-    Ok(Terrain { hf })
+    Ok(Terrain { hf: hf.into() })
 }
 
 // ---------------------------------------------------------------------------------------------------------------

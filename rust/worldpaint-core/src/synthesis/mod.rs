@@ -109,9 +109,12 @@
 //! Every random choice comes from ChaCha8 generators seeded from (seed, category) and, for tiles, (sweep,
 //! phase, tile); parallel results are merged in a fixed order, so nothing depends on the rayon thread count.
 
+mod adapt;
 mod product;
 mod rdf;
 mod target;
+
+pub use adapt::{adapt, AdaptOptions, Adapted};
 
 use crate::analysis::region_lattice;
 use crate::error::{Error, Result};
@@ -282,7 +285,7 @@ pub(crate) fn check_terrain(
     if !uses_maps {
         return Ok(());
     }
-    let t = scene.terrain.as_ref().ok_or_else(|| {
+    let t = scene.terrain.as_deref().ok_or_else(|| {
         Error::InvalidInput(format!(
             "color '{}' follows terrain maps but the scene has no terrain",
             color.name
@@ -354,7 +357,7 @@ pub fn synthesize_keeping(
     }
     let order = priority_order(color, opts.categories.as_deref())?;
     check_terrain(scene, color, &order, region)?;
-    let terrain = scene.terrain.as_ref();
+    let terrain = scene.terrain.as_deref();
     let (out_categories, scene_index) = scene_categories(scene, color);
     let context = conditioning_content(scene, &scene_index, region, influence, keep);
 

@@ -1,0 +1,294 @@
+//! Brushes (Section 5.3, Fig. 12–13; thesis 6.5.1): "the region for synthesizing evolves along the brush path".
+//!
+//! A [`Stroke`] follows the brush: each time the brush has travelled `spacing × radius` along its path it makes a
+//! *dab* at the brush centre. Dab `k` paints the disc `φ_k` without the discs of the earlier dabs of the stroke
+//! — "we remove all existing objects in `φ_k` except those objects in `φ_i`, `i < k`. Then we synthesize new
+//! objects in `φ_k` while considering the region of influence `I_k = X_k ∪ {φ_i, i ≤ k}`" — so the stroke
+//! grows seamlessly: what earlier dabs painted stays and conditions the next ones like any content around them.
+//!
+//! **Alpha** (thesis 6.5.1: "interpolate between the existing color with the brush color, with an alpha
+//! coefficient that varies along the brush radius"): with an opacity below 1 or a falloff, the color under the
+//! brush (learned from the scene as it was before the stroke, over the dab's disc) is interpolated with the brush
+//! color at `α(r) = opacity · falloff(r / R)` by the optimal-transport interpolation of [`crate::interpolate`],
+//! in `ALPHA_RINGS` rings from the centre out, each painted conditioned on the rings inside it. A ring repaints
+//! what earlier dabs covered only with rings farther from their centres, so every place ends with the alpha of
+//! the brush centre's closest pass, as a stroke across it would paint it. Over bare ground the color under the
+//! brush is empty and alpha thins the brush color's densities.
+//!
+//! **Eraser** (thesis 6.5.1, "simply removes all objects within the circular region"): the same stroke in
+//! erase mode removes the unlocked instances (of the chosen categories) within the radius of the brush path.
+
+use super::{color_of_region, empty_color, positive, Edit, Working};
+use crate::error::{Error, Result};
+use crate::geom::{segment_distance, DVec2, Region};
+use crate::interpolate::interpolate_colors;
+use crate::palette::Color;
+use crate::scene::Scene;
+use crate::synthesis::{mix_seed, SynthesisOptions};
+
+/// Rings in which an alpha brush blends the color under it with its own.
+pub const ALPHA_RINGS: usize = 3;
+/// Dabs whose new area is below this fraction of the disc paint nothing (the brush has hardly moved).
+const MIN_NEW_AREA: f64 = 1e-3;
+
+/// How the brush's alpha falls off from its centre (`x` = distance / radius).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Falloff {
+    /// The same alpha over the whole disc.
+    Constant,
+    /// `1 − x`.
+    Linear,
+    /// `1 − (3x² − 2x³)`, Blender's smooth brush curve.
+    Smooth,
+}
+
+impl Falloff {
+    pub fn weight(self, x: f64) -> f64 {
+        let x = x.clamp(0.0, 1.0);
+        match self {
+            Falloff::Constant => 1.0,
+            Falloff::Linear => 1.0 - x,
+            Falloff::Smooth => 1.0 - x * x * (3.0 - 2.0 * x),
+        }
+    }
+}
+
+/// What the brush does.
+#[derive(Clone, Debug)]
+pub enum BrushMode {
+    /// Paints a color.
+    Paint(Color),
+    /// Removes unlocked instances of these categories (all when `None`).
+    Erase(Option<Vec<String>>),
+}
+
+/// Brush settings.
+#[derive(Clone, Debug)]
+pub struct BrushOptions {
+    /// Radius of the brush disc (m).
+    pub radius: f64,
+    /// A new dab each time the brush has travelled this fraction of its radius.
+    pub spacing: f64,
+    /// Alpha at the brush centre, in (0, 1].
+    pub opacity: f64,
+    pub falloff: Falloff,
+    /// Seed, region of influence and proposals of each dab's synthesis (dab `k` uses a seed derived from
+    /// `seed` and `k`).
+    pub synthesis: SynthesisOptions,
+}
+
+impl Default for BrushOptions {
+    fn default() -> Self {
+        BrushOptions {
+            radius: 20.0,
+            spacing: 0.5,
+            opacity: 1.0,
+            falloff: Falloff::Constant,
+            synthesis: SynthesisOptions::default(),
+        }
+    }
+}
+
+/// One brush stroke over a scene (see the module documentation).
+pub struct Stroke {
+    work: Working,
+    /// The scene before the stroke (kept only for an alpha brush, to read the color under the brush).
+    before: Option<Scene>,
+    mode: BrushMode,
+    opts: BrushOptions,
+    dabs: Vec<DVec2>,
+    last: Option<DVec2>,
+    /// Path length since the last dab.
+    travelled: f64,
+}
+
+impl Stroke {
+    pub fn new(scene: &Scene, mode: BrushMode, opts: BrushOptions) -> Result<Stroke> {
+        positive(opts.radius, "brush radius")?;
+        positive(opts.spacing, "brush spacing")?;
+        if !(opts.opacity > 0.0 && opts.opacity <= 1.0) {
+            return Err(Error::InvalidInput(format!(
+                "brush opacity {} must be in (0, 1]",
+                opts.opacity
+            )));
+        }
+        if let BrushMode::Paint(color) = &mode {
+            color.validate()?;
+        }
+        let alpha = opts.opacity < 1.0 || opts.falloff != Falloff::Constant;
+        let before = (alpha && matches!(mode, BrushMode::Paint(_))).then(|| scene.clone());
+        Ok(Stroke {
+            work: Working::new(scene),
+            before,
+            mode,
+            opts,
+            dabs: Vec::new(),
+            last: None,
+            travelled: 0.0,
+        })
+    }
+
+    /// The scene as the stroke has left it so far.
+    pub fn scene(&self) -> &Scene {
+        &self.work.scene
+    }
+
+    /// What the stroke has done so far, relative to the scene it started on.
+    pub fn edit(&self) -> Edit {
+        self.work.edit()
+    }
+
+    /// Centres of the dabs made so far.
+    pub fn dabs(&self) -> &[DVec2] {
+        &self.dabs
+    }
+
+    /// Moves the brush to `p` and paints (or erases) along the way; returns the number of dabs made.
+    pub fn move_to(&mut self, p: DVec2) -> Result<usize> {
+        self.follow(&[p], &|_| true)
+    }
+
+    /// Follows the brush along `path`, calling `progress` with the fraction of the path's dabs done (false
+    /// cancels with [`Error::Cancelled`]); returns the number of dabs made.
+    pub fn follow(
+        &mut self,
+        path: &[DVec2],
+        progress: &(dyn Fn(f64) -> bool + Sync),
+    ) -> Result<usize> {
+        if path.iter().any(|p| !p.is_finite()) {
+            return Err(Error::InvalidInput(
+                "brush path has non-finite points".into(),
+            ));
+        }
+        if let BrushMode::Erase(categories) = &self.mode {
+            let categories = categories.clone();
+            for &p in path {
+                let a = self.last.unwrap_or(p);
+                self.erase_segment(a, p, categories.as_deref());
+                self.last = Some(p);
+                self.dabs.push(p);
+            }
+            return Ok(path.len());
+        }
+        let centres = self.dab_centres(path);
+        for (k, c) in centres.iter().enumerate() {
+            self.paint_dab(*c, &|f| progress((k as f64 + f) / centres.len() as f64))?;
+        }
+        Ok(centres.len())
+    }
+
+    /// Advances the path state along `path`: where dabs fall (every `spacing × radius`, the first at once).
+    fn dab_centres(&mut self, path: &[DVec2]) -> Vec<DVec2> {
+        let step = self.opts.spacing * self.opts.radius;
+        let mut out = Vec::new();
+        for &p in path {
+            let Some(mut at) = self.last else {
+                out.push(p);
+                self.last = Some(p);
+                continue;
+            };
+            let mut remaining = at.distance(p);
+            while remaining > 0.0 {
+                let need = step - self.travelled;
+                if need > remaining {
+                    self.travelled += remaining;
+                    break;
+                }
+                at += (p - at) * (need / remaining);
+                remaining -= need;
+                self.travelled = 0.0;
+                out.push(at);
+            }
+            self.last = Some(p);
+        }
+        out
+    }
+
+    fn erase_segment(&mut self, a: DVec2, b: DVec2, categories: Option<&[String]>) {
+        let r = self.opts.radius;
+        let names = &self.work.scene.categories;
+        let wanted: Option<Vec<bool>> = categories.map(|only| {
+            names
+                .iter()
+                .map(|c| only.iter().any(|n| n == &c.name))
+                .collect()
+        });
+        self.work.remove_where(|i| {
+            wanted
+                .as_ref()
+                .is_none_or(|w| w.get(i.category).copied().unwrap_or(false))
+                && segment_distance(i.position, a, b) <= r
+        });
+    }
+
+    /// One dab of a painting stroke at `centre` (see the module documentation).
+    fn paint_dab(&mut self, centre: DVec2, progress: &(dyn Fn(f64) -> bool + Sync)) -> Result<()> {
+        let BrushMode::Paint(color) = &self.mode else {
+            return Ok(());
+        };
+        let r = self.opts.radius;
+        let k = self.dabs.len();
+        let earlier: Vec<DVec2> = self
+            .dabs
+            .iter()
+            .copied()
+            .filter(|c| c.distance(centre) < 2.0 * r)
+            .collect();
+        self.dabs.push(centre);
+        let disc = |c: DVec2, radius: f64| Region::Circle { center: c, radius };
+        let full_area = std::f64::consts::PI * r * r;
+        let rings = if self.opts.falloff == Falloff::Constant {
+            1
+        } else {
+            ALPHA_RINGS
+        };
+        let under = match &self.before {
+            Some(before) => Some(
+                color_of_region(before, &disc(centre, r), "under the brush")?
+                    .unwrap_or_else(|| empty_color(color, &disc(centre, r))),
+            ),
+            None => None,
+        };
+        let mut dab_opts = self.opts.synthesis.clone();
+        dab_opts.seed = mix_seed(self.opts.synthesis.seed, k as u64 + 1);
+        for j in 0..rings {
+            let (inner, outer) = (
+                r * j as f64 / rings as f64,
+                r * (j + 1) as f64 / rings as f64,
+            );
+            // ring j repaints what no earlier dab covered with a ring as central as this one
+            let mut without: Vec<Region> = earlier.iter().map(|c| disc(*c, outer)).collect();
+            if inner > 0.0 {
+                without.push(disc(centre, inner));
+            }
+            let region = if without.is_empty() {
+                disc(centre, outer)
+            } else {
+                Region::Clipped {
+                    within: vec![disc(centre, outer)],
+                    without,
+                }
+            };
+            if region.area() < MIN_NEW_AREA * full_area {
+                continue;
+            }
+            let blended;
+            let ring_color = match &under {
+                None => color,
+                Some(under) => {
+                    let x = 0.5 * (inner + outer) / r;
+                    let alpha = (self.opts.opacity * self.opts.falloff.weight(x)).clamp(0.0, 1.0);
+                    blended = interpolate_colors(under, color, alpha, &color.name)?;
+                    &blended
+                }
+            };
+            let mut ring_opts = dab_opts.clone();
+            ring_opts.seed = mix_seed(dab_opts.seed, j as u64);
+            let f0 = j as f64 / rings as f64;
+            self.work.paint(ring_color, &region, &ring_opts, &|f| {
+                progress(f0 + f / rings as f64)
+            })?;
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,388 @@
+//! Seam-carving stretch (Section 5.5, Fig. 15–16; thesis 6.4.3): "When the user scales a region in our system,
+//! our seamcarving algorithm finds a cut that minimizes scene deformation. We then only deform the objects near
+//! the path, thus preserving the rest of the scene."
+//!
+//! The user drags one side of a rectangular region by `amount` metres (positive stretches, negative shrinks).
+//! In the region's frame `u` runs across the dragged side (towards it) and `v` along it.
+//!
+//! * **Energy map.** The region is rasterized and every cell gets the repulsion energy
+//!   `e(p) = 1 / min_i d(p, o_i)` (the distance to the nearest instance, floored at half a cell), computed with
+//!   an exact Euclidean distance transform (Felzenszwalb & Huttenlocher).
+//! * **Cut.** The least-energy path across the region along `v`, "in the direction perpendicular to the main
+//!   deformation", by dynamic programming over 8-connected cells (Avidan & Shamir's seam), kept in the middle
+//!   80 % of the region so that it cuts through the content rather than along its edge.
+//! * **Stretch.** "We use a move operation for the objects on one side of a cut, and synthesize new objects in
+//!   the free space left": the content beyond the cut moves by `amount` along `u` (replacing what it lands on
+//!   outside the region, and adapting to its new ground like any move), and the band it opens between the cut
+//!   and its displaced copy is synthesized with the region's color (given, or learned from the region).
+//! * **Shrink.** "We fold the selected region onto itself along a cut by using a move operation": the content
+//!   inside the band of width `|amount|` beyond the cut is removed and the content beyond the band moves back by
+//!   `|amount|`. The strip this releases at the dragged side is synthesized with the color of the content just
+//!   outside that side, so the region's surroundings close over it (left empty when there is nothing there).
+
+use super::moving::move_instances;
+use super::{color_of_region, Edit, Working};
+use crate::error::{Error, Result};
+use crate::geom::{DVec2, Region};
+use crate::palette::Color;
+use crate::scene::Scene;
+use crate::synthesis::{AdaptOptions, SynthesisOptions};
+
+/// Fraction of the region's width the cut keeps away from each of the two other sides.
+const CUT_MARGIN: f64 = 0.1;
+/// "Infinite" squared distance of the distance transform.
+const FAR: f64 = 1e20;
+
+/// The side of the region that is dragged.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Side {
+    /// +X
+    East,
+    /// −X
+    West,
+    /// +Y
+    North,
+    /// −Y
+    South,
+}
+
+/// Stretch settings.
+#[derive(Clone, Debug, Default)]
+pub struct StretchOptions {
+    /// Cell of the energy map (None: a third of the content's mean spacing, within sensible bounds).
+    pub cell: Option<f64>,
+    /// Seed, region of influence and proposals of the synthesis of the opened space.
+    pub synthesis: SynthesisOptions,
+    /// How the moved side adapts to its new place.
+    pub adapt: AdaptOptions,
+}
+
+/// What a stretch did.
+#[derive(Clone, Debug)]
+pub struct Stretched {
+    pub edit: Edit,
+    /// The cut, a polyline across the region (world XY).
+    pub seam: Vec<DVec2>,
+    /// The band that was opened (stretch) or removed (shrink).
+    pub band: Region,
+    /// The region after the stretch.
+    pub region: Region,
+}
+
+/// The region's frame: `u` across the dragged side, `v` along it, origin at the opposite side's start.
+struct Frame {
+    origin: DVec2,
+    u: DVec2,
+    v: DVec2,
+    width: f64,
+    height: f64,
+}
+
+impl Frame {
+    fn new(min: DVec2, max: DVec2, side: Side) -> Frame {
+        let (w, h) = (max.x - min.x, max.y - min.y);
+        let (origin, u, v, width, height) = match side {
+            Side::East => (min, DVec2::X, DVec2::Y, w, h),
+            Side::West => (DVec2::new(max.x, min.y), -DVec2::X, DVec2::Y, w, h),
+            Side::North => (min, DVec2::Y, DVec2::X, h, w),
+            Side::South => (DVec2::new(min.x, max.y), -DVec2::Y, DVec2::X, h, w),
+        };
+        Frame {
+            origin,
+            u,
+            v,
+            width,
+            height,
+        }
+    }
+
+    fn local(&self, p: DVec2) -> DVec2 {
+        let d = p - self.origin;
+        DVec2::new(d.dot(self.u), d.dot(self.v))
+    }
+
+    fn world(&self, l: DVec2) -> DVec2 {
+        self.origin + self.u * l.x + self.v * l.y
+    }
+
+    /// The world rectangle of local `[u0, u1] × [0, height]`.
+    fn rect(&self, u0: f64, u1: f64) -> Region {
+        let (a, b) = (
+            self.world(DVec2::new(u0, 0.0)),
+            self.world(DVec2::new(u1, self.height)),
+        );
+        Region::Rect {
+            min: a.min(b),
+            max: a.max(b),
+        }
+    }
+
+    /// The world polygon between the local polylines `left` and `right` (both ascending in `v`).
+    fn between(&self, left: &[DVec2], right: &[DVec2]) -> Region {
+        let mut points: Vec<DVec2> = left.iter().map(|l| self.world(*l)).collect();
+        points.extend(right.iter().rev().map(|l| self.world(*l)));
+        Region::Polygon { points }
+    }
+}
+
+/// Squared distance transform of one line (Felzenszwalb & Huttenlocher 2012), `f` in squared cells.
+fn distance_transform_1d(f: &[f64], out: &mut [f64]) {
+    let n = f.len();
+    let mut v = vec![0usize; n];
+    let mut z = vec![0.0f64; n + 1];
+    let mut k = 0usize;
+    z[0] = f64::NEG_INFINITY;
+    z[1] = f64::INFINITY;
+    let parabola = |q: usize, p: usize| {
+        ((f[q] + (q * q) as f64) - (f[p] + (p * p) as f64)) / (2.0 * (q - p) as f64)
+    };
+    for q in 1..n {
+        // z[0] = −∞ ends the loop at k = 0
+        let mut s = parabola(q, v[k]);
+        while s <= z[k] {
+            k -= 1;
+            s = parabola(q, v[k]);
+        }
+        k += 1;
+        v[k] = q;
+        z[k] = s;
+        z[k + 1] = f64::INFINITY;
+    }
+    k = 0;
+    for (q, o) in out.iter_mut().enumerate() {
+        while z[k + 1] < q as f64 {
+            k += 1;
+        }
+        let d = q as f64 - v[k] as f64;
+        *o = d * d + f[v[k]];
+    }
+}
+
+/// The repulsion energy `1 / d` of an `nu × nv` raster (row-major along `u`) with instances at `seeds` (cells).
+fn energy_map(nu: usize, nv: usize, cell: f64, seeds: &[(usize, usize)]) -> Vec<f64> {
+    let mut d2 = vec![FAR; nu * nv];
+    for &(i, j) in seeds {
+        d2[j * nu + i] = 0.0;
+    }
+    if seeds.is_empty() {
+        return vec![0.0; nu * nv];
+    }
+    let mut col = vec![0.0; nv];
+    let mut col_out = vec![0.0; nv];
+    for i in 0..nu {
+        for j in 0..nv {
+            col[j] = d2[j * nu + i];
+        }
+        distance_transform_1d(&col, &mut col_out);
+        for j in 0..nv {
+            d2[j * nu + i] = col_out[j];
+        }
+    }
+    let mut row_out = vec![0.0; nu];
+    for j in 0..nv {
+        distance_transform_1d(&d2[j * nu..(j + 1) * nu], &mut row_out);
+        d2[j * nu..(j + 1) * nu].copy_from_slice(&row_out);
+    }
+    d2.iter()
+        .map(|&q| 1.0 / (q.sqrt() * cell).max(0.5 * cell))
+        .collect()
+}
+
+/// The least-energy 8-connected path across the raster along `v`, within columns `lo..=hi`: a column per row.
+fn least_energy_cut(energy: &[f64], nu: usize, nv: usize, lo: usize, hi: usize) -> Vec<usize> {
+    let mut cost = vec![f64::INFINITY; nu * nv];
+    let mut from = vec![0usize; nu * nv];
+    cost[lo..=hi].copy_from_slice(&energy[lo..=hi]);
+    for j in 1..nv {
+        for i in lo..=hi {
+            let mut best = (f64::INFINITY, i);
+            for pi in i.saturating_sub(1).max(lo)..=(i + 1).min(hi) {
+                let c = cost[(j - 1) * nu + pi];
+                // ties go to the straight step, then to the smaller column
+                if c < best.0 || (c == best.0 && pi == i) {
+                    best = (c, pi);
+                }
+            }
+            cost[j * nu + i] = best.0 + energy[j * nu + i];
+            from[j * nu + i] = best.1;
+        }
+    }
+    let last = (nv - 1) * nu;
+    let mut i = (lo..=hi)
+        .min_by(|&a, &b| cost[last + a].total_cmp(&cost[last + b]))
+        .unwrap_or(lo);
+    let mut cut = vec![0usize; nv];
+    for j in (0..nv).rev() {
+        cut[j] = i;
+        i = from[j * nu + i];
+    }
+    cut
+}
+
+/// `u` of a polyline ascending in `v`, at `v` (clamped at its ends).
+fn u_at(line: &[DVec2], v: f64) -> f64 {
+    let k = line.partition_point(|p| p.y < v);
+    if k == 0 {
+        return line[0].x;
+    }
+    if k >= line.len() {
+        return line[line.len() - 1].x;
+    }
+    let (a, b) = (line[k - 1], line[k]);
+    let t = if b.y > a.y {
+        (v - a.y) / (b.y - a.y)
+    } else {
+        0.0
+    };
+    a.x + t * (b.x - a.x)
+}
+
+/// Stretches (`amount > 0`) or shrinks (`amount < 0`) the rectangle `region` by dragging its `side` (see the
+/// module documentation). `color` fills the opened band and adapts the moved content; `None` learns it from the
+/// region.
+pub fn stretch(
+    scene: &Scene,
+    region: &Region,
+    side: Side,
+    amount: f64,
+    color: Option<&Color>,
+    opts: &StretchOptions,
+    progress: &(dyn Fn(f64) -> bool + Sync),
+) -> Result<Stretched> {
+    region.validate()?;
+    let Region::Rect { min, max } = *region else {
+        return Err(Error::InvalidInput(
+            "stretching works on a rectangle region".into(),
+        ));
+    };
+    if !(amount.is_finite() && amount != 0.0) {
+        return Err(Error::InvalidInput(format!(
+            "stretch amount {amount} must be a non-zero length"
+        )));
+    }
+    let frame = Frame::new(min, max, side);
+    let (width, height) = (frame.width, frame.height);
+    let shrink = (-amount).max(0.0);
+    if shrink >= (1.0 - 2.0 * CUT_MARGIN) * width {
+        return Err(Error::InvalidInput(format!(
+            "cannot shrink a region {width:.2} m wide by {shrink:.2} m (at most {:.2} m)",
+            (1.0 - 2.0 * CUT_MARGIN) * width
+        )));
+    }
+    let inside: Vec<DVec2> = scene
+        .instances
+        .iter()
+        .filter(|i| region.contains(i.position))
+        .map(|i| frame.local(i.position))
+        .collect();
+    let cell = match opts.cell {
+        Some(c) if c.is_finite() && c > 0.0 => c,
+        Some(c) => return Err(Error::InvalidInput(format!("cell {c} must be positive"))),
+        None => {
+            let spacing = (width * height / inside.len().max(1) as f64).sqrt();
+            (spacing / 3.0)
+                .max(width.max(height) / 1000.0)
+                .min(width.min(height) / 20.0)
+        }
+    };
+    let nu = ((width / cell).ceil() as usize).max(1);
+    let nv = ((height / cell).ceil() as usize).max(1);
+    let seeds: Vec<(usize, usize)> = inside
+        .iter()
+        .map(|l| {
+            (
+                ((l.x / cell) as usize).min(nu - 1),
+                ((l.y / cell) as usize).min(nv - 1),
+            )
+        })
+        .collect();
+    let energy = energy_map(nu, nv, cell, &seeds);
+    let lo = ((CUT_MARGIN * nu as f64).ceil() as usize).min(nu - 1);
+    let hi = ((((1.0 - CUT_MARGIN) * width - shrink) / cell).floor() as usize)
+        .min(nu - 1)
+        .max(lo);
+    let cut = least_energy_cut(&energy, nu, nv, lo, hi);
+    let mut seam: Vec<DVec2> = cut
+        .iter()
+        .enumerate()
+        .map(|(j, &i)| {
+            DVec2::new(
+                (i as f64 + 0.5) * cell,
+                ((j as f64 + 0.5) * cell).min(height),
+            )
+        })
+        .collect();
+    seam.insert(0, DVec2::new(seam[0].x, 0.0));
+    seam.push(DVec2::new(seam[seam.len() - 1].x, height));
+    let shifted = |line: &[DVec2], du: f64| -> Vec<DVec2> {
+        line.iter().map(|p| DVec2::new(p.x + du, p.y)).collect()
+    };
+    let edge = |u: f64| vec![DVec2::new(u, 0.0), DVec2::new(u, height)];
+
+    let learned;
+    let color = match color {
+        Some(c) => c,
+        None => match color_of_region(scene, region, "stretched region")? {
+            Some(c) => {
+                learned = c;
+                &learned
+            }
+            None => {
+                return Err(Error::EmptyExemplar(
+                    "the region holds no instances to stretch".into(),
+                ))
+            }
+        },
+    };
+    let width_band = amount.abs();
+    let band = frame.between(&seam, &shifted(&seam, width_band));
+    let mut work = Working::new(scene);
+    if shrink > 0.0 {
+        work.remove_where(|i| band.contains(i.position));
+    }
+    // the content beyond the cut (beyond the band when shrinking) moves by `amount` along u
+    let beyond = if shrink > 0.0 { shrink } else { 0.0 };
+    let moving: Vec<usize> = (0..work.scene.instances.len())
+        .filter(|&k| {
+            let i = &work.scene.instances[k];
+            let l = frame.local(i.position);
+            !i.locked && region.contains(i.position) && l.x > u_at(&seam, l.y) + beyond
+        })
+        .collect();
+    let landing = if shrink > 0.0 {
+        frame.between(&seam, &edge(width - shrink))
+    } else {
+        frame.between(&shifted(&seam, amount), &edge(width + amount))
+    };
+    let moved = move_instances(
+        &work.scene,
+        color,
+        &landing,
+        &moving,
+        frame.u * amount,
+        &opts.adapt,
+    )?;
+    work.apply(&moved.edit);
+    if !progress(0.5) {
+        return Err(Error::Cancelled);
+    }
+    let report = |f: f64| progress(0.5 + 0.5 * f);
+    let resized = if shrink > 0.0 {
+        // the strip released at the dragged side takes the color of what lies beyond that side
+        let strip = frame.rect(width - shrink, width);
+        let outside = frame.rect(width, width + shrink.max(2.0 * color.max_radius));
+        if let Some(around) = color_of_region(scene, &outside, "beyond the region")? {
+            work.paint(&around, &strip, &opts.synthesis, &report)?;
+        }
+        frame.rect(0.0, width - shrink)
+    } else {
+        work.paint(color, &band, &opts.synthesis, &report)?;
+        frame.rect(0.0, width + amount)
+    };
+    Ok(Stretched {
+        edit: work.edit(),
+        seam: seam.iter().map(|l| frame.world(*l)).collect(),
+        band,
+        region: resized,
+    })
+}

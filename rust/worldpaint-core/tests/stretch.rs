@@ -1,0 +1,241 @@
+//! Seam-carving stretch (Section 5.5): stretching a region by 50 % keeps every object away from the cut where it
+//! was (up to the rigid move of its side) and fills the opened band with the region's statistics; shrinking
+//! removes only the content of the band.
+
+use worldpaint_core::exemplar;
+use worldpaint_core::geom::DVec2;
+use worldpaint_core::tools::color_of_region;
+use worldpaint_core::tools::stretch::{stretch, Side, StretchOptions};
+use worldpaint_core::{Category, Instance, Region, Scene};
+
+const WIDTH: f64 = 100.0;
+const HEIGHT: f64 = 60.0;
+
+fn region() -> Region {
+    Region::Rect {
+        min: DVec2::ZERO,
+        max: DVec2::new(WIDTH, HEIGHT),
+    }
+}
+
+/// A hard-core arrangement (3 m, 0.04 per m²) filling the region, nothing around it.
+fn scene() -> Scene {
+    Scene {
+        categories: vec![Category::distribution("tree", "vegetation", 0)],
+        instances: exemplar::hard_core(&region(), 0.04, 3.0, 5)
+            .into_iter()
+            .map(|p| Instance::at(p, 0))
+            .collect(),
+        terrain: None,
+    }
+}
+
+/// `x` of the cut at height `y` (the seam is a polyline ascending in `y`).
+fn cut_at(seam: &[DVec2], y: f64) -> f64 {
+    let k = seam.partition_point(|p| p.y < y).clamp(1, seam.len() - 1);
+    let (a, b) = (seam[k - 1], seam[k]);
+    let t = if b.y > a.y {
+        ((y - a.y) / (b.y - a.y)).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    a.x + t * (b.x - a.x)
+}
+
+fn has(points: &[DVec2], p: DVec2) -> bool {
+    points.iter().any(|q| q.distance(p) < 1e-9)
+}
+
+#[test]
+fn stretching_by_half_keeps_both_sides_and_fills_the_band() {
+    let scene = scene();
+    let color = color_of_region(&scene, &region(), "region")
+        .unwrap()
+        .unwrap();
+    let amount = 0.5 * WIDTH;
+    let out = stretch(
+        &scene,
+        &region(),
+        Side::East,
+        amount,
+        None,
+        &StretchOptions::default(),
+        &|_| true,
+    )
+    .unwrap();
+    let after: Vec<DVec2> = out
+        .edit
+        .applied_to(&scene)
+        .instances
+        .iter()
+        .map(|i| i.position)
+        .collect();
+    let seam = &out.seam;
+    let (lo, hi) = seam
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
+            (a.min(p.x), b.max(p.x))
+        });
+    println!(
+        "cut between x = {lo:.1} and {hi:.1}; {} instances before, {} after",
+        scene.instances.len(),
+        after.len()
+    );
+    assert!(lo >= 0.1 * WIDTH - 1.0 && hi <= 0.9 * WIDTH + 1.0);
+    // every object keeps its place, or its place moved by the stretch, depending on its side of the cut
+    for i in &scene.instances {
+        let p = i.position;
+        let want = if p.x > cut_at(seam, p.y) {
+            p + DVec2::new(amount, 0.0)
+        } else {
+            p
+        };
+        assert!(has(&after, want), "{p:?} should be at {want:?}");
+    }
+    // the opened band has the region's density and keeps the hard core with both sides
+    let in_band: Vec<DVec2> = after
+        .iter()
+        .copied()
+        .filter(|p| out.band.contains(*p))
+        .collect();
+    let ratio = in_band.len() as f64 / (out.band.area() * color.categories[0].density);
+    let closest = after
+        .iter()
+        .enumerate()
+        .flat_map(|(k, a)| after[k + 1..].iter().map(move |b| a.distance(*b)))
+        .fold(f64::INFINITY, f64::min);
+    println!(
+        "band: {} instances, density ratio {ratio:.3}; closest pair {closest:.3} m",
+        in_band.len()
+    );
+    assert!((ratio - 1.0).abs() <= 0.1);
+    assert!(closest >= color.categories[0].min_distance - 1e-9);
+    assert_eq!(
+        out.region,
+        Region::Rect {
+            min: DVec2::ZERO,
+            max: DVec2::new(1.5 * WIDTH, HEIGHT)
+        }
+    );
+}
+
+#[test]
+fn shrinking_removes_the_band_only() {
+    let scene = scene();
+    let amount = -30.0;
+    let out = stretch(
+        &scene,
+        &region(),
+        Side::East,
+        amount,
+        None,
+        &StretchOptions::default(),
+        &|_| true,
+    )
+    .unwrap();
+    let in_band: Vec<usize> = (0..scene.instances.len())
+        .filter(|&k| out.band.contains(scene.instances[k].position))
+        .collect();
+    println!(
+        "shrink: band holds {} instances; {} removed",
+        in_band.len(),
+        out.edit.removed.len()
+    );
+    let after: Vec<DVec2> = out
+        .edit
+        .applied_to(&scene)
+        .instances
+        .iter()
+        .map(|i| i.position)
+        .collect();
+    for (k, i) in scene.instances.iter().enumerate() {
+        let p = i.position;
+        if in_band.contains(&k) {
+            assert!(!has(&after, p), "{p:?} in the band should be gone");
+            continue;
+        }
+        let want = if p.x > cut_at(&out.seam, p.y) {
+            p + DVec2::new(amount, 0.0)
+        } else {
+            p
+        };
+        assert!(has(&after, want), "{p:?} should be at {want:?}");
+    }
+    // nothing lies beyond the region, so the released strip stays empty
+    assert_eq!(after.len(), scene.instances.len() - in_band.len());
+    assert!(after.iter().all(|p| p.x <= WIDTH + amount + 1e-9));
+}
+
+#[test]
+fn stretching_north_and_west_mirror_east() {
+    let scene = scene();
+    for side in [Side::West, Side::North, Side::South] {
+        let out = stretch(
+            &scene,
+            &region(),
+            side,
+            20.0,
+            None,
+            &StretchOptions::default(),
+            &|_| true,
+        )
+        .unwrap();
+        let want = match side {
+            Side::West => Region::Rect {
+                min: DVec2::new(-20.0, 0.0),
+                max: DVec2::new(WIDTH, HEIGHT),
+            },
+            Side::North => Region::Rect {
+                min: DVec2::ZERO,
+                max: DVec2::new(WIDTH, HEIGHT + 20.0),
+            },
+            _ => Region::Rect {
+                min: DVec2::new(0.0, -20.0),
+                max: DVec2::new(WIDTH, HEIGHT),
+            },
+        };
+        assert_eq!(out.region, want);
+        let after = out.edit.applied_to(&scene);
+        assert!(after.instances.iter().all(|i| want.contains(i.position)));
+        assert!(after.instances.len() > scene.instances.len());
+    }
+}
+
+#[test]
+fn stretching_asks_for_a_rectangle_and_a_length() {
+    let scene = scene();
+    let circle = Region::Circle {
+        center: DVec2::splat(50.0),
+        radius: 20.0,
+    };
+    assert!(stretch(
+        &scene,
+        &circle,
+        Side::East,
+        10.0,
+        None,
+        &StretchOptions::default(),
+        &|_| true
+    )
+    .is_err());
+    assert!(stretch(
+        &scene,
+        &region(),
+        Side::East,
+        0.0,
+        None,
+        &StretchOptions::default(),
+        &|_| true
+    )
+    .is_err());
+    assert!(stretch(
+        &scene,
+        &region(),
+        Side::East,
+        -90.0,
+        None,
+        &StretchOptions::default(),
+        &|_| true
+    )
+    .is_err());
+}
