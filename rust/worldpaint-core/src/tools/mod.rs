@@ -186,6 +186,35 @@ pub fn color_of_region(scene: &Scene, region: &Region, name: &str) -> Result<Opt
     }
 }
 
+/// Most points a preview keeps.
+const PREVIEW_POINTS: usize = 20_000;
+
+/// The color with a preview that shows an arrangement painted with it in its own region (terrain maps aside):
+/// for colors no exemplar showed, such as interpolations.
+pub fn with_painted_preview(mut color: Color) -> Result<Color> {
+    let mut plain = color.clone();
+    plain.maps.clear();
+    let canvas = Scene {
+        categories: color
+            .categories
+            .iter()
+            .map(|c| c.category.clone())
+            .collect(),
+        ..Default::default()
+    };
+    let painted =
+        crate::synthesis::synthesize(&canvas, &plain, &color.region, &Default::default())?;
+    let (lo, _) = color.region.bbox();
+    let step = painted.instances.len().div_ceil(PREVIEW_POINTS).max(1);
+    color.preview = painted
+        .instances
+        .iter()
+        .step_by(step)
+        .map(|i| [i.position.x - lo.x, i.position.y - lo.y, i.category as f64])
+        .collect();
+    Ok(color)
+}
+
 /// A color with no content, for blending with "nothing" (an empty neighbourhood, a brush over bare ground):
 /// interpolating it with a color scales that color's densities and keeps its other statistics.
 pub(crate) fn empty_color(like: &Color, region: &Region) -> Color {

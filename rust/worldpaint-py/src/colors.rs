@@ -1,0 +1,297 @@
+//! Learning, synthesizing, comparing, interpolating and renaming colors; palettes; what the add-on shows of a color.
+
+use crate::convert::{
+    categories_to_py, instances_to_py, kind_to_str, parse_color, region_from_py, region_to_py,
+    scene_from_py,
+};
+use crate::terrain::Terrain;
+use crate::{guarded, input_err, with_progress};
+use numpy::ndarray::Array2;
+use numpy::{IntoPyArray, PyReadonlyArray1, PyReadonlyArray2};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+use worldpaint_core::palette::{Interaction, Palette};
+use worldpaint_core::{AnalysisOptions, SynthesisOptions};
+
+pub(crate) fn analysis_options(options: Option<&Bound<'_, PyAny>>) -> PyResult<AnalysisOptions> {
+    let mut o = AnalysisOptions::default();
+    let Some(d) = options else { return Ok(o) };
+    if d.is_none() {
+        return Ok(o);
+    }
+    let get = |k: &str| -> Option<Bound<'_, PyAny>> { d.get_item(k).ok().filter(|v| !v.is_none()) };
+    if let Some(v) = get("bin_width") {
+        o.bin_width = Some(
+            v.extract()
+                .map_err(|_| input_err("options 'bin_width' must be a number"))?,
+        );
+    }
+    if let Some(v) = get("max_radius") {
+        o.max_radius = Some(
+            v.extract()
+                .map_err(|_| input_err("options 'max_radius' must be a number"))?,
+        );
+    }
+    if let Some(v) = get("oriented") {
+        o.oriented = v.extract().map_err(|_| {
+            input_err("options 'oriented' must be a list of (category, category) pairs")
+        })?;
+    }
+    if let Some(v) = get("maps") {
+        o.maps = v
+            .extract()
+            .map_err(|_| input_err("options 'maps' must be a list of map names"))?;
+    }
+    Ok(o)
+}
+
+/// Learn a color (returned as JSON) from the instances inside `region`.
+///
+/// `categories` is a list of {"name", "layer", "kind", "priority"} dicts; `positions` float64 (N, 2) world XY,
+/// `category_index` int32 (N) into `categories`; optional `rotations` (radians about Z), `scales`, `prototype`,
+/// `locked` (bool: placed by hand). `options`: {"bin_width", "max_radius", "oriented": [(a, b), ...], "maps": [...]},
+/// all optional.
+#[pyfunction]
+#[pyo3(signature = (terrain, categories, positions, category_index, region, name, *, rotations=None, scales=None,
+                    prototype=None, locked=None, options=None))]
+#[allow(clippy::too_many_arguments)]
+fn learn_color(
+    py: Python<'_>,
+    terrain: Option<Py<Terrain>>,
+    categories: &Bound<'_, PyAny>,
+    positions: PyReadonlyArray2<'_, f64>,
+    category_index: PyReadonlyArray1<'_, i32>,
+    region: &Bound<'_, PyAny>,
+    name: &str,
+    rotations: Option<PyReadonlyArray1<'_, f64>>,
+    scales: Option<PyReadonlyArray1<'_, f64>>,
+    prototype: Option<PyReadonlyArray1<'_, i32>>,
+    locked: Option<PyReadonlyArray1<'_, bool>>,
+    options: Option<&Bound<'_, PyAny>>,
+) -> PyResult<String> {
+    let scene = scene_from_py(
+        &terrain,
+        categories,
+        &positions,
+        category_index,
+        rotations,
+        scales,
+        prototype,
+        locked,
+    )?;
+    let region = region_from_py(region)?;
+    let opts = analysis_options(options)?;
+    let name = name.to_string();
+    py.detach(|| guarded(|| worldpaint_core::learn_color(&scene, &region, &name, &opts)?.to_json()))
+}
+
+/// Synthesize `color` (JSON) inside `region`, conditioned on the given existing instances: the unlocked ones inside
+/// the region are replaced, locked ones inside it and those around it condition the result.
+///
+/// Returns {"categories": [...], "positions": float64 (N, 2), "heights": float64 (N) (terrain height, NaN without
+/// terrain), "rotations", "scales", "category_index": int32, "prototype": int32} for the *new* instances; category
+/// indices refer to the returned category list (the given ones, then the color's new ones).
+/// `progress(fraction) -> bool` may return False to cancel (raises `Cancelled`).
+#[pyfunction]
+#[pyo3(signature = (terrain, categories, positions, category_index, color, region, seed=0, *, rotations=None,
+                    scales=None, prototype=None, locked=None, influence_radius=None, iterations_per_instance=None,
+                    only_categories=None, progress=None))]
+#[allow(clippy::too_many_arguments)]
+fn synthesize<'py>(
+    py: Python<'py>,
+    terrain: Option<Py<Terrain>>,
+    categories: &Bound<'py, PyAny>,
+    positions: PyReadonlyArray2<'py, f64>,
+    category_index: PyReadonlyArray1<'py, i32>,
+    color: &str,
+    region: &Bound<'py, PyAny>,
+    seed: u64,
+    rotations: Option<PyReadonlyArray1<'py, f64>>,
+    scales: Option<PyReadonlyArray1<'py, f64>>,
+    prototype: Option<PyReadonlyArray1<'py, i32>>,
+    locked: Option<PyReadonlyArray1<'py, bool>>,
+    influence_radius: Option<f64>,
+    iterations_per_instance: Option<f64>,
+    only_categories: Option<Vec<String>>,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let scene = scene_from_py(
+        &terrain,
+        categories,
+        &positions,
+        category_index,
+        rotations,
+        scales,
+        prototype,
+        locked,
+    )?;
+    let region = region_from_py(region)?;
+    let color = parse_color(color)?;
+    let opts = synthesis_options(
+        seed,
+        influence_radius,
+        iterations_per_instance,
+        only_categories,
+    );
+    let result = with_progress(py, progress, |report| {
+        worldpaint_core::synthesis::synthesize_with_progress(&scene, &color, &region, &opts, report)
+    })?;
+    let d = PyDict::new(py);
+    d.set_item("categories", categories_to_py(py, &result.categories)?)?;
+    instances_to_py(py, &d, &result.instances, scene.terrain.as_deref())?;
+    Ok(d)
+}
+
+/// The synthesis options of the keyword arguments the synthesizing functions share.
+pub(crate) fn synthesis_options(
+    seed: u64,
+    influence_radius: Option<f64>,
+    iterations_per_instance: Option<f64>,
+    only_categories: Option<Vec<String>>,
+) -> SynthesisOptions {
+    let mut opts = SynthesisOptions {
+        seed,
+        influence_radius,
+        categories: only_categories,
+        ..Default::default()
+    };
+    if let Some(it) = iterations_per_instance {
+        opts.iterations_per_instance = it;
+    }
+    opts
+}
+
+/// The color between `a` and `b` (JSON) at `t` ∈ [0, 1], by optimal transport of every histogram, named `name`;
+/// its preview shows an arrangement painted with it.
+#[pyfunction]
+fn interpolate_colors(py: Python<'_>, a: &str, b: &str, t: f64, name: &str) -> PyResult<String> {
+    let (a, b) = (parse_color(a)?, parse_color(b)?);
+    let name = name.to_string();
+    py.detach(|| {
+        guarded(|| {
+            let c = worldpaint_core::interpolate_colors(&a, &b, t, &name)?;
+            worldpaint_core::tools::with_painted_preview(c)?.to_json()
+        })
+    })
+}
+
+/// The same color (JSON) under another name.
+#[pyfunction]
+fn color_renamed(color: &str, name: &str) -> PyResult<String> {
+    let mut c = parse_color(color)?;
+    c.name = name.to_string();
+    guarded(|| c.to_json())
+}
+
+/// How far `candidate` is from `reference` (both color JSON): {"density_ratio": {category: ratio},
+/// "rdf_l2": [(a, b, l2), ...], "map_tv": [(category, map, tv), ...], "worst_density_error", "max_rdf_l2",
+/// "max_map_tv"}.
+#[pyfunction]
+fn compare<'py>(py: Python<'py>, reference: &str, candidate: &str) -> PyResult<Bound<'py, PyDict>> {
+    let a = parse_color(reference)?;
+    let b = parse_color(candidate)?;
+    let f = py.detach(|| guarded(|| Ok(worldpaint_core::compare(&a, &b))))?;
+    let d = PyDict::new(py);
+    let ratios = PyDict::new(py);
+    for (name, r) in &f.density_ratio {
+        ratios.set_item(name, *r)?;
+    }
+    d.set_item("density_ratio", ratios)?;
+    d.set_item("rdf_l2", f.rdf_l2.clone())?;
+    d.set_item("map_tv", f.map_tv.clone())?;
+    d.set_item("worst_density_error", f.worst_density_error())?;
+    d.set_item("max_rdf_l2", f.max_rdf_l2())?;
+    d.set_item("max_map_tv", f.max_map_tv())?;
+    Ok(d)
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// colors and palettes
+
+/// A palette file (versioned JSON) from a list of color JSON strings.
+#[pyfunction]
+fn palette_to_json(colors: Vec<String>) -> PyResult<String> {
+    let colors = colors
+        .iter()
+        .map(|c| parse_color(c))
+        .collect::<PyResult<Vec<_>>>()?;
+    guarded(|| Palette { colors }.to_json())
+}
+
+/// The colors (JSON strings) of a palette file; unknown versions and malformed files raise `EngineError`.
+#[pyfunction]
+fn palette_from_json(text: &str) -> PyResult<Vec<String>> {
+    guarded(|| {
+        Palette::from_json(text)?
+            .colors
+            .iter()
+            .map(|c| c.to_json())
+            .collect()
+    })
+}
+
+/// What the add-on shows of a color: {"name", "region", "region_area", "max_radius", "bin_width",
+/// "categories": [{"name", "layer", "kind", "priority", "count", "density", "min_distance"}],
+/// "pairs": [(category, other, kind)], "maps": [(category, map)], "preview": float64 (N, 3) (x, y relative to the
+/// region's bbox min, category index), "preview_size": (w, h)}.
+#[pyfunction]
+fn color_summary<'py>(py: Python<'py>, color: &str) -> PyResult<Bound<'py, PyDict>> {
+    let c = parse_color(color)?;
+    let d = PyDict::new(py);
+    d.set_item("name", &c.name)?;
+    d.set_item("region", region_to_py(py, &c.region)?)?;
+    d.set_item("region_area", c.region_area)?;
+    d.set_item("max_radius", c.max_radius)?;
+    d.set_item("bin_width", c.bin_width)?;
+    let cats = PyList::empty(py);
+    for cc in &c.categories {
+        let e = PyDict::new(py);
+        e.set_item("name", &cc.category.name)?;
+        e.set_item("layer", &cc.category.layer)?;
+        e.set_item("kind", kind_to_str(cc.category.kind))?;
+        e.set_item("priority", cc.category.priority)?;
+        e.set_item("count", cc.count)?;
+        e.set_item("density", cc.density)?;
+        e.set_item("min_distance", cc.min_distance)?;
+        cats.append(e)?;
+    }
+    d.set_item("categories", cats)?;
+    let pairs: Vec<(String, String, &str)> = c
+        .pairs
+        .iter()
+        .map(|p| {
+            let kind = match p.interaction {
+                Interaction::Rdf { .. } => "rdf",
+                Interaction::OrientedRdf { .. } => "oriented_rdf",
+            };
+            (p.category.clone(), p.other.clone(), kind)
+        })
+        .collect();
+    d.set_item("pairs", pairs)?;
+    d.set_item(
+        "maps",
+        c.maps
+            .iter()
+            .map(|m| (m.category.clone(), m.map.clone()))
+            .collect::<Vec<_>>(),
+    )?;
+    let flat: Vec<f64> = c.preview.iter().flat_map(|p| *p).collect();
+    let preview = Array2::from_shape_vec((c.preview.len(), 3), flat)
+        .map_err(|e| input_err(format!("color preview of inconsistent size: {e}")))?;
+    d.set_item("preview", preview.into_pyarray(py))?;
+    let (lo, hi) = c.region.bbox();
+    d.set_item("preview_size", (hi.x - lo.x, hi.y - lo.y))?;
+    Ok(d)
+}
+
+pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(learn_color, m)?)?;
+    m.add_function(wrap_pyfunction!(synthesize, m)?)?;
+    m.add_function(wrap_pyfunction!(compare, m)?)?;
+    m.add_function(wrap_pyfunction!(interpolate_colors, m)?)?;
+    m.add_function(wrap_pyfunction!(color_renamed, m)?)?;
+    m.add_function(wrap_pyfunction!(palette_to_json, m)?)?;
+    m.add_function(wrap_pyfunction!(palette_from_json, m)?)?;
+    m.add_function(wrap_pyfunction!(color_summary, m)?)?;
+    Ok(())
+}

@@ -1,0 +1,373 @@
+//! Plain Python values and numpy arrays to and from the engine's types: regions, categories, scenes, edits.
+
+use crate::terrain::{terrain_of, Terrain};
+use crate::{engine_err, guarded, input_err};
+use numpy::ndarray::{Array1, Array2};
+use numpy::{IntoPyArray, PyArray2, PyReadonlyArray1, PyReadonlyArray2};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+use worldpaint_core::geom::DVec2;
+use worldpaint_core::tools::Edit;
+use worldpaint_core::{Category, CategoryKind, Color, Heightfield, Instance, Region, Scene};
+
+pub(crate) fn field<'py>(
+    obj: &Bound<'py, PyAny>,
+    key: &str,
+    what: &str,
+) -> PyResult<Bound<'py, PyAny>> {
+    obj.get_item(key)
+        .map_err(|_| input_err(format!("{what} is missing the key '{key}'")))
+}
+
+pub(crate) fn vec2(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<DVec2> {
+    let v: Vec<f64> = obj
+        .extract()
+        .map_err(|_| input_err(format!("{what} must be a pair of numbers")))?;
+    match v.as_slice() {
+        [x, y] => Ok(DVec2::new(*x, *y)),
+        _ => Err(input_err(format!(
+            "{what} must have 2 coordinates, got {}",
+            v.len()
+        ))),
+    }
+}
+
+/// `{"shape": "rect", "min": [x, y], "max": [x, y]}`, `{"shape": "circle", "center": [x, y], "radius": r}`,
+/// `{"shape": "polygon", "points": [[x, y], ...]}` or `{"shape": "clipped", "within": [region, ...],
+/// "without": [region, ...]}`.
+pub(crate) fn region_from_py(obj: &Bound<'_, PyAny>) -> PyResult<Region> {
+    let shape: String = field(obj, "shape", "region")?
+        .extract()
+        .map_err(|_| input_err("region 'shape' must be a string"))?;
+    let region = match shape.as_str() {
+        "rect" => Region::Rect {
+            min: vec2(&field(obj, "min", "rect region")?, "region 'min'")?,
+            max: vec2(&field(obj, "max", "rect region")?, "region 'max'")?,
+        },
+        "circle" => Region::Circle {
+            center: vec2(&field(obj, "center", "circle region")?, "region 'center'")?,
+            radius: field(obj, "radius", "circle region")?
+                .extract()
+                .map_err(|_| input_err("region 'radius' must be a number"))?,
+        },
+        "polygon" => {
+            let pts = field(obj, "points", "polygon region")?;
+            let mut points = Vec::new();
+            for p in pts
+                .try_iter()
+                .map_err(|_| input_err("region 'points' must be a list of pairs"))?
+            {
+                points.push(vec2(&p?, "a polygon point")?);
+            }
+            Region::Polygon { points }
+        }
+        "clipped" => {
+            let parts = |key: &str| -> PyResult<Vec<Region>> {
+                let mut out = Vec::new();
+                let list = match obj.get_item(key) {
+                    Ok(v) if !v.is_none() => v,
+                    _ => return Ok(out),
+                };
+                for r in list
+                    .try_iter()
+                    .map_err(|_| input_err(format!("region '{key}' must be a list of regions")))?
+                {
+                    out.push(region_from_py(&r?)?);
+                }
+                Ok(out)
+            };
+            Region::Clipped {
+                within: parts("within")?,
+                without: parts("without")?,
+            }
+        }
+        other => {
+            return Err(input_err(format!(
+                "unknown region shape '{other}' (rect, circle, polygon or clipped)"
+            )))
+        }
+    };
+    region.validate().map_err(engine_err)?;
+    Ok(region)
+}
+
+pub(crate) fn region_to_py<'py>(py: Python<'py>, region: &Region) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    match region {
+        Region::Rect { min, max } => {
+            d.set_item("shape", "rect")?;
+            d.set_item("min", [min.x, min.y])?;
+            d.set_item("max", [max.x, max.y])?;
+        }
+        Region::Circle { center, radius } => {
+            d.set_item("shape", "circle")?;
+            d.set_item("center", [center.x, center.y])?;
+            d.set_item("radius", *radius)?;
+        }
+        Region::Polygon { points } => {
+            d.set_item("shape", "polygon")?;
+            d.set_item(
+                "points",
+                points.iter().map(|p| [p.x, p.y]).collect::<Vec<_>>(),
+            )?;
+        }
+        Region::Clipped { within, without } => {
+            d.set_item("shape", "clipped")?;
+            for (key, parts) in [("within", within), ("without", without)] {
+                let list = PyList::empty(py);
+                for r in parts {
+                    list.append(region_to_py(py, r)?)?;
+                }
+                d.set_item(key, list)?;
+            }
+        }
+    }
+    Ok(d)
+}
+
+pub(crate) fn kind_from_str(s: &str) -> PyResult<CategoryKind> {
+    match s.to_ascii_lowercase().as_str() {
+        "distribution" => Ok(CategoryKind::Distribution),
+        "graph" => Ok(CategoryKind::Graph),
+        "polygon" => Ok(CategoryKind::Polygon),
+        "external" => Ok(CategoryKind::External),
+        other => Err(input_err(format!(
+            "unknown category kind '{other}' (distribution, graph, polygon or external)"
+        ))),
+    }
+}
+
+pub(crate) fn kind_to_str(k: CategoryKind) -> &'static str {
+    match k {
+        CategoryKind::Distribution => "distribution",
+        CategoryKind::Graph => "graph",
+        CategoryKind::Polygon => "polygon",
+        CategoryKind::External => "external",
+    }
+}
+
+/// A list of `{"name", "layer", "kind", "priority"}` dicts; layer, kind and priority are optional.
+pub(crate) fn categories_from_py(obj: &Bound<'_, PyAny>) -> PyResult<Vec<Category>> {
+    let mut out = Vec::new();
+    for (i, item) in obj
+        .try_iter()
+        .map_err(|_| input_err("categories must be a list of dicts"))?
+        .enumerate()
+    {
+        let item = item?;
+        let what = format!("category {i}");
+        let name: String = field(&item, "name", &what)?
+            .extract()
+            .map_err(|_| input_err(format!("{what}: 'name' must be a string")))?;
+        let layer: String = match item.get_item("layer") {
+            Ok(v) if !v.is_none() => v
+                .extract()
+                .map_err(|_| input_err(format!("{what}: 'layer' must be a string")))?,
+            _ => "default".to_string(),
+        };
+        let kind = match item.get_item("kind") {
+            Ok(v) if !v.is_none() => {
+                let s: String = v
+                    .extract()
+                    .map_err(|_| input_err(format!("{what}: 'kind' must be a string")))?;
+                kind_from_str(&s)?
+            }
+            _ => CategoryKind::Distribution,
+        };
+        let priority: i32 = match item.get_item("priority") {
+            Ok(v) if !v.is_none() => v
+                .extract()
+                .map_err(|_| input_err(format!("{what}: 'priority' must be an integer")))?,
+            _ => i as i32,
+        };
+        out.push(Category {
+            name,
+            layer,
+            kind,
+            priority,
+        });
+    }
+    Ok(out)
+}
+
+pub(crate) fn categories_to_py<'py>(
+    py: Python<'py>,
+    cats: &[Category],
+) -> PyResult<Bound<'py, PyList>> {
+    let list = PyList::empty(py);
+    for c in cats {
+        let d = PyDict::new(py);
+        d.set_item("name", &c.name)?;
+        d.set_item("layer", &c.layer)?;
+        d.set_item("kind", kind_to_str(c.kind))?;
+        d.set_item("priority", c.priority)?;
+        list.append(d)?;
+    }
+    Ok(list)
+}
+
+pub(crate) fn points_from_py(xy: &PyReadonlyArray2<'_, f64>, what: &str) -> PyResult<Vec<DVec2>> {
+    let a = xy.as_array();
+    if a.ncols() != 2 {
+        return Err(input_err(format!(
+            "{what} must have shape (N, 2), got (N, {})",
+            a.ncols()
+        )));
+    }
+    Ok(a.rows()
+        .into_iter()
+        .map(|r| DVec2::new(r[0], r[1]))
+        .collect())
+}
+
+pub(crate) fn points_to_py<'py>(py: Python<'py>, pts: &[DVec2]) -> Bound<'py, PyArray2<f64>> {
+    let flat: Vec<f64> = pts.iter().flat_map(|p| [p.x, p.y]).collect();
+    // the shape always matches the data, so this cannot fail
+    Array2::from_shape_vec((pts.len(), 2), flat)
+        .unwrap_or_else(|_| Array2::zeros((0, 2)))
+        .into_pyarray(py)
+}
+
+pub(crate) fn column<T: Copy + numpy::Element>(
+    a: Option<PyReadonlyArray1<'_, T>>,
+    n: usize,
+    default: T,
+    what: &str,
+) -> PyResult<Vec<T>> {
+    match a {
+        None => Ok(vec![default; n]),
+        Some(a) => {
+            let v: Vec<T> = a.as_array().iter().copied().collect();
+            if v.len() != n {
+                return Err(input_err(format!(
+                    "{what} has {} entries but there are {n} positions",
+                    v.len()
+                )));
+            }
+            Ok(v)
+        }
+    }
+}
+
+/// The scene the engine works on: the category list, the instance arrays (one row per instance, checked against
+/// the categories; `locked` marks hand-placed instances the tools never remove) and the terrain.
+#[allow(clippy::too_many_arguments)] // the columns of the scene, each optional but the first three
+pub(crate) fn scene_from_py(
+    terrain: &Option<Py<Terrain>>,
+    categories: &Bound<'_, PyAny>,
+    positions: &PyReadonlyArray2<'_, f64>,
+    category_index: PyReadonlyArray1<'_, i32>,
+    rotations: Option<PyReadonlyArray1<'_, f64>>,
+    scales: Option<PyReadonlyArray1<'_, f64>>,
+    prototype: Option<PyReadonlyArray1<'_, i32>>,
+    locked: Option<PyReadonlyArray1<'_, bool>>,
+) -> PyResult<Scene> {
+    let categories = categories_from_py(categories)?;
+    let n_categories = categories.len();
+    let pos = points_from_py(positions, "positions")?;
+    let n = pos.len();
+    let cat = column(Some(category_index), n, 0, "category_index")?;
+    let rot = column(rotations, n, 0.0, "rotations")?;
+    let sca = column(scales, n, 1.0, "scales")?;
+    let pro = column(prototype, n, 0, "prototype")?;
+    let lock = column(locked, n, false, "locked")?;
+    let mut out = Vec::with_capacity(n);
+    for i in 0..n {
+        let c = cat[i];
+        if c < 0 || c as usize >= n_categories {
+            return Err(input_err(format!(
+                "instance {i} has category index {c} but there are {n_categories} categories"
+            )));
+        }
+        if !pos[i].is_finite() {
+            return Err(input_err(format!("instance {i} has a non-finite position")));
+        }
+        out.push(Instance {
+            position: pos[i],
+            rotation: rot[i],
+            scale: sca[i],
+            category: c as usize,
+            prototype: pro[i].max(0) as u32,
+            locked: lock[i],
+        });
+    }
+    Ok(Scene {
+        categories,
+        instances: out,
+        terrain: terrain_of(terrain).cloned(),
+    })
+}
+
+/// The instance columns of a result as a dict of numpy arrays.
+pub(crate) fn instances_to_py<'py>(
+    py: Python<'py>,
+    d: &Bound<'py, PyDict>,
+    instances: &[Instance],
+    terrain: Option<&Heightfield>,
+) -> PyResult<()> {
+    let pos: Vec<DVec2> = instances.iter().map(|i| i.position).collect();
+    d.set_item("positions", points_to_py(py, &pos))?;
+    let heights: Vec<f64> = pos
+        .iter()
+        .map(|p| terrain.and_then(|t| t.height_at(*p)).unwrap_or(f64::NAN))
+        .collect();
+    d.set_item("heights", Array1::from(heights).into_pyarray(py))?;
+    d.set_item(
+        "rotations",
+        instances
+            .iter()
+            .map(|i| i.rotation)
+            .collect::<Vec<_>>()
+            .into_pyarray(py),
+    )?;
+    d.set_item(
+        "scales",
+        instances
+            .iter()
+            .map(|i| i.scale)
+            .collect::<Vec<_>>()
+            .into_pyarray(py),
+    )?;
+    d.set_item(
+        "category_index",
+        instances
+            .iter()
+            .map(|i| i.category as i32)
+            .collect::<Vec<_>>()
+            .into_pyarray(py),
+    )?;
+    d.set_item(
+        "prototype",
+        instances
+            .iter()
+            .map(|i| i.prototype as i32)
+            .collect::<Vec<_>>()
+            .into_pyarray(py),
+    )?;
+    Ok(())
+}
+
+pub(crate) fn parse_color(json: &str) -> PyResult<Color> {
+    guarded(|| Color::from_json(json))
+}
+
+/// An edit as a dict: {"categories": [...], "removed": int64 (K) indices of the removed input instances, and the
+/// added instances' columns as [`instances_to_py`] writes them}.
+pub(crate) fn edit_to_py<'py>(
+    py: Python<'py>,
+    edit: &Edit,
+    terrain: Option<&Heightfield>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("categories", categories_to_py(py, &edit.categories)?)?;
+    d.set_item(
+        "removed",
+        edit.removed
+            .iter()
+            .map(|&k| k as i64)
+            .collect::<Vec<_>>()
+            .into_pyarray(py),
+    )?;
+    instances_to_py(py, &d, &edit.added, terrain)?;
+    Ok(d)
+}

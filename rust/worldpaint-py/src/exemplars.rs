@@ -1,0 +1,100 @@
+//! The engine's exemplar generators, for the demo, the asset scripts and the tests.
+
+use crate::convert::{categories_to_py, instances_to_py, points_to_py, region_from_py};
+use crate::guarded;
+use crate::terrain::Terrain;
+use numpy::PyArray2;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use worldpaint_core::geom::DVec2;
+use worldpaint_core::Region;
+
+/// Runs a point generator on a region with the GIL released: float64 (N, 2).
+fn generated_points<'py>(
+    py: Python<'py>,
+    region: &Bound<'py, PyAny>,
+    generate: impl FnOnce(&Region) -> Vec<DVec2> + Send,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let region = region_from_py(region)?;
+    let pts = py.detach(|| guarded(|| Ok(generate(&region))))?;
+    Ok(points_to_py(py, &pts))
+}
+
+/// Points of a Poisson process of the given density (per m²) in the region: float64 (N, 2).
+#[pyfunction]
+fn exemplar_uniform<'py>(
+    py: Python<'py>,
+    region: &Bound<'py, PyAny>,
+    density: f64,
+    seed: u64,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    generated_points(py, region, |r| {
+        worldpaint_core::exemplar::uniform(r, density, seed)
+    })
+}
+
+/// Points of a Thomas cluster process (parents per m², mean children per parent, spread sigma in m).
+#[pyfunction]
+fn exemplar_clustered<'py>(
+    py: Python<'py>,
+    region: &Bound<'py, PyAny>,
+    parent_density: f64,
+    children_mean: f64,
+    sigma: f64,
+    seed: u64,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    generated_points(py, region, |r| {
+        worldpaint_core::exemplar::clustered(r, parent_density, children_mean, sigma, seed)
+    })
+}
+
+/// Points with a hard-core spacing (no pair closer than min_distance) at about the given density.
+#[pyfunction]
+fn exemplar_hard_core<'py>(
+    py: Python<'py>,
+    region: &Bound<'py, PyAny>,
+    density: f64,
+    min_distance: f64,
+    seed: u64,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    generated_points(py, region, |r| {
+        worldpaint_core::exemplar::hard_core(r, density, min_distance, seed)
+    })
+}
+
+/// The multi-category slope exemplar: {"terrain": Terrain, "categories": [...], "positions", "heights",
+/// "rotations", "scales", "category_index", "prototype"}.
+#[pyfunction]
+fn exemplar_slope_scene<'py>(
+    py: Python<'py>,
+    size: f64,
+    seed: u64,
+) -> PyResult<Bound<'py, PyDict>> {
+    let scene = py.detach(|| guarded(|| Ok(worldpaint_core::exemplar::slope_scene(size, seed))))?;
+    let d = PyDict::new(py);
+    d.set_item("categories", categories_to_py(py, &scene.categories)?)?;
+    instances_to_py(py, &d, &scene.instances, scene.terrain.as_deref())?;
+    match scene.terrain {
+        Some(hf) => d.set_item("terrain", Py::new(py, Terrain { hf })?)?,
+        None => d.set_item("terrain", py.None())?,
+    }
+    Ok(d)
+}
+
+/// A deterministic terrain of smooth hills, size × size metres sampled every `cell` metres.
+#[pyfunction]
+fn exemplar_demo_terrain(py: Python<'_>, size: f64, cell: f64, seed: u64) -> PyResult<Terrain> {
+    let hf =
+        py.detach(|| guarded(|| Ok(worldpaint_core::exemplar::demo_terrain(size, cell, seed))))?;
+    Ok(Terrain { hf: hf.into() })
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(exemplar_uniform, m)?)?;
+    m.add_function(wrap_pyfunction!(exemplar_clustered, m)?)?;
+    m.add_function(wrap_pyfunction!(exemplar_hard_core, m)?)?;
+    m.add_function(wrap_pyfunction!(exemplar_slope_scene, m)?)?;
+    m.add_function(wrap_pyfunction!(exemplar_demo_terrain, m)?)?;
+    Ok(())
+}

@@ -1,0 +1,141 @@
+//! The terrain class: a heightfield with its maps, shared (not copied) by every engine call that uses it.
+
+use crate::convert::points_from_py;
+use crate::{guarded, input_err};
+use numpy::ndarray::Array2;
+use numpy::{IntoPyArray, PyArray1, PyReadonlyArray2};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use std::sync::Arc;
+use worldpaint_core::geom::DVec2;
+use worldpaint_core::Heightfield;
+
+/// The terrain as a heightfield with named maps ("elevation", "slope" in radians, ...).
+///
+/// `Terrain(vertices, triangles, cell=None)` rasterizes a triangle mesh given in world space (float64 (N, 3) and
+/// uint32 (M, 3)); a regular grid mesh is used directly. `cell` overrides the sample spacing in metres.
+#[pyclass(module = "worldpaint_engine", frozen)]
+pub(crate) struct Terrain {
+    pub(crate) hf: Arc<Heightfield>,
+}
+
+#[pymethods]
+impl Terrain {
+    #[new]
+    #[pyo3(signature = (vertices, triangles, cell=None))]
+    fn new(
+        py: Python<'_>,
+        vertices: PyReadonlyArray2<'_, f64>,
+        triangles: PyReadonlyArray2<'_, u32>,
+        cell: Option<f64>,
+    ) -> PyResult<Self> {
+        let v = vertices.as_array();
+        let t = triangles.as_array();
+        if v.ncols() != 3 {
+            return Err(input_err(format!(
+                "vertices must have shape (N, 3), got (N, {})",
+                v.ncols()
+            )));
+        }
+        if t.ncols() != 3 {
+            return Err(input_err(format!(
+                "triangles must have shape (M, 3), got (M, {})",
+                t.ncols()
+            )));
+        }
+        let verts: Vec<[f64; 3]> = v.rows().into_iter().map(|r| [r[0], r[1], r[2]]).collect();
+        let tris: Vec<[u32; 3]> = t.rows().into_iter().map(|r| [r[0], r[1], r[2]]).collect();
+        let hf = py.detach(|| guarded(|| Heightfield::from_mesh(&verts, &tris, cell)))?;
+        Ok(Terrain { hf: hf.into() })
+    }
+
+    /// A terrain from a regular grid of heights, shape (ny, nx), sample (i, j) at origin + (i, j) * cell.
+    #[staticmethod]
+    fn from_grid(
+        origin: (f64, f64),
+        cell: f64,
+        heights: PyReadonlyArray2<'_, f64>,
+    ) -> PyResult<Self> {
+        let a = heights.as_array();
+        let (ny, nx) = a.dim();
+        let h: Vec<f32> = a.iter().map(|&z| z as f32).collect();
+        let hf = guarded(|| Heightfield::new(DVec2::new(origin.0, origin.1), cell, nx, ny, h))?;
+        Ok(Terrain { hf: hf.into() })
+    }
+
+    /// Terrain heights at world XY points (float64 (N, 2)); NaN outside the terrain.
+    fn heights_at<'py>(
+        &self,
+        py: Python<'py>,
+        xy: PyReadonlyArray2<'py, f64>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let pts = points_from_py(&xy, "xy")?;
+        let hf = &self.hf;
+        let out: Vec<f64> = py.detach(|| {
+            pts.iter()
+                .map(|p| hf.height_at(*p).unwrap_or(f64::NAN))
+                .collect()
+        });
+        Ok(out.into_pyarray(py))
+    }
+
+    /// Values of the named map ("elevation", "slope", ...) at world XY points; NaN outside the terrain.
+    fn map_at<'py>(
+        &self,
+        py: Python<'py>,
+        name: &str,
+        xy: PyReadonlyArray2<'py, f64>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        if !self.hf.maps.contains_key(name) {
+            let known: Vec<&str> = self.hf.maps.keys().map(|k| k.as_str()).collect();
+            return Err(input_err(format!(
+                "the terrain has no map '{name}' (it has {})",
+                known.join(", ")
+            )));
+        }
+        let pts = points_from_py(&xy, "xy")?;
+        let hf = &self.hf;
+        let out: Vec<f64> = py.detach(|| {
+            pts.iter()
+                .map(|p| hf.map_at(name, *p).unwrap_or(f64::NAN))
+                .collect()
+        });
+        Ok(out.into_pyarray(py))
+    }
+
+    /// ((xmin, ymin), (xmax, ymax)) of the terrain in world XY.
+    fn bbox(&self) -> ((f64, f64), (f64, f64)) {
+        let (a, b) = self.hf.bbox();
+        ((a.x, a.y), (b.x, b.y))
+    }
+
+    /// Names of the terrain's scalar maps.
+    fn map_names(&self) -> Vec<String> {
+        self.hf.maps.keys().cloned().collect()
+    }
+
+    /// The heightfield grid: {"origin": (x, y), "cell": c, "nx": nx, "ny": ny, "heights": float32 (ny, nx)}.
+    fn grid<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        d.set_item("origin", (self.hf.origin.x, self.hf.origin.y))?;
+        d.set_item("cell", self.hf.cell)?;
+        d.set_item("nx", self.hf.nx)?;
+        d.set_item("ny", self.hf.ny)?;
+        let h = Array2::from_shape_vec((self.hf.ny, self.hf.nx), self.hf.heights.clone())
+            .map_err(|e| input_err(format!("heightfield of inconsistent size: {e}")))?;
+        d.set_item("heights", h.into_pyarray(py))?;
+        Ok(d)
+    }
+
+    fn __repr__(&self) -> String {
+        let (a, b) = self.hf.bbox();
+        format!(
+            "Terrain({}x{} samples, cell {} m, x {:.1}..{:.1}, y {:.1}..{:.1})",
+            self.hf.nx, self.hf.ny, self.hf.cell, a.x, b.x, a.y, b.y
+        )
+    }
+}
+
+pub(crate) fn terrain_of(t: &Option<Py<Terrain>>) -> Option<&Arc<Heightfield>> {
+    t.as_ref().map(|t| &t.get().hf)
+}

@@ -1,0 +1,479 @@
+//! The painting tools: paste, brush strokes (paint, alpha, erase), move, stretch, gradient and blur.
+//!
+//! Each takes the scene as the synthesizing functions do (terrain, categories, positions, category index, and the
+//! optional rotations, scales, prototype and locked columns) and returns an *edit*: {"categories", "removed":
+//! int64 indices of the input instances it removed, and the added instances' columns ("positions", "heights",
+//! "rotations", "scales", "category_index", "prototype")}; the move and the stretch add what they measured.
+
+use crate::colors::synthesis_options;
+use crate::convert::{
+    edit_to_py, field, parse_color, points_from_py, points_to_py, region_from_py, region_to_py,
+    scene_from_py, vec2,
+};
+use crate::terrain::Terrain;
+use crate::{engine_err, input_err, with_progress};
+use numpy::{PyArray2, PyReadonlyArray1, PyReadonlyArray2};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use std::sync::Mutex;
+use worldpaint_core::geom::DVec2;
+use worldpaint_core::synthesis::AdaptOptions;
+use worldpaint_core::tools::blur::{blur as blur_region, BlurOptions};
+use worldpaint_core::tools::brush::{BrushMode, BrushOptions, Falloff, Stroke as CoreStroke};
+use worldpaint_core::tools::gradient::{
+    gradient as paint_gradient, GradientOptions, GradientShape,
+};
+use worldpaint_core::tools::moving::move_region as move_content;
+use worldpaint_core::tools::stretch::{stretch, Side, StretchOptions};
+use worldpaint_core::tools::{paste as paste_color, Edit};
+use worldpaint_core::Scene;
+
+/// The scene arguments every tool takes, as the engine's scene.
+macro_rules! scene {
+    ($terrain:expr, $categories:expr, $positions:expr, $index:expr, $rot:expr, $scale:expr, $proto:expr,
+     $locked:expr) => {
+        scene_from_py(
+            &$terrain,
+            $categories,
+            &$positions,
+            $index,
+            $rot,
+            $scale,
+            $proto,
+            $locked,
+        )?
+    };
+}
+
+fn edit_result<'py>(py: Python<'py>, edit: &Edit, scene: &Scene) -> PyResult<Bound<'py, PyDict>> {
+    edit_to_py(py, edit, scene.terrain.as_deref())
+}
+
+/// Paste `color` (JSON) into `region`: the unlocked instances inside it are replaced by a new arrangement
+/// consistent with its surroundings. Returns the edit; `progress(fraction) -> bool` may cancel.
+#[pyfunction]
+#[pyo3(signature = (terrain, categories, positions, category_index, color, region, seed=0, *, rotations=None,
+                    scales=None, prototype=None, locked=None, influence_radius=None, iterations_per_instance=None,
+                    only_categories=None, progress=None))]
+#[allow(clippy::too_many_arguments)]
+fn paste<'py>(
+    py: Python<'py>,
+    terrain: Option<Py<Terrain>>,
+    categories: &Bound<'py, PyAny>,
+    positions: PyReadonlyArray2<'py, f64>,
+    category_index: PyReadonlyArray1<'py, i32>,
+    color: &str,
+    region: &Bound<'py, PyAny>,
+    seed: u64,
+    rotations: Option<PyReadonlyArray1<'py, f64>>,
+    scales: Option<PyReadonlyArray1<'py, f64>>,
+    prototype: Option<PyReadonlyArray1<'py, i32>>,
+    locked: Option<PyReadonlyArray1<'py, bool>>,
+    influence_radius: Option<f64>,
+    iterations_per_instance: Option<f64>,
+    only_categories: Option<Vec<String>>,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let scene = scene!(
+        terrain,
+        categories,
+        positions,
+        category_index,
+        rotations,
+        scales,
+        prototype,
+        locked
+    );
+    let region = region_from_py(region)?;
+    let color = parse_color(color)?;
+    let opts = synthesis_options(
+        seed,
+        influence_radius,
+        iterations_per_instance,
+        only_categories,
+    );
+    let edit = with_progress(py, progress, |report| {
+        paste_color(&scene, &color, &region, &opts, report)
+    })?;
+    edit_result(py, &edit, &scene)
+}
+
+fn falloff_from_str(s: &str) -> PyResult<Falloff> {
+    match s.to_ascii_lowercase().as_str() {
+        "constant" => Ok(Falloff::Constant),
+        "linear" => Ok(Falloff::Linear),
+        "smooth" => Ok(Falloff::Smooth),
+        other => Err(input_err(format!(
+            "unknown falloff '{other}' (constant, linear or smooth)"
+        ))),
+    }
+}
+
+/// One brush stroke over a scene. `Stroke(terrain, categories, positions, category_index, *, rotations, scales,
+/// prototype, locked, color=None, erase=False, only_categories=None, radius=20.0, spacing=0.5, opacity=1.0,
+/// falloff="constant", seed=0, influence_radius=None, iterations_per_instance=None)` paints `color` (JSON), or with
+/// `erase=True` removes unlocked instances (of `only_categories`, all when None) within `radius` of the path.
+///
+/// `follow(path, progress=None)` moves the brush along float64 (N, 2) points (a dab every `spacing × radius`, the
+/// first at once) with the GIL released and returns the number of dabs; `edit()` is what the stroke has done so far
+/// to the scene it started on; `dabs()` the dab centres. Other threads may call `edit()` while `follow` runs.
+#[pyclass(module = "worldpaint_engine", frozen)]
+struct Stroke {
+    stroke: Mutex<CoreStroke>,
+}
+
+#[pymethods]
+impl Stroke {
+    #[new]
+    #[pyo3(signature = (terrain, categories, positions, category_index, *, rotations=None, scales=None,
+                        prototype=None, locked=None, color=None, erase=false, only_categories=None, radius=20.0,
+                        spacing=0.5, opacity=1.0, falloff="constant", seed=0, influence_radius=None,
+                        iterations_per_instance=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        terrain: Option<Py<Terrain>>,
+        categories: &Bound<'_, PyAny>,
+        positions: PyReadonlyArray2<'_, f64>,
+        category_index: PyReadonlyArray1<'_, i32>,
+        rotations: Option<PyReadonlyArray1<'_, f64>>,
+        scales: Option<PyReadonlyArray1<'_, f64>>,
+        prototype: Option<PyReadonlyArray1<'_, i32>>,
+        locked: Option<PyReadonlyArray1<'_, bool>>,
+        color: Option<&str>,
+        erase: bool,
+        only_categories: Option<Vec<String>>,
+        radius: f64,
+        spacing: f64,
+        opacity: f64,
+        falloff: &str,
+        seed: u64,
+        influence_radius: Option<f64>,
+        iterations_per_instance: Option<f64>,
+    ) -> PyResult<Self> {
+        let scene = scene!(
+            terrain,
+            categories,
+            positions,
+            category_index,
+            rotations,
+            scales,
+            prototype,
+            locked
+        );
+        let mode = match (erase, color) {
+            (true, _) => BrushMode::Erase(only_categories),
+            (false, Some(c)) => BrushMode::Paint(parse_color(c)?),
+            (false, None) => return Err(input_err("a painting stroke needs a color")),
+        };
+        let opts = BrushOptions {
+            radius,
+            spacing,
+            opacity,
+            falloff: falloff_from_str(falloff)?,
+            synthesis: synthesis_options(seed, influence_radius, iterations_per_instance, None),
+        };
+        let stroke = CoreStroke::new(&scene, mode, opts).map_err(engine_err)?;
+        Ok(Stroke {
+            stroke: Mutex::new(stroke),
+        })
+    }
+
+    #[pyo3(signature = (path, progress=None))]
+    fn follow(
+        &self,
+        py: Python<'_>,
+        path: PyReadonlyArray2<'_, f64>,
+        progress: Option<Py<PyAny>>,
+    ) -> PyResult<usize> {
+        let path = points_from_py(&path, "path")?;
+        with_progress(py, progress, |report| {
+            let mut stroke = self.stroke.lock().map_err(|_| {
+                worldpaint_core::Error::InvalidInput("the stroke failed earlier".into())
+            })?;
+            stroke.follow(&path, report)
+        })
+    }
+
+    fn edit<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let (edit, terrain) = py.detach(|| {
+            self.stroke
+                .lock()
+                .map(|s| (s.edit(), s.scene().terrain.clone()))
+                .map_err(|_| input_err("the stroke failed earlier"))
+        })?;
+        edit_to_py(py, &edit, terrain.as_deref())
+    }
+
+    fn dabs<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let dabs = py.detach(|| {
+            self.stroke
+                .lock()
+                .map(|s| s.dabs().to_vec())
+                .map_err(|_| input_err("the stroke failed earlier"))
+        })?;
+        Ok(points_to_py(py, &dabs))
+    }
+}
+
+/// Move the unlocked content of `source` by `offset` (x, y), adapting it to its new place with the statistics of
+/// `color` (JSON); the content it lands on is replaced. Returns the edit with "moved", "displaced", "reborn" and
+/// "lost" counts.
+#[pyfunction]
+#[pyo3(signature = (terrain, categories, positions, category_index, color, source, offset, seed=0, *,
+                    rotations=None, scales=None, prototype=None, locked=None, influence_radius=None, steps=None,
+                    reach=None))]
+#[allow(clippy::too_many_arguments)]
+fn move_region<'py>(
+    py: Python<'py>,
+    terrain: Option<Py<Terrain>>,
+    categories: &Bound<'py, PyAny>,
+    positions: PyReadonlyArray2<'py, f64>,
+    category_index: PyReadonlyArray1<'py, i32>,
+    color: &str,
+    source: &Bound<'py, PyAny>,
+    offset: (f64, f64),
+    seed: u64,
+    rotations: Option<PyReadonlyArray1<'py, f64>>,
+    scales: Option<PyReadonlyArray1<'py, f64>>,
+    prototype: Option<PyReadonlyArray1<'py, i32>>,
+    locked: Option<PyReadonlyArray1<'py, bool>>,
+    influence_radius: Option<f64>,
+    steps: Option<usize>,
+    reach: Option<f64>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let scene = scene!(
+        terrain,
+        categories,
+        positions,
+        category_index,
+        rotations,
+        scales,
+        prototype,
+        locked
+    );
+    let source = region_from_py(source)?;
+    let color = parse_color(color)?;
+    let mut opts = AdaptOptions {
+        seed,
+        influence_radius,
+        reach,
+        ..Default::default()
+    };
+    if let Some(s) = steps {
+        opts.steps = s;
+    }
+    let offset = DVec2::new(offset.0, offset.1);
+    let moved = with_progress(py, None, |_| {
+        move_content(&scene, &color, &source, offset, &opts)
+    })?;
+    let d = edit_result(py, &moved.edit, &scene)?;
+    d.set_item("moved", moved.moved)?;
+    d.set_item("displaced", moved.displaced)?;
+    d.set_item("reborn", moved.reborn)?;
+    d.set_item("lost", moved.lost)?;
+    Ok(d)
+}
+
+/// Stretch (`amount` > 0, metres) or shrink (< 0) the rectangle `region` by dragging its `side` ("east", "west",
+/// "north" or "south") with a seam-carving cut. `color` (JSON) fills the opened band and adapts the moved side;
+/// None learns it from the region. Returns the edit with "seam" float64 (N, 2), "band" and "region" (the resized
+/// rectangle).
+#[pyfunction]
+#[pyo3(signature = (terrain, categories, positions, category_index, region, side, amount, color=None, seed=0, *,
+                    rotations=None, scales=None, prototype=None, locked=None, influence_radius=None,
+                    iterations_per_instance=None, cell=None, progress=None))]
+#[allow(clippy::too_many_arguments)]
+fn stretch_region<'py>(
+    py: Python<'py>,
+    terrain: Option<Py<Terrain>>,
+    categories: &Bound<'py, PyAny>,
+    positions: PyReadonlyArray2<'py, f64>,
+    category_index: PyReadonlyArray1<'py, i32>,
+    region: &Bound<'py, PyAny>,
+    side: &str,
+    amount: f64,
+    color: Option<&str>,
+    seed: u64,
+    rotations: Option<PyReadonlyArray1<'py, f64>>,
+    scales: Option<PyReadonlyArray1<'py, f64>>,
+    prototype: Option<PyReadonlyArray1<'py, i32>>,
+    locked: Option<PyReadonlyArray1<'py, bool>>,
+    influence_radius: Option<f64>,
+    iterations_per_instance: Option<f64>,
+    cell: Option<f64>,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let scene = scene!(
+        terrain,
+        categories,
+        positions,
+        category_index,
+        rotations,
+        scales,
+        prototype,
+        locked
+    );
+    let region = region_from_py(region)?;
+    let side = match side.to_ascii_lowercase().as_str() {
+        "east" => Side::East,
+        "west" => Side::West,
+        "north" => Side::North,
+        "south" => Side::South,
+        other => {
+            return Err(input_err(format!(
+                "unknown side '{other}' (east, west, north or south)"
+            )))
+        }
+    };
+    let color = color.map(parse_color).transpose()?;
+    let synthesis = synthesis_options(seed, influence_radius, iterations_per_instance, None);
+    let opts = StretchOptions {
+        cell,
+        adapt: AdaptOptions {
+            seed,
+            influence_radius,
+            ..Default::default()
+        },
+        synthesis,
+    };
+    let out = with_progress(py, progress, |report| {
+        stretch(&scene, &region, side, amount, color.as_ref(), &opts, report)
+    })?;
+    let d = edit_result(py, &out.edit, &scene)?;
+    d.set_item("seam", points_to_py(py, &out.seam))?;
+    d.set_item("band", region_to_py(py, &out.band)?)?;
+    d.set_item("region", region_to_py(py, &out.region)?)?;
+    Ok(d)
+}
+
+/// `{"kind": "linear", "from": (x, y), "to": (x, y)}` or `{"kind": "radial", "center": (x, y), "radius": r}`.
+fn gradient_shape(obj: &Bound<'_, PyAny>) -> PyResult<GradientShape> {
+    let kind: String = field(obj, "kind", "gradient shape")?
+        .extract()
+        .map_err(|_| input_err("gradient 'kind' must be a string"))?;
+    match kind.as_str() {
+        "linear" => Ok(GradientShape::Linear {
+            from: vec2(&field(obj, "from", "linear gradient")?, "gradient 'from'")?,
+            to: vec2(&field(obj, "to", "linear gradient")?, "gradient 'to'")?,
+        }),
+        "radial" => Ok(GradientShape::Radial {
+            center: vec2(
+                &field(obj, "center", "radial gradient")?,
+                "gradient 'center'",
+            )?,
+            radius: field(obj, "radius", "radial gradient")?
+                .extract()
+                .map_err(|_| input_err("gradient 'radius' must be a number"))?,
+        }),
+        other => Err(input_err(format!(
+            "unknown gradient kind '{other}' (linear or radial)"
+        ))),
+    }
+}
+
+/// Paint a gradient from color `start` to color `end` (JSON) over `region`, along `shape` (see `gradient_shape`),
+/// in `bands` bands (None: adapted to the region). Returns the edit.
+#[pyfunction]
+#[pyo3(signature = (terrain, categories, positions, category_index, start, end, region, shape, bands=None, seed=0,
+                    *, rotations=None, scales=None, prototype=None, locked=None, influence_radius=None,
+                    iterations_per_instance=None, progress=None))]
+#[allow(clippy::too_many_arguments)]
+fn gradient<'py>(
+    py: Python<'py>,
+    terrain: Option<Py<Terrain>>,
+    categories: &Bound<'py, PyAny>,
+    positions: PyReadonlyArray2<'py, f64>,
+    category_index: PyReadonlyArray1<'py, i32>,
+    start: &str,
+    end: &str,
+    region: &Bound<'py, PyAny>,
+    shape: &Bound<'py, PyAny>,
+    bands: Option<usize>,
+    seed: u64,
+    rotations: Option<PyReadonlyArray1<'py, f64>>,
+    scales: Option<PyReadonlyArray1<'py, f64>>,
+    prototype: Option<PyReadonlyArray1<'py, i32>>,
+    locked: Option<PyReadonlyArray1<'py, bool>>,
+    influence_radius: Option<f64>,
+    iterations_per_instance: Option<f64>,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let scene = scene!(
+        terrain,
+        categories,
+        positions,
+        category_index,
+        rotations,
+        scales,
+        prototype,
+        locked
+    );
+    let (start, end) = (parse_color(start)?, parse_color(end)?);
+    let region = region_from_py(region)?;
+    let shape = gradient_shape(shape)?;
+    let opts = GradientOptions {
+        bands,
+        synthesis: synthesis_options(seed, influence_radius, iterations_per_instance, None),
+    };
+    let edit = with_progress(py, progress, |report| {
+        paint_gradient(&scene, &start, &end, &region, shape, &opts, report)
+    })?;
+    edit_result(py, &edit, &scene)
+}
+
+/// Blur the content of `region` into the colors around it (`windows` analyses around it, `cells` × `cells`
+/// interpolated colors inside). Returns the edit.
+#[pyfunction]
+#[pyo3(signature = (terrain, categories, positions, category_index, region, seed=0, *, rotations=None,
+                    scales=None, prototype=None, locked=None, windows=8, cells=4, influence_radius=None,
+                    iterations_per_instance=None, progress=None))]
+#[allow(clippy::too_many_arguments)]
+fn blur<'py>(
+    py: Python<'py>,
+    terrain: Option<Py<Terrain>>,
+    categories: &Bound<'py, PyAny>,
+    positions: PyReadonlyArray2<'py, f64>,
+    category_index: PyReadonlyArray1<'py, i32>,
+    region: &Bound<'py, PyAny>,
+    seed: u64,
+    rotations: Option<PyReadonlyArray1<'py, f64>>,
+    scales: Option<PyReadonlyArray1<'py, f64>>,
+    prototype: Option<PyReadonlyArray1<'py, i32>>,
+    locked: Option<PyReadonlyArray1<'py, bool>>,
+    windows: usize,
+    cells: usize,
+    influence_radius: Option<f64>,
+    iterations_per_instance: Option<f64>,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let scene = scene!(
+        terrain,
+        categories,
+        positions,
+        category_index,
+        rotations,
+        scales,
+        prototype,
+        locked
+    );
+    let region = region_from_py(region)?;
+    let opts = BlurOptions {
+        windows,
+        cells,
+        synthesis: synthesis_options(seed, influence_radius, iterations_per_instance, None),
+    };
+    let edit = with_progress(py, progress, |report| {
+        blur_region(&scene, &region, &opts, report)
+    })?;
+    edit_result(py, &edit, &scene)
+}
+
+pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<Stroke>()?;
+    m.add_function(wrap_pyfunction!(paste, m)?)?;
+    m.add_function(wrap_pyfunction!(move_region, m)?)?;
+    m.add_function(wrap_pyfunction!(stretch_region, m)?)?;
+    m.add_function(wrap_pyfunction!(gradient, m)?)?;
+    m.add_function(wrap_pyfunction!(blur, m)?)?;
+    Ok(())
+}
