@@ -55,7 +55,11 @@ def transforms(objects):
 
 @dataclass
 class InstanceSet:
-    """Instances as the engine takes them: columns plus the category list they index."""
+    """Instances as the engine takes them: columns plus the category list they index.
+
+    Hand-placed objects are ``locked`` (the tools never remove them); ``cloud_rows`` maps each category whose
+    point cloud was read to its rows, so an engine edit can be written back to the clouds.
+    """
 
     categories: list
     positions: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
@@ -63,11 +67,14 @@ class InstanceSet:
     scales: np.ndarray = field(default_factory=lambda: np.zeros(0))
     category_index: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int32))
     prototype: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int32))
+    locked: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))
+    heights: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    cloud_rows: dict = field(default_factory=dict)
 
     def __len__(self):
         return len(self.positions)
 
-    def append(self, category, positions, rotations, scales, prototype):
+    def append(self, category, positions, rotations, scales, prototype, *, locked, heights=None):
         index = [c["name"] for c in self.categories].index(category)
         n = len(positions)
         self.positions = np.concatenate([self.positions, np.asarray(positions, dtype=np.float64).reshape(-1, 2)])
@@ -75,9 +82,12 @@ class InstanceSet:
         self.scales = np.concatenate([self.scales, np.asarray(scales, dtype=np.float64)])
         self.category_index = np.concatenate([self.category_index, np.full(n, index, dtype=np.int32)])
         self.prototype = np.concatenate([self.prototype, np.asarray(prototype, dtype=np.int32)])
+        self.locked = np.concatenate([self.locked, np.full(n, locked, dtype=bool)])
+        z = np.full(n, np.nan) if heights is None else np.asarray(heights, dtype=np.float64)
+        self.heights = np.concatenate([self.heights, z])
 
     def engine_arrays(self):
-        """Keyword arguments for the engine's learn_color / synthesize."""
+        """Keyword arguments for the engine's functions that take a scene."""
         return {
             "categories": self.categories,
             "positions": np.ascontiguousarray(self.positions, dtype=np.float64).reshape(-1, 2),
@@ -85,6 +95,7 @@ class InstanceSet:
             "rotations": np.ascontiguousarray(self.rotations, dtype=np.float64),
             "scales": np.ascontiguousarray(self.scales, dtype=np.float64),
             "prototype": np.ascontiguousarray(self.prototype, dtype=np.int32),
+            "locked": np.ascontiguousarray(self.locked, dtype=bool),
         }
 
 
@@ -138,7 +149,7 @@ def example_set(pairs, categories):
             by_category.setdefault(category, []).append(obj)
     for category, objs in by_category.items():
         xy, _z, rotation, scale = transforms(objs)
-        out.append(category, xy, rotation, scale, np.zeros(len(objs), dtype=np.int32))
+        out.append(category, xy, rotation, scale, np.zeros(len(objs), dtype=np.int32), locked=True)
     return out
 
 
@@ -167,11 +178,20 @@ def point_cloud_arrays(obj):
 
 
 def scene_instances(scene, categories, exclude=()):
-    """All instances of the given categories in the scene: synthesized points and hand-placed objects."""
+    """All instances of the given categories in the scene: hand-placed objects (locked), then synthesized points."""
     out = example_set(example_objects(scene.objects, exclude=exclude), categories)
     names = {c["name"] for c in categories}
     for category, obj in point_cloud_objects(scene).items():
-        if category in names and len(obj.data.vertices):
+        if category in names:
             co, rotation, scale, prototype = point_cloud_arrays(obj)
-            out.append(category, co[:, :2], rotation, scale, prototype)
+            start = len(out)
+            out.append(category, co[:, :2], rotation, scale, prototype, locked=False, heights=co[:, 2])
+            out.cloud_rows[category] = (start, len(out))
     return out
+
+
+def all_categories(scene, extra=()):
+    """The scene's categories, then those of ``extra`` (engine dicts) and of the point clouds it does not list."""
+    clouds = [{"name": n, "layer": "default", "kind": "distribution", "priority": 10**6}
+              for n in point_cloud_objects(scene)]
+    return merged_categories(scene.worldpaint, list(extra) + clouds)

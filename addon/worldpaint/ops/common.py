@@ -2,7 +2,7 @@
 
 from bpy.props import EnumProperty, FloatProperty, FloatVectorProperty, StringProperty
 
-from ..bridge import WorldPaintError
+from ..bridge import WorldPaintError, edits, instances, terrain
 from ..bridge.engine import engine_errors
 from ..props import REGION_MODES
 
@@ -74,3 +74,28 @@ def active_color(context, name=""):
         return entry
     index = context.scene.worldpaint.active_color_index
     return palette[min(max(index, 0), len(palette) - 1)]
+
+
+class SceneContent:
+    """What a tool reads of the scene before the engine runs: the terrain object, its heightfield and every instance
+    of the scene's categories (hand-placed objects locked, point-cloud points editable)."""
+
+    def __init__(self, context, terrain_name="", extra_categories=()):
+        scene = context.scene
+        self.terrain_obj = terrain.terrain_object(context, terrain_name)
+        self.heightfield = terrain.engine_terrain(context, self.terrain_obj)
+        self.categories = instances.all_categories(scene, extra_categories)
+        self.instances = instances.scene_instances(scene, self.categories, exclude=[self.terrain_obj])
+
+    def arrays(self):
+        """The engine's scene arguments: the heightfield first, then the instance columns as keywords."""
+        return self.heightfield, self.instances.engine_arrays()
+
+    def apply(self, context, edit):
+        """Writes an engine edit of this content to the point clouds."""
+        return edits.apply_edit(context.scene, self.instances, edit, self.terrain_obj)
+
+
+def report_missing(operator, applied):
+    if applied.missing:
+        operator.report({'WARNING'}, f"No collection or mesh to instance for: {', '.join(applied.missing)}")

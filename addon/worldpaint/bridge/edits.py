@@ -1,0 +1,84 @@
+"""Writing an engine edit back to the point clouds.
+
+Every painting tool returns an edit: the rows of the given ``InstanceSet`` it removed and the instances it added.
+Removed hand-placed objects cannot happen (they are locked); removed cloud points are dropped, added instances are
+appended to their category's cloud (made when missing), and every cloud gets its instancer.
+"""
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from . import points
+from .instances import point_cloud_objects
+
+
+@dataclass
+class Applied:
+    """What writing an edit did: instances added and removed, and categories left without anything to instance."""
+
+    added: int = 0
+    removed: int = 0
+    missing: list = field(default_factory=list)
+
+
+def added_by_category(edit):
+    """{category: (co (N, 3), rotation, scale, prototype)} of an edit's added instances on the terrain."""
+    names = [c["name"] for c in edit["categories"]]
+    on_terrain = np.isfinite(edit["heights"])
+    out = {}
+    for index in np.unique(edit["category_index"]):
+        mask = (edit["category_index"] == index) & on_terrain
+        co = np.column_stack([edit["positions"][mask], edit["heights"][mask]])
+        out[names[index]] = (co, edit["rotations"][mask], edit["scales"][mask], edit["prototype"][mask])
+    return out
+
+
+def cloud_columns(instance_set, category, keep):
+    """The columns of a category's cloud rows in ``instance_set`` for which ``keep`` (over all rows) holds."""
+    start, stop = instance_set.cloud_rows[category]
+    rows = np.arange(start, stop)[keep[start:stop]]
+    co = np.column_stack([instance_set.positions[rows], instance_set.heights[rows]])
+    return co, instance_set.rotations[rows], instance_set.scales[rows], instance_set.prototype[rows]
+
+
+def apply_edit(scene, instance_set, edit, terrain_obj):
+    """Writes ``edit`` (relative to ``instance_set``, read from the scene) to the clouds it touches."""
+    keep = np.ones(len(instance_set), dtype=bool)
+    keep[np.asarray(edit["removed"], dtype=np.int64)] = False
+    added = added_by_category(edit)
+    clouds = point_cloud_objects(scene)
+    touched = set(added)
+    for category, (start, stop) in instance_set.cloud_rows.items():
+        if not keep[start:stop].all():
+            touched.add(category)
+    out = Applied(added=sum(len(a[0]) for a in added.values()), removed=int((~keep).sum()))
+    for category in sorted(touched):
+        parts = [cloud_columns(instance_set, category, keep)] if category in instance_set.cloud_rows else []
+        if category in added:
+            parts.append(added[category])
+        columns = [np.concatenate([p[k] for p in parts]) for k in range(4)]
+        obj = clouds.get(category) or points.point_cloud_object(scene, category)
+        points.write_points(obj, *columns)
+        if not set_instancer(scene, obj, category, terrain_obj):
+            out.missing.append(category)
+    return out
+
+
+def set_instancer(scene, obj, category, terrain_obj):
+    """Gives a cloud its instancer with the category's prototype collection; False when it has none."""
+    collection = points.instancer_collection(obj)
+    if collection is None:
+        collection = points.prototype_collection(scene, category, exclude=[terrain_obj])
+    points.set_instancer(obj, collection, terrain_obj)
+    return collection is not None
+
+
+def restore_clouds(scene, instance_set):
+    """Writes the clouds back as ``instance_set`` read them (a cancelled live edit); removes clouds made since."""
+    everything = np.ones(len(instance_set), dtype=bool)
+    for category, obj in point_cloud_objects(scene).items():
+        if category in instance_set.cloud_rows:
+            points.write_points(obj, *cloud_columns(instance_set, category, everything))
+        else:
+            points.remove_object(obj)
