@@ -164,6 +164,19 @@ def slope_exemplar(size=200.0, exemplar=100.0, seed=1):
     return terrain_obj, examples, scene_data
 
 
+def flat_terrain(name="Flat", size=(300.0, 200.0), cell=2.0):
+    """A flat grid terrain from the origin, ``size`` metres across."""
+    nx, ny = int(round(size[0] / cell)) + 1, int(round(size[1] / cell)) + 1
+    return grid_terrain(name, (0.0, 0.0), cell, np.zeros((ny, nx)))
+
+
+def hard_core_examples(collection_name, corner, size, density, min_distance, seed):
+    """Hand-placed examples on flat ground at z = 0: a hard-core arrangement in the square at ``corner``."""
+    region = {"shape": "rect", "min": list(corner), "max": [corner[0] + size, corner[1] + size]}
+    xy = engine.exemplar_hard_core(region, density, min_distance, seed)
+    return collection_instances(collection_name, xy, np.zeros(len(xy)))
+
+
 def select_only(objects):
     bpy.context.view_layer.update()
     for obj in bpy.context.scene.objects:

@@ -2,12 +2,24 @@
 
 import bpy
 
+from .blur import WORLDPAINT_OT_blur
+from .brush import WORLDPAINT_OT_brush, WORLDPAINT_OT_brush_radius, WORLDPAINT_OT_erase
 from .clear import WORLDPAINT_OT_clear_region
+from .colors import (
+    WORLDPAINT_OT_duplicate_color,
+    WORLDPAINT_OT_interpolate_colors,
+    WORLDPAINT_OT_move_color,
+    WORLDPAINT_OT_remove_color,
+)
 from .convert import WORLDPAINT_OT_convert_to_objects
+from .gradient import WORLDPAINT_OT_gradient
 from .learn import WORLDPAINT_OT_learn_color
-from .manage import WORLDPAINT_OT_find_categories, WORLDPAINT_OT_remove_color
+from .manage import WORLDPAINT_OT_find_categories
+from .move import WORLDPAINT_OT_move_region
 from .palette_io import WORLDPAINT_OT_export_palette, WORLDPAINT_OT_import_palette
 from .paste import WORLDPAINT_OT_paste_color
+from .pipette import WORLDPAINT_OT_pipette
+from .stretch import WORLDPAINT_OT_stretch_region
 
 _classes = (
     WORLDPAINT_OT_learn_color,
@@ -18,6 +30,17 @@ _classes = (
     WORLDPAINT_OT_import_palette,
     WORLDPAINT_OT_find_categories,
     WORLDPAINT_OT_remove_color,
+    WORLDPAINT_OT_duplicate_color,
+    WORLDPAINT_OT_move_color,
+    WORLDPAINT_OT_interpolate_colors,
+    WORLDPAINT_OT_brush,
+    WORLDPAINT_OT_erase,
+    WORLDPAINT_OT_brush_radius,
+    WORLDPAINT_OT_pipette,
+    WORLDPAINT_OT_move_region,
+    WORLDPAINT_OT_stretch_region,
+    WORLDPAINT_OT_gradient,
+    WORLDPAINT_OT_blur,
 )
 
 register, unregister = bpy.utils.register_classes_factory(_classes)

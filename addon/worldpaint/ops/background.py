@@ -107,11 +107,12 @@ class BackgroundOperator:
 
 
 class QueueWorker:
-    """Feeds items to ``handle`` on a thread, in order; ``close`` waits for the queue to drain."""
+    """Feeds items to ``handle`` on a thread, in order; ``close`` waits for the queue to drain, ``abort`` drops it."""
 
     def __init__(self, handle):
         self._handle = handle
         self._queue = queue.Queue()
+        self._aborted = False
         self.error = None
         self._thread = threading.Thread(target=self._run, daemon=True)
         self._thread.start()
@@ -124,7 +125,7 @@ class QueueWorker:
             item = self._queue.get()
             if item is None:
                 return
-            if self.error is None:
+            if self.error is None and not self._aborted:
                 try:
                     self._handle(item)
                 except Exception as exc:  # noqa: BLE001 - read by the main thread
@@ -133,6 +134,10 @@ class QueueWorker:
     def close(self):
         self._queue.put(None)
         self._thread.join()
+
+    def abort(self):
+        self._aborted = True
+        self.close()
 
 
 class LatestWorker:

@@ -4,7 +4,7 @@ import bpy
 import numpy as np
 from bpy.props import StringProperty
 
-from ..bridge import instances, points, regions
+from ..bridge import instances, points
 from ..bridge.engine import engine
 from .common import RegionProperties, report_errors
 
@@ -24,10 +24,7 @@ class WORLDPAINT_OT_clear_region(RegionProperties, bpy.types.Operator):
     def _clear(self, context):
         scene = context.scene
         terrain_obj = scene.worldpaint.terrain
-        selected = [o for o in context.selected_objects if o != terrain_obj and not instances.is_worldpaint_object(o)]
-        region = regions.region_for(
-            context, self.resolved_region_mode(context), objects=selected, use_bounds=True, **self.region_kwargs()
-        )
+        region = self.destination(context, terrain_obj)
         eng = engine()
         eng.region_area(region)  # validates the region before anything changes
         changes = []

@@ -2,7 +2,7 @@
 
 from bpy.props import EnumProperty, FloatProperty, FloatVectorProperty, StringProperty
 
-from ..bridge import WorldPaintError, edits, instances, terrain
+from ..bridge import WorldPaintError, edits, instances, regions, terrain
 from ..bridge.engine import engine_errors
 from ..props import REGION_MODES
 
@@ -32,6 +32,14 @@ class RegionProperties:
         if self.region_mode == "SCENE":
             return context.scene.worldpaint.region_mode
         return self.region_mode
+
+    def destination(self, context, terrain_obj):
+        """The region to work in: by the chosen mode, from the selection's bounds (without the terrain and
+        WorldPaint's own objects)."""
+        selected = [o for o in context.selected_objects
+                    if o != terrain_obj and not instances.is_worldpaint_object(o)]
+        return regions.region_for(context, self.resolved_region_mode(context), objects=selected, use_bounds=True,
+                                  **self.region_kwargs())
 
     def region_kwargs(self):
         return {
@@ -94,6 +102,10 @@ class SceneContent:
     def apply(self, context, edit):
         """Writes an engine edit of this content to the point clouds."""
         return edits.apply_edit(context.scene, self.instances, edit, self.terrain_obj)
+
+    def restore(self, context):
+        """Puts the point clouds back as this content read them (after a cancelled live edit)."""
+        edits.restore_clouds(context.scene, self.instances)
 
 
 def report_missing(operator, applied):

@@ -3,8 +3,9 @@
 import bpy
 from bpy.props import BoolProperty, StringProperty
 
-from ..bridge import WorldPaintError, instances, preview, regions, terrain
+from ..bridge import WorldPaintError, instances, regions, terrain
 from ..bridge.engine import engine
+from .colors import add_palette_color, unique_name
 from .common import RegionProperties, TerrainProperty, report_errors
 
 
@@ -58,7 +59,7 @@ class WORLDPAINT_OT_learn_color(RegionProperties, TerrainProperty, bpy.types.Ope
         ]
         categories = instances.merged_categories(settings, new)
         exemplar = instances.example_set(examples, categories)
-        name = self.name or _unique_name(settings.palette, "Color")
+        name = self.name or unique_name(settings.palette, "Color")
         maps = ["slope", "elevation"] if self.use_elevation else ["slope"]
         color_json = engine().learn_color(
             heightfield, region=region, name=name, options={"maps": maps}, **exemplar.engine_arrays()
@@ -70,18 +71,7 @@ class WORLDPAINT_OT_learn_color(RegionProperties, TerrainProperty, bpy.types.Ope
             item.name, item.layer, item.kind, item.priority = (
                 category["name"], category["layer"], category["kind"], category["priority"],
             )
-        entry = settings.palette.add()
-        entry.name = name
-        entry.json = color_json
-        entry.preview_image = preview.make_preview(color_json, name)
-        settings.active_color_index = len(settings.palette) - 1
+        add_palette_color(settings, name, color_json)
         self.report({'INFO'}, f"Learned '{name}' from {len(exemplar)} instances in {len(counts)} categories")
         return {'FINISHED'}
 
-
-def _unique_name(collection, stem):
-    taken = {item.name for item in collection}
-    i = 1
-    while f"{stem} {i}" in taken:
-        i += 1
-    return f"{stem} {i}"

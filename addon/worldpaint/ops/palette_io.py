@@ -4,8 +4,9 @@ import bpy
 from bpy.props import BoolProperty, StringProperty
 from bpy_extras.io_utils import ExportHelper, ImportHelper
 
-from ..bridge import WorldPaintError, instances, preview
+from ..bridge import WorldPaintError, preview
 from ..bridge.engine import engine
+from .colors import add_palette_color
 from .common import report_errors
 
 
@@ -28,7 +29,9 @@ class WORLDPAINT_OT_export_palette(bpy.types.Operator, ExportHelper):
             raise WorldPaintError("The palette is empty: nothing to export")
         if not self.filepath:
             raise WorldPaintError("No file path given")
-        text = engine().palette_to_json([entry.json for entry in palette])
+        # the palette's names win: a color renamed in the list is exported under its new name
+        eng = engine()
+        text = eng.palette_to_json([eng.color_renamed(entry.json, entry.name) for entry in palette])
         try:
             with open(bpy.path.abspath(self.filepath), "w", encoding="utf-8") as f:
                 f.write(text)
@@ -72,12 +75,6 @@ class WORLDPAINT_OT_import_palette(bpy.types.Operator, ImportHelper):
                 preview.remove_preview(entry.preview_image)
             settings.palette.clear()
         for color_json, summary in zip(colors, summaries, strict=True):
-            entry = settings.palette.add()
-            entry.name = summary["name"]
-            entry.json = color_json
-            entry.preview_image = preview.make_preview(color_json, summary["name"])
-            instances.add_categories(settings, [c["name"] for c in summary["categories"]])
-        if colors:
-            settings.active_color_index = len(settings.palette) - 1
+            add_palette_color(settings, summary["name"], color_json)
         self.report({'INFO'}, f"Imported {len(colors)} colors")
         return {'FINISHED'}

@@ -8,7 +8,7 @@ import bpy
 import numpy as np
 from bpy.props import FloatProperty, IntProperty, StringProperty
 
-from ..bridge import instances, regions, terrain
+from ..bridge import terrain
 from ..bridge.engine import engine
 from .background import BackgroundOperator
 from .common import RegionProperties, SceneContent, TerrainProperty, active_color, report_missing
@@ -45,11 +45,7 @@ class WORLDPAINT_OT_paste_color(BackgroundOperator, RegionProperties, TerrainPro
         entry = active_color(context, self.color)
         summary = engine().color_summary(entry.json)
         content = SceneContent(context, self.terrain, summary["categories"])
-        selected = [o for o in context.selected_objects
-                    if o != content.terrain_obj and not instances.is_worldpaint_object(o)]
-        region = regions.region_for(
-            context, self.resolved_region_mode(context), objects=selected, use_bounds=True, **self.region_kwargs()
-        )
+        region = self.destination(context, content.terrain_obj)
         terrain.check_region_on_terrain(content.heightfield, region, "destination")
         self._content, self._entry, self._summary = content, entry, summary
         self._call = dict(color=entry.json, region=region, seed=seed_of(self, settings),

@@ -9,6 +9,7 @@ from bpy.props import (
     CollectionProperty,
     EnumProperty,
     FloatProperty,
+    FloatVectorProperty,
     IntProperty,
     PointerProperty,
     StringProperty,
@@ -47,6 +48,26 @@ class WORLDPAINT_PG_color(bpy.types.PropertyGroup):
     preview_image: StringProperty(name="Preview", description="Name of the preview image of the color's exemplar")
 
 
+FALLOFFS = (
+    ("CONSTANT", "Constant", "The same opacity over the whole brush"),
+    ("SMOOTH", "Smooth", "Opacity falls off smoothly to the brush's edge"),
+    ("LINEAR", "Linear", "Opacity falls off linearly to the brush's edge"),
+)
+
+SIDES = (
+    ("EAST", "+X", "Drag the region's +X side"),
+    ("WEST", "-X", "Drag the region's -X side"),
+    ("NORTH", "+Y", "Drag the region's +Y side"),
+    ("SOUTH", "-Y", "Drag the region's -Y side"),
+)
+
+
+class WORLDPAINT_PG_stroke_point(bpy.types.PropertyGroup):
+    """One point of a brush stroke, as Blender's own paint operators record them."""
+
+    location: FloatVectorProperty(name="Location", size=3, subtype='XYZ', unit='LENGTH')
+
+
 class WORLDPAINT_PG_settings(bpy.types.PropertyGroup):
     # no poll callback: a Python callback on a property keeps bpy (Blender as a module) from exiting; the
     # operators check that the terrain is a mesh instead
@@ -74,10 +95,26 @@ class WORLDPAINT_PG_settings(bpy.types.PropertyGroup):
         name="Influence", default=10.0, min=0.0, unit='LENGTH',
         description="Width of the band around the region whose content conditions the paste (0 disables it)",
     )
+    brush_radius: FloatProperty(
+        name="Radius", default=20.0, min=0.1, soft_max=500.0, unit='LENGTH',
+        description="Radius of the brush, eraser and pipette on the terrain (F in the viewport)",
+    )
+    brush_spacing: FloatProperty(
+        name="Spacing", default=0.5, min=0.05, max=2.0,
+        description="A new dab each time the brush has moved this fraction of its radius",
+    )
+    brush_opacity: FloatProperty(
+        name="Opacity", default=1.0, min=0.01, max=1.0, subtype='FACTOR',
+        description="How much of the brush color replaces the color under the brush",
+    )
+    brush_falloff: EnumProperty(name="Falloff", items=FALLOFFS, default="CONSTANT")
+    erase_category: StringProperty(name="Erase", description="Category the eraser removes (empty: all)")
+    gradient_end: StringProperty(name="To Color", description="Palette color at the end of the gradient")
+    stretch_side: EnumProperty(name="Side", items=SIDES, default="EAST")
 
 
 _register_classes, _unregister_classes = bpy.utils.register_classes_factory(
-    (WORLDPAINT_PG_category, WORLDPAINT_PG_color, WORLDPAINT_PG_settings)
+    (WORLDPAINT_PG_category, WORLDPAINT_PG_color, WORLDPAINT_PG_stroke_point, WORLDPAINT_PG_settings)
 )
 
 

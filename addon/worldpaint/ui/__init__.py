@@ -1,10 +1,28 @@
-"""The WorldPaint sidebar tab of the 3D viewport; it only draws."""
+"""The WorldPaint sidebar tab and toolbar tools of the 3D viewport; they only draw."""
 
 import bpy
 
+from . import tools
 from .lists import WORLDPAINT_UL_categories, WORLDPAINT_UL_palette
-from .panel import WORLDPAINT_PT_main
+from .panel import WORLDPAINT_PT_edit, WORLDPAINT_PT_main, WORLDPAINT_PT_paint, WORLDPAINT_PT_palette
 
-_classes = (WORLDPAINT_UL_categories, WORLDPAINT_UL_palette, WORLDPAINT_PT_main)
+_classes = (
+    WORLDPAINT_UL_categories,
+    WORLDPAINT_UL_palette,
+    WORLDPAINT_PT_main,
+    WORLDPAINT_PT_palette,
+    WORLDPAINT_PT_paint,
+    WORLDPAINT_PT_edit,
+)
 
-register, unregister = bpy.utils.register_classes_factory(_classes)
+_register_classes, _unregister_classes = bpy.utils.register_classes_factory(_classes)
+
+
+def register():
+    _register_classes()
+    tools.register()
+
+
+def unregister():
+    tools.unregister()
+    _unregister_classes()

@@ -1,4 +1,4 @@
-"""The WorldPaint panel: terrain, categories, palette, region settings and the operator buttons."""
+"""The WorldPaint panels: terrain and categories, the palette, painting, and editing painted regions."""
 
 import bpy
 
@@ -13,9 +13,7 @@ class WORLDPAINT_PT_main(bpy.types.Panel):
     def draw(self, context):
         layout = self.layout
         settings = context.scene.worldpaint
-
         layout.prop(settings, "terrain")
-
         row = layout.row()
         row.label(text="Categories")
         row.operator("worldpaint.find_categories", text="", icon='VIEWZOOM')
@@ -23,10 +21,26 @@ class WORLDPAINT_PT_main(bpy.types.Panel):
             "WORLDPAINT_UL_categories", "", settings, "categories", settings, "active_category_index", rows=3
         )
 
+
+class WORLDPAINT_PT_palette(bpy.types.Panel):
+    bl_label = "Palette"
+    bl_idname = "WORLDPAINT_PT_palette"
+    bl_space_type = 'VIEW_3D'
+    bl_region_type = 'UI'
+    bl_category = "WorldPaint"
+    bl_parent_id = "WORLDPAINT_PT_main"
+
+    def draw(self, context):
+        layout = self.layout
+        settings = context.scene.worldpaint
         row = layout.row()
-        row.label(text="Palette")
-        row.operator("worldpaint.remove_color", text="", icon='REMOVE')
-        layout.template_list("WORLDPAINT_UL_palette", "", settings, "palette", settings, "active_color_index", rows=3)
+        row.template_list("WORLDPAINT_UL_palette", "", settings, "palette", settings, "active_color_index", rows=4)
+        col = row.column(align=True)
+        col.operator("worldpaint.duplicate_color", text="", icon='DUPLICATE')
+        col.operator("worldpaint.remove_color", text="", icon='REMOVE')
+        col.separator()
+        col.operator("worldpaint.move_color", text="", icon='TRIA_UP').direction = 'UP'
+        col.operator("worldpaint.move_color", text="", icon='TRIA_DOWN').direction = 'DOWN'
         if 0 <= settings.active_color_index < len(settings.palette):
             image = bpy.data.images.get(settings.palette[settings.active_color_index].preview_image)
             if image is not None and not bpy.app.background:
@@ -34,7 +48,24 @@ class WORLDPAINT_PT_main(bpy.types.Panel):
         row = layout.row(align=True)
         row.operator("worldpaint.import_palette", text="Import", icon='IMPORT')
         row.operator("worldpaint.export_palette", text="Export", icon='EXPORT')
+        box = layout.box()
+        box.prop_search(settings, "gradient_end", settings, "palette", text="Blend With")
+        row = box.row(align=True)
+        row.operator("worldpaint.interpolate_colors", text="Interpolate", icon='NODE_MIXRGB')
+        row.operator("worldpaint.gradient", text="Gradient", icon='IPO_LINEAR')
 
+
+class WORLDPAINT_PT_paint(bpy.types.Panel):
+    bl_label = "Paint"
+    bl_idname = "WORLDPAINT_PT_paint"
+    bl_space_type = 'VIEW_3D'
+    bl_region_type = 'UI'
+    bl_category = "WorldPaint"
+    bl_parent_id = "WORLDPAINT_PT_main"
+
+    def draw(self, context):
+        layout = self.layout
+        settings = context.scene.worldpaint
         box = layout.box()
         box.prop(settings, "region_mode")
         if settings.region_mode == 'CURSOR':
@@ -44,10 +75,42 @@ class WORLDPAINT_PT_main(bpy.types.Panel):
         box.prop(settings, "auto_influence")
         if not settings.auto_influence:
             box.prop(settings, "influence_radius")
-
         col = layout.column(align=True)
         col.scale_y = 1.3
         col.operator("worldpaint.learn_color", icon='EYEDROPPER').use_elevation = settings.learn_elevation
         col.operator("worldpaint.paste_color", icon='BRUSH_DATA')
         col.operator("worldpaint.clear_region", icon='TRASH')
+        box = layout.box()
+        box.label(text="Brush, Eraser and Pipette: toolbar", icon='TOOL_SETTINGS')
+        box.prop(settings, "brush_radius")
+        box.prop(settings, "brush_opacity")
+        box.prop(settings, "brush_falloff")
+        box.prop(settings, "brush_spacing")
+        box.prop_search(settings, "erase_category", settings, "categories", text="Erase Only")
+        box.operator_context = 'EXEC_DEFAULT'
+        box.operator("worldpaint.pipette", text="Pick at 3D Cursor", icon='EYEDROPPER').location = (
+            context.scene.cursor.location
+        )
+
+
+class WORLDPAINT_PT_edit(bpy.types.Panel):
+    bl_label = "Edit"
+    bl_idname = "WORLDPAINT_PT_edit"
+    bl_space_type = 'VIEW_3D'
+    bl_region_type = 'UI'
+    bl_category = "WorldPaint"
+    bl_parent_id = "WORLDPAINT_PT_main"
+
+    def draw(self, context):
+        layout = self.layout
+        settings = context.scene.worldpaint
+        col = layout.column(align=True)
+        col.operator_context = 'INVOKE_REGION_WIN'
+        col.operator("worldpaint.move_region", icon='VIEW_PAN')
+        col = layout.column(align=True)
+        row = col.row(align=True)
+        row.prop(settings, "stretch_side", expand=True)
+        col.operator("worldpaint.stretch_region", icon='ARROW_LEFTRIGHT').side = settings.stretch_side
+        col = layout.column(align=True)
+        col.operator("worldpaint.blur", icon='MOD_SMOOTH')
         col.operator("worldpaint.convert_to_objects", icon='OUTLINER_OB_GROUP_INSTANCE')

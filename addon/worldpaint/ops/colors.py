@@ -1,0 +1,137 @@
+"""Palette management: add, duplicate, remove and reorder colors, and interpolate two colors into a new one.
+
+Renaming is editing the name in the palette list; the color's own JSON takes the palette name when exported.
+"""
+
+import bpy
+from bpy.props import EnumProperty, FloatProperty, IntProperty, StringProperty
+
+from ..bridge import WorldPaintError, instances, preview
+from ..bridge.engine import engine
+from .common import active_color, report_errors
+
+
+def unique_name(collection, stem):
+    """``stem`` when free, else ``stem 2``, ``stem 3``, ..."""
+    taken = {item.name for item in collection}
+    if stem not in taken:
+        return stem
+    i = 2
+    while f"{stem} {i}" in taken:
+        i += 1
+    return f"{stem} {i}"
+
+
+def add_palette_color(settings, name, color_json):
+    """Adds a color (engine JSON) to the palette under ``name`` with its preview, makes it active, and adds the
+    categories it knows to the scene's list; returns the entry."""
+    summary = engine().color_summary(color_json)
+    entry = settings.palette.add()
+    entry.name = name
+    entry.json = color_json
+    entry.preview_image = preview.make_preview(color_json, name)
+    settings.active_color_index = len(settings.palette) - 1
+    instances.add_categories(settings, [c["name"] for c in summary["categories"]])
+    return entry
+
+
+def palette_index(settings, index):
+    """A valid palette index: ``index`` when given (>= 0), else the active color's; an error when there is none."""
+    index = index if index >= 0 else settings.active_color_index
+    if not 0 <= index < len(settings.palette):
+        raise WorldPaintError("No such color in the palette")
+    return index
+
+
+class WORLDPAINT_OT_remove_color(bpy.types.Operator):
+    """Remove a color from the palette"""
+
+    bl_idname = "worldpaint.remove_color"
+    bl_label = "Remove Color"
+    bl_options = {'REGISTER', 'UNDO'}
+
+    index: IntProperty(name="Index", default=-1, description="Palette index (negative: the active color)")
+
+    def execute(self, context):
+        return report_errors(self, lambda: self._remove(context))
+
+    def _remove(self, context):
+        settings = context.scene.worldpaint
+        index = palette_index(settings, self.index)
+        preview.remove_preview(settings.palette[index].preview_image)
+        settings.palette.remove(index)
+        settings.active_color_index = min(index, len(settings.palette) - 1)
+        return {'FINISHED'}
+
+
+class WORLDPAINT_OT_duplicate_color(bpy.types.Operator):
+    """Copy a color of the palette under a new name"""
+
+    bl_idname = "worldpaint.duplicate_color"
+    bl_label = "Duplicate Color"
+    bl_options = {'REGISTER', 'UNDO'}
+
+    index: IntProperty(name="Index", default=-1, description="Palette index (negative: the active color)")
+
+    def execute(self, context):
+        return report_errors(self, lambda: self._duplicate(context))
+
+    def _duplicate(self, context):
+        settings = context.scene.worldpaint
+        source = settings.palette[palette_index(settings, self.index)]
+        name = unique_name(settings.palette, source.name)
+        add_palette_color(settings, name, engine().color_renamed(source.json, name))
+        return {'FINISHED'}
+
+
+class WORLDPAINT_OT_move_color(bpy.types.Operator):
+    """Move the active color up or down the palette"""
+
+    bl_idname = "worldpaint.move_color"
+    bl_label = "Move Color"
+    bl_options = {'REGISTER', 'UNDO'}
+
+    direction: EnumProperty(name="Direction", items=(("UP", "Up", ""), ("DOWN", "Down", "")), default="UP")
+
+    def execute(self, context):
+        return report_errors(self, lambda: self._move(context))
+
+    def _move(self, context):
+        settings = context.scene.worldpaint
+        index = palette_index(settings, -1)
+        target = index - 1 if self.direction == 'UP' else index + 1
+        if not 0 <= target < len(settings.palette):
+            return {'CANCELLED'}
+        settings.palette.move(index, target)
+        settings.active_color_index = target
+        return {'FINISHED'}
+
+
+class WORLDPAINT_OT_interpolate_colors(bpy.types.Operator):
+    """Blend two palette colors into a new one by optimal transport of their statistics"""
+
+    bl_idname = "worldpaint.interpolate_colors"
+    bl_label = "Interpolate Colors"
+    bl_options = {'REGISTER', 'UNDO'}
+
+    color_a: StringProperty(name="From", description="First color (empty: the active one)")
+    color_b: StringProperty(name="To", description="Second color (empty: the panel's gradient end color)")
+    factor: FloatProperty(name="Factor", default=0.5, min=0.0, max=1.0, subtype='FACTOR',
+                          description="0 gives the first color, 1 the second")
+    name: StringProperty(name="Name", description="Name of the new color (empty: from the two colors)")
+
+    def execute(self, context):
+        return report_errors(self, lambda: self._interpolate(context))
+
+    def _interpolate(self, context):
+        settings = context.scene.worldpaint
+        a = active_color(context, self.color_a)
+        b_name = self.color_b or settings.gradient_end
+        if not b_name:
+            raise WorldPaintError("Choose the second color to interpolate with")
+        b = active_color(context, b_name)
+        name = unique_name(settings.palette, self.name or f"{a.name} · {b.name} {self.factor:.2f}")
+        color_json = engine().interpolate_colors(a.json, b.json, self.factor, name)
+        add_palette_color(settings, name, color_json)
+        self.report({'INFO'}, f"Added '{name}'")
+        return {'FINISHED'}

@@ -1,0 +1,84 @@
+"""Gradient: paint a region with colors interpolated from one palette color to another (seed §5.2).
+
+Linear gradients run across the region from one side to the opposite one; radial gradients from the region's centre
+out to its edge. The region is cut into bands, each painted with its interpolated color and conditioned on the bands
+painted before it.
+"""
+
+import bpy
+from bpy.props import EnumProperty, FloatProperty, IntProperty, StringProperty
+
+from ..bridge import WorldPaintError, terrain
+from ..bridge.engine import engine
+from ..props import SIDES
+from .background import BackgroundOperator
+from .common import RegionProperties, SceneContent, TerrainProperty, active_color, report_missing
+from .paste import influence_of, seed_of
+
+SHAPES = (
+    ("LINEAR", "Linear", "From one side of the region to the opposite side"),
+    ("RADIAL", "Radial", "From the region's centre out to its edge"),
+)
+
+
+def gradient_shape(region, shape, toward):
+    """The engine's gradient shape over a region: linear toward one side of its bounds, or radial from its centre."""
+    (x0, y0), (x1, y1) = engine().region_bbox(region)
+    cx, cy = 0.5 * (x0 + x1), 0.5 * (y0 + y1)
+    if shape == 'RADIAL':
+        if region["shape"] == "circle":
+            return {"kind": "radial", "center": region["center"], "radius": region["radius"]}
+        return {"kind": "radial", "center": (cx, cy), "radius": 0.5 * ((x1 - x0) ** 2 + (y1 - y0) ** 2) ** 0.5}
+    ends = {"EAST": ((x0, cy), (x1, cy)), "WEST": ((x1, cy), (x0, cy)),
+            "NORTH": ((cx, y0), (cx, y1)), "SOUTH": ((cx, y1), (cx, y0))}
+    start, end = ends[toward]
+    return {"kind": "linear", "from": start, "to": end}
+
+
+class WORLDPAINT_OT_gradient(BackgroundOperator, RegionProperties, TerrainProperty, bpy.types.Operator):
+    """Paint a region with a gradient between two palette colors (Esc cancels)"""
+
+    bl_idname = "worldpaint.gradient"
+    bl_label = "Gradient"
+    bl_options = {'REGISTER', 'UNDO'}
+    progress_text = "Painting the gradient"
+
+    color: StringProperty(name="From Color", description="Color where the gradient starts (empty: the active one)")
+    end_color: StringProperty(name="To Color", description="Color where it ends (empty: the panel's To Color)")
+    shape: EnumProperty(name="Shape", items=SHAPES, default="LINEAR")
+    toward: EnumProperty(name="Toward", items=SIDES, default="EAST",
+                         description="The side of the region a linear gradient runs toward")
+    bands: IntProperty(name="Bands", default=0, min=0, max=256,
+                       description="Interpolated colors across the region (0: one per interaction radius)")
+    seed: IntProperty(name="Seed", default=0, min=0, description="Random seed (unset: the panel's seed)")
+    influence_radius: FloatProperty(
+        name="Influence", default=-1.0, description="Region of influence width (negative: the panel's setting)"
+    )
+
+    def _prepare(self, context):
+        settings = context.scene.worldpaint
+        start = active_color(context, self.color)
+        end_name = self.end_color or settings.gradient_end
+        if not end_name:
+            raise WorldPaintError("Choose the gradient's To Color in the WorldPaint panel")
+        end = active_color(context, end_name)
+        eng = engine()
+        extra = eng.color_summary(start.json)["categories"] + eng.color_summary(end.json)["categories"]
+        self._content = SceneContent(context, self.terrain, extra)
+        region = self.destination(context, self._content.terrain_obj)
+        terrain.check_region_on_terrain(self._content.heightfield, region, "gradient")
+        self._names = (start.name, end.name)
+        self._call = dict(start=start.json, end=end.json, region=region,
+                          shape=gradient_shape(region, self.shape, self.toward), bands=self.bands or None,
+                          seed=seed_of(self, settings), influence_radius=influence_of(self, settings))
+
+    def _compute(self, progress):
+        heightfield, arrays = self._content.arrays()
+        return engine().gradient(heightfield, progress=progress, **arrays, **self._call)
+
+    def _apply(self, context, edit):
+        applied = self._content.apply(context, edit)
+        self.report({'INFO'}, f"Painted a gradient from '{self._names[0]}' to '{self._names[1]}': "
+                              f"{applied.added} instances")
+        report_missing(self, applied)
+        return {'FINISHED'}

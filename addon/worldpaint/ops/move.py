@@ -1,0 +1,137 @@
+"""Move Region: the content of a region moves and adapts to its new ground and neighbours (seed §5.4).
+
+From a script, ``offset`` says how far. From the viewport, the region follows the mouse over the terrain: each
+position is recomputed from the scene as it was when the drag began (so what still fits never flickers), on a worker
+thread that always takes the newest position; click or Enter confirms, Esc or the right button cancels.
+"""
+
+import bpy
+import numpy as np
+from bpy.props import FloatVectorProperty, IntProperty, StringProperty
+
+from ..bridge import WorldPaintError, view
+from ..bridge.engine import engine
+from .background import LatestWorker
+from .common import RegionProperties, SceneContent, TerrainProperty, active_color, report_errors, report_missing
+from .paste import influence_of, seed_of
+
+REFRESH_SECONDS = 0.05
+
+
+class MoveJob:
+    """The move of one region's content, computed for any offset from the same extracted scene."""
+
+    def __init__(self, operator, context):
+        settings = context.scene.worldpaint
+        self.content = SceneContent(context, operator.terrain)
+        self.source = operator.destination(context, self.content.terrain_obj)
+        eng = engine()
+        heightfield, arrays = self.content.arrays()
+        inside = eng.region_contains(self.source, arrays["positions"]) & ~arrays["locked"]
+        if not inside.any():
+            raise WorldPaintError("Nothing to move: the region holds no synthesized instances")
+        if operator.color:
+            self.color = active_color(context, operator.color).json
+        else:
+            # the moved content's own statistics
+            self.color = eng.learn_color(heightfield, region=self.source, name="moved", options={"maps": ["slope"]},
+                                         **arrays)
+        self.seed = seed_of(operator, settings)
+        self.influence = influence_of(operator, settings)
+
+    def compute(self, offset):
+        heightfield, arrays = self.content.arrays()
+        return engine().move_region(heightfield, color=self.color, source=self.source,
+                                    offset=(float(offset[0]), float(offset[1])), seed=self.seed,
+                                    influence_radius=self.influence, **arrays)
+
+
+class WORLDPAINT_OT_move_region(RegionProperties, TerrainProperty, bpy.types.Operator):
+    """Move the content of a region; it adapts to the terrain and the content at its new place"""
+
+    bl_idname = "worldpaint.move_region"
+    bl_label = "Move Region"
+    bl_options = {'REGISTER', 'UNDO'}
+
+    offset: FloatVectorProperty(name="Offset", size=2, subtype='XYZ', unit='LENGTH')
+    color: StringProperty(name="Color", description="Palette color whose statistics the moved content follows "
+                                                    "(empty: the statistics of the moved content itself)")
+    seed: IntProperty(name="Seed", default=0, min=0, description="Random seed (unset: the panel's seed)")
+    influence_radius: bpy.props.FloatProperty(
+        name="Influence", default=-1.0, description="Region of influence width (negative: the panel's setting)"
+    )
+
+    def execute(self, context):
+        def run():
+            job = MoveJob(self, context)
+            return self._finish(context, job, job.compute(self.offset))
+
+        return report_errors(self, run)
+
+    def _finish(self, context, job, result):
+        applied = job.content.apply(context, result)
+        self.report({'INFO'}, f"Moved {result['moved']} instances: {result['displaced']} adapted to their new place, "
+                              f"{result['reborn']} replaced")
+        if result["lost"]:
+            self.report({'WARNING'}, f"{result['lost']} instances found no place their statistics allow")
+        report_missing(self, applied)
+        return {'FINISHED'}
+
+    def invoke(self, context, event):
+        def start():
+            self._job = MoveJob(self, context)
+            # the drag starts where the mouse first meets the terrain
+            self._start = view.terrain_under_mouse(context, self._job.content.terrain_obj, event)
+            self._worker = LatestWorker(self._job.compute)
+            wm = context.window_manager
+            self._timer = wm.event_timer_add(REFRESH_SECONDS, window=context.window)
+            wm.modal_handler_add(self)
+            return {'RUNNING_MODAL'}
+
+        return report_errors(self, start)
+
+    def modal(self, context, event):
+        if event.type == 'MOUSEMOVE':
+            hit = view.terrain_under_mouse(context, self._job.content.terrain_obj, event)
+            if hit is not None and self._start is None:
+                self._start = hit
+            if hit is not None:
+                self.offset = (hit.x - self._start.x, hit.y - self._start.y)
+                self._worker.request(tuple(self.offset))
+        elif event.type == 'TIMER':
+            self._show(context, self._worker.take())
+        elif event.type in {'LEFTMOUSE', 'RET', 'NUMPAD_ENTER'} and event.value == 'PRESS':
+            return self._confirm(context)
+        elif event.type in {'ESC', 'RIGHTMOUSE'}:
+            self._end(context)
+            self._job.content.restore(context)
+            return {'CANCELLED'}
+        return {'RUNNING_MODAL'}
+
+    def _show(self, context, taken):
+        if taken is None:
+            return
+        offset, result = taken
+        if isinstance(result, Exception):
+            return
+        self._job.content.restore(context)
+        self._job.content.apply(context, result)
+        if context.area is not None:
+            context.area.header_text_set(f"Move: {offset[0]:.1f}, {offset[1]:.1f} m — {result['displaced']} adapted "
+                                         "(click to confirm, Esc to cancel)")
+
+    def _confirm(self, context):
+        self._end(context)
+        self._job.content.restore(context)
+        offset = np.array(self.offset, dtype=np.float64)
+        return report_errors(self, lambda: self._finish(context, self._job, self._job.compute(offset)))
+
+    def cancel(self, context):
+        self._end(context)
+        self._job.content.restore(context)
+
+    def _end(self, context):
+        self._worker.close()
+        context.window_manager.event_timer_remove(self._timer)
+        if context.area is not None:
+            context.area.header_text_set(None)
