@@ -41,6 +41,7 @@ demo: engine
 
 bench: engine
 	cargo bench -p worldpaint-core --bench synthesis
+	cargo bench -p worldpaint-core --bench tools
 	$(PY) blender_tests/bench_blender.py
 
 # An installable Blender extension with the engine wheel inside; needs no Blender binary.

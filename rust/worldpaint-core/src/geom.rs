@@ -42,9 +42,8 @@ pub enum Region {
     },
 }
 
-/// Cells across the lattice that integrates the area of a clipped region (relative error about 1/this for a
-/// region filling its bounding box).
-const AREA_LATTICE: f64 = 400.0;
+/// Scanlines that integrate the area of a clipped region (exact along each line, midpoint rule across them).
+const AREA_SCANLINES: usize = 512;
 
 fn finite(p: DVec2) -> bool {
     p.x.is_finite() && p.y.is_finite()
@@ -60,6 +59,44 @@ pub fn segment_distance(p: DVec2, a: DVec2, b: DVec2) -> f64 {
         0.0
     };
     (a + ab * t).distance(p)
+}
+
+/// The intersection of two sorted lists of disjoint intervals.
+fn intersect_intervals(a: &[(f64, f64)], b: &[(f64, f64)]) -> Vec<(f64, f64)> {
+    let mut out = Vec::new();
+    let (mut i, mut j) = (0, 0);
+    while i < a.len() && j < b.len() {
+        let (lo, hi) = (a[i].0.max(b[j].0), a[i].1.min(b[j].1));
+        if hi > lo {
+            out.push((lo, hi));
+        }
+        if a[i].1 < b[j].1 {
+            i += 1;
+        } else {
+            j += 1;
+        }
+    }
+    out
+}
+
+/// The parts of the sorted disjoint intervals `a` outside the sorted disjoint intervals `b`.
+fn subtract_intervals(a: &[(f64, f64)], b: &[(f64, f64)]) -> Vec<(f64, f64)> {
+    let mut out = Vec::new();
+    for &(mut lo, hi) in a {
+        for &(c, d) in b {
+            if d <= lo || c >= hi {
+                continue;
+            }
+            if c > lo {
+                out.push((lo, c));
+            }
+            lo = lo.max(d);
+        }
+        if hi > lo {
+            out.push((lo, hi));
+        }
+    }
+    out
 }
 
 /// Signed area of a closed polygon (positive when counter-clockwise).
@@ -162,22 +199,17 @@ impl Region {
                     return within[0].area();
                 }
                 let (lo, hi) = self.bbox();
-                let ext = hi - lo;
-                if !(ext.x > 0.0 && ext.y > 0.0) {
+                if !(hi.y > lo.y && hi.x > lo.x) {
                     return 0.0;
                 }
-                let step = (ext.x * ext.y).sqrt() / AREA_LATTICE;
-                let nx = (ext.x / step).ceil().max(1.0) as usize;
-                let ny = (ext.y / step).ceil().max(1.0) as usize;
-                let (dx, dy) = (ext.x / nx as f64, ext.y / ny as f64);
-                let mut inside = 0usize;
-                for j in 0..ny {
-                    for i in 0..nx {
-                        let p = lo + DVec2::new((i as f64 + 0.5) * dx, (j as f64 + 0.5) * dy);
-                        inside += usize::from(self.contains(p));
-                    }
-                }
-                inside as f64 * dx * dy
+                let dy = (hi.y - lo.y) / AREA_SCANLINES as f64;
+                (0..AREA_SCANLINES)
+                    .map(|j| {
+                        let y = lo.y + (j as f64 + 0.5) * dy;
+                        self.scanline(y).iter().map(|(a, b)| b - a).sum::<f64>()
+                    })
+                    .sum::<f64>()
+                    * dy
             }
         }
     }
@@ -207,6 +239,54 @@ impl Region {
             }
             Region::Clipped { within, without } => {
                 within.iter().all(|r| r.contains(p)) && !without.iter().any(|r| r.contains(p))
+            }
+        }
+    }
+
+    /// The intervals `[a, b]` of x (ascending, disjoint) where the horizontal line at `y` lies inside the region.
+    pub fn scanline(&self, y: f64) -> Vec<(f64, f64)> {
+        match self {
+            Region::Rect { min, max } => {
+                if y >= min.y && y <= max.y {
+                    vec![(min.x, max.x)]
+                } else {
+                    Vec::new()
+                }
+            }
+            Region::Circle { center, radius } => {
+                let h = radius * radius - (y - center.y).powi(2);
+                if h > 0.0 {
+                    let w = h.sqrt();
+                    vec![(center.x - w, center.x + w)]
+                } else {
+                    Vec::new()
+                }
+            }
+            Region::Polygon { points } => {
+                // even-odd rule: the edges' crossings, paired in order
+                let n = points.len();
+                let mut xs: Vec<f64> = (0..n)
+                    .filter_map(|i| {
+                        let (a, b) = (points[i], points[(i + 1) % n]);
+                        ((a.y > y) != (b.y > y))
+                            .then(|| a.x + (y - a.y) * (b.x - a.x) / (b.y - a.y))
+                    })
+                    .collect();
+                xs.sort_by(f64::total_cmp);
+                xs.chunks_exact(2).map(|c| (c[0], c[1])).collect()
+            }
+            Region::Clipped { within, without } => {
+                let mut out = match within.first() {
+                    Some(r) => r.scanline(y),
+                    None => return Vec::new(),
+                };
+                for r in &within[1..] {
+                    out = intersect_intervals(&out, &r.scanline(y));
+                }
+                for r in without {
+                    out = subtract_intervals(&out, &r.scanline(y));
+                }
+                out
             }
         }
     }

@@ -38,7 +38,7 @@ fn a_disc_without_an_earlier_disc_has_the_area_of_the_crescent() {
     let area = crescent.area();
     let exact = PI * r * r - lens;
     println!("crescent area {area:.2} m², exact {exact:.2} m²");
-    assert!((area - exact).abs() <= 0.005 * exact);
+    assert!((area - exact).abs() <= 0.001 * exact);
     assert!(crescent.contains(DVec2::new(d + 15.0, 0.0)));
     assert!(!crescent.contains(DVec2::new(d - 5.0, 0.0)));
     // an annulus too
@@ -46,7 +46,7 @@ fn a_disc_without_an_earlier_disc_has_the_area_of_the_crescent() {
         within: vec![circle(0.0, 0.0, 30.0)],
         without: vec![circle(0.0, 0.0, 10.0)],
     };
-    assert!((ring.area() - PI * 800.0).abs() <= 0.005 * PI * 800.0);
+    assert!((ring.area() - PI * 800.0).abs() <= 0.001 * PI * 800.0);
 }
 
 #[test]
