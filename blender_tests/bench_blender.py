@@ -186,8 +186,7 @@ def bench_painting():
     path = np.column_stack([np.linspace(100.0, 490.0, 40), np.full(40, 300.0)])
 
     content = SceneContent(bpy.context)
-    heightfield, arrays = content.arrays()
-    stroke = engine.Stroke(heightfield, **arrays, color=scene.worldpaint.palette["Trees"].json, radius=20.0, seed=1)
+    stroke = engine.Stroke(content.engine_scene(), color=scene.worldpaint.palette["Trees"].json, radius=20.0, seed=1)
     dabs = []
     for p in path:
         t0 = time.perf_counter()
@@ -204,13 +203,12 @@ def bench_painting():
     square = {"shape": "rect", "min": [110.0, 110.0], "max": [465.0, 465.0]}
     bpy.ops.worldpaint.paste_color(seed=3, region_mode='RECT', rect_min=square["min"], rect_max=square["max"])
     content = SceneContent(bpy.context)
-    heightfield, arrays = content.arrays()
     color = scene.worldpaint.palette["Trees"].json
     steps = []
     for k in range(5):
         t0 = time.perf_counter()
-        moved = engine.move_region(heightfield, color=color, source=square, offset=(5.0 * (k + 1), 0.0), seed=1,
-                                   **arrays)
+        moved = engine.move_region(content.engine_scene(), color=color, source=square,
+                                   offset=(5.0 * (k + 1), 0.0), seed=1)
         content.restore(bpy.context)
         content.apply(bpy.context, moved)
         steps.append(time.perf_counter() - t0)

@@ -8,14 +8,20 @@ step; Esc (or the right button) cancels the stroke and puts the clouds back as t
 
 import bpy
 import numpy as np
-from bpy.props import CollectionProperty, EnumProperty, FloatProperty, IntProperty, StringProperty
+from bpy.props import CollectionProperty, EnumProperty, FloatProperty, StringProperty
 
 from ..bridge import WorldPaintError, view
 from ..bridge.engine import engine
 from ..props import FALLOFFS, WORLDPAINT_PG_stroke_point
 from .background import QueueWorker, with_progress
-from .common import SceneContent, TerrainProperty, active_color, report_errors, report_missing
-from .paste import influence_of
+from .common import (
+    SceneContent,
+    SynthesisProperties,
+    TerrainProperty,
+    active_color,
+    report_errors,
+    report_missing,
+)
 
 REFRESH_SECONDS = 0.05
 
@@ -128,7 +134,7 @@ class StrokeOperator(TerrainProperty):
         return {'FINISHED'}
 
 
-class WORLDPAINT_OT_brush(StrokeOperator, bpy.types.Operator):
+class WORLDPAINT_OT_brush(StrokeOperator, SynthesisProperties, bpy.types.Operator):
     """Paint the active color along a stroke on the terrain (F: radius, Esc: cancel the stroke)"""
 
     bl_idname = "worldpaint.brush"
@@ -142,10 +148,6 @@ class WORLDPAINT_OT_brush(StrokeOperator, bpy.types.Operator):
                            description="How much the brush color replaces the color under it (unset: the panel's)")
     falloff: EnumProperty(name="Falloff", items=FALLOFFS, default="CONSTANT",
                           description="How the opacity falls off to the edge (unset: the panel's)")
-    seed: IntProperty(name="Seed", default=0, min=0, description="Random seed (unset: the panel's)")
-    influence_radius: FloatProperty(
-        name="Influence", default=-1.0, description="Region of influence width (negative: the panel's setting)"
-    )
 
     def _remember_settings(self, context):
         super()._remember_settings(context)
@@ -160,17 +162,14 @@ class WORLDPAINT_OT_brush(StrokeOperator, bpy.types.Operator):
 
     def _make_stroke(self, context, content):
         settings = context.scene.worldpaint
-        heightfield, arrays = content.arrays()
         return engine().Stroke(
-            heightfield,
-            **arrays,
+            content.engine_scene(),
             color=self._entry.json,
             radius=setting(self, "radius", settings.brush_radius),
             spacing=setting(self, "spacing", settings.brush_spacing),
             opacity=setting(self, "opacity", settings.brush_opacity),
             falloff=setting(self, "falloff", settings.brush_falloff).lower(),
-            seed=setting(self, "seed", settings.seed),
-            influence_radius=influence_of(self, settings),
+            **self.synthesis_arguments(settings),
         )
 
 
@@ -194,10 +193,8 @@ class WORLDPAINT_OT_erase(StrokeOperator, bpy.types.Operator):
         known = {c["name"] for c in content.categories}
         if category and category not in known:
             raise WorldPaintError(f"No category '{category}' to erase")
-        heightfield, arrays = content.arrays()
         return engine().Stroke(
-            heightfield,
-            **arrays,
+            content.engine_scene(),
             erase=True,
             only_categories=[category] if category else None,
             radius=setting(self, "radius", settings.brush_radius),
@@ -226,7 +223,7 @@ class WORLDPAINT_OT_brush_radius(bpy.types.Operator):
             return {'CANCELLED'}
         self._old = settings.brush_radius
         # the mouse starts on the circle's edge, as with Blender's own radius control
-        self._center = hit.xy - np.array((settings.brush_radius, 0.0))
+        self._center = np.array(hit.xy) - np.array((settings.brush_radius, 0.0))
         context.window_manager.modal_handler_add(self)
         return {'RUNNING_MODAL'}
 

@@ -1,9 +1,9 @@
 """What the operators share: region properties, the scene settings they default to, and error reporting."""
 
-from bpy.props import EnumProperty, FloatProperty, FloatVectorProperty, StringProperty
+from bpy.props import EnumProperty, FloatProperty, FloatVectorProperty, IntProperty, StringProperty
 
 from ..bridge import WorldPaintError, edits, instances, regions, terrain
-from ..bridge.engine import engine_errors
+from ..bridge.engine import engine, engine_errors
 from ..props import REGION_MODES
 
 OPERATOR_REGION_MODES = (
@@ -51,6 +51,24 @@ class RegionProperties:
         }
 
 
+class SynthesisProperties:
+    """The seed and the region of influence of an operator that synthesizes; unset, the panel's."""
+
+    seed: IntProperty(name="Seed", default=0, min=0, description="Random seed (unset: the panel's seed)")
+    influence_radius: FloatProperty(
+        name="Influence", default=-1.0, description="Region of influence width (negative: the panel's setting)"
+    )
+
+    def synthesis_arguments(self, settings):
+        """The engine's ``seed`` and ``influence_radius`` (None: the color's own interaction radius)."""
+        seed = self.seed if self.properties.is_property_set("seed") else settings.seed
+        if self.influence_radius >= 0.0:
+            influence = self.influence_radius
+        else:
+            influence = None if settings.auto_influence else settings.influence_radius
+        return {"seed": seed, "influence_radius": influence}
+
+
 class TerrainProperty:
     terrain: StringProperty(name="Terrain", description="Terrain object (empty: the one picked in the panel)")
 
@@ -94,10 +112,18 @@ class SceneContent:
         self.heightfield = terrain.engine_terrain(context, self.terrain_obj)
         self.categories = instances.all_categories(scene, extra_categories)
         self.instances = instances.scene_instances(scene, self.categories, exclude=[self.terrain_obj])
+        self._engine_scene = None
 
-    def arrays(self):
-        """The engine's scene arguments: the heightfield first, then the instance columns as keywords."""
-        return self.heightfield, self.instances.engine_arrays()
+    def learn(self, region, name, maps):
+        """The color (engine JSON) of this content inside ``region``, with the terrain ``maps``."""
+        return engine().learn_color(self.heightfield, region=region, name=name, options={"maps": maps},
+                                    **self.instances.engine_arrays())
+
+    def engine_scene(self):
+        """The engine's Scene of this content (made once; the tools read it and return edits of it)."""
+        if self._engine_scene is None:
+            self._engine_scene = engine().Scene(self.heightfield, **self.instances.engine_arrays())
+        return self._engine_scene
 
     def apply(self, context, edit):
         """Writes an engine edit of this content to the point clouds."""

@@ -6,14 +6,20 @@ painted before it.
 """
 
 import bpy
-from bpy.props import EnumProperty, FloatProperty, IntProperty, StringProperty
+from bpy.props import EnumProperty, IntProperty, StringProperty
 
 from ..bridge import WorldPaintError, terrain
 from ..bridge.engine import engine
 from ..props import SIDES
 from .background import BackgroundOperator
-from .common import RegionProperties, SceneContent, TerrainProperty, active_color, report_missing
-from .paste import influence_of, seed_of
+from .common import (
+    RegionProperties,
+    SceneContent,
+    SynthesisProperties,
+    TerrainProperty,
+    active_color,
+    report_missing,
+)
 
 SHAPES = (
     ("LINEAR", "Linear", "From one side of the region to the opposite side"),
@@ -35,7 +41,8 @@ def gradient_shape(region, shape, toward):
     return {"kind": "linear", "from": start, "to": end}
 
 
-class WORLDPAINT_OT_gradient(BackgroundOperator, RegionProperties, TerrainProperty, bpy.types.Operator):
+class WORLDPAINT_OT_gradient(BackgroundOperator, RegionProperties, SynthesisProperties, TerrainProperty,
+                          bpy.types.Operator):
     """Paint a region with a gradient between two palette colors (Esc cancels)"""
 
     bl_idname = "worldpaint.gradient"
@@ -50,10 +57,6 @@ class WORLDPAINT_OT_gradient(BackgroundOperator, RegionProperties, TerrainProper
                          description="The side of the region a linear gradient runs toward")
     bands: IntProperty(name="Bands", default=0, min=0, max=256,
                        description="Interpolated colors across the region (0: one per interaction radius)")
-    seed: IntProperty(name="Seed", default=0, min=0, description="Random seed (unset: the panel's seed)")
-    influence_radius: FloatProperty(
-        name="Influence", default=-1.0, description="Region of influence width (negative: the panel's setting)"
-    )
 
     def _prepare(self, context):
         settings = context.scene.worldpaint
@@ -70,11 +73,10 @@ class WORLDPAINT_OT_gradient(BackgroundOperator, RegionProperties, TerrainProper
         self._names = (start.name, end.name)
         self._call = dict(start=start.json, end=end.json, region=region,
                           shape=gradient_shape(region, self.shape, self.toward), bands=self.bands or None,
-                          seed=seed_of(self, settings), influence_radius=influence_of(self, settings))
+                          **self.synthesis_arguments(settings))
 
     def _compute(self, progress):
-        heightfield, arrays = self._content.arrays()
-        return engine().gradient(heightfield, progress=progress, **arrays, **self._call)
+        return engine().gradient(self._content.engine_scene(), progress=progress, **self._call)
 
     def _apply(self, context, edit):
         applied = self._content.apply(context, edit)

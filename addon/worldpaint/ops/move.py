@@ -7,13 +7,20 @@ thread that always takes the newest position; click or Enter confirms, Esc or th
 
 import bpy
 import numpy as np
-from bpy.props import FloatVectorProperty, IntProperty, StringProperty
+from bpy.props import FloatVectorProperty, StringProperty
 
 from ..bridge import WorldPaintError, view
 from ..bridge.engine import engine
 from .background import LatestWorker
-from .common import RegionProperties, SceneContent, TerrainProperty, active_color, report_errors, report_missing
-from .paste import influence_of, seed_of
+from .common import (
+    RegionProperties,
+    SceneContent,
+    SynthesisProperties,
+    TerrainProperty,
+    active_color,
+    report_errors,
+    report_missing,
+)
 
 REFRESH_SECONDS = 0.05
 
@@ -25,28 +32,23 @@ class MoveJob:
         settings = context.scene.worldpaint
         self.content = SceneContent(context, operator.terrain)
         self.source = operator.destination(context, self.content.terrain_obj)
-        eng = engine()
-        heightfield, arrays = self.content.arrays()
-        inside = eng.region_contains(self.source, arrays["positions"]) & ~arrays["locked"]
+        found = self.content.instances
+        inside = engine().region_contains(self.source, found.positions) & ~found.locked
         if not inside.any():
             raise WorldPaintError("Nothing to move: the region holds no synthesized instances")
         if operator.color:
             self.color = active_color(context, operator.color).json
         else:
             # the moved content's own statistics
-            self.color = eng.learn_color(heightfield, region=self.source, name="moved", options={"maps": ["slope"]},
-                                         **arrays)
-        self.seed = seed_of(operator, settings)
-        self.influence = influence_of(operator, settings)
+            self.color = self.content.learn(self.source, "moved", ["slope"])
+        self.synthesis = operator.synthesis_arguments(settings)
 
     def compute(self, offset):
-        heightfield, arrays = self.content.arrays()
-        return engine().move_region(heightfield, color=self.color, source=self.source,
-                                    offset=(float(offset[0]), float(offset[1])), seed=self.seed,
-                                    influence_radius=self.influence, **arrays)
+        return engine().move_region(self.content.engine_scene(), color=self.color, source=self.source,
+                                    offset=(float(offset[0]), float(offset[1])), **self.synthesis)
 
 
-class WORLDPAINT_OT_move_region(RegionProperties, TerrainProperty, bpy.types.Operator):
+class WORLDPAINT_OT_move_region(RegionProperties, SynthesisProperties, TerrainProperty, bpy.types.Operator):
     """Move the content of a region; it adapts to the terrain and the content at its new place"""
 
     bl_idname = "worldpaint.move_region"
@@ -56,10 +58,6 @@ class WORLDPAINT_OT_move_region(RegionProperties, TerrainProperty, bpy.types.Ope
     offset: FloatVectorProperty(name="Offset", size=2, subtype='XYZ', unit='LENGTH')
     color: StringProperty(name="Color", description="Palette color whose statistics the moved content follows "
                                                     "(empty: the statistics of the moved content itself)")
-    seed: IntProperty(name="Seed", default=0, min=0, description="Random seed (unset: the panel's seed)")
-    influence_radius: bpy.props.FloatProperty(
-        name="Influence", default=-1.0, description="Region of influence width (negative: the panel's setting)"
-    )
 
     def execute(self, context):
         def run():

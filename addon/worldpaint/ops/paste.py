@@ -6,26 +6,23 @@ worker thread with a progress bar and Esc to cancel (see ``background``).
 
 import bpy
 import numpy as np
-from bpy.props import FloatProperty, IntProperty, StringProperty
+from bpy.props import StringProperty
 
 from ..bridge import terrain
 from ..bridge.engine import engine
 from .background import BackgroundOperator
-from .common import RegionProperties, SceneContent, TerrainProperty, active_color, report_missing
+from .common import (
+    RegionProperties,
+    SceneContent,
+    SynthesisProperties,
+    TerrainProperty,
+    active_color,
+    report_missing,
+)
 
 
-def influence_of(operator, settings):
-    """The operator's influence radius, else the panel's (None: the color's own interaction radius)."""
-    if operator.influence_radius >= 0.0:
-        return operator.influence_radius
-    return None if settings.auto_influence else settings.influence_radius
-
-
-def seed_of(operator, settings):
-    return operator.seed if operator.properties.is_property_set("seed") else settings.seed
-
-
-class WORLDPAINT_OT_paste_color(BackgroundOperator, RegionProperties, TerrainProperty, bpy.types.Operator):
+class WORLDPAINT_OT_paste_color(BackgroundOperator, RegionProperties, SynthesisProperties, TerrainProperty,
+                          bpy.types.Operator):
     """Paste new instances with the statistics of the active color into the region (Esc cancels)"""
 
     bl_idname = "worldpaint.paste_color"
@@ -34,10 +31,6 @@ class WORLDPAINT_OT_paste_color(BackgroundOperator, RegionProperties, TerrainPro
     progress_text = "Pasting color"
 
     color: StringProperty(name="Color", description="Palette color to paste (empty: the active one)")
-    seed: IntProperty(name="Seed", default=0, min=0, description="Random seed (unset: the panel's seed)")
-    influence_radius: FloatProperty(
-        name="Influence", default=-1.0, description="Region of influence width (negative: the panel's setting)"
-    )
 
     def _prepare(self, context):
         """Validates the inputs and extracts what the engine needs; changes nothing."""
@@ -48,12 +41,10 @@ class WORLDPAINT_OT_paste_color(BackgroundOperator, RegionProperties, TerrainPro
         region = self.destination(context, content.terrain_obj)
         terrain.check_region_on_terrain(content.heightfield, region, "destination")
         self._content, self._entry, self._summary = content, entry, summary
-        self._call = dict(color=entry.json, region=region, seed=seed_of(self, settings),
-                          influence_radius=influence_of(self, settings))
+        self._call = dict(color=entry.json, region=region, **self.synthesis_arguments(settings))
 
     def _compute(self, progress):
-        heightfield, arrays = self._content.arrays()
-        return engine().paste(heightfield, progress=progress, **arrays, **self._call)
+        return engine().paste(self._content.engine_scene(), progress=progress, **self._call)
 
     def _apply(self, context, edit):
         applied = self._content.apply(context, edit)

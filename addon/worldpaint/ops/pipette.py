@@ -51,11 +51,10 @@ class WORLDPAINT_OT_pipette(TerrainProperty, bpy.types.Operator):
         content = SceneContent(context, self.terrain)
         region = regions.circle(self.location, radius)
         maps = ["slope", "elevation"] if self.use_elevation else ["slope"]
-        heightfield, arrays = content.arrays()
         name = unique_name(settings.palette, self.name or "Picked")
         eng = engine()
         try:
-            color_json = eng.learn_color(heightfield, region=region, name=name, options={"maps": maps}, **arrays)
+            color_json = content.learn(region, name, maps)
         except eng.EngineError as exc:
             if "nothing to learn" in str(exc):
                 raise WorldPaintError(

@@ -5,17 +5,24 @@ opened band with the region's color (or removes the band's content and closes it
 """
 
 import bpy
-from bpy.props import EnumProperty, FloatProperty, IntProperty, StringProperty
+from bpy.props import EnumProperty, FloatProperty, StringProperty
 
 from ..bridge import WorldPaintError
 from ..bridge.engine import engine
 from ..props import SIDES
 from .background import BackgroundOperator
-from .common import RegionProperties, SceneContent, TerrainProperty, active_color, report_missing
-from .paste import influence_of, seed_of
+from .common import (
+    RegionProperties,
+    SceneContent,
+    SynthesisProperties,
+    TerrainProperty,
+    active_color,
+    report_missing,
+)
 
 
-class WORLDPAINT_OT_stretch_region(BackgroundOperator, RegionProperties, TerrainProperty, bpy.types.Operator):
+class WORLDPAINT_OT_stretch_region(BackgroundOperator, RegionProperties, SynthesisProperties, TerrainProperty,
+                          bpy.types.Operator):
     """Stretch (or shrink) a rectangular region of content along an axis by seam carving (Esc cancels)"""
 
     bl_idname = "worldpaint.stretch_region"
@@ -28,10 +35,6 @@ class WORLDPAINT_OT_stretch_region(BackgroundOperator, RegionProperties, Terrain
                           description="How far the side moves out (negative: in, shrinking the region)")
     color: StringProperty(name="Color", description="Palette color that fills the opened band (empty: the "
                                                     "statistics of the region's own content)")
-    seed: IntProperty(name="Seed", default=0, min=0, description="Random seed (unset: the panel's seed)")
-    influence_radius: FloatProperty(
-        name="Influence", default=-1.0, description="Region of influence width (negative: the panel's setting)"
-    )
 
     def _prepare(self, context):
         settings = context.scene.worldpaint
@@ -41,11 +44,10 @@ class WORLDPAINT_OT_stretch_region(BackgroundOperator, RegionProperties, Terrain
             raise WorldPaintError("Stretching works on a rectangle: use the selection's rectangle or Rect Min/Max")
         self._call = dict(region=region, side=self.side.lower(), amount=self.amount,
                           color=active_color(context, self.color).json if self.color else None,
-                          seed=seed_of(self, settings), influence_radius=influence_of(self, settings))
+                          **self.synthesis_arguments(settings))
 
     def _compute(self, progress):
-        heightfield, arrays = self._content.arrays()
-        return engine().stretch_region(heightfield, progress=progress, **arrays, **self._call)
+        return engine().stretch_region(self._content.engine_scene(), progress=progress, **self._call)
 
     def _apply(self, context, result):
         applied = self._content.apply(context, result)

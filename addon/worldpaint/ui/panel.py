@@ -3,12 +3,17 @@
 import bpy
 
 
-class WORLDPAINT_PT_main(bpy.types.Panel):
-    bl_label = "WorldPaint"
-    bl_idname = "WORLDPAINT_PT_main"
+class SidebarPanel:
+    """Where the WorldPaint panels live: the WorldPaint tab of the 3D viewport's sidebar."""
+
     bl_space_type = 'VIEW_3D'
     bl_region_type = 'UI'
     bl_category = "WorldPaint"
+
+
+class WORLDPAINT_PT_main(SidebarPanel, bpy.types.Panel):
+    bl_label = "WorldPaint"
+    bl_idname = "WORLDPAINT_PT_main"
 
     def draw(self, context):
         layout = self.layout
@@ -22,12 +27,9 @@ class WORLDPAINT_PT_main(bpy.types.Panel):
         )
 
 
-class WORLDPAINT_PT_palette(bpy.types.Panel):
+class WORLDPAINT_PT_palette(SidebarPanel, bpy.types.Panel):
     bl_label = "Palette"
     bl_idname = "WORLDPAINT_PT_palette"
-    bl_space_type = 'VIEW_3D'
-    bl_region_type = 'UI'
-    bl_category = "WorldPaint"
     bl_parent_id = "WORLDPAINT_PT_main"
 
     def draw(self, context):
@@ -55,12 +57,9 @@ class WORLDPAINT_PT_palette(bpy.types.Panel):
         row.operator("worldpaint.gradient", text="Gradient", icon='IPO_LINEAR')
 
 
-class WORLDPAINT_PT_paint(bpy.types.Panel):
+class WORLDPAINT_PT_paint(SidebarPanel, bpy.types.Panel):
     bl_label = "Paint"
     bl_idname = "WORLDPAINT_PT_paint"
-    bl_space_type = 'VIEW_3D'
-    bl_region_type = 'UI'
-    bl_category = "WorldPaint"
     bl_parent_id = "WORLDPAINT_PT_main"
 
     def draw(self, context):
@@ -93,12 +92,9 @@ class WORLDPAINT_PT_paint(bpy.types.Panel):
         )
 
 
-class WORLDPAINT_PT_edit(bpy.types.Panel):
+class WORLDPAINT_PT_edit(SidebarPanel, bpy.types.Panel):
     bl_label = "Edit"
     bl_idname = "WORLDPAINT_PT_edit"
-    bl_space_type = 'VIEW_3D'
-    bl_region_type = 'UI'
-    bl_category = "WorldPaint"
     bl_parent_id = "WORLDPAINT_PT_main"
 
     def draw(self, context):

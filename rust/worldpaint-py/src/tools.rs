@@ -1,9 +1,9 @@
 //! The painting tools: paste, brush strokes (paint, alpha, erase), move, stretch, gradient and blur.
 //!
-//! Each takes the scene as the synthesizing functions do (terrain, categories, positions, category index, and the
-//! optional rotations, scales, prototype and locked columns) and returns an *edit*: {"categories", "removed":
-//! int64 indices of the input instances it removed, and the added instances' columns ("positions", "heights",
-//! "rotations", "scales", "category_index", "prototype")}; the move and the stretch add what they measured.
+//! Each takes a [`Scene`] (the terrain and the instance columns, converted once) and returns an *edit*:
+//! {"categories", "removed": int64 indices of the scene's instances it removed, and the added instances' columns
+//! ("positions", "heights", "rotations", "scales", "category_index", "prototype")}; the move and the stretch add
+//! what they measured.
 
 use crate::colors::synthesis_options;
 use crate::convert::{
@@ -28,21 +28,46 @@ use worldpaint_core::tools::stretch::{stretch, Side, StretchOptions};
 use worldpaint_core::tools::{paste as paste_color, Edit};
 use worldpaint_core::Scene;
 
-/// The scene arguments every tool takes, as the engine's scene.
-macro_rules! scene {
-    ($terrain:expr, $categories:expr, $positions:expr, $index:expr, $rot:expr, $scale:expr, $proto:expr,
-     $locked:expr) => {
-        scene_from_py(
-            &$terrain,
-            $categories,
-            &$positions,
-            $index,
-            $rot,
-            $scale,
-            $proto,
-            $locked,
-        )?
-    };
+/// A scene handed to the tools: `Scene(terrain, categories, positions, category_index, *, rotations=None,
+/// scales=None, prototype=None, locked=None)` with the columns of `learn_color` (`locked`: placed by hand, never
+/// removed by a tool). Immutable; every tool reads it and returns an edit of it.
+#[pyclass(module = "worldpaint_engine", frozen, name = "Scene")]
+pub(crate) struct PyScene {
+    scene: Scene,
+}
+
+#[pymethods]
+impl PyScene {
+    #[new]
+    #[pyo3(signature = (terrain, categories, positions, category_index, *, rotations=None, scales=None,
+                        prototype=None, locked=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        terrain: Option<Py<Terrain>>,
+        categories: &Bound<'_, PyAny>,
+        positions: PyReadonlyArray2<'_, f64>,
+        category_index: PyReadonlyArray1<'_, i32>,
+        rotations: Option<PyReadonlyArray1<'_, f64>>,
+        scales: Option<PyReadonlyArray1<'_, f64>>,
+        prototype: Option<PyReadonlyArray1<'_, i32>>,
+        locked: Option<PyReadonlyArray1<'_, bool>>,
+    ) -> PyResult<Self> {
+        let scene = scene_from_py(
+            &terrain,
+            categories,
+            &positions,
+            category_index,
+            rotations,
+            scales,
+            prototype,
+            locked,
+        )?;
+        Ok(PyScene { scene })
+    }
+
+    fn __len__(&self) -> usize {
+        self.scene.instances.len()
+    }
 }
 
 fn edit_result<'py>(py: Python<'py>, edit: &Edit, scene: &Scene) -> PyResult<Bound<'py, PyDict>> {
@@ -52,38 +77,21 @@ fn edit_result<'py>(py: Python<'py>, edit: &Edit, scene: &Scene) -> PyResult<Bou
 /// Paste `color` (JSON) into `region`: the unlocked instances inside it are replaced by a new arrangement
 /// consistent with its surroundings. Returns the edit; `progress(fraction) -> bool` may cancel.
 #[pyfunction]
-#[pyo3(signature = (terrain, categories, positions, category_index, color, region, seed=0, *, rotations=None,
-                    scales=None, prototype=None, locked=None, influence_radius=None, iterations_per_instance=None,
+#[pyo3(signature = (scene, color, region, seed=0, *, influence_radius=None, iterations_per_instance=None,
                     only_categories=None, progress=None))]
 #[allow(clippy::too_many_arguments)]
 fn paste<'py>(
     py: Python<'py>,
-    terrain: Option<Py<Terrain>>,
-    categories: &Bound<'py, PyAny>,
-    positions: PyReadonlyArray2<'py, f64>,
-    category_index: PyReadonlyArray1<'py, i32>,
+    scene: &Bound<'py, PyScene>,
     color: &str,
     region: &Bound<'py, PyAny>,
     seed: u64,
-    rotations: Option<PyReadonlyArray1<'py, f64>>,
-    scales: Option<PyReadonlyArray1<'py, f64>>,
-    prototype: Option<PyReadonlyArray1<'py, i32>>,
-    locked: Option<PyReadonlyArray1<'py, bool>>,
     influence_radius: Option<f64>,
     iterations_per_instance: Option<f64>,
     only_categories: Option<Vec<String>>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let scene = scene!(
-        terrain,
-        categories,
-        positions,
-        category_index,
-        rotations,
-        scales,
-        prototype,
-        locked
-    );
+    let scene = &scene.get().scene;
     let region = region_from_py(region)?;
     let color = parse_color(color)?;
     let opts = synthesis_options(
@@ -93,9 +101,9 @@ fn paste<'py>(
         only_categories,
     );
     let edit = with_progress(py, progress, |report| {
-        paste_color(&scene, &color, &region, &opts, report)
+        paste_color(scene, &color, &region, &opts, report)
     })?;
-    edit_result(py, &edit, &scene)
+    edit_result(py, &edit, scene)
 }
 
 fn falloff_from_str(s: &str) -> PyResult<Falloff> {
@@ -109,10 +117,9 @@ fn falloff_from_str(s: &str) -> PyResult<Falloff> {
     }
 }
 
-/// One brush stroke over a scene. `Stroke(terrain, categories, positions, category_index, *, rotations, scales,
-/// prototype, locked, color=None, erase=False, only_categories=None, radius=20.0, spacing=0.5, opacity=1.0,
-/// falloff="constant", seed=0, influence_radius=None, iterations_per_instance=None)` paints `color` (JSON), or with
-/// `erase=True` removes unlocked instances (of `only_categories`, all when None) within `radius` of the path.
+/// One brush stroke over a scene. `Stroke(scene, *, color=None, erase=False, only_categories=None, radius=20.0,
+/// spacing=0.5, opacity=1.0, falloff="constant", seed=0, influence_radius=None, iterations_per_instance=None)`
+/// paints `color` (JSON), or with `erase=True` removes unlocked instances (of `only_categories`, all when None) within `radius` of the path.
 ///
 /// `follow(path, progress=None)` moves the brush along float64 (N, 2) points (a dab every `spacing × radius`, the
 /// first at once) with the GIL released and returns the number of dabs; `edit()` is what the stroke has done so far
@@ -125,20 +132,12 @@ struct Stroke {
 #[pymethods]
 impl Stroke {
     #[new]
-    #[pyo3(signature = (terrain, categories, positions, category_index, *, rotations=None, scales=None,
-                        prototype=None, locked=None, color=None, erase=false, only_categories=None, radius=20.0,
+    #[pyo3(signature = (scene, *, color=None, erase=false, only_categories=None, radius=20.0,
                         spacing=0.5, opacity=1.0, falloff="constant", seed=0, influence_radius=None,
                         iterations_per_instance=None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
-        terrain: Option<Py<Terrain>>,
-        categories: &Bound<'_, PyAny>,
-        positions: PyReadonlyArray2<'_, f64>,
-        category_index: PyReadonlyArray1<'_, i32>,
-        rotations: Option<PyReadonlyArray1<'_, f64>>,
-        scales: Option<PyReadonlyArray1<'_, f64>>,
-        prototype: Option<PyReadonlyArray1<'_, i32>>,
-        locked: Option<PyReadonlyArray1<'_, bool>>,
+        scene: &Bound<'_, PyScene>,
         color: Option<&str>,
         erase: bool,
         only_categories: Option<Vec<String>>,
@@ -150,16 +149,7 @@ impl Stroke {
         influence_radius: Option<f64>,
         iterations_per_instance: Option<f64>,
     ) -> PyResult<Self> {
-        let scene = scene!(
-            terrain,
-            categories,
-            positions,
-            category_index,
-            rotations,
-            scales,
-            prototype,
-            locked
-        );
+        let scene = &scene.get().scene;
         let mode = match (erase, color) {
             (true, _) => BrushMode::Erase(only_categories),
             (false, Some(c)) => BrushMode::Paint(parse_color(c)?),
@@ -172,7 +162,7 @@ impl Stroke {
             falloff: falloff_from_str(falloff)?,
             synthesis: synthesis_options(seed, influence_radius, iterations_per_instance, None),
         };
-        let stroke = CoreStroke::new(&scene, mode, opts).map_err(engine_err)?;
+        let stroke = CoreStroke::new(scene, mode, opts).map_err(engine_err)?;
         Ok(Stroke {
             stroke: Mutex::new(stroke),
         })
@@ -219,38 +209,22 @@ impl Stroke {
 /// `color` (JSON); the content it lands on is replaced. Returns the edit with "moved", "displaced", "reborn" and
 /// "lost" counts.
 #[pyfunction]
-#[pyo3(signature = (terrain, categories, positions, category_index, color, source, offset, seed=0, *,
-                    rotations=None, scales=None, prototype=None, locked=None, influence_radius=None, steps=None,
+#[pyo3(signature = (scene, color, source, offset, seed=0, *,
+                    influence_radius=None, steps=None,
                     reach=None))]
 #[allow(clippy::too_many_arguments)]
 fn move_region<'py>(
     py: Python<'py>,
-    terrain: Option<Py<Terrain>>,
-    categories: &Bound<'py, PyAny>,
-    positions: PyReadonlyArray2<'py, f64>,
-    category_index: PyReadonlyArray1<'py, i32>,
+    scene: &Bound<'py, PyScene>,
     color: &str,
     source: &Bound<'py, PyAny>,
     offset: (f64, f64),
     seed: u64,
-    rotations: Option<PyReadonlyArray1<'py, f64>>,
-    scales: Option<PyReadonlyArray1<'py, f64>>,
-    prototype: Option<PyReadonlyArray1<'py, i32>>,
-    locked: Option<PyReadonlyArray1<'py, bool>>,
     influence_radius: Option<f64>,
     steps: Option<usize>,
     reach: Option<f64>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let scene = scene!(
-        terrain,
-        categories,
-        positions,
-        category_index,
-        rotations,
-        scales,
-        prototype,
-        locked
-    );
+    let scene = &scene.get().scene;
     let source = region_from_py(source)?;
     let color = parse_color(color)?;
     let mut opts = AdaptOptions {
@@ -264,9 +238,9 @@ fn move_region<'py>(
     }
     let offset = DVec2::new(offset.0, offset.1);
     let moved = with_progress(py, None, |_| {
-        move_content(&scene, &color, &source, offset, &opts)
+        move_content(scene, &color, &source, offset, &opts)
     })?;
-    let d = edit_result(py, &moved.edit, &scene)?;
+    let d = edit_result(py, &moved.edit, scene)?;
     d.set_item("moved", moved.moved)?;
     d.set_item("displaced", moved.displaced)?;
     d.set_item("reborn", moved.reborn)?;
@@ -279,40 +253,24 @@ fn move_region<'py>(
 /// None learns it from the region. Returns the edit with "seam" float64 (N, 2), "band" and "region" (the resized
 /// rectangle).
 #[pyfunction]
-#[pyo3(signature = (terrain, categories, positions, category_index, region, side, amount, color=None, seed=0, *,
-                    rotations=None, scales=None, prototype=None, locked=None, influence_radius=None,
+#[pyo3(signature = (scene, region, side, amount, color=None, seed=0, *,
+                    influence_radius=None,
                     iterations_per_instance=None, cell=None, progress=None))]
 #[allow(clippy::too_many_arguments)]
 fn stretch_region<'py>(
     py: Python<'py>,
-    terrain: Option<Py<Terrain>>,
-    categories: &Bound<'py, PyAny>,
-    positions: PyReadonlyArray2<'py, f64>,
-    category_index: PyReadonlyArray1<'py, i32>,
+    scene: &Bound<'py, PyScene>,
     region: &Bound<'py, PyAny>,
     side: &str,
     amount: f64,
     color: Option<&str>,
     seed: u64,
-    rotations: Option<PyReadonlyArray1<'py, f64>>,
-    scales: Option<PyReadonlyArray1<'py, f64>>,
-    prototype: Option<PyReadonlyArray1<'py, i32>>,
-    locked: Option<PyReadonlyArray1<'py, bool>>,
     influence_radius: Option<f64>,
     iterations_per_instance: Option<f64>,
     cell: Option<f64>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let scene = scene!(
-        terrain,
-        categories,
-        positions,
-        category_index,
-        rotations,
-        scales,
-        prototype,
-        locked
-    );
+    let scene = &scene.get().scene;
     let region = region_from_py(region)?;
     let side = match side.to_ascii_lowercase().as_str() {
         "east" => Side::East,
@@ -337,9 +295,9 @@ fn stretch_region<'py>(
         synthesis,
     };
     let out = with_progress(py, progress, |report| {
-        stretch(&scene, &region, side, amount, color.as_ref(), &opts, report)
+        stretch(scene, &region, side, amount, color.as_ref(), &opts, report)
     })?;
-    let d = edit_result(py, &out.edit, &scene)?;
+    let d = edit_result(py, &out.edit, scene)?;
     d.set_item("seam", points_to_py(py, &out.seam))?;
     d.set_item("band", region_to_py(py, &out.band)?)?;
     d.set_item("region", region_to_py(py, &out.region)?)?;
@@ -374,40 +332,24 @@ fn gradient_shape(obj: &Bound<'_, PyAny>) -> PyResult<GradientShape> {
 /// Paint a gradient from color `start` to color `end` (JSON) over `region`, along `shape` (see `gradient_shape`),
 /// in `bands` bands (None: adapted to the region). Returns the edit.
 #[pyfunction]
-#[pyo3(signature = (terrain, categories, positions, category_index, start, end, region, shape, bands=None, seed=0,
-                    *, rotations=None, scales=None, prototype=None, locked=None, influence_radius=None,
+#[pyo3(signature = (scene, start, end, region, shape, bands=None, seed=0,
+                    *, influence_radius=None,
                     iterations_per_instance=None, progress=None))]
 #[allow(clippy::too_many_arguments)]
 fn gradient<'py>(
     py: Python<'py>,
-    terrain: Option<Py<Terrain>>,
-    categories: &Bound<'py, PyAny>,
-    positions: PyReadonlyArray2<'py, f64>,
-    category_index: PyReadonlyArray1<'py, i32>,
+    scene: &Bound<'py, PyScene>,
     start: &str,
     end: &str,
     region: &Bound<'py, PyAny>,
     shape: &Bound<'py, PyAny>,
     bands: Option<usize>,
     seed: u64,
-    rotations: Option<PyReadonlyArray1<'py, f64>>,
-    scales: Option<PyReadonlyArray1<'py, f64>>,
-    prototype: Option<PyReadonlyArray1<'py, i32>>,
-    locked: Option<PyReadonlyArray1<'py, bool>>,
     influence_radius: Option<f64>,
     iterations_per_instance: Option<f64>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let scene = scene!(
-        terrain,
-        categories,
-        positions,
-        category_index,
-        rotations,
-        scales,
-        prototype,
-        locked
-    );
+    let scene = &scene.get().scene;
     let (start, end) = (parse_color(start)?, parse_color(end)?);
     let region = region_from_py(region)?;
     let shape = gradient_shape(shape)?;
@@ -416,46 +358,29 @@ fn gradient<'py>(
         synthesis: synthesis_options(seed, influence_radius, iterations_per_instance, None),
     };
     let edit = with_progress(py, progress, |report| {
-        paint_gradient(&scene, &start, &end, &region, shape, &opts, report)
+        paint_gradient(scene, &start, &end, &region, shape, &opts, report)
     })?;
-    edit_result(py, &edit, &scene)
+    edit_result(py, &edit, scene)
 }
 
 /// Blur the content of `region` into the colors around it (`windows` analyses around it, `cells` × `cells`
 /// interpolated colors inside). Returns the edit.
 #[pyfunction]
-#[pyo3(signature = (terrain, categories, positions, category_index, region, seed=0, *, rotations=None,
-                    scales=None, prototype=None, locked=None, windows=8, cells=4, influence_radius=None,
+#[pyo3(signature = (scene, region, seed=0, *, windows=8, cells=4, influence_radius=None,
                     iterations_per_instance=None, progress=None))]
 #[allow(clippy::too_many_arguments)]
 fn blur<'py>(
     py: Python<'py>,
-    terrain: Option<Py<Terrain>>,
-    categories: &Bound<'py, PyAny>,
-    positions: PyReadonlyArray2<'py, f64>,
-    category_index: PyReadonlyArray1<'py, i32>,
+    scene: &Bound<'py, PyScene>,
     region: &Bound<'py, PyAny>,
     seed: u64,
-    rotations: Option<PyReadonlyArray1<'py, f64>>,
-    scales: Option<PyReadonlyArray1<'py, f64>>,
-    prototype: Option<PyReadonlyArray1<'py, i32>>,
-    locked: Option<PyReadonlyArray1<'py, bool>>,
     windows: usize,
     cells: usize,
     influence_radius: Option<f64>,
     iterations_per_instance: Option<f64>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let scene = scene!(
-        terrain,
-        categories,
-        positions,
-        category_index,
-        rotations,
-        scales,
-        prototype,
-        locked
-    );
+    let scene = &scene.get().scene;
     let region = region_from_py(region)?;
     let opts = BlurOptions {
         windows,
@@ -463,12 +388,13 @@ fn blur<'py>(
         synthesis: synthesis_options(seed, influence_radius, iterations_per_instance, None),
     };
     let edit = with_progress(py, progress, |report| {
-        blur_region(&scene, &region, &opts, report)
+        blur_region(scene, &region, &opts, report)
     })?;
-    edit_result(py, &edit, &scene)
+    edit_result(py, &edit, scene)
 }
 
 pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<PyScene>()?;
     m.add_class::<Stroke>()?;
     m.add_function(wrap_pyfunction!(paste, m)?)?;
     m.add_function(wrap_pyfunction!(move_region, m)?)?;
