@@ -213,6 +213,35 @@ fn ends_give_the_colors_back_and_bad_t_is_refused() {
     }
 }
 
+#[test]
+fn an_interpolated_color_is_previewed_by_an_arrangement_painted_with_it() {
+    let opts = AnalysisOptions::default();
+    let (a, b) = (
+        hard_core_color(2.0, 0.04, 1, &opts),
+        hard_core_color(6.0, 0.01, 2, &opts),
+    );
+    let mid = interpolate_colors(&a, &b, 0.5, "mid").unwrap();
+    let previewed = worldpaint_core::tools::with_painted_preview(mid.clone()).unwrap();
+    let points: Vec<DVec2> = previewed
+        .preview
+        .iter()
+        .map(|p| DVec2::new(p[0], p[1]))
+        .collect();
+    let expected = mid.categories[0].density * mid.region_area;
+    println!(
+        "preview of the interpolated color: {} points ({expected:.0} expected)",
+        points.len()
+    );
+    assert!((points.len() as f64 - expected).abs() <= 1.0);
+    assert!(points
+        .iter()
+        .all(|p| p.x >= 0.0 && p.y >= 0.0 && p.x <= 100.0 && p.y <= 100.0));
+    assert!(
+        min_pair_distance(&points) >= 4.0 - 1e-9,
+        "the preview keeps the interpolated hard core"
+    );
+}
+
 /// The quantile function of a histogram read as a piecewise-constant density, at `u`.
 fn quantile(h: &Histogram, u: f64) -> f64 {
     let total = h.total();

@@ -17,7 +17,7 @@ pub mod stretch;
 
 use crate::analysis::{learn_color, AnalysisOptions};
 use crate::error::{Error, Result};
-use crate::geom::Region;
+use crate::geom::{DVec2, Region};
 use crate::palette::Color;
 use crate::scene::{Category, Instance, Scene};
 use crate::synthesis::{synthesize_keeping, SynthesisOptions};
@@ -186,11 +186,12 @@ pub fn color_of_region(scene: &Scene, region: &Region, name: &str) -> Result<Opt
     }
 }
 
-/// Most points a preview keeps.
-const PREVIEW_POINTS: usize = 20_000;
+/// About how many points a painted preview shows.
+const PREVIEW_POINTS: f64 = 4_000.0;
 
-/// The color with a preview that shows an arrangement painted with it in its own region (terrain maps aside):
-/// for colors no exemplar showed, such as interpolations.
+/// The color with a preview that shows an arrangement painted with it (terrain maps aside): for colors no
+/// exemplar showed, such as interpolations. A large region is previewed by a square patch at its centre, scaled to
+/// the region's frame, so the preview stays quick to paint and to draw.
 pub fn with_painted_preview(mut color: Color) -> Result<Color> {
     let mut plain = color.clone();
     plain.maps.clear();
@@ -202,15 +203,28 @@ pub fn with_painted_preview(mut color: Color) -> Result<Color> {
             .collect(),
         ..Default::default()
     };
-    let painted =
-        crate::synthesis::synthesize(&canvas, &plain, &color.region, &Default::default())?;
-    let (lo, _) = color.region.bbox();
-    let step = painted.instances.len().div_ceil(PREVIEW_POINTS).max(1);
+    let (lo, hi) = color.region.bbox();
+    let density: f64 = color.categories.iter().map(|c| c.density).sum();
+    let side = (PREVIEW_POINTS / density.max(1e-12)).sqrt();
+    let (region, scale) = if density * color.region.area() <= PREVIEW_POINTS {
+        (color.region.clone(), DVec2::ONE)
+    } else {
+        let centre = 0.5 * (lo + hi);
+        let patch = Region::Rect {
+            min: centre - DVec2::splat(0.5 * side),
+            max: centre + DVec2::splat(0.5 * side),
+        };
+        (patch, (hi - lo) / side)
+    };
+    let painted = crate::synthesis::synthesize(&canvas, &plain, &region, &Default::default())?;
+    let (origin, _) = region.bbox();
     color.preview = painted
         .instances
         .iter()
-        .step_by(step)
-        .map(|i| [i.position.x - lo.x, i.position.y - lo.y, i.category as f64])
+        .map(|i| {
+            let p = (i.position - origin) * scale;
+            [p.x, p.y, i.category as f64]
+        })
         .collect();
     Ok(color)
 }
