@@ -105,11 +105,17 @@
 //! showed (beyond its range, or a gap) take the factor of the nearest value it did show: the exemplar holds no
 //! evidence about them, and a neutral reading keeps, say, a grove learned on flat ground pastable on hills.
 //!
+//! ## Free borders
+//! Where the region of influence holds no content, the neighbours an instance would have beyond the border are
+//! missing and the chain crowds the border; a first-order field of them is added to the log-density of instances
+//! near such free borders (module `ghosts`).
+//!
 //! ## Determinism
 //! Every random choice comes from ChaCha8 generators seeded from (seed, category) and, for tiles, (sweep,
 //! phase, tile); parallel results are merged in a fixed order, so nothing depends on the rayon thread count.
 
 mod adapt;
+mod ghosts;
 mod product;
 mod rdf;
 mod target;
@@ -381,7 +387,8 @@ pub fn synthesize_keeping(
             inside: &synthesized,
             context: &context,
         };
-        let (target, self_tag) = build_target(color, ci, &conditioning, terrain, bounds, area);
+        let (mut target, self_tag) = build_target(color, ci, &conditioning, terrain, bounds, area);
+        target.add_ghosts(region, bounds);
         // expected count: exemplar density times the map preference integrated over the region, less the kept
         // (locked) instances already inside it
         let mean_preference = |points: &[DVec2]| {
@@ -402,7 +409,6 @@ pub fn synthesize_keeping(
         };
         let kept_inside = context[ci].iter().filter(|p| region.contains(**p)).count() as f64;
         let expected = (cat.density * area * preference - kept_inside).max(0.0);
-        let mut target = target;
         if !target.maps.is_empty() && !lattice.is_empty() {
             rake_maps(&mut target, &lattice);
         }

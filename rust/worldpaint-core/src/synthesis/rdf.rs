@@ -425,6 +425,7 @@ fn run_tile(sh: &Shared, tile: &Tile) -> (Vec<DVec2>, Vec<f64>) {
         }
         let log_accept = -d_e / sh.tau
             + (map_new - target.map_log(p))
+            + (target.ghost_log(q) - target.ghost_log(p))
             + (ctx_new.min(target.saturation) - ctx_old.min(target.saturation));
         let accept = rng.random::<f64>().ln() < log_accept;
         for &h in &touched[..nt] {

@@ -2,9 +2,10 @@
 //! the pair factors `h` of the category with itself and with every category of equal or higher priority present,
 //! the map factors `ψ`, and a grid of the fixed content they apply to.
 
+use super::ghosts::{points_by_table, Ghosts, PairInput};
 use super::{HISTOGRAM_FLOOR, SATURATION_PAIRS};
 use crate::analysis::folded_angle_bin;
-use crate::geom::DVec2;
+use crate::geom::{DVec2, Region};
 use crate::palette::{Color, Histogram, Interaction};
 use crate::spatial::{GridEntry, SpatialGrid};
 use crate::terrain::Heightfield;
@@ -23,6 +24,8 @@ pub(super) struct PairTable {
     pub(super) target_hist: Vec<f64>,
     /// Points of the other category inside the region (fixed); `None` for the self pair (the chain's own).
     pub(super) others_inside: Option<usize>,
+    /// The other category's density in the color.
+    pub(super) other_density: f64,
     pub(super) angle_bins: usize,
     pub(super) bin_width: f64,
     pub(super) n_bins: usize,
@@ -54,6 +57,7 @@ impl PairTable {
             log_factor,
             target_hist: values.to_vec(),
             others_inside: None,
+            other_density: 0.0,
             angle_bins,
             bin_width,
             n_bins,
@@ -241,6 +245,8 @@ pub(super) struct Target<'a> {
     pub(super) bin_width: f64,
     /// Cell size of the spatial grids.
     pub(super) cell: f64,
+    /// The missing neighbours beyond the region's free borders (see [`super::ghosts`]).
+    pub(super) ghosts: Option<Ghosts>,
 }
 
 impl Target<'_> {
@@ -272,7 +278,40 @@ impl Target<'_> {
                     .log_factor(entry.position - p, d2);
             }
         });
-        m + pairs.min(self.saturation)
+        m + pairs.min(self.saturation) + self.ghost_log(p)
+    }
+
+    /// The free-border term at `p` (0 without ghosts).
+    #[inline]
+    pub(super) fn ghost_log(&self, p: DVec2) -> f64 {
+        self.ghosts.as_ref().map_or(0.0, |g| g.log_factor(p))
+    }
+
+    /// Adds the free-border term of `region` to the chain (see [`super::ghosts`]).
+    pub(super) fn add_ghosts(&mut self, region: &Region, bounds: (DVec2, DVec2)) {
+        let points = points_by_table(&self.grid, self.tables.len(), CONTEXT_TAG);
+        let inputs: Vec<PairInput> = self
+            .tables
+            .iter()
+            .zip(&points)
+            .map(|(t, pts)| {
+                let a = t.angle_bins.max(1);
+                // forbidden distance bins, then the hard core of the category's own pairs
+                let seen = (0..t.n_bins)
+                    .find(|&k| {
+                        t.log_factor[k * a..(k + 1) * a]
+                            .iter()
+                            .any(|v| v.is_finite())
+                    })
+                    .unwrap_or(t.n_bins);
+                PairInput {
+                    core: (seen as f64 * t.bin_width).max(t.hard_core2.sqrt()),
+                    density: t.other_density,
+                    points: pts,
+                }
+            })
+            .collect();
+        self.ghosts = Some(Ghosts::new(region, bounds, &inputs));
     }
 }
 
@@ -404,6 +443,7 @@ pub(super) fn build_target<'a>(
         if !same {
             table.others_inside = Some(cond.inside[oi].as_ref().map_or(0, |v| v.len()));
         }
+        table.other_density = other.density;
         let n_other = other.count as f64 - if same { 1.0 } else { 0.0 };
         table.truncate_to_significant(cat.count as f64 * n_other / color.region_area);
         let tag = tables.len() as u32;
@@ -474,6 +514,7 @@ pub(super) fn build_target<'a>(
         saturation,
         bin_width: color.bin_width,
         cell,
+        ghosts: None,
     };
     (target, self_tag)
 }
