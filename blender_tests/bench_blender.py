@@ -53,8 +53,9 @@ def exemplar_color():
     grass = engine.exemplar_clustered(EXEMPLAR, 0.004, 10.0, 2.0, 3)
     xy = np.concatenate([trees, rocks, grass])
     index = np.repeat(np.arange(3, dtype=np.int32), [len(trees), len(rocks), len(grass)])
-    color = engine.learn_color(None, CATEGORIES, xy, index, EXEMPLAR, "Bench")
-    grass_only = engine.learn_color(None, [CATEGORIES[2]], grass, np.zeros(len(grass), np.int32), EXEMPLAR, "Grass")
+    color = engine.learn_color(engine.Scene(None, CATEGORIES, xy, index), EXEMPLAR, "Bench")
+    grass_only = engine.learn_color(engine.Scene(None, [CATEGORIES[2]], grass, np.zeros(len(grass), np.int32)),
+                                    EXEMPLAR, "Grass")
     return color, grass_only, len(grass) / 1e4
 
 
@@ -113,7 +114,8 @@ def main():
     whole = {"shape": "rect", "min": [0.0, 0.0], "max": [args.size, args.size]}
 
     no = np.zeros((0, 2))
-    result, t_engine = timed(lambda: engine.synthesize(terrain, CATEGORIES, no, np.zeros(0, np.int32), color, whole, 1))
+    empty = engine.Scene(terrain, CATEGORIES, no, np.zeros(0, np.int32))
+    result, t_engine = timed(lambda: engine.synthesize(empty, color, whole, 1))
     n = len(result["positions"])
 
     def build():
@@ -142,14 +144,16 @@ def main():
     one = [{"name": "Grass"}]
 
     def fidelity(xy):
-        learned = engine.learn_color(None, one, np.ascontiguousarray(xy), np.zeros(len(xy), np.int32), whole, "x")
+        scene = engine.Scene(None, one, np.ascontiguousarray(xy), np.zeros(len(xy), np.int32))
+        learned = engine.learn_color(scene, whole, "x")
         f = engine.compare(grass_color, learned)
         return f["density_ratio"]["Grass"], f["max_rdf_l2"]
 
     (ratio_engine, rdf_engine), (ratio_gn, rdf_gn) = fidelity(grass_engine), fidelity(gn_xy)
     # the reference: a second independent draw of the clustered process, on the exemplar's own area
     second = engine.exemplar_clustered(EXEMPLAR, 0.004, 10.0, 2.0, 99)
-    learned_second = engine.learn_color(None, one, second, np.zeros(len(second), np.int32), EXEMPLAR, "second")
+    learned_second = engine.learn_color(engine.Scene(None, one, second, np.zeros(len(second), np.int32)), EXEMPLAR,
+                                        "second")
     rdf_second = engine.compare(grass_color, learned_second)["max_rdf_l2"]
 
     print(f"terrain {args.size:.0f} m x {args.size:.0f} m ({len(terrain_obj.data.vertices)} vertices)")

@@ -12,11 +12,12 @@ CATEGORIES = [{"name": "tree"}]
 
 def hard_core_color():
     pts = engine.exemplar_hard_core(SQUARE, 0.04, 2.5, 1)
-    return engine.learn_color(None, CATEGORIES, pts, np.zeros(len(pts), np.int32), SQUARE, "trees"), len(pts)
+    scene = engine.Scene(None, CATEGORIES, pts, np.zeros(len(pts), np.int32))
+    return engine.learn_color(scene, SQUARE, "trees"), len(pts)
 
 
 def nothing():
-    return np.zeros((0, 2)), np.zeros(0, np.int32)
+    return engine.Scene(None, CATEGORIES, np.zeros((0, 2)), np.zeros(0, np.int32))
 
 
 def test_engine_errors_are_value_errors_with_the_engine_message():
@@ -30,7 +31,7 @@ def test_engine_errors_are_value_errors_with_the_engine_message():
     with pytest.raises(engine.EngineError, match=r"shape \(N, 3\)"):
         engine.Terrain(np.zeros((4, 2)), np.zeros((1, 3), np.uint32))
     with pytest.raises(engine.EngineError, match="category index 3"):
-        engine.learn_color(None, CATEGORIES, np.zeros((1, 2)), np.array([3], np.int32), SQUARE, "x")
+        engine.Scene(None, CATEGORIES, np.zeros((1, 2)), np.array([3], np.int32))
     with pytest.raises(engine.EngineError, match="version 99"):
         engine.palette_from_json(json.dumps({"format": "worldpaint-palette", "version": 99, "colors": []}))
 
@@ -53,10 +54,10 @@ def test_terrain_from_a_mesh_samples_heights_and_maps():
 def test_synthesis_reports_progress_and_can_be_cancelled():
     color, _ = hard_core_color()
     seen = []
-    out = engine.synthesize(None, CATEGORIES, *nothing(), color, SQUARE, 1, progress=lambda f: seen.append(f) or True)
+    out = engine.synthesize(nothing(), color, SQUARE, 1, progress=lambda f: seen.append(f) or True)
     assert len(out["positions"]) > 0 and seen and seen == sorted(seen) and 0.0 <= seen[0] <= seen[-1] <= 1.0
     with pytest.raises(engine.Cancelled):
-        engine.synthesize(None, CATEGORIES, *nothing(), color, SQUARE, 1, progress=lambda f: False)
+        engine.synthesize(nothing(), color, SQUARE, 1, progress=lambda f: False)
 
 
 def test_an_exception_in_the_progress_callback_reaches_the_caller():
@@ -66,13 +67,13 @@ def test_an_exception_in_the_progress_callback_reaches_the_caller():
         raise KeyError("from the callback")
 
     with pytest.raises(KeyError, match="from the callback"):
-        engine.synthesize(None, CATEGORIES, *nothing(), color, SQUARE, 1, progress=broken)
+        engine.synthesize(nothing(), color, SQUARE, 1, progress=broken)
 
 
 def test_same_seed_same_result_and_palette_round_trip():
     color, _ = hard_core_color()
-    a = engine.synthesize(None, CATEGORIES, *nothing(), color, SQUARE, 5)
-    b = engine.synthesize(None, CATEGORIES, *nothing(), color, SQUARE, 5)
+    a = engine.synthesize(nothing(), color, SQUARE, 5)
+    b = engine.synthesize(nothing(), color, SQUARE, 5)
     np.testing.assert_array_equal(a["positions"], b["positions"])
     assert engine.palette_from_json(engine.palette_to_json([color, color])) == [color, color]
     summary = engine.color_summary(color)

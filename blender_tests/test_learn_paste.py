@@ -61,7 +61,8 @@ def test_pasted_forest_has_the_exemplar_density_and_slope_preference():
     xy = np.concatenate([points[c["name"]][0][:, :2] for c in categories])
     index = np.concatenate([np.full(len(points[c["name"]][0]), i, np.int32) for i, c in enumerate(categories)])
     region = {"shape": "rect", "min": [0.0, 100.0], "max": [200.0, 200.0]}
-    pasted = engine.learn_color(data["terrain"], categories, np.ascontiguousarray(xy), index, region, "pasted")
+    pasted = engine.learn_color(engine.Scene(data["terrain"], categories, np.ascontiguousarray(xy), index), region,
+                                "pasted")
     fidelity = engine.compare(color_json, pasted)
     for category, ratio in fidelity["density_ratio"].items():
         assert abs(ratio - 1.0) <= 0.15, f"{category}: density ratio {ratio:.2f}"

@@ -116,8 +116,7 @@ class SceneContent:
 
     def learn(self, region, name, maps):
         """The color (engine JSON) of this content inside ``region``, with the terrain ``maps``."""
-        return engine().learn_color(self.heightfield, region=region, name=name, options={"maps": maps},
-                                    **self.instances.engine_arrays())
+        return engine().learn_color(self.engine_scene(), region, name, options={"maps": maps})
 
     def engine_scene(self):
         """The engine's Scene of this content (made once; the tools read it and return edits of it)."""

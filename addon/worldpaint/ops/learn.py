@@ -61,9 +61,9 @@ class WORLDPAINT_OT_learn_color(RegionProperties, TerrainProperty, bpy.types.Ope
         exemplar = instances.example_set(examples, categories)
         name = self.name or unique_name(settings.palette, "Color")
         maps = ["slope", "elevation"] if self.use_elevation else ["slope"]
-        color_json = engine().learn_color(
-            heightfield, region=region, name=name, options={"maps": maps}, **exemplar.engine_arrays()
-        )
+        eng = engine()
+        color_json = eng.learn_color(eng.Scene(heightfield, **exemplar.engine_arrays()), region, name,
+                                     options={"maps": maps})
 
         # validated and computed: now change the scene
         for category in new:

@@ -2,12 +2,11 @@
 
 use crate::convert::{
     categories_to_py, instances_to_py, kind_to_str, parse_color, region_from_py, region_to_py,
-    scene_from_py,
 };
-use crate::terrain::Terrain;
+use crate::scene::PyScene;
 use crate::{guarded, input_err, with_progress};
 use numpy::ndarray::Array2;
-use numpy::{IntoPyArray, PyReadonlyArray1, PyReadonlyArray2};
+use numpy::IntoPyArray;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use worldpaint_core::palette::{Interaction, Palette};
@@ -45,86 +44,47 @@ pub(crate) fn analysis_options(options: Option<&Bound<'_, PyAny>>) -> PyResult<A
     Ok(o)
 }
 
-/// Learn a color (returned as JSON) from the instances inside `region`.
-///
-/// `categories` is a list of {"name", "layer", "kind", "priority"} dicts; `positions` float64 (N, 2) world XY,
-/// `category_index` int32 (N) into `categories`; optional `rotations` (radians about Z), `scales`, `prototype`,
-/// `locked` (bool: placed by hand). `options`: {"bin_width", "max_radius", "oriented": [(a, b), ...], "maps": [...]},
-/// all optional.
+/// Learn a color (returned as JSON) from the instances of `scene` inside `region`. `options`: {"bin_width",
+/// "max_radius", "oriented": [(a, b), ...], "maps": [...]}, all optional.
 #[pyfunction]
-#[pyo3(signature = (terrain, categories, positions, category_index, region, name, *, rotations=None, scales=None,
-                    prototype=None, locked=None, options=None))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (scene, region, name, *, options=None))]
 fn learn_color(
     py: Python<'_>,
-    terrain: Option<Py<Terrain>>,
-    categories: &Bound<'_, PyAny>,
-    positions: PyReadonlyArray2<'_, f64>,
-    category_index: PyReadonlyArray1<'_, i32>,
+    scene: &Bound<'_, PyScene>,
     region: &Bound<'_, PyAny>,
     name: &str,
-    rotations: Option<PyReadonlyArray1<'_, f64>>,
-    scales: Option<PyReadonlyArray1<'_, f64>>,
-    prototype: Option<PyReadonlyArray1<'_, i32>>,
-    locked: Option<PyReadonlyArray1<'_, bool>>,
     options: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<String> {
-    let scene = scene_from_py(
-        &terrain,
-        categories,
-        &positions,
-        category_index,
-        rotations,
-        scales,
-        prototype,
-        locked,
-    )?;
+    let scene = scene.get().scene();
     let region = region_from_py(region)?;
     let opts = analysis_options(options)?;
     let name = name.to_string();
-    py.detach(|| guarded(|| worldpaint_core::learn_color(&scene, &region, &name, &opts)?.to_json()))
+    py.detach(|| guarded(|| worldpaint_core::learn_color(scene, &region, &name, &opts)?.to_json()))
 }
 
-/// Synthesize `color` (JSON) inside `region`, conditioned on the given existing instances: the unlocked ones inside
-/// the region are replaced, locked ones inside it and those around it condition the result.
+/// Synthesize `color` (JSON) inside `region` of `scene`: its unlocked instances inside the region are replaced, the
+/// locked ones inside it and those around it condition the result.
 ///
 /// Returns {"categories": [...], "positions": float64 (N, 2), "heights": float64 (N) (terrain height, NaN without
 /// terrain), "rotations", "scales", "category_index": int32, "prototype": int32} for the *new* instances; category
 /// indices refer to the returned category list (the given ones, then the color's new ones).
 /// `progress(fraction) -> bool` may return False to cancel (raises `Cancelled`).
 #[pyfunction]
-#[pyo3(signature = (terrain, categories, positions, category_index, color, region, seed=0, *, rotations=None,
-                    scales=None, prototype=None, locked=None, influence_radius=None, iterations_per_instance=None,
+#[pyo3(signature = (scene, color, region, seed=0, *, influence_radius=None, iterations_per_instance=None,
                     only_categories=None, progress=None))]
 #[allow(clippy::too_many_arguments)]
 fn synthesize<'py>(
     py: Python<'py>,
-    terrain: Option<Py<Terrain>>,
-    categories: &Bound<'py, PyAny>,
-    positions: PyReadonlyArray2<'py, f64>,
-    category_index: PyReadonlyArray1<'py, i32>,
+    scene: &Bound<'py, PyScene>,
     color: &str,
     region: &Bound<'py, PyAny>,
     seed: u64,
-    rotations: Option<PyReadonlyArray1<'py, f64>>,
-    scales: Option<PyReadonlyArray1<'py, f64>>,
-    prototype: Option<PyReadonlyArray1<'py, i32>>,
-    locked: Option<PyReadonlyArray1<'py, bool>>,
     influence_radius: Option<f64>,
     iterations_per_instance: Option<f64>,
     only_categories: Option<Vec<String>>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let scene = scene_from_py(
-        &terrain,
-        categories,
-        &positions,
-        category_index,
-        rotations,
-        scales,
-        prototype,
-        locked,
-    )?;
+    let scene = scene.get().scene();
     let region = region_from_py(region)?;
     let color = parse_color(color)?;
     let opts = synthesis_options(
@@ -134,7 +94,7 @@ fn synthesize<'py>(
         only_categories,
     );
     let result = with_progress(py, progress, |report| {
-        worldpaint_core::synthesis::synthesize_with_progress(&scene, &color, &region, &opts, report)
+        worldpaint_core::synthesis::synthesize_with_progress(scene, &color, &region, &opts, report)
     })?;
     let d = PyDict::new(py);
     d.set_item("categories", categories_to_py(py, &result.categories)?)?;

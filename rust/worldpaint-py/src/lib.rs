@@ -10,6 +10,7 @@ mod colors;
 mod convert;
 mod exemplars;
 mod regions;
+mod scene;
 mod terrain;
 mod tools;
 
@@ -136,6 +137,7 @@ fn worldpaint_engine(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("EngineError", py.get_type::<EngineError>())?;
     m.add("Cancelled", py.get_type::<Cancelled>())?;
     m.add_class::<terrain::Terrain>()?;
+    m.add_class::<scene::PyScene>()?;
     colors::register(m)?;
     regions::register(m)?;
     exemplars::register(m)?;

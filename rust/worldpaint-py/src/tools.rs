@@ -1,6 +1,6 @@
 //! The painting tools: paste, brush strokes (paint, alpha, erase), move, stretch, gradient and blur.
 //!
-//! Each takes a [`Scene`] (the terrain and the instance columns, converted once) and returns an *edit*:
+//! Each takes a `Scene` (the terrain and the instance columns, converted once) and returns an *edit*:
 //! {"categories", "removed": int64 indices of the scene's instances it removed, and the added instances' columns
 //! ("positions", "heights", "rotations", "scales", "category_index", "prototype")}; the move and the stretch add
 //! what they measured.
@@ -8,11 +8,11 @@
 use crate::colors::synthesis_options;
 use crate::convert::{
     edit_to_py, field, parse_color, points_from_py, points_to_py, region_from_py, region_to_py,
-    scene_from_py, vec2,
+    vec2,
 };
-use crate::terrain::Terrain;
+use crate::scene::PyScene;
 use crate::{engine_err, input_err, with_progress};
-use numpy::{PyArray2, PyReadonlyArray1, PyReadonlyArray2};
+use numpy::{PyArray2, PyReadonlyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::sync::Mutex;
@@ -27,48 +27,6 @@ use worldpaint_core::tools::moving::move_region as move_content;
 use worldpaint_core::tools::stretch::{stretch, Side, StretchOptions};
 use worldpaint_core::tools::{paste as paste_color, Edit};
 use worldpaint_core::Scene;
-
-/// A scene handed to the tools: `Scene(terrain, categories, positions, category_index, *, rotations=None,
-/// scales=None, prototype=None, locked=None)` with the columns of `learn_color` (`locked`: placed by hand, never
-/// removed by a tool). Immutable; every tool reads it and returns an edit of it.
-#[pyclass(module = "worldpaint_engine", frozen, name = "Scene")]
-pub(crate) struct PyScene {
-    scene: Scene,
-}
-
-#[pymethods]
-impl PyScene {
-    #[new]
-    #[pyo3(signature = (terrain, categories, positions, category_index, *, rotations=None, scales=None,
-                        prototype=None, locked=None))]
-    #[allow(clippy::too_many_arguments)]
-    fn new(
-        terrain: Option<Py<Terrain>>,
-        categories: &Bound<'_, PyAny>,
-        positions: PyReadonlyArray2<'_, f64>,
-        category_index: PyReadonlyArray1<'_, i32>,
-        rotations: Option<PyReadonlyArray1<'_, f64>>,
-        scales: Option<PyReadonlyArray1<'_, f64>>,
-        prototype: Option<PyReadonlyArray1<'_, i32>>,
-        locked: Option<PyReadonlyArray1<'_, bool>>,
-    ) -> PyResult<Self> {
-        let scene = scene_from_py(
-            &terrain,
-            categories,
-            &positions,
-            category_index,
-            rotations,
-            scales,
-            prototype,
-            locked,
-        )?;
-        Ok(PyScene { scene })
-    }
-
-    fn __len__(&self) -> usize {
-        self.scene.instances.len()
-    }
-}
 
 fn edit_result<'py>(py: Python<'py>, edit: &Edit, scene: &Scene) -> PyResult<Bound<'py, PyDict>> {
     edit_to_py(py, edit, scene.terrain.as_deref())
@@ -91,7 +49,7 @@ fn paste<'py>(
     only_categories: Option<Vec<String>>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let scene = &scene.get().scene;
+    let scene = scene.get().scene();
     let region = region_from_py(region)?;
     let color = parse_color(color)?;
     let opts = synthesis_options(
@@ -149,7 +107,7 @@ impl Stroke {
         influence_radius: Option<f64>,
         iterations_per_instance: Option<f64>,
     ) -> PyResult<Self> {
-        let scene = &scene.get().scene;
+        let scene = scene.get().scene();
         let mode = match (erase, color) {
             (true, _) => BrushMode::Erase(only_categories),
             (false, Some(c)) => BrushMode::Paint(parse_color(c)?),
@@ -224,7 +182,7 @@ fn move_region<'py>(
     steps: Option<usize>,
     reach: Option<f64>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let scene = &scene.get().scene;
+    let scene = scene.get().scene();
     let source = region_from_py(source)?;
     let color = parse_color(color)?;
     let mut opts = AdaptOptions {
@@ -270,7 +228,7 @@ fn stretch_region<'py>(
     cell: Option<f64>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let scene = &scene.get().scene;
+    let scene = scene.get().scene();
     let region = region_from_py(region)?;
     let side = match side.to_ascii_lowercase().as_str() {
         "east" => Side::East,
@@ -349,7 +307,7 @@ fn gradient<'py>(
     iterations_per_instance: Option<f64>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let scene = &scene.get().scene;
+    let scene = scene.get().scene();
     let (start, end) = (parse_color(start)?, parse_color(end)?);
     let region = region_from_py(region)?;
     let shape = gradient_shape(shape)?;
@@ -380,7 +338,7 @@ fn blur<'py>(
     iterations_per_instance: Option<f64>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let scene = &scene.get().scene;
+    let scene = scene.get().scene();
     let region = region_from_py(region)?;
     let opts = BlurOptions {
         windows,
@@ -394,7 +352,6 @@ fn blur<'py>(
 }
 
 pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add_class::<PyScene>()?;
     m.add_class::<Stroke>()?;
     m.add_function(wrap_pyfunction!(paste, m)?)?;
     m.add_function(wrap_pyfunction!(move_region, m)?)?;

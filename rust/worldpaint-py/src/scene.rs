@@ -1,0 +1,58 @@
+//! The scene handed to the engine: the terrain and the instance columns, converted once.
+
+use crate::convert::scene_from_py;
+use crate::terrain::Terrain;
+use numpy::{PyReadonlyArray1, PyReadonlyArray2};
+use pyo3::prelude::*;
+use worldpaint_core::Scene;
+
+/// A scene the engine works on: `Scene(terrain, categories, positions, category_index, *, rotations=None,
+/// scales=None, prototype=None, locked=None)`. `terrain` is a `Terrain` or None; `categories` a list of {"name",
+/// "layer", "kind", "priority"} dicts (all but the name optional); `positions` float64 (N, 2) world XY;
+/// `category_index` int32 (N) into `categories`; `rotations` (radians about Z), `scales`, `prototype` (int32) and
+/// `locked` (bool: placed by hand, never removed by a tool) are optional columns. Immutable: learning reads it, and
+/// every tool returns an edit of it.
+#[pyclass(module = "worldpaint_engine", frozen, name = "Scene")]
+pub(crate) struct PyScene {
+    scene: Scene,
+}
+
+#[pymethods]
+impl PyScene {
+    #[new]
+    #[pyo3(signature = (terrain, categories, positions, category_index, *, rotations=None, scales=None,
+                        prototype=None, locked=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        terrain: Option<Py<Terrain>>,
+        categories: &Bound<'_, PyAny>,
+        positions: PyReadonlyArray2<'_, f64>,
+        category_index: PyReadonlyArray1<'_, i32>,
+        rotations: Option<PyReadonlyArray1<'_, f64>>,
+        scales: Option<PyReadonlyArray1<'_, f64>>,
+        prototype: Option<PyReadonlyArray1<'_, i32>>,
+        locked: Option<PyReadonlyArray1<'_, bool>>,
+    ) -> PyResult<Self> {
+        let scene = scene_from_py(
+            &terrain,
+            categories,
+            &positions,
+            category_index,
+            rotations,
+            scales,
+            prototype,
+            locked,
+        )?;
+        Ok(PyScene { scene })
+    }
+
+    fn __len__(&self) -> usize {
+        self.scene.instances.len()
+    }
+}
+
+impl PyScene {
+    pub(crate) fn scene(&self) -> &Scene {
+        &self.scene
+    }
+}
