@@ -60,6 +60,7 @@ fn synthesis_setup() -> (Scene, Color, Region) {
         ],
         instances,
         terrain: Some(terrain.into()),
+        ..Default::default()
     };
     let opts = AnalysisOptions {
         maps: vec!["slope".into()],

@@ -41,6 +41,7 @@ fn hills_and_color() -> (Scene, Color) {
             .map(|p| Instance::at(p, 0))
             .collect(),
         terrain: Some(terrain.into()),
+        ..Default::default()
     };
     let opts = AnalysisOptions {
         maps: vec!["slope".into()],

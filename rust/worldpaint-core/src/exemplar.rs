@@ -241,6 +241,7 @@ pub fn slope_scene(size: f64, seed: u64) -> Scene {
         categories,
         instances,
         terrain: Some(terrain.into()),
+        ..Default::default()
     }
 }
 
@@ -250,5 +251,6 @@ pub fn scene_from_points(name: &str, points: &[DVec2]) -> Scene {
         categories: vec![Category::distribution(name, "vegetation", 0)],
         instances: points.iter().map(|p| Instance::at(*p, 0)).collect(),
         terrain: None,
+        ..Default::default()
     }
 }

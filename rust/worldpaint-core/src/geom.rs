@@ -99,6 +99,22 @@ fn subtract_intervals(a: &[(f64, f64)], b: &[(f64, f64)]) -> Vec<(f64, f64)> {
     out
 }
 
+/// Where the segments `a`–`b` and `c`–`d` meet: the parameters `(t, u)` along each (both in [0, 1]), or `None`
+/// when they do not meet or are parallel.
+pub fn segment_intersection(a: DVec2, b: DVec2, c: DVec2, d: DVec2) -> Option<(f64, f64)> {
+    let r = b - a;
+    let s = d - c;
+    let denom = r.perp_dot(s);
+    let scale = r.length() * s.length();
+    if denom.abs() <= 1e-12 * scale || !(scale > 0.0) {
+        return None;
+    }
+    let q = c - a;
+    let t = q.perp_dot(s) / denom;
+    let u = q.perp_dot(r) / denom;
+    ((0.0..=1.0).contains(&t) && (0.0..=1.0).contains(&u)).then_some((t, u))
+}
+
 /// Signed area of a closed polygon (positive when counter-clockwise).
 pub fn polygon_signed_area(points: &[DVec2]) -> f64 {
     let n = points.len();
@@ -454,6 +470,106 @@ impl Region {
                 }
             }
         }
+    }
+
+    /// Parameters `t` in (0, 1) at which the segment `a`–`b` crosses the boundary of the region (or of its parts).
+    pub fn segment_crossings(&self, a: DVec2, b: DVec2) -> Vec<f64> {
+        let mut out = Vec::new();
+        let mut edge = |c: DVec2, d: DVec2| {
+            if let Some((t, _)) = segment_intersection(a, b, c, d) {
+                if t > 0.0 && t < 1.0 {
+                    out.push(t);
+                }
+            }
+        };
+        match self {
+            Region::Rect { min, max } => {
+                let c = [
+                    *min,
+                    DVec2::new(max.x, min.y),
+                    *max,
+                    DVec2::new(min.x, max.y),
+                ];
+                for i in 0..4 {
+                    edge(c[i], c[(i + 1) % 4]);
+                }
+            }
+            Region::Polygon { points } => {
+                let n = points.len();
+                for i in 0..n {
+                    edge(points[i], points[(i + 1) % n]);
+                }
+            }
+            Region::Circle { center, radius } => {
+                // |a + t (b − a) − c| = r
+                let ab = b - a;
+                let ac = a - *center;
+                let qa = ab.length_squared();
+                if qa > 0.0 {
+                    let qb = 2.0 * ac.dot(ab);
+                    let qc = ac.length_squared() - radius * radius;
+                    let disc = qb * qb - 4.0 * qa * qc;
+                    if disc >= 0.0 {
+                        let s = disc.sqrt();
+                        for t in [(-qb - s) / (2.0 * qa), (-qb + s) / (2.0 * qa)] {
+                            if t > 0.0 && t < 1.0 {
+                                out.push(t);
+                            }
+                        }
+                    }
+                }
+            }
+            Region::Clipped { within, without } => {
+                for part in within.iter().chain(without) {
+                    out.extend(part.segment_crossings(a, b));
+                }
+            }
+        }
+        out.sort_by(f64::total_cmp);
+        out
+    }
+
+    /// A polyline cut at the region's boundary: the pieces inside it and the pieces outside it.
+    pub fn clip_polyline(&self, points: &[DVec2]) -> (Vec<Vec<DVec2>>, Vec<Vec<DVec2>>) {
+        let (mut inside, mut outside) = (Vec::new(), Vec::new());
+        if points.len() < 2 {
+            return (inside, outside);
+        }
+        let mut current: Vec<DVec2> = vec![points[0]];
+        let mut current_in = self.contains(points[0]);
+        for w in points.windows(2) {
+            let (a, b) = (w[0], w[1]);
+            let mut cuts = self.segment_crossings(a, b);
+            cuts.push(1.0);
+            let mut t0 = 0.0;
+            for t in cuts {
+                let p = a + (b - a) * t;
+                let mid = a + (b - a) * (0.5 * (t0 + t));
+                let piece_in = self.contains(mid);
+                if piece_in != current_in {
+                    let start = *current.last().unwrap_or(&a);
+                    let done = std::mem::replace(&mut current, vec![start]);
+                    if done.len() >= 2 {
+                        if current_in {
+                            inside.push(done);
+                        } else {
+                            outside.push(done);
+                        }
+                    }
+                    current_in = piece_in;
+                }
+                current.push(p);
+                t0 = t;
+            }
+        }
+        if current.len() >= 2 {
+            if current_in {
+                inside.push(current);
+            } else {
+                outside.push(current);
+            }
+        }
+        (inside, outside)
     }
 
     /// The smaller side of the bounding box (a size scale of the region).

@@ -11,6 +11,7 @@
 //! |---|---|
 //! | [`geom`] | active regions, window-edge correction α (§3, §4.1) |
 //! | [`spatial`] | neighbour queries behind the product simplification (§6) |
+//! | [`graph`] | roads and rivers as planar graphs of intersecting paths, segment queries (§4.2) |
 //! | [`terrain`] | the terrain and its external maps (§3) |
 //! | [`scene`] | categories, priority order, instances (§3) |
 //! | [`palette`] | histograms, colors, palettes (§3, §4.1) |
@@ -29,6 +30,7 @@ pub mod compare;
 pub mod error;
 pub mod exemplar;
 pub mod geom;
+pub mod graph;
 pub mod interpolate;
 pub mod palette;
 pub mod scene;

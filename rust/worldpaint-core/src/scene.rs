@@ -1,7 +1,7 @@
 //! The scene the user paints on (Section 3, "Input data"): object *categories* with a *layer* and a *type*
 //! (distribution, graph, polygon, external), a predefined *priority order* ("Scene objects are generated category
-//! by category ... we set a predefined category priority order"), the instances of distribution categories and
-//! the terrain that carries the external maps.
+//! by category ... we set a predefined category priority order"), the instances of distribution categories, the
+//! paths of graph categories, the contours of polygon categories and the terrain that carries the external maps.
 
 use crate::terrain::Heightfield;
 use glam::DVec2;
@@ -67,11 +67,35 @@ impl Instance {
     }
 }
 
-/// Categories, instances and the terrain of a virtual world.
+/// An open polyline of a graph category (a road, a river): graphs are sets of paths that may intersect
+/// (Section 4.2).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Path {
+    pub category: usize,
+    pub points: Vec<DVec2>,
+    /// Drawn by hand: never removed by a tool.
+    #[serde(default)]
+    pub locked: bool,
+}
+
+/// A closed contour of a polygon category (an island, a lake, a field); contours of one category combine by the
+/// even-odd rule, so a lake inside an island is a hole in it.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Contour {
+    pub category: usize,
+    pub points: Vec<DVec2>,
+    /// Drawn by hand: never removed by a tool.
+    #[serde(default)]
+    pub locked: bool,
+}
+
+/// Categories, instances, paths, contours and the terrain of a virtual world.
 #[derive(Clone, Debug, Default)]
 pub struct Scene {
     pub categories: Vec<Category>,
     pub instances: Vec<Instance>,
+    pub paths: Vec<Path>,
+    pub contours: Vec<Contour>,
     /// Shared: the tools hand the same terrain to many syntheses without copying it.
     pub terrain: Option<Arc<Heightfield>>,
 }

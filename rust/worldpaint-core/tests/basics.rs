@@ -159,6 +159,7 @@ fn seamless_paste_keeps_the_hard_core_across_the_border() {
         categories: base.categories,
         instances: base.instances,
         terrain: None,
+        ..Default::default()
     };
     let right = Region::Rect {
         min: DVec2::new(200.0, 0.0),

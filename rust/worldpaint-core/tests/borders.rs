@@ -22,6 +22,7 @@ fn border_profile(density: f64, side: f64, runs: u64) -> Vec<f64> {
             .map(|p| Instance::at(p, 0))
             .collect(),
         terrain: None,
+        ..Default::default()
     };
     let color = learn_color(&scene, &exemplar_region, "hard core", &Default::default()).unwrap();
     let canvas = Scene {

@@ -23,6 +23,7 @@ fn hard_core_on_hills() -> (Scene, Color) {
         categories: vec![Category::distribution("tree", "vegetation", 0)],
         instances: points.iter().map(|p| Instance::at(*p, 0)).collect(),
         terrain: None,
+        ..Default::default()
     };
     let color = learn_color(
         &exemplar,
@@ -219,6 +220,7 @@ fn the_eraser_removes_unlocked_instances_of_its_categories_near_the_path() {
         ],
         instances,
         terrain: None,
+        ..Default::default()
     };
     let path = [
         DVec2::new(20.0, 100.0),

@@ -48,6 +48,7 @@ fn fidelity_of(make: &dyn Fn(&Region, u64) -> Vec<DVec2>, seed: u64) -> (f64, f6
         categories: out.categories,
         instances: out.instances,
         terrain: None,
+        ..Default::default()
     };
     let painted_color = learn_color(&painted, &paint, "painted", &same_bins(&color)).unwrap();
     let fid = compare(&color, &painted_color);
@@ -144,6 +145,7 @@ fn slope_fidelity(seed: u64) -> SlopeFidelity {
         categories: out.categories,
         instances: out.instances,
         terrain: scene.terrain.clone(),
+        ..Default::default()
     };
     let back = learn_color(&painted, &paint, "painted", &same_bins(&color)).unwrap();
     let fid = compare(&color, &back);
@@ -267,6 +269,7 @@ fn timing_100k_instances_three_categories_on_a_square_kilometre() {
         categories: out.categories,
         instances: out.instances,
         terrain: None,
+        ..Default::default()
     };
     let back = learn_color(&painted, &paint, "back", &same_bins(&color)).unwrap();
     let fid = compare(&color, &back);

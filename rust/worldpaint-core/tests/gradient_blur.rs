@@ -27,6 +27,7 @@ fn scene(instances: Vec<Instance>) -> Scene {
         categories: vec![Category::distribution("tree", "vegetation", 0)],
         instances,
         terrain: None,
+        ..Default::default()
     }
 }
 

@@ -112,6 +112,7 @@ fn interpolated_hard_core_paints_between_the_two() {
         categories: vec![],
         instances: vec![],
         terrain: None,
+        ..Default::default()
     };
     let result = synthesize(&scene, &mid, &region, &SynthesisOptions::default()).unwrap();
     let points: Vec<DVec2> = result.instances.iter().map(|i| i.position).collect();

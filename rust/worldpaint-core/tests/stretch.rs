@@ -27,6 +27,7 @@ fn scene() -> Scene {
             .map(|p| Instance::at(p, 0))
             .collect(),
         terrain: None,
+        ..Default::default()
     }
 }
 

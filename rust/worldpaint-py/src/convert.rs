@@ -295,6 +295,7 @@ pub(crate) fn scene_from_py(
         categories,
         instances: out,
         terrain: terrain_of(terrain).cloned(),
+        ..Default::default()
     })
 }
 

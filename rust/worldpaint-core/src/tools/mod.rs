@@ -50,6 +50,7 @@ impl Edit {
             categories: self.categories.clone(),
             instances,
             terrain: scene.terrain.clone(),
+            ..Default::default()
         }
     }
 }

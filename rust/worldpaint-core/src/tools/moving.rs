@@ -80,6 +80,7 @@ pub(crate) fn move_instances(
             .map(|(i, _)| *i)
             .collect(),
         terrain: scene.terrain.clone(),
+        ..Default::default()
     };
     let anchors: Vec<Instance> = moving
         .iter()

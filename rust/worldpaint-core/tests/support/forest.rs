@@ -262,6 +262,7 @@ fn tree_scene(points: &[DVec2], terrain: &Heightfield) -> Scene {
         categories: vec![Category::distribution("tree", "vegetation", 0)],
         instances: points.iter().map(|p| Instance::at(*p, 0)).collect(),
         terrain: Some(terrain.clone().into()),
+        ..Default::default()
     }
 }
 

@@ -1,0 +1,392 @@
+//! Structured content as graphs (Section 4.2; thesis 6.3): "the input graph is represented as a set of paths that
+//! may possibly intersect ... Nodes are automatically added at the intersection points between these paths".
+//!
+//! A [`Graph`] is built from paths (polylines) by making every vertex a node (vertices closer than a snapping
+//! distance merge) and every crossing of two segments a node that splits both; it goes back to paths as its
+//! maximal chains through nodes of degree 2. The statistics the method learns of a graph — edge lengths, the
+//! angles between edges sharing a node, node degrees, connected components — are read here, and a
+//! [`SegmentIndex`] answers the distance-to-graph and crossing queries of the synthesis in constant time per query.
+
+use crate::geom::{segment_distance, segment_intersection, DVec2};
+use std::collections::HashMap;
+use std::f64::consts::PI;
+
+/// A planar graph: nodes and undirected edges between them.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Graph {
+    pub nodes: Vec<DVec2>,
+    pub edges: Vec<[u32; 2]>,
+}
+
+/// Merges points closer than `snap` into one node (a hash of cells of side `snap`, neighbours included).
+struct NodeMerger {
+    snap: f64,
+    cells: HashMap<(i64, i64), Vec<u32>>,
+    nodes: Vec<DVec2>,
+}
+
+impl NodeMerger {
+    fn new(snap: f64) -> Self {
+        NodeMerger {
+            snap: snap.max(1e-12),
+            cells: HashMap::new(),
+            nodes: Vec::new(),
+        }
+    }
+
+    fn key(&self, p: DVec2) -> (i64, i64) {
+        (
+            (p.x / self.snap).floor() as i64,
+            (p.y / self.snap).floor() as i64,
+        )
+    }
+
+    fn node(&mut self, p: DVec2) -> u32 {
+        let (kx, ky) = self.key(p);
+        for dx in -1..=1 {
+            for dy in -1..=1 {
+                if let Some(ids) = self.cells.get(&(kx + dx, ky + dy)) {
+                    if let Some(&id) = ids
+                        .iter()
+                        .find(|&&id| self.nodes[id as usize].distance(p) <= self.snap)
+                    {
+                        return id;
+                    }
+                }
+            }
+        }
+        let id = self.nodes.len() as u32;
+        self.nodes.push(p);
+        self.cells.entry((kx, ky)).or_default().push(id);
+        id
+    }
+}
+
+impl Graph {
+    /// The planar graph of a set of paths (see the module documentation); vertices closer than `snap` merge.
+    pub fn from_paths(paths: &[&[DVec2]], snap: f64) -> Graph {
+        let segments: Vec<(DVec2, DVec2)> = paths
+            .iter()
+            .flat_map(|p| p.windows(2).map(|w| (w[0], w[1])))
+            .filter(|(a, b)| a.is_finite() && b.is_finite() && a.distance(*b) > snap)
+            .collect();
+        // crossings, found through a grid of segments
+        let index = SegmentIndex::new(segments.clone());
+        let mut cuts: Vec<Vec<f64>> = vec![vec![0.0, 1.0]; segments.len()];
+        for (i, &(a, b)) in segments.iter().enumerate() {
+            index.for_each_candidate(a, b, |j| {
+                if j <= i {
+                    return;
+                }
+                let (c, d) = segments[j];
+                if let Some((t, u)) = segment_intersection(a, b, c, d) {
+                    cuts[i].push(t);
+                    cuts[j].push(u);
+                }
+            });
+        }
+        let mut merger = NodeMerger::new(snap);
+        let mut edges: Vec<[u32; 2]> = Vec::new();
+        for (&(a, b), ts) in segments.iter().zip(cuts.iter_mut()) {
+            ts.sort_by(f64::total_cmp);
+            let mut prev = merger.node(a);
+            for &t in &ts[1..] {
+                let node = merger.node(a + (b - a) * t);
+                if node != prev {
+                    edges.push([prev.min(node), prev.max(node)]);
+                }
+                prev = node;
+            }
+        }
+        edges.sort_unstable();
+        edges.dedup();
+        Graph {
+            nodes: merger.nodes,
+            edges,
+        }
+    }
+
+    /// The neighbours of every node.
+    pub fn adjacency(&self) -> Vec<Vec<u32>> {
+        let mut adj = vec![Vec::new(); self.nodes.len()];
+        for &[a, b] in &self.edges {
+            adj[a as usize].push(b);
+            adj[b as usize].push(a);
+        }
+        adj
+    }
+
+    pub fn edge_length(&self, e: [u32; 2]) -> f64 {
+        self.nodes[e[0] as usize].distance(self.nodes[e[1] as usize])
+    }
+
+    /// The angle (in [0, π]) between the edges `node`–`a` and `node`–`b`.
+    pub fn angle_at(&self, node: u32, a: u32, b: u32) -> f64 {
+        let o = self.nodes[node as usize];
+        angle_between(self.nodes[a as usize] - o, self.nodes[b as usize] - o)
+    }
+
+    /// The smallest angle between two edges sharing a node (π when no node has two edges).
+    pub fn min_angle(&self) -> f64 {
+        let adj = self.adjacency();
+        let mut best = PI;
+        for (n, nb) in adj.iter().enumerate() {
+            for (i, &a) in nb.iter().enumerate() {
+                for &b in &nb[i + 1..] {
+                    best = best.min(self.angle_at(n as u32, a, b));
+                }
+            }
+        }
+        best
+    }
+
+    /// Connected components among the nodes that have at least one edge.
+    pub fn components(&self) -> usize {
+        let adj = self.adjacency();
+        let mut seen = vec![false; self.nodes.len()];
+        let mut count = 0;
+        for start in 0..self.nodes.len() {
+            if seen[start] || adj[start].is_empty() {
+                continue;
+            }
+            count += 1;
+            let mut stack = vec![start];
+            seen[start] = true;
+            while let Some(n) = stack.pop() {
+                for &m in &adj[n] {
+                    if !seen[m as usize] {
+                        seen[m as usize] = true;
+                        stack.push(m as usize);
+                    }
+                }
+            }
+        }
+        count
+    }
+
+    /// The graph as polylines: its maximal chains through nodes of degree 2 (cycles of such nodes included).
+    pub fn to_paths(&self) -> Vec<Vec<DVec2>> {
+        let adj = self.adjacency();
+        let mut used = vec![false; self.edges.len()];
+        let edge_id: HashMap<[u32; 2], usize> = self
+            .edges
+            .iter()
+            .enumerate()
+            .map(|(i, e)| (*e, i))
+            .collect();
+        let key = |a: u32, b: u32| [a.min(b), a.max(b)];
+        let mut paths = Vec::new();
+        let walk = |start: u32, first: u32, used: &mut Vec<bool>| {
+            let mut path = vec![self.nodes[start as usize]];
+            let (mut prev, mut cur) = (start, first);
+            loop {
+                if let Some(&e) = edge_id.get(&key(prev, cur)) {
+                    used[e] = true;
+                }
+                path.push(self.nodes[cur as usize]);
+                if adj[cur as usize].len() != 2 || cur == start {
+                    break;
+                }
+                let next = if adj[cur as usize][0] == prev {
+                    adj[cur as usize][1]
+                } else {
+                    adj[cur as usize][0]
+                };
+                if edge_id.get(&key(cur, next)).is_some_and(|&e| used[e]) {
+                    break;
+                }
+                prev = cur;
+                cur = next;
+            }
+            path
+        };
+        // chains from every node that is not a plain pass-through, then the remaining cycles
+        for n in 0..self.nodes.len() as u32 {
+            if adj[n as usize].len() == 2 {
+                continue;
+            }
+            for &m in &adj[n as usize] {
+                if edge_id.get(&key(n, m)).is_some_and(|&e| !used[e]) {
+                    paths.push(walk(n, m, &mut used));
+                }
+            }
+        }
+        for (e, &[a, b]) in self.edges.iter().enumerate() {
+            if !used[e] {
+                paths.push(walk(a, b, &mut used));
+            }
+        }
+        paths
+    }
+
+    /// The segments of the graph's edges.
+    pub fn segments(&self) -> Vec<(DVec2, DVec2)> {
+        self.edges
+            .iter()
+            .map(|e| (self.nodes[e[0] as usize], self.nodes[e[1] as usize]))
+            .collect()
+    }
+
+    /// How many pairs of edges cross away from a shared node.
+    pub fn crossings(&self) -> usize {
+        let segments = self.segments();
+        let index = SegmentIndex::new(segments.clone());
+        let mut count = 0;
+        for (i, e) in self.edges.iter().enumerate() {
+            let (a, b) = segments[i];
+            index.for_each_candidate(a, b, |j| {
+                let f = self.edges[j];
+                if j > i && f[0] != e[0] && f[0] != e[1] && f[1] != e[0] && f[1] != e[1] {
+                    let (c, d) = segments[j];
+                    if segment_intersection(a, b, c, d).is_some() {
+                        count += 1;
+                    }
+                }
+            });
+        }
+        count
+    }
+}
+
+/// The angle between two vectors, in [0, π].
+pub fn angle_between(u: DVec2, v: DVec2) -> f64 {
+    u.perp_dot(v).abs().atan2(u.dot(v))
+}
+
+/// Segments in a uniform grid: nearest-segment distances and crossing tests visit the cells near the query only.
+#[derive(Clone, Debug, Default)]
+pub struct SegmentIndex {
+    segments: Vec<(DVec2, DVec2)>,
+    origin: DVec2,
+    cell: f64,
+    nx: usize,
+    ny: usize,
+    cells: Vec<Vec<u32>>,
+}
+
+impl SegmentIndex {
+    /// An index of the segments with cells about as large as their mean length (at most 4M cells).
+    pub fn new(segments: Vec<(DVec2, DVec2)>) -> Self {
+        if segments.is_empty() {
+            return SegmentIndex::default();
+        }
+        let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
+        let mut total = 0.0;
+        for (a, b) in &segments {
+            lo = lo.min(a.min(*b));
+            hi = hi.max(a.max(*b));
+            total += a.distance(*b);
+        }
+        let ext = (hi - lo).max(DVec2::splat(1e-9));
+        let mean = (total / segments.len() as f64).max(1e-9);
+        let cell = mean
+            .max((ext.x * ext.y / 4.0e6).sqrt())
+            .max(ext.x.max(ext.y) / 4096.0);
+        let nx = (ext.x / cell).floor() as usize + 1;
+        let ny = (ext.y / cell).floor() as usize + 1;
+        let mut index = SegmentIndex {
+            segments: Vec::new(),
+            origin: lo,
+            cell,
+            nx,
+            ny,
+            cells: vec![Vec::new(); nx * ny],
+        };
+        for (i, &(a, b)) in segments.iter().enumerate() {
+            let (x0, y0) = index.cell_of(a.min(b));
+            let (x1, y1) = index.cell_of(a.max(b));
+            for cy in y0..=y1 {
+                for cx in x0..=x1 {
+                    // only the cells the segment passes near
+                    let c = index.origin + DVec2::new(cx as f64 + 0.5, cy as f64 + 0.5) * cell;
+                    if segment_distance(c, a, b) <= 0.75 * cell {
+                        index.cells[cy * nx + cx].push(i as u32);
+                    }
+                }
+            }
+        }
+        index.segments = segments;
+        index
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.segments.is_empty()
+    }
+
+    pub fn segments(&self) -> &[(DVec2, DVec2)] {
+        &self.segments
+    }
+
+    fn cell_of(&self, p: DVec2) -> (usize, usize) {
+        let f = (p - self.origin) / self.cell;
+        let cx = if f.x.is_finite() {
+            f.x.floor().clamp(0.0, (self.nx - 1) as f64) as usize
+        } else {
+            0
+        };
+        let cy = if f.y.is_finite() {
+            f.y.floor().clamp(0.0, (self.ny - 1) as f64) as usize
+        } else {
+            0
+        };
+        (cx, cy)
+    }
+
+    /// Calls `visit(segment)` once for every segment listed in the cells the box of `a`–`b` covers.
+    pub fn for_each_candidate(&self, a: DVec2, b: DVec2, mut visit: impl FnMut(usize)) {
+        if self.segments.is_empty() {
+            return;
+        }
+        let (x0, y0) = self.cell_of(a.min(b) - DVec2::splat(self.cell));
+        let (x1, y1) = self.cell_of(a.max(b) + DVec2::splat(self.cell));
+        let mut seen: Vec<u32> = Vec::new();
+        for cy in y0..=y1 {
+            for cx in x0..=x1 {
+                for &s in &self.cells[cy * self.nx + cx] {
+                    if !seen.contains(&s) {
+                        seen.push(s);
+                        visit(s as usize);
+                    }
+                }
+            }
+        }
+    }
+
+    /// Distance from `p` to the nearest segment, looking no farther than `max` (returns `max` beyond it, and
+    /// `f64::INFINITY` for an empty index).
+    pub fn distance(&self, p: DVec2, max: f64) -> f64 {
+        if self.segments.is_empty() {
+            return f64::INFINITY;
+        }
+        let mut best = max;
+        let (x0, y0) = self.cell_of(p - DVec2::splat(max + self.cell));
+        let (x1, y1) = self.cell_of(p + DVec2::splat(max + self.cell));
+        for cy in y0..=y1 {
+            for cx in x0..=x1 {
+                for &s in &self.cells[cy * self.nx + cx] {
+                    let (a, b) = self.segments[s as usize];
+                    best = best.min(segment_distance(p, a, b));
+                }
+            }
+        }
+        best
+    }
+
+    /// Whether the segment `a`–`b` crosses or touches an indexed segment anywhere but at `a` or `b` themselves.
+    pub fn crosses(&self, a: DVec2, b: DVec2, tolerance: f64) -> bool {
+        let mut hit = false;
+        self.for_each_candidate(a, b, |s| {
+            if hit {
+                return;
+            }
+            let (c, d) = self.segments[s];
+            if let Some((t, _)) = segment_intersection(a, b, c, d) {
+                let p = a + (b - a) * t;
+                if p.distance(a) > tolerance && p.distance(b) > tolerance {
+                    hit = true;
+                }
+            }
+        });
+        hit
+    }
+}
