@@ -12,6 +12,7 @@
 //! | [`geom`] | active regions, window-edge correction α (§3, §4.1) |
 //! | [`spatial`] | neighbour queries behind the product simplification (§6) |
 //! | [`graph`] | roads and rivers as planar graphs of intersecting paths, segment queries (§4.2) |
+//! | [`contour`] | islands and lakes: contours to dense points and back, signed distance (§6, thesis 6.2.1) |
 //! | [`terrain`] | the terrain and its external maps (§3) |
 //! | [`scene`] | categories, priority order, instances (§3) |
 //! | [`palette`] | histograms, colors, palettes (§3, §4.1) |
@@ -27,6 +28,7 @@
 
 pub mod analysis;
 pub mod compare;
+pub mod contour;
 pub mod error;
 pub mod exemplar;
 pub mod geom;

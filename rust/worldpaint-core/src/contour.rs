@@ -1,0 +1,317 @@
+//! Islands, lakes and fields as contours (Section 6, "Implementation and results"; thesis 6.2.1): "we provide an
+//! automatic method for creating dense point clusters from closed contours: we generate a dense set of points in the
+//! region within the contours using a jittered grid ... synthesized islands and lakes are rendered as contours by
+//! tracing a contour around dense clusters".
+//!
+//! * [`fill`]: one point per cell of a grid of side `spacing`, jittered uniformly within its cell, kept where the
+//!   contours (combined by the even-odd rule, so a lake in an island is a hole) contain it.
+//! * [`trace`]: the density of the points, smoothed by a Gaussian of `0.6 × spacing` and scaled so that a filled
+//!   area reads 1, is contoured at ½ by marching squares on a grid of half the spacing, and the closed loops are
+//!   simplified (Douglas–Peucker, a tenth of the spacing). Loops smaller than four cells are dropped.
+//! * [`Polygons::signed_distance`]: the interaction of a distribution with a polygon category (thesis 6.2.1),
+//!   `d` outside and `−d / d_max` inside, where `d_max` is the largest distance to the border inside the contour
+//!   that holds the point.
+
+use crate::geom::{polygon_signed_area, DVec2, Region};
+use crate::graph::SegmentIndex;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use std::collections::HashMap;
+
+/// Smoothing of the traced density, in units of the spacing.
+const TRACE_SIGMA: f64 = 0.6;
+/// Samples across a contour's bounding box to find its largest inner distance.
+const INNER_SAMPLES: usize = 64;
+
+/// The contours of one polygon category, ready for containment and signed-distance queries.
+#[derive(Clone, Debug, Default)]
+pub struct Polygons {
+    contours: Vec<Region>,
+    /// Per contour: its area (to find the innermost contour holding a point) and its largest inner distance.
+    areas: Vec<f64>,
+    inner: Vec<f64>,
+    border: SegmentIndex,
+}
+
+impl Polygons {
+    /// Contours with fewer than three points or no area are left out.
+    pub fn new(contours: &[Vec<DVec2>]) -> Polygons {
+        let contours: Vec<Region> = contours
+            .iter()
+            .filter(|c| c.len() >= 3 && polygon_signed_area(c).abs() > 0.0)
+            .map(|c| Region::Polygon { points: c.clone() })
+            .collect();
+        let segments = contours
+            .iter()
+            .flat_map(|r| match r {
+                Region::Polygon { points } => (0..points.len())
+                    .map(|i| (points[i], points[(i + 1) % points.len()]))
+                    .collect::<Vec<_>>(),
+                _ => Vec::new(),
+            })
+            .collect();
+        let mut polygons = Polygons {
+            areas: contours.iter().map(|c| c.area()).collect(),
+            inner: Vec::new(),
+            border: SegmentIndex::new(segments),
+            contours,
+        };
+        polygons.inner = (0..polygons.contours.len())
+            .map(|i| polygons.largest_inner_distance(i))
+            .collect();
+        polygons
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.contours.is_empty()
+    }
+
+    /// Inside by the even-odd rule over all contours.
+    pub fn contains(&self, p: DVec2) -> bool {
+        self.contours.iter().filter(|c| c.contains(p)).count() % 2 == 1
+    }
+
+    /// The innermost contour holding `p`.
+    fn owner(&self, p: DVec2) -> Option<usize> {
+        (0..self.contours.len())
+            .filter(|&i| self.contours[i].contains(p))
+            .min_by(|&a, &b| self.areas[a].total_cmp(&self.areas[b]))
+    }
+
+    fn largest_inner_distance(&self, i: usize) -> f64 {
+        let (lo, hi) = self.contours[i].bbox();
+        let step = (hi - lo) / INNER_SAMPLES as f64;
+        let reach = (hi - lo).length();
+        let mut best: f64 = 0.0;
+        for j in 0..INNER_SAMPLES {
+            for k in 0..INNER_SAMPLES {
+                let p = lo + DVec2::new(k as f64 + 0.5, j as f64 + 0.5) * step;
+                if self.owner(p) == Some(i) && self.contains(p) {
+                    best = best.max(self.border.distance(p, reach));
+                }
+            }
+        }
+        best.max(step.x.min(step.y))
+    }
+
+    /// Distance to the nearest border, looking no farther than `max`.
+    pub fn distance(&self, p: DVec2, max: f64) -> f64 {
+        self.border.distance(p, max)
+    }
+
+    /// `d` outside, `−d / d_max` inside (thesis 6.2.1); outside distances saturate at `max`.
+    pub fn signed_distance(&self, p: DVec2, max: f64) -> f64 {
+        if self.contours.is_empty() {
+            return max;
+        }
+        if self.contains(p) {
+            let d_max = self.owner(p).map_or(1.0, |i| self.inner[i]).max(1e-9);
+            -(self.border.distance(p, d_max) / d_max).min(1.0)
+        } else {
+            self.border.distance(p, max)
+        }
+    }
+
+    /// The contours' points.
+    pub fn contours(&self) -> impl Iterator<Item = &[DVec2]> {
+        self.contours.iter().filter_map(|r| match r {
+            Region::Polygon { points } => Some(points.as_slice()),
+            _ => None,
+        })
+    }
+}
+
+/// Dense points filling the contours (see the module documentation); `seed` draws the jitter.
+pub fn fill(polygons: &Polygons, spacing: f64, seed: u64) -> Vec<DVec2> {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let mut out = Vec::new();
+    if !(spacing > 0.0 && spacing.is_finite()) {
+        return out;
+    }
+    for c in polygons.contours.iter() {
+        let (lo, hi) = c.bbox();
+        // cells aligned on a global lattice, so overlapping contours share them
+        let (i0, j0) = ((lo.x / spacing).floor() as i64, (lo.y / spacing).floor() as i64);
+        let (i1, j1) = ((hi.x / spacing).ceil() as i64, (hi.y / spacing).ceil() as i64);
+        for j in j0..j1 {
+            for i in i0..i1 {
+                let p = DVec2::new(
+                    (i as f64 + rng.random::<f64>()) * spacing,
+                    (j as f64 + rng.random::<f64>()) * spacing,
+                );
+                // a cell belongs to the first contour whose box covers it, so it is drawn once
+                let first = polygons
+                    .contours
+                    .iter()
+                    .position(|d| {
+                        let (a, b) = d.bbox();
+                        p.x >= a.x && p.y >= a.y && p.x <= b.x && p.y <= b.y
+                    })
+                    .is_some_and(|k| std::ptr::eq(&polygons.contours[k], c));
+                if first && polygons.contains(p) {
+                    out.push(p);
+                }
+            }
+        }
+    }
+    out
+}
+
+/// Closed contours around dense points (see the module documentation).
+pub fn trace(points: &[DVec2], spacing: f64) -> Vec<Vec<DVec2>> {
+    if points.is_empty() || !(spacing > 0.0 && spacing.is_finite()) {
+        return Vec::new();
+    }
+    let sigma = TRACE_SIGMA * spacing;
+    let reach = 3.0 * sigma;
+    let h = 0.5 * spacing;
+    let (lo, hi) = points.iter().fold(
+        (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+        |(a, b), p| (a.min(*p), b.max(*p)),
+    );
+    let (lo, hi) = (lo - DVec2::splat(reach + h), hi + DVec2::splat(reach + h));
+    let nx = ((hi.x - lo.x) / h).ceil() as usize + 1;
+    let ny = ((hi.y - lo.y) / h).ceil() as usize + 1;
+    if nx * ny > 64_000_000 {
+        return Vec::new();
+    }
+    // density at the lattice vertices: a filled area of one point per spacing² reads 1
+    let norm = spacing * spacing / (std::f64::consts::TAU * sigma * sigma);
+    let mut f = vec![0.0; nx * ny];
+    let r = (reach / h).ceil() as i64;
+    for p in points {
+        let (ci, cj) = (((p.x - lo.x) / h).round() as i64, ((p.y - lo.y) / h).round() as i64);
+        for j in (cj - r).max(0)..=(cj + r).min(ny as i64 - 1) {
+            for i in (ci - r).max(0)..=(ci + r).min(nx as i64 - 1) {
+                let v = lo + DVec2::new(i as f64, j as f64) * h;
+                let d2 = v.distance_squared(*p);
+                f[j as usize * nx + i as usize] += norm * (-d2 / (2.0 * sigma * sigma)).exp();
+            }
+        }
+    }
+    let loops = marching_squares(&f, nx, ny, 0.5, |i, j| lo + DVec2::new(i, j) * h);
+    loops
+        .into_iter()
+        .map(|l| simplify(&l, 0.1 * spacing))
+        .filter(|l| l.len() >= 3 && polygon_signed_area(l).abs() >= 4.0 * spacing * spacing)
+        .collect()
+}
+
+/// Closed iso-lines at `level` of a field on an `nx × ny` lattice (vertex `(i, j)` at `at(i, j)`), whose border
+/// lies below the level.
+fn marching_squares(
+    f: &[f64],
+    nx: usize,
+    ny: usize,
+    level: f64,
+    at: impl Fn(f64, f64) -> DVec2,
+) -> Vec<Vec<DVec2>> {
+    // a crossing point on a lattice edge, keyed by the edge: (i, j, 0) horizontal from (i, j), (i, j, 1) vertical
+    type Key = (usize, usize, u8);
+    let value = |i: usize, j: usize| f[j * nx + i] - level;
+    let point = |k: Key| {
+        let (i, j, dir) = k;
+        let (i2, j2) = if dir == 0 { (i + 1, j) } else { (i, j + 1) };
+        let (a, b) = (value(i, j), value(i2, j2));
+        let t = if (a - b).abs() > 1e-300 { a / (a - b) } else { 0.5 };
+        let (x, y) = (i as f64 + t * (i2 - i) as f64, j as f64 + t * (j2 - j) as f64);
+        at(x, y)
+    };
+    let mut next: HashMap<Key, Key> = HashMap::new();
+    for j in 0..ny - 1 {
+        for i in 0..nx - 1 {
+            let inside = [
+                value(i, j) > 0.0,
+                value(i + 1, j) > 0.0,
+                value(i + 1, j + 1) > 0.0,
+                value(i, j + 1) > 0.0,
+            ];
+            let case = inside
+                .iter()
+                .enumerate()
+                .fold(0u8, |c, (k, &b)| c | (u8::from(b) << k));
+            let (bottom, right, top, left) = ((i, j, 0), (i + 1, j, 1), (i, j + 1, 0), (i, j, 1));
+            // segments oriented with the inside on their right, so that they link into loops
+            let segments: &[(Key, Key)] = match case {
+                1 => &[(left, bottom)],
+                2 => &[(bottom, right)],
+                3 => &[(left, right)],
+                4 => &[(right, top)],
+                5 => &[(left, top), (right, bottom)],
+                6 => &[(bottom, top)],
+                7 => &[(left, top)],
+                8 => &[(top, left)],
+                9 => &[(top, bottom)],
+                10 => &[(top, right), (bottom, left)],
+                11 => &[(top, right)],
+                12 => &[(right, left)],
+                13 => &[(right, bottom)],
+                14 => &[(bottom, left)],
+                _ => &[],
+            };
+            for &(a, b) in segments {
+                next.insert(a, b);
+            }
+        }
+    }
+    let mut loops = Vec::new();
+    while let Some(&start) = next.keys().next() {
+        let mut loop_points = Vec::new();
+        let mut k = start;
+        while let Some(n) = next.remove(&k) {
+            loop_points.push(point(k));
+            k = n;
+        }
+        if loop_points.len() >= 3 {
+            loops.push(loop_points);
+        }
+    }
+    loops
+}
+
+/// Douglas–Peucker simplification of a closed loop.
+fn simplify(points: &[DVec2], tolerance: f64) -> Vec<DVec2> {
+    if points.len() < 4 {
+        return points.to_vec();
+    }
+    fn keep(points: &[DVec2], lo: usize, hi: usize, tol: f64, out: &mut Vec<bool>) {
+        if hi <= lo + 1 {
+            return;
+        }
+        let (a, b) = (points[lo], points[hi]);
+        let (mut worst, mut at) = (0.0, lo);
+        for (k, p) in points.iter().enumerate().take(hi).skip(lo + 1) {
+            let d = crate::geom::segment_distance(*p, a, b);
+            if d > worst {
+                worst = d;
+                at = k;
+            }
+        }
+        if worst > tol {
+            out[at] = true;
+            keep(points, lo, at, tol, out);
+            keep(points, at, hi, tol, out);
+        }
+    }
+    // split the loop at its farthest point from the first
+    let far = (0..points.len())
+        .max_by(|&a, &b| {
+            points[a]
+                .distance_squared(points[0])
+                .total_cmp(&points[b].distance_squared(points[0]))
+        })
+        .unwrap_or(0);
+    let mut ring: Vec<DVec2> = points.to_vec();
+    ring.push(points[0]);
+    let mut kept = vec![false; ring.len()];
+    kept[0] = true;
+    kept[far] = true;
+    keep(&ring, 0, far, tolerance, &mut kept);
+    keep(&ring, far, ring.len() - 1, tolerance, &mut kept);
+    ring.iter()
+        .zip(&kept)
+        .take(points.len())
+        .filter(|(_, k)| **k)
+        .map(|(p, _)| *p)
+        .collect()
+}
