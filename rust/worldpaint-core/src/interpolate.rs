@@ -41,7 +41,8 @@
 
 use crate::error::{Error, Result};
 use crate::palette::{
-    CategoryColor, Color, Histogram, Interaction, MapInteraction, PairInteraction,
+    CategoryColor, Color, GraphColor, Histogram, Interaction, MapInteraction, PairInteraction,
+    PolygonColor,
 };
 
 /// Interpolates two colors at `t` ∈ [0, 1] by displacement interpolation of their histograms (see the module
@@ -115,6 +116,7 @@ pub fn interpolate_colors(a: &Color, b: &Color, t: f64, name: &str) -> Result<Co
                 map: ma.map.clone(),
                 hist: displacement_interpolate(&ma.hist, &mb.hist, t),
                 region_hist: displacement_interpolate(&ma.region_hist, &mb.region_hist, t),
+                source: ma.source,
             }),
             None => maps.push(ma.clone()),
         }
@@ -129,6 +131,15 @@ pub fn interpolate_colors(a: &Color, b: &Color, t: f64, name: &str) -> Result<Co
     pairs.retain(|p| known(&p.category) && known(&p.other));
     maps.retain(|m| known(&m.category));
 
+    let graphs = merge_by_category(&a.graphs, &b.graphs, |g| &g.category, |ga, gb| {
+        interpolate_graph(ga, gb, t)
+    });
+    let polygons = merge_by_category(&a.polygons, &b.polygons, |p| &p.category, |pa, pb| {
+        PolygonColor {
+            category: pa.category.clone(),
+            spacing: lerp(pa.spacing, pb.spacing),
+        }
+    });
     let color = Color {
         name: name.to_string(),
         region: near.region.clone(),
@@ -138,10 +149,54 @@ pub fn interpolate_colors(a: &Color, b: &Color, t: f64, name: &str) -> Result<Co
         categories,
         pairs,
         maps,
+        graphs,
+        polygons,
         preview: near.preview.clone(),
     };
     color.validate()?;
     Ok(color)
+}
+
+/// Entries of `a` and `b` matched by category: blended where both have one, kept where one has.
+fn merge_by_category<T: Clone>(
+    a: &[T],
+    b: &[T],
+    key: impl Fn(&T) -> &String,
+    blend: impl Fn(&T, &T) -> T,
+) -> Vec<T> {
+    let mut out: Vec<T> = a
+        .iter()
+        .map(|x| match b.iter().find(|y| key(y) == key(x)) {
+            Some(y) => blend(x, y),
+            None => x.clone(),
+        })
+        .collect();
+    out.extend(b.iter().filter(|y| !a.iter().any(|x| key(x) == key(y))).cloned());
+    out
+}
+
+/// Graph statistics: the histograms transported, the numbers blended, the constraints of the nearer color.
+fn interpolate_graph(ga: &GraphColor, gb: &GraphColor, t: f64) -> GraphColor {
+    let lerp = |x: f64, y: f64| (1.0 - t) * x + t * y;
+    let near = if t < 0.5 { ga } else { gb };
+    GraphColor {
+        category: ga.category.clone(),
+        edge_length: displacement_interpolate(&ga.edge_length, &gb.edge_length, t),
+        angle: displacement_interpolate(&ga.angle, &gb.angle, t),
+        degree: (0..ga.degree.len().max(gb.degree.len()))
+            .map(|k| {
+                lerp(
+                    ga.degree.get(k).copied().unwrap_or(0.0),
+                    gb.degree.get(k).copied().unwrap_or(0.0),
+                )
+            })
+            .collect(),
+        min_angle: lerp(ga.min_angle, gb.min_angle),
+        edges_per_node: lerp(ga.edges_per_node, gb.edges_per_node),
+        components_per_area: lerp(ga.components_per_area, gb.components_per_area),
+        clearance: near.clearance.clone(),
+        avoids: near.avoids.clone(),
+    }
 }
 
 fn scaled_category(c: &CategoryColor, w: f64) -> CategoryColor {

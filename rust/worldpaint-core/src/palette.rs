@@ -182,9 +182,23 @@ pub struct PairInteraction {
     pub interaction: Interaction,
 }
 
+/// Where the values of a map come from.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum MapSource {
+    /// A named map of the terrain ("elevation", "slope", ...).
+    #[default]
+    Terrain,
+    /// The distance (m) to the edges of the graph category the map names: the paper's distance-to-graph `h_g`.
+    GraphDistance,
+    /// The signed distance to the contours of the polygon category the map names (thesis 6.2.1): `−d / d_max`
+    /// inside, and outside `d` in units of the color's `max_radius`.
+    PolygonDistance,
+}
+
 /// Map sampling histogram `h_m` of a category on a map (mass per bin, sums to 1), with `region_hist`, the
 /// histogram (same bins) of the map's values over the whole exemplar region, so synthesis can favour what the
-/// exemplar preferred rather than what was merely common there.
+/// exemplar preferred rather than what was merely common there. Distances to graphs and polygons are maps too.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct MapInteraction {
     pub category: String,
@@ -192,6 +206,39 @@ pub struct MapInteraction {
     pub hist: Histogram,
     #[serde(default = "empty_histogram")]
     pub region_hist: Histogram,
+    #[serde(default)]
+    pub source: MapSource,
+}
+
+/// What a color knows of a graph category besides the distribution of its nodes (Section 4.2, thesis 6.3.1).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct GraphColor {
+    pub category: String,
+    /// Lengths of the edges (mass per bin).
+    pub edge_length: Histogram,
+    /// Angles between two edges sharing a node, in [0, π] (mass per bin).
+    pub angle: Histogram,
+    /// Fraction of the nodes of degree 1, 2, 3 and 4 or more.
+    pub degree: Vec<f64>,
+    /// The smallest angle between two edges sharing a node: no new edge makes a sharper one.
+    pub min_angle: f64,
+    /// Edges per node (half the mean degree).
+    pub edges_per_node: f64,
+    /// Connected components per m².
+    pub components_per_area: f64,
+    /// Per higher-priority distribution category: the smallest distance from its instances to the graph's edges,
+    /// which new edges keep clear.
+    pub clearance: Vec<(String, f64)>,
+    /// Higher-priority polygon categories whose contours the graph's edges never cross.
+    pub avoids: Vec<String>,
+}
+
+/// What a color knows of a polygon category besides the distribution of its dense points: their spacing, which
+/// tracing needs.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PolygonColor {
+    pub category: String,
+    pub spacing: f64,
 }
 
 fn empty_histogram() -> Histogram {
@@ -211,6 +258,10 @@ pub struct Color {
     pub categories: Vec<CategoryColor>,
     pub pairs: Vec<PairInteraction>,
     pub maps: Vec<MapInteraction>,
+    #[serde(default)]
+    pub graphs: Vec<GraphColor>,
+    #[serde(default)]
+    pub polygons: Vec<PolygonColor>,
     /// Exemplar points (x, y, category index into `categories`) relative to the region's bbox min, for the
     /// palette's preview picture.
     pub preview: Vec<[f64; 3]>,
@@ -286,6 +337,16 @@ impl Color {
         let color: Color = serde_json::from_value(color).map_err(to_json_error)?;
         color.validate()?;
         Ok(color)
+    }
+
+    /// The color's graph statistics of a category, by name.
+    pub fn graph(&self, name: &str) -> Option<&GraphColor> {
+        self.graphs.iter().find(|g| g.category == name)
+    }
+
+    /// The color's polygon statistics of a category, by name.
+    pub fn polygon(&self, name: &str) -> Option<&PolygonColor> {
+        self.polygons.iter().find(|p| p.category == name)
     }
 
     /// The color's record of a category, by name.
@@ -372,6 +433,27 @@ impl Color {
             }
             check_hist(&m.hist, "map")?;
             check_hist(&m.region_hist, "map region")?;
+            if m.source != MapSource::Terrain && self.category(&m.map).is_none() {
+                return bad(format!("distance map of {} names unknown category {}", m.category, m.map));
+            }
+        }
+        for g in &self.graphs {
+            if self.category(&g.category).is_none() {
+                return bad(format!("graph statistics name unknown category {}", g.category));
+            }
+            check_hist(&g.edge_length, "edge length")?;
+            check_hist(&g.angle, "angle")?;
+            let finite = [g.min_angle, g.edges_per_node, g.components_per_area]
+                .iter()
+                .all(|v| v.is_finite() && *v >= 0.0);
+            if !finite || g.degree.iter().any(|v| !v.is_finite() || *v < 0.0) {
+                return bad(format!("graph statistics of {} are not valid", g.category));
+            }
+        }
+        for p in &self.polygons {
+            if self.category(&p.category).is_none() || !(p.spacing.is_finite() && p.spacing > 0.0) {
+                return bad(format!("polygon statistics of {} are not valid", p.category));
+            }
         }
         Ok(())
     }

@@ -242,6 +242,8 @@ pub(crate) fn empty_color(like: &Color, region: &Region) -> Color {
         categories: Vec::new(),
         pairs: Vec::new(),
         maps: Vec::new(),
+        graphs: Vec::new(),
+        polygons: Vec::new(),
         preview: Vec::new(),
     }
 }

@@ -32,9 +32,11 @@
 use crate::error::{Error, Result};
 use crate::geom::{DVec2, Region};
 use crate::palette::{
-    CategoryColor, Color, Histogram, Interaction, MapInteraction, PairInteraction,
+    CategoryColor, Color, Histogram, Interaction, MapInteraction, MapSource, PairInteraction,
 };
 use crate::scene::{Category, CategoryKind, Instance, Scene};
+
+pub(crate) mod structure;
 use crate::spatial::{GridEntry, SpatialGrid};
 use crate::terrain::Heightfield;
 use rayon::prelude::*;
@@ -49,6 +51,8 @@ pub const SLOPE_BIN_DEGREES: f64 = 2.5;
 /// Bins of the histogram of any other map, spread over the map's range in the exemplar region.
 pub const MAP_BINS: usize = 24;
 const ALPHA_FLOOR: f64 = 0.05;
+/// Samples of a region for the distribution of a distance map over it.
+const REGION_SAMPLES: f64 = 40_000.0;
 
 /// How to learn a color.
 #[derive(Clone, Debug, Default)]
@@ -63,14 +67,32 @@ pub struct AnalysisOptions {
     pub maps: Vec<String>,
 }
 
-/// Instances of one category inside the exemplar region.
+/// The points of one category inside the exemplar region: its instances, the nodes of its graph, or the dense
+/// points of its contours.
 struct Group<'a> {
     category: &'a Category,
-    instances: Vec<&'a Instance>,
+    instances: Vec<Instance>,
     positions: Vec<DVec2>,
 }
 
-/// Learn a color from the scene's instances of kind Distribution inside `region`.
+impl<'a> Group<'a> {
+    fn new(category: &'a Category, instances: Vec<Instance>) -> Self {
+        let positions = instances.iter().map(|i| i.position).collect();
+        Group {
+            category,
+            instances,
+            positions,
+        }
+    }
+
+    fn kind(&self) -> CategoryKind {
+        self.category.kind
+    }
+}
+
+/// Learn a color from the scene's content inside `region`: the instances of distribution categories, the graphs
+/// of graph categories (their nodes as a distribution, plus the statistics of [`structure`]) and the contours of
+/// polygon categories (as dense points).
 pub fn learn_color(
     scene: &Scene,
     region: &Region,
@@ -81,38 +103,37 @@ pub fn learn_color(
     let area = region.area();
     // categories in priority order (ties: order in the scene)
     let mut order: Vec<usize> = (0..scene.categories.len())
-        .filter(|&c| scene.categories[c].kind == CategoryKind::Distribution)
+        .filter(|&c| scene.categories[c].kind != CategoryKind::External)
         .collect();
     order.sort_by_key(|&c| (scene.categories[c].priority, c));
+    let content = structure::Structures::of(scene, region);
     let mut groups: Vec<Group> = Vec::new();
     for &c in &order {
-        let instances: Vec<&Instance> = scene
-            .instances
-            .iter()
-            .filter(|i| i.category == c && region.contains(i.position))
-            .collect();
+        let category = &scene.categories[c];
+        let instances: Vec<Instance> = match category.kind {
+            CategoryKind::Graph => content.graph_nodes_inside(c, category, region),
+            CategoryKind::Polygon => content.polygon_points_inside(c, category, region),
+            _ => scene
+                .instances
+                .iter()
+                .filter(|i| i.category == c && region.contains(i.position))
+                .copied()
+                .collect(),
+        };
         if instances.is_empty() {
             continue;
         }
-        if instances
-            .iter()
-            .any(|i| !(i.position.x.is_finite() && i.position.y.is_finite()))
-        {
+        if instances.iter().any(|i| !i.position.is_finite()) {
             return Err(Error::InvalidInput(format!(
                 "category '{}' has instances at non-finite positions",
-                scene.categories[c].name
+                category.name
             )));
         }
-        let positions = instances.iter().map(|i| i.position).collect();
-        groups.push(Group {
-            category: &scene.categories[c],
-            instances,
-            positions,
-        });
+        groups.push(Group::new(category, instances));
     }
     if groups.is_empty() {
         return Err(Error::EmptyExemplar(format!(
-            "no distribution instances inside the region (bbox {:?})",
+            "no instances, paths or contours inside the region (bbox {:?})",
             region.bbox()
         )));
     }
@@ -137,20 +158,21 @@ pub fn learn_color(
     };
     let n_bins = ((max_radius / bin_width).round() as usize).max(1);
 
+    let grid_of = |positions: &[DVec2], cell: f64| {
+        let (lo, hi) = region.bbox();
+        let mut grid = SpatialGrid::new(lo, hi, cell);
+        for (k, p) in positions.iter().enumerate() {
+            grid.insert(GridEntry {
+                position: *p,
+                tag: 0,
+                id: k as u32,
+            });
+        }
+        grid
+    };
     let grids: Vec<SpatialGrid> = groups
         .iter()
-        .map(|g| {
-            let (lo, hi) = region.bbox();
-            let mut grid = SpatialGrid::new(lo, hi, max_radius);
-            for (k, p) in g.positions.iter().enumerate() {
-                grid.insert(GridEntry {
-                    position: *p,
-                    tag: 0,
-                    id: k as u32,
-                });
-            }
-            grid
-        })
+        .map(|g| grid_of(&g.positions, max_radius))
         .collect();
 
     let mut categories = Vec::with_capacity(groups.len());
@@ -162,16 +184,29 @@ pub fn learn_color(
     for (xi, gx) in groups.iter().enumerate() {
         for (yi, gy) in groups.iter().enumerate().take(xi + 1) {
             let same = xi == yi;
-            let hist = rdf(
-                region,
-                area,
-                &gx.positions,
-                &gy.positions,
-                &grids[yi],
-                same,
-                bin_width,
-                n_bins,
-            );
+            // graphs and polygons meet the rest through distance maps, not pair statistics
+            let structured = |g: &Group| g.kind() != CategoryKind::Distribution;
+            if !same && (structured(gx) && gx.kind() == CategoryKind::Polygon || structured(gy)) {
+                continue;
+            }
+            let hist = if same && gx.kind() == CategoryKind::Polygon {
+                // dense points: the rdf spans the polygons' own scale
+                let radius = content.polygon_radius(gx.category, region);
+                let width = radius / DEFAULT_RDF_BINS as f64;
+                let grid = grid_of(&gx.positions, radius);
+                rdf(region, area, &gx.positions, &gx.positions, &grid, true, width, DEFAULT_RDF_BINS)
+            } else {
+                rdf(
+                    region,
+                    area,
+                    &gx.positions,
+                    &gy.positions,
+                    &grids[yi],
+                    same,
+                    bin_width,
+                    n_bins,
+                )
+            };
             pairs.push(PairInteraction {
                 category: gx.category.name.clone(),
                 other: gy.category.name.clone(),
@@ -235,33 +270,42 @@ pub fn learn_color(
                 .iter()
                 .filter_map(|p| terrain.map_at(map, *p))
                 .collect();
-            let mut region_hist = map_bins(map, &values);
-            for v in &values {
-                region_hist.add(*v, 1.0);
-            }
-            let region_hist = region_hist.normalized();
+            let bins = map_bins(map, &values);
             for g in &groups {
-                let mut hist = Histogram::zeros(
-                    region_hist.start,
-                    region_hist.bin_width,
-                    region_hist.values.len(),
-                );
-                for p in &g.positions {
-                    if let Some(v) = terrain.map_at(map, *p) {
-                        // values beyond the region's range land in the end bins
-                        let v = v.clamp(hist.start, hist.end() - 1e-9 * hist.bin_width);
-                        hist.add(v, 1.0);
-                    }
-                }
-                maps.push(MapInteraction {
-                    category: g.category.name.clone(),
-                    map: map.clone(),
-                    hist: hist.normalized(),
-                    region_hist: region_hist.clone(),
-                });
+                let at = g.positions.iter().filter_map(|p| terrain.map_at(map, *p));
+                maps.push(map_interaction(g, map, MapSource::Terrain, &bins, &values, at));
             }
         }
     }
+    // distances to the graphs and polygons of higher priority (Section 4.1 distance-to-graph, thesis 6.2.1)
+    let samples = region_samples(region);
+    for (yi, gy) in groups.iter().enumerate() {
+        let source = match gy.kind() {
+            CategoryKind::Graph => MapSource::GraphDistance,
+            CategoryKind::Polygon => MapSource::PolygonDistance,
+            _ => continue,
+        };
+        let Some(field) = content.distance_field(gy.category, source, max_radius) else {
+            continue;
+        };
+        let values: Vec<f64> = samples.iter().map(|p| field(*p)).collect();
+        let bins = distance_bins(source, max_radius);
+        for gx in groups.iter().skip(yi + 1) {
+            let at = gx.positions.iter().map(|p| field(*p));
+            maps.push(map_interaction(gx, &gy.category.name, source, &bins, &values, at));
+        }
+    }
+
+    let graphs = groups
+        .iter()
+        .filter(|g| g.kind() == CategoryKind::Graph)
+        .filter_map(|g| content.graph_color(g.category, region, &groups_before(&groups, g)))
+        .collect();
+    let polygons = groups
+        .iter()
+        .filter(|g| g.kind() == CategoryKind::Polygon)
+        .filter_map(|g| content.polygon_color(g.category))
+        .collect();
 
     let (lo, _) = region.bbox();
     let total: usize = groups.iter().map(|g| g.positions.len()).sum();
@@ -286,17 +330,85 @@ pub fn learn_color(
         categories,
         pairs,
         maps,
+        graphs,
+        polygons,
         preview,
     })
+}
+
+/// The groups of higher priority than `g`: (category, kind, positions).
+fn groups_before<'a>(groups: &'a [Group], g: &Group) -> Vec<(&'a Category, &'a [DVec2])> {
+    groups
+        .iter()
+        .take_while(|o| !std::ptr::eq(o.category, g.category))
+        .map(|o| (o.category, o.positions.as_slice()))
+        .collect()
+}
+
+/// A map histogram of a group: the values `at` its points, on `bins`, with the region's `values` as its
+/// region histogram (values beyond the bins land in the end bins).
+fn map_interaction(
+    g: &Group,
+    map: &str,
+    source: MapSource,
+    bins: &Histogram,
+    values: &[f64],
+    at: impl Iterator<Item = f64>,
+) -> MapInteraction {
+    let clamp = |v: f64| v.clamp(bins.start, bins.end() - 1e-9 * bins.bin_width);
+    let mut region_hist = bins.clone();
+    for v in values {
+        region_hist.add(clamp(*v), 1.0);
+    }
+    let mut hist = bins.clone();
+    for v in at {
+        hist.add(clamp(v), 1.0);
+    }
+    MapInteraction {
+        category: g.category.name.clone(),
+        map: map.to_string(),
+        hist: hist.normalized(),
+        region_hist: region_hist.normalized(),
+        source,
+    }
+}
+
+/// Bins of a distance map: metres from 0 to twice the color's radius for graphs; for polygons `−1` (deep inside)
+/// to 2 (two radii outside).
+fn distance_bins(source: MapSource, max_radius: f64) -> Histogram {
+    match source {
+        MapSource::PolygonDistance => Histogram::zeros(-1.0, 0.125, 24),
+        _ => Histogram::zeros(0.0, 2.0 * max_radius / 32.0, 32),
+    }
+}
+
+/// Points spread over the region (a lattice of about `REGION_SAMPLES` points).
+pub(crate) fn region_samples(region: &Region) -> Vec<DVec2> {
+    let (lo, hi) = region.bbox();
+    let ext = hi - lo;
+    let step = (ext.x * ext.y / REGION_SAMPLES).sqrt().max(1e-9);
+    let nx = (ext.x / step).ceil().max(1.0) as usize;
+    let ny = (ext.y / step).ceil().max(1.0) as usize;
+    let mut out = Vec::with_capacity(nx * ny);
+    for j in 0..ny {
+        for i in 0..nx {
+            let p = lo + DVec2::new((i as f64 + 0.5) * step, (j as f64 + 0.5) * step);
+            if region.contains(p) {
+                out.push(p);
+            }
+        }
+    }
+    out
 }
 
 fn default_max_radius(region: &Region, groups: &[Group]) -> f64 {
     let area = region.area();
     let cap = 0.25 * region.smaller_side();
+    // the dense points of polygons have a radius of their own
     let sparsest = |min_count: usize| {
         groups
             .iter()
-            .filter(|g| g.positions.len() >= min_count)
+            .filter(|g| g.kind() != CategoryKind::Polygon && g.positions.len() >= min_count)
             .map(|g| g.positions.len())
             .min()
     };

@@ -1,0 +1,273 @@
+//! The structured content of an exemplar: the graphs of its graph categories and the contours of its polygon
+//! categories (Section 4.2; thesis 6.2.1 and 6.3.1).
+//!
+//! * A graph category's paths are planarized into one [`Graph`]; its nodes inside the region are learned as a
+//!   distribution, and [`Structures::graph_color`] reads the rest: the histograms of edge lengths and of the angles
+//!   between edges sharing a node, the degrees, the smallest angle, the connected components, the clearance from
+//!   higher-priority instances and the polygons the graph never crosses. Statistics are taken at the nodes inside
+//!   the region, over every edge that has an end inside (at its full length: the scene holds the whole graph).
+//! * A polygon category's contours are filled with dense points (a jittered grid, [`crate::contour::fill`]); their
+//!   spacing keeps about `POLYGON_POINTS` points inside the region, and their rdf spans the polygons' own scale.
+//! * Later categories see graphs through their distance and polygons through their signed distance: maps whose
+//!   values [`graph_map_value`] and [`polygon_map_value`] give, the same at analysis and synthesis.
+
+use crate::contour::{fill, Polygons};
+use crate::geom::{DVec2, Region};
+use crate::graph::{Graph, SegmentIndex};
+use crate::palette::{GraphColor, Histogram, MapSource, PolygonColor};
+use crate::scene::{Category, CategoryKind, Instance, Scene};
+use std::collections::HashMap;
+use std::f64::consts::PI;
+
+/// Dense points a polygon category keeps inside the exemplar region.
+const POLYGON_POINTS: f64 = 2000.0;
+/// Bins of the edge-length and angle histograms.
+const EDGE_BINS: usize = 24;
+const ANGLE_BINS: usize = 18;
+/// Vertices of a path closer than this merge into one node.
+pub(crate) const SNAP: f64 = 1e-3;
+
+/// The value of the distance map of a graph at `p`: metres, saturating at twice the color's radius.
+pub(crate) fn graph_map_value(index: &SegmentIndex, p: DVec2, max_radius: f64) -> f64 {
+    index.distance(p, 2.0 * max_radius)
+}
+
+/// The value of the signed-distance map of polygons at `p`: `−d / d_max` inside, `d / max_radius` outside.
+pub(crate) fn polygon_map_value(polygons: &Polygons, p: DVec2, max_radius: f64) -> f64 {
+    let d = polygons.signed_distance(p, 2.0 * max_radius);
+    if d > 0.0 {
+        d / max_radius
+    } else {
+        d
+    }
+}
+
+/// The graph of every graph category and the contours of every polygon category of a scene, by category name.
+pub(crate) struct Structures {
+    graphs: HashMap<String, Graph>,
+    polygons: HashMap<String, (Polygons, f64)>,
+}
+
+impl Structures {
+    /// The structures of `scene`; polygons are filled for `region`.
+    pub(crate) fn of(scene: &Scene, region: &Region) -> Structures {
+        let mut graphs = HashMap::new();
+        let mut polygons = HashMap::new();
+        let samples = super::region_samples(region);
+        for (c, category) in scene.categories.iter().enumerate() {
+            match category.kind {
+                CategoryKind::Graph => {
+                    let paths: Vec<&[DVec2]> = scene
+                        .paths
+                        .iter()
+                        .filter(|p| p.category == c)
+                        .map(|p| p.points.as_slice())
+                        .collect();
+                    if !paths.is_empty() {
+                        graphs.insert(category.name.clone(), Graph::from_paths(&paths, SNAP));
+                    }
+                }
+                CategoryKind::Polygon => {
+                    let contours: Vec<Vec<DVec2>> = scene
+                        .contours
+                        .iter()
+                        .filter(|p| p.category == c)
+                        .map(|p| p.points.clone())
+                        .collect();
+                    let polys = Polygons::new(&contours);
+                    if polys.is_empty() {
+                        continue;
+                    }
+                    let inside = samples.iter().filter(|p| polys.contains(**p)).count() as f64
+                        / samples.len().max(1) as f64
+                        * region.area();
+                    let side = region.area().sqrt();
+                    let spacing = (inside / POLYGON_POINTS)
+                        .sqrt()
+                        .clamp(side / 400.0, side / 20.0);
+                    polygons.insert(category.name.clone(), (polys, spacing));
+                }
+                _ => {}
+            }
+        }
+        Structures { graphs, polygons }
+    }
+
+    /// The nodes of a graph category inside the region, as instances.
+    pub(crate) fn graph_nodes_inside(&self, c: usize, category: &Category, region: &Region) -> Vec<Instance> {
+        let Some(g) = self.graphs.get(&category.name) else {
+            return Vec::new();
+        };
+        let adj = g.adjacency();
+        g.nodes
+            .iter()
+            .zip(&adj)
+            .filter(|(p, n)| !n.is_empty() && region.contains(**p))
+            .map(|(p, _)| Instance::at(*p, c))
+            .collect()
+    }
+
+    /// The dense points of a polygon category inside the region, as instances.
+    pub(crate) fn polygon_points_inside(&self, c: usize, category: &Category, region: &Region) -> Vec<Instance> {
+        let Some((polys, spacing)) = self.polygons.get(&category.name) else {
+            return Vec::new();
+        };
+        fill(polys, *spacing, c as u64)
+            .into_iter()
+            .filter(|p| region.contains(*p))
+            .map(|p| Instance::at(p, c))
+            .collect()
+    }
+
+    /// The radius of a polygon category's rdf: twice the equivalent radius of its parts inside the region.
+    pub(crate) fn polygon_radius(&self, category: &Category, region: &Region) -> f64 {
+        let cap = 0.25 * region.smaller_side();
+        let Some((polys, spacing)) = self.polygons.get(&category.name) else {
+            return cap;
+        };
+        let samples = super::region_samples(region);
+        let inside = samples.iter().filter(|p| polys.contains(**p)).count() as f64
+            / samples.len().max(1) as f64
+            * region.area();
+        let parts = polys
+            .contours()
+            .filter(|c| c.iter().any(|p| region.contains(*p)))
+            .count()
+            .max(1) as f64;
+        (2.0 * (inside / (PI * parts)).sqrt()).clamp(4.0 * spacing, cap.max(4.0 * spacing))
+    }
+
+    /// The distance map of a graph or polygon category, when the scene has content of it.
+    pub(crate) fn distance_field<'s>(
+        &'s self,
+        category: &Category,
+        source: MapSource,
+        max_radius: f64,
+    ) -> Option<Box<dyn Fn(DVec2) -> f64 + 's>> {
+        match source {
+            MapSource::GraphDistance => {
+                let g = self.graphs.get(&category.name)?;
+                let index = SegmentIndex::new(g.segments());
+                Some(Box::new(move |p| graph_map_value(&index, p, max_radius)))
+            }
+            MapSource::PolygonDistance => {
+                let (polys, _) = self.polygons.get(&category.name)?;
+                Some(Box::new(move |p| polygon_map_value(polys, p, max_radius)))
+            }
+            MapSource::Terrain => None,
+        }
+    }
+
+    /// The statistics of a graph category in the region (see the module documentation); `before` lists the
+    /// groups of higher priority with their points inside the region.
+    pub(crate) fn graph_color(
+        &self,
+        category: &Category,
+        region: &Region,
+        before: &[(&Category, &[DVec2])],
+    ) -> Option<GraphColor> {
+        let g = self.graphs.get(&category.name)?;
+        let adj = g.adjacency();
+        let inside: Vec<bool> = g
+            .nodes
+            .iter()
+            .zip(&adj)
+            .map(|(p, n)| !n.is_empty() && region.contains(*p))
+            .collect();
+        let nodes: Vec<usize> = (0..g.nodes.len()).filter(|&n| inside[n]).collect();
+        if nodes.is_empty() {
+            return None;
+        }
+        let edges: Vec<[u32; 2]> = g
+            .edges
+            .iter()
+            .copied()
+            .filter(|e| inside[e[0] as usize] || inside[e[1] as usize])
+            .collect();
+        let lengths: Vec<f64> = edges.iter().map(|e| g.edge_length(*e)).collect();
+        let longest = lengths.iter().copied().fold(0.0, f64::max).max(1e-9);
+        let mut edge_length = Histogram::zeros(0.0, 1.05 * longest / EDGE_BINS as f64, EDGE_BINS);
+        for l in &lengths {
+            edge_length.add(*l, 1.0);
+        }
+        let mut angle = Histogram::zeros(0.0, PI / ANGLE_BINS as f64, ANGLE_BINS);
+        let mut min_angle = PI;
+        let mut degree = vec![0.0; 4];
+        for &n in &nodes {
+            let nb = &adj[n];
+            degree[nb.len().clamp(1, 4) - 1] += 1.0;
+            for (i, &a) in nb.iter().enumerate() {
+                for &b in &nb[i + 1..] {
+                    let t = g.angle_at(n as u32, a, b);
+                    angle.add(t.min(PI - 1e-12), 1.0);
+                    min_angle = min_angle.min(t);
+                }
+            }
+        }
+        let total_degree: f64 = nodes.iter().map(|&n| adj[n].len() as f64).sum();
+        degree.iter_mut().for_each(|d| *d /= nodes.len() as f64);
+        // components of the graph the region holds
+        let held = Graph {
+            nodes: g.nodes.clone(),
+            edges: g
+                .edges
+                .iter()
+                .copied()
+                .filter(|e| inside[e[0] as usize] && inside[e[1] as usize])
+                .collect(),
+        };
+        let components = held.components() + nodes.iter().filter(|&&n| {
+            held.edges.iter().all(|e| e[0] as usize != n && e[1] as usize != n)
+        }).count();
+        let segments = SegmentIndex::new(edges.iter().map(|e| (g.nodes[e[0] as usize], g.nodes[e[1] as usize])).collect());
+        let reach = region.bbox().1.distance(region.bbox().0);
+        let mut clearance = Vec::new();
+        let mut avoids = Vec::new();
+        for (other, points) in before {
+            match other.kind {
+                CategoryKind::Distribution if !points.is_empty() => {
+                    let d = points
+                        .iter()
+                        .map(|p| segments.distance(*p, reach))
+                        .fold(f64::INFINITY, f64::min);
+                    clearance.push((other.name.clone(), d));
+                }
+                CategoryKind::Polygon => {
+                    if let Some((polys, _)) = self.polygons.get(&other.name) {
+                        let border: Vec<(DVec2, DVec2)> = polys
+                            .contours()
+                            .flat_map(|c| (0..c.len()).map(move |i| (c[i], c[(i + 1) % c.len()])))
+                            .collect();
+                        let border = SegmentIndex::new(border);
+                        let crosses = edges.iter().any(|e| {
+                            border.crosses(g.nodes[e[0] as usize], g.nodes[e[1] as usize], 0.0)
+                        });
+                        if !crosses {
+                            avoids.push(other.name.clone());
+                        }
+                    }
+                }
+                _ => {}
+            }
+        }
+        Some(GraphColor {
+            category: category.name.clone(),
+            edge_length: edge_length.normalized(),
+            angle: angle.normalized(),
+            degree,
+            min_angle,
+            edges_per_node: 0.5 * total_degree / nodes.len() as f64,
+            components_per_area: components as f64 / region.area(),
+            clearance,
+            avoids,
+        })
+    }
+
+    /// The statistics of a polygon category: the spacing of its dense points.
+    pub(crate) fn polygon_color(&self, category: &Category) -> Option<PolygonColor> {
+        self.polygons.get(&category.name).map(|(_, spacing)| PolygonColor {
+            category: category.name.clone(),
+            spacing: *spacing,
+        })
+    }
+}
