@@ -4,7 +4,7 @@
 //! smooth demo terrain.
 
 use crate::geom::{DVec2, Region};
-use crate::scene::{Category, Instance, Scene};
+use crate::scene::{Category, CategoryKind, Contour, Instance, Path, Scene};
 use crate::spatial::{GridEntry, SpatialGrid};
 use crate::terrain::Heightfield;
 use rand::{Rng, SeedableRng};
@@ -251,6 +251,218 @@ pub fn scene_from_points(name: &str, points: &[DVec2]) -> Scene {
         categories: vec![Category::distribution(name, "vegetation", 0)],
         instances: points.iter().map(|p| Instance::at(*p, 0)).collect(),
         terrain: None,
+        ..Default::default()
+    }
+}
+
+/// A village on flat ground (square `size × size` from the origin): a road network grown from a jittered grid of
+/// crossroads about 60 m apart (a random spanning tree of the grid plus some of its other streets, so there are
+/// dead ends, bends, T junctions and crossings), houses along the roads at 8–15 m from them and at least 8 m
+/// apart, and trees at least 20 m from any road. Categories in priority order: road (graph), house, tree.
+pub fn village(size: f64, seed: u64) -> Scene {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0x0011_a9e5);
+    let spacing = 60.0;
+    let n = ((size / spacing).round() as usize).max(2) + 1;
+    let at = |i: usize, j: usize| j * n + i;
+    let nodes: Vec<DVec2> = (0..n * n)
+        .map(|k| {
+            let (i, j) = ((k % n) as f64, (k / n) as f64);
+            DVec2::new(i * spacing, j * spacing) + DVec2::new(gaussian(&mut rng), gaussian(&mut rng)) * 9.0
+                - DVec2::splat(0.5 * spacing)
+        })
+        .collect();
+    // grid streets in random order: a spanning tree (union-find), then a share of the others
+    let mut streets: Vec<(usize, usize)> = Vec::new();
+    for j in 0..n {
+        for i in 0..n {
+            if i + 1 < n {
+                streets.push((at(i, j), at(i + 1, j)));
+            }
+            if j + 1 < n {
+                streets.push((at(i, j), at(i, j + 1)));
+            }
+        }
+    }
+    for k in (1..streets.len()).rev() {
+        streets.swap(k, rng.random_range(0..=k));
+    }
+    let mut parent: Vec<usize> = (0..n * n).collect();
+    fn root(parent: &mut [usize], mut x: usize) -> usize {
+        while parent[x] != x {
+            parent[x] = parent[parent[x]];
+            x = parent[x];
+        }
+        x
+    }
+    let mut roads: Vec<(usize, usize)> = Vec::new();
+    for &(a, b) in &streets {
+        let (ra, rb) = (root(&mut parent, a), root(&mut parent, b));
+        if ra != rb {
+            parent[ra] = rb;
+            roads.push((a, b));
+        } else if rng.random::<f64>() < 0.35 {
+            roads.push((a, b));
+        }
+    }
+    // each street bends once on its way
+    let paths: Vec<Path> = roads
+        .iter()
+        .map(|&(a, b)| {
+            let (p, q) = (nodes[a], nodes[b]);
+            let mid = 0.5 * (p + q) + (q - p).perp().normalize_or_zero() * gaussian(&mut rng) * 4.0;
+            Path {
+                category: 0,
+                points: vec![p, mid, q],
+                locked: false,
+            }
+        })
+        .collect();
+    let segments: Vec<(DVec2, DVec2)> = paths
+        .iter()
+        .flat_map(|p| p.points.windows(2).map(|w| (w[0], w[1])).collect::<Vec<_>>())
+        .collect();
+    let road_distance = |p: DVec2| {
+        segments
+            .iter()
+            .map(|(a, b)| crate::geom::segment_distance(p, *a, *b))
+            .fold(f64::INFINITY, f64::min)
+    };
+    let square = Region::Rect {
+        min: DVec2::ZERO,
+        max: DVec2::splat(size),
+    };
+    let mut instances: Vec<Instance> = Vec::new();
+    let mut houses: Vec<DVec2> = Vec::new();
+    for &(a, b) in &segments {
+        let len = a.distance(b);
+        let dir = (b - a) / len.max(1e-9);
+        let mut s = rng.random::<f64>() * 12.0;
+        while s < len {
+            for side in [-1.0, 1.0] {
+                let offset = 8.0 + 7.0 * rng.random::<f64>();
+                let p = a + dir * s + dir.perp() * side * offset;
+                let d = road_distance(p);
+                if square.contains(p)
+                    && (8.0..=15.0).contains(&d)
+                    && houses.iter().all(|h| h.distance(p) >= 8.0)
+                {
+                    houses.push(p);
+                }
+            }
+            s += 14.0 + 10.0 * rng.random::<f64>();
+        }
+    }
+    let mut push = |p: DVec2, category: usize, rng: &mut ChaCha8Rng| {
+        instances.push(Instance {
+            position: p,
+            rotation: rng.random::<f64>() * TAU,
+            scale: 0.9 + 0.2 * rng.random::<f64>(),
+            category,
+            prototype: 0,
+            locked: false,
+        });
+    };
+    for h in houses {
+        push(h, 1, &mut rng);
+    }
+    for p in uniform(&square, 0.004, seed.wrapping_add(7)) {
+        if road_distance(p) >= 20.0 {
+            push(p, 2, &mut rng);
+        }
+    }
+    let road = Category {
+        name: "road".into(),
+        layer: "settlement".into(),
+        kind: CategoryKind::Graph,
+        priority: 0,
+    };
+    Scene {
+        categories: vec![
+            road,
+            Category::distribution("house", "settlement", 1),
+            Category::distribution("tree", "vegetation", 2),
+        ],
+        instances,
+        paths,
+        ..Default::default()
+    }
+}
+
+/// Islands in the sea (square `size × size` from the origin): wobbly contours of 25–45 m radius at least 40 m
+/// apart, one with a lake; trees anywhere on the islands (not in the lake), boats within 12 m of a coast on the
+/// water. Categories in priority order: island (polygon), tree, boat.
+pub fn archipelago(size: f64, seed: u64) -> Scene {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0x15_1a2d);
+    let square = Region::Rect {
+        min: DVec2::ZERO,
+        max: DVec2::splat(size),
+    };
+    let blob = |c: DVec2, r: f64, rng: &mut ChaCha8Rng| -> Vec<DVec2> {
+        let (a3, a5, p3, p5) = (
+            0.15 * rng.random::<f64>(),
+            0.08 * rng.random::<f64>(),
+            TAU * rng.random::<f64>(),
+            TAU * rng.random::<f64>(),
+        );
+        (0..72)
+            .map(|k| {
+                let a = TAU * k as f64 / 72.0;
+                let rr = r * (1.0 + a3 * (3.0 * a + p3).sin() + a5 * (5.0 * a + p5).sin());
+                c + DVec2::new(a.cos(), a.sin()) * rr
+            })
+            .collect()
+    };
+    let mut islands: Vec<(DVec2, f64)> = Vec::new();
+    for _ in 0..400 {
+        let r = 25.0 + 20.0 * rng.random::<f64>();
+        let c = DVec2::new(rng.random::<f64>(), rng.random::<f64>()) * (size - 2.0 * r) + DVec2::splat(r);
+        if islands.iter().all(|(d, s)| d.distance(c) >= r + s + 40.0) {
+            islands.push((c, r));
+        }
+    }
+    let mut contours: Vec<Contour> = islands
+        .iter()
+        .map(|&(c, r)| Contour {
+            category: 0,
+            points: blob(c, r, &mut rng),
+            locked: false,
+        })
+        .collect();
+    if let Some(&(c, r)) = islands.first() {
+        contours.push(Contour {
+            category: 0,
+            points: blob(c, 0.3 * r, &mut rng),
+            locked: false,
+        });
+    }
+    let land = crate::contour::Polygons::new(
+        &contours.iter().map(|c| c.points.clone()).collect::<Vec<_>>(),
+    );
+    let mut instances = Vec::new();
+    for p in hard_core(&square, 0.02, 3.0, seed.wrapping_add(1)) {
+        if land.contains(p) {
+            instances.push(Instance::at(p, 1));
+        }
+    }
+    for p in hard_core(&square, 0.01, 6.0, seed.wrapping_add(2)) {
+        if !land.contains(p) && land.distance(p, 100.0) <= 12.0 {
+            instances.push(Instance::at(p, 2));
+        }
+    }
+    let island = Category {
+        name: "island".into(),
+        layer: "terrain".into(),
+        kind: CategoryKind::Polygon,
+        priority: 0,
+    };
+    Scene {
+        categories: vec![
+            island,
+            Category::distribution("tree", "vegetation", 1),
+            Category::distribution("boat", "water", 2),
+        ],
+        instances,
+        contours,
         ..Default::default()
     }
 }

@@ -53,6 +53,8 @@ pub const MAP_BINS: usize = 24;
 const ALPHA_FLOOR: f64 = 0.05;
 /// Samples of a region for the distribution of a distance map over it.
 const REGION_SAMPLES: f64 = 40_000.0;
+/// Most bins of a distance map.
+const DISTANCE_BINS: usize = 256;
 
 /// How to learn a color.
 #[derive(Clone, Debug, Default)]
@@ -289,10 +291,10 @@ pub fn learn_color(
             continue;
         };
         let values: Vec<f64> = samples.iter().map(|p| field(*p)).collect();
-        let bins = distance_bins(source, max_radius);
         for gx in groups.iter().skip(yi + 1) {
-            let at = gx.positions.iter().map(|p| field(*p));
-            maps.push(map_interaction(gx, &gy.category.name, source, &bins, &values, at));
+            let at: Vec<f64> = gx.positions.iter().map(|p| field(*p)).collect();
+            let bins = distance_bins(source, max_radius, &at);
+            maps.push(map_interaction(gx, &gy.category.name, source, &bins, &values, at.into_iter()));
         }
     }
 
@@ -374,12 +376,25 @@ fn map_interaction(
 }
 
 /// Bins of a distance map: metres from 0 to twice the color's radius for graphs; for polygons `−1` (deep inside)
-/// to 2 (two radii outside).
-fn distance_bins(source: MapSource, max_radius: f64) -> Histogram {
-    match source {
-        MapSource::PolygonDistance => Histogram::zeros(-1.0, 0.125, 24),
-        _ => Histogram::zeros(0.0, 2.0 * max_radius / 32.0, 32),
+/// to 2 (two radii outside). Eight bins span the middle 90 % of the category's own values (at least
+/// `span / DISTANCE_BINS` wide, at most a 32nd of the span for graphs and 0.125 for polygons), so a band of
+/// distances is resolved without splitting a small exemplar into empty bins.
+fn distance_bins(source: MapSource, max_radius: f64, at: &[f64]) -> Histogram {
+    let mut sorted: Vec<f64> = at.iter().copied().filter(|v| v.is_finite()).collect();
+    sorted.sort_by(f64::total_cmp);
+    let quantile = |q: f64| sorted.get((q * sorted.len() as f64) as usize).copied().unwrap_or(0.0);
+    let range = quantile(0.95) - quantile(0.05);
+    let (start, span, coarsest) = match source {
+        MapSource::PolygonDistance => (-1.0, 3.0, 0.125),
+        _ => (0.0, 2.0 * max_radius, 2.0 * max_radius / 32.0),
+    };
+    let finest = span / DISTANCE_BINS as f64;
+    let mut width = (range / 8.0).clamp(finest, coarsest.max(finest));
+    if source == MapSource::PolygonDistance {
+        // the coast is a bin edge: no bin holds both land and water
+        width = 1.0 / (1.0 / width).ceil();
     }
+    Histogram::zeros(start, width, (span / width).ceil() as usize)
 }
 
 /// Points spread over the region (a lattice of about `REGION_SAMPLES` points).

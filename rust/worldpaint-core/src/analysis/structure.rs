@@ -32,13 +32,13 @@ pub(crate) fn graph_map_value(index: &SegmentIndex, p: DVec2, max_radius: f64) -
     index.distance(p, 2.0 * max_radius)
 }
 
-/// The value of the signed-distance map of polygons at `p`: `−d / d_max` inside, `d / max_radius` outside.
+/// The value of the signed-distance map of polygons at `p`: `−d / d_max` inside (never 0: the coast belongs to
+/// the outside), `d / max_radius` outside.
 pub(crate) fn polygon_map_value(polygons: &Polygons, p: DVec2, max_radius: f64) -> f64 {
-    let d = polygons.signed_distance(p, 2.0 * max_radius);
-    if d > 0.0 {
-        d / max_radius
+    if polygons.contains(p) {
+        polygons.signed_distance(p, 2.0 * max_radius).min(-1e-9)
     } else {
-        d
+        polygons.signed_distance(p, 2.0 * max_radius) / max_radius
     }
 }
 
