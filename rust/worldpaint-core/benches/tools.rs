@@ -111,7 +111,7 @@ fn main() {
         center: centre,
         radius: RADIUS,
     };
-    let paint = BrushMode::Paint(color.clone());
+    let paint = BrushMode::Paint(Box::new(color.clone()));
     let opts = SynthesisOptions {
         seed: 1,
         ..Default::default()

@@ -94,6 +94,11 @@ impl Polygons {
         best.max(step.x.min(step.y))
     }
 
+    /// The contours' edges.
+    pub fn border(&self) -> &SegmentIndex {
+        &self.border
+    }
+
     /// Distance to the nearest border, looking no farther than `max`.
     pub fn distance(&self, p: DVec2, max: f64) -> f64 {
         self.border.distance(p, max)
@@ -131,8 +136,14 @@ pub fn fill(polygons: &Polygons, spacing: f64, seed: u64) -> Vec<DVec2> {
     for c in polygons.contours.iter() {
         let (lo, hi) = c.bbox();
         // cells aligned on a global lattice, so overlapping contours share them
-        let (i0, j0) = ((lo.x / spacing).floor() as i64, (lo.y / spacing).floor() as i64);
-        let (i1, j1) = ((hi.x / spacing).ceil() as i64, (hi.y / spacing).ceil() as i64);
+        let (i0, j0) = (
+            (lo.x / spacing).floor() as i64,
+            (lo.y / spacing).floor() as i64,
+        );
+        let (i1, j1) = (
+            (hi.x / spacing).ceil() as i64,
+            (hi.y / spacing).ceil() as i64,
+        );
         for j in j0..j1 {
             for i in i0..i1 {
                 let p = DVec2::new(
@@ -180,7 +191,10 @@ pub fn trace(points: &[DVec2], spacing: f64) -> Vec<Vec<DVec2>> {
     let mut f = vec![0.0; nx * ny];
     let r = (reach / h).ceil() as i64;
     for p in points {
-        let (ci, cj) = (((p.x - lo.x) / h).round() as i64, ((p.y - lo.y) / h).round() as i64);
+        let (ci, cj) = (
+            ((p.x - lo.x) / h).round() as i64,
+            ((p.y - lo.y) / h).round() as i64,
+        );
         for j in (cj - r).max(0)..=(cj + r).min(ny as i64 - 1) {
             for i in (ci - r).max(0)..=(ci + r).min(nx as i64 - 1) {
                 let v = lo + DVec2::new(i as f64, j as f64) * h;
@@ -213,8 +227,15 @@ fn marching_squares(
         let (i, j, dir) = k;
         let (i2, j2) = if dir == 0 { (i + 1, j) } else { (i, j + 1) };
         let (a, b) = (value(i, j), value(i2, j2));
-        let t = if (a - b).abs() > 1e-300 { a / (a - b) } else { 0.5 };
-        let (x, y) = (i as f64 + t * (i2 - i) as f64, j as f64 + t * (j2 - j) as f64);
+        let t = if (a - b).abs() > 1e-300 {
+            a / (a - b)
+        } else {
+            0.5
+        };
+        let (x, y) = (
+            i as f64 + t * (i2 - i) as f64,
+            j as f64 + t * (j2 - j) as f64,
+        );
         at(x, y)
     };
     let mut next: HashMap<Key, Key> = HashMap::new();

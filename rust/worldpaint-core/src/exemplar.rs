@@ -267,7 +267,8 @@ pub fn village(size: f64, seed: u64) -> Scene {
     let nodes: Vec<DVec2> = (0..n * n)
         .map(|k| {
             let (i, j) = ((k % n) as f64, (k / n) as f64);
-            DVec2::new(i * spacing, j * spacing) + DVec2::new(gaussian(&mut rng), gaussian(&mut rng)) * 9.0
+            DVec2::new(i * spacing, j * spacing)
+                + DVec2::new(gaussian(&mut rng), gaussian(&mut rng)) * 9.0
                 - DVec2::splat(0.5 * spacing)
         })
         .collect();
@@ -319,7 +320,12 @@ pub fn village(size: f64, seed: u64) -> Scene {
         .collect();
     let segments: Vec<(DVec2, DVec2)> = paths
         .iter()
-        .flat_map(|p| p.points.windows(2).map(|w| (w[0], w[1])).collect::<Vec<_>>())
+        .flat_map(|p| {
+            p.points
+                .windows(2)
+                .map(|w| (w[0], w[1]))
+                .collect::<Vec<_>>()
+        })
         .collect();
     let road_distance = |p: DVec2| {
         segments
@@ -415,7 +421,8 @@ pub fn archipelago(size: f64, seed: u64) -> Scene {
     let mut islands: Vec<(DVec2, f64)> = Vec::new();
     for _ in 0..400 {
         let r = 25.0 + 20.0 * rng.random::<f64>();
-        let c = DVec2::new(rng.random::<f64>(), rng.random::<f64>()) * (size - 2.0 * r) + DVec2::splat(r);
+        let c = DVec2::new(rng.random::<f64>(), rng.random::<f64>()) * (size - 2.0 * r)
+            + DVec2::splat(r);
         if islands.iter().all(|(d, s)| d.distance(c) >= r + s + 40.0) {
             islands.push((c, r));
         }
@@ -436,7 +443,10 @@ pub fn archipelago(size: f64, seed: u64) -> Scene {
         });
     }
     let land = crate::contour::Polygons::new(
-        &contours.iter().map(|c| c.points.clone()).collect::<Vec<_>>(),
+        &contours
+            .iter()
+            .map(|c| c.points.clone())
+            .collect::<Vec<_>>(),
     );
     let mut instances = Vec::new();
     for p in hard_core(&square, 0.02, 3.0, seed.wrapping_add(1)) {

@@ -131,15 +131,21 @@ pub fn interpolate_colors(a: &Color, b: &Color, t: f64, name: &str) -> Result<Co
     pairs.retain(|p| known(&p.category) && known(&p.other));
     maps.retain(|m| known(&m.category));
 
-    let graphs = merge_by_category(&a.graphs, &b.graphs, |g| &g.category, |ga, gb| {
-        interpolate_graph(ga, gb, t)
-    });
-    let polygons = merge_by_category(&a.polygons, &b.polygons, |p| &p.category, |pa, pb| {
-        PolygonColor {
+    let graphs = merge_by_category(
+        &a.graphs,
+        &b.graphs,
+        |g| &g.category,
+        |ga, gb| interpolate_graph(ga, gb, t),
+    );
+    let polygons = merge_by_category(
+        &a.polygons,
+        &b.polygons,
+        |p| &p.category,
+        |pa, pb| PolygonColor {
             category: pa.category.clone(),
             spacing: lerp(pa.spacing, pb.spacing),
-        }
-    });
+        },
+    );
     let color = Color {
         name: name.to_string(),
         region: near.region.clone(),
@@ -171,7 +177,11 @@ fn merge_by_category<T: Clone>(
             None => x.clone(),
         })
         .collect();
-    out.extend(b.iter().filter(|y| !a.iter().any(|x| key(x) == key(y))).cloned());
+    out.extend(
+        b.iter()
+            .filter(|y| !a.iter().any(|x| key(x) == key(y)))
+            .cloned(),
+    );
     out
 }
 

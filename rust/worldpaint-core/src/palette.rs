@@ -434,12 +434,18 @@ impl Color {
             check_hist(&m.hist, "map")?;
             check_hist(&m.region_hist, "map region")?;
             if m.source != MapSource::Terrain && self.category(&m.map).is_none() {
-                return bad(format!("distance map of {} names unknown category {}", m.category, m.map));
+                return bad(format!(
+                    "distance map of {} names unknown category {}",
+                    m.category, m.map
+                ));
             }
         }
         for g in &self.graphs {
             if self.category(&g.category).is_none() {
-                return bad(format!("graph statistics name unknown category {}", g.category));
+                return bad(format!(
+                    "graph statistics name unknown category {}",
+                    g.category
+                ));
             }
             check_hist(&g.edge_length, "edge length")?;
             check_hist(&g.angle, "angle")?;
@@ -452,7 +458,10 @@ impl Color {
         }
         for p in &self.polygons {
             if self.category(&p.category).is_none() || !(p.spacing.is_finite() && p.spacing > 0.0) {
-                return bad(format!("polygon statistics of {} are not valid", p.category));
+                return bad(format!(
+                    "polygon statistics of {} are not valid",
+                    p.category
+                ));
             }
         }
         Ok(())

@@ -74,7 +74,12 @@ fn options(seed: u64) -> BrushOptions {
 #[test]
 fn a_stroke_of_forty_dabs_paints_the_color_without_seams() {
     let (canvas, color) = hard_core_on_hills();
-    let mut stroke = Stroke::new(&canvas, BrushMode::Paint(color.clone()), options(3)).unwrap();
+    let mut stroke = Stroke::new(
+        &canvas,
+        BrushMode::Paint(Box::new(color.clone())),
+        options(3),
+    )
+    .unwrap();
     // 40 dabs every 10 m (spacing 0.5 × radius)
     let dabs = stroke.follow(&path(79), &|_| true).unwrap();
     assert_eq!(dabs, 40);
@@ -163,7 +168,7 @@ fn an_alpha_brush_thins_the_color_over_bare_ground() {
     };
     let mut half = options(5);
     half.opacity = 0.5;
-    let mut stroke = Stroke::new(&canvas, BrushMode::Paint(color.clone()), half).unwrap();
+    let mut stroke = Stroke::new(&canvas, BrushMode::Paint(Box::new(color.clone())), half).unwrap();
     stroke.follow(&straight, &|_| true).unwrap();
     let painted = stroke.edit().applied_to(&canvas);
     let region = inner(RADIUS);
@@ -182,7 +187,7 @@ fn an_alpha_brush_thins_the_color_over_bare_ground() {
     // a smooth falloff: denser near the path than near the brush's edge
     let mut soft = options(6);
     soft.falloff = Falloff::Smooth;
-    let mut stroke = Stroke::new(&canvas, BrushMode::Paint(color), soft).unwrap();
+    let mut stroke = Stroke::new(&canvas, BrushMode::Paint(Box::new(color)), soft).unwrap();
     stroke.follow(&straight, &|_| true).unwrap();
     let painted = stroke.edit().applied_to(&canvas);
     let core = count_within(&painted, &straight, RADIUS / 3.0);
@@ -251,7 +256,12 @@ fn the_eraser_removes_unlocked_instances_of_its_categories_near_the_path() {
 fn the_same_stroke_and_seed_paint_the_same_instances() {
     let (canvas, color) = hard_core_on_hills();
     let run = || {
-        let mut s = Stroke::new(&canvas, BrushMode::Paint(color.clone()), options(9)).unwrap();
+        let mut s = Stroke::new(
+            &canvas,
+            BrushMode::Paint(Box::new(color.clone())),
+            options(9),
+        )
+        .unwrap();
         for p in path(20) {
             s.move_to(p).unwrap();
         }

@@ -62,7 +62,12 @@ fn a_lake_in_an_island_is_a_hole() {
     assert!(polygons.contains(DVec2::new(25.0, 0.0)), "the island");
     assert!(!polygons.contains(DVec2::new(200.0, 0.0)), "the sea");
     // signed distance: the sea positive in metres, the island negative and normalized
-    assert!((polygons.signed_distance(DVec2::new(200.0, 0.0), 1000.0) - distance_to(DVec2::new(200.0, 0.0), &outer)).abs() < 1e-9);
+    assert!(
+        (polygons.signed_distance(DVec2::new(200.0, 0.0), 1000.0)
+            - distance_to(DVec2::new(200.0, 0.0), &outer))
+        .abs()
+            < 1e-9
+    );
     let s = polygons.signed_distance(DVec2::new(25.0, 0.0), 1000.0);
     assert!((-1.0..0.0).contains(&s), "{s}");
     let points = fill(&polygons, 2.0, 3);

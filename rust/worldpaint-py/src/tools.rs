@@ -110,7 +110,7 @@ impl Stroke {
         let scene = scene.get().scene();
         let mode = match (erase, color) {
             (true, _) => BrushMode::Erase(only_categories),
-            (false, Some(c)) => BrushMode::Paint(parse_color(c)?),
+            (false, Some(c)) => BrushMode::Paint(Box::new(parse_color(c)?)),
             (false, None) => return Err(input_err("a painting stroke needs a color")),
         };
         let opts = BrushOptions {

@@ -196,7 +196,16 @@ pub fn learn_color(
                 let radius = content.polygon_radius(gx.category, region);
                 let width = radius / DEFAULT_RDF_BINS as f64;
                 let grid = grid_of(&gx.positions, radius);
-                rdf(region, area, &gx.positions, &gx.positions, &grid, true, width, DEFAULT_RDF_BINS)
+                rdf(
+                    region,
+                    area,
+                    &gx.positions,
+                    &gx.positions,
+                    &grid,
+                    true,
+                    width,
+                    DEFAULT_RDF_BINS,
+                )
             } else {
                 rdf(
                     region,
@@ -275,7 +284,14 @@ pub fn learn_color(
             let bins = map_bins(map, &values);
             for g in &groups {
                 let at = g.positions.iter().filter_map(|p| terrain.map_at(map, *p));
-                maps.push(map_interaction(g, map, MapSource::Terrain, &bins, &values, at));
+                maps.push(map_interaction(
+                    g,
+                    map,
+                    MapSource::Terrain,
+                    &bins,
+                    &values,
+                    at,
+                ));
             }
         }
     }
@@ -294,7 +310,14 @@ pub fn learn_color(
         for gx in groups.iter().skip(yi + 1) {
             let at: Vec<f64> = gx.positions.iter().map(|p| field(*p)).collect();
             let bins = distance_bins(source, max_radius, &at);
-            maps.push(map_interaction(gx, &gy.category.name, source, &bins, &values, at.into_iter()));
+            maps.push(map_interaction(
+                gx,
+                &gy.category.name,
+                source,
+                &bins,
+                &values,
+                at.into_iter(),
+            ));
         }
     }
 
@@ -382,7 +405,12 @@ fn map_interaction(
 fn distance_bins(source: MapSource, max_radius: f64, at: &[f64]) -> Histogram {
     let mut sorted: Vec<f64> = at.iter().copied().filter(|v| v.is_finite()).collect();
     sorted.sort_by(f64::total_cmp);
-    let quantile = |q: f64| sorted.get((q * sorted.len() as f64) as usize).copied().unwrap_or(0.0);
+    let quantile = |q: f64| {
+        sorted
+            .get((q * sorted.len() as f64) as usize)
+            .copied()
+            .unwrap_or(0.0)
+    };
     let range = quantile(0.95) - quantile(0.05);
     let (start, span, coarsest) = match source {
         MapSource::PolygonDistance => (-1.0, 3.0, 0.125),

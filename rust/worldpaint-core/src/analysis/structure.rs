@@ -27,9 +27,10 @@ const ANGLE_BINS: usize = 18;
 /// Vertices of a path closer than this merge into one node.
 pub(crate) const SNAP: f64 = 1e-3;
 
-/// The value of the distance map of a graph at `p`: metres, saturating at twice the color's radius.
+/// The value of the distance map of a graph at `p`: metres, saturating at twice the color's radius (also where
+/// there is no graph at all).
 pub(crate) fn graph_map_value(index: &SegmentIndex, p: DVec2, max_radius: f64) -> f64 {
-    index.distance(p, 2.0 * max_radius)
+    index.distance(p, 2.0 * max_radius).min(2.0 * max_radius)
 }
 
 /// The value of the signed-distance map of polygons at `p`: `−d / d_max` inside (never 0: the coast belongs to
@@ -94,7 +95,12 @@ impl Structures {
     }
 
     /// The nodes of a graph category inside the region, as instances.
-    pub(crate) fn graph_nodes_inside(&self, c: usize, category: &Category, region: &Region) -> Vec<Instance> {
+    pub(crate) fn graph_nodes_inside(
+        &self,
+        c: usize,
+        category: &Category,
+        region: &Region,
+    ) -> Vec<Instance> {
         let Some(g) = self.graphs.get(&category.name) else {
             return Vec::new();
         };
@@ -108,7 +114,12 @@ impl Structures {
     }
 
     /// The dense points of a polygon category inside the region, as instances.
-    pub(crate) fn polygon_points_inside(&self, c: usize, category: &Category, region: &Region) -> Vec<Instance> {
+    pub(crate) fn polygon_points_inside(
+        &self,
+        c: usize,
+        category: &Category,
+        region: &Region,
+    ) -> Vec<Instance> {
         let Some((polys, spacing)) = self.polygons.get(&category.name) else {
             return Vec::new();
         };
@@ -216,10 +227,21 @@ impl Structures {
                 .filter(|e| inside[e[0] as usize] && inside[e[1] as usize])
                 .collect(),
         };
-        let components = held.components() + nodes.iter().filter(|&&n| {
-            held.edges.iter().all(|e| e[0] as usize != n && e[1] as usize != n)
-        }).count();
-        let segments = SegmentIndex::new(edges.iter().map(|e| (g.nodes[e[0] as usize], g.nodes[e[1] as usize])).collect());
+        let components = held.components()
+            + nodes
+                .iter()
+                .filter(|&&n| {
+                    held.edges
+                        .iter()
+                        .all(|e| e[0] as usize != n && e[1] as usize != n)
+                })
+                .count();
+        let segments = SegmentIndex::new(
+            edges
+                .iter()
+                .map(|e| (g.nodes[e[0] as usize], g.nodes[e[1] as usize]))
+                .collect(),
+        );
         let reach = region.bbox().1.distance(region.bbox().0);
         let mut clearance = Vec::new();
         let mut avoids = Vec::new();
@@ -265,9 +287,11 @@ impl Structures {
 
     /// The statistics of a polygon category: the spacing of its dense points.
     pub(crate) fn polygon_color(&self, category: &Category) -> Option<PolygonColor> {
-        self.polygons.get(&category.name).map(|(_, spacing)| PolygonColor {
-            category: category.name.clone(),
-            spacing: *spacing,
-        })
+        self.polygons
+            .get(&category.name)
+            .map(|(_, spacing)| PolygonColor {
+                category: category.name.clone(),
+                spacing: *spacing,
+            })
     }
 }

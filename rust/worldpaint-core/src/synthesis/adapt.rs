@@ -22,6 +22,7 @@
 //!
 //! `σ_step` is a quarter of the category's mean spacing `1/√λ`; `reach` defaults to two mean spacings.
 
+use super::structures::StructuredContent;
 use super::target::{build_target, Conditioning, Target, FIXED_ID};
 use super::{
     attributes, conditioning_content, gaussian, mix_seed, priority_order, scene_categories,
@@ -115,6 +116,8 @@ pub fn adapt(
     };
     // the moved content of each color category, conditioning the categories of lower priority once adapted
     let mut adapted: Vec<Vec<DVec2>> = vec![Vec::new(); color.categories.len()];
+    // distances to the graphs and polygons around the destination
+    let structured = StructuredContent::near(fixed, region, influence + color.max_radius);
     for &ci in &order {
         let members: Vec<usize> = (0..moving.len())
             .filter(|&k| moving[k].category == scene_index[ci])
@@ -127,8 +130,15 @@ pub fn adapt(
             inside: &inside,
             context: &cond_context,
         };
-        let (mut target, self_tag) =
-            build_target(color, ci, &cond, terrain, (rlo - pad, rhi + pad), area);
+        let (mut target, self_tag) = build_target(
+            color,
+            ci,
+            &cond,
+            &structured,
+            terrain,
+            (rlo - pad, rhi + pad),
+            area,
+        );
         let cat = &color.categories[ci];
         let spacing = if cat.density > 0.0 {
             1.0 / cat.density.sqrt()

@@ -115,20 +115,24 @@
 //! phase, tile); parallel results are merged in a fixed order, so nothing depends on the rayon thread count.
 
 mod adapt;
+mod arcs;
 mod ghosts;
 mod product;
 mod rdf;
+mod structures;
 mod target;
 
 pub use adapt::{adapt, AdaptOptions, Adapted};
 
 use crate::analysis::region_lattice;
+use crate::contour::{fill, trace};
 use crate::error::{Error, Result};
 use crate::geom::{DVec2, Region};
-use crate::palette::{CategoryColor, Color, Histogram};
-use crate::scene::{Category, Instance, Scene};
+use crate::palette::{CategoryColor, Color, Histogram, MapSource};
+use crate::scene::{Category, CategoryKind, Contour, Instance, Path, Scene};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
+use structures::StructuredContent;
 use target::{build_target, rake_maps, Conditioning};
 
 /// Floor of empty rdf bins beyond the hard core (see the module documentation).
@@ -164,15 +168,21 @@ impl Default for SynthesisOptions {
     }
 }
 
-/// New instances, with `category` indices into `categories` (the scene's categories plus any the color added).
-#[derive(Clone, Debug)]
+/// New content, with `category` indices into `categories` (the scene's categories plus any the color added): new
+/// instances, new paths (graph categories), and new contours (polygon categories), which replace the scene's
+/// contours listed in `replaced_contours` (unlocked contours at the region, merged with the new ones).
+#[derive(Clone, Debug, Default)]
 pub struct SynthesisResult {
     pub categories: Vec<Category>,
     pub instances: Vec<Instance>,
+    pub paths: Vec<Path>,
+    pub contours: Vec<Contour>,
+    pub replaced_contours: Vec<usize>,
 }
 
 /// Synthesize the color in `region`. The scene's unlocked instances *inside* the region are treated as removed
 /// (paste replaces); locked ones inside it and all within the influence radius outside it condition the result.
+/// Paths and contours are all kept as they are ([`crate::tools::paste`] cuts them at the region first).
 pub fn synthesize(
     scene: &Scene,
     color: &Color,
@@ -284,9 +294,10 @@ pub(crate) fn check_terrain(
     region: &Region,
 ) -> Result<()> {
     let uses_maps = color.maps.iter().any(|m| {
-        order
-            .iter()
-            .any(|&c| color.categories[c].category.name == m.category)
+        m.source == MapSource::Terrain
+            && order
+                .iter()
+                .any(|&c| color.categories[c].category.name == m.category)
     });
     if !uses_maps {
         return Ok(());
@@ -368,9 +379,10 @@ pub fn synthesize_keeping(
     let context = conditioning_content(scene, &scene_index, region, influence, keep);
 
     let area = region.area();
-    let lattice = terrain
-        .map(|t| region_lattice(region, t))
-        .unwrap_or_default();
+    let lattice = match terrain {
+        Some(t) => region_lattice(region, t),
+        None => crate::analysis::region_samples(region),
+    };
     let exemplar_lattice = terrain
         .map(|t| region_lattice(&color.region, t))
         .filter(|l| !l.is_empty());
@@ -378,34 +390,80 @@ pub fn synthesize_keeping(
     let pad = DVec2::splat(color.max_radius);
     let bounds = (rlo - pad, rhi + pad);
     let mut synthesized: Vec<Option<Vec<DVec2>>> = vec![None; color.categories.len()];
-    let mut instances = Vec::new();
+    let mut out = SynthesisResult {
+        categories: out_categories,
+        ..Default::default()
+    };
     let n_cats = order.len().max(1);
+    let mut structured = StructuredContent::near(scene, region, influence + color.max_radius);
+    let mut context = context;
 
     for (step, &ci) in order.iter().enumerate() {
         let cat = &color.categories[ci];
+        let name = &cat.category.name;
+        let kind = cat.category.kind;
+        // structured content conditions its category's own points: the nodes of the kept graph, the dense
+        // points of the kept contours that are not merged with the new ones
+        let merged: Vec<usize> = match kind {
+            CategoryKind::Graph => {
+                if let Some(g) = structured.graph_state(name) {
+                    let degree = g.graph.adjacency();
+                    context[ci].extend(g.graph.nodes.iter().zip(&degree).filter_map(|(p, d)| {
+                        (!d.is_empty() && region.distance_outside(*p) <= influence).then_some(*p)
+                    }));
+                }
+                Vec::new()
+            }
+            CategoryKind::Polygon => {
+                let spacing = color.polygon(name).map_or(color.bin_width, |p| p.spacing);
+                let merged = mergeable_contours(scene, scene_index[ci], region, 3.0 * spacing);
+                let kept = structured.polygons(name);
+                let own: Vec<usize> = merged.clone();
+                let kept_points = fill(&kept, spacing, ci as u64);
+                let merged_polygons = crate::contour::Polygons::new(
+                    &own.iter()
+                        .map(|&k| scene.contours[k].points.clone())
+                        .collect::<Vec<_>>(),
+                );
+                context[ci].extend(kept_points.into_iter().filter(|p| {
+                    region.distance_outside(*p) <= influence
+                        && !(region.contains(*p) && merged_polygons.contains(*p))
+                }));
+                merged
+            }
+            _ => Vec::new(),
+        };
         let conditioning = Conditioning {
             inside: &synthesized,
             context: &context,
         };
-        let (mut target, self_tag) = build_target(color, ci, &conditioning, terrain, bounds, area);
+        let (mut target, self_tag) =
+            build_target(color, ci, &conditioning, &structured, terrain, bounds, area);
+        if kind == CategoryKind::Polygon {
+            target.bin_width = target.tables[self_tag as usize].bin_width;
+        }
         target.add_ghosts(region, bounds);
         // expected count: exemplar density times the map preference integrated over the region, less the kept
         // (locked) instances already inside it
-        let mean_preference = |points: &[DVec2]| {
-            points.iter().map(|p| target.map_log(*p).exp()).sum::<f64>() / points.len() as f64
+        let mean_preference = |points: &[DVec2], terrain_only: bool| {
+            points
+                .iter()
+                .map(|p| target.maps_log(*p, terrain_only).exp())
+                .sum::<f64>()
+                / points.len() as f64
         };
         let preference = if target.maps.is_empty() || lattice.is_empty() {
             1.0
         } else {
             // relative to the exemplar region's own preference when it lies on this terrain: several maps
             // (elevation and slope) are correlated, and the product of their marginal ratios averages to more
-            // than 1 over the exemplar itself
+            // than 1 over the exemplar itself (distance maps average to 1 over their own region histogram)
             let own = exemplar_lattice
                 .as_deref()
-                .map(mean_preference)
+                .map(|l| mean_preference(l, true))
                 .filter(|v| v.is_finite() && *v > 0.0)
                 .unwrap_or(1.0);
-            mean_preference(&lattice) / own
+            mean_preference(&lattice, false) / own
         };
         let kept_inside = context[ci].iter().filter(|p| region.contains(**p)).count() as f64;
         let expected = (cat.density * area * preference - kept_inside).max(0.0);
@@ -440,18 +498,137 @@ pub fn synthesize_keeping(
                 &report,
             )?
         };
-        for p in &points {
-            instances.push(attributes(cat, *p, scene_index[ci], &mut rng));
+        match kind {
+            CategoryKind::Graph => {
+                let new_paths = graph_paths(
+                    color,
+                    ci,
+                    &points,
+                    &structured,
+                    &synthesized,
+                    &context,
+                    opts.seed,
+                );
+                structured.add_paths(name, &new_paths);
+                out.paths.extend(new_paths.into_iter().map(|points| Path {
+                    category: scene_index[ci],
+                    points,
+                    locked: false,
+                }));
+            }
+            CategoryKind::Polygon => {
+                let spacing = color.polygon(name).map_or(color.bin_width, |p| p.spacing);
+                let merged_polygons = crate::contour::Polygons::new(
+                    &merged
+                        .iter()
+                        .map(|&k| scene.contours[k].points.clone())
+                        .collect::<Vec<_>>(),
+                );
+                let mut dense = points.clone();
+                dense.extend(
+                    fill(&merged_polygons, spacing, ci as u64)
+                        .into_iter()
+                        .filter(|p| !region.contains(*p)),
+                );
+                let traced = trace(&dense, spacing);
+                let mut all: Vec<Vec<DVec2>> = scene
+                    .contours
+                    .iter()
+                    .enumerate()
+                    .filter(|(k, c)| c.category == scene_index[ci] && !merged.contains(k))
+                    .map(|(_, c)| c.points.clone())
+                    .collect();
+                all.extend(traced.iter().cloned());
+                structured.set_contours(name, &all);
+                out.contours
+                    .extend(traced.into_iter().map(|points| Contour {
+                        category: scene_index[ci],
+                        points,
+                        locked: false,
+                    }));
+                out.replaced_contours.extend(merged);
+            }
+            _ => {
+                for p in &points {
+                    out.instances
+                        .push(attributes(cat, *p, scene_index[ci], &mut rng));
+                }
+            }
         }
         synthesized[ci] = Some(points);
     }
     if !progress(1.0) {
         return Err(Error::Cancelled);
     }
-    Ok(SynthesisResult {
-        categories: out_categories,
-        instances,
-    })
+    out.replaced_contours.sort_unstable();
+    out.replaced_contours.dedup();
+    Ok(out)
+}
+
+/// The unlocked contours of scene category `category` whose boxes come within `margin` of the region's: the
+/// synthesis merges them with the contours it traces.
+fn mergeable_contours(scene: &Scene, category: usize, region: &Region, margin: f64) -> Vec<usize> {
+    let (lo, hi) = region.bbox();
+    let (lo, hi) = (lo - DVec2::splat(margin), hi + DVec2::splat(margin));
+    scene
+        .contours
+        .iter()
+        .enumerate()
+        .filter(|(_, c)| c.category == category && !c.locked)
+        .filter(|(_, c)| {
+            c.points
+                .iter()
+                .any(|p| p.x >= lo.x && p.y >= lo.y && p.x <= hi.x && p.y <= hi.y)
+        })
+        .map(|(k, _)| k)
+        .collect()
+}
+
+/// The arcs of graph category `ci` over its new `nodes` (module `arcs`), as paths.
+fn graph_paths(
+    color: &Color,
+    ci: usize,
+    nodes: &[DVec2],
+    structured: &StructuredContent,
+    synthesized: &[Option<Vec<DVec2>>],
+    context: &[Vec<DVec2>],
+    seed: u64,
+) -> Vec<Vec<DVec2>> {
+    let name = &color.categories[ci].category.name;
+    let Some(gc) = color.graph(name) else {
+        return Vec::new();
+    };
+    let kept = structured
+        .graph_state(name)
+        .map(|g| g.graph.clone())
+        .unwrap_or_default();
+    // what arcs keep clear of: higher-priority instances (inside the region and around it), avoided polygons
+    let mut clear: Vec<(Vec<DVec2>, f64)> = Vec::new();
+    for (other, clearance) in &gc.clearance {
+        if let Some(oi) = color
+            .categories
+            .iter()
+            .position(|c| &c.category.name == other)
+        {
+            let mut points: Vec<DVec2> = synthesized[oi].clone().unwrap_or_default();
+            points.extend_from_slice(&context[oi]);
+            clear.push((points, *clearance));
+        }
+    }
+    let borders: Vec<std::sync::Arc<crate::contour::Polygons>> =
+        gc.avoids.iter().map(|p| structured.polygons(p)).collect();
+    let obstacles = arcs::Obstacles {
+        points: clear.iter().map(|(p, c)| (p.as_slice(), *c)).collect(),
+        borders: borders.iter().map(|p| p.border()).collect(),
+    };
+    arcs::synthesize_arcs(
+        gc,
+        nodes,
+        &kept,
+        &obstacles,
+        mix_seed(seed, ci as u64 + 101),
+    )
+    .to_paths()
 }
 
 pub(crate) fn attributes<R: Rng>(

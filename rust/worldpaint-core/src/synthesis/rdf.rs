@@ -69,10 +69,7 @@ fn map_bin(target: &Target, mi: usize, p: DVec2) -> Option<usize> {
     if m.wanted.is_empty() {
         return None;
     }
-    target
-        .terrain
-        .and_then(|t| t.map_at(m.map, p))
-        .and_then(|v| m.bin_of(v))
+    m.bin_at(target.terrain, p)
 }
 
 /// Read-only state shared by the tiles of one phase.

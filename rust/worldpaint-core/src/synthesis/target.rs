@@ -3,12 +3,17 @@
 //! the map factors `ψ`, and a grid of the fixed content they apply to.
 
 use super::ghosts::{points_by_table, Ghosts, PairInput};
+use super::structures::StructuredContent;
 use super::{HISTOGRAM_FLOOR, SATURATION_PAIRS};
 use crate::analysis::folded_angle_bin;
+use crate::analysis::structure::{graph_map_value, polygon_map_value};
+use crate::contour::Polygons;
 use crate::geom::{DVec2, Region};
-use crate::palette::{Color, Histogram, Interaction};
+use crate::graph::SegmentIndex;
+use crate::palette::{Color, Histogram, Interaction, MapSource};
 use crate::spatial::{GridEntry, SpatialGrid};
 use crate::terrain::Heightfield;
+use std::sync::Arc;
 
 /// Id of fixed grid entries (content that does not move in the chain).
 pub(super) const FIXED_ID: u32 = u32::MAX;
@@ -144,9 +149,18 @@ impl PairTable {
     }
 }
 
+/// Where a map reads its values: a terrain map, or the distance to a graph or to polygons (Section 4.1, thesis
+/// 6.2.1) as the synthesis has them so far.
+#[derive(Clone)]
+pub(super) enum MapField<'a> {
+    Terrain(&'a str),
+    Graph(Arc<SegmentIndex>, f64),
+    Polygons(Arc<Polygons>, f64),
+}
+
 /// `ln ψ` per bin of one map.
 pub(super) struct MapTable<'a> {
-    pub(super) map: &'a str,
+    pub(super) field: MapField<'a>,
     pub(super) hist: Histogram,
     /// Wanted distribution of the instances over the bins in the painted region (normalized; empty when
     /// unknown): what the map factors give over the region's lattice.
@@ -154,7 +168,7 @@ pub(super) struct MapTable<'a> {
 }
 
 impl<'a> MapTable<'a> {
-    pub(super) fn new(map: &'a str, h: &Histogram, q: &Histogram) -> Self {
+    pub(super) fn new(field: MapField<'a>, h: &Histogram, q: &Histogram) -> Self {
         let min_q = q
             .values
             .iter()
@@ -185,7 +199,7 @@ impl<'a> MapTable<'a> {
             q.value_at(h.start + (k as f64 + 0.5) * h.bin_width) > 0.0
         });
         MapTable {
-            map,
+            field,
             hist: Histogram {
                 start: h.start,
                 bin_width: h.bin_width,
@@ -197,6 +211,26 @@ impl<'a> MapTable<'a> {
 }
 
 impl MapTable<'_> {
+    /// The map's value at `p` (None off the terrain).
+    #[inline]
+    pub(super) fn value(&self, terrain: Option<&Heightfield>, p: DVec2) -> Option<f64> {
+        match &self.field {
+            MapField::Terrain(name) => terrain?.map_at(name, p),
+            MapField::Graph(index, r) => Some(graph_map_value(index, p, *r)),
+            MapField::Polygons(polygons, r) => Some(polygon_map_value(polygons, p, *r)),
+        }
+    }
+
+    /// Bin of the map at `p`.
+    #[inline]
+    pub(super) fn bin_at(&self, terrain: Option<&Heightfield>, p: DVec2) -> Option<usize> {
+        self.value(terrain, p).and_then(|v| self.bin_of(v))
+    }
+
+    pub(super) fn is_terrain(&self) -> bool {
+        matches!(self.field, MapField::Terrain(_))
+    }
+
     /// Bin of map value `v`; values beyond the learned range take the end bins (see `extrapolate_unseen`).
     #[inline]
     pub(super) fn bin_of(&self, v: f64) -> Option<usize> {
@@ -251,12 +285,14 @@ pub(super) struct Target<'a> {
 
 impl Target<'_> {
     pub(super) fn map_log(&self, p: DVec2) -> f64 {
+        self.maps_log(p, false)
+    }
+
+    /// `ln` of the map factors at `p`, of the terrain maps only when `terrain_only`.
+    pub(super) fn maps_log(&self, p: DVec2, terrain_only: bool) -> f64 {
         let mut sum = 0.0;
-        for m in &self.maps {
-            let Some(t) = self.terrain else {
-                return f64::NEG_INFINITY;
-            };
-            match t.map_at(m.map, p).and_then(|v| m.bin_of(v)) {
+        for m in self.maps.iter().filter(|m| !terrain_only || m.is_terrain()) {
+            match m.bin_at(self.terrain, p) {
                 Some(k) => sum += m.hist.values[k],
                 None => return f64::NEG_INFINITY,
             }
@@ -326,18 +362,11 @@ const RAKING_ITERATIONS: usize = 12;
 /// arrangement with the learned marginals. Zero factors stay zero.
 #[allow(clippy::needless_range_loop)] // bins[map][point]: the loops run over points and maps crosswise
 pub(super) fn rake_maps(target: &mut Target, lattice: &[DVec2]) {
-    let Some(terrain) = target.terrain else {
-        return;
-    };
+    let terrain = target.terrain;
     let bins: Vec<Vec<Option<usize>>> = target
         .maps
         .iter()
-        .map(|m| {
-            lattice
-                .iter()
-                .map(|p| terrain.map_at(m.map, *p).and_then(|v| m.bin_of(v)))
-                .collect()
-        })
+        .map(|m| lattice.iter().map(|p| m.bin_at(terrain, *p)).collect())
         .collect();
     let marginals = |maps: &[MapTable], only: Option<usize>| -> Vec<Vec<f64>> {
         let mut out: Vec<Vec<f64>> = maps
@@ -411,6 +440,7 @@ pub(super) fn build_target<'a>(
     color: &'a Color,
     ci: usize,
     cond: &Conditioning,
+    structures: &StructuredContent,
     terrain: Option<&'a Heightfield>,
     bounds: (DVec2, DVec2),
     area: f64,
@@ -477,7 +507,18 @@ pub(super) fn build_target<'a>(
         .maps
         .iter()
         .filter(|m| &m.category == name)
-        .map(|m| MapTable::new(&m.map, &m.hist, &m.region_hist))
+        .map(|m| {
+            let field = match m.source {
+                MapSource::Terrain => MapField::Terrain(&m.map),
+                MapSource::GraphDistance => {
+                    MapField::Graph(structures.graph(&m.map), color.max_radius)
+                }
+                MapSource::PolygonDistance => {
+                    MapField::Polygons(structures.polygons(&m.map), color.max_radius)
+                }
+            };
+            MapTable::new(field, &m.hist, &m.region_hist)
+        })
         .collect();
     // the interaction radius: as far as some pair's rdf differs from 1 (or a hard core reaches)
     let radius = tables

@@ -60,7 +60,7 @@ impl Falloff {
 #[derive(Clone, Debug)]
 pub enum BrushMode {
     /// Paints a color.
-    Paint(Color),
+    Paint(Box<Color>),
     /// Removes unlocked instances of these categories (all when `None`).
     Erase(Option<Vec<String>>),
 }
