@@ -353,20 +353,48 @@ impl SegmentIndex {
     }
 
     /// Distance from `p` to the nearest segment, looking no farther than `max` (returns `max` beyond it, and
-    /// `f64::INFINITY` for an empty index).
+    /// `f64::INFINITY` for an empty index). Visits rings of cells around `p` outwards and stops once no unvisited
+    /// cell can hold a nearer segment (a segment is listed in every cell it passes through).
     pub fn distance(&self, p: DVec2, max: f64) -> f64 {
         if self.segments.is_empty() {
             return f64::INFINITY;
         }
+        if !(p.x.is_finite() && p.y.is_finite()) {
+            return max;
+        }
         let mut best = max;
-        let (x0, y0) = self.cell_of(p - DVec2::splat(max + self.cell));
-        let (x1, y1) = self.cell_of(p + DVec2::splat(max + self.cell));
-        for cy in y0..=y1 {
-            for cx in x0..=x1 {
-                for &s in &self.cells[cy * self.nx + cx] {
-                    let (a, b) = self.segments[s as usize];
-                    best = best.min(segment_distance(p, a, b));
-                }
+        let f = (p - self.origin) / self.cell;
+        let (px, py) = (f.x.floor() as i64, f.y.floor() as i64);
+        let (nx, ny) = (self.nx as i64, self.ny as i64);
+        // rings beyond this one lie wholly outside the grid
+        let last = (px.max(nx - 1 - px).max(py).max(ny - 1 - py)).max(0);
+        // and rings before this one miss it
+        let first = (px - (nx - 1)).max(-px).max(py - (ny - 1)).max(-py).max(0);
+        let visit = |cx: i64, cy: i64, best: &mut f64| {
+            if cx < 0 || cy < 0 || cx >= nx || cy >= ny {
+                return;
+            }
+            for &s in &self.cells[(cy * nx + cx) as usize] {
+                let (a, b) = self.segments[s as usize];
+                *best = best.min(segment_distance(p, a, b));
+            }
+        };
+        for ring in first..=last {
+            // a segment first met in this ring is at least (ring − 1) cells away
+            if (ring - 1) as f64 * self.cell >= best {
+                break;
+            }
+            if ring == 0 {
+                visit(px, py, &mut best);
+                continue;
+            }
+            for cx in px - ring..=px + ring {
+                visit(cx, py - ring, &mut best);
+                visit(cx, py + ring, &mut best);
+            }
+            for cy in py - ring + 1..=py + ring - 1 {
+                visit(px - ring, cy, &mut best);
+                visit(px + ring, cy, &mut best);
             }
         }
         best

@@ -93,3 +93,32 @@ fn polylines_are_cut_at_a_region_border() {
     let (inside, _) = circle.clip_polyline(&[v(-10.0, 0.0), v(10.0, 0.0)]);
     assert!((length(&inside[0]) - 10.0).abs() < 1e-9);
 }
+
+proptest::proptest! {
+    #![proptest_config(proptest::test_runner::Config {
+        cases: 128,
+        rng_seed: proptest::test_runner::RngSeed::Fixed(4242),
+        failure_persistence: None,
+        ..Default::default()
+    })]
+
+    /// The ring search of the segment index finds the nearest segment a scan of all of them finds, for points
+    /// inside and far outside the indexed box.
+    #[test]
+    fn segment_distance_matches_a_scan(
+        ends in proptest::collection::vec((0.0..200.0f64, 0.0..200.0f64, -30.0..30.0f64, -30.0..30.0f64), 1..40),
+        queries in proptest::collection::vec((-400.0..600.0f64, -400.0..600.0f64), 1..20),
+        max in 1.0..500.0f64,
+    ) {
+        let segments: Vec<(DVec2, DVec2)> = ends.iter().map(|&(x, y, dx, dy)| (v(x, y), v(x + dx, y + dy))).collect();
+        let index = SegmentIndex::new(segments.clone());
+        for (x, y) in queries {
+            let p = v(x, y);
+            let scan = segments
+                .iter()
+                .map(|(a, b)| worldpaint_core::geom::segment_distance(p, *a, *b))
+                .fold(max, f64::min);
+            proptest::prop_assert!((index.distance(p, max) - scan).abs() < 1e-9);
+        }
+    }
+}

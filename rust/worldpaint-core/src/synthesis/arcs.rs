@@ -2,12 +2,13 @@
 //! a node to its closest neighbors. The connecting node is chosen based on the statistics of edge lengths and
 //! angles", by "the same algorithm as the point distribution synthesis ... using the arc probability function".
 //!
-//! * **Candidates** are the edges of the Delaunay triangulation of the new nodes and of the kept graph's nodes
-//!   near the region (so arcs never cross each other, and a pasted network can end on the roads around it),
-//!   that touch a new node, are no longer than the exemplar's longest edge, and do not cross the kept graph,
-//!   come closer than the learned clearance to higher-priority instances, or cross polygons the exemplar's graph
-//!   never crossed ("we do not allow new edges that would collide with existing content").
-//! * **Constraint**: no two arcs (kept ones included) at a node make an angle below the exemplar's smallest one.
+//! * **Candidates** join a new node to any node, new or of the kept graph near the region (so a pasted network
+//!   can end on the roads around it), no farther than the exemplar's longest edge, where the arc does not cross
+//!   the kept graph, come closer than the learned clearance to higher-priority instances, or cross polygons the
+//!   exemplar's graph never crossed ("we do not allow new edges that would collide with existing content").
+//! * **Constraints**: no two arcs (kept ones included) at a node make an angle below the exemplar's smallest one;
+//!   arcs that do not share a node stay a gap apart (a third of the shortest learned edge), so none crosses
+//!   another or passes by a node it does not join.
 //! * **Chain**: as many arcs as the exemplar has per node, started from a random valid set, then relocated by
 //!   Metropolis-Hastings moves (an arc swapped for a random candidate, or for one sharing a node with it).
 //! * **Density.** As for distributions (see "Larger regions: matching the rdf" in [`super`]), the learned
@@ -19,14 +20,17 @@
 //!   distribution times the current count, annealed from `τ = 1` to `τ = 0.01`. Kept nodes that a candidate
 //!   touches count in the angle and degree histograms with their kept arcs, so a road cut at the region's border
 //!   (a dead end) draws a new arc that continues it.
+//! * **Relaxation**: the nodes then move to fit the arcs (module `relax`).
 
+use super::arc_grid::{arc_gap, segments_distance, ArcGrid};
 use super::mix_seed;
-use crate::geom::{segment_distance, DVec2};
+use super::relax::{relax, Network};
+use crate::geom::{segment_distance, DVec2, Region};
 use crate::graph::{angle_between, Graph, SegmentIndex};
 use crate::palette::{GraphColor, Histogram};
+use crate::spatial::{GridEntry, SpatialGrid};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use spade::{DelaunayTriangulation, Point2, Triangulation};
 
 /// Metropolis-Hastings proposals per arc.
 const PROPOSALS_PER_ARC: usize = 400;
@@ -34,15 +38,55 @@ const PROPOSALS_PER_ARC: usize = 400;
 const SWEEPS: usize = 20;
 const TAU_START: f64 = 1.0;
 const TAU_END: f64 = 0.01;
+/// Weight of the degree term: without it dead ends outnumber the exemplar's (a village's share of degree-1 nodes
+/// 0.07 came out 0.17 at weight 1, 0.13 at weight 5).
+const DEGREE_WEIGHT: f64 = 5.0;
 /// Degree bins: 0, 1, 2, 3, 4 or more.
 const DEGREE_BINS: usize = 5;
 
 /// What the arcs must keep away from.
 pub(super) struct Obstacles<'a> {
-    /// Higher-priority instances with the clearance arcs keep from them.
-    pub(super) points: Vec<(&'a [DVec2], f64)>,
+    /// Higher-priority instances in grids, with the clearance arcs keep from them.
+    points: Vec<(SpatialGrid, f64)>,
     /// Borders of polygons the arcs must not cross.
-    pub(super) borders: Vec<&'a SegmentIndex>,
+    borders: Vec<&'a SegmentIndex>,
+}
+
+impl<'a> Obstacles<'a> {
+    pub(super) fn new(points: &[(&[DVec2], f64)], borders: Vec<&'a SegmentIndex>) -> Self {
+        let points = points
+            .iter()
+            .filter(|(p, c)| !p.is_empty() && *c > 0.0)
+            .map(|(p, c)| {
+                let (lo, hi) = p.iter().fold(
+                    (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+                    |(lo, hi), q| (lo.min(*q), hi.max(*q)),
+                );
+                let mut grid = SpatialGrid::new(lo, hi, *c);
+                for (id, q) in p.iter().enumerate() {
+                    grid.insert(GridEntry {
+                        position: *q,
+                        tag: 0,
+                        id: id as u32,
+                    });
+                }
+                (grid, *c)
+            })
+            .collect();
+        Obstacles { points, borders }
+    }
+
+    /// Whether the segment `a`–`b` keeps its clearance from every instance and crosses no border.
+    pub(super) fn clear(&self, a: DVec2, b: DVec2) -> bool {
+        let (mid, half) = (0.5 * (a + b), 0.5 * a.distance(b));
+        self.points.iter().all(|(grid, clearance)| {
+            let mut ok = true;
+            grid.for_each_within(mid, half + clearance, |e, _| {
+                ok = ok && segment_distance(e.position, a, b) >= *clearance;
+            });
+            ok
+        }) && self.borders.iter().all(|border| !border.crosses(a, b, 0.0))
+    }
 }
 
 /// A candidate arc between node `a` and node `b`, in length bin `bin`.
@@ -78,9 +122,13 @@ struct State<'g> {
     shape: Counts,
     arcs: f64,
     nodes_counted: f64,
+    /// The chosen arcs, for the crossing and gap tests.
+    grid: ArcGrid,
+    gap: f64,
 }
 
-fn chi2(h: &[f64], shape: &[f64], total: f64) -> f64 {
+/// The chi-square distance of the counts `h` from `shape` scaled to `total`, in units of counting noise.
+pub(super) fn chi2(h: &[f64], shape: &[f64], total: f64) -> f64 {
     h.iter()
         .zip(shape)
         .map(|(h, s)| {
@@ -88,6 +136,11 @@ fn chi2(h: &[f64], shape: &[f64], total: f64) -> f64 {
             (h - t).powi(2) / t.max(1.0)
         })
         .sum()
+}
+
+/// The bin of angle `t` (radians, 0 to π) among `bins` equal bins.
+pub(super) fn angle_bin(t: f64, bins: usize) -> usize {
+    ((t / std::f64::consts::PI * bins as f64) as usize).min(bins - 1)
 }
 
 impl State<'_> {
@@ -124,8 +177,7 @@ impl State<'_> {
                 if sign > 0.0 && t < self.gc.min_angle - 1e-9 {
                     return false;
                 }
-                let k = ((t / std::f64::consts::PI * bins as f64) as usize).min(bins - 1);
-                counts.angle[k] += sign;
+                counts.angle[angle_bin(t, bins)] += sign;
             }
         }
         if self.counted[node] {
@@ -138,7 +190,7 @@ impl State<'_> {
         let pairs: f64 = c.angle.iter().sum();
         chi2(&c.length, &self.shape.length, self.arcs)
             + chi2(&c.angle, &self.shape.angle, pairs)
-            + chi2(&c.degree, &self.shape.degree, self.nodes_counted)
+            + DEGREE_WEIGHT * chi2(&c.degree, &self.shape.degree, self.nodes_counted)
     }
 
     /// The counts after choosing `add` and dropping `remove` (None when an angle gets too sharp).
@@ -167,9 +219,32 @@ impl State<'_> {
         Some(counts)
     }
 
+    /// Whether candidate `add` keeps the gap from every chosen arc (`remove` left out) it does not share a node
+    /// with; arcs sharing a node are kept apart by the smallest angle.
+    fn fits(&self, add: usize, remove: Option<usize>, near: &mut Vec<u32>) -> bool {
+        let Candidate { a, b, .. } = self.candidates[add];
+        let (pa, pb) = (self.nodes[a], self.nodes[b]);
+        self.grid.near(pa, pb, self.gap, near);
+        near.iter().all(|&j| {
+            let j = j as usize;
+            let Candidate { a: c, b: d, .. } = self.candidates[j];
+            Some(j) == remove
+                || c == a
+                || c == b
+                || d == a
+                || d == b
+                || segments_distance(pa, pb, self.nodes[c], self.nodes[d]) >= self.gap
+        })
+    }
+
     fn set(&mut self, c: usize, on: bool) {
         self.chosen[c] = on;
         let (a, b) = (self.candidates[c].a, self.candidates[c].b);
+        if on {
+            self.grid.insert(c as u32, self.nodes[a], self.nodes[b]);
+        } else {
+            self.grid.remove(c as u32, self.nodes[a], self.nodes[b]);
+        }
         for n in [a, b] {
             if on {
                 self.at[n].push(c);
@@ -196,6 +271,7 @@ pub(super) fn synthesize_arcs(
     new: &[DVec2],
     kept: &Graph,
     obstacles: &Obstacles,
+    region: &Region,
     seed: u64,
 ) -> Graph {
     // nodes: the new ones, then the kept ones
@@ -212,46 +288,42 @@ pub(super) fn synthesize_arcs(
         kept_dirs[b].push(nodes[a] - nodes[b]);
     }
     let kept_index = SegmentIndex::new(kept.segments());
-    let mut triangulation: DelaunayTriangulation<Point2<f64>> = DelaunayTriangulation::new();
-    let mut handle_node: Vec<usize> = Vec::new();
-    for (i, p) in nodes.iter().enumerate() {
-        if let Ok(h) = triangulation.insert(Point2::new(p.x, p.y)) {
-            if h.index() >= handle_node.len() {
-                handle_node.resize(h.index() + 1, usize::MAX);
-            }
-            // coincident points share a handle: the first node keeps it
-            if handle_node[h.index()] == usize::MAX {
-                handle_node[h.index()] = i;
-            }
-        }
-    }
-    let clear = |a: DVec2, b: DVec2| {
-        obstacles.points.iter().all(|(points, clearance)| {
-            points
-                .iter()
-                .all(|p| segment_distance(*p, a, b) >= *clearance)
-        }) && obstacles
-            .borders
-            .iter()
-            .all(|border| !border.crosses(a, b, 0.0))
-    };
     let lengths: &Histogram = &gc.edge_length;
+    let longest = lengths.start + lengths.values.len() as f64 * lengths.bin_width;
+    let mut node_grid = SpatialGrid::new(
+        nodes
+            .iter()
+            .fold(DVec2::splat(f64::INFINITY), |m, p| m.min(*p)),
+        nodes
+            .iter()
+            .fold(DVec2::splat(f64::NEG_INFINITY), |m, p| m.max(*p)),
+        longest,
+    );
+    for (i, p) in nodes.iter().enumerate() {
+        node_grid.insert(GridEntry {
+            position: *p,
+            tag: 0,
+            id: i as u32,
+        });
+    }
     let mut candidates: Vec<Candidate> = Vec::new();
-    for e in triangulation.undirected_edges() {
-        let [u, v] = e.vertices();
-        let (a, b) = (handle_node[u.fix().index()], handle_node[v.fix().index()]);
-        if a == usize::MAX || b == usize::MAX || (a >= n_new && b >= n_new) {
-            continue;
-        }
-        let (pa, pb) = (nodes[a], nodes[b]);
-        let length = pa.distance(pb);
-        let Some(bin) = lengths.bin_of(length) else {
-            continue;
-        };
-        if kept_index.crosses(pa, pb, 1e-6 * length) || !clear(pa, pb) {
-            continue;
-        }
-        candidates.push(Candidate { a, b, bin });
+    for (a, &pa) in nodes.iter().enumerate().take(n_new) {
+        node_grid.for_each_within(pa, longest, |e, _| {
+            let b = e.id as usize;
+            // each pair of new nodes once
+            if b < n_new && b <= a {
+                return;
+            }
+            let pb = nodes[b];
+            let length = pa.distance(pb);
+            let Some(bin) = lengths.bin_of(length) else {
+                return;
+            };
+            if kept_index.crosses(pa, pb, 1e-6 * length) || !obstacles.clear(pa, pb) {
+                return;
+            }
+            candidates.push(Candidate { a, b, bin });
+        });
     }
     let mut counted = vec![false; nodes.len()];
     for n in counted.iter_mut().take(n_new) {
@@ -282,10 +354,12 @@ pub(super) fn synthesize_arcs(
         },
         arcs: 0.0,
         nodes_counted: 0.0,
+        grid: ArcGrid::new(&nodes, longest),
+        gap: arc_gap(lengths),
     };
     // the degrees and angles of the nodes before any arc
     let mut counts = state.counts.clone();
-    for n in 0..nodes.len() {
+    for n in (0..nodes.len()).filter(|&n| state.counted[n]) {
         let dirs = state.directions(n, None, None);
         state.count_node(n, &dirs, 1.0, &mut counts);
     }
@@ -301,9 +375,13 @@ pub(super) fn synthesize_arcs(
         order.swap(k, rng.random_range(0..=k));
     }
     let mut chosen: Vec<usize> = Vec::new();
+    let mut near: Vec<u32> = Vec::new();
     for &c in &order {
         if chosen.len() >= target {
             break;
+        }
+        if !state.fits(c, None, &mut near) {
+            continue;
         }
         if let Some(counts) = state.counts_after(Some(c), None) {
             state.set(c, true);
@@ -335,7 +413,7 @@ pub(super) fn synthesize_arcs(
             } else {
                 rng.random_range(0..n_candidates)
             };
-            if state.chosen[add] {
+            if state.chosen[add] || !state.fits(add, Some(remove), &mut near) {
                 continue;
             }
             let Some(counts) = state.counts_after(Some(add), Some(remove)) else {
@@ -351,18 +429,28 @@ pub(super) fn synthesize_arcs(
             }
         }
     }
+    let mut network = Network {
+        arcs: chosen
+            .iter()
+            .map(|&c| [state.candidates[c].a, state.candidates[c].b])
+            .collect(),
+        nodes: nodes.clone(),
+        movable: n_new,
+        kept_dirs: &state.kept,
+        kept_index: &kept_index,
+    };
+    relax(gc, &mut network, obstacles, region, seed);
     // the new graph: nodes that got arcs
-    let mut index = vec![u32::MAX; nodes.len()];
+    let mut index = vec![u32::MAX; network.nodes.len()];
     let mut out = Graph::default();
-    for &c in &chosen {
-        let cand = state.candidates[c];
-        for n in [cand.a, cand.b] {
+    for &[a, b] in &network.arcs {
+        for n in [a, b] {
             if index[n] == u32::MAX {
                 index[n] = out.nodes.len() as u32;
-                out.nodes.push(nodes[n]);
+                out.nodes.push(network.nodes[n]);
             }
         }
-        let (a, b) = (index[cand.a], index[cand.b]);
+        let (a, b) = (index[a], index[b]);
         out.edges.push([a.min(b), a.max(b)]);
     }
     out

@@ -115,10 +115,12 @@
 //! phase, tile); parallel results are merged in a fixed order, so nothing depends on the rayon thread count.
 
 mod adapt;
+mod arc_grid;
 mod arcs;
 mod ghosts;
 mod product;
 mod rdf;
+mod relax;
 mod structures;
 mod target;
 
@@ -502,11 +504,14 @@ pub fn synthesize_keeping(
             CategoryKind::Graph => {
                 let new_paths = graph_paths(
                     color,
+                    region,
                     ci,
                     &points,
                     &structured,
-                    &synthesized,
-                    &context,
+                    &Conditioning {
+                        inside: &synthesized,
+                        context: &context,
+                    },
                     opts.seed,
                 );
                 structured.add_paths(name, &new_paths);
@@ -587,11 +592,11 @@ fn mergeable_contours(scene: &Scene, category: usize, region: &Region, margin: f
 /// The arcs of graph category `ci` over its new `nodes` (module `arcs`), as paths.
 fn graph_paths(
     color: &Color,
+    region: &Region,
     ci: usize,
     nodes: &[DVec2],
     structured: &StructuredContent,
-    synthesized: &[Option<Vec<DVec2>>],
-    context: &[Vec<DVec2>],
+    content: &Conditioning,
     seed: u64,
 ) -> Vec<Vec<DVec2>> {
     let name = &color.categories[ci].category.name;
@@ -610,22 +615,26 @@ fn graph_paths(
             .iter()
             .position(|c| &c.category.name == other)
         {
-            let mut points: Vec<DVec2> = synthesized[oi].clone().unwrap_or_default();
-            points.extend_from_slice(&context[oi]);
+            let mut points: Vec<DVec2> = content.inside[oi].clone().unwrap_or_default();
+            points.extend_from_slice(&content.context[oi]);
             clear.push((points, *clearance));
         }
     }
     let borders: Vec<std::sync::Arc<crate::contour::Polygons>> =
         gc.avoids.iter().map(|p| structured.polygons(p)).collect();
-    let obstacles = arcs::Obstacles {
-        points: clear.iter().map(|(p, c)| (p.as_slice(), *c)).collect(),
-        borders: borders.iter().map(|p| p.border()).collect(),
-    };
+    let obstacles = arcs::Obstacles::new(
+        &clear
+            .iter()
+            .map(|(p, c)| (p.as_slice(), *c))
+            .collect::<Vec<_>>(),
+        borders.iter().map(|p| p.border()).collect(),
+    );
     arcs::synthesize_arcs(
         gc,
         nodes,
         &kept,
         &obstacles,
+        region,
         mix_seed(seed, ci as u64 + 101),
     )
     .to_paths()

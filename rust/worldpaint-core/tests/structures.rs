@@ -1,0 +1,218 @@
+//! Structured content in synthesis (Sections 4.1, 4.2 and 6): road networks keep their edge lengths, turning
+//! angles, smallest angle and fragmentation; houses keep their band along the roads; islands keep their trees
+//! on land and their boats along the coast.
+
+use worldpaint_core::contour::Polygons;
+use worldpaint_core::exemplar;
+use worldpaint_core::geom::DVec2;
+use worldpaint_core::graph::Graph;
+use worldpaint_core::palette::{Color, Histogram};
+use worldpaint_core::{learn_color, synthesize, AnalysisOptions, Region, Scene, SynthesisOptions};
+
+fn square(origin: f64, size: f64) -> Region {
+    Region::Rect {
+        min: DVec2::splat(origin),
+        max: DVec2::splat(origin + size),
+    }
+}
+
+/// The graph of the synthesized paths.
+fn graph_of(paths: &[worldpaint_core::scene::Path]) -> Graph {
+    let paths: Vec<&[DVec2]> = paths.iter().map(|p| p.points.as_slice()).collect();
+    Graph::from_paths(&paths, 1e-6)
+}
+
+/// Edge lengths and angles at nodes of `g`, on the bins of the learned histograms.
+fn statistics(g: &Graph, lengths: &Histogram, angles: &Histogram) -> (Histogram, Histogram) {
+    let mut l = Histogram::zeros(lengths.start, lengths.bin_width, lengths.values.len());
+    for e in &g.edges {
+        l.add(g.edge_length(*e), 1.0);
+    }
+    let mut a = Histogram::zeros(angles.start, angles.bin_width, angles.values.len());
+    for (n, nb) in g.adjacency().iter().enumerate() {
+        for (i, &x) in nb.iter().enumerate() {
+            for &y in &nb[i + 1..] {
+                a.add(
+                    g.angle_at(n as u32, x, y).min(std::f64::consts::PI - 1e-12),
+                    1.0,
+                );
+            }
+        }
+    }
+    (l, a)
+}
+
+/// The share of `points` whose distance to `g` lies in `band`.
+fn share_in_band(points: &[DVec2], g: &Graph, band: std::ops::RangeInclusive<f64>) -> f64 {
+    let index = worldpaint_core::graph::SegmentIndex::new(g.segments());
+    let inside = points
+        .iter()
+        .filter(|p| band.contains(&index.distance(**p, 1e3)))
+        .count();
+    inside as f64 / points.len().max(1) as f64
+}
+
+fn village_color(size: f64) -> (Scene, Color) {
+    let scene = exemplar::village(size, 1);
+    let color = learn_color(
+        &scene,
+        &square(0.0, size),
+        "village",
+        &AnalysisOptions::default(),
+    )
+    .unwrap();
+    (scene, color)
+}
+
+#[test]
+fn a_road_network_keeps_its_statistics_over_nine_times_the_area() {
+    // large enough a village for its count of network pieces to mean something (three in the region)
+    let size = 450.0;
+    let (scene, color) = village_color(size);
+    let roads = color.graph("road").unwrap();
+    let dest = square(1000.0, 3.0 * size);
+    let canvas = Scene {
+        categories: scene.categories.clone(),
+        ..Default::default()
+    };
+    let opts = SynthesisOptions {
+        seed: 3,
+        categories: Some(vec!["road".into(), "house".into()]),
+        ..Default::default()
+    };
+    let out = synthesize(&canvas, &color, &dest, &opts).unwrap();
+    let g = graph_of(&out.paths);
+    let (lengths, angles) = statistics(&g, &roads.edge_length, &roads.angle);
+    let length_tv = roads.edge_length.total_variation(&lengths);
+    let angle_tv = roads.angle.total_variation(&angles);
+    let components = g.components() as f64 / dest.area();
+    println!(
+        "{} nodes, {} edges ({:.1} km): edge length TV {length_tv:.3}, angle TV {angle_tv:.3}, smallest angle \
+         {:.1}° (learned {:.1}°), components per km² {:.1} (exemplar {:.1}), {} crossings",
+        g.nodes.len(),
+        g.edges.len(),
+        g.edges.iter().map(|e| g.edge_length(*e)).sum::<f64>() / 1e3,
+        g.min_angle().to_degrees(),
+        roads.min_angle.to_degrees(),
+        components * 1e6,
+        roads.components_per_area * 1e6,
+        g.crossings()
+    );
+    assert!(
+        g.nodes.len() > 300,
+        "a 1350 m square of village has hundreds of road nodes"
+    );
+    assert!(length_tv <= 0.15, "edge length TV {length_tv}");
+    assert!(angle_tv <= 0.15, "angle TV {angle_tv}");
+    assert_eq!(g.crossings(), 0, "edges cross only at nodes");
+    assert!(g.min_angle() >= roads.min_angle - 1e-9);
+    let ratio = components / roads.components_per_area;
+    assert!(
+        (1.0 / 1.5..=1.5).contains(&ratio),
+        "components per area {ratio:.2}× the exemplar's"
+    );
+
+    // houses learned 8–15 m from the roads stay in that band
+    let house = out
+        .categories
+        .iter()
+        .position(|c| c.name == "house")
+        .unwrap();
+    let houses: Vec<DVec2> = out
+        .instances
+        .iter()
+        .filter(|i| i.category == house)
+        .map(|i| i.position)
+        .collect();
+    let painted = Scene {
+        categories: out.categories.clone(),
+        instances: out.instances.clone(),
+        paths: out.paths.clone(),
+        ..Default::default()
+    };
+    let again = AnalysisOptions {
+        max_radius: Some(color.max_radius),
+        bin_width: Some(color.bin_width),
+        ..Default::default()
+    };
+    let learned = learn_color(&painted, &dest, "painted", &again).unwrap();
+    let map = |c: &Color| {
+        c.maps
+            .iter()
+            .find(|m| m.category == "house" && m.map == "road")
+            .unwrap()
+            .hist
+            .clone()
+    };
+    let distance_tv = map(&color).total_variation(&map(&learned));
+    let band = share_in_band(&houses, &g, 8.0..=15.0);
+    println!(
+        "{} houses: distance-to-road TV {distance_tv:.3}, {:.1} % within 8–15 m",
+        houses.len(),
+        100.0 * band
+    );
+    assert!(distance_tv <= 0.15, "distance-to-road TV {distance_tv}");
+    assert!(band >= 0.9, "share of houses 8–15 m from a road {band}");
+}
+
+#[test]
+fn island_trees_stay_on_land_and_boats_along_the_coast() {
+    let size = 300.0;
+    let scene = exemplar::archipelago(size, 1);
+    let color = learn_color(
+        &scene,
+        &square(0.0, size),
+        "islands",
+        &AnalysisOptions::default(),
+    )
+    .unwrap();
+    let dest = square(2000.0, 2.0 * size);
+    let canvas = Scene {
+        categories: scene.categories.clone(),
+        ..Default::default()
+    };
+    let out = synthesize(
+        &canvas,
+        &color,
+        &dest,
+        &SynthesisOptions {
+            seed: 5,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let land = Polygons::new(
+        &out.contours
+            .iter()
+            .map(|c| c.points.clone())
+            .collect::<Vec<_>>(),
+    );
+    let of = |name: &str| {
+        let k = out.categories.iter().position(|c| c.name == name).unwrap();
+        out.instances
+            .iter()
+            .filter(|i| i.category == k)
+            .map(|i| i.position)
+            .collect::<Vec<_>>()
+    };
+    let (trees, boats) = (of("tree"), of("boat"));
+    let wet = trees.iter().filter(|p| !land.contains(**p)).count();
+    let afloat = boats.iter().filter(|p| !land.contains(**p)).count();
+    let coastal = boats
+        .iter()
+        .filter(|p| land.distance(**p, 1e3) <= 12.0)
+        .count();
+    println!(
+        "{} contours, {} trees ({wet} in water), {} boats ({afloat} on water, {coastal} within 12 m of a coast)",
+        out.contours.len(),
+        trees.len(),
+        boats.len()
+    );
+    assert!(out.contours.len() >= 4 && trees.len() > 100 && boats.len() > 20);
+    assert_eq!(wet, 0, "trees never land in water");
+    assert_eq!(afloat, boats.len(), "boats stay on the water");
+    assert!(
+        coastal as f64 >= 0.9 * boats.len() as f64,
+        "boats stay along the coast"
+    );
+}
