@@ -8,6 +8,7 @@
 //! * [`trace`]: the density of the points, smoothed by a Gaussian of `0.6 × spacing` and scaled so that a filled
 //!   area reads 1, is contoured at ½ by marching squares on a grid of half the spacing, and the closed loops are
 //!   simplified (Douglas–Peucker, a tenth of the spacing). Loops smaller than four cells are dropped.
+//! * [`cut`]: a contour less a region, by the same dense points: filled, the points in the region dropped, traced.
 //! * [`Polygons::signed_distance`]: the interaction of a distribution with a polygon category (thesis 6.2.1),
 //!   `d` outside and `−d / d_max` inside, where `d_max` is the largest distance to the border inside the contour
 //!   that holds the point.
@@ -166,6 +167,36 @@ pub fn fill(polygons: &Polygons, spacing: f64, seed: u64) -> Vec<DVec2> {
         }
     }
     out
+}
+
+/// Dense points along a contour's perimeter when a tool cuts it: the traced cut stays within two cells of it.
+const CUT_SAMPLES: f64 = 400.0;
+
+/// The contour less `region` (see the module documentation), or `None` when the contour does not meet the region.
+pub fn cut(contour: &[DVec2], region: &Region) -> Option<Vec<Vec<DVec2>>> {
+    let n = contour.len();
+    if n < 3 {
+        return None;
+    }
+    let edges = || (0..n).map(|i| (contour[i], contour[(i + 1) % n]));
+    let outline = Region::Polygon {
+        points: contour.to_vec(),
+    };
+    let (lo, hi) = region.bbox();
+    let meets = contour.iter().any(|p| region.contains(*p))
+        || edges().any(|(a, b)| !region.segment_crossings(a, b).is_empty())
+        || outline.contains(0.5 * (lo + hi)) && region.contains(0.5 * (lo + hi));
+    if !meets {
+        return None;
+    }
+    let perimeter: f64 = edges().map(|(a, b)| a.distance(b)).sum();
+    let spacing = (perimeter / CUT_SAMPLES).max(1e-3);
+    let polygons = Polygons::new(&[contour.to_vec()]);
+    let points: Vec<DVec2> = fill(&polygons, spacing, n as u64)
+        .into_iter()
+        .filter(|p| !region.contains(*p))
+        .collect();
+    Some(trace(&points, spacing))
 }
 
 /// Closed contours around dense points (see the module documentation).

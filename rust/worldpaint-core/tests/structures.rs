@@ -216,3 +216,76 @@ fn island_trees_stay_on_land_and_boats_along_the_coast() {
         "boats stay along the coast"
     );
 }
+
+#[test]
+fn pasted_roads_join_the_roads_around() {
+    let (_, color) = village_color(450.0);
+    let world = exemplar::village(900.0, 2);
+    let region = square(350.0, 200.0);
+    let opts = SynthesisOptions {
+        seed: 7,
+        ..Default::default()
+    };
+    let edit = worldpaint_core::tools::paste(&world, &color, &region, &opts, &|_| true).unwrap();
+    let after = edit.applied_to(&world);
+    // the roads were cut at the border: their loose ends there
+    let on_border = |p: DVec2| region.distance_to_boundary(p) < 1e-6;
+    let cut_ends: Vec<DVec2> = edit
+        .added_paths
+        .iter()
+        .filter(|p| {
+            p.points
+                .iter()
+                .all(|q| !region.contains(*q) || on_border(*q))
+        })
+        .flat_map(|p| [p.points[0], p.points[p.points.len() - 1]])
+        .filter(|q| on_border(*q))
+        .collect();
+    let new_paths: Vec<&worldpaint_core::scene::Path> = edit
+        .added_paths
+        .iter()
+        .filter(|p| {
+            p.points
+                .iter()
+                .any(|q| region.contains(*q) && !on_border(*q))
+        })
+        .collect();
+    let new_nodes: Vec<DVec2> = new_paths
+        .iter()
+        .flat_map(|p| p.points.iter().copied())
+        .collect();
+    let joined = cut_ends
+        .iter()
+        .filter(|e| new_nodes.iter().any(|n| n.distance(**e) < 1e-6))
+        .count();
+    let g = graph_of(&after.paths);
+    println!(
+        "{} roads cut, {} loose ends on the border, {} new roads, {joined} ends joined; {} crossings",
+        edit.removed_paths.len(),
+        cut_ends.len(),
+        new_paths.len(),
+        g.crossings()
+    );
+    assert!(
+        !edit.removed_paths.is_empty() && !cut_ends.is_empty(),
+        "the world's roads cross the region"
+    );
+    assert!(!new_paths.is_empty());
+    assert!(joined >= 1, "new roads end on the roads around");
+    assert_eq!(g.crossings(), 0);
+    // the houses keep clear of every road, old and new
+    let house = after
+        .categories
+        .iter()
+        .position(|c| c.name == "house")
+        .unwrap();
+    let index = worldpaint_core::graph::SegmentIndex::new(g.segments());
+    let nearest = edit
+        .added
+        .iter()
+        .filter(|i| i.category == house)
+        .map(|i| index.distance(i.position, 1e3))
+        .fold(f64::INFINITY, f64::min);
+    println!("nearest new house to a road: {nearest:.1} m");
+    assert!(nearest >= 6.0, "houses keep off the roads");
+}

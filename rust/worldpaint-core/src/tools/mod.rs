@@ -16,79 +16,203 @@ pub mod moving;
 pub mod stretch;
 
 use crate::analysis::{learn_color, AnalysisOptions};
+use crate::contour::cut;
 use crate::error::{Error, Result};
 use crate::geom::{DVec2, Region};
 use crate::palette::Color;
-use crate::scene::{Category, Instance, Scene};
+use crate::scene::{Category, Contour, Instance, Path, Scene};
 use crate::synthesis::{synthesize_keeping, SynthesisOptions};
 
-/// What a tool did: the scene's instances it removed (indices, ascending) and the instances it added, whose
-/// `category` indexes `categories` (the scene's categories, then any the tool's colors brought).
+/// What a tool did: the scene's instances, paths and contours it removed (indices, ascending) and those it added,
+/// whose `category` indexes `categories` (the scene's categories, then any the tool's colors brought). A path or
+/// contour a tool cuts is removed, and its pieces outside the painted region come back among the added ones.
 #[derive(Clone, Debug, Default)]
 pub struct Edit {
     pub categories: Vec<Category>,
     pub removed: Vec<usize>,
     pub added: Vec<Instance>,
+    pub removed_paths: Vec<usize>,
+    pub added_paths: Vec<Path>,
+    pub removed_contours: Vec<usize>,
+    pub added_contours: Vec<Contour>,
+}
+
+/// `items` less the indices `removed`, then `added`.
+fn replaced<T: Clone>(items: &[T], removed: &[usize], added: &[T]) -> Vec<T> {
+    let mut gone = vec![false; items.len()];
+    for &i in removed {
+        gone[i] = true;
+    }
+    let mut out: Vec<T> = items
+        .iter()
+        .zip(&gone)
+        .filter(|(_, g)| !**g)
+        .map(|(i, _)| i.clone())
+        .collect();
+    out.extend_from_slice(added);
+    out
 }
 
 impl Edit {
     /// The scene after the edit.
     pub fn applied_to(&self, scene: &Scene) -> Scene {
-        let mut gone = vec![false; scene.instances.len()];
-        for &i in &self.removed {
-            gone[i] = true;
-        }
-        let mut instances: Vec<Instance> = scene
-            .instances
-            .iter()
-            .zip(&gone)
-            .filter(|(_, g)| !**g)
-            .map(|(i, _)| *i)
-            .collect();
-        instances.extend_from_slice(&self.added);
         Scene {
             categories: self.categories.clone(),
-            instances,
+            instances: replaced(&scene.instances, &self.removed, &self.added),
+            paths: replaced(&scene.paths, &self.removed_paths, &self.added_paths),
+            contours: replaced(
+                &scene.contours,
+                &self.removed_contours,
+                &self.added_contours,
+            ),
             terrain: scene.terrain.clone(),
-            ..Default::default()
         }
     }
 }
 
-/// A scene being edited by a tool: the current instances, each remembering which original instance it is.
-pub(crate) struct Working {
-    pub(crate) scene: Scene,
-    /// Per current instance: its index in the original scene (`None` for an added one).
+/// Which original item each current item of a list being edited is (`None` for an added one).
+#[derive(Clone, Debug)]
+struct Origins {
     origin: Vec<Option<usize>>,
     n_original: usize,
+}
+
+impl Origins {
+    fn new(n: usize) -> Self {
+        Origins {
+            origin: (0..n).map(Some).collect(),
+            n_original: n,
+        }
+    }
+
+    /// Keeps the items for which `keep` holds (in `items` and here); returns the others.
+    fn retain<T>(&mut self, items: &mut Vec<T>, mut keep: impl FnMut(&T) -> bool) -> Vec<T> {
+        let mut removed = Vec::new();
+        let mut kept = Vec::with_capacity(items.len());
+        let mut origin = Vec::with_capacity(items.len());
+        for (i, o) in items.drain(..).zip(self.origin.drain(..)) {
+            if keep(&i) {
+                kept.push(i);
+                origin.push(o);
+            } else {
+                removed.push(i);
+            }
+        }
+        *items = kept;
+        self.origin = origin;
+        removed
+    }
+
+    /// Keeps the items whose current index is not flagged in `gone`.
+    fn remove_flagged<T>(&mut self, items: &mut Vec<T>, gone: &[bool]) {
+        let mut k = 0;
+        self.retain(items, |_| {
+            k += 1;
+            !gone.get(k - 1).copied().unwrap_or(false)
+        });
+    }
+
+    fn push<T>(&mut self, items: &mut Vec<T>, added: impl IntoIterator<Item = T>) {
+        for i in added {
+            items.push(i);
+            self.origin.push(None);
+        }
+    }
+
+    /// The original indices gone and the items added, from the original list to `items`.
+    fn diff<T: Clone>(&self, items: &[T]) -> (Vec<usize>, Vec<T>) {
+        let mut present = vec![false; self.n_original];
+        let mut added = Vec::new();
+        for (i, o) in items.iter().zip(&self.origin) {
+            match o {
+                Some(k) => present[*k] = true,
+                None => added.push(i.clone()),
+            }
+        }
+        (
+            (0..self.n_original).filter(|&k| !present[k]).collect(),
+            added,
+        )
+    }
+}
+
+/// Flags of the indices `removed` among `n`.
+fn flags(n: usize, removed: &[usize]) -> Vec<bool> {
+    let mut gone = vec![false; n];
+    for &k in removed {
+        if k < n {
+            gone[k] = true;
+        }
+    }
+    gone
+}
+
+/// A scene being edited by a tool: the current content, each item remembering which original one it is.
+pub(crate) struct Working {
+    pub(crate) scene: Scene,
+    instances: Origins,
+    paths: Origins,
+    contours: Origins,
 }
 
 impl Working {
     pub(crate) fn new(scene: &Scene) -> Self {
         Working {
             scene: scene.clone(),
-            origin: (0..scene.instances.len()).map(Some).collect(),
-            n_original: scene.instances.len(),
+            instances: Origins::new(scene.instances.len()),
+            paths: Origins::new(scene.paths.len()),
+            contours: Origins::new(scene.contours.len()),
         }
     }
 
     /// Removes the unlocked instances for which `pred` holds; returns them.
     pub(crate) fn remove_where(&mut self, pred: impl Fn(&Instance) -> bool) -> Vec<Instance> {
-        let n = self.scene.instances.len();
-        let mut removed = Vec::new();
-        let mut instances = Vec::with_capacity(n);
-        let mut origin = Vec::with_capacity(n);
-        for (i, o) in self.scene.instances.drain(..).zip(self.origin.drain(..)) {
-            if !i.locked && pred(&i) {
-                removed.push(i);
-            } else {
-                instances.push(i);
-                origin.push(o);
+        self.instances
+            .retain(&mut self.scene.instances, |i| i.locked || !pred(i))
+    }
+
+    /// Removes the unlocked content inside `region`: instances, and the parts of paths and contours in it (their
+    /// parts outside stay, as new pieces).
+    pub(crate) fn clear(&mut self, region: &Region) {
+        self.remove_where(|i| region.contains(i.position));
+        let mut pieces: Vec<Path> = Vec::new();
+        self.paths.retain(&mut self.scene.paths, |p| {
+            if p.locked {
+                return true;
             }
-        }
-        self.scene.instances = instances;
-        self.origin = origin;
-        removed
+            let (inside, outside) = region.clip_polyline(&p.points);
+            if inside.is_empty() {
+                return true;
+            }
+            pieces.extend(
+                outside
+                    .into_iter()
+                    .filter(|o| o.len() >= 2)
+                    .map(|points| Path {
+                        points,
+                        ..p.clone()
+                    }),
+            );
+            false
+        });
+        self.paths.push(&mut self.scene.paths, pieces);
+        let mut pieces: Vec<Contour> = Vec::new();
+        self.contours.retain(&mut self.scene.contours, |c| {
+            if c.locked {
+                return true;
+            }
+            match cut(&c.points, region) {
+                None => true,
+                Some(rest) => {
+                    pieces.extend(rest.into_iter().map(|points| Contour {
+                        points,
+                        ..c.clone()
+                    }));
+                    false
+                }
+            }
+        });
+        self.contours.push(&mut self.scene.contours, pieces);
     }
 
     /// Adds instances whose categories index `categories` (an extension of the scene's list).
@@ -96,31 +220,29 @@ impl Working {
         if categories.len() > self.scene.categories.len() {
             self.scene.categories = categories;
         }
-        self.origin
-            .extend(std::iter::repeat_n(None, instances.len()));
-        self.scene.instances.extend(instances);
+        self.instances.push(&mut self.scene.instances, instances);
     }
 
-    /// Applies an edit computed on the current scene (its `removed` index the current instances).
+    /// Applies an edit computed on the current scene (its removed indices index the current content).
     pub(crate) fn apply(&mut self, edit: &Edit) {
-        let mut gone = vec![false; self.scene.instances.len()];
-        for &k in &edit.removed {
-            gone[k] = true;
-        }
-        let mut k = 0;
-        self.origin.retain(|_| {
-            k += 1;
-            !gone[k - 1]
-        });
-        k = 0;
-        self.scene.instances.retain(|_| {
-            k += 1;
-            !gone[k - 1]
-        });
+        let gone = flags(self.scene.instances.len(), &edit.removed);
+        self.instances
+            .remove_flagged(&mut self.scene.instances, &gone);
+        let gone = flags(self.scene.paths.len(), &edit.removed_paths);
+        self.paths.remove_flagged(&mut self.scene.paths, &gone);
+        let gone = flags(self.scene.contours.len(), &edit.removed_contours);
+        self.contours
+            .remove_flagged(&mut self.scene.contours, &gone);
         self.add(edit.categories.clone(), edit.added.clone());
+        self.paths
+            .push(&mut self.scene.paths, edit.added_paths.iter().cloned());
+        self.contours.push(
+            &mut self.scene.contours,
+            edit.added_contours.iter().cloned(),
+        );
     }
 
-    /// Removes the unlocked content inside `region` and synthesizes `color` there, conditioned on the rest.
+    /// Clears `region` and synthesizes `color` there, conditioned on the rest; returns the count of new instances.
     pub(crate) fn paint(
         &mut self,
         color: &Color,
@@ -128,33 +250,39 @@ impl Working {
         opts: &SynthesisOptions,
         progress: &(dyn Fn(f64) -> bool + Sync),
     ) -> Result<usize> {
-        self.remove_where(|i| region.contains(i.position));
+        self.clear(region);
         let result = synthesize_keeping(&self.scene, color, region, opts, progress, &|_| true)?;
         let n = result.instances.len();
+        let gone = flags(self.scene.contours.len(), &result.replaced_contours);
+        self.contours
+            .remove_flagged(&mut self.scene.contours, &gone);
         self.add(result.categories, result.instances);
+        self.paths.push(&mut self.scene.paths, result.paths);
+        self.contours
+            .push(&mut self.scene.contours, result.contours);
         Ok(n)
     }
 
     /// The edit from the original scene to the current one.
     pub(crate) fn edit(&self) -> Edit {
-        let mut present = vec![false; self.n_original];
-        let mut added = Vec::new();
-        for (i, o) in self.scene.instances.iter().zip(&self.origin) {
-            match o {
-                Some(k) => present[*k] = true,
-                None => added.push(*i),
-            }
-        }
+        let (removed, added) = self.instances.diff(&self.scene.instances);
+        let (removed_paths, added_paths) = self.paths.diff(&self.scene.paths);
+        let (removed_contours, added_contours) = self.contours.diff(&self.scene.contours);
         Edit {
             categories: self.scene.categories.clone(),
-            removed: (0..self.n_original).filter(|&k| !present[k]).collect(),
+            removed,
             added,
+            removed_paths,
+            added_paths,
+            removed_contours,
+            added_contours,
         }
     }
 }
 
-/// Paste (Section 5.1): removes the unlocked instances inside `region` and synthesizes the color there,
-/// consistent with the content around it.
+/// Paste (Section 5.1): removes the unlocked content inside `region` (instances, and the parts of paths and
+/// contours in it) and synthesizes the color there, consistent with the content around it: new roads end on the
+/// roads cut at the border, new islands merge with the coasts around.
 pub fn paste(
     scene: &Scene,
     color: &Color,

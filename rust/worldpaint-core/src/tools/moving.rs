@@ -6,7 +6,7 @@
 //! under it in a painting program); the part of the source it leaves is left empty. Locked content stays where it
 //! is, in the source and in the destination, and conditions the adaptation. A drag recomputes the move from the
 //! original scene at each step with the same seed, so each intermediate result is the same function of the
-//! offset and nothing flickers.
+//! offset and nothing flickers. Paths and contours stay where they are; the moved instances adapt to them.
 
 use super::Edit;
 use crate::error::{Error, Result};
@@ -103,6 +103,7 @@ pub(crate) fn move_instances(
             categories: adapted.categories,
             removed: (0..removed.len()).filter(|&k| removed[k]).collect(),
             added,
+            ..Default::default()
         },
         moved: moving.len(),
         displaced: adapted.displaced,
