@@ -42,6 +42,7 @@ demo: engine
 bench: engine
 	cargo bench -p worldpaint-core --bench synthesis
 	cargo bench -p worldpaint-core --bench tools
+	cargo bench -p worldpaint-core --bench structures
 	$(PY) blender_tests/bench_blender.py
 
 # An installable Blender extension with the engine wheel inside; needs no Blender binary.

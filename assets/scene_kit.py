@@ -208,3 +208,47 @@ def closed_circle_curve(name, center, radius):
 
 def degrees(x):
     return math.degrees(x)
+
+
+def village_height(x, y):
+    """The gentle valley side the village exemplar stands on (m)."""
+    return 0.06 * x + 0.03 * y + 2.0 * np.sin(np.asarray(x) / 45.0) * np.cos(np.asarray(y) / 70.0)
+
+
+def village_exemplar(size=300.0, extent=(-100.0, -100.0, 900.0, 450.0), seed=1, cell=2.0):
+    """The engine's village: its streets as a hand-drawn curve object "Roads" (curve data "road", one poly spline per
+    street, on the terrain) and its houses as instances of a "House" collection, on a sloped grid terrain covering
+    ``extent``. Returns (terrain object, road curve object, house objects, engine data)."""
+    data = engine.exemplar_village(size, seed)
+    x0, y0, x1, y1 = extent
+    nx, ny = int(round((x1 - x0) / cell)) + 1, int(round((y1 - y0) / cell)) + 1
+    x, y = np.meshgrid(x0 + cell * np.arange(nx), y0 + cell * np.arange(ny))
+    terrain_obj = grid_terrain("Terrain", (x0, y0), cell, village_height(x, y))
+
+    curve = bpy.data.curves.new("road", 'CURVE')
+    curve.dimensions = '3D'
+    road_index = [c["name"] for c in data["categories"]].index("road")
+    for path in data["paths"]:
+        if path["category"] != road_index:
+            continue
+        xy = path["points"]
+        spline = curve.splines.new('POLY')
+        spline.points.add(len(xy) - 1)
+        co = np.column_stack([xy, village_height(xy[:, 0], xy[:, 1]), np.ones(len(xy))])
+        spline.points.foreach_set("co", co.ravel())
+    roads = bpy.data.objects.new("Roads", curve)
+    bpy.context.scene.collection.objects.link(roads)
+
+    parent = bpy.data.collections.new("Prototypes")
+    bpy.context.scene.collection.children.link(parent)
+    bm = bmesh.new()
+    bmesh.ops.create_cube(bm, size=1.0, matrix=Matrix.Translation((0.0, 0.0, 0.5)) @ Matrix.Diagonal((8, 6, 5, 1)))
+    houses = bpy.data.collections.new("House")
+    parent.children.link(houses)
+    houses.objects.link(_bmesh_object("House", bm, (0.8, 0.4, 0.3, 1.0)))
+    bpy.context.view_layer.layer_collection.children["Prototypes"].exclude = True
+    mask = data["category_index"] == [c["name"] for c in data["categories"]].index("house")
+    xy = data["positions"][mask]
+    house_objects = collection_instances("House", xy, village_height(xy[:, 0], xy[:, 1]), data["rotations"][mask])
+    bpy.context.scene.worldpaint.terrain = terrain_obj
+    return terrain_obj, roads, house_objects, data

@@ -1,8 +1,9 @@
 """The only place that converts between bpy and the engine.
 
-``terrain`` extracts the terrain mesh, ``instances`` the example objects and synthesized points, ``regions`` the
-analysed or destination region, ``points`` builds the point clouds and the Geometry Nodes instancer, ``preview`` the
-palette pictures, ``engine`` gives the compiled engine module.
+``terrain`` extracts the terrain mesh, ``instances`` the example objects and synthesized points, ``curves`` the roads,
+rivers, islands and lakes (and builds their ribbons and filled meshes), ``regions`` the analysed or destination
+region, ``points`` builds the point clouds and the Geometry Nodes instancer, ``preview`` the palette pictures,
+``engine`` gives the compiled engine module.
 """
 
 

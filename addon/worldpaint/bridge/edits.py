@@ -15,11 +15,14 @@ from .instances import point_cloud_objects
 
 @dataclass
 class Applied:
-    """What writing an edit did: instances added and removed, and categories left without anything to instance."""
+    """What writing an edit did: instances added and removed, categories left without anything to instance, and
+    paths and contours added and removed."""
 
     added: int = 0
     removed: int = 0
     missing: list = field(default_factory=list)
+    lines_added: int = 0
+    lines_removed: int = 0
 
 
 def added_by_category(edit):

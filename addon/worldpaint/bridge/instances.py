@@ -11,6 +11,9 @@ import numpy as np
 
 POINTS_TAG = "wp_points"
 PROTOTYPE_TAG = "wp_prototype"
+STRUCTURE_TAG = "wp_structure"  # synthesized paths or contours of a category (see ``curves``)
+FILL_TAG = "wp_fill"  # the filled mesh of a polygon category's synthesized contours
+TAGS = (POINTS_TAG, PROTOTYPE_TAG, STRUCTURE_TAG, FILL_TAG)
 TAU = 2.0 * np.pi
 
 
@@ -27,7 +30,7 @@ def category_of(obj):
 
 
 def is_worldpaint_object(obj):
-    return obj.get(POINTS_TAG) is not None or obj.get(PROTOTYPE_TAG) is not None
+    return any(obj.get(tag) is not None for tag in TAGS)
 
 
 def example_objects(objects, exclude=()):

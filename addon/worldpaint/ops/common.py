@@ -2,7 +2,7 @@
 
 from bpy.props import EnumProperty, FloatProperty, FloatVectorProperty, IntProperty, StringProperty
 
-from ..bridge import WorldPaintError, edits, instances, regions, terrain
+from ..bridge import WorldPaintError, curves, edits, instances, regions, terrain
 from ..bridge.engine import engine, engine_errors
 from ..props import REGION_MODES
 
@@ -103,8 +103,9 @@ def active_color(context, name=""):
 
 
 class SceneContent:
-    """What a tool reads of the scene before the engine runs: the terrain object, its heightfield and every instance
-    of the scene's categories (hand-placed objects locked, point-cloud points editable)."""
+    """What a tool reads of the scene before the engine runs: the terrain object, its heightfield, every instance
+    of the scene's categories (hand-placed objects locked, point-cloud points editable) and every path and contour
+    (hand-drawn curves locked, synthesized ones editable)."""
 
     def __init__(self, context, terrain_name="", extra_categories=()):
         scene = context.scene
@@ -112,6 +113,7 @@ class SceneContent:
         self.heightfield = terrain.engine_terrain(context, self.terrain_obj)
         self.categories = instances.all_categories(scene, extra_categories)
         self.instances = instances.scene_instances(scene, self.categories, exclude=[self.terrain_obj])
+        self.structures = curves.scene_structures(scene, self.categories, exclude=[self.terrain_obj])
         self._engine_scene = None
 
     def learn(self, region, name, maps):
@@ -121,16 +123,23 @@ class SceneContent:
     def engine_scene(self):
         """The engine's Scene of this content (made once; the tools read it and return edits of it)."""
         if self._engine_scene is None:
-            self._engine_scene = engine().Scene(self.heightfield, **self.instances.engine_arrays())
+            self._engine_scene = engine().Scene(
+                self.heightfield, **self.instances.engine_arrays(), **self.structures.engine_arrays()
+            )
         return self._engine_scene
 
     def apply(self, context, edit):
-        """Writes an engine edit of this content to the point clouds."""
-        return edits.apply_edit(context.scene, self.instances, edit, self.terrain_obj)
+        """Writes an engine edit of this content to the point clouds and the synthesized curves."""
+        applied = edits.apply_edit(context.scene, self.instances, edit, self.terrain_obj)
+        applied.lines_added, applied.lines_removed = curves.apply_structures(
+            context.scene, self.structures, edit, self.terrain_obj, self.heightfield
+        )
+        return applied
 
     def restore(self, context):
-        """Puts the point clouds back as this content read them (after a cancelled live edit)."""
+        """Puts the point clouds and curves back as this content read them (after a cancelled live edit)."""
         edits.restore_clouds(context.scene, self.instances)
+        curves.restore_structures(context.scene, self.structures, self.terrain_obj, self.heightfield)
 
 
 def report_missing(operator, applied):

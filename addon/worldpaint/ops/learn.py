@@ -1,9 +1,9 @@
-"""Learn Color: the statistics of the selected example objects become a new color in the palette."""
+"""Learn Color: the statistics of the selected example objects and curves become a new color in the palette."""
 
 import bpy
 from bpy.props import BoolProperty, StringProperty
 
-from ..bridge import WorldPaintError, instances, regions, terrain
+from ..bridge import WorldPaintError, curves, instances, regions, terrain
 from ..bridge.engine import engine
 from .colors import add_palette_color, unique_name
 from .common import RegionProperties, TerrainProperty, report_errors
@@ -31,39 +31,37 @@ class WORLDPAINT_OT_learn_color(RegionProperties, TerrainProperty, bpy.types.Ope
         scene = context.scene
         settings = scene.worldpaint
         terrain_obj = terrain.terrain_object(context, self.terrain)
+        mode = self.resolved_region_mode(context)
+        region_curve = regions.find_curve(context, self.curve) if mode == 'CURVE' else None
         examples = instances.example_objects(context.selected_objects, exclude=[terrain_obj])
-        if not examples:
+        drawn = curves.example_curves(context.selected_objects, exclude=[terrain_obj, region_curve])
+        if not examples and not drawn:
             raise WorldPaintError(
                 "Nothing to learn: select the example objects (collection instances, linked duplicates or "
-                "objects with a 'wp_category' property)"
+                "objects with a 'wp_category' property) and curves (roads, rivers; closed: islands, lakes)"
             )
+        # the region is around the example objects; curves (which usually run on beyond it) only when alone
         region = regions.region_for(
             context,
-            self.resolved_region_mode(context),
-            objects=[obj for obj, _ in examples],
-            use_bounds=False,
+            mode,
+            objects=[obj for obj, _ in examples] or [obj for obj, _, _ in drawn],
+            use_bounds=not examples,
             **self.region_kwargs(),
         )
         heightfield = terrain.engine_terrain(context, terrain_obj)
         terrain.check_region_on_terrain(heightfield, region, "example")
 
-        # new categories enter the priority order rarest first: few large things (trees, rocks) condition the many
-        counts = {}
-        for _, category in examples:
-            counts[category] = counts.get(category, 0) + 1
-        new_names = sorted(instances.missing_categories(settings, counts), key=lambda c: (counts[c], c))
-        base = max((c.priority for c in settings.categories), default=-1) + 1
-        new = [
-            {"name": n, "layer": "default", "kind": "distribution", "priority": base + i}
-            for i, n in enumerate(new_names)
-        ]
+        new = self._new_categories(settings, examples, drawn)
         categories = instances.merged_categories(settings, new)
         exemplar = instances.example_set(examples, categories)
+        structures = curves.StructureSet(categories=categories)
+        for obj, category, _ in drawn:
+            structures.add(obj, category, locked=True)
         name = self.name or unique_name(settings.palette, "Color")
         maps = ["slope", "elevation"] if self.use_elevation else ["slope"]
         eng = engine()
-        color_json = eng.learn_color(eng.Scene(heightfield, **exemplar.engine_arrays()), region, name,
-                                     options={"maps": maps})
+        scene_data = eng.Scene(heightfield, **exemplar.engine_arrays(), **structures.engine_arrays())
+        color_json = eng.learn_color(scene_data, region, name, options={"maps": maps})
 
         # validated and computed: now change the scene
         for category in new:
@@ -72,6 +70,27 @@ class WORLDPAINT_OT_learn_color(RegionProperties, TerrainProperty, bpy.types.Ope
                 category["name"], category["layer"], category["kind"], category["priority"],
             )
         add_palette_color(settings, name, color_json)
-        self.report({'INFO'}, f"Learned '{name}' from {len(exemplar)} instances in {len(counts)} categories")
+        n_categories = len({c for _, c in examples} | {c for _, c, _ in drawn})
+        self.report({'INFO'}, f"Learned '{name}' from {len(exemplar)} instances and {len(structures)} curves in "
+                              f"{n_categories} categories")
         return {'FINISHED'}
 
+    @staticmethod
+    def _new_categories(settings, examples, drawn):
+        """Engine dicts of the categories the scene does not know yet, in priority order after the known ones:
+        polygons (islands, lakes), then graphs (roads, rivers), then distributions rarest first, so that few large
+        things (trees, rocks) condition the many and everything can follow the roads and coasts."""
+        counts = {}
+        for _, category in examples:
+            counts[category] = counts.get(category, 0) + 1
+        kinds = {category: "polygon" if closed else "graph" for _, category, closed in drawn}
+        order = {"polygon": 0, "graph": 1}
+        names = instances.missing_categories(settings, list(kinds) + list(counts))
+        names.sort(key=lambda c: (order.get(kinds.get(c), 2), counts.get(c, 0), c))
+        layers = {"polygon": "terrain", "graph": "settlement"}
+        base = max((c.priority for c in settings.categories), default=-1) + 1
+        return [
+            {"name": n, "layer": layers.get(kinds.get(n), "default"), "kind": kinds.get(n, "distribution"),
+             "priority": base + i}
+            for i, n in enumerate(names)
+        ]

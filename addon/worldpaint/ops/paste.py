@@ -1,4 +1,4 @@
-"""Paste Color: synthesize the active color in a region, replacing the synthesized points already there.
+"""Paste Color: synthesize the active color in a region, replacing the synthesized points and curves already there.
 
 Hand-placed objects inside the region stay and condition the new arrangement. From the UI the synthesis runs on a
 worker thread with a progress bar and Esc to cancel (see ``background``).
@@ -48,9 +48,11 @@ class WORLDPAINT_OT_paste_color(BackgroundOperator, RegionProperties, SynthesisP
 
     def _apply(self, context, edit):
         applied = self._content.apply(context, edit)
-        self.report({'INFO'}, f"Pasted {applied.added} instances of '{self._entry.name}'")
+        lines = f" and {applied.lines_added} paths or contours" if applied.lines_added else ""
+        self.report({'INFO'}, f"Pasted {applied.added} instances{lines} of '{self._entry.name}'")
         names = [c["name"] for c in edit["categories"]]
         pasted = {names[i] for i in np.unique(edit["category_index"])}
+        pasted |= {names[line["category"]] for line in edit["added_paths"] + edit["added_contours"]}
         empty = sorted({c["name"] for c in self._summary["categories"]} - pasted)
         if empty:
             self.report({'WARNING'}, f"Nothing pasted for {', '.join(empty)}: the example had none on slopes (or, "

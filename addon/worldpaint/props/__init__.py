@@ -38,6 +38,10 @@ class WORLDPAINT_PG_category(bpy.types.PropertyGroup):
     priority: IntProperty(
         name="Priority", default=0, description="Lower values are synthesized first and condition the others"
     )
+    width: FloatProperty(
+        name="Width", default=6.0, min=0.0, soft_max=50.0, unit='LENGTH',
+        description="Width of the ribbon a graph category's synthesized roads or rivers are shown with",
+    )
 
 
 class WORLDPAINT_PG_color(bpy.types.PropertyGroup):

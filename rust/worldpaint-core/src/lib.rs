@@ -13,6 +13,7 @@
 //! | [`spatial`] | neighbour queries behind the product simplification (§6) |
 //! | [`graph`] | roads and rivers as planar graphs of intersecting paths, segment queries (§4.2) |
 //! | [`contour`] | islands and lakes: contours to dense points and back, signed distance (§6, thesis 6.2.1) |
+//! | [`polygon_mesh`] | polygons as a filled mesh (constrained Delaunay triangulation) for display |
 //! | [`terrain`] | the terrain and its external maps (§3) |
 //! | [`scene`] | categories, priority order, instances (§3) |
 //! | [`palette`] | histograms, colors, palettes (§3, §4.1) |
@@ -35,6 +36,7 @@ pub mod geom;
 pub mod graph;
 pub mod interpolate;
 pub mod palette;
+pub mod polygon_mesh;
 pub mod scene;
 pub mod spatial;
 pub mod synthesis;

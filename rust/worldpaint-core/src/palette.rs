@@ -354,6 +354,22 @@ impl Color {
         self.categories.iter().find(|c| c.category.name == name)
     }
 
+    /// The color with the interactions `off` switched off: each `(category, other)` names a pair (its rdf), a map
+    /// (`other` is the map's name, or the graph or polygon category whose distance it is), or a graph's clearance
+    /// from or avoidance of `other`. Switched off, `category` is synthesized as if `other` were not there.
+    pub fn without_interactions(&self, off: &[(String, String)]) -> Color {
+        let is_off = |a: &str, b: &str| off.iter().any(|(x, y)| x == a && y == b);
+        let mut out = self.clone();
+        out.pairs.retain(|p| !is_off(&p.category, &p.other));
+        out.maps.retain(|m| !is_off(&m.category, &m.map));
+        for g in &mut out.graphs {
+            let name = g.category.clone();
+            g.clearance.retain(|(other, _)| !is_off(&name, other));
+            g.avoids.retain(|other| !is_off(&name, other));
+        }
+        out
+    }
+
     /// Checks what synthesis relies on (as read from a file it may be anything): positive finite radii,
     /// histogram shapes, known category names.
     pub fn validate(&self) -> Result<()> {

@@ -3,6 +3,7 @@
 use std::f64::consts::TAU;
 use worldpaint_core::contour::{fill, trace, Polygons};
 use worldpaint_core::geom::{polygon_signed_area, segment_distance, DVec2};
+use worldpaint_core::polygon_mesh::triangulate;
 
 /// A wobbly island around `c`.
 fn island(c: DVec2, r: f64) -> Vec<DVec2> {
@@ -74,4 +75,39 @@ fn a_lake_in_an_island_is_a_hole() {
     assert!(points.iter().all(|p| p.length() > 10.0 - 1e-9));
     let traced = trace(&points, 2.0);
     assert_eq!(traced.len(), 2, "the coast and the lake shore");
+}
+
+#[test]
+fn an_island_with_a_lake_fills_as_a_mesh_with_a_hole() {
+    let outer = island(DVec2::ZERO, 50.0);
+    let lake: Vec<DVec2> = (0..60)
+        .map(|k| {
+            let a = TAU * k as f64 / 60.0;
+            DVec2::new(a.cos(), a.sin()) * 10.0
+        })
+        .collect();
+    let polygons = Polygons::new(&[outer.clone(), lake.clone()]);
+    let mesh = triangulate(&polygons, 4.0);
+    let land = polygon_signed_area(&outer).abs() - polygon_signed_area(&lake).abs();
+    println!(
+        "island less lake {land:.0} m²: {} vertices, {} triangles, {:.0} m²",
+        mesh.vertices.len(),
+        mesh.triangles.len(),
+        mesh.area()
+    );
+    assert!(
+        (mesh.area() / land - 1.0).abs() < 1e-6,
+        "the mesh covers the land exactly"
+    );
+    assert!(
+        mesh.vertices.len() > 180 + 100,
+        "inner points to follow the terrain"
+    );
+    for t in &mesh.triangles {
+        let c = t.iter().map(|&i| mesh.vertices[i as usize]).sum::<DVec2>() / 3.0;
+        assert!(
+            c.length() > 10.0 * (std::f64::consts::PI / 60.0).cos() - 1e-9,
+            "a triangle in the lake at {c}"
+        );
+    }
 }

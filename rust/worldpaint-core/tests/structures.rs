@@ -215,6 +215,46 @@ fn island_trees_stay_on_land_and_boats_along_the_coast() {
         coastal as f64 >= 0.9 * boats.len() as f64,
         "boats stay along the coast"
     );
+
+    // with their relation to the islands switched off, trees stand anywhere: the water no longer keeps them off
+    let free = color.without_interactions(&[("tree".into(), "island".into())]);
+    let out = synthesize(
+        &canvas,
+        &free,
+        &dest,
+        &SynthesisOptions {
+            seed: 5,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let land = Polygons::new(
+        &out.contours
+            .iter()
+            .map(|c| c.points.clone())
+            .collect::<Vec<_>>(),
+    );
+    let k = out
+        .categories
+        .iter()
+        .position(|c| c.name == "tree")
+        .unwrap();
+    let trees: Vec<DVec2> = out
+        .instances
+        .iter()
+        .filter(|i| i.category == k)
+        .map(|i| i.position)
+        .collect();
+    let wet = trees.iter().filter(|p| !land.contains(**p)).count();
+    println!(
+        "tree-island interaction off: {} trees, {wet} in water",
+        trees.len()
+    );
+    assert!(
+        wet as f64 >= 0.2 * trees.len() as f64,
+        "{wet} of {} trees in water",
+        trees.len()
+    );
 }
 
 #[test]

@@ -2,6 +2,7 @@
 
 use crate::convert::{
     categories_to_py, instances_to_py, kind_to_str, parse_color, region_from_py, region_to_py,
+    structures_to_py,
 };
 use crate::scene::PyScene;
 use crate::{guarded, input_err, with_progress};
@@ -9,7 +10,7 @@ use numpy::ndarray::Array2;
 use numpy::IntoPyArray;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
-use worldpaint_core::palette::{Interaction, Palette};
+use worldpaint_core::palette::{Interaction, MapSource, Palette};
 use worldpaint_core::{AnalysisOptions, SynthesisOptions};
 
 pub(crate) fn analysis_options(options: Option<&Bound<'_, PyAny>>) -> PyResult<AnalysisOptions> {
@@ -66,8 +67,9 @@ fn learn_color(
 /// locked ones inside it and those around it condition the result.
 ///
 /// Returns {"categories": [...], "positions": float64 (N, 2), "heights": float64 (N) (terrain height, NaN without
-/// terrain), "rotations", "scales", "category_index": int32, "prototype": int32} for the *new* instances; category
-/// indices refer to the returned category list (the given ones, then the color's new ones).
+/// terrain), "rotations", "scales", "category_index": int32, "prototype": int32} for the *new* instances, and
+/// "paths" and "contours": lists of {"category", "points" (N, 2), "heights" (N)} of the new roads and islands;
+/// category indices refer to the returned category list (the given ones, then the color's new ones).
 /// `progress(fraction) -> bool` may return False to cancel (raises `Cancelled`).
 #[pyfunction]
 #[pyo3(signature = (scene, color, region, seed=0, *, influence_radius=None, iterations_per_instance=None,
@@ -98,7 +100,16 @@ fn synthesize<'py>(
     })?;
     let d = PyDict::new(py);
     d.set_item("categories", categories_to_py(py, &result.categories)?)?;
-    instances_to_py(py, &d, &result.instances, scene.terrain.as_deref())?;
+    let terrain = scene.terrain.as_deref();
+    instances_to_py(py, &d, &result.instances, terrain)?;
+    structures_to_py(
+        py,
+        &d,
+        ["paths", "contours"],
+        &result.paths,
+        &result.contours,
+        terrain,
+    )?;
     Ok(d)
 }
 
@@ -192,7 +203,8 @@ fn palette_from_json(text: &str) -> PyResult<Vec<String>> {
 
 /// What the add-on shows of a color: {"name", "region", "region_area", "max_radius", "bin_width",
 /// "categories": [{"name", "layer", "kind", "priority", "count", "density", "min_distance"}],
-/// "pairs": [(category, other, kind)], "maps": [(category, map)], "preview": float64 (N, 3) (x, y relative to the
+/// "pairs": [(category, other, kind)] (kind "rdf" or "oriented_rdf"), "maps": [(category, map, kind)] (kind "map" for
+/// a terrain map, "graph_distance" or "polygon_distance" where `map` is the graph or polygon category), "preview": float64 (N, 3) (x, y relative to the
 /// region's bbox min, category index), "preview_size": (w, h)}.
 #[pyfunction]
 fn color_summary<'py>(py: Python<'py>, color: &str) -> PyResult<Bound<'py, PyDict>> {
@@ -232,7 +244,14 @@ fn color_summary<'py>(py: Python<'py>, color: &str) -> PyResult<Bound<'py, PyDic
         "maps",
         c.maps
             .iter()
-            .map(|m| (m.category.clone(), m.map.clone()))
+            .map(|m| {
+                let kind = match m.source {
+                    MapSource::Terrain => "map",
+                    MapSource::GraphDistance => "graph_distance",
+                    MapSource::PolygonDistance => "polygon_distance",
+                };
+                (m.category.clone(), m.map.clone(), kind)
+            })
             .collect::<Vec<_>>(),
     )?;
     let flat: Vec<f64> = c.preview.iter().flat_map(|p| *p).collect();
@@ -244,7 +263,16 @@ fn color_summary<'py>(py: Python<'py>, color: &str) -> PyResult<Bound<'py, PyDic
     Ok(d)
 }
 
+/// The color (JSON) with the interactions `off` switched off: (category, other) pairs naming a pair's rdf, a map (by
+/// its map or its graph or polygon category) or a graph's clearance from `other`, as `color_summary` lists them.
+#[pyfunction]
+fn color_without_interactions(color: &str, off: Vec<(String, String)>) -> PyResult<String> {
+    let c = parse_color(color)?;
+    guarded(|| c.without_interactions(&off).to_json())
+}
+
 pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(color_without_interactions, m)?)?;
     m.add_function(wrap_pyfunction!(learn_color, m)?)?;
     m.add_function(wrap_pyfunction!(synthesize, m)?)?;
     m.add_function(wrap_pyfunction!(compare, m)?)?;

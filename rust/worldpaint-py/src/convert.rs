@@ -7,6 +7,7 @@ use numpy::{IntoPyArray, PyArray2, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use worldpaint_core::geom::DVec2;
+use worldpaint_core::scene::{Contour, Path};
 use worldpaint_core::tools::Edit;
 use worldpaint_core::{Category, CategoryKind, Color, Heightfield, Instance, Region, Scene};
 
@@ -261,6 +262,7 @@ pub(crate) fn scene_from_py(
     scales: Option<PyReadonlyArray1<'_, f64>>,
     prototype: Option<PyReadonlyArray1<'_, i32>>,
     locked: Option<PyReadonlyArray1<'_, bool>>,
+    structures: &Structures<'_, '_>,
 ) -> PyResult<Scene> {
     let categories = categories_from_py(categories)?;
     let n_categories = categories.len();
@@ -291,12 +293,138 @@ pub(crate) fn scene_from_py(
             locked: lock[i],
         });
     }
+    let paths = polylines_from_py(structures.paths, &categories, CategoryKind::Graph, "path")?
+        .into_iter()
+        .map(|(category, points, locked)| Path {
+            category,
+            points,
+            locked,
+        })
+        .collect();
+    let contours = polylines_from_py(
+        structures.contours,
+        &categories,
+        CategoryKind::Polygon,
+        "contour",
+    )?
+    .into_iter()
+    .map(|(category, points, locked)| Contour {
+        category,
+        points,
+        locked,
+    })
+    .collect();
     Ok(Scene {
         categories,
         instances: out,
+        paths,
+        contours,
         terrain: terrain_of(terrain).cloned(),
-        ..Default::default()
     })
+}
+
+/// The paths and contours of a scene as Python gives them: lists of {"category": int, "points": (N, 2),
+/// "locked": bool} (locked optional, default True: drawn by hand), or None.
+pub(crate) struct Structures<'a, 'py> {
+    pub(crate) paths: Option<&'a Bound<'py, PyAny>>,
+    pub(crate) contours: Option<&'a Bound<'py, PyAny>>,
+}
+
+/// (category, points, locked) of each polyline of a list, checked against the categories and their kind.
+fn polylines_from_py(
+    list: Option<&Bound<'_, PyAny>>,
+    categories: &[Category],
+    kind: CategoryKind,
+    what: &str,
+) -> PyResult<Vec<(usize, Vec<DVec2>, bool)>> {
+    let mut out = Vec::new();
+    let Some(list) = list.filter(|l| !l.is_none()) else {
+        return Ok(out);
+    };
+    let items = list
+        .try_iter()
+        .map_err(|_| input_err(format!("{what}s must be a list of dicts")))?;
+    for (i, item) in items.enumerate() {
+        let item = item?;
+        let name = format!("{what} {i}");
+        let category: i64 = field(&item, "category", &name)?
+            .extract()
+            .map_err(|_| input_err(format!("{name}: 'category' must be an integer")))?;
+        let c = usize::try_from(category)
+            .ok()
+            .filter(|&c| c < categories.len())
+            .ok_or_else(|| {
+                input_err(format!(
+                    "{name} has category index {category} but there are {} categories",
+                    categories.len()
+                ))
+            })?;
+        if categories[c].kind != kind {
+            return Err(input_err(format!(
+                "{name} is of category '{}', which is a {}, not a {}",
+                categories[c].name,
+                kind_to_str(categories[c].kind),
+                kind_to_str(kind)
+            )));
+        }
+        let points: PyReadonlyArray2<'_, f64> = field(&item, "points", &name)?
+            .extract()
+            .map_err(|_| input_err(format!("{name}: 'points' must be a float64 array (N, 2)")))?;
+        let points = points_from_py(&points, &format!("{name} points"))?;
+        if points.iter().any(|p| !p.is_finite()) {
+            return Err(input_err(format!("{name} has a non-finite point")));
+        }
+        let locked = match item.get_item("locked") {
+            Ok(v) if !v.is_none() => v
+                .extract()
+                .map_err(|_| input_err(format!("{name}: 'locked' must be a bool")))?,
+            _ => true,
+        };
+        out.push((c, points, locked));
+    }
+    Ok(out)
+}
+
+/// Polylines as a list of {"category": int, "points": float64 (N, 2), "heights": float64 (N) (terrain height,
+/// NaN off the terrain)}.
+pub(crate) fn polylines_to_py<'py, 'a>(
+    py: Python<'py>,
+    lines: impl Iterator<Item = (usize, &'a [DVec2])>,
+    terrain: Option<&Heightfield>,
+) -> PyResult<Bound<'py, PyList>> {
+    let list = PyList::empty(py);
+    for (category, points) in lines {
+        let d = PyDict::new(py);
+        d.set_item("category", category)?;
+        d.set_item("points", points_to_py(py, points))?;
+        d.set_item("heights", heights_of(points, terrain).into_pyarray(py))?;
+        list.append(d)?;
+    }
+    Ok(list)
+}
+
+/// Terrain heights at `points` (NaN off the terrain or without one).
+pub(crate) fn heights_of(points: &[DVec2], terrain: Option<&Heightfield>) -> Array1<f64> {
+    points
+        .iter()
+        .map(|p| terrain.and_then(|t| t.height_at(*p)).unwrap_or(f64::NAN))
+        .collect()
+}
+
+/// The paths and contours of a result as the "paths" and "contours" lists of [`polylines_to_py`].
+pub(crate) fn structures_to_py<'py>(
+    py: Python<'py>,
+    d: &Bound<'py, PyDict>,
+    keys: [&str; 2],
+    paths: &[Path],
+    contours: &[Contour],
+    terrain: Option<&Heightfield>,
+) -> PyResult<()> {
+    let paths = paths.iter().map(|p| (p.category, p.points.as_slice()));
+    d.set_item(keys[0], polylines_to_py(py, paths, terrain)?)?;
+    let contours = contours.iter().map(|c| (c.category, c.points.as_slice()));
+    d.set_item(keys[1], polylines_to_py(py, contours, terrain)?)?;
+    Ok(())
 }
 
 /// The instance columns of a result as a dict of numpy arrays.
@@ -308,11 +436,7 @@ pub(crate) fn instances_to_py<'py>(
 ) -> PyResult<()> {
     let pos: Vec<DVec2> = instances.iter().map(|i| i.position).collect();
     d.set_item("positions", points_to_py(py, &pos))?;
-    let heights: Vec<f64> = pos
-        .iter()
-        .map(|p| terrain.and_then(|t| t.height_at(*p)).unwrap_or(f64::NAN))
-        .collect();
-    d.set_item("heights", Array1::from(heights).into_pyarray(py))?;
+    d.set_item("heights", heights_of(&pos, terrain).into_pyarray(py))?;
     d.set_item(
         "rotations",
         instances
@@ -352,8 +476,10 @@ pub(crate) fn parse_color(json: &str) -> PyResult<Color> {
     guarded(|| Color::from_json(json))
 }
 
-/// An edit as a dict: {"categories": [...], "removed": int64 (K) indices of the removed input instances, and the
-/// added instances' columns as [`instances_to_py`] writes them}.
+/// An edit as a dict: {"categories": [...], "removed": int64 (K) indices of the removed input instances, the added
+/// instances' columns as [`instances_to_py`] writes them, "removed_paths" and "removed_contours": int64 indices of
+/// the input's paths and contours removed (a cut one is removed and its remaining pieces added), "added_paths" and
+/// "added_contours" as [`polylines_to_py`] writes them}.
 pub(crate) fn edit_to_py<'py>(
     py: Python<'py>,
     edit: &Edit,
@@ -370,5 +496,21 @@ pub(crate) fn edit_to_py<'py>(
             .into_pyarray(py),
     )?;
     instances_to_py(py, &d, &edit.added, terrain)?;
+    let indices = |v: &[usize]| {
+        v.iter()
+            .map(|&k| k as i64)
+            .collect::<Vec<_>>()
+            .into_pyarray(py)
+    };
+    d.set_item("removed_paths", indices(&edit.removed_paths))?;
+    d.set_item("removed_contours", indices(&edit.removed_contours))?;
+    structures_to_py(
+        py,
+        &d,
+        ["added_paths", "added_contours"],
+        &edit.added_paths,
+        &edit.added_contours,
+        terrain,
+    )?;
     Ok(d)
 }

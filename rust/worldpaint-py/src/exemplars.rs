@@ -1,6 +1,8 @@
 //! The engine's exemplar generators, for the demo, the asset scripts and the tests.
 
-use crate::convert::{categories_to_py, instances_to_py, points_to_py, region_from_py};
+use crate::convert::{
+    categories_to_py, instances_to_py, points_to_py, region_from_py, structures_to_py,
+};
 use crate::guarded;
 use crate::terrain::Terrain;
 use numpy::PyArray2;
@@ -81,6 +83,25 @@ fn exemplar_slope_scene<'py>(
     Ok(d)
 }
 
+/// The village exemplar (square `size` from the origin): grid streets, houses 8–15 m from them and trees away from
+/// both: {"categories": [...], "paths": [{"category", "points", "heights"}], and the instance columns}.
+#[pyfunction]
+fn exemplar_village<'py>(py: Python<'py>, size: f64, seed: u64) -> PyResult<Bound<'py, PyDict>> {
+    let scene = py.detach(|| guarded(|| Ok(worldpaint_core::exemplar::village(size, seed))))?;
+    let d = PyDict::new(py);
+    d.set_item("categories", categories_to_py(py, &scene.categories)?)?;
+    instances_to_py(py, &d, &scene.instances, None)?;
+    structures_to_py(
+        py,
+        &d,
+        ["paths", "contours"],
+        &scene.paths,
+        &scene.contours,
+        None,
+    )?;
+    Ok(d)
+}
+
 /// A deterministic terrain of smooth hills, size × size metres sampled every `cell` metres.
 #[pyfunction]
 fn exemplar_demo_terrain(py: Python<'_>, size: f64, cell: f64, seed: u64) -> PyResult<Terrain> {
@@ -96,5 +117,6 @@ pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(exemplar_hard_core, m)?)?;
     m.add_function(wrap_pyfunction!(exemplar_slope_scene, m)?)?;
     m.add_function(wrap_pyfunction!(exemplar_demo_terrain, m)?)?;
+    m.add_function(wrap_pyfunction!(exemplar_village, m)?)?;
     Ok(())
 }

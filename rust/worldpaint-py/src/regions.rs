@@ -1,8 +1,14 @@
-//! Regions: containment, area and bounds for the add-on's checks.
+//! Regions: containment, area and bounds for the add-on's checks; polygons filled as a mesh for display.
 
-use crate::convert::{points_from_py, region_from_py};
+use crate::convert::{heights_of, points_from_py, points_to_py, region_from_py};
+use crate::input_err;
+use crate::terrain::{terrain_of, Terrain};
+use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use worldpaint_core::contour::Polygons;
+use worldpaint_core::polygon_mesh::triangulate;
 
 /// Which of the points (float64 (N, 2)) lie inside the region: bool (N).
 #[pyfunction]
@@ -30,7 +36,49 @@ fn region_bbox(region: &Bound<'_, PyAny>) -> PyResult<((f64, f64), (f64, f64))> 
     Ok(((a.x, a.y), (b.x, b.y)))
 }
 
+/// The filled mesh of closed contours (float64 (N, 2) arrays, combined by the even-odd rule: a lake in an island
+/// is a hole), with inner vertices about `spacing` apart so it can follow the terrain: {"vertices": float64 (V, 2),
+/// "heights": float64 (V) (terrain height, NaN off it or without terrain), "triangles": int32 (T, 3)}.
+#[pyfunction]
+#[pyo3(signature = (contours, spacing, terrain=None))]
+fn fill_polygons<'py>(
+    py: Python<'py>,
+    contours: Vec<PyReadonlyArray2<'py, f64>>,
+    spacing: f64,
+    terrain: Option<Py<Terrain>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let mut loops = Vec::with_capacity(contours.len());
+    for (i, c) in contours.iter().enumerate() {
+        let points = points_from_py(c, &format!("contour {i}"))?;
+        if points.iter().any(|p| !p.is_finite()) {
+            return Err(input_err(format!("contour {i} has a non-finite point")));
+        }
+        loops.push(points);
+    }
+    if !spacing.is_finite() {
+        return Err(input_err("spacing must be a finite number"));
+    }
+    let mesh = py.detach(|| triangulate(&Polygons::new(&loops), spacing));
+    let d = PyDict::new(py);
+    d.set_item("vertices", points_to_py(py, &mesh.vertices))?;
+    let terrain = terrain_of(&terrain);
+    d.set_item(
+        "heights",
+        heights_of(&mesh.vertices, terrain.map(|t| t.as_ref())).into_pyarray(py),
+    )?;
+    let flat: Vec<i32> = mesh
+        .triangles
+        .iter()
+        .flat_map(|t| t.map(|i| i as i32))
+        .collect();
+    let triangles = Array2::from_shape_vec((mesh.triangles.len(), 3), flat)
+        .map_err(|e| input_err(format!("triangles of inconsistent size: {e}")))?;
+    d.set_item("triangles", triangles.into_pyarray(py))?;
+    Ok(d)
+}
+
 pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(fill_polygons, m)?)?;
     m.add_function(wrap_pyfunction!(region_contains, m)?)?;
     m.add_function(wrap_pyfunction!(region_area, m)?)?;
     m.add_function(wrap_pyfunction!(region_bbox, m)?)?;

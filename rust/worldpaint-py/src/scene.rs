@@ -1,6 +1,6 @@
 //! The scene handed to the engine: the terrain and the instance columns, converted once.
 
-use crate::convert::scene_from_py;
+use crate::convert::{scene_from_py, Structures};
 use crate::terrain::Terrain;
 use numpy::{PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
@@ -10,8 +10,9 @@ use worldpaint_core::Scene;
 /// scales=None, prototype=None, locked=None)`. `terrain` is a `Terrain` or None; `categories` a list of {"name",
 /// "layer", "kind", "priority"} dicts (all but the name optional); `positions` float64 (N, 2) world XY;
 /// `category_index` int32 (N) into `categories`; `rotations` (radians about Z), `scales`, `prototype` (int32) and
-/// `locked` (bool: placed by hand, never removed by a tool) are optional columns. Immutable: learning reads it, and
-/// every tool returns an edit of it.
+/// `locked` (bool: placed by hand, never removed by a tool) are optional columns. `paths` (of graph categories: roads,
+/// rivers) and `contours` (closed, of polygon categories: islands, lakes) are lists of {"category": int, "points":
+/// float64 (N, 2), "locked": bool (default True)}. Immutable: learning reads it, and every tool returns an edit of it.
 #[pyclass(module = "worldpaint_engine", frozen, name = "Scene")]
 pub(crate) struct PyScene {
     scene: Scene,
@@ -21,7 +22,7 @@ pub(crate) struct PyScene {
 impl PyScene {
     #[new]
     #[pyo3(signature = (terrain, categories, positions, category_index, *, rotations=None, scales=None,
-                        prototype=None, locked=None))]
+                        prototype=None, locked=None, paths=None, contours=None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         terrain: Option<Py<Terrain>>,
@@ -32,6 +33,8 @@ impl PyScene {
         scales: Option<PyReadonlyArray1<'_, f64>>,
         prototype: Option<PyReadonlyArray1<'_, i32>>,
         locked: Option<PyReadonlyArray1<'_, bool>>,
+        paths: Option<&Bound<'_, PyAny>>,
+        contours: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
         let scene = scene_from_py(
             &terrain,
@@ -42,6 +45,7 @@ impl PyScene {
             scales,
             prototype,
             locked,
+            &Structures { paths, contours },
         )?;
         Ok(PyScene { scene })
     }

@@ -1,0 +1,107 @@
+"""Roads learned from a hand-drawn village and pasted elsewhere through the operators: the new roads are curve
+objects whose ribbon lies on the terrain, and the new houses keep off the roads, along them."""
+
+import bpy
+import numpy as np
+import worldpaint_engine as engine
+from scene_kit import select_only, village_exemplar, village_height
+from worldpaint.bridge.curves import spline_points, structure_objects
+from worldpaint.bridge.instances import point_cloud_arrays, point_cloud_objects
+
+EXEMPLAR = {"region_mode": 'RECT', "rect_min": (0.0, 0.0), "rect_max": (300.0, 300.0)}
+DESTINATION = {"region_mode": 'RECT', "rect_min": (450.0, 0.0), "rect_max": (750.0, 300.0)}
+WIDTH = 6.0
+
+
+def segments_of(paths):
+    """(start (M, 2), end (M, 2)) of every segment of the given polylines (N_k, 2)."""
+    starts = np.concatenate([p[:-1] for p in paths])
+    ends = np.concatenate([p[1:] for p in paths])
+    return starts, ends
+
+
+def distance_to_segments(xy, starts, ends):
+    """Distance from each point (N, 2) to the nearest segment."""
+    d = ends - starts
+    length2 = np.maximum((d * d).sum(axis=1), 1e-12)
+    t = np.clip(((xy[:, None, :] - starts[None]) * d[None]).sum(axis=2) / length2, 0.0, 1.0)
+    nearest = starts[None] + t[..., None] * d[None]
+    return np.sqrt(((xy[:, None, :] - nearest) ** 2).sum(axis=2)).min(axis=1)
+
+
+def learn_and_paste():
+    terrain_obj, roads, houses, _ = village_exemplar()
+    select_only([roads, *houses])
+    assert bpy.ops.worldpaint.learn_color(name="Village", **EXEMPLAR) == {'FINISHED'}
+    settings = bpy.context.scene.worldpaint
+    kinds = {c.name: (c.kind, c.layer) for c in settings.categories}
+    assert kinds == {"road": ("graph", "settlement"), "House": ("distribution", "default")}
+    select_only([])
+    assert bpy.ops.worldpaint.paste_color(seed=3, **DESTINATION) == {'FINISHED'}
+    return terrain_obj, roads
+
+
+def test_pasted_roads_are_curves_on_the_terrain_and_houses_keep_off_them():
+    terrain_obj, roads = learn_and_paste()
+    scene = bpy.context.scene
+    road_obj = structure_objects(scene).get("road")
+    assert road_obj is not None, "the pasted roads are a curve object"
+    assert road_obj.users_collection[0].name == "WP settlement", "laid into the WorldPaint collection by layer"
+    paths = [spline_points(road_obj, s) for s in road_obj.data.splines]
+    nodes = np.concatenate(paths)
+    length = sum(np.linalg.norm(np.diff(p[:, :2], axis=0), axis=1).sum() for p in paths)
+    print(f"{len(paths)} new roads, {len(nodes)} vertices, {length:.0f} m")
+    assert len(paths) >= 10 and length > 1500.0
+    assert np.abs(nodes[:, 2] - village_height(nodes[:, 0], nodes[:, 1])).max() < 0.05, "nodes on the terrain"
+
+    # the ribbon: flat, the category's width, every vertex on the terrain surface
+    evaluated = road_obj.evaluated_get(bpy.context.evaluated_depsgraph_get())
+    mesh = evaluated.to_mesh()
+    try:
+        co = np.empty(len(mesh.vertices) * 3)
+        mesh.vertices.foreach_get("co", co)
+        co = co.reshape(-1, 3)
+        area = sum(p.area for p in mesh.polygons)
+    finally:
+        evaluated.to_mesh_clear()
+    off = np.abs(co[:, 2] - village_height(co[:, 0], co[:, 1]))
+    print(f"ribbon: {len(co)} vertices, height off the terrain ≤ {off.max():.3f} m, area {area:.0f} m² "
+          f"for {WIDTH * length:.0f} m² of width × length")
+    assert off.max() < 0.05, "every ribbon vertex within 5 cm of the terrain"
+    assert abs(area / (WIDTH * length) - 1.0) < 0.15, "a flat ribbon of the road's width"
+
+    # houses along the roads, never on them
+    house_co = point_cloud_arrays(point_cloud_objects(scene)["House"])[0]
+    inside = (house_co[:, 0] >= 450.0) & (house_co[:, 0] <= 750.0)
+    assert inside.sum() > 50
+    drawn = [spline_points(roads, s)[:, :2] for s in roads.data.splines]
+    distance = distance_to_segments(house_co[inside, :2], *segments_of([p[:, :2] for p in paths] + drawn))
+    print(f"{inside.sum()} houses: closest to a road {distance.min():.1f} m, median {np.median(distance):.1f} m, "
+          f"{(distance >= 8.0).mean():.1%} at 8 m or more")
+    assert distance.min() > WIDTH / 2.0, "no house on a road"
+    assert 8.0 <= np.median(distance) <= 15.0, "houses stay in the band they were learned in"
+
+
+def test_undo_and_a_second_paste_replace_the_synthesized_roads_only():
+    _, roads = learn_and_paste()
+    scene = bpy.context.scene
+    road_obj = structure_objects(scene)["road"]
+    first = len(road_obj.data.splines)
+    drawn = len(roads.data.splines)
+    assert bpy.ops.worldpaint.paste_color(seed=4, **DESTINATION) == {'FINISHED'}
+    road_obj = structure_objects(scene)["road"]
+    second = [spline_points(road_obj, s) for s in road_obj.data.splines]
+    assert len(roads.data.splines) == drawn, "hand-drawn roads are never touched"
+    assert abs(len(second) - first) <= 0.5 * first, "the second paste replaced the first, not added to it"
+    nodes = np.concatenate(second)
+    assert (nodes[:, 0] >= 450.0 - 1e-6).all() and (nodes[:, 0] <= 750.0 + 1e-6).all()
+
+
+def test_switching_off_the_road_interaction_lets_houses_stand_anywhere():
+    learn_and_paste()
+    settings = bpy.context.scene.worldpaint
+    color = settings.palette["Village"]
+    summary = engine.color_summary(color.json)
+    assert ("House", "road", "graph_distance") in [tuple(m) for m in summary["maps"]]
+    freed = engine.color_without_interactions(color.json, [("House", "road")])
+    assert ("House", "road", "graph_distance") not in [tuple(m) for m in engine.color_summary(freed)["maps"]]
