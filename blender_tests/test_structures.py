@@ -3,6 +3,7 @@ objects whose ribbon lies on the terrain, and the new houses keep off the roads,
 
 import bpy
 import numpy as np
+import pytest
 import worldpaint_engine as engine
 from scene_kit import select_only, village_exemplar, village_height
 from worldpaint.bridge.curves import spline_points, structure_objects
@@ -97,11 +98,100 @@ def test_undo_and_a_second_paste_replace_the_synthesized_roads_only():
     assert (nodes[:, 0] >= 450.0 - 1e-6).all() and (nodes[:, 0] <= 750.0 + 1e-6).all()
 
 
-def test_switching_off_the_road_interaction_lets_houses_stand_anywhere():
+def test_switching_off_the_road_interaction_lets_houses_stand_on_roads():
     learn_and_paste()
-    settings = bpy.context.scene.worldpaint
-    color = settings.palette["Village"]
+    scene = bpy.context.scene
+    color = scene.worldpaint.palette["Village"]
+    rows = {(i.category, i.other): (k, i.how) for k, i in enumerate(color.interactions)}
+    index, how = rows[("House", "road")]
+    assert "distance to graph" in how, "houses learned their distance to the roads"
+    assert bpy.ops.worldpaint.toggle_interaction(index=index) == {'FINISHED'}
+    assert not color.interactions[index].enabled
     summary = engine.color_summary(color.json)
-    assert ("House", "road", "graph_distance") in [tuple(m) for m in summary["maps"]]
-    freed = engine.color_without_interactions(color.json, [("House", "road")])
-    assert ("House", "road", "graph_distance") not in [tuple(m) for m in engine.color_summary(freed)["maps"]]
+    assert all(tuple(m)[:2] != ("House", "road") for m in summary["maps"] + summary["pairs"])
+    assert bpy.ops.worldpaint.paste_color(seed=3, **DESTINATION) == {'FINISHED'}
+
+    road_obj = structure_objects(scene)["road"]
+    paths = [spline_points(road_obj, s)[:, :2] for s in road_obj.data.splines]
+    house_co = point_cloud_arrays(point_cloud_objects(scene)["House"])[0]
+    inside = (house_co[:, 0] >= 450.0) & (house_co[:, 0] <= 750.0)
+    distance = distance_to_segments(house_co[inside, :2], *segments_of(paths))
+    on_road = int((distance < WIDTH / 2.0).sum())
+    print(f"road interaction off: {inside.sum()} houses, {on_road} on a road")
+    assert on_road >= 3, "without the interaction the roads no longer keep the houses off"
+
+    assert bpy.ops.worldpaint.toggle_interaction(index=index) == {'FINISHED'}
+    assert color.json == color.learned_json, "switched on again, the color is the learned one"
+
+
+def inside_any(contours, xy):
+    """Which points (N, 2) lie inside one of the contours (non-overlapping islands)."""
+    xy = np.ascontiguousarray(xy, dtype=np.float64)
+    inside = np.zeros(len(xy), dtype=bool)
+    for c in contours:
+        inside |= engine.region_contains({"shape": "polygon", "points": np.asarray(c)[:, :2].tolist()}, xy)
+    return inside
+
+
+def island_exemplar():
+    """Four wobbly islands drawn as closed curves (curve data "island") in a 200 m square of sea, trees on them."""
+    from scene_kit import collection_instances, grid_terrain, prototypes
+
+    x, y = np.meshgrid(np.arange(-100.0, 601.0, 2.0), np.arange(-100.0, 301.0, 2.0))
+    terrain_obj = grid_terrain("Terrain", (-100.0, -100.0), 2.0, village_height(x, y))
+    bpy.context.scene.worldpaint.terrain = terrain_obj
+    prototypes()
+    curve = bpy.data.curves.new("island", 'CURVE')
+    curve.dimensions = '3D'
+    contours = []
+    for cx, cy, r in ((50.0, 50.0, 30.0), (150.0, 60.0, 25.0), (60.0, 150.0, 28.0), (150.0, 150.0, 32.0)):
+        a = np.linspace(0.0, 2.0 * np.pi, 48, endpoint=False)
+        rr = r * (1.0 + 0.15 * np.sin(3.0 * a + cx))
+        xy = np.column_stack([cx + rr * np.cos(a), cy + rr * np.sin(a)])
+        contours.append(xy)
+        spline = curve.splines.new('POLY')
+        spline.points.add(len(xy) - 1)
+        spline.points.foreach_set("co", np.column_stack([xy, village_height(xy[:, 0], xy[:, 1]),
+                                                         np.ones(len(xy))]).ravel())
+        spline.use_cyclic_u = True
+    islands = bpy.data.objects.new("Islands", curve)
+    bpy.context.scene.collection.objects.link(islands)
+    region = {"shape": "rect", "min": [0.0, 0.0], "max": [200.0, 200.0]}
+    xy = engine.exemplar_hard_core(region, 0.01, 4.0, 2)
+    on_land = inside_any(contours, xy)
+    trees = collection_instances("Tree", xy[on_land], village_height(xy[on_land, 0], xy[on_land, 1]))
+    return islands, trees
+
+
+def test_pasted_islands_are_closed_curves_with_a_filled_mesh_on_the_terrain_and_trees_on_land():
+    islands, trees = island_exemplar()
+    select_only([islands, *trees])
+    assert bpy.ops.worldpaint.learn_color(name="Islands", region_mode='RECT', rect_min=(0.0, 0.0),
+                                          rect_max=(200.0, 200.0)) == {'FINISHED'}
+    kinds = {c.name: (c.kind, c.layer) for c in bpy.context.scene.worldpaint.categories}
+    assert kinds["island"] == ("polygon", "terrain")
+    select_only([])
+    assert bpy.ops.worldpaint.paste_color(seed=2, region_mode='RECT', rect_min=(250.0, 0.0),
+                                          rect_max=(550.0, 200.0)) == {'FINISHED'}
+    scene = bpy.context.scene
+    island_obj = structure_objects(scene)["island"]
+    assert island_obj.users_collection[0].name == "WP terrain"
+    contours = [spline_points(island_obj, s) for s in island_obj.data.splines]
+    assert len(contours) >= 3 and all(s.use_cyclic_u for s in island_obj.data.splines)
+
+    fill = next(o for o in scene.objects if o.get("wp_fill") == "island")
+    co = np.empty(len(fill.data.vertices) * 3)
+    fill.data.vertices.foreach_get("co", co)
+    co = co.reshape(-1, 3)
+    area = sum(p.area for p in fill.data.polygons)
+    land_area = sum(engine.region_area({"shape": "polygon", "points": c[:, :2].tolist()}) for c in contours)
+    print(f"{len(contours)} islands of {land_area:.0f} m²; fill: {len(co)} vertices, {area:.0f} m² "
+          f"(projected), height off the terrain ≤ {np.abs(co[:, 2] - village_height(co[:, 0], co[:, 1])).max():.3f} m")
+    assert np.abs(co[:, 2] - village_height(co[:, 0], co[:, 1])).max() < 0.05, "the fill lies on the terrain"
+    assert area == pytest.approx(land_area, rel=0.02), "the fill covers the islands (its slope adds a little)"
+
+    tree_co = point_cloud_arrays(point_cloud_objects(scene)["Tree"])[0]
+    pasted = tree_co[tree_co[:, 0] >= 250.0]
+    wet = int((~inside_any(contours, pasted[:, :2])).sum())
+    print(f"{len(pasted)} trees, {wet} in water")
+    assert len(pasted) > 20 and wet == 0, "trees learned on islands never land in water"

@@ -119,16 +119,42 @@ def missing_categories(settings, names):
     return out
 
 
-def add_categories(settings, names, layer="default"):
-    """Adds categories the scene does not know yet, after the existing ones in the priority order."""
+def add_categories(settings, categories, layer="default"):
+    """Adds categories the scene does not know yet, after the existing ones in the priority order; each is a name
+    (a distribution of ``layer``) or an engine dict whose kind and layer it keeps."""
+    by_name = {}
+    for c in categories:
+        entry = {"name": c} if isinstance(c, str) else c
+        by_name.setdefault(entry["name"], entry)
     next_priority = max((c.priority for c in settings.categories), default=-1) + 1
-    for name in missing_categories(settings, names):
+    for name in missing_categories(settings, by_name):
         item = settings.categories.add()
         item.name = name
-        item.layer = layer
-        item.kind = "distribution"
+        item.layer = by_name[name].get("layer", layer)
+        item.kind = by_name[name].get("kind", "distribution")
         item.priority = next_priority
         next_priority += 1
+
+
+def new_categories(settings, examples, drawn):
+    """Engine dicts of the categories of example objects (object, category) and curves (object, category, closed)
+    the scene does not know yet, in priority order after the known ones: polygons (islands, lakes), then graphs
+    (roads, rivers), then distributions rarest first, so that few large things (trees, rocks) condition the many and
+    everything can follow the roads and coasts."""
+    counts = {}
+    for _, category in examples:
+        counts[category] = counts.get(category, 0) + 1
+    kinds = {category: "polygon" if closed else "graph" for _, category, closed in drawn}
+    order = {"polygon": 0, "graph": 1}
+    names = missing_categories(settings, list(kinds) + list(counts))
+    names.sort(key=lambda c: (order.get(kinds.get(c), 2), counts.get(c, 0), c))
+    layers = {"polygon": "terrain", "graph": "settlement"}
+    base = max((c.priority for c in settings.categories), default=-1) + 1
+    return [
+        {"name": n, "layer": layers.get(kinds.get(n), "default"), "kind": kinds.get(n, "distribution"),
+         "priority": base + i}
+        for i, n in enumerate(names)
+    ]
 
 
 def merged_categories(settings, extra):

@@ -10,6 +10,7 @@ from .colors import (
     WORLDPAINT_OT_interpolate_colors,
     WORLDPAINT_OT_move_color,
     WORLDPAINT_OT_remove_color,
+    WORLDPAINT_OT_toggle_interaction,
 )
 from .convert import WORLDPAINT_OT_convert_to_objects
 from .gradient import WORLDPAINT_OT_gradient
@@ -33,6 +34,7 @@ _classes = (
     WORLDPAINT_OT_duplicate_color,
     WORLDPAINT_OT_move_color,
     WORLDPAINT_OT_interpolate_colors,
+    WORLDPAINT_OT_toggle_interaction,
     WORLDPAINT_OT_brush,
     WORLDPAINT_OT_erase,
     WORLDPAINT_OT_brush_radius,

@@ -1,4 +1,5 @@
-"""Palette management: add, duplicate, remove and reorder colors, and interpolate two colors into a new one.
+"""Palette management: add, duplicate, remove and reorder colors, switch their interactions on and off, and
+interpolate two colors into a new one.
 
 Renaming is editing the name in the palette list; the color's own JSON takes the palette name when exported.
 """
@@ -9,6 +10,9 @@ from bpy.props import EnumProperty, FloatProperty, IntProperty, StringProperty
 from ..bridge import WorldPaintError, instances, preview
 from ..bridge.engine import engine
 from .common import active_color, report_errors
+
+INTERACTION_NAMES = {"rdf": "rdf", "oriented_rdf": "oriented rdf", "graph_distance": "distance to graph",
+                     "polygon_distance": "signed distance to polygon", "map": "map"}
 
 
 def unique_name(collection, stem):
@@ -28,10 +32,16 @@ def add_palette_color(settings, name, color_json):
     summary = engine().color_summary(color_json)
     entry = settings.palette.add()
     entry.name = name
-    entry.json = color_json
+    entry.json = entry.learned_json = color_json
+    how = {}
+    for category, other, kind in list(summary["pairs"]) + list(summary["maps"]):
+        how.setdefault((category, other), []).append(INTERACTION_NAMES.get(kind, kind))
+    for (category, other), kinds in how.items():
+        item = entry.interactions.add()
+        item.category, item.other, item.how = category, other, ", ".join(kinds)
     entry.preview_image = preview.make_preview(color_json, name)
     settings.active_color_index = len(settings.palette) - 1
-    instances.add_categories(settings, [c["name"] for c in summary["categories"]])
+    instances.add_categories(settings, summary["categories"])
     return entry
 
 
@@ -104,6 +114,32 @@ class WORLDPAINT_OT_move_color(bpy.types.Operator):
             return {'CANCELLED'}
         settings.palette.move(index, target)
         settings.active_color_index = target
+        return {'FINISHED'}
+
+
+class WORLDPAINT_OT_toggle_interaction(bpy.types.Operator):
+    """Switch an interaction of the color on or off: switched off, the category is painted as if the other one
+    (or the map) were not there"""
+
+    bl_idname = "worldpaint.toggle_interaction"
+    bl_label = "Toggle Interaction"
+    bl_options = {'REGISTER', 'UNDO'}
+
+    color_index: IntProperty(name="Color", default=-1, description="Palette index (negative: the active color)")
+    index: IntProperty(name="Interaction", default=0, min=0)
+
+    def execute(self, context):
+        return report_errors(self, lambda: self._toggle(context))
+
+    def _toggle(self, context):
+        settings = context.scene.worldpaint
+        entry = settings.palette[palette_index(settings, self.color_index)]
+        if not 0 <= self.index < len(entry.interactions):
+            raise WorldPaintError(f"The color '{entry.name}' has no interaction {self.index}")
+        item = entry.interactions[self.index]
+        off = {(i.category, i.other) for i in entry.interactions if not i.enabled} ^ {(item.category, item.other)}
+        entry.json = engine().color_without_interactions(entry.learned_json or entry.json, sorted(off))
+        item.enabled = not item.enabled
         return {'FINISHED'}
 
 

@@ -51,7 +51,7 @@ class WORLDPAINT_OT_learn_color(RegionProperties, TerrainProperty, bpy.types.Ope
         heightfield = terrain.engine_terrain(context, terrain_obj)
         terrain.check_region_on_terrain(heightfield, region, "example")
 
-        new = self._new_categories(settings, examples, drawn)
+        new = instances.new_categories(settings, examples, drawn)
         categories = instances.merged_categories(settings, new)
         exemplar = instances.example_set(examples, categories)
         structures = curves.StructureSet(categories=categories)
@@ -64,33 +64,9 @@ class WORLDPAINT_OT_learn_color(RegionProperties, TerrainProperty, bpy.types.Ope
         color_json = eng.learn_color(scene_data, region, name, options={"maps": maps})
 
         # validated and computed: now change the scene
-        for category in new:
-            item = settings.categories.add()
-            item.name, item.layer, item.kind, item.priority = (
-                category["name"], category["layer"], category["kind"], category["priority"],
-            )
+        instances.add_categories(settings, new)
         add_palette_color(settings, name, color_json)
         n_categories = len({c for _, c in examples} | {c for _, c, _ in drawn})
         self.report({'INFO'}, f"Learned '{name}' from {len(exemplar)} instances and {len(structures)} curves in "
                               f"{n_categories} categories")
         return {'FINISHED'}
-
-    @staticmethod
-    def _new_categories(settings, examples, drawn):
-        """Engine dicts of the categories the scene does not know yet, in priority order after the known ones:
-        polygons (islands, lakes), then graphs (roads, rivers), then distributions rarest first, so that few large
-        things (trees, rocks) condition the many and everything can follow the roads and coasts."""
-        counts = {}
-        for _, category in examples:
-            counts[category] = counts.get(category, 0) + 1
-        kinds = {category: "polygon" if closed else "graph" for _, category, closed in drawn}
-        order = {"polygon": 0, "graph": 1}
-        names = instances.missing_categories(settings, list(kinds) + list(counts))
-        names.sort(key=lambda c: (order.get(kinds.get(c), 2), counts.get(c, 0), c))
-        layers = {"polygon": "terrain", "graph": "settlement"}
-        base = max((c.priority for c in settings.categories), default=-1) + 1
-        return [
-            {"name": n, "layer": layers.get(kinds.get(n), "default"), "kind": kinds.get(n, "distribution"),
-             "priority": base + i}
-            for i, n in enumerate(names)
-        ]

@@ -1,13 +1,13 @@
-"""Category housekeeping: find the categories of the selection."""
+"""Category housekeeping: find the categories of the selected objects and curves."""
 
 import bpy
 
-from ..bridge import WorldPaintError, instances
+from ..bridge import WorldPaintError, curves, instances
 from .common import report_errors
 
 
 class WORLDPAINT_OT_find_categories(bpy.types.Operator):
-    """Add the categories of the selected objects to the category list"""
+    """Add the categories of the selected objects and curves to the category list"""
 
     bl_idname = "worldpaint.find_categories"
     bl_label = "Find Categories"
@@ -19,10 +19,11 @@ class WORLDPAINT_OT_find_categories(bpy.types.Operator):
     def _find(self, context):
         settings = context.scene.worldpaint
         found = instances.example_objects(context.selected_objects, exclude=[settings.terrain])
-        if not found:
-            raise WorldPaintError("No instances in the selection (collection instances, linked duplicates or "
-                                  "objects with a 'wp_category' property)")
-        names = instances.missing_categories(settings, [c for _, c in found])
-        instances.add_categories(settings, names)
-        self.report({'INFO'}, f"{len(names)} new categories" if names else "No new categories")
+        drawn = curves.example_curves(context.selected_objects, exclude=[settings.terrain])
+        if not found and not drawn:
+            raise WorldPaintError("No instances or curves in the selection (collection instances, linked duplicates, "
+                                  "objects with a 'wp_category' property, curves)")
+        new = instances.new_categories(settings, found, drawn)
+        instances.add_categories(settings, new)
+        self.report({'INFO'}, f"{len(new)} new categories" if new else "No new categories")
         return {'FINISHED'}

@@ -44,11 +44,24 @@ class WORLDPAINT_PG_category(bpy.types.PropertyGroup):
     )
 
 
+class WORLDPAINT_PG_interaction(bpy.types.PropertyGroup):
+    """One row of a color's interaction matrix: how ``category`` depends on ``other`` (a category or a map)."""
+
+    category: StringProperty(name="Category")
+    other: StringProperty(name="Other", description="The category or map it depends on")
+    how: StringProperty(name="How", description="rdf, oriented rdf, distance to graph, signed distance to polygon, map")
+    enabled: BoolProperty(name="Enabled", default=True)
+
+
 class WORLDPAINT_PG_color(bpy.types.PropertyGroup):
-    """A learned color: its name, the engine's JSON of it and the name of its preview image."""
+    """A learned color: its name, the engine's JSON of it (as painted: without the interactions switched off), the
+    JSON as learned, its interaction matrix and the name of its preview image."""
 
     name: StringProperty(name="Name")
-    json: StringProperty(name="JSON", description="The color as the engine's versioned JSON")
+    json: StringProperty(name="JSON", description="The color as the engine's versioned JSON, as it is painted")
+    learned_json: StringProperty(name="Learned JSON", description="The color as learned, every interaction on")
+    interactions: CollectionProperty(type=WORLDPAINT_PG_interaction)
+    active_interaction_index: IntProperty(name="Active Interaction", default=0)
     preview_image: StringProperty(name="Preview", description="Name of the preview image of the color's exemplar")
 
 
@@ -118,7 +131,8 @@ class WORLDPAINT_PG_settings(bpy.types.PropertyGroup):
 
 
 _register_classes, _unregister_classes = bpy.utils.register_classes_factory(
-    (WORLDPAINT_PG_category, WORLDPAINT_PG_color, WORLDPAINT_PG_stroke_point, WORLDPAINT_PG_settings)
+    (WORLDPAINT_PG_category, WORLDPAINT_PG_interaction, WORLDPAINT_PG_color, WORLDPAINT_PG_stroke_point,
+     WORLDPAINT_PG_settings)
 )
 
 

@@ -3,14 +3,22 @@
 import bpy
 
 from . import tools
-from .lists import WORLDPAINT_UL_categories, WORLDPAINT_UL_palette
-from .panel import WORLDPAINT_PT_edit, WORLDPAINT_PT_main, WORLDPAINT_PT_paint, WORLDPAINT_PT_palette
+from .lists import WORLDPAINT_UL_categories, WORLDPAINT_UL_interactions, WORLDPAINT_UL_palette
+from .panel import (
+    WORLDPAINT_PT_edit,
+    WORLDPAINT_PT_interactions,
+    WORLDPAINT_PT_main,
+    WORLDPAINT_PT_paint,
+    WORLDPAINT_PT_palette,
+)
 
 _classes = (
     WORLDPAINT_UL_categories,
     WORLDPAINT_UL_palette,
+    WORLDPAINT_UL_interactions,
     WORLDPAINT_PT_main,
     WORLDPAINT_PT_palette,
+    WORLDPAINT_PT_interactions,
     WORLDPAINT_PT_paint,
     WORLDPAINT_PT_edit,
 )

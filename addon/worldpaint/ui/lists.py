@@ -1,4 +1,4 @@
-"""List views of the categories and of the palette."""
+"""List views of the categories, of the palette and of a color's interaction matrix."""
 
 import bpy
 
@@ -9,6 +9,8 @@ class WORLDPAINT_UL_categories(bpy.types.UIList):
         row.prop(item, "name", text="", emboss=False, icon='OUTLINER_COLLECTION')
         row.prop(item, "layer", text="")
         row.prop(item, "kind", text="")
+        if item.kind == "graph":
+            row.prop(item, "width", text="")
         row.prop(item, "priority", text="")
 
 
@@ -19,3 +21,14 @@ class WORLDPAINT_UL_palette(bpy.types.UIList):
             layout.prop(item, "name", text="", emboss=False, icon_value=layout.icon(image))
         else:
             layout.prop(item, "name", text="", emboss=False, icon='COLOR')
+
+
+class WORLDPAINT_UL_interactions(bpy.types.UIList):
+    """The active color's interactions: which category depends on which other (or map), how, and a switch."""
+
+    def draw_item(self, _context, layout, _data, item, _icon, _active_data, _active_propname, index):
+        row = layout.row(align=True)
+        row.operator("worldpaint.toggle_interaction", text="", emboss=False,
+                     icon='CHECKBOX_HLT' if item.enabled else 'CHECKBOX_DEHLT').index = index
+        row.label(text=f"{item.category} ← {item.other}")
+        row.label(text=item.how)

@@ -57,6 +57,25 @@ class WORLDPAINT_PT_palette(SidebarPanel, bpy.types.Panel):
         row.operator("worldpaint.gradient", text="Gradient", icon='IPO_LINEAR')
 
 
+class WORLDPAINT_PT_interactions(SidebarPanel, bpy.types.Panel):
+    """The active color's interaction matrix: what depends on what, and how; each can be switched off."""
+
+    bl_label = "Interactions"
+    bl_idname = "WORLDPAINT_PT_interactions"
+    bl_parent_id = "WORLDPAINT_PT_palette"
+    bl_options = {'DEFAULT_CLOSED'}
+
+    def draw(self, context):
+        settings = context.scene.worldpaint
+        if not 0 <= settings.active_color_index < len(settings.palette):
+            self.layout.label(text="No color")
+            return
+        color = settings.palette[settings.active_color_index]
+        self.layout.template_list(
+            "WORLDPAINT_UL_interactions", "", color, "interactions", color, "active_interaction_index", rows=4
+        )
+
+
 class WORLDPAINT_PT_paint(SidebarPanel, bpy.types.Panel):
     bl_label = "Paint"
     bl_idname = "WORLDPAINT_PT_paint"
