@@ -189,6 +189,11 @@ def test_pasted_islands_are_closed_curves_with_a_filled_mesh_on_the_terrain_and_
           f"(projected), height off the terrain ≤ {np.abs(co[:, 2] - village_height(co[:, 0], co[:, 1])).max():.3f} m")
     assert np.abs(co[:, 2] - village_height(co[:, 0], co[:, 1])).max() < 0.05, "the fill lies on the terrain"
     assert area == pytest.approx(land_area, rel=0.02), "the fill covers the islands (its slope adds a little)"
+    drawn = [spline_points(islands, s) for s in islands.data.splines]
+    share = land_area / (300.0 * 200.0)
+    learned = sum(engine.region_area({"shape": "polygon", "points": c[:, :2].tolist()}) for c in drawn) / 200.0**2
+    print(f"land: {learned:.3f} of the example, {share:.3f} of the destination")
+    assert share >= 0.6 * learned, "the islands keep most of their share of the land"
 
     tree_co = point_cloud_arrays(point_cloud_objects(scene)["Tree"])[0]
     pasted = tree_co[tree_co[:, 0] >= 250.0]

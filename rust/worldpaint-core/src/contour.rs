@@ -6,8 +6,10 @@
 //! * [`fill`]: one point per cell of a grid of side `spacing`, jittered uniformly within its cell, kept where the
 //!   contours (combined by the even-odd rule, so a lake in an island is a hole) contain it.
 //! * [`trace`]: the density of the points, smoothed by a Gaussian of `0.6 × spacing` and scaled so that a filled
-//!   area reads 1, is contoured at ½ by marching squares on a grid of half the spacing, and the closed loops are
-//!   simplified (Douglas–Peucker, a tenth of the spacing). Loops smaller than four cells are dropped.
+//!   area reads 1, is contoured by marching squares on a grid of half the spacing, and the closed loops are
+//!   simplified (Douglas–Peucker, a tenth of the spacing). Loops smaller than four cells are dropped. The level is
+//!   the one that keeps the points' area (one spacing² each): ½ for a jittered grid, down to 0.3 for the looser
+//!   clusters synthesis makes, whose rim never reaches ½.
 //! * [`cut`]: a contour less a region, by the same dense points: filled, the points in the region dropped, traced.
 //! * [`Polygons::signed_distance`]: the interaction of a distribution with a polygon category (thesis 6.2.1),
 //!   `d` outside and `−d / d_max` inside, where `d_max` is the largest distance to the border inside the contour
@@ -21,6 +23,8 @@ use std::collections::HashMap;
 
 /// Smoothing of the traced density, in units of the spacing.
 const TRACE_SIGMA: f64 = 0.6;
+/// The lowest iso-level a trace uses (see [`trace`]).
+const MIN_LEVEL: f64 = 0.3;
 /// Samples across a contour's bounding box to find its largest inner distance.
 const INNER_SAMPLES: usize = 64;
 
@@ -234,12 +238,23 @@ pub fn trace(points: &[DVec2], spacing: f64) -> Vec<Vec<DVec2>> {
             }
         }
     }
-    let loops = marching_squares(&f, nx, ny, 0.5, |i, j| lo + DVec2::new(i, j) * h);
+    let level = area_preserving_level(&f, points.len() as f64 * 4.0);
+    let loops = marching_squares(&f, nx, ny, level, |i, j| lo + DVec2::new(i, j) * h);
     loops
         .into_iter()
         .map(|l| simplify(&l, 0.1 * spacing))
         .filter(|l| l.len() >= 3 && polygon_signed_area(l).abs() >= 4.0 * spacing * spacing)
         .collect()
+}
+
+/// The iso-level at which the traced area is the points' own (`lattice_vertices` of the half-spacing lattice: four
+/// per point): ½ for points packed like a jittered grid, lower for a looser cluster whose smoothed density never
+/// reaches ½ at its rim, but never below `MIN_LEVEL`, so that stray points stay out.
+fn area_preserving_level(f: &[f64], lattice_vertices: f64) -> f64 {
+    let m = (lattice_vertices.round() as usize).clamp(1, f.len());
+    let mut values = f.to_vec();
+    let (_, v, _) = values.select_nth_unstable_by(m - 1, |a, b| b.total_cmp(a));
+    v.clamp(MIN_LEVEL, 0.5)
 }
 
 /// Closed iso-lines at `level` of a field on an `nx × ny` lattice (vertex `(i, j)` at `at(i, j)`), whose border

@@ -196,6 +196,32 @@ fn island_trees_stay_on_land_and_boats_along_the_coast() {
             .collect::<Vec<_>>()
     };
     let (trees, boats) = (of("tree"), of("boat"));
+    let land_share = |contours: &[worldpaint_core::scene::Contour], region: &Region| {
+        let polys = Polygons::new(
+            &contours
+                .iter()
+                .map(|c| c.points.clone())
+                .collect::<Vec<_>>(),
+        );
+        let (lo, hi) = region.bbox();
+        let n = 200;
+        let inside = (0..n * n)
+            .filter(|k| {
+                let t = DVec2::new((k % n) as f64 + 0.5, (k / n) as f64 + 0.5) / n as f64;
+                polys.contains(lo + (hi - lo) * t)
+            })
+            .count();
+        inside as f64 / (n * n) as f64
+    };
+    let (land_before, land_after) = (
+        land_share(&scene.contours, &square(0.0, size)),
+        land_share(&out.contours, &dest),
+    );
+    println!("land: {land_before:.3} of the exemplar, {land_after:.3} of the synthesized square");
+    assert!(
+        (land_after / land_before - 1.0).abs() <= 0.15,
+        "the islands keep their share of the land"
+    );
     let wet = trees.iter().filter(|p| !land.contains(**p)).count();
     let afloat = boats.iter().filter(|p| !land.contains(**p)).count();
     let coastal = boats
