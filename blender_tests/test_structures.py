@@ -200,3 +200,19 @@ def test_pasted_islands_are_closed_curves_with_a_filled_mesh_on_the_terrain_and_
     wet = int((~inside_any(contours, pasted[:, :2])).sum())
     print(f"{len(pasted)} trees, {wet} in water")
     assert len(pasted) > 20 and wet == 0, "trees learned on islands never land in water"
+
+
+def test_clear_region_cuts_the_synthesized_roads_at_its_border():
+    learn_and_paste()
+    scene = bpy.context.scene
+    before = [spline_points(structure_objects(scene)["road"], s) for s in structure_objects(scene)["road"].data.splines]
+    assert bpy.ops.worldpaint.clear_region(region_mode='RECT', rect_min=(450.0, 0.0),
+                                           rect_max=(600.0, 300.0)) == {'FINISHED'}
+    road_obj = structure_objects(scene)["road"]
+    after = [spline_points(road_obj, s) for s in road_obj.data.splines]
+    assert all((p[:, 0] >= 600.0 - 1e-4).all() for p in after), "no synthesized road left in the cleared region"
+    kept = sum(np.linalg.norm(np.diff(p[:, :2], axis=0), axis=1).sum() for p in after)
+    total = sum(np.linalg.norm(np.diff(p[:, :2], axis=0), axis=1).sum() for p in before)
+    assert 0.2 * total < kept < 0.8 * total
+    house_co = point_cloud_arrays(point_cloud_objects(scene)["House"])[0]
+    assert not ((house_co[:, 0] > 450.0) & (house_co[:, 0] < 600.0)).any()

@@ -1,16 +1,15 @@
-"""Clear Region: remove the synthesized points inside a region."""
+"""Clear Region: remove the synthesized instances inside a region, and the synthesized roads, rivers, islands and
+lakes there (cut at its border: their parts outside stay)."""
 
 import bpy
-import numpy as np
 from bpy.props import StringProperty
 
-from ..bridge import instances, points
 from ..bridge.engine import engine
-from .common import RegionProperties, report_errors
+from .common import RegionProperties, SceneContent, TerrainProperty, report_errors
 
 
-class WORLDPAINT_OT_clear_region(RegionProperties, bpy.types.Operator):
-    """Remove the synthesized instances inside the region"""
+class WORLDPAINT_OT_clear_region(RegionProperties, TerrainProperty, bpy.types.Operator):
+    """Remove the synthesized instances and curves inside the region"""
 
     bl_idname = "worldpaint.clear_region"
     bl_label = "Clear Region"
@@ -22,23 +21,10 @@ class WORLDPAINT_OT_clear_region(RegionProperties, bpy.types.Operator):
         return report_errors(self, lambda: self._clear(context))
 
     def _clear(self, context):
-        scene = context.scene
-        terrain_obj = scene.worldpaint.terrain
-        region = self.destination(context, terrain_obj)
-        eng = engine()
-        eng.region_area(region)  # validates the region before anything changes
-        changes = []
-        for category, obj in instances.point_cloud_objects(scene).items():
-            if self.category and category != self.category:
-                continue
-            co, rotation, scale, prototype = instances.point_cloud_arrays(obj)
-            if len(co) == 0:
-                continue
-            keep = ~eng.region_contains(region, np.ascontiguousarray(co[:, :2]))
-            if not keep.all():
-                changes.append((obj, co[keep], rotation[keep], scale[keep], prototype[keep], int((~keep).sum())))
-        for obj, *columns, _ in changes:
-            points.write_points(obj, *columns)
-        removed = sum(c[-1] for c in changes)
-        self.report({'INFO'}, f"Removed {removed} synthesized instances")
+        content = SceneContent(context, self.terrain)
+        region = self.destination(context, content.terrain_obj)
+        edit = engine().clear_region(content.engine_scene(), region, category=self.category or None)
+        applied = content.apply(context, edit)
+        lines = f" and cut {applied.lines_removed} paths or contours" if applied.lines_removed else ""
+        self.report({'INFO'}, f"Removed {applied.removed} synthesized instances{lines}")
         return {'FINISHED'}

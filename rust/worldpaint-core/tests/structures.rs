@@ -355,3 +355,60 @@ fn pasted_roads_join_the_roads_around() {
     println!("nearest new house to a road: {nearest:.1} m");
     assert!(nearest >= 6.0, "houses keep off the roads");
 }
+
+#[test]
+fn clearing_a_region_cuts_the_roads_at_its_border_and_keeps_the_rest() {
+    let scene = exemplar::village(450.0, 2);
+    let region = Region::Circle {
+        center: DVec2::splat(200.0),
+        radius: 80.0,
+    };
+    let length = |paths: &[worldpaint_core::scene::Path]| -> f64 {
+        paths
+            .iter()
+            .flat_map(|p| p.points.windows(2).map(|w| w[0].distance(w[1])))
+            .sum()
+    };
+    let outside = |paths: &[worldpaint_core::scene::Path]| -> f64 {
+        paths
+            .iter()
+            .flat_map(|p| region.clip_polyline(&p.points).1)
+            .map(|piece| piece.windows(2).map(|w| w[0].distance(w[1])).sum::<f64>())
+            .sum()
+    };
+    let after = worldpaint_core::tools::clear(&scene, &region, None)
+        .unwrap()
+        .applied_to(&scene);
+    println!(
+        "roads: {:.0} m, {:.0} m outside the region; after clearing {:.0} m",
+        length(&scene.paths),
+        outside(&scene.paths),
+        length(&after.paths)
+    );
+    assert!((length(&after.paths) - outside(&scene.paths)).abs() < 1e-6);
+    assert!(
+        after.paths.iter().all(|p| p
+            .points
+            .iter()
+            .all(|q| q.distance(DVec2::splat(200.0)) >= 80.0 - 1e-6)),
+        "no road vertex inside the cleared circle"
+    );
+    assert!(after.instances.iter().all(|i| !region.contains(i.position)));
+    assert!(after.instances.len() < scene.instances.len());
+
+    // one category only: the roads stay
+    let houses_only = worldpaint_core::tools::clear(&scene, &region, Some("house"))
+        .unwrap()
+        .applied_to(&scene);
+    assert_eq!(houses_only.paths, scene.paths);
+    let house = scene.category_index("house").unwrap();
+    assert!(houses_only
+        .instances
+        .iter()
+        .all(|i| i.category != house || !region.contains(i.position)));
+    assert!(houses_only
+        .instances
+        .iter()
+        .any(|i| i.category != house && region.contains(i.position)));
+    assert!(worldpaint_core::tools::clear(&scene, &region, Some("castle")).is_err());
+}

@@ -11,7 +11,7 @@ use crate::convert::{
     vec2,
 };
 use crate::scene::PyScene;
-use crate::{engine_err, input_err, with_progress};
+use crate::{engine_err, guarded, input_err, with_progress};
 use numpy::{PyArray2, PyReadonlyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -25,7 +25,7 @@ use worldpaint_core::tools::gradient::{
 };
 use worldpaint_core::tools::moving::move_region as move_content;
 use worldpaint_core::tools::stretch::{stretch, Side, StretchOptions};
-use worldpaint_core::tools::{paste as paste_color, Edit};
+use worldpaint_core::tools::{clear, paste as paste_color, Edit};
 use worldpaint_core::Scene;
 
 fn edit_result<'py>(py: Python<'py>, edit: &Edit, scene: &Scene) -> PyResult<Bound<'py, PyDict>> {
@@ -61,6 +61,22 @@ fn paste<'py>(
     let edit = with_progress(py, progress, |report| {
         paste_color(scene, &color, &region, &opts, report)
     })?;
+    edit_result(py, &edit, scene)
+}
+
+/// Clear `region`: its unlocked content (instances, and the parts of paths and contours in it) is removed, of every
+/// category or only of `category`. Returns the edit.
+#[pyfunction]
+#[pyo3(signature = (scene, region, *, category=None))]
+fn clear_region<'py>(
+    py: Python<'py>,
+    scene: &Bound<'py, PyScene>,
+    region: &Bound<'py, PyAny>,
+    category: Option<String>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let scene = scene.get().scene();
+    let region = region_from_py(region)?;
+    let edit = py.detach(|| guarded(|| clear(scene, &region, category.as_deref())))?;
     edit_result(py, &edit, scene)
 }
 
@@ -354,6 +370,7 @@ fn blur<'py>(
 pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Stroke>()?;
     m.add_function(wrap_pyfunction!(paste, m)?)?;
+    m.add_function(wrap_pyfunction!(clear_region, m)?)?;
     m.add_function(wrap_pyfunction!(move_region, m)?)?;
     m.add_function(wrap_pyfunction!(stretch_region, m)?)?;
     m.add_function(wrap_pyfunction!(gradient, m)?)?;

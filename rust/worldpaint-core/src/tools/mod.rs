@@ -296,6 +296,37 @@ pub fn paste(
     Ok(work.edit())
 }
 
+/// Clear Region: removes the unlocked content inside `region` (instances, and the parts of paths and contours in
+/// it; the parts outside stay), of every category or only of `category`.
+pub fn clear(scene: &Scene, region: &Region, category: Option<&str>) -> Result<Edit> {
+    region.validate()?;
+    let only = match category {
+        None => None,
+        Some(name) => Some(scene.category_index(name).ok_or_else(|| {
+            Error::InvalidInput(format!("no category named '{name}' in the scene"))
+        })?),
+    };
+    // content of the other categories is held as if locked: same indices, so the edit is one of `scene`
+    let mut held = scene.clone();
+    if let Some(c) = only {
+        held.instances
+            .iter_mut()
+            .filter(|i| i.category != c)
+            .for_each(|i| i.locked = true);
+        held.paths
+            .iter_mut()
+            .filter(|p| p.category != c)
+            .for_each(|p| p.locked = true);
+        held.contours
+            .iter_mut()
+            .filter(|k| k.category != c)
+            .for_each(|k| k.locked = true);
+    }
+    let mut work = Working::new(&held);
+    work.clear(region);
+    Ok(work.edit())
+}
+
 /// The color of the content of `region` (every distribution category, with the slope preference when the terrain
 /// has a slope map), or `None` when the region holds no distribution instance: the statistics a tool reads off
 /// the scene itself (the pipette, the colors around a blur, the color under an alpha brush).
