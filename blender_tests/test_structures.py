@@ -216,3 +216,19 @@ def test_clear_region_cuts_the_synthesized_roads_at_its_border():
     assert 0.2 * total < kept < 0.8 * total
     house_co = point_cloud_arrays(point_cloud_objects(scene)["House"])[0]
     assert not ((house_co[:, 0] > 450.0) & (house_co[:, 0] < 600.0)).any()
+
+
+def test_a_brush_stroke_paints_roads_on_the_terrain_within_its_reach():
+    learn_and_paste()
+    scene = bpy.context.scene
+    before = len(structure_objects(scene)["road"].data.splines)
+    stroke = [{"name": "", "location": (float(x), 150.0, 0.0)} for x in range(320, 440, 10)]
+    assert bpy.ops.worldpaint.brush(stroke=stroke, radius=40.0, color="Village", seed=5) == {'FINISHED'}
+    road_obj = structure_objects(scene)["road"]
+    paths = [spline_points(road_obj, s) for s in road_obj.data.splines]
+    painted = [p for p in paths if (p[:, 0] < 450.0).any()]
+    print(f"{len(road_obj.data.splines) - before} roads painted by the stroke")
+    assert painted, "the stroke painted roads"
+    assert all(np.abs(p[:, 2] - village_height(p[:, 0], p[:, 1])).max() < 0.05 for p in painted)
+    starts, ends = segments_of([p[:, :2] for p in painted])
+    assert (np.abs(starts[:, 1] - 150.0) <= 40.0 + 1e-6).all() and (np.abs(ends[:, 1] - 150.0) <= 40.0 + 1e-6).all()
