@@ -7,10 +7,12 @@ use crate::palette::Histogram;
 /// The gap between an arc and another one it does not meet at a node, relative to the shortest learned edge.
 const GAP: f64 = 0.3;
 
-/// The smallest distance between arcs that do not share a node, for the learned edge lengths.
+/// The smallest distance between arcs that do not share a node, for the learned edge lengths: never 0, so that no
+/// two arcs cross even where the shortest edges fall in the first bin (real roads drawn with short segments).
 pub(super) fn arc_gap(lengths: &Histogram) -> f64 {
     let first = lengths.values.iter().position(|v| *v > 0.0).unwrap_or(0);
-    GAP * (lengths.start + first as f64 * lengths.bin_width)
+    let shortest = lengths.start + first as f64 * lengths.bin_width;
+    GAP * shortest.max(0.5 * lengths.bin_width)
 }
 
 /// Arcs in a uniform grid of cells as large as the longest arc over the nodes' box, updated as nodes move
