@@ -232,3 +232,18 @@ def test_a_brush_stroke_paints_roads_on_the_terrain_within_its_reach():
     assert all(np.abs(p[:, 2] - village_height(p[:, 0], p[:, 1])).max() < 0.05 for p in painted)
     starts, ends = segments_of([p[:, :2] for p in painted])
     assert (np.abs(starts[:, 1] - 150.0) <= 40.0 + 1e-6).all() and (np.abs(ends[:, 1] - 150.0) <= 40.0 + 1e-6).all()
+
+
+def test_an_oriented_pair_is_learned_on_request_and_a_bad_one_is_reported():
+    _, roads, houses, _ = village_exemplar()
+    select_only([roads, *houses])
+    with pytest.raises(RuntimeError, match="not of the form"):
+        bpy.ops.worldpaint.learn_color(name="Bad", oriented="House-road", **EXEMPLAR)
+    with pytest.raises(RuntimeError, match="no category castle"):
+        bpy.ops.worldpaint.learn_color(name="Bad", oriented="House:castle", **EXEMPLAR)
+    assert len(bpy.context.scene.worldpaint.palette) == 0, "nothing learned from a bad request"
+    assert bpy.ops.worldpaint.learn_color(name="Rows", oriented="House:House", **EXEMPLAR) == {'FINISHED'}
+    color = bpy.context.scene.worldpaint.palette["Rows"]
+    how = {(i.category, i.other): i.how for i in color.interactions}
+    assert how[("House", "House")] == "rdf, oriented rdf"
+    assert how[("House", "road")] == "distance to graph", "houses see the roads through their distance"

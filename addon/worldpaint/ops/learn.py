@@ -24,8 +24,28 @@ class WORLDPAINT_OT_learn_color(RegionProperties, TerrainProperty, bpy.types.Ope
         "heights beyond the example's range are treated like its highest or lowest ones",
     )
 
+    oriented: StringProperty(
+        name="Oriented Pairs",
+        description="Pairs 'category:other', comma-separated, whose relation also depends on direction (an oriented "
+        "rdf: houses facing a road, grass downhill of rocks)",
+    )
+
     def execute(self, context):
         return report_errors(self, lambda: self._learn(context))
+
+    def oriented_pairs(self, categories):
+        """The oriented pairs as (category, other), checked against the categories."""
+        names = {c["name"] for c in categories}
+        pairs = []
+        for item in filter(None, (part.strip() for part in self.oriented.split(","))):
+            pair = tuple(name.strip() for name in item.split(":"))
+            if len(pair) != 2 or not all(pair):
+                raise WorldPaintError(f"Oriented pair '{item}' is not of the form 'category:other'")
+            unknown = [name for name in pair if name not in names]
+            if unknown:
+                raise WorldPaintError(f"Oriented pair '{item}': no category {', '.join(unknown)} in the example")
+            pairs.append(pair)
+        return pairs
 
     def _learn(self, context):
         scene = context.scene
@@ -61,7 +81,8 @@ class WORLDPAINT_OT_learn_color(RegionProperties, TerrainProperty, bpy.types.Ope
         maps = ["slope", "elevation"] if self.use_elevation else ["slope"]
         eng = engine()
         scene_data = eng.Scene(heightfield, **exemplar.engine_arrays(), **structures.engine_arrays())
-        color_json = eng.learn_color(scene_data, region, name, options={"maps": maps})
+        options = {"maps": maps, "oriented": self.oriented_pairs(categories)}
+        color_json = eng.learn_color(scene_data, region, name, options=options)
 
         # validated and computed: now change the scene
         instances.add_categories(settings, new)

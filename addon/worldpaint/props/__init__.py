@@ -104,6 +104,11 @@ class WORLDPAINT_PG_settings(bpy.types.PropertyGroup):
         description="Learn Color also learns which terrain heights the example occupies; heights beyond the "
         "example's range are treated like its highest or lowest ones",
     )
+    learn_oriented: StringProperty(
+        name="Oriented Pairs",
+        description="Learn Color also learns how these pairs ('category:other', comma-separated) depend on "
+        "direction (an oriented rdf)",
+    )
     auto_influence: BoolProperty(
         name="Automatic Influence", default=True,
         description="Region of influence as wide as the color's interaction radius",

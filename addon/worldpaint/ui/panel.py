@@ -90,12 +90,14 @@ class WORLDPAINT_PT_paint(SidebarPanel, bpy.types.Panel):
             box.prop(settings, "region_radius")
         box.prop(settings, "seed")
         box.prop(settings, "learn_elevation")
+        box.prop(settings, "learn_oriented")
         box.prop(settings, "auto_influence")
         if not settings.auto_influence:
             box.prop(settings, "influence_radius")
         col = layout.column(align=True)
         col.scale_y = 1.3
-        col.operator("worldpaint.learn_color", icon='EYEDROPPER').use_elevation = settings.learn_elevation
+        learn = col.operator("worldpaint.learn_color", icon='EYEDROPPER')
+        learn.use_elevation, learn.oriented = settings.learn_elevation, settings.learn_oriented
         col.operator("worldpaint.paste_color", icon='BRUSH_DATA')
         col.operator("worldpaint.clear_region", icon='TRASH')
         box = layout.box()

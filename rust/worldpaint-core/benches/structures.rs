@@ -14,6 +14,9 @@
 //!
 //! `cargo bench -p worldpaint-core --bench structures`
 
+#[path = "support/median.rs"]
+mod timing;
+
 use criterion::{Criterion, SamplingMode};
 use std::hint::black_box;
 use std::time::{Duration, Instant};
@@ -76,27 +79,15 @@ fn counts(out: &SynthesisResult) -> (usize, f64, usize) {
 }
 
 /// Runs `sample` as a criterion benchmark (10 samples of one run each) and returns its median in seconds.
-fn median(c: &mut Criterion, name: &str, mut sample: impl FnMut() -> Duration) -> f64 {
-    let mut times: Vec<f64> = Vec::new();
+fn median(c: &mut Criterion, name: &str, sample: impl FnMut() -> Duration) -> f64 {
     let mut g = c.benchmark_group("structures");
     g.sample_size(10)
         .sampling_mode(SamplingMode::Flat)
         .warm_up_time(Duration::from_millis(500))
         .measurement_time(Duration::from_secs(8));
-    g.bench_function(name, |b| {
-        b.iter_custom(|iters| {
-            let mut total = Duration::ZERO;
-            for _ in 0..iters {
-                let dt = sample();
-                times.push(dt.as_secs_f64());
-                total += dt;
-            }
-            total
-        })
-    });
+    let m = timing::median(&mut g, name, sample);
     g.finish();
-    times.sort_by(f64::total_cmp);
-    times.get(times.len() / 2).copied().unwrap_or(f64::NAN)
+    m
 }
 
 fn main() {

@@ -11,6 +11,9 @@
 //!
 //! `cargo bench -p worldpaint-core --bench tools`
 
+#[path = "support/median.rs"]
+mod timing;
+
 use criterion::Criterion;
 use std::hint::black_box;
 use std::time::{Duration, Instant};
@@ -80,26 +83,14 @@ fn brush_options() -> BrushOptions {
     }
 }
 
-fn median(c: &mut Criterion, group: &str, name: &str, mut sample: impl FnMut() -> Duration) -> f64 {
-    let mut times: Vec<f64> = Vec::new();
+fn median(c: &mut Criterion, group: &str, name: &str, sample: impl FnMut() -> Duration) -> f64 {
     let mut g = c.benchmark_group(group);
     g.sample_size(30)
         .warm_up_time(Duration::from_millis(300))
         .measurement_time(Duration::from_secs(3));
-    g.bench_function(name, |b| {
-        b.iter_custom(|iters| {
-            let mut total = Duration::ZERO;
-            for _ in 0..iters {
-                let dt = sample();
-                times.push(dt.as_secs_f64());
-                total += dt;
-            }
-            total
-        })
-    });
+    let m = timing::median(&mut g, name, sample);
     g.finish();
-    times.sort_by(f64::total_cmp);
-    times.get(times.len() / 2).copied().unwrap_or(f64::NAN)
+    m
 }
 
 fn main() {

@@ -16,6 +16,17 @@ fn island(c: DVec2, r: f64) -> Vec<DVec2> {
         .collect()
 }
 
+/// An island of radius about 50 m around the origin with a round lake of radius 10 m at its centre.
+fn island_with_a_lake() -> (Vec<DVec2>, Vec<DVec2>) {
+    let lake = (0..60)
+        .map(|k| {
+            let a = TAU * k as f64 / 60.0;
+            DVec2::new(a.cos(), a.sin()) * 10.0
+        })
+        .collect();
+    (island(DVec2::ZERO, 50.0), lake)
+}
+
 fn distance_to(p: DVec2, c: &[DVec2]) -> f64 {
     (0..c.len())
         .map(|i| segment_distance(p, c[i], c[(i + 1) % c.len()]))
@@ -51,13 +62,7 @@ fn a_contour_traced_back_from_its_dense_points_keeps_its_shape() {
 
 #[test]
 fn a_lake_in_an_island_is_a_hole() {
-    let outer = island(DVec2::ZERO, 50.0);
-    let lake: Vec<DVec2> = (0..60)
-        .map(|k| {
-            let a = TAU * k as f64 / 60.0;
-            DVec2::new(a.cos(), a.sin()) * 10.0
-        })
-        .collect();
+    let (outer, lake) = island_with_a_lake();
     let polygons = Polygons::new(&[outer.clone(), lake.clone()]);
     assert!(!polygons.contains(DVec2::ZERO), "the lake");
     assert!(polygons.contains(DVec2::new(25.0, 0.0)), "the island");
@@ -79,13 +84,7 @@ fn a_lake_in_an_island_is_a_hole() {
 
 #[test]
 fn an_island_with_a_lake_fills_as_a_mesh_with_a_hole() {
-    let outer = island(DVec2::ZERO, 50.0);
-    let lake: Vec<DVec2> = (0..60)
-        .map(|k| {
-            let a = TAU * k as f64 / 60.0;
-            DVec2::new(a.cos(), a.sin()) * 10.0
-        })
-        .collect();
+    let (outer, lake) = island_with_a_lake();
     let polygons = Polygons::new(&[outer.clone(), lake.clone()]);
     let mesh = triangulate(&polygons, 4.0);
     let land = polygon_signed_area(&outer).abs() - polygon_signed_area(&lake).abs();

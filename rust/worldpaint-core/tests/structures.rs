@@ -201,22 +201,17 @@ fn island_trees_stay_on_land_and_boats_along_the_coast() {
         categories: scene.categories.clone(),
         ..Default::default()
     };
-    let out = synthesize(
-        &canvas,
-        &color,
-        &dest,
-        &SynthesisOptions {
+    // the synthesis of a color and the land of its islands
+    let paint = |color: &Color| {
+        let opts = SynthesisOptions {
             seed: 5,
             ..Default::default()
-        },
-    )
-    .unwrap();
-    let land = Polygons::new(
-        &out.contours
-            .iter()
-            .map(|c| c.points.clone())
-            .collect::<Vec<_>>(),
-    );
+        };
+        let out = synthesize(&canvas, color, &dest, &opts).unwrap();
+        let contours: Vec<Vec<DVec2>> = out.contours.iter().map(|c| c.points.clone()).collect();
+        (out, Polygons::new(&contours))
+    };
+    let (out, land) = paint(&color);
     let of = |name: &str| {
         let k = out.categories.iter().position(|c| c.name == name).unwrap();
         out.instances
@@ -274,22 +269,7 @@ fn island_trees_stay_on_land_and_boats_along_the_coast() {
 
     // with their relation to the islands switched off, trees stand anywhere: the water no longer keeps them off
     let free = color.without_interactions(&[("tree".into(), "island".into())]);
-    let out = synthesize(
-        &canvas,
-        &free,
-        &dest,
-        &SynthesisOptions {
-            seed: 5,
-            ..Default::default()
-        },
-    )
-    .unwrap();
-    let land = Polygons::new(
-        &out.contours
-            .iter()
-            .map(|c| c.points.clone())
-            .collect::<Vec<_>>(),
-    );
+    let (out, land) = paint(&free);
     let k = out
         .categories
         .iter()
