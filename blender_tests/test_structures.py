@@ -247,3 +247,20 @@ def test_an_oriented_pair_is_learned_on_request_and_a_bad_one_is_reported():
     how = {(i.category, i.other): i.how for i in color.interactions}
     assert how[("House", "House")] == "rdf, oriented rdf"
     assert how[("House", "road")] == "distance to graph", "houses see the roads through their distance"
+
+
+def test_moving_a_region_carries_its_roads_onto_the_terrain_where_they_land():
+    learn_and_paste()
+    scene = bpy.context.scene
+    before = [spline_points(structure_objects(scene)["road"], s) for s in structure_objects(scene)["road"].data.splines]
+    assert bpy.ops.worldpaint.move_region(region_mode='RECT', rect_min=(450.0, 0.0), rect_max=(600.0, 300.0),
+                                          offset=(290.0, 0.0)) == {'FINISHED'}
+    road_obj = structure_objects(scene)["road"]
+    after = np.concatenate([spline_points(road_obj, s) for s in road_obj.data.splines])
+    inside = (after[:, 0] > 450.0 + 1e-4) & (after[:, 0] < 600.0 - 1e-4)
+    assert not inside.any(), "the source is left without its roads"
+    landed = after[(after[:, 0] > 740.0 + 1e-4) & (after[:, 0] < 890.0 - 1e-4)]
+    moved = np.concatenate(before)
+    moved = moved[(moved[:, 0] > 450.0 + 1e-4) & (moved[:, 0] < 600.0 - 1e-4)]
+    assert len(landed) >= len(moved) > 0
+    assert np.abs(landed[:, 2] - village_height(landed[:, 0], landed[:, 1])).max() < 0.05, "on the terrain there"

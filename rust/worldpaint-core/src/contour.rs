@@ -10,7 +10,8 @@
 //!   simplified (Douglas–Peucker, a tenth of the spacing). Loops smaller than four cells are dropped. The level is
 //!   the one that keeps the points' area (one spacing² each): ½ for a jittered grid, down to 0.3 for the looser
 //!   clusters synthesis makes, whose rim never reaches ½.
-//! * [`cut`]: a contour less a region, by the same dense points: filled, the points in the region dropped, traced.
+//! * [`cut`] and [`split`]: a contour less a region, or its parts inside and outside, by the same dense points:
+//!   filled, the points parted by the region, traced.
 //! * [`Polygons::signed_distance`]: the interaction of a distribution with a polygon category (thesis 6.2.1),
 //!   `d` outside and `−d / d_max` inside, where `d_max` is the largest distance to the border inside the contour
 //!   that holds the point.
@@ -177,7 +178,16 @@ pub fn fill(polygons: &Polygons, spacing: f64, seed: u64) -> Vec<DVec2> {
 const CUT_SAMPLES: f64 = 400.0;
 
 /// The contour less `region` (see the module documentation), or `None` when the contour does not meet the region.
-pub fn cut(contour: &[DVec2], region: &Region) -> Option<Vec<Vec<DVec2>>> {
+pub fn cut(contour: &[DVec2], region: &Region) -> Option<Loops> {
+    split(contour, region).map(|(_, outside)| outside)
+}
+
+/// Closed contours.
+pub type Loops = Vec<Vec<DVec2>>;
+
+/// The parts of the contour inside `region` and outside it, by the same dense points as [`cut`], or `None` when
+/// the contour does not meet the region.
+pub fn split(contour: &[DVec2], region: &Region) -> Option<(Loops, Loops)> {
     let n = contour.len();
     if n < 3 {
         return None;
@@ -196,11 +206,10 @@ pub fn cut(contour: &[DVec2], region: &Region) -> Option<Vec<Vec<DVec2>>> {
     let perimeter: f64 = edges().map(|(a, b)| a.distance(b)).sum();
     let spacing = (perimeter / CUT_SAMPLES).max(1e-3);
     let polygons = Polygons::new(&[contour.to_vec()]);
-    let points: Vec<DVec2> = fill(&polygons, spacing, n as u64)
+    let (inside, outside): (Vec<DVec2>, Vec<DVec2>) = fill(&polygons, spacing, n as u64)
         .into_iter()
-        .filter(|p| !region.contains(*p))
-        .collect();
-    Some(trace(&points, spacing))
+        .partition(|p| region.contains(*p));
+    Some((trace(&inside, spacing), trace(&outside, spacing)))
 }
 
 /// Closed contours around dense points (see the module documentation).

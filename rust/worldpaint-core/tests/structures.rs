@@ -422,3 +422,110 @@ fn clearing_a_region_cuts_the_roads_at_its_border_and_keeps_the_rest() {
         .any(|i| i.category != house && region.contains(i.position)));
     assert!(worldpaint_core::tools::clear(&scene, &region, Some("castle")).is_err());
 }
+
+#[test]
+fn moving_a_region_carries_its_roads_and_the_houses_keep_off_them() {
+    let (scene, color) = village_color(450.0);
+    let source = square(120.0, 150.0);
+    let offset = DVec2::new(400.0, 20.0);
+    let inside_length: f64 = scene
+        .paths
+        .iter()
+        .flat_map(|p| source.clip_polyline(&p.points).0)
+        .map(|piece| piece.windows(2).map(|w| w[0].distance(w[1])).sum::<f64>())
+        .sum();
+    let moved = worldpaint_core::tools::moving::move_region(
+        &scene,
+        &color,
+        &source,
+        offset,
+        &Default::default(),
+    )
+    .unwrap();
+    let after = moved.edit.applied_to(&scene);
+    let destination = source.translated(offset);
+    let length_in = |region: &Region| -> f64 {
+        after
+            .paths
+            .iter()
+            .flat_map(|p| region.clip_polyline(&p.points).0)
+            .map(|piece| piece.windows(2).map(|w| w[0].distance(w[1])).sum::<f64>())
+            .sum()
+    };
+    let house = after.category_index("house").unwrap();
+    let roads = worldpaint_core::graph::SegmentIndex::new(graph_of(&after.paths).segments());
+    let closest = after
+        .instances
+        .iter()
+        .filter(|i| i.category == house && destination.contains(i.position))
+        .map(|i| roads.distance(i.position, 100.0))
+        .fold(f64::INFINITY, f64::min);
+    println!(
+        "{:.0} m of road in the source; after the move {:.0} m there and {:.0} m in the destination; {} houses \
+         moved, the closest {closest:.1} m from a road",
+        inside_length,
+        length_in(&source).abs(),
+        length_in(&destination),
+        moved.moved
+    );
+    assert!(inside_length > 100.0);
+    assert!(
+        length_in(&source) < 1e-6,
+        "the source is left without its roads"
+    );
+    assert!(
+        (length_in(&destination) - inside_length).abs() < 1e-6,
+        "the roads arrive whole"
+    );
+    assert!(closest >= 6.0, "moved houses keep off the roads");
+}
+
+#[test]
+fn moving_a_region_carries_its_islands() {
+    let scene = exemplar::archipelago(300.0, 1);
+    let color = learn_color(
+        &scene,
+        &square(0.0, 300.0),
+        "islands",
+        &AnalysisOptions::default(),
+    )
+    .unwrap();
+    // a square that cuts some islands: their parts inside move, the rest stays
+    let source = square(0.0, 160.0);
+    let offset = DVec2::new(1000.0, 0.0);
+    let area = |contours: &[worldpaint_core::scene::Contour]| -> f64 {
+        contours
+            .iter()
+            .map(|c| worldpaint_core::geom::polygon_signed_area(&c.points).abs())
+            .sum()
+    };
+    let moved = worldpaint_core::tools::moving::move_region(
+        &scene,
+        &color,
+        &source,
+        offset,
+        &Default::default(),
+    )
+    .unwrap();
+    let after = moved.edit.applied_to(&scene);
+    let destination = source.translated(offset);
+    let arrived: Vec<_> = after
+        .contours
+        .iter()
+        .filter(|c| c.points.iter().all(|p| destination.contains(*p)))
+        .cloned()
+        .collect();
+    println!(
+        "{} contours of {:.0} m², cut and moved: {} arrived ({:.0} m²), {} stayed",
+        scene.contours.len(),
+        area(&scene.contours),
+        arrived.len(),
+        area(&arrived),
+        after.contours.len() - arrived.len()
+    );
+    assert!(!arrived.is_empty() && arrived.len() < after.contours.len());
+    assert!(
+        (area(&after.contours) / area(&scene.contours) - 1.0).abs() < 0.03,
+        "cut and moved, the islands keep their area"
+    );
+}

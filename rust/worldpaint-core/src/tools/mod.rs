@@ -175,6 +175,11 @@ impl Working {
     /// parts outside stay, as new pieces).
     pub(crate) fn clear(&mut self, region: &Region) {
         self.remove_where(|i| region.contains(i.position));
+        self.clear_structures(region);
+    }
+
+    /// Removes the unlocked parts of paths and contours inside `region` (their parts outside stay, as new pieces).
+    pub(crate) fn clear_structures(&mut self, region: &Region) {
         let mut pieces: Vec<Path> = Vec::new();
         self.paths.retain(&mut self.scene.paths, |p| {
             if p.locked {

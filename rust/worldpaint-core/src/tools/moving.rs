@@ -6,13 +6,16 @@
 //! under it in a painting program); the part of the source it leaves is left empty. Locked content stays where it
 //! is, in the source and in the destination, and conditions the adaptation. A drag recomputes the move from the
 //! original scene at each step with the same seed, so each intermediate result is the same function of the
-//! offset and nothing flickers. Paths and contours stay where they are; the moved instances adapt to them.
+//! offset and nothing flickers. The unlocked parts of paths and contours inside the source move rigidly too (cut
+//! at the source's border: a moved road ends where the cut was), they replace the unlocked parts in the destination,
+//! and the moved instances adapt to the roads and coasts where they land.
 
-use super::Edit;
+use super::{Edit, Working};
+use crate::contour::split;
 use crate::error::{Error, Result};
 use crate::geom::{DVec2, Region};
 use crate::palette::Color;
-use crate::scene::{Instance, Scene};
+use crate::scene::{Contour, Instance, Path, Scene};
 use crate::synthesis::{adapt, AdaptOptions};
 
 /// What a move did, with its counts.
@@ -48,13 +51,83 @@ pub fn move_region(
     let moving: Vec<usize> = (0..scene.instances.len())
         .filter(|&k| !scene.instances[k].locked && source.contains(scene.instances[k].position))
         .collect();
-    move_instances(scene, color, &destination, &moving, offset, opts)
+    let structures = move_structures(scene, source, &destination, offset);
+    let mut moved = move_instances(
+        scene,
+        &structures.scene,
+        color,
+        &destination,
+        &moving,
+        offset,
+        opts,
+    )?;
+    let edit = structures.edit();
+    moved.edit.removed_paths = edit.removed_paths;
+    moved.edit.added_paths = edit.added_paths;
+    moved.edit.removed_contours = edit.removed_contours;
+    moved.edit.added_contours = edit.added_contours;
+    Ok(moved)
+}
+
+/// The scene with its unlocked paths and contours moved (instances as they were): the parts inside `source` cut
+/// out and carried by `offset`, the parts under `destination` removed.
+fn move_structures(scene: &Scene, source: &Region, destination: &Region, offset: DVec2) -> Working {
+    let carried_paths: Vec<Path> = scene
+        .paths
+        .iter()
+        .filter(|p| !p.locked)
+        .flat_map(|p| {
+            let inside = source.clip_polyline(&p.points).0;
+            inside
+                .into_iter()
+                .filter(|q| q.len() >= 2)
+                .map(move |points| Path {
+                    points: points.into_iter().map(|q| q + offset).collect(),
+                    ..p.clone()
+                })
+        })
+        .collect();
+    let carried_contours: Vec<Contour> = scene
+        .contours
+        .iter()
+        .filter(|c| !c.locked)
+        .flat_map(|c| {
+            let n = c.points.len();
+            let whole = c.points.iter().all(|q| source.contains(*q))
+                && (0..n).all(|i| {
+                    source
+                        .segment_crossings(c.points[i], c.points[(i + 1) % n])
+                        .is_empty()
+                });
+            // a contour wholly inside moves as it is; one the border cuts is traced on each side
+            let parts = if whole {
+                vec![c.points.clone()]
+            } else {
+                split(&c.points, source)
+                    .map(|(inside, _)| inside)
+                    .unwrap_or_default()
+            };
+            parts.into_iter().map(move |points| Contour {
+                points: points.into_iter().map(|q| q + offset).collect(),
+                ..c.clone()
+            })
+        })
+        .collect();
+    let mut work = Working::new(scene);
+    work.clear_structures(source);
+    work.clear_structures(destination);
+    work.paths.push(&mut work.scene.paths, carried_paths);
+    work.contours
+        .push(&mut work.scene.contours, carried_contours);
+    work
 }
 
 /// Moves the instances `moving` (indices into the scene) by `offset` into `destination`, where they replace the
-/// unlocked instances, and adapts them.
+/// unlocked instances, and adapts them to the instances left and to the paths and contours of `landing` (the
+/// scene as it will be around them).
 pub(crate) fn move_instances(
     scene: &Scene,
+    landing: &Scene,
     color: &Color,
     destination: &Region,
     moving: &[usize],
@@ -79,8 +152,9 @@ pub(crate) fn move_instances(
             .filter(|(_, r)| !**r)
             .map(|(i, _)| *i)
             .collect(),
+        paths: landing.paths.clone(),
+        contours: landing.contours.clone(),
         terrain: scene.terrain.clone(),
-        ..Default::default()
     };
     let anchors: Vec<Instance> = moving
         .iter()

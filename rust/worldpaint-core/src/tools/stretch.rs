@@ -356,6 +356,7 @@ pub fn stretch(
     };
     let moved = move_instances(
         &work.scene,
+        &work.scene,
         color,
         &landing,
         &moving,
