@@ -241,6 +241,8 @@ def test_an_oriented_pair_is_learned_on_request_and_a_bad_one_is_reported():
         bpy.ops.worldpaint.learn_color(name="Bad", oriented="House-road", **EXEMPLAR)
     with pytest.raises(RuntimeError, match="no category castle"):
         bpy.ops.worldpaint.learn_color(name="Bad", oriented="House:castle", **EXEMPLAR)
+    with pytest.raises(RuntimeError, match="seen through its distance"):
+        bpy.ops.worldpaint.learn_color(name="Bad", oriented="House:road", **EXEMPLAR)
     assert len(bpy.context.scene.worldpaint.palette) == 0, "nothing learned from a bad request"
     assert bpy.ops.worldpaint.learn_color(name="Rows", oriented="House:House", **EXEMPLAR) == {'FINISHED'}
     color = bpy.context.scene.worldpaint.palette["Rows"]

@@ -35,15 +35,19 @@ class WORLDPAINT_OT_learn_color(RegionProperties, TerrainProperty, bpy.types.Ope
 
     def oriented_pairs(self, categories):
         """The oriented pairs as (category, other), checked against the categories."""
-        names = {c["name"] for c in categories}
+        kinds = {c["name"]: c["kind"] for c in categories}
         pairs = []
         for item in filter(None, (part.strip() for part in self.oriented.split(","))):
             pair = tuple(name.strip() for name in item.split(":"))
             if len(pair) != 2 or not all(pair):
                 raise WorldPaintError(f"Oriented pair '{item}' is not of the form 'category:other'")
-            unknown = [name for name in pair if name not in names]
+            unknown = [name for name in pair if name not in kinds]
             if unknown:
                 raise WorldPaintError(f"Oriented pair '{item}': no category {', '.join(unknown)} in the example")
+            structured = [name for name in pair if kinds[name] in ("graph", "polygon")]
+            if structured:
+                raise WorldPaintError(f"Oriented pair '{item}': {', '.join(structured)} is a graph or polygon, "
+                                      "seen through its distance; oriented pairs are between distributions")
             pairs.append(pair)
         return pairs
 

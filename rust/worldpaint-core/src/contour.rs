@@ -20,7 +20,7 @@ use crate::geom::{polygon_signed_area, DVec2, Region};
 use crate::graph::SegmentIndex;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use std::collections::HashMap;
+use std::collections::BTreeMap;
 
 /// Smoothing of the traced density, in units of the spacing.
 const TRACE_SIGMA: f64 = 0.6;
@@ -293,7 +293,8 @@ fn marching_squares(
         );
         at(x, y)
     };
-    let mut next: HashMap<Key, Key> = HashMap::new();
+    // ordered, so that loops start at the same lattice edge on every run (a hash map's order is random)
+    let mut next: BTreeMap<Key, Key> = BTreeMap::new();
     for j in 0..ny - 1 {
         for i in 0..nx - 1 {
             let inside = [

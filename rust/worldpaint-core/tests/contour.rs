@@ -110,3 +110,17 @@ fn an_island_with_a_lake_fills_as_a_mesh_with_a_hole() {
         );
     }
 }
+
+#[test]
+fn tracing_the_same_points_gives_the_same_contours() {
+    let (outer, lake) = island_with_a_lake();
+    let points = fill(&Polygons::new(&[outer, lake]), 2.0, 5);
+    let first = trace(&points, 2.0);
+    for _ in 0..5 {
+        assert_eq!(
+            trace(&points, 2.0),
+            first,
+            "loops start at the same place on every call"
+        );
+    }
+}
