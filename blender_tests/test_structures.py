@@ -266,3 +266,26 @@ def test_moving_a_region_carries_its_roads_onto_the_terrain_where_they_land():
     moved = moved[(moved[:, 0] > 450.0 + 1e-4) & (moved[:, 0] < 600.0 - 1e-4)]
     assert len(landed) >= len(moved) > 0
     assert np.abs(landed[:, 2] - village_height(landed[:, 0], landed[:, 1])).max() < 0.05, "on the terrain there"
+
+
+def test_a_river_is_a_ribbon_with_a_bed_below_the_terrain():
+    terrain_obj, roads, houses, _ = village_exemplar()
+    roads.data.name = "river"
+    select_only([roads])
+    assert bpy.ops.worldpaint.learn_color(name="Rivers", **EXEMPLAR) == {'FINISHED'}
+    settings = bpy.context.scene.worldpaint
+    settings.categories["river"].width, settings.categories["river"].depth = 12.0, 1.5
+    assert bpy.ops.worldpaint.paste_color(seed=3, **DESTINATION) == {'FINISHED'}
+    river = structure_objects(bpy.context.scene)["river"]
+    evaluated = river.evaluated_get(bpy.context.evaluated_depsgraph_get())
+    mesh = evaluated.to_mesh()
+    try:
+        co = np.empty(len(mesh.vertices) * 3)
+        mesh.vertices.foreach_get("co", co)
+        co = co.reshape(-1, 3)
+    finally:
+        evaluated.to_mesh_clear()
+    below = village_height(co[:, 0], co[:, 1]) - co[:, 2]
+    print(f"river bed: {len(co)} vertices, from {-below.max():.2f} m to {-below.min():.2f} m about the terrain")
+    assert below.max() == pytest.approx(1.5 - 0.02, abs=0.1), "the middle lies the depth below the terrain"
+    assert below.min() == pytest.approx(-0.02, abs=0.03), "the banks lie on the terrain"

@@ -8,8 +8,9 @@ Hand-drawn curves are locked: the tools cut and replace only synthesized ones.
 Synthesized paths and contours live in one curve object per category, "WP_<category>", tagged ``wp_structure``, in
 a collection per layer under "WorldPaint" ("WP <layer>"). A graph's curve carries the "WorldPaint Profile" Geometry
 Nodes modifier: a ribbon of the category's width, resampled every few metres and draped on the terrain mesh by
-vertical ray casts. A polygon category's contours are filled by the engine's constrained Delaunay triangulation into a
-mesh object "WP_<category> fill" (tagged ``wp_fill``) whose vertices stand on the terrain.
+vertical ray casts, its middle sunk by the category's depth (a river's bed; 0 for a road). A polygon category's
+contours are filled by the engine's constrained Delaunay triangulation into a mesh object "WP_<category> fill"
+(tagged ``wp_fill``) whose vertices stand on the terrain.
 """
 
 from dataclasses import dataclass, field
@@ -137,11 +138,11 @@ def layer_collection(scene, layer):
 
 
 def category_settings(scene, name):
-    """(layer, width) of a category from the scene's category list."""
+    """(layer, width, depth) of a category from the scene's category list."""
     for item in scene.worldpaint.categories:
         if item.name == name:
-            return item.layer, item.width
-    return "default", DEFAULT_WIDTH
+            return item.layer, item.width, item.depth
+    return "default", DEFAULT_WIDTH, 0.0
 
 
 def structure_object(scene, category):
@@ -154,7 +155,7 @@ def structure_object(scene, category):
     curve.dimensions = '3D'
     obj = bpy.data.objects.new(name, curve)
     obj[STRUCTURE_TAG] = category
-    layer, _ = category_settings(scene, category)
+    layer = category_settings(scene, category)[0]
     layer_collection(scene, layer).objects.link(obj)
     return obj
 
@@ -190,8 +191,8 @@ def write_structure(scene, category, key, lines, terrain_obj, heightfield):
     lines = lines_with_heights(lines)
     write_lines(obj, lines, cyclic=key == "contours")
     if key == "paths":
-        _, width = category_settings(scene, category)
-        set_profile(obj, width, terrain_obj)
+        _, width, depth = category_settings(scene, category)
+        set_profile(obj, width, depth, terrain_obj)
     else:
         write_fill(scene, obj, category, [xy for xy, _ in lines], heightfield)
 
@@ -250,7 +251,7 @@ def fill_object(scene, category, create=True):
     name = f"WP_{category} fill"
     obj = bpy.data.objects.new(name, bpy.data.meshes.new(name))
     obj[FILL_TAG] = category
-    layer, _ = category_settings(scene, category)
+    layer = category_settings(scene, category)[0]
     layer_collection(scene, layer).objects.link(obj)
     return obj
 
@@ -280,14 +281,17 @@ def set_enum(node, name, value):
 
 
 def profile_node_group():
-    """The shared profile group: resampled curve, Z-up normals, a line profile of the width, draped on the terrain."""
+    """The shared profile group: resampled curve, Z-up normals, a line profile of the width, draped on the terrain,
+    and sunk by the depth in the middle (a river's bed: ``depth · (1 − (2d/w)²)`` at a distance d from the axis)."""
     group = bpy.data.node_groups.get(PROFILE_GROUP_NAME)
-    if group is not None and group.bl_idname == 'GeometryNodeTree':
+    if group is not None and group.bl_idname == 'GeometryNodeTree' and "Depth" in group.interface.items_tree:
         return group
     group = bpy.data.node_groups.new(PROFILE_GROUP_NAME, 'GeometryNodeTree')
     group.interface.new_socket("Geometry", in_out='INPUT', socket_type='NodeSocketGeometry')
     width = group.interface.new_socket("Width", in_out='INPUT', socket_type='NodeSocketFloat')
     width.default_value, width.min_value = DEFAULT_WIDTH, 0.0
+    depth = group.interface.new_socket("Depth", in_out='INPUT', socket_type='NodeSocketFloat')
+    depth.default_value, depth.min_value = 0.0, 0.0
     group.interface.new_socket("Terrain", in_out='INPUT', socket_type='NodeSocketObject')
     group.interface.new_socket("Geometry", in_out='OUTPUT', socket_type='NodeSocketGeometry')
     nodes, links = group.nodes, group.links
@@ -346,12 +350,51 @@ def profile_node_group():
     links.new(to_mesh.outputs["Mesh"], drape.inputs["Geometry"])
     links.new(ray.outputs["Is Hit"], drape.inputs["Selection"])
     links.new(lift.outputs["Vector"], drape.inputs["Position"])
-    links.new(drape.outputs["Geometry"], group_out.inputs["Geometry"])
+    # the bed: each vertex's horizontal distance to the axis, on flattened copies of both
+    flat = node('ShaderNodeVectorMath', 150, -500)
+    flat.operation, flat.inputs[1].default_value = 'MULTIPLY', (1.0, 1.0, 0.0)
+    axis = node('GeometryNodeCurveToMesh', -250, -550)
+    flatten_axis = node('GeometryNodeSetPosition', -50, -550)
+    proximity = node('GeometryNodeProximity', 350, -550)
+    proximity.target_element = 'EDGES'
+    reach = node('ShaderNodeMath', 350, -750)  # d / (w / 2)
+    reach.operation = 'DIVIDE'
+    square = node('ShaderNodeMath', 500, -650)
+    square.operation, square.inputs[1].default_value = 'POWER', 2.0
+    rest = node('ShaderNodeMath', 650, -650)  # 1 − (2d/w)², not below 0
+    rest.operation, rest.inputs[0].default_value = 'SUBTRACT', 1.0
+    floor = node('ShaderNodeMath', 650, -800)
+    floor.operation, floor.inputs[1].default_value = 'MAXIMUM', 0.0
+    sink = node('ShaderNodeMath', 800, -800)
+    sink.operation = 'MULTIPLY'
+    down = node('ShaderNodeCombineXYZ', 800, -600)
+    negate = node('ShaderNodeMath', 800, -950)
+    negate.operation, negate.inputs[1].default_value = 'MULTIPLY', -1.0
+    bed = node('GeometryNodeSetPosition', 950, -300)
+    links.new(resample.outputs["Curve"], axis.inputs["Curve"])
+    links.new(axis.outputs["Mesh"], flatten_axis.inputs["Geometry"])
+    links.new(position.outputs["Position"], flat.inputs[0])
+    links.new(flat.outputs["Vector"], flatten_axis.inputs["Position"])
+    links.new(flatten_axis.outputs["Geometry"], proximity.inputs[0])
+    links.new(flat.outputs["Vector"], proximity.inputs["Source Position"])
+    links.new(proximity.outputs["Distance"], reach.inputs[0])
+    links.new(half.outputs["Value"], reach.inputs[1])
+    links.new(reach.outputs["Value"], square.inputs[0])
+    links.new(square.outputs["Value"], rest.inputs[1])
+    links.new(rest.outputs["Value"], floor.inputs[0])
+    links.new(floor.outputs["Value"], sink.inputs[0])
+    links.new(group_in.outputs["Depth"], sink.inputs[1])
+    links.new(sink.outputs["Value"], negate.inputs[0])
+    links.new(negate.outputs["Value"], down.inputs["Z"])
+    links.new(drape.outputs["Geometry"], bed.inputs["Geometry"])
+    links.new(down.outputs["Vector"], bed.inputs["Offset"])
+    links.new(bed.outputs["Geometry"], group_out.inputs["Geometry"])
     return group
 
 
-def set_profile(obj, width, terrain_obj):
-    """Gives a synthesized graph curve the ribbon modifier with the category's width, draped on ``terrain_obj``."""
+def set_profile(obj, width, depth, terrain_obj):
+    """Gives a synthesized graph curve the ribbon modifier with the category's width and depth, draped on
+    ``terrain_obj``."""
     group = profile_node_group()
     mod = obj.modifiers.get(PROFILE_MODIFIER)
     if mod is None:
@@ -360,6 +403,7 @@ def set_profile(obj, width, terrain_obj):
         mod.node_group = group
     inputs = group.interface.items_tree
     mod[inputs["Width"].identifier] = float(width)
+    mod[inputs["Depth"].identifier] = float(depth)
     if terrain_obj is not None:
         mod[inputs["Terrain"].identifier] = terrain_obj
     obj.update_tag()

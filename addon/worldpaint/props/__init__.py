@@ -42,6 +42,10 @@ class WORLDPAINT_PG_category(bpy.types.PropertyGroup):
         name="Width", default=6.0, min=0.0, soft_max=50.0, unit='LENGTH',
         description="Width of the ribbon a graph category's synthesized roads or rivers are shown with",
     )
+    depth: FloatProperty(
+        name="Depth", default=0.0, min=0.0, soft_max=10.0, unit='LENGTH',
+        description="How deep the middle of the ribbon sinks below the terrain: a river's bed (0: a flat road)",
+    )
 
 
 class WORLDPAINT_PG_interaction(bpy.types.PropertyGroup):

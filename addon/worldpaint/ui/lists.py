@@ -11,6 +11,7 @@ class WORLDPAINT_UL_categories(bpy.types.UIList):
         row.prop(item, "kind", text="")
         if item.kind == "graph":
             row.prop(item, "width", text="")
+            row.prop(item, "depth", text="")
         row.prop(item, "priority", text="")
 
 
