@@ -75,12 +75,14 @@ def structure_objects(scene):
 @dataclass
 class StructureSet:
     """Paths and contours as the engine takes them, with their heights; ``rows`` maps (key, category) of each
-    synthesized curve object read to its rows, so an edit can be written back."""
+    synthesized curve object read to its rows, so an edit can be written back; ``existing`` names the categories
+    that had a synthesized curve object when the scene was read."""
 
     categories: list
     paths: list = field(default_factory=list)
     contours: list = field(default_factory=list)
     rows: dict = field(default_factory=dict)
+    existing: set = field(default_factory=set)
 
     def add(self, obj, category, *, locked):
         """Adds the splines of a curve of ``category`` (open ones as paths of a graph category, closed ones as
@@ -89,9 +91,9 @@ class StructureSet:
         index = names.index(category)
         kind = self.categories[index]["kind"]
         for spline in obj.data.splines:
-            key = "contours" if spline.use_cyclic_u else "paths"
-            if (key == "paths") != (kind == "graph") or (key == "contours") != (kind == "polygon"):
+            if kind != ("polygon" if spline.use_cyclic_u else "graph"):
                 continue
+            key = "contours" if spline.use_cyclic_u else "paths"
             co = spline_points(obj, spline)
             if len(co) >= (3 if key == "contours" else 2):
                 getattr(self, key).append({"category": index, "points": np.ascontiguousarray(co[:, :2]),
@@ -114,6 +116,7 @@ def scene_structures(scene, categories, exclude=()):
         if category in names:
             out.add(obj, category, locked=True)
     kinds = {c["name"]: c["kind"] for c in categories}
+    out.existing = set(structure_objects(scene))
     for category, obj in structure_objects(scene).items():
         if kinds.get(category) in ("graph", "polygon"):
             key = "paths" if kinds[category] == "graph" else "contours"
@@ -222,9 +225,8 @@ def apply_structures(scene, structure_set, edit, terrain_obj, heightfield):
 
 def restore_structures(scene, structure_set, terrain_obj, heightfield):
     """Writes the synthesized curves back as ``structure_set`` read them; removes those made since."""
-    read = {category for _, category in structure_set.rows}
     for category, obj in structure_objects(scene).items():
-        if category not in read:
+        if category not in structure_set.existing:
             remove_structure(scene, obj)
     for (key, category), (start, stop) in structure_set.rows.items():
         write_structure(scene, category, key, getattr(structure_set, key)[start:stop], terrain_obj, heightfield)
