@@ -529,3 +529,73 @@ fn moving_a_region_carries_its_islands() {
         "cut and moved, the islands keep their area"
     );
 }
+
+#[test]
+fn a_gradient_paints_one_road_network_across_its_bands() {
+    use worldpaint_core::tools::gradient::{gradient, GradientOptions, GradientShape};
+    let (_, sparse) = village_color(450.0);
+    // the same village with three times the houses along its roads
+    let mut dense = sparse.clone();
+    for c in dense
+        .categories
+        .iter_mut()
+        .filter(|c| c.category.name == "house")
+    {
+        c.density *= 3.0;
+    }
+    let region = Region::Rect {
+        min: DVec2::ZERO,
+        max: DVec2::new(1200.0, 400.0),
+    };
+    let canvas = Scene {
+        categories: sparse
+            .categories
+            .iter()
+            .map(|c| c.category.clone())
+            .collect(),
+        ..Default::default()
+    };
+    let opts = GradientOptions {
+        bands: Some(4),
+        synthesis: SynthesisOptions {
+            seed: 2,
+            categories: Some(vec!["road".into(), "house".into()]),
+            ..Default::default()
+        },
+    };
+    let shape = GradientShape::Linear {
+        from: DVec2::new(0.0, 200.0),
+        to: DVec2::new(1200.0, 200.0),
+    };
+    let edit = gradient(&canvas, &sparse, &dense, &region, shape, &opts, &|_| true).unwrap();
+    let after = edit.applied_to(&canvas);
+    let roads = sparse.graph("road").unwrap();
+    let g = graph_of(&after.paths);
+    let components = g.components() as f64 / region.area() / roads.components_per_area;
+    let house = after.category_index("house").unwrap();
+    let per_band: Vec<usize> = (0..4)
+        .map(|k| {
+            let (x0, x1) = (300.0 * k as f64, 300.0 * (k + 1) as f64);
+            after
+                .instances
+                .iter()
+                .filter(|i| i.category == house && i.position.x >= x0 && i.position.x < x1)
+                .count()
+        })
+        .collect();
+    println!(
+        "gradient over 4 bands: {} road nodes, components {components:.2} × the learned, {} crossings; houses per \
+         band {per_band:?}",
+        g.nodes.len(),
+        drawn_graph(&after.paths).crossings()
+    );
+    assert_eq!(drawn_graph(&after.paths).crossings(), 0);
+    assert!(
+        (1.0 / 1.5..=1.5).contains(&components),
+        "the bands' roads join into the learned number of networks"
+    );
+    assert!(
+        per_band.windows(2).all(|w| w[1] > w[0]),
+        "more houses toward the dense end"
+    );
+}
