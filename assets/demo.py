@@ -3,8 +3,10 @@
 1. A small exemplar terrain with ridges carries trees only on its 20-35 degree slopes, rocks, and grass clustered
    around the rocks; Learn Color turns it into the color "Slope forest".
 2. A grove of clumped trees on flat ground becomes the color "Grove".
-3. Both are pasted over a 600 m terrain of hills the examples never saw: the forest keeps to the slopes it liked,
-   the grove keeps its clumps, and the second paste blends with the first across its border.
+3. A village of streets (a hand-drawn curve) and houses along them becomes the color "Village".
+4. All three are pasted over a 600 m terrain of hills the examples never saw: the forest keeps to the slopes it
+   liked, the grove keeps its clumps, the village grows streets draped on the hills with houses along them, and each
+   paste blends with what is around it.
 
 Writes OUT/demo.blend and renders OUT/demo.png with Workbench. Usage: python assets/demo.py [--out out]
 """
@@ -23,10 +25,21 @@ import bpy  # noqa: E402
 import numpy as np  # noqa: E402
 import worldpaint  # noqa: E402
 import worldpaint_engine as engine  # noqa: E402
-from scene_kit import collection_instances, engine_terrain_object, select_only, slope_exemplar, top_camera  # noqa: E402
+from scene_kit import (  # noqa: E402
+    collection_instances,
+    engine_terrain_object,
+    select_only,
+    slope_exemplar,
+    top_camera,
+    village_exemplar,
+)
+from worldpaint.bridge.curves import structure_objects  # noqa: E402
 
 HILLS_SIZE = 600.0
 GROVE_REGION = {"shape": "rect", "min": [-220.0, -150.0], "max": [-120.0, -50.0]}
+VILLAGE_ORIGIN = (-1000.0, 0.0)
+VILLAGE_SIZE = 300.0
+VILLAGE_DESTINATION = ((210.0, 460.0), (470.0, 670.0))
 
 
 def run(op, **kwargs):
@@ -61,6 +74,16 @@ def build_and_learn():
     select_only(grove)
     run(bpy.ops.worldpaint.learn_color, name="Grove", terrain=ground.name, region_mode='RECT',
         rect_min=tuple(GROVE_REGION["min"]), rect_max=tuple(GROVE_REGION["max"]))
+
+    # the village: streets drawn as one curve, houses along them, on its own valley side
+    x0, y0 = VILLAGE_ORIGIN
+    village_ground, roads, houses, _ = village_exemplar(
+        size=VILLAGE_SIZE, origin=VILLAGE_ORIGIN, extent=(x0 - 100.0, y0 - 100.0, x0 + 400.0, y0 + 400.0)
+    )
+    village_ground.name = "Village ground"
+    select_only([roads, *houses])
+    run(bpy.ops.worldpaint.learn_color, name="Village", terrain=village_ground.name, region_mode='RECT',
+        rect_min=VILLAGE_ORIGIN, rect_max=(x0 + VILLAGE_SIZE, y0 + VILLAGE_SIZE))
     return hills
 
 
@@ -71,6 +94,13 @@ def paint(hills):
         rect_min=(0.0, 0.0), rect_max=(HILLS_SIZE, HILLS_SIZE))
     run(bpy.ops.worldpaint.paste_color, color="Grove", terrain=hills.name, seed=2, region_mode='CIRCLE',
         circle_center=(150.0, 450.0), circle_radius=110.0)
+    (x0, y0), (x1, y1) = VILLAGE_DESTINATION
+    run(bpy.ops.worldpaint.paste_color, color="Village", terrain=hills.name, seed=3, region_mode='RECT',
+        rect_min=(x0, y0), rect_max=(x1, y1))
+    road = structure_objects(bpy.context.scene)["road"]
+    material = bpy.data.materials.new("Road")
+    material.diffuse_color = (0.35, 0.33, 0.30, 1.0)
+    road.data.materials.append(material)
 
 
 def render(path):
@@ -106,8 +136,9 @@ def main():
     hills = build_and_learn()
     paint(hills)
     painted = time.perf_counter() - start
-    for obj in bpy.data.collections["WorldPaint"].objects:
-        print(f"{obj.name}: {len(obj.data.vertices)} instances")
+    for obj in bpy.data.collections["WorldPaint"].all_objects:
+        count = len(obj.data.splines) if obj.type == 'CURVE' else len(obj.data.vertices)
+        print(f"{obj.name}: {count} {'curves' if obj.type == 'CURVE' else 'instances'}")
     bpy.ops.wm.save_as_mainfile(filepath=str(out / "demo.blend"))
     render(out / "demo.png")
     print(f"learned and painted in {painted:.1f} s; wrote {out / 'demo.blend'} and {out / 'demo.png'}")

@@ -215,11 +215,15 @@ def village_height(x, y):
     return 0.06 * x + 0.03 * y + 2.0 * np.sin(np.asarray(x) / 45.0) * np.cos(np.asarray(y) / 70.0)
 
 
-def village_exemplar(size=300.0, extent=(-100.0, -100.0, 900.0, 450.0), seed=1, cell=2.0):
-    """The engine's village: its streets as a hand-drawn curve object "Roads" (curve data "road", one poly spline per
-    street, on the terrain) and its houses as instances of a "House" collection, on a sloped grid terrain covering
-    ``extent``. Returns (terrain object, road curve object, house objects, engine data)."""
+def village_exemplar(size=300.0, extent=(-100.0, -100.0, 900.0, 450.0), seed=1, cell=2.0, origin=(0.0, 0.0)):
+    """The engine's village moved to ``origin``: its streets as a hand-drawn curve object "Roads" (curve data "road",
+    one poly spline per street, on the terrain) and its houses as instances of a "House" collection, on a sloped grid
+    terrain covering ``extent``. Returns (terrain object, road curve object, house objects, engine data)."""
     data = engine.exemplar_village(size, seed)
+    shift = np.asarray(origin, dtype=np.float64)
+    data["positions"] = data["positions"] + shift
+    for path in data["paths"]:
+        path["points"] = path["points"] + shift
     x0, y0, x1, y1 = extent
     nx, ny = int(round((x1 - x0) / cell)) + 1, int(round((y1 - y0) / cell)) + 1
     x, y = np.meshgrid(x0 + cell * np.arange(nx), y0 + cell * np.arange(ny))
@@ -239,8 +243,10 @@ def village_exemplar(size=300.0, extent=(-100.0, -100.0, 900.0, 450.0), seed=1, 
     roads = bpy.data.objects.new("Roads", curve)
     bpy.context.scene.collection.objects.link(roads)
 
-    parent = bpy.data.collections.new("Prototypes")
-    bpy.context.scene.collection.children.link(parent)
+    parent = bpy.data.collections.get("Prototypes")
+    if parent is None:
+        parent = bpy.data.collections.new("Prototypes")
+        bpy.context.scene.collection.children.link(parent)
     bm = bmesh.new()
     bmesh.ops.create_cube(bm, size=1.0, matrix=Matrix.Translation((0.0, 0.0, 0.5)) @ Matrix.Diagonal((8, 6, 5, 1)))
     houses = bpy.data.collections.new("House")
