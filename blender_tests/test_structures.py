@@ -30,6 +30,18 @@ def distance_to_segments(xy, starts, ends):
     return np.sqrt(((xy[:, None, :] - nearest) ** 2).sum(axis=2)).min(axis=1)
 
 
+def evaluated_mesh(obj):
+    """World vertices (N, 3) and face area of an object's evaluated mesh (a curve's ribbon)."""
+    evaluated = obj.evaluated_get(bpy.context.evaluated_depsgraph_get())
+    mesh = evaluated.to_mesh()
+    try:
+        co = np.empty(len(mesh.vertices) * 3)
+        mesh.vertices.foreach_get("co", co)
+        return co.reshape(-1, 3), sum(p.area for p in mesh.polygons)
+    finally:
+        evaluated.to_mesh_clear()
+
+
 def learn_and_paste():
     terrain_obj, roads, houses, _ = village_exemplar()
     select_only([roads, *houses])
@@ -56,15 +68,7 @@ def test_pasted_roads_are_curves_on_the_terrain_and_houses_keep_off_them():
     assert np.abs(nodes[:, 2] - village_height(nodes[:, 0], nodes[:, 1])).max() < 0.05, "nodes on the terrain"
 
     # the ribbon: flat, the category's width, every vertex on the terrain surface
-    evaluated = road_obj.evaluated_get(bpy.context.evaluated_depsgraph_get())
-    mesh = evaluated.to_mesh()
-    try:
-        co = np.empty(len(mesh.vertices) * 3)
-        mesh.vertices.foreach_get("co", co)
-        co = co.reshape(-1, 3)
-        area = sum(p.area for p in mesh.polygons)
-    finally:
-        evaluated.to_mesh_clear()
+    co, area = evaluated_mesh(road_obj)
     off = np.abs(co[:, 2] - village_height(co[:, 0], co[:, 1]))
     print(f"ribbon: {len(co)} vertices, height off the terrain ≤ {off.max():.3f} m, area {area:.0f} m² "
           f"for {WIDTH * length:.0f} m² of width × length")
@@ -277,14 +281,7 @@ def test_a_river_is_a_ribbon_with_a_bed_below_the_terrain():
     settings.categories["river"].width, settings.categories["river"].depth = 12.0, 1.5
     assert bpy.ops.worldpaint.paste_color(seed=3, **DESTINATION) == {'FINISHED'}
     river = structure_objects(bpy.context.scene)["river"]
-    evaluated = river.evaluated_get(bpy.context.evaluated_depsgraph_get())
-    mesh = evaluated.to_mesh()
-    try:
-        co = np.empty(len(mesh.vertices) * 3)
-        mesh.vertices.foreach_get("co", co)
-        co = co.reshape(-1, 3)
-    finally:
-        evaluated.to_mesh_clear()
+    co, _ = evaluated_mesh(river)
     below = village_height(co[:, 0], co[:, 1]) - co[:, 2]
     print(f"river bed: {len(co)} vertices, from {-below.max():.2f} m to {-below.min():.2f} m about the terrain")
     assert below.max() == pytest.approx(1.5 - 0.02, abs=0.1), "the middle lies the depth below the terrain"

@@ -20,7 +20,7 @@ import numpy as np
 
 from .engine import engine
 from .instances import FILL_TAG, STRUCTURE_TAG, is_worldpaint_object
-from .points import SNAP_HEIGHT, remove_object, worldpaint_collection
+from .points import node_adder, remove_object, terrain_ray, worldpaint_collection
 
 PROFILE_GROUP_NAME = "WorldPaint Profile"
 PROFILE_MODIFIER = "WorldPaint Profile"
@@ -296,13 +296,7 @@ def profile_node_group():
     depth.default_value, depth.min_value = 0.0, 0.0
     group.interface.new_socket("Terrain", in_out='INPUT', socket_type='NodeSocketObject')
     group.interface.new_socket("Geometry", in_out='OUTPUT', socket_type='NodeSocketGeometry')
-    nodes, links = group.nodes, group.links
-
-    def node(kind, x, y):
-        n = nodes.new(kind)
-        n.location = (x, y)
-        return n
-
+    links, node = group.links, node_adder(group)
     group_in, group_out = node('NodeGroupInput', -900, 0), node('NodeGroupOutput', 900, 0)
     resample = node('GeometryNodeResampleCurve', -650, 100)
     set_enum(resample, "Mode", 'LENGTH')
@@ -321,14 +315,8 @@ def profile_node_group():
     to_mesh = node('GeometryNodeCurveToMesh', 150, 0)
 
     # drape: a vertical ray from above each vertex onto the terrain; vertices without a hit keep their height
-    terrain = node('GeometryNodeObjectInfo', 150, 350)
-    terrain.transform_space = 'RELATIVE'
     position = node('GeometryNodeInputPosition', 150, 500)
-    above = node('ShaderNodeVectorMath', 350, 500)
-    above.operation, above.inputs[1].default_value = 'ADD', (0.0, 0.0, SNAP_HEIGHT)
-    ray = node('GeometryNodeRaycast', 550, 400)
-    ray.inputs["Ray Direction"].default_value = (0.0, 0.0, -1.0)
-    ray.inputs["Ray Length"].default_value = 2.0 * SNAP_HEIGHT
+    ray = terrain_ray(group, node, group_in.outputs["Terrain"], position.outputs["Position"], 150, 350)
     lift = node('ShaderNodeVectorMath', 550, 200)
     lift.operation, lift.inputs[1].default_value = 'ADD', (0.0, 0.0, PROFILE_LIFT)
     drape = node('GeometryNodeSetPosition', 700, 0)
@@ -344,10 +332,6 @@ def profile_node_group():
     links.new(line.outputs["Curve"], profile.inputs["Curve"])
     links.new(normal.outputs["Curve"], to_mesh.inputs["Curve"])
     links.new(profile.outputs["Curve"], to_mesh.inputs["Profile Curve"])
-    links.new(group_in.outputs["Terrain"], terrain.inputs["Object"])
-    links.new(terrain.outputs["Geometry"], ray.inputs["Target Geometry"])
-    links.new(position.outputs["Position"], above.inputs[0])
-    links.new(above.outputs["Vector"], ray.inputs["Source Position"])
     links.new(ray.outputs["Hit Position"], lift.inputs[0])
     links.new(to_mesh.outputs["Mesh"], drape.inputs["Geometry"])
     links.new(ray.outputs["Is Hit"], drape.inputs["Selection"])

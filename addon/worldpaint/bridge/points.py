@@ -25,6 +25,33 @@ ATTRIBUTES = (("rotation", 'FLOAT', np.float32), ("scale", 'FLOAT', np.float32),
 
 # --- the Geometry Nodes instancer ---------------------------------------------------------------------------------
 
+def node_adder(group):
+    """A function adding a node of a kind at a location to ``group``."""
+    def node(kind, x, y):
+        n = group.nodes.new(kind)
+        n.location = (x, y)
+        return n
+    return node
+
+
+def terrain_ray(group, node, terrain_socket, position, x, y):
+    """A vertical ray from above ``position`` down onto the object of ``terrain_socket`` (its "Is Hit" and "Hit
+    Position" place a vertex on the terrain mesh; vertices without a hit keep their height)."""
+    terrain = node('GeometryNodeObjectInfo', x, y)
+    terrain.transform_space = 'RELATIVE'
+    above = node('ShaderNodeVectorMath', x + 200, y + 150)
+    above.operation = 'ADD'
+    above.inputs[1].default_value = (0.0, 0.0, SNAP_HEIGHT)
+    ray = node('GeometryNodeRaycast', x + 400, y + 50)
+    ray.inputs["Ray Direction"].default_value = (0.0, 0.0, -1.0)
+    ray.inputs["Ray Length"].default_value = 2.0 * SNAP_HEIGHT
+    group.links.new(terrain_socket, terrain.inputs["Object"])
+    group.links.new(terrain.outputs["Geometry"], ray.inputs["Target Geometry"])
+    group.links.new(position, above.inputs[0])
+    group.links.new(above.outputs["Vector"], ray.inputs["Source Position"])
+    return ray
+
+
 def instancer_node_group():
     """The shared node group, built once per file."""
     group = bpy.data.node_groups.get(NODE_GROUP_NAME)
@@ -35,13 +62,7 @@ def instancer_node_group():
     group.interface.new_socket("Collection", in_out='INPUT', socket_type='NodeSocketCollection')
     group.interface.new_socket("Terrain", in_out='INPUT', socket_type='NodeSocketObject')
     group.interface.new_socket("Geometry", in_out='OUTPUT', socket_type='NodeSocketGeometry')
-    nodes, links = group.nodes, group.links
-
-    def node(kind, x, y):
-        n = nodes.new(kind)
-        n.location = (x, y)
-        return n
-
+    links, node = group.links, node_adder(group)
     group_in = node('NodeGroupInput', -800, 0)
     group_out = node('NodeGroupOutput', 550, 0)
     info = node('GeometryNodeCollectionInfo', -500, -150)
@@ -64,20 +85,9 @@ def instancer_node_group():
     on_points.inputs["Pick Instance"].default_value = True
 
     # snap onto the terrain: a ray from above each point; points without a hit keep the engine's height
-    terrain = node('GeometryNodeObjectInfo', -500, 300)
-    terrain.transform_space = 'RELATIVE'
     position = node('GeometryNodeInputPosition', -500, 450)
-    lift = node('ShaderNodeVectorMath', -300, 450)
-    lift.operation = 'ADD'
-    lift.inputs[1].default_value = (0.0, 0.0, SNAP_HEIGHT)
-    ray = node('GeometryNodeRaycast', -100, 350)
-    ray.inputs["Ray Direction"].default_value = (0.0, 0.0, -1.0)
-    ray.inputs["Ray Length"].default_value = 2.0 * SNAP_HEIGHT
+    ray = terrain_ray(group, node, group_in.outputs["Terrain"], position.outputs["Position"], -500, 300)
     snap = node('GeometryNodeSetPosition', 100, 250)
-    links.new(group_in.outputs["Terrain"], terrain.inputs["Object"])
-    links.new(terrain.outputs["Geometry"], ray.inputs["Target Geometry"])
-    links.new(position.outputs["Position"], lift.inputs[0])
-    links.new(lift.outputs["Vector"], ray.inputs["Source Position"])
     links.new(group_in.outputs["Geometry"], snap.inputs["Geometry"])
     links.new(ray.outputs["Is Hit"], snap.inputs["Selection"])
     links.new(ray.outputs["Hit Position"], snap.inputs["Position"])

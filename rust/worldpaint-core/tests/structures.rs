@@ -22,6 +22,16 @@ fn graph_of(paths: &[worldpaint_core::scene::Path]) -> Graph {
     Graph::from_paths(&paths, 1e-6)
 }
 
+/// The positions of the instances of the category `name` of a synthesis result.
+fn positions_of(out: &worldpaint_core::SynthesisResult, name: &str) -> Vec<DVec2> {
+    let k = out.categories.iter().position(|c| c.name == name).unwrap();
+    out.instances
+        .iter()
+        .filter(|i| i.category == k)
+        .map(|i| i.position)
+        .collect()
+}
+
 /// The paths as drawn: nodes at their vertices only (shared vertices merged), so that edges crossing away from a
 /// node show up as crossings, which the planar graph of [`graph_of`] would have split into nodes.
 fn drawn_graph(paths: &[worldpaint_core::scene::Path]) -> Graph {
@@ -143,17 +153,7 @@ fn a_road_network_keeps_its_statistics_over_nine_times_the_area() {
     );
 
     // houses learned 8–15 m from the roads stay in that band
-    let house = out
-        .categories
-        .iter()
-        .position(|c| c.name == "house")
-        .unwrap();
-    let houses: Vec<DVec2> = out
-        .instances
-        .iter()
-        .filter(|i| i.category == house)
-        .map(|i| i.position)
-        .collect();
+    let houses = positions_of(&out, "house");
     let painted = Scene {
         categories: out.categories.clone(),
         instances: out.instances.clone(),
@@ -212,15 +212,7 @@ fn island_trees_stay_on_land_and_boats_along_the_coast() {
         (out, Polygons::new(&contours))
     };
     let (out, land) = paint(&color);
-    let of = |name: &str| {
-        let k = out.categories.iter().position(|c| c.name == name).unwrap();
-        out.instances
-            .iter()
-            .filter(|i| i.category == k)
-            .map(|i| i.position)
-            .collect::<Vec<_>>()
-    };
-    let (trees, boats) = (of("tree"), of("boat"));
+    let (trees, boats) = (positions_of(&out, "tree"), positions_of(&out, "boat"));
     let land_share = |contours: &[worldpaint_core::scene::Contour], region: &Region| {
         let polys = Polygons::new(
             &contours
@@ -270,17 +262,7 @@ fn island_trees_stay_on_land_and_boats_along_the_coast() {
     // with their relation to the islands switched off, trees stand anywhere: the water no longer keeps them off
     let free = color.without_interactions(&[("tree".into(), "island".into())]);
     let (out, land) = paint(&free);
-    let k = out
-        .categories
-        .iter()
-        .position(|c| c.name == "tree")
-        .unwrap();
-    let trees: Vec<DVec2> = out
-        .instances
-        .iter()
-        .filter(|i| i.category == k)
-        .map(|i| i.position)
-        .collect();
+    let trees = positions_of(&out, "tree");
     let wet = trees.iter().filter(|p| !land.contains(**p)).count();
     println!(
         "tree-island interaction off: {} trees, {wet} in water",
