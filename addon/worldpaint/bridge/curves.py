@@ -20,7 +20,7 @@ import numpy as np
 
 from .engine import engine
 from .instances import FILL_TAG, STRUCTURE_TAG, is_worldpaint_object
-from .points import node_adder, remove_object, terrain_ray, worldpaint_collection
+from .points import node_adder, nodes_modifier, remove_object, terrain_ray, worldpaint_collection
 
 PROFILE_GROUP_NAME = "WorldPaint Profile"
 PROFILE_MODIFIER = "WorldPaint Profile"
@@ -382,11 +382,7 @@ def set_profile(obj, width, depth, terrain_obj):
     """Gives a synthesized graph curve the ribbon modifier with the category's width and depth, draped on
     ``terrain_obj``."""
     group = profile_node_group()
-    mod = obj.modifiers.get(PROFILE_MODIFIER)
-    if mod is None:
-        mod = obj.modifiers.new(PROFILE_MODIFIER, 'NODES')
-    if mod.node_group is not group:
-        mod.node_group = group
+    mod = nodes_modifier(obj, PROFILE_MODIFIER, group)
     inputs = group.interface.items_tree
     mod[inputs["Width"].identifier] = float(width)
     mod[inputs["Depth"].identifier] = float(depth)

@@ -104,14 +104,20 @@ def instancer_node_group():
     return group
 
 
+def nodes_modifier(obj, name, group):
+    """The object's Geometry Nodes modifier ``name`` running ``group``, added when missing."""
+    mod = obj.modifiers.get(name)
+    if mod is None:
+        mod = obj.modifiers.new(name, 'NODES')
+    if mod.node_group is not group:
+        mod.node_group = group
+    return mod
+
+
 def set_instancer(obj, collection=None, terrain=None):
     """Gives a point cloud the instancer modifier; sets its Collection and Terrain inputs when given."""
     group = instancer_node_group()
-    mod = obj.modifiers.get(MODIFIER_NAME)
-    if mod is None:
-        mod = obj.modifiers.new(MODIFIER_NAME, 'NODES')
-    if mod.node_group is not group:
-        mod.node_group = group
+    mod = nodes_modifier(obj, MODIFIER_NAME, group)
     inputs = group.interface.items_tree
     if collection is not None:
         mod[inputs["Collection"].identifier] = collection

@@ -32,6 +32,25 @@ fn positions_of(out: &worldpaint_core::SynthesisResult, name: &str) -> Vec<DVec2
         .collect()
 }
 
+/// Moves the content of `source` by `offset`: the move and the scene after it.
+fn move_and_apply(
+    scene: &Scene,
+    color: &Color,
+    source: &Region,
+    offset: DVec2,
+) -> (worldpaint_core::tools::moving::Moved, Scene) {
+    let moved = worldpaint_core::tools::moving::move_region(
+        scene,
+        color,
+        source,
+        offset,
+        &Default::default(),
+    )
+    .unwrap();
+    let after = moved.edit.applied_to(scene);
+    (moved, after)
+}
+
 /// The paths as drawn: nodes at their vertices only (shared vertices merged), so that edges crossing away from a
 /// node show up as crossings, which the planar graph of [`graph_of`] would have split into nodes.
 fn drawn_graph(paths: &[worldpaint_core::scene::Path]) -> Graph {
@@ -416,15 +435,7 @@ fn moving_a_region_carries_its_roads_and_the_houses_keep_off_them() {
         .flat_map(|p| source.clip_polyline(&p.points).0)
         .map(|piece| piece.windows(2).map(|w| w[0].distance(w[1])).sum::<f64>())
         .sum();
-    let moved = worldpaint_core::tools::moving::move_region(
-        &scene,
-        &color,
-        &source,
-        offset,
-        &Default::default(),
-    )
-    .unwrap();
-    let after = moved.edit.applied_to(&scene);
+    let (moved, after) = move_and_apply(&scene, &color, &source, offset);
     let destination = source.translated(offset);
     let length_in = |region: &Region| -> f64 {
         after
@@ -481,15 +492,7 @@ fn moving_a_region_carries_its_islands() {
             .map(|c| worldpaint_core::geom::polygon_signed_area(&c.points).abs())
             .sum()
     };
-    let moved = worldpaint_core::tools::moving::move_region(
-        &scene,
-        &color,
-        &source,
-        offset,
-        &Default::default(),
-    )
-    .unwrap();
-    let after = moved.edit.applied_to(&scene);
+    let (moved, after) = move_and_apply(&scene, &color, &source, offset);
     let destination = source.translated(offset);
     let arrived: Vec<_> = after
         .contours
