@@ -492,7 +492,7 @@ fn moving_a_region_carries_its_islands() {
             .map(|c| worldpaint_core::geom::polygon_signed_area(&c.points).abs())
             .sum()
     };
-    let (moved, after) = move_and_apply(&scene, &color, &source, offset);
+    let (_, after) = move_and_apply(&scene, &color, &source, offset);
     let destination = source.translated(offset);
     let arrived: Vec<_> = after
         .contours
