@@ -33,6 +33,8 @@ const INNER_SAMPLES: usize = 64;
 #[derive(Clone, Debug, Default)]
 pub struct Polygons {
     contours: Vec<Region>,
+    /// Per contour: its bounding box, so that containment tests only the contours whose box holds the point.
+    boxes: Vec<(DVec2, DVec2)>,
     /// Per contour: its area (to find the innermost contour holding a point) and its largest inner distance.
     areas: Vec<f64>,
     inner: Vec<f64>,
@@ -58,6 +60,7 @@ impl Polygons {
             .collect();
         let mut polygons = Polygons {
             areas: contours.iter().map(|c| c.area()).collect(),
+            boxes: contours.iter().map(|c| c.bbox()).collect(),
             inner: Vec::new(),
             border: SegmentIndex::new(segments),
             contours,
@@ -74,13 +77,20 @@ impl Polygons {
 
     /// Inside by the even-odd rule over all contours.
     pub fn contains(&self, p: DVec2) -> bool {
-        self.contours.iter().filter(|c| c.contains(p)).count() % 2 == 1
+        self.holding(p).count() % 2 == 1
+    }
+
+    /// The contours that hold `p`.
+    fn holding(&self, p: DVec2) -> impl Iterator<Item = usize> + '_ {
+        (0..self.contours.len()).filter(move |&i| {
+            let (lo, hi) = self.boxes[i];
+            p.cmpge(lo).all() && p.cmple(hi).all() && self.contours[i].contains(p)
+        })
     }
 
     /// The innermost contour holding `p`.
     fn owner(&self, p: DVec2) -> Option<usize> {
-        (0..self.contours.len())
-            .filter(|&i| self.contours[i].contains(p))
+        self.holding(p)
             .min_by(|&a, &b| self.areas[a].total_cmp(&self.areas[b]))
     }
 
