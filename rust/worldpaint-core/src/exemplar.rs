@@ -376,12 +376,7 @@ pub fn village(size: f64, seed: u64) -> Scene {
             push(p, 2, &mut rng);
         }
     }
-    let road = Category {
-        name: "road".into(),
-        layer: "settlement".into(),
-        kind: CategoryKind::Graph,
-        priority: 0,
-    };
+    let road = Category::new("road", "settlement", CategoryKind::Graph, 0);
     Scene {
         categories: vec![
             road,
@@ -459,12 +454,7 @@ pub fn archipelago(size: f64, seed: u64) -> Scene {
             instances.push(Instance::at(p, 2));
         }
     }
-    let island = Category {
-        name: "island".into(),
-        layer: "terrain".into(),
-        kind: CategoryKind::Polygon,
-        priority: 0,
-    };
+    let island = Category::new("island", "terrain", CategoryKind::Polygon, 0);
     Scene {
         categories: vec![
             island,

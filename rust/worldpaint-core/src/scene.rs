@@ -28,14 +28,18 @@ pub struct Category {
 }
 
 impl Category {
-    /// A distribution category.
-    pub fn distribution(name: &str, layer: &str, priority: i32) -> Self {
+    pub fn new(name: &str, layer: &str, kind: CategoryKind, priority: i32) -> Self {
         Category {
             name: name.to_string(),
             layer: layer.to_string(),
-            kind: CategoryKind::Distribution,
+            kind,
             priority,
         }
+    }
+
+    /// A distribution category.
+    pub fn distribution(name: &str, layer: &str, priority: i32) -> Self {
+        Category::new(name, layer, CategoryKind::Distribution, priority)
     }
 }
 

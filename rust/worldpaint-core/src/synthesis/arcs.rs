@@ -23,8 +23,8 @@
 //! * **Relaxation**: the nodes then move to fit the arcs (module `relax`).
 
 use super::arc_grid::{arc_gap, segments_distance, ArcGrid};
-use super::mix_seed;
 use super::relax::{relax, Network};
+use super::{annealed, mix_seed};
 use crate::geom::{segment_distance, DVec2, Region};
 use crate::graph::{angle_between, Graph, SegmentIndex};
 use crate::palette::{GraphColor, Histogram};
@@ -38,6 +38,8 @@ const PROPOSALS_PER_ARC: usize = 400;
 const SWEEPS: usize = 20;
 const TAU_START: f64 = 1.0;
 const TAU_END: f64 = 0.01;
+/// The share of the sweeps over which the temperature falls.
+const COOLING: f64 = 0.75;
 /// Weight of the degree term: without it dead ends outnumber the exemplar's (a village's share of degree-1 nodes
 /// 0.07 came out 0.17 at weight 1, 0.13 at weight 5).
 const DEGREE_WEIGHT: f64 = 5.0;
@@ -400,8 +402,7 @@ pub(super) fn synthesize_arcs(
     let mut energy = state.energy(&state.counts);
     let per_sweep = PROPOSALS_PER_ARC * chosen.len() / SWEEPS;
     for sweep in 0..SWEEPS {
-        let frac = (sweep as f64 / (0.75 * (SWEEPS - 1) as f64)).min(1.0);
-        let tau = TAU_START * (TAU_END / TAU_START).powf(frac);
+        let tau = annealed(TAU_START, TAU_END, sweep, SWEEPS, COOLING);
         for _ in 0..per_sweep {
             let slot = rng.random_range(0..chosen.len());
             let remove = chosen[slot];

@@ -208,6 +208,13 @@ pub fn synthesize_with_progress(
     })
 }
 
+/// The annealing schedule the chains share: a value lowered geometrically from `start` to `end` over the first
+/// `cooling` share of `sweeps` sweeps, then held at `end`.
+pub(crate) fn annealed(start: f64, end: f64, sweep: usize, sweeps: usize, cooling: f64) -> f64 {
+    let frac = (sweep as f64 / ((sweeps.max(2) - 1) as f64 * cooling)).min(1.0);
+    start * (end / start).powf(frac)
+}
+
 pub(crate) fn mix_seed(seed: u64, a: u64) -> u64 {
     // splitmix64 of the pair: independent streams per category
     let mut z = seed

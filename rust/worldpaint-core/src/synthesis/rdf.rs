@@ -3,7 +3,7 @@
 //! ones, evaluated on tiles in parallel.
 
 use super::target::{PairTable, Target, CONTEXT_TAG};
-use super::{gaussian, mix_seed};
+use super::{annealed, gaussian, mix_seed};
 use crate::analysis::folded_angle_bin;
 use crate::error::{Error, Result};
 use crate::geom::{DVec2, Region};
@@ -587,8 +587,7 @@ pub(super) fn run_rdf_chain<R: Rng>(
     let shift_sigma = max_radius / 8.0;
     let mut dev: Vec<f64> = Vec::new();
     for sweep in 0..RDF_SWEEPS {
-        let frac = (sweep as f64 / ((RDF_SWEEPS - 1) as f64 * ANNEALING_FRACTION)).min(1.0);
-        let tau = TAU_START * (TAU_END / TAU_START).powf(frac);
+        let tau = annealed(TAU_START, TAU_END, sweep, RDF_SWEEPS, ANNEALING_FRACTION);
         let sweep_seed = mix_seed(base_seed, sweep as u64);
         let mut sweep_rng = ChaCha8Rng::seed_from_u64(sweep_seed);
         // the tiling of this sweep: a random offset, 2 × 2 colour phases

@@ -10,7 +10,7 @@
 
 use super::arc_grid::{arc_gap, segments_distance, ArcGrid};
 use super::arcs::{angle_bin, chi2, Obstacles};
-use super::mix_seed;
+use super::{annealed, mix_seed};
 use crate::geom::{DVec2, Region};
 use crate::graph::{angle_between, SegmentIndex};
 use crate::palette::GraphColor;
@@ -128,9 +128,8 @@ pub(super) fn relax(
     let mut touched: Vec<usize> = Vec::new();
     let (mut l2, mut a2) = (length_h.clone(), angle_h.clone());
     for sweep in 0..SWEEPS {
-        let frac = sweep as f64 / (SWEEPS - 1).max(1) as f64;
-        let tau = TAU_START * (TAU_END / TAU_START).powf(frac);
-        let step = mean * STEP_START * (STEP_END / STEP_START).powf(frac);
+        let tau = annealed(TAU_START, TAU_END, sweep, SWEEPS, 1.0);
+        let step = mean * annealed(STEP_START, STEP_END, sweep, SWEEPS, 1.0);
         'moves: for _ in 0..per_sweep {
             let v = movable[rng.random_range(0..movable.len())];
             let old = net.nodes[v];

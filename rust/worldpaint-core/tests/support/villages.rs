@@ -332,12 +332,7 @@ fn village_scene(layers: &Layers, region: &Region) -> Scene {
 /// Roads first (a graph), then houses (a distribution), as in `exemplar::village`.
 fn categories() -> Vec<Category> {
     vec![
-        Category {
-            name: "road".into(),
-            layer: "settlement".into(),
-            kind: CategoryKind::Graph,
-            priority: 0,
-        },
+        Category::new("road", "settlement", CategoryKind::Graph, 0),
         Category::distribution("house", "settlement", 1),
     ]
 }
