@@ -196,7 +196,7 @@ pub fn cut(contour: &[DVec2], region: &Region) -> Option<Loops> {
 pub type Loops = Vec<Vec<DVec2>>;
 
 /// The parts of the contour inside `region` and outside it, by the same dense points as [`cut`], or `None` when
-/// the contour does not meet the region.
+/// the contour does not meet the region. A contour wholly inside comes back as it is.
 pub fn split(contour: &[DVec2], region: &Region) -> Option<(Loops, Loops)> {
     let n = contour.len();
     if n < 3 {
@@ -207,8 +207,13 @@ pub fn split(contour: &[DVec2], region: &Region) -> Option<(Loops, Loops)> {
         points: contour.to_vec(),
     };
     let (lo, hi) = region.bbox();
-    let meets = contour.iter().any(|p| region.contains(*p))
-        || edges().any(|(a, b)| !region.segment_crossings(a, b).is_empty())
+    let any_inside = contour.iter().any(|p| region.contains(*p));
+    let crosses = edges().any(|(a, b)| !region.segment_crossings(a, b).is_empty());
+    if !crosses && contour.iter().all(|p| region.contains(*p)) {
+        return Some((vec![contour.to_vec()], Vec::new()));
+    }
+    let meets = any_inside
+        || crosses
         || outline.contains(0.5 * (lo + hi)) && region.contains(0.5 * (lo + hi));
     if !meets {
         return None;

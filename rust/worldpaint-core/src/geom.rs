@@ -345,12 +345,11 @@ impl Region {
                 }
             }
             Region::Circle { center, radius } => (p.distance(*center) - radius).abs(),
-            Region::Polygon { points } => {
-                let n = points.len();
-                (0..n)
-                    .map(|i| segment_distance(p, points[i], points[(i + 1) % n]))
-                    .fold(f64::INFINITY, f64::min)
-            }
+            Region::Polygon { .. } => self
+                .straight_edges()
+                .into_iter()
+                .map(|(a, b)| segment_distance(p, a, b))
+                .fold(f64::INFINITY, f64::min),
             Region::Clipped { within, without } => within
                 .iter()
                 .chain(without)
@@ -431,21 +430,9 @@ impl Region {
             }
         };
         match self {
-            Region::Rect { min, max } => {
-                let c = [
-                    *min,
-                    DVec2::new(max.x, min.y),
-                    *max,
-                    DVec2::new(min.x, max.y),
-                ];
-                for i in 0..4 {
-                    push_segment(c[i], c[(i + 1) % 4]);
-                }
-            }
-            Region::Polygon { points } => {
-                let n = points.len();
-                for i in 0..n {
-                    push_segment(points[i], points[(i + 1) % n]);
+            Region::Rect { .. } | Region::Polygon { .. } => {
+                for (a, b) in self.straight_edges() {
+                    push_segment(a, b);
                 }
             }
             Region::Circle { center, radius } => {
@@ -472,6 +459,22 @@ impl Region {
         }
     }
 
+    /// The edges of a rectangle's or a polygon's boundary (none for a circle or a clipped region).
+    fn straight_edges(&self) -> Vec<(DVec2, DVec2)> {
+        let corners = match self {
+            Region::Rect { min, max } => vec![
+                *min,
+                DVec2::new(max.x, min.y),
+                *max,
+                DVec2::new(min.x, max.y),
+            ],
+            Region::Polygon { points } => points.clone(),
+            Region::Circle { .. } | Region::Clipped { .. } => return Vec::new(),
+        };
+        let n = corners.len();
+        (0..n).map(|i| (corners[i], corners[(i + 1) % n])).collect()
+    }
+
     /// Parameters `t` in (0, 1) at which the segment `a`–`b` crosses the boundary of the region (or of its parts).
     pub fn segment_crossings(&self, a: DVec2, b: DVec2) -> Vec<f64> {
         let mut out = Vec::new();
@@ -483,21 +486,9 @@ impl Region {
             }
         };
         match self {
-            Region::Rect { min, max } => {
-                let c = [
-                    *min,
-                    DVec2::new(max.x, min.y),
-                    *max,
-                    DVec2::new(min.x, max.y),
-                ];
-                for i in 0..4 {
-                    edge(c[i], c[(i + 1) % 4]);
-                }
-            }
-            Region::Polygon { points } => {
-                let n = points.len();
-                for i in 0..n {
-                    edge(points[i], points[(i + 1) % n]);
+            Region::Rect { .. } | Region::Polygon { .. } => {
+                for (c, d) in self.straight_edges() {
+                    edge(c, d);
                 }
             }
             Region::Circle { center, radius } => {

@@ -92,21 +92,9 @@ fn move_structures(scene: &Scene, source: &Region, destination: &Region, offset:
         .iter()
         .filter(|c| !c.locked)
         .flat_map(|c| {
-            let n = c.points.len();
-            let whole = c.points.iter().all(|q| source.contains(*q))
-                && (0..n).all(|i| {
-                    source
-                        .segment_crossings(c.points[i], c.points[(i + 1) % n])
-                        .is_empty()
-                });
-            // a contour wholly inside moves as it is; one the border cuts is traced on each side
-            let parts = if whole {
-                vec![c.points.clone()]
-            } else {
-                split(&c.points, source)
-                    .map(|(inside, _)| inside)
-                    .unwrap_or_default()
-            };
+            let parts = split(&c.points, source)
+                .map(|(inside, _)| inside)
+                .unwrap_or_default();
             parts.into_iter().map(move |points| Contour {
                 points: points.into_iter().map(|q| q + offset).collect(),
                 ..c.clone()
