@@ -91,15 +91,24 @@ def test_undo_and_a_second_paste_replace_the_synthesized_roads_only():
     _, roads = learn_and_paste()
     scene = bpy.context.scene
     road_obj = structure_objects(scene)["road"]
-    first = len(road_obj.data.splines)
+    first = np.concatenate([spline_points(road_obj, s) for s in road_obj.data.splines])
+    n_first = len(road_obj.data.splines)
     drawn = len(roads.data.splines)
+    # background mode pushes no undo step after an operator; push them as the UI does (see test_scene_life)
+    bpy.ops.ed.undo_push(message="first paste")
     assert bpy.ops.worldpaint.paste_color(seed=4, **DESTINATION) == {'FINISHED'}
+    bpy.ops.ed.undo_push(message="Paste Color")
     road_obj = structure_objects(scene)["road"]
     second = [spline_points(road_obj, s) for s in road_obj.data.splines]
     assert len(roads.data.splines) == drawn, "hand-drawn roads are never touched"
-    assert abs(len(second) - first) <= 0.5 * first, "the second paste replaced the first, not added to it"
+    assert abs(len(second) - n_first) <= 0.5 * n_first, "the second paste replaced the first, not added to it"
     nodes = np.concatenate(second)
     assert (nodes[:, 0] >= 450.0 - 1e-6).all() and (nodes[:, 0] <= 750.0 + 1e-6).all()
+
+    bpy.ops.ed.undo()
+    road_obj = structure_objects(bpy.context.scene)["road"]
+    restored = np.concatenate([spline_points(road_obj, s) for s in road_obj.data.splines])
+    assert restored.shape == first.shape and np.allclose(restored, first), "one undo brings the first roads back"
 
 
 def test_switching_off_the_road_interaction_lets_houses_stand_on_roads():

@@ -156,10 +156,14 @@ def structure_object(scene, category):
     name = "WP_" + category
     curve = bpy.data.curves.new(name, 'CURVE')
     curve.dimensions = '3D'
-    obj = bpy.data.objects.new(name, curve)
-    obj[STRUCTURE_TAG] = category
-    layer = category_settings(scene, category)[0]
-    layer_collection(scene, layer).objects.link(obj)
+    return layer_object(scene, category, name, curve, STRUCTURE_TAG)
+
+
+def layer_object(scene, category, name, data, tag):
+    """A new object of ``data`` tagged with its category, in the collection of the category's layer."""
+    obj = bpy.data.objects.new(name, data)
+    obj[tag] = category
+    layer_collection(scene, category_settings(scene, category)[0]).objects.link(obj)
     return obj
 
 
@@ -251,11 +255,7 @@ def fill_object(scene, category, create=True):
     if not create:
         return None
     name = f"WP_{category} fill"
-    obj = bpy.data.objects.new(name, bpy.data.meshes.new(name))
-    obj[FILL_TAG] = category
-    layer = category_settings(scene, category)[0]
-    layer_collection(scene, layer).objects.link(obj)
-    return obj
+    return layer_object(scene, category, name, bpy.data.meshes.new(name), FILL_TAG)
 
 
 def write_fill(scene, curve_obj, category, contours, heightfield):
