@@ -1,0 +1,381 @@
+//! The building encyclopedia and the growth scenario (thesis 3.1, 3.2.1): "a function that returns, for each pair
+//! (V, B), the set of parameters used to seed a building", and "an ordered list of village types V and building
+//! types B to create over time". Both are plain JSON files (`assets/villages/`), so a user can read and replace
+//! them; [`Encyclopedia::from_json`] checks every reference and range and says what is wrong where.
+
+use crate::error::{Error, Result};
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+
+pub const ENCYCLOPEDIA_VERSION: u32 = 1;
+
+/// Shape parameters of an interest function template (Fig. 3.6), in the unit of its input (metres for
+/// distances, grade — rise over run — for slopes).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Shape {
+    #[serde(rename = "lambda_min")]
+    pub min: f64,
+    #[serde(rename = "lambda_0")]
+    pub zero: f64,
+    #[serde(rename = "lambda_max")]
+    pub max: f64,
+}
+
+/// The weights `w_i(V, B)` of the interest equation, one per criterion of 3.2.2.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct InterestWeights {
+    pub sociability: f64,
+    pub worship: f64,
+    pub accessibility: f64,
+    pub slope: f64,
+    pub water: f64,
+    pub fortification: f64,
+    pub domination: f64,
+}
+
+/// Parameters of the anisotropic land conquest (3.3) for one (V, B).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ParcelParams {
+    /// Fund `c_max` of each road source.
+    pub budget: f64,
+    /// Largest distance the road conquest reaches on each side of the source `S_i` (m).
+    pub road_reach: f64,
+    /// Weight `ω` of the conquest (infinite-norm distance) cost.
+    pub conquest_weight: f64,
+    /// Weight `ω` of the slope cost (quadratic in the directional gradient).
+    pub slope_weight: f64,
+}
+
+/// How a building type of one village type chooses its place and its land.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Placement {
+    pub weights: InterestWeights,
+    /// Attraction-repulsion between buildings (distance, m); `sociability_with` overrides it per building type.
+    pub sociability: Shape,
+    #[serde(default)]
+    pub sociability_with: BTreeMap<String, Shape>,
+    /// Attraction-repulsion to religious buildings (distance, m).
+    pub worship: Shape,
+    /// Asymmetric bell of the distance to the closest road (m).
+    pub accessibility: Shape,
+    /// Bell of the terrain grade (rise over run).
+    pub slope: Shape,
+    /// Close-distance function of the distance to water (m).
+    pub water: Shape,
+    /// Open-distance function of the distance to a fortified enclosure (m); `lambda_min` is 0.
+    pub fortification: Shape,
+    /// Influence radius `r` of the geographical domination (m).
+    pub domination_radius: f64,
+    pub parcel: ParcelParams,
+}
+
+/// Roof of a house (3.4: "first we generate the floors and the roof").
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RoofStyle {
+    Gable,
+    Hip,
+    Flat,
+}
+
+/// What a building type is, whatever the village type.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct BuildingKind {
+    /// Smallest and largest footprint (width along the road, depth away from it), metres.
+    pub footprint_min: [f64; 2],
+    pub footprint_max: [f64; 2],
+    /// Number of storeys, smallest and largest.
+    pub storeys: [u32; 2],
+    pub storey_height: f64,
+    pub roof: RoofStyle,
+    /// Churches, chapels, monasteries: what the worship interest is measured to.
+    #[serde(default)]
+    pub religious: bool,
+}
+
+/// Costs of the road search (3.2.4, after Galin et al. 2010).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RoadParams {
+    /// Road width (m): its corridor, which no house may overlap.
+    pub width: f64,
+    /// Cost per metre of road.
+    pub distance_weight: f64,
+    /// Weight of the slope cost (quadratic in the grade, infinite above `max_grade`).
+    pub slope_weight: f64,
+    /// Steepest grade (rise over run) a road may take.
+    pub max_grade: f64,
+    /// Weight of the curvature cost (per radian of turn).
+    pub curvature_weight: f64,
+    /// Cost per metre of crossing water (a ford or a bridge).
+    pub water_weight: f64,
+    /// Cost of crossing a building's footprint: large, to prevent it.
+    pub building_cost: f64,
+    /// Re-use weight `w_ex ≪ 1` applied to the cost along existing roads.
+    pub reuse_weight: f64,
+    /// The move mask: grid offsets (dx, dy) with coprime coordinates and max(|dx|, |dy|) ≤ this.
+    pub mask_radius: u32,
+    /// Half-angle (degrees) of the cone θ in which a cycle is looked for, around the road direction.
+    pub cycle_angle_degrees: f64,
+    /// Longest cycle road (m) worth building.
+    pub cycle_max_length: f64,
+    /// A cycle road closer than this (m) to the first road serving the building is not built.
+    pub cycle_min_separation: f64,
+}
+
+/// A village type: its placement parameters per building type.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct VillageType {
+    #[serde(default)]
+    pub description: String,
+    pub buildings: BTreeMap<String, Placement>,
+}
+
+/// The building encyclopedia.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Encyclopedia {
+    pub version: u32,
+    pub roads: RoadParams,
+    pub buildings: BTreeMap<String, BuildingKind>,
+    pub village_types: BTreeMap<String, VillageType>,
+}
+
+/// One event of a growth scenario.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "event", rename_all = "snake_case")]
+pub enum Event {
+    ChangeVillageType { village_type: String },
+    Generate { count: u32, building: String },
+}
+
+/// An ordered list of events.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Scenario {
+    pub events: Vec<Event>,
+}
+
+/// Named scenarios shipped as presets.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct ScenarioPresets {
+    pub presets: BTreeMap<String, Scenario>,
+}
+
+fn bad(what: String) -> Error {
+    Error::InvalidInput(format!("encyclopedia: {what}"))
+}
+
+fn check_shape(at: &str, s: &Shape) -> Result<()> {
+    if !(s.min.is_finite()
+        && s.zero.is_finite()
+        && s.max.is_finite()
+        && s.min <= s.zero
+        && s.zero <= s.max)
+    {
+        return Err(bad(format!(
+            "{at} needs lambda_min <= lambda_0 <= lambda_max, got {} {} {}",
+            s.min, s.zero, s.max
+        )));
+    }
+    Ok(())
+}
+
+fn check_positive(at: &str, v: f64) -> Result<()> {
+    if !(v.is_finite() && v > 0.0) {
+        return Err(bad(format!("{at} must be positive, got {v}")));
+    }
+    Ok(())
+}
+
+impl Encyclopedia {
+    pub fn from_json(text: &str) -> Result<Encyclopedia> {
+        let e: Encyclopedia = serde_json::from_str(text)
+            .map_err(|err| Error::Json(format!("encyclopedia: {err}")))?;
+        if e.version != ENCYCLOPEDIA_VERSION {
+            return Err(Error::UnsupportedVersion {
+                found: e.version,
+                supported: ENCYCLOPEDIA_VERSION,
+            });
+        }
+        e.validate()?;
+        Ok(e)
+    }
+
+    pub fn to_json(&self) -> String {
+        serde_json::to_string_pretty(self).unwrap_or_default()
+    }
+
+    /// Checks ranges and that every village type names known building types.
+    pub fn validate(&self) -> Result<()> {
+        let r = &self.roads;
+        for (name, v) in [
+            ("width", r.width),
+            ("distance_weight", r.distance_weight),
+            ("max_grade", r.max_grade),
+            ("reuse_weight", r.reuse_weight),
+            ("cycle_max_length", r.cycle_max_length),
+        ] {
+            check_positive(&format!("roads.{name}"), v)?;
+        }
+        for (name, v) in [
+            ("slope_weight", r.slope_weight),
+            ("curvature_weight", r.curvature_weight),
+            ("water_weight", r.water_weight),
+            ("building_cost", r.building_cost),
+            ("cycle_angle_degrees", r.cycle_angle_degrees),
+            ("cycle_min_separation", r.cycle_min_separation),
+        ] {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(bad(format!("roads.{name} must be zero or more, got {v}")));
+            }
+        }
+        if r.reuse_weight > 1.0 {
+            return Err(bad(format!(
+                "roads.reuse_weight must be at most 1, got {}",
+                r.reuse_weight
+            )));
+        }
+        if !(1..=8).contains(&r.mask_radius) {
+            return Err(bad(format!(
+                "roads.mask_radius must be 1 to 8, got {}",
+                r.mask_radius
+            )));
+        }
+        for (name, b) in &self.buildings {
+            for k in 0..2 {
+                check_positive(
+                    &format!("buildings.{name}.footprint_min"),
+                    b.footprint_min[k],
+                )?;
+                if b.footprint_max[k] < b.footprint_min[k] || !b.footprint_max[k].is_finite() {
+                    return Err(bad(format!(
+                        "buildings.{name}.footprint_max must be at least footprint_min"
+                    )));
+                }
+            }
+            if b.storeys[0] == 0 || b.storeys[1] < b.storeys[0] || b.storeys[1] > 12 {
+                return Err(bad(format!(
+                    "buildings.{name}.storeys must be 1 <= min <= max <= 12"
+                )));
+            }
+            check_positive(&format!("buildings.{name}.storey_height"), b.storey_height)?;
+        }
+        if self.village_types.is_empty() {
+            return Err(bad("no village type".into()));
+        }
+        for (vname, v) in &self.village_types {
+            for (bname, p) in &v.buildings {
+                let at = format!("village_types.{vname}.buildings.{bname}");
+                if !self.buildings.contains_key(bname) {
+                    return Err(bad(format!("{at}: unknown building type '{bname}'")));
+                }
+                let w = &p.weights;
+                for x in [
+                    w.sociability,
+                    w.worship,
+                    w.accessibility,
+                    w.slope,
+                    w.water,
+                    w.fortification,
+                    w.domination,
+                ] {
+                    if !x.is_finite() {
+                        return Err(bad(format!("{at}.weights must be finite")));
+                    }
+                }
+                check_shape(&format!("{at}.sociability"), &p.sociability)?;
+                for (other, s) in &p.sociability_with {
+                    if !self.buildings.contains_key(other) {
+                        return Err(bad(format!(
+                            "{at}.sociability_with: unknown building type '{other}'"
+                        )));
+                    }
+                    check_shape(&format!("{at}.sociability_with.{other}"), s)?;
+                }
+                check_shape(&format!("{at}.worship"), &p.worship)?;
+                check_shape(&format!("{at}.accessibility"), &p.accessibility)?;
+                check_shape(&format!("{at}.slope"), &p.slope)?;
+                check_shape(&format!("{at}.water"), &p.water)?;
+                check_shape(&format!("{at}.fortification"), &p.fortification)?;
+                check_positive(&format!("{at}.domination_radius"), p.domination_radius)?;
+                check_positive(&format!("{at}.parcel.budget"), p.parcel.budget)?;
+                check_positive(&format!("{at}.parcel.road_reach"), p.parcel.road_reach)?;
+                check_positive(
+                    &format!("{at}.parcel.conquest_weight"),
+                    p.parcel.conquest_weight,
+                )?;
+                if !(p.parcel.slope_weight.is_finite() && p.parcel.slope_weight >= 0.0) {
+                    return Err(bad(format!(
+                        "{at}.parcel.slope_weight must be zero or more"
+                    )));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The placement of `building` in `village_type`, or a clear error.
+    pub fn placement(&self, village_type: &str, building: &str) -> Result<&Placement> {
+        let v = self
+            .village_types
+            .get(village_type)
+            .ok_or_else(|| Error::InvalidInput(format!("unknown village type '{village_type}'")))?;
+        v.buildings.get(building).ok_or_else(|| {
+            Error::InvalidInput(format!(
+                "village type '{village_type}' has no building type '{building}'"
+            ))
+        })
+    }
+
+    /// Checks that a scenario starts with a village type and names only what the encyclopedia knows.
+    pub fn check_scenario(&self, scenario: &Scenario) -> Result<()> {
+        let mut current: Option<&str> = None;
+        for (k, e) in scenario.events.iter().enumerate() {
+            match e {
+                Event::ChangeVillageType { village_type } => {
+                    if !self.village_types.contains_key(village_type) {
+                        return Err(Error::InvalidInput(format!(
+                            "scenario event {}: unknown village type '{village_type}'",
+                            k + 1
+                        )));
+                    }
+                    current = Some(village_type);
+                }
+                Event::Generate { building, .. } => {
+                    let Some(v) = current else {
+                        return Err(Error::InvalidInput(format!(
+                            "scenario event {}: generate before any village type is chosen",
+                            k + 1
+                        )));
+                    };
+                    self.placement(v, building).map_err(|err| {
+                        Error::InvalidInput(format!("scenario event {}: {err}", k + 1))
+                    })?;
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+impl Scenario {
+    pub fn from_json(text: &str) -> Result<Scenario> {
+        serde_json::from_str(text).map_err(|err| Error::Json(format!("scenario: {err}")))
+    }
+
+    /// Number of buildings the scenario asks for.
+    pub fn building_count(&self) -> u32 {
+        self.events
+            .iter()
+            .map(|e| match e {
+                Event::Generate { count, .. } => *count,
+                Event::ChangeVillageType { .. } => 0,
+            })
+            .sum()
+    }
+}
+
+impl ScenarioPresets {
+    pub fn from_json(text: &str) -> Result<ScenarioPresets> {
+        serde_json::from_str(text).map_err(|err| Error::Json(format!("scenario presets: {err}")))
+    }
+}
