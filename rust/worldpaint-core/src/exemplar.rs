@@ -155,6 +155,33 @@ pub fn demo_terrain(size: f64, cell: f64, seed: u64) -> Heightfield {
     }
 }
 
+/// A terrain for villages, `size` metres square from the origin: a coast on the west (heights below 0 for
+/// x < 0.12·size, the sea when the water level is 0), land rising gently eastwards, a hill 70 m high centred at
+/// (0.6, 0.55)·size with slopes up to about 12°, and a few metres of rolling relief.
+pub fn village_terrain(size: f64, cell: f64, seed: u64) -> Heightfield {
+    let size = if size.is_finite() && size > 0.0 {
+        size
+    } else {
+        1000.0
+    };
+    let relief = demo_terrain(size, cell, seed);
+    let scale = size / 1000.0;
+    let centre = DVec2::new(0.6, 0.55) * size;
+    let heights = (0..relief.nx * relief.ny)
+        .map(|k| {
+            let p = DVec2::new((k % relief.nx) as f64, (k / relief.nx) as f64) * relief.cell;
+            let coast = (p.x - 0.12 * size) * 0.04;
+            let hill = 70.0
+                * scale
+                * (-(p - centre).length_squared() / (2.0 * (0.2 * size).powi(2))).exp();
+            // the demo relief is 5 % of the size high: keep a tenth of it
+            (coast + hill + 0.1 * relief.heights[k] as f64) as f32
+        })
+        .collect();
+    Heightfield::new(relief.origin, relief.cell, relief.nx, relief.ny, heights)
+        .unwrap_or_else(|_| flat(relief.nx, relief.cell))
+}
+
 fn flat(n: usize, cell: f64) -> Heightfield {
     Heightfield {
         origin: DVec2::ZERO,

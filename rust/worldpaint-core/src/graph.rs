@@ -143,25 +143,35 @@ impl Graph {
     /// Connected components among the nodes that have at least one edge.
     pub fn components(&self) -> usize {
         let adj = self.adjacency();
+        let labels = self.component_labels();
         let mut seen = vec![false; self.nodes.len()];
-        let mut count = 0;
+        (0..self.nodes.len())
+            .filter(|&n| !adj[n].is_empty() && !std::mem::replace(&mut seen[labels[n]], true))
+            .count()
+    }
+
+    /// The connected component of every node (labels 0.., an isolated node has its own).
+    pub fn component_labels(&self) -> Vec<usize> {
+        let adj = self.adjacency();
+        let mut label = vec![usize::MAX; self.nodes.len()];
+        let mut next = 0;
         for start in 0..self.nodes.len() {
-            if seen[start] || adj[start].is_empty() {
+            if label[start] != usize::MAX {
                 continue;
             }
-            count += 1;
+            label[start] = next;
             let mut stack = vec![start];
-            seen[start] = true;
             while let Some(n) = stack.pop() {
                 for &m in &adj[n] {
-                    if !seen[m as usize] {
-                        seen[m as usize] = true;
+                    if label[m as usize] == usize::MAX {
+                        label[m as usize] = next;
                         stack.push(m as usize);
                     }
                 }
             }
+            next += 1;
         }
-        count
+        label
     }
 
     /// The graph as polylines: its maximal chains through nodes of degree 2 (cycles of such nodes included).

@@ -92,6 +92,9 @@ pub struct BuildingKind {
     /// Churches, chapels, monasteries: what the worship interest is measured to.
     #[serde(default)]
     pub religious: bool,
+    /// Castles and keeps: houses seeking fortification gather around them as inside an enclosure.
+    #[serde(default)]
+    pub fortress: bool,
 }
 
 /// Costs of the road search (3.2.4, after Galin et al. 2010).

@@ -1,1 +1,463 @@
-//! (being written)
+//! Dynamic interest maps (thesis 3.2.2). The interest of a location `p` for a building type `B` of a village type
+//! `V` combines `n` criteria `f_i(p, V, B) ∈ [-1, 1]` with the encyclopedia's weights `w_i(V, B)`:
+//!
+//! > I(p, B, V) = 0 if ∃ i such that f_i(p, V, B) = −1, max(0, Σ w_i(V, B) f_i(p, V, B)) otherwise.
+//!
+//! The criteria are sociability and worship (sums of attraction-repulsion functions of the distances to the
+//! surrounding buildings, resp. religious ones), accessibility (an asymmetric bell of the distance to the closest
+//! road), slope (a bell of the terrain grade), water (a close-distance function of the distance to water),
+//! fortification (an open-distance function of the distance to a fortified enclosure or a castle, 1 inside) and
+//! geographical domination:
+//!
+//! > f(x) = Σ_{p, ‖x−p‖ < r} (h(x) − h(p)) / (1 + ‖x − p‖²).
+//!
+//! Fig. 3.6 shows the four templates only as curves; the readings chosen here:
+//! - attraction-repulsion: −1 below `λ_min` (too close: impossible), rising from −1 to 1 on `[λ_min, λ_0]`,
+//!   falling from 1 to 0 on `[λ_0, λ_max]`, 0 beyond;
+//! - balance (bell): −1 outside `[λ_min, λ_max]` (prohibited), 1 at `λ_0`, `1 − t²` towards each bound;
+//! - close distance: −1 below `λ_min`, 1 on `[λ_min, λ_0]`, falling to 0 at `λ_max`, 0 beyond;
+//! - open distance (`λ_min = 0`): 1 inside and up to `λ_0`, falling to 0 at `λ_max`, 0 beyond.
+//!
+//! The domination sum measures distances in units of `r/4` (in metres the weights would vanish beyond a few
+//! metres and `r` would not matter) and is divided by its largest magnitude over `Ω`, so it spans `[-1, 1]`.
+//! Before the village has a road, accessibility is 0 (the first building is placed by the other criteria and
+//! its road is built right after). A criterion whose weight is 0 cannot forbid a location, except sociability,
+//! whose `λ_min` keeps buildings apart whatever the weights.
+
+use super::encyclopedia::{Placement, Shape};
+use super::land::{Land, LandGrid};
+use super::BuildingSeed;
+use glam::DVec2;
+use rayon::prelude::*;
+use std::collections::BTreeMap;
+
+/// The criteria of 3.2.2, in the order of [`Criterion::ALL`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Criterion {
+    Sociability,
+    Worship,
+    Accessibility,
+    Slope,
+    Water,
+    Fortification,
+    Domination,
+}
+
+impl Criterion {
+    pub const ALL: [Criterion; 7] = [
+        Criterion::Sociability,
+        Criterion::Worship,
+        Criterion::Accessibility,
+        Criterion::Slope,
+        Criterion::Water,
+        Criterion::Fortification,
+        Criterion::Domination,
+    ];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Criterion::Sociability => "sociability",
+            Criterion::Worship => "worship",
+            Criterion::Accessibility => "accessibility",
+            Criterion::Slope => "slope",
+            Criterion::Water => "water",
+            Criterion::Fortification => "fortification",
+            Criterion::Domination => "domination",
+        }
+    }
+
+    pub fn from_name(name: &str) -> Option<Criterion> {
+        Criterion::ALL.into_iter().find(|c| c.name() == name)
+    }
+}
+
+/// Linear ramp from 0 at `a` to 1 at `b` (1 when the interval is empty).
+fn ramp(x: f64, a: f64, b: f64) -> f64 {
+    if b - a <= 1e-12 {
+        return 1.0;
+    }
+    ((x - a) / (b - a)).clamp(0.0, 1.0)
+}
+
+/// Fig. 3.6 (a): attraction-repulsion (sociability, worship).
+pub fn attraction_repulsion(d: f64, s: &Shape) -> f64 {
+    if d < s.min {
+        -1.0
+    } else if d <= s.zero {
+        -1.0 + 2.0 * ramp(d, s.min, s.zero)
+    } else if d <= s.max {
+        1.0 - ramp(d, s.zero, s.max)
+    } else {
+        0.0
+    }
+}
+
+/// Fig. 3.6 (b): balance (roads, slope).
+pub fn balance(x: f64, s: &Shape) -> f64 {
+    if !(x >= s.min && x <= s.max) {
+        return -1.0;
+    }
+    let t = if x < s.zero {
+        1.0 - ramp(x, s.min, s.zero)
+    } else {
+        ramp(x, s.zero, s.max)
+    };
+    1.0 - t * t
+}
+
+/// Fig. 3.6 (c): close distance (water).
+pub fn close_distance(d: f64, s: &Shape) -> f64 {
+    if d < s.min {
+        -1.0
+    } else if d <= s.zero {
+        1.0
+    } else {
+        1.0 - ramp(d, s.zero, s.max)
+    }
+}
+
+/// Fig. 3.6 (d): open distance (fortifications); `d` is 0 inside.
+pub fn open_distance(d: f64, s: &Shape) -> f64 {
+    if d <= s.zero {
+        1.0
+    } else {
+        1.0 - ramp(d, s.zero, s.max)
+    }
+}
+
+/// The interest equation over criterion values (in [`Criterion::ALL`] order), clipped to `[0, 1]` so it is the
+/// probability of the aggregation test.
+pub fn combine(values: &[f64; 7], placement: &Placement) -> f64 {
+    let w = weights(placement);
+    let forbidden = values
+        .iter()
+        .zip(w.iter())
+        .enumerate()
+        .any(|(k, (v, w))| *v <= -1.0 && (k == 0 || *w != 0.0));
+    if forbidden {
+        return 0.0;
+    }
+    values
+        .iter()
+        .zip(w.iter())
+        .map(|(v, w)| v * w)
+        .sum::<f64>()
+        .clamp(0.0, 1.0)
+}
+
+fn weights(p: &Placement) -> [f64; 7] {
+    let w = &p.weights;
+    [
+        w.sociability,
+        w.worship,
+        w.accessibility,
+        w.slope,
+        w.water,
+        w.fortification,
+        w.domination,
+    ]
+}
+
+/// Exact Euclidean distance (m) from every node to the nearest node where `mask` is true (Felzenszwalb and
+/// Huttenlocher's separable squared-distance transform); infinite everywhere when the mask is empty.
+pub fn distance_transform(grid: &LandGrid, mask: &[bool]) -> Vec<f32> {
+    if !mask.iter().any(|m| *m) {
+        return vec![f32::INFINITY; grid.len()];
+    }
+    let (nx, ny) = (grid.nx, grid.ny);
+    let big = 1e20;
+    let mut d: Vec<f64> = mask.iter().map(|m| if *m { 0.0 } else { big }).collect();
+    d.par_chunks_mut(nx).for_each(|row| {
+        let out = squared_distance_1d(row);
+        row.copy_from_slice(&out);
+    });
+    let columns: Vec<Vec<f64>> = (0..nx)
+        .into_par_iter()
+        .map(|i| squared_distance_1d(&(0..ny).map(|j| d[j * nx + i]).collect::<Vec<f64>>()))
+        .collect();
+    let mut out = vec![0.0f32; nx * ny];
+    for (i, col) in columns.iter().enumerate() {
+        for (j, v) in col.iter().enumerate() {
+            out[j * nx + i] = if *v >= big {
+                f32::INFINITY
+            } else {
+                (v.sqrt() * grid.cell) as f32
+            };
+        }
+    }
+    out
+}
+
+/// One dimension of the squared-distance transform: the lower envelope of parabolas rooted at each sample.
+fn squared_distance_1d(f: &[f64]) -> Vec<f64> {
+    let n = f.len();
+    let mut out = vec![0.0; n];
+    let mut v = vec![0usize; n];
+    let mut z = vec![0.0f64; n + 1];
+    let mut k = 0usize;
+    z[0] = f64::NEG_INFINITY;
+    z[1] = f64::INFINITY;
+    for q in 1..n {
+        loop {
+            let p = v[k];
+            let s =
+                ((f[q] + (q * q) as f64) - (f[p] + (p * p) as f64)) / (2.0 * (q as f64 - p as f64));
+            if s <= z[k] && k > 0 {
+                k -= 1;
+                continue;
+            }
+            if s <= z[k] {
+                // k == 0: the new parabola takes over from the start
+                v[0] = q;
+                z[1] = f64::INFINITY;
+                break;
+            }
+            k += 1;
+            v[k] = q;
+            z[k] = s;
+            z[k + 1] = f64::INFINITY;
+            break;
+        }
+    }
+    k = 0;
+    for (q, o) in out.iter_mut().enumerate() {
+        while z[k + 1] < q as f64 {
+            k += 1;
+        }
+        let p = v[k];
+        *o = (q as f64 - p as f64).powi(2) + f[p];
+    }
+    out
+}
+
+/// The criteria that do not change while the village grows, computed once per village.
+pub struct StaticMaps {
+    /// Terrain grade (rise over run) per node.
+    pub grade: Vec<f32>,
+    /// Distance (m) to the nearest water node.
+    pub water_distance: Vec<f32>,
+    /// Distance (m) to the nearest fortified node (0 inside an enclosure).
+    pub enclosure_distance: Vec<f32>,
+    /// Normalized geographical domination per influence radius (keyed by the radius's bits).
+    domination: BTreeMap<u64, (LandGrid, Vec<f32>)>,
+}
+
+impl StaticMaps {
+    /// The static maps, with the domination of every radius in `radii`.
+    pub fn new(land: &Land, radii: &[f64]) -> StaticMaps {
+        let grade = (0..land.grid.len())
+            .into_par_iter()
+            .map(|k| land.grade_at_node(k) as f32)
+            .collect();
+        let water_distance = distance_transform(&land.grid, &land.water);
+        let enclosure_distance = distance_transform(&land.grid, &land.fortified);
+        let mut domination = BTreeMap::new();
+        for r in radii {
+            domination
+                .entry(r.to_bits())
+                .or_insert_with(|| domination_map(land, *r));
+        }
+        StaticMaps {
+            grade,
+            water_distance,
+            enclosure_distance,
+            domination,
+        }
+    }
+
+    /// Normalized domination at `p` for radius `r` (0 for a radius the maps were not built with).
+    pub fn domination_at(&self, r: f64, p: DVec2) -> f64 {
+        self.domination
+            .get(&r.to_bits())
+            .map_or(0.0, |(g, v)| g.bilinear(v, p))
+    }
+}
+
+/// Domination on a grid about `r/16` apart (upsampled bilinearly when read), from height samples `r/8` apart.
+fn domination_map(land: &Land, r: f64) -> (LandGrid, Vec<f32>) {
+    let g = &land.grid;
+    let step = (r / 16.0).max(g.cell);
+    let coarse = LandGrid::covering(g.origin, g.point(g.nx - 1, g.ny - 1), step).unwrap_or(*g);
+    let spacing = (r / 8.0).max(g.cell);
+    let unit = r / 4.0;
+    let m = (r / spacing).ceil() as i64;
+    let offsets: Vec<(DVec2, f64)> = (-m..=m)
+        .flat_map(|j| (-m..=m).map(move |i| DVec2::new(i as f64, j as f64) * spacing))
+        .filter(|o| o.length() < r && o.length() > 0.0)
+        .map(|o| (o, 1.0 / (1.0 + (o.length() / unit).powi(2))))
+        .collect();
+    let (lo, hi) = (g.origin, g.point(g.nx - 1, g.ny - 1));
+    let raw: Vec<f64> = (0..coarse.len())
+        .into_par_iter()
+        .map(|k| {
+            let x = coarse.point_of(k);
+            let hx = land.height_at(x);
+            offsets
+                .iter()
+                .filter(|(o, _)| {
+                    let p = x + *o;
+                    p.x >= lo.x && p.y >= lo.y && p.x <= hi.x && p.y <= hi.y
+                })
+                .map(|(o, w)| (hx - land.height_at(x + *o)) * w)
+                .sum()
+        })
+        .collect();
+    let scale = raw.iter().fold(0.0f64, |a, v| a.max(v.abs())).max(1e-9);
+    (coarse, raw.iter().map(|v| (v / scale) as f32).collect())
+}
+
+/// A distance map read bilinearly (a map is wholly infinite when nothing was there to measure to).
+fn distance_at(grid: &LandGrid, values: &[f32], p: DVec2) -> f64 {
+    if values.first().is_none_or(|v| v.is_infinite()) {
+        return f64::INFINITY;
+    }
+    grid.bilinear(values, p)
+}
+
+/// What the dynamic criteria see of the growing village.
+pub struct VillageState<'a> {
+    pub buildings: &'a [BuildingSeed],
+    /// Per building: religious (worship is measured to it).
+    pub religious: &'a [bool],
+    /// Per building: a castle or fortress (fortification is measured to it as to an enclosure).
+    pub fortress: &'a [bool],
+    /// Distance (m) to the closest road.
+    pub road_distance: &'a (dyn Fn(DVec2) -> f64 + Sync),
+    pub has_roads: bool,
+}
+
+/// The seven criterion values `f_i(p, V, B)` at `p` for a building placed by `placement`.
+pub fn criteria(
+    land: &Land,
+    maps: &StaticMaps,
+    state: &VillageState,
+    placement: &Placement,
+    p: DVec2,
+) -> [f64; 7] {
+    let mut sociability = 0.0;
+    let mut worship = 0.0;
+    let mut too_close = false;
+    let mut nearest_fortress = f64::INFINITY;
+    for (k, b) in state.buildings.iter().enumerate() {
+        let d = b.position.distance(p);
+        let shape = placement
+            .sociability_with
+            .get(&b.building)
+            .unwrap_or(&placement.sociability);
+        let f = attraction_repulsion(d, shape);
+        too_close |= f <= -1.0;
+        sociability += f;
+        if state.religious.get(k).copied().unwrap_or(false) {
+            worship += attraction_repulsion(d, &placement.worship).max(-0.999);
+        }
+        if state.fortress.get(k).copied().unwrap_or(false) {
+            nearest_fortress = nearest_fortress.min(d);
+        }
+    }
+    let sociability = if too_close {
+        -1.0
+    } else {
+        sociability.clamp(-0.999, 1.0)
+    };
+    let accessibility = if state.has_roads {
+        balance((state.road_distance)(p), &placement.accessibility)
+    } else {
+        0.0
+    };
+    let g = &land.grid;
+    let slope = balance(g.bilinear(&maps.grade, p), &placement.slope);
+    let water = close_distance(distance_at(g, &maps.water_distance, p), &placement.water);
+    let enclosure = distance_at(g, &maps.enclosure_distance, p).min(nearest_fortress);
+    let fortification = open_distance(enclosure, &placement.fortification);
+    let domination = maps
+        .domination_at(placement.domination_radius, p)
+        .clamp(-1.0, 1.0);
+    [
+        sociability,
+        worship.clamp(-0.999, 1.0),
+        accessibility,
+        slope,
+        water,
+        fortification,
+        domination,
+    ]
+}
+
+/// `I(p, B, V)` at `p`, 0 where the land cannot take a building.
+pub fn interest(
+    land: &Land,
+    maps: &StaticMaps,
+    state: &VillageState,
+    placement: &Placement,
+    p: DVec2,
+) -> f64 {
+    let Some((i, j)) = land.grid.nearest(p) else {
+        return 0.0;
+    };
+    if !land.buildable(land.grid.index(i, j)) {
+        return 0.0;
+    }
+    combine(&criteria(land, maps, state, placement, p), placement)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn shape(min: f64, zero: f64, max: f64) -> Shape {
+        Shape { min, zero, max }
+    }
+
+    #[test]
+    fn templates_follow_their_shape_parameters() {
+        let s = shape(5.0, 15.0, 40.0);
+        assert_eq!(attraction_repulsion(4.9, &s), -1.0);
+        assert!((attraction_repulsion(10.0, &s) - 0.0).abs() < 1e-12);
+        assert_eq!(attraction_repulsion(15.0, &s), 1.0);
+        assert!((attraction_repulsion(27.5, &s) - 0.5).abs() < 1e-12);
+        assert_eq!(attraction_repulsion(41.0, &s), 0.0);
+        assert_eq!(balance(4.0, &s), -1.0);
+        assert_eq!(balance(15.0, &s), 1.0);
+        assert!((balance(27.5, &s) - 0.75).abs() < 1e-12);
+        assert_eq!(balance(40.5, &s), -1.0);
+        assert_eq!(close_distance(2.0, &s), -1.0);
+        assert_eq!(close_distance(12.0, &s), 1.0);
+        assert!((close_distance(27.5, &s) - 0.5).abs() < 1e-12);
+        assert_eq!(close_distance(100.0, &s), 0.0);
+        let o = shape(0.0, 10.0, 30.0);
+        assert_eq!(open_distance(0.0, &o), 1.0);
+        assert!((open_distance(20.0, &o) - 0.5).abs() < 1e-12);
+        assert_eq!(open_distance(31.0, &o), 0.0);
+    }
+
+    #[test]
+    fn distance_transform_is_exact_on_a_grid() {
+        let grid = LandGrid {
+            origin: DVec2::ZERO,
+            cell: 2.0,
+            nx: 40,
+            ny: 30,
+        };
+        let mut mask = vec![false; grid.len()];
+        let seeds = [(3usize, 4usize), (30, 20), (12, 27)];
+        for (i, j) in seeds {
+            mask[grid.index(i, j)] = true;
+        }
+        let d = distance_transform(&grid, &mask);
+        for k in 0..grid.len() {
+            let p = grid.point_of(k);
+            let exact = seeds
+                .iter()
+                .map(|(i, j)| grid.point(*i, *j).distance(p))
+                .fold(f64::INFINITY, f64::min);
+            assert!(
+                (d[k] as f64 - exact).abs() < 1e-4,
+                "node {k}: {} vs {exact}",
+                d[k]
+            );
+        }
+        assert!(distance_transform(&grid, &vec![false; grid.len()])
+            .iter()
+            .all(|v| v.is_infinite()));
+    }
+}
