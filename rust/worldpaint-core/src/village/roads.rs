@@ -1,1 +1,1341 @@
-//! (being written)
+//! Connection of every new building to the road network (thesis 3.2.4, "Connection to the Road Network"), after
+//! the road generation of Galin et al. 2010 [GPMG10]: a weighted anisotropic shortest path on the terrain whose
+//! cost is `C(R) = Σ_j w_j g_j(R)`, extended with road re-use and road cycles.
+//!
+//! **Costs.** A road is a chain of *moves* on the [`LandGrid`]: grid offsets `(dx, dy)` with coprime coordinates
+//! and `max(|dx|, |dy|) ≤ k` (`mask_radius`; k = 1, 2, 3 give 8, 16, 32 moves), so roads are not bound to the
+//! eight grid directions. Each move is integrated along its segment, sampled every half cell at most, so a long
+//! move cannot jump over a ridge or a river. Per metre (planar) of a sub-segment of grade `g` (rise over run):
+//! `distance_weight + slope_weight · (g / max_grade)²`, plus `water_weight` times the water fraction (the
+//! bilinear water indicator, integrated). A sub-segment steeper than `max_grade` is forbidden; when no road
+//! exists under that rule, a second search allows it at a high finite price (see [`STEEP_WEIGHT`]) and the
+//! connection reports `over_max_grade`. Every node a move lands on or passes over (its closed cell square meets
+//! the segment) must be inside `Ω`, and costs `building_cost` when a building or a fortification wall covers it,
+//! so roads cross walls only where they must (gates). Turning costs `curvature_weight` per radian between
+//! consecutive moves (only a U-turn back along the same move is not allowed), so a search state is (node, incoming move).
+//!
+//! **Re-use.** The thesis lowers the cost along existing roads by a re-use weight `w_ex ≪ 1`:
+//!
+//! ```text
+//! C'(R) = w_ex · C(R)   if R belongs to a road
+//!         C(R)          otherwise
+//! ```
+//!
+//! A path from a building `B` to `Ψ` leaves the ground at the first road node `r` it meets and follows the
+//! network from there, so its cost is `C(B → r) + T(r)` with `T(r) = w_ex · (network cost from r to Ψ)`. `T` is a
+//! Dijkstra over the road nodes (few), recomputed at every connection. The search runs *backwards*: from every
+//! goal node `r` (road nodes joined to `Ψ`, and the connection points, `T = 0`) with the initial cost `T(r)`,
+//! towards the single node `B`. A path may not land on or pass over another goal node, which is where a forward
+//! path would have joined the network. The new road is the off-road part, from `B` to `r`.
+//!
+//! **Heuristic.** Towards one target the A* heuristic is cheap and exact for the costs it bounds:
+//! `h(x) = min_{L ≥ L₀} (distance_weight · L + slope_weight / max_grade² · Δh² / L)`, where `L₀` is the length of
+//! the shortest chain of mask moves from `x` to `B` on a flat, empty plane (the gauge of the mask's polygon,
+//! at least `Δh / max_grade` under the grade limit) and `Δh = |h(x) − h(B)|`. It is admissible: every path of
+//! planar length `L ≥ L₀` costs at least `distance_weight · L` plus, since `Σ g² ℓ ≥ (Σ g ℓ)² / L ≥ Δh² / L`
+//! (Cauchy–Schwarz), that slope term; curvature, water and building costs are non-negative. It is also
+//! consistent (the gauge is a norm, and `Δh² / L` is sub-additive), so each state is settled once.
+//!
+//! **Cycles.** After the first road to `B`, the closest road node `p` in the cone of half-angle
+//! `cycle_angle_degrees` around the direction in which the road arrives at `B` (continuing past `B`), off the
+//! road just built and at most `cycle_max_length` away, gets a road from `B` under the same costs; it is built
+//! when it is at most `cycle_max_length` long and more than half of its length lies farther than
+//! `cycle_min_separation` from the first road serving `B`.
+//!
+//! The search keeps flat arrays over the states (a lazily filled move-cost cache and the path costs; both are
+//! zero-initialised, so pages of the grid never searched are never touched). Grids too large for
+//! `nodes × (moves + 1)` states within [`MAX_STATES`] search with a smaller move mask.
+
+use crate::error::{Error, Result};
+use crate::graph::SegmentIndex;
+use crate::village::encyclopedia::RoadParams;
+use crate::village::land::{Land, LandGrid};
+use crate::village::Road;
+use glam::DVec2;
+use std::cmp::Ordering;
+use std::collections::BinaryHeap;
+
+/// Largest number of search states (nodes × (moves + 1)).
+pub const MAX_STATES: usize = 1 << 26;
+/// A grade above `max_grade` costs, per metre, this times `(distance_weight + slope_weight) · (g / max_grade)²`
+/// in the search that allows it.
+pub const STEEP_WEIGHT: f64 = 100.0;
+/// Sharpest turn between two consecutive moves (radians): anything but going straight back. A hairpin of a
+/// serpentine on a steep slope turns between two moves close to the contour lines, up to 180° minus the
+/// smallest angle between two moves of the mask.
+const MAX_TURN: f64 = std::f64::consts::PI - 1e-6;
+/// After this many settled states a search checks, on nodes only, that its target can be reached at all, so an
+/// impossible search does not sweep every (node, move) state of the grid.
+const REACH_CHECK_AFTER: usize = 40_000;
+/// A cycle road is built when more than this fraction of its length is far enough from the first road.
+const CYCLE_FAR_FRACTION: f64 = 0.5;
+/// The direction in which a road arrives at `B` is taken over this length (m) of the road.
+const ARRIVAL_LENGTH: f64 = 10.0;
+/// A connection point snaps to an inside node at most this many cells away.
+const CONNECTION_SNAP_CELLS: i64 = 3;
+
+/// Node flags of one search.
+const GOAL: u8 = 1;
+const BUILDING: u8 = 2;
+
+/// A village road network: the connection points `Ψ`, the roads, and what the road search keeps between calls.
+pub struct RoadNetwork {
+    pub roads: Vec<Road>,
+    grid: LandGrid,
+    connections: Vec<DVec2>,
+    connection_nodes: Vec<usize>,
+    /// Nodes under a road (or a connection point).
+    on_road: Vec<bool>,
+    /// The nodes of `on_road`, in the order they were added.
+    road_nodes: Vec<u32>,
+    index: SegmentIndex,
+    search: Option<Box<Search>>,
+}
+
+/// What [`RoadNetwork::connect`] did.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Connection {
+    /// Indices in [`RoadNetwork::roads`] of the roads added (the first road, then the cycle road if any).
+    pub roads: Vec<usize>,
+    /// Whether the building is served by the network (false when nothing can reach it).
+    pub reached: bool,
+    /// Steepest grade along the new roads, sampled on the terrain.
+    pub steepest_grade: f64,
+    /// The first road had to be steeper than `max_grade`.
+    pub over_max_grade: bool,
+    /// A cycle road was added.
+    pub cycle: bool,
+}
+
+impl Clone for RoadNetwork {
+    /// A copy of the network; the search caches are not copied (they are rebuilt on demand).
+    fn clone(&self) -> Self {
+        RoadNetwork {
+            roads: self.roads.clone(),
+            grid: self.grid,
+            connections: self.connections.clone(),
+            connection_nodes: self.connection_nodes.clone(),
+            on_road: self.on_road.clone(),
+            road_nodes: self.road_nodes.clone(),
+            index: self.index.clone(),
+            search: None,
+        }
+    }
+}
+
+impl std::fmt::Debug for RoadNetwork {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("RoadNetwork")
+            .field("roads", &self.roads.len())
+            .field("connections", &self.connections)
+            .field("road_nodes", &self.road_nodes.len())
+            .finish()
+    }
+}
+
+fn invalid(what: String) -> Error {
+    Error::InvalidInput(what)
+}
+
+fn finite(p: DVec2) -> bool {
+    p.x.is_finite() && p.y.is_finite()
+}
+
+impl RoadNetwork {
+    /// A network with the connection points `Ψ` (each snapped to the nearest node inside `Ω`) and the existing
+    /// roads (polylines, kept as they are).
+    pub fn new(land: &Land, connections: &[DVec2], existing: &[Vec<DVec2>]) -> Result<RoadNetwork> {
+        check_land(land)?;
+        let grid = land.grid;
+        if connections.is_empty() {
+            return Err(invalid(
+                "roads: at least one connection point to the outside world is needed".into(),
+            ));
+        }
+        let mut network = RoadNetwork {
+            roads: Vec::new(),
+            grid,
+            connections: Vec::new(),
+            connection_nodes: Vec::new(),
+            on_road: vec![false; grid.len()],
+            road_nodes: Vec::new(),
+            index: SegmentIndex::default(),
+            search: None,
+        };
+        for (n, &p) in connections.iter().enumerate() {
+            if !finite(p) {
+                return Err(invalid(format!(
+                    "roads: connection point {} is not finite",
+                    n + 1
+                )));
+            }
+            let node = nearest_inside(land, p).ok_or_else(|| {
+                invalid(format!(
+                    "roads: connection point {} ({:.2}, {:.2}) is not inside the village region",
+                    n + 1,
+                    p.x,
+                    p.y
+                ))
+            })?;
+            network.connection_nodes.push(node);
+            network.connections.push(grid.point_of(node));
+            network.mark(node);
+        }
+        for (n, line) in existing.iter().enumerate() {
+            if let Some(k) = line.iter().position(|p| !finite(*p)) {
+                return Err(invalid(format!(
+                    "roads: point {} of existing road {} is not finite",
+                    k + 1,
+                    n + 1
+                )));
+            }
+            if line.len() == 1 {
+                if let Some((i, j)) = grid.nearest(line[0]) {
+                    network.mark(grid.index(i, j));
+                }
+            }
+            for w in line.windows(2) {
+                for node in segment_cells(&grid, w[0], w[1]) {
+                    network.mark(node);
+                }
+            }
+            network.roads.push(Road {
+                points: line.clone(),
+            });
+        }
+        network.rebuild_index();
+        Ok(network)
+    }
+
+    /// The connection points `Ψ` as snapped onto the grid.
+    pub fn connections(&self) -> &[DVec2] {
+        &self.connections
+    }
+
+    /// Distance (m) from `p` to the closest road segment (`f64::INFINITY` when there is none).
+    pub fn distance(&self, p: DVec2) -> f64 {
+        self.index.distance(p, f64::INFINITY)
+    }
+
+    fn mark(&mut self, node: usize) {
+        if !self.on_road[node] {
+            self.on_road[node] = true;
+            self.road_nodes.push(node as u32);
+        }
+    }
+
+    fn rebuild_index(&mut self) {
+        let segments: Vec<(DVec2, DVec2)> = self
+            .roads
+            .iter()
+            .flat_map(|r| r.points.windows(2).map(|w| (w[0], w[1])))
+            .collect();
+        self.index = SegmentIndex::new(segments);
+    }
+
+    /// Connects a new building at `from` to `Ψ` (3.2.4): the lowest-cost road with re-use of the existing roads,
+    /// then a cycle road when one fits. `occupied[k]` is true on the land nodes covered by other buildings.
+    pub fn connect(
+        &mut self,
+        land: &Land,
+        params: &RoadParams,
+        occupied: &[bool],
+        from: DVec2,
+    ) -> Result<Connection> {
+        check_land(land)?;
+        if land.grid != self.grid {
+            return Err(invalid(
+                "roads: the land grid differs from the one the network was made on".into(),
+            ));
+        }
+        check_params(params)?;
+        if occupied.len() != self.grid.len() {
+            return Err(invalid(format!(
+                "roads: {} occupancy flags for {} land nodes",
+                occupied.len(),
+                self.grid.len()
+            )));
+        }
+        if !finite(from) {
+            return Err(invalid("roads: the building position is not finite".into()));
+        }
+        let Some((bi, bj)) = self.grid.nearest(from) else {
+            return Err(invalid(format!(
+                "roads: the building at ({:.2}, {:.2}) is outside the village grid",
+                from.x, from.y
+            )));
+        };
+        let b = self.grid.index(bi, bj);
+        if !land.inside[b] {
+            return Ok(Connection::default());
+        }
+        let mut search = match self.search.take() {
+            Some(s) if s.fits(params, &self.grid) => s,
+            _ => Box::new(Search::new(&self.grid, params)?),
+        };
+        let result = self.connect_with(&mut search, land, params, occupied, b);
+        self.search = Some(search);
+        result
+    }
+
+    fn connect_with(
+        &mut self,
+        search: &mut Search,
+        land: &Land,
+        params: &RoadParams,
+        occupied: &[bool],
+        b: usize,
+    ) -> Result<Connection> {
+        let exit = self.exit_costs(search, land);
+        let mut sources: Vec<(usize, f64)> = Vec::new();
+        search.flags.clear();
+        search.flags.extend(
+            occupied
+                .iter()
+                .zip(&land.wall)
+                .map(|(&o, &w)| if o || w { BUILDING } else { 0 }),
+        );
+        for &r in &self.road_nodes {
+            let r = r as usize;
+            if exit[r].is_finite() {
+                search.flags[r] |= GOAL;
+                sources.push((r, params.reuse_weight * exit[r]));
+            }
+        }
+        if search.flags[b] & GOAL != 0 {
+            // already on the network
+            return Ok(Connection {
+                reached: true,
+                ..Connection::default()
+            });
+        }
+        let ctx = Ctx { land, params };
+        let mut over_max_grade = false;
+        let mut path = search.run(&ctx, &sources, b, false, None);
+        if path.is_none() {
+            path = search.run(&ctx, &sources, b, true, None);
+            over_max_grade = path.is_some();
+        }
+        let Some(path) = path else {
+            return Ok(Connection::default());
+        };
+        let mut connection = Connection {
+            reached: true,
+            over_max_grade,
+            ..Connection::default()
+        };
+        let first_cells = self.add_road(search, &ctx, &path, &mut connection);
+        for &c in &first_cells {
+            search.flags[c] |= GOAL;
+        }
+        self.try_cycle(search, &ctx, b, &path, &first_cells, &mut connection);
+        self.rebuild_index();
+        Ok(connection)
+    }
+
+    /// Adds the road along `path` (nodes from `B` on), marks the nodes it covers; returns them.
+    fn add_road(
+        &mut self,
+        search: &Search,
+        ctx: &Ctx,
+        path: &[usize],
+        connection: &mut Connection,
+    ) -> Vec<usize> {
+        let grid = self.grid;
+        let mut cells = Vec::new();
+        for w in path.windows(2) {
+            if let Some(m) = search.table.move_between(&grid, w[0], w[1]) {
+                let mv = &search.table.moves[m];
+                connection.steepest_grade = connection
+                    .steepest_grade
+                    .max(steepest_on_move(ctx.land, mv, w[0]));
+                for &d in &mv.cells {
+                    cells.push((w[0] as isize + d) as usize);
+                }
+            }
+        }
+        cells.sort_unstable();
+        cells.dedup();
+        for &c in &cells {
+            self.mark(c);
+        }
+        connection.roads.push(self.roads.len());
+        self.roads.push(Road {
+            points: polyline(&grid, path),
+        });
+        cells
+    }
+
+    /// The thesis' cycle step: a second road from `B` to the closest road node ahead of it, when it is short
+    /// enough and keeps away from the first road.
+    fn try_cycle(
+        &mut self,
+        search: &mut Search,
+        ctx: &Ctx,
+        b: usize,
+        first: &[usize],
+        first_cells: &[usize],
+        connection: &mut Connection,
+    ) {
+        let params = ctx.params;
+        if params.cycle_max_length <= 0.0 {
+            return;
+        }
+        let grid = self.grid;
+        let first_line = polyline(&grid, first);
+        let bp = grid.point_of(b);
+        let Some(axis) = arrival_direction(&first_line) else {
+            return;
+        };
+        let cos_max = params.cycle_angle_degrees.to_radians().min(std::f64::consts::PI).cos();
+        let mut best: Option<(f64, usize)> = None;
+        for &r in &self.road_nodes {
+            let r = r as usize;
+            if search.flags[r] & GOAL == 0 || first_cells.binary_search(&r).is_ok() {
+                continue;
+            }
+            let d = grid.point_of(r) - bp;
+            let dist = d.length();
+            if dist <= 0.0 || dist > params.cycle_max_length || d.dot(axis) < cos_max * dist {
+                continue;
+            }
+            if best.is_none_or(|(bd, _)| dist < bd) {
+                best = Some((dist, r));
+            }
+        }
+        let Some((_, p)) = best else {
+            return;
+        };
+        let ellipse = Ellipse {
+            a: bp,
+            b: grid.point_of(p),
+            length: params.cycle_max_length,
+        };
+        let Some(path) = search.run(ctx, &[(p, 0.0)], b, false, Some(ellipse)) else {
+            return;
+        };
+        let line = polyline(&grid, &path);
+        let length: f64 = line.windows(2).map(|w| w[0].distance(w[1])).sum();
+        if length > params.cycle_max_length
+            || far_fraction(&line, &first_line, params.cycle_min_separation, grid.cell)
+                <= CYCLE_FAR_FRACTION
+        {
+            return;
+        }
+        let mut cycle = Connection::default();
+        self.add_road(search, ctx, &path, &mut cycle);
+        connection.roads.extend(cycle.roads);
+        connection.steepest_grade = connection.steepest_grade.max(cycle.steepest_grade);
+        connection.cycle = true;
+    }
+
+    /// Network cost from every road node to `Ψ` along the roads (without the re-use weight; `INFINITY` off the
+    /// network or on roads not joined to `Ψ`): a Dijkstra over the road nodes, eight-connected.
+    fn exit_costs(&self, search: &mut Search, land: &Land) -> Vec<f64> {
+        let grid = self.grid;
+        let mut exit = vec![f64::INFINITY; grid.len()];
+        let mut heap = BinaryHeap::new();
+        for &c in &self.connection_nodes {
+            exit[c] = 0.0;
+            heap.push(Entry {
+                f: 0.0,
+                g: 0.0,
+                state: c as u32,
+            });
+        }
+        while let Some(e) = heap.pop() {
+            let x = e.state as usize;
+            if e.f > exit[x] {
+                continue;
+            }
+            let (i, j) = grid.ij(x);
+            for u in 0..search.table.unit.len() {
+                let m = search.table.unit[u];
+                let mv = &search.table.moves[m];
+                let (ti, tj) = (i as i64 + mv.dx as i64, j as i64 + mv.dy as i64);
+                if ti < 0 || tj < 0 || ti >= grid.nx as i64 || tj >= grid.ny as i64 {
+                    continue;
+                }
+                let y = (x as isize + mv.delta) as usize;
+                if !self.on_road[y] {
+                    continue;
+                }
+                let c = search.cost(land, x, m);
+                if c.is_infinite() {
+                    continue;
+                }
+                let g = e.f + c.abs() as f64;
+                if g < exit[y] {
+                    exit[y] = g;
+                    heap.push(Entry {
+                        f: g,
+                        g: 0.0,
+                        state: y as u32,
+                    });
+                }
+            }
+        }
+        exit
+    }
+}
+
+/// The direction (unit) in which a road `B = line[0], ...` arrives at `B`, over its last few metres.
+fn arrival_direction(line: &[DVec2]) -> Option<DVec2> {
+    let b = *line.first()?;
+    let mut walked = 0.0;
+    let mut at = b;
+    for w in line.windows(2) {
+        let l = w[0].distance(w[1]);
+        if walked + l >= ARRIVAL_LENGTH {
+            at = w[0] + (w[1] - w[0]) * ((ARRIVAL_LENGTH - walked) / l);
+            break;
+        }
+        walked += l;
+        at = w[1];
+    }
+    (b - at).try_normalize()
+}
+
+/// Fraction of the length of `line` farther than `separation` from `other`, sampled every half cell.
+fn far_fraction(line: &[DVec2], other: &[DVec2], separation: f64, cell: f64) -> f64 {
+    let (mut far, mut total) = (0.0, 0.0);
+    let step = 0.5 * cell;
+    for w in line.windows(2) {
+        let l = w[0].distance(w[1]);
+        let n = (l / step).ceil().max(1.0) as usize;
+        for s in 0..n {
+            let p = w[0] + (w[1] - w[0]) * ((s as f64 + 0.5) / n as f64);
+            let d = other
+                .windows(2)
+                .map(|o| crate::geom::segment_distance(p, o[0], o[1]))
+                .fold(f64::INFINITY, f64::min);
+            total += l / n as f64;
+            if d > separation {
+                far += l / n as f64;
+            }
+        }
+    }
+    if total > 0.0 {
+        far / total
+    } else {
+        0.0
+    }
+}
+
+/// The turning vertices of a node path (collinear moves merged).
+fn polyline(grid: &LandGrid, path: &[usize]) -> Vec<DVec2> {
+    let mut points = Vec::new();
+    let step = |a: usize, b: usize| {
+        let (ai, aj) = grid.ij(a);
+        let (bi, bj) = grid.ij(b);
+        (bi as i64 - ai as i64, bj as i64 - aj as i64)
+    };
+    for (k, &n) in path.iter().enumerate() {
+        let keep = k == 0
+            || k + 1 == path.len()
+            || step(path[k - 1], n) != step(n, path[k + 1]);
+        if keep {
+            points.push(grid.point_of(n));
+        }
+    }
+    points
+}
+
+/// Steepest sub-segment grade along a move.
+fn steepest_on_move(land: &Land, mv: &Move, x: usize) -> f64 {
+    let sub = mv.length / (mv.samples.len() - 1) as f64;
+    let mut prev = sample(&land.height, x, &mv.samples[0]);
+    let mut steepest: f64 = 0.0;
+    for s in &mv.samples[1..] {
+        let h = sample(&land.height, x, s);
+        steepest = steepest.max((h - prev).abs() / sub);
+        prev = h;
+    }
+    steepest
+}
+
+fn check_land(land: &Land) -> Result<()> {
+    let n = land.grid.len();
+    if land.height.len() != n
+        || land.inside.len() != n
+        || land.water.len() != n
+        || land.wall.len() != n
+        || land.fortified.len() != n
+    {
+        return Err(invalid(format!(
+            "roads: the land's maps do not all have the {n} nodes of its grid"
+        )));
+    }
+    if land.grid.nx < 2 || land.grid.ny < 2 || !(land.grid.cell.is_finite() && land.grid.cell > 0.0)
+    {
+        return Err(invalid("roads: the land grid is degenerate".into()));
+    }
+    Ok(())
+}
+
+fn check_params(p: &RoadParams) -> Result<()> {
+    for (name, v) in [
+        ("distance_weight", p.distance_weight),
+        ("max_grade", p.max_grade),
+        ("reuse_weight", p.reuse_weight),
+    ] {
+        if !(v.is_finite() && v > 0.0) {
+            return Err(invalid(format!("roads: {name} must be positive, got {v}")));
+        }
+    }
+    for (name, v) in [
+        ("slope_weight", p.slope_weight),
+        ("curvature_weight", p.curvature_weight),
+        ("water_weight", p.water_weight),
+        ("building_cost", p.building_cost),
+        ("cycle_angle_degrees", p.cycle_angle_degrees),
+        ("cycle_max_length", p.cycle_max_length),
+        ("cycle_min_separation", p.cycle_min_separation),
+    ] {
+        if !(v.is_finite() && v >= 0.0) {
+            return Err(invalid(format!(
+                "roads: {name} must be zero or more, got {v}"
+            )));
+        }
+    }
+    if p.reuse_weight > 1.0 {
+        return Err(invalid(format!(
+            "roads: reuse_weight must be at most 1, got {}",
+            p.reuse_weight
+        )));
+    }
+    if !(1..=8).contains(&p.mask_radius) {
+        return Err(invalid(format!(
+            "roads: mask_radius must be 1 to 8, got {}",
+            p.mask_radius
+        )));
+    }
+    Ok(())
+}
+
+/// The inside node nearest to `p`, within [`CONNECTION_SNAP_CELLS`] cells.
+fn nearest_inside(land: &Land, p: DVec2) -> Option<usize> {
+    let g = &land.grid;
+    let f = (p - g.origin) / g.cell;
+    let (ci, cj) = (f.x.round(), f.y.round());
+    let r = CONNECTION_SNAP_CELLS as f64;
+    if !(ci >= -r && cj >= -r && ci <= (g.nx - 1) as f64 + r && cj <= (g.ny - 1) as f64 + r) {
+        return None;
+    }
+    let (ci, cj) = (ci as i64, cj as i64);
+    let mut best: Option<(f64, usize)> = None;
+    for j in cj - CONNECTION_SNAP_CELLS..=cj + CONNECTION_SNAP_CELLS {
+        for i in ci - CONNECTION_SNAP_CELLS..=ci + CONNECTION_SNAP_CELLS {
+            if i < 0 || j < 0 || i >= g.nx as i64 || j >= g.ny as i64 {
+                continue;
+            }
+            let k = g.index(i as usize, j as usize);
+            let d = g.point_of(k).distance(p);
+            if land.inside[k] && d <= r * g.cell && best.is_none_or(|(bd, _)| d < bd) {
+                best = Some((d, k));
+            }
+        }
+    }
+    best.map(|(_, k)| k)
+}
+
+/// The nodes whose closed cell square meets the segment `a`–`b` (world XY), clipped to the grid.
+fn segment_cells(grid: &LandGrid, a: DVec2, b: DVec2) -> Vec<usize> {
+    let fa = (a - grid.origin) / grid.cell;
+    let fb = (b - grid.origin) / grid.cell;
+    let lo = DVec2::splat(-0.5);
+    let hi = DVec2::new(grid.nx as f64 - 0.5, grid.ny as f64 - 0.5);
+    let Some((t0, t1)) = clip(fa, fb, lo, hi) else {
+        return Vec::new();
+    };
+    let (pa, pb) = (fa + (fb - fa) * t0, fa + (fb - fa) * t1);
+    let mut cells: Vec<usize> = Vec::new();
+    let n = ((pb - pa).length() * 4.0).ceil().max(1.0) as usize;
+    for s in 0..=n {
+        let q = pa + (pb - pa) * (s as f64 / n as f64);
+        let (qi, qj) = (q.x.round() as i64, q.y.round() as i64);
+        for j in qj - 1..=qj + 1 {
+            for i in qi - 1..=qi + 1 {
+                if i < 0 || j < 0 || i >= grid.nx as i64 || j >= grid.ny as i64 {
+                    continue;
+                }
+                let c = DVec2::new(i as f64, j as f64);
+                if clip(pa, pb, c - 0.5 - 1e-9, c + 0.5 + 1e-9).is_some() {
+                    cells.push(grid.index(i as usize, j as usize));
+                }
+            }
+        }
+    }
+    cells.sort_unstable();
+    cells.dedup();
+    cells
+}
+
+/// Liang–Barsky: the parameter range of `a + t (b − a)`, `t ∈ [0, 1]`, inside the closed box `lo..hi`.
+fn clip(a: DVec2, b: DVec2, lo: DVec2, hi: DVec2) -> Option<(f64, f64)> {
+    let d = b - a;
+    let (mut t0, mut t1) = (0.0f64, 1.0f64);
+    for (p, q) in [
+        (-d.x, a.x - lo.x),
+        (d.x, hi.x - a.x),
+        (-d.y, a.y - lo.y),
+        (d.y, hi.y - a.y),
+    ] {
+        if p == 0.0 {
+            if q < 0.0 {
+                return None;
+            }
+        } else {
+            let r = q / p;
+            if p < 0.0 {
+                t0 = t0.max(r);
+            } else {
+                t1 = t1.min(r);
+            }
+        }
+    }
+    (t0 <= t1).then_some((t0, t1))
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// The move mask
+
+/// A bilinear sample along a move: up to four (node offset, weight) taps.
+#[derive(Clone, Debug)]
+struct Sample {
+    taps: Vec<(isize, f64)>,
+}
+
+fn sample(values: &[f32], x: usize, s: &Sample) -> f64 {
+    s.taps
+        .iter()
+        .map(|&(d, w)| values[(x as isize + d) as usize] as f64 * w)
+        .sum()
+}
+
+fn sample_bool(values: &[bool], x: usize, s: &Sample) -> f64 {
+    s.taps
+        .iter()
+        .filter(|&&(d, _)| values[(x as isize + d) as usize])
+        .map(|&(_, w)| w)
+        .sum()
+}
+
+#[derive(Clone, Debug)]
+struct Move {
+    dx: i32,
+    dy: i32,
+    /// Index offset of the end node.
+    delta: isize,
+    /// Planar length (m).
+    length: f64,
+    /// Index offsets of the nodes whose closed cell square meets the segment, both ends included.
+    cells: Vec<isize>,
+    /// Those without the two ends.
+    inner: Vec<isize>,
+    /// Samples at most half a cell apart, both ends included.
+    samples: Vec<Sample>,
+}
+
+/// The move mask of one grid and radius, with the turn angles and the heuristic's gauge.
+#[derive(Clone, Debug)]
+struct MoveTable {
+    moves: Vec<Move>,
+    /// `rev[m]` is the move opposite `m`.
+    rev: Vec<usize>,
+    /// The moves of length one cell or one diagonal.
+    unit: Vec<usize>,
+    /// Turn angle (radians) from move `a` to move `b` at `a * moves + b`.
+    turn: Vec<f64>,
+    /// Facets `c` of the mask's gauge in the first octant: `gauge(v) = max c·v` for `v.x ≥ v.y ≥ 0` (cells).
+    facets: Vec<DVec2>,
+}
+
+fn gcd(a: i32, b: i32) -> i32 {
+    if b == 0 {
+        a
+    } else {
+        gcd(b, a % b)
+    }
+}
+
+impl MoveTable {
+    fn new(grid: &LandGrid, radius: u32) -> MoveTable {
+        let k = radius as i32;
+        let mut offsets: Vec<(i32, i32)> = Vec::new();
+        for dy in -k..=k {
+            for dx in -k..=k {
+                if (dx, dy) != (0, 0) && gcd(dx.abs(), dy.abs()) == 1 {
+                    offsets.push((dx, dy));
+                }
+            }
+        }
+        offsets.sort_by(|a, b| {
+            (a.1 as f64)
+                .atan2(a.0 as f64)
+                .total_cmp(&(b.1 as f64).atan2(b.0 as f64))
+        });
+        let nx = grid.nx as isize;
+        let moves: Vec<Move> = offsets
+            .iter()
+            .map(|&(dx, dy)| {
+                let end = DVec2::new(dx as f64, dy as f64);
+                let mut cells = Vec::new();
+                let mut inner = Vec::new();
+                for j in dy.min(0)..=dy.max(0) {
+                    for i in dx.min(0)..=dx.max(0) {
+                        let c = DVec2::new(i as f64, j as f64);
+                        if clip(DVec2::ZERO, end, c - 0.5 - 1e-9, c + 0.5 + 1e-9).is_some() {
+                            let d = j as isize * nx + i as isize;
+                            cells.push(d);
+                            if (i, j) != (0, 0) && (i, j) != (dx, dy) {
+                                inner.push(d);
+                            }
+                        }
+                    }
+                }
+                let n = (2.0 * end.length()).ceil() as usize;
+                let samples = (0..=n)
+                    .map(|s| {
+                        let q = DVec2::new((dx * s as i32) as f64, (dy * s as i32) as f64) / n as f64;
+                        let (fx, fy) = (q.x.floor(), q.y.floor());
+                        let (tx, ty) = (q.x - fx, q.y - fy);
+                        let mut taps = Vec::new();
+                        for (oi, oj, w) in [
+                            (0, 0, (1.0 - tx) * (1.0 - ty)),
+                            (1, 0, tx * (1.0 - ty)),
+                            (0, 1, (1.0 - tx) * ty),
+                            (1, 1, tx * ty),
+                        ] {
+                            if w > 1e-12 {
+                                let d = (fy as isize + oj) * nx + fx as isize + oi;
+                                taps.push((d, w));
+                            }
+                        }
+                        Sample { taps }
+                    })
+                    .collect();
+                Move {
+                    dx,
+                    dy,
+                    delta: dy as isize * nx + dx as isize,
+                    length: end.length() * grid.cell,
+                    cells,
+                    inner,
+                    samples,
+                }
+            })
+            .collect();
+        let m = moves.len();
+        let rev = (0..m)
+            .map(|a| {
+                (0..m)
+                    .find(|&b| moves[b].dx == -moves[a].dx && moves[b].dy == -moves[a].dy)
+                    .unwrap_or(a)
+            })
+            .collect();
+        let unit = (0..m)
+            .filter(|&a| moves[a].dx.abs() <= 1 && moves[a].dy.abs() <= 1)
+            .collect();
+        let mut turn = vec![0.0; m * m];
+        for a in 0..m {
+            for b in 0..m {
+                let u = DVec2::new(moves[a].dx as f64, moves[a].dy as f64);
+                let v = DVec2::new(moves[b].dx as f64, moves[b].dy as f64);
+                turn[a * m + b] = crate::graph::angle_between(u, v);
+            }
+        }
+        // first-octant directions, by increasing angle, as unit vectors
+        let mut octant: Vec<DVec2> = offsets
+            .iter()
+            .filter(|&&(dx, dy)| dx >= dy && dy >= 0)
+            .map(|&(dx, dy)| DVec2::new(dx as f64, dy as f64).normalize())
+            .collect();
+        octant.sort_by(|a, b| a.y.atan2(a.x).total_cmp(&b.y.atan2(b.x)));
+        let facets = octant
+            .windows(2)
+            .map(|w| {
+                // c·w0 = c·w1 = 1
+                let det = w[0].x * w[1].y - w[0].y * w[1].x;
+                DVec2::new((w[1].y - w[0].y) / det, (w[0].x - w[1].x) / det)
+            })
+            .collect();
+        MoveTable {
+            moves,
+            rev,
+            unit,
+            turn,
+            facets,
+        }
+    }
+
+    /// Length (cells) of the shortest chain of mask moves, with real multiplicities, covering `v` (cells).
+    fn gauge(&self, v: DVec2) -> f64 {
+        let (a, b) = (v.x.abs(), v.y.abs());
+        let w = DVec2::new(a.max(b), a.min(b));
+        self.facets
+            .iter()
+            .map(|c| c.dot(w))
+            .fold(w.x, f64::max)
+    }
+
+    /// The move from node `a` to node `b`, if they are one move apart.
+    fn move_between(&self, grid: &LandGrid, a: usize, b: usize) -> Option<usize> {
+        let (ai, aj) = grid.ij(a);
+        let (bi, bj) = grid.ij(b);
+        let (dx, dy) = (bi as i64 - ai as i64, bj as i64 - aj as i64);
+        self.moves
+            .iter()
+            .position(|m| m.dx as i64 == dx && m.dy as i64 == dy)
+    }
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// The search
+
+/// A heap entry: estimated total `f`, path cost `g`, state; the smallest `f` pops first (deeper on ties).
+#[derive(Clone, Copy, Debug)]
+struct Entry {
+    f: f64,
+    g: f32,
+    state: u32,
+}
+
+impl PartialEq for Entry {
+    fn eq(&self, other: &Self) -> bool {
+        self.cmp(other) == Ordering::Equal
+    }
+}
+
+impl Eq for Entry {}
+
+impl PartialOrd for Entry {
+    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl Ord for Entry {
+    fn cmp(&self, other: &Self) -> Ordering {
+        other
+            .f
+            .total_cmp(&self.f)
+            .then(self.g.total_cmp(&other.g))
+            .then(other.state.cmp(&self.state))
+    }
+}
+
+struct Ctx<'a> {
+    land: &'a Land,
+    params: &'a RoadParams,
+}
+
+/// Paths from `b`... stay within the ellipse of foci `a`, `b` and string length `length`.
+#[derive(Clone, Copy, Debug)]
+struct Ellipse {
+    a: DVec2,
+    b: DVec2,
+    length: f64,
+}
+
+/// The parameters the cached move costs depend on.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct CostKey {
+    distance_weight: f64,
+    slope_weight: f64,
+    max_grade: f64,
+    water_weight: f64,
+    mask_radius: u32,
+}
+
+impl CostKey {
+    fn of(p: &RoadParams) -> CostKey {
+        CostKey {
+            distance_weight: p.distance_weight,
+            slope_weight: p.slope_weight,
+            max_grade: p.max_grade,
+            water_weight: p.water_weight,
+            mask_radius: p.mask_radius,
+        }
+    }
+}
+
+/// The state of the road search kept between connections.
+struct Search {
+    key: CostKey,
+    table: MoveTable,
+    /// Static cost of move `m` from node `x` at `x * moves + m`: 0 not computed yet, positive within the grade
+    /// limit, negative (its opposite) steeper than it, infinite through a node outside `Ω`.
+    costs: Vec<f32>,
+    /// Best path cost plus one of each state (node × (moves + 1), the last slot for sources); 0 = not reached.
+    g: Vec<f32>,
+    /// The incoming move of the state each state was reached from.
+    pred: Vec<u8>,
+    touched: Vec<u32>,
+    heap: BinaryHeap<Entry>,
+    flags: Vec<u8>,
+}
+
+impl Search {
+    fn new(grid: &LandGrid, params: &RoadParams) -> Result<Search> {
+        let n = grid.len();
+        let mut radius = params.mask_radius;
+        let table = loop {
+            let table = MoveTable::new(grid, radius);
+            if n.saturating_mul(table.moves.len() + 1) <= MAX_STATES {
+                break table;
+            }
+            if radius == 1 {
+                return Err(invalid(format!(
+                    "roads: a grid of {n} nodes is too large for the road search; use a coarser cell"
+                )));
+            }
+            radius -= 1;
+        };
+        let m = table.moves.len();
+        let mut key = CostKey::of(params);
+        key.mask_radius = params.mask_radius;
+        Ok(Search {
+            key,
+            costs: vec![0.0; n * m],
+            g: vec![0.0; n * (m + 1)],
+            pred: vec![0; n * (m + 1)],
+            touched: Vec::new(),
+            heap: BinaryHeap::new(),
+            flags: Vec::with_capacity(n),
+            table,
+        })
+    }
+
+    fn fits(&self, params: &RoadParams, grid: &LandGrid) -> bool {
+        self.key == CostKey::of(params) && self.costs.len() == grid.len() * self.table.moves.len()
+    }
+
+    /// The static cost of move `m` from `x` (see `costs`), computed once.
+    fn cost(&mut self, land: &Land, x: usize, m: usize) -> f32 {
+        let m_count = self.table.moves.len();
+        let c = self.costs[x * m_count + m];
+        if c != 0.0 {
+            return c;
+        }
+        let c = static_cost(land, &self.key, &self.table.moves[m], x);
+        self.costs[x * m_count + m] = c;
+        let y = (x as isize + self.table.moves[m].delta) as usize;
+        self.costs[y * m_count + self.table.rev[m]] = c;
+        c
+    }
+
+    /// The cheapest path from one of `sources` (node, initial cost) to `target`, as nodes from `target` to the
+    /// source; `None` when there is none.
+    fn run(
+        &mut self,
+        ctx: &Ctx,
+        sources: &[(usize, f64)],
+        target: usize,
+        steep: bool,
+        ellipse: Option<Ellipse>,
+    ) -> Option<Vec<usize>> {
+        let found = self.astar(ctx, sources, target, steep, ellipse);
+        let path = found.map(|state| self.backtrack(state));
+        for &s in &self.touched {
+            self.g[s as usize] = 0.0;
+        }
+        self.touched.clear();
+        self.heap.clear();
+        path
+    }
+
+    fn backtrack(&self, mut state: usize) -> Vec<usize> {
+        let m1 = self.table.moves.len() + 1;
+        let mut path = vec![state / m1];
+        while state % m1 != m1 - 1 {
+            let (x, m) = (state / m1, state % m1);
+            let prev = (x as isize - self.table.moves[m].delta) as usize;
+            path.push(prev);
+            state = prev * m1 + self.pred[state] as usize;
+        }
+        path
+    }
+
+    fn astar(
+        &mut self,
+        ctx: &Ctx,
+        sources: &[(usize, f64)],
+        target: usize,
+        steep: bool,
+        ellipse: Option<Ellipse>,
+    ) -> Option<usize> {
+        let land = ctx.land;
+        let p = ctx.params;
+        let grid = land.grid;
+        let m_count = self.table.moves.len();
+        let m1 = m_count + 1;
+        let cell = grid.cell;
+        let (ti, tj) = grid.ij(target);
+        let target_h = land.height[target] as f64;
+        let slope_a = p.slope_weight / (p.max_grade * p.max_grade);
+        let w_d = p.distance_weight;
+        let heuristic = |table: &MoveTable, y: usize| -> f64 {
+            let (yi, yj) = grid.ij(y);
+            let v = DVec2::new(yi as f64 - ti as f64, yj as f64 - tj as f64);
+            let l0 = table.gauge(v) * cell;
+            let dh = (land.height[y] as f64 - target_h).abs();
+            let lmin = if steep { l0 } else { l0.max(dh / p.max_grade) };
+            if slope_a <= 0.0 || dh <= 0.0 {
+                return w_d * lmin;
+            }
+            let l = (dh * (slope_a / w_d).sqrt()).max(lmin);
+            w_d * l + slope_a * dh * dh / l
+        };
+        for &(r, t) in sources {
+            let s = r * m1 + m_count;
+            let g = t as f32;
+            if self.g[s] == 0.0 || g + 1.0 < self.g[s] {
+                if self.g[s] == 0.0 {
+                    self.touched.push(s as u32);
+                }
+                self.g[s] = g + 1.0;
+                self.heap.push(Entry {
+                    f: g as f64 + heuristic(&self.table, r),
+                    g,
+                    state: s as u32,
+                });
+            }
+        }
+        let mut settled = 0usize;
+        while let Some(e) = self.heap.pop() {
+            let s = e.state as usize;
+            if e.g + 1.0 > self.g[s] {
+                continue;
+            }
+            let (x, slot) = (s / m1, s % m1);
+            if x == target {
+                return Some(s);
+            }
+            settled += 1;
+            if settled == REACH_CHECK_AFTER && !self.reachable(land, target, steep) {
+                return None;
+            }
+            let (xi, xj) = grid.ij(x);
+            for m in 0..m_count {
+                let (dx, dy, delta) = {
+                    let mv = &self.table.moves[m];
+                    (mv.dx, mv.dy, mv.delta)
+                };
+                let (yi, yj) = (xi as i64 + dx as i64, xj as i64 + dy as i64);
+                if yi < 0 || yj < 0 || yi >= grid.nx as i64 || yj >= grid.ny as i64 {
+                    continue;
+                }
+                let turn = if slot < m_count {
+                    let a = self.table.turn[slot * m_count + m];
+                    if a > MAX_TURN {
+                        continue;
+                    }
+                    a * p.curvature_weight
+                } else {
+                    0.0
+                };
+                let y = (x as isize + delta) as usize;
+                let fy = self.flags[y];
+                if y != target && fy & GOAL != 0 {
+                    continue;
+                }
+                let mut c = self.cost(land, x, m);
+                if c.is_infinite() {
+                    continue;
+                }
+                if c < 0.0 {
+                    if !steep {
+                        continue;
+                    }
+                    c = -c;
+                }
+                let mut extra = 0.0;
+                if y != target && fy & BUILDING != 0 {
+                    extra += p.building_cost;
+                }
+                let mut blocked = false;
+                for &d in &self.table.moves[m].inner {
+                    let f = self.flags[(x as isize + d) as usize];
+                    if f & GOAL != 0 {
+                        blocked = true;
+                        break;
+                    }
+                    if f & BUILDING != 0 {
+                        extra += p.building_cost;
+                    }
+                }
+                if blocked {
+                    continue;
+                }
+                if let Some(el) = ellipse {
+                    let q = grid.point(yi as usize, yj as usize);
+                    if q.distance(el.a) + q.distance(el.b) > el.length {
+                        continue;
+                    }
+                }
+                let g = (e.g as f64 + c as f64 + turn + extra) as f32;
+                let t = y * m1 + m;
+                if self.g[t] == 0.0 || g + 1.0 < self.g[t] {
+                    if self.g[t] == 0.0 {
+                        self.touched.push(t as u32);
+                    }
+                    self.g[t] = g + 1.0;
+                    self.pred[t] = slot as u8;
+                    self.heap.push(Entry {
+                        f: g as f64 + heuristic(&self.table, y),
+                        g,
+                        state: t as u32,
+                    });
+                }
+            }
+        }
+        None
+    }
+
+    /// Whether a goal node can be reached from `target` at all, on nodes (turns ignored).
+    fn reachable(&mut self, land: &Land, target: usize, steep: bool) -> bool {
+        let grid = land.grid;
+        let mut seen = vec![false; grid.len()];
+        let mut stack = vec![target];
+        seen[target] = true;
+        while let Some(x) = stack.pop() {
+            let (xi, xj) = grid.ij(x);
+            for m in 0..self.table.moves.len() {
+                let (dx, dy, delta) = {
+                    let mv = &self.table.moves[m];
+                    (mv.dx, mv.dy, mv.delta)
+                };
+                let (yi, yj) = (xi as i64 + dx as i64, xj as i64 + dy as i64);
+                if yi < 0 || yj < 0 || yi >= grid.nx as i64 || yj >= grid.ny as i64 {
+                    continue;
+                }
+                let y = (x as isize + delta) as usize;
+                if seen[y] {
+                    continue;
+                }
+                let c = self.cost(land, x, m);
+                if c.is_infinite() || (c < 0.0 && !steep) {
+                    continue;
+                }
+                if self.table.moves[m]
+                    .inner
+                    .iter()
+                    .any(|&d| self.flags[(x as isize + d) as usize] & GOAL != 0)
+                {
+                    continue;
+                }
+                if self.flags[y] & GOAL != 0 {
+                    return true;
+                }
+                seen[y] = true;
+                stack.push(y);
+            }
+        }
+        false
+    }
+}
+
+/// The cost of a move from `x` under the grade limit (positive), above it (negative), or through a node outside
+/// `Ω` (infinite); see the module documentation.
+fn static_cost(land: &Land, key: &CostKey, mv: &Move, x: usize) -> f32 {
+    if mv
+        .cells
+        .iter()
+        .any(|&d| !land.inside[(x as isize + d) as usize])
+    {
+        return f32::INFINITY;
+    }
+    let n = mv.samples.len() - 1;
+    let sub = mv.length / n as f64;
+    let mut h0 = sample(&land.height, x, &mv.samples[0]);
+    let mut w0 = sample_bool(&land.water, x, &mv.samples[0]);
+    let (mut cost, mut steep) = (key.distance_weight * mv.length, false);
+    for s in &mv.samples[1..] {
+        let h1 = sample(&land.height, x, s);
+        let w1 = sample_bool(&land.water, x, s);
+        let r = (h1 - h0).abs() / sub / key.max_grade;
+        cost += key.slope_weight * r * r * sub + key.water_weight * 0.5 * (w0 + w1) * sub;
+        if r > 1.0 + 1e-9 {
+            steep = true;
+            cost += STEEP_WEIGHT * (key.distance_weight + key.slope_weight) * r * r * sub;
+        }
+        h0 = h1;
+        w0 = w1;
+    }
+    let c = (cost as f32).max(f32::MIN_POSITIVE);
+    if steep {
+        -c
+    } else {
+        c
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn grid(nx: usize, ny: usize) -> LandGrid {
+        LandGrid {
+            origin: DVec2::ZERO,
+            cell: 2.0,
+            nx,
+            ny,
+        }
+    }
+
+    #[test]
+    fn mask_sizes() {
+        let g = grid(20, 20);
+        for (k, n) in [(1, 8), (2, 16), (3, 32), (4, 48)] {
+            let t = MoveTable::new(&g, k);
+            assert_eq!(t.moves.len(), n, "radius {k}");
+            for (a, &b) in t.rev.iter().enumerate() {
+                assert_eq!(t.moves[a].dx, -t.moves[b].dx);
+                assert_eq!(t.moves[a].dy, -t.moves[b].dy);
+            }
+        }
+    }
+
+    #[test]
+    fn gauge_is_exact_on_mask_directions_and_below_on_others() {
+        let t = MoveTable::new(&grid(20, 20), 3);
+        for mv in &t.moves {
+            let v = DVec2::new(mv.dx as f64, mv.dy as f64);
+            assert!((t.gauge(v) - v.length()).abs() < 1e-12);
+        }
+        // (5, 1) is covered by (3, 1) + (2, 0): 3.162 + 2 = 5.162 cells at best, Euclid 5.099
+        let g = t.gauge(DVec2::new(5.0, 1.0));
+        assert!(g > 5.099 && g <= 5.1623, "{g}");
+    }
+
+    #[test]
+    fn move_cells_are_symmetric() {
+        let g = grid(20, 20);
+        let t = MoveTable::new(&g, 3);
+        let x = g.index(10, 10);
+        for (a, mv) in t.moves.iter().enumerate() {
+            let y = (x as isize + mv.delta) as usize;
+            let mut fwd: Vec<isize> = mv.cells.iter().map(|&d| x as isize + d).collect();
+            let mut back: Vec<isize> = t.moves[t.rev[a]]
+                .cells
+                .iter()
+                .map(|&d| y as isize + d)
+                .collect();
+            fwd.sort_unstable();
+            back.sort_unstable();
+            assert_eq!(fwd, back, "move {} {}", mv.dx, mv.dy);
+        }
+        // a diagonal move touches the two corner cells too
+        let diag = t.moves.iter().find(|m| m.dx == 1 && m.dy == 1).unwrap();
+        assert_eq!(diag.inner.len(), 2);
+    }
+
+    #[test]
+    fn segment_cells_follow_the_segment() {
+        let g = grid(10, 10);
+        let cells = segment_cells(&g, DVec2::new(0.0, 0.0), DVec2::new(8.0, 0.0));
+        assert_eq!(cells, vec![0, 1, 2, 3, 4]);
+        assert!(segment_cells(&g, DVec2::new(-50.0, -50.0), DVec2::new(-40.0, -50.0)).is_empty());
+    }
+}
