@@ -371,6 +371,57 @@ mod village_houses {
         assert_eq!(uphill, reshaped, "a window reshaped on the downhill side");
     }
 
+    /// A rectangle with each corner moved up to `jitter` metres, kept when still convex.
+    fn irregular(i: u64, jitter: f64) -> Option<Footprint> {
+        let mut state = i.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1;
+        let mut next = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let (w, d) = (5.0 + 9.0 * next(), 5.0 + 9.0 * next());
+        let mut f = rectangle(
+            DVec2::new(40.0 * next(), 40.0 * next()),
+            w,
+            d,
+            360.0 * next(),
+        );
+        for c in &mut f.corners {
+            *c += DVec2::new(next() - 0.5, next() - 0.5) * 2.0 * jitter;
+        }
+        let c = f.corners;
+        (0..4)
+            .all(|k| (c[(k + 1) % 4] - c[k]).perp_dot(c[(k + 2) % 4] - c[(k + 1) % 4]) > 1.0)
+            .then_some(f)
+    }
+
+    #[test]
+    fn irregular_footprints_on_rough_ground() {
+        let ground =
+            |p: DVec2| 0.45 * p.x + 0.2 * p.y + 0.5 * (0.3 * p.x).sin() * (0.2 * p.y).cos();
+        let (mut houses, mut rooms, mut lit, mut doors) = (0, 0, 0, 0);
+        for i in 0..300u64 {
+            let Some(f) = irregular(i, 1.5) else { continue };
+            let roof = ROOFS[(i % 3) as usize];
+            let storeys = 1 + (i % 3) as u32;
+            let (mesh, report) = house(&f, &kind(roof), storeys, &ground, i);
+            assert!(!mesh.faces.is_empty());
+            check_mesh(&mesh, &f, area(&f) * 2.9 * storeys as f64);
+            check_foundation(&mesh, &f, &ground);
+            assert_eq!(openings_below_ground(&mesh, &ground), 0);
+            houses += 1;
+            doors += report.doors;
+            rooms += report.rooms;
+            lit += report.rooms - report.rooms_without_opening;
+        }
+        println!(
+            "irregular quads on rough ground: {houses} houses, {doors} doors, {:.1}% of {rooms} rooms with an opening",
+            100.0 * lit as f64 / rooms as f64
+        );
+        assert!(houses > 200 && doors == houses);
+    }
+
     #[test]
     fn deterministic_on_any_thread_count() {
         let ground = |p: DVec2| 0.4 * p.x + 0.1 * (p.y * 0.7).sin();
