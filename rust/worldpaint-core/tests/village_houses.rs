@@ -164,8 +164,16 @@ mod village_houses {
         }
     }
 
-    /// Height of each door's sill above the terrain under its middle.
+    /// Height of each door's sill above the terrain under its middle; a door standing 0.3 m or more above it has
+    /// a first step 0.18 m under its sill, in front of it.
     fn sill_heights(mesh: &HouseMesh, ground: &dyn Fn(DVec2) -> f64) -> Vec<f64> {
+        let steps: Vec<DVec3> = mesh
+            .faces
+            .iter()
+            .zip(&mesh.materials)
+            .filter(|(_, &m)| m == HouseMaterial::Foundation)
+            .flat_map(|(f, _)| f.iter().map(|&i| v3(mesh, i)))
+            .collect();
         mesh.faces
             .iter()
             .zip(&mesh.materials)
@@ -175,7 +183,16 @@ mod village_houses {
                 let z = p.iter().map(|v| v.z).fold(f64::INFINITY, f64::min);
                 let bottom: Vec<&DVec3> = p.iter().filter(|v| v.z == z).collect();
                 let mid = (bottom[0].truncate() + bottom[bottom.len() - 1].truncate()) * 0.5;
-                z - ground(mid)
+                let width = bottom[0].distance(*bottom[bottom.len() - 1]);
+                let height = z - ground(mid);
+                if height >= 0.3 {
+                    assert!(
+                        steps.iter().any(|s| s.truncate().distance(mid) < width
+                            && (s.z - (z - 0.18)).abs() < 1e-6),
+                        "a door {height:.2} m above the terrain without a step"
+                    );
+                }
+                height
             })
             .collect()
     }
@@ -463,7 +480,26 @@ mod village_houses {
             seed: 3,
             corners: [DVec2::ONE; 4],
         };
-        for f in [&flat, &nan, &point] {
+        let bow_tie = Footprint {
+            seed: 3,
+            corners: [
+                DVec2::ZERO,
+                DVec2::new(6.0, 6.0),
+                DVec2::new(6.0, 0.0),
+                DVec2::new(0.0, 6.0),
+            ],
+        };
+        let huge = Footprint {
+            seed: 3,
+            ..rectangle(DVec2::ZERO, 1e5, 10.0, 0.0)
+        };
+        // A corner of less than 10°.
+        let mut sliver = Footprint {
+            seed: 3,
+            ..rectangle(DVec2::ZERO, 8.0, 6.0, 0.0)
+        };
+        sliver.corners[2] = DVec2::new(40.0, 3.2);
+        for f in [&flat, &nan, &point, &bow_tie, &huge, &sliver] {
             let (mesh, report) = house(f, &k, 2, &ground, 1);
             assert!(mesh.faces.is_empty() && mesh.vertices.is_empty());
             assert_eq!(report.rooms, 0);
