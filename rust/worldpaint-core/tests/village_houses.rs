@@ -1,14 +1,24 @@
-//! Houses of the open shape grammar (thesis 3.4) on flat ground, gentle slopes and a 30° slope. Prints its
-//! figures with `--nocapture` and checks:
-//! * on a 30° slope: no door or window below the terrain, a door on every house, the foundation down to the
-//!   terrain under every corner and under every wall vertex;
-//! * on flat ground: an opening in every room, windows on one sill line per storey, the door in the middle of the
-//!   front wall;
+//! Houses of the open shape grammar (thesis 3.4) on flat ground, gentle slopes, a 30° slope and rough ground.
+//! Prints its figures with `--nocapture` and checks:
+//! * on a 30° slope: no door or window below the terrain, a door on every house, a first step under every door
+//!   standing 0.3 m or more above the terrain, the foundation down to the terrain under every corner and under
+//!   every wall vertex, the roof above the terrain;
+//! * on flat ground: an opening in every room, windows of the first shape on one sill line per storey and all on
+//!   one lintel line, the door in the middle of the front wall; a smaller window only beside the door;
 //! * every mesh well formed: valid indices, planar faces with an area, one material per face, and the solids
-//!   closed with consistent winding and a positive volume; wall faces look away from the footprint;
-//! * position adaptation slides along the floor line first; shape adaptation where a wall is nearly buried;
+//!   closed with consistent winding and a positive volume; wall faces look away from the footprint; the same on
+//!   irregular convex quads over rough ground;
+//! * position adaptation slides along the floor line first (10° slope); shape adaptation where a wall is nearly
+//!   buried, and only uphill (25° slope);
 //! * the same seed gives the same mesh, on any number of threads; degenerate input gives an empty house;
 //! * 100 houses in well under 0.3 s.
+//!
+//! Figures seen: on the 30° slope, 432 houses (6 sizes, 8 orientations, 1–3 storeys, 3 roofs), 93.8% of 7992 rooms
+//! with an opening, 1689 elements moved and 434 reshaped, 66 doors on an upper storey and 171 on another wall than
+//! the front, door sills 0.61 m (median) and at most 0.83 m above the terrain; on the 10° slope 106 of 120 moved
+//! windows moved mainly sideways (mean |dx| 0.82 m, |dy| 0.05 m); on the 25° slope 83 ground-storey windows away
+//! from the door took a fallback shape, all uphill; 95.7% of the rooms of 300 irregular houses have an opening;
+//! 100 houses take 15–51 ms on one thread of a shared 2-core machine (the higher figures under a load of 8–9).
 
 mod village_houses {
     use glam::{DVec2, DVec3};
