@@ -1,14 +1,24 @@
-//! Houses of the open shape grammar (thesis 3.4) on flat ground, gentle slopes and a 30° slope. Prints its
-//! figures with `--nocapture` and checks:
-//! * on a 30° slope: no door or window below the terrain, a door on every house, the foundation down to the
-//!   terrain under every corner and under every wall vertex;
-//! * on flat ground: an opening in every room, windows on one sill line per storey, the door in the middle of the
-//!   front wall;
+//! Houses of the open shape grammar (thesis 3.4) on flat ground, gentle slopes, a 30° slope and rough ground.
+//! Prints its figures with `--nocapture` and checks:
+//! * on a 30° slope: no door or window below the terrain, a door on every house, a first step under every door
+//!   standing 0.3 m or more above the terrain, the foundation down to the terrain under every corner and under
+//!   every wall vertex, the roof above the terrain;
+//! * on flat ground: an opening in every room, windows of the first shape on one sill line per storey and all on
+//!   one lintel line, the door in the middle of the front wall; a smaller window only beside the door;
 //! * every mesh well formed: valid indices, planar faces with an area, one material per face, and the solids
-//!   closed with consistent winding and a positive volume; wall faces look away from the footprint;
-//! * position adaptation slides along the floor line first; shape adaptation where a wall is nearly buried;
+//!   closed with consistent winding and a positive volume; wall faces look away from the footprint; the same on
+//!   irregular convex quads over rough ground;
+//! * position adaptation slides along the floor line first (10° slope); shape adaptation where a wall is nearly
+//!   buried, and only uphill (25° slope);
 //! * the same seed gives the same mesh, on any number of threads; degenerate input gives an empty house;
 //! * 100 houses in well under 0.3 s.
+//!
+//! Figures seen: on the 30° slope, 432 houses (6 sizes, 8 orientations, 1–3 storeys, 3 roofs), 93.8% of 7992 rooms
+//! with an opening, 1689 elements moved and 434 reshaped, 66 doors on an upper storey and 171 on another wall than
+//! the front, door sills 0.61 m (median) and at most 0.83 m above the terrain; on the 10° slope 106 of 120 moved
+//! windows moved mainly sideways (mean |dx| 0.82 m, |dy| 0.05 m); on the 25° slope 83 ground-storey windows away
+//! from the door took a fallback shape, all uphill; 95.7% of the rooms of 300 irregular houses have an opening;
+//! 100 houses take 15–51 ms on one thread of a shared 2-core machine (the higher figures under a load of 8–9).
 
 mod village_houses {
     use glam::{DVec2, DVec3};
@@ -164,8 +174,16 @@ mod village_houses {
         }
     }
 
-    /// Height of each door's sill above the terrain under its middle.
+    /// Height of each door's sill above the terrain under its middle; a door standing 0.3 m or more above it has
+    /// a first step 0.18 m under its sill, in front of it.
     fn sill_heights(mesh: &HouseMesh, ground: &dyn Fn(DVec2) -> f64) -> Vec<f64> {
+        let steps: Vec<DVec3> = mesh
+            .faces
+            .iter()
+            .zip(&mesh.materials)
+            .filter(|(_, &m)| m == HouseMaterial::Foundation)
+            .flat_map(|(f, _)| f.iter().map(|&i| v3(mesh, i)))
+            .collect();
         mesh.faces
             .iter()
             .zip(&mesh.materials)
@@ -175,7 +193,16 @@ mod village_houses {
                 let z = p.iter().map(|v| v.z).fold(f64::INFINITY, f64::min);
                 let bottom: Vec<&DVec3> = p.iter().filter(|v| v.z == z).collect();
                 let mid = (bottom[0].truncate() + bottom[bottom.len() - 1].truncate()) * 0.5;
-                z - ground(mid)
+                let width = bottom[0].distance(*bottom[bottom.len() - 1]);
+                let height = z - ground(mid);
+                if height >= 0.3 {
+                    assert!(
+                        steps.iter().any(|s| s.truncate().distance(mid) < width
+                            && (s.z - (z - 0.18)).abs() < 1e-6),
+                        "a door {height:.2} m above the terrain without a step"
+                    );
+                }
+                height
             })
             .collect()
     }
@@ -371,6 +398,57 @@ mod village_houses {
         assert_eq!(uphill, reshaped, "a window reshaped on the downhill side");
     }
 
+    /// A rectangle with each corner moved up to `jitter` metres, kept when still convex.
+    fn irregular(i: u64, jitter: f64) -> Option<Footprint> {
+        let mut state = i.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1;
+        let mut next = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let (w, d) = (5.0 + 9.0 * next(), 5.0 + 9.0 * next());
+        let mut f = rectangle(
+            DVec2::new(40.0 * next(), 40.0 * next()),
+            w,
+            d,
+            360.0 * next(),
+        );
+        for c in &mut f.corners {
+            *c += DVec2::new(next() - 0.5, next() - 0.5) * 2.0 * jitter;
+        }
+        let c = f.corners;
+        (0..4)
+            .all(|k| (c[(k + 1) % 4] - c[k]).perp_dot(c[(k + 2) % 4] - c[(k + 1) % 4]) > 1.0)
+            .then_some(f)
+    }
+
+    #[test]
+    fn irregular_footprints_on_rough_ground() {
+        let ground =
+            |p: DVec2| 0.45 * p.x + 0.2 * p.y + 0.5 * (0.3 * p.x).sin() * (0.2 * p.y).cos();
+        let (mut houses, mut rooms, mut lit, mut doors) = (0, 0, 0, 0);
+        for i in 0..300u64 {
+            let Some(f) = irregular(i, 1.5) else { continue };
+            let roof = ROOFS[(i % 3) as usize];
+            let storeys = 1 + (i % 3) as u32;
+            let (mesh, report) = house(&f, &kind(roof), storeys, &ground, i);
+            assert!(!mesh.faces.is_empty());
+            check_mesh(&mesh, &f, area(&f) * 2.9 * storeys as f64);
+            check_foundation(&mesh, &f, &ground);
+            assert_eq!(openings_below_ground(&mesh, &ground), 0);
+            houses += 1;
+            doors += report.doors;
+            rooms += report.rooms;
+            lit += report.rooms - report.rooms_without_opening;
+        }
+        println!(
+            "irregular quads on rough ground: {houses} houses, {doors} doors, {:.1}% of {rooms} rooms with an opening",
+            100.0 * lit as f64 / rooms as f64
+        );
+        assert!(houses > 200 && doors == houses);
+    }
+
     #[test]
     fn deterministic_on_any_thread_count() {
         let ground = |p: DVec2| 0.4 * p.x + 0.1 * (p.y * 0.7).sin();
@@ -412,7 +490,26 @@ mod village_houses {
             seed: 3,
             corners: [DVec2::ONE; 4],
         };
-        for f in [&flat, &nan, &point] {
+        let bow_tie = Footprint {
+            seed: 3,
+            corners: [
+                DVec2::ZERO,
+                DVec2::new(6.0, 6.0),
+                DVec2::new(6.0, 0.0),
+                DVec2::new(0.0, 6.0),
+            ],
+        };
+        let huge = Footprint {
+            seed: 3,
+            ..rectangle(DVec2::ZERO, 1e5, 10.0, 0.0)
+        };
+        // A corner of less than 10°.
+        let mut sliver = Footprint {
+            seed: 3,
+            ..rectangle(DVec2::ZERO, 8.0, 6.0, 0.0)
+        };
+        sliver.corners[2] = DVec2::new(40.0, 3.2);
+        for f in [&flat, &nan, &point, &bow_tie, &huge, &sliver] {
             let (mesh, report) = house(f, &k, 2, &ground, 1);
             assert!(mesh.faces.is_empty() && mesh.vertices.is_empty());
             assert_eq!(report.rooms, 0);

@@ -7,7 +7,7 @@
 //! constraints of `λ`, and if they hold it creates the element and the rule succeeds; otherwise that attempt
 //! fails and the next `λ` is tried; when `Λ` is exhausted the rule falls back to `C`.
 //!
-//! Two adaptations give the ordered parameter sets ([`grammar`]):
+//! Two adaptations give the ordered parameter sets (in the `grammar` submodule):
 //! * *position*: an element starts at its most plausible place (a window centred in its bay with its sill on the
 //!   storey's floor line; the door centred on the front wall of the ground storey) and, while invalid, moves over
 //!   a lattice of the wall surface in order of the cost `c(p) + K(dx, dy)` kept in a priority queue, `K` favouring
@@ -23,21 +23,26 @@
 //!
 //! Levels: the ground floor is the median of the terrain heights at the four corners plus a plinth, so the house
 //! is neither perched on its lowest corner nor buried under its highest; it is raised further only where the
-//! terrain would otherwise reach within [`CLEAR_WALL`] of the eaves (a low house across a steep slope). Uphill the terrain cuts into the walls,
-//! which the grammar adapts to; downhill a foundation reaches from the floor to below the lowest terrain along the
-//! walls. The mesh is made of closed solids (foundation, one prism per storey, roof and attic, steps), each wound
-//! counter-clockwise seen from outside, plus one quad per opening standing [`OPENING_OFFSET`] in front of its wall.
+//! terrain would otherwise come within 1.2 m of the eaves (a low house across a steep slope). Uphill the terrain
+//! cuts into the walls, which the grammar adapts to; downhill a foundation reaches from the floor to below the
+//! lowest terrain along the walls. The mesh is made of closed solids (foundation, one prism per storey, roof and
+//! attic, steps), each wound counter-clockwise seen from outside, plus one quad per opening standing
+//! [`OPENING_OFFSET`] in front of its wall.
+//!
+//! A footprint that is not a convex quad with sides of 0.5–500 m and corners of at least 15°, a storey height
+//! outside 1–20 m, or a terrain that is not finite around the house give an empty mesh and report. Clockwise
+//! corners are taken in the other order, the front side kept.
 
 mod geometry;
 mod grammar;
 
-pub use grammar::{kernel, Ground, Shape, CLEARANCE, MAX_TESTS, OPENING_OFFSET, STEP};
+pub use grammar::{kernel, Ground, CLEARANCE, MAX_TESTS, OPENING_OFFSET, STEP};
 
 use crate::village::encyclopedia::{BuildingKind, RoofStyle};
 use crate::village::{Footprint, HouseMaterial, HouseMesh};
 use geometry::{block, offset, roof, signed_area2, MeshBuilder, RoofParams};
 use glam::DVec2;
-use grammar::{Rect, Site, Wall};
+use grammar::{Rect, Shape, Site, Wall};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
@@ -53,8 +58,10 @@ const PLINTH_OUTSET: f64 = 0.05;
 const FOUNDATION_DEPTH: f64 = 0.15;
 /// Spacing of the terrain samples along the foundation outline (m).
 const FOUNDATION_SAMPLE: f64 = 0.25;
-/// A footprint with a shorter side (m) or a sharper corner (degrees) is degenerate.
+/// A footprint with a shorter side (m) or a sharper corner (degrees) is degenerate; one with a longer side (m) is
+/// no house (and would cost terrain samples in proportion).
 const MIN_SIDE: f64 = 0.5;
+const MAX_SIDE: f64 = 500.0;
 const MIN_CORNER_DEGREES: f64 = 15.0;
 /// Storeys and storey heights (m) a house is built with, at most and at least.
 const MAX_STOREYS: u32 = 24;
@@ -243,7 +250,8 @@ fn normalized(c: &[DVec2; 4]) -> Option<[DVec2; 4]> {
         let e0 = f[i] - f[(i + 3) % 4];
         let e1 = f[(i + 1) % 4] - f[i];
         let turn = e0.perp_dot(e1).atan2(e0.dot(e1));
-        if e1.length() < MIN_SIDE || !(turn > 0.0 && turn <= max_turn) {
+        let side = e1.length();
+        if !(MIN_SIDE..=MAX_SIDE).contains(&side) || !(turn > 0.0 && turn <= max_turn) {
             return None;
         }
     }
@@ -514,17 +522,13 @@ fn stairs(b: &mut MeshBuilder, wall: &Wall, ground: &Ground, r: &Rect, floor: f6
         // Counter-clockwise: the wall runs along `dir` with the outside on its right.
         let corners = [p(u0, d0), p(u0, d1), p(u1, d1), p(u1, d0)];
         let g = corners.map(ground);
-        if g.iter().any(|z| !z.is_finite()) {
+        let middle = ground(p(0.5 * (u0 + u1), 0.5 * (d0 + d1)));
+        // Down until the steps meet the terrain under their middle; across a slope one end of a tread may sink
+        // into it, as steps do.
+        if g.iter().any(|z| !z.is_finite()) || !(tread > middle + 0.05) {
             break;
         }
-        let (lo, hi) = g
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &z| {
-                (lo.min(z), hi.max(z))
-            });
-        if tread < hi + 0.05 {
-            break;
-        }
+        let lo = g.iter().fold(f64::INFINITY, |lo, &z| lo.min(z));
         block(b, &corners, lo - FOUNDATION_DEPTH, tread);
         lowest = Some(lo - FOUNDATION_DEPTH);
     }

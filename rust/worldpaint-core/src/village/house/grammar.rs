@@ -274,3 +274,85 @@ impl Site<'_> {
         })
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const SHAPES: [Shape; 3] = [
+        Shape {
+            name: "tall",
+            width: 0.9,
+            height: 1.3,
+            sill: 0.9,
+        },
+        Shape {
+            name: "square",
+            width: 0.8,
+            height: 0.8,
+            sill: 1.4,
+        },
+        Shape {
+            name: "small",
+            width: 0.6,
+            height: 0.6,
+            sill: 1.6,
+        },
+    ];
+
+    /// One window in the middle of a 4 m wall along x whose storey floor is at 0.5 m.
+    fn place(ground: &Ground) -> Option<Placement> {
+        let wall = Wall::new(DVec2::ZERO, DVec2::new(4.0, 0.0), ground)?;
+        let site = Site {
+            wall: &wall,
+            ground,
+            floor: 0.5,
+            placed: &[],
+            u_lo: 0.4,
+            u_hi: 3.6,
+            v_lo: 0.3,
+            v_hi: 2.65,
+            vertical: true,
+            reach: None,
+        };
+        site.place(&SHAPES, 2.0)
+    }
+
+    #[test]
+    fn a_mound_moves_the_window_along_its_floor_line() {
+        // The mound is cleared by 1.1 m sideways (11 horizontal steps) or 0.2 m up (2 vertical ones, cost 20).
+        let p = place(&|p: DVec2| if (p.x - 2.0).abs() < 0.6 { 1.5 } else { 0.0 }).unwrap();
+        assert_eq!(p.shape, 0);
+        assert_eq!(p.at.y, p.first.y);
+        assert!(((p.at.x - p.first.x).abs() - 1.1).abs() < 1e-9, "{p:?}");
+    }
+
+    #[test]
+    fn a_raised_ground_line_lifts_the_window() {
+        // Level along the wall: sliding cannot help, two vertical steps do (sill 1.1 m over the needed 1.05 m).
+        let p = place(&|_| 1.45).unwrap();
+        assert_eq!((p.shape, p.at.x), (0, p.first.x));
+        assert!((p.at.y - 1.1).abs() < 1e-9, "{p:?}");
+    }
+
+    #[test]
+    fn a_nearly_buried_wall_takes_a_smaller_shape_and_a_buried_one_none() {
+        // 1.8 m of terrain over the floor: the tall and square windows no longer fit under the lintel.
+        let p = place(&|_| 2.3).unwrap();
+        assert_eq!(p.shape, 2);
+        assert!(p.at.y >= 1.9 - 1e-9 && p.at.y + SHAPES[2].height <= 2.65 + 1e-9);
+        assert_eq!(place(&|_| 2.6), None);
+        // A terrain that is not a number is never clear of the opening.
+        assert_eq!(
+            place(&|p: DVec2| if p.x > 1.0 { f64::NAN } else { 0.0 }),
+            None
+        );
+    }
+
+    #[test]
+    fn the_kernel_prefers_horizontal_moves() {
+        assert!(kernel(1, 0) < kernel(0, 1) && kernel(0, 1) < kernel(1, 1));
+        assert_eq!(kernel(-1, 0), kernel(1, 0));
+        assert_eq!(kernel(0, 0), 0);
+    }
+}
