@@ -9,7 +9,7 @@ use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
 /// The terrain height under a point of the plane.
-pub type Ground = dyn Fn(DVec2) -> f64 + Sync;
+pub type Ground<'a> = dyn Fn(DVec2) -> f64 + Sync + 'a;
 
 /// Lattice step of the position adaptation on the wall surface (m).
 pub const STEP: f64 = 0.1;
@@ -135,7 +135,7 @@ impl Wall {
 /// Where a rule looks for a valid position: one wall of one storey, the free band of it, and what is built there.
 pub struct Site<'a> {
     pub wall: &'a Wall,
-    pub ground: &'a Ground,
+    pub ground: &'a Ground<'a>,
     /// Height of the storey floor.
     pub floor: f64,
     /// Openings already on this wall and storey.
