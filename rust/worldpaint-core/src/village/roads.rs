@@ -64,9 +64,12 @@ pub const STEEP_WEIGHT: f64 = 100.0;
 /// serpentine on a steep slope turns between two moves close to the contour lines, up to 180° minus the
 /// smallest angle between two moves of the mask.
 const MAX_TURN: f64 = std::f64::consts::PI - 1e-6;
-/// After this many settled states a search checks, on nodes only, that its target can be reached at all, so an
-/// impossible search does not sweep every (node, move) state of the grid.
-const REACH_CHECK_AFTER: usize = 40_000;
+/// Up to this many sources, the node-level search is an A* towards each of them; beyond, towards tiles of them,
+/// at most this many.
+const FEW_SOURCES: usize = 32;
+const MAX_SOURCE_TILES: usize = 48;
+/// States the first A* (with the closed-form bound) may settle before the node-level field is computed.
+const BOUND_BUDGET: usize = 3_000;
 /// A cycle road is built when more than this fraction of its length is far enough from the first road.
 const CYCLE_FAR_FRACTION: f64 = 0.5;
 /// The direction in which a road arrives at `B` is taken over this length (m) of the road.
@@ -77,6 +80,9 @@ const CONNECTION_SNAP_CELLS: i64 = 3;
 /// Node flags of one search.
 const GOAL: u8 = 1;
 const BUILDING: u8 = 2;
+/// Node surroundings, for the move costs.
+const NEAR_WATER: u8 = 1;
+const NEAR_OUTSIDE: u8 = 2;
 
 /// A village road network: the connection points `Ψ`, the roads, and what the road search keeps between calls.
 pub struct RoadNetwork {
@@ -271,7 +277,7 @@ impl RoadNetwork {
         }
         let mut search = match self.search.take() {
             Some(s) if s.fits(params, &self.grid) => s,
-            _ => Box::new(Search::new(&self.grid, params)?),
+            _ => Box::new(Search::new(land, params)?),
         };
         let result = self.connect_with(&mut search, land, params, occupied, b);
         self.search = Some(search);
@@ -286,7 +292,7 @@ impl RoadNetwork {
         occupied: &[bool],
         b: usize,
     ) -> Result<Connection> {
-        let exit = self.exit_costs(search, land);
+        self.exit_costs(search, land);
         let mut sources: Vec<(usize, f64)> = Vec::new();
         search.flags.clear();
         search.flags.extend(
@@ -297,9 +303,9 @@ impl RoadNetwork {
         );
         for &r in &self.road_nodes {
             let r = r as usize;
-            if exit[r].is_finite() {
+            if search.exit[r].is_finite() {
                 search.flags[r] |= GOAL;
-                sources.push((r, params.reuse_weight * exit[r]));
+                sources.push((r, params.reuse_weight * search.exit[r]));
             }
         }
         if search.flags[b] & GOAL != 0 {
@@ -387,7 +393,11 @@ impl RoadNetwork {
         let Some(axis) = arrival_direction(&first_line) else {
             return;
         };
-        let cos_max = params.cycle_angle_degrees.to_radians().min(std::f64::consts::PI).cos();
+        let cos_max = params
+            .cycle_angle_degrees
+            .to_radians()
+            .min(std::f64::consts::PI)
+            .cos();
         let mut best: Option<(f64, usize)> = None;
         for &r in &self.road_nodes {
             let r = r as usize;
@@ -431,9 +441,12 @@ impl RoadNetwork {
 
     /// Network cost from every road node to `Ψ` along the roads (without the re-use weight; `INFINITY` off the
     /// network or on roads not joined to `Ψ`): a Dijkstra over the road nodes, eight-connected.
-    fn exit_costs(&self, search: &mut Search, land: &Land) -> Vec<f64> {
+    fn exit_costs(&self, search: &mut Search, land: &Land) {
         let grid = self.grid;
-        let mut exit = vec![f64::INFINITY; grid.len()];
+        let mut exit = std::mem::take(&mut search.exit);
+        for &r in &self.road_nodes {
+            exit[r as usize] = f64::INFINITY;
+        }
         let mut heap = BinaryHeap::new();
         for &c in &self.connection_nodes {
             exit[c] = 0.0;
@@ -475,7 +488,7 @@ impl RoadNetwork {
                 }
             }
         }
-        exit
+        search.exit = exit;
     }
 }
 
@@ -531,9 +544,7 @@ fn polyline(grid: &LandGrid, path: &[usize]) -> Vec<DVec2> {
         (bi as i64 - ai as i64, bj as i64 - aj as i64)
     };
     for (k, &n) in path.iter().enumerate() {
-        let keep = k == 0
-            || k + 1 == path.len()
-            || step(path[k - 1], n) != step(n, path[k + 1]);
+        let keep = k == 0 || k + 1 == path.len() || step(path[k - 1], n) != step(n, path[k + 1]);
         if keep {
             points.push(grid.point_of(n));
         }
@@ -700,10 +711,10 @@ fn clip(a: DVec2, b: DVec2, lo: DVec2, hi: DVec2) -> Option<(f64, f64)> {
 // ---------------------------------------------------------------------------------------------------------------
 // The move mask
 
-/// A bilinear sample along a move: up to four (node offset, weight) taps.
-#[derive(Clone, Debug)]
+/// A bilinear sample along a move: four (node offset, weight) taps, unused ones of weight 0 on the start node.
+#[derive(Clone, Copy, Debug)]
 struct Sample {
-    taps: Vec<(isize, f64)>,
+    taps: [(isize, f64); 4],
 }
 
 fn sample(values: &[f32], x: usize, s: &Sample) -> f64 {
@@ -716,8 +727,13 @@ fn sample(values: &[f32], x: usize, s: &Sample) -> f64 {
 fn sample_bool(values: &[bool], x: usize, s: &Sample) -> f64 {
     s.taps
         .iter()
-        .filter(|&&(d, _)| values[(x as isize + d) as usize])
-        .map(|&(_, w)| w)
+        .map(|&(d, w)| {
+            if values[(x as isize + d) as usize] {
+                w
+            } else {
+                0.0
+            }
+        })
         .sum()
 }
 
@@ -797,19 +813,23 @@ impl MoveTable {
                 let n = (2.0 * end.length()).ceil() as usize;
                 let samples = (0..=n)
                     .map(|s| {
-                        let q = DVec2::new((dx * s as i32) as f64, (dy * s as i32) as f64) / n as f64;
+                        let q =
+                            DVec2::new((dx * s as i32) as f64, (dy * s as i32) as f64) / n as f64;
                         let (fx, fy) = (q.x.floor(), q.y.floor());
                         let (tx, ty) = (q.x - fx, q.y - fy);
-                        let mut taps = Vec::new();
-                        for (oi, oj, w) in [
+                        let mut taps = [(0, 0.0); 4];
+                        for (t, (oi, oj, w)) in [
                             (0, 0, (1.0 - tx) * (1.0 - ty)),
                             (1, 0, tx * (1.0 - ty)),
                             (0, 1, (1.0 - tx) * ty),
                             (1, 1, tx * ty),
-                        ] {
+                        ]
+                        .into_iter()
+                        .enumerate()
+                        {
+                            // a zero weight may lie off the grid: leave it on the start node
                             if w > 1e-12 {
-                                let d = (fy as isize + oj) * nx + fx as isize + oi;
-                                taps.push((d, w));
+                                taps[t] = ((fy as isize + oj) * nx + fx as isize + oi, w);
                             }
                         }
                         Sample { taps }
@@ -873,10 +893,7 @@ impl MoveTable {
     fn gauge(&self, v: DVec2) -> f64 {
         let (a, b) = (v.x.abs(), v.y.abs());
         let w = DVec2::new(a.max(b), a.min(b));
-        self.facets
-            .iter()
-            .map(|c| c.dot(w))
-            .fold(w.x, f64::max)
+        self.facets.iter().map(|c| c.dot(w)).fold(w.x, f64::max)
     }
 
     /// The move from node `a` to node `b`, if they are one move apart.
@@ -930,12 +947,156 @@ struct Ctx<'a> {
     params: &'a RoadParams,
 }
 
-/// Paths from `b`... stay within the ellipse of foci `a`, `b` and string length `length`.
+/// The points through which a path between the foci `a` and `b` is at most `length` long.
 #[derive(Clone, Copy, Debug)]
 struct Ellipse {
     a: DVec2,
     b: DVec2,
     length: f64,
+}
+
+impl Ellipse {
+    fn excludes(&self, q: DVec2) -> bool {
+        q.distance(self.a) + q.distance(self.b) > self.length
+    }
+}
+
+/// The closed-form lower bound of the module documentation on the cost of any path between two nodes.
+struct Bound<'a> {
+    land: &'a Land,
+    table: &'a MoveTable,
+    distance_weight: f64,
+    /// `slope_weight / max_grade²`.
+    slope: f64,
+    max_grade: f64,
+    steep: bool,
+}
+
+impl Bound<'_> {
+    fn new<'a>(land: &'a Land, table: &'a MoveTable, p: &RoadParams, steep: bool) -> Bound<'a> {
+        Bound {
+            land,
+            table,
+            distance_weight: p.distance_weight,
+            slope: p.slope_weight / (p.max_grade * p.max_grade),
+            max_grade: p.max_grade,
+            steep,
+        }
+    }
+
+    fn between(&self, a: usize, b: usize) -> f64 {
+        let g = &self.land.grid;
+        let (ai, aj) = g.ij(a);
+        let (bi, bj) = g.ij(b);
+        let v = DVec2::new(ai as f64 - bi as f64, aj as f64 - bj as f64);
+        let dh = (self.land.height[a] as f64 - self.land.height[b] as f64).abs();
+        self.of(self.table.gauge(v) * g.cell, dh)
+    }
+
+    /// The least cost of a path at least `length` long (m) that climbs `dh`.
+    fn of(&self, length: f64, dh: f64) -> f64 {
+        let w_d = self.distance_weight;
+        let lmin = if self.steep {
+            length
+        } else {
+            length.max(dh / self.max_grade)
+        };
+        if self.slope <= 0.0 || dh <= 0.0 {
+            return w_d * lmin;
+        }
+        // the best length for the climb, no shorter than possible
+        let l = (dh * (self.slope / w_d).sqrt()).max(lmin);
+        w_d * l + self.slope * dh * dh / l
+    }
+
+    /// Lower bound on the cost from `x` to the cheapest source, its initial cost included.
+    fn to_sources(&self, x: usize, sources: &SourceBound) -> f64 {
+        match sources {
+            SourceBound::Nodes(few) => few
+                .iter()
+                .map(|&(r, t)| t + self.between(x, r))
+                .fold(f64::INFINITY, f64::min),
+            SourceBound::Tiles(tiles) => {
+                let g = &self.land.grid;
+                let (i, j) = g.ij(x);
+                let (q, h) = (DVec2::new(i as f64, j as f64), self.land.height[x] as f64);
+                tiles
+                    .iter()
+                    .map(|t| {
+                        let d = (t.min - q).max(q - t.max).max(DVec2::ZERO).length() * g.cell;
+                        let dh = (t.low - h).max(h - t.high).max(0.0);
+                        t.cost + self.of(d, dh)
+                    })
+                    .fold(f64::INFINITY, f64::min)
+            }
+        }
+    }
+}
+
+/// What the node-level search knows of the sources, for a consistent bound towards them.
+enum SourceBound {
+    /// A few sources (node, initial cost).
+    Nodes(Vec<(usize, f64)>),
+    /// Many sources, gathered in tiles.
+    Tiles(Vec<SourceTile>),
+}
+
+/// Sources of one tile: the box of their nodes (grid units), their lowest initial cost, their heights.
+struct SourceTile {
+    min: DVec2,
+    max: DVec2,
+    cost: f64,
+    low: f64,
+    high: f64,
+}
+
+impl SourceBound {
+    fn new(land: &Land, sources: &[(usize, f64)]) -> SourceBound {
+        if sources.len() <= FEW_SOURCES {
+            return SourceBound::Nodes(sources.to_vec());
+        }
+        let g = &land.grid;
+        let mut size = 8;
+        loop {
+            let mut keyed: Vec<(usize, usize)> = sources
+                .iter()
+                .enumerate()
+                .map(|(k, &(r, _))| {
+                    let (i, j) = g.ij(r);
+                    ((j / size) * g.nx.div_ceil(size) + i / size, k)
+                })
+                .collect();
+            keyed.sort_unstable();
+            let mut tiles: Vec<SourceTile> = Vec::new();
+            let mut last = usize::MAX;
+            for (key, k) in keyed {
+                let (r, t) = sources[k];
+                let (i, j) = g.ij(r);
+                let q = DVec2::new(i as f64, j as f64);
+                let h = land.height[r] as f64;
+                if key != last {
+                    tiles.push(SourceTile {
+                        min: q,
+                        max: q,
+                        cost: t,
+                        low: h,
+                        high: h,
+                    });
+                    last = key;
+                } else if let Some(tile) = tiles.last_mut() {
+                    tile.min = tile.min.min(q);
+                    tile.max = tile.max.max(q);
+                    tile.cost = tile.cost.min(t);
+                    tile.low = tile.low.min(h);
+                    tile.high = tile.high.max(h);
+                }
+            }
+            if tiles.len() <= MAX_SOURCE_TILES || size >= g.nx.max(g.ny) {
+                return SourceBound::Tiles(tiles);
+            }
+            size *= 2;
+        }
+    }
 }
 
 /// The parameters the cached move costs depend on.
@@ -960,6 +1121,22 @@ impl CostKey {
     }
 }
 
+/// How the A* estimates the cost left to the target.
+#[derive(Clone, Copy)]
+enum Estimate<'a> {
+    /// The closed-form bound of the module documentation.
+    Bound,
+    /// The node-level costs from the target where settled; elsewhere the key the node-level search stopped at
+    /// less the bound to the sources (see [`Search::node_field`]).
+    Field(f64, &'a SourceBound),
+}
+
+enum Outcome {
+    Found(usize),
+    Unreachable,
+    OverBudget,
+}
+
 /// The state of the road search kept between connections.
 struct Search {
     key: CostKey,
@@ -967,6 +1144,9 @@ struct Search {
     /// Static cost of move `m` from node `x` at `x * moves + m`: 0 not computed yet, positive within the grade
     /// limit, negative (its opposite) steeper than it, infinite through a node outside `Ω`.
     costs: Vec<f32>,
+    /// [`NEAR_WATER`] and [`NEAR_OUTSIDE`] within the mask radius of each node: the moves of other nodes need
+    /// not look for them.
+    near: Vec<u8>,
     /// Best path cost plus one of each state (node × (moves + 1), the last slot for sources); 0 = not reached.
     g: Vec<f32>,
     /// The incoming move of the state each state was reached from.
@@ -974,10 +1154,76 @@ struct Search {
     touched: Vec<u32>,
     heap: BinaryHeap<Entry>,
     flags: Vec<u8>,
+    /// Network cost from each road node to `Ψ` (see [`RoadNetwork::exit_costs`]; infinite elsewhere).
+    exit: Vec<f64>,
+    /// Initial cost plus one of each source node (0 = not a source).
+    source_cost: Vec<f32>,
+    /// Node-level cost from the target plus one (0 = not reached), whether it is final, the nodes touched.
+    field: Vec<f32>,
+    settled: Vec<bool>,
+    field_touched: Vec<u32>,
+    /// The move that reached each node in the node-level search.
+    field_move: Vec<u8>,
+}
+
+/// The cached static cost of move `m` from `x` (see [`Search::costs`]).
+fn cached_cost(
+    costs: &mut [f32],
+    table: &MoveTable,
+    key: &CostKey,
+    land: &Land,
+    near: &[u8],
+    x: usize,
+    m: usize,
+) -> f32 {
+    let m_count = table.moves.len();
+    let c = costs[x * m_count + m];
+    if c != 0.0 {
+        return c;
+    }
+    let c = static_cost(land, key, &table.moves[m], x, near[x]);
+    costs[x * m_count + m] = c;
+    let y = (x as isize + table.moves[m].delta) as usize;
+    costs[y * m_count + table.rev[m]] = c;
+    c
+}
+
+/// The turn costs along the node-level path from `target` to `node` (see [`Search::node_field`]).
+fn path_turns(
+    table: &MoveTable,
+    grid: &LandGrid,
+    moves: &[u8],
+    target: usize,
+    node: usize,
+    curvature_weight: f64,
+) -> f64 {
+    let m_count = table.moves.len();
+    let (mut x, mut turns, mut next) = (node, 0.0, None::<usize>);
+    let mut steps = 0;
+    while x != target && steps < grid.len() {
+        let m = moves[x] as usize;
+        if let Some(n) = next {
+            turns += table.turn[m * m_count + n];
+        }
+        next = Some(m);
+        x = (x as isize - table.moves[m].delta) as usize;
+        steps += 1;
+    }
+    turns * curvature_weight
+}
+
+/// The cost a move may take in a search that allows steep moves or not (`None`: not allowed).
+fn usable(c: f32, steep: bool) -> Option<f32> {
+    if c.is_infinite() || (c < 0.0 && !steep) {
+        None
+    } else {
+        Some(c.abs())
+    }
 }
 
 impl Search {
-    fn new(grid: &LandGrid, params: &RoadParams) -> Result<Search> {
+    fn new(land: &Land, params: &RoadParams) -> Result<Search> {
+        let grid = &land.grid;
         let n = grid.len();
         let mut radius = params.mask_radius;
         let table = loop {
@@ -993,40 +1239,57 @@ impl Search {
             radius -= 1;
         };
         let m = table.moves.len();
-        let mut key = CostKey::of(params);
-        key.mask_radius = params.mask_radius;
         Ok(Search {
-            key,
+            key: CostKey::of(params),
             costs: vec![0.0; n * m],
+            near: {
+                let outside: Vec<bool> = land.inside.iter().map(|&i| !i).collect();
+                let r = radius as usize + 1;
+                near(grid, &land.water, r)
+                    .into_iter()
+                    .zip(near(grid, &outside, r))
+                    .map(|(w, o)| if w { NEAR_WATER } else { 0 } | if o { NEAR_OUTSIDE } else { 0 })
+                    .collect()
+            },
             g: vec![0.0; n * (m + 1)],
             pred: vec![0; n * (m + 1)],
             touched: Vec::new(),
             heap: BinaryHeap::new(),
             flags: Vec::with_capacity(n),
+            exit: vec![f64::INFINITY; n],
+            source_cost: vec![0.0; n],
+            field: vec![0.0; n],
+            settled: vec![false; n],
+            field_touched: Vec::new(),
+            field_move: vec![0; n],
             table,
         })
     }
 
     fn fits(&self, params: &RoadParams, grid: &LandGrid) -> bool {
-        self.key == CostKey::of(params) && self.costs.len() == grid.len() * self.table.moves.len()
+        self.key == CostKey::of(params) && self.field.len() == grid.len()
     }
 
     /// The static cost of move `m` from `x` (see `costs`), computed once.
     fn cost(&mut self, land: &Land, x: usize, m: usize) -> f32 {
-        let m_count = self.table.moves.len();
-        let c = self.costs[x * m_count + m];
-        if c != 0.0 {
-            return c;
-        }
-        let c = static_cost(land, &self.key, &self.table.moves[m], x);
-        self.costs[x * m_count + m] = c;
-        let y = (x as isize + self.table.moves[m].delta) as usize;
-        self.costs[y * m_count + self.table.rev[m]] = c;
-        c
+        cached_cost(
+            &mut self.costs,
+            &self.table,
+            &self.key,
+            land,
+            &self.near,
+            x,
+            m,
+        )
     }
 
     /// The cheapest path from one of `sources` (node, initial cost) to `target`, as nodes from `target` to the
     /// source; `None` when there is none.
+    ///
+    /// A first A* with the closed-form bound settles the easy cases within a few thousand states. Past that, a
+    /// node-level Dijkstra from the target (turns ignored, so a lower bound) gives the exact cost left wherever
+    /// it settles, and the A* restarts with it: the long first roads across rough terrain then expand little
+    /// more than their own corridor. The Dijkstra also tells, on nodes only, that no path exists at all.
     fn run(
         &mut self,
         ctx: &Ctx,
@@ -1035,14 +1298,63 @@ impl Search {
         steep: bool,
         ellipse: Option<Ellipse>,
     ) -> Option<Vec<usize>> {
-        let found = self.astar(ctx, sources, target, steep, ellipse);
+        for &(r, t) in sources {
+            let v = t as f32 + 1.0;
+            if self.source_cost[r] == 0.0 || v < self.source_cost[r] {
+                self.source_cost[r] = v;
+            }
+        }
+        let first = self.astar(
+            ctx,
+            sources,
+            target,
+            steep,
+            ellipse,
+            Estimate::Bound,
+            Some(BOUND_BUDGET),
+        );
+        let found = match first {
+            Outcome::Found(s) => Some(s),
+            Outcome::Unreachable => None,
+            Outcome::OverBudget => {
+                self.reset_states();
+                let towards = SourceBound::new(ctx.land, sources);
+                match self.node_field(ctx, &towards, target, steep, ellipse) {
+                    Some(radius) => match self.astar(
+                        ctx,
+                        sources,
+                        target,
+                        steep,
+                        ellipse,
+                        Estimate::Field(radius, &towards),
+                        None,
+                    ) {
+                        Outcome::Found(s) => Some(s),
+                        _ => None,
+                    },
+                    None => None,
+                }
+            }
+        };
         let path = found.map(|state| self.backtrack(state));
+        self.reset_states();
+        for &x in &self.field_touched {
+            self.field[x as usize] = 0.0;
+            self.settled[x as usize] = false;
+        }
+        self.field_touched.clear();
+        for &(r, _) in sources {
+            self.source_cost[r] = 0.0;
+        }
+        path
+    }
+
+    fn reset_states(&mut self) {
         for &s in &self.touched {
             self.g[s as usize] = 0.0;
         }
         self.touched.clear();
         self.heap.clear();
-        path
     }
 
     fn backtrack(&self, mut state: usize) -> Vec<usize> {
@@ -1057,6 +1369,137 @@ impl Search {
         path
     }
 
+    /// Node-level search from `target` (paths `target → x`, charged like the A* but without turns) until its key
+    /// passes the cheapest source reached (its cost plus the source's initial cost); returns that key, or `None`
+    /// when no source can be reached. With a few sources it is an A* towards them (`few`, a consistent bound),
+    /// otherwise a Dijkstra; either way the settled nodes have their exact cost from `target`, and every other
+    /// node `x` costs at least the returned key less the bound from `x` to the sources.
+    fn node_field(
+        &mut self,
+        ctx: &Ctx,
+        towards: &SourceBound,
+        target: usize,
+        steep: bool,
+        ellipse: Option<Ellipse>,
+    ) -> Option<f64> {
+        let land = ctx.land;
+        let p = ctx.params;
+        let grid = land.grid;
+        let Search {
+            key,
+            table,
+            costs,
+            near,
+            flags,
+            source_cost,
+            field,
+            settled,
+            field_touched,
+            field_move,
+            ..
+        } = self;
+        let bound = Bound::new(land, table, p, steep);
+        let mut heap = BinaryHeap::new();
+        field[target] = 1.0;
+        field_touched.push(target as u32);
+        heap.push(Entry {
+            f: bound.to_sources(target, towards),
+            g: 0.0,
+            state: target as u32,
+        });
+        // the cheapest source reached: its cost and node; then the cost of that path with its turns, which the
+        // search runs up to so that the A* that follows need not leave the settled nodes
+        let mut best = (f64::INFINITY, usize::MAX);
+        let mut upper: Option<f64> = None;
+        let mut stop = f64::INFINITY;
+        while let Some(e) = heap.pop() {
+            let x = e.state as usize;
+            if settled[x] || e.g + 1.0 > field[x] {
+                continue;
+            }
+            if e.f >= best.0 {
+                let u = *upper.get_or_insert_with(|| {
+                    let (r, t) = (best.1, best.0 - field[best.1] as f64 + 1.0);
+                    t + path_turns(table, &grid, field_move, target, r, p.curvature_weight)
+                        + field[r] as f64
+                        - 1.0
+                });
+                if e.f >= u {
+                    stop = e.f;
+                    break;
+                }
+            }
+            settled[x] = true;
+            if x != target && source_cost[x] != 0.0 {
+                let c = e.g as f64 + (source_cost[x] - 1.0) as f64;
+                if c < best.0 {
+                    best = (c, x);
+                }
+                continue;
+            }
+            if x != target && flags[x] & GOAL != 0 {
+                continue;
+            }
+            let (xi, xj) = grid.ij(x);
+            for m in 0..table.moves.len() {
+                let mv = &table.moves[m];
+                let (yi, yj) = (xi as i64 + mv.dx as i64, xj as i64 + mv.dy as i64);
+                if yi < 0 || yj < 0 || yi >= grid.nx as i64 || yj >= grid.ny as i64 {
+                    continue;
+                }
+                let y = (x as isize + mv.delta) as usize;
+                if settled[y] {
+                    continue;
+                }
+                if let Some(el) = ellipse {
+                    if el.excludes(grid.point(yi as usize, yj as usize)) {
+                        continue;
+                    }
+                }
+                let Some(c) = usable(cached_cost(costs, table, key, land, near, x, m), steep)
+                else {
+                    continue;
+                };
+                let mv = &table.moves[m];
+                let mut charge = if flags[y] & BUILDING != 0 {
+                    p.building_cost
+                } else {
+                    0.0
+                };
+                let mut blocked = false;
+                for &d in &mv.inner {
+                    let f = flags[(x as isize + d) as usize];
+                    blocked |= f & GOAL != 0;
+                    if f & BUILDING != 0 {
+                        charge += p.building_cost;
+                    }
+                }
+                if blocked {
+                    continue;
+                }
+                let d = (e.g as f64 + c as f64 + charge) as f32;
+                if field[y] == 0.0 || d + 1.0 < field[y] {
+                    if field[y] == 0.0 {
+                        field_touched.push(y as u32);
+                    }
+                    field[y] = d + 1.0;
+                    field_move[y] = m as u8;
+                    heap.push(Entry {
+                        f: d as f64 + bound.to_sources(y, towards),
+                        g: d,
+                        state: y as u32,
+                    });
+                }
+            }
+        }
+        if best.0.is_finite() {
+            Some(stop.min(upper.unwrap_or(best.0)))
+        } else {
+            None
+        }
+    }
+
+    #[allow(clippy::too_many_arguments)]
     fn astar(
         &mut self,
         ctx: &Ctx,
@@ -1064,70 +1507,83 @@ impl Search {
         target: usize,
         steep: bool,
         ellipse: Option<Ellipse>,
-    ) -> Option<usize> {
+        estimate: Estimate<'_>,
+        budget: Option<usize>,
+    ) -> Outcome {
         let land = ctx.land;
         let p = ctx.params;
         let grid = land.grid;
-        let m_count = self.table.moves.len();
+        let Search {
+            key,
+            table,
+            costs,
+            near,
+            g: gs,
+            pred,
+            touched,
+            heap,
+            flags,
+            field,
+            settled,
+            ..
+        } = self;
+        let m_count = table.moves.len();
         let m1 = m_count + 1;
-        let cell = grid.cell;
-        let (ti, tj) = grid.ij(target);
-        let target_h = land.height[target] as f64;
-        let slope_a = p.slope_weight / (p.max_grade * p.max_grade);
-        let w_d = p.distance_weight;
-        let heuristic = |table: &MoveTable, y: usize| -> f64 {
-            let (yi, yj) = grid.ij(y);
-            let v = DVec2::new(yi as f64 - ti as f64, yj as f64 - tj as f64);
-            let l0 = table.gauge(v) * cell;
-            let dh = (land.height[y] as f64 - target_h).abs();
-            let lmin = if steep { l0 } else { l0.max(dh / p.max_grade) };
-            if slope_a <= 0.0 || dh <= 0.0 {
-                return w_d * lmin;
-            }
-            let l = (dh * (slope_a / w_d).sqrt()).max(lmin);
-            w_d * l + slope_a * dh * dh / l
+        let bound = Bound::new(land, table, p, steep);
+        let heuristic = |y: usize| -> f64 {
+            let Estimate::Field(stop, towards) = estimate else {
+                return bound.between(y, target);
+            };
+            let charge = if y != target && flags[y] & BUILDING != 0 {
+                p.building_cost
+            } else {
+                0.0
+            };
+            let from_target = if settled[y] {
+                field[y] as f64 - 1.0
+            } else {
+                stop - bound.to_sources(y, towards)
+            };
+            (from_target - charge).max(0.0)
         };
         for &(r, t) in sources {
             let s = r * m1 + m_count;
             let g = t as f32;
-            if self.g[s] == 0.0 || g + 1.0 < self.g[s] {
-                if self.g[s] == 0.0 {
-                    self.touched.push(s as u32);
+            if gs[s] == 0.0 || g + 1.0 < gs[s] {
+                if gs[s] == 0.0 {
+                    touched.push(s as u32);
                 }
-                self.g[s] = g + 1.0;
-                self.heap.push(Entry {
-                    f: g as f64 + heuristic(&self.table, r),
+                gs[s] = g + 1.0;
+                heap.push(Entry {
+                    f: g as f64 + heuristic(r),
                     g,
                     state: s as u32,
                 });
             }
         }
-        let mut settled = 0usize;
-        while let Some(e) = self.heap.pop() {
+        let mut popped = 0usize;
+        while let Some(e) = heap.pop() {
             let s = e.state as usize;
-            if e.g + 1.0 > self.g[s] {
+            if e.g + 1.0 > gs[s] {
                 continue;
             }
             let (x, slot) = (s / m1, s % m1);
             if x == target {
-                return Some(s);
+                return Outcome::Found(s);
             }
-            settled += 1;
-            if settled == REACH_CHECK_AFTER && !self.reachable(land, target, steep) {
-                return None;
+            popped += 1;
+            if budget.is_some_and(|b| popped >= b) {
+                return Outcome::OverBudget;
             }
             let (xi, xj) = grid.ij(x);
             for m in 0..m_count {
-                let (dx, dy, delta) = {
-                    let mv = &self.table.moves[m];
-                    (mv.dx, mv.dy, mv.delta)
-                };
-                let (yi, yj) = (xi as i64 + dx as i64, xj as i64 + dy as i64);
+                let mv = &table.moves[m];
+                let (yi, yj) = (xi as i64 + mv.dx as i64, xj as i64 + mv.dy as i64);
                 if yi < 0 || yj < 0 || yi >= grid.nx as i64 || yj >= grid.ny as i64 {
                     continue;
                 }
                 let turn = if slot < m_count {
-                    let a = self.table.turn[slot * m_count + m];
+                    let a = table.turn[slot * m_count + m];
                     if a > MAX_TURN {
                         continue;
                     }
@@ -1135,32 +1591,24 @@ impl Search {
                 } else {
                     0.0
                 };
-                let y = (x as isize + delta) as usize;
-                let fy = self.flags[y];
+                let y = (x as isize + mv.delta) as usize;
+                let fy = flags[y];
                 if y != target && fy & GOAL != 0 {
                     continue;
                 }
-                let mut c = self.cost(land, x, m);
-                if c.is_infinite() {
+                let Some(c) = usable(cached_cost(costs, table, key, land, near, x, m), steep)
+                else {
                     continue;
-                }
-                if c < 0.0 {
-                    if !steep {
-                        continue;
-                    }
-                    c = -c;
-                }
-                let mut extra = 0.0;
+                };
+                let mv = &table.moves[m];
+                let mut extra = turn;
                 if y != target && fy & BUILDING != 0 {
                     extra += p.building_cost;
                 }
                 let mut blocked = false;
-                for &d in &self.table.moves[m].inner {
-                    let f = self.flags[(x as isize + d) as usize];
-                    if f & GOAL != 0 {
-                        blocked = true;
-                        break;
-                    }
+                for &d in &mv.inner {
+                    let f = flags[(x as isize + d) as usize];
+                    blocked |= f & GOAL != 0;
                     if f & BUILDING != 0 {
                         extra += p.building_cost;
                     }
@@ -1169,99 +1617,71 @@ impl Search {
                     continue;
                 }
                 if let Some(el) = ellipse {
-                    let q = grid.point(yi as usize, yj as usize);
-                    if q.distance(el.a) + q.distance(el.b) > el.length {
+                    if el.excludes(grid.point(yi as usize, yj as usize)) {
                         continue;
                     }
                 }
-                let g = (e.g as f64 + c as f64 + turn + extra) as f32;
+                let g = (e.g as f64 + c as f64 + extra) as f32;
                 let t = y * m1 + m;
-                if self.g[t] == 0.0 || g + 1.0 < self.g[t] {
-                    if self.g[t] == 0.0 {
-                        self.touched.push(t as u32);
+                if gs[t] == 0.0 || g + 1.0 < gs[t] {
+                    if gs[t] == 0.0 {
+                        touched.push(t as u32);
                     }
-                    self.g[t] = g + 1.0;
-                    self.pred[t] = slot as u8;
-                    self.heap.push(Entry {
-                        f: g as f64 + heuristic(&self.table, y),
+                    gs[t] = g + 1.0;
+                    pred[t] = slot as u8;
+                    heap.push(Entry {
+                        f: g as f64 + heuristic(y),
                         g,
                         state: t as u32,
                     });
                 }
             }
         }
-        None
-    }
-
-    /// Whether a goal node can be reached from `target` at all, on nodes (turns ignored).
-    fn reachable(&mut self, land: &Land, target: usize, steep: bool) -> bool {
-        let grid = land.grid;
-        let mut seen = vec![false; grid.len()];
-        let mut stack = vec![target];
-        seen[target] = true;
-        while let Some(x) = stack.pop() {
-            let (xi, xj) = grid.ij(x);
-            for m in 0..self.table.moves.len() {
-                let (dx, dy, delta) = {
-                    let mv = &self.table.moves[m];
-                    (mv.dx, mv.dy, mv.delta)
-                };
-                let (yi, yj) = (xi as i64 + dx as i64, xj as i64 + dy as i64);
-                if yi < 0 || yj < 0 || yi >= grid.nx as i64 || yj >= grid.ny as i64 {
-                    continue;
-                }
-                let y = (x as isize + delta) as usize;
-                if seen[y] {
-                    continue;
-                }
-                let c = self.cost(land, x, m);
-                if c.is_infinite() || (c < 0.0 && !steep) {
-                    continue;
-                }
-                if self.table.moves[m]
-                    .inner
-                    .iter()
-                    .any(|&d| self.flags[(x as isize + d) as usize] & GOAL != 0)
-                {
-                    continue;
-                }
-                if self.flags[y] & GOAL != 0 {
-                    return true;
-                }
-                seen[y] = true;
-                stack.push(y);
-            }
-        }
-        false
+        Outcome::Unreachable
     }
 }
 
 /// The cost of a move from `x` under the grade limit (positive), above it (negative), or through a node outside
-/// `Ω` (infinite); see the module documentation.
-fn static_cost(land: &Land, key: &CostKey, mv: &Move, x: usize) -> f32 {
-    if mv
-        .cells
-        .iter()
-        .any(|&d| !land.inside[(x as isize + d) as usize])
+/// `Ω` (infinite); see the module documentation. `near` says whether water
+/// ([`NEAR_WATER`]) or nodes outside `Ω` ([`NEAR_OUTSIDE`]) may lie within the move's reach.
+fn static_cost(land: &Land, key: &CostKey, mv: &Move, x: usize, near: u8) -> f32 {
+    if near & NEAR_OUTSIDE != 0
+        && mv
+            .cells
+            .iter()
+            .any(|&d| !land.inside[(x as isize + d) as usize])
     {
         return f32::INFINITY;
     }
     let n = mv.samples.len() - 1;
     let sub = mv.length / n as f64;
+    // grade over max grade = |Δh| · to_ratio
+    let to_ratio = 1.0 / (sub * key.max_grade);
+    let steep_weight = STEEP_WEIGHT * (key.distance_weight + key.slope_weight);
     let mut h0 = sample(&land.height, x, &mv.samples[0]);
-    let mut w0 = sample_bool(&land.water, x, &mv.samples[0]);
-    let (mut cost, mut steep) = (key.distance_weight * mv.length, false);
+    let (mut slope, mut steep_cost, mut steep) = (0.0, 0.0, false);
     for s in &mv.samples[1..] {
         let h1 = sample(&land.height, x, s);
-        let w1 = sample_bool(&land.water, x, s);
-        let r = (h1 - h0).abs() / sub / key.max_grade;
-        cost += key.slope_weight * r * r * sub + key.water_weight * 0.5 * (w0 + w1) * sub;
+        let r = (h1 - h0).abs() * to_ratio;
+        slope += r * r;
         if r > 1.0 + 1e-9 {
             steep = true;
-            cost += STEEP_WEIGHT * (key.distance_weight + key.slope_weight) * r * r * sub;
+            steep_cost += r * r;
         }
         h0 = h1;
-        w0 = w1;
+    }
+    let mut cost = key.distance_weight * mv.length
+        + (key.slope_weight * slope + steep_weight * steep_cost) * sub;
+    if near & NEAR_WATER != 0 && key.water_weight > 0.0 {
+        // trapezoids of the bilinear water indicator
+        let mut w0 = sample_bool(&land.water, x, &mv.samples[0]);
+        let mut wet_length = 0.0;
+        for s in &mv.samples[1..] {
+            let w1 = sample_bool(&land.water, x, s);
+            wet_length += 0.5 * (w0 + w1) * sub;
+            w0 = w1;
+        }
+        cost += key.water_weight * wet_length;
     }
     let c = (cost as f32).max(f32::MIN_POSITIVE);
     if steep {
@@ -1269,6 +1689,46 @@ fn static_cost(land: &Land, key: &CostKey, mv: &Move, x: usize) -> f32 {
     } else {
         c
     }
+}
+
+/// Nodes with a `values` node within `radius` cells (Chebyshev).
+fn near(g: &LandGrid, values: &[bool], radius: usize) -> Vec<bool> {
+    let mut rows = vec![false; g.len()];
+    for j in 0..g.ny {
+        let mut last: Option<usize> = None;
+        // distance to the nearest water on the left, then on the right
+        for i in 0..g.nx {
+            if values[g.index(i, j)] {
+                last = Some(i);
+            }
+            rows[g.index(i, j)] = last.is_some_and(|l| i - l <= radius);
+        }
+        last = None;
+        for i in (0..g.nx).rev() {
+            if values[g.index(i, j)] {
+                last = Some(i);
+            }
+            rows[g.index(i, j)] |= last.is_some_and(|l| l - i <= radius);
+        }
+    }
+    let mut out = vec![false; g.len()];
+    for i in 0..g.nx {
+        let mut last: Option<usize> = None;
+        for j in 0..g.ny {
+            if rows[g.index(i, j)] {
+                last = Some(j);
+            }
+            out[g.index(i, j)] = last.is_some_and(|l| j - l <= radius);
+        }
+        last = None;
+        for j in (0..g.ny).rev() {
+            if rows[g.index(i, j)] {
+                last = Some(j);
+            }
+            out[g.index(i, j)] |= last.is_some_and(|l| l - j <= radius);
+        }
+    }
+    out
 }
 
 #[cfg(test)]
