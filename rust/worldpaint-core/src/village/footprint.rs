@@ -1,1 +1,429 @@
-//! (being written)
+//! Building footprints: thesis 3.3.5 ("Building Footprint Computation"). Footprints are quadrilaterals, "the most
+//! frequently observed shape for buildings":
+//!
+//! > "We initialize a quad in each parcel, at the closest position to the road, and oriented according to the
+//! > closest normal to the road. The quad grows until it either reaches the maximal size for its building type,
+//! > or collides with the contour of the parcel. If one of the segments is close to the contour, its vertices are
+//! > projected onto it, enabling the generation of terraced houses when several neighboring houses use this
+//! > strategy."
+//!
+//! The closest position to the road is the middle of the stretch of the contour that faces the road (the contour
+//! points within [`FRONT_TOLERANCE`] of the smallest distance to a road centre line), so a parcel fronting a
+//! straight road gets its house centred on its frontage. The quad's front wall lies along the road tangent there;
+//! its left, right and back walls move out in small steps, each until it would leave the parcel or the size
+//! reaches `max_size` (width along the road, depth away from it). Where the contour is not parallel to the road
+//! or the frontage ends at a slanted side, a few set-backs of the front wall and shifts along it are tried, and
+//! the largest quad kept (the nearest to the road among near equals); the search stops at the first quad of full
+//! size. Last, a wall whose two ends lie within `snap` of the contour is projected onto it: two neighbours whose
+//! houses fill their frontage then stand on their shared parcel boundary, wall to wall.
+//!
+//! A footprint lies inside its parcel, which keeps clear of the road corridor, so footprints never overlap roads
+//! nor each other (only along shared walls).
+
+use super::parcels::{closest_on_segment, RoadIndex};
+use super::{Footprint, Parcel, Road};
+use crate::error::{Error, Result};
+use crate::geom::{polygon_signed_area, segment_distance, segment_intersection};
+use glam::DVec2;
+use rayon::prelude::*;
+
+/// The footprint of one parcel, or `None` when not even a `min_size` quad fits in it (or the inputs are not
+/// usable: a degenerate contour, no road, sizes that are not positive with `min_size <= max_size`).
+pub fn footprint(
+    parcel: &Parcel,
+    roads: &[Road],
+    road_width: f64,
+    min_size: [f64; 2],
+    max_size: [f64; 2],
+    snap: f64,
+) -> Option<Footprint> {
+    let index = RoadIndex::new(roads, road_width.max(8.0));
+    footprint_indexed(parcel, &index, road_width, min_size, max_size, snap)
+}
+
+/// The footprints of many parcels in parallel: `sizes[i]` holds the `(min_size, max_size)` of `parcels[i]`.
+pub fn footprints(
+    parcels: &[Parcel],
+    sizes: &[([f64; 2], [f64; 2])],
+    roads: &[Road],
+    road_width: f64,
+    snap: f64,
+) -> Result<Vec<Option<Footprint>>> {
+    if sizes.len() != parcels.len() {
+        return Err(Error::InvalidInput(format!(
+            "footprints: {} sizes for {} parcels",
+            sizes.len(),
+            parcels.len()
+        )));
+    }
+    if !(road_width.is_finite() && road_width >= 0.0) {
+        return Err(Error::InvalidInput(format!(
+            "footprints: road width {road_width} must be zero or more"
+        )));
+    }
+    if !(snap.is_finite() && snap >= 0.0) {
+        return Err(Error::InvalidInput(format!(
+            "footprints: snapping distance {snap} must be zero or more"
+        )));
+    }
+    for (i, (min, max)) in sizes.iter().enumerate() {
+        if !(0..2)
+            .all(|k| min[k].is_finite() && min[k] > 0.0 && max[k].is_finite() && max[k] >= min[k])
+        {
+            return Err(Error::InvalidInput(format!(
+                "footprints: parcel {i} needs sizes 0 < min <= max, got {min:?} and {max:?}"
+            )));
+        }
+    }
+    let index = RoadIndex::new(roads, road_width.max(8.0));
+    Ok(parcels
+        .par_iter()
+        .zip(sizes.par_iter())
+        .map(|(p, (min, max))| footprint_indexed(p, &index, road_width, *min, *max, snap))
+        .collect())
+}
+
+/// A quad in the frame of the road: its front wall from `q + n * front - u * left` to `q + n * front + u * right`
+/// (`-left <= right`; the quad need not cover `q`'s place along the road), `depth` along `n`.
+#[derive(Clone, Copy, Debug)]
+struct Quad {
+    front: f64,
+    left: f64,
+    right: f64,
+    depth: f64,
+}
+
+struct Frame {
+    q: DVec2,
+    /// Along the road, with the parcel on its left.
+    u: DVec2,
+    /// Away from the road.
+    n: DVec2,
+}
+
+impl Frame {
+    fn corners(&self, r: &Quad) -> [DVec2; 4] {
+        let f = self.q + self.n * r.front;
+        let c0 = f - self.u * r.left;
+        let c1 = f + self.u * r.right;
+        [c0, c1, c1 + self.n * r.depth, c0 + self.n * r.depth]
+    }
+}
+
+/// Points of a contour within this distance (m) of the closest one to the road make the frontage: a simplified
+/// front is not exactly parallel to its road.
+pub const FRONT_TOLERANCE: f64 = 1.5;
+
+fn footprint_indexed(
+    parcel: &Parcel,
+    index: &RoadIndex,
+    road_width: f64,
+    min_size: [f64; 2],
+    max_size: [f64; 2],
+    snap: f64,
+) -> Option<Footprint> {
+    let sizes_ok = (0..2).all(|k| {
+        min_size[k].is_finite()
+            && min_size[k] > 0.0
+            && max_size[k].is_finite()
+            && max_size[k] >= min_size[k]
+    });
+    if !sizes_ok
+        || !(road_width.is_finite() && road_width >= 0.0)
+        || !(snap.is_finite() && snap >= 0.0)
+    {
+        return None;
+    }
+    if index.is_empty() {
+        return None;
+    }
+    let mut poly: Vec<DVec2> = Vec::with_capacity(parcel.contour.len());
+    for &p in &parcel.contour {
+        if !(p.x.is_finite() && p.y.is_finite()) {
+            return None;
+        }
+        if poly.last() != Some(&p) {
+            poly.push(p);
+        }
+    }
+    while poly.len() > 1 && poly.first() == poly.last() {
+        poly.pop();
+    }
+    if poly.len() < 3 {
+        return None;
+    }
+    let area = polygon_signed_area(&poly);
+    if area == 0.0 || !area.is_finite() {
+        return None;
+    }
+    if area < 0.0 {
+        poly.reverse();
+    }
+    let scale = poly
+        .iter()
+        .fold(1.0f64, |m, p| m.max(p.abs().max_element()));
+    let eps = 1e-9 * scale;
+    let half = 0.5 * road_width;
+    let frame = road_frame(&poly, index)?;
+    let fits = |corners: &[DVec2; 4]| {
+        quad_inside(&poly, corners, eps) && clear_of_roads(index, corners, half)
+    };
+
+    // grow quads from a few set-backs of the front wall and shifts along it, and keep the largest
+    let step = (max_size[0].min(max_size[1]) / 64.0).clamp(0.02, 0.25);
+    let setback = (max_size[1] / 16.0).max(step);
+    let shift = 0.25 * max_size[0];
+    let starts = (0..=8).flat_map(|s| {
+        [0.0, 1.0, -1.0, 2.0, -2.0, 3.0, -3.0, 4.0, -4.0]
+            .map(move |k| (s as f64 * setback, k * shift))
+    });
+    let mut best: Option<(f64, Quad)> = None;
+    for (front, lateral) in starts {
+        // a wall-less start, so that a quad at a corner of the parcel may grow along one side only
+        let start = Quad {
+            front,
+            left: -lateral,
+            right: lateral,
+            depth: step,
+        };
+        if !fits(&frame.corners(&start)) {
+            continue;
+        }
+        let grown = grow(&frame, start, max_size, step, &fits);
+        let (width, depth) = (grown.left + grown.right, grown.depth);
+        if width + 1e-9 < min_size[0] || depth + 1e-9 < min_size[1] {
+            continue;
+        }
+        let a = width * depth;
+        // a quad nearer the road wins unless a farther one is clearly larger
+        if best.is_none_or(|(b, _)| a > 1.02 * b) {
+            best = Some((a, grown));
+        }
+        if width >= max_size[0] - 1e-9 && depth >= max_size[1] - 1e-9 {
+            break;
+        }
+    }
+    let (_, quad) = best?;
+    let mut corners = frame.corners(&quad);
+    // walls near the contour are projected onto it: neighbours then share them
+    for side in [3usize, 1, 2, 0] {
+        let (i, j) = (side, (side + 1) % 4);
+        let (pi, di) = closest_on_contour(&poly, corners[i]);
+        let (pj, dj) = closest_on_contour(&poly, corners[j]);
+        if di > snap || dj > snap || (di <= eps && dj <= eps) {
+            continue;
+        }
+        let mut moved = corners;
+        moved[i] = pi;
+        moved[j] = pj;
+        if convex_ccw(&moved, eps) && fits(&moved) {
+            corners = moved;
+        }
+    }
+    Some(Footprint {
+        seed: parcel.seed,
+        corners,
+    })
+}
+
+/// The frontage middle of the contour and the road frame there.
+fn road_frame(poly: &[DVec2], index: &RoadIndex) -> Option<Frame> {
+    let m = poly.len();
+    let perimeter: f64 = (0..m).map(|i| poly[i].distance(poly[(i + 1) % m])).sum();
+    let spacing = (perimeter / 4000.0).max(0.1);
+    // samples along the contour with their distance to the roads
+    let mut samples: Vec<(DVec2, f64)> = Vec::new();
+    for i in 0..m {
+        let (a, b) = (poly[i], poly[(i + 1) % m]);
+        let steps = ((a.distance(b) / spacing).ceil() as usize).max(1);
+        for s in 0..steps {
+            let p = a + (b - a) * (s as f64 / steps as f64);
+            samples.push((p, index.project(p).distance));
+        }
+    }
+    let dmin = samples.iter().map(|s| s.1).fold(f64::INFINITY, f64::min);
+    if !dmin.is_finite() {
+        return None;
+    }
+    let near: Vec<bool> = samples
+        .iter()
+        .map(|s| s.1 <= dmin + FRONT_TOLERANCE)
+        .collect();
+    // the longest run of near samples, going round the contour
+    let count = samples.len();
+    let start = (0..count)
+        .find(|&i| !near[i])
+        .map_or(0, |i| (i + 1) % count);
+    let (mut best, mut run) = ((0usize, 0usize), (0usize, 0usize));
+    for step in 0..count {
+        let i = (start + step) % count;
+        if near[i] {
+            if run.1 == 0 {
+                run = (i, 0);
+            }
+            run.1 += 1;
+            if run.1 > best.1 {
+                best = run;
+            }
+        } else {
+            run = (0, 0);
+        }
+    }
+    let q = samples[(best.0 + best.1 / 2) % count].0;
+    let proj = index.project(q);
+    let (a, b) = index.segments[proj.segment];
+    let mut tangent = (b - a).normalize_or_zero();
+    if tangent == DVec2::ZERO {
+        tangent = (q - proj.point).perp().normalize_or_zero();
+    }
+    if tangent == DVec2::ZERO {
+        return None;
+    }
+    let mut n = tangent.perp();
+    // the normal points away from the road, into the parcel
+    let centroid = poly.iter().copied().sum::<DVec2>() / m as f64;
+    let away = if (q - proj.point).length() > 1e-9 {
+        q - proj.point
+    } else {
+        centroid - q
+    };
+    if n.dot(away) < 0.0 {
+        n = -n;
+    }
+    // the parcel on the left of the front wall: corners counter-clockwise
+    let u = DVec2::new(n.y, -n.x);
+    Some(Frame { q, u, n })
+}
+
+/// Moves the left, right and back walls out in steps of `step` while the quad fits, up to `max_size`.
+fn grow(
+    frame: &Frame,
+    start: Quad,
+    max_size: [f64; 2],
+    step: f64,
+    fits: &impl Fn(&[DVec2; 4]) -> bool,
+) -> Quad {
+    let mut quad = start;
+    let mut active = [true; 3];
+    while active.iter().any(|a| *a) {
+        for (side, on) in active.iter_mut().enumerate() {
+            if !*on {
+                continue;
+            }
+            let room = match side {
+                0 | 1 => max_size[0] - quad.left - quad.right,
+                _ => max_size[1] - quad.depth,
+            };
+            if room <= 1e-12 {
+                *on = false;
+                continue;
+            }
+            // a full step, then finer ones against the contour
+            let mut grown = false;
+            let mut s = step.min(room);
+            for _ in 0..4 {
+                let mut next = quad;
+                match side {
+                    0 => next.left += s,
+                    1 => next.right += s,
+                    _ => next.depth += s,
+                }
+                if fits(&frame.corners(&next)) {
+                    quad = next;
+                    grown = true;
+                    break;
+                }
+                s *= 0.25;
+            }
+            if !grown {
+                *on = false;
+            }
+        }
+    }
+    quad
+}
+
+/// Whether the convex quad lies inside the closed simple polygon (touching its boundary allowed).
+fn quad_inside(poly: &[DVec2], quad: &[DVec2; 4], eps: f64) -> bool {
+    let m = poly.len();
+    let inside_poly = |p: DVec2| {
+        if (0..m).any(|i| segment_distance(p, poly[i], poly[(i + 1) % m]) <= eps) {
+            return true;
+        }
+        let mut inside = false;
+        let mut j = m - 1;
+        for i in 0..m {
+            let (a, b) = (poly[i], poly[j]);
+            if (a.y > p.y) != (b.y > p.y) {
+                let x = a.x + (p.y - a.y) * (b.x - a.x) / (b.y - a.y);
+                if p.x < x {
+                    inside = !inside;
+                }
+            }
+            j = i;
+        }
+        inside
+    };
+    // strictly inside the quad, away from its walls
+    let inside_quad = |p: DVec2| {
+        (0..4).all(|k| {
+            let (a, b) = (quad[k], quad[(k + 1) % 4]);
+            let len = a.distance(b);
+            len > 0.0 && (b - a).perp_dot(p - a) / len > eps
+        })
+    };
+    if !quad.iter().all(|&c| inside_poly(c)) {
+        return false;
+    }
+    for i in 0..m {
+        let (a, b) = (poly[i], poly[(i + 1) % m]);
+        if inside_quad(a) || inside_quad(0.5 * (a + b)) {
+            return false;
+        }
+        for k in 0..4 {
+            let (c, d) = (quad[k], quad[(k + 1) % 4]);
+            if let Some((t, u)) = segment_intersection(a, b, c, d) {
+                let (lab, lcd) = (a.distance(b), c.distance(d));
+                // a proper crossing, not a touch at an end
+                if t * lab > eps && (1.0 - t) * lab > eps && u * lcd > eps && (1.0 - u) * lcd > eps
+                {
+                    return false;
+                }
+            }
+        }
+    }
+    true
+}
+
+/// Whether every wall keeps `half` from the road centre lines.
+fn clear_of_roads(index: &RoadIndex, quad: &[DVec2; 4], half: f64) -> bool {
+    if half <= 0.0 {
+        return true;
+    }
+    (0..4).all(|k| {
+        let (a, b) = (quad[k], quad[(k + 1) % 4]);
+        index.segment_clearance(a, b, half) >= half * (1.0 - 1e-9)
+    })
+}
+
+/// The point of the contour closest to `p`, and its distance.
+fn closest_on_contour(poly: &[DVec2], p: DVec2) -> (DVec2, f64) {
+    let m = poly.len();
+    (0..m)
+        .map(|i| {
+            let q = closest_on_segment(p, poly[i], poly[(i + 1) % m]);
+            (q, q.distance(p))
+        })
+        .fold(
+            (p, f64::INFINITY),
+            |best, x| if x.1 < best.1 { x } else { best },
+        )
+}
+
+/// Whether four corners make a convex counter-clockwise quad.
+fn convex_ccw(c: &[DVec2; 4], eps: f64) -> bool {
+    (0..4).all(|k| {
+        let (a, b, d) = (c[k], c[(k + 1) % 4], c[(k + 2) % 4]);
+        a.distance(b) > eps && (b - a).perp_dot(d - b) > 0.0
+    })
+}
