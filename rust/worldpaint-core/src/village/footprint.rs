@@ -20,7 +20,7 @@
 //! A footprint lies inside its parcel, which keeps clear of the road corridor, so footprints never overlap roads
 //! nor each other (only along shared walls).
 
-use super::parcels::{closest_on_segment, RoadIndex};
+use super::parcels::RoadIndex;
 use super::{Footprint, Parcel, Road};
 use crate::error::{Error, Result};
 use crate::geom::{polygon_signed_area, segment_distance, segment_intersection};
@@ -208,14 +208,13 @@ fn footprint_indexed(
     // walls near the contour are projected onto it: neighbours then share them
     for side in [3usize, 1, 2, 0] {
         let (i, j) = (side, (side + 1) % 4);
-        let (pi, di) = closest_on_contour(&poly, corners[i]);
-        let (pj, dj) = closest_on_contour(&poly, corners[j]);
-        if di > snap || dj > snap || (di <= eps && dj <= eps) {
+        let Some((a, b)) = wall_support(&poly, corners[i], corners[j], snap, eps) else {
             continue;
-        }
+        };
+        let onto = |p: DVec2| a + (b - a) * ((p - a).dot(b - a) / (b - a).length_squared());
         let mut moved = corners;
-        moved[i] = pi;
-        moved[j] = pj;
+        moved[i] = onto(corners[i]);
+        moved[j] = onto(corners[j]);
         if convex_ccw(&moved, eps) && fits(&moved) {
             corners = moved;
         }
@@ -406,18 +405,28 @@ fn clear_of_roads(index: &RoadIndex, quad: &[DVec2; 4], half: f64) -> bool {
     })
 }
 
-/// The point of the contour closest to `p`, and its distance.
-fn closest_on_contour(poly: &[DVec2], p: DVec2) -> (DVec2, f64) {
+/// The contour edge nearly parallel to the wall `p`–`q` (within 15°) that both its ends lie within `snap` of
+/// (the nearest such edge), unless the wall already lies on it.
+fn wall_support(poly: &[DVec2], p: DVec2, q: DVec2, snap: f64, eps: f64) -> Option<(DVec2, DVec2)> {
     let m = poly.len();
-    (0..m)
-        .map(|i| {
-            let q = closest_on_segment(p, poly[i], poly[(i + 1) % m]);
-            (q, q.distance(p))
-        })
-        .fold(
-            (p, f64::INFINITY),
-            |best, x| if x.1 < best.1 { x } else { best },
-        )
+    let wall = q - p;
+    let mut best: Option<(f64, (DVec2, DVec2))> = None;
+    for k in 0..m {
+        let (a, b) = (poly[k], poly[(k + 1) % m]);
+        let edge = b - a;
+        if edge.length() <= eps
+            || wall.perp_dot(edge).abs() > 15f64.to_radians().sin() * wall.length() * edge.length()
+        {
+            continue;
+        }
+        let far = segment_distance(p, a, b).max(segment_distance(q, a, b));
+        if far <= snap && best.is_none_or(|(d, _)| far < d) {
+            best = Some((far, (a, b)));
+        }
+    }
+    let (far, edge) = best?;
+    let line = |x: DVec2| (edge.1 - edge.0).perp_dot(x - edge.0).abs() / edge.0.distance(edge.1);
+    (far > eps || line(p) > eps || line(q) > eps).then_some(edge)
 }
 
 /// Whether four corners make a convex counter-clockwise quad.

@@ -29,8 +29,9 @@
 //!      let cells pick far sources to halve their slope.)
 //!
 //!    Every parcel conquers its own neighbourhood (within `c_max / ω_conquest` of its road cells) on its own, in
-//!    parallel; a cell claimed by several parcels goes to the lowest cost, ties to the lower seed index, so the
-//!    result does not depend on the number of threads. Only the 4-connected component holding the parcel's
+//!    parallel; a cell claimed by several parcels goes to the lowest cost, ties to the source cell first in grid
+//!    order (so that two facing rows part along a straight line), so the result does not depend on the number of
+//!    threads. Only the 4-connected component holding the parcel's
 //!    source is kept; pinch points (two cells of one parcel touching at a corner only) and enclosed holes are
 //!    resolved so that every parcel is a simple polygon.
 //! 4. **Parcel simplification** (3.3.4). The cell outlines of all parcels form one planar boundary graph; each
@@ -92,8 +93,8 @@ pub struct ParcelOptions {
 impl Default for ParcelOptions {
     fn default() -> Self {
         ParcelOptions {
-            straighten: 1.05,
-            merge_angle_degrees: 20.0,
+            straighten: 1.5,
+            merge_angle_degrees: 30.0,
             merge_deviation: 3.0,
             acute_angle_degrees: 30.0,
             corner_angle_degrees: 150.0,
@@ -143,7 +144,7 @@ pub fn parcels_with(
         return Ok(vec![None; n]);
     }
     let projections: Vec<Projection> = seeds.iter().map(|s| index.project(s.position)).collect();
-    let Some(work) = Work::new(land, &index, half, cell, seeds, &projections)? else {
+    let Some(work) = Work::new(land, roads, &index, half, cell, seeds, &projections)? else {
         return Ok(vec![None; n]);
     };
 
@@ -204,7 +205,7 @@ pub fn parcels_with(
         .collect();
 
     // 3.3.3 anisotropic land conquest, each parcel on its own
-    let claims: Vec<Vec<(u32, f64)>> = (0..n)
+    let claims: Vec<Vec<Claim>> = (0..n)
         .into_par_iter()
         .map(|i| {
             if anchors[i].is_none() {
@@ -221,13 +222,20 @@ pub fn parcels_with(
             )
         })
         .collect();
+    // a cell claimed by several parcels goes to the lowest cost; costs equal but for rounding (facing rows
+    // meeting half-way on the lattice) go to the source first in grid order, so that such a boundary stays on one
+    // side of the lattice line all along instead of zig-zagging with the seeds' order
     let mut best = vec![f64::INFINITY; work.len()];
+    let mut from = vec![u32::MAX; work.len()];
     let mut label = vec![NONE; work.len()];
     for (i, cl) in claims.iter().enumerate() {
-        for &(k, c) in cl {
-            if c < best[k as usize] {
-                best[k as usize] = c;
-                label[k as usize] = i as u32;
+        for c in cl {
+            let k = c.cell as usize;
+            let tie = 1e-9 * (1.0 + c.cost.abs());
+            if c.cost < best[k] - tie || (c.cost <= best[k] + tie && c.source < from[k]) {
+                best[k] = c.cost;
+                from[k] = c.source;
+                label[k] = i as u32;
             }
         }
     }
@@ -342,6 +350,30 @@ fn validate(
 
 // ---------------------------------------------------------------------------------------------------------------
 // Roads as segments in buckets
+
+/// The ends of roads that meet no other road (nor their own road elsewhere).
+fn dead_ends(roads: &[Road], index: &RoadIndex, cell: f64) -> Vec<DVec2> {
+    let mut ends = Vec::new();
+    let mut near = Vec::new();
+    let tol = 0.1 * cell;
+    for r in roads.iter().filter(|r| r.points.len() >= 2) {
+        let m = r.points.len();
+        for (e, own) in [
+            (r.points[0], (r.points[0], r.points[1])),
+            (r.points[m - 1], (r.points[m - 2], r.points[m - 1])),
+        ] {
+            index.candidates(e - DVec2::splat(tol), e + DVec2::splat(tol), &mut near);
+            let met = near.iter().any(|&s| {
+                let (a, b) = index.segments[s as usize];
+                (a, b) != own && (b, a) != own && segment_distance(e, a, b) <= tol
+            });
+            if !met {
+                ends.push(e);
+            }
+        }
+    }
+    ends
+}
 
 /// The closest point of the roads to a point.
 #[derive(Clone, Copy, Debug)]
@@ -583,6 +615,7 @@ impl Work {
     /// cell is road when any of its points may lie within `half` of a centre line.
     fn new(
         land: &Land,
+        roads: &[Road],
         index: &RoadIndex,
         half: f64,
         cell: f64,
@@ -653,6 +686,21 @@ impl Work {
                     && N4
                         .iter()
                         .any(|&(di, dj)| work.at(i as i64 + di, j as i64 + dj) == Some(ROAD));
+            }
+        }
+        // the cells round a dead end's cap are not a road front: a parcel does not follow the road round its end
+        let ends = dead_ends(roads, index, cell);
+        if !ends.is_empty() {
+            for (k, e) in edge.iter_mut().enumerate() {
+                if *e {
+                    let foot = index.nearest(work.point_of(k), margin + 2.0 * cell);
+                    if foot.is_some_and(|f| {
+                        ends.iter()
+                            .any(|q| q.distance(f.point) <= 1e-9 * (1.0 + q.abs().max_element()))
+                    }) {
+                        *e = false;
+                    }
+                }
             }
         }
         work.edge = edge;
@@ -998,6 +1046,13 @@ fn corner_conquest(
 // ---------------------------------------------------------------------------------------------------------------
 // 3.3.3 anisotropic land conquest
 
+/// A cell conquered by a parcel: its cost and the road cell it was conquered from.
+struct Claim {
+    cell: u32,
+    cost: f64,
+    source: u32,
+}
+
 /// The cells one parcel conquers on its own from its road cells `fronts`, with their costs (at most `c_max`).
 ///
 /// Each cell keeps the source it was reached from; its conquest cost is measured to that source in the source's
@@ -1010,7 +1065,7 @@ fn conquer(
     seed: u32,
     fronts: &[usize],
     params: &ParcelParams,
-) -> Vec<(u32, f64)> {
+) -> Vec<Claim> {
     if fronts.is_empty() {
         return Vec::new();
     }
@@ -1095,6 +1150,10 @@ fn conquer(
                 }
             }
             let d = work.point_of(k) - so;
+            if d.dot(n) < -0.5 * c {
+                // behind the source: across its road
+                continue;
+            }
             let conquest = d.dot(n).abs().max(d.dot(t).abs()) + TIE * d.length();
             let mut s = slope[l];
             if let Some(g) = &gradients {
@@ -1117,15 +1176,90 @@ fn conquer(
     cost.iter()
         .enumerate()
         .filter(|(_, c)| c.is_finite())
-        .map(|(l, &c)| (global(l) as u32, c))
+        .map(|(l, &c)| Claim {
+            cell: global(l) as u32,
+            cost: c,
+            source: fronts[origin[l] as usize] as u32,
+        })
         .collect()
 }
 
 // ---------------------------------------------------------------------------------------------------------------
 // From claimed cells to simple regions
 
-/// Keeps each parcel's 4-connected component that holds its anchor, fills pinch points and enclosed holes, until
-/// every parcel is one simply connected 4-connected region without cells touching at a corner only.
+/// A mode filter on the claimed cells, up to twice: a cell most of whose eight neighbours (five or more) share another
+/// label takes it, and an unclaimed cell enclosed on three sides or more by parcels joins the most frequent one.
+/// Where many parcels compete (rough terrain), cost ties leave one-cell spikes and chains of unclaimed cells
+/// between two parcels; every corner of those is a junction of the boundary graph, which no simplification may
+/// remove. Road cells keep their owner, and closed cells stay out.
+fn smooth_labels(
+    work: &Work,
+    owner: &[u32],
+    is_anchor: &[bool],
+    label: &mut [u32],
+    best: &mut [f64],
+) -> bool {
+    let nx = work.nx;
+    let mut any = false;
+    for _ in 0..2 {
+        let old = label.to_vec();
+        let lab = |i: i64, j: i64| work.inside(i, j).map_or(NONE, |k| old[k]);
+        let mut changed = false;
+        for k in 0..work.len() {
+            if is_anchor[k] || work.state[k] != FREE || (work.edge[k] && owner[k] != NONE) {
+                continue;
+            }
+            let (i, j) = ((k % nx) as i64, (k / nx) as i64);
+            let mut counts: Vec<(u32, usize)> = Vec::with_capacity(8);
+            for &(di, dj) in &N8 {
+                let l = lab(i + di, j + dj);
+                match counts.iter_mut().find(|c| c.0 == l) {
+                    Some(c) => c.1 += 1,
+                    None => counts.push((l, 1)),
+                }
+            }
+            // the most frequent label, ties to the lower one
+            counts.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(&b.0)));
+            let (top, count) = counts[0];
+            let target = if old[k] == NONE {
+                let parcels4 = N4
+                    .iter()
+                    .filter(|&&(di, dj)| lab(i + di, j + dj) != NONE)
+                    .count();
+                let top4 = counts.iter().find(|c| c.0 != NONE).map(|c| c.0);
+                match top4 {
+                    Some(x) if parcels4 >= 3 && !work.closed_to(owner, x, k) => x,
+                    _ => continue,
+                }
+            } else if top != old[k] && count >= 5 && (top == NONE || !work.closed_to(owner, top, k))
+            {
+                top
+            } else {
+                continue;
+            };
+            label[k] = target;
+            best[k] = if target == NONE {
+                f64::INFINITY
+            } else {
+                N8.iter()
+                    .filter_map(|&(di, dj)| work.inside(i + di, j + dj))
+                    .filter(|&m| old[m] == target)
+                    .map(|m| best[m])
+                    .fold(0.0, f64::max)
+            };
+            changed = true;
+        }
+        if !changed {
+            break;
+        }
+        any = true;
+    }
+    any
+}
+
+/// Keeps each parcel's 4-connected component that holds its anchor, smooths the labels (the first rounds), fills
+/// pinch points and enclosed holes, until every parcel is one simply connected 4-connected region without cells
+/// touching at a corner only.
 fn clean_labels(
     work: &Work,
     owner: &[u32],
@@ -1134,11 +1268,12 @@ fn clean_labels(
     label: &mut [u32],
     best: &mut [f64],
 ) {
-    for _ in 0..12 {
+    for round in 0..12 {
         keep_components(work, anchors, label, best);
+        let smoothed = round < 3 && smooth_labels(work, owner, is_anchor, label, best);
         let pinched = fix_pinches(work, owner, is_anchor, label, best);
         let holed = fix_holes(work, owner, is_anchor, label, best, anchors.len());
-        if !pinched && !holed {
+        if !smoothed && !pinched && !holed {
             return;
         }
     }
