@@ -352,6 +352,7 @@ mod village {
         ];
         let mut net = RoadNetwork::new(&land, &[psi], &streets).unwrap();
         assert_eq!(net.roads.len(), 2);
+        assert_eq!(net.roads[1].points, streets[1]);
         let c = connect(&mut net, &land, &params(), &free, DVec2::new(250.0, 250.0));
         assert!(c.reached && c.cycle && c.roads.len() == 2, "{c:?}");
         let first = &net.roads[c.roads[0]];
@@ -453,6 +454,18 @@ mod village {
             net.connect(&l, &params(), &free, DVec2::new(5000.0, 50.0)),
             Err(Error::InvalidInput(_))
         ));
+        // the move costs belong to the land the network was made on
+        let mut other = l.clone();
+        other.height.iter_mut().for_each(|h| *h += 1.0);
+        assert!(matches!(
+            net.connect(&other, &params(), &free, DVec2::new(50.0, 50.0)),
+            Err(Error::InvalidInput(_))
+        ));
+        assert!(
+            net.connect(&l, &params(), &free, DVec2::new(50.0, 50.0))
+                .unwrap()
+                .reached
+        );
     }
 
     /// A hilly 1 km² land at 2 m cells with a lake.

@@ -28,13 +28,22 @@
 //! towards the single node `B`. A path may not land on or pass over another goal node, which is where a forward
 //! path would have joined the network. The new road is the off-road part, from `B` to `r`.
 //!
-//! **Heuristic.** Towards one target the A* heuristic is cheap and exact for the costs it bounds:
+//! **Heuristic.** Towards one target a closed-form bound is cheap:
 //! `h(x) = min_{L ≥ L₀} (distance_weight · L + slope_weight / max_grade² · Δh² / L)`, where `L₀` is the length of
 //! the shortest chain of mask moves from `x` to `B` on a flat, empty plane (the gauge of the mask's polygon,
 //! at least `Δh / max_grade` under the grade limit) and `Δh = |h(x) − h(B)|`. It is admissible: every path of
 //! planar length `L ≥ L₀` costs at least `distance_weight · L` plus, since `Σ g² ℓ ≥ (Σ g ℓ)² / L ≥ Δh² / L`
 //! (Cauchy–Schwarz), that slope term; curvature, water and building costs are non-negative. It is also
 //! consistent (the gauge is a norm, and `Δh² / L` is sub-additive), so each state is settled once.
+//!
+//! Most connections end within a few thousand states. A long road across rough land does not: the bound ignores
+//! the detours the grade limit forces, and every node holds one state per incoming move. Past
+//! [`BOUND_BUDGET`] states the search first runs on nodes alone (turns ignored, so its costs are lower bounds):
+//! from `B`, an A* towards the sources (each source, or tiles of them, under the same closed-form bound) that
+//! goes on until its key passes the cost of its own path with turns added. Its settled nodes then know their
+//! exact node-level cost to `B`; any other node `x` costs at least the key reached less the bound from `x` to the
+//! sources. Both are admissible, and the state search restarts with them: it then hardly leaves the nodes
+//! settled. The node search also tells, cheaply, that no road can reach `B` at all.
 //!
 //! **Cycles.** After the first road to `B`, the closest road node `p` in the cone of half-angle
 //! `cycle_angle_degrees` around the direction in which the road arrives at `B` (continuing past `B`), off the
@@ -95,6 +104,8 @@ pub struct RoadNetwork {
     /// The nodes of `on_road`, in the order they were added.
     road_nodes: Vec<u32>,
     index: SegmentIndex,
+    /// A fingerprint of the land the network was made on: the cached move costs belong to it.
+    land_mark: u64,
     search: Option<Box<Search>>,
 }
 
@@ -124,6 +135,7 @@ impl Clone for RoadNetwork {
             on_road: self.on_road.clone(),
             road_nodes: self.road_nodes.clone(),
             index: self.index.clone(),
+            land_mark: self.land_mark,
             search: None,
         }
     }
@@ -166,6 +178,7 @@ impl RoadNetwork {
             on_road: vec![false; grid.len()],
             road_nodes: Vec::new(),
             index: SegmentIndex::default(),
+            land_mark: land_mark(land),
             search: None,
         };
         for (n, &p) in connections.iter().enumerate() {
@@ -249,9 +262,9 @@ impl RoadNetwork {
         from: DVec2,
     ) -> Result<Connection> {
         check_land(land)?;
-        if land.grid != self.grid {
+        if land.grid != self.grid || land_mark(land) != self.land_mark {
             return Err(invalid(
-                "roads: the land grid differs from the one the network was made on".into(),
+                "roads: the land differs from the one the road network was made on".into(),
             ));
         }
         check_params(params)?;
@@ -322,7 +335,7 @@ impl RoadNetwork {
             path = search.run(&ctx, &sources, b, true, None);
             over_max_grade = path.is_some();
         }
-        let Some(path) = path else {
+        let Some((path, _)) = path else {
             return Ok(Connection::default());
         };
         let mut connection = Connection {
@@ -421,7 +434,7 @@ impl RoadNetwork {
             b: grid.point_of(p),
             length: params.cycle_max_length,
         };
-        let Some(path) = search.run(ctx, &[(p, 0.0)], b, false, Some(ellipse)) else {
+        let Some((path, _)) = search.run(ctx, &[(p, 0.0)], b, false, Some(ellipse)) else {
             return;
         };
         let line = polyline(&grid, &path);
@@ -477,7 +490,14 @@ impl RoadNetwork {
                 if c.is_infinite() {
                     continue;
                 }
-                let g = e.f + c.abs() as f64;
+                // a road steeper than the limit exists: it costs what its length and slope cost, no penalty
+                let c = if c < 0.0 {
+                    let mv = &search.table.moves[m];
+                    static_cost(land, &search.key, mv, x, search.near[x], false)
+                } else {
+                    c
+                };
+                let g = e.f + c as f64;
                 if g < exit[y] {
                     exit[y] = g;
                     heap.push(Entry {
@@ -563,6 +583,33 @@ fn steepest_on_move(land: &Land, mv: &Move, x: usize) -> f64 {
         prev = h;
     }
     steepest
+}
+
+/// A fingerprint of the grid and of a sample of the land's nodes (every 31st), cheap enough for every call.
+fn land_mark(land: &Land) -> u64 {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    let mut eat = |v: u64| {
+        h ^= v;
+        h = h.wrapping_mul(0x0100_0000_01b3);
+    };
+    let g = &land.grid;
+    for v in [
+        g.nx as u64,
+        g.ny as u64,
+        g.cell.to_bits(),
+        g.origin.x.to_bits(),
+        g.origin.y.to_bits(),
+    ] {
+        eat(v);
+    }
+    for k in (0..g.len()).step_by(31) {
+        let flags = land.inside[k] as u64
+            | (land.water[k] as u64) << 1
+            | (land.wall[k] as u64) << 2
+            | (land.fortified[k] as u64) << 3;
+        eat((land.height[k].to_bits() as u64) << 4 | flags);
+    }
+    h
 }
 
 fn check_land(land: &Land) -> Result<()> {
@@ -1129,6 +1176,9 @@ enum Estimate<'a> {
     /// The node-level costs from the target where settled; elsewhere the key the node-level search stopped at
     /// less the bound to the sources (see [`Search::node_field`]).
     Field(f64, &'a SourceBound),
+    /// None: a Dijkstra, to check the others against.
+    #[cfg(test)]
+    Zero,
 }
 
 enum Outcome {
@@ -1164,6 +1214,8 @@ struct Search {
     field_touched: Vec<u32>,
     /// The move that reached each node in the node-level search.
     field_move: Vec<u8>,
+    /// States the first A* may settle (see [`BOUND_BUDGET`]).
+    budget: usize,
 }
 
 /// The cached static cost of move `m` from `x` (see [`Search::costs`]).
@@ -1181,7 +1233,7 @@ fn cached_cost(
     if c != 0.0 {
         return c;
     }
-    let c = static_cost(land, key, &table.moves[m], x, near[x]);
+    let c = static_cost(land, key, &table.moves[m], x, near[x], true);
     costs[x * m_count + m] = c;
     let y = (x as isize + table.moves[m].delta) as usize;
     costs[y * m_count + table.rev[m]] = c;
@@ -1262,6 +1314,7 @@ impl Search {
             settled: vec![false; n],
             field_touched: Vec::new(),
             field_move: vec![0; n],
+            budget: BOUND_BUDGET,
             table,
         })
     }
@@ -1297,7 +1350,7 @@ impl Search {
         target: usize,
         steep: bool,
         ellipse: Option<Ellipse>,
-    ) -> Option<Vec<usize>> {
+    ) -> Option<(Vec<usize>, f64)> {
         for &(r, t) in sources {
             let v = t as f32 + 1.0;
             if self.source_cost[r] == 0.0 || v < self.source_cost[r] {
@@ -1311,7 +1364,7 @@ impl Search {
             steep,
             ellipse,
             Estimate::Bound,
-            Some(BOUND_BUDGET),
+            Some(self.budget),
         );
         let found = match first {
             Outcome::Found(s) => Some(s),
@@ -1336,7 +1389,7 @@ impl Search {
                 }
             }
         };
-        let path = found.map(|state| self.backtrack(state));
+        let path = found.map(|state| (self.backtrack(state), self.g[state] as f64 - 1.0));
         self.reset_states();
         for &x in &self.field_touched {
             self.field[x as usize] = 0.0;
@@ -1347,6 +1400,25 @@ impl Search {
             self.source_cost[r] = 0.0;
         }
         path
+    }
+
+    /// The cost of the cheapest path by a plain Dijkstra over the states, to check the A* against.
+    #[cfg(test)]
+    fn dijkstra(
+        &mut self,
+        ctx: &Ctx,
+        sources: &[(usize, f64)],
+        target: usize,
+        steep: bool,
+        ellipse: Option<Ellipse>,
+    ) -> Option<f64> {
+        let found = self.astar(ctx, sources, target, steep, ellipse, Estimate::Zero, None);
+        let cost = match found {
+            Outcome::Found(s) => Some(self.g[s] as f64 - 1.0),
+            _ => None,
+        };
+        self.reset_states();
+        cost
     }
 
     fn reset_states(&mut self) {
@@ -1451,8 +1523,9 @@ impl Search {
                 if settled[y] {
                     continue;
                 }
+                // the A* starts at the sources wherever they are: so must the paths here end
                 if let Some(el) = ellipse {
-                    if el.excludes(grid.point(yi as usize, yj as usize)) {
+                    if source_cost[y] == 0.0 && el.excludes(grid.point(yi as usize, yj as usize)) {
                         continue;
                     }
                 }
@@ -1531,8 +1604,11 @@ impl Search {
         let m1 = m_count + 1;
         let bound = Bound::new(land, table, p, steep);
         let heuristic = |y: usize| -> f64 {
-            let Estimate::Field(stop, towards) = estimate else {
-                return bound.between(y, target);
+            let (stop, towards) = match estimate {
+                Estimate::Bound => return bound.between(y, target),
+                #[cfg(test)]
+                Estimate::Zero => return 0.0,
+                Estimate::Field(stop, towards) => (stop, towards),
             };
             let charge = if y != target && flags[y] & BUILDING != 0 {
                 p.building_cost
@@ -1644,7 +1720,7 @@ impl Search {
 /// The cost of a move from `x` under the grade limit (positive), above it (negative), or through a node outside
 /// `Ω` (infinite); see the module documentation. `near` says whether water
 /// ([`NEAR_WATER`]) or nodes outside `Ω` ([`NEAR_OUTSIDE`]) may lie within the move's reach.
-fn static_cost(land: &Land, key: &CostKey, mv: &Move, x: usize, near: u8) -> f32 {
+fn static_cost(land: &Land, key: &CostKey, mv: &Move, x: usize, near: u8, penalise: bool) -> f32 {
     if near & NEAR_OUTSIDE != 0
         && mv
             .cells
@@ -1657,7 +1733,11 @@ fn static_cost(land: &Land, key: &CostKey, mv: &Move, x: usize, near: u8) -> f32
     let sub = mv.length / n as f64;
     // grade over max grade = |Δh| · to_ratio
     let to_ratio = 1.0 / (sub * key.max_grade);
-    let steep_weight = STEEP_WEIGHT * (key.distance_weight + key.slope_weight);
+    let steep_weight = if penalise {
+        STEEP_WEIGHT * (key.distance_weight + key.slope_weight)
+    } else {
+        0.0
+    };
     let mut h0 = sample(&land.height, x, &mv.samples[0]);
     let (mut slope, mut steep_cost, mut steep) = (0.0, 0.0, false);
     for s in &mv.samples[1..] {
@@ -1684,7 +1764,7 @@ fn static_cost(land: &Land, key: &CostKey, mv: &Move, x: usize, near: u8) -> f32
         cost += key.water_weight * wet_length;
     }
     let c = (cost as f32).max(f32::MIN_POSITIVE);
-    if steep {
+    if steep && penalise {
         -c
     } else {
         c
@@ -1797,5 +1877,147 @@ mod tests {
         let cells = segment_cells(&g, DVec2::new(0.0, 0.0), DVec2::new(8.0, 0.0));
         assert_eq!(cells, vec![0, 1, 2, 3, 4]);
         assert!(segment_cells(&g, DVec2::new(-50.0, -50.0), DVec2::new(-40.0, -50.0)).is_empty());
+    }
+
+    /// Bumpy random land with water, holes in the region, and a steep band.
+    fn random_land(rng: &mut rand_chacha::ChaCha8Rng, n: usize) -> Land {
+        use rand::Rng;
+        let g = grid(n, n);
+        let bumps: Vec<(DVec2, f64, f64)> = (0..6)
+            .map(|_| {
+                (
+                    DVec2::new(
+                        rng.random_range(0.0..2.0 * n as f64),
+                        rng.random_range(0.0..2.0 * n as f64),
+                    ),
+                    rng.random_range(-15.0..15.0),
+                    rng.random_range(8.0..30.0),
+                )
+            })
+            .collect();
+        let height = (0..g.len())
+            .map(|k| {
+                let p = g.point_of(k);
+                bumps
+                    .iter()
+                    .map(|&(c, a, r)| a * (-(p - c).length_squared() / (r * r)).exp())
+                    .sum::<f64>() as f32
+            })
+            .collect();
+        let inside = (0..g.len())
+            .map(|_| rng.random_range(0.0..1.0) > 0.04)
+            .collect();
+        let lake = DVec2::new(
+            rng.random_range(0.0..2.0 * n as f64),
+            rng.random_range(0.0..2.0 * n as f64),
+        );
+        let water = (0..g.len())
+            .map(|k| g.point_of(k).distance(lake) < 15.0)
+            .collect();
+        Land {
+            grid: g,
+            height,
+            inside,
+            water,
+            wall: (0..g.len())
+                .map(|_| rng.random_range(0.0..1.0) < 0.01)
+                .collect(),
+            fortified: vec![false; g.len()],
+        }
+    }
+
+    #[test]
+    fn the_searches_find_the_cheapest_path() {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
+        let mut compared = 0;
+        for case in 0..24 {
+            let n = 40;
+            let land = random_land(&mut rng, n);
+            let params = RoadParams {
+                width: 4.0,
+                distance_weight: rng.random_range(0.5..2.0),
+                slope_weight: rng.random_range(0.0..4.0),
+                max_grade: rng.random_range(0.1..0.3),
+                curvature_weight: rng.random_range(0.0..4.0),
+                water_weight: rng.random_range(0.0..30.0),
+                building_cost: rng.random_range(0.0..200.0),
+                reuse_weight: 0.1,
+                mask_radius: 1 + case % 3,
+                cycle_angle_degrees: 30.0,
+                cycle_max_length: 100.0,
+                cycle_min_separation: 20.0,
+            };
+            let mut search = Search::new(&land, &params).unwrap();
+            search.flags = (0..land.grid.len())
+                .map(|_| {
+                    if rng.random_range(0.0..1.0) < 0.05 {
+                        BUILDING
+                    } else {
+                        0
+                    }
+                })
+                .collect();
+            // many sources in some cases (the tiled bound), a few in the others
+            let count = if case % 2 == 0 {
+                rng.random_range(1..6)
+            } else {
+                rng.random_range(40..80)
+            };
+            let sources: Vec<(usize, f64)> = (0..count)
+                .map(|_| {
+                    (
+                        rng.random_range(0..land.grid.len()),
+                        rng.random_range(0.0..40.0),
+                    )
+                })
+                .collect();
+            for &(r, _) in &sources {
+                search.flags[r] |= GOAL;
+            }
+            let target = rng.random_range(0..land.grid.len());
+            if search.flags[target] & GOAL != 0 {
+                continue;
+            }
+            let ellipse = (case % 4 == 3).then(|| Ellipse {
+                a: land.grid.point_of(target),
+                b: land.grid.point_of(sources[0].0),
+                length: 1.3
+                    * land
+                        .grid
+                        .point_of(target)
+                        .distance(land.grid.point_of(sources[0].0))
+                    + 10.0,
+            });
+            let ctx = Ctx {
+                land: &land,
+                params: &params,
+            };
+            for steep in [false, true] {
+                let reference = search.dijkstra(&ctx, &sources, target, steep, ellipse);
+                for budget in [usize::MAX, 0, 40] {
+                    search.budget = budget;
+                    let got = search.run(&ctx, &sources, target, steep, ellipse);
+                    match (reference, &got) {
+                        (None, None) => {}
+                        (Some(a), Some((path, b))) => {
+                            assert!(
+                                (a - b).abs() <= 1e-3 * a.max(1.0),
+                                "case {case} steep {steep} budget {budget}: {a} vs {b}"
+                            );
+                            assert_eq!(path[0], target);
+                            let last = *path.last().unwrap();
+                            assert!(sources.iter().any(|&(r, _)| r == last));
+                            compared += 1;
+                        }
+                        _ => panic!(
+                            "case {case} steep {steep} budget {budget}: {reference:?} vs {:?}",
+                            got.map(|g| g.1)
+                        ),
+                    }
+                }
+            }
+        }
+        assert!(compared >= 60, "{compared}");
     }
 }
