@@ -49,6 +49,7 @@ mod village_houses {
             storey_height: 2.9,
             roof,
             religious: false,
+            fortress: false,
         }
     }
 

@@ -13,6 +13,7 @@ mod regions;
 mod scene;
 mod terrain;
 mod tools;
+mod village;
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::sync::Mutex;
@@ -142,5 +143,6 @@ fn worldpaint_engine(m: &Bound<'_, PyModule>) -> PyResult<()> {
     regions::register(m)?;
     exemplars::register(m)?;
     tools::register(m)?;
+    village::register(m)?;
     Ok(())
 }

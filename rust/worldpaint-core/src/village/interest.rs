@@ -444,16 +444,15 @@ mod tests {
             mask[grid.index(i, j)] = true;
         }
         let d = distance_transform(&grid, &mask);
-        for k in 0..grid.len() {
+        for (k, dk) in d.iter().enumerate() {
             let p = grid.point_of(k);
             let exact = seeds
                 .iter()
                 .map(|(i, j)| grid.point(*i, *j).distance(p))
                 .fold(f64::INFINITY, f64::min);
             assert!(
-                (d[k] as f64 - exact).abs() < 1e-4,
-                "node {k}: {} vs {exact}",
-                d[k]
+                (*dk as f64 - exact).abs() < 1e-4,
+                "node {k}: {dk} vs {exact}"
             );
         }
         assert!(distance_transform(&grid, &vec![false; grid.len()])

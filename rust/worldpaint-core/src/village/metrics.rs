@@ -5,8 +5,7 @@
 
 use super::land::Land;
 use super::{Footprint, Road};
-use crate::geom::segment_distance;
-use crate::graph::{Graph, SegmentIndex};
+use crate::graph::SegmentIndex;
 use glam::DVec2;
 
 /// Footprint conflicts found by [`footprint_conflicts`].
@@ -105,7 +104,7 @@ pub fn footprint_conflicts(
                 .iter()
                 .any(|p| g.nearest(*p).is_some_and(|(i, j)| mask[g.index(i, j)]))
         };
-        out.water += node_flag(&land.water) as usize;
+        out.water += on_water(land, f) as usize;
         out.wall += node_flag(&land.wall) as usize;
         out.outside += samples.iter().any(|p| {
             g.nearest(*p)
@@ -118,6 +117,28 @@ pub fn footprint_conflicts(
         }
     }
     out
+}
+
+/// Whether a footprint reaches onto water: a point of it nearer (bilinearly) to water nodes than to dry ones.
+pub fn on_water(land: &Land, f: &Footprint) -> bool {
+    let g = &land.grid;
+    let wet = |i: i64, j: i64| {
+        let (i, j) = (
+            i.clamp(0, g.nx as i64 - 1) as usize,
+            j.clamp(0, g.ny as i64 - 1) as usize,
+        );
+        land.water[g.index(i, j)] as u8 as f64
+    };
+    footprint_samples(f, 0.5).iter().any(|p| {
+        let q = (*p - g.origin) / g.cell;
+        let (i, j) = (q.x.floor() as i64, q.y.floor() as i64);
+        let (tx, ty) = (q.x - i as f64, q.y - j as f64);
+        let w = wet(i, j) * (1.0 - tx) * (1.0 - ty)
+            + wet(i + 1, j) * tx * (1.0 - ty)
+            + wet(i, j + 1) * (1.0 - tx) * ty
+            + wet(i + 1, j + 1) * tx * ty;
+        w >= 0.5
+    })
 }
 
 /// Distance from a segment to the nearest road centreline (its ends and points along it).
@@ -138,45 +159,52 @@ fn road_index(roads: &[Road]) -> SegmentIndex {
 }
 
 /// Footprints from which no road path leads to a connection point: the footprint must lie within `reach` (m) of
-/// a road whose network component touches a connection point (within `reach` too).
+/// a road joined, through roads whose corridors meet (centrelines closer than `touch`), to a road passing within
+/// `reach` of a connection point.
 pub fn unreachable_footprints(
     footprints: &[Footprint],
     roads: &[Road],
     connections: &[DVec2],
     reach: f64,
+    touch: f64,
 ) -> usize {
-    let paths: Vec<&[DVec2]> = roads.iter().map(|r| r.points.as_slice()).collect();
-    let graph = Graph::from_paths(&paths, 0.05);
-    let segments = graph.segments();
-    if segments.is_empty() {
-        return footprints.len();
-    }
-    let component = graph.component_labels();
-    let served: Vec<bool> = {
-        let mut served = vec![false; component.iter().copied().max().map_or(0, |m| m + 1)];
-        for [a, b] in &graph.edges {
-            let (pa, pb) = (graph.nodes[*a as usize], graph.nodes[*b as usize]);
-            if connections
-                .iter()
-                .any(|c| segment_distance(*c, pa, pb) <= reach)
-            {
-                served[component[*a as usize]] = true;
-            }
-        }
-        served
+    let indexes: Vec<SegmentIndex> = roads
+        .iter()
+        .map(|r| road_index(std::slice::from_ref(r)))
+        .collect();
+    let distance = |k: usize, p: DVec2| indexes[k].distance(p, 1e9);
+    let meet = |i: usize, j: usize| {
+        roads[i].points.iter().any(|p| distance(j, *p) <= touch)
+            || roads[j].points.iter().any(|p| distance(i, *p) <= touch)
+            || roads[i]
+                .points
+                .windows(2)
+                .any(|s| indexes[j].crosses(s[0], s[1], 0.0))
     };
+    // roads served from a connection point, grown through the roads they touch
+    let mut served: Vec<bool> = (0..roads.len())
+        .map(|k| connections.iter().any(|c| distance(k, *c) <= reach))
+        .collect();
+    let mut frontier: Vec<usize> = (0..roads.len()).filter(|k| served[*k]).collect();
+    while let Some(i) = frontier.pop() {
+        let joined: Vec<usize> = (0..roads.len())
+            .filter(|&j| !served[j] && meet(i, j))
+            .collect();
+        for j in joined {
+            served[j] = true;
+            frontier.push(j);
+        }
+    }
     footprints
         .iter()
         .filter(|f| {
             let centre = f.corners.iter().copied().sum::<DVec2>() / 4.0;
-            !graph.edges.iter().any(|[a, b]| {
-                let (pa, pb) = (graph.nodes[*a as usize], graph.nodes[*b as usize]);
-                served[component[*a as usize]]
-                    && (0..4)
-                        .map(|e| segment_distance(f.corners[e], pa, pb))
-                        .chain(std::iter::once(segment_distance(centre, pa, pb)))
-                        .fold(f64::INFINITY, f64::min)
-                        <= reach
+            !(0..roads.len()).any(|k| {
+                served[k]
+                    && f.corners
+                        .iter()
+                        .chain(std::iter::once(&centre))
+                        .any(|p| distance(k, *p) <= reach)
             })
         })
         .count()

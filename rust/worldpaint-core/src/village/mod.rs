@@ -17,6 +17,7 @@
 
 pub mod encyclopedia;
 pub mod footprint;
+pub mod generate;
 pub mod house;
 pub mod interest;
 pub mod land;

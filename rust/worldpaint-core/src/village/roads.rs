@@ -378,10 +378,9 @@ impl RoadNetwork {
         for &c in &cells {
             self.mark(c);
         }
+        let points = polyline(&grid, path);
         connection.roads.push(self.roads.len());
-        self.roads.push(Road {
-            points: polyline(&grid, path),
-        });
+        self.roads.push(Road { points });
         cells
     }
 

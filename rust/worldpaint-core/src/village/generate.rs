@@ -1,0 +1,435 @@
+//! The village pipeline of Fig. 3.2: given a terrain, a region of interest, connection points, the environment
+//! and a growth scenario, grow the skeleton (3.2: each new building seed connected to the roads at once), then
+//! the land parcels and footprints (3.3), then the houses (3.4).
+
+use super::encyclopedia::{Encyclopedia, Event, Scenario};
+use super::footprint::footprint;
+use super::house::house;
+use super::interest::{criteria, interest, Criterion, StaticMaps, VillageState};
+use super::land::{Environment, Land};
+use super::metrics::on_water;
+use super::parcels::{parcels, ParcelSeed};
+use super::roads::RoadNetwork;
+use super::seeding::seed_building;
+use super::{BuildingSeed, Footprint, HouseMesh, Parcel, Road};
+use crate::error::{Error, Result};
+use crate::geom::Region;
+use crate::graph::SegmentIndex;
+use crate::synthesis::mix_seed;
+use crate::terrain::Heightfield;
+use glam::DVec2;
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+use rayon::prelude::*;
+use std::time::Instant;
+
+/// Candidates tried per building before the best one seen is taken (Algorithm 1's loop bound).
+const MAX_ATTEMPTS: usize = 20_000;
+
+/// Everything a village is generated from.
+pub struct VillageRequest<'a> {
+    pub terrain: &'a Heightfield,
+    /// The region of interest `Ω`.
+    pub region: Region,
+    /// Connection points `Ψ` to the outside world; empty: where existing roads cross the region's border, else the
+    /// lowest point of the border.
+    pub connections: Vec<DVec2>,
+    /// Roads already there (kept as they are; new roads re-use them).
+    pub existing_roads: Vec<Vec<DVec2>>,
+    pub environment: Environment,
+    pub encyclopedia: &'a Encyclopedia,
+    pub scenario: &'a Scenario,
+    pub seed: u64,
+    /// Grid cell (m) of the skeleton: interests and roads.
+    pub cell: f64,
+    /// Grid cell (m) of the land conquest (the skeleton's cell when 0).
+    pub parcel_cell: f64,
+}
+
+/// The stages reported to the progress callback.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Stage {
+    Skeleton,
+    Parcels,
+    Houses,
+}
+
+/// What happened while the village grew: what a layout team reads to tune the encyclopedia.
+#[derive(Clone, Debug, Default)]
+pub struct VillageReport {
+    pub requested: usize,
+    /// Seeds placed by the aggregation test, and by taking the best candidate after too many failed tests.
+    pub seeded: usize,
+    pub fallbacks: usize,
+    /// Buildings for which no location had a positive interest.
+    pub unplaced: Vec<String>,
+    /// Seeds the roads could not reach (dropped).
+    pub unreachable: usize,
+    /// Seeds that lost access to the roads in the parcel conquest (dropped, 3.3.2).
+    pub without_access: usize,
+    /// Seeds whose parcel was too small for the building's smallest footprint (no house).
+    pub without_footprint: usize,
+    /// Roads that had to be steeper than the encyclopedia's maximum grade (the terrain left no other way).
+    pub roads_over_max_grade: usize,
+    pub cycles: usize,
+    pub connections: Vec<DVec2>,
+    /// Seconds spent in the skeleton, the parcels and footprints, and the houses.
+    pub seconds: [f64; 3],
+}
+
+/// A generated village. `parcels`, `footprints` and `houses` are given per kept seed, in `seeds` order.
+#[derive(Clone, Debug, Default)]
+pub struct Village {
+    pub seeds: Vec<BuildingSeed>,
+    /// The new roads (the existing ones are not repeated).
+    pub roads: Vec<Road>,
+    pub parcels: Vec<Parcel>,
+    pub footprints: Vec<Footprint>,
+    pub houses: Vec<HouseMesh>,
+    pub land: Option<Land>,
+    pub report: VillageReport,
+}
+
+/// Default connection points: where the existing roads cross the border of `Ω`, else the lowest border node.
+pub fn default_connections(land: &Land, region: &Region, existing: &[Vec<DVec2>]) -> Vec<DVec2> {
+    let mut points: Vec<DVec2> = Vec::new();
+    for road in existing {
+        for s in road.windows(2) {
+            for t in region.segment_crossings(s[0], s[1]) {
+                points.push(s[0] + (s[1] - s[0]) * t);
+            }
+        }
+    }
+    if !points.is_empty() {
+        return points;
+    }
+    let g = &land.grid;
+    let border = (0..g.len()).filter(|&k| {
+        if !land.inside[k] || land.water[k] {
+            return false;
+        }
+        let (i, j) = g.ij(k);
+        i == 0
+            || j == 0
+            || i + 1 == g.nx
+            || j + 1 == g.ny
+            || !land.inside[g.index(i - 1, j)]
+            || !land.inside[g.index(i + 1, j)]
+            || !land.inside[g.index(i, j - 1)]
+            || !land.inside[g.index(i, j + 1)]
+    });
+    border
+        .min_by(|a, b| land.height[*a].total_cmp(&land.height[*b]).then(a.cmp(b)))
+        .map(|k| vec![g.point_of(k)])
+        .unwrap_or_default()
+}
+
+/// Marks the nodes within `radius` of `p` in `mask`.
+fn stamp(land: &Land, mask: &mut [bool], p: DVec2, radius: f64) {
+    let g = &land.grid;
+    let r = (radius / g.cell).ceil() as i64;
+    let f = (p - g.origin) / g.cell;
+    let (ci, cj) = (f.x.round() as i64, f.y.round() as i64);
+    for j in (cj - r).max(0)..=(cj + r).min(g.ny as i64 - 1) {
+        for i in (ci - r).max(0)..=(ci + r).min(g.nx as i64 - 1) {
+            let k = g.index(i as usize, j as usize);
+            if g.point_of(k).distance(p) <= radius {
+                mask[k] = true;
+            }
+        }
+    }
+}
+
+/// Generates a village; `progress(stage, fraction)` returning `false` cancels (`Error::Cancelled`).
+pub fn generate(
+    request: &VillageRequest,
+    progress: &(dyn Fn(Stage, f64) -> bool + Sync),
+) -> Result<Village> {
+    let enc = request.encyclopedia;
+    enc.validate()?;
+    enc.check_scenario(request.scenario)?;
+    if !(request.cell.is_finite() && request.cell > 0.0) {
+        return Err(Error::InvalidInput(format!(
+            "village grid cell {} must be positive",
+            request.cell
+        )));
+    }
+    let started = Instant::now();
+    let land = Land::new(
+        request.terrain,
+        &request.region,
+        &request.environment,
+        request.cell,
+    )?;
+    if !land.inside.iter().any(|v| *v) {
+        return Err(Error::BadRegion(
+            "the village region holds no node of its grid; use a finer cell".into(),
+        ));
+    }
+    let connections = if request.connections.is_empty() {
+        default_connections(&land, &request.region, &request.existing_roads)
+    } else {
+        request.connections.clone()
+    };
+    let mut network = RoadNetwork::new(&land, &connections, &request.existing_roads)?;
+    let mut report = VillageReport {
+        requested: request.scenario.building_count() as usize,
+        connections: network.connections().to_vec(),
+        ..Default::default()
+    };
+
+    // every domination radius the scenario may ask for, computed once
+    let mut radii: Vec<f64> = Vec::new();
+    let mut current: Option<&str> = None;
+    for e in &request.scenario.events {
+        match e {
+            Event::ChangeVillageType { village_type } => current = Some(village_type),
+            Event::Generate { building, .. } => {
+                if let Some(v) = current {
+                    let r = enc.placement(v, building)?.domination_radius;
+                    if !radii.contains(&r) {
+                        radii.push(r);
+                    }
+                }
+            }
+        }
+    }
+    let maps = StaticMaps::new(&land, &radii);
+
+    // 3.2: the skeleton
+    let mut rng = ChaCha8Rng::seed_from_u64(mix_seed(request.seed, 0x5EED));
+    let mut seeds: Vec<BuildingSeed> = Vec::new();
+    let mut religious: Vec<bool> = Vec::new();
+    let mut fortress: Vec<bool> = Vec::new();
+    let mut occupied = vec![false; land.grid.len()];
+    let mut village_type = String::new();
+    let total = report.requested.max(1) as f64;
+    let mut done = 0usize;
+    for e in &request.scenario.events {
+        let (count, building) = match e {
+            Event::ChangeVillageType { village_type: v } => {
+                village_type = v.clone();
+                continue;
+            }
+            Event::Generate { count, building } => (*count, building),
+        };
+        let placement = enc.placement(&village_type, building)?;
+        let kind = enc
+            .buildings
+            .get(building)
+            .ok_or_else(|| Error::InvalidInput(format!("unknown building type '{building}'")))?;
+        let radius = 0.5 * kind.footprint_min[0].max(kind.footprint_min[1]);
+        for _ in 0..count {
+            if !progress(Stage::Skeleton, done as f64 / total) {
+                return Err(Error::Cancelled);
+            }
+            done += 1;
+            let has_roads = !network.roads.is_empty();
+            let road_distance = |p: DVec2| network.distance(p);
+            let state = VillageState {
+                buildings: &seeds,
+                religious: &religious,
+                fortress: &fortress,
+                road_distance: &road_distance,
+                has_roads,
+            };
+            let Some(found) =
+                seed_building(&land, &maps, &state, placement, &mut rng, MAX_ATTEMPTS)
+            else {
+                report.unplaced.push(building.clone());
+                continue;
+            };
+            let connection = network.connect(&land, &enc.roads, &occupied, found.position)?;
+            if !connection.reached {
+                report.unreachable += 1;
+                continue;
+            }
+            report.seeded += 1;
+            report.fallbacks += found.fallback as usize;
+            report.roads_over_max_grade += connection.over_max_grade as usize;
+            report.cycles += connection.cycle as usize;
+            stamp(&land, &mut occupied, found.position, radius);
+            seeds.push(BuildingSeed {
+                building: building.clone(),
+                village_type: village_type.clone(),
+                position: found.position,
+            });
+            religious.push(kind.religious);
+            fortress.push(kind.fortress);
+        }
+    }
+    report.seconds[0] = started.elapsed().as_secs_f64();
+
+    // 3.3: parcels and footprints
+    let stage = Instant::now();
+    if !progress(Stage::Parcels, 0.0) {
+        return Err(Error::Cancelled);
+    }
+    // the network holds the existing roads first, then the new ones
+    let all_roads: &[Road] = &network.roads;
+    let placements: Vec<_> = seeds
+        .iter()
+        .map(|s| enc.placement(&s.village_type, &s.building))
+        .collect::<Result<Vec<_>>>()?;
+    let parcel_seeds: Vec<ParcelSeed> = seeds
+        .iter()
+        .zip(&placements)
+        .map(|(s, p)| ParcelSeed {
+            position: s.position,
+            params: &p.parcel,
+        })
+        .collect();
+    let parcel_cell = if request.parcel_cell > 0.0 {
+        request.parcel_cell
+    } else {
+        request.cell
+    };
+    let conquered = parcels(
+        &land,
+        all_roads,
+        enc.roads.width,
+        &parcel_seeds,
+        parcel_cell,
+    )?;
+    let mut kept_seeds = Vec::new();
+    let mut kept_parcels = Vec::new();
+    let mut kept_footprints = Vec::new();
+    let found: Vec<Option<Footprint>> = conquered
+        .par_iter()
+        .zip(seeds.par_iter())
+        .map(|(parcel, s)| {
+            let parcel = parcel.as_ref()?;
+            let kind = enc.buildings.get(&s.building)?;
+            footprint(
+                parcel,
+                all_roads,
+                enc.roads.width,
+                kind.footprint_min,
+                kind.footprint_max,
+                1.0,
+            )
+        })
+        .collect();
+    for ((s, parcel), fp) in seeds.into_iter().zip(conquered).zip(found) {
+        let Some(parcel) = parcel else {
+            report.without_access += 1;
+            continue;
+        };
+        // a parcel on the shore may still leave its footprint's edge over the water
+        let Some(fp) = fp.filter(|f| !on_water(&land, f)) else {
+            report.without_footprint += 1;
+            continue;
+        };
+        let index = kept_seeds.len();
+        kept_seeds.push(s);
+        kept_parcels.push(Parcel {
+            seed: index,
+            ..parcel
+        });
+        kept_footprints.push(Footprint { seed: index, ..fp });
+    }
+    report.seconds[1] = stage.elapsed().as_secs_f64();
+
+    // 3.4: houses
+    let stage = Instant::now();
+    if !progress(Stage::Houses, 0.0) {
+        return Err(Error::Cancelled);
+    }
+    let terrain = request.terrain;
+    let ground = |p: DVec2| terrain.height_at(p).unwrap_or_else(|| land.height_at(p));
+    let houses: Vec<HouseMesh> = kept_footprints
+        .par_iter()
+        .zip(kept_seeds.par_iter())
+        .enumerate()
+        .filter_map(|(k, (fp, s))| {
+            let kind = enc.buildings.get(&s.building)?;
+            let seed = mix_seed(request.seed, k as u64 + 1);
+            let span = (kind.storeys[1] - kind.storeys[0] + 1) as u64;
+            let storeys = kind.storeys[0] + (seed % span) as u32;
+            let (mut mesh, _) = house(fp, kind, storeys, &ground, seed);
+            mesh.seed = k;
+            Some(mesh)
+        })
+        .collect();
+    report.seconds[2] = stage.elapsed().as_secs_f64();
+    progress(Stage::Houses, 1.0);
+
+    Ok(Village {
+        seeds: kept_seeds,
+        roads: network
+            .roads
+            .split_off(request.existing_roads.len().min(network.roads.len())),
+        parcels: kept_parcels,
+        footprints: kept_footprints,
+        houses,
+        land: Some(land),
+        report,
+    })
+}
+
+/// What an interest map is shown for: one building type of one village type, in a village as it stands.
+pub struct InterestRequest<'a> {
+    pub terrain: &'a Heightfield,
+    pub region: Region,
+    pub environment: Environment,
+    pub encyclopedia: &'a Encyclopedia,
+    pub village_type: &'a str,
+    pub building: &'a str,
+    /// One criterion `f_i`, or `None` for the combined interest `I(p, B, V)`.
+    pub criterion: Option<Criterion>,
+    /// The buildings and roads already there (the dynamic criteria depend on them).
+    pub buildings: &'a [BuildingSeed],
+    pub roads: &'a [Vec<DVec2>],
+    pub cell: f64,
+}
+
+/// The interest (or one criterion) at each of `points`, as Fig. 3.5 shows it; 0 outside the region.
+pub fn interest_at(request: &InterestRequest, points: &[DVec2]) -> Result<Vec<f64>> {
+    let enc = request.encyclopedia;
+    let placement = enc.placement(request.village_type, request.building)?;
+    let land = Land::new(
+        request.terrain,
+        &request.region,
+        &request.environment,
+        request.cell,
+    )?;
+    let maps = StaticMaps::new(&land, &[placement.domination_radius]);
+    let flags = |pick: fn(&super::encyclopedia::BuildingKind) -> bool| -> Vec<bool> {
+        request
+            .buildings
+            .iter()
+            .map(|b| enc.buildings.get(&b.building).is_some_and(pick))
+            .collect()
+    };
+    let (religious, fortress) = (flags(|k| k.religious), flags(|k| k.fortress));
+    let index = SegmentIndex::new(
+        request
+            .roads
+            .iter()
+            .flat_map(|r| r.windows(2).map(|s| (s[0], s[1])))
+            .collect(),
+    );
+    let road_distance = |p: DVec2| index.distance(p, 1e9);
+    let state = VillageState {
+        buildings: request.buildings,
+        religious: &religious,
+        fortress: &fortress,
+        road_distance: &road_distance,
+        has_roads: !index.is_empty(),
+    };
+    Ok(points
+        .par_iter()
+        .map(|p| {
+            if !request.region.contains(*p) {
+                return 0.0;
+            }
+            match request.criterion {
+                None => interest(&land, &maps, &state, placement, *p),
+                Some(c) => {
+                    let k = Criterion::ALL.iter().position(|x| *x == c).unwrap_or(0);
+                    criteria(&land, &maps, &state, placement, *p)[k]
+                }
+            }
+        })
+        .collect())
+}

@@ -1,0 +1,1105 @@
+//! Real villages and real land, for `tests/village_real.rs` (included with `#[path]`).
+//!
+//! Everything here is read from `shared/data/real` beside the project (see its README) and never copied into the
+//! repository; every loader returns `Ok(None)` when a file is absent, so the report skips instead of failing.
+//!
+//! * **Terrain.** `terrain/<place>_srtm3.asc`: SRTM 3″ elevations as an ESRI ASCII grid (lon/lat of the lower-left
+//!   corner and the cell size in degrees, first data row at the northern edge, -32768 = no data). No-data cells
+//!   take the value of the nearest valid cell (breadth-first over the grid). The grid is projected
+//!   equirectangularly about its own centre, which maps it onto an axis-aligned grid of anisotropic cells
+//!   (north of Bayreuth, 50° N: 59.6 m east–west by 92.7 m north–south; Andorra, 42.5° N: 68.3 m by 92.7 m). A
+//!   [`Heightfield`] needs square cells, so the grid is resampled by bilinear interpolation onto [`TERRAIN_CELL`]
+//!   metre cells, a quarter of the finer source spacing: the resampled surface departs from the source's
+//!   bilinear surface by 0.02 m on average north of Bayreuth and 0.06 m in Andorra (at most 1.4 m and 7.4 m, on
+//!   the sharpest ridges; 30 m cells gave 0.08 m and 0.29 m, at most 2.6 m and 19.7 m). Building the heightfield
+//!   directly with the mean source spacing as its cell would stretch the terrain east–west by 18–28 % and shrink
+//!   it north–south by 13–18 %, moving the valleys away from the villages.
+//! * **Villages.** `villages/<place>_{buildings,roads,areas,places}.geojson` (OpenStreetMap, WGS84), projected
+//!   with the terrain's projection so both line up. Each building is one house at its area centroid. Roads are
+//!   the `highway` ways people drive on: footways, paths, cycleways, steps, pedestrian ways and bridleways are
+//!   left out, and so are motorways and trunk roads (no house is served by them) and ways under construction.
+//!   Tracks and service ways stay: they are how farms are reached, and their share of the length is reported.
+//!   Water areas (`natural=water`, `waterway=riverbank`, `landuse=reservoir` or `basin`) are kept for the
+//!   environment of the generated villages.
+//! * **Windows.** Squares of a given side on a 50 m grid, inside both the terrain (less one source cell) and the
+//!   buildings' extent, ranked by building count; taken greedily, each clear of those before it by the side plus
+//!   200 m, then re-centred on the mean of its buildings (the village rather than a window of the grid; a
+//!   window that lands on one already taken is dropped) and named after the nearest `place` point inside it,
+//!   else "near" the nearest one. Connection points are where through roads (primary to unclassified) cross the
+//!   window's border, merged within 60 m.
+//! * **Measured** on a window (houses and roads clipped to it) by the engine's own metrics: layout statistics
+//!   (nearest neighbour, share within 50 m, road length per house, house-to-road distance histogram), road grades
+//!   in pieces of [`GRADE_STEP`] metres on the heightfield, summarised in grade bins, and the houses' mean
+//!   elevation percentile among the nodes of the window on a [`PERCENTILE_CELL`] metre grid.
+//! * **Real parcels.** The cadastre of Épinay-sur-Orge (`parcels/cadastre-91216-parcelles.json`, outer rings in
+//!   metres about their centre), and the OpenStreetMap land-use polygons of a place that tile the land: the
+//!   `landuse` polygons whose centroid lies in no other land-use polygon and that hold no other one's centroid.
+//!   Mapped fields, meadows, forests, farmyards and residential areas share their boundary nodes where they
+//!   meet, as cadastral parcels share boundaries; a polygon drawn over others (a meadow on a forest, a cemetery
+//!   in a residential area) is a second layer, not a neighbour, so both sides of such a nesting are left out.
+//!   The share of polygons that share a boundary edge (two consecutive vertices) with another is reported: how
+//!   far a set really tiles.
+//!
+//! What the real figures are, read with care:
+//! * OpenStreetMap buildings include outbuildings (4,229 of the 4,267 north of Bayreuth are `building=yes`:
+//!   barns, garages and sheds beside the houses), so real nearest-neighbour distances and road length per
+//!   building are those of all buildings, shorter than between dwellings.
+//! * The Andorra building layer is sparse (292 buildings in the whole extract), so its road length per building
+//!   overstates a village's and its nearest-neighbour distances are those of the mapped buildings only.
+//! * SRTM at 3″ cannot resolve the benches and hairpins a mountain road is built on: a road along a steep slope
+//!   reads the slope's grade, so real road grades in Andorra read far steeper than the roads are.
+
+use serde_json::Value;
+use std::collections::{HashMap, VecDeque};
+use std::path::{Path, PathBuf};
+use worldpaint_core::geom::DVec2;
+use worldpaint_core::village::metrics::{
+    layout_statistics, mean_elevation_percentile, road_grades, LayoutStatistics,
+};
+use worldpaint_core::village::{Environment, Land, Road};
+use worldpaint_core::{Heightfield, Region};
+
+/// The real data folder, relative to this crate.
+pub fn data_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/real")
+}
+
+/// Mean Earth radius (m).
+const EARTH_RADIUS: f64 = 6_371_008.8;
+/// Cell (m) of the metre heightfield resampled from the SRTM grid.
+pub const TERRAIN_CELL: f64 = 15.0;
+/// Length (m) of the road pieces whose grade is measured.
+pub const GRADE_STEP: f64 = 10.0;
+/// Cell (m) of the grid over a window on which elevation percentiles are taken.
+pub const PERCENTILE_CELL: f64 = 10.0;
+/// Step (m) of the grid of candidate windows.
+const SEARCH_STEP: f64 = 50.0;
+/// Windows are kept this far (m) apart, beyond their side.
+const WINDOW_GAP: f64 = 200.0;
+/// Crossings of the window border by through roads closer than this (m) make one connection point.
+const CONNECTION_MERGE: f64 = 60.0;
+/// Upper bounds of the reported grade bins (rise over run); the last bin holds everything steeper.
+pub const GRADE_BINS: [f64; 5] = [0.02, 0.05, 0.08, 0.12, 0.15];
+
+/// `highway` values that are not roads a house is served by.
+const NOT_ROADS: [&str; 13] = [
+    "footway",
+    "path",
+    "cycleway",
+    "steps",
+    "pedestrian",
+    "bridleway",
+    "motorway",
+    "motorway_link",
+    "trunk",
+    "trunk_link",
+    "construction",
+    "proposed",
+    "platform",
+];
+/// `highway` values of minor ways: farm tracks and service ways.
+const MINOR_ROADS: [&str; 2] = ["track", "service"];
+/// `highway` values of the roads by which a village is reached from outside (the classes of the roads between
+/// villages): where they cross a window's border are its connection points. Residential streets and tracks
+/// crossing the border are the village's own streets or field ways running on, not ways in.
+const THROUGH_ROADS: [&str; 8] = [
+    "primary",
+    "primary_link",
+    "secondary",
+    "secondary_link",
+    "tertiary",
+    "tertiary_link",
+    "unclassified",
+    "road",
+];
+
+/// One place of the data: file stem and how the report calls it.
+#[derive(Clone, Copy, Debug)]
+pub struct PlaceSpec {
+    pub stem: &'static str,
+    pub label: &'static str,
+}
+
+pub const NORTH_BAYREUTH: PlaceSpec = PlaceSpec {
+    stem: "north_bayreuth",
+    label: "north of Bayreuth (Upper Franconia, Germany)",
+};
+pub const ANDORRA: PlaceSpec = PlaceSpec {
+    stem: "andorra",
+    label: "Andorra (Pyrenees)",
+};
+
+/// Equirectangular projection about a centre (lon, lat in degrees) to metres east and north.
+#[derive(Clone, Copy, Debug)]
+pub struct Projection {
+    pub centre: [f64; 2],
+    scale: DVec2,
+}
+
+impl Projection {
+    pub fn new(centre: [f64; 2]) -> Projection {
+        let metres_per_degree = EARTH_RADIUS.to_radians();
+        Projection {
+            centre,
+            scale: DVec2::new(
+                metres_per_degree * centre[1].to_radians().cos(),
+                metres_per_degree,
+            ),
+        }
+    }
+
+    pub fn project(&self, lon_lat: [f64; 2]) -> DVec2 {
+        DVec2::new(lon_lat[0] - self.centre[0], lon_lat[1] - self.centre[1]) * self.scale
+    }
+
+    pub fn unproject(&self, p: DVec2) -> [f64; 2] {
+        let d = p / self.scale;
+        [self.centre[0] + d.x, self.centre[1] + d.y]
+    }
+
+    /// Metres per degree east and north.
+    pub fn scale(&self) -> DVec2 {
+        self.scale
+    }
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// Terrain
+
+/// An ESRI ASCII grid as read: `values[r * ncols + c]`, row 0 the northern edge; no-data cells already filled.
+pub struct AsciiGrid {
+    pub ncols: usize,
+    pub nrows: usize,
+    /// Lower-left corner of the lower-left cell (degrees).
+    pub xll: f64,
+    pub yll: f64,
+    pub cellsize: f64,
+    pub values: Vec<f64>,
+    /// Cells that had no data and took the nearest valid value.
+    pub filled: usize,
+}
+
+/// Parses an ESRI ASCII grid (header keys in any case; `xllcenter`/`yllcenter` accepted; `NODATA_value`
+/// optional) and fills its no-data cells with the nearest valid value.
+pub fn parse_ascii_grid(text: &str) -> Result<AsciiGrid, String> {
+    let mut tokens = text.split_ascii_whitespace().peekable();
+    let mut header: HashMap<String, f64> = HashMap::new();
+    while let Some(t) = tokens.peek() {
+        if !t.starts_with(|c: char| c.is_ascii_alphabetic()) {
+            break;
+        }
+        let key = t.to_ascii_lowercase();
+        tokens.next();
+        let value = tokens
+            .next()
+            .and_then(|v| v.parse::<f64>().ok())
+            .ok_or_else(|| format!("header '{key}' has no number"))?;
+        header.insert(key, value);
+    }
+    let get = |k: &str| header.get(k).copied();
+    let count = |k: &str| -> Result<usize, String> {
+        match get(k) {
+            Some(v) if v >= 2.0 && v.fract() == 0.0 => Ok(v as usize),
+            _ => Err(format!("header '{k}' missing or below 2")),
+        }
+    };
+    let (ncols, nrows) = (count("ncols")?, count("nrows")?);
+    let cellsize = get("cellsize")
+        .filter(|c| c.is_finite() && *c > 0.0)
+        .ok_or("header 'cellsize' missing or not positive")?;
+    let corner = |corner: &str, centre: &str| -> Result<f64, String> {
+        get(corner)
+            .or_else(|| get(centre).map(|c| c - 0.5 * cellsize))
+            .ok_or_else(|| format!("header '{corner}' missing"))
+    };
+    let (xll, yll) = (
+        corner("xllcorner", "xllcenter")?,
+        corner("yllcorner", "yllcenter")?,
+    );
+    let nodata = get("nodata_value");
+    let mut values = Vec::with_capacity(ncols * nrows);
+    for t in tokens {
+        let v: f64 = t.parse().map_err(|_| format!("'{t}' is not a number"))?;
+        values.push(v);
+    }
+    if values.len() != ncols * nrows {
+        return Err(format!(
+            "{} values for a {ncols} x {nrows} grid",
+            values.len()
+        ));
+    }
+    let valid: Vec<bool> = values
+        .iter()
+        .map(|v| v.is_finite() && nodata.is_none_or(|n| *v != n))
+        .collect();
+    let filled = valid.iter().filter(|v| !**v).count();
+    if filled == values.len() {
+        return Err("the grid holds no data".into());
+    }
+    if filled > 0 {
+        // breadth-first from every valid cell: each no-data cell takes the value of the cell that reaches it first
+        let mut done = valid.clone();
+        let mut queue: VecDeque<usize> = (0..values.len()).filter(|k| valid[*k]).collect();
+        while let Some(k) = queue.pop_front() {
+            let (r, c) = (k / ncols, k % ncols);
+            let mut visit = |n: usize| {
+                if !done[n] {
+                    done[n] = true;
+                    values[n] = values[k];
+                    queue.push_back(n);
+                }
+            };
+            if c > 0 {
+                visit(k - 1);
+            }
+            if c + 1 < ncols {
+                visit(k + 1);
+            }
+            if r > 0 {
+                visit(k - ncols);
+            }
+            if r + 1 < nrows {
+                visit(k + ncols);
+            }
+        }
+    }
+    Ok(AsciiGrid {
+        ncols,
+        nrows,
+        xll,
+        yll,
+        cellsize,
+        values,
+        filled,
+    })
+}
+
+/// A terrain in metres with the projection of its grid.
+pub struct Terrain {
+    pub heightfield: Heightfield,
+    pub projection: Projection,
+    /// Spacing (m) of the source samples east–west and north–south.
+    pub source_spacing: DVec2,
+    pub source_size: [usize; 2],
+    pub filled: usize,
+}
+
+/// The grid projected about its centre and resampled by bilinear interpolation onto square cells of `cell` m.
+pub fn terrain_from_grid(grid: &AsciiGrid, cell: f64) -> Result<Terrain, String> {
+    let cs = grid.cellsize;
+    let projection = Projection::new([
+        grid.xll + 0.5 * grid.ncols as f64 * cs,
+        grid.yll + 0.5 * grid.nrows as f64 * cs,
+    ]);
+    // sample (i, j), j counted from the south, is the centre of its cell
+    let origin = projection.project([grid.xll + 0.5 * cs, grid.yll + 0.5 * cs]);
+    let spacing = projection.scale() * cs;
+    let extent = DVec2::new(
+        (grid.ncols - 1) as f64 * spacing.x,
+        (grid.nrows - 1) as f64 * spacing.y,
+    );
+    let nx = (extent.x / cell).floor() as usize + 1;
+    let ny = (extent.y / cell).floor() as usize + 1;
+    let source = |i: usize, j: usize| grid.values[(grid.nrows - 1 - j) * grid.ncols + i];
+    let mut heights = Vec::with_capacity(nx * ny);
+    for b in 0..ny {
+        let fy = (b as f64 * cell / spacing.y).min((grid.nrows - 1) as f64);
+        let j = (fy.floor() as usize).min(grid.nrows - 2);
+        let ty = fy - j as f64;
+        for a in 0..nx {
+            let fx = (a as f64 * cell / spacing.x).min((grid.ncols - 1) as f64);
+            let i = (fx.floor() as usize).min(grid.ncols - 2);
+            let tx = fx - i as f64;
+            let south = source(i, j) * (1.0 - tx) + source(i + 1, j) * tx;
+            let north = source(i, j + 1) * (1.0 - tx) + source(i + 1, j + 1) * tx;
+            heights.push((south * (1.0 - ty) + north * ty) as f32);
+        }
+    }
+    let heightfield =
+        Heightfield::new(origin, cell, nx, ny, heights).map_err(|e| format!("heightfield: {e}"))?;
+    Ok(Terrain {
+        heightfield,
+        projection,
+        source_spacing: spacing,
+        source_size: [grid.ncols, grid.nrows],
+        filled: grid.filled,
+    })
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// GeoJSON
+
+fn read_features(path: &Path) -> Result<Vec<Value>, String> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+    let mut value: Value =
+        serde_json::from_str(&text).map_err(|e| format!("{} is not JSON: {e}", path.display()))?;
+    match value.get_mut("features").map(Value::take) {
+        Some(Value::Array(features)) => Ok(features),
+        _ => Err(format!("{} has no feature list", path.display())),
+    }
+}
+
+fn lon_lat(v: &Value) -> Option<[f64; 2]> {
+    let a = v.as_array()?;
+    let (lon, lat) = (a.first()?.as_f64()?, a.get(1)?.as_f64()?);
+    (lon.abs() <= 180.0 && lat.abs() <= 90.0).then_some([lon, lat])
+}
+
+fn line(v: &Value) -> Option<Vec<[f64; 2]>> {
+    let points: Option<Vec<[f64; 2]>> = v.as_array()?.iter().map(lon_lat).collect();
+    points.filter(|p| !p.is_empty())
+}
+
+/// The lines of a (Multi)LineString, the outer rings of a (Multi)Polygon, or a Point as a one-point line.
+fn geometry(feature: &Value) -> Option<Vec<Vec<[f64; 2]>>> {
+    let g = feature.get("geometry")?;
+    let coordinates = g.get("coordinates")?;
+    let parts: Option<Vec<Vec<[f64; 2]>>> = match g.get("type")?.as_str()? {
+        "Point" => Some(vec![vec![lon_lat(coordinates)?]]),
+        "LineString" => Some(vec![line(coordinates)?]),
+        "MultiLineString" => coordinates.as_array()?.iter().map(line).collect(),
+        "Polygon" => Some(vec![line(coordinates.as_array()?.first()?)?]),
+        "MultiPolygon" => coordinates
+            .as_array()?
+            .iter()
+            .map(|p| line(p.as_array()?.first()?))
+            .collect(),
+        _ => None,
+    };
+    parts.filter(|p| !p.is_empty())
+}
+
+fn tag<'a>(feature: &'a Value, key: &str) -> Option<&'a str> {
+    feature.get("properties")?.get(key)?.as_str()
+}
+
+/// A ring without its closing repetition, if at least a triangle is left.
+fn open_ring(mut ring: Vec<DVec2>) -> Option<Vec<DVec2>> {
+    if ring.len() >= 2 && ring.first() == ring.last() {
+        ring.pop();
+    }
+    (ring.len() >= 3).then_some(ring)
+}
+
+fn signed_area(ring: &[DVec2]) -> f64 {
+    let o = ring[0];
+    0.5 * (0..ring.len())
+        .map(|i| (ring[i] - o).perp_dot(ring[(i + 1) % ring.len()] - o))
+        .sum::<f64>()
+}
+
+/// The area centroid of a ring (the mean of its vertices when it encloses no area).
+pub fn centroid(ring: &[DVec2]) -> DVec2 {
+    let o = ring[0];
+    let (mut area, mut sum, mut mean) = (0.0, DVec2::ZERO, DVec2::ZERO);
+    for (i, p) in ring.iter().enumerate() {
+        let (p, q) = (*p - o, ring[(i + 1) % ring.len()] - o);
+        let cross = p.perp_dot(q);
+        area += cross;
+        sum += (p + q) * cross;
+        mean += p;
+    }
+    if area.abs() > 1e-9 {
+        o + sum / (3.0 * area)
+    } else {
+        o + mean / ring.len() as f64
+    }
+}
+
+fn point_in_ring(p: DVec2, ring: &[DVec2]) -> bool {
+    let mut inside = false;
+    for i in 0..ring.len() {
+        let (a, b) = (ring[i], ring[(i + 1) % ring.len()]);
+        if (a.y > p.y) != (b.y > p.y) && p.x < a.x + (p.y - a.y) * (b.x - a.x) / (b.y - a.y) {
+            inside = !inside;
+        }
+    }
+    inside
+}
+
+fn ring_bbox(ring: &[DVec2]) -> (DVec2, DVec2) {
+    ring.iter().fold(
+        (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+    )
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// A place
+
+/// An OpenStreetMap road in metres.
+pub struct RealRoad {
+    pub highway: String,
+    pub points: Vec<DVec2>,
+}
+
+/// A `place` point (village, hamlet, town...).
+pub struct NamedPlace {
+    pub kind: String,
+    pub name: String,
+    pub position: DVec2,
+}
+
+/// A vertex as read: the bit patterns of its lon/lat (polygons that meet share their vertices exactly).
+type Node = (u64, u64);
+
+/// A land-use polygon in metres.
+pub struct Area {
+    pub landuse: String,
+    pub ring: Vec<DVec2>,
+    /// Its vertices as read (degrees, bit patterns): where OpenStreetMap polygons share nodes.
+    pub nodes: Vec<Node>,
+}
+
+/// The data of one place, in metres in its terrain's projection.
+pub struct Place {
+    pub terrain: Terrain,
+    pub roads: Vec<RealRoad>,
+    /// Building centroids.
+    pub houses: Vec<DVec2>,
+    pub areas: Vec<Area>,
+    /// Lakes, ponds, reservoirs and river areas (`natural=water`, `waterway=riverbank`, `landuse=reservoir` or
+    /// `basin`).
+    pub water: Vec<Vec<DVec2>>,
+    pub places: Vec<NamedPlace>,
+    /// Ways left out as not served roads (footways, paths, motorways...).
+    pub not_roads: usize,
+    /// Features whose geometry or tags could not be read.
+    pub unreadable: usize,
+}
+
+/// Loads a place; `Ok(None)` when one of its files is absent, `Err` when one cannot be read.
+pub fn load_place(spec: PlaceSpec) -> Result<Option<Place>, String> {
+    let dir = data_dir();
+    let terrain_path = dir.join(format!("terrain/{}_srtm3.asc", spec.stem));
+    let layer = |name: &str| dir.join(format!("villages/{}_{name}.geojson", spec.stem));
+    let paths = [
+        terrain_path.clone(),
+        layer("buildings"),
+        layer("roads"),
+        layer("areas"),
+        layer("places"),
+    ];
+    if let Some(missing) = paths.iter().find(|p| !p.is_file()) {
+        println!(
+            "real-village report for {} skipped: {} not found (the real data lives beside the project, in \
+             shared/data/real; see its README)",
+            spec.label,
+            missing.display()
+        );
+        return Ok(None);
+    }
+    let text = std::fs::read_to_string(&terrain_path)
+        .map_err(|e| format!("cannot read {}: {e}", terrain_path.display()))?;
+    let grid = parse_ascii_grid(&text).map_err(|e| format!("{}: {e}", terrain_path.display()))?;
+    let terrain = terrain_from_grid(&grid, TERRAIN_CELL)?;
+    let proj = terrain.projection;
+    let project =
+        |line: &[[f64; 2]]| -> Vec<DVec2> { line.iter().map(|p| proj.project(*p)).collect() };
+
+    let mut unreadable = 0;
+    let mut not_roads = 0;
+    let mut roads = Vec::new();
+    for f in read_features(&paths[2])? {
+        match (tag(&f, "highway"), geometry(&f)) {
+            (Some(h), Some(_)) if NOT_ROADS.contains(&h) => not_roads += 1,
+            (Some(h), Some(lines)) => {
+                roads.extend(lines.iter().filter(|l| l.len() >= 2).map(|l| RealRoad {
+                    highway: h.to_string(),
+                    points: project(l),
+                }))
+            }
+            _ => unreadable += 1,
+        }
+    }
+    let mut houses = Vec::new();
+    for f in read_features(&paths[1])? {
+        match geometry(&f).and_then(|rings| open_ring(project(rings.first()?))) {
+            Some(ring) => houses.push(centroid(&ring)),
+            None => unreadable += 1,
+        }
+    }
+    let mut areas = Vec::new();
+    let mut water = Vec::new();
+    for f in read_features(&paths[3])? {
+        let landuse = tag(&f, "landuse");
+        let is_water = tag(&f, "natural") == Some("water")
+            || tag(&f, "waterway") == Some("riverbank")
+            || matches!(landuse, Some("reservoir" | "basin"));
+        if !is_water && landuse.is_none() {
+            continue;
+        }
+        let Some(rings) = geometry(&f) else {
+            unreadable += 1;
+            continue;
+        };
+        if is_water {
+            water.extend(rings.iter().filter_map(|r| open_ring(project(r))));
+        }
+        let Some(landuse) = landuse else {
+            continue;
+        };
+        for r in rings {
+            let mut r = r;
+            if r.len() >= 2 && r.first() == r.last() {
+                r.pop();
+            }
+            if let Some(ring) = open_ring(project(&r)) {
+                areas.push(Area {
+                    landuse: landuse.to_string(),
+                    nodes: r.iter().map(|p| (p[0].to_bits(), p[1].to_bits())).collect(),
+                    ring,
+                });
+            }
+        }
+    }
+    let mut places = Vec::new();
+    for f in read_features(&paths[4])? {
+        let point = geometry(&f).and_then(|g| g.first()?.first().copied());
+        if let (Some(kind), Some(p)) = (tag(&f, "place"), point) {
+            places.push(NamedPlace {
+                kind: kind.to_string(),
+                name: tag(&f, "name").unwrap_or("(unnamed)").to_string(),
+                position: proj.project(p),
+            });
+        }
+    }
+    if roads.is_empty() || houses.is_empty() {
+        return Err(format!("{}: no readable roads or buildings", spec.label));
+    }
+    Ok(Some(Place {
+        terrain,
+        roads,
+        houses,
+        areas,
+        water,
+        places,
+        not_roads,
+        unreadable,
+    }))
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// Windows
+
+/// A square window on a real village.
+#[derive(Clone, Debug)]
+pub struct Window {
+    pub region: Region,
+    /// Buildings inside.
+    pub buildings: usize,
+    /// The nearest village, hamlet or town inside, else "near" the nearest one.
+    pub name: String,
+    /// Centre in degrees (lon, lat).
+    pub centre_lon_lat: [f64; 2],
+}
+
+fn square(min: DVec2, side: f64) -> Region {
+    Region::Rect {
+        min,
+        max: min + DVec2::splat(side),
+    }
+}
+
+/// Up to `count` windows of `side` metres holding the most buildings, clear of each other, each with at least
+/// `min_buildings`.
+pub fn densest_windows(
+    place: &Place,
+    side: f64,
+    count: usize,
+    min_buildings: usize,
+) -> Vec<Window> {
+    let (tlo, thi) = place.terrain.heightfield.bbox();
+    let margin = place.terrain.source_spacing.max_element();
+    let hbox = ring_bbox(&place.houses);
+    let (lo, hi) = (
+        (tlo + DVec2::splat(margin)).max(hbox.0),
+        (thi - DVec2::splat(margin)).min(hbox.1),
+    );
+    let cells = |extent: f64| (extent / SEARCH_STEP).floor().max(0.0) as usize;
+    let (nx, ny) = (cells(hi.x - lo.x), cells(hi.y - lo.y));
+    let k = (side / SEARCH_STEP).round() as usize;
+    if nx < k || ny < k {
+        return Vec::new();
+    }
+    // summed-area table of the buildings per cell
+    let mut sat = vec![0usize; (nx + 1) * (ny + 1)];
+    for p in &place.houses {
+        let f = (*p - lo) / SEARCH_STEP;
+        if f.x >= 0.0 && f.y >= 0.0 && (f.x as usize) < nx && (f.y as usize) < ny {
+            sat[(f.y as usize + 1) * (nx + 1) + f.x as usize + 1] += 1;
+        }
+    }
+    for j in 1..=ny {
+        for i in 1..=nx {
+            let at = j * (nx + 1) + i;
+            sat[at] += sat[at - 1] + sat[at - nx - 1] - sat[at - nx - 2];
+        }
+    }
+    let at = |i: usize, j: usize| sat[j * (nx + 1) + i];
+    let mut squares: Vec<(DVec2, usize)> = (0..=ny - k)
+        .flat_map(|j| (0..=nx - k).map(move |i| (i, j)))
+        .map(|(i, j)| {
+            (
+                lo + DVec2::new(i as f64, j as f64) * SEARCH_STEP,
+                at(i + k, j + k) + at(i, j) - at(i + k, j) - at(i, j + k),
+            )
+        })
+        .collect();
+    squares.sort_by_key(|s| std::cmp::Reverse(s.1));
+    let clear = side + WINDOW_GAP;
+    let mut picked: Vec<DVec2> = Vec::new();
+    let mut out: Vec<Window> = Vec::new();
+    for (min, n) in squares {
+        if out.len() == count || n < min_buildings {
+            break;
+        }
+        if picked
+            .iter()
+            .any(|q| (q.x - min.x).abs() < clear && (q.y - min.y).abs() < clear)
+        {
+            continue;
+        }
+        picked.push(min);
+        // re-centred on its buildings, kept on the terrain
+        let window = square(min, side);
+        let (sum, m) = place
+            .houses
+            .iter()
+            .filter(|p| window.contains(**p))
+            .fold((DVec2::ZERO, 0.0), |(s, m), p| (s + *p, m + 1.0));
+        let centre = if m > 0.0 {
+            sum / m
+        } else {
+            min + DVec2::splat(0.5 * side)
+        };
+        let min = (centre - DVec2::splat(0.5 * side))
+            .max(tlo + DVec2::splat(margin))
+            .min(thi - DVec2::splat(margin + side));
+        let region = square(min, side);
+        let centre = min + DVec2::splat(0.5 * side);
+        if out.iter().any(|w| {
+            let d = w.region.bbox().0 - min;
+            d.x.abs() < side && d.y.abs() < side
+        }) {
+            continue; // re-centred onto a window already taken
+        }
+        let name = place
+            .places
+            .iter()
+            .filter(|p| {
+                ["village", "hamlet", "town", "isolated_dwelling", "locality"]
+                    .contains(&p.kind.as_str())
+            })
+            .min_by(|a, b| {
+                a.position
+                    .distance(centre)
+                    .total_cmp(&b.position.distance(centre))
+            })
+            .map_or("-".to_string(), |p| {
+                if region.contains(p.position) {
+                    p.name.clone()
+                } else {
+                    format!("near {}", p.name)
+                }
+            });
+        // two windows near the same place are told apart by their rank
+        let name = if out
+            .iter()
+            .any(|w| w.name == name || w.name.starts_with(&format!("{name} (")))
+        {
+            format!("{name} ({})", out.len() + 1)
+        } else {
+            name
+        };
+        out.push(Window {
+            buildings: place.houses.iter().filter(|p| region.contains(**p)).count(),
+            region,
+            name,
+            centre_lon_lat: place.terrain.projection.unproject(centre),
+        });
+    }
+    out
+}
+
+/// The water areas of a place whose box meets a window's.
+pub fn water_near(place: &Place, window: &Window) -> Vec<Vec<DVec2>> {
+    let (lo, hi) = window.region.bbox();
+    place
+        .water
+        .iter()
+        .filter(|ring| {
+            let (a, b) = ring_bbox(ring);
+            a.x <= hi.x && a.y <= hi.y && b.x >= lo.x && b.y >= lo.y
+        })
+        .cloned()
+        .collect()
+}
+
+/// The houses and roads of a real window, clipped to it.
+pub struct RealWindow {
+    pub houses: Vec<DVec2>,
+    pub roads: Vec<Road>,
+    /// Length (m) of tracks and service ways among the roads.
+    pub minor_length: f64,
+    /// Where through roads cross the window's border (merged within 60 m).
+    pub connections: Vec<DVec2>,
+}
+
+pub fn road_length(roads: &[Road]) -> f64 {
+    roads
+        .iter()
+        .map(|r| {
+            r.points
+                .windows(2)
+                .map(|s| s[0].distance(s[1]))
+                .sum::<f64>()
+        })
+        .sum()
+}
+
+pub fn real_window(place: &Place, window: &Window) -> RealWindow {
+    let region = &window.region;
+    let houses: Vec<DVec2> = place
+        .houses
+        .iter()
+        .copied()
+        .filter(|p| region.contains(*p))
+        .collect();
+    let mut roads = Vec::new();
+    let mut minor_length = 0.0;
+    let mut connections: Vec<DVec2> = Vec::new();
+    for road in &place.roads {
+        let (inside, _) = region.clip_polyline(&road.points);
+        let pieces: Vec<Road> = inside.into_iter().map(|points| Road { points }).collect();
+        if MINOR_ROADS.contains(&road.highway.as_str()) {
+            minor_length += road_length(&pieces);
+        }
+        roads.extend(pieces);
+        if THROUGH_ROADS.contains(&road.highway.as_str()) {
+            for s in road.points.windows(2) {
+                for t in region.segment_crossings(s[0], s[1]) {
+                    let p = s[0] + (s[1] - s[0]) * t;
+                    if connections.iter().all(|c| c.distance(p) > CONNECTION_MERGE) {
+                        connections.push(p);
+                    }
+                }
+            }
+        }
+    }
+    RealWindow {
+        houses,
+        roads,
+        minor_length,
+        connections,
+    }
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// Figures
+
+/// Road grades summarised: shares of the length in [`GRADE_BINS`] (and beyond the last bound), the steepest.
+#[derive(Clone, Debug, Default)]
+pub struct GradeSummary {
+    pub shares: [f64; 6],
+    pub steepest: f64,
+}
+
+impl GradeSummary {
+    pub fn new(grades: &[(f64, f64)]) -> GradeSummary {
+        let mut lengths = [0.0; 6];
+        let mut steepest: f64 = 0.0;
+        for (g, l) in grades.iter().filter(|(g, l)| g.is_finite() && *l > 0.0) {
+            let bin = GRADE_BINS.iter().position(|b| g <= b).unwrap_or(5);
+            lengths[bin] += l;
+            steepest = steepest.max(*g);
+        }
+        let length: f64 = lengths.iter().sum();
+        GradeSummary {
+            shares: lengths.map(|l| if length > 0.0 { l / length } else { 0.0 }),
+            steepest,
+        }
+    }
+
+    /// Share of the length steeper than `grade`, read from the pieces.
+    pub fn share_over(grades: &[(f64, f64)], grade: f64) -> f64 {
+        let total: f64 = grades.iter().map(|g| g.1).sum();
+        let over: f64 = grades.iter().filter(|g| g.0 > grade).map(|g| g.1).sum();
+        if total > 0.0 {
+            over / total
+        } else {
+            0.0
+        }
+    }
+}
+
+/// The terrain under a window: its height range and mean grade, from the percentile grid.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Relief {
+    pub lowest: f64,
+    pub highest: f64,
+    pub mean_grade: f64,
+}
+
+/// What is measured on a village, real or generated.
+#[derive(Clone, Debug, Default)]
+pub struct Figures {
+    pub layout: LayoutStatistics,
+    pub grades: GradeSummary,
+    /// Share of the road length steeper than the encyclopedia's maximum grade.
+    pub over_max_grade: f64,
+    pub road_length: f64,
+    pub elevation_percentile: f64,
+}
+
+/// The grid over a window on which elevation percentiles and relief are read.
+pub fn window_land(terrain: &Heightfield, window: &Window) -> Result<Land, String> {
+    Land::new(
+        terrain,
+        &window.region,
+        &Environment::default(),
+        PERCENTILE_CELL,
+    )
+    .map_err(|e| format!("land of the window: {e}"))
+}
+
+pub fn relief(land: &Land) -> Relief {
+    let inside: Vec<usize> = (0..land.grid.len()).filter(|k| land.inside[*k]).collect();
+    let n = inside.len().max(1) as f64;
+    Relief {
+        lowest: inside
+            .iter()
+            .map(|k| land.height[*k] as f64)
+            .fold(f64::INFINITY, f64::min),
+        highest: inside
+            .iter()
+            .map(|k| land.height[*k] as f64)
+            .fold(f64::NEG_INFINITY, f64::max),
+        mean_grade: inside.iter().map(|k| land.grade_at_node(*k)).sum::<f64>() / n,
+    }
+}
+
+/// The figures of houses and roads on a terrain, grades read on the heightfield (clamped onto it).
+pub fn figures(
+    terrain: &Heightfield,
+    land: &Land,
+    houses: &[DVec2],
+    roads: &[Road],
+    max_grade: f64,
+) -> Figures {
+    let (lo, hi) = terrain.bbox();
+    let ground = |p: DVec2| terrain.height_at(p.max(lo).min(hi)).unwrap_or(f64::NAN);
+    let grades = road_grades(roads, &ground, GRADE_STEP);
+    Figures {
+        layout: layout_statistics(houses, roads),
+        grades: GradeSummary::new(&grades),
+        over_max_grade: GradeSummary::share_over(&grades, max_grade),
+        road_length: road_length(roads),
+        elevation_percentile: mean_elevation_percentile(land, houses),
+    }
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// Real parcels
+
+/// Real parcels in metres, with what was left out.
+pub struct RealParcels {
+    pub contours: Vec<Vec<DVec2>>,
+    /// Polygons read, and left out (unreadable, nested, or degenerate).
+    pub read: usize,
+    pub left_out: usize,
+    /// Share of the kept polygons that share a boundary (two consecutive nodes) with another kept one.
+    pub sharing: f64,
+    /// Kept polygons per land-use class (land use only).
+    pub classes: Vec<(String, usize)>,
+}
+
+/// Counter-clockwise contour (the engine's parcels are counter-clockwise).
+fn counter_clockwise(mut ring: Vec<DVec2>) -> Vec<DVec2> {
+    if signed_area(&ring) < 0.0 {
+        ring.reverse();
+    }
+    ring
+}
+
+/// The cadastre of Épinay-sur-Orge (outer rings, projected about the centre of their bounding box); `Ok(None)`
+/// when absent.
+pub fn load_cadastre() -> Result<Option<RealParcels>, String> {
+    let path = data_dir().join("parcels/cadastre-91216-parcelles.json");
+    if !path.is_file() {
+        println!(
+            "real parcels: the cadastre is not at {} (see shared/data/real/README.md); skipped",
+            path.display()
+        );
+        return Ok(None);
+    }
+    let features = read_features(&path)?;
+    let rings: Vec<Option<Vec<[f64; 2]>>> = features
+        .iter()
+        .map(|f| geometry(f).and_then(|g| g.into_iter().next()))
+        .collect();
+    let (lo, hi) = rings.iter().flatten().flatten().fold(
+        ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]),
+        |(lo, hi), p| {
+            (
+                [lo[0].min(p[0]), lo[1].min(p[1])],
+                [hi[0].max(p[0]), hi[1].max(p[1])],
+            )
+        },
+    );
+    if !(lo[0] <= hi[0] && lo[1] <= hi[1]) {
+        return Err(format!("{}: no readable parcel", path.display()));
+    }
+    let proj = Projection::new([0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])]);
+    let mut contours = Vec::new();
+    let mut nodes = Vec::new();
+    for r in rings.into_iter().flatten() {
+        let projected: Vec<DVec2> = r.iter().map(|p| proj.project(*p)).collect();
+        if let Some(ring) = open_ring(projected) {
+            nodes.push(
+                ring.iter()
+                    .map(|p| (p.x.to_bits(), p.y.to_bits()))
+                    .collect(),
+            );
+            contours.push(counter_clockwise(ring));
+        }
+    }
+    Ok(Some(RealParcels {
+        read: features.len(),
+        left_out: features.len() - contours.len(),
+        sharing: sharing(&nodes),
+        contours,
+        classes: Vec::new(),
+    }))
+}
+
+/// Share of polygons that have a boundary edge (a pair of consecutive nodes, either way round) in common with
+/// another one.
+fn sharing(polygons: &[Vec<Node>]) -> f64 {
+    let mut edges: HashMap<(Node, Node), Vec<usize>> = HashMap::new();
+    for (k, nodes) in polygons.iter().enumerate() {
+        for i in 0..nodes.len() {
+            let (a, b) = (nodes[i], nodes[(i + 1) % nodes.len()]);
+            let key = if a <= b { (a, b) } else { (b, a) };
+            edges.entry(key).or_default().push(k);
+        }
+    }
+    let mut shares = vec![false; polygons.len()];
+    for owners in edges.values() {
+        if owners.iter().any(|o| *o != owners[0]) {
+            for o in owners {
+                shares[*o] = true;
+            }
+        }
+    }
+    shares.iter().filter(|s| **s).count() as f64 / polygons.len().max(1) as f64
+}
+
+/// The land-use polygons of a place that tile the land (see the module doc).
+pub fn tiling_landuse(place: &Place) -> RealParcels {
+    let areas = &place.areas;
+    let boxes: Vec<(DVec2, DVec2)> = areas.iter().map(|a| ring_bbox(&a.ring)).collect();
+    let centroids: Vec<DVec2> = areas.iter().map(|a| centroid(&a.ring)).collect();
+    let mut nested = vec![false; areas.len()];
+    for (i, c) in centroids.iter().enumerate() {
+        if !point_in_ring(*c, &areas[i].ring) {
+            continue; // a concave polygon's centroid says nothing about nesting
+        }
+        for (j, a) in areas.iter().enumerate() {
+            let (lo, hi) = boxes[j];
+            if i != j
+                && c.x >= lo.x
+                && c.y >= lo.y
+                && c.x <= hi.x
+                && c.y <= hi.y
+                && point_in_ring(*c, &a.ring)
+            {
+                nested[i] = true;
+                nested[j] = true;
+            }
+        }
+    }
+    let kept: Vec<usize> = (0..areas.len()).filter(|k| !nested[*k]).collect();
+    let mut classes: Vec<(String, usize)> = Vec::new();
+    for k in &kept {
+        match classes.iter_mut().find(|c| c.0 == areas[*k].landuse) {
+            Some(c) => c.1 += 1,
+            None => classes.push((areas[*k].landuse.clone(), 1)),
+        }
+    }
+    classes.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(&b.0)));
+    let nodes: Vec<Vec<Node>> = kept.iter().map(|k| areas[*k].nodes.clone()).collect();
+    RealParcels {
+        contours: kept
+            .iter()
+            .map(|k| counter_clockwise(areas[*k].ring.clone()))
+            .collect(),
+        read: areas.len(),
+        left_out: areas.len() - kept.len(),
+        sharing: sharing(&nodes),
+        classes,
+    }
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// Tables
+
+/// A plain-text table: a label column and value columns.
+pub struct Table {
+    pub header: Vec<String>,
+    pub rows: Vec<(String, Vec<String>)>,
+}
+
+impl Table {
+    pub fn new(first: &str, columns: Vec<String>) -> Table {
+        let mut header = vec![first.to_string()];
+        header.extend(columns);
+        Table {
+            header,
+            rows: Vec::new(),
+        }
+    }
+
+    pub fn row(&mut self, label: impl Into<String>, values: Vec<String>) {
+        self.rows.push((label.into(), values));
+    }
+
+    pub fn render(&self) -> String {
+        let columns = self.header.len();
+        let mut widths: Vec<usize> = self.header.iter().map(|h| h.chars().count()).collect();
+        for (label, values) in &self.rows {
+            widths[0] = widths[0].max(label.chars().count());
+            for (k, v) in values.iter().enumerate().take(columns - 1) {
+                widths[k + 1] = widths[k + 1].max(v.chars().count());
+            }
+        }
+        let pad = |s: &str, w: usize, left: bool| {
+            let fill = " ".repeat(w.saturating_sub(s.chars().count()));
+            if left {
+                format!("{s}{fill}")
+            } else {
+                format!("{fill}{s}")
+            }
+        };
+        let mut out = String::new();
+        let line = |cells: Vec<&str>, out: &mut String| {
+            let mut parts = Vec::new();
+            for (k, c) in cells.iter().enumerate() {
+                parts.push(pad(c, widths[k], k == 0));
+            }
+            out.push_str(parts.join("  ").trim_end());
+            out.push('\n');
+        };
+        line(self.header.iter().map(String::as_str).collect(), &mut out);
+        let total: usize = widths.iter().sum::<usize>() + 2 * (columns - 1);
+        out.push_str(&"-".repeat(total));
+        out.push('\n');
+        for (label, values) in &self.rows {
+            let mut cells = vec![label.as_str()];
+            cells.extend(values.iter().map(String::as_str));
+            line(cells, &mut out);
+        }
+        out
+    }
+}

@@ -1,0 +1,237 @@
+//! Villages as a layout team checks them (thesis ch. 3): every house reachable by road, no house on a road, in
+//! the water or on another house, roads no steeper than the encyclopedia allows, village types that differ in
+//! the way the thesis describes, and parcel figures beside the thesis's real village.
+
+use worldpaint_core::exemplar::village_terrain;
+use worldpaint_core::geom::DVec2;
+use worldpaint_core::village::encyclopedia::Event;
+use worldpaint_core::village::generate::{generate, Village, VillageRequest};
+use worldpaint_core::village::metrics::{
+    footprint_conflicts, layout_statistics, mean_elevation_percentile, road_grades,
+    unreachable_footprints,
+};
+use worldpaint_core::village::parcels::parcel_statistics;
+use worldpaint_core::village::{Encyclopedia, Environment, Road, Scenario, ScenarioPresets};
+use worldpaint_core::{Error, Heightfield, Region};
+
+const ENCYCLOPEDIA: &str = include_str!("../../../assets/villages/encyclopedia.json");
+const SCENARIOS: &str = include_str!("../../../assets/villages/scenarios.json");
+
+fn encyclopedia() -> Encyclopedia {
+    Encyclopedia::from_json(ENCYCLOPEDIA).expect("the shipped encyclopedia is valid")
+}
+
+fn preset(name: &str) -> Scenario {
+    let presets = ScenarioPresets::from_json(SCENARIOS).expect("the shipped presets are valid");
+    presets.presets.get(name).cloned().expect("preset exists")
+}
+
+fn scenario(village_type: &str, houses: u32) -> Scenario {
+    Scenario {
+        events: vec![
+            Event::ChangeVillageType {
+                village_type: village_type.into(),
+            },
+            Event::Generate {
+                count: 1,
+                building: "church".into(),
+            },
+            Event::Generate {
+                count: houses,
+                building: "house".into(),
+            },
+        ],
+    }
+}
+
+fn village(terrain: &Heightfield, enc: &Encyclopedia, scenario: &Scenario, seed: u64) -> Village {
+    let request = VillageRequest {
+        terrain,
+        region: Region::Rect {
+            min: DVec2::splat(20.0),
+            max: DVec2::splat(980.0),
+        },
+        connections: Vec::new(),
+        existing_roads: Vec::new(),
+        environment: Environment {
+            water_level: Some(0.0),
+            ..Default::default()
+        },
+        encyclopedia: enc,
+        scenario,
+        seed,
+        cell: 2.0,
+        parcel_cell: 1.0,
+    };
+    generate(&request, &|_, _| true).expect("the village grows")
+}
+
+fn roads(v: &Village) -> &[Road] {
+    &v.roads
+}
+
+#[test]
+fn a_fortified_village_keeps_every_house_reachable_off_the_roads_and_the_water() {
+    let terrain = village_terrain(1000.0, 2.0, 3);
+    let enc = encyclopedia();
+    let v = village(&terrain, &enc, &preset("fortified_village"), 11);
+    let land = v.land.as_ref().expect("land");
+    let r = &v.report;
+    println!("report: {r:?}");
+    assert!(
+        v.footprints.len() >= r.requested * 8 / 10,
+        "{} houses for {} asked",
+        v.footprints.len(),
+        r.requested
+    );
+    assert_eq!(v.houses.len(), v.footprints.len());
+
+    let width = enc.roads.width;
+    let unreachable = unreachable_footprints(
+        &v.footprints,
+        roads(&v),
+        &r.connections,
+        0.5 * width + 12.0,
+        0.5 * width,
+    );
+    assert_eq!(
+        unreachable, 0,
+        "houses without a road to a connection point"
+    );
+
+    let conflicts = footprint_conflicts(&v.footprints, roads(&v), width, land, 0.05);
+    assert_eq!(conflicts.total(), 0, "{conflicts:?}");
+
+    let grades = road_grades(roads(&v), &|p| land.height_at(p), 2.0);
+    let steepest = grades.iter().map(|g| g.0).fold(0.0, f64::max);
+    let length: f64 = grades.iter().map(|g| g.1).sum();
+    let over: f64 = grades
+        .iter()
+        .filter(|g| g.0 > enc.roads.max_grade + 0.02)
+        .map(|g| g.1)
+        .sum();
+    println!("roads {length:.0} m, steepest grade {steepest:.3}, {over:.0} m over the maximum");
+    if r.roads_over_max_grade == 0 {
+        assert!(
+            over == 0.0,
+            "{over:.1} m of road steeper than {} with none reported",
+            enc.roads.max_grade
+        );
+    }
+
+    let contours: Vec<Vec<DVec2>> = v.parcels.iter().map(|p| p.contour.clone()).collect();
+    let stats = parcel_statistics(&contours, 0.5);
+    println!(
+        "parcels: {} with {:.3} neighbours and {:.3} contour edges on average (thesis real 2.812 / 4.068, model 2.873 / 4.29)",
+        stats.parcels, stats.mean_neighbours, stats.mean_edges
+    );
+    // parcels share boundaries with their neighbours; the edge count is reported beside the thesis's figures
+    assert_eq!(stats.parcels, v.parcels.len());
+    assert!(stats.mean_neighbours > 1.0, "{stats:?}");
+}
+
+#[test]
+fn village_types_differ_on_the_same_terrain() {
+    let terrain = village_terrain(1000.0, 2.0, 5);
+    let enc = encyclopedia();
+    let mut rows = Vec::new();
+    for (name, seed) in [("farming", 1), ("defensive", 1), ("fisherman", 1)] {
+        let v = village(&terrain, &enc, &scenario(name, 30), seed);
+        let land = v.land.as_ref().expect("land");
+        let houses: Vec<DVec2> = v
+            .seeds
+            .iter()
+            .filter(|s| s.building == "house")
+            .map(|s| s.position)
+            .collect();
+        let stats = layout_statistics(&houses, roads(&v));
+        let elevation = mean_elevation_percentile(land, &houses);
+        // the coast: distance to the sea read on the land grid
+        let water: f64 = houses
+            .iter()
+            .map(|p| {
+                (0..land.grid.len())
+                    .filter(|k| land.water[*k])
+                    .map(|k| land.grid.point_of(k).distance(*p))
+                    .fold(f64::INFINITY, f64::min)
+            })
+            .sum::<f64>()
+            / houses.len().max(1) as f64;
+        println!(
+            "{name}: {} houses, elevation percentile {elevation:.2}, nearest neighbour {:.1} m, water {water:.0} m",
+            houses.len(),
+            stats.mean_nearest_neighbour
+        );
+        // footprints are still lost in narrow parcels (see the parcels module): at least 60 % stand
+        assert!(houses.len() >= 18, "{name}: {} houses", houses.len());
+        rows.push((elevation, stats.mean_nearest_neighbour, water));
+    }
+    let (farming, defensive, fisherman) = (rows[0], rows[1], rows[2]);
+    assert!(
+        defensive.0 > farming.0 + 0.1,
+        "fortified houses sit higher: {defensive:?} vs {farming:?}"
+    );
+    assert!(
+        defensive.1 < farming.1,
+        "fortified houses are more clustered: {defensive:?} vs {farming:?}"
+    );
+    assert!(
+        fisherman.2 < 0.75 * farming.2,
+        "fishermen live nearer the water: {fisherman:?} vs {farming:?}"
+    );
+}
+
+#[test]
+fn the_same_seed_gives_the_same_village_whatever_the_thread_count() {
+    let terrain = village_terrain(600.0, 2.0, 2);
+    let enc = encyclopedia();
+    let s = scenario("farming", 12);
+    let a = village(&terrain, &enc, &s, 4);
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .expect("pool");
+    let b = pool.install(|| village(&terrain, &enc, &s, 4));
+    assert_eq!(a.seeds, b.seeds);
+    assert_eq!(a.roads, b.roads);
+    assert_eq!(a.parcels, b.parcels);
+    assert_eq!(a.houses, b.houses);
+    let c = village(&terrain, &enc, &s, 5);
+    assert_ne!(a.seeds, c.seeds);
+}
+
+#[test]
+fn bad_scenarios_and_cancelling_give_clear_errors() {
+    let terrain = village_terrain(400.0, 2.0, 2);
+    let enc = encyclopedia();
+    let bad = Scenario {
+        events: vec![Event::Generate {
+            count: 1,
+            building: "house".into(),
+        }],
+    };
+    let request = |scenario: &'static Scenario| VillageRequest {
+        terrain: &terrain,
+        region: Region::Rect {
+            min: DVec2::ZERO,
+            max: DVec2::splat(400.0),
+        },
+        connections: Vec::new(),
+        existing_roads: Vec::new(),
+        environment: Environment::default(),
+        encyclopedia: &enc,
+        scenario,
+        seed: 0,
+        cell: 2.0,
+        parcel_cell: 1.0,
+    };
+    let bad: &'static Scenario = Box::leak(Box::new(bad));
+    let err = generate(&request(bad), &|_, _| true).expect_err("generate before a village type");
+    assert!(err.to_string().contains("before any village type"), "{err}");
+    let unknown: &'static Scenario = Box::leak(Box::new(scenario("nomads", 3)));
+    let err = generate(&request(unknown), &|_, _| true).expect_err("unknown village type");
+    assert!(err.to_string().contains("nomads"), "{err}");
+    let fine: &'static Scenario = Box::leak(Box::new(scenario("farming", 3)));
+    let err = generate(&request(fine), &|_, f| f < 0.5).expect_err("cancelled");
+    assert!(matches!(err, Error::Cancelled));
+}

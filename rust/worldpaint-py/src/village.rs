@@ -1,0 +1,331 @@
+//! Villages: `generate_village`, `village_interest`, and the shipped encyclopedia and scenario presets (JSON).
+
+use crate::convert::{points_from_py, points_to_py, region_from_py};
+use crate::terrain::Terrain;
+use crate::{guarded, input_err, with_progress};
+use numpy::ndarray::Array2;
+use numpy::{IntoPyArray, PyReadonlyArray2};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+use worldpaint_core::geom::DVec2;
+use worldpaint_core::village::generate::{
+    generate, interest_at, InterestRequest, Stage, VillageRequest,
+};
+use worldpaint_core::village::interest::Criterion;
+use worldpaint_core::village::{BuildingSeed, Encyclopedia, Environment, Scenario};
+
+const ENCYCLOPEDIA: &str = include_str!("../../../assets/villages/encyclopedia.json");
+const SCENARIOS: &str = include_str!("../../../assets/villages/scenarios.json");
+
+/// The shipped building encyclopedia (JSON text).
+#[pyfunction]
+fn default_encyclopedia() -> &'static str {
+    ENCYCLOPEDIA
+}
+
+/// The shipped growth scenario presets (JSON text: {"presets": {name: {"events": [...]}}}).
+#[pyfunction]
+fn scenario_presets() -> &'static str {
+    SCENARIOS
+}
+
+/// Checks an encyclopedia (JSON) and returns its village types and building types.
+#[pyfunction]
+fn encyclopedia_contents(encyclopedia: &str) -> PyResult<(Vec<String>, Vec<String>)> {
+    let e = guarded(|| Encyclopedia::from_json(encyclopedia))?;
+    Ok((
+        e.village_types.keys().cloned().collect(),
+        e.buildings.keys().cloned().collect(),
+    ))
+}
+
+fn polylines(list: Option<&Bound<'_, PyAny>>, what: &str) -> PyResult<Vec<Vec<DVec2>>> {
+    let mut out = Vec::new();
+    let Some(list) = list.filter(|l| !l.is_none()) else {
+        return Ok(out);
+    };
+    for (i, item) in list
+        .try_iter()
+        .map_err(|_| input_err(format!("{what} must be a list of float64 (N, 2) arrays")))?
+        .enumerate()
+    {
+        let a: PyReadonlyArray2<'_, f64> = item?
+            .extract()
+            .map_err(|_| input_err(format!("{what} {i} must be a float64 (N, 2) array")))?;
+        let pts = points_from_py(&a, &format!("{what} {i}"))?;
+        if pts.iter().any(|p| !p.is_finite()) {
+            return Err(input_err(format!("{what} {i} has a non-finite point")));
+        }
+        out.push(pts);
+    }
+    Ok(out)
+}
+
+fn environment(
+    water_level: Option<f64>,
+    water_areas: Option<&Bound<'_, PyAny>>,
+    rivers: Option<&Bound<'_, PyAny>>,
+    river_half_width: f64,
+    walls: Option<&Bound<'_, PyAny>>,
+) -> PyResult<Environment> {
+    if water_level.is_some_and(|w| !w.is_finite()) {
+        return Err(input_err("water_level must be finite"));
+    }
+    if !(river_half_width.is_finite() && river_half_width >= 0.0) {
+        return Err(input_err("river_half_width must be zero or more"));
+    }
+    Ok(Environment {
+        water_level,
+        water_areas: polylines(water_areas, "water area")?,
+        rivers: polylines(rivers, "river")?
+            .into_iter()
+            .map(|r| (r, river_half_width))
+            .collect(),
+        walls: polylines(walls, "wall")?,
+    })
+}
+
+fn encyclopedia_of(text: Option<&str>) -> PyResult<Encyclopedia> {
+    guarded(|| Encyclopedia::from_json(text.unwrap_or(ENCYCLOPEDIA)))
+}
+
+/// Generates a village (thesis ch. 3) on `terrain` inside `region` following `scenario` (JSON {"events": [...]}).
+///
+/// Returns {"seeds": {"positions", "heights", "building", "village_type"}, "roads": [{"points", "heights"}],
+/// "parcels": [float64 (N, 2)], "footprints": float64 (M, 4, 2), "houses": [{"vertices": (V, 3), "loop_starts",
+/// "loop_totals", "indices", "materials"}], "connections": (K, 2), "report": {...}}; footprints and houses are per
+/// kept seed, in order. `progress(fraction) -> bool` may cancel (raises `Cancelled`).
+#[pyfunction]
+#[pyo3(signature = (terrain, region, scenario, seed=0, *, encyclopedia=None, connections=None, existing_roads=None,
+                    water_level=None, water_areas=None, rivers=None, river_half_width=4.0, walls=None, cell=2.0,
+                    parcel_cell=1.0, progress=None))]
+#[allow(clippy::too_many_arguments)]
+fn generate_village<'py>(
+    py: Python<'py>,
+    terrain: &Bound<'py, Terrain>,
+    region: &Bound<'py, PyAny>,
+    scenario: &str,
+    seed: u64,
+    encyclopedia: Option<&str>,
+    connections: Option<PyReadonlyArray2<'py, f64>>,
+    existing_roads: Option<&Bound<'py, PyAny>>,
+    water_level: Option<f64>,
+    water_areas: Option<&Bound<'py, PyAny>>,
+    rivers: Option<&Bound<'py, PyAny>>,
+    river_half_width: f64,
+    walls: Option<&Bound<'py, PyAny>>,
+    cell: f64,
+    parcel_cell: f64,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let hf = terrain.get().hf.clone();
+    let region = region_from_py(region)?;
+    let encyclopedia = encyclopedia_of(encyclopedia)?;
+    let scenario = guarded(|| Scenario::from_json(scenario))?;
+    let connections = match connections {
+        Some(c) => points_from_py(&c, "connections")?,
+        None => Vec::new(),
+    };
+    let request = VillageRequest {
+        terrain: &hf,
+        region,
+        connections,
+        existing_roads: polylines(existing_roads, "existing road")?,
+        environment: environment(water_level, water_areas, rivers, river_half_width, walls)?,
+        encyclopedia: &encyclopedia,
+        scenario: &scenario,
+        seed,
+        cell,
+        parcel_cell,
+    };
+    let village = with_progress(py, progress, |report| {
+        generate(&request, &|stage, f| {
+            let (start, span) = match stage {
+                Stage::Skeleton => (0.0, 0.7),
+                Stage::Parcels => (0.7, 0.15),
+                Stage::Houses => (0.85, 0.15),
+            };
+            report(start + span * f)
+        })
+    })?;
+
+    let out = PyDict::new(py);
+    let height = |p: &DVec2| hf.height_at(*p).unwrap_or(f64::NAN);
+    let seeds = PyDict::new(py);
+    let positions: Vec<DVec2> = village.seeds.iter().map(|s| s.position).collect();
+    seeds.set_item("positions", points_to_py(py, &positions))?;
+    seeds.set_item(
+        "heights",
+        positions
+            .iter()
+            .map(height)
+            .collect::<Vec<f64>>()
+            .into_pyarray(py),
+    )?;
+    seeds.set_item(
+        "building",
+        village
+            .seeds
+            .iter()
+            .map(|s| s.building.clone())
+            .collect::<Vec<String>>(),
+    )?;
+    seeds.set_item(
+        "village_type",
+        village
+            .seeds
+            .iter()
+            .map(|s| s.village_type.clone())
+            .collect::<Vec<String>>(),
+    )?;
+    out.set_item("seeds", seeds)?;
+    let roads = PyList::empty(py);
+    for r in &village.roads {
+        let d = PyDict::new(py);
+        d.set_item("points", points_to_py(py, &r.points))?;
+        d.set_item(
+            "heights",
+            r.points
+                .iter()
+                .map(height)
+                .collect::<Vec<f64>>()
+                .into_pyarray(py),
+        )?;
+        roads.append(d)?;
+    }
+    out.set_item("roads", roads)?;
+    let parcels = PyList::empty(py);
+    for p in &village.parcels {
+        parcels.append(points_to_py(py, &p.contour))?;
+    }
+    out.set_item("parcels", parcels)?;
+    let mut fp = numpy::ndarray::Array3::<f64>::zeros((village.footprints.len(), 4, 2));
+    for (k, f) in village.footprints.iter().enumerate() {
+        for (c, p) in f.corners.iter().enumerate() {
+            fp[[k, c, 0]] = p.x;
+            fp[[k, c, 1]] = p.y;
+        }
+    }
+    out.set_item("footprints", fp.into_pyarray(py))?;
+    let houses = PyList::empty(py);
+    for h in &village.houses {
+        let d = PyDict::new(py);
+        let v = Array2::from_shape_fn((h.vertices.len(), 3), |(i, j)| h.vertices[i][j]);
+        d.set_item("seed", h.seed)?;
+        d.set_item("vertices", v.into_pyarray(py))?;
+        let mut starts = Vec::with_capacity(h.faces.len());
+        let mut totals = Vec::with_capacity(h.faces.len());
+        let mut indices = Vec::new();
+        for f in &h.faces {
+            starts.push(indices.len() as i32);
+            totals.push(f.len() as i32);
+            indices.extend(f.iter().map(|i| *i as i32));
+        }
+        d.set_item("loop_starts", starts.into_pyarray(py))?;
+        d.set_item("loop_totals", totals.into_pyarray(py))?;
+        d.set_item("indices", indices.into_pyarray(py))?;
+        d.set_item(
+            "materials",
+            h.materials
+                .iter()
+                .map(|m| *m as i32)
+                .collect::<Vec<i32>>()
+                .into_pyarray(py),
+        )?;
+        houses.append(d)?;
+    }
+    out.set_item("houses", houses)?;
+    let report = &village.report;
+    out.set_item("connections", points_to_py(py, &report.connections))?;
+    let r = PyDict::new(py);
+    r.set_item("requested", report.requested)?;
+    r.set_item("seeded", report.seeded)?;
+    r.set_item("fallbacks", report.fallbacks)?;
+    r.set_item("unplaced", report.unplaced.clone())?;
+    r.set_item("unreachable", report.unreachable)?;
+    r.set_item("without_access", report.without_access)?;
+    r.set_item("without_footprint", report.without_footprint)?;
+    r.set_item("roads_over_max_grade", report.roads_over_max_grade)?;
+    r.set_item("cycles", report.cycles)?;
+    r.set_item("seconds", report.seconds.to_vec())?;
+    r.set_item("road_width", encyclopedia.roads.width)?;
+    r.set_item("max_grade", encyclopedia.roads.max_grade)?;
+    out.set_item("report", r)?;
+    Ok(out)
+}
+
+/// One interest criterion ("sociability", "worship", "accessibility", "slope", "water", "fortification",
+/// "domination") or, with `criterion=None`, the combined interest, at world XY `points` (float64 (N, 2)), for a
+/// building type of a village type, in the village made of `buildings` (list of (building type, x, y)) and
+/// `roads`. Values lie in [-1, 1] (the interest in [0, 1]); 0 outside the region.
+#[pyfunction]
+#[pyo3(signature = (terrain, region, points, village_type, building, criterion=None, *, encyclopedia=None,
+                    buildings=None, roads=None, water_level=None, water_areas=None, rivers=None,
+                    river_half_width=4.0, walls=None, cell=2.0))]
+#[allow(clippy::too_many_arguments)]
+fn village_interest<'py>(
+    py: Python<'py>,
+    terrain: &Bound<'py, Terrain>,
+    region: &Bound<'py, PyAny>,
+    points: PyReadonlyArray2<'py, f64>,
+    village_type: &str,
+    building: &str,
+    criterion: Option<&str>,
+    encyclopedia: Option<&str>,
+    buildings: Option<Vec<(String, f64, f64)>>,
+    roads: Option<&Bound<'py, PyAny>>,
+    water_level: Option<f64>,
+    water_areas: Option<&Bound<'py, PyAny>>,
+    rivers: Option<&Bound<'py, PyAny>>,
+    river_half_width: f64,
+    walls: Option<&Bound<'py, PyAny>>,
+    cell: f64,
+) -> PyResult<Bound<'py, numpy::PyArray1<f64>>> {
+    let hf = terrain.get().hf.clone();
+    let region = region_from_py(region)?;
+    let encyclopedia = encyclopedia_of(encyclopedia)?;
+    let criterion = match criterion {
+        None => None,
+        Some(name) => Some(Criterion::from_name(name).ok_or_else(|| {
+            let names: Vec<&str> = Criterion::ALL.iter().map(|c| c.name()).collect();
+            input_err(format!(
+                "unknown criterion '{name}' (one of {})",
+                names.join(", ")
+            ))
+        })?),
+    };
+    let pts = points_from_py(&points, "points")?;
+    let buildings: Vec<BuildingSeed> = buildings
+        .unwrap_or_default()
+        .into_iter()
+        .map(|(b, x, y)| BuildingSeed {
+            building: b,
+            village_type: village_type.to_string(),
+            position: DVec2::new(x, y),
+        })
+        .collect();
+    let roads = polylines(roads, "road")?;
+    let request = InterestRequest {
+        terrain: &hf,
+        region,
+        environment: environment(water_level, water_areas, rivers, river_half_width, walls)?,
+        encyclopedia: &encyclopedia,
+        village_type,
+        building,
+        criterion,
+        buildings: &buildings,
+        roads: &roads,
+        cell,
+    };
+    let values = py.detach(|| guarded(|| interest_at(&request, &pts)))?;
+    Ok(values.into_pyarray(py))
+}
+
+pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(default_encyclopedia, m)?)?;
+    m.add_function(wrap_pyfunction!(scenario_presets, m)?)?;
+    m.add_function(wrap_pyfunction!(encyclopedia_contents, m)?)?;
+    m.add_function(wrap_pyfunction!(generate_village, m)?)?;
+    m.add_function(wrap_pyfunction!(village_interest, m)?)?;
+    Ok(())
+}
