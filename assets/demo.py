@@ -7,6 +7,8 @@
 4. All three are pasted over a 600 m terrain of hills the examples never saw: the forest keeps to the slopes it
    liked, the grove keeps its clumps, the village grows streets draped on the hills with houses along them, and each
    paste blends with what is around it.
+5. A highland hamlet grows by its growth scenario (thesis ch. 3) in a clearing of the forest in the foreground: a
+   church, houses and farms with doors and windows, on parcels beside roads that wind up the hills.
 
 Writes OUT/demo.blend and renders OUT/demo.png with Workbench. Usage: python assets/demo.py [--out out]
 """
@@ -40,6 +42,8 @@ GROVE_REGION = {"shape": "rect", "min": [-220.0, -150.0], "max": [-120.0, -50.0]
 VILLAGE_ORIGIN = (-1000.0, 0.0)
 VILLAGE_SIZE = 300.0
 VILLAGE_DESTINATION = ((210.0, 460.0), (470.0, 670.0))
+HAMLET_CENTER = (360.0, 360.0)
+HAMLET_RADIUS = 90.0
 
 
 def run(op, **kwargs):
@@ -103,15 +107,34 @@ def paint(hills):
     road.data.materials.append(material)
 
 
+def grow_hamlet(hills):
+    """A highland hamlet in a clearing cut into the painted forest, inside a closed curve beside the other content."""
+    curve = bpy.data.curves.new("Hamlet region", 'CURVE')
+    spline = curve.splines.new('POLY')
+    a = np.linspace(0.0, 2.0 * np.pi, 48, endpoint=False)
+    xy = np.column_stack([HAMLET_CENTER[0] + HAMLET_RADIUS * np.cos(a), HAMLET_CENTER[1] + HAMLET_RADIUS * np.sin(a)])
+    spline.points.add(len(xy) - 1)
+    spline.points.foreach_set("co", np.column_stack([xy, np.zeros(len(xy)), np.ones(len(xy))]).ravel())
+    spline.use_cyclic_u = True
+    region = bpy.data.objects.new("Hamlet region", curve)
+    bpy.context.scene.collection.objects.link(region)
+    run(bpy.ops.worldpaint.clear_region, terrain=hills.name, region_mode='CURVE', curve=region.name)
+    settings = bpy.context.scene.worldpaint.village
+    settings.region = region
+    run(bpy.ops.worldpaint.load_village_preset, preset="highland_hamlet")
+    run(bpy.ops.worldpaint.generate_village, terrain=hills.name, seed=3)
+    print(f"hamlet: {settings.report}")
+
+
 def render(path):
-    """A 3/4 view over the part of the hills where the forest and the grove meet."""
+    """A 3/4 view over the part of the hills where the forest, the grove and the two villages meet."""
     scene = bpy.context.scene
     cam = top_camera((0.0, 0.0), 1.0, 1.0)
     cam.data.type = 'PERSP'
     cam.data.lens = 40.0
     cam.data.clip_end = 5000.0
-    cam.location = (330.0, 110.0, 260.0)
-    cam.rotation_euler = (math.radians(55.0), 0.0, math.radians(15.0))
+    cam.location = (350.0, 20.0, 320.0)
+    cam.rotation_euler = (math.radians(53.0), 0.0, math.radians(15.0))
     scene.render.engine = 'BLENDER_WORKBENCH'
     scene.display.shading.light = 'STUDIO'
     scene.display.shading.color_type = 'MATERIAL'
@@ -135,13 +158,14 @@ def main():
     start = time.perf_counter()
     hills = build_and_learn()
     paint(hills)
+    grow_hamlet(hills)
     painted = time.perf_counter() - start
-    for obj in bpy.data.collections["WorldPaint"].all_objects:
+    for obj in (o for o in bpy.data.collections["WorldPaint"].all_objects if not o.get("wp_village")):
         count = len(obj.data.splines) if obj.type == 'CURVE' else len(obj.data.vertices)
         print(f"{obj.name}: {count} {'curves' if obj.type == 'CURVE' else 'instances'}")
     bpy.ops.wm.save_as_mainfile(filepath=str(out / "demo.blend"))
     render(out / "demo.png")
-    print(f"learned and painted in {painted:.1f} s; wrote {out / 'demo.blend'} and {out / 'demo.png'}")
+    print(f"learned, painted and grew the hamlet in {painted:.1f} s; wrote {out / 'demo.blend'} and {out / 'demo.png'}")
 
 
 if __name__ == "__main__":

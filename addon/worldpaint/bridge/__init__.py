@@ -3,7 +3,7 @@
 ``terrain`` extracts the terrain mesh, ``instances`` the example objects and synthesized points, ``curves`` the roads,
 rivers, islands and lakes (and builds their ribbons and filled meshes), ``regions`` the analysed or destination
 region, ``points`` builds the point clouds and the Geometry Nodes instancer, ``preview`` the palette pictures,
-``engine`` gives the compiled engine module.
+``village`` the villages' surroundings and the generated villages, ``engine`` gives the compiled engine module.
 """
 
 

@@ -1,4 +1,4 @@
-"""Scene data of WorldPaint: the terrain, the categories, the palette and the region settings.
+"""Scene data of WorldPaint: the terrain, the categories, the palette, the region settings and the village.
 
 Everything lives on ``scene.worldpaint`` so it is saved in the .blend with the scene.
 """
@@ -14,6 +14,8 @@ from bpy.props import (
     PointerProperty,
     StringProperty,
 )
+
+from .village import WORLDPAINT_PG_village, WORLDPAINT_PG_village_event
 
 CATEGORY_KINDS = (
     ("distribution", "Distribution", "Instances scattered by the learned statistics"),
@@ -137,11 +139,12 @@ class WORLDPAINT_PG_settings(bpy.types.PropertyGroup):
     erase_category: StringProperty(name="Erase", description="Category the eraser removes (empty: all)")
     gradient_end: StringProperty(name="To Color", description="Palette color at the end of the gradient")
     stretch_side: EnumProperty(name="Side", items=SIDES, default="EAST")
+    village: PointerProperty(type=WORLDPAINT_PG_village)
 
 
 _register_classes, _unregister_classes = bpy.utils.register_classes_factory(
     (WORLDPAINT_PG_category, WORLDPAINT_PG_interaction, WORLDPAINT_PG_color, WORLDPAINT_PG_stroke_point,
-     WORLDPAINT_PG_settings)
+     WORLDPAINT_PG_village_event, WORLDPAINT_PG_village, WORLDPAINT_PG_settings)
 )
 
 
