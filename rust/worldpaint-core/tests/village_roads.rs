@@ -509,12 +509,24 @@ mod village {
 
     /// Connects a village of buildings one after the other, marking each house (10 × 8 m) as occupied.
     fn grow(land: &Land, p: &RoadParams, homes: &[DVec2]) -> (RoadNetwork, Vec<Connection>) {
+        let (net, out, _) = grow_timed(land, p, homes);
+        (net, out)
+    }
+
+    /// [`grow`], with the (wall) time of each connection (s).
+    fn grow_timed(
+        land: &Land,
+        p: &RoadParams,
+        homes: &[DVec2],
+    ) -> (RoadNetwork, Vec<Connection>, Vec<f64>) {
         let psi = [DVec2::new(0.0, 500.0), DVec2::new(1000.0, 820.0)];
         let mut net = RoadNetwork::new(land, &psi, &[]).unwrap();
         let mut occupied = vec![false; land.grid.len()];
-        let mut out = Vec::new();
+        let (mut out, mut times) = (Vec::new(), Vec::new());
         for &h in homes {
+            let t = std::time::Instant::now();
             out.push(connect(&mut net, land, p, &occupied, h));
+            times.push(t.elapsed().as_secs_f64());
             let g = &land.grid;
             let (i0, j0) = (((h.x - 5.0) / CELL).ceil(), ((h.y - 4.0) / CELL).ceil());
             let (i1, j1) = (((h.x + 5.0) / CELL).floor(), ((h.y + 4.0) / CELL).floor());
@@ -524,7 +536,7 @@ mod village {
                 }
             }
         }
-        (net, out)
+        (net, out, times)
     }
 
     #[test]
@@ -566,29 +578,33 @@ mod village {
     fn timing_of_a_village() {
         let l = hills();
         let homes = village_homes(100);
-        for radius in [2, 3] {
+        for radius in [1, 2, 3] {
             let p = RoadParams {
                 mask_radius: radius,
                 ..params()
             };
-            let t = std::time::Instant::now();
             let cpu = cpu_seconds();
-            let (net, cs) = grow(&l, &p, &homes);
-            let dt = t.elapsed().as_secs_f64();
+            let (net, cs, times) = grow_timed(&l, &p, &homes);
             let cpu = cpu_seconds() - cpu;
-            println!("mask {radius}: wall {dt:.3} s, on the processor {cpu:.3} s");
+            let wall: f64 = times.iter().sum();
+            let mut sorted = times.clone();
+            sorted.sort_by(f64::total_cmp);
             let total: f64 = net.roads.iter().map(length).sum();
             println!(
-            "mask {radius}: {} connections in {:.3} s ({:.2} ms each), {} roads, {:.0} m, {} cycles, {} over the grade, {} not reached",
-            cs.len(),
-            dt,
-            1000.0 * dt / cs.len() as f64,
-            net.roads.len(),
-            total,
-            cs.iter().filter(|c| c.cycle).count(),
-            cs.iter().filter(|c| c.over_max_grade).count(),
-            cs.iter().filter(|c| !c.reached).count()
-        );
+                "mask {radius}: {} connections, {:.3} s on the processor ({:.2} ms each); wall {wall:.3} s, \
+                 first {:.1} ms, median {:.2} ms, slowest {:.1} ms; {} roads, {total:.0} m, {} cycles, \
+                 {} over the grade, {} not reached",
+                cs.len(),
+                cpu,
+                1000.0 * cpu / cs.len() as f64,
+                1000.0 * times[0],
+                1000.0 * sorted[sorted.len() / 2],
+                1000.0 * sorted[sorted.len() - 1],
+                net.roads.len(),
+                cs.iter().filter(|c| c.cycle).count(),
+                cs.iter().filter(|c| c.over_max_grade).count(),
+                cs.iter().filter(|c| !c.reached).count()
+            );
         }
     }
 }

@@ -453,51 +453,50 @@ impl RoadNetwork {
     }
 
     /// Network cost from every road node to `Ψ` along the roads (without the re-use weight; `INFINITY` off the
-    /// network or on roads not joined to `Ψ`): a Dijkstra over the road nodes, eight-connected.
+    /// network or on roads not joined to `Ψ`): a Dijkstra over the road nodes, eight-connected. Roads are only
+    /// ever added, so after the first time only the new road nodes and what they shorten are visited.
     fn exit_costs(&self, search: &mut Search, land: &Land) {
-        let grid = self.grid;
         let mut exit = std::mem::take(&mut search.exit);
-        for &r in &self.road_nodes {
-            exit[r as usize] = f64::INFINITY;
-        }
         let mut heap = BinaryHeap::new();
-        for &c in &self.connection_nodes {
-            exit[c] = 0.0;
-            heap.push(Entry {
-                f: 0.0,
-                g: 0.0,
-                state: c as u32,
-            });
+        if search.exit_nodes == 0 {
+            for &r in &self.road_nodes {
+                exit[r as usize] = f64::INFINITY;
+            }
+            for &c in &self.connection_nodes {
+                exit[c] = 0.0;
+                heap.push(Entry {
+                    f: 0.0,
+                    g: 0.0,
+                    state: c as u32,
+                });
+            }
+        } else {
+            for &r in &self.road_nodes[search.exit_nodes..] {
+                let r = r as usize;
+                for u in 0..search.table.unit.len() {
+                    if let Some((y, c)) = self.road_edge(search, land, r, search.table.unit[u]) {
+                        exit[r] = exit[r].min(exit[y] + c);
+                    }
+                }
+                if exit[r].is_finite() {
+                    heap.push(Entry {
+                        f: exit[r],
+                        g: 0.0,
+                        state: r as u32,
+                    });
+                }
+            }
         }
         while let Some(e) = heap.pop() {
             let x = e.state as usize;
             if e.f > exit[x] {
                 continue;
             }
-            let (i, j) = grid.ij(x);
             for u in 0..search.table.unit.len() {
-                let m = search.table.unit[u];
-                let mv = &search.table.moves[m];
-                let (ti, tj) = (i as i64 + mv.dx as i64, j as i64 + mv.dy as i64);
-                if ti < 0 || tj < 0 || ti >= grid.nx as i64 || tj >= grid.ny as i64 {
+                let Some((y, c)) = self.road_edge(search, land, x, search.table.unit[u]) else {
                     continue;
-                }
-                let y = (x as isize + mv.delta) as usize;
-                if !self.on_road[y] {
-                    continue;
-                }
-                let c = search.cost(land, x, m);
-                if c.is_infinite() {
-                    continue;
-                }
-                // a road steeper than the limit exists: it costs what its length and slope cost, no penalty
-                let c = if c < 0.0 {
-                    let mv = &search.table.moves[m];
-                    static_cost(land, &search.key, mv, x, search.near[x], false)
-                } else {
-                    c
                 };
-                let g = e.f + c as f64;
+                let g = e.f + c;
                 if g < exit[y] {
                     exit[y] = g;
                     heap.push(Entry {
@@ -509,6 +508,40 @@ impl RoadNetwork {
             }
         }
         search.exit = exit;
+        search.exit_nodes = self.road_nodes.len();
+    }
+
+    /// The road node one move `m` from road node `x`, and the cost of going there (the same both ways).
+    fn road_edge(
+        &self,
+        search: &mut Search,
+        land: &Land,
+        x: usize,
+        m: usize,
+    ) -> Option<(usize, f64)> {
+        let grid = &self.grid;
+        let (i, j) = grid.ij(x);
+        let mv = &search.table.moves[m];
+        let (ti, tj) = (i as i64 + mv.dx as i64, j as i64 + mv.dy as i64);
+        if ti < 0 || tj < 0 || ti >= grid.nx as i64 || tj >= grid.ny as i64 {
+            return None;
+        }
+        let y = (x as isize + mv.delta) as usize;
+        if !self.on_road[y] {
+            return None;
+        }
+        let c = search.cost(land, x, m);
+        if c.is_infinite() {
+            return None;
+        }
+        // a road steeper than the limit exists: it costs what its length and slope cost, no penalty
+        let c = if c < 0.0 {
+            let mv = &search.table.moves[m];
+            static_cost(land, &search.key, mv, x, search.near[x], false)
+        } else {
+            c
+        };
+        Some((y, c as f64))
     }
 }
 
@@ -1204,8 +1237,10 @@ struct Search {
     touched: Vec<u32>,
     heap: BinaryHeap<Entry>,
     flags: Vec<u8>,
-    /// Network cost from each road node to `Ψ` (see [`RoadNetwork::exit_costs`]; infinite elsewhere).
+    /// Network cost from each road node to `Ψ` (see [`RoadNetwork::exit_costs`]; infinite elsewhere), for the
+    /// first `exit_nodes` road nodes.
     exit: Vec<f64>,
+    exit_nodes: usize,
     /// Initial cost plus one of each source node (0 = not a source).
     source_cost: Vec<f32>,
     /// Node-level cost from the target plus one (0 = not reached), whether it is final, the nodes touched.
@@ -1309,6 +1344,7 @@ impl Search {
             heap: BinaryHeap::new(),
             flags: Vec::with_capacity(n),
             exit: vec![f64::INFINITY; n],
+            exit_nodes: 0,
             source_cost: vec![0.0; n],
             field: vec![0.0; n],
             settled: vec![false; n],
@@ -2019,5 +2055,49 @@ mod tests {
             }
         }
         assert!(compared >= 60, "{compared}");
+    }
+
+    #[test]
+    fn network_costs_kept_up_to_date_match_a_full_computation() {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(3);
+        let land = random_land(&mut rng, 80);
+        let params = RoadParams {
+            width: 4.0,
+            distance_weight: 1.0,
+            slope_weight: 1.0,
+            max_grade: 0.3,
+            curvature_weight: 1.0,
+            water_weight: 5.0,
+            building_cost: 100.0,
+            reuse_weight: 0.2,
+            mask_radius: 2,
+            cycle_angle_degrees: 40.0,
+            cycle_max_length: 80.0,
+            cycle_min_separation: 10.0,
+        };
+        let free = vec![false; land.grid.len()];
+        let mut net = RoadNetwork::new(
+            &land,
+            &[DVec2::new(0.0, 80.0), DVec2::new(158.0, 100.0)],
+            &[],
+        )
+        .unwrap();
+        let mut cycles = 0;
+        for _ in 0..25 {
+            let b = DVec2::new(rng.random_range(0.0..158.0), rng.random_range(0.0..158.0));
+            cycles += net.connect(&land, &params, &free, b).unwrap().cycle as usize;
+            let mut search = net.search.take().unwrap();
+            net.exit_costs(&mut search, &land);
+            let kept = search.exit.clone();
+            search.exit_nodes = 0;
+            net.exit_costs(&mut search, &land);
+            for &r in &net.road_nodes {
+                let (a, b) = (kept[r as usize], search.exit[r as usize]);
+                assert!(a == b || (a - b).abs() < 1e-9 * a.max(1.0), "{a} vs {b}");
+            }
+            net.search = Some(search);
+        }
+        assert!(cycles > 0);
     }
 }
