@@ -153,24 +153,52 @@ mod village {
 
     #[test]
     fn roads_keep_to_the_grade_limit_with_serpentines() {
-        // a ramp of grade 0.35 along x; the road has to climb 35 m to x = 100
-        let land = land(300.0, |p| 0.35 * p.x);
+        // a ramp of grade 0.35 along x, in a band 120 m wide: climbing 35 m to x = 100 takes three legs at least
+        let mut land = land(300.0, |p| 0.35 * p.x);
+        set(
+            &mut land,
+            |l, k| l.inside[k] = false,
+            |q| (q.y - 150.0).abs() > 60.0,
+        );
         let free = vec![false; land.grid.len()];
         let p = params();
-        let mut net = RoadNetwork::new(&land, &[DVec2::new(0.0, 150.0)], &[]).unwrap();
-        let c = connect(&mut net, &land, &p, &free, DVec2::new(100.0, 150.0));
+        let psi = DVec2::new(0.0, 150.0);
+        let b = DVec2::new(100.0, 150.0);
+        let mut net = RoadNetwork::new(&land, &[psi], &[]).unwrap();
+        let c = connect(&mut net, &land, &p, &free, b);
         assert!(c.reached && !c.over_max_grade);
         let road = &net.roads[c.roads[0]];
         let g = steepest(&land, road);
+        let hairpins = road
+            .points
+            .windows(3)
+            .filter(|w| (w[1].y - w[0].y) * (w[2].y - w[1].y) < 0.0)
+            .count();
         println!(
-            "ramp 0.35: road {:.0} m, {} vertices, steepest {g:.4} (reported {:.4})",
+            "ramp 0.35: road {:.0} m, {hairpins} hairpins, steepest {g:.4} (reported {:.4})",
             length(road),
-            road.points.len(),
             c.steepest_grade
         );
         assert!(c.steepest_grade <= p.max_grade + 1e-6);
         assert!(g <= p.max_grade + 1e-6, "{g}");
         assert!(length(road) >= 35.0 / p.max_grade - 1.0);
+        assert!(hairpins >= 2, "{:?}", road.points);
+
+        // grade 0.4: no move of the 32-move mask is gentle enough across it (the gentlest, (1, 3), climbs 0.126),
+        // so the road is built over the limit; the 48 moves of radius 4 have (1, 4), at 0.097
+        let land = land_ramp(0.4);
+        let free = vec![false; land.grid.len()];
+        let mut net = RoadNetwork::new(&land, &[psi], &[]).unwrap();
+        let c = connect(&mut net, &land, &p, &free, b);
+        assert!(c.reached && c.over_max_grade && c.steepest_grade > p.max_grade);
+        let p4 = RoadParams {
+            mask_radius: 4,
+            ..params()
+        };
+        let mut net = RoadNetwork::new(&land, &[psi], &[]).unwrap();
+        let c = connect(&mut net, &land, &p4, &free, b);
+        assert!(c.reached && !c.over_max_grade);
+        assert!(steepest(&land, &net.roads[c.roads[0]]) <= p.max_grade + 1e-6);
 
         // a cone of grade 0.3: climb from its foot to near its top
         let land = land_cone();
@@ -182,6 +210,10 @@ mod village {
         let g = steepest(&land, road);
         println!("cone 0.3: road {:.0} m, steepest {g:.4}", length(road));
         assert!(g <= p.max_grade + 0.005, "{g}");
+    }
+
+    fn land_ramp(grade: f64) -> Land {
+        land(300.0, |p| grade * p.x)
     }
 
     fn land_cone() -> Land {
