@@ -12,7 +12,8 @@
 //! connection reports `over_max_grade`. Every node a move lands on or passes over (its closed cell square meets
 //! the segment) must be inside `Ω`, and costs `building_cost` when a building or a fortification wall covers it,
 //! so roads cross walls only where they must (gates). Turning costs `curvature_weight` per radian between
-//! consecutive moves (only a U-turn back along the same move is not allowed), so a search state is (node, incoming move).
+//! consecutive moves (only a U-turn back along the same move is not allowed), so a search state is (node,
+//! incoming move).
 //!
 //! **Re-use.** The thesis lowers the cost along existing roads by a re-use weight `w_ex ≪ 1`:
 //!
@@ -22,11 +23,12 @@
 //! ```
 //!
 //! A path from a building `B` to `Ψ` leaves the ground at the first road node `r` it meets and follows the
-//! network from there, so its cost is `C(B → r) + T(r)` with `T(r) = w_ex · (network cost from r to Ψ)`. `T` is a
-//! Dijkstra over the road nodes (few), recomputed at every connection. The search runs *backwards*: from every
-//! goal node `r` (road nodes joined to `Ψ`, and the connection points, `T = 0`) with the initial cost `T(r)`,
-//! towards the single node `B`. A path may not land on or pass over another goal node, which is where a forward
-//! path would have joined the network. The new road is the off-road part, from `B` to `r`.
+//! network from there, so its cost is `C(B → r) + T(r)` with `T(r) = w_ex · (network cost from r to Ψ)`. `T`
+//! comes from a Dijkstra over the road nodes (few), brought up to date whenever roads are added. The search runs
+//! *backwards*: from every goal node `r` (road nodes joined to `Ψ`, and the connection points, `T = 0`) with the
+//! initial cost `T(r)`, towards the single node `B`. A path may not land on or pass over another goal node,
+//! which is where a forward path would have joined the network. The new road is the off-road part, from `B` to
+//! `r`.
 //!
 //! **Heuristic.** Towards one target a closed-form bound is cheap:
 //! `h(x) = min_{L ≥ L₀} (distance_weight · L + slope_weight / max_grade² · Δh² / L)`, where `L₀` is the length of
