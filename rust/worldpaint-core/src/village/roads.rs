@@ -47,6 +47,12 @@
 //! sources. Both are admissible, and the state search restarts with them: it then hardly leaves the nodes
 //! settled. The node search also tells, cheaply, that no road can reach `B` at all.
 //!
+//! One case stays costly: when forced turns (switchbacks up a cliff band) make the road dearer than the node-level
+//! path by a wide margin, every state within that margin is a candidate. Past [`STATE_BUDGET`] states the search
+//! keeps to a corridor of [`CORRIDOR_CELLS`] around the node-level path, where it is exact; the road is then the
+//! cheapest within that corridor (never dearer than the node-level path with its turns), no longer proven the
+//! cheapest of all. In the 100-building test village this never happens.
+//!
 //! **Cycles.** After the first road to `B`, the closest road node `p` in the cone of half-angle
 //! `cycle_angle_degrees` around the direction in which the road arrives at `B` (continuing past `B`), off the
 //! road just built and at most `cycle_max_length` away, gets a road from `B` under the same costs; it is built
@@ -81,6 +87,10 @@ const FEW_SOURCES: usize = 32;
 const MAX_SOURCE_TILES: usize = 48;
 /// States the first A* (with the closed-form bound) may settle before the node-level field is computed.
 const BOUND_BUDGET: usize = 3_000;
+/// States the A* with the node-level field may settle before it keeps to a corridor of [`CORRIDOR_CELLS`]
+/// around the node-level path.
+const STATE_BUDGET: usize = 250_000;
+const CORRIDOR_CELLS: usize = 8;
 /// A cycle road is built when more than this fraction of its length is far enough from the first road.
 const CYCLE_FAR_FRACTION: f64 = 0.5;
 /// The direction in which a road arrives at `B` is taken over this length (m) of the road.
@@ -1211,6 +1221,8 @@ enum Estimate<'a> {
     /// The node-level costs from the target where settled; elsewhere the key the node-level search stopped at
     /// less the bound to the sources (see [`Search::node_field`]).
     Field(f64, &'a SourceBound),
+    /// The same, the paths kept within [`Search::corridor`].
+    Corridor(f64, &'a SourceBound),
     /// None: a Dijkstra, to check the others against.
     #[cfg(test)]
     Zero,
@@ -1224,6 +1236,7 @@ enum Outcome {
 
 /// The state of the road search kept between connections.
 struct Search {
+    grid: LandGrid,
     key: CostKey,
     table: MoveTable,
     /// Static cost of move `m` from node `x` at `x * moves + m`: 0 not computed yet, positive within the grade
@@ -1251,8 +1264,13 @@ struct Search {
     field_touched: Vec<u32>,
     /// The move that reached each node in the node-level search.
     field_move: Vec<u8>,
-    /// States the first A* may settle (see [`BOUND_BUDGET`]).
+    /// States the first A* and the A* with the node-level field may settle (see [`BOUND_BUDGET`],
+    /// [`STATE_BUDGET`]).
     budget: usize,
+    state_budget: usize,
+    /// Nodes near the node-level path, where an A* over [`STATE_BUDGET`] finishes (see [`Search::run`]).
+    corridor: Vec<bool>,
+    corridor_touched: Vec<u32>,
 }
 
 /// The cached static cost of move `m` from `x` (see [`Search::costs`]).
@@ -1329,6 +1347,7 @@ impl Search {
         };
         let m = table.moves.len();
         Ok(Search {
+            grid: *grid,
             key: CostKey::of(params),
             costs: vec![0.0; n * m],
             near: {
@@ -1353,6 +1372,9 @@ impl Search {
             field_touched: Vec::new(),
             field_move: vec![0; n],
             budget: BOUND_BUDGET,
+            state_budget: STATE_BUDGET,
+            corridor: vec![false; n],
+            corridor_touched: Vec::new(),
             table,
         })
     }
@@ -1411,19 +1433,28 @@ impl Search {
                 self.reset_states();
                 let towards = SourceBound::new(ctx.land, sources);
                 match self.node_field(ctx, &towards, target, steep, ellipse) {
-                    Some(radius) => match self.astar(
-                        ctx,
-                        sources,
-                        target,
-                        steep,
-                        ellipse,
-                        Estimate::Field(radius, &towards),
-                        None,
-                    ) {
-                        Outcome::Found(s) => Some(s),
-                        _ => None,
-                    },
                     None => None,
+                    Some((stop, source)) => {
+                        let estimate = Estimate::Field(stop, &towards);
+                        let limit = Some(self.state_budget);
+                        match self.astar(ctx, sources, target, steep, ellipse, estimate, limit) {
+                            Outcome::Found(s) => Some(s),
+                            Outcome::Unreachable => None,
+                            Outcome::OverBudget => {
+                                // forced turns (switchbacks) cost more than the node-level search knows, and
+                                // every state within that margin is explored: finish near its path
+                                self.reset_states();
+                                self.mark_corridor(target, source);
+                                let estimate = Estimate::Corridor(stop, &towards);
+                                match self
+                                    .astar(ctx, sources, target, steep, ellipse, estimate, None)
+                                {
+                                    Outcome::Found(s) => Some(s),
+                                    _ => None,
+                                }
+                            }
+                        }
+                    }
                 }
             }
         };
@@ -1434,6 +1465,10 @@ impl Search {
             self.settled[x as usize] = false;
         }
         self.field_touched.clear();
+        for &x in &self.corridor_touched {
+            self.corridor[x as usize] = false;
+        }
+        self.corridor_touched.clear();
         for &(r, _) in sources {
             self.source_cost[r] = 0.0;
         }
@@ -1480,8 +1515,8 @@ impl Search {
     }
 
     /// Node-level search from `target` (paths `target → x`, charged like the A* but without turns) until its key
-    /// passes the cheapest source reached (its cost plus the source's initial cost); returns that key, or `None`
-    /// when no source can be reached. With a few sources it is an A* towards them (`few`, a consistent bound),
+    /// passes the cheapest source reached (its cost plus the source's initial cost); returns that key and that
+    /// source, or `None` when no source can be reached. With a few sources it is an A* towards them (`few`, a consistent bound),
     /// otherwise a Dijkstra; either way the settled nodes have their exact cost from `target`, and every other
     /// node `x` costs at least the returned key less the bound from `x` to the sources.
     fn node_field(
@@ -1491,7 +1526,7 @@ impl Search {
         target: usize,
         steep: bool,
         ellipse: Option<Ellipse>,
-    ) -> Option<f64> {
+    ) -> Option<(f64, usize)> {
         let land = ctx.land;
         let p = ctx.params;
         let grid = land.grid;
@@ -1604,9 +1639,33 @@ impl Search {
             }
         }
         if best.0.is_finite() {
-            Some(stop.min(upper.unwrap_or(best.0)))
+            Some((stop.min(upper.unwrap_or(best.0)), best.1))
         } else {
             None
+        }
+    }
+
+    /// Marks the nodes within [`CORRIDOR_CELLS`] of the node-level path from `target` to `source`.
+    fn mark_corridor(&mut self, target: usize, source: usize) {
+        let g = self.grid;
+        let r = CORRIDOR_CELLS as i64;
+        let (mut x, mut steps) = (source, 0);
+        loop {
+            let (i, j) = g.ij(x);
+            for jj in (j as i64 - r).max(0)..=(j as i64 + r).min(g.ny as i64 - 1) {
+                for ii in (i as i64 - r).max(0)..=(i as i64 + r).min(g.nx as i64 - 1) {
+                    let k = g.index(ii as usize, jj as usize);
+                    if !self.corridor[k] {
+                        self.corridor[k] = true;
+                        self.corridor_touched.push(k as u32);
+                    }
+                }
+            }
+            if x == target || steps > g.len() {
+                break;
+            }
+            x = (x as isize - self.table.moves[self.field_move[x] as usize].delta) as usize;
+            steps += 1;
         }
     }
 
@@ -1636,8 +1695,10 @@ impl Search {
             flags,
             field,
             settled,
+            corridor,
             ..
         } = self;
+        let in_corridor = matches!(estimate, Estimate::Corridor(..));
         let m_count = table.moves.len();
         let m1 = m_count + 1;
         let bound = Bound::new(land, table, p, steep);
@@ -1646,7 +1707,9 @@ impl Search {
                 Estimate::Bound => return bound.between(y, target),
                 #[cfg(test)]
                 Estimate::Zero => return 0.0,
-                Estimate::Field(stop, towards) => (stop, towards),
+                Estimate::Field(stop, towards) | Estimate::Corridor(stop, towards) => {
+                    (stop, towards)
+                }
             };
             let charge = if y != target && flags[y] & BUILDING != 0 {
                 p.building_cost
@@ -1707,7 +1770,7 @@ impl Search {
                 };
                 let y = (x as isize + mv.delta) as usize;
                 let fy = flags[y];
-                if y != target && fy & GOAL != 0 {
+                if y != target && fy & GOAL != 0 || in_corridor && !corridor[y] {
                     continue;
                 }
                 let Some(c) = usable(cached_cost(costs, table, key, land, near, x, m), steep)
@@ -2033,14 +2096,19 @@ mod tests {
             };
             for steep in [false, true] {
                 let reference = search.dijkstra(&ctx, &sources, target, steep, ellipse);
-                for budget in [usize::MAX, 0, 40] {
+                // the bound alone, the field at once, the field after a few states, the corridor
+                for (budget, state_budget) in
+                    [(usize::MAX, 0), (0, usize::MAX), (40, usize::MAX), (0, 20)]
+                {
                     search.budget = budget;
+                    search.state_budget = state_budget;
                     let got = search.run(&ctx, &sources, target, steep, ellipse);
                     match (reference, &got) {
                         (None, None) => {}
                         (Some(a), Some((path, b))) => {
+                            let exact = state_budget > 20;
                             assert!(
-                                (a - b).abs() <= 1e-3 * a.max(1.0),
+                                (a - b).abs() <= 1e-3 * a.max(1.0) || !exact && *b >= a,
                                 "case {case} steep {steep} budget {budget}: {a} vs {b}"
                             );
                             assert_eq!(path[0], target);
