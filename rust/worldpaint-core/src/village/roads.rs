@@ -1,5 +1,5 @@
 //! Connection of every new building to the road network (thesis 3.2.4, "Connection to the Road Network"), after
-//! the road generation of Galin et al. 2010 [GPMG10]: a weighted anisotropic shortest path on the terrain whose
+//! the road generation of Galin et al. 2010 (GPMG10): a weighted anisotropic shortest path on the terrain whose
 //! cost is `C(R) = Σ_j w_j g_j(R)`, extended with road re-use and road cycles.
 //!
 //! **Costs.** A road is a chain of *moves* on the [`LandGrid`]: grid offsets `(dx, dy)` with coprime coordinates
@@ -39,19 +39,19 @@
 //! consistent (the gauge is a norm, and `Δh² / L` is sub-additive), so each state is settled once.
 //!
 //! Most connections end within a few thousand states. A long road across rough land does not: the bound ignores
-//! the detours the grade limit forces, and every node holds one state per incoming move. Past
-//! [`BOUND_BUDGET`] states the search first runs on nodes alone (turns ignored, so its costs are lower bounds):
-//! from `B`, an A* towards the sources (each source, or tiles of them, under the same closed-form bound) that
-//! goes on until its key passes the cost of its own path with turns added. Its settled nodes then know their
-//! exact node-level cost to `B`; any other node `x` costs at least the key reached less the bound from `x` to the
-//! sources. Both are admissible, and the state search restarts with them: it then hardly leaves the nodes
-//! settled. The node search also tells, cheaply, that no road can reach `B` at all.
+//! the detours the grade limit forces, and every node holds one state per incoming move. Past `BOUND_BUDGET`
+//! (3 000) states the search first runs on nodes alone (turns ignored, so its costs are lower bounds): from `B`,
+//! an A* towards the sources (each source, or tiles of them, under the same closed-form bound) that goes on until
+//! its key passes the cost of its own path with turns added. Its settled nodes then know their exact node-level
+//! cost to `B`; any other node `x` costs at least the key reached less the bound from `x` to the sources. Both
+//! are admissible, and the state search restarts with them: it then hardly leaves the nodes settled. The node
+//! search also tells, cheaply, that no road can reach `B` at all.
 //!
-//! One case stays costly: when forced turns (switchbacks up a cliff band) make the road dearer than the node-level
-//! path by a wide margin, every state within that margin is a candidate. Past [`STATE_BUDGET`] states the search
-//! keeps to a corridor of [`CORRIDOR_CELLS`] around the node-level path, where it is exact; the road is then the
-//! cheapest within that corridor (never dearer than the node-level path with its turns), no longer proven the
-//! cheapest of all. In the 100-building test village this never happens.
+//! One case stays costly: when forced turns (switchbacks up a cliff band) make the road dearer than the
+//! node-level path by a wide margin, every state within that margin is a candidate. Past `STATE_BUDGET`
+//! (250 000) states the search keeps to a corridor of `CORRIDOR_CELLS` (8) around the node-level path, where it
+//! is exact; the road is then the cheapest within that corridor (never dearer than the node-level path with its
+//! turns), no longer proven the cheapest of all. In the 100-building test village this never happens.
 //!
 //! **Cycles.** After the first road to `B`, the closest road node `p` in the cone of half-angle
 //! `cycle_angle_degrees` around the direction in which the road arrives at `B` (continuing past `B`), off the
@@ -1397,12 +1397,13 @@ impl Search {
     }
 
     /// The cheapest path from one of `sources` (node, initial cost) to `target`, as nodes from `target` to the
-    /// source; `None` when there is none.
+    /// source, and its cost; `None` when there is none.
     ///
     /// A first A* with the closed-form bound settles the easy cases within a few thousand states. Past that, a
-    /// node-level Dijkstra from the target (turns ignored, so a lower bound) gives the exact cost left wherever
-    /// it settles, and the A* restarts with it: the long first roads across rough terrain then expand little
-    /// more than their own corridor. The Dijkstra also tells, on nodes only, that no path exists at all.
+    /// node-level search from the target (turns ignored, so lower bounds) gives the exact cost left wherever it
+    /// settles, and the A* restarts with it: the long first roads across rough terrain then expand little more
+    /// than their own corridor. The node-level search also tells, on nodes only, that no path exists at all.
+    /// Past [`STATE_BUDGET`] states the A* finishes within a corridor (see the module documentation).
     fn run(
         &mut self,
         ctx: &Ctx,
@@ -1514,11 +1515,11 @@ impl Search {
         path
     }
 
-    /// Node-level search from `target` (paths `target → x`, charged like the A* but without turns) until its key
-    /// passes the cheapest source reached (its cost plus the source's initial cost); returns that key and that
-    /// source, or `None` when no source can be reached. With a few sources it is an A* towards them (`few`, a consistent bound),
-    /// otherwise a Dijkstra; either way the settled nodes have their exact cost from `target`, and every other
-    /// node `x` costs at least the returned key less the bound from `x` to the sources.
+    /// Node-level search from `target` (paths `target → x`, charged like the A* but without turns): an A* towards
+    /// the sources under the consistent bound `towards`, until its key passes the cost, turns included, of the
+    /// path to the cheapest source reached. Returns that key and that source, or `None` when no source can be
+    /// reached. The settled nodes have their exact cost from `target`, and every other node `x` costs at least
+    /// the returned key less the bound from `x` to the sources.
     fn node_field(
         &mut self,
         ctx: &Ctx,
