@@ -86,6 +86,33 @@ fn steepest(land: &Land, road: &Road) -> f64 {
     g
 }
 
+/// Steepest grade along a road sampled as the search does: each segment is a run of one grid move `(dx, dy)`,
+/// sampled `ceil(2 |(dx, dy)|)` times per move (at most half a cell apart).
+fn steepest_per_move(land: &Land, road: &Road) -> f64 {
+    fn gcd(a: i64, b: i64) -> i64 {
+        if b == 0 {
+            a
+        } else {
+            gcd(b, a % b)
+        }
+    }
+    let mut g: f64 = 0.0;
+    for w in road.points.windows(2) {
+        let d = (w[1] - w[0]) / land.grid.cell;
+        let (dx, dy) = (d.x.round() as i64, d.y.round() as i64);
+        let runs = gcd(dx.abs(), dy.abs()).max(1);
+        let step = DVec2::new((dx / runs) as f64, (dy / runs) as f64);
+        let n = (2.0 * step.length()).ceil() as i64 * runs;
+        let sub = w[0].distance(w[1]) / n as f64;
+        for s in 0..n {
+            let a = w[0] + (w[1] - w[0]) * (s as f64 / n as f64);
+            let b = w[0] + (w[1] - w[0]) * ((s + 1) as f64 / n as f64);
+            g = g.max((land.height_at(b) - land.height_at(a)).abs() / sub);
+        }
+    }
+    g
+}
+
 /// Metres of a road over nodes where `flag` holds (nearest node, sampled every 0.25 m).
 fn metres_over(land: &Land, road: &Road, flag: impl Fn(usize) -> bool) -> f64 {
     let pts = along(road, 0.25);
@@ -153,24 +180,52 @@ mod village {
 
     #[test]
     fn roads_keep_to_the_grade_limit_with_serpentines() {
-        // a ramp of grade 0.35 along x; the road has to climb 35 m to x = 100
-        let land = land(300.0, |p| 0.35 * p.x);
+        // a ramp of grade 0.35 along x, in a band 120 m wide: climbing 35 m to x = 100 takes three legs at least
+        let mut land = land(300.0, |p| 0.35 * p.x);
+        set(
+            &mut land,
+            |l, k| l.inside[k] = false,
+            |q| (q.y - 150.0).abs() > 60.0,
+        );
         let free = vec![false; land.grid.len()];
         let p = params();
-        let mut net = RoadNetwork::new(&land, &[DVec2::new(0.0, 150.0)], &[]).unwrap();
-        let c = connect(&mut net, &land, &p, &free, DVec2::new(100.0, 150.0));
+        let psi = DVec2::new(0.0, 150.0);
+        let b = DVec2::new(100.0, 150.0);
+        let mut net = RoadNetwork::new(&land, &[psi], &[]).unwrap();
+        let c = connect(&mut net, &land, &p, &free, b);
         assert!(c.reached && !c.over_max_grade);
         let road = &net.roads[c.roads[0]];
         let g = steepest(&land, road);
+        let hairpins = road
+            .points
+            .windows(3)
+            .filter(|w| (w[1].y - w[0].y) * (w[2].y - w[1].y) < 0.0)
+            .count();
         println!(
-            "ramp 0.35: road {:.0} m, {} vertices, steepest {g:.4} (reported {:.4})",
+            "ramp 0.35: road {:.0} m, {hairpins} hairpins, steepest {g:.4} (reported {:.4})",
             length(road),
-            road.points.len(),
             c.steepest_grade
         );
         assert!(c.steepest_grade <= p.max_grade + 1e-6);
         assert!(g <= p.max_grade + 1e-6, "{g}");
         assert!(length(road) >= 35.0 / p.max_grade - 1.0);
+        assert!(hairpins >= 2, "{:?}", road.points);
+
+        // grade 0.4: no move of the 32-move mask is gentle enough across it (the gentlest, (1, 3), climbs 0.126),
+        // so the road is built over the limit; the 48 moves of radius 4 have (1, 4), at 0.097
+        let land = land_ramp(0.4);
+        let free = vec![false; land.grid.len()];
+        let mut net = RoadNetwork::new(&land, &[psi], &[]).unwrap();
+        let c = connect(&mut net, &land, &p, &free, b);
+        assert!(c.reached && c.over_max_grade && c.steepest_grade > p.max_grade);
+        let p4 = RoadParams {
+            mask_radius: 4,
+            ..params()
+        };
+        let mut net = RoadNetwork::new(&land, &[psi], &[]).unwrap();
+        let c = connect(&mut net, &land, &p4, &free, b);
+        assert!(c.reached && !c.over_max_grade);
+        assert!(steepest(&land, &net.roads[c.roads[0]]) <= p.max_grade + 1e-6);
 
         // a cone of grade 0.3: climb from its foot to near its top
         let land = land_cone();
@@ -179,9 +234,18 @@ mod village {
         let c = connect(&mut net, &land, &p, &free, DVec2::new(200.0, 240.0));
         assert!(c.reached && !c.over_max_grade);
         let road = &net.roads[c.roads[0]];
-        let g = steepest(&land, road);
-        println!("cone 0.3: road {:.0} m, steepest {g:.4}", length(road));
-        assert!(g <= p.max_grade + 0.005, "{g}");
+        let (g, fine) = (steepest_per_move(&land, road), steepest(&land, road));
+        println!(
+            "cone 0.3: road {:.0} m, steepest {g:.4} sampled per move, {fine:.4} every 0.25 m",
+            length(road)
+        );
+        assert!(g <= p.max_grade + 1e-6, "{g}");
+        // within a cell the bilinear surface of the cone bends: finer samples find a little more
+        assert!(fine <= 1.06 * p.max_grade, "{fine}");
+    }
+
+    fn land_ramp(grade: f64) -> Land {
+        land(300.0, |p| grade * p.x)
     }
 
     fn land_cone() -> Land {
@@ -509,12 +573,24 @@ mod village {
 
     /// Connects a village of buildings one after the other, marking each house (10 × 8 m) as occupied.
     fn grow(land: &Land, p: &RoadParams, homes: &[DVec2]) -> (RoadNetwork, Vec<Connection>) {
+        let (net, out, _) = grow_timed(land, p, homes);
+        (net, out)
+    }
+
+    /// [`grow`], with the (wall) time of each connection (s).
+    fn grow_timed(
+        land: &Land,
+        p: &RoadParams,
+        homes: &[DVec2],
+    ) -> (RoadNetwork, Vec<Connection>, Vec<f64>) {
         let psi = [DVec2::new(0.0, 500.0), DVec2::new(1000.0, 820.0)];
         let mut net = RoadNetwork::new(land, &psi, &[]).unwrap();
         let mut occupied = vec![false; land.grid.len()];
-        let mut out = Vec::new();
+        let (mut out, mut times) = (Vec::new(), Vec::new());
         for &h in homes {
+            let t = std::time::Instant::now();
             out.push(connect(&mut net, land, p, &occupied, h));
+            times.push(t.elapsed().as_secs_f64());
             let g = &land.grid;
             let (i0, j0) = (((h.x - 5.0) / CELL).ceil(), ((h.y - 4.0) / CELL).ceil());
             let (i1, j1) = (((h.x + 5.0) / CELL).floor(), ((h.y + 4.0) / CELL).floor());
@@ -524,7 +600,7 @@ mod village {
                 }
             }
         }
-        (net, out)
+        (net, out, times)
     }
 
     #[test]
@@ -566,29 +642,33 @@ mod village {
     fn timing_of_a_village() {
         let l = hills();
         let homes = village_homes(100);
-        for radius in [2, 3] {
+        for radius in [1, 2, 3] {
             let p = RoadParams {
                 mask_radius: radius,
                 ..params()
             };
-            let t = std::time::Instant::now();
             let cpu = cpu_seconds();
-            let (net, cs) = grow(&l, &p, &homes);
-            let dt = t.elapsed().as_secs_f64();
+            let (net, cs, times) = grow_timed(&l, &p, &homes);
             let cpu = cpu_seconds() - cpu;
-            println!("mask {radius}: wall {dt:.3} s, on the processor {cpu:.3} s");
+            let wall: f64 = times.iter().sum();
+            let mut sorted = times.clone();
+            sorted.sort_by(f64::total_cmp);
             let total: f64 = net.roads.iter().map(length).sum();
             println!(
-            "mask {radius}: {} connections in {:.3} s ({:.2} ms each), {} roads, {:.0} m, {} cycles, {} over the grade, {} not reached",
-            cs.len(),
-            dt,
-            1000.0 * dt / cs.len() as f64,
-            net.roads.len(),
-            total,
-            cs.iter().filter(|c| c.cycle).count(),
-            cs.iter().filter(|c| c.over_max_grade).count(),
-            cs.iter().filter(|c| !c.reached).count()
-        );
+                "mask {radius}: {} connections, {:.3} s on the processor ({:.2} ms each); wall {wall:.3} s, \
+                 first {:.1} ms, median {:.2} ms, slowest {:.1} ms; {} roads, {total:.0} m, {} cycles, \
+                 {} over the grade, {} not reached",
+                cs.len(),
+                cpu,
+                1000.0 * cpu / cs.len() as f64,
+                1000.0 * times[0],
+                1000.0 * sorted[sorted.len() / 2],
+                1000.0 * sorted[sorted.len() - 1],
+                net.roads.len(),
+                cs.iter().filter(|c| c.cycle).count(),
+                cs.iter().filter(|c| c.over_max_grade).count(),
+                cs.iter().filter(|c| !c.reached).count()
+            );
         }
     }
 }

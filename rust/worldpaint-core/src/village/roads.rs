@@ -1,5 +1,5 @@
 //! Connection of every new building to the road network (thesis 3.2.4, "Connection to the Road Network"), after
-//! the road generation of Galin et al. 2010 [GPMG10]: a weighted anisotropic shortest path on the terrain whose
+//! the road generation of Galin et al. 2010 (GPMG10): a weighted anisotropic shortest path on the terrain whose
 //! cost is `C(R) = Σ_j w_j g_j(R)`, extended with road re-use and road cycles.
 //!
 //! **Costs.** A road is a chain of *moves* on the [`LandGrid`]: grid offsets `(dx, dy)` with coprime coordinates
@@ -12,7 +12,8 @@
 //! connection reports `over_max_grade`. Every node a move lands on or passes over (its closed cell square meets
 //! the segment) must be inside `Ω`, and costs `building_cost` when a building or a fortification wall covers it,
 //! so roads cross walls only where they must (gates). Turning costs `curvature_weight` per radian between
-//! consecutive moves (only a U-turn back along the same move is not allowed), so a search state is (node, incoming move).
+//! consecutive moves (only a U-turn back along the same move is not allowed), so a search state is (node,
+//! incoming move).
 //!
 //! **Re-use.** The thesis lowers the cost along existing roads by a re-use weight `w_ex ≪ 1`:
 //!
@@ -22,11 +23,12 @@
 //! ```
 //!
 //! A path from a building `B` to `Ψ` leaves the ground at the first road node `r` it meets and follows the
-//! network from there, so its cost is `C(B → r) + T(r)` with `T(r) = w_ex · (network cost from r to Ψ)`. `T` is a
-//! Dijkstra over the road nodes (few), recomputed at every connection. The search runs *backwards*: from every
-//! goal node `r` (road nodes joined to `Ψ`, and the connection points, `T = 0`) with the initial cost `T(r)`,
-//! towards the single node `B`. A path may not land on or pass over another goal node, which is where a forward
-//! path would have joined the network. The new road is the off-road part, from `B` to `r`.
+//! network from there, so its cost is `C(B → r) + T(r)` with `T(r) = w_ex · (network cost from r to Ψ)`. `T`
+//! comes from a Dijkstra over the road nodes (few), brought up to date whenever roads are added. The search runs
+//! *backwards*: from every goal node `r` (road nodes joined to `Ψ`, and the connection points, `T = 0`) with the
+//! initial cost `T(r)`, towards the single node `B`. A path may not land on or pass over another goal node,
+//! which is where a forward path would have joined the network. The new road is the off-road part, from `B` to
+//! `r`.
 //!
 //! **Heuristic.** Towards one target a closed-form bound is cheap:
 //! `h(x) = min_{L ≥ L₀} (distance_weight · L + slope_weight / max_grade² · Δh² / L)`, where `L₀` is the length of
@@ -37,13 +39,19 @@
 //! consistent (the gauge is a norm, and `Δh² / L` is sub-additive), so each state is settled once.
 //!
 //! Most connections end within a few thousand states. A long road across rough land does not: the bound ignores
-//! the detours the grade limit forces, and every node holds one state per incoming move. Past
-//! [`BOUND_BUDGET`] states the search first runs on nodes alone (turns ignored, so its costs are lower bounds):
-//! from `B`, an A* towards the sources (each source, or tiles of them, under the same closed-form bound) that
-//! goes on until its key passes the cost of its own path with turns added. Its settled nodes then know their
-//! exact node-level cost to `B`; any other node `x` costs at least the key reached less the bound from `x` to the
-//! sources. Both are admissible, and the state search restarts with them: it then hardly leaves the nodes
-//! settled. The node search also tells, cheaply, that no road can reach `B` at all.
+//! the detours the grade limit forces, and every node holds one state per incoming move. Past `BOUND_BUDGET`
+//! (3 000) states the search first runs on nodes alone (turns ignored, so its costs are lower bounds): from `B`,
+//! an A* towards the sources (each source, or tiles of them, under the same closed-form bound) that goes on until
+//! its key passes the cost of its own path with turns added. Its settled nodes then know their exact node-level
+//! cost to `B`; any other node `x` costs at least the key reached less the bound from `x` to the sources. Both
+//! are admissible, and the state search restarts with them: it then hardly leaves the nodes settled. The node
+//! search also tells, cheaply, that no road can reach `B` at all.
+//!
+//! One case stays costly: when forced turns (switchbacks up a cliff band) make the road dearer than the
+//! node-level path by a wide margin, every state within that margin is a candidate. Past `STATE_BUDGET`
+//! (250 000) states the search keeps to a corridor of `CORRIDOR_CELLS` (8) around the node-level path, where it
+//! is exact; the road is then the cheapest within that corridor (never dearer than the node-level path with its
+//! turns), no longer proven the cheapest of all. In the 100-building test village this never happens.
 //!
 //! **Cycles.** After the first road to `B`, the closest road node `p` in the cone of half-angle
 //! `cycle_angle_degrees` around the direction in which the road arrives at `B` (continuing past `B`), off the
@@ -79,6 +87,10 @@ const FEW_SOURCES: usize = 32;
 const MAX_SOURCE_TILES: usize = 48;
 /// States the first A* (with the closed-form bound) may settle before the node-level field is computed.
 const BOUND_BUDGET: usize = 3_000;
+/// States the A* with the node-level field may settle before it keeps to a corridor of [`CORRIDOR_CELLS`]
+/// around the node-level path.
+const STATE_BUDGET: usize = 250_000;
+const CORRIDOR_CELLS: usize = 8;
 /// A cycle road is built when more than this fraction of its length is far enough from the first road.
 const CYCLE_FAR_FRACTION: f64 = 0.5;
 /// The direction in which a road arrives at `B` is taken over this length (m) of the road.
@@ -452,51 +464,50 @@ impl RoadNetwork {
     }
 
     /// Network cost from every road node to `Ψ` along the roads (without the re-use weight; `INFINITY` off the
-    /// network or on roads not joined to `Ψ`): a Dijkstra over the road nodes, eight-connected.
+    /// network or on roads not joined to `Ψ`): a Dijkstra over the road nodes, eight-connected. Roads are only
+    /// ever added, so after the first time only the new road nodes and what they shorten are visited.
     fn exit_costs(&self, search: &mut Search, land: &Land) {
-        let grid = self.grid;
         let mut exit = std::mem::take(&mut search.exit);
-        for &r in &self.road_nodes {
-            exit[r as usize] = f64::INFINITY;
-        }
         let mut heap = BinaryHeap::new();
-        for &c in &self.connection_nodes {
-            exit[c] = 0.0;
-            heap.push(Entry {
-                f: 0.0,
-                g: 0.0,
-                state: c as u32,
-            });
+        if search.exit_nodes == 0 {
+            for &r in &self.road_nodes {
+                exit[r as usize] = f64::INFINITY;
+            }
+            for &c in &self.connection_nodes {
+                exit[c] = 0.0;
+                heap.push(Entry {
+                    f: 0.0,
+                    g: 0.0,
+                    state: c as u32,
+                });
+            }
+        } else {
+            for &r in &self.road_nodes[search.exit_nodes..] {
+                let r = r as usize;
+                for u in 0..search.table.unit.len() {
+                    if let Some((y, c)) = self.road_edge(search, land, r, search.table.unit[u]) {
+                        exit[r] = exit[r].min(exit[y] + c);
+                    }
+                }
+                if exit[r].is_finite() {
+                    heap.push(Entry {
+                        f: exit[r],
+                        g: 0.0,
+                        state: r as u32,
+                    });
+                }
+            }
         }
         while let Some(e) = heap.pop() {
             let x = e.state as usize;
             if e.f > exit[x] {
                 continue;
             }
-            let (i, j) = grid.ij(x);
             for u in 0..search.table.unit.len() {
-                let m = search.table.unit[u];
-                let mv = &search.table.moves[m];
-                let (ti, tj) = (i as i64 + mv.dx as i64, j as i64 + mv.dy as i64);
-                if ti < 0 || tj < 0 || ti >= grid.nx as i64 || tj >= grid.ny as i64 {
+                let Some((y, c)) = self.road_edge(search, land, x, search.table.unit[u]) else {
                     continue;
-                }
-                let y = (x as isize + mv.delta) as usize;
-                if !self.on_road[y] {
-                    continue;
-                }
-                let c = search.cost(land, x, m);
-                if c.is_infinite() {
-                    continue;
-                }
-                // a road steeper than the limit exists: it costs what its length and slope cost, no penalty
-                let c = if c < 0.0 {
-                    let mv = &search.table.moves[m];
-                    static_cost(land, &search.key, mv, x, search.near[x], false)
-                } else {
-                    c
                 };
-                let g = e.f + c as f64;
+                let g = e.f + c;
                 if g < exit[y] {
                     exit[y] = g;
                     heap.push(Entry {
@@ -508,6 +519,40 @@ impl RoadNetwork {
             }
         }
         search.exit = exit;
+        search.exit_nodes = self.road_nodes.len();
+    }
+
+    /// The road node one move `m` from road node `x`, and the cost of going there (the same both ways).
+    fn road_edge(
+        &self,
+        search: &mut Search,
+        land: &Land,
+        x: usize,
+        m: usize,
+    ) -> Option<(usize, f64)> {
+        let grid = &self.grid;
+        let (i, j) = grid.ij(x);
+        let mv = &search.table.moves[m];
+        let (ti, tj) = (i as i64 + mv.dx as i64, j as i64 + mv.dy as i64);
+        if ti < 0 || tj < 0 || ti >= grid.nx as i64 || tj >= grid.ny as i64 {
+            return None;
+        }
+        let y = (x as isize + mv.delta) as usize;
+        if !self.on_road[y] {
+            return None;
+        }
+        let c = search.cost(land, x, m);
+        if c.is_infinite() {
+            return None;
+        }
+        // a road steeper than the limit exists: it costs what its length and slope cost, no penalty
+        let c = if c < 0.0 {
+            let mv = &search.table.moves[m];
+            static_cost(land, &search.key, mv, x, search.near[x], false)
+        } else {
+            c
+        };
+        Some((y, c as f64))
     }
 }
 
@@ -1175,6 +1220,8 @@ enum Estimate<'a> {
     /// The node-level costs from the target where settled; elsewhere the key the node-level search stopped at
     /// less the bound to the sources (see [`Search::node_field`]).
     Field(f64, &'a SourceBound),
+    /// The same, the paths kept within [`Search::corridor`].
+    Corridor(f64, &'a SourceBound),
     /// None: a Dijkstra, to check the others against.
     #[cfg(test)]
     Zero,
@@ -1188,6 +1235,7 @@ enum Outcome {
 
 /// The state of the road search kept between connections.
 struct Search {
+    grid: LandGrid,
     key: CostKey,
     table: MoveTable,
     /// Static cost of move `m` from node `x` at `x * moves + m`: 0 not computed yet, positive within the grade
@@ -1203,8 +1251,10 @@ struct Search {
     touched: Vec<u32>,
     heap: BinaryHeap<Entry>,
     flags: Vec<u8>,
-    /// Network cost from each road node to `Ψ` (see [`RoadNetwork::exit_costs`]; infinite elsewhere).
+    /// Network cost from each road node to `Ψ` (see [`RoadNetwork::exit_costs`]; infinite elsewhere), for the
+    /// first `exit_nodes` road nodes.
     exit: Vec<f64>,
+    exit_nodes: usize,
     /// Initial cost plus one of each source node (0 = not a source).
     source_cost: Vec<f32>,
     /// Node-level cost from the target plus one (0 = not reached), whether it is final, the nodes touched.
@@ -1213,8 +1263,13 @@ struct Search {
     field_touched: Vec<u32>,
     /// The move that reached each node in the node-level search.
     field_move: Vec<u8>,
-    /// States the first A* may settle (see [`BOUND_BUDGET`]).
+    /// States the first A* and the A* with the node-level field may settle (see [`BOUND_BUDGET`],
+    /// [`STATE_BUDGET`]).
     budget: usize,
+    state_budget: usize,
+    /// Nodes near the node-level path, where an A* over [`STATE_BUDGET`] finishes (see [`Search::run`]).
+    corridor: Vec<bool>,
+    corridor_touched: Vec<u32>,
 }
 
 /// The cached static cost of move `m` from `x` (see [`Search::costs`]).
@@ -1291,6 +1346,7 @@ impl Search {
         };
         let m = table.moves.len();
         Ok(Search {
+            grid: *grid,
             key: CostKey::of(params),
             costs: vec![0.0; n * m],
             near: {
@@ -1308,12 +1364,16 @@ impl Search {
             heap: BinaryHeap::new(),
             flags: Vec::with_capacity(n),
             exit: vec![f64::INFINITY; n],
+            exit_nodes: 0,
             source_cost: vec![0.0; n],
             field: vec![0.0; n],
             settled: vec![false; n],
             field_touched: Vec::new(),
             field_move: vec![0; n],
             budget: BOUND_BUDGET,
+            state_budget: STATE_BUDGET,
+            corridor: vec![false; n],
+            corridor_touched: Vec::new(),
             table,
         })
     }
@@ -1336,12 +1396,13 @@ impl Search {
     }
 
     /// The cheapest path from one of `sources` (node, initial cost) to `target`, as nodes from `target` to the
-    /// source; `None` when there is none.
+    /// source, and its cost; `None` when there is none.
     ///
     /// A first A* with the closed-form bound settles the easy cases within a few thousand states. Past that, a
-    /// node-level Dijkstra from the target (turns ignored, so a lower bound) gives the exact cost left wherever
-    /// it settles, and the A* restarts with it: the long first roads across rough terrain then expand little
-    /// more than their own corridor. The Dijkstra also tells, on nodes only, that no path exists at all.
+    /// node-level search from the target (turns ignored, so lower bounds) gives the exact cost left wherever it
+    /// settles, and the A* restarts with it: the long first roads across rough terrain then expand little more
+    /// than their own corridor. The node-level search also tells, on nodes only, that no path exists at all.
+    /// Past [`STATE_BUDGET`] states the A* finishes within a corridor (see the module documentation).
     fn run(
         &mut self,
         ctx: &Ctx,
@@ -1372,19 +1433,28 @@ impl Search {
                 self.reset_states();
                 let towards = SourceBound::new(ctx.land, sources);
                 match self.node_field(ctx, &towards, target, steep, ellipse) {
-                    Some(radius) => match self.astar(
-                        ctx,
-                        sources,
-                        target,
-                        steep,
-                        ellipse,
-                        Estimate::Field(radius, &towards),
-                        None,
-                    ) {
-                        Outcome::Found(s) => Some(s),
-                        _ => None,
-                    },
                     None => None,
+                    Some((stop, source)) => {
+                        let estimate = Estimate::Field(stop, &towards);
+                        let limit = Some(self.state_budget);
+                        match self.astar(ctx, sources, target, steep, ellipse, estimate, limit) {
+                            Outcome::Found(s) => Some(s),
+                            Outcome::Unreachable => None,
+                            Outcome::OverBudget => {
+                                // forced turns (switchbacks) cost more than the node-level search knows, and
+                                // every state within that margin is explored: finish near its path
+                                self.reset_states();
+                                self.mark_corridor(target, source);
+                                let estimate = Estimate::Corridor(stop, &towards);
+                                match self
+                                    .astar(ctx, sources, target, steep, ellipse, estimate, None)
+                                {
+                                    Outcome::Found(s) => Some(s),
+                                    _ => None,
+                                }
+                            }
+                        }
+                    }
                 }
             }
         };
@@ -1395,6 +1465,10 @@ impl Search {
             self.settled[x as usize] = false;
         }
         self.field_touched.clear();
+        for &x in &self.corridor_touched {
+            self.corridor[x as usize] = false;
+        }
+        self.corridor_touched.clear();
         for &(r, _) in sources {
             self.source_cost[r] = 0.0;
         }
@@ -1440,11 +1514,11 @@ impl Search {
         path
     }
 
-    /// Node-level search from `target` (paths `target → x`, charged like the A* but without turns) until its key
-    /// passes the cheapest source reached (its cost plus the source's initial cost); returns that key, or `None`
-    /// when no source can be reached. With a few sources it is an A* towards them (`few`, a consistent bound),
-    /// otherwise a Dijkstra; either way the settled nodes have their exact cost from `target`, and every other
-    /// node `x` costs at least the returned key less the bound from `x` to the sources.
+    /// Node-level search from `target` (paths `target → x`, charged like the A* but without turns): an A* towards
+    /// the sources under the consistent bound `towards`, until its key passes the cost, turns included, of the
+    /// path to the cheapest source reached. Returns that key and that source, or `None` when no source can be
+    /// reached. The settled nodes have their exact cost from `target`, and every other node `x` costs at least
+    /// the returned key less the bound from `x` to the sources.
     fn node_field(
         &mut self,
         ctx: &Ctx,
@@ -1452,7 +1526,7 @@ impl Search {
         target: usize,
         steep: bool,
         ellipse: Option<Ellipse>,
-    ) -> Option<f64> {
+    ) -> Option<(f64, usize)> {
         let land = ctx.land;
         let p = ctx.params;
         let grid = land.grid;
@@ -1565,9 +1639,33 @@ impl Search {
             }
         }
         if best.0.is_finite() {
-            Some(stop.min(upper.unwrap_or(best.0)))
+            Some((stop.min(upper.unwrap_or(best.0)), best.1))
         } else {
             None
+        }
+    }
+
+    /// Marks the nodes within [`CORRIDOR_CELLS`] of the node-level path from `target` to `source`.
+    fn mark_corridor(&mut self, target: usize, source: usize) {
+        let g = self.grid;
+        let r = CORRIDOR_CELLS as i64;
+        let (mut x, mut steps) = (source, 0);
+        loop {
+            let (i, j) = g.ij(x);
+            for jj in (j as i64 - r).max(0)..=(j as i64 + r).min(g.ny as i64 - 1) {
+                for ii in (i as i64 - r).max(0)..=(i as i64 + r).min(g.nx as i64 - 1) {
+                    let k = g.index(ii as usize, jj as usize);
+                    if !self.corridor[k] {
+                        self.corridor[k] = true;
+                        self.corridor_touched.push(k as u32);
+                    }
+                }
+            }
+            if x == target || steps > g.len() {
+                break;
+            }
+            x = (x as isize - self.table.moves[self.field_move[x] as usize].delta) as usize;
+            steps += 1;
         }
     }
 
@@ -1597,8 +1695,10 @@ impl Search {
             flags,
             field,
             settled,
+            corridor,
             ..
         } = self;
+        let in_corridor = matches!(estimate, Estimate::Corridor(..));
         let m_count = table.moves.len();
         let m1 = m_count + 1;
         let bound = Bound::new(land, table, p, steep);
@@ -1607,7 +1707,9 @@ impl Search {
                 Estimate::Bound => return bound.between(y, target),
                 #[cfg(test)]
                 Estimate::Zero => return 0.0,
-                Estimate::Field(stop, towards) => (stop, towards),
+                Estimate::Field(stop, towards) | Estimate::Corridor(stop, towards) => {
+                    (stop, towards)
+                }
             };
             let charge = if y != target && flags[y] & BUILDING != 0 {
                 p.building_cost
@@ -1668,7 +1770,7 @@ impl Search {
                 };
                 let y = (x as isize + mv.delta) as usize;
                 let fy = flags[y];
-                if y != target && fy & GOAL != 0 {
+                if y != target && fy & GOAL != 0 || in_corridor && !corridor[y] {
                     continue;
                 }
                 let Some(c) = usable(cached_cost(costs, table, key, land, near, x, m), steep)
@@ -1994,14 +2096,19 @@ mod tests {
             };
             for steep in [false, true] {
                 let reference = search.dijkstra(&ctx, &sources, target, steep, ellipse);
-                for budget in [usize::MAX, 0, 40] {
+                // the bound alone, the field at once, the field after a few states, the corridor
+                for (budget, state_budget) in
+                    [(usize::MAX, 0), (0, usize::MAX), (40, usize::MAX), (0, 20)]
+                {
                     search.budget = budget;
+                    search.state_budget = state_budget;
                     let got = search.run(&ctx, &sources, target, steep, ellipse);
                     match (reference, &got) {
                         (None, None) => {}
                         (Some(a), Some((path, b))) => {
+                            let exact = state_budget > 20;
                             assert!(
-                                (a - b).abs() <= 1e-3 * a.max(1.0),
+                                (a - b).abs() <= 1e-3 * a.max(1.0) || !exact && *b >= a,
                                 "case {case} steep {steep} budget {budget}: {a} vs {b}"
                             );
                             assert_eq!(path[0], target);
@@ -2018,5 +2125,49 @@ mod tests {
             }
         }
         assert!(compared >= 60, "{compared}");
+    }
+
+    #[test]
+    fn network_costs_kept_up_to_date_match_a_full_computation() {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(3);
+        let land = random_land(&mut rng, 80);
+        let params = RoadParams {
+            width: 4.0,
+            distance_weight: 1.0,
+            slope_weight: 1.0,
+            max_grade: 0.3,
+            curvature_weight: 1.0,
+            water_weight: 5.0,
+            building_cost: 100.0,
+            reuse_weight: 0.2,
+            mask_radius: 2,
+            cycle_angle_degrees: 40.0,
+            cycle_max_length: 80.0,
+            cycle_min_separation: 10.0,
+        };
+        let free = vec![false; land.grid.len()];
+        let mut net = RoadNetwork::new(
+            &land,
+            &[DVec2::new(0.0, 80.0), DVec2::new(158.0, 100.0)],
+            &[],
+        )
+        .unwrap();
+        let mut cycles = 0;
+        for _ in 0..25 {
+            let b = DVec2::new(rng.random_range(0.0..158.0), rng.random_range(0.0..158.0));
+            cycles += net.connect(&land, &params, &free, b).unwrap().cycle as usize;
+            let mut search = net.search.take().unwrap();
+            net.exit_costs(&mut search, &land);
+            let kept = search.exit.clone();
+            search.exit_nodes = 0;
+            net.exit_costs(&mut search, &land);
+            for &r in &net.road_nodes {
+                let (a, b) = (kept[r as usize], search.exit[r as usize]);
+                assert!(a == b || (a - b).abs() < 1e-9 * a.max(1.0), "{a} vs {b}");
+            }
+            net.search = Some(search);
+        }
+        assert!(cycles > 0);
     }
 }
