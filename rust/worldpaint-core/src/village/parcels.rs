@@ -1712,8 +1712,9 @@ impl Rules<'_> {
     }
 
     /// Whether the edge from the first to the last of `span` (a stretch of a cell outline, in order) may replace
-    /// the stretch: it keeps `road_width / 2` from every centre line, and no road, water, wall or out-of-`Ω` node
-    /// lies between the two (the parcel would swallow it).
+    /// the stretch: it keeps `road_width / 2` from every centre line, and no water, wall or out-of-`Ω` node lies
+    /// between the two (the parcel would swallow it). Along a diagonal wall or shore, whose nodes make a
+    /// staircase, no straight edge passes this, and the outline keeps its steps.
     fn replaces(&self, span: &[DVec2]) -> bool {
         let (Some(&a), Some(&b)) = (span.first(), span.last()) else {
             return true;
@@ -1734,7 +1735,8 @@ impl Rules<'_> {
         let (x1, y1) = self.work.clamped(a.max(b) + DVec2::splat(reach));
         for j in y0..=y1 {
             for i in x0..=x1 {
-                if self.work.state[j * self.work.nx + i] == FREE {
+                // road nodes are rasterized with a margin: the exact distance to the centre lines rules there
+                if self.work.state[j * self.work.nx + i] != BLOCKED {
                     continue;
                 }
                 let q = self.work.point(i, j);
