@@ -771,7 +771,8 @@ impl Work {
                     continue;
                 }
                 let d = q.distance(p.point);
-                if best.is_none_or(|(bd, _)| d < bd) {
+                // (a road point off the grid finds nothing, not the grid's border)
+                if d <= half + 3.0 * self.cell && best.is_none_or(|(bd, _)| d < bd) {
                     best = Some((d, k));
                 }
             }
@@ -845,6 +846,10 @@ fn road_conquest(work: &Work, seeds: &[ParcelSeed], sources: &[Option<usize>]) -
 struct Branch {
     points: Vec<DVec2>,
     dir: DVec2,
+    /// Its length up to the next junction or dead end (or as far as it was followed).
+    length: f64,
+    /// Whether it was followed up to another junction.
+    to_junction: bool,
 }
 
 /// A road junction (or a sharp bend where two roads meet) with its branches counter-clockwise.
@@ -939,6 +944,8 @@ fn junctions(
                 Branch {
                     dir: (at - point).normalize_or_zero(),
                     points,
+                    length: total,
+                    to_junction: adj[cur as usize].len() >= 3,
                 }
             })
             .filter(|b| b.dir != DVec2::ZERO)
@@ -990,16 +997,16 @@ fn corner_conquest(
             // the corner's foot on either road, measured from the junction
             let start = (half + c) / (0.5 * alpha).tan();
             // a road cell of the sector: beside one of its two roads, on the sector's side (left of b0, right of
-            // b1), with its arc length from the junction along that road
-            let sector_cell = |p: DVec2| -> Option<f64> {
+            // b1), with that road and its arc length from the junction along it
+            let sector_cell = |p: DVec2| -> Option<(&Branch, f64)> {
                 let (d0, arc0, side0) = locate_on(p, &b0.points);
                 let (d1, arc1, side1) = locate_on(p, &b1.points);
-                let (d, arc, ok) = if d0 <= d1 {
-                    (d0, arc0, side0 > 0.0)
+                let (d, arc, ok, b) = if d0 <= d1 {
+                    (d0, arc0, side0 > 0.0, b0)
                 } else {
-                    (d1, arc1, side1 < 0.0)
+                    (d1, arc1, side1 < 0.0, b1)
                 };
-                (ok && d <= half + 2.0 * c).then_some(arc)
+                (ok && d <= half + 2.0 * c).then_some((b, arc))
             };
             // whoever's road cells come nearest the corner arrived first
             let (x0, y0, x1, y1) = work.around(corner_point, deepest + half + 3.0 * c);
@@ -1033,7 +1040,12 @@ fn corner_conquest(
                     if !work.edge[e] || road.owner[e] == winner {
                         continue;
                     }
-                    if sector_cell(work.point(i, j)).is_some_and(|arc| arc <= start + depth) {
+                    // as far as its depth, and at most half-way to the next junction, whose own corner lot takes
+                    // the other half
+                    let within = |(b, arc): (&Branch, f64)| {
+                        arc <= start + depth && (!b.to_junction || arc <= 0.5 * b.length)
+                    };
+                    if sector_cell(work.point(i, j)).is_some_and(within) {
                         road.owner[e] = winner;
                         road.arrival[e] = f64::INFINITY;
                     }
@@ -1071,7 +1083,8 @@ fn conquer(
     }
     let c = work.cell;
     let reach = params.budget / params.conquest_weight;
-    let r = (reach / c).ceil() as usize + 1;
+    // (an enormous fund reaches the whole grid, no farther)
+    let r = (reach / c).ceil().min((work.nx + work.ny) as f64) as usize + 1;
     let (mut i0, mut j0, mut i1, mut j1) = (usize::MAX, usize::MAX, 0, 0);
     for &k in fronts {
         let (i, j) = work.ij(k);
@@ -1688,7 +1701,7 @@ struct Rules<'a> {
 
 impl Rules<'_> {
     /// Whether the edge `a`–`b` keeps `road_width / 2` from every centre line and half a cell from every
-    /// road, water, wall or out-of-`Ω` node (as the cell outlines do).
+    /// water, wall or out-of-`Ω` node (as the cell outlines do).
     fn clear(&self, a: DVec2, b: DVec2) -> bool {
         let c = self.work.cell;
         if self.half > 0.0
@@ -1701,7 +1714,7 @@ impl Rules<'_> {
         let (x1, y1) = self.work.clamped(a.max(b) + DVec2::splat(c));
         for j in y0..=y1 {
             for i in x0..=x1 {
-                if self.work.state[j * self.work.nx + i] != FREE
+                if self.work.state[j * self.work.nx + i] == BLOCKED
                     && segment_distance(self.work.point(i, j), a, b) < r
                 {
                     return false;
@@ -1908,9 +1921,11 @@ fn position(lat: &Lattice, moved: &Moves, v: u32) -> DVec2 {
     lat.pos(*moved.get(&v).unwrap_or(&v))
 }
 
-/// The second step of 3.3.4: at a junction where a parcel has an acute angle, the junction moves onto the next
-/// vertex of one of its chains (an edge collapse) when that opens the smallest parcel angle there.
-fn open_acute_junctions(
+/// Edge collapses at the junctions of the boundary graph, as in mesh simplification. A chain between two
+/// junctions no longer than the straightening tolerance collapses onto one of its ends, unless that makes an
+/// acute angle. Then the second step of 3.3.4: at a junction where a parcel has an acute angle, the junction
+/// moves onto the next vertex of one of its chains when that opens the smallest parcel angle there.
+fn collapse_junctions(
     lat: &Lattice,
     chains: &[Chain],
     kept: &[Vec<usize>],
@@ -1946,6 +1961,98 @@ fn open_acute_junctions(
             )
         }
     };
+    // first, a chain no longer than the straightening tolerance between two junctions collapses to one of them
+    // (an edge collapse): a jog of a cell or so between two junctions is the grid's noise
+    let short = options.straighten * lat.work.cell;
+    let group_of = |v: u32| -> &[(u32, u8, usize, bool)] {
+        let lo = ends.partition_point(|e| e.0 < v);
+        let hi = ends.partition_point(|e| e.0 <= v);
+        &ends[lo..hi]
+    };
+    // the smallest angle between the edges from `centre` to `targets`, whatever lies between them
+    let tightest = |centre: DVec2, targets: &[DVec2]| -> Option<f64> {
+        if targets
+            .iter()
+            .any(|t| (*t - centre).length_squared() == 0.0)
+        {
+            return None;
+        }
+        let mut a: Vec<f64> = targets
+            .iter()
+            .map(|t| (t.y - centre.y).atan2(t.x - centre.x))
+            .collect();
+        a.sort_by(f64::total_cmp);
+        let g = a.len();
+        Some(
+            (0..g)
+                .map(|q| {
+                    if q + 1 < g {
+                        a[q + 1] - a[q]
+                    } else {
+                        a[0] + TAU - a[q]
+                    }
+                })
+                .fold(TAU, f64::min),
+        )
+    };
+    let mut touched = std::collections::HashSet::new();
+    for (ci, ch) in chains.iter().enumerate() {
+        if ch.closed || ch.is_loop() || levels[ci] != 0 || kept[ci].len() != 2 {
+            continue;
+        }
+        let (v1, v2) = (ch.ids[0], ch.ids[ch.ids.len() - 1]);
+        if touched.contains(&v1)
+            || touched.contains(&v2)
+            || lat.pos(v1).distance(lat.pos(v2)) > short
+        {
+            continue;
+        }
+        let (g1, g2) = (group_of(v1), group_of(v2));
+        if g1
+            .iter()
+            .chain(g2)
+            .any(|e| levels[e.2] != 0 || kept[e.2].len() < 2 || chains[e.2].is_loop())
+        {
+            continue;
+        }
+        let heads = |g: &[(u32, u8, usize, bool)]| -> Vec<DVec2> {
+            g.iter()
+                .filter(|e| e.2 != ci)
+                .map(|e| position(lat, &moved, next(e.2, e.3).0))
+                .collect()
+        };
+        let (h1, h2) = (heads(g1), heads(g2));
+        let (p1, p2) = (lat.pos(v1), lat.pos(v2));
+        let before = [
+            tightest(p1, &[h1.clone(), vec![p2]].concat()),
+            tightest(p2, &[h2.clone(), vec![p1]].concat()),
+        ];
+        let [Some(b1), Some(b2)] = before else {
+            continue;
+        };
+        let others = [h1, h2].concat();
+        let mut best: Option<(f64, u32, u32)> = None;
+        for (from, to) in [(v1, v2), (v2, v1)] {
+            let centre = lat.pos(to);
+            if !others.iter().all(|t| rules.clear(centre, *t)) {
+                continue;
+            }
+            if let Some(a) = tightest(centre, &others) {
+                if best.is_none_or(|(b, _, _)| a > b) {
+                    best = Some((a, from, to));
+                }
+            }
+        }
+        // no new acute angle (nor a tighter one where there was one)
+        if let Some((a, from, to)) = best {
+            if a >= b1.min(b2).min(acute) {
+                moved.insert(from, to);
+                used[ci] = true;
+                touched.insert(v1);
+                touched.insert(v2);
+            }
+        }
+    }
     let mut g0 = 0;
     while g0 < ends.len() {
         let v = ends[g0].0;
@@ -1956,6 +2063,7 @@ fn open_acute_junctions(
         let group = &ends[g0..g1];
         g0 = g1;
         if group.len() < 3
+            || touched.contains(&v)
             || group
                 .iter()
                 .any(|e| levels[e.2] != 0 || kept[e.2].len() < 2)
@@ -2142,7 +2250,7 @@ fn simplified_contours(
             .zip(levels.par_iter())
             .map(|(ch, &level)| simplify_chain(ch, &lat, &rules, options, level))
             .collect();
-        let moved = open_acute_junctions(&lat, &chains, &kept, &levels, &rules, options);
+        let moved = collapse_junctions(&lat, &chains, &kept, &levels, &rules, options);
         for (ch, k) in chains.iter().zip(&kept) {
             for &v in &ch.ids {
                 flag[v as usize] = false;
