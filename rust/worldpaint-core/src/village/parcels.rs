@@ -4,11 +4,15 @@
 //! 1. **Road conquest** (3.3.1). The source `S_i` is the projection of `B_i` on the closest road. The cells along
 //!    the road corridor's edge, on the seed's side, are conquered from `S_i` in both directions along the road
 //!    "until collision with a neighboring parcel or until a maximum distance from `S_i` is reached"
-//!    ([`ParcelParams::road_reach`]). All seeds advance together, so two neighbours meet half-way.
-//! 2. **Corner conquest** (3.3.2). At a junction, "we allow parcel `P_i` arrived first at a junction to annex its
-//!    neighborhood": the parcel owning the corner cell of a junction sector annexes the edge cells of the other
-//!    road of that sector as far as its own depth, so corner lots front both roads instead of meeting their
-//!    neighbour at a sharp angle. "Building seeds that lose access to roads are suppressed" (they get `None`).
+//!    ([`ParcelParams::road_reach`]). All seeds advance together, so two neighbours meet half-way; the cells
+//!    round a dead end's cap are no road front, so a parcel does not follow its road round its end.
+//! 2. **Corner conquest** (3.3.2). "We allow parcel `P_i` arrived first at a junction to annex its
+//!    neighborhood": in each junction sector narrower than [`ParcelOptions::corner_angle_degrees`], the parcel
+//!    whose road cells come nearest the corner annexes the sector's road cells on both roads within its depth
+//!    (`c_max / ω_conquest`) of the corner, and at most half-way to the next junction. The corner lot then fronts
+//!    both roads and its neighbours begin where its land ends, instead of meeting it along a diagonal with sharp
+//!    angles. "Building seeds that lose access to roads are suppressed": a seed left with no road cell, or with
+//!    less than half of its front, gets `None`.
 //! 3. **Anisotropic land conquest** (3.3.3). Every road cell a parcel owns is a source with the fund
 //!    `c_max` ([`ParcelParams::budget`]), and the parcel spreads until the cost from its source reaches `c_max`:
 //!
@@ -18,7 +22,8 @@
 //!      tangent `t` at the source. The thesis prints it as `|max(p·n, p·t)|`; the infinite norm it names is
 //!      `max(|p·n|, |p·t|)`, which is what is used (a square around each source, so parcels come out almost
 //!      quadrilateral). A tiny multiple of the Euclidean distance breaks its ties, so a cell goes to the source
-//!      straight in front of it and neighbouring parcels part along the road normal;
+//!      straight in front of it and neighbouring parcels part along the road normal. A source conquers only in
+//!      front of itself (`p·n ≥ 0`): parcels grow away from their road;
 //!    * *water, wall and road* cells cost `+∞`; so do cells outside `Ω` and road cells owned by another parcel;
 //!    * the *slope cost* is quadratic in the directional gradients of the terrain along the conquest directions
 //!      `n` and `t` of the source: each grid step adds `(∇h·n)²·|Δ·n| + (∇h·t)²·|Δ·t|` for its displacement
@@ -29,21 +34,26 @@
 //!      let cells pick far sources to halve their slope.)
 //!
 //!    Every parcel conquers its own neighbourhood (within `c_max / ω_conquest` of its road cells) on its own, in
-//!    parallel; a cell claimed by several parcels goes to the lowest cost, ties to the source cell first in grid
-//!    order (so that two facing rows part along a straight line), so the result does not depend on the number of
-//!    threads. Only the 4-connected component holding the parcel's
-//!    source is kept; pinch points (two cells of one parcel touching at a corner only) and enclosed holes are
-//!    resolved so that every parcel is a simple polygon.
+//!    parallel; a cell claimed by several parcels goes to the lowest cost, exact ties to the source cell first
+//!    in grid order (so that two facing rows part along a straight line). The result does not depend on the
+//!    number of threads. Only the 4-connected component holding the parcel's source is kept; a mode filter
+//!    trims one-cell spikes and fills unclaimed cells enclosed between parcels, and pinch points (two cells of
+//!    one parcel touching at a corner only) and enclosed holes are resolved, so that every parcel is a simple
+//!    polygon.
 //! 4. **Parcel simplification** (3.3.4). The cell outlines of all parcels form one planar boundary graph; each
 //!    chain between junctions (points where three or more parcels or the unclaimed land meet) is simplified once,
 //!    so neighbours keep sharing their boundary exactly. Staircases are first straightened (Douglas–Peucker
 //!    within [`ParcelOptions::straighten`] cells), then "we remove vertices that have little influence on the
 //!    contour shape": a vertex whose edges turn by less than `ε` ([`ParcelOptions::merge_angle_degrees`]) goes.
-//!    Last, "we remove unplausible acute angles that appear at some T-vertices": a junction where a parcel has an
-//!    angle below [`ParcelOptions::acute_angle_degrees`] is collapsed onto the neighbouring vertex that best opens
-//!    it (an edge collapse, as in mesh simplification). No simplified edge may come within `road_width / 2` of a
-//!    road's centre line or within half a cell of a water, wall or out-of-`Ω` node, and simplified chains may not
-//!    cross; a chain that breaks a rule is simplified less, down to its cell outline.
+//!    Junctions are simplified by edge collapses, as in mesh simplification: a chain of a cell or so between two
+//!    junctions collapses onto one of them, and — "we remove unplausible acute angles that appear at some
+//!    T-vertices" — a junction where a parcel has an angle below [`ParcelOptions::acute_angle_degrees`] moves
+//!    onto the neighbouring vertex that best opens it. No simplified edge may come within `road_width / 2` of a
+//!    road's centre line or swallow a water, wall or out-of-`Ω` node, and simplified chains may not cross; a
+//!    chain that breaks a rule is simplified less, down to its cell outline.
+//!
+//! The conquest grid has cells of side `cell` over the land's box (water, walls and `Ω` are read at the nearest
+//! land node); it is allocated only over the neighbourhoods the seeds can reach.
 
 use super::encyclopedia::ParcelParams;
 use super::land::Land;
@@ -1099,11 +1109,9 @@ fn conquer(
         .iter()
         .map(|&k| {
             let p = work.point_of(k);
-            let n = index
-                .nearest(p, 4.0 * c + 60.0)
-                .map(|q| (p - q.point).normalize_or_zero())
-                .filter(|n| *n != DVec2::ZERO)
-                .unwrap_or(DVec2::Y);
+            let n = (p - index.project(p).point).normalize_or_zero();
+            // (a road cell lies beside its road, never on its centre line)
+            let n = if n == DVec2::ZERO { DVec2::Y } else { n };
             (p, n)
         })
         .collect();
@@ -1215,55 +1223,62 @@ fn smooth_labels(
     let nx = work.nx;
     let mut any = false;
     for _ in 0..2 {
-        let old = label.to_vec();
+        let (old, old_best) = (label.to_vec(), best.to_vec());
         let lab = |i: i64, j: i64| work.inside(i, j).map_or(NONE, |k| old[k]);
-        let mut changed = false;
-        for k in 0..work.len() {
-            if is_anchor[k] || work.state[k] != FREE || (work.edge[k] && owner[k] != NONE) {
-                continue;
-            }
-            let (i, j) = ((k % nx) as i64, (k / nx) as i64);
-            let mut counts: Vec<(u32, usize)> = Vec::with_capacity(8);
-            for &(di, dj) in &N8 {
-                let l = lab(i + di, j + dj);
-                match counts.iter_mut().find(|c| c.0 == l) {
-                    Some(c) => c.1 += 1,
-                    None => counts.push((l, 1)),
+        // every cell from the previous labels, in parallel
+        let changes: Vec<(usize, u32, f64)> = (0..work.len())
+            .into_par_iter()
+            .filter_map(|k| {
+                if is_anchor[k] || work.state[k] != FREE || (work.edge[k] && owner[k] != NONE) {
+                    return None;
                 }
-            }
-            // the most frequent label, ties to the lower one
-            counts.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(&b.0)));
-            let (top, count) = counts[0];
-            let target = if old[k] == NONE {
-                let parcels4 = N4
-                    .iter()
-                    .filter(|&&(di, dj)| lab(i + di, j + dj) != NONE)
-                    .count();
-                let top4 = counts.iter().find(|c| c.0 != NONE).map(|c| c.0);
-                match top4 {
-                    Some(x) if parcels4 >= 3 && !work.closed_to(owner, x, k) => x,
-                    _ => continue,
+                let (i, j) = ((k % nx) as i64, (k / nx) as i64);
+                let mut counts: Vec<(u32, usize)> = Vec::with_capacity(8);
+                for &(di, dj) in &N8 {
+                    let l = lab(i + di, j + dj);
+                    match counts.iter_mut().find(|c| c.0 == l) {
+                        Some(c) => c.1 += 1,
+                        None => counts.push((l, 1)),
+                    }
                 }
-            } else if top != old[k] && count >= 5 && (top == NONE || !work.closed_to(owner, top, k))
-            {
-                top
-            } else {
-                continue;
-            };
-            label[k] = target;
-            best[k] = if target == NONE {
-                f64::INFINITY
-            } else {
-                N8.iter()
-                    .filter_map(|&(di, dj)| work.inside(i + di, j + dj))
-                    .filter(|&m| old[m] == target)
-                    .map(|m| best[m])
-                    .fold(0.0, f64::max)
-            };
-            changed = true;
-        }
-        if !changed {
+                // the most frequent label, ties to the lower one
+                counts.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(&b.0)));
+                let (top, count) = counts[0];
+                let target = if old[k] == NONE {
+                    let parcels4 = N4
+                        .iter()
+                        .filter(|&&(di, dj)| lab(i + di, j + dj) != NONE)
+                        .count();
+                    match counts.iter().find(|c| c.0 != NONE).map(|c| c.0) {
+                        Some(x) if parcels4 >= 3 && !work.closed_to(owner, x, k) => x,
+                        _ => return None,
+                    }
+                } else if top != old[k]
+                    && count >= 5
+                    && (top == NONE || !work.closed_to(owner, top, k))
+                {
+                    top
+                } else {
+                    return None;
+                };
+                let cost = if target == NONE {
+                    f64::INFINITY
+                } else {
+                    N8.iter()
+                        .filter_map(|&(di, dj)| work.inside(i + di, j + dj))
+                        .filter(|&m| old[m] == target)
+                        .map(|m| old_best[m])
+                        .fold(0.0, f64::max)
+                };
+                Some((k, target, cost))
+            })
+            .collect();
+        if changes.is_empty() {
             break;
+        }
+        for (k, target, cost) in changes {
+            label[k] = target;
+            best[k] = cost;
         }
         any = true;
     }
