@@ -115,8 +115,11 @@ impl Default for ParcelOptions {
 /// One parcel per seed, or `None` for a seed that lost access to the roads (3.3.2: "building seeds that lose
 /// access to roads are suppressed"), with the default [`ParcelOptions`].
 ///
-/// `cell` is the side of the conquest grid's cells (metres); the road corridor is every point within
-/// `road_width / 2` of a road's centre line. Contours are counter-clockwise.
+/// `cell` is the side of the conquest grid's cells (metres): no coarser than the land's grid, so that no water,
+/// wall or out-of-`Ω` node falls between two conquest nodes (1 m suits villages; 100 parcels on 1 km² take a
+/// fraction of a second). The road corridor is every point within `road_width / 2` of a road's centre line;
+/// parcels keep out of it, and of water, walls and the outside of `Ω`. Contours are counter-clockwise, simple,
+/// pairwise disjoint, and neighbours share their common boundary vertex for vertex.
 pub fn parcels(
     land: &Land,
     roads: &[Road],
