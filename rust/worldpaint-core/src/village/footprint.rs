@@ -14,11 +14,12 @@
 //! reaches `max_size` (width along the road, depth away from it). Where the contour is not parallel to the road
 //! or the frontage ends at a slanted side, a few set-backs of the front wall and shifts along it are tried, and
 //! the largest quad kept (the nearest to the road among near equals); the search stops at the first quad of full
-//! size. Last, a wall whose two ends lie within `snap` of the contour is projected onto it: two neighbours whose
-//! houses fill their frontage then stand on their shared parcel boundary, wall to wall.
+//! size. Last, a wall whose two ends lie within `snap` of a nearly parallel contour edge (within 15°) is projected
+//! onto that edge's line, when the quad still fits: two neighbours whose houses fill their frontage then stand on
+//! their shared parcel boundary, wall to wall.
 //!
-//! A footprint lies inside its parcel, which keeps clear of the road corridor, so footprints never overlap roads
-//! nor each other (only along shared walls).
+//! A footprint lies inside its parcel and keeps `road_width / 2` from every road centre line (both are checked at
+//! every step), so footprints never overlap roads nor each other, except along shared walls.
 
 use super::parcels::RoadIndex;
 use super::{Footprint, Parcel, Road};

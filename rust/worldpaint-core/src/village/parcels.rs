@@ -4,11 +4,15 @@
 //! 1. **Road conquest** (3.3.1). The source `S_i` is the projection of `B_i` on the closest road. The cells along
 //!    the road corridor's edge, on the seed's side, are conquered from `S_i` in both directions along the road
 //!    "until collision with a neighboring parcel or until a maximum distance from `S_i` is reached"
-//!    ([`ParcelParams::road_reach`]). All seeds advance together, so two neighbours meet half-way.
-//! 2. **Corner conquest** (3.3.2). At a junction, "we allow parcel `P_i` arrived first at a junction to annex its
-//!    neighborhood": the parcel owning the corner cell of a junction sector annexes the edge cells of the other
-//!    road of that sector as far as its own depth, so corner lots front both roads instead of meeting their
-//!    neighbour at a sharp angle. "Building seeds that lose access to roads are suppressed" (they get `None`).
+//!    ([`ParcelParams::road_reach`]). All seeds advance together, so two neighbours meet half-way; the cells
+//!    round a dead end's cap are no road front, so a parcel does not follow its road round its end.
+//! 2. **Corner conquest** (3.3.2). "We allow parcel `P_i` arrived first at a junction to annex its
+//!    neighborhood": in each junction sector narrower than [`ParcelOptions::corner_angle_degrees`], the parcel
+//!    whose road cells come nearest the corner annexes the sector's road cells on both roads within its depth
+//!    (`c_max / ω_conquest`) of the corner, and at most half-way to the next junction. The corner lot then fronts
+//!    both roads and its neighbours begin where its land ends, instead of meeting it along a diagonal with sharp
+//!    angles. "Building seeds that lose access to roads are suppressed": a seed left with no road cell, or with
+//!    less than half of its front, gets `None`.
 //! 3. **Anisotropic land conquest** (3.3.3). Every road cell a parcel owns is a source with the fund
 //!    `c_max` ([`ParcelParams::budget`]), and the parcel spreads until the cost from its source reaches `c_max`:
 //!
@@ -18,7 +22,8 @@
 //!      tangent `t` at the source. The thesis prints it as `|max(p·n, p·t)|`; the infinite norm it names is
 //!      `max(|p·n|, |p·t|)`, which is what is used (a square around each source, so parcels come out almost
 //!      quadrilateral). A tiny multiple of the Euclidean distance breaks its ties, so a cell goes to the source
-//!      straight in front of it and neighbouring parcels part along the road normal;
+//!      straight in front of it and neighbouring parcels part along the road normal. A source conquers only in
+//!      front of itself (`p·n ≥ 0`): parcels grow away from their road;
 //!    * *water, wall and road* cells cost `+∞`; so do cells outside `Ω` and road cells owned by another parcel;
 //!    * the *slope cost* is quadratic in the directional gradients of the terrain along the conquest directions
 //!      `n` and `t` of the source: each grid step adds `(∇h·n)²·|Δ·n| + (∇h·t)²·|Δ·t|` for its displacement
@@ -29,21 +34,26 @@
 //!      let cells pick far sources to halve their slope.)
 //!
 //!    Every parcel conquers its own neighbourhood (within `c_max / ω_conquest` of its road cells) on its own, in
-//!    parallel; a cell claimed by several parcels goes to the lowest cost, ties to the source cell first in grid
-//!    order (so that two facing rows part along a straight line), so the result does not depend on the number of
-//!    threads. Only the 4-connected component holding the parcel's
-//!    source is kept; pinch points (two cells of one parcel touching at a corner only) and enclosed holes are
-//!    resolved so that every parcel is a simple polygon.
+//!    parallel; a cell claimed by several parcels goes to the lowest cost, exact ties to the source cell first
+//!    in grid order (so that two facing rows part along a straight line). The result does not depend on the
+//!    number of threads. Only the 4-connected component holding the parcel's source is kept; a mode filter
+//!    trims one-cell spikes and fills unclaimed cells enclosed between parcels, and pinch points (two cells of
+//!    one parcel touching at a corner only) and enclosed holes are resolved, so that every parcel is a simple
+//!    polygon.
 //! 4. **Parcel simplification** (3.3.4). The cell outlines of all parcels form one planar boundary graph; each
 //!    chain between junctions (points where three or more parcels or the unclaimed land meet) is simplified once,
 //!    so neighbours keep sharing their boundary exactly. Staircases are first straightened (Douglas–Peucker
 //!    within [`ParcelOptions::straighten`] cells), then "we remove vertices that have little influence on the
 //!    contour shape": a vertex whose edges turn by less than `ε` ([`ParcelOptions::merge_angle_degrees`]) goes.
-//!    Last, "we remove unplausible acute angles that appear at some T-vertices": a junction where a parcel has an
-//!    angle below [`ParcelOptions::acute_angle_degrees`] is collapsed onto the neighbouring vertex that best opens
-//!    it (an edge collapse, as in mesh simplification). No simplified edge may come within `road_width / 2` of a
-//!    road's centre line or within half a cell of a water, wall or out-of-`Ω` node, and simplified chains may not
-//!    cross; a chain that breaks a rule is simplified less, down to its cell outline.
+//!    Junctions are simplified by edge collapses, as in mesh simplification: a chain of a cell or so between two
+//!    junctions collapses onto one of them, and — "we remove unplausible acute angles that appear at some
+//!    T-vertices" — a junction where a parcel has an angle below [`ParcelOptions::acute_angle_degrees`] moves
+//!    onto the neighbouring vertex that best opens it. No simplified edge may come within `road_width / 2` of a
+//!    road's centre line or swallow a water, wall or out-of-`Ω` node, and simplified chains may not cross; a
+//!    chain that breaks a rule is simplified less, down to its cell outline.
+//!
+//! The conquest grid has cells of side `cell` over the land's box (water, walls and `Ω` are read at the nearest
+//! land node); it is allocated only over the neighbourhoods the seeds can reach.
 
 use super::encyclopedia::ParcelParams;
 use super::land::Land;
@@ -105,8 +115,11 @@ impl Default for ParcelOptions {
 /// One parcel per seed, or `None` for a seed that lost access to the roads (3.3.2: "building seeds that lose
 /// access to roads are suppressed"), with the default [`ParcelOptions`].
 ///
-/// `cell` is the side of the conquest grid's cells (metres); the road corridor is every point within
-/// `road_width / 2` of a road's centre line. Contours are counter-clockwise.
+/// `cell` is the side of the conquest grid's cells (metres): no coarser than the land's grid, so that no water,
+/// wall or out-of-`Ω` node falls between two conquest nodes (1 m suits villages; 100 parcels on 1 km² take a
+/// fraction of a second). The road corridor is every point within `road_width / 2` of a road's centre line;
+/// parcels keep out of it, and of water, walls and the outside of `Ω`. Contours are counter-clockwise, simple,
+/// pairwise disjoint, and neighbours share their common boundary vertex for vertex.
 pub fn parcels(
     land: &Land,
     roads: &[Road],
@@ -771,7 +784,8 @@ impl Work {
                     continue;
                 }
                 let d = q.distance(p.point);
-                if best.is_none_or(|(bd, _)| d < bd) {
+                // (a road point off the grid finds nothing, not the grid's border)
+                if d <= half + 3.0 * self.cell && best.is_none_or(|(bd, _)| d < bd) {
                     best = Some((d, k));
                 }
             }
@@ -845,6 +859,10 @@ fn road_conquest(work: &Work, seeds: &[ParcelSeed], sources: &[Option<usize>]) -
 struct Branch {
     points: Vec<DVec2>,
     dir: DVec2,
+    /// Its length up to the next junction or dead end (or as far as it was followed).
+    length: f64,
+    /// Whether it was followed up to another junction.
+    to_junction: bool,
 }
 
 /// A road junction (or a sharp bend where two roads meet) with its branches counter-clockwise.
@@ -939,6 +957,8 @@ fn junctions(
                 Branch {
                     dir: (at - point).normalize_or_zero(),
                     points,
+                    length: total,
+                    to_junction: adj[cur as usize].len() >= 3,
                 }
             })
             .filter(|b| b.dir != DVec2::ZERO)
@@ -990,16 +1010,16 @@ fn corner_conquest(
             // the corner's foot on either road, measured from the junction
             let start = (half + c) / (0.5 * alpha).tan();
             // a road cell of the sector: beside one of its two roads, on the sector's side (left of b0, right of
-            // b1), with its arc length from the junction along that road
-            let sector_cell = |p: DVec2| -> Option<f64> {
+            // b1), with that road and its arc length from the junction along it
+            let sector_cell = |p: DVec2| -> Option<(&Branch, f64)> {
                 let (d0, arc0, side0) = locate_on(p, &b0.points);
                 let (d1, arc1, side1) = locate_on(p, &b1.points);
-                let (d, arc, ok) = if d0 <= d1 {
-                    (d0, arc0, side0 > 0.0)
+                let (d, arc, ok, b) = if d0 <= d1 {
+                    (d0, arc0, side0 > 0.0, b0)
                 } else {
-                    (d1, arc1, side1 < 0.0)
+                    (d1, arc1, side1 < 0.0, b1)
                 };
-                (ok && d <= half + 2.0 * c).then_some(arc)
+                (ok && d <= half + 2.0 * c).then_some((b, arc))
             };
             // whoever's road cells come nearest the corner arrived first
             let (x0, y0, x1, y1) = work.around(corner_point, deepest + half + 3.0 * c);
@@ -1033,7 +1053,12 @@ fn corner_conquest(
                     if !work.edge[e] || road.owner[e] == winner {
                         continue;
                     }
-                    if sector_cell(work.point(i, j)).is_some_and(|arc| arc <= start + depth) {
+                    // as far as its depth, and at most half-way to the next junction, whose own corner lot takes
+                    // the other half
+                    let within = |(b, arc): (&Branch, f64)| {
+                        arc <= start + depth && (!b.to_junction || arc <= 0.5 * b.length)
+                    };
+                    if sector_cell(work.point(i, j)).is_some_and(within) {
                         road.owner[e] = winner;
                         road.arrival[e] = f64::INFINITY;
                     }
@@ -1071,7 +1096,8 @@ fn conquer(
     }
     let c = work.cell;
     let reach = params.budget / params.conquest_weight;
-    let r = (reach / c).ceil() as usize + 1;
+    // (an enormous fund reaches the whole grid, no farther)
+    let r = (reach / c).ceil().min((work.nx + work.ny) as f64) as usize + 1;
     let (mut i0, mut j0, mut i1, mut j1) = (usize::MAX, usize::MAX, 0, 0);
     for &k in fronts {
         let (i, j) = work.ij(k);
@@ -1086,11 +1112,9 @@ fn conquer(
         .iter()
         .map(|&k| {
             let p = work.point_of(k);
-            let n = index
-                .nearest(p, 4.0 * c + 60.0)
-                .map(|q| (p - q.point).normalize_or_zero())
-                .filter(|n| *n != DVec2::ZERO)
-                .unwrap_or(DVec2::Y);
+            let n = (p - index.project(p).point).normalize_or_zero();
+            // (a road cell lies beside its road, never on its centre line)
+            let n = if n == DVec2::ZERO { DVec2::Y } else { n };
             (p, n)
         })
         .collect();
@@ -1202,55 +1226,62 @@ fn smooth_labels(
     let nx = work.nx;
     let mut any = false;
     for _ in 0..2 {
-        let old = label.to_vec();
+        let (old, old_best) = (label.to_vec(), best.to_vec());
         let lab = |i: i64, j: i64| work.inside(i, j).map_or(NONE, |k| old[k]);
-        let mut changed = false;
-        for k in 0..work.len() {
-            if is_anchor[k] || work.state[k] != FREE || (work.edge[k] && owner[k] != NONE) {
-                continue;
-            }
-            let (i, j) = ((k % nx) as i64, (k / nx) as i64);
-            let mut counts: Vec<(u32, usize)> = Vec::with_capacity(8);
-            for &(di, dj) in &N8 {
-                let l = lab(i + di, j + dj);
-                match counts.iter_mut().find(|c| c.0 == l) {
-                    Some(c) => c.1 += 1,
-                    None => counts.push((l, 1)),
+        // every cell from the previous labels, in parallel
+        let changes: Vec<(usize, u32, f64)> = (0..work.len())
+            .into_par_iter()
+            .filter_map(|k| {
+                if is_anchor[k] || work.state[k] != FREE || (work.edge[k] && owner[k] != NONE) {
+                    return None;
                 }
-            }
-            // the most frequent label, ties to the lower one
-            counts.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(&b.0)));
-            let (top, count) = counts[0];
-            let target = if old[k] == NONE {
-                let parcels4 = N4
-                    .iter()
-                    .filter(|&&(di, dj)| lab(i + di, j + dj) != NONE)
-                    .count();
-                let top4 = counts.iter().find(|c| c.0 != NONE).map(|c| c.0);
-                match top4 {
-                    Some(x) if parcels4 >= 3 && !work.closed_to(owner, x, k) => x,
-                    _ => continue,
+                let (i, j) = ((k % nx) as i64, (k / nx) as i64);
+                let mut counts: Vec<(u32, usize)> = Vec::with_capacity(8);
+                for &(di, dj) in &N8 {
+                    let l = lab(i + di, j + dj);
+                    match counts.iter_mut().find(|c| c.0 == l) {
+                        Some(c) => c.1 += 1,
+                        None => counts.push((l, 1)),
+                    }
                 }
-            } else if top != old[k] && count >= 5 && (top == NONE || !work.closed_to(owner, top, k))
-            {
-                top
-            } else {
-                continue;
-            };
-            label[k] = target;
-            best[k] = if target == NONE {
-                f64::INFINITY
-            } else {
-                N8.iter()
-                    .filter_map(|&(di, dj)| work.inside(i + di, j + dj))
-                    .filter(|&m| old[m] == target)
-                    .map(|m| best[m])
-                    .fold(0.0, f64::max)
-            };
-            changed = true;
-        }
-        if !changed {
+                // the most frequent label, ties to the lower one
+                counts.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(&b.0)));
+                let (top, count) = counts[0];
+                let target = if old[k] == NONE {
+                    let parcels4 = N4
+                        .iter()
+                        .filter(|&&(di, dj)| lab(i + di, j + dj) != NONE)
+                        .count();
+                    match counts.iter().find(|c| c.0 != NONE).map(|c| c.0) {
+                        Some(x) if parcels4 >= 3 && !work.closed_to(owner, x, k) => x,
+                        _ => return None,
+                    }
+                } else if top != old[k]
+                    && count >= 5
+                    && (top == NONE || !work.closed_to(owner, top, k))
+                {
+                    top
+                } else {
+                    return None;
+                };
+                let cost = if target == NONE {
+                    f64::INFINITY
+                } else {
+                    N8.iter()
+                        .filter_map(|&(di, dj)| work.inside(i + di, j + dj))
+                        .filter(|&m| old[m] == target)
+                        .map(|m| old_best[m])
+                        .fold(0.0, f64::max)
+                };
+                Some((k, target, cost))
+            })
+            .collect();
+        if changes.is_empty() {
             break;
+        }
+        for (k, target, cost) in changes {
+            label[k] = target;
+            best[k] = cost;
         }
         any = true;
     }
@@ -1688,7 +1719,7 @@ struct Rules<'a> {
 
 impl Rules<'_> {
     /// Whether the edge `a`–`b` keeps `road_width / 2` from every centre line and half a cell from every
-    /// road, water, wall or out-of-`Ω` node (as the cell outlines do).
+    /// water, wall or out-of-`Ω` node (as the cell outlines do).
     fn clear(&self, a: DVec2, b: DVec2) -> bool {
         let c = self.work.cell;
         if self.half > 0.0
@@ -1701,7 +1732,7 @@ impl Rules<'_> {
         let (x1, y1) = self.work.clamped(a.max(b) + DVec2::splat(c));
         for j in y0..=y1 {
             for i in x0..=x1 {
-                if self.work.state[j * self.work.nx + i] != FREE
+                if self.work.state[j * self.work.nx + i] == BLOCKED
                     && segment_distance(self.work.point(i, j), a, b) < r
                 {
                     return false;
@@ -1712,8 +1743,9 @@ impl Rules<'_> {
     }
 
     /// Whether the edge from the first to the last of `span` (a stretch of a cell outline, in order) may replace
-    /// the stretch: it keeps `road_width / 2` from every centre line, and no road, water, wall or out-of-`Ω` node
-    /// lies between the two (the parcel would swallow it).
+    /// the stretch: it keeps `road_width / 2` from every centre line, and no water, wall or out-of-`Ω` node lies
+    /// between the two (the parcel would swallow it). Along a diagonal wall or shore, whose nodes make a
+    /// staircase, no straight edge passes this, and the outline keeps its steps.
     fn replaces(&self, span: &[DVec2]) -> bool {
         let (Some(&a), Some(&b)) = (span.first(), span.last()) else {
             return true;
@@ -1734,7 +1766,8 @@ impl Rules<'_> {
         let (x1, y1) = self.work.clamped(a.max(b) + DVec2::splat(reach));
         for j in y0..=y1 {
             for i in x0..=x1 {
-                if self.work.state[j * self.work.nx + i] == FREE {
+                // road nodes are rasterized with a margin: the exact distance to the centre lines rules there
+                if self.work.state[j * self.work.nx + i] != BLOCKED {
                     continue;
                 }
                 let q = self.work.point(i, j);
@@ -1906,9 +1939,11 @@ fn position(lat: &Lattice, moved: &Moves, v: u32) -> DVec2 {
     lat.pos(*moved.get(&v).unwrap_or(&v))
 }
 
-/// The second step of 3.3.4: at a junction where a parcel has an acute angle, the junction moves onto the next
-/// vertex of one of its chains (an edge collapse) when that opens the smallest parcel angle there.
-fn open_acute_junctions(
+/// Edge collapses at the junctions of the boundary graph, as in mesh simplification. A chain between two
+/// junctions no longer than the straightening tolerance collapses onto one of its ends, unless that makes an
+/// acute angle. Then the second step of 3.3.4: at a junction where a parcel has an acute angle, the junction
+/// moves onto the next vertex of one of its chains when that opens the smallest parcel angle there.
+fn collapse_junctions(
     lat: &Lattice,
     chains: &[Chain],
     kept: &[Vec<usize>],
@@ -1944,6 +1979,98 @@ fn open_acute_junctions(
             )
         }
     };
+    // first, a chain no longer than the straightening tolerance between two junctions collapses to one of them
+    // (an edge collapse): a jog of a cell or so between two junctions is the grid's noise
+    let short = options.straighten * lat.work.cell;
+    let group_of = |v: u32| -> &[(u32, u8, usize, bool)] {
+        let lo = ends.partition_point(|e| e.0 < v);
+        let hi = ends.partition_point(|e| e.0 <= v);
+        &ends[lo..hi]
+    };
+    // the smallest angle between the edges from `centre` to `targets`, whatever lies between them
+    let tightest = |centre: DVec2, targets: &[DVec2]| -> Option<f64> {
+        if targets
+            .iter()
+            .any(|t| (*t - centre).length_squared() == 0.0)
+        {
+            return None;
+        }
+        let mut a: Vec<f64> = targets
+            .iter()
+            .map(|t| (t.y - centre.y).atan2(t.x - centre.x))
+            .collect();
+        a.sort_by(f64::total_cmp);
+        let g = a.len();
+        Some(
+            (0..g)
+                .map(|q| {
+                    if q + 1 < g {
+                        a[q + 1] - a[q]
+                    } else {
+                        a[0] + TAU - a[q]
+                    }
+                })
+                .fold(TAU, f64::min),
+        )
+    };
+    let mut touched = std::collections::HashSet::new();
+    for (ci, ch) in chains.iter().enumerate() {
+        if ch.closed || ch.is_loop() || levels[ci] != 0 || kept[ci].len() != 2 {
+            continue;
+        }
+        let (v1, v2) = (ch.ids[0], ch.ids[ch.ids.len() - 1]);
+        if touched.contains(&v1)
+            || touched.contains(&v2)
+            || lat.pos(v1).distance(lat.pos(v2)) > short
+        {
+            continue;
+        }
+        let (g1, g2) = (group_of(v1), group_of(v2));
+        if g1
+            .iter()
+            .chain(g2)
+            .any(|e| levels[e.2] != 0 || kept[e.2].len() < 2 || chains[e.2].is_loop())
+        {
+            continue;
+        }
+        let heads = |g: &[(u32, u8, usize, bool)]| -> Vec<DVec2> {
+            g.iter()
+                .filter(|e| e.2 != ci)
+                .map(|e| position(lat, &moved, next(e.2, e.3).0))
+                .collect()
+        };
+        let (h1, h2) = (heads(g1), heads(g2));
+        let (p1, p2) = (lat.pos(v1), lat.pos(v2));
+        let before = [
+            tightest(p1, &[h1.clone(), vec![p2]].concat()),
+            tightest(p2, &[h2.clone(), vec![p1]].concat()),
+        ];
+        let [Some(b1), Some(b2)] = before else {
+            continue;
+        };
+        let others = [h1, h2].concat();
+        let mut best: Option<(f64, u32, u32)> = None;
+        for (from, to) in [(v1, v2), (v2, v1)] {
+            let centre = lat.pos(to);
+            if !others.iter().all(|t| rules.clear(centre, *t)) {
+                continue;
+            }
+            if let Some(a) = tightest(centre, &others) {
+                if best.is_none_or(|(b, _, _)| a > b) {
+                    best = Some((a, from, to));
+                }
+            }
+        }
+        // no new acute angle (nor a tighter one where there was one)
+        if let Some((a, from, to)) = best {
+            if a >= b1.min(b2).min(acute) {
+                moved.insert(from, to);
+                used[ci] = true;
+                touched.insert(v1);
+                touched.insert(v2);
+            }
+        }
+    }
     let mut g0 = 0;
     while g0 < ends.len() {
         let v = ends[g0].0;
@@ -1954,6 +2081,7 @@ fn open_acute_junctions(
         let group = &ends[g0..g1];
         g0 = g1;
         if group.len() < 3
+            || touched.contains(&v)
             || group
                 .iter()
                 .any(|e| levels[e.2] != 0 || kept[e.2].len() < 2)
@@ -2140,7 +2268,7 @@ fn simplified_contours(
             .zip(levels.par_iter())
             .map(|(ch, &level)| simplify_chain(ch, &lat, &rules, options, level))
             .collect();
-        let moved = open_acute_junctions(&lat, &chains, &kept, &levels, &rules, options);
+        let moved = collapse_junctions(&lat, &chains, &kept, &levels, &rules, options);
         for (ch, k) in chains.iter().zip(&kept) {
             for &v in &ch.ids {
                 flag[v as usize] = false;
