@@ -1146,11 +1146,16 @@ fn conquer(
         origin[l] = f as u32;
         heap.push(Reverse((0u64, l as u32)));
     }
+    // each cell is conquered once, in order of cost: the cost to a source is not monotone along a path (the
+    // ∞-norm distance can fall on a sideways step), and letting later, cheaper arrivals reopen conquered cells
+    // made some windows re-spread over a thousand times
+    let mut settled = vec![false; lnx * lny];
     while let Some(Reverse((bits, l))) = heap.pop() {
         let l = l as usize;
-        if f64::from_bits(bits) > cost[l] {
+        if f64::from_bits(bits) > cost[l] || settled[l] {
             continue;
         }
+        settled[l] = true;
         let (li, lj) = ((l % lnx) as i64, (l / lnx) as i64);
         let o = origin[l];
         let (so, n) = frames[o as usize];
@@ -1189,7 +1194,7 @@ fn conquer(
                     + slope_at.dot(t).powi(2) * step.dot(t).abs();
             }
             let total = params.conquest_weight * conquest + params.slope_weight * s;
-            if total <= params.budget && total < cost[nl] {
+            if total <= params.budget && total < cost[nl] && !settled[nl] {
                 cost[nl] = total;
                 origin[nl] = o;
                 slope[nl] = s;
