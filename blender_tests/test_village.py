@@ -305,7 +305,7 @@ def test_bad_inputs_are_reported_and_change_nothing(tmp_path):
         bpy.ops.worldpaint.generate_village()
     settings.encyclopedia_path = ""
     settings.events[2].building = "palace"
-    with pytest.raises(RuntimeError, match="Scenario event 3: unknown building type 'palace'"):
+    with pytest.raises(RuntimeError, match="scenario event 3: unknown building type 'palace'"):
         bpy.ops.worldpaint.generate_village()
     settings.events[2].building = "house"
     settings.region.data.splines[0].use_cyclic_u = False
@@ -428,7 +428,7 @@ def test_a_custom_encyclopedia_and_a_scenario_file_drive_the_village(tmp_path):
     (tmp_path / "scenario.json").write_text(json.dumps(scenario))
     (tmp_path / "broken.json").write_text("{'events': ")
     files = {"scenario_path": str(tmp_path / "scenario.json")}
-    with pytest.raises(RuntimeError, match="Scenario event 1: unknown village type 'hillfort'"):
+    with pytest.raises(RuntimeError, match="scenario event 1: unknown village type 'hillfort'"):
         bpy.ops.worldpaint.generate_village(**files)
     with pytest.raises(RuntimeError, match="is not JSON"):
         bpy.ops.worldpaint.generate_village(scenario_path=str(tmp_path / "broken.json"))

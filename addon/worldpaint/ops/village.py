@@ -82,7 +82,7 @@ class WORLDPAINT_OT_generate_village(BackgroundOperator, VillageInputs, bpy.type
             events = village.scenario_file_events(self.scenario_path)
         else:
             events = village.list_events(settings.events)
-        scenario = village.scenario_json(events, encyclopedia)
+        scenario = village.scenario_json(events)
         roads = village.existing_roads(settings)
         self._terrain_obj, self._heightfield = terrain_obj, heightfield
         self._parcels_as_curves = settings.parcels_as_curves

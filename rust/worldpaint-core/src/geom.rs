@@ -116,6 +116,25 @@ pub fn segment_intersection(a: DVec2, b: DVec2, c: DVec2, d: DVec2) -> Option<(f
 }
 
 /// Signed area of a closed polygon (positive when counter-clockwise).
+/// Whether `p` lies inside the closed polygon `points` (even-odd rule by a horizontal ray; the polygon closes from
+/// its last point to its first).
+pub fn polygon_contains(points: &[DVec2], p: DVec2) -> bool {
+    let n = points.len();
+    let mut inside = false;
+    let mut j = n.wrapping_sub(1);
+    for i in 0..n {
+        let (a, b) = (points[i], points[j]);
+        if (a.y > p.y) != (b.y > p.y) {
+            let x = a.x + (p.y - a.y) * (b.x - a.x) / (b.y - a.y);
+            if p.x < x {
+                inside = !inside;
+            }
+        }
+        j = i;
+    }
+    inside
+}
+
 pub fn polygon_signed_area(points: &[DVec2]) -> f64 {
     let n = points.len();
     (0..n)
@@ -236,23 +255,7 @@ impl Region {
                 p.x >= min.x && p.x <= max.x && p.y >= min.y && p.y <= max.y
             }
             Region::Circle { center, radius } => p.distance_squared(*center) <= radius * radius,
-            Region::Polygon { points } => {
-                // even-odd rule by a horizontal ray
-                let n = points.len();
-                let mut inside = false;
-                let mut j = n.wrapping_sub(1);
-                for i in 0..n {
-                    let (a, b) = (points[i], points[j]);
-                    if (a.y > p.y) != (b.y > p.y) {
-                        let x = a.x + (p.y - a.y) * (b.x - a.x) / (b.y - a.y);
-                        if p.x < x {
-                            inside = !inside;
-                        }
-                    }
-                    j = i;
-                }
-                inside
-            }
+            Region::Polygon { points } => polygon_contains(points, p),
             Region::Clipped { within, without } => {
                 within.iter().all(|r| r.contains(p)) && !without.iter().any(|r| r.contains(p))
             }

@@ -23,6 +23,8 @@
 //! and, with it, the crossings (476–670) and both TVs (up to 0.132 and 0.138). The exemplar here is the one the
 //! rule picks, not one picked for the result.
 
+#[path = "support/geojson.rs"]
+mod geojson;
 #[path = "support/villages.rs"]
 mod villages;
 

@@ -231,6 +231,22 @@ fn bad_scenarios_and_cancelling_give_clear_errors() {
     let unknown: &'static Scenario = Box::leak(Box::new(scenario("nomads", 3)));
     let err = generate(&request(unknown), &|_, _| true).expect_err("unknown village type");
     assert!(err.to_string().contains("nomads"), "{err}");
+    let empty: &'static Scenario = Box::leak(Box::new(Scenario::default()));
+    let err = generate(&request(empty), &|_, _| true).expect_err("no building asked");
+    assert!(err.to_string().contains("generates no building"), "{err}");
+    let mut palace = scenario("farming", 3);
+    palace.events.push(Event::Generate {
+        count: 1,
+        building: "palace".into(),
+    });
+    let palace: &'static Scenario = Box::leak(Box::new(palace));
+    let err = generate(&request(palace), &|_, _| true).expect_err("unknown building type");
+    assert!(
+        err.to_string().contains(
+            "event 4: unknown building type 'palace' (the encyclopedia has castle, church"
+        ),
+        "{err}"
+    );
     let fine: &'static Scenario = Box::leak(Box::new(scenario("farming", 3)));
     let err = generate(&request(fine), &|_, f| f < 0.5).expect_err("cancelled");
     assert!(matches!(err, Error::Cancelled));

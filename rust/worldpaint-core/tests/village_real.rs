@@ -36,6 +36,8 @@
 //! against bands wide enough for that. The thesis's parcel figures come from one real village; the cadastre (a
 //! suburban town) and the land-use tiles (fields and woods, not lots) bracket them rather than match them.
 
+#[path = "support/geojson.rs"]
+mod geojson;
 #[path = "support/village_real.rs"]
 mod real;
 

@@ -34,6 +34,21 @@ pub struct InterestWeights {
     pub domination: f64,
 }
 
+impl InterestWeights {
+    /// The weights in the order of the criteria (`interest::Criterion::ALL`).
+    pub fn as_array(&self) -> [f64; 7] {
+        [
+            self.sociability,
+            self.worship,
+            self.accessibility,
+            self.slope,
+            self.water,
+            self.fortification,
+            self.domination,
+        ]
+    }
+}
+
 /// Parameters of the anisotropic land conquest (3.3) for one (V, B).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ParcelParams {
@@ -271,16 +286,7 @@ impl Encyclopedia {
                 if !self.buildings.contains_key(bname) {
                     return Err(bad(format!("{at}: unknown building type '{bname}'")));
                 }
-                let w = &p.weights;
-                for x in [
-                    w.sociability,
-                    w.worship,
-                    w.accessibility,
-                    w.slope,
-                    w.water,
-                    w.fortification,
-                    w.domination,
-                ] {
+                for x in p.weights.as_array() {
                     if !x.is_finite() {
                         return Err(bad(format!("{at}.weights must be finite")));
                     }
@@ -331,28 +337,49 @@ impl Encyclopedia {
 
     /// Checks that a scenario starts with a village type and names only what the encyclopedia knows.
     pub fn check_scenario(&self, scenario: &Scenario) -> Result<()> {
+        let known = |names: Vec<&String>| {
+            names
+                .into_iter()
+                .map(String::as_str)
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        let at = |k: usize, what: String| {
+            Error::InvalidInput(format!("scenario event {}: {what}", k + 1))
+        };
+        if scenario.building_count() == 0 {
+            return Err(Error::InvalidInput(
+                "the growth scenario generates no building: add a generate event".into(),
+            ));
+        }
         let mut current: Option<&str> = None;
         for (k, e) in scenario.events.iter().enumerate() {
             match e {
                 Event::ChangeVillageType { village_type } => {
                     if !self.village_types.contains_key(village_type) {
-                        return Err(Error::InvalidInput(format!(
-                            "scenario event {}: unknown village type '{village_type}'",
-                            k + 1
-                        )));
+                        let names = known(self.village_types.keys().collect());
+                        return Err(at(k, format!("unknown village type '{village_type}' (the encyclopedia has {names})")));
                     }
                     current = Some(village_type);
                 }
-                Event::Generate { building, .. } => {
+                Event::Generate { count, building } => {
+                    if !self.buildings.contains_key(building) {
+                        let names = known(self.buildings.keys().collect());
+                        return Err(at(
+                            k,
+                            format!(
+                                "unknown building type '{building}' (the encyclopedia has {names})"
+                            ),
+                        ));
+                    }
+                    if *count == 0 {
+                        return Err(at(k, "the count must be at least 1".into()));
+                    }
                     let Some(v) = current else {
-                        return Err(Error::InvalidInput(format!(
-                            "scenario event {}: generate before any village type is chosen",
-                            k + 1
-                        )));
+                        return Err(at(k, "generate before any village type is chosen".into()));
                     };
-                    self.placement(v, building).map_err(|err| {
-                        Error::InvalidInput(format!("scenario event {}: {err}", k + 1))
-                    })?;
+                    self.placement(v, building)
+                        .map_err(|err| at(k, err.to_string()))?;
                 }
             }
         }

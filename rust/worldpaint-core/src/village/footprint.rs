@@ -24,7 +24,7 @@
 use super::parcels::RoadIndex;
 use super::{Footprint, Parcel, Road};
 use crate::error::{Error, Result};
-use crate::geom::{polygon_signed_area, segment_distance, segment_intersection};
+use crate::geom::{polygon_contains, polygon_signed_area, segment_distance, segment_intersection};
 use glam::DVec2;
 use rayon::prelude::*;
 
@@ -347,22 +347,8 @@ fn grow(
 fn quad_inside(poly: &[DVec2], quad: &[DVec2; 4], eps: f64) -> bool {
     let m = poly.len();
     let inside_poly = |p: DVec2| {
-        if (0..m).any(|i| segment_distance(p, poly[i], poly[(i + 1) % m]) <= eps) {
-            return true;
-        }
-        let mut inside = false;
-        let mut j = m - 1;
-        for i in 0..m {
-            let (a, b) = (poly[i], poly[j]);
-            if (a.y > p.y) != (b.y > p.y) {
-                let x = a.x + (p.y - a.y) * (b.x - a.x) / (b.y - a.y);
-                if p.x < x {
-                    inside = !inside;
-                }
-            }
-            j = i;
-        }
-        inside
+        (0..m).any(|i| segment_distance(p, poly[i], poly[(i + 1) % m]) <= eps)
+            || polygon_contains(poly, p)
     };
     // strictly inside the quad, away from its walls
     let inside_quad = |p: DVec2| {

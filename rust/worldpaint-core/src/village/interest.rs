@@ -128,7 +128,7 @@ pub fn open_distance(d: f64, s: &Shape) -> f64 {
 /// The interest equation over criterion values (in [`Criterion::ALL`] order), clipped to `[0, 1]` so it is the
 /// probability of the aggregation test.
 pub fn combine(values: &[f64; 7], placement: &Placement) -> f64 {
-    let w = weights(placement);
+    let w = placement.weights.as_array();
     let forbidden = values
         .iter()
         .zip(w.iter())
@@ -143,19 +143,6 @@ pub fn combine(values: &[f64; 7], placement: &Placement) -> f64 {
         .map(|(v, w)| v * w)
         .sum::<f64>()
         .clamp(0.0, 1.0)
-}
-
-fn weights(p: &Placement) -> [f64; 7] {
-    let w = &p.weights;
-    [
-        w.sociability,
-        w.worship,
-        w.accessibility,
-        w.slope,
-        w.water,
-        w.fortification,
-        w.domination,
-    ]
 }
 
 /// Exact Euclidean distance (m) from every node to the nearest node where `mask` is true (Felzenszwalb and

@@ -243,6 +243,19 @@ pub struct LayoutStatistics {
     pub mean_road_distance: f64,
 }
 
+/// Total length of the roads' centrelines (m).
+pub fn road_length(roads: &[Road]) -> f64 {
+    roads
+        .iter()
+        .map(|r| {
+            r.points
+                .windows(2)
+                .map(|s| s[0].distance(s[1]))
+                .sum::<f64>()
+        })
+        .sum()
+}
+
 /// Layout figures of houses (their centres) and roads.
 pub fn layout_statistics(houses: &[DVec2], roads: &[Road]) -> LayoutStatistics {
     let index = road_index(roads);
@@ -267,15 +280,7 @@ pub fn layout_statistics(houses: &[DVec2], roads: &[Road]) -> LayoutStatistics {
         road_sum += d;
         histogram[((d / 10.0) as usize).min(10)] += 1;
     }
-    let length: f64 = roads
-        .iter()
-        .map(|r| {
-            r.points
-                .windows(2)
-                .map(|s| s[0].distance(s[1]))
-                .sum::<f64>()
-        })
-        .sum();
+    let length: f64 = road_length(roads);
     LayoutStatistics {
         houses: n,
         mean_nearest_neighbour: finite.iter().sum::<f64>() / finite.len().max(1) as f64,

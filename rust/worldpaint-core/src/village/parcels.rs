@@ -59,7 +59,7 @@ use super::encyclopedia::ParcelParams;
 use super::land::Land;
 use super::{Parcel, Road};
 use crate::error::{Error, Result};
-use crate::geom::{polygon_signed_area, segment_distance, segment_intersection};
+use crate::geom::{polygon_contains, polygon_signed_area, segment_distance, segment_intersection};
 use crate::graph::{angle_between, Graph};
 use glam::DVec2;
 use rayon::prelude::*;
@@ -1780,31 +1780,13 @@ impl Rules<'_> {
                 if d > reach {
                     continue;
                 }
-                if d <= 1e-6 * c || inside_ring(q, span) {
+                if d <= 1e-6 * c || polygon_contains(span, q) {
                     return false;
                 }
             }
         }
         true
     }
-}
-
-/// Whether `p` lies inside the closed ring `ring` (even-odd rule; the ring closes from its last point to its first).
-fn inside_ring(p: DVec2, ring: &[DVec2]) -> bool {
-    let m = ring.len();
-    let mut inside = false;
-    let mut j = m.wrapping_sub(1);
-    for i in 0..m {
-        let (a, b) = (ring[i], ring[j]);
-        if (a.y > p.y) != (b.y > p.y) {
-            let x = a.x + (p.y - a.y) * (b.x - a.x) / (b.y - a.y);
-            if p.x < x {
-                inside = !inside;
-            }
-        }
-        j = i;
-    }
-    inside
 }
 
 /// Douglas–Peucker between `s` and `e`: a span becomes one edge when every vertex lies within `tol` of it and the

@@ -49,12 +49,13 @@
 //! * SRTM at 3″ cannot resolve the benches and hairpins a mountain road is built on: a road along a steep slope
 //!   reads the slope's grade, so real road grades in Andorra read far steeper than the roads are.
 
+use crate::geojson::{geometry, read_features};
 use serde_json::Value;
 use std::collections::{HashMap, VecDeque};
 use std::path::{Path, PathBuf};
-use worldpaint_core::geom::DVec2;
+use worldpaint_core::geom::{polygon_contains, polygon_signed_area, DVec2};
 use worldpaint_core::village::metrics::{
-    layout_statistics, mean_elevation_percentile, road_grades, LayoutStatistics,
+    layout_statistics, mean_elevation_percentile, road_grades, road_length, LayoutStatistics,
 };
 use worldpaint_core::village::{Environment, Land, Road};
 use worldpaint_core::{Heightfield, Region};
@@ -329,47 +330,6 @@ pub fn terrain_from_grid(grid: &AsciiGrid, cell: f64) -> Result<Terrain, String>
 // ---------------------------------------------------------------------------------------------------------------
 // GeoJSON
 
-fn read_features(path: &Path) -> Result<Vec<Value>, String> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
-    let mut value: Value =
-        serde_json::from_str(&text).map_err(|e| format!("{} is not JSON: {e}", path.display()))?;
-    match value.get_mut("features").map(Value::take) {
-        Some(Value::Array(features)) => Ok(features),
-        _ => Err(format!("{} has no feature list", path.display())),
-    }
-}
-
-fn lon_lat(v: &Value) -> Option<[f64; 2]> {
-    let a = v.as_array()?;
-    let (lon, lat) = (a.first()?.as_f64()?, a.get(1)?.as_f64()?);
-    (lon.abs() <= 180.0 && lat.abs() <= 90.0).then_some([lon, lat])
-}
-
-fn line(v: &Value) -> Option<Vec<[f64; 2]>> {
-    let points: Option<Vec<[f64; 2]>> = v.as_array()?.iter().map(lon_lat).collect();
-    points.filter(|p| !p.is_empty())
-}
-
-/// The lines of a (Multi)LineString, the outer rings of a (Multi)Polygon, or a Point as a one-point line.
-fn geometry(feature: &Value) -> Option<Vec<Vec<[f64; 2]>>> {
-    let g = feature.get("geometry")?;
-    let coordinates = g.get("coordinates")?;
-    let parts: Option<Vec<Vec<[f64; 2]>>> = match g.get("type")?.as_str()? {
-        "Point" => Some(vec![vec![lon_lat(coordinates)?]]),
-        "LineString" => Some(vec![line(coordinates)?]),
-        "MultiLineString" => coordinates.as_array()?.iter().map(line).collect(),
-        "Polygon" => Some(vec![line(coordinates.as_array()?.first()?)?]),
-        "MultiPolygon" => coordinates
-            .as_array()?
-            .iter()
-            .map(|p| line(p.as_array()?.first()?))
-            .collect(),
-        _ => None,
-    };
-    parts.filter(|p| !p.is_empty())
-}
-
 fn tag<'a>(feature: &'a Value, key: &str) -> Option<&'a str> {
     feature.get("properties")?.get(key)?.as_str()
 }
@@ -380,13 +340,6 @@ fn open_ring(mut ring: Vec<DVec2>) -> Option<Vec<DVec2>> {
         ring.pop();
     }
     (ring.len() >= 3).then_some(ring)
-}
-
-fn signed_area(ring: &[DVec2]) -> f64 {
-    let o = ring[0];
-    0.5 * (0..ring.len())
-        .map(|i| (ring[i] - o).perp_dot(ring[(i + 1) % ring.len()] - o))
-        .sum::<f64>()
 }
 
 /// The area centroid of a ring (the mean of its vertices when it encloses no area).
@@ -405,17 +358,6 @@ pub fn centroid(ring: &[DVec2]) -> DVec2 {
     } else {
         o + mean / ring.len() as f64
     }
-}
-
-fn point_in_ring(p: DVec2, ring: &[DVec2]) -> bool {
-    let mut inside = false;
-    for i in 0..ring.len() {
-        let (a, b) = (ring[i], ring[(i + 1) % ring.len()]);
-        if (a.y > p.y) != (b.y > p.y) && p.x < a.x + (p.y - a.y) * (b.x - a.x) / (b.y - a.y) {
-            inside = !inside;
-        }
-    }
-    inside
 }
 
 fn ring_bbox(ring: &[DVec2]) -> (DVec2, DVec2) {
@@ -747,18 +689,6 @@ pub struct RealWindow {
     pub connections: Vec<DVec2>,
 }
 
-pub fn road_length(roads: &[Road]) -> f64 {
-    roads
-        .iter()
-        .map(|r| {
-            r.points
-                .windows(2)
-                .map(|s| s[0].distance(s[1]))
-                .sum::<f64>()
-        })
-        .sum()
-}
-
 pub fn real_window(place: &Place, window: &Window) -> RealWindow {
     let region = &window.region;
     let houses: Vec<DVec2> = place
@@ -917,7 +847,7 @@ pub struct RealParcels {
 
 /// Counter-clockwise contour (the engine's parcels are counter-clockwise).
 fn counter_clockwise(mut ring: Vec<DVec2>) -> Vec<DVec2> {
-    if signed_area(&ring) < 0.0 {
+    if polygon_signed_area(&ring) < 0.0 {
         ring.reverse();
     }
     ring
@@ -1003,7 +933,7 @@ pub fn tiling_landuse(place: &Place) -> RealParcels {
     let centroids: Vec<DVec2> = areas.iter().map(|a| centroid(&a.ring)).collect();
     let mut nested = vec![false; areas.len()];
     for (i, c) in centroids.iter().enumerate() {
-        if !point_in_ring(*c, &areas[i].ring) {
+        if !polygon_contains(&areas[i].ring, *c) {
             continue; // a concave polygon's centroid says nothing about nesting
         }
         for (j, a) in areas.iter().enumerate() {
@@ -1013,7 +943,7 @@ pub fn tiling_landuse(place: &Place) -> RealParcels {
                 && c.y >= lo.y
                 && c.x <= hi.x
                 && c.y <= hi.y
-                && point_in_ring(*c, &a.ring)
+                && polygon_contains(&a.ring, *c)
             {
                 nested[i] = true;
                 nested[j] = true;

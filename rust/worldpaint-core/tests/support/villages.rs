@@ -19,6 +19,7 @@
 //! * **Reference.** The next densest square clear of the exemplar (another village) is measured on the same
 //!   bins: the natural variation between two real villages.
 
+use crate::geojson::{geometry, read_features};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -73,46 +74,6 @@ pub struct Layers {
     pub bbox: (DVec2, DVec2),
     /// The projection's centre (lon, lat in degrees).
     pub centre: [f64; 2],
-}
-
-fn read_features(path: &Path) -> Result<Vec<Value>, String> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
-    let mut value: Value =
-        serde_json::from_str(&text).map_err(|e| format!("{} is not JSON: {e}", path.display()))?;
-    match value.get_mut("features").map(Value::take) {
-        Some(Value::Array(features)) if !features.is_empty() => Ok(features),
-        _ => Err(format!("{} has no features", path.display())),
-    }
-}
-
-fn lon_lat(v: &Value) -> Option<[f64; 2]> {
-    let a = v.as_array()?;
-    let (lon, lat) = (a.first()?.as_f64()?, a.get(1)?.as_f64()?);
-    (lon.abs() <= 180.0 && lat.abs() <= 90.0).then_some([lon, lat])
-}
-
-fn line(v: &Value) -> Option<Vec<[f64; 2]>> {
-    let points: Option<Vec<[f64; 2]>> = v.as_array()?.iter().map(lon_lat).collect();
-    points.filter(|p| p.len() >= 2)
-}
-
-/// The lines of a (Multi)LineString, or the outer rings of a (Multi)Polygon.
-fn geometry(feature: &Value) -> Option<Vec<Vec<[f64; 2]>>> {
-    let g = feature.get("geometry")?;
-    let coordinates = g.get("coordinates")?;
-    let parts: Option<Vec<Vec<[f64; 2]>>> = match g.get("type")?.as_str()? {
-        "LineString" => Some(vec![line(coordinates)?]),
-        "MultiLineString" => coordinates.as_array()?.iter().map(line).collect(),
-        "Polygon" => Some(vec![line(coordinates.as_array()?.first()?)?]),
-        "MultiPolygon" => coordinates
-            .as_array()?
-            .iter()
-            .map(|p| line(p.as_array()?.first()?))
-            .collect(),
-        _ => None,
-    };
-    parts.filter(|p| !p.is_empty())
 }
 
 /// The area centroid of outer rings (the mean of their vertices when they enclose no area).
