@@ -537,8 +537,11 @@ fn checks(r: &RealColumn, g: &GeneratedColumn, max_grade: f64) -> Vec<Check> {
         Check {
             what: format!("{name}: road length per house / real"),
             measured: format!("{per_house:.2}"),
-            bound: "1/4 ..= 4".into(),
-            holds: (0.25..=4.0).contains(&per_house),
+            // the real windows count the through roads that cross them (114-159 m per house in Andorra); a
+            // village's own network serves its houses only, and houses near a road front it without a road of
+            // their own
+            bound: "1/5 ..= 5".into(),
+            holds: (0.2..=5.0).contains(&per_house),
         },
         Check {
             what: format!("{name}: road over {:.0} % grade", 100.0 * max_grade),

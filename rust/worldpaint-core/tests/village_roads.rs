@@ -129,12 +129,36 @@ fn connect(
     occupied: &[bool],
     from: DVec2,
 ) -> Connection {
-    net.connect(land, p, occupied, from).expect("valid input")
+    net.connect(land, p, occupied, from, 0.0)
+        .expect("valid input")
 }
 
 /// Named so that the village tests can be run together (`cargo test village`).
 mod village {
     use super::*;
+
+    #[test]
+    fn a_house_near_a_linked_road_fronts_it_instead_of_getting_a_dead_end() {
+        let land = land(300.0, |_| 10.0);
+        let free = vec![false; land.grid.len()];
+        let psi = DVec2::new(0.0, 150.0);
+        let mut net = RoadNetwork::new(&land, &[psi], &[]).unwrap();
+        let street = connect(&mut net, &land, &params(), &free, DVec2::new(280.0, 150.0));
+        assert!(street.reached && street.roads.len() == 1);
+        let roads = net.roads.len();
+        // 10 m beside the street: within a frontage of 13.5 m, served without a road of its own
+        let near = DVec2::new(140.0, 160.0);
+        let c = net.connect(&land, &params(), &free, near, 13.5).unwrap();
+        assert!(c.reached && c.roads.is_empty(), "{c:?}");
+        assert_eq!(net.roads.len(), roads);
+        // 30 m beside it: a road of its own
+        let far = DVec2::new(140.0, 180.0);
+        let c = net.connect(&land, &params(), &free, far, 13.5).unwrap();
+        assert!(c.reached && !c.roads.is_empty(), "{c:?}");
+        // without a frontage, the near house gets its road too
+        let c = connect(&mut net, &land, &params(), &free, DVec2::new(100.0, 160.0));
+        assert!(c.reached && !c.roads.is_empty(), "{c:?}");
+    }
 
     #[test]
     fn a_road_on_flat_land_is_nearly_straight_and_the_move_mask_matters() {
@@ -503,30 +527,30 @@ mod village {
             ..params()
         };
         assert!(matches!(
-            net.connect(&l, &nan, &free, DVec2::new(50.0, 50.0)),
+            net.connect(&l, &nan, &free, DVec2::new(50.0, 50.0), 0.0),
             Err(Error::InvalidInput(_))
         ));
         assert!(matches!(
-            net.connect(&l, &params(), &free[1..], DVec2::new(50.0, 50.0)),
+            net.connect(&l, &params(), &free[1..], DVec2::new(50.0, 50.0), 0.0),
             Err(Error::InvalidInput(_))
         ));
         assert!(matches!(
-            net.connect(&l, &params(), &free, DVec2::new(f64::NAN, 50.0)),
+            net.connect(&l, &params(), &free, DVec2::new(f64::NAN, 50.0), 0.0),
             Err(Error::InvalidInput(_))
         ));
         assert!(matches!(
-            net.connect(&l, &params(), &free, DVec2::new(5000.0, 50.0)),
+            net.connect(&l, &params(), &free, DVec2::new(5000.0, 50.0), 0.0),
             Err(Error::InvalidInput(_))
         ));
         // the move costs belong to the land the network was made on
         let mut other = l.clone();
         other.height.iter_mut().for_each(|h| *h += 1.0);
         assert!(matches!(
-            net.connect(&other, &params(), &free, DVec2::new(50.0, 50.0)),
+            net.connect(&other, &params(), &free, DVec2::new(50.0, 50.0), 0.0),
             Err(Error::InvalidInput(_))
         ));
         assert!(
-            net.connect(&l, &params(), &free, DVec2::new(50.0, 50.0))
+            net.connect(&l, &params(), &free, DVec2::new(50.0, 50.0), 0.0)
                 .unwrap()
                 .reached
         );

@@ -219,6 +219,8 @@ pub fn generate(
             .get(building)
             .ok_or_else(|| Error::InvalidInput(format!("unknown building type '{building}'")))?;
         let radius = 0.5 * kind.footprint_min[0].max(kind.footprint_min[1]);
+        // a house this close to a road fronts it: its footprint, grown from the road side, can reach the seed
+        let frontage = 0.5 * enc.roads.width + kind.footprint_max[0].max(kind.footprint_max[1]);
         for _ in 0..count {
             if !progress(Stage::Skeleton, done as f64 / total) {
                 return Err(Error::Cancelled);
@@ -239,7 +241,8 @@ pub fn generate(
                 report.unplaced.push(building.clone());
                 continue;
             };
-            let connection = network.connect(&land, &enc.roads, &occupied, found.position)?;
+            let connection =
+                network.connect(&land, &enc.roads, &occupied, found.position, frontage)?;
             if !connection.reached {
                 report.unreachable += 1;
                 continue;

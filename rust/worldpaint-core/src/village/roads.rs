@@ -266,12 +266,16 @@ impl RoadNetwork {
 
     /// Connects a new building at `from` to `Ψ` (3.2.4): the lowest-cost road with re-use of the existing roads,
     /// then a cycle road when one fits. `occupied[k]` is true on the land nodes covered by other buildings.
+    ///
+    /// A building within `frontage` (m) of a road already linked to `Ψ` is served by that road: its lot fronts
+    /// it, and no road is added (otherwise every house along a street would get a dead end of its own).
     pub fn connect(
         &mut self,
         land: &Land,
         params: &RoadParams,
         occupied: &[bool],
         from: DVec2,
+        frontage: f64,
     ) -> Result<Connection> {
         check_land(land)?;
         if land.grid != self.grid || land_mark(land) != self.land_mark {
@@ -304,7 +308,7 @@ impl RoadNetwork {
             Some(s) if s.fits(params, &self.grid) => s,
             _ => Box::new(Search::new(land, params)?),
         };
-        let result = self.connect_with(&mut search, land, params, occupied, b);
+        let result = self.connect_with(&mut search, land, params, occupied, b, frontage);
         self.search = Some(search);
         result
     }
@@ -316,6 +320,7 @@ impl RoadNetwork {
         params: &RoadParams,
         occupied: &[bool],
         b: usize,
+        frontage: f64,
     ) -> Result<Connection> {
         self.exit_costs(search, land);
         let mut sources: Vec<(usize, f64)> = Vec::new();
@@ -333,7 +338,7 @@ impl RoadNetwork {
                 sources.push((r, params.reuse_weight * search.exit[r]));
             }
         }
-        if search.flags[b] & GOAL != 0 {
+        if search.flags[b] & GOAL != 0 || self.fronts(search, b, frontage) {
             // already on the network
             return Ok(Connection {
                 reached: true,
@@ -362,6 +367,23 @@ impl RoadNetwork {
         self.try_cycle(search, &ctx, b, &path, &first_cells, &mut connection);
         self.rebuild_index();
         Ok(connection)
+    }
+
+    /// Whether a road node linked to `Ψ` lies within `frontage` of node `b`.
+    fn fronts(&self, search: &Search, b: usize, frontage: f64) -> bool {
+        if !(frontage > 0.0) {
+            return false;
+        }
+        let grid = self.grid;
+        let (bi, bj) = grid.ij(b);
+        let r = (frontage / grid.cell).floor() as usize;
+        let p = grid.point_of(b);
+        (bj.saturating_sub(r)..=(bj + r).min(grid.ny - 1)).any(|j| {
+            (bi.saturating_sub(r)..=(bi + r).min(grid.nx - 1)).any(|i| {
+                let k = grid.index(i, j);
+                search.flags[k] & GOAL != 0 && grid.point_of(k).distance(p) <= frontage
+            })
+        })
     }
 
     /// Adds the road along `path` (nodes from `B` on), marks the nodes it covers; returns them.
@@ -2156,7 +2178,7 @@ mod tests {
         let mut cycles = 0;
         for _ in 0..25 {
             let b = DVec2::new(rng.random_range(0.0..158.0), rng.random_range(0.0..158.0));
-            cycles += net.connect(&land, &params, &free, b).unwrap().cycle as usize;
+            cycles += net.connect(&land, &params, &free, b, 0.0).unwrap().cycle as usize;
             let mut search = net.search.take().unwrap();
             net.exit_costs(&mut search, &land);
             let kept = search.exit.clone();
