@@ -44,7 +44,8 @@
 //!    chain between junctions (points where three or more parcels or the unclaimed land meet) is simplified once,
 //!    so neighbours keep sharing their boundary exactly. Staircases are first straightened (Douglas–Peucker
 //!    within [`ParcelOptions::straighten`] cells), then "we remove vertices that have little influence on the
-//!    contour shape": a vertex whose edges turn by less than `ε` ([`ParcelOptions::merge_angle_degrees`]) goes.
+//!    contour shape": a vertex whose edges turn by less than `ε` ([`ParcelOptions::merge_angle_degrees`]) goes,
+//!    and so does a vertex of an edge shorter than [`ParcelOptions::short_edge`] cells (a clipped corner).
 //!    Junctions are simplified by edge collapses, as in mesh simplification: a chain of a cell or so between two
 //!    junctions collapses onto one of them, and — "we remove unplausible acute angles that appear at some
 //!    T-vertices" — a junction where a parcel has an angle below [`ParcelOptions::acute_angle_degrees`] moves
@@ -94,6 +95,8 @@ pub struct ParcelOptions {
     pub merge_angle_degrees: f64,
     /// Largest distance (in cells) the removal of vertices may move a boundary away from the cell outline.
     pub merge_deviation: f64,
+    /// An edge shorter than this (in cells) loses one of its vertices, within the same deviation.
+    pub short_edge: f64,
     /// A parcel angle below this (degrees) at a junction of the boundary graph is opened by an edge collapse.
     pub acute_angle_degrees: f64,
     /// Junction sectors (between two consecutive roads) narrower than this (degrees) get a corner conquest.
@@ -106,6 +109,7 @@ impl Default for ParcelOptions {
             straighten: 1.5,
             merge_angle_degrees: 30.0,
             merge_deviation: 3.0,
+            short_edge: 4.0,
             acute_angle_degrees: 30.0,
             corner_angle_degrees: 150.0,
         }
@@ -1895,21 +1899,36 @@ fn simplify_chain(
             .filter(|&(turn, _)| turn < eps)
             .collect();
         candidates.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-        let removable = candidates.into_iter().find(|&(_, q)| {
-            let (p, nx) = (kept[(q + km - 1) % km], kept[(q + 1) % km]);
-            let mut span = vec![pts[p]];
-            let mut r = (p + 1) % cyc;
-            while r != nx {
-                if segment_distance(pts[r], pts[p], pts[nx]) > max_dev {
-                    return false;
-                }
-                span.push(pts[r]);
-                r = (r + 1) % cyc;
+        match candidates
+            .into_iter()
+            .find(|&(_, q)| removable(&kept, q, &pts, cyc, max_dev, rules))
+        {
+            Some((_, q)) => {
+                kept.remove(q);
             }
-            span.push(pts[nx]);
-            rules.replaces(&span)
-        });
-        match removable {
+            None => break,
+        }
+    }
+    // then a vertex of an edge shorter than `short_edge` cells (a clipped corner, a one-cell jog): it has as
+    // little influence on the shape as a flat one
+    let short = options.short_edge * c * scale;
+    loop {
+        let km = kept.len();
+        if (ch.closed && km <= 3) || (!ch.closed && km <= 2) {
+            break;
+        }
+        let interior = |q: usize| ch.closed || (q > 0 && q < km - 1);
+        let mut candidates: Vec<(f64, usize)> = (0..if ch.closed { km } else { km - 1 })
+            .map(|q| (pts[kept[q]].distance(pts[kept[(q + 1) % km]]), q))
+            .filter(|&(len, _)| len < short)
+            .flat_map(|(len, q)| [(len, q), (len, (q + 1) % km)])
+            .filter(|&(_, q)| interior(q))
+            .collect();
+        candidates.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        match candidates
+            .into_iter()
+            .find(|&(_, q)| removable(&kept, q, &pts, cyc, max_dev, rules))
+        {
             Some((_, q)) => {
                 kept.remove(q);
             }
@@ -1917,6 +1936,31 @@ fn simplify_chain(
         }
     }
     kept
+}
+
+/// Whether kept vertex `q` may go: the outline between its neighbours stays within `max_dev` of the new edge,
+/// which [`Rules::replaces`] the outline.
+fn removable(
+    kept: &[usize],
+    q: usize,
+    pts: &[DVec2],
+    cyc: usize,
+    max_dev: f64,
+    rules: &Rules,
+) -> bool {
+    let km = kept.len();
+    let (p, nx) = (kept[(q + km - 1) % km], kept[(q + 1) % km]);
+    let mut span = vec![pts[p]];
+    let mut r = (p + 1) % cyc;
+    while r != nx {
+        if segment_distance(pts[r], pts[p], pts[nx]) > max_dev {
+            return false;
+        }
+        span.push(pts[r]);
+        r = (r + 1) % cyc;
+    }
+    span.push(pts[nx]);
+    rules.replaces(&span)
 }
 
 /// Where each junction vertex has moved to by an edge collapse.
