@@ -1,7 +1,7 @@
 //! Generating processes for demo scenes, tests and benchmarks (all seeded, deterministic): the kinds of
 //! arrangement the paper's examples are made of (Section 6, "Examples"; Figure 1's trees, rocks and grass) —
-//! uniform (Poisson), clustered (Thomas), hard-core (dart throwing) — a multi-category scene on a slope, and a
-//! smooth demo terrain.
+//! uniform (Poisson), clustered (Thomas), hard-core (dart throwing) — a multi-category scene on a slope, a
+//! smooth demo terrain and rougher ones.
 
 use crate::geom::{DVec2, Region};
 use crate::scene::{Category, CategoryKind, Contour, Instance, Path, Scene};
@@ -9,6 +9,7 @@ use crate::spatial::{GridEntry, SpatialGrid};
 use crate::terrain::Heightfield;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
+use rayon::prelude::*;
 use std::f64::consts::TAU;
 
 fn gaussian<R: Rng>(rng: &mut R) -> f64 {
@@ -180,6 +181,47 @@ pub fn village_terrain(size: f64, cell: f64, seed: u64) -> Heightfield {
         .collect();
     Heightfield::new(relief.origin, relief.cell, relief.nx, relief.ny, heights)
         .unwrap_or_else(|_| flat(relief.nx, relief.cell))
+}
+
+/// [`village_terrain`] with fine relief added: seeded waves of wavelengths from `size / 16` down to 3 cells,
+/// each as high as 0.5 % of its wavelength (a fractal spectrum), so a terrain edit has detail to keep.
+pub fn rough_terrain(size: f64, cell: f64, seed: u64) -> Heightfield {
+    let base = village_terrain(size, cell, seed);
+    let size = base.cell * (base.nx - 1) as f64;
+    let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0x5eed_f00d);
+    let (longest, shortest) = (size / 16.0, 3.0 * base.cell);
+    let count = 24;
+    let waves: Vec<(DVec2, f64, f64)> = (0..count)
+        .map(|k| {
+            let t = k as f64 / (count - 1) as f64;
+            let wavelength = longest * (shortest / longest).powf(t);
+            let angle = rng.random::<f64>() * TAU;
+            let phase = rng.random::<f64>() * TAU;
+            (
+                DVec2::new(angle.cos(), angle.sin()) * (TAU / wavelength),
+                phase,
+                0.005 * wavelength,
+            )
+        })
+        .collect();
+    let nx = base.nx;
+    let heights: Vec<f32> = base
+        .heights
+        .par_iter()
+        .enumerate()
+        .map(|(idx, h)| {
+            let p = DVec2::new((idx % nx) as f64, (idx / nx) as f64) * base.cell;
+            let fine: f64 = waves
+                .iter()
+                .map(|(k, ph, a)| a * (k.dot(p) + ph).sin())
+                .sum();
+            (*h as f64 + fine) as f32
+        })
+        .collect();
+    match Heightfield::new(base.origin, base.cell, base.nx, base.ny, heights) {
+        Ok(h) => h,
+        Err(_) => base,
+    }
 }
 
 fn flat(n: usize, cell: f64) -> Heightfield {

@@ -15,6 +15,8 @@
 //! | [`contour`] | islands and lakes: contours to dense points and back, signed distance (§6, thesis 6.2.1) |
 //! | [`polygon_mesh`] | polygons as a filled mesh (constrained Delaunay triangulation) for display |
 //! | [`terrain`] | the terrain and its external maps (§3) |
+//! | [`distance`] | exact Euclidean distance transforms on grids |
+//! | [`terrain_edit`] | terrain that adapts: constraint-based deformation by multigrid diffusion (thesis 4.4.2, 5.3.3) |
 //! | [`scene`] | categories, priority order, instances (§3) |
 //! | [`palette`] | histograms, colors, palettes (§3, §4.1) |
 //! | [`analysis`] | learning a color (§4.1) |
@@ -31,6 +33,7 @@
 pub mod analysis;
 pub mod compare;
 pub mod contour;
+pub mod distance;
 pub mod error;
 pub mod exemplar;
 pub mod geom;
@@ -42,6 +45,7 @@ pub mod scene;
 pub mod spatial;
 pub mod synthesis;
 pub mod terrain;
+pub mod terrain_edit;
 pub mod tools;
 pub mod village;
 

@@ -22,6 +22,7 @@
 
 use super::moving::move_instances;
 use super::{color_of_region, Edit, Working};
+use crate::distance::squared_distance_1d;
 use crate::error::{Error, Result};
 use crate::geom::{DVec2, Region};
 use crate::palette::Color;
@@ -125,39 +126,6 @@ impl Frame {
     }
 }
 
-/// Squared distance transform of one line (Felzenszwalb & Huttenlocher 2012), `f` in squared cells.
-fn distance_transform_1d(f: &[f64], out: &mut [f64]) {
-    let n = f.len();
-    let mut v = vec![0usize; n];
-    let mut z = vec![0.0f64; n + 1];
-    let mut k = 0usize;
-    z[0] = f64::NEG_INFINITY;
-    z[1] = f64::INFINITY;
-    let parabola = |q: usize, p: usize| {
-        ((f[q] + (q * q) as f64) - (f[p] + (p * p) as f64)) / (2.0 * (q - p) as f64)
-    };
-    for q in 1..n {
-        // z[0] = −∞ ends the loop at k = 0
-        let mut s = parabola(q, v[k]);
-        while s <= z[k] {
-            k -= 1;
-            s = parabola(q, v[k]);
-        }
-        k += 1;
-        v[k] = q;
-        z[k] = s;
-        z[k + 1] = f64::INFINITY;
-    }
-    k = 0;
-    for (q, o) in out.iter_mut().enumerate() {
-        while z[k + 1] < q as f64 {
-            k += 1;
-        }
-        let d = q as f64 - v[k] as f64;
-        *o = d * d + f[v[k]];
-    }
-}
-
 /// The repulsion energy `1 / d` of an `nu × nv` raster (row-major along `u`) with instances at `seeds` (cells).
 fn energy_map(nu: usize, nv: usize, cell: f64, seeds: &[(usize, usize)]) -> Vec<f64> {
     let mut d2 = vec![FAR; nu * nv];
@@ -173,14 +141,14 @@ fn energy_map(nu: usize, nv: usize, cell: f64, seeds: &[(usize, usize)]) -> Vec<
         for j in 0..nv {
             col[j] = d2[j * nu + i];
         }
-        distance_transform_1d(&col, &mut col_out);
+        squared_distance_1d(&col, &mut col_out);
         for j in 0..nv {
             d2[j * nu + i] = col_out[j];
         }
     }
     let mut row_out = vec![0.0; nu];
     for j in 0..nv {
-        distance_transform_1d(&d2[j * nu..(j + 1) * nu], &mut row_out);
+        squared_distance_1d(&d2[j * nu..(j + 1) * nu], &mut row_out);
         d2[j * nu..(j + 1) * nu].copy_from_slice(&row_out);
     }
     d2.iter()

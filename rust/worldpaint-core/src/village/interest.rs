@@ -145,76 +145,10 @@ pub fn combine(values: &[f64; 7], placement: &Placement) -> f64 {
         .clamp(0.0, 1.0)
 }
 
-/// Exact Euclidean distance (m) from every node to the nearest node where `mask` is true (Felzenszwalb and
-/// Huttenlocher's separable squared-distance transform); infinite everywhere when the mask is empty.
+/// Exact Euclidean distance (m) from every node to the nearest node where `mask` is true; infinite everywhere
+/// when the mask is empty.
 pub fn distance_transform(grid: &LandGrid, mask: &[bool]) -> Vec<f32> {
-    if !mask.iter().any(|m| *m) {
-        return vec![f32::INFINITY; grid.len()];
-    }
-    let (nx, ny) = (grid.nx, grid.ny);
-    let big = 1e20;
-    let mut d: Vec<f64> = mask.iter().map(|m| if *m { 0.0 } else { big }).collect();
-    d.par_chunks_mut(nx).for_each(|row| {
-        let out = squared_distance_1d(row);
-        row.copy_from_slice(&out);
-    });
-    let columns: Vec<Vec<f64>> = (0..nx)
-        .into_par_iter()
-        .map(|i| squared_distance_1d(&(0..ny).map(|j| d[j * nx + i]).collect::<Vec<f64>>()))
-        .collect();
-    let mut out = vec![0.0f32; nx * ny];
-    for (i, col) in columns.iter().enumerate() {
-        for (j, v) in col.iter().enumerate() {
-            out[j * nx + i] = if *v >= big {
-                f32::INFINITY
-            } else {
-                (v.sqrt() * grid.cell) as f32
-            };
-        }
-    }
-    out
-}
-
-/// One dimension of the squared-distance transform: the lower envelope of parabolas rooted at each sample.
-fn squared_distance_1d(f: &[f64]) -> Vec<f64> {
-    let n = f.len();
-    let mut out = vec![0.0; n];
-    let mut v = vec![0usize; n];
-    let mut z = vec![0.0f64; n + 1];
-    let mut k = 0usize;
-    z[0] = f64::NEG_INFINITY;
-    z[1] = f64::INFINITY;
-    for q in 1..n {
-        loop {
-            let p = v[k];
-            let s =
-                ((f[q] + (q * q) as f64) - (f[p] + (p * p) as f64)) / (2.0 * (q as f64 - p as f64));
-            if s <= z[k] && k > 0 {
-                k -= 1;
-                continue;
-            }
-            if s <= z[k] {
-                // k == 0: the new parabola takes over from the start
-                v[0] = q;
-                z[1] = f64::INFINITY;
-                break;
-            }
-            k += 1;
-            v[k] = q;
-            z[k] = s;
-            z[k + 1] = f64::INFINITY;
-            break;
-        }
-    }
-    k = 0;
-    for (q, o) in out.iter_mut().enumerate() {
-        while z[k + 1] < q as f64 {
-            k += 1;
-        }
-        let p = v[k];
-        *o = (q as f64 - p as f64).powi(2) + f[p];
-    }
-    out
+    crate::distance::distance_transform(grid.nx, grid.ny, grid.cell, mask)
 }
 
 /// The criteria that do not change while the village grows, computed once per village.

@@ -1,0 +1,294 @@
+//! Diffusion of constraints into a displacement map (thesis 4.4.2, 5.3.3): constrained cells keep their
+//! displacement, cells farther than the falloff radius from every constrained cell keep 0, and every other cell
+//! becomes the mean of its 4 neighbours (the discrete Laplace equation), solved by multigrid.
+
+use super::multigrid;
+use crate::distance::distance_transform;
+use crate::error::{Error, Result};
+use crate::terrain::Heightfield;
+
+/// Fixed displacements on the cells of a grid (the grid of a heightfield: cell `(i, j)` at
+/// `origin + (i, j)·cell`, row-major).
+#[derive(Clone, Debug)]
+pub struct Constraints {
+    pub nx: usize,
+    pub ny: usize,
+    pub cell: f64,
+    /// NaN on free cells.
+    values: Vec<f64>,
+}
+
+impl Constraints {
+    /// No constraint on an `nx × ny` grid of `cell` metres.
+    pub fn new(nx: usize, ny: usize, cell: f64) -> Result<Constraints> {
+        if nx == 0 || ny == 0 {
+            return Err(Error::InvalidInput(format!(
+                "a constraint grid of {nx}x{ny} cells is empty"
+            )));
+        }
+        if !(cell.is_finite() && cell > 0.0) {
+            return Err(Error::InvalidInput(format!(
+                "constraint grid cell {cell} must be positive"
+            )));
+        }
+        Ok(Constraints {
+            nx,
+            ny,
+            cell,
+            values: vec![f64::NAN; nx.saturating_mul(ny)],
+        })
+    }
+
+    /// No constraint on the grid of `terrain`.
+    pub fn for_terrain(terrain: &Heightfield) -> Constraints {
+        Constraints {
+            nx: terrain.nx,
+            ny: terrain.ny,
+            cell: terrain.cell,
+            values: vec![f64::NAN; terrain.nx * terrain.ny],
+        }
+    }
+
+    fn index(&self, i: usize, j: usize) -> Result<usize> {
+        if i >= self.nx || j >= self.ny {
+            return Err(Error::InvalidInput(format!(
+                "cell ({i}, {j}) lies outside the {}x{} grid",
+                self.nx, self.ny
+            )));
+        }
+        Ok(j * self.nx + i)
+    }
+
+    /// Fixes cell `(i, j)` at `value`, replacing any earlier value.
+    pub fn set(&mut self, i: usize, j: usize, value: f64) -> Result<()> {
+        let k = self.index(i, j)?;
+        if !value.is_finite() {
+            return Err(Error::InvalidInput(format!(
+                "constraint {value} at cell ({i}, {j}) is not finite"
+            )));
+        }
+        self.values[k] = value;
+        Ok(())
+    }
+
+    /// Fixes cell `(i, j)` at `value` unless it is already fixed; whether it was set.
+    pub fn set_if_free(&mut self, i: usize, j: usize, value: f64) -> Result<bool> {
+        let k = self.index(i, j)?;
+        if !self.values[k].is_nan() {
+            return Ok(false);
+        }
+        self.set(i, j, value)?;
+        Ok(true)
+    }
+
+    /// The fixed value of cell `(i, j)`, if any (`None` also outside the grid).
+    pub fn get(&self, i: usize, j: usize) -> Option<f64> {
+        let k = self.index(i, j).ok()?;
+        let v = self.values[k];
+        (!v.is_nan()).then_some(v)
+    }
+
+    /// Frees cell `(i, j)`.
+    pub fn clear(&mut self, i: usize, j: usize) -> Result<()> {
+        let k = self.index(i, j)?;
+        self.values[k] = f64::NAN;
+        Ok(())
+    }
+
+    /// Number of fixed cells.
+    pub fn count(&self) -> usize {
+        self.values.iter().filter(|v| !v.is_nan()).count()
+    }
+
+    /// Whether each cell is fixed, row-major.
+    pub fn mask(&self) -> Vec<bool> {
+        self.values.iter().map(|v| !v.is_nan()).collect()
+    }
+}
+
+/// How to diffuse.
+#[derive(Clone, Debug)]
+pub struct DiffusionOptions {
+    /// Cells farther than this (m) from every constrained cell keep a displacement of 0; `None`: no limit (the
+    /// displacement then spreads over the whole grid, with no flux across its border).
+    pub falloff: Option<f64>,
+    /// Stop when no free cell differs from the mean of its neighbours by more than this fraction of the largest
+    /// constraint magnitude.
+    pub tolerance: f64,
+    /// Most V-cycles (multigrid) — or iterations for [`jacobi`].
+    pub max_cycles: usize,
+}
+
+impl Default for DiffusionOptions {
+    fn default() -> Self {
+        DiffusionOptions {
+            falloff: None,
+            tolerance: 1e-7,
+            max_cycles: 100,
+        }
+    }
+}
+
+/// A displacement map and what the solver did.
+#[derive(Clone, Debug)]
+pub struct Diffusion {
+    pub nx: usize,
+    pub ny: usize,
+    /// Row-major displacement `D` (m).
+    pub displacement: Vec<f64>,
+    /// V-cycles (or Jacobi iterations) run after the first guess.
+    pub cycles: usize,
+    /// Largest `|mean of neighbours − value|` over the free cells at the end (m).
+    pub residual: f64,
+    /// The absolute tolerance the residual was held to (m).
+    pub tolerance: f64,
+    /// Whether the residual reached the tolerance.
+    pub converged: bool,
+    /// Cells solved for (the box around the free cells), fixed ones included.
+    pub solved_cells: usize,
+}
+
+impl Diffusion {
+    /// `H + D` on the terrain whose grid the constraints were written on.
+    pub fn apply(&self, terrain: &Heightfield) -> Result<Heightfield> {
+        if terrain.nx != self.nx || terrain.ny != self.ny {
+            return Err(Error::InvalidInput(format!(
+                "a {}x{} displacement does not fit a {}x{} terrain",
+                self.nx, self.ny, terrain.nx, terrain.ny
+            )));
+        }
+        let heights = terrain
+            .heights
+            .iter()
+            .zip(&self.displacement)
+            .map(|(h, d)| (*h as f64 + d) as f32)
+            .collect();
+        let mut out = Heightfield::new(
+            terrain.origin,
+            terrain.cell,
+            terrain.nx,
+            terrain.ny,
+            heights,
+        )?;
+        // other maps (water, land use, ...) describe the same ground; only height and slope change
+        for (name, map) in &terrain.maps {
+            out.maps.entry(name.clone()).or_insert_with(|| map.clone());
+        }
+        Ok(out)
+    }
+}
+
+/// The solver to run.
+#[derive(Clone, Copy)]
+enum Method {
+    Multigrid,
+    Jacobi,
+}
+
+/// Diffuses the constraints into a displacement map by multigrid.
+pub fn diffuse(constraints: &Constraints, options: &DiffusionOptions) -> Result<Diffusion> {
+    run(constraints, options, Method::Multigrid)
+}
+
+/// The same diffusion by plain Jacobi iteration (each free cell the mean of its neighbours' previous values), to
+/// the same residual or `options.max_cycles` iterations: the baseline multigrid is measured against.
+pub fn jacobi(constraints: &Constraints, options: &DiffusionOptions) -> Result<Diffusion> {
+    run(constraints, options, Method::Jacobi)
+}
+
+fn run(c: &Constraints, options: &DiffusionOptions, method: Method) -> Result<Diffusion> {
+    if !(options.tolerance.is_finite() && options.tolerance > 0.0) {
+        return Err(Error::InvalidInput(format!(
+            "diffusion tolerance {} must be positive",
+            options.tolerance
+        )));
+    }
+    if let Some(r) = options.falloff {
+        if !(r >= 0.0) {
+            return Err(Error::InvalidInput(format!(
+                "falloff radius {r} must be zero or positive"
+            )));
+        }
+    }
+    let (nx, ny) = (c.nx, c.ny);
+    let scale = c
+        .values
+        .iter()
+        .filter(|v| !v.is_nan())
+        .fold(0.0f64, |m, v| m.max(v.abs()));
+    let tolerance = options.tolerance * scale;
+    let nothing = |solved_cells| Diffusion {
+        nx,
+        ny,
+        displacement: vec![0.0; nx * ny],
+        cycles: 0,
+        residual: 0.0,
+        tolerance,
+        converged: true,
+        solved_cells,
+    };
+    if scale == 0.0 {
+        // no constraint, or all of them 0: nothing moves
+        return Ok(nothing(0));
+    }
+    let mut fixed = c.values.clone();
+    if let Some(radius) = options.falloff {
+        let distance = distance_transform(nx, ny, c.cell, &c.mask());
+        for (v, d) in fixed.iter_mut().zip(&distance) {
+            if v.is_nan() && (*d as f64) > radius {
+                *v = 0.0;
+            }
+        }
+    }
+    // only the box around the free cells is solved for, with one ring of fixed cells (or the grid's border)
+    // around it, so cutting it out changes nothing
+    let (mut i0, mut j0, mut i1, mut j1) = (nx, ny, 0, 0);
+    for (k, v) in fixed.iter().enumerate() {
+        if v.is_nan() {
+            let (i, j) = (k % nx, k / nx);
+            i0 = i0.min(i);
+            j0 = j0.min(j);
+            i1 = i1.max(i);
+            j1 = j1.max(j);
+        }
+    }
+    if i0 > i1 {
+        // every cell is fixed
+        return Ok(Diffusion {
+            displacement: fixed,
+            ..nothing(0)
+        });
+    }
+    let (i0, j0, i1, j1) = (
+        i0.saturating_sub(1),
+        j0.saturating_sub(1),
+        (i1 + 1).min(nx - 1),
+        (j1 + 1).min(ny - 1),
+    );
+    let (bx, by) = (i1 - i0 + 1, j1 - j0 + 1);
+    let boxed: Vec<f64> = (j0..=j1)
+        .flat_map(|j| fixed[j * nx + i0..=j * nx + i1].iter().copied())
+        .collect();
+    let solved = match method {
+        Method::Multigrid => multigrid::solve(bx, by, &boxed, tolerance, options.max_cycles),
+        Method::Jacobi => multigrid::jacobi(bx, by, &boxed, tolerance, options.max_cycles),
+    };
+    let mut displacement: Vec<f64> = fixed
+        .iter()
+        .map(|v| if v.is_nan() { 0.0 } else { *v })
+        .collect();
+    for (bj, row) in solved.u.chunks(bx).enumerate() {
+        let j = j0 + bj;
+        displacement[j * nx + i0..=j * nx + i1].copy_from_slice(row);
+    }
+    Ok(Diffusion {
+        nx,
+        ny,
+        displacement,
+        cycles: solved.cycles,
+        residual: solved.residual,
+        tolerance,
+        converged: solved.residual <= tolerance,
+        solved_cells: bx * by,
+    })
+}

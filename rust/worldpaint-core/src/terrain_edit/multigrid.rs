@@ -1,0 +1,643 @@
+//! The Laplace solver behind the diffusion: every free cell equals the mean of its 4-neighbours inside the grid
+//! (zero flux across the grid's border), fixed cells keep their value.
+//!
+//! Multigrid in correction form: red-black Gauss-Seidel smoothing, the residual restricted by full weighting
+//! (the transpose of bilinear prolongation), the error equation solved on the coarser grid with the error held at
+//! 0 on coarse cells whose footprint holds a fixed fine cell, the correction prolonged bilinearly. Any grid size
+//! coarsens as `n → n / 2 + 1` (coarse node `I` on fine node `2I`). The first guess comes from nested iteration
+//! (the same problem solved on the coarser grids and prolonged), and V-cycles run until the residual falls below
+//! the tolerance.
+//!
+//! Each level stores its two colours apart (cell `(i, j)` of colour `(i + j) % 2` at `[colour][j·h + i/2]`), so a
+//! colour's half-sweep writes one array while reading only the other: rows update in parallel, safely, and the
+//! result does not depend on the number of threads.
+
+use rayon::prelude::*;
+
+/// Pre- and post-smoothing sweeps per V-cycle.
+const SWEEPS: usize = 2;
+/// A level this small (in either direction) is the coarsest.
+const COARSEST: usize = 4;
+
+/// The problem on one grid in red-black layout.
+struct Level {
+    nx: usize,
+    ny: usize,
+    /// Row stride of each colour array: (nx + 1) / 2.
+    h: usize,
+    free: [Vec<bool>; 2],
+    /// The unknown: the displacement on the finest level, the correction on coarser ones.
+    u: [Vec<f64>; 2],
+    /// Right-hand side (0 on the finest level).
+    f: [Vec<f64>; 2],
+    /// Residual scratch.
+    r: [Vec<f64>; 2],
+}
+
+impl Level {
+    fn new(nx: usize, ny: usize) -> Level {
+        let h = nx.div_ceil(2);
+        let zeros = || [vec![0.0; h * ny], vec![0.0; h * ny]];
+        Level {
+            nx,
+            ny,
+            h,
+            free: [vec![false; h * ny], vec![false; h * ny]],
+            u: zeros(),
+            f: zeros(),
+            r: zeros(),
+        }
+    }
+
+    #[inline]
+    fn slot(&self, i: usize, j: usize) -> (usize, usize) {
+        ((i + j) & 1, j * self.h + i / 2)
+    }
+
+    fn get(v: &[Vec<f64>; 2], h: usize, i: usize, j: usize) -> f64 {
+        v[(i + j) & 1][j * h + i / 2]
+    }
+}
+
+/// Cells of colour `c` in row `j` of a grid `nx` wide, and the column of the first one.
+#[inline]
+fn row_cells(nx: usize, j: usize, c: usize) -> (usize, usize) {
+    let off = (j + c) & 1;
+    ((nx + 1 - off) / 2, off)
+}
+
+/// One half-sweep of Gauss-Seidel over the cells of colour `c`: each free cell becomes the mean of its
+/// neighbours (plus the right-hand side over the neighbour count).
+fn relax_colour(l: &mut Level, c: usize) {
+    let (nx, ny, h) = (l.nx, l.ny, l.h);
+    let [u0, u1] = &mut l.u;
+    let (mine, other): (&mut Vec<f64>, &Vec<f64>) = if c == 0 { (u0, u1) } else { (u1, u0) };
+    let other = other.as_slice();
+    mine.par_chunks_mut(h)
+        .zip(l.free[c].par_chunks(h))
+        .zip(l.f[c].par_chunks(h))
+        .enumerate()
+        .for_each(|(j, ((row, free), f))| {
+            let (n, off) = row_cells(nx, j, c);
+            let same = &other[j * h..(j + 1) * h];
+            let up = (j > 0).then(|| &other[(j - 1) * h..j * h]);
+            let down = (j + 1 < ny).then(|| &other[(j + 1) * h..(j + 2) * h]);
+            for k in 0..n {
+                if !free[k] {
+                    continue;
+                }
+                let (s, d) = neighbour_sum(same, up, down, nx, k, off);
+                row[k] = (s + f[k]) / d;
+            }
+        });
+}
+
+/// Sum and count of the in-grid neighbours of cell `k` (column `2k + off`) of a row, read from the other colour.
+#[inline]
+fn neighbour_sum(
+    same: &[f64],
+    up: Option<&[f64]>,
+    down: Option<&[f64]>,
+    nx: usize,
+    k: usize,
+    off: usize,
+) -> (f64, f64) {
+    let i = 2 * k + off;
+    let (mut s, mut d) = (0.0, 0.0);
+    if i > 0 {
+        s += same[k + off - 1];
+        d += 1.0;
+    }
+    if i + 1 < nx {
+        s += same[k + off];
+        d += 1.0;
+    }
+    if let Some(up) = up {
+        s += up[k];
+        d += 1.0;
+    }
+    if let Some(down) = down {
+        s += down[k];
+        d += 1.0;
+    }
+    (s, d)
+}
+
+/// Red then black half-sweeps.
+fn relax(l: &mut Level, sweeps: usize) {
+    for _ in 0..sweeps {
+        relax_colour(l, 0);
+        relax_colour(l, 1);
+    }
+}
+
+/// Black then red: the adjoint of [`relax`], so the V-cycle is symmetric (a preconditioner for conjugate
+/// gradients).
+fn relax_back(l: &mut Level, sweeps: usize) {
+    for _ in 0..sweeps {
+        relax_colour(l, 1);
+        relax_colour(l, 0);
+    }
+}
+
+/// Fills `r` with the residual `f + Σ neighbours − deg·u` (0 on fixed cells) and returns the largest
+/// `|residual| / deg`: how far a free cell is from the mean of its neighbours.
+fn residual(l: &mut Level) -> f64 {
+    let Level {
+        nx,
+        ny,
+        h,
+        free,
+        u,
+        f,
+        r,
+    } = l;
+    stencil(*nx, *ny, *h, free, u, Some(f), r)
+}
+
+/// `out = f + Σ neighbours of x − deg·x` on free cells (0 elsewhere); returns the largest `|out| / deg`.
+fn stencil(
+    nx: usize,
+    ny: usize,
+    h: usize,
+    free: &[Vec<bool>; 2],
+    x: &[Vec<f64>; 2],
+    f: Option<&[Vec<f64>; 2]>,
+    out: &mut [Vec<f64>; 2],
+) -> f64 {
+    let mut worst = 0.0f64;
+    for c in 0..2 {
+        let other = x[1 - c].as_slice();
+        let mine = x[c].as_slice();
+        let fc = f.map(|f| f[c].as_slice());
+        let w = out[c]
+            .par_chunks_mut(h)
+            .zip(free[c].par_chunks(h))
+            .enumerate()
+            .map(|(j, (orow, free))| {
+                let (n, off) = row_cells(nx, j, c);
+                let same = &other[j * h..(j + 1) * h];
+                let up = (j > 0).then(|| &other[(j - 1) * h..j * h]);
+                let down = (j + 1 < ny).then(|| &other[(j + 1) * h..(j + 2) * h]);
+                let xr = &mine[j * h..(j + 1) * h];
+                let fr = fc.map(|f| &f[j * h..(j + 1) * h]);
+                let mut worst = 0.0f64;
+                for k in 0..n {
+                    if !free[k] {
+                        orow[k] = 0.0;
+                        continue;
+                    }
+                    let (s, d) = neighbour_sum(same, up, down, nx, k, off);
+                    let v = fr.map_or(0.0, |f| f[k]) + s - d * xr[k];
+                    orow[k] = v;
+                    worst = worst.max(v.abs() / d);
+                }
+                worst
+            })
+            .reduce(|| 0.0, f64::max);
+        worst = worst.max(w);
+    }
+    worst
+}
+
+/// `Σ a·b` over both colours, summed row by row in a fixed order (the same whatever the thread count).
+fn dot(h: usize, a: &[Vec<f64>; 2], b: &[Vec<f64>; 2]) -> f64 {
+    let mut total = 0.0;
+    for c in 0..2 {
+        let rows: Vec<f64> = a[c]
+            .par_chunks(h)
+            .zip(b[c].par_chunks(h))
+            .map(|(x, y)| x.iter().zip(y).map(|(x, y)| x * y).sum::<f64>())
+            .collect();
+        total += rows.iter().sum::<f64>();
+    }
+    total
+}
+
+/// `y += alpha·x` over both colours.
+fn axpy(alpha: f64, x: &[Vec<f64>; 2], y: &mut [Vec<f64>; 2]) {
+    for c in 0..2 {
+        y[c].par_iter_mut()
+            .zip(x[c].par_iter())
+            .for_each(|(y, x)| *y += alpha * x);
+    }
+}
+
+/// The 1-D weights of full weighting around coarse node `2I`: offsets −1, 0, 1.
+const WEIGHTS: [(isize, f64); 3] = [(-1, 0.5), (0, 1.0), (1, 0.5)];
+
+/// Restricts the residual of `fine` into the right-hand side of `coarse` (weights summing to 4, the transpose of
+/// bilinear prolongation, which also carries the h² scaling of the unscaled operator) and zeroes `coarse.u`.
+fn restrict(fine: &Level, coarse: &mut Level) {
+    let (fnx, fny, fh) = (fine.nx as isize, fine.ny as isize, fine.h);
+    let (cnx, ch) = (coarse.nx, coarse.h);
+    for c in 0..2 {
+        coarse.f[c]
+            .par_chunks_mut(ch)
+            .zip(coarse.u[c].par_chunks_mut(ch))
+            .zip(coarse.free[c].par_chunks(ch))
+            .enumerate()
+            .for_each(|(jc, ((frow, urow), free))| {
+                let (n, off) = row_cells(cnx, jc, c);
+                for k in 0..n {
+                    urow[k] = 0.0;
+                    if !free[k] {
+                        frow[k] = 0.0;
+                        continue;
+                    }
+                    let (fi, fj) = (2 * (2 * k + off) as isize, 2 * jc as isize);
+                    let mut s = 0.0;
+                    for (dj, wj) in WEIGHTS {
+                        let j = fj + dj;
+                        if j < 0 || j >= fny {
+                            continue;
+                        }
+                        for (di, wi) in WEIGHTS {
+                            let i = fi + di;
+                            if i < 0 || i >= fnx {
+                                continue;
+                            }
+                            s += wi * wj * Level::get(&fine.r, fh, i as usize, j as usize);
+                        }
+                    }
+                    frow[k] = s;
+                }
+            });
+    }
+}
+
+/// Adds the bilinear prolongation of `coarse.u` to the free cells of `fine.u`.
+fn prolong_add(coarse: &Level, fine: &mut Level) {
+    let (fnx, fh) = (fine.nx, fine.h);
+    let ch = coarse.h;
+    for c in 0..2 {
+        fine.u[c]
+            .par_chunks_mut(fh)
+            .zip(fine.free[c].par_chunks(fh))
+            .enumerate()
+            .for_each(|(j, (urow, free))| {
+                let (n, off) = row_cells(fnx, j, c);
+                let js: &[(usize, f64)] = if j % 2 == 0 {
+                    &[(j / 2, 1.0)][..]
+                } else {
+                    &[(j / 2, 0.5), (j / 2 + 1, 0.5)][..]
+                };
+                for k in 0..n {
+                    if !free[k] {
+                        continue;
+                    }
+                    let i = 2 * k + off;
+                    let mut e = 0.0;
+                    for &(jc, wj) in js {
+                        if i % 2 == 0 {
+                            e += wj * Level::get(&coarse.u, ch, i / 2, jc);
+                        } else {
+                            e += wj
+                                * 0.5
+                                * (Level::get(&coarse.u, ch, i / 2, jc)
+                                    + Level::get(&coarse.u, ch, i / 2 + 1, jc));
+                        }
+                    }
+                    urow[k] += e;
+                }
+            });
+    }
+}
+
+/// Replaces the free cells of `fine.u` with the bilinear prolongation of `coarse.u` (nested iteration's guess).
+fn prolong_replace(coarse: &Level, fine: &mut Level) {
+    for c in 0..2 {
+        for (u, free) in fine.u[c].iter_mut().zip(&fine.free[c]) {
+            if *free {
+                *u = 0.0;
+            }
+        }
+    }
+    prolong_add(coarse, fine);
+}
+
+fn vcycle(levels: &mut [Level]) {
+    let Some((fine, rest)) = levels.split_first_mut() else {
+        return;
+    };
+    if rest.is_empty() {
+        solve_coarsest(fine);
+        return;
+    }
+    relax(fine, SWEEPS);
+    residual(fine);
+    restrict(fine, &mut rest[0]);
+    vcycle(rest);
+    prolong_add(&rest[0], fine);
+    relax_back(fine, SWEEPS);
+}
+
+/// Gauss-Seidel until the coarsest grid's residual stops mattering (it has at most a few hundred cells unless the
+/// grid is very elongated, where the sweep count is capped and the V-cycles finish the work).
+fn solve_coarsest(l: &mut Level) {
+    let sweeps = (2 * (l.nx + l.ny)).clamp(10, 1000);
+    relax(l, sweeps);
+    relax_back(l, sweeps);
+}
+
+/// What a solve did.
+pub(crate) struct Solved {
+    pub u: Vec<f64>,
+    pub cycles: usize,
+    pub residual: f64,
+}
+
+/// The grid sizes of the hierarchy, finest first.
+fn sizes(nx: usize, ny: usize) -> Vec<(usize, usize)> {
+    let mut out = vec![(nx, ny)];
+    let (mut x, mut y) = (nx, ny);
+    while x > COARSEST && y > COARSEST {
+        x = x / 2 + 1;
+        y = y / 2 + 1;
+        out.push((x, y));
+    }
+    out
+}
+
+/// The fixed values of one level in row-major layout: NaN marks a free cell.
+fn level_from(nx: usize, ny: usize, fixed: &[f64]) -> Level {
+    let mut l = Level::new(nx, ny);
+    for j in 0..ny {
+        for i in 0..nx {
+            let (c, k) = l.slot(i, j);
+            let v = fixed[j * nx + i];
+            l.free[c][k] = v.is_nan();
+            l.u[c][k] = if v.is_nan() { 0.0 } else { v };
+        }
+    }
+    l
+}
+
+/// The coarse version of a fixed-value grid: a coarse node is fixed when any fine node of its full-weighting
+/// footprint is, at the mean of those fixed values (so thin constraint curves survive coarsening).
+fn coarsen_fixed(nx: usize, ny: usize, fixed: &[f64], cnx: usize, cny: usize) -> Vec<f64> {
+    (0..cnx * cny)
+        .into_par_iter()
+        .map(|k| {
+            let (ci, cj) = ((k % cnx) as isize, (k / cnx) as isize);
+            let (mut s, mut n) = (0.0, 0usize);
+            for dj in -1..=1 {
+                for di in -1..=1 {
+                    let (i, j) = (2 * ci + di, 2 * cj + dj);
+                    if i < 0 || j < 0 || i >= nx as isize || j >= ny as isize {
+                        continue;
+                    }
+                    let v = fixed[j as usize * nx + i as usize];
+                    if !v.is_nan() {
+                        s += v;
+                        n += 1;
+                    }
+                }
+            }
+            if n > 0 {
+                s / n as f64
+            } else {
+                f64::NAN
+            }
+        })
+        .collect()
+}
+
+/// Solves the Laplace equation on an `nx × ny` grid whose row-major `fixed` holds the fixed values (NaN on free
+/// cells), until the largest `|mean of neighbours − value|` over free cells is at most `tolerance` or
+/// `max_cycles` V-cycles have run.
+pub(crate) fn solve(
+    nx: usize,
+    ny: usize,
+    fixed: &[f64],
+    tolerance: f64,
+    max_cycles: usize,
+) -> Solved {
+    let dims = sizes(nx, ny);
+    // the fixed values of every level, for the nested-iteration guess
+    let mut fixed_levels: Vec<Vec<f64>> = vec![fixed.to_vec()];
+    for w in dims.windows(2) {
+        let (a, b) = (w[0], w[1]);
+        let Some(prev) = fixed_levels.last() else {
+            break;
+        };
+        let next = coarsen_fixed(a.0, a.1, prev, b.0, b.1);
+        fixed_levels.push(next);
+    }
+    let mut levels: Vec<Level> = dims
+        .iter()
+        .zip(&fixed_levels)
+        .map(|(&(x, y), f)| level_from(x, y, f))
+        .collect();
+    // nested iteration: solve each level's own problem (one V-cycle below it), prolong as the next level's guess
+    let last = levels.len() - 1;
+    solve_coarsest(&mut levels[last]);
+    for l in (0..last).rev() {
+        let (fine, coarse) = levels.split_at_mut(l + 1);
+        prolong_replace(&coarse[0], &mut fine[l]);
+        if l > 0 {
+            vcycle(&mut levels[l..]);
+            // the coarse level's u now holds its solution; the levels below are scratch again
+        }
+    }
+    // conjugate gradients on the error equation, preconditioned by one symmetric V-cycle: the V-cycle alone
+    // slows down where coarse grids blur thin constraint curves, and the Krylov iteration takes those few modes
+    let l0 = &mut levels[0];
+    let (h, n) = (l0.h, l0.h * l0.ny);
+    let mut x = l0.u.clone();
+    let mut r = [vec![0.0; n], vec![0.0; n]];
+    let mut res = stencil(nx, ny, h, &l0.free, &x, None, &mut r);
+    let mut cycles = 0;
+    if res > tolerance {
+        let mut z = precondition(&mut levels, &r);
+        let mut p = z.clone();
+        let mut rz = dot(h, &r, &z);
+        let mut q = [vec![0.0; n], vec![0.0; n]];
+        while res > tolerance && cycles < max_cycles {
+            // q = −A p
+            stencil(nx, ny, h, &levels[0].free, &p, None, &mut q);
+            let pq = -dot(h, &p, &q);
+            if !(pq > 0.0) {
+                break;
+            }
+            let alpha = rz / pq;
+            axpy(alpha, &p, &mut x);
+            axpy(alpha, &q, &mut r);
+            cycles += 1;
+            res = stencil(nx, ny, h, &levels[0].free, &x, None, &mut q);
+            if res <= tolerance {
+                break;
+            }
+            z = precondition(&mut levels, &r);
+            let rz_next = dot(h, &r, &z);
+            let beta = rz_next / rz;
+            rz = rz_next;
+            for c in 0..2 {
+                p[c].par_iter_mut()
+                    .zip(z[c].par_iter())
+                    .for_each(|(p, z)| *p = z + beta * *p);
+            }
+        }
+    }
+    levels[0].u = x;
+    let l0 = &levels[0];
+    let mut u = vec![0.0; nx * ny];
+    u.par_chunks_mut(nx).enumerate().for_each(|(j, row)| {
+        for (i, v) in row.iter_mut().enumerate() {
+            *v = Level::get(&l0.u, l0.h, i, j);
+        }
+    });
+    Solved {
+        u,
+        cycles,
+        residual: res,
+    }
+}
+
+/// One V-cycle on `A e = r` from `e = 0`: the preconditioner's answer.
+fn precondition(levels: &mut [Level], r: &[Vec<f64>; 2]) -> [Vec<f64>; 2] {
+    let l0 = &mut levels[0];
+    for ((f, u), r) in l0.f.iter_mut().zip(l0.u.iter_mut()).zip(r) {
+        f.copy_from_slice(r);
+        u.iter_mut().for_each(|u| *u = 0.0);
+    }
+    vcycle(levels);
+    levels[0].u.clone()
+}
+
+/// Plain Jacobi iteration on the same equation (the baseline multigrid is measured against): every free cell
+/// becomes the mean of its neighbours' previous values, until the largest change — which equals the residual
+/// `|mean of neighbours − value|` — is at most `tolerance` or `max_iterations` have run. Starts from 0 on the free
+/// cells.
+pub(crate) fn jacobi(
+    nx: usize,
+    ny: usize,
+    fixed: &[f64],
+    tolerance: f64,
+    max_iterations: usize,
+) -> Solved {
+    let free: Vec<bool> = fixed.iter().map(|v| v.is_nan()).collect();
+    let mut u: Vec<f64> = fixed
+        .iter()
+        .map(|v| if v.is_nan() { 0.0 } else { *v })
+        .collect();
+    let mut next = u.clone();
+    let mut iterations = 0;
+    let mut res = f64::INFINITY;
+    while iterations < max_iterations {
+        let prev = u.as_slice();
+        res = next
+            .par_chunks_mut(nx)
+            .zip(free.par_chunks(nx))
+            .enumerate()
+            .map(|(j, (row, free))| {
+                let mut worst = 0.0f64;
+                for i in 0..nx {
+                    if !free[i] {
+                        continue;
+                    }
+                    let (mut s, mut d) = (0.0, 0.0);
+                    if i > 0 {
+                        s += prev[j * nx + i - 1];
+                        d += 1.0;
+                    }
+                    if i + 1 < nx {
+                        s += prev[j * nx + i + 1];
+                        d += 1.0;
+                    }
+                    if j > 0 {
+                        s += prev[(j - 1) * nx + i];
+                        d += 1.0;
+                    }
+                    if j + 1 < ny {
+                        s += prev[(j + 1) * nx + i];
+                        d += 1.0;
+                    }
+                    let v = s / d;
+                    worst = worst.max((v - prev[j * nx + i]).abs());
+                    row[i] = v;
+                }
+                worst
+            })
+            .reduce(|| 0.0, f64::max);
+        std::mem::swap(&mut u, &mut next);
+        iterations += 1;
+        if res <= tolerance {
+            break;
+        }
+    }
+    Solved {
+        u,
+        cycles: iterations,
+        residual: res,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Max residual of a row-major solution, recomputed independently of the solver.
+    fn check(nx: usize, ny: usize, fixed: &[f64], u: &[f64]) -> f64 {
+        let mut worst = 0.0f64;
+        for j in 0..ny {
+            for i in 0..nx {
+                let k = j * nx + i;
+                if !fixed[k].is_nan() {
+                    assert_eq!(u[k], fixed[k]);
+                    continue;
+                }
+                let mut n = Vec::new();
+                if i > 0 {
+                    n.push(u[k - 1]);
+                }
+                if i + 1 < nx {
+                    n.push(u[k + 1]);
+                }
+                if j > 0 {
+                    n.push(u[k - nx]);
+                }
+                if j + 1 < ny {
+                    n.push(u[k + nx]);
+                }
+                let mean = n.iter().sum::<f64>() / n.len() as f64;
+                worst = worst.max((mean - u[k]).abs());
+            }
+        }
+        worst
+    }
+
+    #[test]
+    fn multigrid_and_jacobi_agree_on_odd_and_even_grids() {
+        for (nx, ny) in [(33, 33), (40, 27), (5, 61), (2, 2), (100, 3)] {
+            let mut fixed = vec![f64::NAN; nx * ny];
+            fixed[(ny / 2) * nx + nx / 3] = 2.0;
+            fixed[nx - 1] = -1.0;
+            let mg = solve(nx, ny, &fixed, 1e-10, 200);
+            assert!(mg.residual <= 1e-10, "{nx}x{ny}: residual {}", mg.residual);
+            assert!(check(nx, ny, &fixed, &mg.u) <= 1e-9);
+            let jac = jacobi(nx, ny, &fixed, 1e-12, 2_000_000);
+            let diff =
+                mg.u.iter()
+                    .zip(&jac.u)
+                    .map(|(a, b)| (a - b).abs())
+                    .fold(0.0, f64::max);
+            assert!(
+                diff < 1e-6,
+                "{nx}x{ny}: multigrid and Jacobi differ by {diff}"
+            );
+        }
+    }
+
+    #[test]
+    fn multigrid_converges_in_few_cycles() {
+        let n = 257;
+        let mut fixed = vec![f64::NAN; n * n];
+        for i in 20..230 {
+            fixed[(i / 2 + 40) * n + i] = (i as f64 * 0.05).sin() * 5.0;
+        }
+        let mg = solve(n, n, &fixed, 1e-8, 100);
+        assert!(mg.cycles <= 20, "{} cycles", mg.cycles);
+        assert!(check(n, n, &fixed, &mg.u) <= 1e-8);
+    }
+}
