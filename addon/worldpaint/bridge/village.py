@@ -171,11 +171,11 @@ def scenario_json(events):
 
 # --- curves, region and surroundings ------------------------------------------------------------------------------
 
-def spline_polyline(obj, spline):
-    """World XY (N, 2) along a spline: a Bezier spline sampled at its resolution, else its control points; a closed
+def spline_path(obj, spline):
+    """World XYZ (N, 3) along a spline: a Bezier spline sampled at its resolution, else its control points; a closed
     spline's first point is not repeated."""
     if spline.type != 'BEZIER':
-        return curves.spline_points(obj, spline)[:, :2]
+        return curves.spline_points(obj, spline)
     knots = list(spline.bezier_points)
     resolution = max(spline.resolution_u, 1) + 1
     pairs = list(zip(knots[:-1], knots[1:], strict=True))
@@ -187,7 +187,12 @@ def spline_polyline(obj, spline):
     if not spline.use_cyclic_u or len(knots) == 1:
         co.append(knots[-1].co)
     matrix = obj.matrix_world
-    return np.array([(matrix @ Vector(p))[:2] for p in co], dtype=np.float64)
+    return np.array([tuple(matrix @ Vector(p)) for p in co], dtype=np.float64)
+
+
+def spline_polyline(obj, spline):
+    """World XY (N, 2) along a spline (see ``spline_path``)."""
+    return spline_path(obj, spline)[:, :2]
 
 
 def curve_lines(objects):

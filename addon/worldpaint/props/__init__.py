@@ -15,6 +15,7 @@ from bpy.props import (
     StringProperty,
 )
 
+from .terrain_edit import WORLDPAINT_PG_terrain_edit
 from .village import WORLDPAINT_PG_village, WORLDPAINT_PG_village_event
 
 CATEGORY_KINDS = (
@@ -140,11 +141,12 @@ class WORLDPAINT_PG_settings(bpy.types.PropertyGroup):
     gradient_end: StringProperty(name="To Color", description="Palette color at the end of the gradient")
     stretch_side: EnumProperty(name="Side", items=SIDES, default="EAST")
     village: PointerProperty(type=WORLDPAINT_PG_village)
+    terrain_edit: PointerProperty(type=WORLDPAINT_PG_terrain_edit)
 
 
 _register_classes, _unregister_classes = bpy.utils.register_classes_factory(
     (WORLDPAINT_PG_category, WORLDPAINT_PG_interaction, WORLDPAINT_PG_color, WORLDPAINT_PG_stroke_point,
-     WORLDPAINT_PG_village_event, WORLDPAINT_PG_village, WORLDPAINT_PG_settings)
+     WORLDPAINT_PG_village_event, WORLDPAINT_PG_village, WORLDPAINT_PG_terrain_edit, WORLDPAINT_PG_settings)
 )
 
 

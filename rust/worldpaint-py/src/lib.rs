@@ -12,6 +12,7 @@ mod exemplars;
 mod regions;
 mod scene;
 mod terrain;
+mod terrain_edit;
 mod tools;
 mod village;
 
@@ -144,5 +145,6 @@ fn worldpaint_engine(m: &Bound<'_, PyModule>) -> PyResult<()> {
     exemplars::register(m)?;
     tools::register(m)?;
     village::register(m)?;
+    terrain_edit::register(m)?;
     Ok(())
 }

@@ -1,0 +1,115 @@
+//! Terrain that adapts: `embed_roads`.
+
+use crate::convert::points_from_py;
+use crate::terrain::Terrain;
+use crate::{guarded, input_err};
+use numpy::{IntoPyArray, PyReadonlyArray2};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+use worldpaint_core::geom::DVec2;
+use worldpaint_core::terrain_edit::roads::{embed_roads as embed, Road, RoadOptions};
+
+/// Road centrelines from a list of float64 (N, 2) or (N, 3) arrays; with `use_heights`, the third column gives the
+/// carriageway's heights.
+fn roads_from_py(
+    list: &Bound<'_, PyAny>,
+    width: f64,
+    bank_width: f64,
+    use_heights: bool,
+) -> PyResult<Vec<Road>> {
+    let mut out = Vec::new();
+    let items = list
+        .try_iter()
+        .map_err(|_| input_err("roads must be a list of float64 (N, 2) or (N, 3) arrays"))?;
+    for (i, item) in items.enumerate() {
+        let a: PyReadonlyArray2<'_, f64> = item?
+            .extract()
+            .map_err(|_| input_err(format!("road {i} must be a float64 (N, 2) or (N, 3) array")))?;
+        let a = a.as_array();
+        if !(a.ncols() == 2 || a.ncols() == 3) {
+            return Err(input_err(format!(
+                "road {i} must have shape (N, 2) or (N, 3), got (N, {})",
+                a.ncols()
+            )));
+        }
+        if a.iter().any(|v| !v.is_finite()) {
+            return Err(input_err(format!("road {i} has a non-finite point")));
+        }
+        let centreline = a
+            .rows()
+            .into_iter()
+            .map(|r| DVec2::new(r[0], r[1]))
+            .collect();
+        let heights = (use_heights && a.ncols() == 3).then(|| a.column(2).to_vec());
+        out.push(Road {
+            centreline,
+            heights,
+            width,
+            bank_width,
+        });
+    }
+    Ok(out)
+}
+
+/// Embeds road centrelines into the terrain: a level carriageway of `width` along each, cut and fill banks of
+/// `bank_width` blending into the natural slope. With `use_heights`, (N, 3) roads give the carriageway heights;
+/// otherwise it follows the terrain smoothed along the road (`smoothing`: the Gaussian's standard deviation in
+/// metres, None for twice the width). Returns a dict: "displacement" (the height change at the world XY `points`,
+/// float64 (M,), 0 outside the terrain), "profiles" (per road, float64 (K, 3) carriageway samples), "residual",
+/// "cycles", "converged".
+#[pyfunction]
+#[pyo3(signature = (terrain, roads, points, width=5.0, bank_width=8.0, *, use_heights=false, smoothing=None))]
+#[allow(clippy::too_many_arguments)]
+fn embed_roads<'py>(
+    py: Python<'py>,
+    terrain: &Bound<'py, Terrain>,
+    roads: &Bound<'py, PyAny>,
+    points: PyReadonlyArray2<'py, f64>,
+    width: f64,
+    bank_width: f64,
+    use_heights: bool,
+    smoothing: Option<f64>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let hf = terrain.get().hf.clone();
+    let roads = roads_from_py(roads, width, bank_width, use_heights)?;
+    if roads.is_empty() {
+        return Err(input_err("no road to embed"));
+    }
+    let pts = points_from_py(&points, "points")?;
+    let options = RoadOptions {
+        smoothing,
+        ..Default::default()
+    };
+    let (embedding, change) = py.detach(|| {
+        guarded(|| {
+            let e = embed(&hf, &roads, &options)?;
+            let change: Vec<f64> = pts
+                .iter()
+                .map(|p| match (e.terrain.height_at(*p), hf.height_at(*p)) {
+                    (Some(new), Some(old)) => new - old,
+                    _ => 0.0,
+                })
+                .collect();
+            Ok((e, change))
+        })
+    })?;
+    let out = PyDict::new(py);
+    out.set_item("displacement", change.into_pyarray(py))?;
+    let profiles = PyList::empty(py);
+    for p in &embedding.profiles {
+        let flat: Vec<f64> = p.points.iter().flat_map(|q| [q.x, q.y, q.z]).collect();
+        let a = numpy::ndarray::Array2::from_shape_vec((p.points.len(), 3), flat)
+            .map_err(|e| input_err(e.to_string()))?;
+        profiles.append(a.into_pyarray(py))?;
+    }
+    out.set_item("profiles", profiles)?;
+    out.set_item("residual", embedding.diffusion.residual)?;
+    out.set_item("cycles", embedding.diffusion.cycles)?;
+    out.set_item("converged", embedding.diffusion.converged)?;
+    Ok(out)
+}
+
+pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(embed_roads, m)?)?;
+    Ok(())
+}
