@@ -124,6 +124,10 @@ def grow_hamlet(hills):
     run(bpy.ops.worldpaint.load_village_preset, preset="highland_hamlet")
     run(bpy.ops.worldpaint.generate_village, terrain=hills.name, seed=3)
     print(f"hamlet: {settings.report}")
+    # its roads cut into the slope: level carriageways with banks, the houses re-seated
+    for obj in bpy.context.selected_objects:
+        obj.select_set(False)
+    run(bpy.ops.worldpaint.embed_roads, terrain=hills.name, width=5.0, bank_width=6.0)
 
 
 def render(path):

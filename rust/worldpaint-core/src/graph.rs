@@ -277,19 +277,25 @@ pub struct SegmentIndex {
 impl SegmentIndex {
     /// An index of the segments with cells about as large as their mean length (at most 4M cells).
     pub fn new(segments: Vec<(DVec2, DVec2)>) -> Self {
+        let total: f64 = segments.iter().map(|(a, b)| a.distance(*b)).sum();
+        let mean = total / segments.len().max(1) as f64;
+        SegmentIndex::with_cell(segments, mean)
+    }
+
+    /// An index of the segments with cells of about `cell` metres (larger where 4M cells would not cover them):
+    /// small cells for many queries near short distances.
+    pub fn with_cell(segments: Vec<(DVec2, DVec2)>, cell: f64) -> Self {
         if segments.is_empty() {
             return SegmentIndex::default();
         }
         let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
-        let mut total = 0.0;
         for (a, b) in &segments {
             lo = lo.min(a.min(*b));
             hi = hi.max(a.max(*b));
-            total += a.distance(*b);
         }
         let ext = (hi - lo).max(DVec2::splat(1e-9));
-        let mean = (total / segments.len() as f64).max(1e-9);
-        let cell = mean
+        let cell = if cell.is_finite() { cell } else { 0.0 }
+            .max(1e-9)
             .max((ext.x * ext.y / 4.0e6).sqrt())
             .max(ext.x.max(ext.y) / 4096.0);
         let nx = (ext.x / cell).floor() as usize + 1;
@@ -344,22 +350,29 @@ impl SegmentIndex {
 
     /// Calls `visit(segment)` once for every segment listed in the cells the box of `a`–`b` covers.
     pub fn for_each_candidate(&self, a: DVec2, b: DVec2, mut visit: impl FnMut(usize)) {
+        let mut found = Vec::new();
+        self.candidates(a.min(b), a.max(b), &mut found);
+        for s in found {
+            visit(s as usize);
+        }
+    }
+
+    /// The segments listed in the cells that the box `lo..hi`, grown by a cell, covers: each once, in index
+    /// order (so that ties between them resolve the same way whatever the cells).
+    pub fn candidates(&self, lo: DVec2, hi: DVec2, out: &mut Vec<u32>) {
+        out.clear();
         if self.segments.is_empty() {
             return;
         }
-        let (x0, y0) = self.cell_of(a.min(b) - DVec2::splat(self.cell));
-        let (x1, y1) = self.cell_of(a.max(b) + DVec2::splat(self.cell));
-        let mut seen: Vec<u32> = Vec::new();
+        let (x0, y0) = self.cell_of(lo - DVec2::splat(self.cell));
+        let (x1, y1) = self.cell_of(hi + DVec2::splat(self.cell));
         for cy in y0..=y1 {
             for cx in x0..=x1 {
-                for &s in &self.cells[cy * self.nx + cx] {
-                    if !seen.contains(&s) {
-                        seen.push(s);
-                        visit(s as usize);
-                    }
-                }
+                out.extend_from_slice(&self.cells[cy * self.nx + cx]);
             }
         }
+        out.sort_unstable();
+        out.dedup();
     }
 
     /// Distance from `p` to the nearest segment, looking no farther than `max` (returns `max` beyond it, and

@@ -271,7 +271,7 @@ fn road_frame(poly: &[DVec2], index: &RoadIndex) -> Option<Frame> {
     }
     let q = samples[(best.0 + best.1 / 2) % count].0;
     let proj = index.project(q);
-    let (a, b) = index.segments[proj.segment];
+    let (a, b) = index.segments()[proj.segment];
     let mut tangent = (b - a).normalize_or_zero();
     if tangent == DVec2::ZERO {
         tangent = (q - proj.point).perp().normalize_or_zero();

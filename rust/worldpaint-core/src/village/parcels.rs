@@ -61,7 +61,7 @@ use super::land::Land;
 use super::{Parcel, Road};
 use crate::error::{Error, Result};
 use crate::geom::{polygon_contains, polygon_signed_area, segment_distance, segment_intersection};
-use crate::graph::{angle_between, Graph};
+use crate::graph::{angle_between, Graph, SegmentIndex};
 use glam::DVec2;
 use rayon::prelude::*;
 use std::cmp::Reverse;
@@ -381,7 +381,7 @@ fn dead_ends(roads: &[Road], index: &RoadIndex, cell: f64) -> Vec<DVec2> {
         ] {
             index.candidates(e - DVec2::splat(tol), e + DVec2::splat(tol), &mut near);
             let met = near.iter().any(|&s| {
-                let (a, b) = index.segments[s as usize];
+                let (a, b) = index.segments()[s as usize];
                 (a, b) != own && (b, a) != own && segment_distance(e, a, b) <= tol
             });
             if !met {
@@ -402,18 +402,12 @@ pub(crate) struct Projection {
     pub side: f64,
 }
 
-/// Road centre-line segments in a uniform grid of buckets, for distance queries near a point or a segment.
+/// Road centre-line segments in a [`SegmentIndex`], with the queries parcels and footprints make of them.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct RoadIndex {
-    pub segments: Vec<(DVec2, DVec2)>,
-    origin: DVec2,
-    size: f64,
-    nx: usize,
-    ny: usize,
-    buckets: Vec<Vec<u32>>,
+    index: SegmentIndex,
 }
 
-/// The point of segment `a`–`b` closest to `p`.
 pub(crate) fn closest_on_segment(p: DVec2, a: DVec2, b: DVec2) -> DVec2 {
     let ab = b - a;
     let len2 = ab.length_squared();
@@ -445,8 +439,8 @@ pub(crate) fn segment_segment_distance(a: DVec2, b: DVec2, c: DVec2, d: DVec2) -
 }
 
 impl RoadIndex {
-    /// The segments of `roads` (a one-point road is a zero-length segment) in buckets of about `bucket` metres.
-    pub(crate) fn new(roads: &[Road], bucket: f64) -> RoadIndex {
+    /// The segments of `roads` (a one-point road is a zero-length segment) in cells of about `cell` metres.
+    pub(crate) fn new(roads: &[Road], cell: f64) -> RoadIndex {
         let mut segments = Vec::new();
         for r in roads {
             match r.points.len() {
@@ -455,78 +449,22 @@ impl RoadIndex {
                 _ => segments.extend(r.points.windows(2).map(|w| (w[0], w[1]))),
             }
         }
-        if segments.is_empty() {
-            return RoadIndex::default();
+        RoadIndex {
+            index: SegmentIndex::with_cell(segments, cell),
         }
-        let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
-        for (a, b) in &segments {
-            lo = lo.min(a.min(*b));
-            hi = hi.max(a.max(*b));
-        }
-        let ext = (hi - lo).max(DVec2::splat(1e-9));
-        let size = bucket
-            .max(ext.x.max(ext.y) / 1024.0)
-            .max(1e-6 * (1.0 + lo.abs().max_element()));
-        let nx = (ext.x / size) as usize + 1;
-        let ny = (ext.y / size) as usize + 1;
-        let mut index = RoadIndex {
-            segments: Vec::new(),
-            origin: lo,
-            size,
-            nx,
-            ny,
-            buckets: vec![Vec::new(); nx * ny],
-        };
-        for (s, (a, b)) in segments.iter().enumerate() {
-            let (x0, y0, x1, y1) = index.range(a.min(*b), a.max(*b));
-            for y in y0..=y1 {
-                for x in x0..=x1 {
-                    index.buckets[y * nx + x].push(s as u32);
-                }
-            }
-        }
-        index.segments = segments;
-        index
     }
 
     pub(crate) fn is_empty(&self) -> bool {
-        self.segments.is_empty()
+        self.index.is_empty()
     }
 
-    fn range(&self, lo: DVec2, hi: DVec2) -> (usize, usize, usize, usize) {
-        let f = |v: f64, n: usize| -> usize {
-            if v.is_finite() {
-                v.floor().clamp(0.0, (n - 1) as f64) as usize
-            } else if v > 0.0 {
-                n - 1
-            } else {
-                0
-            }
-        };
-        let a = (lo - self.origin) / self.size;
-        let b = (hi - self.origin) / self.size;
-        (
-            f(a.x, self.nx),
-            f(a.y, self.ny),
-            f(b.x, self.nx),
-            f(b.y, self.ny),
-        )
+    pub(crate) fn segments(&self) -> &[(DVec2, DVec2)] {
+        self.index.segments()
     }
 
-    /// The segments listed in the buckets that the box `lo..hi` touches, each once, in index order.
+    /// The segments that may come within the box `lo..hi`, each once, in index order.
     pub(crate) fn candidates(&self, lo: DVec2, hi: DVec2, out: &mut Vec<u32>) {
-        out.clear();
-        if self.segments.is_empty() {
-            return;
-        }
-        let (x0, y0, x1, y1) = self.range(lo, hi);
-        for y in y0..=y1 {
-            for x in x0..=x1 {
-                out.extend_from_slice(&self.buckets[y * self.nx + x]);
-            }
-        }
-        out.sort_unstable();
-        out.dedup();
+        self.index.candidates(lo, hi, out);
     }
 
     /// The closest road point to `p` within `limit`, if any.
@@ -535,7 +473,7 @@ impl RoadIndex {
         self.candidates(p - DVec2::splat(limit), p + DVec2::splat(limit), &mut c);
         let mut best: Option<Projection> = None;
         for &s in &c {
-            let (a, b) = self.segments[s as usize];
+            let (a, b) = self.segments()[s as usize];
             let q = closest_on_segment(p, a, b);
             let d = q.distance(p);
             if d <= limit && best.is_none_or(|b| d < b.distance) {
@@ -550,40 +488,16 @@ impl RoadIndex {
         best
     }
 
-    /// The closest road point to `p`, however far.
+    /// The closest road point to `p`, however far (`p` itself at an infinite distance when there is no road).
     pub(crate) fn project(&self, p: DVec2) -> Projection {
-        let mut limit = self.size;
-        loop {
-            if let Some(found) = self.nearest(p, limit) {
-                return found;
-            }
-            if limit
-                > 4.0 * self.size * (self.nx + self.ny) as f64
-                    + (p - self.origin).abs().max_element()
-            {
-                break;
-            }
-            limit *= 2.0;
-        }
-        // every bucket was searched: scan all (cannot happen with a non-empty index)
-        let mut best = Projection {
-            point: p,
-            segment: 0,
-            distance: f64::INFINITY,
-            side: 1.0,
-        };
-        for (s, (a, b)) in self.segments.iter().enumerate() {
-            let q = closest_on_segment(p, *a, *b);
-            if q.distance(p) < best.distance {
-                best = Projection {
-                    point: q,
-                    segment: s,
-                    distance: q.distance(p),
-                    side: side_of(p, *a, *b),
-                };
-            }
-        }
-        best
+        let d = self.index.distance(p, f64::INFINITY);
+        self.nearest(p, d * (1.0 + 1e-9) + 1e-9)
+            .unwrap_or(Projection {
+                point: p,
+                segment: 0,
+                distance: f64::INFINITY,
+                side: 1.0,
+            })
     }
 
     /// The distance from the segment `a`–`b` to the roads, or `limit` when it is farther than `limit`.
@@ -593,7 +507,7 @@ impl RoadIndex {
         self.candidates(a.min(b) - pad, a.max(b) + pad, &mut c);
         let mut best = limit;
         for &s in &c {
-            let (p, q) = self.segments[s as usize];
+            let (p, q) = self.segments()[s as usize];
             best = best.min(segment_segment_distance(a, b, p, q));
         }
         best
@@ -684,7 +598,7 @@ impl Work {
         };
         // a cell's points lie within half a diagonal of its node
         let margin = half + cell * FRAC_1_SQRT_2 * (1.0 + 1e-9);
-        for &(a, b) in &index.segments {
+        for &(a, b) in index.segments() {
             let (x0, y0) = work.clamped(a.min(b) - DVec2::splat(margin));
             let (x1, y1) = work.clamped(a.max(b) + DVec2::splat(margin));
             for j in y0..=y1 {
@@ -773,7 +687,7 @@ impl Work {
 
     /// The road-edge cell where a seed enters its road: the closest to `S_i` on the seed's side of the road.
     fn source_cell(&self, index: &RoadIndex, p: &Projection, half: f64) -> Option<usize> {
-        let (a, b) = index.segments[p.segment];
+        let (a, b) = index.segments()[p.segment];
         let dir = b - a;
         let (x0, y0, x1, y1) = self.around(p.point, half + 3.0 * self.cell);
         let mut best: Option<(f64, usize)> = None;
