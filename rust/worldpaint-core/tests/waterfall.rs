@@ -377,6 +377,12 @@ fn classification_and_section_follow_the_table() {
             s.kind_of_water.is_free_fall() == (s.kind == ControllerKind::FreeFall)
         );
     }
+    for (k, s) in net.invalid_segments() {
+        println!(
+            "flagged segment {k}: {:?} arc {} of slope {:.3} rad and flow {:.2} is closest to {:?}",
+            s.kind, s.arc, s.slope, s.flow, s.kind_of_water
+        );
+    }
     let flagged = net.invalid_segments().count();
     println!(
         "{} segments, types {hist:?}; {flagged} flagged outside the valid range",

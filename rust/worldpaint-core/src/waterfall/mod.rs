@@ -169,6 +169,14 @@ impl WaterfallParams {
         non_negative("w_random", self.w_random)?;
         non_negative("amplitude", self.amplitude)?;
         positive("speed_factor", self.speed_factor)?;
+        // bounds on the work a parameter can ask for: 2001 candidates per cut, 4096 cuts per control segment
+        if self.search_steps > 1000 || self.max_levels > 12 || self.fall_samples > 10_000 {
+            return Err(Error::InvalidInput(format!(
+                "waterfall parameters search_steps = {}, max_levels = {}, fall_samples = {}: at most 1000, 12 \
+                 and 10000",
+                self.search_steps, self.max_levels, self.fall_samples
+            )));
+        }
         if self.fall_samples < 2 {
             return Err(Error::InvalidInput(format!(
                 "waterfall parameter fall_samples = {} must be at least 2",
