@@ -20,7 +20,7 @@
 //!   controller's control point, which stands for the magnets of the editor; contact curves are split into arcs
 //!   at the control points other controllers end on;
 //! * the curves are subdivided through their control polygons (the Cardinal splines are for display);
-//! * a free-fall is given by its start and end (the thesis's parabola "automatically parameterized by [its]
+//! * a free-fall is given by its start and end (the thesis's parabola "automatically parameterized by \[its\]
 //!   start and end points"): water leaves the lip horizontally and falls on a parabola with its apex there;
 //! * [`Controller::strength`] is the flow of a controller that starts at a source, and its relative share where
 //!   it leaves a pool or a branch (the thesis's "relative strength pre-set by the user").
