@@ -535,3 +535,106 @@ pub fn archipelago(size: f64, seed: u64) -> Scene {
         ..Default::default()
     }
 }
+
+/// A waterfall scene of `count` controllers on `terrain` (thesis ch. 4), seeded: `count / 5` rivers, each a
+/// contact curve down the steepest slope from a random point with a flow of 1 to 6 units, a free-fall from its end (a drop of 1.2 % of the
+/// terrain's size), a round pool receiving it and a contact curve leaving the pool downhill; the remaining
+/// controllers are tributaries, straight contact curves drawn on the terrain that end on a control point of a
+/// river's lower curve. Heights are the terrain's except below the falls, so the minimum-slope correction has
+/// work to do.
+pub fn waterfall_controllers(
+    terrain: &Heightfield,
+    count: usize,
+    seed: u64,
+) -> Vec<crate::waterfall::Controller> {
+    use crate::waterfall::{subdivide::downhill, Controller, ControllerKind};
+    use glam::DVec3;
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let (lo, hi) = terrain.bbox();
+    let size = (hi - lo).min_element();
+    let margin = 0.05 * size;
+    let inside = |p: DVec2| p.cmpge(lo + margin).all() && p.cmple(hi - margin).all();
+    let on_terrain = |p: DVec2| p.extend(terrain.height_at(p).unwrap_or(0.0));
+    let step = 0.015 * size;
+    let descend = |from: DVec2, n: usize| -> Vec<DVec2> {
+        let mut pts = vec![from];
+        let mut dir = DVec2::NEG_X;
+        for _ in 0..n {
+            let last = pts[pts.len() - 1];
+            let g = downhill(terrain, last);
+            if g.length() > 1e-6 {
+                dir = g.normalize();
+            }
+            let next = last + dir * step;
+            // stop at the edge and in valleys, where steepest descent would zigzag
+            let descends = terrain.height_at(next).unwrap_or(f64::INFINITY)
+                < terrain.height_at(last).unwrap_or(0.0) - 0.01 * step;
+            if !inside(next) || !descends {
+                break;
+            }
+            pts.push(next);
+        }
+        if pts.len() < 2 {
+            pts.push(from + dir * step.min(margin * 0.5));
+        }
+        pts
+    };
+    let rivers = count / 5;
+    let mut out: Vec<Controller> = Vec::with_capacity(count);
+    let mut joins: Vec<DVec3> = Vec::new();
+    for _ in 0..rivers {
+        let start =
+            lo + (hi - lo) * DVec2::new(rng.random_range(0.2..0.8), rng.random_range(0.2..0.8));
+        let upper = descend(start, 12);
+        let lip2 = upper[upper.len() - 1];
+        let dir = (lip2 - upper[upper.len() - 2]).normalize_or(DVec2::X);
+        let lip = on_terrain(lip2);
+        let drop = 0.012 * size;
+        let foot = (lip2 + dir * 0.003 * size).extend(lip.z - drop);
+        let radius = 0.006 * size;
+        let centre = foot.truncate() + dir * 0.002 * size;
+        let pool: Vec<DVec3> = (0..12)
+            .map(|k| {
+                let a = TAU * k as f64 / 12.0;
+                (centre + DVec2::new(a.cos(), a.sin()) * radius).extend(foot.z)
+            })
+            .collect();
+        let outlet = centre + dir * radius;
+        let lower_plan = descend(outlet, 12);
+        let mut lower: Vec<DVec3> = lower_plan.iter().map(|p| on_terrain(*p)).collect();
+        lower[0].z = foot.z;
+        joins.extend(
+            lower
+                .iter()
+                .skip(1)
+                .take(lower.len().saturating_sub(2))
+                .copied(),
+        );
+        out.push(
+            Controller::new(
+                ControllerKind::Contact,
+                upper.iter().map(|p| on_terrain(*p)).collect(),
+            )
+            .with_strength(rng.random_range(1.0..6.0)),
+        );
+        out.push(Controller::new(ControllerKind::FreeFall, vec![lip, foot]));
+        out.push(Controller::new(ControllerKind::Pool, pool));
+        out.push(Controller::new(ControllerKind::Contact, lower));
+    }
+    while out.len() < count {
+        let angle = rng.random::<f64>() * TAU;
+        let reach = 0.08 * size;
+        let end = match joins.len() {
+            0 => on_terrain(lo + (hi - lo) * 0.5),
+            n => joins[rng.random_range(0..n)],
+        };
+        let start = (end.truncate() + DVec2::new(angle.cos(), angle.sin()) * reach)
+            .clamp(lo + margin, hi - margin);
+        let mut pts: Vec<DVec3> = (0..8)
+            .map(|k| on_terrain(start.lerp(end.truncate(), k as f64 / 8.0)))
+            .collect();
+        pts.push(end);
+        out.push(Controller::new(ControllerKind::Contact, pts));
+    }
+    out
+}
