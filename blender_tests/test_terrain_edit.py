@@ -134,7 +134,7 @@ def test_village_roads_are_embedded_and_the_houses_move_with_the_ground():
     assert bpy.ops.worldpaint.embed_roads(width=5.0, bank_width=6.0) == {'FINISHED'}
     moved = np.array([o.location.z for o in houses]) - ground(xy)
     print(f"{len(houses)} houses; ground change under them up to "
-          f"{np.abs(np.array([o['wp_seat_dz'] for o in houses])).max():.2f} m")
+          f"{np.abs(np.array([o['wp_seat_roads'] for o in houses])).max():.2f} m")
     assert np.abs(moved - above).max() < 0.05, "each house keeps its height above the ground"
     # a second run does not move them twice
     assert bpy.ops.worldpaint.embed_roads(width=5.0, bank_width=6.0) == {'FINISHED'}

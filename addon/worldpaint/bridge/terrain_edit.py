@@ -1,20 +1,27 @@
-"""Terrain edits in the scene: the road curves to embed, the terrain read without WorldPaint's own shape key, the
-shape key a height change becomes, and the houses and instances re-seated on the changed ground.
+"""Terrain edits in the scene: the road curves to embed and the waterfall controllers, the terrain read without
+WorldPaint's own shape key, the shape key a terrain change becomes, the houses and instances re-seated on the changed
+ground, and the water meshes.
 
 An edit is a shape key named after the operation, so the user can dial it or delete it. What stands on the ground
-moves with it; the height each object or point was moved by is kept (``wp_seat_dz``), so that a second run of the
-same edit replaces the first instead of adding to it.
+moves with it; the height each object or point was moved by is kept per edit (``wp_seat_<edit>``), so that a second
+run of the same edit replaces the first instead of adding to it.
 """
 
 from contextlib import contextmanager
 
+import bpy
 import numpy as np
 
 from . import WorldPaintError, village
 from .instances import point_cloud_arrays, point_cloud_objects
+from .points import worldpaint_collection, write_points
 
 EMBED_ROADS_KEY = "WorldPaint Embed Roads"
-SEAT_PROP = "wp_seat_dz"  # height (m) an edit moved an object or point by
+WATERFALL_KEY = "WorldPaint Waterfall"
+SEAT_PREFIX = "wp_seat_"  # + the edit: height (m) the edit moved an object or point by
+WATER_COLLECTION = "Water"
+WATER_TAG = "wp_water"
+WATER_ATTRIBUTES = ("speed", "foam", "rocks", "disturbance")
 
 
 def curve_paths(objects):
@@ -77,14 +84,18 @@ def basis_world(obj):
     return co.reshape(-1, 3).astype(np.float64) @ matrix[:3, :3].T + matrix[:3, 3]
 
 
-def local_offsets(obj, dz):
-    """Local-space offsets (N, 3) of the world-space vertical changes ``dz`` (N,)."""
+def local_offsets(obj, offsets):
+    """Local-space offsets (N, 3) of world-space offsets: (N, 3), or (N,) vertical changes."""
+    offsets = np.asarray(offsets, dtype=np.float64)
+    if offsets.ndim == 1:
+        offsets = np.column_stack([np.zeros_like(offsets), np.zeros_like(offsets), offsets])
     inverse = np.linalg.inv(np.array(obj.matrix_world, dtype=np.float64)[:3, :3])
-    return np.outer(dz, inverse[:, 2])
+    return offsets @ inverse.T
 
 
-def write_shape_key(obj, name, dz):
-    """Sets (or replaces) the shape key ``name``: the basis moved up by ``dz`` (N,) metres, fully on."""
+def write_shape_key(obj, name, offsets):
+    """Sets (or replaces) the shape key ``name``: the basis moved by world ``offsets`` ((N, 3), or (N,) upwards),
+    fully on."""
     if obj.data.shape_keys is None:
         obj.shape_key_add(name="Basis", from_mix=False)
     basis = obj.data.shape_keys.reference_key
@@ -93,7 +104,7 @@ def write_shape_key(obj, name, dz):
         block = obj.shape_key_add(name=name, from_mix=False)
     co = np.empty(len(obj.data.vertices) * 3, dtype=np.float32)
     basis.data.foreach_get("co", co)
-    co = co.reshape(-1, 3) + local_offsets(obj, dz)
+    co = co.reshape(-1, 3) + local_offsets(obj, offsets)
     block.data.foreach_set("co", co.astype(np.float32).ravel())
     block.value = 1.0
     block.mute = False
@@ -116,28 +127,142 @@ class Standing:
             xy.append(point_cloud_arrays(obj)[0][:, :2])
         return np.vstack(xy)
 
-    def reseat(self, dz):
-        """Moves each house and point by its ``dz`` (from ``points``' order), less what the last run moved it by."""
+    def reseat(self, dz, edit):
+        """Moves each house and point by its ``dz`` (from ``points``' order), less what the last run of the same
+        ``edit`` moved it by."""
+        prop = SEAT_PREFIX + edit
         k = len(self.houses)
         for obj, change in zip(self.houses, dz[:k], strict=True):
-            obj.location.z += float(change) - float(obj.get(SEAT_PROP, 0.0))
-            obj[SEAT_PROP] = float(change)
+            obj.location.z += float(change) - float(obj.get(prop, 0.0))
+            obj[prop] = float(change)
         for obj in self.clouds:
             n = len(obj.data.vertices)
             change, k = dz[k:k + n], k + n
             mesh = obj.data
             previous = np.zeros(n, dtype=np.float32)
-            attribute = mesh.attributes.get(SEAT_PROP)
+            attribute = mesh.attributes.get(prop)
             if attribute is not None and len(attribute.data) == n:
                 attribute.data.foreach_get("value", previous)
             else:
                 if attribute is not None:
                     mesh.attributes.remove(attribute)
-                attribute = mesh.attributes.new(SEAT_PROP, 'FLOAT', 'POINT')
+                attribute = mesh.attributes.new(prop, 'FLOAT', 'POINT')
             co = np.empty(n * 3, dtype=np.float32)
             mesh.vertices.foreach_get("co", co)
             co = co.reshape(-1, 3) + local_offsets(obj, change - previous)
             mesh.vertices.foreach_set("co", co.astype(np.float32).ravel())
-            mesh.attributes[SEAT_PROP].data.foreach_set("value", change.astype(np.float32))
+            mesh.attributes[prop].data.foreach_set("value", change.astype(np.float32))
             mesh.update()
+
+    def keep_dry(self, wet):
+        """Removes the instance points flagged ``wet`` (from ``points``' order; houses stay). Returns how many."""
+        k, removed = len(self.houses), 0
+        for obj in self.clouds:
+            n = len(obj.data.vertices)
+            flags, k = np.asarray(wet[k:k + n], dtype=bool), k + n
+            if flags.any():
+                co, rotation, scale, prototype = point_cloud_arrays(obj)
+                keep = ~flags
+                seats = {}
+                for attribute in obj.data.attributes:
+                    if attribute.name.startswith(SEAT_PREFIX) and len(attribute.data) == n:
+                        values = np.empty(n, dtype=np.float32)
+                        attribute.data.foreach_get("value", values)
+                        seats[attribute.name] = values[keep]
+                write_points(obj, co[keep], rotation[keep], scale[keep], prototype[keep])
+                for name, values in seats.items():
+                    attribute = obj.data.attributes.get(name) or obj.data.attributes.new(name, 'FLOAT', 'POINT')
+                    attribute.data.foreach_set("value", values)
+                removed += int(flags.sum())
+        return removed
+
+
+# --- waterfalls -------------------------------------------------------------------------------------------------
+
+def waterfall_controllers(context, collection):
+    """The engine's controllers: every spline of the curves marked Contact, Free-fall or Pool, in the collection
+    (else in the scene), in name order so the result does not depend on the outliner's order."""
+    objects = collection.all_objects if collection is not None else context.scene.objects
+    controllers = []
+    for obj in sorted(objects, key=lambda o: o.name):
+        role = obj.worldpaint_waterfall
+        if obj.type != 'CURVE' or role.kind == 'NONE':
+            continue
+        for spline in obj.data.splines:
+            points = village.spline_path(obj, spline)
+            if len(points) < 2:
+                raise WorldPaintError(f"The waterfall controller '{obj.name}' has a spline with fewer than 2 points")
+            controllers.append({"kind": role.kind.lower(), "points": np.ascontiguousarray(points),
+                                "strength": role.strength if role.strength > 0.0 else None})
+    if not controllers:
+        where = f"the collection '{collection.name}'" if collection is not None else "the scene"
+        raise WorldPaintError(f"No waterfall controller in {where}: mark curves as Contact, Free-fall or Pool in "
+                              "the Terrain panel")
+    return controllers
+
+
+def water_collection(scene):
+    """The "Water" collection under "WorldPaint", made when absent."""
+    parent = worldpaint_collection(scene)
+    collection = parent.children.get(WATER_COLLECTION)
+    if collection is None:
+        collection = bpy.data.collections.new(WATER_COLLECTION)
+        parent.children.link(collection)
+    return collection
+
+
+def water_material():
+    """Water whose colour turns to foam by the mesh's ``foam`` attribute and whose gloss falls with ``speed``."""
+    material = bpy.data.materials.get("WorldPaint Water")
+    if material is not None:
+        return material
+    material = bpy.data.materials.new("WorldPaint Water")
+    material.diffuse_color = (0.15, 0.35, 0.55, 1.0)
+    material.use_nodes = True
+    nodes, links = material.node_tree.nodes, material.node_tree.links
+    bsdf = nodes.get("Principled BSDF")
+    foam = nodes.new("ShaderNodeAttribute")
+    foam.attribute_name = "foam"
+    mix = nodes.new("ShaderNodeMix")
+    mix.data_type = 'RGBA'
+    mix.inputs["A"].default_value = (0.05, 0.22, 0.35, 1.0)
+    mix.inputs["B"].default_value = (0.92, 0.95, 0.97, 1.0)
+    links.new(foam.outputs["Fac"], mix.inputs["Factor"])
+    links.new(mix.outputs["Result"], bsdf.inputs["Base Color"])
+    speed = nodes.new("ShaderNodeAttribute")
+    speed.attribute_name = "speed"
+    rough = nodes.new("ShaderNodeMapRange")
+    rough.inputs["From Max"].default_value = 10.0
+    rough.inputs["To Min"].default_value = 0.05
+    rough.inputs["To Max"].default_value = 0.4
+    links.new(speed.outputs["Fac"], rough.inputs["Value"])
+    links.new(rough.outputs["Result"], bsdf.inputs["Roughness"])
+    return material
+
+
+def build_water(scene, water):
+    """The water mesh of the engine's integration mesh, with its point attributes, replacing an earlier one."""
+    collection = water_collection(scene)
+    for obj in [o for o in collection.objects if o.get(WATER_TAG)]:
+        village.remove_with_data(obj)
+    vertices = np.asarray(water["vertices"], dtype=np.float64)
+    triangles = np.asarray(water["triangles"], dtype=np.int32)
+    mesh = bpy.data.meshes.new("Water")
+    mesh.vertices.add(len(vertices))
+    mesh.vertices.foreach_set("co", vertices.astype(np.float32).ravel())
+    mesh.loops.add(3 * len(triangles))
+    mesh.loops.foreach_set("vertex_index", triangles.ravel())
+    mesh.polygons.add(len(triangles))
+    mesh.polygons.foreach_set("loop_start", np.arange(0, 3 * len(triangles), 3, dtype=np.int32))
+    for name in WATER_ATTRIBUTES:
+        mesh.attributes.new(name, 'FLOAT', 'POINT').data.foreach_set(
+            "value", np.asarray(water[name], dtype=np.float32))
+    mesh.attributes.new("part", 'INT', 'POINT').data.foreach_set("value", np.asarray(water["part"], dtype=np.int32))
+    mesh.validate(clean_customdata=False)
+    mesh.update()
+    mesh.materials.append(water_material())
+    obj = bpy.data.objects.new("Water", mesh)
+    obj[WATER_TAG] = "water"
+    collection.objects.link(obj)
+    return obj
 

@@ -21,7 +21,7 @@ from .palette_io import WORLDPAINT_OT_export_palette, WORLDPAINT_OT_import_palet
 from .paste import WORLDPAINT_OT_paste_color
 from .pipette import WORLDPAINT_OT_pipette
 from .stretch import WORLDPAINT_OT_stretch_region
-from .terrain_edit import WORLDPAINT_OT_embed_roads
+from .terrain_edit import WORLDPAINT_OT_build_waterfall, WORLDPAINT_OT_embed_roads
 from .village import (
     WORLDPAINT_OT_add_village_event,
     WORLDPAINT_OT_generate_village,
@@ -55,6 +55,7 @@ _classes = (
     WORLDPAINT_OT_generate_village,
     WORLDPAINT_OT_show_interest,
     WORLDPAINT_OT_embed_roads,
+    WORLDPAINT_OT_build_waterfall,
     WORLDPAINT_OT_load_village_preset,
     WORLDPAINT_OT_add_village_event,
     WORLDPAINT_OT_remove_village_event,

@@ -84,6 +84,9 @@ class BackgroundOperator:
         if self._worker.is_alive():
             return {'RUNNING_MODAL'}
         self._end(context)
+        if self._cancel:
+            self.report({'INFO'}, f"{self.progress_text}: cancelled, nothing changed")
+            return {'CANCELLED'}
         kind, value = self._outcome or ("error", RuntimeError("the computation stopped without a result"))
 
         def raise_error():

@@ -1,12 +1,15 @@
-"""Terrain that adapts (thesis 4.4.2): Embed Roads cuts road curves into the terrain as a shape key, with level
-carriageways and cut and fill banks, and re-seats what stands on the changed ground. One undo step."""
+"""Terrain that adapts (thesis ch. 4): Embed Roads cuts road curves into the terrain, with level carriageways and cut
+and fill banks; Build Waterfall turns controller curves into a coherent waterfall scene, with water meshes and the
+terrain deformed around them. Each change to the terrain is a shape key named after its operator, what stands on the
+changed ground is re-seated, and each run is one undo step."""
 
 import bpy
 import numpy as np
-from bpy.props import FloatProperty, StringProperty
+from bpy.props import FloatProperty, IntProperty, StringProperty
 
 from ..bridge import WorldPaintError, terrain, terrain_edit
 from ..bridge.engine import engine
+from .background import BackgroundOperator
 from .common import TerrainProperty, report_errors
 
 
@@ -53,8 +56,66 @@ class WORLDPAINT_OT_embed_roads(TerrainProperty, bpy.types.Operator):
         dz = result["displacement"]
         terrain_edit.write_shape_key(obj, terrain_edit.EMBED_ROADS_KEY, dz[:len(vertices)])
         if settings.reseat:
-            standing.reseat(dz[len(vertices):])
+            standing.reseat(dz[len(vertices):], "roads")
         changed = dz[:len(vertices)]
         self.report({'INFO'}, f"Embedded {len(roads)} road(s) in '{obj.name}': cut {max(-changed.min(), 0.0):.2f} m, "
                               f"fill {max(changed.max(), 0.0):.2f} m (shape key '{terrain_edit.EMBED_ROADS_KEY}')")
+        return {'FINISHED'}
+
+
+class WORLDPAINT_OT_build_waterfall(BackgroundOperator, TerrainProperty, bpy.types.Operator):
+    """Build a waterfall scene from the curves marked as Contact, Free-fall or Pool: water meshes, and the terrain
+    deformed to hold them (a shape key; Esc cancels)"""
+
+    bl_idname = "worldpaint.build_waterfall"
+    bl_label = "Build Waterfall"
+    bl_options = {'REGISTER', 'UNDO'}
+    progress_text = "Building waterfall"
+
+    controllers: StringProperty(
+        name="Controllers", description="Collection of controller curves (empty: the panel's, else every marked curve)",
+    )
+    seed: IntProperty(name="Seed", default=0, min=0, description="Seed of the subdivision (unset: the panel's)")
+
+    def _prepare(self, context):
+        settings = context.scene.worldpaint.terrain_edit
+        obj = terrain.terrain_object(context, self.terrain)
+        if obj.mode == 'EDIT':
+            raise WorldPaintError(f"The terrain '{obj.name}' is in Edit Mode: leave it first")
+        collection = settings.controllers
+        if self.controllers:
+            collection = bpy.data.collections.get(self.controllers)
+            if collection is None:
+                raise WorldPaintError(f"No collection named '{self.controllers}' to take the controllers from")
+        controllers = terrain_edit.waterfall_controllers(context, collection)
+        self._standing = terrain_edit.Standing(context.scene)
+        with terrain_edit.without_key(obj, terrain_edit.WATERFALL_KEY):
+            heightfield = terrain.engine_terrain(context, obj)
+        self._vertices = terrain_edit.basis_world(obj)
+        points = np.vstack([self._vertices[:, :2], self._standing.points()])
+        seed = self.seed if self.properties.is_property_set("seed") else settings.waterfall_seed
+        self._terrain_obj = obj
+        self._keep_dry = settings.keep_dry
+        self._arguments = (heightfield, controllers, np.ascontiguousarray(points), seed)
+        self._call = dict(min_slope=settings.min_slope, overhang=settings.overhang, falloff=settings.falloff)
+
+    def _compute(self, progress):
+        if progress is not None and not progress(0.0):
+            return None
+        return engine().build_waterfall(*self._arguments, **self._call)
+
+    def _apply(self, context, result):
+        n = len(self._vertices)
+        offsets = np.column_stack([result["horizontal"][:n], result["displacement"][:n]])
+        terrain_edit.write_shape_key(self._terrain_obj, terrain_edit.WATERFALL_KEY, offsets)
+        self._standing.reseat(result["displacement"][n:], "waterfall")
+        dry = self._standing.keep_dry(result["is_water"][n:]) if self._keep_dry else 0
+        terrain_edit.build_water(context.scene, result["water"])
+        report = result["report"]
+        invalid = sum(not s["valid"] for s in result["segments"])
+        self.report({'INFO'}, f"Waterfall: {len(result['segments'])} segments on {report['arcs']} arcs, "
+                              f"{len(result['rocks'])} rocks, {dry} instances taken out of the water")
+        if invalid:
+            self.report({'WARNING'}, f"{invalid} segments lie outside the valid range of their type (slope and flow "
+                                     "do not match a contact or free-fall): check the controllers")
         return {'FINISHED'}

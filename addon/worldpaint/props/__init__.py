@@ -15,7 +15,7 @@ from bpy.props import (
     StringProperty,
 )
 
-from .terrain_edit import WORLDPAINT_PG_terrain_edit
+from .terrain_edit import WORLDPAINT_PG_terrain_edit, WORLDPAINT_PG_waterfall_controller
 from .village import WORLDPAINT_PG_village, WORLDPAINT_PG_village_event
 
 CATEGORY_KINDS = (
@@ -146,15 +146,18 @@ class WORLDPAINT_PG_settings(bpy.types.PropertyGroup):
 
 _register_classes, _unregister_classes = bpy.utils.register_classes_factory(
     (WORLDPAINT_PG_category, WORLDPAINT_PG_interaction, WORLDPAINT_PG_color, WORLDPAINT_PG_stroke_point,
-     WORLDPAINT_PG_village_event, WORLDPAINT_PG_village, WORLDPAINT_PG_terrain_edit, WORLDPAINT_PG_settings)
+     WORLDPAINT_PG_village_event, WORLDPAINT_PG_village, WORLDPAINT_PG_terrain_edit, WORLDPAINT_PG_waterfall_controller,
+     WORLDPAINT_PG_settings)
 )
 
 
 def register():
     _register_classes()
     bpy.types.Scene.worldpaint = PointerProperty(type=WORLDPAINT_PG_settings)
+    bpy.types.Object.worldpaint_waterfall = PointerProperty(type=WORLDPAINT_PG_waterfall_controller)
 
 
 def unregister():
+    del bpy.types.Object.worldpaint_waterfall
     del bpy.types.Scene.worldpaint
     _unregister_classes()

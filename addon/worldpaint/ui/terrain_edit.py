@@ -1,4 +1,4 @@
-"""The Terrain panel: roads cut into the terrain."""
+"""The Terrain panel: roads cut into the terrain, and waterfall scenes."""
 
 import bpy
 
@@ -30,4 +30,36 @@ class WORLDPAINT_PT_terrain_edit(SidebarPanel, bpy.types.Panel):
         col.operator("worldpaint.embed_roads", icon='MOD_SMOOTH')
 
 
-classes = (WORLDPAINT_PT_terrain_edit,)
+class WORLDPAINT_PT_waterfall(SidebarPanel, bpy.types.Panel):
+    bl_label = "Waterfall"
+    bl_idname = "WORLDPAINT_PT_waterfall"
+    bl_parent_id = "WORLDPAINT_PT_terrain_edit"
+
+    def draw(self, context):
+        layout = self.layout
+        settings = context.scene.worldpaint.terrain_edit
+        obj = context.active_object
+        if obj is not None and obj.type == 'CURVE':
+            box = layout.box()
+            box.label(text=obj.name, icon='CURVE_DATA')
+            row = box.row(align=True)
+            row.prop(obj.worldpaint_waterfall, "kind", expand=True)
+            if obj.worldpaint_waterfall.kind != 'NONE':
+                box.prop(obj.worldpaint_waterfall, "strength")
+        else:
+            layout.label(text="Select a curve to mark it as a controller", icon='INFO')
+        layout.prop(settings, "controllers")
+        row = layout.row(align=True)
+        row.prop(settings, "waterfall_seed")
+        row.prop(settings, "min_slope")
+        row = layout.row(align=True)
+        row.prop(settings, "overhang")
+        row.prop(settings, "falloff")
+        layout.prop(settings, "keep_dry")
+        col = layout.column()
+        col.scale_y = 1.3
+        col.operator_context = 'INVOKE_DEFAULT'
+        col.operator("worldpaint.build_waterfall", icon='MOD_FLUIDSIM')
+
+
+classes = (WORLDPAINT_PT_terrain_edit, WORLDPAINT_PT_waterfall)
