@@ -115,7 +115,7 @@ pub struct DiffusionOptions {
     /// Stop when no free cell differs from the mean of its neighbours by more than this fraction of the largest
     /// constraint magnitude.
     pub tolerance: f64,
-    /// Most V-cycles (multigrid) — or iterations for [`jacobi`].
+    /// Most iterations: preconditioned conjugate-gradient steps (one V-cycle each), or sweeps for [`jacobi`].
     pub max_cycles: usize,
 }
 
@@ -123,7 +123,7 @@ impl Default for DiffusionOptions {
     fn default() -> Self {
         DiffusionOptions {
             falloff: None,
-            tolerance: 1e-7,
+            tolerance: 1e-5,
             max_cycles: 100,
         }
     }
@@ -136,7 +136,8 @@ pub struct Diffusion {
     pub ny: usize,
     /// Row-major displacement `D` (m).
     pub displacement: Vec<f64>,
-    /// V-cycles (or Jacobi iterations) run after the first guess.
+    /// Iterations after the first guess: conjugate-gradient steps, each preconditioned by one V-cycle (multigrid),
+    /// or Jacobi sweeps.
     pub cycles: usize,
     /// Largest `|mean of neighbours − value|` over the free cells at the end (m).
     pub residual: f64,
