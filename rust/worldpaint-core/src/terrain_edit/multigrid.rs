@@ -21,6 +21,50 @@ const SWEEPS: usize = 2;
 /// A level this small (in either direction) is the coarsest.
 const COARSEST: usize = 4;
 
+/// The float type of the grid hierarchy: the V-cycle is a preconditioner, so single precision (half the memory
+/// traffic of the bandwidth-bound sweeps) is enough; the conjugate-gradient iteration itself runs in `f64`.
+type P = f32;
+
+/// What the row kernels need of a float type.
+trait Real:
+    Copy
+    + Send
+    + Sync
+    + std::ops::Add<Output = Self>
+    + std::ops::Sub<Output = Self>
+    + std::ops::Mul<Output = Self>
+    + std::ops::Div<Output = Self>
+    + std::ops::AddAssign
+{
+    const ZERO: Self;
+    fn of(x: f64) -> Self;
+    fn wide(self) -> f64;
+}
+
+impl Real for f32 {
+    const ZERO: Self = 0.0;
+    #[inline]
+    fn of(x: f64) -> Self {
+        x as f32
+    }
+    #[inline]
+    fn wide(self) -> f64 {
+        self as f64
+    }
+}
+
+impl Real for f64 {
+    const ZERO: Self = 0.0;
+    #[inline]
+    fn of(x: f64) -> Self {
+        x
+    }
+    #[inline]
+    fn wide(self) -> f64 {
+        self
+    }
+}
+
 /// The problem on one grid in red-black layout.
 struct Level {
     nx: usize,
@@ -29,11 +73,11 @@ struct Level {
     h: usize,
     free: [Vec<bool>; 2],
     /// The unknown: the displacement on the finest level, the correction on coarser ones.
-    u: [Vec<f64>; 2],
+    u: [Vec<P>; 2],
     /// Right-hand side (0 on the finest level).
-    f: [Vec<f64>; 2],
+    f: [Vec<P>; 2],
     /// Residual scratch.
-    r: [Vec<f64>; 2],
+    r: [Vec<P>; 2],
 }
 
 impl Level {
@@ -50,15 +94,6 @@ impl Level {
             r: zeros(),
         }
     }
-
-    #[inline]
-    fn slot(&self, i: usize, j: usize) -> (usize, usize) {
-        ((i + j) & 1, j * self.h + i / 2)
-    }
-
-    fn get(v: &[Vec<f64>; 2], h: usize, i: usize, j: usize) -> f64 {
-        v[(i + j) & 1][j * h + i / 2]
-    }
 }
 
 /// Cells of colour `c` in row `j` of a grid `nx` wide, and the column of the first one.
@@ -73,7 +108,7 @@ fn row_cells(nx: usize, j: usize, c: usize) -> (usize, usize) {
 fn relax_colour(l: &mut Level, c: usize) {
     let (nx, ny, h) = (l.nx, l.ny, l.h);
     let [u0, u1] = &mut l.u;
-    let (mine, other): (&mut Vec<f64>, &Vec<f64>) = if c == 0 { (u0, u1) } else { (u1, u0) };
+    let (mine, other): (&mut Vec<P>, &Vec<P>) = if c == 0 { (u0, u1) } else { (u1, u0) };
     let other = other.as_slice();
     mine.par_chunks_mut(h)
         .zip(l.free[c].par_chunks(h))
@@ -125,31 +160,31 @@ fn interior(nx: usize, n: usize, off: usize, inner: bool) -> (usize, usize) {
 
 /// Sum and count of the in-grid neighbours of cell `k` (column `2k + off`) of a row, read from the other colour.
 #[inline]
-fn neighbour_sum(
-    same: &[f64],
-    up: Option<&[f64]>,
-    down: Option<&[f64]>,
+fn neighbour_sum<T: Real>(
+    same: &[T],
+    up: Option<&[T]>,
+    down: Option<&[T]>,
     nx: usize,
     k: usize,
     off: usize,
-) -> (f64, f64) {
+) -> (T, T) {
     let i = 2 * k + off;
-    let (mut s, mut d) = (0.0, 0.0);
+    let (mut s, mut d) = (T::ZERO, T::ZERO);
     if i > 0 {
         s += same[k + off - 1];
-        d += 1.0;
+        d += T::of(1.0);
     }
     if i + 1 < nx {
         s += same[k + off];
-        d += 1.0;
+        d += T::of(1.0);
     }
     if let Some(up) = up {
         s += up[k];
-        d += 1.0;
+        d += T::of(1.0);
     }
     if let Some(down) = down {
         s += down[k];
-        d += 1.0;
+        d += T::of(1.0);
     }
     (s, d)
 }
@@ -188,17 +223,17 @@ fn residual(l: &mut Level) -> f64 {
 
 /// `out = f + Σ neighbours of x − deg·x` on free cells (0 elsewhere); returns the largest `|out| / deg` and
 /// `Σ x·out` (summed row by row in a fixed order, the same whatever the thread count).
-fn stencil(
+fn stencil<T: Real>(
     nx: usize,
     ny: usize,
     h: usize,
     free: &[Vec<bool>; 2],
-    x: &[Vec<f64>; 2],
-    f: Option<&[Vec<f64>; 2]>,
-    out: &mut [Vec<f64>; 2],
+    x: &[Vec<T>; 2],
+    f: Option<&[Vec<T>; 2]>,
+    out: &mut [Vec<T>; 2],
 ) -> (f64, f64) {
     let (mut worst, mut total) = (0.0f64, 0.0);
-    let zeros = vec![0.0; h];
+    let zeros = vec![T::ZERO; h];
     for c in 0..2 {
         let other = x[1 - c].as_slice();
         let mine = x[c].as_slice();
@@ -229,22 +264,24 @@ fn stencil(
                         .zip(&up[ka..kb])
                         .zip(&down[ka..kb])
                     {
-                        let v = f + l + r + a + b - 4.0 * x;
-                        let v = if *free { v } else { 0.0 };
+                        let v = *f + *l + *r + *a + *b - T::of(4.0) * *x;
+                        let v = if *free { v } else { T::ZERO };
                         *o = v;
+                        let (x, v) = (x.wide(), v.wide());
                         sum += x * v;
                         worst = worst.max(0.25 * v.abs());
                     }
                 }
                 for k in (0..ka).chain(kb..n) {
                     if !free[k] {
-                        orow[k] = 0.0;
+                        orow[k] = T::ZERO;
                         continue;
                     }
                     let (s, d) = neighbour_sum(same, up, down, nx, k, off);
                     let v = fr[k] + s - d * xr[k];
                     orow[k] = v;
-                    sum += xr[k] * v;
+                    let (v, d) = (v.wide(), d.wide());
+                    sum += xr[k].wide() * v;
                     worst = worst.max(v.abs() / d);
                 }
                 (worst, sum)
@@ -319,7 +356,7 @@ fn axpy(alpha: f64, x: &[Vec<f64>; 2], y: &mut [Vec<f64>; 2]) {
 }
 
 /// Adds `w ×` row `j` of a colour-split grid `nx` wide into the row-major `out`.
-fn add_row(v: &[Vec<f64>; 2], h: usize, nx: usize, j: usize, w: f64, out: &mut [f64]) {
+fn add_row(v: &[Vec<P>; 2], h: usize, nx: usize, j: usize, w: P, out: &mut [P]) {
     // even columns are colour j % 2, odd ones the other
     let (even, odd) = (&v[j & 1][j * h..], &v[1 - (j & 1)][j * h..]);
     for (m, pair) in out[..nx].chunks_mut(2).enumerate() {
@@ -345,7 +382,7 @@ fn restrict(fine: &Level, coarse: &mut Level) {
         .enumerate()
         .for_each_init(
             // one spare zero: on an even-sized fine grid the last coarse node lies one node beyond it
-            || vec![0.0; fnx + 1],
+            || vec![0.0 as P; fnx + 1],
             |g, (jc, (((f0, f1), u0), u1))| {
                 // the fine rows 2J − 1, 2J, 2J + 1 weighted 1/2, 1, 1/2
                 g.fill(0.0);
@@ -393,7 +430,7 @@ fn prolong_add(coarse: &Level, fine: &mut Level) {
         .zip(u1.par_chunks_mut(fh))
         .enumerate()
         .for_each_init(
-            || vec![0.0; cnx + 1],
+            || vec![0.0 as P; cnx + 1],
             |buf, (j, (u0, u1))| {
                 // the coarse correction interpolated to this row's height, row-major
                 buf.fill(0.0);
@@ -485,16 +522,22 @@ fn sizes(nx: usize, ny: usize) -> Vec<(usize, usize)> {
     out
 }
 
-/// The fixed values of one level in row-major layout: NaN marks a free cell.
+/// The level of a row-major grid of fixed values (NaN marks a free cell).
 fn level_from(nx: usize, ny: usize, fixed: &[f64]) -> Level {
     let mut l = Level::new(nx, ny);
-    for j in 0..ny {
-        for i in 0..nx {
-            let (c, k) = l.slot(i, j);
-            let v = fixed[j * nx + i];
-            l.free[c][k] = v.is_nan();
-            l.u[c][k] = if v.is_nan() { 0.0 } else { v };
-        }
+    let h = l.h;
+    for (c, (free, u)) in l.free.iter_mut().zip(l.u.iter_mut()).enumerate() {
+        free.par_chunks_mut(h)
+            .zip(u.par_chunks_mut(h))
+            .enumerate()
+            .for_each(|(j, (free, u))| {
+                let (n, off) = row_cells(nx, j, c);
+                for k in 0..n {
+                    let v = fixed[j * nx + 2 * k + off];
+                    free[k] = v.is_nan();
+                    u[k] = if v.is_nan() { 0.0 } else { v as P };
+                }
+            });
     }
     l
 }
@@ -570,7 +613,21 @@ pub(crate) fn solve(
     // slows down where coarse grids blur thin constraint curves, and the Krylov iteration takes those few modes
     let l0 = &mut levels[0];
     let (h, n) = (l0.h, l0.h * l0.ny);
-    let mut x = l0.u.clone();
+    // the solution in f64: the exact fixed values, the nested iteration's guess on the free cells
+    let mut x = [vec![0.0; n], vec![0.0; n]];
+    for (c, xc) in x.iter_mut().enumerate() {
+        xc.par_chunks_mut(h).enumerate().for_each(|(j, row)| {
+            let (cells, off) = row_cells(nx, j, c);
+            for (k, v) in row[..cells].iter_mut().enumerate() {
+                let wanted = fixed[j * nx + 2 * k + off];
+                *v = if wanted.is_nan() {
+                    l0.u[c][j * h + k] as f64
+                } else {
+                    wanted
+                };
+            }
+        });
+    }
     let mut r = [vec![0.0; n], vec![0.0; n]];
     let mut res = stencil(nx, ny, h, &l0.free, &x, None, &mut r).0;
     let mut cycles = 0;
@@ -579,7 +636,7 @@ pub(crate) fn solve(
     // the recursively updated residual drifts from the true one by rounding: when it reaches the tolerance the
     // true residual is checked, and the iteration restarts from it if that is still above
     while res > tolerance && cycles < max_cycles {
-        precondition(&mut levels, &mut r, &mut z);
+        precondition(&mut levels, &r, &mut z);
         let mut p = z.clone();
         let mut rz = dot(h, &r, &z);
         while cycles < max_cycles {
@@ -596,7 +653,7 @@ pub(crate) fn solve(
                 axpy(alpha, &p, &mut x);
                 break;
             }
-            precondition(&mut levels, &mut r, &mut z);
+            precondition(&mut levels, &r, &mut z);
             let rz_next = dot(h, &r, &z);
             let beta = rz_next / rz;
             rz = rz_next;
@@ -617,12 +674,10 @@ pub(crate) fn solve(
             break; // no progress left at this precision
         }
     }
-    levels[0].u = x;
-    let l0 = &levels[0];
     let mut u = vec![0.0; nx * ny];
     u.par_chunks_mut(nx).enumerate().for_each(|(j, row)| {
         for (i, v) in row.iter_mut().enumerate() {
-            *v = Level::get(&l0.u, l0.h, i, j);
+            *v = x[(i + j) & 1][j * h + i / 2];
         }
     });
     Solved {
@@ -632,16 +687,21 @@ pub(crate) fn solve(
     }
 }
 
-/// One V-cycle on `A e = r` from `e = 0`; the answer is swapped into `z` (`r` lends its storage to the finest
-/// level's right-hand side meanwhile).
-fn precondition(levels: &mut [Level], r: &mut [Vec<f64>; 2], z: &mut [Vec<f64>; 2]) {
-    std::mem::swap(&mut levels[0].f, r);
-    for u in levels[0].u.iter_mut() {
+/// One V-cycle on `A e = r` from `e = 0` (in single precision); the answer goes into `z`.
+fn precondition(levels: &mut [Level], r: &[Vec<f64>; 2], z: &mut [Vec<f64>; 2]) {
+    let l0 = &mut levels[0];
+    for ((f, u), r) in l0.f.iter_mut().zip(l0.u.iter_mut()).zip(r) {
+        f.par_iter_mut()
+            .zip(r.par_iter())
+            .for_each(|(f, r)| *f = *r as P);
         u.fill(0.0);
     }
     vcycle(levels);
-    std::mem::swap(z, &mut levels[0].u);
-    std::mem::swap(&mut levels[0].f, r);
+    for (z, u) in z.iter_mut().zip(&levels[0].u) {
+        z.par_iter_mut()
+            .zip(u.par_iter())
+            .for_each(|(z, u)| *z = *u as f64);
+    }
 }
 
 /// Plain Jacobi iteration on the same equation (the baseline multigrid is measured against): every free cell
