@@ -5,15 +5,16 @@
 use super::multigrid;
 use crate::distance::distance_transform;
 use crate::error::{Error, Result};
-use crate::terrain::Heightfield;
+use crate::terrain::{Heightfield, MAX_AUTO_NODES};
+use std::borrow::Cow;
 
 /// Fixed displacements on the cells of a grid (the grid of a heightfield: cell `(i, j)` at
 /// `origin + (i, j)·cell`, row-major).
 #[derive(Clone, Debug)]
 pub struct Constraints {
-    pub nx: usize,
-    pub ny: usize,
-    pub cell: f64,
+    pub(crate) nx: usize,
+    pub(crate) ny: usize,
+    pub(crate) cell: f64,
     /// NaN on free cells.
     values: Vec<f64>,
 }
@@ -29,6 +30,11 @@ impl Constraints {
         if !(cell.is_finite() && cell > 0.0) {
             return Err(Error::InvalidInput(format!(
                 "constraint grid cell {cell} must be positive"
+            )));
+        }
+        if nx.saturating_mul(ny) > 4 * MAX_AUTO_NODES {
+            return Err(Error::InvalidInput(format!(
+                "a constraint grid of {nx}x{ny} cells is too large"
             )));
         }
         Ok(Constraints {
@@ -47,6 +53,21 @@ impl Constraints {
             cell: terrain.cell,
             values: vec![f64::NAN; terrain.nx * terrain.ny],
         }
+    }
+
+    /// Cells along X.
+    pub fn nx(&self) -> usize {
+        self.nx
+    }
+
+    /// Cells along Y.
+    pub fn ny(&self) -> usize {
+        self.ny
+    }
+
+    /// Cell size (m).
+    pub fn cell(&self) -> f64 {
+        self.cell
     }
 
     fn index(&self, i: usize, j: usize) -> Result<usize> {
@@ -267,21 +288,35 @@ fn run(c: &Constraints, options: &DiffusionOptions, method: Method) -> Result<Di
         (j1 + 1).min(ny - 1),
     );
     let (bx, by) = (i1 - i0 + 1, j1 - j0 + 1);
-    let boxed: Vec<f64> = (j0..=j1)
-        .flat_map(|j| fixed[j * nx + i0..=j * nx + i1].iter().copied())
-        .collect();
-    let solved = match method {
+    let whole = bx == nx && by == ny;
+    let boxed: Cow<[f64]> = if whole {
+        Cow::Borrowed(&fixed)
+    } else {
+        Cow::Owned(
+            (j0..=j1)
+                .flat_map(|j| fixed[j * nx + i0..=j * nx + i1].iter().copied())
+                .collect(),
+        )
+    };
+    // run on a worker of the thread pool: the solver's many short parallel loops then start there instead of
+    // each being handed over from the calling thread
+    let solved = rayon::scope(|_| match method {
         Method::Multigrid => multigrid::solve(bx, by, &boxed, tolerance, options.max_cycles),
         Method::Jacobi => multigrid::jacobi(bx, by, &boxed, tolerance, options.max_cycles),
+    });
+    let displacement = if whole {
+        solved.u
+    } else {
+        let mut d: Vec<f64> = fixed
+            .iter()
+            .map(|v| if v.is_nan() { 0.0 } else { *v })
+            .collect();
+        for (bj, row) in solved.u.chunks(bx).enumerate() {
+            let j = j0 + bj;
+            d[j * nx + i0..=j * nx + i1].copy_from_slice(row);
+        }
+        d
     };
-    let mut displacement: Vec<f64> = fixed
-        .iter()
-        .map(|v| if v.is_nan() { 0.0 } else { *v })
-        .collect();
-    for (bj, row) in solved.u.chunks(bx).enumerate() {
-        let j = j0 + bj;
-        displacement[j * nx + i0..=j * nx + i1].copy_from_slice(row);
-    }
     Ok(Diffusion {
         nx,
         ny,

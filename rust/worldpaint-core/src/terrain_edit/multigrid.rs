@@ -20,6 +20,13 @@ use rayon::prelude::*;
 const SWEEPS: usize = 2;
 /// A level this small (in either direction) is the coarsest.
 const COARSEST: usize = 4;
+/// Fewest cells a parallel task gets: the coarse levels are small, and splitting them costs more than it saves.
+const TASK_CELLS: usize = 16_384;
+
+/// Fewest rows of `h` cells a parallel task gets.
+fn rows_per_task(h: usize) -> usize {
+    (TASK_CELLS / h.max(1)).max(1)
+}
 
 /// The float type of the grid hierarchy: the V-cycle is a preconditioner, so single precision (half the memory
 /// traffic of the bandwidth-bound sweeps) is enough; the conjugate-gradient iteration itself runs in `f64`.
@@ -114,6 +121,7 @@ fn relax_colour(l: &mut Level, c: usize) {
         .zip(l.free[c].par_chunks(h))
         .zip(l.f[c].par_chunks(h))
         .enumerate()
+        .with_min_len(rows_per_task(h))
         .for_each(|(j, ((row, free), f))| {
             let (n, off) = row_cells(nx, j, c);
             let same = &other[j * h..(j + 1) * h];
@@ -242,6 +250,7 @@ fn stencil<T: Real>(
             .par_chunks_mut(h)
             .zip(free[c].par_chunks(h))
             .enumerate()
+            .with_min_len(rows_per_task(h))
             .map(|(j, (orow, free))| {
                 let (n, off) = row_cells(nx, j, c);
                 let same = &other[j * h..(j + 1) * h];
@@ -302,6 +311,7 @@ fn dot(h: usize, a: &[Vec<f64>; 2], b: &[Vec<f64>; 2]) -> f64 {
         let rows: Vec<f64> = a[c]
             .par_chunks(h)
             .zip(b[c].par_chunks(h))
+            .with_min_len(rows_per_task(h))
             .map(|(x, y)| x.iter().zip(y).map(|(x, y)| x * y).sum::<f64>())
             .collect();
         total += rows.iter().sum::<f64>();
@@ -325,6 +335,7 @@ fn update_residual(
             .par_chunks_mut(h)
             .zip(q[c].par_chunks(h))
             .enumerate()
+            .with_min_len(rows_per_task(h))
             .map(|(j, (r, q))| {
                 let (n, off) = row_cells(nx, j, c);
                 let edge_rows = f64::from(u8::from(j == 0)) + f64::from(u8::from(j + 1 == ny));
@@ -351,6 +362,7 @@ fn axpy(alpha: f64, x: &[Vec<f64>; 2], y: &mut [Vec<f64>; 2]) {
     for c in 0..2 {
         y[c].par_iter_mut()
             .zip(x[c].par_iter())
+            .with_min_len(TASK_CELLS)
             .for_each(|(y, x)| *y += alpha * x);
     }
 }
@@ -380,6 +392,7 @@ fn restrict(fine: &Level, coarse: &mut Level) {
         .zip(u0.par_chunks_mut(ch))
         .zip(u1.par_chunks_mut(ch))
         .enumerate()
+        .with_min_len(rows_per_task(ch))
         .for_each_init(
             // one spare zero: on an even-sized fine grid the last coarse node lies one node beyond it
             || vec![0.0 as P; fnx + 1],
@@ -429,6 +442,7 @@ fn prolong_add(coarse: &Level, fine: &mut Level) {
     u0.par_chunks_mut(fh)
         .zip(u1.par_chunks_mut(fh))
         .enumerate()
+        .with_min_len(rows_per_task(fh))
         .for_each_init(
             || vec![0.0 as P; cnx + 1],
             |buf, (j, (u0, u1))| {
@@ -530,6 +544,7 @@ fn level_from(nx: usize, ny: usize, fixed: &[f64]) -> Level {
         free.par_chunks_mut(h)
             .zip(u.par_chunks_mut(h))
             .enumerate()
+            .with_min_len(rows_per_task(h))
             .for_each(|(j, (free, u))| {
                 let (n, off) = row_cells(nx, j, c);
                 for k in 0..n {
@@ -584,18 +599,16 @@ pub(crate) fn solve(
 ) -> Solved {
     let dims = sizes(nx, ny);
     // the fixed values of every level, for the nested-iteration guess
-    let mut fixed_levels: Vec<Vec<f64>> = vec![fixed.to_vec()];
+    let mut coarse_fixed: Vec<Vec<f64>> = Vec::with_capacity(dims.len());
     for w in dims.windows(2) {
         let (a, b) = (w[0], w[1]);
-        let Some(prev) = fixed_levels.last() else {
-            break;
-        };
+        let prev = coarse_fixed.last().map_or(fixed, |v| v.as_slice());
         let next = coarsen_fixed(a.0, a.1, prev, b.0, b.1);
-        fixed_levels.push(next);
+        coarse_fixed.push(next);
     }
     let mut levels: Vec<Level> = dims
         .iter()
-        .zip(&fixed_levels)
+        .zip(std::iter::once(fixed).chain(coarse_fixed.iter().map(|v| v.as_slice())))
         .map(|(&(x, y), f)| level_from(x, y, f))
         .collect();
     // nested iteration: solve each level's own problem (one V-cycle below it), prolong as the next level's guess
@@ -662,6 +675,7 @@ pub(crate) fn solve(
                 x[c].par_iter_mut()
                     .zip(p[c].par_iter_mut())
                     .zip(z[c].par_iter())
+                    .with_min_len(TASK_CELLS)
                     .for_each(|((x, p), z)| {
                         *x += alpha * *p;
                         *p = z + beta * *p;
@@ -693,6 +707,7 @@ fn precondition(levels: &mut [Level], r: &[Vec<f64>; 2], z: &mut [Vec<f64>; 2]) 
     for ((f, u), r) in l0.f.iter_mut().zip(l0.u.iter_mut()).zip(r) {
         f.par_iter_mut()
             .zip(r.par_iter())
+            .with_min_len(TASK_CELLS)
             .for_each(|(f, r)| *f = *r as P);
         u.fill(0.0);
     }
@@ -700,6 +715,7 @@ fn precondition(levels: &mut [Level], r: &[Vec<f64>; 2], z: &mut [Vec<f64>; 2]) 
     for (z, u) in z.iter_mut().zip(&levels[0].u) {
         z.par_iter_mut()
             .zip(u.par_iter())
+            .with_min_len(TASK_CELLS)
             .for_each(|(z, u)| *z = *u as f64);
     }
 }
@@ -729,6 +745,7 @@ pub(crate) fn jacobi(
             .par_chunks_mut(nx)
             .zip(free.par_chunks(nx))
             .enumerate()
+            .with_min_len(rows_per_task(nx))
             .map(|(j, (row, free))| {
                 let mut worst = 0.0f64;
                 for i in 0..nx {
