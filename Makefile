@@ -44,6 +44,7 @@ bench: engine
 	cargo bench -p worldpaint-core --bench tools
 	cargo bench -p worldpaint-core --bench structures
 	cargo bench -p worldpaint-core --bench village
+	cargo bench -p worldpaint-core --bench terrain_edit
 	cargo bench -p worldpaint-core --bench waterfall
 	$(PY) blender_tests/bench_blender.py
 

@@ -142,6 +142,21 @@ fn diffusion_meets_constraints_keeps_detail_and_stays_within_the_falloff() {
     };
     let d = diffuse(&c, &options).expect("diffusion");
     let edited = d.apply(&t).expect("same grid");
+    // the default, looser tolerance against this one: how far a small residual leaves D from the solution
+    let loose = diffuse(
+        &c,
+        &DiffusionOptions {
+            falloff: Some(falloff),
+            ..Default::default()
+        },
+    )
+    .expect("diffusion");
+    let loose_error = loose
+        .displacement
+        .iter()
+        .zip(&d.displacement)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
 
     // constrained cells are met
     let constraint_error = wanted
@@ -192,6 +207,10 @@ fn diffusion_meets_constraints_keeps_detail_and_stays_within_the_falloff() {
         d.residual, residual, d.tolerance
     );
     println!("  max error at constrained cells {constraint_error:.2e} m");
+    println!(
+        "  default tolerance ({:.2e} m, {} iterations): D within {loose_error:.2e} m of the tight solution",
+        loose.tolerance, loose.cycles
+    );
     println!("  max change beyond the {falloff} m falloff {beyond:.2e} m");
     println!(
         "  high-pass correlation outside the corridors ({} cells, up to {change:.2} m moved, high-pass rms {hp_rms:.3} m): {r:.5}",
@@ -199,6 +218,10 @@ fn diffusion_meets_constraints_keeps_detail_and_stays_within_the_falloff() {
     );
     assert!(d.converged);
     assert!(constraint_error < 1e-3);
+    assert!(
+        loose.converged && loose_error < 1e-3,
+        "default tolerance leaves D {loose_error} m off"
+    );
     assert!(residual <= 1e-6, "Laplace residual {residual}");
     assert!(beyond < 1e-3);
     assert!(change > 1.0, "the edit hardly moved the terrain");

@@ -5,15 +5,16 @@
 use super::multigrid;
 use crate::distance::distance_transform;
 use crate::error::{Error, Result};
-use crate::terrain::Heightfield;
+use crate::terrain::{Heightfield, MAX_AUTO_NODES};
+use std::borrow::Cow;
 
 /// Fixed displacements on the cells of a grid (the grid of a heightfield: cell `(i, j)` at
 /// `origin + (i, j)·cell`, row-major).
 #[derive(Clone, Debug)]
 pub struct Constraints {
-    pub nx: usize,
-    pub ny: usize,
-    pub cell: f64,
+    pub(crate) nx: usize,
+    pub(crate) ny: usize,
+    pub(crate) cell: f64,
     /// NaN on free cells.
     values: Vec<f64>,
 }
@@ -29,6 +30,11 @@ impl Constraints {
         if !(cell.is_finite() && cell > 0.0) {
             return Err(Error::InvalidInput(format!(
                 "constraint grid cell {cell} must be positive"
+            )));
+        }
+        if nx.saturating_mul(ny) > 4 * MAX_AUTO_NODES {
+            return Err(Error::InvalidInput(format!(
+                "a constraint grid of {nx}x{ny} cells is too large"
             )));
         }
         Ok(Constraints {
@@ -47,6 +53,21 @@ impl Constraints {
             cell: terrain.cell,
             values: vec![f64::NAN; terrain.nx * terrain.ny],
         }
+    }
+
+    /// Cells along X.
+    pub fn nx(&self) -> usize {
+        self.nx
+    }
+
+    /// Cells along Y.
+    pub fn ny(&self) -> usize {
+        self.ny
+    }
+
+    /// Cell size (m).
+    pub fn cell(&self) -> f64 {
+        self.cell
     }
 
     fn index(&self, i: usize, j: usize) -> Result<usize> {
@@ -115,7 +136,7 @@ pub struct DiffusionOptions {
     /// Stop when no free cell differs from the mean of its neighbours by more than this fraction of the largest
     /// constraint magnitude.
     pub tolerance: f64,
-    /// Most V-cycles (multigrid) — or iterations for [`jacobi`].
+    /// Most iterations: preconditioned conjugate-gradient steps (one V-cycle each), or sweeps for [`jacobi`].
     pub max_cycles: usize,
 }
 
@@ -123,7 +144,7 @@ impl Default for DiffusionOptions {
     fn default() -> Self {
         DiffusionOptions {
             falloff: None,
-            tolerance: 1e-7,
+            tolerance: 1e-5,
             max_cycles: 100,
         }
     }
@@ -136,7 +157,8 @@ pub struct Diffusion {
     pub ny: usize,
     /// Row-major displacement `D` (m).
     pub displacement: Vec<f64>,
-    /// V-cycles (or Jacobi iterations) run after the first guess.
+    /// Iterations after the first guess: conjugate-gradient steps, each preconditioned by one V-cycle (multigrid),
+    /// or Jacobi sweeps.
     pub cycles: usize,
     /// Largest `|mean of neighbours − value|` over the free cells at the end (m).
     pub residual: f64,
@@ -266,21 +288,35 @@ fn run(c: &Constraints, options: &DiffusionOptions, method: Method) -> Result<Di
         (j1 + 1).min(ny - 1),
     );
     let (bx, by) = (i1 - i0 + 1, j1 - j0 + 1);
-    let boxed: Vec<f64> = (j0..=j1)
-        .flat_map(|j| fixed[j * nx + i0..=j * nx + i1].iter().copied())
-        .collect();
-    let solved = match method {
+    let whole = bx == nx && by == ny;
+    let boxed: Cow<[f64]> = if whole {
+        Cow::Borrowed(&fixed)
+    } else {
+        Cow::Owned(
+            (j0..=j1)
+                .flat_map(|j| fixed[j * nx + i0..=j * nx + i1].iter().copied())
+                .collect(),
+        )
+    };
+    // run on a worker of the thread pool: the solver's many short parallel loops then start there instead of
+    // each being handed over from the calling thread
+    let solved = rayon::scope(|_| match method {
         Method::Multigrid => multigrid::solve(bx, by, &boxed, tolerance, options.max_cycles),
         Method::Jacobi => multigrid::jacobi(bx, by, &boxed, tolerance, options.max_cycles),
+    });
+    let displacement = if whole {
+        solved.u
+    } else {
+        let mut d: Vec<f64> = fixed
+            .iter()
+            .map(|v| if v.is_nan() { 0.0 } else { *v })
+            .collect();
+        for (bj, row) in solved.u.chunks(bx).enumerate() {
+            let j = j0 + bj;
+            d[j * nx + i0..=j * nx + i1].copy_from_slice(row);
+        }
+        d
     };
-    let mut displacement: Vec<f64> = fixed
-        .iter()
-        .map(|v| if v.is_nan() { 0.0 } else { *v })
-        .collect();
-    for (bj, row) in solved.u.chunks(bx).enumerate() {
-        let j = j0 + bj;
-        displacement[j * nx + i0..=j * nx + i1].copy_from_slice(row);
-    }
     Ok(Diffusion {
         nx,
         ny,

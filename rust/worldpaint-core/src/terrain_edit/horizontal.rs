@@ -101,7 +101,8 @@ impl HorizontalDisplacement {
     /// The terrain shifted by the map: `H'(p) = H(p − D(p))` (bilinear, clamped to the grid).
     pub fn apply(&self, terrain: &Heightfield) -> Result<Heightfield> {
         let (nx, ny) = (terrain.nx, terrain.ny);
-        if self.x.nx != nx || self.x.ny != ny || self.y.nx != nx || self.y.ny != ny {
+        let fits = |d: &Diffusion| d.nx == nx && d.ny == ny && d.displacement.len() == nx * ny;
+        if !(fits(&self.x) && fits(&self.y)) {
             return Err(Error::InvalidInput(format!(
                 "a {}x{} horizontal displacement does not fit a {nx}x{ny} terrain",
                 self.x.nx, self.x.ny
