@@ -31,7 +31,7 @@ pub mod network;
 pub mod subdivide;
 
 pub use classify::{Section, TypeSeed, WaterfallType, TABLE_4_1};
-pub use network::{Arc, HydraulicGraph, Node, NodeKind};
+pub use network::{HydraulicArc, HydraulicGraph, Node, NodeKind};
 
 use crate::error::{Error, Result};
 use crate::terrain::Heightfield;
