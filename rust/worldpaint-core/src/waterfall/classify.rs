@@ -157,7 +157,12 @@ pub fn inclination(a: DVec3, b: DVec3) -> f64 {
 }
 
 /// The segments of arc `a` along its path: one per path step for a contact arc, one for a free-fall.
-pub fn arc_segments(a: usize, arc: &HydraulicArc, path: &[DVec3], params: &WaterfallParams) -> Vec<Segment> {
+pub fn arc_segments(
+    a: usize,
+    arc: &HydraulicArc,
+    path: &[DVec3],
+    params: &WaterfallParams,
+) -> Vec<Segment> {
     let make = |points: Vec<DVec3>| {
         let slope = inclination(points[0], points[points.len() - 1]);
         let kind_of_water = classify(slope, arc.flow);
