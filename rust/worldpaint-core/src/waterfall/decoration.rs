@@ -98,6 +98,9 @@ pub struct WaterMaps {
     pub disturbance: Vec<f32>,
     /// Plan surface velocity.
     pub speed: Vec<DVec2>,
+    /// Signed plan distance to the water's edge (positive in the water), clamped at minus the footprint's margin:
+    /// its bilinear interpolation places the edge between nodes, also for ribbons narrower than a cell.
+    pub inside: Vec<f32>,
 }
 
 impl WaterMaps {
@@ -108,9 +111,23 @@ impl WaterMaps {
         (inside && p.is_finite()).then(|| f.y as usize * self.nx + f.x as usize)
     }
 
-    /// Whether `p` lies in the water (its nearest node does): for keeping instances out of it.
+    /// Whether `p` lies in the water (the interpolated distance to the water's edge is positive): for keeping
+    /// instances out of it.
     pub fn is_water(&self, p: DVec2) -> bool {
-        self.node(p).is_some_and(|k| self.water[k] > 0.5)
+        if !p.is_finite() || self.nx < 2 || self.ny < 2 {
+            return false;
+        }
+        let f = (p - self.origin) / self.cell;
+        if f.x < 0.0 || f.y < 0.0 || f.x > (self.nx - 1) as f64 || f.y > (self.ny - 1) as f64 {
+            return false;
+        }
+        let i = (f.x.floor() as usize).min(self.nx - 2);
+        let j = (f.y.floor() as usize).min(self.ny - 2);
+        let (tx, ty) = (f.x - i as f64, f.y - j as f64);
+        let at = |i: usize, j: usize| self.inside[j * self.nx + i] as f64;
+        let a = at(i, j) * (1.0 - tx) + at(i + 1, j) * tx;
+        let b = at(i, j + 1) * (1.0 - tx) + at(i + 1, j + 1) * tx;
+        a * (1.0 - ty) + b * ty > 0.0
     }
 
     /// The speed at the node nearest to `p` (zero off the grid).
@@ -132,6 +149,12 @@ pub fn water_maps(
     let mut water = vec![0.0f32; n];
     let mut values = [vec![0.0f32; n], vec![0.0f32; n], vec![0.0f32; n]];
     let mut speed = vec![DVec2::ZERO; n];
+    let far = -(footprint.margin.max(footprint.cell)) as f32;
+    let inside: Vec<f32> = footprint
+        .nodes
+        .iter()
+        .map(|f| f.map_or(far, |f| (f.inside as f32).max(far)))
+        .collect();
     let pool_of = |c: usize| mesh.pools.iter().find(|p| p.controller == c);
     for (k, node) in footprint.nodes.iter().enumerate() {
         let Some(f) = node else {
@@ -174,6 +197,7 @@ pub fn water_maps(
         rocks,
         disturbance,
         speed,
+        inside,
     };
     branch_speeds(net, mesh, footprint, &mut maps);
     pool_speeds(net, mesh, footprint, &mut maps)?;

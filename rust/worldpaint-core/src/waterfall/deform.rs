@@ -35,7 +35,7 @@ use glam::DVec2;
 pub struct DeformOptions {
     /// Height of the banks above the water (m).
     pub freeboard: f64,
-    /// Width of the band of border constraints along the water (m); `None`: two grid cells.
+    /// Width of the band of border constraints along the water (m); `None`: three grid cells.
     pub bank_width: Option<f64>,
     /// `λ`, the overhang displacement (m); 0: none.
     pub overhang: f64,
@@ -86,7 +86,7 @@ impl DeformOptions {
 
     /// The bank band's width on a grid of `cell` metres.
     pub fn bank(&self, cell: f64) -> f64 {
-        self.bank_width.unwrap_or(2.0 * cell)
+        self.bank_width.unwrap_or(3.0 * cell)
     }
 }
 

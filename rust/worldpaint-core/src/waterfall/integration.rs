@@ -518,7 +518,7 @@ pub fn footprint(
                     FootprintNode {
                         part: WaterPart::FreeFall,
                         element: s,
-                        inside: inside.max(f64::MIN_POSITIVE),
+                        inside,
                         half_width: hw,
                         surface: p0.z + t * (p1.z - p0.z),
                         depth: seg.section.depth,
