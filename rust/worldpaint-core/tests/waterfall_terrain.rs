@@ -121,9 +121,9 @@ fn terrain_beyond_the_falloff_is_unchanged() {
         .collect();
     let dist = distance_transform(t.nx, t.ny, t.cell, &mask);
     let (mut far, mut worst, mut changed_near) = (0usize, 0.0f64, 0usize);
-    for k in 0..t.nx * t.ny {
+    for (k, dist) in dist.iter().enumerate() {
         let change = (d.terrain.heights[k] - t.heights[k]).abs() as f64;
-        if dist[k] as f64 > options.deform.falloff + t.cell {
+        if *dist as f64 > options.deform.falloff + t.cell {
             far += 1;
             worst = worst.max(change);
         } else if change > 1e-3 {
@@ -206,6 +206,7 @@ fn overhangs_push_the_lip_forward_and_the_pool_wall_back() {
             seg.arc
         );
         falls += 1;
+        println!("{falls} exemplar falls checked");
     }
     // the exemplar's lips lie over their pools' back walls; one fall with room between them
     let cliff = |x: f64| {

@@ -404,6 +404,9 @@ fn branch_speeds(
     }
 }
 
+/// A pool's solved speeds: the box's first node `(i0, j0)`, its size `(bx, by)` and the velocities in it.
+type PoolSpeeds = (usize, usize, usize, usize, Vec<DVec2>);
+
 /// The pool speeds: inflow, outflow and plunge velocities diffused through each pool with its walls at rest.
 fn pool_speeds(
     net: &WaterfallNetwork,
@@ -411,7 +414,7 @@ fn pool_speeds(
     footprint: &Footprint,
     maps: &mut WaterMaps,
 ) -> Result<()> {
-    let solved: Vec<Option<(usize, usize, usize, usize, Vec<DVec2>)>> = mesh
+    let solved: Vec<Option<PoolSpeeds>> = mesh
         .pools
         .par_iter()
         .map(|pool| -> Result<_> {
