@@ -25,7 +25,7 @@
 //! | [`synthesis`] | Metropolis-Hastings synthesis with a region of influence (§4.1, §4.3, §5.1, §6); adapting moved content (§5.4) |
 //! | [`tools`] | the painting tools: paste, brush and eraser, move, seam-carving stretch, gradient, blur (§5) |
 //! | [`village`] | villages on arbitrary terrain: growth, roads, parcels, houses (thesis ch. 3) |
-//! | [`waterfall`] | waterfall scenes: controller network, hydraulic graph and flow, terrain-adapted subdivision, slope-flow types (thesis 4.1–4.3) |
+//! | [`waterfall`] | waterfall scenes: controller network, hydraulic graph and flow, terrain-adapted subdivision, slope-flow types, integration mesh, terrain deformation, decoration maps (thesis ch. 4) |
 //! | [`exemplar`] | generating processes for demo scenes, tests and benchmarks |
 
 // `!(x > 0.0)` is used on purpose: it rejects NaN as well as non-positive values.

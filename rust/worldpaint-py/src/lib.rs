@@ -15,6 +15,7 @@ mod terrain;
 mod terrain_edit;
 mod tools;
 mod village;
+mod waterfall;
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::sync::Mutex;
@@ -146,5 +147,6 @@ fn worldpaint_engine(m: &Bound<'_, PyModule>) -> PyResult<()> {
     tools::register(m)?;
     village::register(m)?;
     terrain_edit::register(m)?;
+    waterfall::register(m)?;
     Ok(())
 }

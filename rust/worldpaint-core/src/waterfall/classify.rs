@@ -14,7 +14,7 @@
 //! with this profile the flow sets the depth and the slope the width. A segment without flow is dry: depth and
 //! width 0.
 
-use super::network::Arc;
+use super::network::HydraulicArc;
 use super::{ControllerKind, Segment, WaterfallParams};
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
@@ -157,7 +157,12 @@ pub fn inclination(a: DVec3, b: DVec3) -> f64 {
 }
 
 /// The segments of arc `a` along its path: one per path step for a contact arc, one for a free-fall.
-pub fn arc_segments(a: usize, arc: &Arc, path: &[DVec3], params: &WaterfallParams) -> Vec<Segment> {
+pub fn arc_segments(
+    a: usize,
+    arc: &HydraulicArc,
+    path: &[DVec3],
+    params: &WaterfallParams,
+) -> Vec<Segment> {
     let make = |points: Vec<DVec3>| {
         let slope = inclination(points[0], points[points.len() - 1]);
         let kind_of_water = classify(slope, arc.flow);

@@ -9,8 +9,12 @@
 //! | [`subdivide`] | midpoint-displacement subdivision of contact curves adapted to the terrain (4.3.1) |
 //! | [`classify`] | Table 4.1, the slope-flow Voronoi classification and the triangular section (4.1.1, 4.3.2) |
 //!
-//! [`build`] runs the whole pipeline: correction, graph, flow, subdivision, classification. The integration mesh
-//! and the terrain deformation (4.4) are not part of this module.
+//! | [`integration`] | the integration mesh, its contour `Ω` and its footprint on the terrain grid (4.4.1) |
+//! | [`deform`] | border, riverbed and overhang constraints diffused into the terrain (4.4.2) |
+//! | [`decoration`] | water, foam, rock, disturbance and speed maps; rocks along the riverbeds (4.4.3) |
+//!
+//! [`build`] runs the hydraulic pipeline: correction, graph, flow, subdivision, classification. [`scene`] runs it
+//! and then adapts the terrain to the water and makes the decoration maps.
 //!
 //! Readings of the thesis where it is silent or ambiguous (each module says more):
 //!
@@ -26,15 +30,24 @@
 //!   it leaves a pool or a branch (the thesis's "relative strength pre-set by the user").
 
 pub mod classify;
+pub mod decoration;
+pub mod deform;
 pub mod hydraulics;
+pub mod integration;
 pub mod network;
 pub mod subdivide;
 
 pub use classify::{Section, TypeSeed, WaterfallType, TABLE_4_1};
-pub use network::{Arc, HydraulicGraph, Node, NodeKind};
+pub use decoration::{scatter_rocks, water_maps, DecorationOptions, WaterMaps};
+pub use deform::{deform, DeformOptions, TerrainDeformation};
+pub use integration::{
+    footprint, integration_mesh, Footprint, IntegrationOptions, WaterMesh, WaterPart,
+};
+pub use network::{HydraulicArc, HydraulicGraph, Node, NodeKind};
 
 use crate::error::{Error, Result};
 use crate::terrain::Heightfield;
+use crate::terrain_edit::HorizontalDisplacement;
 use glam::DVec3;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -289,4 +302,125 @@ fn arc_seed(seed: u64, a: usize) -> u64 {
     z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
     z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
     z ^ (z >> 31)
+}
+
+/// Options of the terrain and decoration stages of [`scene`].
+#[derive(Clone, Debug, Default)]
+pub struct SceneOptions {
+    pub integration: IntegrationOptions,
+    pub deform: DeformOptions,
+    pub decoration: DecorationOptions,
+}
+
+/// Figures of a scene.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct SceneReport {
+    pub sources: usize,
+    pub wells: usize,
+    pub branches: usize,
+    pub pools: usize,
+    pub arcs: usize,
+    pub segments: usize,
+    pub invalid_segments: usize,
+    /// Largest relative difference between a node's inflow and outflow.
+    pub max_flow_imbalance: f64,
+    pub mesh_vertices: usize,
+    pub mesh_triangles: usize,
+    pub water_nodes: usize,
+    pub riverbed_nodes: usize,
+    pub border_nodes: usize,
+    pub overhang_nodes: usize,
+    pub rocks: usize,
+    /// The vertical diffusion's final residual (m) and whether it reached its tolerance.
+    pub residual: f64,
+    pub converged: bool,
+}
+
+/// A waterfall scene: the network, its water surface, the terrain adapted to it and the decoration.
+#[derive(Clone, Debug)]
+pub struct WaterfallScene {
+    pub network: WaterfallNetwork,
+    pub mesh: WaterMesh,
+    /// The deformed terrain, its displacement maps and constraint masks.
+    pub terrain: TerrainDeformation,
+    pub maps: WaterMaps,
+    /// Rocks along the riverbeds, on the deformed terrain.
+    pub rocks: Vec<DVec3>,
+    pub report: SceneReport,
+}
+
+impl WaterfallScene {
+    /// The horizontal displacement map of the overhangs.
+    pub fn horizontal(&self) -> &HorizontalDisplacement {
+        &self.terrain.horizontal
+    }
+}
+
+/// The whole of chapter 4: [`build`] (4.1–4.3), the integration mesh (4.4.1), the terrain deformation (4.4.2),
+/// the decoration maps and rocks (4.4.3). Same input and seed give the same scene whatever the number of threads.
+pub fn scene(
+    terrain: &Heightfield,
+    controllers: &[Controller],
+    params: &WaterfallParams,
+    options: &SceneOptions,
+    seed: u64,
+) -> Result<WaterfallScene> {
+    options.integration.validate()?;
+    options.deform.validate()?;
+    options.decoration.validate()?;
+    let network = build(terrain, controllers, params, seed)?;
+    let mut mesh = integration_mesh(&network, &options.integration)?;
+    let print = footprint(
+        terrain,
+        &network,
+        &mesh,
+        &options.integration,
+        options.deform.bank(terrain.cell),
+    )?;
+    let (deformed, maps) = rayon::join(
+        || deform(terrain, &network, &mesh, &print, &options.deform),
+        || water_maps(&network, &mesh, &print, &options.decoration),
+    );
+    let (deformed, maps) = (deformed?, maps?);
+    // pool vertices take the pool speeds just computed
+    for (v, p) in mesh.vertices.iter().enumerate() {
+        if mesh.part[v] == WaterPart::Pool {
+            mesh.speed[v] = maps.speed_at(p.truncate());
+        }
+    }
+    let rocks = scatter_rocks(
+        &maps,
+        &deformed.terrain,
+        &options.decoration,
+        arc_seed(seed, usize::MAX),
+    )?;
+    let g = &network.graph;
+    let count = |k: NodeKind| g.nodes.iter().filter(|n| n.kind == k).count();
+    let report = SceneReport {
+        sources: count(NodeKind::Source),
+        wells: count(NodeKind::Well),
+        branches: count(NodeKind::Branch),
+        pools: count(NodeKind::Pool),
+        arcs: g.arcs.len(),
+        segments: network.segments.len(),
+        invalid_segments: network.invalid_segments().count(),
+        max_flow_imbalance: hydraulics::max_imbalance(g),
+        mesh_vertices: mesh.vertices.len(),
+        mesh_triangles: mesh.triangles.len(),
+        water_nodes: maps.water.iter().filter(|w| **w > 0.5).count(),
+        riverbed_nodes: deformed.riverbed_nodes,
+        border_nodes: deformed.border_nodes,
+        overhang_nodes: deformed.overhang_constrained.iter().filter(|b| **b).count(),
+        rocks: rocks.len(),
+        residual: deformed.vertical.residual,
+        converged: deformed.vertical.converged,
+    };
+    Ok(WaterfallScene {
+        network,
+        mesh,
+        terrain: deformed,
+        maps,
+        rocks,
+        report,
+    })
 }

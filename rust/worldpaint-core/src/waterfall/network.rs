@@ -59,7 +59,7 @@ pub struct Node {
 /// An arc `A_k = ((N_i, N_j), η_k, γ_k)`: a contact or free-fall controller, or the part of one between two
 /// connections.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Arc {
+pub struct HydraulicArc {
     pub controller: usize,
     /// `η_k`: contact or free-fall.
     pub kind: ControllerKind,
@@ -81,7 +81,7 @@ pub struct Arc {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct HydraulicGraph {
     pub nodes: Vec<Node>,
-    pub arcs: Vec<Arc>,
+    pub arcs: Vec<HydraulicArc>,
     /// The nodes in dependency order, sources first.
     pub order: Vec<usize>,
 }
@@ -329,7 +329,7 @@ impl HydraulicGraph {
         }
 
         // arcs: each linear controller cut at its connected points
-        let mut arcs: Vec<Arc> = Vec::new();
+        let mut arcs: Vec<HydraulicArc> = Vec::new();
         let mut k = 0;
         while k < cands.len() {
             let i = cands[k].controller;
@@ -358,7 +358,7 @@ impl HydraulicGraph {
                 let last = points.len() - 1;
                 points[0] = at_node(points[0], n0);
                 points[last] = at_node(points[last], n1);
-                arcs.push(Arc {
+                arcs.push(HydraulicArc {
                     controller: i,
                     kind: c.kind,
                     first_point: p0,
@@ -477,7 +477,7 @@ impl HydraulicGraph {
 }
 
 /// Kahn's order, smallest ready node first; a cycle is refused, naming the controllers on it.
-fn dependency_order(nodes: &[Node], arcs: &[Arc]) -> Result<Vec<usize>> {
+fn dependency_order(nodes: &[Node], arcs: &[HydraulicArc]) -> Result<Vec<usize>> {
     let mut missing: Vec<usize> = nodes.iter().map(|n| n.arcs_in.len()).collect();
     let mut ready: VecDeque<usize> = (0..nodes.len()).filter(|&n| missing[n] == 0).collect();
     let mut order = Vec::with_capacity(nodes.len());

@@ -1,0 +1,637 @@
+//! The integration mesh (thesis 4.4.1 "Integration Mesh Generation"): "the surface meshes for all waterfall
+//! elements [...] generated using the waterfall network trajectories and the widths of the elements. The meshes
+//! for the contact elements are computed by extruding the width `ε` along the segment trajectories. [...]
+//! Free-fall meshes are extruded from the borders of their incoming segments (e.g., pool borders) and follow the
+//! free-fall element curve. Pool meshes are simply triangulated from their contours." Its contour `Ω` (Fig. 4.10
+//! right) carries the constraints of 4.4.2, and its footprint seen from above the maps of 4.4.3.
+//!
+//! Readings:
+//!
+//! * a contact ribbon has three vertices across (left bank, axis, right bank) at the height of the path (the
+//!   water surface; the riverbed is carved below it by [`super::deform`]); three are enough because the surface
+//!   speed of 4.4.3, `δ_c (1 − ‖x − c‖/‖b − c‖)`, is linear across;
+//! * widths are clamped to [`IntegrationOptions::min_width`, `max_width`]: the triangular section's width
+//!   `ε = 4/(k s)` grows without bound on gentle slopes;
+//! * a free-fall sheet is vertical, as wide as the contact ending at its lip (the "incoming segment") or, with
+//!   none, as its own section;
+//! * ribbons meeting at a branch overlap instead of being cut against each other: the footprint keeps, per grid
+//!   node, the element the node is deepest inside, so the maps and constraints see no overlap;
+//! * a pool's values for foam, rocks and disturbance are those of the segments falling or flowing into it,
+//!   fading linearly with the distance from where they arrive to the far side of the pool.
+
+use super::network::NodeKind;
+use super::{ControllerKind, WaterfallNetwork, WaterfallType};
+use crate::contour::Polygons;
+use crate::error::{Error, Result};
+use crate::geom::{polygon_contains, segment_distance};
+use crate::polygon_mesh::triangulate;
+use crate::terrain::Heightfield;
+use glam::{DVec2, DVec3};
+use rayon::prelude::*;
+
+/// Which kind of element a vertex, border or footprint node belongs to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum WaterPart {
+    Contact = 0,
+    FreeFall = 1,
+    Pool = 2,
+}
+
+/// How the mesh is built.
+#[derive(Clone, Debug, PartialEq)]
+pub struct IntegrationOptions {
+    /// Narrowest water surface (m).
+    pub min_width: f64,
+    /// Widest water surface (m).
+    pub max_width: f64,
+}
+
+impl Default for IntegrationOptions {
+    fn default() -> Self {
+        IntegrationOptions {
+            min_width: 1.0,
+            max_width: 20.0,
+        }
+    }
+}
+
+impl IntegrationOptions {
+    pub fn validate(&self) -> Result<()> {
+        if !(self.min_width.is_finite() && self.min_width > 0.0 && self.max_width >= self.min_width)
+        {
+            return Err(Error::InvalidInput(format!(
+                "water widths: min_width = {} must be positive and at most max_width = {}",
+                self.min_width, self.max_width
+            )));
+        }
+        if !self.max_width.is_finite() {
+            return Err(Error::InvalidInput(format!(
+                "water width max_width = {} must be finite",
+                self.max_width
+            )));
+        }
+        Ok(())
+    }
+}
+
+/// A piece of the contour `Ω`.
+#[derive(Clone, Debug)]
+pub struct Border {
+    pub part: WaterPart,
+    /// The segment (contact, free-fall) or pool controller it bounds.
+    pub element: usize,
+    /// World points at the water's level.
+    pub points: Vec<DVec3>,
+    pub closed: bool,
+}
+
+/// The integration mesh with its per-vertex attributes.
+#[derive(Clone, Debug, Default)]
+pub struct WaterMesh {
+    pub vertices: Vec<DVec3>,
+    pub triangles: Vec<[u32; 3]>,
+    /// Plan surface velocity (m/s-like units of `δ`): along the flow, `δ` on the axis, 0 on the banks.
+    pub speed: Vec<DVec2>,
+    pub foam: Vec<f64>,
+    pub rocks: Vec<f64>,
+    pub disturbance: Vec<f64>,
+    pub part: Vec<WaterPart>,
+    /// The segment of a contact or free-fall vertex, the pool controller of a pool vertex.
+    pub element: Vec<usize>,
+    /// The contour `Ω`: contact banks (closed across at sources and wells), free-fall lips, pool contours.
+    pub borders: Vec<Border>,
+    /// Per pool controller with a node in the graph: its contour in plan, level and depth.
+    pub pools: Vec<PoolWater>,
+}
+
+/// A pool's water.
+#[derive(Clone, Debug)]
+pub struct PoolWater {
+    pub controller: usize,
+    pub node: usize,
+    pub contour: Vec<DVec2>,
+    pub level: f64,
+    pub depth: f64,
+    /// Table 4.1 values `[foam, rocks, disturbance]` of each inflow, with the plan point where it arrives.
+    pub inflows: Vec<(DVec2, [f64; 3])>,
+}
+
+/// Table 4.1's `[foam, rocks, disturbance]` of a type.
+pub fn decoration_values(t: WaterfallType) -> [f64; 3] {
+    let s = t.seed();
+    [s.foam, s.rocks, s.disturbance]
+}
+
+impl WaterMesh {
+    fn push(
+        &mut self,
+        p: DVec3,
+        speed: DVec2,
+        values: [f64; 3],
+        part: WaterPart,
+        element: usize,
+    ) -> u32 {
+        self.vertices.push(p);
+        self.speed.push(speed);
+        self.foam.push(values[0]);
+        self.rocks.push(values[1]);
+        self.disturbance.push(values[2]);
+        self.part.push(part);
+        self.element.push(element);
+        (self.vertices.len() - 1) as u32
+    }
+
+    /// Water surface area (m²), the sheets of free-falls included.
+    pub fn area(&self) -> f64 {
+        self.triangles
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|i| self.vertices[i as usize]);
+                0.5 * (b - a).cross(c - a).length()
+            })
+            .sum()
+    }
+}
+
+/// The clamped water width of a segment.
+fn width(net: &WaterfallNetwork, s: usize, o: &IntegrationOptions) -> f64 {
+    net.segments[s]
+        .section
+        .width
+        .clamp(o.min_width, o.max_width)
+}
+
+/// Unit plan normal (left of the flow) at path point `k`: the mean of the adjacent steps' directions.
+fn normal_at(path: &[DVec3], k: usize) -> DVec2 {
+    let dir = |a: usize, b: usize| (path[b] - path[a]).truncate().normalize_or_zero();
+    let t = match (k > 0, k + 1 < path.len()) {
+        (true, true) => dir(k - 1, k) + dir(k, k + 1),
+        (true, false) => dir(k - 1, k),
+        (false, true) => dir(k, k + 1),
+        (false, false) => DVec2::ZERO,
+    };
+    t.normalize_or(DVec2::X).perp()
+}
+
+/// The integration mesh of a network: ribbons, sheets and pool polygons with Table 4.1's values per vertex.
+pub fn integration_mesh(net: &WaterfallNetwork, options: &IntegrationOptions) -> Result<WaterMesh> {
+    options.validate()?;
+    let mut mesh = WaterMesh::default();
+    let graph = &net.graph;
+    for (a, arc) in graph.arcs.iter().enumerate() {
+        let path = &net.paths[a];
+        let range = net.segment_ranges[a].clone();
+        if path.len() < 2 || range.is_empty() {
+            continue;
+        }
+        match arc.kind {
+            ControllerKind::Contact => {
+                // vertex k's width: mean of the segments on either side
+                let n = path.len();
+                let seg_of = |k: usize| range.start + k.min(range.len() - 1);
+                let mut rows: Vec<[u32; 3]> = Vec::with_capacity(n);
+                let mut left = Vec::with_capacity(n);
+                let mut right = Vec::with_capacity(n);
+                for (k, p) in path.iter().enumerate() {
+                    let s = seg_of(k);
+                    let w = if k > 0 && k < n - 1 {
+                        0.5 * (width(net, s - 1, options) + width(net, s, options))
+                    } else {
+                        width(net, s, options)
+                    };
+                    let seg = &net.segments[s];
+                    let nrm = normal_at(path, k);
+                    let along = -nrm.perp();
+                    let values = decoration_values(seg.kind_of_water);
+                    let l = *p + (nrm * 0.5 * w).extend(0.0);
+                    let r = *p - (nrm * 0.5 * w).extend(0.0);
+                    let il = mesh.push(l, DVec2::ZERO, values, WaterPart::Contact, s);
+                    let ic =
+                        mesh.push(*p, along * seg.section.speed, values, WaterPart::Contact, s);
+                    let ir = mesh.push(r, DVec2::ZERO, values, WaterPart::Contact, s);
+                    rows.push([il, ic, ir]);
+                    left.push(l);
+                    right.push(r);
+                }
+                for w in rows.windows(2) {
+                    for c in 0..2 {
+                        let (a0, a1, b0, b1) = (w[0][c], w[0][c + 1], w[1][c], w[1][c + 1]);
+                        mesh.triangles.push([a0, b0, a1]);
+                        mesh.triangles.push([a1, b0, b1]);
+                    }
+                }
+                let first = range.start;
+                let last = range.end - 1;
+                mesh.borders.push(Border {
+                    part: WaterPart::Contact,
+                    element: first,
+                    points: left.clone(),
+                    closed: false,
+                });
+                mesh.borders.push(Border {
+                    part: WaterPart::Contact,
+                    element: first,
+                    points: right.clone(),
+                    closed: false,
+                });
+                // closed across where the water starts from nothing or ends in nothing
+                if graph.nodes[arc.from].kind == NodeKind::Source {
+                    mesh.borders.push(Border {
+                        part: WaterPart::Contact,
+                        element: first,
+                        points: vec![left[0], right[0]],
+                        closed: false,
+                    });
+                }
+                if graph.nodes[arc.to].kind == NodeKind::Well {
+                    mesh.borders.push(Border {
+                        part: WaterPart::Contact,
+                        element: last,
+                        points: vec![left[n - 1], right[n - 1]],
+                        closed: false,
+                    });
+                }
+            }
+            ControllerKind::FreeFall => {
+                let s = range.start;
+                let seg = &net.segments[s];
+                let w = fall_width(net, a, options);
+                let u = fall_direction(net, a);
+                let nrm = u.perp();
+                let values = decoration_values(seg.kind_of_water);
+                let mut prev: Option<(u32, u32)> = None;
+                for p in path {
+                    let l = *p + (nrm * 0.5 * w).extend(0.0);
+                    let r = *p - (nrm * 0.5 * w).extend(0.0);
+                    let il = mesh.push(l, u * seg.section.speed, values, WaterPart::FreeFall, s);
+                    let ir = mesh.push(r, u * seg.section.speed, values, WaterPart::FreeFall, s);
+                    if let Some((pl, pr)) = prev {
+                        mesh.triangles.push([pl, il, pr]);
+                        mesh.triangles.push([pr, il, ir]);
+                    }
+                    prev = Some((il, ir));
+                }
+                let lip = path[0];
+                mesh.borders.push(Border {
+                    part: WaterPart::FreeFall,
+                    element: s,
+                    points: vec![
+                        lip + (nrm * 0.5 * w).extend(0.0),
+                        lip - (nrm * 0.5 * w).extend(0.0),
+                    ],
+                    closed: false,
+                });
+            }
+            ControllerKind::Pool => {}
+        }
+    }
+    for (n, node) in graph.nodes.iter().enumerate() {
+        let Some(c) = node.pool else {
+            continue;
+        };
+        let Some(ctrl) = net.controllers.get(c) else {
+            continue;
+        };
+        let contour: Vec<DVec2> = ctrl.points.iter().map(|p| p.truncate()).collect();
+        let level = node.position.z;
+        let inflows: Vec<(DVec2, [f64; 3])> = node
+            .arcs_in
+            .iter()
+            .filter_map(|&a| {
+                let r = net.segment_ranges.get(a)?;
+                let seg = net.segments.get(r.end.checked_sub(1)?)?;
+                let end = net.paths.get(a)?.last()?.truncate();
+                Some((end, decoration_values(seg.kind_of_water)))
+            })
+            .collect();
+        let pool = PoolWater {
+            controller: c,
+            node: n,
+            contour,
+            level,
+            depth: node.depth,
+            inflows,
+        };
+        let size = pool_radius(&pool.contour);
+        let tri = triangulate(
+            &Polygons::new(std::slice::from_ref(&pool.contour)),
+            size / 4.0,
+        );
+        let base = mesh.vertices.len() as u32;
+        for v in &tri.vertices {
+            let values = pool_values(&pool, *v);
+            mesh.push(v.extend(level), DVec2::ZERO, values, WaterPart::Pool, c);
+        }
+        mesh.triangles
+            .extend(tri.triangles.iter().map(|t| t.map(|i| i + base)));
+        mesh.borders.push(Border {
+            part: WaterPart::Pool,
+            element: c,
+            points: pool.contour.iter().map(|p| p.extend(level)).collect(),
+            closed: true,
+        });
+        mesh.pools.push(pool);
+    }
+    Ok(mesh)
+}
+
+/// Largest distance from the centroid of a contour to its points.
+pub fn pool_radius(contour: &[DVec2]) -> f64 {
+    let c = contour.iter().copied().sum::<DVec2>() / contour.len().max(1) as f64;
+    contour.iter().map(|p| p.distance(c)).fold(0.0, f64::max)
+}
+
+/// A pool's `[foam, rocks, disturbance]` at `p`: the strongest inflow's values fading over the pool's diameter.
+pub fn pool_values(pool: &PoolWater, p: DVec2) -> [f64; 3] {
+    let reach = 2.0 * pool_radius(&pool.contour).max(1e-9);
+    let mut out = [0.0; 3];
+    for (at, v) in &pool.inflows {
+        let f = (1.0 - p.distance(*at) / reach).clamp(0.0, 1.0);
+        for c in 0..3 {
+            out[c] = f64::max(out[c], v[c] * f);
+        }
+    }
+    out
+}
+
+/// The plan direction of free-fall arc `a`: lip to foot, or the incoming contact's direction for a vertical drop.
+pub fn fall_direction(net: &WaterfallNetwork, a: usize) -> DVec2 {
+    let path = &net.paths[a];
+    let (s, e) = (path[0], path[path.len() - 1]);
+    let d = (e - s).truncate();
+    if d.length() > 1e-6 {
+        return d.normalize();
+    }
+    incoming_contact(net, a)
+        .and_then(|b| {
+            let p = &net.paths[b];
+            (p.len() >= 2).then(|| (p[p.len() - 1] - p[p.len() - 2]).truncate())
+        })
+        .map(|d| d.normalize_or(DVec2::X))
+        .unwrap_or(DVec2::X)
+}
+
+/// A contact arc ending where free-fall arc `a` starts.
+fn incoming_contact(net: &WaterfallNetwork, a: usize) -> Option<usize> {
+    let from = net.graph.arcs[a].from;
+    net.graph.nodes[from].arcs_in.iter().copied().find(|&b| {
+        net.graph.arcs[b].kind == ControllerKind::Contact && !net.segment_ranges[b].is_empty()
+    })
+}
+
+/// The width of free-fall arc `a`'s sheet.
+pub fn fall_width(net: &WaterfallNetwork, a: usize, o: &IntegrationOptions) -> f64 {
+    match incoming_contact(net, a) {
+        Some(b) => width(net, net.segment_ranges[b].end - 1, o),
+        None => width(net, net.segment_ranges[a].start, o),
+    }
+}
+
+/// What the integration mesh puts over one grid node, seen from above.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FootprintNode {
+    pub part: WaterPart,
+    /// Segment (contact, free-fall) or pool controller.
+    pub element: usize,
+    /// Signed plan distance to the element's border: positive inside the water, negative outside (m).
+    pub inside: f64,
+    /// Distance from the border to the element's middle: the half-width of a ribbon, the largest inside
+    /// distance of a pool (m).
+    pub half_width: f64,
+    /// Water surface height above the node.
+    pub surface: f64,
+    /// `ζ` of the element.
+    pub depth: f64,
+    /// Plan direction of the flow (zero in a pool).
+    pub along: DVec2,
+}
+
+/// The integration mesh rendered from above onto the terrain's grid: per node, the element it lies deepest
+/// inside, or, within `margin` outside all water, the nearest element (its bank).
+#[derive(Clone, Debug)]
+pub struct Footprint {
+    pub nx: usize,
+    pub ny: usize,
+    pub origin: DVec2,
+    pub cell: f64,
+    pub margin: f64,
+    pub nodes: Vec<Option<FootprintNode>>,
+}
+
+impl Footprint {
+    /// Whether node `k` lies under water.
+    pub fn is_water(&self, k: usize) -> bool {
+        self.nodes
+            .get(k)
+            .copied()
+            .flatten()
+            .is_some_and(|n| n.inside > 0.0)
+    }
+}
+
+/// One element's hits, computed independently of the others.
+fn hits_of_segment(
+    t: &Heightfield,
+    a: DVec3,
+    b: DVec3,
+    hw: f64,
+    margin: f64,
+    open: (bool, bool),
+    make: impl Fn(f64, f64) -> FootprintNode,
+) -> Vec<(usize, FootprintNode)> {
+    let (a2, b2) = (a.truncate(), b.truncate());
+    let reach = hw + margin;
+    let lo = ((a2.min(b2) - reach - t.origin) / t.cell)
+        .ceil()
+        .max(DVec2::ZERO);
+    let hi = ((a2.max(b2) + reach - t.origin) / t.cell).floor();
+    if hi.x < 0.0 || hi.y < 0.0 {
+        return Vec::new();
+    }
+    let (i1, j1) = ((hi.x as usize).min(t.nx - 1), (hi.y as usize).min(t.ny - 1));
+    let ab = b2 - a2;
+    let len2 = ab.length_squared();
+    let mut out = Vec::new();
+    for j in lo.y as usize..=j1 {
+        for i in lo.x as usize..=i1 {
+            let p = t.origin + DVec2::new(i as f64, j as f64) * t.cell;
+            let raw = if len2 > 0.0 {
+                (p - a2).dot(ab) / len2
+            } else {
+                0.0
+            };
+            // past an end that joins other water, that water covers the node
+            if (raw < 0.0 && open.0) || (raw > 1.0 && open.1) {
+                continue;
+            }
+            let d = segment_distance(p, a2, b2);
+            if d > reach {
+                continue;
+            }
+            out.push((j * t.nx + i, make(hw - d, raw.clamp(0.0, 1.0))));
+        }
+    }
+    out
+}
+
+/// Rasterizes the mesh's footprint: contacts and pools first (the node takes the element it is deepest in), then
+/// free-falls on the nodes no other water covers.
+pub fn footprint(
+    terrain: &Heightfield,
+    net: &WaterfallNetwork,
+    mesh: &WaterMesh,
+    options: &IntegrationOptions,
+    margin: f64,
+) -> Result<Footprint> {
+    if !(margin.is_finite() && margin >= 0.0) {
+        return Err(Error::InvalidInput(format!(
+            "footprint margin {margin} must be zero or positive"
+        )));
+    }
+    let graph = &net.graph;
+    // (contacts and pools, free-falls) hit lists in a fixed order, computed in parallel
+    let mut jobs: Vec<(bool, usize, usize)> = Vec::new(); // (is pool, arc or pool index, segment)
+    for (a, arc) in graph.arcs.iter().enumerate() {
+        for s in net.segment_ranges[a].clone() {
+            if arc.kind != ControllerKind::Pool {
+                jobs.push((false, a, s));
+            }
+        }
+    }
+    for p in 0..mesh.pools.len() {
+        jobs.push((true, p, 0));
+    }
+    let hits: Vec<(bool, Vec<(usize, FootprintNode)>)> = jobs
+        .par_iter()
+        .map(|&(is_pool, a, s)| {
+            if is_pool {
+                return (false, pool_hits(terrain, &mesh.pools[a], margin));
+            }
+            let arc = &graph.arcs[a];
+            let seg = &net.segments[s];
+            let range = &net.segment_ranges[a];
+            let (p0, p1) = (seg.points[0], seg.points[seg.points.len() - 1]);
+            let along = (p1 - p0).truncate().normalize_or_zero();
+            if arc.kind == ControllerKind::FreeFall {
+                let hw = 0.5 * fall_width(net, a, options);
+                let hit = hits_of_segment(terrain, p0, p1, hw, 0.0, (false, false), |inside, t| {
+                    FootprintNode {
+                        part: WaterPart::FreeFall,
+                        element: s,
+                        inside,
+                        half_width: hw,
+                        surface: p0.z + t * (p1.z - p0.z),
+                        depth: seg.section.depth,
+                        along,
+                    }
+                });
+                return (true, hit);
+            }
+            let hw = 0.5 * width(net, s, options);
+            // an arc's end is left open where it runs into a pool or over a lip (that water, or the cliff,
+            // takes over); joints along a river and branches keep round caps, so bends leave no gaps
+            let open_start = s == range.start && opens(net, arc.from);
+            let open_end = s + 1 == range.end && opens(net, arc.to);
+            let hit = hits_of_segment(
+                terrain,
+                p0,
+                p1,
+                hw,
+                margin,
+                (open_start, open_end),
+                |inside, t| FootprintNode {
+                    part: WaterPart::Contact,
+                    element: s,
+                    inside,
+                    half_width: hw,
+                    surface: p0.z + t * (p1.z - p0.z),
+                    depth: seg.section.depth,
+                    along,
+                },
+            );
+            (false, hit)
+        })
+        .collect();
+    let mut nodes: Vec<Option<FootprintNode>> = vec![None; terrain.nx * terrain.ny];
+    for (_, list) in hits.iter().filter(|(fall, _)| !fall) {
+        for (k, h) in list {
+            match &nodes[*k] {
+                Some(old) if old.inside >= h.inside => {}
+                _ => nodes[*k] = Some(*h),
+            }
+        }
+    }
+    for (_, list) in hits.iter().filter(|(fall, _)| *fall) {
+        for (k, h) in list {
+            if !nodes[*k].is_some_and(|n| n.inside > 0.0) {
+                nodes[*k] = Some(*h);
+            }
+        }
+    }
+    Ok(Footprint {
+        nx: terrain.nx,
+        ny: terrain.ny,
+        origin: terrain.origin,
+        cell: terrain.cell,
+        margin,
+        nodes,
+    })
+}
+
+/// Whether water arriving at or leaving graph node `n` continues in a pool or a free-fall.
+fn opens(net: &WaterfallNetwork, n: usize) -> bool {
+    let node = &net.graph.nodes[n];
+    node.pool.is_some()
+        || node
+            .arcs_in
+            .iter()
+            .chain(&node.arcs_out)
+            .any(|&a| net.graph.arcs[a].kind == ControllerKind::FreeFall)
+}
+
+fn pool_hits(t: &Heightfield, pool: &PoolWater, margin: f64) -> Vec<(usize, FootprintNode)> {
+    let c = &pool.contour;
+    let (lo, hi) = c.iter().fold(
+        (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+    );
+    let lo = ((lo - margin - t.origin) / t.cell).ceil().max(DVec2::ZERO);
+    let hi = ((hi + margin - t.origin) / t.cell).floor();
+    if hi.x < 0.0 || hi.y < 0.0 {
+        return Vec::new();
+    }
+    let (i1, j1) = ((hi.x as usize).min(t.nx - 1), (hi.y as usize).min(t.ny - 1));
+    let edge = |p: DVec2| {
+        (0..c.len())
+            .map(|k| segment_distance(p, c[k], c[(k + 1) % c.len()]))
+            .fold(f64::INFINITY, f64::min)
+    };
+    let mut raw = Vec::new();
+    for j in lo.y as usize..=j1 {
+        for i in lo.x as usize..=i1 {
+            let p = t.origin + DVec2::new(i as f64, j as f64) * t.cell;
+            let d = edge(p);
+            let inside = if polygon_contains(c, p) { d } else { -d };
+            if inside >= -margin {
+                raw.push((j * t.nx + i, inside));
+            }
+        }
+    }
+    let deepest = raw.iter().map(|r| r.1).fold(t.cell * 0.5, f64::max);
+    raw.into_iter()
+        .map(|(k, inside)| {
+            (
+                k,
+                FootprintNode {
+                    part: WaterPart::Pool,
+                    element: pool.controller,
+                    inside,
+                    half_width: deepest,
+                    surface: pool.level,
+                    depth: pool.depth,
+                    along: DVec2::ZERO,
+                },
+            )
+        })
+        .collect()
+}

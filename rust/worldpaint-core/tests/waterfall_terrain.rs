@@ -1,0 +1,403 @@
+//! Waterfall scenes, the terrain part (thesis 4.4): the riverbed under the water and the banks beside it, the
+//! falloff, the overhangs, the decoration maps, the rocks and determinism. Run with
+//! `cargo test -p worldpaint-core --release --test waterfall_terrain -- --nocapture` to see the figures.
+
+use glam::{DVec2, DVec3};
+use worldpaint_core::distance::distance_transform;
+use worldpaint_core::exemplar::{village_terrain, waterfall_controllers};
+use worldpaint_core::waterfall::{
+    scene, Controller, ControllerKind, SceneOptions, WaterPart, WaterfallParams, WaterfallScene,
+    WaterfallType,
+};
+use worldpaint_core::Heightfield;
+
+fn setup() -> (Heightfield, Vec<Controller>) {
+    let t = village_terrain(1000.0, 2.0, 3);
+    let c = waterfall_controllers(&t, 20, 7);
+    (t, c)
+}
+
+fn made(t: &Heightfield, c: &[Controller], options: &SceneOptions, seed: u64) -> WaterfallScene {
+    match scene(t, c, &WaterfallParams::default(), options, seed) {
+        Ok(s) => s,
+        Err(e) => panic!("the test scene: {e}"),
+    }
+}
+
+fn height(t: &Heightfield, p: DVec2) -> f64 {
+    t.height_at(p).unwrap_or(f64::NAN)
+}
+
+#[test]
+fn riverbed_below_the_water_and_banks_beside_it() {
+    let (t, c) = setup();
+    let s = made(&t, &c, &SceneOptions::default(), 1);
+    println!("report: {:?}", s.report);
+    let h = &s.terrain.terrain;
+    let freeboard = SceneOptions::default().deform.freeboard;
+    let (mut checked, mut below, mut banks_ok, mut banks_strict) = (0, 0, 0, 0);
+    let (mut worst_below, mut worst_bank) = (f64::NEG_INFINITY, f64::INFINITY);
+    for (k, seg) in s.network.segments.iter().enumerate() {
+        if seg.kind != ControllerKind::Contact {
+            continue;
+        }
+        let (a, b) = (seg.points[0], seg.points[seg.points.len() - 1]);
+        let m = a.lerp(b, 0.5);
+        // only where this segment's own water is over the midpoint (not under a pool or another river)
+        let Some(node) = s.maps.node(m.truncate()) else {
+            continue;
+        };
+        if s.maps.water[node] < 0.5 {
+            continue;
+        }
+        let hw = s
+            .mesh
+            .part
+            .iter()
+            .zip(&s.mesh.element)
+            .position(|(p, e)| *p == WaterPart::Contact && *e == k)
+            .map(|v| s.mesh.vertices[v].distance(s.mesh.vertices[v + 1]))
+            .unwrap_or(0.0);
+        let along = (b - a).truncate().normalize_or_zero();
+        let side = along.perp();
+        checked += 1;
+        let depth = m.z - height(h, m.truncate());
+        worst_below = worst_below.max(-depth);
+        if depth > 0.0 {
+            below += 1;
+        }
+        // one cell beyond each bank the ground is back at the water's level, unless other water lies there
+        let (mut ok, mut ok_strict) = (true, true);
+        for sign in [-1.0, 1.0] {
+            let q = m.truncate() + side * sign * (hw + t.cell);
+            if s.maps.is_water(q) {
+                continue;
+            }
+            let rise = height(h, q) - m.z;
+            worst_bank = worst_bank.min(rise);
+            // the bank nodes take the level of the segment nearest to them, which in a bend of a steep stream
+            // can lie a little downstream: within half a metre counts as back at the water
+            ok &= rise >= -0.5;
+            ok_strict &= rise >= -0.1 * freeboard;
+        }
+        if ok {
+            banks_ok += 1;
+        }
+        if ok_strict {
+            banks_strict += 1;
+        }
+        if k < 3 {
+            println!("segment {k}: half-width {hw:.2} m, water depth at the axis {depth:.2} m");
+        }
+    }
+    println!(
+        "contact segments checked {checked}: riverbed below the surface at {below}, banks back within 0.5 m of the water level at {banks_ok}, within {:.2} m at {banks_strict}; worst axis {worst_below:.3} m above the surface, lowest bank {worst_bank:.3} m relative to the surface",
+        0.1 * freeboard
+    );
+    assert!(checked > 100, "only {checked} contact segments checked");
+    assert!(
+        below as f64 >= 0.99 * checked as f64,
+        "riverbed above the water at {} of {checked} segments",
+        checked - below
+    );
+    assert!(
+        banks_ok as f64 >= 0.95 * checked as f64,
+        "banks below the water at {} of {checked} segments",
+        checked - banks_ok
+    );
+}
+
+#[test]
+fn terrain_beyond_the_falloff_is_unchanged() {
+    let (t, c) = setup();
+    let options = SceneOptions::default();
+    let s = made(&t, &c, &options, 1);
+    let d = &s.terrain;
+    let mask: Vec<bool> = d
+        .constrained
+        .iter()
+        .zip(&d.overhang_constrained)
+        .map(|(a, b)| *a || *b)
+        .collect();
+    let dist = distance_transform(t.nx, t.ny, t.cell, &mask);
+    let (mut far, mut worst, mut changed_near) = (0usize, 0.0f64, 0usize);
+    for (k, dist) in dist.iter().enumerate() {
+        let change = (d.terrain.heights[k] - t.heights[k]).abs() as f64;
+        if *dist as f64 > options.deform.falloff + t.cell {
+            far += 1;
+            worst = worst.max(change);
+        } else if change > 1e-3 {
+            changed_near += 1;
+        }
+    }
+    println!(
+        "falloff {} m: {far} nodes beyond it, largest change there {worst:.2e} m; {changed_near} nodes changed within it",
+        options.deform.falloff
+    );
+    assert!(far > 0 && changed_near > 0);
+    assert!(worst < 1e-3, "a node beyond the falloff moved by {worst} m");
+}
+
+#[test]
+fn overhangs_push_the_lip_forward_and_the_pool_wall_back() {
+    let (t, c) = setup();
+    let s = made(&t, &c, &SceneOptions::default(), 1);
+    let hd = s.horizontal();
+    let nx = t.nx;
+    let at = |p: DVec2| {
+        let f = ((p - t.origin) / t.cell).round();
+        let k = f.y as usize * nx + f.x as usize;
+        DVec2::new(hd.x.displacement[k], hd.y.displacement[k])
+    };
+    let mut falls = 0;
+    for b in s
+        .mesh
+        .borders
+        .iter()
+        .filter(|b| b.part == WaterPart::FreeFall)
+    {
+        let seg = &s.network.segments[b.element];
+        let path = &s.network.paths[seg.arc];
+        let u = (path[path.len() - 1] - path[0])
+            .truncate()
+            .normalize_or_zero();
+        let lip = 0.5 * (b.points[0] + b.points[1]).truncate();
+        let forward = at(lip).dot(u);
+        // the receiving pool's wall straight behind the foot, against the flow
+        let to = s.network.graph.arcs[seg.arc].to;
+        let Some(pool) = s.mesh.pools.iter().find(|p| p.node == to) else {
+            continue;
+        };
+        let centre = pool.contour.iter().copied().sum::<DVec2>() / pool.contour.len() as f64;
+        // the back-facing part of the contour, away from the lip (where both constraints meet, the lip wins)
+        let (l0, l1) = (b.points[0].truncate(), b.points[1].truncate());
+        let back: Vec<DVec2> = pool
+            .contour
+            .iter()
+            .copied()
+            .filter(|p| {
+                let m = *p - centre;
+                m.dot(u) <= -0.5 * m.length()
+                    && worldpaint_core::geom::segment_distance(*p, l0, l1) > 2.0 * t.cell
+            })
+            .collect();
+        if back.is_empty() {
+            println!("free-fall {}: lip moves {forward:.3} m along the flow; its lip spans the pool's back wall", seg.arc);
+            assert!(
+                forward > 0.5,
+                "lip of free-fall {} moves {forward} m",
+                seg.arc
+            );
+            continue;
+        }
+        let backward = back.iter().map(|p| at(*p).dot(u)).sum::<f64>() / back.len() as f64;
+        println!(
+            "free-fall {}: lip moves {forward:.3} m along the flow, pool back wall {backward:.3} m",
+            seg.arc
+        );
+        assert!(
+            forward > 0.5,
+            "lip of free-fall {} moves {forward} m",
+            seg.arc
+        );
+        assert!(
+            backward < -0.5,
+            "back wall under free-fall {} moves {backward} m",
+            seg.arc
+        );
+        falls += 1;
+        println!("{falls} exemplar falls checked");
+    }
+    // the exemplar's lips lie over their pools' back walls; one fall with room between them
+    let cliff = |x: f64| {
+        if x < 100.0 {
+            50.0 - 0.05 * x
+        } else {
+            30.0 - 0.05 * x
+        }
+    };
+    let (nx, ny) = (201, 101);
+    let heights = (0..nx * ny)
+        .map(|k| cliff((k % nx) as f64) as f32)
+        .collect();
+    let t = Heightfield::new(DVec2::ZERO, 1.0, nx, ny, heights).unwrap_or_else(|e| panic!("{e}"));
+    let at_x = |x: f64| DVec3::new(x, 50.0, cliff(x));
+    let level = cliff(112.0);
+    let pool: Vec<DVec3> = (0..16)
+        .map(|k| {
+            let a = std::f64::consts::TAU * k as f64 / 16.0;
+            DVec3::new(112.0 + 6.0 * a.cos(), 50.0 + 6.0 * a.sin(), level)
+        })
+        .collect();
+    let controllers = vec![
+        Controller::new(
+            ControllerKind::Contact,
+            (0..9).map(|k| at_x(20.0 + 10.0 * k as f64)).collect(),
+        )
+        .with_strength(2.0),
+        Controller::new(
+            ControllerKind::FreeFall,
+            vec![at_x(100.0), DVec3::new(110.0, 50.0, level)],
+        ),
+        Controller::new(ControllerKind::Pool, pool),
+        Controller::new(
+            ControllerKind::Contact,
+            (0..8)
+                .map(|k| DVec3::new(118.0 + 10.0 * k as f64, 50.0, level - 0.5 * k as f64))
+                .collect(),
+        ),
+    ];
+    let s = made(&t, &controllers, &SceneOptions::default(), 1);
+    let hd = s.horizontal();
+    let d = |p: DVec2| {
+        let f = ((p - t.origin) / t.cell).round();
+        let k = f.y as usize * nx + f.x as usize;
+        DVec2::new(hd.x.displacement[k], hd.y.displacement[k])
+    };
+    let (lip, back) = (d(DVec2::new(100.0, 50.0)), d(DVec2::new(106.0, 50.0)));
+    println!(
+        "a fall off a cliff: lip moves {:.3} m along the flow, the pool's back wall {:.3} m",
+        lip.x, back.x
+    );
+    assert!(lip.x > 0.5 && back.x < -0.5, "lip {lip}, back wall {back}");
+}
+
+#[test]
+fn maps_foam_footprint_and_rocks() {
+    let (t, c) = setup();
+    let s = made(&t, &c, &SceneOptions::default(), 1);
+    let m = &s.maps;
+    // mean foam per type over the water nodes of that type's segments (by the node's nearest mesh vertex would
+    // need a search; the footprint is rebuilt instead)
+    let fp = match worldpaint_core::waterfall::footprint(
+        &t,
+        &s.network,
+        &s.mesh,
+        &SceneOptions::default().integration,
+        0.0,
+    ) {
+        Ok(f) => f,
+        Err(e) => panic!("{e}"),
+    };
+    let mut by_type: std::collections::BTreeMap<String, (f64, usize)> = Default::default();
+    for (k, n) in fp.nodes.iter().enumerate() {
+        let Some(n) = n else { continue };
+        if n.inside <= 0.0 || n.part != WaterPart::Contact {
+            continue;
+        }
+        let ty = s.network.segments[n.element].kind_of_water;
+        let e = by_type.entry(format!("{ty:?}")).or_default();
+        e.0 += m.foam[k] as f64;
+        e.1 += 1;
+    }
+    for (ty, (sum, n)) in &by_type {
+        println!("{ty}: {n} water nodes, mean foam {:.3}", sum / *n as f64);
+    }
+    let mean = |ty: WaterfallType| by_type.get(&format!("{ty:?}")).map(|(s, n)| s / *n as f64);
+    let river = mean(WaterfallType::River).or(mean(WaterfallType::Stream));
+    let foamy = [
+        WaterfallType::Cascade,
+        WaterfallType::Horsetail,
+        WaterfallType::Block,
+    ]
+    .iter()
+    .filter_map(|t| mean(*t))
+    .fold(f64::NAN, f64::max);
+    println!("foam: gentle river {river:?}, steepest foamy contact type {foamy:.3}");
+    if let Some(r) = river {
+        assert!(foamy > r + 0.2, "foam on cascades {foamy} vs river {r}");
+    }
+    // the plunge pools: foam near the foot of every free-fall
+    for (a, arc) in s.network.graph.arcs.iter().enumerate() {
+        if arc.kind != ControllerKind::FreeFall {
+            continue;
+        }
+        let foot = s.network.paths[a][s.network.paths[a].len() - 1].truncate();
+        let k = m.node(foot).unwrap_or(0);
+        println!(
+            "free-fall {a} ({:?}): foam at its foot {:.2}",
+            s.network.segments[s.network.segment_ranges[a].start].kind_of_water, m.foam[k]
+        );
+    }
+    // the footprint covers the mesh: every contact and pool triangle's centroid is water
+    let mut total = 0;
+    let mut covered = 0;
+    for tri in &s.mesh.triangles {
+        let v = tri.map(|i| i as usize);
+        if v.iter().any(|i| s.mesh.part[*i] == WaterPart::FreeFall) {
+            continue;
+        }
+        let centroid =
+            (s.mesh.vertices[v[0]] + s.mesh.vertices[v[1]] + s.mesh.vertices[v[2]]) / 3.0;
+        total += 1;
+        if m.is_water(centroid.truncate()) {
+            covered += 1;
+        }
+    }
+    let water_area = m.water.iter().filter(|w| **w > 0.5).count() as f64 * t.cell * t.cell;
+    println!(
+        "footprint: {covered} of {total} mesh triangles' centroids in the water map; water {water_area:.0} m², mesh {:.0} m²",
+        s.mesh.area()
+    );
+    assert!(
+        covered as f64 >= 0.97 * total as f64,
+        "{covered} of {total} covered"
+    );
+    // rocks only where the rock map is positive, in the water, on the riverbed
+    assert!(!s.rocks.is_empty(), "no rock");
+    for r in &s.rocks {
+        let k = m.node(r.truncate()).unwrap_or(usize::MAX);
+        assert!(
+            k < m.rocks.len() && m.rocks[k] > 0.0 && m.water[k] > 0.5,
+            "rock at {r} outside the rock map"
+        );
+        assert!((r.z - height(&s.terrain.terrain, r.truncate())).abs() < 1e-6);
+    }
+    let rock_nodes = m.rocks.iter().filter(|r| **r > 0.0).count();
+    println!(
+        "{} rocks on {rock_nodes} nodes of the rock map's support",
+        s.rocks.len()
+    );
+    // the speed map: zero outside the water, and along the flow on the axes
+    let dry_moving = (0..m.water.len())
+        .filter(|k| m.water[*k] < 0.5 && m.speed[*k] != DVec2::ZERO)
+        .count();
+    assert_eq!(dry_moving, 0);
+}
+
+#[test]
+fn same_seed_same_scene() {
+    let (t, c) = setup();
+    let a = made(&t, &c, &SceneOptions::default(), 5);
+    let b = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .map(|p| p.install(|| made(&t, &c, &SceneOptions::default(), 5)))
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(a.report, b.report);
+    assert_eq!(a.terrain.terrain.heights, b.terrain.terrain.heights);
+    assert_eq!(a.mesh.vertices, b.mesh.vertices);
+    assert_eq!(a.maps.foam, b.maps.foam);
+    assert_eq!(a.rocks, b.rocks);
+    let other = made(&t, &c, &SceneOptions::default(), 6);
+    assert_ne!(a.rocks, other.rocks);
+    println!("seed 5 twice (all threads, one thread): identical; seed 6 differs");
+}
+
+#[test]
+fn bad_options_are_refused() {
+    let (t, c) = setup();
+    let mut o = SceneOptions::default();
+    o.deform.falloff = f64::NAN;
+    assert!(scene(&t, &c, &WaterfallParams::default(), &o, 1).is_err());
+    let mut o = SceneOptions::default();
+    o.integration.min_width = 0.0;
+    assert!(scene(&t, &c, &WaterfallParams::default(), &o, 1).is_err());
+    let mut o = SceneOptions::default();
+    o.decoration.rock_spacing = -1.0;
+    let e = scene(&t, &c, &WaterfallParams::default(), &o, 1)
+        .err()
+        .map(|e| e.to_string());
+    println!("refused: {e:?}");
+    assert!(e.is_some_and(|m| m.contains("rock_spacing")));
+}

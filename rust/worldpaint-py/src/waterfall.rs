@@ -1,0 +1,236 @@
+//! Waterfall scenes: `build_waterfall`.
+
+use crate::convert::points_from_py;
+use crate::terrain::Terrain;
+use crate::{guarded, input_err};
+use numpy::ndarray::Array2;
+use numpy::{IntoPyArray, PyReadonlyArray2};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+use worldpaint_core::geom::DVec2;
+use worldpaint_core::waterfall::{
+    scene, Controller, ControllerKind, SceneOptions, WaterPart, WaterfallParams, WaterfallType,
+};
+
+fn controllers_from_py(list: &Bound<'_, PyAny>) -> PyResult<Vec<Controller>> {
+    let items = list
+        .try_iter()
+        .map_err(|_| input_err("controllers must be a list of dicts"))?;
+    let mut out = Vec::new();
+    for (i, item) in items.enumerate() {
+        let item = item?;
+        let d = item
+            .cast::<PyDict>()
+            .map_err(|_| input_err(format!("controller {i} must be a dict")))?;
+        let kind: String = d
+            .get_item("kind")?
+            .ok_or_else(|| input_err(format!("controller {i} has no \"kind\"")))?
+            .extract()
+            .map_err(|_| input_err(format!("controller {i}: \"kind\" must be a string")))?;
+        let kind = match kind.as_str() {
+            "contact" => ControllerKind::Contact,
+            "free_fall" => ControllerKind::FreeFall,
+            "pool" => ControllerKind::Pool,
+            other => {
+                return Err(input_err(format!(
+                    "controller {i}: kind \"{other}\" is not one of contact, free_fall, pool"
+                )))
+            }
+        };
+        let pts: PyReadonlyArray2<'_, f64> = d
+            .get_item("points")?
+            .ok_or_else(|| input_err(format!("controller {i} has no \"points\"")))?
+            .extract()
+            .map_err(|_| {
+                input_err(format!(
+                    "controller {i}: points must be a float64 (N, 3) array"
+                ))
+            })?;
+        let a = pts.as_array();
+        if a.ncols() != 3 {
+            return Err(input_err(format!(
+                "controller {i}: points must have shape (N, 3), got (N, {})",
+                a.ncols()
+            )));
+        }
+        let points = a
+            .rows()
+            .into_iter()
+            .map(|r| DVec2::new(r[0], r[1]).extend(r[2]))
+            .collect();
+        let strength: Option<f64> = match d.get_item("strength")? {
+            Some(v) if !v.is_none() => Some(
+                v.extract()
+                    .map_err(|_| input_err(format!("controller {i}: strength must be a number")))?,
+            ),
+            _ => None,
+        };
+        out.push(Controller {
+            kind,
+            points,
+            strength,
+        });
+    }
+    Ok(out)
+}
+
+fn type_name(t: WaterfallType) -> &'static str {
+    match t {
+        WaterfallType::Stream => "stream",
+        WaterfallType::Horsetail => "horsetail",
+        WaterfallType::Cascade => "cascade",
+        WaterfallType::Rapid => "rapid",
+        WaterfallType::Block => "block",
+        WaterfallType::River => "river",
+        WaterfallType::Ribbon => "ribbon",
+        WaterfallType::Plunge => "plunge",
+        WaterfallType::Ledge => "ledge",
+        WaterfallType::Cataract => "cataract",
+    }
+}
+
+fn array<'py, const N: usize, T: numpy::Element + Copy>(
+    py: Python<'py>,
+    rows: impl Iterator<Item = [T; N]>,
+) -> PyResult<Bound<'py, numpy::PyArray2<T>>> {
+    let flat: Vec<T> = rows.flatten().collect();
+    let n = flat.len() / N;
+    Ok(Array2::from_shape_vec((n, N), flat)
+        .map_err(|e| input_err(e.to_string()))?
+        .into_pyarray(py))
+}
+
+/// Builds a waterfall scene on the terrain from user controllers (list of dicts {"kind": "contact" | "free_fall" |
+/// "pool", "points": float64 (N, 3), "strength": float or None}) and reports, at the world XY `points` (M, 2):
+/// "displacement" (M,) height change, "horizontal" (M, 2) overhang displacement, "is_water" (M,) bool; and
+/// "water" (the integration mesh: vertices, triangles, speed, foam, rocks, disturbance, part 0 contact / 1
+/// free-fall / 2 pool), "segments", "rocks" (R, 3) and "report".
+#[pyfunction]
+#[pyo3(signature = (terrain, controllers, points, seed=0, *, min_slope=None, overhang=None, falloff=None, freeboard=None, subdivide=true))]
+#[allow(clippy::too_many_arguments)]
+fn build_waterfall<'py>(
+    py: Python<'py>,
+    terrain: &Bound<'py, Terrain>,
+    controllers: &Bound<'py, PyAny>,
+    points: PyReadonlyArray2<'py, f64>,
+    seed: u64,
+    min_slope: Option<f64>,
+    overhang: Option<f64>,
+    falloff: Option<f64>,
+    freeboard: Option<f64>,
+    subdivide: bool,
+) -> PyResult<Bound<'py, PyDict>> {
+    let hf = terrain.get().hf.clone();
+    let controllers = controllers_from_py(controllers)?;
+    let pts = points_from_py(&points, "points")?;
+    let mut params = WaterfallParams {
+        subdivide,
+        ..Default::default()
+    };
+    if let Some(s) = min_slope {
+        params.min_slope = s;
+    }
+    let mut options = SceneOptions::default();
+    if let Some(v) = overhang {
+        options.deform.overhang = v;
+    }
+    if let Some(v) = falloff {
+        options.deform.falloff = v;
+    }
+    if let Some(v) = freeboard {
+        options.deform.freeboard = v;
+    }
+    let (s, change, shift, wet) = py.detach(|| {
+        guarded(|| {
+            let s = scene(&hf, &controllers, &params, &options, seed)?;
+            let h = &s.terrain.terrain;
+            let change: Vec<f64> = pts
+                .iter()
+                .map(|p| match (h.height_at(*p), hf.height_at(*p)) {
+                    (Some(new), Some(old)) => new - old,
+                    _ => 0.0,
+                })
+                .collect();
+            let hd = &s.terrain.horizontal;
+            let shift: Vec<[f64; 2]> = pts
+                .iter()
+                .map(|p| match s.maps.node(*p) {
+                    Some(k) => [hd.x.displacement[k], hd.y.displacement[k]],
+                    None => [0.0, 0.0],
+                })
+                .collect();
+            let wet: Vec<bool> = pts.iter().map(|p| s.maps.is_water(*p)).collect();
+            Ok((s, change, shift, wet))
+        })
+    })?;
+    let out = PyDict::new(py);
+    out.set_item("displacement", change.into_pyarray(py))?;
+    out.set_item("horizontal", array(py, shift.into_iter())?)?;
+    out.set_item("is_water", wet.into_pyarray(py))?;
+    let m = &s.mesh;
+    let water = PyDict::new(py);
+    water.set_item(
+        "vertices",
+        array(py, m.vertices.iter().map(|v| [v.x, v.y, v.z]))?,
+    )?;
+    water.set_item("triangles", array(py, m.triangles.iter().copied())?)?;
+    let speed: Vec<f64> = m.speed.iter().map(|v| v.length()).collect();
+    water.set_item("speed", speed.into_pyarray(py))?;
+    water.set_item("speed_xy", array(py, m.speed.iter().map(|v| [v.x, v.y]))?)?;
+    water.set_item("foam", m.foam.clone().into_pyarray(py))?;
+    water.set_item("rocks", m.rocks.clone().into_pyarray(py))?;
+    water.set_item("disturbance", m.disturbance.clone().into_pyarray(py))?;
+    let part: Vec<i32> = m
+        .part
+        .iter()
+        .map(|p| match p {
+            WaterPart::Contact => 0,
+            WaterPart::FreeFall => 1,
+            WaterPart::Pool => 2,
+        })
+        .collect();
+    water.set_item("part", part.into_pyarray(py))?;
+    out.set_item("water", water)?;
+    let segments = PyList::empty(py);
+    for seg in &s.network.segments {
+        let d = PyDict::new(py);
+        let name = type_name(seg.kind_of_water);
+        d.set_item("type", name)?;
+        d.set_item("arc", seg.arc)?;
+        d.set_item("slope", seg.slope)?;
+        d.set_item("flow", seg.flow)?;
+        d.set_item("speed", seg.section.speed)?;
+        d.set_item("width", seg.section.width)?;
+        d.set_item("depth", seg.section.depth)?;
+        d.set_item("valid", seg.valid)?;
+        d.set_item(
+            "points",
+            array(py, seg.points.iter().map(|p| [p.x, p.y, p.z]))?,
+        )?;
+        segments.append(d)?;
+    }
+    out.set_item("segments", segments)?;
+    out.set_item("rocks", array(py, s.rocks.iter().map(|p| [p.x, p.y, p.z]))?)?;
+    let r = &s.report;
+    let report = PyDict::new(py);
+    let nodes = PyDict::new(py);
+    nodes.set_item("source", r.sources)?;
+    nodes.set_item("well", r.wells)?;
+    nodes.set_item("branch", r.branches)?;
+    nodes.set_item("pool", r.pools)?;
+    report.set_item("nodes", nodes)?;
+    report.set_item("arcs", r.arcs)?;
+    report.set_item("segments", r.segments)?;
+    report.set_item("invalid_segments", r.invalid_segments)?;
+    report.set_item("max_flow_imbalance", r.max_flow_imbalance)?;
+    report.set_item("water_nodes", r.water_nodes)?;
+    report.set_item("rocks", r.rocks)?;
+    report.set_item("converged", r.converged)?;
+    out.set_item("report", report)?;
+    Ok(out)
+}
+
+pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(build_waterfall, m)?)?;
+    Ok(())
+}
