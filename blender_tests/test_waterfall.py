@@ -1,0 +1,176 @@
+"""A waterfall scene drawn as curves on a cliff (contact → free-fall → pool → contact) through the Terrain panel's
+Build Waterfall: the terrain changes in one shape key, the water mesh carries its decoration attributes and lies over
+the riverbed, instances keep out of the water, undo removes all of it, and the controllers' roles survive a save."""
+
+import bpy
+import numpy as np
+import pytest
+from scene_kit import grid_terrain
+
+CELL = 2.0
+NX, NY = 151, 101  # 300 m by 200 m
+KEY = "WorldPaint Waterfall"
+POOL = (140.0, 100.0, 10.0, 9.0)  # centre x, y, radius, level
+
+
+def cliff_height(x, y):
+    """A plateau falling gently east, a 16 m cliff at x = 120..126, and a valley below it (m)."""
+    x, y = np.asarray(x, dtype=np.float64), np.asarray(y, dtype=np.float64)
+    plateau = 30.0 - 0.03 * x
+    valley = 10.0 - 0.03 * (x - 126.0)
+    t = np.clip((x - 120.0) / 6.0, 0.0, 1.0)
+    return (1.0 - t) * plateau + t * valley + 0.3 * np.sin(y / 7.0)
+
+
+def curve(name, points, kind, cyclic=False):
+    data = bpy.data.curves.new(name, 'CURVE')
+    data.dimensions = '3D'
+    spline = data.splines.new('POLY')
+    spline.points.add(len(points) - 1)
+    spline.points.foreach_set("co", np.column_stack([points, np.ones(len(points))]).ravel())
+    spline.use_cyclic_u = cyclic
+    obj = bpy.data.objects.new(name, data)
+    bpy.context.scene.collection.objects.link(obj)
+    obj.worldpaint_waterfall.kind = kind
+    return obj
+
+
+def cliff_scene():
+    x, y = np.meshgrid(CELL * np.arange(NX), CELL * np.arange(NY))
+    terrain = grid_terrain("Terrain", (0.0, 0.0), CELL, cliff_height(x, y))
+    bpy.context.scene.worldpaint.terrain = terrain
+    upstream = np.array([[20.0, 100.0], [70.0, 100.0], [118.0, 100.0]])
+    curve("Stream", np.column_stack([upstream, cliff_height(upstream[:, 0], upstream[:, 1])]), 'CONTACT')
+    lip = np.array([118.0, 100.0, float(cliff_height(118.0, 100.0))])
+    curve("Fall", np.array([lip, [136.0, 100.0, POOL[3]]]), 'FREE_FALL')
+    a = np.linspace(0.0, 2.0 * np.pi, 24, endpoint=False)
+    ring = np.column_stack([POOL[0] + POOL[2] * np.cos(a), POOL[1] + POOL[2] * np.sin(a), np.full(len(a), POOL[3])])
+    curve("Pool", ring, 'POOL', cyclic=True)
+    downstream = np.array([[150.0, 100.0], [220.0, 102.0], [290.0, 100.0]])
+    z = np.minimum(cliff_height(downstream[:, 0], downstream[:, 1]), POOL[3])
+    z[0] = POOL[3]
+    curve("River", np.column_stack([downstream, z]), 'CONTACT')
+    return terrain
+
+
+def evaluated_vertices(obj):
+    evaluated = obj.evaluated_get(bpy.context.evaluated_depsgraph_get())
+    mesh = evaluated.to_mesh()
+    co = np.empty(len(mesh.vertices) * 3)
+    mesh.vertices.foreach_get("co", co)
+    evaluated.to_mesh_clear()
+    return co.reshape(-1, 3)
+
+
+def water_objects():
+    collection = bpy.data.collections.get("Water")
+    return [o for o in collection.objects if o.get("wp_water")] if collection is not None else []
+
+
+def attribute(mesh, name):
+    values = np.empty(len(mesh.vertices), dtype=np.float64 if mesh.attributes[name].data_type == 'FLOAT' else np.int64)
+    mesh.attributes[name].data.foreach_get("value", values)
+    return values
+
+
+def triangles_of(mesh):
+    loops = np.empty(len(mesh.loops), dtype=np.int64)
+    mesh.loops.foreach_get("vertex_index", loops)
+    return loops.reshape(-1, 3)
+
+
+def in_triangles(xy, vertices, triangles):
+    """Whether each point (N, 2) lies in one of the triangles (T, 3) of the vertices (V, 2)."""
+    a, b, c = (vertices[triangles[:, k]][None] for k in range(3))
+    p = xy[:, None, :]
+
+    def side(u, v, w):
+        return (v[..., 0] - u[..., 0]) * (w[..., 1] - u[..., 1]) - (v[..., 1] - u[..., 1]) * (w[..., 0] - u[..., 0])
+
+    d1, d2, d3 = side(p, a, b), side(p, b, c), side(p, c, a)
+    inside = ~(((d1 < 0) | (d2 < 0) | (d3 < 0)) & ((d1 > 0) | (d2 > 0) | (d3 > 0)))
+    return inside.any(axis=1)
+
+
+def test_a_cliff_network_gets_water_meshes_a_deformed_terrain_and_undo_removes_them():
+    terrain = cliff_scene()
+    before = evaluated_vertices(terrain)
+    bpy.ops.ed.undo_push(message="scene drawn")
+    assert bpy.ops.worldpaint.build_waterfall(seed=1) == {'FINISHED'}
+    bpy.ops.ed.undo_push(message="Build Waterfall")
+    terrain = bpy.data.objects["Terrain"]
+    assert KEY in terrain.data.shape_keys.key_blocks
+    after = evaluated_vertices(terrain)
+    change = np.abs(after - before).max(axis=1)
+    print(f"terrain: {np.count_nonzero(change > 1e-3)} of {len(change)} vertices moved, up to {change.max():.2f} m")
+    assert change.max() > 0.1, "the terrain adapts to the water"
+    far = np.hypot(before[:, 0] - 150.0, before[:, 1] - 100.0) > 180.0
+    assert change[far].max() < 1e-3, "far from the water the terrain stays"
+
+    (water,) = water_objects()
+    mesh = water.data
+    assert len(mesh.polygons) > 0
+    for name in ("speed", "foam", "rocks", "disturbance", "part"):
+        assert name in mesh.attributes, name
+    foam = attribute(mesh, "foam")
+    assert 0.0 <= foam.min() and foam.max() <= 1.0 and foam.max() > 0.0
+    assert water.material_slots[0].material.name == "WorldPaint Water"
+
+    # the riverbed lies under the water surface where the water touches the ground (the valley's river)
+    co = np.empty(len(mesh.vertices) * 3)
+    mesh.vertices.foreach_get("co", co)
+    co = co.reshape(-1, 3)
+    import worldpaint_engine as engine
+    from worldpaint.bridge.terrain import mesh_arrays
+
+    vertices, triangles = mesh_arrays(terrain, bpy.context.evaluated_depsgraph_get())
+    ground = engine.Terrain(vertices, triangles).heights_at(np.ascontiguousarray(co[:, :2]))
+    # on the valley's river, the axis (where the water flows) lies over the riverbed, and the banks (where it
+    # stands still) rise back to the water's level
+    river = (co[:, 0] > 160.0) & (co[:, 0] < 280.0) & (attribute(mesh, "part") == 0)
+    axis = river & (attribute(mesh, "speed") > 0.0)
+    banks = river & (attribute(mesh, "speed") == 0.0)
+    depth = co[axis, 2] - ground[axis]
+    # two cells beyond each bank, away from the nearest axis point (the bank vertex itself lies between a riverbed
+    # node and a bank node of the grid, and the riverbed's footprint may reach a cell beyond the mesh in bends)
+    a, b = co[axis], co[banks]
+    nearest = a[np.argmin(((b[:, None, :2] - a[None, :, :2]) ** 2).sum(axis=2), axis=1)]
+    out = b[:, :2] - nearest[:, :2]
+    out /= np.maximum(np.linalg.norm(out, axis=1, keepdims=True), 1e-9)
+    beyond = np.ascontiguousarray(b[:, :2] + 2.0 * CELL * out)
+    # in the bends of a meandering river a cell beyond one bank may lie in the water of the next bend: only dry
+    # ground counts
+    dry = ~in_triangles(beyond, co[:, :2], triangles_of(mesh))
+    rise = engine.Terrain(vertices, triangles).heights_at(beyond[dry]) - b[dry, 2]
+    print(f"river: {axis.sum()} axis points, water depth {depth.min():.2f}..{depth.max():.2f} m; dry ground two "
+          f"cells beyond {dry.sum()} bank points: {rise.min():.2f}..{rise.max():.2f} m against the water")
+    assert axis.sum() > 10 and depth.min() > 0.0
+    risen = np.mean(rise > -0.1)
+    print(f"{risen:.0%} of them within 0.1 m of the water's level or above it")
+    # the rest lie in sharp bends, where the carved riverbed reaches past the ribbon's inner bank
+    assert dry.sum() > 10 and risen >= 0.9 and np.median(rise) > 0.1
+
+    bpy.ops.ed.undo()
+    terrain = bpy.data.objects["Terrain"]
+    assert terrain.data.shape_keys is None or KEY not in terrain.data.shape_keys.key_blocks
+    assert not water_objects()
+
+
+def test_no_controller_is_reported_and_nothing_changes():
+    x, y = np.meshgrid(CELL * np.arange(NX), CELL * np.arange(NY))
+    terrain = grid_terrain("Terrain", (0.0, 0.0), CELL, cliff_height(x, y))
+    bpy.context.scene.worldpaint.terrain = terrain
+    with pytest.raises(RuntimeError, match="No waterfall controller"):
+        bpy.ops.worldpaint.build_waterfall()
+    assert terrain.data.shape_keys is None and not water_objects()
+
+
+def test_controller_roles_survive_save_and_reload(tmp_path):
+    cliff_scene()
+    bpy.data.objects["Pool"].worldpaint_waterfall.strength = 3.0
+    path = str(tmp_path / "waterfall.blend")
+    bpy.ops.wm.save_as_mainfile(filepath=path)
+    bpy.ops.wm.open_mainfile(filepath=path)
+    roles = {o.name: o.worldpaint_waterfall.kind for o in bpy.data.objects if o.type == 'CURVE'}
+    assert roles == {"Stream": 'CONTACT', "Fall": 'FREE_FALL', "Pool": 'POOL', "River": 'CONTACT'}
+    assert bpy.data.objects["Pool"].worldpaint_waterfall.strength == 3.0
