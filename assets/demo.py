@@ -8,7 +8,10 @@
    liked, the grove keeps its clumps, the village grows streets draped on the hills with houses along them, and each
    paste blends with what is around it.
 5. A highland hamlet grows by its growth scenario (thesis ch. 3) in a clearing of the forest in the foreground: a
-   church, houses and farms with doors and windows, on parcels beside roads that wind up the hills.
+   church, houses and farms with doors and windows, on parcels beside roads that wind up the hills; Embed Roads
+   cuts its roads into the slope.
+6. A stream drawn down the steepest slope from the hamlet becomes a waterfall scene (thesis ch. 4): Build Waterfall
+   classifies its segments, lays the water over it and carves its bed into the terrain.
 
 Writes OUT/demo.blend and renders OUT/demo.png with Workbench. Usage: python assets/demo.py [--out out]
 """
@@ -44,6 +47,7 @@ VILLAGE_SIZE = 300.0
 VILLAGE_DESTINATION = ((210.0, 460.0), (470.0, 670.0))
 HAMLET_CENTER = (360.0, 360.0)
 HAMLET_RADIUS = 90.0
+STREAM_START = (340.0, 330.0)
 
 
 def run(op, **kwargs):
@@ -130,6 +134,37 @@ def grow_hamlet(hills):
     run(bpy.ops.worldpaint.embed_roads, terrain=hills.name, width=5.0, bank_width=6.0)
 
 
+def stream_path(terrain, start, length=240.0, step=4.0):
+    """Points down the steepest slope from ``start`` (XY), one every ``step`` metres, stopping in a hollow."""
+    path = [np.asarray(start, dtype=np.float64)]
+    for _ in range(int(length / step)):
+        p = path[-1]
+        around = p + step * np.array([[np.cos(a), np.sin(a)] for a in np.linspace(0.0, 2.0 * np.pi, 16,
+                                                                                    endpoint=False)])
+        heights = terrain.heights_at(np.ascontiguousarray(around))
+        best = int(np.nanargmin(heights))
+        if not heights[best] < terrain.heights_at(p[None])[0] - 0.05:
+            break
+        path.append(around[best])
+    xy = np.array(path)
+    return np.column_stack([xy, terrain.heights_at(np.ascontiguousarray(xy))])
+
+
+def build_waterfall(hills):
+    """A stream running down the hills into a pool, with the terrain carved under it."""
+    stream = stream_path(engine.exemplar_demo_terrain(HILLS_SIZE, 2.0, 11), STREAM_START)[::3]
+    data = bpy.data.curves.new("Stream", 'CURVE')
+    data.dimensions = '3D'
+    spline = data.splines.new('POLY')
+    spline.points.add(len(stream) - 1)
+    spline.points.foreach_set("co", np.column_stack([stream, np.ones(len(stream))]).ravel())
+    obj = bpy.data.objects.new("Stream", data)
+    bpy.context.scene.collection.objects.link(obj)
+    obj.worldpaint_waterfall.kind = 'CONTACT'
+    run(bpy.ops.worldpaint.build_waterfall, terrain=hills.name, seed=1)
+    print(f"waterfall: a stream of {len(stream)} control points")
+
+
 def render(path):
     """A 3/4 view over the part of the hills where the forest, the grove and the two villages meet."""
     scene = bpy.context.scene
@@ -163,6 +198,7 @@ def main():
     hills = build_and_learn()
     paint(hills)
     grow_hamlet(hills)
+    build_waterfall(hills)
     painted = time.perf_counter() - start
     for obj in (o for o in bpy.data.collections["WorldPaint"].all_objects if not o.get("wp_village")):
         count = len(obj.data.splines) if obj.type == 'CURVE' else len(obj.data.vertices)
