@@ -13,6 +13,24 @@ from .background import BackgroundOperator
 from .common import TerrainProperty, report_errors
 
 
+def editable_terrain(context, name):
+    """The terrain object, out of Edit Mode (its mesh is read and given a shape key)."""
+    obj = terrain.terrain_object(context, name)
+    if obj.mode == 'EDIT':
+        raise WorldPaintError(f"The terrain '{obj.name}' is in Edit Mode: leave it first")
+    return obj
+
+
+def collection_named(name, default, what):
+    """The collection called ``name``, else ``default`` when no name is given."""
+    if not name:
+        return default
+    collection = bpy.data.collections.get(name)
+    if collection is None:
+        raise WorldPaintError(f"No collection named '{name}' to take the {what} from")
+    return collection
+
+
 class WORLDPAINT_OT_embed_roads(TerrainProperty, bpy.types.Operator):
     """Cut roads into the terrain: level carriageways, with banks blending into the slope (a shape key)"""
 
@@ -32,14 +50,8 @@ class WORLDPAINT_OT_embed_roads(TerrainProperty, bpy.types.Operator):
 
     def _embed(self, context):
         settings = context.scene.worldpaint.terrain_edit
-        obj = terrain.terrain_object(context, self.terrain)
-        if obj.mode == 'EDIT':
-            raise WorldPaintError(f"The terrain '{obj.name}' is in Edit Mode: leave it first")
-        collection = settings.roads
-        if self.roads:
-            collection = bpy.data.collections.get(self.roads)
-            if collection is None:
-                raise WorldPaintError(f"No collection named '{self.roads}' to take the roads from")
+        obj = editable_terrain(context, self.terrain)
+        collection = collection_named(self.roads, settings.roads, "roads")
         roads = terrain_edit.roads_to_embed(context, collection)
         width = self.width if self.width > 0.0 else settings.width
         bank_width = self.bank_width if self.bank_width >= 0.0 else settings.bank_width
@@ -79,14 +91,8 @@ class WORLDPAINT_OT_build_waterfall(BackgroundOperator, TerrainProperty, bpy.typ
 
     def _prepare(self, context):
         settings = context.scene.worldpaint.terrain_edit
-        obj = terrain.terrain_object(context, self.terrain)
-        if obj.mode == 'EDIT':
-            raise WorldPaintError(f"The terrain '{obj.name}' is in Edit Mode: leave it first")
-        collection = settings.controllers
-        if self.controllers:
-            collection = bpy.data.collections.get(self.controllers)
-            if collection is None:
-                raise WorldPaintError(f"No collection named '{self.controllers}' to take the controllers from")
+        obj = editable_terrain(context, self.terrain)
+        collection = collection_named(self.controllers, settings.controllers, "controllers")
         controllers = terrain_edit.waterfall_controllers(context, collection)
         self._standing = terrain_edit.Standing(context.scene)
         with terrain_edit.without_key(obj, terrain_edit.WATERFALL_KEY):
