@@ -156,6 +156,38 @@ def test_a_cliff_network_gets_water_meshes_a_deformed_terrain_and_undo_removes_t
     assert not water_objects()
 
 
+def test_instances_in_the_water_are_removed_and_the_others_stay_on_the_ground():
+    cliff_scene()
+    from worldpaint.bridge.instances import point_cloud_arrays
+    from worldpaint.bridge.points import point_cloud_object, write_points
+
+    # trees every 4 m over the valley, across the river's path
+    x, y = np.meshgrid(np.arange(160.0, 280.0, 4.0), np.arange(70.0, 130.0, 4.0))
+    xy = np.column_stack([x.ravel(), y.ravel()])
+    trees = point_cloud_object(bpy.context.scene, "Tree")
+    n = len(xy)
+    write_points(trees, np.column_stack([xy, cliff_height(xy[:, 0], xy[:, 1])]), np.zeros(n), np.ones(n),
+                 np.zeros(n, dtype=np.int32))
+    assert bpy.ops.worldpaint.build_waterfall(seed=1) == {'FINISHED'}
+    (water,) = water_objects()
+    co = np.empty(len(water.data.vertices) * 3)
+    water.data.vertices.foreach_get("co", co)
+    co = co.reshape(-1, 3)
+    left, _, _, _ = point_cloud_arrays(trees)
+    wet = in_triangles(np.ascontiguousarray(left[:, :2]), co[:, :2], triangles_of(water.data))
+    print(f"trees: {n} before, {len(left)} after, {wet.sum()} of those on the water mesh")
+    assert len(left) < n, "the trees in the river are gone"
+    assert wet.mean() < 0.02
+    # the others moved with the ground under them (read bilinearly on the terrain's grid, as the engine reads it)
+    import worldpaint_engine as engine
+
+    heights = evaluated_vertices(bpy.data.objects["Terrain"])[:, 2].reshape(NY, NX)
+    ground = engine.Terrain.from_grid((0.0, 0.0), CELL, heights).heights_at(np.ascontiguousarray(left[:, :2]))
+    error = np.abs(left[:, 2] - ground)
+    print(f"trees off the ground: at most {error.max() * 100:.2f} cm")
+    assert error.max() < 0.02
+
+
 def test_no_controller_is_reported_and_nothing_changes():
     x, y = np.meshgrid(CELL * np.arange(NX), CELL * np.arange(NY))
     terrain = grid_terrain("Terrain", (0.0, 0.0), CELL, cliff_height(x, y))
