@@ -150,10 +150,16 @@ def test_a_cliff_network_gets_water_meshes_a_deformed_terrain_and_undo_removes_t
     # the rest lie in sharp bends, where the carved riverbed reaches past the ribbon's inner bank
     assert dry.sum() > 10 and risen >= 0.9 and np.median(rise) > 0.1
 
+    # rocks along the riverbed, instanced and snapped onto the terrain
+    rocks = next(o for o in bpy.data.objects if o.get("wp_points") == "River rock")
+    assert len(rocks.data.vertices) > 0 and rocks.modifiers
+    print(f"{len(rocks.data.vertices)} river rocks")
+
     bpy.ops.ed.undo()
     terrain = bpy.data.objects["Terrain"]
     assert terrain.data.shape_keys is None or KEY not in terrain.data.shape_keys.key_blocks
     assert not water_objects()
+    assert not any(o.get("wp_points") == "River rock" for o in bpy.data.objects)
 
 
 def test_instances_in_the_water_are_removed_and_the_others_stay_on_the_ground():

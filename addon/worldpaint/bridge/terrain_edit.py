@@ -9,12 +9,13 @@ run of the same edit replaces the first instead of adding to it.
 
 from contextlib import contextmanager
 
+import bmesh
 import bpy
 import numpy as np
 
 from . import WorldPaintError, village
 from .instances import point_cloud_arrays, point_cloud_objects
-from .points import worldpaint_collection, write_points
+from .points import point_cloud_object, prototype_collection, set_instancer, worldpaint_collection, write_points
 
 EMBED_ROADS_KEY = "WorldPaint Embed Roads"
 WATERFALL_KEY = "WorldPaint Waterfall"
@@ -22,6 +23,7 @@ SEAT_PREFIX = "wp_seat_"  # + the edit: height (m) the edit moved an object or p
 WATER_COLLECTION = "Water"
 WATER_TAG = "wp_water"
 WATER_ATTRIBUTES = ("speed", "foam", "rocks", "disturbance")
+ROCK_CATEGORY = "River rock"  # the rocks a waterfall scatters along its riverbed
 
 
 def curve_paths(objects):
@@ -115,10 +117,10 @@ def write_shape_key(obj, name, offsets):
 class Standing:
     """What stands on the terrain and moves with it: the current village's houses and the painted point clouds."""
 
-    def __init__(self, scene):
+    def __init__(self, scene, exclude=()):
         current = village.current_village(scene)
         self.houses = village.village_houses(current) if current is not None else []
-        self.clouds = list(point_cloud_objects(scene).values())
+        self.clouds = [obj for category, obj in point_cloud_objects(scene).items() if category not in exclude]
 
     def points(self):
         """World XY (M, 2) of every house origin and every instance point, in that order."""
@@ -266,3 +268,27 @@ def build_water(scene, water):
     collection.objects.link(obj)
     return obj
 
+
+
+def rock_prototypes():
+    """The river rocks' prototype collection: the user's "River rock" mesh or collection when there is one, else a
+    low boulder made once."""
+    if bpy.data.collections.get(ROCK_CATEGORY) is None and bpy.data.meshes.get(ROCK_CATEGORY) is None:
+        mesh = bpy.data.meshes.new(ROCK_CATEGORY)
+        sphere = bmesh.new()
+        bmesh.ops.create_icosphere(sphere, subdivisions=1, radius=0.5)
+        bmesh.ops.scale(sphere, vec=(1.0, 0.8, 0.55), verts=sphere.verts)
+        sphere.to_mesh(mesh)
+        sphere.free()
+        mesh.materials.append(village.shared_material("WorldPaint Rock", (0.42, 0.40, 0.37, 1.0)))
+    return prototype_collection(bpy.context.scene, ROCK_CATEGORY)
+
+
+def build_rocks(scene, rocks, terrain_obj):
+    """The rocks as the "River rock" point cloud, snapped onto the terrain, replacing the ones made before."""
+    obj = point_cloud_object(scene, ROCK_CATEGORY)
+    n = len(rocks)
+    write_points(obj, np.asarray(rocks, dtype=np.float64).reshape(-1, 3), np.zeros(n), np.ones(n),
+                 np.zeros(n, dtype=np.int32))
+    set_instancer(obj, collection=rock_prototypes(), terrain=terrain_obj)
+    return obj

@@ -94,7 +94,7 @@ class WORLDPAINT_OT_build_waterfall(BackgroundOperator, TerrainProperty, bpy.typ
         obj = editable_terrain(context, self.terrain)
         collection = collection_named(self.controllers, settings.controllers, "controllers")
         controllers = terrain_edit.waterfall_controllers(context, collection)
-        self._standing = terrain_edit.Standing(context.scene)
+        self._standing = terrain_edit.Standing(context.scene, exclude=(terrain_edit.ROCK_CATEGORY,))
         with terrain_edit.without_key(obj, terrain_edit.WATERFALL_KEY):
             heightfield = terrain.engine_terrain(context, obj)
         self._vertices = terrain_edit.basis_world(obj)
@@ -117,6 +117,7 @@ class WORLDPAINT_OT_build_waterfall(BackgroundOperator, TerrainProperty, bpy.typ
         self._standing.reseat(result["displacement"][n:], "waterfall")
         dry = self._standing.keep_dry(result["is_water"][n:]) if self._keep_dry else 0
         terrain_edit.build_water(context.scene, result["water"])
+        terrain_edit.build_rocks(context.scene, result["rocks"], self._terrain_obj)
         report = result["report"]
         invalid = sum(not s["valid"] for s in result["segments"])
         self.report({'INFO'}, f"Waterfall: {len(result['segments'])} segments on {report['arcs']} arcs, "
