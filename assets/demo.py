@@ -33,6 +33,7 @@ import worldpaint_engine as engine  # noqa: E402
 from scene_kit import (  # noqa: E402
     collection_instances,
     engine_terrain_object,
+    poly_curve,
     select_only,
     slope_exemplar,
     top_camera,
@@ -113,15 +114,9 @@ def paint(hills):
 
 def grow_hamlet(hills):
     """A highland hamlet in a clearing cut into the painted forest, inside a closed curve beside the other content."""
-    curve = bpy.data.curves.new("Hamlet region", 'CURVE')
-    spline = curve.splines.new('POLY')
     a = np.linspace(0.0, 2.0 * np.pi, 48, endpoint=False)
     xy = np.column_stack([HAMLET_CENTER[0] + HAMLET_RADIUS * np.cos(a), HAMLET_CENTER[1] + HAMLET_RADIUS * np.sin(a)])
-    spline.points.add(len(xy) - 1)
-    spline.points.foreach_set("co", np.column_stack([xy, np.zeros(len(xy)), np.ones(len(xy))]).ravel())
-    spline.use_cyclic_u = True
-    region = bpy.data.objects.new("Hamlet region", curve)
-    bpy.context.scene.collection.objects.link(region)
+    region = poly_curve("Hamlet region", xy, cyclic=True)
     run(bpy.ops.worldpaint.clear_region, terrain=hills.name, region_mode='CURVE', curve=region.name)
     settings = bpy.context.scene.worldpaint.village
     settings.region = region
@@ -153,14 +148,7 @@ def stream_path(terrain, start, length=240.0, step=4.0):
 def build_waterfall(hills):
     """A stream running down the hills into a pool, with the terrain carved under it."""
     stream = stream_path(engine.exemplar_demo_terrain(HILLS_SIZE, 2.0, 11), STREAM_START)[::3]
-    data = bpy.data.curves.new("Stream", 'CURVE')
-    data.dimensions = '3D'
-    spline = data.splines.new('POLY')
-    spline.points.add(len(stream) - 1)
-    spline.points.foreach_set("co", np.column_stack([stream, np.ones(len(stream))]).ravel())
-    obj = bpy.data.objects.new("Stream", data)
-    bpy.context.scene.collection.objects.link(obj)
-    obj.worldpaint_waterfall.kind = 'CONTACT'
+    poly_curve("Stream", stream).worldpaint_waterfall.kind = 'CONTACT'
     run(bpy.ops.worldpaint.build_waterfall, terrain=hills.name, seed=1)
     print(f"waterfall: a stream of {len(stream)} control points")
 

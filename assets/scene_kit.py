@@ -199,6 +199,34 @@ def top_camera(center, height, ortho_scale):
     return cam
 
 
+def poly_curve(name, points, cyclic=False, collection=None):
+    """A curve object of one poly spline through ``points``: (N, 2) at height 0, or (N, 3); linked to
+    ``collection`` (default: the scene's)."""
+    points = np.asarray(points, dtype=np.float64)
+    if points.shape[1] == 2:
+        points = np.column_stack([points, np.zeros(len(points))])
+    curve = bpy.data.curves.new(name, 'CURVE')
+    curve.dimensions = '3D'
+    spline = curve.splines.new('POLY')
+    spline.points.add(len(points) - 1)
+    spline.points.foreach_set("co", np.column_stack([points, np.ones(len(points))]).ravel())
+    spline.use_cyclic_u = cyclic
+    obj = bpy.data.objects.new(name, curve)
+    (collection or bpy.context.scene.collection).objects.link(obj)
+    return obj
+
+
+def evaluated_vertices(obj):
+    """World XYZ (N, 3) of a mesh object's vertices as shown: shape keys and modifiers applied."""
+    evaluated = obj.evaluated_get(bpy.context.evaluated_depsgraph_get())
+    mesh = evaluated.to_mesh()
+    co = np.empty(len(mesh.vertices) * 3)
+    mesh.vertices.foreach_get("co", co)
+    evaluated.to_mesh_clear()
+    matrix = np.array(obj.matrix_world)
+    return co.reshape(-1, 3) @ matrix[:3, :3].T + matrix[:3, 3]
+
+
 def closed_circle_curve(name, center, radius):
     bpy.ops.curve.primitive_bezier_circle_add(radius=radius, location=(center[0], center[1], 0.0))
     obj = bpy.context.active_object

@@ -5,7 +5,7 @@ with the ground under them."""
 import bpy
 import numpy as np
 import pytest
-from scene_kit import grid_terrain
+from scene_kit import evaluated_vertices, grid_terrain, poly_curve
 
 SIZE = 300.0
 CELL = 2.0
@@ -29,27 +29,16 @@ def slope_scene():
 
 
 def road_curve(name, xy):
-    curve = bpy.data.curves.new(name, 'CURVE')
-    spline = curve.splines.new('POLY')
-    spline.points.add(len(xy) - 1)
-    spline.points.foreach_set("co", np.column_stack([xy, np.zeros(len(xy)), np.ones(len(xy))]).ravel())
-    obj = bpy.data.objects.new(name, curve)
     collection = bpy.data.collections.get("Roads") or bpy.data.collections.new("Roads")
     if collection.name not in bpy.context.scene.collection.children:
         bpy.context.scene.collection.children.link(collection)
-    collection.objects.link(obj)
-    return obj
+    return poly_curve(name, xy, collection=collection)
 
 
 def evaluated_heights(obj):
     """(ny, nx) heights of the terrain grid as it is shown (shape keys applied)."""
-    evaluated = obj.evaluated_get(bpy.context.evaluated_depsgraph_get())
-    mesh = evaluated.to_mesh()
-    co = np.empty(len(mesh.vertices) * 3)
-    mesh.vertices.foreach_get("co", co)
-    evaluated.to_mesh_clear()
     n = int(SIZE / CELL) + 1
-    return co.reshape(-1, 3)[:, 2].reshape(n, n)
+    return evaluated_vertices(obj)[:, 2].reshape(n, n)
 
 
 def node(v):

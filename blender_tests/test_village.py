@@ -8,7 +8,7 @@ import bpy
 import numpy as np
 import pytest
 import worldpaint_engine as engine
-from scene_kit import grid_terrain
+from scene_kit import grid_terrain, poly_curve
 from worldpaint.bridge.curves import spline_points
 
 SIZE = 400.0  # the hill's terrain, metres across
@@ -33,15 +33,9 @@ def hill_scene():
     x, y = np.meshgrid(CELL * np.arange(n), CELL * np.arange(n))
     terrain_obj = grid_terrain("Terrain", (0.0, 0.0), CELL, hill_height(x, y))
     bpy.context.scene.worldpaint.terrain = terrain_obj
-    curve = bpy.data.curves.new("Region", 'CURVE')
-    spline = curve.splines.new('POLY')
     a = np.linspace(0.0, 2.0 * np.pi, 64, endpoint=False)
     xy = np.column_stack([CENTER[0] + RADIUS * np.cos(a), CENTER[1] + RADIUS * np.sin(a)])
-    spline.points.add(len(xy) - 1)
-    spline.points.foreach_set("co", np.column_stack([xy, np.zeros(len(xy)), np.ones(len(xy))]).ravel())
-    spline.use_cyclic_u = True
-    region = bpy.data.objects.new("Region", curve)
-    bpy.context.scene.collection.objects.link(region)
+    region = poly_curve("Region", xy, cyclic=True)
     bpy.context.scene.worldpaint.village.region = region
     return terrain_obj, region
 
@@ -359,17 +353,6 @@ def test_show_interest_colors_the_terrain_and_sees_the_village(grown):
         bpy.ops.worldpaint.show_interest(building="palace")
 
 
-def curve_object(name, xy, cyclic, collection):
-    curve = bpy.data.curves.new(name, 'CURVE')
-    spline = curve.splines.new('POLY')
-    spline.points.add(len(xy) - 1)
-    spline.points.foreach_set("co", np.column_stack([xy, np.zeros(len(xy)), np.ones(len(xy))]).ravel())
-    spline.use_cyclic_u = cyclic
-    obj = bpy.data.objects.new(name, curve)
-    collection.objects.link(obj)
-    return obj
-
-
 def test_the_village_keeps_out_of_the_water_and_connects_where_it_is_told():
     hill_scene()
     scene = bpy.context.scene
@@ -378,9 +361,9 @@ def test_the_village_keeps_out_of_the_water_and_connects_where_it_is_told():
     scene.collection.children.link(water)
     a = np.linspace(0.0, 2.0 * np.pi, 32, endpoint=False)
     lake = np.column_stack([300.0 + 25.0 * np.cos(a), 150.0 + 18.0 * np.sin(a)])
-    curve_object("Lake", lake, True, water)
+    poly_curve("Lake", lake, True, water)
     river = np.column_stack([np.linspace(60.0, 340.0, 15), 300.0 + 10.0 * np.sin(np.linspace(0.0, 3.0, 15))])
-    curve_object("River", river, False, water)
+    poly_curve("River", river, False, water)
     gate = bpy.data.objects.new("Gate", None)
     gate.location = (345.0, 200.0, 0.0)
     connections = bpy.data.collections.new("Connections")

@@ -5,7 +5,7 @@ the riverbed, instances keep out of the water, undo removes all of it, and the c
 import bpy
 import numpy as np
 import pytest
-from scene_kit import grid_terrain
+from scene_kit import evaluated_vertices, grid_terrain, poly_curve
 
 CELL = 2.0
 NX, NY = 151, 101  # 300 m by 200 m
@@ -23,14 +23,7 @@ def cliff_height(x, y):
 
 
 def curve(name, points, kind, cyclic=False):
-    data = bpy.data.curves.new(name, 'CURVE')
-    data.dimensions = '3D'
-    spline = data.splines.new('POLY')
-    spline.points.add(len(points) - 1)
-    spline.points.foreach_set("co", np.column_stack([points, np.ones(len(points))]).ravel())
-    spline.use_cyclic_u = cyclic
-    obj = bpy.data.objects.new(name, data)
-    bpy.context.scene.collection.objects.link(obj)
+    obj = poly_curve(name, points, cyclic=cyclic)
     obj.worldpaint_waterfall.kind = kind
     return obj
 
@@ -51,15 +44,6 @@ def cliff_scene():
     z[0] = POOL[3]
     curve("River", np.column_stack([downstream, z]), 'CONTACT')
     return terrain
-
-
-def evaluated_vertices(obj):
-    evaluated = obj.evaluated_get(bpy.context.evaluated_depsgraph_get())
-    mesh = evaluated.to_mesh()
-    co = np.empty(len(mesh.vertices) * 3)
-    mesh.vertices.foreach_get("co", co)
-    evaluated.to_mesh_clear()
-    return co.reshape(-1, 3)
 
 
 def water_objects():

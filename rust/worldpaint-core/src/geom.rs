@@ -49,8 +49,8 @@ fn finite(p: DVec2) -> bool {
     p.x.is_finite() && p.y.is_finite()
 }
 
-/// Distance from `p` to the segment `a`-`b`.
-pub fn segment_distance(p: DVec2, a: DVec2, b: DVec2) -> f64 {
+/// The point of the segment `a`-`b` closest to `p`.
+pub fn closest_on_segment(p: DVec2, a: DVec2, b: DVec2) -> DVec2 {
     let ab = b - a;
     let len2 = ab.length_squared();
     let t = if len2 > 0.0 {
@@ -58,7 +58,23 @@ pub fn segment_distance(p: DVec2, a: DVec2, b: DVec2) -> f64 {
     } else {
         0.0
     };
-    (a + ab * t).distance(p)
+    a + ab * t
+}
+
+/// Distance from `p` to the segment `a`-`b`.
+pub fn segment_distance(p: DVec2, a: DVec2, b: DVec2) -> f64 {
+    closest_on_segment(p, a, b).distance(p)
+}
+
+/// The distance between the segments `a`-`b` and `c`-`d` (0 when they cross).
+pub fn segments_distance(a: DVec2, b: DVec2, c: DVec2, d: DVec2) -> f64 {
+    if segment_intersection(a, b, c, d).is_some() {
+        return 0.0;
+    }
+    segment_distance(a, c, d)
+        .min(segment_distance(b, c, d))
+        .min(segment_distance(c, a, b))
+        .min(segment_distance(d, a, b))
 }
 
 /// The intersection of two sorted lists of disjoint intervals.

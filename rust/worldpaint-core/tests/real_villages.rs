@@ -25,6 +25,8 @@
 
 #[path = "support/geojson.rs"]
 mod geojson;
+#[path = "support/squares.rs"]
+mod squares;
 #[path = "support/villages.rs"]
 mod villages;
 

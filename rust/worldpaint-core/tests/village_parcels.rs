@@ -14,7 +14,7 @@ mod village {
     use std::f64::consts::PI;
     use std::path::{Path, PathBuf};
     use worldpaint_core::geom::{
-        polygon_signed_area, segment_distance, segment_intersection, DVec2, Region,
+        polygon_signed_area, segment_distance, segments_distance, DVec2, Region,
     };
     use worldpaint_core::terrain::Heightfield;
     use worldpaint_core::village::encyclopedia::ParcelParams;
@@ -85,21 +85,11 @@ mod village {
             .fold(f64::INFINITY, f64::min)
     }
 
-    fn segment_gap(a: DVec2, b: DVec2, c: DVec2, d: DVec2) -> f64 {
-        if segment_intersection(a, b, c, d).is_some() {
-            return 0.0;
-        }
-        segment_distance(a, c, d)
-            .min(segment_distance(b, c, d))
-            .min(segment_distance(c, a, b))
-            .min(segment_distance(d, a, b))
-    }
-
     fn road_gap(roads: &[Road], a: DVec2, b: DVec2) -> f64 {
         roads
             .iter()
             .flat_map(|r| r.points.windows(2))
-            .map(|w| segment_gap(a, b, w[0], w[1]))
+            .map(|w| segments_distance(a, b, w[0], w[1]))
             .fold(f64::INFINITY, f64::min)
     }
 
@@ -128,7 +118,7 @@ mod village {
                     let _ = shared;
                     continue;
                 }
-                if segment_gap(a, b, c, d) < 1e-9 {
+                if segments_distance(a, b, c, d) < 1e-9 {
                     return false;
                 }
             }

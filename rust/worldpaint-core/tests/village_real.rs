@@ -40,6 +40,8 @@
 mod geojson;
 #[path = "support/village_real.rs"]
 mod real;
+#[path = "support/squares.rs"]
+mod squares;
 
 use rayon::prelude::*;
 use real::{Figures, Place, PlaceSpec, RealParcels, RealWindow, Table, Window};

@@ -1,7 +1,7 @@
 //! A uniform grid of the arcs of a graph under construction, updated as arcs come and go and nodes move: the
 //! crossing and gap tests of the arc chain and the relaxation visit the arcs near a segment only.
 
-use crate::geom::{segment_distance, segment_intersection, DVec2};
+use crate::geom::DVec2;
 use crate::palette::Histogram;
 
 /// The gap between an arc and another one it does not meet at a node, relative to the shortest learned edge.
@@ -93,15 +93,4 @@ impl ArcGrid {
             }
         }
     }
-}
-
-/// The distance between two segments (0 when they cross).
-pub(super) fn segments_distance(a: DVec2, b: DVec2, c: DVec2, d: DVec2) -> f64 {
-    if segment_intersection(a, b, c, d).is_some() {
-        return 0.0;
-    }
-    segment_distance(a, c, d)
-        .min(segment_distance(b, c, d))
-        .min(segment_distance(c, a, b))
-        .min(segment_distance(d, a, b))
 }

@@ -22,9 +22,10 @@
 //!   (a dead end) draws a new arc that continues it.
 //! * **Relaxation**: the nodes then move to fit the arcs (module `relax`).
 
-use super::arc_grid::{arc_gap, segments_distance, ArcGrid};
+use super::arc_grid::{arc_gap, ArcGrid};
 use super::relax::{relax, Network};
 use super::{annealed, mix_seed};
+use crate::geom::segments_distance;
 use crate::geom::{segment_distance, DVec2, Region};
 use crate::graph::{angle_between, Graph, SegmentIndex};
 use crate::palette::{GraphColor, Histogram};

@@ -8,9 +8,10 @@
 //! angle falls below the exemplar's smallest, no arc leaves the learned length range or comes closer to
 //! obstacles than their clearance.
 
-use super::arc_grid::{arc_gap, segments_distance, ArcGrid};
+use super::arc_grid::{arc_gap, ArcGrid};
 use super::arcs::{angle_bin, chi2, Obstacles};
 use super::{annealed, mix_seed};
+use crate::geom::segments_distance;
 use crate::geom::{DVec2, Region};
 use crate::graph::{angle_between, SegmentIndex};
 use crate::palette::GraphColor;

@@ -60,7 +60,9 @@ use super::encyclopedia::ParcelParams;
 use super::land::Land;
 use super::{Parcel, Road};
 use crate::error::{Error, Result};
-use crate::geom::{polygon_contains, polygon_signed_area, segment_distance, segment_intersection};
+use crate::geom::{
+    closest_on_segment, polygon_contains, polygon_signed_area, segment_distance, segments_distance,
+};
 use crate::graph::{angle_between, Graph, SegmentIndex};
 use glam::DVec2;
 use rayon::prelude::*;
@@ -408,34 +410,12 @@ pub(crate) struct RoadIndex {
     index: SegmentIndex,
 }
 
-pub(crate) fn closest_on_segment(p: DVec2, a: DVec2, b: DVec2) -> DVec2 {
-    let ab = b - a;
-    let len2 = ab.length_squared();
-    let t = if len2 > 0.0 {
-        ((p - a).dot(ab) / len2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    a + ab * t
-}
-
 fn side_of(p: DVec2, a: DVec2, b: DVec2) -> f64 {
     if (b - a).perp_dot(p - a) >= 0.0 {
         1.0
     } else {
         -1.0
     }
-}
-
-/// Distance between the segments `a`–`b` and `c`–`d`.
-pub(crate) fn segment_segment_distance(a: DVec2, b: DVec2, c: DVec2, d: DVec2) -> f64 {
-    if segment_intersection(a, b, c, d).is_some() {
-        return 0.0;
-    }
-    segment_distance(a, c, d)
-        .min(segment_distance(b, c, d))
-        .min(segment_distance(c, a, b))
-        .min(segment_distance(d, a, b))
 }
 
 impl RoadIndex {
@@ -508,7 +488,7 @@ impl RoadIndex {
         let mut best = limit;
         for &s in &c {
             let (p, q) = self.segments()[s as usize];
-            best = best.min(segment_segment_distance(a, b, p, q));
+            best = best.min(segments_distance(a, b, p, q));
         }
         best
     }
@@ -2132,53 +2112,19 @@ fn conflict(a: DVec2, b: DVec2, c: DVec2, d: DVec2, eps: f64) -> bool {
 
 /// The chains that cross or touch another chain (or themselves) anywhere but at a shared end.
 fn crossing_chains(segments: &[(DVec2, DVec2, usize)], eps: f64, bad: &mut [bool]) {
-    if segments.is_empty() {
-        return;
-    }
-    let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
-    let mut total = 0.0;
-    for (a, b, _) in segments {
-        lo = lo.min(a.min(*b));
-        hi = hi.max(a.max(*b));
-        total += a.distance(*b);
-    }
-    let ext = (hi - lo).max(DVec2::splat(1e-9));
-    let size = (total / segments.len() as f64)
-        .max(ext.x.max(ext.y) / 512.0)
-        .max(1e-9);
-    let nx = (ext.x / size) as usize + 1;
-    let ny = (ext.y / size) as usize + 1;
-    let range = |a: DVec2, b: DVec2| {
-        let f = |v: f64, n: usize| (v.max(0.0) as usize).min(n - 1);
-        let p = (a.min(b) - lo - DVec2::splat(eps)) / size;
-        let q = (a.max(b) - lo + DVec2::splat(eps)) / size;
-        (f(p.x, nx), f(p.y, ny), f(q.x, nx), f(q.y, ny))
-    };
-    let mut buckets: Vec<Vec<u32>> = vec![Vec::new(); nx * ny];
-    let ranges: Vec<(usize, usize, usize, usize)> =
-        segments.iter().map(|s| range(s.0, s.1)).collect();
-    for (s, &(x0, y0, x1, y1)) in ranges.iter().enumerate() {
-        for y in y0..=y1 {
-            for x in x0..=x1 {
-                buckets[y * nx + x].push(s as u32);
-            }
-        }
-    }
-    for (bk, list) in buckets.iter().enumerate() {
-        let (bx, by) = (bk % nx, bk / nx);
-        for (p, &s) in list.iter().enumerate() {
-            for &t in &list[p + 1..] {
-                let (rs, rt) = (ranges[s as usize], ranges[t as usize]);
-                // each pair is tested in the first bucket the two share
-                if rs.0.max(rt.0) != bx || rs.1.max(rt.1) != by {
-                    continue;
-                }
-                let (a, b, cs) = segments[s as usize];
-                let (c, d, ct) = segments[t as usize];
-                if conflict(a, b, c, d, eps) {
-                    bad[cs] = true;
-                    bad[ct] = true;
-                }
+    let index = SegmentIndex::new(segments.iter().map(|&(a, b, _)| (a, b)).collect());
+    let mut near = Vec::new();
+    for (s, &(a, b, cs)) in segments.iter().enumerate() {
+        index.candidates(
+            a.min(b) - DVec2::splat(eps),
+            a.max(b) + DVec2::splat(eps),
+            &mut near,
+        );
+        for &t in near.iter().filter(|&&t| t as usize > s) {
+            let (c, d, ct) = segments[t as usize];
+            if conflict(a, b, c, d, eps) {
+                bad[cs] = true;
+                bad[ct] = true;
             }
         }
     }
@@ -2375,62 +2321,27 @@ pub fn parcel_statistics_with(
     }
     let straight = straight_degrees.to_radians();
     let edges: usize = polys.iter().map(|p| edge_count(p, straight)).sum();
-    // shared boundary length per pair of parcels, from the edges in buckets
+    // shared boundary length per pair of parcels
     let mut segments: Vec<(DVec2, DVec2, u32)> = Vec::new();
     for (i, p) in polys.iter().enumerate() {
         for k in 0..p.len() {
             segments.push((p[k], p[(k + 1) % p.len()], i as u32));
         }
     }
-    let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
-    let mut total = 0.0;
-    for (a, b, _) in &segments {
-        lo = lo.min(a.min(*b));
-        hi = hi.max(a.max(*b));
-        total += a.distance(*b);
-    }
-    let ext = (hi - lo).max(DVec2::splat(1e-9));
-    let size = (total / segments.len() as f64)
-        .max(ext.x.max(ext.y) / 2048.0)
-        .max(1e-9);
-    let nx = (ext.x / size) as usize + 1;
-    let ny = (ext.y / size) as usize + 1;
-    let range = |a: DVec2, b: DVec2| {
-        let f = |v: f64, n: usize| (v.max(0.0) as usize).min(n - 1);
-        let p = (a.min(b) - lo - DVec2::splat(lateral)) / size;
-        let q = (a.max(b) - lo + DVec2::splat(lateral)) / size;
-        (f(p.x, nx), f(p.y, ny), f(q.x, nx), f(q.y, ny))
-    };
-    let ranges: Vec<(usize, usize, usize, usize)> =
-        segments.iter().map(|s| range(s.0, s.1)).collect();
-    let mut buckets: std::collections::HashMap<(usize, usize), Vec<u32>> = Default::default();
-    for (s, &(x0, y0, x1, y1)) in ranges.iter().enumerate() {
-        for y in y0..=y1 {
-            for x in x0..=x1 {
-                buckets.entry((x, y)).or_default().push(s as u32);
+    let index = SegmentIndex::new(segments.iter().map(|&(a, b, _)| (a, b)).collect());
+    let mut shared: std::collections::BTreeMap<(u32, u32), f64> = Default::default();
+    let mut near = Vec::new();
+    for (s, &(a, b, ps)) in segments.iter().enumerate() {
+        let pad = DVec2::splat(lateral);
+        index.candidates(a.min(b) - pad, a.max(b) + pad, &mut near);
+        for &t in near.iter().filter(|&&t| t as usize > s) {
+            let (c, d, pt) = segments[t as usize];
+            if ps == pt {
+                continue;
             }
-        }
-    }
-    let mut shared: std::collections::HashMap<(u32, u32), f64> = Default::default();
-    let mut keys: Vec<&(usize, usize)> = buckets.keys().collect();
-    keys.sort_unstable();
-    for key in keys {
-        let list = &buckets[key];
-        for (p, &s) in list.iter().enumerate() {
-            for &t in &list[p + 1..] {
-                let (a, b, ps) = segments[s as usize];
-                let (c, d, pt) = segments[t as usize];
-                if ps == pt {
-                    continue;
-                }
-                let (rs, rt) = (ranges[s as usize], ranges[t as usize]);
-                if (rs.0.max(rt.0), rs.1.max(rt.1)) != *key {
-                    continue;
-                }
-                let overlap = collinear_overlap(a, b, c, d, lateral);
-                if overlap > 0.0 {
-                    *shared.entry((ps.min(pt), ps.max(pt))).or_default() += overlap;
-                }
+            let overlap = collinear_overlap(a, b, c, d, lateral);
+            if overlap > 0.0 {
+                *shared.entry((ps.min(pt), ps.max(pt))).or_default() += overlap;
             }
         }
     }

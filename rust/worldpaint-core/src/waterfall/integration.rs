@@ -512,44 +512,28 @@ pub fn footprint(
             let range = &net.segment_ranges[a];
             let (p0, p1) = (seg.points[0], seg.points[seg.points.len() - 1]);
             let along = (p1 - p0).truncate().normalize_or_zero();
-            if arc.kind == ControllerKind::FreeFall {
-                let hw = 0.5 * fall_width(net, a, options);
-                let hit = hits_of_segment(terrain, p0, p1, hw, 0.0, (false, false), |inside, t| {
-                    FootprintNode {
-                        part: WaterPart::FreeFall,
-                        element: s,
-                        inside,
-                        half_width: hw,
-                        surface: p0.z + t * (p1.z - p0.z),
-                        depth: seg.section.depth,
-                        along,
-                    }
-                });
-                return (true, hit);
-            }
-            let hw = 0.5 * width(net, s, options);
+            let fall = arc.kind == ControllerKind::FreeFall;
             // an arc's end is left open where it runs into a pool or over a lip (that water, or the cliff,
             // takes over); joints along a river and branches keep round caps, so bends leave no gaps
-            let open_start = s == range.start && opens(net, arc.from);
-            let open_end = s + 1 == range.end && opens(net, arc.to);
-            let hit = hits_of_segment(
-                terrain,
-                p0,
-                p1,
-                hw,
-                margin,
-                (open_start, open_end),
-                |inside, t| FootprintNode {
-                    part: WaterPart::Contact,
-                    element: s,
-                    inside,
-                    half_width: hw,
-                    surface: p0.z + t * (p1.z - p0.z),
-                    depth: seg.section.depth,
-                    along,
-                },
-            );
-            (false, hit)
+            let (part, hw, m, caps) = if fall {
+                let hw = 0.5 * fall_width(net, a, options);
+                (WaterPart::FreeFall, hw, 0.0, (false, false))
+            } else {
+                let open_start = s == range.start && opens(net, arc.from);
+                let open_end = s + 1 == range.end && opens(net, arc.to);
+                let hw = 0.5 * width(net, s, options);
+                (WaterPart::Contact, hw, margin, (open_start, open_end))
+            };
+            let hit = hits_of_segment(terrain, p0, p1, hw, m, caps, |inside, t| FootprintNode {
+                part,
+                element: s,
+                inside,
+                half_width: hw,
+                surface: p0.z + t * (p1.z - p0.z),
+                depth: seg.section.depth,
+                along,
+            });
+            (fall, hit)
         })
         .collect();
     let mut nodes: Vec<Option<FootprintNode>> = vec![None; terrain.nx * terrain.ny];

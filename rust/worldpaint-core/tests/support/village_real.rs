@@ -50,6 +50,7 @@
 //!   reads the slope's grade, so real road grades in Andorra read far steeper than the roads are.
 
 use crate::geojson::{geometry, read_features};
+use crate::squares::squares_by_count;
 use serde_json::Value;
 use std::collections::{HashMap, VecDeque};
 use std::path::{Path, PathBuf};
@@ -559,37 +560,7 @@ pub fn densest_windows(
         (tlo + DVec2::splat(margin)).max(hbox.0),
         (thi - DVec2::splat(margin)).min(hbox.1),
     );
-    let cells = |extent: f64| (extent / SEARCH_STEP).floor().max(0.0) as usize;
-    let (nx, ny) = (cells(hi.x - lo.x), cells(hi.y - lo.y));
-    let k = (side / SEARCH_STEP).round() as usize;
-    if nx < k || ny < k {
-        return Vec::new();
-    }
-    // summed-area table of the buildings per cell
-    let mut sat = vec![0usize; (nx + 1) * (ny + 1)];
-    for p in &place.houses {
-        let f = (*p - lo) / SEARCH_STEP;
-        if f.x >= 0.0 && f.y >= 0.0 && (f.x as usize) < nx && (f.y as usize) < ny {
-            sat[(f.y as usize + 1) * (nx + 1) + f.x as usize + 1] += 1;
-        }
-    }
-    for j in 1..=ny {
-        for i in 1..=nx {
-            let at = j * (nx + 1) + i;
-            sat[at] += sat[at - 1] + sat[at - nx - 1] - sat[at - nx - 2];
-        }
-    }
-    let at = |i: usize, j: usize| sat[j * (nx + 1) + i];
-    let mut squares: Vec<(DVec2, usize)> = (0..=ny - k)
-        .flat_map(|j| (0..=nx - k).map(move |i| (i, j)))
-        .map(|(i, j)| {
-            (
-                lo + DVec2::new(i as f64, j as f64) * SEARCH_STEP,
-                at(i + k, j + k) + at(i, j) - at(i + k, j) - at(i, j + k),
-            )
-        })
-        .collect();
-    squares.sort_by_key(|s| std::cmp::Reverse(s.1));
+    let squares = squares_by_count(&place.houses, lo, hi, side, SEARCH_STEP);
     let clear = side + WINDOW_GAP;
     let mut picked: Vec<DVec2> = Vec::new();
     let mut out: Vec<Window> = Vec::new();

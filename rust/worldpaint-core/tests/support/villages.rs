@@ -20,6 +20,7 @@
 //!   bins: the natural variation between two real villages.
 
 use crate::geojson::{geometry, read_features};
+use crate::squares::squares_by_count;
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -194,36 +195,7 @@ fn squares_by_density(layers: &Layers) -> Vec<(DVec2, usize)> {
         layers.bbox.0 + DVec2::splat(MARGIN),
         layers.bbox.1 - DVec2::splat(MARGIN),
     );
-    let cells = |extent: f64| (extent / SEARCH_STEP).floor().max(0.0) as usize;
-    let (nx, ny) = (cells(hi.x - lo.x), cells(hi.y - lo.y));
-    let k = (SIDE / SEARCH_STEP).round() as usize;
-    if nx < k || ny < k {
-        return Vec::new();
-    }
-    // summed-area table of the buildings per cell
-    let mut sat = vec![0usize; (nx + 1) * (ny + 1)];
-    for p in &layers.houses {
-        let f = (*p - lo) / SEARCH_STEP;
-        if f.x >= 0.0 && f.y >= 0.0 && (f.x as usize) < nx && (f.y as usize) < ny {
-            sat[(f.y as usize + 1) * (nx + 1) + f.x as usize + 1] += 1;
-        }
-    }
-    for j in 1..=ny {
-        for i in 1..=nx {
-            let at = j * (nx + 1) + i;
-            sat[at] += sat[at - 1] + sat[at - nx - 1] - sat[at - nx - 2];
-        }
-    }
-    let sum = |i: usize, j: usize| {
-        let at = |i: usize, j: usize| sat[j * (nx + 1) + i];
-        at(i + k, j + k) + at(i, j) - at(i + k, j) - at(i, j + k)
-    };
-    let mut squares: Vec<(DVec2, usize)> = (0..=ny - k)
-        .flat_map(|j| (0..=nx - k).map(move |i| (i, j)))
-        .map(|(i, j)| (lo + DVec2::new(i as f64, j as f64) * SEARCH_STEP, sum(i, j)))
-        .collect();
-    squares.sort_by_key(|s| std::cmp::Reverse(s.1));
-    squares
+    squares_by_count(&layers.houses, lo, hi, SIDE, SEARCH_STEP)
 }
 
 /// The square of `SIDE` centred on the mean of the buildings in the square of `SIDE` at `min`: the village
