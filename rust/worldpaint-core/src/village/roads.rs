@@ -1894,42 +1894,41 @@ fn static_cost(land: &Land, key: &CostKey, mv: &Move, x: usize, near: u8, penali
     }
 }
 
-/// Nodes with a `values` node within `radius` cells (Chebyshev).
+/// Nodes with a `values` node within `radius` cells (Chebyshev): a dilation along the rows, then the columns.
 fn near(g: &LandGrid, values: &[bool], radius: usize) -> Vec<bool> {
     let mut rows = vec![false; g.len()];
     for j in 0..g.ny {
-        let mut last: Option<usize> = None;
-        // distance to the nearest water on the left, then on the right
-        for i in 0..g.nx {
-            if values[g.index(i, j)] {
-                last = Some(i);
-            }
-            rows[g.index(i, j)] = last.is_some_and(|l| i - l <= radius);
-        }
-        last = None;
-        for i in (0..g.nx).rev() {
-            if values[g.index(i, j)] {
-                last = Some(i);
-            }
-            rows[g.index(i, j)] |= last.is_some_and(|l| l - i <= radius);
+        let line: Vec<bool> = (0..g.nx).map(|i| values[g.index(i, j)]).collect();
+        for (i, v) in dilate_line(&line, radius).into_iter().enumerate() {
+            rows[g.index(i, j)] = v;
         }
     }
     let mut out = vec![false; g.len()];
     for i in 0..g.nx {
-        let mut last: Option<usize> = None;
-        for j in 0..g.ny {
-            if rows[g.index(i, j)] {
-                last = Some(j);
-            }
-            out[g.index(i, j)] = last.is_some_and(|l| j - l <= radius);
+        let line: Vec<bool> = (0..g.ny).map(|j| rows[g.index(i, j)]).collect();
+        for (j, v) in dilate_line(&line, radius).into_iter().enumerate() {
+            out[g.index(i, j)] = v;
         }
-        last = None;
-        for j in (0..g.ny).rev() {
-            if rows[g.index(i, j)] {
-                last = Some(j);
-            }
-            out[g.index(i, j)] |= last.is_some_and(|l| l - j <= radius);
+    }
+    out
+}
+
+/// The places of a line within `radius` of a set place: the nearest one on the left, then on the right.
+fn dilate_line(line: &[bool], radius: usize) -> Vec<bool> {
+    let mut out = vec![false; line.len()];
+    let mut last: Option<usize> = None;
+    for (k, &set) in line.iter().enumerate() {
+        if set {
+            last = Some(k);
         }
+        out[k] = last.is_some_and(|l| k - l <= radius);
+    }
+    last = None;
+    for (k, &set) in line.iter().enumerate().rev() {
+        if set {
+            last = Some(k);
+        }
+        out[k] |= last.is_some_and(|l| l - k <= radius);
     }
     out
 }
