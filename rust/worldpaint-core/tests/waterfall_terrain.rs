@@ -100,10 +100,17 @@ fn riverbed_below_the_water_and_banks_beside_it() {
         "riverbed above the water at {} of {checked} segments",
         checked - below
     );
+    // the few left lie beside a lip or a lower water, where the ground falls away a cell beyond the bank
     assert!(
-        banks_ok as f64 >= 0.95 * checked as f64,
+        banks_ok as f64 >= 0.97 * checked as f64,
         "banks below the water at {} of {checked} segments",
         checked - banks_ok
+    );
+    assert!(
+        banks_strict as f64 >= 0.95 * checked as f64,
+        "banks more than {:.2} m below the water at {} of {checked} segments",
+        0.1 * freeboard,
+        checked - banks_strict
     );
 }
 

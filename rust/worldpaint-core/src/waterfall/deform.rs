@@ -4,7 +4,8 @@
 //! stays as it was.
 //!
 //! * **Border constraints** — on the contour `Ω` of the integration mesh: the bank comes to the water's level
-//!   plus [`DeformOptions::freeboard`]. The contour is rasterized as the band of grid nodes outside the water and
+//!   plus [`DeformOptions::freeboard`] (of the higher water where two banks meet, as beside a stream above the
+//!   pool it falls into). The contour is rasterized as the band of grid nodes outside the water and
 //!   within [`DeformOptions::bank_width`] of it (the footprint of [`super::integration`]), so that the bank holds
 //!   on the grid whatever its direction.
 //! * **Riverbed constraints** — every node inside the border, at distance `e` from the nearest border point, is
@@ -152,7 +153,7 @@ pub fn deform(
             n.surface - n.depth * profile(n.part, kind, n.inside / n.half_width.max(1e-9))
         } else if -n.inside <= bank && n.part != WaterPart::FreeFall {
             border_nodes += 1;
-            n.surface + options.freeboard
+            n.bank_level + options.freeboard
         } else {
             continue;
         };

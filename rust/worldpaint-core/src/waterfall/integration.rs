@@ -14,6 +14,10 @@
 //!   `ε = 4/(k s)` grows without bound on gentle slopes;
 //! * a free-fall sheet is vertical, as wide as the contact ending at its lip (the "incoming segment") or, with
 //!   none, as its own section;
+//! * the footprint on the terrain's grid is the mesh's own: a node lies under a ribbon when it lies in one of
+//!   its triangles, and its depth inside is the plan distance to the nearest bank edge, so that in a sharp bend
+//!   the riverbed stops at the ribbon's inner bank; beyond a ribbon's end the water is closed by its last row
+//!   (at sources and wells), capped by a disc (where arcs join) or left to the water it runs into (pools, lips);
 //! * ribbons meeting at a branch overlap instead of being cut against each other: the footprint keeps, per grid
 //!   node, the element the node is deepest inside, so the maps and constraints see no overlap;
 //! * a pool's values for foam, rocks and disturbance are those of the segments falling or flowing into it,
@@ -28,6 +32,7 @@ use crate::polygon_mesh::triangulate;
 use crate::terrain::Heightfield;
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
+use std::collections::HashMap;
 
 /// Which kind of element a vertex, border or footprint node belongs to.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -173,6 +178,31 @@ fn normal_at(path: &[DVec3], k: usize) -> DVec2 {
     t.normalize_or(DVec2::X).perp()
 }
 
+/// The rows of contact arc `a`'s ribbon, one per path point: left bank, axis, right bank. A row's width is the
+/// mean of the segments on either side.
+fn ribbon_rows(net: &WaterfallNetwork, a: usize, options: &IntegrationOptions) -> Vec<[DVec3; 3]> {
+    let path = &net.paths[a];
+    let range = net.segment_ranges[a].clone();
+    let n = path.len();
+    if n < 2 || range.is_empty() {
+        return Vec::new();
+    }
+    let seg_of = |k: usize| range.start + k.min(range.len() - 1);
+    path.iter()
+        .enumerate()
+        .map(|(k, p)| {
+            let s = seg_of(k);
+            let w = if k > 0 && k < n - 1 {
+                0.5 * (width(net, s - 1, options) + width(net, s, options))
+            } else {
+                width(net, s, options)
+            };
+            let side = (normal_at(path, k) * 0.5 * w).extend(0.0);
+            [*p + side, *p, *p - side]
+        })
+        .collect()
+}
+
 /// The integration mesh of a network: ribbons, sheets and pool polygons with Table 4.1's values per vertex.
 pub fn integration_mesh(net: &WaterfallNetwork, options: &IntegrationOptions) -> Result<WaterMesh> {
     options.validate()?;
@@ -186,33 +216,27 @@ pub fn integration_mesh(net: &WaterfallNetwork, options: &IntegrationOptions) ->
         }
         match arc.kind {
             ControllerKind::Contact => {
-                // vertex k's width: mean of the segments on either side
                 let n = path.len();
-                let seg_of = |k: usize| range.start + k.min(range.len() - 1);
                 let mut rows: Vec<[u32; 3]> = Vec::with_capacity(n);
-                let mut left = Vec::with_capacity(n);
-                let mut right = Vec::with_capacity(n);
-                for (k, p) in path.iter().enumerate() {
-                    let s = seg_of(k);
-                    let w = if k > 0 && k < n - 1 {
-                        0.5 * (width(net, s - 1, options) + width(net, s, options))
-                    } else {
-                        width(net, s, options)
-                    };
+                let ribbon = ribbon_rows(net, a, options);
+                for (k, row) in ribbon.iter().enumerate() {
+                    let s = range.start + k.min(range.len() - 1);
                     let seg = &net.segments[s];
-                    let nrm = normal_at(path, k);
-                    let along = -nrm.perp();
+                    let along = -normal_at(path, k).perp();
                     let values = decoration_values(seg.kind_of_water);
-                    let l = *p + (nrm * 0.5 * w).extend(0.0);
-                    let r = *p - (nrm * 0.5 * w).extend(0.0);
-                    let il = mesh.push(l, DVec2::ZERO, values, WaterPart::Contact, s);
-                    let ic =
-                        mesh.push(*p, along * seg.section.speed, values, WaterPart::Contact, s);
-                    let ir = mesh.push(r, DVec2::ZERO, values, WaterPart::Contact, s);
+                    let il = mesh.push(row[0], DVec2::ZERO, values, WaterPart::Contact, s);
+                    let ic = mesh.push(
+                        row[1],
+                        along * seg.section.speed,
+                        values,
+                        WaterPart::Contact,
+                        s,
+                    );
+                    let ir = mesh.push(row[2], DVec2::ZERO, values, WaterPart::Contact, s);
                     rows.push([il, ic, ir]);
-                    left.push(l);
-                    right.push(r);
                 }
+                let left: Vec<DVec3> = ribbon.iter().map(|r| r[0]).collect();
+                let right: Vec<DVec3> = ribbon.iter().map(|r| r[2]).collect();
                 for w in rows.windows(2) {
                     for c in 0..2 {
                         let (a0, a1, b0, b1) = (w[0][c], w[0][c + 1], w[1][c], w[1][c + 1]);
@@ -400,6 +424,9 @@ pub struct FootprintNode {
     pub half_width: f64,
     /// Water surface height above the node.
     pub surface: f64,
+    /// The highest water surface among the elements whose bank band holds the node (−∞ when none does): a bank
+    /// between two waters, such as beside a stream above the pool it falls into, holds the higher one.
+    pub bank_level: f64,
     /// `ζ` of the element.
     pub depth: f64,
     /// Plan direction of the flow (zero in a pool).
@@ -429,22 +456,22 @@ impl Footprint {
     }
 }
 
-/// One element's hits, computed independently of the others.
-fn hits_of_segment(
+/// Footprint nodes of one element: grid node index and what lies over it.
+type Hits = Vec<(usize, FootprintNode)>;
+
+/// A free-fall sheet's footprint: the nodes within `hw` of its plan segment `ab`.
+fn hits_of_fall(
     t: &Heightfield,
     a: DVec3,
     b: DVec3,
     hw: f64,
-    margin: f64,
-    open: (bool, bool),
     make: impl Fn(f64, f64) -> FootprintNode,
-) -> Vec<(usize, FootprintNode)> {
+) -> Hits {
     let (a2, b2) = (a.truncate(), b.truncate());
-    let reach = hw + margin;
-    let lo = ((a2.min(b2) - reach - t.origin) / t.cell)
+    let lo = ((a2.min(b2) - hw - t.origin) / t.cell)
         .ceil()
         .max(DVec2::ZERO);
-    let hi = ((a2.max(b2) + reach - t.origin) / t.cell).floor();
+    let hi = ((a2.max(b2) + hw - t.origin) / t.cell).floor();
     if hi.x < 0.0 || hi.y < 0.0 {
         return Vec::new();
     }
@@ -455,20 +482,16 @@ fn hits_of_segment(
     for j in lo.y as usize..=j1 {
         for i in lo.x as usize..=i1 {
             let p = t.origin + DVec2::new(i as f64, j as f64) * t.cell;
-            let raw = if len2 > 0.0 {
+            let d = segment_distance(p, a2, b2);
+            if d > hw {
+                continue;
+            }
+            let along = if len2 > 0.0 {
                 (p - a2).dot(ab) / len2
             } else {
                 0.0
             };
-            // past an end that joins other water, that water covers the node
-            if (raw < 0.0 && open.0) || (raw > 1.0 && open.1) {
-                continue;
-            }
-            let d = segment_distance(p, a2, b2);
-            if d > reach {
-                continue;
-            }
-            out.push((j * t.nx + i, make(hw - d, raw.clamp(0.0, 1.0))));
+            out.push((j * t.nx + i, make(hw - d, along.clamp(0.0, 1.0))));
         }
     }
     out
@@ -501,51 +524,99 @@ pub fn footprint(
     for p in 0..mesh.pools.len() {
         jobs.push((true, p, 0));
     }
-    let hits: Vec<(bool, Vec<(usize, FootprintNode)>)> = jobs
+    let ribbons: Vec<Vec<[DVec3; 3]>> = graph
+        .arcs
+        .iter()
+        .enumerate()
+        .map(|(a, arc)| match arc.kind {
+            ControllerKind::Contact => ribbon_rows(net, a, options),
+            _ => Vec::new(),
+        })
+        .collect();
+    // (free-fall, water: arc or pool, hits)
+    let hits: Vec<(bool, usize, Hits)> = jobs
         .par_iter()
         .map(|&(is_pool, a, s)| {
             if is_pool {
-                return (false, pool_hits(terrain, &mesh.pools[a], margin));
+                return (
+                    false,
+                    graph.arcs.len() + a,
+                    pool_hits(terrain, &mesh.pools[a], margin),
+                );
             }
             let arc = &graph.arcs[a];
             let seg = &net.segments[s];
             let range = &net.segment_ranges[a];
             let (p0, p1) = (seg.points[0], seg.points[seg.points.len() - 1]);
             let along = (p1 - p0).truncate().normalize_or_zero();
-            let fall = arc.kind == ControllerKind::FreeFall;
-            // an arc's end is left open where it runs into a pool or over a lip (that water, or the cliff,
-            // takes over); joints along a river and branches keep round caps, so bends leave no gaps
-            let (part, hw, m, caps) = if fall {
-                let hw = 0.5 * fall_width(net, a, options);
-                (WaterPart::FreeFall, hw, 0.0, (false, false))
-            } else {
-                let open_start = s == range.start && opens(net, arc.from);
-                let open_end = s + 1 == range.end && opens(net, arc.to);
-                let hw = 0.5 * width(net, s, options);
-                (WaterPart::Contact, hw, margin, (open_start, open_end))
-            };
-            let hit = hits_of_segment(terrain, p0, p1, hw, m, caps, |inside, t| FootprintNode {
+            let node = |part: WaterPart, hw: f64, inside: f64, t: f64| FootprintNode {
                 part,
                 element: s,
                 inside,
                 half_width: hw,
                 surface: p0.z + t * (p1.z - p0.z),
+                bank_level: f64::NEG_INFINITY,
                 depth: seg.section.depth,
                 along,
-            });
-            (fall, hit)
+            };
+            if arc.kind == ControllerKind::FreeFall {
+                let hw = 0.5 * fall_width(net, a, options);
+                let hit = hits_of_fall(terrain, p0, p1, hw, |inside, t| {
+                    node(WaterPart::FreeFall, hw, inside, t)
+                });
+                return (true, a, hit);
+            }
+            let ends = (
+                ribbon_end(net, arc.from, true),
+                ribbon_end(net, arc.to, false),
+            );
+            let hit = hits_of_quad(
+                terrain,
+                &ribbons[a],
+                s - range.start,
+                margin,
+                ends,
+                |hw, inside, t| node(WaterPart::Contact, hw, inside, t),
+            );
+            (false, a, hit)
         })
         .collect();
     let mut nodes: Vec<Option<FootprintNode>> = vec![None; terrain.nx * terrain.ny];
-    for (_, list) in hits.iter().filter(|(fall, _)| !fall) {
+    let mut banks = vec![f64::NEG_INFINITY; nodes.len()];
+    // a water's own level on the nodes it banks: that of its element nearest to each (a steep stream's upstream
+    // segments do not raise the banks beside its downstream ones)
+    let mut nearest: HashMap<usize, (f64, f64)> = HashMap::new();
+    let mut bank_up = |nearest: &mut HashMap<usize, (f64, f64)>| {
+        for (k, (inside, surface)) in nearest.drain() {
+            if inside <= 0.0 {
+                banks[k] = banks[k].max(surface);
+            }
+        }
+    };
+    let mut water = usize::MAX;
+    for (_, w, list) in hits.iter().filter(|(fall, ..)| !fall) {
+        if *w != water {
+            bank_up(&mut nearest);
+            water = *w;
+        }
         for (k, h) in list {
+            let best = nearest.entry(*k).or_insert((f64::NEG_INFINITY, h.surface));
+            if h.inside > best.0 {
+                *best = (h.inside, h.surface);
+            }
             match &nodes[*k] {
                 Some(old) if old.inside >= h.inside => {}
                 _ => nodes[*k] = Some(*h),
             }
         }
     }
-    for (_, list) in hits.iter().filter(|(fall, _)| *fall) {
+    bank_up(&mut nearest);
+    for (node, level) in nodes.iter_mut().zip(banks) {
+        if let Some(n) = node {
+            n.bank_level = level;
+        }
+    }
+    for (_, _, list) in hits.iter().filter(|(fall, ..)| *fall) {
         for (k, h) in list {
             if !nodes[*k].is_some_and(|n| n.inside > 0.0) {
                 nodes[*k] = Some(*h);
@@ -562,18 +633,131 @@ pub fn footprint(
     })
 }
 
-/// Whether water arriving at or leaving graph node `n` continues in a pool or a free-fall.
-fn opens(net: &WaterfallNetwork, n: usize) -> bool {
-    let node = &net.graph.nodes[n];
-    node.pool.is_some()
-        || node
-            .arcs_in
-            .iter()
-            .chain(&node.arcs_out)
-            .any(|&a| net.graph.arcs[a].kind == ControllerKind::FreeFall)
+/// How a ribbon ends, for the nodes beyond its first or last row.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum RibbonEnd {
+    /// Into a pool or over a lip: that water, or the cliff, covers what lies beyond.
+    Open,
+    /// Where the water starts from nothing or ends in nothing: the row is a bank.
+    Closed,
+    /// Where arcs join or part: a round cap, so the ribbons meeting there leave no gap.
+    Joined,
 }
 
-fn pool_hits(t: &Heightfield, pool: &PoolWater, margin: f64) -> Vec<(usize, FootprintNode)> {
+/// How the ribbon of an arc leaving (`leaving`) or reaching graph node `n` ends there.
+fn ribbon_end(net: &WaterfallNetwork, n: usize, leaving: bool) -> RibbonEnd {
+    let node = &net.graph.nodes[n];
+    let falls = node
+        .arcs_in
+        .iter()
+        .chain(&node.arcs_out)
+        .any(|&a| net.graph.arcs[a].kind == ControllerKind::FreeFall);
+    if node.pool.is_some() || falls {
+        RibbonEnd::Open
+    } else if (leaving && node.arcs_in.is_empty()) || (!leaving && node.arcs_out.is_empty()) {
+        RibbonEnd::Closed
+    } else {
+        RibbonEnd::Joined
+    }
+}
+
+/// Whether `p` lies in the triangle `abc` (either orientation, edges included).
+fn in_triangle(p: DVec2, a: DVec2, b: DVec2, c: DVec2) -> bool {
+    let d1 = (b - a).perp_dot(p - a);
+    let d2 = (c - b).perp_dot(p - b);
+    let d3 = (a - c).perp_dot(p - c);
+    (d1 >= 0.0 && d2 >= 0.0 && d3 >= 0.0) || (d1 <= 0.0 && d2 <= 0.0 && d3 <= 0.0)
+}
+
+/// The footprint of quad `k` of a ribbon, between rows `k` and `k + 1`: the nodes under its triangles (those of
+/// the mesh) are inside by their plan distance to the nearest bank edge of this quad or its neighbours, the others
+/// within `margin` of those banks outside by it. Beyond the ribbon's first or last row `ends` decide: nothing
+/// (open), the row as a bank (closed) or a round cap (joined). `make(half_width, inside, t)` makes the node, `t`
+/// the position along the quad.
+fn hits_of_quad(
+    t: &Heightfield,
+    rows: &[[DVec3; 3]],
+    k: usize,
+    margin: f64,
+    ends: (RibbonEnd, RibbonEnd),
+    make: impl Fn(f64, f64, f64) -> FootprintNode,
+) -> Hits {
+    if k + 1 >= rows.len() {
+        return Vec::new();
+    }
+    let last = rows.len() - 2;
+    let plan = |j: usize, c: usize| rows[j][c].truncate();
+    let (l0, c0, r0) = (plan(k, 0), plan(k, 1), plan(k, 2));
+    let (l1, c1, r1) = (plan(k + 1, 0), plan(k + 1, 1), plan(k + 1, 2));
+    let (hw0, hw1) = (l0.distance(c0), l1.distance(c1));
+    // the bank edges near the quad: its own, its neighbours', and the end rows where the water is closed
+    let mut banks: Vec<(DVec2, DVec2)> = Vec::with_capacity(8);
+    for j in k.saturating_sub(1)..=(k + 1).min(last) {
+        banks.push((plan(j, 0), plan(j + 1, 0)));
+        banks.push((plan(j, 2), plan(j + 1, 2)));
+    }
+    if k <= 1 && ends.0 == RibbonEnd::Closed {
+        banks.push((plan(0, 0), plan(0, 2)));
+    }
+    if k + 1 >= last && ends.1 == RibbonEnd::Closed {
+        banks.push((plan(last + 1, 0), plan(last + 1, 2)));
+    }
+    let reach = margin + hw0.max(hw1);
+    let (lo, hi) = [l0, c0, r0, l1, c1, r1].iter().fold(
+        (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+    );
+    let lo = ((lo - reach - t.origin) / t.cell).ceil().max(DVec2::ZERO);
+    let hi = ((hi + reach - t.origin) / t.cell).floor();
+    if hi.x < 0.0 || hi.y < 0.0 || !lo.is_finite() || !hi.is_finite() {
+        return Vec::new();
+    }
+    let (i1, j1) = ((hi.x as usize).min(t.nx - 1), (hi.y as usize).min(t.ny - 1));
+    let axis = c1 - c0;
+    let len2 = axis.length_squared();
+    let mut out = Vec::new();
+    for j in lo.y as usize..=j1 {
+        for i in lo.x as usize..=i1 {
+            let p = t.origin + DVec2::new(i as f64, j as f64) * t.cell;
+            let raw = if len2 > 0.0 {
+                (p - c0).dot(axis) / len2
+            } else {
+                0.0
+            };
+            let tt = raw.clamp(0.0, 1.0);
+            let hw = hw0 + tt * (hw1 - hw0);
+            // the mesh's four triangles
+            let under = in_triangle(p, l0, l1, c0)
+                || in_triangle(p, c0, l1, c1)
+                || in_triangle(p, c0, c1, r0)
+                || in_triangle(p, r0, c1, r1);
+            let bank = || {
+                banks
+                    .iter()
+                    .map(|(a, b)| segment_distance(p, *a, *b))
+                    .fold(f64::INFINITY, f64::min)
+            };
+            let beyond = match (k == 0 && raw < 0.0, k == last && raw > 1.0) {
+                (true, _) => Some((ends.0, c0, hw0)),
+                (_, true) => Some((ends.1, c1, hw1)),
+                _ => None,
+            };
+            let inside = match beyond {
+                _ if under => bank(),
+                Some((RibbonEnd::Open, ..)) => continue,
+                Some((RibbonEnd::Joined, c, hw)) => hw - p.distance(c),
+                _ => -bank(),
+            };
+            if inside < -margin {
+                continue;
+            }
+            out.push((j * t.nx + i, make(hw, inside, tt)));
+        }
+    }
+    out
+}
+
+fn pool_hits(t: &Heightfield, pool: &PoolWater, margin: f64) -> Hits {
     let c = &pool.contour;
     let (lo, hi) = c.iter().fold(
         (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
@@ -612,6 +796,7 @@ fn pool_hits(t: &Heightfield, pool: &PoolWater, margin: f64) -> Vec<(usize, Foot
                     inside,
                     half_width: deepest,
                     surface: pool.level,
+                    bank_level: f64::NEG_INFINITY,
                     depth: pool.depth,
                     along: DVec2::ZERO,
                 },
