@@ -10,8 +10,9 @@
 5. A highland hamlet grows by its growth scenario (thesis ch. 3) in a clearing of the forest in the foreground: a
    church, houses and farms with doors and windows, on parcels beside roads that wind up the hills; Embed Roads
    cuts its roads into the slope.
-6. A stream drawn down the steepest slope from the hamlet becomes a waterfall scene (thesis ch. 4): Build Waterfall
-   classifies its segments, lays the water over it and carves its bed into the terrain.
+6. A stream drawn down the steepest slope from the hamlet becomes a waterfall scene (thesis ch. 4): it falls into a
+   pool where the hills are steepest and leaves it as a river; Build Waterfall classifies its segments, lays the water
+   over it, carves its bed and the pool into the terrain and scatters rocks along it.
 
 Writes OUT/demo.blend and renders OUT/demo.png with Workbench. Usage: python assets/demo.py [--out out]
 """
@@ -146,11 +147,28 @@ def stream_path(terrain, start, length=240.0, step=4.0):
 
 
 def build_waterfall(hills):
-    """A stream running down the hills into a pool, with the terrain carved under it."""
-    stream = stream_path(engine.exemplar_demo_terrain(HILLS_SIZE, 2.0, 11), STREAM_START)[::3]
-    poly_curve("Stream", stream).worldpaint_waterfall.kind = 'CONTACT'
+    """A stream running down the hills; where they are steepest it falls into a pool dug below the lip, and a river
+    leaves the pool. The terrain is carved under all of it."""
+    path = stream_path(engine.exemplar_demo_terrain(HILLS_SIZE, 2.0, 11), STREAM_START)
+    run_ahead = 5  # steps of the path from the lip to the far side of the pool
+    drop = path[:-run_ahead, 2] - path[run_ahead:, 2]
+    lip = int(np.argmax(drop))
+    centre = path[lip + run_ahead - 1]
+    level = float(path[lip + run_ahead, 2])
+    radius = 0.8 * np.linalg.norm(path[lip + run_ahead, :2] - centre[:2])
+    poly_curve("Stream", path[:lip + 1][::-3][::-1]).worldpaint_waterfall.kind = 'CONTACT'
+    foot = centre[:2] + 0.3 * radius * (path[lip, :2] - centre[:2]) / np.linalg.norm(path[lip, :2] - centre[:2])
+    poly_curve("Fall", np.array([path[lip], [*foot, level]])).worldpaint_waterfall.kind = 'FREE_FALL'
+    a = np.linspace(0.0, 2.0 * np.pi, 24, endpoint=False)
+    ring = np.column_stack([centre[0] + radius * np.cos(a), centre[1] + radius * np.sin(a), np.full(len(a), level)])
+    poly_curve("Pool", ring, cyclic=True).worldpaint_waterfall.kind = 'POOL'
+    leaving = centre[:2] + radius * (path[lip + run_ahead, :2] - centre[:2]) / np.linalg.norm(
+        path[lip + run_ahead, :2] - centre[:2])
+    river = np.vstack([[*leaving, level], path[lip + run_ahead + 1:][::3]])
+    river[:, 2] = np.minimum(river[:, 2], level)
+    poly_curve("River", river).worldpaint_waterfall.kind = 'CONTACT'
     run(bpy.ops.worldpaint.build_waterfall, terrain=hills.name, seed=1)
-    print(f"waterfall: a stream of {len(stream)} control points")
+    print(f"waterfall: a {drop[lip]:.1f} m fall into a pool of {radius:.1f} m, {len(path)} path points")
 
 
 def render(path):

@@ -7,7 +7,10 @@
 //!   plus [`DeformOptions::freeboard`] (of the higher water where two banks meet, as beside a stream above the
 //!   pool it falls into). The contour is rasterized as the band of grid nodes outside the water and
 //!   within [`DeformOptions::bank_width`] of it (the footprint of [`super::integration`]), so that the bank holds
-//!   on the grid whatever its direction.
+//!   on the grid whatever its direction. The nodes within a cell diagonal of the water come to the level of the
+//!   water nearest to them, as the thesis's `Ω` does, and the freeboard starts beyond them: the terrain
+//!   interpolated between them and the riverbed then stays under the water surface on any grid, also under a
+//!   stream narrower than a cell.
 //! * **Riverbed constraints** — every node inside the border, at distance `e` from the nearest border point, is
 //!   fixed at `surface − ζ g(e / e_max)`: the profile `f_d` of the thesis, deepest (`ζ`, the section's depth) in
 //!   the middle. The thesis wants the profile "a function of the river type" and does not give it; here streams
@@ -153,7 +156,11 @@ pub fn deform(
             n.surface - n.depth * profile(n.part, kind, n.inside / n.half_width.max(1e-9))
         } else if -n.inside <= bank && n.part != WaterPart::FreeFall {
             border_nodes += 1;
-            n.bank_level + options.freeboard
+            if -n.inside < std::f64::consts::SQRT_2 * terrain.cell {
+                n.surface
+            } else {
+                n.bank_level + options.freeboard
+            }
         } else {
             continue;
         };

@@ -32,7 +32,6 @@ use crate::polygon_mesh::triangulate;
 use crate::terrain::Heightfield;
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
-use std::collections::HashMap;
 
 /// Which kind of element a vertex, border or footprint node belongs to.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -582,27 +581,12 @@ pub fn footprint(
         })
         .collect();
     let mut nodes: Vec<Option<FootprintNode>> = vec![None; terrain.nx * terrain.ny];
+    // every water element whose bank band holds a node holds it up to its level
     let mut banks = vec![f64::NEG_INFINITY; nodes.len()];
-    // a water's own level on the nodes it banks: that of its element nearest to each (a steep stream's upstream
-    // segments do not raise the banks beside its downstream ones)
-    let mut nearest: HashMap<usize, (f64, f64)> = HashMap::new();
-    let mut bank_up = |nearest: &mut HashMap<usize, (f64, f64)>| {
-        for (k, (inside, surface)) in nearest.drain() {
-            if inside <= 0.0 {
-                banks[k] = banks[k].max(surface);
-            }
-        }
-    };
-    let mut water = usize::MAX;
-    for (_, w, list) in hits.iter().filter(|(fall, ..)| !fall) {
-        if *w != water {
-            bank_up(&mut nearest);
-            water = *w;
-        }
+    for (_, _, list) in hits.iter().filter(|(fall, ..)| !fall) {
         for (k, h) in list {
-            let best = nearest.entry(*k).or_insert((f64::NEG_INFINITY, h.surface));
-            if h.inside > best.0 {
-                *best = (h.inside, h.surface);
+            if h.inside <= 0.0 {
+                banks[*k] = banks[*k].max(h.surface);
             }
             match &nodes[*k] {
                 Some(old) if old.inside >= h.inside => {}
@@ -610,10 +594,9 @@ pub fn footprint(
             }
         }
     }
-    bank_up(&mut nearest);
-    for (node, level) in nodes.iter_mut().zip(banks) {
+    for (node, bank) in nodes.iter_mut().zip(banks) {
         if let Some(n) = node {
-            n.bank_level = level;
+            n.bank_level = bank;
         }
     }
     for (_, _, list) in hits.iter().filter(|(fall, ..)| *fall) {
@@ -690,17 +673,20 @@ fn hits_of_quad(
     let (l0, c0, r0) = (plan(k, 0), plan(k, 1), plan(k, 2));
     let (l1, c1, r1) = (plan(k + 1, 0), plan(k + 1, 1), plan(k + 1, 2));
     let (hw0, hw1) = (l0.distance(c0), l1.distance(c1));
-    // the bank edges near the quad: its own, its neighbours', and the end rows where the water is closed
-    let mut banks: Vec<(DVec2, DVec2)> = Vec::with_capacity(8);
-    for j in k.saturating_sub(1)..=(k + 1).min(last) {
-        banks.push((plan(j, 0), plan(j + 1, 0)));
-        banks.push((plan(j, 2), plan(j + 1, 2)));
+    // the quad's own bank edges (with its end row where the water is closed there), then its neighbours'
+    let mut banks: Vec<(DVec2, DVec2)> = vec![(l0, l1), (r0, r1)];
+    if k == 0 && ends.0 == RibbonEnd::Closed {
+        banks.push((l0, r0));
     }
-    if k <= 1 && ends.0 == RibbonEnd::Closed {
-        banks.push((plan(0, 0), plan(0, 2)));
+    if k == last && ends.1 == RibbonEnd::Closed {
+        banks.push((l1, r1));
     }
-    if k + 1 >= last && ends.1 == RibbonEnd::Closed {
-        banks.push((plan(last + 1, 0), plan(last + 1, 2)));
+    let own = banks.len();
+    if k > 0 {
+        banks.extend([(plan(k - 1, 0), l0), (plan(k - 1, 2), r0)]);
+    }
+    if k < last {
+        banks.extend([(l1, plan(k + 2, 0)), (r1, plan(k + 2, 2))]);
     }
     let reach = margin + hw0.max(hw1);
     let (lo, hi) = [l0, c0, r0, l1, c1, r1].iter().fold(
@@ -731,8 +717,9 @@ fn hits_of_quad(
                 || in_triangle(p, c0, l1, c1)
                 || in_triangle(p, c0, c1, r0)
                 || in_triangle(p, r0, c1, r1);
-            let bank = || {
-                banks
+            // under the quad the nearest bank may be a neighbour's; outside it the quad's own is what it banks
+            let bank = |edges: &[(DVec2, DVec2)]| {
+                edges
                     .iter()
                     .map(|(a, b)| segment_distance(p, *a, *b))
                     .fold(f64::INFINITY, f64::min)
@@ -743,10 +730,10 @@ fn hits_of_quad(
                 _ => None,
             };
             let inside = match beyond {
-                _ if under => bank(),
+                _ if under => bank(&banks),
                 Some((RibbonEnd::Open, ..)) => continue,
                 Some((RibbonEnd::Joined, c, hw)) => hw - p.distance(c),
-                _ => -bank(),
+                _ => -bank(&banks[..own]),
             };
             if inside < -margin {
                 continue;
