@@ -18,8 +18,9 @@
 //!   its triangles, and its depth inside is the plan distance to the nearest bank edge, so that in a sharp bend
 //!   the riverbed stops at the ribbon's inner bank; beyond a ribbon's end the water is closed by its last row
 //!   (at sources and wells), capped by a disc (where arcs join) or left to the water it runs into (pools, lips);
-//! * ribbons meeting at a branch overlap instead of being cut against each other: the footprint keeps, per grid
-//!   node, the element the node is deepest inside, so the maps and constraints see no overlap;
+//! * where ribbons meet at a branch, the arcs carrying less water stop one row inside the ribbon of the arc
+//!   carrying the most instead of being cut against it exactly; the footprint keeps, per grid node, the element
+//!   the node is deepest inside, so the maps and constraints see no overlap;
 //! * a pool's values for foam, rocks and disturbance are those of the segments falling or flowing into it,
 //!   fading linearly with the distance from where they arrive to the far side of the pool.
 
@@ -202,6 +203,66 @@ fn ribbon_rows(net: &WaterfallNetwork, a: usize, options: &IntegrationOptions) -
         .collect()
 }
 
+/// The contact arc carrying the most water at graph node `n` (the lowest index among equals).
+fn major_arc(net: &WaterfallNetwork, n: usize) -> Option<usize> {
+    let node = &net.graph.nodes[n];
+    node.arcs_in
+        .iter()
+        .chain(&node.arcs_out)
+        .copied()
+        .filter(|&a| net.graph.arcs[a].kind == ControllerKind::Contact)
+        .fold(None, |best: Option<usize>, a| match best {
+            Some(b) if net.graph.arcs[b].flow > net.graph.arcs[a].flow => Some(b),
+            Some(b) if net.graph.arcs[b].flow == net.graph.arcs[a].flow && b < a => Some(b),
+            _ => Some(a),
+        })
+}
+
+/// Whether `p` lies under one of a ribbon's triangles.
+fn under_ribbon(rows: &[[DVec3; 3]], p: DVec2) -> bool {
+    rows.windows(2).any(|w| {
+        let [l0, c0, r0] = w[0].map(|v| v.truncate());
+        let [l1, c1, r1] = w[1].map(|v| v.truncate());
+        in_triangle(p, l0, l1, c0)
+            || in_triangle(p, c0, l1, c1)
+            || in_triangle(p, c0, c1, r0)
+            || in_triangle(p, r0, c1, r1)
+    })
+}
+
+/// The rows of contact arc `a`'s ribbon that are drawn: where it joins an arc carrying more water, its rows whose
+/// axis lies under that arc's ribbon are left out but the last, so the smaller ribbon ends just inside the larger
+/// instead of lying over it.
+fn drawn_rows(
+    net: &WaterfallNetwork,
+    a: usize,
+    ribbon: &[[DVec3; 3]],
+    options: &IntegrationOptions,
+) -> std::ops::Range<usize> {
+    let (mut lo, mut hi) = (0, ribbon.len());
+    let arc = &net.graph.arcs[a];
+    for (node, leaving) in [(arc.from, true), (arc.to, false)] {
+        if ribbon_end(net, node, leaving) != RibbonEnd::Joined {
+            continue;
+        }
+        let Some(major) = major_arc(net, node).filter(|&m| m != a) else {
+            continue;
+        };
+        let larger = ribbon_rows(net, major, options);
+        let under = |k: usize| under_ribbon(&larger, ribbon[k][1].truncate());
+        if leaving {
+            while lo + 2 < hi && under(lo + 1) {
+                lo += 1;
+            }
+        } else {
+            while hi > lo + 2 && under(hi - 2) {
+                hi -= 1;
+            }
+        }
+    }
+    lo..hi
+}
+
 /// The integration mesh of a network: ribbons, sheets and pool polygons with Table 4.1's values per vertex.
 pub fn integration_mesh(net: &WaterfallNetwork, options: &IntegrationOptions) -> Result<WaterMesh> {
     options.validate()?;
@@ -215,10 +276,10 @@ pub fn integration_mesh(net: &WaterfallNetwork, options: &IntegrationOptions) ->
         }
         match arc.kind {
             ControllerKind::Contact => {
-                let n = path.len();
-                let mut rows: Vec<[u32; 3]> = Vec::with_capacity(n);
                 let ribbon = ribbon_rows(net, a, options);
-                for (k, row) in ribbon.iter().enumerate() {
+                let drawn = drawn_rows(net, a, &ribbon, options);
+                let mut rows: Vec<[u32; 3]> = Vec::with_capacity(drawn.len());
+                for (k, row) in ribbon.iter().enumerate().take(drawn.end).skip(drawn.start) {
                     let s = range.start + k.min(range.len() - 1);
                     let seg = &net.segments[s];
                     let along = -normal_at(path, k).perp();
@@ -234,8 +295,9 @@ pub fn integration_mesh(net: &WaterfallNetwork, options: &IntegrationOptions) ->
                     let ir = mesh.push(row[2], DVec2::ZERO, values, WaterPart::Contact, s);
                     rows.push([il, ic, ir]);
                 }
-                let left: Vec<DVec3> = ribbon.iter().map(|r| r[0]).collect();
-                let right: Vec<DVec3> = ribbon.iter().map(|r| r[2]).collect();
+                let left: Vec<DVec3> = ribbon[drawn.clone()].iter().map(|r| r[0]).collect();
+                let right: Vec<DVec3> = ribbon[drawn.clone()].iter().map(|r| r[2]).collect();
+                let n = left.len();
                 for w in rows.windows(2) {
                     for c in 0..2 {
                         let (a0, a1, b0, b1) = (w[0][c], w[0][c + 1], w[1][c], w[1][c + 1]);
