@@ -76,6 +76,40 @@ def test_a_road_across_a_slope_gets_a_level_carriageway_and_the_land_beyond_its_
     assert change[j + 1] < -0.2 and change[j - 1] > 0.2, (change[j + 1], change[j - 1])
 
 
+def spur_height(x, y):
+    """A 12 % slope with spurs running down it, 2 m high and 40 m apart, a crest on x = 150 m (m)."""
+    return 0.12 * y + 2.0 * np.cos(2.0 * np.pi * (x - 150.0) / 40.0)
+
+
+def test_crossing_roads_meet_without_a_step_and_stay_level_across():
+    n = int(SIZE / CELL) + 1
+    x, y = np.meshgrid(CELL * np.arange(n), CELL * np.arange(n))
+    terrain = grid_terrain("Terrain", (0.0, 0.0), CELL, spur_height(x, y))
+    bpy.context.scene.worldpaint.terrain = terrain
+    # along the contour, and down the spur's crest: their smoothed profiles differ where they cross
+    road_curve("Road along", np.array([[20.0, 150.0], [280.0, 150.0]]))
+    road_curve("Road down", np.array([[150.0, 20.0], [150.0, 280.0]]))
+    assert bpy.ops.worldpaint.embed_roads(roads="Roads", width=WIDTH, bank_width=BANKS) == {'FINISHED'}
+    after = evaluated_heights(terrain)
+
+    # along each centreline (a row and a column of the grid), 40 m either side of the crossing: the terrain is
+    # linear between vertices there, so a step between samples 10 cm apart is a twentieth of a vertex step
+    c = node(150.0)
+    near = np.arange(c - node(40.0), c + node(40.0) + 1)
+    along, down = after[c, near], after[near, c]
+    steps = {name: np.abs(np.diff(z)).max() / 20.0 for name, z in (("along", along), ("down", down))}
+    print("largest step between samples 10 cm apart through the crossing: "
+          + ", ".join(f"{name} {step * 100:.2f} cm" for name, step in steps.items()))
+    assert max(steps.values()) < 0.05
+    # each is level across outside the crossing square
+    outside = np.abs(near - c) > node(WIDTH / 2) + 1
+    cross_along = np.abs(after[c + 1, near] - after[c - 1, near])[outside] / (2.0 * CELL)
+    cross_down = np.abs(after[near, c + 1] - after[near, c - 1])[outside] / (2.0 * CELL)
+    print(f"cross-slope outside the crossing square: along {cross_along.max() * 100:.2f} %, "
+          f"down {cross_down.max() * 100:.2f} %")
+    assert max(cross_along.max(), cross_down.max()) < 0.02
+
+
 def test_a_second_run_replaces_the_first_and_undo_removes_it():
     terrain = slope_scene()
     road_curve("Road", np.array([[20.0, ROAD_Y], [280.0, ROAD_Y]]))

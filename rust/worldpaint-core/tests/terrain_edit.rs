@@ -8,7 +8,7 @@ use worldpaint_core::geom::DVec2;
 use worldpaint_core::terrain_edit::rasterize::{corridor, gradient_polyline, point, polyline};
 use worldpaint_core::terrain_edit::{
     diffuse, diffuse_horizontal, embed_road, embed_roads, Constraints, DiffusionOptions,
-    HorizontalConstraints, Road, RoadOptions,
+    HorizontalConstraints, Road, RoadEmbedding, RoadOptions, RoadProfile,
 };
 use worldpaint_core::{Error, Heightfield};
 
@@ -510,15 +510,392 @@ fn where_roads_cross_the_first_keeps_its_heights() {
         width: 6.0,
         bank_width: 8.0,
     };
+    // 2 m above the first road where they cross
     let b = Road {
         centreline: vec![DVec2::new(128.0, 20.0), DVec2::new(128.0, 236.0)],
-        heights: Some(vec![30.0, 50.0]),
+        heights: Some(vec![32.0, 52.0]),
         ..a.clone()
     };
     let e = embed_roads(&t, &[a, b], &RoadOptions::default()).expect("roads");
     let at = |x: f64, y: f64| e.terrain.height_at(DVec2::new(x, y)).unwrap_or(f64::NAN);
     assert!((at(128.0, 128.0) - 40.0).abs() < 1e-3);
     assert!((at(128.0, 130.0) - 40.0).abs() < 1e-3);
-    // away from the crossing the second road follows its own profile
-    assert!((at(128.0, 60.0) - (30.0 + 20.0 * 40.0 / 216.0)).abs() < 1e-3);
+    // the second road meets it: its profile is level with it across the first carriageway, and leaves it gently
+    for y in [125.0, 131.0] {
+        let (_, z) = nearest_on_profile(&e.profiles[1], DVec2::new(128.0, y));
+        assert!((z - 40.0).abs() < 1e-3, "second road at {y} m: {z} m");
+    }
+    assert!((at(128.0, 124.0) - 40.0).abs() < 0.02);
+    assert!((at(128.0, 132.0) - 40.0).abs() < 0.02);
+    // and away from the crossing (beyond 6 m + 37.5 m of blend) follows its own heights
+    let own = |y: f64| 32.0 + 20.0 * (y - 20.0) / 216.0;
+    assert!((at(128.0, 60.0) - own(60.0)).abs() < 1e-3);
+    assert!((at(128.0, 200.0) - own(200.0)).abs() < 1e-3);
+    let (step, _) = largest_step(&e.terrain, &e.profiles[1], 0.0, &|_| true);
+    let grade = e.profiles[1]
+        .points
+        .windows(2)
+        .zip(e.profiles[1].s.windows(2))
+        .map(|(p, s)| ((p[1].z - p[0].z) / (s[1] - s[0])).abs())
+        .fold(0.0, f64::max);
+    println!(
+        "user heights 2 m above a crossing road: largest step along the second road {:.2} cm, steepest grade {:.1} % (its own {:.1} %)",
+        100.0 * step,
+        100.0 * grade,
+        100.0 * 20.0 / 216.0
+    );
+    assert!(step < 0.05);
+    // the blend adds at most 8 % to the grade, beyond going from the first road's grade (0) to its own and
+    // overshooting that by a third
+    let own_grade = 20.0 / 216.0;
+    assert!(grade < own_grade * 4.0 / 3.0 + 0.08 + 1e-3, "grade {grade}");
+}
+
+/// The slope's frame: `u` along the contour, `v` up the slope (m), centred on the middle of the 256 m terrain and
+/// turned 0.4 rad from the grid, so that the roads cross the grid's rows and columns at an angle.
+fn on_slope(u: f64, v: f64) -> DVec2 {
+    let (sin, cos) = 0.4f64.sin_cos();
+    DVec2::new(128.0 + cos * u - sin * v, 128.0 + sin * u + cos * v)
+}
+
+/// A 256 m terrain sloping up 12 % along `v`, with spurs and gullies running down it (2 m high, 40 m apart, spur
+/// crests on u = 0 and ±40 m) and a little fine relief: a road along the contour smooths the spurs away, a road down
+/// a crest keeps it, so their natural profiles differ where they cross.
+fn spur_slope() -> Heightfield {
+    let n = 257;
+    let (sin, cos) = 0.4f64.sin_cos();
+    let heights = (0..n * n)
+        .map(|k| {
+            let (x, y) = ((k % n) as f64, (k / n) as f64);
+            let (u, v) = (
+                cos * (x - 128.0) + sin * (y - 128.0),
+                -sin * (x - 128.0) + cos * (y - 128.0),
+            );
+            (20.0
+                + 0.12 * v
+                + 2.0 * (std::f64::consts::TAU * u / 40.0).cos()
+                + 0.15 * (x / 3.1 + 0.7 * y / 2.3).sin()
+                + 0.1 * (y / 4.3 - x / 5.7).cos()) as f32
+        })
+        .collect();
+    match Heightfield::new(DVec2::ZERO, 1.0, n, n, heights) {
+        Ok(t) => t,
+        Err(e) => panic!("spur slope: {e}"),
+    }
+}
+
+/// A road of the junction tests through points given in the slope's frame: 6 m carriageway, 10 m banks.
+fn junction_road(points: &[(f64, f64)]) -> Road {
+    Road {
+        centreline: points.iter().map(|(u, v)| on_slope(*u, *v)).collect(),
+        heights: None,
+        width: 6.0,
+        bank_width: 10.0,
+    }
+}
+
+/// The distance from `p` to a profile's centreline and the profile's height at the nearest point (in plan).
+fn nearest_on_profile(prof: &RoadProfile, p: DVec2) -> (f64, f64) {
+    let mut best = (f64::INFINITY, f64::NAN);
+    for w in prof.points.windows(2) {
+        let (a, b) = (w[0].truncate(), w[1].truncate());
+        let ab = b - a;
+        let t = ((p - a).dot(ab) / ab.length_squared().max(1e-12)).clamp(0.0, 1.0);
+        let d = (a + ab * t).distance(p);
+        if d < best.0 {
+            best = (d, w[0].z + t * (w[1].z - w[0].z));
+        }
+    }
+    best
+}
+
+/// Points along a profile's centreline every `spacing` metres, with their distance along the road.
+fn along(prof: &RoadProfile, spacing: f64) -> Vec<(f64, DVec2)> {
+    let length = prof.s.last().copied().unwrap_or(0.0);
+    let mut out = Vec::new();
+    let mut k = 0;
+    let mut s = 0.0;
+    while s <= length {
+        while k + 2 < prof.s.len() && prof.s[k + 1] < s {
+            k += 1;
+        }
+        let (a, b) = (prof.points[k].truncate(), prof.points[k + 1].truncate());
+        let span = (prof.s[k + 1] - prof.s[k]).max(1e-12);
+        out.push((s, a.lerp(b, ((s - prof.s[k]) / span).clamp(0.0, 1.0))));
+        s += spacing;
+    }
+    out
+}
+
+/// The largest height step of the terrain between consecutive points 10 cm apart along a road's centreline shifted
+/// `offset` metres to its left, and the distance along the road where it is; over the points for which `keep` holds.
+fn largest_step(
+    h: &Heightfield,
+    prof: &RoadProfile,
+    offset: f64,
+    keep: &dyn Fn(DVec2) -> bool,
+) -> (f64, f64) {
+    let mut worst = (0.0f64, 0.0);
+    let mut prev: Option<f64> = None;
+    let points = along(prof, 0.1);
+    for (q, (s, p)) in points.iter().enumerate() {
+        let (a, b) = (
+            points[q.saturating_sub(1)].1,
+            points[(q + 1).min(points.len() - 1)].1,
+        );
+        let p = *p + (b - a).normalize_or_zero().perp() * offset;
+        if !keep(p) {
+            prev = None;
+            continue;
+        }
+        let z = h.height_at(p).unwrap_or(f64::NAN);
+        if let Some(pz) = prev {
+            let step = (z - pz).abs();
+            if step.is_nan() || step > worst.0 {
+                worst = (step, *s);
+            }
+        }
+        prev = Some(z);
+    }
+    worst
+}
+
+/// The largest cross-slope of a road's carriageway, measured as the roads test does (terrain heights half a width
+/// less a cell either side of the centreline, at every profile sample a width or more from the road's ends): over
+/// the samples outside the junction squares and over those within. A sample is within a junction square when it
+/// lies within half a width of another road's centreline, or of its own more than three widths along it, plus the
+/// cell that a bilinear sample of the terrain reads beyond.
+fn cross_slopes(h: &Heightfield, r: usize, profiles: &[RoadProfile], widths: &[f64]) -> (f64, f64) {
+    let (mut outside, mut inside) = (0.0f64, 0.0f64);
+    let prof = &profiles[r];
+    let pts = &prof.points;
+    let length = prof.s.last().copied().unwrap_or(0.0);
+    for (k, p) in pts.iter().enumerate() {
+        let s = prof.s[k];
+        if s < widths[r] || s > length - widths[r] {
+            continue;
+        }
+        let (a, b) = (pts[k.saturating_sub(1)], pts[(k + 1).min(pts.len() - 1)]);
+        let n = (b - a).truncate().normalize().perp();
+        let half = 0.5 * widths[r] - h.cell;
+        let c = p.truncate();
+        let left = h.height_at(c + n * half).unwrap_or(f64::NAN);
+        let right = h.height_at(c - n * half).unwrap_or(f64::NAN);
+        let slope = (left - right).abs() / (2.0 * half);
+        let margin = h.cell * std::f64::consts::SQRT_2;
+        let in_square = profiles
+            .iter()
+            .zip(widths)
+            .enumerate()
+            .any(|(q, (other, w))| q != r && nearest_on_profile(other, c).0 <= 0.5 * w + margin)
+            || pts.iter().zip(&prof.s).any(|(o, so)| {
+                (so - s).abs() > 3.0 * widths[r]
+                    && o.truncate().distance(c) <= 0.5 * widths[r] + margin
+            });
+        if in_square {
+            inside = inside.max(slope);
+        } else if slope.is_nan() || slope > outside {
+            outside = slope;
+        }
+    }
+    (outside, inside)
+}
+
+/// Embeds the roads with the default options.
+fn embed(t: &Heightfield, roads: &[Road]) -> RoadEmbedding {
+    match embed_roads(t, roads, &RoadOptions::default()) {
+        Ok(e) => e,
+        Err(e) => panic!("roads on the terrain: {e}"),
+    }
+}
+
+/// Prints the steps along every road (all along it and near the other roads), the steps along its carriageway's edges
+/// near the other roads, and the cross-slopes outside and within the junction squares; returns the failures.
+fn junction_figures(label: &str, t: &Heightfield, roads: &[Road]) -> Vec<String> {
+    let e = embed(t, roads);
+    let mut failures = Vec::new();
+    if !e.diffusion.converged {
+        failures.push(format!("{label}: diffusion did not converge"));
+    }
+    let widths: Vec<f64> = roads.iter().map(|r| r.width).collect();
+    for (r, prof) in e.profiles.iter().enumerate() {
+        let near_others = |p: DVec2| {
+            e.profiles
+                .iter()
+                .enumerate()
+                .any(|(q, other)| q != r && nearest_on_profile(other, p).0 <= 20.0)
+        };
+        let (step, at) = largest_step(&e.terrain, prof, 0.0, &|_| true);
+        let (near_step, near_at) = largest_step(&e.terrain, prof, 0.0, &near_others);
+        let edge = 0.5 * widths[r] - 0.5 * t.cell;
+        let (left, _) = largest_step(&e.terrain, prof, edge, &near_others);
+        let (right, _) = largest_step(&e.terrain, prof, -edge, &near_others);
+        let (cross, in_square) = cross_slopes(&e.terrain, r, &e.profiles, &widths);
+        println!(
+            "  {label}, road {r} ({:.0} m): largest step between samples 10 cm apart {:.2} cm (at {at:.1} m), within 20 m of another road {:.2} cm (at {near_at:.1} m), along its edges there {:.2} cm; cross-slope {:.2} % outside the junction squares, {:.2} % within them",
+            prof.s.last().copied().unwrap_or(0.0),
+            100.0 * step,
+            100.0 * near_step,
+            100.0 * left.max(right),
+            100.0 * cross,
+            100.0 * in_square
+        );
+        if step.is_nan() || step >= 0.05 {
+            failures.push(format!("{label}, road {r}: step {step} m at {at} m"));
+        }
+        if cross.is_nan() || cross >= 0.02 {
+            failures.push(format!("{label}, road {r}: cross-slope {cross}"));
+        }
+    }
+    failures
+}
+
+#[test]
+fn roads_that_cross_on_a_slope_meet_without_a_step() {
+    let t = spur_slope();
+    let crossing = on_slope(0.0, 0.0);
+    let contour = junction_road(&[(-100.0, 0.0), (100.0, 0.0)]);
+    let down = junction_road(&[(0.0, -100.0), (0.0, 100.0)]);
+    let natural = |road: &Road| {
+        nearest_on_profile(&embed(&t, std::slice::from_ref(road)).profiles[0], crossing).1
+    };
+    let (zc, zd) = (natural(&contour), natural(&down));
+    println!(
+        "crossing on a 12 % slope with spurs: natural profiles at the crossing {zc:.2} m (along the contour), {zd:.2} m (down the spur), {:.2} m apart",
+        zd - zc
+    );
+    assert!(
+        (zd - zc).abs() >= 1.0,
+        "natural profiles only {} m apart",
+        zd - zc
+    );
+    let mut failures = Vec::new();
+    for (label, roads) in [
+        ("contour road first", [contour.clone(), down.clone()]),
+        ("road down the slope first", [down.clone(), contour.clone()]),
+    ] {
+        failures.extend(junction_figures(label, &t, &roads));
+    }
+    assert!(failures.is_empty(), "{failures:#?}");
+}
+
+#[test]
+fn a_road_ending_on_another_meets_it_without_a_step() {
+    let t = spur_slope();
+    // the through road along the contour; one side road comes up a spur crest and ends on its centreline, another
+    // comes down the next crest and ends at its far edge
+    let through = junction_road(&[(-100.0, 0.0), (100.0, 0.0)]);
+    let from_below = junction_road(&[(-40.0, -100.0), (-40.0, 0.0)]);
+    let from_above = junction_road(&[(40.0, 100.0), (40.0, 3.0)]);
+    let mut failures = Vec::new();
+    for (label, roads) in [
+        (
+            "T-junctions, through road first",
+            [through.clone(), from_below.clone(), from_above.clone()],
+        ),
+        (
+            "T-junctions, side roads first",
+            [from_below.clone(), from_above.clone(), through.clone()],
+        ),
+    ] {
+        failures.extend(junction_figures(label, &t, &roads));
+    }
+    assert!(failures.is_empty(), "{failures:#?}");
+}
+
+#[test]
+fn a_road_meeting_several_roads_and_one_crossing_itself_stay_smooth() {
+    let t = spur_slope();
+    // three roads along the contour, two of them 18 m apart (closer than their blends), crossed by one down a gully
+    let ladder = [-60.0, -42.0, 20.0].map(|v| junction_road(&[(0.0, v), (100.0, v)]));
+    let across = junction_road(&[(60.0, -90.0), (60.0, 90.0)]);
+    // a road that loops back across itself, and a ring that closes on its start
+    let lasso = junction_road(&[
+        (-95.0, 60.0),
+        (-20.0, 60.0),
+        (-20.0, 85.0),
+        (-50.0, 85.0),
+        (-50.0, 40.0),
+    ]);
+    let ring_points: Vec<(f64, f64)> = (0..=24)
+        .map(|k| {
+            let a = std::f64::consts::TAU * k as f64 / 24.0;
+            (-60.0 + 25.0 * a.cos(), -60.0 + 25.0 * a.sin())
+        })
+        .collect();
+    let ring = junction_road(&ring_points);
+    let roads: Vec<Road> = ladder
+        .iter()
+        .cloned()
+        .chain([across, lasso, ring])
+        .collect();
+    let failures = junction_figures("ladder, lasso and ring", &t, &roads);
+    let e = embed(&t, &roads);
+    assert!(e
+        .profiles
+        .iter()
+        .all(|p| p.points.iter().all(|q| q.is_finite())));
+    // where the lasso crosses itself its two passes are at one height: the sample of the second pass nearest to the
+    // first against the first at its nearest point
+    let prof = &e.profiles[4];
+    let half = prof
+        .s
+        .partition_point(|s| *s < 0.5 * prof.s.last().copied().unwrap_or(0.0));
+    let first_pass = RoadProfile {
+        points: prof.points[..half].to_vec(),
+        s: prof.s[..half].to_vec(),
+    };
+    let (gap, first, second) = prof.points[half..]
+        .iter()
+        .map(|p| {
+            let (d, z) = nearest_on_profile(&first_pass, p.truncate());
+            (d, z, p.z)
+        })
+        .fold((f64::INFINITY, f64::NAN, f64::NAN), |a, b| {
+            if b.0 < a.0 {
+                b
+            } else {
+                a
+            }
+        });
+    println!(
+        "  the lasso's passes where it crosses itself ({gap:.2} m apart in plan): {first:.3} m and {second:.3} m ({:.2} cm apart)",
+        100.0 * (first - second).abs()
+    );
+    assert!((first - second).abs() < 0.01);
+    assert!(failures.is_empty(), "{failures:#?}");
+}
+
+#[test]
+fn the_road_given_first_keeps_its_carriageway() {
+    let t = spur_slope();
+    let contour = junction_road(&[(-100.0, 0.0), (100.0, 0.0)]);
+    let down = junction_road(&[(0.0, -100.0), (0.0, 100.0)]);
+    let side = junction_road(&[(-40.0, -100.0), (-40.0, 0.0)]);
+    let alone = embed(&t, std::slice::from_ref(&contour));
+    let together = embed(&t, &[contour, down, side]);
+    let profile_change = alone.profiles[0]
+        .points
+        .iter()
+        .zip(&together.profiles[0].points)
+        .map(|(a, b)| (a.z - b.z).abs())
+        .fold(0.0, f64::max);
+    let ground_change = along(&alone.profiles[0], 0.1)
+        .iter()
+        .map(|(_, p)| {
+            let a = alone.terrain.height_at(*p).unwrap_or(f64::NAN);
+            let b = together.terrain.height_at(*p).unwrap_or(f64::NAN);
+            (a - b).abs()
+        })
+        .fold(0.0, f64::max);
+    println!(
+        "the first road with a crossing and a T-junction on it: its profile moves {:.1e} m, the ground along its centreline {:.1e} m",
+        profile_change, ground_change
+    );
+    assert_eq!(
+        alone.profiles[0].points.len(),
+        together.profiles[0].points.len()
+    );
+    assert!(profile_change < 1e-3, "profile moved {profile_change} m");
+    assert!(ground_change < 1e-3, "ground moved {ground_change} m");
 }

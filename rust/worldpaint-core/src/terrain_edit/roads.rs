@@ -4,9 +4,11 @@
 //! by diffusing the height differences between the carriageway (fixed) and the natural terrain beyond the banks
 //! (fixed at 0).
 //!
-//! Where carriageways overlap (crossings), the road given first keeps its heights.
+//! Where carriageways overlap (crossings, T-junctions), the road given first keeps its heights and a later road's
+//! profile meets them, blending back to its own on either side ([`super::junctions`]).
 
 use super::diffusion::{diffuse, Constraints, Diffusion, DiffusionOptions};
+use super::junctions::meet_earlier_roads;
 use super::rasterize::near_curve;
 use crate::error::{Error, Result};
 use crate::terrain::Heightfield;
@@ -36,7 +38,7 @@ pub struct RoadOptions {
 }
 
 /// The carriageway profile of one road: samples of the smoothed centreline about half a cell apart with their
-/// heights.
+/// heights (met by the earlier roads' carriageways where it reaches them).
 #[derive(Clone, Debug)]
 pub struct RoadProfile {
     /// Plan position and carriageway height of each sample.
@@ -240,9 +242,9 @@ fn profile(
 }
 
 /// Embeds the roads into the terrain: every node within half a carriageway width of a centreline is fixed at the
-/// profile height of its nearest centreline point (the first road wins where carriageways overlap), every node
-/// farther than half the width plus the bank width from all centrelines keeps its height, and the nodes between
-/// (the banks) take the diffused height differences.
+/// profile height of its nearest centreline point (the first road wins where carriageways overlap, and the later
+/// road's profile meets it there), every node farther than half the width plus the bank width from all centrelines
+/// keeps its height, and the nodes between (the banks) take the diffused height differences.
 pub fn embed_roads(
     terrain: &Heightfield,
     roads: &[Road],
@@ -251,11 +253,13 @@ pub fn embed_roads(
     for (r, road) in roads.iter().enumerate() {
         check_road(terrain, r, road)?;
     }
-    let profiles: Vec<RoadProfile> = roads
+    let mut profiles: Vec<RoadProfile> = roads
         .iter()
         .enumerate()
         .map(|(r, road)| profile(terrain, r, road, options))
         .collect::<Result<_>>()?;
+    let widths: Vec<f64> = roads.iter().map(|road| road.width).collect();
+    meet_earlier_roads(&mut profiles, &widths);
     let mut constraints = Constraints::for_terrain(terrain);
     let nx = terrain.nx;
     for (road, prof) in roads.iter().zip(&profiles) {
