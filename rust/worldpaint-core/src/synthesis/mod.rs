@@ -33,7 +33,8 @@
 //! short of `n`, allowed births fill the gap.
 //!
 //! ## Small counts: the product model of eq. (1)
-//! When the painted region holds fewer than 100 expected instances of a category, the chain is the paper's:
+//! When the painted region holds fewer than 100 expected instances of a category (or the caller asks for it,
+//! [`SynthesisOptions::product_model`]), the chain is the paper's:
 //! relocations and shifts accepted with `f(X')/f(X)`, the exemplar's `h` used directly as pair factors, a
 //! point's total log pair factor capped at `SATURATION_PAIRS` times the largest single-pair log factor (a
 //! Geyer-style saturation that keeps attraction from condensing everything into one clump).
@@ -98,7 +99,8 @@
 //! For a map `m` the factor is `ψ(v) = h_m(v) / q(v)`, where `q` is the histogram of the map over the whole
 //! exemplar region: the intensity then follows the exemplar's *preference* for values of `m` (a region with the
 //! exemplar's own map distribution gets the exemplar density; the count is calibrated by the mean of `Π ψ`
-//! over the exemplar region, when it lies on the terrain, since correlated maps such as elevation and slope do
+//! over the exemplar region, when it lies on the terrain and the color was learned there
+//! ([`SynthesisOptions::exemplar_on_terrain`]), since correlated maps such as elevation and slope do
 //! not average to 1). With several maps the factors are raked over the painted region (`rake_maps`) so each
 //! map's distribution is what its own factor gives. Values the exemplar region showed but where `h_m = 0` —
 //! the exemplar never had an instance there — get factor 0: no instance lands there. Values the region never
@@ -157,6 +159,16 @@ pub struct SynthesisOptions {
     pub iterations_per_instance: f64,
     /// Restrict to these categories (None = all of the color).
     pub categories: Option<Vec<String>>,
+    /// Whether the scene's terrain is the one the color was learned on (the default): the expected count is then
+    /// calibrated by the color's map preference over its exemplar region on that terrain (see "Maps"). False
+    /// for a color learned on another terrain (a built-in exemplar): there its region says nothing, and the
+    /// preference is taken to average to 1 over the exemplar, as a single map's does by construction
+    /// (`Σ_b q(b) ψ(b) = Σ_b h_m(b) = 1`).
+    pub exemplar_on_terrain: bool,
+    /// Keep the product model of eq. (1) whatever the expected count (see "Small counts"): for content that
+    /// its maps confine to a small part of the region (rocks along rivers), whose pair counts cannot be compared
+    /// with those the region's whole area would give.
+    pub product_model: bool,
 }
 
 impl Default for SynthesisOptions {
@@ -166,6 +178,8 @@ impl Default for SynthesisOptions {
             influence_radius: None,
             iterations_per_instance: DEFAULT_ITERATIONS_PER_INSTANCE,
             categories: None,
+            exemplar_on_terrain: true,
+            product_model: false,
         }
     }
 }
@@ -393,6 +407,7 @@ pub fn synthesize_keeping(
         None => crate::analysis::region_samples(region),
     };
     let exemplar_lattice = terrain
+        .filter(|_| opts.exemplar_on_terrain)
         .map(|t| region_lattice(&color.region, t))
         .filter(|l| !l.is_empty());
     let (rlo, rhi) = region.bbox();
@@ -483,7 +498,7 @@ pub fn synthesize_keeping(
         let report = |f: f64| progress((step as f64 + f) / n_cats as f64);
         let points = if !(expected > 0.0) || !expected.is_finite() {
             Vec::new()
-        } else if expected >= MIN_COUNT_FOR_RDF_MATCHING {
+        } else if expected >= MIN_COUNT_FOR_RDF_MATCHING && !opts.product_model {
             rdf::run_rdf_chain(
                 &target,
                 region,
