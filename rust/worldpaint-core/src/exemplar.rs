@@ -314,6 +314,84 @@ pub fn slope_scene(size: f64, seed: u64) -> Scene {
     }
 }
 
+/// Rocks per m² of [`river_rocks`] where its rock map is 1 (the thesis gives no value).
+pub const RIVER_ROCK_DENSITY: f64 = 0.08;
+/// Least distance between two rocks of [`river_rocks`] (m).
+pub const RIVER_ROCK_SPACING: f64 = 1.5;
+/// The category of [`river_rocks`].
+pub const RIVER_ROCK_CATEGORY: &str = "River rock";
+/// The terrain map of [`river_rocks`] that says how dense the rocks are.
+pub const ROCK_MAP: &str = "rocks";
+
+/// Rocks on a riverbed whose named map "rocks" (thesis 4.4.3: "the rock map indicates the density of rocks to
+/// generate") sets their density: a flat terrain 240 m by 120 m of 1 m cells from the origin, the map 0 on a
+/// dry band `x < 40` and rising linearly from 0 to 1 over `x` from 40 to 240, so every value is seen; the
+/// category [`RIVER_ROCK_CATEGORY`] holds a hard-core arrangement (no two rocks closer than
+/// [`RIVER_ROCK_SPACING`]) of intensity [`RIVER_ROCK_DENSITY`] times the map, drawn by dart throwing strip by
+/// strip (2 m wide, across the ramp) until each strip holds its share. No rock stands where the map is below
+/// 0.05, so the lowest bin of a map histogram of 24 bins (values below 1/24) holds none and a color learned
+/// from it keeps rocks off the map's zeros. Rotations are uniform, scales uniform in 0.6..1.4, one prototype.
+pub fn river_rocks(seed: u64) -> Scene {
+    let (width, depth, cell, dry) = (240.0, 120.0, 1.0, 40.0);
+    let (nx, ny) = (241, 121);
+    let ramp = |x: f64| ((x - dry) / (width - dry)).clamp(0.0, 1.0);
+    let map: Vec<f32> = (0..nx * ny)
+        .map(|k| ramp((k % nx) as f64 * cell) as f32)
+        .collect();
+    // the grid is valid by construction
+    let mut terrain = Heightfield::new(DVec2::ZERO, cell, nx, ny, vec![0.0; nx * ny])
+        .unwrap_or_else(|_| flat(nx, cell));
+    terrain.maps.insert(ROCK_MAP.into(), map);
+    let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0x0020_c4e5);
+    let (lo, hi) = (DVec2::ZERO, DVec2::new(width, depth));
+    let mut grid = SpatialGrid::new(lo, hi, RIVER_ROCK_SPACING);
+    let mut instances = Vec::new();
+    let strip = 2.0;
+    let mut x0 = dry;
+    while x0 < width {
+        let x1 = (x0 + strip).min(width);
+        // the strip's share: the density integrated over it (the map is linear across it)
+        let mean = RIVER_ROCK_DENSITY * 0.5 * (ramp(x0) + ramp(x1));
+        let want = (mean * (x1 - x0) * depth).round() as usize;
+        let mut placed = 0;
+        for _ in 0..want.saturating_mul(200) {
+            if placed >= want {
+                break;
+            }
+            let x = x0 + rng.random::<f64>() * (x1 - x0);
+            // within the strip the density follows the map too
+            if ramp(x) < 0.05 || rng.random::<f64>() * ramp(x1) > ramp(x) {
+                continue;
+            }
+            let p = DVec2::new(x, rng.random::<f64>() * depth);
+            if grid.any_closer_than(p, RIVER_ROCK_SPACING, None) {
+                continue;
+            }
+            grid.insert(GridEntry {
+                position: p,
+                tag: 0,
+                id: instances.len() as u32,
+            });
+            instances.push(Instance {
+                position: p,
+                rotation: rng.random::<f64>() * TAU,
+                scale: 0.6 + 0.8 * rng.random::<f64>(),
+                category: 0,
+                prototype: 0,
+                locked: false,
+            });
+            placed += 1;
+        }
+        x0 = x1;
+    }
+    Scene {
+        categories: vec![Category::distribution(RIVER_ROCK_CATEGORY, "water", 0)],
+        instances,
+        terrain: Some(terrain.into()),
+        ..Default::default()
+    }
+}
+
 /// A scene of one distribution category from points.
 pub fn scene_from_points(name: &str, points: &[DVec2]) -> Scene {
     Scene {

@@ -1,15 +1,19 @@
 //! Waterfall scenes, the terrain part (thesis 4.4): the riverbed under the water and the banks beside it, the
-//! falloff, the overhangs, the decoration maps, the rocks and determinism. Run with
+//! falloff, the overhangs, the decoration maps, the rocks synthesized from a rock color and determinism. Run with
 //! `cargo test -p worldpaint-core --release --test waterfall_terrain -- --nocapture` to see the figures.
 
 use glam::{DVec2, DVec3};
 use worldpaint_core::distance::distance_transform;
-use worldpaint_core::exemplar::{village_terrain, waterfall_controllers};
-use worldpaint_core::waterfall::{
-    scene, Controller, ControllerKind, SceneOptions, WaterPart, WaterfallParams, WaterfallScene,
-    WaterfallType,
+use worldpaint_core::exemplar::{
+    hard_core, scene_from_points, village_terrain, waterfall_controllers, RIVER_ROCK_CATEGORY,
+    RIVER_ROCK_DENSITY, RIVER_ROCK_SPACING, ROCK_MAP,
 };
-use worldpaint_core::Heightfield;
+use worldpaint_core::palette::Interaction;
+use worldpaint_core::waterfall::{
+    river_rock_color, scene, Controller, ControllerKind, Rock, SceneOptions, WaterPart,
+    WaterfallParams, WaterfallScene, WaterfallType,
+};
+use worldpaint_core::{learn_color, AnalysisOptions, Heightfield, Region};
 
 fn setup() -> (Heightfield, Vec<Controller>) {
     let t = village_terrain(1000.0, 2.0, 3);
@@ -350,7 +354,7 @@ fn smaller_ribbons_end_inside_the_larger_at_junctions() {
 }
 
 #[test]
-fn maps_foam_footprint_and_rocks() {
+fn maps_foam_and_footprint() {
     let (t, c) = setup();
     let s = made(&t, &c, &SceneOptions::default(), 1);
     let m = &s.maps;
@@ -430,26 +434,249 @@ fn maps_foam_footprint_and_rocks() {
         covered as f64 >= 0.97 * total as f64,
         "{covered} of {total} covered"
     );
-    // rocks only where the rock map is positive, in the water, on the riverbed
-    assert!(!s.rocks.is_empty(), "no rock");
-    for r in &s.rocks {
-        let k = m.node(r.truncate()).unwrap_or(usize::MAX);
-        assert!(
-            k < m.rocks.len() && m.rocks[k] > 0.0 && m.water[k] > 0.5,
-            "rock at {r} outside the rock map"
-        );
-        assert!((r.z - height(&s.terrain.terrain, r.truncate())).abs() < 1e-6);
-    }
-    let rock_nodes = m.rocks.iter().filter(|r| **r > 0.0).count();
-    println!(
-        "{} rocks on {rock_nodes} nodes of the rock map's support",
-        s.rocks.len()
-    );
     // the speed map: zero outside the water, and along the flow on the axes
     let dry_moving = (0..m.water.len())
         .filter(|k| m.water[*k] < 0.5 && m.speed[*k] != DVec2::ZERO)
         .count();
     assert_eq!(dry_moving, 0);
+}
+
+/// Whether the rock stands in the water, on a wet node of the rock map's support, on the riverbed.
+fn on_the_riverbed(s: &WaterfallScene, r: &Rock) -> bool {
+    let m = &s.maps;
+    let p = r.position.truncate();
+    let node = m.node(p).filter(|k| m.rocks[*k] > 0.0 && m.water[*k] > 0.5);
+    let ground = height(&s.terrain.terrain, p);
+    m.is_water(p) && node.is_some() && (r.position.z - ground).abs() < 1e-6
+}
+
+/// `∫ f(p, rock map) dA` over the water, on a lattice of an eighth of a cell (the map read bilinearly, as the
+/// synthesis reads it).
+fn over_the_water(s: &WaterfallScene, f: impl Fn(DVec2, f64) -> f64) -> f64 {
+    let m = &s.maps;
+    let mut t = s.terrain.terrain.clone();
+    if let Err(e) = t.add_map("rocks", m.rocks.clone()) {
+        panic!("{e}");
+    }
+    let step = m.cell / 8.0;
+    let (lo, hi) = t.bbox();
+    let (nx, ny) = (
+        ((hi - lo) / step).floor().x as usize,
+        ((hi - lo) / step).floor().y as usize,
+    );
+    let mut sum = 0.0;
+    for j in 0..ny {
+        for i in 0..nx {
+            let p = lo + (DVec2::new(i as f64, j as f64) + 0.5) * step;
+            if m.is_water(p) {
+                sum += f(p, t.map_at("rocks", p).unwrap_or(0.0)) * step * step;
+            }
+        }
+    }
+    sum
+}
+
+/// The smallest distance between two rocks.
+fn closest_pair(rocks: &[Rock]) -> f64 {
+    let mut best = f64::INFINITY;
+    for (i, a) in rocks.iter().enumerate() {
+        for b in &rocks[i + 1..] {
+            best = best.min(a.position.truncate().distance(b.position.truncate()));
+        }
+    }
+    best
+}
+
+#[test]
+fn the_built_in_rock_color_prefers_rocky_water_and_keeps_its_spacing() {
+    let c = match river_rock_color() {
+        Ok(c) => c,
+        Err(e) => panic!("{e}"),
+    };
+    let cat = &c.categories[0];
+    println!(
+        "river rocks: {} in the exemplar, {:.4} per m², closest pair {:.2} m, rdf bins of {:.2} m to {:.1} m",
+        cat.count, cat.density, cat.min_distance, c.bin_width, c.max_radius
+    );
+    assert_eq!(cat.category.name, RIVER_ROCK_CATEGORY);
+    // the hard core: no pair closer than the spacing, and the rdf empty below it
+    assert!(cat.min_distance >= RIVER_ROCK_SPACING);
+    let Some(Interaction::Rdf { hist }) = c.pairs.first().map(|p| &p.interaction) else {
+        panic!("no rdf");
+    };
+    let core_bins = (RIVER_ROCK_SPACING / hist.bin_width).floor() as usize;
+    assert!(hist.values[..core_bins].iter().all(|v| *v == 0.0));
+    // the preference ψ = h / q per bin of the rock map: 0 on the map's zeros, growing with it
+    let Some(m) = c.maps.iter().find(|m| m.map == ROCK_MAP) else {
+        panic!("the color follows no rock map");
+    };
+    let psi: Vec<f64> = m
+        .hist
+        .values
+        .iter()
+        .zip(&m.region_hist.values)
+        .map(|(h, q)| if *q > 0.0 { h / q } else { 0.0 })
+        .collect();
+    let mid = |k: usize| m.hist.start + (k as f64 + 0.5) * m.hist.bin_width;
+    println!(
+        "ψ(rock map): {}",
+        psi.iter()
+            .enumerate()
+            .map(|(k, v)| format!("{:.2}: {v:.2}", mid(k)))
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    assert_eq!(psi[0], 0.0, "rocks where the map is 0");
+    let n = psi.len();
+    let quarter = |range: std::ops::Range<usize>| psi[range].iter().sum::<f64>() / (n / 4) as f64;
+    let (low, high) = (quarter(1..1 + n / 4), quarter(n - n / 4..n));
+    println!("mean ψ over the lowest quarter of the map {low:.2}, over the highest {high:.2}");
+    assert!(high > 3.0 * low, "rocks prefer high rock-map values");
+    // λ ψ(m) is the exemplar's intensity 0.08 m, within its noise
+    for (k, v) in psi.iter().enumerate().skip(2) {
+        let intensity = cat.density * v;
+        let wanted = RIVER_ROCK_DENSITY * mid(k);
+        assert!(
+            (intensity - wanted).abs() <= 0.3 * wanted + 0.004,
+            "bin {k}: λψ = {intensity:.4} for 0.08 m = {wanted:.4}"
+        );
+    }
+}
+
+#[test]
+fn rocks_stand_in_the_water_as_dense_as_the_rock_map_says() {
+    let (t, c) = setup();
+    let s = made(&t, &c, &SceneOptions::default(), 1);
+    let m = &s.maps;
+    assert!(!s.rocks.is_empty(), "no rock");
+    let off = s.rocks.iter().filter(|r| !on_the_riverbed(&s, r)).count();
+    assert_eq!(off, 0, "rocks out of the water or off the riverbed");
+    // the count: ∫ 0.08 · rock map dA over the water
+    let expected = over_the_water(&s, |_, v| RIVER_ROCK_DENSITY * v);
+    let node_sum: f64 = m
+        .rocks
+        .iter()
+        .zip(&m.water)
+        .filter(|(_, w)| **w > 0.5)
+        .map(|(r, _)| RIVER_ROCK_DENSITY * *r as f64 * m.cell * m.cell)
+        .sum();
+    let got = s.rocks.len() as f64;
+    println!(
+        "{got} rocks; ∫ 0.08 · rock map dA over the water {expected:.1} (over the wet nodes' cells {node_sum:.1}): \
+         {:+.1} %",
+        100.0 * (got / expected - 1.0)
+    );
+    assert!((got - expected).abs() <= 0.2 * expected);
+    // denser where the rock map is higher: the rocks by the rock value of their node, against ∫ 0.08 · rock map dA
+    // over the water nearest to such nodes
+    let class = |p: DVec2, lo: f32, hi: f32| {
+        m.node(p)
+            .is_some_and(|k| m.water[k] > 0.5 && m.rocks[k] > lo && m.rocks[k] <= hi)
+    };
+    let mut by_class = Vec::new();
+    for (lo, hi) in [(0.0, 0.3), (0.3, 0.6), (0.6, 1.0)] {
+        let want = over_the_water(&s, |p, v| {
+            if class(p, lo, hi) {
+                RIVER_ROCK_DENSITY * v
+            } else {
+                0.0
+            }
+        });
+        let area = over_the_water(&s, |p, _| if class(p, lo, hi) { 1.0 } else { 0.0 });
+        let got = s
+            .rocks
+            .iter()
+            .filter(|r| class(r.position.truncate(), lo, hi))
+            .count() as f64;
+        println!(
+            "rock map in ({lo}, {hi}]: {got} rocks on {area:.0} m² of water ({:.4} per m²), 0.08 · rock map gives \
+             {want:.1} ({:.4} per m²)",
+            got / area,
+            want / area
+        );
+        by_class.push((got / area, want / area));
+    }
+    let (low, high) = (by_class[0], by_class[2]);
+    assert!(
+        high.0 > 2.0 * low.0,
+        "rocks are denser where the rock map is high"
+    );
+    // the hard core thins the densest places: the model's factor is a preference where the exemplar measured a
+    // density
+    assert!(high.0 > 0.6 * high.1 && low.0 < 1.2 * low.1);
+    // the hard core
+    let color = match river_rock_color() {
+        Ok(c) => c,
+        Err(e) => panic!("{e}"),
+    };
+    let closest = closest_pair(&s.rocks);
+    println!(
+        "closest two rocks {closest:.2} m; learned hard core {:.2} m",
+        color.categories[0].min_distance
+    );
+    assert!(closest >= color.categories[0].min_distance - color.bin_width);
+    // what the synthesis gives: rotations over the turn, scales of the exemplar
+    let turned = s.rocks.iter().filter(|r| r.rotation > 1e-9).count();
+    let (smin, smax) = s.rocks.iter().fold((f64::INFINITY, 0.0f64), |(a, b), r| {
+        (a.min(r.scale), b.max(r.scale))
+    });
+    println!("{turned} rocks turned, scales {smin:.2}..{smax:.2}");
+    assert!(turned > 0 && smin >= 0.5 && smax <= 1.5 && smax > smin);
+    assert_eq!(s.report.rocks, s.rocks.len());
+}
+
+#[test]
+fn a_learned_color_scatters_rocks_with_its_own_spacing() {
+    let (t, c) = setup();
+    let square = Region::Rect {
+        min: DVec2::ZERO,
+        max: DVec2::splat(100.0),
+    };
+    let (density, spacing) = (0.05, 3.0);
+    let points = hard_core(&square, density, spacing, 4);
+    let exemplar = scene_from_points("Boulder", &points);
+    let learned = match learn_color(&exemplar, &square, "Boulders", &AnalysisOptions::default()) {
+        Ok(c) => c,
+        Err(e) => panic!("{e}"),
+    };
+    assert!(learned.maps.is_empty(), "learned without any rock map");
+    let mut options = SceneOptions::default();
+    options.decoration.rock_color = Some(learned.clone());
+    let s = made(&t, &c, &options, 1);
+    let off = s.rocks.iter().filter(|r| !on_the_riverbed(&s, r)).count();
+    assert_eq!(off, 0, "boulders out of the water or off the riverbed");
+    let closest = closest_pair(&s.rocks);
+    // the count: the user's density times ∫ ψ(rock map) dA, ψ the built-in color's preference
+    let builtin = match river_rock_color() {
+        Ok(c) => c,
+        Err(e) => panic!("{e}"),
+    };
+    let Some(m) = builtin.maps.iter().find(|m| m.map == ROCK_MAP) else {
+        panic!("the built-in color follows no rock map");
+    };
+    let psi = |v: f64| {
+        let k = (((v - m.hist.start) / m.hist.bin_width).floor().max(0.0) as usize)
+            .min(m.hist.values.len() - 1);
+        let q = m.region_hist.values[k];
+        if q > 0.0 {
+            m.hist.values[k] / q
+        } else {
+            0.0
+        }
+    };
+    let lambda = learned.categories[0].density;
+    let expected = lambda * over_the_water(&s, |_, v| psi(v));
+    let got = s.rocks.len() as f64;
+    println!(
+        "a hard core of {spacing} m at {lambda:.4} per m², learned without a rock map: {got} boulders for \
+         λ ∫ ψ dA = {expected:.1} ({:+.1} %); closest two {closest:.2} m (learned {:.2} m)",
+        100.0 * (got / expected - 1.0),
+        learned.categories[0].min_distance
+    );
+    assert!(closest >= learned.categories[0].min_distance - learned.bin_width);
+    assert!(closest >= spacing - learned.bin_width);
+    assert!((got - expected).abs() <= 0.2 * expected);
+    assert!(s.rocks.iter().all(|r| r.category == 0));
 }
 
 #[test]
@@ -480,11 +707,28 @@ fn bad_options_are_refused() {
     let mut o = SceneOptions::default();
     o.integration.min_width = 0.0;
     assert!(scene(&t, &c, &WaterfallParams::default(), &o, 1).is_err());
+    // a rock color with nothing to scatter
+    let square = Region::Rect {
+        min: DVec2::ZERO,
+        max: DVec2::splat(50.0),
+    };
+    let points = hard_core(&square, 0.05, 2.0, 1);
+    let mut color = match learn_color(
+        &scene_from_points("Boulder", &points),
+        &square,
+        "Boulders",
+        &AnalysisOptions::default(),
+    ) {
+        Ok(c) => c,
+        Err(e) => panic!("{e}"),
+    };
+    color.categories.clear();
+    color.pairs.clear();
     let mut o = SceneOptions::default();
-    o.decoration.rock_spacing = -1.0;
+    o.decoration.rock_color = Some(color);
     let e = scene(&t, &c, &WaterfallParams::default(), &o, 1)
         .err()
         .map(|e| e.to_string());
     println!("refused: {e:?}");
-    assert!(e.is_some_and(|m| m.contains("rock_spacing")));
+    assert!(e.is_some_and(|m| m.contains("no distribution category")));
 }

@@ -210,7 +210,10 @@ fn build_waterfall<'py>(
         segments.append(d)?;
     }
     out.set_item("segments", segments)?;
-    out.set_item("rocks", array(py, s.rocks.iter().map(|p| [p.x, p.y, p.z]))?)?;
+    out.set_item(
+        "rocks",
+        array(py, s.rocks.iter().map(|r| r.position.to_array()))?,
+    )?;
     let r = &s.report;
     let report = PyDict::new(py);
     let nodes = PyDict::new(py);

@@ -18,42 +18,60 @@
 //!   water and of the plunge points are diffused through the pool with the walls at rest (the Laplace solver of
 //!   [`crate::terrain_edit`]), without advection.
 //!
-//! Rocks along the riverbeds ([`scatter_rocks`]): dart throwing over the water nodes, each node proposing on
-//! average `rock_density · rocks(node) · cell²` darts at uniform positions in its cell, accepted unless another
-//! rock lies within `rock_spacing` (a hard-core process whose intensity follows the rock map). Seeded; nodes are
-//! visited in row-major order.
+//! Rocks along the riverbeds ([`scatter_rocks`]) come from the engine's distribution synthesis
+//! ([`crate::synthesis`]): a rock *color* is synthesized over the bounding rectangle of the water's rock map, on
+//! the deformed terrain carrying the rock map as its map "rocks" (0 on dry nodes). The synthesis is the product
+//! model of eq. (1) at any count ([`SynthesisOptions::product_model`]): the rocks' map confines them to a thin
+//! part of the rectangle, where matching pair counts against the rectangle's whole area would spread them evenly
+//! whatever the rock map says. Proposals fall uniformly in the rectangle, so there are as many more of them as
+//! the rectangle is larger than the rock map's support (at most a hundred times). Where the map is
+//! interpolated between a wet node and a dry one its support reaches beyond the water's edge; rocks there (not
+//! in the water by [`WaterMaps::is_water`], or whose nearest node is dry) are left out.
+//!
+//! * **The built-in color** ([`river_rock_color`]) is learned once per process from [`exemplar::river_rocks`]
+//!   (fixed seed): rocks at least 1.5 m apart, as dense as 0.08 per m² times the map. Its map factor
+//!   `ψ(m) = h(m) / q(m)` (see [`crate::synthesis`], "Maps") is 0 where `m` is below 1/24 — no rock on a dry
+//!   node — and grows about as `m / m̄`, where `m̄ = 0.42` is the map's mean over the exemplar (where ψ
+//!   averages to 1). The count is `λ_b ∫ ψ(m(x)) dx` over the water with `λ_b = 0.033` per m² the
+//!   exemplar's mean density: `∫ 0.08 m dA`, the exemplar's intensity, up to its estimation noise. In the
+//!   model `ψ` is a preference, and the hard core thins it again where rocks are densest (the exemplar's `ψ`
+//!   is a density the hard core had already thinned): where the map is above 0.6 about a quarter fewer rocks
+//!   stand than `0.08 m` per m², a few percent more where it is low; the count is kept.
+//! * **A user's color** ([`DecorationOptions::rock_color`]) gives every one of its distribution categories
+//!   its own rdf, density, rotations, scales and prototypes. A category that follows no map "rocks" is given
+//!   the built-in color's `ψ`, so its placement follows the rock map and its count becomes
+//!   `λ_user ∫ ψ(m) dA ≈ (λ_user / λ_b) ∫ 0.08 m dA`: the user's own density where the map is `m̄`, 2.4 times
+//!   it where the map is 1. Any other map the color follows (slope, elevation) multiplies in.
+//!
+//! Neither color was learned on this terrain with this rock map, so the synthesis does not recalibrate their
+//! preferences on it ([`SynthesisOptions::exemplar_on_terrain`] is off): ψ averages to 1 over the exemplar.
+//!
+//! The rocks are seeded from the scene's seed and do not depend on the thread count.
 
 use super::integration::{Footprint, WaterMesh, WaterPart};
 use super::network::NodeKind;
 use super::{ControllerKind, WaterfallNetwork};
+use crate::analysis::{learn_color, AnalysisOptions};
 use crate::error::{Error, Result};
-use crate::spatial::{GridEntry, SpatialGrid};
+use crate::exemplar::{self, ROCK_MAP};
+use crate::geom::Region;
+use crate::palette::{Color, MapInteraction, MapSource};
+use crate::scene::{CategoryKind, Scene};
+use crate::synthesis::{synthesize, SynthesisOptions, DEFAULT_ITERATIONS_PER_INSTANCE};
 use crate::terrain::Heightfield;
 use crate::terrain_edit::{diffuse, Constraints, DiffusionOptions};
 use glam::{DVec2, DVec3};
-use rand::{Rng, SeedableRng};
-use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
+use std::sync::{Arc, OnceLock};
 
 /// How the maps and rocks are made.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Default)]
 pub struct DecorationOptions {
     /// Radius (m) of the filter smoothing foam, rocks and disturbance; `None`: two grid cells; 0: no filter.
     pub filter_radius: Option<f64>,
-    /// Rocks per m² where the rock map is 1.
-    pub rock_density: f64,
-    /// Least distance between two rocks (m).
-    pub rock_spacing: f64,
-}
-
-impl Default for DecorationOptions {
-    fn default() -> Self {
-        DecorationOptions {
-            filter_radius: None,
-            rock_density: 0.08,
-            rock_spacing: 1.5,
-        }
-    }
+    /// The color rocks are synthesized from (every distribution category of it); `None`: the built-in river
+    /// rocks ([`river_rock_color`]). See the module documentation for the count.
+    pub rock_color: Option<Color>,
 }
 
 impl DecorationOptions {
@@ -65,20 +83,14 @@ impl DecorationOptions {
                 )));
             }
         }
-        if !(self.rock_density.is_finite()
-            && self.rock_density >= 0.0
-            && self.rock_density <= 100.0)
-        {
-            return Err(Error::InvalidInput(format!(
-                "decoration rock_density = {} must be between 0 and 100 per m²",
-                self.rock_density
-            )));
-        }
-        if !(self.rock_spacing.is_finite() && self.rock_spacing > 0.0) {
-            return Err(Error::InvalidInput(format!(
-                "decoration rock_spacing = {} must be positive",
-                self.rock_spacing
-            )));
+        if let Some(c) = &self.rock_color {
+            c.validate()?;
+            if rock_categories(c).is_empty() {
+                return Err(Error::InvalidInput(format!(
+                    "rock color '{}' has no distribution category to scatter as rocks",
+                    c.name
+                )));
+            }
         }
         Ok(())
     }
@@ -525,13 +537,106 @@ fn speed_scale(net: &WaterfallNetwork) -> f64 {
         .max(1e-3)
 }
 
-/// Rock positions in the water, their density following the rock map, at the height of `terrain` (the riverbed).
+/// A rock on the riverbed, as the synthesis placed it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Rock {
+    /// On the (deformed) terrain.
+    pub position: DVec3,
+    /// About Z, radians.
+    pub rotation: f64,
+    pub scale: f64,
+    /// Prototype index of the rock color's category.
+    pub prototype: u32,
+    /// Which of the rock color's distribution categories (index into [`rock_categories`]).
+    pub category: usize,
+}
+
+/// At most this many times the synthesis's usual proposals per rock (a bound on the work for a thin river
+/// across a large rectangle).
+const MAX_PROPOSAL_FACTOR: f64 = 100.0;
+
+/// The seed of the built-in river-rock exemplar.
+const RIVER_ROCK_SEED: u64 = 1;
+
+/// The built-in river-rock color: [`exemplar::river_rocks`] learned on its map "rocks", once per process.
+pub fn river_rock_color() -> Result<&'static Color> {
+    static COLOR: OnceLock<std::result::Result<Color, String>> = OnceLock::new();
+    COLOR
+        .get_or_init(|| {
+            let scene = exemplar::river_rocks(RIVER_ROCK_SEED);
+            let (min, max) = scene
+                .terrain
+                .as_deref()
+                .map_or((DVec2::ZERO, DVec2::ONE), |t| t.bbox());
+            let options = AnalysisOptions {
+                maps: vec![ROCK_MAP.into()],
+                ..Default::default()
+            };
+            learn_color(&scene, &Region::Rect { min, max }, "River rocks", &options)
+                .map_err(|e| e.to_string())
+        })
+        .as_ref()
+        .map_err(|e| Error::InvalidInput(format!("the built-in river-rock color: {e}")))
+}
+
+/// The names of the color's distribution categories: what [`scatter_rocks`] synthesizes.
+pub fn rock_categories(color: &Color) -> Vec<String> {
+    color
+        .categories
+        .iter()
+        .filter(|c| c.category.kind == CategoryKind::Distribution)
+        .map(|c| c.category.name.clone())
+        .collect()
+}
+
+/// The color rocks are synthesized from: `color` with the built-in color's preference for the terrain map
+/// "rocks" given to each of its distribution categories that follows no such map.
+pub fn following_the_rock_map(color: &Color) -> Result<Color> {
+    let follows = |c: &Color, name: &str| {
+        c.maps
+            .iter()
+            .any(|m| m.category == name && m.map == ROCK_MAP && m.source == MapSource::Terrain)
+    };
+    let names = rock_categories(color);
+    if names.is_empty() {
+        return Err(Error::InvalidInput(format!(
+            "color '{}' has no distribution category to scatter as rocks",
+            color.name
+        )));
+    }
+    if names.iter().all(|n| follows(color, n)) {
+        return Ok(color.clone());
+    }
+    let builtin = river_rock_color()?;
+    let preference = builtin
+        .maps
+        .iter()
+        .find(|m| m.map == ROCK_MAP && m.source == MapSource::Terrain)
+        .ok_or_else(|| {
+            Error::InvalidInput("the built-in river-rock color follows no rock map".into())
+        })?;
+    let mut out = color.clone();
+    for name in names {
+        if !follows(color, &name) {
+            out.maps.push(MapInteraction {
+                category: name,
+                ..preference.clone()
+            });
+        }
+    }
+    Ok(out)
+}
+
+/// Rocks along the riverbeds: the rock color (the user's, else the built-in river rocks) synthesized over the
+/// bounding rectangle of the water's rock map, on `terrain` (the riverbed) carrying the rock map as its map
+/// "rocks". Rocks the synthesis puts beyond the water's edge (the map is bilinear, so its support reaches into
+/// the cells around the water) are left out. Seeded, and independent of the thread count.
 pub fn scatter_rocks(
     maps: &WaterMaps,
     terrain: &Heightfield,
     options: &DecorationOptions,
     seed: u64,
-) -> Result<Vec<DVec3>> {
+) -> Result<Vec<Rock>> {
     options.validate()?;
     if terrain.nx != maps.nx || terrain.ny != maps.ny {
         return Err(Error::InvalidInput(format!(
@@ -539,40 +644,62 @@ pub fn scatter_rocks(
             maps.nx, maps.ny, terrain.nx, terrain.ny
         )));
     }
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    let (lo, hi) = terrain.bbox();
-    let mut grid = SpatialGrid::new(lo, hi, options.rock_spacing);
-    let mut out = Vec::new();
-    let per_node = options.rock_density * maps.cell * maps.cell;
-    for (k, r) in maps.rocks.iter().enumerate() {
-        if *r <= 0.0 || maps.water[k] <= 0.5 {
-            continue;
-        }
-        let expected = per_node * *r as f64;
-        let mut darts = expected.floor() as usize;
-        if rng.random::<f64>() < expected.fract() {
-            darts += 1;
-        }
-        let centre =
-            maps.origin + DVec2::new((k % maps.nx) as f64, (k / maps.nx) as f64) * maps.cell;
-        for _ in 0..darts {
-            // within the node's own cell, so the rock map there is what drew it
-            let jitter = DVec2::new(rng.random::<f64>() - 0.5, rng.random::<f64>() - 0.5)
-                * (0.999 * maps.cell);
-            let p = (centre + jitter).clamp(lo, hi);
-            if grid.any_closer_than(p, options.rock_spacing, None) {
-                continue;
-            }
-            let Some(z) = terrain.height_at(p) else {
-                continue;
-            };
-            grid.insert(GridEntry {
-                position: p,
-                tag: 0,
-                id: out.len() as u32,
-            });
-            out.push(p.extend(z));
-        }
+    let color = match &options.rock_color {
+        Some(c) => following_the_rock_map(c)?,
+        None => river_rock_color()?.clone(),
+    };
+    let on_rocks = |k: usize| maps.water[k] > 0.5 && maps.rocks[k] > 0.0;
+    let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
+    let mut nodes = 0usize;
+    for k in (0..maps.rocks.len()).filter(|k| on_rocks(*k)) {
+        let p = maps.origin + DVec2::new((k % maps.nx) as f64, (k / maps.nx) as f64) * maps.cell;
+        lo = lo.min(p);
+        hi = hi.max(p);
+        nodes += 1;
     }
-    Ok(out)
+    if nodes == 0 {
+        return Ok(Vec::new());
+    }
+    // a cell around the nodes: the bilinear map is positive up to the next node
+    let (tlo, thi) = terrain.bbox();
+    let region = Region::Rect {
+        min: (lo - DVec2::splat(maps.cell)).max(tlo),
+        max: (hi + DVec2::splat(maps.cell)).min(thi),
+    };
+    let mut ground = terrain.clone();
+    ground.add_map(ROCK_MAP, maps.rocks.clone())?;
+    let scene = Scene {
+        terrain: Some(Arc::new(ground)),
+        ..Default::default()
+    };
+    // proposals land uniformly in the rectangle: more of them as the rocks' share of it is smaller
+    let support = nodes as f64 * maps.cell * maps.cell;
+    let sparse = (region.area() / support).clamp(1.0, MAX_PROPOSAL_FACTOR);
+    let names = rock_categories(&color);
+    let opts = SynthesisOptions {
+        seed,
+        influence_radius: Some(0.0),
+        iterations_per_instance: DEFAULT_ITERATIONS_PER_INSTANCE * sparse,
+        categories: Some(names.clone()),
+        exemplar_on_terrain: false,
+        product_model: true,
+    };
+    let made = synthesize(&scene, &color, &region, &opts)?;
+    let rocks = made
+        .instances
+        .iter()
+        .filter(|i| maps.is_water(i.position) && maps.node(i.position).is_some_and(on_rocks))
+        .filter_map(|i| {
+            let z = terrain.height_at(i.position)?;
+            let name = &made.categories.get(i.category)?.name;
+            Some(Rock {
+                position: i.position.extend(z),
+                rotation: i.rotation,
+                scale: i.scale,
+                prototype: i.prototype,
+                category: names.iter().position(|n| n == name)?,
+            })
+        })
+        .collect();
+    Ok(rocks)
 }

@@ -11,7 +11,7 @@
 //!
 //! | [`integration`] | the integration mesh, its contour `Ω` and its footprint on the terrain grid (4.4.1) |
 //! | [`deform`] | border, riverbed and overhang constraints diffused into the terrain (4.4.2) |
-//! | [`decoration`] | water, foam, rock, disturbance and speed maps; rocks along the riverbeds (4.4.3) |
+//! | [`decoration`] | water, foam, rock, disturbance and speed maps; rocks along the riverbeds, synthesized from a learned rock color following the rock map (4.4.3) |
 //!
 //! [`build`] runs the hydraulic pipeline: correction, graph, flow, subdivision, classification. [`scene`] runs it
 //! and then adapts the terrain to the water and makes the decoration maps.
@@ -38,7 +38,9 @@ pub mod network;
 pub mod subdivide;
 
 pub use classify::{Section, TypeSeed, WaterfallType, TABLE_4_1};
-pub use decoration::{scatter_rocks, water_maps, DecorationOptions, WaterMaps};
+pub use decoration::{
+    river_rock_color, scatter_rocks, water_maps, DecorationOptions, Rock, WaterMaps,
+};
 pub use deform::{deform, DeformOptions, TerrainDeformation};
 pub use integration::{
     footprint, integration_mesh, Footprint, IntegrationOptions, WaterMesh, WaterPart,
@@ -345,7 +347,7 @@ pub struct WaterfallScene {
     pub terrain: TerrainDeformation,
     pub maps: WaterMaps,
     /// Rocks along the riverbeds, on the deformed terrain.
-    pub rocks: Vec<DVec3>,
+    pub rocks: Vec<Rock>,
     pub report: SceneReport,
 }
 
