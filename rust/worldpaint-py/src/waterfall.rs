@@ -11,6 +11,7 @@ use worldpaint_core::geom::DVec2;
 use worldpaint_core::waterfall::{
     scene, Controller, ControllerKind, SceneOptions, WaterPart, WaterfallParams, WaterfallType,
 };
+use worldpaint_core::{Color, Error};
 
 fn controllers_from_py(list: &Bound<'_, PyAny>) -> PyResult<Vec<Controller>> {
     let items = list
@@ -104,9 +105,12 @@ fn array<'py, const N: usize, T: numpy::Element + Copy>(
 /// "pool", "points": float64 (N, 3), "strength": float or None}) and reports, at the world XY `points` (M, 2):
 /// "displacement" (M,) height change, "horizontal" (M, 2) overhang displacement, "is_water" (M,) bool; and
 /// "water" (the integration mesh: vertices, triangles, speed, foam, rocks, disturbance, part 0 contact / 1
-/// free-fall / 2 pool), "segments", "rocks" (R, 3) and "report".
+/// free-fall / 2 pool), "segments", the rocks synthesized along the riverbeds — "rocks" (R, 3) on the deformed
+/// terrain, "rock_rotation" (R,) radians about Z, "rock_scale" (R,), "rock_prototype" (R,) int32 — and "report".
+/// `rock_color` is the JSON of the color the rocks are synthesized from (None: the built-in river rocks); its
+/// distribution categories follow the rock map.
 #[pyfunction]
-#[pyo3(signature = (terrain, controllers, points, seed=0, *, min_slope=None, overhang=None, falloff=None, freeboard=None, subdivide=true))]
+#[pyo3(signature = (terrain, controllers, points, seed=0, *, min_slope=None, overhang=None, falloff=None, freeboard=None, subdivide=true, rock_color=None))]
 #[allow(clippy::too_many_arguments)]
 fn build_waterfall<'py>(
     py: Python<'py>,
@@ -119,6 +123,7 @@ fn build_waterfall<'py>(
     falloff: Option<f64>,
     freeboard: Option<f64>,
     subdivide: bool,
+    rock_color: Option<&str>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let hf = terrain.get().hf.clone();
     let controllers = controllers_from_py(controllers)?;
@@ -139,6 +144,12 @@ fn build_waterfall<'py>(
     }
     if let Some(v) = freeboard {
         options.deform.freeboard = v;
+    }
+    if let Some(json) = rock_color {
+        options.decoration.rock_color = Some(guarded(|| {
+            Color::from_json(json)
+                .map_err(|e| Error::InvalidInput(format!("rock_color is not a color: {e}")))
+        })?);
     }
     let (s, change, shift, wet) = py.detach(|| {
         guarded(|| {
@@ -210,10 +221,20 @@ fn build_waterfall<'py>(
         segments.append(d)?;
     }
     out.set_item("segments", segments)?;
+    let rocks = &s.rocks;
     out.set_item(
         "rocks",
-        array(py, s.rocks.iter().map(|r| r.position.to_array()))?,
+        array(py, rocks.iter().map(|r| r.position.to_array()))?,
     )?;
+    let rotation: Vec<f64> = rocks.iter().map(|r| r.rotation).collect();
+    out.set_item("rock_rotation", rotation.into_pyarray(py))?;
+    let scale: Vec<f64> = rocks.iter().map(|r| r.scale).collect();
+    out.set_item("rock_scale", scale.into_pyarray(py))?;
+    let prototype: Vec<i32> = rocks
+        .iter()
+        .map(|r| i32::try_from(r.prototype).unwrap_or(i32::MAX))
+        .collect();
+    out.set_item("rock_prototype", prototype.into_pyarray(py))?;
     let r = &s.report;
     let report = PyDict::new(py);
     let nodes = PyDict::new(py);
