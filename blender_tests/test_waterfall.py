@@ -1,11 +1,12 @@
 """A waterfall scene drawn as curves on a cliff (contact → free-fall → pool → contact) through the Terrain panel's
 Build Waterfall: the terrain changes in one shape key, the water mesh carries its decoration attributes and lies over
-the riverbed, instances keep out of the water, undo removes all of it, and the controllers' roles survive a save."""
+the riverbed, instances keep out of the water, river rocks are synthesized in the water (from the built-in river rocks
+or a palette color the user learned), undo removes all of it, and the controllers' roles survive a save."""
 
 import bpy
 import numpy as np
 import pytest
-from scene_kit import evaluated_vertices, grid_terrain, poly_curve
+from scene_kit import evaluated_vertices, grid_terrain, hard_core_examples, poly_curve, prototypes, select_only
 
 CELL = 2.0
 NX, NY = 151, 101  # 300 m by 200 m
@@ -135,16 +136,112 @@ def test_a_cliff_network_gets_water_meshes_a_deformed_terrain_and_undo_removes_t
     # level of the nearest water, a little downstream
     assert dry.sum() > 10 and risen >= 0.9 and np.median(rise) > 0.1
 
-    # rocks along the riverbed, instanced and snapped onto the terrain
-    rocks = next(o for o in bpy.data.objects if o.get("wp_points") == "River rock")
+    # rocks along the riverbed, in the water, instanced and snapped onto the terrain, turned and scaled as synthesized
+    rocks = rock_cloud()
     assert len(rocks.data.vertices) > 0 and rocks.modifiers
-    print(f"{len(rocks.data.vertices)} river rocks")
+    from worldpaint.bridge.instances import point_cloud_arrays
+
+    rock_co, rotation, scale, _ = point_cloud_arrays(rocks)
+    again = engine_waterfall(rock_co[:, :2])
+    on_mesh = in_triangles(np.ascontiguousarray(rock_co[:, :2]), co[:, :2], triangles_of(mesh))
+    print(f"{len(rock_co)} river rocks, {again['is_water'].sum()} in the water, {on_mesh.sum()} on the water mesh "
+          f"(the water reaches round the mesh's bends and ends); rotations {rotation.min():.2f}..{rotation.max():.2f}, "
+          f"scales {scale.min():.2f}..{scale.max():.2f}")
+    assert again["is_water"].all() and on_mesh.mean() > 0.7
+    assert np.allclose(again["rocks"], rock_co, atol=1e-3), "the same seed gives the same rocks"
+    assert rotation.max() > 0.0 and scale.min() < scale.max()
 
     bpy.ops.ed.undo()
     terrain = bpy.data.objects["Terrain"]
     assert terrain.data.shape_keys is None or KEY not in terrain.data.shape_keys.key_blocks
     assert not water_objects()
     assert not any(o.get("wp_points") == "River rock" for o in bpy.data.objects)
+
+
+def rock_cloud():
+    return next(o for o in bpy.data.objects if o.get("wp_points") == "River rock")
+
+
+def engine_waterfall(points, rock_color=None, seed=1):
+    """The engine's waterfall of the scene's controllers, as Build Waterfall computes it, read at ``points`` (N, 2):
+    its ``is_water`` there is where the water stands."""
+    import worldpaint_engine as engine
+    from worldpaint.bridge import terrain, terrain_edit
+
+    obj = bpy.data.objects["Terrain"]
+    settings = bpy.context.scene.worldpaint.terrain_edit
+    controllers = terrain_edit.waterfall_controllers(bpy.context, None)
+    with terrain_edit.without_key(obj, terrain_edit.WATERFALL_KEY):
+        heightfield = terrain.engine_terrain(bpy.context, obj)
+    return engine.build_waterfall(heightfield, controllers, np.ascontiguousarray(points, dtype=np.float64), seed,
+                                  min_slope=settings.min_slope, overhang=settings.overhang, falloff=settings.falloff,
+                                  rock_color=rock_color)
+
+
+def closest_pair(xy):
+    d = np.hypot(xy[:, None, 0] - xy[None, :, 0], xy[:, None, 1] - xy[None, :, 1])
+    np.fill_diagonal(d, np.inf)
+    return d.min()
+
+
+def test_rocks_from_a_learned_palette_color_stand_in_the_water_with_its_spacing():
+    cliff_scene()
+    # boulders placed by hand on the plateau, at least 3 m apart, learned as a palette color
+    prototypes()
+    examples = hard_core_examples("Rock", (20.0, 130.0), 50.0, 0.04, 3.0, seed=2)
+    select_only(examples)
+    assert bpy.ops.worldpaint.learn_color(name="Boulders", region_mode='RECT', rect_min=(20.0, 130.0),
+                                          rect_max=(70.0, 180.0)) == {'FINISHED'}
+    import worldpaint_engine as engine
+
+    boulders = bpy.context.scene.worldpaint.palette["Boulders"]
+    (learned,) = engine.color_summary(boulders.json)["categories"]
+    bpy.context.scene.worldpaint.terrain_edit.rock_color = "Boulders"
+    bpy.ops.ed.undo_push(message="color learned")
+    assert bpy.ops.worldpaint.build_waterfall(seed=1) == {'FINISHED'}
+    bpy.ops.ed.undo_push(message="Build Waterfall")
+    from worldpaint.bridge.instances import point_cloud_arrays
+
+    rocks, _, _, _ = point_cloud_arrays(rock_cloud())
+    again = engine_waterfall(rocks[:, :2], rock_color=boulders.json)
+    closest = closest_pair(rocks[:, :2])
+    print(f"{len(examples)} boulders learned ({learned['density']:.4f} per m², at least "
+          f"{learned['min_distance']:.2f} m apart): {len(rocks)} rocks, {again['is_water'].sum()} in the water, "
+          f"closest two {closest:.2f} m")
+    assert len(rocks) >= 5 and again["is_water"].all()
+    assert np.allclose(again["rocks"], rocks, atol=1e-3), "the rocks are the learned color's"
+    assert closest >= learned["min_distance"] - 1e-3 and closest >= 3.0
+    builtin = engine_waterfall(rocks[:, :2])["rocks"]
+    print(f"the built-in river rocks instead: {len(builtin)}, closest two {closest_pair(builtin[:, :2]):.2f} m")
+    assert closest_pair(builtin[:, :2]) < 3.0
+
+    # undo takes the rocks away and keeps the color
+    bpy.ops.ed.undo()
+    assert not any(o.get("wp_points") == "River rock" for o in bpy.data.objects)
+    assert "Boulders" in bpy.context.scene.worldpaint.palette
+
+
+def test_an_unknown_rock_color_is_reported_and_nothing_changes():
+    terrain = cliff_scene()
+    bpy.context.scene.worldpaint.terrain_edit.rock_color = "Pebbles"
+    with pytest.raises(RuntimeError, match="No color named 'Pebbles'"):
+        bpy.ops.worldpaint.build_waterfall()
+    assert terrain.data.shape_keys is None and not water_objects()
+    assert not any(o.get("wp_points") == "River rock" for o in bpy.data.objects)
+
+
+def test_a_rock_color_that_is_not_a_color_is_an_engine_error():
+    cliff_scene()
+    import worldpaint_engine as engine
+
+    with pytest.raises(engine.EngineError, match="rock_color is not a color"):
+        engine_waterfall(np.zeros((0, 2)), rock_color="{not json")
+    bpy.context.scene.worldpaint.palette.add().name = "Broken"
+    bpy.context.scene.worldpaint.terrain_edit.rock_color = "Broken"
+    with pytest.raises(RuntimeError, match="rock_color is not a color"):
+        bpy.ops.worldpaint.build_waterfall()
+    terrain = bpy.data.objects["Terrain"]
+    assert terrain.data.shape_keys is None and not water_objects()
 
 
 def test_instances_in_the_water_are_removed_and_the_others_stay_on_the_ground():

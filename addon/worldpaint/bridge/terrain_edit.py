@@ -284,11 +284,25 @@ def rock_prototypes():
     return prototype_collection(bpy.context.scene, ROCK_CATEGORY)
 
 
-def build_rocks(scene, rocks, terrain_obj):
-    """The rocks as the "River rock" point cloud, snapped onto the terrain, replacing the ones made before."""
+def rock_color_json(scene, name):
+    """The JSON of the palette color ``name`` the river rocks are synthesized from; None (the built-in river rocks)
+    for no name."""
+    if not name:
+        return None
+    entry = scene.worldpaint.palette.get(name)
+    if entry is None:
+        raise WorldPaintError(f"No color named '{name}' in the palette for the river rocks: pick one or clear the "
+                              "Rock Color for the built-in river rocks")
+    return entry.json
+
+
+def build_rocks(scene, result, terrain_obj):
+    """The engine's rocks as the "River rock" point cloud (positions, rotations, scales and prototypes as
+    synthesized), snapped onto the terrain, replacing the ones made before."""
     obj = point_cloud_object(scene, ROCK_CATEGORY)
-    n = len(rocks)
-    write_points(obj, np.asarray(rocks, dtype=np.float64).reshape(-1, 3), np.zeros(n), np.ones(n),
-                 np.zeros(n, dtype=np.int32))
+    rocks = np.asarray(result["rocks"], dtype=np.float64).reshape(-1, 3)
+    write_points(obj, rocks, np.asarray(result["rock_rotation"], dtype=np.float64),
+                 np.asarray(result["rock_scale"], dtype=np.float64),
+                 np.asarray(result["rock_prototype"], dtype=np.int32))
     set_instancer(obj, collection=rock_prototypes(), terrain=terrain_obj)
     return obj

@@ -1,7 +1,8 @@
 """Terrain that adapts (thesis ch. 4): Embed Roads cuts road curves into the terrain, with level carriageways and cut
-and fill banks; Build Waterfall turns controller curves into a coherent waterfall scene, with water meshes and the
-terrain deformed around them. Each change to the terrain is a shape key named after its operator, what stands on the
-changed ground is re-seated, and each run is one undo step."""
+and fill banks; Build Waterfall turns controller curves into a coherent waterfall scene, with water meshes, the
+terrain deformed around them and river rocks synthesized from a palette color (else the built-in river rocks). Each
+change to the terrain is a shape key named after its operator, what stands on the changed ground is re-seated, and
+each run is one undo step."""
 
 import bpy
 import numpy as np
@@ -88,12 +89,18 @@ class WORLDPAINT_OT_build_waterfall(BackgroundOperator, TerrainProperty, bpy.typ
         name="Controllers", description="Collection of controller curves (empty: the panel's, else every marked curve)",
     )
     seed: IntProperty(name="Seed", default=0, min=0, description="Seed of the subdivision (unset: the panel's)")
+    rock_color: StringProperty(
+        name="Rock Color", description="Palette color of the river rocks (unset: the panel's; empty there: the "
+                                       "built-in river rocks)",
+    )
 
     def _prepare(self, context):
         settings = context.scene.worldpaint.terrain_edit
         obj = editable_terrain(context, self.terrain)
         collection = collection_named(self.controllers, settings.controllers, "controllers")
         controllers = terrain_edit.waterfall_controllers(context, collection)
+        name = self.rock_color if self.properties.is_property_set("rock_color") else settings.rock_color
+        rock_color = terrain_edit.rock_color_json(context.scene, name)
         self._standing = terrain_edit.Standing(context.scene, exclude=(terrain_edit.ROCK_CATEGORY,))
         with terrain_edit.without_key(obj, terrain_edit.WATERFALL_KEY):
             heightfield = terrain.engine_terrain(context, obj)
@@ -103,7 +110,8 @@ class WORLDPAINT_OT_build_waterfall(BackgroundOperator, TerrainProperty, bpy.typ
         self._terrain_obj = obj
         self._keep_dry = settings.keep_dry
         self._arguments = (heightfield, controllers, np.ascontiguousarray(points), seed)
-        self._call = dict(min_slope=settings.min_slope, overhang=settings.overhang, falloff=settings.falloff)
+        self._call = dict(min_slope=settings.min_slope, overhang=settings.overhang, falloff=settings.falloff,
+                          rock_color=rock_color)
 
     def _compute(self, progress):
         if progress is not None and not progress(0.0):
@@ -117,7 +125,7 @@ class WORLDPAINT_OT_build_waterfall(BackgroundOperator, TerrainProperty, bpy.typ
         self._standing.reseat(result["displacement"][n:], "waterfall")
         dry = self._standing.keep_dry(result["is_water"][n:]) if self._keep_dry else 0
         terrain_edit.build_water(context.scene, result["water"])
-        terrain_edit.build_rocks(context.scene, result["rocks"], self._terrain_obj)
+        terrain_edit.build_rocks(context.scene, result, self._terrain_obj)
         report = result["report"]
         invalid = sum(not s["valid"] for s in result["segments"])
         self.report({'INFO'}, f"Waterfall: {len(result['segments'])} segments on {report['arcs']} arcs, "

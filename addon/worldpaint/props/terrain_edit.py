@@ -6,7 +6,7 @@ so both are saved in the .blend.
 """
 
 import bpy
-from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, PointerProperty
+from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, PointerProperty, StringProperty
 
 CONTROLLER_KINDS = (
     ("NONE", "None", "Not a waterfall controller"),
@@ -28,7 +28,7 @@ class WORLDPAINT_PG_waterfall_controller(bpy.types.PropertyGroup):
 
 
 class WORLDPAINT_PG_terrain_edit(bpy.types.PropertyGroup):
-    """How Embed Roads cuts roads into the terrain."""
+    """How Embed Roads cuts roads into the terrain, and how Build Waterfall builds a waterfall scene."""
 
     roads: PointerProperty(
         name="Roads", type=bpy.types.Collection,
@@ -74,4 +74,9 @@ class WORLDPAINT_PG_terrain_edit(bpy.types.PropertyGroup):
     )
     keep_dry: BoolProperty(
         name="Keep Instances Dry", default=True, description="Remove painted instances that stand in the water",
+    )
+    rock_color: StringProperty(
+        name="Rock Color",
+        description="Palette color the river rocks are synthesized from, placed by the rock map of the water "
+                    "(empty: the built-in river rocks)",
     )
