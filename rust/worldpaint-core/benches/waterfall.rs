@@ -11,7 +11,8 @@
 //!
 //! * `waterfall/scene_20_controllers`: [`scene`] end to end on the same scene and terrain (1 m cells, 1001 × 1001
 //!   nodes): the hydraulic part, the integration mesh, the terrain deformation (border, riverbed and overhang
-//!   constraints, multigrid diffusion within a 30 m falloff), the decoration maps and the rocks.
+//!   constraints, multigrid diffusion within a 30 m falloff), the decoration maps and the rocks (the built-in
+//!   river-rock color synthesized over the water's bounding rectangle).
 //!
 //! The summary prints the medians, their ratios, the time per stage of one run and the share of the budget.
 //!
