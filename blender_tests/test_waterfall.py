@@ -144,10 +144,10 @@ def test_a_cliff_network_gets_water_meshes_a_deformed_terrain_and_undo_removes_t
     rock_co, rotation, scale, _ = point_cloud_arrays(rocks)
     again = engine_waterfall(rock_co[:, :2])
     on_mesh = in_triangles(np.ascontiguousarray(rock_co[:, :2]), co[:, :2], triangles_of(mesh))
-    print(f"{len(rock_co)} river rocks, {again['is_water'].sum()} in the water, {on_mesh.sum()} on the water mesh "
-          f"(the water reaches round the mesh's bends and ends); rotations {rotation.min():.2f}..{rotation.max():.2f}, "
-          f"scales {scale.min():.2f}..{scale.max():.2f}")
-    assert again["is_water"].all() and on_mesh.mean() > 0.7
+    print(f"{len(rock_co)} river rocks, {again['is_water'].sum()} in the water, {on_mesh.sum()} on the water mesh; "
+          f"rotations {rotation.min():.2f}..{rotation.max():.2f}, scales {scale.min():.2f}..{scale.max():.2f}")
+    # the water's edge is read between grid nodes: a rock may stand a little past the mesh's bank
+    assert again["is_water"].all() and on_mesh.mean() > 0.95
     assert np.allclose(again["rocks"], rock_co, atol=1e-3), "the same seed gives the same rocks"
     assert rotation.max() > 0.0 and scale.min() < scale.max()
 

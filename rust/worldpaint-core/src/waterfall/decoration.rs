@@ -35,7 +35,7 @@
 //!   averages to 1). The count is `λ_b ∫ ψ(m(x)) dx` over the water with `λ_b = 0.033` per m² the
 //!   exemplar's mean density: `∫ 0.08 m dA`, the exemplar's intensity, up to its estimation noise. In the
 //!   model `ψ` is a preference, and the hard core thins it again where rocks are densest (the exemplar's `ψ`
-//!   is a density the hard core had already thinned): where the map is above 0.6 about a quarter fewer rocks
+//!   is a density the hard core had already thinned): where the map is above 0.6 about a fifth fewer rocks
 //!   stand than `0.08 m` per m², a few percent more where it is low; the count is kept.
 //! * **A user's color** ([`DecorationOptions::rock_color`]) gives every one of its distribution categories
 //!   its own rdf, density, rotations, scales and prototypes. A category that follows no map "rocks" is given
