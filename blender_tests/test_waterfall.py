@@ -95,7 +95,7 @@ def test_a_cliff_network_gets_water_meshes_a_deformed_terrain_and_undo_removes_t
     (water,) = water_objects()
     mesh = water.data
     assert len(mesh.polygons) > 0
-    for name in ("speed", "foam", "rocks", "disturbance", "part"):
+    for name in ("speed", "foam", "rocks", "disturbance", "invalid", "part"):
         assert name in mesh.attributes, name
     foam = attribute(mesh, "foam")
     assert 0.0 <= foam.min() and foam.max() <= 1.0 and foam.max() > 0.0
@@ -274,6 +274,24 @@ def test_instances_in_the_water_are_removed_and_the_others_stay_on_the_ground():
     error = np.abs(left[:, 2] - ground)
     print(f"trees off the ground: at most {error.max() * 100:.2f} cm")
     assert error.max() < 0.02
+
+
+def test_segments_outside_their_range_are_marked_on_the_water():
+    cliff_scene()
+    # a "free-fall" drawn along the gentle plateau: its slope is a stream's, not a fall's
+    run = np.array([[30.0, 40.0], [60.0, 40.0]])
+    curve("Gentle fall", np.column_stack([run, cliff_height(run[:, 0], run[:, 1])]), 'FREE_FALL')
+    assert bpy.ops.worldpaint.build_waterfall(seed=1) == {'FINISHED'}
+    (water,) = water_objects()
+    invalid, part = attribute(water.data, "invalid"), attribute(water.data, "part")
+    co = np.empty(len(water.data.vertices) * 3)
+    water.data.vertices.foreach_get("co", co)
+    co = co.reshape(-1, 3)
+    gentle = (part == 1) & (co[:, 0] < 70.0) & (np.abs(co[:, 1] - 40.0) < 20.0)
+    print(f"{int(invalid.sum())} of {len(invalid)} water vertices marked invalid, {gentle.sum()} on the gentle fall")
+    assert gentle.any() and (invalid[gentle] == 1.0).all()
+    assert set(np.unique(invalid)) <= {0.0, 1.0} and invalid[part == 2].max() == 0.0
+    assert invalid[part == 0].max() == 0.0, "the streams and the river keep within their types' ranges"
 
 
 def test_no_controller_is_reported_and_nothing_changes():

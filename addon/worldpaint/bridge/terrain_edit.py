@@ -22,7 +22,7 @@ WATERFALL_KEY = "WorldPaint Waterfall"
 SEAT_PREFIX = "wp_seat_"  # + the edit: height (m) the edit moved an object or point by
 WATER_COLLECTION = "Water"
 WATER_TAG = "wp_water"
-WATER_ATTRIBUTES = ("speed", "foam", "rocks", "disturbance")
+WATER_ATTRIBUTES = ("speed", "foam", "rocks", "disturbance", "invalid")
 ROCK_CATEGORY = "River rock"  # the rocks a waterfall scatters along its riverbed
 
 
@@ -183,7 +183,8 @@ class Standing:
 
 def waterfall_controllers(context, collection):
     """The engine's controllers: every spline of the curves marked Contact, Free-fall or Pool, in the collection
-    (else in the scene), in name order so the result does not depend on the outliner's order."""
+    (else in the scene), in name order so the result does not depend on the outliner's order; each carries its
+    curve's name."""
     objects = collection.all_objects if collection is not None else context.scene.objects
     controllers = []
     for obj in sorted(objects, key=lambda o: o.name):
@@ -195,7 +196,7 @@ def waterfall_controllers(context, collection):
             if len(points) < 2:
                 raise WorldPaintError(f"The waterfall controller '{obj.name}' has a spline with fewer than 2 points")
             controllers.append({"kind": role.kind.lower(), "points": np.ascontiguousarray(points),
-                                "strength": role.strength if role.strength > 0.0 else None})
+                                "strength": role.strength if role.strength > 0.0 else None, "name": obj.name})
     if not controllers:
         where = f"the collection '{collection.name}'" if collection is not None else "the scene"
         raise WorldPaintError(f"No waterfall controller in {where}: mark curves as Contact, Free-fall or Pool in "

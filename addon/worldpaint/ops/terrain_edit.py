@@ -127,10 +127,12 @@ class WORLDPAINT_OT_build_waterfall(BackgroundOperator, TerrainProperty, bpy.typ
         terrain_edit.build_water(context.scene, result["water"])
         terrain_edit.build_rocks(context.scene, result, self._terrain_obj)
         report = result["report"]
-        invalid = sum(not s["valid"] for s in result["segments"])
+        invalid = [s for s in result["segments"] if not s["valid"]]
         self.report({'INFO'}, f"Waterfall: {len(result['segments'])} segments on {report['arcs']} arcs, "
                               f"{len(result['rocks'])} rocks, {dry} instances taken out of the water")
         if invalid:
-            self.report({'WARNING'}, f"{invalid} segments lie outside the valid range of their type (slope and flow "
-                                     "do not match a contact or free-fall): check the controllers")
+            curves = sorted({self._arguments[1][s["controller"]]["name"] for s in invalid})
+            self.report({'WARNING'}, f"{len(invalid)} segments lie outside the valid range of their type (slope and "
+                                     f"flow do not match a contact or free-fall; the water's 'invalid' attribute "
+                                     f"marks them): check {', '.join(repr(c) for c in curves)}")
         return {'FINISHED'}

@@ -104,7 +104,7 @@ fn array<'py, const N: usize, T: numpy::Element + Copy>(
 /// Builds a waterfall scene on the terrain from user controllers (list of dicts {"kind": "contact" | "free_fall" |
 /// "pool", "points": float64 (N, 3), "strength": float or None}) and reports, at the world XY `points` (M, 2):
 /// "displacement" (M,) height change, "horizontal" (M, 2) overhang displacement, "is_water" (M,) bool; and
-/// "water" (the integration mesh: vertices, triangles, speed, foam, rocks, disturbance, part 0 contact / 1
+/// "water" (the integration mesh: vertices, triangles, speed, foam, rocks, disturbance, invalid, part 0 contact / 1
 /// free-fall / 2 pool), "segments", the rocks synthesized along the riverbeds — "rocks" (R, 3) on the deformed
 /// terrain, "rock_rotation" (R,) radians about Z, "rock_scale" (R,), "rock_prototype" (R,) int32 — and "report".
 /// `rock_color` is the JSON of the color the rocks are synthesized from (None: the built-in river rocks); its
@@ -201,6 +201,21 @@ fn build_waterfall<'py>(
         })
         .collect();
     water.set_item("part", part.into_pyarray(py))?;
+    // 1 on the water of segments outside the valid range of their type, so the user can see them
+    let invalid: Vec<f64> = m
+        .part
+        .iter()
+        .zip(&m.element)
+        .map(|(p, e)| match p {
+            WaterPart::Pool => 0.0,
+            _ => s
+                .network
+                .segments
+                .get(*e)
+                .map_or(0.0, |seg| f64::from(u8::from(!seg.valid))),
+        })
+        .collect();
+    water.set_item("invalid", invalid.into_pyarray(py))?;
     out.set_item("water", water)?;
     let segments = PyList::empty(py);
     for seg in &s.network.segments {
@@ -208,6 +223,7 @@ fn build_waterfall<'py>(
         let name = type_name(seg.kind_of_water);
         d.set_item("type", name)?;
         d.set_item("arc", seg.arc)?;
+        d.set_item("controller", s.network.graph.arcs[seg.arc].controller)?;
         d.set_item("slope", seg.slope)?;
         d.set_item("flow", seg.flow)?;
         d.set_item("speed", seg.section.speed)?;
