@@ -150,23 +150,27 @@ def build_waterfall(hills):
     """A stream running down the hills; where they are steepest it falls into a pool dug below the lip, and a river
     leaves the pool. The terrain is carved under all of it."""
     path = stream_path(engine.exemplar_demo_terrain(HILLS_SIZE, 2.0, 11), STREAM_START)
-    run_ahead = 5  # steps of the path from the lip to the far side of the pool
+    run_ahead = 5  # steps of the path (4 m each) from the lip to where the river meets the ground again
     drop = path[:-run_ahead, 2] - path[run_ahead:, 2]
     lip = int(np.argmax(drop))
-    centre = path[lip + run_ahead - 1]
     level = float(path[lip + run_ahead, 2])
-    radius = 0.8 * np.linalg.norm(path[lip + run_ahead, :2] - centre[:2])
+    ahead = path[lip + 1, :2] - path[lip, :2]
+    ahead /= np.linalg.norm(ahead)
+    radius = 5.0
+    centre = path[lip, :2] + (radius + 2.0) * ahead  # a plunge pool dug into the slope below the lip
+    foot = centre - 0.6 * radius * ahead
     poly_curve("Stream", path[:lip + 1][::-3][::-1]).worldpaint_waterfall.kind = 'CONTACT'
-    foot = centre[:2] + 0.3 * radius * (path[lip, :2] - centre[:2]) / np.linalg.norm(path[lip, :2] - centre[:2])
     poly_curve("Fall", np.array([path[lip], [*foot, level]])).worldpaint_waterfall.kind = 'FREE_FALL'
     a = np.linspace(0.0, 2.0 * np.pi, 24, endpoint=False)
     ring = np.column_stack([centre[0] + radius * np.cos(a), centre[1] + radius * np.sin(a), np.full(len(a), level)])
     poly_curve("Pool", ring, cyclic=True).worldpaint_waterfall.kind = 'POOL'
-    leaving = centre[:2] + radius * (path[lip + run_ahead, :2] - centre[:2]) / np.linalg.norm(
-        path[lip + run_ahead, :2] - centre[:2])
+    out = path[lip + run_ahead, :2] - centre
+    leaving = centre + radius * out / np.linalg.norm(out)
     river = np.vstack([[*leaving, level], path[lip + run_ahead + 1:][::3]])
     river[:, 2] = np.minimum(river[:, 2], level)
     poly_curve("River", river).worldpaint_waterfall.kind = 'CONTACT'
+    # the river leaves the pool through a cut in the slope, where the section model would widen it to a lake
+    bpy.context.scene.worldpaint.terrain_edit.max_width = 6.0
     run(bpy.ops.worldpaint.build_waterfall, terrain=hills.name, seed=1)
     print(f"waterfall: a {drop[lip]:.1f} m fall into a pool of {radius:.1f} m, {len(path)} path points")
 

@@ -175,7 +175,7 @@ def engine_waterfall(points, rock_color=None, seed=1):
         heightfield = terrain.engine_terrain(bpy.context, obj)
     return engine.build_waterfall(heightfield, controllers, np.ascontiguousarray(points, dtype=np.float64), seed,
                                   min_slope=settings.min_slope, overhang=settings.overhang, falloff=settings.falloff,
-                                  rock_color=rock_color)
+                                  max_width=settings.max_width, rock_color=rock_color)
 
 
 def closest_pair(xy):
@@ -292,6 +292,25 @@ def test_segments_outside_their_range_are_marked_on_the_water():
     assert gentle.any() and (invalid[gentle] == 1.0).all()
     assert set(np.unique(invalid)) <= {0.0, 1.0} and invalid[part == 2].max() == 0.0
     assert invalid[part == 0].max() == 0.0, "the streams and the river keep within their types' ranges"
+
+
+def ribbon_widths(mesh):
+    """Bank-to-bank width of every row of the contact ribbons (rows of left bank, axis, right bank vertices)."""
+    co = np.empty(len(mesh.vertices) * 3)
+    mesh.vertices.foreach_get("co", co)
+    rows = co.reshape(-1, 3)[attribute(mesh, "part") == 0].reshape(-1, 3, 3)
+    return np.linalg.norm(rows[:, 0, :2] - rows[:, 2, :2], axis=1)
+
+
+def test_the_widest_water_setting_bounds_the_rivers():
+    cliff_scene()
+    assert bpy.ops.worldpaint.build_waterfall(seed=1) == {'FINISHED'}
+    wide = ribbon_widths(water_objects()[0].data).max()
+    bpy.context.scene.worldpaint.terrain_edit.max_width = 6.0
+    assert bpy.ops.worldpaint.build_waterfall(seed=1) == {'FINISHED'}
+    narrow = ribbon_widths(water_objects()[0].data)
+    print(f"widest ribbon {wide:.1f} m by the section model, {narrow.max():.1f} m with Widest Water at 6 m")
+    assert wide > 8.0 and narrow.max() <= 6.0 + 1e-4 and narrow.min() > 0.0
 
 
 def test_no_controller_is_reported_and_nothing_changes():

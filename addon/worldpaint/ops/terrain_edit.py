@@ -111,7 +111,7 @@ class WORLDPAINT_OT_build_waterfall(BackgroundOperator, TerrainProperty, bpy.typ
         self._keep_dry = settings.keep_dry
         self._arguments = (heightfield, controllers, np.ascontiguousarray(points), seed)
         self._call = dict(min_slope=settings.min_slope, overhang=settings.overhang, falloff=settings.falloff,
-                          rock_color=rock_color)
+                          max_width=settings.max_width, rock_color=rock_color)
 
     def _compute(self, progress):
         if progress is not None and not progress(0.0):

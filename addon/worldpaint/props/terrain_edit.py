@@ -72,6 +72,10 @@ class WORLDPAINT_PG_terrain_edit(bpy.types.PropertyGroup):
         name="Falloff", default=40.0, min=1.0, soft_max=200.0, unit='LENGTH',
         description="Beyond this distance from the water the terrain stays as it was",
     )
+    max_width: FloatProperty(
+        name="Widest Water", default=20.0, min=0.5, soft_max=50.0, unit='LENGTH',
+        description="Water surfaces are at most this wide (the section model widens gentle rivers without bound)",
+    )
     keep_dry: BoolProperty(
         name="Keep Instances Dry", default=True, description="Remove painted instances that stand in the water",
     )

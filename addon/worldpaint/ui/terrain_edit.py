@@ -55,7 +55,9 @@ class WORLDPAINT_PT_waterfall(SidebarPanel, bpy.types.Panel):
         row = layout.row(align=True)
         row.prop(settings, "overhang")
         row.prop(settings, "falloff")
-        layout.prop(settings, "keep_dry")
+        row = layout.row(align=True)
+        row.prop(settings, "max_width")
+        row.prop(settings, "keep_dry")
         layout.prop_search(settings, "rock_color", context.scene.worldpaint, "palette", icon='MESH_ICOSPHERE')
         if not settings.rock_color:
             layout.label(text="No color: the built-in river rocks", icon='INFO')

@@ -110,7 +110,7 @@ fn array<'py, const N: usize, T: numpy::Element + Copy>(
 /// `rock_color` is the JSON of the color the rocks are synthesized from (None: the built-in river rocks); its
 /// distribution categories follow the rock map.
 #[pyfunction]
-#[pyo3(signature = (terrain, controllers, points, seed=0, *, min_slope=None, overhang=None, falloff=None, freeboard=None, subdivide=true, rock_color=None))]
+#[pyo3(signature = (terrain, controllers, points, seed=0, *, min_slope=None, overhang=None, falloff=None, freeboard=None, max_width=None, subdivide=true, rock_color=None))]
 #[allow(clippy::too_many_arguments)]
 fn build_waterfall<'py>(
     py: Python<'py>,
@@ -122,6 +122,7 @@ fn build_waterfall<'py>(
     overhang: Option<f64>,
     falloff: Option<f64>,
     freeboard: Option<f64>,
+    max_width: Option<f64>,
     subdivide: bool,
     rock_color: Option<&str>,
 ) -> PyResult<Bound<'py, PyDict>> {
@@ -144,6 +145,10 @@ fn build_waterfall<'py>(
     }
     if let Some(v) = freeboard {
         options.deform.freeboard = v;
+    }
+    if let Some(v) = max_width {
+        options.integration.max_width = v;
+        options.integration.min_width = options.integration.min_width.min(v);
     }
     if let Some(json) = rock_color {
         options.decoration.rock_color = Some(guarded(|| {
