@@ -163,6 +163,28 @@ impl Heightfield {
         (self.origin, self.max_corner())
     }
 
+    /// The column and row ranges of the grid nodes lying in the box `[lo, hi]` (`None` when there are none).
+    pub fn nodes_in(
+        &self,
+        lo: DVec2,
+        hi: DVec2,
+    ) -> Option<(
+        std::ops::RangeInclusive<usize>,
+        std::ops::RangeInclusive<usize>,
+    )> {
+        let first = ((lo - self.origin) / self.cell).ceil().max(DVec2::ZERO);
+        let last = ((hi - self.origin) / self.cell).floor();
+        if !(first.is_finite() && last.is_finite()) || last.x < 0.0 || last.y < 0.0 {
+            return None;
+        }
+        let last = (
+            (last.x as usize).min(self.nx - 1),
+            (last.y as usize).min(self.ny - 1),
+        );
+        let first = (first.x as usize, first.y as usize);
+        (first.0 <= last.0 && first.1 <= last.1).then_some((first.0..=last.0, first.1..=last.1))
+    }
+
     pub fn contains(&self, p: DVec2) -> bool {
         let hi = self.max_corner();
         p.x >= self.origin.x && p.y >= self.origin.y && p.x <= hi.x && p.y <= hi.y

@@ -529,19 +529,14 @@ fn hits_of_fall(
     make: impl Fn(f64, f64) -> FootprintNode,
 ) -> Hits {
     let (a2, b2) = (a.truncate(), b.truncate());
-    let lo = ((a2.min(b2) - hw - t.origin) / t.cell)
-        .ceil()
-        .max(DVec2::ZERO);
-    let hi = ((a2.max(b2) + hw - t.origin) / t.cell).floor();
-    if hi.x < 0.0 || hi.y < 0.0 {
+    let Some((columns, rows)) = t.nodes_in(a2.min(b2) - hw, a2.max(b2) + hw) else {
         return Vec::new();
-    }
-    let (i1, j1) = ((hi.x as usize).min(t.nx - 1), (hi.y as usize).min(t.ny - 1));
+    };
     let ab = b2 - a2;
     let len2 = ab.length_squared();
     let mut out = Vec::new();
-    for j in lo.y as usize..=j1 {
-        for i in lo.x as usize..=i1 {
+    for j in rows {
+        for i in columns.clone() {
             let p = t.origin + DVec2::new(i as f64, j as f64) * t.cell;
             let d = segment_distance(p, a2, b2);
             if d > hw {
@@ -755,17 +750,14 @@ fn hits_of_quad(
         (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
         |(lo, hi), p| (lo.min(*p), hi.max(*p)),
     );
-    let lo = ((lo - reach - t.origin) / t.cell).ceil().max(DVec2::ZERO);
-    let hi = ((hi + reach - t.origin) / t.cell).floor();
-    if hi.x < 0.0 || hi.y < 0.0 || !lo.is_finite() || !hi.is_finite() {
+    let Some((columns, rows)) = t.nodes_in(lo - reach, hi + reach) else {
         return Vec::new();
-    }
-    let (i1, j1) = ((hi.x as usize).min(t.nx - 1), (hi.y as usize).min(t.ny - 1));
+    };
     let axis = c1 - c0;
     let len2 = axis.length_squared();
     let mut out = Vec::new();
-    for j in lo.y as usize..=j1 {
-        for i in lo.x as usize..=i1 {
+    for j in rows {
+        for i in columns.clone() {
             let p = t.origin + DVec2::new(i as f64, j as f64) * t.cell;
             let raw = if len2 > 0.0 {
                 (p - c0).dot(axis) / len2
@@ -812,20 +804,17 @@ fn pool_hits(t: &Heightfield, pool: &PoolWater, margin: f64) -> Hits {
         (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
         |(lo, hi), p| (lo.min(*p), hi.max(*p)),
     );
-    let lo = ((lo - margin - t.origin) / t.cell).ceil().max(DVec2::ZERO);
-    let hi = ((hi + margin - t.origin) / t.cell).floor();
-    if hi.x < 0.0 || hi.y < 0.0 {
+    let Some((columns, rows)) = t.nodes_in(lo - margin, hi + margin) else {
         return Vec::new();
-    }
-    let (i1, j1) = ((hi.x as usize).min(t.nx - 1), (hi.y as usize).min(t.ny - 1));
+    };
     let edge = |p: DVec2| {
         (0..c.len())
             .map(|k| segment_distance(p, c[k], c[(k + 1) % c.len()]))
             .fold(f64::INFINITY, f64::min)
     };
     let mut raw = Vec::new();
-    for j in lo.y as usize..=j1 {
-        for i in lo.x as usize..=i1 {
+    for j in rows {
+        for i in columns.clone() {
             let p = t.origin + DVec2::new(i as f64, j as f64) * t.cell;
             let d = edge(p);
             let inside = if polygon_contains(c, p) { d } else { -d };
