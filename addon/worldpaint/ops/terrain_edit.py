@@ -109,6 +109,7 @@ class WORLDPAINT_OT_build_waterfall(BackgroundOperator, TerrainProperty, bpy.typ
         seed = self.seed if self.properties.is_property_set("seed") else settings.waterfall_seed
         self._terrain_obj = obj
         self._keep_dry = settings.keep_dry
+        self._controllers = controllers
         self._arguments = (heightfield, controllers, np.ascontiguousarray(points), seed)
         self._call = dict(min_slope=settings.min_slope, overhang=settings.overhang, falloff=settings.falloff,
                           max_width=settings.max_width, rock_color=rock_color)
@@ -131,7 +132,7 @@ class WORLDPAINT_OT_build_waterfall(BackgroundOperator, TerrainProperty, bpy.typ
         self.report({'INFO'}, f"Waterfall: {len(result['segments'])} segments on {report['arcs']} arcs, "
                               f"{len(result['rocks'])} rocks, {dry} instances taken out of the water")
         if invalid:
-            curves = sorted({self._arguments[1][s["controller"]]["name"] for s in invalid})
+            curves = sorted({self._controllers[s["controller"]]["name"] for s in invalid})
             self.report({'WARNING'}, f"{len(invalid)} segments lie outside the valid range of their type (slope and "
                                      f"flow do not match a contact or free-fall; the water's 'invalid' attribute "
                                      f"marks them): check {', '.join(repr(c) for c in curves)}")

@@ -1711,6 +1711,9 @@ fn douglas_peucker(pts: &[DVec2], s: usize, e: usize, tol: f64, rules: &Rules, k
     }
 }
 
+/// Kept vertices with a score, as (score, index into the kept list).
+type ScoredVertices = Vec<(f64, usize)>;
+
 /// The vertices of a chain (indices into `ids`) kept at simplification level `level`: 0 the full simplification,
 /// 1 half of it, 2 the cell outline (only its corners).
 fn simplify_chain(
@@ -1776,59 +1779,52 @@ fn simplify_chain(
         douglas_peucker(&pts, 0, m - 1, tol, rules, &mut keep);
     }
     let mut kept: Vec<usize> = (0..cyc).filter(|&q| keep[q]).collect();
-    // remove the vertices where the contour turns by less than ε
-    let eps = options.merge_angle_degrees.to_radians() * scale;
     let max_dev = options.merge_deviation * c * scale;
-    loop {
+    // removes, one at a time, the removable vertex with the smallest score among `candidates` (score, index into
+    // `kept`), until none is left or the chain is as short as it may be
+    let mut remove_while = |candidates: &dyn Fn(&[usize]) -> ScoredVertices| loop {
         let km = kept.len();
         if (ch.closed && km <= 3) || (!ch.closed && km <= 2) {
             break;
         }
+        let mut found = candidates(&kept);
+        found.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        match found
+            .into_iter()
+            .find(|&(_, q)| removable(&kept, q, &pts, cyc, max_dev, rules))
+        {
+            Some((_, q)) => {
+                kept.remove(q);
+            }
+            None => break,
+        }
+    };
+    // the vertices where the contour turns by less than ε
+    let eps = options.merge_angle_degrees.to_radians() * scale;
+    remove_while(&|kept: &[usize]| {
+        let km = kept.len();
         let range = if ch.closed { 0..km } else { 1..km - 1 };
-        let mut candidates: Vec<(f64, usize)> = range
+        range
             .map(|q| {
                 let (p, x, nx) = (kept[(q + km - 1) % km], kept[q], kept[(q + 1) % km]);
                 (angle_between(pts[x] - pts[p], pts[nx] - pts[x]), q)
             })
             .filter(|&(turn, _)| turn < eps)
-            .collect();
-        candidates.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-        match candidates
-            .into_iter()
-            .find(|&(_, q)| removable(&kept, q, &pts, cyc, max_dev, rules))
-        {
-            Some((_, q)) => {
-                kept.remove(q);
-            }
-            None => break,
-        }
-    }
+            .collect()
+    });
     // then a vertex of an edge shorter than `short_edge` cells (a clipped corner, a one-cell jog): it has as
     // little influence on the shape as a flat one
     let short = options.short_edge * c * scale;
-    loop {
+    remove_while(&|kept: &[usize]| {
         let km = kept.len();
-        if (ch.closed && km <= 3) || (!ch.closed && km <= 2) {
-            break;
-        }
         let interior = |q: usize| ch.closed || (q > 0 && q < km - 1);
-        let mut candidates: Vec<(f64, usize)> = (0..if ch.closed { km } else { km - 1 })
+        (0..if ch.closed { km } else { km - 1 })
             .map(|q| (pts[kept[q]].distance(pts[kept[(q + 1) % km]]), q))
             .filter(|&(len, _)| len < short)
             .flat_map(|(len, q)| [(len, q), (len, (q + 1) % km)])
             .filter(|&(_, q)| interior(q))
-            .collect();
-        candidates.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-        match candidates
-            .into_iter()
-            .find(|&(_, q)| removable(&kept, q, &pts, cyc, max_dev, rules))
-        {
-            Some((_, q)) => {
-                kept.remove(q);
-            }
-            None => break,
-        }
-    }
+            .collect()
+    });
     kept
 }
 

@@ -598,12 +598,6 @@ pub fn following_the_rock_map(color: &Color) -> Result<Color> {
             .any(|m| m.category == name && m.map == ROCK_MAP && m.source == MapSource::Terrain)
     };
     let names = rock_categories(color);
-    if names.is_empty() {
-        return Err(Error::InvalidInput(format!(
-            "color '{}' has no distribution category to scatter as rocks",
-            color.name
-        )));
-    }
     if names.iter().all(|n| follows(color, n)) {
         return Ok(color.clone());
     }

@@ -218,16 +218,19 @@ fn major_arc(net: &WaterfallNetwork, n: usize) -> Option<usize> {
         })
 }
 
+/// Whether `p` lies under the four mesh triangles between two ribbon rows (left bank, axis, right bank).
+fn under_quad(p: DVec2, a: &[DVec3; 3], b: &[DVec3; 3]) -> bool {
+    let [l0, c0, r0] = a.map(|v| v.truncate());
+    let [l1, c1, r1] = b.map(|v| v.truncate());
+    in_triangle(p, l0, l1, c0)
+        || in_triangle(p, c0, l1, c1)
+        || in_triangle(p, c0, c1, r0)
+        || in_triangle(p, r0, c1, r1)
+}
+
 /// Whether `p` lies under one of a ribbon's triangles.
 fn under_ribbon(rows: &[[DVec3; 3]], p: DVec2) -> bool {
-    rows.windows(2).any(|w| {
-        let [l0, c0, r0] = w[0].map(|v| v.truncate());
-        let [l1, c1, r1] = w[1].map(|v| v.truncate());
-        in_triangle(p, l0, l1, c0)
-            || in_triangle(p, c0, l1, c1)
-            || in_triangle(p, c0, c1, r0)
-            || in_triangle(p, r0, c1, r1)
-    })
+    rows.windows(2).any(|w| under_quad(p, &w[0], &w[1]))
 }
 
 /// The rows of contact arc `a`'s ribbon that are drawn: where it joins an arc carrying more water, its rows whose
@@ -589,16 +592,12 @@ pub fn footprint(
             _ => Vec::new(),
         })
         .collect();
-    // (free-fall, water: arc or pool, hits)
-    let hits: Vec<(bool, usize, Hits)> = jobs
+    // (free-fall, hits)
+    let hits: Vec<(bool, Hits)> = jobs
         .par_iter()
         .map(|&(is_pool, a, s)| {
             if is_pool {
-                return (
-                    false,
-                    graph.arcs.len() + a,
-                    pool_hits(terrain, &mesh.pools[a], margin),
-                );
+                return (false, pool_hits(terrain, &mesh.pools[a], margin));
             }
             let arc = &graph.arcs[a];
             let seg = &net.segments[s];
@@ -620,7 +619,7 @@ pub fn footprint(
                 let hit = hits_of_fall(terrain, p0, p1, hw, |inside, t| {
                     node(WaterPart::FreeFall, hw, inside, t)
                 });
-                return (true, a, hit);
+                return (true, hit);
             }
             let ends = (
                 ribbon_end(net, arc.from, true),
@@ -634,13 +633,13 @@ pub fn footprint(
                 ends,
                 |hw, inside, t| node(WaterPart::Contact, hw, inside, t),
             );
-            (false, a, hit)
+            (false, hit)
         })
         .collect();
     let mut nodes: Vec<Option<FootprintNode>> = vec![None; terrain.nx * terrain.ny];
     // every water element whose bank band holds a node holds it up to its level
     let mut banks = vec![f64::NEG_INFINITY; nodes.len()];
-    for (_, _, list) in hits.iter().filter(|(fall, ..)| !fall) {
+    for (_, list) in hits.iter().filter(|(fall, _)| !fall) {
         for (k, h) in list {
             if h.inside <= 0.0 {
                 banks[*k] = banks[*k].max(h.surface);
@@ -656,7 +655,7 @@ pub fn footprint(
             n.bank_level = bank;
         }
     }
-    for (_, _, list) in hits.iter().filter(|(fall, ..)| *fall) {
+    for (_, list) in hits.iter().filter(|(fall, _)| *fall) {
         for (k, h) in list {
             if !nodes[*k].is_some_and(|n| n.inside > 0.0) {
                 nodes[*k] = Some(*h);
@@ -716,17 +715,17 @@ fn in_triangle(p: DVec2, a: DVec2, b: DVec2, c: DVec2) -> bool {
 /// the position along the quad.
 fn hits_of_quad(
     t: &Heightfield,
-    rows: &[[DVec3; 3]],
+    ribbon: &[[DVec3; 3]],
     k: usize,
     margin: f64,
     ends: (RibbonEnd, RibbonEnd),
     make: impl Fn(f64, f64, f64) -> FootprintNode,
 ) -> Hits {
-    if k + 1 >= rows.len() {
+    if k + 1 >= ribbon.len() {
         return Vec::new();
     }
-    let last = rows.len() - 2;
-    let plan = |j: usize, c: usize| rows[j][c].truncate();
+    let last = ribbon.len() - 2;
+    let plan = |j: usize, c: usize| ribbon[j][c].truncate();
     let (l0, c0, r0) = (plan(k, 0), plan(k, 1), plan(k, 2));
     let (l1, c1, r1) = (plan(k + 1, 0), plan(k + 1, 1), plan(k + 1, 2));
     let (hw0, hw1) = (l0.distance(c0), l1.distance(c1));
@@ -766,11 +765,7 @@ fn hits_of_quad(
             };
             let tt = raw.clamp(0.0, 1.0);
             let hw = hw0 + tt * (hw1 - hw0);
-            // the mesh's four triangles
-            let under = in_triangle(p, l0, l1, c0)
-                || in_triangle(p, c0, l1, c1)
-                || in_triangle(p, c0, c1, r0)
-                || in_triangle(p, r0, c1, r1);
+            let under = under_quad(p, &ribbon[k], &ribbon[k + 1]);
             // under the quad the nearest bank may be a neighbour's; outside it the quad's own is what it banks
             let bank = |edges: &[(DVec2, DVec2)]| {
                 edges
