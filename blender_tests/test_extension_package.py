@@ -1,11 +1,18 @@
 """The packaged extension (``make extension``) installs into a clean Blender, with the engine wheel bundled inside it,
-and paints: what a user gets from Install from Disk."""
+and paints: what a user gets from Install from Disk, on every Blender the suite runs on. Its wheel installs on every
+Linux distribution Blender supports (glibc 2.28 and later)."""
 
+import io
 import json
 import os
 import pathlib
+import re
 import subprocess
 import sys
+import tomllib
+import zipfile
+
+import pytest
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 
@@ -32,15 +39,38 @@ print("RESULT " + json.dumps(result))
 """
 
 
-def test_the_extension_zip_installs_into_a_clean_blender_and_paints(tmp_path):
-    build = subprocess.run(["make", "extension"], cwd=ROOT, capture_output=True,
-                           text=True)
+OLDEST_GLIBC = (2, 28)  # Blender's own Linux baseline
+
+
+@pytest.fixture(scope="module")
+def extension_zip():
+    build = subprocess.run(["make", "extension"], cwd=ROOT, capture_output=True, text=True)
     assert build.returncode == 0, build.stdout[-2000:] + build.stderr[-2000:]
     zips = sorted((ROOT / "dist").glob("worldpaint-*-linux-x64.zip"))
     assert zips, "make extension wrote no zip"
+    return zips[-1]
 
+
+def test_the_bundled_wheel_needs_no_newer_glibc_than_blender_itself(extension_zip):
+    with zipfile.ZipFile(extension_zip) as archive:
+        manifest = tomllib.loads(archive.read("blender_manifest.toml").decode())
+        wheels = [n for n in archive.namelist() if n.startswith("wheels/") and n.endswith(".whl")]
+        assert [f"./{n}" for n in wheels] == manifest["wheels"]
+        assert manifest["platforms"] == ["linux-x64"] and manifest["blender_version_min"] == "4.5.0"
+        (wheel,) = wheels
+        tag = re.search(r"-manylinux_(\d+)_(\d+)_x86_64\.whl$", wheel)
+        assert tag and (int(tag[1]), int(tag[2])) <= OLDEST_GLIBC, f"{wheel} is tagged for a newer glibc"
+        with zipfile.ZipFile(io.BytesIO(archive.read(wheel))) as inner:
+            (library,) = [n for n in inner.namelist() if n.endswith(".so")]
+            binary = inner.read(library)
+    # the symbol versions the engine's library asks of the C library, whatever its tag says
+    needed = {tuple(map(int, m)) for m in re.findall(rb"GLIBC_(\d+)\.(\d+)", binary)}
+    assert needed and max(needed) <= OLDEST_GLIBC, f"the engine needs glibc {max(needed)}"
+
+
+def test_the_extension_zip_installs_into_a_clean_blender_and_paints(tmp_path, extension_zip):
     env = dict(os.environ, BLENDER_USER_RESOURCES=str(tmp_path / "user"))
-    run = subprocess.run([sys.executable, "-c", INSTALL_AND_PAINT, str(zips[-1]), str(ROOT / "assets")], env=env,
+    run = subprocess.run([sys.executable, "-c", INSTALL_AND_PAINT, str(extension_zip), str(ROOT / "assets")], env=env,
                          capture_output=True, text=True, timeout=600)
     lines = [line for line in run.stdout.splitlines() if line.startswith("RESULT ")]
     assert lines, run.stdout[-2000:] + run.stderr[-2000:]

@@ -18,6 +18,7 @@ from dataclasses import dataclass, field
 import bpy
 import numpy as np
 
+from . import compat
 from .engine import engine
 from .instances import FILL_TAG, STRUCTURE_TAG, is_worldpaint_object
 from .points import node_adder, nodes_modifier, remove_object, terrain_ray, worldpaint_collection
@@ -274,14 +275,6 @@ def write_fill(scene, curve_obj, category, contours, heightfield):
 
 # --- the ribbon of roads and rivers -------------------------------------------------------------------------------
 
-def set_enum(node, name, value):
-    """Sets a node's mode, a property in older Blender versions and a menu input in newer ones."""
-    if hasattr(node, name.lower()):
-        setattr(node, name.lower(), value)
-    else:
-        node.inputs[name].default_value = value
-
-
 def profile_node_group():
     """The shared profile group: resampled curve, Z-up normals, a line profile of the width, draped on the terrain,
     and sunk by the depth in the middle (a river's bed: ``depth · (1 − (2d/w)²)`` at a distance d from the axis)."""
@@ -299,10 +292,10 @@ def profile_node_group():
     links, node = group.links, node_adder(group)
     group_in, group_out = node('NodeGroupInput', -900, 0), node('NodeGroupOutput', 900, 0)
     resample = node('GeometryNodeResampleCurve', -650, 100)
-    set_enum(resample, "Mode", 'LENGTH')
+    compat.set_node_mode(resample, 'LENGTH', "Length")
     resample.inputs["Length"].default_value = PROFILE_STEP
     normal = node('GeometryNodeSetCurveNormal', -450, 100)
-    set_enum(normal, "Mode", 'Z_UP')
+    compat.set_node_mode(normal, 'Z_UP', "Z Up")
     half = node('ShaderNodeMath', -650, -200)
     half.operation, half.inputs[1].default_value = 'MULTIPLY', 0.5
     minus_half = node('ShaderNodeMath', -650, -350)
@@ -310,7 +303,7 @@ def profile_node_group():
     start, end = node('ShaderNodeCombineXYZ', -450, -350), node('ShaderNodeCombineXYZ', -450, -200)
     line = node('GeometryNodeCurvePrimitiveLine', -250, -250)
     profile = node('GeometryNodeResampleCurve', -50, -250)
-    set_enum(profile, "Mode", 'COUNT')
+    compat.set_node_mode(profile, 'COUNT', "Count")
     profile.inputs["Count"].default_value = 5
     to_mesh = node('GeometryNodeCurveToMesh', 150, 0)
 
@@ -381,11 +374,9 @@ def profile_node_group():
 def set_profile(obj, width, depth, terrain_obj):
     """Gives a synthesized graph curve the ribbon modifier with the category's width and depth, draped on
     ``terrain_obj``."""
-    group = profile_node_group()
-    mod = nodes_modifier(obj, PROFILE_MODIFIER, group)
-    inputs = group.interface.items_tree
-    mod[inputs["Width"].identifier] = float(width)
-    mod[inputs["Depth"].identifier] = float(depth)
+    mod = nodes_modifier(obj, PROFILE_MODIFIER, profile_node_group())
+    compat.set_modifier_input(mod, "Width", float(width))
+    compat.set_modifier_input(mod, "Depth", float(depth))
     if terrain_obj is not None:
-        mod[inputs["Terrain"].identifier] = terrain_obj
+        compat.set_modifier_input(mod, "Terrain", terrain_obj)
     obj.update_tag()

@@ -12,7 +12,7 @@ All writes use foreach_set.
 import bpy
 import numpy as np
 
-from . import WorldPaintError
+from . import WorldPaintError, compat
 from .instances import POINTS_TAG, PROTOTYPE_TAG, example_objects, point_cloud_arrays
 
 COLLECTION_NAME = "WorldPaint"
@@ -116,22 +116,18 @@ def nodes_modifier(obj, name, group):
 
 def set_instancer(obj, collection=None, terrain=None):
     """Gives a point cloud the instancer modifier; sets its Collection and Terrain inputs when given."""
-    group = instancer_node_group()
-    mod = nodes_modifier(obj, MODIFIER_NAME, group)
-    inputs = group.interface.items_tree
+    mod = nodes_modifier(obj, MODIFIER_NAME, instancer_node_group())
     if collection is not None:
-        mod[inputs["Collection"].identifier] = collection
+        compat.set_modifier_input(mod, "Collection", collection)
     if terrain is not None:
-        mod[inputs["Terrain"].identifier] = terrain
+        compat.set_modifier_input(mod, "Terrain", terrain)
     obj.update_tag()
 
 
 def instancer_collection(obj):
     """The Collection input of a point cloud's instancer, or None."""
     mod = obj.modifiers.get(MODIFIER_NAME)
-    if mod is None or mod.node_group is None or "Collection" not in mod.node_group.interface.items_tree:
-        return None
-    return mod.get(mod.node_group.interface.items_tree["Collection"].identifier)
+    return None if mod is None else compat.modifier_input(mod, "Collection")
 
 
 # --- prototype collections ----------------------------------------------------------------------------------------

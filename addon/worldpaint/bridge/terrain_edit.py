@@ -13,7 +13,7 @@ import bmesh
 import bpy
 import numpy as np
 
-from . import WorldPaintError, village
+from . import WorldPaintError, compat, village
 from .instances import point_cloud_arrays, point_cloud_objects
 from .points import point_cloud_object, prototype_collection, set_instancer, worldpaint_collection, write_points
 
@@ -219,9 +219,8 @@ def water_material():
     material = bpy.data.materials.get("WorldPaint Water")
     if material is not None:
         return material
-    material = bpy.data.materials.new("WorldPaint Water")
+    material = compat.node_material("WorldPaint Water")
     material.diffuse_color = (0.15, 0.35, 0.55, 1.0)
-    material.use_nodes = True
     nodes, links = material.node_tree.nodes, material.node_tree.links
     bsdf = nodes.get("Principled BSDF")
     foam = nodes.new("ShaderNodeAttribute")

@@ -9,6 +9,7 @@ from mathutils import Vector
 
 CIRCLE_SEGMENTS = 48
 CURSOR_COLOR = (1.0, 1.0, 1.0, 0.9)
+CURSOR_WIDTH = 2.0  # pixels
 
 
 def mouse_ray(context, coord):
@@ -62,13 +63,19 @@ def draw_brush_circle(context, terrain_obj, xy, radius):
         q = view3d_utils.location_3d_to_region_2d(region, context.region_data, p)
         if q is not None:
             pixels.append((q.x, q.y))
+    draw_line_loop(pixels, (region.width, region.height), CURSOR_COLOR, CURSOR_WIDTH)
+
+
+def draw_line_loop(pixels, viewport_size, color, width):
+    """Draws a closed line through region pixels, ``width`` pixels wide. The polyline shader draws wide lines on
+    every GPU backend (OpenGL, Metal, Vulkan), where a line width set on the GPU state works on OpenGL alone."""
     if len(pixels) < 3:
         return
-    shader = gpu.shader.from_builtin('UNIFORM_COLOR')
-    batch = batch_for_shader(shader, 'LINE_LOOP', {"pos": pixels})
+    shader = gpu.shader.from_builtin('POLYLINE_UNIFORM_COLOR')
+    batch = batch_for_shader(shader, 'LINE_LOOP', {"pos": [(x, y, 0.0) for x, y in pixels]})
     gpu.state.blend_set('ALPHA')
-    gpu.state.line_width_set(2.0)
-    shader.uniform_float("color", CURSOR_COLOR)
+    shader.uniform_float("viewportSize", viewport_size)
+    shader.uniform_float("lineWidth", width)
+    shader.uniform_float("color", color)
     batch.draw(shader)
-    gpu.state.line_width_set(1.0)
     gpu.state.blend_set('NONE')

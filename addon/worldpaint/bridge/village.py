@@ -28,7 +28,7 @@ import bpy
 import numpy as np
 from mathutils import Vector, geometry
 
-from . import WorldPaintError, curves, regions
+from . import WorldPaintError, compat, curves, regions
 from .engine import engine
 from .points import worldpaint_collection
 
@@ -336,9 +336,8 @@ def shared_material(name, rgba):
     """The material of that name (made once, with the colour in the viewport and in the shader)."""
     material = bpy.data.materials.get(name)
     if material is None:
-        material = bpy.data.materials.new(name)
+        material = compat.node_material(name)
         material.diffuse_color = rgba
-        material.use_nodes = True
         shader = material.node_tree.nodes.get("Principled BSDF")
         if shader is not None:
             shader.inputs["Base Color"].default_value = rgba

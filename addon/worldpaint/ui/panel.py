@@ -53,7 +53,7 @@ class WORLDPAINT_PT_palette(SidebarPanel, bpy.types.Panel):
         box = layout.box()
         box.prop_search(settings, "gradient_end", settings, "palette", text="Blend With")
         row = box.row(align=True)
-        row.operator("worldpaint.interpolate_colors", text="Interpolate", icon='NODE_MIXRGB')
+        row.operator("worldpaint.interpolate_colors", text="Interpolate", icon='IPO_EASE_IN_OUT')
         row.operator("worldpaint.gradient", text="Gradient", icon='IPO_LINEAR')
 
 
