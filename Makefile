@@ -27,13 +27,16 @@ WHEEL_DIR := build/wheels
 
 .PHONY: venv venvs wheel engine test test-rust test-blender lint demo bench extension clean
 
+# The 4.5 venv also builds the wheel (maturin, zig) and lints.
+BUILD_TOOLS := "maturin>=1.5,<2" ziglang ruff
+
 # One Blender's environment: bpy and pytest (the engine wheel is installed into it by test-blender).
 define blender_venv
 $(call venv_of,$(1))/.installed:
 	@test -n "$(call python_of,$(1))" || { echo "No Python for bpy $(1): put it on PATH or under pyenv"; exit 1; }
 	$(call python_of,$(1)) -m venv $(call venv_of,$(1))
 	$(call venv_of,$(1))/bin/python -m pip install --quiet --upgrade pip
-	$(call venv_of,$(1))/bin/python -m pip install --quiet "bpy==$(1).*" pytest pyyaml $(if $(filter 4.5,$(1)),"maturin>=1.5,<2" ziglang ruff)
+	$(call venv_of,$(1))/bin/python -m pip install --quiet "bpy==$(1).*" pytest pyyaml $(if $(filter 4.5,$(1)),$(BUILD_TOOLS))
 	touch $$@
 endef
 $(foreach b,$(BLENDERS),$(eval $(call blender_venv,$(b))))
