@@ -20,20 +20,25 @@ def nothing():
     return engine.Scene(None, CATEGORIES, np.zeros((0, 2)), np.zeros(0, np.int32))
 
 
-def test_engine_errors_are_value_errors_with_the_engine_message():
-    assert issubclass(engine.EngineError, ValueError)
-    with pytest.raises(engine.EngineError, match="region is empty or degenerate"):
+def test_engine_errors_form_one_hierarchy_and_carry_the_engine_message():
+    for name in ("InputError", "PaletteFileError", "NothingToLearn", "Cancelled", "InternalError"):
+        assert issubclass(getattr(engine, name), engine.WorldPaintError), name
+    assert issubclass(engine.InputError, ValueError) and not issubclass(engine.Cancelled, ValueError)
+    assert all(issubclass(c, engine.InputError) for c in (engine.PaletteFileError, engine.NothingToLearn))
+    with pytest.raises(engine.InputError, match="region is empty or degenerate"):
         engine.region_area({"shape": "rect", "min": [0, 0], "max": [0, 5]})
-    with pytest.raises(engine.EngineError, match="unknown region shape 'hexagon'"):
+    with pytest.raises(engine.InputError, match="unknown region shape 'hexagon'"):
         engine.region_area({"shape": "hexagon"})
-    with pytest.raises(engine.EngineError, match="missing the key 'radius'"):
+    with pytest.raises(engine.InputError, match="missing the key 'radius'"):
         engine.region_area({"shape": "circle", "center": [0, 0]})
-    with pytest.raises(engine.EngineError, match=r"shape \(N, 3\)"):
+    with pytest.raises(engine.InputError, match=r"shape \(N, 3\)"):
         engine.Terrain(np.zeros((4, 2)), np.zeros((1, 3), np.uint32))
-    with pytest.raises(engine.EngineError, match="category index 3"):
+    with pytest.raises(engine.InputError, match="category index 3"):
         engine.Scene(None, CATEGORIES, np.zeros((1, 2)), np.array([3], np.int32))
-    with pytest.raises(engine.EngineError, match="version 99"):
+    with pytest.raises(engine.PaletteFileError, match="version 99"):
         engine.palette_from_json(json.dumps({"format": "worldpaint-palette", "version": 99, "colors": []}))
+    with pytest.raises(engine.NothingToLearn):
+        engine.learn_color(nothing(), SQUARE, "empty")
 
 
 def test_terrain_from_a_mesh_samples_heights_and_maps():
@@ -47,7 +52,7 @@ def test_terrain_from_a_mesh_samples_heights_and_maps():
     assert z[0] == pytest.approx(1.25) and np.isnan(z[1])
     slope = terrain.map_at("slope", np.array([[5.0, 5.0]]))
     assert slope[0] == pytest.approx(np.arctan(0.5), abs=1e-3)
-    with pytest.raises(engine.EngineError, match="no map 'rainfall'"):
+    with pytest.raises(engine.InputError, match="no map 'rainfall'"):
         terrain.map_at("rainfall", np.zeros((1, 2)))
 
 

@@ -234,7 +234,7 @@ def test_a_rock_color_that_is_not_a_color_is_an_engine_error():
     cliff_scene()
     import worldpaint_engine as engine
 
-    with pytest.raises(engine.EngineError, match="rock_color is not a color"):
+    with pytest.raises(engine.InputError, match="rock_color is not a color"):
         engine_waterfall(np.zeros((0, 2)), rock_color="{not json")
     bpy.context.scene.worldpaint.palette.add().name = "Broken"
     bpy.context.scene.worldpaint.terrain_edit.rock_color = "Broken"

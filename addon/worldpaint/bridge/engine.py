@@ -12,7 +12,10 @@ def engine():
     return worldpaint_engine
 
 
-def engine_errors():
-    """Exception types the engine raises for bad input or cancellation."""
-    eng = engine()
-    return (eng.EngineError, eng.Cancelled)
+def engine_error():
+    """The base class of every exception the engine raises (``Cancelled``, ``InputError`` and the rest)."""
+    return engine().WorldPaintError
+
+
+def is_cancelled(exc):
+    return isinstance(exc, engine().Cancelled)

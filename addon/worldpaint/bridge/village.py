@@ -89,7 +89,7 @@ def load_encyclopedia(path=""):
     text = read_text(path, "encyclopedia")
     try:
         village_types, buildings = eng.encyclopedia_contents(text)
-    except eng.EngineError as exc:
+    except eng.WorldPaintError as exc:
         raise WorldPaintError(f"'{path}' is not a usable building encyclopedia: {exc}") from exc
     return Encyclopedia(text, list(village_types), list(buildings))
 

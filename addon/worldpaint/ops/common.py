@@ -3,7 +3,7 @@
 from bpy.props import EnumProperty, FloatProperty, FloatVectorProperty, IntProperty, StringProperty
 
 from ..bridge import WorldPaintError, curves, edits, instances, regions, terrain
-from ..bridge.engine import engine, engine_errors
+from ..bridge.engine import engine, engine_error, is_cancelled
 from ..props import REGION_MODES
 
 OPERATOR_REGION_MODES = (
@@ -80,8 +80,8 @@ def report_errors(operator, action):
     except WorldPaintError as exc:
         operator.report({'ERROR'}, str(exc))
         return {'CANCELLED'}
-    except engine_errors() as exc:
-        if type(exc).__name__ == "Cancelled":
+    except engine_error() as exc:
+        if is_cancelled(exc):
             operator.report({'WARNING'}, "Cancelled; the scene is unchanged")
         else:
             operator.report({'ERROR'}, str(exc))

@@ -65,7 +65,7 @@ class WORLDPAINT_OT_import_palette(bpy.types.Operator, ImportHelper):
             raise WorldPaintError(f"Cannot read the palette file: {exc}") from exc
         try:
             colors = eng.palette_from_json(text)
-        except eng.EngineError as exc:
+        except eng.WorldPaintError as exc:
             raise WorldPaintError(f"'{self.filepath}' is not a usable WorldPaint palette: {exc}") from exc
         summaries = [eng.color_summary(c) for c in colors]
 

@@ -55,12 +55,10 @@ class WORLDPAINT_OT_pipette(TerrainProperty, bpy.types.Operator):
         eng = engine()
         try:
             color_json = content.learn(region, name, maps)
-        except eng.EngineError as exc:
-            if "nothing to learn" in str(exc):
-                raise WorldPaintError(
-                    f"Nothing to pick within {radius:.1f} m of ({self.location[0]:.1f}, {self.location[1]:.1f})"
-                ) from exc
-            raise
+        except eng.NothingToLearn as exc:
+            raise WorldPaintError(
+                f"Nothing to pick within {radius:.1f} m of ({self.location[0]:.1f}, {self.location[1]:.1f})"
+            ) from exc
         add_palette_color(settings, name, color_json)
         self.report({'INFO'}, f"Picked '{name}'")
         return {'FINISHED'}

@@ -189,7 +189,8 @@ fn palette_to_json(colors: Vec<String>) -> PyResult<String> {
     guarded(|| Palette { colors }.to_json())
 }
 
-/// The colors (JSON strings) of a palette file; unknown versions and malformed files raise `EngineError`.
+/// The colors (JSON strings) of a palette file; unknown versions and malformed files raise
+/// `PaletteFileError`.
 #[pyfunction]
 fn palette_from_json(text: &str) -> PyResult<Vec<String>> {
     guarded(|| {

@@ -2,9 +2,10 @@
 //!
 //! Thin by design: numpy arrays and plain Python values are turned into `worldpaint_core` types, the engine runs
 //! with the GIL released, and the results come back as numpy arrays. Colors and palettes cross the boundary as their
-//! versioned JSON. Engine errors become `worldpaint_engine.EngineError` (a `ValueError`) carrying the engine's
-//! message; a cancelled synthesis raises `worldpaint_engine.Cancelled`. No algorithm lives here, and no panic
-//! crosses into Python: an internal failure is reported as an `EngineError` too.
+//! versioned JSON. Every error is a `worldpaint_engine.WorldPaintError`: bad input raises `InputError` (also a
+//! `ValueError`, with `PaletteFileError` for malformed palette files) carrying the engine's message, a cancelled
+//! computation `Cancelled`. No algorithm lives here, and no panic crosses into Python: every call runs under
+//! [`guarded`], which reports a panic as `InternalError`.
 
 mod colors;
 mod convert;
@@ -22,33 +23,113 @@ use std::sync::Mutex;
 
 use pyo3::exceptions::{PyException, PyValueError};
 use pyo3::prelude::*;
+use pyo3::sync::PyOnceLock;
+use pyo3::types::{PyDict, PyTuple, PyType};
 use worldpaint_core::Error;
+
+// ---------------------------------------------------------------------------------------------------------------
+// errors and the FFI guard: WorldPaintError <- InputError (also a ValueError) <- PaletteFileError, NothingToLearn;
+// Cancelled; InternalError
 
 pyo3::create_exception!(
     worldpaint_engine,
-    EngineError,
-    PyValueError,
-    "The engine rejected its input or could not complete; the message says what and where."
+    WorldPaintError,
+    PyException,
+    "Base of every error the engine raises."
 );
 pyo3::create_exception!(
     worldpaint_engine,
     Cancelled,
-    PyException,
-    "A long computation was cancelled by its caller."
+    WorldPaintError,
+    "A long computation was cancelled by its caller; nothing was returned."
+);
+pyo3::create_exception!(
+    worldpaint_engine,
+    InternalError,
+    WorldPaintError,
+    "The engine failed where it should not have (a defect); the message says where."
 );
 
-// ---------------------------------------------------------------------------------------------------------------
-// errors and the FFI guard
+// InputError derives from both WorldPaintError and ValueError, which `create_exception!` cannot express, so the
+// input classes are made once at import by calling `type`.
+static INPUT_ERROR: PyOnceLock<Py<PyType>> = PyOnceLock::new();
+static PALETTE_FILE_ERROR: PyOnceLock<Py<PyType>> = PyOnceLock::new();
+static NOTHING_TO_LEARN: PyOnceLock<Py<PyType>> = PyOnceLock::new();
+
+fn exception_class(
+    py: Python<'_>,
+    name: &str,
+    bases: Bound<'_, PyTuple>,
+    doc: &str,
+) -> PyResult<Py<PyType>> {
+    let namespace = PyDict::new(py);
+    namespace.set_item("__module__", "worldpaint_engine")?;
+    namespace.set_item("__doc__", doc)?;
+    let class = py.get_type::<PyType>().call1((name, bases, namespace))?;
+    Ok(class.cast_into::<PyType>()?.unbind())
+}
+
+/// An exception class made at import, with the name it is exported under.
+type ClassSlot = (&'static str, &'static PyOnceLock<Py<PyType>>);
+
+/// The input error classes, made on first use.
+fn input_classes(py: Python<'_>) -> PyResult<[ClassSlot; 3]> {
+    let input = INPUT_ERROR.get_or_try_init(py, || {
+        let bases = PyTuple::new(py, [py.get_type::<WorldPaintError>(), py.get_type::<PyValueError>()])?;
+        exception_class(
+            py,
+            "InputError",
+            bases,
+            "The engine rejected its input (a region, a terrain, a color, an option); the message says what was wrong \
+             and where.",
+        )
+    })?;
+    let subclass =
+        |name: &str, doc: &str| exception_class(py, name, PyTuple::new(py, [input.bind(py)])?, doc);
+    PALETTE_FILE_ERROR.get_or_try_init(py, || {
+        subclass(
+            "PaletteFileError",
+            "A palette or color file is malformed or of a format version this engine does not read.",
+        )
+    })?;
+    NOTHING_TO_LEARN.get_or_try_init(py, || {
+        subclass(
+            "NothingToLearn",
+            "The region to learn from holds no example content.",
+        )
+    })?;
+    Ok([
+        ("InputError", &INPUT_ERROR),
+        ("PaletteFileError", &PALETTE_FILE_ERROR),
+        ("NothingToLearn", &NOTHING_TO_LEARN),
+    ])
+}
+
+fn raise(class: &PyOnceLock<Py<PyType>>, message: String) -> PyErr {
+    Python::attach(|py| {
+        if let Err(e) = input_classes(py) {
+            return e;
+        }
+        match class.get(py) {
+            Some(c) => PyErr::from_type(c.bind(py).clone(), message),
+            None => PyValueError::new_err(message),
+        }
+    })
+}
 
 pub(crate) fn engine_err(e: Error) -> PyErr {
     match e {
         Error::Cancelled => Cancelled::new_err("cancelled"),
-        other => EngineError::new_err(other.to_string()),
+        Error::UnsupportedVersion { .. } | Error::Json(_) => {
+            raise(&PALETTE_FILE_ERROR, e.to_string())
+        }
+        Error::EmptyExemplar(_) => raise(&NOTHING_TO_LEARN, e.to_string()),
+        other => raise(&INPUT_ERROR, other.to_string()),
     }
 }
 
 pub(crate) fn input_err(msg: impl Into<String>) -> PyErr {
-    EngineError::new_err(format!("invalid input: {}", msg.into()))
+    raise(&INPUT_ERROR, format!("invalid input: {}", msg.into()))
 }
 
 /// Runs engine code so that neither an error nor a panic escapes as anything but a Python exception.
@@ -61,7 +142,7 @@ pub(crate) fn guarded<T>(f: impl FnOnce() -> worldpaint_core::Result<T>) -> PyRe
                 .map(|s| s.to_string())
                 .or_else(|| payload.downcast_ref::<String>().cloned())
                 .unwrap_or_else(|| "unknown panic".to_string());
-            Err(EngineError::new_err(format!(
+            Err(InternalError::new_err(format!(
                 "internal engine error: {what}"
             )))
         }
@@ -137,8 +218,14 @@ fn worldpaint_engine(m: &Bound<'_, PyModule>) -> PyResult<()> {
         "PALETTE_FORMAT_VERSION",
         worldpaint_core::palette::PALETTE_FORMAT_VERSION,
     )?;
-    m.add("EngineError", py.get_type::<EngineError>())?;
+    m.add("WorldPaintError", py.get_type::<WorldPaintError>())?;
+    for (name, class) in input_classes(py)? {
+        if let Some(class) = class.get(py) {
+            m.add(name, class.clone_ref(py))?;
+        }
+    }
     m.add("Cancelled", py.get_type::<Cancelled>())?;
+    m.add("InternalError", py.get_type::<InternalError>())?;
     m.add_class::<terrain::Terrain>()?;
     m.add_class::<scene::PyScene>()?;
     colors::register(m)?;

@@ -1,8 +1,8 @@
 //! Regions: containment, area and bounds for the add-on's checks; polygons filled as a mesh for display.
 
 use crate::convert::{heights_of, points_from_py, points_to_py, region_from_py};
-use crate::input_err;
 use crate::terrain::{terrain_of, Terrain};
+use crate::{guarded, input_err};
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
@@ -19,20 +19,23 @@ fn region_contains<'py>(
 ) -> PyResult<Bound<'py, PyArray1<bool>>> {
     let region = region_from_py(region)?;
     let pts = points_from_py(&xy, "xy")?;
-    let inside: Vec<bool> = py.detach(|| pts.iter().map(|p| region.contains(*p)).collect());
+    let inside: Vec<bool> =
+        py.detach(|| guarded(|| Ok(pts.iter().map(|p| region.contains(*p)).collect())))?;
     Ok(inside.into_pyarray(py))
 }
 
 /// Area of the region in m².
 #[pyfunction]
 fn region_area(region: &Bound<'_, PyAny>) -> PyResult<f64> {
-    Ok(region_from_py(region)?.area())
+    let region = region_from_py(region)?;
+    guarded(|| Ok(region.area()))
 }
 
 /// ((xmin, ymin), (xmax, ymax)) of the region.
 #[pyfunction]
 fn region_bbox(region: &Bound<'_, PyAny>) -> PyResult<((f64, f64), (f64, f64))> {
-    let (a, b) = region_from_py(region)?.bbox();
+    let region = region_from_py(region)?;
+    let (a, b) = guarded(|| Ok(region.bbox()))?;
     Ok(((a.x, a.y), (b.x, b.y)))
 }
 
@@ -58,7 +61,7 @@ fn fill_polygons<'py>(
     if !spacing.is_finite() {
         return Err(input_err("spacing must be a finite number"));
     }
-    let mesh = py.detach(|| triangulate(&Polygons::new(&loops), spacing));
+    let mesh = py.detach(|| guarded(|| Ok(triangulate(&Polygons::new(&loops), spacing))))?;
     let d = PyDict::new(py);
     d.set_item("vertices", points_to_py(py, &mesh.vertices))?;
     let terrain = terrain_of(&terrain);

@@ -72,10 +72,13 @@ impl Terrain {
         let pts = points_from_py(&xy, "xy")?;
         let hf = &self.hf;
         let out: Vec<f64> = py.detach(|| {
-            pts.iter()
-                .map(|p| hf.height_at(*p).unwrap_or(f64::NAN))
-                .collect()
-        });
+            guarded(|| {
+                Ok(pts
+                    .iter()
+                    .map(|p| hf.height_at(*p).unwrap_or(f64::NAN))
+                    .collect())
+            })
+        })?;
         Ok(out.into_pyarray(py))
     }
 
@@ -96,10 +99,13 @@ impl Terrain {
         let pts = points_from_py(&xy, "xy")?;
         let hf = &self.hf;
         let out: Vec<f64> = py.detach(|| {
-            pts.iter()
-                .map(|p| hf.map_at(name, *p).unwrap_or(f64::NAN))
-                .collect()
-        });
+            guarded(|| {
+                Ok(pts
+                    .iter()
+                    .map(|p| hf.map_at(name, *p).unwrap_or(f64::NAN))
+                    .collect())
+            })
+        })?;
         Ok(out.into_pyarray(py))
     }
 
