@@ -59,8 +59,15 @@ lint: venv
 	cargo clippy --workspace --all-targets --release -- -D warnings
 	$(VENV)/bin/ruff check addon blender_tests assets
 
+# The tests that measure against real data are ignored by default (they say why); they run here where the data is.
+REAL_DATA := ../shared/data/real
 test-rust:
 	cargo test -p worldpaint-core --release
+	@if [ -d $(REAL_DATA) ]; then \
+		cargo test -p worldpaint-core --release --test real_forest_painting --test real_village_painting \
+			--test real_village_generation -- --ignored \
+		&& cargo test -p worldpaint-core --release --test village_parcels -- --ignored real_cadastre; \
+	else echo "real-data tests skipped: $(REAL_DATA) is absent (listed as ignored above)"; fi
 
 # The whole bpy suite on every Blender of the matrix; all of them run, then any failure fails the target.
 test-blender: wheel venvs

@@ -14,8 +14,10 @@
 //!
 //! `cargo bench -p worldpaint-core --bench synthesis`
 
-#[path = "../tests/support/forest.rs"]
+#[path = "../tests/common/forest_report.rs"]
 mod forest;
+#[path = "../tests/common/real_data.rs"]
+mod real_data;
 
 use criterion::{Criterion, SamplingMode};
 use rand::{Rng, SeedableRng};
@@ -206,9 +208,12 @@ fn summary(runs: &[Run]) {
     }
     println!();
     println!("== forest report ==");
+    if !forest::data_dir().is_dir() {
+        println!("skipped: {} is absent", forest::data_dir().display());
+        return;
+    }
     match forest::run() {
-        Ok(Some(report)) => println!("{}", report.table()),
-        Ok(None) => {}
+        Ok(report) => println!("{}", report.table()),
         Err(e) => println!("forest report failed: {e}"),
     }
 }

@@ -3,16 +3,21 @@
 //! off the roads and apart except along shared walls — and the shapes the thesis describes: almost quadrilateral
 //! parcels on flat land, parcels stretched along the contour lines on a slope, corner lots, seeds suppressed when
 //! they lose their road front. The parcel statistics of 3.5 are measured on the real cadastre of Épinay-sur-Orge
-//! (read beside the project, skipped when absent) and on a synthetic village.
+//! (read beside the project: `#[ignore]`d with the reason, `make test-rust` runs it where present) and on a
+//! synthetic village.
 //!
 //! Figures seen (cell 1 m, road width 5 m, `--nocapture`): cadastre 4,241 parcels, 3.538 neighbours and 5.415
 //! edges per parcel (10.578 counting every vertex); synthetic village 34 parcels, 2.529 neighbours and 4.206
 //! edges (the thesis: real village 2.812 and 4.068, its model 2.873 and 4.29); 100 parcels on 1 km² in about
 //! 0.25 s on two threads (the ignored timing test).
 
+#[path = "common/real_data.rs"]
+mod real_data;
+
 mod village {
+    use crate::real_data::{real_data_dir, require, Projection};
     use std::f64::consts::PI;
-    use std::path::{Path, PathBuf};
+    use std::path::Path;
     use worldpaint_core::geom::{
         polygon_signed_area, segment_distance, segments_distance, DVec2, Region,
     };
@@ -678,14 +683,6 @@ mod village {
         );
     }
 
-    /// Where the real data lives: `shared/data/real` beside the project, found from this crate upwards.
-    fn real_data(relative: &str) -> Option<PathBuf> {
-        Path::new(env!("CARGO_MANIFEST_DIR"))
-            .ancestors()
-            .map(|a| a.join("shared/data/real").join(relative))
-            .find(|p| p.is_file())
-    }
-
     /// The cadastre's parcels, projected from lon/lat to metres around their centre (equirectangular).
     fn cadastre(path: &Path) -> Result<Vec<Vec<DVec2>>, String> {
         let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
@@ -721,33 +718,25 @@ mod village {
             .iter()
             .flatten()
             .fold((0.0, 0.0), |(a, b), &(x, y)| (a + x, b + y));
-        let (lon0, lat0) = (lon0 / n as f64, lat0 / n as f64);
-        const EARTH_RADIUS: f64 = 6_371_008.8;
-        let k = EARTH_RADIUS * PI / 180.0;
+        let projection = Projection::new([lon0 / n as f64, lat0 / n as f64]);
         Ok(rings
             .into_iter()
             .map(|r| {
                 r.into_iter()
-                    .map(|(x, y)| {
-                        DVec2::new((x - lon0) * k * lat0.to_radians().cos(), (y - lat0) * k)
-                    })
+                    .map(|(x, y)| projection.project([x, y]))
                     .collect()
             })
             .collect())
     }
 
     #[test]
+    #[ignore = "needs shared/data/real (make test-rust runs it where present)"]
     fn village_parcel_statistics_of_a_real_cadastre() {
-        let Some(path) = real_data("parcels/cadastre-91216-parcelles.json") else {
-            println!("skipped: the cadastre shared/data/real/parcels/cadastre-91216-parcelles.json is not beside the project");
-            return;
-        };
+        let path = real_data_dir().join("parcels/cadastre-91216-parcelles.json");
+        require(std::slice::from_ref(&path));
         let polys = match cadastre(&path) {
             Ok(p) => p,
-            Err(e) => {
-                println!("skipped: the cadastre could not be read: {e}");
-                return;
-            }
+            Err(e) => panic!("the cadastre could not be read: {e}"),
         };
         let stats = parcel_statistics(&polys, 1.0);
         let raw = parcel_statistics_with(&polys, 1.0, 0.0);

@@ -10,6 +10,7 @@
 //! and the eastern half lies partly outside the western half's range, where the learned preference would be
 //! zero; slope uses fixed 2.5° bins and transfers between the halves.
 
+use crate::real_data::{real_data_dir, require};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 use worldpaint_core::exemplar;
@@ -19,9 +20,9 @@ use worldpaint_core::{
     Region, Scene, SynthesisOptions,
 };
 
-/// Where the forest data lives, relative to this crate.
+/// Where the forest data lives.
 pub fn data_dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/real/forest")
+    real_data_dir().join("forest")
 }
 
 const TREES_FILE: &str = "luquillo_tree6_1ha.csv";
@@ -198,19 +199,17 @@ pub struct ForestData {
     pub terrain: Heightfield,
 }
 
-/// Loads the forest data; `Ok(None)` when the data folder is absent.
-pub fn load(dir: &Path) -> Result<Option<ForestData>, String> {
+/// Loads the forest data (panics with the reason when it is absent).
+pub fn load(dir: &Path) -> Result<ForestData, String> {
     let (trees_path, elev_path) = (dir.join(TREES_FILE), dir.join(ELEVATION_FILE));
-    if !trees_path.is_file() || !elev_path.is_file() {
-        return Ok(None);
-    }
+    require(&[trees_path.clone(), elev_path.clone()]);
     let (trees, unreadable) = read_trees(&trees_path)?;
     let terrain = read_elevation(&elev_path)?;
-    Ok(Some(ForestData {
+    Ok(ForestData {
         trees,
         unreadable,
         terrain,
-    }))
+    })
 }
 
 /// One line of the report: a candidate arrangement of the eastern half against a reference.
@@ -410,17 +409,7 @@ impl ForestReport {
     }
 }
 
-/// Loads the data and runs the report; `Ok(None)` (after printing why) when the data is absent.
-pub fn run() -> Result<Option<ForestReport>, String> {
-    let dir = data_dir();
-    match load(&dir)? {
-        None => {
-            println!(
-                "forest report skipped: Luquillo data not found at {} (expected {TREES_FILE} and {ELEVATION_FILE})",
-                dir.display()
-            );
-            Ok(None)
-        }
-        Some(data) => report(&data).map(Some),
-    }
+/// Loads the data and runs the report.
+pub fn run() -> Result<ForestReport, String> {
+    report(&load(&data_dir())?)
 }

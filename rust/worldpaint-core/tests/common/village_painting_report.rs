@@ -20,6 +20,7 @@
 //!   bins: the natural variation between two real villages.
 
 use crate::geojson::{geometry, read_features};
+use crate::real_data::{real_data_dir, require, Projection};
 use crate::squares::squares_by_count;
 use serde_json::Value;
 use std::path::{Path, PathBuf};
@@ -33,9 +34,9 @@ use worldpaint_core::{
     Scene, SynthesisOptions,
 };
 
-/// Where the village data lives, relative to this crate.
+/// Where the village data lives.
 pub fn data_dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/real/villages")
+    real_data_dir().join("villages")
 }
 
 const ROADS_FILE: &str = "north_bayreuth_roads.geojson";
@@ -50,8 +51,6 @@ const NOT_ROADS: [&str; 6] = [
     "pedestrian",
     "bridleway",
 ];
-/// Mean Earth radius (m).
-const EARTH_RADIUS: f64 = 6_371_008.8;
 /// Side of the exemplar square (m).
 pub const SIDE: f64 = 1000.0;
 /// Step of the grid of candidate squares (m).
@@ -100,11 +99,9 @@ fn centroid(rings: &[Vec<DVec2>]) -> DVec2 {
 }
 
 /// Loads the two layers; `Ok(None)` when a file is absent, `Err` when one cannot be read.
-fn load(dir: &Path) -> Result<Option<Layers>, String> {
+fn load(dir: &Path) -> Result<Layers, String> {
     let (roads_path, buildings_path) = (dir.join(ROADS_FILE), dir.join(BUILDINGS_FILE));
-    if !roads_path.is_file() || !buildings_path.is_file() {
-        return Ok(None);
-    }
+    require(&[roads_path.clone(), buildings_path.clone()]);
     let mut unreadable = 0usize;
     let mut not_roads = 0usize;
     let mut roads_ll: Vec<Vec<[f64; 2]>> = Vec::new();
@@ -143,12 +140,8 @@ fn load(dir: &Path) -> Result<Option<Layers>, String> {
         },
     );
     let centre = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])];
-    let metres_per_degree = EARTH_RADIUS.to_radians();
-    let scale = DVec2::new(
-        metres_per_degree * centre[1].to_radians().cos(),
-        metres_per_degree,
-    );
-    let project = |p: &[f64; 2]| DVec2::new(p[0] - centre[0], p[1] - centre[1]) * scale;
+    let projection = Projection::new(centre);
+    let project = |p: &[f64; 2]| projection.project(*p);
     let roads: Vec<Vec<DVec2>> = roads_ll
         .iter()
         .map(|l| l.iter().map(project).collect())
@@ -167,14 +160,14 @@ fn load(dir: &Path) -> Result<Option<Layers>, String> {
         (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
         |(lo, hi), p| (lo.min(*p), hi.max(*p)),
     );
-    Ok(Some(Layers {
+    Ok(Layers {
         roads,
         houses,
         not_roads,
         unreadable,
         bbox,
         centre,
-    }))
+    })
 }
 
 fn square(min: DVec2, side: f64) -> Region {
@@ -569,11 +562,7 @@ fn report(
     };
 
     let centre = rect_min(&exemplar) + DVec2::splat(0.5 * SIDE);
-    let metres_per_degree = EARTH_RADIUS.to_radians();
-    let exemplar_lon_lat = [
-        layers.centre[0] + centre.x / (metres_per_degree * layers.centre[1].to_radians().cos()),
-        layers.centre[1] + centre.y / metres_per_degree,
-    ];
+    let exemplar_lon_lat = Projection::new(layers.centre).unproject(centre);
     Ok(VillageReport {
         centre: layers.centre,
         roads: layers.roads.len(),
@@ -714,31 +703,12 @@ impl VillageReport {
     }
 }
 
-/// Loads the data and runs the report; `Ok(None)` (after printing why) when the data is absent or unreadable.
-pub fn run(seed: u64) -> Result<Option<VillageReport>, String> {
+/// Loads the data and runs the report.
+pub fn run(seed: u64) -> Result<VillageReport, String> {
     let dir = data_dir();
-    let unusable = |e: String| {
-        println!(
-            "real-village report skipped: the data at {} is unusable: {e}",
-            dir.display()
-        );
-        Ok(None)
-    };
-    let layers = match load(&dir) {
-        Ok(Some(layers)) => layers,
-        Ok(None) => {
-            println!(
-                "real-village report skipped: OpenStreetMap data not found at {} (expected {ROADS_FILE} and \
-                 {BUILDINGS_FILE})",
-                dir.display()
-            );
-            return Ok(None);
-        }
-        Err(e) => return unusable(e),
-    };
-    let (exemplar, second) = match villages(&layers) {
-        Ok(squares) => squares,
-        Err(e) => return unusable(e),
-    };
-    report(&layers, exemplar, second, seed).map(Some)
+    let layers =
+        load(&dir).map_err(|e| format!("the data at {} is unusable: {e}", dir.display()))?;
+    let (exemplar, second) =
+        villages(&layers).map_err(|e| format!("the data at {} is unusable: {e}", dir.display()))?;
+    report(&layers, exemplar, second, seed)
 }

@@ -1,7 +1,7 @@
-//! Real villages and real land, for `tests/village_real.rs` (included with `#[path]`).
+//! Real villages and real land, for `tests/real_village_generation.rs` (included with `#[path]`).
 //!
 //! Everything here is read from `shared/data/real` beside the project (see its README) and never copied into the
-//! repository; every loader returns `Ok(None)` when a file is absent, so the report skips instead of failing.
+//! repository; a loader panics with the reason when a file is absent (the tests that use it are `#[ignore]`d).
 //!
 //! * **Terrain.** `terrain/<place>_srtm3.asc`: SRTM 3″ elevations as an ESRI ASCII grid (lon/lat of the lower-left
 //!   corner and the cell size in degrees, first data row at the northern edge, -32768 = no data). No-data cells
@@ -50,10 +50,10 @@
 //!   reads the slope's grade, so real road grades in Andorra read far steeper than the roads are.
 
 use crate::geojson::{geometry, read_features};
+use crate::real_data::{real_data_dir, require, Projection};
 use crate::squares::squares_by_count;
 use serde_json::Value;
 use std::collections::{HashMap, VecDeque};
-use std::path::{Path, PathBuf};
 use worldpaint_core::geom::{polygon_contains, polygon_signed_area, DVec2};
 use worldpaint_core::village::metrics::{
     layout_statistics, mean_elevation_percentile, road_grades, road_length, LayoutStatistics,
@@ -61,13 +61,6 @@ use worldpaint_core::village::metrics::{
 use worldpaint_core::village::{Environment, Land, Road};
 use worldpaint_core::{Heightfield, Region};
 
-/// The real data folder, relative to this crate.
-pub fn data_dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/real")
-}
-
-/// Mean Earth radius (m).
-const EARTH_RADIUS: f64 = 6_371_008.8;
 /// Cell (m) of the metre heightfield resampled from the SRTM grid.
 pub const TERRAIN_CELL: f64 = 15.0;
 /// Length (m) of the road pieces whose grade is measured.
@@ -130,40 +123,6 @@ pub const ANDORRA: PlaceSpec = PlaceSpec {
     stem: "andorra",
     label: "Andorra (Pyrenees)",
 };
-
-/// Equirectangular projection about a centre (lon, lat in degrees) to metres east and north.
-#[derive(Clone, Copy, Debug)]
-pub struct Projection {
-    pub centre: [f64; 2],
-    scale: DVec2,
-}
-
-impl Projection {
-    pub fn new(centre: [f64; 2]) -> Projection {
-        let metres_per_degree = EARTH_RADIUS.to_radians();
-        Projection {
-            centre,
-            scale: DVec2::new(
-                metres_per_degree * centre[1].to_radians().cos(),
-                metres_per_degree,
-            ),
-        }
-    }
-
-    pub fn project(&self, lon_lat: [f64; 2]) -> DVec2 {
-        DVec2::new(lon_lat[0] - self.centre[0], lon_lat[1] - self.centre[1]) * self.scale
-    }
-
-    pub fn unproject(&self, p: DVec2) -> [f64; 2] {
-        let d = p / self.scale;
-        [self.centre[0] + d.x, self.centre[1] + d.y]
-    }
-
-    /// Metres per degree east and north.
-    pub fn scale(&self) -> DVec2 {
-        self.scale
-    }
-}
 
 // ---------------------------------------------------------------------------------------------------------------
 // Terrain
@@ -412,9 +371,9 @@ pub struct Place {
     pub unreadable: usize,
 }
 
-/// Loads a place; `Ok(None)` when one of its files is absent, `Err` when one cannot be read.
-pub fn load_place(spec: PlaceSpec) -> Result<Option<Place>, String> {
-    let dir = data_dir();
+/// Loads a place; `Err` when one of its files cannot be read.
+pub fn load_place(spec: PlaceSpec) -> Result<Place, String> {
+    let dir = real_data_dir();
     let terrain_path = dir.join(format!("terrain/{}_srtm3.asc", spec.stem));
     let layer = |name: &str| dir.join(format!("villages/{}_{name}.geojson", spec.stem));
     let paths = [
@@ -424,15 +383,7 @@ pub fn load_place(spec: PlaceSpec) -> Result<Option<Place>, String> {
         layer("areas"),
         layer("places"),
     ];
-    if let Some(missing) = paths.iter().find(|p| !p.is_file()) {
-        println!(
-            "real-village report for {} skipped: {} not found (the real data lives beside the project, in \
-             shared/data/real; see its README)",
-            spec.label,
-            missing.display()
-        );
-        return Ok(None);
-    }
+    require(&paths);
     let text = std::fs::read_to_string(&terrain_path)
         .map_err(|e| format!("cannot read {}: {e}", terrain_path.display()))?;
     let grid = parse_ascii_grid(&text).map_err(|e| format!("{}: {e}", terrain_path.display()))?;
@@ -511,7 +462,7 @@ pub fn load_place(spec: PlaceSpec) -> Result<Option<Place>, String> {
     if roads.is_empty() || houses.is_empty() {
         return Err(format!("{}: no readable roads or buildings", spec.label));
     }
-    Ok(Some(Place {
+    Ok(Place {
         terrain,
         roads,
         houses,
@@ -520,7 +471,7 @@ pub fn load_place(spec: PlaceSpec) -> Result<Option<Place>, String> {
         places,
         not_roads,
         unreadable,
-    }))
+    })
 }
 
 // ---------------------------------------------------------------------------------------------------------------
@@ -824,17 +775,10 @@ fn counter_clockwise(mut ring: Vec<DVec2>) -> Vec<DVec2> {
     ring
 }
 
-/// The cadastre of Épinay-sur-Orge (outer rings, projected about the centre of their bounding box); `Ok(None)`
-/// when absent.
-pub fn load_cadastre() -> Result<Option<RealParcels>, String> {
-    let path = data_dir().join("parcels/cadastre-91216-parcelles.json");
-    if !path.is_file() {
-        println!(
-            "real parcels: the cadastre is not at {} (see shared/data/real/README.md); skipped",
-            path.display()
-        );
-        return Ok(None);
-    }
+/// The cadastre of Épinay-sur-Orge (outer rings, projected about the centre of their bounding box).
+pub fn load_cadastre() -> Result<RealParcels, String> {
+    let path = real_data_dir().join("parcels/cadastre-91216-parcelles.json");
+    require(std::slice::from_ref(&path));
     let features = read_features(&path)?;
     let rings: Vec<Option<Vec<[f64; 2]>>> = features
         .iter()
@@ -866,13 +810,13 @@ pub fn load_cadastre() -> Result<Option<RealParcels>, String> {
             contours.push(counter_clockwise(ring));
         }
     }
-    Ok(Some(RealParcels {
+    Ok(RealParcels {
         read: features.len(),
         left_out: features.len() - contours.len(),
         sharing: sharing(&nodes),
         contours,
         classes: Vec::new(),
-    }))
+    })
 }
 
 /// Share of polygons that have a boundary edge (a pair of consecutive nodes, either way round) in common with
