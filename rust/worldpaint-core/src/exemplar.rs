@@ -320,8 +320,8 @@ pub const RIVER_ROCK_DENSITY: f64 = 0.08;
 pub const RIVER_ROCK_SPACING: f64 = 1.5;
 /// The category of [`river_rocks`].
 pub const RIVER_ROCK_CATEGORY: &str = "River rock";
-/// The terrain map of [`river_rocks`] that says how dense the rocks are.
-pub const ROCK_MAP: &str = "rocks";
+/// The terrain map of [`river_rocks`] that says how dense the rocks are: the waterfall's rock map.
+pub use crate::waterfall::ROCK_MAP;
 
 /// Rocks on a riverbed whose named map "rocks" (thesis 4.4.3: "the rock map indicates the density of rocks to
 /// generate") sets their density: a flat terrain 240 m by 120 m of 1 m cells from the origin, the map 0 on a

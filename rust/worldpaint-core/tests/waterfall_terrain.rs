@@ -5,8 +5,8 @@
 use glam::{DVec2, DVec3};
 use worldpaint_core::distance::distance_transform;
 use worldpaint_core::exemplar::{
-    hard_core, scene_from_points, village_terrain, waterfall_controllers, RIVER_ROCK_CATEGORY,
-    RIVER_ROCK_DENSITY, RIVER_ROCK_SPACING, ROCK_MAP,
+    hard_core, river_rocks, scene_from_points, village_terrain, waterfall_controllers,
+    RIVER_ROCK_CATEGORY, RIVER_ROCK_DENSITY, RIVER_ROCK_SPACING, ROCK_MAP,
 };
 use worldpaint_core::palette::Interaction;
 use worldpaint_core::waterfall::{
@@ -485,6 +485,41 @@ fn closest_pair(rocks: &[Rock]) -> f64 {
         }
     }
     best
+}
+
+/// The built-in river-rock color (an asset of the product) is the river-rock exemplar learned on its rock map. With
+/// `WORLDPAINT_WRITE_ASSETS=1` this test writes the asset anew (after a change to the analysis, say).
+#[test]
+fn the_built_in_rock_color_is_the_river_rock_exemplar_learned() {
+    let scene = river_rocks(1);
+    let Some((min, max)) = scene.terrain.as_deref().map(|t| t.bbox()) else {
+        panic!("the river-rock exemplar has a terrain");
+    };
+    let options = AnalysisOptions {
+        maps: vec![ROCK_MAP.into()],
+        ..Default::default()
+    };
+    let learned = match learn_color(&scene, &Region::Rect { min, max }, "River rocks", &options) {
+        Ok(c) => c,
+        Err(e) => panic!("{e}"),
+    };
+    if std::env::var_os("WORLDPAINT_WRITE_ASSETS").is_some() {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../assets/waterfall/river_rocks.color.json");
+        let json = learned.to_json().map_err(|e| e.to_string());
+        if let Err(e) =
+            json.and_then(|j| std::fs::write(&path, j + "\n").map_err(|e| e.to_string()))
+        {
+            panic!("writing {}: {e}", path.display());
+        }
+    }
+    match river_rock_color() {
+        Ok(builtin) => assert!(
+            *builtin == learned,
+            "the river-rock asset differs from the exemplar learned"
+        ),
+        Err(e) => panic!("{e}"),
+    }
 }
 
 #[test]

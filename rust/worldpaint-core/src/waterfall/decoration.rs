@@ -28,8 +28,9 @@
 //! interpolated between a wet node and a dry one its support reaches beyond the water's edge; rocks there (not
 //! in the water by [`WaterMaps::is_water`], or whose nearest node is dry) are left out.
 //!
-//! * **The built-in color** ([`river_rock_color`]) is learned once per process from [`exemplar::river_rocks`]
-//!   (fixed seed): rocks at least 1.5 m apart, as dense as 0.08 per m² times the map. Its map factor
+//! * **The built-in color** ([`river_rock_color`]) is an asset, `assets/waterfall/river_rocks.color.json`: the
+//!   river-rock exemplar (`exemplar::river_rocks`, seed 1) learned on its map "rocks" (a test keeps the asset
+//!   equal to that): rocks at least 1.5 m apart, as dense as 0.08 per m² times the map. Its map factor
 //!   `ψ(m) = h(m) / q(m)` (see [`crate::synthesis`], "Maps") is 0 where `m` is below 1/24 — no rock on a dry
 //!   node — and grows about as `m / m̄`, where `m̄ = 0.42` is the map's mean over the exemplar (where ψ
 //!   averages to 1). The count is `λ_b ∫ ψ(m(x)) dx` over the water with `λ_b = 0.033` per m² the
@@ -51,9 +52,7 @@
 use super::integration::{Footprint, WaterMesh, WaterPart};
 use super::network::NodeKind;
 use super::{ControllerKind, WaterfallNetwork};
-use crate::analysis::{learn_color, AnalysisOptions};
 use crate::error::{Error, Result};
-use crate::exemplar::{self, ROCK_MAP};
 use crate::geom::Region;
 use crate::palette::{Color, MapInteraction, MapSource};
 use crate::scene::{CategoryKind, Scene};
@@ -555,26 +554,18 @@ pub struct Rock {
 /// across a large rectangle).
 const MAX_PROPOSAL_FACTOR: f64 = 100.0;
 
-/// The seed of the built-in river-rock exemplar.
-const RIVER_ROCK_SEED: u64 = 1;
+/// The terrain map that says how dense the river rocks are (thesis 4.4.3: "the rock map indicates the density of
+/// rocks to generate").
+pub const ROCK_MAP: &str = "rocks";
 
-/// The built-in river-rock color: [`exemplar::river_rocks`] learned on its map "rocks", once per process.
+/// The built-in river-rock color as JSON (see the module documentation).
+const RIVER_ROCK_COLOR: &str = include_str!("../../../../assets/waterfall/river_rocks.color.json");
+
+/// The built-in river-rock color, read once per process.
 pub fn river_rock_color() -> Result<&'static Color> {
     static COLOR: OnceLock<std::result::Result<Color, String>> = OnceLock::new();
     COLOR
-        .get_or_init(|| {
-            let scene = exemplar::river_rocks(RIVER_ROCK_SEED);
-            let (min, max) = scene
-                .terrain
-                .as_deref()
-                .map_or((DVec2::ZERO, DVec2::ONE), |t| t.bbox());
-            let options = AnalysisOptions {
-                maps: vec![ROCK_MAP.into()],
-                ..Default::default()
-            };
-            learn_color(&scene, &Region::Rect { min, max }, "River rocks", &options)
-                .map_err(|e| e.to_string())
-        })
+        .get_or_init(|| Color::from_json(RIVER_ROCK_COLOR).map_err(|e| e.to_string()))
         .as_ref()
         .map_err(|e| Error::InvalidInput(format!("the built-in river-rock color: {e}")))
 }

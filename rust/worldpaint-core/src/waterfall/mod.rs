@@ -39,7 +39,7 @@ pub mod subdivide;
 
 pub use classify::{Section, TypeSeed, WaterfallType, TABLE_4_1};
 pub use decoration::{
-    river_rock_color, scatter_rocks, water_maps, DecorationOptions, Rock, WaterMaps,
+    river_rock_color, scatter_rocks, water_maps, DecorationOptions, Rock, WaterMaps, ROCK_MAP,
 };
 pub use deform::{deform, DeformOptions, TerrainDeformation};
 pub use integration::{
