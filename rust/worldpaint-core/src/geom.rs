@@ -45,7 +45,8 @@ pub enum Region {
 /// Scanlines that integrate the area of a clipped region (exact along each line, midpoint rule across them).
 const AREA_SCANLINES: usize = 512;
 
-fn finite(p: DVec2) -> bool {
+/// Whether both coordinates are finite numbers.
+pub fn finite(p: DVec2) -> bool {
     p.x.is_finite() && p.y.is_finite()
 }
 
@@ -75,6 +76,50 @@ pub fn segments_distance(a: DVec2, b: DVec2, c: DVec2, d: DVec2) -> f64 {
         .min(segment_distance(b, c, d))
         .min(segment_distance(c, a, b))
         .min(segment_distance(d, a, b))
+}
+
+/// The segments of an open polyline, in order.
+pub fn polyline_segments(points: &[DVec2]) -> impl Iterator<Item = (DVec2, DVec2)> + '_ {
+    points.windows(2).map(|w| (w[0], w[1]))
+}
+
+/// Length of an open polyline.
+pub fn polyline_length(points: &[DVec2]) -> f64 {
+    polyline_segments(points).map(|(a, b)| a.distance(b)).sum()
+}
+
+/// Distance from `p` to an open polyline (`f64::INFINITY` when it has fewer than two points).
+pub fn polyline_distance(p: DVec2, points: &[DVec2]) -> f64 {
+    polyline_segments(points)
+        .map(|(a, b)| segment_distance(p, a, b))
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// Liang–Barsky clipping: the parameter range `t0..=t1` of `a + t (b − a)`, `t ∈ [0, 1]`, inside the closed
+/// axis-aligned box `lo..hi`, or `None` when the segment misses it.
+pub fn clip_segment_to_box(a: DVec2, b: DVec2, lo: DVec2, hi: DVec2) -> Option<(f64, f64)> {
+    let d = b - a;
+    let (mut t0, mut t1) = (0.0f64, 1.0f64);
+    for (p, q) in [
+        (-d.x, a.x - lo.x),
+        (d.x, hi.x - a.x),
+        (-d.y, a.y - lo.y),
+        (d.y, hi.y - a.y),
+    ] {
+        if p == 0.0 {
+            if q < 0.0 {
+                return None;
+            }
+        } else {
+            let r = q / p;
+            if p < 0.0 {
+                t0 = t0.max(r);
+            } else {
+                t1 = t1.min(r);
+            }
+        }
+    }
+    (t0 <= t1).then_some((t0, t1))
 }
 
 /// The intersection of two sorted lists of disjoint intervals.

@@ -10,6 +10,7 @@
 //! | module | part of the paper |
 //! |---|---|
 //! | [`geom`] | active regions, window-edge correction α (§3, §4.1) |
+//! | [`search`] | the min-cost order of the best-first (Dijkstra, A*) searches |
 //! | [`spatial`] | neighbour queries behind the product simplification (§6) |
 //! | [`graph`] | roads and rivers as planar graphs of intersecting paths, segment queries (§4.2) |
 //! | [`contour`] | islands and lakes: contours to dense points and back, signed distance (§6, thesis 6.2.1) |
@@ -43,6 +44,7 @@ pub mod interpolate;
 pub mod palette;
 pub mod polygon_mesh;
 pub mod scene;
+pub mod search;
 pub mod spatial;
 pub mod synthesis;
 pub mod terrain;

@@ -4,9 +4,8 @@
 //! its tests are spent; the caller then builds plain wall.
 
 use super::geometry::outward;
+use crate::search::MinHeap;
 use glam::DVec2;
-use std::cmp::Reverse;
-use std::collections::BinaryHeap;
 
 /// The terrain height under a point of the plane.
 pub type Ground<'a> = dyn Fn(DVec2) -> f64 + Sync + 'a;
@@ -223,13 +222,17 @@ impl Site<'_> {
         let nv = (iv_hi - iv_lo + 1) as usize;
         let index = |iu: i32, iv: i32| (iv - iv_lo) as usize * nu + (iu - iu_lo) as usize;
         let mut best = vec![u32::MAX; nu * nv];
-        let mut queue = BinaryHeap::new();
+        // equal costs pop in the order they were queued
+        let mut queue = MinHeap::new();
         let start = (0.clamp(iu_lo, iu_hi), 0.clamp(iv_lo, iv_hi));
         best[index(start.0, start.1)] = 0;
         let mut order = 0u32;
-        queue.push(Reverse((0u32, order, start.0, start.1)));
+        queue.push(0.0, (order, start.0, start.1));
         let mut tests = 0;
-        while let Some(Reverse((cost, _, iu, iv))) = queue.pop() {
+        while let Some(entry) = queue.pop() {
+            let (_, iu, iv) = entry.item;
+            // kernel costs are small integers: exact in an f64
+            let cost = entry.cost as u32;
             if cost > best[index(iu, iv)] {
                 continue;
             }
@@ -251,7 +254,7 @@ impl Site<'_> {
                 if c < best[i] {
                     best[i] = c;
                     order += 1;
-                    queue.push(Reverse((c, order, u, v)));
+                    queue.push(c as f64, (order, u, v));
                 }
             }
         }

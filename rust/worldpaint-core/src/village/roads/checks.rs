@@ -1,0 +1,124 @@
+//! What a road network accepts (thesis 3.2.4): land whose maps match its grid, parameters in range, connection
+//! points `Ψ` snapped to an inside node, and a fingerprint of the land, since the cached move costs belong to the
+//! land the network was made on.
+
+use super::invalid;
+use crate::error::Result;
+use crate::village::encyclopedia::RoadParams;
+use crate::village::land::Land;
+use glam::DVec2;
+
+/// A connection point snaps to an inside node at most this many cells away.
+const CONNECTION_SNAP_CELLS: i64 = 3;
+
+/// A fingerprint of the grid and of a sample of the land's nodes (every 31st), cheap enough for every call.
+pub(super) fn land_mark(land: &Land) -> u64 {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    let mut eat = |v: u64| {
+        h ^= v;
+        h = h.wrapping_mul(0x0100_0000_01b3);
+    };
+    let g = &land.grid;
+    for v in [
+        g.nx as u64,
+        g.ny as u64,
+        g.cell.to_bits(),
+        g.origin.x.to_bits(),
+        g.origin.y.to_bits(),
+    ] {
+        eat(v);
+    }
+    for k in (0..g.len()).step_by(31) {
+        let flags = land.inside[k] as u64
+            | (land.water[k] as u64) << 1
+            | (land.wall[k] as u64) << 2
+            | (land.fortified[k] as u64) << 3;
+        eat((land.height[k].to_bits() as u64) << 4 | flags);
+    }
+    h
+}
+
+pub(super) fn check_land(land: &Land) -> Result<()> {
+    let n = land.grid.len();
+    if land.height.len() != n
+        || land.inside.len() != n
+        || land.water.len() != n
+        || land.wall.len() != n
+        || land.fortified.len() != n
+    {
+        return Err(invalid(format!(
+            "roads: the land's maps do not all have the {n} nodes of its grid"
+        )));
+    }
+    if land.grid.nx < 2 || land.grid.ny < 2 || !(land.grid.cell.is_finite() && land.grid.cell > 0.0)
+    {
+        return Err(invalid("roads: the land grid is degenerate".into()));
+    }
+    Ok(())
+}
+
+pub(super) fn check_params(p: &RoadParams) -> Result<()> {
+    for (name, v) in [
+        ("distance_weight", p.distance_weight),
+        ("max_grade", p.max_grade),
+        ("reuse_weight", p.reuse_weight),
+    ] {
+        if !(v.is_finite() && v > 0.0) {
+            return Err(invalid(format!("roads: {name} must be positive, got {v}")));
+        }
+    }
+    for (name, v) in [
+        ("slope_weight", p.slope_weight),
+        ("curvature_weight", p.curvature_weight),
+        ("water_weight", p.water_weight),
+        ("building_cost", p.building_cost),
+        ("cycle_angle_degrees", p.cycle_angle_degrees),
+        ("cycle_max_length", p.cycle_max_length),
+        ("cycle_min_separation", p.cycle_min_separation),
+    ] {
+        if !(v.is_finite() && v >= 0.0) {
+            return Err(invalid(format!(
+                "roads: {name} must be zero or more, got {v}"
+            )));
+        }
+    }
+    if p.reuse_weight > 1.0 {
+        return Err(invalid(format!(
+            "roads: reuse_weight must be at most 1, got {}",
+            p.reuse_weight
+        )));
+    }
+    if !(1..=8).contains(&p.mask_radius) {
+        return Err(invalid(format!(
+            "roads: mask_radius must be 1 to 8, got {}",
+            p.mask_radius
+        )));
+    }
+    Ok(())
+}
+
+/// The inside node nearest to `p`, within [`CONNECTION_SNAP_CELLS`] cells.
+pub(super) fn nearest_inside(land: &Land, p: DVec2) -> Option<usize> {
+    let g = &land.grid;
+    let f = (p - g.origin) / g.cell;
+    let (ci, cj) = (f.x.round(), f.y.round());
+    let r = CONNECTION_SNAP_CELLS as f64;
+    if !(ci >= -r && cj >= -r && ci <= (g.nx - 1) as f64 + r && cj <= (g.ny - 1) as f64 + r) {
+        return None;
+    }
+    let (ci, cj) = (ci as i64, cj as i64);
+    let mut best: Option<(f64, usize)> = None;
+    for j in cj - CONNECTION_SNAP_CELLS..=cj + CONNECTION_SNAP_CELLS {
+        for i in ci - CONNECTION_SNAP_CELLS..=ci + CONNECTION_SNAP_CELLS {
+            if i < 0 || j < 0 || i >= g.nx as i64 || j >= g.ny as i64 {
+                continue;
+            }
+            let k = g.index(i as usize, j as usize);
+            let d = g.point_of(k).distance(p);
+            if land.inside[k] && d <= r * g.cell && best.is_none_or(|(bd, _)| d < bd) {
+                best = Some((d, k));
+            }
+        }
+    }
+    best.map(|(_, k)| k)
+}

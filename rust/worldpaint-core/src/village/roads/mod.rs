@@ -1,0 +1,417 @@
+//! Connection of every new building to the road network (thesis 3.2.4, "Connection to the Road Network"), after
+//! the road generation of Galin et al. 2010 (GPMG10): a weighted anisotropic shortest path on the terrain whose
+//! cost is `C(R) = Σ_j w_j g_j(R)`, extended with road re-use and road cycles.
+//!
+//! **Costs.** A road is a chain of *moves* on the [`LandGrid`]: grid offsets `(dx, dy)` with coprime coordinates
+//! and `max(|dx|, |dy|) ≤ k` (`mask_radius`; k = 1, 2, 3 give 8, 16, 32 moves), so roads are not bound to the
+//! eight grid directions. Each move is integrated along its segment, sampled every half cell at most, so a long
+//! move cannot jump over a ridge or a river. Per metre (planar) of a sub-segment of grade `g` (rise over run):
+//! `distance_weight + slope_weight · (g / max_grade)²`, plus `water_weight` times the water fraction (the
+//! bilinear water indicator, integrated). A sub-segment steeper than `max_grade` is forbidden; when no road
+//! exists under that rule, a second search allows it at a high finite price (see [`STEEP_WEIGHT`]) and the
+//! connection reports `over_max_grade`. Every node a move lands on or passes over (its closed cell square meets
+//! the segment) must be inside `Ω`, and costs `building_cost` when a building or a fortification wall covers it,
+//! so roads cross walls only where they must (gates). Turning costs `curvature_weight` per radian between
+//! consecutive moves (only a U-turn back along the same move is not allowed), so a search state is (node,
+//! incoming move).
+//!
+//! **Re-use.** The thesis lowers the cost along existing roads by a re-use weight `w_ex ≪ 1`:
+//!
+//! ```text
+//! C'(R) = w_ex · C(R)   if R belongs to a road
+//!         C(R)          otherwise
+//! ```
+//!
+//! A path from a building `B` to `Ψ` leaves the ground at the first road node `r` it meets and follows the
+//! network from there, so its cost is `C(B → r) + T(r)` with `T(r) = w_ex · (network cost from r to Ψ)`. `T`
+//! comes from a Dijkstra over the road nodes (few), brought up to date whenever roads are added. The search runs
+//! *backwards*: from every goal node `r` (road nodes joined to `Ψ`, and the connection points, `T = 0`) with the
+//! initial cost `T(r)`, towards the single node `B`. A path may not land on or pass over another goal node,
+//! which is where a forward path would have joined the network. The new road is the off-road part, from `B` to
+//! `r`.
+//!
+//! **Heuristic.** Towards one target a closed-form bound is cheap:
+//! `h(x) = min_{L ≥ L₀} (distance_weight · L + slope_weight / max_grade² · Δh² / L)`, where `L₀` is the length of
+//! the shortest chain of mask moves from `x` to `B` on a flat, empty plane (the gauge of the mask's polygon,
+//! at least `Δh / max_grade` under the grade limit) and `Δh = |h(x) − h(B)|`. It is admissible: every path of
+//! planar length `L ≥ L₀` costs at least `distance_weight · L` plus, since `Σ g² ℓ ≥ (Σ g ℓ)² / L ≥ Δh² / L`
+//! (Cauchy–Schwarz), that slope term; curvature, water and building costs are non-negative. It is also
+//! consistent (the gauge is a norm, and `Δh² / L` is sub-additive), so each state is settled once.
+//!
+//! Most connections end within a few thousand states. A long road across rough land does not: the bound ignores
+//! the detours the grade limit forces, and every node holds one state per incoming move. Past `BOUND_BUDGET`
+//! (3 000) states the search first runs on nodes alone (turns ignored, so its costs are lower bounds): from `B`,
+//! an A* towards the sources (each source, or tiles of them, under the same closed-form bound) that goes on until
+//! its key passes the cost of its own path with turns added. Its settled nodes then know their exact node-level
+//! cost to `B`; any other node `x` costs at least the key reached less the bound from `x` to the sources. Both
+//! are admissible, and the state search restarts with them: it then hardly leaves the nodes settled. The node
+//! search also tells, cheaply, that no road can reach `B` at all.
+//!
+//! One case stays costly: when forced turns (switchbacks up a cliff band) make the road dearer than the
+//! node-level path by a wide margin, every state within that margin is a candidate. Past `STATE_BUDGET`
+//! (250 000) states the search keeps to a corridor of `CORRIDOR_CELLS` (8) around the node-level path, where it
+//! is exact; the road is then the cheapest within that corridor (never dearer than the node-level path with its
+//! turns), no longer proven the cheapest of all. In the 100-building test village this never happens.
+//!
+//! **Cycles.** After the first road to `B`, the closest road node `p` in the cone of half-angle
+//! `cycle_angle_degrees` around the direction in which the road arrives at `B` (continuing past `B`), off the
+//! road just built and at most `cycle_max_length` away, gets a road from `B` under the same costs; it is built
+//! when it is at most `cycle_max_length` long and more than half of its length lies farther than
+//! `cycle_min_separation` from the first road serving `B`.
+//!
+//! The search keeps flat arrays over the states (a lazily filled move-cost cache and the path costs; both are
+//! zero-initialised, so pages of the grid never searched are never touched). Grids too large for
+//! `nodes × (moves + 1)` states within [`MAX_STATES`] search with a smaller move mask.
+//!
+//! | file | part |
+//! |---|---|
+//! | `mod.rs` | the network: connection points, roads, connecting a building |
+//! | `checks.rs` | what the network accepts, the land's fingerprint, snapping `Ψ` |
+//! | `grid_lines.rs` | roads as polylines and as grid nodes |
+//! | `moves.rs` | the move mask |
+//! | `move_costs.rs` | the static cost of a move, cached |
+//! | `heuristic.rs` | the closed-form bound, towards one target or many sources |
+//! | `search.rs` | the state of the search, its phases |
+//! | `astar.rs` | the A* over (node, incoming move) |
+//! | `node_field.rs` | the node-level search and its corridor |
+//! | `network_costs.rs` | the network cost `T(r)` of re-use |
+//! | `cycles.rs` | cycle roads |
+
+mod astar;
+mod checks;
+mod cycles;
+mod grid_lines;
+mod heuristic;
+mod move_costs;
+mod moves;
+mod network_costs;
+mod node_field;
+mod search;
+#[cfg(test)]
+mod tests;
+
+use crate::error::{Error, Result};
+use crate::geom::{finite, polyline_segments};
+use crate::graph::SegmentIndex;
+use crate::village::encyclopedia::RoadParams;
+use crate::village::land::{Land, LandGrid};
+use crate::village::Road;
+use checks::{check_land, check_params, land_mark, nearest_inside};
+use glam::DVec2;
+use grid_lines::{node_polyline, segment_cells};
+use search::{Ctx, Search, BUILDING, GOAL};
+
+/// Largest number of search states (nodes × (moves + 1)).
+pub const MAX_STATES: usize = 1 << 26;
+/// A grade above `max_grade` costs, per metre, this times `(distance_weight + slope_weight) · (g / max_grade)²`
+/// in the search that allows it.
+pub const STEEP_WEIGHT: f64 = 100.0;
+
+/// A village road network: the connection points `Ψ`, the roads, and what the road search keeps between calls.
+pub struct RoadNetwork {
+    pub roads: Vec<Road>,
+    grid: LandGrid,
+    connections: Vec<DVec2>,
+    connection_nodes: Vec<usize>,
+    /// Nodes under a road (or a connection point).
+    on_road: Vec<bool>,
+    /// The nodes of `on_road`, in the order they were added.
+    road_nodes: Vec<u32>,
+    index: SegmentIndex,
+    /// A fingerprint of the land the network was made on: the cached move costs belong to it.
+    land_mark: u64,
+    search: Option<Box<Search>>,
+}
+
+/// What [`RoadNetwork::connect`] did.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Connection {
+    /// Indices in [`RoadNetwork::roads`] of the roads added (the first road, then the cycle road if any).
+    pub roads: Vec<usize>,
+    /// Whether the building is served by the network (false when nothing can reach it).
+    pub reached: bool,
+    /// Steepest grade along the new roads, sampled on the terrain.
+    pub steepest_grade: f64,
+    /// The first road had to be steeper than `max_grade`.
+    pub over_max_grade: bool,
+    /// A cycle road was added.
+    pub cycle: bool,
+}
+
+impl Clone for RoadNetwork {
+    /// A copy of the network; the search caches are not copied (they are rebuilt on demand).
+    fn clone(&self) -> Self {
+        RoadNetwork {
+            roads: self.roads.clone(),
+            grid: self.grid,
+            connections: self.connections.clone(),
+            connection_nodes: self.connection_nodes.clone(),
+            on_road: self.on_road.clone(),
+            road_nodes: self.road_nodes.clone(),
+            index: self.index.clone(),
+            land_mark: self.land_mark,
+            search: None,
+        }
+    }
+}
+
+impl std::fmt::Debug for RoadNetwork {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("RoadNetwork")
+            .field("roads", &self.roads.len())
+            .field("connections", &self.connections)
+            .field("road_nodes", &self.road_nodes.len())
+            .finish()
+    }
+}
+
+fn invalid(what: String) -> Error {
+    Error::InvalidInput(what)
+}
+
+impl RoadNetwork {
+    /// A network with the connection points `Ψ` (each snapped to the nearest node inside `Ω`) and the existing
+    /// roads (polylines, kept as they are).
+    pub fn new(land: &Land, connections: &[DVec2], existing: &[Vec<DVec2>]) -> Result<RoadNetwork> {
+        check_land(land)?;
+        let grid = land.grid;
+        if connections.is_empty() {
+            return Err(invalid(
+                "roads: at least one connection point to the outside world is needed".into(),
+            ));
+        }
+        let mut network = RoadNetwork {
+            roads: Vec::new(),
+            grid,
+            connections: Vec::new(),
+            connection_nodes: Vec::new(),
+            on_road: vec![false; grid.len()],
+            road_nodes: Vec::new(),
+            index: SegmentIndex::default(),
+            land_mark: land_mark(land),
+            search: None,
+        };
+        for (n, &p) in connections.iter().enumerate() {
+            if !finite(p) {
+                return Err(invalid(format!(
+                    "roads: connection point {} is not finite",
+                    n + 1
+                )));
+            }
+            let node = nearest_inside(land, p).ok_or_else(|| {
+                invalid(format!(
+                    "roads: connection point {} ({:.2}, {:.2}) is not inside the village region",
+                    n + 1,
+                    p.x,
+                    p.y
+                ))
+            })?;
+            network.connection_nodes.push(node);
+            network.connections.push(grid.point_of(node));
+            network.mark(node);
+        }
+        for (n, line) in existing.iter().enumerate() {
+            if let Some(k) = line.iter().position(|p| !finite(*p)) {
+                return Err(invalid(format!(
+                    "roads: point {} of existing road {} is not finite",
+                    k + 1,
+                    n + 1
+                )));
+            }
+            if line.len() == 1 {
+                if let Some((i, j)) = grid.nearest(line[0]) {
+                    network.mark(grid.index(i, j));
+                }
+            }
+            for w in line.windows(2) {
+                for node in segment_cells(&grid, w[0], w[1]) {
+                    network.mark(node);
+                }
+            }
+            network.roads.push(Road {
+                points: line.clone(),
+            });
+        }
+        network.rebuild_index();
+        Ok(network)
+    }
+
+    /// The connection points `Ψ` as snapped onto the grid.
+    pub fn connections(&self) -> &[DVec2] {
+        &self.connections
+    }
+
+    /// Distance (m) from `p` to the closest road segment (`f64::INFINITY` when there is none).
+    pub fn distance(&self, p: DVec2) -> f64 {
+        self.index.distance(p, f64::INFINITY)
+    }
+
+    fn mark(&mut self, node: usize) {
+        if !self.on_road[node] {
+            self.on_road[node] = true;
+            self.road_nodes.push(node as u32);
+        }
+    }
+
+    fn rebuild_index(&mut self) {
+        let segments: Vec<(DVec2, DVec2)> = self
+            .roads
+            .iter()
+            .flat_map(|r| polyline_segments(&r.points))
+            .collect();
+        self.index = SegmentIndex::new(segments);
+    }
+
+    /// Connects a new building at `from` to `Ψ` (3.2.4): the lowest-cost road with re-use of the existing roads,
+    /// then a cycle road when one fits. `occupied[k]` is true on the land nodes covered by other buildings.
+    ///
+    /// A building within `frontage` (m) of a road already linked to `Ψ` is served by that road: its lot fronts
+    /// it, and no road is added (otherwise every house along a street would get a dead end of its own).
+    pub fn connect(
+        &mut self,
+        land: &Land,
+        params: &RoadParams,
+        occupied: &[bool],
+        from: DVec2,
+        frontage: f64,
+    ) -> Result<Connection> {
+        check_land(land)?;
+        if land.grid != self.grid || land_mark(land) != self.land_mark {
+            return Err(invalid(
+                "roads: the land differs from the one the road network was made on".into(),
+            ));
+        }
+        check_params(params)?;
+        if occupied.len() != self.grid.len() {
+            return Err(invalid(format!(
+                "roads: {} occupancy flags for {} land nodes",
+                occupied.len(),
+                self.grid.len()
+            )));
+        }
+        if !finite(from) {
+            return Err(invalid("roads: the building position is not finite".into()));
+        }
+        let Some((bi, bj)) = self.grid.nearest(from) else {
+            return Err(invalid(format!(
+                "roads: the building at ({:.2}, {:.2}) is outside the village grid",
+                from.x, from.y
+            )));
+        };
+        let b = self.grid.index(bi, bj);
+        if !land.inside[b] {
+            return Ok(Connection::default());
+        }
+        let mut search = match self.search.take() {
+            Some(s) if s.fits(params, &self.grid) => s,
+            _ => Box::new(Search::new(land, params)?),
+        };
+        let result = self.connect_with(&mut search, land, params, occupied, b, frontage);
+        self.search = Some(search);
+        result
+    }
+
+    fn connect_with(
+        &mut self,
+        search: &mut Search,
+        land: &Land,
+        params: &RoadParams,
+        occupied: &[bool],
+        b: usize,
+        frontage: f64,
+    ) -> Result<Connection> {
+        self.exit_costs(search, land);
+        let mut sources: Vec<(usize, f64)> = Vec::new();
+        search.flags.clear();
+        search.flags.extend(
+            occupied
+                .iter()
+                .zip(&land.wall)
+                .map(|(&o, &w)| if o || w { BUILDING } else { 0 }),
+        );
+        for &r in &self.road_nodes {
+            let r = r as usize;
+            if search.exit[r].is_finite() {
+                search.flags[r] |= GOAL;
+                sources.push((r, params.reuse_weight * search.exit[r]));
+            }
+        }
+        if search.flags[b] & GOAL != 0 || self.fronts(search, b, frontage) {
+            // already on the network
+            return Ok(Connection {
+                reached: true,
+                ..Connection::default()
+            });
+        }
+        let ctx = Ctx { land, params };
+        let mut over_max_grade = false;
+        let mut path = search.run(&ctx, &sources, b, false, None);
+        if path.is_none() {
+            path = search.run(&ctx, &sources, b, true, None);
+            over_max_grade = path.is_some();
+        }
+        let Some((path, _)) = path else {
+            return Ok(Connection::default());
+        };
+        let mut connection = Connection {
+            reached: true,
+            over_max_grade,
+            ..Connection::default()
+        };
+        let first_cells = self.add_road(search, &ctx, &path, &mut connection);
+        for &c in &first_cells {
+            search.flags[c] |= GOAL;
+        }
+        self.try_cycle(search, &ctx, b, &path, &first_cells, &mut connection);
+        self.rebuild_index();
+        Ok(connection)
+    }
+
+    /// Whether a road node linked to `Ψ` lies within `frontage` of node `b`.
+    fn fronts(&self, search: &Search, b: usize, frontage: f64) -> bool {
+        if !(frontage > 0.0) {
+            return false;
+        }
+        let grid = self.grid;
+        let (bi, bj) = grid.ij(b);
+        let r = (frontage / grid.cell).floor() as usize;
+        let p = grid.point_of(b);
+        (bj.saturating_sub(r)..=(bj + r).min(grid.ny - 1)).any(|j| {
+            (bi.saturating_sub(r)..=(bi + r).min(grid.nx - 1)).any(|i| {
+                let k = grid.index(i, j);
+                search.flags[k] & GOAL != 0 && grid.point_of(k).distance(p) <= frontage
+            })
+        })
+    }
+
+    /// Adds the road along `path` (nodes from `B` on), marks the nodes it covers; returns them.
+    fn add_road(
+        &mut self,
+        search: &Search,
+        ctx: &Ctx,
+        path: &[usize],
+        connection: &mut Connection,
+    ) -> Vec<usize> {
+        let grid = self.grid;
+        let mut cells = Vec::new();
+        for w in path.windows(2) {
+            if let Some(m) = search.table.move_between(&grid, w[0], w[1]) {
+                let mv = &search.table.moves[m];
+                connection.steepest_grade =
+                    connection.steepest_grade.max(mv.steepest(ctx.land, w[0]));
+                for &d in &mv.cells {
+                    cells.push((w[0] as isize + d) as usize);
+                }
+            }
+        }
+        cells.sort_unstable();
+        cells.dedup();
+        for &c in &cells {
+            self.mark(c);
+        }
+        let points = node_polyline(&grid, path);
+        connection.roads.push(self.roads.len());
+        self.roads.push(Road { points });
+        cells
+    }
+}
