@@ -21,10 +21,10 @@ def nothing():
 
 
 def test_engine_errors_form_one_hierarchy_and_carry_the_engine_message():
-    for name in ("InputError", "PaletteFileError", "NothingToLearn", "Cancelled", "InternalError"):
+    for name in ("InputError", "FileFormatError", "NothingToLearn", "Cancelled", "InternalError"):
         assert issubclass(getattr(engine, name), engine.WorldPaintError), name
     assert issubclass(engine.InputError, ValueError) and not issubclass(engine.Cancelled, ValueError)
-    assert all(issubclass(c, engine.InputError) for c in (engine.PaletteFileError, engine.NothingToLearn))
+    assert all(issubclass(c, engine.InputError) for c in (engine.FileFormatError, engine.NothingToLearn))
     with pytest.raises(engine.InputError, match="region is empty or degenerate"):
         engine.region_area({"shape": "rect", "min": [0, 0], "max": [0, 5]})
     with pytest.raises(engine.InputError, match="unknown region shape 'hexagon'"):
@@ -35,7 +35,7 @@ def test_engine_errors_form_one_hierarchy_and_carry_the_engine_message():
         engine.Terrain(np.zeros((4, 2)), np.zeros((1, 3), np.uint32))
     with pytest.raises(engine.InputError, match="category index 3"):
         engine.Scene(None, CATEGORIES, np.zeros((1, 2)), np.array([3], np.int32))
-    with pytest.raises(engine.PaletteFileError, match="version 99"):
+    with pytest.raises(engine.FileFormatError, match="version 99"):
         engine.palette_from_json(json.dumps({"format": "worldpaint-palette", "version": 99, "colors": []}))
     with pytest.raises(engine.NothingToLearn):
         engine.learn_color(nothing(), SQUARE, "empty")

@@ -12,7 +12,7 @@ pub enum Error {
     RegionOffTerrain(String),
     #[error("unsupported palette format version {found} (this build reads {supported})")]
     UnsupportedVersion { found: u32, supported: u32 },
-    #[error("palette file is not valid: {0}")]
+    #[error("not a valid file: {0}")]
     Json(String),
     #[error("nothing to learn: {0}")]
     EmptyExemplar(String),

@@ -190,7 +190,7 @@ fn palette_to_json(colors: Vec<String>) -> PyResult<String> {
 }
 
 /// The colors (JSON strings) of a palette file; unknown versions and malformed files raise
-/// `PaletteFileError`.
+/// `FileFormatError`.
 #[pyfunction]
 fn palette_from_json(text: &str) -> PyResult<Vec<String>> {
     guarded(|| {

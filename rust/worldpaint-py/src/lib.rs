@@ -3,7 +3,7 @@
 //! Thin by design: numpy arrays and plain Python values are turned into `worldpaint_core` types, the engine runs
 //! with the GIL released, and the results come back as numpy arrays. Colors and palettes cross the boundary as their
 //! versioned JSON. Every error is a `worldpaint_engine.WorldPaintError`: bad input raises `InputError` (also a
-//! `ValueError`, with `PaletteFileError` for malformed palette files) carrying the engine's message, a cancelled
+//! `ValueError`, with `FileFormatError` for malformed files) carrying the engine's message, a cancelled
 //! computation `Cancelled`. No algorithm lives here, and no panic crosses into Python: every call runs under
 //! [`guarded`], which reports a panic as `InternalError`.
 
@@ -28,7 +28,7 @@ use pyo3::types::{PyDict, PyTuple, PyType};
 use worldpaint_core::Error;
 
 // ---------------------------------------------------------------------------------------------------------------
-// errors and the FFI guard: WorldPaintError <- InputError (also a ValueError) <- PaletteFileError, NothingToLearn;
+// errors and the FFI guard: WorldPaintError <- InputError (also a ValueError) <- FileFormatError, NothingToLearn;
 // Cancelled; InternalError
 
 pyo3::create_exception!(
@@ -53,7 +53,7 @@ pyo3::create_exception!(
 // InputError derives from both WorldPaintError and ValueError, which `create_exception!` cannot express, so the
 // input classes are made once at import by calling `type`.
 static INPUT_ERROR: PyOnceLock<Py<PyType>> = PyOnceLock::new();
-static PALETTE_FILE_ERROR: PyOnceLock<Py<PyType>> = PyOnceLock::new();
+static FILE_FORMAT_ERROR: PyOnceLock<Py<PyType>> = PyOnceLock::new();
 static NOTHING_TO_LEARN: PyOnceLock<Py<PyType>> = PyOnceLock::new();
 
 fn exception_class(
@@ -86,10 +86,10 @@ fn input_classes(py: Python<'_>) -> PyResult<[ClassSlot; 3]> {
     })?;
     let subclass =
         |name: &str, doc: &str| exception_class(py, name, PyTuple::new(py, [input.bind(py)])?, doc);
-    PALETTE_FILE_ERROR.get_or_try_init(py, || {
+    FILE_FORMAT_ERROR.get_or_try_init(py, || {
         subclass(
-            "PaletteFileError",
-            "A palette or color file is malformed or of a format version this engine does not read.",
+            "FileFormatError",
+            "A palette, color, encyclopedia or scenario file is malformed, or of a format version this engine does not read.",
         )
     })?;
     NOTHING_TO_LEARN.get_or_try_init(py, || {
@@ -100,7 +100,7 @@ fn input_classes(py: Python<'_>) -> PyResult<[ClassSlot; 3]> {
     })?;
     Ok([
         ("InputError", &INPUT_ERROR),
-        ("PaletteFileError", &PALETTE_FILE_ERROR),
+        ("FileFormatError", &FILE_FORMAT_ERROR),
         ("NothingToLearn", &NOTHING_TO_LEARN),
     ])
 }
@@ -121,7 +121,7 @@ pub(crate) fn engine_err(e: Error) -> PyErr {
     match e {
         Error::Cancelled => Cancelled::new_err("cancelled"),
         Error::UnsupportedVersion { .. } | Error::Json(_) => {
-            raise(&PALETTE_FILE_ERROR, e.to_string())
+            raise(&FILE_FORMAT_ERROR, e.to_string())
         }
         Error::EmptyExemplar(_) => raise(&NOTHING_TO_LEARN, e.to_string()),
         other => raise(&INPUT_ERROR, other.to_string()),
