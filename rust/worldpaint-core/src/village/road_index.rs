@@ -3,7 +3,7 @@
 //! segment.
 
 use super::Road;
-use crate::geom::{closest_on_segment, segments_distance};
+use crate::geom::{closest_on_segment, polyline_segments, segments_distance};
 use crate::graph::SegmentIndex;
 use glam::DVec2;
 
@@ -39,7 +39,7 @@ impl RoadIndex {
             match r.points.len() {
                 0 => {}
                 1 => segments.push((r.points[0], r.points[0])),
-                _ => segments.extend(r.points.windows(2).map(|w| (w[0], w[1]))),
+                _ => segments.extend(polyline_segments(&r.points)),
             }
         }
         RoadIndex {
