@@ -9,10 +9,9 @@ use super::super::Road;
 use super::grid::Work;
 use super::road_conquest::RoadConquest;
 use super::{ParcelOptions, ParcelSeed, NONE};
-use crate::geom::closest_on_segment;
+use crate::geom::{ccw_angle, closest_on_segment};
 use crate::graph::{angle_between, Graph};
 use glam::DVec2;
-use std::f64::consts::TAU;
 
 /// A road leaving a junction: its centre line from the junction, and its direction near the junction.
 struct Branch {
@@ -46,25 +45,22 @@ fn locate_on(p: DVec2, points: &[DVec2]) -> (f64, f64, f64) {
     best
 }
 
-/// The counter-clockwise angle from `u` to `v`, in [0, 2π).
-pub(super) fn ccw_angle(u: DVec2, v: DVec2) -> f64 {
-    let a = u.perp_dot(v).atan2(u.dot(v));
-    if a < 0.0 {
-        a + TAU
-    } else {
-        a
-    }
-}
-
 /// The junctions of the road network (nodes of its planar graph where three roads or more meet, or two roads
 /// meet at an angle below the corner angle) inside the conquest grid, with their branches followed for `length`.
 pub(super) fn junctions(
     roads: &[Road],
     work: &Work,
-    half: f64,
-    length: f64,
+    seeds: &[ParcelSeed],
+    road_width: f64,
     options: &ParcelOptions,
 ) -> Vec<Junction> {
+    let half = 0.5 * road_width;
+    // as far as any corner lot may reach along a road
+    let longest = seeds
+        .iter()
+        .map(|s| s.params.budget / s.params.conquest_weight + s.params.road_reach)
+        .fold(0.0, f64::max);
+    let length = longest + road_width + 4.0 * work.cell;
     let paths: Vec<&[DVec2]> = roads
         .iter()
         .filter(|r| r.points.len() >= 2)
@@ -134,11 +130,40 @@ pub(super) fn junctions(
     out
 }
 
+/// [`corner_conquest`], after which a seed left with less than half its road front by a corner lot has lost its
+/// access: what remains would make a sliver of a parcel, and it loses its road cells.
+pub(super) fn corner_conquest_keeping_access(
+    work: &Work,
+    seeds: &[ParcelSeed],
+    junctions: &[Junction],
+    half: f64,
+    options: &ParcelOptions,
+    road: &mut RoadConquest,
+) {
+    let frontage = |road: &RoadConquest| {
+        let mut count = vec![0usize; seeds.len()];
+        for &o in &road.owner {
+            if o != NONE {
+                count[o as usize] += 1;
+            }
+        }
+        count
+    };
+    let before = frontage(road);
+    corner_conquest(work, seeds, junctions, half, options, road);
+    let after = frontage(road);
+    for o in road.owner.iter_mut() {
+        if *o != NONE && 2 * after[*o as usize] < before[*o as usize] {
+            *o = NONE;
+        }
+    }
+}
+
 /// In each junction sector narrower than the corner angle, the parcel whose road cells come nearest the corner
 /// (the first to arrive there) annexes the sector's road cells on both roads within its depth
 /// (`c_max / ω_conquest`) of the corner: the corner lot then fronts both roads, and its neighbours on either road
 /// begin where its land ends instead of meeting it along a diagonal.
-pub(super) fn corner_conquest(
+fn corner_conquest(
     work: &Work,
     seeds: &[ParcelSeed],
     junctions: &[Junction],

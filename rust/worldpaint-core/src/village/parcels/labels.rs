@@ -216,18 +216,126 @@ fn fix_holes(
         }
     }
     let mut changed = false;
-    for (x, &(bi0, bj0, bi1, bj1)) in boxes.iter().enumerate() {
-        if bi0 == usize::MAX {
+    for (x, &bbox) in boxes.iter().enumerate() {
+        if bbox.0 == usize::MAX {
             continue;
         }
-        let x = x as u32;
-        // the box with a ring of one cell around it (possibly outside the grid, where nothing is)
-        let (i0, j0) = (bi0 as i64 - 1, bj0 as i64 - 1);
-        let (lnx, lny) = (bi1 - bi0 + 3, bj1 - bj0 + 3);
-        let lab = |l: usize, label: &[u32]| {
-            work.inside(i0 + (l % lnx) as i64, j0 + (l / lnx) as i64)
-                .map_or(NONE, |k| label[k])
-        };
+        changed |= fix_holes_of(work, owner, is_anchor, label, best, x as u32, bbox);
+    }
+    changed
+}
+
+/// [`fix_holes`] for parcel `x` whose cells lie in the box `(i0, j0, i1, j1)`.
+fn fix_holes_of(
+    work: &Work,
+    owner: &[u32],
+    is_anchor: &[bool],
+    label: &mut [u32],
+    best: &mut [f64],
+    x: u32,
+    (bi0, bj0, bi1, bj1): (usize, usize, usize, usize),
+) -> bool {
+    let ring = RingedBox {
+        work,
+        i0: bi0 as i64 - 1,
+        j0: bj0 as i64 - 1,
+        lnx: bi1 - bi0 + 3,
+        lny: bj1 - bj0 + 3,
+    };
+    let mut changed = false;
+    let mut seen = ring.outside(label, x);
+    for start in 0..ring.lnx * ring.lny {
+        if seen[start] || ring.label(start, label) == x {
+            continue;
+        }
+        let hole = ring.hole(start, label, x, &mut seen);
+        if hole
+            .iter()
+            .all(|&l| fillable(work, owner, label, x, ring.global(l)))
+        {
+            let rim = hole
+                .iter()
+                .flat_map(|&l| ring.neighbours(l))
+                .filter(|&m| ring.label(m, label) == x)
+                .map(|m| best[ring.global(m)])
+                .fold(0.0, f64::max);
+            for &l in &hole {
+                label[ring.global(l)] = x;
+                best[ring.global(l)] = rim;
+            }
+            changed = true;
+            continue;
+        }
+        let threshold = hole
+            .iter()
+            .flat_map(|&l| ring.neighbours(l))
+            .filter(|&m| ring.label(m, label) == x)
+            .map(|m| best[ring.global(m)])
+            .fold(f64::INFINITY, f64::min);
+        if !(threshold > 0.0 && threshold.is_finite()) {
+            // the hole touches the parcel's own road cells: its outline is kept around it
+            continue;
+        }
+        for j in bj0..=bj1 {
+            for i in bi0..=bi1 {
+                let k = j * work.nx + i;
+                if label[k] == x && best[k] >= threshold && !is_anchor[k] {
+                    label[k] = NONE;
+                    best[k] = f64::INFINITY;
+                    changed = true;
+                }
+            }
+        }
+        // the parcel changed: its other holes are looked at again in the next round
+        break;
+    }
+    changed
+}
+
+/// A parcel's box with a ring of one cell around it (possibly outside the grid, where nothing is), its cells
+/// numbered row by row from the lower left (`lnx` a row).
+struct RingedBox<'a> {
+    work: &'a Work,
+    i0: i64,
+    j0: i64,
+    lnx: usize,
+    lny: usize,
+}
+
+impl RingedBox<'_> {
+    fn label(&self, l: usize, label: &[u32]) -> u32 {
+        self.work
+            .inside(
+                self.i0 + (l % self.lnx) as i64,
+                self.j0 + (l / self.lnx) as i64,
+            )
+            .map_or(NONE, |k| label[k])
+    }
+
+    /// The grid cell of box cell `l` (`l` lies inside the ring, so on the grid).
+    fn global(&self, l: usize) -> usize {
+        self.work
+            .inside(
+                self.i0 + (l % self.lnx) as i64,
+                self.j0 + (l / self.lnx) as i64,
+            )
+            .unwrap_or(0)
+    }
+
+    /// The 4-neighbours of box cell `l` within the box.
+    fn neighbours(&self, l: usize) -> impl Iterator<Item = usize> {
+        let (lnx, lny) = (self.lnx, self.lny);
+        let (li, lj) = ((l % lnx) as i64, (l / lnx) as i64);
+        N4.iter().filter_map(move |&(di, dj)| {
+            let (a, b) = (li + di, lj + dj);
+            (a >= 0 && b >= 0 && a < lnx as i64 && b < lny as i64)
+                .then(|| b as usize * lnx + a as usize)
+        })
+    }
+
+    /// The box cells reached from the ring without entering parcel `x`.
+    fn outside(&self, label: &[u32], x: u32) -> Vec<bool> {
+        let (lnx, lny) = (self.lnx, self.lny);
         let mut outside = vec![false; lnx * lny];
         let mut queue = VecDeque::new();
         for (l, out) in outside.iter_mut().enumerate() {
@@ -237,85 +345,33 @@ fn fix_holes(
                 queue.push_back(l);
             }
         }
-        let neighbours = |l: usize| {
-            let (li, lj) = ((l % lnx) as i64, (l / lnx) as i64);
-            N4.iter().filter_map(move |&(di, dj)| {
-                let (a, b) = (li + di, lj + dj);
-                (a >= 0 && b >= 0 && a < lnx as i64 && b < lny as i64)
-                    .then(|| b as usize * lnx + a as usize)
-            })
-        };
         while let Some(l) = queue.pop_front() {
-            for m in neighbours(l) {
-                if !outside[m] && lab(m, label) != x {
+            for m in self.neighbours(l) {
+                if !outside[m] && self.label(m, label) != x {
                     outside[m] = true;
                     queue.push_back(m);
                 }
             }
         }
-        let mut seen = outside.clone();
-        for start in 0..lnx * lny {
-            if seen[start] || lab(start, label) == x {
-                continue;
-            }
-            // one hole
-            let mut hole = vec![start];
-            seen[start] = true;
-            let mut q = 0;
-            while q < hole.len() {
-                let l = hole[q];
-                q += 1;
-                for m in neighbours(l) {
-                    if !seen[m] && lab(m, label) != x {
-                        seen[m] = true;
-                        hole.push(m);
-                    }
-                }
-            }
-            let global = |l: usize| {
-                work.inside(i0 + (l % lnx) as i64, j0 + (l / lnx) as i64)
-                    .unwrap_or(0)
-            };
-            if hole
-                .iter()
-                .all(|&l| fillable(work, owner, label, x, global(l)))
-            {
-                let rim = hole
-                    .iter()
-                    .flat_map(|&l| neighbours(l))
-                    .filter(|&m| lab(m, label) == x)
-                    .map(|m| best[global(m)])
-                    .fold(0.0, f64::max);
-                for &l in &hole {
-                    label[global(l)] = x;
-                    best[global(l)] = rim;
-                }
-                changed = true;
-                continue;
-            }
-            let threshold = hole
-                .iter()
-                .flat_map(|&l| neighbours(l))
-                .filter(|&m| lab(m, label) == x)
-                .map(|m| best[global(m)])
-                .fold(f64::INFINITY, f64::min);
-            if !(threshold > 0.0 && threshold.is_finite()) {
-                // the hole touches the parcel's own road cells: its outline is kept around it
-                continue;
-            }
-            for j in bj0..=bj1 {
-                for i in bi0..=bi1 {
-                    let k = j * work.nx + i;
-                    if label[k] == x && best[k] >= threshold && !is_anchor[k] {
-                        label[k] = NONE;
-                        best[k] = f64::INFINITY;
-                        changed = true;
-                    }
-                }
-            }
-            // the parcel changed: its other holes are looked at again in the next round
-            break;
-        }
+        outside
     }
-    changed
+
+    /// The hole of parcel `x` holding box cell `start`: the cells not of `x` 4-connected to it and not `seen`
+    /// yet, which it marks seen.
+    fn hole(&self, start: usize, label: &[u32], x: u32, seen: &mut [bool]) -> Vec<usize> {
+        let mut hole = vec![start];
+        seen[start] = true;
+        let mut q = 0;
+        while q < hole.len() {
+            let l = hole[q];
+            q += 1;
+            for m in self.neighbours(l) {
+                if !seen[m] && self.label(m, label) != x {
+                    seen[m] = true;
+                    hole.push(m);
+                }
+            }
+        }
+        hole
+    }
 }

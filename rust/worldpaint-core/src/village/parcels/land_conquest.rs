@@ -12,6 +12,7 @@ use super::super::encyclopedia::ParcelParams;
 use super::super::land::Land;
 use super::super::road_index::RoadIndex;
 use super::grid::{Work, N8};
+use super::NONE;
 use glam::DVec2;
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
@@ -43,46 +44,11 @@ pub(super) fn conquer(
         return Vec::new();
     }
     let c = work.cell;
-    let reach = params.budget / params.conquest_weight;
-    // (an enormous fund reaches the whole grid, no farther)
-    let r = (reach / c).ceil().min((work.nx + work.ny) as f64) as usize + 1;
-    let (mut i0, mut j0, mut i1, mut j1) = (usize::MAX, usize::MAX, 0, 0);
-    for &k in fronts {
-        let (i, j) = work.ij(k);
-        (i0, j0, i1, j1) = (i0.min(i), j0.min(j), i1.max(i), j1.max(j));
-    }
-    let (i0, j0) = (i0.saturating_sub(r), j0.saturating_sub(r));
-    let (i1, j1) = ((i1 + r).min(work.nx - 1), (j1 + r).min(work.ny - 1));
-    let (lnx, lny) = (i1 - i0 + 1, j1 - j0 + 1);
-    let global = |l: usize| (j0 + l / lnx) * work.nx + i0 + l % lnx;
-    // the road frame (normal n away from the road) of every source
-    let frames: Vec<(DVec2, DVec2)> = fronts
-        .iter()
-        .map(|&k| {
-            let p = work.point_of(k);
-            let n = (p - index.project(p).point).normalize_or_zero();
-            // (a road cell lies beside its road, never on its centre line)
-            let n = if n == DVec2::ZERO { DVec2::Y } else { n };
-            (p, n)
-        })
-        .collect();
-    // the terrain gradient on the window's cells (central differences)
-    let gradients: Option<Vec<DVec2>> = (params.slope_weight > 0.0).then(|| {
-        let h: Vec<f64> = (0..lnx * lny)
-            .map(|l| land.height_at(work.point_of(global(l))))
-            .collect();
-        (0..lnx * lny)
-            .map(|l| {
-                let (i, j) = (l % lnx, l / lnx);
-                let (a, b) = (i.saturating_sub(1), (i + 1).min(lnx - 1));
-                let (e, f) = (j.saturating_sub(1), (j + 1).min(lny - 1));
-                DVec2::new(
-                    (h[j * lnx + b] - h[j * lnx + a]) / ((b - a).max(1) as f64 * c),
-                    (h[f * lnx + i] - h[e * lnx + i]) / ((f - e).max(1) as f64 * c),
-                )
-            })
-            .collect()
-    });
+    let win = Window::new(work, fronts, params);
+    let (i0, j0, lnx, lny) = (win.i0, win.j0, win.lnx, win.lny);
+    let global = |l: usize| win.global(l);
+    let frames = road_frames(work, index, fronts);
+    let gradients = (params.slope_weight > 0.0).then(|| win.gradients(land));
     let mut cost = vec![f64::INFINITY; lnx * lny];
     let mut origin = vec![u32::MAX; lnx * lny];
     let mut slope = vec![0.0f64; lnx * lny];
@@ -157,6 +123,98 @@ pub(super) fn conquer(
             cell: global(l) as u32,
             cost: c,
             source: fronts[origin[l] as usize] as u32,
+        })
+        .collect()
+}
+
+/// The label (parcel) and cost of every cell from all parcels' claims. A cell claimed by several parcels goes to
+/// the lowest cost; costs equal but for rounding (facing rows meeting half-way on the lattice) go to the source
+/// first in grid order, so that such a boundary stays on one side of the lattice line all along instead of
+/// zig-zagging with the seeds' order.
+pub(super) fn resolve_claims(claims: &[Vec<Claim>], cells: usize) -> (Vec<u32>, Vec<f64>) {
+    let mut best = vec![f64::INFINITY; cells];
+    let mut from = vec![u32::MAX; cells];
+    let mut label = vec![NONE; cells];
+    for (i, cl) in claims.iter().enumerate() {
+        for c in cl {
+            let k = c.cell as usize;
+            let tie = 1e-9 * (1.0 + c.cost.abs());
+            if c.cost < best[k] - tie || (c.cost <= best[k] + tie && c.source < from[k]) {
+                best[k] = c.cost;
+                from[k] = c.source;
+                label[k] = i as u32;
+            }
+        }
+    }
+    (label, best)
+}
+
+/// The part of the grid a parcel may conquer: the box of its road cells grown by its reach, with local cell
+/// indices `l` (row by row, `lnx` cells a row).
+struct Window<'a> {
+    work: &'a Work,
+    i0: usize,
+    j0: usize,
+    lnx: usize,
+    lny: usize,
+}
+
+impl<'a> Window<'a> {
+    fn new(work: &'a Work, fronts: &[usize], params: &ParcelParams) -> Self {
+        let reach = params.budget / params.conquest_weight;
+        // (an enormous fund reaches the whole grid, no farther)
+        let r = (reach / work.cell).ceil().min((work.nx + work.ny) as f64) as usize + 1;
+        let (mut i0, mut j0, mut i1, mut j1) = (usize::MAX, usize::MAX, 0, 0);
+        for &k in fronts {
+            let (i, j) = work.ij(k);
+            (i0, j0, i1, j1) = (i0.min(i), j0.min(j), i1.max(i), j1.max(j));
+        }
+        let (i0, j0) = (i0.saturating_sub(r), j0.saturating_sub(r));
+        let (i1, j1) = ((i1 + r).min(work.nx - 1), (j1 + r).min(work.ny - 1));
+        Window {
+            work,
+            i0,
+            j0,
+            lnx: i1 - i0 + 1,
+            lny: j1 - j0 + 1,
+        }
+    }
+
+    /// The grid cell of local cell `l`.
+    fn global(&self, l: usize) -> usize {
+        (self.j0 + l / self.lnx) * self.work.nx + self.i0 + l % self.lnx
+    }
+
+    /// The terrain gradient on the window's cells (central differences).
+    fn gradients(&self, land: &Land) -> Vec<DVec2> {
+        let (lnx, lny, c) = (self.lnx, self.lny, self.work.cell);
+        let h: Vec<f64> = (0..lnx * lny)
+            .map(|l| land.height_at(self.work.point_of(self.global(l))))
+            .collect();
+        (0..lnx * lny)
+            .map(|l| {
+                let (i, j) = (l % lnx, l / lnx);
+                let (a, b) = (i.saturating_sub(1), (i + 1).min(lnx - 1));
+                let (e, f) = (j.saturating_sub(1), (j + 1).min(lny - 1));
+                DVec2::new(
+                    (h[j * lnx + b] - h[j * lnx + a]) / ((b - a).max(1) as f64 * c),
+                    (h[f * lnx + i] - h[e * lnx + i]) / ((f - e).max(1) as f64 * c),
+                )
+            })
+            .collect()
+    }
+}
+
+/// The road frame of every source: its position and the road normal `n` there, pointing away from the road.
+fn road_frames(work: &Work, index: &RoadIndex, fronts: &[usize]) -> Vec<(DVec2, DVec2)> {
+    fronts
+        .iter()
+        .map(|&k| {
+            let p = work.point_of(k);
+            let n = (p - index.project(p).point).normalize_or_zero();
+            // (a road cell lies beside its road, never on its centre line)
+            let n = if n == DVec2::ZERO { DVec2::Y } else { n };
+            (p, n)
         })
         .collect()
 }

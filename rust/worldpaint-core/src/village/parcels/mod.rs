@@ -55,6 +55,20 @@
 //!
 //! The conquest grid has cells of side `cell` over the land's box (water, walls and `Ω` are read at the nearest
 //! land node); it is allocated only over the neighbourhoods the seeds can reach.
+//!
+//! | file | step |
+//! |---|---|
+//! | `grid` | the conquest grid, the road corridor and its front |
+//! | `road_conquest` | road conquest (3.3.1) |
+//! | `corner` | road junctions and corner conquest (3.3.2) |
+//! | `land_conquest` | anisotropic land conquest and the resolution of claims (3.3.3) |
+//! | `labels` | from claimed cells to simple regions (3.3.3) |
+//! | `boundary` | the boundary graph of all parcels (3.3.4) |
+//! | `simplify` | chain simplification and the rules it keeps (3.3.4) |
+//! | `junctions` | edge collapses at the junctions (3.3.4) |
+//! | `statistics` | the statistics of a layout (3.5) |
+//!
+//! The roads' segment index both parcels and footprints query lives in `village::road_index`.
 
 mod boundary;
 mod corner;
@@ -75,13 +89,13 @@ use super::land::Land;
 use super::road_index::{Projection, RoadIndex};
 use super::{Parcel, Road};
 use crate::error::{Error, Result};
-use corner::{corner_conquest, junctions};
+use corner::{corner_conquest_keeping_access, junctions};
 use glam::DVec2;
 use grid::Work;
 use labels::clean_labels;
-use land_conquest::{conquer, Claim};
+use land_conquest::{conquer, resolve_claims, Claim};
 use rayon::prelude::*;
-use road_conquest::{road_conquest, RoadConquest};
+use road_conquest::{fronts_and_anchors, road_conquest};
 use simplify::simplified_contours;
 
 /// No parcel.
@@ -173,61 +187,15 @@ pub fn parcels_with(
         return Ok(vec![None; n]);
     };
 
-    // 3.3.1 road conquest
+    // 3.3.1 road conquest, 3.3.2 corner conquest
     let sources: Vec<Option<usize>> = projections
         .iter()
         .map(|p| work.source_cell(&index, p, half))
         .collect();
     let mut road = road_conquest(&work, seeds, &sources);
-
-    // 3.3.2 corner conquest
-    let longest = seeds
-        .iter()
-        .map(|s| s.params.budget / s.params.conquest_weight + s.params.road_reach)
-        .fold(0.0, f64::max);
-    let junctions = junctions(
-        roads,
-        &work,
-        half,
-        longest + road_width + 4.0 * cell,
-        options,
-    );
-    let frontage = |road: &RoadConquest| {
-        let mut count = vec![0usize; n];
-        for &o in &road.owner {
-            if o != NONE {
-                count[o as usize] += 1;
-            }
-        }
-        count
-    };
-    let before = frontage(&road);
-    corner_conquest(&work, seeds, &junctions, half, options, &mut road);
-    // a seed left with less than half its road front by a corner lot has lost its access: what remains would
-    // make a sliver of a parcel
-    let after = frontage(&road);
-    for o in road.owner.iter_mut() {
-        if *o != NONE && 2 * after[*o as usize] < before[*o as usize] {
-            *o = NONE;
-        }
-    }
-
-    let mut fronts: Vec<Vec<usize>> = vec![Vec::new(); n];
-    for (k, &o) in road.owner.iter().enumerate() {
-        if o != NONE {
-            fronts[o as usize].push(k);
-        }
-    }
-    // the parcel's anchor: its source cell, or the owned road cell nearest to it along the road
-    let anchors: Vec<Option<usize>> = (0..n)
-        .map(|i| match sources[i] {
-            Some(s) if road.owner[s] == i as u32 => Some(s),
-            _ => fronts[i]
-                .iter()
-                .copied()
-                .min_by(|&a, &b| road.arrival[a].total_cmp(&road.arrival[b]).then(a.cmp(&b))),
-        })
-        .collect();
+    let junctions = junctions(roads, &work, seeds, road_width, options);
+    corner_conquest_keeping_access(&work, seeds, &junctions, half, options, &mut road);
+    let (fronts, anchors) = fronts_and_anchors(&road, &sources);
 
     // 3.3.3 anisotropic land conquest, each parcel on its own
     let claims: Vec<Vec<Claim>> = (0..n)
@@ -247,23 +215,7 @@ pub fn parcels_with(
             )
         })
         .collect();
-    // a cell claimed by several parcels goes to the lowest cost; costs equal but for rounding (facing rows
-    // meeting half-way on the lattice) go to the source first in grid order, so that such a boundary stays on one
-    // side of the lattice line all along instead of zig-zagging with the seeds' order
-    let mut best = vec![f64::INFINITY; work.len()];
-    let mut from = vec![u32::MAX; work.len()];
-    let mut label = vec![NONE; work.len()];
-    for (i, cl) in claims.iter().enumerate() {
-        for c in cl {
-            let k = c.cell as usize;
-            let tie = 1e-9 * (1.0 + c.cost.abs());
-            if c.cost < best[k] - tie || (c.cost <= best[k] + tie && c.source < from[k]) {
-                best[k] = c.cost;
-                from[k] = c.source;
-                label[k] = i as u32;
-            }
-        }
-    }
+    let (mut label, mut best) = resolve_claims(&claims, work.len());
     let is_anchor = {
         let mut a = vec![false; work.len()];
         for k in anchors.iter().flatten() {

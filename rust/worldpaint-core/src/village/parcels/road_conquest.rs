@@ -62,3 +62,27 @@ pub(super) fn road_conquest(
     }
     RoadConquest { owner, arrival }
 }
+
+/// Each parcel's road cells, and its anchor: its source cell, or the owned road cell nearest to it along the road.
+pub(super) fn fronts_and_anchors(
+    road: &RoadConquest,
+    sources: &[Option<usize>],
+) -> (Vec<Vec<usize>>, Vec<Option<usize>>) {
+    let n = sources.len();
+    let mut fronts: Vec<Vec<usize>> = vec![Vec::new(); n];
+    for (k, &o) in road.owner.iter().enumerate() {
+        if o != NONE {
+            fronts[o as usize].push(k);
+        }
+    }
+    let anchors: Vec<Option<usize>> = (0..n)
+        .map(|i| match sources[i] {
+            Some(s) if road.owner[s] == i as u32 => Some(s),
+            _ => fronts[i]
+                .iter()
+                .copied()
+                .min_by(|&a, &b| road.arrival[a].total_cmp(&road.arrival[b]).then(a.cmp(&b))),
+        })
+        .collect();
+    (fronts, anchors)
+}

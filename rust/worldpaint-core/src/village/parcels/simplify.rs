@@ -8,9 +8,11 @@
 use super::super::road_index::RoadIndex;
 use super::boundary::{trace, Chain, Lattice};
 use super::grid::{Work, BLOCKED};
-use super::junctions::{collapse_junctions, position};
+use super::junctions::{collapse_junctions, position, Moves};
 use super::{ParcelOptions, NONE};
-use crate::geom::{polygon_contains, polygon_signed_area, segment_distance};
+use crate::geom::{
+    douglas_peucker, polygon_contains, polygon_signed_area, polyline_segments, segment_distance,
+};
 use crate::graph::{angle_between, SegmentIndex};
 use glam::DVec2;
 use rayon::prelude::*;
@@ -89,30 +91,6 @@ impl Rules<'_> {
     }
 }
 
-/// Douglas–Peucker between `s` and `e`: a span becomes one edge when every vertex lies within `tol` of it and the
-/// edge is clear.
-fn douglas_peucker(pts: &[DVec2], s: usize, e: usize, tol: f64, rules: &Rules, keep: &mut [bool]) {
-    let mut stack = vec![(s, e)];
-    while let Some((s, e)) = stack.pop() {
-        if e <= s + 1 {
-            continue;
-        }
-        let (mut far, mut dmax) = (s + 1, -1.0);
-        for (q, p) in pts.iter().enumerate().take(e).skip(s + 1) {
-            let d = segment_distance(*p, pts[s], pts[e]);
-            if d > dmax {
-                (far, dmax) = (q, d);
-            }
-        }
-        if dmax <= tol && rules.replaces(&pts[s..=e]) {
-            continue;
-        }
-        keep[far] = true;
-        stack.push((s, far));
-        stack.push((far, e));
-    }
-}
-
 /// Kept vertices with a score, as (score, index into the kept list).
 type ScoredVertices = Vec<(f64, usize)>;
 
@@ -125,61 +103,16 @@ fn simplify_chain(
     options: &ParcelOptions,
     level: u8,
 ) -> Vec<usize> {
+    if level >= 2 {
+        return outline_corners(ch, lat);
+    }
     let m = ch.ids.len();
     let pts: Vec<DVec2> = ch.ids.iter().map(|&v| lat.pos(v)).collect();
     // a closed loop is cyclic over 0..m-1 (its last vertex repeats the first)
     let cyc = if ch.closed { m - 1 } else { m };
-    let mut keep = vec![false; m];
-    if !ch.closed {
-        keep[0] = true;
-        keep[m - 1] = true;
-    }
-    if level >= 2 {
-        for (q, k) in keep.iter_mut().enumerate().take(cyc) {
-            if !ch.closed && (q == 0 || q == m - 1) {
-                continue;
-            }
-            let prev = if q == 0 { m - 2 } else { q - 1 };
-            let (a, b, c) = (
-                lat.vij(ch.ids[prev]),
-                lat.vij(ch.ids[q]),
-                lat.vij(ch.ids[q + 1]),
-            );
-            if (b.0 - a.0, b.1 - a.1) != (c.0 - b.0, c.1 - b.1) {
-                *k = true;
-            }
-        }
-        return (0..cyc).filter(|&q| keep[q]).collect();
-    }
     let scale = 0.5f64.powi(level as i32);
     let c = rules.work.cell;
-    let tol = options.straighten * c * scale;
-    if ch.is_loop() {
-        let far = (1..m - 1)
-            .max_by(|&a, &b| {
-                pts[a]
-                    .distance(pts[0])
-                    .total_cmp(&pts[b].distance(pts[0]))
-                    .then(b.cmp(&a))
-            })
-            .unwrap_or(0);
-        keep[0] = true;
-        keep[far] = true;
-        douglas_peucker(&pts, 0, far, tol, rules, &mut keep);
-        douglas_peucker(&pts, far, m - 1, tol, rules, &mut keep);
-        if (0..m - 1).filter(|&q| keep[q]).count() < 3 {
-            let third = (1..m - 1).filter(|&q| q != far).max_by(|&a, &b| {
-                segment_distance(pts[a], pts[0], pts[far])
-                    .total_cmp(&segment_distance(pts[b], pts[0], pts[far]))
-                    .then(b.cmp(&a))
-            });
-            if let Some(t) = third {
-                keep[t] = true;
-            }
-        }
-    } else {
-        douglas_peucker(&pts, 0, m - 1, tol, rules, &mut keep);
-    }
+    let keep = straightened(ch, &pts, options.straighten * c * scale, rules);
     let mut kept: Vec<usize> = (0..cyc).filter(|&q| keep[q]).collect();
     let max_dev = options.merge_deviation * c * scale;
     // removes, one at a time, the removable vertex with the smallest score among `candidates` (score, index into
@@ -228,6 +161,72 @@ fn simplify_chain(
             .collect()
     });
     kept
+}
+
+/// The corners of a chain's cell outline (indices into `ids`), with the ends of an open chain: the simplification
+/// that always keeps the rules.
+fn outline_corners(ch: &Chain, lat: &Lattice) -> Vec<usize> {
+    let m = ch.ids.len();
+    let cyc = if ch.closed { m - 1 } else { m };
+    let mut keep = vec![false; m];
+    if !ch.closed {
+        keep[0] = true;
+        keep[m - 1] = true;
+    }
+    for (q, k) in keep.iter_mut().enumerate().take(cyc) {
+        if !ch.closed && (q == 0 || q == m - 1) {
+            continue;
+        }
+        let prev = if q == 0 { m - 2 } else { q - 1 };
+        let (a, b, c) = (
+            lat.vij(ch.ids[prev]),
+            lat.vij(ch.ids[q]),
+            lat.vij(ch.ids[q + 1]),
+        );
+        if (b.0 - a.0, b.1 - a.1) != (c.0 - b.0, c.1 - b.1) {
+            *k = true;
+        }
+    }
+    (0..cyc).filter(|&q| keep[q]).collect()
+}
+
+/// The vertices of a chain's cell outline `pts` that its staircases straightened within `tol` keep
+/// (Douglas–Peucker, each new edge [`Rules::replaces`] its stretch). A loop is split at its farthest vertex from
+/// the first, and keeps three vertices at least.
+fn straightened(ch: &Chain, pts: &[DVec2], tol: f64, rules: &Rules) -> Vec<bool> {
+    let m = pts.len();
+    let mut keep = vec![false; m];
+    if !ch.closed {
+        keep[0] = true;
+        keep[m - 1] = true;
+    }
+    if ch.is_loop() {
+        let far = (1..m - 1)
+            .max_by(|&a, &b| {
+                pts[a]
+                    .distance(pts[0])
+                    .total_cmp(&pts[b].distance(pts[0]))
+                    .then(b.cmp(&a))
+            })
+            .unwrap_or(0);
+        keep[0] = true;
+        keep[far] = true;
+        douglas_peucker(pts, 0, far, tol, &mut keep, |span| rules.replaces(span));
+        douglas_peucker(pts, far, m - 1, tol, &mut keep, |span| rules.replaces(span));
+        if (0..m - 1).filter(|&q| keep[q]).count() < 3 {
+            let third = (1..m - 1).filter(|&q| q != far).max_by(|&a, &b| {
+                segment_distance(pts[a], pts[0], pts[far])
+                    .total_cmp(&segment_distance(pts[b], pts[0], pts[far]))
+                    .then(b.cmp(&a))
+            });
+            if let Some(t) = third {
+                keep[t] = true;
+            }
+        }
+    } else {
+        douglas_peucker(pts, 0, m - 1, tol, &mut keep, |span| rules.replaces(span));
+    }
+    keep
 }
 
 /// Whether kept vertex `q` may go: the outline between its neighbours stays within `max_dev` of the new edge,
@@ -323,8 +322,6 @@ pub(super) fn simplified_contours(
     let lat = Lattice::new(work, label);
     let (chains, loops) = trace(&lat, n);
     let rules = Rules { work, index, half };
-    let c = work.cell;
-    let eps = 1e-6 * c;
     let mut cells = vec![0usize; n];
     for &x in label {
         if x != NONE {
@@ -341,72 +338,8 @@ pub(super) fn simplified_contours(
             .map(|(ch, &level)| simplify_chain(ch, &lat, &rules, options, level))
             .collect();
         let moved = collapse_junctions(&lat, &chains, &kept, &levels, &rules, options);
-        for (ch, k) in chains.iter().zip(&kept) {
-            for &v in &ch.ids {
-                flag[v as usize] = false;
-            }
-            for &q in k {
-                flag[ch.ids[q] as usize] = true;
-            }
-        }
-        polygons = loops
-            .iter()
-            .map(|lp| {
-                if lp.is_empty() {
-                    return None;
-                }
-                let mut poly: Vec<DVec2> = Vec::new();
-                for &v in lp {
-                    if flag[v as usize] {
-                        let p = position(&lat, &moved, v);
-                        if poly.last() != Some(&p) {
-                            poly.push(p);
-                        }
-                    }
-                }
-                while poly.len() > 1 && poly.first() == poly.last() {
-                    poly.pop();
-                }
-                Some(poly)
-            })
-            .collect();
-        // the rules every simplified chain must keep
-        let mut bad = vec![false; chains.len()];
-        let mut segments: Vec<(DVec2, DVec2, usize)> = Vec::new();
-        for (ci, (ch, k)) in chains.iter().zip(&kept).enumerate() {
-            let mut pts: Vec<DVec2> = k
-                .iter()
-                .map(|&q| position(&lat, &moved, ch.ids[q]))
-                .collect();
-            if ch.closed {
-                if let Some(&p) = pts.first() {
-                    pts.push(p);
-                }
-            }
-            pts.dedup();
-            segments.extend(pts.windows(2).map(|w| (w[0], w[1], ci)));
-        }
-        crossing_chains(&segments, eps, &mut bad);
-        let mut bad_parcel = vec![false; n];
-        for (x, poly) in polygons.iter().enumerate() {
-            let Some(poly) = poly else { continue };
-            let raw = cells[x] as f64 * c * c;
-            let mut sorted = poly.clone();
-            sorted.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
-            let repeated = sorted.windows(2).any(|w| w[0].distance(w[1]) <= eps);
-            if poly.len() < 3 || !(polygon_signed_area(poly) > 0.5 * raw) || repeated {
-                bad_parcel[x] = true;
-            }
-        }
-        for (ch, b) in chains.iter().zip(bad.iter_mut()) {
-            if ch
-                .labels
-                .iter()
-                .any(|&l| l != NONE && bad_parcel[l as usize])
-            {
-                *b = true;
-            }
-        }
+        polygons = outlines(&lat, &chains, &kept, &moved, &loops, &mut flag);
+        let bad = broken_chains(&lat, &chains, &kept, &moved, &polygons, &cells);
         let mut raised = false;
         for (level, &b) in levels.iter_mut().zip(&bad) {
             if b && *level < 2 {
@@ -420,4 +353,94 @@ pub(super) fn simplified_contours(
         }
     }
     polygons
+}
+
+/// Each parcel's outline through the kept vertices of the chains, at their moved positions. `flag` (one per
+/// lattice vertex) is scratch space.
+fn outlines(
+    lat: &Lattice,
+    chains: &[Chain],
+    kept: &[Vec<usize>],
+    moved: &Moves,
+    loops: &[Vec<u32>],
+    flag: &mut [bool],
+) -> Vec<Option<Vec<DVec2>>> {
+    for (ch, k) in chains.iter().zip(kept) {
+        for &v in &ch.ids {
+            flag[v as usize] = false;
+        }
+        for &q in k {
+            flag[ch.ids[q] as usize] = true;
+        }
+    }
+    loops
+        .iter()
+        .map(|lp| {
+            if lp.is_empty() {
+                return None;
+            }
+            let mut poly: Vec<DVec2> = Vec::new();
+            for &v in lp {
+                if flag[v as usize] {
+                    let p = position(lat, moved, v);
+                    if poly.last() != Some(&p) {
+                        poly.push(p);
+                    }
+                }
+            }
+            while poly.len() > 1 && poly.first() == poly.last() {
+                poly.pop();
+            }
+            Some(poly)
+        })
+        .collect()
+}
+
+/// The chains that break the rules every simplified chain must keep: chains may not cross, and a parcel
+/// (`cells` of the grid) must stay a polygon of three vertices or more, counter-clockwise, without repeated
+/// vertices, and of at least half its cells' area; every chain of a parcel that does not is broken.
+fn broken_chains(
+    lat: &Lattice,
+    chains: &[Chain],
+    kept: &[Vec<usize>],
+    moved: &Moves,
+    polygons: &[Option<Vec<DVec2>>],
+    cells: &[usize],
+) -> Vec<bool> {
+    let c = lat.work.cell;
+    let eps = 1e-6 * c;
+    let mut bad = vec![false; chains.len()];
+    let mut segments: Vec<(DVec2, DVec2, usize)> = Vec::new();
+    for (ci, (ch, k)) in chains.iter().zip(kept).enumerate() {
+        let mut pts: Vec<DVec2> = k.iter().map(|&q| position(lat, moved, ch.ids[q])).collect();
+        if ch.closed {
+            if let Some(&p) = pts.first() {
+                pts.push(p);
+            }
+        }
+        pts.dedup();
+        segments.extend(polyline_segments(&pts).map(|(a, b)| (a, b, ci)));
+    }
+    crossing_chains(&segments, eps, &mut bad);
+    let mut bad_parcel = vec![false; polygons.len()];
+    for (x, poly) in polygons.iter().enumerate() {
+        let Some(poly) = poly else { continue };
+        let raw = cells[x] as f64 * c * c;
+        let mut sorted = poly.clone();
+        sorted.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
+        let repeated = sorted.windows(2).any(|w| w[0].distance(w[1]) <= eps);
+        if poly.len() < 3 || !(polygon_signed_area(poly) > 0.5 * raw) || repeated {
+            bad_parcel[x] = true;
+        }
+    }
+    for (ch, b) in chains.iter().zip(bad.iter_mut()) {
+        if ch
+            .labels
+            .iter()
+            .any(|&l| l != NONE && bad_parcel[l as usize])
+        {
+            *b = true;
+        }
+    }
+    bad
 }
