@@ -16,7 +16,7 @@
 //!   `d` outside and `−d / d_max` inside, where `d_max` is the largest distance to the border inside the contour
 //!   that holds the point.
 
-use crate::geom::{polygon_signed_area, DVec2, Region};
+use crate::geom::{douglas_peucker, polygon_signed_area, DVec2, Region};
 use crate::graph::SegmentIndex;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -366,25 +366,6 @@ fn simplify(points: &[DVec2], tolerance: f64) -> Vec<DVec2> {
     if points.len() < 4 {
         return points.to_vec();
     }
-    fn keep(points: &[DVec2], lo: usize, hi: usize, tol: f64, out: &mut Vec<bool>) {
-        if hi <= lo + 1 {
-            return;
-        }
-        let (a, b) = (points[lo], points[hi]);
-        let (mut worst, mut at) = (0.0, lo);
-        for (k, p) in points.iter().enumerate().take(hi).skip(lo + 1) {
-            let d = crate::geom::segment_distance(*p, a, b);
-            if d > worst {
-                worst = d;
-                at = k;
-            }
-        }
-        if worst > tol {
-            out[at] = true;
-            keep(points, lo, at, tol, out);
-            keep(points, at, hi, tol, out);
-        }
-    }
     // split the loop at its farthest point from the first
     let far = (0..points.len())
         .max_by(|&a, &b| {
@@ -398,8 +379,8 @@ fn simplify(points: &[DVec2], tolerance: f64) -> Vec<DVec2> {
     let mut kept = vec![false; ring.len()];
     kept[0] = true;
     kept[far] = true;
-    keep(&ring, 0, far, tolerance, &mut kept);
-    keep(&ring, far, ring.len() - 1, tolerance, &mut kept);
+    douglas_peucker(&ring, 0, far, tolerance, &mut kept, |_| true);
+    douglas_peucker(&ring, far, ring.len() - 1, tolerance, &mut kept, |_| true);
     ring.iter()
         .zip(&kept)
         .take(points.len())

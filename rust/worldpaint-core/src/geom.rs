@@ -176,7 +176,6 @@ pub fn segment_intersection(a: DVec2, b: DVec2, c: DVec2, d: DVec2) -> Option<(f
     ((0.0..=1.0).contains(&t) && (0.0..=1.0).contains(&u)).then_some((t, u))
 }
 
-/// Signed area of a closed polygon (positive when counter-clockwise).
 /// Whether `p` lies inside the closed polygon `points` (even-odd rule by a horizontal ray; the polygon closes from
 /// its last point to its first).
 pub fn polygon_contains(points: &[DVec2], p: DVec2) -> bool {
@@ -196,12 +195,62 @@ pub fn polygon_contains(points: &[DVec2], p: DVec2) -> bool {
     inside
 }
 
+/// Signed area of a closed polygon (positive when counter-clockwise).
 pub fn polygon_signed_area(points: &[DVec2]) -> f64 {
     let n = points.len();
     (0..n)
         .map(|i| points[i].perp_dot(points[(i + 1) % n]))
         .sum::<f64>()
         * 0.5
+}
+
+/// The counter-clockwise angle from `u` to `v`, in [0, 2π).
+pub fn ccw_angle(u: DVec2, v: DVec2) -> f64 {
+    let a = u.perp_dot(v).atan2(u.dot(v));
+    if a < 0.0 {
+        a + TAU
+    } else {
+        a
+    }
+}
+
+/// The segments of a polyline, one per pair of consecutive points.
+pub fn polyline_segments(points: &[DVec2]) -> impl Iterator<Item = (DVec2, DVec2)> + '_ {
+    points.windows(2).map(|w| (w[0], w[1]))
+}
+
+/// Douglas–Peucker on the stretch `first..=last` of a polyline: marks in `keep` the vertices that stay (the ends'
+/// marks are left as they are). A stretch becomes one edge when every vertex lies within `tolerance` of it and
+/// `may_join` accepts the stretch (its vertices, ends included), which is where callers forbid removing vertices
+/// (an edge that would cross an obstacle); otherwise its farthest vertex (the first of equals) stays and both
+/// halves are simplified in turn.
+pub fn douglas_peucker(
+    points: &[DVec2],
+    first: usize,
+    last: usize,
+    tolerance: f64,
+    keep: &mut [bool],
+    mut may_join: impl FnMut(&[DVec2]) -> bool,
+) {
+    let mut stack = vec![(first, last)];
+    while let Some((s, e)) = stack.pop() {
+        if e <= s + 1 {
+            continue;
+        }
+        let (mut far, mut dmax) = (s + 1, -1.0);
+        for (q, p) in points.iter().enumerate().take(e).skip(s + 1) {
+            let d = segment_distance(*p, points[s], points[e]);
+            if d > dmax {
+                (far, dmax) = (q, d);
+            }
+        }
+        if dmax <= tolerance && may_join(&points[s..=e]) {
+            continue;
+        }
+        keep[far] = true;
+        stack.push((s, far));
+        stack.push((far, e));
+    }
 }
 
 impl Region {

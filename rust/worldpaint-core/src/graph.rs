@@ -7,7 +7,7 @@
 //! angles between edges sharing a node, node degrees, connected components — are read here, and a
 //! [`SegmentIndex`] answers the distance-to-graph and crossing queries of the synthesis in constant time per query.
 
-use crate::geom::{segment_distance, segment_intersection, DVec2};
+use crate::geom::{polyline_segments, segment_distance, segment_intersection, DVec2};
 use std::collections::HashMap;
 use std::f64::consts::PI;
 
@@ -67,7 +67,7 @@ impl Graph {
     pub fn from_paths(paths: &[&[DVec2]], snap: f64) -> Graph {
         let segments: Vec<(DVec2, DVec2)> = paths
             .iter()
-            .flat_map(|p| p.windows(2).map(|w| (w[0], w[1])))
+            .flat_map(|p| polyline_segments(p))
             .filter(|(a, b)| a.is_finite() && b.is_finite() && a.distance(*b) > snap)
             .collect();
         // crossings, found through a grid of segments

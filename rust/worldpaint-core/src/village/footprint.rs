@@ -21,7 +21,7 @@
 //! A footprint lies inside its parcel and keeps `road_width / 2` from every road centre line (both are checked at
 //! every step), so footprints never overlap roads nor each other, except along shared walls.
 
-use super::parcels::RoadIndex;
+use super::road_index::RoadIndex;
 use super::{Footprint, Parcel, Road};
 use crate::error::{Error, Result};
 use crate::geom::{polygon_contains, polygon_signed_area, segment_distance, segment_intersection};

@@ -38,9 +38,10 @@ mod grammar;
 
 pub use grammar::{kernel, Ground, CLEARANCE, MAX_TESTS, OPENING_OFFSET, STEP};
 
+use crate::geom::polygon_signed_area;
 use crate::village::encyclopedia::{BuildingKind, RoofStyle};
 use crate::village::{Footprint, HouseMaterial, HouseMesh};
-use geometry::{block, offset, roof, signed_area2, MeshBuilder, RoofParams};
+use geometry::{block, offset, roof, MeshBuilder, RoofParams};
 use glam::DVec2;
 use grammar::{Rect, Shape, Site, Wall};
 use rand::{Rng, SeedableRng};
@@ -236,10 +237,10 @@ fn normalized(c: &[DVec2; 4]) -> Option<[DVec2; 4]> {
     if c.iter().any(|p| !p.is_finite()) {
         return None;
     }
-    let area2 = signed_area2(c);
-    let f = if area2 > 0.0 {
+    let area = polygon_signed_area(c);
+    let f = if area > 0.0 {
         *c
-    } else if area2 < 0.0 {
+    } else if area < 0.0 {
         // Reversed, the front side keeps its two corners.
         [c[1], c[0], c[3], c[2]]
     } else {

@@ -23,6 +23,7 @@ pub mod interest;
 pub mod land;
 pub mod metrics;
 pub mod parcels;
+mod road_index;
 pub mod roads;
 pub mod seeding;
 

@@ -2,6 +2,7 @@
 //! polygon helpers (offset, half-plane clipping) and the closed solids: storey prisms, the foundation, the roof and
 //! the stair blocks. Every solid is closed and wound counter-clockwise seen from outside.
 
+use crate::geom::polygon_signed_area;
 use crate::village::encyclopedia::RoofStyle;
 use crate::village::{HouseMaterial, HouseMesh};
 use glam::{DVec2, DVec3};
@@ -105,13 +106,6 @@ impl MeshBuilder {
     }
 }
 
-/// Twice the signed area of a polygon (positive when counter-clockwise).
-pub fn signed_area2(poly: &[DVec2]) -> f64 {
-    (0..poly.len())
-        .map(|i| poly[i].perp_dot(poly[(i + 1) % poly.len()]))
-        .sum()
-}
-
 /// The convex counter-clockwise polygon `poly` with each edge moved `d` outward (inward when negative).
 pub fn offset(poly: &[DVec2], d: f64) -> Vec<DVec2> {
     let n = poly.len();
@@ -183,7 +177,7 @@ pub fn roof(b: &mut MeshBuilder, f: &[DVec2; 4], z_top: f64, p: &RoofParams) {
 fn flat_roof(b: &mut MeshBuilder, f: &[DVec2; 4], z_top: f64, p: &RoofParams) {
     let o = offset(f, p.overhang);
     let inner = offset(&o, -PARAPET);
-    let ring_fits = signed_area2(&inner) > 0.1
+    let ring_fits = polygon_signed_area(&inner) > 0.05
         && (0..4).all(|k| (inner[(k + 1) % 4] - inner[k]).dot(o[(k + 1) % 4] - o[k]) > 0.0);
     if !ring_fits {
         b.prism(&o, z_top, z_top + FLAT_DECK, HouseMaterial::Roof);

@@ -1,0 +1,377 @@
+//! From claimed cells to simple regions (thesis 3.3.3, Emilien 2014 ch. 3): only the 4-connected component holding
+//! the parcel's source is kept; a mode filter trims one-cell spikes and fills unclaimed cells enclosed between
+//! parcels, and pinch points (two cells of one parcel touching at a corner only) and enclosed holes are resolved,
+//! so that every parcel is a simple polygon.
+
+use super::grid::{Work, FREE, N4, N8};
+use super::NONE;
+use rayon::prelude::*;
+use std::collections::VecDeque;
+
+/// A mode filter on the claimed cells, up to twice: a cell most of whose eight neighbours (five or more) share another
+/// label takes it, and an unclaimed cell enclosed on three sides or more by parcels joins the most frequent one.
+/// Where many parcels compete (rough terrain), cost ties leave one-cell spikes and chains of unclaimed cells
+/// between two parcels; every corner of those is a junction of the boundary graph, which no simplification may
+/// remove. Road cells keep their owner, and closed cells stay out.
+fn smooth_labels(
+    work: &Work,
+    owner: &[u32],
+    is_anchor: &[bool],
+    label: &mut [u32],
+    best: &mut [f64],
+) -> bool {
+    let nx = work.nx;
+    let mut any = false;
+    for _ in 0..2 {
+        let (old, old_best) = (label.to_vec(), best.to_vec());
+        let lab = |i: i64, j: i64| work.inside(i, j).map_or(NONE, |k| old[k]);
+        // every cell from the previous labels, in parallel
+        let changes: Vec<(usize, u32, f64)> = (0..work.len())
+            .into_par_iter()
+            .filter_map(|k| {
+                if is_anchor[k] || work.state[k] != FREE || (work.edge[k] && owner[k] != NONE) {
+                    return None;
+                }
+                let (i, j) = ((k % nx) as i64, (k / nx) as i64);
+                let mut counts: Vec<(u32, usize)> = Vec::with_capacity(8);
+                for &(di, dj) in &N8 {
+                    let l = lab(i + di, j + dj);
+                    match counts.iter_mut().find(|c| c.0 == l) {
+                        Some(c) => c.1 += 1,
+                        None => counts.push((l, 1)),
+                    }
+                }
+                // the most frequent label, ties to the lower one
+                counts.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(&b.0)));
+                let (top, count) = counts[0];
+                let target = if old[k] == NONE {
+                    let parcels4 = N4
+                        .iter()
+                        .filter(|&&(di, dj)| lab(i + di, j + dj) != NONE)
+                        .count();
+                    match counts.iter().find(|c| c.0 != NONE).map(|c| c.0) {
+                        Some(x) if parcels4 >= 3 && !work.closed_to(owner, x, k) => x,
+                        _ => return None,
+                    }
+                } else if top != old[k]
+                    && count >= 5
+                    && (top == NONE || !work.closed_to(owner, top, k))
+                {
+                    top
+                } else {
+                    return None;
+                };
+                let cost = if target == NONE {
+                    f64::INFINITY
+                } else {
+                    N8.iter()
+                        .filter_map(|&(di, dj)| work.inside(i + di, j + dj))
+                        .filter(|&m| old[m] == target)
+                        .map(|m| old_best[m])
+                        .fold(0.0, f64::max)
+                };
+                Some((k, target, cost))
+            })
+            .collect();
+        if changes.is_empty() {
+            break;
+        }
+        for (k, target, cost) in changes {
+            label[k] = target;
+            best[k] = cost;
+        }
+        any = true;
+    }
+    any
+}
+
+/// Keeps each parcel's 4-connected component that holds its anchor, smooths the labels (the first rounds), fills
+/// pinch points and enclosed holes, until every parcel is one simply connected 4-connected region without cells
+/// touching at a corner only.
+pub(super) fn clean_labels(
+    work: &Work,
+    owner: &[u32],
+    anchors: &[Option<usize>],
+    is_anchor: &[bool],
+    label: &mut [u32],
+    best: &mut [f64],
+) {
+    for round in 0..12 {
+        keep_components(work, anchors, label, best);
+        let smoothed = round < 3 && smooth_labels(work, owner, is_anchor, label, best);
+        let pinched = fix_pinches(work, owner, is_anchor, label, best);
+        let holed = fix_holes(work, owner, is_anchor, label, best, anchors.len());
+        if !smoothed && !pinched && !holed {
+            return;
+        }
+    }
+    keep_components(work, anchors, label, best);
+}
+
+fn keep_components(work: &Work, anchors: &[Option<usize>], label: &mut [u32], best: &mut [f64]) {
+    let mut keep = vec![false; work.len()];
+    let mut queue = VecDeque::new();
+    for (i, a) in anchors.iter().enumerate() {
+        let Some(a) = *a else { continue };
+        if label[a] != i as u32 {
+            continue;
+        }
+        keep[a] = true;
+        queue.push_back(a);
+        while let Some(k) = queue.pop_front() {
+            let (ci, cj) = work.ij(k);
+            for &(di, dj) in &N4 {
+                if let Some(nk) = work.inside(ci as i64 + di, cj as i64 + dj) {
+                    if !keep[nk] && label[nk] == i as u32 {
+                        keep[nk] = true;
+                        queue.push_back(nk);
+                    }
+                }
+            }
+        }
+    }
+    for k in 0..work.len() {
+        if label[k] != NONE && !keep[k] {
+            label[k] = NONE;
+            best[k] = f64::INFINITY;
+        }
+    }
+}
+
+/// Whether parcel `x` may take cell `k` that nobody holds.
+fn fillable(work: &Work, owner: &[u32], label: &[u32], x: u32, k: usize) -> bool {
+    label[k] == NONE && !work.closed_to(owner, x, k)
+}
+
+/// Two cells of one parcel touching at a corner only (the other two cells of the 2×2 block not in it) make its
+/// outline touch itself: a free cell of the other diagonal joins the parcel, or else the costlier cell leaves it.
+fn fix_pinches(
+    work: &Work,
+    owner: &[u32],
+    is_anchor: &[bool],
+    label: &mut [u32],
+    best: &mut [f64],
+) -> bool {
+    let nx = work.nx;
+    let mut any = false;
+    for _ in 0..64 {
+        let mut changed = false;
+        for j in 0..work.ny.saturating_sub(1) {
+            for i in 0..nx - 1 {
+                let (a, b, c, d) = (
+                    j * nx + i,
+                    j * nx + i + 1,
+                    (j + 1) * nx + i,
+                    (j + 1) * nx + i + 1,
+                );
+                for (p, q, r, s) in [(a, d, b, c), (b, c, a, d)] {
+                    let x = label[p];
+                    if x == NONE || label[q] != x || label[r] == x || label[s] == x {
+                        continue;
+                    }
+                    changed = true;
+                    let fill = [r, s]
+                        .into_iter()
+                        .find(|&k| fillable(work, owner, label, x, k));
+                    if let Some(k) = fill {
+                        label[k] = x;
+                        best[k] = best[p].max(best[q]);
+                        continue;
+                    }
+                    // never the anchor; else the costlier
+                    let drop = if is_anchor[p] || (!is_anchor[q] && (best[q], q) > (best[p], p)) {
+                        q
+                    } else {
+                        p
+                    };
+                    label[drop] = NONE;
+                    best[drop] = f64::INFINITY;
+                }
+            }
+        }
+        if !changed {
+            break;
+        }
+        any = true;
+    }
+    any
+}
+
+/// A parcel enclosing cells that are not its own: free unclaimed cells join it; otherwise (water, a wall, another
+/// parcel) the parcel is cut back to the cells cheaper than those touching the hole.
+fn fix_holes(
+    work: &Work,
+    owner: &[u32],
+    is_anchor: &[bool],
+    label: &mut [u32],
+    best: &mut [f64],
+    n: usize,
+) -> bool {
+    let mut boxes = vec![(usize::MAX, usize::MAX, 0usize, 0usize); n];
+    for (k, &x) in label.iter().enumerate() {
+        if x != NONE {
+            let (i, j) = work.ij(k);
+            let b = &mut boxes[x as usize];
+            *b = (b.0.min(i), b.1.min(j), b.2.max(i), b.3.max(j));
+        }
+    }
+    let mut changed = false;
+    for (x, &bbox) in boxes.iter().enumerate() {
+        if bbox.0 == usize::MAX {
+            continue;
+        }
+        changed |= fix_holes_of(work, owner, is_anchor, label, best, x as u32, bbox);
+    }
+    changed
+}
+
+/// [`fix_holes`] for parcel `x` whose cells lie in the box `(i0, j0, i1, j1)`.
+fn fix_holes_of(
+    work: &Work,
+    owner: &[u32],
+    is_anchor: &[bool],
+    label: &mut [u32],
+    best: &mut [f64],
+    x: u32,
+    (bi0, bj0, bi1, bj1): (usize, usize, usize, usize),
+) -> bool {
+    let ring = RingedBox {
+        work,
+        i0: bi0 as i64 - 1,
+        j0: bj0 as i64 - 1,
+        lnx: bi1 - bi0 + 3,
+        lny: bj1 - bj0 + 3,
+    };
+    let mut changed = false;
+    let mut seen = ring.outside(label, x);
+    for start in 0..ring.lnx * ring.lny {
+        if seen[start] || ring.label(start, label) == x {
+            continue;
+        }
+        let hole = ring.hole(start, label, x, &mut seen);
+        if hole
+            .iter()
+            .all(|&l| fillable(work, owner, label, x, ring.global(l)))
+        {
+            let rim = hole
+                .iter()
+                .flat_map(|&l| ring.neighbours(l))
+                .filter(|&m| ring.label(m, label) == x)
+                .map(|m| best[ring.global(m)])
+                .fold(0.0, f64::max);
+            for &l in &hole {
+                label[ring.global(l)] = x;
+                best[ring.global(l)] = rim;
+            }
+            changed = true;
+            continue;
+        }
+        let threshold = hole
+            .iter()
+            .flat_map(|&l| ring.neighbours(l))
+            .filter(|&m| ring.label(m, label) == x)
+            .map(|m| best[ring.global(m)])
+            .fold(f64::INFINITY, f64::min);
+        if !(threshold > 0.0 && threshold.is_finite()) {
+            // the hole touches the parcel's own road cells: its outline is kept around it
+            continue;
+        }
+        for j in bj0..=bj1 {
+            for i in bi0..=bi1 {
+                let k = j * work.nx + i;
+                if label[k] == x && best[k] >= threshold && !is_anchor[k] {
+                    label[k] = NONE;
+                    best[k] = f64::INFINITY;
+                    changed = true;
+                }
+            }
+        }
+        // the parcel changed: its other holes are looked at again in the next round
+        break;
+    }
+    changed
+}
+
+/// A parcel's box with a ring of one cell around it (possibly outside the grid, where nothing is), its cells
+/// numbered row by row from the lower left (`lnx` a row).
+struct RingedBox<'a> {
+    work: &'a Work,
+    i0: i64,
+    j0: i64,
+    lnx: usize,
+    lny: usize,
+}
+
+impl RingedBox<'_> {
+    fn label(&self, l: usize, label: &[u32]) -> u32 {
+        self.work
+            .inside(
+                self.i0 + (l % self.lnx) as i64,
+                self.j0 + (l / self.lnx) as i64,
+            )
+            .map_or(NONE, |k| label[k])
+    }
+
+    /// The grid cell of box cell `l` (`l` lies inside the ring, so on the grid).
+    fn global(&self, l: usize) -> usize {
+        self.work
+            .inside(
+                self.i0 + (l % self.lnx) as i64,
+                self.j0 + (l / self.lnx) as i64,
+            )
+            .unwrap_or(0)
+    }
+
+    /// The 4-neighbours of box cell `l` within the box.
+    fn neighbours(&self, l: usize) -> impl Iterator<Item = usize> {
+        let (lnx, lny) = (self.lnx, self.lny);
+        let (li, lj) = ((l % lnx) as i64, (l / lnx) as i64);
+        N4.iter().filter_map(move |&(di, dj)| {
+            let (a, b) = (li + di, lj + dj);
+            (a >= 0 && b >= 0 && a < lnx as i64 && b < lny as i64)
+                .then(|| b as usize * lnx + a as usize)
+        })
+    }
+
+    /// The box cells reached from the ring without entering parcel `x`.
+    fn outside(&self, label: &[u32], x: u32) -> Vec<bool> {
+        let (lnx, lny) = (self.lnx, self.lny);
+        let mut outside = vec![false; lnx * lny];
+        let mut queue = VecDeque::new();
+        for (l, out) in outside.iter_mut().enumerate() {
+            let (li, lj) = (l % lnx, l / lnx);
+            if li == 0 || lj == 0 || li == lnx - 1 || lj == lny - 1 {
+                *out = true;
+                queue.push_back(l);
+            }
+        }
+        while let Some(l) = queue.pop_front() {
+            for m in self.neighbours(l) {
+                if !outside[m] && self.label(m, label) != x {
+                    outside[m] = true;
+                    queue.push_back(m);
+                }
+            }
+        }
+        outside
+    }
+
+    /// The hole of parcel `x` holding box cell `start`: the cells not of `x` 4-connected to it and not `seen`
+    /// yet, which it marks seen.
+    fn hole(&self, start: usize, label: &[u32], x: u32, seen: &mut [bool]) -> Vec<usize> {
+        let mut hole = vec![start];
+        seen[start] = true;
+        let mut q = 0;
+        while q < hole.len() {
+            let l = hole[q];
+            q += 1;
+            for m in self.neighbours(l) {
+                if !seen[m] && self.label(m, label) != x {
+                    seen[m] = true;
+                    hole.push(m);
+                }
+            }
+        }
+        hole
+    }
+}

@@ -1,0 +1,326 @@
+//! Land parcels by anisotropic conquest: thesis 3.3.1–3.3.4 ("Land Parcel Generation"). Each building seed `B_i`
+//! gets a parcel `P_i` in three conquest steps on a grid of cells, then a simplified contour:
+//!
+//! 1. **Road conquest** (3.3.1). The source `S_i` is the projection of `B_i` on the closest road. The cells along
+//!    the road corridor's edge, on the seed's side, are conquered from `S_i` in both directions along the road
+//!    "until collision with a neighboring parcel or until a maximum distance from `S_i` is reached"
+//!    ([`ParcelParams::road_reach`]). All seeds advance together, so two neighbours meet half-way; the cells
+//!    round a dead end's cap are no road front, so a parcel does not follow its road round its end.
+//! 2. **Corner conquest** (3.3.2). "We allow parcel `P_i` arrived first at a junction to annex its
+//!    neighborhood": in each junction sector narrower than [`ParcelOptions::corner_angle_degrees`], the parcel
+//!    whose road cells come nearest the corner annexes the sector's road cells on both roads within its depth
+//!    (`c_max / ω_conquest`) of the corner, and at most half-way to the next junction. The corner lot then fronts
+//!    both roads and its neighbours begin where its land ends, instead of meeting it along a diagonal with sharp
+//!    angles. "Building seeds that lose access to roads are suppressed": a seed left with no road cell, or with
+//!    less than half of its front, gets `None`.
+//! 3. **Anisotropic land conquest** (3.3.3). Every road cell a parcel owns is a source with the fund
+//!    `c_max` ([`ParcelParams::budget`]), and the parcel spreads until the cost from its source reaches `c_max`:
+//!
+//!    > dc_s(d_s, n) = Σ_{i=0}^{n−1} ω_i c_i(d_s, n)
+//!
+//!    * the *conquest cost* is the infinite-norm distance to the source in the frame of the road normal `n` and
+//!      tangent `t` at the source. The thesis prints it as `|max(p·n, p·t)|`; the infinite norm it names is
+//!      `max(|p·n|, |p·t|)`, which is what is used (a square around each source, so parcels come out almost
+//!      quadrilateral). A tiny multiple of the Euclidean distance breaks its ties, so a cell goes to the source
+//!      straight in front of it and neighbouring parcels part along the road normal. A source conquers only in
+//!      front of itself (`p·n ≥ 0`): parcels grow away from their road;
+//!    * *water, wall and road* cells cost `+∞`; so do cells outside `Ω` and road cells owned by another parcel;
+//!    * the *slope cost* is quadratic in the directional gradients of the terrain along the conquest directions
+//!      `n` and `t` of the source: each grid step adds `(∇h·n)²·|Δ·n| + (∇h·t)²·|Δ·t|` for its displacement
+//!      `Δ`, which on a uniform slope sums to `(∇h·n)²·|p·n| + (∇h·t)²·|p·t|` whatever the path. Spreading along
+//!      the main slope is expensive, along the contour lines free, so parcels grow along the contour lines.
+//!      (Measured along each step instead, the squared rise would make a zig-zag climb cheaper than a straight
+//!      one; measured along the line to the source, the infinite norm's indifference to lateral offsets would
+//!      let cells pick far sources to halve their slope.)
+//!
+//!    Every parcel conquers its own neighbourhood (within `c_max / ω_conquest` of its road cells) on its own, in
+//!    parallel; a cell claimed by several parcels goes to the lowest cost, exact ties to the source cell first
+//!    in grid order (so that two facing rows part along a straight line). The result does not depend on the
+//!    number of threads. Only the 4-connected component holding the parcel's source is kept; a mode filter
+//!    trims one-cell spikes and fills unclaimed cells enclosed between parcels, and pinch points (two cells of
+//!    one parcel touching at a corner only) and enclosed holes are resolved, so that every parcel is a simple
+//!    polygon.
+//! 4. **Parcel simplification** (3.3.4). The cell outlines of all parcels form one planar boundary graph; each
+//!    chain between junctions (points where three or more parcels or the unclaimed land meet) is simplified once,
+//!    so neighbours keep sharing their boundary exactly. Staircases are first straightened (Douglas–Peucker
+//!    within [`ParcelOptions::straighten`] cells), then "we remove vertices that have little influence on the
+//!    contour shape": a vertex whose edges turn by less than `ε` ([`ParcelOptions::merge_angle_degrees`]) goes,
+//!    and so does a vertex of an edge shorter than [`ParcelOptions::short_edge`] cells (a clipped corner).
+//!    Junctions are simplified by edge collapses, as in mesh simplification: a chain of a cell or so between two
+//!    junctions collapses onto one of them, and — "we remove unplausible acute angles that appear at some
+//!    T-vertices" — a junction where a parcel has an angle below [`ParcelOptions::acute_angle_degrees`] moves
+//!    onto the neighbouring vertex that best opens it. No simplified edge may come within `road_width / 2` of a
+//!    road's centre line or swallow a water, wall or out-of-`Ω` node, and simplified chains may not cross; a
+//!    chain that breaks a rule is simplified less, down to its cell outline.
+//!
+//! The conquest grid has cells of side `cell` over the land's box (water, walls and `Ω` are read at the nearest
+//! land node); it is allocated only over the neighbourhoods the seeds can reach.
+//!
+//! | file | step |
+//! |---|---|
+//! | `grid` | the conquest grid, the road corridor and its front |
+//! | `road_conquest` | road conquest (3.3.1) |
+//! | `corner` | road junctions and corner conquest (3.3.2) |
+//! | `land_conquest` | anisotropic land conquest and the resolution of claims (3.3.3) |
+//! | `labels` | from claimed cells to simple regions (3.3.3) |
+//! | `boundary` | the boundary graph of all parcels (3.3.4) |
+//! | `simplify` | chain simplification and the rules it keeps (3.3.4) |
+//! | `junctions` | edge collapses at the junctions (3.3.4) |
+//! | `statistics` | the statistics of a layout (3.5) |
+//!
+//! The roads' segment index both parcels and footprints query lives in `village::road_index`.
+
+mod boundary;
+mod corner;
+mod grid;
+mod junctions;
+mod labels;
+mod land_conquest;
+mod road_conquest;
+mod simplify;
+mod statistics;
+
+pub use statistics::{
+    parcel_statistics, parcel_statistics_with, ParcelStatistics, STRAIGHT_DEGREES,
+};
+
+use super::encyclopedia::ParcelParams;
+use super::land::Land;
+use super::road_index::{Projection, RoadIndex};
+use super::{Parcel, Road};
+use crate::error::{Error, Result};
+use corner::{corner_conquest_keeping_access, junctions};
+use glam::DVec2;
+use grid::Work;
+use labels::clean_labels;
+use land_conquest::{conquer, resolve_claims, Claim};
+use rayon::prelude::*;
+use road_conquest::{fronts_and_anchors, road_conquest};
+use simplify::simplified_contours;
+
+/// No parcel.
+const NONE: u32 = u32::MAX;
+
+/// A building seed asking for a parcel: its position and the conquest parameters of its (village, building) type.
+#[derive(Clone, Copy, Debug)]
+pub struct ParcelSeed<'a> {
+    pub position: DVec2,
+    pub params: &'a ParcelParams,
+}
+
+/// How parcel contours are simplified and corners resolved.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ParcelOptions {
+    /// Largest distance (in cells) a straightened boundary may stray from the cell outline.
+    pub straighten: f64,
+    /// `ε` of 3.3.4: a vertex whose edges turn by less than this (degrees) is removed.
+    pub merge_angle_degrees: f64,
+    /// Largest distance (in cells) the removal of vertices may move a boundary away from the cell outline.
+    pub merge_deviation: f64,
+    /// An edge shorter than this (in cells) loses one of its vertices, within the same deviation.
+    pub short_edge: f64,
+    /// A parcel angle below this (degrees) at a junction of the boundary graph is opened by an edge collapse.
+    pub acute_angle_degrees: f64,
+    /// Junction sectors (between two consecutive roads) narrower than this (degrees) get a corner conquest.
+    pub corner_angle_degrees: f64,
+}
+
+impl Default for ParcelOptions {
+    fn default() -> Self {
+        ParcelOptions {
+            straighten: 1.5,
+            merge_angle_degrees: 30.0,
+            merge_deviation: 3.0,
+            short_edge: 4.0,
+            acute_angle_degrees: 30.0,
+            corner_angle_degrees: 150.0,
+        }
+    }
+}
+
+/// One parcel per seed, or `None` for a seed that lost access to the roads (3.3.2: "building seeds that lose
+/// access to roads are suppressed"), with the default [`ParcelOptions`].
+///
+/// `cell` is the side of the conquest grid's cells (metres): no coarser than the land's grid, so that no water,
+/// wall or out-of-`Ω` node falls between two conquest nodes (1 m suits villages; 100 parcels on 1 km² take a
+/// fraction of a second). The road corridor is every point within `road_width / 2` of a road's centre line;
+/// parcels keep out of it, and of water, walls and the outside of `Ω`. Contours are counter-clockwise, simple,
+/// pairwise disjoint, and neighbours share their common boundary vertex for vertex.
+pub fn parcels(
+    land: &Land,
+    roads: &[Road],
+    road_width: f64,
+    seeds: &[ParcelSeed],
+    cell: f64,
+) -> Result<Vec<Option<Parcel>>> {
+    parcels_with(
+        land,
+        roads,
+        road_width,
+        seeds,
+        cell,
+        &ParcelOptions::default(),
+    )
+}
+
+/// [`parcels`] with explicit simplification and corner options.
+pub fn parcels_with(
+    land: &Land,
+    roads: &[Road],
+    road_width: f64,
+    seeds: &[ParcelSeed],
+    cell: f64,
+    options: &ParcelOptions,
+) -> Result<Vec<Option<Parcel>>> {
+    validate(land, roads, road_width, seeds, cell, options)?;
+    let n = seeds.len();
+    if n == 0 {
+        return Ok(Vec::new());
+    }
+    let half = 0.5 * road_width;
+    let index = RoadIndex::new(roads, road_width.max(4.0 * cell));
+    if index.is_empty() {
+        return Ok(vec![None; n]);
+    }
+    let projections: Vec<Projection> = seeds.iter().map(|s| index.project(s.position)).collect();
+    let Some(work) = Work::new(land, roads, &index, half, cell, seeds, &projections)? else {
+        return Ok(vec![None; n]);
+    };
+
+    // 3.3.1 road conquest, 3.3.2 corner conquest
+    let sources: Vec<Option<usize>> = projections
+        .iter()
+        .map(|p| work.source_cell(&index, p, half))
+        .collect();
+    let mut road = road_conquest(&work, seeds, &sources);
+    let junctions = junctions(roads, &work, seeds, road_width, options);
+    corner_conquest_keeping_access(&work, seeds, &junctions, half, options, &mut road);
+    let (fronts, anchors) = fronts_and_anchors(&road, &sources);
+
+    // 3.3.3 anisotropic land conquest, each parcel on its own
+    let claims: Vec<Vec<Claim>> = (0..n)
+        .into_par_iter()
+        .map(|i| {
+            if anchors[i].is_none() {
+                return Vec::new();
+            }
+            conquer(
+                &work,
+                land,
+                &index,
+                &road.owner,
+                i as u32,
+                &fronts[i],
+                seeds[i].params,
+            )
+        })
+        .collect();
+    let (mut label, mut best) = resolve_claims(&claims, work.len());
+    let is_anchor = {
+        let mut a = vec![false; work.len()];
+        for k in anchors.iter().flatten() {
+            a[*k] = true;
+        }
+        a
+    };
+    clean_labels(
+        &work,
+        &road.owner,
+        &anchors,
+        &is_anchor,
+        &mut label,
+        &mut best,
+    );
+
+    // 3.3.4 simplification of the shared boundary graph
+    let contours = simplified_contours(&work, &index, half, &label, n, options);
+    Ok(contours
+        .into_iter()
+        .enumerate()
+        .map(|(i, c)| {
+            c.filter(|c| c.len() >= 3)
+                .map(|contour| Parcel { seed: i, contour })
+        })
+        .collect())
+}
+
+fn finite(p: DVec2) -> bool {
+    p.x.is_finite() && p.y.is_finite()
+}
+
+fn validate(
+    land: &Land,
+    roads: &[Road],
+    road_width: f64,
+    seeds: &[ParcelSeed],
+    cell: f64,
+    options: &ParcelOptions,
+) -> Result<()> {
+    let bad = |what: String| Err(Error::InvalidInput(format!("parcels: {what}")));
+    if !(cell.is_finite() && cell > 0.0) {
+        return bad(format!("grid cell {cell} must be positive"));
+    }
+    if !(road_width.is_finite() && road_width >= 0.0) {
+        return bad(format!("road width {road_width} must be zero or more"));
+    }
+    let g = &land.grid;
+    let nodes = g.len();
+    if g.nx < 2
+        || g.ny < 2
+        || [
+            land.height.len(),
+            land.inside.len(),
+            land.water.len(),
+            land.wall.len(),
+        ]
+        .iter()
+        .any(|&l| l != nodes)
+    {
+        return bad("the land's maps do not match its grid".into());
+    }
+    for (r, road) in roads.iter().enumerate() {
+        if road.points.iter().any(|p| !finite(*p)) {
+            return bad(format!("road {r} has a point that is not finite"));
+        }
+    }
+    for (i, s) in seeds.iter().enumerate() {
+        let p = s.params;
+        if !finite(s.position) {
+            return bad(format!("seed {i} position is not finite"));
+        }
+        if !(p.budget.is_finite() && p.budget > 0.0) {
+            return bad(format!("seed {i} budget {} must be positive", p.budget));
+        }
+        if !(p.road_reach.is_finite() && p.road_reach >= 0.0) {
+            return bad(format!(
+                "seed {i} road reach {} must be zero or more",
+                p.road_reach
+            ));
+        }
+        if !(p.conquest_weight.is_finite() && p.conquest_weight > 0.0) {
+            return bad(format!(
+                "seed {i} conquest weight {} must be positive",
+                p.conquest_weight
+            ));
+        }
+        if !(p.slope_weight.is_finite() && p.slope_weight >= 0.0) {
+            return bad(format!(
+                "seed {i} slope weight {} must be zero or more",
+                p.slope_weight
+            ));
+        }
+    }
+    let o = options;
+    for (name, v) in [
+        ("straighten", o.straighten),
+        ("merge_angle_degrees", o.merge_angle_degrees),
+        ("merge_deviation", o.merge_deviation),
+        ("acute_angle_degrees", o.acute_angle_degrees),
+        ("corner_angle_degrees", o.corner_angle_degrees),
+    ] {
+        if !(v.is_finite() && v >= 0.0) {
+            return bad(format!("option {name} = {v} must be zero or more"));
+        }
+    }
+    Ok(())
+}
