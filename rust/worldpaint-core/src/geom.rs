@@ -214,11 +214,6 @@ pub fn ccw_angle(u: DVec2, v: DVec2) -> f64 {
     }
 }
 
-/// The segments of a polyline, one per pair of consecutive points.
-pub fn polyline_segments(points: &[DVec2]) -> impl Iterator<Item = (DVec2, DVec2)> + '_ {
-    points.windows(2).map(|w| (w[0], w[1]))
-}
-
 /// Douglas–Peucker on the stretch `first..=last` of a polyline: marks in `keep` the vertices that stay (the ends'
 /// marks are left as they are). A stretch becomes one edge when every vertex lies within `tolerance` of it and
 /// `may_join` accepts the stretch (its vertices, ends included), which is where callers forbid removing vertices

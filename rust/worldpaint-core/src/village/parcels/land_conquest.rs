@@ -13,9 +13,8 @@ use super::super::land::Land;
 use super::super::road_index::RoadIndex;
 use super::grid::{Work, N8};
 use super::NONE;
+use crate::search::{MinCost, MinHeap};
 use glam::DVec2;
-use std::cmp::Reverse;
-use std::collections::BinaryHeap;
 
 /// Weight of the Euclidean distance that breaks ties of the infinite-norm conquest cost.
 const TIE: f64 = 1e-3;
@@ -52,21 +51,25 @@ pub(super) fn conquer(
     let mut cost = vec![f64::INFINITY; lnx * lny];
     let mut origin = vec![u32::MAX; lnx * lny];
     let mut slope = vec![0.0f64; lnx * lny];
-    let mut heap = BinaryHeap::new();
+    let mut heap = MinHeap::new();
     for (f, &k) in fronts.iter().enumerate() {
         let (i, j) = work.ij(k);
         let l = (j - j0) * lnx + (i - i0);
         cost[l] = 0.0;
         origin[l] = f as u32;
-        heap.push(Reverse((0u64, l as u32)));
+        heap.push(0.0, l as u32);
     }
     // each cell is conquered once, in order of cost: the cost to a source is not monotone along a path (the
     // ∞-norm distance can fall on a sideways step), and letting later, cheaper arrivals reopen conquered cells
     // made some windows re-spread over a thousand times
     let mut settled = vec![false; lnx * lny];
-    while let Some(Reverse((bits, l))) = heap.pop() {
+    while let Some(MinCost {
+        cost: reached,
+        item: l,
+    }) = heap.pop()
+    {
         let l = l as usize;
-        if f64::from_bits(bits) > cost[l] || settled[l] {
+        if reached > cost[l] || settled[l] {
             continue;
         }
         settled[l] = true;
@@ -112,7 +115,7 @@ pub(super) fn conquer(
                 cost[nl] = total;
                 origin[nl] = o;
                 slope[nl] = s;
-                heap.push(Reverse((total.to_bits(), nl as u32)));
+                heap.push(total, nl as u32);
             }
         }
     }

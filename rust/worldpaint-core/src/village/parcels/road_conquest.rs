@@ -6,8 +6,7 @@
 
 use super::grid::{Work, N8};
 use super::{ParcelSeed, NONE};
-use std::cmp::Reverse;
-use std::collections::BinaryHeap;
+use crate::search::{MinCost, MinHeap};
 
 pub(super) struct RoadConquest {
     /// The parcel owning each road-edge cell.
@@ -25,18 +24,21 @@ pub(super) fn road_conquest(
 ) -> RoadConquest {
     let mut owner = vec![NONE; work.len()];
     let mut arrival = vec![f64::INFINITY; work.len()];
-    let mut heap = BinaryHeap::new();
+    let mut heap = MinHeap::new();
     for (i, s) in sources.iter().enumerate() {
         if let Some(k) = s {
-            heap.push(Reverse((0u64, i as u32, *k as u32)));
+            heap.push(0.0, (i as u32, *k as u32));
         }
     }
-    while let Some(Reverse((bits, i, k))) = heap.pop() {
+    while let Some(MinCost {
+        cost: d,
+        item: (i, k),
+    }) = heap.pop()
+    {
         let k = k as usize;
         if owner[k] != NONE {
             continue;
         }
-        let d = f64::from_bits(bits);
         owner[k] = i;
         arrival[k] = d;
         let reach = seeds[i as usize].params.road_reach;
@@ -55,8 +57,7 @@ pub(super) fn road_conquest(
             };
             let nd = d + step * work.cell;
             if nd <= reach + 1e-9 {
-                // non-negative floats order as their bits
-                heap.push(Reverse((nd.to_bits(), i, nk as u32)));
+                heap.push(nd, (i, nk as u32));
             }
         }
     }
