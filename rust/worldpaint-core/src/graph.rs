@@ -8,6 +8,7 @@
 //! [`SegmentIndex`] answers the distance-to-graph and crossing queries of the synthesis in constant time per query.
 
 use crate::geom::{polyline_segments, segment_distance, segment_intersection, DVec2};
+use crate::grid::Grid;
 use std::collections::HashMap;
 use std::f64::consts::PI;
 
@@ -267,22 +268,21 @@ pub fn angle_between(u: DVec2, v: DVec2) -> f64 {
 #[derive(Clone, Debug, Default)]
 pub struct SegmentIndex {
     segments: Vec<(DVec2, DVec2)>,
-    origin: DVec2,
-    cell: f64,
-    nx: usize,
-    ny: usize,
+    grid: Grid,
     cells: Vec<Vec<u32>>,
 }
 
 impl SegmentIndex {
-    /// An index of the segments with cells about as large as their mean length (at most 4M cells).
+    /// An index of the segments with cells about as large as their mean length (at most
+    /// [`crate::grid::MAX_BUCKETS`] cells).
     pub fn new(segments: Vec<(DVec2, DVec2)>) -> Self {
         let total: f64 = segments.iter().map(|(a, b)| a.distance(*b)).sum();
         let mean = total / segments.len().max(1) as f64;
         SegmentIndex::with_cell(segments, mean)
     }
 
-    /// An index of the segments with cells of about `cell` metres (larger where 4M cells would not cover them):
+    /// An index of the segments with cells of about `cell` metres (larger where the bucket limit would not cover
+    /// them):
     /// small cells for many queries near short distances.
     pub fn with_cell(segments: Vec<(DVec2, DVec2)>, cell: f64) -> Self {
         if segments.is_empty() {
@@ -293,20 +293,20 @@ impl SegmentIndex {
             lo = lo.min(a.min(*b));
             hi = hi.max(a.max(*b));
         }
-        let ext = (hi - lo).max(DVec2::splat(1e-9));
-        let cell = if cell.is_finite() { cell } else { 0.0 }
-            .max(1e-9)
-            .max((ext.x * ext.y / 4.0e6).sqrt())
-            .max(ext.x.max(ext.y) / 4096.0);
-        let nx = (ext.x / cell).floor() as usize + 1;
-        let ny = (ext.y / cell).floor() as usize + 1;
+        let grid = Grid::buckets_covering(
+            lo,
+            hi,
+            if cell.is_finite() {
+                cell.max(1e-9)
+            } else {
+                0.0
+            },
+        );
+        let (nx, cell) = (grid.nx, grid.cell);
         let mut index = SegmentIndex {
             segments: Vec::new(),
-            origin: lo,
-            cell,
-            nx,
-            ny,
-            cells: vec![Vec::new(); nx * ny],
+            grid,
+            cells: vec![Vec::new(); grid.len()],
         };
         for (i, &(a, b)) in segments.iter().enumerate() {
             let (x0, y0) = index.cell_of(a.min(b));
@@ -314,7 +314,7 @@ impl SegmentIndex {
             for cy in y0..=y1 {
                 for cx in x0..=x1 {
                     // only the cells the segment passes near
-                    let c = index.origin + DVec2::new(cx as f64 + 0.5, cy as f64 + 0.5) * cell;
+                    let c = index.grid.bucket_centre(cx, cy);
                     if segment_distance(c, a, b) <= 0.75 * cell {
                         index.cells[cy * nx + cx].push(i as u32);
                     }
@@ -334,18 +334,7 @@ impl SegmentIndex {
     }
 
     fn cell_of(&self, p: DVec2) -> (usize, usize) {
-        let f = (p - self.origin) / self.cell;
-        let cx = if f.x.is_finite() {
-            f.x.floor().clamp(0.0, (self.nx - 1) as f64) as usize
-        } else {
-            0
-        };
-        let cy = if f.y.is_finite() {
-            f.y.floor().clamp(0.0, (self.ny - 1) as f64) as usize
-        } else {
-            0
-        };
-        (cx, cy)
+        self.grid.bucket_of(p)
     }
 
     /// Calls `visit(segment)` once for every segment listed in the cells the box of `a`–`b` covers.
@@ -364,11 +353,11 @@ impl SegmentIndex {
         if self.segments.is_empty() {
             return;
         }
-        let (x0, y0) = self.cell_of(lo - DVec2::splat(self.cell));
-        let (x1, y1) = self.cell_of(hi + DVec2::splat(self.cell));
+        let (x0, y0) = self.cell_of(lo - DVec2::splat(self.grid.cell));
+        let (x1, y1) = self.cell_of(hi + DVec2::splat(self.grid.cell));
         for cy in y0..=y1 {
             for cx in x0..=x1 {
-                out.extend_from_slice(&self.cells[cy * self.nx + cx]);
+                out.extend_from_slice(&self.cells[cy * self.grid.nx + cx]);
             }
         }
         out.sort_unstable();
@@ -386,9 +375,9 @@ impl SegmentIndex {
             return max;
         }
         let mut best = max;
-        let f = (p - self.origin) / self.cell;
+        let f = (p - self.grid.origin) / self.grid.cell;
         let (px, py) = (f.x.floor() as i64, f.y.floor() as i64);
-        let (nx, ny) = (self.nx as i64, self.ny as i64);
+        let (nx, ny) = (self.grid.nx as i64, self.grid.ny as i64);
         // rings beyond this one lie wholly outside the grid
         let last = (px.max(nx - 1 - px).max(py).max(ny - 1 - py)).max(0);
         // and rings before this one miss it
@@ -404,7 +393,7 @@ impl SegmentIndex {
         };
         for ring in first..=last {
             // a segment first met in this ring is at least (ring − 1) cells away
-            if (ring - 1) as f64 * self.cell >= best {
+            if (ring - 1) as f64 * self.grid.cell >= best {
                 break;
             }
             if ring == 0 {

@@ -13,6 +13,7 @@
 //! | [`search`] | the min-cost order of the best-first (Dijkstra, A*) searches |
 //! | [`spatial`] | neighbour queries behind the product simplification (§6) |
 //! | [`graph`] | roads and rivers as planar graphs of intersecting paths, segment queries (§4.2) |
+//! | [`grid`] | one regular grid for every raster and bucket index, with its two size rules |
 //! | [`contour`] | islands and lakes: contours to dense points and back, signed distance (§6, thesis 6.2.1) |
 //! | [`polygon_mesh`] | polygons as a filled mesh (constrained Delaunay triangulation) for display |
 //! | [`terrain`] | the terrain and its external maps (§3) |
@@ -40,6 +41,7 @@ pub mod error;
 pub mod exemplar;
 pub mod geom;
 pub mod graph;
+pub mod grid;
 pub mod interpolate;
 pub mod palette;
 pub mod polygon_mesh;

@@ -5,6 +5,7 @@
 //!
 //! Points outside the grid's box are clamped into the border cells, so queries stay correct for them too.
 
+use crate::grid::Grid;
 use glam::DVec2;
 
 /// One indexed point: its position, a caller-defined `tag` (e.g. which interaction table applies) and `id`.
@@ -18,71 +19,19 @@ pub struct GridEntry {
 /// A uniform grid of square cells over a box.
 #[derive(Clone, Debug)]
 pub struct SpatialGrid {
-    shape: GridShape,
+    grid: Grid,
     cells: Vec<Vec<GridEntry>>,
     len: usize,
 }
 
-/// The cells of a grid over a box: where they start, their side and how many there are across and up.
-#[derive(Clone, Copy, Debug, Default)]
-struct GridShape {
-    origin: DVec2,
-    cell: f64,
-    nx: usize,
-    ny: usize,
-}
-
-impl GridShape {
-    /// Cells of side `cell` over the box `min..max`; the cell count is capped (4M cells) by enlarging cells,
-    /// which keeps queries correct.
-    fn new(min: DVec2, max: DVec2, cell: f64) -> Self {
-        let ext = (max - min).max(DVec2::splat(1e-9));
-        let mut cell = if cell.is_finite() && cell > 0.0 {
-            cell
-        } else {
-            ext.x.max(ext.y)
-        };
-        let max_cells = 4_000_000.0;
-        if (ext.x / cell + 1.0) * (ext.y / cell + 1.0) > max_cells {
-            cell = (ext.x * ext.y / max_cells).sqrt().max(cell);
-        }
-        let nx = ((ext.x / cell).floor() as usize + 1).max(1);
-        let ny = ((ext.y / cell).floor() as usize + 1).max(1);
-        GridShape {
-            origin: min,
-            cell,
-            nx,
-            ny,
-        }
-    }
-
-    /// Cell of `p`; points outside the box are clamped into the border cells.
-    #[inline]
-    fn cell_coords(&self, p: DVec2) -> (usize, usize) {
-        let fx = ((p.x - self.origin.x) / self.cell).floor();
-        let fy = ((p.y - self.origin.y) / self.cell).floor();
-        let cx = if fx.is_finite() {
-            fx.clamp(0.0, (self.nx - 1) as f64) as usize
-        } else {
-            0
-        };
-        let cy = if fy.is_finite() {
-            fy.clamp(0.0, (self.ny - 1) as f64) as usize
-        } else {
-            0
-        };
-        (cx, cy)
-    }
-}
-
 impl SpatialGrid {
     /// Grid over the box `min..max` with cells of side `cell` (normally the largest query radius).
-    /// The cell count is capped (4M cells) by enlarging cells, which keeps queries correct.
+    /// The cell count is capped ([`crate::grid::MAX_BUCKETS`]) by enlarging cells, which keeps queries correct.
     pub fn new(min: DVec2, max: DVec2, cell: f64) -> Self {
-        let shape = GridShape::new(min, max, cell);
+        let grid = Grid::buckets_covering(min, max, cell);
         SpatialGrid {
-            shape,
-            cells: vec![Vec::new(); shape.nx * shape.ny],
+            grid,
+            cells: vec![Vec::new(); grid.nx * grid.ny],
             len: 0,
         }
     }
@@ -96,19 +45,19 @@ impl SpatialGrid {
     }
 
     fn cell_coords(&self, p: DVec2) -> (usize, usize) {
-        self.shape.cell_coords(p)
+        self.grid.bucket_of(p)
     }
 
     pub fn insert(&mut self, entry: GridEntry) {
         let (cx, cy) = self.cell_coords(entry.position);
-        self.cells[cy * self.shape.nx + cx].push(entry);
+        self.cells[cy * self.grid.nx + cx].push(entry);
         self.len += 1;
     }
 
     /// Removes the entry with this `id` stored at `position`; returns whether it was found.
     pub fn remove(&mut self, position: DVec2, id: u32) -> bool {
         let (cx, cy) = self.cell_coords(position);
-        let cell = &mut self.cells[cy * self.shape.nx + cx];
+        let cell = &mut self.cells[cy * self.grid.nx + cx];
         if let Some(k) = cell.iter().position(|e| e.id == id) {
             cell.swap_remove(k);
             self.len -= 1;
@@ -121,7 +70,7 @@ impl SpatialGrid {
     /// Changes the id of the entry stored at `position` with id `old` (used when the owner array compacts).
     pub fn rename(&mut self, position: DVec2, old: u32, new: u32) -> bool {
         let (cx, cy) = self.cell_coords(position);
-        let cell = &mut self.cells[cy * self.shape.nx + cx];
+        let cell = &mut self.cells[cy * self.grid.nx + cx];
         if let Some(e) = cell.iter_mut().find(|e| e.id == old) {
             e.id = new;
             true
@@ -137,7 +86,7 @@ impl SpatialGrid {
         let (x0, y0) = self.cell_coords(p - DVec2::splat(radius));
         let (x1, y1) = self.cell_coords(p + DVec2::splat(radius));
         for cy in y0..=y1 {
-            let row = cy * self.shape.nx;
+            let row = cy * self.grid.nx;
             for cx in x0..=x1 {
                 for e in &self.cells[row + cx] {
                     let d2 = e.position.distance_squared(p);
@@ -161,7 +110,7 @@ impl SpatialGrid {
         let (x1, y1) = self.cell_coords(p + DVec2::splat(radius));
         for cy in y0..=y1 {
             for cx in x0..=x1 {
-                for e in &self.cells[cy * self.shape.nx + cx] {
+                for e in &self.cells[cy * self.grid.nx + cx] {
                     if Some(e.id) != skip_id && e.position.distance_squared(p) < r2 {
                         return true;
                     }
@@ -176,7 +125,7 @@ impl SpatialGrid {
 /// consecutive cells of a row are one contiguous slice. Built once by a counting sort; read-only.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct FlatGrid {
-    shape: GridShape,
+    grid: Grid,
     start: Vec<u32>,
     pub(crate) xs: Vec<f64>,
     pub(crate) ys: Vec<f64>,
@@ -193,10 +142,10 @@ impl FlatGrid {
         n: usize,
         entry: impl Fn(usize) -> GridEntry,
     ) -> Self {
-        let shape = GridShape::new(min, max, cell);
-        let (nx, ny) = (shape.nx, shape.ny);
+        let grid = Grid::buckets_covering(min, max, cell);
+        let (nx, ny) = (grid.nx, grid.ny);
         let mut grid = FlatGrid {
-            shape,
+            grid,
             start: vec![0; nx * ny + 1],
             xs: vec![0.0; n],
             ys: vec![0.0; n],
@@ -230,13 +179,13 @@ impl FlatGrid {
 
     #[inline]
     pub(crate) fn cell_coords(&self, p: DVec2) -> (usize, usize) {
-        self.shape.cell_coords(p)
+        self.grid.bucket_of(p)
     }
 
     /// Entry index range of cells `x0..=x1` of row `cy` (one contiguous slice).
     #[inline]
     pub(crate) fn row_range(&self, cy: usize, x0: usize, x1: usize) -> (usize, usize) {
-        let row = cy * self.shape.nx;
+        let row = cy * self.grid.nx;
         (
             self.start[row + x0] as usize,
             self.start[row + x1 + 1] as usize,
@@ -244,11 +193,11 @@ impl FlatGrid {
     }
 
     pub(crate) fn nx(&self) -> usize {
-        self.shape.nx
+        self.grid.nx
     }
 
     pub(crate) fn n_cells(&self) -> usize {
-        self.shape.nx * self.shape.ny
+        self.grid.nx * self.grid.ny
     }
 
     /// Calls `visit(index, distance²)` for every entry within `radius` of `p` (inclusive) until it returns
@@ -264,7 +213,7 @@ impl FlatGrid {
         let (x0, y0) = self.cell_coords(p - DVec2::splat(radius));
         let (x1, y1) = self.cell_coords(p + DVec2::splat(radius));
         for cy in y0..=y1 {
-            let row = cy * self.shape.nx;
+            let row = cy * self.grid.nx;
             let (a, b) = (
                 self.start[row + x0] as usize,
                 self.start[row + x1 + 1] as usize,
@@ -291,7 +240,7 @@ impl FlatGrid {
         let (x0, y0) = self.cell_coords(lo);
         let (x1, y1) = self.cell_coords(hi);
         for cy in y0..=y1 {
-            let row = cy * self.shape.nx;
+            let row = cy * self.grid.nx;
             for i in self.start[row + x0] as usize..self.start[row + x1 + 1] as usize {
                 visit(i);
             }

@@ -2,9 +2,10 @@
 //! buildings and walls, cycles, unreachable buildings, bad inputs and determinism.
 
 use glam::DVec2;
+use worldpaint_core::grid::Grid;
 use worldpaint_core::village::encyclopedia::RoadParams;
 use worldpaint_core::village::roads::{Connection, RoadNetwork};
-use worldpaint_core::village::{Land, LandGrid, Road};
+use worldpaint_core::village::{Land, Road};
 use worldpaint_core::Error;
 
 const CELL: f64 = 2.0;
@@ -29,7 +30,7 @@ fn params() -> RoadParams {
 /// A `size × size` m land at 2 m cells, heights from `h`, all inside, dry, no walls.
 fn land(size: f64, h: impl Fn(DVec2) -> f64) -> Land {
     let n = (size / CELL).round() as usize + 1;
-    let grid = LandGrid {
+    let grid = Grid {
         origin: DVec2::ZERO,
         cell: CELL,
         nx: n,

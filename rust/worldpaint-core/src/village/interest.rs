@@ -25,8 +25,9 @@
 //! whose `λ_min` keeps buildings apart whatever the weights.
 
 use super::encyclopedia::{Placement, Shape};
-use super::land::{Land, LandGrid};
+use super::land::Land;
 use super::BuildingSeed;
+use crate::grid::Grid;
 use glam::DVec2;
 use rayon::prelude::*;
 use std::collections::BTreeMap;
@@ -147,7 +148,7 @@ pub fn combine(values: &[f64; 7], placement: &Placement) -> f64 {
 
 /// Exact Euclidean distance (m) from every node to the nearest node where `mask` is true; infinite everywhere
 /// when the mask is empty.
-pub fn distance_transform(grid: &LandGrid, mask: &[bool]) -> Vec<f32> {
+pub fn distance_transform(grid: &Grid, mask: &[bool]) -> Vec<f32> {
     crate::distance::distance_transform(grid.nx, grid.ny, grid.cell, mask)
 }
 
@@ -160,7 +161,7 @@ pub struct StaticMaps {
     /// Distance (m) to the nearest fortified node (0 inside an enclosure).
     pub enclosure_distance: Vec<f32>,
     /// Normalized geographical domination per influence radius (keyed by the radius's bits).
-    domination: BTreeMap<u64, (LandGrid, Vec<f32>)>,
+    domination: BTreeMap<u64, (Grid, Vec<f32>)>,
 }
 
 impl StaticMaps {
@@ -195,10 +196,10 @@ impl StaticMaps {
 }
 
 /// Domination on a grid about `r/16` apart (upsampled bilinearly when read), from height samples `r/8` apart.
-fn domination_map(land: &Land, r: f64) -> (LandGrid, Vec<f32>) {
+fn domination_map(land: &Land, r: f64) -> (Grid, Vec<f32>) {
     let g = &land.grid;
     let step = (r / 16.0).max(g.cell);
-    let coarse = LandGrid::covering(g.origin, g.point(g.nx - 1, g.ny - 1), step).unwrap_or(*g);
+    let coarse = Grid::nodes_covering(g.origin, g.point(g.nx - 1, g.ny - 1), step).unwrap_or(*g);
     let spacing = (r / 8.0).max(g.cell);
     let unit = r / 4.0;
     let m = (r / spacing).ceil() as i64;
@@ -228,7 +229,7 @@ fn domination_map(land: &Land, r: f64) -> (LandGrid, Vec<f32>) {
 }
 
 /// A distance map read bilinearly (a map is wholly infinite when nothing was there to measure to).
-fn distance_at(grid: &LandGrid, values: &[f32], p: DVec2) -> f64 {
+fn distance_at(grid: &Grid, values: &[f32], p: DVec2) -> f64 {
     if values.first().is_none_or(|v| v.is_infinite()) {
         return f64::INFINITY;
     }
@@ -353,7 +354,7 @@ mod tests {
 
     #[test]
     fn distance_transform_is_exact_on_a_grid() {
-        let grid = LandGrid {
+        let grid = Grid {
             origin: DVec2::ZERO,
             cell: 2.0,
             nx: 40,

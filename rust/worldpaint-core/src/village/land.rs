@@ -1,129 +1,19 @@
 //! The land a village grows on (thesis ch. 3, "Definitions"): the region of interest `Ω` as a regular grid over
 //! the terrain, with the elevation `h(p)`, the water `w(p)` and the fortification walls sampled on its nodes. Roads
 //! are searched, interests evaluated and parcels conquered on this grid (or on a finer one made with
-//! [`LandGrid::refined`]).
+//! [`Grid::refined`]).
 
 use crate::error::{Error, Result};
 use crate::geom::{segment_distance, Region};
+use crate::grid::Grid;
 use crate::terrain::Heightfield;
 use glam::DVec2;
 use rayon::prelude::*;
 
-/// Largest number of nodes a village grid may have.
-pub const MAX_LAND_NODES: usize = 16_000_000;
-
-/// A regular grid of square cells; node (i, j) is at `origin + (i, j) * cell`, index `j * nx + i`.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct LandGrid {
-    pub origin: DVec2,
-    pub cell: f64,
-    pub nx: usize,
-    pub ny: usize,
-}
-
-impl LandGrid {
-    /// The grid of nodes `cell` apart covering the box `min..max` (at least 2×2 nodes).
-    pub fn covering(min: DVec2, max: DVec2, cell: f64) -> Result<LandGrid> {
-        if !(cell.is_finite() && cell > 0.0) {
-            return Err(Error::InvalidInput(format!(
-                "village grid cell {cell} must be positive"
-            )));
-        }
-        let size = max - min;
-        if !(size.x.is_finite() && size.y.is_finite() && size.x > 0.0 && size.y > 0.0) {
-            return Err(Error::BadRegion("the village region has no area".into()));
-        }
-        let nx = (size.x / cell).ceil() as usize + 1;
-        let ny = (size.y / cell).ceil() as usize + 1;
-        if nx.saturating_mul(ny) > MAX_LAND_NODES {
-            return Err(Error::InvalidInput(format!(
-                "a village grid of {nx}x{ny} nodes is too large; use a coarser cell than {cell} m"
-            )));
-        }
-        Ok(LandGrid {
-            origin: min,
-            cell,
-            nx: nx.max(2),
-            ny: ny.max(2),
-        })
-    }
-
-    /// The same box with cells `factor` times smaller.
-    pub fn refined(&self, factor: usize) -> LandGrid {
-        let f = factor.max(1);
-        LandGrid {
-            origin: self.origin,
-            cell: self.cell / f as f64,
-            nx: (self.nx - 1) * f + 1,
-            ny: (self.ny - 1) * f + 1,
-        }
-    }
-
-    pub fn len(&self) -> usize {
-        self.nx * self.ny
-    }
-
-    pub fn is_empty(&self) -> bool {
-        self.len() == 0
-    }
-
-    pub fn index(&self, i: usize, j: usize) -> usize {
-        j * self.nx + i
-    }
-
-    /// (i, j) of a node index.
-    pub fn ij(&self, k: usize) -> (usize, usize) {
-        (k % self.nx, k / self.nx)
-    }
-
-    /// World XY of node (i, j).
-    pub fn point(&self, i: usize, j: usize) -> DVec2 {
-        self.origin + DVec2::new(i as f64, j as f64) * self.cell
-    }
-
-    /// World XY of a node index.
-    pub fn point_of(&self, k: usize) -> DVec2 {
-        let (i, j) = self.ij(k);
-        self.point(i, j)
-    }
-
-    /// The node nearest to `p`, if `p` lies within half a cell of the grid.
-    pub fn nearest(&self, p: DVec2) -> Option<(usize, usize)> {
-        let f = (p - self.origin) / self.cell;
-        let (i, j) = (f.x.round(), f.y.round());
-        if !(i >= 0.0 && j >= 0.0 && i < self.nx as f64 && j < self.ny as f64) {
-            return None;
-        }
-        Some((i as usize, j as usize))
-    }
-
-    /// The node index nearest to `p`, clamped onto the grid.
-    pub fn nearest_clamped(&self, p: DVec2) -> usize {
-        let f = (p - self.origin) / self.cell;
-        let i = f.x.round().clamp(0.0, (self.nx - 1) as f64) as usize;
-        let j = f.y.round().clamp(0.0, (self.ny - 1) as f64) as usize;
-        self.index(i, j)
-    }
-
-    /// Bilinear interpolation of node values at `p` (clamped onto the grid).
-    pub fn bilinear(&self, values: &[f32], p: DVec2) -> f64 {
-        let f = (p - self.origin) / self.cell;
-        let fx = f.x.clamp(0.0, (self.nx - 1) as f64);
-        let fy = f.y.clamp(0.0, (self.ny - 1) as f64);
-        let i = (fx.floor() as usize).min(self.nx - 2);
-        let j = (fy.floor() as usize).min(self.ny - 2);
-        let (tx, ty) = (fx - i as f64, fy - j as f64);
-        let at = |i: usize, j: usize| values[self.index(i, j)] as f64;
-        let a = at(i, j) * (1.0 - tx) + at(i + 1, j) * tx;
-        let b = at(i, j + 1) * (1.0 - tx) + at(i + 1, j + 1) * tx;
-        a * (1.0 - ty) + b * ty
-    }
-}
-
 /// What the village needs to know about the land, per node of its grid.
 #[derive(Clone, Debug)]
 pub struct Land {
-    pub grid: LandGrid,
+    pub grid: Grid,
     /// Terrain elevation `h(p)`.
     pub height: Vec<f32>,
     /// Inside the region of interest `Ω`.
@@ -167,7 +57,7 @@ impl Land {
                 "the village region does not overlap the terrain".into(),
             ));
         }
-        let grid = LandGrid::covering(min, max, cell)?;
+        let grid = Grid::nodes_covering(min, max, cell)?;
         let water_polygons: Vec<Region> = environment
             .water_areas
             .iter()

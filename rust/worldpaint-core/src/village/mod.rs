@@ -28,7 +28,7 @@ pub mod roads;
 pub mod seeding;
 
 pub use encyclopedia::{Encyclopedia, Event, Scenario, ScenarioPresets};
-pub use land::{Environment, Land, LandGrid};
+pub use land::{Environment, Land};
 
 use glam::DVec2;
 use serde::{Deserialize, Serialize};

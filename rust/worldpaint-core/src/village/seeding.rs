@@ -82,12 +82,12 @@ pub fn seed_building(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::grid::Grid;
     use crate::village::encyclopedia::{InterestWeights, ParcelParams, Shape};
-    use crate::village::land::LandGrid;
     use rand::SeedableRng;
 
     fn flat_land(n: usize, cell: f64) -> Land {
-        let grid = LandGrid {
+        let grid = Grid {
             origin: DVec2::ZERO,
             cell,
             nx: n,

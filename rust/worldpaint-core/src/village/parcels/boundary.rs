@@ -19,7 +19,7 @@ impl<'a> Lattice<'a> {
         Lattice {
             work,
             label,
-            vx: work.nx + 1,
+            vx: work.grid.nx + 1,
         }
     }
 
@@ -37,7 +37,7 @@ impl<'a> Lattice<'a> {
 
     pub(super) fn pos(&self, v: u32) -> DVec2 {
         let (i, j) = self.vij(v);
-        self.work.origin + DVec2::new(i as f64 - 0.5, j as f64 - 0.5) * self.work.cell
+        self.work.grid.origin + DVec2::new(i as f64 - 0.5, j as f64 - 0.5) * self.work.grid.cell
     }
 
     /// The label of the cell in the quadrant counter-clockwise after direction `d`.
@@ -108,7 +108,7 @@ pub(super) fn trace(lat: &Lattice, n: usize) -> (Vec<Chain>, Vec<Vec<u32>>) {
     let mut cells = vec![0usize; n];
     for (k, &x) in lat.label.iter().enumerate() {
         if x != NONE {
-            let (i, j) = work.ij(k);
+            let (i, j) = work.grid.ij(k);
             (i0, j0, i1, j1) = (i0.min(i), j0.min(j), i1.max(i), j1.max(j));
             first[x as usize] = first[x as usize].min(k);
             cells[x as usize] += 1;
@@ -117,7 +117,7 @@ pub(super) fn trace(lat: &Lattice, n: usize) -> (Vec<Chain>, Vec<Vec<u32>>) {
     if i0 == usize::MAX {
         return (Vec::new(), vec![Vec::new(); n]);
     }
-    let mut visited = vec![false; 2 * lat.vx * (work.ny + 1)];
+    let mut visited = vec![false; 2 * lat.vx * (work.grid.ny + 1)];
     let mut chains = Vec::new();
     let walk = |v: u32, d: u8, visited: &mut Vec<bool>| -> Chain {
         let mut ids = vec![v];
@@ -165,7 +165,7 @@ pub(super) fn trace(lat: &Lattice, n: usize) -> (Vec<Chain>, Vec<Vec<u32>>) {
             if first[x] == usize::MAX {
                 return Vec::new();
             }
-            let (ci, cj) = work.ij(first[x]);
+            let (ci, cj) = work.grid.ij(first[x]);
             let start = lat.vid(ci as i64, cj as i64);
             let (mut v, mut d) = (start, 0u8);
             let mut out = Vec::new();

@@ -60,17 +60,17 @@ pub(super) fn junctions(
         .iter()
         .map(|s| s.params.budget / s.params.conquest_weight + s.params.road_reach)
         .fold(0.0, f64::max);
-    let length = longest + road_width + 4.0 * work.cell;
+    let length = longest + road_width + 4.0 * work.grid.cell;
     let paths: Vec<&[DVec2]> = roads
         .iter()
         .filter(|r| r.points.len() >= 2)
         .map(|r| r.points.as_slice())
         .collect();
-    let graph = Graph::from_paths(&paths, 0.1 * work.cell);
+    let graph = Graph::from_paths(&paths, 0.1 * work.grid.cell);
     let adj = graph.adjacency();
-    let probe = 2.0 * half + 2.0 * work.cell;
-    let lo = work.origin;
-    let hi = work.point(work.nx - 1, work.ny - 1);
+    let probe = 2.0 * half + 2.0 * work.grid.cell;
+    let lo = work.grid.origin;
+    let hi = work.grid.point(work.grid.nx - 1, work.grid.ny - 1);
     let corner = options.corner_angle_degrees.to_radians();
     let mut out = Vec::new();
     for (v, nb) in adj.iter().enumerate() {
@@ -172,7 +172,7 @@ fn corner_conquest(
     road: &mut RoadConquest,
 ) {
     let corner = options.corner_angle_degrees.to_radians();
-    let c = work.cell;
+    let c = work.grid.cell;
     let depth_of = |seed: u32| {
         let p = seeds[seed as usize].params;
         p.budget / p.conquest_weight
@@ -210,11 +210,11 @@ fn corner_conquest(
             let mut nearest: Option<(f64, usize)> = None;
             for j in y0..=y1 {
                 for i in x0..=x1 {
-                    let e = j * work.nx + i;
+                    let e = j * work.grid.nx + i;
                     if !work.edge[e] || road.owner[e] == NONE {
                         continue;
                     }
-                    let p = work.point(i, j);
+                    let p = work.grid.point(i, j);
                     let d = p.distance(corner_point);
                     if nearest.is_some_and(|(bd, _)| d >= bd) || sector_cell(p).is_none() {
                         continue;
@@ -233,7 +233,7 @@ fn corner_conquest(
             let (x0, y0, x1, y1) = work.around(jn.point, start + depth + half + 3.0 * c);
             for j in y0..=y1 {
                 for i in x0..=x1 {
-                    let e = j * work.nx + i;
+                    let e = j * work.grid.nx + i;
                     if !work.edge[e] || road.owner[e] == winner {
                         continue;
                     }
@@ -242,7 +242,7 @@ fn corner_conquest(
                     let within = |(b, arc): (&Branch, f64)| {
                         arc <= start + depth && (!b.to_junction || arc <= 0.5 * b.length)
                     };
-                    if sector_cell(work.point(i, j)).is_some_and(within) {
+                    if sector_cell(work.grid.point(i, j)).is_some_and(within) {
                         road.owner[e] = winner;
                         road.arrival[e] = f64::INFINITY;
                     }

@@ -9,6 +9,7 @@ use super::super::Road;
 use super::{ParcelSeed, NONE};
 use crate::error::{Error, Result};
 use crate::geom::segment_distance;
+use crate::grid::{Grid, MAX_NODES};
 use glam::DVec2;
 use rayon::prelude::*;
 use std::f64::consts::FRAC_1_SQRT_2;
@@ -17,9 +18,6 @@ use std::f64::consts::FRAC_1_SQRT_2;
 pub(super) const FREE: u8 = 0;
 const ROAD: u8 = 1;
 pub(super) const BLOCKED: u8 = 2;
-
-/// Largest number of cells of a conquest grid.
-const MAX_CELLS: usize = 16_000_000;
 
 /// The ends of roads that meet no other road (nor their own road elsewhere).
 fn dead_ends(roads: &[Road], index: &RoadIndex, cell: f64) -> Vec<DVec2> {
@@ -48,10 +46,7 @@ fn dead_ends(roads: &[Road], index: &RoadIndex, cell: f64) -> Vec<DVec2> {
 /// The part of the conquest grid where parcels may grow: node (i, j) at `origin + (i, j) * cell`, one cell
 /// (a square of side `cell`) around each node.
 pub(super) struct Work {
-    pub(super) origin: DVec2,
-    pub(super) cell: f64,
-    pub(super) nx: usize,
-    pub(super) ny: usize,
+    pub(super) grid: Grid,
     pub(super) state: Vec<u8>,
     /// Free cells beside the road corridor: where road conquest runs and parcels have their sources.
     pub(super) edge: Vec<bool>,
@@ -100,7 +95,7 @@ impl Work {
             return Ok(None);
         }
         let (nx, ny) = ((i1 - i0 + 1) as usize, (j1 - j0 + 1) as usize);
-        if nx.saturating_mul(ny) > MAX_CELLS {
+        if nx.saturating_mul(ny) > MAX_NODES {
             return Err(Error::InvalidInput(format!(
                 "parcels: a conquest grid of {nx}x{ny} cells is too large; use a coarser cell than {cell} m or \
                  smaller budgets"
@@ -117,10 +112,12 @@ impl Work {
             }
         });
         let mut work = Work {
-            origin,
-            cell,
-            nx,
-            ny,
+            grid: Grid {
+                origin,
+                cell,
+                nx,
+                ny,
+            },
             state,
             edge: Vec::new(),
         };
@@ -131,7 +128,7 @@ impl Work {
             let (x1, y1) = work.clamped(a.max(b) + DVec2::splat(margin));
             for j in y0..=y1 {
                 for i in x0..=x1 {
-                    if segment_distance(work.point(i, j), a, b) <= margin {
+                    if segment_distance(work.grid.point(i, j), a, b) <= margin {
                         work.state[j * nx + i] = ROAD;
                     }
                 }
@@ -152,7 +149,7 @@ impl Work {
         if !ends.is_empty() {
             for (k, e) in edge.iter_mut().enumerate() {
                 if *e {
-                    let foot = index.nearest(work.point_of(k), margin + 2.0 * cell);
+                    let foot = index.nearest(work.grid.point_of(k), margin + 2.0 * cell);
                     if foot.is_some_and(|f| {
                         ends.iter()
                             .any(|q| q.distance(f.point) <= 1e-9 * (1.0 + q.abs().max_element()))
@@ -166,25 +163,9 @@ impl Work {
         Ok(Some(work))
     }
 
-    pub(super) fn len(&self) -> usize {
-        self.nx * self.ny
-    }
-
-    pub(super) fn point(&self, i: usize, j: usize) -> DVec2 {
-        self.origin + DVec2::new(i as f64, j as f64) * self.cell
-    }
-
-    pub(super) fn point_of(&self, k: usize) -> DVec2 {
-        self.point(k % self.nx, k / self.nx)
-    }
-
-    pub(super) fn ij(&self, k: usize) -> (usize, usize) {
-        (k % self.nx, k / self.nx)
-    }
-
     pub(super) fn inside(&self, i: i64, j: i64) -> Option<usize> {
-        (i >= 0 && j >= 0 && (i as usize) < self.nx && (j as usize) < self.ny)
-            .then(|| j as usize * self.nx + i as usize)
+        (i >= 0 && j >= 0 && (i as usize) < self.grid.nx && (j as usize) < self.grid.ny)
+            .then(|| j as usize * self.grid.nx + i as usize)
     }
 
     fn at(&self, i: i64, j: i64) -> Option<u8> {
@@ -193,7 +174,7 @@ impl Work {
 
     /// The node (i, j) nearest to `p`, clamped onto the grid.
     pub(super) fn clamped(&self, p: DVec2) -> (usize, usize) {
-        let f = (p - self.origin) / self.cell;
+        let f = (p - self.grid.origin) / self.grid.cell;
         let c = |v: f64, n: usize| {
             if v.is_finite() {
                 v.round().clamp(0.0, (n - 1) as f64) as usize
@@ -203,7 +184,7 @@ impl Work {
                 0
             }
         };
-        (c(f.x, self.nx), c(f.y, self.ny))
+        (c(f.x, self.grid.nx), c(f.y, self.grid.ny))
     }
 
     /// The cells within `r` of `p` (a box), as index ranges.
@@ -222,21 +203,21 @@ impl Work {
     ) -> Option<usize> {
         let (a, b) = index.segments()[p.segment];
         let dir = b - a;
-        let (x0, y0, x1, y1) = self.around(p.point, half + 3.0 * self.cell);
+        let (x0, y0, x1, y1) = self.around(p.point, half + 3.0 * self.grid.cell);
         let mut best: Option<(f64, usize)> = None;
         for j in y0..=y1 {
             for i in x0..=x1 {
-                let k = j * self.nx + i;
+                let k = j * self.grid.nx + i;
                 if !self.edge[k] {
                     continue;
                 }
-                let q = self.point(i, j);
+                let q = self.grid.point(i, j);
                 if dir.length_squared() > 0.0 && dir.perp_dot(q - p.point) * p.side <= 0.0 {
                     continue;
                 }
                 let d = q.distance(p.point);
                 // (a road point off the grid finds nothing, not the grid's border)
-                if d <= half + 3.0 * self.cell && best.is_none_or(|(bd, _)| d < bd) {
+                if d <= half + 3.0 * self.grid.cell && best.is_none_or(|(bd, _)| d < bd) {
                     best = Some((d, k));
                 }
             }

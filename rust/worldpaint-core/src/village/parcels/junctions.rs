@@ -55,7 +55,7 @@ pub(super) fn collapse_junctions(
     };
     let mut moved = Moves::new();
     let mut used = vec![false; chains.len()];
-    let short = options.straighten * lat.work.cell;
+    let short = options.straighten * lat.work.grid.cell;
     let touched = graph.collapse_short_chains(short, &mut moved, &mut used);
     graph.open_acute_junctions(&touched, &mut moved, &mut used);
     moved

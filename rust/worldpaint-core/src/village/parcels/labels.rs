@@ -20,13 +20,13 @@ fn smooth_labels(
     label: &mut [u32],
     best: &mut [f64],
 ) -> bool {
-    let nx = work.nx;
+    let nx = work.grid.nx;
     let mut any = false;
     for _ in 0..2 {
         let (old, old_best) = (label.to_vec(), best.to_vec());
         let lab = |i: i64, j: i64| work.inside(i, j).map_or(NONE, |k| old[k]);
         // every cell from the previous labels, in parallel
-        let changes: Vec<(usize, u32, f64)> = (0..work.len())
+        let changes: Vec<(usize, u32, f64)> = (0..work.grid.len())
             .into_par_iter()
             .filter_map(|k| {
                 if is_anchor[k] || work.state[k] != FREE || (work.edge[k] && owner[k] != NONE) {
@@ -109,7 +109,7 @@ pub(super) fn clean_labels(
 }
 
 fn keep_components(work: &Work, anchors: &[Option<usize>], label: &mut [u32], best: &mut [f64]) {
-    let mut keep = vec![false; work.len()];
+    let mut keep = vec![false; work.grid.len()];
     let mut queue = VecDeque::new();
     for (i, a) in anchors.iter().enumerate() {
         let Some(a) = *a else { continue };
@@ -119,7 +119,7 @@ fn keep_components(work: &Work, anchors: &[Option<usize>], label: &mut [u32], be
         keep[a] = true;
         queue.push_back(a);
         while let Some(k) = queue.pop_front() {
-            let (ci, cj) = work.ij(k);
+            let (ci, cj) = work.grid.ij(k);
             for &(di, dj) in &N4 {
                 if let Some(nk) = work.inside(ci as i64 + di, cj as i64 + dj) {
                     if !keep[nk] && label[nk] == i as u32 {
@@ -130,7 +130,7 @@ fn keep_components(work: &Work, anchors: &[Option<usize>], label: &mut [u32], be
             }
         }
     }
-    for k in 0..work.len() {
+    for k in 0..work.grid.len() {
         if label[k] != NONE && !keep[k] {
             label[k] = NONE;
             best[k] = f64::INFINITY;
@@ -152,11 +152,11 @@ fn fix_pinches(
     label: &mut [u32],
     best: &mut [f64],
 ) -> bool {
-    let nx = work.nx;
+    let nx = work.grid.nx;
     let mut any = false;
     for _ in 0..64 {
         let mut changed = false;
-        for j in 0..work.ny.saturating_sub(1) {
+        for j in 0..work.grid.ny.saturating_sub(1) {
             for i in 0..nx - 1 {
                 let (a, b, c, d) = (
                     j * nx + i,
@@ -210,7 +210,7 @@ fn fix_holes(
     let mut boxes = vec![(usize::MAX, usize::MAX, 0usize, 0usize); n];
     for (k, &x) in label.iter().enumerate() {
         if x != NONE {
-            let (i, j) = work.ij(k);
+            let (i, j) = work.grid.ij(k);
             let b = &mut boxes[x as usize];
             *b = (b.0.min(i), b.1.min(j), b.2.max(i), b.3.max(j));
         }
@@ -278,7 +278,7 @@ fn fix_holes_of(
         }
         for j in bj0..=bj1 {
             for i in bi0..=bi1 {
-                let k = j * work.nx + i;
+                let k = j * work.grid.nx + i;
                 if label[k] == x && best[k] >= threshold && !is_anchor[k] {
                     label[k] = NONE;
                     best[k] = f64::INFINITY;

@@ -42,7 +42,7 @@ pub(super) fn conquer(
     if fronts.is_empty() {
         return Vec::new();
     }
-    let c = work.cell;
+    let c = work.grid.cell;
     let win = Window::new(work, fronts, params);
     let (i0, j0, lnx, lny) = (win.i0, win.j0, win.lnx, win.lny);
     let global = |l: usize| win.global(l);
@@ -53,7 +53,7 @@ pub(super) fn conquer(
     let mut slope = vec![0.0f64; lnx * lny];
     let mut heap = MinHeap::new();
     for (f, &k) in fronts.iter().enumerate() {
-        let (i, j) = work.ij(k);
+        let (i, j) = work.grid.ij(k);
         let l = (j - j0) * lnx + (i - i0);
         cost[l] = 0.0;
         origin[l] = f as u32;
@@ -95,7 +95,7 @@ pub(super) fn conquer(
                     continue;
                 }
             }
-            let d = work.point_of(k) - so;
+            let d = work.grid.point_of(k) - so;
             if d.dot(n) < -0.5 * c {
                 // behind the source: across its road
                 continue;
@@ -166,14 +166,20 @@ impl<'a> Window<'a> {
     fn new(work: &'a Work, fronts: &[usize], params: &ParcelParams) -> Self {
         let reach = params.budget / params.conquest_weight;
         // (an enormous fund reaches the whole grid, no farther)
-        let r = (reach / work.cell).ceil().min((work.nx + work.ny) as f64) as usize + 1;
+        let r = (reach / work.grid.cell)
+            .ceil()
+            .min((work.grid.nx + work.grid.ny) as f64) as usize
+            + 1;
         let (mut i0, mut j0, mut i1, mut j1) = (usize::MAX, usize::MAX, 0, 0);
         for &k in fronts {
-            let (i, j) = work.ij(k);
+            let (i, j) = work.grid.ij(k);
             (i0, j0, i1, j1) = (i0.min(i), j0.min(j), i1.max(i), j1.max(j));
         }
         let (i0, j0) = (i0.saturating_sub(r), j0.saturating_sub(r));
-        let (i1, j1) = ((i1 + r).min(work.nx - 1), (j1 + r).min(work.ny - 1));
+        let (i1, j1) = (
+            (i1 + r).min(work.grid.nx - 1),
+            (j1 + r).min(work.grid.ny - 1),
+        );
         Window {
             work,
             i0,
@@ -185,14 +191,14 @@ impl<'a> Window<'a> {
 
     /// The grid cell of local cell `l`.
     fn global(&self, l: usize) -> usize {
-        (self.j0 + l / self.lnx) * self.work.nx + self.i0 + l % self.lnx
+        (self.j0 + l / self.lnx) * self.work.grid.nx + self.i0 + l % self.lnx
     }
 
     /// The terrain gradient on the window's cells (central differences).
     fn gradients(&self, land: &Land) -> Vec<DVec2> {
-        let (lnx, lny, c) = (self.lnx, self.lny, self.work.cell);
+        let (lnx, lny, c) = (self.lnx, self.lny, self.work.grid.cell);
         let h: Vec<f64> = (0..lnx * lny)
-            .map(|l| land.height_at(self.work.point_of(self.global(l))))
+            .map(|l| land.height_at(self.work.grid.point_of(self.global(l))))
             .collect();
         (0..lnx * lny)
             .map(|l| {
@@ -213,7 +219,7 @@ fn road_frames(work: &Work, index: &RoadIndex, fronts: &[usize]) -> Vec<(DVec2, 
     fronts
         .iter()
         .map(|&k| {
-            let p = work.point_of(k);
+            let p = work.grid.point_of(k);
             let n = (p - index.project(p).point).normalize_or_zero();
             // (a road cell lies beside its road, never on its centre line)
             let n = if n == DVec2::ZERO { DVec2::Y } else { n };

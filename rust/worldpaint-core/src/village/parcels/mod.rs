@@ -215,9 +215,9 @@ pub fn parcels_with(
             )
         })
         .collect();
-    let (mut label, mut best) = resolve_claims(&claims, work.len());
+    let (mut label, mut best) = resolve_claims(&claims, work.grid.len());
     let is_anchor = {
-        let mut a = vec![false; work.len()];
+        let mut a = vec![false; work.grid.len()];
         for k in anchors.iter().flatten() {
             a[*k] = true;
         }

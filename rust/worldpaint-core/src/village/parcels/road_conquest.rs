@@ -22,8 +22,8 @@ pub(super) fn road_conquest(
     seeds: &[ParcelSeed],
     sources: &[Option<usize>],
 ) -> RoadConquest {
-    let mut owner = vec![NONE; work.len()];
-    let mut arrival = vec![f64::INFINITY; work.len()];
+    let mut owner = vec![NONE; work.grid.len()];
+    let mut arrival = vec![f64::INFINITY; work.grid.len()];
     let mut heap = MinHeap::new();
     for (i, s) in sources.iter().enumerate() {
         if let Some(k) = s {
@@ -42,7 +42,7 @@ pub(super) fn road_conquest(
         owner[k] = i;
         arrival[k] = d;
         let reach = seeds[i as usize].params.road_reach;
-        let (ci, cj) = work.ij(k);
+        let (ci, cj) = work.grid.ij(k);
         for &(di, dj) in &N8 {
             let Some(nk) = work.inside(ci as i64 + di, cj as i64 + dj) else {
                 continue;
@@ -55,7 +55,7 @@ pub(super) fn road_conquest(
             } else {
                 1.0
             };
-            let nd = d + step * work.cell;
+            let nd = d + step * work.grid.cell;
             if nd <= reach + 1e-9 {
                 heap.push(nd, (i, nk as u32));
             }

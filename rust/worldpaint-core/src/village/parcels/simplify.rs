@@ -28,7 +28,7 @@ impl Rules<'_> {
     /// Whether the edge `a`–`b` keeps `road_width / 2` from every centre line and half a cell from every
     /// water, wall or out-of-`Ω` node (as the cell outlines do).
     pub(super) fn clear(&self, a: DVec2, b: DVec2) -> bool {
-        let c = self.work.cell;
+        let c = self.work.grid.cell;
         if self.half > 0.0
             && self.index.segment_clearance(a, b, self.half) < self.half * (1.0 - 1e-9)
         {
@@ -39,8 +39,8 @@ impl Rules<'_> {
         let (x1, y1) = self.work.clamped(a.max(b) + DVec2::splat(c));
         for j in y0..=y1 {
             for i in x0..=x1 {
-                if self.work.state[j * self.work.nx + i] == BLOCKED
-                    && segment_distance(self.work.point(i, j), a, b) < r
+                if self.work.state[j * self.work.grid.nx + i] == BLOCKED
+                    && segment_distance(self.work.grid.point(i, j), a, b) < r
                 {
                     return false;
                 }
@@ -57,7 +57,7 @@ impl Rules<'_> {
         let (Some(&a), Some(&b)) = (span.first(), span.last()) else {
             return true;
         };
-        let c = self.work.cell;
+        let c = self.work.grid.cell;
         if self.half > 0.0
             && self.index.segment_clearance(a, b, self.half) < self.half * (1.0 - 1e-9)
         {
@@ -74,10 +74,10 @@ impl Rules<'_> {
         for j in y0..=y1 {
             for i in x0..=x1 {
                 // road nodes are rasterized with a margin: the exact distance to the centre lines rules there
-                if self.work.state[j * self.work.nx + i] != BLOCKED {
+                if self.work.state[j * self.work.grid.nx + i] != BLOCKED {
                     continue;
                 }
-                let q = self.work.point(i, j);
+                let q = self.work.grid.point(i, j);
                 let d = segment_distance(q, a, b);
                 if d > reach {
                     continue;
@@ -111,7 +111,7 @@ fn simplify_chain(
     // a closed loop is cyclic over 0..m-1 (its last vertex repeats the first)
     let cyc = if ch.closed { m - 1 } else { m };
     let scale = 0.5f64.powi(level as i32);
-    let c = rules.work.cell;
+    let c = rules.work.grid.cell;
     let keep = straightened(ch, &pts, options.straighten * c * scale, rules);
     let mut kept: Vec<usize> = (0..cyc).filter(|&q| keep[q]).collect();
     let max_dev = options.merge_deviation * c * scale;
@@ -329,7 +329,7 @@ pub(super) fn simplified_contours(
         }
     }
     let mut levels = vec![0u8; chains.len()];
-    let mut flag = vec![false; lat.vx * (work.ny + 1)];
+    let mut flag = vec![false; lat.vx * (work.grid.ny + 1)];
     let mut polygons: Vec<Option<Vec<DVec2>>> = vec![None; n];
     for round in 0.. {
         let kept: Vec<Vec<usize>> = chains
@@ -407,7 +407,7 @@ fn broken_chains(
     polygons: &[Option<Vec<DVec2>>],
     cells: &[usize],
 ) -> Vec<bool> {
-    let c = lat.work.cell;
+    let c = lat.work.grid.cell;
     let eps = 1e-6 * c;
     let mut bad = vec![false; chains.len()];
     let mut segments: Vec<(DVec2, DVec2, usize)> = Vec::new();

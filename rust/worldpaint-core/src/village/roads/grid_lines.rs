@@ -3,11 +3,11 @@
 //! vertices of a node path, which a new road keeps.
 
 use crate::geom::clip_segment_to_box;
-use crate::village::land::LandGrid;
+use crate::grid::Grid;
 use glam::DVec2;
 
 /// The turning vertices of a node path (collinear moves merged).
-pub(super) fn node_polyline(grid: &LandGrid, path: &[usize]) -> Vec<DVec2> {
+pub(super) fn node_polyline(grid: &Grid, path: &[usize]) -> Vec<DVec2> {
     let mut points = Vec::new();
     let step = |a: usize, b: usize| {
         let (ai, aj) = grid.ij(a);
@@ -24,7 +24,7 @@ pub(super) fn node_polyline(grid: &LandGrid, path: &[usize]) -> Vec<DVec2> {
 }
 
 /// The nodes whose closed cell square meets the segment `a`–`b` (world XY), clipped to the grid.
-pub(super) fn segment_cells(grid: &LandGrid, a: DVec2, b: DVec2) -> Vec<usize> {
+pub(super) fn segment_cells(grid: &Grid, a: DVec2, b: DVec2) -> Vec<usize> {
     let fa = (a - grid.origin) / grid.cell;
     let fb = (b - grid.origin) / grid.cell;
     let lo = DVec2::splat(-0.5);

@@ -2,7 +2,7 @@
 //! the road generation of Galin et al. 2010 (GPMG10): a weighted anisotropic shortest path on the terrain whose
 //! cost is `C(R) = Σ_j w_j g_j(R)`, extended with road re-use and road cycles.
 //!
-//! **Costs.** A road is a chain of *moves* on the [`LandGrid`]: grid offsets `(dx, dy)` with coprime coordinates
+//! **Costs.** A road is a chain of *moves* on the [`Grid`]: grid offsets `(dx, dy)` with coprime coordinates
 //! and `max(|dx|, |dy|) ≤ k` (`mask_radius`; k = 1, 2, 3 give 8, 16, 32 moves), so roads are not bound to the
 //! eight grid directions. Each move is integrated along its segment, sampled every half cell at most, so a long
 //! move cannot jump over a ridge or a river. Per metre (planar) of a sub-segment of grade `g` (rise over run):
@@ -93,8 +93,9 @@ mod tests;
 use crate::error::{Error, Result};
 use crate::geom::{finite, polyline_segments};
 use crate::graph::SegmentIndex;
+use crate::grid::Grid;
 use crate::village::encyclopedia::RoadParams;
-use crate::village::land::{Land, LandGrid};
+use crate::village::land::Land;
 use crate::village::Road;
 use checks::{check_land, check_params, land_mark, nearest_inside};
 use glam::DVec2;
@@ -110,7 +111,7 @@ pub const STEEP_WEIGHT: f64 = 100.0;
 /// A village road network: the connection points `Ψ`, the roads, and what the road search keeps between calls.
 pub struct RoadNetwork {
     pub roads: Vec<Road>,
-    grid: LandGrid,
+    grid: Grid,
     connections: Vec<DVec2>,
     connection_nodes: Vec<usize>,
     /// Nodes under a road (or a connection point).

@@ -5,8 +5,9 @@
 
 use super::moves::{sample, sample_bool, Move, MoveTable};
 use super::STEEP_WEIGHT;
+use crate::grid::Grid;
 use crate::village::encyclopedia::RoadParams;
-use crate::village::land::{Land, LandGrid};
+use crate::village::land::Land;
 
 /// Node surroundings, for the move costs.
 pub(super) const NEAR_WATER: u8 = 1;
@@ -127,7 +128,7 @@ pub(super) fn static_cost(
 }
 
 /// Nodes with a `values` node within `radius` cells (Chebyshev): a dilation along the rows, then the columns.
-pub(super) fn near(g: &LandGrid, values: &[bool], radius: usize) -> Vec<bool> {
+pub(super) fn near(g: &Grid, values: &[bool], radius: usize) -> Vec<bool> {
     let mut rows = vec![false; g.len()];
     for j in 0..g.ny {
         let line: Vec<bool> = (0..g.nx).map(|i| values[g.index(i, j)]).collect();

@@ -4,7 +4,8 @@
 //! over a ridge or a river; the table also holds the turn angles and the gauge of the heuristic.
 
 use crate::geom::clip_segment_to_box;
-use crate::village::land::{Land, LandGrid};
+use crate::grid::Grid;
+use crate::village::land::Land;
 use glam::DVec2;
 
 /// A bilinear sample along a move: four (node offset, weight) taps, unused ones of weight 0 on the start node.
@@ -76,7 +77,7 @@ pub(super) struct Move {
 }
 
 impl Move {
-    fn new(grid: &LandGrid, dx: i32, dy: i32) -> Move {
+    fn new(grid: &Grid, dx: i32, dy: i32) -> Move {
         let nx = grid.nx as isize;
         let end = DVec2::new(dx as f64, dy as f64);
         let mut cells = Vec::new();
@@ -186,7 +187,7 @@ fn gauge_facets(offsets: &[(i32, i32)]) -> Vec<DVec2> {
 }
 
 impl MoveTable {
-    pub(super) fn new(grid: &LandGrid, radius: u32) -> MoveTable {
+    pub(super) fn new(grid: &Grid, radius: u32) -> MoveTable {
         let offsets = mask_offsets(radius);
         let moves: Vec<Move> = offsets
             .iter()
@@ -228,7 +229,7 @@ impl MoveTable {
     }
 
     /// The move from node `a` to node `b`, if they are one move apart.
-    pub(super) fn move_between(&self, grid: &LandGrid, a: usize, b: usize) -> Option<usize> {
+    pub(super) fn move_between(&self, grid: &Grid, a: usize, b: usize) -> Option<usize> {
         let (ai, aj) = grid.ij(a);
         let (bi, bj) = grid.ij(b);
         let (dx, dy) = (bi as i64 - ai as i64, bj as i64 - aj as i64);
@@ -240,7 +241,7 @@ impl MoveTable {
     /// The node one move `m` from node `x` = `(i, j)`, when it is on the grid.
     pub(super) fn target(
         &self,
-        grid: &LandGrid,
+        grid: &Grid,
         x: usize,
         (i, j): (usize, usize),
         m: usize,

@@ -7,8 +7,8 @@ use super::heuristic::{Bound, SourceBound};
 use super::move_costs::{cached_cost, usable, CostKey};
 use super::moves::MoveTable;
 use super::search::{crossing_charge, Deeper, Query, Search, BUILDING, GOAL};
+use crate::grid::Grid;
 use crate::search::MinHeap;
-use crate::village::land::LandGrid;
 
 /// Half-width (cells) of the corridor around the node-level path.
 pub(super) const CORRIDOR_CELLS: usize = 8;
@@ -16,7 +16,7 @@ pub(super) const CORRIDOR_CELLS: usize = 8;
 /// The turn costs along the node-level path from `target` to `node` (see [`Search::node_field`]).
 fn path_turns(
     table: &MoveTable,
-    grid: &LandGrid,
+    grid: &Grid,
     moves: &[u8],
     target: usize,
     node: usize,

@@ -10,9 +10,10 @@ use super::move_costs::{cached_cost, near, CostKey, NEAR_OUTSIDE, NEAR_WATER};
 use super::moves::{Move, MoveTable};
 use super::{invalid, MAX_STATES};
 use crate::error::Result;
+use crate::grid::Grid;
 use crate::search::MinHeap;
 use crate::village::encyclopedia::RoadParams;
-use crate::village::land::{Land, LandGrid};
+use crate::village::land::Land;
 use std::cmp::Ordering;
 
 /// States the first A* (with the closed-form bound) may settle before the node-level field is computed.
@@ -90,7 +91,7 @@ pub(super) enum Outcome {
 
 /// The state of the road search kept between connections.
 pub(super) struct Search {
-    pub(super) grid: LandGrid,
+    pub(super) grid: Grid,
     pub(super) key: CostKey,
     pub(super) table: MoveTable,
     /// Static cost of move `m` from node `x` at `x * moves + m`: 0 not computed yet, positive within the grade
@@ -204,7 +205,7 @@ impl Search {
         })
     }
 
-    pub(super) fn fits(&self, params: &RoadParams, grid: &LandGrid) -> bool {
+    pub(super) fn fits(&self, params: &RoadParams, grid: &Grid) -> bool {
         self.key == CostKey::of(params) && self.field.len() == grid.len()
     }
 

@@ -5,8 +5,8 @@ use super::cycles::Ellipse;
 use super::search::{Ctx, Search, BUILDING, GOAL};
 use super::*;
 
-pub(super) fn grid(nx: usize, ny: usize) -> LandGrid {
-    LandGrid {
+pub(super) fn grid(nx: usize, ny: usize) -> Grid {
+    Grid {
         origin: DVec2::ZERO,
         cell: 2.0,
         nx,
