@@ -34,8 +34,7 @@ class BackgroundOperator:
 
     From a script (``execute``) it runs to completion. From the UI (``invoke``) the computation runs on a worker
     thread while a modal handler shows the progress (with the stage the engine names, when it has stages) and Esc
-    cancels; the scene only changes once the result is
-    complete, so a cancelled operation changes nothing.
+    cancels; the scene only changes once the result is complete, so a cancelled operation changes nothing.
     """
 
     progress_text = "Working"
