@@ -28,6 +28,7 @@ import numpy as np  # noqa: E402
 import worldpaint  # noqa: E402
 import worldpaint_engine as engine  # noqa: E402
 from scene_kit import collection_instances, engine_terrain_object, prototypes, select_only  # noqa: E402
+from worldpaint.bridge import engine as facade  # noqa: E402
 from worldpaint.bridge import points as wp_points  # noqa: E402
 from worldpaint.bridge.instances import point_cloud_arrays, point_cloud_objects  # noqa: E402
 from worldpaint.ops.common import SceneContent  # noqa: E402
@@ -190,14 +191,15 @@ def bench_painting():
     path = np.column_stack([np.linspace(100.0, 490.0, 40), np.full(40, 300.0)])
 
     content = SceneContent(bpy.context)
-    stroke = engine.Stroke(content.engine_scene(), color=scene.worldpaint.palette["Trees"].json, radius=20.0, seed=1)
+    stroke = facade.paint_stroke(content.engine_scene(), color=scene.worldpaint.palette["Trees"].json, radius=20.0,
+                                 spacing=0.5, opacity=1.0, falloff="constant", seed=1, influence_radius=None)
     dabs = []
     for p in path:
         t0 = time.perf_counter()
         stroke.follow(np.array([p]))
         content.apply(bpy.context, stroke.edit())
         dabs.append(time.perf_counter() - t0)
-    painted = len(stroke.edit()["positions"])
+    painted = len(stroke.edit().positions)
     content.restore(bpy.context)
     points = [{"name": "", "location": (x, y, 0.0)} for x, y in path]
     _, t_stroke = timed(lambda: bpy.ops.worldpaint.brush(stroke=points, radius=20.0, seed=1))
@@ -211,10 +213,10 @@ def bench_painting():
     steps = []
     for k in range(5):
         t0 = time.perf_counter()
-        moved = engine.move_region(content.engine_scene(), color=color, source=square,
-                                   offset=(5.0 * (k + 1), 0.0), seed=1)
+        moved = facade.move_region(content.engine_scene(), color=color, source=square,
+                                   offset=(5.0 * (k + 1), 0.0), seed=1, influence_radius=None)
         content.restore(bpy.context)
-        content.apply(bpy.context, moved)
+        content.apply(bpy.context, moved.edit)
         steps.append(time.perf_counter() - t0)
 
     ms = np.array(dabs) * 1e3
@@ -222,7 +224,7 @@ def bench_painting():
     print(f"  per dab (engine dab + cloud update): median {np.median(ms):.1f} ms, worst {ms.max():.1f} ms "
           "(target <= 30 ms)")
     print(f"  the same stroke through the Brush operator (headless): {t_stroke:.3f} s")
-    print(f"move one drag step of {moved['moved']} trees (engine + cloud update): median "
+    print(f"move one drag step of {moved.moved} trees (engine + cloud update): median "
           f"{np.median(steps) * 1e3:.1f} ms, worst {max(steps) * 1e3:.1f} ms (target <= 100 ms)")
 
 

@@ -65,6 +65,19 @@ def test_synthesis_reports_progress_and_can_be_cancelled():
         engine.synthesize(nothing(), color, SQUARE, 1, progress=lambda f: False)
 
 
+def test_village_growth_reports_its_stages_by_name_to_a_callback_that_takes_them():
+    terrain = engine.exemplar_demo_terrain(200.0, 2.0, 7)
+    (x0, y0), (x1, y1) = terrain.bbox()
+    region = {"shape": "rect", "min": [x0, y0], "max": [x1, y1]}
+    scenario = json.dumps({"events": json.loads(engine.scenario_presets())["presets"]["farming_hamlet"]["events"]})
+    staged, plain = [], []
+    engine.generate_village(terrain, region, scenario, 1, progress=lambda f, stage: staged.append((f, stage)) or True)
+    engine.generate_village(terrain, region, scenario, 1, progress=lambda f: plain.append(f) or True)
+    stages = [stage for k, (_, stage) in enumerate(staged) if k == 0 or staged[k - 1][1] != stage]
+    assert stages == ["growing the skeleton", "parcels and footprints", "houses"]
+    assert [f for f, _ in staged] == plain == sorted(plain), "the same fractions, with or without the stage"
+
+
 def test_an_exception_in_the_progress_callback_reaches_the_caller():
     color, _ = hard_core_color()
 

@@ -2,7 +2,7 @@
 
 A curve object's category is its ``wp_category`` custom property, else its curve data's name. Its open splines are
 paths of a graph category (roads, rivers), its closed (cyclic) splines contours of a polygon category (islands,
-lakes, fields); a spline's control points are the vertices the engine sees (Bezier handles only shape it in Blender).
+lakes, fields); a spline is read as Blender draws it (see ``geometry``).
 Hand-drawn curves are locked: the tools cut and replace only synthesized ones.
 
 Synthesized paths and contours live in one curve object per category, "WP_<category>", tagged ``wp_structure``, in
@@ -14,12 +14,13 @@ contours are filled by the engine's constrained Delaunay triangulation into a me
 """
 
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 import bpy
 import numpy as np
 
-from . import compat
-from .engine import engine
+from . import compat, engine
+from .geometry import spline_points
 from .instances import FILL_TAG, STRUCTURE_TAG, is_worldpaint_object
 from .points import node_adder, nodes_modifier, remove_object, terrain_ray, worldpaint_collection
 
@@ -39,22 +40,6 @@ def curve_category(obj):
     return obj.data.name if obj.data is not None else None
 
 
-def spline_points(obj, spline):
-    """World XYZ (N, 3) of a spline's control points."""
-    if spline.type == 'BEZIER':
-        n = len(spline.bezier_points)
-        co = np.empty(n * 3, dtype=np.float64)
-        spline.bezier_points.foreach_get("co", co)
-        co = co.reshape(-1, 3)
-    else:
-        n = len(spline.points)
-        co4 = np.empty(n * 4, dtype=np.float64)
-        spline.points.foreach_get("co", co4)
-        co = co4.reshape(-1, 4)[:, :3]
-    matrix = np.array(obj.matrix_world, dtype=np.float64)
-    return co @ matrix[:3, :3].T + matrix[:3, 3]
-
-
 def example_curves(objects, exclude=()):
     """(object, category, closed) of the hand-drawn curves among ``objects``: closed when every spline is cyclic."""
     skip = {o.name for o in exclude if o is not None}
@@ -71,6 +56,16 @@ def example_curves(objects, exclude=()):
 def structure_objects(scene):
     """{category: curve object} of the synthesized paths and contours."""
     return {obj[STRUCTURE_TAG]: obj for obj in scene.objects if obj.type == 'CURVE' and obj.get(STRUCTURE_TAG)}
+
+
+class StructureLine(NamedTuple):
+    """A path or contour read from a curve: its category's index, XY points (N, 2), heights (N,) and whether the
+    tools must leave it (hand-drawn)."""
+
+    category: int
+    points: np.ndarray
+    heights: np.ndarray
+    locked: bool
 
 
 @dataclass
@@ -97,13 +92,13 @@ class StructureSet:
             key = "contours" if spline.use_cyclic_u else "paths"
             co = spline_points(obj, spline)
             if len(co) >= (3 if key == "contours" else 2):
-                getattr(self, key).append({"category": index, "points": np.ascontiguousarray(co[:, :2]),
-                                           "heights": co[:, 2].copy(), "locked": locked})
+                getattr(self, key).append(StructureLine(index, np.ascontiguousarray(co[:, :2]), co[:, 2].copy(),
+                                                        locked))
 
     def engine_arrays(self):
         """Keyword arguments ``paths`` and ``contours`` of the engine's Scene."""
-        strip = ("category", "points", "locked")
-        return {key: [{k: line[k] for k in strip} for line in getattr(self, key)] for key in ("paths", "contours")}
+        return {key: [{"category": line.category, "points": line.points, "locked": line.locked}
+                      for line in getattr(self, key)] for key in ("paths", "contours")}
 
     def __len__(self):
         return len(self.paths) + len(self.contours)
@@ -169,13 +164,14 @@ def layer_object(scene, category, name, data, tag):
 
 
 def lines_with_heights(lines):
-    """(points (N, 2), z (N)) of each line; heights off the terrain take the line's mean height (0 if none)."""
+    """(points (N, 2), z (N)) of each line (with ``points`` and ``heights``); heights off the terrain take the line's
+    mean height (0 if none)."""
     out = []
     for line in lines:
-        z = np.asarray(line["heights"], dtype=np.float64)
+        z = np.asarray(line.heights, dtype=np.float64)
         known = np.isfinite(z)
         fallback = z[known].mean() if known.any() else 0.0
-        out.append((np.asarray(line["points"], dtype=np.float64), np.where(known, z, fallback)))
+        out.append((np.asarray(line.points, dtype=np.float64), np.where(known, z, fallback)))
     return out
 
 
@@ -208,15 +204,14 @@ def write_structure(scene, category, key, lines, terrain_obj, heightfield):
 def apply_structures(scene, structure_set, edit, terrain_obj, heightfield):
     """Writes the paths and contours of an engine edit (relative to ``structure_set``); returns how many it added
     and removed."""
-    names = [c["name"] for c in edit["categories"]]
     added_count = removed_count = 0
     for key, removed_key, added_key in KEYS:
-        gone = {int(i) for i in edit[removed_key]}
+        gone = {int(i) for i in getattr(edit, removed_key)}
         removed_count += len(gone)
-        added_count += len(edit[added_key])
+        added_count += len(getattr(edit, added_key))
         added = {}
-        for line in edit[added_key]:
-            added.setdefault(names[line["category"]], []).append(line)
+        for line in getattr(edit, added_key):
+            added.setdefault(edit.category_names[line.category], []).append(line)
         touched = set(added)
         for (k, category), (start, stop) in structure_set.rows.items():
             if k == key and any(start <= i < stop for i in gone):
@@ -262,13 +257,13 @@ def fill_object(scene, category, create=True):
 def write_fill(scene, curve_obj, category, contours, heightfield):
     """The polygons' filled mesh, its vertices at the terrain's height."""
     obj = fill_object(scene, category)
-    mesh = engine().fill_polygons([np.ascontiguousarray(c) for c in contours], FILL_SPACING, heightfield)
-    z = mesh["heights"]
+    mesh = engine.fill_polygons(contours, FILL_SPACING, heightfield)
+    z = mesh.heights
     z = np.where(np.isfinite(z), z, np.nanmean(z) if np.isfinite(z).any() else 0.0)
-    co = np.column_stack([mesh["vertices"], z]).astype(np.float32)
+    co = np.column_stack([mesh.vertices, z]).astype(np.float32)
     data = obj.data
     data.clear_geometry()
-    data.from_pydata(co.tolist(), [], mesh["triangles"].tolist())
+    data.from_pydata(co.tolist(), [], mesh.triangles.tolist())
     data.update()
     obj.matrix_world = curve_obj.matrix_world
 

@@ -27,13 +27,12 @@ class Applied:
 
 def added_by_category(edit):
     """{category: (co (N, 3), rotation, scale, prototype)} of an edit's added instances on the terrain."""
-    names = [c["name"] for c in edit["categories"]]
-    on_terrain = np.isfinite(edit["heights"])
+    on_terrain = np.isfinite(edit.heights)
     out = {}
-    for index in np.unique(edit["category_index"]):
-        mask = (edit["category_index"] == index) & on_terrain
-        co = np.column_stack([edit["positions"][mask], edit["heights"][mask]])
-        out[names[index]] = (co, edit["rotations"][mask], edit["scales"][mask], edit["prototype"][mask])
+    for index in np.unique(edit.category_index):
+        mask = (edit.category_index == index) & on_terrain
+        co = np.column_stack([edit.positions[mask], edit.heights[mask]])
+        out[edit.category_names[index]] = (co, edit.rotations[mask], edit.scales[mask], edit.prototype[mask])
     return out
 
 
@@ -46,9 +45,10 @@ def cloud_columns(instance_set, category, keep):
 
 
 def apply_edit(scene, instance_set, edit, terrain_obj):
-    """Writes ``edit`` (relative to ``instance_set``, read from the scene) to the clouds it touches."""
+    """Writes ``edit`` (an ``engine.Edit`` relative to ``instance_set``, read from the scene) to the clouds it
+    touches."""
     keep = np.ones(len(instance_set), dtype=bool)
-    keep[np.asarray(edit["removed"], dtype=np.int64)] = False
+    keep[edit.removed] = False
     added = added_by_category(edit)
     clouds = point_cloud_objects(scene)
     touched = set(added)

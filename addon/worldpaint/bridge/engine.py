@@ -1,21 +1,498 @@
-"""Access to the compiled engine module ``worldpaint_engine``."""
+"""The one typed facade over the compiled engine ``worldpaint_engine``.
 
-from . import WorldPaintError
+Everything the add-on asks of the engine goes through the functions here: they take plain Python values and numpy
+arrays and return the dataclasses below, built from the engine's dicts in this one place. The engine's Scene and
+Terrain are opaque handles that are only passed back in.
+
+The engine's exceptions are reachable here under their own names (``WorldPaintError``, ``InputError``,
+``PaletteFileError``, ``NothingToLearn``, ``Cancelled``, ``InternalError``), looked up when first used so the add-on
+loads without the wheel and says so when it is needed.
+
+Long computations take ``progress``: a callable ``progress(fraction)`` or ``progress(fraction, stage)`` returning
+False to cancel; the engine gives a stage's name to a callable that takes the second argument.
+"""
+
+import json
+from dataclasses import asdict, dataclass
+from typing import NamedTuple
+
+import numpy as np
+
+from . import WorldPaintError as AddonError
+
+ENGINE_ERRORS = ("WorldPaintError", "InputError", "PaletteFileError", "NothingToLearn", "Cancelled", "InternalError")
 
 
-def engine():
+def _engine():
     """The engine module; a clear error when the wheel is missing."""
     try:
         import worldpaint_engine
     except ImportError as exc:  # pragma: no cover - only without the bundled wheel
-        raise WorldPaintError(f"The WorldPaint engine is not installed ({exc})") from exc
+        raise AddonError(f"The WorldPaint engine is not installed ({exc})") from exc
     return worldpaint_engine
+
+
+def __getattr__(name):
+    if name in ENGINE_ERRORS:
+        return getattr(_engine(), name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def engine_error():
     """The base class of every exception the engine raises (``Cancelled``, ``InputError`` and the rest)."""
-    return engine().WorldPaintError
+    return _engine().WorldPaintError
 
 
 def is_cancelled(exc):
-    return isinstance(exc, engine().Cancelled)
+    return isinstance(exc, _engine().Cancelled)
+
+
+# --- what the engine returns --------------------------------------------------------------------------------------
+
+class Category(NamedTuple):
+    """A category as a color knows it: what it is and how much of it the example held."""
+
+    name: str
+    layer: str
+    kind: str
+    priority: int
+    count: int = 0
+    density: float = 0.0
+    min_distance: float = 0.0
+
+    def as_input(self):
+        """The category as the engine's Scene takes it."""
+        return {"name": self.name, "layer": self.layer, "kind": self.kind, "priority": self.priority}
+
+
+class Interaction(NamedTuple):
+    """A statistic of a color: how ``category`` relates to ``other`` (a category or a map), of a ``kind``."""
+
+    category: str
+    other: str
+    kind: str
+
+
+@dataclass(frozen=True)
+class ColorSummary:
+    """What a color (its JSON) holds: its categories, its interactions and the preview of its example."""
+
+    name: str
+    categories: tuple
+    pairs: tuple
+    maps: tuple
+    preview: np.ndarray  # (N, 3): x, y from the example's corner, category index
+    preview_size: tuple
+
+    @property
+    def category_names(self):
+        return [c.name for c in self.categories]
+
+    @property
+    def interactions(self):
+        return self.pairs + self.maps
+
+
+class Polyline(NamedTuple):
+    """A line on the terrain: XY points (N, 2) and their heights (N,), NaN off the terrain."""
+
+    points: np.ndarray
+    heights: np.ndarray
+
+
+class Line(NamedTuple):
+    """A path or contour of an edit: its category (an index into the edit's categories), points and heights."""
+
+    category: int
+    points: np.ndarray
+    heights: np.ndarray
+
+
+@dataclass(frozen=True)
+class Edit:
+    """What a tool did to a scene: the rows of its instances removed, the instances added (XY, height on the terrain
+    or NaN, rotation, scale, category index, prototype), and the paths and contours removed (indices) and added."""
+
+    category_names: tuple
+    removed: np.ndarray
+    positions: np.ndarray
+    heights: np.ndarray
+    rotations: np.ndarray
+    scales: np.ndarray
+    category_index: np.ndarray
+    prototype: np.ndarray
+    removed_paths: np.ndarray
+    removed_contours: np.ndarray
+    added_paths: tuple
+    added_contours: tuple
+
+    @classmethod
+    def of(cls, d):
+        def lines(key):
+            return tuple(Line(int(line["category"]), line["points"], line["heights"]) for line in d[key])
+
+        return cls(
+            category_names=tuple(c["name"] for c in d["categories"]),
+            removed=np.asarray(d["removed"], dtype=np.int64),
+            positions=d["positions"],
+            heights=d["heights"],
+            rotations=d["rotations"],
+            scales=d["scales"],
+            category_index=d["category_index"],
+            prototype=d["prototype"],
+            removed_paths=np.asarray(d["removed_paths"], dtype=np.int64),
+            removed_contours=np.asarray(d["removed_contours"], dtype=np.int64),
+            added_paths=lines("added_paths"),
+            added_contours=lines("added_contours"),
+        )
+
+    def painted_categories(self):
+        """The names of the categories this edit added instances, paths or contours of."""
+        names = {self.category_names[i] for i in np.unique(self.category_index)}
+        return names | {self.category_names[line.category] for line in self.added_paths + self.added_contours}
+
+
+@dataclass(frozen=True)
+class Moved:
+    """A moved region: the edit, and how many instances moved, adapted in place, were replaced or found no place."""
+
+    edit: Edit
+    moved: int
+    displaced: int
+    reborn: int
+    lost: int
+
+
+@dataclass(frozen=True)
+class Stretched:
+    """A stretched region: the edit and the region's new rectangle (min, max)."""
+
+    edit: Edit
+    region_min: tuple
+    region_max: tuple
+
+
+class Stroke:
+    """A brush or eraser stroke on a scene; ``follow`` may run on a worker thread while ``edit`` is read."""
+
+    def __init__(self, handle):
+        self._handle = handle
+
+    def follow(self, path, progress=None):
+        """Moves the brush along float64 (N, 2) points; returns the number of dabs."""
+        return self._handle.follow(np.ascontiguousarray(path, dtype=np.float64), progress=progress)
+
+    def dab_count(self):
+        return len(self._handle.dabs())
+
+    def edit(self):
+        return Edit.of(self._handle.edit())
+
+
+@dataclass(frozen=True)
+class FilledPolygons:
+    """The triangulated inside of polygons: vertices XY (N, 2), their heights (N,) and triangles (M, 3)."""
+
+    vertices: np.ndarray
+    heights: np.ndarray
+    triangles: np.ndarray
+
+
+@dataclass(frozen=True)
+class Encyclopedia:
+    """A building encyclopedia: its JSON text (None: the shipped one) and the types it defines."""
+
+    text: str | None
+    village_types: list
+    buildings: list
+
+
+@dataclass(frozen=True)
+class VillageReport:
+    """What happened while a village grew."""
+
+    requested: int
+    seeded: int
+    fallbacks: int
+    unplaced: list
+    unreachable: int
+    without_access: int
+    without_footprint: int
+    roads_over_max_grade: int
+    cycles: int
+    seconds: list
+    road_width: float
+    max_grade: float
+
+    def as_dict(self):
+        return asdict(self)
+
+
+@dataclass(frozen=True)
+class House:
+    """One house mesh in world space: vertices (V, 3), faces as loop starts into ``indices``, a material per face;
+    ``seed`` indexes the village's kept seeds and footprints."""
+
+    seed: int
+    vertices: np.ndarray
+    loop_starts: np.ndarray
+    indices: np.ndarray
+    materials: np.ndarray
+
+
+@dataclass(frozen=True)
+class VillageResult:
+    """A generated village: new roads, parcels (N, 2), footprints (M, 4, 2) and houses per kept seed, the seeds'
+    building and village types, the connections used, and the report."""
+
+    roads: tuple
+    parcels: tuple
+    footprints: np.ndarray
+    houses: tuple
+    seed_buildings: tuple
+    seed_village_types: tuple
+    connections: np.ndarray
+    report: VillageReport
+
+    @classmethod
+    def of(cls, d):
+        seeds = d["seeds"]
+        return cls(
+            roads=tuple(Polyline(r["points"], r["heights"]) for r in d["roads"]),
+            parcels=tuple(d["parcels"]),
+            footprints=d["footprints"],
+            houses=tuple(House(int(h["seed"]), h["vertices"], h["loop_starts"], h["indices"], h["materials"])
+                         for h in d["houses"]),
+            seed_buildings=tuple(seeds["building"]),
+            seed_village_types=tuple(seeds["village_type"]),
+            connections=d["connections"],
+            report=VillageReport(**d["report"]),
+        )
+
+
+@dataclass(frozen=True)
+class RoadEmbedding:
+    """Roads cut into a terrain: the height change (N,) at the points asked about."""
+
+    displacement: np.ndarray
+
+
+@dataclass(frozen=True)
+class WaterMesh:
+    """The water's integration mesh (world XYZ vertices, triangles) and its per-vertex attributes: speed, foam,
+    rocks, disturbance and invalid (floats), and the part of the water each vertex belongs to."""
+
+    vertices: np.ndarray
+    triangles: np.ndarray
+    speed: np.ndarray
+    foam: np.ndarray
+    rocks: np.ndarray
+    disturbance: np.ndarray
+    invalid: np.ndarray
+    part: np.ndarray
+
+
+class WaterfallSegment(NamedTuple):
+    kind: str
+    controller: int
+    valid: bool
+
+
+@dataclass(frozen=True)
+class WaterfallResult:
+    """A waterfall scene: at the points asked about, the terrain's height change (N,), horizontal shift (N, 2) and
+    whether water stands there; the water mesh; the classified segments; the river rocks (XYZ, rotation, scale,
+    prototype); and the number of arcs of its hydraulic graph."""
+
+    displacement: np.ndarray
+    horizontal: np.ndarray
+    is_water: np.ndarray
+    water: WaterMesh
+    segments: tuple
+    rocks: np.ndarray
+    rock_rotation: np.ndarray
+    rock_scale: np.ndarray
+    rock_prototype: np.ndarray
+    arcs: int
+
+    @classmethod
+    def of(cls, d):
+        water = d["water"]
+        return cls(
+            displacement=d["displacement"],
+            horizontal=d["horizontal"],
+            is_water=d["is_water"],
+            water=WaterMesh(*(water[name] for name in ("vertices", "triangles", "speed", "foam", "rocks",
+                                                       "disturbance", "invalid", "part"))),
+            segments=tuple(WaterfallSegment(s["type"], int(s["controller"]), bool(s["valid"]))
+                           for s in d["segments"]),
+            rocks=np.asarray(d["rocks"], dtype=np.float64).reshape(-1, 3),
+            rock_rotation=np.asarray(d["rock_rotation"], dtype=np.float64),
+            rock_scale=np.asarray(d["rock_scale"], dtype=np.float64),
+            rock_prototype=np.asarray(d["rock_prototype"], dtype=np.int32),
+            arcs=int(d["report"]["arcs"]),
+        )
+
+
+# --- terrain, scenes and regions ----------------------------------------------------------------------------------
+
+def terrain(vertices, triangles):
+    """The engine's Terrain (a heightfield) of a world-space triangle mesh: vertices (N, 3), triangles (M, 3)."""
+    return _engine().Terrain(vertices, triangles)
+
+
+def scene(heightfield, instances, structures):
+    """The engine's Scene of the instances (keyword arrays) and the paths and contours (keyword lists) on a terrain."""
+    return _engine().Scene(heightfield, **instances, **structures)
+
+
+def region_bbox(region):
+    """((xmin, ymin), (xmax, ymax)) of a region."""
+    return _engine().region_bbox(region)
+
+
+def region_contains(region, points):
+    """bool (N,): which of the XY points (N, 2) lie inside the region."""
+    return _engine().region_contains(region, np.ascontiguousarray(points, dtype=np.float64))
+
+
+def fill_polygons(contours, spacing, heightfield):
+    """The triangulated inside of closed XY contours, inner vertices about ``spacing`` apart, on the terrain."""
+    mesh = _engine().fill_polygons([np.ascontiguousarray(c, dtype=np.float64) for c in contours], spacing,
+                                   heightfield)
+    return FilledPolygons(mesh["vertices"], mesh["heights"], mesh["triangles"])
+
+
+# --- colors and palettes ------------------------------------------------------------------------------------------
+
+def learn_color(scene_handle, region, name, maps, oriented=None):
+    """The color (JSON) of a scene's content inside ``region``, with the terrain ``maps`` and the ``oriented``
+    pairs (category, other); raises ``NothingToLearn`` when the region holds nothing."""
+    options = {"maps": list(maps)}
+    if oriented is not None:
+        options["oriented"] = [tuple(pair) for pair in oriented]
+    return _engine().learn_color(scene_handle, region, name, options=options)
+
+
+def color_summary(color_json):
+    d = _engine().color_summary(color_json)
+    return ColorSummary(
+        name=d["name"],
+        categories=tuple(Category(c["name"], c["layer"], c["kind"], c["priority"], c["count"], c["density"],
+                                  c["min_distance"]) for c in d["categories"]),
+        pairs=tuple(Interaction(*p) for p in d["pairs"]),
+        maps=tuple(Interaction(*m) for m in d["maps"]),
+        preview=np.asarray(d["preview"], dtype=np.float64).reshape(-1, 3),
+        preview_size=tuple(d["preview_size"]),
+    )
+
+
+def color_renamed(color_json, name):
+    return _engine().color_renamed(color_json, name)
+
+
+def color_without_interactions(color_json, off):
+    """The color with the interactions (category, other) in ``off`` switched off."""
+    return _engine().color_without_interactions(color_json, sorted(off))
+
+
+def interpolate_colors(a_json, b_json, factor, name):
+    """The color ``factor`` of the way from color a to color b (optimal transport of their statistics)."""
+    return _engine().interpolate_colors(a_json, b_json, factor, name)
+
+
+def palette_to_json(colors):
+    return _engine().palette_to_json(list(colors))
+
+
+def palette_from_json(text):
+    """The colors (JSON each) of a palette file's text; raises ``PaletteFileError`` when it is not one."""
+    return list(_engine().palette_from_json(text))
+
+
+# --- painting tools -----------------------------------------------------------------------------------------------
+
+def paste(scene_handle, color, region, seed, influence_radius, progress=None):
+    return Edit.of(_engine().paste(scene_handle, color=color, region=region, seed=seed,
+                                   influence_radius=influence_radius, progress=progress))
+
+
+def clear_region(scene_handle, region, category=None):
+    return Edit.of(_engine().clear_region(scene_handle, region, category=category))
+
+
+def blur(scene_handle, region, windows, cells, seed, influence_radius, progress=None):
+    return Edit.of(_engine().blur(scene_handle, region=region, windows=windows, cells=cells, seed=seed,
+                                  influence_radius=influence_radius, progress=progress))
+
+
+def gradient(scene_handle, start, end, region, shape, bands, seed, influence_radius, progress=None):
+    """Paints ``region`` from color ``start`` to color ``end`` (JSON) along ``shape`` (see
+    ``regions.gradient_shape``) in ``bands`` bands (None: one per interaction radius)."""
+    return Edit.of(_engine().gradient(scene_handle, start=start, end=end, region=region, shape=shape, bands=bands,
+                                      seed=seed, influence_radius=influence_radius, progress=progress))
+
+
+def stretch_region(scene_handle, region, side, amount, color, seed, influence_radius, progress=None):
+    d = _engine().stretch_region(scene_handle, region=region, side=side, amount=amount, color=color, seed=seed,
+                                 influence_radius=influence_radius, progress=progress)
+    return Stretched(Edit.of(d), tuple(d["region"]["min"]), tuple(d["region"]["max"]))
+
+
+def move_region(scene_handle, color, source, offset, seed, influence_radius):
+    d = _engine().move_region(scene_handle, color=color, source=source, offset=(float(offset[0]), float(offset[1])),
+                              seed=seed, influence_radius=influence_radius)
+    return Moved(Edit.of(d), int(d["moved"]), int(d["displaced"]), int(d["reborn"]), int(d["lost"]))
+
+
+def paint_stroke(scene_handle, color, radius, spacing, opacity, falloff, seed, influence_radius):
+    """A brush stroke painting ``color`` (JSON); ``falloff`` is "constant", "linear" or "smooth"."""
+    return Stroke(_engine().Stroke(scene_handle, color=color, radius=radius, spacing=spacing, opacity=opacity,
+                                   falloff=falloff, seed=seed, influence_radius=influence_radius))
+
+
+def erase_stroke(scene_handle, radius, only_categories=None):
+    """An eraser stroke removing synthesized instances (of ``only_categories``; None: all)."""
+    return Stroke(_engine().Stroke(scene_handle, erase=True, only_categories=only_categories, radius=radius))
+
+
+# --- villages -----------------------------------------------------------------------------------------------------
+
+def encyclopedia(text=None):
+    """The encyclopedia of a JSON text (None: the shipped one); raises the engine's error when it is not usable."""
+    eng = _engine()
+    village_types, buildings = eng.encyclopedia_contents(eng.default_encyclopedia() if text is None else text)
+    return Encyclopedia(text, list(village_types), list(buildings))
+
+
+def scenario_presets():
+    """{name: [event dicts]} of the shipped growth scenario presets."""
+    return {name: preset["events"] for name, preset in json.loads(_engine().scenario_presets())["presets"].items()}
+
+
+def generate_village(heightfield, region, scenario, seed, *, progress=None, **setting):
+    """A village grown on the terrain inside ``region`` by the ``scenario`` (JSON); ``setting`` holds the
+    encyclopedia, connections, existing roads, cells and surroundings. The engine reports its stages by name."""
+    return VillageResult.of(_engine().generate_village(heightfield, region, scenario, seed, progress=progress,
+                                                       **setting))
+
+
+def village_interest(heightfield, region, points, village_type, building, criterion=None, **setting):
+    """float (N,) at the XY points: one criterion of a building type's interest (None: the combined interest)."""
+    return _engine().village_interest(heightfield, region, np.ascontiguousarray(points, dtype=np.float64),
+                                      village_type, building, criterion, **setting)
+
+
+# --- terrain edits ------------------------------------------------------------------------------------------------
+
+def embed_roads(heightfield, roads, points, width, bank_width, *, use_heights, smoothing):
+    d = _engine().embed_roads(heightfield, roads, np.ascontiguousarray(points, dtype=np.float64), width, bank_width,
+                              use_heights=use_heights, smoothing=smoothing)
+    return RoadEmbedding(d["displacement"])
+
+
+def build_waterfall(heightfield, controllers, points, seed, **options):
+    """The waterfall scene of the controllers on the terrain, read at the XY ``points``."""
+    d = _engine().build_waterfall(heightfield, controllers, np.ascontiguousarray(points, dtype=np.float64), seed,
+                                  **options)
+    return WaterfallResult.of(d)

@@ -9,6 +9,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from . import geometry
+
 POINTS_TAG = "wp_points"
 PROTOTYPE_TAG = "wp_prototype"
 STRUCTURE_TAG = "wp_structure"  # synthesized paths or contours of a category (see ``curves``)
@@ -119,12 +121,21 @@ def missing_categories(settings, names):
     return out
 
 
+def category_entry(category):
+    """A category as a dict: from a name, a color's category (see ``engine.Category``) or a dict."""
+    if isinstance(category, str):
+        return {"name": category}
+    if hasattr(category, "as_input"):
+        return category.as_input()
+    return category
+
+
 def add_categories(settings, categories, layer="default"):
     """Adds categories the scene does not know yet, after the existing ones in the priority order; each is a name
-    (a distribution of ``layer``) or an engine dict whose kind and layer it keeps."""
+    (a distribution of ``layer``), a color's category or a dict whose kind and layer it keeps."""
     by_name = {}
     for c in categories:
-        entry = {"name": c} if isinstance(c, str) else c
+        entry = category_entry(c)
         by_name.setdefault(entry["name"], entry)
     next_priority = max((c.priority for c in settings.categories), default=-1) + 1
     for name in missing_categories(settings, by_name):
@@ -158,10 +169,10 @@ def new_categories(settings, examples, drawn):
 
 
 def merged_categories(settings, extra):
-    """The scene's categories followed by those of ``extra`` (engine dicts) it does not know."""
+    """The scene's categories followed by those of ``extra`` (dicts or a color's categories) it does not know."""
     cats = settings_categories(settings)
     names = {c["name"] for c in cats}
-    for c in extra:
+    for c in map(category_entry, extra):
         if c["name"] not in names:
             cats.append({k: c[k] for k in ("name", "layer", "kind", "priority")})
             names.add(c["name"])
@@ -191,11 +202,7 @@ def point_cloud_arrays(obj):
     """Positions (N, 3), rotation (N), scale (N) and prototype (N) of a point-cloud object's points (world space)."""
     mesh = obj.data
     n = len(mesh.vertices)
-    co = np.empty(n * 3, dtype=np.float32)
-    mesh.vertices.foreach_get("co", co)
-    co = co.reshape(-1, 3).astype(np.float64)
-    matrix = np.array(obj.matrix_world, dtype=np.float64)
-    co = co @ matrix[:3, :3].T + matrix[:3, 3]
+    co = geometry.vertices_world(obj)
     columns = {}
     for name, dtype, default in (("rotation", np.float32, 0.0), ("scale", np.float32, 1.0), ("prototype", np.int32, 0)):
         attr = mesh.attributes.get(name)

@@ -3,7 +3,7 @@
 import bpy
 import numpy as np
 
-from .engine import engine
+from . import engine
 
 SIZE = 64
 BACKGROUND = (0.08, 0.09, 0.08, 1.0)
@@ -21,11 +21,11 @@ HUES = np.array(
 
 
 def preview_pixels(summary, size=SIZE):
-    """RGBA float32 pixels (size * size * 4, bottom row first) of a color summary's preview points."""
+    """RGBA float32 pixels (size * size * 4, bottom row first) of a color's preview points (``engine.ColorSummary``)."""
     pixels = np.empty((size, size, 4), dtype=np.float32)
     pixels[:] = BACKGROUND
-    pts = np.asarray(summary["preview"], dtype=np.float64).reshape(-1, 3)
-    width, height = summary["preview_size"]
+    pts = np.asarray(summary.preview, dtype=np.float64).reshape(-1, 3)
+    width, height = summary.preview_size
     extent = max(width, height, 1e-9)
     if len(pts):
         px = np.clip((pts[:, 0] / extent * (size - 2)).astype(int), 0, size - 2)
@@ -41,7 +41,7 @@ def preview_pixels(summary, size=SIZE):
 
 def make_preview(color_json, name):
     """A packed 64x64 image of the color's exemplar; returns the image's name."""
-    summary = engine().color_summary(color_json)
+    summary = engine.color_summary(color_json)
     image = bpy.data.images.new(f"WP preview {name}", SIZE, SIZE, alpha=True)
     image.pixels.foreach_set(preview_pixels(summary))
     image.pack()

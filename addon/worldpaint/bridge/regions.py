@@ -1,12 +1,13 @@
 """Regions (the analysed exemplar, or a paste destination) from the selection, a closed curve or the 3D cursor.
 
 A region is the engine's dict: {"shape": "rect", "min", "max"}, {"shape": "circle", "center", "radius"} or
-{"shape": "polygon", "points"}.
+{"shape": "polygon", "points"}. A closed curve's polygon is its largest closed spline, sampled as Blender draws it
+(see ``geometry``), whichever tool reads it.
 """
 
 import numpy as np
 
-from . import WorldPaintError
+from . import WorldPaintError, engine, geometry
 
 
 def rect(xmin, ymin, xmax, ymax):
@@ -22,9 +23,7 @@ def selection_rect(objects, use_bounds):
     points = []
     for obj in objects:
         if use_bounds and obj.type in {'MESH', 'CURVE', 'SURFACE', 'FONT'}:
-            corners = np.array([list(c) for c in obj.bound_box], dtype=np.float64)
-            matrix = np.array(obj.matrix_world, dtype=np.float64)
-            points.append(corners @ matrix[:3, :3].T + matrix[:3, 3])
+            points.append(geometry.to_world(obj, [list(c) for c in obj.bound_box]))
         else:
             points.append(np.array([obj.matrix_world.translation], dtype=np.float64))
     if not points:
@@ -52,23 +51,27 @@ def find_curve(context, name=""):
     raise WorldPaintError("Select a closed curve to define the region")
 
 
-def curve_polygon(context, obj):
-    """The polygon (world XY) of a closed curve, following its evaluated shape."""
-    if not any(spline.use_cyclic_u for spline in obj.data.splines):
-        raise WorldPaintError(f"The curve '{obj.name}' is not closed (make it cyclic)")
-    evaluated = obj.evaluated_get(context.evaluated_depsgraph_get())
-    mesh = evaluated.to_mesh()
-    try:
-        n = len(mesh.vertices)
-        co = np.empty(n * 3, dtype=np.float32)
-        mesh.vertices.foreach_get("co", co)
-    finally:
-        evaluated.to_mesh_clear()
-    if n < 3:
-        raise WorldPaintError(f"The curve '{obj.name}' has fewer than 3 points")
-    matrix = np.array(obj.matrix_world, dtype=np.float64)
-    world = co.reshape(-1, 3).astype(np.float64) @ matrix[:3, :3].T + matrix[:3, 3]
-    return {"shape": "polygon", "points": world[:, :2].tolist()}
+def curve_polygon(obj, what="curve"):
+    """The polygon region (world XY) of a closed curve object: its largest closed spline, sampled as drawn."""
+    closed, _ = geometry.curve_lines([obj])
+    if not closed:
+        raise WorldPaintError(f"The {what} '{obj.name}' is not closed (make it cyclic)")
+    return {"shape": "polygon", "points": max(closed, key=geometry.polygon_area).tolist()}
+
+
+def gradient_shape(region, shape, toward):
+    """The engine's gradient shape over a region: LINEAR toward one side (EAST, WEST, NORTH, SOUTH) of its bounds,
+    or RADIAL from its centre out to its edge."""
+    (x0, y0), (x1, y1) = engine.region_bbox(region)
+    cx, cy = 0.5 * (x0 + x1), 0.5 * (y0 + y1)
+    if shape == 'RADIAL':
+        if region["shape"] == "circle":
+            return {"kind": "radial", "center": region["center"], "radius": region["radius"]}
+        return {"kind": "radial", "center": (cx, cy), "radius": 0.5 * ((x1 - x0) ** 2 + (y1 - y0) ** 2) ** 0.5}
+    ends = {"EAST": ((x0, cy), (x1, cy)), "WEST": ((x1, cy), (x0, cy)),
+            "NORTH": ((cx, y0), (cx, y1)), "SOUTH": ((cx, y1), (cx, y0))}
+    start, end = ends[toward]
+    return {"kind": "linear", "from": start, "to": end}
 
 
 def region_for(context, mode, *, objects=(), use_bounds=True, rect_min=None, rect_max=None, center=None,
@@ -78,7 +81,7 @@ def region_for(context, mode, *, objects=(), use_bounds=True, rect_min=None, rec
     if mode == 'SELECTION':
         return selection_rect(objects, use_bounds)
     if mode == 'CURVE':
-        return curve_polygon(context, find_curve(context, curve_name))
+        return curve_polygon(find_curve(context, curve_name))
     if mode == 'CURSOR':
         r = radius if radius > 0.0 else settings.region_radius
         return circle(context.scene.cursor.location, r)

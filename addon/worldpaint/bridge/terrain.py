@@ -2,8 +2,7 @@
 
 import numpy as np
 
-from . import WorldPaintError
-from .engine import engine
+from . import WorldPaintError, engine, geometry
 
 
 def mesh_arrays(obj, depsgraph):
@@ -11,17 +10,12 @@ def mesh_arrays(obj, depsgraph):
     evaluated = obj.evaluated_get(depsgraph)
     mesh = evaluated.to_mesh()
     try:
-        n = len(mesh.vertices)
-        co = np.empty(n * 3, dtype=np.float32)
-        mesh.vertices.foreach_get("co", co)
+        world = geometry.vertices_world(obj, mesh)
         mesh.calc_loop_triangles()
         tris = np.empty(len(mesh.loop_triangles) * 3, dtype=np.int32)
         mesh.loop_triangles.foreach_get("vertices", tris)
     finally:
         evaluated.to_mesh_clear()
-    matrix = np.array(obj.matrix_world, dtype=np.float64)
-    co = co.reshape(-1, 3).astype(np.float64)
-    world = co @ matrix[:3, :3].T + matrix[:3, 3]
     return world, tris.reshape(-1, 3).astype(np.uint32)
 
 
@@ -43,13 +37,13 @@ def engine_terrain(context, obj):
     vertices, triangles = mesh_arrays(obj, context.evaluated_depsgraph_get())
     if len(triangles) == 0:
         raise WorldPaintError(f"The terrain '{obj.name}' has no faces")
-    return engine().Terrain(vertices, triangles)
+    return engine.terrain(vertices, triangles)
 
 
 def check_region_on_terrain(terrain, region, what):
     """A clear error when the region does not overlap the terrain at all."""
     (tx0, ty0), (tx1, ty1) = terrain.bbox()
-    (rx0, ry0), (rx1, ry1) = engine().region_bbox(region)
+    (rx0, ry0), (rx1, ry1) = engine.region_bbox(region)
     if rx1 <= tx0 or rx0 >= tx1 or ry1 <= ty0 or ry0 >= ty1:
         raise WorldPaintError(
             f"The {what} region ({rx0:.1f}..{rx1:.1f}, {ry0:.1f}..{ry1:.1f}) lies outside the terrain "

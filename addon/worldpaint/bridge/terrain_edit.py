@@ -13,7 +13,7 @@ import bmesh
 import bpy
 import numpy as np
 
-from . import WorldPaintError, compat, village
+from . import WorldPaintError, compat, geometry, village
 from .instances import point_cloud_arrays, point_cloud_objects
 from .points import point_cloud_object, prototype_collection, set_instancer, worldpaint_collection, write_points
 
@@ -29,15 +29,11 @@ ROCK_CATEGORY = "River rock"  # the rocks a waterfall scatters along its riverbe
 def curve_paths(objects):
     """World XYZ (N, 3) polylines of the splines of the curve objects among ``objects`` (a closed one as a loop)."""
     paths = []
-    for obj in objects:
-        if obj.type != 'CURVE':
-            continue
-        for spline in obj.data.splines:
-            xyz = village.spline_path(obj, spline)
-            if spline.use_cyclic_u and len(xyz) >= 3:
-                xyz = np.vstack([xyz, xyz[:1]])
-            if len(xyz) >= 2:
-                paths.append(xyz)
+    for xyz, cyclic in geometry.curve_splines(objects):
+        if cyclic and len(xyz) >= 3:
+            xyz = np.vstack([xyz, xyz[:1]])
+        if len(xyz) >= 2:
+            paths.append(xyz)
     return paths
 
 
@@ -75,15 +71,7 @@ def without_key(obj, name):
 
 def basis_world(obj):
     """World XYZ (N, 3) of the mesh's vertices as they are without shape keys."""
-    mesh = obj.data
-    co = np.empty(len(mesh.vertices) * 3, dtype=np.float32)
-    keys = mesh.shape_keys
-    if keys is not None and keys.reference_key is not None:
-        keys.reference_key.data.foreach_get("co", co)
-    else:
-        mesh.vertices.foreach_get("co", co)
-    matrix = np.array(obj.matrix_world, dtype=np.float64)
-    return co.reshape(-1, 3).astype(np.float64) @ matrix[:3, :3].T + matrix[:3, 3]
+    return geometry.vertices_world(obj, reference_shape=True)
 
 
 def local_offsets(obj, offsets):
@@ -91,8 +79,7 @@ def local_offsets(obj, offsets):
     offsets = np.asarray(offsets, dtype=np.float64)
     if offsets.ndim == 1:
         offsets = np.column_stack([np.zeros_like(offsets), np.zeros_like(offsets), offsets])
-    inverse = np.linalg.inv(np.array(obj.matrix_world, dtype=np.float64)[:3, :3])
-    return offsets @ inverse.T
+    return geometry.to_local(obj, offsets)
 
 
 def write_shape_key(obj, name, offsets):
@@ -192,7 +179,7 @@ def waterfall_controllers(context, collection):
         if obj.type != 'CURVE' or role.kind == 'NONE':
             continue
         for spline in obj.data.splines:
-            points = village.spline_path(obj, spline)
+            points = geometry.spline_points(obj, spline)
             if len(points) < 2:
                 raise WorldPaintError(f"The waterfall controller '{obj.name}' has a spline with fewer than 2 points")
             controllers.append({"kind": role.kind.lower(), "points": np.ascontiguousarray(points),
@@ -243,12 +230,13 @@ def water_material():
 
 
 def build_water(scene, water):
-    """The water mesh of the engine's integration mesh, with its point attributes, replacing an earlier one."""
+    """The water mesh of the engine's integration mesh (an ``engine.WaterMesh``), with its point attributes, replacing
+    an earlier one."""
     collection = water_collection(scene)
     for obj in [o for o in collection.objects if o.get(WATER_TAG)]:
         village.remove_with_data(obj)
-    vertices = np.asarray(water["vertices"], dtype=np.float64)
-    triangles = np.asarray(water["triangles"], dtype=np.int32)
+    vertices = np.asarray(water.vertices, dtype=np.float64)
+    triangles = np.asarray(water.triangles, dtype=np.int32)
     mesh = bpy.data.meshes.new("Water")
     mesh.vertices.add(len(vertices))
     mesh.vertices.foreach_set("co", vertices.astype(np.float32).ravel())
@@ -258,8 +246,8 @@ def build_water(scene, water):
     mesh.polygons.foreach_set("loop_start", np.arange(0, 3 * len(triangles), 3, dtype=np.int32))
     for name in WATER_ATTRIBUTES:
         mesh.attributes.new(name, 'FLOAT', 'POINT').data.foreach_set(
-            "value", np.asarray(water[name], dtype=np.float32))
-    mesh.attributes.new("part", 'INT', 'POINT').data.foreach_set("value", np.asarray(water["part"], dtype=np.int32))
+            "value", np.asarray(getattr(water, name), dtype=np.float32))
+    mesh.attributes.new("part", 'INT', 'POINT').data.foreach_set("value", np.asarray(water.part, dtype=np.int32))
     mesh.validate(clean_customdata=False)
     mesh.update()
     mesh.materials.append(water_material())
@@ -296,13 +284,10 @@ def rock_color_json(scene, name):
     return entry.json
 
 
-def build_rocks(scene, result, terrain_obj):
-    """The engine's rocks as the "River rock" point cloud (positions, rotations, scales and prototypes as
+def build_rocks(scene, waterfall, terrain_obj):
+    """The waterfall's rocks as the "River rock" point cloud (positions, rotations, scales and prototypes as
     synthesized), snapped onto the terrain, replacing the ones made before."""
     obj = point_cloud_object(scene, ROCK_CATEGORY)
-    rocks = np.asarray(result["rocks"], dtype=np.float64).reshape(-1, 3)
-    write_points(obj, rocks, np.asarray(result["rock_rotation"], dtype=np.float64),
-                 np.asarray(result["rock_scale"], dtype=np.float64),
-                 np.asarray(result["rock_prototype"], dtype=np.int32))
+    write_points(obj, waterfall.rocks, waterfall.rock_rotation, waterfall.rock_scale, waterfall.rock_prototype)
     set_instancer(obj, collection=rock_prototypes(), terrain=terrain_obj)
     return obj

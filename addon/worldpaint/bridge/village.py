@@ -26,10 +26,8 @@ from dataclasses import dataclass, field
 
 import bpy
 import numpy as np
-from mathutils import Vector, geometry
 
-from . import WorldPaintError, compat, curves, regions
-from .engine import engine
+from . import WorldPaintError, compat, curves, engine, geometry, regions
 from .points import worldpaint_collection
 
 COLLECTION_NAME = "Village"
@@ -63,15 +61,6 @@ PRESET_LABELS = {
 
 # --- the encyclopedia and the growth scenario ---------------------------------------------------------------------
 
-@dataclass
-class Encyclopedia:
-    """A building encyclopedia: its JSON text (None: the shipped one) and the types it defines."""
-
-    text: str | None
-    village_types: list
-    buildings: list
-
-
 def read_text(path, what):
     try:
         with open(bpy.path.abspath(path), encoding="utf-8") as f:
@@ -81,17 +70,15 @@ def read_text(path, what):
 
 
 def load_encyclopedia(path=""):
-    """The encyclopedia of a JSON file (empty path: the shipped one); a clear error when it is not usable."""
-    eng = engine()
+    """The encyclopedia (an ``engine.Encyclopedia``) of a JSON file (empty path: the shipped one); a clear error when
+    it is not usable."""
     if not path:
-        village_types, buildings = eng.encyclopedia_contents(eng.default_encyclopedia())
-        return Encyclopedia(None, list(village_types), list(buildings))
+        return engine.encyclopedia()
     text = read_text(path, "encyclopedia")
     try:
-        village_types, buildings = eng.encyclopedia_contents(text)
-    except eng.WorldPaintError as exc:
+        return engine.encyclopedia(text)
+    except engine.engine_error() as exc:
         raise WorldPaintError(f"'{path}' is not a usable building encyclopedia: {exc}") from exc
-    return Encyclopedia(text, list(village_types), list(buildings))
 
 
 _known_types = {}
@@ -115,7 +102,7 @@ def known_types(path=""):
 
 def presets():
     """{name: [event dicts]} of the shipped growth scenario presets."""
-    return {name: preset["events"] for name, preset in json.loads(engine().scenario_presets())["presets"].items()}
+    return engine.scenario_presets()
 
 
 def preset_label(name):
@@ -171,50 +158,6 @@ def scenario_json(events):
 
 # --- curves, region and surroundings ------------------------------------------------------------------------------
 
-def spline_path(obj, spline):
-    """World XYZ (N, 3) along a spline: a Bezier spline sampled at its resolution, else its control points; a closed
-    spline's first point is not repeated."""
-    if spline.type != 'BEZIER':
-        return curves.spline_points(obj, spline)
-    knots = list(spline.bezier_points)
-    resolution = max(spline.resolution_u, 1) + 1
-    pairs = list(zip(knots[:-1], knots[1:], strict=True))
-    if spline.use_cyclic_u and len(knots) > 1:
-        pairs.append((knots[-1], knots[0]))
-    co = []
-    for a, b in pairs:
-        co += geometry.interpolate_bezier(a.co, a.handle_right, b.handle_left, b.co, resolution)[:-1]
-    if not spline.use_cyclic_u or len(knots) == 1:
-        co.append(knots[-1].co)
-    matrix = obj.matrix_world
-    return np.array([tuple(matrix @ Vector(p)) for p in co], dtype=np.float64)
-
-
-def spline_polyline(obj, spline):
-    """World XY (N, 2) along a spline (see ``spline_path``)."""
-    return spline_path(obj, spline)[:, :2]
-
-
-def curve_lines(objects):
-    """(closed (N, 2) contours, open (N, 2) polylines) of the splines of the curve objects among ``objects``."""
-    closed, opened = [], []
-    for obj in objects:
-        if obj.type != 'CURVE':
-            continue
-        for spline in obj.data.splines:
-            xy = spline_polyline(obj, spline)
-            if spline.use_cyclic_u and len(xy) >= 3:
-                closed.append(xy)
-            elif not spline.use_cyclic_u and len(xy) >= 2:
-                opened.append(xy)
-    return closed, opened
-
-
-def polygon_area(xy):
-    x, y = xy[:, 0], xy[:, 1]
-    return 0.5 * abs(float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1))))
-
-
 def village_region(obj, heightfield):
     """The region of a closed curve object (its largest closed spline), else the whole terrain's rectangle."""
     if obj is None:
@@ -222,10 +165,7 @@ def village_region(obj, heightfield):
         return regions.rect(x0, y0, x1, y1)
     if obj.type != 'CURVE':
         raise WorldPaintError(f"The village region '{obj.name}' is not a curve: draw it as a closed curve")
-    closed, _ = curve_lines([obj])
-    if not closed:
-        raise WorldPaintError(f"The village region '{obj.name}' is not closed (make it cyclic)")
-    return {"shape": "polygon", "points": max(closed, key=polygon_area).tolist()}
+    return regions.curve_polygon(obj, "village region")
 
 
 def collection_objects(collection):
@@ -235,7 +175,7 @@ def collection_objects(collection):
 def existing_roads(settings):
     """The existing roads (N, 2): every spline of the curves in the Existing Roads collection (a closed one as a
     loop)."""
-    closed, opened = curve_lines(collection_objects(settings.roads))
+    closed, opened = geometry.curve_lines(collection_objects(settings.roads))
     return opened + [np.vstack([c, c[:1]]) for c in closed]
 
 
@@ -251,7 +191,7 @@ def connection_points(settings, region, roads):
         if not roads:
             raise WorldPaintError("Connections at road ends: pick the collection of existing road curves")
         ends = np.array([p for road in roads for p in (road[0], road[-1])], dtype=np.float64)
-        inside = ends[engine().region_contains(region, ends)]
+        inside = ends[engine.region_contains(region, ends)]
         if len(inside) == 0:
             raise WorldPaintError("Connections at road ends: no end of an existing road lies inside the region")
         return inside
@@ -260,8 +200,8 @@ def connection_points(settings, region, roads):
 
 def surroundings(settings):
     """The engine's keyword arguments for the water and the walls."""
-    water_areas, rivers = curve_lines(collection_objects(settings.water))
-    walls, open_walls = curve_lines(collection_objects(settings.walls))
+    water_areas, rivers = geometry.curve_lines(collection_objects(settings.water))
+    walls, open_walls = geometry.curve_lines(collection_objects(settings.walls))
     if open_walls:
         raise WorldPaintError("Walls: every wall must be a closed curve (make its splines cyclic)")
     return {
@@ -327,7 +267,7 @@ def village_buildings(collection):
 def village_roads(collection):
     """The roads (N, 2) of a village's road curves."""
     objects = [o for o in collection_objects(collection) if o.get(VILLAGE_TAG) == "roads"]
-    return curve_lines(objects)[1]
+    return geometry.curve_lines(objects)[1]
 
 
 # --- building the village -----------------------------------------------------------------------------------------
@@ -365,7 +305,7 @@ def lines_object(collection, name, part):
 def house_object(collection, house, footprint, building, village_type, materials):
     """One house: a mesh object with its origin on the ground at the middle of the footprint, its X axis along the
     front wall."""
-    world = np.asarray(house["vertices"], dtype=np.float64)
+    world = np.asarray(house.vertices, dtype=np.float64)
     center = np.asarray(footprint, dtype=np.float64).mean(axis=0)
     front = footprint[1] - footprint[0]
     angle = math.atan2(front[1], front[0])
@@ -373,8 +313,8 @@ def house_object(collection, house, footprint, building, village_type, materials
     origin = np.array([center[0], center[1], world[:, 2].min()])
     local = world - origin
     local[:, :2] = local[:, :2] @ np.array([[c, -s], [s, c]])  # rotate by -angle
-    indices = np.asarray(house["indices"], dtype=np.int32)
-    starts = np.asarray(house["loop_starts"], dtype=np.int32)
+    indices = np.asarray(house.indices, dtype=np.int32)
+    starts = np.asarray(house.loop_starts, dtype=np.int32)
 
     mesh = bpy.data.meshes.new(building.capitalize())
     mesh.vertices.add(len(local))
@@ -383,7 +323,7 @@ def house_object(collection, house, footprint, building, village_type, materials
     mesh.loops.foreach_set("vertex_index", indices)
     mesh.polygons.add(len(starts))
     mesh.polygons.foreach_set("loop_start", starts)
-    mesh.polygons.foreach_set("material_index", np.asarray(house["materials"], dtype=np.int32))
+    mesh.polygons.foreach_set("material_index", np.asarray(house.materials, dtype=np.int32))
     for material in materials:
         mesh.materials.append(material)
     mesh.validate(clean_customdata=False)
@@ -400,56 +340,55 @@ def house_object(collection, house, footprint, building, village_type, materials
 
 
 def build_village(scene, result, terrain_obj, heightfield, parcels_as_curves):
-    """Writes the engine's village into the current village collection, replacing what it made there before."""
+    """Writes the engine's village (an ``engine.VillageResult``) into the current village collection, replacing what
+    it made there before."""
     collection = village_collection(scene)
     clear_village(collection)
     built = BuiltVillage(collection)
-    report = result["report"]
-    width = float(report["road_width"])
+    width = float(result.report.road_width)
 
-    if result["roads"]:
+    if result.roads:
         built.roads = lines_object(collection, ROADS_NAME, "roads")
-        curves.write_lines(built.roads, curves.lines_with_heights(result["roads"]), cyclic=False)
+        curves.write_lines(built.roads, curves.lines_with_heights(result.roads), cyclic=False)
         curves.set_profile(built.roads, width, 0.0, terrain_obj)
         built.roads.data.materials.append(shared_material(*ROAD_MATERIAL))
         built.roads[ROAD_WIDTH_PROP] = width
 
-    if parcels_as_curves and result["parcels"]:
+    if parcels_as_curves and result.parcels:
         built.parcels = lines_object(collection, PARCELS_NAME, "parcels")
         lines = []
-        for contour in result["parcels"]:
+        for contour in result.parcels:
             xy = np.ascontiguousarray(contour, dtype=np.float64)
-            lines.append({"points": xy, "heights": heightfield.heights_at(xy) + PARCEL_LIFT})
+            lines.append(engine.Polyline(xy, heightfield.heights_at(xy) + PARCEL_LIFT))
         curves.write_lines(built.parcels, curves.lines_with_heights(lines), cyclic=True)
 
     materials = [shared_material(name, rgba) for name, rgba in HOUSE_MATERIALS]
-    seeds = result["seeds"]
-    for house in result["houses"]:
-        k = int(house["seed"])
-        built.houses.append(house_object(collection, house, result["footprints"][k], seeds["building"][k],
-                                         seeds["village_type"][k], materials))
+    for house in result.houses:
+        k = house.seed
+        built.houses.append(house_object(collection, house, result.footprints[k], result.seed_buildings[k],
+                                         result.seed_village_types[k], materials))
 
-    collection[REPORT_PROP] = json.dumps(dict(report))
+    collection[REPORT_PROP] = json.dumps(result.report.as_dict())
     return built
 
 
 def summary(built, report):
-    """(info, warnings) of a generation, as the panel and the status bar show them."""
+    """(info, warnings) of a generation (its ``engine.VillageReport``), as the panel and the status bar show them."""
     roads = len(built.roads.data.splines) if built.roads is not None else 0
-    parts = [f"{len(built.houses)} houses, {roads} roads ({report['cycles']} cycles)"]
-    unplaced = Counter(report["unplaced"])
+    parts = [f"{len(built.houses)} houses, {roads} roads ({report.cycles} cycles)"]
+    unplaced = Counter(report.unplaced)
     if unplaced:
         kinds = ", ".join(f"{n} {name}" for name, n in sorted(unplaced.items()))
         parts.append(f"{sum(unplaced.values())} requested buildings unplaced ({kinds})")
-    dropped = report["unreachable"] + report["without_access"] + report["without_footprint"]
+    dropped = report.unreachable + report.without_access + report.without_footprint
     if dropped:
-        parts.append(f"{dropped} seeds dropped ({report['unreachable']} out of the roads' reach, "
-                     f"{report['without_access']} without road access, {report['without_footprint']} with a parcel "
+        parts.append(f"{dropped} seeds dropped ({report.unreachable} out of the roads' reach, "
+                     f"{report.without_access} without road access, {report.without_footprint} with a parcel "
                      "too small)")
     warnings = []
-    if report["roads_over_max_grade"]:
-        warnings.append(f"{report['roads_over_max_grade']} roads had to be steeper than the maximum grade of "
-                        f"{report['max_grade']:.0%}: the terrain left no gentler way")
+    if report.roads_over_max_grade:
+        warnings.append(f"{report.roads_over_max_grade} roads had to be steeper than the maximum grade of "
+                        f"{report.max_grade:.0%}: the terrain left no gentler way")
     if not built.houses:
         warnings.append("No house was built: try another region, seed or scenario")
     return "; ".join(parts), warnings
@@ -459,11 +398,7 @@ def summary(built, report):
 
 def terrain_vertices_xy(obj):
     """World XY (N, 2) of the terrain mesh's own vertices (those a color attribute lives on)."""
-    co = np.empty(len(obj.data.vertices) * 3, dtype=np.float64)
-    obj.data.vertices.foreach_get("co", co)
-    matrix = np.array(obj.matrix_world, dtype=np.float64)
-    world = co.reshape(-1, 3) @ matrix[:3, :3].T + matrix[:3, 3]
-    return np.ascontiguousarray(world[:, :2])
+    return np.ascontiguousarray(geometry.vertices_world(obj)[:, :2])
 
 
 def srgb_to_linear(c):

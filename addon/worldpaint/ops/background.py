@@ -17,7 +17,7 @@ def with_progress(context, compute):
     if wm is None:
         return compute(None)
 
-    def progress(fraction):
+    def progress(fraction, _stage=None):
         wm.progress_update(fraction)
         return True
 
@@ -33,8 +33,8 @@ class BackgroundOperator:
     engine only) and ``_apply(context, result)`` (main thread: change the scene).
 
     From a script (``execute``) it runs to completion. From the UI (``invoke``) the computation runs on a worker
-    thread while a modal handler shows the progress and Esc cancels; the scene only changes once the result is
-    complete, so a cancelled operation changes nothing.
+    thread while a modal handler shows the progress (with the stage the engine names, when it has stages) and Esc
+    cancels; the scene only changes once the result is complete, so a cancelled operation changes nothing.
     """
 
     progress_text = "Working"
@@ -50,7 +50,7 @@ class BackgroundOperator:
     def invoke(self, context, _event):
         def start():
             self._prepare(context)
-            self._fraction = 0.0
+            self._fraction, self._stage = 0.0, None
             self._cancel = False
             self._outcome = None
             self._worker = threading.Thread(target=self._work, daemon=True)
@@ -64,8 +64,8 @@ class BackgroundOperator:
         return report_errors(self, start)
 
     def _work(self):
-        def progress(fraction):
-            self._fraction = fraction
+        def progress(fraction, stage=None):
+            self._fraction, self._stage = fraction, stage
             return not self._cancel
 
         try:
@@ -80,7 +80,8 @@ class BackgroundOperator:
             return {'RUNNING_MODAL'}
         context.window_manager.progress_update(self._fraction)
         if context.area is not None:
-            context.area.header_text_set(f"{self.progress_text}: {self._fraction:.0%} (Esc to cancel)")
+            doing = f"{self.progress_text}, {self._stage}" if self._stage else self.progress_text
+            context.area.header_text_set(f"{doing}: {self._fraction:.0%} (Esc to cancel)")
         if self._worker.is_alive():
             return {'RUNNING_MODAL'}
         self._end(context)

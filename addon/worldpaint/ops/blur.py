@@ -7,8 +7,7 @@ so a sharp edge between a dense and a sparse forest becomes a gradual one.
 import bpy
 from bpy.props import IntProperty
 
-from ..bridge import terrain
-from ..bridge.engine import engine
+from ..bridge import engine, terrain
 from .background import BackgroundOperator
 from .common import RegionProperties, SceneContent, SynthesisProperties, TerrainProperty, report_missing
 
@@ -36,7 +35,7 @@ class WORLDPAINT_OT_blur(BackgroundOperator, RegionProperties, SynthesisProperti
                           **self.synthesis_arguments(settings))
 
     def _compute(self, progress):
-        return engine().blur(self._content.engine_scene(), progress=progress, **self._call)
+        return engine.blur(self._content.engine_scene(), progress=progress, **self._call)
 
     def _apply(self, context, edit):
         applied = self._content.apply(context, edit)

@@ -10,8 +10,7 @@ import bpy
 import numpy as np
 from bpy.props import CollectionProperty, EnumProperty, FloatProperty, StringProperty
 
-from ..bridge import WorldPaintError, view
-from ..bridge.engine import engine
+from ..bridge import WorldPaintError, engine, view
 from ..props import FALLOFFS, WORLDPAINT_PG_stroke_point
 from .background import QueueWorker, with_progress
 from .common import (
@@ -116,7 +115,7 @@ class StrokeOperator(TerrainProperty):
         raise self._worker.error
 
     def _refresh(self, context):
-        dabs = len(self._engine_stroke.dabs())
+        dabs = self._engine_stroke.dab_count()
         if dabs != self._shown:
             self._shown = dabs
             self._content.apply(context, self._engine_stroke.edit())
@@ -158,11 +157,11 @@ class WORLDPAINT_OT_brush(StrokeOperator, SynthesisProperties, bpy.types.Operato
 
     def _categories(self, context):
         self._entry = active_color(context, self.color)
-        return engine().color_summary(self._entry.json)["categories"]
+        return engine.color_summary(self._entry.json).categories
 
     def _make_stroke(self, context, content):
         settings = context.scene.worldpaint
-        return engine().Stroke(
+        return engine.paint_stroke(
             content.engine_scene(),
             color=self._entry.json,
             radius=setting(self, "radius", settings.brush_radius),
@@ -193,9 +192,8 @@ class WORLDPAINT_OT_erase(StrokeOperator, bpy.types.Operator):
         known = {c["name"] for c in content.categories}
         if category and category not in known:
             raise WorldPaintError(f"No category '{category}' to erase")
-        return engine().Stroke(
+        return engine.erase_stroke(
             content.engine_scene(),
-            erase=True,
             only_categories=[category] if category else None,
             radius=setting(self, "radius", settings.brush_radius),
         )

@@ -4,7 +4,7 @@ lakes there (cut at its border: their parts outside stay)."""
 import bpy
 from bpy.props import StringProperty
 
-from ..bridge.engine import engine
+from ..bridge import engine
 from .common import RegionProperties, SceneContent, TerrainProperty, report_errors
 
 
@@ -23,7 +23,7 @@ class WORLDPAINT_OT_clear_region(RegionProperties, TerrainProperty, bpy.types.Op
     def _clear(self, context):
         content = SceneContent(context, self.terrain)
         region = self.destination(context, content.terrain_obj)
-        edit = engine().clear_region(content.engine_scene(), region, category=self.category or None)
+        edit = engine.clear_region(content.engine_scene(), region, category=self.category or None)
         applied = content.apply(context, edit)
         lines = f" and cut {applied.lines_removed} paths or contours" if applied.lines_removed else ""
         self.report({'INFO'}, f"Removed {applied.removed} synthesized instances{lines}")

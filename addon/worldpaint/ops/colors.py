@@ -7,8 +7,7 @@ Renaming is editing the name in the palette list; the color's own JSON takes the
 import bpy
 from bpy.props import EnumProperty, FloatProperty, IntProperty, StringProperty
 
-from ..bridge import WorldPaintError, instances, preview
-from ..bridge.engine import engine
+from ..bridge import WorldPaintError, engine, instances, preview
 from .common import active_color, report_errors
 
 INTERACTION_NAMES = {"rdf": "rdf", "oriented_rdf": "oriented rdf", "graph_distance": "distance to graph",
@@ -27,21 +26,21 @@ def unique_name(collection, stem):
 
 
 def add_palette_color(settings, name, color_json):
-    """Adds a color (engine JSON) to the palette under ``name`` with its preview, makes it active, and adds the
-    categories it knows to the scene's list; returns the entry."""
-    summary = engine().color_summary(color_json)
+    """Adds a color (JSON) to the palette under ``name`` with its preview, makes it active, and adds the categories
+    it knows to the scene's list; returns the entry."""
+    summary = engine.color_summary(color_json)
     entry = settings.palette.add()
     entry.name = name
     entry.json = entry.learned_json = color_json
     how = {}
-    for category, other, kind in list(summary["pairs"]) + list(summary["maps"]):
+    for category, other, kind in summary.interactions:
         how.setdefault((category, other), []).append(INTERACTION_NAMES.get(kind, kind))
     for (category, other), kinds in how.items():
         item = entry.interactions.add()
         item.category, item.other, item.how = category, other, ", ".join(kinds)
     entry.preview_image = preview.make_preview(color_json, name)
     settings.active_color_index = len(settings.palette) - 1
-    instances.add_categories(settings, summary["categories"])
+    instances.add_categories(settings, summary.categories)
     return entry
 
 
@@ -90,7 +89,7 @@ class WORLDPAINT_OT_duplicate_color(bpy.types.Operator):
         settings = context.scene.worldpaint
         source = settings.palette[palette_index(settings, self.index)]
         name = unique_name(settings.palette, source.name)
-        add_palette_color(settings, name, engine().color_renamed(source.json, name))
+        add_palette_color(settings, name, engine.color_renamed(source.json, name))
         return {'FINISHED'}
 
 
@@ -138,7 +137,7 @@ class WORLDPAINT_OT_toggle_interaction(bpy.types.Operator):
             raise WorldPaintError(f"The color '{entry.name}' has no interaction {self.index}")
         item = entry.interactions[self.index]
         off = {(i.category, i.other) for i in entry.interactions if not i.enabled} ^ {(item.category, item.other)}
-        entry.json = engine().color_without_interactions(entry.learned_json or entry.json, sorted(off))
+        entry.json = engine.color_without_interactions(entry.learned_json or entry.json, off)
         item.enabled = not item.enabled
         return {'FINISHED'}
 
@@ -167,7 +166,7 @@ class WORLDPAINT_OT_interpolate_colors(bpy.types.Operator):
             raise WorldPaintError("Choose the second color to interpolate with")
         b = active_color(context, b_name)
         name = unique_name(settings.palette, self.name or f"{a.name} · {b.name} {self.factor:.2f}")
-        color_json = engine().interpolate_colors(a.json, b.json, self.factor, name)
+        color_json = engine.interpolate_colors(a.json, b.json, self.factor, name)
         add_palette_color(settings, name, color_json)
         self.report({'INFO'}, f"Added '{name}'")
         return {'FINISHED'}

@@ -2,8 +2,7 @@
 
 from bpy.props import EnumProperty, FloatProperty, FloatVectorProperty, IntProperty, StringProperty
 
-from ..bridge import WorldPaintError, curves, edits, instances, regions, terrain
-from ..bridge.engine import engine, engine_error, is_cancelled
+from ..bridge import WorldPaintError, curves, edits, engine, instances, regions, terrain
 from ..props import REGION_MODES
 
 OPERATOR_REGION_MODES = (
@@ -80,8 +79,8 @@ def report_errors(operator, action):
     except WorldPaintError as exc:
         operator.report({'ERROR'}, str(exc))
         return {'CANCELLED'}
-    except engine_error() as exc:
-        if is_cancelled(exc):
+    except engine.engine_error() as exc:
+        if engine.is_cancelled(exc):
             operator.report({'WARNING'}, "Cancelled; the scene is unchanged")
         else:
             operator.report({'ERROR'}, str(exc))
@@ -117,19 +116,19 @@ class SceneContent:
         self._engine_scene = None
 
     def learn(self, region, name, maps):
-        """The color (engine JSON) of this content inside ``region``, with the terrain ``maps``."""
-        return engine().learn_color(self.engine_scene(), region, name, options={"maps": maps})
+        """The color (JSON) of this content inside ``region``, with the terrain ``maps``."""
+        return engine.learn_color(self.engine_scene(), region, name, maps)
 
     def engine_scene(self):
         """The engine's Scene of this content (made once; the tools read it and return edits of it)."""
         if self._engine_scene is None:
-            self._engine_scene = engine().Scene(
-                self.heightfield, **self.instances.engine_arrays(), **self.structures.engine_arrays()
+            self._engine_scene = engine.scene(
+                self.heightfield, self.instances.engine_arrays(), self.structures.engine_arrays()
             )
         return self._engine_scene
 
     def apply(self, context, edit):
-        """Writes an engine edit of this content to the point clouds and the synthesized curves."""
+        """Writes an edit (``engine.Edit``) of this content to the point clouds and the synthesized curves."""
         applied = edits.apply_edit(context.scene, self.instances, edit, self.terrain_obj)
         applied.lines_added, applied.lines_removed = curves.apply_structures(
             context.scene, self.structures, edit, self.terrain_obj, self.heightfield

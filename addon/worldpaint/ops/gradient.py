@@ -8,8 +8,7 @@ painted before it.
 import bpy
 from bpy.props import EnumProperty, IntProperty, StringProperty
 
-from ..bridge import WorldPaintError, terrain
-from ..bridge.engine import engine
+from ..bridge import WorldPaintError, engine, regions, terrain
 from ..props import SIDES
 from .background import BackgroundOperator
 from .common import (
@@ -25,20 +24,6 @@ SHAPES = (
     ("LINEAR", "Linear", "From one side of the region to the opposite side"),
     ("RADIAL", "Radial", "From the region's centre out to its edge"),
 )
-
-
-def gradient_shape(region, shape, toward):
-    """The engine's gradient shape over a region: linear toward one side of its bounds, or radial from its centre."""
-    (x0, y0), (x1, y1) = engine().region_bbox(region)
-    cx, cy = 0.5 * (x0 + x1), 0.5 * (y0 + y1)
-    if shape == 'RADIAL':
-        if region["shape"] == "circle":
-            return {"kind": "radial", "center": region["center"], "radius": region["radius"]}
-        return {"kind": "radial", "center": (cx, cy), "radius": 0.5 * ((x1 - x0) ** 2 + (y1 - y0) ** 2) ** 0.5}
-    ends = {"EAST": ((x0, cy), (x1, cy)), "WEST": ((x1, cy), (x0, cy)),
-            "NORTH": ((cx, y0), (cx, y1)), "SOUTH": ((cx, y1), (cx, y0))}
-    start, end = ends[toward]
-    return {"kind": "linear", "from": start, "to": end}
 
 
 class WORLDPAINT_OT_gradient(BackgroundOperator, RegionProperties, SynthesisProperties, TerrainProperty,
@@ -65,18 +50,17 @@ class WORLDPAINT_OT_gradient(BackgroundOperator, RegionProperties, SynthesisProp
         if not end_name:
             raise WorldPaintError("Choose the gradient's To Color in the WorldPaint panel")
         end = active_color(context, end_name)
-        eng = engine()
-        extra = eng.color_summary(start.json)["categories"] + eng.color_summary(end.json)["categories"]
+        extra = engine.color_summary(start.json).categories + engine.color_summary(end.json).categories
         self._content = SceneContent(context, self.terrain, extra)
         region = self.destination(context, self._content.terrain_obj)
         terrain.check_region_on_terrain(self._content.heightfield, region, "gradient")
         self._names = (start.name, end.name)
         self._call = dict(start=start.json, end=end.json, region=region,
-                          shape=gradient_shape(region, self.shape, self.toward), bands=self.bands or None,
+                          shape=regions.gradient_shape(region, self.shape, self.toward), bands=self.bands or None,
                           **self.synthesis_arguments(settings))
 
     def _compute(self, progress):
-        return engine().gradient(self._content.engine_scene(), progress=progress, **self._call)
+        return engine.gradient(self._content.engine_scene(), progress=progress, **self._call)
 
     def _apply(self, context, edit):
         applied = self._content.apply(context, edit)

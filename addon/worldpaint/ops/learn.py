@@ -3,8 +3,7 @@
 import bpy
 from bpy.props import BoolProperty, StringProperty
 
-from ..bridge import WorldPaintError, curves, instances, regions, terrain
-from ..bridge.engine import engine
+from ..bridge import WorldPaintError, curves, engine, instances, regions, terrain
 from .colors import add_palette_color, unique_name
 from .common import RegionProperties, TerrainProperty, report_errors
 
@@ -83,10 +82,8 @@ class WORLDPAINT_OT_learn_color(RegionProperties, TerrainProperty, bpy.types.Ope
             structures.add(obj, category, locked=True)
         name = self.name or unique_name(settings.palette, "Color")
         maps = ["slope", "elevation"] if self.use_elevation else ["slope"]
-        eng = engine()
-        scene_data = eng.Scene(heightfield, **exemplar.engine_arrays(), **structures.engine_arrays())
-        options = {"maps": maps, "oriented": self.oriented_pairs(categories)}
-        color_json = eng.learn_color(scene_data, region, name, options=options)
+        scene_data = engine.scene(heightfield, exemplar.engine_arrays(), structures.engine_arrays())
+        color_json = engine.learn_color(scene_data, region, name, maps, self.oriented_pairs(categories))
 
         # validated and computed: now change the scene
         instances.add_categories(settings, new)

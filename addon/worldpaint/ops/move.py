@@ -9,8 +9,7 @@ import bpy
 import numpy as np
 from bpy.props import FloatVectorProperty, StringProperty
 
-from ..bridge import WorldPaintError, view
-from ..bridge.engine import engine
+from ..bridge import WorldPaintError, engine, view
 from .background import LatestWorker
 from .common import (
     RegionProperties,
@@ -33,7 +32,7 @@ class MoveJob:
         self.content = SceneContent(context, operator.terrain)
         self.source = operator.destination(context, self.content.terrain_obj)
         found = self.content.instances
-        inside = engine().region_contains(self.source, found.positions) & ~found.locked
+        inside = engine.region_contains(self.source, found.positions) & ~found.locked
         if not inside.any():
             raise WorldPaintError("Nothing to move: the region holds no synthesized instances")
         if operator.color:
@@ -44,8 +43,8 @@ class MoveJob:
         self.synthesis = operator.synthesis_arguments(settings)
 
     def compute(self, offset):
-        return engine().move_region(self.content.engine_scene(), color=self.color, source=self.source,
-                                    offset=(float(offset[0]), float(offset[1])), **self.synthesis)
+        return engine.move_region(self.content.engine_scene(), color=self.color, source=self.source, offset=offset,
+                                  **self.synthesis)
 
 
 class WORLDPAINT_OT_move_region(RegionProperties, SynthesisProperties, TerrainProperty, bpy.types.Operator):
@@ -66,12 +65,12 @@ class WORLDPAINT_OT_move_region(RegionProperties, SynthesisProperties, TerrainPr
 
         return report_errors(self, run)
 
-    def _finish(self, context, job, result):
-        applied = job.content.apply(context, result)
-        self.report({'INFO'}, f"Moved {result['moved']} instances: {result['displaced']} adapted to their new place, "
-                              f"{result['reborn']} replaced")
-        if result["lost"]:
-            self.report({'WARNING'}, f"{result['lost']} instances found no place their statistics allow")
+    def _finish(self, context, job, moved):
+        applied = job.content.apply(context, moved.edit)
+        self.report({'INFO'}, f"Moved {moved.moved} instances: {moved.displaced} adapted to their new place, "
+                              f"{moved.reborn} replaced")
+        if moved.lost:
+            self.report({'WARNING'}, f"{moved.lost} instances found no place their statistics allow")
         report_missing(self, applied)
         return {'FINISHED'}
 
@@ -109,13 +108,13 @@ class WORLDPAINT_OT_move_region(RegionProperties, SynthesisProperties, TerrainPr
     def _show(self, context, taken):
         if taken is None:
             return
-        offset, result = taken
-        if isinstance(result, Exception):
+        offset, moved = taken
+        if isinstance(moved, Exception):
             return
         self._job.content.restore(context)
-        self._job.content.apply(context, result)
+        self._job.content.apply(context, moved.edit)
         if context.area is not None:
-            context.area.header_text_set(f"Move: {offset[0]:.1f}, {offset[1]:.1f} m — {result['displaced']} adapted "
+            context.area.header_text_set(f"Move: {offset[0]:.1f}, {offset[1]:.1f} m — {moved.displaced} adapted "
                                          "(click to confirm, Esc to cancel)")
 
     def _confirm(self, context):

@@ -4,8 +4,7 @@ import bpy
 from bpy.props import BoolProperty, StringProperty
 from bpy_extras.io_utils import ExportHelper, ImportHelper
 
-from ..bridge import WorldPaintError, preview
-from ..bridge.engine import engine
+from ..bridge import WorldPaintError, engine, preview
 from .colors import add_palette_color
 from .common import report_errors
 
@@ -30,8 +29,7 @@ class WORLDPAINT_OT_export_palette(bpy.types.Operator, ExportHelper):
         if not self.filepath:
             raise WorldPaintError("No file path given")
         # the palette's names win: a color renamed in the list is exported under its new name
-        eng = engine()
-        text = eng.palette_to_json([eng.color_renamed(entry.json, entry.name) for entry in palette])
+        text = engine.palette_to_json([engine.color_renamed(entry.json, entry.name) for entry in palette])
         try:
             with open(bpy.path.abspath(self.filepath), "w", encoding="utf-8") as f:
                 f.write(text)
@@ -56,7 +54,6 @@ class WORLDPAINT_OT_import_palette(bpy.types.Operator, ImportHelper):
         return report_errors(self, lambda: self._import(context))
 
     def _import(self, context):
-        eng = engine()
         path = bpy.path.abspath(self.filepath)
         try:
             with open(path, encoding="utf-8") as f:
@@ -64,10 +61,10 @@ class WORLDPAINT_OT_import_palette(bpy.types.Operator, ImportHelper):
         except (OSError, UnicodeDecodeError) as exc:
             raise WorldPaintError(f"Cannot read the palette file: {exc}") from exc
         try:
-            colors = eng.palette_from_json(text)
-        except eng.WorldPaintError as exc:
+            colors = engine.palette_from_json(text)
+        except engine.engine_error() as exc:
             raise WorldPaintError(f"'{self.filepath}' is not a usable WorldPaint palette: {exc}") from exc
-        summaries = [eng.color_summary(c) for c in colors]
+        summaries = [engine.color_summary(c) for c in colors]
 
         settings = context.scene.worldpaint
         if self.replace:
@@ -75,6 +72,6 @@ class WORLDPAINT_OT_import_palette(bpy.types.Operator, ImportHelper):
                 preview.remove_preview(entry.preview_image)
             settings.palette.clear()
         for color_json, summary in zip(colors, summaries, strict=True):
-            add_palette_color(settings, summary["name"], color_json)
+            add_palette_color(settings, summary.name, color_json)
         self.report({'INFO'}, f"Imported {len(colors)} colors")
         return {'FINISHED'}

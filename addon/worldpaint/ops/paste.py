@@ -5,11 +5,9 @@ worker thread with a progress bar and Esc to cancel (see ``background``).
 """
 
 import bpy
-import numpy as np
 from bpy.props import StringProperty
 
-from ..bridge import terrain
-from ..bridge.engine import engine
+from ..bridge import engine, terrain
 from .background import BackgroundOperator
 from .common import (
     RegionProperties,
@@ -36,24 +34,21 @@ class WORLDPAINT_OT_paste_color(BackgroundOperator, RegionProperties, SynthesisP
         """Validates the inputs and extracts what the engine needs; changes nothing."""
         settings = context.scene.worldpaint
         entry = active_color(context, self.color)
-        summary = engine().color_summary(entry.json)
-        content = SceneContent(context, self.terrain, summary["categories"])
+        summary = engine.color_summary(entry.json)
+        content = SceneContent(context, self.terrain, summary.categories)
         region = self.destination(context, content.terrain_obj)
         terrain.check_region_on_terrain(content.heightfield, region, "destination")
         self._content, self._entry, self._summary = content, entry, summary
         self._call = dict(color=entry.json, region=region, **self.synthesis_arguments(settings))
 
     def _compute(self, progress):
-        return engine().paste(self._content.engine_scene(), progress=progress, **self._call)
+        return engine.paste(self._content.engine_scene(), progress=progress, **self._call)
 
     def _apply(self, context, edit):
         applied = self._content.apply(context, edit)
         lines = f" and {applied.lines_added} paths or contours" if applied.lines_added else ""
         self.report({'INFO'}, f"Pasted {applied.added} instances{lines} of '{self._entry.name}'")
-        names = [c["name"] for c in edit["categories"]]
-        pasted = {names[i] for i in np.unique(edit["category_index"])}
-        pasted |= {names[line["category"]] for line in edit["added_paths"] + edit["added_contours"]}
-        empty = sorted({c["name"] for c in self._summary["categories"]} - pasted)
+        empty = sorted(set(self._summary.category_names) - edit.painted_categories())
         if empty:
             self.report({'WARNING'}, f"Nothing pasted for {', '.join(empty)}: the example had none on slopes (or, "
                                      "for a color with a height preference, heights) like the destination's")

@@ -7,8 +7,7 @@ radius as the brush" (thesis 6.5.1). It reads hand-placed objects and synthesize
 import bpy
 from bpy.props import BoolProperty, FloatProperty, FloatVectorProperty, StringProperty
 
-from ..bridge import WorldPaintError, regions, view
-from ..bridge.engine import engine
+from ..bridge import WorldPaintError, engine, regions, view
 from .colors import add_palette_color, unique_name
 from .common import SceneContent, TerrainProperty, report_errors
 
@@ -52,10 +51,9 @@ class WORLDPAINT_OT_pipette(TerrainProperty, bpy.types.Operator):
         region = regions.circle(self.location, radius)
         maps = ["slope", "elevation"] if self.use_elevation else ["slope"]
         name = unique_name(settings.palette, self.name or "Picked")
-        eng = engine()
         try:
             color_json = content.learn(region, name, maps)
-        except eng.NothingToLearn as exc:
+        except engine.NothingToLearn as exc:
             raise WorldPaintError(
                 f"Nothing to pick within {radius:.1f} m of ({self.location[0]:.1f}, {self.location[1]:.1f})"
             ) from exc

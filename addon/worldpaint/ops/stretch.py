@@ -7,8 +7,7 @@ opened band with the region's color (or removes the band's content and closes it
 import bpy
 from bpy.props import EnumProperty, FloatProperty, StringProperty
 
-from ..bridge import WorldPaintError
-from ..bridge.engine import engine
+from ..bridge import WorldPaintError, engine
 from ..props import SIDES
 from .background import BackgroundOperator
 from .common import (
@@ -47,11 +46,11 @@ class WORLDPAINT_OT_stretch_region(BackgroundOperator, RegionProperties, Synthes
                           **self.synthesis_arguments(settings))
 
     def _compute(self, progress):
-        return engine().stretch_region(self._content.engine_scene(), progress=progress, **self._call)
+        return engine.stretch_region(self._content.engine_scene(), progress=progress, **self._call)
 
-    def _apply(self, context, result):
-        applied = self._content.apply(context, result)
-        (x0, y0), (x1, y1) = result["region"]["min"], result["region"]["max"]
+    def _apply(self, context, stretched):
+        applied = self._content.apply(context, stretched.edit)
+        (x0, y0), (x1, y1) = stretched.region_min, stretched.region_max
         verb = "Stretched" if self.amount > 0 else "Shrank"
         self.report({'INFO'}, f"{verb} the region to {x1 - x0:.1f} × {y1 - y0:.1f} m: {applied.added} instances "
                               f"placed, {applied.removed} taken away")

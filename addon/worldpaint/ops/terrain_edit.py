@@ -8,8 +8,7 @@ import bpy
 import numpy as np
 from bpy.props import FloatProperty, IntProperty, StringProperty
 
-from ..bridge import WorldPaintError, terrain, terrain_edit
-from ..bridge.engine import engine
+from ..bridge import WorldPaintError, engine, terrain, terrain_edit
 from .background import BackgroundOperator
 from .common import TerrainProperty, report_errors
 
@@ -62,11 +61,11 @@ class WORLDPAINT_OT_embed_roads(TerrainProperty, bpy.types.Operator):
         vertices = terrain_edit.basis_world(obj)
         reseated = standing.points() if settings.reseat else vertices[:0, :2]
         points = np.vstack([vertices[:, :2], reseated])
-        result = engine().embed_roads(
+        embedding = engine.embed_roads(
             heightfield, roads, points, width, bank_width, use_heights=settings.use_curve_heights,
             smoothing=settings.smoothing if settings.smoothing > 0.0 else None,
         )
-        dz = result["displacement"]
+        dz = embedding.displacement
         terrain_edit.write_shape_key(obj, terrain_edit.EMBED_ROADS_KEY, dz[:len(vertices)])
         if settings.reseat:
             standing.reseat(dz[len(vertices):], "roads")
@@ -117,22 +116,21 @@ class WORLDPAINT_OT_build_waterfall(BackgroundOperator, TerrainProperty, bpy.typ
     def _compute(self, progress):
         if progress is not None and not progress(0.0):
             return None
-        return engine().build_waterfall(*self._arguments, **self._call)
+        return engine.build_waterfall(*self._arguments, **self._call)
 
-    def _apply(self, context, result):
+    def _apply(self, context, waterfall):
         n = len(self._vertices)
-        offsets = np.column_stack([result["horizontal"][:n], result["displacement"][:n]])
+        offsets = np.column_stack([waterfall.horizontal[:n], waterfall.displacement[:n]])
         terrain_edit.write_shape_key(self._terrain_obj, terrain_edit.WATERFALL_KEY, offsets)
-        self._standing.reseat(result["displacement"][n:], "waterfall")
-        dry = self._standing.keep_dry(result["is_water"][n:]) if self._keep_dry else 0
-        terrain_edit.build_water(context.scene, result["water"])
-        terrain_edit.build_rocks(context.scene, result, self._terrain_obj)
-        report = result["report"]
-        invalid = [s for s in result["segments"] if not s["valid"]]
-        self.report({'INFO'}, f"Waterfall: {len(result['segments'])} segments on {report['arcs']} arcs, "
-                              f"{len(result['rocks'])} rocks, {dry} instances taken out of the water")
+        self._standing.reseat(waterfall.displacement[n:], "waterfall")
+        dry = self._standing.keep_dry(waterfall.is_water[n:]) if self._keep_dry else 0
+        terrain_edit.build_water(context.scene, waterfall.water)
+        terrain_edit.build_rocks(context.scene, waterfall, self._terrain_obj)
+        invalid = [s for s in waterfall.segments if not s.valid]
+        self.report({'INFO'}, f"Waterfall: {len(waterfall.segments)} segments on {waterfall.arcs} arcs, "
+                              f"{len(waterfall.rocks)} rocks, {dry} instances taken out of the water")
         if invalid:
-            curves = sorted({self._controllers[s["controller"]]["name"] for s in invalid})
+            curves = sorted({self._controllers[s.controller]["name"] for s in invalid})
             self.report({'WARNING'}, f"{len(invalid)} segments lie outside the valid range of their type (slope and "
                                      f"flow do not match a contact or free-fall; the water's 'invalid' attribute "
                                      f"marks them): check {', '.join(repr(c) for c in curves)}")

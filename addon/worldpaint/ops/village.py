@@ -9,13 +9,10 @@ replaces the current village's objects (see ``bridge.village``), and is one undo
 import bpy
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, StringProperty
 
-from ..bridge import WorldPaintError, terrain, village
-from ..bridge.engine import engine
+from ..bridge import WorldPaintError, engine, terrain, village
 from ..props.village import CRITERIA, EVENT_KINDS
 from .background import BackgroundOperator
 from .common import TerrainProperty, report_errors
-
-STAGES = ((0.7, "growing the skeleton"), (0.85, "parcels and footprints"), (1.01, "houses"))
 
 
 class VillageInputs(TerrainProperty):
@@ -98,17 +95,12 @@ class WORLDPAINT_OT_generate_village(BackgroundOperator, VillageInputs, bpy.type
         )
 
     def _compute(self, progress):
-        def staged(fraction):
-            stage = next(name for end, name in STAGES if fraction < end)
-            self.progress_text = f"Generating village, {stage}"
-            return progress(fraction) if progress is not None else True
-
-        return engine().generate_village(*self._arguments, progress=staged, **self._call)
+        return engine.generate_village(*self._arguments, progress=progress, **self._call)
 
     def _apply(self, context, result):
         built = village.build_village(context.scene, result, self._terrain_obj, self._heightfield,
                                       self._parcels_as_curves)
-        info, warnings = village.summary(built, result["report"])
+        info, warnings = village.summary(built, result.report)
         context.scene.worldpaint.village.report = info
         self.report({'INFO'}, info)
         for warning in warnings:
@@ -149,7 +141,7 @@ class WORLDPAINT_OT_show_interest(VillageInputs, bpy.types.Operator):
         criterion = settings.interest_criterion if self.criterion == "SCENE" else self.criterion
         current = village.current_village(context.scene)
         roads = village.existing_roads(settings) + village.village_roads(current)
-        values = engine().village_interest(
+        values = engine.village_interest(
             heightfield, region, village.terrain_vertices_xy(terrain_obj), village_type, building,
             None if criterion == "INTEREST" else criterion, encyclopedia=encyclopedia.text,
             buildings=village.village_buildings(current), roads=roads or None, cell=cell,

@@ -149,41 +149,63 @@ pub(crate) fn guarded<T>(f: impl FnOnce() -> worldpaint_core::Result<T>) -> PyRe
     }
 }
 
-/// A Python progress callback `progress(fraction) -> bool` as the engine's `Fn(f64) -> bool`: the GIL is taken
-/// again only when the fraction has moved by a percent; returning False cancels, and an exception raised by the
-/// callback cancels too and is re-raised by [`Progress::finish`].
+/// A Python progress callback as the engine's `Fn(f64) -> bool`: `progress(fraction) -> bool`, or
+/// `progress(fraction, stage) -> bool` for a computation in named stages when the callback takes a second argument.
+/// The GIL is taken again only when the fraction has moved by a percent or the stage has changed; returning False
+/// cancels, and an exception raised by the callback cancels too and is re-raised by [`Progress::finish`].
 pub(crate) struct Progress {
     callback: Option<Py<PyAny>>,
+    takes_stage: bool,
     error: Mutex<Option<PyErr>>,
-    last: Mutex<f64>,
+    last: Mutex<(f64, Option<&'static str>)>,
+}
+
+/// Whether a callback accepts `(fraction, stage)`: callers that take only the fraction keep working.
+fn takes_stage(py: Python<'_>, callback: &Py<PyAny>) -> bool {
+    let bound = || -> PyResult<bool> {
+        let signature = py
+            .import("inspect")?
+            .getattr("signature")?
+            .call1((callback,))?;
+        Ok(signature.call_method1("bind", (0.0, "")).is_ok())
+    };
+    bound().unwrap_or(false)
 }
 
 impl Progress {
-    pub(crate) fn new(callback: Option<Py<PyAny>>) -> Self {
+    pub(crate) fn new(py: Python<'_>, callback: Option<Py<PyAny>>) -> Self {
+        let takes_stage = callback.as_ref().is_some_and(|cb| takes_stage(py, cb));
         Progress {
             callback,
+            takes_stage,
             error: Mutex::new(None),
-            last: Mutex::new(f64::NEG_INFINITY),
+            last: Mutex::new((f64::NEG_INFINITY, None)),
         }
     }
 
-    pub(crate) fn report(&self, fraction: f64) -> bool {
+    pub(crate) fn report(&self, fraction: f64, stage: Option<&'static str>) -> bool {
         let Some(cb) = self.callback.as_ref() else {
             return true;
         };
         if let Ok(mut last) = self.last.lock() {
-            if fraction < 1.0 && fraction - *last < 0.01 {
+            if fraction < 1.0 && fraction - last.0 < 0.01 && stage == last.1 {
                 return true;
             }
-            *last = fraction;
+            *last = (fraction, stage);
         }
-        Python::attach(|py| match cb.call1(py, (fraction,)) {
-            Ok(r) => r.extract::<bool>(py).unwrap_or(true),
-            Err(e) => {
-                if let Ok(mut slot) = self.error.lock() {
-                    *slot = Some(e);
+        Python::attach(|py| {
+            let called = match stage {
+                Some(name) if self.takes_stage => cb.call1(py, (fraction, name)),
+                _ => cb.call1(py, (fraction,)),
+            };
+            match called {
+                Ok(r) => r.extract::<bool>(py).unwrap_or(true),
+                Err(e) => {
+                    if let Ok(mut slot) = self.error.lock() {
+                        *slot = Some(e);
+                    }
+                    false
                 }
-                false
             }
         })
     }
@@ -205,8 +227,18 @@ pub(crate) fn with_progress<T: Send>(
     progress: Option<Py<PyAny>>,
     f: impl FnOnce(&(dyn Fn(f64) -> bool + Sync)) -> worldpaint_core::Result<T> + Send,
 ) -> PyResult<T> {
-    let progress = Progress::new(progress);
-    let result = py.detach(|| guarded(|| f(&|x| progress.report(x))));
+    with_stages(py, progress, |report| f(&|x| report(x, None)))
+}
+
+/// Runs `f` like [`with_progress`] for work in named stages: `f` reports the overall fraction with its stage's name.
+pub(crate) fn with_stages<T: Send>(
+    py: Python<'_>,
+    progress: Option<Py<PyAny>>,
+    f: impl FnOnce(&(dyn Fn(f64, Option<&'static str>) -> bool + Sync)) -> worldpaint_core::Result<T>
+        + Send,
+) -> PyResult<T> {
+    let progress = Progress::new(py, progress);
+    let result = py.detach(|| guarded(|| f(&|x, stage| progress.report(x, stage))));
     progress.finish(result)
 }
 

@@ -2,7 +2,7 @@
 
 use crate::convert::{points_from_py, points_to_py, region_from_py};
 use crate::terrain::Terrain;
-use crate::{guarded, input_err, with_progress};
+use crate::{guarded, input_err, with_stages};
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyReadonlyArray2};
 use pyo3::prelude::*;
@@ -89,12 +89,22 @@ fn encyclopedia_of(text: Option<&str>) -> PyResult<Encyclopedia> {
     guarded(|| Encyclopedia::from_json(text.unwrap_or(ENCYCLOPEDIA)))
 }
 
+/// A stage's name as the user reads it, and its share of the whole generation: (name, start, span).
+fn stage_share(stage: Stage) -> (&'static str, f64, f64) {
+    match stage {
+        Stage::Skeleton => ("growing the skeleton", 0.0, 0.7),
+        Stage::Parcels => ("parcels and footprints", 0.7, 0.15),
+        Stage::Houses => ("houses", 0.85, 0.15),
+    }
+}
+
 /// Generates a village (thesis ch. 3) on `terrain` inside `region` following `scenario` (JSON {"events": [...]}).
 ///
 /// Returns {"seeds": {"positions", "heights", "building", "village_type"}, "roads": [{"points", "heights"}],
 /// "parcels": [float64 (N, 2)], "footprints": float64 (M, 4, 2), "houses": [{"vertices": (V, 3), "loop_starts",
 /// "loop_totals", "indices", "materials"}], "connections": (K, 2), "report": {...}}; footprints and houses are per
-/// kept seed, in order. `progress(fraction) -> bool` may cancel (raises `Cancelled`).
+/// kept seed, in order. `progress(fraction) -> bool` may cancel (raises `Cancelled`); a callback taking a second
+/// argument also gets the stage's name ("growing the skeleton", "parcels and footprints", "houses").
 #[pyfunction]
 #[pyo3(signature = (terrain, region, scenario, seed=0, *, encyclopedia=None, connections=None, existing_roads=None,
                     water_level=None, water_areas=None, rivers=None, river_half_width=4.0, walls=None, cell=2.0,
@@ -138,14 +148,10 @@ fn generate_village<'py>(
         cell,
         parcel_cell,
     };
-    let village = with_progress(py, progress, |report| {
+    let village = with_stages(py, progress, |report| {
         generate(&request, &|stage, f| {
-            let (start, span) = match stage {
-                Stage::Skeleton => (0.0, 0.7),
-                Stage::Parcels => (0.7, 0.15),
-                Stage::Houses => (0.85, 0.15),
-            };
-            report(start + span * f)
+            let (name, start, span) = stage_share(stage);
+            report(start + span * f, Some(name))
         })
     })?;
 
