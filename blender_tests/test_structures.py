@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 import worldpaint_engine as engine
 from scene_kit import select_only, village_exemplar, village_height
-from worldpaint.bridge.curves import spline_points, structure_objects
+from worldpaint.bridge.curves import structure_objects
+from worldpaint.bridge.geometry import spline_control_points as spline_points
 from worldpaint.bridge.instances import point_cloud_arrays, point_cloud_objects
 
 EXEMPLAR = {"region_mode": 'RECT', "rect_min": (0.0, 0.0), "rect_max": (300.0, 300.0)}

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 import worldpaint_engine as engine
 from scene_kit import grid_terrain, poly_curve
-from worldpaint.bridge.curves import spline_points
+from worldpaint.bridge.geometry import spline_control_points as spline_points
 
 SIZE = 400.0  # the hill's terrain, metres across
 CELL = 2.0

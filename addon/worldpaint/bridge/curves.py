@@ -20,7 +20,7 @@ import bpy
 import numpy as np
 
 from . import compat, engine
-from .geometry import spline_points
+from .geometry import spline_control_points
 from .instances import FILL_TAG, STRUCTURE_TAG, is_worldpaint_object
 from .points import node_adder, nodes_modifier, remove_object, terrain_ray, worldpaint_collection
 
@@ -90,7 +90,7 @@ class StructureSet:
             if kind != ("polygon" if spline.use_cyclic_u else "graph"):
                 continue
             key = "contours" if spline.use_cyclic_u else "paths"
-            co = spline_points(obj, spline)
+            co = spline_control_points(obj, spline)
             if len(co) >= (3 if key == "contours" else 2):
                 getattr(self, key).append(StructureLine(index, np.ascontiguousarray(co[:, :2]), co[:, 2].copy(),
                                                         locked))

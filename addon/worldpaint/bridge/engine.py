@@ -5,7 +5,7 @@ arrays and return the dataclasses below, built from the engine's dicts in this o
 Terrain are opaque handles that are only passed back in.
 
 The engine's exceptions are reachable here under their own names (``WorldPaintError``, ``InputError``,
-``PaletteFileError``, ``NothingToLearn``, ``Cancelled``, ``InternalError``), looked up when first used so the add-on
+``FileFormatError``, ``NothingToLearn``, ``Cancelled``, ``InternalError``), looked up when first used so the add-on
 loads without the wheel and says so when it is needed.
 
 Long computations take ``progress``: a callable ``progress(fraction)`` or ``progress(fraction, stage)`` returning
@@ -20,7 +20,7 @@ import numpy as np
 
 from . import WorldPaintError as AddonError
 
-ENGINE_ERRORS = ("WorldPaintError", "InputError", "PaletteFileError", "NothingToLearn", "Cancelled", "InternalError")
+ENGINE_ERRORS = ("WorldPaintError", "InputError", "FileFormatError", "NothingToLearn", "Cancelled", "InternalError")
 
 
 def _engine():
@@ -406,7 +406,7 @@ def palette_to_json(colors):
 
 
 def palette_from_json(text):
-    """The colors (JSON each) of a palette file's text; raises ``PaletteFileError`` when it is not one."""
+    """The colors (JSON each) of a palette file's text; raises ``FileFormatError`` when it is not one."""
     return list(_engine().palette_from_json(text))
 
 

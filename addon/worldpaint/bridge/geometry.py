@@ -1,9 +1,11 @@
-"""World-space reads of Blender geometry: a mesh's vertices and a curve's splines, each read one way.
+"""World-space reads of Blender geometry: a mesh's vertices and a curve's splines.
 
-A spline is read as Blender draws it: a Bezier spline sampled at its resolution (``resolution_u`` points per segment
-along the cubic between two knots and their handles), any other spline by its control points; a closed spline's
-first point is not repeated. The same sampling serves every curve the add-on reads: painting regions, example roads
-and rivers, village regions, roads, water and walls, roads to embed and waterfall controllers.
+A curve's *shape* is read as Blender draws it: a Bezier spline sampled at its resolution (``resolution_u`` points per
+segment along the cubic between two knots and their handles), any other spline by its control points; a closed
+spline's first point is not repeated. That one sampling serves every curve that stands for a line or an outline:
+painting regions, village regions, roads, water and walls, roads to embed and waterfall controllers. Example roads,
+rivers and islands are content whose vertices the engine learns from (edge lengths, turning angles), so they are read
+by their control points (:func:`spline_control_points`), as the user placed them.
 """
 
 import numpy as np
@@ -63,6 +65,15 @@ def spline_points(obj, spline):
     """World XYZ (N, 3) along a spline of a curve object (see the module's note on sampling)."""
     if spline.type == 'BEZIER':
         return to_world(obj, _bezier_samples(spline))
+    return spline_control_points(obj, spline)
+
+
+def spline_control_points(obj, spline):
+    """World XYZ (N, 3) of a spline's control points (Bezier handles left out)."""
+    if spline.type == 'BEZIER':
+        co = np.empty(len(spline.bezier_points) * 3, dtype=np.float64)
+        spline.bezier_points.foreach_get("co", co)
+        return to_world(obj, co)
     co4 = np.empty(len(spline.points) * 4, dtype=np.float64)
     spline.points.foreach_get("co", co4)
     return to_world(obj, co4.reshape(-1, 4)[:, :3])
