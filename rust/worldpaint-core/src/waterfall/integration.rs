@@ -270,157 +270,177 @@ fn drawn_rows(
 pub fn integration_mesh(net: &WaterfallNetwork, options: &IntegrationOptions) -> Result<WaterMesh> {
     options.validate()?;
     let mut mesh = WaterMesh::default();
-    let graph = &net.graph;
-    for (a, arc) in graph.arcs.iter().enumerate() {
-        let path = &net.paths[a];
-        let range = net.segment_ranges[a].clone();
-        if path.len() < 2 || range.is_empty() {
+    for (a, arc) in net.graph.arcs.iter().enumerate() {
+        if net.paths[a].len() < 2 || net.segment_ranges[a].is_empty() {
             continue;
         }
         match arc.kind {
-            ControllerKind::Contact => {
-                let ribbon = ribbon_rows(net, a, options);
-                let drawn = drawn_rows(net, a, &ribbon, options);
-                let mut rows: Vec<[u32; 3]> = Vec::with_capacity(drawn.len());
-                for (k, row) in ribbon.iter().enumerate().take(drawn.end).skip(drawn.start) {
-                    let s = range.start + k.min(range.len() - 1);
-                    let seg = &net.segments[s];
-                    let along = -normal_at(path, k).perp();
-                    let values = decoration_values(seg.kind_of_water);
-                    let il = mesh.push(row[0], DVec2::ZERO, values, WaterPart::Contact, s);
-                    let ic = mesh.push(
-                        row[1],
-                        along * seg.section.speed,
-                        values,
-                        WaterPart::Contact,
-                        s,
-                    );
-                    let ir = mesh.push(row[2], DVec2::ZERO, values, WaterPart::Contact, s);
-                    rows.push([il, ic, ir]);
-                }
-                let left: Vec<DVec3> = ribbon[drawn.clone()].iter().map(|r| r[0]).collect();
-                let right: Vec<DVec3> = ribbon[drawn.clone()].iter().map(|r| r[2]).collect();
-                let n = left.len();
-                for w in rows.windows(2) {
-                    for c in 0..2 {
-                        let (a0, a1, b0, b1) = (w[0][c], w[0][c + 1], w[1][c], w[1][c + 1]);
-                        mesh.triangles.push([a0, b0, a1]);
-                        mesh.triangles.push([a1, b0, b1]);
-                    }
-                }
-                let first = range.start;
-                let last = range.end - 1;
-                mesh.borders.push(Border {
-                    part: WaterPart::Contact,
-                    element: first,
-                    points: left.clone(),
-                    closed: false,
-                });
-                mesh.borders.push(Border {
-                    part: WaterPart::Contact,
-                    element: first,
-                    points: right.clone(),
-                    closed: false,
-                });
-                // closed across where the water starts from nothing or ends in nothing
-                if graph.nodes[arc.from].kind == NodeKind::Source {
-                    mesh.borders.push(Border {
-                        part: WaterPart::Contact,
-                        element: first,
-                        points: vec![left[0], right[0]],
-                        closed: false,
-                    });
-                }
-                if graph.nodes[arc.to].kind == NodeKind::Well {
-                    mesh.borders.push(Border {
-                        part: WaterPart::Contact,
-                        element: last,
-                        points: vec![left[n - 1], right[n - 1]],
-                        closed: false,
-                    });
-                }
-            }
-            ControllerKind::FreeFall => {
-                let s = range.start;
-                let seg = &net.segments[s];
-                let w = fall_width(net, a, options);
-                let u = fall_direction(net, a);
-                let nrm = u.perp();
-                let values = decoration_values(seg.kind_of_water);
-                let mut prev: Option<(u32, u32)> = None;
-                for p in path {
-                    let l = *p + (nrm * 0.5 * w).extend(0.0);
-                    let r = *p - (nrm * 0.5 * w).extend(0.0);
-                    let il = mesh.push(l, u * seg.section.speed, values, WaterPart::FreeFall, s);
-                    let ir = mesh.push(r, u * seg.section.speed, values, WaterPart::FreeFall, s);
-                    if let Some((pl, pr)) = prev {
-                        mesh.triangles.push([pl, il, pr]);
-                        mesh.triangles.push([pr, il, ir]);
-                    }
-                    prev = Some((il, ir));
-                }
-                let lip = path[0];
-                mesh.borders.push(Border {
-                    part: WaterPart::FreeFall,
-                    element: s,
-                    points: vec![
-                        lip + (nrm * 0.5 * w).extend(0.0),
-                        lip - (nrm * 0.5 * w).extend(0.0),
-                    ],
-                    closed: false,
-                });
-            }
+            ControllerKind::Contact => mesh.add_ribbon(net, a, options),
+            ControllerKind::FreeFall => mesh.add_sheet(net, a, options),
             ControllerKind::Pool => {}
         }
     }
-    for (n, node) in graph.nodes.iter().enumerate() {
-        let Some(c) = node.pool else {
-            continue;
+    for n in 0..net.graph.nodes.len() {
+        if let Some(pool) = pool_water(net, n) {
+            mesh.add_pool(pool);
+        }
+    }
+    Ok(mesh)
+}
+
+/// The water of graph node `n` when it is a pool whose controller the network holds: contour, level, depth and
+/// the values of its inflows where they arrive.
+fn pool_water(net: &WaterfallNetwork, n: usize) -> Option<PoolWater> {
+    let node = &net.graph.nodes[n];
+    let c = node.pool?;
+    let ctrl = net.controllers.get(c)?;
+    let contour: Vec<DVec2> = ctrl.points.iter().map(|p| p.truncate()).collect();
+    let inflows: Vec<(DVec2, [f64; 3])> = node
+        .arcs_in
+        .iter()
+        .filter_map(|&a| {
+            let r = net.segment_ranges.get(a)?;
+            let seg = net.segments.get(r.end.checked_sub(1)?)?;
+            let end = net.paths.get(a)?.last()?.truncate();
+            Some((end, decoration_values(seg.kind_of_water)))
+        })
+        .collect();
+    Some(PoolWater {
+        controller: c,
+        node: n,
+        contour,
+        level: node.position.z,
+        depth: node.depth,
+        inflows,
+    })
+}
+
+impl WaterMesh {
+    /// The ribbon of contact arc `a`: per drawn row its banks at rest and its axis at the segment's speed along
+    /// the flow, two quads between rows, and its banks as borders.
+    fn add_ribbon(&mut self, net: &WaterfallNetwork, a: usize, options: &IntegrationOptions) {
+        let path = &net.paths[a];
+        let range = net.segment_ranges[a].clone();
+        let ribbon = ribbon_rows(net, a, options);
+        let drawn = drawn_rows(net, a, &ribbon, options);
+        let mut rows: Vec<[u32; 3]> = Vec::with_capacity(drawn.len());
+        for (k, row) in ribbon.iter().enumerate().take(drawn.end).skip(drawn.start) {
+            let s = range.start + k.min(range.len() - 1);
+            let seg = &net.segments[s];
+            let along = -normal_at(path, k).perp();
+            let values = decoration_values(seg.kind_of_water);
+            let il = self.push(row[0], DVec2::ZERO, values, WaterPart::Contact, s);
+            let ic = self.push(
+                row[1],
+                along * seg.section.speed,
+                values,
+                WaterPart::Contact,
+                s,
+            );
+            let ir = self.push(row[2], DVec2::ZERO, values, WaterPart::Contact, s);
+            rows.push([il, ic, ir]);
+        }
+        for w in rows.windows(2) {
+            for c in 0..2 {
+                let (a0, a1, b0, b1) = (w[0][c], w[0][c + 1], w[1][c], w[1][c + 1]);
+                self.triangles.push([a0, b0, a1]);
+                self.triangles.push([a1, b0, b1]);
+            }
+        }
+        let left: Vec<DVec3> = ribbon[drawn.clone()].iter().map(|r| r[0]).collect();
+        let right: Vec<DVec3> = ribbon[drawn].iter().map(|r| r[2]).collect();
+        self.add_ribbon_borders(net, a, &left, &right);
+    }
+
+    /// The banks of contact arc `a`'s ribbon, closed across where the water starts from nothing (a source) or
+    /// ends in nothing (a well).
+    fn add_ribbon_borders(
+        &mut self,
+        net: &WaterfallNetwork,
+        a: usize,
+        left: &[DVec3],
+        right: &[DVec3],
+    ) {
+        let graph = &net.graph;
+        let arc = &graph.arcs[a];
+        let first = net.segment_ranges[a].start;
+        let last = net.segment_ranges[a].end - 1;
+        let n = left.len();
+        let bank = |element: usize, points: Vec<DVec3>| Border {
+            part: WaterPart::Contact,
+            element,
+            points,
+            closed: false,
         };
-        let Some(ctrl) = net.controllers.get(c) else {
-            continue;
-        };
-        let contour: Vec<DVec2> = ctrl.points.iter().map(|p| p.truncate()).collect();
-        let level = node.position.z;
-        let inflows: Vec<(DVec2, [f64; 3])> = node
-            .arcs_in
-            .iter()
-            .filter_map(|&a| {
-                let r = net.segment_ranges.get(a)?;
-                let seg = net.segments.get(r.end.checked_sub(1)?)?;
-                let end = net.paths.get(a)?.last()?.truncate();
-                Some((end, decoration_values(seg.kind_of_water)))
-            })
-            .collect();
-        let pool = PoolWater {
-            controller: c,
-            node: n,
-            contour,
-            level,
-            depth: node.depth,
-            inflows,
-        };
+        self.borders.push(bank(first, left.to_vec()));
+        self.borders.push(bank(first, right.to_vec()));
+        if graph.nodes[arc.from].kind == NodeKind::Source {
+            self.borders.push(bank(first, vec![left[0], right[0]]));
+        }
+        if graph.nodes[arc.to].kind == NodeKind::Well {
+            self.borders
+                .push(bank(last, vec![left[n - 1], right[n - 1]]));
+        }
+    }
+
+    /// The vertical sheet of free-fall arc `a` along its path, its vertices at the speed of the fall, and its
+    /// lip as a border.
+    fn add_sheet(&mut self, net: &WaterfallNetwork, a: usize, options: &IntegrationOptions) {
+        let path = &net.paths[a];
+        let s = net.segment_ranges[a].start;
+        let seg = &net.segments[s];
+        let w = fall_width(net, a, options);
+        let u = fall_direction(net, a);
+        let nrm = u.perp();
+        let values = decoration_values(seg.kind_of_water);
+        let mut prev: Option<(u32, u32)> = None;
+        for p in path {
+            let l = *p + (nrm * 0.5 * w).extend(0.0);
+            let r = *p - (nrm * 0.5 * w).extend(0.0);
+            let il = self.push(l, u * seg.section.speed, values, WaterPart::FreeFall, s);
+            let ir = self.push(r, u * seg.section.speed, values, WaterPart::FreeFall, s);
+            if let Some((pl, pr)) = prev {
+                self.triangles.push([pl, il, pr]);
+                self.triangles.push([pr, il, ir]);
+            }
+            prev = Some((il, ir));
+        }
+        let lip = path[0];
+        self.borders.push(Border {
+            part: WaterPart::FreeFall,
+            element: s,
+            points: vec![
+                lip + (nrm * 0.5 * w).extend(0.0),
+                lip - (nrm * 0.5 * w).extend(0.0),
+            ],
+            closed: false,
+        });
+    }
+
+    /// A pool's flat triangulation at its level, with values fading from its inflows, and its contour as a
+    /// closed border.
+    fn add_pool(&mut self, pool: PoolWater) {
+        let (c, level) = (pool.controller, pool.level);
         let size = pool_radius(&pool.contour);
         let tri = triangulate(
             &Polygons::new(std::slice::from_ref(&pool.contour)),
             size / 4.0,
         );
-        let base = mesh.vertices.len() as u32;
+        let base = self.vertices.len() as u32;
         for v in &tri.vertices {
             let values = pool_values(&pool, *v);
-            mesh.push(v.extend(level), DVec2::ZERO, values, WaterPart::Pool, c);
+            self.push(v.extend(level), DVec2::ZERO, values, WaterPart::Pool, c);
         }
-        mesh.triangles
+        self.triangles
             .extend(tri.triangles.iter().map(|t| t.map(|i| i + base)));
-        mesh.borders.push(Border {
+        self.borders.push(Border {
             part: WaterPart::Pool,
             element: c,
             points: pool.contour.iter().map(|p| p.extend(level)).collect(),
             closed: true,
         });
-        mesh.pools.push(pool);
+        self.pools.push(pool);
     }
-    Ok(mesh)
 }
 
 /// Largest distance from the centroid of a contour to its points.
