@@ -49,7 +49,7 @@
 //!
 //! The rocks are seeded from the scene's seed and do not depend on the thread count.
 
-use super::integration::{Footprint, WaterMesh, WaterPart};
+use super::integration::{Footprint, PoolWater, WaterMesh, WaterPart};
 use super::network::{Node, NodeKind};
 use super::{ControllerKind, Segment, WaterfallNetwork};
 use crate::error::{Error, Result};
@@ -454,84 +454,7 @@ fn pool_speeds(
     let solved: Vec<Option<PoolSpeeds>> = mesh
         .pools
         .par_iter()
-        .map(|pool| -> Result<_> {
-            let mine = |k: usize| {
-                footprint.nodes[k].is_some_and(|f| {
-                    f.inside > 0.0 && f.part == WaterPart::Pool && f.element == pool.controller
-                })
-            };
-            let (lo, hi) = pool.contour.iter().fold(
-                (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
-                |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-            );
-            let node_of = |v: f64, o: f64| ((v - o) / maps.cell).floor();
-            let i0 = (node_of(lo.x, maps.origin.x) - 1.0).max(0.0) as usize;
-            let j0 = (node_of(lo.y, maps.origin.y) - 1.0).max(0.0) as usize;
-            let i1 = node_of(hi.x, maps.origin.x) + 2.0;
-            let j1 = node_of(hi.y, maps.origin.y) + 2.0;
-            if i1 < 0.0 || j1 < 0.0 {
-                return Ok(None);
-            }
-            let (i1, j1) = (
-                (i1 as usize).min(maps.nx - 1),
-                (j1 as usize).min(maps.ny - 1),
-            );
-            if i1 <= i0 || j1 <= j0 {
-                return Ok(None);
-            }
-            let (bx, by) = (i1 - i0 + 1, j1 - j0 + 1);
-            let mut cx = Constraints::new(bx, by, maps.cell)?;
-            let mut cy = Constraints::new(bx, by, maps.cell)?;
-            // plunge points first: the velocity the falling water brings in
-            let node = &net.graph.nodes[pool.node];
-            for &a in &node.arcs_in {
-                if net.graph.arcs[a].kind != ControllerKind::FreeFall {
-                    continue;
-                }
-                let Some(foot) = net.paths[a].last() else {
-                    continue;
-                };
-                let u = super::integration::fall_direction(net, a);
-                let r = &net.segment_ranges[a];
-                let v = u * net.segments[r.start].section.speed.min(speed_scale(net));
-                let f = ((foot.truncate() - maps.origin) / maps.cell).round();
-                if f.x >= i0 as f64 && f.y >= j0 as f64 && f.x <= i1 as f64 && f.y <= j1 as f64 {
-                    let (i, j) = (f.x as usize - i0, f.y as usize - j0);
-                    cx.set(i, j, v.x)?;
-                    cy.set(i, j, v.y)?;
-                }
-            }
-            for j in 0..by {
-                for i in 0..bx {
-                    let k = (j + j0) * maps.nx + i + i0;
-                    if mine(k) {
-                        continue;
-                    }
-                    let v = if maps.water[k] > 0.5 {
-                        maps.speed[k]
-                    } else {
-                        DVec2::ZERO
-                    };
-                    if cx.get(i, j).is_none() {
-                        cx.set(i, j, v.x)?;
-                        cy.set(i, j, v.y)?;
-                    }
-                }
-            }
-            let o = DiffusionOptions {
-                falloff: None,
-                tolerance: 1e-4,
-                max_cycles: 50,
-            };
-            let (dx, dy) = (diffuse(&cx, &o)?, diffuse(&cy, &o)?);
-            let v = dx
-                .displacement
-                .iter()
-                .zip(&dy.displacement)
-                .map(|(x, y)| DVec2::new(*x, *y))
-                .collect();
-            Ok(Some((i0, j0, bx, by, v)))
-        })
+        .map(|pool| pool_speed_field(net, footprint, maps, pool))
         .collect::<Result<_>>()?;
     for (pool, s) in mesh.pools.iter().zip(solved) {
         let Some((i0, j0, bx, by, v)) = s else {
@@ -540,16 +463,129 @@ fn pool_speeds(
         for j in 0..by {
             for i in 0..bx {
                 let k = (j + j0) * maps.nx + i + i0;
-                let f = footprint.nodes[k];
-                if f.is_some_and(|f| {
-                    f.inside > 0.0 && f.part == WaterPart::Pool && f.element == pool.controller
-                }) {
+                if in_pool(footprint, k, pool) {
                     maps.speed[k] = v[j * bx + i];
                 }
             }
         }
     }
     Ok(())
+}
+
+/// Whether node `k` lies in the water of `pool`.
+fn in_pool(footprint: &Footprint, k: usize, pool: &PoolWater) -> bool {
+    footprint.nodes[k].is_some_and(|f| {
+        f.inside > 0.0 && f.part == WaterPart::Pool && f.element == pool.controller
+    })
+}
+
+/// The nodes `(i0, j0, i1, j1)` of the maps around a pool: its contour's bounds and a node more (two past its
+/// upper ends), within the maps; `None` when that box is empty.
+fn pool_box(pool: &PoolWater, maps: &WaterMaps) -> Option<(usize, usize, usize, usize)> {
+    let (lo, hi) = pool.contour.iter().fold(
+        (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+    );
+    let node_of = |v: f64, o: f64| ((v - o) / maps.cell).floor();
+    let i0 = (node_of(lo.x, maps.origin.x) - 1.0).max(0.0) as usize;
+    let j0 = (node_of(lo.y, maps.origin.y) - 1.0).max(0.0) as usize;
+    let i1 = node_of(hi.x, maps.origin.x) + 2.0;
+    let j1 = node_of(hi.y, maps.origin.y) + 2.0;
+    if i1 < 0.0 || j1 < 0.0 {
+        return None;
+    }
+    let (i1, j1) = (
+        (i1 as usize).min(maps.nx - 1),
+        (j1 as usize).min(maps.ny - 1),
+    );
+    if i1 <= i0 || j1 <= j0 {
+        return None;
+    }
+    Some((i0, j0, i1, j1))
+}
+
+/// A plan velocity fixed on some nodes: one constraint grid per component.
+struct VelocityConstraints {
+    x: Constraints,
+    y: Constraints,
+}
+
+impl VelocityConstraints {
+    fn new(nx: usize, ny: usize, cell: f64) -> Result<Self> {
+        let x = Constraints::new(nx, ny, cell)?;
+        let y = Constraints::new(nx, ny, cell)?;
+        Ok(VelocityConstraints { x, y })
+    }
+
+    fn set(&mut self, i: usize, j: usize, v: DVec2) -> Result<()> {
+        self.x.set(i, j, v.x)?;
+        self.y.set(i, j, v.y)
+    }
+
+    fn is_set(&self, i: usize, j: usize) -> bool {
+        self.x.get(i, j).is_some()
+    }
+}
+
+/// The velocity field of one pool over its box: `(i0, j0, bx, by, velocities)`, `None` when the box is empty.
+fn pool_speed_field(
+    net: &WaterfallNetwork,
+    footprint: &Footprint,
+    maps: &WaterMaps,
+    pool: &PoolWater,
+) -> Result<Option<PoolSpeeds>> {
+    let Some((i0, j0, i1, j1)) = pool_box(pool, maps) else {
+        return Ok(None);
+    };
+    let (bx, by) = (i1 - i0 + 1, j1 - j0 + 1);
+    let mut fixed = VelocityConstraints::new(bx, by, maps.cell)?;
+    // plunge points first: the velocity the falling water brings in
+    let node = &net.graph.nodes[pool.node];
+    for &a in &node.arcs_in {
+        if net.graph.arcs[a].kind != ControllerKind::FreeFall {
+            continue;
+        }
+        let Some(foot) = net.paths[a].last() else {
+            continue;
+        };
+        let u = super::integration::fall_direction(net, a);
+        let r = &net.segment_ranges[a];
+        let v = u * net.segments[r.start].section.speed.min(speed_scale(net));
+        let f = ((foot.truncate() - maps.origin) / maps.cell).round();
+        if f.x >= i0 as f64 && f.y >= j0 as f64 && f.x <= i1 as f64 && f.y <= j1 as f64 {
+            fixed.set(f.x as usize - i0, f.y as usize - j0, v)?;
+        }
+    }
+    // then every node of the box outside the pool: the water's speed there, or rest
+    for j in 0..by {
+        for i in 0..bx {
+            let k = (j + j0) * maps.nx + i + i0;
+            if in_pool(footprint, k, pool) {
+                continue;
+            }
+            let v = if maps.water[k] > 0.5 {
+                maps.speed[k]
+            } else {
+                DVec2::ZERO
+            };
+            if !fixed.is_set(i, j) {
+                fixed.set(i, j, v)?;
+            }
+        }
+    }
+    let o = DiffusionOptions {
+        falloff: None,
+        tolerance: 1e-4,
+        max_cycles: 50,
+    };
+    let (dx, dy) = (diffuse(&fixed.x, &o)?, diffuse(&fixed.y, &o)?);
+    let v = dx
+        .displacement
+        .iter()
+        .zip(&dy.displacement)
+        .map(|(x, y)| DVec2::new(*x, *y))
+        .collect();
+    Ok(Some((i0, j0, bx, by, v)))
 }
 
 /// The fastest contact speed of the network: a plunge brings water into its pool no faster.
