@@ -61,71 +61,9 @@ pub fn interpolate_colors(a: &Color, b: &Color, t: f64, name: &str) -> Result<Co
     let near = if t < 0.5 { a } else { b };
     let lerp = |x: f64, y: f64| (1.0 - t) * x + t * y;
 
-    // categories: union, records from the nearer color, then priority order (stable)
-    let mut categories: Vec<CategoryColor> = Vec::new();
-    for ca in &a.categories {
-        match b.category(&ca.category.name) {
-            Some(cb) => categories.push(interpolate_category(ca, cb, t)),
-            None => categories.push(scaled_category(ca, 1.0 - t)),
-        }
-    }
-    for cb in &b.categories {
-        if a.category(&cb.category.name).is_none() {
-            categories.push(scaled_category(cb, t));
-        }
-    }
-    categories.sort_by_key(|c| c.category.priority);
-
-    // pairs
-    let mut pairs: Vec<PairInteraction> = Vec::new();
-    let find_pair = |c: &Color, p: &PairInteraction| {
-        c.pairs
-            .iter()
-            .find(|q| q.category == p.category && q.other == p.other)
-            .cloned()
-    };
-    for pa in &a.pairs {
-        let interaction = match find_pair(b, pa) {
-            Some(pb) => interpolate_interaction(&pa.interaction, &pb.interaction, t),
-            None => pa.interaction.clone(),
-        };
-        pairs.push(PairInteraction {
-            category: pa.category.clone(),
-            other: pa.other.clone(),
-            interaction,
-        });
-    }
-    for pb in &b.pairs {
-        if find_pair(a, pb).is_none() {
-            pairs.push(pb.clone());
-        }
-    }
-
-    // maps
-    let mut maps: Vec<MapInteraction> = Vec::new();
-    let find_map = |c: &Color, m: &MapInteraction| {
-        c.maps
-            .iter()
-            .find(|q| q.category == m.category && q.map == m.map)
-            .cloned()
-    };
-    for ma in &a.maps {
-        match find_map(b, ma) {
-            Some(mb) => maps.push(MapInteraction {
-                category: ma.category.clone(),
-                map: ma.map.clone(),
-                hist: displacement_interpolate(&ma.hist, &mb.hist, t),
-                region_hist: displacement_interpolate(&ma.region_hist, &mb.region_hist, t),
-                source: ma.source,
-            }),
-            None => maps.push(ma.clone()),
-        }
-    }
-    for mb in &b.maps {
-        if find_map(a, mb).is_none() {
-            maps.push(mb.clone());
-        }
-    }
+    let categories = merged_categories(a, b, t);
+    let mut pairs = merged_pairs(a, b, t);
+    let mut maps = merged_maps(a, b, t);
     // drop what belongs to a category that was dropped (weight 0 cannot happen for 0 < t < 1, but stay safe)
     let known = |n: &str| categories.iter().any(|c| c.category.name == n);
     pairs.retain(|p| known(&p.category) && known(&p.other));
@@ -161,6 +99,82 @@ pub fn interpolate_colors(a: &Color, b: &Color, t: f64, name: &str) -> Result<Co
     };
     color.validate()?;
     Ok(color)
+}
+
+/// The categories of both colors: those of both interpolated, the others scaled by their color's weight, in
+/// priority order (stable).
+fn merged_categories(a: &Color, b: &Color, t: f64) -> Vec<CategoryColor> {
+    let mut categories: Vec<CategoryColor> = Vec::new();
+    for ca in &a.categories {
+        match b.category(&ca.category.name) {
+            Some(cb) => categories.push(interpolate_category(ca, cb, t)),
+            None => categories.push(scaled_category(ca, 1.0 - t)),
+        }
+    }
+    for cb in &b.categories {
+        if a.category(&cb.category.name).is_none() {
+            categories.push(scaled_category(cb, t));
+        }
+    }
+    categories.sort_by_key(|c| c.category.priority);
+    categories
+}
+
+/// The pair interactions of both colors: those of both interpolated, the others kept.
+fn merged_pairs(a: &Color, b: &Color, t: f64) -> Vec<PairInteraction> {
+    let mut pairs: Vec<PairInteraction> = Vec::new();
+    let find_pair = |c: &Color, p: &PairInteraction| {
+        c.pairs
+            .iter()
+            .find(|q| q.category == p.category && q.other == p.other)
+            .cloned()
+    };
+    for pa in &a.pairs {
+        let interaction = match find_pair(b, pa) {
+            Some(pb) => interpolate_interaction(&pa.interaction, &pb.interaction, t),
+            None => pa.interaction.clone(),
+        };
+        pairs.push(PairInteraction {
+            category: pa.category.clone(),
+            other: pa.other.clone(),
+            interaction,
+        });
+    }
+    for pb in &b.pairs {
+        if find_pair(a, pb).is_none() {
+            pairs.push(pb.clone());
+        }
+    }
+    pairs
+}
+
+/// The map interactions of both colors: those of both transported, the others kept.
+fn merged_maps(a: &Color, b: &Color, t: f64) -> Vec<MapInteraction> {
+    let mut maps: Vec<MapInteraction> = Vec::new();
+    let find_map = |c: &Color, m: &MapInteraction| {
+        c.maps
+            .iter()
+            .find(|q| q.category == m.category && q.map == m.map)
+            .cloned()
+    };
+    for ma in &a.maps {
+        match find_map(b, ma) {
+            Some(mb) => maps.push(MapInteraction {
+                category: ma.category.clone(),
+                map: ma.map.clone(),
+                hist: displacement_interpolate(&ma.hist, &mb.hist, t),
+                region_hist: displacement_interpolate(&ma.region_hist, &mb.region_hist, t),
+                source: ma.source,
+            }),
+            None => maps.push(ma.clone()),
+        }
+    }
+    for mb in &b.maps {
+        if find_map(a, mb).is_none() {
+            maps.push(mb.clone());
+        }
+    }
+    maps
 }
 
 /// Entries of `a` and `b` matched by category: blended where both have one, kept where one has.

@@ -373,58 +373,82 @@ impl Color {
     /// Checks what synthesis relies on (as read from a file it may be anything): positive finite radii,
     /// histogram shapes, known category names.
     pub fn validate(&self) -> Result<()> {
-        let bad = |m: String| Err(Error::Json(format!("color '{}': {m}", self.name)));
+        self.validate_scales()?;
+        self.validate_categories()?;
+        self.validate_pairs()?;
+        self.validate_maps()?;
+        self.validate_graphs()?;
+        self.validate_polygons()
+    }
+
+    /// A validation error naming the color.
+    fn invalid<T>(&self, m: String) -> Result<T> {
+        Err(Error::Json(format!("color '{}': {m}", self.name)))
+    }
+
+    /// A histogram has valid bins (or no values) and finite, non-negative values.
+    fn check_hist(&self, h: &Histogram, what: &str) -> Result<()> {
+        if !(h.bin_width.is_finite() && h.bin_width > 0.0 && h.start.is_finite())
+            && !h.values.is_empty()
+        {
+            return Err(Error::Json(format!(
+                "color '{}': {what} histogram has bad bins",
+                self.name
+            )));
+        }
+        if h.values.iter().any(|v| !v.is_finite() || *v < 0.0) {
+            return Err(Error::Json(format!(
+                "color '{}': {what} histogram has negative or non-finite values",
+                self.name
+            )));
+        }
+        Ok(())
+    }
+
+    /// The rdf's radius and bin width, and the region's area.
+    fn validate_scales(&self) -> Result<()> {
         if !(self.max_radius.is_finite() && self.max_radius > 0.0) {
-            return bad(format!("max_radius {} is not positive", self.max_radius));
+            return self.invalid(format!("max_radius {} is not positive", self.max_radius));
         }
         if !(self.bin_width.is_finite() && self.bin_width > 0.0) {
-            return bad(format!("bin_width {} is not positive", self.bin_width));
+            return self.invalid(format!("bin_width {} is not positive", self.bin_width));
         }
         if !(self.region_area.is_finite() && self.region_area >= 0.0) {
-            return bad("region_area is not valid".into());
+            return self.invalid("region_area is not valid".into());
         }
-        let check_hist = |h: &Histogram, what: &str| -> Result<()> {
-            if !(h.bin_width.is_finite() && h.bin_width > 0.0 && h.start.is_finite())
-                && !h.values.is_empty()
-            {
-                return Err(Error::Json(format!(
-                    "color '{}': {what} histogram has bad bins",
-                    self.name
-                )));
-            }
-            if h.values.iter().any(|v| !v.is_finite() || *v < 0.0) {
-                return Err(Error::Json(format!(
-                    "color '{}': {what} histogram has negative or non-finite values",
-                    self.name
-                )));
-            }
-            Ok(())
-        };
+        Ok(())
+    }
+
+    fn validate_categories(&self) -> Result<()> {
         for c in &self.categories {
             if !(c.density.is_finite() && c.density >= 0.0) {
-                return bad(format!(
+                return self.invalid(format!(
                     "category '{}' density is not valid",
                     c.category.name
                 ));
             }
-            check_hist(&c.scale, "scale")?;
-            check_hist(&c.rotation, "rotation")?;
+            self.check_hist(&c.scale, "scale")?;
+            self.check_hist(&c.rotation, "rotation")?;
             if c.prototype_weights
                 .iter()
                 .any(|w| !w.is_finite() || *w < 0.0)
             {
-                return bad(format!("category '{}' prototype weights", c.category.name));
+                return self.invalid(format!("category '{}' prototype weights", c.category.name));
             }
         }
+        Ok(())
+    }
+
+    fn validate_pairs(&self) -> Result<()> {
         for p in &self.pairs {
             if self.category(&p.category).is_none() || self.category(&p.other).is_none() {
-                return bad(format!(
+                return self.invalid(format!(
                     "pair {}-{} names an unknown category",
                     p.category, p.other
                 ));
             }
             match &p.interaction {
-                Interaction::Rdf { hist } => check_hist(hist, "rdf")?,
+                Interaction::Rdf { hist } => self.check_hist(hist, "rdf")?,
                 Interaction::OrientedRdf {
                     distance_bin,
                     angle_bins,
@@ -435,46 +459,58 @@ impl Color {
                         || values.len() % angle_bins != 0
                         || values.iter().any(|v| !v.is_finite() || *v < 0.0)
                     {
-                        return bad(format!("oriented rdf {}-{}", p.category, p.other));
+                        return self.invalid(format!("oriented rdf {}-{}", p.category, p.other));
                     }
                 }
             }
         }
+        Ok(())
+    }
+
+    fn validate_maps(&self) -> Result<()> {
         for m in &self.maps {
             if self.category(&m.category).is_none() {
-                return bad(format!(
+                return self.invalid(format!(
                     "map histogram names unknown category {}",
                     m.category
                 ));
             }
-            check_hist(&m.hist, "map")?;
-            check_hist(&m.region_hist, "map region")?;
+            self.check_hist(&m.hist, "map")?;
+            self.check_hist(&m.region_hist, "map region")?;
             if m.source != MapSource::Terrain && self.category(&m.map).is_none() {
-                return bad(format!(
+                return self.invalid(format!(
                     "distance map of {} names unknown category {}",
                     m.category, m.map
                 ));
             }
         }
+        Ok(())
+    }
+
+    fn validate_graphs(&self) -> Result<()> {
         for g in &self.graphs {
             if self.category(&g.category).is_none() {
-                return bad(format!(
+                return self.invalid(format!(
                     "graph statistics name unknown category {}",
                     g.category
                 ));
             }
-            check_hist(&g.edge_length, "edge length")?;
-            check_hist(&g.angle, "angle")?;
+            self.check_hist(&g.edge_length, "edge length")?;
+            self.check_hist(&g.angle, "angle")?;
             let finite = [g.min_angle, g.edges_per_node, g.components_per_area]
                 .iter()
                 .all(|v| v.is_finite() && *v >= 0.0);
             if !finite || g.degree.iter().any(|v| !v.is_finite() || *v < 0.0) {
-                return bad(format!("graph statistics of {} are not valid", g.category));
+                return self.invalid(format!("graph statistics of {} are not valid", g.category));
             }
         }
+        Ok(())
+    }
+
+    fn validate_polygons(&self) -> Result<()> {
         for p in &self.polygons {
             if self.category(&p.category).is_none() || !(p.spacing.is_finite() && p.spacing > 0.0) {
-                return bad(format!(
+                return self.invalid(format!(
                     "polygon statistics of {} are not valid",
                     p.category
                 ));

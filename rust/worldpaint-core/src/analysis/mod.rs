@@ -32,7 +32,8 @@
 use crate::error::{Error, Result};
 use crate::geom::{DVec2, Region};
 use crate::palette::{
-    CategoryColor, Color, Histogram, Interaction, MapInteraction, MapSource, PairInteraction,
+    CategoryColor, Color, GraphColor, Histogram, Interaction, MapInteraction, MapSource,
+    PairInteraction, PolygonColor,
 };
 use crate::scene::{Category, CategoryKind, Instance, Scene};
 
@@ -103,25 +104,63 @@ pub fn learn_color(
 ) -> Result<Color> {
     region.validate()?;
     let area = region.area();
-    // categories in priority order (ties: order in the scene)
+    let content = structure::Structures::of(scene, region);
+    let groups = exemplar_groups(scene, region, &content)?;
+    let (max_radius, bin_width) = radius_and_bin_width(opts, region, &groups)?;
+    let n_bins = ((max_radius / bin_width).round() as usize).max(1);
+    let grids = groups
+        .iter()
+        .map(|g| point_grid(region, &g.positions, max_radius))
+        .collect();
+    let exemplar = Exemplar {
+        region,
+        area,
+        content: &content,
+        groups,
+        grids,
+        max_radius,
+        bin_width,
+        n_bins,
+    };
+
+    let categories = exemplar.category_colors();
+    let pairs = exemplar.pair_interactions(&opts.oriented);
+    let mut maps = exemplar.terrain_map_interactions(scene, &opts.maps)?;
+    maps.extend(exemplar.distance_map_interactions());
+    let graphs = exemplar.graph_colors();
+    let polygons = exemplar.polygon_colors();
+    let preview = exemplar.preview();
+
+    Ok(Color {
+        name: name.to_string(),
+        region: region.clone(),
+        region_area: area,
+        max_radius,
+        bin_width,
+        categories,
+        pairs,
+        maps,
+        graphs,
+        polygons,
+        preview,
+    })
+}
+
+/// The groups of the exemplar: one per category with content inside the region, in priority order (ties: order
+/// in the scene).
+fn exemplar_groups<'s>(
+    scene: &'s Scene,
+    region: &Region,
+    content: &structure::Structures,
+) -> Result<Vec<Group<'s>>> {
     let mut order: Vec<usize> = (0..scene.categories.len())
         .filter(|&c| scene.categories[c].kind != CategoryKind::External)
         .collect();
     order.sort_by_key(|&c| (scene.categories[c].priority, c));
-    let content = structure::Structures::of(scene, region);
     let mut groups: Vec<Group> = Vec::new();
     for &c in &order {
         let category = &scene.categories[c];
-        let instances: Vec<Instance> = match category.kind {
-            CategoryKind::Graph => content.graph_nodes_inside(c, category, region),
-            CategoryKind::Polygon => content.polygon_points_inside(c, category, region),
-            _ => scene
-                .instances
-                .iter()
-                .filter(|i| i.category == c && region.contains(i.position))
-                .copied()
-                .collect(),
-        };
+        let instances = category_points(scene, region, content, c);
         if instances.is_empty() {
             continue;
         }
@@ -139,7 +178,37 @@ pub fn learn_color(
             region.bbox()
         )));
     }
+    Ok(groups)
+}
 
+/// The points of category `c` inside the region: its instances, the nodes of its graph or the dense points of
+/// its contours.
+fn category_points(
+    scene: &Scene,
+    region: &Region,
+    content: &structure::Structures,
+    c: usize,
+) -> Vec<Instance> {
+    let category = &scene.categories[c];
+    match category.kind {
+        CategoryKind::Graph => content.graph_nodes_inside(c, category, region),
+        CategoryKind::Polygon => content.polygon_points_inside(c, category, region),
+        _ => scene
+            .instances
+            .iter()
+            .filter(|i| i.category == c && region.contains(i.position))
+            .copied()
+            .collect(),
+    }
+}
+
+/// The rdf's maximum radius and bin width: the options' when given (and valid), else the rule in the module
+/// documentation.
+fn radius_and_bin_width(
+    opts: &AnalysisOptions,
+    region: &Region,
+    groups: &[Group],
+) -> Result<(f64, f64)> {
     let max_radius = match opts.max_radius {
         Some(r) if r.is_finite() && r > 0.0 => r,
         Some(r) => {
@@ -147,7 +216,7 @@ pub fn learn_color(
                 "max_radius {r} must be positive"
             )))
         }
-        None => default_max_radius(region, &groups),
+        None => default_max_radius(region, groups),
     };
     let bin_width = match opts.bin_width {
         Some(w) if w.is_finite() && w > 0.0 && w <= max_radius => w,
@@ -158,118 +227,172 @@ pub fn learn_color(
         }
         None => max_radius / DEFAULT_RDF_BINS as f64,
     };
-    let n_bins = ((max_radius / bin_width).round() as usize).max(1);
+    Ok((max_radius, bin_width))
+}
 
-    let grid_of = |positions: &[DVec2], cell: f64| {
-        let (lo, hi) = region.bbox();
-        let mut grid = SpatialGrid::new(lo, hi, cell);
-        for (k, p) in positions.iter().enumerate() {
-            grid.insert(GridEntry {
-                position: *p,
-                tag: 0,
-                id: k as u32,
-            });
+/// A neighbour grid of `positions` over the region's bounding box, with cells of `cell`; entries are tagged
+/// with their index.
+fn point_grid(region: &Region, positions: &[DVec2], cell: f64) -> SpatialGrid {
+    let (lo, hi) = region.bbox();
+    let mut grid = SpatialGrid::new(lo, hi, cell);
+    for (k, p) in positions.iter().enumerate() {
+        grid.insert(GridEntry {
+            position: *p,
+            tag: 0,
+            id: k as u32,
+        });
+    }
+    grid
+}
+
+/// Graphs and polygons meet the other categories through distance maps, not pair statistics.
+fn meets_through_maps(gx: &Group, gy: &Group) -> bool {
+    gx.kind() == CategoryKind::Polygon || gy.kind() != CategoryKind::Distribution
+}
+
+/// Whether the pair (X, Y), in either order, is listed for an oriented rdf.
+fn wants_oriented(oriented: &[(String, String)], gx: &Group, gy: &Group) -> bool {
+    oriented.iter().any(|(a, b)| {
+        (a == &gx.category.name && b == &gy.category.name)
+            || (b == &gx.category.name && a == &gy.category.name)
+    })
+}
+
+/// The exemplar being learned: its groups in priority order, a neighbour grid of each (cells of `max_radius`),
+/// and the scale of the rdf.
+struct Exemplar<'a> {
+    region: &'a Region,
+    area: f64,
+    content: &'a structure::Structures,
+    groups: Vec<Group<'a>>,
+    grids: Vec<SpatialGrid>,
+    max_radius: f64,
+    bin_width: f64,
+    n_bins: usize,
+}
+
+impl Exemplar<'_> {
+    /// The per-category statistics of every group.
+    fn category_colors(&self) -> Vec<CategoryColor> {
+        let mut categories = Vec::with_capacity(self.groups.len());
+        for (gi, g) in self.groups.iter().enumerate() {
+            categories.push(category_color(
+                g,
+                self.area,
+                &self.grids[gi],
+                self.max_radius,
+            ));
         }
-        grid
-    };
-    let grids: Vec<SpatialGrid> = groups
-        .iter()
-        .map(|g| grid_of(&g.positions, max_radius))
-        .collect();
-
-    let mut categories = Vec::with_capacity(groups.len());
-    for (gi, g) in groups.iter().enumerate() {
-        categories.push(category_color(g, area, &grids[gi], max_radius));
+        categories
     }
 
-    let mut pairs = Vec::new();
-    for (xi, gx) in groups.iter().enumerate() {
-        for (yi, gy) in groups.iter().enumerate().take(xi + 1) {
-            let same = xi == yi;
-            // graphs and polygons meet the rest through distance maps, not pair statistics
-            let structured = |g: &Group| g.kind() != CategoryKind::Distribution;
-            if !same && (structured(gx) && gx.kind() == CategoryKind::Polygon || structured(gy)) {
-                continue;
-            }
-            let hist = if same && gx.kind() == CategoryKind::Polygon {
-                // dense points: the rdf spans the polygons' own scale
-                let radius = content.polygon_radius(gx.category, region);
-                let width = radius / DEFAULT_RDF_BINS as f64;
-                let grid = grid_of(&gx.positions, radius);
-                rdf(
-                    region,
-                    area,
-                    &gx.positions,
-                    &gx.positions,
-                    &grid,
-                    true,
-                    width,
-                    DEFAULT_RDF_BINS,
-                )
-            } else {
-                rdf(
-                    region,
-                    area,
-                    &gx.positions,
-                    &gy.positions,
-                    &grids[yi],
-                    same,
-                    bin_width,
-                    n_bins,
-                )
-            };
-            pairs.push(PairInteraction {
-                category: gx.category.name.clone(),
-                other: gy.category.name.clone(),
-                interaction: Interaction::Rdf { hist },
-            });
-            let wanted = opts.oriented.iter().any(|(a, b)| {
-                (a == &gx.category.name && b == &gy.category.name)
-                    || (b == &gx.category.name && a == &gy.category.name)
-            });
-            if wanted {
-                let values = oriented_rdf(
-                    region,
-                    area,
-                    &gx.positions,
-                    &gy.positions,
-                    &grids[yi],
-                    same,
-                    bin_width,
-                    n_bins,
-                );
+    /// The rdf of every pair (X, Y) with Y of equal or higher priority, and the oriented rdf of the pairs listed
+    /// in `oriented`.
+    fn pair_interactions(&self, oriented: &[(String, String)]) -> Vec<PairInteraction> {
+        let mut pairs = Vec::new();
+        for (xi, gx) in self.groups.iter().enumerate() {
+            for (yi, gy) in self.groups.iter().enumerate().take(xi + 1) {
+                if xi != yi && meets_through_maps(gx, gy) {
+                    continue;
+                }
                 pairs.push(PairInteraction {
                     category: gx.category.name.clone(),
                     other: gy.category.name.clone(),
-                    interaction: Interaction::OrientedRdf {
-                        distance_bin: bin_width,
-                        angle_bins: ORIENTED_ANGLE_BINS,
-                        values,
+                    interaction: Interaction::Rdf {
+                        hist: self.pair_rdf(xi, yi),
                     },
                 });
+                if wants_oriented(oriented, gx, gy) {
+                    pairs.push(PairInteraction {
+                        category: gx.category.name.clone(),
+                        other: gy.category.name.clone(),
+                        interaction: Interaction::OrientedRdf {
+                            distance_bin: self.bin_width,
+                            angle_bins: ORIENTED_ANGLE_BINS,
+                            values: self.pair_oriented_rdf(xi, yi),
+                        },
+                    });
+                }
             }
+        }
+        pairs
+    }
+
+    /// The window-corrected rdf of groups `xi` and `yi`.
+    fn pair_rdf(&self, xi: usize, yi: usize) -> Histogram {
+        let (gx, gy) = (&self.groups[xi], &self.groups[yi]);
+        let same = xi == yi;
+        if same && gx.kind() == CategoryKind::Polygon {
+            // dense points: the rdf spans the polygons' own scale
+            let radius = self.content.polygon_radius(gx.category, self.region);
+            let width = radius / DEFAULT_RDF_BINS as f64;
+            let grid = point_grid(self.region, &gx.positions, radius);
+            rdf(
+                self.region,
+                self.area,
+                &gx.positions,
+                &gx.positions,
+                &grid,
+                true,
+                width,
+                DEFAULT_RDF_BINS,
+            )
+        } else {
+            rdf(
+                self.region,
+                self.area,
+                &gx.positions,
+                &gy.positions,
+                &self.grids[yi],
+                same,
+                self.bin_width,
+                self.n_bins,
+            )
         }
     }
 
-    let map_names: Vec<String> = if !opts.maps.is_empty() {
-        opts.maps.clone()
-    } else if scene.terrain.is_some() {
-        vec!["elevation".into(), "slope".into()]
-    } else {
-        Vec::new()
-    };
-    let mut maps = Vec::new();
-    if !map_names.is_empty() {
+    /// The oriented rdf of groups `xi` and `yi`.
+    fn pair_oriented_rdf(&self, xi: usize, yi: usize) -> Vec<f64> {
+        oriented_rdf(
+            self.region,
+            self.area,
+            &self.groups[xi].positions,
+            &self.groups[yi].positions,
+            &self.grids[yi],
+            xi == yi,
+            self.bin_width,
+            self.n_bins,
+        )
+    }
+
+    /// The histograms of terrain maps at every group (`maps`, or elevation and slope when none is named and the
+    /// scene has a terrain), each with the map's histogram over the region.
+    fn terrain_map_interactions(
+        &self,
+        scene: &Scene,
+        maps: &[String],
+    ) -> Result<Vec<MapInteraction>> {
+        let map_names: Vec<String> = if !maps.is_empty() {
+            maps.to_vec()
+        } else if scene.terrain.is_some() {
+            vec!["elevation".into(), "slope".into()]
+        } else {
+            Vec::new()
+        };
+        let mut out = Vec::new();
+        if map_names.is_empty() {
+            return Ok(out);
+        }
         let terrain = scene.terrain.as_deref().ok_or_else(|| {
             Error::InvalidInput(format!(
                 "maps {map_names:?} asked for but the scene has no terrain"
             ))
         })?;
-        let samples = region_lattice(region, terrain);
+        let samples = region_lattice(self.region, terrain);
         if samples.is_empty() {
             return Err(Error::RegionOffTerrain(format!(
                 "exemplar region bbox {:?} does not overlap the terrain {:?}",
-                region.bbox(),
+                self.region.bbox(),
                 terrain.bbox()
             )));
         }
@@ -282,9 +405,9 @@ pub fn learn_color(
                 .filter_map(|p| terrain.map_at(map, *p))
                 .collect();
             let bins = map_bins(map, &values);
-            for g in &groups {
+            for g in &self.groups {
                 let at = g.positions.iter().filter_map(|p| terrain.map_at(map, *p));
-                maps.push(map_interaction(
+                out.push(map_interaction(
                     g,
                     map,
                     MapSource::Terrain,
@@ -294,71 +417,80 @@ pub fn learn_color(
                 ));
             }
         }
+        Ok(out)
     }
-    // distances to the graphs and polygons of higher priority (Section 4.1 distance-to-graph, thesis 6.2.1)
-    let samples = region_samples(region);
-    for (yi, gy) in groups.iter().enumerate() {
-        let source = match gy.kind() {
-            CategoryKind::Graph => MapSource::GraphDistance,
-            CategoryKind::Polygon => MapSource::PolygonDistance,
-            _ => continue,
-        };
-        let Some(field) = content.distance_field(gy.category, source, max_radius) else {
-            continue;
-        };
-        let values: Vec<f64> = samples.iter().map(|p| field(*p)).collect();
-        for gx in groups.iter().skip(yi + 1) {
-            let at: Vec<f64> = gx.positions.iter().map(|p| field(*p)).collect();
-            let bins = distance_bins(source, max_radius, &at);
-            maps.push(map_interaction(
-                gx,
-                &gy.category.name,
-                source,
-                &bins,
-                &values,
-                at.into_iter(),
-            ));
+
+    /// The histograms of the distances to the graphs and polygons of higher priority (Section 4.1
+    /// distance-to-graph, thesis 6.2.1) at every later group.
+    fn distance_map_interactions(&self) -> Vec<MapInteraction> {
+        let mut out = Vec::new();
+        let samples = region_samples(self.region);
+        for (yi, gy) in self.groups.iter().enumerate() {
+            let source = match gy.kind() {
+                CategoryKind::Graph => MapSource::GraphDistance,
+                CategoryKind::Polygon => MapSource::PolygonDistance,
+                _ => continue,
+            };
+            let Some(field) = self
+                .content
+                .distance_field(gy.category, source, self.max_radius)
+            else {
+                continue;
+            };
+            let values: Vec<f64> = samples.iter().map(|p| field(*p)).collect();
+            for gx in self.groups.iter().skip(yi + 1) {
+                let at: Vec<f64> = gx.positions.iter().map(|p| field(*p)).collect();
+                let bins = distance_bins(source, self.max_radius, &at);
+                out.push(map_interaction(
+                    gx,
+                    &gy.category.name,
+                    source,
+                    &bins,
+                    &values,
+                    at.into_iter(),
+                ));
+            }
         }
+        out
     }
 
-    let graphs = groups
-        .iter()
-        .filter(|g| g.kind() == CategoryKind::Graph)
-        .filter_map(|g| content.graph_color(g.category, region, &groups_before(&groups, g)))
-        .collect();
-    let polygons = groups
-        .iter()
-        .filter(|g| g.kind() == CategoryKind::Polygon)
-        .filter_map(|g| content.polygon_color(g.category))
-        .collect();
+    /// The statistics of the graph categories (see [`structure`]).
+    fn graph_colors(&self) -> Vec<GraphColor> {
+        self.groups
+            .iter()
+            .filter(|g| g.kind() == CategoryKind::Graph)
+            .filter_map(|g| {
+                self.content
+                    .graph_color(g.category, self.region, &groups_before(&self.groups, g))
+            })
+            .collect()
+    }
 
-    let (lo, _) = region.bbox();
-    let total: usize = groups.iter().map(|g| g.positions.len()).sum();
-    let step = total.div_ceil(20_000).max(1);
-    let preview = groups
-        .iter()
-        .enumerate()
-        .flat_map(|(gi, g)| {
-            g.positions
-                .iter()
-                .map(move |p| [p.x - lo.x, p.y - lo.y, gi as f64])
-        })
-        .step_by(step)
-        .collect();
+    /// The statistics of the polygon categories.
+    fn polygon_colors(&self) -> Vec<PolygonColor> {
+        self.groups
+            .iter()
+            .filter(|g| g.kind() == CategoryKind::Polygon)
+            .filter_map(|g| self.content.polygon_color(g.category))
+            .collect()
+    }
 
-    Ok(Color {
-        name: name.to_string(),
-        region: region.clone(),
-        region_area: area,
-        max_radius,
-        bin_width,
-        categories,
-        pairs,
-        maps,
-        graphs,
-        polygons,
-        preview,
-    })
+    /// At most about 20 000 of the groups' points, relative to the region's corner, with their group's index.
+    fn preview(&self) -> Vec<[f64; 3]> {
+        let (lo, _) = self.region.bbox();
+        let total: usize = self.groups.iter().map(|g| g.positions.len()).sum();
+        let step = total.div_ceil(20_000).max(1);
+        self.groups
+            .iter()
+            .enumerate()
+            .flat_map(|(gi, g)| {
+                g.positions
+                    .iter()
+                    .map(move |p| [p.x - lo.x, p.y - lo.y, gi as f64])
+            })
+            .step_by(step)
+            .collect()
+    }
 }
 
 /// The groups of higher priority than `g`: (category, kind, positions).

@@ -178,66 +178,36 @@ impl Structures {
         before: &[(&Category, &[DVec2])],
     ) -> Option<GraphColor> {
         let g = self.graphs.get(&category.name)?;
-        let adj = g.adjacency();
-        let inside: Vec<bool> = g
-            .nodes
-            .iter()
-            .zip(&adj)
-            .map(|(p, n)| !n.is_empty() && region.contains(*p))
-            .collect();
-        let nodes: Vec<usize> = (0..g.nodes.len()).filter(|&n| inside[n]).collect();
-        if nodes.is_empty() {
-            return None;
-        }
-        let edges: Vec<[u32; 2]> = g
-            .edges
-            .iter()
-            .copied()
-            .filter(|e| inside[e[0] as usize] || inside[e[1] as usize])
-            .collect();
-        let lengths: Vec<f64> = edges.iter().map(|e| g.edge_length(*e)).collect();
-        let longest = lengths.iter().copied().fold(0.0, f64::max).max(1e-9);
-        let mut edge_length = Histogram::zeros(0.0, 1.05 * longest / EDGE_BINS as f64, EDGE_BINS);
-        for l in &lengths {
-            edge_length.add(*l, 1.0);
-        }
-        let mut angle = Histogram::zeros(0.0, PI / ANGLE_BINS as f64, ANGLE_BINS);
-        let mut min_angle = PI;
-        let mut degree = vec![0.0; 4];
-        for &n in &nodes {
-            let nb = &adj[n];
-            degree[nb.len().clamp(1, 4) - 1] += 1.0;
-            for (i, &a) in nb.iter().enumerate() {
-                for &b in &nb[i + 1..] {
-                    let t = g.angle_at(n as u32, a, b);
-                    angle.add(t.min(PI - 1e-12), 1.0);
-                    min_angle = min_angle.min(t);
-                }
-            }
-        }
-        let total_degree: f64 = nodes.iter().map(|&n| adj[n].len() as f64).sum();
-        degree.iter_mut().for_each(|d| *d /= nodes.len() as f64);
-        // components of the graph the region holds
-        let held = Graph {
-            nodes: g.nodes.clone(),
-            edges: g
-                .edges
-                .iter()
-                .copied()
-                .filter(|e| inside[e[0] as usize] && inside[e[1] as usize])
-                .collect(),
-        };
-        let components = held.components()
-            + nodes
-                .iter()
-                .filter(|&&n| {
-                    held.edges
-                        .iter()
-                        .all(|e| e[0] as usize != n && e[1] as usize != n)
-                })
-                .count();
+        let held = HeldGraph::of(g, region)?;
+        let (angle, min_angle, degree) = held.node_statistics();
+        let total_degree: f64 = held.nodes.iter().map(|&n| held.adj[n].len() as f64).sum();
+        let n_nodes = held.nodes.len() as f64;
+        let components = held.components();
+        let (clearance, avoids) = self.clearance_and_avoids(&held, region, before);
+        Some(GraphColor {
+            category: category.name.clone(),
+            edge_length: held.edge_length().normalized(),
+            angle: angle.normalized(),
+            degree,
+            min_angle,
+            edges_per_node: 0.5 * total_degree / n_nodes,
+            components_per_area: components as f64 / region.area(),
+            clearance,
+            avoids,
+        })
+    }
+
+    /// How close the graph comes to each distribution of higher priority (its smallest distance to their points),
+    /// and the polygon categories of higher priority whose borders none of its edges crosses.
+    fn clearance_and_avoids(
+        &self,
+        held: &HeldGraph,
+        region: &Region,
+        before: &[(&Category, &[DVec2])],
+    ) -> (Vec<(String, f64)>, Vec<String>) {
+        let g = held.g;
         let segments = SegmentIndex::new(
-            edges
+            held.edges
                 .iter()
                 .map(|e| (g.nodes[e[0] as usize], g.nodes[e[1] as usize]))
                 .collect(),
@@ -261,7 +231,7 @@ impl Structures {
                             .flat_map(|c| (0..c.len()).map(move |i| (c[i], c[(i + 1) % c.len()])))
                             .collect();
                         let border = SegmentIndex::new(border);
-                        let crosses = edges.iter().any(|e| {
+                        let crosses = held.edges.iter().any(|e| {
                             border.crosses(g.nodes[e[0] as usize], g.nodes[e[1] as usize], 0.0)
                         });
                         if !crosses {
@@ -272,17 +242,7 @@ impl Structures {
                 _ => {}
             }
         }
-        Some(GraphColor {
-            category: category.name.clone(),
-            edge_length: edge_length.normalized(),
-            angle: angle.normalized(),
-            degree,
-            min_angle,
-            edges_per_node: 0.5 * total_degree / nodes.len() as f64,
-            components_per_area: components as f64 / region.area(),
-            clearance,
-            avoids,
-        })
+        (clearance, avoids)
     }
 
     /// The statistics of a polygon category: the spacing of its dense points.
@@ -293,5 +253,103 @@ impl Structures {
                 category: category.name.clone(),
                 spacing: *spacing,
             })
+    }
+}
+
+/// The part of a graph an exemplar region holds: its connected nodes inside, and every edge with an end inside.
+struct HeldGraph<'g> {
+    g: &'g Graph,
+    adj: Vec<Vec<u32>>,
+    inside: Vec<bool>,
+    nodes: Vec<usize>,
+    edges: Vec<[u32; 2]>,
+}
+
+impl<'g> HeldGraph<'g> {
+    /// `None` when no connected node lies inside.
+    fn of(g: &'g Graph, region: &Region) -> Option<HeldGraph<'g>> {
+        let adj = g.adjacency();
+        let inside: Vec<bool> = g
+            .nodes
+            .iter()
+            .zip(&adj)
+            .map(|(p, n)| !n.is_empty() && region.contains(*p))
+            .collect();
+        let nodes: Vec<usize> = (0..g.nodes.len()).filter(|&n| inside[n]).collect();
+        if nodes.is_empty() {
+            return None;
+        }
+        let edges: Vec<[u32; 2]> = g
+            .edges
+            .iter()
+            .copied()
+            .filter(|e| inside[e[0] as usize] || inside[e[1] as usize])
+            .collect();
+        Some(HeldGraph {
+            g,
+            adj,
+            inside,
+            nodes,
+            edges,
+        })
+    }
+
+    /// The histogram of the edges' lengths (up to 1.05 times the longest).
+    fn edge_length(&self) -> Histogram {
+        let lengths: Vec<f64> = self.edges.iter().map(|e| self.g.edge_length(*e)).collect();
+        let longest = lengths.iter().copied().fold(0.0, f64::max).max(1e-9);
+        let mut edge_length = Histogram::zeros(0.0, 1.05 * longest / EDGE_BINS as f64, EDGE_BINS);
+        for l in &lengths {
+            edge_length.add(*l, 1.0);
+        }
+        edge_length
+    }
+
+    /// At the nodes: the histogram of the angles between edges sharing a node, the smallest such angle, and the
+    /// fraction of nodes of degree 1, 2, 3 and 4 or more.
+    fn node_statistics(&self) -> (Histogram, f64, Vec<f64>) {
+        let mut angle = Histogram::zeros(0.0, PI / ANGLE_BINS as f64, ANGLE_BINS);
+        let mut min_angle = PI;
+        let mut degree = vec![0.0; 4];
+        for &n in &self.nodes {
+            let nb = &self.adj[n];
+            degree[nb.len().clamp(1, 4) - 1] += 1.0;
+            for (i, &a) in nb.iter().enumerate() {
+                for &b in &nb[i + 1..] {
+                    let t = self.g.angle_at(n as u32, a, b);
+                    angle.add(t.min(PI - 1e-12), 1.0);
+                    min_angle = min_angle.min(t);
+                }
+            }
+        }
+        degree
+            .iter_mut()
+            .for_each(|d| *d /= self.nodes.len() as f64);
+        (angle, min_angle, degree)
+    }
+
+    /// The connected components of the graph the region holds (edges with both ends inside), lone nodes included.
+    fn components(&self) -> usize {
+        let inside = &self.inside;
+        let held = Graph {
+            nodes: self.g.nodes.clone(),
+            edges: self
+                .g
+                .edges
+                .iter()
+                .copied()
+                .filter(|e| inside[e[0] as usize] && inside[e[1] as usize])
+                .collect(),
+        };
+        held.components()
+            + self
+                .nodes
+                .iter()
+                .filter(|&&n| {
+                    held.edges
+                        .iter()
+                        .all(|e| e[0] as usize != n && e[1] as usize != n)
+                })
+                .count()
     }
 }

@@ -219,19 +219,7 @@ pub fn jacobi(constraints: &Constraints, options: &DiffusionOptions) -> Result<D
 }
 
 fn run(c: &Constraints, options: &DiffusionOptions, method: Method) -> Result<Diffusion> {
-    if !(options.tolerance.is_finite() && options.tolerance > 0.0) {
-        return Err(Error::InvalidInput(format!(
-            "diffusion tolerance {} must be positive",
-            options.tolerance
-        )));
-    }
-    if let Some(r) = options.falloff {
-        if !(r >= 0.0) {
-            return Err(Error::InvalidInput(format!(
-                "falloff radius {r} must be zero or positive"
-            )));
-        }
-    }
+    check_options(options)?;
     let (nx, ny) = (c.nx, c.ny);
     let scale = c
         .values
@@ -253,78 +241,144 @@ fn run(c: &Constraints, options: &DiffusionOptions, method: Method) -> Result<Di
         // no constraint, or all of them 0: nothing moves
         return Ok(nothing(0));
     }
-    let mut fixed = c.values.clone();
-    if let Some(radius) = options.falloff {
-        let distance = distance_transform(nx, ny, c.cell, &c.mask());
-        for (v, d) in fixed.iter_mut().zip(&distance) {
-            if v.is_nan() && (*d as f64) > radius {
-                *v = 0.0;
-            }
-        }
-    }
-    // only the box around the free cells is solved for, with one ring of fixed cells (or the grid's border)
-    // around it, so cutting it out changes nothing
-    let (mut i0, mut j0, mut i1, mut j1) = (nx, ny, 0, 0);
-    for (k, v) in fixed.iter().enumerate() {
-        if v.is_nan() {
-            let (i, j) = (k % nx, k / nx);
-            i0 = i0.min(i);
-            j0 = j0.min(j);
-            i1 = i1.max(i);
-            j1 = j1.max(j);
-        }
-    }
-    if i0 > i1 {
+    let fixed = fixed_with_falloff(c, options.falloff);
+    let Some(b) = SolveBox::around_free(&fixed, nx, ny) else {
         // every cell is fixed
         return Ok(Diffusion {
             displacement: fixed,
             ..nothing(0)
         });
-    }
-    let (i0, j0, i1, j1) = (
-        i0.saturating_sub(1),
-        j0.saturating_sub(1),
-        (i1 + 1).min(nx - 1),
-        (j1 + 1).min(ny - 1),
-    );
-    let (bx, by) = (i1 - i0 + 1, j1 - j0 + 1);
-    let whole = bx == nx && by == ny;
-    let boxed: Cow<[f64]> = if whole {
-        Cow::Borrowed(&fixed)
-    } else {
-        Cow::Owned(
-            (j0..=j1)
-                .flat_map(|j| fixed[j * nx + i0..=j * nx + i1].iter().copied())
-                .collect(),
-        )
     };
+    let boxed = b.cut(&fixed);
     // run on a worker of the thread pool: the solver's many short parallel loops then start there instead of
     // each being handed over from the calling thread
+    let (bx, by) = (b.width(), b.height());
     let solved = rayon::scope(|_| match method {
         Method::Multigrid => multigrid::solve(bx, by, &boxed, tolerance, options.max_cycles),
         Method::Jacobi => multigrid::jacobi(bx, by, &boxed, tolerance, options.max_cycles),
     });
-    let displacement = if whole {
-        solved.u
-    } else {
-        let mut d: Vec<f64> = fixed
-            .iter()
-            .map(|v| if v.is_nan() { 0.0 } else { *v })
-            .collect();
-        for (bj, row) in solved.u.chunks(bx).enumerate() {
-            let j = j0 + bj;
-            d[j * nx + i0..=j * nx + i1].copy_from_slice(row);
-        }
-        d
-    };
     Ok(Diffusion {
         nx,
         ny,
-        displacement,
+        displacement: b.paste(&fixed, solved.u),
         cycles: solved.cycles,
         residual: solved.residual,
         tolerance,
         converged: solved.residual <= tolerance,
         solved_cells: bx * by,
     })
+}
+
+/// Refuses a tolerance that is not positive and a negative falloff radius.
+fn check_options(options: &DiffusionOptions) -> Result<()> {
+    if !(options.tolerance.is_finite() && options.tolerance > 0.0) {
+        return Err(Error::InvalidInput(format!(
+            "diffusion tolerance {} must be positive",
+            options.tolerance
+        )));
+    }
+    if let Some(r) = options.falloff {
+        if !(r >= 0.0) {
+            return Err(Error::InvalidInput(format!(
+                "falloff radius {r} must be zero or positive"
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// The constraints' values (NaN on free cells), with the free cells farther than `falloff` from every
+/// constrained cell fixed at 0.
+fn fixed_with_falloff(c: &Constraints, falloff: Option<f64>) -> Vec<f64> {
+    let mut fixed = c.values.clone();
+    if let Some(radius) = falloff {
+        let distance = distance_transform(c.nx, c.ny, c.cell, &c.mask());
+        for (v, d) in fixed.iter_mut().zip(&distance) {
+            if v.is_nan() && (*d as f64) > radius {
+                *v = 0.0;
+            }
+        }
+    }
+    fixed
+}
+
+/// The box of cells solved for: the free cells' bounds with one ring of fixed cells (or the grid's border)
+/// around them, so cutting it out changes nothing.
+struct SolveBox {
+    nx: usize,
+    ny: usize,
+    i0: usize,
+    j0: usize,
+    i1: usize,
+    j1: usize,
+}
+
+impl SolveBox {
+    /// The box around the free (NaN) cells of the row-major `fixed`; `None` when every cell is fixed.
+    fn around_free(fixed: &[f64], nx: usize, ny: usize) -> Option<SolveBox> {
+        let (mut i0, mut j0, mut i1, mut j1) = (nx, ny, 0, 0);
+        for (k, v) in fixed.iter().enumerate() {
+            if v.is_nan() {
+                let (i, j) = (k % nx, k / nx);
+                i0 = i0.min(i);
+                j0 = j0.min(j);
+                i1 = i1.max(i);
+                j1 = j1.max(j);
+            }
+        }
+        if i0 > i1 {
+            return None;
+        }
+        Some(SolveBox {
+            nx,
+            ny,
+            i0: i0.saturating_sub(1),
+            j0: j0.saturating_sub(1),
+            i1: (i1 + 1).min(nx - 1),
+            j1: (j1 + 1).min(ny - 1),
+        })
+    }
+
+    fn width(&self) -> usize {
+        self.i1 - self.i0 + 1
+    }
+
+    fn height(&self) -> usize {
+        self.j1 - self.j0 + 1
+    }
+
+    fn whole(&self) -> bool {
+        self.width() == self.nx && self.height() == self.ny
+    }
+
+    /// The box's part of a row-major grid (the grid itself when the box is whole).
+    fn cut<'a>(&self, grid: &'a [f64]) -> Cow<'a, [f64]> {
+        if self.whole() {
+            Cow::Borrowed(grid)
+        } else {
+            let (nx, i0, i1) = (self.nx, self.i0, self.i1);
+            Cow::Owned(
+                (self.j0..=self.j1)
+                    .flat_map(|j| grid[j * nx + i0..=j * nx + i1].iter().copied())
+                    .collect(),
+            )
+        }
+    }
+
+    /// The whole grid: the box's solution `u` inside, the fixed values (0 on free cells) outside.
+    fn paste(&self, fixed: &[f64], u: Vec<f64>) -> Vec<f64> {
+        if self.whole() {
+            return u;
+        }
+        let (nx, i0, i1) = (self.nx, self.i0, self.i1);
+        let mut d: Vec<f64> = fixed
+            .iter()
+            .map(|v| if v.is_nan() { 0.0 } else { *v })
+            .collect();
+        for (bj, row) in u.chunks(self.width()).enumerate() {
+            let j = self.j0 + bj;
+            d[j * nx + i0..=j * nx + i1].copy_from_slice(row);
+        }
+        d
+    }
 }

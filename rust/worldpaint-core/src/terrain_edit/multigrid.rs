@@ -597,6 +597,21 @@ pub(crate) fn solve(
     tolerance: f64,
     max_cycles: usize,
 ) -> Solved {
+    let mut levels = hierarchy(nx, ny, fixed);
+    nested_iteration(&mut levels);
+    // conjugate gradients on the error equation, preconditioned by one symmetric V-cycle: the V-cycle alone
+    // slows down where coarse grids blur thin constraint curves, and the Krylov iteration takes those few modes
+    let mut cg = Krylov::start(&levels[0], fixed);
+    cg.run(&mut levels, tolerance, max_cycles);
+    Solved {
+        u: cg.row_major(),
+        cycles: cg.cycles,
+        residual: cg.res,
+    }
+}
+
+/// The levels of the problem, finest first, each with the fixed values of its cells.
+fn hierarchy(nx: usize, ny: usize, fixed: &[f64]) -> Vec<Level> {
     let dims = sizes(nx, ny);
     // the fixed values of every level, for the nested-iteration guess
     let mut coarse_fixed: Vec<Vec<f64>> = Vec::with_capacity(dims.len());
@@ -606,12 +621,15 @@ pub(crate) fn solve(
         let next = coarsen_fixed(a.0, a.1, prev, b.0, b.1);
         coarse_fixed.push(next);
     }
-    let mut levels: Vec<Level> = dims
-        .iter()
+    dims.iter()
         .zip(std::iter::once(fixed).chain(coarse_fixed.iter().map(|v| v.as_slice())))
         .map(|(&(x, y), f)| level_from(x, y, f))
-        .collect();
-    // nested iteration: solve each level's own problem (one V-cycle below it), prolong as the next level's guess
+        .collect()
+}
+
+/// Nested iteration: solves each level's own problem (one V-cycle below it), prolonged as the next level's
+/// guess; the finest level's `u` ends up holding the guess.
+fn nested_iteration(levels: &mut [Level]) {
     let last = levels.len() - 1;
     solve_coarsest(&mut levels[last]);
     for l in (0..last).rev() {
@@ -622,59 +640,114 @@ pub(crate) fn solve(
             // the coarse level's u now holds its solution; the levels below are scratch again
         }
     }
-    // conjugate gradients on the error equation, preconditioned by one symmetric V-cycle: the V-cycle alone
-    // slows down where coarse grids blur thin constraint curves, and the Krylov iteration takes those few modes
-    let l0 = &mut levels[0];
-    let (h, n) = (l0.h, l0.h * l0.ny);
-    // the solution in f64: the exact fixed values, the nested iteration's guess on the free cells
-    let mut x = [vec![0.0; n], vec![0.0; n]];
-    for (c, xc) in x.iter_mut().enumerate() {
-        xc.par_chunks_mut(h).enumerate().for_each(|(j, row)| {
-            let (cells, off) = row_cells(nx, j, c);
-            for (k, v) in row[..cells].iter_mut().enumerate() {
-                let wanted = fixed[j * nx + 2 * k + off];
-                *v = if wanted.is_nan() {
-                    l0.u[c][j * h + k] as f64
-                } else {
-                    wanted
-                };
-            }
-        });
+}
+
+/// The state of the preconditioned conjugate gradients, in `f64` and colour-split like the levels.
+struct Krylov {
+    nx: usize,
+    ny: usize,
+    h: usize,
+    /// The solution.
+    x: [Vec<f64>; 2],
+    /// The residual, kept up to date step by step.
+    r: [Vec<f64>; 2],
+    /// `−A p` of the current direction `p`.
+    q: [Vec<f64>; 2],
+    /// The preconditioned residual.
+    z: [Vec<f64>; 2],
+    /// The largest true residual, as last measured.
+    res: f64,
+    cycles: usize,
+}
+
+impl Krylov {
+    /// The exact fixed values, the nested iteration's guess (`l0.u`) on the free cells, and its residual.
+    fn start(l0: &Level, fixed: &[f64]) -> Krylov {
+        let (nx, ny) = (l0.nx, l0.ny);
+        let (h, n) = (l0.h, l0.h * l0.ny);
+        let mut x = [vec![0.0; n], vec![0.0; n]];
+        for (c, xc) in x.iter_mut().enumerate() {
+            xc.par_chunks_mut(h).enumerate().for_each(|(j, row)| {
+                let (cells, off) = row_cells(nx, j, c);
+                for (k, v) in row[..cells].iter_mut().enumerate() {
+                    let wanted = fixed[j * nx + 2 * k + off];
+                    *v = if wanted.is_nan() {
+                        l0.u[c][j * h + k] as f64
+                    } else {
+                        wanted
+                    };
+                }
+            });
+        }
+        let mut r = [vec![0.0; n], vec![0.0; n]];
+        let res = stencil(nx, ny, h, &l0.free, &x, None, &mut r).0;
+        Krylov {
+            nx,
+            ny,
+            h,
+            x,
+            r,
+            q: [vec![0.0; n], vec![0.0; n]],
+            z: [vec![0.0; n], vec![0.0; n]],
+            res,
+            cycles: 0,
+        }
     }
-    let mut r = [vec![0.0; n], vec![0.0; n]];
-    let mut res = stencil(nx, ny, h, &l0.free, &x, None, &mut r).0;
-    let mut cycles = 0;
-    let mut q = [vec![0.0; n], vec![0.0; n]];
-    let mut z = [vec![0.0; n], vec![0.0; n]];
-    // the recursively updated residual drifts from the true one by rounding: when it reaches the tolerance the
-    // true residual is checked, and the iteration restarts from it if that is still above
-    while res > tolerance && cycles < max_cycles {
-        precondition(&mut levels, &r, &mut z);
-        let mut p = z.clone();
-        let mut rz = dot(h, &r, &z);
-        while cycles < max_cycles {
+
+    /// Iterates until the residual is at most `tolerance` or `max_cycles` steps have run: the recursively updated
+    /// residual drifts from the true one by rounding, so when it reaches the tolerance the true residual is
+    /// checked, and the iteration restarts from it if that is still above.
+    fn run(&mut self, levels: &mut [Level], tolerance: f64, max_cycles: usize) {
+        while self.res > tolerance && self.cycles < max_cycles {
+            self.descend(levels, tolerance, max_cycles);
+            let previous = self.res;
+            self.res = stencil(
+                self.nx,
+                self.ny,
+                self.h,
+                &levels[0].free,
+                &self.x,
+                None,
+                &mut self.r,
+            )
+            .0;
+            if !(self.res < previous) {
+                break; // no progress left at this precision
+            }
+        }
+    }
+
+    /// Conjugate-gradient steps from the current residual until the recursive residual is at most `tolerance`,
+    /// the direction stops descending, or `max_cycles` steps have run in all.
+    fn descend(&mut self, levels: &mut [Level], tolerance: f64, max_cycles: usize) {
+        let (nx, ny, h) = (self.nx, self.ny, self.h);
+        precondition(levels, &self.r, &mut self.z);
+        let mut p = self.z.clone();
+        let mut rz = dot(h, &self.r, &self.z);
+        while self.cycles < max_cycles {
             // q = −A p, and p·A p with it
-            let (_, p_q) = stencil(nx, ny, h, &levels[0].free, &p, None, &mut q);
+            let (_, p_q) = stencil(nx, ny, h, &levels[0].free, &p, None, &mut self.q);
             let pq = -p_q;
             if !(pq > 0.0) {
                 break;
             }
             let alpha = rz / pq;
-            let recursive = update_residual(nx, ny, h, alpha, &q, &mut r);
-            cycles += 1;
+            let recursive = update_residual(nx, ny, h, alpha, &self.q, &mut self.r);
+            self.cycles += 1;
             if recursive <= tolerance {
-                axpy(alpha, &p, &mut x);
+                axpy(alpha, &p, &mut self.x);
                 break;
             }
-            precondition(&mut levels, &r, &mut z);
-            let rz_next = dot(h, &r, &z);
+            precondition(levels, &self.r, &mut self.z);
+            let rz_next = dot(h, &self.r, &self.z);
             let beta = rz_next / rz;
             rz = rz_next;
             // x += alpha p with the old direction, then the new direction, in one pass
             for c in 0..2 {
-                x[c].par_iter_mut()
+                self.x[c]
+                    .par_iter_mut()
                     .zip(p[c].par_iter_mut())
-                    .zip(z[c].par_iter())
+                    .zip(self.z[c].par_iter())
                     .with_min_len(TASK_CELLS)
                     .for_each(|((x, p), z)| {
                         *x += alpha * *p;
@@ -682,22 +755,18 @@ pub(crate) fn solve(
                     });
             }
         }
-        let previous = res;
-        res = stencil(nx, ny, h, &levels[0].free, &x, None, &mut r).0;
-        if !(res < previous) {
-            break; // no progress left at this precision
-        }
     }
-    let mut u = vec![0.0; nx * ny];
-    u.par_chunks_mut(nx).enumerate().for_each(|(j, row)| {
-        for (i, v) in row.iter_mut().enumerate() {
-            *v = x[(i + j) & 1][j * h + i / 2];
-        }
-    });
-    Solved {
-        u,
-        cycles,
-        residual: res,
+
+    /// The solution, row-major.
+    fn row_major(&self) -> Vec<f64> {
+        let (nx, h) = (self.nx, self.h);
+        let mut u = vec![0.0; nx * self.ny];
+        u.par_chunks_mut(nx).enumerate().for_each(|(j, row)| {
+            for (i, v) in row.iter_mut().enumerate() {
+                *v = self.x[(i + j) & 1][j * h + i / 2];
+            }
+        });
+        u
     }
 }
 
@@ -790,70 +859,5 @@ pub(crate) fn jacobi(
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// Max residual of a row-major solution, recomputed independently of the solver.
-    fn check(nx: usize, ny: usize, fixed: &[f64], u: &[f64]) -> f64 {
-        let mut worst = 0.0f64;
-        for j in 0..ny {
-            for i in 0..nx {
-                let k = j * nx + i;
-                if !fixed[k].is_nan() {
-                    assert_eq!(u[k], fixed[k]);
-                    continue;
-                }
-                let mut n = Vec::new();
-                if i > 0 {
-                    n.push(u[k - 1]);
-                }
-                if i + 1 < nx {
-                    n.push(u[k + 1]);
-                }
-                if j > 0 {
-                    n.push(u[k - nx]);
-                }
-                if j + 1 < ny {
-                    n.push(u[k + nx]);
-                }
-                let mean = n.iter().sum::<f64>() / n.len() as f64;
-                worst = worst.max((mean - u[k]).abs());
-            }
-        }
-        worst
-    }
-
-    #[test]
-    fn multigrid_and_jacobi_agree_on_odd_and_even_grids() {
-        for (nx, ny) in [(33, 33), (40, 27), (5, 61), (2, 2), (100, 3)] {
-            let mut fixed = vec![f64::NAN; nx * ny];
-            fixed[(ny / 2) * nx + nx / 3] = 2.0;
-            fixed[nx - 1] = -1.0;
-            let mg = solve(nx, ny, &fixed, 1e-10, 200);
-            assert!(mg.residual <= 1e-10, "{nx}x{ny}: residual {}", mg.residual);
-            assert!(check(nx, ny, &fixed, &mg.u) <= 1e-9);
-            let jac = jacobi(nx, ny, &fixed, 1e-12, 2_000_000);
-            let diff =
-                mg.u.iter()
-                    .zip(&jac.u)
-                    .map(|(a, b)| (a - b).abs())
-                    .fold(0.0, f64::max);
-            assert!(
-                diff < 1e-6,
-                "{nx}x{ny}: multigrid and Jacobi differ by {diff}"
-            );
-        }
-    }
-
-    #[test]
-    fn multigrid_converges_in_few_cycles() {
-        let n = 257;
-        let mut fixed = vec![f64::NAN; n * n];
-        for i in 20..230 {
-            fixed[(i / 2 + 40) * n + i] = (i as f64 * 0.05).sin() * 5.0;
-        }
-        let mg = solve(n, n, &fixed, 1e-8, 100);
-        assert!(mg.cycles <= 20, "{} cycles", mg.cycles);
-        assert!(check(n, n, &fixed, &mg.u) <= 1e-8);
-    }
-}
+#[path = "multigrid_tests.rs"]
+mod tests;

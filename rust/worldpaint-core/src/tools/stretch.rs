@@ -28,6 +28,7 @@ use crate::geom::{DVec2, Region};
 use crate::palette::Color;
 use crate::scene::Scene;
 use crate::synthesis::{AdaptOptions, SynthesisOptions};
+use std::borrow::Cow;
 
 /// Fraction of the region's width the cut keeps away from each of the two other sides.
 const CUT_MARGIN: f64 = 0.1;
@@ -229,7 +230,7 @@ pub fn stretch(
         )));
     }
     let frame = Frame::new(min, max, side);
-    let (width, height) = (frame.width, frame.height);
+    let width = frame.width;
     let shrink = (-amount).max(0.0);
     if shrink >= (1.0 - 2.0 * CUT_MARGIN) * width {
         return Err(Error::InvalidInput(format!(
@@ -243,16 +244,84 @@ pub fn stretch(
         .filter(|i| region.contains(i.position))
         .map(|i| frame.local(i.position))
         .collect();
-    let cell = match opts.cell {
-        Some(c) if c.is_finite() && c > 0.0 => c,
-        Some(c) => return Err(Error::InvalidInput(format!("cell {c} must be positive"))),
-        None => {
-            let spacing = (width * height / inside.len().max(1) as f64).sqrt();
-            (spacing / 3.0)
-                .max(width.max(height) / 1000.0)
-                .min(width.min(height) / 20.0)
-        }
+    let cell = energy_cell(opts.cell, &frame, inside.len())?;
+    let seam = least_energy_seam(&frame, &inside, cell, shrink);
+    let color = stretch_color(scene, region, color)?;
+    let color = color.as_ref();
+    let drag = Drag {
+        scene,
+        region,
+        frame,
+        seam,
+        amount,
+        shrink,
     };
+    let band = drag.band();
+    let mut work = Working::new(scene);
+    if shrink > 0.0 {
+        work.remove_where(|i| band.contains(i.position));
+    }
+    let moved = move_instances(
+        &work.scene,
+        &work.scene,
+        color,
+        &drag.landing(),
+        &drag.moving(&work.scene),
+        drag.frame.u * amount,
+        &opts.adapt,
+    )?;
+    work.apply(&moved.edit);
+    if !progress(0.5) {
+        return Err(Error::Cancelled);
+    }
+    let report = |f: f64| progress(0.5 + 0.5 * f);
+    let resized = drag.fill(&mut work, color, &band, &opts.synthesis, &report)?;
+    Ok(Stretched {
+        edit: work.edit(),
+        seam: drag.seam.iter().map(|l| drag.frame.world(*l)).collect(),
+        band,
+        region: resized,
+    })
+}
+
+/// The given color, or the one learned from the region.
+fn stretch_color<'c>(
+    scene: &Scene,
+    region: &Region,
+    color: Option<&'c Color>,
+) -> Result<Cow<'c, Color>> {
+    match color {
+        Some(c) => Ok(Cow::Borrowed(c)),
+        None => match color_of_region(scene, region, "stretched region")? {
+            Some(c) => Ok(Cow::Owned(c)),
+            None => Err(Error::EmptyExemplar(
+                "the region holds no instances to stretch".into(),
+            )),
+        },
+    }
+}
+
+/// The cell of the energy map: the option's (when valid), else a third of the content's mean spacing within
+/// sensible bounds.
+fn energy_cell(cell: Option<f64>, frame: &Frame, count: usize) -> Result<f64> {
+    let (width, height) = (frame.width, frame.height);
+    match cell {
+        Some(c) if c.is_finite() && c > 0.0 => Ok(c),
+        Some(c) => Err(Error::InvalidInput(format!("cell {c} must be positive"))),
+        None => {
+            let spacing = (width * height / count.max(1) as f64).sqrt();
+            Ok((spacing / 3.0)
+                .max(width.max(height) / 1000.0)
+                .min(width.min(height) / 20.0))
+        }
+    }
+}
+
+/// The cut (local coordinates, ascending in `v` from 0 to the height): the least-energy path through the energy
+/// map of the content `inside`, kept clear of the region's sides by `CUT_MARGIN` and of the band a shrink
+/// removes.
+fn least_energy_seam(frame: &Frame, inside: &[DVec2], cell: f64, shrink: f64) -> Vec<DVec2> {
+    let (width, height) = (frame.width, frame.height);
     let nu = ((width / cell).ceil() as usize).max(1);
     let nv = ((height / cell).ceil() as usize).max(1);
     let seeds: Vec<(usize, usize)> = inside
@@ -282,76 +351,90 @@ pub fn stretch(
         .collect();
     seam.insert(0, DVec2::new(seam[0].x, 0.0));
     seam.push(DVec2::new(seam[seam.len() - 1].x, height));
-    let shifted = |line: &[DVec2], du: f64| -> Vec<DVec2> {
-        line.iter().map(|p| DVec2::new(p.x + du, p.y)).collect()
-    };
-    let edge = |u: f64| vec![DVec2::new(u, 0.0), DVec2::new(u, height)];
+    seam
+}
 
-    let learned;
-    let color = match color {
-        Some(c) => c,
-        None => match color_of_region(scene, region, "stretched region")? {
-            Some(c) => {
-                learned = c;
-                &learned
-            }
-            None => {
-                return Err(Error::EmptyExemplar(
-                    "the region holds no instances to stretch".into(),
-                ))
-            }
-        },
-    };
-    let width_band = amount.abs();
-    let band = frame.between(&seam, &shifted(&seam, width_band));
-    let mut work = Working::new(scene);
-    if shrink > 0.0 {
-        work.remove_where(|i| band.contains(i.position));
+/// A polyline moved by `du` along `u`.
+fn shifted(line: &[DVec2], du: f64) -> Vec<DVec2> {
+    line.iter().map(|p| DVec2::new(p.x + du, p.y)).collect()
+}
+
+/// The drag of one side of a region, along its cut.
+struct Drag<'a> {
+    /// The scene before the drag.
+    scene: &'a Scene,
+    region: &'a Region,
+    frame: Frame,
+    /// The cut, local.
+    seam: Vec<DVec2>,
+    amount: f64,
+    /// `−amount` when shrinking, else 0.
+    shrink: f64,
+}
+
+impl Drag<'_> {
+    /// The straight line across the region at `u`, local.
+    fn edge(&self, u: f64) -> Vec<DVec2> {
+        vec![DVec2::new(u, 0.0), DVec2::new(u, self.frame.height)]
     }
-    // the content beyond the cut (beyond the band when shrinking) moves by `amount` along u
-    let beyond = if shrink > 0.0 { shrink } else { 0.0 };
-    let moving: Vec<usize> = (0..work.scene.instances.len())
-        .filter(|&k| {
-            let i = &work.scene.instances[k];
-            let l = frame.local(i.position);
-            !i.locked && region.contains(i.position) && l.x > u_at(&seam, l.y) + beyond
-        })
-        .collect();
-    let landing = if shrink > 0.0 {
-        frame.between(&seam, &edge(width - shrink))
-    } else {
-        frame.between(&shifted(&seam, amount), &edge(width + amount))
-    };
-    let moved = move_instances(
-        &work.scene,
-        &work.scene,
-        color,
-        &landing,
-        &moving,
-        frame.u * amount,
-        &opts.adapt,
-    )?;
-    work.apply(&moved.edit);
-    if !progress(0.5) {
-        return Err(Error::Cancelled);
+
+    /// The band between the cut and its copy `|amount|` further: opened by a stretch, removed by a shrink.
+    fn band(&self) -> Region {
+        self.frame
+            .between(&self.seam, &shifted(&self.seam, self.amount.abs()))
     }
-    let report = |f: f64| progress(0.5 + 0.5 * f);
-    let resized = if shrink > 0.0 {
-        // the strip released at the dragged side takes the color of what lies beyond that side
-        let strip = frame.rect(width - shrink, width);
-        let outside = frame.rect(width, width + shrink.max(2.0 * color.max_radius));
-        if let Some(around) = color_of_region(scene, &outside, "beyond the region")? {
-            work.paint(&around, &strip, &opts.synthesis, &report)?;
+
+    /// The unlocked instances of the region beyond the cut (beyond the band when shrinking): they move by
+    /// `amount` along u.
+    fn moving(&self, scene: &Scene) -> Vec<usize> {
+        let beyond = if self.shrink > 0.0 { self.shrink } else { 0.0 };
+        (0..scene.instances.len())
+            .filter(|&k| {
+                let i = &scene.instances[k];
+                let l = self.frame.local(i.position);
+                !i.locked
+                    && self.region.contains(i.position)
+                    && l.x > u_at(&self.seam, l.y) + beyond
+            })
+            .collect()
+    }
+
+    /// Where the moving content lands.
+    fn landing(&self) -> Region {
+        let width = self.frame.width;
+        if self.shrink > 0.0 {
+            self.frame
+                .between(&self.seam, &self.edge(width - self.shrink))
+        } else {
+            self.frame.between(
+                &shifted(&self.seam, self.amount),
+                &self.edge(width + self.amount),
+            )
         }
-        frame.rect(0.0, width - shrink)
-    } else {
-        work.paint(color, &band, &opts.synthesis, &report)?;
-        frame.rect(0.0, width + amount)
-    };
-    Ok(Stretched {
-        edit: work.edit(),
-        seam: seam.iter().map(|l| frame.world(*l)).collect(),
-        band,
-        region: resized,
-    })
+    }
+
+    /// Synthesizes the space the drag opened: the band with `color` (stretch), or the strip released at the
+    /// dragged side with the color of what lies beyond that side (shrink). Returns the region after the drag.
+    fn fill(
+        &self,
+        work: &mut Working,
+        color: &Color,
+        band: &Region,
+        synthesis: &SynthesisOptions,
+        report: &(dyn Fn(f64) -> bool + Sync),
+    ) -> Result<Region> {
+        let (frame, width, shrink) = (&self.frame, self.frame.width, self.shrink);
+        if shrink > 0.0 {
+            // the strip released at the dragged side takes the color of what lies beyond that side
+            let strip = frame.rect(width - shrink, width);
+            let outside = frame.rect(width, width + shrink.max(2.0 * color.max_radius));
+            if let Some(around) = color_of_region(self.scene, &outside, "beyond the region")? {
+                work.paint(&around, &strip, synthesis, report)?;
+            }
+            Ok(frame.rect(0.0, width - shrink))
+        } else {
+            work.paint(color, band, synthesis, report)?;
+            Ok(frame.rect(0.0, width + self.amount))
+        }
+    }
 }

@@ -49,9 +49,9 @@
 //!
 //! The rocks are seeded from the scene's seed and do not depend on the thread count.
 
-use super::integration::{Footprint, WaterMesh, WaterPart};
-use super::network::NodeKind;
-use super::{ControllerKind, WaterfallNetwork};
+use super::integration::{Footprint, PoolWater, WaterMesh, WaterPart};
+use super::network::{Node, NodeKind};
+use super::{ControllerKind, Segment, WaterfallNetwork};
 use crate::error::{Error, Result};
 use crate::geom::Region;
 use crate::palette::{Color, MapInteraction, MapSource};
@@ -317,102 +317,128 @@ fn branch_speeds(
     footprint: &Footprint,
     maps: &mut WaterMaps,
 ) {
-    let graph = &net.graph;
-    for node in &graph.nodes {
+    for node in &net.graph.nodes {
         if node.kind != NodeKind::Branch {
             continue;
         }
-        let arcs: Vec<(usize, bool)> = node
-            .arcs_in
-            .iter()
-            .map(|&a| (a, true))
-            .chain(node.arcs_out.iter().map(|&a| (a, false)))
-            .filter(|(a, _)| {
-                graph.arcs[*a].kind == ControllerKind::Contact && !net.segment_ranges[*a].is_empty()
-            })
-            .collect();
+        let arcs = branch_arcs(net, node);
         if arcs.len() < 3 {
             continue;
         }
-        let seg_at = |a: usize, incoming: bool| {
-            let r = &net.segment_ranges[a];
-            &net.segments[if incoming { r.end - 1 } else { r.start }]
-        };
-        let radius = arcs
-            .iter()
-            .map(|&(a, inc)| {
-                // the ribbon's half-width there: its row of vertices is (left bank, axis, right bank)
-                let r = &net.segment_ranges[a];
-                let s = if inc { r.end - 1 } else { r.start };
-                mesh.part
-                    .iter()
-                    .zip(&mesh.element)
-                    .position(|(p, e)| *p == WaterPart::Contact && *e == s)
-                    .and_then(|v| Some(mesh.vertices.get(v)?.distance(*mesh.vertices.get(v + 1)?)))
-                    .unwrap_or(0.5 * seg_at(a, inc).section.width)
-            })
-            .fold(footprint.cell, f64::max);
+        let radius = branch_radius(net, mesh, &arcs, footprint.cell);
         let constraints: Vec<(DVec2, DVec2)> = arcs
             .iter()
             .filter_map(|&(a, inc)| {
                 let (p, dir) = along_path(&net.paths[a], radius, inc)?;
-                Some((p, dir * seg_at(a, inc).section.speed))
+                Some((p, dir * end_segment(net, a, inc).section.speed))
             })
             .collect();
         if constraints.len() < 3 {
             continue;
         }
-        let c = node.position.truncate();
-        let (lo, hi) = (c - radius, c + radius);
-        let to_node = |v: f64, o: f64| ((v - o) / maps.cell).round();
-        let (i0, i1) = (
-            to_node(lo.x, maps.origin.x).max(0.0),
-            to_node(hi.x, maps.origin.x),
-        );
-        let (j0, j1) = (
-            to_node(lo.y, maps.origin.y).max(0.0),
-            to_node(hi.y, maps.origin.y),
-        );
-        if i1 < 0.0 || j1 < 0.0 {
-            continue;
-        }
-        let (i1, j1) = (
-            (i1 as usize).min(maps.nx - 1),
-            (j1 as usize).min(maps.ny - 1),
-        );
-        for j in j0 as usize..=j1 {
-            for i in i0 as usize..=i1 {
-                let k = j * maps.nx + i;
-                let x = maps.origin + DVec2::new(i as f64, j as f64) * maps.cell;
-                if maps.water[k] <= 0.5 || x.distance(c) > radius {
-                    continue;
-                }
-                let weights: Vec<f64> = constraints
+        blend_around(maps, node.position.truncate(), radius, &constraints);
+    }
+}
+
+/// The contact arcs (with segments) at a node: `(arc, whether it comes in)`, the incoming first.
+fn branch_arcs(net: &WaterfallNetwork, node: &Node) -> Vec<(usize, bool)> {
+    let graph = &net.graph;
+    node.arcs_in
+        .iter()
+        .map(|&a| (a, true))
+        .chain(node.arcs_out.iter().map(|&a| (a, false)))
+        .filter(|(a, _)| {
+            graph.arcs[*a].kind == ControllerKind::Contact && !net.segment_ranges[*a].is_empty()
+        })
+        .collect()
+}
+
+/// The segment of arc `a` at the node: its last when the arc comes in, its first when it leaves.
+fn end_segment(net: &WaterfallNetwork, a: usize, incoming: bool) -> &Segment {
+    let r = &net.segment_ranges[a];
+    &net.segments[if incoming { r.end - 1 } else { r.start }]
+}
+
+/// The radius of a branch: the widest half-width of the ribbons meeting there, at least a cell.
+fn branch_radius(
+    net: &WaterfallNetwork,
+    mesh: &WaterMesh,
+    arcs: &[(usize, bool)],
+    cell: f64,
+) -> f64 {
+    arcs.iter()
+        .map(|&(a, inc)| {
+            // the ribbon's half-width there: its row of vertices is (left bank, axis, right bank)
+            let r = &net.segment_ranges[a];
+            let s = if inc { r.end - 1 } else { r.start };
+            mesh.part
+                .iter()
+                .zip(&mesh.element)
+                .position(|(p, e)| *p == WaterPart::Contact && *e == s)
+                .and_then(|v| Some(mesh.vertices.get(v)?.distance(*mesh.vertices.get(v + 1)?)))
+                .unwrap_or(0.5 * end_segment(net, a, inc).section.width)
+        })
+        .fold(cell, f64::max)
+}
+
+/// Sets the speed of the water nodes within `radius` of `c` to the blend of the `constraints` (point, velocity)
+/// weighted by the product of their barycentric-like falloffs towards the others.
+fn blend_around(maps: &mut WaterMaps, c: DVec2, radius: f64, constraints: &[(DVec2, DVec2)]) {
+    let (lo, hi) = (c - radius, c + radius);
+    let to_node = |v: f64, o: f64| ((v - o) / maps.cell).round();
+    let (i0, i1) = (
+        to_node(lo.x, maps.origin.x).max(0.0),
+        to_node(hi.x, maps.origin.x),
+    );
+    let (j0, j1) = (
+        to_node(lo.y, maps.origin.y).max(0.0),
+        to_node(hi.y, maps.origin.y),
+    );
+    if i1 < 0.0 || j1 < 0.0 {
+        return;
+    }
+    let (i1, j1) = (
+        (i1 as usize).min(maps.nx - 1),
+        (j1 as usize).min(maps.ny - 1),
+    );
+    for j in j0 as usize..=j1 {
+        for i in i0 as usize..=i1 {
+            let k = j * maps.nx + i;
+            let x = maps.origin + DVec2::new(i as f64, j as f64) * maps.cell;
+            if maps.water[k] <= 0.5 || x.distance(c) > radius {
+                continue;
+            }
+            let weights = blend_weights(x, constraints);
+            let total: f64 = weights.iter().sum();
+            if total > 1e-12 {
+                maps.speed[k] = weights
                     .iter()
-                    .enumerate()
-                    .map(|(i, (pi, _))| {
-                        constraints
-                            .iter()
-                            .enumerate()
-                            .filter(|(j, _)| *j != i)
-                            .map(|(_, (pj, _))| {
-                                let l = pj.distance(*pi).max(1e-9);
-                                (1.0 - x.distance(*pi) / l).max(0.0)
-                            })
-                            .product()
-                    })
-                    .collect();
-                let total: f64 = weights.iter().sum();
-                if total > 1e-12 {
-                    maps.speed[k] = weights
-                        .iter()
-                        .zip(&constraints)
-                        .map(|(w, (_, d))| *d * (*w / total))
-                        .sum();
-                }
+                    .zip(constraints)
+                    .map(|(w, (_, d))| *d * (*w / total))
+                    .sum();
             }
         }
     }
+}
+
+/// The weight of each constraint at `x`: the product over the other constraints of `1 − d(x, p_i) / d(p_j, p_i)`
+/// (floored at 0).
+fn blend_weights(x: DVec2, constraints: &[(DVec2, DVec2)]) -> Vec<f64> {
+    constraints
+        .iter()
+        .enumerate()
+        .map(|(i, (pi, _))| {
+            constraints
+                .iter()
+                .enumerate()
+                .filter(|(j, _)| *j != i)
+                .map(|(_, (pj, _))| {
+                    let l = pj.distance(*pi).max(1e-9);
+                    (1.0 - x.distance(*pi) / l).max(0.0)
+                })
+                .product()
+        })
+        .collect()
 }
 
 /// A pool's solved speeds: the box's first node `(i0, j0)`, its size `(bx, by)` and the velocities in it.
@@ -428,84 +454,7 @@ fn pool_speeds(
     let solved: Vec<Option<PoolSpeeds>> = mesh
         .pools
         .par_iter()
-        .map(|pool| -> Result<_> {
-            let mine = |k: usize| {
-                footprint.nodes[k].is_some_and(|f| {
-                    f.inside > 0.0 && f.part == WaterPart::Pool && f.element == pool.controller
-                })
-            };
-            let (lo, hi) = pool.contour.iter().fold(
-                (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
-                |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-            );
-            let node_of = |v: f64, o: f64| ((v - o) / maps.cell).floor();
-            let i0 = (node_of(lo.x, maps.origin.x) - 1.0).max(0.0) as usize;
-            let j0 = (node_of(lo.y, maps.origin.y) - 1.0).max(0.0) as usize;
-            let i1 = node_of(hi.x, maps.origin.x) + 2.0;
-            let j1 = node_of(hi.y, maps.origin.y) + 2.0;
-            if i1 < 0.0 || j1 < 0.0 {
-                return Ok(None);
-            }
-            let (i1, j1) = (
-                (i1 as usize).min(maps.nx - 1),
-                (j1 as usize).min(maps.ny - 1),
-            );
-            if i1 <= i0 || j1 <= j0 {
-                return Ok(None);
-            }
-            let (bx, by) = (i1 - i0 + 1, j1 - j0 + 1);
-            let mut cx = Constraints::new(bx, by, maps.cell)?;
-            let mut cy = Constraints::new(bx, by, maps.cell)?;
-            // plunge points first: the velocity the falling water brings in
-            let node = &net.graph.nodes[pool.node];
-            for &a in &node.arcs_in {
-                if net.graph.arcs[a].kind != ControllerKind::FreeFall {
-                    continue;
-                }
-                let Some(foot) = net.paths[a].last() else {
-                    continue;
-                };
-                let u = super::integration::fall_direction(net, a);
-                let r = &net.segment_ranges[a];
-                let v = u * net.segments[r.start].section.speed.min(speed_scale(net));
-                let f = ((foot.truncate() - maps.origin) / maps.cell).round();
-                if f.x >= i0 as f64 && f.y >= j0 as f64 && f.x <= i1 as f64 && f.y <= j1 as f64 {
-                    let (i, j) = (f.x as usize - i0, f.y as usize - j0);
-                    cx.set(i, j, v.x)?;
-                    cy.set(i, j, v.y)?;
-                }
-            }
-            for j in 0..by {
-                for i in 0..bx {
-                    let k = (j + j0) * maps.nx + i + i0;
-                    if mine(k) {
-                        continue;
-                    }
-                    let v = if maps.water[k] > 0.5 {
-                        maps.speed[k]
-                    } else {
-                        DVec2::ZERO
-                    };
-                    if cx.get(i, j).is_none() {
-                        cx.set(i, j, v.x)?;
-                        cy.set(i, j, v.y)?;
-                    }
-                }
-            }
-            let o = DiffusionOptions {
-                falloff: None,
-                tolerance: 1e-4,
-                max_cycles: 50,
-            };
-            let (dx, dy) = (diffuse(&cx, &o)?, diffuse(&cy, &o)?);
-            let v = dx
-                .displacement
-                .iter()
-                .zip(&dy.displacement)
-                .map(|(x, y)| DVec2::new(*x, *y))
-                .collect();
-            Ok(Some((i0, j0, bx, by, v)))
-        })
+        .map(|pool| pool_speed_field(net, footprint, maps, pool))
         .collect::<Result<_>>()?;
     for (pool, s) in mesh.pools.iter().zip(solved) {
         let Some((i0, j0, bx, by, v)) = s else {
@@ -514,16 +463,129 @@ fn pool_speeds(
         for j in 0..by {
             for i in 0..bx {
                 let k = (j + j0) * maps.nx + i + i0;
-                let f = footprint.nodes[k];
-                if f.is_some_and(|f| {
-                    f.inside > 0.0 && f.part == WaterPart::Pool && f.element == pool.controller
-                }) {
+                if in_pool(footprint, k, pool) {
                     maps.speed[k] = v[j * bx + i];
                 }
             }
         }
     }
     Ok(())
+}
+
+/// Whether node `k` lies in the water of `pool`.
+fn in_pool(footprint: &Footprint, k: usize, pool: &PoolWater) -> bool {
+    footprint.nodes[k].is_some_and(|f| {
+        f.inside > 0.0 && f.part == WaterPart::Pool && f.element == pool.controller
+    })
+}
+
+/// The nodes `(i0, j0, i1, j1)` of the maps around a pool: its contour's bounds and a node more (two past its
+/// upper ends), within the maps; `None` when that box is empty.
+fn pool_box(pool: &PoolWater, maps: &WaterMaps) -> Option<(usize, usize, usize, usize)> {
+    let (lo, hi) = pool.contour.iter().fold(
+        (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+    );
+    let node_of = |v: f64, o: f64| ((v - o) / maps.cell).floor();
+    let i0 = (node_of(lo.x, maps.origin.x) - 1.0).max(0.0) as usize;
+    let j0 = (node_of(lo.y, maps.origin.y) - 1.0).max(0.0) as usize;
+    let i1 = node_of(hi.x, maps.origin.x) + 2.0;
+    let j1 = node_of(hi.y, maps.origin.y) + 2.0;
+    if i1 < 0.0 || j1 < 0.0 {
+        return None;
+    }
+    let (i1, j1) = (
+        (i1 as usize).min(maps.nx - 1),
+        (j1 as usize).min(maps.ny - 1),
+    );
+    if i1 <= i0 || j1 <= j0 {
+        return None;
+    }
+    Some((i0, j0, i1, j1))
+}
+
+/// A plan velocity fixed on some nodes: one constraint grid per component.
+struct VelocityConstraints {
+    x: Constraints,
+    y: Constraints,
+}
+
+impl VelocityConstraints {
+    fn new(nx: usize, ny: usize, cell: f64) -> Result<Self> {
+        let x = Constraints::new(nx, ny, cell)?;
+        let y = Constraints::new(nx, ny, cell)?;
+        Ok(VelocityConstraints { x, y })
+    }
+
+    fn set(&mut self, i: usize, j: usize, v: DVec2) -> Result<()> {
+        self.x.set(i, j, v.x)?;
+        self.y.set(i, j, v.y)
+    }
+
+    fn is_set(&self, i: usize, j: usize) -> bool {
+        self.x.get(i, j).is_some()
+    }
+}
+
+/// The velocity field of one pool over its box: `(i0, j0, bx, by, velocities)`, `None` when the box is empty.
+fn pool_speed_field(
+    net: &WaterfallNetwork,
+    footprint: &Footprint,
+    maps: &WaterMaps,
+    pool: &PoolWater,
+) -> Result<Option<PoolSpeeds>> {
+    let Some((i0, j0, i1, j1)) = pool_box(pool, maps) else {
+        return Ok(None);
+    };
+    let (bx, by) = (i1 - i0 + 1, j1 - j0 + 1);
+    let mut fixed = VelocityConstraints::new(bx, by, maps.cell)?;
+    // plunge points first: the velocity the falling water brings in
+    let node = &net.graph.nodes[pool.node];
+    for &a in &node.arcs_in {
+        if net.graph.arcs[a].kind != ControllerKind::FreeFall {
+            continue;
+        }
+        let Some(foot) = net.paths[a].last() else {
+            continue;
+        };
+        let u = super::integration::fall_direction(net, a);
+        let r = &net.segment_ranges[a];
+        let v = u * net.segments[r.start].section.speed.min(speed_scale(net));
+        let f = ((foot.truncate() - maps.origin) / maps.cell).round();
+        if f.x >= i0 as f64 && f.y >= j0 as f64 && f.x <= i1 as f64 && f.y <= j1 as f64 {
+            fixed.set(f.x as usize - i0, f.y as usize - j0, v)?;
+        }
+    }
+    // then every node of the box outside the pool: the water's speed there, or rest
+    for j in 0..by {
+        for i in 0..bx {
+            let k = (j + j0) * maps.nx + i + i0;
+            if in_pool(footprint, k, pool) {
+                continue;
+            }
+            let v = if maps.water[k] > 0.5 {
+                maps.speed[k]
+            } else {
+                DVec2::ZERO
+            };
+            if !fixed.is_set(i, j) {
+                fixed.set(i, j, v)?;
+            }
+        }
+    }
+    let o = DiffusionOptions {
+        falloff: None,
+        tolerance: 1e-4,
+        max_cycles: 50,
+    };
+    let (dx, dy) = (diffuse(&fixed.x, &o)?, diffuse(&fixed.y, &o)?);
+    let v = dx
+        .displacement
+        .iter()
+        .zip(&dy.displacement)
+        .map(|(x, y)| DVec2::new(*x, *y))
+        .collect();
+    Ok(Some((i0, j0, bx, by, v)))
 }
 
 /// The fastest contact speed of the network: a plunge brings water into its pool no faster.

@@ -28,11 +28,13 @@ use super::network::NodeKind;
 use super::{ControllerKind, WaterfallNetwork, WaterfallType};
 use crate::contour::Polygons;
 use crate::error::{Error, Result};
-use crate::geom::{polygon_contains, segment_distance};
 use crate::polygon_mesh::triangulate;
-use crate::terrain::Heightfield;
 use glam::{DVec2, DVec3};
-use rayon::prelude::*;
+
+// the rasterization of the mesh onto the terrain's grid
+#[path = "footprint.rs"]
+mod footprint;
+pub use footprint::{footprint, Footprint, FootprintNode};
 
 /// Which kind of element a vertex, border or footprint node belongs to.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -270,157 +272,177 @@ fn drawn_rows(
 pub fn integration_mesh(net: &WaterfallNetwork, options: &IntegrationOptions) -> Result<WaterMesh> {
     options.validate()?;
     let mut mesh = WaterMesh::default();
-    let graph = &net.graph;
-    for (a, arc) in graph.arcs.iter().enumerate() {
-        let path = &net.paths[a];
-        let range = net.segment_ranges[a].clone();
-        if path.len() < 2 || range.is_empty() {
+    for (a, arc) in net.graph.arcs.iter().enumerate() {
+        if net.paths[a].len() < 2 || net.segment_ranges[a].is_empty() {
             continue;
         }
         match arc.kind {
-            ControllerKind::Contact => {
-                let ribbon = ribbon_rows(net, a, options);
-                let drawn = drawn_rows(net, a, &ribbon, options);
-                let mut rows: Vec<[u32; 3]> = Vec::with_capacity(drawn.len());
-                for (k, row) in ribbon.iter().enumerate().take(drawn.end).skip(drawn.start) {
-                    let s = range.start + k.min(range.len() - 1);
-                    let seg = &net.segments[s];
-                    let along = -normal_at(path, k).perp();
-                    let values = decoration_values(seg.kind_of_water);
-                    let il = mesh.push(row[0], DVec2::ZERO, values, WaterPart::Contact, s);
-                    let ic = mesh.push(
-                        row[1],
-                        along * seg.section.speed,
-                        values,
-                        WaterPart::Contact,
-                        s,
-                    );
-                    let ir = mesh.push(row[2], DVec2::ZERO, values, WaterPart::Contact, s);
-                    rows.push([il, ic, ir]);
-                }
-                let left: Vec<DVec3> = ribbon[drawn.clone()].iter().map(|r| r[0]).collect();
-                let right: Vec<DVec3> = ribbon[drawn.clone()].iter().map(|r| r[2]).collect();
-                let n = left.len();
-                for w in rows.windows(2) {
-                    for c in 0..2 {
-                        let (a0, a1, b0, b1) = (w[0][c], w[0][c + 1], w[1][c], w[1][c + 1]);
-                        mesh.triangles.push([a0, b0, a1]);
-                        mesh.triangles.push([a1, b0, b1]);
-                    }
-                }
-                let first = range.start;
-                let last = range.end - 1;
-                mesh.borders.push(Border {
-                    part: WaterPart::Contact,
-                    element: first,
-                    points: left.clone(),
-                    closed: false,
-                });
-                mesh.borders.push(Border {
-                    part: WaterPart::Contact,
-                    element: first,
-                    points: right.clone(),
-                    closed: false,
-                });
-                // closed across where the water starts from nothing or ends in nothing
-                if graph.nodes[arc.from].kind == NodeKind::Source {
-                    mesh.borders.push(Border {
-                        part: WaterPart::Contact,
-                        element: first,
-                        points: vec![left[0], right[0]],
-                        closed: false,
-                    });
-                }
-                if graph.nodes[arc.to].kind == NodeKind::Well {
-                    mesh.borders.push(Border {
-                        part: WaterPart::Contact,
-                        element: last,
-                        points: vec![left[n - 1], right[n - 1]],
-                        closed: false,
-                    });
-                }
-            }
-            ControllerKind::FreeFall => {
-                let s = range.start;
-                let seg = &net.segments[s];
-                let w = fall_width(net, a, options);
-                let u = fall_direction(net, a);
-                let nrm = u.perp();
-                let values = decoration_values(seg.kind_of_water);
-                let mut prev: Option<(u32, u32)> = None;
-                for p in path {
-                    let l = *p + (nrm * 0.5 * w).extend(0.0);
-                    let r = *p - (nrm * 0.5 * w).extend(0.0);
-                    let il = mesh.push(l, u * seg.section.speed, values, WaterPart::FreeFall, s);
-                    let ir = mesh.push(r, u * seg.section.speed, values, WaterPart::FreeFall, s);
-                    if let Some((pl, pr)) = prev {
-                        mesh.triangles.push([pl, il, pr]);
-                        mesh.triangles.push([pr, il, ir]);
-                    }
-                    prev = Some((il, ir));
-                }
-                let lip = path[0];
-                mesh.borders.push(Border {
-                    part: WaterPart::FreeFall,
-                    element: s,
-                    points: vec![
-                        lip + (nrm * 0.5 * w).extend(0.0),
-                        lip - (nrm * 0.5 * w).extend(0.0),
-                    ],
-                    closed: false,
-                });
-            }
+            ControllerKind::Contact => mesh.add_ribbon(net, a, options),
+            ControllerKind::FreeFall => mesh.add_sheet(net, a, options),
             ControllerKind::Pool => {}
         }
     }
-    for (n, node) in graph.nodes.iter().enumerate() {
-        let Some(c) = node.pool else {
-            continue;
+    for n in 0..net.graph.nodes.len() {
+        if let Some(pool) = pool_water(net, n) {
+            mesh.add_pool(pool);
+        }
+    }
+    Ok(mesh)
+}
+
+/// The water of graph node `n` when it is a pool whose controller the network holds: contour, level, depth and
+/// the values of its inflows where they arrive.
+fn pool_water(net: &WaterfallNetwork, n: usize) -> Option<PoolWater> {
+    let node = &net.graph.nodes[n];
+    let c = node.pool?;
+    let ctrl = net.controllers.get(c)?;
+    let contour: Vec<DVec2> = ctrl.points.iter().map(|p| p.truncate()).collect();
+    let inflows: Vec<(DVec2, [f64; 3])> = node
+        .arcs_in
+        .iter()
+        .filter_map(|&a| {
+            let r = net.segment_ranges.get(a)?;
+            let seg = net.segments.get(r.end.checked_sub(1)?)?;
+            let end = net.paths.get(a)?.last()?.truncate();
+            Some((end, decoration_values(seg.kind_of_water)))
+        })
+        .collect();
+    Some(PoolWater {
+        controller: c,
+        node: n,
+        contour,
+        level: node.position.z,
+        depth: node.depth,
+        inflows,
+    })
+}
+
+impl WaterMesh {
+    /// The ribbon of contact arc `a`: per drawn row its banks at rest and its axis at the segment's speed along
+    /// the flow, two quads between rows, and its banks as borders.
+    fn add_ribbon(&mut self, net: &WaterfallNetwork, a: usize, options: &IntegrationOptions) {
+        let path = &net.paths[a];
+        let range = net.segment_ranges[a].clone();
+        let ribbon = ribbon_rows(net, a, options);
+        let drawn = drawn_rows(net, a, &ribbon, options);
+        let mut rows: Vec<[u32; 3]> = Vec::with_capacity(drawn.len());
+        for (k, row) in ribbon.iter().enumerate().take(drawn.end).skip(drawn.start) {
+            let s = range.start + k.min(range.len() - 1);
+            let seg = &net.segments[s];
+            let along = -normal_at(path, k).perp();
+            let values = decoration_values(seg.kind_of_water);
+            let il = self.push(row[0], DVec2::ZERO, values, WaterPart::Contact, s);
+            let ic = self.push(
+                row[1],
+                along * seg.section.speed,
+                values,
+                WaterPart::Contact,
+                s,
+            );
+            let ir = self.push(row[2], DVec2::ZERO, values, WaterPart::Contact, s);
+            rows.push([il, ic, ir]);
+        }
+        for w in rows.windows(2) {
+            for c in 0..2 {
+                let (a0, a1, b0, b1) = (w[0][c], w[0][c + 1], w[1][c], w[1][c + 1]);
+                self.triangles.push([a0, b0, a1]);
+                self.triangles.push([a1, b0, b1]);
+            }
+        }
+        let left: Vec<DVec3> = ribbon[drawn.clone()].iter().map(|r| r[0]).collect();
+        let right: Vec<DVec3> = ribbon[drawn].iter().map(|r| r[2]).collect();
+        self.add_ribbon_borders(net, a, &left, &right);
+    }
+
+    /// The banks of contact arc `a`'s ribbon, closed across where the water starts from nothing (a source) or
+    /// ends in nothing (a well).
+    fn add_ribbon_borders(
+        &mut self,
+        net: &WaterfallNetwork,
+        a: usize,
+        left: &[DVec3],
+        right: &[DVec3],
+    ) {
+        let graph = &net.graph;
+        let arc = &graph.arcs[a];
+        let first = net.segment_ranges[a].start;
+        let last = net.segment_ranges[a].end - 1;
+        let n = left.len();
+        let bank = |element: usize, points: Vec<DVec3>| Border {
+            part: WaterPart::Contact,
+            element,
+            points,
+            closed: false,
         };
-        let Some(ctrl) = net.controllers.get(c) else {
-            continue;
-        };
-        let contour: Vec<DVec2> = ctrl.points.iter().map(|p| p.truncate()).collect();
-        let level = node.position.z;
-        let inflows: Vec<(DVec2, [f64; 3])> = node
-            .arcs_in
-            .iter()
-            .filter_map(|&a| {
-                let r = net.segment_ranges.get(a)?;
-                let seg = net.segments.get(r.end.checked_sub(1)?)?;
-                let end = net.paths.get(a)?.last()?.truncate();
-                Some((end, decoration_values(seg.kind_of_water)))
-            })
-            .collect();
-        let pool = PoolWater {
-            controller: c,
-            node: n,
-            contour,
-            level,
-            depth: node.depth,
-            inflows,
-        };
+        self.borders.push(bank(first, left.to_vec()));
+        self.borders.push(bank(first, right.to_vec()));
+        if graph.nodes[arc.from].kind == NodeKind::Source {
+            self.borders.push(bank(first, vec![left[0], right[0]]));
+        }
+        if graph.nodes[arc.to].kind == NodeKind::Well {
+            self.borders
+                .push(bank(last, vec![left[n - 1], right[n - 1]]));
+        }
+    }
+
+    /// The vertical sheet of free-fall arc `a` along its path, its vertices at the speed of the fall, and its
+    /// lip as a border.
+    fn add_sheet(&mut self, net: &WaterfallNetwork, a: usize, options: &IntegrationOptions) {
+        let path = &net.paths[a];
+        let s = net.segment_ranges[a].start;
+        let seg = &net.segments[s];
+        let w = fall_width(net, a, options);
+        let u = fall_direction(net, a);
+        let nrm = u.perp();
+        let values = decoration_values(seg.kind_of_water);
+        let mut prev: Option<(u32, u32)> = None;
+        for p in path {
+            let l = *p + (nrm * 0.5 * w).extend(0.0);
+            let r = *p - (nrm * 0.5 * w).extend(0.0);
+            let il = self.push(l, u * seg.section.speed, values, WaterPart::FreeFall, s);
+            let ir = self.push(r, u * seg.section.speed, values, WaterPart::FreeFall, s);
+            if let Some((pl, pr)) = prev {
+                self.triangles.push([pl, il, pr]);
+                self.triangles.push([pr, il, ir]);
+            }
+            prev = Some((il, ir));
+        }
+        let lip = path[0];
+        self.borders.push(Border {
+            part: WaterPart::FreeFall,
+            element: s,
+            points: vec![
+                lip + (nrm * 0.5 * w).extend(0.0),
+                lip - (nrm * 0.5 * w).extend(0.0),
+            ],
+            closed: false,
+        });
+    }
+
+    /// A pool's flat triangulation at its level, with values fading from its inflows, and its contour as a
+    /// closed border.
+    fn add_pool(&mut self, pool: PoolWater) {
+        let (c, level) = (pool.controller, pool.level);
         let size = pool_radius(&pool.contour);
         let tri = triangulate(
             &Polygons::new(std::slice::from_ref(&pool.contour)),
             size / 4.0,
         );
-        let base = mesh.vertices.len() as u32;
+        let base = self.vertices.len() as u32;
         for v in &tri.vertices {
             let values = pool_values(&pool, *v);
-            mesh.push(v.extend(level), DVec2::ZERO, values, WaterPart::Pool, c);
+            self.push(v.extend(level), DVec2::ZERO, values, WaterPart::Pool, c);
         }
-        mesh.triangles
+        self.triangles
             .extend(tri.triangles.iter().map(|t| t.map(|i| i + base)));
-        mesh.borders.push(Border {
+        self.borders.push(Border {
             part: WaterPart::Pool,
             element: c,
             points: pool.contour.iter().map(|p| p.extend(level)).collect(),
             closed: true,
         });
-        mesh.pools.push(pool);
+        self.pools.push(pool);
     }
-    Ok(mesh)
 }
 
 /// Largest distance from the centroid of a contour to its points.
@@ -475,203 +497,6 @@ pub fn fall_width(net: &WaterfallNetwork, a: usize, o: &IntegrationOptions) -> f
     }
 }
 
-/// What the integration mesh puts over one grid node, seen from above.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct FootprintNode {
-    pub part: WaterPart,
-    /// Segment (contact, free-fall) or pool controller.
-    pub element: usize,
-    /// Signed plan distance to the element's border: positive inside the water, negative outside (m).
-    pub inside: f64,
-    /// Distance from the border to the element's middle: the half-width of a ribbon, the largest inside
-    /// distance of a pool (m).
-    pub half_width: f64,
-    /// Water surface height above the node.
-    pub surface: f64,
-    /// The highest water surface among the elements whose bank band holds the node (−∞ when none does): a bank
-    /// between two waters, such as beside a stream above the pool it falls into, holds the higher one.
-    pub bank_level: f64,
-    /// `ζ` of the element.
-    pub depth: f64,
-    /// Plan direction of the flow (zero in a pool).
-    pub along: DVec2,
-}
-
-/// The integration mesh rendered from above onto the terrain's grid: per node, the element it lies deepest
-/// inside, or, within `margin` outside all water, the nearest element (its bank).
-#[derive(Clone, Debug)]
-pub struct Footprint {
-    pub nx: usize,
-    pub ny: usize,
-    pub origin: DVec2,
-    pub cell: f64,
-    pub margin: f64,
-    pub nodes: Vec<Option<FootprintNode>>,
-}
-
-impl Footprint {
-    /// Whether node `k` lies under water.
-    pub fn is_water(&self, k: usize) -> bool {
-        self.nodes
-            .get(k)
-            .copied()
-            .flatten()
-            .is_some_and(|n| n.inside > 0.0)
-    }
-}
-
-/// Footprint nodes of one element: grid node index and what lies over it.
-type Hits = Vec<(usize, FootprintNode)>;
-
-/// A free-fall sheet's footprint: the nodes within `hw` of its plan segment `ab`.
-fn hits_of_fall(
-    t: &Heightfield,
-    a: DVec3,
-    b: DVec3,
-    hw: f64,
-    make: impl Fn(f64, f64) -> FootprintNode,
-) -> Hits {
-    let (a2, b2) = (a.truncate(), b.truncate());
-    let Some((columns, rows)) = t.nodes_in(a2.min(b2) - hw, a2.max(b2) + hw) else {
-        return Vec::new();
-    };
-    let ab = b2 - a2;
-    let len2 = ab.length_squared();
-    let mut out = Vec::new();
-    for j in rows {
-        for i in columns.clone() {
-            let p = t.origin + DVec2::new(i as f64, j as f64) * t.cell;
-            let d = segment_distance(p, a2, b2);
-            if d > hw {
-                continue;
-            }
-            let along = if len2 > 0.0 {
-                (p - a2).dot(ab) / len2
-            } else {
-                0.0
-            };
-            out.push((j * t.nx + i, make(hw - d, along.clamp(0.0, 1.0))));
-        }
-    }
-    out
-}
-
-/// Rasterizes the mesh's footprint: contacts and pools first (the node takes the element it is deepest in), then
-/// free-falls on the nodes no other water covers.
-pub fn footprint(
-    terrain: &Heightfield,
-    net: &WaterfallNetwork,
-    mesh: &WaterMesh,
-    options: &IntegrationOptions,
-    margin: f64,
-) -> Result<Footprint> {
-    if !(margin.is_finite() && margin >= 0.0) {
-        return Err(Error::InvalidInput(format!(
-            "footprint margin {margin} must be zero or positive"
-        )));
-    }
-    let graph = &net.graph;
-    // (contacts and pools, free-falls) hit lists in a fixed order, computed in parallel
-    let mut jobs: Vec<(bool, usize, usize)> = Vec::new(); // (is pool, arc or pool index, segment)
-    for (a, arc) in graph.arcs.iter().enumerate() {
-        for s in net.segment_ranges[a].clone() {
-            if arc.kind != ControllerKind::Pool {
-                jobs.push((false, a, s));
-            }
-        }
-    }
-    for p in 0..mesh.pools.len() {
-        jobs.push((true, p, 0));
-    }
-    let ribbons: Vec<Vec<[DVec3; 3]>> = graph
-        .arcs
-        .iter()
-        .enumerate()
-        .map(|(a, arc)| match arc.kind {
-            ControllerKind::Contact => ribbon_rows(net, a, options),
-            _ => Vec::new(),
-        })
-        .collect();
-    // (free-fall, hits)
-    let hits: Vec<(bool, Hits)> = jobs
-        .par_iter()
-        .map(|&(is_pool, a, s)| {
-            if is_pool {
-                return (false, pool_hits(terrain, &mesh.pools[a], margin));
-            }
-            let arc = &graph.arcs[a];
-            let seg = &net.segments[s];
-            let range = &net.segment_ranges[a];
-            let (p0, p1) = (seg.points[0], seg.points[seg.points.len() - 1]);
-            let along = (p1 - p0).truncate().normalize_or_zero();
-            let node = |part: WaterPart, hw: f64, inside: f64, t: f64| FootprintNode {
-                part,
-                element: s,
-                inside,
-                half_width: hw,
-                surface: p0.z + t * (p1.z - p0.z),
-                bank_level: f64::NEG_INFINITY,
-                depth: seg.section.depth,
-                along,
-            };
-            if arc.kind == ControllerKind::FreeFall {
-                let hw = 0.5 * fall_width(net, a, options);
-                let hit = hits_of_fall(terrain, p0, p1, hw, |inside, t| {
-                    node(WaterPart::FreeFall, hw, inside, t)
-                });
-                return (true, hit);
-            }
-            let ends = (
-                ribbon_end(net, arc.from, true),
-                ribbon_end(net, arc.to, false),
-            );
-            let hit = hits_of_quad(
-                terrain,
-                &ribbons[a],
-                s - range.start,
-                margin,
-                ends,
-                |hw, inside, t| node(WaterPart::Contact, hw, inside, t),
-            );
-            (false, hit)
-        })
-        .collect();
-    let mut nodes: Vec<Option<FootprintNode>> = vec![None; terrain.nx * terrain.ny];
-    // every water element whose bank band holds a node holds it up to its level
-    let mut banks = vec![f64::NEG_INFINITY; nodes.len()];
-    for (_, list) in hits.iter().filter(|(fall, _)| !fall) {
-        for (k, h) in list {
-            if h.inside <= 0.0 {
-                banks[*k] = banks[*k].max(h.surface);
-            }
-            match &nodes[*k] {
-                Some(old) if old.inside >= h.inside => {}
-                _ => nodes[*k] = Some(*h),
-            }
-        }
-    }
-    for (node, bank) in nodes.iter_mut().zip(banks) {
-        if let Some(n) = node {
-            n.bank_level = bank;
-        }
-    }
-    for (_, list) in hits.iter().filter(|(fall, _)| *fall) {
-        for (k, h) in list {
-            if !nodes[*k].is_some_and(|n| n.inside > 0.0) {
-                nodes[*k] = Some(*h);
-            }
-        }
-    }
-    Ok(Footprint {
-        nx: terrain.nx,
-        ny: terrain.ny,
-        origin: terrain.origin,
-        cell: terrain.cell,
-        margin,
-        nodes,
-    })
-}
-
 /// How a ribbon ends, for the nodes beyond its first or last row.
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum RibbonEnd {
@@ -706,134 +531,4 @@ fn in_triangle(p: DVec2, a: DVec2, b: DVec2, c: DVec2) -> bool {
     let d2 = (c - b).perp_dot(p - b);
     let d3 = (a - c).perp_dot(p - c);
     (d1 >= 0.0 && d2 >= 0.0 && d3 >= 0.0) || (d1 <= 0.0 && d2 <= 0.0 && d3 <= 0.0)
-}
-
-/// The footprint of quad `k` of a ribbon, between rows `k` and `k + 1`: the nodes under its triangles (those of
-/// the mesh) are inside by their plan distance to the nearest bank edge of this quad or its neighbours, the others
-/// within `margin` of those banks outside by it. Beyond the ribbon's first or last row `ends` decide: nothing
-/// (open), the row as a bank (closed) or a round cap (joined). `make(half_width, inside, t)` makes the node, `t`
-/// the position along the quad.
-fn hits_of_quad(
-    t: &Heightfield,
-    ribbon: &[[DVec3; 3]],
-    k: usize,
-    margin: f64,
-    ends: (RibbonEnd, RibbonEnd),
-    make: impl Fn(f64, f64, f64) -> FootprintNode,
-) -> Hits {
-    if k + 1 >= ribbon.len() {
-        return Vec::new();
-    }
-    let last = ribbon.len() - 2;
-    let plan = |j: usize, c: usize| ribbon[j][c].truncate();
-    let (l0, c0, r0) = (plan(k, 0), plan(k, 1), plan(k, 2));
-    let (l1, c1, r1) = (plan(k + 1, 0), plan(k + 1, 1), plan(k + 1, 2));
-    let (hw0, hw1) = (l0.distance(c0), l1.distance(c1));
-    // the quad's own bank edges (with its end row where the water is closed there), then its neighbours'
-    let mut banks: Vec<(DVec2, DVec2)> = vec![(l0, l1), (r0, r1)];
-    if k == 0 && ends.0 == RibbonEnd::Closed {
-        banks.push((l0, r0));
-    }
-    if k == last && ends.1 == RibbonEnd::Closed {
-        banks.push((l1, r1));
-    }
-    let own = banks.len();
-    if k > 0 {
-        banks.extend([(plan(k - 1, 0), l0), (plan(k - 1, 2), r0)]);
-    }
-    if k < last {
-        banks.extend([(l1, plan(k + 2, 0)), (r1, plan(k + 2, 2))]);
-    }
-    let reach = margin + hw0.max(hw1);
-    let (lo, hi) = [l0, c0, r0, l1, c1, r1].iter().fold(
-        (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
-        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-    );
-    let Some((columns, rows)) = t.nodes_in(lo - reach, hi + reach) else {
-        return Vec::new();
-    };
-    let axis = c1 - c0;
-    let len2 = axis.length_squared();
-    let mut out = Vec::new();
-    for j in rows {
-        for i in columns.clone() {
-            let p = t.origin + DVec2::new(i as f64, j as f64) * t.cell;
-            let raw = if len2 > 0.0 {
-                (p - c0).dot(axis) / len2
-            } else {
-                0.0
-            };
-            let tt = raw.clamp(0.0, 1.0);
-            let hw = hw0 + tt * (hw1 - hw0);
-            let under = under_quad(p, &ribbon[k], &ribbon[k + 1]);
-            // under the quad the nearest bank may be a neighbour's; outside it the quad's own is what it banks
-            let bank = |edges: &[(DVec2, DVec2)]| {
-                edges
-                    .iter()
-                    .map(|(a, b)| segment_distance(p, *a, *b))
-                    .fold(f64::INFINITY, f64::min)
-            };
-            let beyond = match (k == 0 && raw < 0.0, k == last && raw > 1.0) {
-                (true, _) => Some((ends.0, c0, hw0)),
-                (_, true) => Some((ends.1, c1, hw1)),
-                _ => None,
-            };
-            let inside = match beyond {
-                _ if under => bank(&banks),
-                Some((RibbonEnd::Open, ..)) => continue,
-                Some((RibbonEnd::Joined, c, hw)) => hw - p.distance(c),
-                _ => -bank(&banks[..own]),
-            };
-            if inside < -margin {
-                continue;
-            }
-            out.push((j * t.nx + i, make(hw, inside, tt)));
-        }
-    }
-    out
-}
-
-fn pool_hits(t: &Heightfield, pool: &PoolWater, margin: f64) -> Hits {
-    let c = &pool.contour;
-    let (lo, hi) = c.iter().fold(
-        (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
-        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-    );
-    let Some((columns, rows)) = t.nodes_in(lo - margin, hi + margin) else {
-        return Vec::new();
-    };
-    let edge = |p: DVec2| {
-        (0..c.len())
-            .map(|k| segment_distance(p, c[k], c[(k + 1) % c.len()]))
-            .fold(f64::INFINITY, f64::min)
-    };
-    let mut raw = Vec::new();
-    for j in rows {
-        for i in columns.clone() {
-            let p = t.origin + DVec2::new(i as f64, j as f64) * t.cell;
-            let d = edge(p);
-            let inside = if polygon_contains(c, p) { d } else { -d };
-            if inside >= -margin {
-                raw.push((j * t.nx + i, inside));
-            }
-        }
-    }
-    let deepest = raw.iter().map(|r| r.1).fold(t.cell * 0.5, f64::max);
-    raw.into_iter()
-        .map(|(k, inside)| {
-            (
-                k,
-                FootprintNode {
-                    part: WaterPart::Pool,
-                    element: pool.controller,
-                    inside,
-                    half_width: deepest,
-                    surface: pool.level,
-                    bank_level: f64::NEG_INFINITY,
-                    depth: pool.depth,
-                    along: DVec2::ZERO,
-                },
-            )
-        })
-        .collect()
 }

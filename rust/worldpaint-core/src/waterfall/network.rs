@@ -189,6 +189,236 @@ impl Sets {
     }
 }
 
+/// A candidate connection point: an end of a contact or free-fall curve, or an interior point of a contact
+/// curve, with the pool node its end lies in.
+struct Candidate {
+    controller: usize,
+    point: usize,
+    end: bool,
+    pool_node: Option<usize>,
+}
+
+/// A node with no arcs yet.
+fn bare_node(kind: NodeKind, position: DVec3, pool: Option<usize>) -> Node {
+    Node {
+        kind,
+        position,
+        pool,
+        arcs_in: Vec::new(),
+        arcs_out: Vec::new(),
+        inflow: 0.0,
+        outflow: 0.0,
+        depth: 0.0,
+    }
+}
+
+/// The candidate connection points of the linear controllers, controller by controller in point order; an end
+/// within `snap` of a pool (at its level for a start, not above it for an end) belongs to that pool's node.
+fn connection_candidates(
+    controllers: &[Controller],
+    pools: &[(usize, PoolShape)],
+    snap: f64,
+) -> Vec<Candidate> {
+    let mut cands: Vec<Candidate> = Vec::new();
+    for (i, c) in controllers.iter().enumerate() {
+        if c.kind == ControllerKind::Pool {
+            continue;
+        }
+        let last = c.points.len() - 1;
+        for (k, p) in c.points.iter().enumerate() {
+            let end = k == 0 || k == last;
+            if !end && c.kind == ControllerKind::FreeFall {
+                continue;
+            }
+            let pool_node = if end {
+                pools.iter().position(|(_, shape)| {
+                    let at_level = if k == 0 {
+                        (p.z - shape.level).abs() <= snap
+                    } else {
+                        p.z <= shape.level + snap
+                    };
+                    at_level && shape.near(xy(*p), snap)
+                })
+            } else {
+                None
+            };
+            cands.push(Candidate {
+                controller: i,
+                point: k,
+                end,
+                pool_node,
+            });
+        }
+    }
+    cands
+}
+
+/// The candidates that meet: ends not in a pool snap to any candidate of another controller within `snap`
+/// (sorted by x to prune the search).
+fn snapped_sets(controllers: &[Controller], cands: &[Candidate], snap: f64) -> Sets {
+    let pos = |c: &Candidate| controllers[c.controller].points[c.point];
+    let mut by_x: Vec<usize> = (0..cands.len())
+        .filter(|&k| cands[k].pool_node.is_none())
+        .collect();
+    by_x.sort_by(|&a, &b| {
+        pos(&cands[a])
+            .x
+            .total_cmp(&pos(&cands[b]).x)
+            .then(a.cmp(&b))
+    });
+    let xs: Vec<f64> = by_x.iter().map(|&k| pos(&cands[k]).x).collect();
+    let mut sets = Sets((0..cands.len()).collect());
+    for (a, ca) in cands.iter().enumerate() {
+        if !ca.end || ca.pool_node.is_some() {
+            continue;
+        }
+        let p = pos(ca);
+        let from = xs.partition_point(|&x| x < p.x - snap);
+        for &b in &by_x[from..] {
+            let cb = &cands[b];
+            let q = pos(cb);
+            if q.x > p.x + snap {
+                break;
+            }
+            if cb.controller != ca.controller && p.distance(q) <= snap {
+                sets.union(a, b);
+            }
+        }
+    }
+    sets
+}
+
+/// The node of each candidate: its pool, or its set's node, added to `nodes` at the mean of the set (sets in
+/// order of their smallest member); `None` for an interior point that meets nothing.
+fn candidate_nodes(
+    controllers: &[Controller],
+    cands: &[Candidate],
+    sets: &mut Sets,
+    nodes: &mut Vec<Node>,
+) -> Vec<Option<usize>> {
+    let pos = |c: &Candidate| controllers[c.controller].points[c.point];
+    let mut members: Vec<Vec<usize>> = vec![Vec::new(); cands.len()];
+    for (k, cand) in cands.iter().enumerate() {
+        if cand.pool_node.is_none() {
+            let r = sets.find(k);
+            members[r].push(k);
+        }
+    }
+    let mut node_of: Vec<Option<usize>> = vec![None; cands.len()];
+    for k in 0..cands.len() {
+        if let Some(pn) = cands[k].pool_node {
+            node_of[k] = Some(pn);
+            continue;
+        }
+        let r = sets.find(k);
+        // interior points alone are no connection
+        if !cands[k].end && members[r].len() < 2 {
+            continue;
+        }
+        if r == k {
+            let mean =
+                members[r].iter().map(|&m| pos(&cands[m])).sum::<DVec3>() / members[r].len() as f64;
+            nodes.push(bare_node(NodeKind::Branch, mean, None));
+            node_of[k] = Some(nodes.len() - 1);
+        } else {
+            node_of[k] = node_of[r];
+        }
+    }
+    node_of
+}
+
+/// The arcs: each linear controller cut at its connected points, its ends moved onto their nodes (a pool's at
+/// the pool's level); a controller's strength goes to its first arc.
+fn cut_arcs(
+    controllers: &[Controller],
+    cands: &[Candidate],
+    node_of: &[Option<usize>],
+    nodes: &[Node],
+) -> Vec<HydraulicArc> {
+    let mut arcs: Vec<HydraulicArc> = Vec::new();
+    let mut k = 0;
+    while k < cands.len() {
+        let i = cands[k].controller;
+        let c = &controllers[i];
+        let mut cuts: Vec<(usize, usize)> = Vec::new();
+        while k < cands.len() && cands[k].controller == i {
+            if let Some(n) = node_of[k] {
+                cuts.push((cands[k].point, n));
+            }
+            k += 1;
+        }
+        for (w, pair) in cuts.windows(2).enumerate() {
+            let ((p0, n0), (p1, n1)) = (pair[0], pair[1]);
+            let mut points: Vec<DVec3> = match c.kind {
+                ControllerKind::FreeFall => vec![c.points[p0], c.points[p1]],
+                _ => c.points[p0..=p1].to_vec(),
+            };
+            let at_node = |p: DVec3, n: usize| -> DVec3 {
+                let node = &nodes[n];
+                if node.pool.is_some() {
+                    DVec3::new(p.x, p.y, node.position.z)
+                } else {
+                    node.position
+                }
+            };
+            let last = points.len() - 1;
+            points[0] = at_node(points[0], n0);
+            points[last] = at_node(points[last], n1);
+            arcs.push(HydraulicArc {
+                controller: i,
+                kind: c.kind,
+                first_point: p0,
+                last_point: p1,
+                from: n0,
+                to: n1,
+                points,
+                strength: if w == 0 { c.strength } else { None },
+                flow: 0.0,
+            });
+        }
+    }
+    arcs
+}
+
+/// Records each arc at its two nodes; refuses an arc that returns to its own node and a free-fall that does
+/// not fall.
+fn link_arcs(nodes: &mut [Node], arcs: &[HydraulicArc]) -> Result<()> {
+    for (a, arc) in arcs.iter().enumerate() {
+        nodes[arc.from].arcs_out.push(a);
+        nodes[arc.to].arcs_in.push(a);
+        if arc.from == arc.to {
+            return Err(Error::InvalidInput(format!(
+                "{} controller {} starts and ends at the same connection: water cannot flow in a loop",
+                name(arc.kind),
+                arc.controller
+            )));
+        }
+        if arc.kind == ControllerKind::FreeFall {
+            let (s, e) = (arc.points[0], arc.points[1]);
+            if xy(s).distance(xy(e)) < SAME_PLACE && !(e.z < s.z) {
+                return Err(Error::InvalidInput(format!(
+                    "free-fall controller {}: its end is straight above or at its start",
+                    arc.controller
+                )));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// A connection with no arc in is a source, one with no arc out a well, any other a branch.
+fn classify_connections(nodes: &mut [Node]) {
+    for node in nodes {
+        if node.pool.is_none() {
+            node.kind = match (node.arcs_in.is_empty(), node.arcs_out.is_empty()) {
+                (true, _) => NodeKind::Source,
+                (false, true) => NodeKind::Well,
+                _ => NodeKind::Branch,
+            };
+        }
+    }
+}
+
 impl HydraulicGraph {
     /// The graph of a controller network: connections, pools, arcs and their dependency order. Refuses bad
     /// controllers (too few points, not finite, off the terrain) and networks with a cycle.
@@ -210,196 +440,20 @@ impl HydraulicGraph {
             .collect();
         let mut nodes: Vec<Node> = pools
             .iter()
-            .map(|(i, shape)| Node {
-                kind: NodeKind::Pool,
-                position: shape.centroid().extend(shape.level),
-                pool: Some(*i),
-                arcs_in: Vec::new(),
-                arcs_out: Vec::new(),
-                inflow: 0.0,
-                outflow: 0.0,
-                depth: 0.0,
+            .map(|(i, shape)| {
+                bare_node(
+                    NodeKind::Pool,
+                    shape.centroid().extend(shape.level),
+                    Some(*i),
+                )
             })
             .collect();
-
-        // candidate connection points: ends of contact and free-fall curves, interior points of contact curves
-        struct Candidate {
-            controller: usize,
-            point: usize,
-            end: bool,
-            pool_node: Option<usize>,
-        }
-        let mut cands: Vec<Candidate> = Vec::new();
-        for (i, c) in controllers.iter().enumerate() {
-            if c.kind == ControllerKind::Pool {
-                continue;
-            }
-            let last = c.points.len() - 1;
-            for (k, p) in c.points.iter().enumerate() {
-                let end = k == 0 || k == last;
-                if !end && c.kind == ControllerKind::FreeFall {
-                    continue;
-                }
-                let pool_node = if end {
-                    pools.iter().position(|(_, shape)| {
-                        let at_level = if k == 0 {
-                            (p.z - shape.level).abs() <= snap
-                        } else {
-                            p.z <= shape.level + snap
-                        };
-                        at_level && shape.near(xy(*p), snap)
-                    })
-                } else {
-                    None
-                };
-                cands.push(Candidate {
-                    controller: i,
-                    point: k,
-                    end,
-                    pool_node,
-                });
-            }
-        }
-        let pos = |c: &Candidate| controllers[c.controller].points[c.point];
-        // ends not in a pool snap to any candidate of another controller; sorted by x to prune the search
-        let mut by_x: Vec<usize> = (0..cands.len())
-            .filter(|&k| cands[k].pool_node.is_none())
-            .collect();
-        by_x.sort_by(|&a, &b| {
-            pos(&cands[a])
-                .x
-                .total_cmp(&pos(&cands[b]).x)
-                .then(a.cmp(&b))
-        });
-        let xs: Vec<f64> = by_x.iter().map(|&k| pos(&cands[k]).x).collect();
-        let mut sets = Sets((0..cands.len()).collect());
-        for (a, ca) in cands.iter().enumerate() {
-            if !ca.end || ca.pool_node.is_some() {
-                continue;
-            }
-            let p = pos(ca);
-            let from = xs.partition_point(|&x| x < p.x - snap);
-            for &b in &by_x[from..] {
-                let cb = &cands[b];
-                let q = pos(cb);
-                if q.x > p.x + snap {
-                    break;
-                }
-                if cb.controller != ca.controller && p.distance(q) <= snap {
-                    sets.union(a, b);
-                }
-            }
-        }
-        let mut members: Vec<Vec<usize>> = vec![Vec::new(); cands.len()];
-        for (k, cand) in cands.iter().enumerate() {
-            if cand.pool_node.is_none() {
-                let r = sets.find(k);
-                members[r].push(k);
-            }
-        }
-        // node of each candidate: its pool, or its set's node (sets in order of their smallest member)
-        let mut node_of: Vec<Option<usize>> = vec![None; cands.len()];
-        for k in 0..cands.len() {
-            if let Some(pn) = cands[k].pool_node {
-                node_of[k] = Some(pn);
-                continue;
-            }
-            let r = sets.find(k);
-            // interior points alone are no connection
-            if !cands[k].end && members[r].len() < 2 {
-                continue;
-            }
-            if r == k {
-                let mean = members[r].iter().map(|&m| pos(&cands[m])).sum::<DVec3>()
-                    / members[r].len() as f64;
-                nodes.push(Node {
-                    kind: NodeKind::Branch,
-                    position: mean,
-                    pool: None,
-                    arcs_in: Vec::new(),
-                    arcs_out: Vec::new(),
-                    inflow: 0.0,
-                    outflow: 0.0,
-                    depth: 0.0,
-                });
-                node_of[k] = Some(nodes.len() - 1);
-            } else {
-                node_of[k] = node_of[r];
-            }
-        }
-
-        // arcs: each linear controller cut at its connected points
-        let mut arcs: Vec<HydraulicArc> = Vec::new();
-        let mut k = 0;
-        while k < cands.len() {
-            let i = cands[k].controller;
-            let c = &controllers[i];
-            let mut cuts: Vec<(usize, usize)> = Vec::new();
-            while k < cands.len() && cands[k].controller == i {
-                if let Some(n) = node_of[k] {
-                    cuts.push((cands[k].point, n));
-                }
-                k += 1;
-            }
-            for (w, pair) in cuts.windows(2).enumerate() {
-                let ((p0, n0), (p1, n1)) = (pair[0], pair[1]);
-                let mut points: Vec<DVec3> = match c.kind {
-                    ControllerKind::FreeFall => vec![c.points[p0], c.points[p1]],
-                    _ => c.points[p0..=p1].to_vec(),
-                };
-                let at_node = |p: DVec3, n: usize| -> DVec3 {
-                    let node = &nodes[n];
-                    if node.pool.is_some() {
-                        DVec3::new(p.x, p.y, node.position.z)
-                    } else {
-                        node.position
-                    }
-                };
-                let last = points.len() - 1;
-                points[0] = at_node(points[0], n0);
-                points[last] = at_node(points[last], n1);
-                arcs.push(HydraulicArc {
-                    controller: i,
-                    kind: c.kind,
-                    first_point: p0,
-                    last_point: p1,
-                    from: n0,
-                    to: n1,
-                    points,
-                    strength: if w == 0 { c.strength } else { None },
-                    flow: 0.0,
-                });
-            }
-        }
-        for (a, arc) in arcs.iter().enumerate() {
-            nodes[arc.from].arcs_out.push(a);
-            nodes[arc.to].arcs_in.push(a);
-            if arc.from == arc.to {
-                return Err(Error::InvalidInput(format!(
-                    "{} controller {} starts and ends at the same connection: water cannot flow in a loop",
-                    name(arc.kind),
-                    arc.controller
-                )));
-            }
-            if arc.kind == ControllerKind::FreeFall {
-                let (s, e) = (arc.points[0], arc.points[1]);
-                if xy(s).distance(xy(e)) < SAME_PLACE && !(e.z < s.z) {
-                    return Err(Error::InvalidInput(format!(
-                        "free-fall controller {}: its end is straight above or at its start",
-                        arc.controller
-                    )));
-                }
-            }
-        }
-        for node in &mut nodes {
-            if node.pool.is_none() {
-                node.kind = match (node.arcs_in.is_empty(), node.arcs_out.is_empty()) {
-                    (true, _) => NodeKind::Source,
-                    (false, true) => NodeKind::Well,
-                    _ => NodeKind::Branch,
-                };
-            }
-        }
+        let cands = connection_candidates(controllers, &pools, snap);
+        let mut sets = snapped_sets(controllers, &cands, snap);
+        let node_of = candidate_nodes(controllers, &cands, &mut sets, &mut nodes);
+        let arcs = cut_arcs(controllers, &cands, &node_of, &nodes);
+        link_arcs(&mut nodes, &arcs)?;
+        classify_connections(&mut nodes);
         let order = dependency_order(&nodes, &arcs)?;
         Ok(HydraulicGraph { nodes, arcs, order })
     }

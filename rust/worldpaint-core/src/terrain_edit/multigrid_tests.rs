@@ -1,0 +1,67 @@
+//! Tests of the multigrid solver against Jacobi iteration and an independent residual.
+
+use super::*;
+
+/// Max residual of a row-major solution, recomputed independently of the solver.
+fn check(nx: usize, ny: usize, fixed: &[f64], u: &[f64]) -> f64 {
+    let mut worst = 0.0f64;
+    for j in 0..ny {
+        for i in 0..nx {
+            let k = j * nx + i;
+            if !fixed[k].is_nan() {
+                assert_eq!(u[k], fixed[k]);
+                continue;
+            }
+            let mut n = Vec::new();
+            if i > 0 {
+                n.push(u[k - 1]);
+            }
+            if i + 1 < nx {
+                n.push(u[k + 1]);
+            }
+            if j > 0 {
+                n.push(u[k - nx]);
+            }
+            if j + 1 < ny {
+                n.push(u[k + nx]);
+            }
+            let mean = n.iter().sum::<f64>() / n.len() as f64;
+            worst = worst.max((mean - u[k]).abs());
+        }
+    }
+    worst
+}
+
+#[test]
+fn multigrid_and_jacobi_agree_on_odd_and_even_grids() {
+    for (nx, ny) in [(33, 33), (40, 27), (5, 61), (2, 2), (100, 3)] {
+        let mut fixed = vec![f64::NAN; nx * ny];
+        fixed[(ny / 2) * nx + nx / 3] = 2.0;
+        fixed[nx - 1] = -1.0;
+        let mg = solve(nx, ny, &fixed, 1e-10, 200);
+        assert!(mg.residual <= 1e-10, "{nx}x{ny}: residual {}", mg.residual);
+        assert!(check(nx, ny, &fixed, &mg.u) <= 1e-9);
+        let jac = jacobi(nx, ny, &fixed, 1e-12, 2_000_000);
+        let diff =
+            mg.u.iter()
+                .zip(&jac.u)
+                .map(|(a, b)| (a - b).abs())
+                .fold(0.0, f64::max);
+        assert!(
+            diff < 1e-6,
+            "{nx}x{ny}: multigrid and Jacobi differ by {diff}"
+        );
+    }
+}
+
+#[test]
+fn multigrid_converges_in_few_cycles() {
+    let n = 257;
+    let mut fixed = vec![f64::NAN; n * n];
+    for i in 20..230 {
+        fixed[(i / 2 + 40) * n + i] = (i as f64 * 0.05).sin() * 5.0;
+    }
+    let mg = solve(n, n, &fixed, 1e-8, 100);
+    assert!(mg.cycles <= 20, "{} cycles", mg.cycles);
+    assert!(check(n, n, &fixed, &mg.u) <= 1e-8);
+}
