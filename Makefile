@@ -57,6 +57,8 @@ engine: wheel
 lint: venv
 	cargo fmt --all -- --check
 	cargo clippy --workspace --all-targets --release -- -D warnings
+	RUSTDOCFLAGS="-D rustdoc::broken_intra_doc_links -D rustdoc::private_intra_doc_links" \
+		cargo doc --no-deps --quiet -p worldpaint-core -p worldpaint-py
 	$(VENV)/bin/ruff check addon blender_tests assets
 
 # The tests that measure against real data are ignored by default (they say why); they run here where the data is.

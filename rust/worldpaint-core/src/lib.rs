@@ -22,7 +22,7 @@
 //! | [`scene`] | categories, priority order, instances (§3) |
 //! | [`palette`] | histograms, colors, palettes (§3, §4.1) |
 //! | [`analysis`] | learning a color (§4.1) |
-//! | [`compare`] | fidelity metrics between two colors |
+//! | [`compare`](mod@compare) | fidelity metrics between two colors |
 //! | [`interpolate`] | distribution interpolation by optimal mass transport (§5.2) |
 //! | [`synthesis`] | Metropolis-Hastings synthesis with a region of influence (§4.1, §4.3, §5.1, §6); adapting moved content (§5.4) |
 //! | [`tools`] | the painting tools: paste, brush and eraser, move, seam-carving stretch, gradient, blur (§5) |

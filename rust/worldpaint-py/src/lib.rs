@@ -5,7 +5,7 @@
 //! versioned JSON. Every error is a `worldpaint_engine.WorldPaintError`: bad input raises `InputError` (also a
 //! `ValueError`, with `FileFormatError` for malformed files) carrying the engine's message, a cancelled
 //! computation `Cancelled`. No algorithm lives here, and no panic crosses into Python: every call runs under
-//! [`guarded`], which reports a panic as `InternalError`.
+//! `guarded`, which reports a panic as `InternalError`.
 
 mod colors;
 mod convert;

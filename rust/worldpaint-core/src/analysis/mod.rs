@@ -94,7 +94,7 @@ impl<'a> Group<'a> {
 }
 
 /// Learn a color from the scene's content inside `region`: the instances of distribution categories, the graphs
-/// of graph categories (their nodes as a distribution, plus the statistics of [`structure`]) and the contours of
+/// of graph categories (their nodes as a distribution, plus the statistics of `structure`) and the contours of
 /// polygon categories (as dense points).
 pub fn learn_color(
     scene: &Scene,
@@ -454,7 +454,7 @@ impl Exemplar<'_> {
         out
     }
 
-    /// The statistics of the graph categories (see [`structure`]).
+    /// The statistics of the graph categories (see `structure`).
     fn graph_colors(&self) -> Vec<GraphColor> {
         self.groups
             .iter()

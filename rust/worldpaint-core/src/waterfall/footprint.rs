@@ -1,7 +1,7 @@
-//! The footprint of the integration mesh on the terrain's grid (see [`super`]): per grid node, the element it
-//! lies deepest inside, or the nearest element within a margin outside all water.
+//! The footprint of the integration mesh on the terrain's grid (see [`super::integration`]): per grid node, the
+//! element it lies deepest inside, or the nearest element within a margin outside all water.
 
-use super::{
+use super::integration::{
     fall_width, ribbon_end, ribbon_rows, under_quad, IntegrationOptions, PoolWater, RibbonEnd,
     WaterMesh, WaterPart,
 };

@@ -8,7 +8,7 @@
 //! Readings:
 //!
 //! * a contact ribbon has three vertices across (left bank, axis, right bank) at the height of the path (the
-//!   water surface; the riverbed is carved below it by [`super::deform`]); three are enough because the surface
+//!   water surface; the riverbed is carved below it by [`super::deform`](fn@super::deform)); three are enough because the surface
 //!   speed of 4.4.3, `δ_c (1 − ‖x − c‖/‖b − c‖)`, is linear across;
 //! * widths are clamped to [`IntegrationOptions::min_width`, `max_width`]: the triangular section's width
 //!   `ε = 4/(k s)` grows without bound on gentle slopes;
@@ -32,9 +32,7 @@ use crate::polygon_mesh::triangulate;
 use glam::{DVec2, DVec3};
 
 // the rasterization of the mesh onto the terrain's grid
-#[path = "footprint.rs"]
-mod footprint;
-pub use footprint::{footprint, Footprint, FootprintNode};
+pub use super::footprint::{footprint, Footprint, FootprintNode};
 
 /// Which kind of element a vertex, border or footprint node belongs to.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -182,7 +180,11 @@ fn normal_at(path: &[DVec3], k: usize) -> DVec2 {
 
 /// The rows of contact arc `a`'s ribbon, one per path point: left bank, axis, right bank. A row's width is the
 /// mean of the segments on either side.
-fn ribbon_rows(net: &WaterfallNetwork, a: usize, options: &IntegrationOptions) -> Vec<[DVec3; 3]> {
+pub(super) fn ribbon_rows(
+    net: &WaterfallNetwork,
+    a: usize,
+    options: &IntegrationOptions,
+) -> Vec<[DVec3; 3]> {
     let path = &net.paths[a];
     let range = net.segment_ranges[a].clone();
     let n = path.len();
@@ -221,7 +223,7 @@ fn major_arc(net: &WaterfallNetwork, n: usize) -> Option<usize> {
 }
 
 /// Whether `p` lies under the four mesh triangles between two ribbon rows (left bank, axis, right bank).
-fn under_quad(p: DVec2, a: &[DVec3; 3], b: &[DVec3; 3]) -> bool {
+pub(super) fn under_quad(p: DVec2, a: &[DVec3; 3], b: &[DVec3; 3]) -> bool {
     let [l0, c0, r0] = a.map(|v| v.truncate());
     let [l1, c1, r1] = b.map(|v| v.truncate());
     in_triangle(p, l0, l1, c0)
@@ -499,7 +501,7 @@ pub fn fall_width(net: &WaterfallNetwork, a: usize, o: &IntegrationOptions) -> f
 
 /// How a ribbon ends, for the nodes beyond its first or last row.
 #[derive(Clone, Copy, Debug, PartialEq)]
-enum RibbonEnd {
+pub(super) enum RibbonEnd {
     /// Into a pool or over a lip: that water, or the cliff, covers what lies beyond.
     Open,
     /// Where the water starts from nothing or ends in nothing: the row is a bank.
@@ -509,7 +511,7 @@ enum RibbonEnd {
 }
 
 /// How the ribbon of an arc leaving (`leaving`) or reaching graph node `n` ends there.
-fn ribbon_end(net: &WaterfallNetwork, n: usize, leaving: bool) -> RibbonEnd {
+pub(super) fn ribbon_end(net: &WaterfallNetwork, n: usize, leaving: bool) -> RibbonEnd {
     let node = &net.graph.nodes[n];
     let falls = node
         .arcs_in

@@ -10,7 +10,7 @@
 //! | [`classify`] | Table 4.1, the slope-flow Voronoi classification and the triangular section (4.1.1, 4.3.2) |
 //!
 //! | [`integration`] | the integration mesh, its contour `Ω` and its footprint on the terrain grid (4.4.1) |
-//! | [`deform`] | border, riverbed and overhang constraints diffused into the terrain (4.4.2) |
+//! | [`deform`](mod@deform) | border, riverbed and overhang constraints diffused into the terrain (4.4.2) |
 //! | [`decoration`] | water, foam, rock, disturbance and speed maps; rocks along the riverbeds, synthesized from a learned rock color following the rock map (4.4.3) |
 //!
 //! [`build`] runs the hydraulic pipeline: correction, graph, flow, subdivision, classification. [`scene`] runs it
@@ -32,6 +32,7 @@
 pub mod classify;
 pub mod decoration;
 pub mod deform;
+mod footprint;
 pub mod hydraulics;
 pub mod integration;
 pub mod network;
