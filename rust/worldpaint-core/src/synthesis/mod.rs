@@ -499,17 +499,16 @@ pub fn synthesize_keeping(
         let points = if !(expected > 0.0) || !expected.is_finite() {
             Vec::new()
         } else if expected >= MIN_COUNT_FOR_RDF_MATCHING && !opts.product_model {
-            rdf::run_rdf_chain(
-                &target,
+            let chain = rdf::RdfChain {
+                target: &target,
                 region,
                 area,
                 expected,
                 self_tag,
-                color.max_radius,
-                opts.iterations_per_instance,
-                &mut rng,
-                &report,
-            )?
+                max_radius: color.max_radius,
+                iterations_per_instance: opts.iterations_per_instance,
+            };
+            chain.run(&mut rng, &report)?
         } else {
             product::run_chain(
                 target,
