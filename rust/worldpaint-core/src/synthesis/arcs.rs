@@ -284,15 +284,56 @@ pub(super) fn synthesize_arcs(
     if n_new == 0 {
         return Graph::default();
     }
+    let kept_dirs = kept_directions(&nodes, kept, n_new);
+    let kept_index = SegmentIndex::new(kept.segments());
+    let lengths: &Histogram = &gc.edge_length;
+    let longest = lengths.start + lengths.values.len() as f64 * lengths.bin_width;
+    let candidates = candidate_arcs(&nodes, n_new, lengths, longest, &kept_index, obstacles);
+    let counted = counted_nodes(nodes.len(), n_new, &candidates);
+    let mut state = State::new(gc, &nodes, candidates, kept_dirs, counted, longest);
+
+    let mut rng = ChaCha8Rng::seed_from_u64(mix_seed(seed, 0xa2c5));
+    let target = ((gc.edges_per_node * n_new as f64).round() as usize).min(state.candidates.len());
+    state.arcs = target as f64;
+    let mut near: Vec<u32> = Vec::new();
+    let mut chosen = state.valid_start(target, &mut rng, &mut near);
+    state.arcs = chosen.len() as f64;
+    state.relocate(&mut chosen, &mut rng, &mut near);
+    let mut network = Network {
+        arcs: chosen
+            .iter()
+            .map(|&c| [state.candidates[c].a, state.candidates[c].b])
+            .collect(),
+        nodes: nodes.clone(),
+        movable: n_new,
+        kept_dirs: &state.kept,
+        kept_index: &kept_index,
+    };
+    relax(gc, &mut network, obstacles, region, seed);
+    graph_of_arcs(&network)
+}
+
+/// Per node (the `n_new` new ones first): the directions of the kept graph's arcs at it.
+fn kept_directions(nodes: &[DVec2], kept: &Graph, n_new: usize) -> Vec<Vec<DVec2>> {
     let mut kept_dirs: Vec<Vec<DVec2>> = vec![Vec::new(); nodes.len()];
     for &[a, b] in &kept.edges {
         let (a, b) = (a as usize + n_new, b as usize + n_new);
         kept_dirs[a].push(nodes[b] - nodes[a]);
         kept_dirs[b].push(nodes[a] - nodes[b]);
     }
-    let kept_index = SegmentIndex::new(kept.segments());
-    let lengths: &Histogram = &gc.edge_length;
-    let longest = lengths.start + lengths.values.len() as f64 * lengths.bin_width;
+    kept_dirs
+}
+
+/// The candidate arcs: from each new node to any node within the `longest` learned edge, in a length bin, that
+/// neither crosses the kept graph nor comes too close to the obstacles (each pair of new nodes once).
+fn candidate_arcs(
+    nodes: &[DVec2],
+    n_new: usize,
+    lengths: &Histogram,
+    longest: f64,
+    kept_index: &SegmentIndex,
+    obstacles: &Obstacles,
+) -> Vec<Candidate> {
     let mut node_grid = SpatialGrid::new(
         nodes
             .iter()
@@ -328,121 +369,142 @@ pub(super) fn synthesize_arcs(
             candidates.push(Candidate { a, b, bin });
         });
     }
-    let mut counted = vec![false; nodes.len()];
+    candidates
+}
+
+/// The nodes that count in the degree histogram: the new ones, and the kept ones some candidate reaches.
+fn counted_nodes(n_nodes: usize, n_new: usize, candidates: &[Candidate]) -> Vec<bool> {
+    let mut counted = vec![false; n_nodes];
     for n in counted.iter_mut().take(n_new) {
         *n = true;
     }
-    for c in &candidates {
+    for c in candidates {
         counted[c.a] = true;
         counted[c.b] = true;
     }
-    let angle_bins = gc.angle.values.len().max(1);
-    let mut state = State {
-        gc,
-        nodes: &nodes,
-        chosen: vec![false; candidates.len()],
-        candidates,
-        at: vec![Vec::new(); nodes.len()],
-        kept: kept_dirs,
-        counted,
-        counts: Counts {
-            length: vec![0.0; lengths.values.len()],
-            angle: vec![0.0; angle_bins],
-            degree: vec![0.0; DEGREE_BINS],
-        },
-        shape: Counts {
-            length: lengths.normalized().values,
-            angle: gc.angle.normalized().values,
-            degree: degree_shape(gc),
-        },
-        arcs: 0.0,
-        nodes_counted: 0.0,
-        grid: ArcGrid::new(&nodes, longest),
-        gap: arc_gap(lengths),
-    };
-    // the degrees and angles of the nodes before any arc
-    let mut counts = state.counts.clone();
-    for n in (0..nodes.len()).filter(|&n| state.counted[n]) {
-        let dirs = state.directions(n, None, None);
-        state.count_node(n, &dirs, 1.0, &mut counts);
-    }
-    state.counts = counts;
-    state.nodes_counted = state.counted.iter().filter(|c| **c).count() as f64;
+    counted
+}
 
-    let mut rng = ChaCha8Rng::seed_from_u64(mix_seed(seed, 0xa2c5));
-    let target = ((gc.edges_per_node * n_new as f64).round() as usize).min(state.candidates.len());
-    state.arcs = target as f64;
-    // a valid start: candidates in random order, taken while they keep every angle
-    let mut order: Vec<usize> = (0..state.candidates.len()).collect();
-    for k in (1..order.len()).rev() {
-        order.swap(k, rng.random_range(0..=k));
-    }
-    let mut chosen: Vec<usize> = Vec::new();
-    let mut near: Vec<u32> = Vec::new();
-    for &c in &order {
-        if chosen.len() >= target {
-            break;
+impl<'g> State<'g> {
+    /// The state without any chosen arc: the counts hold the degrees and angles of the kept arcs at the counted
+    /// nodes.
+    fn new(
+        gc: &'g GraphColor,
+        nodes: &'g [DVec2],
+        candidates: Vec<Candidate>,
+        kept_dirs: Vec<Vec<DVec2>>,
+        counted: Vec<bool>,
+        longest: f64,
+    ) -> Self {
+        let lengths = &gc.edge_length;
+        let angle_bins = gc.angle.values.len().max(1);
+        let mut state = State {
+            gc,
+            nodes,
+            chosen: vec![false; candidates.len()],
+            candidates,
+            at: vec![Vec::new(); nodes.len()],
+            kept: kept_dirs,
+            counted,
+            counts: Counts {
+                length: vec![0.0; lengths.values.len()],
+                angle: vec![0.0; angle_bins],
+                degree: vec![0.0; DEGREE_BINS],
+            },
+            shape: Counts {
+                length: lengths.normalized().values,
+                angle: gc.angle.normalized().values,
+                degree: degree_shape(gc),
+            },
+            arcs: 0.0,
+            nodes_counted: 0.0,
+            grid: ArcGrid::new(nodes, longest),
+            gap: arc_gap(lengths),
+        };
+        // the degrees and angles of the nodes before any arc
+        let mut counts = state.counts.clone();
+        for n in (0..nodes.len()).filter(|&n| state.counted[n]) {
+            let dirs = state.directions(n, None, None);
+            state.count_node(n, &dirs, 1.0, &mut counts);
         }
-        if !state.fits(c, None, &mut near) {
-            continue;
-        }
-        if let Some(counts) = state.counts_after(Some(c), None) {
-            state.set(c, true);
-            state.counts = counts;
-            chosen.push(c);
-        }
+        state.counts = counts;
+        state.nodes_counted = state.counted.iter().filter(|c| **c).count() as f64;
+        state
     }
-    state.arcs = chosen.len() as f64;
-    // relocations at a fixed count, annealed
-    let n_candidates = state.candidates.len();
-    let mut at_node: Vec<Vec<usize>> = vec![Vec::new(); nodes.len()];
-    for (c, cand) in state.candidates.iter().enumerate() {
-        at_node[cand.a].push(c);
-        at_node[cand.b].push(c);
-    }
-    let mut energy = state.energy(&state.counts);
-    let per_sweep = PROPOSALS_PER_ARC * chosen.len() / SWEEPS;
-    for sweep in 0..SWEEPS {
-        let tau = annealed(TAU_START, TAU_END, sweep, SWEEPS, COOLING);
-        for _ in 0..per_sweep {
-            let slot = rng.random_range(0..chosen.len());
-            let remove = chosen[slot];
-            let add = if rng.random::<f64>() < 0.5 {
-                // a candidate sharing a node with the removed arc
-                let cand = state.candidates[remove];
-                let near = &at_node[if rng.random::<bool>() { cand.a } else { cand.b }];
-                near[rng.random_range(0..near.len())]
-            } else {
-                rng.random_range(0..n_candidates)
-            };
-            if state.chosen[add] || !state.fits(add, Some(remove), &mut near) {
+
+    /// A valid start: candidates in random order, taken while they keep the gap and every angle, up to `target`.
+    fn valid_start<R: Rng>(
+        &mut self,
+        target: usize,
+        rng: &mut R,
+        near: &mut Vec<u32>,
+    ) -> Vec<usize> {
+        let mut order: Vec<usize> = (0..self.candidates.len()).collect();
+        for k in (1..order.len()).rev() {
+            order.swap(k, rng.random_range(0..=k));
+        }
+        let mut chosen: Vec<usize> = Vec::new();
+        for &c in &order {
+            if chosen.len() >= target {
+                break;
+            }
+            if !self.fits(c, None, near) {
                 continue;
             }
-            let Some(counts) = state.counts_after(Some(add), Some(remove)) else {
-                continue;
-            };
-            let e = state.energy(&counts);
-            if rng.random::<f64>().ln() < -(e - energy) / tau {
-                state.set(remove, false);
-                state.set(add, true);
-                state.counts = counts;
-                chosen[slot] = add;
-                energy = e;
+            if let Some(counts) = self.counts_after(Some(c), None) {
+                self.set(c, true);
+                self.counts = counts;
+                chosen.push(c);
+            }
+        }
+        chosen
+    }
+
+    /// Relocations at a fixed count, annealed: a chosen arc swapped for a candidate sharing one of its nodes or for
+    /// any candidate, accepted with `exp(−ΔE / τ)` (both proposals are symmetric).
+    fn relocate<R: Rng>(&mut self, chosen: &mut [usize], rng: &mut R, near: &mut Vec<u32>) {
+        let n_candidates = self.candidates.len();
+        let mut at_node: Vec<Vec<usize>> = vec![Vec::new(); self.nodes.len()];
+        for (c, cand) in self.candidates.iter().enumerate() {
+            at_node[cand.a].push(c);
+            at_node[cand.b].push(c);
+        }
+        let mut energy = self.energy(&self.counts);
+        let per_sweep = PROPOSALS_PER_ARC * chosen.len() / SWEEPS;
+        for sweep in 0..SWEEPS {
+            let tau = annealed(TAU_START, TAU_END, sweep, SWEEPS, COOLING);
+            for _ in 0..per_sweep {
+                let slot = rng.random_range(0..chosen.len());
+                let remove = chosen[slot];
+                let add = if rng.random::<f64>() < 0.5 {
+                    // a candidate sharing a node with the removed arc
+                    let cand = self.candidates[remove];
+                    let sharing = &at_node[if rng.random::<bool>() { cand.a } else { cand.b }];
+                    sharing[rng.random_range(0..sharing.len())]
+                } else {
+                    rng.random_range(0..n_candidates)
+                };
+                if self.chosen[add] || !self.fits(add, Some(remove), near) {
+                    continue;
+                }
+                let Some(counts) = self.counts_after(Some(add), Some(remove)) else {
+                    continue;
+                };
+                let e = self.energy(&counts);
+                if rng.random::<f64>().ln() < -(e - energy) / tau {
+                    self.set(remove, false);
+                    self.set(add, true);
+                    self.counts = counts;
+                    chosen[slot] = add;
+                    energy = e;
+                }
             }
         }
     }
-    let mut network = Network {
-        arcs: chosen
-            .iter()
-            .map(|&c| [state.candidates[c].a, state.candidates[c].b])
-            .collect(),
-        nodes: nodes.clone(),
-        movable: n_new,
-        kept_dirs: &state.kept,
-        kept_index: &kept_index,
-    };
-    relax(gc, &mut network, obstacles, region, seed);
-    // the new graph: nodes that got arcs
+}
+
+/// The graph of the network's arcs: the nodes that got arcs (renumbered in order of appearance), and the arcs.
+fn graph_of_arcs(network: &Network) -> Graph {
     let mut index = vec![u32::MAX; network.nodes.len()];
     let mut out = Graph::default();
     for &[a, b] in &network.arcs {

@@ -134,10 +134,11 @@ use crate::error::{Error, Result};
 use crate::geom::{DVec2, Region};
 use crate::palette::{CategoryColor, Color, Histogram, MapSource};
 use crate::scene::{Category, CategoryKind, Contour, Instance, Path, Scene};
+use crate::terrain::Heightfield;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use structures::StructuredContent;
-use target::{build_target, rake_maps, Conditioning};
+use target::{build_target, rake_maps, Conditioning, Target};
 
 /// Floor of empty rdf bins beyond the hard core (see the module documentation).
 pub const HISTOGRAM_FLOOR: f64 = 1e-3;
@@ -383,6 +384,37 @@ pub fn synthesize_keeping(
 ) -> Result<SynthesisResult> {
     region.validate()?;
     color.validate()?;
+    let influence = checked_influence(color, opts)?;
+    let order = priority_order(color, opts.categories.as_deref())?;
+    check_terrain(scene, color, &order, region)?;
+    let (out_categories, scene_index) = scene_categories(scene, color);
+    let context = conditioning_content(scene, &scene_index, region, influence, keep);
+    let painting = Painting::new(scene, color, region, opts, influence, scene_index);
+    let mut state = Painted {
+        synthesized: vec![None; color.categories.len()],
+        context,
+        structured: StructuredContent::near(scene, region, influence + color.max_radius),
+        out: SynthesisResult {
+            categories: out_categories,
+            ..Default::default()
+        },
+    };
+    let n_cats = order.len().max(1);
+    for (step, &ci) in order.iter().enumerate() {
+        let report = |f: f64| progress((step as f64 + f) / n_cats as f64);
+        painting.synthesize_category(ci, &mut state, &report)?;
+    }
+    if !progress(1.0) {
+        return Err(Error::Cancelled);
+    }
+    let mut out = state.out;
+    out.replaced_contours.sort_unstable();
+    out.replaced_contours.dedup();
+    Ok(out)
+}
+
+/// Checks the options' iteration count and returns the radius of the region of influence.
+fn checked_influence(color: &Color, opts: &SynthesisOptions) -> Result<f64> {
     if !(opts.iterations_per_instance.is_finite() && opts.iterations_per_instance > 0.0) {
         return Err(Error::InvalidInput(format!(
             "iterations_per_instance {} must be positive",
@@ -395,80 +427,190 @@ pub fn synthesize_keeping(
             "influence radius {influence} must be zero or positive"
         )));
     }
-    let order = priority_order(color, opts.categories.as_deref())?;
-    check_terrain(scene, color, &order, region)?;
-    let terrain = scene.terrain.as_deref();
-    let (out_categories, scene_index) = scene_categories(scene, color);
-    let context = conditioning_content(scene, &scene_index, region, influence, keep);
+    Ok(influence)
+}
 
-    let area = region.area();
-    let lattice = match terrain {
-        Some(t) => region_lattice(region, t),
-        None => crate::analysis::region_samples(region),
-    };
-    let exemplar_lattice = terrain
-        .filter(|_| opts.exemplar_on_terrain)
-        .map(|t| region_lattice(&color.region, t))
-        .filter(|l| !l.is_empty());
-    let (rlo, rhi) = region.bbox();
-    let pad = DVec2::splat(color.max_radius);
-    let bounds = (rlo - pad, rhi + pad);
-    let mut synthesized: Vec<Option<Vec<DVec2>>> = vec![None; color.categories.len()];
-    let mut out = SynthesisResult {
-        categories: out_categories,
-        ..Default::default()
-    };
-    let n_cats = order.len().max(1);
-    let mut structured = StructuredContent::near(scene, region, influence + color.max_radius);
-    let mut context = context;
+/// What one synthesis call paints with and where, the same for every category.
+struct Painting<'s> {
+    scene: &'s Scene,
+    color: &'s Color,
+    region: &'s Region,
+    opts: &'s SynthesisOptions,
+    influence: f64,
+    terrain: Option<&'s Heightfield>,
+    /// Per color category: its index in the result's categories.
+    scene_index: Vec<usize>,
+    area: f64,
+    /// Sample points of the region (on the terrain's lattice when there is one).
+    lattice: Vec<DVec2>,
+    /// The exemplar region's points on the terrain, when the color was learned on it.
+    exemplar_lattice: Option<Vec<DVec2>>,
+    /// The region's box grown by the color's largest radius: the extent of the chains' grids.
+    bounds: (DVec2, DVec2),
+}
 
-    for (step, &ci) in order.iter().enumerate() {
-        let cat = &color.categories[ci];
-        let name = &cat.category.name;
-        let kind = cat.category.kind;
-        // structured content conditions its category's own points: the nodes of the kept graph, the dense
-        // points of the kept contours that are not merged with the new ones
-        let merged: Vec<usize> = match kind {
+/// What the categories synthesized so far leave to the next ones.
+struct Painted {
+    /// Per color category: its points synthesized inside the region in this call.
+    synthesized: Vec<Option<Vec<DVec2>>>,
+    /// Per color category: the fixed content that conditions by product factors.
+    context: Vec<Vec<DVec2>>,
+    structured: StructuredContent,
+    out: SynthesisResult,
+}
+
+impl<'s> Painting<'s> {
+    fn new(
+        scene: &'s Scene,
+        color: &'s Color,
+        region: &'s Region,
+        opts: &'s SynthesisOptions,
+        influence: f64,
+        scene_index: Vec<usize>,
+    ) -> Self {
+        let terrain = scene.terrain.as_deref();
+        let lattice = match terrain {
+            Some(t) => region_lattice(region, t),
+            None => crate::analysis::region_samples(region),
+        };
+        let exemplar_lattice = terrain
+            .filter(|_| opts.exemplar_on_terrain)
+            .map(|t| region_lattice(&color.region, t))
+            .filter(|l| !l.is_empty());
+        let (rlo, rhi) = region.bbox();
+        let pad = DVec2::splat(color.max_radius);
+        Painting {
+            scene,
+            color,
+            region,
+            opts,
+            influence,
+            terrain,
+            scene_index,
+            area: region.area(),
+            lattice,
+            exemplar_lattice,
+            bounds: (rlo - pad, rhi + pad),
+        }
+    }
+
+    /// One category in priority order: its conditioning, its target, its expected count, its chain, and its
+    /// content added to the result.
+    fn synthesize_category(
+        &self,
+        ci: usize,
+        state: &mut Painted,
+        report: &dyn Fn(f64) -> bool,
+    ) -> Result<()> {
+        let cat = &self.color.categories[ci];
+        let merged = self.condition_on_structures(ci, state);
+        let (mut target, self_tag) = self.category_target(ci, state);
+        let expected = self.expected_count(ci, &target, &state.context[ci]);
+        if !target.maps.is_empty() && !self.lattice.is_empty() {
+            rake_maps(&mut target, &self.lattice);
+        }
+        let mut rng = ChaCha8Rng::seed_from_u64(mix_seed(self.opts.seed, ci as u64 + 1));
+        let points = if !(expected > 0.0) || !expected.is_finite() {
+            Vec::new()
+        } else if expected >= MIN_COUNT_FOR_RDF_MATCHING && !self.opts.product_model {
+            let chain = rdf::RdfChain {
+                target: &target,
+                region: self.region,
+                area: self.area,
+                expected,
+                self_tag,
+                max_radius: self.color.max_radius,
+                iterations_per_instance: self.opts.iterations_per_instance,
+            };
+            chain.run(&mut rng, report)?
+        } else {
+            product::run_chain(
+                target,
+                self.region,
+                expected,
+                self_tag,
+                self.color.max_radius,
+                self.opts.iterations_per_instance,
+                &mut rng,
+                report,
+            )?
+        };
+        match cat.category.kind {
+            CategoryKind::Graph => self.add_paths(ci, &points, state),
+            CategoryKind::Polygon => self.add_contours(ci, &points, merged, state),
+            _ => {
+                for p in &points {
+                    state
+                        .out
+                        .instances
+                        .push(attributes(cat, *p, self.scene_index[ci], &mut rng));
+                }
+            }
+        }
+        state.synthesized[ci] = Some(points);
+        Ok(())
+    }
+
+    /// Structured content conditions its category's own points: the nodes of the kept graph, the dense points
+    /// of the kept contours that are not merged with the new ones. Returns the scene's contours to merge.
+    fn condition_on_structures(&self, ci: usize, state: &mut Painted) -> Vec<usize> {
+        let (region, influence) = (self.region, self.influence);
+        let name = &self.color.categories[ci].category.name;
+        match self.color.categories[ci].category.kind {
             CategoryKind::Graph => {
-                if let Some(g) = structured.graph_state(name) {
+                if let Some(g) = state.structured.graph_state(name) {
                     let degree = g.graph.adjacency();
-                    context[ci].extend(g.graph.nodes.iter().zip(&degree).filter_map(|(p, d)| {
-                        (!d.is_empty() && region.distance_outside(*p) <= influence).then_some(*p)
-                    }));
+                    state.context[ci].extend(g.graph.nodes.iter().zip(&degree).filter_map(
+                        |(p, d)| {
+                            (!d.is_empty() && region.distance_outside(*p) <= influence)
+                                .then_some(*p)
+                        },
+                    ));
                 }
                 Vec::new()
             }
             CategoryKind::Polygon => {
-                let spacing = color.polygon(name).map_or(color.bin_width, |p| p.spacing);
-                let merged = mergeable_contours(scene, scene_index[ci], region, 3.0 * spacing);
-                let kept = structured.polygons(name);
-                let own: Vec<usize> = merged.clone();
+                let spacing = self.polygon_spacing(name);
+                let merged =
+                    mergeable_contours(self.scene, self.scene_index[ci], region, 3.0 * spacing);
+                let kept = state.structured.polygons(name);
                 let kept_points = fill(&kept, spacing, ci as u64);
-                let merged_polygons = crate::contour::Polygons::new(
-                    &own.iter()
-                        .map(|&k| scene.contours[k].points.clone())
-                        .collect::<Vec<_>>(),
-                );
-                context[ci].extend(kept_points.into_iter().filter(|p| {
+                let merged_polygons = self.contour_polygons(&merged);
+                state.context[ci].extend(kept_points.into_iter().filter(|p| {
                     region.distance_outside(*p) <= influence
                         && !(region.contains(*p) && merged_polygons.contains(*p))
                 }));
                 merged
             }
             _ => Vec::new(),
-        };
+        }
+    }
+
+    /// The target of category `ci` given what is painted so far, with the free-border term (and its self tag).
+    fn category_target(&self, ci: usize, state: &Painted) -> (Target<'s>, u32) {
         let conditioning = Conditioning {
-            inside: &synthesized,
-            context: &context,
+            inside: &state.synthesized,
+            context: &state.context,
         };
-        let (mut target, self_tag) =
-            build_target(color, ci, &conditioning, &structured, terrain, bounds, area);
-        if kind == CategoryKind::Polygon {
+        let (mut target, self_tag) = build_target(
+            self.color,
+            ci,
+            &conditioning,
+            &state.structured,
+            self.terrain,
+            self.bounds,
+            self.area,
+        );
+        if self.color.categories[ci].category.kind == CategoryKind::Polygon {
             target.bin_width = target.tables[self_tag as usize].bin_width;
         }
-        target.add_ghosts(region, bounds);
-        // expected count: exemplar density times the map preference integrated over the region, less the kept
-        // (locked) instances already inside it
+        target.add_ghosts(self.region, self.bounds);
+        (target, self_tag)
+    }
+
+    /// The expected count: exemplar density times the map preference integrated over the region, less the kept
+    /// (locked) instances already inside it (`kept`: the category's fixed content).
+    fn expected_count(&self, ci: usize, target: &Target, kept: &[DVec2]) -> f64 {
         let mean_preference = |points: &[DVec2], terrain_only: bool| {
             points
                 .iter()
@@ -476,120 +618,100 @@ pub fn synthesize_keeping(
                 .sum::<f64>()
                 / points.len() as f64
         };
-        let preference = if target.maps.is_empty() || lattice.is_empty() {
+        let preference = if target.maps.is_empty() || self.lattice.is_empty() {
             1.0
         } else {
             // relative to the exemplar region's own preference when it lies on this terrain: several maps
             // (elevation and slope) are correlated, and the product of their marginal ratios averages to more
             // than 1 over the exemplar itself (distance maps average to 1 over their own region histogram)
-            let own = exemplar_lattice
+            let own = self
+                .exemplar_lattice
                 .as_deref()
                 .map(|l| mean_preference(l, true))
                 .filter(|v| v.is_finite() && *v > 0.0)
                 .unwrap_or(1.0);
-            mean_preference(&lattice, false) / own
+            mean_preference(&self.lattice, false) / own
         };
-        let kept_inside = context[ci].iter().filter(|p| region.contains(**p)).count() as f64;
-        let expected = (cat.density * area * preference - kept_inside).max(0.0);
-        if !target.maps.is_empty() && !lattice.is_empty() {
-            rake_maps(&mut target, &lattice);
-        }
-        let mut rng = ChaCha8Rng::seed_from_u64(mix_seed(opts.seed, ci as u64 + 1));
-        let report = |f: f64| progress((step as f64 + f) / n_cats as f64);
-        let points = if !(expected > 0.0) || !expected.is_finite() {
-            Vec::new()
-        } else if expected >= MIN_COUNT_FOR_RDF_MATCHING && !opts.product_model {
-            rdf::run_rdf_chain(
-                &target,
-                region,
-                area,
-                expected,
-                self_tag,
-                color.max_radius,
-                opts.iterations_per_instance,
-                &mut rng,
-                &report,
-            )?
-        } else {
-            product::run_chain(
-                target,
-                region,
-                expected,
-                self_tag,
-                color.max_radius,
-                opts.iterations_per_instance,
-                &mut rng,
-                &report,
-            )?
-        };
-        match kind {
-            CategoryKind::Graph => {
-                let new_paths = graph_paths(
-                    color,
-                    region,
-                    ci,
-                    &points,
-                    &structured,
-                    &Conditioning {
-                        inside: &synthesized,
-                        context: &context,
-                    },
-                    opts.seed,
-                );
-                structured.add_paths(name, &new_paths);
-                out.paths.extend(new_paths.into_iter().map(|points| Path {
-                    category: scene_index[ci],
-                    points,
-                    locked: false,
-                }));
-            }
-            CategoryKind::Polygon => {
-                let spacing = color.polygon(name).map_or(color.bin_width, |p| p.spacing);
-                let merged_polygons = crate::contour::Polygons::new(
-                    &merged
-                        .iter()
-                        .map(|&k| scene.contours[k].points.clone())
-                        .collect::<Vec<_>>(),
-                );
-                let mut dense = points.clone();
-                dense.extend(
-                    fill(&merged_polygons, spacing, ci as u64)
-                        .into_iter()
-                        .filter(|p| !region.contains(*p)),
-                );
-                let traced = trace(&dense, spacing);
-                let mut all: Vec<Vec<DVec2>> = scene
-                    .contours
-                    .iter()
-                    .enumerate()
-                    .filter(|(k, c)| c.category == scene_index[ci] && !merged.contains(k))
-                    .map(|(_, c)| c.points.clone())
-                    .collect();
-                all.extend(traced.iter().cloned());
-                structured.set_contours(name, &all);
-                out.contours
-                    .extend(traced.into_iter().map(|points| Contour {
-                        category: scene_index[ci],
-                        points,
-                        locked: false,
-                    }));
-                out.replaced_contours.extend(merged);
-            }
-            _ => {
-                for p in &points {
-                    out.instances
-                        .push(attributes(cat, *p, scene_index[ci], &mut rng));
-                }
-            }
-        }
-        synthesized[ci] = Some(points);
+        let kept_inside = kept.iter().filter(|p| self.region.contains(**p)).count() as f64;
+        (self.color.categories[ci].density * self.area * preference - kept_inside).max(0.0)
     }
-    if !progress(1.0) {
-        return Err(Error::Cancelled);
+
+    /// The arcs of graph category `ci` over its new nodes `points`, added to the result and to the structures.
+    fn add_paths(&self, ci: usize, points: &[DVec2], state: &mut Painted) {
+        let name = &self.color.categories[ci].category.name;
+        let new_paths = graph_paths(
+            self.color,
+            self.region,
+            ci,
+            points,
+            &state.structured,
+            &Conditioning {
+                inside: &state.synthesized,
+                context: &state.context,
+            },
+            self.opts.seed,
+        );
+        state.structured.add_paths(name, &new_paths);
+        state
+            .out
+            .paths
+            .extend(new_paths.into_iter().map(|points| Path {
+                category: self.scene_index[ci],
+                points,
+                locked: false,
+            }));
     }
-    out.replaced_contours.sort_unstable();
-    out.replaced_contours.dedup();
-    Ok(out)
+
+    /// The contours of polygon category `ci` traced from its new dense `points` and the `merged` contours
+    /// (outside the region), added to the result (replacing the merged ones) and to the structures.
+    fn add_contours(&self, ci: usize, points: &[DVec2], merged: Vec<usize>, state: &mut Painted) {
+        let name = &self.color.categories[ci].category.name;
+        let spacing = self.polygon_spacing(name);
+        let merged_polygons = self.contour_polygons(&merged);
+        let mut dense = points.to_vec();
+        dense.extend(
+            fill(&merged_polygons, spacing, ci as u64)
+                .into_iter()
+                .filter(|p| !self.region.contains(*p)),
+        );
+        let traced = trace(&dense, spacing);
+        let mut all: Vec<Vec<DVec2>> = self
+            .scene
+            .contours
+            .iter()
+            .enumerate()
+            .filter(|(k, c)| c.category == self.scene_index[ci] && !merged.contains(k))
+            .map(|(_, c)| c.points.clone())
+            .collect();
+        all.extend(traced.iter().cloned());
+        state.structured.set_contours(name, &all);
+        state
+            .out
+            .contours
+            .extend(traced.into_iter().map(|points| Contour {
+                category: self.scene_index[ci],
+                points,
+                locked: false,
+            }));
+        state.out.replaced_contours.extend(merged);
+    }
+
+    /// The spacing of the dense points of polygon category `name`.
+    fn polygon_spacing(&self, name: &str) -> f64 {
+        self.color
+            .polygon(name)
+            .map_or(self.color.bin_width, |p| p.spacing)
+    }
+
+    /// The scene's contours `indices` as polygons.
+    fn contour_polygons(&self, indices: &[usize]) -> crate::contour::Polygons {
+        crate::contour::Polygons::new(
+            &indices
+                .iter()
+                .map(|&k| self.scene.contours[k].points.clone())
+                .collect::<Vec<_>>(),
+        )
+    }
 }
 
 /// The unlocked contours of scene category `category` whose boxes come within `margin` of the region's: the

@@ -3,13 +3,15 @@
 //! ones, evaluated on tiles in parallel.
 
 use super::target::{PairTable, Target, CONTEXT_TAG};
-use super::{annealed, gaussian, mix_seed};
-use crate::analysis::folded_angle_bin;
+use super::{annealed, mix_seed};
 use crate::error::{Error, Result};
 use crate::geom::{DVec2, Region};
 use crate::spatial::{FlatGrid, GridEntry, SpatialGrid};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
+use tile::{run_tile, Tile};
+
+mod tile;
 
 /// Sweeps of the rdf-matching chain (tiles are redrawn and the temperature lowered between sweeps).
 const RDF_SWEEPS: usize = 12;
@@ -97,17 +99,6 @@ struct Shared<'a, 'b> {
     shift_sigma: f64,
 }
 
-/// One tile of one phase: its rectangle `[lo, hi)`, its instances (global indices) and its share of the
-/// phase's instances.
-struct Tile {
-    lo: DVec2,
-    hi: DVec2,
-    members: Vec<u32>,
-    share: f64,
-    proposals: usize,
-    seed: u64,
-}
-
 /// Pair histograms `H` (flat, see `histogram_offsets`) of the own points with the own points and with the fixed
 /// content inside the region: `H(k) = Σ_i Σ_j [d(x_i, y_j) in cell k] / α_{x_i}(k)` — eq. (2) before
 /// normalization.
@@ -161,298 +152,6 @@ fn pair_histograms(sh: &Shared) -> Vec<f64> {
     total
 }
 
-/// The moving instances of a tile, listed per cell of a `FlatGrid`'s layout (doubly linked lists).
-struct MemberCells {
-    head: Vec<u32>,
-    next: Vec<u32>,
-    prev: Vec<u32>,
-    cell_of: Vec<u32>,
-}
-
-const NONE: u32 = u32::MAX;
-
-impl MemberCells {
-    fn new(cells: usize, members: usize) -> Self {
-        MemberCells {
-            head: vec![NONE; cells],
-            next: vec![NONE; members],
-            prev: vec![NONE; members],
-            cell_of: vec![0; members],
-        }
-    }
-
-    fn insert(&mut self, k: usize, cell: usize) {
-        let h = self.head[cell];
-        self.next[k] = h;
-        self.prev[k] = NONE;
-        if h != NONE {
-            self.prev[h as usize] = k as u32;
-        }
-        self.head[cell] = k as u32;
-        self.cell_of[k] = cell as u32;
-    }
-
-    fn remove(&mut self, k: usize) {
-        let (p, n) = (self.prev[k], self.next[k]);
-        if p != NONE {
-            self.next[p as usize] = n;
-        } else {
-            self.head[self.cell_of[k] as usize] = n;
-        }
-        if n != NONE {
-            self.prev[n as usize] = p;
-        }
-    }
-}
-
-/// Moves of one tile: returns the new positions of its members (in order) and its change of `H` (flat).
-fn run_tile(sh: &Shared, tile: &Tile) -> (Vec<DVec2>, Vec<f64>) {
-    let target = sh.target;
-    let tables = &target.tables;
-    let offs = sh.offs;
-    let r = target.radius;
-    let r2 = r * r;
-    let nb = sh.n_alpha;
-    let mut delta = vec![0.0; offs[offs.len() - 1]];
-    let m = tile.members.len();
-    if m == 0 || tile.proposals == 0 {
-        return (Vec::new(), delta);
-    }
-    let mut rng = ChaCha8Rng::seed_from_u64(tile.seed);
-    let elo = tile.lo - DVec2::splat(r);
-    let ehi = tile.hi + DVec2::splat(r);
-    let in_tile =
-        |p: DVec2| p.x >= tile.lo.x && p.x < tile.hi.x && p.y >= tile.lo.y && p.y < tile.hi.y;
-    let in_halo = |p: DVec2| p.x >= elo.x && p.x <= ehi.x && p.y >= elo.y && p.y <= ehi.y;
-    // local copy: the tile's instances (ids 0..m, moving), the own instances around it (ids from m on) and the
-    // fixed content around it (static)
-    let mut pos: Vec<DVec2> = tile.members.iter().map(|&g| sh.own[g as usize]).collect();
-    let og = sh.own_grid;
-    og.for_each_in_box_cells(elo, ehi, |i| {
-        let p = DVec2::new(og.xs[i], og.ys[i]);
-        if in_halo(p) && !in_tile(p) {
-            pos.push(p);
-        }
-    });
-    // 1/α per local own point: a row of `pool` (row 0: zeros, for the fixed content; row 1: ones, interior)
-    let mut pool: Vec<f64> = vec![0.0; nb];
-    pool.extend(std::iter::repeat_n(1.0, nb));
-    let mut slot = vec![1u32; pos.len()];
-    let mut scratch = vec![1.0; nb];
-    for (id, p) in pos.iter().enumerate() {
-        if inverse_alphas(sh.region, *p, target.bin_width, nb, &mut scratch) {
-            slot[id] = (pool.len() / nb) as u32;
-            pool.extend_from_slice(&scratch);
-        }
-    }
-    // the static content, with its weight row as id
-    let mut statics: Vec<GridEntry> = pos[m..]
-        .iter()
-        .enumerate()
-        .map(|(j, p)| GridEntry {
-            position: *p,
-            tag: sh.self_tag,
-            id: slot[m + j],
-        })
-        .collect();
-    let fg = sh.fixed;
-    fg.for_each_in_box_cells(elo, ehi, |i| {
-        let p = DVec2::new(fg.xs[i], fg.ys[i]);
-        if in_halo(p) {
-            statics.push(GridEntry {
-                position: p,
-                tag: fg.tags[i],
-                id: 0,
-            });
-        }
-    });
-    let grid = FlatGrid::build(elo, ehi, 0.5 * target.cell, statics.len(), |i| statics[i]);
-    drop(statics);
-    let lnx = grid.nx();
-    let cell_index = |p: DVec2| {
-        let (cx, cy) = grid.cell_coords(p);
-        cy * lnx + cx
-    };
-    let mut cells = MemberCells::new(grid.n_cells(), m);
-    for (k, p) in pos[..m].iter().enumerate() {
-        cells.insert(k, cell_index(*p));
-    }
-    let (rlo, rhi) = sh.region.bbox();
-    let (slo, shi) = (tile.lo.max(rlo), tile.hi.min(rhi));
-    let mut d_h: Vec<f64> = delta.clone();
-    // every histogram index is listed at most once per move
-    let mut touched: Vec<u32> = vec![0; d_h.len() + 1];
-    let mut ia_new = vec![1.0; nb];
-    let mut cand: Vec<(u32, u32, DVec2, f64)> = Vec::new();
-    let inv_share = 1.0 / tile.share;
-    for _ in 0..tile.proposals {
-        let k = rng.random_range(0..m);
-        let p = pos[k];
-        let q = if rng.random::<f64>() < 0.5 {
-            // relocation inside the tile (the death of p and the birth of q), symmetric
-            DVec2::new(
-                slo.x + rng.random::<f64>() * (shi.x - slo.x),
-                slo.y + rng.random::<f64>() * (shi.y - slo.y),
-            )
-        } else {
-            p + gaussian(&mut rng) * sh.shift_sigma
-        };
-        if !in_tile(q) || !sh.region.contains(q) {
-            continue;
-        }
-        let map_new = target.map_log(q);
-        if map_new == f64::NEG_INFINITY {
-            continue;
-        }
-        let q_border = inverse_alphas(sh.region, q, target.bin_width, nb, &mut ia_new);
-        // pairs at q (added) and at p (removed)
-        let mut forbidden = false;
-        let mut ctx_new = 0.0;
-        let mut ctx_old = 0.0;
-        let mut nt = 0usize;
-        for (sign, at) in [(1.0, q), (-1.0, p)] {
-            let ia_x: &[f64] = if sign > 0.0 && q_border {
-                &ia_new
-            } else {
-                let row = if sign > 0.0 { 1 } else { slot[k] as usize };
-                &pool[row * nb..(row + 1) * nb]
-            };
-            // the neighbours within r (tag, weight row, offset, d²), gathered without branching on the distance
-            let mut n = 0usize;
-            let (x0, y0) = grid.cell_coords(at - DVec2::splat(r));
-            let (x1, y1) = grid.cell_coords(at + DVec2::splat(r));
-            for cy in y0..=y1 {
-                let (a, b) = grid.row_range(cy, x0, x1);
-                if cand.len() < n + (b - a) {
-                    cand.resize(n + (b - a), (0, 0, DVec2::ZERO, 0.0));
-                }
-                for i in a..b {
-                    let v = DVec2::new(grid.xs[i] - at.x, grid.ys[i] - at.y);
-                    let d2 = v.x * v.x + v.y * v.y;
-                    cand[n] = (grid.tags[i], grid.ids[i], v, d2);
-                    n += usize::from(d2 <= r2);
-                }
-                for c in cy * lnx + x0..=cy * lnx + x1 {
-                    let mut j = cells.head[c];
-                    while j != NONE {
-                        if cand.len() <= n {
-                            cand.resize(n + 64, (0, 0, DVec2::ZERO, 0.0));
-                        }
-                        let v = pos[j as usize] - at;
-                        let d2 = v.length_squared();
-                        cand[n] = (sh.self_tag, slot[j as usize], v, d2);
-                        n += usize::from(d2 <= r2 && j != k as u32);
-                        j = cells.next[j as usize];
-                    }
-                }
-            }
-            let mut ctx = 0.0;
-            for &(tag, row, v, d2) in &cand[..n] {
-                let ti = (tag & !CONTEXT_TAG) as usize;
-                let t = &tables[ti];
-                let kd = ((d2.sqrt() / t.bin_width) as usize).min(sh.last_bin[ti]);
-                let idx = if t.angle_bins == 1 {
-                    kd
-                } else {
-                    kd * t.angle_bins + folded_angle_bin(v, t.angle_bins)
-                };
-                let h = offs[ti] + idx;
-                let lf = if d2 < t.hard_core2 {
-                    f64::NEG_INFINITY
-                } else {
-                    sh.log_factor[h]
-                };
-                if sign > 0.0 && lf == f64::NEG_INFINITY {
-                    forbidden = true;
-                    break;
-                }
-                if tag & CONTEXT_TAG != 0 {
-                    ctx += lf;
-                    continue;
-                }
-                let kd = kd.min(nb - 1);
-                let w = ia_x[kd] + pool[row as usize * nb + kd];
-                let cell = &mut d_h[h];
-                touched[nt] = h as u32;
-                nt += usize::from(*cell == 0.0);
-                *cell += sign * w;
-                if *cell == 0.0 {
-                    // keep it listed once: a tiny non-zero marks it as touched
-                    *cell = f64::MIN_POSITIVE;
-                }
-            }
-            if forbidden {
-                break;
-            }
-            if sign > 0.0 {
-                ctx_new = ctx;
-            } else {
-                ctx_old = ctx;
-            }
-        }
-        if !forbidden {
-            // the map histograms: one instance leaves p's bins for q's
-            for mi in 0..target.maps.len() {
-                for (sign, at) in [(1.0, q), (-1.0, p)] {
-                    if let Some(b) = map_bin(target, mi, at) {
-                        let h = offs[tables.len() + mi] + b;
-                        let cell = &mut d_h[h];
-                        touched[nt] = h as u32;
-                        nt += usize::from(*cell == 0.0);
-                        *cell += sign;
-                        if *cell == 0.0 {
-                            *cell = f64::MIN_POSITIVE;
-                        }
-                    }
-                }
-            }
-        }
-        if forbidden {
-            for &h in &touched[..nt] {
-                d_h[h as usize] = 0.0;
-            }
-            continue;
-        }
-        let mut d_e = 0.0;
-        for &h in &touched[..nt] {
-            let h = h as usize;
-            let dh = d_h[h];
-            let view = sh.dev[h] + delta[h] * inv_share;
-            d_e += sh.weight[h] * (2.0 * view * dh + dh * dh * inv_share);
-        }
-        let log_accept = -d_e / sh.tau
-            + (map_new - target.map_log(p))
-            + (target.ghost_log(q) - target.ghost_log(p))
-            + (ctx_new.min(target.saturation) - ctx_old.min(target.saturation));
-        let accept = rng.random::<f64>().ln() < log_accept;
-        for &h in &touched[..nt] {
-            let h = h as usize;
-            if accept {
-                delta[h] += d_h[h];
-            }
-            d_h[h] = 0.0;
-        }
-        if accept {
-            cells.remove(k);
-            cells.insert(k, cell_index(q));
-            pos[k] = q;
-            if q_border {
-                if slot[k] <= 1 {
-                    slot[k] = (pool.len() / nb) as u32;
-                    pool.extend_from_slice(&ia_new);
-                } else {
-                    let s0 = slot[k] as usize * nb;
-                    pool[s0..s0 + nb].copy_from_slice(&ia_new);
-                }
-            } else {
-                slot[k] = 1;
-            }
-        }
-    }
-    pos.truncate(m);
-    (pos, delta)
-}
-
 /// Whether a point at `p` is allowed at all (map preference non-zero, no hard core violated with the fixed
 /// content or with `own_grid`'s points).
 fn allowed(target: &Target, own_grid: &SpatialGrid, self_tag: u32, p: DVec2) -> bool {
@@ -478,216 +177,321 @@ fn allowed(target: &Target, own_grid: &SpatialGrid, self_tag: u32, p: DVec2) -> 
     ok
 }
 
-/// The rdf-matching chain (see "Larger regions: matching the rdf" in the module documentation).
-#[allow(clippy::too_many_arguments)]
-pub(super) fn run_rdf_chain<R: Rng>(
-    target: &Target,
-    region: &Region,
-    area: f64,
-    expected: f64,
-    self_tag: u32,
-    max_radius: f64,
-    iterations_per_instance: f64,
-    rng: &mut R,
-    progress: &dyn Fn(f64) -> bool,
-) -> Result<Vec<DVec2>> {
-    use rayon::prelude::*;
-    let r = target.radius;
-    let (rlo, rhi) = region.bbox();
-    let pad = DVec2::splat(r);
-    let new_own_grid = |own: &[DVec2]| {
-        let mut g = SpatialGrid::new(rlo - pad, rhi + pad, target.cell);
-        for (id, p) in own.iter().enumerate() {
-            g.insert(GridEntry {
-                position: *p,
-                tag: self_tag,
-                id: id as u32,
-            });
+/// The rdf-matching chain of one category (see "Larger regions: matching the rdf" in the module documentation).
+pub(super) struct RdfChain<'c, 'a> {
+    pub(super) target: &'c Target<'a>,
+    pub(super) region: &'c Region,
+    pub(super) area: f64,
+    /// The expected count (see "The count").
+    pub(super) expected: f64,
+    pub(super) self_tag: u32,
+    pub(super) max_radius: f64,
+    pub(super) iterations_per_instance: f64,
+}
+
+/// The matched histograms, flat (see `histogram_offsets`): their targets `T = h · cell area · n_X · n_Y / A`
+/// (ordered pairs) and `n w_m` (maps), the weights `1 / max(T, 1)` (0 in the padding), the pairs' log factors,
+/// and per table its last padded distance bin.
+struct Matched {
+    offs: Vec<usize>,
+    targets: Vec<f64>,
+    weight: Vec<f64>,
+    log_factor: Vec<f64>,
+    last_bin: Vec<usize>,
+}
+
+/// What every sweep of the chain shares: the matched histograms and the fixed content in a flat grid.
+struct Sweeps<'c, 'a> {
+    chain: &'c RdfChain<'c, 'a>,
+    matched: Matched,
+    fixed: FlatGrid,
+    n_alpha: usize,
+    shift_sigma: f64,
+}
+
+impl<'a> RdfChain<'_, 'a> {
+    /// Runs the chain: the count, dart throwing, then the annealed sweeps over tiles.
+    pub(super) fn run<R: Rng>(
+        &self,
+        rng: &mut R,
+        progress: &dyn Fn(f64) -> bool,
+    ) -> Result<Vec<DVec2>> {
+        let target = self.target;
+        let r = target.radius;
+        let mut own = self.dart_throwing(rng);
+        let n = own.len() as f64;
+        if own.len() < 2 {
+            return Ok(own);
         }
-        g
-    };
-    // the count (see "The count"), then dart throwing among allowed positions
-    let want = expected.floor() as usize + usize::from(rng.random::<f64>() < expected.fract());
-    let mut own: Vec<DVec2> = Vec::with_capacity(want);
-    let mut own_grid = new_own_grid(&own);
-    for _ in 0..(30 * want + 1000) {
-        if own.len() >= want {
-            break;
-        }
-        let Some(p) = region.sample_uniform(rng) else {
-            break;
+        let sweeps = Sweeps {
+            chain: self,
+            matched: self.matched_histograms(n),
+            fixed: self.flat_grid(&target.grid.entries().copied().collect::<Vec<_>>()),
+            n_alpha: ((r / target.bin_width).ceil() as usize).max(1),
+            shift_sigma: self.max_radius / 8.0,
         };
-        if allowed(target, &own_grid, self_tag, p) {
-            own_grid.insert(GridEntry {
-                position: p,
-                tag: self_tag,
-                id: own.len() as u32,
-            });
-            own.push(p);
-        }
-    }
-    let n = own.len() as f64;
-    if own.len() < 2 {
-        return Ok(own);
-    }
-    // targets T = h · cell area · n_X · n_Y / A (ordered pairs), weights 1 / max(T, 1) (0 in the padding), flat
-    let offs = histogram_offsets(target);
-    let mut targets: Vec<f64> = vec![0.0; offs[offs.len() - 1]];
-    let mut weight: Vec<f64> = vec![0.0; targets.len()];
-    let mut log_factor: Vec<f64> = vec![0.0; offs[target.tables.len()]];
-    let mut last_bin: Vec<usize> = Vec::new();
-    for (ti, t) in target.tables.iter().enumerate() {
-        let n_other = if ti as u32 == self_tag {
-            n - 1.0
-        } else {
-            t.others_inside.unwrap_or(0) as f64
-        };
-        for (idx, h) in t.target_hist.iter().enumerate() {
-            let v = h * t.cell_area(idx) * n * n_other / area;
-            targets[offs[ti] + idx] = v;
-            weight[offs[ti] + idx] = 1.0 / v.max(1.0);
-            log_factor[offs[ti] + idx] = t.log_factor[idx];
-        }
-        last_bin.push(padded_bins(t, r) - 1);
-    }
-    for (mi, m) in target.maps.iter().enumerate() {
-        let o = offs[target.tables.len() + mi];
-        for (b, w) in m.wanted.iter().enumerate() {
-            targets[o + b] = w * n;
-            weight[o + b] = 1.0 / (w * n).max(1.0);
-        }
-    }
-    let fixed_entries: Vec<GridEntry> = target.grid.entries().copied().collect();
-    let fixed = FlatGrid::build(
-        rlo - pad,
-        rhi + pad,
-        target.cell,
-        fixed_entries.len(),
-        |i| fixed_entries[i],
-    );
-    drop(fixed_entries);
-    let new_own_flat = |own: &[DVec2]| {
-        FlatGrid::build(rlo - pad, rhi + pad, target.cell, own.len(), |i| {
-            GridEntry {
-                position: own[i],
-                tag: self_tag,
-                id: i as u32,
+        let mut own_flat = self.own_flat(&own);
+        let (rlo, rhi) = self.region.bbox();
+        let tile_size = (2.0 * r)
+            .max((MIN_TILE_INSTANCES / (n / self.area)).sqrt())
+            .max(1e-6);
+        let ext = rhi - rlo;
+        let tiled = ext.x >= 3.0 * tile_size && ext.y >= 3.0 * tile_size;
+        let base_seed: u64 = rng.random();
+        let mut dev: Vec<f64> = Vec::new();
+        for sweep in 0..RDF_SWEEPS {
+            let tau = annealed(TAU_START, TAU_END, sweep, RDF_SWEEPS, ANNEALING_FRACTION);
+            let sweep_seed = mix_seed(base_seed, sweep as u64);
+            let mut sweep_rng = ChaCha8Rng::seed_from_u64(sweep_seed);
+            let tiling = Tiling::draw(tiled, tile_size, (rlo, rhi), &mut sweep_rng);
+            // H − T: computed in full once, then carried over by the tiles' changes (see "Tiles and determinism")
+            if sweep == 0 {
+                dev = pair_histograms(&sweeps.shared(&own, &own_flat, &[], tau));
+                for (x, y) in dev.iter_mut().zip(&sweeps.matched.targets) {
+                    *x -= y;
+                }
             }
+            for phase in 0..tiling.phases() {
+                let tiles =
+                    tiling.phase_tiles(&own, phase, sweep_seed, self.iterations_per_instance);
+                if tiles.is_empty() {
+                    continue;
+                }
+                sweeps.run_phase(&tiles, &mut own, &own_flat, &mut dev, tau);
+                own_flat = self.own_flat(&own);
+            }
+            if !progress((sweep + 1) as f64 / RDF_SWEEPS as f64) {
+                return Err(Error::Cancelled);
+            }
+        }
+        Ok(own)
+    }
+
+    /// The count (see "The count"), then dart throwing among allowed positions.
+    fn dart_throwing<R: Rng>(&self, rng: &mut R) -> Vec<DVec2> {
+        let (target, self_tag) = (self.target, self.self_tag);
+        let want = self.expected.floor() as usize
+            + usize::from(rng.random::<f64>() < self.expected.fract());
+        let mut own: Vec<DVec2> = Vec::with_capacity(want);
+        let (lo, hi) = self.grid_bounds();
+        let mut own_grid = SpatialGrid::new(lo, hi, target.cell);
+        for _ in 0..(30 * want + 1000) {
+            if own.len() >= want {
+                break;
+            }
+            let Some(p) = self.region.sample_uniform(rng) else {
+                break;
+            };
+            if allowed(target, &own_grid, self_tag, p) {
+                own_grid.insert(GridEntry {
+                    position: p,
+                    tag: self_tag,
+                    id: own.len() as u32,
+                });
+                own.push(p);
+            }
+        }
+        own
+    }
+
+    /// The targets and weights of the matched histograms at `n` own points (see [`Matched`]).
+    fn matched_histograms(&self, n: f64) -> Matched {
+        let target = self.target;
+        let offs = histogram_offsets(target);
+        let mut targets: Vec<f64> = vec![0.0; offs[offs.len() - 1]];
+        let mut weight: Vec<f64> = vec![0.0; targets.len()];
+        let mut log_factor: Vec<f64> = vec![0.0; offs[target.tables.len()]];
+        let mut last_bin: Vec<usize> = Vec::new();
+        for (ti, t) in target.tables.iter().enumerate() {
+            let n_other = if ti as u32 == self.self_tag {
+                n - 1.0
+            } else {
+                t.others_inside.unwrap_or(0) as f64
+            };
+            for (idx, h) in t.target_hist.iter().enumerate() {
+                let v = h * t.cell_area(idx) * n * n_other / self.area;
+                targets[offs[ti] + idx] = v;
+                weight[offs[ti] + idx] = 1.0 / v.max(1.0);
+                log_factor[offs[ti] + idx] = t.log_factor[idx];
+            }
+            last_bin.push(padded_bins(t, target.radius) - 1);
+        }
+        for (mi, m) in target.maps.iter().enumerate() {
+            let o = offs[target.tables.len() + mi];
+            for (b, w) in m.wanted.iter().enumerate() {
+                targets[o + b] = w * n;
+                weight[o + b] = 1.0 / (w * n).max(1.0);
+            }
+        }
+        Matched {
+            offs,
+            targets,
+            weight,
+            log_factor,
+            last_bin,
+        }
+    }
+
+    /// The extent of the chain's grids: the region's box grown by the interaction radius.
+    fn grid_bounds(&self) -> (DVec2, DVec2) {
+        let (rlo, rhi) = self.region.bbox();
+        let pad = DVec2::splat(self.target.radius);
+        (rlo - pad, rhi + pad)
+    }
+
+    fn flat_grid(&self, entries: &[GridEntry]) -> FlatGrid {
+        let (lo, hi) = self.grid_bounds();
+        FlatGrid::build(lo, hi, self.target.cell, entries.len(), |i| entries[i])
+    }
+
+    /// The own points in a flat grid, their indices as ids.
+    fn own_flat(&self, own: &[DVec2]) -> FlatGrid {
+        let (lo, hi) = self.grid_bounds();
+        FlatGrid::build(lo, hi, self.target.cell, own.len(), |i| GridEntry {
+            position: own[i],
+            tag: self.self_tag,
+            id: i as u32,
         })
-    };
-    let mut own_flat = new_own_flat(&own);
-    drop(own_grid);
-    let n_alpha = ((r / target.bin_width).ceil() as usize).max(1);
-    let tile_size = (2.0 * r)
-        .max((MIN_TILE_INSTANCES / (n / area)).sqrt())
-        .max(1e-6);
-    let ext = rhi - rlo;
-    let tiled = ext.x >= 3.0 * tile_size && ext.y >= 3.0 * tile_size;
-    let base_seed: u64 = rng.random();
-    let shift_sigma = max_radius / 8.0;
-    let mut dev: Vec<f64> = Vec::new();
-    for sweep in 0..RDF_SWEEPS {
-        let tau = annealed(TAU_START, TAU_END, sweep, RDF_SWEEPS, ANNEALING_FRACTION);
-        let sweep_seed = mix_seed(base_seed, sweep as u64);
-        let mut sweep_rng = ChaCha8Rng::seed_from_u64(sweep_seed);
-        // the tiling of this sweep: a random offset, 2 × 2 colour phases
+    }
+}
+
+impl<'a> Sweeps<'_, 'a> {
+    /// The state the tiles of a phase read.
+    fn shared<'s>(
+        &'s self,
+        own: &'s [DVec2],
+        own_grid: &'s FlatGrid,
+        dev: &'s [f64],
+        tau: f64,
+    ) -> Shared<'s, 'a> {
+        Shared {
+            target: self.chain.target,
+            region: self.chain.region,
+            self_tag: self.chain.self_tag,
+            n_alpha: self.n_alpha,
+            own,
+            own_grid,
+            fixed: &self.fixed,
+            offs: &self.matched.offs,
+            last_bin: &self.matched.last_bin,
+            log_factor: &self.matched.log_factor,
+            dev,
+            weight: &self.matched.weight,
+            tau,
+            shift_sigma: self.shift_sigma,
+        }
+    }
+
+    /// The tiles of one phase in parallel, their moves and changes of `H` merged in tile order.
+    fn run_phase(
+        &self,
+        tiles: &[Tile],
+        own: &mut [DVec2],
+        own_flat: &FlatGrid,
+        dev: &mut [f64],
+        tau: f64,
+    ) {
+        use rayon::prelude::*;
+        let results: Vec<(Vec<DVec2>, Vec<f64>)> = {
+            let shared = self.shared(own, own_flat, dev, tau);
+            tiles.par_iter().map(|t| run_tile(&shared, t)).collect()
+        };
+        for (tile, (positions, delta)) in tiles.iter().zip(results) {
+            for (&g, p) in tile.members.iter().zip(positions) {
+                own[g as usize] = p;
+            }
+            for (a, b) in dev.iter_mut().zip(delta) {
+                *a += b;
+            }
+        }
+    }
+}
+
+/// The tiling of one sweep: `nx × ny` tiles of `size` from `origin`, in 2 × 2 colour phases when `tiled`
+/// (otherwise one tile over the region).
+struct Tiling {
+    tiled: bool,
+    origin: DVec2,
+    size: DVec2,
+    nx: usize,
+    ny: usize,
+}
+
+impl Tiling {
+    /// The tiling of a sweep: square tiles of `tile_size` at a random offset, or one tile over `bbox`.
+    fn draw(tiled: bool, tile_size: f64, bbox: (DVec2, DVec2), rng: &mut ChaCha8Rng) -> Self {
+        let (rlo, rhi) = bbox;
         let (origin, size, nx, ny) = if tiled {
-            let off = DVec2::new(sweep_rng.random::<f64>(), sweep_rng.random::<f64>()) * tile_size;
+            let off = DVec2::new(rng.random::<f64>(), rng.random::<f64>()) * tile_size;
             let origin = rlo - off;
             let nx = ((rhi.x - origin.x) / tile_size).floor() as usize + 1;
             let ny = ((rhi.y - origin.y) / tile_size).floor() as usize + 1;
             (origin, DVec2::splat(tile_size), nx, ny)
         } else {
+            let ext = rhi - rlo;
             (rlo, ext * (1.0 + 1e-9) + DVec2::splat(1e-9), 1, 1)
         };
-        let tile_of = |p: DVec2| {
-            let ix = (((p.x - origin.x) / size.x).floor().max(0.0) as usize).min(nx - 1);
-            let iy = (((p.y - origin.y) / size.y).floor().max(0.0) as usize).min(ny - 1);
-            iy * nx + ix
-        };
-        // H − T: computed in full once, then carried over by the tiles' changes (see "Tiles and determinism")
-        if sweep == 0 {
-            dev = pair_histograms(&Shared {
-                target,
-                region,
-                self_tag,
-                n_alpha,
-                own: &own,
-                own_grid: &own_flat,
-                fixed: &fixed,
-                offs: &offs,
-                last_bin: &last_bin,
-                log_factor: &log_factor,
-                dev: &[],
-                weight: &weight,
-                tau,
-                shift_sigma,
-            });
-            for (x, y) in dev.iter_mut().zip(&targets) {
-                *x -= y;
-            }
-        }
-        let phases = if tiled { 4 } else { 1 };
-        for phase in 0..phases {
-            let mut buckets: Vec<Vec<u32>> = vec![Vec::new(); nx * ny];
-            for (id, p) in own.iter().enumerate() {
-                buckets[tile_of(*p)].push(id as u32);
-            }
-            let active: Vec<usize> = (0..nx * ny)
-                .filter(|&t| !tiled || ((t % nx) % 2) + 2 * ((t / nx) % 2) == phase)
-                .collect();
-            let phase_total: usize = active.iter().map(|&t| buckets[t].len()).sum();
-            if phase_total == 0 {
-                continue;
-            }
-            let tiles: Vec<Tile> = active
-                .iter()
-                .map(|&t| {
-                    let lo = origin + DVec2::new((t % nx) as f64, (t / nx) as f64) * size;
-                    let members = std::mem::take(&mut buckets[t]);
-                    let count = members.len();
-                    Tile {
-                        lo,
-                        hi: lo + size,
-                        share: count as f64 / phase_total as f64,
-                        proposals: (count as f64 * iterations_per_instance / RDF_SWEEPS as f64)
-                            .ceil() as usize,
-                        members,
-                        seed: mix_seed(sweep_seed, (phase * nx * ny + t) as u64 + 1),
-                    }
-                })
-                .collect();
-            let shared = Shared {
-                target,
-                region,
-                self_tag,
-                n_alpha,
-                own: &own,
-                own_grid: &own_flat,
-                fixed: &fixed,
-                offs: &offs,
-                last_bin: &last_bin,
-                log_factor: &log_factor,
-                dev: &dev,
-                weight: &weight,
-                tau,
-                shift_sigma,
-            };
-            let results: Vec<(Vec<DVec2>, Vec<f64>)> =
-                tiles.par_iter().map(|t| run_tile(&shared, t)).collect();
-            for (tile, (positions, delta)) in tiles.iter().zip(results) {
-                for (&g, p) in tile.members.iter().zip(positions) {
-                    own[g as usize] = p;
-                }
-                for (a, b) in dev.iter_mut().zip(delta) {
-                    *a += b;
-                }
-            }
-            own_flat = new_own_flat(&own);
-        }
-        if !progress((sweep + 1) as f64 / RDF_SWEEPS as f64) {
-            return Err(Error::Cancelled);
+        Tiling {
+            tiled,
+            origin,
+            size,
+            nx,
+            ny,
         }
     }
-    Ok(own)
+
+    fn phases(&self) -> usize {
+        if self.tiled {
+            4
+        } else {
+            1
+        }
+    }
+
+    fn tile_of(&self, p: DVec2) -> usize {
+        let (origin, size, nx, ny) = (self.origin, self.size, self.nx, self.ny);
+        let ix = (((p.x - origin.x) / size.x).floor().max(0.0) as usize).min(nx - 1);
+        let iy = (((p.y - origin.y) / size.y).floor().max(0.0) as usize).min(ny - 1);
+        iy * nx + ix
+    }
+
+    /// The tiles of colour phase `phase` with their members among `own`, their shares of the phase's
+    /// instances, proposals and seeds; empty when the phase holds no instance.
+    fn phase_tiles(
+        &self,
+        own: &[DVec2],
+        phase: usize,
+        sweep_seed: u64,
+        iterations_per_instance: f64,
+    ) -> Vec<Tile> {
+        let (nx, ny) = (self.nx, self.ny);
+        let mut buckets: Vec<Vec<u32>> = vec![Vec::new(); nx * ny];
+        for (id, p) in own.iter().enumerate() {
+            buckets[self.tile_of(*p)].push(id as u32);
+        }
+        let active: Vec<usize> = (0..nx * ny)
+            .filter(|&t| !self.tiled || ((t % nx) % 2) + 2 * ((t / nx) % 2) == phase)
+            .collect();
+        let phase_total: usize = active.iter().map(|&t| buckets[t].len()).sum();
+        if phase_total == 0 {
+            return Vec::new();
+        }
+        active
+            .iter()
+            .map(|&t| {
+                let lo = self.origin + DVec2::new((t % nx) as f64, (t / nx) as f64) * self.size;
+                let members = std::mem::take(&mut buckets[t]);
+                let count = members.len();
+                Tile {
+                    lo,
+                    hi: lo + self.size,
+                    share: count as f64 / phase_total as f64,
+                    proposals: (count as f64 * iterations_per_instance / RDF_SWEEPS as f64).ceil()
+                        as usize,
+                    members,
+                    seed: mix_seed(sweep_seed, (phase * nx * ny + t) as u64 + 1),
+                }
+            })
+            .collect()
+    }
 }

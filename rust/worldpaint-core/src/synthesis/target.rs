@@ -446,93 +446,9 @@ pub(super) fn build_target<'a>(
     area: f64,
 ) -> (Target<'a>, u32) {
     let cat = &color.categories[ci];
-    let name = &cat.category.name;
-    let mut tables = Vec::new();
-    let mut fixed_entries: Vec<GridEntry> = Vec::new();
-    let mut self_tag = None;
-    for (oi, other) in color.categories.iter().enumerate() {
-        let same = oi == ci;
-        if !same && cond.inside[oi].is_none() && cond.context[oi].is_empty() {
-            continue;
-        }
-        let pair = color
-            .pairs
-            .iter()
-            .filter(|p| &p.category == name && p.other == other.category.name)
-            .max_by_key(|p| matches!(p.interaction, Interaction::OrientedRdf { .. }));
-        let Some(pair) = pair else { continue };
-        let hard_core = if same { cat.min_distance } else { 0.0 };
-        let mut table = match &pair.interaction {
-            Interaction::Rdf { hist } => PairTable::new(&hist.values, 1, hist.bin_width, hard_core),
-            Interaction::OrientedRdf {
-                distance_bin,
-                angle_bins,
-                values,
-            } => PairTable::new(values, *angle_bins, *distance_bin, hard_core),
-        };
-        if !same {
-            table.others_inside = Some(cond.inside[oi].as_ref().map_or(0, |v| v.len()));
-        }
-        table.other_density = other.density;
-        let n_other = other.count as f64 - if same { 1.0 } else { 0.0 };
-        table.truncate_to_significant(cat.count as f64 * n_other / color.region_area);
-        let tag = tables.len() as u32;
-        tables.push(table);
-        if same {
-            self_tag = Some(tag);
-        }
-        for p in cond.inside[oi].iter().flatten() {
-            fixed_entries.push(GridEntry {
-                position: *p,
-                tag,
-                id: FIXED_ID,
-            });
-        }
-        for p in &cond.context[oi] {
-            fixed_entries.push(GridEntry {
-                position: *p,
-                tag: tag | CONTEXT_TAG,
-                id: FIXED_ID,
-            });
-        }
-    }
-    let self_tag = match self_tag {
-        Some(t) => t,
-        None => {
-            tables.push(PairTable::new(&[], 1, color.bin_width, cat.min_distance));
-            (tables.len() - 1) as u32
-        }
-    };
-    let maps: Vec<MapTable> = color
-        .maps
-        .iter()
-        .filter(|m| &m.category == name)
-        .map(|m| {
-            let field = match m.source {
-                MapSource::Terrain => MapField::Terrain(&m.map),
-                MapSource::GraphDistance => {
-                    MapField::Graph(structures.graph(&m.map), color.max_radius)
-                }
-                MapSource::PolygonDistance => {
-                    MapField::Polygons(structures.polygons(&m.map), color.max_radius)
-                }
-            };
-            MapTable::new(field, &m.hist, &m.region_hist)
-        })
-        .collect();
-    // the interaction radius: as far as some pair's rdf differs from 1 (or a hard core reaches)
-    let radius = tables
-        .iter()
-        .map(|t| t.bin_width * t.n_bins as f64)
-        .fold(
-            if cat.min_distance.is_finite() {
-                cat.min_distance
-            } else {
-                0.0
-            },
-            f64::max,
-        )
-        .max(color.bin_width);
+    let (tables, fixed_entries, self_tag) = pair_tables(color, ci, cond);
+    let maps = map_tables(color, &cat.category.name, structures);
+    let radius = interaction_radius(&tables, cat.min_distance, color.bin_width);
     // grid cells: the radius, but not much finer than the mean spacing of the content
     let spacing = (area / (cat.density * area + fixed_entries.len() as f64).max(1.0)).sqrt();
     let cell = radius.max(spacing);
@@ -540,12 +456,7 @@ pub(super) fn build_target<'a>(
     for e in fixed_entries {
         grid.insert(e);
     }
-    let saturation = SATURATION_PAIRS
-        * tables
-            .iter()
-            .flat_map(|t| t.target_hist.iter())
-            .fold(1.0f64, |m, v| m.max(*v))
-            .ln();
+    let saturation = saturation(&tables);
     let target = Target {
         grid,
         tables,
@@ -558,4 +469,139 @@ pub(super) fn build_target<'a>(
         ghosts: None,
     };
     (target, self_tag)
+}
+
+/// The pair tables of color category `ci` (the self pair, then one per category present in `cond`), the fixed
+/// content they apply to as grid entries, and the tag of the self pair (an empty table when the color has none).
+fn pair_tables(
+    color: &Color,
+    ci: usize,
+    cond: &Conditioning,
+) -> (Vec<PairTable>, Vec<GridEntry>, u32) {
+    let cat = &color.categories[ci];
+    let mut tables = Vec::new();
+    let mut fixed_entries: Vec<GridEntry> = Vec::new();
+    let mut self_tag = None;
+    for oi in 0..color.categories.len() {
+        let same = oi == ci;
+        if !same && cond.inside[oi].is_none() && cond.context[oi].is_empty() {
+            continue;
+        }
+        let Some(table) = pair_table(color, ci, oi, cond) else {
+            continue;
+        };
+        let tag = tables.len() as u32;
+        tables.push(table);
+        if same {
+            self_tag = Some(tag);
+        }
+        push_fixed_entries(&mut fixed_entries, cond, oi, tag);
+    }
+    let self_tag = match self_tag {
+        Some(t) => t,
+        None => {
+            tables.push(PairTable::new(&[], 1, color.bin_width, cat.min_distance));
+            (tables.len() - 1) as u32
+        }
+    };
+    (tables, fixed_entries, self_tag)
+}
+
+/// The pair table of color category `ci` with category `oi` (the oriented rdf when the color has both kinds),
+/// cut to its significant range; None when the color learned no such pair.
+fn pair_table(color: &Color, ci: usize, oi: usize, cond: &Conditioning) -> Option<PairTable> {
+    let cat = &color.categories[ci];
+    let other = &color.categories[oi];
+    let same = oi == ci;
+    let pair = color
+        .pairs
+        .iter()
+        .filter(|p| p.category == cat.category.name && p.other == other.category.name)
+        .max_by_key(|p| matches!(p.interaction, Interaction::OrientedRdf { .. }))?;
+    let hard_core = if same { cat.min_distance } else { 0.0 };
+    let mut table = match &pair.interaction {
+        Interaction::Rdf { hist } => PairTable::new(&hist.values, 1, hist.bin_width, hard_core),
+        Interaction::OrientedRdf {
+            distance_bin,
+            angle_bins,
+            values,
+        } => PairTable::new(values, *angle_bins, *distance_bin, hard_core),
+    };
+    if !same {
+        table.others_inside = Some(cond.inside[oi].as_ref().map_or(0, |v| v.len()));
+    }
+    table.other_density = other.density;
+    let n_other = other.count as f64 - if same { 1.0 } else { 0.0 };
+    table.truncate_to_significant(cat.count as f64 * n_other / color.region_area);
+    Some(table)
+}
+
+/// The fixed content of category `oi` under pair tag `tag`: inside the region as is (window-corrected in the
+/// rdf-matching chain), around it with `CONTEXT_TAG` (product factors).
+fn push_fixed_entries(out: &mut Vec<GridEntry>, cond: &Conditioning, oi: usize, tag: u32) {
+    for p in cond.inside[oi].iter().flatten() {
+        out.push(GridEntry {
+            position: *p,
+            tag,
+            id: FIXED_ID,
+        });
+    }
+    for p in &cond.context[oi] {
+        out.push(GridEntry {
+            position: *p,
+            tag: tag | CONTEXT_TAG,
+            id: FIXED_ID,
+        });
+    }
+}
+
+/// The map factors `ψ` of the category `name`, each reading its terrain map or its distance to structured content.
+fn map_tables<'a>(
+    color: &'a Color,
+    name: &str,
+    structures: &StructuredContent,
+) -> Vec<MapTable<'a>> {
+    color
+        .maps
+        .iter()
+        .filter(|m| m.category == name)
+        .map(|m| {
+            let field = match m.source {
+                MapSource::Terrain => MapField::Terrain(&m.map),
+                MapSource::GraphDistance => {
+                    MapField::Graph(structures.graph(&m.map), color.max_radius)
+                }
+                MapSource::PolygonDistance => {
+                    MapField::Polygons(structures.polygons(&m.map), color.max_radius)
+                }
+            };
+            MapTable::new(field, &m.hist, &m.region_hist)
+        })
+        .collect()
+}
+
+/// The interaction radius: as far as some pair's rdf differs from 1 (or a hard core reaches), at least a bin.
+fn interaction_radius(tables: &[PairTable], min_distance: f64, bin_width: f64) -> f64 {
+    tables
+        .iter()
+        .map(|t| t.bin_width * t.n_bins as f64)
+        .fold(
+            if min_distance.is_finite() {
+                min_distance
+            } else {
+                0.0
+            },
+            f64::max,
+        )
+        .max(bin_width)
+}
+
+/// The cap of a point's total log pair factor: `SATURATION_PAIRS` times the largest single-pair log factor.
+fn saturation(tables: &[PairTable]) -> f64 {
+    SATURATION_PAIRS
+        * tables
+            .iter()
+            .flat_map(|t| t.target_hist.iter())
+            .fold(1.0f64, |m, v| m.max(*v))
+            .ln()
 }

@@ -1,0 +1,447 @@
+//! The moves of one tile of the rdf-matching chain (see "Tiles and determinism" in the module documentation of
+//! [`super::super`]): relocations and shifts of the tile's own instances, each accepted with `exp(−ΔE / τ)`
+//! times the ratio of the product factors, where `ΔE` is computed from the pairs of the moved instance alone.
+
+use super::{inverse_alphas, map_bin, Shared};
+use crate::analysis::folded_angle_bin;
+use crate::geom::DVec2;
+use crate::spatial::{FlatGrid, GridEntry};
+use crate::synthesis::gaussian;
+use crate::synthesis::target::CONTEXT_TAG;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+/// One tile of one phase: its rectangle `[lo, hi)`, its instances (global indices) and its share of the
+/// phase's instances.
+pub(super) struct Tile {
+    pub(super) lo: DVec2,
+    pub(super) hi: DVec2,
+    pub(super) members: Vec<u32>,
+    pub(super) share: f64,
+    pub(super) proposals: usize,
+    pub(super) seed: u64,
+}
+
+/// The moving instances of a tile, listed per cell of a `FlatGrid`'s layout (doubly linked lists).
+struct MemberCells {
+    head: Vec<u32>,
+    next: Vec<u32>,
+    prev: Vec<u32>,
+    cell_of: Vec<u32>,
+}
+
+const NONE: u32 = u32::MAX;
+
+impl MemberCells {
+    fn new(cells: usize, members: usize) -> Self {
+        MemberCells {
+            head: vec![NONE; cells],
+            next: vec![NONE; members],
+            prev: vec![NONE; members],
+            cell_of: vec![0; members],
+        }
+    }
+
+    fn insert(&mut self, k: usize, cell: usize) {
+        let h = self.head[cell];
+        self.next[k] = h;
+        self.prev[k] = NONE;
+        if h != NONE {
+            self.prev[h as usize] = k as u32;
+        }
+        self.head[cell] = k as u32;
+        self.cell_of[k] = cell as u32;
+    }
+
+    fn remove(&mut self, k: usize) {
+        let (p, n) = (self.prev[k], self.next[k]);
+        if p != NONE {
+            self.next[p as usize] = n;
+        } else {
+            self.head[self.cell_of[k] as usize] = n;
+        }
+        if n != NONE {
+            self.prev[n as usize] = p;
+        }
+    }
+}
+
+/// Moves of one tile: returns the new positions of its members (in order) and its change of `H` (flat).
+pub(super) fn run_tile(sh: &Shared, tile: &Tile) -> (Vec<DVec2>, Vec<f64>) {
+    let offs = sh.offs;
+    let delta = vec![0.0; offs[offs.len() - 1]];
+    if tile.members.is_empty() || tile.proposals == 0 {
+        return (Vec::new(), delta);
+    }
+    let mut rng = ChaCha8Rng::seed_from_u64(tile.seed);
+    let mut chain = TileChain::new(sh, tile, delta);
+    for _ in 0..tile.proposals {
+        chain.step(&mut rng);
+    }
+    let mut pos = chain.pos;
+    pos.truncate(tile.members.len());
+    (pos, chain.delta)
+}
+
+/// A neighbour within the interaction radius of a moved instance: pair tag, weight row, offset, squared distance.
+type Neighbour = (u32, u32, DVec2, f64);
+
+/// A tile's rectangle `[lo, hi)` and its halo `[elo, ehi]`: the rectangle grown by the interaction radius.
+#[derive(Clone, Copy)]
+struct Bounds {
+    lo: DVec2,
+    hi: DVec2,
+    elo: DVec2,
+    ehi: DVec2,
+}
+
+impl Bounds {
+    fn in_tile(&self, p: DVec2) -> bool {
+        p.x >= self.lo.x && p.x < self.hi.x && p.y >= self.lo.y && p.y < self.hi.y
+    }
+
+    fn in_halo(&self, p: DVec2) -> bool {
+        p.x >= self.elo.x && p.x <= self.ehi.x && p.y >= self.elo.y && p.y <= self.ehi.y
+    }
+}
+
+/// The chain of one tile, on a local copy: the tile's instances (ids `0..m`, moving), the own instances around
+/// it (ids from `m` on) and the fixed content around it (static).
+struct TileChain<'s, 'a, 'b> {
+    sh: &'s Shared<'a, 'b>,
+    bounds: Bounds,
+    /// Where relocations land: the tile within the region's box.
+    slo: DVec2,
+    shi: DVec2,
+    m: usize,
+    pos: Vec<DVec2>,
+    /// `1/α` per local own point: a row of `pool` (row 0: zeros, for the fixed content; row 1: ones, interior).
+    pool: Vec<f64>,
+    slot: Vec<u32>,
+    /// The static content, with its weight row as id.
+    grid: FlatGrid,
+    cells: MemberCells,
+    /// The tile's accepted change of `H`.
+    delta: Vec<f64>,
+    /// The change of `H` of the move under way; every histogram index is listed at most once in `touched`.
+    d_h: Vec<f64>,
+    touched: Vec<u32>,
+    nt: usize,
+    ia_new: Vec<f64>,
+    cand: Vec<Neighbour>,
+    inv_share: f64,
+}
+
+impl<'s, 'a, 'b> TileChain<'s, 'a, 'b> {
+    fn new(sh: &'s Shared<'a, 'b>, tile: &'s Tile, delta: Vec<f64>) -> Self {
+        let r = sh.target.radius;
+        let bounds = Bounds {
+            lo: tile.lo,
+            hi: tile.hi,
+            elo: tile.lo - DVec2::splat(r),
+            ehi: tile.hi + DVec2::splat(r),
+        };
+        let m = tile.members.len();
+        let pos = local_points(sh, tile, &bounds);
+        let (pool, slot) = weight_rows(sh, &pos);
+        let grid = static_grid(sh, &bounds, &pos[m..], &slot[m..]);
+        let mut cells = MemberCells::new(grid.n_cells(), m);
+        for (k, p) in pos[..m].iter().enumerate() {
+            let (cx, cy) = grid.cell_coords(*p);
+            cells.insert(k, cy * grid.nx() + cx);
+        }
+        let (rlo, rhi) = sh.region.bbox();
+        TileChain {
+            sh,
+            bounds,
+            slo: tile.lo.max(rlo),
+            shi: tile.hi.min(rhi),
+            m,
+            pos,
+            pool,
+            slot,
+            grid,
+            cells,
+            d_h: delta.clone(),
+            touched: vec![0; delta.len() + 1],
+            delta,
+            nt: 0,
+            ia_new: vec![1.0; sh.n_alpha],
+            cand: Vec::new(),
+            inv_share: 1.0 / tile.share,
+        }
+    }
+
+    fn cell_index(&self, p: DVec2) -> usize {
+        let (cx, cy) = self.grid.cell_coords(p);
+        cy * self.grid.nx() + cx
+    }
+
+    /// One proposal: a relocation or a shift of a random member, its change of `H`, and its acceptance.
+    fn step(&mut self, rng: &mut ChaCha8Rng) {
+        let sh = self.sh;
+        let target = sh.target;
+        let k = rng.random_range(0..self.m);
+        let p = self.pos[k];
+        let q = self.propose(p, rng);
+        if !self.bounds.in_tile(q) || !sh.region.contains(q) {
+            return;
+        }
+        let map_new = target.map_log(q);
+        if map_new == f64::NEG_INFINITY {
+            return;
+        }
+        let q_border = inverse_alphas(sh.region, q, target.bin_width, sh.n_alpha, &mut self.ia_new);
+        self.nt = 0;
+        // pairs at q (added) and at p (removed)
+        let Some(ctx_new) = self.pair_changes(1.0, q, k, q_border) else {
+            self.forget_move();
+            return;
+        };
+        let Some(ctx_old) = self.pair_changes(-1.0, p, k, q_border) else {
+            self.forget_move();
+            return;
+        };
+        self.map_changes(q, p);
+        let log_accept = -self.energy_change() / sh.tau
+            + (map_new - target.map_log(p))
+            + (target.ghost_log(q) - target.ghost_log(p))
+            + (ctx_new.min(target.saturation) - ctx_old.min(target.saturation));
+        let accept = rng.random::<f64>().ln() < log_accept;
+        for &h in &self.touched[..self.nt] {
+            let h = h as usize;
+            if accept {
+                self.delta[h] += self.d_h[h];
+            }
+            self.d_h[h] = 0.0;
+        }
+        if accept {
+            self.move_member(k, q, q_border);
+        }
+    }
+
+    /// A relocation inside the tile (the death of p and the birth of q) or a Gaussian shift, both symmetric.
+    fn propose(&self, p: DVec2, rng: &mut ChaCha8Rng) -> DVec2 {
+        let (slo, shi) = (self.slo, self.shi);
+        if rng.random::<f64>() < 0.5 {
+            DVec2::new(
+                slo.x + rng.random::<f64>() * (shi.x - slo.x),
+                slo.y + rng.random::<f64>() * (shi.y - slo.y),
+            )
+        } else {
+            p + gaussian(rng) * self.sh.shift_sigma
+        }
+    }
+
+    /// Clears the change of `H` of a rejected (forbidden) move.
+    fn forget_move(&mut self) {
+        for &h in &self.touched[..self.nt] {
+            self.d_h[h as usize] = 0.0;
+        }
+    }
+
+    /// Gathers into `cand` the neighbours within the radius of `at` (member `k` left out), without branching on
+    /// the distance; returns their count.
+    fn gather_neighbours(&mut self, at: DVec2, k: usize) -> usize {
+        let r = self.sh.target.radius;
+        let r2 = r * r;
+        let grid = &self.grid;
+        let lnx = grid.nx();
+        let cand = &mut self.cand;
+        let mut n = 0usize;
+        let (x0, y0) = grid.cell_coords(at - DVec2::splat(r));
+        let (x1, y1) = grid.cell_coords(at + DVec2::splat(r));
+        for cy in y0..=y1 {
+            let (a, b) = grid.row_range(cy, x0, x1);
+            if cand.len() < n + (b - a) {
+                cand.resize(n + (b - a), (0, 0, DVec2::ZERO, 0.0));
+            }
+            for i in a..b {
+                let v = DVec2::new(grid.xs[i] - at.x, grid.ys[i] - at.y);
+                let d2 = v.x * v.x + v.y * v.y;
+                cand[n] = (grid.tags[i], grid.ids[i], v, d2);
+                n += usize::from(d2 <= r2);
+            }
+            for c in cy * lnx + x0..=cy * lnx + x1 {
+                let mut j = self.cells.head[c];
+                while j != NONE {
+                    if cand.len() <= n {
+                        cand.resize(n + 64, (0, 0, DVec2::ZERO, 0.0));
+                    }
+                    let v = self.pos[j as usize] - at;
+                    let d2 = v.length_squared();
+                    cand[n] = (self.sh.self_tag, self.slot[j as usize], v, d2);
+                    n += usize::from(d2 <= r2 && j != k as u32);
+                    j = self.cells.next[j as usize];
+                }
+            }
+        }
+        n
+    }
+
+    /// Adds (`sign` 1, member `k` born at `at`) or removes (−1, member `k` dying at `at`) its pairs in `d_h`;
+    /// returns the log product factor of its pairs with the context, None when a birth breaks a hard core.
+    fn pair_changes(&mut self, sign: f64, at: DVec2, k: usize, q_border: bool) -> Option<f64> {
+        let sh = self.sh;
+        let (tables, offs, nb) = (&sh.target.tables, sh.offs, sh.n_alpha);
+        let n = self.gather_neighbours(at, k);
+        let ia_x: &[f64] = if sign > 0.0 && q_border {
+            &self.ia_new
+        } else {
+            let row = if sign > 0.0 { 1 } else { self.slot[k] as usize };
+            &self.pool[row * nb..(row + 1) * nb]
+        };
+        let mut ctx = 0.0;
+        for &(tag, row, v, d2) in &self.cand[..n] {
+            let ti = (tag & !CONTEXT_TAG) as usize;
+            let t = &tables[ti];
+            let kd = ((d2.sqrt() / t.bin_width) as usize).min(sh.last_bin[ti]);
+            let idx = if t.angle_bins == 1 {
+                kd
+            } else {
+                kd * t.angle_bins + folded_angle_bin(v, t.angle_bins)
+            };
+            let h = offs[ti] + idx;
+            let lf = if d2 < t.hard_core2 {
+                f64::NEG_INFINITY
+            } else {
+                sh.log_factor[h]
+            };
+            if sign > 0.0 && lf == f64::NEG_INFINITY {
+                return None;
+            }
+            if tag & CONTEXT_TAG != 0 {
+                ctx += lf;
+                continue;
+            }
+            let kd = kd.min(nb - 1);
+            let w = ia_x[kd] + self.pool[row as usize * nb + kd];
+            touch(&mut self.d_h, &mut self.touched, &mut self.nt, h, sign * w);
+        }
+        Some(ctx)
+    }
+
+    /// The map histograms: one instance leaves p's bins for q's.
+    fn map_changes(&mut self, q: DVec2, p: DVec2) {
+        let target = self.sh.target;
+        let offs = self.sh.offs;
+        for mi in 0..target.maps.len() {
+            for (sign, at) in [(1.0, q), (-1.0, p)] {
+                if let Some(b) = map_bin(target, mi, at) {
+                    let h = offs[target.tables.len() + mi] + b;
+                    touch(&mut self.d_h, &mut self.touched, &mut self.nt, h, sign);
+                }
+            }
+        }
+    }
+
+    /// `ΔE` of the move under way: the tile sees `H − T` at the start of the phase plus its own changes scaled
+    /// by its share (see "Tiles and determinism").
+    fn energy_change(&self) -> f64 {
+        let sh = self.sh;
+        let mut d_e = 0.0;
+        for &h in &self.touched[..self.nt] {
+            let h = h as usize;
+            let dh = self.d_h[h];
+            let view = sh.dev[h] + self.delta[h] * self.inv_share;
+            d_e += sh.weight[h] * (2.0 * view * dh + dh * dh * self.inv_share);
+        }
+        d_e
+    }
+
+    /// Member `k` moves to `q`: its cell, its position, and its `1/α` row (its own row when the window cuts
+    /// its disc, reused when it had one).
+    fn move_member(&mut self, k: usize, q: DVec2, q_border: bool) {
+        let nb = self.sh.n_alpha;
+        self.cells.remove(k);
+        let cell = self.cell_index(q);
+        self.cells.insert(k, cell);
+        self.pos[k] = q;
+        if q_border {
+            if self.slot[k] <= 1 {
+                self.slot[k] = (self.pool.len() / nb) as u32;
+                self.pool.extend_from_slice(&self.ia_new);
+            } else {
+                let s0 = self.slot[k] as usize * nb;
+                self.pool[s0..s0 + nb].copy_from_slice(&self.ia_new);
+            }
+        } else {
+            self.slot[k] = 1;
+        }
+    }
+}
+
+/// The tile's members, then the own instances in its halo.
+fn local_points(sh: &Shared, tile: &Tile, bounds: &Bounds) -> Vec<DVec2> {
+    let mut pos: Vec<DVec2> = tile.members.iter().map(|&g| sh.own[g as usize]).collect();
+    let og = sh.own_grid;
+    og.for_each_in_box_cells(bounds.elo, bounds.ehi, |i| {
+        let p = DVec2::new(og.xs[i], og.ys[i]);
+        if bounds.in_halo(p) && !bounds.in_tile(p) {
+            pos.push(p);
+        }
+    });
+    pos
+}
+
+/// The `1/α` rows of the local points (`pool`, rows of `n_alpha`) and each point's row (`slot`): the shared
+/// interior row 1 unless the window cuts its disc.
+fn weight_rows(sh: &Shared, pos: &[DVec2]) -> (Vec<f64>, Vec<u32>) {
+    let nb = sh.n_alpha;
+    let mut pool: Vec<f64> = vec![0.0; nb];
+    pool.extend(std::iter::repeat_n(1.0, nb));
+    let mut slot = vec![1u32; pos.len()];
+    let mut scratch = vec![1.0; nb];
+    for (id, p) in pos.iter().enumerate() {
+        if inverse_alphas(sh.region, *p, sh.target.bin_width, nb, &mut scratch) {
+            slot[id] = (pool.len() / nb) as u32;
+            pool.extend_from_slice(&scratch);
+        }
+    }
+    (pool, slot)
+}
+
+/// The static content in a grid over the halo: the own instances around the tile (`around`, with their weight
+/// rows `rows` as ids), then the fixed content in the halo (row 0).
+fn static_grid(sh: &Shared, bounds: &Bounds, around: &[DVec2], rows: &[u32]) -> FlatGrid {
+    let mut statics: Vec<GridEntry> = around
+        .iter()
+        .zip(rows)
+        .map(|(p, row)| GridEntry {
+            position: *p,
+            tag: sh.self_tag,
+            id: *row,
+        })
+        .collect();
+    let fg = sh.fixed;
+    fg.for_each_in_box_cells(bounds.elo, bounds.ehi, |i| {
+        let p = DVec2::new(fg.xs[i], fg.ys[i]);
+        if bounds.in_halo(p) {
+            statics.push(GridEntry {
+                position: p,
+                tag: fg.tags[i],
+                id: 0,
+            });
+        }
+    });
+    FlatGrid::build(
+        bounds.elo,
+        bounds.ehi,
+        0.5 * sh.target.cell,
+        statics.len(),
+        |i| statics[i],
+    )
+}
+
+/// Adds `change` to histogram index `h` of the move's `d_h`, listing `h` in `touched` the first time.
+#[inline]
+fn touch(d_h: &mut [f64], touched: &mut [u32], nt: &mut usize, h: usize, change: f64) {
+    let cell = &mut d_h[h];
+    touched[*nt] = h as u32;
+    *nt += usize::from(*cell == 0.0);
+    *cell += change;
+    if *cell == 0.0 {
+        // keep it listed once: a tiny non-zero marks it as touched
+        *cell = f64::MIN_POSITIVE;
+    }
+}
