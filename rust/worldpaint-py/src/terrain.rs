@@ -69,17 +69,8 @@ impl Terrain {
         py: Python<'py>,
         xy: PyReadonlyArray2<'py, f64>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let pts = points_from_py(&xy, "xy")?;
         let hf = &self.hf;
-        let out: Vec<f64> = py.detach(|| {
-            guarded(|| {
-                Ok(pts
-                    .iter()
-                    .map(|p| hf.height_at(*p).unwrap_or(f64::NAN))
-                    .collect())
-            })
-        })?;
-        Ok(out.into_pyarray(py))
+        sample_points(py, &xy, |p| hf.height_at(p))
     }
 
     /// Values of the named map ("elevation", "slope", ...) at world XY points; NaN outside the terrain.
@@ -96,17 +87,8 @@ impl Terrain {
                 known.join(", ")
             )));
         }
-        let pts = points_from_py(&xy, "xy")?;
         let hf = &self.hf;
-        let out: Vec<f64> = py.detach(|| {
-            guarded(|| {
-                Ok(pts
-                    .iter()
-                    .map(|p| hf.map_at(name, *p).unwrap_or(f64::NAN))
-                    .collect())
-            })
-        })?;
-        Ok(out.into_pyarray(py))
+        sample_points(py, &xy, |p| hf.map_at(name, p))
     }
 
     /// ((xmin, ymin), (xmax, ymax)) of the terrain in world XY.
@@ -140,6 +122,18 @@ impl Terrain {
             self.hf.nx, self.hf.ny, self.hf.cell, a.x, b.x, a.y, b.y
         )
     }
+}
+
+/// `value` at each world XY point of `xy` (float64 (N, 2)), NaN where it has none, computed without the GIL.
+fn sample_points<'py>(
+    py: Python<'py>,
+    xy: &PyReadonlyArray2<'py, f64>,
+    value: impl Fn(DVec2) -> Option<f64> + Sync,
+) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    let pts = points_from_py(xy, "xy")?;
+    let out: Vec<f64> =
+        py.detach(|| guarded(|| Ok(pts.iter().map(|p| value(*p).unwrap_or(f64::NAN)).collect())))?;
+    Ok(out.into_pyarray(py))
 }
 
 pub(crate) fn terrain_of(t: &Option<Py<Terrain>>) -> Option<&Arc<Heightfield>> {
