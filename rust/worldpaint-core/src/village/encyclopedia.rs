@@ -204,6 +204,68 @@ fn check_positive(at: &str, v: f64) -> Result<()> {
     Ok(())
 }
 
+/// `v` is a finite number above 0; else an error naming `at.name`.
+fn positive(at: &str, name: &str, v: f64) -> Result<()> {
+    if v.is_finite() && v > 0.0 {
+        return Ok(());
+    }
+    Err(Error::InvalidInput(format!(
+        "{at}.{name} must be positive, got {v}"
+    )))
+}
+
+/// `v` is a finite number, 0 or more; else an error naming `at.name`.
+fn non_negative(at: &str, name: &str, v: f64) -> Result<()> {
+    if v.is_finite() && v >= 0.0 {
+        return Ok(());
+    }
+    Err(Error::InvalidInput(format!(
+        "{at}.{name} must be zero or more, got {v}"
+    )))
+}
+
+impl RoadParams {
+    /// Checks the ranges, wherever the parameters come from (an encyclopedia, or a direct call of the road
+    /// network); `at` says where in error messages. A `cycle_max_length` of 0 grows no cycles.
+    pub fn validate(&self, at: &str) -> Result<()> {
+        positive(at, "width", self.width)?;
+        positive(at, "distance_weight", self.distance_weight)?;
+        positive(at, "max_grade", self.max_grade)?;
+        positive(at, "reuse_weight", self.reuse_weight)?;
+        non_negative(at, "slope_weight", self.slope_weight)?;
+        non_negative(at, "curvature_weight", self.curvature_weight)?;
+        non_negative(at, "water_weight", self.water_weight)?;
+        non_negative(at, "building_cost", self.building_cost)?;
+        non_negative(at, "cycle_angle_degrees", self.cycle_angle_degrees)?;
+        non_negative(at, "cycle_max_length", self.cycle_max_length)?;
+        non_negative(at, "cycle_min_separation", self.cycle_min_separation)?;
+        if self.reuse_weight > 1.0 {
+            return Err(Error::InvalidInput(format!(
+                "{at}.reuse_weight must be at most 1, got {}",
+                self.reuse_weight
+            )));
+        }
+        if !(1..=8).contains(&self.mask_radius) {
+            return Err(Error::InvalidInput(format!(
+                "{at}.mask_radius must be 1 to 8, got {}",
+                self.mask_radius
+            )));
+        }
+        Ok(())
+    }
+}
+
+impl ParcelParams {
+    /// Checks the ranges, wherever the parameters come from (an encyclopedia, or a parcel seed); `at` says where
+    /// in error messages. A `road_reach` of 0 keeps each seed's road front to its own source cell.
+    pub fn validate(&self, at: &str) -> Result<()> {
+        positive(at, "budget", self.budget)?;
+        non_negative(at, "road_reach", self.road_reach)?;
+        positive(at, "conquest_weight", self.conquest_weight)?;
+        non_negative(at, "slope_weight", self.slope_weight)
+    }
+}
+
 impl Encyclopedia {
     pub fn from_json(text: &str) -> Result<Encyclopedia> {
         let e: Encyclopedia = serde_json::from_str(text)
@@ -224,40 +286,7 @@ impl Encyclopedia {
 
     /// Checks ranges and that every village type names known building types.
     pub fn validate(&self) -> Result<()> {
-        let r = &self.roads;
-        for (name, v) in [
-            ("width", r.width),
-            ("distance_weight", r.distance_weight),
-            ("max_grade", r.max_grade),
-            ("reuse_weight", r.reuse_weight),
-            ("cycle_max_length", r.cycle_max_length),
-        ] {
-            check_positive(&format!("roads.{name}"), v)?;
-        }
-        for (name, v) in [
-            ("slope_weight", r.slope_weight),
-            ("curvature_weight", r.curvature_weight),
-            ("water_weight", r.water_weight),
-            ("building_cost", r.building_cost),
-            ("cycle_angle_degrees", r.cycle_angle_degrees),
-            ("cycle_min_separation", r.cycle_min_separation),
-        ] {
-            if !(v.is_finite() && v >= 0.0) {
-                return Err(bad(format!("roads.{name} must be zero or more, got {v}")));
-            }
-        }
-        if r.reuse_weight > 1.0 {
-            return Err(bad(format!(
-                "roads.reuse_weight must be at most 1, got {}",
-                r.reuse_weight
-            )));
-        }
-        if !(1..=8).contains(&r.mask_radius) {
-            return Err(bad(format!(
-                "roads.mask_radius must be 1 to 8, got {}",
-                r.mask_radius
-            )));
-        }
+        self.roads.validate("encyclopedia: roads")?;
         for (name, b) in &self.buildings {
             for k in 0..2 {
                 check_positive(
@@ -306,17 +335,7 @@ impl Encyclopedia {
                 check_shape(&format!("{at}.water"), &p.water)?;
                 check_shape(&format!("{at}.fortification"), &p.fortification)?;
                 check_positive(&format!("{at}.domination_radius"), p.domination_radius)?;
-                check_positive(&format!("{at}.parcel.budget"), p.parcel.budget)?;
-                check_positive(&format!("{at}.parcel.road_reach"), p.parcel.road_reach)?;
-                check_positive(
-                    &format!("{at}.parcel.conquest_weight"),
-                    p.parcel.conquest_weight,
-                )?;
-                if !(p.parcel.slope_weight.is_finite() && p.parcel.slope_weight >= 0.0) {
-                    return Err(bad(format!(
-                        "{at}.parcel.slope_weight must be zero or more"
-                    )));
-                }
+                p.parcel.validate(&format!("encyclopedia: {at}.parcel"))?;
             }
         }
         Ok(())

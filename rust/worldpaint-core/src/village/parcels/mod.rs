@@ -284,31 +284,10 @@ fn validate(
         }
     }
     for (i, s) in seeds.iter().enumerate() {
-        let p = s.params;
         if !finite(s.position) {
             return bad(format!("seed {i} position is not finite"));
         }
-        if !(p.budget.is_finite() && p.budget > 0.0) {
-            return bad(format!("seed {i} budget {} must be positive", p.budget));
-        }
-        if !(p.road_reach.is_finite() && p.road_reach >= 0.0) {
-            return bad(format!(
-                "seed {i} road reach {} must be zero or more",
-                p.road_reach
-            ));
-        }
-        if !(p.conquest_weight.is_finite() && p.conquest_weight > 0.0) {
-            return bad(format!(
-                "seed {i} conquest weight {} must be positive",
-                p.conquest_weight
-            ));
-        }
-        if !(p.slope_weight.is_finite() && p.slope_weight >= 0.0) {
-            return bad(format!(
-                "seed {i} slope weight {} must be zero or more",
-                p.slope_weight
-            ));
-        }
+        s.params.validate(&format!("parcels: seed {i} params"))?;
     }
     let o = options;
     for (name, v) in [

@@ -4,7 +4,6 @@
 
 use super::invalid;
 use crate::error::Result;
-use crate::village::encyclopedia::RoadParams;
 use crate::village::land::Land;
 use glam::DVec2;
 
@@ -53,46 +52,6 @@ pub(super) fn check_land(land: &Land) -> Result<()> {
     if land.grid.nx < 2 || land.grid.ny < 2 || !(land.grid.cell.is_finite() && land.grid.cell > 0.0)
     {
         return Err(invalid("roads: the land grid is degenerate".into()));
-    }
-    Ok(())
-}
-
-pub(super) fn check_params(p: &RoadParams) -> Result<()> {
-    for (name, v) in [
-        ("distance_weight", p.distance_weight),
-        ("max_grade", p.max_grade),
-        ("reuse_weight", p.reuse_weight),
-    ] {
-        if !(v.is_finite() && v > 0.0) {
-            return Err(invalid(format!("roads: {name} must be positive, got {v}")));
-        }
-    }
-    for (name, v) in [
-        ("slope_weight", p.slope_weight),
-        ("curvature_weight", p.curvature_weight),
-        ("water_weight", p.water_weight),
-        ("building_cost", p.building_cost),
-        ("cycle_angle_degrees", p.cycle_angle_degrees),
-        ("cycle_max_length", p.cycle_max_length),
-        ("cycle_min_separation", p.cycle_min_separation),
-    ] {
-        if !(v.is_finite() && v >= 0.0) {
-            return Err(invalid(format!(
-                "roads: {name} must be zero or more, got {v}"
-            )));
-        }
-    }
-    if p.reuse_weight > 1.0 {
-        return Err(invalid(format!(
-            "roads: reuse_weight must be at most 1, got {}",
-            p.reuse_weight
-        )));
-    }
-    if !(1..=8).contains(&p.mask_radius) {
-        return Err(invalid(format!(
-            "roads: mask_radius must be 1 to 8, got {}",
-            p.mask_radius
-        )));
     }
     Ok(())
 }

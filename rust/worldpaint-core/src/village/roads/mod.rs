@@ -97,7 +97,7 @@ use crate::grid::Grid;
 use crate::village::encyclopedia::RoadParams;
 use crate::village::land::Land;
 use crate::village::Road;
-use checks::{check_land, check_params, land_mark, nearest_inside};
+use checks::{check_land, land_mark, nearest_inside};
 use glam::DVec2;
 use grid_lines::{node_polyline, segment_cells};
 use search::{Ctx, Search, BUILDING, GOAL};
@@ -282,7 +282,7 @@ impl RoadNetwork {
                 "roads: the land differs from the one the road network was made on".into(),
             ));
         }
-        check_params(params)?;
+        params.validate("roads: params")?;
         if occupied.len() != self.grid.len() {
             return Err(invalid(format!(
                 "roads: {} occupancy flags for {} land nodes",
