@@ -5,6 +5,7 @@ import pathlib
 import re
 import sys
 import tomllib
+import zipfile
 
 import yaml
 
@@ -63,14 +64,23 @@ def test_the_zips_are_packaged_by_the_script_make_extension_runs():
     assert upload["with"]["path"] == "dist/worldpaint-*-${{ matrix.platform }}.zip"
 
 
-def test_each_zip_takes_the_wheel_of_its_own_platform(tmp_path):
+def test_each_platform_zip_claims_its_platform_and_bundles_its_wheel(tmp_path):
     names = {
         "linux-x64": "worldpaint_engine-0.1.0-cp311-abi3-manylinux_2_28_x86_64.whl",
         "windows-x64": "worldpaint_engine-0.1.0-cp311-abi3-win_amd64.whl",
         "macos-arm64": "worldpaint_engine-0.1.0-cp311-abi3-macosx_11_0_arm64.whl",
         "macos-x64": "worldpaint_engine-0.1.0-cp311-abi3-macosx_10_12_x86_64.whl",
     }
-    for name in names.values():
-        (tmp_path / name).write_bytes(b"")
+    wheels = tmp_path / "wheels"
+    wheels.mkdir()
+    for name in names.values():  # every platform's wheel in one folder, as the release's artifacts may be
+        (wheels / name).write_bytes(b"wheel of " + name.encode())
     for platform, name in names.items():
-        assert [p.name for p in package_extension.wheels_for(platform, tmp_path)] == [name]
+        target = package_extension.package(platform, wheels, tmp_path / "dist")
+        with zipfile.ZipFile(target) as archive:
+            manifest = tomllib.loads(archive.read("blender_manifest.toml").decode())
+            bundled = sorted(n for n in archive.namelist() if n.startswith("wheels/"))
+            assert "__init__.py" in archive.namelist()
+        assert target.name.endswith(f"-{platform}.zip")
+        assert manifest["platforms"] == [platform] and manifest["wheels"] == [f"./wheels/{name}"]
+        assert bundled == [f"wheels/{name}"]

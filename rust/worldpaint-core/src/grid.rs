@@ -88,17 +88,6 @@ impl Grid {
         self.origin + DVec2::new(i as f64 + 0.5, j as f64 + 0.5) * self.cell
     }
 
-    /// The same box with cells `factor` times smaller.
-    pub fn refined(&self, factor: usize) -> Grid {
-        let f = factor.max(1);
-        Grid {
-            origin: self.origin,
-            cell: self.cell / f as f64,
-            nx: (self.nx - 1) * f + 1,
-            ny: (self.ny - 1) * f + 1,
-        }
-    }
-
     pub fn len(&self) -> usize {
         self.nx * self.ny
     }

@@ -37,6 +37,8 @@
 //! against bands wide enough for that. The thesis's parcel figures come from one real village; the cadastre (a
 //! suburban town) and the land-use tiles (fields and woods, not lots) bracket them rather than match them.
 
+#[path = "common/checks.rs"]
+mod checks;
 #[path = "common/geojson.rs"]
 mod geojson;
 #[path = "common/real_places.rs"]
@@ -46,6 +48,7 @@ mod real_data;
 #[path = "common/squares.rs"]
 mod squares;
 
+use checks::{assert_all_hold, Check};
 use rayon::prelude::*;
 use real::{Figures, Place, PlaceSpec, RealParcels, RealWindow, Table, Window};
 use std::time::Instant;
@@ -158,14 +161,6 @@ struct Generated {
 enum Failure {
     Data(String),
     Engine(String),
-}
-
-/// One check on one generated village.
-struct Check {
-    what: String,
-    measured: String,
-    bound: String,
-    holds: bool,
 }
 
 fn generate_on(
@@ -702,14 +697,5 @@ fn generated_villages_beside_real_ones() {
         );
     }
     println!("{}\ntotal {:.1} s", t.render(), t0.elapsed().as_secs_f64());
-    let failed: Vec<String> = all
-        .iter()
-        .filter(|c| !c.holds)
-        .map(|c| format!("{}: {} (bound {})", c.what, c.measured, c.bound))
-        .collect();
-    assert!(
-        failed.is_empty(),
-        "real-village checks failed: {}",
-        failed.join("; ")
-    );
+    assert_all_hold(&all);
 }

@@ -23,6 +23,8 @@
 //! and, with it, the crossings (476–670) and both TVs (up to 0.132 and 0.138). The exemplar here is the one the
 //! rule picks, not one picked for the result.
 
+#[path = "common/checks.rs"]
+mod checks;
 #[path = "common/geojson.rs"]
 mod geojson;
 #[path = "common/real_data.rs"]
@@ -32,16 +34,10 @@ mod squares;
 #[path = "common/village_painting_report.rs"]
 mod villages;
 
+use checks::{assert_all_hold, Check};
+
 /// A typical draw.
 const SEED: u64 = 1;
-
-/// One acceptance check: what is measured, the bound, whether it holds.
-struct Check {
-    what: &'static str,
-    measured: String,
-    bound: String,
-    holds: bool,
-}
 
 #[test]
 #[ignore = "needs shared/data/real (make test-rust runs it where present)"]
@@ -59,49 +55,49 @@ fn north_bayreuth_village_over_nine_times_the_area() {
     let components = report.components_ratio();
     let checks = [
         Check {
-            what: "drawn edges per km² vs the exemplar's",
+            what: "drawn edges per km² vs the exemplar's".into(),
             measured: format!("{edges_ratio:.3}"),
             bound: "0.5 ..= 2".into(),
             holds: (0.5..=2.0).contains(&edges_ratio),
         },
         Check {
-            what: "edge-length TV",
+            what: "edge-length TV".into(),
             measured: format!("{:.3}", painted.planar.length_tv),
             bound: "<= 0.15".into(),
             holds: painted.planar.length_tv <= 0.15,
         },
         Check {
-            what: "turning-angle TV",
+            what: "turning-angle TV".into(),
             measured: format!("{:.3}", painted.planar.angle_tv),
             bound: "<= 0.15".into(),
             holds: painted.planar.angle_tv <= 0.15,
         },
         Check {
-            what: "smallest angle at a node",
+            what: "smallest angle at a node".into(),
             measured: format!("{:.2}°", painted.drawn.min_angle.to_degrees()),
             bound: format!(">= learned {:.2}°", learned_min.to_degrees()),
             holds: painted.drawn.min_angle >= learned_min - 1e-6,
         },
         Check {
-            what: "segments crossing away from nodes",
+            what: "segments crossing away from nodes".into(),
             measured: format!("{} ({} edges)", painted.crossings, painted.drawn.edges),
             bound: "0".into(),
             holds: painted.crossings == 0,
         },
         Check {
-            what: "components per km² vs learned",
+            what: "components per km² vs learned".into(),
             measured: format!("{components:.3}"),
             bound: "1/1.5 ..= 1.5".into(),
             holds: (1.0 / 1.5..=1.5).contains(&components),
         },
         Check {
-            what: "house density vs the exemplar's",
+            what: "house density vs the exemplar's".into(),
             measured: format!("{:.3}", houses.density_ratio),
             bound: "0.75 ..= 1.25".into(),
             holds: (houses.density_ratio - 1.0).abs() <= 0.25,
         },
         Check {
-            what: "house distance-to-road TV",
+            what: "house distance-to-road TV".into(),
             measured: format!("{:.3}", houses.distance_tv),
             bound: "<= 0.15".into(),
             holds: houses.distance_tv <= 0.15,
@@ -118,14 +114,5 @@ fn north_bayreuth_village_over_nine_times_the_area() {
             c.what, c.measured, c.bound
         );
     }
-    let failed: Vec<String> = checks
-        .iter()
-        .filter(|c| !c.holds)
-        .map(|c| format!("{}: {} (bound {})", c.what, c.measured, c.bound))
-        .collect();
-    assert!(
-        failed.is_empty(),
-        "real-village checks failed: {}",
-        failed.join("; ")
-    );
+    assert_all_hold(&checks);
 }

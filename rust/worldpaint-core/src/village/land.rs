@@ -1,7 +1,6 @@
 //! The land a village grows on (thesis ch. 3, "Definitions"): the region of interest `Ω` as a regular grid over
 //! the terrain, with the elevation `h(p)`, the water `w(p)` and the fortification walls sampled on its nodes. Roads
-//! are searched, interests evaluated and parcels conquered on this grid (or on a finer one made with
-//! [`Grid::refined`]).
+//! are searched and interests evaluated on this grid; parcels are conquered on a finer grid over the same box.
 
 use crate::error::{Error, Result};
 use crate::geom::{segment_distance, Region};

@@ -51,7 +51,7 @@
 
 use crate::geojson::{geometry, read_features};
 use crate::real_data::{real_data_dir, require, Projection};
-use crate::squares::squares_by_count;
+use crate::squares::{centre_of_points_in, square, squares_by_count};
 use serde_json::Value;
 use std::collections::{HashMap, VecDeque};
 use worldpaint_core::geom::{polygon_contains, polygon_signed_area, DVec2};
@@ -489,13 +489,6 @@ pub struct Window {
     pub centre_lon_lat: [f64; 2],
 }
 
-fn square(min: DVec2, side: f64) -> Region {
-    Region::Rect {
-        min,
-        max: min + DVec2::splat(side),
-    }
-}
-
 /// Up to `count` windows of `side` metres holding the most buildings, clear of each other, each with at least
 /// `min_buildings`.
 pub fn densest_windows(
@@ -527,17 +520,7 @@ pub fn densest_windows(
         }
         picked.push(min);
         // re-centred on its buildings, kept on the terrain
-        let window = square(min, side);
-        let (sum, m) = place
-            .houses
-            .iter()
-            .filter(|p| window.contains(**p))
-            .fold((DVec2::ZERO, 0.0), |(s, m), p| (s + *p, m + 1.0));
-        let centre = if m > 0.0 {
-            sum / m
-        } else {
-            min + DVec2::splat(0.5 * side)
-        };
+        let centre = centre_of_points_in(&place.houses, min, side);
         let min = (centre - DVec2::splat(0.5 * side))
             .max(tlo + DVec2::splat(margin))
             .min(thi - DVec2::splat(margin + side));

@@ -2,6 +2,7 @@
 //! (included with `#[path]`).
 
 use worldpaint_core::geom::DVec2;
+use worldpaint_core::Region;
 
 /// The squares of `side` whose corners lie on a `step` grid inside `lo..hi`, each with the number of `points` it
 /// holds, most first (ties in grid order). Counted with a summed-area table of the points per cell.
@@ -43,4 +44,27 @@ pub fn squares_by_count(
         .collect();
     squares.sort_by_key(|s| std::cmp::Reverse(s.1));
     squares
+}
+
+/// The square of `side` whose lower corner is `min`.
+pub fn square(min: DVec2, side: f64) -> Region {
+    Region::Rect {
+        min,
+        max: min + DVec2::splat(side),
+    }
+}
+
+/// The mean of the `points` in the square of `side` at `min` (its own centre when it holds none): a square
+/// centred there covers the village itself rather than a window of the search grid.
+pub fn centre_of_points_in(points: &[DVec2], min: DVec2, side: f64) -> DVec2 {
+    let window = square(min, side);
+    let (sum, n) = points
+        .iter()
+        .filter(|p| window.contains(**p))
+        .fold((DVec2::ZERO, 0.0), |(s, n), p| (s + *p, n + 1.0));
+    if n > 0.0 {
+        sum / n
+    } else {
+        min + DVec2::splat(0.5 * side)
+    }
 }

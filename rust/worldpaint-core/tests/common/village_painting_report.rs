@@ -21,7 +21,7 @@
 
 use crate::geojson::{geometry, read_features};
 use crate::real_data::{real_data_dir, require, Projection};
-use crate::squares::squares_by_count;
+use crate::squares::{centre_of_points_in, square, squares_by_count};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -170,13 +170,6 @@ fn load(dir: &Path) -> Result<Layers, String> {
     })
 }
 
-fn square(min: DVec2, side: f64) -> Region {
-    Region::Rect {
-        min,
-        max: min + DVec2::splat(side),
-    }
-}
-
 fn rect_min(r: &Region) -> DVec2 {
     r.bbox().0
 }
@@ -194,17 +187,7 @@ fn squares_by_density(layers: &Layers) -> Vec<(DVec2, usize)> {
 /// The square of `SIDE` centred on the mean of the buildings in the square of `SIDE` at `min`: the village
 /// itself rather than a window of the search grid.
 fn centred(layers: &Layers, min: DVec2) -> Region {
-    let window = square(min, SIDE);
-    let (sum, n) = layers
-        .houses
-        .iter()
-        .filter(|p| window.contains(**p))
-        .fold((DVec2::ZERO, 0.0), |(s, n), p| (s + *p, n + 1.0));
-    let centre = if n > 0.0 {
-        sum / n
-    } else {
-        min + DVec2::splat(0.5 * SIDE)
-    };
+    let centre = centre_of_points_in(&layers.houses, min, SIDE);
     square(centre - DVec2::splat(0.5 * SIDE), SIDE)
 }
 
