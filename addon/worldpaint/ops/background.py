@@ -10,6 +10,9 @@ import threading
 
 from .common import report_errors
 
+# how often a live edit in the viewport (a brush stroke, a region following the mouse) shows its newest result
+REFRESH_SECONDS = 0.05
+
 
 def with_progress(context, compute):
     """Runs compute(progress) with Blender's progress indicator when there is a window manager."""

@@ -12,7 +12,7 @@ from bpy.props import CollectionProperty, EnumProperty, FloatProperty, StringPro
 
 from ..bridge import WorldPaintError, engine, view
 from ..props import FALLOFFS, WORLDPAINT_PG_stroke_point
-from .background import QueueWorker, with_progress
+from .background import REFRESH_SECONDS, QueueWorker, with_progress
 from .common import (
     SceneContent,
     SynthesisProperties,
@@ -20,14 +20,8 @@ from .common import (
     active_color,
     report_errors,
     report_missing,
+    setting,
 )
-
-REFRESH_SECONDS = 0.05
-
-
-def setting(operator, name, default):
-    """The operator's property when it was given, else ``default`` (the panel's setting)."""
-    return getattr(operator, name) if operator.properties.is_property_set(name) else default
 
 
 class StrokeOperator(TerrainProperty):

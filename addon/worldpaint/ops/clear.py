@@ -5,7 +5,7 @@ import bpy
 from bpy.props import StringProperty
 
 from ..bridge import engine
-from .common import RegionProperties, SceneContent, TerrainProperty, report_errors
+from .common import RegionProperties, SceneContent, TerrainProperty, reports_errors
 
 
 class WORLDPAINT_OT_clear_region(RegionProperties, TerrainProperty, bpy.types.Operator):
@@ -17,10 +17,8 @@ class WORLDPAINT_OT_clear_region(RegionProperties, TerrainProperty, bpy.types.Op
 
     category: StringProperty(name="Category", description="Only this category (empty: all)")
 
+    @reports_errors
     def execute(self, context):
-        return report_errors(self, lambda: self._clear(context))
-
-    def _clear(self, context):
         content = SceneContent(context, self.terrain)
         region = self.destination(context, content.terrain_obj)
         edit = engine.clear_region(content.engine_scene(), region, category=self.category or None)

@@ -5,10 +5,10 @@ Renaming is editing the name in the palette list; the color's own JSON takes the
 """
 
 import bpy
-from bpy.props import EnumProperty, FloatProperty, IntProperty, StringProperty
+from bpy.props import FloatProperty, IntProperty, StringProperty
 
 from ..bridge import WorldPaintError, engine, instances, preview
-from .common import active_color, report_errors
+from .common import ListMoveOperator, color_pair, reports_errors
 
 INTERACTION_NAMES = {"rdf": "rdf", "oriented_rdf": "oriented rdf", "graph_distance": "distance to graph",
                      "polygon_distance": "signed distance to polygon", "map": "map"}
@@ -52,19 +52,21 @@ def palette_index(settings, index):
     return index
 
 
-class WORLDPAINT_OT_remove_color(bpy.types.Operator):
+class PaletteIndexProperty:
+    """The palette color an operator works on, by its index; by default the active one."""
+
+    index: IntProperty(name="Index", default=-1, description="Palette index (negative: the active color)")
+
+
+class WORLDPAINT_OT_remove_color(PaletteIndexProperty, bpy.types.Operator):
     """Remove a color from the palette"""
 
     bl_idname = "worldpaint.remove_color"
     bl_label = "Remove Color"
     bl_options = {'REGISTER', 'UNDO'}
 
-    index: IntProperty(name="Index", default=-1, description="Palette index (negative: the active color)")
-
+    @reports_errors
     def execute(self, context):
-        return report_errors(self, lambda: self._remove(context))
-
-    def _remove(self, context):
         settings = context.scene.worldpaint
         index = palette_index(settings, self.index)
         preview.remove_preview(settings.palette[index].preview_image)
@@ -73,19 +75,15 @@ class WORLDPAINT_OT_remove_color(bpy.types.Operator):
         return {'FINISHED'}
 
 
-class WORLDPAINT_OT_duplicate_color(bpy.types.Operator):
+class WORLDPAINT_OT_duplicate_color(PaletteIndexProperty, bpy.types.Operator):
     """Copy a color of the palette under a new name"""
 
     bl_idname = "worldpaint.duplicate_color"
     bl_label = "Duplicate Color"
     bl_options = {'REGISTER', 'UNDO'}
 
-    index: IntProperty(name="Index", default=-1, description="Palette index (negative: the active color)")
-
+    @reports_errors
     def execute(self, context):
-        return report_errors(self, lambda: self._duplicate(context))
-
-    def _duplicate(self, context):
         settings = context.scene.worldpaint
         source = settings.palette[palette_index(settings, self.index)]
         name = unique_name(settings.palette, source.name)
@@ -93,27 +91,18 @@ class WORLDPAINT_OT_duplicate_color(bpy.types.Operator):
         return {'FINISHED'}
 
 
-class WORLDPAINT_OT_move_color(bpy.types.Operator):
+class WORLDPAINT_OT_move_color(ListMoveOperator, bpy.types.Operator):
     """Move the active color up or down the palette"""
 
     bl_idname = "worldpaint.move_color"
     bl_label = "Move Color"
     bl_options = {'REGISTER', 'UNDO'}
 
-    direction: EnumProperty(name="Direction", items=(("UP", "Up", ""), ("DOWN", "Down", "")), default="UP")
-
+    @reports_errors
     def execute(self, context):
-        return report_errors(self, lambda: self._move(context))
-
-    def _move(self, context):
         settings = context.scene.worldpaint
-        index = palette_index(settings, -1)
-        target = index - 1 if self.direction == 'UP' else index + 1
-        if not 0 <= target < len(settings.palette):
-            return {'CANCELLED'}
-        settings.palette.move(index, target)
-        settings.active_color_index = target
-        return {'FINISHED'}
+        palette_index(settings, -1)  # an error when there is no active color
+        return self.move_active(settings, "palette", "active_color_index")
 
 
 class WORLDPAINT_OT_toggle_interaction(bpy.types.Operator):
@@ -127,10 +116,8 @@ class WORLDPAINT_OT_toggle_interaction(bpy.types.Operator):
     color_index: IntProperty(name="Color", default=-1, description="Palette index (negative: the active color)")
     index: IntProperty(name="Interaction", default=0, min=0)
 
+    @reports_errors
     def execute(self, context):
-        return report_errors(self, lambda: self._toggle(context))
-
-    def _toggle(self, context):
         settings = context.scene.worldpaint
         entry = settings.palette[palette_index(settings, self.color_index)]
         if not 0 <= self.index < len(entry.interactions):
@@ -155,16 +142,10 @@ class WORLDPAINT_OT_interpolate_colors(bpy.types.Operator):
                           description="0 gives the first color, 1 the second")
     name: StringProperty(name="Name", description="Name of the new color (empty: from the two colors)")
 
+    @reports_errors
     def execute(self, context):
-        return report_errors(self, lambda: self._interpolate(context))
-
-    def _interpolate(self, context):
         settings = context.scene.worldpaint
-        a = active_color(context, self.color_a)
-        b_name = self.color_b or settings.gradient_end
-        if not b_name:
-            raise WorldPaintError("Choose the second color to interpolate with")
-        b = active_color(context, b_name)
+        a, b = color_pair(context, self.color_a, self.color_b, "Choose the second color to interpolate with")
         name = unique_name(settings.palette, self.name or f"{a.name} · {b.name} {self.factor:.2f}")
         color_json = engine.interpolate_colors(a.json, b.json, self.factor, name)
         add_palette_color(settings, name, color_json)

@@ -1,5 +1,7 @@
 """What the operators share: region properties, the scene settings they default to, and error reporting."""
 
+import functools
+
 from bpy.props import EnumProperty, FloatProperty, FloatVectorProperty, IntProperty, StringProperty
 
 from ..bridge import WorldPaintError, curves, edits, engine, instances, regions, terrain
@@ -50,6 +52,11 @@ class RegionProperties:
         }
 
 
+def setting(operator, name, default):
+    """The operator's property when it was given, else ``default`` (the panel's setting)."""
+    return getattr(operator, name) if operator.properties.is_property_set(name) else default
+
+
 class SynthesisProperties:
     """The seed and the region of influence of an operator that synthesizes; unset, the panel's."""
 
@@ -60,7 +67,7 @@ class SynthesisProperties:
 
     def synthesis_arguments(self, settings):
         """The engine's ``seed`` and ``influence_radius`` (None: the color's own interaction radius)."""
-        seed = self.seed if self.properties.is_property_set("seed") else settings.seed
+        seed = setting(self, "seed", settings.seed)
         if self.influence_radius >= 0.0:
             influence = self.influence_radius
         else:
@@ -70,6 +77,10 @@ class SynthesisProperties:
 
 class TerrainProperty:
     terrain: StringProperty(name="Terrain", description="Terrain object (empty: the one picked in the panel)")
+
+
+class RegionSynthesisProperties(RegionProperties, SynthesisProperties, TerrainProperty):
+    """The properties of an operator that synthesizes in a region of the terrain."""
 
 
 def report_errors(operator, action):
@@ -87,6 +98,32 @@ def report_errors(operator, action):
         return {'CANCELLED'}
 
 
+def reports_errors(execute):
+    """Makes an operator's ``execute`` report its errors instead of raising them (see ``report_errors``)."""
+
+    @functools.wraps(execute)
+    def reporting(self, context):
+        return report_errors(self, lambda: execute(self, context))
+
+    return reporting
+
+
+class ListMoveOperator:
+    """An operator moving the active item of a list one place up or down."""
+
+    direction: EnumProperty(name="Direction", items=(("UP", "Up", ""), ("DOWN", "Down", "")), default="UP")
+
+    def move_active(self, owner, items, active_index):
+        """Moves the item ``owner.<active_index>`` of ``owner.<items>`` and keeps it active; cancelled at an end."""
+        collection, index = getattr(owner, items), getattr(owner, active_index)
+        target = index - 1 if self.direction == 'UP' else index + 1
+        if not (0 <= index < len(collection) and 0 <= target < len(collection)):
+            return {'CANCELLED'}
+        collection.move(index, target)
+        setattr(owner, active_index, target)
+        return {'FINISHED'}
+
+
 def active_color(context, name=""):
     """The palette entry of the given name, else the active one."""
     palette = context.scene.worldpaint.palette
@@ -99,6 +136,16 @@ def active_color(context, name=""):
         return entry
     index = context.scene.worldpaint.active_color_index
     return palette[min(max(index, 0), len(palette) - 1)]
+
+
+def color_pair(context, first, second, missing):
+    """The palette entries named ``first`` (empty: the active one) and ``second`` (empty: the panel's To Color; an
+    error saying ``missing`` when that is empty too)."""
+    start = active_color(context, first)
+    second = second or context.scene.worldpaint.gradient_end
+    if not second:
+        raise WorldPaintError(missing)
+    return start, active_color(context, second)
 
 
 class SceneContent:

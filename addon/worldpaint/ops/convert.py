@@ -4,7 +4,7 @@ import bpy
 from bpy.props import StringProperty
 
 from ..bridge import WorldPaintError, instances, points
-from .common import report_errors
+from .common import reports_errors
 
 
 class WORLDPAINT_OT_convert_to_objects(bpy.types.Operator):
@@ -19,10 +19,8 @@ class WORLDPAINT_OT_convert_to_objects(bpy.types.Operator):
         description="Category to convert (empty: the active point cloud, else the active category in the panel)",
     )
 
+    @reports_errors
     def execute(self, context):
-        return report_errors(self, lambda: self._convert(context))
-
-    def _convert(self, context):
         scene = context.scene
         clouds = instances.point_cloud_objects(scene)
         category = self.category

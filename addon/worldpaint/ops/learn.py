@@ -5,7 +5,7 @@ from bpy.props import BoolProperty, StringProperty
 
 from ..bridge import WorldPaintError, curves, engine, instances, regions, terrain
 from .colors import add_palette_color, unique_name
-from .common import RegionProperties, TerrainProperty, report_errors
+from .common import RegionProperties, TerrainProperty, reports_errors
 
 
 class WORLDPAINT_OT_learn_color(RegionProperties, TerrainProperty, bpy.types.Operator):
@@ -29,9 +29,6 @@ class WORLDPAINT_OT_learn_color(RegionProperties, TerrainProperty, bpy.types.Ope
         "rdf: houses facing a road, grass downhill of rocks)",
     )
 
-    def execute(self, context):
-        return report_errors(self, lambda: self._learn(context))
-
     def oriented_pairs(self, categories):
         """The oriented pairs as (category, other), checked against the categories."""
         kinds = {c["name"]: c["kind"] for c in categories}
@@ -50,7 +47,8 @@ class WORLDPAINT_OT_learn_color(RegionProperties, TerrainProperty, bpy.types.Ope
             pairs.append(pair)
         return pairs
 
-    def _learn(self, context):
+    @reports_errors
+    def execute(self, context):
         scene = context.scene
         settings = scene.worldpaint
         terrain_obj = terrain.terrain_object(context, self.terrain)

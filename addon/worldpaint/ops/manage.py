@@ -3,7 +3,7 @@
 import bpy
 
 from ..bridge import WorldPaintError, curves, instances
-from .common import report_errors
+from .common import reports_errors
 
 
 class WORLDPAINT_OT_find_categories(bpy.types.Operator):
@@ -13,10 +13,8 @@ class WORLDPAINT_OT_find_categories(bpy.types.Operator):
     bl_label = "Find Categories"
     bl_options = {'REGISTER', 'UNDO'}
 
+    @reports_errors
     def execute(self, context):
-        return report_errors(self, lambda: self._find(context))
-
-    def _find(self, context):
         settings = context.scene.worldpaint
         found = instances.example_objects(context.selected_objects, exclude=[settings.terrain])
         drawn = curves.example_curves(context.selected_objects, exclude=[settings.terrain])

@@ -10,18 +10,8 @@ import numpy as np
 from bpy.props import FloatVectorProperty, StringProperty
 
 from ..bridge import WorldPaintError, engine, view
-from .background import LatestWorker
-from .common import (
-    RegionProperties,
-    SceneContent,
-    SynthesisProperties,
-    TerrainProperty,
-    active_color,
-    report_errors,
-    report_missing,
-)
-
-REFRESH_SECONDS = 0.05
+from .background import REFRESH_SECONDS, LatestWorker
+from .common import RegionSynthesisProperties, SceneContent, active_color, report_errors, report_missing
 
 
 class MoveJob:
@@ -47,7 +37,7 @@ class MoveJob:
                                   **self.synthesis)
 
 
-class WORLDPAINT_OT_move_region(RegionProperties, SynthesisProperties, TerrainProperty, bpy.types.Operator):
+class WORLDPAINT_OT_move_region(RegionSynthesisProperties, bpy.types.Operator):
     """Move the content of a region; it adapts to the terrain and the content at its new place"""
 
     bl_idname = "worldpaint.move_region"

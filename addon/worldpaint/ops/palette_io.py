@@ -6,7 +6,7 @@ from bpy_extras.io_utils import ExportHelper, ImportHelper
 
 from ..bridge import WorldPaintError, engine, preview
 from .colors import add_palette_color
-from .common import report_errors
+from .common import reports_errors
 
 
 class WORLDPAINT_OT_export_palette(bpy.types.Operator, ExportHelper):
@@ -19,10 +19,8 @@ class WORLDPAINT_OT_export_palette(bpy.types.Operator, ExportHelper):
     filename_ext = ".json"
     filter_glob: StringProperty(default="*.json", options={'HIDDEN'})
 
+    @reports_errors
     def execute(self, context):
-        return report_errors(self, lambda: self._export(context))
-
-    def _export(self, context):
         palette = context.scene.worldpaint.palette
         if len(palette) == 0:
             raise WorldPaintError("The palette is empty: nothing to export")
@@ -50,10 +48,8 @@ class WORLDPAINT_OT_import_palette(bpy.types.Operator, ImportHelper):
     filter_glob: StringProperty(default="*.json", options={'HIDDEN'})
     replace: BoolProperty(name="Replace", default=False, description="Replace the palette instead of adding to it")
 
+    @reports_errors
     def execute(self, context):
-        return report_errors(self, lambda: self._import(context))
-
-    def _import(self, context):
         path = bpy.path.abspath(self.filepath)
         try:
             with open(path, encoding="utf-8") as f:

@@ -9,7 +9,7 @@ from bpy.props import BoolProperty, FloatProperty, FloatVectorProperty, StringPr
 
 from ..bridge import WorldPaintError, engine, regions, view
 from .colors import add_palette_color, unique_name
-from .common import SceneContent, TerrainProperty, report_errors
+from .common import SceneContent, TerrainProperty, report_errors, reports_errors
 
 
 class WORLDPAINT_OT_pipette(TerrainProperty, bpy.types.Operator):
@@ -41,10 +41,8 @@ class WORLDPAINT_OT_pipette(TerrainProperty, bpy.types.Operator):
 
         return report_errors(self, pick)
 
+    @reports_errors
     def execute(self, context):
-        return report_errors(self, lambda: self._pick(context))
-
-    def _pick(self, context):
         settings = context.scene.worldpaint
         radius = self.radius if self.radius > 0.0 else settings.brush_radius
         content = SceneContent(context, self.terrain)

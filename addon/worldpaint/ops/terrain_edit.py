@@ -10,7 +10,7 @@ from bpy.props import FloatProperty, IntProperty, StringProperty
 
 from ..bridge import WorldPaintError, engine, terrain, terrain_edit
 from .background import BackgroundOperator
-from .common import TerrainProperty, report_errors
+from .common import TerrainProperty, reports_errors
 
 
 def editable_terrain(context, name):
@@ -45,10 +45,8 @@ class WORLDPAINT_OT_embed_roads(TerrainProperty, bpy.types.Operator):
     width: FloatProperty(name="Carriageway", default=0.0, min=0.0, unit='LENGTH', description="0: the panel's")
     bank_width: FloatProperty(name="Banks", default=-1.0, min=-1.0, unit='LENGTH', description="-1: the panel's")
 
+    @reports_errors
     def execute(self, context):
-        return report_errors(self, lambda: self._embed(context))
-
-    def _embed(self, context):
         settings = context.scene.worldpaint.terrain_edit
         obj = editable_terrain(context, self.terrain)
         collection = collection_named(self.roads, settings.roads, "roads")

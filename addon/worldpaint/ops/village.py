@@ -12,7 +12,7 @@ from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, St
 from ..bridge import WorldPaintError, engine, terrain, village
 from ..props.village import CRITERIA, EVENT_KINDS
 from .background import BackgroundOperator
-from .common import TerrainProperty, report_errors
+from .common import ListMoveOperator, TerrainProperty, reports_errors, setting
 
 
 class VillageInputs(TerrainProperty):
@@ -83,8 +83,7 @@ class WORLDPAINT_OT_generate_village(BackgroundOperator, VillageInputs, bpy.type
         roads = village.existing_roads(settings)
         self._terrain_obj, self._heightfield = terrain_obj, heightfield
         self._parcels_as_curves = settings.parcels_as_curves
-        seed = self.seed if self.properties.is_property_set("seed") else settings.seed
-        self._arguments = (heightfield, region, scenario, seed)
+        self._arguments = (heightfield, region, scenario, setting(self, "seed", settings.seed))
         self._call = dict(
             encyclopedia=encyclopedia.text,
             connections=village.connection_points(settings, region, roads),
@@ -122,10 +121,8 @@ class WORLDPAINT_OT_show_interest(VillageInputs, bpy.types.Operator):
         default="SCENE",
     )
 
+    @reports_errors
     def execute(self, context):
-        return report_errors(self, lambda: self._show(context))
-
-    def _show(self, context):
         settings = context.scene.worldpaint.village
         terrain_obj, heightfield, region, encyclopedia, cell = self.read_setting(context)
         if terrain_obj.mode == 'EDIT':
@@ -167,10 +164,8 @@ class WORLDPAINT_OT_load_village_preset(bpy.types.Operator):
 
     preset: StringProperty(name="Preset", description="Name of the scenario preset")
 
+    @reports_errors
     def execute(self, context):
-        return report_errors(self, lambda: self._load(context))
-
-    def _load(self, context):
         events = village.preset_events(self.preset)
         settings = context.scene.worldpaint.village
         village.fill_list(settings.events, events)
@@ -222,21 +217,12 @@ class WORLDPAINT_OT_remove_village_event(bpy.types.Operator):
         return {'FINISHED'}
 
 
-class WORLDPAINT_OT_move_village_event(bpy.types.Operator):
+class WORLDPAINT_OT_move_village_event(ListMoveOperator, bpy.types.Operator):
     """Move the active event of the growth scenario up or down"""
 
     bl_idname = "worldpaint.move_village_event"
     bl_label = "Move Scenario Event"
     bl_options = {'REGISTER', 'UNDO'}
 
-    direction: EnumProperty(name="Direction", items=(("UP", "Up", ""), ("DOWN", "Down", "")), default="UP")
-
     def execute(self, context):
-        settings = context.scene.worldpaint.village
-        index = settings.active_event_index
-        target = index - 1 if self.direction == 'UP' else index + 1
-        if not (0 <= index < len(settings.events) and 0 <= target < len(settings.events)):
-            return {'CANCELLED'}
-        settings.events.move(index, target)
-        settings.active_event_index = target
-        return {'FINISHED'}
+        return self.move_active(context.scene.worldpaint.village, "events", "active_event_index")
