@@ -8,17 +8,10 @@ painted before it.
 import bpy
 from bpy.props import EnumProperty, IntProperty, StringProperty
 
-from ..bridge import WorldPaintError, engine, regions, terrain
+from ..bridge import engine, regions
 from ..props import SIDES
-from .background import BackgroundOperator
-from .common import (
-    RegionProperties,
-    SceneContent,
-    SynthesisProperties,
-    TerrainProperty,
-    active_color,
-    report_missing,
-)
+from .common import color_pair
+from .region_synthesis import RegionSynthesisOperator
 
 SHAPES = (
     ("LINEAR", "Linear", "From one side of the region to the opposite side"),
@@ -26,14 +19,14 @@ SHAPES = (
 )
 
 
-class WORLDPAINT_OT_gradient(BackgroundOperator, RegionProperties, SynthesisProperties, TerrainProperty,
-                          bpy.types.Operator):
+class WORLDPAINT_OT_gradient(RegionSynthesisOperator, bpy.types.Operator):
     """Paint a region with a gradient between two palette colors (Esc cancels)"""
 
     bl_idname = "worldpaint.gradient"
     bl_label = "Gradient"
-    bl_options = {'REGISTER', 'UNDO'}
     progress_text = "Painting the gradient"
+    engine_function = "gradient"
+    region_role = "gradient"
 
     color: StringProperty(name="From Color", description="Color where the gradient starts (empty: the active one)")
     end_color: StringProperty(name="To Color", description="Color where it ends (empty: the panel's To Color)")
@@ -43,28 +36,17 @@ class WORLDPAINT_OT_gradient(BackgroundOperator, RegionProperties, SynthesisProp
     bands: IntProperty(name="Bands", default=0, min=0, max=256,
                        description="Interpolated colors across the region (0: one per interaction radius)")
 
-    def _prepare(self, context):
-        settings = context.scene.worldpaint
-        start = active_color(context, self.color)
-        end_name = self.end_color or settings.gradient_end
-        if not end_name:
-            raise WorldPaintError("Choose the gradient's To Color in the WorldPaint panel")
-        end = active_color(context, end_name)
-        extra = engine.color_summary(start.json).categories + engine.color_summary(end.json).categories
-        self._content = SceneContent(context, self.terrain, extra)
-        region = self.destination(context, self._content.terrain_obj)
-        terrain.check_region_on_terrain(self._content.heightfield, region, "gradient")
+    def _categories(self, context):
+        start, end = self._colors = color_pair(context, self.color, self.end_color,
+                                               "Choose the gradient's To Color in the WorldPaint panel")
         self._names = (start.name, end.name)
-        self._call = dict(start=start.json, end=end.json, region=region,
-                          shape=regions.gradient_shape(region, self.shape, self.toward), bands=self.bands or None,
-                          **self.synthesis_arguments(settings))
+        return engine.color_summary(start.json).categories + engine.color_summary(end.json).categories
 
-    def _compute(self, progress):
-        return engine.gradient(self._content.engine_scene(), progress=progress, **self._call)
+    def _arguments(self, context, region):
+        start, end = self._colors
+        return dict(start=start.json, end=end.json, shape=regions.gradient_shape(region, self.shape, self.toward),
+                    bands=self.bands or None)
 
-    def _apply(self, context, edit):
-        applied = self._content.apply(context, edit)
+    def _report(self, applied, edit):
         self.report({'INFO'}, f"Painted a gradient from '{self._names[0]}' to '{self._names[1]}': "
                               f"{applied.added} instances")
-        report_missing(self, applied)
-        return {'FINISHED'}

@@ -7,50 +7,34 @@ worker thread with a progress bar and Esc to cancel (see ``background``).
 import bpy
 from bpy.props import StringProperty
 
-from ..bridge import engine, terrain
-from .background import BackgroundOperator
-from .common import (
-    RegionProperties,
-    SceneContent,
-    SynthesisProperties,
-    TerrainProperty,
-    active_color,
-    report_missing,
-)
+from ..bridge import engine
+from .common import active_color
+from .region_synthesis import RegionSynthesisOperator
 
 
-class WORLDPAINT_OT_paste_color(BackgroundOperator, RegionProperties, SynthesisProperties, TerrainProperty,
-                          bpy.types.Operator):
+class WORLDPAINT_OT_paste_color(RegionSynthesisOperator, bpy.types.Operator):
     """Paste new instances with the statistics of the active color into the region (Esc cancels)"""
 
     bl_idname = "worldpaint.paste_color"
     bl_label = "Paste Color"
-    bl_options = {'REGISTER', 'UNDO'}
     progress_text = "Pasting color"
+    engine_function = "paste"
+    region_role = "destination"
 
     color: StringProperty(name="Color", description="Palette color to paste (empty: the active one)")
 
-    def _prepare(self, context):
-        """Validates the inputs and extracts what the engine needs; changes nothing."""
-        settings = context.scene.worldpaint
-        entry = active_color(context, self.color)
-        summary = engine.color_summary(entry.json)
-        content = SceneContent(context, self.terrain, summary.categories)
-        region = self.destination(context, content.terrain_obj)
-        terrain.check_region_on_terrain(content.heightfield, region, "destination")
-        self._content, self._entry, self._summary = content, entry, summary
-        self._call = dict(color=entry.json, region=region, **self.synthesis_arguments(settings))
+    def _categories(self, context):
+        self._entry = active_color(context, self.color)
+        self._summary = engine.color_summary(self._entry.json)
+        return self._summary.categories
 
-    def _compute(self, progress):
-        return engine.paste(self._content.engine_scene(), progress=progress, **self._call)
+    def _arguments(self, context, region):
+        return {"color": self._entry.json}
 
-    def _apply(self, context, edit):
-        applied = self._content.apply(context, edit)
+    def _report(self, applied, edit):
         lines = f" and {applied.lines_added} paths or contours" if applied.lines_added else ""
         self.report({'INFO'}, f"Pasted {applied.added} instances{lines} of '{self._entry.name}'")
         empty = sorted(set(self._summary.category_names) - edit.painted_categories())
         if empty:
             self.report({'WARNING'}, f"Nothing pasted for {', '.join(empty)}: the example had none on slopes (or, "
                                      "for a color with a height preference, heights) like the destination's")
-        report_missing(self, applied)
-        return {'FINISHED'}

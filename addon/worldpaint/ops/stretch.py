@@ -7,27 +7,19 @@ opened band with the region's color (or removes the band's content and closes it
 import bpy
 from bpy.props import EnumProperty, FloatProperty, StringProperty
 
-from ..bridge import WorldPaintError, engine
+from ..bridge import WorldPaintError
 from ..props import SIDES
-from .background import BackgroundOperator
-from .common import (
-    RegionProperties,
-    SceneContent,
-    SynthesisProperties,
-    TerrainProperty,
-    active_color,
-    report_missing,
-)
+from .common import active_color
+from .region_synthesis import RegionSynthesisOperator
 
 
-class WORLDPAINT_OT_stretch_region(BackgroundOperator, RegionProperties, SynthesisProperties, TerrainProperty,
-                          bpy.types.Operator):
+class WORLDPAINT_OT_stretch_region(RegionSynthesisOperator, bpy.types.Operator):
     """Stretch (or shrink) a rectangular region of content along an axis by seam carving (Esc cancels)"""
 
     bl_idname = "worldpaint.stretch_region"
     bl_label = "Stretch Region"
-    bl_options = {'REGISTER', 'UNDO'}
     progress_text = "Stretching"
+    engine_function = "stretch_region"
 
     side: EnumProperty(name="Side", items=SIDES, default="EAST", description="The side of the region that moves")
     amount: FloatProperty(name="Amount", default=10.0, unit='LENGTH',
@@ -35,24 +27,17 @@ class WORLDPAINT_OT_stretch_region(BackgroundOperator, RegionProperties, Synthes
     color: StringProperty(name="Color", description="Palette color that fills the opened band (empty: the "
                                                     "statistics of the region's own content)")
 
-    def _prepare(self, context):
-        settings = context.scene.worldpaint
-        self._content = SceneContent(context, self.terrain)
-        region = self.destination(context, self._content.terrain_obj)
+    def _arguments(self, context, region):
         if region["shape"] != "rect":
             raise WorldPaintError("Stretching works on a rectangle: use the selection's rectangle or Rect Min/Max")
-        self._call = dict(region=region, side=self.side.lower(), amount=self.amount,
-                          color=active_color(context, self.color).json if self.color else None,
-                          **self.synthesis_arguments(settings))
+        return dict(side=self.side.lower(), amount=self.amount,
+                    color=active_color(context, self.color).json if self.color else None)
 
-    def _compute(self, progress):
-        return engine.stretch_region(self._content.engine_scene(), progress=progress, **self._call)
+    def _edit(self, stretched):
+        return stretched.edit
 
-    def _apply(self, context, stretched):
-        applied = self._content.apply(context, stretched.edit)
+    def _report(self, applied, stretched):
         (x0, y0), (x1, y1) = stretched.region_min, stretched.region_max
         verb = "Stretched" if self.amount > 0 else "Shrank"
         self.report({'INFO'}, f"{verb} the region to {x1 - x0:.1f} × {y1 - y0:.1f} m: {applied.added} instances "
                               f"placed, {applied.removed} taken away")
-        report_missing(self, applied)
-        return {'FINISHED'}
