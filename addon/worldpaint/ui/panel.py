@@ -4,16 +4,31 @@ import bpy
 
 
 class SidebarPanel:
-    """Where the WorldPaint panels live: the WorldPaint tab of the 3D viewport's sidebar."""
+    """Where the WorldPaint panels live: the WorldPaint tab of the 3D viewport's sidebar. A panel's idname is its
+    class name."""
 
     bl_space_type = 'VIEW_3D'
     bl_region_type = 'UI'
     bl_category = "WorldPaint"
 
 
+class MainSubpanel(SidebarPanel):
+    """A panel inside the main WorldPaint panel."""
+
+    bl_parent_id = "WORLDPAINT_PT_main"
+
+
+def enlarged(layout, invoke=False):
+    """``layout``, drawn large for a panel's main operators; ``invoke``: they run with their progress bar and Esc to
+    cancel (a panel's buttons run ``execute`` otherwise)."""
+    layout.scale_y = 1.3
+    if invoke:
+        layout.operator_context = 'INVOKE_DEFAULT'
+    return layout
+
+
 class WORLDPAINT_PT_main(SidebarPanel, bpy.types.Panel):
     bl_label = "WorldPaint"
-    bl_idname = "WORLDPAINT_PT_main"
 
     def draw(self, context):
         layout = self.layout
@@ -27,10 +42,8 @@ class WORLDPAINT_PT_main(SidebarPanel, bpy.types.Panel):
         )
 
 
-class WORLDPAINT_PT_palette(SidebarPanel, bpy.types.Panel):
+class WORLDPAINT_PT_palette(MainSubpanel, bpy.types.Panel):
     bl_label = "Palette"
-    bl_idname = "WORLDPAINT_PT_palette"
-    bl_parent_id = "WORLDPAINT_PT_main"
 
     def draw(self, context):
         layout = self.layout
@@ -61,7 +74,6 @@ class WORLDPAINT_PT_interactions(SidebarPanel, bpy.types.Panel):
     """The active color's interaction matrix: what depends on what, and how; each can be switched off."""
 
     bl_label = "Interactions"
-    bl_idname = "WORLDPAINT_PT_interactions"
     bl_parent_id = "WORLDPAINT_PT_palette"
     bl_options = {'DEFAULT_CLOSED'}
 
@@ -76,10 +88,8 @@ class WORLDPAINT_PT_interactions(SidebarPanel, bpy.types.Panel):
         )
 
 
-class WORLDPAINT_PT_paint(SidebarPanel, bpy.types.Panel):
+class WORLDPAINT_PT_paint(MainSubpanel, bpy.types.Panel):
     bl_label = "Paint"
-    bl_idname = "WORLDPAINT_PT_paint"
-    bl_parent_id = "WORLDPAINT_PT_main"
 
     def draw(self, context):
         layout = self.layout
@@ -94,8 +104,7 @@ class WORLDPAINT_PT_paint(SidebarPanel, bpy.types.Panel):
         box.prop(settings, "auto_influence")
         if not settings.auto_influence:
             box.prop(settings, "influence_radius")
-        col = layout.column(align=True)
-        col.scale_y = 1.3
+        col = enlarged(layout.column(align=True))
         learn = col.operator("worldpaint.learn_color", icon='EYEDROPPER')
         learn.use_elevation, learn.oriented = settings.learn_elevation, settings.learn_oriented
         col.operator("worldpaint.paste_color", icon='BRUSH_DATA')
@@ -113,10 +122,8 @@ class WORLDPAINT_PT_paint(SidebarPanel, bpy.types.Panel):
         )
 
 
-class WORLDPAINT_PT_edit(SidebarPanel, bpy.types.Panel):
+class WORLDPAINT_PT_edit(MainSubpanel, bpy.types.Panel):
     bl_label = "Edit"
-    bl_idname = "WORLDPAINT_PT_edit"
-    bl_parent_id = "WORLDPAINT_PT_main"
 
     def draw(self, context):
         layout = self.layout

@@ -2,13 +2,11 @@
 
 import bpy
 
-from .panel import SidebarPanel
+from .panel import MainSubpanel, SidebarPanel, enlarged
 
 
-class WORLDPAINT_PT_terrain_edit(SidebarPanel, bpy.types.Panel):
+class WORLDPAINT_PT_terrain_edit(MainSubpanel, bpy.types.Panel):
     bl_label = "Terrain"
-    bl_idname = "WORLDPAINT_PT_terrain_edit"
-    bl_parent_id = "WORLDPAINT_PT_main"
     bl_options = {'DEFAULT_CLOSED'}
 
     def draw(self, context):
@@ -25,14 +23,11 @@ class WORLDPAINT_PT_terrain_edit(SidebarPanel, bpy.types.Panel):
         row = layout.row(align=True)
         row.prop(settings, "use_curve_heights", toggle=True)
         row.prop(settings, "reseat", toggle=True)
-        col = layout.column()
-        col.scale_y = 1.3
-        col.operator("worldpaint.embed_roads", icon='MOD_SMOOTH')
+        enlarged(layout.column()).operator("worldpaint.embed_roads", icon='MOD_SMOOTH')
 
 
 class WORLDPAINT_PT_waterfall(SidebarPanel, bpy.types.Panel):
     bl_label = "Waterfall"
-    bl_idname = "WORLDPAINT_PT_waterfall"
     bl_parent_id = "WORLDPAINT_PT_terrain_edit"
 
     def draw(self, context):
@@ -61,10 +56,7 @@ class WORLDPAINT_PT_waterfall(SidebarPanel, bpy.types.Panel):
         layout.prop_search(settings, "rock_color", context.scene.worldpaint, "palette", icon='MESH_ICOSPHERE')
         if not settings.rock_color:
             layout.label(text="No color: the built-in river rocks", icon='INFO')
-        col = layout.column()
-        col.scale_y = 1.3
-        col.operator_context = 'INVOKE_DEFAULT'
-        col.operator("worldpaint.build_waterfall", icon='MOD_FLUIDSIM')
+        enlarged(layout.column(), invoke=True).operator("worldpaint.build_waterfall", icon='MOD_FLUIDSIM')
 
 
 classes = (WORLDPAINT_PT_terrain_edit, WORLDPAINT_PT_waterfall)

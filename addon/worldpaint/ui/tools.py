@@ -8,70 +8,71 @@ import bpy
 from ..bridge import view
 
 
-def _draw_circle(context, _tool, xy):
-    settings = context.scene.worldpaint
-    view.draw_brush_circle(context, settings.terrain, xy, settings.brush_radius)
+class BrushCircleTool:
+    """A tool of the 3D viewport's toolbar in Object Mode that shows the brush circle on the terrain; F resizes it."""
 
-
-class WORLDPAINT_TL_brush(bpy.types.WorkSpaceTool):
     bl_space_type = 'VIEW_3D'
     bl_context_mode = 'OBJECT'
+
+    @staticmethod
+    def draw_cursor(context, _tool, xy):
+        settings = context.scene.worldpaint
+        view.draw_brush_circle(context, settings.terrain, xy, settings.brush_radius)
+
+    @classmethod
+    def draw_settings(cls, context, layout, _tool):
+        settings = context.scene.worldpaint
+        layout.prop(settings, "brush_radius")
+        cls.draw_own_settings(layout, settings)
+
+    @staticmethod
+    def draw_own_settings(layout, settings):
+        """The tool's settings after the brush radius."""
+
+
+def keymap(operator):
+    """Left-click runs ``operator``, F resizes the brush."""
+    return (
+        (operator, {"type": 'LEFTMOUSE', "value": 'PRESS'}, None),
+        ("worldpaint.brush_radius", {"type": 'F', "value": 'PRESS'}, None),
+    )
+
+
+class WORLDPAINT_TL_brush(BrushCircleTool, bpy.types.WorkSpaceTool):
     bl_idname = "worldpaint.brush_tool"
     bl_label = "WorldPaint Brush"
     bl_description = "Paint the active palette color on the terrain (F: radius)"
     bl_icon = "ops.curves.sculpt_add"
-    bl_keymap = (
-        ("worldpaint.brush", {"type": 'LEFTMOUSE', "value": 'PRESS'}, None),
-        ("worldpaint.brush_radius", {"type": 'F', "value": 'PRESS'}, None),
-    )
-    draw_cursor = _draw_circle
+    bl_keymap = keymap("worldpaint.brush")
 
     @staticmethod
-    def draw_settings(context, layout, _tool):
-        settings = context.scene.worldpaint
-        layout.prop(settings, "brush_radius")
+    def draw_own_settings(layout, settings):
         layout.prop(settings, "brush_opacity")
         layout.prop(settings, "brush_falloff", text="")
         layout.prop(settings, "brush_spacing")
 
 
-class WORLDPAINT_TL_eraser(bpy.types.WorkSpaceTool):
-    bl_space_type = 'VIEW_3D'
-    bl_context_mode = 'OBJECT'
+class WORLDPAINT_TL_eraser(BrushCircleTool, bpy.types.WorkSpaceTool):
     bl_idname = "worldpaint.eraser_tool"
     bl_label = "WorldPaint Eraser"
     bl_description = "Remove synthesized instances on the terrain (F: radius)"
     bl_icon = "ops.curves.sculpt_delete"
-    bl_keymap = (
-        ("worldpaint.erase", {"type": 'LEFTMOUSE', "value": 'PRESS'}, None),
-        ("worldpaint.brush_radius", {"type": 'F', "value": 'PRESS'}, None),
-    )
-    draw_cursor = _draw_circle
+    bl_keymap = keymap("worldpaint.erase")
 
     @staticmethod
-    def draw_settings(context, layout, _tool):
-        settings = context.scene.worldpaint
-        layout.prop(settings, "brush_radius")
+    def draw_own_settings(layout, settings):
         layout.prop_search(settings, "erase_category", settings, "categories", text="Only")
 
 
-class WORLDPAINT_TL_pipette(bpy.types.WorkSpaceTool):
-    bl_space_type = 'VIEW_3D'
-    bl_context_mode = 'OBJECT'
+class WORLDPAINT_TL_pipette(BrushCircleTool, bpy.types.WorkSpaceTool):
     bl_idname = "worldpaint.pipette_tool"
     bl_label = "WorldPaint Pipette"
     bl_description = "Pick the color of the instances under the circle into the palette (F: radius)"
     bl_icon = "ops.paint.eyedropper_add"
-    bl_keymap = (
-        ("worldpaint.pipette", {"type": 'LEFTMOUSE', "value": 'PRESS'}, None),
-        ("worldpaint.brush_radius", {"type": 'F', "value": 'PRESS'}, None),
-    )
-    draw_cursor = _draw_circle
+    bl_keymap = keymap("worldpaint.pipette")
 
     @staticmethod
-    def draw_settings(context, layout, _tool):
-        settings = context.scene.worldpaint
-        layout.prop(settings, "brush_radius")
+    def draw_own_settings(layout, settings):
         layout.prop(settings, "learn_elevation")
 
 

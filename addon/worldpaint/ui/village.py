@@ -3,7 +3,7 @@
 import bpy
 
 from ..bridge import village
-from .panel import SidebarPanel
+from .panel import MainSubpanel, SidebarPanel, enlarged
 
 
 class WORLDPAINT_UL_village_events(bpy.types.UIList):
@@ -23,7 +23,6 @@ class WORLDPAINT_UL_village_events(bpy.types.UIList):
 
 class WORLDPAINT_MT_village_presets(bpy.types.Menu):
     bl_label = "Scenario Presets"
-    bl_idname = "WORLDPAINT_MT_village_presets"
 
     def draw(self, _context):
         for name in sorted(village.presets(), key=village.preset_label):
@@ -34,7 +33,6 @@ class WORLDPAINT_MT_village_add_event(bpy.types.Menu):
     """The events the encyclopedia allows: a change to each of its village types, each of its building types."""
 
     bl_label = "Add Event"
-    bl_idname = "WORLDPAINT_MT_village_add_event"
 
     def draw(self, context):
         layout = self.layout
@@ -50,10 +48,8 @@ class WORLDPAINT_MT_village_add_event(bpy.types.Menu):
             op.kind, op.name = 'GENERATE', name
 
 
-class WORLDPAINT_PT_village(SidebarPanel, bpy.types.Panel):
+class WORLDPAINT_PT_village(MainSubpanel, bpy.types.Panel):
     bl_label = "Village"
-    bl_idname = "WORLDPAINT_PT_village"
-    bl_parent_id = "WORLDPAINT_PT_main"
 
     def draw(self, context):
         layout = self.layout
@@ -70,10 +66,7 @@ class WORLDPAINT_PT_village(SidebarPanel, bpy.types.Panel):
         row = col.row(align=True)
         row.prop(settings, "parcel_cell")
         row.prop(settings, "parcels_as_curves", toggle=True)
-        col = layout.column()
-        col.scale_y = 1.3
-        col.operator_context = 'INVOKE_DEFAULT'
-        col.operator("worldpaint.generate_village", icon='HOME')
+        enlarged(layout.column(), invoke=True).operator("worldpaint.generate_village", icon='HOME')
         layout.prop(settings, "collection", text="Output")
         if settings.report:
             box = layout.box()
@@ -81,10 +74,14 @@ class WORLDPAINT_PT_village(SidebarPanel, bpy.types.Panel):
                 box.label(text=part)
 
 
-class WORLDPAINT_PT_village_scenario(SidebarPanel, bpy.types.Panel):
-    bl_label = "Growth Scenario"
-    bl_idname = "WORLDPAINT_PT_village_scenario"
+class VillageSubpanel(SidebarPanel):
+    """A panel inside the Village panel."""
+
     bl_parent_id = "WORLDPAINT_PT_village"
+
+
+class WORLDPAINT_PT_village_scenario(VillageSubpanel, bpy.types.Panel):
+    bl_label = "Growth Scenario"
 
     def draw(self, context):
         layout = self.layout
@@ -101,10 +98,8 @@ class WORLDPAINT_PT_village_scenario(SidebarPanel, bpy.types.Panel):
         col.operator("worldpaint.move_village_event", text="", icon='TRIA_DOWN').direction = 'DOWN'
 
 
-class WORLDPAINT_PT_village_surroundings(SidebarPanel, bpy.types.Panel):
+class WORLDPAINT_PT_village_surroundings(VillageSubpanel, bpy.types.Panel):
     bl_label = "Roads, Water and Walls"
-    bl_idname = "WORLDPAINT_PT_village_surroundings"
-    bl_parent_id = "WORLDPAINT_PT_village"
     bl_options = {'DEFAULT_CLOSED'}
 
     def draw(self, context):
@@ -124,10 +119,8 @@ class WORLDPAINT_PT_village_surroundings(SidebarPanel, bpy.types.Panel):
         layout.prop(settings, "walls")
 
 
-class WORLDPAINT_PT_village_interest(SidebarPanel, bpy.types.Panel):
+class WORLDPAINT_PT_village_interest(VillageSubpanel, bpy.types.Panel):
     bl_label = "Interest"
-    bl_idname = "WORLDPAINT_PT_village_interest"
-    bl_parent_id = "WORLDPAINT_PT_village"
     bl_options = {'DEFAULT_CLOSED'}
 
     def draw(self, context):
