@@ -254,47 +254,45 @@ impl Region {
         match self {
             Region::Rect { min, max } => {
                 if !finite(*min) || !finite(*max) {
-                    return Err(Error::BadRegion("rectangle has non-finite corners".into()));
+                    return Err(Error::bad_region("rectangle has non-finite corners"));
                 }
                 if max.x <= min.x || max.y <= min.y {
-                    return Err(Error::BadRegion(format!(
+                    return Err(Error::bad_region(format!(
                         "rectangle min {min:?} is not below max {max:?}"
                     )));
                 }
             }
             Region::Circle { center, radius } => {
                 if !finite(*center) || !radius.is_finite() || *radius <= 0.0 {
-                    return Err(Error::BadRegion(format!(
+                    return Err(Error::bad_region(format!(
                         "circle at {center:?} with radius {radius}"
                     )));
                 }
             }
             Region::Polygon { points } => {
                 if points.len() < 3 {
-                    return Err(Error::BadRegion(format!(
+                    return Err(Error::bad_region(format!(
                         "polygon has {} points, needs at least 3",
                         points.len()
                     )));
                 }
                 if points.iter().any(|p| !finite(*p)) {
-                    return Err(Error::BadRegion("polygon has non-finite points".into()));
+                    return Err(Error::bad_region("polygon has non-finite points"));
                 }
                 if polygon_signed_area(points).abs() <= 0.0 {
-                    return Err(Error::BadRegion("polygon has zero area".into()));
+                    return Err(Error::bad_region("polygon has zero area"));
                 }
             }
             Region::Clipped { within, without } => {
                 if within.is_empty() {
-                    return Err(Error::BadRegion("clipped region has nothing within".into()));
+                    return Err(Error::bad_region("clipped region has nothing within"));
                 }
                 for r in within.iter().chain(without) {
                     r.validate()?;
                 }
                 let (lo, hi) = self.bbox();
                 if !(hi.x > lo.x && hi.y > lo.y) {
-                    return Err(Error::BadRegion(
-                        "clipped region's parts do not overlap".into(),
-                    ));
+                    return Err(Error::bad_region("clipped region's parts do not overlap"));
                 }
             }
         }

@@ -3,7 +3,8 @@
 //! [`MAX_NODES`] nodes is an error (the caller asked for too fine a cell), and a bucket index enlarges its cells
 //! until it has at most [`MAX_BUCKETS`] (its queries stay exact, only slower).
 
-use crate::error::{Error, Result};
+use crate::error::{check, Error, Result};
+use crate::limits;
 use glam::DVec2;
 
 /// Largest number of nodes of a raster (village land, parcel grids).
@@ -24,22 +25,19 @@ pub struct Grid {
 impl Grid {
     /// The grid of nodes `cell` apart covering the box `min..max` (at least 2×2 nodes, at most [`MAX_NODES`]).
     pub fn nodes_covering(min: DVec2, max: DVec2, cell: f64) -> Result<Grid> {
-        if !(cell.is_finite() && cell > 0.0) {
-            return Err(Error::InvalidInput(format!(
-                "village grid cell {cell} must be positive"
-            )));
-        }
+        check::positive("village grid cell", cell)?;
         let size = max - min;
         if !(size.x.is_finite() && size.y.is_finite() && size.x > 0.0 && size.y > 0.0) {
-            return Err(Error::BadRegion("the village region has no area".into()));
+            return Err(Error::bad_region("the village region has no area"));
         }
         let nx = (size.x / cell).ceil() as usize + 1;
         let ny = (size.y / cell).ceil() as usize + 1;
-        if nx.saturating_mul(ny) > MAX_NODES {
-            return Err(Error::InvalidInput(format!(
-                "a village grid of {nx}x{ny} nodes is too large; use a coarser cell than {cell} m"
-            )));
-        }
+        limits::check(
+            &format!("a village grid of {cell} m cells"),
+            nx as f64 * ny as f64,
+            MAX_NODES as u64,
+            "nodes",
+        )?;
         Ok(Grid {
             origin: min,
             cell,

@@ -37,9 +37,9 @@
 //! * `max_radius` is the larger and `bin_width` the smaller of the two.
 //!
 //! `t = 0` gives `a` and `t = 1` gives `b` exactly (under the new name); `t` outside [0, 1] or NaN is an
-//! [`Error::InvalidInput`].
+//! [`Error::OutOfRange`].
 
-use crate::error::{Error, Result};
+use crate::error::{check, Result};
 use crate::palette::{
     CategoryColor, Color, GraphColor, Histogram, Interaction, MapInteraction, PairInteraction,
     PolygonColor,
@@ -48,11 +48,7 @@ use crate::palette::{
 /// Interpolates two colors at `t` ∈ [0, 1] by displacement interpolation of their histograms (see the module
 /// documentation). The result is named `name`.
 pub fn interpolate_colors(a: &Color, b: &Color, t: f64, name: &str) -> Result<Color> {
-    if !(0.0..=1.0).contains(&t) {
-        return Err(Error::InvalidInput(format!(
-            "interpolation parameter t = {t} is not in [0, 1]"
-        )));
-    }
+    check::within("interpolation parameter t", t, 0.0, 1.0)?;
     if t == 0.0 || t == 1.0 {
         let mut c = if t == 0.0 { a.clone() } else { b.clone() };
         c.name = name.to_string();

@@ -43,6 +43,7 @@ pub mod geom;
 pub mod graph;
 pub mod grid;
 pub mod interpolate;
+pub mod limits;
 pub mod palette;
 pub mod polygon_mesh;
 pub mod scene;

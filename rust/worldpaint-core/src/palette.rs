@@ -4,10 +4,10 @@
 //!
 //! JSON envelope: `{"format": "worldpaint-palette", "version": 1, "colors": [...]}` for a palette and
 //! `{"format": "worldpaint-color", "version": 1, "color": {...}}` for a single color. An unknown version gives
-//! [`Error::UnsupportedVersion`], anything unreadable [`Error::Json`]; reading never panics. Non-finite numbers
+//! [`Error::UnsupportedVersion`], anything unreadable or invalid [`Error::Parse`]; reading never panics. Non-finite numbers
 //! (an unbounded `min_distance`) are written as `null` and read back as `+∞`.
 
-use crate::error::{Error, Result};
+use crate::error::{Error, FileKind, Result};
 use crate::geom::Region;
 use crate::scene::Category;
 use serde::{Deserialize, Serialize};
@@ -273,50 +273,63 @@ pub struct Palette {
     pub colors: Vec<Color>,
 }
 
-fn to_json_error(e: serde_json::Error) -> Error {
-    Error::Json(e.to_string())
-}
-
 /// Reads the envelope of a palette or color file and returns its payload field.
-fn open_envelope(s: &str, format: &str, payload: &str) -> Result<serde_json::Value> {
-    let mut value: serde_json::Value = serde_json::from_str(s).map_err(to_json_error)?;
+fn open_envelope(
+    s: &str,
+    kind: FileKind,
+    format: &str,
+    payload: &str,
+) -> Result<serde_json::Value> {
+    let bad = |reason: String| Error::parse(kind, reason);
+    let mut value: serde_json::Value = serde_json::from_str(s).map_err(|e| bad(e.to_string()))?;
     let obj = value
         .as_object_mut()
-        .ok_or_else(|| Error::Json("top level is not an object".into()))?;
+        .ok_or_else(|| bad("the top level is not an object".into()))?;
     match obj.get("format").and_then(|f| f.as_str()) {
         Some(f) if f == format => {}
-        Some(f) => return Err(Error::Json(format!("format is '{f}', expected '{format}'"))),
-        None => return Err(Error::Json(format!("missing \"format\": \"{format}\""))),
+        Some(f) => return Err(bad(format!("format is '{f}', expected '{format}'"))),
+        None => return Err(bad(format!("missing \"format\": \"{format}\""))),
     }
     let version = obj
         .get("version")
         .and_then(|v| v.as_u64())
-        .ok_or_else(|| Error::Json("missing or non-integer \"version\"".into()))?;
+        .ok_or_else(|| bad("missing or non-integer \"version\"".into()))?;
     if version != PALETTE_FORMAT_VERSION as u64 {
         return Err(Error::UnsupportedVersion {
+            kind,
             found: u32::try_from(version).unwrap_or(u32::MAX),
             supported: PALETTE_FORMAT_VERSION,
         });
     }
     obj.remove(payload)
-        .ok_or_else(|| Error::Json(format!("missing \"{payload}\"")))
+        .ok_or_else(|| bad(format!("missing \"{payload}\"")))
+}
+
+/// Writes a palette or color file.
+fn write_envelope(kind: FileKind, value: serde_json::Value) -> Result<String> {
+    serde_json::to_string_pretty(&value).map_err(|e| Error::parse(kind, e.to_string()))
 }
 
 impl Palette {
     pub fn to_json(&self) -> Result<String> {
-        serde_json::to_string_pretty(&serde_json::json!({
-            "format": PALETTE_FORMAT,
-            "version": PALETTE_FORMAT_VERSION,
-            "colors": self.colors,
-        }))
-        .map_err(to_json_error)
+        write_envelope(
+            FileKind::Palette,
+            serde_json::json!({
+                "format": PALETTE_FORMAT,
+                "version": PALETTE_FORMAT_VERSION,
+                "colors": self.colors,
+            }),
+        )
     }
 
     pub fn from_json(s: &str) -> Result<Palette> {
-        let colors = open_envelope(s, PALETTE_FORMAT, "colors")?;
-        let colors: Vec<Color> = serde_json::from_value(colors).map_err(to_json_error)?;
-        for c in &colors {
-            c.validate()?;
+        let kind = FileKind::Palette;
+        let colors = open_envelope(s, kind, PALETTE_FORMAT, "colors")?;
+        let colors: Vec<Color> =
+            serde_json::from_value(colors).map_err(|e| Error::parse(kind, e.to_string()))?;
+        for (k, c) in colors.iter().enumerate() {
+            c.validate()
+                .map_err(|e| Error::parse(kind, format!("colors[{k}]: {}", e.reason())))?;
         }
         Ok(Palette { colors })
     }
@@ -324,18 +337,22 @@ impl Palette {
 
 impl Color {
     pub fn to_json(&self) -> Result<String> {
-        serde_json::to_string_pretty(&serde_json::json!({
-            "format": COLOR_FORMAT,
-            "version": PALETTE_FORMAT_VERSION,
-            "color": self,
-        }))
-        .map_err(to_json_error)
+        write_envelope(
+            FileKind::Color,
+            serde_json::json!({
+                "format": COLOR_FORMAT,
+                "version": PALETTE_FORMAT_VERSION,
+                "color": self,
+            }),
+        )
     }
 
     pub fn from_json(s: &str) -> Result<Color> {
-        let color = open_envelope(s, COLOR_FORMAT, "color")?;
-        let color: Color = serde_json::from_value(color).map_err(to_json_error)?;
-        color.validate()?;
+        let kind = FileKind::Color;
+        let color = open_envelope(s, kind, COLOR_FORMAT, "color")?;
+        let color: Color =
+            serde_json::from_value(color).map_err(|e| Error::parse(kind, e.to_string()))?;
+        color.validate().map_err(|e| e.in_file(kind))?;
         Ok(color)
     }
 
@@ -383,7 +400,7 @@ impl Color {
 
     /// A validation error naming the color.
     fn invalid<T>(&self, m: String) -> Result<T> {
-        Err(Error::Json(format!("color '{}': {m}", self.name)))
+        Err(Error::invalid(format!("color '{}'", self.name), m))
     }
 
     /// A histogram has valid bins (or no values) and finite, non-negative values.
@@ -391,16 +408,12 @@ impl Color {
         if !(h.bin_width.is_finite() && h.bin_width > 0.0 && h.start.is_finite())
             && !h.values.is_empty()
         {
-            return Err(Error::Json(format!(
-                "color '{}': {what} histogram has bad bins",
-                self.name
-            )));
+            return self.invalid(format!("{what} histogram has bad bins"));
         }
         if h.values.iter().any(|v| !v.is_finite() || *v < 0.0) {
-            return Err(Error::Json(format!(
-                "color '{}': {what} histogram has negative or non-finite values",
-                self.name
-            )));
+            return self.invalid(format!(
+                "{what} histogram has negative or non-finite values"
+            ));
         }
         Ok(())
     }

@@ -8,7 +8,8 @@
 //! per scanline, rows split into bands processed in parallel; where triangles overlap the highest wins, which is
 //! order-independent and so deterministic).
 
-use crate::error::{Error, Result};
+use crate::error::{check, Error, Result};
+use crate::limits;
 use glam::DVec2;
 use rayon::prelude::*;
 use std::collections::BTreeMap;
@@ -34,29 +35,27 @@ impl Heightfield {
     /// A heightfield from its samples; fills the maps "elevation" (= height) and "slope" (radians, from central
     /// differences, one-sided at the border).
     pub fn new(origin: DVec2, cell: f64, nx: usize, ny: usize, heights: Vec<f32>) -> Result<Self> {
-        if !(cell.is_finite() && cell > 0.0) {
-            return Err(Error::InvalidInput(format!(
-                "cell size {cell} must be positive"
-            )));
-        }
-        if !(origin.x.is_finite() && origin.y.is_finite()) {
-            return Err(Error::InvalidInput("terrain origin is not finite".into()));
-        }
+        check::positive("terrain cell size", cell)?;
+        check::finite("terrain origin x", origin.x)?;
+        check::finite("terrain origin y", origin.y)?;
         if nx < 2 || ny < 2 {
-            return Err(Error::InvalidInput(format!(
-                "terrain grid {nx}x{ny} needs at least 2x2 samples"
-            )));
+            return Err(Error::invalid(
+                format!("terrain grid {nx}x{ny}"),
+                "needs at least 2x2 samples",
+            ));
         }
-        if heights.len() != nx.saturating_mul(ny) {
-            return Err(Error::InvalidInput(format!(
-                "terrain has {} heights for a {nx}x{ny} grid",
-                heights.len()
-            )));
-        }
+        limits::check(
+            "the terrain grid",
+            nx as f64 * ny as f64,
+            limits::MAX_GRID_CELLS,
+            "cells",
+        )?;
+        check::same_len("terrain heights", heights.len(), nx * ny)?;
         if let Some(k) = heights.iter().position(|h| !h.is_finite()) {
-            return Err(Error::InvalidInput(format!(
-                "terrain height {k} is not finite"
-            )));
+            return Err(Error::invalid(
+                format!("terrain height {k}"),
+                "is not finite",
+            ));
         }
         let slope = slope_map(&heights, nx, ny, cell);
         let mut maps = BTreeMap::new();
@@ -84,32 +83,32 @@ impl Heightfield {
         cell: Option<f64>,
     ) -> Result<Self> {
         if vertices.is_empty() {
-            return Err(Error::InvalidInput("terrain mesh has no vertices".into()));
+            return Err(Error::invalid("the terrain mesh", "has no vertices"));
         }
         if triangles.is_empty() {
-            return Err(Error::InvalidInput("terrain mesh has no triangles".into()));
+            return Err(Error::invalid("the terrain mesh", "has no triangles"));
         }
         if let Some(k) = vertices
             .iter()
             .position(|v| v.iter().any(|c| !c.is_finite()))
         {
-            return Err(Error::InvalidInput(format!("vertex {k} is not finite")));
+            return Err(Error::invalid(
+                format!("terrain mesh vertex {k}"),
+                "is not finite",
+            ));
         }
         let nv = vertices.len();
         if let Some(k) = triangles
             .iter()
             .position(|t| t.iter().any(|&i| i as usize >= nv))
         {
-            return Err(Error::InvalidInput(format!(
-                "triangle {k} refers to a vertex beyond the {nv} given"
-            )));
+            return Err(Error::invalid(
+                format!("terrain mesh triangle {k}"),
+                format!("refers to a vertex beyond the {nv} given"),
+            ));
         }
         if let Some(c) = cell {
-            if !(c.is_finite() && c > 0.0) {
-                return Err(Error::InvalidInput(format!(
-                    "cell size {c} must be positive"
-                )));
-            }
+            check::positive("terrain cell size", c)?;
         }
         let (lo, hi) = vertices.iter().fold(
             (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
@@ -120,8 +119,9 @@ impl Heightfield {
         );
         let ext = hi - lo;
         if !(ext.x > 0.0 && ext.y > 0.0) {
-            return Err(Error::InvalidInput(
-                "terrain mesh has no extent in X or Y".into(),
+            return Err(Error::invalid(
+                "the terrain mesh",
+                "has no extent in X or Y",
             ));
         }
         if let Some(hf) = lattice_heightfield(vertices, lo, cell)? {
@@ -141,11 +141,12 @@ impl Heightfield {
         };
         let nx = (ext.x / cell).round() as usize + 1;
         let ny = (ext.y / cell).round() as usize + 1;
-        if nx.saturating_mul(ny) > 4 * MAX_AUTO_NODES {
-            return Err(Error::InvalidInput(format!(
-                "cell {cell} gives a {nx}x{ny} grid, too large"
-            )));
-        }
+        limits::check(
+            &format!("a terrain grid of {cell} m cells"),
+            nx as f64 * ny as f64,
+            4 * MAX_AUTO_NODES as u64,
+            "cells",
+        )?;
         let (nx, ny) = (nx.max(2), ny.max(2));
         // exact cell sizes so border nodes sit on the mesh's bounding box
         let cx = ext.x / (nx - 1) as f64;
@@ -217,18 +218,12 @@ impl Heightfield {
 
     /// Adds (or replaces) a named map on the grid's nodes.
     pub fn add_map(&mut self, name: &str, values: Vec<f32>) -> Result<()> {
-        if values.len() != self.nx * self.ny {
-            return Err(Error::InvalidInput(format!(
-                "map '{name}' has {} values for a {}x{} grid",
-                values.len(),
-                self.nx,
-                self.ny
-            )));
-        }
+        check::same_len(&format!("map '{name}'"), values.len(), self.nx * self.ny)?;
         if values.iter().any(|v| !v.is_finite()) {
-            return Err(Error::InvalidInput(format!(
-                "map '{name}' has non-finite values"
-            )));
+            return Err(Error::invalid(
+                format!("map '{name}'"),
+                "has non-finite values",
+            ));
         }
         self.maps.insert(name.to_string(), values);
         Ok(())

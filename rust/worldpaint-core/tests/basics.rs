@@ -39,20 +39,24 @@ fn palette_json_round_trip_and_errors() {
     assert!(matches!(
         Palette::from_json(&future),
         Err(Error::UnsupportedVersion {
+            kind: worldpaint_core::error::FileKind::Palette,
             found: 7,
             supported: 1
         })
     ));
     assert!(matches!(
         Palette::from_json("{not json"),
-        Err(Error::Json(_))
+        Err(Error::Parse { .. })
     ));
     assert!(matches!(
         Palette::from_json(&json[..json.len() / 2]),
-        Err(Error::Json(_))
+        Err(Error::Parse { .. })
     ));
     let corrupt = json.replacen("\"bin_width\"", "\"bin_widht\"", 1);
-    assert!(matches!(Palette::from_json(&corrupt), Err(Error::Json(_))));
+    assert!(matches!(
+        Palette::from_json(&corrupt),
+        Err(Error::Parse { .. })
+    ));
 }
 
 #[test]

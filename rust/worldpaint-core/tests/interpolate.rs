@@ -207,7 +207,7 @@ fn ends_give_the_colors_back_and_bad_t_is_refused() {
         assert!(
             matches!(
                 interpolate_colors(&a, &b, t, "bad"),
-                Err(Error::InvalidInput(_))
+                Err(Error::OutOfRange { .. })
             ),
             "t = {t} accepted"
         );

@@ -259,8 +259,11 @@ fn diffusion_does_not_depend_on_the_thread_count() {
 fn bad_input_is_refused_with_a_message() {
     let t = rough_terrain(64.0, 1.0, 1);
     let mut c = Constraints::for_terrain(&t);
-    assert!(matches!(c.set(3, 3, f64::NAN), Err(Error::InvalidInput(_))));
-    assert!(matches!(c.set(999, 3, 1.0), Err(Error::InvalidInput(_))));
+    assert!(matches!(
+        c.set(3, 3, f64::NAN),
+        Err(Error::OutOfRange { .. })
+    ));
+    assert!(matches!(c.set(999, 3, 1.0), Err(Error::Invalid { .. })));
     assert!(polyline(&mut c, &t, &[]).is_err());
     assert!(polyline(&mut c, &t, &[DVec3::new(f64::NAN, 1.0, 1.0)]).is_err());
     assert!(corridor(&mut c, &t, &[DVec3::new(5.0, 5.0, 1.0)], 0.0).is_err());
@@ -297,7 +300,10 @@ fn bad_input_is_refused_with_a_message() {
         ),
     ] {
         match embed_road(&t, &bad, &opts) {
-            Err(Error::InvalidInput(msg)) => assert!(msg.starts_with("road 0"), "{msg}"),
+            Err(e @ Error::Invalid { .. } | e @ Error::OutOfRange { .. }) => {
+                let msg = e.reason();
+                assert!(msg.starts_with("road 0"), "{msg}");
+            }
             other => panic!("accepted a bad road: {:?}", other.map(|e| e.profiles.len())),
         }
     }

@@ -28,7 +28,6 @@ mod village {
         parcel_statistics, parcel_statistics_with, parcels, parcels_with, ParcelOptions, ParcelSeed,
     };
     use worldpaint_core::village::{Environment, Footprint, Land, Parcel, Road};
-    use worldpaint_core::Error;
 
     const CELL: f64 = 1.0;
     const WIDTH: f64 = 5.0;
@@ -843,9 +842,7 @@ mod village {
         let roads = vec![road(&[(5.0, 25.0), (45.0, 25.0)])];
         let good = params(10.0, 4.0, 0.0);
         let at = [DVec2::new(25.0, 30.0)];
-        let invalid = |r: worldpaint_core::Result<Vec<Option<Parcel>>>| {
-            matches!(r, Err(Error::InvalidInput(_)))
-        };
+        let invalid = |r: worldpaint_core::Result<Vec<Option<Parcel>>>| matches!(r, Err(e) if e.is_invalid_input());
         assert!(invalid(parcels(
             &land,
             &roads,
@@ -940,11 +937,11 @@ mod village {
         assert!(footprint(&parcel, &roads, WIDTH, [4.0, 4.0], [8.0, 8.0], SNAP).is_some());
         assert!(matches!(
             footprints(std::slice::from_ref(&parcel), &[], &roads, WIDTH, SNAP),
-            Err(Error::InvalidInput(_))
+            Err(e) if e.is_invalid_input()
         ));
         assert!(matches!(
             footprints(&[parcel], &[([4.0, 4.0], [3.0, 8.0])], &roads, WIDTH, SNAP),
-            Err(Error::InvalidInput(_))
+            Err(e) if e.is_invalid_input()
         ));
     }
 

@@ -120,10 +120,10 @@ fn raise(class: &PyOnceLock<Py<PyType>>, message: String) -> PyErr {
 pub(crate) fn engine_err(e: Error) -> PyErr {
     match e {
         Error::Cancelled => Cancelled::new_err("cancelled"),
-        Error::UnsupportedVersion { .. } | Error::Json(_) => {
+        Error::UnsupportedVersion { .. } | Error::Parse { .. } => {
             raise(&FILE_FORMAT_ERROR, e.to_string())
         }
-        Error::EmptyExemplar(_) => raise(&NOTHING_TO_LEARN, e.to_string()),
+        Error::EmptyExemplar { .. } => raise(&NOTHING_TO_LEARN, e.to_string()),
         other => raise(&INPUT_ERROR, other.to_string()),
     }
 }

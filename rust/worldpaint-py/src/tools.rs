@@ -151,9 +151,10 @@ impl Stroke {
     ) -> PyResult<usize> {
         let path = points_from_py(&path, "path")?;
         with_progress(py, progress, |report| {
-            let mut stroke = self.stroke.lock().map_err(|_| {
-                worldpaint_core::Error::InvalidInput("the stroke failed earlier".into())
-            })?;
+            let mut stroke = self
+                .stroke
+                .lock()
+                .map_err(|_| worldpaint_core::Error::invalid("the stroke", "failed earlier"))?;
             stroke.follow(&path, report)
         })
     }

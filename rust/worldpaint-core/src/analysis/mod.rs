@@ -29,7 +29,7 @@
 //! hard-core ring and the first neighbours. It is bounded by a quarter of the region's smaller side so the
 //! window-edge correction stays reliable. `bin_width = max_radius / 24`.
 
-use crate::error::{Error, Result};
+use crate::error::{check, Error, Result};
 use crate::geom::{DVec2, Region};
 use crate::palette::{
     CategoryColor, Color, GraphColor, Histogram, Interaction, MapInteraction, MapSource,
@@ -165,18 +165,20 @@ fn exemplar_groups<'s>(
             continue;
         }
         if instances.iter().any(|i| !i.position.is_finite()) {
-            return Err(Error::InvalidInput(format!(
-                "category '{}' has instances at non-finite positions",
-                category.name
-            )));
+            return Err(Error::invalid(
+                format!("category '{}'", category.name),
+                "has instances at non-finite positions",
+            ));
         }
         groups.push(Group::new(category, instances));
     }
     if groups.is_empty() {
-        return Err(Error::EmptyExemplar(format!(
-            "no instances, paths or contours inside the region (bbox {:?})",
-            region.bbox()
-        )));
+        return Err(Error::EmptyExemplar {
+            reason: format!(
+                "no instances, paths or contours inside the region (bbox {:?})",
+                region.bbox()
+            ),
+        });
     }
     Ok(groups)
 }
@@ -210,20 +212,13 @@ fn radius_and_bin_width(
     groups: &[Group],
 ) -> Result<(f64, f64)> {
     let max_radius = match opts.max_radius {
-        Some(r) if r.is_finite() && r > 0.0 => r,
-        Some(r) => {
-            return Err(Error::InvalidInput(format!(
-                "max_radius {r} must be positive"
-            )))
-        }
+        Some(r) => check::positive("max_radius", r)?,
         None => default_max_radius(region, groups),
     };
     let bin_width = match opts.bin_width {
-        Some(w) if w.is_finite() && w > 0.0 && w <= max_radius => w,
         Some(w) => {
-            return Err(Error::InvalidInput(format!(
-                "bin_width {w} must be positive and at most max_radius {max_radius}"
-            )))
+            check::positive("bin_width", w)?;
+            check::within("bin_width", w, 0.0, max_radius)?
         }
         None => max_radius / DEFAULT_RDF_BINS as f64,
     };
@@ -384,21 +379,24 @@ impl Exemplar<'_> {
             return Ok(out);
         }
         let terrain = scene.terrain.as_deref().ok_or_else(|| {
-            Error::InvalidInput(format!(
-                "maps {map_names:?} asked for but the scene has no terrain"
-            ))
+            Error::invalid(
+                format!("maps {map_names:?}"),
+                "asked for but the scene has no terrain",
+            )
         })?;
         let samples = region_lattice(self.region, terrain);
         if samples.is_empty() {
-            return Err(Error::RegionOffTerrain(format!(
-                "exemplar region bbox {:?} does not overlap the terrain {:?}",
-                self.region.bbox(),
-                terrain.bbox()
-            )));
+            return Err(Error::RegionOffTerrain {
+                reason: format!(
+                    "exemplar region bbox {:?} does not overlap the terrain {:?}",
+                    self.region.bbox(),
+                    terrain.bbox()
+                ),
+            });
         }
         for map in &map_names {
             if !terrain.maps.contains_key(map) {
-                return Err(Error::InvalidInput(format!("terrain has no map '{map}'")));
+                return Err(Error::invalid("the terrain", format!("has no map '{map}'")));
             }
             let values: Vec<f64> = samples
                 .iter()

@@ -28,7 +28,7 @@ use super::{
     attributes, conditioning_content, gaussian, mix_seed, priority_order, scene_categories,
     HISTOGRAM_FLOOR,
 };
-use crate::error::{Error, Result};
+use crate::error::{check, Result};
 use crate::geom::{DVec2, Region};
 use crate::palette::Color;
 use crate::scene::{Category, Instance, Scene};
@@ -92,15 +92,9 @@ pub fn adapt(
     region.validate()?;
     color.validate()?;
     let influence = opts.influence_radius.unwrap_or(color.max_radius);
-    if !(influence.is_finite() && influence >= 0.0) {
-        return Err(Error::InvalidInput(format!(
-            "influence radius {influence} must be zero or positive"
-        )));
-    }
+    check::non_negative("influence radius", influence)?;
     if let Some(r) = opts.reach {
-        if !(r.is_finite() && r > 0.0) {
-            return Err(Error::InvalidInput(format!("reach {r} must be positive")));
-        }
+        check::positive("reach", r)?;
     }
     let order = priority_order(color, None)?;
     let (categories, scene_index) = scene_categories(fixed, color);

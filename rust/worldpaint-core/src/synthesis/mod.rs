@@ -130,7 +130,7 @@ pub use adapt::{adapt, AdaptOptions, Adapted};
 
 use crate::analysis::region_lattice;
 use crate::contour::{fill, trace};
-use crate::error::{Error, Result};
+use crate::error::{check, Error, Result};
 use crate::geom::{DVec2, Region};
 use crate::palette::{CategoryColor, Color, Histogram, MapSource};
 use crate::scene::{Category, CategoryKind, Contour, Instance, Path, Scene};
@@ -285,10 +285,10 @@ pub(crate) fn priority_order(color: &Color, only: Option<&[String]>) -> Result<V
     if let Some(names) = only {
         for n in names {
             if color.category(n).is_none() {
-                return Err(Error::InvalidInput(format!(
-                    "category '{n}' is not in color '{}'",
-                    color.name
-                )));
+                return Err(Error::invalid(
+                    format!("category '{n}'"),
+                    format!("is not in color '{}'", color.name),
+                ));
             }
         }
         order.retain(|&c| names.contains(&color.categories[c].category.name));
@@ -327,19 +327,21 @@ pub(crate) fn check_terrain(
         return Ok(());
     }
     let t = scene.terrain.as_deref().ok_or_else(|| {
-        Error::InvalidInput(format!(
-            "color '{}' follows terrain maps but the scene has no terrain",
-            color.name
-        ))
+        Error::invalid(
+            format!("color '{}'", color.name),
+            "follows terrain maps but the scene has no terrain",
+        )
     })?;
     let (lo, hi) = region.bbox();
     let (tlo, thi) = t.bbox();
     if hi.x < tlo.x || hi.y < tlo.y || lo.x > thi.x || lo.y > thi.y {
-        return Err(Error::RegionOffTerrain(format!(
-            "region bbox {:?} misses the terrain {:?}",
-            (lo, hi),
-            (tlo, thi)
-        )));
+        return Err(Error::RegionOffTerrain {
+            reason: format!(
+                "region bbox {:?} misses the terrain {:?}",
+                (lo, hi),
+                (tlo, thi)
+            ),
+        });
     }
     Ok(())
 }
@@ -415,19 +417,9 @@ pub fn synthesize_keeping(
 
 /// Checks the options' iteration count and returns the radius of the region of influence.
 fn checked_influence(color: &Color, opts: &SynthesisOptions) -> Result<f64> {
-    if !(opts.iterations_per_instance.is_finite() && opts.iterations_per_instance > 0.0) {
-        return Err(Error::InvalidInput(format!(
-            "iterations_per_instance {} must be positive",
-            opts.iterations_per_instance
-        )));
-    }
+    check::positive("iterations_per_instance", opts.iterations_per_instance)?;
     let influence = opts.influence_radius.unwrap_or(color.max_radius);
-    if !(influence.is_finite() && influence >= 0.0) {
-        return Err(Error::InvalidInput(format!(
-            "influence radius {influence} must be zero or positive"
-        )));
-    }
-    Ok(influence)
+    check::non_negative("influence radius", influence)
 }
 
 /// What one synthesis call paints with and where, the same for every category.

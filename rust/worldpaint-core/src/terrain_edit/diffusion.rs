@@ -4,7 +4,8 @@
 
 use super::multigrid;
 use crate::distance::distance_transform;
-use crate::error::{Error, Result};
+use crate::error::{check, Error, Result};
+use crate::limits;
 use crate::terrain::{Heightfield, MAX_AUTO_NODES};
 use std::borrow::Cow;
 
@@ -23,20 +24,18 @@ impl Constraints {
     /// No constraint on an `nx × ny` grid of `cell` metres.
     pub fn new(nx: usize, ny: usize, cell: f64) -> Result<Constraints> {
         if nx == 0 || ny == 0 {
-            return Err(Error::InvalidInput(format!(
-                "a constraint grid of {nx}x{ny} cells is empty"
-            )));
+            return Err(Error::invalid(
+                format!("a constraint grid of {nx}x{ny} cells"),
+                "is empty",
+            ));
         }
-        if !(cell.is_finite() && cell > 0.0) {
-            return Err(Error::InvalidInput(format!(
-                "constraint grid cell {cell} must be positive"
-            )));
-        }
-        if nx.saturating_mul(ny) > 4 * MAX_AUTO_NODES {
-            return Err(Error::InvalidInput(format!(
-                "a constraint grid of {nx}x{ny} cells is too large"
-            )));
-        }
+        check::positive("constraint grid cell", cell)?;
+        limits::check(
+            "a constraint grid",
+            nx as f64 * ny as f64,
+            4 * MAX_AUTO_NODES as u64,
+            "cells",
+        )?;
         Ok(Constraints {
             nx,
             ny,
@@ -72,10 +71,10 @@ impl Constraints {
 
     fn index(&self, i: usize, j: usize) -> Result<usize> {
         if i >= self.nx || j >= self.ny {
-            return Err(Error::InvalidInput(format!(
-                "cell ({i}, {j}) lies outside the {}x{} grid",
-                self.nx, self.ny
-            )));
+            return Err(Error::invalid(
+                format!("constraint cell ({i}, {j})"),
+                format!("lies outside the {}x{} grid", self.nx, self.ny),
+            ));
         }
         Ok(j * self.nx + i)
     }
@@ -83,11 +82,7 @@ impl Constraints {
     /// Fixes cell `(i, j)` at `value`, replacing any earlier value.
     pub fn set(&mut self, i: usize, j: usize, value: f64) -> Result<()> {
         let k = self.index(i, j)?;
-        if !value.is_finite() {
-            return Err(Error::InvalidInput(format!(
-                "constraint {value} at cell ({i}, {j}) is not finite"
-            )));
-        }
+        check::finite(&format!("the constraint at cell ({i}, {j})"), value)?;
         self.values[k] = value;
         Ok(())
     }
@@ -174,10 +169,10 @@ impl Diffusion {
     /// `H + D` on the terrain whose grid the constraints were written on.
     pub fn apply(&self, terrain: &Heightfield) -> Result<Heightfield> {
         if terrain.nx != self.nx || terrain.ny != self.ny {
-            return Err(Error::InvalidInput(format!(
-                "a {}x{} displacement does not fit a {}x{} terrain",
-                self.nx, self.ny, terrain.nx, terrain.ny
-            )));
+            return Err(Error::invalid(
+                format!("a {}x{} displacement", self.nx, self.ny),
+                format!("does not fit a {}x{} terrain", terrain.nx, terrain.ny),
+            ));
         }
         let heights = terrain
             .heights
@@ -271,17 +266,14 @@ fn run(c: &Constraints, options: &DiffusionOptions, method: Method) -> Result<Di
 
 /// Refuses a tolerance that is not positive and a negative falloff radius.
 fn check_options(options: &DiffusionOptions) -> Result<()> {
-    if !(options.tolerance.is_finite() && options.tolerance > 0.0) {
-        return Err(Error::InvalidInput(format!(
-            "diffusion tolerance {} must be positive",
-            options.tolerance
-        )));
-    }
+    check::positive("diffusion tolerance", options.tolerance)?;
     if let Some(r) = options.falloff {
         if !(r >= 0.0) {
-            return Err(Error::InvalidInput(format!(
-                "falloff radius {r} must be zero or positive"
-            )));
+            return Err(Error::OutOfRange {
+                what: "falloff radius".into(),
+                rule: "zero or more".into(),
+                value: r,
+            });
         }
     }
     Ok(())

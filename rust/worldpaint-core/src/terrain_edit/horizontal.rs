@@ -27,10 +27,10 @@ impl HorizontalConstraints {
     /// Fixes cell `(i, j)` at the plan displacement `v` unless it is already fixed; whether it was set.
     pub fn set_if_free(&mut self, i: usize, j: usize, v: DVec2) -> Result<bool> {
         if !v.is_finite() {
-            return Err(Error::InvalidInput(format!(
-                "horizontal displacement ({}, {}) at cell ({i}, {j}) is not finite",
-                v.x, v.y
-            )));
+            return Err(Error::invalid(
+                format!("the horizontal displacement at cell ({i}, {j})"),
+                format!("({}, {}) is not finite", v.x, v.y),
+            ));
         }
         if self.x.get(i, j).is_some() {
             return Ok(false);
@@ -44,12 +44,13 @@ impl HorizontalConstraints {
     /// `v`; parts off the grid are skipped. Returns the number of nodes written.
     pub fn polyline(&mut self, origin: DVec2, points: &[DVec2], v: DVec2) -> Result<usize> {
         if points.is_empty() {
-            return Err(Error::InvalidInput("the curve has no point".into()));
+            return Err(Error::invalid("the curve", "has no point"));
         }
         if let Some(k) = points.iter().position(|p| !p.is_finite()) {
-            return Err(Error::InvalidInput(format!(
-                "point {k} of the curve is not finite"
-            )));
+            return Err(Error::invalid(
+                "the curve",
+                format!("point {k} is not finite"),
+            ));
         }
         let cell = self.x.cell;
         let (nx, ny) = (self.x.nx, self.x.ny);
@@ -86,8 +87,9 @@ pub fn diffuse_horizontal(
     options: &DiffusionOptions,
 ) -> Result<HorizontalDisplacement> {
     if constraints.x.nx != constraints.y.nx || constraints.x.ny != constraints.y.ny {
-        return Err(Error::InvalidInput(
-            "the two channels of a horizontal displacement have different grids".into(),
+        return Err(Error::invalid(
+            "a horizontal displacement",
+            "its two channels have different grids",
         ));
     }
     // the falloff is measured from the same fixed cells in both channels
@@ -103,10 +105,10 @@ impl HorizontalDisplacement {
         let (nx, ny) = (terrain.nx, terrain.ny);
         let fits = |d: &Diffusion| d.nx == nx && d.ny == ny && d.displacement.len() == nx * ny;
         if !(fits(&self.x) && fits(&self.y)) {
-            return Err(Error::InvalidInput(format!(
-                "a {}x{} horizontal displacement does not fit a {nx}x{ny} terrain",
-                self.x.nx, self.x.ny
-            )));
+            return Err(Error::invalid(
+                format!("a {}x{} horizontal displacement", self.x.nx, self.x.ny),
+                format!("does not fit a {nx}x{ny} terrain"),
+            ));
         }
         let (lo, hi) = terrain.bbox();
         let heights = (0..nx * ny)

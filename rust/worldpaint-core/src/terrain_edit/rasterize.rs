@@ -3,7 +3,7 @@
 //! difference `z − H` there. Everywhere a cell already fixed keeps its value: the first constraint written wins.
 
 use super::diffusion::Constraints;
-use crate::error::{Error, Result};
+use crate::error::{check, Error, Result};
 use crate::geom::segment_distance;
 use crate::terrain::Heightfield;
 use glam::{DVec2, DVec3};
@@ -12,22 +12,26 @@ use std::collections::BTreeMap;
 
 fn check_grid(c: &Constraints, terrain: &Heightfield) -> Result<()> {
     if c.nx != terrain.nx || c.ny != terrain.ny || c.cell != terrain.cell {
-        return Err(Error::InvalidInput(format!(
-            "constraints on a {}x{} grid of {} m do not fit the {}x{} terrain of {} m cells",
-            c.nx, c.ny, c.cell, terrain.nx, terrain.ny, terrain.cell
-        )));
+        return Err(Error::invalid(
+            format!("constraints on a {}x{} grid of {} m", c.nx, c.ny, c.cell),
+            format!(
+                "do not fit the {}x{} terrain of {} m cells",
+                terrain.nx, terrain.ny, terrain.cell
+            ),
+        ));
     }
     Ok(())
 }
 
 fn check_points(points: &[DVec3], what: &str) -> Result<()> {
     if points.is_empty() {
-        return Err(Error::InvalidInput(format!("the {what} has no point")));
+        return Err(Error::invalid(format!("the {what}"), "has no point"));
     }
     if let Some(k) = points.iter().position(|p| !p.is_finite()) {
-        return Err(Error::InvalidInput(format!(
-            "point {k} of the {what} is not finite"
-        )));
+        return Err(Error::invalid(
+            format!("the {what}"),
+            format!("point {k} is not finite"),
+        ));
     }
     Ok(())
 }
@@ -99,11 +103,8 @@ pub fn gradient_polyline(
     left_slope: f64,
     right_slope: f64,
 ) -> Result<usize> {
-    if !(left_slope.is_finite() && right_slope.is_finite()) {
-        return Err(Error::InvalidInput(format!(
-            "curve side slopes {left_slope}, {right_slope} must be finite"
-        )));
-    }
+    check::finite("the curve's left side slope", left_slope)?;
+    check::finite("the curve's right side slope", right_slope)?;
     let mut written = polyline(c, terrain, points)?;
     let offset = terrain.cell;
     for (side, slope) in [(1.0, left_slope), (-1.0, right_slope)] {
@@ -158,11 +159,7 @@ pub(crate) fn near_curve(
     radius: f64,
 ) -> Result<Vec<NearNode>> {
     check_points(points, "corridor")?;
-    if !(radius.is_finite() && radius > 0.0) {
-        return Err(Error::InvalidInput(format!(
-            "corridor half-width {radius} must be positive"
-        )));
-    }
+    check::positive("corridor half-width", radius)?;
     let segments: Vec<(DVec3, DVec3)> = if points.len() == 1 {
         vec![(points[0], points[0])]
     } else {

@@ -10,7 +10,7 @@
 use super::diffusion::{diffuse, Constraints, Diffusion, DiffusionOptions};
 use super::junctions::meet_earlier_roads;
 use super::rasterize::near_curve;
-use crate::error::{Error, Result};
+use crate::error::{check, Error, Result};
 use crate::terrain::Heightfield;
 use glam::{DVec2, DVec3};
 
@@ -60,48 +60,40 @@ pub struct RoadEmbedding {
 
 fn check_road(terrain: &Heightfield, r: usize, road: &Road) -> Result<()> {
     if road.centreline.len() < 2 {
-        return Err(Error::InvalidInput(format!(
-            "road {r} needs at least two centreline points, it has {}",
-            road.centreline.len()
-        )));
+        return Err(Error::invalid(
+            format!("road {r}"),
+            format!(
+                "needs at least two centreline points, it has {}",
+                road.centreline.len()
+            ),
+        ));
     }
-    if !(road.width.is_finite() && road.width > 0.0) {
-        return Err(Error::InvalidInput(format!(
-            "road {r}: width {} must be positive",
-            road.width
-        )));
-    }
-    if !(road.bank_width.is_finite() && road.bank_width >= 0.0) {
-        return Err(Error::InvalidInput(format!(
-            "road {r}: bank width {} must be zero or positive",
-            road.bank_width
-        )));
-    }
+    check::positive(&format!("road {r} width"), road.width)?;
+    check::non_negative(&format!("road {r} bank width"), road.bank_width)?;
     for (k, p) in road.centreline.iter().enumerate() {
         if !p.is_finite() {
-            return Err(Error::InvalidInput(format!(
-                "road {r}: centreline point {k} is not finite"
-            )));
+            return Err(Error::invalid(
+                format!("road {r}"),
+                format!("centreline point {k} is not finite"),
+            ));
         }
         if !terrain.contains(*p) {
-            return Err(Error::InvalidInput(format!(
-                "road {r}: centreline point {k} ({}, {}) lies off the terrain",
-                p.x, p.y
-            )));
+            return Err(Error::invalid(
+                format!("road {r}"),
+                format!(
+                    "centreline point {k} ({}, {}) lies off the terrain",
+                    p.x, p.y
+                ),
+            ));
         }
     }
     if let Some(h) = &road.heights {
-        if h.len() != road.centreline.len() {
-            return Err(Error::InvalidInput(format!(
-                "road {r} has {} heights for {} centreline points",
-                h.len(),
-                road.centreline.len()
-            )));
-        }
+        check::same_len(&format!("road {r} heights"), h.len(), road.centreline.len())?;
         if let Some(k) = h.iter().position(|z| !z.is_finite()) {
-            return Err(Error::InvalidInput(format!(
-                "road {r}: height {k} is not finite"
-            )));
+            return Err(Error::invalid(
+                format!("road {r}"),
+                format!("height {k} is not finite"),
+            ));
         }
     }
     let length: f64 = road
@@ -110,7 +102,7 @@ fn check_road(terrain: &Heightfield, r: usize, road: &Road) -> Result<()> {
         .map(|w| w[0].distance(w[1]))
         .sum();
     if !(length > 0.0) {
-        return Err(Error::InvalidInput(format!("road {r} has no length")));
+        return Err(Error::invalid(format!("road {r}"), "has no length"));
     }
     Ok(())
 }
@@ -216,19 +208,15 @@ fn profile(
         Some(h) => h,
         None => {
             let sigma = options.smoothing.unwrap_or(2.0 * road.width);
-            if !(sigma.is_finite() && sigma > 0.0) {
-                return Err(Error::InvalidInput(format!(
-                    "profile smoothing {sigma} must be positive"
-                )));
-            }
+            check::positive("profile smoothing", sigma)?;
             let raw: Vec<f64> = points
                 .iter()
                 .map(|p| {
                     terrain.height_at(*p).ok_or_else(|| {
-                        Error::InvalidInput(format!(
-                            "road {r} leaves the terrain at ({}, {})",
-                            p.x, p.y
-                        ))
+                        Error::invalid(
+                            format!("road {r}"),
+                            format!("leaves the terrain at ({}, {})", p.x, p.y),
+                        )
                     })
                 })
                 .collect::<Result<_>>()?;

@@ -90,7 +90,7 @@ fn blended_color(windows: &[Window], p: DVec2, like: &Color, cell: &Region) -> R
             Some(a) => interpolate_colors(&a, &color, weight / total, "blur")?,
         });
     }
-    acc.ok_or_else(|| Error::InvalidInput("blur needs at least one analysis window".into()))
+    acc.ok_or_else(|| Error::invalid("blur", "needs at least one analysis window"))
 }
 
 /// Blurs the content of `region` into the colors around it (see the module documentation).
@@ -102,10 +102,13 @@ pub fn blur(
 ) -> Result<Edit> {
     region.validate()?;
     if opts.windows == 0 || opts.cells == 0 {
-        return Err(Error::InvalidInput(format!(
-            "blur needs windows ({}) and cells ({}) above zero",
-            opts.windows, opts.cells
-        )));
+        return Err(Error::invalid(
+            "blur",
+            format!(
+                "needs windows ({}) and cells ({}) above zero",
+                opts.windows, opts.cells
+            ),
+        ));
     }
     let windows = windows(scene, region, opts.windows)?;
     let mut work = Working::new(scene);

@@ -21,8 +21,8 @@
 //! **Eraser** (thesis 6.5.1, "simply removes all objects within the circular region"): the same stroke in
 //! erase mode removes the unlocked instances (of the chosen categories) within the radius of the brush path.
 
-use super::{color_of_region, empty_color, positive, Edit, Working};
-use crate::error::{Error, Result};
+use super::{color_of_region, empty_color, Edit, Working};
+use crate::error::{check, Error, Result};
 use crate::geom::{segment_distance, DVec2, Region};
 use crate::interpolate::interpolate_colors;
 use crate::palette::Color;
@@ -107,13 +107,14 @@ pub struct Stroke {
 
 impl Stroke {
     pub fn new(scene: &Scene, mode: BrushMode, opts: BrushOptions) -> Result<Stroke> {
-        positive(opts.radius, "brush radius")?;
-        positive(opts.spacing, "brush spacing")?;
+        check::positive("brush radius", opts.radius)?;
+        check::positive("brush spacing", opts.spacing)?;
         if !(opts.opacity > 0.0 && opts.opacity <= 1.0) {
-            return Err(Error::InvalidInput(format!(
-                "brush opacity {} must be in (0, 1]",
-                opts.opacity
-            )));
+            return Err(Error::OutOfRange {
+                what: "brush opacity".into(),
+                rule: "in (0, 1]".into(),
+                value: opts.opacity,
+            });
         }
         if let BrushMode::Paint(color) = &mode {
             color.validate()?;
@@ -159,9 +160,7 @@ impl Stroke {
         progress: &(dyn Fn(f64) -> bool + Sync),
     ) -> Result<usize> {
         if path.iter().any(|p| !p.is_finite()) {
-            return Err(Error::InvalidInput(
-                "brush path has non-finite points".into(),
-            ));
+            return Err(Error::invalid("brush path", "has non-finite points"));
         }
         if let BrushMode::Erase(categories) = &self.mode {
             let categories = categories.clone();

@@ -130,9 +130,10 @@ pub fn gradient(
         }
     };
     if !valid {
-        return Err(Error::InvalidInput(format!(
-            "gradient {shape:?} has no extent"
-        )));
+        return Err(Error::invalid(
+            format!("gradient {shape:?}"),
+            "has no extent",
+        ));
     }
     let n = band_count(start, end, &shape, opts.bands);
     let (lo, hi) = region.bbox();

@@ -308,7 +308,7 @@ pub fn clear(scene: &Scene, region: &Region, category: Option<&str>) -> Result<E
     let only = match category {
         None => None,
         Some(name) => Some(scene.category_index(name).ok_or_else(|| {
-            Error::InvalidInput(format!("no category named '{name}' in the scene"))
+            Error::invalid("the scene", format!("has no category named '{name}'"))
         })?),
     };
     // content of the other categories is held as if locked: same indices, so the edit is one of `scene`
@@ -346,7 +346,7 @@ pub fn color_of_region(scene: &Scene, region: &Region, name: &str) -> Result<Opt
     };
     match learn_color(scene, region, name, &opts) {
         Ok(c) => Ok(Some(c)),
-        Err(Error::EmptyExemplar(_)) => Ok(None),
+        Err(Error::EmptyExemplar { .. }) => Ok(None),
         Err(e) => Err(e),
     }
 }
@@ -409,16 +409,5 @@ pub(crate) fn empty_color(like: &Color, region: &Region) -> Color {
         graphs: Vec::new(),
         polygons: Vec::new(),
         preview: Vec::new(),
-    }
-}
-
-/// Checks a seed-independent option: a positive finite number.
-pub(crate) fn positive(value: f64, what: &str) -> Result<f64> {
-    if value.is_finite() && value > 0.0 {
-        Ok(value)
-    } else {
-        Err(Error::InvalidInput(format!(
-            "{what} {value} must be positive"
-        )))
     }
 }

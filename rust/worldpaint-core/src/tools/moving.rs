@@ -43,9 +43,10 @@ pub fn move_region(
 ) -> Result<Moved> {
     source.validate()?;
     if !offset.is_finite() {
-        return Err(Error::InvalidInput(format!(
-            "move offset {offset:?} is not finite"
-        )));
+        return Err(Error::invalid(
+            "move offset",
+            format!("({}, {}) is not finite", offset.x, offset.y),
+        ));
     }
     let destination = source.translated(offset);
     let moving: Vec<usize> = (0..scene.instances.len())

@@ -23,7 +23,7 @@
 use super::moving::move_instances;
 use super::{color_of_region, Edit, Working};
 use crate::distance::squared_distance_1d;
-use crate::error::{Error, Result};
+use crate::error::{check, Error, Result};
 use crate::geom::{DVec2, Region};
 use crate::palette::Color;
 use crate::scene::Scene;
@@ -220,23 +220,29 @@ pub fn stretch(
 ) -> Result<Stretched> {
     region.validate()?;
     let Region::Rect { min, max } = *region else {
-        return Err(Error::InvalidInput(
-            "stretching works on a rectangle region".into(),
+        return Err(Error::invalid(
+            "stretch region",
+            "stretching works on a rectangle region",
         ));
     };
     if !(amount.is_finite() && amount != 0.0) {
-        return Err(Error::InvalidInput(format!(
-            "stretch amount {amount} must be a non-zero length"
-        )));
+        return Err(Error::OutOfRange {
+            what: "stretch amount".into(),
+            rule: "a non-zero length".into(),
+            value: amount,
+        });
     }
     let frame = Frame::new(min, max, side);
     let width = frame.width;
     let shrink = (-amount).max(0.0);
     if shrink >= (1.0 - 2.0 * CUT_MARGIN) * width {
-        return Err(Error::InvalidInput(format!(
-            "cannot shrink a region {width:.2} m wide by {shrink:.2} m (at most {:.2} m)",
-            (1.0 - 2.0 * CUT_MARGIN) * width
-        )));
+        return Err(Error::invalid(
+            "stretch amount",
+            format!(
+                "cannot shrink a region {width:.2} m wide by {shrink:.2} m (at most {:.2} m)",
+                (1.0 - 2.0 * CUT_MARGIN) * width
+            ),
+        ));
     }
     let inside: Vec<DVec2> = scene
         .instances
@@ -294,9 +300,9 @@ fn stretch_color<'c>(
         Some(c) => Ok(Cow::Borrowed(c)),
         None => match color_of_region(scene, region, "stretched region")? {
             Some(c) => Ok(Cow::Owned(c)),
-            None => Err(Error::EmptyExemplar(
-                "the region holds no instances to stretch".into(),
-            )),
+            None => Err(Error::EmptyExemplar {
+                reason: "the region holds no instances to stretch".to_string(),
+            }),
         },
     }
 }
@@ -306,8 +312,7 @@ fn stretch_color<'c>(
 fn energy_cell(cell: Option<f64>, frame: &Frame, count: usize) -> Result<f64> {
     let (width, height) = (frame.width, frame.height);
     match cell {
-        Some(c) if c.is_finite() && c > 0.0 => Ok(c),
-        Some(c) => Err(Error::InvalidInput(format!("cell {c} must be positive"))),
+        Some(c) => check::positive("stretch energy cell", c),
         None => {
             let spacing = (width * height / count.max(1) as f64).sqrt();
             Ok((spacing / 3.0)

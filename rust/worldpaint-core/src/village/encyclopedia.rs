@@ -3,7 +3,7 @@
 //! types B to create over time". Both are plain JSON files (`assets/villages/`), so a user can read and replace
 //! them; [`Encyclopedia::from_json`] checks every reference and range and says what is wrong where.
 
-use crate::error::{Error, Result};
+use crate::error::{check, Error, FileKind, Result};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
@@ -178,10 +178,6 @@ pub struct ScenarioPresets {
     pub presets: BTreeMap<String, Scenario>,
 }
 
-fn bad(what: String) -> Error {
-    Error::InvalidInput(format!("encyclopedia: {what}"))
-}
-
 fn check_shape(at: &str, s: &Shape) -> Result<()> {
     if !(s.min.is_finite()
         && s.zero.is_finite()
@@ -189,39 +185,25 @@ fn check_shape(at: &str, s: &Shape) -> Result<()> {
         && s.min <= s.zero
         && s.zero <= s.max)
     {
-        return Err(bad(format!(
-            "{at} needs lambda_min <= lambda_0 <= lambda_max, got {} {} {}",
-            s.min, s.zero, s.max
-        )));
-    }
-    Ok(())
-}
-
-fn check_positive(at: &str, v: f64) -> Result<()> {
-    if !(v.is_finite() && v > 0.0) {
-        return Err(bad(format!("{at} must be positive, got {v}")));
+        return Err(Error::invalid(
+            at,
+            format!(
+                "needs lambda_min <= lambda_0 <= lambda_max, got {} {} {}",
+                s.min, s.zero, s.max
+            ),
+        ));
     }
     Ok(())
 }
 
 /// `v` is a finite number above 0; else an error naming `at.name`.
 fn positive(at: &str, name: &str, v: f64) -> Result<()> {
-    if v.is_finite() && v > 0.0 {
-        return Ok(());
-    }
-    Err(Error::InvalidInput(format!(
-        "{at}.{name} must be positive, got {v}"
-    )))
+    check::positive(&format!("{at}.{name}"), v).map(drop)
 }
 
 /// `v` is a finite number, 0 or more; else an error naming `at.name`.
 fn non_negative(at: &str, name: &str, v: f64) -> Result<()> {
-    if v.is_finite() && v >= 0.0 {
-        return Ok(());
-    }
-    Err(Error::InvalidInput(format!(
-        "{at}.{name} must be zero or more, got {v}"
-    )))
+    check::non_negative(&format!("{at}.{name}"), v).map(drop)
 }
 
 impl RoadParams {
@@ -239,18 +221,13 @@ impl RoadParams {
         non_negative(at, "cycle_angle_degrees", self.cycle_angle_degrees)?;
         non_negative(at, "cycle_max_length", self.cycle_max_length)?;
         non_negative(at, "cycle_min_separation", self.cycle_min_separation)?;
-        if self.reuse_weight > 1.0 {
-            return Err(Error::InvalidInput(format!(
-                "{at}.reuse_weight must be at most 1, got {}",
-                self.reuse_weight
-            )));
-        }
-        if !(1..=8).contains(&self.mask_radius) {
-            return Err(Error::InvalidInput(format!(
-                "{at}.mask_radius must be 1 to 8, got {}",
-                self.mask_radius
-            )));
-        }
+        check::within(&format!("{at}.reuse_weight"), self.reuse_weight, 0.0, 1.0)?;
+        check::within(
+            &format!("{at}.mask_radius"),
+            self.mask_radius as f64,
+            1.0,
+            8.0,
+        )?;
         Ok(())
     }
 }
@@ -269,14 +246,16 @@ impl ParcelParams {
 impl Encyclopedia {
     pub fn from_json(text: &str) -> Result<Encyclopedia> {
         let e: Encyclopedia = serde_json::from_str(text)
-            .map_err(|err| Error::Json(format!("encyclopedia: {err}")))?;
+            .map_err(|err| Error::parse(FileKind::Encyclopedia, err.to_string()))?;
         if e.version != ENCYCLOPEDIA_VERSION {
             return Err(Error::UnsupportedVersion {
+                kind: FileKind::Encyclopedia,
                 found: e.version,
                 supported: ENCYCLOPEDIA_VERSION,
             });
         }
-        e.validate()?;
+        e.validate()
+            .map_err(|err| err.in_file(FileKind::Encyclopedia))?;
         Ok(e)
     }
 
@@ -286,46 +265,52 @@ impl Encyclopedia {
 
     /// Checks ranges and that every village type names known building types.
     pub fn validate(&self) -> Result<()> {
-        self.roads.validate("encyclopedia: roads")?;
+        self.roads.validate("roads")?;
         for (name, b) in &self.buildings {
             for k in 0..2 {
-                check_positive(
+                check::positive(
                     &format!("buildings.{name}.footprint_min"),
                     b.footprint_min[k],
                 )?;
-                if b.footprint_max[k] < b.footprint_min[k] || !b.footprint_max[k].is_finite() {
-                    return Err(bad(format!(
-                        "buildings.{name}.footprint_max must be at least footprint_min"
-                    )));
-                }
+                check::within(
+                    &format!("buildings.{name}.footprint_max"),
+                    b.footprint_max[k],
+                    b.footprint_min[k],
+                    f64::MAX,
+                )?;
             }
             if b.storeys[0] == 0 || b.storeys[1] < b.storeys[0] || b.storeys[1] > 12 {
-                return Err(bad(format!(
-                    "buildings.{name}.storeys must be 1 <= min <= max <= 12"
-                )));
+                return Err(Error::invalid(
+                    format!("buildings.{name}.storeys"),
+                    format!("must be 1 <= min <= max <= 12, got {:?}", b.storeys),
+                ));
             }
-            check_positive(&format!("buildings.{name}.storey_height"), b.storey_height)?;
+            check::positive(&format!("buildings.{name}.storey_height"), b.storey_height)?;
         }
         if self.village_types.is_empty() {
-            return Err(bad("no village type".into()));
+            return Err(Error::invalid("village_types", "there is no village type"));
         }
         for (vname, v) in &self.village_types {
             for (bname, p) in &v.buildings {
                 let at = format!("village_types.{vname}.buildings.{bname}");
                 if !self.buildings.contains_key(bname) {
-                    return Err(bad(format!("{at}: unknown building type '{bname}'")));
+                    return Err(Error::invalid(
+                        at,
+                        format!("unknown building type '{bname}'"),
+                    ));
                 }
                 for x in p.weights.as_array() {
                     if !x.is_finite() {
-                        return Err(bad(format!("{at}.weights must be finite")));
+                        return Err(Error::invalid(format!("{at}.weights"), "must be finite"));
                     }
                 }
                 check_shape(&format!("{at}.sociability"), &p.sociability)?;
                 for (other, s) in &p.sociability_with {
                     if !self.buildings.contains_key(other) {
-                        return Err(bad(format!(
-                            "{at}.sociability_with: unknown building type '{other}'"
-                        )));
+                        return Err(Error::invalid(
+                            format!("{at}.sociability_with"),
+                            format!("unknown building type '{other}'"),
+                        ));
                     }
                     check_shape(&format!("{at}.sociability_with.{other}"), s)?;
                 }
@@ -334,8 +319,8 @@ impl Encyclopedia {
                 check_shape(&format!("{at}.slope"), &p.slope)?;
                 check_shape(&format!("{at}.water"), &p.water)?;
                 check_shape(&format!("{at}.fortification"), &p.fortification)?;
-                check_positive(&format!("{at}.domination_radius"), p.domination_radius)?;
-                p.parcel.validate(&format!("encyclopedia: {at}.parcel"))?;
+                check::positive(&format!("{at}.domination_radius"), p.domination_radius)?;
+                p.parcel.validate(&format!("{at}.parcel"))?;
             }
         }
         Ok(())
@@ -346,11 +331,12 @@ impl Encyclopedia {
         let v = self
             .village_types
             .get(village_type)
-            .ok_or_else(|| Error::InvalidInput(format!("unknown village type '{village_type}'")))?;
+            .ok_or_else(|| Error::unknown("village type", village_type))?;
         v.buildings.get(building).ok_or_else(|| {
-            Error::InvalidInput(format!(
-                "village type '{village_type}' has no building type '{building}'"
-            ))
+            Error::invalid(
+                format!("village type '{village_type}'"),
+                format!("has no building type '{building}'"),
+            )
         })
     }
 
@@ -363,12 +349,11 @@ impl Encyclopedia {
                 .collect::<Vec<_>>()
                 .join(", ")
         };
-        let at = |k: usize, what: String| {
-            Error::InvalidInput(format!("scenario event {}: {what}", k + 1))
-        };
+        let at = |k: usize, what: String| Error::invalid(format!("scenario event {}", k + 1), what);
         if scenario.building_count() == 0 {
-            return Err(Error::InvalidInput(
-                "the growth scenario generates no building: add a generate event".into(),
+            return Err(Error::invalid(
+                "the growth scenario",
+                "generates no building: add a generate event",
             ));
         }
         let mut current: Option<&str> = None;
@@ -398,7 +383,7 @@ impl Encyclopedia {
                         return Err(at(k, "generate before any village type is chosen".into()));
                     };
                     self.placement(v, building)
-                        .map_err(|err| at(k, err.to_string()))?;
+                        .map_err(|err| at(k, err.reason()))?;
                 }
             }
         }
@@ -408,7 +393,7 @@ impl Encyclopedia {
 
 impl Scenario {
     pub fn from_json(text: &str) -> Result<Scenario> {
-        serde_json::from_str(text).map_err(|err| Error::Json(format!("scenario: {err}")))
+        serde_json::from_str(text).map_err(|err| Error::parse(FileKind::Scenario, err.to_string()))
     }
 
     /// Number of buildings the scenario asks for.
@@ -425,6 +410,7 @@ impl Scenario {
 
 impl ScenarioPresets {
     pub fn from_json(text: &str) -> Result<ScenarioPresets> {
-        serde_json::from_str(text).map_err(|err| Error::Json(format!("scenario presets: {err}")))
+        serde_json::from_str(text)
+            .map_err(|err| Error::parse(FileKind::ScenarioPresets, err.to_string()))
     }
 }

@@ -23,7 +23,7 @@
 
 use super::road_index::RoadIndex;
 use super::{Footprint, Parcel, Road};
-use crate::error::{Error, Result};
+use crate::error::{check, Error, Result};
 use crate::geom::{polygon_contains, polygon_signed_area, segment_distance, segment_intersection};
 use glam::DVec2;
 use rayon::prelude::*;
@@ -50,30 +50,17 @@ pub fn footprints(
     road_width: f64,
     snap: f64,
 ) -> Result<Vec<Option<Footprint>>> {
-    if sizes.len() != parcels.len() {
-        return Err(Error::InvalidInput(format!(
-            "footprints: {} sizes for {} parcels",
-            sizes.len(),
-            parcels.len()
-        )));
-    }
-    if !(road_width.is_finite() && road_width >= 0.0) {
-        return Err(Error::InvalidInput(format!(
-            "footprints: road width {road_width} must be zero or more"
-        )));
-    }
-    if !(snap.is_finite() && snap >= 0.0) {
-        return Err(Error::InvalidInput(format!(
-            "footprints: snapping distance {snap} must be zero or more"
-        )));
-    }
+    check::same_len("footprint sizes", sizes.len(), parcels.len())?;
+    check::non_negative("footprint road width", road_width)?;
+    check::non_negative("footprint snapping distance", snap)?;
     for (i, (min, max)) in sizes.iter().enumerate() {
         if !(0..2)
             .all(|k| min[k].is_finite() && min[k] > 0.0 && max[k].is_finite() && max[k] >= min[k])
         {
-            return Err(Error::InvalidInput(format!(
-                "footprints: parcel {i} needs sizes 0 < min <= max, got {min:?} and {max:?}"
-            )));
+            return Err(Error::invalid(
+                format!("footprint sizes of parcel {i}"),
+                format!("need 0 < min <= max, got {min:?} and {max:?}"),
+            ));
         }
     }
     let index = RoadIndex::new(roads, road_width.max(8.0));

@@ -12,7 +12,7 @@ use super::parcels::{parcels, ParcelSeed};
 use super::roads::RoadNetwork;
 use super::seeding::seed_building;
 use super::{BuildingSeed, Footprint, HouseMesh, Parcel, Road};
-use crate::error::{Error, Result};
+use crate::error::{check, Error, Result};
 use crate::geom::Region;
 use crate::graph::SegmentIndex;
 use crate::synthesis::mix_seed;
@@ -148,12 +148,7 @@ pub fn generate(
     let enc = request.encyclopedia;
     enc.validate()?;
     enc.check_scenario(request.scenario)?;
-    if !(request.cell.is_finite() && request.cell > 0.0) {
-        return Err(Error::InvalidInput(format!(
-            "village grid cell {} must be positive",
-            request.cell
-        )));
-    }
+    check::positive("village grid cell", request.cell)?;
     let started = Instant::now();
     let land = Land::new(
         request.terrain,
@@ -162,8 +157,8 @@ pub fn generate(
         request.cell,
     )?;
     if !land.inside.iter().any(|v| *v) {
-        return Err(Error::BadRegion(
-            "the village region holds no node of its grid; use a finer cell".into(),
+        return Err(Error::bad_region(
+            "the village region holds no node of its grid; use a finer cell",
         ));
     }
     let connections = if request.connections.is_empty() {
@@ -217,7 +212,7 @@ pub fn generate(
         let kind = enc
             .buildings
             .get(building)
-            .ok_or_else(|| Error::InvalidInput(format!("unknown building type '{building}'")))?;
+            .ok_or_else(|| Error::unknown("building type", building))?;
         let radius = 0.5 * kind.footprint_min[0].max(kind.footprint_min[1]);
         // a house this close to a road fronts it: its footprint, grown from the road side, can reach the seed
         let frontage = 0.5 * enc.roads.width + kind.footprint_max[0].max(kind.footprint_max[1]);

@@ -52,9 +52,9 @@ impl Land {
         let min = rmin.max(tmin);
         let max = rmax.min(tmax);
         if !(max.x > min.x && max.y > min.y) {
-            return Err(Error::RegionOffTerrain(
-                "the village region does not overlap the terrain".into(),
-            ));
+            return Err(Error::RegionOffTerrain {
+                reason: "the village region does not overlap the terrain".to_string(),
+            });
         }
         let grid = Grid::nodes_covering(min, max, cell)?;
         let water_polygons: Vec<Region> = environment

@@ -52,7 +52,7 @@
 use super::integration::{Footprint, PoolWater, WaterMesh, WaterPart};
 use super::network::{Node, NodeKind};
 use super::{ControllerKind, Segment, WaterfallNetwork};
-use crate::error::{Error, Result};
+use crate::error::{check, Error, Result};
 use crate::geom::Region;
 use crate::palette::{Color, MapInteraction, MapSource};
 use crate::scene::{CategoryKind, Scene};
@@ -76,19 +76,15 @@ pub struct DecorationOptions {
 impl DecorationOptions {
     pub fn validate(&self) -> Result<()> {
         if let Some(r) = self.filter_radius {
-            if !(r.is_finite() && r >= 0.0) {
-                return Err(Error::InvalidInput(format!(
-                    "decoration filter_radius = {r} must be zero or positive"
-                )));
-            }
+            check::non_negative("decoration filter_radius", r)?;
         }
         if let Some(c) = &self.rock_color {
             c.validate()?;
             if rock_categories(c).is_empty() {
-                return Err(Error::InvalidInput(format!(
-                    "rock color '{}' has no distribution category to scatter as rocks",
-                    c.name
-                )));
+                return Err(Error::invalid(
+                    format!("rock color '{}'", c.name),
+                    "has no distribution category to scatter as rocks",
+                ));
             }
         }
         Ok(())
@@ -629,7 +625,7 @@ pub fn river_rock_color() -> Result<&'static Color> {
     COLOR
         .get_or_init(|| Color::from_json(RIVER_ROCK_COLOR).map_err(|e| e.to_string()))
         .as_ref()
-        .map_err(|e| Error::InvalidInput(format!("the built-in river-rock color: {e}")))
+        .map_err(|e| Error::invalid("the built-in river-rock color", e.clone()))
 }
 
 /// The names of the color's distribution categories: what [`scatter_rocks`] synthesizes.
@@ -659,9 +655,7 @@ pub fn following_the_rock_map(color: &Color) -> Result<Color> {
         .maps
         .iter()
         .find(|m| m.map == ROCK_MAP && m.source == MapSource::Terrain)
-        .ok_or_else(|| {
-            Error::InvalidInput("the built-in river-rock color follows no rock map".into())
-        })?;
+        .ok_or_else(|| Error::invalid("the built-in river-rock color", "follows no rock map"))?;
     let mut out = color.clone();
     for name in names {
         if !follows(color, &name) {
@@ -686,10 +680,13 @@ pub fn scatter_rocks(
 ) -> Result<Vec<Rock>> {
     options.validate()?;
     if terrain.nx != maps.nx || terrain.ny != maps.ny {
-        return Err(Error::InvalidInput(format!(
-            "water maps of {}x{} nodes do not fit a {}x{} terrain",
-            maps.nx, maps.ny, terrain.nx, terrain.ny
-        )));
+        return Err(Error::invalid(
+            "water maps",
+            format!(
+                "{}x{} nodes do not fit a {}x{} terrain",
+                maps.nx, maps.ny, terrain.nx, terrain.ny
+            ),
+        ));
     }
     let color = match &options.rock_color {
         Some(c) => following_the_rock_map(c)?,

@@ -26,7 +26,7 @@
 
 use super::integration::{Footprint, WaterMesh, WaterPart};
 use super::{ControllerKind, WaterfallNetwork, WaterfallType};
-use crate::error::{Error, Result};
+use crate::error::{check, Error, Result};
 use crate::terrain::Heightfield;
 use crate::terrain_edit::{
     diffuse, diffuse_horizontal, Constraints, Diffusion, DiffusionOptions, HorizontalConstraints,
@@ -66,24 +66,11 @@ impl Default for DeformOptions {
 
 impl DeformOptions {
     pub fn validate(&self) -> Result<()> {
-        let check = |name: &str, v: f64| {
-            if v.is_finite() && v >= 0.0 {
-                Ok(())
-            } else {
-                Err(Error::InvalidInput(format!(
-                    "terrain deformation parameter {name} = {v} must be zero or positive"
-                )))
-            }
-        };
-        check("freeboard", self.freeboard)?;
-        check("overhang", self.overhang)?;
-        check("falloff", self.falloff)?;
+        check::non_negative("terrain deformation freeboard", self.freeboard)?;
+        check::non_negative("terrain deformation overhang", self.overhang)?;
+        check::non_negative("terrain deformation falloff", self.falloff)?;
         if let Some(b) = self.bank_width {
-            if !(b.is_finite() && b > 0.0) {
-                return Err(Error::InvalidInput(format!(
-                    "terrain deformation parameter bank_width = {b} must be positive"
-                )));
-            }
+            check::positive("terrain deformation bank_width", b)?;
         }
         Ok(())
     }
@@ -132,10 +119,13 @@ pub fn deform(
 ) -> Result<TerrainDeformation> {
     options.validate()?;
     if footprint.nx != terrain.nx || footprint.ny != terrain.ny {
-        return Err(Error::InvalidInput(format!(
-            "a {}x{} water footprint does not fit a {}x{} terrain",
-            footprint.nx, footprint.ny, terrain.nx, terrain.ny
-        )));
+        return Err(Error::invalid(
+            "water footprint",
+            format!(
+                "{}x{} nodes do not fit a {}x{} terrain",
+                footprint.nx, footprint.ny, terrain.nx, terrain.ny
+            ),
+        ));
     }
     let nx = terrain.nx;
     let bank = options.bank(terrain.cell);

@@ -5,7 +5,7 @@ use super::integration::{
     fall_width, ribbon_end, ribbon_rows, under_quad, IntegrationOptions, PoolWater, RibbonEnd,
     WaterMesh, WaterPart,
 };
-use crate::error::{Error, Result};
+use crate::error::{check, Result};
 use crate::geom::{polygon_contains, segment_distance};
 use crate::terrain::Heightfield;
 use crate::waterfall::{ControllerKind, WaterfallNetwork};
@@ -190,11 +190,7 @@ pub fn footprint(
     options: &IntegrationOptions,
     margin: f64,
 ) -> Result<Footprint> {
-    if !(margin.is_finite() && margin >= 0.0) {
-        return Err(Error::InvalidInput(format!(
-            "footprint margin {margin} must be zero or positive"
-        )));
-    }
+    check::non_negative("footprint margin", margin)?;
     let ribbons: Vec<Vec<[DVec3; 3]>> = net
         .graph
         .arcs

@@ -90,9 +90,10 @@ pub fn distribute_flow(
         node.outflow = outflow;
         node.depth = 0.5 * supplied;
         if !(supplied.is_finite() && outflow.is_finite()) {
-            return Err(Error::InvalidInput(format!(
-                "the flow through node {n} is not finite"
-            )));
+            return Err(Error::invalid(
+                format!("the flow through node {n}"),
+                "is not finite",
+            ));
         }
     }
     Ok(())

@@ -27,7 +27,7 @@
 use super::network::NodeKind;
 use super::{ControllerKind, WaterfallNetwork, WaterfallType};
 use crate::contour::Polygons;
-use crate::error::{Error, Result};
+use crate::error::{check, Result};
 use crate::polygon_mesh::triangulate;
 use glam::{DVec2, DVec3};
 
@@ -62,19 +62,8 @@ impl Default for IntegrationOptions {
 
 impl IntegrationOptions {
     pub fn validate(&self) -> Result<()> {
-        if !(self.min_width.is_finite() && self.min_width > 0.0 && self.max_width >= self.min_width)
-        {
-            return Err(Error::InvalidInput(format!(
-                "water widths: min_width = {} must be positive and at most max_width = {}",
-                self.min_width, self.max_width
-            )));
-        }
-        if !self.max_width.is_finite() {
-            return Err(Error::InvalidInput(format!(
-                "water width max_width = {} must be finite",
-                self.max_width
-            )));
-        }
+        check::positive("water min_width", self.min_width)?;
+        check::within("water max_width", self.max_width, self.min_width, f64::MAX)?;
         Ok(())
     }
 }

@@ -48,7 +48,7 @@ pub use integration::{
 };
 pub use network::{HydraulicArc, HydraulicGraph, Node, NodeKind};
 
-use crate::error::{Error, Result};
+use crate::error::{check, Error, Result};
 use crate::terrain::Heightfield;
 use crate::terrain_edit::HorizontalDisplacement;
 use glam::DVec3;
@@ -152,30 +152,17 @@ impl Default for WaterfallParams {
 
 impl WaterfallParams {
     pub fn validate(&self) -> Result<()> {
-        let positive = |name: &str, v: f64| {
-            if v.is_finite() && v > 0.0 {
-                Ok(())
-            } else {
-                Err(Error::InvalidInput(format!(
-                    "waterfall parameter {name} = {v} must be positive"
-                )))
-            }
-        };
-        let non_negative = |name: &str, v: f64| {
-            if v.is_finite() && v >= 0.0 {
-                Ok(())
-            } else {
-                Err(Error::InvalidInput(format!(
-                    "waterfall parameter {name} = {v} must be zero or positive"
-                )))
-            }
-        };
+        let positive =
+            |name: &str, v: f64| check::positive(&format!("waterfall parameter {name}"), v);
+        let non_negative =
+            |name: &str, v: f64| check::non_negative(&format!("waterfall parameter {name}"), v);
         positive("min_slope", self.min_slope)?;
         if !(self.min_slope < std::f64::consts::FRAC_PI_2) {
-            return Err(Error::InvalidInput(format!(
-                "waterfall parameter min_slope = {} must be below π/2",
-                self.min_slope
-            )));
+            return Err(Error::OutOfRange {
+                what: "waterfall parameter min_slope".into(),
+                rule: "below π/2".into(),
+                value: self.min_slope,
+            });
         }
         non_negative("snap_distance", self.snap_distance)?;
         positive("source_flow", self.source_flow)?;
@@ -187,18 +174,20 @@ impl WaterfallParams {
         positive("speed_factor", self.speed_factor)?;
         // bounds on the work a parameter can ask for: 2001 candidates per cut, 4096 cuts per control segment
         if self.search_steps > 1000 || self.max_levels > 12 || self.fall_samples > 10_000 {
-            return Err(Error::InvalidInput(format!(
-                "waterfall parameters search_steps = {}, max_levels = {}, fall_samples = {}: at most 1000, 12 \
-                 and 10000",
-                self.search_steps, self.max_levels, self.fall_samples
-            )));
+            return Err(Error::invalid(
+                "waterfall parameters",
+                format!(
+                    "search_steps = {}, max_levels = {}, fall_samples = {}: at most 1000, 12 and 10000",
+                    self.search_steps, self.max_levels, self.fall_samples
+                ),
+            ));
         }
-        if self.fall_samples < 2 {
-            return Err(Error::InvalidInput(format!(
-                "waterfall parameter fall_samples = {} must be at least 2",
-                self.fall_samples
-            )));
-        }
+        check::within(
+            "waterfall parameter fall_samples",
+            self.fall_samples as f64,
+            2.0,
+            10_000.0,
+        )?;
         Ok(())
     }
 }

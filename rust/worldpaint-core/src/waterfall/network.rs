@@ -17,7 +17,7 @@
 //! start when that is lowered) and drops at least as much as the minimum slope asks over its horizontal run.
 
 use super::{Controller, ControllerKind, WaterfallParams};
-use crate::error::{Error, Result};
+use crate::error::{check, Error, Result};
 use crate::geom::{polygon_contains, segment_distance, DVec2};
 use crate::terrain::Heightfield;
 use glam::DVec3;
@@ -106,38 +106,41 @@ fn validate_controller(terrain: &Heightfield, i: usize, c: &Controller) -> Resul
     let kind = name(c.kind);
     let needed = if c.kind == ControllerKind::Pool { 3 } else { 2 };
     if c.points.len() < needed {
-        return Err(Error::InvalidInput(format!(
-            "{kind} controller {i} has {} point(s), it needs at least {needed}",
-            c.points.len()
-        )));
+        return Err(Error::invalid(
+            format!("{kind} controller {i}"),
+            format!(
+                "has {} point(s), it needs at least {needed}",
+                c.points.len()
+            ),
+        ));
     }
     for (k, p) in c.points.iter().enumerate() {
         if !p.is_finite() {
-            return Err(Error::InvalidInput(format!(
-                "{kind} controller {i}: point {k} is not finite"
-            )));
+            return Err(Error::invalid(
+                format!("{kind} controller {i}"),
+                format!("point {k} is not finite"),
+            ));
         }
         if !terrain.contains(xy(*p)) {
-            return Err(Error::InvalidInput(format!(
-                "{kind} controller {i}: point {k} at ({:.2}, {:.2}) lies outside the terrain",
-                p.x, p.y
-            )));
+            return Err(Error::invalid(
+                format!("{kind} controller {i}"),
+                format!(
+                    "point {k} at ({:.2}, {:.2}) lies outside the terrain",
+                    p.x, p.y
+                ),
+            ));
         }
     }
     if let Some(s) = c.strength {
-        if !(s.is_finite() && s > 0.0) {
-            return Err(Error::InvalidInput(format!(
-                "{kind} controller {i}: strength {s} must be positive"
-            )));
-        }
+        check::positive(&format!("{kind} controller {i} strength"), s)?;
     }
     if c.kind == ControllerKind::Contact {
         for k in 1..c.points.len() {
             if xy(c.points[k]).distance(xy(c.points[k - 1])) < SAME_PLACE {
-                return Err(Error::InvalidInput(format!(
-                    "contact controller {i}: points {} and {k} are at the same place in plan",
-                    k - 1
-                )));
+                return Err(Error::invalid(
+                    format!("contact controller {i}"),
+                    format!("points {} and {k} are at the same place in plan", k - 1),
+                ));
             }
         }
     }
@@ -387,19 +390,18 @@ fn link_arcs(nodes: &mut [Node], arcs: &[HydraulicArc]) -> Result<()> {
         nodes[arc.from].arcs_out.push(a);
         nodes[arc.to].arcs_in.push(a);
         if arc.from == arc.to {
-            return Err(Error::InvalidInput(format!(
-                "{} controller {} starts and ends at the same connection: water cannot flow in a loop",
-                name(arc.kind),
-                arc.controller
-            )));
+            return Err(Error::invalid(
+                format!("{} controller {}", name(arc.kind), arc.controller),
+                "starts and ends at the same connection: water cannot flow in a loop",
+            ));
         }
         if arc.kind == ControllerKind::FreeFall {
             let (s, e) = (arc.points[0], arc.points[1]);
             if xy(s).distance(xy(e)) < SAME_PLACE && !(e.z < s.z) {
-                return Err(Error::InvalidInput(format!(
-                    "free-fall controller {}: its end is straight above or at its start",
-                    arc.controller
-                )));
+                return Err(Error::invalid(
+                    format!("free-fall controller {}", arc.controller),
+                    "its end is straight above or at its start",
+                ));
             }
         }
     }
@@ -499,11 +501,10 @@ impl HydraulicGraph {
             let last = arc.points.len() - 1;
             arc.points[last].z = node_z[arc.to];
             if !arc.points.iter().all(|p| p.is_finite()) {
-                return Err(Error::InvalidInput(format!(
-                    "{} controller {}: the slope correction gave non-finite heights",
-                    name(arc.kind),
-                    arc.controller
-                )));
+                return Err(Error::invalid(
+                    format!("{} controller {}", name(arc.kind), arc.controller),
+                    "the slope correction gave non-finite heights",
+                ));
             }
         }
         let mut out = controllers.to_vec();
@@ -554,10 +555,13 @@ fn dependency_order(nodes: &[Node], arcs: &[HydraulicArc]) -> Result<Vec<usize>>
         on_cycle.sort_unstable();
         on_cycle.dedup();
         let list: Vec<String> = on_cycle.iter().map(|c| c.to_string()).collect();
-        return Err(Error::InvalidInput(format!(
-            "the controller network has a cycle through controllers {}: water cannot flow downhill around a loop",
-            list.join(", ")
-        )));
+        return Err(Error::invalid(
+            "the controller network",
+            format!(
+                "has a cycle through controllers {}: water cannot flow downhill around a loop",
+                list.join(", ")
+            ),
+        ));
     }
     Ok(order)
 }

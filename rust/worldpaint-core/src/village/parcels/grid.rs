@@ -7,9 +7,10 @@ use super::super::land::Land;
 use super::super::road_index::{Projection, RoadIndex};
 use super::super::Road;
 use super::{ParcelSeed, NONE};
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::geom::segment_distance;
 use crate::grid::{Grid, MAX_NODES};
+use crate::limits;
 use glam::DVec2;
 use rayon::prelude::*;
 use std::f64::consts::FRAC_1_SQRT_2;
@@ -95,12 +96,12 @@ impl Work {
             return Ok(None);
         }
         let (nx, ny) = ((i1 - i0 + 1) as usize, (j1 - j0 + 1) as usize);
-        if nx.saturating_mul(ny) > MAX_NODES {
-            return Err(Error::InvalidInput(format!(
-                "parcels: a conquest grid of {nx}x{ny} cells is too large; use a coarser cell than {cell} m or \
-                 smaller budgets"
-            )));
-        }
+        limits::check(
+            &format!("the parcels' conquest grid of {cell} m cells (use a coarser cell or smaller budgets)"),
+            nx as f64 * ny as f64,
+            MAX_NODES as u64,
+            "cells",
+        )?;
         let origin = lg.origin + DVec2::new(i0 as f64, j0 as f64) * cell;
         let mut state: Vec<u8> = vec![FREE; nx * ny];
         state.par_chunks_mut(nx).enumerate().for_each(|(j, row)| {

@@ -88,7 +88,7 @@ use super::encyclopedia::ParcelParams;
 use super::land::Land;
 use super::road_index::{Projection, RoadIndex};
 use super::{Parcel, Road};
-use crate::error::{Error, Result};
+use crate::error::{check, Error, Result};
 use corner::{corner_conquest_keeping_access, junctions};
 use glam::DVec2;
 use grid::Work;
@@ -256,13 +256,9 @@ fn validate(
     cell: f64,
     options: &ParcelOptions,
 ) -> Result<()> {
-    let bad = |what: String| Err(Error::InvalidInput(format!("parcels: {what}")));
-    if !(cell.is_finite() && cell > 0.0) {
-        return bad(format!("grid cell {cell} must be positive"));
-    }
-    if !(road_width.is_finite() && road_width >= 0.0) {
-        return bad(format!("road width {road_width} must be zero or more"));
-    }
+    let bad = |what: String| Err(Error::invalid("parcels", what));
+    check::positive("parcels grid cell", cell)?;
+    check::non_negative("parcels road width", road_width)?;
     let g = &land.grid;
     let nodes = g.len();
     if g.nx < 2

@@ -2,8 +2,7 @@
 //! points `Ψ` snapped to an inside node, and a fingerprint of the land, since the cached move costs belong to the
 //! land the network was made on.
 
-use super::invalid;
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::village::land::Land;
 use glam::DVec2;
 
@@ -45,13 +44,14 @@ pub(super) fn check_land(land: &Land) -> Result<()> {
         || land.wall.len() != n
         || land.fortified.len() != n
     {
-        return Err(invalid(format!(
-            "roads: the land's maps do not all have the {n} nodes of its grid"
-        )));
+        return Err(Error::invalid(
+            "roads",
+            format!("the land's maps do not all have the {n} nodes of its grid"),
+        ));
     }
     if land.grid.nx < 2 || land.grid.ny < 2 || !(land.grid.cell.is_finite() && land.grid.cell > 0.0)
     {
-        return Err(invalid("roads: the land grid is degenerate".into()));
+        return Err(Error::invalid("roads", "the land grid is degenerate"));
     }
     Ok(())
 }

@@ -166,10 +166,6 @@ impl std::fmt::Debug for RoadNetwork {
     }
 }
 
-fn invalid(what: String) -> Error {
-    Error::InvalidInput(what)
-}
-
 impl RoadNetwork {
     /// A network with the connection points `Ψ` (each snapped to the nearest node inside `Ω`) and the existing
     /// roads (polylines, kept as they are).
@@ -177,8 +173,9 @@ impl RoadNetwork {
         check_land(land)?;
         let grid = land.grid;
         if connections.is_empty() {
-            return Err(invalid(
-                "roads: at least one connection point to the outside world is needed".into(),
+            return Err(Error::invalid(
+                "roads",
+                "at least one connection point to the outside world is needed",
             ));
         }
         let mut network = RoadNetwork {
@@ -194,18 +191,21 @@ impl RoadNetwork {
         };
         for (n, &p) in connections.iter().enumerate() {
             if !finite(p) {
-                return Err(invalid(format!(
-                    "roads: connection point {} is not finite",
-                    n + 1
-                )));
+                return Err(Error::invalid(
+                    "roads",
+                    format!("connection point {} is not finite", n + 1),
+                ));
             }
             let node = nearest_inside(land, p).ok_or_else(|| {
-                invalid(format!(
-                    "roads: connection point {} ({:.2}, {:.2}) is not inside the village region",
-                    n + 1,
-                    p.x,
-                    p.y
-                ))
+                Error::invalid(
+                    "roads",
+                    format!(
+                        "connection point {} ({:.2}, {:.2}) is not inside the village region",
+                        n + 1,
+                        p.x,
+                        p.y
+                    ),
+                )
             })?;
             network.connection_nodes.push(node);
             network.connections.push(grid.point_of(node));
@@ -213,11 +213,10 @@ impl RoadNetwork {
         }
         for (n, line) in existing.iter().enumerate() {
             if let Some(k) = line.iter().position(|p| !finite(*p)) {
-                return Err(invalid(format!(
-                    "roads: point {} of existing road {} is not finite",
-                    k + 1,
-                    n + 1
-                )));
+                return Err(Error::invalid(
+                    "roads",
+                    format!("point {} of existing road {} is not finite", k + 1, n + 1),
+                ));
             }
             if line.len() == 1 {
                 if let Some((i, j)) = grid.nearest(line[0]) {
@@ -278,26 +277,36 @@ impl RoadNetwork {
     ) -> Result<Connection> {
         check_land(land)?;
         if land.grid != self.grid || land_mark(land) != self.land_mark {
-            return Err(invalid(
-                "roads: the land differs from the one the road network was made on".into(),
+            return Err(Error::invalid(
+                "roads",
+                "the land differs from the one the road network was made on",
             ));
         }
         params.validate("roads: params")?;
         if occupied.len() != self.grid.len() {
-            return Err(invalid(format!(
-                "roads: {} occupancy flags for {} land nodes",
-                occupied.len(),
-                self.grid.len()
-            )));
+            return Err(Error::invalid(
+                "roads",
+                format!(
+                    "{} occupancy flags for {} land nodes",
+                    occupied.len(),
+                    self.grid.len()
+                ),
+            ));
         }
         if !finite(from) {
-            return Err(invalid("roads: the building position is not finite".into()));
+            return Err(Error::invalid(
+                "roads",
+                "the building position is not finite",
+            ));
         }
         let Some((bi, bj)) = self.grid.nearest(from) else {
-            return Err(invalid(format!(
-                "roads: the building at ({:.2}, {:.2}) is outside the village grid",
-                from.x, from.y
-            )));
+            return Err(Error::invalid(
+                "roads",
+                format!(
+                    "the building at ({:.2}, {:.2}) is outside the village grid",
+                    from.x, from.y
+                ),
+            ));
         };
         let b = self.grid.index(bi, bj);
         if !land.inside[b] {

@@ -8,8 +8,8 @@ use super::cycles::Ellipse;
 use super::heuristic::{Estimate, SourceBound};
 use super::move_costs::{cached_cost, near, CostKey, NEAR_OUTSIDE, NEAR_WATER};
 use super::moves::{Move, MoveTable};
-use super::{invalid, MAX_STATES};
-use crate::error::Result;
+use super::MAX_STATES;
+use crate::error::{Error, Result};
 use crate::grid::Grid;
 use crate::search::MinHeap;
 use crate::village::encyclopedia::RoadParams;
@@ -165,9 +165,12 @@ impl Search {
                 break table;
             }
             if radius == 1 {
-                return Err(invalid(format!(
-                    "roads: a grid of {n} nodes is too large for the road search; use a coarser cell"
-                )));
+                return Err(Error::invalid(
+                    "roads",
+                    format!(
+                        "a grid of {n} nodes is too large for the road search; use a coarser cell"
+                    ),
+                ));
             }
             radius -= 1;
         };
