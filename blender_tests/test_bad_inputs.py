@@ -127,3 +127,24 @@ def test_unknown_color_and_category(learned):
     with pytest.raises(RuntimeError, match="No synthesized instances of category 'Nope'"):
         bpy.ops.worldpaint.convert_to_objects(category="Nope")
     assert snapshot() == before
+
+
+def data_counts():
+    return {kind: len(getattr(bpy.data, kind)) for kind in ("collections", "objects", "meshes", "curves", "materials",
+                                                             "node_groups")}
+
+
+def test_a_paste_that_pastes_nothing_leaves_nothing_behind(capfd):
+    _, examples, _ = slope_exemplar()
+    select_only(examples)
+    bpy.ops.worldpaint.learn_color(name="Slope forest", **EXEMPLAR)
+    select_only([])
+    before = data_counts()
+    capfd.readouterr()
+    # half a metre across: room for no instance of the color
+    assert bpy.ops.worldpaint.paste_color(seed=1, region_mode='RECT', rect_min=(150.0, 150.0),
+                                          rect_max=(150.5, 150.5)) == {'FINISHED'}
+    assert "Warning: Nothing pasted for Grass, Rock, Tree" in capfd.readouterr().out
+    assert data_counts() == before, "no empty point cloud, collection or instancer"
+    assert not point_cloud_objects(bpy.context.scene)
+

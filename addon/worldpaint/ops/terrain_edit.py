@@ -12,6 +12,8 @@ from ..bridge import WorldPaintError, engine, terrain, terrain_edit
 from .background import BackgroundOperator
 from .common import TerrainProperty, reports_errors
 
+UNMOVED = 1e-6  # metres: a terrain change below this is no change
+
 
 def editable_terrain(context, name):
     """The terrain object, out of Edit Mode (its mesh is read and given a shape key)."""
@@ -119,8 +121,16 @@ class WORLDPAINT_OT_build_waterfall(BackgroundOperator, TerrainProperty, bpy.typ
     def _apply(self, context, waterfall):
         n = len(self._vertices)
         offsets = np.column_stack([waterfall.horizontal[:n], waterfall.displacement[:n]])
-        terrain_edit.write_shape_key(self._terrain_obj, terrain_edit.WATERFALL_KEY, offsets)
-        self._standing.reseat(waterfall.displacement[n:], "waterfall")
+        moved = max(np.abs(offsets).max(initial=0.0), np.abs(waterfall.displacement).max(initial=0.0)) > UNMOVED
+        if not (moved or len(waterfall.water.triangles) or len(waterfall.rocks)):
+            self.report({'WARNING'}, f"The waterfall built nothing, the scene is unchanged: its "
+                                     f"{len(waterfall.segments)} segments on {waterfall.arcs} arcs hold no water, "
+                                     "no rock and no change to the terrain; check the controller curves")
+            return {'CANCELLED'}
+        # a terrain the waterfall leaves as it is gets no shape key, unless one of an earlier run must be replaced
+        if moved or terrain_edit.has_shape_key(self._terrain_obj, terrain_edit.WATERFALL_KEY):
+            terrain_edit.write_shape_key(self._terrain_obj, terrain_edit.WATERFALL_KEY, offsets)
+            self._standing.reseat(waterfall.displacement[n:], "waterfall")
         dry = self._standing.keep_dry(waterfall.is_water[n:]) if self._keep_dry else 0
         terrain_edit.build_water(context.scene, waterfall.water)
         terrain_edit.build_rocks(context.scene, waterfall, self._terrain_obj)

@@ -3,7 +3,8 @@ Interest paints where a building type would like to stand, and the scenario list
 add, remove and reorder events).
 
 Generate Village runs the engine on a worker thread with a progress bar and Esc to cancel (see ``background``); it
-replaces the current village's objects (see ``bridge.village``), and is one undo step.
+replaces the current village's objects (see ``bridge.village``), and is one undo step; a generation that builds
+nothing changes nothing and says why.
 """
 
 import bpy
@@ -97,6 +98,11 @@ class WORLDPAINT_OT_generate_village(BackgroundOperator, VillageInputs, bpy.type
         return engine.generate_village(*self._arguments, progress=progress, **self._call)
 
     def _apply(self, context, result):
+        if village.builds_nothing(result, self._parcels_as_curves):
+            # an empty village would leave an empty collection and unused materials behind, and replace the
+            # current village by nothing
+            self.report({'WARNING'}, village.nothing_built(result.report))
+            return {'CANCELLED'}
         built = village.build_village(context.scene, result, self._terrain_obj, self._heightfield,
                                       self._parcels_as_curves)
         info, warnings = village.summary(built, result.report)
