@@ -148,3 +148,71 @@ def test_a_paste_that_pastes_nothing_leaves_nothing_behind(capfd):
     assert data_counts() == before, "no empty point cloud, collection or instancer"
     assert not point_cloud_objects(bpy.context.scene)
 
+
+def linked_tree_collection(tmp_path):
+    """The collection "Tree" linked from a library .blend, beside the local one of the same name."""
+    path = str(tmp_path / "library.blend")
+    bpy.data.libraries.write(path, {bpy.data.collections["Tree"]}, fake_user=True)
+    with bpy.data.libraries.load(path, link=True) as (_, target):
+        target.collections = ["Tree"]
+    return target.collections[0]
+
+
+def instances_of(collection, positions):
+    made = []
+    for k, (x, y) in enumerate(positions):
+        obj = bpy.data.objects.new(f"{collection.name} instance {k}", None)
+        obj.instance_type, obj.instance_collection = 'COLLECTION', collection
+        obj.location = (x, y, 0.0)
+        bpy.context.scene.collection.objects.link(obj)
+        made.append(obj)
+    return made
+
+
+def test_two_collections_of_one_name_are_refused(learned, tmp_path):
+    _, examples = learned
+    linked = linked_tree_collection(tmp_path)
+    assert linked.library is not None and linked.name == "Tree"
+    select_only(examples + instances_of(linked, [(20.0, 30.0), (60.0, 70.0)]))
+    before = snapshot()
+    clash = r"both category 'Tree' in the example: collection 'Tree' \(.*\) and collection 'Tree \[library.blend\]'"
+    with pytest.raises(RuntimeError, match=clash):
+        bpy.ops.worldpaint.learn_color(**EXEMPLAR)
+    assert snapshot() == before
+
+
+def test_a_mesh_and_a_collection_of_one_name_are_refused_unless_the_collection_holds_the_mesh(learned):
+    _, examples = learned
+    # a bush mesh placed by hand, and a collection "Bush" of something else
+    bush = bpy.data.objects.new("Bush", bpy.data.meshes.new("Bush"))
+    bpy.context.scene.collection.objects.link(bush)
+    bush.location = (40.0, 40.0, 0.0)
+    other = bpy.data.collections.new("Bush")
+    other.objects.link(bpy.data.objects.new("Hedge", bpy.data.meshes.new("Hedge")))
+    select_only(examples + [bush] + instances_of(other, [(45.0, 45.0)]))
+    before = snapshot()
+    with pytest.raises(RuntimeError, match="Two different things are both category 'Bush'.*mesh 'Bush'"):
+        bpy.ops.worldpaint.learn_color(**EXEMPLAR)
+    assert snapshot() == before
+    # a mesh "Tree" held by the collection "Tree": a linked duplicate of it is a tree like the instances
+    bpy.data.meshes["TreeMesh"].name = "Tree"
+    tree = bpy.data.objects.new("Tree copy", bpy.data.meshes["Tree"])
+    bpy.context.scene.collection.objects.link(tree)
+    tree.location = (50.0, 50.0, 0.0)
+    select_only(examples + [tree])
+    assert bpy.ops.worldpaint.learn_color(name="With a copy", **EXEMPLAR) == {'FINISHED'}
+    assert len(bpy.context.scene.worldpaint.categories) == before[3]
+
+
+def test_a_category_of_objects_and_curves_is_refused(learned):
+    from scene_kit import poly_curve
+
+    _, examples = learned
+    examples[0]["wp_category"] = "Path"
+    path = poly_curve("Path", [(10.0, 10.0, 0.0), (90.0, 90.0, 0.0)])
+    select_only(examples + [path])
+    before = snapshot()
+    with pytest.raises(RuntimeError, match=r"The category 'Path' is both objects \('.*'\) and open curves "
+                                           r"\('Path'\)"):
+        bpy.ops.worldpaint.learn_color(**EXEMPLAR)
+    assert snapshot() == before

@@ -61,6 +61,8 @@ class WORLDPAINT_OT_learn_color(RegionProperties, TerrainProperty, bpy.types.Ope
                 "Nothing to learn: select the example objects (collection instances, linked duplicates or "
                 "objects with a 'wp_category' property) and curves (roads, rivers; closed: islands, lakes)"
             )
+        # merged silently, two things of one name would be learned as one and pasted as either
+        instances.check_example_categories(examples, drawn)
         # the region is around the example objects; curves (which usually run on beyond it) only when alone
         region = regions.region_for(
             context,
