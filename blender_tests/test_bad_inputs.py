@@ -216,3 +216,63 @@ def test_a_category_of_objects_and_curves_is_refused(learned):
                                            r"\('Path'\)"):
         bpy.ops.worldpaint.learn_color(**EXEMPLAR)
     assert snapshot() == before
+
+
+def test_a_palette_imported_twice_gets_numbered_names(learned, tmp_path):
+    from worldpaint.bridge import engine
+
+    path = str(tmp_path / "palette.json")
+    assert bpy.ops.worldpaint.export_palette(filepath=path) == {'FINISHED'}
+    assert bpy.ops.worldpaint.import_palette(filepath=path) == {'FINISHED'}
+    assert bpy.ops.worldpaint.import_palette(filepath=path) == {'FINISHED'}
+    palette = bpy.context.scene.worldpaint.palette
+    names = [entry.name for entry in palette]
+    assert names == ["Slope forest", "Slope forest.001", "Slope forest.002"]
+    assert [engine.color_summary(entry.json).name for entry in palette] == names, "each color knows its name"
+    # a file holding one name twice, replacing the palette
+    assert bpy.ops.worldpaint.export_palette(filepath=path) == {'FINISHED'}
+    palette[1].name = "Slope forest"
+    assert bpy.ops.worldpaint.export_palette(filepath=path) == {'FINISHED'}
+    assert bpy.ops.worldpaint.import_palette(filepath=path, replace=True) == {'FINISHED'}
+    assert [entry.name for entry in palette] == ["Slope forest", "Slope forest.001", "Slope forest.002"]
+
+
+def test_a_learned_color_under_a_taken_name_is_numbered(learned):
+    _, examples = learned
+    select_only(examples)
+    assert bpy.ops.worldpaint.learn_color(name="Slope forest", **EXEMPLAR) == {'FINISHED'}
+    assert [entry.name for entry in bpy.context.scene.worldpaint.palette] == ["Slope forest", "Slope forest 2"]
+
+
+def test_an_exported_palette_gets_its_extension(learned, tmp_path):
+    assert bpy.ops.worldpaint.export_palette(filepath=str(tmp_path / "forest")) == {'FINISHED'}
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["forest.json"]
+    assert bpy.ops.worldpaint.import_palette(filepath=str(tmp_path / "forest.json")) == {'FINISHED'}
+    before = snapshot()
+    with pytest.raises(RuntimeError, match="No file name in the path"):
+        bpy.ops.worldpaint.export_palette(filepath=str(tmp_path) + "/")
+    assert snapshot() == before and sorted(p.name for p in tmp_path.iterdir()) == ["forest.json"]
+
+
+def test_a_relative_path_needs_a_saved_file(learned, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)  # where a path relative to an unsaved file would have gone
+    before = snapshot()
+    saved_first = "is relative to the .blend file, which is not saved yet: save the file first or give an absolute path"
+    with pytest.raises(RuntimeError, match=f"The palette file path '//forest.json' {saved_first}"):
+        bpy.ops.worldpaint.export_palette(filepath="//forest.json")
+    with pytest.raises(RuntimeError, match=f"The palette file path '//forest.json' {saved_first}"):
+        bpy.ops.worldpaint.import_palette(filepath="//forest.json")
+    with pytest.raises(RuntimeError, match=f"The encyclopedia file path '//buildings.json' {saved_first}"):
+        bpy.ops.worldpaint.generate_village(encyclopedia_path="//buildings.json")
+    with pytest.raises(RuntimeError, match=f"The scenario file path '//scenario.json' {saved_first}"):
+        bpy.ops.worldpaint.generate_village(scenario_path="//scenario.json")
+    bpy.context.scene.worldpaint.village.encyclopedia_path = "//buildings.json"
+    with pytest.raises(RuntimeError, match=f"The encyclopedia file path '//buildings.json' {saved_first}"):
+        bpy.ops.worldpaint.show_interest()
+    bpy.context.scene.worldpaint.village.encyclopedia_path = ""
+    assert snapshot() == before and not list(tmp_path.iterdir())
+    # saved, the file's folder is where they go
+    bpy.ops.wm.save_as_mainfile(filepath=str(tmp_path / "forest.blend"))
+    assert bpy.ops.worldpaint.export_palette(filepath="//forest.json") == {'FINISHED'}
+    assert (tmp_path / "forest.json").exists()
+    assert bpy.ops.worldpaint.import_palette(filepath="//forest.json") == {'FINISHED'}

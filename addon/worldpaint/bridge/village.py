@@ -27,7 +27,7 @@ from dataclasses import dataclass, field
 import bpy
 import numpy as np
 
-from . import WorldPaintError, compat, curves, engine, geometry, regions
+from . import WorldPaintError, compat, curves, engine, files, geometry, regions
 from .points import worldpaint_collection
 
 COLLECTION_NAME = "Village"
@@ -62,8 +62,9 @@ PRESET_LABELS = {
 # --- the encyclopedia and the growth scenario ---------------------------------------------------------------------
 
 def read_text(path, what):
+    absolute = files.absolute_path(path, f"{what} file")
     try:
-        with open(bpy.path.abspath(path), encoding="utf-8") as f:
+        with open(absolute, encoding="utf-8") as f:
             return f.read()
     except (OSError, UnicodeDecodeError) as exc:
         raise WorldPaintError(f"Cannot read the {what} file '{path}': {exc}") from exc
@@ -88,8 +89,9 @@ def known_types(path=""):
     """(village types, building types) of an encyclopedia file for the panel's menus, read again only when the
     file changes; the shipped encyclopedia's when the file is not usable."""
     try:
-        key = (bpy.path.abspath(path), os.path.getmtime(bpy.path.abspath(path))) if path else ("", 0.0)
-    except OSError:
+        absolute = files.absolute_path(path, "encyclopedia file") if path else ""
+        key = (absolute, os.path.getmtime(absolute)) if absolute else ("", 0.0)
+    except (OSError, WorldPaintError):
         key = ("", 0.0)
     if key not in _known_types:
         try:

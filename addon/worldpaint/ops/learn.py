@@ -80,7 +80,8 @@ class WORLDPAINT_OT_learn_color(RegionProperties, TerrainProperty, bpy.types.Ope
         structures = curves.StructureSet(categories=categories)
         for obj, category, _ in drawn:
             structures.add(obj, category, locked=True)
-        name = self.name or unique_name(settings.palette, "Color")
+        # a typed name the palette has is numbered, as the Pipette and Interpolate Colors do
+        name = unique_name(settings.palette, self.name or "Color")
         maps = ["slope", "elevation"] if self.use_elevation else ["slope"]
         scene_data = engine.scene(heightfield, exemplar.engine_arrays(), structures.engine_arrays())
         color_json = engine.learn_color(scene_data, region, name, maps, self.oriented_pairs(categories))

@@ -26,7 +26,7 @@ class VillageInputs(TerrainProperty):
         name="Whole Terrain", default=False, description="Use the whole terrain, whatever the panel's region"
     )
     encyclopedia_path: StringProperty(
-        name="Encyclopedia", subtype='FILE_PATH',
+        name="Encyclopedia", subtype='FILE_PATH', options={'ANIMATABLE', 'PATH_SUPPORTS_BLEND_RELATIVE'},
         description="Building encyclopedia JSON file (empty: the panel's, else the shipped one)",
     )
     cell: FloatProperty(name="Grid Cell", default=0.0, min=0.0, unit='LENGTH', description="0: the panel's")
@@ -63,7 +63,7 @@ class WORLDPAINT_OT_generate_village(BackgroundOperator, VillageInputs, bpy.type
 
     preset: StringProperty(name="Preset", description="Scenario preset to grow (empty: the panel's scenario list)")
     scenario_path: StringProperty(
-        name="Scenario File", subtype='FILE_PATH',
+        name="Scenario File", subtype='FILE_PATH', options={'ANIMATABLE', 'PATH_SUPPORTS_BLEND_RELATIVE'},
         description="Growth scenario JSON file {\"events\": [...]} (empty: the panel's scenario list)",
     )
     seed: IntProperty(name="Seed", default=0, min=0, description="Random seed (unset: the panel's seed)")
