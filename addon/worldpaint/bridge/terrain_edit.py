@@ -45,21 +45,43 @@ def curve_paths(objects):
     return paths
 
 
+def road_paths(curves):
+    """The road polylines of curve objects, and what was left out of them and why."""
+    paths, left_out = [], []
+    for obj in curves:
+        found = curve_paths([obj])
+        short = len(obj.data.splines) - len(found)  # a spline of a single point is no road
+        if not obj.data.splines:
+            left_out.append(f"curve '{obj.name}' has no points")
+        elif short:
+            what = "a single point" if len(obj.data.splines) == 1 else f"{short} splines of a single point"
+            left_out.append(f"curve '{obj.name}' has {what}; a road needs at least two")
+        paths += found
+    return paths, left_out
+
+
 def roads_to_embed(context, collection):
-    """The road polylines: the collection's curves, else the selected curves, else the current village's roads."""
+    """(road polylines, what was left out and why): the collection's curves, else the selected curves, else the
+    current village's roads."""
     if collection is not None:
-        paths = curve_paths(collection.all_objects)
-        if not paths:
+        curves = [o for o in collection.all_objects if o.type == 'CURVE']
+        if not curves:
             raise WorldPaintError(f"The collection '{collection.name}' holds no curve to embed as a road")
-        return paths
+        paths, left_out = road_paths(curves)
+        if not paths:
+            raise WorldPaintError(f"No road to embed in the collection '{collection.name}': {'; '.join(left_out)}")
+        return paths, left_out
     selected = [o for o in context.selected_objects if o.type == 'CURVE']
     if selected:
-        return curve_paths(selected)
+        paths, left_out = road_paths(selected)
+        if not paths:
+            raise WorldPaintError(f"No road to embed: {'; '.join(left_out)}")
+        return paths, left_out
     current = village.current_village(context.scene)
     paths = curve_paths(o for o in village.collection_objects(current) if o.get(village.VILLAGE_TAG) == "roads")
     if not paths:
         raise WorldPaintError("No road to embed: pick a collection of road curves, select curves, or grow a village")
-    return paths
+    return paths, []
 
 
 @contextmanager

@@ -52,7 +52,7 @@ class WORLDPAINT_OT_embed_roads(TerrainProperty, bpy.types.Operator):
         settings = context.scene.worldpaint.terrain_edit
         obj = editable_terrain(context, self.terrain)
         collection = collection_named(self.roads, settings.roads, "roads")
-        roads = terrain_edit.roads_to_embed(context, collection)
+        roads, left_out = terrain_edit.roads_to_embed(context, collection)
         width = self.width if self.width > 0.0 else settings.width
         bank_width = self.bank_width if self.bank_width >= 0.0 else settings.bank_width
         standing = terrain_edit.Standing(context.scene)
@@ -72,6 +72,8 @@ class WORLDPAINT_OT_embed_roads(TerrainProperty, bpy.types.Operator):
         changed = dz[:len(vertices)]
         self.report({'INFO'}, f"Embedded {len(roads)} road(s) in '{obj.name}': cut {max(-changed.min(), 0.0):.2f} m, "
                               f"fill {max(changed.max(), 0.0):.2f} m (shape key '{terrain_edit.EMBED_ROADS_KEY}')")
+        if left_out:
+            self.report({'WARNING'}, f"Left out: {'; '.join(left_out)}")
         return {'FINISHED'}
 
 
