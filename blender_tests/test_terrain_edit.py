@@ -5,7 +5,7 @@ with the ground under them."""
 import bpy
 import numpy as np
 import pytest
-from scene_kit import evaluated_vertices, grid_terrain, poly_curve
+from scene_kit import evaluated_vertices, grid_terrain, poly_curve, select_only
 
 SIZE = 300.0
 CELL = 2.0
@@ -136,6 +136,24 @@ def test_no_road_is_reported_and_the_terrain_is_left_as_it_was():
     with pytest.raises(RuntimeError, match="No collection named"):
         bpy.ops.worldpaint.embed_roads(roads="Nowhere")
     assert terrain.data.shape_keys is None
+
+
+def test_a_curve_of_a_single_point_is_named_and_why_it_is_no_road(capfd):
+    terrain = slope_scene()
+    dot = road_curve("Dot", np.array([[150.0, ROAD_Y]]))
+    single = "curve 'Dot' has a single point; a road needs at least two"
+    with pytest.raises(RuntimeError, match=f"No road to embed in the collection 'Roads': {single}"):
+        bpy.ops.worldpaint.embed_roads(roads="Roads")
+    select_only([dot])
+    with pytest.raises(RuntimeError, match=f"No road to embed: {single}"):
+        bpy.ops.worldpaint.embed_roads()
+    assert terrain.data.shape_keys is None
+    # beside a real road it is left out, and said so
+    road_curve("Road", np.array([[20.0, ROAD_Y], [280.0, ROAD_Y]]))
+    capfd.readouterr()
+    assert bpy.ops.worldpaint.embed_roads(roads="Roads", width=WIDTH, bank_width=BANKS) == {'FINISHED'}
+    out = capfd.readouterr().out
+    assert "Embedded 1 road(s)" in out and f"Warning: Left out: {single}" in out
 
 
 def test_village_roads_are_embedded_and_the_houses_move_with_the_ground():

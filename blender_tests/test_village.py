@@ -285,6 +285,55 @@ def test_undo_removes_a_village_in_one_step_and_a_second_village_replaces_the_fi
     assert "Village" not in bpy.data.collections
 
 
+def data_counts():
+    return {kind: len(getattr(bpy.data, kind)) for kind in ("collections", "objects", "meshes", "curves", "materials",
+                                                             "node_groups")}
+
+
+def tiny_terrain():
+    """A 10 m plane as the terrain: too small for any building of the presets."""
+    bpy.ops.mesh.primitive_plane_add(size=10.0, location=(1000.0, 1000.0, 0.0))
+    plane = bpy.context.active_object
+    bpy.context.scene.worldpaint.terrain = plane
+    return plane
+
+
+def test_a_village_that_builds_nothing_leaves_nothing_behind_and_says_why(capfd):
+    tiny_terrain()
+    assert bpy.ops.worldpaint.load_village_preset(preset="farming_hamlet") == {'FINISHED'}
+    before, settings = data_counts(), bpy.context.scene.worldpaint.village
+    capfd.readouterr()
+    # a warning, not an error: the operator ends without a change
+    assert bpy.ops.worldpaint.generate_village() == {'CANCELLED'}
+    assert "Warning: Nothing could be built, the scene is unchanged: " in capfd.readouterr().out
+    assert data_counts() == before, "no collection, object, mesh, curve, material or node group left behind"
+    assert settings.collection is None and settings.report == ""
+
+
+def test_a_village_that_builds_nothing_keeps_the_current_village(grown):
+    open_grown(grown)
+    settings = bpy.context.scene.worldpaint.village
+    kept = [(o.name, tuple(o.matrix_world.translation)) for o in houses()]
+    report = settings.report
+    tiny_terrain()
+    before = data_counts()
+    assert bpy.ops.worldpaint.generate_village(whole_terrain=True) == {'CANCELLED'}
+    assert data_counts() == before
+    assert [(o.name, tuple(o.matrix_world.translation)) for o in houses()] == kept and settings.report == report
+
+
+def test_the_reasons_nothing_was_built_come_from_the_engine_report():
+    from worldpaint.bridge.engine import VillageReport
+    from worldpaint.bridge.village import nothing_built
+
+    report = VillageReport(requested=3, seeded=1, fallbacks=0, unplaced=["farm", "farm"], unreachable=0,
+                           without_access=1, without_footprint=0, roads_over_max_grade=0, cycles=0,
+                           seconds=[0.0, 0.0, 0.0], road_width=5.0, max_grade=0.1)
+    message = nothing_built(report)
+    assert message.startswith("Nothing could be built, the scene is unchanged")
+    assert "2 requested buildings unplaced (2 farm)" in message and "1 without road access" in message
+
+
 def test_bad_inputs_are_reported_and_change_nothing(tmp_path):
     hill_scene()
     settings = bpy.context.scene.worldpaint.village

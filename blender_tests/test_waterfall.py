@@ -322,6 +322,37 @@ def test_no_controller_is_reported_and_nothing_changes():
     assert terrain.data.shape_keys is None and not water_objects()
 
 
+def small_stream():
+    """A 1 m stream on the plateau: a little water, no room for a river rock."""
+    points = np.array([[20.0, 100.0], [21.0, 100.0]])
+    return curve("Brook", np.column_stack([points, cliff_height(points[:, 0], points[:, 1])]), 'CONTACT')
+
+
+def test_a_waterfall_without_rocks_leaves_no_empty_rock_cloud_prototype_or_material():
+    x, y = np.meshgrid(CELL * np.arange(NX), CELL * np.arange(NY))
+    grid_terrain("Terrain", (0.0, 0.0), CELL, cliff_height(x, y))
+    bpy.context.scene.worldpaint.terrain = bpy.data.objects["Terrain"]
+    small_stream()
+    assert bpy.ops.worldpaint.build_waterfall(seed=1) == {'FINISHED'}
+    assert len(water_objects()) == 1
+    assert not any(o.get("wp_points") == "River rock" for o in bpy.data.objects)
+    assert "River rock" not in bpy.data.meshes and "WP_proto_River rock" not in bpy.data.collections
+    assert "WorldPaint Rock" not in bpy.data.materials and not bpy.data.node_groups
+
+
+def test_a_waterfall_without_rocks_replaces_the_rocks_of_the_one_before():
+    cliff_scene()
+    assert bpy.ops.worldpaint.build_waterfall(seed=1) == {'FINISHED'}
+    assert len(rock_cloud().data.vertices) > 0
+    for obj in bpy.data.objects:
+        if obj.type == 'CURVE':
+            obj.worldpaint_waterfall.kind = 'NONE'
+    small_stream()
+    assert bpy.ops.worldpaint.build_waterfall(seed=1) == {'FINISHED'}
+    assert len(water_objects()) == 1
+    assert not any(o.get("wp_points") == "River rock" for o in bpy.data.objects)
+
+
 def test_controller_roles_survive_save_and_reload(tmp_path):
     cliff_scene()
     bpy.data.objects["Pool"].worldpaint_waterfall.strength = 3.0

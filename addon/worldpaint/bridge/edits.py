@@ -31,6 +31,8 @@ def added_by_category(edit):
     out = {}
     for index in np.unique(edit.category_index):
         mask = (edit.category_index == index) & on_terrain
+        if not mask.any():
+            continue  # every one off the terrain: no empty cloud for it
         co = np.column_stack([edit.positions[mask], edit.heights[mask]])
         out[edit.category_names[index]] = (co, edit.rotations[mask], edit.scales[mask], edit.prototype[mask])
     return out

@@ -7,9 +7,10 @@ Synthesized points live in point-cloud objects tagged with ``wp_points`` = categ
 
 from dataclasses import dataclass, field
 
+import bpy
 import numpy as np
 
-from . import geometry
+from . import WorldPaintError, geometry
 
 POINTS_TAG = "wp_points"
 PROTOTYPE_TAG = "wp_prototype"
@@ -29,6 +30,61 @@ def category_of(obj):
     if obj.type == 'MESH' and obj.data is not None:
         return obj.data.name
     return None
+
+
+def category_source(obj):
+    """The data block an object's category name is derived from (its instanced collection, else its mesh or curve
+    data), or None when its ``wp_category`` property names the category explicitly."""
+    value = obj.get("wp_category")
+    if isinstance(value, str) and value:
+        return None
+    if obj.instance_type == 'COLLECTION' and obj.instance_collection is not None:
+        return obj.instance_collection
+    return obj.data
+
+
+KIND_WORDS = {"distribution": "objects", "graph": "open curves", "polygon": "closed curves"}
+
+
+def check_example_categories(examples, drawn):
+    """A clear error when one category name of the example stands for different things: two data blocks of the same
+    name (a mesh and a collection, or a local and a linked collection), which the tools would learn as one and
+    instance as either; or both objects and curves, or open and closed curves. A mesh held by a collection of the
+    same category is that collection (the original of its instances); a ``wp_category`` property merges on purpose.
+    ``examples`` are (object, category) pairs, ``drawn`` (object, category, closed) triples."""
+    kinds, sources = {}, {}
+    entries = [(obj, category, "distribution") for obj, category in examples]
+    entries += [(obj, category, "polygon" if closed else "graph") for obj, category, closed in drawn]
+    for obj, category, kind in entries:
+        kinds.setdefault(category, {}).setdefault(kind, obj.name)
+        source = category_source(obj)
+        if source is not None:
+            sources.setdefault(category, {}).setdefault(source, obj.name)
+    for category, found in sources.items():
+        collections = [s for s in found if isinstance(s, bpy.types.Collection)]
+        distinct = [s for s in found if not any(held_by(s, c) for c in collections)]
+        if len(distinct) > 1:
+            (a, a_obj), (b, b_obj) = ((s, found[s]) for s in distinct[:2])
+            raise WorldPaintError(
+                f"Two different things are both category '{category}' in the example: {describe(a)} (used by "
+                f"'{a_obj}') and {describe(b)} (used by '{b_obj}'); rename one, or give the objects a 'wp_category' "
+                "property naming their category")
+    for category, found in kinds.items():
+        if len(found) > 1:
+            (a, a_obj), (b, b_obj) = list(found.items())[:2]
+            raise WorldPaintError(f"The category '{category}' is both {KIND_WORDS[a]} ('{a_obj}') and "
+                                  f"{KIND_WORDS[b]} ('{b_obj}') in the example: give them different names")
+
+
+def held_by(data, collection):
+    """Whether an object of ``collection`` uses the mesh or curve ``data``."""
+    return not isinstance(data, bpy.types.Collection) and any(o.data == data for o in collection.all_objects)
+
+
+def describe(data):
+    """A data block as the user knows it: its kind and full name (a linked one names its library)."""
+    kind = {bpy.types.Collection: "collection", bpy.types.Mesh: "mesh"}.get(type(data), "curve")
+    return f"{kind} '{data.name_full}'"
 
 
 def is_worldpaint_object(obj):

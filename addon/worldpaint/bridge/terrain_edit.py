@@ -15,7 +15,15 @@ import numpy as np
 
 from . import WorldPaintError, compat, geometry, village
 from .instances import point_cloud_arrays, point_cloud_objects
-from .points import point_cloud_object, prototype_collection, set_instancer, worldpaint_collection, write_points
+from .points import (
+    COLLECTION_NAME,
+    point_cloud_object,
+    prototype_collection,
+    remove_object,
+    set_instancer,
+    worldpaint_collection,
+    write_points,
+)
 
 EMBED_ROADS_KEY = "WorldPaint Embed Roads"
 WATERFALL_KEY = "WorldPaint Waterfall"
@@ -37,21 +45,43 @@ def curve_paths(objects):
     return paths
 
 
+def road_paths(curves):
+    """The road polylines of curve objects, and what was left out of them and why."""
+    paths, left_out = [], []
+    for obj in curves:
+        found = curve_paths([obj])
+        short = len(obj.data.splines) - len(found)  # a spline of a single point is no road
+        if not obj.data.splines:
+            left_out.append(f"curve '{obj.name}' has no points")
+        elif short:
+            what = "a single point" if len(obj.data.splines) == 1 else f"{short} splines of a single point"
+            left_out.append(f"curve '{obj.name}' has {what}; a road needs at least two")
+        paths += found
+    return paths, left_out
+
+
 def roads_to_embed(context, collection):
-    """The road polylines: the collection's curves, else the selected curves, else the current village's roads."""
+    """(road polylines, what was left out and why): the collection's curves, else the selected curves, else the
+    current village's roads."""
     if collection is not None:
-        paths = curve_paths(collection.all_objects)
-        if not paths:
+        curves = [o for o in collection.all_objects if o.type == 'CURVE']
+        if not curves:
             raise WorldPaintError(f"The collection '{collection.name}' holds no curve to embed as a road")
-        return paths
+        paths, left_out = road_paths(curves)
+        if not paths:
+            raise WorldPaintError(f"No road to embed in the collection '{collection.name}': {'; '.join(left_out)}")
+        return paths, left_out
     selected = [o for o in context.selected_objects if o.type == 'CURVE']
     if selected:
-        return curve_paths(selected)
+        paths, left_out = road_paths(selected)
+        if not paths:
+            raise WorldPaintError(f"No road to embed: {'; '.join(left_out)}")
+        return paths, left_out
     current = village.current_village(context.scene)
     paths = curve_paths(o for o in village.collection_objects(current) if o.get(village.VILLAGE_TAG) == "roads")
     if not paths:
         raise WorldPaintError("No road to embed: pick a collection of road curves, select curves, or grow a village")
-    return paths
+    return paths, []
 
 
 @contextmanager
@@ -80,6 +110,11 @@ def local_offsets(obj, offsets):
     if offsets.ndim == 1:
         offsets = np.column_stack([np.zeros_like(offsets), np.zeros_like(offsets), offsets])
     return geometry.to_local(obj, offsets)
+
+
+def has_shape_key(obj, name):
+    keys = obj.data.shape_keys
+    return keys is not None and keys.key_blocks.get(name) is not None
 
 
 def write_shape_key(obj, name, offsets):
@@ -191,8 +226,11 @@ def waterfall_controllers(context, collection):
     return controllers
 
 
-def water_collection(scene):
-    """The "Water" collection under "WorldPaint", made when absent."""
+def water_collection(scene, create=True):
+    """The "Water" collection under "WorldPaint", made when absent (else None without ``create``)."""
+    if not create:
+        parent = bpy.data.collections.get(COLLECTION_NAME)
+        return parent.children.get(WATER_COLLECTION) if parent is not None else None
     parent = worldpaint_collection(scene)
     collection = parent.children.get(WATER_COLLECTION)
     if collection is None:
@@ -231,10 +269,13 @@ def water_material():
 
 def build_water(scene, water):
     """The water mesh of the engine's integration mesh (an ``engine.WaterMesh``), with its point attributes, replacing
-    an earlier one."""
-    collection = water_collection(scene)
-    for obj in [o for o in collection.objects if o.get(WATER_TAG)]:
+    an earlier one; None when there is no water (no empty mesh is left behind)."""
+    earlier = water_collection(scene, create=False)
+    for obj in [o for o in earlier.objects if o.get(WATER_TAG)] if earlier is not None else []:
         village.remove_with_data(obj)
+    if len(water.triangles) == 0:
+        return None
+    collection = water_collection(scene)
     vertices = np.asarray(water.vertices, dtype=np.float64)
     triangles = np.asarray(water.triangles, dtype=np.int32)
     mesh = bpy.data.meshes.new("Water")
@@ -286,7 +327,13 @@ def rock_color_json(scene, name):
 
 def build_rocks(scene, waterfall, terrain_obj):
     """The waterfall's rocks as the "River rock" point cloud (positions, rotations, scales and prototypes as
-    synthesized), snapped onto the terrain, replacing the ones made before."""
+    synthesized), snapped onto the terrain, replacing the ones made before; None when there are no rocks (no empty
+    cloud, prototype or material is left behind)."""
+    if len(waterfall.rocks) == 0:
+        earlier = point_cloud_objects(scene).get(ROCK_CATEGORY)
+        if earlier is not None:
+            remove_object(earlier)
+        return None
     obj = point_cloud_object(scene, ROCK_CATEGORY)
     write_points(obj, waterfall.rocks, waterfall.rock_rotation, waterfall.rock_scale, waterfall.rock_prototype)
     set_instancer(obj, collection=rock_prototypes(), terrain=terrain_obj)

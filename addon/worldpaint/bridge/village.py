@@ -27,7 +27,7 @@ from dataclasses import dataclass, field
 import bpy
 import numpy as np
 
-from . import WorldPaintError, compat, curves, engine, geometry, regions
+from . import WorldPaintError, compat, curves, engine, files, geometry, regions
 from .points import worldpaint_collection
 
 COLLECTION_NAME = "Village"
@@ -62,8 +62,9 @@ PRESET_LABELS = {
 # --- the encyclopedia and the growth scenario ---------------------------------------------------------------------
 
 def read_text(path, what):
+    absolute = files.absolute_path(path, f"{what} file")
     try:
-        with open(bpy.path.abspath(path), encoding="utf-8") as f:
+        with open(absolute, encoding="utf-8") as f:
             return f.read()
     except (OSError, UnicodeDecodeError) as exc:
         raise WorldPaintError(f"Cannot read the {what} file '{path}': {exc}") from exc
@@ -88,8 +89,9 @@ def known_types(path=""):
     """(village types, building types) of an encyclopedia file for the panel's menus, read again only when the
     file changes; the shipped encyclopedia's when the file is not usable."""
     try:
-        key = (bpy.path.abspath(path), os.path.getmtime(bpy.path.abspath(path))) if path else ("", 0.0)
-    except OSError:
+        absolute = files.absolute_path(path, "encyclopedia file") if path else ""
+        key = (absolute, os.path.getmtime(absolute)) if absolute else ("", 0.0)
+    except (OSError, WorldPaintError):
         key = ("", 0.0)
     if key not in _known_types:
         try:
@@ -362,7 +364,8 @@ def build_village(scene, result, terrain_obj, heightfield, parcels_as_curves):
             lines.append(engine.Polyline(xy, heightfield.heights_at(xy) + PARCEL_LIFT))
         curves.write_lines(built.parcels, curves.lines_with_heights(lines), cyclic=True)
 
-    materials = [shared_material(name, rgba) for name, rgba in HOUSE_MATERIALS]
+    # the house materials are made with the first house, so a village of roads only adds none
+    materials = [shared_material(name, rgba) for name, rgba in HOUSE_MATERIALS] if result.houses else []
     for house in result.houses:
         k = house.seed
         built.houses.append(house_object(collection, house, result.footprints[k], result.seed_buildings[k],
@@ -372,10 +375,14 @@ def build_village(scene, result, terrain_obj, heightfield, parcels_as_curves):
     return built
 
 
-def summary(built, report):
-    """(info, warnings) of a generation (its ``engine.VillageReport``), as the panel and the status bar show them."""
-    roads = len(built.roads.data.splines) if built.roads is not None else 0
-    parts = [f"{len(built.houses)} houses, {roads} roads ({report.cycles} cycles)"]
+def builds_nothing(result, parcels_as_curves):
+    """Whether the engine's village holds nothing to build: no house, no road, no parcel outline to draw."""
+    return not (result.houses or result.roads or (parcels_as_curves and result.parcels))
+
+
+def shortfalls(report):
+    """What the engine's report says of the requested buildings that were not built."""
+    parts = []
     unplaced = Counter(report.unplaced)
     if unplaced:
         kinds = ", ".join(f"{n} {name}" for name, n in sorted(unplaced.items()))
@@ -385,6 +392,20 @@ def summary(built, report):
         parts.append(f"{dropped} seeds dropped ({report.unreachable} out of the roads' reach, "
                      f"{report.without_access} without road access, {report.without_footprint} with a parcel "
                      "too small)")
+    return parts
+
+
+def nothing_built(report):
+    """The warning of a generation that built nothing, with the reasons its ``engine.VillageReport`` gives."""
+    why = "; ".join(shortfalls(report)) or "no building of the scenario found a place in the region"
+    return (f"Nothing could be built, the scene is unchanged: {why}. Try a larger or flatter region, another seed "
+            "or another scenario")
+
+
+def summary(built, report):
+    """(info, warnings) of a generation (its ``engine.VillageReport``), as the panel and the status bar show them."""
+    roads = len(built.roads.data.splines) if built.roads is not None else 0
+    parts = [f"{len(built.houses)} houses, {roads} roads ({report.cycles} cycles)"] + shortfalls(report)
     warnings = []
     if report.roads_over_max_grade:
         warnings.append(f"{report.roads_over_max_grade} roads had to be steeper than the maximum grade of "

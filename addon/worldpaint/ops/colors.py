@@ -25,6 +25,21 @@ def unique_name(collection, stem):
     return f"{stem} {i}"
 
 
+def numbered_name(collection, name):
+    """``name`` when free, else the first free ``name.001``, ``name.002``, ... as Blender numbers a data block whose
+    name is taken (a name already numbered counts on from its base)."""
+    taken = {item.name for item in collection}
+    if name not in taken:
+        return name
+    base, dot, number = name.rpartition(".")
+    if not (dot and base and number.isdigit()):
+        base = name
+    i = 1
+    while f"{base}.{i:03d}" in taken:
+        i += 1
+    return f"{base}.{i:03d}"
+
+
 def add_palette_color(settings, name, color_json):
     """Adds a color (JSON) to the palette under ``name`` with its preview, makes it active, and adds the categories
     it knows to the scene's list; returns the entry."""

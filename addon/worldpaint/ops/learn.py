@@ -61,6 +61,8 @@ class WORLDPAINT_OT_learn_color(RegionProperties, TerrainProperty, bpy.types.Ope
                 "Nothing to learn: select the example objects (collection instances, linked duplicates or "
                 "objects with a 'wp_category' property) and curves (roads, rivers; closed: islands, lakes)"
             )
+        # merged silently, two things of one name would be learned as one and pasted as either
+        instances.check_example_categories(examples, drawn)
         # the region is around the example objects; curves (which usually run on beyond it) only when alone
         region = regions.region_for(
             context,
@@ -78,7 +80,8 @@ class WORLDPAINT_OT_learn_color(RegionProperties, TerrainProperty, bpy.types.Ope
         structures = curves.StructureSet(categories=categories)
         for obj, category, _ in drawn:
             structures.add(obj, category, locked=True)
-        name = self.name or unique_name(settings.palette, "Color")
+        # a typed name the palette has is numbered, as the Pipette and Interpolate Colors do
+        name = unique_name(settings.palette, self.name or "Color")
         maps = ["slope", "elevation"] if self.use_elevation else ["slope"]
         scene_data = engine.scene(heightfield, exemplar.engine_arrays(), structures.engine_arrays())
         color_json = engine.learn_color(scene_data, region, name, maps, self.oriented_pairs(categories))

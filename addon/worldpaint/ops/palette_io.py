@@ -1,11 +1,13 @@
 """Export and import the palette as a versioned JSON file."""
 
+import os
+
 import bpy
 from bpy.props import BoolProperty, StringProperty
 from bpy_extras.io_utils import ExportHelper, ImportHelper
 
-from ..bridge import WorldPaintError, engine, preview
-from .colors import add_palette_color
+from ..bridge import WorldPaintError, engine, files, preview
+from .colors import add_palette_color, numbered_name
 from .common import reports_errors
 
 
@@ -18,6 +20,9 @@ class WORLDPAINT_OT_export_palette(bpy.types.Operator, ExportHelper):
 
     filename_ext = ".json"
     filter_glob: StringProperty(default="*.json", options={'HIDDEN'})
+    # ExportHelper's path, said to take "//" paths: execute resolves them (see ``files``)
+    filepath: StringProperty(name="File Path", description="Filepath used for exporting the file", maxlen=1024,
+                             subtype='FILE_PATH', options={'ANIMATABLE', 'PATH_SUPPORTS_BLEND_RELATIVE'})
 
     @reports_errors
     def execute(self, context):
@@ -26,14 +31,20 @@ class WORLDPAINT_OT_export_palette(bpy.types.Operator, ExportHelper):
             raise WorldPaintError("The palette is empty: nothing to export")
         if not self.filepath:
             raise WorldPaintError("No file path given")
+        path = files.absolute_path(self.filepath, "palette file")
+        if not os.path.basename(path):
+            raise WorldPaintError(f"No file name in the path '{self.filepath}'")
+        if self.check_extension:
+            # as Blender's exporters do: a path given without the extension (from a script too) gets it
+            path = bpy.path.ensure_ext(path, self.filename_ext)
         # the palette's names win: a color renamed in the list is exported under its new name
         text = engine.palette_to_json([engine.color_renamed(entry.json, entry.name) for entry in palette])
         try:
-            with open(bpy.path.abspath(self.filepath), "w", encoding="utf-8") as f:
+            with open(path, "w", encoding="utf-8") as f:
                 f.write(text)
         except OSError as exc:
             raise WorldPaintError(f"Cannot write the palette file: {exc}") from exc
-        self.report({'INFO'}, f"Exported {len(palette)} colors to {self.filepath}")
+        self.report({'INFO'}, f"Exported {len(palette)} colors to {path}")
         return {'FINISHED'}
 
 
@@ -46,11 +57,14 @@ class WORLDPAINT_OT_import_palette(bpy.types.Operator, ImportHelper):
 
     filename_ext = ".json"
     filter_glob: StringProperty(default="*.json", options={'HIDDEN'})
+    # ImportHelper's path, said to take "//" paths: execute resolves them (see ``files``)
+    filepath: StringProperty(name="File Path", description="Filepath used for importing the file", maxlen=1024,
+                             subtype='FILE_PATH', options={'SKIP_PRESET', 'HIDDEN', 'PATH_SUPPORTS_BLEND_RELATIVE'})
     replace: BoolProperty(name="Replace", default=False, description="Replace the palette instead of adding to it")
 
     @reports_errors
     def execute(self, context):
-        path = bpy.path.abspath(self.filepath)
+        path = files.absolute_path(self.filepath, "palette file")
         try:
             with open(path, encoding="utf-8") as f:
                 text = f.read()
@@ -67,7 +81,14 @@ class WORLDPAINT_OT_import_palette(bpy.types.Operator, ImportHelper):
             for entry in settings.palette:
                 preview.remove_preview(entry.preview_image)
             settings.palette.clear()
+        renamed = []
         for color_json, summary in zip(colors, summaries, strict=True):
-            add_palette_color(settings, summary.name, color_json)
-        self.report({'INFO'}, f"Imported {len(colors)} colors")
+            # colors are found by name: one the palette (or the file) already has is numbered, as Blender does
+            name = numbered_name(settings.palette, summary.name)
+            if name != summary.name:
+                color_json = engine.color_renamed(color_json, name)
+                renamed.append(f"'{summary.name}' as '{name}'")
+            add_palette_color(settings, name, color_json)
+        taken = f"; the palette had their names, so it imported {', '.join(renamed)}" if renamed else ""
+        self.report({'INFO'}, f"Imported {len(colors)} colors{taken}")
         return {'FINISHED'}

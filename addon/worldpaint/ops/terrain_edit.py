@@ -12,6 +12,8 @@ from ..bridge import WorldPaintError, engine, terrain, terrain_edit
 from .background import BackgroundOperator
 from .common import TerrainProperty, reports_errors
 
+UNMOVED = 1e-6  # metres: a terrain change below this is no change
+
 
 def editable_terrain(context, name):
     """The terrain object, out of Edit Mode (its mesh is read and given a shape key)."""
@@ -50,7 +52,7 @@ class WORLDPAINT_OT_embed_roads(TerrainProperty, bpy.types.Operator):
         settings = context.scene.worldpaint.terrain_edit
         obj = editable_terrain(context, self.terrain)
         collection = collection_named(self.roads, settings.roads, "roads")
-        roads = terrain_edit.roads_to_embed(context, collection)
+        roads, left_out = terrain_edit.roads_to_embed(context, collection)
         width = self.width if self.width > 0.0 else settings.width
         bank_width = self.bank_width if self.bank_width >= 0.0 else settings.bank_width
         standing = terrain_edit.Standing(context.scene)
@@ -70,6 +72,8 @@ class WORLDPAINT_OT_embed_roads(TerrainProperty, bpy.types.Operator):
         changed = dz[:len(vertices)]
         self.report({'INFO'}, f"Embedded {len(roads)} road(s) in '{obj.name}': cut {max(-changed.min(), 0.0):.2f} m, "
                               f"fill {max(changed.max(), 0.0):.2f} m (shape key '{terrain_edit.EMBED_ROADS_KEY}')")
+        if left_out:
+            self.report({'WARNING'}, f"Left out: {'; '.join(left_out)}")
         return {'FINISHED'}
 
 
@@ -119,8 +123,16 @@ class WORLDPAINT_OT_build_waterfall(BackgroundOperator, TerrainProperty, bpy.typ
     def _apply(self, context, waterfall):
         n = len(self._vertices)
         offsets = np.column_stack([waterfall.horizontal[:n], waterfall.displacement[:n]])
-        terrain_edit.write_shape_key(self._terrain_obj, terrain_edit.WATERFALL_KEY, offsets)
-        self._standing.reseat(waterfall.displacement[n:], "waterfall")
+        moved = max(np.abs(offsets).max(initial=0.0), np.abs(waterfall.displacement).max(initial=0.0)) > UNMOVED
+        if not (moved or len(waterfall.water.triangles) or len(waterfall.rocks)):
+            self.report({'WARNING'}, f"The waterfall built nothing, the scene is unchanged: its "
+                                     f"{len(waterfall.segments)} segments on {waterfall.arcs} arcs hold no water, "
+                                     "no rock and no change to the terrain; check the controller curves")
+            return {'CANCELLED'}
+        # a terrain the waterfall leaves as it is gets no shape key, unless one of an earlier run must be replaced
+        if moved or terrain_edit.has_shape_key(self._terrain_obj, terrain_edit.WATERFALL_KEY):
+            terrain_edit.write_shape_key(self._terrain_obj, terrain_edit.WATERFALL_KEY, offsets)
+            self._standing.reseat(waterfall.displacement[n:], "waterfall")
         dry = self._standing.keep_dry(waterfall.is_water[n:]) if self._keep_dry else 0
         terrain_edit.build_water(context.scene, waterfall.water)
         terrain_edit.build_rocks(context.scene, waterfall, self._terrain_obj)

@@ -3,7 +3,8 @@ Interest paints where a building type would like to stand, and the scenario list
 add, remove and reorder events).
 
 Generate Village runs the engine on a worker thread with a progress bar and Esc to cancel (see ``background``); it
-replaces the current village's objects (see ``bridge.village``), and is one undo step.
+replaces the current village's objects (see ``bridge.village``), and is one undo step; a generation that builds
+nothing changes nothing and says why.
 """
 
 import bpy
@@ -25,7 +26,7 @@ class VillageInputs(TerrainProperty):
         name="Whole Terrain", default=False, description="Use the whole terrain, whatever the panel's region"
     )
     encyclopedia_path: StringProperty(
-        name="Encyclopedia", subtype='FILE_PATH',
+        name="Encyclopedia", subtype='FILE_PATH', options={'ANIMATABLE', 'PATH_SUPPORTS_BLEND_RELATIVE'},
         description="Building encyclopedia JSON file (empty: the panel's, else the shipped one)",
     )
     cell: FloatProperty(name="Grid Cell", default=0.0, min=0.0, unit='LENGTH', description="0: the panel's")
@@ -62,7 +63,7 @@ class WORLDPAINT_OT_generate_village(BackgroundOperator, VillageInputs, bpy.type
 
     preset: StringProperty(name="Preset", description="Scenario preset to grow (empty: the panel's scenario list)")
     scenario_path: StringProperty(
-        name="Scenario File", subtype='FILE_PATH',
+        name="Scenario File", subtype='FILE_PATH', options={'ANIMATABLE', 'PATH_SUPPORTS_BLEND_RELATIVE'},
         description="Growth scenario JSON file {\"events\": [...]} (empty: the panel's scenario list)",
     )
     seed: IntProperty(name="Seed", default=0, min=0, description="Random seed (unset: the panel's seed)")
@@ -97,6 +98,11 @@ class WORLDPAINT_OT_generate_village(BackgroundOperator, VillageInputs, bpy.type
         return engine.generate_village(*self._arguments, progress=progress, **self._call)
 
     def _apply(self, context, result):
+        if village.builds_nothing(result, self._parcels_as_curves):
+            # an empty village would leave an empty collection and unused materials behind, and replace the
+            # current village by nothing
+            self.report({'WARNING'}, village.nothing_built(result.report))
+            return {'CANCELLED'}
         built = village.build_village(context.scene, result, self._terrain_obj, self._heightfield,
                                       self._parcels_as_curves)
         info, warnings = village.summary(built, result.report)

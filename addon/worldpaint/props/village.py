@@ -80,8 +80,9 @@ class WORLDPAINT_PG_village(bpy.types.PropertyGroup):
     )
     events: CollectionProperty(type=WORLDPAINT_PG_village_event)
     active_event_index: IntProperty(name="Active Event", default=0)
+    # a "//" path is the saved .blend file's folder (see ``bridge.files``)
     encyclopedia_path: StringProperty(
-        name="Encyclopedia", subtype='FILE_PATH',
+        name="Encyclopedia", subtype='FILE_PATH', options={'ANIMATABLE', 'PATH_SUPPORTS_BLEND_RELATIVE'},
         description="Building encyclopedia JSON file (empty: the one shipped with WorldPaint)",
     )
     seed: IntProperty(name="Seed", default=0, min=0, description="Random seed of the village")
