@@ -154,13 +154,15 @@ class Edit:
 
 @dataclass(frozen=True)
 class Moved:
-    """A moved region: the edit, and how many instances moved, adapted in place, were replaced or found no place."""
+    """A moved region: the edit, and how many instances moved, adapted in place, were replaced, found no place or
+    stayed where they were because the move would have put them off the terrain."""
 
     edit: Edit
     moved: int
     displaced: int
     reborn: int
     lost: int
+    stayed: int
 
 
 @dataclass(frozen=True)
@@ -442,7 +444,8 @@ def stretch_region(scene_handle, region, side, amount, color, seed, influence_ra
 def move_region(scene_handle, color, source, offset, seed, influence_radius):
     d = _engine().move_region(scene_handle, color=color, source=source, offset=(float(offset[0]), float(offset[1])),
                               seed=seed, influence_radius=influence_radius)
-    return Moved(Edit.of(d), int(d["moved"]), int(d["displaced"]), int(d["reborn"]), int(d["lost"]))
+    return Moved(Edit.of(d), int(d["moved"]), int(d["displaced"]), int(d["reborn"]), int(d["lost"]),
+                 int(d["stayed"]))
 
 
 def paint_stroke(scene_handle, color, radius, spacing, opacity, falloff, seed, influence_radius):

@@ -61,6 +61,9 @@ class WORLDPAINT_OT_move_region(RegionSynthesisProperties, bpy.types.Operator):
                               f"{moved.reborn} replaced")
         if moved.lost:
             self.report({'WARNING'}, f"{moved.lost} instances found no place their statistics allow")
+        if moved.stayed:
+            self.report({'WARNING'}, f"{moved.stayed} instances stayed where they were: the move would put them "
+                                     "off the terrain")
         report_missing(self, applied)
         return {'FINISHED'}
 

@@ -241,6 +241,11 @@ pub mod check {
         }
     }
 
+    /// At most `limit` items (a list read from a file, whose length is work the engine would do).
+    pub fn at_most_items(what: &str, found: usize, limit: usize) -> Result<()> {
+        crate::limits::check(what, found as f64, limit as u64, "items")
+    }
+
     /// `found` items where `expected` are needed.
     pub fn same_len(what: &str, found: usize, expected: usize) -> Result<()> {
         if found == expected {

@@ -15,6 +15,7 @@
 //! same crossing-and-midpoint rule gives its `α` exactly; its area is integrated on a fine lattice.
 
 use crate::error::{Error, Result};
+use crate::limits;
 pub use glam::DVec2;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::TAU;
@@ -251,6 +252,24 @@ pub fn douglas_peucker(
 impl Region {
     /// Rejects regions with zero area, non-finite coordinates or fewer than three polygon points.
     pub fn validate(&self) -> Result<()> {
+        let vertices = self.validate_nested(0)?;
+        limits::check(
+            "the region",
+            vertices as f64,
+            limits::MAX_REGION_VERTICES,
+            "vertices",
+        )
+    }
+
+    /// [`Region::validate`] of a part nested `depth` deep; returns its vertex count.
+    fn validate_nested(&self, depth: u64) -> Result<usize> {
+        limits::check(
+            "the region's nesting",
+            depth as f64,
+            limits::MAX_REGION_DEPTH,
+            "levels",
+        )?;
+        let mut vertices = 0;
         match self {
             Region::Rect { min, max } => {
                 if !finite(*min) || !finite(*max) {
@@ -282,13 +301,14 @@ impl Region {
                 if polygon_signed_area(points).abs() <= 0.0 {
                     return Err(Error::bad_region("polygon has zero area"));
                 }
+                vertices = points.len();
             }
             Region::Clipped { within, without } => {
                 if within.is_empty() {
                     return Err(Error::bad_region("clipped region has nothing within"));
                 }
                 for r in within.iter().chain(without) {
-                    r.validate()?;
+                    vertices += r.validate_nested(depth + 1)?;
                 }
                 let (lo, hi) = self.bbox();
                 if !(hi.x > lo.x && hi.y > lo.y) {
@@ -296,7 +316,7 @@ impl Region {
                 }
             }
         }
-        Ok(())
+        Ok(vertices)
     }
 
     /// The same region moved by `offset`.

@@ -57,7 +57,12 @@ impl Grid {
         };
         let max_cells = MAX_BUCKETS as f64;
         if (ext.x / cell + 1.0) * (ext.y / cell + 1.0) > max_cells {
-            cell = (ext.x * ext.y / max_cells).sqrt().max(cell);
+            // the smallest cell with (a/c + 1)(b/c + 1) <= max: the positive root in 1/c, in a form that stays
+            // exact for a sliver (b near 0), where the square root of the area alone would give billions of cells
+            let (a, b) = (ext.x, ext.y);
+            let inverse = 2.0 * (max_cells - 1.0)
+                / ((a + b) + ((a + b) * (a + b) + 4.0 * a * b * (max_cells - 1.0)).sqrt());
+            cell = (1.0 / inverse).max(cell);
         }
         Grid {
             origin: min,

@@ -12,6 +12,11 @@ pub const MAX_INSTANCES: u64 = 50_000_000;
 pub const MAX_GRID_CELLS: u64 = 64 * 1024 * 1024;
 /// Bins of one histogram (an rdf, a map histogram): its extent over its bin width.
 pub const MAX_HISTOGRAM_BINS: u64 = 4_096;
+/// Largest bin value of a color's histogram: rdf values are ratios to a Poisson arrangement (a few hundred for
+/// the most clustered content), map histograms and weights are masses (at most 1).
+pub const MAX_HISTOGRAM_VALUE: f64 = 1e6;
+/// Largest density of a category, per m² (one instance per cm²).
+pub const MAX_DENSITY: f64 = 1e4;
 /// Vertices of one region's polygons, all nested parts together.
 pub const MAX_REGION_VERTICES: u64 = 1_000_000;
 /// Nesting depth of a region (clipped inside clipped ...).

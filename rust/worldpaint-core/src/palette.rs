@@ -7,8 +7,9 @@
 //! [`Error::UnsupportedVersion`], anything unreadable or invalid [`Error::Parse`]; reading never panics. Non-finite numbers
 //! (an unbounded `min_distance`) are written as `null` and read back as `+∞`.
 
-use crate::error::{Error, FileKind, Result};
+use crate::error::{check, Error, FileKind, Result};
 use crate::geom::Region;
+use crate::limits;
 use crate::scene::Category;
 use serde::{Deserialize, Serialize};
 
@@ -387,93 +388,159 @@ impl Color {
         out
     }
 
-    /// Checks what synthesis relies on (as read from a file it may be anything): positive finite radii,
-    /// histogram shapes, known category names.
+    /// Checks what synthesis relies on (as read from a file it may be anything): the engine's limits on histogram
+    /// bins, densities and regions ([`crate::limits`]), positive finite radii, finite bounded histogram values,
+    /// unique and known category names. Errors name the field's path in the color.
     pub fn validate(&self) -> Result<()> {
         self.validate_scales()?;
         self.validate_categories()?;
         self.validate_pairs()?;
         self.validate_maps()?;
         self.validate_graphs()?;
-        self.validate_polygons()
+        self.validate_polygons()?;
+        check::at_most_items(
+            "preview",
+            self.preview.len(),
+            limits::MAX_INSTANCES as usize,
+        )?;
+        if self.preview.iter().flatten().any(|v| !v.is_finite()) {
+            return self.invalid("preview", "has non-finite values".into());
+        }
+        Ok(())
     }
 
-    /// A validation error naming the color.
-    fn invalid<T>(&self, m: String) -> Result<T> {
-        Err(Error::invalid(format!("color '{}'", self.name), m))
+    /// The path of a field of this color in error messages.
+    fn at(&self, path: &str) -> String {
+        format!("color '{}' {path}", self.name)
     }
 
-    /// A histogram has valid bins (or no values) and finite, non-negative values.
-    fn check_hist(&self, h: &Histogram, what: &str) -> Result<()> {
-        if !(h.bin_width.is_finite() && h.bin_width > 0.0 && h.start.is_finite())
-            && !h.values.is_empty()
+    /// A validation error naming the color and the field.
+    fn invalid<T>(&self, path: &str, reason: String) -> Result<T> {
+        Err(Error::invalid(self.at(path), reason))
+    }
+
+    /// A histogram has at most [`limits::MAX_HISTOGRAM_BINS`] valid bins (or no values) and finite values from 0
+    /// to [`limits::MAX_HISTOGRAM_VALUE`].
+    fn check_hist(&self, h: &Histogram, path: &str) -> Result<()> {
+        check::at_most_items(
+            &self.at(path),
+            h.values.len(),
+            limits::MAX_HISTOGRAM_BINS as usize,
+        )?;
+        if !h.values.is_empty() {
+            check::positive(&self.at(&format!("{path}.bin_width")), h.bin_width)?;
+            check::finite(&self.at(&format!("{path}.start")), h.start)?;
+        }
+        self.check_values(&h.values, path)
+    }
+
+    /// Histogram values are finite, from 0 to [`limits::MAX_HISTOGRAM_VALUE`].
+    fn check_values(&self, values: &[f64], path: &str) -> Result<()> {
+        match values
+            .iter()
+            .position(|v| !(*v >= 0.0 && *v <= limits::MAX_HISTOGRAM_VALUE))
         {
-            return self.invalid(format!("{what} histogram has bad bins"));
+            Some(k) => check::within(
+                &self.at(&format!("{path}.values[{k}]")),
+                values[k],
+                0.0,
+                limits::MAX_HISTOGRAM_VALUE,
+            )
+            .map(drop),
+            None => Ok(()),
         }
-        if h.values.iter().any(|v| !v.is_finite() || *v < 0.0) {
-            return self.invalid(format!(
-                "{what} histogram has negative or non-finite values"
-            ));
-        }
-        Ok(())
     }
 
-    /// The rdf's radius and bin width, and the region's area.
+    /// The rdf's radius and bin width (at most [`limits::MAX_HISTOGRAM_BINS`] bins), the region and its area.
     fn validate_scales(&self) -> Result<()> {
-        if !(self.max_radius.is_finite() && self.max_radius > 0.0) {
-            return self.invalid(format!("max_radius {} is not positive", self.max_radius));
-        }
-        if !(self.bin_width.is_finite() && self.bin_width > 0.0) {
-            return self.invalid(format!("bin_width {} is not positive", self.bin_width));
-        }
-        if !(self.region_area.is_finite() && self.region_area >= 0.0) {
-            return self.invalid("region_area is not valid".into());
-        }
-        Ok(())
+        check::positive(&self.at("max_radius"), self.max_radius)?;
+        check::positive(&self.at("bin_width"), self.bin_width)?;
+        limits::check(
+            &self.at("max_radius / bin_width"),
+            self.max_radius / self.bin_width,
+            limits::MAX_HISTOGRAM_BINS,
+            "histogram bins",
+        )?;
+        check::non_negative(&self.at("region_area"), self.region_area)?;
+        self.region
+            .validate()
+            .map_err(|e| Error::invalid(self.at("region"), e.reason()))
     }
 
     fn validate_categories(&self) -> Result<()> {
-        for c in &self.categories {
-            if !(c.density.is_finite() && c.density >= 0.0) {
-                return self.invalid(format!(
-                    "category '{}' density is not valid",
-                    c.category.name
-                ));
-            }
-            self.check_hist(&c.scale, "scale")?;
-            self.check_hist(&c.rotation, "rotation")?;
-            if c.prototype_weights
+        for (k, c) in self.categories.iter().enumerate() {
+            let at = |field: &str| format!("categories[{k}].{field}");
+            let name = &c.category.name;
+            if self.categories[..k]
                 .iter()
-                .any(|w| !w.is_finite() || *w < 0.0)
+                .any(|o| &o.category.name == name)
             {
-                return self.invalid(format!("category '{}' prototype weights", c.category.name));
+                return self.invalid(&at("category.name"), format!("'{name}' is named twice"));
             }
+            check::within(
+                &self.at(&at("density")),
+                c.density,
+                0.0,
+                limits::MAX_DENSITY,
+            )?;
+            if !(c.min_distance >= 0.0) {
+                return self.invalid(
+                    &at("min_distance"),
+                    format!("must be zero or more, got {}", c.min_distance),
+                );
+            }
+            self.check_hist(&c.scale, &at("scale"))?;
+            self.check_hist(&c.rotation, &at("rotation"))?;
+            check::at_most_items(
+                &self.at(&at("prototype_weights")),
+                c.prototype_weights.len(),
+                limits::MAX_HISTOGRAM_BINS as usize,
+            )?;
+            self.check_values(&c.prototype_weights, &at("prototype_weights"))?;
         }
         Ok(())
     }
 
+    /// A category name used by a field: known to the color.
+    fn check_known(&self, path: &str, name: &str) -> Result<()> {
+        match self.category(name) {
+            Some(_) => Ok(()),
+            None => self.invalid(path, format!("names unknown category '{name}'")),
+        }
+    }
+
     fn validate_pairs(&self) -> Result<()> {
-        for p in &self.pairs {
-            if self.category(&p.category).is_none() || self.category(&p.other).is_none() {
-                return self.invalid(format!(
-                    "pair {}-{} names an unknown category",
-                    p.category, p.other
-                ));
-            }
+        for (k, p) in self.pairs.iter().enumerate() {
+            let at = |field: &str| format!("pairs[{k}].{field}");
+            self.check_known(&at("category"), &p.category)?;
+            self.check_known(&at("other"), &p.other)?;
             match &p.interaction {
-                Interaction::Rdf { hist } => self.check_hist(hist, "rdf")?,
+                Interaction::Rdf { hist } => self.check_hist(hist, &at("hist"))?,
                 Interaction::OrientedRdf {
                     distance_bin,
                     angle_bins,
                     values,
                 } => {
-                    if !(distance_bin.is_finite() && *distance_bin > 0.0)
-                        || *angle_bins == 0
-                        || values.len() % angle_bins != 0
-                        || values.iter().any(|v| !v.is_finite() || *v < 0.0)
-                    {
-                        return self.invalid(format!("oriented rdf {}-{}", p.category, p.other));
+                    check::positive(&self.at(&at("distance_bin")), *distance_bin)?;
+                    limits::check(
+                        &self.at(&at("distance_bin")),
+                        self.max_radius / distance_bin,
+                        limits::MAX_HISTOGRAM_BINS,
+                        "histogram bins",
+                    )?;
+                    check::within(&self.at(&at("angle_bins")), *angle_bins as f64, 1.0, 360.0)?;
+                    check::at_most_items(
+                        &self.at(&at("values")),
+                        values.len(),
+                        limits::MAX_HISTOGRAM_BINS as usize * angle_bins,
+                    )?;
+                    if values.len() % angle_bins != 0 {
+                        return self.invalid(
+                            &at("values"),
+                            format!("are not a multiple of {angle_bins} angle bins"),
+                        );
                     }
+                    self.check_values(values, &at("values"))?;
                 }
             }
         }
@@ -481,53 +548,61 @@ impl Color {
     }
 
     fn validate_maps(&self) -> Result<()> {
-        for m in &self.maps {
-            if self.category(&m.category).is_none() {
-                return self.invalid(format!(
-                    "map histogram names unknown category {}",
-                    m.category
-                ));
-            }
-            self.check_hist(&m.hist, "map")?;
-            self.check_hist(&m.region_hist, "map region")?;
-            if m.source != MapSource::Terrain && self.category(&m.map).is_none() {
-                return self.invalid(format!(
-                    "distance map of {} names unknown category {}",
-                    m.category, m.map
-                ));
+        for (k, m) in self.maps.iter().enumerate() {
+            let at = |field: &str| format!("maps[{k}].{field}");
+            self.check_known(&at("category"), &m.category)?;
+            self.check_hist(&m.hist, &at("hist"))?;
+            self.check_hist(&m.region_hist, &at("region_hist"))?;
+            if m.source != MapSource::Terrain {
+                self.check_known(&at("map"), &m.map)?;
             }
         }
         Ok(())
     }
 
     fn validate_graphs(&self) -> Result<()> {
-        for g in &self.graphs {
-            if self.category(&g.category).is_none() {
-                return self.invalid(format!(
-                    "graph statistics name unknown category {}",
-                    g.category
-                ));
+        for (k, g) in self.graphs.iter().enumerate() {
+            let at = |field: &str| format!("graphs[{k}].{field}");
+            self.check_known(&at("category"), &g.category)?;
+            self.check_hist(&g.edge_length, &at("edge_length"))?;
+            self.check_hist(&g.angle, &at("angle"))?;
+            check::within(
+                &self.at(&at("min_angle")),
+                g.min_angle,
+                0.0,
+                std::f64::consts::PI,
+            )?;
+            check::within(&self.at(&at("edges_per_node")), g.edges_per_node, 0.0, 64.0)?;
+            check::within(
+                &self.at(&at("components_per_area")),
+                g.components_per_area,
+                0.0,
+                limits::MAX_DENSITY,
+            )?;
+            check::at_most_items(&self.at(&at("degree")), g.degree.len(), 64)?;
+            self.check_values(&g.degree, &at("degree"))?;
+            for (other, d) in &g.clearance {
+                self.check_known(&at("clearance"), other)?;
+                check::non_negative(&self.at(&at(&format!("clearance['{other}']"))), *d)?;
             }
-            self.check_hist(&g.edge_length, "edge length")?;
-            self.check_hist(&g.angle, "angle")?;
-            let finite = [g.min_angle, g.edges_per_node, g.components_per_area]
-                .iter()
-                .all(|v| v.is_finite() && *v >= 0.0);
-            if !finite || g.degree.iter().any(|v| !v.is_finite() || *v < 0.0) {
-                return self.invalid(format!("graph statistics of {} are not valid", g.category));
+            for other in &g.avoids {
+                self.check_known(&at("avoids"), other)?;
             }
         }
         Ok(())
     }
 
     fn validate_polygons(&self) -> Result<()> {
-        for p in &self.polygons {
-            if self.category(&p.category).is_none() || !(p.spacing.is_finite() && p.spacing > 0.0) {
-                return self.invalid(format!(
-                    "polygon statistics of {} are not valid",
-                    p.category
-                ));
-            }
+        for (k, p) in self.polygons.iter().enumerate() {
+            let at = |field: &str| format!("polygons[{k}].{field}");
+            self.check_known(&at("category"), &p.category)?;
+            check::positive(&self.at(&at("spacing")), p.spacing)?;
+            limits::check(
+                &self.at(&at("spacing")),
+                self.max_radius / p.spacing,
+                limits::MAX_HISTOGRAM_BINS,
+                "histogram bins",
+            )?;
         }
         Ok(())
     }

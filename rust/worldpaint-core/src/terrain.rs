@@ -9,6 +9,7 @@
 //! order-independent and so deterministic).
 
 use crate::error::{check, Error, Result};
+use crate::geom::Region;
 use crate::limits;
 use glam::DVec2;
 use rayon::prelude::*;
@@ -147,12 +148,20 @@ impl Heightfield {
             4 * MAX_AUTO_NODES as u64,
             "cells",
         )?;
-        let (nx, ny) = (nx.max(2), ny.max(2));
+        let (mut nx, mut ny) = (nx.max(2), ny.max(2));
         // exact cell sizes so border nodes sit on the mesh's bounding box
-        let cx = ext.x / (nx - 1) as f64;
-        let cy = ext.y / (ny - 1) as f64;
-        let heights = rasterize(vertices, triangles, lo, cx, cy, nx, ny);
-        Heightfield::new(lo, 0.5 * (cx + cy), nx, ny, heights)
+        let (cx, cy) = (ext.x / (nx - 1) as f64, ext.y / (ny - 1) as f64);
+        let mut cell = 0.5 * (cx + cy);
+        if (cx - cy).abs() > 1e-3 * cell {
+            // a grid's cells are square: where the mesh's sides do not divide into the same cells, the finer one
+            // covers both and the last row or column reaches past the mesh (filled from its nearest covered node),
+            // instead of a mean cell that would misplace the terrain's extent
+            cell = cx.min(cy);
+            nx = (ext.x / cell - 1e-9).ceil() as usize + 1;
+            ny = (ext.y / cell - 1e-9).ceil() as usize + 1;
+        }
+        let heights = rasterize(vertices, triangles, lo, cell, cell, nx, ny);
+        Heightfield::new(lo, cell, nx, ny, heights)
     }
 
     /// Upper corner of the grid.
@@ -184,6 +193,29 @@ impl Heightfield {
         );
         let first = (first.x as usize, first.y as usize);
         (first.0 <= last.0 && first.1 <= last.1).then_some((first.0..=last.0, first.1..=last.1))
+    }
+
+    /// The part of `region` on the terrain, where content can be painted: `region` itself when it lies on the
+    /// terrain, `None` when no part does. Counting instances over the whole of a region that spills off the terrain
+    /// would cram them onto the part that is on it.
+    pub fn clip(&self, region: &Region) -> Option<Region> {
+        let (tlo, thi) = self.bbox();
+        let (lo, hi) = region.bbox();
+        if lo.x >= tlo.x && lo.y >= tlo.y && hi.x <= thi.x && hi.y <= thi.y {
+            return Some(region.clone());
+        }
+        let (lo, hi) = (lo.max(tlo), hi.min(thi));
+        if !(hi.x > lo.x && hi.y > lo.y) {
+            return None;
+        }
+        let on_terrain = Region::Rect { min: lo, max: hi };
+        Some(match region {
+            Region::Rect { .. } => on_terrain,
+            _ => Region::Clipped {
+                within: vec![region.clone(), on_terrain],
+                without: Vec::new(),
+            },
+        })
     }
 
     pub fn contains(&self, p: DVec2) -> bool {

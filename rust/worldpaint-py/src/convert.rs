@@ -37,6 +37,22 @@ pub(crate) fn vec2(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<DVec2> {
 /// `{"shape": "polygon", "points": [[x, y], ...]}` or `{"shape": "clipped", "within": [region, ...],
 /// "without": [region, ...]}`.
 pub(crate) fn region_from_py(obj: &Bound<'_, PyAny>) -> PyResult<Region> {
+    let region = region_part_from_py(obj, 0)?;
+    region.validate().map_err(engine_err)?;
+    Ok(region)
+}
+
+/// A part of a region nested `depth` deep, not yet validated. The depth is checked before going deeper: a region
+/// nested thousands deep would overflow the stack.
+fn region_part_from_py(obj: &Bound<'_, PyAny>, depth: u64) -> PyResult<Region> {
+    guarded(|| {
+        worldpaint_core::limits::check(
+            "the region's nesting",
+            depth as f64,
+            worldpaint_core::limits::MAX_REGION_DEPTH,
+            "levels",
+        )
+    })?;
     let shape: String = field(obj, "shape", "region")?
         .extract()
         .map_err(|_| input_err("region 'shape' must be a string"))?;
@@ -73,7 +89,7 @@ pub(crate) fn region_from_py(obj: &Bound<'_, PyAny>) -> PyResult<Region> {
                     .try_iter()
                     .map_err(|_| input_err(format!("region '{key}' must be a list of regions")))?
                 {
-                    out.push(region_from_py(&r?)?);
+                    out.push(region_part_from_py(&r?, depth + 1)?);
                 }
                 Ok(out)
             };
@@ -88,7 +104,6 @@ pub(crate) fn region_from_py(obj: &Bound<'_, PyAny>) -> PyResult<Region> {
             )))
         }
     };
-    region.validate().map_err(engine_err)?;
     Ok(region)
 }
 

@@ -20,6 +20,10 @@ mod waterfall;
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::sync::Mutex;
+use std::time::{Duration, Instant};
+
+/// The longest the engine works without calling the progress callback (so Esc and cancels are heard).
+const CALLBACK_PERIOD: Duration = Duration::from_millis(100);
 
 use pyo3::exceptions::{PyException, PyValueError};
 use pyo3::prelude::*;
@@ -157,7 +161,7 @@ pub(crate) struct Progress {
     callback: Option<Py<PyAny>>,
     takes_stage: bool,
     error: Mutex<Option<PyErr>>,
-    last: Mutex<(f64, Option<&'static str>)>,
+    last: Mutex<(f64, Option<&'static str>, Instant)>,
 }
 
 /// Whether a callback accepts `(fraction, stage)`: callers that take only the fraction keep working.
@@ -179,7 +183,7 @@ impl Progress {
             callback,
             takes_stage,
             error: Mutex::new(None),
-            last: Mutex::new((f64::NEG_INFINITY, None)),
+            last: Mutex::new((f64::NEG_INFINITY, None, Instant::now())),
         }
     }
 
@@ -188,10 +192,15 @@ impl Progress {
             return true;
         };
         if let Ok(mut last) = self.last.lock() {
-            if fraction < 1.0 && fraction - last.0 < 0.01 && stage == last.1 {
+            // a long stretch of work without visible progress still reaches the callback, so Esc is heard
+            if fraction < 1.0
+                && fraction - last.0 < 0.01
+                && stage == last.1
+                && last.2.elapsed() < CALLBACK_PERIOD
+            {
                 return true;
             }
-            *last = (fraction, stage);
+            *last = (fraction, stage, Instant::now());
         }
         Python::attach(|py| {
             let called = match stage {

@@ -58,6 +58,15 @@ impl Terrain {
     ) -> PyResult<Self> {
         let a = heights.as_array();
         let (ny, nx) = a.dim();
+        // refused before the copy: a broadcast array of any shape costs Python nothing
+        guarded(|| {
+            worldpaint_core::limits::check(
+                "the terrain grid",
+                nx as f64 * ny as f64,
+                worldpaint_core::limits::MAX_GRID_CELLS,
+                "cells",
+            )
+        })?;
         let h: Vec<f32> = a.iter().map(|&z| z as f32).collect();
         let hf = guarded(|| Heightfield::new(DVec2::new(origin.0, origin.1), cell, nx, ny, h))?;
         Ok(Terrain { hf: hf.into() })

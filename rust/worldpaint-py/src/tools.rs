@@ -220,6 +220,7 @@ fn move_region<'py>(
     d.set_item("displaced", moved.displaced)?;
     d.set_item("reborn", moved.reborn)?;
     d.set_item("lost", moved.lost)?;
+    d.set_item("stayed", moved.stayed)?;
     Ok(d)
 }
 

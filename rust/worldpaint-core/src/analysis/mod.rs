@@ -555,17 +555,31 @@ fn distance_bins(source: MapSource, max_radius: f64, at: &[f64]) -> Histogram {
     Histogram::zeros(start, width, (span / width).ceil() as usize)
 }
 
+/// Lattice samples over a region on a terrain, at most.
+const LATTICE_SAMPLES: f64 = 1e6;
+
+/// One axis of a sampling lattice: `count` points `step` apart, unless a region far longer than wide would make more
+/// than `max` of them; then `max` points spread over its `extent`. So a sliver of a region is sampled along its
+/// length with a bounded number of points, instead of one point per `step` (which the area alone sets).
+fn lattice_axis(count: f64, extent: f64, step: f64, max: f64) -> (usize, f64) {
+    if count <= max {
+        (count as usize, step)
+    } else {
+        (max as usize, extent / max)
+    }
+}
+
 /// Points spread over the region (a lattice of about `REGION_SAMPLES` points).
 pub(crate) fn region_samples(region: &Region) -> Vec<DVec2> {
     let (lo, hi) = region.bbox();
     let ext = hi - lo;
     let step = (ext.x * ext.y / REGION_SAMPLES).sqrt().max(1e-9);
-    let nx = (ext.x / step).ceil().max(1.0) as usize;
-    let ny = (ext.y / step).ceil().max(1.0) as usize;
+    let (nx, sx) = lattice_axis((ext.x / step).ceil().max(1.0), ext.x, step, REGION_SAMPLES);
+    let (ny, sy) = lattice_axis((ext.y / step).ceil().max(1.0), ext.y, step, REGION_SAMPLES);
     let mut out = Vec::with_capacity(nx * ny);
     for j in 0..ny {
         for i in 0..nx {
-            let p = lo + DVec2::new((i as f64 + 0.5) * step, (j as f64 + 0.5) * step);
+            let p = lo + DVec2::new((i as f64 + 0.5) * sx, (j as f64 + 0.5) * sy);
             if region.contains(p) {
                 out.push(p);
             }
@@ -826,14 +840,14 @@ pub(crate) fn region_lattice(region: &Region, terrain: &Heightfield) -> Vec<DVec
     }
     let ext = hi - lo;
     let step = (0.5 * terrain.cell)
-        .max((ext.x * ext.y / 1e6).sqrt())
+        .max((ext.x * ext.y / LATTICE_SAMPLES).sqrt())
         .max(1e-9);
-    let nx = (ext.x / step).floor() as usize + 1;
-    let ny = (ext.y / step).floor() as usize + 1;
+    let (nx, sx) = lattice_axis((ext.x / step).floor() + 1.0, ext.x, step, LATTICE_SAMPLES);
+    let (ny, sy) = lattice_axis((ext.y / step).floor() + 1.0, ext.y, step, LATTICE_SAMPLES);
     let mut out = Vec::with_capacity(nx * ny);
     for j in 0..ny {
         for i in 0..nx {
-            let p = lo + DVec2::new((i as f64 + 0.5) * step, (j as f64 + 0.5) * step);
+            let p = lo + DVec2::new((i as f64 + 0.5) * sx, (j as f64 + 0.5) * sy);
             if p.x <= hi.x && p.y <= hi.y && region.contains(p) && terrain.contains(p) {
                 out.push(p);
             }

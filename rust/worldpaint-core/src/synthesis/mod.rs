@@ -132,6 +132,7 @@ use crate::analysis::region_lattice;
 use crate::contour::{fill, trace};
 use crate::error::{check, Error, Result};
 use crate::geom::{DVec2, Region};
+use crate::limits;
 use crate::palette::{CategoryColor, Color, Histogram, MapSource};
 use crate::scene::{Category, CategoryKind, Contour, Instance, Path, Scene};
 use crate::terrain::Heightfield;
@@ -389,6 +390,18 @@ pub fn synthesize_keeping(
     let influence = checked_influence(color, opts)?;
     let order = priority_order(color, opts.categories.as_deref())?;
     check_terrain(scene, color, &order, region)?;
+    let on_terrain = match scene.terrain.as_deref() {
+        Some(t) => t.clip(region).ok_or_else(|| Error::RegionOffTerrain {
+            reason: format!(
+                "the region {:?} and the terrain {:?} do not overlap",
+                region.bbox(),
+                t.bbox()
+            ),
+        })?,
+        None => region.clone(),
+    };
+    let region = &on_terrain;
+    check_instance_budget(color, &order, region)?;
     let (out_categories, scene_index) = scene_categories(scene, color);
     let context = conditioning_content(scene, &scene_index, region, influence, keep);
     let painting = Painting::new(scene, color, region, opts, influence, scene_index);
@@ -413,6 +426,22 @@ pub fn synthesize_keeping(
     out.replaced_contours.sort_unstable();
     out.replaced_contours.dedup();
     Ok(out)
+}
+
+/// Refuses a synthesis whose categories would make more than [`limits::MAX_INSTANCES`] instances at the color's
+/// densities, before anything is allocated for it.
+fn check_instance_budget(color: &Color, order: &[usize], region: &Region) -> Result<()> {
+    let area = region.area();
+    let count: f64 = order
+        .iter()
+        .map(|&ci| color.categories[ci].density * area)
+        .sum();
+    limits::check(
+        &format!("painting color '{}' over {area:.0} m²", color.name),
+        count,
+        limits::MAX_INSTANCES,
+        "instances",
+    )
 }
 
 /// Checks the options' iteration count and returns the radius of the region of influence.
@@ -498,6 +527,16 @@ impl<'s> Painting<'s> {
         let merged = self.condition_on_structures(ci, state);
         let (mut target, self_tag) = self.category_target(ci, state);
         let expected = self.expected_count(ci, &target, &state.context[ci]);
+        // the terrain's maps can raise the count above the density's (a map bin preferred a million-fold)
+        limits::check(
+            &format!(
+                "category '{}' of color '{}'",
+                cat.category.name, self.color.name
+            ),
+            expected,
+            limits::MAX_INSTANCES,
+            "instances",
+        )?;
         if !target.maps.is_empty() && !self.lattice.is_empty() {
             rake_maps(&mut target, &self.lattice);
         }

@@ -15,6 +15,8 @@ mod tile;
 
 /// Sweeps of the rdf-matching chain (tiles are redrawn and the temperature lowered between sweeps).
 const RDF_SWEEPS: usize = 12;
+/// Darts thrown between two progress reports (a cancel is heard within some milliseconds).
+const DARTS_PER_PROGRESS: usize = 1 << 16;
 /// Temperature of the first and of the last sweeps (in units of the chi-square energy, see the module docs).
 const TAU_START: f64 = 1.0;
 const TAU_END: f64 = 0.02;
@@ -218,7 +220,7 @@ impl<'a> RdfChain<'_, 'a> {
     ) -> Result<Vec<DVec2>> {
         let target = self.target;
         let r = target.radius;
-        let mut own = self.dart_throwing(rng);
+        let mut own = self.dart_throwing(rng, progress)?;
         let n = own.len() as f64;
         if own.len() < 2 {
             return Ok(own);
@@ -251,7 +253,8 @@ impl<'a> RdfChain<'_, 'a> {
                     *x -= y;
                 }
             }
-            for phase in 0..tiling.phases() {
+            let phases = tiling.phases();
+            for phase in 0..phases {
                 let tiles =
                     tiling.phase_tiles(&own, phase, sweep_seed, self.iterations_per_instance);
                 if tiles.is_empty() {
@@ -259,25 +262,35 @@ impl<'a> RdfChain<'_, 'a> {
                 }
                 sweeps.run_phase(&tiles, &mut own, &own_flat, &mut dev, tau);
                 own_flat = self.own_flat(&own);
-            }
-            if !progress((sweep + 1) as f64 / RDF_SWEEPS as f64) {
-                return Err(Error::Cancelled);
+                // each phase, so that a cancel is heard within a phase's time, not a sweep's
+                if !progress(
+                    (sweep as f64 + (phase + 1) as f64 / phases as f64) / RDF_SWEEPS as f64,
+                ) {
+                    return Err(Error::Cancelled);
+                }
             }
         }
         Ok(own)
     }
 
     /// The count (see "The count"), then dart throwing among allowed positions.
-    fn dart_throwing<R: Rng>(&self, rng: &mut R) -> Vec<DVec2> {
+    fn dart_throwing<R: Rng>(
+        &self,
+        rng: &mut R,
+        progress: &dyn Fn(f64) -> bool,
+    ) -> Result<Vec<DVec2>> {
         let (target, self_tag) = (self.target, self.self_tag);
         let want = self.expected.floor() as usize
             + usize::from(rng.random::<f64>() < self.expected.fract());
         let mut own: Vec<DVec2> = Vec::with_capacity(want);
         let (lo, hi) = self.grid_bounds();
         let mut own_grid = SpatialGrid::new(lo, hi, target.cell);
-        for _ in 0..(30 * want + 1000) {
+        for dart in 0..(30 * want + 1000) {
             if own.len() >= want {
                 break;
+            }
+            if dart % DARTS_PER_PROGRESS == DARTS_PER_PROGRESS - 1 && !progress(0.0) {
+                return Err(Error::Cancelled);
             }
             let Some(p) = self.region.sample_uniform(rng) else {
                 break;
@@ -291,7 +304,7 @@ impl<'a> RdfChain<'_, 'a> {
                 own.push(p);
             }
         }
-        own
+        Ok(own)
     }
 
     /// The targets and weights of the matched histograms at `n` own points (see [`Matched`]).

@@ -30,6 +30,8 @@ pub struct Moved {
     pub reborn: usize,
     /// Births that found no allowed place (the count could not be kept).
     pub lost: usize,
+    /// Instances the move would have put off the terrain: they stay where they were.
+    pub stayed: usize,
 }
 
 /// Moves the unlocked content of `source` by `offset`, adapting it with `color`'s statistics (see the module
@@ -123,14 +125,40 @@ pub(crate) fn move_instances(
     offset: DVec2,
     opts: &AdaptOptions,
 ) -> Result<Moved> {
+    // what would land off the terrain stays: moving it would delete it
+    let (moving, stayed): (Vec<usize>, Vec<usize>) = moving.iter().partition(|&&k| {
+        let to = scene.instances[k].position + offset;
+        scene.terrain.as_deref().is_none_or(|t| t.contains(to))
+    });
+    let landing_area = match scene.terrain.as_deref() {
+        Some(t) => t.clip(destination),
+        None => Some(destination.clone()),
+    };
+    let Some(destination) = landing_area.filter(|_| !moving.is_empty()) else {
+        return Ok(Moved {
+            edit: Edit {
+                categories: scene.categories.clone(),
+                ..Default::default()
+            },
+            moved: 0,
+            displaced: 0,
+            reborn: 0,
+            lost: 0,
+            stayed: stayed.len(),
+        });
+    };
+    let destination = &destination;
     let mut removed = vec![false; scene.instances.len()];
-    for &k in moving {
-        removed[k] = true;
-    }
     for (k, i) in scene.instances.iter().enumerate() {
         if !i.locked && destination.contains(i.position) {
             removed[k] = true;
         }
+    }
+    for &k in &stayed {
+        removed[k] = false;
+    }
+    for &k in &moving {
+        removed[k] = true;
     }
     let fixed = Scene {
         categories: scene.categories.clone(),
@@ -172,5 +200,6 @@ pub(crate) fn move_instances(
         displaced: adapted.displaced,
         reborn,
         lost,
+        stayed: stayed.len(),
     })
 }

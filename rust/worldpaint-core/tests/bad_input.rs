@@ -1,0 +1,257 @@
+//! The bad-input table of the engine: input a user or a shared file can give, each refused with an error that names
+//! it, or handled with the right content, never with a crash, a huge allocation or content crammed where it does not
+//! belong.
+
+use std::sync::Arc;
+use worldpaint_core::exemplar::{self, scene_from_points};
+use worldpaint_core::geom::DVec2;
+use worldpaint_core::synthesis::AdaptOptions;
+use worldpaint_core::tools::moving::move_region;
+use worldpaint_core::{
+    learn_color, synthesize, AnalysisOptions, Color, Error, Heightfield, Palette, Region, Scene,
+    SynthesisOptions,
+};
+
+fn rect(min: (f64, f64), max: (f64, f64)) -> Region {
+    Region::Rect {
+        min: DVec2::new(min.0, min.1),
+        max: DVec2::new(max.0, max.1),
+    }
+}
+
+/// A flat 200 m terrain from (0, 0), 2 m cells.
+fn flat_terrain() -> Arc<Heightfield> {
+    let n = 101;
+    Arc::new(Heightfield::new(DVec2::ZERO, 2.0, n, n, vec![0.0; n * n]).unwrap())
+}
+
+/// A uniform forest of 0.05 trees per m², learned on a 50 m square without maps.
+fn forest_color() -> Color {
+    let region = rect((0.0, 0.0), (50.0, 50.0));
+    let scene = scene_from_points("tree", &exemplar::uniform(&region, 0.05, 3));
+    learn_color(&scene, &region, "forest", &AnalysisOptions::default()).unwrap()
+}
+
+fn on_flat_terrain() -> Scene {
+    Scene {
+        terrain: Some(flat_terrain()),
+        ..Default::default()
+    }
+}
+
+/// The color's file with one field replaced, read back.
+fn read_with(
+    color: &Color,
+    edit: impl Fn(&mut serde_json::Value),
+) -> worldpaint_core::Result<Color> {
+    let mut value: serde_json::Value = serde_json::from_str(&color.to_json().unwrap()).unwrap();
+    edit(&mut value["color"]);
+    Color::from_json(&value.to_string())
+}
+
+fn refused_naming(result: worldpaint_core::Result<Color>, words: &[&str]) {
+    match result {
+        Err(e @ Error::Parse { .. }) => {
+            let m = e.to_string();
+            assert!(m.starts_with("not a valid color file"), "{m}");
+            for w in words {
+                assert!(m.contains(w), "'{m}' should name '{w}'");
+            }
+        }
+        Err(e) => panic!("refused, but as {e:?}"),
+        Ok(_) => panic!("accepted a file with {words:?}"),
+    }
+}
+
+#[test]
+fn a_color_file_with_one_absurd_number_is_refused_at_import_naming_the_field() {
+    let color = forest_color();
+    refused_naming(
+        read_with(&color, |c| c["bin_width"] = 1e-9.into()),
+        &["max_radius / bin_width", "histogram bins"],
+    );
+    refused_naming(
+        read_with(&color, |c| c["categories"][0]["density"] = 1e6.into()),
+        &["categories[0].density"],
+    );
+    refused_naming(
+        read_with(&color, |c| {
+            c["pairs"][0]["interaction"]["hist"]["values"][0] = 1e11.into()
+        }),
+        &["pairs[0].hist.values[0]"],
+    );
+    refused_naming(
+        read_with(&color, |c| {
+            let first = c["categories"][0].clone();
+            c["categories"].as_array_mut().unwrap().push(first);
+        }),
+        &["is named twice"],
+    );
+    // the same checks for a palette, with the color's place in it
+    let palette = Palette {
+        colors: vec![color.clone()],
+    };
+    let json = palette
+        .to_json()
+        .unwrap()
+        .replacen("\"density\": ", "\"density\": 1e6, \"x\": ", 1);
+    match Palette::from_json(&json) {
+        Err(e @ Error::Parse { .. }) => {
+            let m = e.to_string();
+            assert!(m.contains("not a valid palette file: colors[0]"), "{m}");
+        }
+        other => panic!("accepted: {:?}", other.map(|p| p.colors.len())),
+    }
+}
+
+#[test]
+fn a_paste_is_counted_on_the_part_of_the_region_on_the_terrain() {
+    let color = forest_color();
+    let scene = on_flat_terrain();
+    let opts = SynthesisOptions {
+        seed: 4,
+        ..Default::default()
+    };
+    let count = |region: &Region| {
+        synthesize(&scene, &color, region, &opts)
+            .unwrap()
+            .instances
+            .len() as f64
+    };
+    // 50 x 50 m on the terrain, the rest of the 100 x 100 m square off it
+    let spilling = count(&rect((150.0, 150.0), (250.0, 250.0)));
+    let inside = count(&rect((150.0, 150.0), (200.0, 200.0)));
+    let expected = color.categories[0].density * 2500.0;
+    assert!(
+        (spilling - expected).abs() < 0.25 * expected,
+        "{spilling} for {expected}"
+    );
+    assert!(
+        (spilling - inside).abs() < 0.25 * expected,
+        "{spilling} vs {inside}"
+    );
+    // a circle of 5 km over a 200 m terrain: the terrain's area, not the circle's
+    let huge = Region::Circle {
+        center: DVec2::splat(100.0),
+        radius: 5000.0,
+    };
+    let all = count(&huge);
+    let expected = color.categories[0].density * 200.0 * 200.0;
+    assert!(
+        (all - expected).abs() < 0.2 * expected,
+        "{all} for {expected}"
+    );
+    // far off the terrain: refused
+    let off = synthesize(
+        &scene,
+        &color,
+        &rect((1000.0, 1000.0), (1100.0, 1100.0)),
+        &opts,
+    );
+    assert!(
+        matches!(off, Err(Error::RegionOffTerrain { .. })),
+        "{off:?}"
+    );
+}
+
+#[test]
+fn work_past_the_limits_is_refused_before_it_is_allocated() {
+    // 1e10 instances: a dense color over a large terrain
+    let mut color = forest_color();
+    color.categories[0].density = 1e4;
+    let n = 1001;
+    let big = Arc::new(Heightfield::new(DVec2::ZERO, 10.0, n, n, vec![0.0; n * n]).unwrap());
+    let scene = Scene {
+        terrain: Some(big),
+        ..Default::default()
+    };
+    match synthesize(
+        &scene,
+        &color,
+        &rect((0.0, 0.0), (10_000.0, 10_000.0)),
+        &Default::default(),
+    ) {
+        Err(Error::TooLarge { unit, needed, .. }) => {
+            assert_eq!(unit, "instances");
+            assert!(needed >= 1e12, "{needed}");
+        }
+        other => panic!("not refused: {:?}", other.map(|r| r.instances.len())),
+    }
+    // a terrain of 1e12 cells
+    assert!(matches!(
+        Heightfield::new(DVec2::ZERO, 1.0, 1_000_000, 1_000_000, Vec::new()),
+        Err(Error::TooLarge { .. })
+    ));
+    // a learning region 1e7 m long and 1e-7 m wide samples a bounded lattice
+    let sliver = rect((0.0, 0.0), (1e7, 1e-7));
+    let scene = scene_from_points("tree", &[DVec2::new(1.0, 0.5e-7), DVec2::new(2.0, 0.5e-7)]);
+    let learned = learn_color(&scene, &sliver, "sliver", &AnalysisOptions::default()).unwrap();
+    assert_eq!(learned.categories[0].count, 2);
+    // a region nested past the depth limit
+    let mut nested = rect((0.0, 0.0), (10.0, 10.0));
+    for _ in 0..100 {
+        nested = Region::Clipped {
+            within: vec![nested],
+            without: Vec::new(),
+        };
+    }
+    assert!(matches!(nested.validate(), Err(Error::TooLarge { .. })));
+}
+
+#[test]
+fn a_move_off_the_terrain_keeps_what_it_cannot_place() {
+    let color = forest_color();
+    let mut scene = on_flat_terrain();
+    let source = rect((20.0, 20.0), (70.0, 70.0));
+    let first = synthesize(&scene, &color, &source, &Default::default()).unwrap();
+    scene.categories = first.categories;
+    scene.instances = first.instances;
+    let before = scene.instances.len();
+    assert!(before > 50, "{before}");
+    let moved = move_region(
+        &scene,
+        &color,
+        &source,
+        DVec2::new(1000.0, 0.0),
+        &AdaptOptions::default(),
+    )
+    .unwrap();
+    assert_eq!(moved.stayed, before);
+    assert_eq!(moved.moved, 0);
+    assert!(moved.edit.removed.is_empty() && moved.edit.added.is_empty());
+    // half on, half off: what lands on the terrain moves, the rest stays
+    let moved = move_region(
+        &scene,
+        &color,
+        &source,
+        DVec2::new(155.0, 0.0),
+        &AdaptOptions::default(),
+    )
+    .unwrap();
+    assert!(
+        moved.stayed > 0 && moved.moved > 0,
+        "{} stayed, {} moved",
+        moved.stayed,
+        moved.moved
+    );
+    assert_eq!(moved.stayed + moved.moved, before);
+    assert!(moved.edit.added.iter().all(|i| i.position.x <= 200.0));
+}
+
+#[test]
+fn a_scaled_plane_is_read_with_its_own_extent() {
+    // the default plane scaled to 1000 x 500 m: four vertices, two triangles
+    let v = [
+        [-500.0, -250.0, 0.0],
+        [500.0, -250.0, 0.0],
+        [-500.0, 250.0, 0.0],
+        [500.0, 250.0, 0.0],
+    ];
+    let t = Heightfield::from_mesh(&v, &[[0, 1, 3], [0, 3, 2]], None).unwrap();
+    let (lo, hi) = t.bbox();
+    assert_eq!(lo, DVec2::new(-500.0, -250.0));
+    assert!(
+        (hi.x - 500.0).abs() < 1e-6 && (hi.y - 250.0).abs() < 1e-6,
+        "{hi}"
+    );
+}
