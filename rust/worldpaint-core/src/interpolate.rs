@@ -308,7 +308,7 @@ fn extend_rdf(h: &Histogram, end: f64) -> Histogram {
 }
 
 /// Displacement interpolation of two rdfs (values are densities over distance; see the module documentation).
-pub fn interpolate_rdf(a: &Histogram, b: &Histogram, t: f64) -> Histogram {
+pub(crate) fn interpolate_rdf(a: &Histogram, b: &Histogram, t: f64) -> Histogram {
     let end = a.end().max(b.end());
     let (a, b) = (extend_rdf(a, end), extend_rdf(b, end));
     let to_mass = |h: &Histogram| Histogram {

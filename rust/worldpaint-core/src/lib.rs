@@ -21,8 +21,8 @@
 //! | [`terrain_edit`] | terrain that adapts: constraint-based deformation by multigrid diffusion (thesis 4.4.2, 5.3.3) |
 //! | [`scene`] | categories, priority order, instances (§3) |
 //! | [`palette`] | histograms, colors, palettes (§3, §4.1) |
-//! | [`analysis`] | learning a color (§4.1) |
-//! | [`compare`](mod@compare) | fidelity metrics between two colors |
+//! | `analysis` ([`learn_color`]) | learning a color (§4.1) |
+//! | `compare` ([`compare()`], [`Fidelity`]) | fidelity metrics between two colors |
 //! | [`interpolate`] | distribution interpolation by optimal mass transport (§5.2) |
 //! | [`synthesis`] | Metropolis-Hastings synthesis with a region of influence (§4.1, §4.3, §5.1, §6); adapting moved content (§5.4) |
 //! | [`tools`] | the painting tools: paste, brush and eraser, move, seam-carving stretch, gradient, blur (§5) |
@@ -33,11 +33,11 @@
 // `!(x > 0.0)` is used on purpose: it rejects NaN as well as non-positive values.
 #![allow(clippy::neg_cmp_op_on_partial_ord, clippy::nonminimal_bool)]
 
-pub mod analysis;
-pub mod compare;
+mod analysis;
+mod compare;
 pub mod contour;
 pub mod distance;
-pub mod error;
+mod error;
 pub mod exemplar;
 pub mod geom;
 pub mod graph;
