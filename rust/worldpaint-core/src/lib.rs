@@ -32,6 +32,8 @@
 
 // `!(x > 0.0)` is used on purpose: it rejects NaN as well as non-positive values.
 #![allow(clippy::neg_cmp_op_on_partial_ord, clippy::nonminimal_bool)]
+// Every public item says what it is; `make lint` turns this into an error.
+#![warn(missing_docs)]
 
 mod analysis;
 mod compare;
