@@ -107,10 +107,12 @@ impl Fidelity {
             .fold(0.0, f64::max)
     }
 
+    /// Largest rdf L2 over the pairs (0 when there is none).
     pub fn max_rdf_l2(&self) -> f64 {
         self.rdf_l2.iter().map(|(_, _, v)| *v).fold(0.0, f64::max)
     }
 
+    /// Largest map total variation over the categories and maps (0 when there is none).
     pub fn max_map_tv(&self) -> f64 {
         self.map_tv.iter().map(|(_, _, v)| *v).fold(0.0, f64::max)
     }

@@ -10,7 +10,7 @@
 //!   simplified (Douglas–Peucker, a tenth of the spacing). Loops smaller than four cells are dropped. The level is
 //!   the one that keeps the points' area (one spacing² each): ½ for a jittered grid, down to 0.3 for the looser
 //!   clusters synthesis makes, whose rim never reaches ½.
-//! * [`cut`] and [`split`]: a contour less a region, or its parts inside and outside, by the same dense points:
+//! * `cut` and `split`: a contour less a region, or its parts inside and outside, by the same dense points:
 //!   filled, the points parted by the region, traced.
 //! * [`Polygons::signed_distance`]: the interaction of a distribution with a polygon category (thesis 6.2.1),
 //!   `d` outside and `−d / d_max` inside, where `d_max` is the largest distance to the border inside the contour
@@ -71,6 +71,7 @@ impl Polygons {
         polygons
     }
 
+    /// Whether no contour was kept.
     pub fn is_empty(&self) -> bool {
         self.contours.is_empty()
     }
@@ -188,16 +189,16 @@ pub fn fill(polygons: &Polygons, spacing: f64, seed: u64) -> Vec<DVec2> {
 const CUT_SAMPLES: f64 = 400.0;
 
 /// The contour less `region` (see the module documentation), or `None` when the contour does not meet the region.
-pub fn cut(contour: &[DVec2], region: &Region) -> Option<Loops> {
+pub(crate) fn cut(contour: &[DVec2], region: &Region) -> Option<Loops> {
     split(contour, region).map(|(_, outside)| outside)
 }
 
 /// Closed contours.
-pub type Loops = Vec<Vec<DVec2>>;
+pub(crate) type Loops = Vec<Vec<DVec2>>;
 
 /// The parts of the contour inside `region` and outside it, by the same dense points as [`cut`], or `None` when
 /// the contour does not meet the region. A contour wholly inside comes back as it is.
-pub fn split(contour: &[DVec2], region: &Region) -> Option<(Loops, Loops)> {
+pub(crate) fn split(contour: &[DVec2], region: &Region) -> Option<(Loops, Loops)> {
     let n = contour.len();
     if n < 3 {
         return None;

@@ -6,7 +6,7 @@
 use rayon::prelude::*;
 
 /// Squared distance transform of one line: `out[q] = min_p (q − p)² + f[p]`, `f` and `out` in squared samples.
-pub fn squared_distance_1d(f: &[f64], out: &mut [f64]) {
+pub(crate) fn squared_distance_1d(f: &[f64], out: &mut [f64]) {
     let n = f.len().min(out.len());
     if n == 0 {
         return;

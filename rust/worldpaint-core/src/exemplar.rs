@@ -19,7 +19,7 @@ fn gaussian<R: Rng>(rng: &mut R) -> f64 {
 }
 
 /// A Poisson-distributed count: exact (Knuth) below a mean of 50, normal approximation above.
-pub fn poisson_count<R: Rng>(mean: f64, rng: &mut R) -> usize {
+pub(crate) fn poisson_count<R: Rng>(mean: f64, rng: &mut R) -> usize {
     if !(mean > 0.0) || !mean.is_finite() {
         return 0;
     }

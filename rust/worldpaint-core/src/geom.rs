@@ -24,21 +24,30 @@ use std::f64::consts::TAU;
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "shape", rename_all = "snake_case")]
 pub enum Region {
+    /// An axis-aligned box, boundary included.
     Rect {
+        /// The corner with the smaller coordinates, world XY (m).
         min: DVec2,
+        /// The corner with the larger coordinates, world XY (m).
         max: DVec2,
     },
+    /// A disc, boundary included.
     Circle {
+        /// World XY (m).
         center: DVec2,
+        /// In metres, positive.
         radius: f64,
     },
     /// Closed implicitly, either orientation, non-self-intersecting.
     Polygon {
+        /// The vertices, world XY (m), at least three.
         points: Vec<DVec2>,
     },
     /// The points inside every `within` region and inside none of the `without` regions.
     Clipped {
+        /// Regions the points must all lie in (at least one).
         within: Vec<Region>,
+        /// Regions the points must all lie outside.
         without: Vec<Region>,
     },
 }
@@ -47,12 +56,12 @@ pub enum Region {
 const AREA_SCANLINES: usize = 512;
 
 /// Whether both coordinates are finite numbers.
-pub fn finite(p: DVec2) -> bool {
+pub(crate) fn finite(p: DVec2) -> bool {
     p.x.is_finite() && p.y.is_finite()
 }
 
 /// The point of the segment `a`-`b` closest to `p`.
-pub fn closest_on_segment(p: DVec2, a: DVec2, b: DVec2) -> DVec2 {
+pub(crate) fn closest_on_segment(p: DVec2, a: DVec2, b: DVec2) -> DVec2 {
     let ab = b - a;
     let len2 = ab.length_squared();
     let t = if len2 > 0.0 {
@@ -80,17 +89,17 @@ pub fn segments_distance(a: DVec2, b: DVec2, c: DVec2, d: DVec2) -> f64 {
 }
 
 /// The segments of an open polyline, in order.
-pub fn polyline_segments(points: &[DVec2]) -> impl Iterator<Item = (DVec2, DVec2)> + '_ {
+pub(crate) fn polyline_segments(points: &[DVec2]) -> impl Iterator<Item = (DVec2, DVec2)> + '_ {
     points.windows(2).map(|w| (w[0], w[1]))
 }
 
 /// Length of an open polyline.
-pub fn polyline_length(points: &[DVec2]) -> f64 {
+pub(crate) fn polyline_length(points: &[DVec2]) -> f64 {
     polyline_segments(points).map(|(a, b)| a.distance(b)).sum()
 }
 
 /// Distance from `p` to an open polyline (`f64::INFINITY` when it has fewer than two points).
-pub fn polyline_distance(p: DVec2, points: &[DVec2]) -> f64 {
+pub(crate) fn polyline_distance(p: DVec2, points: &[DVec2]) -> f64 {
     polyline_segments(points)
         .map(|(a, b)| segment_distance(p, a, b))
         .fold(f64::INFINITY, f64::min)
@@ -98,7 +107,7 @@ pub fn polyline_distance(p: DVec2, points: &[DVec2]) -> f64 {
 
 /// Liang–Barsky clipping: the parameter range `t0..=t1` of `a + t (b − a)`, `t ∈ [0, 1]`, inside the closed
 /// axis-aligned box `lo..hi`, or `None` when the segment misses it.
-pub fn clip_segment_to_box(a: DVec2, b: DVec2, lo: DVec2, hi: DVec2) -> Option<(f64, f64)> {
+pub(crate) fn clip_segment_to_box(a: DVec2, b: DVec2, lo: DVec2, hi: DVec2) -> Option<(f64, f64)> {
     let d = b - a;
     let (mut t0, mut t1) = (0.0f64, 1.0f64);
     for (p, q) in [
@@ -163,7 +172,7 @@ fn subtract_intervals(a: &[(f64, f64)], b: &[(f64, f64)]) -> Vec<(f64, f64)> {
 
 /// Where the segments `a`–`b` and `c`–`d` meet: the parameters `(t, u)` along each (both in [0, 1]), or `None`
 /// when they do not meet or are parallel.
-pub fn segment_intersection(a: DVec2, b: DVec2, c: DVec2, d: DVec2) -> Option<(f64, f64)> {
+pub(crate) fn segment_intersection(a: DVec2, b: DVec2, c: DVec2, d: DVec2) -> Option<(f64, f64)> {
     let r = b - a;
     let s = d - c;
     let denom = r.perp_dot(s);
@@ -206,7 +215,7 @@ pub fn polygon_signed_area(points: &[DVec2]) -> f64 {
 }
 
 /// The counter-clockwise angle from `u` to `v`, in [0, 2π).
-pub fn ccw_angle(u: DVec2, v: DVec2) -> f64 {
+pub(crate) fn ccw_angle(u: DVec2, v: DVec2) -> f64 {
     let a = u.perp_dot(v).atan2(u.dot(v));
     if a < 0.0 {
         a + TAU
@@ -220,7 +229,7 @@ pub fn ccw_angle(u: DVec2, v: DVec2) -> f64 {
 /// `may_join` accepts the stretch (its vertices, ends included), which is where callers forbid removing vertices
 /// (an edge that would cross an obstacle); otherwise its farthest vertex (the first of equals) stays and both
 /// halves are simplified in turn.
-pub fn douglas_peucker(
+pub(crate) fn douglas_peucker(
     points: &[DVec2],
     first: usize,
     last: usize,
@@ -341,12 +350,14 @@ impl Region {
     }
 
     /// Whether the two regions' bounding boxes overlap.
-    pub fn bbox_overlaps(&self, other: &Region) -> bool {
+    pub(crate) fn bbox_overlaps(&self, other: &Region) -> bool {
         let (a0, a1) = self.bbox();
         let (b0, b1) = other.bbox();
         a0.x < b1.x && b0.x < a1.x && a0.y < b1.y && b0.y < a1.y
     }
 
+    /// Area (m²): exact for rectangles, circles and polygons, integrated on 512 scanlines for a clipped region
+    /// whose parts overlap.
     pub fn area(&self) -> f64 {
         match self {
             Region::Rect { min, max } => ((max.x - min.x) * (max.y - min.y)).max(0.0),
@@ -372,6 +383,8 @@ impl Region {
         }
     }
 
+    /// Whether `p` lies in the region (on the boundary of a rectangle or circle counts as inside; polygons follow
+    /// the even-odd rule).
     pub fn contains(&self, p: DVec2) -> bool {
         match self {
             Region::Rect { min, max } => {
@@ -386,7 +399,7 @@ impl Region {
     }
 
     /// The intervals `[a, b]` of x (ascending, disjoint) where the horizontal line at `y` lies inside the region.
-    pub fn scanline(&self, y: f64) -> Vec<(f64, f64)> {
+    pub(crate) fn scanline(&self, y: f64) -> Vec<(f64, f64)> {
         match self {
             Region::Rect { min, max } => {
                 if y >= min.y && y <= max.y {
@@ -485,7 +498,7 @@ impl Region {
     }
 
     /// 0 inside, else the distance to the region's boundary.
-    pub fn distance_outside(&self, p: DVec2) -> f64 {
+    pub(crate) fn distance_outside(&self, p: DVec2) -> f64 {
         if self.contains(p) {
             0.0
         } else {
@@ -690,13 +703,13 @@ impl Region {
     }
 
     /// The smaller side of the bounding box (a size scale of the region).
-    pub fn smaller_side(&self) -> f64 {
+    pub(crate) fn smaller_side(&self) -> f64 {
         let (lo, hi) = self.bbox();
         (hi.x - lo.x).min(hi.y - lo.y)
     }
 
     /// Uniform random point in the region (rejection from the bounding box); `None` after many misses.
-    pub fn sample_uniform<R: rand::Rng>(&self, rng: &mut R) -> Option<DVec2> {
+    pub(crate) fn sample_uniform<R: rand::Rng>(&self, rng: &mut R) -> Option<DVec2> {
         let (lo, hi) = self.bbox();
         for _ in 0..1000 {
             let p = DVec2::new(rng.random_range(lo.x..=hi.x), rng.random_range(lo.y..=hi.y));

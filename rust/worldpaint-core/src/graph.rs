@@ -15,7 +15,10 @@ use std::f64::consts::PI;
 /// A planar graph: nodes and undirected edges between them.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Graph {
+    /// Node positions, world XY (m).
     pub nodes: Vec<DVec2>,
+    /// Pairs of node indices, smaller first (as [`Graph::to_paths`] expects); [`Graph::from_paths`] lists each
+    /// edge once, sorted.
     pub edges: Vec<[u32; 2]>,
 }
 
@@ -117,6 +120,7 @@ impl Graph {
         adj
     }
 
+    /// The length of edge `e` (m).
     pub fn edge_length(&self, e: [u32; 2]) -> f64 {
         self.nodes[e[0] as usize].distance(self.nodes[e[1] as usize])
     }
@@ -152,7 +156,7 @@ impl Graph {
     }
 
     /// The connected component of every node (labels 0.., an isolated node has its own).
-    pub fn component_labels(&self) -> Vec<usize> {
+    pub(crate) fn component_labels(&self) -> Vec<usize> {
         let adj = self.adjacency();
         let mut label = vec![usize::MAX; self.nodes.len()];
         let mut next = 0;
@@ -260,7 +264,7 @@ impl Graph {
 }
 
 /// The angle between two vectors, in [0, π].
-pub fn angle_between(u: DVec2, v: DVec2) -> f64 {
+pub(crate) fn angle_between(u: DVec2, v: DVec2) -> f64 {
     u.perp_dot(v).abs().atan2(u.dot(v))
 }
 
@@ -273,8 +277,8 @@ pub struct SegmentIndex {
 }
 
 impl SegmentIndex {
-    /// An index of the segments with cells about as large as their mean length (at most
-    /// [`crate::grid::MAX_BUCKETS`] cells).
+    /// An index of the segments with cells about as large as their mean length (at most 4 million cells,
+    /// enlarged beyond that).
     pub fn new(segments: Vec<(DVec2, DVec2)>) -> Self {
         let total: f64 = segments.iter().map(|(a, b)| a.distance(*b)).sum();
         let mean = total / segments.len().max(1) as f64;
@@ -284,7 +288,7 @@ impl SegmentIndex {
     /// An index of the segments with cells of about `cell` metres (larger where the bucket limit would not cover
     /// them):
     /// small cells for many queries near short distances.
-    pub fn with_cell(segments: Vec<(DVec2, DVec2)>, cell: f64) -> Self {
+    pub(crate) fn with_cell(segments: Vec<(DVec2, DVec2)>, cell: f64) -> Self {
         if segments.is_empty() {
             return SegmentIndex::default();
         }
@@ -325,10 +329,12 @@ impl SegmentIndex {
         index
     }
 
+    /// Whether the index holds no segment.
     pub fn is_empty(&self) -> bool {
         self.segments.is_empty()
     }
 
+    /// The indexed segments, in the order they were given.
     pub fn segments(&self) -> &[(DVec2, DVec2)] {
         &self.segments
     }
@@ -338,7 +344,7 @@ impl SegmentIndex {
     }
 
     /// Calls `visit(segment)` once for every segment listed in the cells the box of `a`–`b` covers.
-    pub fn for_each_candidate(&self, a: DVec2, b: DVec2, mut visit: impl FnMut(usize)) {
+    pub(crate) fn for_each_candidate(&self, a: DVec2, b: DVec2, mut visit: impl FnMut(usize)) {
         let mut found = Vec::new();
         self.candidates(a.min(b), a.max(b), &mut found);
         for s in found {
@@ -348,7 +354,7 @@ impl SegmentIndex {
 
     /// The segments listed in the cells that the box `lo..hi`, grown by a cell, covers: each once, in index
     /// order (so that ties between them resolve the same way whatever the cells).
-    pub fn candidates(&self, lo: DVec2, hi: DVec2, out: &mut Vec<u32>) {
+    pub(crate) fn candidates(&self, lo: DVec2, hi: DVec2, out: &mut Vec<u32>) {
         out.clear();
         if self.segments.is_empty() {
             return;

@@ -1,30 +1,34 @@
 //! One regular grid for every raster and bucket index of the engine: the village land, the parcel grid and the
 //! spatial indexes of points and segments. Two rules bound its size: a raster that would have more than
-//! [`MAX_NODES`] nodes is an error (the caller asked for too fine a cell), and a bucket index enlarges its cells
-//! until it has at most [`MAX_BUCKETS`] (its queries stay exact, only slower).
+//! 16 million nodes is an error (the caller asked for too fine a cell), and a bucket index enlarges its cells
+//! until it has at most 4 million (its queries stay exact, only slower).
 
 use crate::error::{check, Error, Result};
 use crate::limits;
 use glam::DVec2;
 
 /// Largest number of nodes of a raster (village land, parcel grids).
-pub const MAX_NODES: usize = 16_000_000;
+pub(crate) const MAX_NODES: usize = 16_000_000;
 /// Largest number of cells of a bucket index (fixed-radius neighbour and nearest-segment queries).
-pub const MAX_BUCKETS: usize = 4_000_000;
+pub(crate) const MAX_BUCKETS: usize = 4_000_000;
 
 /// A regular grid of square cells; node (i, j) is at `origin + (i, j) * cell`, index `j * nx + i`. Bucket indexes
 /// read it as cells instead: cell (i, j) spans `origin + (i, j) * cell` to `origin + (i + 1, j + 1) * cell`.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Grid {
+    /// World XY of node (0, 0), the corner of bucket (0, 0) (m).
     pub origin: DVec2,
+    /// Side of a cell, the spacing of nodes (m).
     pub cell: f64,
+    /// Nodes (or buckets) along X.
     pub nx: usize,
+    /// Nodes (or buckets) along Y.
     pub ny: usize,
 }
 
 impl Grid {
     /// The grid of nodes `cell` apart covering the box `min..max` (at least 2×2 nodes, at most [`MAX_NODES`]).
-    pub fn nodes_covering(min: DVec2, max: DVec2, cell: f64) -> Result<Grid> {
+    pub(crate) fn nodes_covering(min: DVec2, max: DVec2, cell: f64) -> Result<Grid> {
         check::positive("village grid cell", cell)?;
         let size = max - min;
         if !(size.x.is_finite() && size.y.is_finite() && size.x > 0.0 && size.y > 0.0) {
@@ -48,7 +52,7 @@ impl Grid {
 
     /// Buckets of side `cell` (or the box's larger side where `cell` is not a positive number) over the box
     /// `min..max`, enlarged until there are at most [`MAX_BUCKETS`].
-    pub fn buckets_covering(min: DVec2, max: DVec2, cell: f64) -> Grid {
+    pub(crate) fn buckets_covering(min: DVec2, max: DVec2, cell: f64) -> Grid {
         let ext = (max - min).max(DVec2::splat(1e-9));
         let mut cell = if cell.is_finite() && cell > 0.0 {
             cell
@@ -74,7 +78,7 @@ impl Grid {
 
     /// The bucket holding `p`; points outside the box (or not finite) are clamped into the border buckets.
     #[inline]
-    pub fn bucket_of(&self, p: DVec2) -> (usize, usize) {
+    pub(crate) fn bucket_of(&self, p: DVec2) -> (usize, usize) {
         let f = (p - self.origin) / self.cell;
         let clamp = |v: f64, n: usize| {
             if v.is_finite() {
@@ -87,24 +91,27 @@ impl Grid {
     }
 
     /// World XY of the centre of bucket (i, j).
-    pub fn bucket_centre(&self, i: usize, j: usize) -> DVec2 {
+    pub(crate) fn bucket_centre(&self, i: usize, j: usize) -> DVec2 {
         self.origin + DVec2::new(i as f64 + 0.5, j as f64 + 0.5) * self.cell
     }
 
+    /// Number of nodes (or buckets), `nx * ny`.
     pub fn len(&self) -> usize {
         self.nx * self.ny
     }
 
+    /// Whether the grid has no node.
     pub fn is_empty(&self) -> bool {
         self.len() == 0
     }
 
+    /// The index of node (i, j), `j * nx + i`.
     pub fn index(&self, i: usize, j: usize) -> usize {
         j * self.nx + i
     }
 
     /// (i, j) of a node index.
-    pub fn ij(&self, k: usize) -> (usize, usize) {
+    pub(crate) fn ij(&self, k: usize) -> (usize, usize) {
         (k % self.nx, k / self.nx)
     }
 
@@ -138,7 +145,7 @@ impl Grid {
     }
 
     /// Bilinear interpolation of node values at `p` (clamped onto the grid).
-    pub fn bilinear(&self, values: &[f32], p: DVec2) -> f64 {
+    pub(crate) fn bilinear(&self, values: &[f32], p: DVec2) -> f64 {
         let f = (p - self.origin) / self.cell;
         let fx = f.x.clamp(0.0, (self.nx - 1) as f64);
         let fy = f.y.clamp(0.0, (self.ny - 1) as f64);

@@ -37,7 +37,7 @@
 //! * `max_radius` is the larger and `bin_width` the smaller of the two.
 //!
 //! `t = 0` gives `a` and `t = 1` gives `b` exactly (under the new name); `t` outside [0, 1] or NaN is an
-//! [`Error::OutOfRange`].
+//! [`crate::Error::OutOfRange`].
 
 use crate::error::{check, Result};
 use crate::palette::{
@@ -304,7 +304,7 @@ fn extend_rdf(h: &Histogram, end: f64) -> Histogram {
 }
 
 /// Displacement interpolation of two rdfs (values are densities over distance; see the module documentation).
-pub fn interpolate_rdf(a: &Histogram, b: &Histogram, t: f64) -> Histogram {
+pub(crate) fn interpolate_rdf(a: &Histogram, b: &Histogram, t: f64) -> Histogram {
     let end = a.end().max(b.end());
     let (a, b) = (extend_rdf(a, end), extend_rdf(b, end));
     let to_mass = |h: &Histogram| Histogram {

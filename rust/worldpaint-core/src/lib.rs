@@ -14,6 +14,7 @@
 //! | [`spatial`] | neighbour queries behind the product simplification (§6) |
 //! | [`graph`] | roads and rivers as planar graphs of intersecting paths, segment queries (§4.2) |
 //! | [`grid`] | one regular grid for every raster and bucket index, with its two size rules |
+//! | [`limits`] | the work budget every entry point checks before allocating: instances, cells, bins, region size |
 //! | [`contour`] | islands and lakes: contours to dense points and back, signed distance (§6, thesis 6.2.1) |
 //! | [`polygon_mesh`] | polygons as a filled mesh (constrained Delaunay triangulation) for display |
 //! | [`terrain`] | the terrain and its external maps (§3) |
@@ -21,8 +22,8 @@
 //! | [`terrain_edit`] | terrain that adapts: constraint-based deformation by multigrid diffusion (thesis 4.4.2, 5.3.3) |
 //! | [`scene`] | categories, priority order, instances (§3) |
 //! | [`palette`] | histograms, colors, palettes (§3, §4.1) |
-//! | [`analysis`] | learning a color (§4.1) |
-//! | [`compare`](mod@compare) | fidelity metrics between two colors |
+//! | `analysis` ([`learn_color`]) | learning a color (§4.1) |
+//! | `compare` ([`compare()`], [`Fidelity`]) | fidelity metrics between two colors |
 //! | [`interpolate`] | distribution interpolation by optimal mass transport (§5.2) |
 //! | [`synthesis`] | Metropolis-Hastings synthesis with a region of influence (§4.1, §4.3, §5.1, §6); adapting moved content (§5.4) |
 //! | [`tools`] | the painting tools: paste, brush and eraser, move, seam-carving stretch, gradient, blur (§5) |
@@ -32,12 +33,14 @@
 
 // `!(x > 0.0)` is used on purpose: it rejects NaN as well as non-positive values.
 #![allow(clippy::neg_cmp_op_on_partial_ord, clippy::nonminimal_bool)]
+// Every public item says what it is; `make lint` turns this into an error.
+#![warn(missing_docs)]
 
-pub mod analysis;
-pub mod compare;
+mod analysis;
+mod compare;
 pub mod contour;
 pub mod distance;
-pub mod error;
+mod error;
 pub mod exemplar;
 pub mod geom;
 pub mod graph;
@@ -58,7 +61,7 @@ pub mod waterfall;
 
 pub use analysis::{learn_color, AnalysisOptions};
 pub use compare::{compare, Fidelity};
-pub use error::{Error, Result};
+pub use error::{check, Error, FileKind, Result};
 pub use geom::Region;
 pub use interpolate::interpolate_colors;
 pub use palette::{Color, Palette};

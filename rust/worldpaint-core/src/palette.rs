@@ -21,8 +21,11 @@ const COLOR_FORMAT: &str = "worldpaint-color";
 /// A 1D histogram with bins `[start + k w, start + (k+1) w)`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Histogram {
+    /// Lower edge of bin 0, in the unit of what is binned (m for distances, radians for angles).
     pub start: f64,
+    /// Width `w` of every bin, positive.
     pub bin_width: f64,
+    /// One value per bin: an rdf value, or a mass (the field holding the histogram says which).
     pub values: Vec<f64>,
 }
 
@@ -42,7 +45,7 @@ impl Histogram {
     }
 
     /// The bin holding `x`, `None` outside (or for a degenerate histogram / non-finite `x`).
-    pub fn bin_of(&self, x: f64) -> Option<usize> {
+    pub(crate) fn bin_of(&self, x: f64) -> Option<usize> {
         if !(self.bin_width > 0.0) || !x.is_finite() || !self.start.is_finite() {
             return None;
         }
@@ -76,7 +79,7 @@ impl Histogram {
     }
 
     /// The same histogram with values summing to 1 (unchanged when empty).
-    pub fn normalized(&self) -> Histogram {
+    pub(crate) fn normalized(&self) -> Histogram {
         let t = self.total();
         let mut h = self.clone();
         if t > 0.0 {
@@ -143,6 +146,7 @@ mod finite_or_null {
 /// are scaled, turned and which prototypes they show.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct CategoryColor {
+    /// The category as it was in the exemplar's scene (name, layer, kind, priority).
     pub category: Category,
     /// Instances in the exemplar region.
     pub count: usize,
@@ -165,12 +169,18 @@ pub struct CategoryColor {
 pub enum Interaction {
     /// Radial distribution function, eq. (2) with the window-edge correction. Bin k covers distances
     /// [k d_r, (k+1) d_r) with d_r = `Color::bin_width`; 1 everywhere for a Poisson arrangement.
-    Rdf { hist: Histogram },
+    Rdf {
+        /// The rdf by distance, bins from 0.
+        hist: Histogram,
+    },
     /// Oriented rdf: distance × angle (angle of `other − category` relative to world X, folded to [0, π)),
     /// `values[k * angle_bins + l]`; normalized like the rdf (1 for a Poisson arrangement).
     OrientedRdf {
+        /// Width of a distance bin (m); bins start at 0.
         distance_bin: f64,
+        /// Angular sectors over [0, π).
         angle_bins: usize,
+        /// Distance-major: `values[k * angle_bins + l]` for distance bin `k` and sector `l`.
         values: Vec<f64>,
     },
 }
@@ -178,8 +188,11 @@ pub enum Interaction {
 /// Interaction of `category` with `other` (`other` has equal or higher priority).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct PairInteraction {
+    /// Name of the category whose instances are placed against `other`.
     pub category: String,
+    /// Name of the other category (possibly `category` itself).
     pub other: String,
+    /// The histogram of the pair.
     pub interaction: Interaction,
 }
 
@@ -202,11 +215,16 @@ pub enum MapSource {
 /// exemplar preferred rather than what was merely common there. Distances to graphs and polygons are maps too.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct MapInteraction {
+    /// Name of the category sampled.
     pub category: String,
+    /// Name of the terrain map, or of the graph or polygon category whose distance is the map (see `source`).
     pub map: String,
+    /// `h_m`: the map's values at the category's instances (mass per bin, sums to 1).
     pub hist: Histogram,
+    /// The map's values over the whole exemplar region, same bins (mass per bin); empty when a file lacks it.
     #[serde(default = "empty_histogram")]
     pub region_hist: Histogram,
+    /// Where the map's values come from.
     #[serde(default)]
     pub source: MapSource,
 }
@@ -214,6 +232,7 @@ pub struct MapInteraction {
 /// What a color knows of a graph category besides the distribution of its nodes (Section 4.2, thesis 6.3.1).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct GraphColor {
+    /// Name of the graph category.
     pub category: String,
     /// Lengths of the edges (mass per bin).
     pub edge_length: Histogram,
@@ -238,7 +257,9 @@ pub struct GraphColor {
 /// tracing needs.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct PolygonColor {
+    /// Name of the polygon category.
     pub category: String,
+    /// Side of the grid cells of the dense points that stand for its contours (m); filling and tracing use it.
     pub spacing: f64,
 }
 
@@ -249,18 +270,26 @@ fn empty_histogram() -> Histogram {
 /// A learned color: every histogram of an exemplar region, ready to be painted elsewhere.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Color {
+    /// The name the user gave it, shown in the palette.
     pub name: String,
     /// The exemplar region.
     pub region: Region,
+    /// Area of the exemplar region (m²).
     pub region_area: f64,
+    /// Largest distance the rdfs cover (m), and the default radius of the region of influence.
     pub max_radius: f64,
+    /// Width `d_r` of the rdfs' distance bins (m).
     pub bin_width: f64,
     /// In priority order.
     pub categories: Vec<CategoryColor>,
+    /// The rdfs (and oriented rdfs) of each category with itself and with the categories of higher priority.
     pub pairs: Vec<PairInteraction>,
+    /// The map-sampling histograms `h_m`: terrain maps and distances to graphs and polygons.
     pub maps: Vec<MapInteraction>,
+    /// The statistics of the graph categories.
     #[serde(default)]
     pub graphs: Vec<GraphColor>,
+    /// The statistics of the polygon categories.
     #[serde(default)]
     pub polygons: Vec<PolygonColor>,
     /// Exemplar points (x, y, category index into `categories`) relative to the region's bbox min, for the
@@ -271,6 +300,7 @@ pub struct Color {
 /// An ordered set of colors.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Palette {
+    /// The colors, in the order the user sees them.
     pub colors: Vec<Color>,
 }
 
@@ -312,6 +342,7 @@ fn write_envelope(kind: FileKind, value: serde_json::Value) -> Result<String> {
 }
 
 impl Palette {
+    /// The palette as a versioned JSON file (the envelope of the module documentation).
     pub fn to_json(&self) -> Result<String> {
         write_envelope(
             FileKind::Palette,
@@ -323,6 +354,7 @@ impl Palette {
         )
     }
 
+    /// Reads a palette file and validates each of its colors.
     pub fn from_json(s: &str) -> Result<Palette> {
         let kind = FileKind::Palette;
         let colors = open_envelope(s, kind, PALETTE_FORMAT, "colors")?;
@@ -337,6 +369,7 @@ impl Palette {
 }
 
 impl Color {
+    /// The color as a versioned JSON file of its own (the envelope of the module documentation).
     pub fn to_json(&self) -> Result<String> {
         write_envelope(
             FileKind::Color,
@@ -348,6 +381,7 @@ impl Color {
         )
     }
 
+    /// Reads a color file and validates the color.
     pub fn from_json(s: &str) -> Result<Color> {
         let kind = FileKind::Color;
         let color = open_envelope(s, kind, COLOR_FORMAT, "color")?;

@@ -14,11 +14,14 @@ const MAX_GRID: f64 = 400.0;
 /// A planar triangle mesh.
 #[derive(Clone, Debug, Default)]
 pub struct TriangleMesh {
+    /// Vertex positions, world XY (m): the contours' vertices and the inner points.
     pub vertices: Vec<DVec2>,
+    /// Triples of vertex indices.
     pub triangles: Vec<[u32; 3]>,
 }
 
 impl TriangleMesh {
+    /// Total area of the triangles (m²).
     pub fn area(&self) -> f64 {
         self.triangles
             .iter()

@@ -19,11 +19,14 @@ use std::collections::BinaryHeap;
 /// To pop equal costs in another order (deeper states first, say), give the item an `Ord` that says so.
 #[derive(Clone, Copy, Debug)]
 pub struct MinCost<T> {
+    /// The search's cost of reaching `item` (its priority).
     pub cost: f64,
+    /// The state reached, or whatever the search pops.
     pub item: T,
 }
 
 impl<T> MinCost<T> {
+    /// An entry of `item` at `cost`.
     pub fn new(cost: f64, item: T) -> MinCost<T> {
         MinCost { cost, item }
     }
@@ -66,12 +69,14 @@ impl<T: Ord> Default for MinHeap<T> {
 }
 
 impl<T: Ord> MinHeap<T> {
+    /// An empty heap.
     pub fn new() -> MinHeap<T> {
         MinHeap {
             heap: BinaryHeap::new(),
         }
     }
 
+    /// Adds `item` at `cost`.
     pub fn push(&mut self, cost: f64, item: T) {
         self.heap.push(MinCost { cost, item });
     }
@@ -81,14 +86,17 @@ impl<T: Ord> MinHeap<T> {
         self.heap.pop()
     }
 
+    /// The entry [`MinHeap::pop`] would return next, left in the heap.
     pub fn peek(&self) -> Option<&MinCost<T>> {
         self.heap.peek()
     }
 
+    /// Number of entries.
     pub fn len(&self) -> usize {
         self.heap.len()
     }
 
+    /// Whether the heap has no entry.
     pub fn is_empty(&self) -> bool {
         self.heap.is_empty()
     }

@@ -11,8 +11,11 @@ use glam::DVec2;
 /// One indexed point: its position, a caller-defined `tag` (e.g. which interaction table applies) and `id`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct GridEntry {
+    /// World XY (m).
     pub position: DVec2,
+    /// What the caller groups entries by (a category, an interaction table).
     pub tag: u32,
+    /// The caller's index of the entry; [`SpatialGrid::remove`] finds an entry by it.
     pub id: u32,
 }
 
@@ -26,7 +29,7 @@ pub struct SpatialGrid {
 
 impl SpatialGrid {
     /// Grid over the box `min..max` with cells of side `cell` (normally the largest query radius).
-    /// The cell count is capped ([`crate::grid::MAX_BUCKETS`]) by enlarging cells, which keeps queries correct.
+    /// The cell count is capped (4 million) by enlarging cells, which keeps queries correct.
     pub fn new(min: DVec2, max: DVec2, cell: f64) -> Self {
         let grid = Grid::buckets_covering(min, max, cell);
         SpatialGrid {
@@ -36,10 +39,12 @@ impl SpatialGrid {
         }
     }
 
+    /// Number of entries.
     pub fn len(&self) -> usize {
         self.len
     }
 
+    /// Whether the grid holds no entry.
     pub fn is_empty(&self) -> bool {
         self.len == 0
     }
@@ -48,6 +53,7 @@ impl SpatialGrid {
         self.grid.bucket_of(p)
     }
 
+    /// Adds an entry to the cell of its position.
     pub fn insert(&mut self, entry: GridEntry) {
         let (cx, cy) = self.cell_coords(entry.position);
         self.cells[cy * self.grid.nx + cx].push(entry);

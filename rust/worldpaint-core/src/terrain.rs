@@ -16,17 +16,20 @@ use rayon::prelude::*;
 use std::collections::BTreeMap;
 
 /// Largest grid `from_mesh` builds on its own (nodes); larger explicit cells are refused beyond 4× this.
-pub const MAX_AUTO_NODES: usize = 4_000_000;
+pub(crate) const MAX_AUTO_NODES: usize = 4_000_000;
 
 /// A regular grid of terrain heights with named scalar maps ("elevation", "slope", ...) on the same nodes.
 #[derive(Clone, Debug)]
 pub struct Heightfield {
     /// World XY of sample (0, 0).
     pub origin: DVec2,
+    /// Spacing of the samples along X and Y (m).
     pub cell: f64,
+    /// Samples along X (at least 2).
     pub nx: usize,
+    /// Samples along Y (at least 2).
     pub ny: usize,
-    /// Row-major, index = j * nx + i, sample (i, j) at origin + (i, j) * cell.
+    /// Heights (m), row-major, index = j * nx + i, sample (i, j) at origin + (i, j) * cell.
     pub heights: Vec<f32>,
     /// Named scalar maps on the same grid.
     pub maps: BTreeMap<String, Vec<f32>>,
@@ -76,7 +79,7 @@ impl Heightfield {
     ///
     /// Cell size when `cell` is `None`: the mean XY edge length of the triangles (so a triangle covers about one
     /// cell and no detail is lost or invented), enlarged when needed so the grid has at most
-    /// [`MAX_AUTO_NODES`] nodes. A mesh whose vertices form a complete regular lattice (same spacing in X and Y)
+    /// 4 million nodes. A mesh whose vertices form a complete regular lattice (same spacing in X and Y)
     /// is used directly, without rasterizing, unless an explicit different `cell` is asked for.
     pub fn from_mesh(
         vertices: &[[f64; 3]],
@@ -169,12 +172,13 @@ impl Heightfield {
         self.origin + DVec2::new((self.nx - 1) as f64, (self.ny - 1) as f64) * self.cell
     }
 
+    /// The grid's extent, world XY (min, max): sample (0, 0) and sample (nx − 1, ny − 1).
     pub fn bbox(&self) -> (DVec2, DVec2) {
         (self.origin, self.max_corner())
     }
 
     /// The column and row ranges of the grid nodes lying in the box `[lo, hi]` (`None` when there are none).
-    pub fn nodes_in(
+    pub(crate) fn nodes_in(
         &self,
         lo: DVec2,
         hi: DVec2,
@@ -218,6 +222,7 @@ impl Heightfield {
         })
     }
 
+    /// Whether `p` lies within the grid's extent (its border included).
     pub fn contains(&self, p: DVec2) -> bool {
         let hi = self.max_corner();
         p.x >= self.origin.x && p.y >= self.origin.y && p.x <= hi.x && p.y <= hi.y

@@ -39,7 +39,7 @@ fn palette_json_round_trip_and_errors() {
     assert!(matches!(
         Palette::from_json(&future),
         Err(Error::UnsupportedVersion {
-            kind: worldpaint_core::error::FileKind::Palette,
+            kind: worldpaint_core::FileKind::Palette,
             found: 7,
             supported: 1
         })

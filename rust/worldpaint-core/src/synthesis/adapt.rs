@@ -46,6 +46,7 @@ const BIRTH_STEPS: usize = 20;
 /// How to adapt moved content.
 #[derive(Clone, Debug)]
 pub struct AdaptOptions {
+    /// Seed of the adaptation's random choices (displacements, births).
     pub seed: u64,
     /// Width of the band around the region whose content conditions the result (None: the color's radius).
     pub influence_radius: Option<f64>,
@@ -68,7 +69,7 @@ impl Default for AdaptOptions {
 
 /// Where the moved instances ended.
 #[derive(Clone, Debug, Default)]
-pub struct Adapted {
+pub(crate) struct Adapted {
     /// Per moved instance (in the given order): its final position, or `None` when it died.
     pub positions: Vec<Option<DVec2>>,
     /// Instances born to keep each category's count; their categories index the scene's list extended by the
@@ -82,7 +83,7 @@ pub struct Adapted {
 
 /// Adapts `moving` (instances at their anchors, categories indexing `fixed.categories`) to `region` of the scene
 /// `fixed` (the content that stays). Instances of categories the color does not know stay at their anchors.
-pub fn adapt(
+pub(crate) fn adapt(
     fixed: &Scene,
     color: &Color,
     region: &Region,

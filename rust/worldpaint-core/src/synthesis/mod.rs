@@ -126,7 +126,8 @@ mod relax;
 mod structures;
 mod target;
 
-pub use adapt::{adapt, AdaptOptions, Adapted};
+pub(crate) use adapt::adapt;
+pub use adapt::AdaptOptions;
 
 use crate::analysis::region_lattice;
 use crate::contour::{fill, trace};
@@ -142,11 +143,11 @@ use structures::StructuredContent;
 use target::{build_target, rake_maps, Conditioning, Target};
 
 /// Floor of empty rdf bins beyond the hard core (see the module documentation).
-pub const HISTOGRAM_FLOOR: f64 = 1e-3;
+pub(crate) const HISTOGRAM_FLOOR: f64 = 1e-3;
 /// Default Metropolis-Hastings proposals per expected instance.
-pub const DEFAULT_ITERATIONS_PER_INSTANCE: f64 = 40.0;
+pub(crate) const DEFAULT_ITERATIONS_PER_INSTANCE: f64 = 40.0;
 /// A point's total log pair factor is capped at this many times the largest single-pair log factor.
-pub const SATURATION_PAIRS: f64 = 2.0;
+pub(crate) const SATURATION_PAIRS: f64 = 2.0;
 /// Expected count from which synthesis matches the rdf directly (below it, the exemplar's `h` is used as the
 /// pair factor, as in the paper).
 const MIN_COUNT_FOR_RDF_MATCHING: f64 = 100.0;
@@ -154,6 +155,8 @@ const MIN_COUNT_FOR_RDF_MATCHING: f64 = 100.0;
 /// How to synthesize.
 #[derive(Clone, Debug)]
 pub struct SynthesisOptions {
+    /// Seed of every random choice: the same seed, scene, color and region give the same result on every machine
+    /// and thread count.
     pub seed: u64,
     /// None = `color.max_radius`; `Some(0.0)` disables the region of influence.
     pub influence_radius: Option<f64>,
@@ -191,10 +194,15 @@ impl Default for SynthesisOptions {
 /// contours listed in `replaced_contours` (unlocked contours at the region, merged with the new ones).
 #[derive(Clone, Debug, Default)]
 pub struct SynthesisResult {
+    /// The scene's categories, then those of the color the scene lacked.
     pub categories: Vec<Category>,
+    /// The new instances.
     pub instances: Vec<Instance>,
+    /// The new paths of graph categories.
     pub paths: Vec<Path>,
+    /// The new contours of polygon categories.
     pub contours: Vec<Contour>,
+    /// Indices into the scene's contours of those the new contours replace.
     pub replaced_contours: Vec<usize>,
 }
 
@@ -377,7 +385,7 @@ pub(crate) fn conditioning_content(
 /// region (locked content) and those within the influence radius around it enter as fixed content, and the kept
 /// instances of a category inside the region count towards its expected number. Instances for which `keep` fails
 /// are ignored (the caller removes them).
-pub fn synthesize_keeping(
+pub(crate) fn synthesize_keeping(
     scene: &Scene,
     color: &Color,
     region: &Region,

@@ -88,7 +88,7 @@ impl Constraints {
     }
 
     /// Fixes cell `(i, j)` at `value` unless it is already fixed; whether it was set.
-    pub fn set_if_free(&mut self, i: usize, j: usize, value: f64) -> Result<bool> {
+    pub(crate) fn set_if_free(&mut self, i: usize, j: usize, value: f64) -> Result<bool> {
         let k = self.index(i, j)?;
         if !self.values[k].is_nan() {
             return Ok(false);
@@ -148,7 +148,9 @@ impl Default for DiffusionOptions {
 /// A displacement map and what the solver did.
 #[derive(Clone, Debug)]
 pub struct Diffusion {
+    /// Cells along X (those of the constraints).
     pub nx: usize,
+    /// Cells along Y.
     pub ny: usize,
     /// Row-major displacement `D` (m).
     pub displacement: Vec<f64>,

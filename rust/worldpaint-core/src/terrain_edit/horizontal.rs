@@ -11,7 +11,9 @@ use glam::DVec2;
 /// Plan displacements fixed on cells: the two channels share their fixed cells.
 #[derive(Clone, Debug)]
 pub struct HorizontalConstraints {
+    /// The X component of the fixed displacements (m).
     pub x: Constraints,
+    /// The Y component of the fixed displacements (m).
     pub y: Constraints,
 }
 
@@ -25,7 +27,7 @@ impl HorizontalConstraints {
     }
 
     /// Fixes cell `(i, j)` at the plan displacement `v` unless it is already fixed; whether it was set.
-    pub fn set_if_free(&mut self, i: usize, j: usize, v: DVec2) -> Result<bool> {
+    pub(crate) fn set_if_free(&mut self, i: usize, j: usize, v: DVec2) -> Result<bool> {
         if !v.is_finite() {
             return Err(Error::invalid(
                 format!("the horizontal displacement at cell ({i}, {j})"),
@@ -77,7 +79,9 @@ impl HorizontalConstraints {
 /// The two diffused channels of a horizontal displacement map.
 #[derive(Clone, Debug)]
 pub struct HorizontalDisplacement {
+    /// The X component of the displacement (m).
     pub x: Diffusion,
+    /// The Y component of the displacement (m).
     pub y: Diffusion,
 }
 

@@ -11,15 +11,15 @@
 //!
 //! | module | part |
 //! |---|---|
-//! | [`diffusion`] | constraints, falloff, `D` and the solver's statistics |
+//! | `diffusion` ([`diffuse`], [`Constraints`]) | constraints, falloff, `D` and the solver's statistics |
 //! | [`rasterize`] | point, curve, gradient and level-corridor constraints (4.4.2 border constraints, 5.3.3 strokes) |
-//! | [`horizontal`] | horizontal displacement maps, diffused per channel (4.4.2 overhang constraints) |
+//! | `horizontal` ([`diffuse_horizontal`]) | horizontal displacement maps, diffused per channel (4.4.2 overhang constraints) |
 //! | [`roads`] | roads embedded in the terrain: level carriageway, smooth grade, cut and fill banks |
-//! | [`junctions`] | where roads meet: a later road's profile held at the earlier carriageways' heights, blended back |
+//! | `junctions` | where roads meet: a later road's profile held at the earlier carriageways' heights, blended back |
 
-pub mod diffusion;
-pub mod horizontal;
-pub mod junctions;
+mod diffusion;
+mod horizontal;
+mod junctions;
 mod multigrid;
 pub mod rasterize;
 pub mod roads;

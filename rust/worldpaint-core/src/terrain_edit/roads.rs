@@ -5,7 +5,7 @@
 //! (fixed at 0).
 //!
 //! Where carriageways overlap (crossings, T-junctions), the road given first keeps its heights and a later road's
-//! profile meets them, blending back to its own on either side ([`super::junctions`]).
+//! profile meets them, blending back to its own on either side.
 
 use super::diffusion::{diffuse, Constraints, Diffusion, DiffusionOptions};
 use super::junctions::meet_earlier_roads;

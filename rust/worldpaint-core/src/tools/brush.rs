@@ -30,7 +30,7 @@ use crate::scene::Scene;
 use crate::synthesis::{mix_seed, SynthesisOptions};
 
 /// Rings in which an alpha brush blends the color under it with its own.
-pub const ALPHA_RINGS: usize = 3;
+pub(crate) const ALPHA_RINGS: usize = 3;
 /// Dabs whose new area is below this fraction of the disc paint nothing (the brush has hardly moved).
 const MIN_NEW_AREA: f64 = 1e-3;
 
@@ -46,7 +46,7 @@ pub enum Falloff {
 }
 
 impl Falloff {
-    pub fn weight(self, x: f64) -> f64 {
+    pub(crate) fn weight(self, x: f64) -> f64 {
         let x = x.clamp(0.0, 1.0);
         match self {
             Falloff::Constant => 1.0,
@@ -74,6 +74,7 @@ pub struct BrushOptions {
     pub spacing: f64,
     /// Alpha at the brush centre, in (0, 1].
     pub opacity: f64,
+    /// How the alpha falls off from the centre to the rim.
     pub falloff: Falloff,
     /// Seed, region of influence and proposals of each dab's synthesis (dab `k` uses a seed derived from
     /// `seed` and `k`).
@@ -106,6 +107,8 @@ pub struct Stroke {
 }
 
 impl Stroke {
+    /// Starts a stroke on `scene` (no dab yet); fails on a radius or spacing that is not positive, an opacity
+    /// outside (0, 1] or an invalid color.
     pub fn new(scene: &Scene, mode: BrushMode, opts: BrushOptions) -> Result<Stroke> {
         check::positive("brush radius", opts.radius)?;
         check::positive("brush spacing", opts.spacing)?;

@@ -16,15 +16,25 @@ use crate::scene::Scene;
 use crate::synthesis::{mix_seed, SynthesisOptions};
 
 /// Largest number of bands of an adaptive gradient.
-pub const MAX_BANDS: usize = 32;
+pub(crate) const MAX_BANDS: usize = 32;
 
 /// Where `t` runs from 0 to 1.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum GradientShape {
     /// `t` is the projection on the segment `from → to`, clamped to [0, 1].
-    Linear { from: DVec2, to: DVec2 },
+    Linear {
+        /// Where `t` = 0, world XY (m).
+        from: DVec2,
+        /// Where `t` = 1, world XY (m).
+        to: DVec2,
+    },
     /// `t` is the distance to `center` over `radius`, clamped to [0, 1].
-    Radial { center: DVec2, radius: f64 },
+    Radial {
+        /// Where `t` = 0, world XY (m).
+        center: DVec2,
+        /// Distance from `center` at which `t` reaches 1 (m).
+        radius: f64,
+    },
 }
 
 impl GradientShape {
@@ -94,7 +104,7 @@ pub struct GradientOptions {
 }
 
 /// The number of bands a gradient uses (see the module documentation).
-pub fn band_count(
+pub(crate) fn band_count(
     start: &Color,
     end: &Color,
     shape: &GradientShape,

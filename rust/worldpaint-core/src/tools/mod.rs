@@ -28,12 +28,19 @@ use crate::synthesis::{synthesize_keeping, SynthesisOptions};
 /// contour a tool cuts is removed, and its pieces outside the painted region come back among the added ones.
 #[derive(Clone, Debug, Default)]
 pub struct Edit {
+    /// The scene's categories, then any the tool's colors brought; the added content indexes these.
     pub categories: Vec<Category>,
+    /// Indices of the scene's instances removed, ascending.
     pub removed: Vec<usize>,
+    /// The instances added.
     pub added: Vec<Instance>,
+    /// Indices of the scene's paths removed, ascending.
     pub removed_paths: Vec<usize>,
+    /// The paths added: new ones and the pieces of cut ones.
     pub added_paths: Vec<Path>,
+    /// Indices of the scene's contours removed, ascending.
     pub removed_contours: Vec<usize>,
+    /// The contours added: new ones and the pieces of cut ones.
     pub added_contours: Vec<Contour>,
 }
 

@@ -1,6 +1,6 @@
 //! Move (Section 5.4, Fig. 14): the content of a region moves by an offset and adapts to its new place — the
-//! terrain there and the content around it — by the displacement Metropolis-Hastings of
-//! [`crate::synthesis::adapt`], which keeps what still fits exactly where the move put it.
+//! terrain there and the content around it — by a displacement Metropolis-Hastings (set by
+//! [`AdaptOptions`]), which keeps what still fits exactly where the move put it.
 //!
 //! The moved content replaces the unlocked content of the destination (as a moved selection covers what lies
 //! under it in a painting program); the part of the source it leaves is left empty. Locked content stays where it
@@ -21,6 +21,8 @@ use crate::synthesis::{adapt, AdaptOptions};
 /// What a move did, with its counts.
 #[derive(Clone, Debug)]
 pub struct Moved {
+    /// The change to the scene: the unlocked instances of the source and of the destination removed, the moved
+    /// ones (where they settled) and the births added; paths and contours moved likewise.
     pub edit: Edit,
     /// Instances carried from the source.
     pub moved: usize,

@@ -62,6 +62,7 @@ pub struct StretchOptions {
 /// What a stretch did.
 #[derive(Clone, Debug)]
 pub struct Stretched {
+    /// The change to the scene.
     pub edit: Edit,
     /// The cut, a polyline across the region (world XY).
     pub seam: Vec<DVec2>,

@@ -7,16 +7,19 @@ use crate::error::{check, Error, FileKind, Result};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
-pub const ENCYCLOPEDIA_VERSION: u32 = 1;
+pub(crate) const ENCYCLOPEDIA_VERSION: u32 = 1;
 
 /// Shape parameters of an interest function template (Fig. 3.6), in the unit of its input (metres for
 /// distances, grade — rise over run — for slopes).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Shape {
+    /// `λ_min`: below it the location is forbidden (−1), except for the open-distance template.
     #[serde(rename = "lambda_min")]
     pub min: f64,
+    /// `λ_0`: where the template reaches 1 (or stops being 1); `λ_min ≤ λ_0`.
     #[serde(rename = "lambda_0")]
     pub zero: f64,
+    /// `λ_max`: where the template has fallen back to 0 (−1 beyond it for the balance template); `λ_0 ≤ λ_max`.
     #[serde(rename = "lambda_max")]
     pub max: f64,
 }
@@ -25,18 +28,25 @@ pub struct Shape {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(default)]
 pub struct InterestWeights {
+    /// Weight of the attraction-repulsion to the other buildings.
     pub sociability: f64,
+    /// Weight of the attraction-repulsion to religious buildings.
     pub worship: f64,
+    /// Weight of the distance to the closest road.
     pub accessibility: f64,
+    /// Weight of the terrain grade.
     pub slope: f64,
+    /// Weight of the distance to water.
     pub water: f64,
+    /// Weight of the distance to a fortified enclosure.
     pub fortification: f64,
+    /// Weight of the geographical domination.
     pub domination: f64,
 }
 
 impl InterestWeights {
     /// The weights in the order of the criteria (`interest::Criterion::ALL`).
-    pub fn as_array(&self) -> [f64; 7] {
+    pub(crate) fn as_array(&self) -> [f64; 7] {
         [
             self.sociability,
             self.worship,
@@ -65,9 +75,11 @@ pub struct ParcelParams {
 /// How a building type of one village type chooses its place and its land.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Placement {
+    /// The weights `w_i(V, B)` of the criteria.
     pub weights: InterestWeights,
     /// Attraction-repulsion between buildings (distance, m); `sociability_with` overrides it per building type.
     pub sociability: Shape,
+    /// Per building type: the attraction-repulsion to buildings of that type, in place of `sociability`.
     #[serde(default)]
     pub sociability_with: BTreeMap<String, Shape>,
     /// Attraction-repulsion to religious buildings (distance, m).
@@ -82,6 +94,7 @@ pub struct Placement {
     pub fortification: Shape,
     /// Influence radius `r` of the geographical domination (m).
     pub domination_radius: f64,
+    /// How the building's parcel is conquered.
     pub parcel: ParcelParams,
 }
 
@@ -89,8 +102,11 @@ pub struct Placement {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum RoofStyle {
+    /// Two slopes over the longer walls, gable walls at the ends.
     Gable,
+    /// A slope over each of the four walls.
     Hip,
+    /// A flat slab with a parapet.
     Flat,
 }
 
@@ -99,10 +115,13 @@ pub enum RoofStyle {
 pub struct BuildingKind {
     /// Smallest and largest footprint (width along the road, depth away from it), metres.
     pub footprint_min: [f64; 2],
+    /// Largest footprint (width, depth), metres.
     pub footprint_max: [f64; 2],
     /// Number of storeys, smallest and largest.
     pub storeys: [u32; 2],
+    /// Height of a storey (m).
     pub storey_height: f64,
+    /// The roof's style.
     pub roof: RoofStyle,
     /// Churches, chapels, monasteries: what the worship interest is measured to.
     #[serde(default)]
@@ -144,17 +163,23 @@ pub struct RoadParams {
 /// A village type: its placement parameters per building type.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct VillageType {
+    /// What the village type stands for, for the user.
     #[serde(default)]
     pub description: String,
+    /// Per building type it may build (a key of the encyclopedia's `buildings`): how it is placed.
     pub buildings: BTreeMap<String, Placement>,
 }
 
 /// The building encyclopedia.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Encyclopedia {
+    /// Format version of the file; this build reads version 1.
     pub version: u32,
+    /// The road search's costs, shared by every village type.
     pub roads: RoadParams,
+    /// The building types, by name.
     pub buildings: BTreeMap<String, BuildingKind>,
+    /// The village types, by name.
     pub village_types: BTreeMap<String, VillageType>,
 }
 
@@ -162,19 +187,31 @@ pub struct Encyclopedia {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "event", rename_all = "snake_case")]
 pub enum Event {
-    ChangeVillageType { village_type: String },
-    Generate { count: u32, building: String },
+    /// The village type the following buildings are placed by.
+    ChangeVillageType {
+        /// A key of the encyclopedia's `village_types`.
+        village_type: String,
+    },
+    /// Seeds `count` buildings of one type, each connected to the roads as it is placed.
+    Generate {
+        /// How many buildings (at least 1).
+        count: u32,
+        /// A key of the encyclopedia's `buildings`.
+        building: String,
+    },
 }
 
 /// An ordered list of events.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Scenario {
+    /// The events, in the order they happen; the first must choose a village type.
     pub events: Vec<Event>,
 }
 
 /// Named scenarios shipped as presets.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct ScenarioPresets {
+    /// The scenarios, by name.
     pub presets: BTreeMap<String, Scenario>,
 }
 
@@ -209,7 +246,7 @@ fn non_negative(at: &str, name: &str, v: f64) -> Result<()> {
 impl RoadParams {
     /// Checks the ranges, wherever the parameters come from (an encyclopedia, or a direct call of the road
     /// network); `at` says where in error messages. A `cycle_max_length` of 0 grows no cycles.
-    pub fn validate(&self, at: &str) -> Result<()> {
+    pub(crate) fn validate(&self, at: &str) -> Result<()> {
         positive(at, "width", self.width)?;
         positive(at, "distance_weight", self.distance_weight)?;
         positive(at, "max_grade", self.max_grade)?;
@@ -235,7 +272,7 @@ impl RoadParams {
 impl ParcelParams {
     /// Checks the ranges, wherever the parameters come from (an encyclopedia, or a parcel seed); `at` says where
     /// in error messages. A `road_reach` of 0 keeps each seed's road front to its own source cell.
-    pub fn validate(&self, at: &str) -> Result<()> {
+    pub(crate) fn validate(&self, at: &str) -> Result<()> {
         positive(at, "budget", self.budget)?;
         non_negative(at, "road_reach", self.road_reach)?;
         positive(at, "conquest_weight", self.conquest_weight)?;
@@ -244,6 +281,7 @@ impl ParcelParams {
 }
 
 impl Encyclopedia {
+    /// Reads an encyclopedia file and checks it ([`Encyclopedia::validate`]).
     pub fn from_json(text: &str) -> Result<Encyclopedia> {
         let e: Encyclopedia = serde_json::from_str(text)
             .map_err(|err| Error::parse(FileKind::Encyclopedia, err.to_string()))?;
@@ -259,6 +297,7 @@ impl Encyclopedia {
         Ok(e)
     }
 
+    /// The encyclopedia as a JSON file (pretty-printed).
     pub fn to_json(&self) -> String {
         serde_json::to_string_pretty(self).unwrap_or_default()
     }
@@ -327,7 +366,7 @@ impl Encyclopedia {
     }
 
     /// The placement of `building` in `village_type`, or a clear error.
-    pub fn placement(&self, village_type: &str, building: &str) -> Result<&Placement> {
+    pub(crate) fn placement(&self, village_type: &str, building: &str) -> Result<&Placement> {
         let v = self
             .village_types
             .get(village_type)
@@ -341,7 +380,7 @@ impl Encyclopedia {
     }
 
     /// Checks that a scenario starts with a village type and names only what the encyclopedia knows.
-    pub fn check_scenario(&self, scenario: &Scenario) -> Result<()> {
+    pub(crate) fn check_scenario(&self, scenario: &Scenario) -> Result<()> {
         let known = |names: Vec<&String>| {
             names
                 .into_iter()
@@ -392,12 +431,13 @@ impl Encyclopedia {
 }
 
 impl Scenario {
+    /// Reads a scenario file; what it names is checked against an encyclopedia when a village is generated.
     pub fn from_json(text: &str) -> Result<Scenario> {
         serde_json::from_str(text).map_err(|err| Error::parse(FileKind::Scenario, err.to_string()))
     }
 
     /// Number of buildings the scenario asks for.
-    pub fn building_count(&self) -> u32 {
+    pub(crate) fn building_count(&self) -> u32 {
         self.events
             .iter()
             .map(|e| match e {
@@ -409,6 +449,7 @@ impl Scenario {
 }
 
 impl ScenarioPresets {
+    /// Reads a file of named scenarios.
     pub fn from_json(text: &str) -> Result<ScenarioPresets> {
         serde_json::from_str(text)
             .map_err(|err| Error::parse(FileKind::ScenarioPresets, err.to_string()))

@@ -8,7 +8,7 @@
 //! > strategy."
 //!
 //! The closest position to the road is the middle of the stretch of the contour that faces the road (the contour
-//! points within [`FRONT_TOLERANCE`] of the smallest distance to a road centre line), so a parcel fronting a
+//! points within 1.5 m of the smallest distance to a road centre line), so a parcel fronting a
 //! straight road gets its house centred on its frontage. The quad's front wall lies along the road tangent there;
 //! its left, right and back walls move out in small steps, each until it would leave the parcel or the size
 //! reaches `max_size` (width along the road, depth away from it). Where the contour is not parallel to the road
@@ -100,7 +100,7 @@ impl Frame {
 
 /// Points of a contour within this distance (m) of the closest one to the road make the frontage: a simplified
 /// front is not exactly parallel to its road.
-pub const FRONT_TOLERANCE: f64 = 1.5;
+pub(crate) const FRONT_TOLERANCE: f64 = 1.5;
 
 fn footprint_indexed(
     parcel: &Parcel,

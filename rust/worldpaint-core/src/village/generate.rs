@@ -28,6 +28,7 @@ const MAX_ATTEMPTS: usize = 20_000;
 
 /// Everything a village is generated from.
 pub struct VillageRequest<'a> {
+    /// The terrain the village is built on.
     pub terrain: &'a Heightfield,
     /// The region of interest `Ω`.
     pub region: Region,
@@ -36,9 +37,13 @@ pub struct VillageRequest<'a> {
     pub connections: Vec<DVec2>,
     /// Roads already there (kept as they are; new roads re-use them).
     pub existing_roads: Vec<Vec<DVec2>>,
+    /// Water and fortification walls.
     pub environment: Environment,
+    /// The building types and their placement per village type.
     pub encyclopedia: &'a Encyclopedia,
+    /// What to build, in order.
     pub scenario: &'a Scenario,
+    /// Seed of every random choice: the same request gives the same village.
     pub seed: u64,
     /// Grid cell (m) of the skeleton: interests and roads.
     pub cell: f64,
@@ -49,17 +54,22 @@ pub struct VillageRequest<'a> {
 /// The stages reported to the progress callback.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Stage {
+    /// Building seeds and the roads to them (3.2).
     Skeleton,
+    /// Parcels and footprints (3.3).
     Parcels,
+    /// House geometry (3.4).
     Houses,
 }
 
 /// What happened while the village grew: what a layout team reads to tune the encyclopedia.
 #[derive(Clone, Debug, Default)]
 pub struct VillageReport {
+    /// Buildings the scenario asks for (its counts summed).
     pub requested: usize,
-    /// Seeds placed by the aggregation test, and by taking the best candidate after too many failed tests.
+    /// Seeds placed and reached by a road.
     pub seeded: usize,
+    /// Of those, the seeds placed by taking the best candidate after too many failed aggregation tests.
     pub fallbacks: usize,
     /// Buildings for which no location had a positive interest.
     pub unplaced: Vec<String>,
@@ -71,7 +81,9 @@ pub struct VillageReport {
     pub without_footprint: usize,
     /// Roads that had to be steeper than the encyclopedia's maximum grade (the terrain left no other way).
     pub roads_over_max_grade: usize,
+    /// Cycle roads built (3.2.4).
     pub cycles: usize,
+    /// The connection points `Ψ` the roads started from: the request's, or those found when it gave none.
     pub connections: Vec<DVec2>,
     /// Seconds spent in the skeleton, the parcels and footprints, and the houses.
     pub seconds: [f64; 3],
@@ -80,18 +92,28 @@ pub struct VillageReport {
 /// A generated village. `parcels`, `footprints` and `houses` are given per kept seed, in `seeds` order.
 #[derive(Clone, Debug, Default)]
 pub struct Village {
+    /// The seeds that got a parcel and a footprint; the others are counted in the report.
     pub seeds: Vec<BuildingSeed>,
     /// The new roads (the existing ones are not repeated).
     pub roads: Vec<Road>,
+    /// One per seed.
     pub parcels: Vec<Parcel>,
+    /// One per seed, inside its parcel.
     pub footprints: Vec<Footprint>,
+    /// One per seed, on its footprint.
     pub houses: Vec<HouseMesh>,
+    /// The land the village was generated on (`None` only in a default value).
     pub land: Option<Land>,
+    /// What happened while it grew.
     pub report: VillageReport,
 }
 
 /// Default connection points: where the existing roads cross the border of `Ω`, else the lowest border node.
-pub fn default_connections(land: &Land, region: &Region, existing: &[Vec<DVec2>]) -> Vec<DVec2> {
+pub(crate) fn default_connections(
+    land: &Land,
+    region: &Region,
+    existing: &[Vec<DVec2>],
+) -> Vec<DVec2> {
     let mut points: Vec<DVec2> = Vec::new();
     for road in existing {
         for s in road.windows(2) {
@@ -367,17 +389,25 @@ pub fn generate(
 
 /// What an interest map is shown for: one building type of one village type, in a village as it stands.
 pub struct InterestRequest<'a> {
+    /// The terrain.
     pub terrain: &'a Heightfield,
+    /// The region of interest `Ω`.
     pub region: Region,
+    /// Water and fortification walls.
     pub environment: Environment,
+    /// Where the placement parameters come from.
     pub encyclopedia: &'a Encyclopedia,
+    /// The village type `V` (a key of the encyclopedia's `village_types`).
     pub village_type: &'a str,
+    /// The building type `B` (a key of the encyclopedia's `buildings`).
     pub building: &'a str,
     /// One criterion `f_i`, or `None` for the combined interest `I(p, B, V)`.
     pub criterion: Option<Criterion>,
     /// The buildings and roads already there (the dynamic criteria depend on them).
     pub buildings: &'a [BuildingSeed],
+    /// The roads already there, as polylines.
     pub roads: &'a [Vec<DVec2>],
+    /// Grid cell (m) of the land the criteria are read on.
     pub cell: f64,
 }
 

@@ -11,7 +11,7 @@
 //! * *position*: an element starts at its most plausible place (a window centred in its bay with its sill on the
 //!   storey's floor line; the door centred on the front wall of the ground storey) and, while invalid, moves over
 //!   a lattice of the wall surface in order of the cost `c(p) + K(dx, dy)` kept in a priority queue, `K` favouring
-//!   horizontal moves (Fig. 3.13), until a position is valid or [`MAX_TESTS`] positions failed;
+//!   horizontal moves (Fig. 3.13), until a position is valid or 400 positions failed;
 //! * *shape*: when every position fails, the next shape of a priority list is tried (tall window, square window,
 //!   small high window, half window; door, narrow door, low door), and when none fits the bay stays plain wall
 //!   (Algorithm 3).
@@ -27,7 +27,7 @@
 //! cuts into the walls, which the grammar adapts to; downhill a foundation reaches from the floor to below the
 //! lowest terrain along the walls. The mesh is made of closed solids (foundation, one prism per storey, roof and
 //! attic, steps), each wound counter-clockwise seen from outside, plus one quad per opening standing
-//! [`OPENING_OFFSET`] in front of its wall.
+//! 3 cm in front of its wall.
 //!
 //! A footprint that is not a convex quad with sides of 0.5–500 m and corners of at least 15°, a storey height
 //! outside 1–20 m, or a terrain that is not finite around the house give an empty mesh and report. Clockwise
@@ -36,7 +36,7 @@
 mod geometry;
 mod grammar;
 
-pub use grammar::{kernel, Ground, CLEARANCE, MAX_TESTS, OPENING_OFFSET, STEP};
+pub use grammar::Ground;
 
 use crate::geom::polygon_signed_area;
 use crate::village::encyclopedia::{BuildingKind, RoofStyle};
@@ -90,7 +90,9 @@ const DOOR_WALLS: [usize; 4] = [0, 1, 3, 2];
 /// What the grammar built on a house.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub struct HouseReport {
+    /// Doors built.
     pub doors: usize,
+    /// Windows built.
     pub windows: usize,
     /// Elements placed away from their first position (a door on another wall or storey counts).
     pub moved: usize,
@@ -105,29 +107,37 @@ pub struct HouseReport {
 /// Door or window.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub enum OpeningKind {
+    /// A door (material [`HouseMaterial::Door`]).
     Door,
+    /// A window (material [`HouseMaterial::Window`]).
     Window,
 }
 
 /// One façade element as the grammar placed it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PlacedOpening {
+    /// Door or window.
     pub kind: OpeningKind,
     /// The footprint side `corners[wall]..corners[wall + 1]` it is on (0: the front).
     pub wall: usize,
+    /// The storey it is on (0: the ground storey).
     pub storey: u32,
     /// The bay (room) of the wall it opens, counted from `corners[wall]`; for a door, the bay of its centre.
     pub bay: usize,
+    /// Name of the shape built (e.g. "tall window", "narrow door").
     pub shape: &'static str,
     /// Built with a fallback shape.
     pub reshaped: bool,
     /// Placed away from its first position.
     pub moved: bool,
-    /// First position of the shape built, and where it went: centre along the wall from `corners[wall]`, and sill
-    /// above the storey floor (m).
+    /// First position of the shape built: centre along the wall from `corners[wall]`, and sill above the storey
+    /// floor (m).
     pub first: DVec2,
+    /// Where it went, in the same terms as `first` (m).
     pub at: DVec2,
+    /// Width of the shape built (m).
     pub width: f64,
+    /// Height of the shape built (m).
     pub height: f64,
 }
 

@@ -35,16 +35,24 @@ use std::collections::BTreeMap;
 /// The criteria of 3.2.2, in the order of [`Criterion::ALL`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Criterion {
+    /// Attraction-repulsion to the surrounding buildings.
     Sociability,
+    /// Attraction-repulsion to the religious buildings.
     Worship,
+    /// Asymmetric bell of the distance to the closest road.
     Accessibility,
+    /// Bell of the terrain grade.
     Slope,
+    /// Close-distance function of the distance to water.
     Water,
+    /// Open-distance function of the distance to a fortified enclosure or a castle.
     Fortification,
+    /// Geographical domination: how much the place overlooks its surroundings.
     Domination,
 }
 
 impl Criterion {
+    /// The criteria in the order of [`InterestWeights`](super::encyclopedia::InterestWeights)' fields.
     pub const ALL: [Criterion; 7] = [
         Criterion::Sociability,
         Criterion::Worship,
@@ -55,6 +63,7 @@ impl Criterion {
         Criterion::Domination,
     ];
 
+    /// The criterion's name in lower case, as the encyclopedia's weights and the add-on spell it.
     pub fn name(self) -> &'static str {
         match self {
             Criterion::Sociability => "sociability",
@@ -67,6 +76,7 @@ impl Criterion {
         }
     }
 
+    /// The criterion of that [`Criterion::name`], if any.
     pub fn from_name(name: &str) -> Option<Criterion> {
         Criterion::ALL.into_iter().find(|c| c.name() == name)
     }
@@ -81,7 +91,7 @@ fn ramp(x: f64, a: f64, b: f64) -> f64 {
 }
 
 /// Fig. 3.6 (a): attraction-repulsion (sociability, worship).
-pub fn attraction_repulsion(d: f64, s: &Shape) -> f64 {
+pub(crate) fn attraction_repulsion(d: f64, s: &Shape) -> f64 {
     if d < s.min {
         -1.0
     } else if d <= s.zero {
@@ -94,7 +104,7 @@ pub fn attraction_repulsion(d: f64, s: &Shape) -> f64 {
 }
 
 /// Fig. 3.6 (b): balance (roads, slope).
-pub fn balance(x: f64, s: &Shape) -> f64 {
+pub(crate) fn balance(x: f64, s: &Shape) -> f64 {
     if !(x >= s.min && x <= s.max) {
         return -1.0;
     }
@@ -107,7 +117,7 @@ pub fn balance(x: f64, s: &Shape) -> f64 {
 }
 
 /// Fig. 3.6 (c): close distance (water).
-pub fn close_distance(d: f64, s: &Shape) -> f64 {
+pub(crate) fn close_distance(d: f64, s: &Shape) -> f64 {
     if d < s.min {
         -1.0
     } else if d <= s.zero {
@@ -118,7 +128,7 @@ pub fn close_distance(d: f64, s: &Shape) -> f64 {
 }
 
 /// Fig. 3.6 (d): open distance (fortifications); `d` is 0 inside.
-pub fn open_distance(d: f64, s: &Shape) -> f64 {
+pub(crate) fn open_distance(d: f64, s: &Shape) -> f64 {
     if d <= s.zero {
         1.0
     } else {
@@ -128,7 +138,7 @@ pub fn open_distance(d: f64, s: &Shape) -> f64 {
 
 /// The interest equation over criterion values (in [`Criterion::ALL`] order), clipped to `[0, 1]` so it is the
 /// probability of the aggregation test.
-pub fn combine(values: &[f64; 7], placement: &Placement) -> f64 {
+pub(crate) fn combine(values: &[f64; 7], placement: &Placement) -> f64 {
     let w = placement.weights.as_array();
     let forbidden = values
         .iter()
@@ -148,7 +158,7 @@ pub fn combine(values: &[f64; 7], placement: &Placement) -> f64 {
 
 /// Exact Euclidean distance (m) from every node to the nearest node where `mask` is true; infinite everywhere
 /// when the mask is empty.
-pub fn distance_transform(grid: &Grid, mask: &[bool]) -> Vec<f32> {
+pub(crate) fn distance_transform(grid: &Grid, mask: &[bool]) -> Vec<f32> {
     crate::distance::distance_transform(grid.nx, grid.ny, grid.cell, mask)
 }
 
@@ -188,7 +198,7 @@ impl StaticMaps {
     }
 
     /// Normalized domination at `p` for radius `r` (0 for a radius the maps were not built with).
-    pub fn domination_at(&self, r: f64, p: DVec2) -> f64 {
+    pub(crate) fn domination_at(&self, r: f64, p: DVec2) -> f64 {
         self.domination
             .get(&r.to_bits())
             .map_or(0.0, |(g, v)| g.bilinear(v, p))
@@ -237,7 +247,7 @@ fn distance_at(grid: &Grid, values: &[f32], p: DVec2) -> f64 {
 }
 
 /// What the dynamic criteria see of the growing village.
-pub struct VillageState<'a> {
+pub(crate) struct VillageState<'a> {
     pub buildings: &'a [BuildingSeed],
     /// Per building: religious (worship is measured to it).
     pub religious: &'a [bool],
@@ -249,7 +259,7 @@ pub struct VillageState<'a> {
 }
 
 /// The seven criterion values `f_i(p, V, B)` at `p` for a building placed by `placement`.
-pub fn criteria(
+pub(crate) fn criteria(
     land: &Land,
     maps: &StaticMaps,
     state: &VillageState,
@@ -306,7 +316,7 @@ pub fn criteria(
 }
 
 /// `I(p, B, V)` at `p`, 0 where the land cannot take a building.
-pub fn interest(
+pub(crate) fn interest(
     land: &Land,
     maps: &StaticMaps,
     state: &VillageState,

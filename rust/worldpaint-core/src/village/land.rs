@@ -12,6 +12,7 @@ use rayon::prelude::*;
 /// What the village needs to know about the land, per node of its grid.
 #[derive(Clone, Debug)]
 pub struct Land {
+    /// The nodes, `cell` metres apart over the part of the region's box the terrain covers.
     pub grid: Grid,
     /// Terrain elevation `h(p)`.
     pub height: Vec<f32>,
@@ -116,7 +117,7 @@ impl Land {
     }
 
     /// Height gradient at node `k`, from central differences (one-sided at the border).
-    pub fn gradient_at_node(&self, k: usize) -> DVec2 {
+    pub(crate) fn gradient_at_node(&self, k: usize) -> DVec2 {
         let g = &self.grid;
         let (i, j) = g.ij(k);
         let (i0, i1) = (i.saturating_sub(1), (i + 1).min(g.nx - 1));

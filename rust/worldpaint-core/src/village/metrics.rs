@@ -13,7 +13,9 @@ use glam::DVec2;
 pub struct Conflicts {
     /// Footprints reaching into a road corridor.
     pub road: usize,
+    /// Footprints reaching onto water.
     pub water: usize,
+    /// Footprints over a fortification wall's nodes.
     pub wall: usize,
     /// Pairs of footprints overlapping by more than a shared wall.
     pub house: usize,
@@ -22,13 +24,14 @@ pub struct Conflicts {
 }
 
 impl Conflicts {
+    /// All conflicts together.
     pub fn total(&self) -> usize {
         self.road + self.water + self.wall + self.house + self.outside
     }
 }
 
 /// Points on and inside a footprint, about `step` apart (edges included), for containment checks.
-pub fn footprint_samples(f: &Footprint, step: f64) -> Vec<DVec2> {
+pub(crate) fn footprint_samples(f: &Footprint, step: f64) -> Vec<DVec2> {
     let c = &f.corners;
     let nu = ((c[1] - c[0]).length() / step).ceil().max(1.0) as usize;
     let nv = ((c[3] - c[0]).length() / step).ceil().max(1.0) as usize;
@@ -48,7 +51,7 @@ pub fn footprint_samples(f: &Footprint, step: f64) -> Vec<DVec2> {
 
 /// How deep two convex polygons overlap: the smallest penetration over their edge normals (separating axes);
 /// 0 or less when they are apart or only touch.
-pub fn overlap_depth(a: &[DVec2], b: &[DVec2]) -> f64 {
+pub(crate) fn overlap_depth(a: &[DVec2], b: &[DVec2]) -> f64 {
     let mut depth = f64::INFINITY;
     for poly in [a, b] {
         for k in 0..poly.len() {
@@ -120,7 +123,7 @@ pub fn footprint_conflicts(
 }
 
 /// Whether a footprint reaches onto water: a point of it nearer (bilinearly) to water nodes than to dry ones.
-pub fn on_water(land: &Land, f: &Footprint) -> bool {
+pub(crate) fn on_water(land: &Land, f: &Footprint) -> bool {
     let g = &land.grid;
     let wet = |i: i64, j: i64| {
         let (i, j) = (
@@ -233,13 +236,17 @@ pub fn road_grades(roads: &[Road], ground: &dyn Fn(DVec2) -> f64, step: f64) -> 
 /// Layout figures compared between generated and real villages.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct LayoutStatistics {
+    /// Number of houses.
     pub houses: usize,
+    /// Mean distance from a house to the nearest other house (m), over the houses that have one.
     pub mean_nearest_neighbour: f64,
     /// Share of houses with another house within 50 m.
     pub share_within_50m: f64,
+    /// Total road length over the number of houses (m).
     pub road_length_per_house: f64,
     /// House-to-nearest-road distance: counts in bins of 10 m (the last bin holds everything beyond).
     pub road_distance_histogram: Vec<usize>,
+    /// Mean distance from a house to the nearest road centreline (m).
     pub mean_road_distance: f64,
 }
 

@@ -5,10 +5,10 @@
 //!
 //! | module | part of chapter 3 |
 //! |---|---|
-//! | [`land`] | `Ω`, `h(p)`, `w(p)`, walls on a grid |
+//! | `land` ([`Land`], [`Environment`]) | `Ω`, `h(p)`, `w(p)`, walls on a grid |
 //! | [`encyclopedia`] | the building encyclopedia and the growth scenario (3.1, 3.2.1) |
 //! | [`interest`] | dynamic interest maps and the interest equation, Fig. 3.6 templates (3.2.2) |
-//! | [`seeding`] | aggregation-based building seeding, Algorithm 1 (3.2.3) |
+//! | `seeding` | aggregation-based building seeding, Algorithm 1 (3.2.3) |
 //! | [`roads`] | weighted anisotropic shortest path with re-use and cycles (3.2.4) |
 //! | [`parcels`] | road, corner and anisotropic land conquest, simplification (3.3.1–3.3.4) |
 //! | [`footprint`] | quad footprints grown from the road (3.3.5) |
@@ -20,12 +20,12 @@ pub mod footprint;
 pub mod generate;
 pub mod house;
 pub mod interest;
-pub mod land;
+mod land;
 pub mod metrics;
 pub mod parcels;
 mod road_index;
 pub mod roads;
-pub mod seeding;
+mod seeding;
 
 pub use encyclopedia::{Encyclopedia, Event, Scenario, ScenarioPresets};
 pub use land::{Environment, Land};
@@ -40,19 +40,23 @@ pub struct BuildingSeed {
     pub building: String,
     /// Village type `V` in force when it was seeded.
     pub village_type: String,
+    /// Where the building stands, world XY (m).
     pub position: DVec2,
 }
 
 /// A road `R_j`: the node positions of its central curve, in the plane (heights come from the terrain).
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Road {
+    /// The central curve's vertices, world XY (m).
     pub points: Vec<DVec2>,
 }
 
 /// A land parcel `P_i` of seed `seed`: a simple closed contour (counter-clockwise, not repeated at the end).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Parcel {
+    /// Index of its building seed.
     pub seed: usize,
+    /// The contour's vertices, world XY (m).
     pub contour: Vec<DVec2>,
 }
 
@@ -60,7 +64,9 @@ pub struct Parcel {
 /// (road side) wall.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Footprint {
+    /// Index of its building seed.
     pub seed: usize,
+    /// The four corners, world XY (m).
     pub corners: [DVec2; 4],
 }
 
@@ -68,18 +74,27 @@ pub struct Footprint {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[repr(u8)]
 pub enum HouseMaterial {
+    /// The storeys' walls and the gable walls of the attic.
     Wall = 0,
+    /// The roof: its slab and edges, a flat roof's parapet, the attic's ceiling.
     Roof = 1,
+    /// Doors.
     Door = 2,
+    /// Windows.
     Window = 3,
+    /// The base under the ground floor, down to below the terrain, and the steps under doors.
     Foundation = 4,
 }
 
 /// The 3D geometry of one house: polygons over shared vertices (world XYZ), one material per polygon.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct HouseMesh {
+    /// Index of its building seed.
     pub seed: usize,
+    /// Vertex positions, world XYZ (m).
     pub vertices: Vec<[f64; 3]>,
+    /// Polygons as vertex indices.
     pub faces: Vec<Vec<u32>>,
+    /// One per face.
     pub materials: Vec<HouseMaterial>,
 }

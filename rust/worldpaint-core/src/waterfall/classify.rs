@@ -24,15 +24,25 @@ use std::f64::consts::{FRAC_PI_2, PI};
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum WaterfallType {
+    /// Contact: a gentle slope with little flow (seed π/16, 2).
     Stream,
+    /// Contact: a steep slope with little flow, the water staying on the rock (seed π/4, 2).
     Horsetail,
+    /// Contact: a steep slope broken in steps (seed π/8, 3).
     Cascade,
+    /// Contact: a gentle slope with much flow (seed π/16, 5).
     Rapid,
+    /// Contact: a steep slope with much flow (seed π/4, 6).
     Block,
+    /// Contact: nearly flat, with much flow (seed π/32, 5).
     River,
+    /// Free-fall: a thin vertical fall (seed π/2, 1).
     Ribbon,
+    /// Free-fall: a vertical fall into a pool (seed π/2, 2).
     Plunge,
+    /// Free-fall: a fall over a ledge with much flow (seed π/2, 5).
     Ledge,
+    /// Free-fall: the largest falls (seed π/2, 8).
     Cataract,
 }
 
@@ -40,14 +50,19 @@ pub enum WaterfallType {
 /// (foam, rocks, disturbance, particles, all in `[0, 1]`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TypeSeed {
+    /// The type this row seeds.
     pub kind: WaterfallType,
     /// Mean inclination, radians.
     pub slope: f64,
     /// Flow units.
     pub flow: f64,
+    /// How much foam the type shows.
     pub foam: f64,
+    /// How many rocks stand in it.
     pub rocks: f64,
+    /// How disturbed its surface is.
     pub disturbance: f64,
+    /// How many particles (spray) it throws.
     pub particles: f64,
     /// Right of the red division of Fig. 4.3: water in the air.
     pub free_fall: bool,
@@ -99,6 +114,7 @@ impl WaterfallType {
         }
     }
 
+    /// Whether it is a free-fall type (ribbon, plunge, ledge, cataract).
     pub fn is_free_fall(self) -> bool {
         self.seed().free_fall
     }
@@ -108,7 +124,7 @@ impl WaterfallType {
 const SMALLEST_FLOW: f64 = 1e-9;
 
 /// The position of `(slope, flow)` in the scaled diagram.
-pub fn diagram_point(slope: f64, flow: f64) -> (f64, f64) {
+pub(crate) fn diagram_point(slope: f64, flow: f64) -> (f64, f64) {
     (slope / FRAC_PI_2, flow.max(SMALLEST_FLOW).log2() / 3.0)
 }
 
@@ -129,14 +145,17 @@ pub fn classify(slope: f64, flow: f64) -> WaterfallType {
 /// Speed `δ`, width `ε` and depth `ζ` of a segment.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Section {
+    /// `δ = k s`: the speed factor times the slope (radians).
     pub speed: f64,
+    /// `ε = 2γ/(δ ζ)`; 0 for a dry or flat segment.
     pub width: f64,
+    /// `ζ = γ/2`; 0 without flow.
     pub depth: f64,
 }
 
 /// The triangular-section model: `δ = k s`, `ζ = γ/2`, `ε = 2γ/(δ ζ)`. The slope is positive wherever the
 /// minimum slope holds.
-pub fn section(slope: f64, flow: f64, k: f64) -> Section {
+pub(crate) fn section(slope: f64, flow: f64, k: f64) -> Section {
     let speed = k * slope;
     let depth = 0.5 * flow.max(0.0);
     let width = if depth > 0.0 && speed > 0.0 {
@@ -152,12 +171,12 @@ pub fn section(slope: f64, flow: f64, k: f64) -> Section {
 }
 
 /// Mean inclination from `a` to `b` (radians; π/2 for a vertical drop).
-pub fn inclination(a: DVec3, b: DVec3) -> f64 {
+pub(crate) fn inclination(a: DVec3, b: DVec3) -> f64 {
     (a.z - b.z).atan2(a.truncate().distance(b.truncate()))
 }
 
 /// The segments of arc `a` along its path: one per path step for a contact arc, one for a free-fall.
-pub fn arc_segments(
+pub(crate) fn arc_segments(
     a: usize,
     arc: &HydraulicArc,
     path: &[DVec3],

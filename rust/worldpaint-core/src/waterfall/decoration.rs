@@ -74,6 +74,7 @@ pub struct DecorationOptions {
 }
 
 impl DecorationOptions {
+    /// Checks the filter radius, and that a rock color is valid and has a distribution category.
     pub fn validate(&self) -> Result<()> {
         if let Some(r) = self.filter_radius {
             check::non_negative("decoration filter_radius", r)?;
@@ -94,14 +95,21 @@ impl DecorationOptions {
 /// The decoration maps on the terrain's nodes, row-major.
 #[derive(Clone, Debug)]
 pub struct WaterMaps {
+    /// Nodes along X (the terrain's).
     pub nx: usize,
+    /// Nodes along Y.
     pub ny: usize,
+    /// World XY of node (0, 0).
     pub origin: DVec2,
+    /// Spacing of the nodes (m).
     pub cell: f64,
     /// 1 under the integration mesh, 0 elsewhere.
     pub water: Vec<f32>,
+    /// Table 4.1's foam of the water over each node, filtered; in [0, 1], 0 on dry nodes.
     pub foam: Vec<f32>,
+    /// The rock map: Table 4.1's rocks, filtered; in [0, 1], 0 on dry nodes. Rocks are scattered by it.
     pub rocks: Vec<f32>,
+    /// Table 4.1's disturbance, filtered; in [0, 1], 0 on dry nodes.
     pub disturbance: Vec<f32>,
     /// Plan surface velocity.
     pub speed: Vec<DVec2>,
@@ -138,13 +146,13 @@ impl WaterMaps {
     }
 
     /// The speed at the node nearest to `p` (zero off the grid).
-    pub fn speed_at(&self, p: DVec2) -> DVec2 {
+    pub(crate) fn speed_at(&self, p: DVec2) -> DVec2 {
         self.node(p).map_or(DVec2::ZERO, |k| self.speed[k])
     }
 }
 
 /// The decoration maps of the water.
-pub fn water_maps(
+pub(crate) fn water_maps(
     net: &WaterfallNetwork,
     mesh: &WaterMesh,
     footprint: &Footprint,
@@ -601,10 +609,11 @@ pub struct Rock {
     pub position: DVec3,
     /// About Z, radians.
     pub rotation: f64,
+    /// Uniform scale of the rock's prototype model.
     pub scale: f64,
     /// Prototype index of the rock color's category.
     pub prototype: u32,
-    /// Which of the rock color's distribution categories (index into [`rock_categories`]).
+    /// Which of the rock color's distribution categories (index among the color's distribution categories, in its order).
     pub category: usize,
 }
 
@@ -672,7 +681,7 @@ pub fn following_the_rock_map(color: &Color) -> Result<Color> {
 /// bounding rectangle of the water's rock map, on `terrain` (the riverbed) carrying the rock map as its map
 /// "rocks". Rocks the synthesis puts beyond the water's edge (the map is bilinear, so its support reaches into
 /// the cells around the water) are left out. Seeded, and independent of the thread count.
-pub fn scatter_rocks(
+pub(crate) fn scatter_rocks(
     maps: &WaterMaps,
     terrain: &Heightfield,
     options: &DecorationOptions,

@@ -65,6 +65,7 @@ impl Default for DeformOptions {
 }
 
 impl DeformOptions {
+    /// Checks that the heights and distances are finite and not negative (the bank width positive).
     pub fn validate(&self) -> Result<()> {
         check::non_negative("terrain deformation freeboard", self.freeboard)?;
         check::non_negative("terrain deformation overhang", self.overhang)?;
@@ -76,7 +77,7 @@ impl DeformOptions {
     }
 
     /// The bank band's width on a grid of `cell` metres.
-    pub fn bank(&self, cell: f64) -> f64 {
+    pub(crate) fn bank(&self, cell: f64) -> f64 {
         self.bank_width.unwrap_or(3.0 * cell)
     }
 }
@@ -94,7 +95,9 @@ pub struct TerrainDeformation {
     pub constrained: Vec<bool>,
     /// Nodes with an overhang constraint, row-major.
     pub overhang_constrained: Vec<bool>,
+    /// Nodes with a riverbed constraint.
     pub riverbed_nodes: usize,
+    /// Nodes with a border (bank) constraint.
     pub border_nodes: usize,
 }
 
@@ -110,7 +113,7 @@ pub fn profile(part: WaterPart, kind: Option<WaterfallType>, x: f64) -> f64 {
 }
 
 /// Deforms the terrain under the network's water.
-pub fn deform(
+pub(crate) fn deform(
     terrain: &Heightfield,
     net: &WaterfallNetwork,
     mesh: &WaterMesh,

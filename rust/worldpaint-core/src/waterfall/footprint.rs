@@ -15,6 +15,7 @@ use rayon::prelude::*;
 /// What the integration mesh puts over one grid node, seen from above.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FootprintNode {
+    /// The kind of element.
     pub part: WaterPart,
     /// Segment (contact, free-fall) or pool controller.
     pub element: usize,
@@ -38,11 +39,17 @@ pub struct FootprintNode {
 /// inside, or, within `margin` outside all water, the nearest element (its bank).
 #[derive(Clone, Debug)]
 pub struct Footprint {
+    /// Nodes along X (the terrain's).
     pub nx: usize,
+    /// Nodes along Y.
     pub ny: usize,
+    /// World XY of node (0, 0).
     pub origin: DVec2,
+    /// Spacing of the nodes (m).
     pub cell: f64,
+    /// How far outside the water a node still gets its nearest element (m).
     pub margin: f64,
+    /// Per node, row-major: what lies over it, `None` beyond the margin.
     pub nodes: Vec<Option<FootprintNode>>,
 }
 

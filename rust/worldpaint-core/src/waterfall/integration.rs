@@ -37,8 +37,11 @@ pub use super::footprint::{footprint, Footprint, FootprintNode};
 /// Which kind of element a vertex, border or footprint node belongs to.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum WaterPart {
+    /// The ribbon of a contact segment.
     Contact = 0,
+    /// The sheet of a free-fall.
     FreeFall = 1,
+    /// The surface of a pool.
     Pool = 2,
 }
 
@@ -61,6 +64,7 @@ impl Default for IntegrationOptions {
 }
 
 impl IntegrationOptions {
+    /// Checks that the widths are positive, finite and in order.
     pub fn validate(&self) -> Result<()> {
         check::positive("water min_width", self.min_width)?;
         check::within("water max_width", self.max_width, self.min_width, f64::MAX)?;
@@ -71,24 +75,32 @@ impl IntegrationOptions {
 /// A piece of the contour `Ω`.
 #[derive(Clone, Debug)]
 pub struct Border {
+    /// The kind of element it bounds.
     pub part: WaterPart,
     /// The segment (contact, free-fall) or pool controller it bounds.
     pub element: usize,
     /// World points at the water's level.
     pub points: Vec<DVec3>,
+    /// Whether the last point joins the first (a pool's contour).
     pub closed: bool,
 }
 
 /// The integration mesh with its per-vertex attributes.
 #[derive(Clone, Debug, Default)]
 pub struct WaterMesh {
+    /// Vertex positions, world XYZ (m).
     pub vertices: Vec<DVec3>,
+    /// Triples of vertex indices.
     pub triangles: Vec<[u32; 3]>,
     /// Plan surface velocity (m/s-like units of `δ`): along the flow, `δ` on the axis, 0 on the banks.
     pub speed: Vec<DVec2>,
+    /// Table 4.1's foam of the vertex's segment type, in [0, 1].
     pub foam: Vec<f64>,
+    /// Table 4.1's rocks of the vertex's segment type, in [0, 1].
     pub rocks: Vec<f64>,
+    /// Table 4.1's disturbance of the vertex's segment type, in [0, 1].
     pub disturbance: Vec<f64>,
+    /// The kind of element each vertex belongs to.
     pub part: Vec<WaterPart>,
     /// The segment of a contact or free-fall vertex, the pool controller of a pool vertex.
     pub element: Vec<usize>,
@@ -101,10 +113,15 @@ pub struct WaterMesh {
 /// A pool's water.
 #[derive(Clone, Debug)]
 pub struct PoolWater {
+    /// Index of the pool controller.
     pub controller: usize,
+    /// Index of the pool's node in the hydraulic graph.
     pub node: usize,
+    /// The contour in plan, world XY (m).
     pub contour: Vec<DVec2>,
+    /// Height of the water surface (m).
     pub level: f64,
+    /// `ζ` of the pool's node (m).
     pub depth: f64,
     /// Table 4.1 values `[foam, rocks, disturbance]` of each inflow, with the plan point where it arrives.
     pub inflows: Vec<(DVec2, [f64; 3])>,
@@ -260,7 +277,10 @@ fn drawn_rows(
 }
 
 /// The integration mesh of a network: ribbons, sheets and pool polygons with Table 4.1's values per vertex.
-pub fn integration_mesh(net: &WaterfallNetwork, options: &IntegrationOptions) -> Result<WaterMesh> {
+pub(crate) fn integration_mesh(
+    net: &WaterfallNetwork,
+    options: &IntegrationOptions,
+) -> Result<WaterMesh> {
     options.validate()?;
     let mut mesh = WaterMesh::default();
     for (a, arc) in net.graph.arcs.iter().enumerate() {

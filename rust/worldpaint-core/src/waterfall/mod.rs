@@ -4,14 +4,13 @@
 //!
 //! | module | part of chapter 4 |
 //! |---|---|
-//! | [`network`] | the controller network `U` as a graph, minimum-slope correction of control points (4.2.1) |
+//! | `network` ([`HydraulicGraph`]) | the controller network `U` as a graph, minimum-slope correction of control points (4.2.1) |
 //! | [`hydraulics`] | the hydraulic graph `G`: sources, wells, branches, pools and the flow through them (4.2.2) |
 //! | [`subdivide`] | midpoint-displacement subdivision of contact curves adapted to the terrain (4.3.1) |
 //! | [`classify`] | Table 4.1, the slope-flow Voronoi classification and the triangular section (4.1.1, 4.3.2) |
-//!
-//! | [`integration`] | the integration mesh, its contour `Ω` and its footprint on the terrain grid (4.4.1) |
-//! | [`deform`](mod@deform) | border, riverbed and overhang constraints diffused into the terrain (4.4.2) |
-//! | [`decoration`] | water, foam, rock, disturbance and speed maps; rocks along the riverbeds, synthesized from a learned rock color following the rock map (4.4.3) |
+//! | `integration` ([`WaterMesh`], [`footprint()`]) | the integration mesh, its contour `Ω` and its footprint on the terrain grid (4.4.1) |
+//! | `deform` ([`TerrainDeformation`]) | border, riverbed and overhang constraints diffused into the terrain (4.4.2) |
+//! | `decoration` ([`WaterMaps`], [`Rock`]) | water, foam, rock, disturbance and speed maps; rocks along the riverbeds, synthesized from a learned rock color following the rock map (4.4.3) |
 //!
 //! [`build`] runs the hydraulic pipeline: correction, graph, flow, subdivision, classification. [`scene`] runs it
 //! and then adapts the terrain to the water and makes the decoration maps.
@@ -30,23 +29,26 @@
 //!   it leaves a pool or a branch (the thesis's "relative strength pre-set by the user").
 
 pub mod classify;
-pub mod decoration;
-pub mod deform;
+mod decoration;
+mod deform;
 mod footprint;
 pub mod hydraulics;
-pub mod integration;
-pub mod network;
+mod integration;
+mod network;
 pub mod subdivide;
 
 pub use classify::{Section, TypeSeed, WaterfallType, TABLE_4_1};
-pub use decoration::{
-    river_rock_color, scatter_rocks, water_maps, DecorationOptions, Rock, WaterMaps, ROCK_MAP,
-};
-pub use deform::{deform, DeformOptions, TerrainDeformation};
+pub use decoration::{river_rock_color, DecorationOptions, Rock, WaterMaps, ROCK_MAP};
+pub use deform::{DeformOptions, TerrainDeformation};
 pub use integration::{
-    footprint, integration_mesh, Footprint, IntegrationOptions, WaterMesh, WaterPart,
+    footprint, Border, Footprint, FootprintNode, IntegrationOptions, PoolWater, WaterMesh,
+    WaterPart,
 };
 pub use network::{HydraulicArc, HydraulicGraph, Node, NodeKind};
+
+use decoration::{scatter_rocks, water_maps};
+use deform::deform;
+use integration::integration_mesh;
 
 use crate::error::{check, Error, Result};
 use crate::terrain::Heightfield;
@@ -71,7 +73,9 @@ pub enum ControllerKind {
 /// A vectorial controller `V_i` drawn by the user: its type and control points `Δ_i` (world XYZ).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Controller {
+    /// Contact, free-fall or pool.
     pub kind: ControllerKind,
+    /// The control points `Δ_i`, world XYZ (m): in flow order for a curve, around the contour for a pool.
     pub points: Vec<DVec3>,
     /// For a controller starting at a source (and a pool with no inflow): its flow in flow units. Where it
     /// leaves a pool or a branch: its relative share (default 1). `None`: the default flow, equal shares.
@@ -80,6 +84,7 @@ pub struct Controller {
 }
 
 impl Controller {
+    /// A controller with the default strength.
     pub fn new(kind: ControllerKind, points: Vec<DVec3>) -> Self {
         Controller {
             kind,
@@ -88,6 +93,7 @@ impl Controller {
         }
     }
 
+    /// The same controller with its strength set.
     pub fn with_strength(mut self, strength: f64) -> Self {
         self.strength = Some(strength);
         self
@@ -151,6 +157,8 @@ impl Default for WaterfallParams {
 }
 
 impl WaterfallParams {
+    /// Checks the ranges (positive slope below π/2, weights not negative, bounded search work) and says which
+    /// parameter is wrong.
     pub fn validate(&self) -> Result<()> {
         let positive =
             |name: &str, v: f64| check::positive(&format!("waterfall parameter {name}"), v);
@@ -220,11 +228,13 @@ pub struct Segment {
 pub struct WaterfallNetwork {
     /// The controllers after the minimum-slope correction (pools flattened to their level).
     pub controllers: Vec<Controller>,
+    /// The hydraulic graph, with the flow of every arc and node.
     pub graph: HydraulicGraph,
     /// Per arc: the subdivided path of a contact arc or the sampled parabola of a free-fall.
     pub paths: Vec<Vec<DVec3>>,
     /// All segments, arc after arc, in path order; `segment_ranges[a]` are those of arc `a`.
     pub segments: Vec<Segment>,
+    /// Per arc: the range of its segments in `segments`.
     pub segment_ranges: Vec<std::ops::Range<usize>>,
 }
 
@@ -299,45 +309,67 @@ fn arc_seed(seed: u64, a: usize) -> u64 {
 /// Options of the terrain and decoration stages of [`scene`].
 #[derive(Clone, Debug, Default)]
 pub struct SceneOptions {
+    /// Widths and resolution of the integration mesh (4.4.1).
     pub integration: IntegrationOptions,
+    /// How the terrain is deformed under the water (4.4.2).
     pub deform: DeformOptions,
+    /// The decoration maps and the rocks (4.4.3).
     pub decoration: DecorationOptions,
 }
 
 /// Figures of a scene.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct SceneReport {
+    /// Source nodes of the hydraulic graph.
     pub sources: usize,
+    /// Well nodes.
     pub wells: usize,
+    /// Branch nodes.
     pub branches: usize,
+    /// Pool nodes.
     pub pools: usize,
+    /// Arcs of the hydraulic graph.
     pub arcs: usize,
+    /// Waterfall segments.
     pub segments: usize,
+    /// Segments outside the valid range of their class (see [`WaterfallNetwork::invalid_segments`]).
     pub invalid_segments: usize,
     /// Largest relative difference between a node's inflow and outflow.
     pub max_flow_imbalance: f64,
+    /// Vertices of the integration mesh.
     pub mesh_vertices: usize,
+    /// Triangles of the integration mesh.
     pub mesh_triangles: usize,
+    /// Terrain nodes under water (water map above one half).
     pub water_nodes: usize,
+    /// Terrain nodes with a riverbed constraint.
     pub riverbed_nodes: usize,
+    /// Terrain nodes with a border (bank) constraint.
     pub border_nodes: usize,
+    /// Terrain nodes with an overhang constraint.
     pub overhang_nodes: usize,
+    /// Rocks scattered along the riverbeds.
     pub rocks: usize,
-    /// The vertical diffusion's final residual (m) and whether it reached its tolerance.
+    /// The vertical diffusion's final residual (m).
     pub residual: f64,
+    /// Whether the vertical diffusion reached its tolerance.
     pub converged: bool,
 }
 
 /// A waterfall scene: the network, its water surface, the terrain adapted to it and the decoration.
 #[derive(Clone, Debug)]
 pub struct WaterfallScene {
+    /// The hydraulic network (4.1–4.3).
     pub network: WaterfallNetwork,
+    /// The integration mesh: the water surface (4.4.1).
     pub mesh: WaterMesh,
     /// The deformed terrain, its displacement maps and constraint masks.
     pub terrain: TerrainDeformation,
+    /// The decoration maps on the terrain's grid (4.4.3).
     pub maps: WaterMaps,
     /// Rocks along the riverbeds, on the deformed terrain.
     pub rocks: Vec<Rock>,
+    /// Figures of the scene.
     pub report: SceneReport,
 }
 

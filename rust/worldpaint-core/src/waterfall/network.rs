@@ -41,12 +41,15 @@ pub enum NodeKind {
 /// A node `N_j = (β_j, γ_j)` of the hydraulic graph, and the waterfall node `B_j = (μ_j, γ_j, ζ_j)` made from it.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Node {
+    /// `β_j`.
     pub kind: NodeKind,
     /// The connection point; for a pool the centroid of its contour at its level.
     pub position: DVec3,
     /// The pool controller of a pool node.
     pub pool: Option<usize>,
+    /// Indices of the arcs that end here.
     pub arcs_in: Vec<usize>,
+    /// Indices of the arcs that start here.
     pub arcs_out: Vec<usize>,
     /// Flow coming in: the sum of the incoming arcs, or what a source supplies.
     pub inflow: f64,
@@ -60,13 +63,17 @@ pub struct Node {
 /// connections.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct HydraulicArc {
+    /// Index of the controller it comes from.
     pub controller: usize,
     /// `η_k`: contact or free-fall.
     pub kind: ControllerKind,
-    /// Indices of its first and last control points in the controller.
+    /// Index in the controller of its first control point.
     pub first_point: usize,
+    /// Index in the controller of its last control point.
     pub last_point: usize,
+    /// The node it starts at.
     pub from: usize,
+    /// The node it ends at.
     pub to: usize,
     /// Its control points (a free-fall: start and end), with the connections' positions at its ends; corrected
     /// by [`HydraulicGraph::correct_slopes`].
@@ -80,7 +87,9 @@ pub struct HydraulicArc {
 /// The hydraulic graph `G` of a controller network.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct HydraulicGraph {
+    /// The nodes: the pools first, then the other connections and curve ends.
     pub nodes: Vec<Node>,
+    /// The arcs; arc `k` is `k` in the nodes' `arcs_in` and `arcs_out`.
     pub arcs: Vec<HydraulicArc>,
     /// The nodes in dependency order, sources first.
     pub order: Vec<usize>,

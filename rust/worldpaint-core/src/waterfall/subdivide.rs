@@ -39,7 +39,7 @@ pub const MAX_DEVIATION_FACTOR: f64 = 0.5 / (1.0 - std::f64::consts::FRAC_1_SQRT
 const SLACK: f64 = 1e-9;
 
 /// The subdivided path of a contact arc with flow `flow`, from its corrected control points.
-pub fn subdivide_arc(
+pub(crate) fn subdivide_arc(
     terrain: &Heightfield,
     points: &[DVec3],
     flow: f64,
@@ -188,7 +188,7 @@ fn best_midpoint(
 
 /// The free-fall parabola from `points[0]` to `points[last]` with its apex at the start (the water leaves the
 /// lip horizontally): `z(s) = z_0 − (z_0 − z_1) s²` for the fraction `s` of the horizontal run, `samples` points.
-pub fn free_fall_path(points: &[DVec3], samples: usize) -> Vec<DVec3> {
+pub(crate) fn free_fall_path(points: &[DVec3], samples: usize) -> Vec<DVec3> {
     let (s, e) = (points[0], points[points.len() - 1]);
     let n = samples.max(2);
     (0..n)

@@ -80,9 +80,7 @@ mod road_conquest;
 mod simplify;
 mod statistics;
 
-pub use statistics::{
-    parcel_statistics, parcel_statistics_with, ParcelStatistics, STRAIGHT_DEGREES,
-};
+pub use statistics::{parcel_statistics, parcel_statistics_with, ParcelStatistics};
 
 use super::encyclopedia::ParcelParams;
 use super::land::Land;
@@ -104,7 +102,9 @@ const NONE: u32 = u32::MAX;
 /// A building seed asking for a parcel: its position and the conquest parameters of its (village, building) type.
 #[derive(Clone, Copy, Debug)]
 pub struct ParcelSeed<'a> {
+    /// The seed's position, world XY (m).
     pub position: DVec2,
+    /// The conquest parameters.
     pub params: &'a ParcelParams,
 }
 

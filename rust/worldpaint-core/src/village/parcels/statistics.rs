@@ -7,19 +7,22 @@ use glam::DVec2;
 
 /// Consecutive contour edges turning by less than this many degrees count as one edge in
 /// [`parcel_statistics`]: a vertex where a neighbour's boundary meets a straight side is not a corner.
-pub const STRAIGHT_DEGREES: f64 = 10.0;
+pub(crate) const STRAIGHT_DEGREES: f64 = 10.0;
 
 /// What the thesis measures on a parcel layout: the number of parcels, the mean number of neighbouring parcels
 /// and the mean number of contour edges per parcel.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct ParcelStatistics {
+    /// Parcels counted (contours with at least three distinct points).
     pub parcels: usize,
+    /// Mean number of neighbouring parcels per parcel.
     pub mean_neighbours: f64,
+    /// Mean number of contour edges per parcel, nearly straight runs counted as one edge.
     pub mean_edges: f64,
 }
 
 /// Mean number of neighbouring parcels (sharing a boundary stretch longer than `tolerance`) and of contour edges
-/// per parcel, with edges turning by less than [`STRAIGHT_DEGREES`] merged.
+/// per parcel, with edges turning by less than 10° merged.
 pub fn parcel_statistics(parcels: &[Vec<DVec2>], tolerance: f64) -> ParcelStatistics {
     parcel_statistics_with(parcels, tolerance, STRAIGHT_DEGREES)
 }

@@ -8,8 +8,8 @@
 //! move cannot jump over a ridge or a river. Per metre (planar) of a sub-segment of grade `g` (rise over run):
 //! `distance_weight + slope_weight · (g / max_grade)²`, plus `water_weight` times the water fraction (the
 //! bilinear water indicator, integrated). A sub-segment steeper than `max_grade` is forbidden; when no road
-//! exists under that rule, a second search allows it at a high finite price (see [`STEEP_WEIGHT`]) and the
-//! connection reports `over_max_grade`. Every node a move lands on or passes over (its closed cell square meets
+//! exists under that rule, a second search allows it at a high finite price (per metre
+//! `100 (distance_weight + slope_weight) (g / max_grade)²`) and the connection reports `over_max_grade`. Every node a move lands on or passes over (its closed cell square meets
 //! the segment) must be inside `Ω`, and costs `building_cost` when a building or a fortification wall covers it,
 //! so roads cross walls only where they must (gates). Turning costs `curvature_weight` per radian between
 //! consecutive moves (only a U-turn back along the same move is not allowed), so a search state is (node,
@@ -61,7 +61,7 @@
 //!
 //! The search keeps flat arrays over the states (a lazily filled move-cost cache and the path costs; both are
 //! zero-initialised, so pages of the grid never searched are never touched). Grids too large for
-//! `nodes × (moves + 1)` states within [`MAX_STATES`] search with a smaller move mask.
+//! `nodes × (moves + 1)` states within 2²⁶ search with a smaller move mask.
 //!
 //! | file | part |
 //! |---|---|
@@ -103,13 +103,14 @@ use grid_lines::{node_polyline, segment_cells};
 use search::{Ctx, Search, BUILDING, GOAL};
 
 /// Largest number of search states (nodes × (moves + 1)).
-pub const MAX_STATES: usize = 1 << 26;
+pub(crate) const MAX_STATES: usize = 1 << 26;
 /// A grade above `max_grade` costs, per metre, this times `(distance_weight + slope_weight) · (g / max_grade)²`
 /// in the search that allows it.
-pub const STEEP_WEIGHT: f64 = 100.0;
+pub(crate) const STEEP_WEIGHT: f64 = 100.0;
 
 /// A village road network: the connection points `Ψ`, the roads, and what the road search keeps between calls.
 pub struct RoadNetwork {
+    /// The roads: the existing ones first, then those [`RoadNetwork::connect`] added, in order.
     pub roads: Vec<Road>,
     grid: Grid,
     connections: Vec<DVec2>,
