@@ -105,3 +105,22 @@ def test_region_contains_all_shapes():
     assert engine.region_contains(circle, xy).tolist() == [True, False, False]
     assert engine.region_contains(polygon, xy).tolist() == [True, True, False]
     assert engine.region_area(polygon) == pytest.approx(100.0)
+
+
+def test_input_past_the_limits_is_refused_before_anything_is_allocated():
+    # a shared color file with one absurd number: refused when it is read, naming the field
+    color, _ = hard_core_color()
+    doc = json.loads(color)["color"]
+    doc["categories"][0]["density"] = 1e6
+    palette = json.dumps({"format": "worldpaint-palette", "version": 1, "colors": [doc]})
+    with pytest.raises(engine.FileFormatError, match=r"colors\[0\].*categories\[0\]\.density"):
+        engine.palette_from_json(palette)
+    # a terrain of 1e10 cells given as a broadcast array (which costs Python nothing)
+    with pytest.raises(engine.InputError, match="too large: the terrain grid"):
+        engine.Terrain.from_grid((0.0, 0.0), 1.0, np.broadcast_to(np.float64(0.0), (100_000, 100_000)))
+    # a region nested 10,000 deep
+    region = SQUARE
+    for _ in range(10_000):
+        region = {"shape": "clipped", "within": [region]}
+    with pytest.raises(engine.InputError, match="nesting"):
+        engine.region_area(region)
