@@ -205,6 +205,69 @@ pub fn polygon_contains(points: &[DVec2], p: DVec2) -> bool {
     inside
 }
 
+/// Polygons with more vertices than this answer many containment queries through a [`PolygonIndex`].
+const INDEXED_POLYGON: usize = 256;
+
+/// The edges of a polygon bucketed by horizontal bands, so that a containment query reads only the edges of its
+/// band instead of all of them: a region of a million vertices is sampled in a second, not in minutes. It gives the
+/// same answers as [`polygon_contains`]: the edges a horizontal ray crosses all lie in the ray's band.
+pub(crate) struct PolygonIndex<'p> {
+    points: &'p [DVec2],
+    y0: f64,
+    band: f64,
+    /// Per band, the edges (index of their first point) whose y-range meets it.
+    edges: Vec<Vec<u32>>,
+}
+
+impl<'p> PolygonIndex<'p> {
+    pub(crate) fn new(points: &'p [DVec2]) -> Self {
+        let n = points.len();
+        let (y0, y1) = points
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+                (lo.min(p.y), hi.max(p.y))
+            });
+        let bands = ((n as f64).sqrt().ceil() as usize).max(1);
+        let band = ((y1 - y0) / bands as f64).max(f64::MIN_POSITIVE);
+        let mut edges = vec![Vec::new(); bands];
+        let band_of = |y: f64| (((y - y0) / band).floor().max(0.0) as usize).min(bands - 1);
+        for i in 0..n {
+            let (a, b) = (points[i], points[(i + n - 1) % n]);
+            for list in &mut edges[band_of(a.y.min(b.y))..=band_of(a.y.max(b.y))] {
+                list.push(i as u32);
+            }
+        }
+        PolygonIndex {
+            points,
+            y0,
+            band,
+            edges,
+        }
+    }
+
+    /// [`polygon_contains`] of `p`, reading only the edges of `p`'s band.
+    pub(crate) fn contains(&self, p: DVec2) -> bool {
+        let k = (p.y - self.y0) / self.band;
+        if !(k >= 0.0 && k < self.edges.len() as f64 + 1.0) {
+            return false;
+        }
+        let n = self.points.len();
+        let list = &self.edges[(k.floor() as usize).min(self.edges.len() - 1)];
+        let mut inside = false;
+        for &i in list {
+            let i = i as usize;
+            let (a, b) = (self.points[i], self.points[(i + n - 1) % n]);
+            if (a.y > p.y) != (b.y > p.y) {
+                let x = a.x + (p.y - a.y) * (b.x - a.x) / (b.y - a.y);
+                if p.x < x {
+                    inside = !inside;
+                }
+            }
+        }
+        inside
+    }
+}
+
 /// Signed area of a closed polygon (positive when counter-clockwise).
 pub fn polygon_signed_area(points: &[DVec2]) -> f64 {
     let n = points.len();
@@ -258,7 +321,70 @@ pub(crate) fn douglas_peucker(
     }
 }
 
+/// Vertices of a polygon region the engine works with: a drawn outline with more is simplified first.
+const MAX_DETAIL: usize = 16_384;
+
+/// A closed polygon reduced to at most [`MAX_DETAIL`] vertices by Douglas–Peucker, at the smallest tolerance (from
+/// a millionth of its size, doubling) that does it; `None` when it has no more than that, or the reduction would
+/// leave fewer than three vertices.
+fn simplified_polygon(points: &[DVec2]) -> Option<Vec<DVec2>> {
+    if points.len() <= MAX_DETAIL {
+        return None;
+    }
+    let ring: Vec<DVec2> = points
+        .iter()
+        .copied()
+        .chain(points.first().copied())
+        .collect();
+    let (lo, hi) = points.iter().fold((points[0], points[0]), |(lo, hi), p| {
+        (lo.min(*p), hi.max(*p))
+    });
+    let mut tolerance = 1e-6 * (hi - lo).max_element();
+    while tolerance.is_finite() && tolerance > 0.0 {
+        let mut keep = vec![false; ring.len()];
+        keep[0] = true;
+        douglas_peucker(&ring, 0, ring.len() - 1, tolerance, &mut keep, |_| true);
+        let kept: Vec<DVec2> = points
+            .iter()
+            .zip(&keep)
+            .filter_map(|(p, k)| k.then_some(*p))
+            .collect();
+        if kept.len() <= MAX_DETAIL {
+            return (kept.len() >= 3 && polygon_signed_area(&kept).abs() > 0.0).then_some(kept);
+        }
+        tolerance *= 2.0;
+    }
+    None
+}
+
 impl Region {
+    /// The region as the engine works with it: every polygon of more than 16,384 vertices simplified to at most
+    /// that many (Douglas–Peucker at the smallest tolerance that does it). Each point's work reads every vertex of
+    /// its region, and an outline of a million drawn points holds no more shape than that.
+    pub fn with_bounded_detail(&self) -> std::borrow::Cow<'_, Region> {
+        use std::borrow::Cow;
+        match self {
+            Region::Polygon { points } => match simplified_polygon(points) {
+                Some(points) => Cow::Owned(Region::Polygon { points }),
+                None => Cow::Borrowed(self),
+            },
+            Region::Clipped { within, without } => {
+                fn parts(rs: &[Region]) -> Vec<Cow<'_, Region>> {
+                    rs.iter().map(|r| r.with_bounded_detail()).collect()
+                }
+                let (w, o) = (parts(within), parts(without));
+                if w.iter().chain(&o).all(|r| matches!(r, Cow::Borrowed(_))) {
+                    return Cow::Borrowed(self);
+                }
+                Cow::Owned(Region::Clipped {
+                    within: w.into_iter().map(Cow::into_owned).collect(),
+                    without: o.into_iter().map(Cow::into_owned).collect(),
+                })
+            }
+            _ => Cow::Borrowed(self),
+        }
+    }
+
     /// Rejects regions with zero area, non-finite coordinates or fewer than three polygon points.
     pub fn validate(&self) -> Result<()> {
         let vertices = self.validate_nested(0)?;
@@ -395,6 +521,31 @@ impl Region {
             Region::Clipped { within, without } => {
                 within.iter().all(|r| r.contains(p)) && !without.iter().any(|r| r.contains(p))
             }
+        }
+    }
+
+    /// Which of `points` lie inside, as [`Region::contains`] says: a large polygon is indexed once for all of them.
+    pub(crate) fn contains_each(&self, points: &[DVec2]) -> Vec<bool> {
+        match self {
+            Region::Polygon { points: polygon } if polygon.len() > INDEXED_POLYGON => {
+                let index = PolygonIndex::new(polygon);
+                points.iter().map(|p| index.contains(*p)).collect()
+            }
+            Region::Clipped { within, without } => {
+                let mut inside = vec![true; points.len()];
+                for r in within {
+                    for (i, c) in inside.iter_mut().zip(r.contains_each(points)) {
+                        *i &= c;
+                    }
+                }
+                for r in without {
+                    for (i, c) in inside.iter_mut().zip(r.contains_each(points)) {
+                        *i &= !c;
+                    }
+                }
+                inside
+            }
+            _ => points.iter().map(|p| self.contains(*p)).collect(),
         }
     }
 

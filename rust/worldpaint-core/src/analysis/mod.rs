@@ -103,6 +103,7 @@ pub fn learn_color(
     opts: &AnalysisOptions,
 ) -> Result<Color> {
     region.validate()?;
+    let region = &*region.with_bounded_detail();
     let area = region.area();
     let content = structure::Structures::of(scene, region);
     let groups = exemplar_groups(scene, region, &content)?;
@@ -195,12 +196,14 @@ fn category_points(
     match category.kind {
         CategoryKind::Graph => content.graph_nodes_inside(c, category, region),
         CategoryKind::Polygon => content.polygon_points_inside(c, category, region),
-        _ => scene
-            .instances
-            .iter()
-            .filter(|i| i.category == c && region.contains(i.position))
-            .copied()
-            .collect(),
+        _ => {
+            let own: Vec<&Instance> = scene.instances.iter().filter(|i| i.category == c).collect();
+            let inside = region.contains_each(&own.iter().map(|i| i.position).collect::<Vec<_>>());
+            own.into_iter()
+                .zip(inside)
+                .filter_map(|(i, inside)| inside.then_some(*i))
+                .collect()
+        }
     }
 }
 
@@ -576,16 +579,22 @@ pub(crate) fn region_samples(region: &Region) -> Vec<DVec2> {
     let step = (ext.x * ext.y / REGION_SAMPLES).sqrt().max(1e-9);
     let (nx, sx) = lattice_axis((ext.x / step).ceil().max(1.0), ext.x, step, REGION_SAMPLES);
     let (ny, sy) = lattice_axis((ext.y / step).ceil().max(1.0), ext.y, step, REGION_SAMPLES);
-    let mut out = Vec::with_capacity(nx * ny);
-    for j in 0..ny {
-        for i in 0..nx {
-            let p = lo + DVec2::new((i as f64 + 0.5) * sx, (j as f64 + 0.5) * sy);
-            if region.contains(p) {
-                out.push(p);
-            }
-        }
-    }
-    out
+    let lattice: Vec<DVec2> = (0..ny)
+        .flat_map(|j| {
+            (0..nx).map(move |i| lo + DVec2::new((i as f64 + 0.5) * sx, (j as f64 + 0.5) * sy))
+        })
+        .collect();
+    inside_of(region, lattice)
+}
+
+/// The points that lie in the region, in their order.
+fn inside_of(region: &Region, points: Vec<DVec2>) -> Vec<DVec2> {
+    let inside = region.contains_each(&points);
+    points
+        .into_iter()
+        .zip(inside)
+        .filter_map(|(p, i)| i.then_some(p))
+        .collect()
 }
 
 fn default_max_radius(region: &Region, groups: &[Group]) -> f64 {
@@ -844,14 +853,11 @@ pub(crate) fn region_lattice(region: &Region, terrain: &Heightfield) -> Vec<DVec
         .max(1e-9);
     let (nx, sx) = lattice_axis((ext.x / step).floor() + 1.0, ext.x, step, LATTICE_SAMPLES);
     let (ny, sy) = lattice_axis((ext.y / step).floor() + 1.0, ext.y, step, LATTICE_SAMPLES);
-    let mut out = Vec::with_capacity(nx * ny);
-    for j in 0..ny {
-        for i in 0..nx {
-            let p = lo + DVec2::new((i as f64 + 0.5) * sx, (j as f64 + 0.5) * sy);
-            if p.x <= hi.x && p.y <= hi.y && region.contains(p) && terrain.contains(p) {
-                out.push(p);
-            }
-        }
-    }
-    out
+    let lattice: Vec<DVec2> = (0..ny)
+        .flat_map(|j| {
+            (0..nx).map(move |i| lo + DVec2::new((i as f64 + 0.5) * sx, (j as f64 + 0.5) * sy))
+        })
+        .filter(|p| p.x <= hi.x && p.y <= hi.y && terrain.contains(*p))
+        .collect();
+    inside_of(region, lattice)
 }

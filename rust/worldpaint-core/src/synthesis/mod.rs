@@ -398,6 +398,7 @@ pub(crate) fn synthesize_keeping(
     let influence = checked_influence(color, opts)?;
     let order = priority_order(color, opts.categories.as_deref())?;
     check_terrain(scene, color, &order, region)?;
+    let region = &*region.with_bounded_detail();
     let on_terrain = match scene.terrain.as_deref() {
         Some(t) => t.clip(region).ok_or_else(|| Error::RegionOffTerrain {
             reason: format!(
