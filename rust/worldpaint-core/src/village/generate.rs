@@ -103,9 +103,9 @@ pub fn default_connections(land: &Land, region: &Region, existing: &[Vec<DVec2>]
     if !points.is_empty() {
         return points;
     }
-    let g = &land.grid;
+    let g = land.grid();
     let border = (0..g.len()).filter(|&k| {
-        if !land.inside[k] || land.water[k] {
+        if !land.inside()[k] || land.water()[k] {
             return false;
         }
         let (i, j) = g.ij(k);
@@ -113,20 +113,24 @@ pub fn default_connections(land: &Land, region: &Region, existing: &[Vec<DVec2>]
             || j == 0
             || i + 1 == g.nx
             || j + 1 == g.ny
-            || !land.inside[g.index(i - 1, j)]
-            || !land.inside[g.index(i + 1, j)]
-            || !land.inside[g.index(i, j - 1)]
-            || !land.inside[g.index(i, j + 1)]
+            || !land.inside()[g.index(i - 1, j)]
+            || !land.inside()[g.index(i + 1, j)]
+            || !land.inside()[g.index(i, j - 1)]
+            || !land.inside()[g.index(i, j + 1)]
     });
     border
-        .min_by(|a, b| land.height[*a].total_cmp(&land.height[*b]).then(a.cmp(b)))
+        .min_by(|a, b| {
+            land.height()[*a]
+                .total_cmp(&land.height()[*b])
+                .then(a.cmp(b))
+        })
         .map(|k| vec![g.point_of(k)])
         .unwrap_or_default()
 }
 
 /// Marks the nodes within `radius` of `p` in `mask`.
 fn stamp(land: &Land, mask: &mut [bool], p: DVec2, radius: f64) {
-    let g = &land.grid;
+    let g = land.grid();
     let r = (radius / g.cell).ceil() as i64;
     let f = (p - g.origin) / g.cell;
     let (ci, cj) = (f.x.round() as i64, f.y.round() as i64);
@@ -161,7 +165,7 @@ pub fn generate(
         &request.environment,
         request.cell,
     )?;
-    if !land.inside.iter().any(|v| *v) {
+    if !land.inside().iter().any(|v| *v) {
         return Err(Error::BadRegion(
             "the village region holds no node of its grid; use a finer cell".into(),
         ));
@@ -201,7 +205,7 @@ pub fn generate(
     let mut seeds: Vec<BuildingSeed> = Vec::new();
     let mut religious: Vec<bool> = Vec::new();
     let mut fortress: Vec<bool> = Vec::new();
-    let mut occupied = vec![false; land.grid.len()];
+    let mut occupied = vec![false; land.grid().len()];
     let mut village_type = String::new();
     let total = report.requested.max(1) as f64;
     let mut done = 0usize;

@@ -40,7 +40,7 @@ pub fn seed_building(
     rng: &mut ChaCha8Rng,
     max_attempts: usize,
 ) -> Option<Seeding> {
-    let g = &land.grid;
+    let g = land.grid();
     let (lo, hi) = (g.origin, g.point(g.nx - 1, g.ny - 1));
     let mut best: Option<Seeding> = None;
     let mut attempts = 0;
@@ -93,16 +93,17 @@ mod tests {
             nx: n,
             ny: n,
         };
-        Land {
+        Land::from_maps(
             grid,
-            height: (0..grid.len())
+            (0..grid.len())
                 .map(|k| (grid.point_of(k).x * 0.1) as f32)
                 .collect(),
-            inside: vec![true; grid.len()],
-            water: (0..grid.len()).map(|k| grid.point_of(k).x < 20.0).collect(),
-            wall: vec![false; grid.len()],
-            fortified: vec![false; grid.len()],
-        }
+            vec![true; grid.len()],
+            (0..grid.len()).map(|k| grid.point_of(k).x < 20.0).collect(),
+            vec![false; grid.len()],
+            vec![false; grid.len()],
+        )
+        .expect("land")
     }
 
     fn placement(weights: InterestWeights) -> Placement {

@@ -172,7 +172,7 @@ pub fn parcels_with(
     cell: f64,
     options: &ParcelOptions,
 ) -> Result<Vec<Option<Parcel>>> {
-    validate(land, roads, road_width, seeds, cell, options)?;
+    validate(roads, road_width, seeds, cell, options)?;
     let n = seeds.len();
     if n == 0 {
         return Ok(Vec::new());
@@ -249,7 +249,6 @@ fn finite(p: DVec2) -> bool {
 }
 
 fn validate(
-    land: &Land,
     roads: &[Road],
     road_width: f64,
     seeds: &[ParcelSeed],
@@ -262,21 +261,6 @@ fn validate(
     }
     if !(road_width.is_finite() && road_width >= 0.0) {
         return bad(format!("road width {road_width} must be zero or more"));
-    }
-    let g = &land.grid;
-    let nodes = g.len();
-    if g.nx < 2
-        || g.ny < 2
-        || [
-            land.height.len(),
-            land.inside.len(),
-            land.water.len(),
-            land.wall.len(),
-        ]
-        .iter()
-        .any(|&l| l != nodes)
-    {
-        return bad("the land's maps do not match its grid".into());
     }
     for (r, road) in roads.iter().enumerate() {
         if road.points.iter().any(|p| !finite(*p)) {
