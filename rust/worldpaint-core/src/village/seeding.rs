@@ -161,24 +161,15 @@ mod tests {
     #[test]
     fn water_interest_pulls_buildings_to_the_shore_and_keeps_them_dry() {
         let land = flat_land(101, 2.0);
-        let near = seed_many(
-            &land,
-            &placement(InterestWeights {
-                water: 1.0,
-                ..Default::default()
-            }),
-            30,
-            1,
-        );
-        let indifferent = seed_many(
-            &land,
-            &placement(InterestWeights {
-                slope: 1.0,
-                ..Default::default()
-            }),
-            30,
-            1,
-        );
+        let thirty = |weights| seed_many(&land, &placement(weights), 30, 1);
+        let near = thirty(InterestWeights {
+            water: 1.0,
+            ..Default::default()
+        });
+        let indifferent = thirty(InterestWeights {
+            slope: 1.0,
+            ..Default::default()
+        });
         let mean_x = |v: &[DVec2]| v.iter().map(|p| p.x).sum::<f64>() / v.len() as f64;
         assert_eq!(near.len(), 30);
         assert!(

@@ -89,7 +89,7 @@ use super::land::Land;
 use super::road_index::{Projection, RoadIndex};
 use super::{Parcel, Road};
 use crate::error::{Error, Result};
-use corner::{corner_conquest_keeping_access, junctions};
+use corner::{corner_conquest, junctions, keeping_access};
 use glam::DVec2;
 use grid::Work;
 use labels::clean_labels;
@@ -194,7 +194,9 @@ pub fn parcels_with(
         .collect();
     let mut road = road_conquest(&work, seeds, &sources);
     let junctions = junctions(roads, &work, seeds, road_width, options);
-    corner_conquest_keeping_access(&work, seeds, &junctions, half, options, &mut road);
+    keeping_access(seeds.len(), &mut road, |road| {
+        corner_conquest(&work, seeds, &junctions, half, options, road)
+    });
     let (fronts, anchors) = fronts_and_anchors(&road, &sources);
 
     // 3.3.3 anisotropic land conquest, each parcel on its own
