@@ -9,7 +9,7 @@
 
 use crate::error::{Error, Result};
 use crate::geom::Region;
-use crate::scene::Category;
+use crate::scene::{Category, Scene};
 use serde::{Deserialize, Serialize};
 
 /// Version of the palette JSON this build writes and reads.
@@ -337,6 +337,14 @@ impl Color {
         let color: Color = serde_json::from_value(color).map_err(to_json_error)?;
         color.validate()?;
         Ok(color)
+    }
+
+    /// An empty scene holding the color's categories, to paint the color on.
+    pub fn blank_scene(&self) -> Scene {
+        Scene {
+            categories: self.categories.iter().map(|c| c.category.clone()).collect(),
+            ..Default::default()
+        }
     }
 
     /// The color's graph statistics of a category, by name.
