@@ -65,16 +65,16 @@ pub fn interpolate_colors(a: &Color, b: &Color, t: f64, name: &str) -> Result<Co
     pairs.retain(|p| known(&p.category) && known(&p.other));
     maps.retain(|m| known(&m.category));
 
-    let graphs = merge_by_category(
+    let graphs = merge_by(
         &a.graphs,
         &b.graphs,
-        |g| &g.category,
+        |g, h| g.category == h.category,
         |ga, gb| interpolate_graph(ga, gb, t),
     );
-    let polygons = merge_by_category(
+    let polygons = merge_by(
         &a.polygons,
         &b.polygons,
-        |p| &p.category,
+        |p, q| p.category == q.category,
         |pa, pb| PolygonColor {
             category: pa.category.clone(),
             spacing: lerp(pa.spacing, pb.spacing),
@@ -118,80 +118,50 @@ fn merged_categories(a: &Color, b: &Color, t: f64) -> Vec<CategoryColor> {
 
 /// The pair interactions of both colors: those of both interpolated, the others kept.
 fn merged_pairs(a: &Color, b: &Color, t: f64) -> Vec<PairInteraction> {
-    let mut pairs: Vec<PairInteraction> = Vec::new();
-    let find_pair = |c: &Color, p: &PairInteraction| {
-        c.pairs
-            .iter()
-            .find(|q| q.category == p.category && q.other == p.other)
-            .cloned()
-    };
-    for pa in &a.pairs {
-        let interaction = match find_pair(b, pa) {
-            Some(pb) => interpolate_interaction(&pa.interaction, &pb.interaction, t),
-            None => pa.interaction.clone(),
-        };
-        pairs.push(PairInteraction {
+    merge_by(
+        &a.pairs,
+        &b.pairs,
+        |p, q| p.category == q.category && p.other == q.other,
+        |pa, pb| PairInteraction {
             category: pa.category.clone(),
             other: pa.other.clone(),
-            interaction,
-        });
-    }
-    for pb in &b.pairs {
-        if find_pair(a, pb).is_none() {
-            pairs.push(pb.clone());
-        }
-    }
-    pairs
+            interaction: interpolate_interaction(&pa.interaction, &pb.interaction, t),
+        },
+    )
 }
 
 /// The map interactions of both colors: those of both transported, the others kept.
 fn merged_maps(a: &Color, b: &Color, t: f64) -> Vec<MapInteraction> {
-    let mut maps: Vec<MapInteraction> = Vec::new();
-    let find_map = |c: &Color, m: &MapInteraction| {
-        c.maps
-            .iter()
-            .find(|q| q.category == m.category && q.map == m.map)
-            .cloned()
-    };
-    for ma in &a.maps {
-        match find_map(b, ma) {
-            Some(mb) => maps.push(MapInteraction {
-                category: ma.category.clone(),
-                map: ma.map.clone(),
-                hist: displacement_interpolate(&ma.hist, &mb.hist, t),
-                region_hist: displacement_interpolate(&ma.region_hist, &mb.region_hist, t),
-                source: ma.source,
-            }),
-            None => maps.push(ma.clone()),
-        }
-    }
-    for mb in &b.maps {
-        if find_map(a, mb).is_none() {
-            maps.push(mb.clone());
-        }
-    }
-    maps
+    merge_by(
+        &a.maps,
+        &b.maps,
+        |m, q| m.category == q.category && m.map == q.map,
+        |ma, mb| MapInteraction {
+            category: ma.category.clone(),
+            map: ma.map.clone(),
+            hist: displacement_interpolate(&ma.hist, &mb.hist, t),
+            region_hist: displacement_interpolate(&ma.region_hist, &mb.region_hist, t),
+            source: ma.source,
+        },
+    )
 }
 
-/// Entries of `a` and `b` matched by category: blended where both have one, kept where one has.
-fn merge_by_category<T: Clone>(
+/// Entries of `a` and `b` matched by `same`: blended where both have one, kept where one has; those of `a`
+/// first, in order.
+fn merge_by<T: Clone>(
     a: &[T],
     b: &[T],
-    key: impl Fn(&T) -> &String,
+    same: impl Fn(&T, &T) -> bool,
     blend: impl Fn(&T, &T) -> T,
 ) -> Vec<T> {
     let mut out: Vec<T> = a
         .iter()
-        .map(|x| match b.iter().find(|y| key(y) == key(x)) {
+        .map(|x| match b.iter().find(|y| same(y, x)) {
             Some(y) => blend(x, y),
             None => x.clone(),
         })
         .collect();
-    out.extend(
-        b.iter()
-            .filter(|y| !a.iter().any(|x| key(x) == key(y)))
-            .cloned(),
-    );
+    out.extend(b.iter().filter(|y| !a.iter().any(|x| same(x, y))).cloned());
     out
 }
 

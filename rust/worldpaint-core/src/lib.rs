@@ -59,7 +59,7 @@ pub mod tools;
 pub mod village;
 pub mod waterfall;
 
-pub use analysis::{learn_color, AnalysisOptions};
+pub use analysis::{learn_color, AnalysisOptions, HeldGraph};
 pub use compare::{compare, Fidelity};
 pub use error::{check, Error, FileKind, Result};
 pub use geom::Region;

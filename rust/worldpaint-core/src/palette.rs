@@ -10,7 +10,7 @@
 use crate::error::{check, Error, FileKind, Result};
 use crate::geom::Region;
 use crate::limits;
-use crate::scene::Category;
+use crate::scene::{Category, Scene};
 use serde::{Deserialize, Serialize};
 
 /// Version of the palette JSON this build writes and reads.
@@ -389,6 +389,14 @@ impl Color {
             serde_json::from_value(color).map_err(|e| Error::parse(kind, e.to_string()))?;
         color.validate().map_err(|e| e.in_file(kind))?;
         Ok(color)
+    }
+
+    /// An empty scene holding the color's categories, to paint the color on.
+    pub fn blank_scene(&self) -> Scene {
+        Scene {
+            categories: self.categories.iter().map(|c| c.category.clone()).collect(),
+            ..Default::default()
+        }
     }
 
     /// The color's graph statistics of a category, by name.

@@ -23,14 +23,25 @@ pub struct TriangleMesh {
 impl TriangleMesh {
     /// Total area of the triangles (m²).
     pub fn area(&self) -> f64 {
-        self.triangles
-            .iter()
-            .map(|t| {
-                let [a, b, c] = t.map(|i| self.vertices[i as usize]);
-                0.5 * (b - a).perp_dot(c - a).abs()
-            })
-            .sum()
+        triangles_area(&self.vertices, &self.triangles, |a, b, c| {
+            0.5 * (b - a).perp_dot(c - a).abs()
+        })
     }
+}
+
+/// The summed area of `triangles` (indices into `vertices`), `area` giving each from its three corners.
+pub(crate) fn triangles_area<V: Copy>(
+    vertices: &[V],
+    triangles: &[[u32; 3]],
+    area: impl Fn(V, V, V) -> f64,
+) -> f64 {
+    triangles
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|i| vertices[i as usize]);
+            area(a, b, c)
+        })
+        .sum()
 }
 
 /// The filled mesh of `polygons` with inner points about `spacing` apart (0 or less: none). Self-crossing contour

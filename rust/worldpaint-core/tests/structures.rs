@@ -532,14 +532,7 @@ fn a_gradient_paints_one_road_network_across_its_bands() {
         min: DVec2::ZERO,
         max: DVec2::new(1200.0, 400.0),
     };
-    let canvas = Scene {
-        categories: sparse
-            .categories
-            .iter()
-            .map(|c| c.category.clone())
-            .collect(),
-        ..Default::default()
-    };
+    let canvas = sparse.blank_scene();
     let opts = GradientOptions {
         bands: Some(4),
         synthesis: SynthesisOptions {

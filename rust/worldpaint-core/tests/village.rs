@@ -150,9 +150,9 @@ fn village_types_differ_on_the_same_terrain() {
         let water: f64 = houses
             .iter()
             .map(|p| {
-                (0..land.grid.len())
-                    .filter(|k| land.water[*k])
-                    .map(|k| land.grid.point_of(k).distance(*p))
+                (0..land.grid().len())
+                    .filter(|k| land.water()[*k])
+                    .map(|k| land.grid().point_of(k).distance(*p))
                     .fold(f64::INFINITY, f64::min)
             })
             .sum::<f64>()

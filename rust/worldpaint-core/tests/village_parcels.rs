@@ -292,9 +292,9 @@ mod village {
                 }
             }
             // no water, wall or out-of-region node inside a parcel
-            for k in 0..land.grid.len() {
+            for k in 0..land.grid().len() {
                 if !land.buildable(k) {
-                    let q = land.grid.point_of(k);
+                    let q = land.grid().point_of(k);
                     assert!(
                         !contains(&p.contour, q) || boundary_distance(&p.contour, q) < 1e-6,
                         "parcel {} holds the unbuildable node {q:?}",

@@ -36,21 +36,22 @@ fn land(size: f64, h: impl Fn(DVec2) -> f64) -> Land {
         nx: n,
         ny: n,
     };
-    Land {
+    Land::from_maps(
         grid,
-        height: (0..grid.len())
+        (0..grid.len())
             .map(|k| h(grid.point_of(k)) as f32)
             .collect(),
-        inside: vec![true; grid.len()],
-        water: vec![false; grid.len()],
-        wall: vec![false; grid.len()],
-        fortified: vec![false; grid.len()],
-    }
+        vec![true; grid.len()],
+        vec![false; grid.len()],
+        vec![false; grid.len()],
+        vec![false; grid.len()],
+    )
+    .expect("land")
 }
 
 fn set(land: &mut Land, what: impl Fn(&mut Land, usize), area: impl Fn(DVec2) -> bool) {
-    for k in 0..land.grid.len() {
-        if area(land.grid.point_of(k)) {
+    for k in 0..land.grid().len() {
+        if area(land.grid().point_of(k)) {
             what(land, k);
         }
     }
@@ -99,7 +100,7 @@ fn steepest_per_move(land: &Land, road: &Road) -> f64 {
     }
     let mut g: f64 = 0.0;
     for w in road.points.windows(2) {
-        let d = (w[1] - w[0]) / land.grid.cell;
+        let d = (w[1] - w[0]) / land.grid().cell;
         let (dx, dy) = (d.x.round() as i64, d.y.round() as i64);
         let runs = gcd(dx.abs(), dy.abs()).max(1);
         let step = DVec2::new((dx / runs) as f64, (dy / runs) as f64);
@@ -118,7 +119,7 @@ fn steepest_per_move(land: &Land, road: &Road) -> f64 {
 fn metres_over(land: &Land, road: &Road, flag: impl Fn(usize) -> bool) -> f64 {
     let pts = along(road, 0.25);
     pts.windows(2)
-        .filter(|w| flag(land.grid.nearest_clamped(0.5 * (w[0] + w[1]))))
+        .filter(|w| flag(land.grid().nearest_clamped(0.5 * (w[0] + w[1]))))
         .map(|w| w[0].distance(w[1]))
         .sum()
 }
@@ -141,7 +142,7 @@ mod village {
     #[test]
     fn a_house_near_a_linked_road_fronts_it_instead_of_getting_a_dead_end() {
         let land = land(300.0, |_| 10.0);
-        let free = vec![false; land.grid.len()];
+        let free = vec![false; land.grid().len()];
         let psi = DVec2::new(0.0, 150.0);
         let mut net = RoadNetwork::new(&land, &[psi], &[]).unwrap();
         let street = connect(&mut net, &land, &params(), &free, DVec2::new(280.0, 150.0));
@@ -164,7 +165,7 @@ mod village {
     #[test]
     fn a_road_on_flat_land_is_nearly_straight_and_the_move_mask_matters() {
         let land = land(400.0, |_| 10.0);
-        let free = vec![false; land.grid.len()];
+        let free = vec![false; land.grid().len()];
         let psi = DVec2::new(0.0, 100.0);
         let b = DVec2::new(300.0, 250.0); // offset (300, 150): direction (2, 1)
         let straight = psi.distance(b);
@@ -209,10 +210,10 @@ mod village {
         let mut land = land(300.0, |p| 0.35 * p.x);
         set(
             &mut land,
-            |l, k| l.inside[k] = false,
+            |l, k| l.inside_mut()[k] = false,
             |q| (q.y - 150.0).abs() > 60.0,
         );
-        let free = vec![false; land.grid.len()];
+        let free = vec![false; land.grid().len()];
         let p = params();
         let psi = DVec2::new(0.0, 150.0);
         let b = DVec2::new(100.0, 150.0);
@@ -239,7 +240,7 @@ mod village {
         // grade 0.4: no move of the 32-move mask is gentle enough across it (the gentlest, (1, 3), climbs 0.126),
         // so the road is built over the limit; the 48 moves of radius 4 have (1, 4), at 0.097
         let land = land_ramp(0.4);
-        let free = vec![false; land.grid.len()];
+        let free = vec![false; land.grid().len()];
         let mut net = RoadNetwork::new(&land, &[psi], &[]).unwrap();
         let c = connect(&mut net, &land, &p, &free, b);
         assert!(c.reached && c.over_max_grade && c.steepest_grade > p.max_grade);
@@ -254,7 +255,7 @@ mod village {
 
         // a cone of grade 0.3: climb from its foot to near its top
         let land = land_cone();
-        let free = vec![false; land.grid.len()];
+        let free = vec![false; land.grid().len()];
         let mut net = RoadNetwork::new(&land, &[DVec2::new(0.0, 0.0)], &[]).unwrap();
         let c = connect(&mut net, &land, &p, &free, DVec2::new(200.0, 240.0));
         assert!(c.reached && !c.over_max_grade);
@@ -283,7 +284,7 @@ mod village {
     fn a_cliff_across_the_land_is_climbed_over_the_limit_and_said_so() {
         // flat below y = 100, a 30 m cliff band 6 m wide, flat above
         let land = land(300.0, |p| 30.0 * ((p.y - 100.0) / 6.0).clamp(0.0, 1.0));
-        let free = vec![false; land.grid.len()];
+        let free = vec![false; land.grid().len()];
         let p = params();
         let mut net = RoadNetwork::new(&land, &[DVec2::new(150.0, 0.0)], &[]).unwrap();
         let c = connect(&mut net, &land, &p, &free, DVec2::new(150.0, 200.0));
@@ -301,7 +302,7 @@ mod village {
     #[test]
     fn new_buildings_re_use_the_roads() {
         let land = land(400.0, |_| 0.0);
-        let free = vec![false; land.grid.len()];
+        let free = vec![false; land.grid().len()];
         let psi = DVec2::new(0.0, 200.0);
         let mut net = RoadNetwork::new(&land, &[psi], &[]).unwrap();
         let p = params();
@@ -355,26 +356,26 @@ mod village {
         let mut dry_gap = land(400.0, |_| 0.0);
         set(
             &mut dry_gap,
-            |l, k| l.water[k] = true,
+            |l, k| l.water_mut()[k] = true,
             |q| (140.0..=160.0).contains(&q.x) && q.y < 300.0,
         );
-        let free = vec![false; dry_gap.grid.len()];
+        let free = vec![false; dry_gap.grid().len()];
         let mut net = RoadNetwork::new(&dry_gap, &[psi], &[]).unwrap();
         let c = connect(&mut net, &dry_gap, &p, &free, b);
-        let wet = metres_over(&dry_gap, &net.roads[c.roads[0]], |k| dry_gap.water[k]);
+        let wet = metres_over(&dry_gap, &net.roads[c.roads[0]], |k| dry_gap.water()[k]);
         println!("with a dry way: {wet:.1} m in water");
         assert_eq!(wet, 0.0);
         // the same river all across: one crossing, about its width
         let mut river = land(400.0, |_| 0.0);
         set(
             &mut river,
-            |l, k| l.water[k] = true,
+            |l, k| l.water_mut()[k] = true,
             |q| (140.0..=160.0).contains(&q.x),
         );
         let mut net = RoadNetwork::new(&river, &[psi], &[]).unwrap();
         let c = connect(&mut net, &river, &p, &free, b);
         assert!(c.reached);
-        let wet = metres_over(&river, &net.roads[c.roads[0]], |k| river.water[k]);
+        let wet = metres_over(&river, &net.roads[c.roads[0]], |k| river.water()[k]);
         println!("no dry way: {wet:.1} m in water");
         assert!(wet > 15.0 && wet < 26.0, "{wet}");
     }
@@ -389,23 +390,23 @@ mod village {
         let psi = DVec2::new(0.0, 200.0);
         let b = DVec2::new(350.0, 200.0);
         // a house block in the way
-        let occupied: Vec<bool> = (0..l.grid.len())
+        let occupied: Vec<bool> = (0..l.grid().len())
             .map(|k| {
-                let q = l.grid.point_of(k);
+                let q = l.grid().point_of(k);
                 (150.0..=190.0).contains(&q.x) && (170.0..=230.0).contains(&q.y)
             })
             .collect();
         // a wall across the land at x = 260 with a gate at y 290..300
         set(
             &mut l,
-            |l, k| l.wall[k] = true,
+            |l, k| l.wall_mut()[k] = true,
             |q| (q.x - 260.0).abs() < 1.0 && !(290.0..=300.0).contains(&q.y),
         );
         let mut net = RoadNetwork::new(&l, &[psi], &[]).unwrap();
         let c = connect(&mut net, &l, &p, &occupied, b);
         let road = &net.roads[c.roads[0]];
         let over_houses = metres_over(&l, road, |k| occupied[k]);
-        let over_wall = metres_over(&l, road, |k| l.wall[k]);
+        let over_wall = metres_over(&l, road, |k| l.wall()[k]);
         println!(
             "road {:.0} m, {over_houses} m over houses, {over_wall} m over the wall",
             length(road)
@@ -416,20 +417,20 @@ mod village {
         let mut closed = land(400.0, |_| 0.0);
         set(
             &mut closed,
-            |l, k| l.wall[k] = true,
+            |l, k| l.wall_mut()[k] = true,
             |q| (q.x - 260.0).abs() < 1.0,
         );
         let mut net = RoadNetwork::new(&closed, &[psi], &[]).unwrap();
         let c = connect(&mut net, &closed, &p, &occupied, b);
         assert!(c.reached);
-        let over_wall = metres_over(&closed, &net.roads[c.roads[0]], |k| closed.wall[k]);
+        let over_wall = metres_over(&closed, &net.roads[c.roads[0]], |k| closed.wall()[k]);
         assert!(over_wall > 0.0 && over_wall <= 3.0, "{over_wall}");
     }
 
     #[test]
     fn a_cycle_is_added_ahead_of_the_building() {
         let land = land(400.0, |_| 0.0);
-        let free = vec![false; land.grid.len()];
+        let free = vec![false; land.grid().len()];
         let psi = DVec2::new(0.0, 200.0);
         let streets = vec![
             vec![psi, DVec2::new(400.0, 200.0)],
@@ -463,7 +464,7 @@ mod village {
         let mut l = land(300.0, |_| 0.0);
         set(
             &mut l,
-            |l, k| l.inside[k] = false,
+            |l, k| l.inside_mut()[k] = false,
             |q| {
                 let strip_n = (160.0..=166.0).contains(&q.y) && (100.0..=266.0).contains(&q.x);
                 let strip_s = (134.0..=140.0).contains(&q.y) && (100.0..=266.0).contains(&q.x);
@@ -471,7 +472,7 @@ mod village {
                 strip_n || strip_s || end
             },
         );
-        let free = vec![false; l.grid.len()];
+        let free = vec![false; l.grid().len()];
         let psi = [DVec2::new(0.0, 150.0), DVec2::new(286.0, 0.0)];
         let east = vec![DVec2::new(286.0, 0.0), DVec2::new(286.0, 300.0)];
         let p = RoadParams {
@@ -493,13 +494,13 @@ mod village {
         // a ring outside the region around (150, 150)
         set(
             &mut l,
-            |l, k| l.inside[k] = false,
+            |l, k| l.inside_mut()[k] = false,
             |q| {
                 let d = q.distance(DVec2::new(150.0, 150.0));
                 (20.0..=26.0).contains(&d)
             },
         );
-        let free = vec![false; l.grid.len()];
+        let free = vec![false; l.grid().len()];
         let mut net = RoadNetwork::new(&l, &[DVec2::new(0.0, 0.0)], &[]).unwrap();
         let c = connect(&mut net, &l, &params(), &free, DVec2::new(150.0, 150.0));
         assert_eq!(c, Connection::default());
@@ -519,7 +520,7 @@ mod village {
         let q = DVec2::new(150.0, 127.0);
         let net = RoadNetwork::new(&l, &[q], &[]).unwrap();
         let snapped = net.connections()[0];
-        assert!(l.inside[l.grid.nearest_clamped(snapped)]);
+        assert!(l.inside()[l.grid().nearest_clamped(snapped)]);
         assert!(snapped.distance(q) <= 4.0, "{snapped}");
 
         let mut net = RoadNetwork::new(&l, &[DVec2::ZERO], &[]).unwrap();
@@ -545,7 +546,7 @@ mod village {
         ));
         // the move costs belong to the land the network was made on
         let mut other = l.clone();
-        other.height.iter_mut().for_each(|h| *h += 1.0);
+        other.height_mut().iter_mut().for_each(|h| *h += 1.0);
         assert!(matches!(
             net.connect(&other, &params(), &free, DVec2::new(50.0, 50.0), 0.0),
             Err(e) if e.is_invalid_input()
@@ -567,7 +568,7 @@ mod village {
         });
         set(
             &mut l,
-            |l, k| l.water[k] = true,
+            |l, k| l.water_mut()[k] = true,
             |q| q.distance(DVec2::new(700.0, 300.0)) < 80.0,
         );
         l
@@ -610,13 +611,13 @@ mod village {
     ) -> (RoadNetwork, Vec<Connection>, Vec<f64>) {
         let psi = [DVec2::new(0.0, 500.0), DVec2::new(1000.0, 820.0)];
         let mut net = RoadNetwork::new(land, &psi, &[]).unwrap();
-        let mut occupied = vec![false; land.grid.len()];
+        let mut occupied = vec![false; land.grid().len()];
         let (mut out, mut times) = (Vec::new(), Vec::new());
         for &h in homes {
             let t = std::time::Instant::now();
             out.push(connect(&mut net, land, p, &occupied, h));
             times.push(t.elapsed().as_secs_f64());
-            let g = &land.grid;
+            let g = land.grid();
             let (i0, j0) = (((h.x - 5.0) / CELL).ceil(), ((h.y - 4.0) / CELL).ceil());
             let (i1, j1) = (((h.x + 5.0) / CELL).floor(), ((h.y + 4.0) / CELL).floor());
             for j in j0.max(0.0) as usize..=(j1 as usize).min(g.ny - 1) {

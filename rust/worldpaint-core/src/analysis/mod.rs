@@ -42,6 +42,7 @@ use crate::spatial::{GridEntry, SpatialGrid};
 use crate::terrain::Heightfield;
 use rayon::prelude::*;
 use std::f64::consts::{PI, TAU};
+pub use structure::HeldGraph;
 
 /// Number of distance bins when the bin width is chosen automatically.
 pub const DEFAULT_RDF_BINS: usize = 24;
@@ -320,38 +321,39 @@ impl Exemplar<'_> {
     fn pair_rdf(&self, xi: usize, yi: usize) -> Histogram {
         let (gx, gy) = (&self.groups[xi], &self.groups[yi]);
         let same = xi == yi;
-        if same && gx.kind() == CategoryKind::Polygon {
+        let polygon_grid;
+        let (grid, width, n_bins) = if same && gx.kind() == CategoryKind::Polygon {
             // dense points: the rdf spans the polygons' own scale
             let radius = self.content.polygon_radius(gx.category, self.region);
-            let width = radius / DEFAULT_RDF_BINS as f64;
-            let grid = point_grid(self.region, &gx.positions, radius);
-            rdf(
-                self.region,
-                self.area,
-                &gx.positions,
-                &gx.positions,
-                &grid,
-                true,
-                width,
+            polygon_grid = point_grid(self.region, &gx.positions, radius);
+            (
+                &polygon_grid,
+                radius / DEFAULT_RDF_BINS as f64,
                 DEFAULT_RDF_BINS,
             )
         } else {
-            rdf(
+            (&self.grids[yi], self.bin_width, self.n_bins)
+        };
+        Histogram {
+            start: 0.0,
+            bin_width: width,
+            values: rdf(
                 self.region,
                 self.area,
                 &gx.positions,
                 &gy.positions,
-                &self.grids[yi],
+                grid,
                 same,
-                self.bin_width,
-                self.n_bins,
-            )
+                width,
+                n_bins,
+                1,
+            ),
         }
     }
 
     /// The oriented rdf of groups `xi` and `yi`.
     fn pair_oriented_rdf(&self, xi: usize, yi: usize) -> Vec<f64> {
-        oriented_rdf(
+        rdf(
             self.region,
             self.area,
             &self.groups[xi].positions,
@@ -360,6 +362,7 @@ impl Exemplar<'_> {
             xi == yi,
             self.bin_width,
             self.n_bins,
+            ORIENTED_ANGLE_BINS,
         )
     }
 
@@ -703,7 +706,8 @@ pub(crate) fn alphas(region: &Region, p: DVec2, bin_width: f64, n_bins: usize) -
         .collect()
 }
 
-/// Window-corrected rdf of eq. (2) between `xs` and the points of `grid_y` (`ys`).
+/// Window-corrected rdf of eq. (2) between `xs` and the points of `grid_y` (`ys`), each shell split into
+/// `sectors` of the folded angle (one sector: the plain rdf), sector fastest.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn rdf(
     region: &Region,
@@ -714,68 +718,16 @@ pub(crate) fn rdf(
     same: bool,
     bin_width: f64,
     n_bins: usize,
-) -> Histogram {
-    let pairs_norm = xs.len() as f64 * (ys.len() as f64 - if same { 1.0 } else { 0.0 });
-    let mut hist = Histogram::zeros(0.0, bin_width, n_bins);
-    if pairs_norm <= 0.0 {
-        return hist;
-    }
-    let r_max = bin_width * n_bins as f64;
-    // per-point contributions in parallel, summed in a fixed order (deterministic)
-    let per_point: Vec<Vec<f64>> = xs
-        .par_iter()
-        .enumerate()
-        .map(|(k, &p)| {
-            let mut counts = vec![0.0; n_bins];
-            grid_y.for_each_within(p, r_max, |e, d2| {
-                if same && e.id == k as u32 {
-                    return;
-                }
-                let b = (d2.sqrt() / bin_width) as usize;
-                if b < n_bins {
-                    counts[b] += 1.0;
-                }
-            });
-            if counts.iter().any(|c| *c > 0.0) {
-                let a = alphas(region, p, bin_width, n_bins);
-                for (c, alpha) in counts.iter_mut().zip(&a) {
-                    *c /= alpha;
-                }
-            }
-            counts
-        })
-        .collect();
-    for counts in per_point {
-        for (h, c) in hist.values.iter_mut().zip(counts) {
-            *h += c;
-        }
-    }
-    for (k, h) in hist.values.iter_mut().enumerate() {
-        let shell = PI * bin_width * bin_width * ((k + 1).pow(2) - k.pow(2)) as f64;
-        *h *= area / (shell * pairs_norm);
-    }
-    hist
-}
-
-/// Oriented rdf: like [`rdf`] with each shell split into `ORIENTED_ANGLE_BINS` sectors of the folded angle.
-#[allow(clippy::too_many_arguments)]
-fn oriented_rdf(
-    region: &Region,
-    area: f64,
-    xs: &[DVec2],
-    ys: &[DVec2],
-    grid_y: &SpatialGrid,
-    same: bool,
-    bin_width: f64,
-    n_bins: usize,
+    sectors: usize,
 ) -> Vec<f64> {
-    let na = ORIENTED_ANGLE_BINS;
+    let na = sectors;
     let pairs_norm = xs.len() as f64 * (ys.len() as f64 - if same { 1.0 } else { 0.0 });
     let mut values = vec![0.0; n_bins * na];
     if pairs_norm <= 0.0 {
         return values;
     }
     let r_max = bin_width * n_bins as f64;
+    // per-point contributions in parallel, summed in a fixed order (deterministic)
     let per_point: Vec<Vec<f64>> = xs
         .par_iter()
         .enumerate()
@@ -787,7 +739,13 @@ fn oriented_rdf(
                 }
                 let b = (d2.sqrt() / bin_width) as usize;
                 if b < n_bins {
-                    counts[b * na + folded_angle_bin(e.position - p, na)] += 1.0;
+                    // a single sector needs no angle
+                    let sector = if na > 1 {
+                        folded_angle_bin(e.position - p, na)
+                    } else {
+                        0
+                    };
+                    counts[b * na + sector] += 1.0;
                 }
             });
             if counts.iter().any(|c| *c > 0.0) {

@@ -178,7 +178,10 @@ impl Structures {
         before: &[(&Category, &[DVec2])],
     ) -> Option<GraphColor> {
         let g = self.graphs.get(&category.name)?;
-        let held = HeldGraph::of(g, region)?;
+        let held = HeldGraph::new(g, region);
+        if held.nodes.is_empty() {
+            return None;
+        }
         let (angle, min_angle, degree) = held.node_statistics();
         let total_degree: f64 = held.nodes.iter().map(|&n| held.adj[n].len() as f64).sum();
         let n_nodes = held.nodes.len() as f64;
@@ -256,8 +259,9 @@ impl Structures {
     }
 }
 
-/// The part of a graph an exemplar region holds: its connected nodes inside, and every edge with an end inside.
-struct HeldGraph<'g> {
+/// The part of a graph an exemplar region holds, as the analysis reads it: its connected nodes inside, and every
+/// edge with an end inside.
+pub struct HeldGraph<'g> {
     g: &'g Graph,
     adj: Vec<Vec<u32>>,
     inside: Vec<bool>,
@@ -266,8 +270,8 @@ struct HeldGraph<'g> {
 }
 
 impl<'g> HeldGraph<'g> {
-    /// `None` when no connected node lies inside.
-    fn of(g: &'g Graph, region: &Region) -> Option<HeldGraph<'g>> {
+    /// The part of `g` that `region` holds.
+    pub fn new(g: &'g Graph, region: &Region) -> HeldGraph<'g> {
         let adj = g.adjacency();
         let inside: Vec<bool> = g
             .nodes
@@ -276,22 +280,34 @@ impl<'g> HeldGraph<'g> {
             .map(|(p, n)| !n.is_empty() && region.contains(*p))
             .collect();
         let nodes: Vec<usize> = (0..g.nodes.len()).filter(|&n| inside[n]).collect();
-        if nodes.is_empty() {
-            return None;
-        }
         let edges: Vec<[u32; 2]> = g
             .edges
             .iter()
             .copied()
             .filter(|e| inside[e[0] as usize] || inside[e[1] as usize])
             .collect();
-        Some(HeldGraph {
+        HeldGraph {
             g,
             adj,
             inside,
             nodes,
             edges,
-        })
+        }
+    }
+
+    /// The neighbours of each node of the whole graph.
+    pub fn adjacency(&self) -> &[Vec<u32>] {
+        &self.adj
+    }
+
+    /// Whether each node of the whole graph is held: it has an edge and lies inside the region.
+    pub fn inside(&self) -> &[bool] {
+        &self.inside
+    }
+
+    /// The edges with an end held.
+    pub fn edges(&self) -> &[[u32; 2]] {
+        &self.edges
     }
 
     /// The histogram of the edges' lengths (up to 1.05 times the longest).
@@ -329,7 +345,7 @@ impl<'g> HeldGraph<'g> {
     }
 
     /// The connected components of the graph the region holds (edges with both ends inside), lone nodes included.
-    fn components(&self) -> usize {
+    pub fn components(&self) -> usize {
         let inside = &self.inside;
         let held = Graph {
             nodes: self.g.nodes.clone(),

@@ -367,14 +367,7 @@ const PREVIEW_POINTS: f64 = 4_000.0;
 pub fn with_painted_preview(mut color: Color) -> Result<Color> {
     let mut plain = color.clone();
     plain.maps.clear();
-    let canvas = Scene {
-        categories: color
-            .categories
-            .iter()
-            .map(|c| c.category.clone())
-            .collect(),
-        ..Default::default()
-    };
+    let canvas = color.blank_scene();
     let (lo, hi) = color.region.bbox();
     let density: f64 = color.categories.iter().map(|c| c.density).sum();
     let side = (PREVIEW_POINTS / density.max(1e-12)).sqrt();

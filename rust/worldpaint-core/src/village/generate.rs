@@ -125,9 +125,9 @@ pub(crate) fn default_connections(
     if !points.is_empty() {
         return points;
     }
-    let g = &land.grid;
+    let g = land.grid();
     let border = (0..g.len()).filter(|&k| {
-        if !land.inside[k] || land.water[k] {
+        if !land.inside()[k] || land.water()[k] {
             return false;
         }
         let (i, j) = g.ij(k);
@@ -135,20 +135,24 @@ pub(crate) fn default_connections(
             || j == 0
             || i + 1 == g.nx
             || j + 1 == g.ny
-            || !land.inside[g.index(i - 1, j)]
-            || !land.inside[g.index(i + 1, j)]
-            || !land.inside[g.index(i, j - 1)]
-            || !land.inside[g.index(i, j + 1)]
+            || !land.inside()[g.index(i - 1, j)]
+            || !land.inside()[g.index(i + 1, j)]
+            || !land.inside()[g.index(i, j - 1)]
+            || !land.inside()[g.index(i, j + 1)]
     });
     border
-        .min_by(|a, b| land.height[*a].total_cmp(&land.height[*b]).then(a.cmp(b)))
+        .min_by(|a, b| {
+            land.height()[*a]
+                .total_cmp(&land.height()[*b])
+                .then(a.cmp(b))
+        })
         .map(|k| vec![g.point_of(k)])
         .unwrap_or_default()
 }
 
 /// Marks the nodes within `radius` of `p` in `mask`.
 fn stamp(land: &Land, mask: &mut [bool], p: DVec2, radius: f64) {
-    let g = &land.grid;
+    let g = land.grid();
     let r = (radius / g.cell).ceil() as i64;
     let f = (p - g.origin) / g.cell;
     let (ci, cj) = (f.x.round() as i64, f.y.round() as i64);
@@ -178,7 +182,7 @@ pub fn generate(
         &request.environment,
         request.cell,
     )?;
-    if !land.inside.iter().any(|v| *v) {
+    if !land.inside().iter().any(|v| *v) {
         return Err(Error::bad_region(
             "the village region holds no node of its grid; use a finer cell",
         ));
@@ -218,7 +222,7 @@ pub fn generate(
     let mut seeds: Vec<BuildingSeed> = Vec::new();
     let mut religious: Vec<bool> = Vec::new();
     let mut fortress: Vec<bool> = Vec::new();
-    let mut occupied = vec![false; land.grid.len()];
+    let mut occupied = vec![false; land.grid().len()];
     let mut village_type = String::new();
     let total = report.requested.max(1) as f64;
     let mut done = 0usize;

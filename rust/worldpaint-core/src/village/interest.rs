@@ -177,12 +177,12 @@ pub struct StaticMaps {
 impl StaticMaps {
     /// The static maps, with the domination of every radius in `radii`.
     pub fn new(land: &Land, radii: &[f64]) -> StaticMaps {
-        let grade = (0..land.grid.len())
+        let grade = (0..land.grid().len())
             .into_par_iter()
             .map(|k| land.grade_at_node(k) as f32)
             .collect();
-        let water_distance = distance_transform(&land.grid, &land.water);
-        let enclosure_distance = distance_transform(&land.grid, &land.fortified);
+        let water_distance = distance_transform(land.grid(), land.water());
+        let enclosure_distance = distance_transform(land.grid(), land.fortified());
         let mut domination = BTreeMap::new();
         for r in radii {
             domination
@@ -207,7 +207,7 @@ impl StaticMaps {
 
 /// Domination on a grid about `r/16` apart (upsampled bilinearly when read), from height samples `r/8` apart.
 fn domination_map(land: &Land, r: f64) -> (Grid, Vec<f32>) {
-    let g = &land.grid;
+    let g = land.grid();
     let step = (r / 16.0).max(g.cell);
     let coarse = Grid::nodes_covering(g.origin, g.point(g.nx - 1, g.ny - 1), step).unwrap_or(*g);
     let spacing = (r / 8.0).max(g.cell);
@@ -296,7 +296,7 @@ pub(crate) fn criteria(
     } else {
         0.0
     };
-    let g = &land.grid;
+    let g = land.grid();
     let slope = balance(g.bilinear(&maps.grade, p), &placement.slope);
     let water = close_distance(distance_at(g, &maps.water_distance, p), &placement.water);
     let enclosure = distance_at(g, &maps.enclosure_distance, p).min(nearest_fortress);
@@ -323,10 +323,10 @@ pub(crate) fn interest(
     placement: &Placement,
     p: DVec2,
 ) -> f64 {
-    let Some((i, j)) = land.grid.nearest(p) else {
+    let Some((i, j)) = land.grid().nearest(p) else {
         return 0.0;
     };
-    if !land.buildable(land.grid.index(i, j)) {
+    if !land.buildable(land.grid().index(i, j)) {
         return 0.0;
     }
     combine(&criteria(land, maps, state, placement, p), placement)

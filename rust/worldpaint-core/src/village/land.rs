@@ -2,28 +2,28 @@
 //! the terrain, with the elevation `h(p)`, the water `w(p)` and the fortification walls sampled on its nodes. Roads
 //! are searched and interests evaluated on this grid; parcels are conquered on a finer grid over the same box.
 
-use crate::error::{Error, Result};
+use crate::error::{check, Error, Result};
 use crate::geom::{segment_distance, Region};
 use crate::grid::Grid;
 use crate::terrain::Heightfield;
 use glam::DVec2;
 use rayon::prelude::*;
 
-/// What the village needs to know about the land, per node of its grid.
+/// What the village needs to know about the land, per node of its grid: every map has one value per node.
 #[derive(Clone, Debug)]
 pub struct Land {
     /// The nodes, `cell` metres apart over the part of the region's box the terrain covers.
-    pub grid: Grid,
+    grid: Grid,
     /// Terrain elevation `h(p)`.
-    pub height: Vec<f32>,
+    height: Vec<f32>,
     /// Inside the region of interest `Ω`.
-    pub inside: Vec<bool>,
+    inside: Vec<bool>,
     /// Under water (below the water level, or inside a lake or river).
-    pub water: Vec<bool>,
+    water: Vec<bool>,
     /// On a fortification wall (within half a cell of its line).
-    pub wall: Vec<bool>,
+    wall: Vec<bool>,
     /// Inside a fortified enclosure.
-    pub fortified: Vec<bool>,
+    fortified: Vec<bool>,
 }
 
 /// The environment of a village, as the user gives it.
@@ -58,18 +58,16 @@ impl Land {
             });
         }
         let grid = Grid::nodes_covering(min, max, cell)?;
-        let water_polygons: Vec<Region> = environment
-            .water_areas
-            .iter()
-            .filter(|c| c.len() >= 3)
-            .map(|c| Region::Polygon { points: c.clone() })
-            .collect();
-        let wall_polygons: Vec<Region> = environment
-            .walls
-            .iter()
-            .filter(|c| c.len() >= 3)
-            .map(|c| Region::Polygon { points: c.clone() })
-            .collect();
+        // contours of fewer than three points enclose nothing
+        let polygons = |contours: &[Vec<DVec2>]| -> Vec<Region> {
+            contours
+                .iter()
+                .filter(|c| c.len() >= 3)
+                .map(|c| Region::Polygon { points: c.clone() })
+                .collect()
+        };
+        let water_polygons = polygons(&environment.water_areas);
+        let wall_polygons = polygons(&environment.walls);
         let nodes: Vec<(f32, bool, bool, bool, bool)> = (0..grid.len())
             .into_par_iter()
             .map(|k| {
@@ -96,14 +94,102 @@ impl Land {
                 )
             })
             .collect();
+        Land::from_maps(
+            grid,
+            nodes.iter().map(|n| n.0).collect(),
+            nodes.iter().map(|n| n.1).collect(),
+            nodes.iter().map(|n| n.2).collect(),
+            nodes.iter().map(|n| n.3).collect(),
+            nodes.iter().map(|n| n.4).collect(),
+        )
+    }
+
+    /// A land from maps of one value per node of `grid`, in its node order: the elevation, inside `Ω`, under
+    /// water, on a wall, inside a fortified enclosure. The grid must have at least 2×2 nodes and a positive
+    /// cell.
+    pub fn from_maps(
+        grid: Grid,
+        height: Vec<f32>,
+        inside: Vec<bool>,
+        water: Vec<bool>,
+        wall: Vec<bool>,
+        fortified: Vec<bool>,
+    ) -> Result<Land> {
+        if grid.nx < 2 || grid.ny < 2 {
+            return Err(Error::invalid(
+                format!("the land grid of {}x{} nodes", grid.nx, grid.ny),
+                "needs at least 2x2 nodes",
+            ));
+        }
+        check::positive("the land grid's cell", grid.cell)?;
+        let n = grid.len();
+        for (name, len) in [
+            ("height", height.len()),
+            ("inside", inside.len()),
+            ("water", water.len()),
+            ("wall", wall.len()),
+            ("fortified", fortified.len()),
+        ] {
+            check::same_len(&format!("the land's {name} map"), len, n)?;
+        }
         Ok(Land {
             grid,
-            height: nodes.iter().map(|n| n.0).collect(),
-            inside: nodes.iter().map(|n| n.1).collect(),
-            water: nodes.iter().map(|n| n.2).collect(),
-            wall: nodes.iter().map(|n| n.3).collect(),
-            fortified: nodes.iter().map(|n| n.4).collect(),
+            height,
+            inside,
+            water,
+            wall,
+            fortified,
         })
+    }
+
+    /// The grid whose nodes the maps sample.
+    pub fn grid(&self) -> &Grid {
+        &self.grid
+    }
+
+    /// Terrain elevation `h(p)` at each node.
+    pub fn height(&self) -> &[f32] {
+        &self.height
+    }
+
+    /// Whether each node lies inside the region of interest `Ω`.
+    pub fn inside(&self) -> &[bool] {
+        &self.inside
+    }
+
+    /// Whether each node is under water (below the water level, or inside a lake or river).
+    pub fn water(&self) -> &[bool] {
+        &self.water
+    }
+
+    /// Whether each node is on a fortification wall (within half a cell of its line).
+    pub fn wall(&self) -> &[bool] {
+        &self.wall
+    }
+
+    /// Whether each node lies inside a fortified enclosure.
+    pub fn fortified(&self) -> &[bool] {
+        &self.fortified
+    }
+
+    /// [`Land::height`] to edit in place (the maps keep one value per node).
+    pub fn height_mut(&mut self) -> &mut [f32] {
+        &mut self.height
+    }
+
+    /// [`Land::inside`] to edit in place.
+    pub fn inside_mut(&mut self) -> &mut [bool] {
+        &mut self.inside
+    }
+
+    /// [`Land::water`] to edit in place.
+    pub fn water_mut(&mut self) -> &mut [bool] {
+        &mut self.water
+    }
+
+    /// [`Land::wall`] to edit in place.
+    pub fn wall_mut(&mut self) -> &mut [bool] {
+        &mut self.wall
     }
 
     /// Terrain height at any point (bilinear on the grid).

@@ -89,7 +89,7 @@ pub fn footprint_conflicts(
 ) -> Conflicts {
     let index = road_index(roads);
     let mut out = Conflicts::default();
-    let g = &land.grid;
+    let g = land.grid();
     for (k, f) in footprints.iter().enumerate() {
         let samples = footprint_samples(f, 0.5);
         let corner_road = (0..4)
@@ -108,10 +108,10 @@ pub fn footprint_conflicts(
                 .any(|p| g.nearest(*p).is_some_and(|(i, j)| mask[g.index(i, j)]))
         };
         out.water += on_water(land, f) as usize;
-        out.wall += node_flag(&land.wall) as usize;
+        out.wall += node_flag(land.wall()) as usize;
         out.outside += samples.iter().any(|p| {
             g.nearest(*p)
-                .is_none_or(|(i, j)| !land.inside[g.index(i, j)])
+                .is_none_or(|(i, j)| !land.inside()[g.index(i, j)])
         }) as usize;
         for other in &footprints[k + 1..] {
             if overlap_depth(&f.corners, &other.corners) > tolerance {
@@ -124,13 +124,13 @@ pub fn footprint_conflicts(
 
 /// Whether a footprint reaches onto water: a point of it nearer (bilinearly) to water nodes than to dry ones.
 pub(crate) fn on_water(land: &Land, f: &Footprint) -> bool {
-    let g = &land.grid;
+    let g = land.grid();
     let wet = |i: i64, j: i64| {
         let (i, j) = (
             i.clamp(0, g.nx as i64 - 1) as usize,
             j.clamp(0, g.ny as i64 - 1) as usize,
         );
-        land.water[g.index(i, j)] as u8 as f64
+        land.water()[g.index(i, j)] as u8 as f64
     };
     footprint_samples(f, 0.5).iter().any(|p| {
         let q = (*p - g.origin) / g.cell;
@@ -301,9 +301,9 @@ pub fn layout_statistics(houses: &[DVec2], roads: &[Road]) -> LayoutStatistics {
 /// Mean elevation percentile of points among the nodes of `Ω` (0 lowest, 1 highest).
 pub fn mean_elevation_percentile(land: &Land, points: &[DVec2]) -> f64 {
     let mut heights: Vec<f32> = land
-        .height
+        .height()
         .iter()
-        .zip(&land.inside)
+        .zip(land.inside())
         .filter(|(_, inside)| **inside)
         .map(|(h, _)| *h)
         .collect();

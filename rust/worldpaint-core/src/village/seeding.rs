@@ -40,7 +40,7 @@ pub fn seed_building(
     rng: &mut ChaCha8Rng,
     max_attempts: usize,
 ) -> Option<Seeding> {
-    let g = &land.grid;
+    let g = land.grid();
     let (lo, hi) = (g.origin, g.point(g.nx - 1, g.ny - 1));
     let mut best: Option<Seeding> = None;
     let mut attempts = 0;
@@ -93,16 +93,17 @@ mod tests {
             nx: n,
             ny: n,
         };
-        Land {
+        Land::from_maps(
             grid,
-            height: (0..grid.len())
+            (0..grid.len())
                 .map(|k| (grid.point_of(k).x * 0.1) as f32)
                 .collect(),
-            inside: vec![true; grid.len()],
-            water: (0..grid.len()).map(|k| grid.point_of(k).x < 20.0).collect(),
-            wall: vec![false; grid.len()],
-            fortified: vec![false; grid.len()],
-        }
+            vec![true; grid.len()],
+            (0..grid.len()).map(|k| grid.point_of(k).x < 20.0).collect(),
+            vec![false; grid.len()],
+            vec![false; grid.len()],
+        )
+        .expect("land")
     }
 
     fn placement(weights: InterestWeights) -> Placement {
@@ -160,24 +161,15 @@ mod tests {
     #[test]
     fn water_interest_pulls_buildings_to_the_shore_and_keeps_them_dry() {
         let land = flat_land(101, 2.0);
-        let near = seed_many(
-            &land,
-            &placement(InterestWeights {
-                water: 1.0,
-                ..Default::default()
-            }),
-            30,
-            1,
-        );
-        let indifferent = seed_many(
-            &land,
-            &placement(InterestWeights {
-                slope: 1.0,
-                ..Default::default()
-            }),
-            30,
-            1,
-        );
+        let thirty = |weights| seed_many(&land, &placement(weights), 30, 1);
+        let near = thirty(InterestWeights {
+            water: 1.0,
+            ..Default::default()
+        });
+        let indifferent = thirty(InterestWeights {
+            slope: 1.0,
+            ..Default::default()
+        });
         let mean_x = |v: &[DVec2]| v.iter().map(|p| p.x).sum::<f64>() / v.len() as f64;
         assert_eq!(near.len(), 30);
         assert!(

@@ -67,6 +67,26 @@ impl Footprint {
 /// Footprint nodes of one element: grid node index and what lies over it.
 type Hits = Vec<(usize, FootprintNode)>;
 
+/// The terrain nodes in the box `[lo, hi]`, row by row: their index and plan position.
+fn nodes_in_box(
+    t: &Heightfield,
+    lo: DVec2,
+    hi: DVec2,
+) -> impl Iterator<Item = (usize, DVec2)> + '_ {
+    t.nodes_in(lo, hi)
+        .into_iter()
+        .flat_map(move |(columns, rows)| {
+            rows.flat_map(move |j| {
+                columns.clone().map(move |i| {
+                    (
+                        j * t.nx + i,
+                        t.origin + DVec2::new(i as f64, j as f64) * t.cell,
+                    )
+                })
+            })
+        })
+}
+
 /// A free-fall sheet's footprint: the nodes within `hw` of its plan segment `ab`.
 fn hits_of_fall(
     t: &Heightfield,
@@ -76,28 +96,22 @@ fn hits_of_fall(
     make: impl Fn(f64, f64) -> FootprintNode,
 ) -> Hits {
     let (a2, b2) = (a.truncate(), b.truncate());
-    let Some((columns, rows)) = t.nodes_in(a2.min(b2) - hw, a2.max(b2) + hw) else {
-        return Vec::new();
-    };
     let ab = b2 - a2;
     let len2 = ab.length_squared();
-    let mut out = Vec::new();
-    for j in rows {
-        for i in columns.clone() {
-            let p = t.origin + DVec2::new(i as f64, j as f64) * t.cell;
+    nodes_in_box(t, a2.min(b2) - hw, a2.max(b2) + hw)
+        .filter_map(|(k, p)| {
             let d = segment_distance(p, a2, b2);
             if d > hw {
-                continue;
+                return None;
             }
             let along = if len2 > 0.0 {
                 (p - a2).dot(ab) / len2
             } else {
                 0.0
             };
-            out.push((j * t.nx + i, make(hw - d, along.clamp(0.0, 1.0))));
-        }
-    }
-    out
+            Some((k, make(hw - d, along.clamp(0.0, 1.0))))
+        })
+        .collect()
 }
 
 /// One element of the footprint: a contact or free-fall segment of an arc, or a pool of the mesh.
@@ -305,15 +319,10 @@ fn hits_of_quad(
         (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
         |(lo, hi), p| (lo.min(*p), hi.max(*p)),
     );
-    let Some((columns, rows)) = t.nodes_in(lo - reach, hi + reach) else {
-        return Vec::new();
-    };
     let axis = c1 - c0;
     let len2 = axis.length_squared();
-    let mut out = Vec::new();
-    for j in rows {
-        for i in columns.clone() {
-            let p = t.origin + DVec2::new(i as f64, j as f64) * t.cell;
+    nodes_in_box(t, lo - reach, hi + reach)
+        .filter_map(|(node, p)| {
             let raw = if len2 > 0.0 {
                 (p - c0).dot(axis) / len2
             } else {
@@ -336,17 +345,13 @@ fn hits_of_quad(
             };
             let inside = match beyond {
                 _ if under => bank(&banks),
-                Some((RibbonEnd::Open, ..)) => continue,
+                Some((RibbonEnd::Open, ..)) => return None,
                 Some((RibbonEnd::Joined, c, hw)) => hw - p.distance(c),
                 _ => -bank(&banks[..own]),
             };
-            if inside < -margin {
-                continue;
-            }
-            out.push((j * t.nx + i, make(hw, inside, tt)));
-        }
-    }
-    out
+            (inside >= -margin).then(|| (node, make(hw, inside, tt)))
+        })
+        .collect()
 }
 
 fn pool_hits(t: &Heightfield, pool: &PoolWater, margin: f64) -> Hits {
@@ -355,25 +360,18 @@ fn pool_hits(t: &Heightfield, pool: &PoolWater, margin: f64) -> Hits {
         (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
         |(lo, hi), p| (lo.min(*p), hi.max(*p)),
     );
-    let Some((columns, rows)) = t.nodes_in(lo - margin, hi + margin) else {
-        return Vec::new();
-    };
     let edge = |p: DVec2| {
         (0..c.len())
             .map(|k| segment_distance(p, c[k], c[(k + 1) % c.len()]))
             .fold(f64::INFINITY, f64::min)
     };
-    let mut raw = Vec::new();
-    for j in rows {
-        for i in columns.clone() {
-            let p = t.origin + DVec2::new(i as f64, j as f64) * t.cell;
+    let raw: Vec<(usize, f64)> = nodes_in_box(t, lo - margin, hi + margin)
+        .filter_map(|(k, p)| {
             let d = edge(p);
             let inside = if polygon_contains(c, p) { d } else { -d };
-            if inside >= -margin {
-                raw.push((j * t.nx + i, inside));
-            }
-        }
-    }
+            (inside >= -margin).then_some((k, inside))
+        })
+        .collect();
     let deepest = raw.iter().map(|r| r.1).fold(t.cell * 0.5, f64::max);
     raw.into_iter()
         .map(|(k, inside)| {

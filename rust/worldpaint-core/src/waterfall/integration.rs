@@ -28,7 +28,7 @@ use super::network::NodeKind;
 use super::{ControllerKind, WaterfallNetwork, WaterfallType};
 use crate::contour::Polygons;
 use crate::error::{check, Result};
-use crate::polygon_mesh::triangulate;
+use crate::polygon_mesh::{triangles_area, triangulate};
 use glam::{DVec2, DVec3};
 
 // the rasterization of the mesh onto the terrain's grid
@@ -154,13 +154,9 @@ impl WaterMesh {
 
     /// Water surface area (m²), the sheets of free-falls included.
     pub fn area(&self) -> f64 {
-        self.triangles
-            .iter()
-            .map(|t| {
-                let [a, b, c] = t.map(|i| self.vertices[i as usize]);
-                0.5 * (b - a).cross(c - a).length()
-            })
-            .sum()
+        triangles_area(&self.vertices, &self.triangles, |a, b, c| {
+            0.5 * (b - a).cross(c - a).length()
+        })
     }
 }
 

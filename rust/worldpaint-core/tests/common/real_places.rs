@@ -700,16 +700,18 @@ pub fn window_land(terrain: &Heightfield, window: &Window) -> Result<Land, Strin
 }
 
 pub fn relief(land: &Land) -> Relief {
-    let inside: Vec<usize> = (0..land.grid.len()).filter(|k| land.inside[*k]).collect();
+    let inside: Vec<usize> = (0..land.grid().len())
+        .filter(|k| land.inside()[*k])
+        .collect();
     let n = inside.len().max(1) as f64;
     Relief {
         lowest: inside
             .iter()
-            .map(|k| land.height[*k] as f64)
+            .map(|k| land.height()[*k] as f64)
             .fold(f64::INFINITY, f64::min),
         highest: inside
             .iter()
-            .map(|k| land.height[*k] as f64)
+            .map(|k| land.height()[*k] as f64)
             .fold(f64::NEG_INFINITY, f64::max),
         mean_grade: inside.iter().map(|k| land.grade_at_node(*k)).sum::<f64>() / n,
     }

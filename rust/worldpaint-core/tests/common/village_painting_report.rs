@@ -25,6 +25,7 @@ use crate::squares::{centre_of_points_in, square, squares_by_count};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
+use worldpaint_core::HeldGraph;
 use worldpaint_core::geom::DVec2;
 use worldpaint_core::graph::{Graph, SegmentIndex};
 use worldpaint_core::palette::{GraphColor, Histogram, MapSource};
@@ -291,22 +292,11 @@ pub struct GraphStats {
 }
 
 fn graph_stats(g: &Graph, region: &Region, learned: &GraphColor) -> GraphStats {
-    let adj = g.adjacency();
-    let inside: Vec<bool> = g
-        .nodes
-        .iter()
-        .zip(&adj)
-        .map(|(p, n)| !n.is_empty() && region.contains(*p))
-        .collect();
-    let edges: Vec<[u32; 2]> = g
-        .edges
-        .iter()
-        .copied()
-        .filter(|e| inside[e[0] as usize] || inside[e[1] as usize])
-        .collect();
+    let held = HeldGraph::new(g, region);
+    let (adj, inside, edges) = (held.adjacency(), held.inside(), held.edges());
     let (le, an) = (&learned.edge_length, &learned.angle);
     let mut lengths = Histogram::zeros(le.start, le.bin_width, le.values.len());
-    for e in &edges {
+    for e in edges {
         lengths.add(g.edge_length(*e), 1.0);
     }
     let mut angles = Histogram::zeros(an.start, an.bin_width, an.values.len());
@@ -320,22 +310,6 @@ fn graph_stats(g: &Graph, region: &Region, learned: &GraphColor) -> GraphStats {
             }
         }
     }
-    let within = Graph {
-        nodes: g.nodes.clone(),
-        edges: edges
-            .iter()
-            .copied()
-            .filter(|e| inside[e[0] as usize] && inside[e[1] as usize])
-            .collect(),
-    };
-    let mut touched = vec![false; g.nodes.len()];
-    for e in &within.edges {
-        touched[e[0] as usize] = true;
-        touched[e[1] as usize] = true;
-    }
-    let isolated = (0..g.nodes.len())
-        .filter(|&n| inside[n] && !touched[n])
-        .count();
     GraphStats {
         nodes: inside.iter().filter(|i| **i).count(),
         edges: edges.len(),
@@ -343,7 +317,7 @@ fn graph_stats(g: &Graph, region: &Region, learned: &GraphColor) -> GraphStats {
         length_tv: le.total_variation(&lengths),
         angle_tv: an.total_variation(&angles),
         min_angle,
-        components_per_km2: (within.components() + isolated) as f64 / region.area() * 1e6,
+        components_per_km2: held.components() as f64 / region.area() * 1e6,
     }
 }
 

@@ -130,18 +130,15 @@ pub(super) fn junctions(
     out
 }
 
-/// [`corner_conquest`], after which a seed left with less than half its road front by a corner lot has lost its
-/// access: what remains would make a sliver of a parcel, and it loses its road cells.
-pub(super) fn corner_conquest_keeping_access(
-    work: &Work,
-    seeds: &[ParcelSeed],
-    junctions: &[Junction],
-    half: f64,
-    options: &ParcelOptions,
+/// `conquest` (a [`corner_conquest`]), after which a seed left with less than half its road front by a corner lot
+/// has lost its access: what remains would make a sliver of a parcel, and it loses its road cells.
+pub(super) fn keeping_access(
+    seeds: usize,
     road: &mut RoadConquest,
+    conquest: impl FnOnce(&mut RoadConquest),
 ) {
     let frontage = |road: &RoadConquest| {
-        let mut count = vec![0usize; seeds.len()];
+        let mut count = vec![0usize; seeds];
         for &o in &road.owner {
             if o != NONE {
                 count[o as usize] += 1;
@@ -150,7 +147,7 @@ pub(super) fn corner_conquest_keeping_access(
         count
     };
     let before = frontage(road);
-    corner_conquest(work, seeds, junctions, half, options, road);
+    conquest(road);
     let after = frontage(road);
     for o in road.owner.iter_mut() {
         if *o != NONE && 2 * after[*o as usize] < before[*o as usize] {
@@ -163,7 +160,7 @@ pub(super) fn corner_conquest_keeping_access(
 /// (the first to arrive there) annexes the sector's road cells on both roads within its depth
 /// (`c_max / ω_conquest`) of the corner: the corner lot then fronts both roads, and its neighbours on either road
 /// begin where its land ends instead of meeting it along a diagonal.
-fn corner_conquest(
+pub(super) fn corner_conquest(
     work: &Work,
     seeds: &[ParcelSeed],
     junctions: &[Junction],

@@ -77,7 +77,7 @@ impl Work {
         seeds: &[ParcelSeed],
         projections: &[Projection],
     ) -> Result<Option<Work>> {
-        let lg = &land.grid;
+        let lg = land.grid();
         let land_max = lg.point(lg.nx - 1, lg.ny - 1);
         let gx = ((land_max.x - lg.origin.x) / cell).floor() as i64 + 1;
         let gy = ((land_max.y - lg.origin.y) / cell).floor() as i64 + 1;

@@ -8,81 +8,90 @@ use super::NONE;
 use rayon::prelude::*;
 use std::collections::VecDeque;
 
-/// A mode filter on the claimed cells, up to twice: a cell most of whose eight neighbours (five or more) share another
-/// label takes it, and an unclaimed cell enclosed on three sides or more by parcels joins the most frequent one.
-/// Where many parcels compete (rough terrain), cost ties leave one-cell spikes and chains of unclaimed cells
-/// between two parcels; every corner of those is a junction of the boundary graph, which no simplification may
-/// remove. Road cells keep their owner, and closed cells stay out.
-fn smooth_labels(
-    work: &Work,
-    owner: &[u32],
-    is_anchor: &[bool],
-    label: &mut [u32],
-    best: &mut [f64],
-) -> bool {
-    let nx = work.grid.nx;
-    let mut any = false;
-    for _ in 0..2 {
-        let (old, old_best) = (label.to_vec(), best.to_vec());
-        let lab = |i: i64, j: i64| work.inside(i, j).map_or(NONE, |k| old[k]);
-        // every cell from the previous labels, in parallel
-        let changes: Vec<(usize, u32, f64)> = (0..work.grid.len())
-            .into_par_iter()
-            .filter_map(|k| {
-                if is_anchor[k] || work.state[k] != FREE || (work.edge[k] && owner[k] != NONE) {
-                    return None;
-                }
-                let (i, j) = ((k % nx) as i64, (k / nx) as i64);
-                let mut counts: Vec<(u32, usize)> = Vec::with_capacity(8);
-                for &(di, dj) in &N8 {
-                    let l = lab(i + di, j + dj);
-                    match counts.iter_mut().find(|c| c.0 == l) {
-                        Some(c) => c.1 += 1,
-                        None => counts.push((l, 1)),
+/// The labels being cleaned (the parcel of each cell, or `NONE`) with the cost at which each cell was claimed,
+/// and what the cleaning respects: the road cells' owners and the parcels' anchors.
+struct Labels<'a> {
+    work: &'a Work,
+    owner: &'a [u32],
+    is_anchor: &'a [bool],
+    label: &'a mut [u32],
+    best: &'a mut [f64],
+}
+
+impl Labels<'_> {
+    /// A mode filter on the claimed cells, up to twice: a cell most of whose eight neighbours (five or more) share
+    /// another label takes it, and an unclaimed cell enclosed on three sides or more by parcels joins the most
+    /// frequent one. Where many parcels compete (rough terrain), cost ties leave one-cell spikes and chains of
+    /// unclaimed cells between two parcels; every corner of those is a junction of the boundary graph, which no
+    /// simplification may remove. Road cells keep their owner, and closed cells stay out.
+    fn smooth(&mut self) -> bool {
+        let nx = self.work.grid.nx;
+        let mut any = false;
+        for _ in 0..2 {
+            let (old, old_best) = (self.label.to_vec(), self.best.to_vec());
+            let lab = |i: i64, j: i64| self.work.inside(i, j).map_or(NONE, |k| old[k]);
+            // every cell from the previous labels, in parallel
+            let changes: Vec<(usize, u32, f64)> = (0..self.work.grid.len())
+                .into_par_iter()
+                .filter_map(|k| {
+                    if self.is_anchor[k]
+                        || self.work.state[k] != FREE
+                        || (self.work.edge[k] && self.owner[k] != NONE)
+                    {
+                        return None;
                     }
-                }
-                // the most frequent label, ties to the lower one
-                counts.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(&b.0)));
-                let (top, count) = counts[0];
-                let target = if old[k] == NONE {
-                    let parcels4 = N4
-                        .iter()
-                        .filter(|&&(di, dj)| lab(i + di, j + dj) != NONE)
-                        .count();
-                    match counts.iter().find(|c| c.0 != NONE).map(|c| c.0) {
-                        Some(x) if parcels4 >= 3 && !work.closed_to(owner, x, k) => x,
-                        _ => return None,
+                    let (i, j) = ((k % nx) as i64, (k / nx) as i64);
+                    let mut counts: Vec<(u32, usize)> = Vec::with_capacity(8);
+                    for &(di, dj) in &N8 {
+                        let l = lab(i + di, j + dj);
+                        match counts.iter_mut().find(|c| c.0 == l) {
+                            Some(c) => c.1 += 1,
+                            None => counts.push((l, 1)),
+                        }
                     }
-                } else if top != old[k]
-                    && count >= 5
-                    && (top == NONE || !work.closed_to(owner, top, k))
-                {
-                    top
-                } else {
-                    return None;
-                };
-                let cost = if target == NONE {
-                    f64::INFINITY
-                } else {
-                    N8.iter()
-                        .filter_map(|&(di, dj)| work.inside(i + di, j + dj))
-                        .filter(|&m| old[m] == target)
-                        .map(|m| old_best[m])
-                        .fold(0.0, f64::max)
-                };
-                Some((k, target, cost))
-            })
-            .collect();
-        if changes.is_empty() {
-            break;
+                    // the most frequent label, ties to the lower one
+                    counts.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(&b.0)));
+                    let (top, count) = counts[0];
+                    let target = if old[k] == NONE {
+                        let parcels4 = N4
+                            .iter()
+                            .filter(|&&(di, dj)| lab(i + di, j + dj) != NONE)
+                            .count();
+                        match counts.iter().find(|c| c.0 != NONE).map(|c| c.0) {
+                            Some(x) if parcels4 >= 3 && !self.work.closed_to(self.owner, x, k) => x,
+                            _ => return None,
+                        }
+                    } else if top != old[k]
+                        && count >= 5
+                        && (top == NONE || !self.work.closed_to(self.owner, top, k))
+                    {
+                        top
+                    } else {
+                        return None;
+                    };
+                    let cost = if target == NONE {
+                        f64::INFINITY
+                    } else {
+                        N8.iter()
+                            .filter_map(|&(di, dj)| self.work.inside(i + di, j + dj))
+                            .filter(|&m| old[m] == target)
+                            .map(|m| old_best[m])
+                            .fold(0.0, f64::max)
+                    };
+                    Some((k, target, cost))
+                })
+                .collect();
+            if changes.is_empty() {
+                break;
+            }
+            for (k, target, cost) in changes {
+                self.label[k] = target;
+                self.best[k] = cost;
+            }
+            any = true;
         }
-        for (k, target, cost) in changes {
-            label[k] = target;
-            best[k] = cost;
-        }
-        any = true;
+        any
     }
-    any
 }
 
 /// Keeps each parcel's 4-connected component that holds its anchor, smooths the labels (the first rounds), fills
@@ -96,16 +105,23 @@ pub(super) fn clean_labels(
     label: &mut [u32],
     best: &mut [f64],
 ) {
+    let mut labels = Labels {
+        work,
+        owner,
+        is_anchor,
+        label,
+        best,
+    };
     for round in 0..12 {
-        keep_components(work, anchors, label, best);
-        let smoothed = round < 3 && smooth_labels(work, owner, is_anchor, label, best);
-        let pinched = fix_pinches(work, owner, is_anchor, label, best);
-        let holed = fix_holes(work, owner, is_anchor, label, best, anchors.len());
+        keep_components(work, anchors, labels.label, labels.best);
+        let smoothed = round < 3 && labels.smooth();
+        let pinched = labels.fix_pinches();
+        let holed = labels.fix_holes(anchors.len());
         if !smoothed && !pinched && !holed {
             return;
         }
     }
-    keep_components(work, anchors, label, best);
+    keep_components(work, anchors, labels.label, labels.best);
 }
 
 fn keep_components(work: &Work, anchors: &[Option<usize>], label: &mut [u32], best: &mut [f64]) {
@@ -143,153 +159,135 @@ fn fillable(work: &Work, owner: &[u32], label: &[u32], x: u32, k: usize) -> bool
     label[k] == NONE && !work.closed_to(owner, x, k)
 }
 
-/// Two cells of one parcel touching at a corner only (the other two cells of the 2×2 block not in it) make its
-/// outline touch itself: a free cell of the other diagonal joins the parcel, or else the costlier cell leaves it.
-fn fix_pinches(
-    work: &Work,
-    owner: &[u32],
-    is_anchor: &[bool],
-    label: &mut [u32],
-    best: &mut [f64],
-) -> bool {
-    let nx = work.grid.nx;
-    let mut any = false;
-    for _ in 0..64 {
-        let mut changed = false;
-        for j in 0..work.grid.ny.saturating_sub(1) {
-            for i in 0..nx - 1 {
-                let (a, b, c, d) = (
-                    j * nx + i,
-                    j * nx + i + 1,
-                    (j + 1) * nx + i,
-                    (j + 1) * nx + i + 1,
-                );
-                for (p, q, r, s) in [(a, d, b, c), (b, c, a, d)] {
-                    let x = label[p];
-                    if x == NONE || label[q] != x || label[r] == x || label[s] == x {
-                        continue;
+impl Labels<'_> {
+    /// Two cells of one parcel touching at a corner only (the other two cells of the 2×2 block not in it) make
+    /// its outline touch itself: a free cell of the other diagonal joins the parcel, or else the costlier cell
+    /// leaves it.
+    fn fix_pinches(&mut self) -> bool {
+        let nx = self.work.grid.nx;
+        let mut any = false;
+        for _ in 0..64 {
+            let mut changed = false;
+            for j in 0..self.work.grid.ny.saturating_sub(1) {
+                for i in 0..nx - 1 {
+                    let (a, b, c, d) = (
+                        j * nx + i,
+                        j * nx + i + 1,
+                        (j + 1) * nx + i,
+                        (j + 1) * nx + i + 1,
+                    );
+                    for (p, q, r, s) in [(a, d, b, c), (b, c, a, d)] {
+                        let x = self.label[p];
+                        if x == NONE
+                            || self.label[q] != x
+                            || self.label[r] == x
+                            || self.label[s] == x
+                        {
+                            continue;
+                        }
+                        changed = true;
+                        let fill = [r, s]
+                            .into_iter()
+                            .find(|&k| fillable(self.work, self.owner, self.label, x, k));
+                        if let Some(k) = fill {
+                            self.label[k] = x;
+                            self.best[k] = self.best[p].max(self.best[q]);
+                            continue;
+                        }
+                        // never the anchor; else the costlier
+                        let drop = if self.is_anchor[p]
+                            || (!self.is_anchor[q] && (self.best[q], q) > (self.best[p], p))
+                        {
+                            q
+                        } else {
+                            p
+                        };
+                        self.label[drop] = NONE;
+                        self.best[drop] = f64::INFINITY;
                     }
-                    changed = true;
-                    let fill = [r, s]
-                        .into_iter()
-                        .find(|&k| fillable(work, owner, label, x, k));
-                    if let Some(k) = fill {
-                        label[k] = x;
-                        best[k] = best[p].max(best[q]);
-                        continue;
-                    }
-                    // never the anchor; else the costlier
-                    let drop = if is_anchor[p] || (!is_anchor[q] && (best[q], q) > (best[p], p)) {
-                        q
-                    } else {
-                        p
-                    };
-                    label[drop] = NONE;
-                    best[drop] = f64::INFINITY;
                 }
             }
+            if !changed {
+                break;
+            }
+            any = true;
         }
-        if !changed {
+        any
+    }
+
+    /// A parcel enclosing cells that are not its own: free unclaimed cells join it; otherwise (water, a wall,
+    /// another parcel) the parcel is cut back to the cells cheaper than those touching the hole.
+    fn fix_holes(&mut self, n: usize) -> bool {
+        let mut boxes = vec![(usize::MAX, usize::MAX, 0usize, 0usize); n];
+        for (k, &x) in self.label.iter().enumerate() {
+            if x != NONE {
+                let (i, j) = self.work.grid.ij(k);
+                let b = &mut boxes[x as usize];
+                *b = (b.0.min(i), b.1.min(j), b.2.max(i), b.3.max(j));
+            }
+        }
+        let mut changed = false;
+        for (x, &bbox) in boxes.iter().enumerate() {
+            if bbox.0 == usize::MAX {
+                continue;
+            }
+            changed |= self.fix_holes_of(x as u32, bbox);
+        }
+        changed
+    }
+
+    /// [`Labels::fix_holes`] for parcel `x` whose cells lie in the box `(i0, j0, i1, j1)`.
+    fn fix_holes_of(&mut self, x: u32, (bi0, bj0, bi1, bj1): (usize, usize, usize, usize)) -> bool {
+        let ring = RingedBox {
+            work: self.work,
+            i0: bi0 as i64 - 1,
+            j0: bj0 as i64 - 1,
+            lnx: bi1 - bi0 + 3,
+            lny: bj1 - bj0 + 3,
+        };
+        let mut changed = false;
+        let mut seen = ring.outside(self.label, x);
+        for start in 0..ring.lnx * ring.lny {
+            if seen[start] || ring.label(start, self.label) == x {
+                continue;
+            }
+            let hole = ring.hole(start, self.label, x, &mut seen);
+            if hole
+                .iter()
+                .all(|&l| fillable(self.work, self.owner, self.label, x, ring.global(l)))
+            {
+                let rim = ring
+                    .rim_costs(&hole, self.label, self.best, x)
+                    .fold(0.0, f64::max);
+                for &l in &hole {
+                    self.label[ring.global(l)] = x;
+                    self.best[ring.global(l)] = rim;
+                }
+                changed = true;
+                continue;
+            }
+            let threshold = ring
+                .rim_costs(&hole, self.label, self.best, x)
+                .fold(f64::INFINITY, f64::min);
+            if !(threshold > 0.0 && threshold.is_finite()) {
+                // the hole touches the parcel's own road cells: its outline is kept around it
+                continue;
+            }
+            for j in bj0..=bj1 {
+                for i in bi0..=bi1 {
+                    let k = j * self.work.grid.nx + i;
+                    if self.label[k] == x && self.best[k] >= threshold && !self.is_anchor[k] {
+                        self.label[k] = NONE;
+                        self.best[k] = f64::INFINITY;
+                        changed = true;
+                    }
+                }
+            }
+            // the parcel changed: its other holes are looked at again in the next round
             break;
         }
-        any = true;
+        changed
     }
-    any
-}
-
-/// A parcel enclosing cells that are not its own: free unclaimed cells join it; otherwise (water, a wall, another
-/// parcel) the parcel is cut back to the cells cheaper than those touching the hole.
-fn fix_holes(
-    work: &Work,
-    owner: &[u32],
-    is_anchor: &[bool],
-    label: &mut [u32],
-    best: &mut [f64],
-    n: usize,
-) -> bool {
-    let mut boxes = vec![(usize::MAX, usize::MAX, 0usize, 0usize); n];
-    for (k, &x) in label.iter().enumerate() {
-        if x != NONE {
-            let (i, j) = work.grid.ij(k);
-            let b = &mut boxes[x as usize];
-            *b = (b.0.min(i), b.1.min(j), b.2.max(i), b.3.max(j));
-        }
-    }
-    let mut changed = false;
-    for (x, &bbox) in boxes.iter().enumerate() {
-        if bbox.0 == usize::MAX {
-            continue;
-        }
-        changed |= fix_holes_of(work, owner, is_anchor, label, best, x as u32, bbox);
-    }
-    changed
-}
-
-/// [`fix_holes`] for parcel `x` whose cells lie in the box `(i0, j0, i1, j1)`.
-fn fix_holes_of(
-    work: &Work,
-    owner: &[u32],
-    is_anchor: &[bool],
-    label: &mut [u32],
-    best: &mut [f64],
-    x: u32,
-    (bi0, bj0, bi1, bj1): (usize, usize, usize, usize),
-) -> bool {
-    let ring = RingedBox {
-        work,
-        i0: bi0 as i64 - 1,
-        j0: bj0 as i64 - 1,
-        lnx: bi1 - bi0 + 3,
-        lny: bj1 - bj0 + 3,
-    };
-    let mut changed = false;
-    let mut seen = ring.outside(label, x);
-    for start in 0..ring.lnx * ring.lny {
-        if seen[start] || ring.label(start, label) == x {
-            continue;
-        }
-        let hole = ring.hole(start, label, x, &mut seen);
-        if hole
-            .iter()
-            .all(|&l| fillable(work, owner, label, x, ring.global(l)))
-        {
-            let rim = hole
-                .iter()
-                .flat_map(|&l| ring.neighbours(l))
-                .filter(|&m| ring.label(m, label) == x)
-                .map(|m| best[ring.global(m)])
-                .fold(0.0, f64::max);
-            for &l in &hole {
-                label[ring.global(l)] = x;
-                best[ring.global(l)] = rim;
-            }
-            changed = true;
-            continue;
-        }
-        let threshold = hole
-            .iter()
-            .flat_map(|&l| ring.neighbours(l))
-            .filter(|&m| ring.label(m, label) == x)
-            .map(|m| best[ring.global(m)])
-            .fold(f64::INFINITY, f64::min);
-        if !(threshold > 0.0 && threshold.is_finite()) {
-            // the hole touches the parcel's own road cells: its outline is kept around it
-            continue;
-        }
-        for j in bj0..=bj1 {
-            for i in bi0..=bi1 {
-                let k = j * work.grid.nx + i;
-                if label[k] == x && best[k] >= threshold && !is_anchor[k] {
-                    label[k] = NONE;
-                    best[k] = f64::INFINITY;
-                    changed = true;
-                }
-            }
-        }
-        // the parcel changed: its other holes are looked at again in the next round
-        break;
-    }
-    changed
 }
 
 /// A parcel's box with a ring of one cell around it (possibly outside the grid, where nothing is), its cells
@@ -303,23 +301,35 @@ struct RingedBox<'a> {
 }
 
 impl RingedBox<'_> {
+    /// The grid cell of box cell `l`, `None` off the grid.
+    fn cell(&self, l: usize) -> Option<usize> {
+        self.work.inside(
+            self.i0 + (l % self.lnx) as i64,
+            self.j0 + (l / self.lnx) as i64,
+        )
+    }
+
     fn label(&self, l: usize, label: &[u32]) -> u32 {
-        self.work
-            .inside(
-                self.i0 + (l % self.lnx) as i64,
-                self.j0 + (l / self.lnx) as i64,
-            )
-            .map_or(NONE, |k| label[k])
+        self.cell(l).map_or(NONE, |k| label[k])
     }
 
     /// The grid cell of box cell `l` (`l` lies inside the ring, so on the grid).
     fn global(&self, l: usize) -> usize {
-        self.work
-            .inside(
-                self.i0 + (l % self.lnx) as i64,
-                self.j0 + (l / self.lnx) as i64,
-            )
-            .unwrap_or(0)
+        self.cell(l).unwrap_or(0)
+    }
+
+    /// The costs of the cells of parcel `x` bordering `hole`, once per side they share with it.
+    fn rim_costs<'b>(
+        &'b self,
+        hole: &'b [usize],
+        label: &'b [u32],
+        best: &'b [f64],
+        x: u32,
+    ) -> impl Iterator<Item = f64> + 'b {
+        hole.iter()
+            .flat_map(|&l| self.neighbours(l))
+            .filter(move |&m| self.label(m, label) == x)
+            .map(|m| best[self.global(m)])
     }
 
     /// The 4-neighbours of box cell `l` within the box.

@@ -87,7 +87,7 @@ use super::land::Land;
 use super::road_index::{Projection, RoadIndex};
 use super::{Parcel, Road};
 use crate::error::{check, Error, Result};
-use corner::{corner_conquest_keeping_access, junctions};
+use corner::{corner_conquest, junctions, keeping_access};
 use glam::DVec2;
 use grid::Work;
 use labels::clean_labels;
@@ -172,7 +172,7 @@ pub fn parcels_with(
     cell: f64,
     options: &ParcelOptions,
 ) -> Result<Vec<Option<Parcel>>> {
-    validate(land, roads, road_width, seeds, cell, options)?;
+    validate(roads, road_width, seeds, cell, options)?;
     let n = seeds.len();
     if n == 0 {
         return Ok(Vec::new());
@@ -194,7 +194,9 @@ pub fn parcels_with(
         .collect();
     let mut road = road_conquest(&work, seeds, &sources);
     let junctions = junctions(roads, &work, seeds, road_width, options);
-    corner_conquest_keeping_access(&work, seeds, &junctions, half, options, &mut road);
+    keeping_access(seeds.len(), &mut road, |road| {
+        corner_conquest(&work, seeds, &junctions, half, options, road)
+    });
     let (fronts, anchors) = fronts_and_anchors(&road, &sources);
 
     // 3.3.3 anisotropic land conquest, each parcel on its own
@@ -249,7 +251,6 @@ fn finite(p: DVec2) -> bool {
 }
 
 fn validate(
-    land: &Land,
     roads: &[Road],
     road_width: f64,
     seeds: &[ParcelSeed],
@@ -259,21 +260,6 @@ fn validate(
     let bad = |what: String| Err(Error::invalid("parcels", what));
     check::positive("parcels grid cell", cell)?;
     check::non_negative("parcels road width", road_width)?;
-    let g = &land.grid;
-    let nodes = g.len();
-    if g.nx < 2
-        || g.ny < 2
-        || [
-            land.height.len(),
-            land.inside.len(),
-            land.water.len(),
-            land.wall.len(),
-        ]
-        .iter()
-        .any(|&l| l != nodes)
-    {
-        return bad("the land's maps do not match its grid".into());
-    }
     for (r, road) in roads.iter().enumerate() {
         if road.points.iter().any(|p| !finite(*p)) {
             return bad(format!("road {r} has a point that is not finite"));

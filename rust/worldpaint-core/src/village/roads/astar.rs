@@ -45,7 +45,7 @@ impl Moves<'_> {
         m: usize,
         g: f32,
     ) -> Option<(usize, f32)> {
-        let grid = &self.land.grid;
+        let grid = self.land.grid();
         let table = self.table;
         let y = table.target(grid, x, xij, m)?;
         let m_count = table.moves.len();
@@ -173,7 +173,7 @@ impl Search {
             if budget.is_some_and(|b| popped >= b) {
                 return Outcome::OverBudget;
             }
-            let xij = land.grid.ij(x);
+            let xij = land.grid().ij(x);
             for m in 0..m_count {
                 if let Some((y, gy)) = moves.step(x, xij, slot, m, gs) {
                     open.offer(y * m1 + m, gy, Some(slot), || remaining.at(y));

@@ -1,8 +1,6 @@
-//! What a road network accepts (thesis 3.2.4): land whose maps match its grid, parameters in range, connection
-//! points `Ψ` snapped to an inside node, and a fingerprint of the land, since the cached move costs belong to the
-//! land the network was made on.
+//! What a road network accepts (thesis 3.2.4): connection points `Ψ` snapped to an inside node, and a fingerprint
+//! of the land, since the cached move costs belong to the land the network was made on.
 
-use crate::error::{Error, Result};
 use crate::village::land::Land;
 use glam::DVec2;
 
@@ -16,7 +14,7 @@ pub(super) fn land_mark(land: &Land) -> u64 {
         h ^= v;
         h = h.wrapping_mul(0x0100_0000_01b3);
     };
-    let g = &land.grid;
+    let g = land.grid();
     for v in [
         g.nx as u64,
         g.ny as u64,
@@ -27,38 +25,18 @@ pub(super) fn land_mark(land: &Land) -> u64 {
         eat(v);
     }
     for k in (0..g.len()).step_by(31) {
-        let flags = land.inside[k] as u64
-            | (land.water[k] as u64) << 1
-            | (land.wall[k] as u64) << 2
-            | (land.fortified[k] as u64) << 3;
-        eat((land.height[k].to_bits() as u64) << 4 | flags);
+        let flags = land.inside()[k] as u64
+            | (land.water()[k] as u64) << 1
+            | (land.wall()[k] as u64) << 2
+            | (land.fortified()[k] as u64) << 3;
+        eat((land.height()[k].to_bits() as u64) << 4 | flags);
     }
     h
 }
 
-pub(super) fn check_land(land: &Land) -> Result<()> {
-    let n = land.grid.len();
-    if land.height.len() != n
-        || land.inside.len() != n
-        || land.water.len() != n
-        || land.wall.len() != n
-        || land.fortified.len() != n
-    {
-        return Err(Error::invalid(
-            "roads",
-            format!("the land's maps do not all have the {n} nodes of its grid"),
-        ));
-    }
-    if land.grid.nx < 2 || land.grid.ny < 2 || !(land.grid.cell.is_finite() && land.grid.cell > 0.0)
-    {
-        return Err(Error::invalid("roads", "the land grid is degenerate"));
-    }
-    Ok(())
-}
-
 /// The inside node nearest to `p`, within [`CONNECTION_SNAP_CELLS`] cells.
 pub(super) fn nearest_inside(land: &Land, p: DVec2) -> Option<usize> {
-    let g = &land.grid;
+    let g = land.grid();
     let f = (p - g.origin) / g.cell;
     let (ci, cj) = (f.x.round(), f.y.round());
     let r = CONNECTION_SNAP_CELLS as f64;
@@ -74,7 +52,7 @@ pub(super) fn nearest_inside(land: &Land, p: DVec2) -> Option<usize> {
             }
             let k = g.index(i as usize, j as usize);
             let d = g.point_of(k).distance(p);
-            if land.inside[k] && d <= r * g.cell && best.is_none_or(|(bd, _)| d < bd) {
+            if land.inside()[k] && d <= r * g.cell && best.is_none_or(|(bd, _)| d < bd) {
                 best = Some((d, k));
             }
         }

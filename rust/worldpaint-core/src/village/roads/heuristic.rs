@@ -43,11 +43,11 @@ impl Bound<'_> {
     }
 
     pub(super) fn between(&self, a: usize, b: usize) -> f64 {
-        let g = &self.land.grid;
+        let g = self.land.grid();
         let (ai, aj) = g.ij(a);
         let (bi, bj) = g.ij(b);
         let v = DVec2::new(ai as f64 - bi as f64, aj as f64 - bj as f64);
-        let dh = (self.land.height[a] as f64 - self.land.height[b] as f64).abs();
+        let dh = (self.land.height()[a] as f64 - self.land.height()[b] as f64).abs();
         self.of(self.table.gauge(v) * g.cell, dh)
     }
 
@@ -75,9 +75,9 @@ impl Bound<'_> {
                 .map(|&(r, t)| t + self.between(x, r))
                 .fold(f64::INFINITY, f64::min),
             SourceBound::Tiles(tiles) => {
-                let g = &self.land.grid;
+                let g = self.land.grid();
                 let (i, j) = g.ij(x);
-                let (q, h) = (DVec2::new(i as f64, j as f64), self.land.height[x] as f64);
+                let (q, h) = (DVec2::new(i as f64, j as f64), self.land.height()[x] as f64);
                 tiles
                     .iter()
                     .map(|t| {
@@ -113,7 +113,7 @@ impl SourceBound {
         if sources.len() <= FEW_SOURCES {
             return SourceBound::Nodes(sources.to_vec());
         }
-        let g = &land.grid;
+        let g = land.grid();
         let mut size = 8;
         loop {
             let mut keyed: Vec<(usize, usize)> = sources
@@ -131,7 +131,7 @@ impl SourceBound {
                 let (r, t) = sources[k];
                 let (i, j) = g.ij(r);
                 let q = DVec2::new(i as f64, j as f64);
-                let h = land.height[r] as f64;
+                let h = land.height()[r] as f64;
                 if key != last {
                     tiles.push(SourceTile {
                         min: q,

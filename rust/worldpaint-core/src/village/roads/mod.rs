@@ -97,7 +97,7 @@ use crate::grid::Grid;
 use crate::village::encyclopedia::RoadParams;
 use crate::village::land::Land;
 use crate::village::Road;
-use checks::{check_land, land_mark, nearest_inside};
+use checks::{land_mark, nearest_inside};
 use glam::DVec2;
 use grid_lines::{node_polyline, segment_cells};
 use search::{Ctx, Search, BUILDING, GOAL};
@@ -171,8 +171,7 @@ impl RoadNetwork {
     /// A network with the connection points `Ψ` (each snapped to the nearest node inside `Ω`) and the existing
     /// roads (polylines, kept as they are).
     pub fn new(land: &Land, connections: &[DVec2], existing: &[Vec<DVec2>]) -> Result<RoadNetwork> {
-        check_land(land)?;
-        let grid = land.grid;
+        let grid = *land.grid();
         if connections.is_empty() {
             return Err(Error::invalid(
                 "roads",
@@ -276,8 +275,7 @@ impl RoadNetwork {
         from: DVec2,
         frontage: f64,
     ) -> Result<Connection> {
-        check_land(land)?;
-        if land.grid != self.grid || land_mark(land) != self.land_mark {
+        if *land.grid() != self.grid || land_mark(land) != self.land_mark {
             return Err(Error::invalid(
                 "roads",
                 "the land differs from the one the road network was made on",
@@ -310,7 +308,7 @@ impl RoadNetwork {
             ));
         };
         let b = self.grid.index(bi, bj);
-        if !land.inside[b] {
+        if !land.inside()[b] {
             return Ok(Connection::default());
         }
         let mut search = match self.search.take() {
@@ -334,12 +332,14 @@ impl RoadNetwork {
         self.exit_costs(search, land);
         let mut sources: Vec<(usize, f64)> = Vec::new();
         search.flags.clear();
-        search.flags.extend(
-            occupied
-                .iter()
-                .zip(&land.wall)
-                .map(|(&o, &w)| if o || w { BUILDING } else { 0 }),
-        );
+        search
+            .flags
+            .extend(
+                occupied
+                    .iter()
+                    .zip(land.wall())
+                    .map(|(&o, &w)| if o || w { BUILDING } else { 0 }),
+            );
         for &r in &self.road_nodes {
             let r = r as usize;
             if search.exit[r].is_finite() {

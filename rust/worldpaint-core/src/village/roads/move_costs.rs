@@ -81,7 +81,7 @@ pub(super) fn static_cost(
         && mv
             .cells
             .iter()
-            .any(|&d| !land.inside[(x as isize + d) as usize])
+            .any(|&d| !land.inside()[(x as isize + d) as usize])
     {
         return f32::INFINITY;
     }
@@ -94,10 +94,10 @@ pub(super) fn static_cost(
     } else {
         0.0
     };
-    let mut h0 = sample(&land.height, x, &mv.samples[0]);
+    let mut h0 = sample(land.height(), x, &mv.samples[0]);
     let (mut slope, mut steep_cost, mut steep) = (0.0, 0.0, false);
     for s in &mv.samples[1..] {
-        let h1 = sample(&land.height, x, s);
+        let h1 = sample(land.height(), x, s);
         let r = (h1 - h0).abs() * to_ratio;
         slope += r * r;
         if r > 1.0 + 1e-9 {
@@ -110,10 +110,10 @@ pub(super) fn static_cost(
         + (key.slope_weight * slope + steep_weight * steep_cost) * sub;
     if near & NEAR_WATER != 0 && key.water_weight > 0.0 {
         // trapezoids of the bilinear water indicator
-        let mut w0 = sample_bool(&land.water, x, &mv.samples[0]);
+        let mut w0 = sample_bool(land.water(), x, &mv.samples[0]);
         let mut wet_length = 0.0;
         for s in &mv.samples[1..] {
-            let w1 = sample_bool(&land.water, x, s);
+            let w1 = sample_bool(land.water(), x, s);
             wet_length += 0.5 * (w0 + w1) * sub;
             w0 = w1;
         }

@@ -115,10 +115,10 @@ impl Move {
     /// Steepest sub-segment grade along the move from node `x`.
     pub(super) fn steepest(&self, land: &Land, x: usize) -> f64 {
         let sub = self.length / (self.samples.len() - 1) as f64;
-        let mut prev = sample(&land.height, x, &self.samples[0]);
+        let mut prev = sample(land.height(), x, &self.samples[0]);
         let mut steepest: f64 = 0.0;
         for s in &self.samples[1..] {
-            let h = sample(&land.height, x, s);
+            let h = sample(land.height(), x, s);
             steepest = steepest.max((h - prev).abs() / sub);
             prev = h;
         }

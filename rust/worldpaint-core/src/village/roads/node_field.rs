@@ -55,7 +55,7 @@ impl NodeMoves<'_> {
         let land = self.query.ctx.land;
         // the A* starts at the sources wherever they are: so must the paths here end
         if let Some(el) = self.query.ellipse {
-            if self.source_cost[y] == 0.0 && el.excludes(land.grid.point_of(y)) {
+            if self.source_cost[y] == 0.0 && el.excludes(land.grid().point_of(y)) {
                 return None;
             }
         }
@@ -83,7 +83,7 @@ impl Search {
         let land = query.ctx.land;
         let p = query.ctx.params;
         let (target, steep) = (query.target, query.steep);
-        let grid = land.grid;
+        let grid = *land.grid();
         let Search {
             key,
             table,

@@ -156,7 +156,7 @@ pub(super) fn crossing_charge(
 
 impl Search {
     pub(super) fn new(land: &Land, params: &RoadParams) -> Result<Search> {
-        let grid = &land.grid;
+        let grid = land.grid();
         let n = grid.len();
         let mut radius = params.mask_radius;
         let table = loop {
@@ -180,9 +180,9 @@ impl Search {
             key: CostKey::of(params),
             costs: vec![0.0; n * m],
             near: {
-                let outside: Vec<bool> = land.inside.iter().map(|&i| !i).collect();
+                let outside: Vec<bool> = land.inside().iter().map(|&i| !i).collect();
                 let r = radius as usize + 1;
-                near(grid, &land.water, r)
+                near(grid, land.water(), r)
                     .into_iter()
                     .zip(near(grid, &outside, r))
                     .map(|(w, o)| if w { NEAR_WATER } else { 0 } | if o { NEAR_OUTSIDE } else { 0 })

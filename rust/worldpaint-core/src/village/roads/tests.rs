@@ -57,16 +57,17 @@ fn random_land(rng: &mut rand_chacha::ChaCha8Rng, n: usize) -> Land {
     let water = (0..g.len())
         .map(|k| g.point_of(k).distance(lake) < 15.0)
         .collect();
-    Land {
-        grid: g,
+    Land::from_maps(
+        g,
         height,
         inside,
         water,
-        wall: (0..g.len())
+        (0..g.len())
             .map(|_| rng.random_range(0.0..1.0) < 0.01)
             .collect(),
-        fortified: vec![false; g.len()],
-    }
+        vec![false; g.len()],
+    )
+    .expect("land")
 }
 
 #[test]
@@ -92,7 +93,7 @@ fn the_searches_find_the_cheapest_path() {
             cycle_min_separation: 20.0,
         };
         let mut search = Search::new(&land, &params).unwrap();
-        search.flags = (0..land.grid.len())
+        search.flags = (0..land.grid().len())
             .map(|_| {
                 if rng.random_range(0.0..1.0) < 0.05 {
                     BUILDING
@@ -110,7 +111,7 @@ fn the_searches_find_the_cheapest_path() {
         let sources: Vec<(usize, f64)> = (0..count)
             .map(|_| {
                 (
-                    rng.random_range(0..land.grid.len()),
+                    rng.random_range(0..land.grid().len()),
                     rng.random_range(0.0..40.0),
                 )
             })
@@ -118,18 +119,18 @@ fn the_searches_find_the_cheapest_path() {
         for &(r, _) in &sources {
             search.flags[r] |= GOAL;
         }
-        let target = rng.random_range(0..land.grid.len());
+        let target = rng.random_range(0..land.grid().len());
         if search.flags[target] & GOAL != 0 {
             continue;
         }
         let ellipse = (case % 4 == 3).then(|| Ellipse {
-            a: land.grid.point_of(target),
-            b: land.grid.point_of(sources[0].0),
+            a: land.grid().point_of(target),
+            b: land.grid().point_of(sources[0].0),
             length: 1.3
                 * land
-                    .grid
+                    .grid()
                     .point_of(target)
-                    .distance(land.grid.point_of(sources[0].0))
+                    .distance(land.grid().point_of(sources[0].0))
                 + 10.0,
         });
         let ctx = Ctx {
@@ -188,7 +189,7 @@ fn network_costs_kept_up_to_date_match_a_full_computation() {
         cycle_max_length: 80.0,
         cycle_min_separation: 10.0,
     };
-    let free = vec![false; land.grid.len()];
+    let free = vec![false; land.grid().len()];
     let mut net = RoadNetwork::new(
         &land,
         &[DVec2::new(0.0, 80.0), DVec2::new(158.0, 100.0)],
