@@ -187,6 +187,26 @@ fn work_past_the_limits_is_refused_before_it_is_allocated() {
     let scene = scene_from_points("tree", &[DVec2::new(1.0, 0.5e-7), DVec2::new(2.0, 0.5e-7)]);
     let learned = learn_color(&scene, &sliver, "sliver", &AnalysisOptions::default()).unwrap();
     assert_eq!(learned.categories[0].count, 2);
+    // a bin width of a nanometre
+    let square = rect((0.0, 0.0), (50.0, 50.0));
+    let forest = scene_from_points("tree", &exemplar::uniform(&square, 0.05, 3));
+    let fine = AnalysisOptions {
+        bin_width: Some(1e-9),
+        ..Default::default()
+    };
+    assert!(matches!(
+        learn_color(&forest, &square, "fine", &fine),
+        Err(Error::TooLarge { .. })
+    ));
+    // an oriented pair naming a category the scene does not have
+    let oriented = AnalysisOptions {
+        oriented: vec![("tree".into(), "house".into())],
+        ..Default::default()
+    };
+    match learn_color(&forest, &square, "oriented", &oriented) {
+        Err(e) => assert!(e.to_string().contains("'house'"), "{e}"),
+        Ok(_) => panic!("an unknown oriented pair was accepted"),
+    }
     // a region nested past the depth limit
     let mut nested = rect((0.0, 0.0), (10.0, 10.0));
     for _ in 0..100 {

@@ -31,6 +31,7 @@
 
 use crate::error::{check, Error, Result};
 use crate::geom::{DVec2, Region};
+use crate::limits;
 use crate::palette::{
     CategoryColor, Color, GraphColor, Histogram, Interaction, MapInteraction, MapSource,
     PairInteraction, PolygonColor,
@@ -107,8 +108,22 @@ pub fn learn_color(
     let region = &*region.with_bounded_detail();
     let area = region.area();
     let content = structure::Structures::of(scene, region);
+    for name in opts.oriented.iter().flat_map(|(a, b)| [a, b]) {
+        if scene.category_index(name).is_none() {
+            return Err(Error::invalid(
+                "an oriented pair",
+                format!("names '{name}', which is not a category of the scene"),
+            ));
+        }
+    }
     let groups = exemplar_groups(scene, region, &content)?;
     let (max_radius, bin_width) = radius_and_bin_width(opts, region, &groups)?;
+    limits::check(
+        "max_radius / bin_width",
+        max_radius / bin_width,
+        limits::MAX_HISTOGRAM_BINS,
+        "histogram bins",
+    )?;
     let n_bins = ((max_radius / bin_width).round() as usize).max(1);
     let grids = groups
         .iter()

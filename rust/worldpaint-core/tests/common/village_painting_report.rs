@@ -25,11 +25,11 @@ use crate::squares::{centre_of_points_in, square, squares_by_count};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
-use worldpaint_core::HeldGraph;
 use worldpaint_core::geom::DVec2;
 use worldpaint_core::graph::{Graph, SegmentIndex};
 use worldpaint_core::palette::{GraphColor, Histogram, MapSource};
 use worldpaint_core::scene::Path as ScenePath;
+use worldpaint_core::HeldGraph;
 use worldpaint_core::{
     learn_color, synthesize, AnalysisOptions, Category, CategoryKind, Color, Instance, Region,
     Scene, SynthesisOptions,
