@@ -8,6 +8,8 @@ use crate::error::{Error, Result};
 
 /// Instances one synthesis call may create (a paste, a brush dab, a fill).
 pub const MAX_INSTANCES: u64 = 50_000_000;
+/// Buildings one village scenario may request (a town of ten thousand houses, ten times over).
+pub const MAX_BUILDINGS: u64 = 100_000;
 /// Cells of one grid (a terrain, a raster map, a conquest grid, a bucket index).
 pub const MAX_GRID_CELLS: u64 = 64 * 1024 * 1024;
 /// Bins of one histogram (an rdf, a map histogram): its extent over its bin width.

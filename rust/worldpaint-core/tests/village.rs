@@ -251,3 +251,47 @@ fn bad_scenarios_and_cancelling_give_clear_errors() {
     let err = generate(&request(fine), &|_, f| f < 0.5).expect_err("cancelled");
     assert!(matches!(err, Error::Cancelled));
 }
+
+#[test]
+fn a_request_for_more_houses_than_the_land_holds_stops_when_it_is_full() {
+    let terrain = village_terrain(160.0, 2.0, 4);
+    let enc = encyclopedia();
+    let grow = |houses: u32| {
+        let scenario = scenario("farming", houses);
+        let request = VillageRequest {
+            terrain: &terrain,
+            region: Region::Rect {
+                min: DVec2::splat(5.0),
+                max: DVec2::splat(155.0),
+            },
+            connections: Vec::new(),
+            existing_roads: Vec::new(),
+            environment: Environment::default(),
+            encyclopedia: &enc,
+            scenario: &scenario,
+            seed: 3,
+            cell: 2.0,
+            parcel_cell: 1.0,
+        };
+        generate(&request, &|_, _| true)
+    };
+    let full = grow(400).expect("a full village");
+    let more = grow(4000).expect("the same full village");
+    assert!(
+        full.report.unplaced.len() > 32,
+        "the land should fill up: {:?}",
+        full.report
+    );
+    let positions = |v: &Village| v.seeds.iter().map(|s| s.position).collect::<Vec<_>>();
+    assert_eq!(positions(&full), positions(&more));
+    // every house asked for beyond the full village is reported, none is built
+    let not_built = |v: &Village| v.report.unplaced.len() + v.report.unreachable;
+    assert_eq!(not_built(&more), not_built(&full) + 3600);
+    match grow(1_000_000) {
+        Err(Error::TooLarge { unit, .. }) => assert_eq!(unit, "buildings"),
+        other => panic!(
+            "a million houses accepted: {:?}",
+            other.map(|v| v.seeds.len())
+        ),
+    }
+}

@@ -4,6 +4,7 @@
 //! them; [`Encyclopedia::from_json`] checks every reference and range and says what is wrong where.
 
 use crate::error::{check, Error, FileKind, Result};
+use crate::limits;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
@@ -395,6 +396,12 @@ impl Encyclopedia {
                 "generates no building: add a generate event",
             ));
         }
+        limits::check(
+            "the growth scenario",
+            scenario.building_count() as f64,
+            limits::MAX_BUILDINGS,
+            "buildings",
+        )?;
         let mut current: Option<&str> = None;
         for (k, e) in scenario.events.iter().enumerate() {
             match e {
@@ -444,7 +451,7 @@ impl Scenario {
                 Event::Generate { count, .. } => *count,
                 Event::ChangeVillageType { .. } => 0,
             })
-            .sum()
+            .fold(0, u32::saturating_add)
     }
 }
 

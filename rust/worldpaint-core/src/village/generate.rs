@@ -25,6 +25,9 @@ use std::time::Instant;
 
 /// Candidates tried per building before the best one seen is taken (Algorithm 1's loop bound).
 const MAX_ATTEMPTS: usize = 20_000;
+/// Failed placements of one building type in a row after which the rest of its request is reported unplaced
+/// without trying: each failure costs [`MAX_ATTEMPTS`] candidate positions.
+const MAX_FAILURES_IN_A_ROW: usize = 32;
 
 /// Everything a village is generated from.
 pub struct VillageRequest<'a> {
@@ -242,11 +245,17 @@ pub fn generate(
         let radius = 0.5 * kind.footprint_min[0].max(kind.footprint_min[1]);
         // a house this close to a road fronts it: its footprint, grown from the road side, can reach the seed
         let frontage = 0.5 * enc.roads.width + kind.footprint_max[0].max(kind.footprint_max[1]);
+        let mut failed_in_a_row = 0;
         for _ in 0..count {
             if !progress(Stage::Skeleton, done as f64 / total) {
                 return Err(Error::Cancelled);
             }
             done += 1;
+            if failed_in_a_row >= MAX_FAILURES_IN_A_ROW {
+                // the land has no more room for this building: the rest of the request cannot be placed either
+                report.unplaced.push(building.clone());
+                continue;
+            }
             let has_roads = !network.roads.is_empty();
             let road_distance = |p: DVec2| network.distance(p);
             let state = VillageState {
@@ -260,8 +269,10 @@ pub fn generate(
                 seed_building(&land, &maps, &state, placement, &mut rng, MAX_ATTEMPTS)
             else {
                 report.unplaced.push(building.clone());
+                failed_in_a_row += 1;
                 continue;
             };
+            failed_in_a_row = 0;
             let connection =
                 network.connect(&land, &enc.roads, &occupied, found.position, frontage)?;
             if !connection.reached {
