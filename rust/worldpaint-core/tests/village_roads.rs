@@ -48,10 +48,11 @@ fn land(size: f64, h: impl Fn(DVec2) -> f64) -> Land {
     }
 }
 
-fn set(land: &mut Land, what: impl Fn(&mut Land, usize), area: impl Fn(DVec2) -> bool) {
-    for k in 0..land.grid.len() {
-        if area(land.grid.point_of(k)) {
-            what(land, k);
+/// Sets the cells of a layer of a land on `grid` (inside, water, wall) that lie in `area` to `value`.
+fn set(layer: &mut [bool], grid: &Grid, value: bool, area: impl Fn(DVec2) -> bool) {
+    for (k, cell) in layer.iter_mut().enumerate() {
+        if area(grid.point_of(k)) {
+            *cell = value;
         }
     }
 }
@@ -134,6 +135,14 @@ fn connect(
         .expect("valid input")
 }
 
+/// A network of the one connection point `psi` on `land`, and the connection of a first building at `b` to it
+/// over unbuilt land.
+fn first_road(land: &Land, psi: DVec2, p: &RoadParams, b: DVec2) -> (RoadNetwork, Connection) {
+    let mut net = RoadNetwork::new(land, &[psi], &[]).unwrap();
+    let c = connect(&mut net, land, p, &vec![false; land.grid.len()], b);
+    (net, c)
+}
+
 /// Named so that the village tests can be run together (`cargo test village`).
 mod village {
     use super::*;
@@ -143,8 +152,7 @@ mod village {
         let land = land(300.0, |_| 10.0);
         let free = vec![false; land.grid.len()];
         let psi = DVec2::new(0.0, 150.0);
-        let mut net = RoadNetwork::new(&land, &[psi], &[]).unwrap();
-        let street = connect(&mut net, &land, &params(), &free, DVec2::new(280.0, 150.0));
+        let (mut net, street) = first_road(&land, psi, &params(), DVec2::new(280.0, 150.0));
         assert!(street.reached && street.roads.len() == 1);
         let roads = net.roads.len();
         // 10 m beside the street: within a frontage of 13.5 m, served without a road of its own
@@ -164,7 +172,6 @@ mod village {
     #[test]
     fn a_road_on_flat_land_is_nearly_straight_and_the_move_mask_matters() {
         let land = land(400.0, |_| 10.0);
-        let free = vec![false; land.grid.len()];
         let psi = DVec2::new(0.0, 100.0);
         let b = DVec2::new(300.0, 250.0); // offset (300, 150): direction (2, 1)
         let straight = psi.distance(b);
@@ -174,8 +181,7 @@ mod village {
                 mask_radius: radius,
                 ..params()
             };
-            let mut net = RoadNetwork::new(&land, &[psi], &[]).unwrap();
-            let c = connect(&mut net, &land, &p, &free, b);
+            let (net, c) = first_road(&land, psi, &p, b);
             assert!(c.reached && c.roads.len() == 1 && !c.over_max_grade);
             let road = &net.roads[c.roads[0]];
             assert_eq!(road.points[0], b);
@@ -190,8 +196,7 @@ mod village {
         assert!(lengths[2] < 1.01 * straight, "{lengths:?}");
         // a direction off every mask: (5, 1)
         let b = DVec2::new(250.0, 150.0);
-        let mut net = RoadNetwork::new(&land, &[psi], &[]).unwrap();
-        let c = connect(&mut net, &land, &params(), &free, b);
+        let (net, c) = first_road(&land, psi, &params(), b);
         let l = length(&net.roads[c.roads[0]]);
         assert!(l < 1.02 * psi.distance(b), "{l} vs {}", psi.distance(b));
         // a few turning vertices only (collinear moves merged)
@@ -207,17 +212,13 @@ mod village {
     fn roads_keep_to_the_grade_limit_with_serpentines() {
         // a ramp of grade 0.35 along x, in a band 120 m wide: climbing 35 m to x = 100 takes three legs at least
         let mut land = land(300.0, |p| 0.35 * p.x);
-        set(
-            &mut land,
-            |l, k| l.inside[k] = false,
-            |q| (q.y - 150.0).abs() > 60.0,
-        );
-        let free = vec![false; land.grid.len()];
+        set(&mut land.inside, &land.grid, false, |q| {
+            (q.y - 150.0).abs() > 60.0
+        });
         let p = params();
         let psi = DVec2::new(0.0, 150.0);
         let b = DVec2::new(100.0, 150.0);
-        let mut net = RoadNetwork::new(&land, &[psi], &[]).unwrap();
-        let c = connect(&mut net, &land, &p, &free, b);
+        let (net, c) = first_road(&land, psi, &p, b);
         assert!(c.reached && !c.over_max_grade);
         let road = &net.roads[c.roads[0]];
         let g = steepest(&land, road);
@@ -239,24 +240,19 @@ mod village {
         // grade 0.4: no move of the 32-move mask is gentle enough across it (the gentlest, (1, 3), climbs 0.126),
         // so the road is built over the limit; the 48 moves of radius 4 have (1, 4), at 0.097
         let land = land_ramp(0.4);
-        let free = vec![false; land.grid.len()];
-        let mut net = RoadNetwork::new(&land, &[psi], &[]).unwrap();
-        let c = connect(&mut net, &land, &p, &free, b);
+        let (_, c) = first_road(&land, psi, &p, b);
         assert!(c.reached && c.over_max_grade && c.steepest_grade > p.max_grade);
         let p4 = RoadParams {
             mask_radius: 4,
             ..params()
         };
-        let mut net = RoadNetwork::new(&land, &[psi], &[]).unwrap();
-        let c = connect(&mut net, &land, &p4, &free, b);
+        let (net, c) = first_road(&land, psi, &p4, b);
         assert!(c.reached && !c.over_max_grade);
         assert!(steepest(&land, &net.roads[c.roads[0]]) <= p.max_grade + 1e-6);
 
         // a cone of grade 0.3: climb from its foot to near its top
         let land = land_cone();
-        let free = vec![false; land.grid.len()];
-        let mut net = RoadNetwork::new(&land, &[DVec2::new(0.0, 0.0)], &[]).unwrap();
-        let c = connect(&mut net, &land, &p, &free, DVec2::new(200.0, 240.0));
+        let (net, c) = first_road(&land, DVec2::new(0.0, 0.0), &p, DVec2::new(200.0, 240.0));
         assert!(c.reached && !c.over_max_grade);
         let road = &net.roads[c.roads[0]];
         let (g, fine) = (steepest_per_move(&land, road), steepest(&land, road));
@@ -285,8 +281,7 @@ mod village {
         let land = land(300.0, |p| 30.0 * ((p.y - 100.0) / 6.0).clamp(0.0, 1.0));
         let free = vec![false; land.grid.len()];
         let p = params();
-        let mut net = RoadNetwork::new(&land, &[DVec2::new(150.0, 0.0)], &[]).unwrap();
-        let c = connect(&mut net, &land, &p, &free, DVec2::new(150.0, 200.0));
+        let (mut net, c) = first_road(&land, DVec2::new(150.0, 0.0), &p, DVec2::new(150.0, 200.0));
         assert!(c.reached && c.over_max_grade);
         assert!(c.steepest_grade > 1.0, "{}", c.steepest_grade);
         let road = &net.roads[c.roads[0]];
@@ -353,26 +348,19 @@ mod village {
         let b = DVec2::new(300.0, 200.0);
         // a river 20 m wide across the land, with a dry gap at the top
         let mut dry_gap = land(400.0, |_| 0.0);
-        set(
-            &mut dry_gap,
-            |l, k| l.water[k] = true,
-            |q| (140.0..=160.0).contains(&q.x) && q.y < 300.0,
-        );
-        let free = vec![false; dry_gap.grid.len()];
-        let mut net = RoadNetwork::new(&dry_gap, &[psi], &[]).unwrap();
-        let c = connect(&mut net, &dry_gap, &p, &free, b);
+        set(&mut dry_gap.water, &dry_gap.grid, true, |q| {
+            (140.0..=160.0).contains(&q.x) && q.y < 300.0
+        });
+        let (net, c) = first_road(&dry_gap, psi, &p, b);
         let wet = metres_over(&dry_gap, &net.roads[c.roads[0]], |k| dry_gap.water[k]);
         println!("with a dry way: {wet:.1} m in water");
         assert_eq!(wet, 0.0);
         // the same river all across: one crossing, about its width
         let mut river = land(400.0, |_| 0.0);
-        set(
-            &mut river,
-            |l, k| l.water[k] = true,
-            |q| (140.0..=160.0).contains(&q.x),
-        );
-        let mut net = RoadNetwork::new(&river, &[psi], &[]).unwrap();
-        let c = connect(&mut net, &river, &p, &free, b);
+        set(&mut river.water, &river.grid, true, |q| {
+            (140.0..=160.0).contains(&q.x)
+        });
+        let (net, c) = first_road(&river, psi, &p, b);
         assert!(c.reached);
         let wet = metres_over(&river, &net.roads[c.roads[0]], |k| river.water[k]);
         println!("no dry way: {wet:.1} m in water");
@@ -396,11 +384,9 @@ mod village {
             })
             .collect();
         // a wall across the land at x = 260 with a gate at y 290..300
-        set(
-            &mut l,
-            |l, k| l.wall[k] = true,
-            |q| (q.x - 260.0).abs() < 1.0 && !(290.0..=300.0).contains(&q.y),
-        );
+        set(&mut l.wall, &l.grid, true, |q| {
+            (q.x - 260.0).abs() < 1.0 && !(290.0..=300.0).contains(&q.y)
+        });
         let mut net = RoadNetwork::new(&l, &[psi], &[]).unwrap();
         let c = connect(&mut net, &l, &p, &occupied, b);
         let road = &net.roads[c.roads[0]];
@@ -414,11 +400,9 @@ mod village {
         assert_eq!(over_wall, 0.0);
         // no gate: the road crosses the wall once, straight
         let mut closed = land(400.0, |_| 0.0);
-        set(
-            &mut closed,
-            |l, k| l.wall[k] = true,
-            |q| (q.x - 260.0).abs() < 1.0,
-        );
+        set(&mut closed.wall, &closed.grid, true, |q| {
+            (q.x - 260.0).abs() < 1.0
+        });
         let mut net = RoadNetwork::new(&closed, &[psi], &[]).unwrap();
         let c = connect(&mut net, &closed, &p, &occupied, b);
         assert!(c.reached);
@@ -461,16 +445,12 @@ mod village {
         // B at the end of a corridor 20 m wide, closed at its east end; the road ahead of B, beyond the end, can
         // only be reached back along the corridor, beside the first road
         let mut l = land(300.0, |_| 0.0);
-        set(
-            &mut l,
-            |l, k| l.inside[k] = false,
-            |q| {
-                let strip_n = (160.0..=166.0).contains(&q.y) && (100.0..=266.0).contains(&q.x);
-                let strip_s = (134.0..=140.0).contains(&q.y) && (100.0..=266.0).contains(&q.x);
-                let end = (260.0..=266.0).contains(&q.x) && (134.0..=166.0).contains(&q.y);
-                strip_n || strip_s || end
-            },
-        );
+        set(&mut l.inside, &l.grid, false, |q| {
+            let strip_n = (160.0..=166.0).contains(&q.y) && (100.0..=266.0).contains(&q.x);
+            let strip_s = (134.0..=140.0).contains(&q.y) && (100.0..=266.0).contains(&q.x);
+            let end = (260.0..=266.0).contains(&q.x) && (134.0..=166.0).contains(&q.y);
+            strip_n || strip_s || end
+        });
         let free = vec![false; l.grid.len()];
         let psi = [DVec2::new(0.0, 150.0), DVec2::new(286.0, 0.0)];
         let east = vec![DVec2::new(286.0, 0.0), DVec2::new(286.0, 300.0)];
@@ -491,17 +471,17 @@ mod village {
     fn an_enclosed_building_is_not_reached_and_bad_inputs_are_refused() {
         let mut l = land(200.0, |_| 0.0);
         // a ring outside the region around (150, 150)
-        set(
-            &mut l,
-            |l, k| l.inside[k] = false,
-            |q| {
-                let d = q.distance(DVec2::new(150.0, 150.0));
-                (20.0..=26.0).contains(&d)
-            },
-        );
+        set(&mut l.inside, &l.grid, false, |q| {
+            let d = q.distance(DVec2::new(150.0, 150.0));
+            (20.0..=26.0).contains(&d)
+        });
         let free = vec![false; l.grid.len()];
-        let mut net = RoadNetwork::new(&l, &[DVec2::new(0.0, 0.0)], &[]).unwrap();
-        let c = connect(&mut net, &l, &params(), &free, DVec2::new(150.0, 150.0));
+        let (net, c) = first_road(
+            &l,
+            DVec2::new(0.0, 0.0),
+            &params(),
+            DVec2::new(150.0, 150.0),
+        );
         assert_eq!(c, Connection::default());
         assert!(net.roads.is_empty());
         assert_eq!(net.distance(DVec2::ZERO), f64::INFINITY);
@@ -565,11 +545,9 @@ mod village {
                 + 12.0 * (9.0 * x + 1.0).sin() * (7.0 * y).sin()
                 + 3.0 * (31.0 * x).cos() * (27.0 * y + 2.0).sin()
         });
-        set(
-            &mut l,
-            |l, k| l.water[k] = true,
-            |q| q.distance(DVec2::new(700.0, 300.0)) < 80.0,
-        );
+        set(&mut l.water, &l.grid, true, |q| {
+            q.distance(DVec2::new(700.0, 300.0)) < 80.0
+        });
         l
     }
 
