@@ -12,7 +12,7 @@ use worldpaint_core::polygon_mesh::triangulate;
 
 /// Which of the points (float64 (N, 2)) lie inside the region: bool (N).
 #[pyfunction]
-fn region_contains<'py>(
+pub(crate) fn region_contains<'py>(
     py: Python<'py>,
     region: &Bound<'py, PyAny>,
     xy: PyReadonlyArray2<'py, f64>,
@@ -26,14 +26,14 @@ fn region_contains<'py>(
 
 /// Area of the region in m².
 #[pyfunction]
-fn region_area(region: &Bound<'_, PyAny>) -> PyResult<f64> {
+pub(crate) fn region_area(region: &Bound<'_, PyAny>) -> PyResult<f64> {
     let region = region_from_py(region)?;
     guarded(|| Ok(region.area()))
 }
 
 /// ((xmin, ymin), (xmax, ymax)) of the region.
 #[pyfunction]
-fn region_bbox(region: &Bound<'_, PyAny>) -> PyResult<((f64, f64), (f64, f64))> {
+pub(crate) fn region_bbox(region: &Bound<'_, PyAny>) -> PyResult<((f64, f64), (f64, f64))> {
     let region = region_from_py(region)?;
     let (a, b) = guarded(|| Ok(region.bbox()))?;
     Ok(((a.x, a.y), (b.x, b.y)))
@@ -44,7 +44,7 @@ fn region_bbox(region: &Bound<'_, PyAny>) -> PyResult<((f64, f64), (f64, f64))> 
 /// "heights": float64 (V) (terrain height, NaN off it or without terrain), "triangles": int32 (T, 3)}.
 #[pyfunction]
 #[pyo3(signature = (contours, spacing, terrain=None))]
-fn fill_polygons<'py>(
+pub(crate) fn fill_polygons<'py>(
     py: Python<'py>,
     contours: Vec<PyReadonlyArray2<'py, f64>>,
     spacing: f64,
@@ -78,12 +78,4 @@ fn fill_polygons<'py>(
         .map_err(|e| input_err(format!("triangles of inconsistent size: {e}")))?;
     d.set_item("triangles", triangles.into_pyarray(py))?;
     Ok(d)
-}
-
-pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add_function(wrap_pyfunction!(fill_polygons, m)?)?;
-    m.add_function(wrap_pyfunction!(region_contains, m)?)?;
-    m.add_function(wrap_pyfunction!(region_area, m)?)?;
-    m.add_function(wrap_pyfunction!(region_bbox, m)?)?;
-    Ok(())
 }

@@ -60,7 +60,7 @@ fn roads_from_py(
 #[pyfunction]
 #[pyo3(signature = (terrain, roads, points, width=5.0, bank_width=8.0, *, use_heights=false, smoothing=None))]
 #[allow(clippy::too_many_arguments)]
-fn embed_roads<'py>(
+pub(crate) fn embed_roads<'py>(
     py: Python<'py>,
     terrain: &Bound<'py, Terrain>,
     roads: &Bound<'py, PyAny>,
@@ -107,9 +107,4 @@ fn embed_roads<'py>(
     out.set_item("cycles", embedding.diffusion.cycles)?;
     out.set_item("converged", embedding.diffusion.converged)?;
     Ok(out)
-}
-
-pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add_function(wrap_pyfunction!(embed_roads, m)?)?;
-    Ok(())
 }

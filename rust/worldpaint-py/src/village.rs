@@ -19,19 +19,19 @@ const SCENARIOS: &str = include_str!("../../../assets/villages/scenarios.json");
 
 /// The shipped building encyclopedia (JSON text).
 #[pyfunction]
-fn default_encyclopedia() -> &'static str {
+pub(crate) fn default_encyclopedia() -> &'static str {
     ENCYCLOPEDIA
 }
 
 /// The shipped growth scenario presets (JSON text: {"presets": {name: {"events": [...]}}}).
 #[pyfunction]
-fn scenario_presets() -> &'static str {
+pub(crate) fn scenario_presets() -> &'static str {
     SCENARIOS
 }
 
 /// Checks an encyclopedia (JSON) and returns its village types and building types.
 #[pyfunction]
-fn encyclopedia_contents(encyclopedia: &str) -> PyResult<(Vec<String>, Vec<String>)> {
+pub(crate) fn encyclopedia_contents(encyclopedia: &str) -> PyResult<(Vec<String>, Vec<String>)> {
     let e = guarded(|| Encyclopedia::from_json(encyclopedia))?;
     Ok((
         e.village_types.keys().cloned().collect(),
@@ -110,7 +110,7 @@ fn stage_share(stage: Stage) -> (&'static str, f64, f64) {
                     water_level=None, water_areas=None, rivers=None, river_half_width=4.0, walls=None, cell=2.0,
                     parcel_cell=1.0, progress=None))]
 #[allow(clippy::too_many_arguments)]
-fn generate_village<'py>(
+pub(crate) fn generate_village<'py>(
     py: Python<'py>,
     terrain: &Bound<'py, Terrain>,
     region: &Bound<'py, PyAny>,
@@ -269,7 +269,7 @@ fn generate_village<'py>(
                     buildings=None, roads=None, water_level=None, water_areas=None, rivers=None,
                     river_half_width=4.0, walls=None, cell=2.0))]
 #[allow(clippy::too_many_arguments)]
-fn village_interest<'py>(
+pub(crate) fn village_interest<'py>(
     py: Python<'py>,
     terrain: &Bound<'py, Terrain>,
     region: &Bound<'py, PyAny>,
@@ -325,13 +325,4 @@ fn village_interest<'py>(
     };
     let values = py.detach(|| guarded(|| interest_at(&request, &pts)))?;
     Ok(values.into_pyarray(py))
-}
-
-pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add_function(wrap_pyfunction!(default_encyclopedia, m)?)?;
-    m.add_function(wrap_pyfunction!(scenario_presets, m)?)?;
-    m.add_function(wrap_pyfunction!(encyclopedia_contents, m)?)?;
-    m.add_function(wrap_pyfunction!(generate_village, m)?)?;
-    m.add_function(wrap_pyfunction!(village_interest, m)?)?;
-    Ok(())
 }

@@ -112,7 +112,7 @@ fn array<'py, const N: usize, T: numpy::Element + Copy>(
 #[pyfunction]
 #[pyo3(signature = (terrain, controllers, points, seed=0, *, min_slope=None, overhang=None, falloff=None, freeboard=None, max_width=None, subdivide=true, rock_color=None))]
 #[allow(clippy::too_many_arguments)]
-fn build_waterfall<'py>(
+pub(crate) fn build_waterfall<'py>(
     py: Python<'py>,
     terrain: &Bound<'py, Terrain>,
     controllers: &Bound<'py, PyAny>,
@@ -273,9 +273,4 @@ fn build_waterfall<'py>(
     report.set_item("converged", r.converged)?;
     out.set_item("report", report)?;
     Ok(out)
-}
-
-pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add_function(wrap_pyfunction!(build_waterfall, m)?)?;
-    Ok(())
 }
