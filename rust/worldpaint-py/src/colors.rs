@@ -2,12 +2,10 @@
 
 use crate::convert::{
     categories_to_py, instances_to_py, kind_to_str, parse_color, region_from_py, region_to_py,
-    structures_to_py,
+    rows_to_py, structures_to_py,
 };
 use crate::scene::PyScene;
 use crate::{guarded, input_err, with_progress};
-use numpy::ndarray::Array2;
-use numpy::IntoPyArray;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use worldpaint_core::palette::{Interaction, MapSource, Palette};
@@ -299,10 +297,7 @@ pub(crate) fn color_summary<'py>(py: Python<'py>, color: &str) -> PyResult<Bound
             })
             .collect::<Vec<_>>(),
     )?;
-    let flat: Vec<f64> = c.preview.iter().flat_map(|p| *p).collect();
-    let preview = Array2::from_shape_vec((c.preview.len(), 3), flat)
-        .map_err(|e| input_err(format!("color preview of inconsistent size: {e}")))?;
-    d.set_item("preview", preview.into_pyarray(py))?;
+    d.set_item("preview", rows_to_py(py, c.preview.iter().copied())?)?;
     let (lo, hi) = c.region.bbox();
     d.set_item("preview_size", (hi.x - lo.x, hi.y - lo.y))?;
     Ok(d)

@@ -229,6 +229,18 @@ pub(crate) fn points_to_py<'py>(py: Python<'py>, pts: &[DVec2]) -> Bound<'py, Py
         .into_pyarray(py)
 }
 
+/// Rows of `N` values as a numpy array (R, N).
+pub(crate) fn rows_to_py<'py, const N: usize, T: numpy::Element + Copy>(
+    py: Python<'py>,
+    rows: impl Iterator<Item = [T; N]>,
+) -> PyResult<Bound<'py, PyArray2<T>>> {
+    let flat: Vec<T> = rows.flatten().collect();
+    let n = flat.len() / N;
+    Ok(Array2::from_shape_vec((n, N), flat)
+        .map_err(|e| input_err(e.to_string()))?
+        .into_pyarray(py))
+}
+
 pub(crate) fn column<T: Copy + numpy::Element>(
     a: Option<PyReadonlyArray1<'_, T>>,
     n: usize,
@@ -408,6 +420,21 @@ pub(crate) fn heights_of(points: &[DVec2], terrain: Option<&Heightfield>) -> Arr
     points
         .iter()
         .map(|p| terrain.and_then(|t| t.height_at(*p)).unwrap_or(f64::NAN))
+        .collect()
+}
+
+/// How much the height changed from `before` to `after` at `points` (0 where either has no height there).
+pub(crate) fn height_change(
+    before: &Heightfield,
+    after: &Heightfield,
+    points: &[DVec2],
+) -> Vec<f64> {
+    points
+        .iter()
+        .map(|p| match (after.height_at(*p), before.height_at(*p)) {
+            (Some(new), Some(old)) => new - old,
+            _ => 0.0,
+        })
         .collect()
 }
 

@@ -1,9 +1,8 @@
 //! Regions: containment, area and bounds for the add-on's checks; polygons filled as a mesh for display.
 
-use crate::convert::{heights_of, points_from_py, points_to_py, region_from_py};
+use crate::convert::{heights_of, points_from_py, points_to_py, region_from_py, rows_to_py};
 use crate::terrain::{terrain_of, Terrain};
 use crate::{guarded, input_err};
-use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -69,13 +68,7 @@ pub(crate) fn fill_polygons<'py>(
         "heights",
         heights_of(&mesh.vertices, terrain.map(|t| t.as_ref())).into_pyarray(py),
     )?;
-    let flat: Vec<i32> = mesh
-        .triangles
-        .iter()
-        .flat_map(|t| t.map(|i| i as i32))
-        .collect();
-    let triangles = Array2::from_shape_vec((mesh.triangles.len(), 3), flat)
-        .map_err(|e| input_err(format!("triangles of inconsistent size: {e}")))?;
-    d.set_item("triangles", triangles.into_pyarray(py))?;
+    let triangles = mesh.triangles.iter().map(|t| t.map(|i| i as i32));
+    d.set_item("triangles", rows_to_py(py, triangles)?)?;
     Ok(d)
 }

@@ -1,9 +1,8 @@
 //! Villages: `generate_village`, `village_interest`, and the shipped encyclopedia and scenario presets (JSON).
 
-use crate::convert::{points_from_py, points_to_py, region_from_py};
+use crate::convert::{points_from_py, points_to_py, region_from_py, rows_to_py};
 use crate::terrain::Terrain;
 use crate::{guarded, input_err, with_stages};
-use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyReadonlyArray2};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
@@ -216,9 +215,8 @@ pub(crate) fn generate_village<'py>(
     let houses = PyList::empty(py);
     for h in &village.houses {
         let d = PyDict::new(py);
-        let v = Array2::from_shape_fn((h.vertices.len(), 3), |(i, j)| h.vertices[i][j]);
         d.set_item("seed", h.seed)?;
-        d.set_item("vertices", v.into_pyarray(py))?;
+        d.set_item("vertices", rows_to_py(py, h.vertices.iter().copied())?)?;
         let mut starts = Vec::with_capacity(h.faces.len());
         let mut totals = Vec::with_capacity(h.faces.len());
         let mut indices = Vec::new();
