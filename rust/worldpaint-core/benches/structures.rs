@@ -14,10 +14,10 @@
 //!
 //! `cargo bench -p worldpaint-core --bench structures`
 
-#[path = "support/median.rs"]
+#[path = "support/timing.rs"]
 mod timing;
 
-use criterion::{Criterion, SamplingMode};
+use criterion::Criterion;
 use std::hint::black_box;
 use std::time::{Duration, Instant};
 use worldpaint_core::exemplar;
@@ -91,14 +91,9 @@ fn counts(out: &SynthesisResult) -> (usize, f64, usize) {
 
 /// Runs `sample` as a criterion benchmark (10 samples of one run each) and returns its median in seconds.
 fn median(c: &mut Criterion, name: &str, sample: impl FnMut() -> Duration) -> f64 {
-    let mut g = c.benchmark_group("structures");
-    g.sample_size(10)
-        .sampling_mode(SamplingMode::Flat)
-        .warm_up_time(Duration::from_millis(500))
-        .measurement_time(Duration::from_secs(8));
-    let m = timing::median(&mut g, name, sample);
-    g.finish();
-    m
+    let mut g = timing::flat_group(c, "structures", 10, Duration::from_secs(8));
+    g.warm_up_time(Duration::from_millis(500));
+    timing::median_alone(g, name, sample)
 }
 
 fn main() {

@@ -18,8 +18,10 @@
 mod forest;
 #[path = "../tests/common/real_data.rs"]
 mod real_data;
+#[path = "support/timing.rs"]
+mod timing;
 
-use criterion::{Criterion, SamplingMode};
+use criterion::Criterion;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::cell::RefCell;
@@ -117,12 +119,8 @@ fn bench_synthesis(c: &mut Criterion, runs: &RefCell<Vec<Run>>) {
         seed: 1,
         ..Default::default()
     };
-    let mut group = c.benchmark_group("synthesis");
-    group
-        .sample_size(10)
-        .sampling_mode(SamplingMode::Flat)
-        .warm_up_time(Duration::from_millis(1))
-        .measurement_time(Duration::from_secs(5));
+    let mut group = timing::flat_group(c, "synthesis", 10, Duration::from_secs(5));
+    group.warm_up_time(Duration::from_millis(1));
     group.bench_function("100k_3_categories", |b| {
         b.iter_custom(|iters| {
             let mut total = Duration::ZERO;
@@ -166,12 +164,8 @@ fn bench_terrain(c: &mut Criterion) {
     // 708² vertices: 2 × 707² = 999,698 triangles
     let (jv, jt) = grid_mesh(708, 0.35, 5);
     let (gv, gt) = grid_mesh(1025, 0.0, 0);
-    let mut group = c.benchmark_group("terrain");
-    group
-        .sample_size(10)
-        .sampling_mode(SamplingMode::Flat)
-        .warm_up_time(Duration::from_millis(500))
-        .measurement_time(Duration::from_secs(5));
+    let mut group = timing::flat_group(c, "terrain", 10, Duration::from_secs(5));
+    group.warm_up_time(Duration::from_millis(500));
     group.bench_function("from_mesh_1M_triangles_jittered", |b| {
         b.iter(|| Heightfield::from_mesh(black_box(&jv), &jt, None))
     });

@@ -12,10 +12,10 @@
 //!
 //! `cargo bench -p worldpaint-core --bench terrain_edit`
 
-#[path = "support/median.rs"]
+#[path = "support/timing.rs"]
 mod timing;
 
-use criterion::{Criterion, SamplingMode};
+use criterion::Criterion;
 use glam::DVec3;
 use std::hint::black_box;
 use std::time::{Duration, Instant};
@@ -53,10 +53,7 @@ fn problem(size: f64) -> Constraints {
 
 fn main() {
     let mut c = Criterion::default().configure_from_args();
-    let mut g = c.benchmark_group("terrain_edit");
-    g.sampling_mode(SamplingMode::Flat)
-        .sample_size(10)
-        .measurement_time(Duration::from_secs(20));
+    let mut g = timing::flat_group(&mut c, "terrain_edit", 10, Duration::from_secs(20));
     let options = DiffusionOptions::default();
     let p257 = problem(256.0);
     let p1025 = problem(1024.0);

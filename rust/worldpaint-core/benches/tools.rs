@@ -11,7 +11,7 @@
 //!
 //! `cargo bench -p worldpaint-core --bench tools`
 
-#[path = "support/median.rs"]
+#[path = "support/timing.rs"]
 mod timing;
 
 use criterion::Criterion;
@@ -88,9 +88,7 @@ fn median(c: &mut Criterion, group: &str, name: &str, sample: impl FnMut() -> Du
     g.sample_size(30)
         .warm_up_time(Duration::from_millis(300))
         .measurement_time(Duration::from_secs(3));
-    let m = timing::median(&mut g, name, sample);
-    g.finish();
-    m
+    timing::median_alone(g, name, sample)
 }
 
 fn main() {

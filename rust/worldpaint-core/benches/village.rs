@@ -11,10 +11,10 @@
 //!
 //! `cargo bench -p worldpaint-core --bench village`
 
-#[path = "support/median.rs"]
+#[path = "support/timing.rs"]
 mod timing;
 
-use criterion::{Criterion, SamplingMode};
+use criterion::Criterion;
 use std::hint::black_box;
 use std::time::{Duration, Instant};
 use worldpaint_core::exemplar::village_terrain;
@@ -30,10 +30,7 @@ const BUDGET_S: f64 = 3.0;
 
 fn main() {
     let mut c = Criterion::default().configure_from_args();
-    let mut g = c.benchmark_group("village");
-    g.sampling_mode(SamplingMode::Flat)
-        .sample_size(10)
-        .measurement_time(Duration::from_secs(30));
+    let mut g = timing::flat_group(&mut c, "village", 10, Duration::from_secs(30));
     let terrain = village_terrain(1000.0, 1.0, 3);
     let enc = match Encyclopedia::from_json(ENCYCLOPEDIA) {
         Ok(e) => e,

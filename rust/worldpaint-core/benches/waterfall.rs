@@ -18,10 +18,10 @@
 //!
 //! `cargo bench -p worldpaint-core --bench waterfall`
 
-#[path = "support/median.rs"]
+#[path = "support/timing.rs"]
 mod timing;
 
-use criterion::{Criterion, SamplingMode};
+use criterion::Criterion;
 use std::hint::black_box;
 use std::time::{Duration, Instant};
 use worldpaint_core::exemplar::{village_terrain, waterfall_controllers};
@@ -33,10 +33,7 @@ const BUDGET_S: f64 = 2.0;
 
 fn main() {
     let mut c = Criterion::default().configure_from_args();
-    let mut g = c.benchmark_group("waterfall");
-    g.sampling_mode(SamplingMode::Flat)
-        .sample_size(20)
-        .measurement_time(Duration::from_secs(10));
+    let mut g = timing::flat_group(&mut c, "waterfall", 20, Duration::from_secs(10));
     let terrain = village_terrain(1000.0, 1.0, 3);
     let controllers = waterfall_controllers(&terrain, 20, 7);
     let params = WaterfallParams::default();

@@ -1,10 +1,12 @@
 //! A color learned from an exemplar and painted into a region 16× larger reproduces the exemplar's density and
 //! pair statistics about as well as a second draw of the process that made the exemplar.
 
+use std::sync::Arc;
 use worldpaint_core::exemplar::{self, scene_from_points};
 use worldpaint_core::geom::DVec2;
 use worldpaint_core::{
-    compare, learn_color, synthesize, AnalysisOptions, Color, Region, Scene, SynthesisOptions,
+    compare, learn_color, synthesize, AnalysisOptions, Color, Heightfield, Region, Scene,
+    SynthesisOptions, SynthesisResult,
 };
 
 fn exemplar_region() -> Region {
@@ -29,6 +31,23 @@ fn same_bins(c: &Color) -> AnalysisOptions {
     }
 }
 
+/// The color `name` learned, with the bins of `color`, from what `out` painted over `paint` on `terrain`.
+fn learned_back(
+    color: &Color,
+    out: SynthesisResult,
+    terrain: Option<Arc<Heightfield>>,
+    paint: &Region,
+    name: &str,
+) -> Color {
+    let painted = Scene {
+        categories: out.categories,
+        instances: out.instances,
+        terrain,
+        ..Default::default()
+    };
+    learn_color(&painted, paint, name, &same_bins(color)).unwrap()
+}
+
 /// (density ratio, synthesized rdf L2, second-draw rdf L2) for one seed.
 fn fidelity_of(make: &dyn Fn(&Region, u64) -> Vec<DVec2>, seed: u64) -> (f64, f64, f64) {
     let region = exemplar_region();
@@ -44,13 +63,7 @@ fn fidelity_of(make: &dyn Fn(&Region, u64) -> Vec<DVec2>, seed: u64) -> (f64, f6
         ..Default::default()
     };
     let out = synthesize(&Scene::default(), &color, &paint, &opts).unwrap();
-    let painted = Scene {
-        categories: out.categories,
-        instances: out.instances,
-        terrain: None,
-        ..Default::default()
-    };
-    let painted_color = learn_color(&painted, &paint, "painted", &same_bins(&color)).unwrap();
+    let painted_color = learned_back(&color, out, None, &paint, "painted");
     let fid = compare(&color, &painted_color);
     println!(
         "seed {seed}: exemplar n={} max_radius={:.2} | density ratio {:.3} | rdf L2 synth {:.4} vs second draw {:.4}",
@@ -141,13 +154,7 @@ fn slope_fidelity(seed: u64) -> SlopeFidelity {
         },
     )
     .unwrap();
-    let painted = Scene {
-        categories: out.categories,
-        instances: out.instances,
-        terrain: scene.terrain.clone(),
-        ..Default::default()
-    };
-    let back = learn_color(&painted, &paint, "painted", &same_bins(&color)).unwrap();
+    let back = learned_back(&color, out, scene.terrain.clone(), &paint, "painted");
     let fid = compare(&color, &back);
     let slope_of = |c: &Color| {
         c.maps
@@ -265,13 +272,7 @@ fn timing_100k_instances_three_categories_on_a_square_kilometre() {
         1e6 * 13.9 / 83209.0,
         (13.9 / 83209.0) / (secs / n as f64)
     );
-    let painted = Scene {
-        categories: out.categories,
-        instances: out.instances,
-        terrain: None,
-        ..Default::default()
-    };
-    let back = learn_color(&painted, &paint, "back", &same_bins(&color)).unwrap();
+    let back = learned_back(&color, out, None, &paint, "back");
     let fid = compare(&color, &back);
     println!("{fid:?}");
 }

@@ -42,6 +42,21 @@ fn color(density: f64, seed: u64) -> Color {
     .unwrap()
 }
 
+/// The empty scene once a gradient from `start` to `end` along `shape` is painted over `region`.
+fn gradient_on_empty(
+    start: &Color,
+    end: &Color,
+    region: &Region,
+    shape: GradientShape,
+    opts: &GradientOptions,
+) -> Scene {
+    gradient(&scene(Vec::new()), start, end, region, shape, opts, &|_| {
+        true
+    })
+    .unwrap()
+    .applied_to(&scene(Vec::new()))
+}
+
 /// Densities in `n` bands of x over `[x0, x1] × [y0, y1]`.
 fn profile(s: &Scene, x0: f64, x1: f64, y0: f64, y1: f64, n: usize) -> Vec<f64> {
     let w = (x1 - x0) / n as f64;
@@ -65,17 +80,7 @@ fn a_linear_gradient_raises_density_across_the_region() {
         from: DVec2::new(0.0, 50.0),
         to: DVec2::new(400.0, 50.0),
     };
-    let edit = gradient(
-        &scene(Vec::new()),
-        &sparse,
-        &dense,
-        &region,
-        shape,
-        &GradientOptions::default(),
-        &|_| true,
-    )
-    .unwrap();
-    let painted = edit.applied_to(&scene(Vec::new()));
+    let painted = gradient_on_empty(&sparse, &dense, &region, shape, &GradientOptions::default());
     let d = profile(&painted, 0.0, 400.0, 0.0, 100.0, 5);
     println!(
         "linear gradient, density in five bands: {d:.4?} (ends {:.4} and {:.4})",
@@ -107,17 +112,7 @@ fn a_radial_gradient_thins_out_from_the_centre() {
             ..Default::default()
         },
     };
-    let painted = gradient(
-        &scene(Vec::new()),
-        &dense,
-        &sparse,
-        &region,
-        shape,
-        &opts,
-        &|_| true,
-    )
-    .unwrap()
-    .applied_to(&scene(Vec::new()));
+    let painted = gradient_on_empty(&dense, &sparse, &region, shape, &opts);
     let ring = |r0: f64, r1: f64| {
         let n = painted
             .instances

@@ -6,7 +6,7 @@ use worldpaint_core::exemplar;
 use worldpaint_core::geom::DVec2;
 use worldpaint_core::synthesis::AdaptOptions;
 use worldpaint_core::tools::moving::move_region;
-use worldpaint_core::{learn_color, AnalysisOptions, Color, Region, Scene};
+use worldpaint_core::{learn_color, AnalysisOptions, Color, Instance, Region, Scene};
 
 /// The slope scene (its terrain's slopes repeat every 100 m along X), and the color of its first 100 m square.
 fn slope_forest() -> (Scene, Color) {
@@ -33,6 +33,23 @@ fn tree_slope_bins(color: &Color) -> Vec<bool> {
     m.hist.values.iter().map(|v| *v > 0.0).collect()
 }
 
+/// The 100 m square the tests move, one period of the slopes away from the color's exemplar.
+fn source() -> Region {
+    Region::Rect {
+        min: DVec2::new(100.0, 100.0),
+        max: DVec2::new(200.0, 200.0),
+    }
+}
+
+/// The positions of the instances of category `tree` inside `region`.
+fn trees_in(instances: &[Instance], tree: usize, region: &Region) -> Vec<DVec2> {
+    instances
+        .iter()
+        .filter(|i| i.category == tree && region.contains(i.position))
+        .map(|i| i.position)
+        .collect()
+}
+
 fn slope_bin(scene: &Scene, p: DVec2) -> usize {
     let s = scene.terrain.as_ref().unwrap().map_at("slope", p).unwrap();
     (s.to_degrees() / 2.5) as usize
@@ -41,20 +58,12 @@ fn slope_bin(scene: &Scene, p: DVec2) -> usize {
 #[test]
 fn a_moved_forest_keeps_its_count_and_what_still_fits() {
     let (scene, color) = slope_forest();
-    let source = Region::Rect {
-        min: DVec2::new(100.0, 100.0),
-        max: DVec2::new(200.0, 200.0),
-    };
+    let source = source();
     // 3 m across the slopes (their period is 100 m) and onto other ground along Y: about half the trees land on
     // slopes the forest never grew on, the others still fit
     let offset = DVec2::new(3.0, 150.0);
     let tree = scene.category_index("tree").unwrap();
-    let trees_before: Vec<DVec2> = scene
-        .instances
-        .iter()
-        .filter(|i| i.category == tree && source.contains(i.position))
-        .map(|i| i.position)
-        .collect();
+    let trees_before = trees_in(&scene.instances, tree, &source);
     let allowed = tree_slope_bins(&color);
     let fits = |p: DVec2| allowed.get(slope_bin(&scene, p)).copied().unwrap_or(false);
     let opts = AdaptOptions {
@@ -64,12 +73,7 @@ fn a_moved_forest_keeps_its_count_and_what_still_fits() {
     let moved = move_region(&scene, &color, &source, offset, &opts).unwrap();
     let after = moved.edit.applied_to(&scene);
     let destination = source.translated(offset);
-    let trees_after: Vec<DVec2> = after
-        .instances
-        .iter()
-        .filter(|i| i.category == tree && destination.contains(i.position))
-        .map(|i| i.position)
-        .collect();
+    let trees_after = trees_in(&after.instances, tree, &destination);
     println!(
         "moved {} instances: {} displaced, {} reborn, {} lost; trees {} before, {} after",
         moved.moved,
@@ -120,10 +124,7 @@ fn a_moved_forest_keeps_its_count_and_what_still_fits() {
 #[test]
 fn a_drag_recomputed_from_the_original_does_not_flicker() {
     let (scene, color) = slope_forest();
-    let source = Region::Rect {
-        min: DVec2::new(100.0, 100.0),
-        max: DVec2::new(200.0, 200.0),
-    };
+    let source = source();
     let opts = AdaptOptions::default();
     let a = move_region(&scene, &color, &source, DVec2::new(0.0, 40.0), &opts).unwrap();
     let b = move_region(&scene, &color, &source, DVec2::new(0.0, 40.0), &opts).unwrap();

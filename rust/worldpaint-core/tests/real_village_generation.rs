@@ -45,6 +45,8 @@ mod geojson;
 mod real;
 #[path = "common/real_data.rs"]
 mod real_data;
+#[path = "common/rings.rs"]
+mod rings;
 #[path = "common/squares.rs"]
 mod squares;
 

@@ -29,6 +29,8 @@ mod checks;
 mod geojson;
 #[path = "common/real_data.rs"]
 mod real_data;
+#[path = "common/rings.rs"]
+mod rings;
 #[path = "common/squares.rs"]
 mod squares;
 #[path = "common/village_painting_report.rs"]

@@ -5,7 +5,7 @@
 use worldpaint_core::exemplar;
 use worldpaint_core::geom::DVec2;
 use worldpaint_core::tools::color_of_region;
-use worldpaint_core::tools::stretch::{stretch, Side, StretchOptions};
+use worldpaint_core::tools::stretch::{stretch, Side, StretchOptions, Stretched};
 use worldpaint_core::{Category, Instance, Region, Scene};
 
 const WIDTH: f64 = 100.0;
@@ -47,6 +47,43 @@ fn has(points: &[DVec2], p: DVec2) -> bool {
     points.iter().any(|q| q.distance(p) < 1e-9)
 }
 
+/// `region` of `scene` stretched by `amount` on `side` with the default options, learning the color from the region.
+fn stretched(
+    scene: &Scene,
+    region: &Region,
+    side: Side,
+    amount: f64,
+) -> worldpaint_core::Result<Stretched> {
+    stretch(
+        scene,
+        region,
+        side,
+        amount,
+        None,
+        &StretchOptions::default(),
+        &|_| true,
+    )
+}
+
+/// The positions of the instances of `scene` once the stretch is applied.
+fn positions_after(out: &Stretched, scene: &Scene) -> Vec<DVec2> {
+    out.edit
+        .applied_to(scene)
+        .instances
+        .iter()
+        .map(|i| i.position)
+        .collect()
+}
+
+/// Where an east stretch by `amount` puts an object at `p` that it keeps: moved with its side when beyond the cut.
+fn kept_place(seam: &[DVec2], p: DVec2, amount: f64) -> DVec2 {
+    if p.x > cut_at(seam, p.y) {
+        p + DVec2::new(amount, 0.0)
+    } else {
+        p
+    }
+}
+
 #[test]
 fn stretching_by_half_keeps_both_sides_and_fills_the_band() {
     let scene = scene();
@@ -54,23 +91,8 @@ fn stretching_by_half_keeps_both_sides_and_fills_the_band() {
         .unwrap()
         .unwrap();
     let amount = 0.5 * WIDTH;
-    let out = stretch(
-        &scene,
-        &region(),
-        Side::East,
-        amount,
-        None,
-        &StretchOptions::default(),
-        &|_| true,
-    )
-    .unwrap();
-    let after: Vec<DVec2> = out
-        .edit
-        .applied_to(&scene)
-        .instances
-        .iter()
-        .map(|i| i.position)
-        .collect();
+    let out = stretched(&scene, &region(), Side::East, amount).unwrap();
+    let after = positions_after(&out, &scene);
     let seam = &out.seam;
     let (lo, hi) = seam
         .iter()
@@ -86,11 +108,7 @@ fn stretching_by_half_keeps_both_sides_and_fills_the_band() {
     // every object keeps its place, or its place moved by the stretch, depending on its side of the cut
     for i in &scene.instances {
         let p = i.position;
-        let want = if p.x > cut_at(seam, p.y) {
-            p + DVec2::new(amount, 0.0)
-        } else {
-            p
-        };
+        let want = kept_place(seam, p, amount);
         assert!(has(&after, want), "{p:?} should be at {want:?}");
     }
     // the opened band has the region's density and keeps the hard core with both sides
@@ -124,16 +142,7 @@ fn stretching_by_half_keeps_both_sides_and_fills_the_band() {
 fn shrinking_removes_the_band_only() {
     let scene = scene();
     let amount = -30.0;
-    let out = stretch(
-        &scene,
-        &region(),
-        Side::East,
-        amount,
-        None,
-        &StretchOptions::default(),
-        &|_| true,
-    )
-    .unwrap();
+    let out = stretched(&scene, &region(), Side::East, amount).unwrap();
     let in_band: Vec<usize> = (0..scene.instances.len())
         .filter(|&k| out.band.contains(scene.instances[k].position))
         .collect();
@@ -142,24 +151,14 @@ fn shrinking_removes_the_band_only() {
         in_band.len(),
         out.edit.removed.len()
     );
-    let after: Vec<DVec2> = out
-        .edit
-        .applied_to(&scene)
-        .instances
-        .iter()
-        .map(|i| i.position)
-        .collect();
+    let after = positions_after(&out, &scene);
     for (k, i) in scene.instances.iter().enumerate() {
         let p = i.position;
         if in_band.contains(&k) {
             assert!(!has(&after, p), "{p:?} in the band should be gone");
             continue;
         }
-        let want = if p.x > cut_at(&out.seam, p.y) {
-            p + DVec2::new(amount, 0.0)
-        } else {
-            p
-        };
+        let want = kept_place(&out.seam, p, amount);
         assert!(has(&after, want), "{p:?} should be at {want:?}");
     }
     // nothing lies beyond the region, so the released strip stays empty
@@ -171,16 +170,7 @@ fn shrinking_removes_the_band_only() {
 fn stretching_north_and_west_mirror_east() {
     let scene = scene();
     for side in [Side::West, Side::North, Side::South] {
-        let out = stretch(
-            &scene,
-            &region(),
-            side,
-            20.0,
-            None,
-            &StretchOptions::default(),
-            &|_| true,
-        )
-        .unwrap();
+        let out = stretched(&scene, &region(), side, 20.0).unwrap();
         let want = match side {
             Side::West => Region::Rect {
                 min: DVec2::new(-20.0, 0.0),
@@ -209,34 +199,7 @@ fn stretching_asks_for_a_rectangle_and_a_length() {
         center: DVec2::splat(50.0),
         radius: 20.0,
     };
-    assert!(stretch(
-        &scene,
-        &circle,
-        Side::East,
-        10.0,
-        None,
-        &StretchOptions::default(),
-        &|_| true
-    )
-    .is_err());
-    assert!(stretch(
-        &scene,
-        &region(),
-        Side::East,
-        0.0,
-        None,
-        &StretchOptions::default(),
-        &|_| true
-    )
-    .is_err());
-    assert!(stretch(
-        &scene,
-        &region(),
-        Side::East,
-        -90.0,
-        None,
-        &StretchOptions::default(),
-        &|_| true
-    )
-    .is_err());
+    assert!(stretched(&scene, &circle, Side::East, 10.0).is_err());
+    assert!(stretched(&scene, &region(), Side::East, 0.0).is_err());
+    assert!(stretched(&scene, &region(), Side::East, -90.0).is_err());
 }

@@ -107,16 +107,20 @@ fn share_in_band(points: &[DVec2], g: &Graph, band: std::ops::RangeInclusive<f64
     inside as f64 / points.len().max(1) as f64
 }
 
-fn village_color(size: f64) -> (Scene, Color) {
-    let scene = exemplar::village(size, 1);
+/// An exemplar scene of `size` m from the origin and the color `name` learned over all of it.
+fn with_color(scene: Scene, size: f64, name: &str) -> (Scene, Color) {
     let color = learn_color(
         &scene,
         &square(0.0, size),
-        "village",
+        name,
         &AnalysisOptions::default(),
     )
     .unwrap();
     (scene, color)
+}
+
+fn village_color(size: f64) -> (Scene, Color) {
+    with_color(exemplar::village(size, 1), size, "village")
 }
 
 #[test]
@@ -207,14 +211,7 @@ fn a_road_network_keeps_its_statistics_over_nine_times_the_area() {
 #[test]
 fn island_trees_stay_on_land_and_boats_along_the_coast() {
     let size = 300.0;
-    let scene = exemplar::archipelago(size, 1);
-    let color = learn_color(
-        &scene,
-        &square(0.0, size),
-        "islands",
-        &AnalysisOptions::default(),
-    )
-    .unwrap();
+    let (scene, color) = with_color(exemplar::archipelago(size, 1), size, "islands");
     let dest = square(2000.0, 2.0 * size);
     let canvas = Scene {
         categories: scene.categories.clone(),
@@ -475,14 +472,7 @@ fn moving_a_region_carries_its_roads_and_the_houses_keep_off_them() {
 
 #[test]
 fn moving_a_region_carries_its_islands() {
-    let scene = exemplar::archipelago(300.0, 1);
-    let color = learn_color(
-        &scene,
-        &square(0.0, 300.0),
-        "islands",
-        &AnalysisOptions::default(),
-    )
-    .unwrap();
+    let (scene, color) = with_color(exemplar::archipelago(300.0, 1), 300.0, "islands");
     // a square that cuts some islands: their parts inside move, the rest stays
     let source = square(0.0, 160.0);
     let offset = DVec2::new(1000.0, 0.0);

@@ -14,6 +14,9 @@ use worldpaint_core::{Error, Heightfield};
 
 use glam::DVec3;
 
+#[path = "common/laplace.rs"]
+mod laplace;
+
 /// 1025 × 1025 nodes, 1 m apart, with relief down to 3 m wavelengths.
 fn terrain() -> Heightfield {
     let t = rough_terrain(1024.0, 1.0, 11);
@@ -57,32 +60,12 @@ fn curves(t: &Heightfield) -> Vec<Vec<DVec3>> {
     ]
 }
 
-/// Largest `|mean of the 4 neighbours − D|` over the free cells, recomputed from the map.
-fn laplace_residual(d: &[f64], fixed: &[bool], nx: usize, ny: usize) -> f64 {
-    let mut worst = 0.0f64;
-    for j in 0..ny {
-        for i in 0..nx {
-            let k = j * nx + i;
-            if fixed[k] {
-                continue;
-            }
-            let mut n = Vec::with_capacity(4);
-            if i > 0 {
-                n.push(d[k - 1]);
-            }
-            if i + 1 < nx {
-                n.push(d[k + 1]);
-            }
-            if j > 0 {
-                n.push(d[k - nx]);
-            }
-            if j + 1 < ny {
-                n.push(d[k + nx]);
-            }
-            worst = worst.max((n.iter().sum::<f64>() / n.len() as f64 - d[k]).abs());
-        }
+/// The default diffusion options with a falloff of `falloff` metres.
+fn within(falloff: f64) -> DiffusionOptions {
+    DiffusionOptions {
+        falloff: Some(falloff),
+        ..Default::default()
     }
-    worst
 }
 
 /// Separable box blur of radius `r` cells (clamped at the border).
@@ -143,14 +126,7 @@ fn diffusion_meets_constraints_keeps_detail_and_stays_within_the_falloff() {
     let d = diffuse(&c, &options).expect("diffusion");
     let edited = d.apply(&t).expect("same grid");
     // the default, looser tolerance against this one: how far a small residual leaves D from the solution
-    let loose = diffuse(
-        &c,
-        &DiffusionOptions {
-            falloff: Some(falloff),
-            ..Default::default()
-        },
-    )
-    .expect("diffusion");
+    let loose = diffuse(&c, &within(falloff)).expect("diffusion");
     let loose_error = loose
         .displacement
         .iter()
@@ -171,7 +147,7 @@ fn diffusion_meets_constraints_keeps_detail_and_stays_within_the_falloff() {
         .zip(&distance)
         .map(|(m, dist)| *m || (*dist as f64) > falloff)
         .collect();
-    let residual = laplace_residual(&d.displacement, &fixed, nx, ny);
+    let residual = laplace::residual(&d.displacement, nx, ny, |k| !fixed[k]);
     // nothing moves beyond the falloff
     let beyond = (0..nx * ny)
         .filter(|k| (distance[*k] as f64) > falloff)
@@ -318,14 +294,7 @@ fn gradient_and_horizontal_constraints() {
     let z = 30.0;
     let ridge = [DVec3::new(20.0, 64.0, z), DVec3::new(108.0, 64.0, z)];
     gradient_polyline(&mut c, &t, &ridge, -0.5, -0.5).expect("ridge");
-    let d = diffuse(
-        &c,
-        &DiffusionOptions {
-            falloff: Some(30.0),
-            ..Default::default()
-        },
-    )
-    .expect("diffusion");
+    let d = diffuse(&c, &within(30.0)).expect("diffusion");
     let e = d.apply(&t).expect("grid");
     // along the ridge, and half a metre lower one cell to each side
     for x in [30usize, 64, 100] {
@@ -343,14 +312,7 @@ fn gradient_and_horizontal_constraints() {
         shift,
     )
     .expect("curve");
-    let hd = diffuse_horizontal(
-        &hc,
-        &DiffusionOptions {
-            falloff: Some(20.0),
-            ..Default::default()
-        },
-    )
-    .expect("diffusion");
+    let hd = diffuse_horizontal(&hc, &within(20.0)).expect("diffusion");
     let k = 64 * t.nx + 64;
     assert!((hd.x.displacement[k] - 3.0).abs() < 1e-12);
     assert!(hd.y.displacement[k].abs() < 1e-12);

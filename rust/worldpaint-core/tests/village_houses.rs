@@ -26,7 +26,7 @@ mod village_houses {
     use std::collections::HashMap;
     use worldpaint_core::village::encyclopedia::{BuildingKind, RoofStyle};
     use worldpaint_core::village::house::{
-        house, house_layout, openings_below_ground, OpeningKind, PlacedOpening,
+        house, house_layout, openings_below_ground, HouseReport, OpeningKind, PlacedOpening,
     };
     use worldpaint_core::village::{Footprint, HouseMaterial, HouseMesh};
 
@@ -175,6 +175,56 @@ mod village_houses {
         }
     }
 
+    /// One house of the test grid: a `width` by `depth` rectangle facing `angle`, of `storeys` under `roof`.
+    struct GridHouse {
+        width: f64,
+        depth: f64,
+        angle: f64,
+        storeys: u32,
+        roof: RoofStyle,
+        footprint: Footprint,
+        seed: u64,
+    }
+
+    /// Every combination of `SIZES`, `ANGLES`, 1–3 storeys and `ROOFS`, in that order: the rectangle of the
+    /// `s`th size at the `a`th angle centred at (`step.x` a, `step.y` s), with the seed `seed(s, a, storeys)`.
+    fn grid(step: DVec2, seed: impl Fn(usize, usize, u32) -> u64) -> Vec<GridHouse> {
+        let mut out = Vec::new();
+        for (s, &(width, depth)) in SIZES.iter().enumerate() {
+            for (a, &angle) in ANGLES.iter().enumerate() {
+                for storeys in 1..=3 {
+                    for roof in ROOFS {
+                        let centre = DVec2::new(step.x * a as f64, step.y * s as f64);
+                        out.push(GridHouse {
+                            width,
+                            depth,
+                            angle,
+                            storeys,
+                            roof,
+                            footprint: rectangle(centre, width, depth, angle),
+                            seed: seed(s, a, storeys),
+                        });
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    /// The house `h` on `ground`, with what every house must be: a closed mesh of at least its storeys' volume,
+    /// the foundation down to the terrain, no opening below it.
+    fn checked_house(
+        h: &GridHouse,
+        ground: &(dyn Fn(DVec2) -> f64 + Sync),
+    ) -> (HouseMesh, HouseReport, Vec<PlacedOpening>) {
+        let f = &h.footprint;
+        let (mesh, report, layout) = house_layout(f, &kind(h.roof), h.storeys, ground, h.seed);
+        check_mesh(&mesh, f, area(f) * 2.9 * h.storeys as f64);
+        check_foundation(&mesh, f, ground);
+        assert_eq!(openings_below_ground(&mesh, ground), 0);
+        (mesh, report, layout)
+    }
+
     /// Height of each door's sill above the terrain under its middle; a door standing 0.3 m or more above it has
     /// a first step 0.18 m under its sill, in front of it.
     fn sill_heights(mesh: &HouseMesh, ground: &dyn Fn(DVec2) -> f64) -> Vec<f64> {
@@ -215,35 +265,30 @@ mod village_houses {
         let (mut houses, mut rooms, mut lit, mut moved, mut reshaped) = (0, 0, 0, 0, 0);
         let (mut windows, mut upper_doors, mut side_doors) = (0, 0, 0);
         let mut door_heights = Vec::new();
-        for (s, &(w, d)) in SIZES.iter().enumerate() {
-            for (a, &angle) in ANGLES.iter().enumerate() {
-                for storeys in 1..=3 {
-                    for roof in ROOFS {
-                        let f =
-                            rectangle(DVec2::new(20.0 * a as f64, 30.0 * s as f64), w, d, angle);
-                        let seed = (s * 100 + a * 10 + storeys as usize) as u64;
-                        let (mesh, report, layout) =
-                            house_layout(&f, &kind(roof), storeys, &ground, seed);
-                        check_mesh(&mesh, &f, area(&f) * 2.9 * storeys as f64);
-                        check_foundation(&mesh, &f, &ground);
-                        assert_eq!(openings_below_ground(&mesh, &ground), 0);
-                        assert!(
-                            report.doors >= 1,
-                            "no door: {w}x{d} at {angle}°, {storeys} storeys"
-                        );
-                        houses += 1;
-                        rooms += report.rooms;
-                        lit += report.rooms - report.rooms_without_opening;
-                        moved += report.moved;
-                        reshaped += report.reshaped;
-                        windows += report.windows;
-                        let door = layout.iter().find(|o| o.kind == OpeningKind::Door);
-                        upper_doors += door.is_some_and(|o| o.storey > 0) as usize;
-                        door_heights.extend(sill_heights(&mesh, &ground));
-                        side_doors += door.is_some_and(|o| o.wall != 0) as usize;
-                    }
-                }
-            }
+        let seed = |s: usize, a: usize, storeys: u32| (s * 100 + a * 10 + storeys as usize) as u64;
+        for h in grid(DVec2::new(20.0, 30.0), seed) {
+            let (mesh, report, layout) = checked_house(&h, &ground);
+            let GridHouse {
+                width: w,
+                depth: d,
+                angle,
+                storeys,
+                ..
+            } = h;
+            assert!(
+                report.doors >= 1,
+                "no door: {w}x{d} at {angle}°, {storeys} storeys"
+            );
+            houses += 1;
+            rooms += report.rooms;
+            lit += report.rooms - report.rooms_without_opening;
+            moved += report.moved;
+            reshaped += report.reshaped;
+            windows += report.windows;
+            let door = layout.iter().find(|o| o.kind == OpeningKind::Door);
+            upper_doors += door.is_some_and(|o| o.storey > 0) as usize;
+            door_heights.extend(sill_heights(&mesh, &ground));
+            side_doors += door.is_some_and(|o| o.wall != 0) as usize;
         }
         let share = lit as f64 / rooms as f64;
         door_heights.sort_by(f64::total_cmp);
@@ -270,56 +315,48 @@ mod village_houses {
     fn on_flat_ground() {
         let ground = |_: DVec2| 12.5;
         let (mut houses, mut rooms, mut reshaped_by_door) = (0, 0, 0);
-        for (s, &(w, d)) in SIZES.iter().enumerate() {
-            for (a, &angle) in ANGLES.iter().enumerate() {
-                for storeys in 1..=3 {
-                    for roof in ROOFS {
-                        let f = rectangle(DVec2::new(3.0 * a as f64, -5.0 * s as f64), w, d, angle);
-                        let seed = (s * 31 + a * 7 + storeys as usize) as u64;
-                        let (mesh, report, layout) =
-                            house_layout(&f, &kind(roof), storeys, &ground, seed);
-                        check_mesh(&mesh, &f, area(&f) * 2.9 * storeys as f64);
-                        check_foundation(&mesh, &f, &ground);
-                        assert_eq!(openings_below_ground(&mesh, &ground), 0);
-                        assert_eq!(
-                            report.rooms_without_opening, 0,
-                            "{w}x{d}, {storeys} storeys"
-                        );
-                        assert_eq!(report.doors, 1);
-                        let door = layout.iter().find(|o| o.kind == OpeningKind::Door).unwrap();
-                        assert_eq!((door.wall, door.storey), (0, 0));
-                        assert!((door.at.x - 0.5 * w).abs() < 1e-9, "door off centre");
-                        assert!(!door.moved && !door.reshaped);
-                        for k in 0..storeys {
-                            let on =
-                                |o: &&PlacedOpening| o.kind == OpeningKind::Window && o.storey == k;
-                            let sills: Vec<f64> = layout
-                                .iter()
-                                .filter(on)
-                                .filter(|o| !o.reshaped)
-                                .map(|o| o.at.y)
-                                .collect();
-                            assert!(!sills.is_empty());
-                            assert!(sills.iter().all(|&y| y == sills[0]), "sills {sills:?}");
-                            let lintels: Vec<f64> = layout
-                                .iter()
-                                .filter(on)
-                                .map(|o| o.at.y + o.height)
-                                .collect();
-                            assert!(lintels.iter().all(|&y| (y - lintels[0]).abs() < 1e-9));
-                        }
-                        // Only beside the door is a room too narrow for the first window shape.
-                        for o in layout.iter().filter(|o| o.reshaped || o.at.y != o.first.y) {
-                            assert!(
-                                (o.wall, o.storey, o.bay) == (door.wall, door.storey, door.bay)
-                            );
-                            reshaped_by_door += o.reshaped as usize;
-                        }
-                        houses += 1;
-                        rooms += report.rooms;
-                    }
-                }
+        let seed = |s: usize, a: usize, storeys: u32| (s * 31 + a * 7 + storeys as usize) as u64;
+        for h in grid(DVec2::new(3.0, -5.0), seed) {
+            let (_, report, layout) = checked_house(&h, &ground);
+            let GridHouse {
+                width: w,
+                depth: d,
+                storeys,
+                ..
+            } = h;
+            assert_eq!(
+                report.rooms_without_opening, 0,
+                "{w}x{d}, {storeys} storeys"
+            );
+            assert_eq!(report.doors, 1);
+            let door = layout.iter().find(|o| o.kind == OpeningKind::Door).unwrap();
+            assert_eq!((door.wall, door.storey), (0, 0));
+            assert!((door.at.x - 0.5 * w).abs() < 1e-9, "door off centre");
+            assert!(!door.moved && !door.reshaped);
+            for k in 0..storeys {
+                let on = |o: &&PlacedOpening| o.kind == OpeningKind::Window && o.storey == k;
+                let sills: Vec<f64> = layout
+                    .iter()
+                    .filter(on)
+                    .filter(|o| !o.reshaped)
+                    .map(|o| o.at.y)
+                    .collect();
+                assert!(!sills.is_empty());
+                assert!(sills.iter().all(|&y| y == sills[0]), "sills {sills:?}");
+                let lintels: Vec<f64> = layout
+                    .iter()
+                    .filter(on)
+                    .map(|o| o.at.y + o.height)
+                    .collect();
+                assert!(lintels.iter().all(|&y| (y - lintels[0]).abs() < 1e-9));
             }
+            // Only beside the door is a room too narrow for the first window shape.
+            for o in layout.iter().filter(|o| o.reshaped || o.at.y != o.first.y) {
+                assert!((o.wall, o.storey, o.bay) == (door.wall, door.storey, door.bay));
+                reshaped_by_door += o.reshaped as usize;
+            }
+            houses += 1;
+            rooms += report.rooms;
         }
         println!(
             "flat ground: {houses} houses, {rooms} rooms, all with an opening; {reshaped_by_door} smaller windows \

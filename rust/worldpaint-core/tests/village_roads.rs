@@ -135,6 +135,14 @@ fn connect(
         .expect("valid input")
 }
 
+/// A network of the one connection point `psi` on `land`, and the connection of a first building at `b` to it
+/// over unbuilt land.
+fn first_road(land: &Land, psi: DVec2, p: &RoadParams, b: DVec2) -> (RoadNetwork, Connection) {
+    let mut net = RoadNetwork::new(land, &[psi], &[]).unwrap();
+    let c = connect(&mut net, land, p, &vec![false; land.grid().len()], b);
+    (net, c)
+}
+
 /// Named so that the village tests can be run together (`cargo test village`).
 mod village {
     use super::*;
@@ -144,8 +152,7 @@ mod village {
         let land = land(300.0, |_| 10.0);
         let free = vec![false; land.grid().len()];
         let psi = DVec2::new(0.0, 150.0);
-        let mut net = RoadNetwork::new(&land, &[psi], &[]).unwrap();
-        let street = connect(&mut net, &land, &params(), &free, DVec2::new(280.0, 150.0));
+        let (mut net, street) = first_road(&land, psi, &params(), DVec2::new(280.0, 150.0));
         assert!(street.reached && street.roads.len() == 1);
         let roads = net.roads.len();
         // 10 m beside the street: within a frontage of 13.5 m, served without a road of its own
@@ -165,7 +172,6 @@ mod village {
     #[test]
     fn a_road_on_flat_land_is_nearly_straight_and_the_move_mask_matters() {
         let land = land(400.0, |_| 10.0);
-        let free = vec![false; land.grid().len()];
         let psi = DVec2::new(0.0, 100.0);
         let b = DVec2::new(300.0, 250.0); // offset (300, 150): direction (2, 1)
         let straight = psi.distance(b);
@@ -175,8 +181,7 @@ mod village {
                 mask_radius: radius,
                 ..params()
             };
-            let mut net = RoadNetwork::new(&land, &[psi], &[]).unwrap();
-            let c = connect(&mut net, &land, &p, &free, b);
+            let (net, c) = first_road(&land, psi, &p, b);
             assert!(c.reached && c.roads.len() == 1 && !c.over_max_grade);
             let road = &net.roads[c.roads[0]];
             assert_eq!(road.points[0], b);
@@ -191,8 +196,7 @@ mod village {
         assert!(lengths[2] < 1.01 * straight, "{lengths:?}");
         // a direction off every mask: (5, 1)
         let b = DVec2::new(250.0, 150.0);
-        let mut net = RoadNetwork::new(&land, &[psi], &[]).unwrap();
-        let c = connect(&mut net, &land, &params(), &free, b);
+        let (net, c) = first_road(&land, psi, &params(), b);
         let l = length(&net.roads[c.roads[0]]);
         assert!(l < 1.02 * psi.distance(b), "{l} vs {}", psi.distance(b));
         // a few turning vertices only (collinear moves merged)
@@ -213,12 +217,10 @@ mod village {
             |l, k| l.inside_mut()[k] = false,
             |q| (q.y - 150.0).abs() > 60.0,
         );
-        let free = vec![false; land.grid().len()];
         let p = params();
         let psi = DVec2::new(0.0, 150.0);
         let b = DVec2::new(100.0, 150.0);
-        let mut net = RoadNetwork::new(&land, &[psi], &[]).unwrap();
-        let c = connect(&mut net, &land, &p, &free, b);
+        let (net, c) = first_road(&land, psi, &p, b);
         assert!(c.reached && !c.over_max_grade);
         let road = &net.roads[c.roads[0]];
         let g = steepest(&land, road);
@@ -240,24 +242,19 @@ mod village {
         // grade 0.4: no move of the 32-move mask is gentle enough across it (the gentlest, (1, 3), climbs 0.126),
         // so the road is built over the limit; the 48 moves of radius 4 have (1, 4), at 0.097
         let land = land_ramp(0.4);
-        let free = vec![false; land.grid().len()];
-        let mut net = RoadNetwork::new(&land, &[psi], &[]).unwrap();
-        let c = connect(&mut net, &land, &p, &free, b);
+        let (_, c) = first_road(&land, psi, &p, b);
         assert!(c.reached && c.over_max_grade && c.steepest_grade > p.max_grade);
         let p4 = RoadParams {
             mask_radius: 4,
             ..params()
         };
-        let mut net = RoadNetwork::new(&land, &[psi], &[]).unwrap();
-        let c = connect(&mut net, &land, &p4, &free, b);
+        let (net, c) = first_road(&land, psi, &p4, b);
         assert!(c.reached && !c.over_max_grade);
         assert!(steepest(&land, &net.roads[c.roads[0]]) <= p.max_grade + 1e-6);
 
         // a cone of grade 0.3: climb from its foot to near its top
         let land = land_cone();
-        let free = vec![false; land.grid().len()];
-        let mut net = RoadNetwork::new(&land, &[DVec2::new(0.0, 0.0)], &[]).unwrap();
-        let c = connect(&mut net, &land, &p, &free, DVec2::new(200.0, 240.0));
+        let (net, c) = first_road(&land, DVec2::new(0.0, 0.0), &p, DVec2::new(200.0, 240.0));
         assert!(c.reached && !c.over_max_grade);
         let road = &net.roads[c.roads[0]];
         let (g, fine) = (steepest_per_move(&land, road), steepest(&land, road));
@@ -286,8 +283,7 @@ mod village {
         let land = land(300.0, |p| 30.0 * ((p.y - 100.0) / 6.0).clamp(0.0, 1.0));
         let free = vec![false; land.grid().len()];
         let p = params();
-        let mut net = RoadNetwork::new(&land, &[DVec2::new(150.0, 0.0)], &[]).unwrap();
-        let c = connect(&mut net, &land, &p, &free, DVec2::new(150.0, 200.0));
+        let (mut net, c) = first_road(&land, DVec2::new(150.0, 0.0), &p, DVec2::new(150.0, 200.0));
         assert!(c.reached && c.over_max_grade);
         assert!(c.steepest_grade > 1.0, "{}", c.steepest_grade);
         let road = &net.roads[c.roads[0]];
@@ -359,9 +355,7 @@ mod village {
             |l, k| l.water_mut()[k] = true,
             |q| (140.0..=160.0).contains(&q.x) && q.y < 300.0,
         );
-        let free = vec![false; dry_gap.grid().len()];
-        let mut net = RoadNetwork::new(&dry_gap, &[psi], &[]).unwrap();
-        let c = connect(&mut net, &dry_gap, &p, &free, b);
+        let (net, c) = first_road(&dry_gap, psi, &p, b);
         let wet = metres_over(&dry_gap, &net.roads[c.roads[0]], |k| dry_gap.water()[k]);
         println!("with a dry way: {wet:.1} m in water");
         assert_eq!(wet, 0.0);
@@ -372,8 +366,7 @@ mod village {
             |l, k| l.water_mut()[k] = true,
             |q| (140.0..=160.0).contains(&q.x),
         );
-        let mut net = RoadNetwork::new(&river, &[psi], &[]).unwrap();
-        let c = connect(&mut net, &river, &p, &free, b);
+        let (net, c) = first_road(&river, psi, &p, b);
         assert!(c.reached);
         let wet = metres_over(&river, &net.roads[c.roads[0]], |k| river.water()[k]);
         println!("no dry way: {wet:.1} m in water");
@@ -501,8 +494,12 @@ mod village {
             },
         );
         let free = vec![false; l.grid().len()];
-        let mut net = RoadNetwork::new(&l, &[DVec2::new(0.0, 0.0)], &[]).unwrap();
-        let c = connect(&mut net, &l, &params(), &free, DVec2::new(150.0, 150.0));
+        let (net, c) = first_road(
+            &l,
+            DVec2::new(0.0, 0.0),
+            &params(),
+            DVec2::new(150.0, 150.0),
+        );
         assert_eq!(c, Connection::default());
         assert!(net.roads.is_empty());
         assert_eq!(net.distance(DVec2::ZERO), f64::INFINITY);

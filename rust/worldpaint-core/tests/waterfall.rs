@@ -282,6 +282,13 @@ fn cliffs() -> (Heightfield, Vec<Controller>) {
             })
             .collect()
     };
+    // a free-fall along y = 100 from `x0` at height `top` down to `x1` at `bottom`
+    let fall = |x0: f64, top: f64, x1: f64, bottom: f64| {
+        Controller::new(
+            ControllerKind::FreeFall,
+            vec![DVec3::new(x0, 100.0, top), DVec3::new(x1, 100.0, bottom)],
+        )
+    };
     let c = vec![
         Controller::new(
             ControllerKind::Contact,
@@ -290,13 +297,7 @@ fn cliffs() -> (Heightfield, Vec<Controller>) {
                 .collect(),
         )
         .with_strength(5.0),
-        Controller::new(
-            ControllerKind::FreeFall,
-            vec![
-                DVec3::new(100.0, 100.0, 40.0),
-                DVec3::new(104.0, 100.0, 10.0),
-            ],
-        ),
+        fall(100.0, 40.0, 104.0, 10.0),
         Controller::new(ControllerKind::Pool, circle(106.0, 10.0)),
         Controller::new(
             ControllerKind::Contact,
@@ -306,13 +307,7 @@ fn cliffs() -> (Heightfield, Vec<Controller>) {
                 DVec3::new(150.0, 100.0, 10.0),
             ],
         ),
-        Controller::new(
-            ControllerKind::FreeFall,
-            vec![
-                DVec3::new(150.0, 100.0, 10.0),
-                DVec3::new(152.0, 100.0, 0.0),
-            ],
-        ),
+        fall(150.0, 10.0, 152.0, 0.0),
         Controller::new(ControllerKind::Pool, circle(156.0, 0.0)),
     ];
     (t, c)

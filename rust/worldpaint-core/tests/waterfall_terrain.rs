@@ -28,6 +28,13 @@ fn made(t: &Heightfield, c: &[Controller], options: &SceneOptions, seed: u64) ->
     }
 }
 
+/// The test terrain and its scene with the default options, seed 1.
+fn default_scene() -> (Heightfield, WaterfallScene) {
+    let (t, c) = setup();
+    let s = made(&t, &c, &SceneOptions::default(), 1);
+    (t, s)
+}
+
 fn height(t: &Heightfield, p: DVec2) -> f64 {
     t.height_at(p).unwrap_or(f64::NAN)
 }
@@ -37,8 +44,7 @@ const STRICT_BANK: f64 = 0.1;
 
 #[test]
 fn riverbed_below_the_water_and_banks_beside_it() {
-    let (t, c) = setup();
-    let s = made(&t, &c, &SceneOptions::default(), 1);
+    let (t, s) = default_scene();
     println!("report: {:?}", s.report);
     let h = &s.terrain.terrain;
     let (mut checked, mut below, mut banks_ok, mut banks_strict) = (0, 0, 0, 0);
@@ -173,8 +179,7 @@ fn terrain_beyond_the_falloff_is_unchanged() {
 
 #[test]
 fn overhangs_push_the_lip_forward_and_the_pool_wall_back() {
-    let (t, c) = setup();
-    let s = made(&t, &c, &SceneOptions::default(), 1);
+    let (t, s) = default_scene();
     let hd = s.horizontal();
     let nx = t.nx;
     let at = |p: DVec2| {
@@ -337,8 +342,7 @@ fn overlap_of_arcs(s: &WaterfallScene) -> (f64, f64) {
 
 #[test]
 fn smaller_ribbons_end_inside_the_larger_at_junctions() {
-    let (t, c) = setup();
-    let s = made(&t, &c, &SceneOptions::default(), 1);
+    let (_, s) = default_scene();
     let (overlap, total) = overlap_of_arcs(&s);
     println!(
         "contact water drawn twice: {overlap:.0} m² of {total:.0} m² ({:.2} %) at {} branches",
@@ -355,8 +359,7 @@ fn smaller_ribbons_end_inside_the_larger_at_junctions() {
 
 #[test]
 fn maps_foam_and_footprint() {
-    let (t, c) = setup();
-    let s = made(&t, &c, &SceneOptions::default(), 1);
+    let (t, s) = default_scene();
     let m = &s.maps;
     // mean foam per type over the water nodes of that type's segments (by the node's nearest mesh vertex would
     // need a search; the footprint is rebuilt instead)
@@ -580,8 +583,7 @@ fn the_built_in_rock_color_prefers_rocky_water_and_keeps_its_spacing() {
 
 #[test]
 fn rocks_stand_in_the_water_as_dense_as_the_rock_map_says() {
-    let (t, c) = setup();
-    let s = made(&t, &c, &SceneOptions::default(), 1);
+    let (_, s) = default_scene();
     let m = &s.maps;
     assert!(!s.rocks.is_empty(), "no rock");
     let off = s.rocks.iter().filter(|r| !on_the_riverbed(&s, r)).count();

@@ -2,16 +2,14 @@
 
 use crate::convert::{
     categories_to_py, instances_to_py, kind_to_str, parse_color, region_from_py, region_to_py,
-    structures_to_py,
+    rows_to_py, structures_to_py,
 };
 use crate::scene::PyScene;
 use crate::{guarded, input_err, with_progress};
-use numpy::ndarray::Array2;
-use numpy::IntoPyArray;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use worldpaint_core::palette::{Interaction, MapSource, Palette};
-use worldpaint_core::{AnalysisOptions, SynthesisOptions};
+use worldpaint_core::{AnalysisOptions, Color, Region, Scene, SynthesisOptions};
 
 pub(crate) fn analysis_options(options: Option<&Bound<'_, PyAny>>) -> PyResult<AnalysisOptions> {
     let mut o = AnalysisOptions::default();
@@ -49,7 +47,7 @@ pub(crate) fn analysis_options(options: Option<&Bound<'_, PyAny>>) -> PyResult<A
 /// "max_radius", "oriented": [(a, b), ...], "maps": [...]}, all optional.
 #[pyfunction]
 #[pyo3(signature = (scene, region, name, *, options=None))]
-fn learn_color(
+pub(crate) fn learn_color(
     py: Python<'_>,
     scene: &Bound<'_, PyScene>,
     region: &Bound<'_, PyAny>,
@@ -63,44 +61,78 @@ fn learn_color(
     py.detach(|| guarded(|| worldpaint_core::learn_color(scene, &region, &name, &opts)?.to_json()))
 }
 
-/// Synthesize `color` (JSON) inside `region` of `scene`: its unlocked instances inside the region are replaced, the
-/// locked ones inside it and those around it condition the result.
-///
-/// Returns {"categories": [...], "positions": float64 (N, 2), "heights": float64 (N) (terrain height, NaN without
-/// terrain), "rotations", "scales", "category_index": int32, "prototype": int32} for the *new* instances, and
-/// "paths" and "contours": lists of {"category", "points" (N, 2), "heights" (N)} of the new roads and islands;
-/// category indices refer to the returned category list (the given ones, then the color's new ones).
-/// `progress(fraction) -> bool` may return False to cancel (raises `Cancelled`).
-#[pyfunction]
-#[pyo3(signature = (scene, color, region, seed=0, *, influence_radius=None, iterations_per_instance=None,
-                    only_categories=None, progress=None))]
-#[allow(clippy::too_many_arguments)]
-fn synthesize<'py>(
-    py: Python<'py>,
-    scene: &Bound<'py, PyScene>,
-    color: &str,
-    region: &Bound<'py, PyAny>,
-    seed: u64,
-    influence_radius: Option<f64>,
-    iterations_per_instance: Option<f64>,
-    only_categories: Option<Vec<String>>,
-    progress: Option<Py<PyAny>>,
-) -> PyResult<Bound<'py, PyDict>> {
-    let scene = scene.get().scene();
-    let region = region_from_py(region)?;
-    let color = parse_color(color)?;
-    let opts = synthesis_options(
-        seed,
-        influence_radius,
-        iterations_per_instance,
-        only_categories,
-    );
-    let result = with_progress(py, progress, |report| {
-        worldpaint_core::synthesis::synthesize_with_progress(scene, &color, &region, &opts, report)
+/// What a function painting a color into a region works from: the engine's scene, the color, the region, the
+/// synthesis options and the progress callback.
+pub(crate) struct Painting<'a> {
+    pub(crate) scene: &'a Scene,
+    pub(crate) color: Color,
+    pub(crate) region: Region,
+    pub(crate) opts: SynthesisOptions,
+    pub(crate) progress: Option<Py<PyAny>>,
+}
+
+/// Declares the Python function `$name(scene, color, region, seed=0, *, influence_radius=None,
+/// iterations_per_instance=None, only_categories=None, progress=None)` that paints a color into a region, with
+/// the doc comments given before the name, and hands its arguments converted to a [`Painting`] to `$paint`.
+/// pyo3 reads a Python signature off the function's own parameters, so the functions that take the same arguments
+/// share them through this declaration.
+macro_rules! color_painter {
+    ($(#[$doc:meta])* $name:ident => $paint:ident) => {
+        $(#[$doc])*
+        #[pyfunction]
+        #[pyo3(signature = (scene, color, region, seed=0, *, influence_radius=None, iterations_per_instance=None,
+                            only_categories=None, progress=None))]
+        #[allow(clippy::too_many_arguments)]
+        pub(crate) fn $name<'py>(
+            py: Python<'py>,
+            scene: &Bound<'py, $crate::scene::PyScene>,
+            color: &str,
+            region: &Bound<'py, PyAny>,
+            seed: u64,
+            influence_radius: Option<f64>,
+            iterations_per_instance: Option<f64>,
+            only_categories: Option<Vec<String>>,
+            progress: Option<Py<PyAny>>,
+        ) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
+            let painting = $crate::colors::Painting {
+                scene: scene.get().scene(),
+                region: $crate::convert::region_from_py(region)?,
+                color: $crate::convert::parse_color(color)?,
+                opts: $crate::colors::synthesis_options(
+                    seed,
+                    influence_radius,
+                    iterations_per_instance,
+                    only_categories,
+                ),
+                progress,
+            };
+            $paint(py, painting)
+        }
+    };
+}
+pub(crate) use color_painter;
+
+color_painter! {
+    /// Synthesize `color` (JSON) inside `region` of `scene`: its unlocked instances inside the region are replaced, the
+    /// locked ones inside it and those around it condition the result.
+    ///
+    /// Returns {"categories": [...], "positions": float64 (N, 2), "heights": float64 (N) (terrain height, NaN without
+    /// terrain), "rotations", "scales", "category_index": int32, "prototype": int32} for the *new* instances, and
+    /// "paths" and "contours": lists of {"category", "points" (N, 2), "heights" (N)} of the new roads and islands;
+    /// category indices refer to the returned category list (the given ones, then the color's new ones).
+    /// `progress(fraction) -> bool` may return False to cancel (raises `Cancelled`).
+    synthesize => synthesized
+}
+
+fn synthesized<'py>(py: Python<'py>, p: Painting<'_>) -> PyResult<Bound<'py, PyDict>> {
+    let result = with_progress(py, p.progress, |report| {
+        worldpaint_core::synthesis::synthesize_with_progress(
+            p.scene, &p.color, &p.region, &p.opts, report,
+        )
     })?;
     let d = PyDict::new(py);
     d.set_item("categories", categories_to_py(py, &result.categories)?)?;
-    let terrain = scene.terrain.as_deref();
+    let terrain = p.scene.terrain.as_deref();
     instances_to_py(py, &d, &result.instances, terrain)?;
     structures_to_py(
         py,
@@ -135,7 +167,13 @@ pub(crate) fn synthesis_options(
 /// The color between `a` and `b` (JSON) at `t` ∈ [0, 1], by optimal transport of every histogram, named `name`;
 /// its preview shows an arrangement painted with it.
 #[pyfunction]
-fn interpolate_colors(py: Python<'_>, a: &str, b: &str, t: f64, name: &str) -> PyResult<String> {
+pub(crate) fn interpolate_colors(
+    py: Python<'_>,
+    a: &str,
+    b: &str,
+    t: f64,
+    name: &str,
+) -> PyResult<String> {
     let (a, b) = (parse_color(a)?, parse_color(b)?);
     let name = name.to_string();
     py.detach(|| {
@@ -148,7 +186,7 @@ fn interpolate_colors(py: Python<'_>, a: &str, b: &str, t: f64, name: &str) -> P
 
 /// The same color (JSON) under another name.
 #[pyfunction]
-fn color_renamed(color: &str, name: &str) -> PyResult<String> {
+pub(crate) fn color_renamed(color: &str, name: &str) -> PyResult<String> {
     let mut c = parse_color(color)?;
     c.name = name.to_string();
     guarded(|| c.to_json())
@@ -158,7 +196,11 @@ fn color_renamed(color: &str, name: &str) -> PyResult<String> {
 /// "rdf_l2": [(a, b, l2), ...], "map_tv": [(category, map, tv), ...], "worst_density_error", "max_rdf_l2",
 /// "max_map_tv"}.
 #[pyfunction]
-fn compare<'py>(py: Python<'py>, reference: &str, candidate: &str) -> PyResult<Bound<'py, PyDict>> {
+pub(crate) fn compare<'py>(
+    py: Python<'py>,
+    reference: &str,
+    candidate: &str,
+) -> PyResult<Bound<'py, PyDict>> {
     let a = parse_color(reference)?;
     let b = parse_color(candidate)?;
     let f = py.detach(|| guarded(|| Ok(worldpaint_core::compare(&a, &b))))?;
@@ -181,7 +223,7 @@ fn compare<'py>(py: Python<'py>, reference: &str, candidate: &str) -> PyResult<B
 
 /// A palette file (versioned JSON) from a list of color JSON strings.
 #[pyfunction]
-fn palette_to_json(colors: Vec<String>) -> PyResult<String> {
+pub(crate) fn palette_to_json(colors: Vec<String>) -> PyResult<String> {
     let colors = colors
         .iter()
         .map(|c| parse_color(c))
@@ -192,7 +234,7 @@ fn palette_to_json(colors: Vec<String>) -> PyResult<String> {
 /// The colors (JSON strings) of a palette file; unknown versions and malformed files raise
 /// `FileFormatError`.
 #[pyfunction]
-fn palette_from_json(text: &str) -> PyResult<Vec<String>> {
+pub(crate) fn palette_from_json(text: &str) -> PyResult<Vec<String>> {
     guarded(|| {
         Palette::from_json(text)?
             .colors
@@ -208,7 +250,7 @@ fn palette_from_json(text: &str) -> PyResult<Vec<String>> {
 /// a terrain map, "graph_distance" or "polygon_distance" where `map` is the graph or polygon category), "preview": float64 (N, 3) (x, y relative to the
 /// region's bbox min, category index), "preview_size": (w, h)}.
 #[pyfunction]
-fn color_summary<'py>(py: Python<'py>, color: &str) -> PyResult<Bound<'py, PyDict>> {
+pub(crate) fn color_summary<'py>(py: Python<'py>, color: &str) -> PyResult<Bound<'py, PyDict>> {
     let c = parse_color(color)?;
     let d = PyDict::new(py);
     d.set_item("name", &c.name)?;
@@ -255,10 +297,7 @@ fn color_summary<'py>(py: Python<'py>, color: &str) -> PyResult<Bound<'py, PyDic
             })
             .collect::<Vec<_>>(),
     )?;
-    let flat: Vec<f64> = c.preview.iter().flat_map(|p| *p).collect();
-    let preview = Array2::from_shape_vec((c.preview.len(), 3), flat)
-        .map_err(|e| input_err(format!("color preview of inconsistent size: {e}")))?;
-    d.set_item("preview", preview.into_pyarray(py))?;
+    d.set_item("preview", rows_to_py(py, c.preview.iter().copied())?)?;
     let (lo, hi) = c.region.bbox();
     d.set_item("preview_size", (hi.x - lo.x, hi.y - lo.y))?;
     Ok(d)
@@ -267,20 +306,10 @@ fn color_summary<'py>(py: Python<'py>, color: &str) -> PyResult<Bound<'py, PyDic
 /// The color (JSON) with the interactions `off` switched off: (category, other) pairs naming a pair's rdf, a map (by
 /// its map or its graph or polygon category) or a graph's clearance from `other`, as `color_summary` lists them.
 #[pyfunction]
-fn color_without_interactions(color: &str, off: Vec<(String, String)>) -> PyResult<String> {
+pub(crate) fn color_without_interactions(
+    color: &str,
+    off: Vec<(String, String)>,
+) -> PyResult<String> {
     let c = parse_color(color)?;
     guarded(|| c.without_interactions(&off).to_json())
-}
-
-pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add_function(wrap_pyfunction!(color_without_interactions, m)?)?;
-    m.add_function(wrap_pyfunction!(learn_color, m)?)?;
-    m.add_function(wrap_pyfunction!(synthesize, m)?)?;
-    m.add_function(wrap_pyfunction!(compare, m)?)?;
-    m.add_function(wrap_pyfunction!(interpolate_colors, m)?)?;
-    m.add_function(wrap_pyfunction!(color_renamed, m)?)?;
-    m.add_function(wrap_pyfunction!(palette_to_json, m)?)?;
-    m.add_function(wrap_pyfunction!(palette_from_json, m)?)?;
-    m.add_function(wrap_pyfunction!(color_summary, m)?)?;
-    Ok(())
 }

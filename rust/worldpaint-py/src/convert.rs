@@ -3,7 +3,7 @@
 use crate::terrain::{terrain_of, Terrain};
 use crate::{engine_err, guarded, input_err};
 use numpy::ndarray::{Array1, Array2};
-use numpy::{IntoPyArray, PyArray2, PyReadonlyArray1, PyReadonlyArray2};
+use numpy::{IntoPyArray, PyArray1, PyArray2, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use worldpaint_core::geom::DVec2;
@@ -244,6 +244,18 @@ pub(crate) fn points_to_py<'py>(py: Python<'py>, pts: &[DVec2]) -> Bound<'py, Py
         .into_pyarray(py)
 }
 
+/// Rows of `N` values as a numpy array (R, N).
+pub(crate) fn rows_to_py<'py, const N: usize, T: numpy::Element + Copy>(
+    py: Python<'py>,
+    rows: impl Iterator<Item = [T; N]>,
+) -> PyResult<Bound<'py, PyArray2<T>>> {
+    let flat: Vec<T> = rows.flatten().collect();
+    let n = flat.len() / N;
+    Ok(Array2::from_shape_vec((n, N), flat)
+        .map_err(|e| input_err(e.to_string()))?
+        .into_pyarray(py))
+}
+
 pub(crate) fn column<T: Copy + numpy::Element>(
     a: Option<PyReadonlyArray1<'_, T>>,
     n: usize,
@@ -426,6 +438,21 @@ pub(crate) fn heights_of(points: &[DVec2], terrain: Option<&Heightfield>) -> Arr
         .collect()
 }
 
+/// How much the height changed from `before` to `after` at `points` (0 where either has no height there).
+pub(crate) fn height_change(
+    before: &Heightfield,
+    after: &Heightfield,
+    points: &[DVec2],
+) -> Vec<f64> {
+    points
+        .iter()
+        .map(|p| match (after.height_at(*p), before.height_at(*p)) {
+            (Some(new), Some(old)) => new - old,
+            _ => 0.0,
+        })
+        .collect()
+}
+
 /// The paths and contours of a result as the "paths" and "contours" lists of [`polylines_to_py`].
 pub(crate) fn structures_to_py<'py>(
     py: Python<'py>,
@@ -452,39 +479,30 @@ pub(crate) fn instances_to_py<'py>(
     let pos: Vec<DVec2> = instances.iter().map(|i| i.position).collect();
     d.set_item("positions", points_to_py(py, &pos))?;
     d.set_item("heights", heights_of(&pos, terrain).into_pyarray(py))?;
-    d.set_item(
-        "rotations",
-        instances
-            .iter()
-            .map(|i| i.rotation)
-            .collect::<Vec<_>>()
-            .into_pyarray(py),
-    )?;
-    d.set_item(
-        "scales",
-        instances
-            .iter()
-            .map(|i| i.scale)
-            .collect::<Vec<_>>()
-            .into_pyarray(py),
-    )?;
+    d.set_item("rotations", instance_column(py, instances, |i| i.rotation))?;
+    d.set_item("scales", instance_column(py, instances, |i| i.scale))?;
     d.set_item(
         "category_index",
-        instances
-            .iter()
-            .map(|i| i.category as i32)
-            .collect::<Vec<_>>()
-            .into_pyarray(py),
+        instance_column(py, instances, |i| i.category as i32),
     )?;
     d.set_item(
         "prototype",
-        instances
-            .iter()
-            .map(|i| i.prototype as i32)
-            .collect::<Vec<_>>()
-            .into_pyarray(py),
+        instance_column(py, instances, |i| i.prototype as i32),
     )?;
     Ok(())
+}
+
+/// One value of each instance as a numpy array.
+fn instance_column<'py, T: numpy::Element>(
+    py: Python<'py>,
+    instances: &[Instance],
+    value: impl Fn(&Instance) -> T,
+) -> Bound<'py, PyArray1<T>> {
+    instances
+        .iter()
+        .map(value)
+        .collect::<Vec<_>>()
+        .into_pyarray(py)
 }
 
 pub(crate) fn parse_color(json: &str) -> PyResult<Color> {
@@ -502,21 +520,14 @@ pub(crate) fn edit_to_py<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     d.set_item("categories", categories_to_py(py, &edit.categories)?)?;
-    d.set_item(
-        "removed",
-        edit.removed
-            .iter()
-            .map(|&k| k as i64)
-            .collect::<Vec<_>>()
-            .into_pyarray(py),
-    )?;
-    instances_to_py(py, &d, &edit.added, terrain)?;
     let indices = |v: &[usize]| {
         v.iter()
             .map(|&k| k as i64)
             .collect::<Vec<_>>()
             .into_pyarray(py)
     };
+    d.set_item("removed", indices(&edit.removed))?;
+    instances_to_py(py, &d, &edit.added, terrain)?;
     d.set_item("removed_paths", indices(&edit.removed_paths))?;
     d.set_item("removed_contours", indices(&edit.removed_contours))?;
     structures_to_py(

@@ -9,7 +9,7 @@ use numpy::PyArray2;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use worldpaint_core::geom::DVec2;
-use worldpaint_core::Region;
+use worldpaint_core::{Region, Scene};
 
 /// Runs a point generator on a region with the GIL released: float64 (N, 2).
 fn generated_points<'py>(
@@ -22,9 +22,22 @@ fn generated_points<'py>(
     Ok(points_to_py(py, &pts))
 }
 
+/// Runs a scene generator with the GIL released: the scene, and its categories and instance columns (heights on
+/// its terrain) as a dict.
+fn generated_scene<'py>(
+    py: Python<'py>,
+    generate: impl FnOnce() -> Scene + Send,
+) -> PyResult<(Scene, Bound<'py, PyDict>)> {
+    let scene = py.detach(|| guarded(|| Ok(generate())))?;
+    let d = PyDict::new(py);
+    d.set_item("categories", categories_to_py(py, &scene.categories)?)?;
+    instances_to_py(py, &d, &scene.instances, scene.terrain.as_deref())?;
+    Ok((scene, d))
+}
+
 /// Points of a Poisson process of the given density (per m²) in the region: float64 (N, 2).
 #[pyfunction]
-fn exemplar_uniform<'py>(
+pub(crate) fn exemplar_uniform<'py>(
     py: Python<'py>,
     region: &Bound<'py, PyAny>,
     density: f64,
@@ -37,7 +50,7 @@ fn exemplar_uniform<'py>(
 
 /// Points of a Thomas cluster process (parents per m², mean children per parent, spread sigma in m).
 #[pyfunction]
-fn exemplar_clustered<'py>(
+pub(crate) fn exemplar_clustered<'py>(
     py: Python<'py>,
     region: &Bound<'py, PyAny>,
     parent_density: f64,
@@ -52,7 +65,7 @@ fn exemplar_clustered<'py>(
 
 /// Points with a hard-core spacing (no pair closer than min_distance) at about the given density.
 #[pyfunction]
-fn exemplar_hard_core<'py>(
+pub(crate) fn exemplar_hard_core<'py>(
     py: Python<'py>,
     region: &Bound<'py, PyAny>,
     density: f64,
@@ -67,15 +80,12 @@ fn exemplar_hard_core<'py>(
 /// The multi-category slope exemplar: {"terrain": Terrain, "categories": [...], "positions", "heights",
 /// "rotations", "scales", "category_index", "prototype"}.
 #[pyfunction]
-fn exemplar_slope_scene<'py>(
+pub(crate) fn exemplar_slope_scene<'py>(
     py: Python<'py>,
     size: f64,
     seed: u64,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let scene = py.detach(|| guarded(|| Ok(worldpaint_core::exemplar::slope_scene(size, seed))))?;
-    let d = PyDict::new(py);
-    d.set_item("categories", categories_to_py(py, &scene.categories)?)?;
-    instances_to_py(py, &d, &scene.instances, scene.terrain.as_deref())?;
+    let (scene, d) = generated_scene(py, || worldpaint_core::exemplar::slope_scene(size, seed))?;
     match scene.terrain {
         Some(hf) => d.set_item("terrain", Py::new(py, Terrain { hf })?)?,
         None => d.set_item("terrain", py.None())?,
@@ -86,11 +96,12 @@ fn exemplar_slope_scene<'py>(
 /// The village exemplar (square `size` from the origin): grid streets, houses 8–15 m from them and trees away from
 /// both: {"categories": [...], "paths": [{"category", "points", "heights"}], and the instance columns}.
 #[pyfunction]
-fn exemplar_village<'py>(py: Python<'py>, size: f64, seed: u64) -> PyResult<Bound<'py, PyDict>> {
-    let scene = py.detach(|| guarded(|| Ok(worldpaint_core::exemplar::village(size, seed))))?;
-    let d = PyDict::new(py);
-    d.set_item("categories", categories_to_py(py, &scene.categories)?)?;
-    instances_to_py(py, &d, &scene.instances, None)?;
+pub(crate) fn exemplar_village<'py>(
+    py: Python<'py>,
+    size: f64,
+    seed: u64,
+) -> PyResult<Bound<'py, PyDict>> {
+    let (scene, d) = generated_scene(py, || worldpaint_core::exemplar::village(size, seed))?;
     structures_to_py(
         py,
         &d,
@@ -104,19 +115,13 @@ fn exemplar_village<'py>(py: Python<'py>, size: f64, seed: u64) -> PyResult<Boun
 
 /// A deterministic terrain of smooth hills, size × size metres sampled every `cell` metres.
 #[pyfunction]
-fn exemplar_demo_terrain(py: Python<'_>, size: f64, cell: f64, seed: u64) -> PyResult<Terrain> {
+pub(crate) fn exemplar_demo_terrain(
+    py: Python<'_>,
+    size: f64,
+    cell: f64,
+    seed: u64,
+) -> PyResult<Terrain> {
     let hf =
         py.detach(|| guarded(|| Ok(worldpaint_core::exemplar::demo_terrain(size, cell, seed))))?;
     Ok(Terrain { hf: hf.into() })
-}
-
-// ---------------------------------------------------------------------------------------------------------------
-pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add_function(wrap_pyfunction!(exemplar_uniform, m)?)?;
-    m.add_function(wrap_pyfunction!(exemplar_clustered, m)?)?;
-    m.add_function(wrap_pyfunction!(exemplar_hard_core, m)?)?;
-    m.add_function(wrap_pyfunction!(exemplar_slope_scene, m)?)?;
-    m.add_function(wrap_pyfunction!(exemplar_demo_terrain, m)?)?;
-    m.add_function(wrap_pyfunction!(exemplar_village, m)?)?;
-    Ok(())
 }

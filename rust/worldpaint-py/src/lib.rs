@@ -251,30 +251,56 @@ pub(crate) fn with_stages<T: Send>(
     progress.finish(result)
 }
 
+// The Python module: the engine's classes and functions, the error classes, the version and the palette format
+// version. (A doc comment here would become the module's docstring, which is empty.)
 #[pymodule]
-fn worldpaint_engine(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    let py = m.py();
-    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
-    m.add(
-        "PALETTE_FORMAT_VERSION",
-        worldpaint_core::palette::PALETTE_FORMAT_VERSION,
-    )?;
-    m.add("WorldPaintError", py.get_type::<WorldPaintError>())?;
-    for (name, class) in input_classes(py)? {
-        if let Some(class) = class.get(py) {
-            m.add(name, class.clone_ref(py))?;
+mod worldpaint_engine {
+    use pyo3::prelude::*;
+
+    #[pymodule_export]
+    use crate::colors::{
+        color_renamed, color_summary, color_without_interactions, compare, interpolate_colors,
+        learn_color, palette_from_json, palette_to_json, synthesize,
+    };
+    #[pymodule_export]
+    use crate::exemplars::{
+        exemplar_clustered, exemplar_demo_terrain, exemplar_hard_core, exemplar_slope_scene,
+        exemplar_uniform, exemplar_village,
+    };
+    #[pymodule_export]
+    use crate::regions::{fill_polygons, region_area, region_bbox, region_contains};
+    #[pymodule_export]
+    use crate::scene::PyScene;
+    #[pymodule_export]
+    use crate::terrain::Terrain;
+    #[pymodule_export]
+    use crate::terrain_edit::embed_roads;
+    #[pymodule_export]
+    use crate::tools::{blur, clear_region, gradient, move_region, paste, stretch_region, Stroke};
+    #[pymodule_export]
+    use crate::village::{
+        default_encyclopedia, encyclopedia_contents, generate_village, scenario_presets,
+        village_interest,
+    };
+    #[pymodule_export]
+    use crate::waterfall::build_waterfall;
+
+    #[pymodule_init]
+    fn init(m: &Bound<'_, PyModule>) -> PyResult<()> {
+        let py = m.py();
+        m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+        m.add(
+            "PALETTE_FORMAT_VERSION",
+            worldpaint_core::palette::PALETTE_FORMAT_VERSION,
+        )?;
+        m.add("WorldPaintError", py.get_type::<crate::WorldPaintError>())?;
+        for (name, class) in crate::input_classes(py)? {
+            if let Some(class) = class.get(py) {
+                m.add(name, class.clone_ref(py))?;
+            }
         }
+        m.add("Cancelled", py.get_type::<crate::Cancelled>())?;
+        m.add("InternalError", py.get_type::<crate::InternalError>())?;
+        Ok(())
     }
-    m.add("Cancelled", py.get_type::<Cancelled>())?;
-    m.add("InternalError", py.get_type::<InternalError>())?;
-    m.add_class::<terrain::Terrain>()?;
-    m.add_class::<scene::PyScene>()?;
-    colors::register(m)?;
-    regions::register(m)?;
-    exemplars::register(m)?;
-    tools::register(m)?;
-    village::register(m)?;
-    terrain_edit::register(m)?;
-    waterfall::register(m)?;
-    Ok(())
 }

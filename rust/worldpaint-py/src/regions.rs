@@ -1,9 +1,8 @@
 //! Regions: containment, area and bounds for the add-on's checks; polygons filled as a mesh for display.
 
-use crate::convert::{heights_of, points_from_py, points_to_py, region_from_py};
+use crate::convert::{heights_of, points_from_py, points_to_py, region_from_py, rows_to_py};
 use crate::terrain::{terrain_of, Terrain};
 use crate::{guarded, input_err};
-use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -12,7 +11,7 @@ use worldpaint_core::polygon_mesh::triangulate;
 
 /// Which of the points (float64 (N, 2)) lie inside the region: bool (N).
 #[pyfunction]
-fn region_contains<'py>(
+pub(crate) fn region_contains<'py>(
     py: Python<'py>,
     region: &Bound<'py, PyAny>,
     xy: PyReadonlyArray2<'py, f64>,
@@ -26,14 +25,14 @@ fn region_contains<'py>(
 
 /// Area of the region in m².
 #[pyfunction]
-fn region_area(region: &Bound<'_, PyAny>) -> PyResult<f64> {
+pub(crate) fn region_area(region: &Bound<'_, PyAny>) -> PyResult<f64> {
     let region = region_from_py(region)?;
     guarded(|| Ok(region.area()))
 }
 
 /// ((xmin, ymin), (xmax, ymax)) of the region.
 #[pyfunction]
-fn region_bbox(region: &Bound<'_, PyAny>) -> PyResult<((f64, f64), (f64, f64))> {
+pub(crate) fn region_bbox(region: &Bound<'_, PyAny>) -> PyResult<((f64, f64), (f64, f64))> {
     let region = region_from_py(region)?;
     let (a, b) = guarded(|| Ok(region.bbox()))?;
     Ok(((a.x, a.y), (b.x, b.y)))
@@ -44,7 +43,7 @@ fn region_bbox(region: &Bound<'_, PyAny>) -> PyResult<((f64, f64), (f64, f64))> 
 /// "heights": float64 (V) (terrain height, NaN off it or without terrain), "triangles": int32 (T, 3)}.
 #[pyfunction]
 #[pyo3(signature = (contours, spacing, terrain=None))]
-fn fill_polygons<'py>(
+pub(crate) fn fill_polygons<'py>(
     py: Python<'py>,
     contours: Vec<PyReadonlyArray2<'py, f64>>,
     spacing: f64,
@@ -69,21 +68,7 @@ fn fill_polygons<'py>(
         "heights",
         heights_of(&mesh.vertices, terrain.map(|t| t.as_ref())).into_pyarray(py),
     )?;
-    let flat: Vec<i32> = mesh
-        .triangles
-        .iter()
-        .flat_map(|t| t.map(|i| i as i32))
-        .collect();
-    let triangles = Array2::from_shape_vec((mesh.triangles.len(), 3), flat)
-        .map_err(|e| input_err(format!("triangles of inconsistent size: {e}")))?;
-    d.set_item("triangles", triangles.into_pyarray(py))?;
+    let triangles = mesh.triangles.iter().map(|t| t.map(|i| i as i32));
+    d.set_item("triangles", rows_to_py(py, triangles)?)?;
     Ok(d)
-}
-
-pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add_function(wrap_pyfunction!(fill_polygons, m)?)?;
-    m.add_function(wrap_pyfunction!(region_contains, m)?)?;
-    m.add_function(wrap_pyfunction!(region_area, m)?)?;
-    m.add_function(wrap_pyfunction!(region_bbox, m)?)?;
-    Ok(())
 }

@@ -1,6 +1,6 @@
 //! Terrain that adapts: `embed_roads`.
 
-use crate::convert::points_from_py;
+use crate::convert::{height_change, points_from_py, rows_to_py};
 use crate::terrain::Terrain;
 use crate::{guarded, input_err};
 use numpy::{IntoPyArray, PyReadonlyArray2};
@@ -60,7 +60,7 @@ fn roads_from_py(
 #[pyfunction]
 #[pyo3(signature = (terrain, roads, points, width=5.0, bank_width=8.0, *, use_heights=false, smoothing=None))]
 #[allow(clippy::too_many_arguments)]
-fn embed_roads<'py>(
+pub(crate) fn embed_roads<'py>(
     py: Python<'py>,
     terrain: &Bound<'py, Terrain>,
     roads: &Bound<'py, PyAny>,
@@ -83,13 +83,7 @@ fn embed_roads<'py>(
     let (embedding, change) = py.detach(|| {
         guarded(|| {
             let e = embed(&hf, &roads, &options)?;
-            let change: Vec<f64> = pts
-                .iter()
-                .map(|p| match (e.terrain.height_at(*p), hf.height_at(*p)) {
-                    (Some(new), Some(old)) => new - old,
-                    _ => 0.0,
-                })
-                .collect();
+            let change = height_change(&hf, &e.terrain, &pts);
             Ok((e, change))
         })
     })?;
@@ -97,19 +91,11 @@ fn embed_roads<'py>(
     out.set_item("displacement", change.into_pyarray(py))?;
     let profiles = PyList::empty(py);
     for p in &embedding.profiles {
-        let flat: Vec<f64> = p.points.iter().flat_map(|q| [q.x, q.y, q.z]).collect();
-        let a = numpy::ndarray::Array2::from_shape_vec((p.points.len(), 3), flat)
-            .map_err(|e| input_err(e.to_string()))?;
-        profiles.append(a.into_pyarray(py))?;
+        profiles.append(rows_to_py(py, p.points.iter().map(|q| [q.x, q.y, q.z]))?)?;
     }
     out.set_item("profiles", profiles)?;
     out.set_item("residual", embedding.diffusion.residual)?;
     out.set_item("cycles", embedding.diffusion.cycles)?;
     out.set_item("converged", embedding.diffusion.converged)?;
     Ok(out)
-}
-
-pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add_function(wrap_pyfunction!(embed_roads, m)?)?;
-    Ok(())
 }

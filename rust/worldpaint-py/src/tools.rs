@@ -5,7 +5,7 @@
 //! ("positions", "heights", "rotations", "scales", "category_index", "prototype")}; the move and the stretch add
 //! what they measured.
 
-use crate::colors::synthesis_options;
+use crate::colors::{color_painter, synthesis_options, Painting};
 use crate::convert::{
     edit_to_py, field, parse_color, points_from_py, points_to_py, region_from_py, region_to_py,
     vec2,
@@ -32,43 +32,24 @@ fn edit_result<'py>(py: Python<'py>, edit: &Edit, scene: &Scene) -> PyResult<Bou
     edit_to_py(py, edit, scene.terrain.as_deref())
 }
 
-/// Paste `color` (JSON) into `region`: the unlocked instances inside it are replaced by a new arrangement
-/// consistent with its surroundings. Returns the edit; `progress(fraction) -> bool` may cancel.
-#[pyfunction]
-#[pyo3(signature = (scene, color, region, seed=0, *, influence_radius=None, iterations_per_instance=None,
-                    only_categories=None, progress=None))]
-#[allow(clippy::too_many_arguments)]
-fn paste<'py>(
-    py: Python<'py>,
-    scene: &Bound<'py, PyScene>,
-    color: &str,
-    region: &Bound<'py, PyAny>,
-    seed: u64,
-    influence_radius: Option<f64>,
-    iterations_per_instance: Option<f64>,
-    only_categories: Option<Vec<String>>,
-    progress: Option<Py<PyAny>>,
-) -> PyResult<Bound<'py, PyDict>> {
-    let scene = scene.get().scene();
-    let region = region_from_py(region)?;
-    let color = parse_color(color)?;
-    let opts = synthesis_options(
-        seed,
-        influence_radius,
-        iterations_per_instance,
-        only_categories,
-    );
-    let edit = with_progress(py, progress, |report| {
-        paste_color(scene, &color, &region, &opts, report)
+color_painter! {
+    /// Paste `color` (JSON) into `region`: the unlocked instances inside it are replaced by a new arrangement
+    /// consistent with its surroundings. Returns the edit; `progress(fraction) -> bool` may cancel.
+    paste => pasted
+}
+
+fn pasted<'py>(py: Python<'py>, p: Painting<'_>) -> PyResult<Bound<'py, PyDict>> {
+    let edit = with_progress(py, p.progress, |report| {
+        paste_color(p.scene, &p.color, &p.region, &p.opts, report)
     })?;
-    edit_result(py, &edit, scene)
+    edit_result(py, &edit, p.scene)
 }
 
 /// Clear `region`: its unlocked content (instances, and the parts of paths and contours in it) is removed, of every
 /// category or only of `category`. Returns the edit.
 #[pyfunction]
 #[pyo3(signature = (scene, region, *, category=None))]
-fn clear_region<'py>(
+pub(crate) fn clear_region<'py>(
     py: Python<'py>,
     scene: &Bound<'py, PyScene>,
     region: &Bound<'py, PyAny>,
@@ -99,7 +80,7 @@ fn falloff_from_str(s: &str) -> PyResult<Falloff> {
 /// first at once) with the GIL released and returns the number of dabs; `edit()` is what the stroke has done so far
 /// to the scene it started on; `dabs()` the dab centres. Other threads may call `edit()` while `follow` runs.
 #[pyclass(module = "worldpaint_engine", frozen)]
-struct Stroke {
+pub(crate) struct Stroke {
     stroke: Mutex<CoreStroke>,
 }
 
@@ -188,7 +169,7 @@ impl Stroke {
                     influence_radius=None, steps=None,
                     reach=None))]
 #[allow(clippy::too_many_arguments)]
-fn move_region<'py>(
+pub(crate) fn move_region<'py>(
     py: Python<'py>,
     scene: &Bound<'py, PyScene>,
     color: &str,
@@ -233,7 +214,7 @@ fn move_region<'py>(
                     influence_radius=None,
                     iterations_per_instance=None, cell=None, progress=None))]
 #[allow(clippy::too_many_arguments)]
-fn stretch_region<'py>(
+pub(crate) fn stretch_region<'py>(
     py: Python<'py>,
     scene: &Bound<'py, PyScene>,
     region: &Bound<'py, PyAny>,
@@ -312,7 +293,7 @@ fn gradient_shape(obj: &Bound<'_, PyAny>) -> PyResult<GradientShape> {
                     *, influence_radius=None,
                     iterations_per_instance=None, progress=None))]
 #[allow(clippy::too_many_arguments)]
-fn gradient<'py>(
+pub(crate) fn gradient<'py>(
     py: Python<'py>,
     scene: &Bound<'py, PyScene>,
     start: &str,
@@ -345,7 +326,7 @@ fn gradient<'py>(
 #[pyo3(signature = (scene, region, seed=0, *, windows=8, cells=4, influence_radius=None,
                     iterations_per_instance=None, progress=None))]
 #[allow(clippy::too_many_arguments)]
-fn blur<'py>(
+pub(crate) fn blur<'py>(
     py: Python<'py>,
     scene: &Bound<'py, PyScene>,
     region: &Bound<'py, PyAny>,
@@ -367,15 +348,4 @@ fn blur<'py>(
         blur_region(scene, &region, &opts, report)
     })?;
     edit_result(py, &edit, scene)
-}
-
-pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add_class::<Stroke>()?;
-    m.add_function(wrap_pyfunction!(paste, m)?)?;
-    m.add_function(wrap_pyfunction!(clear_region, m)?)?;
-    m.add_function(wrap_pyfunction!(move_region, m)?)?;
-    m.add_function(wrap_pyfunction!(stretch_region, m)?)?;
-    m.add_function(wrap_pyfunction!(gradient, m)?)?;
-    m.add_function(wrap_pyfunction!(blur, m)?)?;
-    Ok(())
 }

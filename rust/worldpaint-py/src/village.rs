@@ -1,9 +1,8 @@
 //! Villages: `generate_village`, `village_interest`, and the shipped encyclopedia and scenario presets (JSON).
 
-use crate::convert::{points_from_py, points_to_py, region_from_py};
+use crate::convert::{points_from_py, points_to_py, region_from_py, rows_to_py};
 use crate::terrain::Terrain;
 use crate::{guarded, input_err, with_stages};
-use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyReadonlyArray2};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
@@ -19,19 +18,19 @@ const SCENARIOS: &str = include_str!("../../../assets/villages/scenarios.json");
 
 /// The shipped building encyclopedia (JSON text).
 #[pyfunction]
-fn default_encyclopedia() -> &'static str {
+pub(crate) fn default_encyclopedia() -> &'static str {
     ENCYCLOPEDIA
 }
 
 /// The shipped growth scenario presets (JSON text: {"presets": {name: {"events": [...]}}}).
 #[pyfunction]
-fn scenario_presets() -> &'static str {
+pub(crate) fn scenario_presets() -> &'static str {
     SCENARIOS
 }
 
 /// Checks an encyclopedia (JSON) and returns its village types and building types.
 #[pyfunction]
-fn encyclopedia_contents(encyclopedia: &str) -> PyResult<(Vec<String>, Vec<String>)> {
+pub(crate) fn encyclopedia_contents(encyclopedia: &str) -> PyResult<(Vec<String>, Vec<String>)> {
     let e = guarded(|| Encyclopedia::from_json(encyclopedia))?;
     Ok((
         e.village_types.keys().cloned().collect(),
@@ -110,7 +109,7 @@ fn stage_share(stage: Stage) -> (&'static str, f64, f64) {
                     water_level=None, water_areas=None, rivers=None, river_half_width=4.0, walls=None, cell=2.0,
                     parcel_cell=1.0, progress=None))]
 #[allow(clippy::too_many_arguments)]
-fn generate_village<'py>(
+pub(crate) fn generate_village<'py>(
     py: Python<'py>,
     terrain: &Bound<'py, Terrain>,
     region: &Bound<'py, PyAny>,
@@ -216,9 +215,8 @@ fn generate_village<'py>(
     let houses = PyList::empty(py);
     for h in &village.houses {
         let d = PyDict::new(py);
-        let v = Array2::from_shape_fn((h.vertices.len(), 3), |(i, j)| h.vertices[i][j]);
         d.set_item("seed", h.seed)?;
-        d.set_item("vertices", v.into_pyarray(py))?;
+        d.set_item("vertices", rows_to_py(py, h.vertices.iter().copied())?)?;
         let mut starts = Vec::with_capacity(h.faces.len());
         let mut totals = Vec::with_capacity(h.faces.len());
         let mut indices = Vec::new();
@@ -269,7 +267,7 @@ fn generate_village<'py>(
                     buildings=None, roads=None, water_level=None, water_areas=None, rivers=None,
                     river_half_width=4.0, walls=None, cell=2.0))]
 #[allow(clippy::too_many_arguments)]
-fn village_interest<'py>(
+pub(crate) fn village_interest<'py>(
     py: Python<'py>,
     terrain: &Bound<'py, Terrain>,
     region: &Bound<'py, PyAny>,
@@ -325,13 +323,4 @@ fn village_interest<'py>(
     };
     let values = py.detach(|| guarded(|| interest_at(&request, &pts)))?;
     Ok(values.into_pyarray(py))
-}
-
-pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add_function(wrap_pyfunction!(default_encyclopedia, m)?)?;
-    m.add_function(wrap_pyfunction!(scenario_presets, m)?)?;
-    m.add_function(wrap_pyfunction!(encyclopedia_contents, m)?)?;
-    m.add_function(wrap_pyfunction!(generate_village, m)?)?;
-    m.add_function(wrap_pyfunction!(village_interest, m)?)?;
-    Ok(())
 }

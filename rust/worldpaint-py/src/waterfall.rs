@@ -1,9 +1,8 @@
 //! Waterfall scenes: `build_waterfall`.
 
-use crate::convert::points_from_py;
+use crate::convert::{height_change, points_from_py, rows_to_py};
 use crate::terrain::Terrain;
 use crate::{guarded, input_err};
-use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyReadonlyArray2};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
@@ -90,17 +89,6 @@ fn type_name(t: WaterfallType) -> &'static str {
     }
 }
 
-fn array<'py, const N: usize, T: numpy::Element + Copy>(
-    py: Python<'py>,
-    rows: impl Iterator<Item = [T; N]>,
-) -> PyResult<Bound<'py, numpy::PyArray2<T>>> {
-    let flat: Vec<T> = rows.flatten().collect();
-    let n = flat.len() / N;
-    Ok(Array2::from_shape_vec((n, N), flat)
-        .map_err(|e| input_err(e.to_string()))?
-        .into_pyarray(py))
-}
-
 /// Builds a waterfall scene on the terrain from user controllers (list of dicts {"kind": "contact" | "free_fall" |
 /// "pool", "points": float64 (N, 3), "strength": float or None}) and reports, at the world XY `points` (M, 2):
 /// "displacement" (M,) height change, "horizontal" (M, 2) overhang displacement, "is_water" (M,) bool; and
@@ -112,7 +100,7 @@ fn array<'py, const N: usize, T: numpy::Element + Copy>(
 #[pyfunction]
 #[pyo3(signature = (terrain, controllers, points, seed=0, *, min_slope=None, overhang=None, falloff=None, freeboard=None, max_width=None, subdivide=true, rock_color=None))]
 #[allow(clippy::too_many_arguments)]
-fn build_waterfall<'py>(
+pub(crate) fn build_waterfall<'py>(
     py: Python<'py>,
     terrain: &Bound<'py, Terrain>,
     controllers: &Bound<'py, PyAny>,
@@ -160,14 +148,7 @@ fn build_waterfall<'py>(
     let (s, change, shift, wet) = py.detach(|| {
         guarded(|| {
             let s = scene(&hf, &controllers, &params, &options, seed)?;
-            let h = &s.terrain.terrain;
-            let change: Vec<f64> = pts
-                .iter()
-                .map(|p| match (h.height_at(*p), hf.height_at(*p)) {
-                    (Some(new), Some(old)) => new - old,
-                    _ => 0.0,
-                })
-                .collect();
+            let change = height_change(&hf, &s.terrain.terrain, &pts);
             let hd = &s.terrain.horizontal;
             let shift: Vec<[f64; 2]> = pts
                 .iter()
@@ -182,18 +163,21 @@ fn build_waterfall<'py>(
     })?;
     let out = PyDict::new(py);
     out.set_item("displacement", change.into_pyarray(py))?;
-    out.set_item("horizontal", array(py, shift.into_iter())?)?;
+    out.set_item("horizontal", rows_to_py(py, shift.into_iter())?)?;
     out.set_item("is_water", wet.into_pyarray(py))?;
     let m = &s.mesh;
     let water = PyDict::new(py);
     water.set_item(
         "vertices",
-        array(py, m.vertices.iter().map(|v| [v.x, v.y, v.z]))?,
+        rows_to_py(py, m.vertices.iter().map(|v| [v.x, v.y, v.z]))?,
     )?;
-    water.set_item("triangles", array(py, m.triangles.iter().copied())?)?;
+    water.set_item("triangles", rows_to_py(py, m.triangles.iter().copied())?)?;
     let speed: Vec<f64> = m.speed.iter().map(|v| v.length()).collect();
     water.set_item("speed", speed.into_pyarray(py))?;
-    water.set_item("speed_xy", array(py, m.speed.iter().map(|v| [v.x, v.y]))?)?;
+    water.set_item(
+        "speed_xy",
+        rows_to_py(py, m.speed.iter().map(|v| [v.x, v.y]))?,
+    )?;
     water.set_item("foam", m.foam.clone().into_pyarray(py))?;
     water.set_item("rocks", m.rocks.clone().into_pyarray(py))?;
     water.set_item("disturbance", m.disturbance.clone().into_pyarray(py))?;
@@ -238,7 +222,7 @@ fn build_waterfall<'py>(
         d.set_item("valid", seg.valid)?;
         d.set_item(
             "points",
-            array(py, seg.points.iter().map(|p| [p.x, p.y, p.z]))?,
+            rows_to_py(py, seg.points.iter().map(|p| [p.x, p.y, p.z]))?,
         )?;
         segments.append(d)?;
     }
@@ -246,7 +230,7 @@ fn build_waterfall<'py>(
     let rocks = &s.rocks;
     out.set_item(
         "rocks",
-        array(py, rocks.iter().map(|r| r.position.to_array()))?,
+        rows_to_py(py, rocks.iter().map(|r| r.position.to_array()))?,
     )?;
     let rotation: Vec<f64> = rocks.iter().map(|r| r.rotation).collect();
     out.set_item("rock_rotation", rotation.into_pyarray(py))?;
@@ -274,9 +258,4 @@ fn build_waterfall<'py>(
     report.set_item("converged", r.converged)?;
     out.set_item("report", report)?;
     Ok(out)
-}
-
-pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add_function(wrap_pyfunction!(build_waterfall, m)?)?;
-    Ok(())
 }

@@ -16,6 +16,21 @@ pub fn read_features(path: &Path) -> Result<Vec<Value>, String> {
     }
 }
 
+/// `highway` values of ways for people on foot, on bicycles or on horses: not part of a village's road network.
+pub const FOOT_AND_BRIDLE_WAYS: [&str; 6] = [
+    "footway",
+    "path",
+    "cycleway",
+    "steps",
+    "pedestrian",
+    "bridleway",
+];
+
+/// The string value of a feature's property `key`.
+pub fn tag<'a>(feature: &'a Value, key: &str) -> Option<&'a str> {
+    feature.get("properties")?.get(key)?.as_str()
+}
+
 fn lon_lat(v: &Value) -> Option<[f64; 2]> {
     let a = v.as_array()?;
     let (lon, lat) = (a.first()?.as_f64()?, a.get(1)?.as_f64()?);

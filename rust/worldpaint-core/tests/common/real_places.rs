@@ -49,10 +49,10 @@
 //! * SRTM at 3″ cannot resolve the benches and hairpins a mountain road is built on: a road along a steep slope
 //!   reads the slope's grade, so real road grades in Andorra read far steeper than the roads are.
 
-use crate::geojson::{geometry, read_features};
+use crate::geojson::{geometry, read_features, tag, FOOT_AND_BRIDLE_WAYS};
 use crate::real_data::{real_data_dir, require, Projection};
-use crate::squares::{centre_of_points_in, square, squares_by_count};
-use serde_json::Value;
+use crate::rings::area_centroid;
+use crate::squares::{centre_of_points_in, points_in, square, squares_by_count};
 use std::collections::{HashMap, VecDeque};
 use worldpaint_core::geom::{polygon_contains, polygon_signed_area, DVec2};
 use worldpaint_core::village::metrics::{
@@ -73,17 +73,13 @@ const SEARCH_STEP: f64 = 50.0;
 const WINDOW_GAP: f64 = 200.0;
 /// Crossings of the window border by through roads closer than this (m) make one connection point.
 const CONNECTION_MERGE: f64 = 60.0;
+/// Twice the area (m²) within which a ring counts as enclosing none.
+const FLAT_RING: f64 = 1e-9;
 /// Upper bounds of the reported grade bins (rise over run); the last bin holds everything steeper.
 pub const GRADE_BINS: [f64; 5] = [0.02, 0.05, 0.08, 0.12, 0.15];
 
-/// `highway` values that are not roads a house is served by.
-const NOT_ROADS: [&str; 13] = [
-    "footway",
-    "path",
-    "cycleway",
-    "steps",
-    "pedestrian",
-    "bridleway",
+/// `highway` values besides the foot and bridle ways that are not roads a house is served by.
+const NOT_SERVING: [&str; 7] = [
     "motorway",
     "motorway_link",
     "trunk",
@@ -290,34 +286,12 @@ pub fn terrain_from_grid(grid: &AsciiGrid, cell: f64) -> Result<Terrain, String>
 // ---------------------------------------------------------------------------------------------------------------
 // GeoJSON
 
-fn tag<'a>(feature: &'a Value, key: &str) -> Option<&'a str> {
-    feature.get("properties")?.get(key)?.as_str()
-}
-
 /// A ring without its closing repetition, if at least a triangle is left.
 fn open_ring(mut ring: Vec<DVec2>) -> Option<Vec<DVec2>> {
     if ring.len() >= 2 && ring.first() == ring.last() {
         ring.pop();
     }
     (ring.len() >= 3).then_some(ring)
-}
-
-/// The area centroid of a ring (the mean of its vertices when it encloses no area).
-pub fn centroid(ring: &[DVec2]) -> DVec2 {
-    let o = ring[0];
-    let (mut area, mut sum, mut mean) = (0.0, DVec2::ZERO, DVec2::ZERO);
-    for (i, p) in ring.iter().enumerate() {
-        let (p, q) = (*p - o, ring[(i + 1) % ring.len()] - o);
-        let cross = p.perp_dot(q);
-        area += cross;
-        sum += (p + q) * cross;
-        mean += p;
-    }
-    if area.abs() > 1e-9 {
-        o + sum / (3.0 * area)
-    } else {
-        o + mean / ring.len() as f64
-    }
 }
 
 fn ring_bbox(ring: &[DVec2]) -> (DVec2, DVec2) {
@@ -397,7 +371,9 @@ pub fn load_place(spec: PlaceSpec) -> Result<Place, String> {
     let mut roads = Vec::new();
     for f in read_features(&paths[2])? {
         match (tag(&f, "highway"), geometry(&f)) {
-            (Some(h), Some(_)) if NOT_ROADS.contains(&h) => not_roads += 1,
+            (Some(h), Some(_)) if FOOT_AND_BRIDLE_WAYS.contains(&h) || NOT_SERVING.contains(&h) => {
+                not_roads += 1
+            }
             (Some(h), Some(lines)) => {
                 roads.extend(lines.iter().filter(|l| l.len() >= 2).map(|l| RealRoad {
                     highway: h.to_string(),
@@ -410,7 +386,7 @@ pub fn load_place(spec: PlaceSpec) -> Result<Place, String> {
     let mut houses = Vec::new();
     for f in read_features(&paths[1])? {
         match geometry(&f).and_then(|rings| open_ring(project(rings.first()?))) {
-            Some(ring) => houses.push(centroid(&ring)),
+            Some(ring) => houses.push(area_centroid(&[ring], FLAT_RING)),
             None => unreadable += 1,
         }
     }
@@ -596,12 +572,7 @@ pub struct RealWindow {
 
 pub fn real_window(place: &Place, window: &Window) -> RealWindow {
     let region = &window.region;
-    let houses: Vec<DVec2> = place
-        .houses
-        .iter()
-        .copied()
-        .filter(|p| region.contains(*p))
-        .collect();
+    let houses = points_in(&place.houses, region);
     let mut roads = Vec::new();
     let mut minor_length = 0.0;
     let mut connections: Vec<DVec2> = Vec::new();
@@ -830,7 +801,10 @@ fn sharing(polygons: &[Vec<Node>]) -> f64 {
 pub fn tiling_landuse(place: &Place) -> RealParcels {
     let areas = &place.areas;
     let boxes: Vec<(DVec2, DVec2)> = areas.iter().map(|a| ring_bbox(&a.ring)).collect();
-    let centroids: Vec<DVec2> = areas.iter().map(|a| centroid(&a.ring)).collect();
+    let centroids: Vec<DVec2> = areas
+        .iter()
+        .map(|a| area_centroid(&[&a.ring], FLAT_RING))
+        .collect();
     let mut nested = vec![false; areas.len()];
     for (i, c) in centroids.iter().enumerate() {
         if !polygon_contains(&areas[i].ring, *c) {

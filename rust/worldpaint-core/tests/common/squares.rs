@@ -54,6 +54,15 @@ pub fn square(min: DVec2, side: f64) -> Region {
     }
 }
 
+/// The `points` inside `window`, in their order.
+pub fn points_in(points: &[DVec2], window: &Region) -> Vec<DVec2> {
+    points
+        .iter()
+        .copied()
+        .filter(|p| window.contains(*p))
+        .collect()
+}
+
 /// The mean of the `points` in the square of `side` at `min` (its own centre when it holds none): a square
 /// centred there covers the village itself rather than a window of the search grid.
 pub fn centre_of_points_in(points: &[DVec2], min: DVec2, side: f64) -> DVec2 {

@@ -19,10 +19,10 @@
 //! * **Reference.** The next densest square clear of the exemplar (another village) is measured on the same
 //!   bins: the natural variation between two real villages.
 
-use crate::geojson::{geometry, read_features};
+use crate::geojson::{geometry, read_features, tag, FOOT_AND_BRIDLE_WAYS};
 use crate::real_data::{real_data_dir, require, Projection};
-use crate::squares::{centre_of_points_in, square, squares_by_count};
-use serde_json::Value;
+use crate::rings::area_centroid;
+use crate::squares::{centre_of_points_in, points_in, square, squares_by_count};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 use worldpaint_core::geom::DVec2;
@@ -43,15 +43,8 @@ pub fn data_dir() -> PathBuf {
 const ROADS_FILE: &str = "north_bayreuth_roads.geojson";
 const BUILDINGS_FILE: &str = "north_bayreuth_buildings.geojson";
 
-/// `highway` values of ways for people on foot, on bicycles or on horses: not part of the road network.
-const NOT_ROADS: [&str; 6] = [
-    "footway",
-    "path",
-    "cycleway",
-    "steps",
-    "pedestrian",
-    "bridleway",
-];
+/// Twice the area (m²) within which a building's rings count as enclosing none.
+const FLAT_RINGS: f64 = 1e-6;
 /// Side of the exemplar square (m).
 pub const SIDE: f64 = 1000.0;
 /// Step of the grid of candidate squares (m).
@@ -77,28 +70,6 @@ pub struct Layers {
     pub centre: [f64; 2],
 }
 
-/// The area centroid of outer rings (the mean of their vertices when they enclose no area).
-fn centroid(rings: &[Vec<DVec2>]) -> DVec2 {
-    let o = rings[0][0];
-    let (mut area, mut sum) = (0.0, DVec2::ZERO);
-    let (mut mean, mut n) = (DVec2::ZERO, 0.0);
-    for ring in rings {
-        for (i, p) in ring.iter().enumerate() {
-            let (p, q) = (*p - o, ring[(i + 1) % ring.len()] - o);
-            let cross = p.perp_dot(q);
-            area += cross;
-            sum += (p + q) * cross;
-            mean += p;
-            n += 1.0;
-        }
-    }
-    if area.abs() > 1e-6 {
-        o + sum / (3.0 * area)
-    } else {
-        o + mean / n
-    }
-}
-
 /// Loads the two layers; `Ok(None)` when a file is absent, `Err` when one cannot be read.
 fn load(dir: &Path) -> Result<Layers, String> {
     let (roads_path, buildings_path) = (dir.join(ROADS_FILE), dir.join(BUILDINGS_FILE));
@@ -107,12 +78,8 @@ fn load(dir: &Path) -> Result<Layers, String> {
     let mut not_roads = 0usize;
     let mut roads_ll: Vec<Vec<[f64; 2]>> = Vec::new();
     for f in read_features(&roads_path)? {
-        let highway = f
-            .get("properties")
-            .and_then(|p| p.get("highway"))
-            .and_then(Value::as_str);
-        match (highway, geometry(&f)) {
-            (Some(h), Some(_)) if NOT_ROADS.contains(&h) => not_roads += 1,
+        match (tag(&f, "highway"), geometry(&f)) {
+            (Some(h), Some(_)) if FOOT_AND_BRIDLE_WAYS.contains(&h) => not_roads += 1,
             (Some(_), Some(lines)) => roads_ll.extend(lines),
             _ => unreadable += 1,
         }
@@ -154,7 +121,7 @@ fn load(dir: &Path) -> Result<Layers, String> {
                 .iter()
                 .map(|r| r.iter().map(project).collect())
                 .collect();
-            centroid(&rings)
+            area_centroid(&rings, FLAT_RINGS)
         })
         .collect();
     let bbox = houses.iter().fold(
@@ -374,11 +341,7 @@ fn measure_houses(
     relearned: &Color,
     exemplar: &Color,
 ) -> Houses {
-    let inside: Vec<DVec2> = houses
-        .iter()
-        .copied()
-        .filter(|p| region.contains(*p))
-        .collect();
+    let inside = points_in(houses, region);
     let per_m2 = inside.len() as f64 / region.area();
     let index = SegmentIndex::new(planar_graph(paths).segments());
     let mut d: Vec<f64> = inside.iter().map(|p| index.distance(*p, 1e4)).collect();
