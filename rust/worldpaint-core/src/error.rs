@@ -246,6 +246,21 @@ pub mod check {
         crate::limits::check(what, found as f64, limit as u64, "items")
     }
 
+    /// A grid of `found` (nx, ny) nodes laid on a terrain of `terrain` nodes: they must be the same.
+    pub fn fits_terrain(what: &str, found: (usize, usize), terrain: (usize, usize)) -> Result<()> {
+        if found == terrain {
+            Ok(())
+        } else {
+            Err(Error::invalid(
+                what,
+                format!(
+                    "{}x{} nodes do not fit a {}x{} terrain",
+                    found.0, found.1, terrain.0, terrain.1
+                ),
+            ))
+        }
+    }
+
     /// `found` items where `expected` are needed.
     pub fn same_len(what: &str, found: usize, expected: usize) -> Result<()> {
         if found == expected {

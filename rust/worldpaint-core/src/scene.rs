@@ -128,6 +128,14 @@ pub struct Scene {
 }
 
 impl Scene {
+    /// An empty scene on `terrain`.
+    pub fn on(terrain: Arc<Heightfield>) -> Scene {
+        Scene {
+            terrain: Some(terrain),
+            ..Default::default()
+        }
+    }
+
     /// The index of the category called `name`, if the scene has one.
     pub fn category_index(&self, name: &str) -> Option<usize> {
         self.categories.iter().position(|c| c.name == name)

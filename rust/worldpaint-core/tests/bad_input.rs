@@ -33,10 +33,7 @@ fn forest_color() -> Color {
 }
 
 fn on_flat_terrain() -> Scene {
-    Scene {
-        terrain: Some(flat_terrain()),
-        ..Default::default()
-    }
+    Scene::on(flat_terrain())
 }
 
 /// The color's file with one field replaced, read back.
@@ -50,16 +47,14 @@ fn read_with(
 }
 
 fn refused_naming(result: worldpaint_core::Result<Color>, words: &[&str]) {
-    match result {
-        Err(e @ Error::Parse { .. }) => {
-            let m = e.to_string();
-            assert!(m.starts_with("not a valid color file"), "{m}");
-            for w in words {
-                assert!(m.contains(w), "'{m}' should name '{w}'");
-            }
-        }
-        Err(e) => panic!("refused, but as {e:?}"),
-        Ok(_) => panic!("accepted a file with {words:?}"),
+    let e = result
+        .err()
+        .unwrap_or_else(|| panic!("a file with {words:?} was accepted"));
+    assert!(matches!(e, Error::Parse { .. }), "refused, but as {e:?}");
+    let m = e.to_string();
+    assert!(m.starts_with("not a valid color file"), "{m}");
+    for w in words {
+        assert!(m.contains(w), "'{m}' should name '{w}'");
     }
 }
 
@@ -228,26 +223,22 @@ fn a_move_off_the_terrain_keeps_what_it_cannot_place() {
     scene.instances = first.instances;
     let before = scene.instances.len();
     assert!(before > 50, "{before}");
-    let moved = move_region(
-        &scene,
-        &color,
-        &source,
-        DVec2::new(1000.0, 0.0),
-        &AdaptOptions::default(),
-    )
-    .unwrap();
+    let move_by = |dx: f64| {
+        move_region(
+            &scene,
+            &color,
+            &source,
+            DVec2::new(dx, 0.0),
+            &AdaptOptions::default(),
+        )
+        .unwrap()
+    };
+    let moved = move_by(1000.0);
     assert_eq!(moved.stayed, before);
     assert_eq!(moved.moved, 0);
     assert!(moved.edit.removed.is_empty() && moved.edit.added.is_empty());
     // half on, half off: what lands on the terrain moves, the rest stays
-    let moved = move_region(
-        &scene,
-        &color,
-        &source,
-        DVec2::new(155.0, 0.0),
-        &AdaptOptions::default(),
-    )
-    .unwrap();
+    let moved = move_by(155.0);
     assert!(
         moved.stayed > 0 && moved.moved > 0,
         "{} stayed, {} moved",

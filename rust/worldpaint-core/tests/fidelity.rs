@@ -303,10 +303,7 @@ fn a_grove_learned_on_flat_ground_pastes_on_hills_at_its_density() {
         slopes.iter().filter(|s| **s > 10.0).count() * 4 > slopes.len(),
         "the hills are not flat"
     );
-    let scene = Scene {
-        terrain: Some(hills.into()),
-        ..Default::default()
-    };
+    let scene = Scene::on(hills.into());
     let paint = Region::Rect {
         min: DVec2::splat(100.0),
         max: DVec2::splat(500.0),

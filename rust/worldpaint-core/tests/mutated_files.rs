@@ -46,6 +46,13 @@ const EXTREMES: &[f64] = &[
     4294967296.0,
 ];
 
+fn square(min: f64, max: f64) -> Region {
+    Region::Rect {
+        min: DVec2::splat(min),
+        max: DVec2::splat(max),
+    }
+}
+
 fn assets() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../assets")
 }
@@ -59,10 +66,7 @@ fn read_asset(path: &str) -> Value {
 /// A palette of two colors learned here: a clustered forest with a terrain map, and a hard-core one.
 fn palette_file() -> Value {
     let terrain = Arc::new(exemplar::demo_terrain(100.0, 2.0, 1));
-    let region = Region::Rect {
-        min: DVec2::splat(10.0),
-        max: DVec2::splat(60.0),
-    };
+    let region = square(10.0, 60.0);
     let mut forest = scene_from_points("tree", &exemplar::clustered(&region, 0.002, 8.0, 4.0, 2));
     forest.terrain = Some(terrain);
     let rocks = scene_from_points("rock", &exemplar::hard_core(&region, 0.03, 2.0, 3));
@@ -154,14 +158,7 @@ fn mutate(file: &Value, rng: &mut ChaCha8Rng) -> Value {
 
 /// Pastes every color of the palette in a 40 m square of a 100 m terrain, cancelling after 3 s.
 fn paste_all(palette: &Palette, terrain: &Arc<Heightfield>) {
-    let scene = Scene {
-        terrain: Some(terrain.clone()),
-        ..Default::default()
-    };
-    let square = Region::Rect {
-        min: DVec2::splat(30.0),
-        max: DVec2::splat(70.0),
-    };
+    let (scene, square) = (Scene::on(terrain.clone()), square(30.0, 70.0));
     for color in &palette.colors {
         let started = Instant::now();
         let cancel = |_: f64| started.elapsed() < CANCEL_AFTER;

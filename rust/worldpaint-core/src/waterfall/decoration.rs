@@ -688,15 +688,7 @@ pub(crate) fn scatter_rocks(
     seed: u64,
 ) -> Result<Vec<Rock>> {
     options.validate()?;
-    if terrain.nx != maps.nx || terrain.ny != maps.ny {
-        return Err(Error::invalid(
-            "water maps",
-            format!(
-                "{}x{} nodes do not fit a {}x{} terrain",
-                maps.nx, maps.ny, terrain.nx, terrain.ny
-            ),
-        ));
-    }
+    check::fits_terrain("water maps", (maps.nx, maps.ny), (terrain.nx, terrain.ny))?;
     let color = match &options.rock_color {
         Some(c) => following_the_rock_map(c)?,
         None => river_rock_color()?.clone(),

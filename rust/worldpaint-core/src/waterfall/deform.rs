@@ -26,7 +26,7 @@
 
 use super::integration::{Footprint, WaterMesh, WaterPart};
 use super::{ControllerKind, WaterfallNetwork, WaterfallType};
-use crate::error::{check, Error, Result};
+use crate::error::{check, Result};
 use crate::terrain::Heightfield;
 use crate::terrain_edit::{
     diffuse, diffuse_horizontal, Constraints, Diffusion, DiffusionOptions, HorizontalConstraints,
@@ -121,15 +121,11 @@ pub(crate) fn deform(
     options: &DeformOptions,
 ) -> Result<TerrainDeformation> {
     options.validate()?;
-    if footprint.nx != terrain.nx || footprint.ny != terrain.ny {
-        return Err(Error::invalid(
-            "water footprint",
-            format!(
-                "{}x{} nodes do not fit a {}x{} terrain",
-                footprint.nx, footprint.ny, terrain.nx, terrain.ny
-            ),
-        ));
-    }
+    check::fits_terrain(
+        "water footprint",
+        (footprint.nx, footprint.ny),
+        (terrain.nx, terrain.ny),
+    )?;
     let nx = terrain.nx;
     let bank = options.bank(terrain.cell);
     let mut c = Constraints::for_terrain(terrain);
