@@ -4,7 +4,8 @@
 //! * `synthesis/100k_3_categories`: ~100,000 instances painted on 1 km² of demo terrain from a color learned
 //!   from generated exemplars (uniform trees, hard-core rocks, clustered grass; slope map);
 //! * `learn_color/slope_scene`: learning the color of the 200 m slope exemplar (3 categories, slope and
-//!   elevation maps);
+//!   elevation maps), and `learn_color/slope_scene_in_*_vertices` the same inside a drawn outline of 10^4 and
+//!   10^6 vertices;
 //! * `terrain/from_mesh_*`: a heightfield from a 1M-triangle irregular mesh (jittered grid, rasterized) and
 //!   from a 1025² regular grid mesh (used as a lattice).
 //!
@@ -157,6 +158,21 @@ fn bench_learn(c: &mut Criterion) {
     group.bench_function("slope_scene", |b| {
         b.iter(|| learn_color(black_box(&scene), &region, "slope", &opts))
     });
+    // the same exemplar inside a drawn outline of 10^4 and 10^6 vertices (a circle of 90 m), whose cost the
+    // engine bounds by simplifying outlines of more than 16,384 vertices
+    for n in [10_000usize, 1_000_000] {
+        let outline = Region::Polygon {
+            points: (0..n)
+                .map(|k| {
+                    let a = k as f64 / n as f64 * std::f64::consts::TAU;
+                    DVec2::new(100.0 + 90.0 * a.cos(), 100.0 + 90.0 * a.sin())
+                })
+                .collect(),
+        };
+        group.bench_function(format!("slope_scene_in_{n}_vertices"), |b| {
+            b.iter(|| learn_color(black_box(&scene), &outline, "slope", &opts))
+        });
+    }
     group.finish();
 }
 

@@ -4,6 +4,7 @@
 
 use worldpaint_core::exemplar::village_terrain;
 use worldpaint_core::geom::DVec2;
+use worldpaint_core::terrain_edit::{embed_roads, Road as EmbeddedRoad, RoadOptions};
 use worldpaint_core::village::encyclopedia::Event;
 use worldpaint_core::village::generate::{generate, Village, VillageRequest};
 use worldpaint_core::village::metrics::{
@@ -293,5 +294,47 @@ fn a_request_for_more_houses_than_the_land_holds_stops_when_it_is_full() {
             "a million houses accepted: {:?}",
             other.map(|v| v.seeds.len())
         ),
+    }
+}
+
+#[test]
+fn a_village_over_the_whole_terrain_keeps_its_roads_on_it_and_they_embed() {
+    let terrain = village_terrain(200.0, 2.0, 6);
+    let enc = encyclopedia();
+    let scenario = scenario("farming", 10);
+    let (lo, hi) = terrain.bbox();
+    for seed in 0..6 {
+        let request = VillageRequest {
+            terrain: &terrain,
+            region: Region::Rect { min: lo, max: hi },
+            connections: Vec::new(),
+            existing_roads: Vec::new(),
+            environment: Environment::default(),
+            encyclopedia: &enc,
+            scenario: &scenario,
+            seed,
+            cell: 2.0,
+            parcel_cell: 1.0,
+        };
+        let v = generate(&request, &|_, _| true).expect("the village grows");
+        let on_terrain = |p: &DVec2| terrain.contains(*p);
+        assert!(
+            v.roads.iter().all(|r| r.points.iter().all(on_terrain)),
+            "seed {seed}"
+        );
+        let roads: Vec<EmbeddedRoad> = v
+            .roads
+            .iter()
+            .filter(|r| r.points.len() >= 2)
+            .map(|r| EmbeddedRoad {
+                centreline: r.points.clone(),
+                heights: None,
+                width: enc.roads.width,
+                bank_width: 2.0,
+            })
+            .collect();
+        if let Err(e) = embed_roads(&terrain, &roads, &RoadOptions::default()) {
+            panic!("seed {seed}: {e}");
+        }
     }
 }

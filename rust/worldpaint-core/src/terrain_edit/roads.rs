@@ -204,6 +204,10 @@ fn profile(
     options: &RoadOptions,
 ) -> Result<RoadProfile> {
     let (points, s, heights) = resample(road, 0.5 * terrain.cell);
+    // the smooth curve through points on the terrain can bulge past its border by a fraction of a cell (a road
+    // along the border of a village that fills the terrain): it is held on the terrain
+    let (lo, hi) = terrain.bbox();
+    let points: Vec<DVec2> = points.into_iter().map(|p| p.clamp(lo, hi)).collect();
     let z = match heights {
         Some(h) => h,
         None => {
