@@ -140,9 +140,8 @@ pub(crate) fn build_waterfall<'py>(
     }
     if let Some(json) = rock_color {
         options.decoration.rock_color = Some(guarded(|| {
-            Color::from_json(json).map_err(|e| {
-                Error::invalid("rock_color", format!("is not a color: {}", e.reason()))
-            })
+            Color::from_json(json)
+                .map_err(|e| Error::invalid("rock_color is not a color", e.reason()))
         })?);
     }
     let (s, change, shift, wet) = py.detach(|| {
