@@ -3,7 +3,8 @@
 //! [`AdaptOptions`]), which keeps what still fits exactly where the move put it.
 //!
 //! The moved content replaces the unlocked content of the destination (as a moved selection covers what lies
-//! under it in a painting program); the part of the source it leaves is left empty. Locked content stays where it
+//! under it in a painting program); the part of the source it leaves is left empty. Instances the move would put
+//! off the terrain stay where they were (counted in [`Moved::stayed`]): moving them would delete them. Locked content stays where it
 //! is, in the source and in the destination, and conditions the adaptation. A drag recomputes the move from the
 //! original scene at each step with the same seed, so each intermediate result is the same function of the
 //! offset and nothing flickers. The unlocked parts of paths and contours inside the source move rigidly too (cut
