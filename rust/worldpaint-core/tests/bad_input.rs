@@ -7,6 +7,7 @@ use worldpaint_core::exemplar::{self, scene_from_points};
 use worldpaint_core::geom::DVec2;
 use worldpaint_core::synthesis::AdaptOptions;
 use worldpaint_core::tools::moving::move_region;
+use worldpaint_core::tools::stretch::{stretch, Side, StretchOptions};
 use worldpaint_core::{
     learn_color, synthesize, AnalysisOptions, Color, Error, Heightfield, Palette, Region, Scene,
     SynthesisOptions,
@@ -202,6 +203,13 @@ fn work_past_the_limits_is_refused_before_it_is_allocated() {
         Err(e) => assert!(e.to_string().contains("'house'"), "{e}"),
         Ok(_) => panic!("an unknown oriented pair was accepted"),
     }
+    // a mirrored example instance
+    let mut mirrored = forest.clone();
+    mirrored.instances[0].scale = -1.0;
+    match learn_color(&mirrored, &square, "mirrored", &AnalysisOptions::default()) {
+        Err(e) => assert!(e.to_string().contains("scales must be positive"), "{e}"),
+        Ok(_) => panic!("a negative scale was learned"),
+    }
     // a region nested past the depth limit
     let mut nested = rect((0.0, 0.0), (10.0, 10.0));
     for _ in 0..100 {
@@ -264,5 +272,35 @@ fn a_scaled_plane_is_read_with_its_own_extent() {
     assert!(
         (hi.x - 500.0).abs() < 1e-6 && (hi.y - 250.0).abs() < 1e-6,
         "{hi}"
+    );
+}
+
+#[test]
+fn a_stretch_far_past_the_terrain_does_not_cram_what_it_moves() {
+    let color = forest_color();
+    let mut scene = on_flat_terrain();
+    let whole = rect((0.0, 0.0), (200.0, 200.0));
+    let first = synthesize(&scene, &color, &whole, &Default::default()).unwrap();
+    scene.categories = first.categories;
+    scene.instances = first.instances;
+    let stretched = stretch(
+        &scene,
+        &rect((20.0, 20.0), (180.0, 180.0)),
+        Side::East,
+        10_000.0,
+        Some(&color),
+        &StretchOptions::default(),
+        &|_| true,
+    )
+    .unwrap();
+    let edit = &stretched.edit;
+    let kept = (0..scene.instances.len())
+        .filter(|k| !edit.removed.contains(k))
+        .count();
+    let after = kept + edit.added.iter().filter(|i| i.position.x <= 200.0).count();
+    let full = color.categories[0].density * 200.0 * 200.0;
+    assert!(
+        after as f64 <= 1.3 * full,
+        "{after} instances on a terrain that holds {full:.0}"
     );
 }

@@ -187,6 +187,19 @@ fn exemplar_groups<'s>(
                 "has instances at non-finite positions",
             ));
         }
+        // a mirrored instance (negative scale) or a vanished one would be learned as a size that cannot be painted
+        if let Some(i) = instances
+            .iter()
+            .find(|i| !(i.scale.is_finite() && i.scale > 0.0))
+        {
+            return Err(Error::invalid(
+                format!("category '{}'", category.name),
+                format!(
+                    "has an instance at ({:.2}, {:.2}) of scale {}: scales must be positive",
+                    i.position.x, i.position.y, i.scale
+                ),
+            ));
+        }
         groups.push(Group::new(category, instances));
     }
     if groups.is_empty() {
