@@ -1,7 +1,8 @@
-//! The engine's work budget, in one place. Every entry point estimates the work an input asks for (instances, grid
-//! cells, histogram bins, region vertices, nesting depth) from the input alone and refuses it with
-//! [`Error::TooLarge`] before allocating anything, so no input (a typo, a shared file with one bad number) can
-//! exhaust memory or hang the host application. The limits are far above real use: a 10 × 10 km world painted at
+//! The engine's work budget, in one place. Synthesis, learning, terrains, regions, colors read from files and
+//! village scenarios estimate the work an input asks for (instances, grid cells, histogram bins, region vertices,
+//! nesting depth, buildings) from the input alone and refuse it with [`Error::TooLarge`] before allocating
+//! anything, so that a typo or a shared file with one bad number cannot exhaust memory or hang the host
+//! application. (The village grid and the bucket indexes keep their own bounds, in [`crate::grid`].) The limits are far above real use: a 10 × 10 km world painted at
 //! forest density is about 5M trees per call; a 4,096² terrain is 16.8M cells.
 
 use crate::error::{Error, Result};
