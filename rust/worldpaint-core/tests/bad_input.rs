@@ -37,6 +37,15 @@ fn on_flat_terrain() -> Scene {
     Scene::on(flat_terrain())
 }
 
+/// The flat terrain with `color` painted in `region`.
+fn forest_on_flat_terrain(color: &Color, region: &Region) -> Scene {
+    let mut scene = on_flat_terrain();
+    let painted = synthesize(&scene, color, region, &Default::default()).unwrap();
+    scene.categories = painted.categories;
+    scene.instances = painted.instances;
+    scene
+}
+
 /// The color's file with one field replaced, read back.
 fn read_with(
     color: &Color,
@@ -224,11 +233,8 @@ fn work_past_the_limits_is_refused_before_it_is_allocated() {
 #[test]
 fn a_move_off_the_terrain_keeps_what_it_cannot_place() {
     let color = forest_color();
-    let mut scene = on_flat_terrain();
     let source = rect((20.0, 20.0), (70.0, 70.0));
-    let first = synthesize(&scene, &color, &source, &Default::default()).unwrap();
-    scene.categories = first.categories;
-    scene.instances = first.instances;
+    let scene = forest_on_flat_terrain(&color, &source);
     let before = scene.instances.len();
     assert!(before > 50, "{before}");
     let move_by = |dx: f64| {
@@ -278,11 +284,7 @@ fn a_scaled_plane_is_read_with_its_own_extent() {
 #[test]
 fn a_stretch_far_past_the_terrain_does_not_cram_what_it_moves() {
     let color = forest_color();
-    let mut scene = on_flat_terrain();
-    let whole = rect((0.0, 0.0), (200.0, 200.0));
-    let first = synthesize(&scene, &color, &whole, &Default::default()).unwrap();
-    scene.categories = first.categories;
-    scene.instances = first.instances;
+    let scene = forest_on_flat_terrain(&color, &rect((0.0, 0.0), (200.0, 200.0)));
     let stretched = stretch(
         &scene,
         &rect((20.0, 20.0), (180.0, 180.0)),
