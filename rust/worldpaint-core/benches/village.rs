@@ -22,7 +22,7 @@ use worldpaint_core::geom::DVec2;
 use worldpaint_core::village::encyclopedia::Event;
 use worldpaint_core::village::generate::{generate, VillageRequest};
 use worldpaint_core::village::interest::StaticMaps;
-use worldpaint_core::village::{Encyclopedia, Environment, Land, Scenario};
+use worldpaint_core::village::{Encyclopedia, Environment, Land, Scenario, Site};
 use worldpaint_core::Region;
 
 const ENCYCLOPEDIA: &str = include_str!("../../../assets/villages/encyclopedia.json");
@@ -60,15 +60,17 @@ fn main() {
         ..Default::default()
     };
     let request = VillageRequest {
-        terrain: &terrain,
-        region: region.clone(),
+        site: Site {
+            terrain: &terrain,
+            region: region.clone(),
+            environment: environment.clone(),
+            cell: 2.0,
+        },
         connections: Vec::new(),
         existing_roads: Vec::new(),
-        environment: environment.clone(),
         encyclopedia: &enc,
         scenario: &scenario,
         seed: 1,
-        cell: 2.0,
         parcel_cell: 1.0,
     };
     let one = match generate(&request, &|_, _| true) {

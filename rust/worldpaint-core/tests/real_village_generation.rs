@@ -58,7 +58,7 @@ use worldpaint_core::geom::DVec2;
 use worldpaint_core::village::encyclopedia::Event;
 use worldpaint_core::village::generate::{generate, Stage, Village, VillageRequest};
 use worldpaint_core::village::parcels::{parcel_statistics, ParcelStatistics};
-use worldpaint_core::village::{Encyclopedia, Environment, Scenario};
+use worldpaint_core::village::{Encyclopedia, Environment, Scenario, Site};
 use worldpaint_core::Error;
 
 const ENCYCLOPEDIA: &str = include_str!("../../../assets/villages/encyclopedia.json");
@@ -175,18 +175,20 @@ fn generate_on(
     let asked = column.window.buildings.min(MAX_BUILDINGS);
     let scenario = scenario(style, asked);
     let request = VillageRequest {
-        terrain,
-        region: column.window.region.clone(),
+        site: Site {
+            terrain,
+            region: column.window.region.clone(),
+            environment: Environment {
+                water_areas: real::water_near(place, &column.window),
+                ..Default::default()
+            },
+            cell: CELL,
+        },
         connections: column.real.connections.clone(),
         existing_roads: Vec::new(),
-        environment: Environment {
-            water_areas: real::water_near(place, &column.window),
-            ..Default::default()
-        },
         encyclopedia: enc,
         scenario: &scenario,
         seed: SEED,
-        cell: CELL,
         parcel_cell: PARCEL_CELL,
     };
     let t0 = Instant::now();

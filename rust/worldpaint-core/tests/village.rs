@@ -12,7 +12,7 @@ use worldpaint_core::village::metrics::{
     unreachable_footprints,
 };
 use worldpaint_core::village::parcels::parcel_statistics;
-use worldpaint_core::village::{Encyclopedia, Environment, Road, Scenario, ScenarioPresets};
+use worldpaint_core::village::{Encyclopedia, Environment, Road, Scenario, ScenarioPresets, Site};
 use worldpaint_core::{Error, Heightfield, Region};
 
 const ENCYCLOPEDIA: &str = include_str!("../../../assets/villages/encyclopedia.json");
@@ -45,26 +45,45 @@ fn scenario(village_type: &str, houses: u32) -> Scenario {
     }
 }
 
-fn village(terrain: &Heightfield, enc: &Encyclopedia, scenario: &Scenario, seed: u64) -> Village {
-    let request = VillageRequest {
-        terrain,
-        region: Region::Rect {
-            min: DVec2::splat(20.0),
-            max: DVec2::splat(980.0),
+/// A request on `region` of `terrain` with no roads or connections given, 2 m skeleton cells and 1 m parcel cells.
+fn request<'a>(
+    terrain: &'a Heightfield,
+    region: Region,
+    environment: Environment,
+    enc: &'a Encyclopedia,
+    scenario: &'a Scenario,
+    seed: u64,
+) -> VillageRequest<'a> {
+    VillageRequest {
+        site: Site {
+            terrain,
+            region,
+            environment,
+            cell: 2.0,
         },
         connections: Vec::new(),
         existing_roads: Vec::new(),
-        environment: Environment {
-            water_level: Some(0.0),
-            ..Default::default()
-        },
         encyclopedia: enc,
         scenario,
         seed,
-        cell: 2.0,
         parcel_cell: 1.0,
+    }
+}
+
+fn village(terrain: &Heightfield, enc: &Encyclopedia, scenario: &Scenario, seed: u64) -> Village {
+    let region = Region::Rect {
+        min: DVec2::splat(20.0),
+        max: DVec2::splat(980.0),
     };
-    generate(&request, &|_, _| true).expect("the village grows")
+    let sea = Environment {
+        water_level: Some(0.0),
+        ..Default::default()
+    };
+    generate(
+        &request(terrain, region, sea, enc, scenario, seed),
+        &|_, _| true,
+    )
+    .expect("the village grows")
 }
 
 fn roads(v: &Village) -> &[Road] {
@@ -211,20 +230,19 @@ fn bad_scenarios_and_cancelling_give_clear_errors() {
             building: "house".into(),
         }],
     };
-    let request = |scenario: &'static Scenario| VillageRequest {
-        terrain: &terrain,
-        region: Region::Rect {
-            min: DVec2::ZERO,
-            max: DVec2::splat(400.0),
-        },
-        connections: Vec::new(),
-        existing_roads: Vec::new(),
-        environment: Environment::default(),
-        encyclopedia: &enc,
-        scenario,
-        seed: 0,
-        cell: 2.0,
-        parcel_cell: 1.0,
+    let region = Region::Rect {
+        min: DVec2::ZERO,
+        max: DVec2::splat(400.0),
+    };
+    let request = |scenario: &'static Scenario| {
+        request(
+            &terrain,
+            region.clone(),
+            Environment::default(),
+            &enc,
+            scenario,
+            0,
+        )
     };
     let bad: &'static Scenario = Box::leak(Box::new(bad));
     let err = generate(&request(bad), &|_, _| true).expect_err("generate before a village type");
@@ -259,21 +277,11 @@ fn a_request_for_more_houses_than_the_land_holds_stops_when_it_is_full() {
     let enc = encyclopedia();
     let grow = |houses: u32| {
         let scenario = scenario("farming", houses);
-        let request = VillageRequest {
-            terrain: &terrain,
-            region: Region::Rect {
-                min: DVec2::splat(5.0),
-                max: DVec2::splat(155.0),
-            },
-            connections: Vec::new(),
-            existing_roads: Vec::new(),
-            environment: Environment::default(),
-            encyclopedia: &enc,
-            scenario: &scenario,
-            seed: 3,
-            cell: 2.0,
-            parcel_cell: 1.0,
+        let region = Region::Rect {
+            min: DVec2::splat(5.0),
+            max: DVec2::splat(155.0),
         };
+        let request = request(&terrain, region, Environment::default(), &enc, &scenario, 3);
         generate(&request, &|_, _| true)
     };
     let full = grow(400).expect("a full village");
@@ -304,18 +312,15 @@ fn a_village_over_the_whole_terrain_keeps_its_roads_on_it_and_they_embed() {
     let scenario = scenario("farming", 10);
     let (lo, hi) = terrain.bbox();
     for seed in 0..6 {
-        let request = VillageRequest {
-            terrain: &terrain,
-            region: Region::Rect { min: lo, max: hi },
-            connections: Vec::new(),
-            existing_roads: Vec::new(),
-            environment: Environment::default(),
-            encyclopedia: &enc,
-            scenario: &scenario,
+        let whole = Region::Rect { min: lo, max: hi };
+        let request = request(
+            &terrain,
+            whole,
+            Environment::default(),
+            &enc,
+            &scenario,
             seed,
-            cell: 2.0,
-            parcel_cell: 1.0,
-        };
+        );
         let v = generate(&request, &|_, _| true).expect("the village grows");
         let on_terrain = |p: &DVec2| terrain.contains(*p);
         assert!(

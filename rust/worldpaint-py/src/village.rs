@@ -11,7 +11,7 @@ use worldpaint_core::village::generate::{
     generate, interest_at, InterestRequest, Stage, VillageRequest,
 };
 use worldpaint_core::village::interest::Criterion;
-use worldpaint_core::village::{BuildingSeed, Encyclopedia, Environment, Scenario};
+use worldpaint_core::village::{BuildingSeed, Encyclopedia, Environment, Scenario, Site};
 
 const ENCYCLOPEDIA: &str = include_str!("../../../assets/villages/encyclopedia.json");
 const SCENARIOS: &str = include_str!("../../../assets/villages/scenarios.json");
@@ -136,15 +136,17 @@ pub(crate) fn generate_village<'py>(
         None => Vec::new(),
     };
     let request = VillageRequest {
-        terrain: &hf,
-        region,
+        site: Site {
+            terrain: &hf,
+            region,
+            environment: environment(water_level, water_areas, rivers, river_half_width, walls)?,
+            cell,
+        },
         connections,
         existing_roads: polylines(existing_roads, "existing road")?,
-        environment: environment(water_level, water_areas, rivers, river_half_width, walls)?,
         encyclopedia: &encyclopedia,
         scenario: &scenario,
         seed,
-        cell,
         parcel_cell,
     };
     let village = with_stages(py, progress, |report| {
@@ -310,16 +312,18 @@ pub(crate) fn village_interest<'py>(
         .collect();
     let roads = polylines(roads, "road")?;
     let request = InterestRequest {
-        terrain: &hf,
-        region,
-        environment: environment(water_level, water_areas, rivers, river_half_width, walls)?,
+        site: Site {
+            terrain: &hf,
+            region,
+            environment: environment(water_level, water_areas, rivers, river_half_width, walls)?,
+            cell,
+        },
         encyclopedia: &encyclopedia,
         village_type,
         building,
         criterion,
         buildings: &buildings,
         roads: &roads,
-        cell,
     };
     let values = py.detach(|| guarded(|| interest_at(&request, &pts)))?;
     Ok(values.into_pyarray(py))

@@ -6,17 +6,16 @@ use super::encyclopedia::{Encyclopedia, Event, Scenario};
 use super::footprint::footprint;
 use super::house::house;
 use super::interest::{criteria, interest, Criterion, StaticMaps, VillageState};
-use super::land::{Environment, Land};
+use super::land::{Land, Site};
 use super::metrics::on_water;
 use super::parcels::{parcels, ParcelSeed};
 use super::roads::RoadNetwork;
 use super::seeding::seed_building;
 use super::{BuildingSeed, Footprint, HouseMesh, Parcel, Road};
-use crate::error::{check, Error, Result};
+use crate::error::{Error, Result};
 use crate::geom::Region;
 use crate::graph::SegmentIndex;
 use crate::synthesis::mix_seed;
-use crate::terrain::Heightfield;
 use glam::DVec2;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -31,25 +30,19 @@ const MAX_FAILURES_IN_A_ROW: usize = 32;
 
 /// Everything a village is generated from.
 pub struct VillageRequest<'a> {
-    /// The terrain the village is built on.
-    pub terrain: &'a Heightfield,
-    /// The region of interest `Ω`.
-    pub region: Region,
+    /// The terrain, the region of interest `Ω`, the water and walls, and the skeleton's grid cell.
+    pub site: Site<'a>,
     /// Connection points `Ψ` to the outside world; empty: where existing roads cross the region's border, else the
     /// lowest point of the border.
     pub connections: Vec<DVec2>,
     /// Roads already there (kept as they are; new roads re-use them).
     pub existing_roads: Vec<Vec<DVec2>>,
-    /// Water and fortification walls.
-    pub environment: Environment,
     /// The building types and their placement per village type.
     pub encyclopedia: &'a Encyclopedia,
     /// What to build, in order.
     pub scenario: &'a Scenario,
     /// Seed of every random choice: the same request gives the same village.
     pub seed: u64,
-    /// Grid cell (m) of the skeleton: interests and roads.
-    pub cell: f64,
     /// Grid cell (m) of the land conquest (the skeleton's cell when 0).
     pub parcel_cell: f64,
 }
@@ -177,21 +170,15 @@ pub fn generate(
     let enc = request.encyclopedia;
     enc.validate()?;
     enc.check_scenario(request.scenario)?;
-    check::positive("village grid cell", request.cell)?;
     let started = Instant::now();
-    let land = Land::new(
-        request.terrain,
-        &request.region,
-        &request.environment,
-        request.cell,
-    )?;
+    let land = request.site.land()?;
     if !land.inside().iter().any(|v| *v) {
         return Err(Error::bad_region(
             "the village region holds no node of its grid; use a finer cell",
         ));
     }
     let connections = if request.connections.is_empty() {
-        default_connections(&land, &request.region, &request.existing_roads)
+        default_connections(&land, &request.site.region, &request.existing_roads)
     } else {
         request.connections.clone()
     };
@@ -317,7 +304,7 @@ pub fn generate(
     let parcel_cell = if request.parcel_cell > 0.0 {
         request.parcel_cell
     } else {
-        request.cell
+        request.site.cell
     };
     let conquered = parcels(
         &land,
@@ -370,7 +357,7 @@ pub fn generate(
     if !progress(Stage::Houses, 0.0) {
         return Err(Error::Cancelled);
     }
-    let terrain = request.terrain;
+    let terrain = request.site.terrain;
     let ground = |p: DVec2| terrain.height_at(p).unwrap_or_else(|| land.height_at(p));
     let houses: Vec<HouseMesh> = kept_footprints
         .par_iter()
@@ -404,12 +391,9 @@ pub fn generate(
 
 /// What an interest map is shown for: one building type of one village type, in a village as it stands.
 pub struct InterestRequest<'a> {
-    /// The terrain.
-    pub terrain: &'a Heightfield,
-    /// The region of interest `Ω`.
-    pub region: Region,
-    /// Water and fortification walls.
-    pub environment: Environment,
+    /// The terrain, the region of interest `Ω`, the water and walls, and the cell of the grid the criteria are
+    /// read on.
+    pub site: Site<'a>,
     /// Where the placement parameters come from.
     pub encyclopedia: &'a Encyclopedia,
     /// The village type `V` (a key of the encyclopedia's `village_types`).
@@ -422,20 +406,13 @@ pub struct InterestRequest<'a> {
     pub buildings: &'a [BuildingSeed],
     /// The roads already there, as polylines.
     pub roads: &'a [Vec<DVec2>],
-    /// Grid cell (m) of the land the criteria are read on.
-    pub cell: f64,
 }
 
 /// The interest (or one criterion) at each of `points`, as Fig. 3.5 shows it; 0 outside the region.
 pub fn interest_at(request: &InterestRequest, points: &[DVec2]) -> Result<Vec<f64>> {
     let enc = request.encyclopedia;
     let placement = enc.placement(request.village_type, request.building)?;
-    let land = Land::new(
-        request.terrain,
-        &request.region,
-        &request.environment,
-        request.cell,
-    )?;
+    let land = request.site.land()?;
     let maps = StaticMaps::new(&land, &[placement.domination_radius]);
     let flags = |pick: fn(&super::encyclopedia::BuildingKind) -> bool| -> Vec<bool> {
         request
@@ -463,7 +440,7 @@ pub fn interest_at(request: &InterestRequest, points: &[DVec2]) -> Result<Vec<f6
     Ok(points
         .par_iter()
         .map(|p| {
-            if !request.region.contains(*p) {
+            if !request.site.region.contains(*p) {
                 return 0.0;
             }
             match request.criterion {

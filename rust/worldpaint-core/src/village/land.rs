@@ -39,6 +39,28 @@ pub struct Environment {
     pub walls: Vec<Vec<DVec2>>,
 }
 
+/// Where a village stands: the terrain, the region of interest `Ω` on it and its environment, read every `cell`
+/// metres. Generating a village and reading its interests both start from one.
+#[derive(Clone, Debug)]
+pub struct Site<'a> {
+    /// The terrain.
+    pub terrain: &'a Heightfield,
+    /// The region of interest `Ω`.
+    pub region: Region,
+    /// Water and fortification walls.
+    pub environment: Environment,
+    /// Grid cell (m) of the land: the skeleton's interests and roads are read on it.
+    pub cell: f64,
+}
+
+impl Site<'_> {
+    /// The land of this site, on a grid of its cell.
+    pub fn land(&self) -> Result<Land> {
+        check::positive("village grid cell", self.cell)?;
+        Land::new(self.terrain, &self.region, &self.environment, self.cell)
+    }
+}
+
 impl Land {
     /// Samples the terrain and the environment on a grid of `cell` metres over the region's box.
     pub fn new(

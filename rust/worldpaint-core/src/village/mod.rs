@@ -28,7 +28,7 @@ pub mod roads;
 mod seeding;
 
 pub use encyclopedia::{Encyclopedia, Event, Scenario, ScenarioPresets};
-pub use land::{Environment, Land};
+pub use land::{Environment, Land, Site};
 
 use glam::DVec2;
 use serde::{Deserialize, Serialize};

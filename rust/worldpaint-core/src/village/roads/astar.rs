@@ -121,7 +121,6 @@ impl Search {
             heap,
             flags,
             field,
-            settled,
             corridor,
             ..
         } = self;
@@ -132,8 +131,8 @@ impl Search {
             target,
             building_cost: params.building_cost,
             flags,
-            settled,
-            field,
+            settled: &field.settled,
+            field: &field.cost,
         };
         let mut moves = Moves {
             land,
@@ -143,7 +142,7 @@ impl Search {
             near,
             costs,
             flags,
-            corridor: matches!(estimate, Estimate::Corridor(..)).then_some(&corridor[..]),
+            corridor: matches!(estimate, Estimate::Corridor(..)).then_some(&corridor.inside[..]),
             target,
             steep: query.steep,
             ellipse: query.ellipse,

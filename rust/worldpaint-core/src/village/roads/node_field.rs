@@ -13,6 +13,75 @@ use crate::search::MinHeap;
 /// Half-width (cells) of the corridor around the node-level path.
 pub(super) const CORRIDOR_CELLS: usize = 8;
 
+/// The node-level search's knowledge of each node, reset after each query through the nodes it touched.
+pub(super) struct NodeField {
+    /// Cost from the target plus one (0 = not reached).
+    pub(super) cost: Vec<f32>,
+    /// Whether that cost is final.
+    pub(super) settled: Vec<bool>,
+    /// The move that reached each node.
+    pub(super) moves: Vec<u8>,
+    /// The nodes reached since the last reset.
+    touched: Vec<u32>,
+}
+
+impl NodeField {
+    pub(super) fn new(nodes: usize) -> NodeField {
+        NodeField {
+            cost: vec![0.0; nodes],
+            settled: vec![false; nodes],
+            moves: vec![0; nodes],
+            touched: Vec::new(),
+        }
+    }
+
+    /// Records cost `g` (plus one) and the move `m` that reached `x`.
+    fn reach(&mut self, x: usize, g: f32, m: u8) {
+        if self.cost[x] == 0.0 {
+            self.touched.push(x as u32);
+        }
+        self.cost[x] = g + 1.0;
+        self.moves[x] = m;
+    }
+
+    pub(super) fn clear(&mut self) {
+        for &x in &self.touched {
+            self.cost[x as usize] = 0.0;
+            self.settled[x as usize] = false;
+        }
+        self.touched.clear();
+    }
+}
+
+/// The nodes near the node-level path, reset after each query through the nodes it marked.
+pub(super) struct Corridor {
+    pub(super) inside: Vec<bool>,
+    marked: Vec<u32>,
+}
+
+impl Corridor {
+    pub(super) fn new(nodes: usize) -> Corridor {
+        Corridor {
+            inside: vec![false; nodes],
+            marked: Vec::new(),
+        }
+    }
+
+    fn mark(&mut self, k: usize) {
+        if !self.inside[k] {
+            self.inside[k] = true;
+            self.marked.push(k as u32);
+        }
+    }
+
+    pub(super) fn clear(&mut self) {
+        for &x in &self.marked {
+            self.inside[x as usize] = false;
+        }
+        self.marked.clear();
+    }
+}
+
 /// The turn costs along the node-level path from `target` to `node` (see [`Search::node_field`]).
 fn path_turns(
     table: &MoveTable,
@@ -92,9 +161,6 @@ impl Search {
             flags,
             source_cost,
             field,
-            settled,
-            field_touched,
-            field_move,
             ..
         } = self;
         let mut moves = NodeMoves {
@@ -108,8 +174,7 @@ impl Search {
         };
         let bound = Bound::new(land, table, p, steep);
         let mut heap = MinHeap::new();
-        field[target] = 1.0;
-        field_touched.push(target as u32);
+        field.reach(target, 0.0, 0);
         heap.push(bound.to_sources(target, towards), Deeper::new(0.0, target));
         // the cheapest source reached: its cost and node; then the cost of that path with its turns, which the
         // search runs up to so that the A* that follows need not leave the settled nodes
@@ -118,14 +183,14 @@ impl Search {
         let mut stop = f64::INFINITY;
         while let Some(e) = heap.pop() {
             let (x, gx) = (e.item.state as usize, e.item.g);
-            if settled[x] || gx + 1.0 > field[x] {
+            if field.settled[x] || gx + 1.0 > field.cost[x] {
                 continue;
             }
             if e.cost >= best.0 {
                 let u = *upper.get_or_insert_with(|| {
-                    let (r, t) = (best.1, best.0 - field[best.1] as f64 + 1.0);
-                    t + path_turns(table, &grid, field_move, target, r, p.curvature_weight)
-                        + field[r] as f64
+                    let (r, t) = (best.1, best.0 - field.cost[best.1] as f64 + 1.0);
+                    t + path_turns(table, &grid, &field.moves, target, r, p.curvature_weight)
+                        + field.cost[r] as f64
                         - 1.0
                 });
                 if e.cost >= u {
@@ -133,7 +198,7 @@ impl Search {
                     break;
                 }
             }
-            settled[x] = true;
+            field.settled[x] = true;
             if x != target && moves.source_cost[x] != 0.0 {
                 let c = gx as f64 + (moves.source_cost[x] - 1.0) as f64;
                 if c < best.0 {
@@ -149,18 +214,14 @@ impl Search {
                 let Some(y) = table.target(&grid, x, xij, m) else {
                     continue;
                 };
-                if settled[y] {
+                if field.settled[y] {
                     continue;
                 }
                 let Some(d) = moves.step(x, y, m, gx) else {
                     continue;
                 };
-                if field[y] == 0.0 || d + 1.0 < field[y] {
-                    if field[y] == 0.0 {
-                        field_touched.push(y as u32);
-                    }
-                    field[y] = d + 1.0;
-                    field_move[y] = m as u8;
+                if field.cost[y] == 0.0 || d + 1.0 < field.cost[y] {
+                    field.reach(y, d, m as u8);
                     heap.push(d as f64 + bound.to_sources(y, towards), Deeper::new(d, y));
                 }
             }
@@ -181,17 +242,13 @@ impl Search {
             let (i, j) = g.ij(x);
             for jj in (j as i64 - r).max(0)..=(j as i64 + r).min(g.ny as i64 - 1) {
                 for ii in (i as i64 - r).max(0)..=(i as i64 + r).min(g.nx as i64 - 1) {
-                    let k = g.index(ii as usize, jj as usize);
-                    if !self.corridor[k] {
-                        self.corridor[k] = true;
-                        self.corridor_touched.push(k as u32);
-                    }
+                    self.corridor.mark(g.index(ii as usize, jj as usize));
                 }
             }
             if x == target || steps > g.len() {
                 break;
             }
-            x = (x as isize - self.table.moves[self.field_move[x] as usize].delta) as usize;
+            x = (x as isize - self.table.moves[self.field.moves[x] as usize].delta) as usize;
             steps += 1;
         }
     }

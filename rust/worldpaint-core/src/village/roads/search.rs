@@ -8,6 +8,7 @@ use super::cycles::Ellipse;
 use super::heuristic::{Estimate, SourceBound};
 use super::move_costs::{cached_cost, near, CostKey, NEAR_OUTSIDE, NEAR_WATER};
 use super::moves::{Move, MoveTable};
+use super::node_field::{Corridor, NodeField};
 use super::MAX_STATES;
 use crate::error::{Error, Result};
 use crate::grid::Grid;
@@ -113,19 +114,14 @@ pub(super) struct Search {
     pub(super) exit_nodes: usize,
     /// Initial cost plus one of each source node (0 = not a source).
     pub(super) source_cost: Vec<f32>,
-    /// Node-level cost from the target plus one (0 = not reached), whether it is final, the nodes touched.
-    pub(super) field: Vec<f32>,
-    pub(super) settled: Vec<bool>,
-    pub(super) field_touched: Vec<u32>,
-    /// The move that reached each node in the node-level search.
-    pub(super) field_move: Vec<u8>,
+    /// What the node-level search knows of each node (see [`Search::node_field`]).
+    pub(super) field: NodeField,
     /// States the first A* and the A* with the node-level field may settle (see [`BOUND_BUDGET`],
     /// [`STATE_BUDGET`]).
     pub(super) budget: usize,
     pub(super) state_budget: usize,
     /// Nodes near the node-level path, where an A* over [`STATE_BUDGET`] finishes (see [`Search::run`]).
-    pub(super) corridor: Vec<bool>,
-    pub(super) corridor_touched: Vec<u32>,
+    pub(super) corridor: Corridor,
 }
 
 /// What landing on `y` by move `mv` from `x` adds to `start`: the building cost of each building node passed
@@ -196,20 +192,16 @@ impl Search {
             exit: vec![f64::INFINITY; n],
             exit_nodes: 0,
             source_cost: vec![0.0; n],
-            field: vec![0.0; n],
-            settled: vec![false; n],
-            field_touched: Vec::new(),
-            field_move: vec![0; n],
+            field: NodeField::new(n),
             budget: BOUND_BUDGET,
             state_budget: STATE_BUDGET,
-            corridor: vec![false; n],
-            corridor_touched: Vec::new(),
+            corridor: Corridor::new(n),
             table,
         })
     }
 
     pub(super) fn fits(&self, params: &RoadParams, grid: &Grid) -> bool {
-        self.key == CostKey::of(params) && self.field.len() == grid.len()
+        self.key == CostKey::of(params) && self.field.cost.len() == grid.len()
     }
 
     /// The static cost of move `m` from `x` (see `costs`), computed once.
@@ -241,35 +233,33 @@ impl Search {
         steep: bool,
         ellipse: Option<Ellipse>,
     ) -> Option<(Vec<usize>, f64)> {
-        let query = Query {
+        self.find(&Query {
             ctx,
             sources,
             target,
             steep,
             ellipse,
-        };
+        })
+    }
+
+    /// [`Search::run`] for one query.
+    pub(super) fn find(&mut self, query: &Query) -> Option<(Vec<usize>, f64)> {
+        let sources = query.sources;
         for &(r, t) in sources {
             let v = t as f32 + 1.0;
             if self.source_cost[r] == 0.0 || v < self.source_cost[r] {
                 self.source_cost[r] = v;
             }
         }
-        let found = match self.astar(&query, Estimate::Bound, Some(self.budget)) {
+        let found = match self.astar(query, Estimate::Bound, Some(self.budget)) {
             Outcome::Found(s) => Some(s),
             Outcome::Unreachable => None,
-            Outcome::OverBudget => self.run_on_field(&query),
+            Outcome::OverBudget => self.run_on_field(query),
         };
         let path = found.map(|state| (self.backtrack(state), self.g[state] as f64 - 1.0));
         self.reset_states();
-        for &x in &self.field_touched {
-            self.field[x as usize] = 0.0;
-            self.settled[x as usize] = false;
-        }
-        self.field_touched.clear();
-        for &x in &self.corridor_touched {
-            self.corridor[x as usize] = false;
-        }
-        self.corridor_touched.clear();
+        self.field.clear();
+        self.corridor.clear();
         for &(r, _) in sources {
             self.source_cost[r] = 0.0;
         }
@@ -301,22 +291,8 @@ impl Search {
 
     /// The cost of the cheapest path by a plain Dijkstra over the states, to check the A* against.
     #[cfg(test)]
-    pub(super) fn dijkstra(
-        &mut self,
-        ctx: &Ctx,
-        sources: &[(usize, f64)],
-        target: usize,
-        steep: bool,
-        ellipse: Option<Ellipse>,
-    ) -> Option<f64> {
-        let query = Query {
-            ctx,
-            sources,
-            target,
-            steep,
-            ellipse,
-        };
-        let cost = match self.astar(&query, Estimate::Zero, None) {
+    pub(super) fn dijkstra(&mut self, query: &Query) -> Option<f64> {
+        let cost = match self.astar(query, Estimate::Zero, None) {
             Outcome::Found(s) => Some(self.g[s] as f64 - 1.0),
             _ => None,
         };

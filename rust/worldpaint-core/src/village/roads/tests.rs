@@ -2,7 +2,7 @@
 //! date against a full computation (thesis 3.2.4).
 
 use super::cycles::Ellipse;
-use super::search::{Ctx, Search, BUILDING, GOAL};
+use super::search::{Ctx, Query, Search, BUILDING, GOAL};
 use super::*;
 
 pub(super) fn grid(nx: usize, ny: usize) -> Grid {
@@ -138,14 +138,21 @@ fn the_searches_find_the_cheapest_path() {
             params: &params,
         };
         for steep in [false, true] {
-            let reference = search.dijkstra(&ctx, &sources, target, steep, ellipse);
+            let query = Query {
+                ctx: &ctx,
+                sources: &sources,
+                target,
+                steep,
+                ellipse,
+            };
+            let reference = search.dijkstra(&query);
             // the bound alone, the field at once, the field after a few states, the corridor
             for (budget, state_budget) in
                 [(usize::MAX, 0), (0, usize::MAX), (40, usize::MAX), (0, 20)]
             {
                 search.budget = budget;
                 search.state_budget = state_budget;
-                let got = search.run(&ctx, &sources, target, steep, ellipse);
+                let got = search.find(&query);
                 match (reference, &got) {
                     (None, None) => {}
                     (Some(a), Some((path, b))) => {
