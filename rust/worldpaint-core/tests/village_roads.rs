@@ -41,10 +41,12 @@ fn land(size: f64, h: impl Fn(DVec2) -> f64) -> Land {
         (0..grid.len())
             .map(|k| h(grid.point_of(k)) as f32)
             .collect(),
-        vec![true; grid.len()],
-        vec![false; grid.len()],
-        vec![false; grid.len()],
-        vec![false; grid.len()],
+        [
+            vec![true; grid.len()],
+            vec![false; grid.len()],
+            vec![false; grid.len()],
+            vec![false; grid.len()],
+        ],
     )
     .expect("land")
 }

@@ -119,24 +119,20 @@ impl Land {
         Land::from_maps(
             grid,
             nodes.iter().map(|n| n.0).collect(),
-            nodes.iter().map(|n| n.1).collect(),
-            nodes.iter().map(|n| n.2).collect(),
-            nodes.iter().map(|n| n.3).collect(),
-            nodes.iter().map(|n| n.4).collect(),
+            [
+                nodes.iter().map(|n| n.1).collect(),
+                nodes.iter().map(|n| n.2).collect(),
+                nodes.iter().map(|n| n.3).collect(),
+                nodes.iter().map(|n| n.4).collect(),
+            ],
         )
     }
 
-    /// A land from maps of one value per node of `grid`, in its node order: the elevation, inside `Ω`, under
-    /// water, on a wall, inside a fortified enclosure. The grid must have at least 2×2 nodes and a positive
-    /// cell.
-    pub fn from_maps(
-        grid: Grid,
-        height: Vec<f32>,
-        inside: Vec<bool>,
-        water: Vec<bool>,
-        wall: Vec<bool>,
-        fortified: Vec<bool>,
-    ) -> Result<Land> {
+    /// A land from maps of one value per node of `grid`, in its node order: the elevation, and the masks inside
+    /// `Ω`, under water, on a wall and inside a fortified enclosure, in that order. The grid must have at least 2×2
+    /// nodes and a positive cell.
+    pub fn from_maps(grid: Grid, height: Vec<f32>, masks: [Vec<bool>; 4]) -> Result<Land> {
+        let [inside, water, wall, fortified] = masks;
         if grid.nx < 2 || grid.ny < 2 {
             return Err(Error::invalid(
                 format!("the land grid of {}x{} nodes", grid.nx, grid.ny),

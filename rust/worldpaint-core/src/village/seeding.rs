@@ -98,10 +98,12 @@ mod tests {
             (0..grid.len())
                 .map(|k| (grid.point_of(k).x * 0.1) as f32)
                 .collect(),
-            vec![true; grid.len()],
-            (0..grid.len()).map(|k| grid.point_of(k).x < 20.0).collect(),
-            vec![false; grid.len()],
-            vec![false; grid.len()],
+            [
+                vec![true; grid.len()],
+                (0..grid.len()).map(|k| grid.point_of(k).x < 20.0).collect(),
+                vec![false; grid.len()],
+                vec![false; grid.len()],
+            ],
         )
         .expect("land")
     }

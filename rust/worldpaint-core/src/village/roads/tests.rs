@@ -60,12 +60,14 @@ fn random_land(rng: &mut rand_chacha::ChaCha8Rng, n: usize) -> Land {
     Land::from_maps(
         g,
         height,
-        inside,
-        water,
-        (0..g.len())
-            .map(|_| rng.random_range(0.0..1.0) < 0.01)
-            .collect(),
-        vec![false; g.len()],
+        [
+            inside,
+            water,
+            (0..g.len())
+                .map(|_| rng.random_range(0.0..1.0) < 0.01)
+                .collect(),
+            vec![false; g.len()],
+        ],
     )
     .expect("land")
 }
