@@ -1,6 +1,7 @@
 //! Mutated palette, color, encyclopedia and scenario files: each is read, and every color the reader accepts is
 //! pasted in a 40 m square with a 3 s cancel budget. None may panic, allocate past the engine's limits (an abort), or
-//! run past 30 s. The mutations are seeded: a failing case is reproduced by its seed, and kept in `REGRESSIONS`.
+//! run past 30 s; a paste that finishes within a second on two threads is made again on one and must come out the
+//! same. The mutations are seeded: a failing case is reproduced by its seed, and kept in `REGRESSIONS`.
 //!
 //! `make test` runs `MUTATED_FILES` cases (default 300); `MUTATED_FILES=2500 cargo test --release --test
 //! mutated_files -- --nocapture` runs the acceptance count.
@@ -25,6 +26,8 @@ use worldpaint_core::{
 const REGRESSIONS: &[u64] = &[];
 
 const CANCEL_AFTER: Duration = Duration::from_secs(3);
+/// Pastes finished within this on two threads are made again on one.
+const COMPARED_UNDER: Duration = Duration::from_secs(1);
 const HANG: Duration = Duration::from_secs(30);
 
 /// Numbers a careless or hostile file could hold.
@@ -156,35 +159,56 @@ fn mutate(file: &Value, rng: &mut ChaCha8Rng) -> Value {
     out
 }
 
-/// Pastes every color of the palette in a 40 m square of a 100 m terrain, cancelling after 3 s.
-fn paste_all(palette: &Palette, terrain: &Arc<Heightfield>) {
+/// A rayon pool of two threads, where the cases run, and one of one thread, to compare with.
+struct Pools {
+    two: rayon::ThreadPool,
+    one: rayon::ThreadPool,
+}
+
+/// Pastes every color of the palette in a 40 m square of a 100 m terrain, cancelling after 3 s; counts the pastes
+/// compared between two threads and one in `outcome`.
+fn paste_all(palette: &Palette, terrain: &Arc<Heightfield>, pools: &Pools, outcome: &mut Outcome) {
     let (scene, square) = (Scene::on(terrain.clone()), square(30.0, 70.0));
     for color in &palette.colors {
-        let started = Instant::now();
-        let cancel = |_: f64| started.elapsed() < CANCEL_AFTER;
-        let result = synthesize_with_progress(&scene, color, &square, &Default::default(), &cancel);
-        assert!(
-            started.elapsed() < HANG,
-            "color '{}' ran {:?}",
-            color.name,
-            started.elapsed()
-        );
-        if let Err(e) = result {
+        let paste = || {
+            let started = Instant::now();
+            let cancel = |_: f64| started.elapsed() < CANCEL_AFTER;
+            let result =
+                synthesize_with_progress(&scene, color, &square, &Default::default(), &cancel);
+            (result, started.elapsed())
+        };
+        let (result, took) = pools.two.install(paste);
+        assert!(took < HANG, "color '{}' ran {took:?}", color.name);
+        match result {
+            Ok(two) if took < COMPARED_UNDER => {
+                let (one, _) = pools.one.install(paste);
+                let one = one
+                    .unwrap_or_else(|e| panic!("color '{}' failed on one thread: {e}", color.name));
+                assert!(
+                    one.instances == two.instances
+                        && one.paths == two.paths
+                        && one.contours == two.contours,
+                    "color '{}' pastes differently on one thread and on two",
+                    color.name
+                );
+                outcome.compared += 1;
+            }
+            Ok(_) => {}
             // refused or cancelled, with a message, is the expected end of a bad color
-            assert!(!e.to_string().is_empty());
+            Err(e) => assert!(!e.to_string().is_empty()),
         }
     }
 }
 
 /// Reads one mutated file of each kind and pastes what it accepts.
-fn run_case(seed: u64, files: &Files, terrain: &Arc<Heightfield>) -> Outcome {
+fn run_case(seed: u64, files: &Files, terrain: &Arc<Heightfield>, pools: &Pools) -> Outcome {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let mut outcome = Outcome::default();
     let palette = mutate(&files.palette, &mut rng).to_string();
     match Palette::from_json(&palette) {
         Ok(p) => {
             outcome.accepted += 1;
-            paste_all(&p, terrain);
+            paste_all(&p, terrain, pools, &mut outcome);
         }
         Err(_) => outcome.refused += 1,
     }
@@ -192,7 +216,7 @@ fn run_case(seed: u64, files: &Files, terrain: &Arc<Heightfield>) -> Outcome {
     match Color::from_json(&mutate(&color, &mut rng).to_string()) {
         Ok(c) => {
             outcome.accepted += 1;
-            paste_all(&Palette { colors: vec![c] }, terrain);
+            paste_all(&Palette { colors: vec![c] }, terrain, pools, &mut outcome);
         }
         Err(_) => outcome.refused += 1,
     }
@@ -217,6 +241,7 @@ struct Files {
 struct Outcome {
     accepted: usize,
     refused: usize,
+    compared: usize,
 }
 
 #[test]
@@ -231,26 +256,39 @@ fn mutated_files_are_read_and_pasted_without_a_crash_or_a_hang() {
         .ok()
         .and_then(|v| v.parse().ok())
         .unwrap_or(300);
+    let pool = |threads| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("a thread pool")
+    };
+    let pools = Pools {
+        two: pool(2),
+        one: pool(1),
+    };
     let started = Instant::now();
-    let (mut accepted, mut refused, mut slowest) = (0, 0, Duration::ZERO);
+    let (mut accepted, mut refused, mut compared, mut slowest) = (0, 0, 0, Duration::ZERO);
     for seed in REGRESSIONS.iter().copied().chain(0..cases) {
         let case = Instant::now();
-        let outcome = catch_unwind(AssertUnwindSafe(|| run_case(seed, &files, &terrain)))
-            .unwrap_or_else(|_| {
-                panic!("mutation seed {seed} panicked: keep it in REGRESSIONS once fixed")
-            });
+        let outcome = catch_unwind(AssertUnwindSafe(|| {
+            run_case(seed, &files, &terrain, &pools)
+        }))
+        .unwrap_or_else(|_| {
+            panic!("mutation seed {seed} panicked: keep it in REGRESSIONS once fixed")
+        });
         accepted += outcome.accepted;
         refused += outcome.refused;
+        compared += outcome.compared;
         slowest = slowest.max(case.elapsed());
     }
     println!(
-        "{cases} cases ({} files): {accepted} accepted and pasted, {refused} refused; slowest case {slowest:.2?}, \
-         all {:.1?}",
+        "{cases} cases ({} files): {accepted} accepted and pasted, {refused} refused; {compared} pastes the same on \
+         one thread and two; slowest case {slowest:.2?}, all {:.1?}",
         4 * cases,
         started.elapsed()
     );
     assert!(
-        refused > 0 && accepted > 0,
-        "the mutations should make both kinds of file"
+        refused > 0 && accepted > 0 && compared > 0,
+        "the mutations should make both kinds of file, and pastes to compare"
     );
 }
