@@ -1,9 +1,14 @@
 """Bad inputs give a clear error from the operator and leave the scene as it was."""
 
+import json
+import re
+
 import bpy
+import numpy as np
 import pytest
-from scene_kit import select_only, slope_exemplar
-from worldpaint.bridge.instances import point_cloud_objects
+from scene_kit import flat_terrain, hard_core_examples, prototypes, select_only, slope_exemplar
+from worldpaint.bridge import engine
+from worldpaint.bridge.instances import point_cloud_arrays, point_cloud_objects
 
 EXEMPLAR = {"region_mode": 'RECT', "rect_min": (0.0, 0.0), "rect_max": (100.0, 100.0)}
 
@@ -109,6 +114,36 @@ def test_corrupt_palette_file(learned, tmp_path, content, message):
     path.write_text(content)
     before = snapshot()
     with pytest.raises(RuntimeError, match=message):
+        bpy.ops.worldpaint.import_palette(filepath=str(path))
+    assert snapshot() == before
+
+
+@pytest.mark.parametrize(
+    ("field", "value", "reason"),
+    [
+        (("bin_width",), 1e-9, r"too large: color 'Slope forest 2' max_radius / bin_width would need \d+ histogram "
+                               r"bins, more than the limit of 4096"),
+        (("categories", 1, "density"), 1e6, r"color 'Slope forest 2' categories\[1\]\.density must be between 0 "
+                                            r"and 10000, got 1000000"),
+        (("maps", 1, "hist", "values", 3), 1e11, r"color 'Slope forest 2' maps\[1\]\.hist\.values\[3\] must be "
+                                                 r"between 0 and 1000000, got 100000000000"),
+    ],
+    ids=["bin_width", "density", "map histogram value"],
+)
+def test_a_palette_file_with_one_absurd_number_is_refused_naming_the_field(learned, tmp_path, field, value, reason):
+    # an exported palette of two colors, one number of the second edited by hand
+    assert bpy.ops.worldpaint.duplicate_color() == {'FINISHED'}
+    path = tmp_path / "palette.json"
+    assert bpy.ops.worldpaint.export_palette(filepath=str(path)) == {'FINISHED'}
+    palette = json.loads(path.read_text())
+    place = palette["colors"][1]
+    for step in field[:-1]:
+        place = place[step]
+    place[field[-1]] = value
+    path.write_text(json.dumps(palette))
+    before = snapshot()
+    with pytest.raises(RuntimeError, match=r"is not a usable WorldPaint palette: not a valid palette file: "
+                                           rf"colors\[1\]: {reason}"):
         bpy.ops.worldpaint.import_palette(filepath=str(path))
     assert snapshot() == before
 
@@ -219,8 +254,6 @@ def test_a_category_of_objects_and_curves_is_refused(learned):
 
 
 def test_a_palette_imported_twice_gets_numbered_names(learned, tmp_path):
-    from worldpaint.bridge import engine
-
     path = str(tmp_path / "palette.json")
     assert bpy.ops.worldpaint.export_palette(filepath=path) == {'FINISHED'}
     assert bpy.ops.worldpaint.import_palette(filepath=path) == {'FINISHED'}
@@ -276,3 +309,134 @@ def test_a_relative_path_needs_a_saved_file(learned, tmp_path, monkeypatch):
     assert bpy.ops.worldpaint.export_palette(filepath="//forest.json") == {'FINISHED'}
     assert (tmp_path / "forest.json").exists()
     assert bpy.ops.worldpaint.import_palette(filepath="//forest.json") == {'FINISHED'}
+
+
+def test_a_huge_circle_pastes_the_terrain_area_not_the_circle_area(learned):
+    _, examples = learned
+    assert bpy.ops.worldpaint.paste_color(seed=2, region_mode='CIRCLE', circle_center=(100.0, 100.0),
+                                          circle_radius=1e6) == {'FINISHED'}
+    clouds = point_cloud_objects(bpy.context.scene)
+    hand_placed = {}
+    for obj in examples:
+        hand_placed[obj.instance_collection.name] = hand_placed.get(obj.instance_collection.name, 0) + 1
+    # the 200 x 200 m terrain holds each category at the color's density, the hand-placed examples counted: not a
+    # circle's 3e12 m² worth. The expected count also weighs the color's slope preference over the terrain against
+    # its example's, near 1 on this terrain of alike slopes: 5 % covers that, and a count of the circle is 1e8 times off
+    for category in engine.color_summary(bpy.context.scene.worldpaint.palette["Slope forest"].json).categories:
+        on_terrain = len(clouds[category.name].data.vertices) + hand_placed[category.name]
+        expected = category.density * 200.0 * 200.0
+        assert abs(on_terrain / expected - 1.0) <= 0.05, f"{category.name}: {on_terrain} for {expected:.0f}"
+        xy = point_cloud_arrays(clouds[category.name])[0][:, :2]
+        assert xy.min() >= 0.0 and xy.max() <= 200.0, f"{category.name} pasted off the terrain"
+
+
+def bare_forest():
+    """A flat 300 × 200 m terrain and the color "Forest" of 0.02 trees per m² (hard-core, 3 m), learned from a
+    hand-placed example that is then deleted: the terrain is bare. Returns the color's tree density."""
+    prototypes()
+    bpy.context.scene.worldpaint.terrain = flat_terrain()
+    examples = hard_core_examples("Tree", (0.0, 140.0), 60.0, 0.02, 3.0, 3)
+    select_only(examples)
+    assert bpy.ops.worldpaint.learn_color(name="Forest", region_mode='RECT', rect_min=(0.0, 140.0),
+                                          rect_max=(60.0, 200.0)) == {'FINISHED'}
+    select_only([])
+    for obj in examples:
+        bpy.data.objects.remove(obj)
+    return engine.color_summary(bpy.context.scene.worldpaint.palette["Forest"].json).categories[0].density
+
+
+def trees():
+    clouds = point_cloud_objects(bpy.context.scene)
+    return point_cloud_arrays(clouds["Tree"])[0] if "Tree" in clouds else np.zeros((0, 3))
+
+
+def pasted_trees(rect_min, rect_max):
+    """The trees of a paste of "Forest" in a rectangle of the bare terrain (the trees pasted before are removed)."""
+    for obj in point_cloud_objects(bpy.context.scene).values():
+        bpy.data.objects.remove(obj)
+    assert bpy.ops.worldpaint.paste_color(seed=1, region_mode='RECT', rect_min=rect_min,
+                                          rect_max=rect_max) == {'FINISHED'}
+    return trees()
+
+
+def test_a_rectangle_half_off_the_terrain_pastes_the_count_of_its_part_on_it():
+    density = bare_forest()
+    # 200 x 100 m from x = 200: its 100 x 100 m west half on the terrain (which ends at x = 300)
+    spilling = pasted_trees((200.0, 50.0), (400.0, 150.0))
+    inside = pasted_trees((200.0, 50.0), (300.0, 150.0))
+    expected = density * 100.0 * 100.0
+    # the engine expects density × the area on the terrain; 5 % is rounding and hard-core packing at the edges,
+    # while a count of the whole rectangle would be twice as much
+    assert abs(len(spilling) / expected - 1.0) <= 0.05, f"{len(spilling)} for {expected:.0f}"
+    assert abs(len(spilling) / len(inside) - 1.0) <= 0.05, f"{len(spilling)} half off, {len(inside)} on"
+    assert spilling[:, 0].max() <= 300.0
+
+
+@pytest.mark.parametrize("apply_scale", [False, True], ids=["object scale", "applied scale"])
+def test_a_scaled_plane_is_a_terrain_of_its_world_size(apply_scale):
+    density = bare_forest()
+    bpy.ops.mesh.primitive_plane_add(location=(0.0, 0.0, 10.0))
+    plane = bpy.context.active_object
+    plane.scale = (500.0, 250.0, 1.0)
+    if apply_scale:
+        bpy.ops.object.transform_apply(location=False, rotation=False, scale=True)
+    bpy.context.view_layer.update()
+    assert tuple(plane.dimensions) == (1000.0, 500.0, 0.0)
+    bpy.context.scene.worldpaint.terrain = plane
+    # 200 × 100 m over the plane's corner (500, 250): 100 × 50 m of it on the plane
+    co = pasted_trees((400.0, 200.0), (600.0, 300.0))
+    expected = density * 100.0 * 50.0
+    assert abs(len(co) / expected - 1.0) <= 0.05, f"{len(co)} for {expected:.0f}"
+    assert co[:, 0].min() >= 400.0 and co[:, 0].max() <= 500.0 and co[:, 1].min() >= 200.0 and co[:, 1].max() <= 250.0
+    np.testing.assert_allclose(co[:, 2], 10.0, atol=1e-4, err_msg="on the plane")
+    before = snapshot()
+    beside = "The destination region (600.0..700.0, 0.0..100.0) lies outside the terrain (-500.0..500.0, -250.0..250.0)"
+    with pytest.raises(RuntimeError, match=re.escape(beside)):
+        bpy.ops.worldpaint.paste_color(seed=1, region_mode='RECT', rect_min=(600.0, 0.0), rect_max=(700.0, 100.0))
+    assert snapshot() == before
+
+
+def test_a_move_off_the_terrain_leaves_what_it_cannot_place_where_it_was(capfd):
+    bare_forest()
+    before = pasted_trees((20.0, 20.0), (120.0, 120.0))
+    move = {"region_mode": 'RECT', "rect_min": (20.0, 20.0), "rect_max": (120.0, 120.0)}
+    counts = snapshot()
+    capfd.readouterr()
+    # 1 km east: nothing lands on the 300 m terrain
+    assert bpy.ops.worldpaint.move_region(offset=(1000.0, 0.0), **move) == {'FINISHED'}
+    out = capfd.readouterr().out
+    assert "Info: Moved 0 instances" in out
+    assert (f"Warning: {len(before)} instances stayed where they were: the move would put them off the terrain"
+            in out), out
+    assert snapshot() == counts
+    np.testing.assert_array_equal(trees()[np.lexsort(trees().T)], before[np.lexsort(before.T)])
+    # 230 m east: the trees within 70 m of the region's west edge land on the terrain's last 50 m, the rest stay
+    assert bpy.ops.worldpaint.move_region(offset=(230.0, 0.0), **move) == {'FINISHED'}
+    out = capfd.readouterr().out
+    moved = int(re.search(r"Moved (\d+) instances", out)[1])
+    stayed = int(re.search(r"(\d+) instances stayed where they were", out)[1])
+    landing = int((before[:, 0] + 230.0 <= 300.0).sum())
+    assert (moved, stayed) == (landing, len(before) - landing), out
+    after = trees()
+    assert len(after) == len(before) and after[:, 0].max() <= 300.0
+    assert (after[:, 0] >= 250.0).sum() == moved
+    kept, stays = after[after[:, 0] < 250.0], before[before[:, 0] + 230.0 > 300.0]
+    np.testing.assert_array_equal(kept[np.lexsort(kept.T)], stays[np.lexsort(stays.T)])
+
+
+@pytest.mark.parametrize("color", ["Forest", ""], ids=["palette color", "own statistics"])
+def test_a_stretch_far_past_the_terrain_keeps_the_count_of_the_terrain(capfd, color):
+    density = bare_forest()
+    n = len(pasted_trees((0.0, 0.0), (300.0, 200.0)))
+    capfd.readouterr()
+    assert bpy.ops.worldpaint.stretch_region(region_mode='RECT', rect_min=(20.0, 20.0), rect_max=(180.0, 180.0),
+                                             side='EAST', amount=10_000.0, color=color) == {'FINISHED'}
+    assert "Stretched the region to 10160.0 × 160.0 m" in capfd.readouterr().out
+    after = trees()
+    # the 10 km band holds 32,000 trees at the color's density: what lands off the terrain is not crammed onto it.
+    # The seams and the band's new content keep the count to a few %: 5 % of the terrain's
+    assert abs(len(after) / n - 1.0) <= 0.05, f"{len(after)} after the stretch, {n} before"
+    assert after[:, :2].min() >= 0.0 and after[:, 0].max() <= 300.0 and after[:, 1].max() <= 200.0
+    band = (after[:, 1] >= 20.0) & (after[:, 1] <= 180.0) & (after[:, 0] >= 20.0)
+    ratio = band.sum() / (280.0 * 160.0 * density)
+    assert abs(ratio - 1.0) <= 0.1, f"the stretched band on the terrain holds {ratio:.2f} of the color's density"
