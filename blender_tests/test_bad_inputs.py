@@ -431,7 +431,10 @@ def test_a_stretch_far_past_the_terrain_keeps_the_count_of_the_terrain(capfd, co
     capfd.readouterr()
     assert bpy.ops.worldpaint.stretch_region(region_mode='RECT', rect_min=(20.0, 20.0), rect_max=(180.0, 180.0),
                                              side='EAST', amount=10_000.0, color=color) == {'FINISHED'}
-    assert "Stretched the region to 10160.0 × 160.0 m" in capfd.readouterr().out
+    out = capfd.readouterr().out
+    assert "Stretched the region to 10160.0 × 160.0 m" in out
+    # the trees beyond the cut cannot go 10 km east: the stretch says how many it left, under the band it paints
+    assert re.search(r"\d+ instances beyond the cut were not moved: the stretch would push them off the terrain", out)
     after = trees()
     # the 10 km band holds 32,000 trees at the color's density: what lands off the terrain is not crammed onto it.
     # The seams and the band's new content keep the count to a few %: 5 % of the terrain's

@@ -167,11 +167,13 @@ class Moved:
 
 @dataclass(frozen=True)
 class Stretched:
-    """A stretched region: the edit and the region's new rectangle (min, max)."""
+    """A stretched region: the edit, the region's new rectangle (min, max) and the instances it would have pushed
+    off the terrain (not moved)."""
 
     edit: Edit
     region_min: tuple
     region_max: tuple
+    pushed_off: int
 
 
 class Stroke:
@@ -438,7 +440,7 @@ def gradient(scene_handle, start, end, region, shape, bands, seed, influence_rad
 def stretch_region(scene_handle, region, side, amount, color, seed, influence_radius, progress=None):
     d = _engine().stretch_region(scene_handle, region=region, side=side, amount=amount, color=color, seed=seed,
                                  influence_radius=influence_radius, progress=progress)
-    return Stretched(Edit.of(d), tuple(d["region"]["min"]), tuple(d["region"]["max"]))
+    return Stretched(Edit.of(d), tuple(d["region"]["min"]), tuple(d["region"]["max"]), int(d["pushed_off"]))
 
 
 def move_region(scene_handle, color, source, offset, seed, influence_radius):

@@ -41,3 +41,6 @@ class WORLDPAINT_OT_stretch_region(RegionSynthesisOperator, bpy.types.Operator):
         verb = "Stretched" if self.amount > 0 else "Shrank"
         self.report({'INFO'}, f"{verb} the region to {x1 - x0:.1f} × {y1 - y0:.1f} m: {applied.added} instances "
                               f"placed, {applied.removed} taken away")
+        if stretched.pushed_off:
+            self.report({'WARNING'}, f"{stretched.pushed_off} instances beyond the cut were not moved: the stretch "
+                                     "would push them off the terrain")

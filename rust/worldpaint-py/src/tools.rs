@@ -207,8 +207,8 @@ pub(crate) fn move_region<'py>(
 
 /// Stretch (`amount` > 0, metres) or shrink (< 0) the rectangle `region` by dragging its `side` ("east", "west",
 /// "north" or "south") with a seam-carving cut. `color` (JSON) fills the opened band and adapts the moved side;
-/// None learns it from the region. Returns the edit with "seam" float64 (N, 2), "band" and "region" (the resized
-/// rectangle).
+/// None learns it from the region. Returns the edit with "seam" float64 (N, 2), "band", "region" (the resized
+/// rectangle) and "pushed_off" (the instances beyond the cut it would have pushed off the terrain, not moved).
 #[pyfunction]
 #[pyo3(signature = (scene, region, side, amount, color=None, seed=0, *,
                     influence_radius=None,
@@ -258,6 +258,7 @@ pub(crate) fn stretch_region<'py>(
     d.set_item("seam", points_to_py(py, &out.seam))?;
     d.set_item("band", region_to_py(py, &out.band)?)?;
     d.set_item("region", region_to_py(py, &out.region)?)?;
+    d.set_item("pushed_off", out.pushed_off)?;
     Ok(d)
 }
 

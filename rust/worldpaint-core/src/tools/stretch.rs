@@ -70,6 +70,8 @@ pub struct Stretched {
     pub band: Region,
     /// The region after the stretch.
     pub region: Region,
+    /// Instances beyond the cut that the stretch would have pushed off the terrain: they were not moved.
+    pub pushed_off: usize,
 }
 
 /// The region's frame: `u` across the dragged side, `v` along it, origin at the opposite side's start.
@@ -288,6 +290,7 @@ pub fn stretch(
         seam: drag.seam.iter().map(|l| drag.frame.world(*l)).collect(),
         band,
         region: resized,
+        pushed_off: moved.stayed,
     })
 }
 
