@@ -124,3 +124,70 @@ def test_input_past_the_limits_is_refused_before_anything_is_allocated():
         region = {"shape": "clipped", "within": [region]}
     with pytest.raises(engine.InputError, match="nesting"):
         engine.region_area(region)
+
+
+def test_array_arguments_take_float32_and_integer_arrays_for_float64():
+    # values every dtype holds exactly, so each must give the float64 result
+    xy = np.array([[1.0, 1.0], [9.0, 9.0], [60.0, 2.0], [-3.0, 20.0]])
+    for dtype in (np.float32, np.int32, np.int64, np.uint16):
+        assert engine.region_contains(SQUARE, xy.astype(dtype)).tolist() == [True, True, False, False], dtype
+    assert engine.region_contains(SQUARE, xy.tolist()).tolist() == [True, True, False, False]
+
+    heights = np.arange(20.0).reshape(4, 5)
+    probe = np.array([[1.5, 2.0], [3.0, 0.5]])
+    expected = engine.Terrain.from_grid((0.0, 0.0), 1.0, heights).heights_at(probe)
+    for dtype in (np.float32, np.int16):
+        terrain = engine.Terrain.from_grid((0.0, 0.0), 1.0, heights.astype(dtype))
+        np.testing.assert_array_equal(terrain.heights_at(probe.astype(np.float32)), expected, err_msg=str(dtype))
+    x, y = np.meshgrid(np.arange(5.0), np.arange(5.0))
+    vertices = np.column_stack([x.ravel(), y.ravel(), x.ravel() + 2 * y.ravel()])
+    v0 = (np.arange(4)[None, :] + 5 * np.arange(4)[:, None]).ravel()
+    triangles = np.concatenate([np.column_stack([v0, v0 + 1, v0 + 6]), np.column_stack([v0, v0 + 6, v0 + 5])])
+    expected = engine.Terrain(vertices, triangles.astype(np.uint32)).heights_at(probe)
+    mesh = engine.Terrain(vertices.astype(np.float32), triangles.astype(np.int64))
+    np.testing.assert_array_equal(mesh.heights_at(probe.astype(np.float32)), expected)
+    np.testing.assert_array_equal(mesh.heights_at(np.array([[1, 2], [3, 1]])), [5.0, 5.0])
+
+    color, _ = hard_core_color()
+    positions = np.round(engine.exemplar_hard_core(SQUARE, 0.04, 2.5, 3) * 4) / 4  # quarters: exact in float32
+    n = len(positions)
+    before = engine.Scene(None, CATEGORIES, positions, np.zeros(n, np.int32), rotations=np.zeros(n),
+                          locked=np.zeros(n, bool))
+    after = engine.Scene(None, CATEGORIES, positions.astype(np.float32), np.zeros(n, np.int64),
+                         rotations=np.zeros(n, np.float32), locked=np.zeros(n, np.uint8))
+    half = {"shape": "rect", "min": [0.0, 0.0], "max": [25.0, 50.0]}
+    a, b = engine.paste(before, color, half, 4), engine.paste(after, color, half, 4)
+    assert len(a["removed"]) > 0 and len(a["positions"]) > 0
+    np.testing.assert_array_equal(a["removed"], b["removed"])
+    np.testing.assert_array_equal(a["positions"], b["positions"])
+
+
+def test_an_unusable_array_argument_raises_input_error_naming_it():
+    # the wrong number of columns keeps its message; any other shape or a dtype that is not numbers says what came
+    with pytest.raises(engine.InputError, match=r"^invalid input: xy must have shape \(N, 2\), got \(N, 3\)$"):
+        engine.region_contains(SQUARE, np.zeros((5, 3), np.float32))
+    with pytest.raises(engine.InputError, match=r"xy: expected an \(N, 2\) array of numbers, "
+                                                r"got a float32 array of shape \(5,\)$"):
+        engine.region_contains(SQUARE, np.zeros(5, np.float32))
+    with pytest.raises(engine.InputError, match=r"positions: expected an \(N, 2\) array of numbers, "
+                                                r"got a string array of shape \(3, 2\)$"):
+        engine.Scene(None, CATEGORIES, np.full((3, 2), "1.5"), np.zeros(3, np.int32))
+    with pytest.raises(engine.InputError, match=r"category_index: expected an \(N,\) array of integers, "
+                                                r"got a float64 array of shape \(3,\)$"):
+        engine.Scene(None, CATEGORIES, np.zeros((3, 2)), np.zeros(3))
+    with pytest.raises(engine.InputError, match=r"rotations: expected an \(N,\) array of numbers, got an object array"):
+        engine.Scene(None, CATEGORIES, np.zeros((3, 2)), np.zeros(3, np.int32), rotations=np.array([0.0, None, 1.0]))
+    with pytest.raises(engine.InputError, match=r"triangles: expected an \(N, 3\) array of integers from 0 to "
+                                                r"4294967295, got the value -1$"):
+        engine.Terrain(np.zeros((3, 3)), np.array([[0, 1, -1]]))
+    with pytest.raises(engine.InputError, match=r"heights: expected a 2-D array of numbers, got None$"):
+        engine.Terrain.from_grid((0.0, 0.0), 1.0, None)
+    with pytest.raises(engine.InputError, match=r"path: expected an \(N, 2\) array of numbers, got a list numpy "
+                                                r"cannot read as an array"):
+        engine.Stroke(nothing(), erase=True).follow([[0.0, 0.0], [1.0]])
+    with pytest.raises(engine.InputError, match=r"contour 1: expected an \(N, 2\) array of numbers, "
+                                                r"got a complex128 array of shape \(3, 2\)$"):
+        engine.fill_polygons([np.zeros((3, 2)), np.zeros((3, 2), complex)], 1.0)
+    # a float32 broadcast grid past the limit is refused before the cast would copy it
+    with pytest.raises(engine.InputError, match="too large: the terrain grid"):
+        engine.Terrain.from_grid((0.0, 0.0), 1.0, np.broadcast_to(np.float32(0.0), (100_000, 100_000)))

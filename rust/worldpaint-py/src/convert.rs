@@ -1,9 +1,10 @@
 //! Plain Python values and numpy arrays to and from the engine's types: regions, categories, scenes, edits.
 
+use crate::arrays::{ArrayArg, Number};
 use crate::terrain::{terrain_of, Terrain};
 use crate::{engine_err, guarded, input_err};
-use numpy::ndarray::{Array1, Array2};
-use numpy::{IntoPyArray, PyArray1, PyArray2, PyReadonlyArray1, PyReadonlyArray2};
+use numpy::ndarray::{Array1, Array2, Ix1, Ix2};
+use numpy::{IntoPyArray, PyArray1, PyArray2};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use worldpaint_core::geom::DVec2;
@@ -222,14 +223,10 @@ pub(crate) fn categories_to_py<'py>(
     Ok(list)
 }
 
-pub(crate) fn points_from_py(xy: &PyReadonlyArray2<'_, f64>, what: &str) -> PyResult<Vec<DVec2>> {
+/// World XY points from an (N, 2) array argument named `what`.
+pub(crate) fn points_from_py(xy: &ArrayArg<'_>, what: &str) -> PyResult<Vec<DVec2>> {
+    let xy = xy.read::<f64, Ix2>(what, &[2])?;
     let a = xy.as_array();
-    if a.ncols() != 2 {
-        return Err(input_err(format!(
-            "{what} must have shape (N, 2), got (N, {})",
-            a.ncols()
-        )));
-    }
     Ok(a.rows()
         .into_iter()
         .map(|r| DVec2::new(r[0], r[1]))
@@ -256,8 +253,9 @@ pub(crate) fn rows_to_py<'py, const N: usize, T: numpy::Element + Copy>(
         .into_pyarray(py))
 }
 
-pub(crate) fn column<T: Copy + numpy::Element>(
-    a: Option<PyReadonlyArray1<'_, T>>,
+/// The values of an optional (N,) array argument named `what`, `default` for each of the `n` positions without it.
+pub(crate) fn column<T: Number>(
+    a: Option<ArrayArg<'_>>,
     n: usize,
     default: T,
     what: &str,
@@ -265,7 +263,12 @@ pub(crate) fn column<T: Copy + numpy::Element>(
     match a {
         None => Ok(vec![default; n]),
         Some(a) => {
-            let v: Vec<T> = a.as_array().iter().copied().collect();
+            let v: Vec<T> = a
+                .read::<T, Ix1>(what, &[])?
+                .as_array()
+                .iter()
+                .copied()
+                .collect();
             if v.len() != n {
                 return Err(input_err(format!(
                     "{what} has {} entries but there are {n} positions",
@@ -283,12 +286,12 @@ pub(crate) fn column<T: Copy + numpy::Element>(
 pub(crate) fn scene_from_py(
     terrain: &Option<Py<Terrain>>,
     categories: &Bound<'_, PyAny>,
-    positions: &PyReadonlyArray2<'_, f64>,
-    category_index: PyReadonlyArray1<'_, i32>,
-    rotations: Option<PyReadonlyArray1<'_, f64>>,
-    scales: Option<PyReadonlyArray1<'_, f64>>,
-    prototype: Option<PyReadonlyArray1<'_, i32>>,
-    locked: Option<PyReadonlyArray1<'_, bool>>,
+    positions: &ArrayArg<'_>,
+    category_index: ArrayArg<'_>,
+    rotations: Option<ArrayArg<'_>>,
+    scales: Option<ArrayArg<'_>>,
+    prototype: Option<ArrayArg<'_>>,
+    locked: Option<ArrayArg<'_>>,
     structures: &Structures<'_, '_>,
 ) -> PyResult<Scene> {
     let categories = categories_from_py(categories)?;
@@ -394,9 +397,7 @@ fn polylines_from_py(
                 kind_to_str(kind)
             )));
         }
-        let points: PyReadonlyArray2<'_, f64> = field(&item, "points", &name)?
-            .extract()
-            .map_err(|_| input_err(format!("{name}: 'points' must be a float64 array (N, 2)")))?;
+        let points = ArrayArg::from(field(&item, "points", &name)?);
         let points = points_from_py(&points, &format!("{name} points"))?;
         if points.iter().any(|p| !p.is_finite()) {
             return Err(input_err(format!("{name} has a non-finite point")));

@@ -5,8 +5,11 @@
 //! versioned JSON. Every error is a `worldpaint_engine.WorldPaintError`: bad input raises `InputError` (also a
 //! `ValueError`, with `FileFormatError` for malformed files) carrying the engine's message, a cancelled
 //! computation `Cancelled`. No algorithm lives here, and no panic crosses into Python: every call runs under
-//! `guarded`, which reports a panic as `InternalError`.
+//! `guarded`, which reports a panic as `InternalError`. Array arguments take any real numeric dtype whose meaning is
+//! clear (float32, integers, ...) and are cast to the engine's; an unusable one raises `InputError` naming the
+//! argument (see `arrays`).
 
+mod arrays;
 mod colors;
 mod convert;
 mod exemplars;

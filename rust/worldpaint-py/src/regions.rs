@@ -1,9 +1,10 @@
 //! Regions: containment, area and bounds for the add-on's checks; polygons filled as a mesh for display.
 
+use crate::arrays::ArrayArg;
 use crate::convert::{heights_of, points_from_py, points_to_py, region_from_py, rows_to_py};
 use crate::terrain::{terrain_of, Terrain};
 use crate::{guarded, input_err};
-use numpy::{IntoPyArray, PyArray1, PyReadonlyArray2};
+use numpy::{IntoPyArray, PyArray1};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use worldpaint_core::contour::Polygons;
@@ -14,7 +15,7 @@ use worldpaint_core::polygon_mesh::triangulate;
 pub(crate) fn region_contains<'py>(
     py: Python<'py>,
     region: &Bound<'py, PyAny>,
-    xy: PyReadonlyArray2<'py, f64>,
+    xy: ArrayArg<'py>,
 ) -> PyResult<Bound<'py, PyArray1<bool>>> {
     let region = region_from_py(region)?;
     let pts = points_from_py(&xy, "xy")?;
@@ -45,13 +46,16 @@ pub(crate) fn region_bbox(region: &Bound<'_, PyAny>) -> PyResult<((f64, f64), (f
 #[pyo3(signature = (contours, spacing, terrain=None))]
 pub(crate) fn fill_polygons<'py>(
     py: Python<'py>,
-    contours: Vec<PyReadonlyArray2<'py, f64>>,
+    contours: &Bound<'py, PyAny>,
     spacing: f64,
     terrain: Option<Py<Terrain>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let mut loops = Vec::with_capacity(contours.len());
-    for (i, c) in contours.iter().enumerate() {
-        let points = points_from_py(c, &format!("contour {i}"))?;
+    let mut loops = Vec::new();
+    let items = contours
+        .try_iter()
+        .map_err(|_| input_err("contours must be a list of (N, 2) arrays"))?;
+    for (i, c) in items.enumerate() {
+        let points = points_from_py(&ArrayArg::from(c?), &format!("contour {i}"))?;
         if points.iter().any(|p| !p.is_finite()) {
             return Err(input_err(format!("contour {i} has a non-finite point")));
         }

@@ -1,8 +1,8 @@
 //! The scene handed to the engine: the terrain and the instance columns, converted once.
 
+use crate::arrays::ArrayArg;
 use crate::convert::{scene_from_py, Structures};
 use crate::terrain::Terrain;
-use numpy::{PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 use worldpaint_core::Scene;
 
@@ -27,12 +27,12 @@ impl PyScene {
     fn new(
         terrain: Option<Py<Terrain>>,
         categories: &Bound<'_, PyAny>,
-        positions: PyReadonlyArray2<'_, f64>,
-        category_index: PyReadonlyArray1<'_, i32>,
-        rotations: Option<PyReadonlyArray1<'_, f64>>,
-        scales: Option<PyReadonlyArray1<'_, f64>>,
-        prototype: Option<PyReadonlyArray1<'_, i32>>,
-        locked: Option<PyReadonlyArray1<'_, bool>>,
+        positions: ArrayArg<'_>,
+        category_index: ArrayArg<'_>,
+        rotations: Option<ArrayArg<'_>>,
+        scales: Option<ArrayArg<'_>>,
+        prototype: Option<ArrayArg<'_>>,
+        locked: Option<ArrayArg<'_>>,
         paths: Option<&Bound<'_, PyAny>>,
         contours: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {

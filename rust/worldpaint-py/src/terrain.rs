@@ -1,9 +1,10 @@
 //! The terrain class: a heightfield with its maps, shared (not copied) by every engine call that uses it.
 
+use crate::arrays::ArrayArg;
 use crate::convert::points_from_py;
 use crate::{guarded, input_err};
-use numpy::ndarray::Array2;
-use numpy::{IntoPyArray, PyArray1, PyReadonlyArray2};
+use numpy::ndarray::{Array2, Ix2};
+use numpy::{IntoPyArray, PyArray1};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::sync::Arc;
@@ -12,8 +13,9 @@ use worldpaint_core::Heightfield;
 
 /// The terrain as a heightfield with named maps ("elevation", "slope" in radians, ...).
 ///
-/// `Terrain(vertices, triangles, cell=None)` rasterizes a triangle mesh given in world space (float64 (N, 3) and
-/// uint32 (M, 3)); a regular grid mesh is used directly. `cell` overrides the sample spacing in metres.
+/// `Terrain(vertices, triangles, cell=None)` rasterizes a triangle mesh given in world space (float64 (N, 3), and
+/// (M, 3) vertex indices of any integer dtype); a regular grid mesh is used directly. `cell` overrides the sample
+/// spacing in metres.
 #[pyclass(module = "worldpaint_engine", frozen)]
 pub(crate) struct Terrain {
     pub(crate) hf: Arc<Heightfield>,
@@ -25,24 +27,14 @@ impl Terrain {
     #[pyo3(signature = (vertices, triangles, cell=None))]
     fn new(
         py: Python<'_>,
-        vertices: PyReadonlyArray2<'_, f64>,
-        triangles: PyReadonlyArray2<'_, u32>,
+        vertices: ArrayArg<'_>,
+        triangles: ArrayArg<'_>,
         cell: Option<f64>,
     ) -> PyResult<Self> {
+        let vertices = vertices.read::<f64, Ix2>("vertices", &[3])?;
+        let triangles = triangles.read::<u32, Ix2>("triangles", &[3])?;
         let v = vertices.as_array();
         let t = triangles.as_array();
-        if v.ncols() != 3 {
-            return Err(input_err(format!(
-                "vertices must have shape (N, 3), got (N, {})",
-                v.ncols()
-            )));
-        }
-        if t.ncols() != 3 {
-            return Err(input_err(format!(
-                "triangles must have shape (M, 3), got (M, {})",
-                t.ncols()
-            )));
-        }
         let verts: Vec<[f64; 3]> = v.rows().into_iter().map(|r| [r[0], r[1], r[2]]).collect();
         let tris: Vec<[u32; 3]> = t.rows().into_iter().map(|r| [r[0], r[1], r[2]]).collect();
         let hf = py.detach(|| guarded(|| Heightfield::from_mesh(&verts, &tris, cell)))?;
@@ -51,14 +43,13 @@ impl Terrain {
 
     /// A terrain from a regular grid of heights, shape (ny, nx), sample (i, j) at origin + (i, j) * cell.
     #[staticmethod]
-    fn from_grid(
-        origin: (f64, f64),
-        cell: f64,
-        heights: PyReadonlyArray2<'_, f64>,
-    ) -> PyResult<Self> {
-        let a = heights.as_array();
-        let (ny, nx) = a.dim();
-        // refused before the copy: a broadcast array of any shape costs Python nothing
+    fn from_grid(origin: (f64, f64), cell: f64, heights: ArrayArg<'_>) -> PyResult<Self> {
+        let heights = heights.checked::<f64, Ix2>("heights", &[])?;
+        let (ny, nx) = match heights.shape() {
+            &[ny, nx] => (ny, nx),
+            _ => (0, 0), // not reached: the array is 2-D
+        };
+        // refused before the copy or the cast: a broadcast array of any shape costs Python nothing
         guarded(|| {
             worldpaint_core::limits::check(
                 "the terrain grid",
@@ -67,7 +58,8 @@ impl Terrain {
                 "cells",
             )
         })?;
-        let h: Vec<f32> = a.iter().map(|&z| z as f32).collect();
+        let heights = heights.read()?;
+        let h: Vec<f32> = heights.as_array().iter().map(|&z| z as f32).collect();
         let hf = guarded(|| Heightfield::new(DVec2::new(origin.0, origin.1), cell, nx, ny, h))?;
         Ok(Terrain { hf: hf.into() })
     }
@@ -76,7 +68,7 @@ impl Terrain {
     fn heights_at<'py>(
         &self,
         py: Python<'py>,
-        xy: PyReadonlyArray2<'py, f64>,
+        xy: ArrayArg<'py>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let hf = &self.hf;
         sample_points(py, &xy, |p| hf.height_at(p))
@@ -87,7 +79,7 @@ impl Terrain {
         &self,
         py: Python<'py>,
         name: &str,
-        xy: PyReadonlyArray2<'py, f64>,
+        xy: ArrayArg<'py>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         if !self.hf.maps.contains_key(name) {
             let known: Vec<&str> = self.hf.maps.keys().map(|k| k.as_str()).collect();
@@ -136,7 +128,7 @@ impl Terrain {
 /// `value` at each world XY point of `xy` (float64 (N, 2)), NaN where it has none, computed without the GIL.
 fn sample_points<'py>(
     py: Python<'py>,
-    xy: &PyReadonlyArray2<'py, f64>,
+    xy: &ArrayArg<'py>,
     value: impl Fn(DVec2) -> Option<f64> + Sync,
 ) -> PyResult<Bound<'py, PyArray1<f64>>> {
     let pts = points_from_py(xy, "xy")?;

@@ -1,9 +1,11 @@
 //! Terrain that adapts: `embed_roads`.
 
+use crate::arrays::ArrayArg;
 use crate::convert::{height_change, points_from_py, rows_to_py};
 use crate::terrain::Terrain;
 use crate::{guarded, input_err};
-use numpy::{IntoPyArray, PyReadonlyArray2};
+use numpy::ndarray::Ix2;
+use numpy::IntoPyArray;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use worldpaint_core::geom::DVec2;
@@ -20,18 +22,10 @@ fn roads_from_py(
     let mut out = Vec::new();
     let items = list
         .try_iter()
-        .map_err(|_| input_err("roads must be a list of float64 (N, 2) or (N, 3) arrays"))?;
+        .map_err(|_| input_err("roads must be a list of (N, 2) or (N, 3) arrays"))?;
     for (i, item) in items.enumerate() {
-        let a: PyReadonlyArray2<'_, f64> = item?
-            .extract()
-            .map_err(|_| input_err(format!("road {i} must be a float64 (N, 2) or (N, 3) array")))?;
+        let a = ArrayArg::from(item?).read::<f64, Ix2>(&format!("road {i}"), &[2, 3])?;
         let a = a.as_array();
-        if !(a.ncols() == 2 || a.ncols() == 3) {
-            return Err(input_err(format!(
-                "road {i} must have shape (N, 2) or (N, 3), got (N, {})",
-                a.ncols()
-            )));
-        }
         if a.iter().any(|v| !v.is_finite()) {
             return Err(input_err(format!("road {i} has a non-finite point")));
         }
@@ -64,7 +58,7 @@ pub(crate) fn embed_roads<'py>(
     py: Python<'py>,
     terrain: &Bound<'py, Terrain>,
     roads: &Bound<'py, PyAny>,
-    points: PyReadonlyArray2<'py, f64>,
+    points: ArrayArg<'py>,
     width: f64,
     bank_width: f64,
     use_heights: bool,

@@ -5,6 +5,7 @@
 //! ("positions", "heights", "rotations", "scales", "category_index", "prototype")}; the move and the stretch add
 //! what they measured.
 
+use crate::arrays::ArrayArg;
 use crate::colors::{color_painter, synthesis_options, Painting};
 use crate::convert::{
     edit_to_py, field, parse_color, points_from_py, points_to_py, region_from_py, region_to_py,
@@ -12,7 +13,7 @@ use crate::convert::{
 };
 use crate::scene::PyScene;
 use crate::{engine_err, guarded, input_err, with_progress};
-use numpy::{PyArray2, PyReadonlyArray2};
+use numpy::PyArray2;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::sync::Mutex;
@@ -127,7 +128,7 @@ impl Stroke {
     fn follow(
         &self,
         py: Python<'_>,
-        path: PyReadonlyArray2<'_, f64>,
+        path: ArrayArg<'_>,
         progress: Option<Py<PyAny>>,
     ) -> PyResult<usize> {
         let path = points_from_py(&path, "path")?;

@@ -1,9 +1,10 @@
 //! Villages: `generate_village`, `village_interest`, and the shipped encyclopedia and scenario presets (JSON).
 
+use crate::arrays::ArrayArg;
 use crate::convert::{points_from_py, points_to_py, region_from_py, rows_to_py};
 use crate::terrain::Terrain;
 use crate::{guarded, input_err, with_stages};
-use numpy::{IntoPyArray, PyReadonlyArray2};
+use numpy::IntoPyArray;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use worldpaint_core::geom::DVec2;
@@ -45,13 +46,10 @@ fn polylines(list: Option<&Bound<'_, PyAny>>, what: &str) -> PyResult<Vec<Vec<DV
     };
     for (i, item) in list
         .try_iter()
-        .map_err(|_| input_err(format!("{what} must be a list of float64 (N, 2) arrays")))?
+        .map_err(|_| input_err(format!("{what} must be a list of (N, 2) arrays")))?
         .enumerate()
     {
-        let a: PyReadonlyArray2<'_, f64> = item?
-            .extract()
-            .map_err(|_| input_err(format!("{what} {i} must be a float64 (N, 2) array")))?;
-        let pts = points_from_py(&a, &format!("{what} {i}"))?;
+        let pts = points_from_py(&ArrayArg::from(item?), &format!("{what} {i}"))?;
         if pts.iter().any(|p| !p.is_finite()) {
             return Err(input_err(format!("{what} {i} has a non-finite point")));
         }
@@ -116,7 +114,7 @@ pub(crate) fn generate_village<'py>(
     scenario: &str,
     seed: u64,
     encyclopedia: Option<&str>,
-    connections: Option<PyReadonlyArray2<'py, f64>>,
+    connections: Option<ArrayArg<'py>>,
     existing_roads: Option<&Bound<'py, PyAny>>,
     water_level: Option<f64>,
     water_areas: Option<&Bound<'py, PyAny>>,
@@ -273,7 +271,7 @@ pub(crate) fn village_interest<'py>(
     py: Python<'py>,
     terrain: &Bound<'py, Terrain>,
     region: &Bound<'py, PyAny>,
-    points: PyReadonlyArray2<'py, f64>,
+    points: ArrayArg<'py>,
     village_type: &str,
     building: &str,
     criterion: Option<&str>,

@@ -1,9 +1,11 @@
 //! Waterfall scenes: `build_waterfall`.
 
+use crate::arrays::ArrayArg;
 use crate::convert::{height_change, points_from_py, rows_to_py};
 use crate::terrain::Terrain;
 use crate::{guarded, input_err};
-use numpy::{IntoPyArray, PyReadonlyArray2};
+use numpy::ndarray::Ix2;
+use numpy::IntoPyArray;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use worldpaint_core::geom::DVec2;
@@ -37,22 +39,11 @@ fn controllers_from_py(list: &Bound<'_, PyAny>) -> PyResult<Vec<Controller>> {
                 )))
             }
         };
-        let pts: PyReadonlyArray2<'_, f64> = d
+        let pts = d
             .get_item("points")?
-            .ok_or_else(|| input_err(format!("controller {i} has no \"points\"")))?
-            .extract()
-            .map_err(|_| {
-                input_err(format!(
-                    "controller {i}: points must be a float64 (N, 3) array"
-                ))
-            })?;
+            .ok_or_else(|| input_err(format!("controller {i} has no \"points\"")))?;
+        let pts = ArrayArg::from(pts).read::<f64, Ix2>(&format!("controller {i}: points"), &[3])?;
         let a = pts.as_array();
-        if a.ncols() != 3 {
-            return Err(input_err(format!(
-                "controller {i}: points must have shape (N, 3), got (N, {})",
-                a.ncols()
-            )));
-        }
         let points = a
             .rows()
             .into_iter()
@@ -104,7 +95,7 @@ pub(crate) fn build_waterfall<'py>(
     py: Python<'py>,
     terrain: &Bound<'py, Terrain>,
     controllers: &Bound<'py, PyAny>,
-    points: PyReadonlyArray2<'py, f64>,
+    points: ArrayArg<'py>,
     seed: u64,
     min_slope: Option<f64>,
     overhang: Option<f64>,
