@@ -76,6 +76,8 @@ def test_village_growth_reports_its_stages_by_name_to_a_callback_that_takes_them
     stages = [stage for k, (_, stage) in enumerate(staged) if k == 0 or staged[k - 1][1] != stage]
     assert stages == ["growing the skeleton", "parcels and footprints", "houses"]
     assert [f for f, _ in staged] == plain == sorted(plain), "the same fractions, with or without the stage"
+    with pytest.raises(engine.InputError, match=r"unknown argument 'water_levle' \(the surroundings are water_level"):
+        engine.generate_village(terrain, region, scenario, 1, water_levle=3.0)
 
 
 def test_an_exception_in_the_progress_callback_reaches_the_caller():

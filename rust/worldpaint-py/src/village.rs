@@ -58,27 +58,59 @@ fn polylines(list: Option<&Bound<'_, PyAny>>, what: &str) -> PyResult<Vec<Vec<DV
     Ok(out)
 }
 
-fn environment(
-    water_level: Option<f64>,
-    water_areas: Option<&Bound<'_, PyAny>>,
-    rivers: Option<&Bound<'_, PyAny>>,
-    river_half_width: f64,
-    walls: Option<&Bound<'_, PyAny>>,
-) -> PyResult<Environment> {
-    if water_level.is_some_and(|w| !w.is_finite()) {
-        return Err(input_err("water_level must be finite"));
+/// The keyword arguments that describe the water and the walls around a village.
+const SURROUNDINGS: &str = "water_level, water_areas, rivers, river_half_width, walls";
+
+/// Where a village stands: the terrain, the region, the grid cell and the surroundings, read from the keyword
+/// arguments `water_level` (float or None), `water_areas`, `rivers` and `walls` (lists of (N, 2) polylines) and
+/// `river_half_width` (m, default 4); any other keyword is refused, naming the ones there are.
+fn site<'a>(
+    terrain: &'a worldpaint_core::Heightfield,
+    region: worldpaint_core::Region,
+    cell: f64,
+    surroundings: Option<&Bound<'_, PyDict>>,
+) -> PyResult<Site<'a>> {
+    let mut environment = Environment::default();
+    let mut river_half_width = 4.0;
+    for (key, value) in surroundings.into_iter().flat_map(|d| d.iter()) {
+        let key: String = key.extract()?;
+        let lines = |what: &str| polylines(Some(&value), what);
+        match key.as_str() {
+            "water_level" => {
+                environment.water_level = value
+                    .extract::<Option<f64>>()
+                    .map_err(|_| input_err("water_level must be a number or None"))?;
+                if environment.water_level.is_some_and(|w| !w.is_finite()) {
+                    return Err(input_err("water_level must be finite"));
+                }
+            }
+            "river_half_width" => {
+                river_half_width = value
+                    .extract::<f64>()
+                    .ok()
+                    .filter(|w| w.is_finite() && *w >= 0.0)
+                    .ok_or_else(|| input_err("river_half_width must be zero or more"))?;
+            }
+            "water_areas" => environment.water_areas = lines("water area")?,
+            "rivers" => {
+                environment.rivers = lines("river")?.into_iter().map(|r| (r, 0.0)).collect()
+            }
+            "walls" => environment.walls = lines("wall")?,
+            other => {
+                return Err(input_err(format!(
+                    "unknown argument '{other}' (the surroundings are {SURROUNDINGS})"
+                )))
+            }
+        }
     }
-    if !(river_half_width.is_finite() && river_half_width >= 0.0) {
-        return Err(input_err("river_half_width must be zero or more"));
+    for river in &mut environment.rivers {
+        river.1 = river_half_width;
     }
-    Ok(Environment {
-        water_level,
-        water_areas: polylines(water_areas, "water area")?,
-        rivers: polylines(rivers, "river")?
-            .into_iter()
-            .map(|r| (r, river_half_width))
-            .collect(),
-        walls: polylines(walls, "wall")?,
+    Ok(Site {
+        terrain,
+        region,
+        environment,
+        cell,
     })
 }
 
@@ -101,11 +133,12 @@ fn stage_share(stage: Stage) -> (&'static str, f64, f64) {
 /// "parcels": [float64 (N, 2)], "footprints": float64 (M, 4, 2), "houses": [{"vertices": (V, 3), "loop_starts",
 /// "loop_totals", "indices", "materials"}], "connections": (K, 2), "report": {...}}; footprints and houses are per
 /// kept seed, in order. `progress(fraction) -> bool` may cancel (raises `Cancelled`); a callback taking a second
-/// argument also gets the stage's name ("growing the skeleton", "parcels and footprints", "houses").
+/// argument also gets the stage's name ("growing the skeleton", "parcels and footprints", "houses"). The keywords
+/// `water_level`, `water_areas`, `rivers`, `river_half_width` and `walls` describe the surroundings; any other
+/// keyword is refused.
 #[pyfunction]
 #[pyo3(signature = (terrain, region, scenario, seed=0, *, encyclopedia=None, connections=None, existing_roads=None,
-                    water_level=None, water_areas=None, rivers=None, river_half_width=4.0, walls=None, cell=2.0,
-                    parcel_cell=1.0, progress=None))]
+                    cell=2.0, parcel_cell=1.0, progress=None, **surroundings))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn generate_village<'py>(
     py: Python<'py>,
@@ -116,14 +149,10 @@ pub(crate) fn generate_village<'py>(
     encyclopedia: Option<&str>,
     connections: Option<ArrayArg<'py>>,
     existing_roads: Option<&Bound<'py, PyAny>>,
-    water_level: Option<f64>,
-    water_areas: Option<&Bound<'py, PyAny>>,
-    rivers: Option<&Bound<'py, PyAny>>,
-    river_half_width: f64,
-    walls: Option<&Bound<'py, PyAny>>,
     cell: f64,
     parcel_cell: f64,
     progress: Option<Py<PyAny>>,
+    surroundings: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let hf = terrain.get().hf.clone();
     let region = region_from_py(region)?;
@@ -134,12 +163,7 @@ pub(crate) fn generate_village<'py>(
         None => Vec::new(),
     };
     let request = VillageRequest {
-        site: Site {
-            terrain: &hf,
-            region,
-            environment: environment(water_level, water_areas, rivers, river_half_width, walls)?,
-            cell,
-        },
+        site: site(&hf, region, cell, surroundings)?,
         connections,
         existing_roads: polylines(existing_roads, "existing road")?,
         encyclopedia: &encyclopedia,
@@ -261,11 +285,11 @@ pub(crate) fn generate_village<'py>(
 /// One interest criterion ("sociability", "worship", "accessibility", "slope", "water", "fortification",
 /// "domination") or, with `criterion=None`, the combined interest, at world XY `points` (float64 (N, 2)), for a
 /// building type of a village type, in the village made of `buildings` (list of (building type, x, y)) and
-/// `roads`. Values lie in [-1, 1] (the interest in [0, 1]); 0 outside the region.
+/// `roads`. Values lie in [-1, 1] (the interest in [0, 1]); 0 outside the region. The surroundings are keywords,
+/// as for `generate_village`.
 #[pyfunction]
 #[pyo3(signature = (terrain, region, points, village_type, building, criterion=None, *, encyclopedia=None,
-                    buildings=None, roads=None, water_level=None, water_areas=None, rivers=None,
-                    river_half_width=4.0, walls=None, cell=2.0))]
+                    buildings=None, roads=None, cell=2.0, **surroundings))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn village_interest<'py>(
     py: Python<'py>,
@@ -278,12 +302,8 @@ pub(crate) fn village_interest<'py>(
     encyclopedia: Option<&str>,
     buildings: Option<Vec<(String, f64, f64)>>,
     roads: Option<&Bound<'py, PyAny>>,
-    water_level: Option<f64>,
-    water_areas: Option<&Bound<'py, PyAny>>,
-    rivers: Option<&Bound<'py, PyAny>>,
-    river_half_width: f64,
-    walls: Option<&Bound<'py, PyAny>>,
     cell: f64,
+    surroundings: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, numpy::PyArray1<f64>>> {
     let hf = terrain.get().hf.clone();
     let region = region_from_py(region)?;
@@ -310,12 +330,7 @@ pub(crate) fn village_interest<'py>(
         .collect();
     let roads = polylines(roads, "road")?;
     let request = InterestRequest {
-        site: Site {
-            terrain: &hf,
-            region,
-            environment: environment(water_level, water_areas, rivers, river_half_width, walls)?,
-            cell,
-        },
+        site: site(&hf, region, cell, surroundings)?,
         encyclopedia: &encyclopedia,
         village_type,
         building,
