@@ -11,6 +11,7 @@ from worldpaint.bridge import engine
 from worldpaint.bridge.instances import point_cloud_arrays, point_cloud_objects
 
 EXEMPLAR = {"region_mode": 'RECT', "rect_min": (0.0, 0.0), "rect_max": (100.0, 100.0)}
+ELSEWHERE = {"region_mode": 'RECT', "rect_min": (0.0, 100.0), "rect_max": (100.0, 200.0)}
 
 
 def snapshot():
@@ -153,6 +154,16 @@ def test_missing_palette_file(learned, tmp_path):
     with pytest.raises(RuntimeError, match="Cannot read the palette file"):
         bpy.ops.worldpaint.import_palette(filepath=str(tmp_path / "missing.json"))
     assert snapshot() == before
+
+
+def test_a_headless_paste_stops_at_its_time_limit_and_changes_nothing(learned):
+    before = snapshot()
+    # a millisecond is over before the engine's first progress report after the start: the paste must stop there
+    with pytest.raises(RuntimeError, match=r"Pasting color: stopped at the time limit of 0.001 s; the scene is unch"):
+        bpy.ops.worldpaint.paste_color(seed=2, time_limit=0.001, **ELSEWHERE)
+    assert snapshot() == before
+    assert bpy.ops.worldpaint.paste_color(seed=2, time_limit=600.0, **ELSEWHERE) == {'FINISHED'}
+    assert snapshot() != before
 
 
 def test_unknown_color_and_category(learned):

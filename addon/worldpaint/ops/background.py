@@ -7,7 +7,11 @@ Blender data off the main thread: the computations take and return plain arrays.
 
 import queue
 import threading
+import time
 
+from bpy.props import FloatProperty
+
+from ..bridge import WorldPaintError, engine
 from .common import report_errors
 
 # how often a live edit in the viewport (a brush stroke, a region following the mouse) shows its newest result
@@ -35,20 +39,43 @@ class BackgroundOperator:
     """An operator whose work is ``_prepare`` (main thread: validate, extract), ``_compute(progress)`` (any thread:
     engine only) and ``_apply(context, result)`` (main thread: change the scene).
 
-    From a script (``execute``) it runs to completion. From the UI (``invoke``) the computation runs on a worker
-    thread while a modal handler shows the progress (with the stage the engine names, when it has stages) and Esc
-    cancels; the scene only changes once the result is complete, so a cancelled operation changes nothing.
+    From a script (``execute``) it runs to completion, or until its time limit, which a headless run sets in place
+    of Esc. From the UI (``invoke``) the computation runs on a worker thread while a modal handler shows the progress
+    (with the stage the engine names, when it has stages) and Esc cancels; the scene only changes once the result is
+    complete, so a cancelled operation changes nothing.
     """
 
     progress_text = "Working"
 
+    time_limit: FloatProperty(name="Time Limit", default=0.0, min=0.0, unit='TIME_ABSOLUTE', options={'SKIP_SAVE'},
+                              description="Stop after this many seconds, changing nothing (0: no limit); for scripts "
+                                          "and headless runs, where there is no Esc")
+
     def execute(self, context):
         def run():
             self._prepare(context)
-            result = with_progress(context, self._compute)
+            result = with_progress(context, self._compute_in_time)
             return self._apply(context, result)
 
         return report_errors(self, run)
+
+    def _compute_in_time(self, progress):
+        """``_compute`` told to stop once the time limit has passed; the error then says so."""
+        if self.time_limit <= 0.0:
+            return self._compute(progress)
+        deadline = time.monotonic() + self.time_limit
+
+        def in_time(fraction, stage=None):
+            go_on = progress is None or progress(fraction, stage)
+            return go_on and time.monotonic() < deadline
+
+        try:
+            return self._compute(in_time)
+        except engine.engine_error() as exc:
+            if engine.is_cancelled(exc) and time.monotonic() >= deadline:
+                raise WorldPaintError(f"{self.progress_text}: stopped at the time limit of {self.time_limit:g} s; "
+                                      "the scene is unchanged") from None
+            raise
 
     def invoke(self, context, _event):
         def start():
@@ -72,7 +99,7 @@ class BackgroundOperator:
             return not self._cancel
 
         try:
-            self._outcome = ("ok", self._compute(progress))
+            self._outcome = ("ok", self._compute_in_time(progress))
         except Exception as exc:  # noqa: BLE001 - handed to the main thread, which reports it
             self._outcome = ("error", exc)
 
