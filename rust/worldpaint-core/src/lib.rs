@@ -15,6 +15,7 @@
 //! | [`graph`] | roads and rivers as planar graphs of intersecting paths, segment queries (§4.2) |
 //! | [`grid`] | one regular grid for every raster and bucket index, with its two size rules |
 //! | [`limits`] | the work budget every entry point checks before allocating: instances, cells, bins, region size |
+//! | `progress` | progress and cancelling of work done item by item on several threads |
 //! | [`contour`] | islands and lakes: contours to dense points and back, signed distance (§6, thesis 6.2.1) |
 //! | [`polygon_mesh`] | polygons as a filled mesh (constrained Delaunay triangulation) for display |
 //! | [`terrain`] | the terrain and its external maps (§3) |
@@ -49,6 +50,7 @@ pub mod interpolate;
 pub mod limits;
 pub mod palette;
 pub mod polygon_mesh;
+mod progress;
 pub mod scene;
 pub mod search;
 pub mod spatial;

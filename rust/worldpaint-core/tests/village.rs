@@ -6,7 +6,7 @@ use worldpaint_core::exemplar::village_terrain;
 use worldpaint_core::geom::DVec2;
 use worldpaint_core::terrain_edit::{embed_roads, Road as EmbeddedRoad, RoadOptions};
 use worldpaint_core::village::encyclopedia::Event;
-use worldpaint_core::village::generate::{generate, Village, VillageRequest};
+use worldpaint_core::village::generate::{generate, Stage, Village, VillageRequest};
 use worldpaint_core::village::metrics::{
     footprint_conflicts, layout_statistics, mean_elevation_percentile, road_grades,
     unreachable_footprints,
@@ -269,6 +269,29 @@ fn bad_scenarios_and_cancelling_give_clear_errors() {
     let fine: &'static Scenario = Box::leak(Box::new(scenario("farming", 3)));
     let err = generate(&request(fine), &|_, f| f < 0.5).expect_err("cancelled");
     assert!(matches!(err, Error::Cancelled));
+    // each stage hears the cancel while it works, not only between stages: the land conquest of the parcels
+    // (their first 20 % is the road conquest), the footprints (their last 20 %) and the houses
+    for (name, stop_at) in [
+        ("land conquest", (Stage::Parcels, 0.3)),
+        ("footprints", (Stage::Parcels, 0.85)),
+        ("houses", (Stage::Houses, 0.01)),
+    ] {
+        let seen = std::sync::Mutex::new(Vec::new());
+        let cancel = |stage, f| {
+            if let Ok(mut seen) = seen.lock() {
+                seen.push((stage, f));
+            }
+            !(stage == stop_at.0 && f >= stop_at.1)
+        };
+        let err = generate(&request(fine), &cancel).expect_err(name);
+        assert!(matches!(err, Error::Cancelled), "{name}: {err}");
+        let seen = seen.into_inner().unwrap_or_default();
+        assert!(
+            seen.iter()
+                .any(|&(s, f)| s == stop_at.0 && f >= stop_at.1 && f < 1.0),
+            "{name}: no report within the stage: {seen:?}"
+        );
+    }
 }
 
 #[test]

@@ -578,8 +578,16 @@ mod village {
         }
         let p = params(16.0, 6.0, 0.0);
         let run = |options: &ParcelOptions| {
-            parcels_with(&land, &roads, WIDTH, &seeds(&positions, &p), CELL, options)
-                .expect("parcels")
+            parcels_with(
+                &land,
+                &roads,
+                WIDTH,
+                &seeds(&positions, &p),
+                CELL,
+                options,
+                &|_| true,
+            )
+            .expect("parcels")
         };
         let with = run(&ParcelOptions::default());
         check_layout(&land, &roads, &with, &footprints_of(&with, &roads));

@@ -8,13 +8,14 @@ use super::house::house;
 use super::interest::{criteria, interest, Criterion, StaticMaps, VillageState};
 use super::land::{Land, Site};
 use super::metrics::on_water;
-use super::parcels::{parcels, ParcelSeed};
+use super::parcels::{parcels_with, ParcelOptions, ParcelSeed};
 use super::roads::RoadNetwork;
 use super::seeding::seed_building;
 use super::{BuildingSeed, Footprint, HouseMesh, Parcel, Road};
 use crate::error::{Error, Result};
 use crate::geom::Region;
 use crate::graph::SegmentIndex;
+use crate::progress::Counted;
 use crate::synthesis::mix_seed;
 use glam::DVec2;
 use rand::SeedableRng;
@@ -171,6 +172,13 @@ pub fn generate(
     enc.validate()?;
     enc.check_scenario(request.scenario)?;
     let started = Instant::now();
+    let reached = |stage: Stage, fraction: f64| {
+        if progress(stage, fraction) {
+            Ok(())
+        } else {
+            Err(Error::Cancelled)
+        }
+    };
     let land = request.site.land()?;
     if !land.inside().iter().any(|v| *v) {
         return Err(Error::bad_region(
@@ -182,6 +190,7 @@ pub fn generate(
     } else {
         request.connections.clone()
     };
+    reached(Stage::Skeleton, 0.0)?;
     let mut network = RoadNetwork::new(&land, &connections, &request.existing_roads)?;
     let mut report = VillageReport {
         requested: request.scenario.building_count() as usize,
@@ -206,6 +215,7 @@ pub fn generate(
         }
     }
     let maps = StaticMaps::new(&land, &radii);
+    reached(Stage::Skeleton, 0.0)?;
 
     // 3.2: the skeleton
     let mut rng = ChaCha8Rng::seed_from_u64(mix_seed(request.seed, 0x5EED));
@@ -234,9 +244,7 @@ pub fn generate(
         let frontage = 0.5 * enc.roads.width + kind.footprint_max[0].max(kind.footprint_max[1]);
         let mut failed_in_a_row = 0;
         for _ in 0..count {
-            if !progress(Stage::Skeleton, done as f64 / total) {
-                return Err(Error::Cancelled);
-            }
+            reached(Stage::Skeleton, done as f64 / total)?;
             done += 1;
             if failed_in_a_row >= MAX_FAILURES_IN_A_ROW {
                 // the land has no more room for this building: the rest of the request cannot be placed either
@@ -284,9 +292,7 @@ pub fn generate(
 
     // 3.3: parcels and footprints
     let stage = Instant::now();
-    if !progress(Stage::Parcels, 0.0) {
-        return Err(Error::Cancelled);
-    }
+    reached(Stage::Parcels, 0.0)?;
     // the network holds the existing roads first, then the new ones
     let all_roads: &[Road] = &network.roads;
     let placements: Vec<_> = seeds
@@ -306,32 +312,38 @@ pub fn generate(
     } else {
         request.site.cell
     };
-    let conquered = parcels(
+    let conquered = parcels_with(
         &land,
         all_roads,
         enc.roads.width,
         &parcel_seeds,
         parcel_cell,
+        &ParcelOptions::default(),
+        &|f| progress(Stage::Parcels, 0.8 * f),
     )?;
     let mut kept_seeds = Vec::new();
     let mut kept_parcels = Vec::new();
     let mut kept_footprints = Vec::new();
+    let footprints = Counted::new(conquered.len(), |f| progress(Stage::Parcels, 0.8 + 0.2 * f));
     let found: Vec<Option<Footprint>> = conquered
         .par_iter()
         .zip(seeds.par_iter())
         .map(|(parcel, s)| {
-            let parcel = parcel.as_ref()?;
+            let parcel = parcel.as_ref().filter(|_| footprints.go_on())?;
             let kind = enc.buildings.get(&s.building)?;
-            footprint(
+            let fp = footprint(
                 parcel,
                 all_roads,
                 enc.roads.width,
                 kind.footprint_min,
                 kind.footprint_max,
                 1.0,
-            )
+            );
+            footprints.done_one();
+            fp
         })
         .collect();
+    footprints.finish()?;
     for ((s, parcel), fp) in seeds.into_iter().zip(conquered).zip(found) {
         let Some(parcel) = parcel else {
             report.without_access += 1;
@@ -354,25 +366,26 @@ pub fn generate(
 
     // 3.4: houses
     let stage = Instant::now();
-    if !progress(Stage::Houses, 0.0) {
-        return Err(Error::Cancelled);
-    }
+    reached(Stage::Houses, 0.0)?;
     let terrain = request.site.terrain;
     let ground = |p: DVec2| terrain.height_at(p).unwrap_or_else(|| land.height_at(p));
+    let built = Counted::new(kept_footprints.len(), |f| progress(Stage::Houses, f));
     let houses: Vec<HouseMesh> = kept_footprints
         .par_iter()
         .zip(kept_seeds.par_iter())
         .enumerate()
         .filter_map(|(k, (fp, s))| {
-            let kind = enc.buildings.get(&s.building)?;
+            let kind = enc.buildings.get(&s.building).filter(|_| built.go_on())?;
             let seed = mix_seed(request.seed, k as u64 + 1);
             let span = (kind.storeys[1] - kind.storeys[0] + 1) as u64;
             let storeys = kind.storeys[0] + (seed % span) as u32;
             let (mut mesh, _) = house(fp, kind, storeys, &ground, seed);
             mesh.seed = k;
+            built.done_one();
             Some(mesh)
         })
         .collect();
+    built.finish()?;
     report.seconds[2] = stage.elapsed().as_secs_f64();
     progress(Stage::Houses, 1.0);
 

@@ -5,8 +5,12 @@
 
 use super::grid::{Work, FREE, N4, N8};
 use super::NONE;
+use crate::error::Result;
 use rayon::prelude::*;
 use std::collections::VecDeque;
+
+/// Rounds of clean-up at the most; each reports its progress.
+const ROUNDS: usize = 12;
 
 /// The labels being cleaned (the parcel of each cell, or `NONE`) with the cost at which each cell was claimed,
 /// and what the cleaning respects: the road cells' owners and the parcels' anchors.
@@ -96,15 +100,15 @@ impl Labels<'_> {
 
 /// Keeps each parcel's 4-connected component that holds its anchor, smooths the labels (the first rounds), fills
 /// pinch points and enclosed holes, until every parcel is one simply connected 4-connected region without cells
-/// touching at a corner only.
+/// touching at a corner only. `rounds_done(fraction)` hears of each round and may stop the work.
 pub(super) fn clean_labels(
     work: &Work,
     owner: &[u32],
     anchors: &[Option<usize>],
     is_anchor: &[bool],
-    label: &mut [u32],
-    best: &mut [f64],
-) {
+    (label, best): (&mut [u32], &mut [f64]),
+    rounds_done: &dyn Fn(f64) -> Result<()>,
+) -> Result<()> {
     let mut labels = Labels {
         work,
         owner,
@@ -112,16 +116,18 @@ pub(super) fn clean_labels(
         label,
         best,
     };
-    for round in 0..12 {
+    for round in 0..ROUNDS {
         keep_components(work, anchors, labels.label, labels.best);
         let smoothed = round < 3 && labels.smooth();
         let pinched = labels.fix_pinches();
         let holed = labels.fix_holes(anchors.len());
         if !smoothed && !pinched && !holed {
-            return;
+            return Ok(());
         }
+        rounds_done((round + 1) as f64 / ROUNDS as f64)?;
     }
     keep_components(work, anchors, labels.label, labels.best);
+    Ok(())
 }
 
 fn keep_components(work: &Work, anchors: &[Option<usize>], label: &mut [u32], best: &mut [f64]) {

@@ -87,6 +87,7 @@ use super::land::Land;
 use super::road_index::{Projection, RoadIndex};
 use super::{Parcel, Road};
 use crate::error::{check, Error, Result};
+use crate::progress::Counted;
 use corner::{corner_conquest, junctions, keeping_access};
 use glam::DVec2;
 use grid::Work;
@@ -160,10 +161,12 @@ pub fn parcels(
         seeds,
         cell,
         &ParcelOptions::default(),
+        &|_| true,
     )
 }
 
-/// [`parcels`] with explicit simplification and corner options.
+/// [`parcels`] with explicit simplification and corner options, reporting its progress (0 to 1) as it goes;
+/// `progress` returning `false` cancels ([`Error::Cancelled`]).
 pub fn parcels_with(
     land: &Land,
     roads: &[Road],
@@ -171,8 +174,16 @@ pub fn parcels_with(
     seeds: &[ParcelSeed],
     cell: f64,
     options: &ParcelOptions,
+    progress: &(dyn Fn(f64) -> bool + Sync),
 ) -> Result<Vec<Option<Parcel>>> {
     validate(roads, road_width, seeds, cell, options)?;
+    let reached = |fraction: f64| {
+        if progress(fraction) {
+            Ok(())
+        } else {
+            Err(Error::Cancelled)
+        }
+    };
     let n = seeds.len();
     if n == 0 {
         return Ok(Vec::new());
@@ -192,21 +203,25 @@ pub fn parcels_with(
         .iter()
         .map(|p| work.source_cell(&index, p, half))
         .collect();
+    reached(0.0)?;
     let mut road = road_conquest(&work, seeds, &sources);
+    reached(0.1)?;
     let junctions = junctions(roads, &work, seeds, road_width, options);
     keeping_access(seeds.len(), &mut road, |road| {
         corner_conquest(&work, seeds, &junctions, half, options, road)
     });
     let (fronts, anchors) = fronts_and_anchors(&road, &sources);
+    reached(0.2)?;
 
     // 3.3.3 anisotropic land conquest, each parcel on its own
+    let conquests = Counted::new(n, |f| progress(0.2 + 0.3 * f));
     let claims: Vec<Vec<Claim>> = (0..n)
         .into_par_iter()
         .map(|i| {
-            if anchors[i].is_none() {
+            if anchors[i].is_none() || !conquests.go_on() {
                 return Vec::new();
             }
-            conquer(
+            let claim = conquer(
                 &work,
                 land,
                 &index,
@@ -214,9 +229,12 @@ pub fn parcels_with(
                 i as u32,
                 &fronts[i],
                 seeds[i].params,
-            )
+            );
+            conquests.done_one();
+            claim
         })
         .collect();
+    conquests.finish()?;
     let (mut label, mut best) = resolve_claims(&claims, work.grid.len());
     let is_anchor = {
         let mut a = vec![false; work.grid.len()];
@@ -230,12 +248,13 @@ pub fn parcels_with(
         &road.owner,
         &anchors,
         &is_anchor,
-        &mut label,
-        &mut best,
-    );
+        (&mut label, &mut best),
+        &|round| reached(0.5 + 0.35 * round),
+    )?;
 
     // 3.3.4 simplification of the shared boundary graph
     let contours = simplified_contours(&work, &index, half, &label, n, options);
+    reached(1.0)?;
     Ok(contours
         .into_iter()
         .enumerate()
