@@ -55,6 +55,18 @@ pub enum Region {
 /// Scanlines that integrate the area of a clipped region (exact along each line, midpoint rule across them).
 const AREA_SCANLINES: usize = 512;
 
+/// A box as a message shows it: `x 0.0..200.0, y -5.5..80.0` (metres; far-off values in scientific notation).
+pub(crate) fn describe_box((lo, hi): (DVec2, DVec2)) -> String {
+    let m = |v: f64| {
+        if v.abs() < 1e6 {
+            format!("{v:.1}")
+        } else {
+            format!("{v:.3e}")
+        }
+    };
+    format!("x {}..{}, y {}..{}", m(lo.x), m(hi.x), m(lo.y), m(hi.y))
+}
+
 /// Whether both coordinates are finite numbers.
 pub(crate) fn finite(p: DVec2) -> bool {
     p.x.is_finite() && p.y.is_finite()

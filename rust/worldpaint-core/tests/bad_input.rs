@@ -157,6 +157,13 @@ fn a_paste_is_counted_on_the_part_of_the_region_on_the_terrain() {
         matches!(off, Err(Error::RegionOffTerrain { .. })),
         "{off:?}"
     );
+    // the message shows both boxes in metres; one ten thousand light years away in scientific notation
+    let far = synthesize(&scene, &color, &rect((1e20, 0.0), (2e20, 10.0)), &opts);
+    let message = far.map(|_| ()).expect_err("refused").to_string();
+    assert!(
+        message.contains("x 1.000e20..2.000e20, y 0.0..10.0") && !message.contains("DVec2"),
+        "{message}"
+    );
 }
 
 #[test]

@@ -30,7 +30,7 @@
 //! window-edge correction stays reliable. `bin_width = max_radius / 24`.
 
 use crate::error::{check, Error, Result};
-use crate::geom::{DVec2, Region};
+use crate::geom::{describe_box, DVec2, Region};
 use crate::limits;
 use crate::palette::{
     CategoryColor, Color, GraphColor, Histogram, Interaction, MapInteraction, MapSource,
@@ -422,9 +422,9 @@ impl Exemplar<'_> {
         if samples.is_empty() {
             return Err(Error::RegionOffTerrain {
                 reason: format!(
-                    "exemplar region bbox {:?} does not overlap the terrain {:?}",
-                    self.region.bbox(),
-                    terrain.bbox()
+                    "the exemplar region ({}) does not overlap the terrain ({})",
+                    describe_box(self.region.bbox()),
+                    describe_box(terrain.bbox())
                 ),
             });
         }

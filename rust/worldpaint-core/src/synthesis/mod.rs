@@ -132,7 +132,7 @@ pub use adapt::AdaptOptions;
 use crate::analysis::region_lattice;
 use crate::contour::{fill, trace};
 use crate::error::{check, Error, Result};
-use crate::geom::{DVec2, Region};
+use crate::geom::{describe_box, DVec2, Region};
 use crate::limits;
 use crate::palette::{CategoryColor, Color, Histogram, MapSource};
 use crate::scene::{Category, CategoryKind, Contour, Instance, Path, Scene};
@@ -346,9 +346,9 @@ pub(crate) fn check_terrain(
     if hi.x < tlo.x || hi.y < tlo.y || lo.x > thi.x || lo.y > thi.y {
         return Err(Error::RegionOffTerrain {
             reason: format!(
-                "region bbox {:?} misses the terrain {:?}",
-                (lo, hi),
-                (tlo, thi)
+                "the region ({}) misses the terrain ({})",
+                describe_box((lo, hi)),
+                describe_box((tlo, thi))
             ),
         });
     }
@@ -402,9 +402,9 @@ pub(crate) fn synthesize_keeping(
     let on_terrain = match scene.terrain.as_deref() {
         Some(t) => t.clip(region).ok_or_else(|| Error::RegionOffTerrain {
             reason: format!(
-                "the region {:?} and the terrain {:?} do not overlap",
-                region.bbox(),
-                t.bbox()
+                "the region ({}) and the terrain ({}) do not overlap",
+                describe_box(region.bbox()),
+                describe_box(t.bbox())
             ),
         })?,
         None => region.clone(),
