@@ -192,7 +192,7 @@ def test_selection_region_is_the_default():
     assert 0.0 <= x0 < 3.0 and 97.0 < x1 <= 100.0 and 0.0 <= y0 < 3.0 and 97.0 < y1 <= 100.0
 
 
-def test_a_color_pastes_on_higher_ground_and_learns_heights_only_when_asked():
+def test_a_color_pastes_on_higher_ground_and_learns_heights_only_when_asked(capfd):
     terrain_obj, examples, _ = slope_exemplar()
     select_only(examples)
     assert bpy.ops.worldpaint.learn_color(name="Anywhere", **EXEMPLAR) == {'FINISHED'}
@@ -211,3 +211,12 @@ def test_a_color_pastes_on_higher_ground_and_learns_heights_only_when_asked():
     assert bpy.ops.worldpaint.paste_color(color="Anywhere", seed=3, **DESTINATION) == {'FINISHED'}
     counts = {c: len(p[0]) for c, p in synthesized_points().items()}
     assert counts.get("Tree", 0) > 20 and counts.get("Grass", 0) > 20, counts
+
+    # a color that learned heights says the destination lies above all of them, and paints no more there than
+    # its example's mean density: what the height-blind color paints on the same slopes, give or take
+    capfd.readouterr()
+    assert bpy.ops.worldpaint.paste_color(color="Lowland", seed=3, **DESTINATION) == {'FINISHED'}
+    assert "100% of it has elevation outside what it showed" in capfd.readouterr().out
+    lowland = {c: len(p[0]) for c, p in synthesized_points().items()}
+    for category, n in counts.items():
+        assert lowland.get(category, 0) <= 1.1 * n + 5, (category, lowland, counts)

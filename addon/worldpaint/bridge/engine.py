@@ -125,6 +125,8 @@ class Edit:
     removed_contours: np.ndarray
     added_paths: tuple
     added_contours: tuple
+    # {map name: share of the painted region where it read values the color's example never showed}
+    unseen_maps: dict
 
     @classmethod
     def of(cls, d):
@@ -144,6 +146,7 @@ class Edit:
             removed_contours=np.asarray(d["removed_contours"], dtype=np.int64),
             added_paths=lines("added_paths"),
             added_contours=lines("added_contours"),
+            unseen_maps=dict(d.get("unseen_maps", {})),
         )
 
     def painted_categories(self):

@@ -38,3 +38,7 @@ class WORLDPAINT_OT_paste_color(RegionSynthesisOperator, bpy.types.Operator):
         if empty:
             self.report({'WARNING'}, f"Nothing pasted for {', '.join(empty)}: the example had none on slopes (or, "
                                      "for a color with a height preference, heights) like the destination's")
+        if edit.unseen_maps:
+            shares = ", ".join(f"{share:.0%} of it has {name}" for name, share in sorted(edit.unseen_maps.items()))
+            self.report({'WARNING'}, f"The example never showed parts of the destination: {shares} outside what "
+                                     "it showed; painted there at most at the example's mean density")

@@ -513,7 +513,8 @@ pub(crate) fn parse_color(json: &str) -> PyResult<Color> {
 /// An edit as a dict: {"categories": [...], "removed": int64 (K) indices of the removed input instances, the added
 /// instances' columns as [`instances_to_py`] writes them, "removed_paths" and "removed_contours": int64 indices of
 /// the input's paths and contours removed (a cut one is removed and its remaining pieces added), "added_paths" and
-/// "added_contours" as [`polylines_to_py`] writes them}.
+/// "added_contours" as [`polylines_to_py`] writes them, "unseen_maps": {map name: share of the painted region
+/// where the map read values the color's example never showed}}.
 pub(crate) fn edit_to_py<'py>(
     py: Python<'py>,
     edit: &Edit,
@@ -539,5 +540,10 @@ pub(crate) fn edit_to_py<'py>(
         &edit.added_contours,
         terrain,
     )?;
+    let unseen = PyDict::new(py);
+    for (name, share) in &edit.unseen_maps {
+        unseen.set_item(name, share)?;
+    }
+    d.set_item("unseen_maps", unseen)?;
     Ok(d)
 }

@@ -104,8 +104,12 @@
 //! not average to 1). With several maps the factors are raked over the painted region (`rake_maps`) so each
 //! map's distribution is what its own factor gives. Values the exemplar region showed but where `h_m = 0` —
 //! the exemplar never had an instance there — get factor 0: no instance lands there. Values the region never
-//! showed (beyond its range, or a gap) take the factor of the nearest value it did show: the exemplar holds no
-//! evidence about them, and a neutral reading keeps, say, a grove learned on flat ground pastable on hills.
+//! showed (beyond its range, or a gap) take the factor of the nearest value it did show, but never more than 1:
+//! the exemplar holds no evidence about them, so they get at most its mean density. A neutral reading keeps, say,
+//! a grove learned on flat ground pastable on hills, a forest that thinned out towards the steepest slopes it saw
+//! stays thin beyond them, and a preference read at the edge of the example on a few samples is not extrapolated
+//! into more content over a destination that lies beyond it. The share of the region where each map reads such
+//! values is reported ([`SynthesisResult::unseen_maps`]).
 //!
 //! ## Free borders
 //! Where the region of influence holds no content, the neighbours an instance would have beyond the border are
@@ -140,7 +144,7 @@ use crate::terrain::Heightfield;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use structures::StructuredContent;
-use target::{build_target, rake_maps, Conditioning, Target};
+use target::{build_target, rake_maps, unseen_shares, Conditioning, Target};
 
 /// Floor of empty rdf bins beyond the hard core (see the module documentation).
 pub(crate) const HISTOGRAM_FLOOR: f64 = 1e-3;
@@ -204,6 +208,18 @@ pub struct SynthesisResult {
     pub contours: Vec<Contour>,
     /// Indices into the scene's contours of those the new contours replace.
     pub replaced_contours: Vec<usize>,
+    /// Per map (by name), the share of the region where the map reads values the color's example never showed:
+    /// there the color paints at most its mean density (see the module documentation, "Maps"). Maps whose values
+    /// the example covered everywhere are left out.
+    pub unseen_maps: Vec<(String, f64)>,
+}
+
+/// Records that `share` of a painted region read map `name` outside its example (the largest share per map).
+pub(crate) fn add_unseen(unseen: &mut Vec<(String, f64)>, name: String, share: f64) {
+    match unseen.iter_mut().find(|(n, _)| *n == name) {
+        Some((_, s)) => *s = s.max(share),
+        None => unseen.push((name, share)),
+    }
 }
 
 /// Synthesize the color in `region`. The scene's unlocked instances *inside* the region are treated as removed
@@ -547,6 +563,9 @@ impl<'s> Painting<'s> {
             "instances",
         )?;
         if !target.maps.is_empty() && !self.lattice.is_empty() {
+            for (name, share) in unseen_shares(&target, &self.lattice) {
+                add_unseen(&mut state.out.unseen_maps, name, share);
+            }
             rake_maps(&mut target, &self.lattice);
         }
         let mut rng = ChaCha8Rng::seed_from_u64(mix_seed(self.opts.seed, ci as u64 + 1));

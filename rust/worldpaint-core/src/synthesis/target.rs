@@ -158,33 +158,51 @@ pub(super) enum MapField<'a> {
     Polygons(Arc<Polygons>, f64),
 }
 
-/// `ln ψ` per bin of one map.
+/// `ln ψ` per bin of one map, with one more bin at each end for the values below and above the learned range.
 pub(super) struct MapTable<'a> {
+    /// The map's name in the color.
+    pub(super) name: &'a str,
     pub(super) field: MapField<'a>,
     pub(super) hist: Histogram,
+    /// Whether the exemplar's region showed each bin's values (see [`with_unseen_bins`]).
+    pub(super) seen: Vec<bool>,
     /// Wanted distribution of the instances over the bins in the painted region (normalized; empty when
     /// unknown): what the map factors give over the region's lattice.
     pub(super) wanted: Vec<f64>,
 }
 
 impl<'a> MapTable<'a> {
-    pub(super) fn new(field: MapField<'a>, h: &Histogram, q: &Histogram) -> Self {
+    pub(super) fn new(name: &'a str, field: MapField<'a>, h: &Histogram, q: &Histogram) -> Self {
         let min_q = q
             .values
             .iter()
             .copied()
             .filter(|v| *v > 0.0)
             .fold(f64::INFINITY, f64::min);
-        let values = h
-            .values
-            .iter()
-            .enumerate()
-            .map(|(k, &hv)| {
+        let centre = |k: usize| h.start + (k as f64 - 0.5) * h.bin_width;
+        // bins 1..=n are the learned ones; 0 and n + 1 hold what lies below and above them
+        let n = h.values.len();
+        let learned = |k: usize| (1..=n).contains(&k);
+        let hs: Vec<f64> = (0..n + 2)
+            .map(|k| if learned(k) { h.values[k - 1] } else { 0.0 })
+            .collect();
+        let qs: Vec<f64> = (0..n + 2)
+            .map(|k| {
+                if learned(k) {
+                    q.value_at(centre(k))
+                } else {
+                    0.0
+                }
+            })
+            .collect();
+        let seen: Vec<bool> = qs.iter().map(|v| *v > 0.0).collect();
+        let values = (0..n + 2)
+            .map(|k| {
+                let hv = hs[k];
                 if hv <= 0.0 {
                     return f64::NEG_INFINITY;
                 }
-                let x = h.start + (k as f64 + 0.5) * h.bin_width;
-                let qv = q.value_at(x);
+                let qv = qs[k];
                 let qv = if qv > 0.0 {
                     qv
                 } else if min_q.is_finite() {
@@ -195,16 +213,15 @@ impl<'a> MapTable<'a> {
                 (hv / qv).ln()
             })
             .collect();
-        let values = extrapolate_unseen(values, |k| {
-            q.value_at(h.start + (k as f64 + 0.5) * h.bin_width) > 0.0
-        });
         MapTable {
+            name,
             field,
             hist: Histogram {
-                start: h.start,
+                start: h.start - h.bin_width,
                 bin_width: h.bin_width,
-                values,
+                values: with_unseen_bins(values, &hs, &qs),
             },
+            seen,
             wanted: Vec::new(),
         }
     }
@@ -231,7 +248,7 @@ impl MapTable<'_> {
         matches!(self.field, MapField::Terrain(_))
     }
 
-    /// Bin of map value `v`; values beyond the learned range take the end bins (see `extrapolate_unseen`).
+    /// Bin of map value `v`; values beyond the learned range take the end bins (see [`with_unseen_bins`]).
     #[inline]
     pub(super) fn bin_of(&self, v: f64) -> Option<usize> {
         let last = self.hist.values.len().checked_sub(1)?;
@@ -243,25 +260,65 @@ impl MapTable<'_> {
     }
 }
 
+/// The share of the exemplar's region whose preference a value it never showed takes (see
+/// [`with_unseen_bins`]).
+const NEAREST_SHARE: f64 = 0.1;
+
 /// The exemplar says nothing about map values its region never showed (a grove learned on flat ground knows
-/// nothing of slopes): such bins take the preference of the nearest bin the region did show, so a flat
-/// exemplar is neutral to slope, and a forest that avoided the steepest slopes it saw avoids steeper ones too.
-fn extrapolate_unseen(values: Vec<f64>, seen: impl Fn(usize) -> bool) -> Vec<f64> {
-    let seen_bins: Vec<usize> = (0..values.len()).filter(|&k| seen(k)).collect();
-    if seen_bins.is_empty() {
+/// nothing of slopes; a forest learned between 300 and 400 m knows nothing of 600 m). Such a bin takes the
+/// preference `Σh / Σq` of the nearest bins the region did show, enough of them to hold [`NEAREST_SHARE`] of its
+/// area (so that a preference read on a few samples at the edge of the example does not decide alone), but never
+/// more than the neutral 1: a flat exemplar is neutral to slope, a forest that avoided the steepest slopes it saw
+/// avoids steeper ones too, and a forest that grew denser towards its highest ground is not extrapolated into
+/// more content than the example's mean density above it. `h` and `q` are the instances' and the region's
+/// histograms; `values` the learned `ln ψ`, kept where the region showed the bin.
+fn with_unseen_bins(values: Vec<f64>, h: &[f64], q: &[f64]) -> Vec<f64> {
+    let total: f64 = q.iter().filter(|v| **v > 0.0).sum();
+    if !(total > 0.0) {
         return values;
     }
-    (0..values.len())
+    let n = values.len();
+    (0..n)
         .map(|k| {
-            if seen(k) {
+            if q[k] > 0.0 {
                 return values[k];
             }
-            let nearest = seen_bins
+            // the seen bins outwards from k, the lower first at equal distance
+            let (mut hs, mut qs) = (0.0, 0.0);
+            for d in 1..n {
+                for j in [k.checked_sub(d), Some(k + d).filter(|j| *j < n)]
+                    .into_iter()
+                    .flatten()
+                {
+                    if q[j] > 0.0 && qs < NEAREST_SHARE * total {
+                        hs += h[j].max(0.0);
+                        qs += q[j];
+                    }
+                }
+                if qs >= NEAREST_SHARE * total {
+                    break;
+                }
+            }
+            (hs / qs).min(1.0).ln()
+        })
+        .collect()
+}
+
+/// The share of `lattice` (the painted region's samples) where each map reads a value the exemplar's region
+/// never showed, by map name; maps with none are left out.
+pub(super) fn unseen_shares(target: &Target, lattice: &[DVec2]) -> Vec<(String, f64)> {
+    if lattice.is_empty() {
+        return Vec::new();
+    }
+    target
+        .maps
+        .iter()
+        .filter_map(|m| {
+            let unseen = lattice
                 .iter()
-                .copied()
-                .min_by_key(|&j| (j.abs_diff(k), j))
-                .unwrap_or(k);
-            values[nearest]
+                .filter(|p| m.bin_at(target.terrain, **p).is_some_and(|b| !m.seen[b]))
+                .count();
+            (unseen > 0).then(|| (m.name.to_string(), unseen as f64 / lattice.len() as f64))
         })
         .collect()
 }
@@ -575,7 +632,7 @@ fn map_tables<'a>(
                     MapField::Polygons(structures.polygons(&m.map), color.max_radius)
                 }
             };
-            MapTable::new(field, &m.hist, &m.region_hist)
+            MapTable::new(&m.map, field, &m.hist, &m.region_hist)
         })
         .collect()
 }

@@ -21,7 +21,7 @@ use crate::error::{Error, Result};
 use crate::geom::{DVec2, Region};
 use crate::palette::Color;
 use crate::scene::{Category, Contour, Instance, Path, Scene};
-use crate::synthesis::{synthesize_keeping, SynthesisOptions};
+use crate::synthesis::{add_unseen, synthesize_keeping, SynthesisOptions};
 
 /// What a tool did: the scene's instances, paths and contours it removed (indices, ascending) and those it added,
 /// whose `category` indexes `categories` (the scene's categories, then any the tool's colors brought). A path or
@@ -42,6 +42,9 @@ pub struct Edit {
     pub removed_contours: Vec<usize>,
     /// The contours added: new ones and the pieces of cut ones.
     pub added_contours: Vec<Contour>,
+    /// Per map, the largest share of a painted region where the map read values the color's example never
+    /// showed ([`crate::synthesis::SynthesisResult::unseen_maps`]).
+    pub unseen_maps: Vec<(String, f64)>,
 }
 
 /// `items` less the indices `removed`, then `added`.
@@ -160,6 +163,7 @@ pub(crate) struct Working {
     instances: Origins,
     paths: Origins,
     contours: Origins,
+    unseen_maps: Vec<(String, f64)>,
 }
 
 impl Working {
@@ -169,6 +173,7 @@ impl Working {
             instances: Origins::new(scene.instances.len()),
             paths: Origins::new(scene.paths.len()),
             contours: Origins::new(scene.contours.len()),
+            unseen_maps: Vec::new(),
         }
     }
 
@@ -265,6 +270,9 @@ impl Working {
         self.clear(region);
         let result = synthesize_keeping(&self.scene, color, region, opts, progress, &|_| true)?;
         let n = result.instances.len();
+        for (name, share) in result.unseen_maps {
+            add_unseen(&mut self.unseen_maps, name, share);
+        }
         let gone = flags(self.scene.contours.len(), &result.replaced_contours);
         self.contours
             .remove_flagged(&mut self.scene.contours, &gone);
@@ -288,6 +296,7 @@ impl Working {
             added_paths,
             removed_contours,
             added_contours,
+            unseen_maps: self.unseen_maps.clone(),
         }
     }
 }
