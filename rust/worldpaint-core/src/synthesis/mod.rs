@@ -111,6 +111,15 @@
 //! into more content over a destination that lies beyond it. The share of the region where each map reads such
 //! values is reported ([`SynthesisResult::unseen_maps`]).
 //!
+//! The maps also concentrate the pairs: a forest that grows only on the upper half of its example has twice the
+//! neighbours at short range that its density over the whole region predicts, and the learned rdf holds that
+//! factor. Where the painted region's maps allow a fifth of it, the factor is five, and pair counts normalised by
+//! the whole region's area would make the rdf chain spread the clumps apart. So the self pair's target counts are
+//! scaled by `κ_example / κ_painted`, with `κ = (mean ψ)² / mean ψ²` over a region (its effective share, as in
+//! the inhomogeneous pair-correlation function of Baddeley, Møller and Waagepetersen 2000): 1 where both regions
+//! hold their maps' values alike. `κ_example` is read on the exemplar region when the color was learned on this
+//! terrain, else from the map histograms as if the maps were independent (`1 / Σ h² / q` each).
+//!
 //! ## Free borders
 //! Where the region of influence holds no content, the neighbours an instance would have beyond the border are
 //! missing and the chain crowds the border; a first-order field of them is added to the log-density of instances
@@ -144,7 +153,10 @@ use crate::terrain::Heightfield;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use structures::StructuredContent;
-use target::{build_target, rake_maps, unseen_shares, Conditioning, Target};
+use target::{
+    build_target, concentration, learned_concentration, rake_maps, unseen_shares, Conditioning,
+    Target,
+};
 
 /// Floor of empty rdf bins beyond the hard core (see the module documentation).
 pub(crate) const HISTOGRAM_FLOOR: f64 = 1e-3;
@@ -562,12 +574,19 @@ impl<'s> Painting<'s> {
             limits::MAX_INSTANCES,
             "instances",
         )?;
+        // the learned rdf counted the pairs the example's maps concentrated into part of its region; the painted
+        // region's maps concentrate them by another factor (see "Maps")
+        let learned = match self.exemplar_lattice.as_deref() {
+            Some(l) => concentration(&target, l),
+            None => learned_concentration(&target),
+        };
         if !target.maps.is_empty() && !self.lattice.is_empty() {
             for (name, share) in unseen_shares(&target, &self.lattice) {
                 add_unseen(&mut state.out.unseen_maps, name, share);
             }
             rake_maps(&mut target, &self.lattice);
         }
+        let pair_scale = learned / concentration(&target, &self.lattice);
         let mut rng = ChaCha8Rng::seed_from_u64(mix_seed(self.opts.seed, ci as u64 + 1));
         let points = if !(expected > 0.0) || !expected.is_finite() {
             Vec::new()
@@ -578,6 +597,7 @@ impl<'s> Painting<'s> {
                 area: self.area,
                 expected,
                 self_tag,
+                self_pair_scale: pair_scale,
                 max_radius: self.color.max_radius,
                 iterations_per_instance: self.opts.iterations_per_instance,
             };

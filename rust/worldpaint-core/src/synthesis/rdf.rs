@@ -187,6 +187,9 @@ pub(super) struct RdfChain<'c, 'a> {
     /// The expected count (see "The count").
     pub(super) expected: f64,
     pub(super) self_tag: u32,
+    /// The factor of the self pair's target counts: the concentration the example's maps gave its pairs over the
+    /// one the painted region's maps give them (see "Maps" in the module documentation of [`super`]).
+    pub(super) self_pair_scale: f64,
     pub(super) max_radius: f64,
     pub(super) iterations_per_instance: f64,
 }
@@ -316,13 +319,13 @@ impl<'a> RdfChain<'_, 'a> {
         let mut log_factor: Vec<f64> = vec![0.0; offs[target.tables.len()]];
         let mut last_bin: Vec<usize> = Vec::new();
         for (ti, t) in target.tables.iter().enumerate() {
-            let n_other = if ti as u32 == self.self_tag {
-                n - 1.0
+            let (n_other, scale) = if ti as u32 == self.self_tag {
+                (n - 1.0, self.self_pair_scale)
             } else {
-                t.others_inside.unwrap_or(0) as f64
+                (t.others_inside.unwrap_or(0) as f64, 1.0)
             };
             for (idx, h) in t.target_hist.iter().enumerate() {
-                let v = h * t.cell_area(idx) * n * n_other / self.area;
+                let v = h * t.cell_area(idx) * n * n_other / self.area * scale;
                 targets[offs[ti] + idx] = v;
                 weight[offs[ti] + idx] = 1.0 / v.max(1.0);
                 log_factor[offs[ti] + idx] = t.log_factor[idx];

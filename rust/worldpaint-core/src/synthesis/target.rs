@@ -166,6 +166,8 @@ pub(super) struct MapTable<'a> {
     pub(super) hist: Histogram,
     /// Whether the exemplar's region showed each bin's values (see [`with_unseen_bins`]).
     pub(super) seen: Vec<bool>,
+    /// [`concentration`] of this map's factor over the exemplar's region, from the histograms: `1 / Σ h² / q`.
+    pub(super) learned_concentration: f64,
     /// Wanted distribution of the instances over the bins in the painted region (normalized; empty when
     /// unknown): what the map factors give over the region's lattice.
     pub(super) wanted: Vec<f64>,
@@ -196,6 +198,10 @@ impl<'a> MapTable<'a> {
             })
             .collect();
         let seen: Vec<bool> = qs.iter().map(|v| *v > 0.0).collect();
+        let mean_square: f64 = (0..n + 2)
+            .filter(|&k| seen[k])
+            .map(|k| hs[k] * hs[k] / qs[k])
+            .sum();
         let values = (0..n + 2)
             .map(|k| {
                 let hv = hs[k];
@@ -222,6 +228,11 @@ impl<'a> MapTable<'a> {
                 values: with_unseen_bins(values, &hs, &qs),
             },
             seen,
+            learned_concentration: if mean_square > 0.0 && mean_square.is_finite() {
+                1.0 / mean_square
+            } else {
+                1.0
+            },
             wanted: Vec::new(),
         }
     }
@@ -302,6 +313,39 @@ fn with_unseen_bins(values: Vec<f64>, h: &[f64], q: &[f64]) -> Vec<f64> {
             (hs / qs).min(1.0).ln()
         })
         .collect()
+}
+
+/// How concentrated the terrain maps make the intensity over `lattice`: `(mean ψ)² / mean ψ²` with `ψ` the
+/// product of the terrain map factors, 1 where they are uniform and the share of the lattice they allow when
+/// they allow a part of it evenly (the "effective area" of an inhomogeneous process, Baddeley, Møller and
+/// Waagepetersen 2000). Distance maps are left out: they change as the synthesis adds content. 1 without terrain
+/// maps or samples.
+pub(super) fn concentration(target: &Target, lattice: &[DVec2]) -> f64 {
+    if lattice.is_empty() || !target.maps.iter().any(|m| m.is_terrain()) {
+        return 1.0;
+    }
+    let (sum, sum2) = lattice.iter().fold((0.0, 0.0), |(s, s2), p| {
+        let psi = target.maps_log(*p, true).exp();
+        (s + psi, s2 + psi * psi)
+    });
+    let n = lattice.len() as f64;
+    let kappa = (sum / n).powi(2) / (sum2 / n);
+    if kappa.is_finite() && kappa > 0.0 {
+        kappa
+    } else {
+        1.0
+    }
+}
+
+/// [`concentration`] over the exemplar's region as its histograms give it, for a color learned on another
+/// terrain: the product of the terrain maps' own (as if they were independent).
+pub(super) fn learned_concentration(target: &Target) -> f64 {
+    target
+        .maps
+        .iter()
+        .filter(|m| m.is_terrain())
+        .map(|m| m.learned_concentration)
+        .product()
 }
 
 /// The share of `lattice` (the painted region's samples) where each map reads a value the exemplar's region
