@@ -198,8 +198,13 @@ def test_pasted_islands_are_closed_curves_with_a_filled_mesh_on_the_terrain_and_
     fill.data.vertices.foreach_get("co", co)
     co = co.reshape(-1, 3)
     area = sum(p.area for p in fill.data.polygons)
-    land_area = sum(engine.region_area({"shape": "polygon", "points": c[:, :2].tolist()}) for c in contours)
-    print(f"{len(contours)} islands of {land_area:.0f} m²; fill: {len(co)} vertices, {area:.0f} m² "
+    # a contour inside another is a lake in an island (even-odd): its area is water
+    depth = [sum(bool(engine.region_contains({"shape": "polygon", "points": o[:, :2]}, c[:1, :2])[0])
+                 for o in contours if o is not c) for c in contours]
+    land_area = sum((-1) ** d * engine.region_area({"shape": "polygon", "points": c[:, :2].tolist()})
+                    for c, d in zip(contours, depth, strict=True))
+    print(f"{len(contours)} contours ({sum(d % 2 for d in depth)} lakes), {land_area:.0f} m² of land; "
+          f"fill: {len(co)} vertices, {area:.0f} m² "
           f"(projected), height off the terrain ≤ {np.abs(co[:, 2] - village_height(co[:, 0], co[:, 1])).max():.3f} m")
     assert np.abs(co[:, 2] - village_height(co[:, 0], co[:, 1])).max() < 0.05, "the fill lies on the terrain"
     assert area == pytest.approx(land_area, rel=0.02), "the fill covers the islands (its slope adds a little)"

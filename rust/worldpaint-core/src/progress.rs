@@ -1,13 +1,16 @@
-//! Progress of work done item by item on several threads: each finished item reports the fraction done so far, and
-//! a report answered with `false` stops the items that have not started yet.
+//! Progress of work done item by item on several threads: each finished item reports the fraction done so far, in
+//! order (the reports never go back), and a report answered with `false` stops the items that have not started
+//! yet.
 
 use crate::error::{Error, Result};
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Mutex;
 
 /// Counts the finished items of a parallel loop of `total` items and reports each to `report`.
 pub(crate) struct Counted<F: Fn(f64) -> bool + Sync> {
     total: usize,
-    done: AtomicUsize,
+    /// Items finished; held while reporting, so that the reports come in order.
+    done: Mutex<usize>,
     stopped: AtomicBool,
     report: F,
 }
@@ -16,7 +19,7 @@ impl<F: Fn(f64) -> bool + Sync> Counted<F> {
     pub(crate) fn new(total: usize, report: F) -> Self {
         Counted {
             total,
-            done: AtomicUsize::new(0),
+            done: Mutex::new(0),
             stopped: AtomicBool::new(false),
             report,
         }
@@ -29,8 +32,11 @@ impl<F: Fn(f64) -> bool + Sync> Counted<F> {
 
     /// One more item is finished.
     pub(crate) fn done_one(&self) {
-        let done = self.done.fetch_add(1, Ordering::Relaxed) + 1;
-        if !(self.report)(done as f64 / self.total.max(1) as f64) {
+        let Ok(mut done) = self.done.lock() else {
+            return;
+        };
+        *done += 1;
+        if !(self.report)(*done as f64 / self.total.max(1) as f64) {
             self.stopped.store(true, Ordering::Relaxed);
         }
     }
