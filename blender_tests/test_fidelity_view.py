@@ -75,6 +75,7 @@ def test_learn_color_shows_the_fidelity_view_of_the_color():
     assert entry.fidelity_density == pytest.approx(1.0, abs=0.15)
     distance, pcf, slope = entry.fidelity_axes
     assert distance > 0.0 and pcf >= 2.0 and 10.0 < slope <= 92.5, "a pcf panel and a slope panel"
+    assert entry.fidelity_legend == "green Rock, grey Tree, yellow-green Grass", "the preview's hues, by priority"
     assert entry.fidelity_line().startswith(f"pcf L2 {entry.fidelity_rdf_l2:.2f} against the example (density ×")
     print(entry.fidelity_line(), "|", " | ".join(entry.fidelity_axes_lines()))
 
@@ -147,3 +148,16 @@ def test_the_fidelity_plot_follows_its_color_through_remove_duplicate_and_import
     assert bpy.ops.worldpaint.import_palette(filepath=path, replace=True) == {'FINISHED'}
     plots = sorted(image.name for image in bpy.data.images if image.name.startswith("WP fidelity"))
     assert plots == sorted(entry.fidelity_image for entry in settings.palette), "the replaced plots are gone"
+
+
+def test_the_engine_draws_the_plot_at_the_size_asked_and_refuses_a_tiny_one():
+    import worldpaint_engine as engine
+
+    learn_slope_color()
+    color_json = bpy.context.scene.worldpaint.palette[0].json
+    view = engine.fidelity(color_json, None, 3, width=200, height=100)
+    assert view["image"].shape == (100, 200, 4) and view["image"].dtype == np.uint8
+    assert view["max_slope_degrees"] is None, "painted without terrain: no slope panel"
+    assert set(view["density_ratio"]) == {"Tree", "Rock", "Grass"} and math.isfinite(view["max_rdf_l2"])
+    with pytest.raises(engine.InputError, match="width"):
+        engine.fidelity(color_json, None, 3, width=8, height=100)

@@ -20,6 +20,12 @@ HUES = np.array(
     ],
     dtype=np.float32,
 )
+HUE_NAMES = ("green", "grey", "yellow-green", "orange", "blue", "purple")
+
+
+def hue_legend(category_names):
+    """Which hue stands for which category in a color's preview and fidelity plot: "green Tree, grey Rock"."""
+    return ", ".join(f"{HUE_NAMES[i % len(HUE_NAMES)]} {name}" for i, name in enumerate(category_names))
 
 
 def preview_pixels(summary, size=SIZE):

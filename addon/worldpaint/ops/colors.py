@@ -60,7 +60,7 @@ def fidelity_view(color_json, heightfield=None, progress=None):
 def fidelity_state(entry):
     """What a palette entry holds of its fidelity view, to give a copy of the color (see ``add_palette_color``)."""
     return {"image": entry.fidelity_image, "rdf_l2": entry.fidelity_rdf_l2, "density": entry.fidelity_density,
-            "axes": tuple(entry.fidelity_axes), "note": entry.fidelity_note}
+            "axes": tuple(entry.fidelity_axes), "note": entry.fidelity_note, "legend": entry.fidelity_legend}
 
 
 def store_fidelity(entry, fidelity):
@@ -70,6 +70,7 @@ def store_fidelity(entry, fidelity):
         entry.fidelity_image = preview.copy_image(fidelity["image"], f"WP fidelity {entry.name}")
         entry.fidelity_rdf_l2, entry.fidelity_density = fidelity["rdf_l2"], fidelity["density"]
         entry.fidelity_axes, entry.fidelity_note = fidelity["axes"], fidelity["note"]
+        entry.fidelity_legend = fidelity["legend"]
         return
     view, note = fidelity
     if view is None:
@@ -80,6 +81,7 @@ def store_fidelity(entry, fidelity):
     entry.fidelity_density = view.fidelity.density_factor
     entry.fidelity_axes = (view.max_distance, view.max_pcf, view.max_slope_degrees or 0.0)
     entry.fidelity_note = ""
+    entry.fidelity_legend = preview.hue_legend(engine.color_summary(entry.json).category_names)
 
 
 def add_palette_color(settings, name, color_json, fidelity=None):

@@ -90,6 +90,7 @@ class WORLDPAINT_PG_color(bpy.types.PropertyGroup):
         description="Ends of the fidelity plot's axes: distance (m), pcf, slope (degrees; 0 without a slope panel)",
     )
     fidelity_note: StringProperty(name="Fidelity Note", description="Why the color has no fidelity view")
+    fidelity_legend: StringProperty(name="Fidelity Legend", description="Which hue of the plot is which category")
 
     def fidelity_line(self):
         """The one-line figure of the color's fidelity view, or why it has none."""
@@ -104,6 +105,8 @@ class WORLDPAINT_PG_color(bpy.types.PropertyGroup):
         if slope > 0.0:
             lines.append(f"right: share by slope 0–{slope:.0f}°")
         lines.append("solid: example, dashed: painted into its region")
+        if self.fidelity_legend:
+            lines.append(self.fidelity_legend)
         return lines
 
 
