@@ -75,7 +75,10 @@ def test_learn_color_shows_the_fidelity_view_of_the_color():
     assert entry.fidelity_density == pytest.approx(1.0, abs=0.15)
     distance, pcf, slope = entry.fidelity_axes
     assert distance > 0.0 and pcf >= 2.0 and 10.0 < slope <= 92.5, "a pcf panel and a slope panel"
-    assert entry.fidelity_legend == "green Rock, grey Tree, yellow-green Grass", "the preview's hues, by priority"
+    # the preview's hues, by priority, each with the category's own pcf L2 (the worst is the figure)
+    legend = [item.split() for item in entry.fidelity_legend.split(", ")]
+    assert [(hue, name) for hue, name, _ in legend] == [("green", "Rock"), ("grey", "Tree"), ("yellow-green", "Grass")]
+    assert max(float(figure) for *_, figure in legend) <= entry.fidelity_rdf_l2 + 0.005
     assert entry.fidelity_line().startswith(f"pcf L2 {entry.fidelity_rdf_l2:.2f} against the example (density ×")
     print(entry.fidelity_line(), "|", " | ".join(entry.fidelity_axes_lines()))
 

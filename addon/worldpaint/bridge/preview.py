@@ -23,9 +23,16 @@ HUES = np.array(
 HUE_NAMES = ("green", "grey", "yellow-green", "orange", "blue", "purple")
 
 
-def hue_legend(category_names):
-    """Which hue stands for which category in a color's preview and fidelity plot: "green Tree, grey Rock"."""
-    return ", ".join(f"{HUE_NAMES[i % len(HUE_NAMES)]} {name}" for i, name in enumerate(category_names))
+def hue_legend(category_names, figures=None):
+    """Which hue stands for which category in a color's preview and fidelity plot, with the category's figure when
+    ``figures`` ({name: value}) has one: "green Tree 0.42, grey Rock"."""
+    figures = figures or {}
+
+    def item(i, name):
+        figure = f" {figures[name]:.2f}" if name in figures else ""
+        return f"{HUE_NAMES[i % len(HUE_NAMES)]} {name}{figure}"
+
+    return ", ".join(item(i, name) for i, name in enumerate(category_names))
 
 
 def preview_pixels(summary, size=SIZE):

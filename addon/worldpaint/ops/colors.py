@@ -81,7 +81,8 @@ def store_fidelity(entry, fidelity):
     entry.fidelity_density = view.fidelity.density_factor
     entry.fidelity_axes = (view.max_distance, view.max_pcf, view.max_slope_degrees or 0.0)
     entry.fidelity_note = ""
-    entry.fidelity_legend = preview.hue_legend(engine.color_summary(entry.json).category_names)
+    own = {a: l2 for a, b, l2 in view.fidelity.rdf_l2 if a == b}  # each category's pcf with itself, as plotted
+    entry.fidelity_legend = preview.hue_legend(engine.color_summary(entry.json).category_names, own)
 
 
 def add_palette_color(settings, name, color_json, fidelity=None):

@@ -90,7 +90,8 @@ class WORLDPAINT_PG_color(bpy.types.PropertyGroup):
         description="Ends of the fidelity plot's axes: distance (m), pcf, slope (degrees; 0 without a slope panel)",
     )
     fidelity_note: StringProperty(name="Fidelity Note", description="Why the color has no fidelity view")
-    fidelity_legend: StringProperty(name="Fidelity Legend", description="Which hue of the plot is which category")
+    fidelity_legend: StringProperty(name="Fidelity Legend",
+                                    description="Which hue of the plot is which category, with its own pcf L2")
 
     def fidelity_line(self):
         """The one-line figure of the color's fidelity view, or why it has none."""
@@ -106,7 +107,7 @@ class WORLDPAINT_PG_color(bpy.types.PropertyGroup):
             lines.append(f"right: share by slope 0–{slope:.0f}°")
         lines.append("solid: example, dashed: painted into its region")
         if self.fidelity_legend:
-            lines.append(self.fidelity_legend)
+            lines.append(f"pcf L2 by category: {self.fidelity_legend}")
         return lines
 
 
