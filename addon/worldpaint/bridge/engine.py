@@ -156,6 +156,53 @@ class Edit:
 
 
 @dataclass(frozen=True)
+class Fidelity:
+    """How close what a color painted is to its example: per category the density ratio (painted / example), per
+    pair of categories the L2 distance between their pair-correlation functions (rdf), and the worst of these."""
+
+    density_ratio: dict
+    rdf_l2: tuple  # (category, other, l2)
+    max_rdf_l2: float
+
+    @classmethod
+    def of(cls, d):
+        return cls(density_ratio=dict(d["density_ratio"]), rdf_l2=tuple((a, b, float(v)) for a, b, v in d["rdf_l2"]),
+                   max_rdf_l2=float(d["max_rdf_l2"]))
+
+    @property
+    def density_factor(self):
+        """The density ratio farthest from 1 (1 when the color has no category)."""
+        return max(self.density_ratio.values(), key=lambda r: abs(r - 1.0), default=1.0)
+
+    def line(self):
+        """The one-line figure: the worst pcf L2 against the example and the density factor."""
+        return f"pcf L2 {self.max_rdf_l2:.2f} against the example (density ×{self.density_factor:.2f})"
+
+
+@dataclass(frozen=True)
+class FidelityView:
+    """A color's fidelity view: the figure of its self-synthesis against its example, and the plot of their pcfs
+    (and slope histograms when it has a slope map) as RGBA uint8 (height, width, 4), rows from the top, with the
+    ends of its axes (``max_slope_degrees`` None without a slope panel)."""
+
+    fidelity: Fidelity
+    image: np.ndarray
+    max_distance: float
+    max_pcf: float
+    max_slope_degrees: float | None
+
+
+@dataclass(frozen=True)
+class Pasted:
+    """A paste: the edit, and the figure of what the region holds afterwards against the color (None when it could
+    not be learned back; ``fidelity_error`` then says why)."""
+
+    edit: Edit
+    fidelity: Fidelity | None
+    fidelity_error: str = ""
+
+
+@dataclass(frozen=True)
 class Moved:
     """A moved region: the edit, and how many instances moved, adapted in place, were replaced, found no place or
     stayed where they were because the move would have put them off the terrain."""
@@ -394,6 +441,14 @@ def color_summary(color_json):
     )
 
 
+def fidelity(color_json, heightfield, seed, width, height, progress=None):
+    """The fidelity view of a color: its self-synthesis with ``seed`` in its example region on ``heightfield`` (the
+    terrain it was learned on; None: without terrain), compared with it and plotted ``width`` x ``height``."""
+    d = _engine().fidelity(color_json, heightfield, seed, width=width, height=height, progress=progress)
+    return FidelityView(Fidelity.of(d), d["image"], float(d["max_distance"]), float(d["max_pcf"]),
+                        d["max_slope_degrees"])
+
+
 def color_renamed(color_json, name):
     return _engine().color_renamed(color_json, name)
 
@@ -420,8 +475,10 @@ def palette_from_json(text):
 # --- painting tools -----------------------------------------------------------------------------------------------
 
 def paste(scene_handle, color, region, seed, influence_radius, progress=None):
-    return Edit.of(_engine().paste(scene_handle, color=color, region=region, seed=seed,
-                                   influence_radius=influence_radius, progress=progress))
+    d = _engine().paste(scene_handle, color=color, region=region, seed=seed, influence_radius=influence_radius,
+                        progress=progress)
+    fidelity = d.get("fidelity")
+    return Pasted(Edit.of(d), None if fidelity is None else Fidelity.of(fidelity), d.get("fidelity_error", ""))
 
 
 def clear_region(scene_handle, region, category=None):

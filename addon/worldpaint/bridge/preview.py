@@ -1,4 +1,6 @@
-"""Small preview pictures of colors: the exemplar's points drawn as dots, one hue per category."""
+"""The palette's pictures of a color: its preview (the exemplar's points drawn as dots, one hue per category) and its
+fidelity plot (drawn by the engine: the example's pcf and slope histograms beside those of the color's
+self-synthesis, in the same hues). Both are packed images, saved in the .blend."""
 
 import bpy
 import numpy as np
@@ -18,6 +20,19 @@ HUES = np.array(
     ],
     dtype=np.float32,
 )
+HUE_NAMES = ("green", "grey", "yellow-green", "orange", "blue", "purple")
+
+
+def hue_legend(category_names, figures=None):
+    """Which hue stands for which category in a color's preview and fidelity plot, with the category's figure when
+    ``figures`` ({name: value}) has one: "green Tree 0.42, grey Rock"."""
+    figures = figures or {}
+
+    def item(i, name):
+        figure = f" {figures[name]:.2f}" if name in figures else ""
+        return f"{HUE_NAMES[i % len(HUE_NAMES)]} {name}{figure}"
+
+    return ", ".join(item(i, name) for i, name in enumerate(category_names))
 
 
 def preview_pixels(summary, size=SIZE):
@@ -42,14 +57,43 @@ def preview_pixels(summary, size=SIZE):
 def make_preview(color_json, name):
     """A packed 64x64 image of the color's exemplar; returns the image's name."""
     summary = engine.color_summary(color_json)
-    image = bpy.data.images.new(f"WP preview {name}", SIZE, SIZE, alpha=True)
-    image.pixels.foreach_set(preview_pixels(summary))
+    return packed_image(f"WP preview {name}", preview_pixels(summary), SIZE, SIZE)
+
+
+def packed_image(name, pixels, width, height):
+    """A new packed image of float32 RGBA ``pixels`` (bottom row first), kept with a fake user; returns its name."""
+    image = bpy.data.images.new(name, width, height, alpha=True)
+    image.pixels.foreach_set(np.ascontiguousarray(pixels, dtype=np.float32).ravel())
     image.pack()
     image.use_fake_user = True
     return image.name
+
+
+def make_fidelity_image(rgba, name):
+    """A packed image of a color's fidelity plot (uint8 (height, width, 4), rows from the top); returns its name."""
+    height, width = rgba.shape[:2]
+    pixels = np.flipud(np.asarray(rgba, dtype=np.float32) / 255.0)
+    return packed_image(f"WP fidelity {name}", pixels, width, height)
+
+
+def copy_image(image_name, name_stem):
+    """A packed copy of an image, named ``name_stem`` (numbered by Blender when taken); "" when there is none."""
+    image = bpy.data.images.get(image_name)
+    if image is None:
+        return ""
+    width, height = image.size
+    pixels = np.empty(width * height * 4, dtype=np.float32)
+    image.pixels.foreach_get(pixels)
+    return packed_image(name_stem, pixels, width, height)
 
 
 def remove_preview(image_name):
     image = bpy.data.images.get(image_name)
     if image is not None:
         bpy.data.images.remove(image)
+
+
+def remove_pictures(entry):
+    """Removes a palette color's preview and fidelity plot."""
+    remove_preview(entry.preview_image)
+    remove_preview(entry.fidelity_image)

@@ -40,9 +40,58 @@ def numbered_name(collection, name):
     return f"{base}.{i:03d}"
 
 
-def add_palette_color(settings, name, color_json):
-    """Adds a color (JSON) to the palette under ``name`` with its preview, makes it active, and adds the categories
-    it knows to the scene's list; returns the entry."""
+# the fidelity plot's size (px) and the seed of the self-synthesis it shows: the same color gives the same view
+FIDELITY_SIZE = (256, 128)
+FIDELITY_SEED = 0
+
+
+def fidelity_view(color_json, heightfield=None, progress=None):
+    """(view, note): the color's fidelity view (``engine.FidelityView``), its self-synthesis on ``heightfield`` (the
+    terrain it was learned on; None: without terrain) against its example; or (None, why) when the engine cannot
+    make it (the color itself stands). Changes nothing; a cancel is raised."""
+    try:
+        return engine.fidelity(color_json, heightfield, FIDELITY_SEED, *FIDELITY_SIZE, progress=progress), ""
+    except engine.engine_error() as exc:
+        if engine.is_cancelled(exc):
+            raise
+        return None, f"No fidelity view: {exc}"
+
+
+def fidelity_state(entry):
+    """What a palette entry holds of its fidelity view, to give a copy of the color (see ``add_palette_color``)."""
+    return {"image": entry.fidelity_image, "rdf_l2": entry.fidelity_rdf_l2, "density": entry.fidelity_density,
+            "axes": tuple(entry.fidelity_axes), "note": entry.fidelity_note, "legend": entry.fidelity_legend}
+
+
+def store_fidelity(entry, fidelity):
+    """Stores a fidelity view in a palette entry: (view, note) of ``fidelity_view``, or a ``fidelity_state``."""
+    preview.remove_preview(entry.fidelity_image)
+    if isinstance(fidelity, dict):
+        entry.fidelity_image = preview.copy_image(fidelity["image"], f"WP fidelity {entry.name}")
+        entry.fidelity_rdf_l2, entry.fidelity_density = fidelity["rdf_l2"], fidelity["density"]
+        entry.fidelity_axes, entry.fidelity_note = fidelity["axes"], fidelity["note"]
+        entry.fidelity_legend = fidelity["legend"]
+        return
+    view, note = fidelity
+    if view is None:
+        entry.fidelity_image, entry.fidelity_rdf_l2, entry.fidelity_note = "", -1.0, note
+        return
+    entry.fidelity_image = preview.make_fidelity_image(view.image, entry.name)
+    entry.fidelity_rdf_l2 = view.fidelity.max_rdf_l2
+    entry.fidelity_density = view.fidelity.density_factor
+    entry.fidelity_axes = (view.max_distance, view.max_pcf, view.max_slope_degrees or 0.0)
+    entry.fidelity_note = ""
+    own = {a: l2 for a, b, l2 in view.fidelity.rdf_l2 if a == b}  # each category's pcf with itself, as plotted
+    entry.fidelity_legend = preview.hue_legend(engine.color_summary(entry.json).category_names, own)
+
+
+def add_palette_color(settings, name, color_json, fidelity=None):
+    """Adds a color (JSON) to the palette under ``name`` with its preview and its fidelity view, makes it active, and
+    adds the categories it knows to the scene's list; returns the entry. ``fidelity``: what ``fidelity_view`` made of
+    the color, or the ``fidelity_state`` of an entry of the same color; None makes it here, without terrain (for a
+    color whose terrain is not known)."""
+    if fidelity is None:
+        fidelity = fidelity_view(color_json)
     summary = engine.color_summary(color_json)
     entry = settings.palette.add()
     entry.name = name
@@ -54,6 +103,7 @@ def add_palette_color(settings, name, color_json):
         item = entry.interactions.add()
         item.category, item.other, item.how = category, other, ", ".join(kinds)
     entry.preview_image = preview.make_preview(color_json, name)
+    store_fidelity(entry, fidelity)
     settings.active_color_index = len(settings.palette) - 1
     instances.add_categories(settings, summary.categories)
     return entry
@@ -84,7 +134,7 @@ class WORLDPAINT_OT_remove_color(PaletteIndexProperty, bpy.types.Operator):
     def execute(self, context):
         settings = context.scene.worldpaint
         index = palette_index(settings, self.index)
-        preview.remove_preview(settings.palette[index].preview_image)
+        preview.remove_pictures(settings.palette[index])
         settings.palette.remove(index)
         settings.active_color_index = min(index, len(settings.palette) - 1)
         return {'FINISHED'}
@@ -102,7 +152,7 @@ class WORLDPAINT_OT_duplicate_color(PaletteIndexProperty, bpy.types.Operator):
         settings = context.scene.worldpaint
         source = settings.palette[palette_index(settings, self.index)]
         name = unique_name(settings.palette, source.name)
-        add_palette_color(settings, name, engine.color_renamed(source.json, name))
+        add_palette_color(settings, name, engine.color_renamed(source.json, name), fidelity=fidelity_state(source))
         return {'FINISHED'}
 
 

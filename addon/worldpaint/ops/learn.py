@@ -4,7 +4,8 @@ import bpy
 from bpy.props import BoolProperty, StringProperty
 
 from ..bridge import WorldPaintError, curves, engine, instances, regions, terrain
-from .colors import add_palette_color, unique_name
+from .background import with_progress
+from .colors import add_palette_color, fidelity_view, unique_name
 from .common import RegionProperties, TerrainProperty, reports_errors
 
 
@@ -85,11 +86,13 @@ class WORLDPAINT_OT_learn_color(RegionProperties, TerrainProperty, bpy.types.Ope
         maps = ["slope", "elevation"] if self.use_elevation else ["slope"]
         scene_data = engine.scene(heightfield, exemplar.engine_arrays(), structures.engine_arrays())
         color_json = engine.learn_color(scene_data, region, name, maps, self.oriented_pairs(categories))
+        # the color painted into its own example region and learned back: how well it reproduces the example
+        fidelity = with_progress(context, lambda progress: fidelity_view(color_json, heightfield, progress))
 
         # validated and computed: now change the scene
         instances.add_categories(settings, new)
-        add_palette_color(settings, name, color_json)
+        entry = add_palette_color(settings, name, color_json, fidelity)
         n_categories = len({c for _, c in examples} | {c for _, c, _ in drawn})
         self.report({'INFO'}, f"Learned '{name}' from {len(exemplar)} instances and {len(structures)} curves in "
-                              f"{n_categories} categories")
+                              f"{n_categories} categories; painted into its example's region: {entry.fidelity_line()}")
         return {'FINISHED'}

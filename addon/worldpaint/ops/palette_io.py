@@ -79,7 +79,7 @@ class WORLDPAINT_OT_import_palette(bpy.types.Operator, ImportHelper):
         settings = context.scene.worldpaint
         if self.replace:
             for entry in settings.palette:
-                preview.remove_preview(entry.preview_image)
+                preview.remove_pictures(entry)
             settings.palette.clear()
         renamed = []
         for color_json, summary in zip(colors, summaries, strict=True):

@@ -31,9 +31,17 @@ class WORLDPAINT_OT_paste_color(RegionSynthesisOperator, bpy.types.Operator):
     def _arguments(self, context, region):
         return {"color": self._entry.json}
 
-    def _report(self, applied, edit):
+    def _edit(self, result):
+        return result.edit
+
+    def _report(self, applied, result):
+        edit = result.edit
         lines = f" and {applied.lines_added} paths or contours" if applied.lines_added else ""
         self.report({'INFO'}, f"Pasted {applied.added} instances{lines} of '{self._entry.name}'")
+        if result.fidelity is not None:
+            self.report({'INFO'}, f"What the region holds now: {result.fidelity.line()}")
+        else:
+            self.report({'WARNING'}, f"No fidelity figure for the paste: {result.fidelity_error}")
         empty = sorted(set(self._summary.category_names) - edit.painted_categories())
         if empty:
             self.report({'WARNING'}, f"Nothing pasted for {', '.join(empty)}: the example had none on slopes (or, "

@@ -8,7 +8,7 @@ import bpy
 from bpy.props import BoolProperty, FloatProperty, FloatVectorProperty, StringProperty
 
 from ..bridge import WorldPaintError, engine, regions, view
-from .colors import add_palette_color, unique_name
+from .colors import add_palette_color, fidelity_view, unique_name
 from .common import SceneContent, TerrainProperty, report_errors, reports_errors
 
 
@@ -55,6 +55,6 @@ class WORLDPAINT_OT_pipette(TerrainProperty, bpy.types.Operator):
             raise WorldPaintError(
                 f"Nothing to pick within {radius:.1f} m of ({self.location[0]:.1f}, {self.location[1]:.1f})"
             ) from exc
-        add_palette_color(settings, name, color_json)
+        add_palette_color(settings, name, color_json, fidelity_view(color_json, content.heightfield))
         self.report({'INFO'}, f"Picked '{name}'")
         return {'FINISHED'}

@@ -62,7 +62,8 @@ class WORLDPAINT_PG_interaction(bpy.types.PropertyGroup):
 
 class WORLDPAINT_PG_color(bpy.types.PropertyGroup):
     """A learned color: its name, the engine's JSON of it (as painted: without the interactions switched off), the
-    JSON as learned, its interaction matrix and the name of its preview image."""
+    JSON as learned, its interaction matrix, the name of its preview image, and its fidelity view: the plot of its
+    self-synthesis against its example and the figures of that comparison."""
 
     name: StringProperty(name="Name")
     json: StringProperty(name="JSON", description="The color as the engine's versioned JSON, as it is painted")
@@ -70,6 +71,44 @@ class WORLDPAINT_PG_color(bpy.types.PropertyGroup):
     interactions: CollectionProperty(type=WORLDPAINT_PG_interaction)
     active_interaction_index: IntProperty(name="Active Interaction", default=0)
     preview_image: StringProperty(name="Preview", description="Name of the preview image of the color's exemplar")
+    fidelity_image: StringProperty(
+        name="Fidelity Plot",
+        description="Name of the image plotting the example's pair-correlation functions (and slope histograms) "
+        "beside those of the color painted into the example's region",
+    )
+    fidelity_rdf_l2: FloatProperty(
+        name="pcf L2", default=-1.0,
+        description="Worst L2 distance between the pcf of the color's self-synthesis and the example's "
+        "(negative: not computed)",
+    )
+    fidelity_density: FloatProperty(
+        name="Density Factor", default=1.0,
+        description="Density of the color's self-synthesis over the example's (the category farthest from 1)",
+    )
+    fidelity_axes: FloatVectorProperty(
+        name="Plot Axes", size=3,
+        description="Ends of the fidelity plot's axes: distance (m), pcf, slope (degrees; 0 without a slope panel)",
+    )
+    fidelity_note: StringProperty(name="Fidelity Note", description="Why the color has no fidelity view")
+    fidelity_legend: StringProperty(name="Fidelity Legend",
+                                    description="Which hue of the plot is which category, with its own pcf L2")
+
+    def fidelity_line(self):
+        """The one-line figure of the color's fidelity view, or why it has none."""
+        if self.fidelity_rdf_l2 < 0.0:
+            return self.fidelity_note or "No fidelity view"
+        return f"pcf L2 {self.fidelity_rdf_l2:.2f} against the example (density ×{self.fidelity_density:.2f})"
+
+    def fidelity_axes_lines(self):
+        """What the fidelity plot's axes span, as the lines the panel writes under it (the plot holds no text)."""
+        distance, pcf, slope = self.fidelity_axes
+        lines = [f"pcf by distance 0–{distance:.1f} m, 0–{pcf:.1f} (grey: 1, random)"]
+        if slope > 0.0:
+            lines.append(f"right: share by slope 0–{slope:.0f}°")
+        lines.append("solid: example, dashed: painted into its region")
+        if self.fidelity_legend:
+            lines.append(f"pcf L2 by category: {self.fidelity_legend}")
+        return lines
 
 
 FALLOFFS = (

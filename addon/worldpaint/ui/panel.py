@@ -42,6 +42,20 @@ class WORLDPAINT_PT_main(SidebarPanel, bpy.types.Panel):
         )
 
 
+def draw_fidelity(layout, color):
+    """The color's fidelity view: its plot, what the plot's axes span, and the one-line figure."""
+    box = layout.box()
+    image = bpy.data.images.get(color.fidelity_image)
+    if image is not None and not bpy.app.background:
+        box.template_icon(icon_value=layout.icon(image), scale=8.0)
+    col = box.column(align=True)
+    col.scale_y = 0.8
+    if image is not None:
+        for line in color.fidelity_axes_lines():
+            col.label(text=line)
+    box.label(text=color.fidelity_line(), icon='GRAPH')
+
+
 class WORLDPAINT_PT_palette(MainSubpanel, bpy.types.Panel):
     bl_label = "Palette"
 
@@ -57,9 +71,11 @@ class WORLDPAINT_PT_palette(MainSubpanel, bpy.types.Panel):
         col.operator("worldpaint.move_color", text="", icon='TRIA_UP').direction = 'UP'
         col.operator("worldpaint.move_color", text="", icon='TRIA_DOWN').direction = 'DOWN'
         if 0 <= settings.active_color_index < len(settings.palette):
-            image = bpy.data.images.get(settings.palette[settings.active_color_index].preview_image)
+            color = settings.palette[settings.active_color_index]
+            image = bpy.data.images.get(color.preview_image)
             if image is not None and not bpy.app.background:
                 layout.template_icon(icon_value=layout.icon(image), scale=4.0)
+            draw_fidelity(layout, color)
         row = layout.row(align=True)
         row.operator("worldpaint.import_palette", text="Import", icon='IMPORT')
         row.operator("worldpaint.export_palette", text="Export", icon='EXPORT')

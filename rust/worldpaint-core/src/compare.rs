@@ -7,9 +7,21 @@
 //!   of distance, read at the reference's bin centres (so both colors should be learned with the same bins:
 //!   pass the reference's `max_radius` and `bin_width` in `AnalysisOptions` when learning the candidate);
 //! * map TV: total variation distance of the normalized map histograms.
+//!
+//! The candidate is a color learned back from what a color painted ([`learned_back`]): after a paste, from the
+//! pasted region; for the palette's fidelity view, from the color's *self-synthesis* ([`self_synthesis`]), the
+//! color painted into its own example region on the same terrain with nothing else around, which says how well
+//! the color reproduces its example where the example is.
 
-use crate::palette::{Color, Histogram, Interaction};
+use crate::analysis::{learn_color, AnalysisOptions};
+use crate::error::{Error, Result};
+use crate::geom::Region;
+use crate::palette::{Color, Histogram, Interaction, MapSource};
+use crate::scene::Scene;
+use crate::synthesis::{synthesize_with_progress, SynthesisOptions};
+use crate::terrain::Heightfield;
 use serde::Serialize;
+use std::sync::Arc;
 
 /// How close a candidate color is to a reference color.
 #[derive(Clone, Debug, Serialize)]
@@ -36,6 +48,93 @@ pub fn rdf_l2(reference: &Histogram, candidate: &Histogram) -> f64 {
         .sum::<f64>()
         * w)
         .sqrt()
+}
+
+/// The options that learn a color comparable with `color` bin by bin: its bins, its terrain maps and its oriented
+/// pairs.
+pub fn same_options(color: &Color) -> AnalysisOptions {
+    let mut maps: Vec<String> = terrain_maps(color).map(str::to_string).collect();
+    maps.sort();
+    maps.dedup();
+    let oriented = color
+        .pairs
+        .iter()
+        .filter(|p| matches!(p.interaction, Interaction::OrientedRdf { .. }))
+        .map(|p| (p.category.clone(), p.other.clone()))
+        .collect();
+    AnalysisOptions {
+        bin_width: Some(color.bin_width),
+        max_radius: Some(color.max_radius),
+        oriented,
+        maps,
+    }
+}
+
+fn terrain_maps(color: &Color) -> impl Iterator<Item = &str> {
+    color
+        .maps
+        .iter()
+        .filter(|m| m.source == MapSource::Terrain)
+        .map(|m| m.map.as_str())
+}
+
+/// What `color` painted into `region` of `scene`, learned back with the options of `color` ([`same_options`]) under
+/// its name. A region with nothing in it gives a color without categories (compared, its densities read 0).
+pub fn learned_back(scene: &Scene, region: &Region, color: &Color) -> Result<Color> {
+    match learn_color(scene, region, &color.name, &same_options(color)) {
+        Err(Error::EmptyExemplar { .. }) => Ok(Color {
+            categories: Vec::new(),
+            pairs: Vec::new(),
+            maps: Vec::new(),
+            graphs: Vec::new(),
+            polygons: Vec::new(),
+            preview: Vec::new(),
+            ..color.clone()
+        }),
+        other => other,
+    }
+}
+
+/// The color's self-synthesis, learned back: `color` synthesized with `seed` into its own example region of an
+/// otherwise empty scene, on `terrain` when the color has terrain maps and a terrain is given (it should be the one
+/// the color was learned on), else without terrain and without the color's terrain maps; then learned back there
+/// ([`learned_back`]). The same color, terrain and seed give the same color. `progress` is called with the fraction
+/// of the synthesis done; returning false cancels ([`Error::Cancelled`]).
+pub fn self_synthesis(
+    color: &Color,
+    terrain: Option<Arc<Heightfield>>,
+    seed: u64,
+    progress: &(dyn Fn(f64) -> bool + Sync),
+) -> Result<Color> {
+    let terrain = terrain.filter(|_| terrain_maps(color).next().is_some());
+    let painted_color = if terrain.is_some() {
+        color.clone()
+    } else {
+        let off: Vec<(String, String)> = color
+            .maps
+            .iter()
+            .filter(|m| m.source == MapSource::Terrain)
+            .map(|m| (m.category.clone(), m.map.clone()))
+            .collect();
+        color.without_interactions(&off)
+    };
+    let scene = Scene {
+        terrain,
+        ..color.blank_scene()
+    };
+    let opts = SynthesisOptions {
+        seed,
+        ..Default::default()
+    };
+    let out = synthesize_with_progress(&scene, &painted_color, &color.region, &opts, progress)?;
+    let painted = Scene {
+        categories: out.categories,
+        instances: out.instances,
+        paths: out.paths,
+        contours: out.contours,
+        terrain: scene.terrain,
+    };
+    learned_back(&painted, &color.region, &painted_color)
 }
 
 /// Compares a candidate color against a reference color (categories and pairs matched by name).

@@ -24,7 +24,8 @@
 //! | [`scene`] | categories, priority order, instances (§3) |
 //! | [`palette`] | histograms, colors, palettes (§3, §4.1) |
 //! | `analysis` ([`learn_color`]) | learning a color (§4.1) |
-//! | `compare` ([`compare()`], [`Fidelity`]) | fidelity metrics between two colors |
+//! | `compare` ([`compare()`], [`Fidelity`], [`self_synthesis`]) | fidelity metrics between two colors; a color learned back from what it painted |
+//! | [`fidelity_plot`] | the fidelity picture: example and self-synthesis pcf and slope histograms |
 //! | [`interpolate`] | distribution interpolation by optimal mass transport (§5.2) |
 //! | [`synthesis`] | Metropolis-Hastings synthesis with a region of influence (§4.1, §4.3, §5.1, §6); adapting moved content (§5.4) |
 //! | [`tools`] | the painting tools: paste, brush and eraser, move, seam-carving stretch, gradient, blur (§5) |
@@ -43,6 +44,7 @@ pub mod contour;
 pub mod distance;
 mod error;
 pub mod exemplar;
+pub mod fidelity_plot;
 pub mod geom;
 pub mod graph;
 pub mod grid;
@@ -62,7 +64,7 @@ pub mod village;
 pub mod waterfall;
 
 pub use analysis::{learn_color, AnalysisOptions, HeldGraph};
-pub use compare::{compare, Fidelity};
+pub use compare::{compare, learned_back, same_options, self_synthesis, Fidelity};
 pub use error::{check, Error, FileKind, Result};
 pub use geom::Region;
 pub use interpolate::interpolate_colors;

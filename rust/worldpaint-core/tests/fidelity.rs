@@ -316,3 +316,125 @@ fn a_grove_learned_on_flat_ground_pastes_on_hills_at_its_density() {
         "density ratio {ratio:.3} on hills"
     );
 }
+
+/// Writes a plot as a binary PPM under the directory `WORLDPAINT_PLOT_DIR` names, when it is set (to look at it).
+fn keep_plot(plot: &worldpaint_core::fidelity_plot::FidelityPlot, name: &str) {
+    let Ok(dir) = std::env::var("WORLDPAINT_PLOT_DIR") else {
+        return;
+    };
+    let mut bytes = format!("P6\n{} {}\n255\n", plot.width, plot.height).into_bytes();
+    bytes.extend(plot.rgba.chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]));
+    std::fs::write(
+        std::path::Path::new(&dir).join(format!("{name}.ppm")),
+        bytes,
+    )
+    .unwrap();
+}
+
+/// Standard deviation of the plot's pixel values over all channels but alpha.
+fn pixel_spread(plot: &worldpaint_core::fidelity_plot::FidelityPlot) -> f64 {
+    let values: Vec<f64> = plot
+        .rgba
+        .chunks_exact(4)
+        .flat_map(|p| [p[0], p[1], p[2]])
+        .map(f64::from)
+        .collect();
+    let mean = values.iter().sum::<f64>() / values.len() as f64;
+    (values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / values.len() as f64).sqrt()
+}
+
+#[test]
+fn a_clustered_colors_self_synthesis_is_far_closer_to_its_example_than_a_uniform_scatter() {
+    use worldpaint_core::fidelity_plot::draw_fidelity;
+    let region = exemplar_region();
+    let ex = scene_from_points("tree", &exemplar::clustered(&region, 0.004, 8.0, 2.0, 5));
+    let color = learn_color(&ex, &region, "grove", &Default::default()).unwrap();
+    let density = color.categories[0].density;
+
+    let t0 = std::time::Instant::now();
+    let own = worldpaint_core::self_synthesis(&color, None, 1, &|_| true).unwrap();
+    let seconds = t0.elapsed().as_secs_f64();
+    let again = worldpaint_core::self_synthesis(&color, None, 1, &|_| true).unwrap();
+    assert_eq!(own, again, "the self-synthesis is seeded");
+    let own_fid = compare(&color, &own);
+
+    // a uniform scatter of the same density in the same region, learned with the same bins
+    let uniform = scene_from_points("tree", &exemplar::uniform(&region, density, 6));
+    let uniform_color = learn_color(&uniform, &region, "uniform", &same_bins(&color)).unwrap();
+    let uniform_fid = compare(&color, &uniform_color);
+    println!(
+        "clustered example (n={}, max_radius {:.2} m): self-synthesis rdf L2 {:.3} (density ×{:.3}, {seconds:.3} s), \
+         uniform scatter rdf L2 {:.3} (density ×{:.3})",
+        color.categories[0].count,
+        color.max_radius,
+        own_fid.max_rdf_l2(),
+        own_fid.density_ratio[0].1,
+        uniform_fid.max_rdf_l2(),
+        uniform_fid.density_ratio[0].1,
+    );
+    assert!(
+        own_fid.max_rdf_l2() < 0.5 * uniform_fid.max_rdf_l2(),
+        "self-synthesis rdf L2 {:.3} is not well below the uniform scatter's {:.3}",
+        own_fid.max_rdf_l2(),
+        uniform_fid.max_rdf_l2()
+    );
+    assert!((own_fid.density_ratio[0].1 - 1.0).abs() <= 0.2);
+
+    let plot = draw_fidelity(&color, &own, 256, 160).unwrap();
+    assert_eq!(
+        (plot.width, plot.height, plot.rgba.len()),
+        (256, 160, 256 * 160 * 4)
+    );
+    assert_eq!(
+        plot.extent.max_slope_degrees, None,
+        "no terrain, no slope panel"
+    );
+    let spread = pixel_spread(&plot);
+    assert!(spread > 5.0, "the plot is blank (pixel spread {spread:.2})");
+    assert_eq!(
+        plot,
+        draw_fidelity(&color, &own, 256, 160).unwrap(),
+        "the plot is deterministic"
+    );
+    keep_plot(&plot, "clustered");
+    assert!(
+        draw_fidelity(&color, &own, 8, 160).is_err(),
+        "a plot too small is refused"
+    );
+}
+
+#[test]
+fn a_forest_on_a_slope_shows_its_slope_histograms_beside_its_pcf() {
+    use worldpaint_core::fidelity_plot::draw_fidelity;
+    let scene = exemplar::slope_scene(400.0, 3);
+    let region = exemplar_region();
+    let color = learn_color(&scene, &region, "slope", &Default::default()).unwrap();
+    let t0 = std::time::Instant::now();
+    let own = worldpaint_core::self_synthesis(&color, scene.terrain.clone(), 1, &|_| true).unwrap();
+    let seconds = t0.elapsed().as_secs_f64();
+    let fid = compare(&color, &own);
+    println!(
+        "slope forest: self-synthesis in {seconds:.3} s, density {:?}, rdf L2 {:?}, map TV {:?}",
+        fid.density_ratio, fid.rdf_l2, fid.map_tv
+    );
+    assert!(fid.max_rdf_l2().is_finite() && fid.worst_density_error() <= 0.25);
+    let plot = draw_fidelity(&color, &own, 320, 160).unwrap();
+    let slope = plot.extent.max_slope_degrees.expect("a slope panel");
+    assert!(slope > 10.0 && slope <= 92.5, "slope axis to {slope}°");
+    assert!(pixel_spread(&plot) > 5.0);
+    keep_plot(&plot, "slope");
+}
+
+#[test]
+fn a_slope_color_without_its_terrain_is_painted_without_its_terrain_maps() {
+    let scene = exemplar::slope_scene(400.0, 3);
+    let region = exemplar_region();
+    let color = learn_color(&scene, &region, "slope", &Default::default()).unwrap();
+    let own = worldpaint_core::self_synthesis(&color, None, 1, &|_| true).unwrap();
+    assert!(own.maps.is_empty() && own.categories.len() == 3);
+    let plot = worldpaint_core::fidelity_plot::draw_fidelity(&color, &own, 256, 128).unwrap();
+    assert_eq!(
+        plot.extent.max_slope_degrees, None,
+        "no slope histogram of the self-synthesis, no slope panel"
+    );
+}

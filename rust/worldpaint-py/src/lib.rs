@@ -262,8 +262,8 @@ mod worldpaint_engine {
 
     #[pymodule_export]
     use crate::colors::{
-        color_renamed, color_summary, color_without_interactions, compare, interpolate_colors,
-        learn_color, palette_from_json, palette_to_json, synthesize,
+        color_renamed, color_summary, color_without_interactions, compare, fidelity,
+        interpolate_colors, learn_color, palette_from_json, palette_to_json, synthesize,
     };
     #[pymodule_export]
     use crate::exemplars::{

@@ -6,7 +6,7 @@
 //! what they measured.
 
 use crate::arrays::ArrayArg;
-use crate::colors::{color_painter, synthesis_options, Painting};
+use crate::colors::{color_painter, fidelity_to_py, synthesis_options, Painting};
 use crate::convert::{
     edit_to_py, field, parse_color, points_from_py, points_to_py, region_from_py, region_to_py,
     vec2,
@@ -27,7 +27,7 @@ use worldpaint_core::tools::gradient::{
 use worldpaint_core::tools::moving::move_region as move_content;
 use worldpaint_core::tools::stretch::{stretch, Side, StretchOptions};
 use worldpaint_core::tools::{clear, paste as paste_color, Edit};
-use worldpaint_core::Scene;
+use worldpaint_core::{compare, learned_back, Scene};
 
 fn edit_result<'py>(py: Python<'py>, edit: &Edit, scene: &Scene) -> PyResult<Bound<'py, PyDict>> {
     edit_to_py(py, edit, scene.terrain.as_deref())
@@ -35,15 +35,28 @@ fn edit_result<'py>(py: Python<'py>, edit: &Edit, scene: &Scene) -> PyResult<Bou
 
 color_painter! {
     /// Paste `color` (JSON) into `region`: the unlocked instances inside it are replaced by a new arrangement
-    /// consistent with its surroundings. Returns the edit; `progress(fraction) -> bool` may cancel.
+    /// consistent with its surroundings. Returns the edit, with "fidelity": what the region holds after the paste,
+    /// learned back with the color's bins and maps and compared with the color (the dict `compare` returns), or
+    /// None when it cannot be learned back, and "fidelity_error" then says why (the paste itself stands);
+    /// `progress(fraction) -> bool` may cancel.
     paste => pasted
 }
 
 fn pasted<'py>(py: Python<'py>, p: Painting<'_>) -> PyResult<Bound<'py, PyDict>> {
-    let edit = with_progress(py, p.progress, |report| {
-        paste_color(p.scene, &p.color, &p.region, &p.opts, report)
+    let (edit, fid) = with_progress(py, p.progress, |report| {
+        let edit = paste_color(p.scene, &p.color, &p.region, &p.opts, report)?;
+        let painted = learned_back(&edit.applied_to(p.scene), &p.region, &p.color);
+        Ok((edit, painted.map(|c| compare(&p.color, &c))))
     })?;
-    edit_result(py, &edit, p.scene)
+    let d = edit_result(py, &edit, p.scene)?;
+    match fid {
+        Ok(f) => d.set_item("fidelity", fidelity_to_py(py, &f)?)?,
+        Err(e) => {
+            d.set_item("fidelity", py.None())?;
+            d.set_item("fidelity_error", e.to_string())?;
+        }
+    }
+    Ok(d)
 }
 
 /// Clear `region`: its unlocked content (instances, and the parts of paths and contours in it) is removed, of every
