@@ -6,6 +6,9 @@
 //! * `learn_color/slope_scene`: learning the color of the 200 m slope exemplar (3 categories, slope and
 //!   elevation maps), and `learn_color/slope_scene_in_*_vertices` the same inside a drawn outline of 10^4 and
 //!   10^6 vertices;
+//! * `paste_color/hard_core_in_*_vertices`: ~1,250 hard-core instances pasted into a wavy drawn outline of 100
+//!   (the baseline), 10^4 and 10^6 vertices (radius 100 ± 5 m, 40 waves), whose cost per proposal the engine keeps
+//!   from growing with the outline's detail;
 //! * `terrain/from_mesh_*`: a heightfield from a 1M-triangle irregular mesh (jittered grid, rasterized) and
 //!   from a 1025² regular grid mesh (used as a lattice).
 //!
@@ -143,6 +146,18 @@ fn bench_synthesis(c: &mut Criterion, runs: &RefCell<Vec<Run>>) {
     group.finish();
 }
 
+/// A drawn outline of `n` vertices around `centre`: a circle of `radius` with `waves` bumps of `amplitude` metres.
+fn outline(n: usize, centre: DVec2, radius: f64, waves: f64, amplitude: f64) -> Region {
+    Region::Polygon {
+        points: (0..n)
+            .map(|k| {
+                let a = k as f64 / n as f64 * std::f64::consts::TAU;
+                centre + DVec2::new(a.cos(), a.sin()) * (radius + amplitude * (waves * a).sin())
+            })
+            .collect(),
+    }
+}
+
 fn bench_learn(c: &mut Criterion) {
     let scene = exemplar::slope_scene(200.0, 7);
     let region = Region::Rect {
@@ -161,16 +176,54 @@ fn bench_learn(c: &mut Criterion) {
     // the same exemplar inside a drawn outline of 10^4 and 10^6 vertices (a circle of 90 m), whose cost the
     // engine bounds by simplifying outlines of more than 16,384 vertices
     for n in [10_000usize, 1_000_000] {
-        let outline = Region::Polygon {
-            points: (0..n)
-                .map(|k| {
-                    let a = k as f64 / n as f64 * std::f64::consts::TAU;
-                    DVec2::new(100.0 + 90.0 * a.cos(), 100.0 + 90.0 * a.sin())
-                })
-                .collect(),
-        };
+        let outline = outline(n, DVec2::splat(100.0), 90.0, 0.0, 0.0);
         group.bench_function(format!("slope_scene_in_{n}_vertices"), |b| {
             b.iter(|| learn_color(black_box(&scene), &outline, "slope", &opts))
+        });
+    }
+    group.finish();
+}
+
+/// Pasting a hard-core color (density 0.04, hard core 2.5 m, learned on a 50 m square) into an empty scene inside
+/// wavy outlines of 100, 10^4 and 10^6 vertices: the time a proposal's region queries add with the outline's
+/// detail.
+fn bench_paste_in_outline(c: &mut Criterion) {
+    let square = Region::Rect {
+        min: DVec2::ZERO,
+        max: DVec2::splat(50.0),
+    };
+    let categories = vec![Category::distribution("tree", "vegetation", 0)];
+    let exemplar = Scene {
+        categories: categories.clone(),
+        instances: exemplar::hard_core(&square, 0.04, 2.5, 1)
+            .into_iter()
+            .map(|p| Instance::at(p, 0))
+            .collect(),
+        ..Default::default()
+    };
+    let color = match learn_color(&exemplar, &square, "trees", &AnalysisOptions::default()) {
+        Ok(c) => c,
+        Err(e) => panic!("learning the hard-core color failed: {e}"),
+    };
+    let empty = Scene {
+        categories,
+        ..Default::default()
+    };
+    let opts = SynthesisOptions {
+        seed: 1,
+        ..Default::default()
+    };
+    let mut group = timing::flat_group(c, "paste_color", 10, Duration::from_secs(5));
+    group.warm_up_time(Duration::from_millis(1));
+    for n in [100usize, 10_000, 1_000_000] {
+        let region = outline(n, DVec2::splat(200.0), 100.0, 40.0, 5.0);
+        group.bench_function(format!("hard_core_in_{n}_vertices"), |b| {
+            b.iter(
+                || match synthesize(&empty, &color, black_box(&region), &opts) {
+                    Ok(out) => out.instances.len(),
+                    Err(e) => panic!("pasting into {n} vertices failed: {e}"),
+                },
+            )
         });
     }
     group.finish();
@@ -234,6 +287,7 @@ fn main() {
     let runs = RefCell::new(Vec::new());
     bench_synthesis(&mut c, &runs);
     bench_learn(&mut c);
+    bench_paste_in_outline(&mut c);
     bench_terrain(&mut c);
     c.final_summary();
     if !listing {

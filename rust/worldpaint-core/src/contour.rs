@@ -16,7 +16,7 @@
 //!   `d` outside and `−d / d_max` inside, where `d_max` is the largest distance to the border inside the contour
 //!   that holds the point.
 
-use crate::geom::{douglas_peucker, polygon_signed_area, DVec2, Region};
+use crate::geom::{douglas_peucker, polygon_signed_area, DVec2, Region, RegionQueries};
 use crate::graph::SegmentIndex;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -189,7 +189,7 @@ pub fn fill(polygons: &Polygons, spacing: f64, seed: u64) -> Vec<DVec2> {
 const CUT_SAMPLES: f64 = 400.0;
 
 /// The contour less `region` (see the module documentation), or `None` when the contour does not meet the region.
-pub(crate) fn cut(contour: &[DVec2], region: &Region) -> Option<Loops> {
+pub(crate) fn cut(contour: &[DVec2], region: &impl RegionQueries) -> Option<Loops> {
     split(contour, region).map(|(_, outside)| outside)
 }
 
@@ -198,7 +198,7 @@ pub(crate) type Loops = Vec<Vec<DVec2>>;
 
 /// The parts of the contour inside `region` and outside it, by the same dense points as [`cut`], or `None` when
 /// the contour does not meet the region. A contour wholly inside comes back as it is.
-pub(crate) fn split(contour: &[DVec2], region: &Region) -> Option<(Loops, Loops)> {
+pub(crate) fn split(contour: &[DVec2], region: &impl RegionQueries) -> Option<(Loops, Loops)> {
     let n = contour.len();
     if n < 3 {
         return None;

@@ -5,20 +5,31 @@
 //! > "we approximate the area dA' = dA ∩ φ by computing for each point the proportion α_{x_i,r} of the outer
 //! > circle's circumference that intersects the active region, and by setting dA' = α_{x_i,r} dA."
 //!
-//! `α` is computed exactly (not by sampling): the circle is cut at its crossings with the region's boundary
-//! (line segments for rectangles and polygons, a second circle for circles), and each arc between two
-//! consecutive crossings is wholly inside or outside, which one test at its midpoint decides.
+//! `α` is computed exactly (not by sampling), once for every kind of region: see [`RegionQueries`].
 //!
 //! The painting tools synthesize in parts of regions (Section 5.3: a brush step `φ_k` without the regions
 //! `φ_i, i < k` already painted in the stroke; the bands of a gradient): a [`Region::Clipped`] is the part of
-//! its `within` regions outside all of its `without` regions. Its boundary is made of pieces of theirs, so the
-//! same crossing-and-midpoint rule gives its `α` exactly; its area is integrated on a fine lattice.
+//! its `within` regions outside all of its `without` regions; its area is integrated on a fine lattice.
+//!
+//! A synthesis asks its region these questions for every proposal: it asks them of a [`PreparedRegion`], which
+//! indexes the region's large polygons once and gives the same answers reading only the edges near each query;
+//! [`RegionQueries`] are the questions both answer.
 
 use crate::error::{Error, Result};
 use crate::limits;
 pub use glam::DVec2;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::TAU;
+
+mod edge_tree;
+mod polygon_index;
+mod prepared;
+mod queries;
+
+use polygon_index::{PolygonIndex, INDEXED_POLYGON};
+pub use prepared::PreparedRegion;
+pub(crate) use queries::circle_fraction;
+pub use queries::RegionQueries;
 
 /// An area of the world plane (XY) selected by the user: where an exemplar is read or where content is painted.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -215,69 +226,6 @@ pub fn polygon_contains(points: &[DVec2], p: DVec2) -> bool {
         j = i;
     }
     inside
-}
-
-/// Polygons with more vertices than this answer many containment queries through a [`PolygonIndex`].
-const INDEXED_POLYGON: usize = 256;
-
-/// The edges of a polygon bucketed by horizontal bands, so that a containment query reads only the edges of its
-/// band instead of all of them: a region of a million vertices is sampled in a second, not in minutes. It gives the
-/// same answers as [`polygon_contains`]: the edges a horizontal ray crosses all lie in the ray's band.
-pub(crate) struct PolygonIndex<'p> {
-    points: &'p [DVec2],
-    y0: f64,
-    band: f64,
-    /// Per band, the edges (index of their first point) whose y-range meets it.
-    edges: Vec<Vec<u32>>,
-}
-
-impl<'p> PolygonIndex<'p> {
-    pub(crate) fn new(points: &'p [DVec2]) -> Self {
-        let n = points.len();
-        let (y0, y1) = points
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
-                (lo.min(p.y), hi.max(p.y))
-            });
-        let bands = ((n as f64).sqrt().ceil() as usize).max(1);
-        let band = ((y1 - y0) / bands as f64).max(f64::MIN_POSITIVE);
-        let mut edges = vec![Vec::new(); bands];
-        let band_of = |y: f64| (((y - y0) / band).floor().max(0.0) as usize).min(bands - 1);
-        for i in 0..n {
-            let (a, b) = (points[i], points[(i + n - 1) % n]);
-            for list in &mut edges[band_of(a.y.min(b.y))..=band_of(a.y.max(b.y))] {
-                list.push(i as u32);
-            }
-        }
-        PolygonIndex {
-            points,
-            y0,
-            band,
-            edges,
-        }
-    }
-
-    /// [`polygon_contains`] of `p`, reading only the edges of `p`'s band.
-    pub(crate) fn contains(&self, p: DVec2) -> bool {
-        let k = (p.y - self.y0) / self.band;
-        if !(k >= 0.0 && k < self.edges.len() as f64 + 1.0) {
-            return false;
-        }
-        let n = self.points.len();
-        let list = &self.edges[(k.floor() as usize).min(self.edges.len() - 1)];
-        let mut inside = false;
-        for &i in list {
-            let i = i as usize;
-            let (a, b) = (self.points[i], self.points[(i + n - 1) % n]);
-            if (a.y > p.y) != (b.y > p.y) {
-                let x = a.x + (p.y - a.y) * (b.x - a.x) / (b.y - a.y);
-                if p.x < x {
-                    inside = !inside;
-                }
-            }
-        }
-        inside
-    }
 }
 
 /// Signed area of a closed polygon (positive when counter-clockwise).
@@ -530,9 +478,7 @@ impl Region {
             }
             Region::Circle { center, radius } => p.distance_squared(*center) <= radius * radius,
             Region::Polygon { points } => polygon_contains(points, p),
-            Region::Clipped { within, without } => {
-                within.iter().all(|r| r.contains(p)) && !without.iter().any(|r| r.contains(p))
-            }
+            Region::Clipped { within, without } => queries::clipped_contains(within, without, p),
         }
     }
 
@@ -541,7 +487,7 @@ impl Region {
         match self {
             Region::Polygon { points: polygon } if polygon.len() > INDEXED_POLYGON => {
                 let index = PolygonIndex::new(polygon);
-                points.iter().map(|p| index.contains(*p)).collect()
+                points.iter().map(|p| index.contains(polygon, *p)).collect()
             }
             Region::Clipped { within, without } => {
                 let mut inside = vec![true; points.len()];
@@ -649,237 +595,63 @@ impl Region {
             Region::Circle { center, radius } => (p.distance(*center) - radius).abs(),
             Region::Polygon { .. } => self
                 .straight_edges()
-                .into_iter()
                 .map(|(a, b)| segment_distance(p, a, b))
                 .fold(f64::INFINITY, f64::min),
-            Region::Clipped { within, without } => within
-                .iter()
-                .chain(without)
-                .map(|r| r.distance_to_boundary(p))
-                .fold(f64::INFINITY, f64::min),
-        }
-    }
-
-    /// 0 inside, else the distance to the region's boundary.
-    pub(crate) fn distance_outside(&self, p: DVec2) -> f64 {
-        if self.contains(p) {
-            0.0
-        } else {
-            self.distance_to_boundary(p)
+            Region::Clipped { within, without } => {
+                queries::clipped_distance(within, without, p, f64::INFINITY)
+            }
         }
     }
 
     /// Fraction `α ∈ [0, 1]` of the circumference of the circle `C(p, r)` that lies inside the region
-    /// (the window-edge correction of Section 4.1). Exact: see the module documentation.
+    /// (the window-edge correction of Section 4.1). Exact: the circle is cut where it crosses the boundary, and
+    /// each arc between two crossings is inside or not as its midpoint is.
     pub fn circle_fraction_inside(&self, p: DVec2, r: f64) -> f64 {
-        if !(r > 0.0) || !r.is_finite() {
-            return if self.contains(p) { 1.0 } else { 0.0 };
-        }
-        let inside_now = self.contains(p);
-        let d = self.distance_to_boundary(p);
-        if d >= r {
-            return if inside_now { 1.0 } else { 0.0 };
-        }
-        let mut angles: Vec<f64> = Vec::with_capacity(8);
-        self.push_circle_crossings(p, r, &mut angles);
-        if angles.is_empty() {
-            let probe = p + DVec2::new(r, 0.0);
-            return if self.contains(probe) { 1.0 } else { 0.0 };
-        }
-        angles.sort_by(f64::total_cmp);
-        let mut inside = 0.0;
-        for i in 0..angles.len() {
-            let a0 = angles[i];
-            let a1 = if i + 1 < angles.len() {
-                angles[i + 1]
+        RegionQueries::circle_fraction_inside(self, p, r)
+    }
+
+    /// The edges of a rectangle's or a polygon's boundary, in order (none for a circle or a clipped region),
+    /// without copying a polygon's points: the distance and the circle crossings read them for every query.
+    fn straight_edges(&self) -> impl Iterator<Item = (DVec2, DVec2)> + '_ {
+        let none: &[DVec2] = &[];
+        let (n, rect, points) = match self {
+            Region::Rect { min, max } => (
+                4,
+                [
+                    *min,
+                    DVec2::new(max.x, min.y),
+                    *max,
+                    DVec2::new(min.x, max.y),
+                ],
+                none,
+            ),
+            Region::Polygon { points } => (points.len(), [DVec2::ZERO; 4], points.as_slice()),
+            Region::Circle { .. } | Region::Clipped { .. } => (0, [DVec2::ZERO; 4], none),
+        };
+        let corner = move |i: usize| {
+            if points.is_empty() {
+                rect[i]
             } else {
-                angles[0] + TAU
-            };
-            let span = a1 - a0;
-            if span <= 0.0 {
-                continue;
-            }
-            let mid = 0.5 * (a0 + a1);
-            if self.contains(p + DVec2::new(mid.cos(), mid.sin()) * r) {
-                inside += span;
-            }
-        }
-        (inside / TAU).clamp(0.0, 1.0)
-    }
-
-    /// Angles (in [0, 2π)) at which the circle `C(p, r)` crosses the region's boundary (or its parts' boundaries).
-    fn push_circle_crossings(&self, p: DVec2, r: f64, angles: &mut Vec<f64>) {
-        let mut push_segment = |a: DVec2, b: DVec2| {
-            // |a + t (b - a) - p| = r, t in [0, 1]
-            let ab = b - a;
-            let ap = a - p;
-            let qa = ab.length_squared();
-            if qa <= 0.0 {
-                return;
-            }
-            let qb = 2.0 * ap.dot(ab);
-            let qc = ap.length_squared() - r * r;
-            let disc = qb * qb - 4.0 * qa * qc;
-            if disc < 0.0 {
-                return;
-            }
-            let s = disc.sqrt();
-            for t in [(-qb - s) / (2.0 * qa), (-qb + s) / (2.0 * qa)] {
-                if (0.0..=1.0).contains(&t) {
-                    let q = a + ab * t - p;
-                    angles.push(q.y.atan2(q.x).rem_euclid(TAU));
-                }
+                points[i]
             }
         };
-        match self {
-            Region::Rect { .. } | Region::Polygon { .. } => {
-                for (a, b) in self.straight_edges() {
-                    push_segment(a, b);
-                }
-            }
-            Region::Circle { center, radius } => {
-                // intersection of two circles
-                let dv = *center - p;
-                let dist = dv.length();
-                if dist > 0.0 && dist <= r + radius && dist >= (r - radius).abs() {
-                    let base = dv.y.atan2(dv.x);
-                    let cos_half = ((r * r + dist * dist - radius * radius) / (2.0 * r * dist))
-                        .clamp(-1.0, 1.0);
-                    let half = cos_half.acos();
-                    angles.push((base - half).rem_euclid(TAU));
-                    angles.push((base + half).rem_euclid(TAU));
-                }
-            }
-            Region::Clipped { within, without } => {
-                for part in within.iter().chain(without) {
-                    // parts whose boundary the circle cannot reach add nothing
-                    if part.distance_to_boundary(p) <= r {
-                        part.push_circle_crossings(p, r, angles);
-                    }
-                }
-            }
-        }
+        (0..n).map(move |i| (corner(i), corner((i + 1) % n)))
     }
 
-    /// The edges of a rectangle's or a polygon's boundary (none for a circle or a clipped region).
-    fn straight_edges(&self) -> Vec<(DVec2, DVec2)> {
-        let corners = match self {
-            Region::Rect { min, max } => vec![
-                *min,
-                DVec2::new(max.x, min.y),
-                *max,
-                DVec2::new(min.x, max.y),
-            ],
-            Region::Polygon { points } => points.clone(),
-            Region::Circle { .. } | Region::Clipped { .. } => return Vec::new(),
-        };
-        let n = corners.len();
-        (0..n).map(|i| (corners[i], corners[(i + 1) % n])).collect()
-    }
-
-    /// Parameters `t` in (0, 1) at which the segment `a`–`b` crosses the boundary of the region (or of its parts).
+    /// Parameters `t` in (0, 1) at which the segment `a`–`b` crosses the boundary of the region (or of its parts),
+    /// ascending.
     pub fn segment_crossings(&self, a: DVec2, b: DVec2) -> Vec<f64> {
-        let mut out = Vec::new();
-        let mut edge = |c: DVec2, d: DVec2| {
-            if let Some((t, _)) = segment_intersection(a, b, c, d) {
-                if t > 0.0 && t < 1.0 {
-                    out.push(t);
-                }
-            }
-        };
-        match self {
-            Region::Rect { .. } | Region::Polygon { .. } => {
-                for (c, d) in self.straight_edges() {
-                    edge(c, d);
-                }
-            }
-            Region::Circle { center, radius } => {
-                // |a + t (b − a) − c| = r
-                let ab = b - a;
-                let ac = a - *center;
-                let qa = ab.length_squared();
-                if qa > 0.0 {
-                    let qb = 2.0 * ac.dot(ab);
-                    let qc = ac.length_squared() - radius * radius;
-                    let disc = qb * qb - 4.0 * qa * qc;
-                    if disc >= 0.0 {
-                        let s = disc.sqrt();
-                        for t in [(-qb - s) / (2.0 * qa), (-qb + s) / (2.0 * qa)] {
-                            if t > 0.0 && t < 1.0 {
-                                out.push(t);
-                            }
-                        }
-                    }
-                }
-            }
-            Region::Clipped { within, without } => {
-                for part in within.iter().chain(without) {
-                    out.extend(part.segment_crossings(a, b));
-                }
-            }
-        }
-        out.sort_by(f64::total_cmp);
-        out
+        RegionQueries::segment_crossings(self, a, b)
     }
 
     /// A polyline cut at the region's boundary: the pieces inside it and the pieces outside it.
     pub fn clip_polyline(&self, points: &[DVec2]) -> (Vec<Vec<DVec2>>, Vec<Vec<DVec2>>) {
-        let (mut inside, mut outside) = (Vec::new(), Vec::new());
-        if points.len() < 2 {
-            return (inside, outside);
-        }
-        let mut current: Vec<DVec2> = vec![points[0]];
-        let mut current_in = self.contains(points[0]);
-        for w in points.windows(2) {
-            let (a, b) = (w[0], w[1]);
-            let mut cuts = self.segment_crossings(a, b);
-            cuts.push(1.0);
-            let mut t0 = 0.0;
-            for t in cuts {
-                let p = a + (b - a) * t;
-                let mid = a + (b - a) * (0.5 * (t0 + t));
-                let piece_in = self.contains(mid);
-                if piece_in != current_in {
-                    let start = *current.last().unwrap_or(&a);
-                    let done = std::mem::replace(&mut current, vec![start]);
-                    if done.len() >= 2 {
-                        if current_in {
-                            inside.push(done);
-                        } else {
-                            outside.push(done);
-                        }
-                    }
-                    current_in = piece_in;
-                }
-                current.push(p);
-                t0 = t;
-            }
-        }
-        if current.len() >= 2 {
-            if current_in {
-                inside.push(current);
-            } else {
-                outside.push(current);
-            }
-        }
-        (inside, outside)
+        RegionQueries::clip_polyline(self, points)
     }
 
     /// The smaller side of the bounding box (a size scale of the region).
     pub(crate) fn smaller_side(&self) -> f64 {
         let (lo, hi) = self.bbox();
         (hi.x - lo.x).min(hi.y - lo.y)
-    }
-
-    /// Uniform random point in the region (rejection from the bounding box); `None` after many misses.
-    pub(crate) fn sample_uniform<R: rand::Rng>(&self, rng: &mut R) -> Option<DVec2> {
-        let (lo, hi) = self.bbox();
-        for _ in 0..1000 {
-            let p = DVec2::new(rng.random_range(lo.x..=hi.x), rng.random_range(lo.y..=hi.y));
-            if self.contains(p) {
-                return Some(p);
-            }
-        }
-        None
     }
 }

@@ -30,7 +30,7 @@
 //! window-edge correction stays reliable. `bin_width = max_radius / 24`.
 
 use crate::error::{check, Error, Result};
-use crate::geom::{describe_box, DVec2, Region};
+use crate::geom::{circle_fraction, describe_box, DVec2, PreparedRegion, Region, RegionQueries};
 use crate::limits;
 use crate::palette::{
     CategoryColor, Color, GraphColor, Histogram, Interaction, MapInteraction, MapSource,
@@ -131,6 +131,7 @@ pub fn learn_color(
         .collect();
     let exemplar = Exemplar {
         region,
+        prepared: PreparedRegion::new(region),
         area,
         content: &content,
         groups,
@@ -289,6 +290,8 @@ fn wants_oriented(oriented: &[(String, String)], gx: &Group, gy: &Group) -> bool
 /// and the scale of the rdf.
 struct Exemplar<'a> {
     region: &'a Region,
+    /// The region indexed for the window-edge correction of every point.
+    prepared: PreparedRegion<'a>,
     area: f64,
     content: &'a structure::Structures,
     groups: Vec<Group<'a>>,
@@ -366,7 +369,7 @@ impl Exemplar<'_> {
             start: 0.0,
             bin_width: width,
             values: rdf(
-                self.region,
+                &self.prepared,
                 self.area,
                 &gx.positions,
                 &gy.positions,
@@ -382,7 +385,7 @@ impl Exemplar<'_> {
     /// The oriented rdf of groups `xi` and `yi`.
     fn pair_oriented_rdf(&self, xi: usize, yi: usize) -> Vec<f64> {
         rdf(
-            self.region,
+            &self.prepared,
             self.area,
             &self.groups[xi].positions,
             &self.groups[yi].positions,
@@ -721,15 +724,22 @@ fn category_color(g: &Group, area: f64, grid: &SpatialGrid, max_radius: f64) -> 
 }
 
 /// α per distance bin for the point `p` (1 everywhere when the whole disc lies inside).
-pub(crate) fn alphas(region: &Region, p: DVec2, bin_width: f64, n_bins: usize) -> Vec<f64> {
-    if region.contains(p) && region.distance_to_boundary(p) >= bin_width * n_bins as f64 {
+pub(crate) fn alphas(
+    region: &impl RegionQueries,
+    p: DVec2,
+    bin_width: f64,
+    n_bins: usize,
+) -> Vec<f64> {
+    // whether p is inside and how near the boundary comes are the same for every bin: asked once
+    let reach = bin_width * n_bins as f64;
+    let inside = region.contains(p);
+    let near = region.distance_to_boundary_within(p, reach);
+    if inside && near >= reach {
         return vec![1.0; n_bins];
     }
     (0..n_bins)
         .map(|k| {
-            region
-                .circle_fraction_inside(p, (k as f64 + 0.5) * bin_width)
-                .max(ALPHA_FLOOR)
+            circle_fraction(region, p, (k as f64 + 0.5) * bin_width, inside, near).max(ALPHA_FLOOR)
         })
         .collect()
 }
@@ -738,7 +748,7 @@ pub(crate) fn alphas(region: &Region, p: DVec2, bin_width: f64, n_bins: usize) -
 /// `sectors` of the folded angle (one sector: the plain rdf), sector fastest.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn rdf(
-    region: &Region,
+    region: &PreparedRegion,
     area: f64,
     xs: &[DVec2],
     ys: &[DVec2],

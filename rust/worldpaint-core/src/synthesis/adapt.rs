@@ -29,7 +29,7 @@ use super::{
     HISTOGRAM_FLOOR,
 };
 use crate::error::{check, Result};
-use crate::geom::{DVec2, Region};
+use crate::geom::{DVec2, PreparedRegion, Region, RegionQueries};
 use crate::palette::Color;
 use crate::scene::{Category, Instance, Scene};
 use crate::spatial::GridEntry;
@@ -100,11 +100,14 @@ pub(crate) fn adapt(
     let order = priority_order(color, None)?;
     let (categories, scene_index) = scene_categories(fixed, color);
     let terrain = fixed.terrain.as_deref();
+    let outline = region;
+    // every proposal asks the region: its large polygons are indexed once for the whole call
+    let region = &PreparedRegion::new(outline);
     let context = conditioning_content(fixed, &scene_index, region, influence, &|_| true);
     let inside: Vec<Option<Vec<DVec2>>> = vec![None; color.categories.len()];
     let (rlo, rhi) = region.bbox();
     let pad = DVec2::splat(color.max_radius);
-    let area = region.area();
+    let area = outline.area();
     let mut out = Adapted {
         positions: moving.iter().map(|i| Some(i.position)).collect(),
         ..Default::default()
@@ -112,7 +115,7 @@ pub(crate) fn adapt(
     // the moved content of each color category, conditioning the categories of lower priority once adapted
     let mut adapted: Vec<Vec<DVec2>> = vec![Vec::new(); color.categories.len()];
     // distances to the graphs and polygons around the destination
-    let structured = StructuredContent::near(fixed, region, influence + color.max_radius);
+    let structured = StructuredContent::near(fixed, outline, influence + color.max_radius);
     for &ci in &order {
         let members: Vec<usize> = (0..moving.len())
             .filter(|&k| moving[k].category == scene_index[ci])
@@ -174,7 +177,7 @@ struct Chain<'r> {
     /// `ln` of the death threshold.
     floor: f64,
     self_tag: u32,
-    region: &'r Region,
+    region: &'r PreparedRegion<'r>,
 }
 
 impl Chain<'_> {

@@ -26,7 +26,7 @@ use super::arc_grid::{arc_gap, ArcGrid};
 use super::relax::{relax, Network};
 use super::{annealed, mix_seed};
 use crate::geom::segments_distance;
-use crate::geom::{segment_distance, DVec2, Region};
+use crate::geom::{segment_distance, DVec2, PreparedRegion};
 use crate::graph::{angle_between, Graph, SegmentIndex};
 use crate::palette::{GraphColor, Histogram};
 use crate::spatial::{GridEntry, SpatialGrid};
@@ -274,7 +274,7 @@ pub(super) fn synthesize_arcs(
     new: &[DVec2],
     kept: &Graph,
     obstacles: &Obstacles,
-    region: &Region,
+    region: &PreparedRegion,
     seed: u64,
 ) -> Graph {
     // nodes: the new ones, then the kept ones

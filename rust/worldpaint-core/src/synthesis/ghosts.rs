@@ -17,7 +17,7 @@
 //! densest color with the rdf-matching chain, 1.25 ×). Only the hard core is integrated: the attraction of clusters
 //! saturates in the product model, and the rdf beyond the core is too noisy in a small exemplar to integrate.
 
-use crate::geom::{DVec2, Region};
+use crate::geom::{DVec2, PreparedRegion, RegionQueries};
 use crate::spatial::SpatialGrid;
 use std::f64::consts::TAU;
 
@@ -92,8 +92,8 @@ struct PairGhosts {
 }
 
 /// The free-border term of one category's chain (see the module documentation).
-pub(super) struct Ghosts {
-    region: Region,
+pub(super) struct Ghosts<'r> {
+    region: &'r PreparedRegion<'r>,
     pairs: Vec<PairGhosts>,
     reach: f64,
     directions: [DVec2; DIRECTIONS],
@@ -110,9 +110,13 @@ pub(super) struct PairInput<'a> {
 /// Rings the hard-core disc is cut into (each sampled on its middle circle).
 const CORE_RINGS: usize = 3;
 
-impl Ghosts {
+impl<'r> Ghosts<'r> {
     /// The term for a chain in `region` with the given pairs; the rasters cover `bounds`.
-    pub(super) fn new(region: &Region, bounds: (DVec2, DVec2), pairs: &[PairInput]) -> Ghosts {
+    pub(super) fn new(
+        region: &'r PreparedRegion<'r>,
+        bounds: (DVec2, DVec2),
+        pairs: &[PairInput],
+    ) -> Ghosts<'r> {
         let mut reach: f64 = 0.0;
         let pairs = pairs
             .iter()
@@ -141,7 +145,7 @@ impl Ghosts {
             DVec2::new(a.cos(), a.sin())
         });
         Ghosts {
-            region: region.clone(),
+            region,
             pairs,
             reach,
             directions,
@@ -150,7 +154,7 @@ impl Ghosts {
 
     /// The log-density an instance at `p` gains from the missing neighbours in the free directions (≤ 0).
     pub(super) fn log_factor(&self, p: DVec2) -> f64 {
-        if self.region.contains(p) && self.region.distance_to_boundary(p) >= self.reach {
+        if self.region.covers_disc(p, self.reach) {
             return 0.0;
         }
         let mut sum = 0.0;

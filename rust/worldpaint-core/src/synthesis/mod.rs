@@ -145,7 +145,7 @@ pub use adapt::AdaptOptions;
 use crate::analysis::region_lattice;
 use crate::contour::{fill, trace};
 use crate::error::{check, Error, Result};
-use crate::geom::{describe_box, DVec2, Region};
+use crate::geom::{describe_box, DVec2, PreparedRegion, Region, RegionQueries};
 use crate::limits;
 use crate::palette::{CategoryColor, Color, Histogram, MapSource};
 use crate::scene::{Category, CategoryKind, Contour, Instance, Path, Scene};
@@ -255,8 +255,13 @@ pub fn synthesize_with_progress(
     opts: &SynthesisOptions,
     progress: &(dyn Fn(f64) -> bool + Sync),
 ) -> Result<SynthesisResult> {
+    // the scene's instances around a drawn outline can be many: its polygons are indexed once, when one is asked
+    let inside = std::sync::OnceLock::new();
     synthesize_keeping(scene, color, region, opts, progress, &|i: &Instance| {
-        i.locked || !region.contains(i.position)
+        i.locked
+            || !inside
+                .get_or_init(|| PreparedRegion::new(region))
+                .contains(i.position)
     })
 }
 
@@ -388,7 +393,7 @@ pub(crate) fn check_terrain(
 pub(crate) fn conditioning_content(
     scene: &Scene,
     scene_index: &[usize],
-    region: &Region,
+    region: &PreparedRegion,
     influence: f64,
     keep: &dyn Fn(&Instance) -> bool,
 ) -> Vec<Vec<DVec2>> {
@@ -437,15 +442,16 @@ pub(crate) fn synthesize_keeping(
         })?,
         None => region.clone(),
     };
-    let region = &on_terrain;
-    check_instance_budget(color, &order, region)?;
+    check_instance_budget(color, &order, &on_terrain)?;
     let (out_categories, scene_index) = scene_categories(scene, color);
+    // every proposal asks the region: its large polygons are indexed once for the whole call
+    let region = &PreparedRegion::new(&on_terrain);
     let context = conditioning_content(scene, &scene_index, region, influence, keep);
     let painting = Painting::new(scene, color, region, opts, influence, scene_index);
     let mut state = Painted {
         synthesized: vec![None; color.categories.len()],
         context,
-        structured: StructuredContent::near(scene, region, influence + color.max_radius),
+        structured: StructuredContent::near(scene, &on_terrain, influence + color.max_radius),
         out: SynthesisResult {
             categories: out_categories,
             ..Default::default()
@@ -492,7 +498,7 @@ fn checked_influence(color: &Color, opts: &SynthesisOptions) -> Result<f64> {
 struct Painting<'s> {
     scene: &'s Scene,
     color: &'s Color,
-    region: &'s Region,
+    region: &'s PreparedRegion<'s>,
     opts: &'s SynthesisOptions,
     influence: f64,
     terrain: Option<&'s Heightfield>,
@@ -521,15 +527,15 @@ impl<'s> Painting<'s> {
     fn new(
         scene: &'s Scene,
         color: &'s Color,
-        region: &'s Region,
+        region: &'s PreparedRegion<'s>,
         opts: &'s SynthesisOptions,
         influence: f64,
         scene_index: Vec<usize>,
     ) -> Self {
         let terrain = scene.terrain.as_deref();
         let lattice = match terrain {
-            Some(t) => region_lattice(region, t),
-            None => crate::analysis::region_samples(region),
+            Some(t) => region_lattice(region.region(), t),
+            None => crate::analysis::region_samples(region.region()),
         };
         let exemplar_lattice = terrain
             .filter(|_| opts.exemplar_on_terrain)
@@ -545,7 +551,7 @@ impl<'s> Painting<'s> {
             influence,
             terrain,
             scene_index,
-            area: region.area(),
+            area: region.region().area(),
             lattice,
             exemplar_lattice,
             bounds: (rlo - pad, rhi + pad),
@@ -650,8 +656,12 @@ impl<'s> Painting<'s> {
             }
             CategoryKind::Polygon => {
                 let spacing = self.polygon_spacing(name);
-                let merged =
-                    mergeable_contours(self.scene, self.scene_index[ci], region, 3.0 * spacing);
+                let merged = mergeable_contours(
+                    self.scene,
+                    self.scene_index[ci],
+                    region.region(),
+                    3.0 * spacing,
+                );
                 let kept = state.structured.polygons(name);
                 let kept_points = fill(&kept, spacing, ci as u64);
                 let merged_polygons = self.contour_polygons(&merged);
@@ -815,7 +825,7 @@ fn mergeable_contours(scene: &Scene, category: usize, region: &Region, margin: f
 /// The arcs of graph category `ci` over its new `nodes` (module `arcs`), as paths.
 fn graph_paths(
     color: &Color,
-    region: &Region,
+    region: &PreparedRegion,
     ci: usize,
     nodes: &[DVec2],
     structured: &StructuredContent,

@@ -4,7 +4,7 @@
 use super::gaussian;
 use super::target::{Target, FIXED_ID};
 use crate::error::{Error, Result};
-use crate::geom::{DVec2, Region};
+use crate::geom::{DVec2, PreparedRegion, RegionQueries};
 use crate::spatial::GridEntry;
 use rand::Rng;
 
@@ -12,7 +12,7 @@ use rand::Rng;
 #[allow(clippy::too_many_arguments)]
 pub(super) fn run_chain<R: Rng>(
     mut target: Target,
-    region: &Region,
+    region: &PreparedRegion,
     expected: f64,
     self_tag: u32,
     max_radius: f64,

@@ -5,7 +5,7 @@
 use super::target::{PairTable, Target, CONTEXT_TAG};
 use super::{annealed, mix_seed};
 use crate::error::{Error, Result};
-use crate::geom::{DVec2, Region};
+use crate::geom::{DVec2, PreparedRegion, RegionQueries};
 use crate::spatial::{FlatGrid, GridEntry, SpatialGrid};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -27,8 +27,14 @@ const MIN_TILE_INSTANCES: f64 = 256.0;
 
 /// `1 / α` per distance bin at `p`, written into `out`; returns false (and leaves `out` alone) when the
 /// whole disc of the interaction radius lies inside the region (α = 1).
-fn inverse_alphas(region: &Region, p: DVec2, bin_width: f64, n: usize, out: &mut [f64]) -> bool {
-    if region.contains(p) && region.distance_to_boundary(p) >= bin_width * n as f64 {
+fn inverse_alphas(
+    region: &PreparedRegion,
+    p: DVec2,
+    bin_width: f64,
+    n: usize,
+    out: &mut [f64],
+) -> bool {
+    if region.covers_disc(p, bin_width * n as f64) {
         return false;
     }
     for (o, a) in out
@@ -79,7 +85,7 @@ fn map_bin(target: &Target, mi: usize, p: DVec2) -> Option<usize> {
 /// Read-only state shared by the tiles of one phase.
 struct Shared<'a, 'b> {
     target: &'a Target<'b>,
-    region: &'a Region,
+    region: &'a PreparedRegion<'a>,
     self_tag: u32,
     n_alpha: usize,
     own: &'a [DVec2],
@@ -182,7 +188,7 @@ fn allowed(target: &Target, own_grid: &SpatialGrid, self_tag: u32, p: DVec2) -> 
 /// The rdf-matching chain of one category (see "Larger regions: matching the rdf" in the module documentation).
 pub(super) struct RdfChain<'c, 'a> {
     pub(super) target: &'c Target<'a>,
-    pub(super) region: &'c Region,
+    pub(super) region: &'c PreparedRegion<'c>,
     pub(super) area: f64,
     /// The expected count (see "The count").
     pub(super) expected: f64,

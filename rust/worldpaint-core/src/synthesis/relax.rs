@@ -12,7 +12,7 @@ use super::arc_grid::{arc_gap, ArcGrid};
 use super::arcs::{angle_bin, chi2, Obstacles};
 use super::{annealed, mix_seed};
 use crate::geom::segments_distance;
-use crate::geom::{DVec2, Region};
+use crate::geom::{DVec2, PreparedRegion, RegionQueries};
 use crate::graph::{angle_between, SegmentIndex};
 use crate::palette::{GraphColor, Histogram};
 use rand::{Rng, SeedableRng};
@@ -45,7 +45,7 @@ pub(super) fn relax(
     gc: &GraphColor,
     net: &mut Network,
     obstacles: &Obstacles,
-    region: &Region,
+    region: &PreparedRegion,
     seed: u64,
 ) {
     let Some((longest, mean)) = learned_lengths(&gc.edge_length) else {

@@ -8,7 +8,7 @@ use super::{HISTOGRAM_FLOOR, SATURATION_PAIRS};
 use crate::analysis::folded_angle_bin;
 use crate::analysis::structure::{graph_map_value, polygon_map_value};
 use crate::contour::Polygons;
-use crate::geom::{DVec2, Region};
+use crate::geom::{DVec2, PreparedRegion};
 use crate::graph::SegmentIndex;
 use crate::palette::{Color, Histogram, Interaction, MapSource};
 use crate::spatial::{GridEntry, SpatialGrid};
@@ -381,10 +381,10 @@ pub(super) struct Target<'a> {
     /// Cell size of the spatial grids.
     pub(super) cell: f64,
     /// The missing neighbours beyond the region's free borders (see [`super::ghosts`]).
-    pub(super) ghosts: Option<Ghosts>,
+    pub(super) ghosts: Option<Ghosts<'a>>,
 }
 
-impl Target<'_> {
+impl<'a> Target<'a> {
     pub(super) fn map_log(&self, p: DVec2) -> f64 {
         self.maps_log(p, false)
     }
@@ -425,7 +425,7 @@ impl Target<'_> {
     }
 
     /// Adds the free-border term of `region` to the chain (see [`super::ghosts`]).
-    pub(super) fn add_ghosts(&mut self, region: &Region, bounds: (DVec2, DVec2)) {
+    pub(super) fn add_ghosts(&mut self, region: &'a PreparedRegion<'a>, bounds: (DVec2, DVec2)) {
         let points = points_by_table(&self.grid, self.tables.len(), CONTEXT_TAG);
         let inputs: Vec<PairInput> = self
             .tables

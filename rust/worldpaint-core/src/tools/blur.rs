@@ -15,7 +15,7 @@
 
 use super::{color_of_region, empty_color, Edit, Working};
 use crate::error::{Error, Result};
-use crate::geom::{DVec2, Region};
+use crate::geom::{DVec2, PreparedRegion, Region, RegionQueries};
 use crate::interpolate::interpolate_colors;
 use crate::palette::Color;
 use crate::scene::Scene;
@@ -55,6 +55,7 @@ fn windows(scene: &Scene, region: &Region, count: usize) -> Result<Vec<Window>> 
     let centre = 0.5 * (lo + hi);
     let reach = (hi - lo).length();
     let radius = 0.5 * (region.area() / std::f64::consts::PI).sqrt();
+    let outline = PreparedRegion::new(region);
     let mut out = Vec::with_capacity(count);
     for k in 0..count {
         let a = TAU * k as f64 / count as f64;
@@ -63,7 +64,7 @@ fn windows(scene: &Scene, region: &Region, count: usize) -> Result<Vec<Window>> 
         let (mut inside, mut outside) = (0.0, reach);
         for _ in 0..40 {
             let mid = 0.5 * (inside + outside);
-            if region.contains(centre + dir * mid) {
+            if outline.contains(centre + dir * mid) {
                 inside = mid;
             } else {
                 outside = mid;
@@ -112,7 +113,7 @@ pub fn blur(
     }
     let windows = windows(scene, region, opts.windows)?;
     let mut work = Working::new(scene);
-    work.remove_where(|i| region.contains(i.position));
+    work.remove_inside(region);
     let Some(like) = windows.iter().find_map(|w| w.color.clone()) else {
         // nothing around: the blurred region is as empty as its surroundings
         return Ok(work.edit());

@@ -149,7 +149,7 @@ pub fn gradient(
     let (lo, hi) = region.bbox();
     let reach = 2.0 * (hi - lo).length() + shape.length();
     let mut work = Working::new(scene);
-    work.remove_where(|i| region.contains(i.position));
+    work.remove_inside(region);
     for k in 0..n {
         let band = Region::Clipped {
             within: vec![region.clone(), shape.band(k, n, reach)],

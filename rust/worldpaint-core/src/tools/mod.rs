@@ -18,7 +18,7 @@ pub mod stretch;
 use crate::analysis::{learn_color, AnalysisOptions};
 use crate::contour::cut;
 use crate::error::{Error, Result};
-use crate::geom::{DVec2, Region};
+use crate::geom::{DVec2, PreparedRegion, Region, RegionQueries};
 use crate::palette::Color;
 use crate::scene::{Category, Contour, Instance, Path, Scene};
 use crate::synthesis::{add_unseen, synthesize_keeping, SynthesisOptions};
@@ -183,15 +183,24 @@ impl Working {
             .retain(&mut self.scene.instances, |i| i.locked || !pred(i))
     }
 
+    /// Removes the unlocked instances inside `region`; returns them. Its large polygons are indexed once for all
+    /// the instances: a drawn outline can have a million vertices.
+    pub(crate) fn remove_inside(&mut self, region: &Region) -> Vec<Instance> {
+        let region = PreparedRegion::new(region);
+        self.remove_where(|i| region.contains(i.position))
+    }
+
     /// Removes the unlocked content inside `region`: instances, and the parts of paths and contours in it (their
     /// parts outside stay, as new pieces).
     pub(crate) fn clear(&mut self, region: &Region) {
-        self.remove_where(|i| region.contains(i.position));
+        self.remove_inside(region);
         self.clear_structures(region);
     }
 
     /// Removes the unlocked parts of paths and contours inside `region` (their parts outside stay, as new pieces).
+    /// Its large polygons are indexed once for all their segments and points.
     pub(crate) fn clear_structures(&mut self, region: &Region) {
+        let region = &PreparedRegion::new(region);
         let mut pieces: Vec<Path> = Vec::new();
         self.paths.retain(&mut self.scene.paths, |p| {
             if p.locked {

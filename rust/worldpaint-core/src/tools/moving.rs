@@ -14,7 +14,7 @@
 use super::{Edit, Working};
 use crate::contour::split;
 use crate::error::{Error, Result};
-use crate::geom::{DVec2, Region};
+use crate::geom::{DVec2, PreparedRegion, Region, RegionQueries};
 use crate::palette::Color;
 use crate::scene::{Contour, Instance, Path, Scene};
 use crate::synthesis::{adapt, AdaptOptions};
@@ -54,8 +54,9 @@ pub fn move_region(
         ));
     }
     let destination = source.translated(offset);
+    let inside = PreparedRegion::new(source);
     let moving: Vec<usize> = (0..scene.instances.len())
-        .filter(|&k| !scene.instances[k].locked && source.contains(scene.instances[k].position))
+        .filter(|&k| !scene.instances[k].locked && inside.contains(scene.instances[k].position))
         .collect();
     let structures = move_structures(scene, source, &destination, offset);
     let mut moved = move_instances(
@@ -78,12 +79,13 @@ pub fn move_region(
 /// The scene with its unlocked paths and contours moved (instances as they were): the parts inside `source` cut
 /// out and carried by `offset`, the parts under `destination` removed.
 fn move_structures(scene: &Scene, source: &Region, destination: &Region, offset: DVec2) -> Working {
+    let outline = &PreparedRegion::new(source);
     let carried_paths: Vec<Path> = scene
         .paths
         .iter()
         .filter(|p| !p.locked)
         .flat_map(|p| {
-            let inside = source.clip_polyline(&p.points).0;
+            let inside = outline.clip_polyline(&p.points).0;
             inside
                 .into_iter()
                 .filter(|q| q.len() >= 2)
@@ -98,7 +100,7 @@ fn move_structures(scene: &Scene, source: &Region, destination: &Region, offset:
         .iter()
         .filter(|c| !c.locked)
         .flat_map(|c| {
-            let parts = split(&c.points, source)
+            let parts = split(&c.points, outline)
                 .map(|(inside, _)| inside)
                 .unwrap_or_default();
             parts.into_iter().map(move |points| Contour {
@@ -151,9 +153,10 @@ pub(crate) fn move_instances(
         });
     };
     let destination = &destination;
+    let at_destination = PreparedRegion::new(destination);
     let mut removed = vec![false; scene.instances.len()];
     for (k, i) in scene.instances.iter().enumerate() {
-        if !i.locked && destination.contains(i.position) {
+        if !i.locked && at_destination.contains(i.position) {
             removed[k] = true;
         }
     }

@@ -268,7 +268,7 @@ pub fn stretch(
     let band = drag.band();
     let mut work = Working::new(scene);
     if shrink > 0.0 {
-        work.remove_where(|i| band.contains(i.position));
+        work.remove_inside(&band);
     }
     let moved = move_instances(
         &work.scene,

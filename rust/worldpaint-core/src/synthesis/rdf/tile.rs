@@ -4,7 +4,7 @@
 
 use super::{inverse_alphas, map_bin, Shared};
 use crate::analysis::folded_angle_bin;
-use crate::geom::DVec2;
+use crate::geom::{DVec2, RegionQueries};
 use crate::spatial::{FlatGrid, GridEntry};
 use crate::synthesis::gaussian;
 use crate::synthesis::target::CONTEXT_TAG;
