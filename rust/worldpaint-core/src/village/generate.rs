@@ -2,7 +2,7 @@
 //! and a growth scenario, grow the skeleton (3.2: each new building seed connected to the roads at once), then
 //! the land parcels and footprints (3.3), then the houses (3.4).
 
-use super::encyclopedia::{Encyclopedia, Event, Scenario};
+use super::encyclopedia::{BuildingKind, Encyclopedia, Event, Placement, Scenario};
 use super::footprint::footprint;
 use super::house::house;
 use super::interest::{criteria, interest, Criterion, StaticMaps, VillageState};
@@ -163,6 +163,53 @@ fn stamp(land: &Land, mask: &mut [bool], p: DVec2, radius: f64) {
     }
 }
 
+/// Where a building whose new road `road` (from the building on) ends at it stands: beside the road's last
+/// metres, at its preferred distance from a road (accessibility `λ_0`, at least clear of the road and its own
+/// smallest footprint), on the side farther from the other buildings. The road reaches the building's door, and
+/// its lot fronts the road's side, not the cap of the dead end (3.3.1: a parcel is conquered from the road beside
+/// its seed). `None` when neither side is free: too close to another building (sociability's `λ_min`), another
+/// road, the water or the border.
+fn beside_its_road(
+    land: &Land,
+    network: &RoadNetwork,
+    road: &[DVec2],
+    seeds: &[BuildingSeed],
+    placement: &Placement,
+    kind: &BuildingKind,
+    road_width: f64,
+) -> Option<DVec2> {
+    let (&end, &next) = (road.first()?, road.get(1)?);
+    let along = (next - end).try_normalize()?;
+    let clear = 0.5 * road_width + 0.5 * kind.footprint_min[0].max(kind.footprint_min[1]);
+    let off = placement.accessibility.zero.max(clear);
+    let back = (0.5 * kind.footprint_min[0].min(kind.footprint_min[1])).min(end.distance(next));
+    let nearest = |p: DVec2| -> Option<f64> {
+        let mut nearest = f64::INFINITY;
+        for b in seeds {
+            let shape = placement
+                .sociability_with
+                .get(&b.building)
+                .unwrap_or(&placement.sociability);
+            let d = b.position.distance(p);
+            if d < shape.min {
+                return None;
+            }
+            nearest = nearest.min(d);
+        }
+        Some(nearest)
+    };
+    [1.0, -1.0]
+        .into_iter()
+        .filter_map(|side| {
+            let p = end + along * back + along.perp() * (side * off);
+            let (i, j) = land.grid().nearest(p)?;
+            let free = land.buildable(land.grid().index(i, j)) && network.distance(p) >= clear;
+            free.then(|| nearest(p).map(|d| (d, p)))?
+        })
+        .max_by(|a, b| a.0.total_cmp(&b.0))
+        .map(|(_, p)| p)
+}
+
 /// Generates a village; `progress(stage, fraction)` returning `false` cancels (`Error::Cancelled`).
 pub fn generate(
     request: &VillageRequest,
@@ -278,11 +325,24 @@ pub fn generate(
             report.fallbacks += found.fallback as usize;
             report.roads_over_max_grade += connection.over_max_grade as usize;
             report.cycles += connection.cycle as usize;
-            stamp(&land, &mut occupied, found.position, radius);
+            let position = match connection.roads.first() {
+                Some(&r) => beside_its_road(
+                    &land,
+                    &network,
+                    &network.roads[r].points,
+                    &seeds,
+                    placement,
+                    kind,
+                    enc.roads.width,
+                )
+                .unwrap_or(found.position),
+                None => found.position,
+            };
+            stamp(&land, &mut occupied, position, radius);
             seeds.push(BuildingSeed {
                 building: building.clone(),
                 village_type: village_type.clone(),
-                position: found.position,
+                position,
             });
             religious.push(kind.religious);
             fortress.push(kind.fortress);

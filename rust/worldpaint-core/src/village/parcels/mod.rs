@@ -8,8 +8,8 @@
 //!    round a dead end's cap are no road front, so a parcel does not follow its road round its end.
 //! 2. **Corner conquest** (3.3.2). "We allow parcel `P_i` arrived first at a junction to annex its
 //!    neighborhood": in each junction sector narrower than [`ParcelOptions::corner_angle_degrees`], the parcel
-//!    whose road cells come nearest the corner annexes the sector's road cells on both roads within its depth
-//!    (`c_max / ω_conquest`) of the corner, and at most half-way to the next junction. The corner lot then fronts
+//!    whose road cells come nearest the corner annexes the sector's road cells on both roads within its road
+//!    reach (at most its depth `c_max / ω_conquest`) of the corner, and at most half-way to the next junction. The corner lot then fronts
 //!    both roads and its neighbours begin where its land ends, instead of meeting it along a diagonal with sharp
 //!    angles. "Building seeds that lose access to roads are suppressed": a seed left with no road cell, or with
 //!    less than half of its front, gets `None`.
