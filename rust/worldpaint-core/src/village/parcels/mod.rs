@@ -127,12 +127,15 @@ pub struct ParcelOptions {
 }
 
 impl Default for ParcelOptions {
+    /// `ε` = 45°, vertices moved by up to 5 cells and edges shorter than 6 cells merged: the thesis gives no value,
+    /// and at 30°, 3 and 4 cells a dense village's parcels kept 8 contour edges on average against the 4.068 of
+    /// its real village (3.5), most of them shallow bends of the far side.
     fn default() -> Self {
         ParcelOptions {
             straighten: 1.5,
-            merge_angle_degrees: 30.0,
-            merge_deviation: 3.0,
-            short_edge: 4.0,
+            merge_angle_degrees: 45.0,
+            merge_deviation: 5.0,
+            short_edge: 6.0,
             acute_angle_degrees: 30.0,
             corner_angle_degrees: 150.0,
         }
