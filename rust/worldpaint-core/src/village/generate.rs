@@ -34,7 +34,8 @@ pub struct VillageRequest<'a> {
     /// The terrain, the region of interest `Ω`, the water and walls, and the skeleton's grid cell.
     pub site: Site<'a>,
     /// Connection points `Ψ` to the outside world; empty: where existing roads cross the region's border, else the
-    /// lowest point of the border.
+    /// lowest point of the border. Before any building, each point after the first is joined to the roads by a
+    /// through road (with re-use, so existing roads serve where they can).
     pub connections: Vec<DVec2>,
     /// Roads already there (kept as they are; new roads re-use them).
     pub existing_roads: Vec<Vec<DVec2>>,
@@ -238,12 +239,18 @@ pub fn generate(
         request.connections.clone()
     };
     reached(Stage::Skeleton, 0.0)?;
-    let mut network = RoadNetwork::new(&land, &connections, &request.existing_roads)?;
+    // the roads between the connection points come first: the village grows on the ways through it
+    let mut network = RoadNetwork::new(&land, &connections[..1], &request.existing_roads)?;
     let mut report = VillageReport {
         requested: request.scenario.building_count() as usize,
-        connections: network.connections().to_vec(),
         ..Default::default()
     };
+    let no_buildings = vec![false; land.grid().len()];
+    for &p in &connections[1..] {
+        let through = network.link_connection(&land, &enc.roads, &no_buildings, p)?;
+        report.roads_over_max_grade += through.over_max_grade as usize;
+    }
+    report.connections = network.connections().to_vec();
 
     // every domination radius the scenario may ask for, computed once
     let mut radii: Vec<f64> = Vec::new();
