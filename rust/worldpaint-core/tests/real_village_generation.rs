@@ -23,7 +23,7 @@
 //!
 //! Checked for every generated village against its real window, bands a plausible generator meets and a broken
 //! one (houses piled up or scattered, roads missing or wandering, roads up the fall line) does not:
-//! * it holds at least 70 % of the buildings asked for;
+//! * it holds at least 80 % of the buildings asked for;
 //! * its mean nearest-neighbour distance is within a factor 3 of the real one;
 //! * its road length per house is within a factor 4 of the real one;
 //! * at most 5 % of its road length is steeper than the encyclopedia's maximum grade, unless the engine reported
@@ -526,9 +526,9 @@ fn checks(r: &RealColumn, g: &GeneratedColumn, max_grade: f64) -> Vec<Check> {
         Check {
             what: format!("{name}: buildings generated"),
             measured: format!("{} of {}", gl.houses, g.asked),
-            // footprints are still lost in narrow mountain parcels: 61-67 % stand in Andorra, 84-90 % near Bayreuth
-            bound: ">= 60 %".into(),
-            holds: gl.houses * 10 >= g.asked * 6,
+            // footprints are still lost in narrow parcels: 86-90 % stand near Bayreuth, 90-100 % in Andorra
+            bound: ">= 80 %".into(),
+            holds: gl.houses * 10 >= g.asked * 8,
         },
         Check {
             what: format!("{name}: nearest neighbour / real"),
