@@ -23,7 +23,7 @@
 //!
 //! Checked for every generated village against its real window, bands a plausible generator meets and a broken
 //! one (houses piled up or scattered, roads missing or wandering, roads up the fall line) does not:
-//! * it holds at least 70 % of the buildings asked for;
+//! * it holds at least 80 % of the buildings asked for;
 //! * its mean nearest-neighbour distance is within a factor 3 of the real one;
 //! * its road length per house is within a factor 4 of the real one;
 //! * at most 5 % of its road length is steeper than the encyclopedia's maximum grade, unless the engine reported
@@ -31,10 +31,9 @@
 //! * it grows within [`TIME_BUDGET`] seconds (past them it is cancelled at its next building, which keeps the
 //!   test's running time bounded).
 //!
-//! The villages of a place grow in parallel. The real window holds 450–510 buildings north of Bayreuth, which is
-//! more than the engine is asked for here (its time on two cores), so the generated villages there are sparser
-//! than the real ones by construction: their nearest-neighbour distance and road length per house are read
-//! against bands wide enough for that. The thesis's parcel figures come from one real village; the cadastre (a
+//! The villages of a place grow in parallel. Each is asked for as many buildings as its real window holds (450–510
+//! north of Bayreuth, 20–100 in Andorra; [`MAX_BUILDINGS`] only guards the running time), so its density is
+//! the real one's, not a sparser village's by construction. The thesis's parcel figures come from one real village; the cadastre (a
 //! suburban town) and the land-use tiles (fields and woods, not lots) bracket them rather than match them.
 
 #[path = "common/checks.rs"]
@@ -69,15 +68,16 @@ const SIDE: f64 = 1000.0;
 const WINDOWS: usize = 3;
 /// A window with fewer buildings is no village.
 const MIN_BUILDINGS: usize = 15;
-/// Largest number of buildings asked of the generator.
-const MAX_BUILDINGS: usize = 120;
+/// Largest number of buildings asked of the generator: above the densest real window's count, so that every
+/// village is asked for its window's.
+const MAX_BUILDINGS: usize = 600;
 const SEED: u64 = 1;
 /// Grid cells (m) of the skeleton and of the land conquest.
 const CELL: f64 = 2.0;
 const PARCEL_CELL: f64 = 1.0;
 /// Seconds a village may take: past them its growth is cancelled (at the next building), which fails the test
 /// but keeps its running time bounded.
-const TIME_BUDGET: f64 = 25.0;
+const TIME_BUDGET: f64 = 60.0;
 /// Tolerance (m) of the parcel statistics (shared boundaries, collinear contour vertices).
 const PARCEL_TOLERANCE: f64 = 0.5;
 /// The thesis's parcel validation (§3.5): mean neighbouring parcels and mean contour edges.
@@ -526,9 +526,9 @@ fn checks(r: &RealColumn, g: &GeneratedColumn, max_grade: f64) -> Vec<Check> {
         Check {
             what: format!("{name}: buildings generated"),
             measured: format!("{} of {}", gl.houses, g.asked),
-            // footprints are still lost in narrow mountain parcels: 61-67 % stand in Andorra, 84-90 % near Bayreuth
-            bound: ">= 60 %".into(),
-            holds: gl.houses * 10 >= g.asked * 6,
+            // footprints are still lost in narrow parcels: 86-90 % stand near Bayreuth, 90-100 % in Andorra
+            bound: ">= 80 %".into(),
+            holds: gl.houses * 10 >= g.asked * 8,
         },
         Check {
             what: format!("{name}: nearest neighbour / real"),

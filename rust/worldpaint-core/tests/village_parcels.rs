@@ -636,10 +636,10 @@ mod village {
             "a parcel has an angle of {a_with:.1}° near the junction"
         );
         assert!(a_without < a_with, "corner conquest changes nothing");
-        // the corner lot fronts both roads
+        // the corner lot fronts both roads (as far as its road reach, 6 m, past the corner's foot)
         for (sx, sy) in [(1.0, 1.0), (-1.0, 1.0), (-1.0, -1.0), (1.0, -1.0)] {
-            let on_x = DVec2::new(100.0 + sx * 12.0, 100.0 + sy * (HALF + 1.5));
-            let on_y = DVec2::new(100.0 + sx * (HALF + 1.5), 100.0 + sy * 12.0);
+            let on_x = DVec2::new(100.0 + sx * 8.0, 100.0 + sy * (HALF + 1.5));
+            let on_y = DVec2::new(100.0 + sx * (HALF + 1.5), 100.0 + sy * 8.0);
             let owner = |q: DVec2| {
                 with.iter()
                     .flatten()
@@ -675,7 +675,7 @@ mod village {
             road(&[(10.0, 100.0), (100.0, 100.0), (190.0, 100.0)]),
             road(&[(100.0, 100.0), (100.0, 190.0)]),
         ];
-        let positions = [DVec2::new(106.0, 106.0), DVec2::new(106.0, 112.0)];
+        let positions = [DVec2::new(106.0, 106.0), DVec2::new(106.0, 108.0)];
         let short = ParcelParams {
             road_reach: 2.0,
             ..p

@@ -2,7 +2,7 @@
 //! and a growth scenario, grow the skeleton (3.2: each new building seed connected to the roads at once), then
 //! the land parcels and footprints (3.3), then the houses (3.4).
 
-use super::encyclopedia::{Encyclopedia, Event, Scenario};
+use super::encyclopedia::{BuildingKind, Encyclopedia, Event, Placement, Scenario};
 use super::footprint::footprint;
 use super::house::house;
 use super::interest::{criteria, interest, Criterion, StaticMaps, VillageState};
@@ -34,7 +34,8 @@ pub struct VillageRequest<'a> {
     /// The terrain, the region of interest `Ω`, the water and walls, and the skeleton's grid cell.
     pub site: Site<'a>,
     /// Connection points `Ψ` to the outside world; empty: where existing roads cross the region's border, else the
-    /// lowest point of the border.
+    /// lowest point of the border. Before any building, each point after the first is joined to the roads by a
+    /// through road (with re-use, so existing roads serve where they can).
     pub connections: Vec<DVec2>,
     /// Roads already there (kept as they are; new roads re-use them).
     pub existing_roads: Vec<Vec<DVec2>>,
@@ -163,6 +164,53 @@ fn stamp(land: &Land, mask: &mut [bool], p: DVec2, radius: f64) {
     }
 }
 
+/// Where a building whose new road `road` (from the building on) ends at it stands: beside the road's last
+/// metres, at its preferred distance from a road (accessibility `λ_0`, at least clear of the road and its own
+/// smallest footprint), on the side farther from the other buildings. The road reaches the building's door, and
+/// its lot fronts the road's side, not the cap of the dead end (3.3.1: a parcel is conquered from the road beside
+/// its seed). `None` when neither side is free: too close to another building (sociability's `λ_min`), another
+/// road, the water or the border.
+fn beside_its_road(
+    land: &Land,
+    network: &RoadNetwork,
+    road: &[DVec2],
+    seeds: &[BuildingSeed],
+    placement: &Placement,
+    kind: &BuildingKind,
+    road_width: f64,
+) -> Option<DVec2> {
+    let (&end, &next) = (road.first()?, road.get(1)?);
+    let along = (next - end).try_normalize()?;
+    let clear = 0.5 * road_width + 0.5 * kind.footprint_min[0].max(kind.footprint_min[1]);
+    let off = placement.accessibility.zero.max(clear);
+    let back = (0.5 * kind.footprint_min[0].min(kind.footprint_min[1])).min(end.distance(next));
+    let nearest = |p: DVec2| -> Option<f64> {
+        let mut nearest = f64::INFINITY;
+        for b in seeds {
+            let shape = placement
+                .sociability_with
+                .get(&b.building)
+                .unwrap_or(&placement.sociability);
+            let d = b.position.distance(p);
+            if d < shape.min {
+                return None;
+            }
+            nearest = nearest.min(d);
+        }
+        Some(nearest)
+    };
+    [1.0, -1.0]
+        .into_iter()
+        .filter_map(|side| {
+            let p = end + along * back + along.perp() * (side * off);
+            let (i, j) = land.grid().nearest(p)?;
+            let free = land.buildable(land.grid().index(i, j)) && network.distance(p) >= clear;
+            free.then(|| nearest(p).map(|d| (d, p)))?
+        })
+        .max_by(|a, b| a.0.total_cmp(&b.0))
+        .map(|(_, p)| p)
+}
+
 /// Generates a village; `progress(stage, fraction)` returning `false` cancels (`Error::Cancelled`).
 pub fn generate(
     request: &VillageRequest,
@@ -191,12 +239,18 @@ pub fn generate(
         request.connections.clone()
     };
     reached(Stage::Skeleton, 0.0)?;
-    let mut network = RoadNetwork::new(&land, &connections, &request.existing_roads)?;
+    // the roads between the connection points come first: the village grows on the ways through it
+    let mut network = RoadNetwork::new(&land, &connections[..1], &request.existing_roads)?;
     let mut report = VillageReport {
         requested: request.scenario.building_count() as usize,
-        connections: network.connections().to_vec(),
         ..Default::default()
     };
+    let no_buildings = vec![false; land.grid().len()];
+    for &p in &connections[1..] {
+        let through = network.link_connection(&land, &enc.roads, &no_buildings, p)?;
+        report.roads_over_max_grade += through.over_max_grade as usize;
+    }
+    report.connections = network.connections().to_vec();
 
     // every domination radius the scenario may ask for, computed once
     let mut radii: Vec<f64> = Vec::new();
@@ -278,11 +332,24 @@ pub fn generate(
             report.fallbacks += found.fallback as usize;
             report.roads_over_max_grade += connection.over_max_grade as usize;
             report.cycles += connection.cycle as usize;
-            stamp(&land, &mut occupied, found.position, radius);
+            let position = match connection.roads.first() {
+                Some(&r) => beside_its_road(
+                    &land,
+                    &network,
+                    &network.roads[r].points,
+                    &seeds,
+                    placement,
+                    kind,
+                    enc.roads.width,
+                )
+                .unwrap_or(found.position),
+                None => found.position,
+            };
+            stamp(&land, &mut occupied, position, radius);
             seeds.push(BuildingSeed {
                 building: building.clone(),
                 village_type: village_type.clone(),
-                position: found.position,
+                position,
             });
             religious.push(kind.religious);
             fortress.push(kind.fortress);

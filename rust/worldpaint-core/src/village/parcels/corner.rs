@@ -1,9 +1,11 @@
 //! Corner conquest (thesis 3.3.2, Emilien 2014 ch. 3): "We allow parcel `P_i` arrived first at a junction to
 //! annex its neighborhood": in each junction sector narrower than
 //! [`ParcelOptions::corner_angle_degrees`], the parcel whose road cells come nearest the corner annexes the
-//! sector's road cells on both roads within its depth (`c_max / ω_conquest`) of the corner, and at most half-way
-//! to the next junction. The corner lot then fronts both roads and its neighbours begin where its land ends,
-//! instead of meeting it along a diagonal with sharp angles.
+//! sector's road cells on both roads within its road reach (3.3.1's maximum distance, at most its depth
+//! `c_max / ω_conquest`) of the corner's foot, and at most half-way to the next junction. The corner lot then
+//! fronts both roads and its neighbours begin where its land ends, instead of meeting it along a diagonal with
+//! sharp angles; annexing as far as its depth instead stripped whole rows of neighbours of their front along the
+//! short side roads of a dense village.
 
 use super::super::Road;
 use super::grid::Work;
@@ -157,9 +159,9 @@ pub(super) fn keeping_access(
 }
 
 /// In each junction sector narrower than the corner angle, the parcel whose road cells come nearest the corner
-/// (the first to arrive there) annexes the sector's road cells on both roads within its depth
-/// (`c_max / ω_conquest`) of the corner: the corner lot then fronts both roads, and its neighbours on either road
-/// begin where its land ends instead of meeting it along a diagonal.
+/// (the first to arrive there) annexes the sector's road cells on both roads within its road reach (at most its
+/// depth `c_max / ω_conquest`) of the corner: the corner lot then fronts both roads, and its neighbours on either
+/// road begin where its land ends instead of meeting it along a diagonal.
 pub(super) fn corner_conquest(
     work: &Work,
     seeds: &[ParcelSeed],
@@ -227,6 +229,9 @@ pub(super) fn corner_conquest(
             if distance > depth + half + 2.0 * c {
                 continue;
             }
+            // the corner lot's front on either road reaches as far as a road conquest does (3.3.1's maximum
+            // distance), so it does not strip its neighbours of their own front
+            let depth = depth.min(seeds[winner as usize].params.road_reach);
             let (x0, y0, x1, y1) = work.around(jn.point, start + depth + half + 3.0 * c);
             for j in y0..=y1 {
                 for i in x0..=x1 {

@@ -8,8 +8,8 @@
 //!    round a dead end's cap are no road front, so a parcel does not follow its road round its end.
 //! 2. **Corner conquest** (3.3.2). "We allow parcel `P_i` arrived first at a junction to annex its
 //!    neighborhood": in each junction sector narrower than [`ParcelOptions::corner_angle_degrees`], the parcel
-//!    whose road cells come nearest the corner annexes the sector's road cells on both roads within its depth
-//!    (`c_max / ω_conquest`) of the corner, and at most half-way to the next junction. The corner lot then fronts
+//!    whose road cells come nearest the corner annexes the sector's road cells on both roads within its road
+//!    reach (at most its depth `c_max / ω_conquest`) of the corner, and at most half-way to the next junction. The corner lot then fronts
 //!    both roads and its neighbours begin where its land ends, instead of meeting it along a diagonal with sharp
 //!    angles. "Building seeds that lose access to roads are suppressed": a seed left with no road cell, or with
 //!    less than half of its front, gets `None`.
@@ -127,12 +127,15 @@ pub struct ParcelOptions {
 }
 
 impl Default for ParcelOptions {
+    /// `ε` = 45°, vertices moved by up to 5 cells and edges shorter than 6 cells merged: the thesis gives no value,
+    /// and at 30°, 3 and 4 cells a dense village's parcels kept 8 contour edges on average against the 4.068 of
+    /// its real village (3.5), most of them shallow bends of the far side.
     fn default() -> Self {
         ParcelOptions {
             straighten: 1.5,
-            merge_angle_degrees: 30.0,
-            merge_deviation: 3.0,
-            short_edge: 4.0,
+            merge_angle_degrees: 45.0,
+            merge_deviation: 5.0,
+            short_edge: 6.0,
             acute_angle_degrees: 30.0,
             corner_angle_degrees: 150.0,
         }

@@ -262,6 +262,39 @@ impl RoadNetwork {
         self.index = SegmentIndex::new(segments);
     }
 
+    /// Adds the connection point `p` (snapped to the nearest node inside `Ω`) to `Ψ`, joined to the network by the
+    /// lowest-cost road with re-use (a through road: the way from one connection to the outside world to the
+    /// others). Returns that road's connection (`reached` false, and `p` not added, when no road can join it).
+    pub fn link_connection(
+        &mut self,
+        land: &Land,
+        params: &RoadParams,
+        occupied: &[bool],
+        p: DVec2,
+    ) -> Result<Connection> {
+        let Some(node) = nearest_inside(land, p) else {
+            return Ok(Connection::default());
+        };
+        let connection = if self.on_road[node] {
+            Connection {
+                reached: true,
+                ..Connection::default()
+            }
+        } else {
+            self.connect(land, params, occupied, self.grid.point_of(node), 0.0)?
+        };
+        if connection.reached {
+            self.connection_nodes.push(node);
+            self.connections.push(self.grid.point_of(node));
+            self.mark(node);
+            // the network costs to `Ψ` change everywhere
+            if let Some(search) = self.search.as_mut() {
+                search.exit_nodes = 0;
+            }
+        }
+        Ok(connection)
+    }
+
     /// Connects a new building at `from` to `Ψ` (3.2.4): the lowest-cost road with re-use of the existing roads,
     /// then a cycle road when one fits. `occupied[k]` is true on the land nodes covered by other buildings.
     ///
