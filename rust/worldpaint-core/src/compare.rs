@@ -82,15 +82,7 @@ fn terrain_maps(color: &Color) -> impl Iterator<Item = &str> {
 /// its name. A region with nothing in it gives a color without categories (compared, its densities read 0).
 pub fn learned_back(scene: &Scene, region: &Region, color: &Color) -> Result<Color> {
     match learn_color(scene, region, &color.name, &same_options(color)) {
-        Err(Error::EmptyExemplar { .. }) => Ok(Color {
-            categories: Vec::new(),
-            pairs: Vec::new(),
-            maps: Vec::new(),
-            graphs: Vec::new(),
-            polygons: Vec::new(),
-            preview: Vec::new(),
-            ..color.clone()
-        }),
+        Err(Error::EmptyExemplar { .. }) => Ok(color.emptied()),
         other => other,
     }
 }

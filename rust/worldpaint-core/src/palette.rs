@@ -391,6 +391,20 @@ impl Color {
         Ok(color)
     }
 
+    /// The color without content: no categories, pairs, maps, graphs, polygons or preview; its name, region and
+    /// radii kept. Blending with it scales a color's densities; compared with it, densities read 0.
+    pub fn emptied(&self) -> Color {
+        Color {
+            categories: Vec::new(),
+            pairs: Vec::new(),
+            maps: Vec::new(),
+            graphs: Vec::new(),
+            polygons: Vec::new(),
+            preview: Vec::new(),
+            ..self.clone()
+        }
+    }
+
     /// An empty scene holding the color's categories, to paint the color on.
     pub fn blank_scene(&self) -> Scene {
         Scene {

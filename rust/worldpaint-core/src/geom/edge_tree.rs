@@ -136,24 +136,11 @@ impl EdgeTree {
         // the crossings depend on r² alone
         let r = r.abs();
         let margin = self.margin(p, r);
-        let mut stack = [0usize; STACK];
-        stack[0] = 1;
-        let mut top = 1;
-        while top > 0 {
-            top -= 1;
-            let k = stack[top];
-            let b = self.boxes[k];
-            if nearest(b, p) - margin > r || farthest(b, p) + margin < r {
-                continue;
-            }
-            if k >= self.leaves {
-                self.leaf_edges(points, k, &mut visit);
-                continue;
-            }
-            stack[top] = 2 * k + 1;
-            stack[top + 1] = 2 * k;
-            top += 2;
-        }
+        self.edges_in_boxes(
+            points,
+            |b| !(nearest(b, p) - margin > r || farthest(b, p) + margin < r),
+            &mut visit,
+        );
     }
 
     /// Hands `visit` every edge that can cross the segment `a`–`b` — all edges but those in boxes off the segment's
@@ -170,14 +157,28 @@ impl EdgeTree {
             a.min(b) - DVec2::splat(margin),
             a.max(b) + DVec2::splat(margin),
         );
+        self.edges_in_boxes(
+            points,
+            |(blo, bhi)| !(blo.x > hi.x || blo.y > hi.y || bhi.x < lo.x || bhi.y < lo.y),
+            &mut visit,
+        );
+    }
+
+    /// Hands `visit` the edges of every leaf reached through boxes that `enter` accepts, depth-first, the lower
+    /// child first.
+    fn edges_in_boxes(
+        &self,
+        points: &[DVec2],
+        enter: impl Fn((DVec2, DVec2)) -> bool,
+        mut visit: impl FnMut(DVec2, DVec2),
+    ) {
         let mut stack = [0usize; STACK];
         stack[0] = 1;
         let mut top = 1;
         while top > 0 {
             top -= 1;
             let k = stack[top];
-            let (blo, bhi) = self.boxes[k];
-            if blo.x > hi.x || blo.y > hi.y || bhi.x < lo.x || bhi.y < lo.y {
+            if !enter(self.boxes[k]) {
                 continue;
             }
             if k >= self.leaves {

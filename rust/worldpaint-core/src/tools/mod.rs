@@ -419,13 +419,6 @@ pub(crate) fn empty_color(like: &Color, region: &Region) -> Color {
         name: "empty".into(),
         region: region.clone(),
         region_area: region.area(),
-        max_radius: like.max_radius,
-        bin_width: like.bin_width,
-        categories: Vec::new(),
-        pairs: Vec::new(),
-        maps: Vec::new(),
-        graphs: Vec::new(),
-        polygons: Vec::new(),
-        preview: Vec::new(),
+        ..like.emptied()
     }
 }
