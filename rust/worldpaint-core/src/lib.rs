@@ -9,7 +9,7 @@
 //!
 //! | module | part of the paper |
 //! |---|---|
-//! | [`geom`] | active regions, window-edge correction α (§3, §4.1) |
+//! | [`geom`] | active regions, window-edge correction α (§3, §4.1); a region prepared once for many queries (indexed polygons) |
 //! | [`search`] | the min-cost order of the best-first (Dijkstra, A*) searches |
 //! | [`spatial`] | neighbour queries behind the product simplification (§6) |
 //! | [`graph`] | roads and rivers as planar graphs of intersecting paths, segment queries (§4.2) |
