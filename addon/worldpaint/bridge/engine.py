@@ -155,6 +155,11 @@ class Edit:
         return names | {self.category_names[line.category] for line in self.added_paths + self.added_contours}
 
 
+def fidelity_line(max_rdf_l2, density_factor):
+    """The one-line figure of a color's fidelity: its worst pcf L2 against the example and its density factor."""
+    return f"pcf L2 {max_rdf_l2:.2f} against the example (density ×{density_factor:.2f})"
+
+
 @dataclass(frozen=True)
 class Fidelity:
     """How close what a color painted is to its example: per category the density ratio (painted / example), per
@@ -175,8 +180,7 @@ class Fidelity:
         return max(self.density_ratio.values(), key=lambda r: abs(r - 1.0), default=1.0)
 
     def line(self):
-        """The one-line figure: the worst pcf L2 against the example and the density factor."""
-        return f"pcf L2 {self.max_rdf_l2:.2f} against the example (density ×{self.density_factor:.2f})"
+        return fidelity_line(self.max_rdf_l2, self.density_factor)
 
 
 @dataclass(frozen=True)

@@ -57,22 +57,9 @@ def fidelity_view(color_json, heightfield=None, progress=None):
         return None, f"No fidelity view: {exc}"
 
 
-def fidelity_state(entry):
-    """What a palette entry holds of its fidelity view, to give a copy of the color (see ``add_palette_color``)."""
-    return {"image": entry.fidelity_image, "rdf_l2": entry.fidelity_rdf_l2, "density": entry.fidelity_density,
-            "axes": tuple(entry.fidelity_axes), "note": entry.fidelity_note, "legend": entry.fidelity_legend}
-
-
-def store_fidelity(entry, fidelity):
-    """Stores a fidelity view in a palette entry: (view, note) of ``fidelity_view``, or a ``fidelity_state``."""
+def store_fidelity(entry, view, note, category_names):
+    """Stores in a palette entry the fidelity view ``fidelity_view`` made, or the ``note`` saying why there is none."""
     preview.remove_preview(entry.fidelity_image)
-    if isinstance(fidelity, dict):
-        entry.fidelity_image = preview.copy_image(fidelity["image"], f"WP fidelity {entry.name}")
-        entry.fidelity_rdf_l2, entry.fidelity_density = fidelity["rdf_l2"], fidelity["density"]
-        entry.fidelity_axes, entry.fidelity_note = fidelity["axes"], fidelity["note"]
-        entry.fidelity_legend = fidelity["legend"]
-        return
-    view, note = fidelity
     if view is None:
         entry.fidelity_image, entry.fidelity_rdf_l2, entry.fidelity_note = "", -1.0, note
         return
@@ -82,15 +69,34 @@ def store_fidelity(entry, fidelity):
     entry.fidelity_axes = (view.max_distance, view.max_pcf, view.max_slope_degrees or 0.0)
     entry.fidelity_note = ""
     own = {a: l2 for a, b, l2 in view.fidelity.rdf_l2 if a == b}  # each category's pcf with itself, as plotted
-    entry.fidelity_legend = preview.hue_legend(engine.color_summary(entry.json).category_names, own)
+    entry.fidelity_legend = preview.hue_legend(category_names, own)
 
 
-def add_palette_color(settings, name, color_json, fidelity=None):
+# what a palette entry holds of its fidelity view besides the image
+FIDELITY_FIGURES = ("fidelity_rdf_l2", "fidelity_density", "fidelity_axes", "fidelity_note", "fidelity_legend")
+
+
+def fidelity_copy(entry):
+    """A copy of an entry's fidelity view, read at once: adding to the palette may move its entries in memory."""
+    figures = {name: getattr(entry, name) for name in FIDELITY_FIGURES}
+    figures["fidelity_axes"] = tuple(figures["fidelity_axes"])
+    return entry.fidelity_image, figures
+
+
+def paste_fidelity(entry, copy):
+    """Gives a palette entry a ``fidelity_copy`` of another entry's view (the same color under another name)."""
+    image, figures = copy
+    entry.fidelity_image = preview.copy_image(image, f"WP fidelity {entry.name}")
+    for name, value in figures.items():
+        setattr(entry, name, value)
+
+
+def add_palette_color(settings, name, color_json, fidelity=None, copy=None):
     """Adds a color (JSON) to the palette under ``name`` with its preview and its fidelity view, makes it active, and
-    adds the categories it knows to the scene's list; returns the entry. ``fidelity``: what ``fidelity_view`` made of
-    the color, or the ``fidelity_state`` of an entry of the same color; None makes it here, without terrain (for a
-    color whose terrain is not known)."""
-    if fidelity is None:
+    adds the categories it knows to the scene's list; returns the entry. The view is the (view, note) ``fidelity``
+    that ``fidelity_view`` made of the color, or the ``fidelity_copy`` of an entry of the same color; with neither it
+    is made here, without terrain (for a color whose terrain is not known)."""
+    if fidelity is None and copy is None:
         fidelity = fidelity_view(color_json)
     summary = engine.color_summary(color_json)
     entry = settings.palette.add()
@@ -103,7 +109,10 @@ def add_palette_color(settings, name, color_json, fidelity=None):
         item = entry.interactions.add()
         item.category, item.other, item.how = category, other, ", ".join(kinds)
     entry.preview_image = preview.make_preview(color_json, name)
-    store_fidelity(entry, fidelity)
+    if copy is not None:
+        paste_fidelity(entry, copy)
+    else:
+        store_fidelity(entry, *fidelity, summary.category_names)
     settings.active_color_index = len(settings.palette) - 1
     instances.add_categories(settings, summary.categories)
     return entry
@@ -152,7 +161,7 @@ class WORLDPAINT_OT_duplicate_color(PaletteIndexProperty, bpy.types.Operator):
         settings = context.scene.worldpaint
         source = settings.palette[palette_index(settings, self.index)]
         name = unique_name(settings.palette, source.name)
-        add_palette_color(settings, name, engine.color_renamed(source.json, name), fidelity=fidelity_state(source))
+        add_palette_color(settings, name, engine.color_renamed(source.json, name), copy=fidelity_copy(source))
         return {'FINISHED'}
 
 

@@ -15,6 +15,7 @@ from bpy.props import (
     StringProperty,
 )
 
+from ..bridge.engine import fidelity_line
 from .terrain_edit import WORLDPAINT_PG_terrain_edit, WORLDPAINT_PG_waterfall_controller
 from .village import WORLDPAINT_PG_village, WORLDPAINT_PG_village_event
 
@@ -97,7 +98,7 @@ class WORLDPAINT_PG_color(bpy.types.PropertyGroup):
         """The one-line figure of the color's fidelity view, or why it has none."""
         if self.fidelity_rdf_l2 < 0.0:
             return self.fidelity_note or "No fidelity view"
-        return f"pcf L2 {self.fidelity_rdf_l2:.2f} against the example (density ×{self.fidelity_density:.2f})"
+        return fidelity_line(self.fidelity_rdf_l2, self.fidelity_density)
 
     def fidelity_axes_lines(self):
         """What the fidelity plot's axes span, as the lines the panel writes under it (the plot holds no text)."""
