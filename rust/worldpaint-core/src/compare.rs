@@ -16,7 +16,7 @@
 use crate::analysis::{learn_color, AnalysisOptions};
 use crate::error::{Error, Result};
 use crate::geom::Region;
-use crate::palette::{Color, Histogram, Interaction, MapSource};
+use crate::palette::{Color, Histogram, Interaction, MapInteraction, MapSource};
 use crate::scene::Scene;
 use crate::synthesis::{synthesize_with_progress, SynthesisOptions};
 use crate::terrain::Heightfield;
@@ -53,7 +53,7 @@ pub fn rdf_l2(reference: &Histogram, candidate: &Histogram) -> f64 {
 /// The options that learn a color comparable with `color` bin by bin: its bins, its terrain maps and its oriented
 /// pairs.
 pub fn same_options(color: &Color) -> AnalysisOptions {
-    let mut maps: Vec<String> = terrain_maps(color).map(str::to_string).collect();
+    let mut maps: Vec<String> = terrain_maps(color).map(|m| m.map.clone()).collect();
     maps.sort();
     maps.dedup();
     let oriented = color
@@ -70,12 +70,8 @@ pub fn same_options(color: &Color) -> AnalysisOptions {
     }
 }
 
-fn terrain_maps(color: &Color) -> impl Iterator<Item = &str> {
-    color
-        .maps
-        .iter()
-        .filter(|m| m.source == MapSource::Terrain)
-        .map(|m| m.map.as_str())
+fn terrain_maps(color: &Color) -> impl Iterator<Item = &MapInteraction> {
+    color.maps.iter().filter(|m| m.source == MapSource::Terrain)
 }
 
 /// What `color` painted into `region` of `scene`, learned back with the options of `color` ([`same_options`]) under
@@ -102,10 +98,7 @@ pub fn self_synthesis(
     let painted_color = if terrain.is_some() {
         color.clone()
     } else {
-        let off: Vec<(String, String)> = color
-            .maps
-            .iter()
-            .filter(|m| m.source == MapSource::Terrain)
+        let off: Vec<(String, String)> = terrain_maps(color)
             .map(|m| (m.category.clone(), m.map.clone()))
             .collect();
         color.without_interactions(&off)

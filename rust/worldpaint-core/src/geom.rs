@@ -26,7 +26,6 @@ mod polygon_index;
 mod prepared;
 mod queries;
 
-use polygon_index::{PolygonIndex, INDEXED_POLYGON};
 pub use prepared::PreparedRegion;
 pub(crate) use queries::circle_fraction;
 pub use queries::RegionQueries;
@@ -482,29 +481,11 @@ impl Region {
         }
     }
 
-    /// Which of `points` lie inside, as [`Region::contains`] says: a large polygon is indexed once for all of them.
+    /// Which of `points` lie inside, as [`Region::contains`] says: the region is prepared once for all of them
+    /// ([`PreparedRegion`]).
     pub(crate) fn contains_each(&self, points: &[DVec2]) -> Vec<bool> {
-        match self {
-            Region::Polygon { points: polygon } if polygon.len() > INDEXED_POLYGON => {
-                let index = PolygonIndex::new(polygon);
-                points.iter().map(|p| index.contains(polygon, *p)).collect()
-            }
-            Region::Clipped { within, without } => {
-                let mut inside = vec![true; points.len()];
-                for r in within {
-                    for (i, c) in inside.iter_mut().zip(r.contains_each(points)) {
-                        *i &= c;
-                    }
-                }
-                for r in without {
-                    for (i, c) in inside.iter_mut().zip(r.contains_each(points)) {
-                        *i &= !c;
-                    }
-                }
-                inside
-            }
-            _ => points.iter().map(|p| self.contains(*p)).collect(),
-        }
+        let prepared = PreparedRegion::new(self);
+        points.iter().map(|p| prepared.contains(*p)).collect()
     }
 
     /// The intervals `[a, b]` of x (ascending, disjoint) where the horizontal line at `y` lies inside the region.
