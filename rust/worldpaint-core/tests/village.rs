@@ -366,3 +366,33 @@ fn a_village_over_the_whole_terrain_keeps_its_roads_on_it_and_they_embed() {
         }
     }
 }
+
+#[test]
+fn a_village_on_land_all_under_water_is_refused_with_a_message() {
+    let terrain = village_terrain(200.0, 2.0, 2);
+    let enc = encyclopedia();
+    let scenario = scenario("farming", 5);
+    let (lo, hi) = terrain.bbox();
+    let flooded = Environment {
+        water_level: Some(1e4),
+        ..Default::default()
+    };
+    let request = request(
+        &terrain,
+        Region::Rect { min: lo, max: hi },
+        flooded,
+        &enc,
+        &scenario,
+        1,
+    );
+    let refused = std::panic::catch_unwind(|| generate(&request, &|_, _| true))
+        .expect("no panic on a drowned region");
+    match refused {
+        Err(e) => assert!(!e.to_string().is_empty()),
+        Ok(v) => assert!(
+            v.seeds.is_empty(),
+            "houses built under water: {}",
+            v.seeds.len()
+        ),
+    }
+}

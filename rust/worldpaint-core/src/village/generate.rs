@@ -240,13 +240,15 @@ pub fn generate(
     };
     reached(Stage::Skeleton, 0.0)?;
     // the roads between the connection points come first: the village grows on the ways through it
-    let mut network = RoadNetwork::new(&land, &connections[..1], &request.existing_roads)?;
+    let (first, others) = connections.split_at(connections.len().min(1));
+    let mut network = RoadNetwork::new(&land, first, &request.existing_roads)?;
     let mut report = VillageReport {
         requested: request.scenario.building_count() as usize,
         ..Default::default()
     };
     let no_buildings = vec![false; land.grid().len()];
-    for &p in &connections[1..] {
+    for &p in others {
+        reached(Stage::Skeleton, 0.0)?;
         let through = network.link_connection(&land, &enc.roads, &no_buildings, p)?;
         report.roads_over_max_grade += through.over_max_grade as usize;
     }
