@@ -20,6 +20,8 @@
 
 #[path = "../tests/common/forest_report.rs"]
 mod forest;
+#[path = "../tests/common/pcf.rs"]
+mod pcf;
 #[path = "../tests/common/real_data.rs"]
 mod real_data;
 #[path = "support/timing.rs"]

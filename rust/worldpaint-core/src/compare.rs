@@ -67,6 +67,7 @@ pub fn same_options(color: &Color) -> AnalysisOptions {
         max_radius: Some(color.max_radius),
         oriented,
         maps,
+        local: false,
     }
 }
 

@@ -1,12 +1,19 @@
-//! Real forest: a color learned from the western half of the Luquillo hectare, painted into the eastern half,
-//! against the real eastern trees (see `support/forest.rs`). Prints the report (`--nocapture`) and checks loose
-//! sanity only: the painted density is within 15% of the real one, and the painted trees follow the slopes at
-//! least about as well as a Poisson-disk scatter that ignores the terrain.
+//! Real forest: a color learned from the western half of the Luquillo hectare, painted into the eastern half with
+//! five seeds, against the real eastern trees (see `common/forest_report.rs`). Prints the report (`--nocapture`)
+//! and checks what a user would: the painted density is within 15% of the real one; the painted trees' pcf
+//! (translation-corrected, 0–50 m) is at most 1.25× as far from the real eastern trees' as the real western trees'
+//! is (the natural difference between the halves), and nearer than a uniform scatter's and than a Poisson process
+//! that follows the western trees' slope preference; their slope histogram and their counts over 10 m cells are at
+//! least as close to the real eastern trees' as that Poisson process's.
 
 #[path = "common/forest_report.rs"]
 mod forest;
+#[path = "common/pcf.rs"]
+mod pcf;
 #[path = "common/real_data.rs"]
 mod real_data;
+
+use forest::mean;
 
 #[test]
 #[ignore = "needs shared/data/real (make test-rust runs it where present)"]
@@ -17,16 +24,41 @@ fn luquillo_east_from_west() {
     };
     println!("{}", report.table());
     let s = &report.synthesized;
+    for r in s {
+        assert!(
+            (r.density_ratio - 1.0).abs() <= 0.15,
+            "{}: density is {:.3} x the real eastern density (allowed 0.85..1.15)",
+            r.label,
+            r.density_ratio
+        );
+    }
+    let pcf_l2 = mean(s, |r| r.pcf_l2);
+    let natural = report.real_west.pcf_l2;
     assert!(
-        (s.density_ratio - 1.0).abs() <= 0.15,
-        "synthesized density is {:.3} x the real eastern density (allowed 0.85..1.15)",
-        s.density_ratio
+        pcf_l2 <= 1.25 * natural,
+        "pcf L2 {pcf_l2:.4} over 1.25 x the natural difference {natural:.4}"
     );
-    let limit = 1.5 * report.poisson_disk.slope_tv + 0.05;
+    let (uniform, poisson) = (&report.uniform, &report.slope_poisson);
     assert!(
-        s.slope_tv <= limit,
-        "synthesized slope TV {:.4} exceeds 1.5 x the Poisson-disk's {:.4} + 0.05 = {limit:.4}",
-        s.slope_tv,
-        report.poisson_disk.slope_tv
+        pcf_l2 < uniform.pcf_l2,
+        "pcf L2 {pcf_l2:.4}, uniform {:.4}",
+        uniform.pcf_l2
+    );
+    assert!(
+        pcf_l2 < poisson.pcf_l2,
+        "pcf L2 {pcf_l2:.4}, slope Poisson {:.4}",
+        poisson.pcf_l2
+    );
+    let slope_tv = mean(s, |r| r.slope_tv);
+    assert!(
+        slope_tv <= poisson.slope_tv,
+        "slope TV {slope_tv:.4}, slope Poisson {:.4}",
+        poisson.slope_tv
+    );
+    let counts = mean(s, |r| r.count_correlation);
+    assert!(
+        counts >= poisson.count_correlation,
+        "count correlation {counts:.3}, slope Poisson {:.3}",
+        poisson.count_correlation
     );
 }

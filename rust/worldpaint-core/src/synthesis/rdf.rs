@@ -196,7 +196,6 @@ pub(super) struct RdfChain<'c, 'a> {
     /// The factor of the self pair's target counts: the concentration the example's maps gave its pairs over the
     /// one the painted region's maps give them (see "Maps" in the module documentation of [`super`]).
     pub(super) self_pair_scale: f64,
-    pub(super) max_radius: f64,
     pub(super) iterations_per_instance: f64,
 }
 
@@ -239,7 +238,7 @@ impl<'a> RdfChain<'_, 'a> {
             matched: self.matched_histograms(n),
             fixed: self.flat_grid(&target.grid.entries().copied().collect::<Vec<_>>()),
             n_alpha: ((r / target.bin_width).ceil() as usize).max(1),
-            shift_sigma: self.max_radius / 8.0,
+            shift_sigma: 3.0 * target.bin_width,
         };
         let mut own_flat = self.own_flat(&own);
         let (rlo, rhi) = self.region.bbox();

@@ -21,6 +21,9 @@ pub(super) const FIXED_ID: u32 = u32::MAX;
 pub(super) const CONTEXT_TAG: u32 = 1 << 31;
 /// A learned rdf bin differs from 1 when it is this many standard deviations of counting noise away.
 const SIGNIFICANCE: f64 = 3.0;
+/// The smallest mean excess of an rdf over one mean spacing that counts as clustering (see `CLUSTER_EXCESS` in
+/// the analysis, which follows a clustered exemplar out as far).
+const CLUSTER_EXCESS: f64 = crate::analysis::CLUSTER_EXCESS;
 
 /// Log-factor table of one pair interaction, indexed by distance bin (× angle bin for an oriented rdf).
 pub(super) struct PairTable {
@@ -78,21 +81,22 @@ impl PairTable {
     /// by more than `SIGNIFICANCE` standard deviations of its own counting noise in the exemplar, where the expected
     /// pair count of cell `k` is `pairs_per_area · h(k) · |cell k|`. Those factors are neutral anyway; the
     /// interaction radius (and the cost of every move, which grows with its square) shrinks to the range over
-    /// which the exemplar shows structure. Forbidden (hard-core) bins are kept.
-    pub(super) fn truncate_to_significant(&mut self, pairs_per_area: f64) {
+    /// which the exemplar shows structure. Forbidden (hard-core) bins are kept, and so is twice the range over
+    /// which a clustered rdf stays clustered (see `clustered_range`).
+    pub(super) fn truncate_to_significant(&mut self, pairs_per_area: f64, spacing: f64) {
         if !(pairs_per_area > 0.0) || !pairs_per_area.is_finite() {
             return;
         }
         let a = self.angle_bins.max(1);
         // clustered exemplars count pairs in clumps, far noisier than Poisson: the outer third of the bins
-        // (beyond two mean spacings of the sparsest category) measures that noise
+        // (beyond two mean spacings of the sparsest category, or beyond the clusters) measures that noise
         let outer = &self.target_hist[(2 * self.n_bins / 3) * a..];
         let outer_rms = if outer.is_empty() {
             0.0
         } else {
             (outer.iter().map(|h| (h - 1.0).powi(2)).sum::<f64>() / outer.len() as f64).sqrt()
         };
-        let mut keep = 0;
+        let mut keep = 2 * self.clustered_range(pairs_per_area, spacing);
         for idx in 0..self.log_factor.len() {
             let h = self.target_hist[idx];
             let count = (pairs_per_area * self.cell_area(idx)).max(1e-12);
@@ -106,6 +110,36 @@ impl PairTable {
         self.n_bins = keep.min(self.n_bins);
         self.log_factor.truncate(self.n_bins * a);
         self.target_hist.truncate(self.n_bins * a);
+    }
+
+    /// The distance bins over which the rdf stays clustered, read in blocks one mean spacing wide (`spacing`) as
+    /// the analysis reads it (see `clustering_range` there): the blocks from the first on whose area-weighted
+    /// mean excess over 1 is beyond `CLUSTER_EXCESS` and `SIGNIFICANCE` standard deviations of counting noise.
+    /// The chain holds the rdf at 1 as far again beyond, or it would pay for the clusters' excess pairs (the
+    /// count is fixed) with a ring of gaps right behind them.
+    fn clustered_range(&self, pairs_per_area: f64, spacing: f64) -> usize {
+        let a = self.angle_bins.max(1);
+        let block = if spacing.is_finite() && spacing > 0.0 {
+            ((spacing / self.bin_width).round() as usize).clamp(1, self.n_bins.max(1))
+        } else {
+            return 0;
+        };
+        let mut end = 0;
+        for first in (0..self.n_bins).step_by(block) {
+            let cells = first * a..((first + block).min(self.n_bins)) * a;
+            let area: f64 = cells.clone().map(|i| self.cell_area(i)).sum();
+            let mean = cells
+                .clone()
+                .map(|i| self.target_hist[i] * self.cell_area(i))
+                .sum::<f64>()
+                / area;
+            let sigma = (mean.max(1.0) / (pairs_per_area * area).max(1e-12)).sqrt();
+            if mean - 1.0 <= (SIGNIFICANCE * sigma).max(CLUSTER_EXCESS) {
+                break;
+            }
+            end = cells.end / a;
+        }
+        end
     }
 
     /// Histogram index (distance bin × angle bin) and distance bin of a pair at offset `v`, `d2 = |v|²`.
@@ -633,7 +667,9 @@ fn pair_table(color: &Color, ci: usize, oi: usize, cond: &Conditioning) -> Optio
     }
     table.other_density = other.density;
     let n_other = other.count as f64 - if same { 1.0 } else { 0.0 };
-    table.truncate_to_significant(cat.count as f64 * n_other / color.region_area);
+    let pairs_per_area = cat.count as f64 * n_other / color.region_area;
+    let spacing = (color.region_area / (pairs_per_area * color.region_area).sqrt()).sqrt();
+    table.truncate_to_significant(pairs_per_area, spacing);
     Some(table)
 }
 

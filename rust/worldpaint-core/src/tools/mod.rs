@@ -367,6 +367,7 @@ pub fn color_of_region(scene: &Scene, region: &Region, name: &str) -> Result<Opt
     };
     let opts = AnalysisOptions {
         maps,
+        local: true,
         ..Default::default()
     };
     match learn_color(scene, region, name, &opts) {

@@ -10,6 +10,7 @@
 //! and the eastern half lies partly outside the western half's range, where the learned preference would be
 //! zero; slope uses fixed 2.5° bins and transfers between the halves.
 
+use crate::pcf::{count_correlation, l2, pcf};
 use crate::real_data::{real_data_dir, require};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -212,13 +213,25 @@ pub fn load(dir: &Path) -> Result<ForestData, String> {
     })
 }
 
+/// The pcf's range and ring width (m), and the side of the cells whose counts are correlated.
+pub const PCF_RANGE: f64 = 50.0;
+pub const PCF_RING: f64 = 1.0;
+pub const COUNT_CELL: f64 = 10.0;
+/// Seeds of the synthesized eastern halves.
+pub const SEEDS: [u64; 5] = [1, 2, 3, 4, 5];
+
 /// One line of the report: a candidate arrangement of the eastern half against a reference.
 pub struct Row {
-    pub label: &'static str,
+    pub label: String,
     pub count: usize,
     pub density_ratio: f64,
+    /// The engine's rdf (to the color's radius) against the reference's.
     pub rdf_l2: f64,
+    /// The translation-corrected pcf, 0–`PCF_RANGE`, against the real eastern trees'.
+    pub pcf_l2: f64,
     pub slope_tv: f64,
+    /// Correlation of the counts in `COUNT_CELL` cells with the real eastern trees'.
+    pub count_correlation: f64,
 }
 
 pub struct ForestReport {
@@ -229,8 +242,8 @@ pub struct ForestReport {
     pub max_radius: f64,
     pub bin_width: f64,
     pub synthesis_seconds: f64,
-    /// Synthesized (seed 1) vs the real eastern trees.
-    pub synthesized: Row,
+    /// Synthesized (one per seed of `SEEDS`) vs the real eastern trees.
+    pub synthesized: Vec<Row>,
     /// Real western trees vs the real eastern trees (natural variation between the two halves).
     pub real_west: Row,
     /// A second synthesis (seed 2) vs the first.
@@ -240,6 +253,9 @@ pub struct ForestReport {
     pub poisson_disk_radius: f64,
     /// Uniform random (Poisson) scatter at the synthesized count vs the real eastern trees.
     pub uniform: Row,
+    /// Inhomogeneous Poisson scatter whose intensity is the western trees per slope bin over the western area
+    /// per slope bin, vs the real eastern trees.
+    pub slope_poisson: Row,
 }
 
 pub fn west() -> Region {
@@ -265,18 +281,104 @@ fn tree_scene(points: &[DVec2], terrain: &Heightfield) -> Scene {
     }
 }
 
-fn row(label: &'static str, reference: &Color, candidate: &Color) -> Row {
-    let fid = compare(reference, candidate);
+/// The slope bin of `p` (the engine's 2.5° bins).
+fn slope_bin(terrain: &Heightfield, p: DVec2) -> Option<usize> {
+    let slope = terrain.map_at("slope", p)?.to_degrees();
+    Some((slope / worldpaint_core::SLOPE_BIN_DEGREES).max(0.0) as usize)
+}
+
+/// An inhomogeneous Poisson process on `to` whose intensity per slope bin is `points` per unit area of that bin in
+/// `from` (areas from a 0.5 m lattice), drawn by thinning uniform candidates.
+fn slope_poisson(
+    terrain: &Heightfield,
+    points: &[DVec2],
+    from: &Region,
+    to: &Region,
+    seed: u64,
+) -> Vec<DVec2> {
+    let mut count = Vec::<f64>::new();
+    let mut area = Vec::<f64>::new();
+    let grow = |v: &mut Vec<f64>, k: usize| {
+        if v.len() <= k {
+            v.resize(k + 1, 0.0);
+        }
+    };
+    for p in points.iter().filter(|p| from.contains(**p)) {
+        if let Some(k) = slope_bin(terrain, *p) {
+            grow(&mut count, k);
+            count[k] += 1.0;
+        }
+    }
+    let (lo, hi) = from.bbox();
+    let step = 0.5;
+    let (nx, ny) = (
+        ((hi.x - lo.x) / step) as usize,
+        ((hi.y - lo.y) / step) as usize,
+    );
+    for j in 0..ny {
+        for i in 0..nx {
+            let p = lo + DVec2::new(i as f64 + 0.5, j as f64 + 0.5) * step;
+            if let Some(k) = slope_bin(terrain, p).filter(|_| from.contains(p)) {
+                grow(&mut area, k);
+                area[k] += step * step;
+            }
+        }
+    }
+    let intensity = |k: usize| match (count.get(k), area.get(k)) {
+        (Some(c), Some(a)) if *a > 0.0 => c / a,
+        _ => 0.0,
+    };
+    let peak = (0..count.len()).map(intensity).fold(0.0, f64::max);
+    let candidates = exemplar::uniform(to, peak, seed);
+    let mut rng = seed.wrapping_mul(0x9e37_79b9_7f4a_7c15) | 1;
+    candidates
+        .into_iter()
+        .filter(|p| {
+            // xorshift: a thinning draw per candidate, seeded
+            rng ^= rng << 13;
+            rng ^= rng >> 7;
+            rng ^= rng << 17;
+            let u = (rng >> 11) as f64 / (1u64 << 53) as f64;
+            slope_bin(terrain, *p).is_some_and(|k| u * peak < intensity(k))
+        })
+        .collect()
+}
+
+/// What every candidate is measured against: the real eastern trees, their learned color and their pcf.
+struct Reference<'a> {
+    color: Color,
+    trees: &'a [DVec2],
+    pcf: Vec<f64>,
+}
+
+impl<'a> Reference<'a> {
+    fn of(color: Color, trees: &'a [DVec2]) -> Self {
+        let (lo, hi) = east().bbox();
+        let pcf = pcf(trees, lo, hi, PCF_RANGE, PCF_RING);
+        Reference { color, trees, pcf }
+    }
+}
+
+fn row(
+    label: impl Into<String>,
+    reference: &Reference,
+    candidate: &Color,
+    points: &[DVec2],
+) -> Row {
+    let fid = compare(&reference.color, candidate);
+    let (lo, hi) = east().bbox();
     Row {
-        label,
+        label: label.into(),
         count: candidate.categories.first().map_or(0, |c| c.count),
         density_ratio: fid.density_ratio.first().map_or(f64::NAN, |d| d.1),
         rdf_l2: fid.rdf_l2_of("tree", "tree").unwrap_or(f64::NAN),
+        pcf_l2: l2(&pcf(points, lo, hi, PCF_RANGE, PCF_RING), &reference.pcf),
         slope_tv: fid
             .map_tv
             .iter()
             .find(|(c, m, _)| c == "tree" && m == "slope")
             .map_or(f64::NAN, |t| t.2),
+        count_correlation: count_correlation(points, reference.trees, lo, hi, COUNT_CELL),
     }
 }
 
@@ -306,13 +408,16 @@ pub fn report(data: &ForestData) -> Result<ForestReport, String> {
         learn_color(&tree_scene(points, terrain), &east, name, &same_bins)
             .map_err(err(&format!("learn {name}")))
     };
-    let east_trees: Vec<DVec2> = data
-        .trees
-        .iter()
-        .copied()
-        .filter(|p| east.contains(*p))
-        .collect();
-    let real_east = learn(&east_trees, "luquillo east")?;
+    let in_east = |points: &[DVec2]| -> Vec<DVec2> {
+        points
+            .iter()
+            .copied()
+            .filter(|p| east.contains(*p))
+            .collect()
+    };
+    let east_trees = in_east(&data.trees);
+    let (lo, hi) = east.bbox();
+    let reference = Reference::of(learn(&east_trees, "luquillo east")?, &east_trees);
 
     // paint the eastern half next to the real western trees (the eastern trees are what the paste replaces)
     let context: Vec<DVec2> = data
@@ -332,22 +437,59 @@ pub fn report(data: &ForestData) -> Result<ForestReport, String> {
         Ok(out.instances.iter().map(|i| i.position).collect())
     };
     let t0 = Instant::now();
-    let first = paint(1)?;
-    let synthesis_seconds = t0.elapsed().as_secs_f64();
-    let second = paint(2)?;
-    let first_color = learn(&first, "synthesized 1")?;
-    let second_color = learn(&second, "synthesized 2")?;
+    let draws = SEEDS
+        .iter()
+        .map(|s| paint(*s))
+        .collect::<Result<Vec<_>, _>>()?;
+    let synthesis_seconds = t0.elapsed().as_secs_f64() / SEEDS.len() as f64;
+    let mut synthesized = Vec::new();
+    let mut colors = Vec::new();
+    for (seed, points) in SEEDS.iter().zip(&draws) {
+        let color = learn(points, &format!("synthesized {seed}"))?;
+        synthesized.push(row(
+            format!("synthesized (seed {seed}) vs real east"),
+            &reference,
+            &color,
+            points,
+        ));
+        colors.push(color);
+    }
+    let first = &draws[0];
+    let second_draw = row(
+        "synthesized seed 2 vs seed 1",
+        &Reference::of(colors[0].clone(), first),
+        &colors[1],
+        &draws[1],
+    );
 
     // reference scatters at the synthesized count
     let density = first.len() as f64 / east.area();
     let radius = 0.5 / density.sqrt();
     let disk = exemplar::hard_core(&east, density, radius, 11);
-    let disk_color = learn(&disk, "poisson disk")?;
     let uniform = exemplar::uniform(&east, density, 12);
-    let uniform_color = learn(&uniform, "uniform")?;
-
+    let inhomogeneous = slope_poisson(terrain, &data.trees, &west, &east, 13);
+    let west_trees: Vec<DVec2> = data
+        .trees
+        .iter()
+        .copied()
+        .filter(|p| west.contains(*p))
+        .collect();
+    let (wlo, whi) = west.bbox();
     let west_as_candidate =
         learn_color(&all, &west, "luquillo west", &same_bins).map_err(err("learn west"))?;
+    let mut real_west = row(
+        "real west vs real east",
+        &reference,
+        &west_as_candidate,
+        &[],
+    );
+    real_west.pcf_l2 = l2(
+        &pcf(&west_trees, wlo, whi, PCF_RANGE, PCF_RING),
+        &reference.pcf,
+    );
+    // the western trees shifted onto the eastern half, for the count correlation
+    let shifted: Vec<DVec2> = west_trees.iter().map(|p| *p + (lo - wlo)).collect();
+    real_west.count_correlation = count_correlation(&shifted, &east_trees, lo, hi, COUNT_CELL);
     Ok(ForestReport {
         trees: data.trees.len(),
         unreadable: data.unreadable,
@@ -356,17 +498,34 @@ pub fn report(data: &ForestData) -> Result<ForestReport, String> {
         max_radius: west_color.max_radius,
         bin_width: west_color.bin_width,
         synthesis_seconds,
-        synthesized: row(
-            "synthesized (seed 1) vs real east",
-            &real_east,
-            &first_color,
+        synthesized,
+        real_west,
+        second_draw,
+        poisson_disk: row(
+            "Poisson-disk vs real east",
+            &reference,
+            &learn(&disk, "poisson disk")?,
+            &disk,
         ),
-        real_west: row("real west vs real east", &real_east, &west_as_candidate),
-        second_draw: row("synthesized seed 2 vs seed 1", &first_color, &second_color),
-        poisson_disk: row("Poisson-disk vs real east", &real_east, &disk_color),
         poisson_disk_radius: radius,
-        uniform: row("uniform random vs real east", &real_east, &uniform_color),
+        uniform: row(
+            "uniform random vs real east",
+            &reference,
+            &learn(&uniform, "uniform")?,
+            &uniform,
+        ),
+        slope_poisson: row(
+            "slope-intensity Poisson vs real east",
+            &reference,
+            &learn(&inhomogeneous, "slope poisson")?,
+            &inhomogeneous,
+        ),
     })
+}
+
+/// Mean of a figure over rows.
+pub fn mean(rows: &[Row], figure: impl Fn(&Row) -> f64) -> f64 {
+    rows.iter().map(figure).sum::<f64>() / rows.len().max(1) as f64
 }
 
 impl ForestReport {
@@ -375,7 +534,9 @@ impl ForestReport {
         let mut s = format!(
             "Luquillo forest plot, living trees: {} ({} unreadable rows skipped); western half (x 100-150 m) {} \
              trees, eastern half (x 150-200 m) {} trees; rdf to {:.2} m in {:.3} m bins; map: slope\n\
-             eastern half painted with the western color next to the real western trees in {:.2} s\n",
+             eastern half painted with the western color next to the real western trees in {:.2} s per seed\n\
+             pcf: translation-corrected, 0-{PCF_RANGE} m in {PCF_RING} m rings; count correlation over \
+             {COUNT_CELL} m cells\n",
             self.trees,
             self.unreadable,
             self.west_count,
@@ -385,24 +546,46 @@ impl ForestReport {
             self.synthesis_seconds,
         );
         s.push_str(&format!(
-            "{:<36} {:>6} {:>14} {:>8} {:>9}\n",
-            "candidate vs reference", "count", "density ratio", "rdf L2", "slope TV"
+            "{:<38} {:>6} {:>8} {:>8} {:>8} {:>9} {:>7}\n",
+            "candidate vs reference", "count", "density", "rdf L2", "pcf L2", "slope TV", "counts"
         ));
+        let line = |r: &Row| {
+            format!(
+                "{:<38} {:>6} {:>8.3} {:>8.4} {:>8.4} {:>9.4} {:>7.3}\n",
+                r.label,
+                r.count,
+                r.density_ratio,
+                r.rdf_l2,
+                r.pcf_l2,
+                r.slope_tv,
+                r.count_correlation
+            )
+        };
+        for r in &self.synthesized {
+            s.push_str(&line(r));
+        }
+        s.push_str(&line(&Row {
+            label: format!("synthesized, mean of {} seeds", self.synthesized.len()),
+            count: mean(&self.synthesized, |r| r.count as f64).round() as usize,
+            density_ratio: mean(&self.synthesized, |r| r.density_ratio),
+            rdf_l2: mean(&self.synthesized, |r| r.rdf_l2),
+            pcf_l2: mean(&self.synthesized, |r| r.pcf_l2),
+            slope_tv: mean(&self.synthesized, |r| r.slope_tv),
+            count_correlation: mean(&self.synthesized, |r| r.count_correlation),
+        }));
         for r in [
-            &self.synthesized,
             &self.real_west,
             &self.second_draw,
             &self.poisson_disk,
             &self.uniform,
+            &self.slope_poisson,
         ] {
-            s.push_str(&format!(
-                "{:<36} {:>6} {:>14.3} {:>8.4} {:>9.4}\n",
-                r.label, r.count, r.density_ratio, r.rdf_l2, r.slope_tv
-            ));
+            s.push_str(&line(r));
         }
         s.push_str(&format!(
             "(Poisson-disk: dart throwing, hard core {:.2} m = half the mean spacing; uniform: Poisson process; \
-             both at the synthesized density)\n",
+             both at the synthesized density; slope-intensity Poisson: the western trees per slope bin over the \
+             western area per slope bin)\n",
             self.poisson_disk_radius
         ));
         s
