@@ -173,6 +173,12 @@ fn interpolate_graph(ga: &GraphColor, gb: &GraphColor, t: f64) -> GraphColor {
         category: ga.category.clone(),
         edge_length: displacement_interpolate(&ga.edge_length, &gb.edge_length, t),
         angle: displacement_interpolate(&ga.angle, &gb.angle, t),
+        turn: match (ga.turn.values.is_empty(), gb.turn.values.is_empty()) {
+            (false, false) => displacement_interpolate(&ga.turn, &gb.turn, t),
+            // a color learned before turns were has none to blend
+            (true, _) => gb.turn.clone(),
+            (false, true) => ga.turn.clone(),
+        },
         degree: (0..ga.degree.len().max(gb.degree.len()))
             .map(|k| {
                 lerp(

@@ -236,8 +236,14 @@ pub struct GraphColor {
     pub category: String,
     /// Lengths of the edges (mass per bin).
     pub edge_length: Histogram,
-    /// Angles between two edges sharing a node, in [0, π] (mass per bin).
+    /// Angles between two edges sharing a node, in [0, π] (mass per bin): the junctions' shapes, and with
+    /// them the smallest angle.
     pub angle: Histogram,
+    /// Turning angles along paths, in [0, π] (0 straight on): at each node of exactly two edges, π minus the
+    /// angle between them (mass per bin; [`crate::graph::Graph::turning_angles`]). Empty in colors learned
+    /// before it was, which the synthesis then does not match.
+    #[serde(default = "empty_histogram")]
+    pub turn: Histogram,
     /// Fraction of the nodes of degree 1, 2, 3 and 4 or more.
     pub degree: Vec<f64>,
     /// The smallest angle between two edges sharing a node: no new edge makes a sharper one.
@@ -622,6 +628,7 @@ impl Color {
             self.check_known(&at("category"), &g.category)?;
             self.check_hist(&g.edge_length, &at("edge_length"))?;
             self.check_hist(&g.angle, &at("angle"))?;
+            self.check_hist(&g.turn, &at("turn"))?;
             check::within(
                 &self.at(&at("min_angle")),
                 g.min_angle,

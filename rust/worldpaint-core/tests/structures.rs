@@ -97,6 +97,31 @@ fn statistics(g: &Graph, lengths: &Histogram, angles: &Histogram) -> (Histogram,
     (l, a)
 }
 
+/// The share of dead ends (nodes of one edge) among the nodes of `g` inside `region` and at least `margin` from
+/// its border, with the count of those nodes. Nodes nearer the border are left out of both counts: there a road
+/// may end because the region cuts it (its continuation lies beyond), which says nothing of the network.
+fn dead_end_share(g: &Graph, region: &Region, margin: f64) -> (f64, usize) {
+    let adj = g.adjacency();
+    let interior: Vec<usize> = (0..g.nodes.len())
+        .filter(|&n| {
+            !adj[n].is_empty()
+                && region.contains(g.nodes[n])
+                && region.distance_to_boundary(g.nodes[n]) >= margin
+        })
+        .collect();
+    let dead = interior.iter().filter(|&&n| adj[n].len() == 1).count();
+    (dead as f64 / interior.len().max(1) as f64, interior.len())
+}
+
+/// The turning angles of `g` (at its nodes of two edges) on the bins of the learned histogram.
+fn turns(g: &Graph, learned: &Histogram) -> Histogram {
+    let mut h = Histogram::zeros(learned.start, learned.bin_width, learned.values.len());
+    for t in g.turning_angles() {
+        h.add(t.min(std::f64::consts::PI - 1e-12), 1.0);
+    }
+    h
+}
+
 /// The share of `points` whose distance to `g` lies in `band`.
 fn share_in_band(points: &[DVec2], g: &Graph, band: std::ops::RangeInclusive<f64>) -> f64 {
     let index = worldpaint_core::graph::SegmentIndex::new(g.segments());
@@ -145,6 +170,18 @@ fn a_road_network_keeps_its_statistics_over_nine_times_the_area() {
     let length_tv = roads.edge_length.total_variation(&lengths);
     let angle_tv = roads.angle.total_variation(&angles);
     let components = g.components() as f64 / dest.area();
+    let turn_tv = roads.turn.total_variation(&turns(&g, &roads.turn));
+    // dead ends counted at least one longest learned edge inside the border, in the exemplar as in the painting
+    let margin = roads.edge_length.start
+        + roads.edge_length.values.len() as f64 * roads.edge_length.bin_width;
+    let (dead_before, counted_before) =
+        dead_end_share(&graph_of(&scene.paths), &square(0.0, size), margin);
+    let (dead_after, counted_after) = dead_end_share(&g, &dest, margin);
+    println!(
+        "dead ends {:.3} of {counted_after} interior nodes (exemplar {:.3} of {counted_before}, learned degree-1 \
+         share {:.3}), turning angle TV {turn_tv:.3}",
+        dead_after, dead_before, roads.degree[0]
+    );
     println!(
         "{} nodes, {} edges ({:.1} km): edge length TV {length_tv:.3}, angle TV {angle_tv:.3}, smallest angle \
          {:.1}° (learned {:.1}°), components per km² {:.1} (exemplar {:.1}), {} crossings",
@@ -171,8 +208,13 @@ fn a_road_network_keeps_its_statistics_over_nine_times_the_area() {
     assert!(g.min_angle() >= roads.min_angle - 1e-9);
     let ratio = components / roads.components_per_area;
     assert!(
-        (1.0 / 1.5..=1.5).contains(&ratio),
+        (0.7..=1.3).contains(&ratio),
         "components per area {ratio:.2}× the exemplar's"
+    );
+    assert!(turn_tv <= 0.15, "turning angle TV {turn_tv}");
+    assert!(
+        (dead_after / dead_before - 1.0).abs() <= 0.3,
+        "dead-end share {dead_after:.3} against the exemplar's {dead_before:.3}"
     );
 
     // houses learned 8–15 m from the roads stay in that band

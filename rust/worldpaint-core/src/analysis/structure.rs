@@ -2,8 +2,9 @@
 //! categories (Section 4.2; thesis 6.2.1 and 6.3.1).
 //!
 //! * A graph category's paths are planarized into one [`Graph`]; its nodes inside the region are learned as a
-//!   distribution, and [`Structures::graph_color`] reads the rest: the histograms of edge lengths and of the angles
-//!   between edges sharing a node, the degrees, the smallest angle, the connected components, the clearance from
+//!   distribution, and [`Structures::graph_color`] reads the rest: the histograms of edge lengths, of the angles
+//!   between edges sharing a node and of the turning angles along paths (the paper's "angles along a path",
+//!   read at the planar graph's nodes of two edges), the degrees, the smallest angle, the connected components, the clearance from
 //!   higher-priority instances and the polygons the graph never crosses. Statistics are taken at the nodes inside
 //!   the region, over every edge that has an end inside (at its full length: the scene holds the whole graph).
 //! * A polygon category's contours are filled with dense points (a jittered grid, [`crate::contour::fill`]); their
@@ -182,7 +183,7 @@ impl Structures {
         if held.nodes.is_empty() {
             return None;
         }
-        let (angle, min_angle, degree) = held.node_statistics();
+        let (angle, turn, min_angle, degree) = held.node_statistics();
         let total_degree: f64 = held.nodes.iter().map(|&n| held.adj[n].len() as f64).sum();
         let n_nodes = held.nodes.len() as f64;
         let components = held.components();
@@ -191,6 +192,7 @@ impl Structures {
             category: category.name.clone(),
             edge_length: held.edge_length().normalized(),
             angle: angle.normalized(),
+            turn: turn.normalized(),
             degree,
             min_angle,
             edges_per_node: 0.5 * total_degree / n_nodes,
@@ -321,15 +323,20 @@ impl<'g> HeldGraph<'g> {
         edge_length
     }
 
-    /// At the nodes: the histogram of the angles between edges sharing a node, the smallest such angle, and the
-    /// fraction of nodes of degree 1, 2, 3 and 4 or more.
-    fn node_statistics(&self) -> (Histogram, f64, Vec<f64>) {
+    /// At the nodes: the histograms of the angles between edges sharing a node and of the turning angles at
+    /// nodes of two edges (`π −` their angle), the smallest angle, and the fraction of nodes of degree 1, 2, 3
+    /// and 4 or more.
+    fn node_statistics(&self) -> (Histogram, Histogram, f64, Vec<f64>) {
         let mut angle = Histogram::zeros(0.0, PI / ANGLE_BINS as f64, ANGLE_BINS);
+        let mut turn = Histogram::zeros(0.0, PI / ANGLE_BINS as f64, ANGLE_BINS);
         let mut min_angle = PI;
         let mut degree = vec![0.0; 4];
         for &n in &self.nodes {
             let nb = &self.adj[n];
             degree[nb.len().clamp(1, 4) - 1] += 1.0;
+            if let [a, b] = nb[..] {
+                turn.add((PI - self.g.angle_at(n as u32, a, b)).min(PI - 1e-12), 1.0);
+            }
             for (i, &a) in nb.iter().enumerate() {
                 for &b in &nb[i + 1..] {
                     let t = self.g.angle_at(n as u32, a, b);
@@ -341,7 +348,7 @@ impl<'g> HeldGraph<'g> {
         degree
             .iter_mut()
             .for_each(|d| *d /= self.nodes.len() as f64);
-        (angle, min_angle, degree)
+        (angle, turn, min_angle, degree)
     }
 
     /// The connected components of the graph the region holds (edges with both ends inside), lone nodes included.
