@@ -267,6 +267,14 @@ pub struct PolygonColor {
     pub category: String,
     /// Side of the grid cells of the dense points that stand for its contours (m); filling and tracing use it.
     pub spacing: f64,
+    /// Islands (outer contours with their lakes, [`crate::contour::islands`]) per m² of the exemplar region,
+    /// counting those whose outer contour's centroid lies in it. 0 in colors learned before, whose synthesis then
+    /// keeps the traced islands as they come.
+    #[serde(default)]
+    pub islands_per_area: f64,
+    /// The land areas (m², lakes left out) of those islands, ascending.
+    #[serde(default)]
+    pub island_areas: Vec<f64>,
 }
 
 fn empty_histogram() -> Histogram {
@@ -660,6 +668,20 @@ impl Color {
             let at = |field: &str| format!("polygons[{k}].{field}");
             self.check_known(&at("category"), &p.category)?;
             check::positive(&self.at(&at("spacing")), p.spacing)?;
+            check::within(
+                &self.at(&at("islands_per_area")),
+                p.islands_per_area,
+                0.0,
+                limits::MAX_DENSITY,
+            )?;
+            check::at_most_items(
+                &self.at(&at("island_areas")),
+                p.island_areas.len(),
+                limits::MAX_HISTOGRAM_BINS as usize,
+            )?;
+            for (i, a) in p.island_areas.iter().enumerate() {
+                check::within(&self.at(&at(&format!("island_areas[{i}]"))), *a, 0.0, 1e12)?;
+            }
             limits::check(
                 &self.at(&at("spacing")),
                 self.max_radius / p.spacing,

@@ -333,6 +333,62 @@ fn island_trees_stay_on_land_and_boats_along_the_coast() {
     );
 }
 
+/// Contours and islands of `contours` counted in `region` (by their centroids): contours per km², islands per
+/// km², and the islands' mean land area (m²).
+fn island_figures(contours: &[Vec<DVec2>], region: &Region) -> (f64, f64, f64) {
+    let centroid = |c: &[DVec2]| c.iter().copied().sum::<DVec2>() / c.len().max(1) as f64;
+    let km2 = region.area() / 1e6;
+    let in_region = contours
+        .iter()
+        .filter(|c| region.contains(centroid(c)))
+        .count();
+    let islands: Vec<f64> = worldpaint_core::contour::islands(contours)
+        .into_iter()
+        .filter(|i| region.contains(centroid(&contours[i.outer])))
+        .map(|i| i.area)
+        .collect();
+    let mean = islands.iter().sum::<f64>() / islands.len().max(1) as f64;
+    (in_region as f64 / km2, islands.len() as f64 / km2, mean)
+}
+
+#[test]
+fn islands_keep_their_count_and_size_over_nine_times_the_area() {
+    let size = 300.0;
+    let (scene, color) = with_color(exemplar::archipelago(size, 1), size, "islands");
+    let dest = square(2000.0, 3.0 * size);
+    let canvas = Scene {
+        categories: scene.categories.clone(),
+        ..Default::default()
+    };
+    let contours = |c: &[worldpaint_core::scene::Contour]| -> Vec<Vec<DVec2>> {
+        c.iter().map(|c| c.points.clone()).collect()
+    };
+    let (before_contours, before_islands, before_mean) =
+        island_figures(&contours(&scene.contours), &square(0.0, size));
+    for seed in [5, 6] {
+        let opts = SynthesisOptions {
+            seed,
+            categories: Some(vec!["island".into()]),
+            ..Default::default()
+        };
+        let out = synthesize(&canvas, &color, &dest, &opts).unwrap();
+        let (after_contours, after_islands, after_mean) =
+            island_figures(&contours(&out.contours), &dest);
+        println!(
+            "seed {seed}: {after_contours:.1} contours and {after_islands:.1} islands per km² of mean land \
+             {after_mean:.0} m² (exemplar {before_contours:.1} and {before_islands:.1}, {before_mean:.0} m²)"
+        );
+        assert!(
+            (after_contours / before_contours - 1.0).abs() <= 0.25,
+            "contours per area {after_contours:.1} against {before_contours:.1}"
+        );
+        assert!(
+            (after_mean / before_mean - 1.0).abs() <= 0.25,
+            "mean island area {after_mean:.0} m² against {before_mean:.0} m²"
+        );
+    }
+}
+
 #[test]
 fn pasted_roads_join_the_roads_around() {
     let (_, color) = village_color(450.0);

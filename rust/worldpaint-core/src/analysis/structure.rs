@@ -9,10 +9,12 @@
 //!   the region, over every edge that has an end inside (at its full length: the scene holds the whole graph).
 //! * A polygon category's contours are filled with dense points (a jittered grid, [`crate::contour::fill`]); their
 //!   spacing keeps about `POLYGON_POINTS` points inside the region, and their rdf spans the polygons' own scale.
+//!   Its islands (outer contours with their lakes) whose centroid lies in the region are counted per area and
+//!   their land areas kept: the synthesis matches both (module `synthesis::islands`).
 //! * Later categories see graphs through their distance and polygons through their signed distance: maps whose
 //!   values [`graph_map_value`] and [`polygon_map_value`] give, the same at analysis and synthesis.
 
-use crate::contour::{fill, Polygons};
+use crate::contour::{fill, islands, Polygons};
 use crate::geom::{DVec2, Region};
 use crate::graph::{Graph, SegmentIndex};
 use crate::palette::{GraphColor, Histogram, MapSource, PolygonColor};
@@ -250,14 +252,44 @@ impl Structures {
         (clearance, avoids)
     }
 
-    /// The statistics of a polygon category: the spacing of its dense points.
-    pub(crate) fn polygon_color(&self, category: &Category) -> Option<PolygonColor> {
-        self.polygons
-            .get(&category.name)
-            .map(|(_, spacing)| PolygonColor {
-                category: category.name.clone(),
-                spacing: *spacing,
-            })
+    /// The statistics of a polygon category: the spacing of its dense points, and its islands whose centroid
+    /// lies in the region, per area and by land area.
+    pub(crate) fn polygon_color(
+        &self,
+        category: &Category,
+        region: &Region,
+    ) -> Option<PolygonColor> {
+        let (polys, spacing) = self.polygons.get(&category.name)?;
+        let contours: Vec<Vec<DVec2>> = polys.contours().map(|c| c.to_vec()).collect();
+        let mut island_areas: Vec<f64> = islands(&contours)
+            .into_iter()
+            .filter(|i| region.contains(centroid(&contours[i.outer])))
+            .map(|i| i.area)
+            .collect();
+        island_areas.sort_by(f64::total_cmp);
+        Some(PolygonColor {
+            category: category.name.clone(),
+            spacing: *spacing,
+            islands_per_area: island_areas.len() as f64 / region.area().max(1e-9),
+            island_areas,
+        })
+    }
+}
+
+/// The centroid of a closed polygon (its vertices' mean when it has no area).
+pub(crate) fn centroid(points: &[DVec2]) -> DVec2 {
+    let n = points.len();
+    let (mut c, mut a) = (DVec2::ZERO, 0.0);
+    for i in 0..n {
+        let (p, q) = (points[i], points[(i + 1) % n]);
+        let w = p.perp_dot(q);
+        c += (p + q) * w;
+        a += w;
+    }
+    if a.abs() > 1e-12 {
+        c / (3.0 * a)
+    } else {
+        points.iter().copied().sum::<DVec2>() / n.max(1) as f64
     }
 }
 
