@@ -390,6 +390,51 @@ fn islands_keep_their_count_and_size_over_nine_times_the_area() {
 }
 
 #[test]
+fn colors_saved_before_turning_angles_and_island_sizes_still_load_and_paint() {
+    let (_, roads) = village_color(450.0);
+    let (_, islands) = with_color(exemplar::archipelago(300.0, 1), 300.0, "islands");
+    // the files as written before these fields were learned
+    let strip = |color: &Color, fields: &[&str]| -> Color {
+        let mut json: serde_json::Value = serde_json::from_str(&color.to_json().unwrap()).unwrap();
+        let text = serde_json::to_string(&json).unwrap();
+        assert!(fields.iter().all(|f| text.contains(&format!("\"{f}\""))));
+        strip_fields(&mut json, fields);
+        Color::from_json(&serde_json::to_string(&json).unwrap()).unwrap()
+    };
+    let old_roads = strip(&roads, &["turn"]);
+    let old_islands = strip(&islands, &["islands_per_area", "island_areas"]);
+    assert!(old_roads.graph("road").unwrap().turn.values.is_empty());
+    let p = old_islands.polygon("island").unwrap();
+    assert!(p.islands_per_area == 0.0 && p.island_areas.is_empty());
+    for (color, category) in [(&old_roads, "road"), (&old_islands, "island")] {
+        let opts = SynthesisOptions {
+            seed: 1,
+            categories: Some(vec![category.into()]),
+            ..Default::default()
+        };
+        let out = synthesize(&color.blank_scene(), color, &square(0.0, 400.0), &opts).unwrap();
+        println!(
+            "{category} from an older file: {} paths, {} contours",
+            out.paths.len(),
+            out.contours.len()
+        );
+        assert!(!out.paths.is_empty() || !out.contours.is_empty());
+    }
+}
+
+/// Removes every object field named in `fields`, at any depth.
+fn strip_fields(v: &mut serde_json::Value, fields: &[&str]) {
+    match v {
+        serde_json::Value::Object(map) => {
+            map.retain(|k, _| !fields.contains(&k.as_str()));
+            map.values_mut().for_each(|x| strip_fields(x, fields));
+        }
+        serde_json::Value::Array(items) => items.iter_mut().for_each(|x| strip_fields(x, fields)),
+        _ => {}
+    }
+}
+
+#[test]
 fn pasted_roads_join_the_roads_around() {
     let (_, color) = village_color(450.0);
     let world = exemplar::village(900.0, 2);
