@@ -12,6 +12,8 @@
 //!   clusters synthesis makes, whose rim never reaches ½.
 //! * `cut` and `split`: a contour less a region, or its parts inside and outside, by the same dense points:
 //!   filled, the points parted by the region, traced.
+//! * [`islands`]: the islands of a set of contours (each outer contour with the lakes directly inside it, by the
+//!   even-odd rule) and their land areas, which a color learns and the synthesis matches.
 //! * [`Polygons::signed_distance`]: the interaction of a distribution with a polygon category (thesis 6.2.1),
 //!   `d` outside and `−d / d_max` inside, where `d_max` is the largest distance to the border inside the contour
 //!   that holds the point.
