@@ -27,11 +27,14 @@
 //! * **Dead ends.** The nodes lie where their rdf put them, and few of them have a continuation within the
 //!   learned lengths: over nine times a village's area the candidates were 1.5 per arc, and at the chain's end
 //!   the degree-1 nodes were three times the learned share with the junctions over and the through nodes short
-//!   (139 / 660 / 393 of degrees 1 / 2 / 3+ against 45 / 873 / 297), whatever the degree term's weight. So once
-//!   the chain has run, dead ends beyond the learned share of degree-1 nodes are pruned: in random order, a
-//!   dead end whose neighbour has three arcs or more loses its arc (the junction becomes a through node, which
-//!   the graph lacks; the end node, left without an arc, is dropped). Nodes within the longest learned edge of
-//!   the region's border are neither pruned nor counted: there a road may end because the region cuts it.
+//!   (139 / 660 / 393 of degrees 1 / 2 / 3+ against 45 / 873 / 297), whatever the degree term's weight: at a
+//!   fixed count of arcs, continuing one dead end leaves another. So once the chain has run, dead ends beyond
+//!   the learned share of degree-1 nodes are first continued, each by the candidate at it that keeps the
+//!   constraints and leaves the energy lowest (one arc more; a join of two pieces only while there are more
+//!   than the learned count), then pruned: a dead end that reaches a junction of three arcs or more through at
+//!   most `SPUR_ARCS` arcs loses them (the junction becomes a through node, which the graph lacks; nodes left
+//!   without an arc are dropped). Both go in random order. Nodes within the longest learned edge of the region's
+//!   border are neither changed nor counted: there a road may end because the region cuts it.
 //! * **Relaxation**: the nodes then move to fit the arcs (module `relax`).
 
 use super::arc_grid::{arc_gap, ArcGrid};
@@ -60,6 +63,8 @@ const DEGREE_WEIGHT: f64 = 5.0;
 const COMPONENT_WEIGHT: f64 = 20.0;
 /// Degree bins: 0, 1, 2, 3, 4 or more.
 const DEGREE_BINS: usize = 5;
+/// The longest spur (in arcs) that pruning a dead end removes.
+const SPUR_ARCS: usize = 2;
 /// The most nodes a search for a detour around a swapped arc visits.
 const SEARCH_NODES: usize = 256;
 
@@ -354,6 +359,7 @@ pub(super) fn synthesize_arcs(
     let mut chosen = state.valid_start(target, &mut rng, &mut near);
     state.arcs = chosen.len() as f64;
     state.relocate(&mut chosen, &mut rng, &mut near);
+    state.close_dead_ends(&mut chosen, region, longest, &mut rng, &mut near);
     state.prune_spurs(&mut chosen, region, longest, &mut rng);
     let mut network = Network {
         arcs: chosen
@@ -556,7 +562,7 @@ impl<'g> State<'g> {
                 let Some(mut counts) = self.counts_after(Some(add), Some(remove)) else {
                     continue;
                 };
-                counts.components += self.components_delta(add, remove);
+                counts.components += self.components_delta(add, Some(remove));
                 let e = self.energy(&counts);
                 if rng.random::<f64>().ln() < -(e - energy) / tau {
                     self.set(remove, false);
@@ -649,19 +655,25 @@ impl State<'_> {
         false
     }
 
-    /// The change of the count of pieces when chosen arc `remove` is swapped for candidate `add`. A node's side
-    /// holds a chosen arc when the node itself keeps one (exact without kept arcs).
-    fn components_delta(&mut self, add: usize, remove: usize) -> f64 {
-        let (r, c) = (self.candidates[remove], self.candidates[add]);
+    /// The change of the count of pieces when chosen arc `remove` (if any) is swapped for candidate `add`. A
+    /// node's side holds a chosen arc when the node itself keeps one (exact without kept arcs).
+    fn components_delta(&mut self, add: usize, remove: Option<usize>) -> f64 {
+        let c = self.candidates[add];
+        let r = remove.map(|r| self.candidates[r]);
+        let remove = remove.unwrap_or(usize::MAX);
         // whether a node keeps a chosen arc once `remove` is gone
-        let keeps = |s: &Self, n: usize| s.at[n].len() > usize::from(n == r.a || n == r.b);
+        let keeps = |s: &Self, n: usize| {
+            s.at[n].len() > usize::from(r.is_some_and(|r| n == r.a || n == r.b))
+        };
         let sides =
             |s: &Self, a: usize, b: usize| f64::from(u8::from(keeps(s, a)) + u8::from(keeps(s, b)));
         // removing: one piece becomes the sides that keep an arc, or stays one (gone with its last arc)
-        let removed = if self.joined_without(r.a, r.b, remove) {
-            -f64::from(u8::from(sides(self, r.a, r.b) == 0.0))
-        } else {
-            sides(self, r.a, r.b) - 1.0
+        let removed = match r {
+            None => 0.0,
+            Some(r) if self.joined_without(r.a, r.b, remove) => {
+                -f64::from(u8::from(sides(self, r.a, r.b) == 0.0))
+            }
+            Some(r) => sides(self, r.a, r.b) - 1.0,
         };
         // adding: the sides with an arc become one piece, or a piece gains its first arc
         let added = if self.joined_without(c.a, c.b, remove) {
@@ -672,16 +684,14 @@ impl State<'_> {
         removed + added
     }
 
-    /// Drops dead ends beyond the exemplar's share (see the module documentation): in random order, a dead end
-    /// at least `margin` inside the region's border whose neighbour has three arcs or more loses its arc.
-    fn prune_spurs<R: Rng>(
-        &mut self,
-        chosen: &mut Vec<usize>,
+    /// The dead ends at least `margin` inside the region's border (ends of a chosen arc with no other arc), in
+    /// random order, and how many of them the learned share of degree-1 nodes allows.
+    fn interior_dead_ends<R: Rng>(
+        &self,
         region: &PreparedRegion,
         margin: f64,
         rng: &mut R,
-    ) {
-        let degree = |s: &Self, n: usize| s.at[n].len() + s.kept[n].len();
+    ) -> (Vec<usize>, f64) {
         let interior: Vec<usize> = (0..self.nodes.len())
             .filter(|&n| {
                 !self.at[n].is_empty() && region.distance_to_boundary(self.nodes[n]) >= margin
@@ -691,23 +701,109 @@ impl State<'_> {
             (self.gc.degree.first().copied().unwrap_or(0.0) * interior.len() as f64).round();
         let mut dead: Vec<usize> = interior
             .into_iter()
-            .filter(|&n| degree(self, n) == 1 && self.at[n].len() == 1)
+            .filter(|&n| self.kept[n].is_empty() && self.at[n].len() == 1)
             .collect();
         for k in (1..dead.len()).rev() {
             dead.swap(k, rng.random_range(0..=k));
+        }
+        (dead, allowed)
+    }
+
+    /// Continues dead ends beyond the exemplar's share (see the module documentation): in random order, a dead
+    /// end gets the candidate at it that keeps the gap and every angle and leaves the energy lowest, unless it
+    /// would join two pieces when there are no more than the learned count.
+    fn close_dead_ends<R: Rng>(
+        &mut self,
+        chosen: &mut Vec<usize>,
+        region: &PreparedRegion,
+        margin: f64,
+        rng: &mut R,
+        near: &mut Vec<u32>,
+    ) {
+        let (dead, allowed) = self.interior_dead_ends(region, margin, rng);
+        self.counts.components = self.count_components();
+        let mut at_node: Vec<Vec<usize>> = vec![Vec::new(); self.nodes.len()];
+        for (c, cand) in self.candidates.iter().enumerate() {
+            at_node[cand.a].push(c);
+            at_node[cand.b].push(c);
         }
         let mut count = dead.len() as f64;
         for n in dead {
             if count <= allowed {
                 break;
             }
-            let Some(&c) = self.at[n].first() else {
-                continue;
+            if self.at[n].len() != 1 {
+                continue; // joined by an earlier one
+            }
+            let mut best: Option<(f64, usize, Counts)> = None;
+            for &c in &at_node[n] {
+                if self.chosen[c] || !self.fits(c, None, near) {
+                    continue;
+                }
+                if let Some(mut counts) = self.counts_after(Some(c), None) {
+                    let delta = self.components_delta(c, None);
+                    counts.components += delta;
+                    // a join of two pieces only while there are more than the learned count
+                    if delta < 0.0 && counts.components < self.components_target {
+                        continue;
+                    }
+                    let e = self.energy(&counts);
+                    if best.as_ref().is_none_or(|(b, _, _)| e < *b) {
+                        best = Some((e, c, counts));
+                    }
+                }
+            }
+            if let Some((_, c, counts)) = best {
+                let cand = self.candidates[c];
+                let other = if cand.a == n { cand.b } else { cand.a };
+                // joining two dead ends removes both
+                count -= if self.at[other].len() == 1 { 2.0 } else { 1.0 };
+                self.set(c, true);
+                self.counts = counts;
+                self.arcs += 1.0;
+                chosen.push(c);
+            }
+        }
+    }
+
+    /// Drops dead ends beyond the exemplar's share (see the module documentation): in random order, a dead end
+    /// at least `margin` inside the region's border that reaches a junction of three arcs or more through at most
+    /// `SPUR_ARCS` arcs loses them.
+    fn prune_spurs<R: Rng>(
+        &mut self,
+        chosen: &mut Vec<usize>,
+        region: &PreparedRegion,
+        margin: f64,
+        rng: &mut R,
+    ) {
+        let (dead, allowed) = self.interior_dead_ends(region, margin, rng);
+        let mut count = dead.len() as f64;
+        for n in dead {
+            if count <= allowed {
+                break;
+            }
+            // the spur: from the dead end through nodes of two arcs, up to `SPUR_ARCS` arcs, to a junction
+            let (mut node, mut from, mut spur) = (n, usize::MAX, Vec::new());
+            let junction = loop {
+                let Some(&c) = self.at[node].iter().find(|&&c| c != from) else {
+                    break false;
+                };
+                spur.push(c);
+                let cand = self.candidates[c];
+                node = if cand.a == node { cand.b } else { cand.a };
+                from = c;
+                let degree = self.at[node].len() + self.kept[node].len();
+                if degree >= 3 {
+                    break true;
+                }
+                if degree != 2 || spur.len() >= SPUR_ARCS {
+                    break false;
+                }
             };
-            let cand = self.candidates[c];
-            let other = if cand.a == n { cand.b } else { cand.a };
-            if degree(self, other) >= 3 {
-                self.set(c, false);
+            if junction {
+                for c in spur {
+                    self.set(c, false);
+                }
                 count -= 1.0;
             }
         }
