@@ -579,14 +579,13 @@ impl<'g> State<'g> {
 impl State<'_> {
     /// The connected pieces of the chosen and kept arcs that hold a chosen arc.
     fn count_components(&self) -> f64 {
+        self.pieces().1.iter().filter(|h| **h).count() as f64
+    }
+
+    /// The union-find forest of the chosen and kept arcs, and per node whether it is a root whose piece holds a
+    /// chosen arc.
+    fn pieces(&self) -> (Vec<usize>, Vec<bool>) {
         let mut parent: Vec<usize> = (0..self.nodes.len()).collect();
-        fn root(parent: &mut [usize], mut x: usize) -> usize {
-            while parent[x] != x {
-                parent[x] = parent[parent[x]];
-                x = parent[x];
-            }
-            x
-        }
         let chosen = self
             .candidates
             .iter()
@@ -604,13 +603,11 @@ impl State<'_> {
                 parent[ra] = rb;
             }
         }
-        let mut roots: Vec<usize> = (0..self.nodes.len())
-            .filter(|&n| !self.at[n].is_empty())
-            .map(|n| root(&mut parent, n))
-            .collect();
-        roots.sort_unstable();
-        roots.dedup();
-        roots.len() as f64
+        let mut holds = vec![false; self.nodes.len()];
+        for n in (0..self.nodes.len()).filter(|&n| !self.at[n].is_empty()) {
+            holds[root(&mut parent, n)] = true;
+        }
+        (parent, holds)
     }
 
     /// Whether nodes `a` and `b` are joined by kept arcs and chosen ones other than `skip`: a breadth-first
@@ -721,7 +718,9 @@ impl State<'_> {
         near: &mut Vec<u32>,
     ) {
         let (dead, allowed) = self.interior_dead_ends(region, margin, rng);
-        self.counts.components = self.count_components();
+        // arcs are only added here: a union-find keeps the pieces exactly
+        let (mut parent, mut holds) = self.pieces();
+        self.counts.components = holds.iter().filter(|h| **h).count() as f64;
         let mut at_node: Vec<Vec<usize>> = vec![Vec::new(); self.nodes.len()];
         for (c, cand) in self.candidates.iter().enumerate() {
             at_node[cand.a].push(c);
@@ -741,7 +740,14 @@ impl State<'_> {
                     continue;
                 }
                 if let Some(mut counts) = self.counts_after(Some(c), None) {
-                    let delta = self.components_delta(c, None);
+                    let cand = self.candidates[c];
+                    let (ra, rb) = (root(&mut parent, cand.a), root(&mut parent, cand.b));
+                    // the dead end's piece holds a chosen arc: the other one is joined to it, if it holds one
+                    let delta = if ra != rb && holds[ra] && holds[rb] {
+                        -1.0
+                    } else {
+                        0.0
+                    };
                     counts.components += delta;
                     // a join of two pieces only while there are more than the learned count
                     if delta < 0.0 && counts.components < self.components_target {
@@ -762,6 +768,11 @@ impl State<'_> {
                 self.counts = counts;
                 self.arcs += 1.0;
                 chosen.push(c);
+                let (ra, rb) = (root(&mut parent, cand.a), root(&mut parent, cand.b));
+                if ra != rb {
+                    parent[ra] = rb;
+                    holds[rb] = true;
+                }
             }
         }
     }
@@ -809,6 +820,15 @@ impl State<'_> {
         }
         chosen.retain(|&c| self.chosen[c]);
     }
+}
+
+/// The root of `x` in a union-find forest (halving the path on the way).
+fn root(parent: &mut [usize], mut x: usize) -> usize {
+    while parent[x] != x {
+        parent[x] = parent[parent[x]];
+        x = parent[x];
+    }
+    x
 }
 
 /// The graph of the network's arcs: the nodes that got arcs (renumbered in order of appearance), and the arcs.
