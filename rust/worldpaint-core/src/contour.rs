@@ -12,6 +12,8 @@
 //!   clusters synthesis makes, whose rim never reaches ½.
 //! * `cut` and `split`: a contour less a region, or its parts inside and outside, by the same dense points:
 //!   filled, the points parted by the region, traced.
+//! * [`islands`]: the islands of a set of contours (each outer contour with the lakes directly inside it, by the
+//!   even-odd rule) and their land areas, which a color learns and the synthesis matches.
 //! * [`Polygons::signed_distance`]: the interaction of a distribution with a polygon category (thesis 6.2.1),
 //!   `d` outside and `−d / d_max` inside, where `d_max` is the largest distance to the border inside the contour
 //!   that holds the point.
@@ -387,5 +389,52 @@ fn simplify(points: &[DVec2], tolerance: f64) -> Vec<DVec2> {
         .take(points.len())
         .filter(|(_, k)| **k)
         .map(|(p, _)| *p)
+        .collect()
+}
+
+/// An island of a set of contours combined by the even-odd rule: a contour inside an even number of others, with
+/// the contours directly inside it (its lakes).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Island {
+    /// Index of its outer contour.
+    pub outer: usize,
+    /// Indices of its lakes.
+    pub lakes: Vec<usize>,
+    /// Its land: the outer contour's area less its lakes' (m²).
+    pub area: f64,
+}
+
+/// The islands of `contours` (see [`Island`]), in the order of their outer contours.
+pub fn islands(contours: &[Vec<DVec2>]) -> Vec<Island> {
+    let valid = |c: &Vec<DVec2>| c.len() >= 3;
+    // per contour: the contours holding its first vertex
+    let holders: Vec<Vec<usize>> = contours
+        .iter()
+        .enumerate()
+        .map(|(i, c)| {
+            if !valid(c) {
+                return Vec::new();
+            }
+            (0..contours.len())
+                .filter(|&j| j != i && valid(&contours[j]))
+                .filter(|&j| crate::geom::polygon_contains(&contours[j], c[0]))
+                .collect()
+        })
+        .collect();
+    let area = |i: usize| polygon_signed_area(&contours[i]).abs();
+    (0..contours.len())
+        .filter(|&i| valid(&contours[i]) && holders[i].len().is_multiple_of(2))
+        .map(|i| {
+            let depth = holders[i].len();
+            let lakes: Vec<usize> = (0..contours.len())
+                .filter(|&j| holders[j].len() == depth + 1 && holders[j].contains(&i))
+                .collect();
+            let land = area(i) - lakes.iter().map(|&j| area(j)).sum::<f64>();
+            Island {
+                outer: i,
+                lakes,
+                area: land.max(0.0),
+            }
+        })
         .collect()
 }

@@ -131,6 +131,17 @@ impl Graph {
         angle_between(self.nodes[a as usize] - o, self.nodes[b as usize] - o)
     }
 
+    /// The turning angle (in [0, π]: 0 straight on, π back) at each node of exactly two edges, where a path runs
+    /// through: the paper's "angles along a path", read on the planar graph (junctions and dead ends have none).
+    pub fn turning_angles(&self) -> Vec<f64> {
+        self.adjacency()
+            .iter()
+            .enumerate()
+            .filter(|(_, nb)| nb.len() == 2)
+            .map(|(n, nb)| PI - self.angle_at(n as u32, nb[0], nb[1]))
+            .collect()
+    }
+
     /// The smallest angle between two edges sharing a node (π when no node has two edges).
     pub fn min_angle(&self) -> f64 {
         let adj = self.adjacency();

@@ -78,6 +78,8 @@ pub fn interpolate_colors(a: &Color, b: &Color, t: f64, name: &str) -> Result<Co
         |pa, pb| PolygonColor {
             category: pa.category.clone(),
             spacing: lerp(pa.spacing, pb.spacing),
+            islands_per_area: lerp(pa.islands_per_area, pb.islands_per_area),
+            island_areas: quantile_blend(&pa.island_areas, &pb.island_areas, t),
         },
     );
     let color = Color {
@@ -165,6 +167,22 @@ fn merge_by<T: Clone>(
     out
 }
 
+/// Two ascending samples blended by their quantiles (displacement interpolation of their distributions), as
+/// many values as the larger holds; an empty one gives way to the other.
+fn quantile_blend(a: &[f64], b: &[f64], t: f64) -> Vec<f64> {
+    if a.is_empty() || b.is_empty() {
+        return if a.is_empty() { b.to_vec() } else { a.to_vec() };
+    }
+    let n = a.len().max(b.len());
+    let at = |s: &[f64], u: f64| s[((u * s.len() as f64) as usize).min(s.len() - 1)];
+    (0..n)
+        .map(|k| {
+            let u = (k as f64 + 0.5) / n as f64;
+            (1.0 - t) * at(a, u) + t * at(b, u)
+        })
+        .collect()
+}
+
 /// Graph statistics: the histograms transported, the numbers blended, the constraints of the nearer color.
 fn interpolate_graph(ga: &GraphColor, gb: &GraphColor, t: f64) -> GraphColor {
     let lerp = |x: f64, y: f64| (1.0 - t) * x + t * y;
@@ -173,6 +191,12 @@ fn interpolate_graph(ga: &GraphColor, gb: &GraphColor, t: f64) -> GraphColor {
         category: ga.category.clone(),
         edge_length: displacement_interpolate(&ga.edge_length, &gb.edge_length, t),
         angle: displacement_interpolate(&ga.angle, &gb.angle, t),
+        turn: match (ga.turn.values.is_empty(), gb.turn.values.is_empty()) {
+            (false, false) => displacement_interpolate(&ga.turn, &gb.turn, t),
+            // a color learned before turns were has none to blend
+            (true, _) => gb.turn.clone(),
+            (false, true) => ga.turn.clone(),
+        },
         degree: (0..ga.degree.len().max(gb.degree.len()))
             .map(|k| {
                 lerp(

@@ -236,8 +236,14 @@ pub struct GraphColor {
     pub category: String,
     /// Lengths of the edges (mass per bin).
     pub edge_length: Histogram,
-    /// Angles between two edges sharing a node, in [0, π] (mass per bin).
+    /// Angles between two edges sharing a node, in [0, π] (mass per bin): the junctions' shapes, and with
+    /// them the smallest angle.
     pub angle: Histogram,
+    /// Turning angles along paths, in [0, π] (0 straight on): at each node of exactly two edges, π minus the
+    /// angle between them (mass per bin; [`crate::graph::Graph::turning_angles`]). Empty in colors learned
+    /// before it was, which the synthesis then does not match.
+    #[serde(default = "empty_histogram")]
+    pub turn: Histogram,
     /// Fraction of the nodes of degree 1, 2, 3 and 4 or more.
     pub degree: Vec<f64>,
     /// The smallest angle between two edges sharing a node: no new edge makes a sharper one.
@@ -261,6 +267,14 @@ pub struct PolygonColor {
     pub category: String,
     /// Side of the grid cells of the dense points that stand for its contours (m); filling and tracing use it.
     pub spacing: f64,
+    /// Islands (outer contours with their lakes, [`crate::contour::islands`]) per m² of the exemplar region,
+    /// counting those whose outer contour's centroid lies in it. 0 in colors learned before, whose synthesis then
+    /// keeps the traced islands as they come.
+    #[serde(default)]
+    pub islands_per_area: f64,
+    /// The land areas (m², lakes left out) of those islands, ascending.
+    #[serde(default)]
+    pub island_areas: Vec<f64>,
 }
 
 fn empty_histogram() -> Histogram {
@@ -622,6 +636,7 @@ impl Color {
             self.check_known(&at("category"), &g.category)?;
             self.check_hist(&g.edge_length, &at("edge_length"))?;
             self.check_hist(&g.angle, &at("angle"))?;
+            self.check_hist(&g.turn, &at("turn"))?;
             check::within(
                 &self.at(&at("min_angle")),
                 g.min_angle,
@@ -653,6 +668,20 @@ impl Color {
             let at = |field: &str| format!("polygons[{k}].{field}");
             self.check_known(&at("category"), &p.category)?;
             check::positive(&self.at(&at("spacing")), p.spacing)?;
+            check::within(
+                &self.at(&at("islands_per_area")),
+                p.islands_per_area,
+                0.0,
+                limits::MAX_DENSITY,
+            )?;
+            check::at_most_items(
+                &self.at(&at("island_areas")),
+                p.island_areas.len(),
+                limits::MAX_HISTOGRAM_BINS as usize,
+            )?;
+            for (i, a) in p.island_areas.iter().enumerate() {
+                check::within(&self.at(&at(&format!("island_areas[{i}]"))), *a, 0.0, 1e12)?;
+            }
             limits::check(
                 &self.at(&at("spacing")),
                 self.max_radius / p.spacing,

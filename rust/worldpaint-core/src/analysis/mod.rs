@@ -538,7 +538,7 @@ impl Exemplar<'_> {
         self.groups
             .iter()
             .filter(|g| g.kind() == CategoryKind::Polygon)
-            .filter_map(|g| self.content.polygon_color(g.category))
+            .filter_map(|g| self.content.polygon_color(g.category, self.region))
             .collect()
     }
 

@@ -2,16 +2,19 @@
 //! categories (Section 4.2; thesis 6.2.1 and 6.3.1).
 //!
 //! * A graph category's paths are planarized into one [`Graph`]; its nodes inside the region are learned as a
-//!   distribution, and [`Structures::graph_color`] reads the rest: the histograms of edge lengths and of the angles
-//!   between edges sharing a node, the degrees, the smallest angle, the connected components, the clearance from
+//!   distribution, and [`Structures::graph_color`] reads the rest: the histograms of edge lengths, of the angles
+//!   between edges sharing a node and of the turning angles along paths (the paper's "angles along a path",
+//!   read at the planar graph's nodes of two edges), the degrees, the smallest angle, the connected components, the clearance from
 //!   higher-priority instances and the polygons the graph never crosses. Statistics are taken at the nodes inside
 //!   the region, over every edge that has an end inside (at its full length: the scene holds the whole graph).
 //! * A polygon category's contours are filled with dense points (a jittered grid, [`crate::contour::fill`]); their
 //!   spacing keeps about `POLYGON_POINTS` points inside the region, and their rdf spans the polygons' own scale.
+//!   Its islands (outer contours with their lakes) whose centroid lies in the region are counted per area and
+//!   their land areas kept: the synthesis matches both (module `synthesis::islands`).
 //! * Later categories see graphs through their distance and polygons through their signed distance: maps whose
 //!   values [`graph_map_value`] and [`polygon_map_value`] give, the same at analysis and synthesis.
 
-use crate::contour::{fill, Polygons};
+use crate::contour::{fill, islands, Polygons};
 use crate::geom::{DVec2, Region};
 use crate::graph::{Graph, SegmentIndex};
 use crate::palette::{GraphColor, Histogram, MapSource, PolygonColor};
@@ -182,7 +185,7 @@ impl Structures {
         if held.nodes.is_empty() {
             return None;
         }
-        let (angle, min_angle, degree) = held.node_statistics();
+        let (angle, turn, min_angle, degree) = held.node_statistics();
         let total_degree: f64 = held.nodes.iter().map(|&n| held.adj[n].len() as f64).sum();
         let n_nodes = held.nodes.len() as f64;
         let components = held.components();
@@ -191,6 +194,7 @@ impl Structures {
             category: category.name.clone(),
             edge_length: held.edge_length().normalized(),
             angle: angle.normalized(),
+            turn: turn.normalized(),
             degree,
             min_angle,
             edges_per_node: 0.5 * total_degree / n_nodes,
@@ -248,14 +252,44 @@ impl Structures {
         (clearance, avoids)
     }
 
-    /// The statistics of a polygon category: the spacing of its dense points.
-    pub(crate) fn polygon_color(&self, category: &Category) -> Option<PolygonColor> {
-        self.polygons
-            .get(&category.name)
-            .map(|(_, spacing)| PolygonColor {
-                category: category.name.clone(),
-                spacing: *spacing,
-            })
+    /// The statistics of a polygon category: the spacing of its dense points, and its islands whose centroid
+    /// lies in the region, per area and by land area.
+    pub(crate) fn polygon_color(
+        &self,
+        category: &Category,
+        region: &Region,
+    ) -> Option<PolygonColor> {
+        let (polys, spacing) = self.polygons.get(&category.name)?;
+        let contours: Vec<Vec<DVec2>> = polys.contours().map(|c| c.to_vec()).collect();
+        let mut island_areas: Vec<f64> = islands(&contours)
+            .into_iter()
+            .filter(|i| region.contains(centroid(&contours[i.outer])))
+            .map(|i| i.area)
+            .collect();
+        island_areas.sort_by(f64::total_cmp);
+        Some(PolygonColor {
+            category: category.name.clone(),
+            spacing: *spacing,
+            islands_per_area: island_areas.len() as f64 / region.area().max(1e-9),
+            island_areas,
+        })
+    }
+}
+
+/// The centroid of a closed polygon (its vertices' mean when it has no area).
+pub(crate) fn centroid(points: &[DVec2]) -> DVec2 {
+    let n = points.len();
+    let (mut c, mut a) = (DVec2::ZERO, 0.0);
+    for i in 0..n {
+        let (p, q) = (points[i], points[(i + 1) % n]);
+        let w = p.perp_dot(q);
+        c += (p + q) * w;
+        a += w;
+    }
+    if a.abs() > 1e-12 {
+        c / (3.0 * a)
+    } else {
+        points.iter().copied().sum::<DVec2>() / n.max(1) as f64
     }
 }
 
@@ -321,15 +355,20 @@ impl<'g> HeldGraph<'g> {
         edge_length
     }
 
-    /// At the nodes: the histogram of the angles between edges sharing a node, the smallest such angle, and the
-    /// fraction of nodes of degree 1, 2, 3 and 4 or more.
-    fn node_statistics(&self) -> (Histogram, f64, Vec<f64>) {
+    /// At the nodes: the histograms of the angles between edges sharing a node and of the turning angles at
+    /// nodes of two edges (`π −` their angle), the smallest angle, and the fraction of nodes of degree 1, 2, 3
+    /// and 4 or more.
+    fn node_statistics(&self) -> (Histogram, Histogram, f64, Vec<f64>) {
         let mut angle = Histogram::zeros(0.0, PI / ANGLE_BINS as f64, ANGLE_BINS);
+        let mut turn = Histogram::zeros(0.0, PI / ANGLE_BINS as f64, ANGLE_BINS);
         let mut min_angle = PI;
         let mut degree = vec![0.0; 4];
         for &n in &self.nodes {
             let nb = &self.adj[n];
             degree[nb.len().clamp(1, 4) - 1] += 1.0;
+            if let [a, b] = nb[..] {
+                turn.add((PI - self.g.angle_at(n as u32, a, b)).min(PI - 1e-12), 1.0);
+            }
             for (i, &a) in nb.iter().enumerate() {
                 for &b in &nb[i + 1..] {
                     let t = self.g.angle_at(n as u32, a, b);
@@ -341,7 +380,7 @@ impl<'g> HeldGraph<'g> {
         degree
             .iter_mut()
             .for_each(|d| *d /= self.nodes.len() as f64);
-        (angle, min_angle, degree)
+        (angle, turn, min_angle, degree)
     }
 
     /// The connected components of the graph the region holds (edges with both ends inside), lone nodes included.

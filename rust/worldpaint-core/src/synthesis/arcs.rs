@@ -15,18 +15,33 @@
 //!   histograms are the targets of the statistics rather than product factors: the product `Π h_l Π h_a` of the
 //!   thesis's `f_a` leaves the lengths and angles far from the exemplar's (total variation 0.2–0.3 in a first
 //!   reading). The chain samples `exp(−E / τ)` with the chi-square energy
-//!   `E = Σ_k (H(k) − T(k))² / max(T(k), 1)` over three histograms — edge lengths, angles between arcs sharing a
-//!   node, and node degrees (0 to 4 or more; the thesis's "topological statistics") — where `T` is the learned
-//!   distribution times the current count, annealed from `τ = 1` to `τ = 0.01`. Kept nodes that a candidate
+//!   `E = Σ_k (H(k) − T(k))² / max(T(k), 1)` over four histograms — edge lengths, angles between arcs sharing a
+//!   node, turning angles at nodes of two arcs (the paper's "angles along a path"), and node degrees (0 to 4 or
+//!   more; the thesis's "topological statistics") — where `T` is the learned distribution times the current
+//!   count, plus `w_c (C − C*)² / max(C*, 1)` on the count `C` of connected pieces (of the chosen arcs, joined
+//!   through the kept graph's) against `C*`, the learned pieces per area times the region's area; annealed from
+//!   `τ = 1` to `τ = 0.01`. A swap changes `C` by what two searches for a detour around the swapped arcs find
+//!   (bounded to `SEARCH_NODES` nodes; `C` is recounted exactly every sweep). Kept nodes that a candidate
 //!   touches count in the angle and degree histograms with their kept arcs, so a road cut at the region's border
 //!   (a dead end) draws a new arc that continues it.
+//! * **Dead ends.** The nodes lie where their rdf put them, and few of them have a continuation within the
+//!   learned lengths: over nine times a village's area the candidates were 1.5 per arc, and at the chain's end
+//!   the degree-1 nodes were three times the learned share with the junctions over and the through nodes short
+//!   (139 / 660 / 393 of degrees 1 / 2 / 3+ against 45 / 873 / 297), whatever the degree term's weight: at a
+//!   fixed count of arcs, continuing one dead end leaves another. So once the chain has run, dead ends beyond
+//!   the learned share of degree-1 nodes are first continued, each by the candidate at it that keeps the
+//!   constraints and leaves the energy lowest (one arc more; a join of two pieces only while there are more
+//!   than the learned count), then pruned: a dead end that reaches a junction of three arcs or more through at
+//!   most `SPUR_ARCS` arcs loses them (the junction becomes a through node, which the graph lacks; nodes left
+//!   without an arc are dropped). Both go in random order. Nodes within the longest learned edge of the region's
+//!   border are neither changed nor counted: there a road may end because the region cuts it.
 //! * **Relaxation**: the nodes then move to fit the arcs (module `relax`).
 
 use super::arc_grid::{arc_gap, ArcGrid};
 use super::relax::{relax, Network};
 use super::{annealed, mix_seed};
 use crate::geom::segments_distance;
-use crate::geom::{segment_distance, DVec2, PreparedRegion};
+use crate::geom::{segment_distance, DVec2, PreparedRegion, RegionQueries};
 use crate::graph::{angle_between, Graph, SegmentIndex};
 use crate::palette::{GraphColor, Histogram};
 use crate::spatial::{GridEntry, SpatialGrid};
@@ -44,8 +59,14 @@ const COOLING: f64 = 0.75;
 /// Weight of the degree term: without it dead ends outnumber the exemplar's (a village's share of degree-1 nodes
 /// 0.07 came out 0.17 at weight 1, 0.13 at weight 5).
 const DEGREE_WEIGHT: f64 = 5.0;
+/// Weight of the term on the count of connected pieces (a chi-square of one bin).
+const COMPONENT_WEIGHT: f64 = 20.0;
 /// Degree bins: 0, 1, 2, 3, 4 or more.
 const DEGREE_BINS: usize = 5;
+/// The longest spur (in arcs) that pruning a dead end removes.
+const SPUR_ARCS: usize = 2;
+/// The most nodes a search for a detour around a swapped arc visits.
+const SEARCH_NODES: usize = 256;
 
 /// What the arcs must keep away from.
 pub(super) struct Obstacles<'a> {
@@ -100,12 +121,14 @@ struct Candidate {
     bin: usize,
 }
 
-/// The three matched histograms and their targets' shapes.
+/// The matched histograms and their targets' shapes: edge lengths; angles between arcs sharing a node, then
+/// (from `angle_bins` on) turning angles at nodes of two arcs; node degrees; and the count of connected pieces.
 #[derive(Clone)]
 struct Counts {
     length: Vec<f64>,
     angle: Vec<f64>,
     degree: Vec<f64>,
+    components: f64,
 }
 
 /// The chain's state.
@@ -128,6 +151,16 @@ struct State<'g> {
     /// The chosen arcs, for the crossing and gap tests.
     grid: ArcGrid,
     gap: f64,
+    /// Bins of the angle histogram (the turning angles' follow).
+    angle_bins: usize,
+    /// The connected pieces the region should hold: the learned count per area times its area.
+    components_target: f64,
+    /// Per node: its neighbours along the kept graph's arcs (a piece joined to the kept graph is one with it).
+    kept_links: Vec<Vec<usize>>,
+    /// Scratch of the bounded searches: per node the search that last visited it, the current one, the queue.
+    visited: Vec<u32>,
+    search: u32,
+    queue: Vec<usize>,
 }
 
 /// The chi-square distance of the counts `h` from `shape` scaled to `total`, in units of counting noise.
@@ -171,9 +204,11 @@ impl State<'_> {
         d
     }
 
-    /// Adds (`sign` 1) or removes (−1) a node's angle pairs and degree in `counts`; false below the smallest angle.
+    /// Adds (`sign` 1) or removes (−1) a node's angle pairs, turning angle and degree in `counts`; false below
+    /// the smallest angle.
     fn count_node(&self, node: usize, dirs: &[DVec2], sign: f64, counts: &mut Counts) -> bool {
-        let bins = counts.angle.len();
+        let bins = self.angle_bins;
+        let turn_bins = counts.angle.len() - bins;
         for (i, u) in dirs.iter().enumerate() {
             for v in &dirs[i + 1..] {
                 let t = angle_between(*u, *v);
@@ -181,6 +216,9 @@ impl State<'_> {
                     return false;
                 }
                 counts.angle[angle_bin(t, bins)] += sign;
+                if dirs.len() == 2 && turn_bins > 0 {
+                    counts.angle[bins + angle_bin(std::f64::consts::PI - t, turn_bins)] += sign;
+                }
             }
         }
         if self.counted[node] {
@@ -190,10 +228,14 @@ impl State<'_> {
     }
 
     fn energy(&self, c: &Counts) -> f64 {
-        let pairs: f64 = c.angle.iter().sum();
+        let (pairs, turns) = c.angle.split_at(self.angle_bins);
+        let (pair_shape, turn_shape) = self.shape.angle.split_at(self.angle_bins);
+        let target = self.components_target;
         chi2(&c.length, &self.shape.length, self.arcs)
-            + chi2(&c.angle, &self.shape.angle, pairs)
+            + chi2(pairs, pair_shape, pairs.iter().sum())
+            + chi2(turns, turn_shape, turns.iter().sum())
             + DEGREE_WEIGHT * chi2(&c.degree, &self.shape.degree, self.nodes_counted)
+            + COMPONENT_WEIGHT * (c.components - target).powi(2) / target.max(1.0)
     }
 
     /// The counts after choosing `add` and dropping `remove` (None when an angle gets too sharp).
@@ -258,6 +300,17 @@ impl State<'_> {
     }
 }
 
+/// The shapes of the angles between arcs sharing a node and (after them) of the turning angles, as one vector,
+/// with the number of angle bins: both are matched in one pass over a node's arcs. A color learned before turning
+/// angles were has no turning bins.
+pub(super) fn angle_and_turn_shape(gc: &GraphColor) -> (Vec<f64>, usize) {
+    let angle_bins = gc.angle.values.len().max(1);
+    let mut shape = gc.angle.normalized().values;
+    shape.resize(angle_bins, 0.0);
+    shape.extend(gc.turn.normalized().values);
+    (shape, angle_bins)
+}
+
 /// The degree shape: no isolated node, then the exemplar's fractions of degrees 1, 2, 3, 4+.
 fn degree_shape(gc: &GraphColor) -> Vec<f64> {
     let mut s = vec![0.0; DEGREE_BINS];
@@ -291,6 +344,13 @@ pub(super) fn synthesize_arcs(
     let candidates = candidate_arcs(&nodes, n_new, lengths, longest, &kept_index, obstacles);
     let counted = counted_nodes(nodes.len(), n_new, &candidates);
     let mut state = State::new(gc, &nodes, candidates, kept_dirs, counted, longest);
+    state.components_target = gc.components_per_area * region.region().area();
+    state.kept_links = vec![Vec::new(); nodes.len()];
+    for &[a, b] in &kept.edges {
+        let (a, b) = (a as usize + n_new, b as usize + n_new);
+        state.kept_links[a].push(b);
+        state.kept_links[b].push(a);
+    }
 
     let mut rng = ChaCha8Rng::seed_from_u64(mix_seed(seed, 0xa2c5));
     let target = ((gc.edges_per_node * n_new as f64).round() as usize).min(state.candidates.len());
@@ -299,6 +359,8 @@ pub(super) fn synthesize_arcs(
     let mut chosen = state.valid_start(target, &mut rng, &mut near);
     state.arcs = chosen.len() as f64;
     state.relocate(&mut chosen, &mut rng, &mut near);
+    state.close_dead_ends(&mut chosen, region, longest, &mut rng, &mut near);
+    state.prune_spurs(&mut chosen, region, longest, &mut rng);
     let mut network = Network {
         arcs: chosen
             .iter()
@@ -397,7 +459,7 @@ impl<'g> State<'g> {
         longest: f64,
     ) -> Self {
         let lengths = &gc.edge_length;
-        let angle_bins = gc.angle.values.len().max(1);
+        let (angle_shape, angle_bins) = angle_and_turn_shape(gc);
         let mut state = State {
             gc,
             nodes,
@@ -408,18 +470,26 @@ impl<'g> State<'g> {
             counted,
             counts: Counts {
                 length: vec![0.0; lengths.values.len()],
-                angle: vec![0.0; angle_bins],
+                angle: vec![0.0; angle_shape.len()],
                 degree: vec![0.0; DEGREE_BINS],
+                components: 0.0,
             },
             shape: Counts {
                 length: lengths.normalized().values,
-                angle: gc.angle.normalized().values,
+                angle: angle_shape,
                 degree: degree_shape(gc),
+                components: 0.0,
             },
             arcs: 0.0,
             nodes_counted: 0.0,
             grid: ArcGrid::new(nodes, longest),
             gap: arc_gap(lengths),
+            angle_bins,
+            components_target: 0.0,
+            kept_links: Vec::new(),
+            visited: vec![0; nodes.len()],
+            search: 0,
+            queue: Vec::new(),
         };
         // the degrees and angles of the nodes before any arc
         let mut counts = state.counts.clone();
@@ -469,9 +539,11 @@ impl<'g> State<'g> {
             at_node[cand.a].push(c);
             at_node[cand.b].push(c);
         }
-        let mut energy = self.energy(&self.counts);
         let per_sweep = PROPOSALS_PER_ARC * chosen.len() / SWEEPS;
         for sweep in 0..SWEEPS {
+            // the pieces are counted exactly once a sweep: the moves' bounded searches may miss a change
+            self.counts.components = self.count_components();
+            let mut energy = self.energy(&self.counts);
             let tau = annealed(TAU_START, TAU_END, sweep, SWEEPS, COOLING);
             for _ in 0..per_sweep {
                 let slot = rng.random_range(0..chosen.len());
@@ -487,9 +559,10 @@ impl<'g> State<'g> {
                 if self.chosen[add] || !self.fits(add, Some(remove), near) {
                     continue;
                 }
-                let Some(counts) = self.counts_after(Some(add), Some(remove)) else {
+                let Some(mut counts) = self.counts_after(Some(add), Some(remove)) else {
                     continue;
                 };
+                counts.components += self.components_delta(add, Some(remove));
                 let e = self.energy(&counts);
                 if rng.random::<f64>().ln() < -(e - energy) / tau {
                     self.set(remove, false);
@@ -501,6 +574,261 @@ impl<'g> State<'g> {
             }
         }
     }
+}
+
+impl State<'_> {
+    /// The connected pieces of the chosen and kept arcs that hold a chosen arc.
+    fn count_components(&self) -> f64 {
+        self.pieces().1.iter().filter(|h| **h).count() as f64
+    }
+
+    /// The union-find forest of the chosen and kept arcs, and per node whether it is a root whose piece holds a
+    /// chosen arc.
+    fn pieces(&self) -> (Vec<usize>, Vec<bool>) {
+        let mut parent: Vec<usize> = (0..self.nodes.len()).collect();
+        let chosen = self
+            .candidates
+            .iter()
+            .enumerate()
+            .filter(|(c, _)| self.chosen[*c])
+            .map(|(_, cand)| (cand.a, cand.b));
+        let kept = self
+            .kept_links
+            .iter()
+            .enumerate()
+            .flat_map(|(a, links)| links.iter().map(move |&b| (a, b)));
+        for (a, b) in chosen.chain(kept) {
+            let (ra, rb) = (root(&mut parent, a), root(&mut parent, b));
+            if ra != rb {
+                parent[ra] = rb;
+            }
+        }
+        let mut holds = vec![false; self.nodes.len()];
+        for n in (0..self.nodes.len()).filter(|&n| !self.at[n].is_empty()) {
+            holds[root(&mut parent, n)] = true;
+        }
+        (parent, holds)
+    }
+
+    /// Whether nodes `a` and `b` are joined by kept arcs and chosen ones other than `skip`: a breadth-first
+    /// search from `a`
+    /// bounded to `SEARCH_NODES` nodes, which reads a longer detour as a join (a street grid's detours are short;
+    /// the sweep's exact count catches the rest).
+    fn joined_without(&mut self, a: usize, b: usize, skip: usize) -> bool {
+        self.search = self.search.wrapping_add(1);
+        if self.search == 0 {
+            self.visited.iter_mut().for_each(|v| *v = 0);
+            self.search = 1;
+        }
+        self.queue.clear();
+        self.queue.push(a);
+        self.visited[a] = self.search;
+        let mut head = 0;
+        while head < self.queue.len() {
+            if self.queue.len() > SEARCH_NODES {
+                return true;
+            }
+            let n = self.queue[head];
+            head += 1;
+            let chosen = self.at[n].iter().filter(|&&c| c != skip).map(|&c| {
+                let cand = self.candidates[c];
+                if cand.a == n {
+                    cand.b
+                } else {
+                    cand.a
+                }
+            });
+            let next: Vec<usize> = chosen.chain(self.kept_links[n].iter().copied()).collect();
+            for m in next {
+                if m == b {
+                    return true;
+                }
+                if self.visited[m] != self.search {
+                    self.visited[m] = self.search;
+                    self.queue.push(m);
+                }
+            }
+        }
+        false
+    }
+
+    /// The change of the count of pieces when chosen arc `remove` (if any) is swapped for candidate `add`. A
+    /// node's side holds a chosen arc when the node itself keeps one (exact without kept arcs).
+    fn components_delta(&mut self, add: usize, remove: Option<usize>) -> f64 {
+        let c = self.candidates[add];
+        let r = remove.map(|r| self.candidates[r]);
+        let remove = remove.unwrap_or(usize::MAX);
+        // whether a node keeps a chosen arc once `remove` is gone
+        let keeps = |s: &Self, n: usize| {
+            s.at[n].len() > usize::from(r.is_some_and(|r| n == r.a || n == r.b))
+        };
+        let sides =
+            |s: &Self, a: usize, b: usize| f64::from(u8::from(keeps(s, a)) + u8::from(keeps(s, b)));
+        // removing: one piece becomes the sides that keep an arc, or stays one (gone with its last arc)
+        let removed = match r {
+            None => 0.0,
+            Some(r) if self.joined_without(r.a, r.b, remove) => {
+                -f64::from(u8::from(sides(self, r.a, r.b) == 0.0))
+            }
+            Some(r) => sides(self, r.a, r.b) - 1.0,
+        };
+        // adding: the sides with an arc become one piece, or a piece gains its first arc
+        let added = if self.joined_without(c.a, c.b, remove) {
+            f64::from(u8::from(sides(self, c.a, c.b) == 0.0))
+        } else {
+            1.0 - sides(self, c.a, c.b)
+        };
+        removed + added
+    }
+
+    /// The dead ends at least `margin` inside the region's border (ends of a chosen arc with no other arc), in
+    /// random order, and how many of them the learned share of degree-1 nodes allows.
+    fn interior_dead_ends<R: Rng>(
+        &self,
+        region: &PreparedRegion,
+        margin: f64,
+        rng: &mut R,
+    ) -> (Vec<usize>, f64) {
+        let interior: Vec<usize> = (0..self.nodes.len())
+            .filter(|&n| {
+                !self.at[n].is_empty() && region.distance_to_boundary(self.nodes[n]) >= margin
+            })
+            .collect();
+        let allowed =
+            (self.gc.degree.first().copied().unwrap_or(0.0) * interior.len() as f64).round();
+        let mut dead: Vec<usize> = interior
+            .into_iter()
+            .filter(|&n| self.kept[n].is_empty() && self.at[n].len() == 1)
+            .collect();
+        for k in (1..dead.len()).rev() {
+            dead.swap(k, rng.random_range(0..=k));
+        }
+        (dead, allowed)
+    }
+
+    /// Continues dead ends beyond the exemplar's share (see the module documentation): in random order, a dead
+    /// end gets the candidate at it that keeps the gap and every angle and leaves the energy lowest, unless it
+    /// would join two pieces when there are no more than the learned count.
+    fn close_dead_ends<R: Rng>(
+        &mut self,
+        chosen: &mut Vec<usize>,
+        region: &PreparedRegion,
+        margin: f64,
+        rng: &mut R,
+        near: &mut Vec<u32>,
+    ) {
+        let (dead, allowed) = self.interior_dead_ends(region, margin, rng);
+        // arcs are only added here: a union-find keeps the pieces exactly
+        let (mut parent, mut holds) = self.pieces();
+        self.counts.components = holds.iter().filter(|h| **h).count() as f64;
+        let mut at_node: Vec<Vec<usize>> = vec![Vec::new(); self.nodes.len()];
+        for (c, cand) in self.candidates.iter().enumerate() {
+            at_node[cand.a].push(c);
+            at_node[cand.b].push(c);
+        }
+        let mut count = dead.len() as f64;
+        for n in dead {
+            if count <= allowed {
+                break;
+            }
+            if self.at[n].len() != 1 {
+                continue; // joined by an earlier one
+            }
+            let mut best: Option<(f64, usize, Counts)> = None;
+            for &c in &at_node[n] {
+                if self.chosen[c] || !self.fits(c, None, near) {
+                    continue;
+                }
+                if let Some(mut counts) = self.counts_after(Some(c), None) {
+                    let cand = self.candidates[c];
+                    let (ra, rb) = (root(&mut parent, cand.a), root(&mut parent, cand.b));
+                    // the dead end's piece holds a chosen arc: the other one is joined to it, if it holds one
+                    let delta = if ra != rb && holds[ra] && holds[rb] {
+                        -1.0
+                    } else {
+                        0.0
+                    };
+                    counts.components += delta;
+                    // a join of two pieces only while there are more than the learned count
+                    if delta < 0.0 && counts.components < self.components_target {
+                        continue;
+                    }
+                    let e = self.energy(&counts);
+                    if best.as_ref().is_none_or(|(b, _, _)| e < *b) {
+                        best = Some((e, c, counts));
+                    }
+                }
+            }
+            if let Some((_, c, counts)) = best {
+                let cand = self.candidates[c];
+                let other = if cand.a == n { cand.b } else { cand.a };
+                // joining two dead ends removes both
+                count -= if self.at[other].len() == 1 { 2.0 } else { 1.0 };
+                self.set(c, true);
+                self.counts = counts;
+                self.arcs += 1.0;
+                chosen.push(c);
+                let (ra, rb) = (root(&mut parent, cand.a), root(&mut parent, cand.b));
+                if ra != rb {
+                    parent[ra] = rb;
+                    holds[rb] = true;
+                }
+            }
+        }
+    }
+
+    /// Drops dead ends beyond the exemplar's share (see the module documentation): in random order, a dead end
+    /// at least `margin` inside the region's border that reaches a junction of three arcs or more through at most
+    /// `SPUR_ARCS` arcs loses them.
+    fn prune_spurs<R: Rng>(
+        &mut self,
+        chosen: &mut Vec<usize>,
+        region: &PreparedRegion,
+        margin: f64,
+        rng: &mut R,
+    ) {
+        let (dead, allowed) = self.interior_dead_ends(region, margin, rng);
+        let mut count = dead.len() as f64;
+        for n in dead {
+            if count <= allowed {
+                break;
+            }
+            // the spur: from the dead end through nodes of two arcs, up to `SPUR_ARCS` arcs, to a junction
+            let (mut node, mut from, mut spur) = (n, usize::MAX, Vec::new());
+            let junction = loop {
+                let Some(&c) = self.at[node].iter().find(|&&c| c != from) else {
+                    break false;
+                };
+                spur.push(c);
+                let cand = self.candidates[c];
+                node = if cand.a == node { cand.b } else { cand.a };
+                from = c;
+                let degree = self.at[node].len() + self.kept[node].len();
+                if degree >= 3 {
+                    break true;
+                }
+                if degree != 2 || spur.len() >= SPUR_ARCS {
+                    break false;
+                }
+            };
+            if junction {
+                for c in spur {
+                    self.set(c, false);
+                }
+                count -= 1.0;
+            }
+        }
+        chosen.retain(|&c| self.chosen[c]);
+    }
+}
+
+/// The root of `x` in a union-find forest (halving the path on the way).
+fn root(parent: &mut [usize], mut x: usize) -> usize {
+    while parent[x] != x {
+        parent[x] = parent[parent[x]];
+        x = parent[x];
+    }
+    x
 }
 
 /// The graph of the network's arcs: the nodes that got arcs (renumbered in order of appearance), and the arcs.

@@ -138,6 +138,7 @@ mod adapt;
 mod arc_grid;
 mod arcs;
 mod ghosts;
+mod islands;
 mod product;
 mod rdf;
 mod relax;
@@ -767,7 +768,8 @@ impl<'s> Painting<'s> {
                 .into_iter()
                 .filter(|p| !self.region.contains(*p)),
         );
-        let traced = trace(&dense, spacing);
+        let pc = self.color.polygon(name);
+        let traced = islands::match_sizes(trace(&dense, spacing), pc, self.region, self.area);
         let mut all: Vec<Vec<DVec2>> = self
             .scene
             .contours

@@ -3,13 +3,13 @@
 //! that runs on through a node needs its two neighbours on opposite sides. The thesis builds arcs "with the same
 //! algorithm as the point distribution synthesis"; here that algorithm continues on the nodes: displacement
 //! moves of the new nodes (Gaussian steps, symmetric proposals) accepted by Metropolis-Hastings on the same
-//! chi-square energy of edge lengths and angles at nodes, annealed, with the same hard constraints as the arcs:
+//! chi-square energy of edge lengths, angles at nodes and turning angles, annealed, with the same hard constraints as the arcs:
 //! nodes stay in the region, no arc crosses another or comes closer than a gap to a node it does not join, no
 //! angle falls below the exemplar's smallest, no arc leaves the learned length range or comes closer to
 //! obstacles than their clearance.
 
 use super::arc_grid::{arc_gap, ArcGrid};
-use super::arcs::{angle_bin, chi2, Obstacles};
+use super::arcs::{angle_and_turn_shape, angle_bin, chi2, Obstacles};
 use super::{annealed, mix_seed};
 use crate::geom::segments_distance;
 use crate::geom::{DVec2, PreparedRegion, RegionQueries};
@@ -60,10 +60,12 @@ pub(super) fn relax(
         return;
     }
     let nodes = &mut net.nodes;
+    let (angle_shape, angle_bins) = angle_and_turn_shape(gc);
     let mut rel = Relaxation {
         gc,
         length_shape: gc.edge_length.normalized().values,
-        angle_shape: gc.angle.normalized().values,
+        angle_shape,
+        angle_bins,
         longest,
         gap: arc_gap(&gc.edge_length),
         arcs: &net.arcs,
@@ -73,9 +75,11 @@ pub(super) fn relax(
         obstacles,
         arcs_total: net.arcs.len() as f64,
         pairs_total: 0.0,
+        turns_total: 0.0,
     };
     let mut chain = Chain::new(&rel, nodes, longest);
-    rel.pairs_total = chain.angle_h.iter().sum();
+    rel.pairs_total = chain.angle_h[..angle_bins].iter().sum();
+    rel.turns_total = chain.angle_h[angle_bins..].iter().sum();
     chain.energy = rel.energy(&chain.length_h, &chain.angle_h);
 
     let mut rng = ChaCha8Rng::seed_from_u64(mix_seed(seed, 0x7e1a));
@@ -133,7 +137,9 @@ fn arcs_at_nodes(n: usize, arcs: &[[usize; 2]]) -> Vec<Vec<usize>> {
 struct Relaxation<'r> {
     gc: &'r GraphColor,
     length_shape: Vec<f64>,
+    /// The shapes of the angles between arcs at a node, then of the turning angles (module `arcs`).
     angle_shape: Vec<f64>,
+    angle_bins: usize,
     longest: f64,
     gap: f64,
     arcs: &'r [[usize; 2]],
@@ -142,9 +148,10 @@ struct Relaxation<'r> {
     kept_dirs: &'r [Vec<DVec2>],
     kept_index: &'r SegmentIndex,
     obstacles: &'r Obstacles<'r>,
-    /// The counts the histograms are matched at: arcs, and angle pairs before any move.
+    /// The counts the histograms are matched at: arcs, angle pairs and turns (nodes of two arcs).
     arcs_total: f64,
     pairs_total: f64,
+    turns_total: f64,
 }
 
 /// A proposed displacement of node `v` from `old` to `p`.
@@ -156,10 +163,6 @@ struct Move {
 }
 
 impl Relaxation<'_> {
-    fn angle_bins(&self) -> usize {
-        self.angle_shape.len().max(1)
-    }
-
     /// The node at the other end of arc `k` from `v`.
     fn other_end(&self, k: usize, v: usize) -> usize {
         let [a, b] = self.arcs[k];
@@ -181,24 +184,33 @@ impl Relaxation<'_> {
         );
     }
 
-    /// Adds (sign 1) or removes (−1) the angle pairs of directions `d`; false when one is too sharp.
+    /// Adds (sign 1) or removes (−1) the angle pairs of directions `d` (and their turning angle when there are
+    /// two); false when one is too sharp.
     fn count_angles(&self, d: &[DVec2], sign: f64, h: &mut [f64]) -> bool {
-        let angle_bins = self.angle_bins();
+        let bins = self.angle_bins;
+        let turn_bins = self.angle_shape.len() - bins;
         for (i, u) in d.iter().enumerate() {
             for w in &d[i + 1..] {
                 let t = angle_between(*u, *w);
                 if sign > 0.0 && t < self.gc.min_angle - 1e-9 {
                     return false;
                 }
-                h[angle_bin(t, angle_bins)] += sign;
+                h[angle_bin(t, bins)] += sign;
+                if d.len() == 2 && turn_bins > 0 {
+                    h[bins + angle_bin(std::f64::consts::PI - t, turn_bins)] += sign;
+                }
             }
         }
         true
     }
 
-    /// The chi-square energy of the length and angle histograms.
+    /// The chi-square energy of the length, angle and turning-angle histograms.
     fn energy(&self, l: &[f64], a: &[f64]) -> f64 {
-        chi2(l, &self.length_shape, self.arcs_total) + chi2(a, &self.angle_shape, self.pairs_total)
+        let (pairs, turns) = a.split_at(self.angle_bins);
+        let (pair_shape, turn_shape) = self.angle_shape.split_at(self.angle_bins);
+        chi2(l, &self.length_shape, self.arcs_total)
+            + chi2(pairs, pair_shape, self.pairs_total)
+            + chi2(turns, turn_shape, self.turns_total)
     }
 
     /// A displacement of `v`: a node between two arcs may be proposed near the line through its neighbours
@@ -302,7 +314,7 @@ impl Chain {
             grid.insert(k as u32, nodes[a], nodes[b]);
         }
         let mut length_h = vec![0.0; rel.length_shape.len()];
-        let mut angle_h = vec![0.0; rel.angle_bins()];
+        let mut angle_h = vec![0.0; rel.angle_shape.len()];
         for &[a, b] in rel.arcs {
             if let Some(k) = rel.gc.edge_length.bin_of(nodes[a].distance(nodes[b])) {
                 length_h[k] += 1.0;

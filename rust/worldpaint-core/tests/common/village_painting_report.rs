@@ -254,8 +254,25 @@ pub struct GraphStats {
     pub km: f64,
     pub length_tv: f64,
     pub angle_tv: f64,
+    /// Turning angles at the inside nodes of two edges, against the learned histogram (0 when none was learned).
+    pub turn_tv: f64,
     pub min_angle: f64,
     pub components_per_km2: f64,
+}
+
+/// The total variation of the turning angles at the `inside` nodes of two edges from `learned`.
+fn turn_tv(g: &Graph, inside: &[bool], learned: &Histogram) -> f64 {
+    if learned.values.is_empty() {
+        return 0.0;
+    }
+    let mut turns = Histogram::zeros(learned.start, learned.bin_width, learned.values.len());
+    for (n, nb) in g.adjacency().iter().enumerate() {
+        if let (true, [a, b]) = (inside[n], nb.as_slice()) {
+            let t = std::f64::consts::PI - g.angle_at(n as u32, *a, *b);
+            turns.add(t.min(std::f64::consts::PI - 1e-12), 1.0);
+        }
+    }
+    learned.total_variation(&turns)
 }
 
 fn graph_stats(g: &Graph, region: &Region, learned: &GraphColor) -> GraphStats {
@@ -283,6 +300,7 @@ fn graph_stats(g: &Graph, region: &Region, learned: &GraphColor) -> GraphStats {
         km: edges.iter().map(|e| g.edge_length(*e)).sum::<f64>() / 1e3,
         length_tv: le.total_variation(&lengths),
         angle_tv: an.total_variation(&angles),
+        turn_tv: turn_tv(g, inside, &learned.turn),
         min_angle,
         components_per_km2: held.components() as f64 / region.area() * 1e6,
     }
@@ -580,6 +598,9 @@ impl VillageReport {
         });
         row("angle TV vs learned", &|c| {
             format!("{:.3}", c.network.planar.angle_tv)
+        });
+        row("turning angle TV vs learned", &|c| {
+            format!("{:.3}", c.network.planar.turn_tv)
         });
         row("smallest angle at nodes (learned)", &|c| {
             format!(
