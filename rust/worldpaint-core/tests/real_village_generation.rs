@@ -21,11 +21,14 @@
 //! contour edges — of the thesis's real village and model, the cadastre, the place's land-use tiles and the
 //! generated villages.
 //!
-//! Checked for every generated village against its real window, bands a plausible generator meets and a broken
-//! one (houses piled up or scattered, roads missing or wandering, roads up the fall line) does not:
+//! Checked for every generated village, issue 17's criteria: its mean nearest-neighbour distance and its road
+//! length per house within ±30 % of the means of its place's real villages (the generator is given the place's
+//! village type, not a window's history, and the real windows of one place differ among themselves by up to
+//! ±25 %), its parcels at least 2.3 neighbours and at most 5 contour edges on average. The criteria not met yet
+//! are listed in [`OPEN`]: printed as targets, not asserted, and guarded instead by bands a plausible generator
+//! meets and a broken one (houses piled up or scattered, roads missing or wandering) does not: nearest neighbour
+//! within a factor 3, road length per house within a factor 5 of the real means. Also checked:
 //! * it holds at least 80 % of the buildings asked for;
-//! * its mean nearest-neighbour distance is within a factor 3 of the real one;
-//! * its road length per house is within a factor 4 of the real one;
 //! * at most 5 % of its road length is steeper than the encyclopedia's maximum grade, unless the engine reported
 //!   roads that had to exceed it;
 //! * it grows within [`TIME_BUDGET`] seconds (past them it is cancelled at its next building, which keeps the
@@ -506,60 +509,173 @@ fn parcel_table(
     t
 }
 
-/// The checks of a generated village against its real window.
-fn checks(r: &RealColumn, g: &GeneratedColumn, max_grade: f64) -> Vec<Check> {
+/// The figures of a place's real villages that each generated village is held to: their means. The generator is
+/// given the place's village type, not a window's history, and the real windows of one place differ by up to
+/// ±25 % among themselves (nearest neighbour 14.3-22.1 m north of Bayreuth), so a generated village is compared
+/// with the place's real villages on average rather than with the one window it was grown on.
+struct RealMeans {
+    nearest_neighbour: f64,
+    road_per_house: f64,
+}
+
+fn real_means(reals: &[RealColumn]) -> RealMeans {
+    let n = reals.len().max(1) as f64;
+    let mean = |f: &dyn Fn(&RealColumn) -> f64| reals.iter().map(f).sum::<f64>() / n;
+    RealMeans {
+        nearest_neighbour: mean(&|c| c.figures.layout.mean_nearest_neighbour),
+        road_per_house: mean(&|c| c.figures.layout.road_length_per_house),
+    }
+}
+
+/// Largest relative difference of a generated village's nearest-neighbour distance and road length per house
+/// from the means of its place's real villages (issue 17).
+const FIGURE_TOLERANCE: f64 = 0.3;
+/// Least mean number of neighbouring parcels, and most mean contour edges, of a generated village (issue 17; the
+/// thesis's real village has 2.812 and 4.068).
+const MIN_PARCEL_NEIGHBOURS: f64 = 2.3;
+const MAX_PARCEL_EDGES: f64 = 5.0;
+
+/// The issue-17 criteria the generator does not meet yet, by place and criterion: they are printed with their
+/// bound as targets but not asserted, and the village is held instead to the looser band in [`checks`]'s
+/// comments (a regression guard). Remove an entry once the criterion holds.
+const OPEN: [(&str, &str); 3] = [
+    ("Andorra", "road length per house"),
+    ("", "parcel neighbours"),
+    ("", "parcel contour edges"),
+];
+
+fn is_open(place: &str, criterion: &str) -> bool {
+    OPEN.iter()
+        .any(|(p, c)| criterion == *c && (p.is_empty() || place.contains(p)))
+}
+
+/// An issue-17 criterion measured on a generated village: its target bound, and the regression guard that
+/// holds the village while the criterion is [`OPEN`].
+struct Criterion {
+    name: &'static str,
+    measured: String,
+    bound: String,
+    holds: bool,
+    guard: Option<(String, bool)>,
+}
+
+/// The asserted checks of village `name` (the criteria met, the guards of the open ones) and the open targets.
+fn split(place: &str, name: &str, criteria: impl IntoIterator<Item = Criterion>) -> PlaceChecks {
+    let (mut asserted, mut targets) = (Vec::new(), Vec::new());
+    for c in criteria {
+        let what = format!("{name}: {}", c.name);
+        if !is_open(place, c.name) {
+            asserted.push(Check {
+                what,
+                measured: c.measured,
+                bound: c.bound,
+                holds: c.holds,
+            });
+            continue;
+        }
+        if let Some((bound, holds)) = c.guard {
+            asserted.push(Check {
+                what: what.clone(),
+                measured: c.measured.clone(),
+                bound,
+                holds,
+            });
+        }
+        targets.push(Check {
+            what,
+            measured: c.measured,
+            bound: c.bound,
+            holds: c.holds,
+        });
+    }
+    (asserted, targets)
+}
+
+/// The checks of a generated village: asserted ones, and the targets of [`OPEN`] (not asserted).
+fn checks(
+    place: &str,
+    r: &RealColumn,
+    means: &RealMeans,
+    g: &GeneratedColumn,
+    max_grade: f64,
+) -> PlaceChecks {
     let name = &r.window.name;
     let Some(v) = &g.generated else {
-        return vec![Check {
+        let timed_out = Check {
             what: format!("{name}: generation time"),
             measured: format!("cancelled after {:.1} s", g.seconds),
             bound: format!("<= {TIME_BUDGET:.0} s"),
             holds: false,
-        }];
+        };
+        return (vec![timed_out], Vec::new());
     };
-    let (rl, gl) = (&r.figures.layout, &v.figures.layout);
-    let nn = gl.mean_nearest_neighbour / rl.mean_nearest_neighbour;
-    let per_house = gl.road_length_per_house / rl.road_length_per_house;
+    let gl = &v.figures.layout;
+    let nn = gl.mean_nearest_neighbour / means.nearest_neighbour;
+    let per_house = gl.road_length_per_house / means.road_per_house;
     let over_reported = v.village.report.roads_over_max_grade;
     let over = v.figures.over_max_grade;
-    vec![
-        Check {
-            what: format!("{name}: buildings generated"),
-            measured: format!("{} of {}", gl.houses, g.asked),
-            // footprints are still lost in narrow parcels: 86-90 % stand near Bayreuth, 90-100 % in Andorra
-            bound: ">= 80 %".into(),
-            holds: gl.houses * 10 >= g.asked * 8,
+    let (lo, hi) = (1.0 - FIGURE_TOLERANCE, 1.0 + FIGURE_TOLERANCE);
+    let band = format!("{lo:.1} ..= {hi:.1}");
+    let parcels = &v.parcels;
+    let criteria = [
+        Criterion {
+            name: "nearest neighbour",
+            measured: format!("{nn:.2} of the real mean"),
+            bound: band.clone(),
+            holds: (lo..=hi).contains(&nn),
+            // a generator with houses piled up or scattered
+            guard: Some(("1/3 ..= 3".into(), (1.0 / 3.0..=3.0).contains(&nn))),
         },
-        Check {
-            what: format!("{name}: nearest neighbour / real"),
-            measured: format!("{nn:.2}"),
-            bound: "1/3 ..= 3".into(),
-            holds: (1.0 / 3.0..=3.0).contains(&nn),
+        Criterion {
+            name: "road length per house",
+            measured: format!("{per_house:.2} of the real mean"),
+            bound: band,
+            holds: (lo..=hi).contains(&per_house),
+            // the real windows count the through roads that cross them (114-159 m per house in Andorra), a
+            // generated village the roads to its own houses and between its connection points
+            guard: Some(("1/5 ..= 5".into(), (0.2..=5.0).contains(&per_house))),
         },
-        Check {
-            what: format!("{name}: road length per house / real"),
-            measured: format!("{per_house:.2}"),
-            // the real windows count the through roads that cross them (114-159 m per house in Andorra); a
-            // village's own network serves its houses only, and houses near a road front it without a road of
-            // their own
-            bound: "1/5 ..= 5".into(),
-            holds: (0.2..=5.0).contains(&per_house),
+        Criterion {
+            name: "parcel neighbours",
+            measured: format!("{:.3}", parcels.mean_neighbours),
+            bound: format!(">= {MIN_PARCEL_NEIGHBOURS}"),
+            holds: parcels.mean_neighbours >= MIN_PARCEL_NEIGHBOURS,
+            guard: None,
         },
-        Check {
-            what: format!("{name}: road over {:.0} % grade", 100.0 * max_grade),
-            measured: format!("{} % ({over_reported} roads reported)", pct(over)),
-            bound: "<= 5 % unless reported".into(),
-            holds: over <= 0.05 || over_reported > 0,
+        Criterion {
+            name: "parcel contour edges",
+            measured: format!("{:.3}", parcels.mean_edges),
+            bound: format!("<= {MAX_PARCEL_EDGES}"),
+            holds: parcels.mean_edges <= MAX_PARCEL_EDGES,
+            guard: None,
         },
-    ]
+    ];
+    let (mut asserted, targets) = split(place, name, criteria);
+    asserted.push(Check {
+        what: format!("{name}: buildings generated"),
+        measured: format!("{} of {}", gl.houses, g.asked),
+        // footprints are still lost in narrow parcels: 86-90 % stand near Bayreuth, 90-100 % in Andorra
+        bound: ">= 80 %".into(),
+        holds: gl.houses * 10 >= g.asked * 8,
+    });
+    asserted.push(Check {
+        what: format!("{name}: road over {:.0} % grade", 100.0 * max_grade),
+        measured: format!("{} % ({over_reported} roads reported)", pct(over)),
+        bound: "<= 5 % unless reported".into(),
+        holds: over <= 0.05 || over_reported > 0,
+    });
+    (asserted, targets)
 }
+
+/// The checks of a place: asserted ones, and the open targets.
+type PlaceChecks = (Vec<Check>, Vec<Check>);
 
 /// The report of one place: tables printed, checks returned.
 fn report_place(
     spec: PlaceSpec,
     enc: &Encyclopedia,
     cadastre: &(RealParcels, ParcelStatistics),
-) -> Result<Vec<Check>, Failure> {
+) -> Result<PlaceChecks, Failure> {
     let place = real::load_place(spec).map_err(Failure::Data)?;
     let max_grade = enc.roads.max_grade;
     let style = style(&spec);
@@ -658,12 +774,37 @@ fn report_place(
         classes.join(", ")
     ));
     out.push_str(&parcel_table(cadastre, &(landuse, landuse_stats), &reals, &generated).render());
+    let means = real_means(&reals);
+    out.push_str(&format!(
+        "\nreal means (each generated village is held to them within {:.0} %): nearest neighbour {:.1} m, road \
+         length per house {:.1} m\n",
+        100.0 * FIGURE_TOLERANCE,
+        means.nearest_neighbour,
+        means.road_per_house
+    ));
     println!("{out}");
-    Ok(reals
-        .iter()
-        .zip(&generated)
-        .flat_map(|(r, g)| checks(r, g, max_grade))
-        .collect())
+    let (mut asserted, mut targets) = (Vec::new(), Vec::new());
+    for (r, g) in reals.iter().zip(&generated) {
+        let (a, t) = checks(spec.label, r, &means, g, max_grade);
+        asserted.extend(a);
+        targets.extend(t);
+    }
+    Ok((asserted, targets))
+}
+
+/// The checks as a table.
+fn check_table(checks: &[Check], result: &dyn Fn(&Check) -> &'static str) -> Table {
+    let mut t = Table::new(
+        "check",
+        vec!["measured".into(), "bound".into(), "result".into()],
+    );
+    for c in checks {
+        t.row(
+            c.what.clone(),
+            vec![c.measured.clone(), c.bound.clone(), result(c).into()],
+        );
+    }
+    t
 }
 
 #[test]
@@ -681,25 +822,24 @@ fn generated_villages_beside_real_ones() {
         }
         Err(e) => panic!("real parcels: the cadastre is unreadable ({e})"),
     };
-    let mut all = Vec::new();
+    let (mut all, mut targets) = (Vec::new(), Vec::new());
     for spec in [real::NORTH_BAYREUTH, real::ANDORRA] {
         match report_place(spec, &enc, &cadastre) {
-            Ok(checks) => all.extend(checks),
+            Ok((asserted, open)) => {
+                all.extend(asserted);
+                targets.extend(open);
+            }
             Err(Failure::Engine(e)) => panic!("{}: {e}", spec.label),
             Err(Failure::Data(e)) => panic!("{}: the data is unusable: {e}", spec.label),
         }
     }
-    let mut t = Table::new(
-        "check",
-        vec!["measured".into(), "bound".into(), "result".into()],
+    let asserted = check_table(&all, &|c| if c.holds { "holds" } else { "FAILS" });
+    let open = check_table(&targets, &|c| if c.holds { "met" } else { "open" });
+    println!(
+        "{}\nissue 17 targets not asserted yet (see OPEN):\n{}\ntotal {:.1} s",
+        asserted.render(),
+        open.render(),
+        t0.elapsed().as_secs_f64()
     );
-    for c in &all {
-        let result = if c.holds { "holds" } else { "FAILS" };
-        t.row(
-            c.what.clone(),
-            vec![c.measured.clone(), c.bound.clone(), result.into()],
-        );
-    }
-    println!("{}\ntotal {:.1} s", t.render(), t0.elapsed().as_secs_f64());
     assert_all_hold(&all);
 }

@@ -7,7 +7,7 @@
 //! synthetic village.
 //!
 //! Figures seen (cell 1 m, road width 5 m, `--nocapture`): cadastre 4,241 parcels, 3.538 neighbours and 5.415
-//! edges per parcel (10.578 counting every vertex); synthetic village 34 parcels, 2.529 neighbours and 4.206
+//! edges per parcel (10.578 counting every vertex); synthetic village 40 parcels, 2.750 neighbours and 4.100
 //! edges (the thesis: real village 2.812 and 4.068, its model 2.873 and 4.29); 100 parcels on 1 km² in about
 //! 0.25 s on two threads (the ignored timing test).
 

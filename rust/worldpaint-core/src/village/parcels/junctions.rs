@@ -1,7 +1,10 @@
 //! Junction simplification (thesis 3.3.4, Emilien 2014 ch. 3) by edge collapses, as in mesh simplification: a
 //! chain of a cell or so between two junctions collapses onto one of them, and — "we remove unplausible acute
 //! angles that appear at some T-vertices" — a junction where a parcel has an angle below
-//! [`ParcelOptions::acute_angle_degrees`] moves onto the neighbouring vertex that best opens it.
+//! [`ParcelOptions::acute_angle_degrees`] moves onto the neighbouring vertex that best opens it. Last, a T behind
+//! the road fronts, where the boundary runs on through the junction turning by less than `ε`, moves onto that
+//! boundary's straight line (by at most the merge deviation), as a vertex turning by less than `ε` goes on a
+//! chain.
 
 use super::boundary::{Chain, Lattice};
 use super::simplify::Rules;
@@ -10,11 +13,11 @@ use crate::geom::ccw_angle;
 use glam::DVec2;
 use std::f64::consts::{PI, TAU};
 
-/// Where each junction vertex has moved to by an edge collapse.
-pub(super) type Moves = std::collections::HashMap<u32, u32>;
+/// Where each junction vertex has moved to, by an edge collapse or a straightening.
+pub(super) type Moves = std::collections::HashMap<u32, DVec2>;
 
 pub(super) fn position(lat: &Lattice, moved: &Moves, v: u32) -> DVec2 {
-    lat.pos(*moved.get(&v).unwrap_or(&v))
+    moved.get(&v).copied().unwrap_or_else(|| lat.pos(v))
 }
 
 /// An end of an open chain: its vertex, the direction of its edge there, the chain, and whether it is the chain's
@@ -35,7 +38,8 @@ struct JunctionGraph<'a> {
 /// Edge collapses at the junctions of the boundary graph, as in mesh simplification. A chain between two
 /// junctions no longer than the straightening tolerance collapses onto one of its ends, unless that makes an
 /// acute angle. Then the second step of 3.3.4: at a junction where a parcel has an acute angle, the junction
-/// moves onto the next vertex of one of its chains when that opens the smallest parcel angle there.
+/// moves onto the next vertex of one of its chains when that opens the smallest parcel angle there. Last, the
+/// T-junctions behind the road fronts are straightened.
 pub(super) fn collapse_junctions(
     lat: &Lattice,
     chains: &[Chain],
@@ -58,6 +62,9 @@ pub(super) fn collapse_junctions(
     let short = options.straighten * lat.work.grid.cell;
     let touched = graph.collapse_short_chains(short, &mut moved, &mut used);
     graph.open_acute_junctions(&touched, &mut moved, &mut used);
+    let eps = options.merge_angle_degrees.to_radians();
+    let max_dev = options.merge_deviation * lat.work.grid.cell;
+    graph.straighten_junctions(&touched, eps, max_dev, &mut moved);
     moved
 }
 
@@ -209,7 +216,7 @@ impl JunctionGraph<'_> {
             // no new acute angle (nor a tighter one where there was one)
             if let Some((a, from, to)) = best {
                 if a >= b1.min(b2).min(self.acute) {
-                    moved.insert(from, to);
+                    moved.insert(from, lat.pos(to));
                     used[ci] = true;
                     touched.insert(v1);
                     touched.insert(v2);
@@ -280,10 +287,91 @@ impl JunctionGraph<'_> {
             }
             if let Some((a, q)) = best {
                 if a > old + 1e-6 {
-                    moved.insert(v, heads[q].0);
+                    moved.insert(v, lat.pos(heads[q].0));
                     used[group[q].2] = true;
                 }
             }
         }
     }
+
+    /// Last, a junction where one boundary runs on through a T (two of its three chains turning by less than `ε`)
+    /// moves onto the straight line between their next vertices, by at most `max_dev`: the boundary the third
+    /// chain meets stays one straight side, as a vertex turning by less than `ε` goes on a chain. No parcel angle
+    /// may become acute, and the moved edges keep the rules.
+    fn straighten_junctions(
+        &self,
+        touched: &std::collections::HashSet<u32>,
+        eps: f64,
+        max_dev: f64,
+        moved: &mut Moves,
+    ) {
+        let (lat, kept, levels) = (self.lat, self.kept, self.levels);
+        let ends = &self.ends;
+        let mut g0 = 0;
+        while g0 < ends.len() {
+            let v = ends[g0].0;
+            let g1 = g0 + ends[g0..].partition_point(|e| e.0 == v);
+            let group = &ends[g0..g1];
+            g0 = g1;
+            if group.len() != 3
+                || touched.contains(&v)
+                || moved.contains_key(&v)
+                || group
+                    .iter()
+                    .any(|e| levels[e.2] != 0 || kept[e.2].len() < 2 || self.chains[e.2].is_loop())
+            {
+                continue;
+            }
+            let centre = lat.pos(v);
+            // the fronts follow their road, and a footprint is centred on its frontage: only a T behind them
+            let front = self.rules.half + max_dev;
+            if self.rules.index.segment_clearance(centre, centre, front) < front {
+                continue;
+            }
+            let faces: Vec<u32> = group.iter().map(|e| lat.quadrant(v, e.1)).collect();
+            let targets: Vec<DVec2> = group
+                .iter()
+                .map(|e| position(lat, moved, self.next(e.2, e.3).0))
+                .collect();
+            let Some(old) = smallest_parcel_angle(centre, &targets, &faces) else {
+                continue;
+            };
+            let straightest = [(0, 1), (1, 2), (0, 2)]
+                .into_iter()
+                .map(|(a, b)| {
+                    let turn =
+                        crate::graph::angle_between(centre - targets[a], targets[b] - centre);
+                    (turn, a, b)
+                })
+                .min_by(|x, y| x.0.total_cmp(&y.0));
+            let Some((turn, a, b)) = straightest else {
+                continue;
+            };
+            if turn >= eps {
+                continue;
+            }
+            let p = closest_on_segment(centre, targets[a], targets[b]);
+            if p.distance(centre) > max_dev || p.distance(centre) < 1e-9 {
+                continue;
+            }
+            let keeps = targets
+                .iter()
+                .all(|&t| self.rules.clear(p, t) && self.rules.replaces(&[t, centre, p]));
+            let opens = smallest_parcel_angle(p, &targets, &faces)
+                .is_some_and(|angle| angle >= old.min(self.acute));
+            if keeps && opens {
+                moved.insert(v, p);
+            }
+        }
+    }
+}
+
+/// The point of the segment `a`–`b` closest to `p`.
+fn closest_on_segment(p: DVec2, a: DVec2, b: DVec2) -> DVec2 {
+    let ab = b - a;
+    let l2 = ab.length_squared();
+    if l2 <= 0.0 {
+        return a;
+    }
+    a + ab * ((p - a).dot(ab) / l2).clamp(0.0, 1.0)
 }

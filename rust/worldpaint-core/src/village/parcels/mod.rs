@@ -45,13 +45,21 @@
 //!    so neighbours keep sharing their boundary exactly. Staircases are first straightened (Douglas–Peucker
 //!    within [`ParcelOptions::straighten`] cells), then "we remove vertices that have little influence on the
 //!    contour shape": a vertex whose edges turn by less than `ε` ([`ParcelOptions::merge_angle_degrees`]) goes,
-//!    and so does a vertex of an edge shorter than [`ParcelOptions::short_edge`] cells (a clipped corner).
+//!    and so does a vertex of an edge shorter than [`ParcelOptions::short_edge`] cells (a clipped corner). On a
+//!    parcel's far side — its free boundary (unclaimed land beyond) away from the road fronts, whose line the
+//!    conquest's budget drew, not a neighbour nor a road — vertices go up to
+//!    [`ParcelOptions::far_merge_angle_degrees`] and [`ParcelOptions::far_deviation`], so that far sides on slopes
+//!    come out straight instead of following the iso-cost curve (our choice: the thesis's real parcels have
+//!    straight far sides, 4.068 edges in all).
 //!    Junctions are simplified by edge collapses, as in mesh simplification: a chain of a cell or so between two
 //!    junctions collapses onto one of them, and — "we remove unplausible acute angles that appear at some
 //!    T-vertices" — a junction where a parcel has an angle below [`ParcelOptions::acute_angle_degrees`] moves
-//!    onto the neighbouring vertex that best opens it. No simplified edge may come within `road_width / 2` of a
-//!    road's centre line or swallow a water, wall or out-of-`Ω` node, and simplified chains may not cross; a
-//!    chain that breaks a rule is simplified less, down to its cell outline.
+//!    onto the neighbouring vertex that best opens it. Last, a T behind the road fronts (two of a junction's three
+//!    chains turning by less than `ε`) moves onto the straight line of the boundary running through it, by at most
+//!    the merge deviation: the side it lies on stays one straight edge, as it would without the junction (our
+//!    choice, the same vertex-removal rule applied at junctions). No simplified edge may come within
+//!    `road_width / 2` of a road's centre line or swallow a water, wall or out-of-`Ω` node, and simplified chains
+//!    may not cross; a chain that breaks a rule is simplified less, down to its cell outline.
 //!
 //! The conquest grid has cells of side `cell` over the land's box (water, walls and `Ω` are read at the nearest
 //! land node); it is allocated only over the neighbourhoods the seeds can reach.
@@ -120,6 +128,12 @@ pub struct ParcelOptions {
     pub merge_deviation: f64,
     /// An edge shorter than this (in cells) loses one of its vertices, within the same deviation.
     pub short_edge: f64,
+    /// `ε` (degrees) on a parcel's far side: the free boundary (unclaimed land beside it) farther than
+    /// `road_width / 2 + merge_deviation` cells from the roads, where the conquest's budget, not a neighbour
+    /// or a road, drew the line.
+    pub far_merge_angle_degrees: f64,
+    /// Largest distance (in cells) the removal of a far side's vertices may move it.
+    pub far_deviation: f64,
     /// A parcel angle below this (degrees) at a junction of the boundary graph is opened by an edge collapse.
     pub acute_angle_degrees: f64,
     /// Junction sectors (between two consecutive roads) narrower than this (degrees) get a corner conquest.
@@ -129,13 +143,18 @@ pub struct ParcelOptions {
 impl Default for ParcelOptions {
     /// `ε` = 45°, vertices moved by up to 5 cells and edges shorter than 6 cells merged: the thesis gives no value,
     /// and at 30°, 3 and 4 cells a dense village's parcels kept 8 contour edges on average against the 4.068 of
-    /// its real village (3.5), most of them shallow bends of the far side.
+    /// its real village (3.5), most of them shallow bends of the far side. Far sides: 60° and 20 cells (with the
+    /// straightened T-junctions, 5.5-6.1 edges instead of 5.9-6.4 on the real terrains of
+    /// `tests/real_village_generation.rs`; 45° and larger deviations everywhere lose footprints to narrowed
+    /// parcels rather than edges).
     fn default() -> Self {
         ParcelOptions {
             straighten: 1.5,
             merge_angle_degrees: 45.0,
             merge_deviation: 5.0,
             short_edge: 6.0,
+            far_merge_angle_degrees: 60.0,
+            far_deviation: 20.0,
             acute_angle_degrees: 30.0,
             corner_angle_degrees: 150.0,
         }
@@ -298,6 +317,8 @@ fn validate(
         ("straighten", o.straighten),
         ("merge_angle_degrees", o.merge_angle_degrees),
         ("merge_deviation", o.merge_deviation),
+        ("far_merge_angle_degrees", o.far_merge_angle_degrees),
+        ("far_deviation", o.far_deviation),
         ("acute_angle_degrees", o.acute_angle_degrees),
         ("corner_angle_degrees", o.corner_angle_degrees),
     ] {

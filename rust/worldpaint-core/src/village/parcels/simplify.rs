@@ -1,7 +1,8 @@
 //! Parcel simplification (thesis 3.3.4, Emilien 2014 ch. 3): each chain of the boundary graph is simplified once,
 //! so neighbours keep sharing their boundary exactly. Staircases are first straightened (Douglas–Peucker), then
 //! "we remove vertices that have little influence on the contour shape": a vertex whose edges turn by less than
-//! `ε` goes, and so does a vertex of a short edge. No simplified edge may come within `road_width / 2` of a
+//! `ε` goes, and so does a vertex of a short edge; on a far side (free boundary away from the road fronts) with a
+//! wider angle and deviation. No simplified edge may come within `road_width / 2` of a
 //! road's centre line or swallow a water, wall or out-of-`Ω` node, and simplified chains may not cross; a chain
 //! that breaks a rule is simplified less, down to its cell outline.
 
@@ -21,7 +22,7 @@ use rayon::prelude::*;
 pub(super) struct Rules<'a> {
     pub(super) work: &'a Work,
     pub(super) index: &'a RoadIndex,
-    half: f64,
+    pub(super) half: f64,
 }
 
 impl Rules<'_> {
@@ -53,7 +54,7 @@ impl Rules<'_> {
     /// the stretch: it keeps `road_width / 2` from every centre line, and no water, wall or out-of-`Ω` node lies
     /// between the two (the parcel would swallow it). Along a diagonal wall or shore, whose nodes make a
     /// staircase, no straight edge passes this, and the outline keeps its steps.
-    fn replaces(&self, span: &[DVec2]) -> bool {
+    pub(super) fn replaces(&self, span: &[DVec2]) -> bool {
         let (Some(&a), Some(&b)) = (span.first(), span.last()) else {
             return true;
         };
@@ -115,6 +116,19 @@ fn simplify_chain(
     let keep = straightened(ch, &pts, options.straighten * c * scale, rules);
     let mut kept: Vec<usize> = (0..cyc).filter(|&q| keep[q]).collect();
     let max_dev = options.merge_deviation * c * scale;
+    // a far side: a stretch of the free boundary (unclaimed land beside it) away from the road fronts, which
+    // the conquest's budget shaped rather than a neighbour or the road, so it may straighten further
+    let free = ch.labels.contains(&NONE);
+    let front = rules.half + max_dev;
+    let far_dev = options.far_deviation * c * scale;
+    let far = |a: DVec2, b: DVec2| free && rules.index.segment_clearance(a, b, front) >= front;
+    let deviation = |a: DVec2, b: DVec2| {
+        if far(a, b) {
+            far_dev.max(max_dev)
+        } else {
+            max_dev
+        }
+    };
     // removes, one at a time, the removable vertex with the smallest score among `candidates` (score, index into
     // `kept`), until none is left or the chain is as short as it may be
     let mut remove_while = |candidates: &dyn Fn(&[usize]) -> ScoredVertices| loop {
@@ -126,7 +140,7 @@ fn simplify_chain(
         found.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
         match found
             .into_iter()
-            .find(|&(_, q)| removable(&kept, q, &pts, cyc, max_dev, rules))
+            .find(|&(_, q)| removable(&kept, q, &pts, cyc, &deviation, rules))
         {
             Some((_, q)) => {
                 kept.remove(q);
@@ -136,15 +150,21 @@ fn simplify_chain(
     };
     // the vertices where the contour turns by less than ε
     let eps = options.merge_angle_degrees.to_radians() * scale;
+    let far_eps = options.far_merge_angle_degrees.to_radians() * scale;
     remove_while(&|kept: &[usize]| {
         let km = kept.len();
         let range = if ch.closed { 0..km } else { 1..km - 1 };
         range
-            .map(|q| {
+            .filter_map(|q| {
                 let (p, x, nx) = (kept[(q + km - 1) % km], kept[q], kept[(q + 1) % km]);
-                (angle_between(pts[x] - pts[p], pts[nx] - pts[x]), q)
+                let turn = angle_between(pts[x] - pts[p], pts[nx] - pts[x]);
+                let limit = if far(pts[p], pts[x]) && far(pts[x], pts[nx]) {
+                    far_eps.max(eps)
+                } else {
+                    eps
+                };
+                (turn < limit).then_some((turn, q))
             })
-            .filter(|&(turn, _)| turn < eps)
             .collect()
     });
     // then a vertex of an edge shorter than `short_edge` cells (a clipped corner, a one-cell jog): it has as
@@ -229,18 +249,19 @@ fn straightened(ch: &Chain, pts: &[DVec2], tol: f64, rules: &Rules) -> Vec<bool>
     keep
 }
 
-/// Whether kept vertex `q` may go: the outline between its neighbours stays within `max_dev` of the new edge,
-/// which [`Rules::replaces`] the outline.
+/// Whether kept vertex `q` may go: the outline between its neighbours stays within `deviation(a, b)` of the new
+/// edge `a`–`b`, which [`Rules::replaces`] the outline.
 fn removable(
     kept: &[usize],
     q: usize,
     pts: &[DVec2],
     cyc: usize,
-    max_dev: f64,
+    deviation: &dyn Fn(DVec2, DVec2) -> f64,
     rules: &Rules,
 ) -> bool {
     let km = kept.len();
     let (p, nx) = (kept[(q + km - 1) % km], kept[(q + 1) % km]);
+    let max_dev = deviation(pts[p], pts[nx]);
     let mut span = vec![pts[p]];
     let mut r = (p + 1) % cyc;
     while r != nx {
