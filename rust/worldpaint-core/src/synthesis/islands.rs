@@ -15,7 +15,9 @@
 //! * **Land.** The land the removed islands held goes to the islands that stay: each one wholly inside the region
 //!   is scaled about its centroid by `s = √(1 + removed / kept)`, its lakes with it, when the scaled island
 //!   stays in the region and at least two dense-point spacings clear of every other island (otherwise it keeps
-//!   its size). The land share, which the rdf chain matched, is kept, and the mean island area follows.
+//!   its size). The land share, which the rdf chain matched, is kept, and the mean island area follows. When
+//!   the islands that stay cannot take the land back (near the border, crowded) and more than `LAND_LOSS` of
+//!   it would be lost, the islands stay as traced: the land share matters more than their count.
 //!
 //! Why not a term of the rdf chain or births of whole islands: the chain moves single points in parallel
 //! tiles, and a term on component sizes needs the connectivity of the whole region at every move; whole-island
@@ -29,6 +31,8 @@ use crate::palette::PolygonColor;
 
 /// Islands are kept at least this many dense-point spacings apart when they grow.
 const GAP_SPACINGS: f64 = 2.0;
+/// The largest share of the traced land the matching may lose (when the islands that stay cannot grow).
+const LAND_LOSS: f64 = 0.1;
 
 /// The traced contours with their islands matched to the learned count and sizes (see the module
 /// documentation); `area` is the region's.
@@ -70,12 +74,20 @@ pub(super) fn match_sizes(
         .filter(|&k| wholly_inside(&all[k]))
         .collect();
     let growing_land: f64 = growing.iter().map(|&k| all[k].area).sum();
+    let mut regained = 0.0;
     if lost > 0.0 && growing_land > 0.0 {
         let scale = (1.0 + lost / growing_land).sqrt();
         let gap = GAP_SPACINGS * pc.spacing;
         for &k in &growing {
-            grow(&mut contours, &all, &kept, k, scale, gap, region);
+            if grow(&mut contours, &all, &kept, k, scale, gap, region) {
+                regained += all[k].area * (scale * scale - 1.0);
+            }
         }
+    }
+    // islands too close to the border or to each other to grow would lose the land the chain matched: the
+    // islands stay as traced rather than the land share falling
+    if lost - regained > LAND_LOSS * all.iter().map(|i| i.area).sum::<f64>() {
+        return traced;
     }
     kept.iter()
         .flat_map(|&k| std::iter::once(all[k].outer).chain(all[k].lakes.iter().copied()))
@@ -84,7 +96,7 @@ pub(super) fn match_sizes(
 }
 
 /// Scales island `k` (its outer contour and lakes) about its centroid by `scale`, when it then stays in the
-/// region, `gap` clear of the other `kept` islands, and holds none of them.
+/// region, `gap` clear of the other `kept` islands, and holds none of them; whether it did.
 fn grow(
     contours: &mut [Vec<DVec2>],
     all: &[Island],
@@ -93,7 +105,7 @@ fn grow(
     scale: f64,
     gap: f64,
     region: &PreparedRegion,
-) {
+) -> bool {
     let island = &all[k];
     let c = centroid(&contours[island.outer]);
     let scaled =
@@ -124,4 +136,5 @@ fn grow(
             contours[lake] = scaled(&contours[lake]);
         }
     }
+    fits
 }
