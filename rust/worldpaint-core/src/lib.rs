@@ -23,11 +23,11 @@
 //! | [`terrain_edit`] | terrain that adapts: constraint-based deformation by multigrid diffusion (thesis 4.4.2, 5.3.3) |
 //! | [`scene`] | categories, priority order, instances (§3) |
 //! | [`palette`] | histograms, colors, palettes (§3, §4.1) |
-//! | `analysis` ([`learn_color`]) | learning a color (§4.1) |
+//! | `analysis` ([`learn_color`]) | learning a color (§4.1); its radius, which follows a clustered example (`radius`), and the pair correlation of a map preference (`intensity`) |
 //! | `compare` ([`compare()`], [`Fidelity`], [`self_synthesis`]) | fidelity metrics between two colors; a color learned back from what it painted |
 //! | [`fidelity_plot`] | the fidelity picture: example and self-synthesis pcf and slope histograms |
 //! | [`interpolate`] | distribution interpolation by optimal mass transport (§5.2) |
-//! | [`synthesis`] | Metropolis-Hastings synthesis with a region of influence (§4.1, §4.3, §5.1, §6); adapting moved content (§5.4) |
+//! | [`synthesis`] | Metropolis-Hastings synthesis with a region of influence (§4.1, §4.3, §5.1, §6); adapting moved content (§5.4); island count and size matched after tracing (`islands`) |
 //! | [`tools`] | the painting tools: paste, brush and eraser, move, seam-carving stretch, gradient, blur (§5) |
 //! | [`village`] | villages on arbitrary terrain: growth, roads, parcels, houses (thesis ch. 3) |
 //! | [`waterfall`] | waterfall scenes: controller network, hydraulic graph and flow, terrain-adapted subdivision, slope-flow types, integration mesh, terrain deformation, decoration maps (thesis ch. 4) |

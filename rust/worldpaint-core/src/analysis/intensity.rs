@@ -9,13 +9,11 @@
 //! inverse of the share they allow at `r = 0` when they allow a part of the region evenly, falling back to 1 over
 //! the distance at which the maps change. The rdf of points that follow the maps *and* cluster is `c(r)` times
 //! their inhomogeneous pcf (Baddeley, Møller and Waagepetersen 2000), so the analysis divides `c` out before it
-//! decides how far the points are clustered, and the synthesis scales the learned rdf by `c_painted / c_example`:
-//! a slope preference and clustering are not counted twice.
+//! decides how far the points are clustered: a slope preference is not read as clustering.
 //!
 //! `ψ` is read once on a grid of at most `MAX_CELLS` cells over the region, and every cell is paired with the
 //! cells `r` away in `DIRECTIONS` evenly spaced directions (grid lookups): all the region counts, so a spiky
 //! preference learned from a few instances gives the same `c` on two regions that hold the same map values.
-//! `c` is read at `RADII` radii, denser near 0 where it changes fastest, and interpolated between them.
 
 use crate::geom::DVec2;
 use rayon::prelude::*;
@@ -25,8 +23,6 @@ use std::f64::consts::TAU;
 const MAX_CELLS: f64 = 40_000.0;
 /// Directions each cell is paired in.
 const DIRECTIONS: usize = 8;
-/// Radii `c` is read at (from 0 to the largest bin's middle).
-const RADII: usize = 16;
 
 /// `ψ` on a grid over a region: `None` outside the region or off the maps.
 struct Field {
@@ -124,20 +120,8 @@ where
     if !(mean > 0.0) || !mean.is_finite() || n_bins == 0 {
         return vec![1.0; n_bins];
     }
-    let r_max = (n_bins as f64 - 0.5) * bin_width;
-    let radii: Vec<f64> = (0..RADII)
-        .map(|j| r_max * (j as f64 / (RADII - 1) as f64).powi(2))
-        .collect();
-    let at_radii: Vec<f64> = radii
-        .par_iter()
-        .map(|r| field.correlation(*r, mean))
-        .collect();
     (0..n_bins)
-        .map(|k| {
-            let r = (k as f64 + 0.5) * bin_width;
-            let j = radii.partition_point(|x| *x < r).clamp(1, RADII - 1);
-            let t = ((r - radii[j - 1]) / (radii[j] - radii[j - 1]).max(1e-12)).clamp(0.0, 1.0);
-            at_radii[j - 1] + t * (at_radii[j] - at_radii[j - 1])
-        })
+        .into_par_iter()
+        .map(|k| field.correlation((k as f64 + 0.5) * bin_width, mean))
         .collect()
 }

@@ -12,6 +12,8 @@
 
 use crate::pcf::{count_correlation, l2, pcf};
 use crate::real_data::{real_data_dir, require};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 use worldpaint_core::exemplar;
@@ -329,17 +331,11 @@ fn slope_poisson(
         _ => 0.0,
     };
     let peak = (0..count.len()).map(intensity).fold(0.0, f64::max);
-    let candidates = exemplar::uniform(to, peak, seed);
-    let mut rng = seed.wrapping_mul(0x9e37_79b9_7f4a_7c15) | 1;
-    candidates
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    exemplar::uniform(to, peak, seed)
         .into_iter()
         .filter(|p| {
-            // xorshift: a thinning draw per candidate, seeded
-            rng ^= rng << 13;
-            rng ^= rng >> 7;
-            rng ^= rng << 17;
-            let u = (rng >> 11) as f64 / (1u64 << 53) as f64;
-            slope_bin(terrain, *p).is_some_and(|k| u * peak < intensity(k))
+            slope_bin(terrain, *p).is_some_and(|k| rng.random::<f64>() * peak < intensity(k))
         })
         .collect()
 }
