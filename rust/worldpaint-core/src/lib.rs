@@ -21,6 +21,7 @@
 //! | [`terrain`] | the terrain and its external maps (§3) |
 //! | [`distance`] | exact Euclidean distance transforms on grids |
 //! | [`terrain_edit`] | terrain that adapts: constraint-based deformation by multigrid diffusion (thesis 4.4.2, 5.3.3) |
+//! | [`sketch`] | terrain edited from silhouettes sketched over a first-person view (thesis ch. 5) |
 //! | [`scene`] | categories, priority order, instances (§3) |
 //! | [`palette`] | histograms, colors, palettes (§3, §4.1) |
 //! | `analysis` ([`learn_color`]) | learning a color (§4.1); its radius, which follows a clustered example (`radius`), and the pair correlation of a map preference (`intensity`) |
@@ -55,6 +56,7 @@ pub mod polygon_mesh;
 mod progress;
 pub mod scene;
 pub mod search;
+pub mod sketch;
 pub mod spatial;
 pub mod synthesis;
 pub mod terrain;

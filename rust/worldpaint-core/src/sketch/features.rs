@@ -1,0 +1,1 @@
+//! Terrain features: silhouettes and ridges (thesis §5.3.1).

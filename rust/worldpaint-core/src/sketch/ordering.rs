@@ -1,0 +1,1 @@
+//! Stroke ordering by depth (thesis §5.2).

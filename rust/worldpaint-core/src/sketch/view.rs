@@ -1,0 +1,333 @@
+//! The first-person view: a perspective camera that maps world points to image coordinates and back to rays, and
+//! rays cast on the heightfield (what the camera sees, and the terrain's visible silhouette in each image column).
+
+use crate::error::{check, Error, Result};
+use crate::terrain::Heightfield;
+use glam::{DVec2, DVec3};
+
+/// A perspective camera: its eye, an orthonormal frame (`forward` the viewing direction, `up` the image's up) and
+/// the image frame on the plane one metre in front of the eye, in units of `right` and `up` (Blender's
+/// `Camera.view_frame` divided by its depth, so lens shift and sensor fit are kept).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Camera {
+    /// The eye (world, m).
+    pub eye: DVec3,
+    /// Image right, unit.
+    pub right: DVec3,
+    /// Image up, unit, orthogonal to `right` and `forward`.
+    pub up: DVec3,
+    /// Viewing direction, unit.
+    pub forward: DVec3,
+    /// Bottom-left corner of the frame at one metre: `(x, y)` along `right` and `up`.
+    pub frame_min: DVec2,
+    /// Top-right corner of the frame at one metre.
+    pub frame_max: DVec2,
+}
+
+impl Camera {
+    /// A camera at `eye` looking along `forward`, with `up` the image's up once made orthogonal to `forward`, and
+    /// the frame at one metre from `frame_min` to `frame_max`.
+    pub fn new(
+        eye: DVec3,
+        forward: DVec3,
+        up: DVec3,
+        frame_min: DVec2,
+        frame_max: DVec2,
+    ) -> Result<Camera> {
+        for (name, v) in [("eye", eye), ("forward", forward), ("up", up)] {
+            if !v.is_finite() {
+                return Err(Error::invalid(format!("camera {name}"), "is not finite"));
+            }
+        }
+        if !(frame_min.is_finite() && frame_max.is_finite())
+            || !(frame_max.x > frame_min.x && frame_max.y > frame_min.y)
+        {
+            return Err(Error::invalid(
+                "camera frame",
+                format!("{frame_min} to {frame_max} is empty"),
+            ));
+        }
+        let forward = forward
+            .try_normalize()
+            .ok_or_else(|| Error::invalid("camera forward", "is zero"))?;
+        let right = forward
+            .cross(up)
+            .try_normalize()
+            .ok_or_else(|| Error::invalid("camera up", "is parallel to its forward direction"))?;
+        Ok(Camera {
+            eye,
+            right,
+            up: right.cross(forward),
+            forward,
+            frame_min,
+            frame_max,
+        })
+    }
+
+    /// A level-horizon camera (image up in the vertical plane of `forward`) looking from `eye` at `target`, with a
+    /// horizontal field of view of `fov_degrees` and a frame `aspect` times wider than tall: for tests and scripts.
+    pub fn looking_at(eye: DVec3, target: DVec3, fov_degrees: f64, aspect: f64) -> Result<Camera> {
+        check::positive("camera field of view", fov_degrees)?;
+        check::positive("camera aspect", aspect)?;
+        if fov_degrees >= 179.0 {
+            return Err(Error::invalid(
+                "camera field of view",
+                format!("{fov_degrees}° is not below 179°"),
+            ));
+        }
+        let half = (0.5 * fov_degrees).to_radians().tan();
+        let frame = DVec2::new(half, half / aspect);
+        Camera::new(eye, target - eye, DVec3::Z, -frame, frame)
+    }
+
+    /// Image coordinates of `p` and its depth along `forward` (m); `None` for a point behind or at the eye.
+    pub fn project(&self, p: DVec3) -> Option<(DVec2, f64)> {
+        let v = p - self.eye;
+        let depth = v.dot(self.forward);
+        if !(depth > 1e-9) {
+            return None;
+        }
+        let plane = DVec2::new(v.dot(self.right), v.dot(self.up)) / depth;
+        Some((
+            (plane - self.frame_min) / (self.frame_max - self.frame_min),
+            depth,
+        ))
+    }
+
+    /// The unit direction of the ray from the eye through image point `image`.
+    pub fn ray(&self, image: DVec2) -> DVec3 {
+        let plane = self.frame_min + image * (self.frame_max - self.frame_min);
+        (self.forward + plane.x * self.right + plane.y * self.up).normalize()
+    }
+
+    /// Image `y` per metre of `up` at one metre: converts image heights to angles' tangents.
+    pub fn image_height(&self) -> f64 {
+        self.frame_max.y - self.frame_min.y
+    }
+}
+
+/// A terrain as the camera sees it: the heightfield and its highest point, which bounds every ray march.
+#[derive(Clone, Copy, Debug)]
+pub struct Sight<'a> {
+    /// The terrain.
+    pub terrain: &'a Heightfield,
+    top: f64,
+}
+
+/// Bisection steps that refine a ray's hit after the march brackets it.
+const HIT_REFINEMENT: usize = 20;
+/// March step along a ray, in terrain cells of horizontal travel: half a cell never steps over a bilinear bump.
+const MARCH_STEP: f64 = 0.5;
+/// Image rows the column search first steps down by, before bisecting to the silhouette.
+const COLUMN_ROWS: usize = 64;
+/// Bisection steps of the column search: 2⁻¹⁸ of the searched height, far below a pixel.
+const COLUMN_REFINEMENT: usize = 18;
+
+impl<'a> Sight<'a> {
+    /// The terrain prepared for ray casting.
+    pub fn new(terrain: &'a Heightfield) -> Sight<'a> {
+        let top = terrain
+            .heights
+            .iter()
+            .fold(f64::NEG_INFINITY, |m, &h| m.max(h as f64));
+        Sight { terrain, top }
+    }
+
+    /// Where the ray from `origin` along the unit `dir` first meets the terrain's (bilinear) surface: the distance
+    /// along the ray and the point; `None` if it leaves the terrain's box first.
+    pub fn hit(&self, origin: DVec3, dir: DVec3) -> Option<(f64, DVec3)> {
+        let (t0, t1) = self.span(origin, dir)?;
+        let horizontal = dir.truncate().length().max(0.05);
+        let step = MARCH_STEP * self.terrain.cell / horizontal;
+        let above = |t: f64| -> Option<f64> {
+            let p = origin + dir * t;
+            self.terrain.height_at(p.truncate()).map(|h| p.z - h)
+        };
+        let mut t = t0;
+        if above(t)? <= 0.0 {
+            return Some((t, origin + dir * t));
+        }
+        while t < t1 {
+            let next = (t + step).min(t1);
+            let d = above(next)?;
+            if d <= 0.0 {
+                let (mut lo, mut hi) = (t, next);
+                for _ in 0..HIT_REFINEMENT {
+                    let mid = 0.5 * (lo + hi);
+                    match above(mid) {
+                        Some(v) if v > 0.0 => lo = mid,
+                        _ => hi = mid,
+                    }
+                }
+                return Some((hi, origin + dir * hi));
+            }
+            t = next;
+        }
+        None
+    }
+
+    /// The part `[t0, t1]` of the ray inside the terrain's box (its XY extent, below its highest point).
+    fn span(&self, origin: DVec3, dir: DVec3) -> Option<(f64, f64)> {
+        let (lo, hi) = self.terrain.bbox();
+        let (mut t0, mut t1) = (0.0f64, f64::INFINITY);
+        for (o, d, a, b) in [(origin.x, dir.x, lo.x, hi.x), (origin.y, dir.y, lo.y, hi.y)] {
+            if d.abs() < 1e-12 {
+                if o < a || o > b {
+                    return None;
+                }
+                continue;
+            }
+            let (ta, tb) = ((a - o) / d, (b - o) / d);
+            t0 = t0.max(ta.min(tb));
+            t1 = t1.min(ta.max(tb));
+        }
+        if dir.z.abs() > 1e-12 {
+            let t_top = (self.top - origin.z) / dir.z;
+            if dir.z > 0.0 {
+                t1 = t1.min(t_top);
+            } else {
+                t0 = t0.max(t_top);
+            }
+        } else if origin.z > self.top {
+            return None;
+        }
+        // a hair inside the box, so that the heights there are defined
+        let pad = 1e-9 * (1.0 + t1.abs().min(1e12));
+        (t0 + pad <= t1 - pad).then_some((t0 + pad, t1 - pad))
+    }
+
+    /// The terrain's visible silhouette in image column `x`: the image `y` of the highest ray of the column that
+    /// meets the terrain (searched between `y_min` and `y_max`), and the point it grazes; `None` if no ray of the
+    /// column between them meets the terrain. If the ray at `y_max` already meets it, that is returned.
+    pub fn column_silhouette(
+        &self,
+        camera: &Camera,
+        x: f64,
+        y_min: f64,
+        y_max: f64,
+    ) -> Option<(f64, DVec3)> {
+        let cast = |y: f64| {
+            self.hit(camera.eye, camera.ray(DVec2::new(x, y)))
+                .map(|(_, p)| p)
+        };
+        if let Some(p) = cast(y_max) {
+            return Some((y_max, p));
+        }
+        // a lower ray of the column passes below a higher one everywhere, so once one meets the terrain every
+        // lower one does: step down to the first hit, then bisect the step
+        let row = (y_max - y_min) / COLUMN_ROWS as f64;
+        let (mut miss, mut hit) = (y_max, None);
+        for k in 1..=COLUMN_ROWS {
+            let y = y_max - row * k as f64;
+            if let Some(p) = cast(y) {
+                hit = Some((y, p));
+                break;
+            }
+            miss = y;
+        }
+        let (mut lo, mut point) = hit?;
+        for _ in 0..COLUMN_REFINEMENT {
+            let mid = 0.5 * (lo + miss);
+            match cast(mid) {
+                Some(p) => {
+                    lo = mid;
+                    point = p;
+                }
+                None => miss = mid,
+            }
+        }
+        Some((lo, point))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn plane(slope: f64) -> Heightfield {
+        let n = 101;
+        let heights = (0..n * n)
+            .map(|k| (slope * (k / n) as f64) as f32)
+            .collect();
+        Heightfield::new(DVec2::ZERO, 1.0, n, n, heights).expect("a valid grid")
+    }
+
+    #[test]
+    fn projection_and_rays_agree() {
+        let cam = Camera::looking_at(
+            DVec3::new(0.0, -50.0, 10.0),
+            DVec3::new(20.0, 50.0, 0.0),
+            60.0,
+            1.5,
+        )
+        .expect("a camera");
+        let p = DVec3::new(10.0, 30.0, 3.0);
+        let (image, depth) = cam.project(p).expect("in front");
+        let dir = cam.ray(image);
+        let back = cam.eye + dir * (depth / dir.dot(cam.forward));
+        assert!(back.distance(p) < 1e-9, "{back} vs {p}");
+        assert!(
+            cam.project(DVec3::new(0.0, -60.0, 10.0)).is_none(),
+            "behind the eye"
+        );
+        let centre = cam
+            .project(cam.eye + cam.forward * 7.0)
+            .expect("in front")
+            .0;
+        assert!(centre.distance(DVec2::splat(0.5)) < 1e-12);
+    }
+
+    #[test]
+    fn a_ray_meets_a_slope_where_the_plane_equation_says() {
+        let terrain = plane(0.2);
+        let sight = Sight::new(&terrain);
+        let origin = DVec3::new(50.0, -10.0, 15.0);
+        let dir = DVec3::new(0.0, 1.0, -0.1).normalize();
+        let (_, p) = sight.hit(origin, dir).expect("a hit");
+        // z = 15 - 0.1 (y + 10) and z = 0.2 y: y = 14 / 0.3
+        assert!((p.y - 14.0 / 0.3).abs() < 1e-3, "{p}");
+        assert!((p.z - 0.2 * p.y).abs() < 1e-3);
+        assert!(
+            sight
+                .hit(origin, DVec3::new(0.0, 1.0, 0.3).normalize())
+                .is_none(),
+            "rising above the top"
+        );
+        assert!(
+            sight.hit(origin, DVec3::new(0.0, -1.0, 0.0)).is_none(),
+            "away from the terrain"
+        );
+    }
+
+    #[test]
+    fn the_column_silhouette_of_a_ridge_is_its_crest() {
+        // a ridge along X at y = 60, 30 m high, on flat ground
+        let n = 121;
+        let heights = (0..n * n)
+            .map(|k| {
+                let y = (k / n) as f64;
+                (30.0 * (-((y - 60.0) / 8.0).powi(2)).exp()) as f32
+            })
+            .collect();
+        let terrain = Heightfield::new(DVec2::ZERO, 1.0, n, n, heights).expect("a valid grid");
+        let sight = Sight::new(&terrain);
+        let cam = Camera::looking_at(
+            DVec3::new(60.0, -40.0, 5.0),
+            DVec3::new(60.0, 60.0, 5.0),
+            50.0,
+            1.0,
+        )
+        .expect("a camera");
+        let (y, p) = sight
+            .column_silhouette(&cam, 0.5, 0.0, 1.0)
+            .expect("the ridge is seen");
+        // the grazing point is the crest seen from the eye: the tangent from the eye touches the ridge's near side
+        let (image, _) = cam.project(p).expect("in front");
+        assert!((image.y - y).abs() < 1e-4, "{} vs {y}", image.y);
+        assert!(p.y > 45.0 && p.y <= 60.5 && p.z > 20.0, "{p}");
+        // nothing in the column above the crest meets the terrain
+        assert!(sight
+            .hit(cam.eye, cam.ray(DVec2::new(0.5, y + 0.01)))
+            .is_none());
+    }
+}
