@@ -9,11 +9,19 @@
 //! | [`view`] | the camera (projection to the image, rays through it) and rays cast on the heightfield |
 //! | [`ordering`] | 1. strokes ordered in depth by the left-to-right sweep with T-junctions (§5.2) |
 //! | [`features`] | 2. the terrain's features: silhouettes from the camera and ridges (PPA with a spanning forest, §5.3.1) |
+//! | [`matching`] | 3. each stroke's priority list of deformed features, and their assignment by branch and bound (§5.3.2) |
+//! | [`curves`] | 3. the strokes' 3D curves: matched features, embedded strokes, completion to the ground (§5.3.2) |
+//! | [`deform`] | 4. and 5. the deformation (§5.3.3) and the lowering of protruding silhouettes (§5.4) |
+//! | [`apply`] | the whole edit (§5.1) |
 //!
 //! Image coordinates are those of Blender's camera view: `x` from 0 (left) to 1 (right) and `y` from 0 (bottom)
 //! to 1 (top) of the camera frame; the "altitude" of a point in the sketching plane is its `y`.
 
+pub mod apply;
+pub mod curves;
+pub mod deform;
 pub mod features;
+pub mod matching;
 pub mod ordering;
 pub mod view;
 

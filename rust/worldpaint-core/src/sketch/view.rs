@@ -206,9 +206,22 @@ impl<'a> Sight<'a> {
         y_min: f64,
         y_max: f64,
     ) -> Option<(f64, DVec3)> {
+        self.column_silhouette_nearer(camera, x, (y_min, y_max), f64::INFINITY)
+    }
+
+    /// [`Sight::column_silhouette`] counting only the terrain nearer than `max_depth` (along the camera's forward
+    /// axis): the silhouette of what stands in front of something at that depth.
+    pub fn column_silhouette_nearer(
+        &self,
+        camera: &Camera,
+        x: f64,
+        (y_min, y_max): (f64, f64),
+        max_depth: f64,
+    ) -> Option<(f64, DVec3)> {
         let cast = |y: f64| {
             self.hit(camera.eye, camera.ray(DVec2::new(x, y)))
                 .map(|(_, p)| p)
+                .filter(|p| (*p - camera.eye).dot(camera.forward) < max_depth)
         };
         if let Some(p) = cast(y_max) {
             return Some((y_max, p));

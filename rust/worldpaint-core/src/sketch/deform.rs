@@ -1,0 +1,260 @@
+//! Terrain deformation to the sketch (thesis §5.3.3) and the lowering of protruding silhouettes (§5.4).
+//!
+//! **Deformation.** For every point `p` of the strokes' 3D curves, `δ = z − H(x, y)` is a displacement
+//! constraint on the terrain's grid; the constraints are diffused by the multigrid solver of `terrain_edit` into
+//! the displacement map `M`, and `H′ = H + M`. Diffusing differences keeps the terrain's fine detail. The
+//! displacement fades to zero at [`DeformOptions::reach`] from the constraints, so the terrain farther away is
+//! unchanged (the thesis diffuses over the whole grid; an edit that moves a far corner of the map would surprise an
+//! artist).
+//!
+//! **Lowering protruding silhouettes.** "Mountain silhouette `s` hides a user-specified silhouette `g` if `s` is
+//! closer to the camera than `g` and the projection `s_p` of `s` on the sketching plane has a higher altitude than
+//! `g_p`"; it is lowered "uniformly by an offset `h`", the largest height difference between it and the silhouettes
+//! it hides, its lowered points become new constraints, and the terrain is deformed again from the original with
+//! all constraints, until nothing protrudes. Silhouettes are found column by column: in each image column a stroke
+//! covers (sampled [`DeformOptions::columns`] across the image), the highest ray that meets the terrain nearer than
+//! the stroke's curve is cast ([`Sight::column_silhouette_nearer`]); if it passes above the stroke, the grazed
+//! point belongs to a protruding silhouette. Runs of protruding columns are one silhouette each. We count as
+//! "closer to the camera" also the terrain just behind the curve, within the deformation's reach, in the columns
+//! where the stroke is the highest one drawn: when a feature is lowered onto a stroke, the ground behind it, lowered
+//! less, would otherwise rise above the stroke and no silhouette would be seen where the user drew one. Terrain
+//! farther behind, or behind a stroke with another stroke drawn above it, is background the user may see.
+
+use super::curves::projected;
+use super::matching::{on_stroke, StrokeCurve};
+use super::view::{Camera, Sight};
+use crate::error::{Error, Result};
+use crate::terrain::Heightfield;
+use crate::terrain_edit::{diffuse, rasterize, Constraints, Diffusion, DiffusionOptions};
+use glam::{DVec2, DVec3};
+use rayon::prelude::*;
+
+/// How the terrain is deformed and how protruding silhouettes are lowered.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DeformOptions {
+    /// Distance (m) from the constraints at which the displacement has faded to zero; `None`: eight times the
+    /// largest displacement asked for, at least 16 cells (the deformed slopes then stay below about 1 in 8 beside
+    /// the curves).
+    pub reach: Option<f64>,
+    /// Image columns sampled across the whole frame when looking for protruding silhouettes.
+    pub columns: usize,
+    /// How far (image heights) a protruding silhouette may rise above a stroke before it is lowered, and how far
+    /// below the stroke it is lowered to.
+    pub clearance: f64,
+    /// Most deformations (the first one and the ones after each lowering).
+    pub max_rounds: usize,
+}
+
+impl Default for DeformOptions {
+    /// 512 columns, a clearance of 0.2 % of the image height (a pixel of a 512-pixel-high view), 6 rounds (the
+    /// thesis: "a single iteration is usually sufficient").
+    fn default() -> Self {
+        DeformOptions {
+            reach: None,
+            columns: 512,
+            clearance: 0.002,
+            max_rounds: 6,
+        }
+    }
+}
+
+/// A stroke and the 3D curve the terrain is deformed to for it.
+#[derive(Clone, Debug)]
+pub struct StrokeTarget {
+    /// The stroke, as a function of image `x`.
+    pub stroke: StrokeCurve,
+    /// The curve (on the stroke when seen from the camera).
+    pub curve: Vec<DVec3>,
+}
+
+/// The deformed terrain and how it was reached.
+#[derive(Clone, Debug)]
+pub struct Deformation {
+    /// `H′ = H + M`.
+    pub terrain: Heightfield,
+    /// `M`, row-major on the terrain's grid.
+    pub displacement: Vec<f64>,
+    /// The protruding silhouettes found, as lowered (world points), over all rounds.
+    pub lowered: Vec<Vec<DVec3>>,
+    /// Deformations run.
+    pub rounds: usize,
+    /// Image columns where a silhouette still rises above a stroke after the last round.
+    pub hidden_columns: usize,
+    /// The reach used (m).
+    pub reach: f64,
+}
+
+/// The depth of a curve at image `x`, from its projected points (sorted by `x`).
+fn depth_at(points: &[(DVec2, f64)], x: f64) -> Option<f64> {
+    let k = points.partition_point(|p| p.0.x < x);
+    if k == 0 || k == points.len() {
+        return points
+            .iter()
+            .find(|p| (p.0.x - x).abs() < 1e-12)
+            .map(|p| p.1);
+    }
+    let (a, b) = (points[k - 1], points[k]);
+    let t = if b.0.x > a.0.x {
+        (x - a.0.x) / (b.0.x - a.0.x)
+    } else {
+        0.0
+    };
+    Some(a.1 + (b.1 - a.1) * t)
+}
+
+/// One image column of a stroke where terrain rises above it: the grazed point and how much it must drop (m).
+#[derive(Clone, Copy, Debug)]
+struct Protrusion {
+    column: usize,
+    point: DVec3,
+    drop: f64,
+}
+
+/// Deforms `terrain` so that the targets' curves lie on it, then lowers what hides them, round after round;
+/// `progress` hears the share of [`DeformOptions::max_rounds`] done after each round, and cancels
+/// ([`Error::Cancelled`]) by returning `false`.
+pub fn deform(
+    terrain: &Heightfield,
+    camera: &Camera,
+    targets: &[StrokeTarget],
+    options: &DeformOptions,
+    progress: &dyn Fn(f64) -> bool,
+) -> Result<Deformation> {
+    let curves: Vec<&[DVec3]> = targets
+        .iter()
+        .map(|t| t.curve.as_slice())
+        .filter(|c| !c.is_empty())
+        .collect();
+    let largest = curves
+        .iter()
+        .flat_map(|c| c.iter())
+        .filter_map(|p| terrain.height_at(p.truncate()).map(|h| (p.z - h).abs()))
+        .fold(0.0, f64::max);
+    let reach = options
+        .reach
+        .unwrap_or((8.0 * largest).max(16.0 * terrain.cell));
+    let solve = |lowered: &[Vec<DVec3>]| -> Result<Diffusion> {
+        let mut constraints = Constraints::for_terrain(terrain);
+        // the strokes' curves first: a lowered silhouette crossing one never overrides it
+        for curve in curves
+            .iter()
+            .copied()
+            .chain(lowered.iter().map(Vec::as_slice))
+        {
+            if curve.len() >= 2 {
+                rasterize::polyline(&mut constraints, terrain, curve)?;
+            }
+        }
+        diffuse(
+            &constraints,
+            &DiffusionOptions {
+                falloff: Some(reach),
+                ..DiffusionOptions::default()
+            },
+        )
+    };
+    let rounds = options.max_rounds.max(1);
+    let mut lowered: Vec<Vec<DVec3>> = Vec::new();
+    let mut round = 0;
+    loop {
+        round += 1;
+        let diffusion = solve(&lowered)?;
+        let deformed = diffusion.apply(terrain)?;
+        let found = protruding(&deformed, camera, targets, reach, options);
+        let hidden: usize = found.iter().map(Vec::len).sum();
+        if !progress(round as f64 / rounds as f64) {
+            return Err(Error::Cancelled);
+        }
+        if hidden == 0 || round >= rounds {
+            return Ok(Deformation {
+                terrain: deformed,
+                displacement: diffusion.displacement,
+                lowered,
+                rounds: round,
+                hidden_columns: hidden,
+                reach,
+            });
+        }
+        for run in found {
+            // "uniformly lower s by an offset h": the largest drop any of its columns needs
+            let h = run.iter().map(|p| p.drop).fold(0.0, f64::max);
+            lowered.push(run.iter().map(|p| p.point - DVec3::Z * h).collect());
+        }
+    }
+}
+
+/// The protruding silhouettes over the strokes: per stroke, runs of consecutive columns where terrain that may not
+/// hide the stroke rises above it.
+fn protruding(
+    deformed: &Heightfield,
+    camera: &Camera,
+    targets: &[StrokeTarget],
+    reach: f64,
+    options: &DeformOptions,
+) -> Vec<Vec<Protrusion>> {
+    let sight = Sight::new(deformed);
+    let columns = options.columns.max(2);
+    let projections: Vec<Vec<(DVec2, f64)>> = targets
+        .iter()
+        .map(|t| {
+            let mut p = projected(camera, &t.curve);
+            p.sort_by(|a, b| a.0.x.total_cmp(&b.0.x));
+            p
+        })
+        .collect();
+    let per_stroke: Vec<Vec<Vec<Protrusion>>> = (0..targets.len())
+        .into_par_iter()
+        .map(|s| {
+            let target = &targets[s];
+            let (x0, x1) = target.stroke.x_range();
+            let first = (x0 * columns as f64).ceil().max(0.0) as usize;
+            let last = (x1 * columns as f64).floor().min(columns as f64) as usize;
+            let mut runs: Vec<Vec<Protrusion>> = Vec::new();
+            for column in first..=last {
+                let x = column as f64 / columns as f64;
+                let (Some(y), Some(depth)) = (target.stroke.y_at(x), depth_at(&projections[s], x))
+                else {
+                    continue;
+                };
+                let drawn_above = targets
+                    .iter()
+                    .enumerate()
+                    .any(|(r, t)| r != s && t.stroke.y_at(x).is_some_and(|yr| yr > y));
+                let max_depth = if drawn_above {
+                    depth - 2.0 * deformed.cell
+                } else {
+                    depth + reach
+                };
+                let Some((top, point)) =
+                    sight.column_silhouette_nearer(camera, x, (y, y + 1.0), max_depth)
+                else {
+                    continue;
+                };
+                // the stroke's own curve grazes at the stroke: only what rises clear above it protrudes
+                if top <= y + options.clearance {
+                    continue;
+                }
+                let target_y = StrokeCurve::new(&super::Stroke {
+                    points: vec![
+                        DVec2::new(x - 1.0, y - options.clearance),
+                        DVec2::new(x + 1.0, y - options.clearance),
+                    ],
+                });
+                let Some(down) = on_stroke(camera, &target_y, point) else {
+                    continue;
+                };
+                let p = Protrusion {
+                    column,
+                    point,
+                    drop: (point.z - down.z).max(0.0),
+                };
+                match runs.last_mut() {
+                    Some(run) if run.last().is_some_and(|l| l.column + 1 == column) => run.push(p),
+                    _ => runs.push(vec![p]),
+                }
+            }
+            runs
+        })
+        .collect();
+    per_stroke.into_iter().flatten().collect()
+}

@@ -1,0 +1,182 @@
+//! Deforming a terrain to sketched silhouettes (thesis §5.3–5.4), with the features given: the strokes' curves lie
+//! on the deformed terrain, seen from the camera each stroke is a visible silhouette within 1 % of the image
+//! height, what hid a stroke has been lowered, and the terrain beyond the deformation's reach is unchanged.
+
+use glam::DVec3;
+use worldpaint_core::geom::DVec2;
+use worldpaint_core::sketch::apply::{targets, Source};
+use worldpaint_core::sketch::deform::{deform, DeformOptions, StrokeTarget};
+use worldpaint_core::sketch::matching::MatchingOptions;
+use worldpaint_core::sketch::{Camera, Feature, FeatureKind, Sight, Stroke};
+use worldpaint_core::terrain::Heightfield;
+
+const N: usize = 257;
+const CELL: f64 = 2.0;
+
+/// Rolling ground with a near ridge, a middle ridge and a near hill, plus metre-scale detail.
+fn hills() -> Heightfield {
+    let heights = (0..N * N)
+        .map(|k| {
+            let (x, y) = ((k % N) as f64 * CELL, (k / N) as f64 * CELL);
+            let ridge = |c: f64, h: f64, w: f64| h * (-((y - c) / w).powi(2)).exp();
+            let hill =
+                45.0 * (-((x - 256.0).powi(2) + (y - 130.0).powi(2)) / 15.0f64.powi(2)).exp();
+            let detail =
+                0.8 * (0.31 * x).sin() * (0.27 * y).cos() + 0.5 * (0.53 * x + 0.41 * y).sin();
+            (ridge(100.0, 18.0, 12.0)
+                .max(ridge(260.0, 40.0, 18.0))
+                .max(hill)
+                + detail) as f32
+        })
+        .collect();
+    Heightfield::new(DVec2::ZERO, CELL, N, N, heights).expect("a valid grid")
+}
+
+fn camera() -> Camera {
+    Camera::looking_at(
+        DVec3::new(256.0, -60.0, 12.0),
+        DVec3::new(256.0, 400.0, 12.0),
+        60.0,
+        1.5,
+    )
+    .expect("a camera")
+}
+
+/// How far (image heights) a stroke's silhouette may lie from it.
+const TOLERANCE: f64 = 0.01;
+
+/// Columns where the stroke is not the visible silhouette: a ray `TOLERANCE` above it meets the terrain before
+/// passing its curve, or a ray as far below passes it without meeting the terrain.
+fn misplaced_columns(
+    terrain: &Heightfield,
+    camera: &Camera,
+    target: &StrokeTarget,
+) -> (usize, usize) {
+    let sight = Sight::new(terrain);
+    let depth_of = |p: DVec3| (p - camera.eye).dot(camera.forward);
+    let mut projected: Vec<(DVec2, f64)> = target
+        .curve
+        .iter()
+        .filter_map(|&p| camera.project(p))
+        .collect();
+    projected.sort_by(|a, b| a.0.x.total_cmp(&b.0.x));
+    let (x0, x1) = target.stroke.x_range();
+    let (mut checked, mut bad) = (0, 0);
+    for k in 0..=200 {
+        let x = x0 + (x1 - x0) * (0.02 + 0.96 * k as f64 / 200.0);
+        let y = target.stroke.y_at(x).expect("on the stroke");
+        let Some(w) = projected
+            .windows(2)
+            .find(|w| w[0].0.x <= x && w[1].0.x >= x)
+        else {
+            continue;
+        };
+        let depth = w[0].1 + (w[1].1 - w[0].1) * (x - w[0].0.x) / (w[1].0.x - w[0].0.x).max(1e-12);
+        let margin = 3.0 * terrain.cell;
+        let above = sight.hit(camera.eye, camera.ray(DVec2::new(x, y + TOLERANCE)));
+        let below = sight.hit(camera.eye, camera.ray(DVec2::new(x, y - TOLERANCE)));
+        let clear_above = above.is_none_or(|(_, p)| depth_of(p) > depth + margin);
+        let stopped_below = below.is_some_and(|(_, p)| depth_of(p) < depth + margin);
+        checked += 1;
+        if !(clear_above && stopped_below) {
+            bad += 1;
+        }
+    }
+    (checked, bad)
+}
+
+fn crest(y: f64, z: f64) -> Feature {
+    Feature {
+        kind: FeatureKind::Ridge,
+        points: (0..=100)
+            .map(|k| DVec3::new(56.0 + 4.0 * k as f64, y, z))
+            .collect(),
+    }
+}
+
+#[test]
+fn a_stroke_above_a_ridge_becomes_its_silhouette_and_the_hill_in_front_is_lowered() {
+    let terrain = hills();
+    let camera = camera();
+    let sight = Sight::new(&terrain);
+    // a stroke 4 % of the image height above the middle ridge's crest, rising in the middle
+    let crest_y = |x: f64| {
+        let dir = camera.ray(DVec2::new(x, 0.5));
+        let ground = camera.eye + dir * ((260.0 - camera.eye.y) / dir.y);
+        camera
+            .project(DVec3::new(ground.x, 260.0, 40.0))
+            .expect("in front")
+            .0
+            .y
+    };
+    let stroke = Stroke {
+        points: (0..=60)
+            .map(|k| {
+                let x = 0.25 + 0.5 * k as f64 / 60.0;
+                DVec2::new(
+                    x,
+                    crest_y(x) + 0.04 + 0.03 * (std::f64::consts::PI * (x - 0.25) / 0.5).sin(),
+                )
+            })
+            .collect(),
+    };
+    let features = vec![crest(100.0, 18.0), crest(260.0, 40.0)];
+    let t = targets(
+        &sight,
+        &camera,
+        &[stroke],
+        &[0],
+        &features,
+        &MatchingOptions::default(),
+        true,
+    );
+    assert_eq!(
+        t.sources,
+        vec![Source::Feature(1)],
+        "the middle ridge serves the stroke"
+    );
+    // deformed once, without lowering, the hill in front still hides part of the stroke
+    let once = DeformOptions {
+        max_rounds: 1,
+        ..DeformOptions::default()
+    };
+    let first = deform(&terrain, &camera, &t.targets, &once, &|_| true).expect("deformed");
+    let (_, hidden) = misplaced_columns(&first.terrain, &camera, &t.targets[0]);
+    assert!(
+        hidden > 10,
+        "the hill hides part of the stroke: {hidden} columns"
+    );
+    let d = deform(
+        &terrain,
+        &camera,
+        &t.targets,
+        &DeformOptions::default(),
+        &|_| true,
+    )
+    .expect("deformed");
+    let (checked, bad) = misplaced_columns(&d.terrain, &camera, &t.targets[0]);
+    println!(
+        "{checked} columns, {bad} misplaced after {} rounds ({} silhouettes lowered, reach {:.0} m); {hidden} hidden without lowering",
+        d.rounds,
+        d.lowered.len(),
+        d.reach
+    );
+    assert_eq!(
+        bad, 0,
+        "every column of the stroke is a visible silhouette within 1 % of the image height"
+    );
+    assert!(!d.lowered.is_empty(), "the hill in front was lowered");
+    // beyond the reach, nothing moved
+    let curve = &t.targets[0].curve;
+    let lowered: Vec<DVec3> = d.lowered.iter().flatten().copied().collect();
+    for (k, (&a, &b)) in terrain.heights.iter().zip(&d.terrain.heights).enumerate() {
+        let p = DVec2::new((k % N) as f64, (k / N) as f64) * CELL;
+        let near = curve
+            .iter()
+            .chain(&lowered)
+            .any(|c| c.truncate().distance(p) <= d.reach + CELL);
+        if !near {
+            assert_eq!(a, b, "node {k} beyond the reach moved");
+        }
+    }
+}
