@@ -34,14 +34,14 @@
 //!   the edges the hand went.
 //! - *"While scanning the sketch from left to right, we insert each stroke in a sorting structure, at a relative
 //!   depth position determined by the cues above."* The sweep visits the extremities in increasing `x` and labels the
-//!   T-junctions; the strokes are then inserted in the order of their left extremities into a front-to-back list,
-//!   after every stroke a label (directly or through others) puts in front of them and before every stroke it puts
-//!   behind; between those bounds a stroke moves back past each stroke the cues put in front of it. The result is a
-//!   topological order of the "in front of" relation of all the labels.
-//! - Labels can contradict one another (a cycle: a hand-drawn impossible figure, or two strokes that meet end to
-//!   end). They are then kept in order of confidence, `|sin ∠(t_s, t_r)|` (a label whose tangents are nearly
-//!   parallel is the least sure), closer junctions first on ties: a label that would close a cycle with those already
-//!   kept is dropped and reported as [`Junction::overruled`].
+//!   T-junctions; the strokes are then inserted, in the order of their left extremities, into a front-to-back list.
+//!   A stroke goes after every listed stroke the labels put in front of it, directly or through other strokes, and
+//!   before every listed stroke they put behind it; between those bounds it moves back past each stroke the cues
+//!   put in front of it. The result is a topological order of the "in front of" relation of the labels.
+//! - Labels can contradict one another (a cycle: a hand-drawn impossible figure, or two strokes drawn end to end).
+//!   They are then taken in order of confidence, `|sin ∠(t_s, t_r)|` (a label whose tangents are nearly parallel is
+//!   the least sure), then closer junctions first, then in the sweep's order: a label that would close a cycle with
+//!   those already taken is left out of the order and reported as [`Junction::overruled`].
 //!
 //! Everything is deterministic: ties are broken by `x`, then by the strokes' indices.
 
@@ -60,9 +60,9 @@ const MAX_SKETCH_POINTS: u64 = 200_000;
 pub struct OrderingOptions {
     /// An extremity closer than this to another stroke is a T-junction (frame widths). The thesis gives no value;
     /// the default, 0.02, is about 38 px on a 1920 px wide frame. It was read off the tests' scenes (Fig. 5.3 and
-    /// 5.8 rebuilt from mountains at known depths): there the occluded strokes end on their occluders (within 0.002
+    /// 5.8 rebuilt from mountains at known depths): there the occluded strokes end on their occluders (within 0.004
     /// with a simulated hand tremor of ±0.003 in `y`), while the free ends inside the frame lie 0.079 to 0.26 from
-    /// every other stroke; 0.02 leaves a factor of four on either side.
+    /// every other stroke; 0.02 leaves a factor of four or more on either side.
     pub junction_distance: f64,
     /// Length of the chords that give the tangents at a junction (frame widths): 0.03 by default, longer than a
     /// hand's tremor, shorter than a silhouette's bends.
@@ -339,19 +339,24 @@ fn sweep(
     lines: &[Line],
     options: &OrderingOptions,
 ) -> (Vec<Junction>, Vec<f64>) {
-    let mut events: Vec<(f64, usize, bool)> = Vec::with_capacity(2 * oriented.len());
+    let mut events: Vec<(DVec2, usize, bool)> = Vec::with_capacity(2 * oriented.len());
     for (s, stroke) in oriented.iter().enumerate() {
-        if let (Some(first), Some(last)) = (stroke.points.first(), stroke.points.last()) {
-            events.push((first.x, s, true));
-            events.push((last.x, s, false));
+        if let (Some(&first), Some(&last)) = (stroke.points.first(), stroke.points.last()) {
+            events.push((first, s, true));
+            events.push((last, s, false));
         }
     }
-    events.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)).then(b.2.cmp(&a.2)));
+    events.sort_by(|a, b| {
+        a.0.x
+            .total_cmp(&b.0.x)
+            .then(a.1.cmp(&b.1))
+            .then(b.2.cmp(&a.2))
+    });
     let (threshold, window) = (options.junction_distance, options.tangent_length);
     let mut junctions = Vec::new();
     let mut confidence = Vec::new();
-    for (x, s, at_start) in events {
-        if x <= 0.0 || x >= 1.0 {
+    for (point, s, at_start) in events {
+        if point.x <= 0.0 || point.x >= 1.0 {
             continue; // the frame cut the silhouette here
         }
         let line = &lines[s];
@@ -386,15 +391,6 @@ fn sweep(
         } else {
             Relation::InFrontOf
         };
-        let point = oriented[s]
-            .points
-            .get(if at_start {
-                0
-            } else {
-                oriented[s].points.len() - 1
-            })
-            .copied()
-            .unwrap_or(DVec2::ZERO);
         junctions.push(Junction {
             stroke: s,
             at_start,

@@ -351,6 +351,10 @@ fn a_shaky_hand_that_misses_the_junctions_by_a_little_still_gives_the_true_order
         let order = order_strokes(&strokes, &options()).unwrap();
         assert_eq!(order.front_to_back, vec![4, 3, 2, 1, 0]);
         assert_eq!(order.junctions.len(), 5);
+        assert!(order
+            .junctions
+            .iter()
+            .all(|j| j.distance < 0.004 && !j.overruled));
     }
 }
 
@@ -453,6 +457,47 @@ fn contradictory_labels_keep_the_most_confident_and_overrule_the_rest() {
     let front = resolve(3, &mut junctions, &[0.9, 0.8, 0.1]);
     assert_eq!(junctions.map(|j| j.overruled), [false, false, true]);
     assert!(front[2][1] && front[1][0] && front[2][0] && !front[0][2]);
+}
+
+#[test]
+fn a_peak_drawn_as_two_strokes_end_to_end_has_one_label_overruled() {
+    // each end lies on the other stroke and says "in front of": a cycle, equally sure both ways; the first label of
+    // the sweep is kept
+    let up = stroke(&[(0.1, 0.5), (0.5, 0.7)]);
+    let down = stroke(&[(0.5, 0.7), (0.9, 0.4)]);
+    let order = order_strokes(&[up, down], &OrderingOptions::default()).unwrap();
+    assert_eq!(order.junctions.len(), 2);
+    assert!(order
+        .junctions
+        .iter()
+        .all(|j| j.relation == Relation::InFrontOf));
+    assert_eq!(
+        order
+            .junctions
+            .iter()
+            .map(|j| j.overruled)
+            .collect::<Vec<_>>(),
+        [false, true]
+    );
+    assert_eq!(order.front_to_back, vec![0, 1]);
+}
+
+#[test]
+fn ends_at_the_frame_edge_are_cuts_not_junctions() {
+    let o = OrderingOptions::default();
+    let a = stroke(&[(0.0, 0.5), (0.4, 0.6)]);
+    let b = stroke(&[(-0.05, 0.51), (0.6, 0.3)]);
+    assert!(order_strokes(&[a, b.clone()], &o)
+        .unwrap()
+        .junctions
+        .is_empty());
+    let inside = stroke(&[(0.01, 0.5), (0.4, 0.6)]);
+    let order = order_strokes(&[inside, b], &o).unwrap();
+    assert_eq!(order.junctions.len(), 1);
+    assert_eq!(
+        (order.junctions[0].stroke, order.junctions[0].at_start),
+        (0, true)
+    );
 }
 
 #[test]
