@@ -54,6 +54,9 @@ use glam::DVec2;
 const MAX_STROKES: u64 = 1_000;
 /// Points of one sketch, all strokes together.
 const MAX_SKETCH_POINTS: u64 = 200_000;
+/// Segment evaluations of the upper envelope of one stroke drawn back over itself (a hand's small returns cost a
+/// few per point; a second of work is about 10⁸).
+const MAX_ENVELOPE_WORK: u64 = 50_000_000;
 
 /// How strokes are ordered.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -147,7 +150,8 @@ impl StrokeOrder {
 
 /// Orders the silhouette `strokes` of a sketch front to back by the sweep of thesis §5.2 (see the module
 /// documentation for the rules and their reading). Refuses, naming the stroke, one that is empty, has a point that
-/// is not finite, has fewer than two distinct points or no width.
+/// is not finite, has fewer than two distinct points or no width; refuses past the engine's limits a sketch of more
+/// than 1,000 strokes or 200,000 points, or a long stroke scribbled back and forth across the frame.
 pub fn order_strokes(strokes: &[Stroke], options: &OrderingOptions) -> Result<StrokeOrder> {
     check::positive(
         "stroke ordering junction distance",
@@ -211,7 +215,7 @@ fn orient(k: usize, stroke: &Stroke) -> Result<Vec<DVec2>> {
         points.reverse();
         points
     } else {
-        upper_envelope(&points)
+        upper_envelope(k, &points)?
     };
     if points.len() < 2 {
         return Err(Error::invalid(
@@ -222,20 +226,34 @@ fn orient(k: usize, stroke: &Stroke) -> Result<Vec<DVec2>> {
     Ok(points)
 }
 
-/// The upper envelope of the polyline through `points`, at the `x` of each of them, left to right.
-fn upper_envelope(points: &[DVec2]) -> Vec<DVec2> {
+/// The upper envelope of the polyline through `points` (stroke `k`), at the `x` of each of them, left to right.
+/// Each segment is evaluated at the `x` it spans: refused past [`MAX_ENVELOPE_WORK`] evaluations (a long stroke
+/// scribbled back and forth across the whole frame), before any is made.
+fn upper_envelope(k: usize, points: &[DVec2]) -> Result<Vec<DVec2>> {
     let mut xs: Vec<f64> = points.iter().map(|p| p.x).collect();
     xs.sort_by(f64::total_cmp);
     xs.dedup();
+    let spans: Vec<(DVec2, DVec2, usize, usize)> = points
+        .windows(2)
+        .map(|w| {
+            let (a, b) = if w[0].x <= w[1].x {
+                (w[0], w[1])
+            } else {
+                (w[1], w[0])
+            };
+            let lo = xs.partition_point(|&x| x < a.x);
+            (a, b, lo, xs.partition_point(|&x| x <= b.x).max(lo))
+        })
+        .collect();
+    let work: usize = spans.iter().map(|&(_, _, lo, hi)| hi - lo).sum();
+    limits::check(
+        &format!("sketch stroke {k} drawn back over itself"),
+        work as f64,
+        MAX_ENVELOPE_WORK,
+        "segment evaluations",
+    )?;
     let mut ys = vec![f64::NEG_INFINITY; xs.len()];
-    for w in points.windows(2) {
-        let (a, b) = if w[0].x <= w[1].x {
-            (w[0], w[1])
-        } else {
-            (w[1], w[0])
-        };
-        let lo = xs.partition_point(|&x| x < a.x);
-        let hi = xs.partition_point(|&x| x <= b.x);
+    for (a, b, lo, hi) in spans {
         for (x, y) in xs[lo..hi].iter().zip(&mut ys[lo..hi]) {
             let on = if b.x > a.x {
                 a.y + (b.y - a.y) * ((x - a.x) / (b.x - a.x))
@@ -245,10 +263,11 @@ fn upper_envelope(points: &[DVec2]) -> Vec<DVec2> {
             *y = y.max(on);
         }
     }
-    xs.into_iter()
+    Ok(xs
+        .into_iter()
         .zip(ys)
         .map(|(x, y)| DVec2::new(x, y))
-        .collect()
+        .collect())
 }
 
 /// An oriented stroke in frame widths (image `y` divided by the aspect), with its arc length at each point.

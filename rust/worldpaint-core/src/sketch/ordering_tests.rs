@@ -439,6 +439,18 @@ fn a_stroke_drawn_back_over_itself_is_read_as_its_upper_envelope() {
     )
     .unwrap_err();
     assert!(err.to_string().contains("no width"), "{err}");
+    // a long scribble back and forth across the frame is refused before its envelope is worked out
+    let scribble = Stroke {
+        points: (0..12_000)
+            .map(|k| v(if k % 2 == 0 { 0.1 } else { 0.9 } + 1e-6 * k as f64, 0.5))
+            .collect(),
+    };
+    let err = order_strokes(&[scribble], &OrderingOptions::default()).unwrap_err();
+    assert!(
+        err.to_string()
+            .contains("sketch stroke 0 drawn back over itself"),
+        "{err}"
+    );
 }
 
 #[test]
