@@ -16,6 +16,7 @@ from bpy.props import (
 )
 
 from ..bridge.engine import fidelity_line
+from .sketch import WORLDPAINT_PG_sketch, WORLDPAINT_PG_sketch_point, WORLDPAINT_PG_sketch_stroke
 from .terrain_edit import WORLDPAINT_PG_terrain_edit, WORLDPAINT_PG_waterfall_controller
 from .village import WORLDPAINT_PG_village, WORLDPAINT_PG_village_event
 
@@ -182,12 +183,13 @@ class WORLDPAINT_PG_settings(bpy.types.PropertyGroup):
     stretch_side: EnumProperty(name="Side", items=SIDES, default="EAST")
     village: PointerProperty(type=WORLDPAINT_PG_village)
     terrain_edit: PointerProperty(type=WORLDPAINT_PG_terrain_edit)
+    sketch: PointerProperty(type=WORLDPAINT_PG_sketch)
 
 
 _register_classes, _unregister_classes = bpy.utils.register_classes_factory(
     (WORLDPAINT_PG_category, WORLDPAINT_PG_interaction, WORLDPAINT_PG_color, WORLDPAINT_PG_stroke_point,
      WORLDPAINT_PG_village_event, WORLDPAINT_PG_village, WORLDPAINT_PG_terrain_edit, WORLDPAINT_PG_waterfall_controller,
-     WORLDPAINT_PG_settings)
+     WORLDPAINT_PG_sketch_point, WORLDPAINT_PG_sketch_stroke, WORLDPAINT_PG_sketch, WORLDPAINT_PG_settings)
 )
 
 
