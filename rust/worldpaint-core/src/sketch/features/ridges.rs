@@ -41,16 +41,28 @@ pub fn ridges(terrain: &Heightfield, options: &FeatureOptions) -> Result<Vec<Fea
         .map(|j| grid.row_segments(j, &candidate))
         .collect::<Vec<_>>()
         .concat();
-    let mut forest = spanning_forest(&mut segments, candidate.len());
+    // the graph on the candidates alone, numbered in grid order
+    let ids: Vec<u32> = (0..candidate.len() as u32)
+        .filter(|&v| candidate[v as usize])
+        .collect();
+    let mut compact = vec![u32::MAX; candidate.len()];
+    for (k, &v) in ids.iter().enumerate() {
+        compact[v as usize] = k as u32;
+    }
+    for s in &mut segments {
+        (s.a, s.b) = (compact[s.a as usize], compact[s.b as usize]);
+    }
+    let mut forest = spanning_forest(&mut segments, ids.len());
     prune(&mut forest, options.ridge_prune_length);
     drop_short_trees(&mut forest, options.min_ridge_length);
     let edges: Vec<(u32, u32)> = forest
         .iter()
         .enumerate()
         .flat_map(|(v, next)| {
+            let ids = &ids;
             next.iter()
                 .filter(move |&&(w, _)| w as usize > v)
-                .map(move |&(w, _)| (v as u32, w))
+                .map(move |&(w, _)| (ids[v], ids[w as usize]))
         })
         .collect();
     Ok(chains(&edges)
@@ -195,7 +207,7 @@ impl Grid<'_> {
 }
 
 /// The maximum spanning forest of the segments on their height (Kruskal, highest first, union-find), as
-/// adjacency lists on the grid's samples: `(neighbour, length in cells)`.
+/// adjacency lists on the `n` candidates: `(neighbour, length in cells)`.
 fn spanning_forest(segments: &mut [Segment], n: usize) -> Vec<Vec<(u32, f64)>> {
     segments.sort_unstable_by(|x, y| {
         y.height

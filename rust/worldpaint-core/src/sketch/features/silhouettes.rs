@@ -13,6 +13,8 @@ use rayon::prelude::*;
 const AIM_ABOVE: f64 = 1e-3;
 /// March step of the visibility test (cells of horizontal travel), as in [`Sight::hit`].
 const MARCH_STEP: f64 = 0.5;
+/// Side of the blocks (cells) whose highest sample lets the visibility march leap over them.
+const BLOCK: usize = 8;
 
 /// The terrain's visible silhouette curves seen from `camera`, each a polyline of grid samples in order along it.
 pub fn silhouettes(
@@ -64,6 +66,11 @@ struct Mesh<'a> {
     camera: &'a Camera,
     /// The terrain's highest sample: the visibility march starts where the segment comes below it.
     top: f64,
+    /// Blocks across X.
+    blocks_x: usize,
+    /// The highest sample of each block of `BLOCK × BLOCK` cells (its border samples included), row-major: the
+    /// march leaps over a block when the segment passes above it.
+    block_top: Vec<f32>,
 }
 
 impl<'a> Mesh<'a> {
@@ -72,7 +79,27 @@ impl<'a> Mesh<'a> {
             .heights
             .iter()
             .fold(f64::NEG_INFINITY, |m, &h| m.max(h as f64));
-        Mesh { t, camera, top }
+        let (blocks_x, blocks_y) = ((t.nx - 2) / BLOCK + 1, (t.ny - 2) / BLOCK + 1);
+        let block_top = (0..blocks_y)
+            .into_par_iter()
+            .flat_map_iter(|by| {
+                (0..blocks_x).map(move |bx| {
+                    let (i1, j1) = ((bx + 1) * BLOCK, (by + 1) * BLOCK);
+                    (by * BLOCK..=j1.min(t.ny - 1))
+                        .flat_map(|j| {
+                            (bx * BLOCK..=i1.min(t.nx - 1)).map(move |i| t.heights[j * t.nx + i])
+                        })
+                        .fold(f32::NEG_INFINITY, f32::max)
+                })
+            })
+            .collect();
+        Mesh {
+            t,
+            camera,
+            top,
+            blocks_x,
+            block_top,
+        }
     }
 
     fn h(&self, i: usize, j: usize) -> f64 {
@@ -224,9 +251,33 @@ impl<'a> Mesh<'a> {
             t1 = t1.min(ta.max(tb));
         }
         let step = MARCH_STEP * cell / horizontal;
+        let block = BLOCK as f64 * cell;
+        let origin = self.t.origin;
         let mut t = t0;
         while t <= t1 {
             let p = eye + d * t;
+            let f = (p.truncate() - origin) / block;
+            let (bx, by) = (f.x.max(0.0) as usize, f.y.max(0.0) as usize);
+            let Some(&under) = self
+                .block_top
+                .get(by * self.blocks_x + bx.min(self.blocks_x - 1))
+            else {
+                break;
+            };
+            // leap to where the segment leaves the block if it stays above the block's highest sample there
+            let mut exit = f64::INFINITY;
+            for (o, v, b) in [(eye.x - origin.x, d.x, bx), (eye.y - origin.y, d.y, by)] {
+                if v > 1e-12 {
+                    exit = exit.min(((b + 1) as f64 * block - o) / v);
+                } else if v < -1e-12 {
+                    exit = exit.min((b as f64 * block - o) / v);
+                }
+            }
+            let exit = exit.min(t1);
+            if p.z > under as f64 && eye.z + d.z * exit > under as f64 && exit > t {
+                t = exit + 1e-3 * step;
+                continue;
+            }
             if let Some(h) = self.t.height_at(p.truncate()) {
                 if p.z < h {
                     return false;
