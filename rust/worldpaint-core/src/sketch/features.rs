@@ -60,6 +60,7 @@ pub use silhouettes::silhouettes;
 
 use super::{Camera, Feature, Sight};
 use crate::error::{check, Error, Result};
+use crate::terrain::Heightfield;
 
 /// The settings of feature detection. Lengths are in terrain cells, so the defaults suit any terrain scale.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -126,6 +127,33 @@ impl FeatureOptions {
     }
 }
 
+/// Checks that a terrain (whose fields are public) is a grid the detectors can walk: at least 2 × 2 samples, as
+/// many heights, all finite, a positive cell, and sample ids that fit in 32 bits.
+fn check_terrain(t: &Heightfield) -> Result<()> {
+    check::positive("terrain cell size", t.cell)?;
+    if t.nx < 2 || t.ny < 2 {
+        return Err(Error::invalid(
+            format!("terrain grid {}x{}", t.nx, t.ny),
+            "needs at least 2x2 samples",
+        ));
+    }
+    let samples = t.nx.checked_mul(t.ny).filter(|&n| n < u32::MAX as usize);
+    let Some(samples) = samples else {
+        return Err(Error::invalid(
+            format!("terrain grid {}x{}", t.nx, t.ny),
+            "has too many samples",
+        ));
+    };
+    check::same_len("terrain heights", t.heights.len(), samples)?;
+    if let Some(k) = t.heights.iter().position(|h| !h.is_finite()) {
+        return Err(Error::invalid(
+            format!("terrain height {k}"),
+            "is not finite",
+        ));
+    }
+    Ok(())
+}
+
 /// All the terrain's features for the matching of §5.3.2: its visible silhouettes from `camera`, then its ridges.
 pub fn detect_features(
     sight: &Sight,
@@ -151,7 +179,6 @@ fn polyline_length(points: &[glam::DVec3]) -> f64 {
 mod tests {
     use super::*;
     use crate::sketch::FeatureKind;
-    use crate::terrain::Heightfield;
     use glam::{DVec2, DVec3};
 
     #[test]
@@ -181,6 +208,21 @@ mod tests {
         let features =
             detect_features(&Sight::new(&tiny), &away, &FeatureOptions::default()).expect("ok");
         assert!(features.iter().all(|f| f.kind == FeatureKind::Ridge));
+    }
+
+    #[test]
+    fn a_malformed_terrain_is_refused() {
+        let mut terrain = Heightfield::new(DVec2::ZERO, 1.0, 8, 8, vec![0.0; 64]).expect("grid");
+        terrain.heights.pop();
+        let options = FeatureOptions::default();
+        assert!(ridges(&terrain, &options).is_err());
+        terrain.heights.push(f32::NAN);
+        assert!(ridges(&terrain, &options).is_err());
+        terrain.heights[63] = 0.0;
+        terrain.ny = 1;
+        let cam = Camera::looking_at(DVec3::new(4.0, -5.0, 3.0), DVec3::splat(4.0), 60.0, 1.0)
+            .expect("a camera");
+        assert!(silhouettes(&Sight::new(&terrain), &cam, &options).is_err());
     }
 
     #[test]

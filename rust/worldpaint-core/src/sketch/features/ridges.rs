@@ -26,6 +26,7 @@ struct Segment {
 /// terrain. Polylines of one ridge system share their branching points exactly, and together form a tree.
 pub fn ridges(terrain: &Heightfield, options: &FeatureOptions) -> Result<Vec<Feature>> {
     options.check()?;
+    super::check_terrain(terrain)?;
     let grid = Grid { t: terrain };
     let candidate: Vec<bool> = (0..terrain.ny)
         .into_par_iter()

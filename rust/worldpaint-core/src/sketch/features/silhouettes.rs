@@ -23,6 +23,10 @@ pub fn silhouettes(
     options: &FeatureOptions,
 ) -> Result<Vec<Feature>> {
     options.check()?;
+    super::check_terrain(sight.terrain)?;
+    if !(camera.eye.is_finite() && camera.forward.is_finite() && camera.right.is_finite()) {
+        return Err(crate::error::Error::invalid("camera", "is not finite"));
+    }
     let mesh = Mesh::new(sight.terrain, camera);
     let (nx, ny) = (mesh.t.nx, mesh.t.ny);
     let facing: Vec<Vec<[bool; 2]>> = (0..ny - 1)
