@@ -238,15 +238,15 @@ fn spanning_forest(segments: &mut [Segment], n: usize) -> Vec<Vec<(u32, f64)>> {
 }
 
 /// The branch from leaf `leaf` to the first sample where the tree does not simply pass through: its samples and
-/// its length (cells).
-fn branch(forest: &[Vec<(u32, f64)>], leaf: u32) -> (Vec<u32>, f64) {
+/// its length (cells); the walk stops once the length reaches `limit`.
+fn branch(forest: &[Vec<(u32, f64)>], leaf: u32, limit: f64) -> (Vec<u32>, f64) {
     let (mut path, mut length) = (vec![leaf], 0.0);
     let (mut prev, mut cur) = (u32::MAX, leaf);
     while let Some(&(next, l)) = forest[cur as usize].iter().find(|e| e.0 != prev) {
         length += l;
         path.push(next);
         (prev, cur) = (cur, next);
-        if forest[next as usize].len() != 2 {
+        if forest[next as usize].len() != 2 || length >= limit {
             break;
         }
     }
@@ -263,7 +263,7 @@ fn prune(forest: &mut [Vec<(u32, f64)>], min_length: f64) {
         let mut short: Vec<(f64, u32, Vec<u32>)> = (0..forest.len() as u32)
             .filter(|&v| forest[v as usize].len() == 1)
             .filter_map(|leaf| {
-                let (path, length) = branch(forest, leaf);
+                let (path, length) = branch(forest, leaf, min_length);
                 let end = *path.last()? as usize;
                 (length < min_length && forest[end].len() >= 3).then_some((length, leaf, path))
             })
