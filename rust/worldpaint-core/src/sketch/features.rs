@@ -37,10 +37,12 @@
 //!   then a target everywhere (every flank is higher than its neighbours across the slope), so a sample is a
 //!   candidate here when at least `ridge_directions` directions count, two by default;
 //! * *target connection*: candidates are joined to their 8 neighbours that are candidates; of two diagonals
-//!   crossing in one cell only the higher is kept (PPA drops the crossing lower one), so the graph stays planar;
-//! * *polygon breaking* by a maximum spanning forest on the segments' height (the sum of their ends' heights):
-//!   Kruskal's algorithm on the segments sorted from the highest down, with a union-find; in each cycle exactly
-//!   the lowest segment is left out, which is what deleting the lowest segment of every cycle converges to;
+//!   crossing in one cell only the higher is kept (the rising one on a tie), so the graph stays planar;
+//! * *polygon breaking* by the thesis's spanning forest, taken on the segments' height (the sum of their ends'
+//!   heights) so that it keeps the highest segments (a minimum spanning forest of the negated heights):
+//!   Kruskal's algorithm on the segments sorted from the highest down (ties in grid order), with a union-find. A
+//!   segment is left out exactly when it is the lowest of some cycle, which is where deleting the lowest segment
+//!   of a cycle until none is left ends;
 //! * *branch reduction*: a branch from a leaf to a branching point shorter than `ridge_prune_length` cells is
 //!   removed, shortest first, while its branching point keeps two others, until none is left; the trees that
 //!   remain shorter than `min_ridge_length` cells are dropped;
