@@ -78,6 +78,13 @@ fn misplaced_columns(
         let clear_above = above.is_none_or(|(_, p)| depth_of(p) > depth + margin);
         let stopped_below = below.is_some_and(|(_, p)| depth_of(p) < depth + margin);
         checked += 1;
+        if std::env::var_os("SKETCH_DEBUG").is_some() && !(clear_above && stopped_below) {
+            println!(
+                "x {x:.3} y {y:.3} depth {depth:.1} above {:?} below {:?}",
+                above.map(|(_, p)| depth_of(p)),
+                below.map(|(_, p)| depth_of(p))
+            );
+        }
         if !(clear_above && stopped_below) {
             bad += 1;
         }
@@ -177,6 +184,88 @@ fn a_stroke_above_a_ridge_becomes_its_silhouette_and_the_hill_in_front_is_lowere
             .any(|c| c.truncate().distance(p) <= d.reach + CELL);
         if !near {
             assert_eq!(a, b, "node {k} beyond the reach moved");
+        }
+    }
+}
+
+/// The Blender test's scene: the same hills on a 4 m grid, the same camera.
+fn hills_coarse() -> Heightfield {
+    let n = 129;
+    let heights = (0..n * n)
+        .map(|k| {
+            let (x, y) = ((k % n) as f64 * 4.0, (k / n) as f64 * 4.0);
+            let ridge = |c: f64, h: f64, w: f64| h * (-((y - c) / w).powi(2)).exp();
+            let hill =
+                45.0 * (-((x - 256.0).powi(2) + (y - 130.0).powi(2)) / 15.0f64.powi(2)).exp();
+            let detail =
+                0.8 * (0.31 * x).sin() * (0.27 * y).cos() + 0.5 * (0.53 * x + 0.41 * y).sin();
+            (ridge(100.0, 18.0, 12.0)
+                .max(ridge(260.0, 40.0, 18.0))
+                .max(hill)
+                + detail) as f32
+        })
+        .collect();
+    Heightfield::new(DVec2::ZERO, 4.0, n, n, heights).expect("a valid grid")
+}
+
+/// A front mountain and two behind it, each ending on its slopes: two T-junctions.
+fn three_strokes() -> Vec<Stroke> {
+    let front = |x: f64| 0.62 + 0.09 * (-((x - 0.38) / 0.12).powi(2)).exp();
+    let line = |x0: f64, x1: f64, n: usize, f: &dyn Fn(f64) -> f64| Stroke {
+        points: (0..n)
+            .map(|k| {
+                let x = x0 + (x1 - x0) * k as f64 / (n - 1) as f64;
+                DVec2::new(x, f(x))
+            })
+            .collect(),
+    };
+    let pi = std::f64::consts::PI;
+    vec![
+        line(0.18, 0.62, 30, &front),
+        line(0.52, 0.9, 30, &|x| {
+            front(0.52) + 0.1 * (pi * (x - 0.52) / 0.5).sin() + 0.01 * (x - 0.52)
+        }),
+        line(0.06, 0.27, 20, &|x| {
+            front(0.27) + 0.08 * (pi * (0.27 - x) / 0.3).sin()
+        }),
+    ]
+}
+
+#[test]
+fn three_strokes_with_two_t_junctions_are_all_seen() {
+    use worldpaint_core::sketch::apply::{apply_sketch, SketchOptions};
+    let terrain = hills_coarse();
+    let camera = camera();
+    let edit = apply_sketch(
+        &terrain,
+        &camera,
+        &three_strokes(),
+        &SketchOptions::default(),
+        &|_| true,
+    )
+    .expect("applied");
+    println!(
+        "order {:?}, {} junctions, sources {:?}, {} features, rounds {}, lowered {}, hidden {}, seconds {:?}",
+        edit.order.front_to_back,
+        edit.order.junctions.len(),
+        edit.targets.sources,
+        edit.features.len(),
+        edit.deformation.rounds,
+        edit.deformation.lowered.len(),
+        edit.deformation.hidden_columns,
+        edit.seconds
+    );
+    for (s, target) in edit.targets.targets.iter().enumerate() {
+        let (checked, bad) = misplaced_columns(&edit.deformation.terrain, &camera, target);
+        println!("stroke {s}: {bad} of {checked} columns misplaced");
+        if std::env::var_os("SKETCH_DEBUG").is_some() {
+            for p in target.curve.iter().step_by(10) {
+                let h = edit.deformation.terrain.height_at(p.truncate());
+                println!(
+                    "   curve {p:.1} terrain {h:?} image {:?}",
+                    camera.project(*p).map(|(i, _)| i)
+                );
+            }
         }
     }
 }

@@ -17,7 +17,10 @@ fn triple(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<DVec3> {
         .map_err(|_| input_err(format!("{what} must be three numbers")))?;
     match v.as_slice() {
         [x, y, z] => Ok(DVec3::new(*x, *y, *z)),
-        _ => Err(input_err(format!("{what} must have 3 coordinates, got {}", v.len()))),
+        _ => Err(input_err(format!(
+            "{what} must have 3 coordinates, got {}",
+            v.len()
+        ))),
     }
 }
 

@@ -3,10 +3,10 @@
 use super::curves::{complete, embed, embedding_depth, fallback_depth};
 use super::deform::{deform, DeformOptions, Deformation, StrokeTarget};
 use super::features::{detect_features, FeatureOptions};
-use super::ordering::{order_strokes, OrderingOptions, StrokeOrder};
 use super::matching::{
     assign, feature_pieces, priority_list, Assignment, Candidate, MatchingOptions, StrokeCurve,
 };
+use super::ordering::{order_strokes, OrderingOptions, StrokeOrder};
 use super::view::{Camera, Sight};
 use super::{Feature, Stroke};
 use crate::error::{Error, Result};
@@ -35,6 +35,9 @@ pub struct Targets {
     pub assignment: Assignment,
 }
 
+/// Cells a stroke's curve must lie behind the curve of a stroke in front of it.
+const SEPARATION_CELLS: f64 = 3.0;
+
 /// Share of a curve's length it may be extended by at each end to reach the ground (feature completion).
 const COMPLETION_SHARE: f64 = 0.5;
 
@@ -56,7 +59,7 @@ pub fn targets(
         .iter()
         .map(|c| priority_list(sight, camera, c, &pieces, options))
         .collect();
-    let assignment = assign(front_to_back, &lists);
+    let assignment = assign(front_to_back, &lists, SEPARATION_CELLS * sight.terrain.cell);
     let mut chosen: Vec<Option<&Candidate>> = assignment
         .chosen
         .iter()
@@ -176,7 +179,13 @@ pub fn apply_sketch(
     if strokes.is_empty() {
         return Err(Error::invalid("the sketch", "has no stroke"));
     }
-    let step = |fraction: f64| if progress(fraction) { Ok(()) } else { Err(Error::Cancelled) };
+    let step = |fraction: f64| {
+        if progress(fraction) {
+            Ok(())
+        } else {
+            Err(Error::Cancelled)
+        }
+    };
     let clock = Instant::now();
     let mut lap = {
         let mut last = 0.0;
@@ -191,7 +200,7 @@ pub fn apply_sketch(
     let order = order_strokes(strokes, &options.ordering)?;
     let ordering = lap();
     let sight = Sight::new(terrain);
-    let features = detect_features(&sight, camera, &options.features);
+    let features = detect_features(&sight, camera, &options.features)?;
     let features_seconds = lap();
     step(0.2)?;
     let targets = targets(
@@ -205,7 +214,9 @@ pub fn apply_sketch(
     );
     let matching = lap();
     step(0.3)?;
-    let deformation = deform(terrain, camera, &targets.targets, &options.deform, &|f| progress(0.3 + 0.7 * f))?;
+    let deformation = deform(terrain, camera, &targets.targets, &options.deform, &|f| {
+        progress(0.3 + 0.7 * f)
+    })?;
     Ok(SketchEdit {
         seconds: StepSeconds {
             ordering,
