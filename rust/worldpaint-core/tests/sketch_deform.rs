@@ -78,13 +78,6 @@ fn misplaced_columns(
         let clear_above = above.is_none_or(|(_, p)| depth_of(p) > depth + margin);
         let stopped_below = below.is_some_and(|(_, p)| depth_of(p) < depth + margin);
         checked += 1;
-        if std::env::var_os("SKETCH_DEBUG").is_some() && !(clear_above && stopped_below) {
-            println!(
-                "x {x:.3} y {y:.3} depth {depth:.1} above {:?} below {:?}",
-                above.map(|(_, p)| depth_of(p)),
-                below.map(|(_, p)| depth_of(p))
-            );
-        }
         if !(clear_above && stopped_below) {
             bad += 1;
         }
@@ -231,41 +224,159 @@ fn three_strokes() -> Vec<Stroke> {
     ]
 }
 
+/// Nodes farther than `distance` from every point of `curves`.
+fn away_from(terrain: &Heightfield, curves: &[&[DVec3]], distance: f64) -> Vec<bool> {
+    let n = terrain.nx;
+    (0..terrain.heights.len())
+        .map(|k| {
+            let p = terrain.origin + DVec2::new((k % n) as f64, (k / n) as f64) * terrain.cell;
+            curves
+                .iter()
+                .all(|c| c.iter().all(|q| q.truncate().distance(p) > distance))
+        })
+        .collect()
+}
+
+/// The terrain minus its mean over a (2r+1)² window: its fine detail.
+fn high_pass(terrain: &Heightfield, r: usize) -> Vec<f64> {
+    let (nx, ny) = (terrain.nx, terrain.ny);
+    let h = |i: usize, j: usize| terrain.heights[j * nx + i] as f64;
+    (0..nx * ny)
+        .map(|k| {
+            let (i, j) = (k % nx, k / nx);
+            let (i0, i1, j0, j1) = (
+                i.saturating_sub(r),
+                (i + r).min(nx - 1),
+                j.saturating_sub(r),
+                (j + r).min(ny - 1),
+            );
+            let mut sum = 0.0;
+            for jj in j0..=j1 {
+                for ii in i0..=i1 {
+                    sum += h(ii, jj);
+                }
+            }
+            h(i, j) - sum / ((i1 - i0 + 1) * (j1 - j0 + 1)) as f64
+        })
+        .collect()
+}
+
+fn correlation(a: &[f64], b: &[f64]) -> f64 {
+    let n = a.len() as f64;
+    let (ma, mb) = (a.iter().sum::<f64>() / n, b.iter().sum::<f64>() / n);
+    let cov: f64 = a.iter().zip(b).map(|(x, y)| (x - ma) * (y - mb)).sum();
+    let va: f64 = a.iter().map(|x| (x - ma).powi(2)).sum();
+    let vb: f64 = b.iter().map(|y| (y - mb).powi(2)).sum();
+    cov / (va * vb).sqrt()
+}
+
 #[test]
-fn three_strokes_with_two_t_junctions_are_all_seen() {
-    use worldpaint_core::sketch::apply::{apply_sketch, SketchOptions};
+fn three_strokes_with_two_t_junctions_are_all_seen_and_the_detail_is_kept() {
+    use worldpaint_core::sketch::apply::{apply_sketch, SketchOptions, Source};
     let terrain = hills_coarse();
     let camera = camera();
-    let edit = apply_sketch(
-        &terrain,
-        &camera,
-        &three_strokes(),
-        &SketchOptions::default(),
-        &|_| true,
-    )
-    .expect("applied");
+    let mut options = SketchOptions::default();
+    options.deform.reach = Some(120.0);
+    let edit =
+        apply_sketch(&terrain, &camera, &three_strokes(), &options, &|_| true).expect("applied");
+    let d = &edit.deformation;
     println!(
-        "order {:?}, {} junctions, sources {:?}, {} features, rounds {}, lowered {}, hidden {}, seconds {:?}",
+        "order {:?}, {} junctions, sources {:?} of {} features, {} rounds, {} lowered, {} hidden columns, {:?}",
         edit.order.front_to_back,
         edit.order.junctions.len(),
         edit.targets.sources,
         edit.features.len(),
-        edit.deformation.rounds,
-        edit.deformation.lowered.len(),
-        edit.deformation.hidden_columns,
+        d.rounds,
+        d.lowered.len(),
+        d.hidden_columns,
         edit.seconds
     );
+    assert_eq!(
+        edit.order.front_to_back,
+        vec![0, 1, 2],
+        "the front mountain first, then the later one's"
+    );
+    assert_eq!(edit.order.junctions.len(), 2);
+    assert!(
+        edit.targets
+            .sources
+            .iter()
+            .all(|s| matches!(s, Source::Feature(_))),
+        "terrain features serve all"
+    );
     for (s, target) in edit.targets.targets.iter().enumerate() {
-        let (checked, bad) = misplaced_columns(&edit.deformation.terrain, &camera, target);
+        let (checked, bad) = misplaced_columns(&d.terrain, &camera, target);
         println!("stroke {s}: {bad} of {checked} columns misplaced");
-        if std::env::var_os("SKETCH_DEBUG").is_some() {
-            for p in target.curve.iter().step_by(10) {
-                let h = edit.deformation.terrain.height_at(p.truncate());
-                println!(
-                    "   curve {p:.1} terrain {h:?} image {:?}",
-                    camera.project(*p).map(|(i, _)| i)
-                );
-            }
-        }
+        assert_eq!(
+            bad, 0,
+            "stroke {s} is a visible silhouette within 1 % of the image height"
+        );
     }
+    assert_eq!(d.hidden_columns, 0);
+    // beyond the reach the terrain is as it was; away from the constraints its detail is kept
+    let curves: Vec<&[DVec3]> = edit
+        .targets
+        .targets
+        .iter()
+        .map(|t| t.curve.as_slice())
+        .chain(d.lowered.iter().map(Vec::as_slice))
+        .collect();
+    let far = away_from(&terrain, &curves, d.reach + terrain.cell);
+    let moved_far = (0..far.len())
+        .filter(|&k| far[k] && terrain.heights[k] != d.terrain.heights[k])
+        .count();
+    assert!(
+        far.iter().filter(|&&f| f).count() > 1000 && moved_far == 0,
+        "{moved_far} nodes beyond the reach moved"
+    );
+    let away = away_from(&terrain, &curves, 3.0 * terrain.cell);
+    let (before, after) = (high_pass(&terrain, 2), high_pass(&d.terrain, 2));
+    let pick = |v: &[f64]| -> Vec<f64> {
+        v.iter()
+            .zip(&away)
+            .filter(|(_, &a)| a)
+            .map(|(x, _)| *x)
+            .collect()
+    };
+    let r = correlation(&pick(&before), &pick(&after));
+    println!("high-pass correlation away from the constraints: {r:.4}");
+    assert!(r >= 0.99, "the terrain keeps its fine detail: {r}");
+}
+
+#[test]
+fn a_stroke_no_feature_can_serve_is_embedded_and_seen() {
+    use worldpaint_core::sketch::apply::{apply_sketch, SketchOptions, Source};
+    // flat ground: no ridge, no silhouette but its far edge
+    let terrain =
+        Heightfield::new(DVec2::ZERO, 4.0, 129, 129, vec![0.0; 129 * 129]).expect("a valid grid");
+    let camera = camera();
+    let stroke = Stroke {
+        points: (0..=30)
+            .map(|k| {
+                let x = 0.3 + 0.4 * k as f64 / 30.0;
+                DVec2::new(
+                    x,
+                    0.56 + 0.08 * (std::f64::consts::PI * (x - 0.3) / 0.4).sin(),
+                )
+            })
+            .collect(),
+    };
+    let edit = apply_sketch(
+        &terrain,
+        &camera,
+        &[stroke],
+        &SketchOptions::default(),
+        &|_| true,
+    )
+    .expect("applied");
+    println!("sources {:?}", edit.targets.sources);
+    assert!(
+        matches!(edit.targets.sources[0], Source::Embedded(d) if d > 0.0),
+        "{:?}",
+        edit.targets.sources
+    );
+    let (checked, bad) =
+        misplaced_columns(&edit.deformation.terrain, &camera, &edit.targets.targets[0]);
+    println!("embedded stroke: {bad} of {checked} columns misplaced");
+    assert_eq!(bad, 0, "the embedded stroke is seen where it was drawn");
 }
