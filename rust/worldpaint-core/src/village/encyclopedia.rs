@@ -71,6 +71,10 @@ pub struct ParcelParams {
     pub conquest_weight: f64,
     /// Weight `ω` of the slope cost (quadratic in the directional gradient).
     pub slope_weight: f64,
+    /// Depth (m) the parcel grows beyond its conquest over land nobody claimed, until it meets its neighbours
+    /// (the fields of a sparse village's farms); 0 when absent.
+    #[serde(default)]
+    pub fill: f64,
 }
 
 /// How a building type of one village type chooses its place and its land.
@@ -277,7 +281,8 @@ impl ParcelParams {
         positive(at, "budget", self.budget)?;
         non_negative(at, "road_reach", self.road_reach)?;
         positive(at, "conquest_weight", self.conquest_weight)?;
-        non_negative(at, "slope_weight", self.slope_weight)
+        non_negative(at, "slope_weight", self.slope_weight)?;
+        non_negative(at, "fill", self.fill)
     }
 }
 
