@@ -212,7 +212,14 @@ def test_pasted_islands_are_closed_curves_with_a_filled_mesh_on_the_terrain_and_
     share = land_area / (300.0 * 200.0)
     learned = sum(engine.region_area({"shape": "polygon", "points": c[:, :2].tolist()}) for c in drawn) / 200.0**2
     print(f"land: {learned:.3f} of the example, {share:.3f} of the destination")
-    assert share >= 0.6 * learned, "the islands keep most of their share of the land"
+    assert share == pytest.approx(learned, rel=0.25), "the islands keep their share of the land"
+    # an archipelago keeps the example's contours per area and mean island area (the example has no lakes)
+    per_ha, learned_per_ha = len(contours) / 6.0, len(drawn) / 4.0
+    mean, learned_mean = land_area / sum(d % 2 == 0 for d in depth), learned * 200.0**2 / len(drawn)
+    print(f"{per_ha:.2f} contours per ha (example {learned_per_ha:.2f}), mean island {mean:.0f} m² "
+          f"(example {learned_mean:.0f} m²)")
+    assert per_ha == pytest.approx(learned_per_ha, rel=0.25), "as many contours per area as the example"
+    assert mean == pytest.approx(learned_mean, rel=0.25), "islands as large as the example's"
 
     tree_co = point_cloud_arrays(point_cloud_objects(scene)["Tree"])[0]
     pasted = tree_co[tree_co[:, 0] >= 250.0]

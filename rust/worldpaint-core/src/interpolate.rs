@@ -80,6 +80,10 @@ pub fn interpolate_colors(a: &Color, b: &Color, t: f64, name: &str) -> Result<Co
             spacing: lerp(pa.spacing, pb.spacing),
             islands_per_area: lerp(pa.islands_per_area, pb.islands_per_area),
             island_areas: quantile_blend(&pa.island_areas, &pb.island_areas, t),
+            lakes_per_area: pa
+                .lakes_per_area
+                .zip(pb.lakes_per_area)
+                .map(|(a, b)| lerp(a, b)),
         },
     );
     let color = Color {

@@ -275,6 +275,10 @@ pub struct PolygonColor {
     /// The land areas (m², lakes left out) of those islands, ascending.
     #[serde(default)]
     pub island_areas: Vec<f64>,
+    /// The lakes of those islands per m² of the exemplar region. `None` in colors learned before, whose synthesis
+    /// then keeps the traced lakes as they come.
+    #[serde(default)]
+    pub lakes_per_area: Option<f64>,
 }
 
 fn empty_histogram() -> Histogram {
@@ -681,6 +685,14 @@ impl Color {
             )?;
             for (i, a) in p.island_areas.iter().enumerate() {
                 check::within(&self.at(&at(&format!("island_areas[{i}]"))), *a, 0.0, 1e12)?;
+            }
+            if let Some(lakes) = p.lakes_per_area {
+                check::within(
+                    &self.at(&at("lakes_per_area")),
+                    lakes,
+                    0.0,
+                    limits::MAX_DENSITY,
+                )?;
             }
             limits::check(
                 &self.at(&at("spacing")),

@@ -389,6 +389,87 @@ fn islands_keep_their_count_and_size_over_nine_times_the_area() {
     }
 }
 
+/// Four wobbly islands of 25 to 32 m in a 200 m square of sea (the add-on's island example).
+fn four_islands() -> Scene {
+    let contours = [
+        (50.0, 50.0, 30.0),
+        (150.0, 60.0, 25.0),
+        (60.0, 150.0, 28.0),
+        (150.0, 150.0, 32.0),
+    ]
+    .iter()
+    .map(
+        |&(cx, cy, r): &(f64, f64, f64)| worldpaint_core::scene::Contour {
+            category: 0,
+            points: (0..48)
+                .map(|k| {
+                    let a = std::f64::consts::TAU * k as f64 / 48.0;
+                    let rr = r * (1.0 + 0.15 * (3.0 * a + cx).sin());
+                    DVec2::new(cx + rr * a.cos(), cy + rr * a.sin())
+                })
+                .collect(),
+            locked: false,
+        },
+    )
+    .collect();
+    Scene {
+        categories: vec![worldpaint_core::scene::Category::new(
+            "island",
+            "terrain",
+            worldpaint_core::scene::CategoryKind::Polygon,
+            0,
+        )],
+        contours,
+        ..Default::default()
+    }
+}
+
+#[test]
+fn four_islands_pasted_into_a_small_region_keep_their_count_size_and_land() {
+    // from so small an example the chain leaves a few large clusters and dozens of islets of a few points
+    let (scene, color) = with_color(four_islands(), 200.0, "islands");
+    let dest = Region::Rect {
+        min: DVec2::new(250.0, 0.0),
+        max: DVec2::new(550.0, 200.0),
+    };
+    let canvas = Scene {
+        categories: scene.categories.clone(),
+        ..Default::default()
+    };
+    let contours = |c: &[worldpaint_core::scene::Contour]| -> Vec<Vec<DVec2>> {
+        c.iter().map(|c| c.points.clone()).collect()
+    };
+    let (before_contours, before_islands, before_mean) =
+        island_figures(&contours(&scene.contours), &square(0.0, 200.0));
+    let before_land = before_islands * before_mean / 1e6;
+    for seed in [1, 2] {
+        let opts = SynthesisOptions {
+            seed,
+            ..Default::default()
+        };
+        let out = synthesize(&canvas, &color, &dest, &opts).unwrap();
+        let (after_contours, after_islands, after_mean) =
+            island_figures(&contours(&out.contours), &dest);
+        let after_land = after_islands * after_mean / 1e6;
+        println!(
+            "seed {seed}: {after_contours:.0} contours per km² and islands of mean land {after_mean:.0} m², \
+             land share {after_land:.3} (example {before_contours:.0}, {before_mean:.0} m², {before_land:.3})"
+        );
+        assert!(
+            (after_contours / before_contours - 1.0).abs() <= 0.25,
+            "contours per area {after_contours:.0} against {before_contours:.0}"
+        );
+        assert!(
+            (after_mean / before_mean - 1.0).abs() <= 0.25,
+            "mean island area {after_mean:.0} m² against {before_mean:.0} m²"
+        );
+        assert!(
+            (after_land / before_land - 1.0).abs() <= 0.25,
+            "land share {after_land:.3} against {before_land:.3}"
+        );
+    }
+}
+
 #[test]
 fn colors_saved_before_turning_angles_and_island_sizes_still_load_and_paint() {
     let (_, roads) = village_color(450.0);
@@ -402,10 +483,13 @@ fn colors_saved_before_turning_angles_and_island_sizes_still_load_and_paint() {
         Color::from_json(&serde_json::to_string(&json).unwrap()).unwrap()
     };
     let old_roads = strip(&roads, &["turn"]);
-    let old_islands = strip(&islands, &["islands_per_area", "island_areas"]);
+    let old_islands = strip(
+        &islands,
+        &["islands_per_area", "island_areas", "lakes_per_area"],
+    );
     assert!(old_roads.graph("road").unwrap().turn.values.is_empty());
     let p = old_islands.polygon("island").unwrap();
-    assert!(p.islands_per_area == 0.0 && p.island_areas.is_empty());
+    assert!(p.islands_per_area == 0.0 && p.island_areas.is_empty() && p.lakes_per_area.is_none());
     for (color, category) in [(&old_roads, "road"), (&old_islands, "island")] {
         let opts = SynthesisOptions {
             seed: 1,

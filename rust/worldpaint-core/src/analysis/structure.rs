@@ -253,7 +253,7 @@ impl Structures {
     }
 
     /// The statistics of a polygon category: the spacing of its dense points, and its islands whose centroid
-    /// lies in the region, per area and by land area.
+    /// lies in the region, per area and by land area, and their lakes per area.
     pub(crate) fn polygon_color(
         &self,
         category: &Category,
@@ -261,17 +261,20 @@ impl Structures {
     ) -> Option<PolygonColor> {
         let (polys, spacing) = self.polygons.get(&category.name)?;
         let contours: Vec<Vec<DVec2>> = polys.contours().map(|c| c.to_vec()).collect();
-        let mut island_areas: Vec<f64> = islands(&contours)
+        let counted: Vec<_> = islands(&contours)
             .into_iter()
             .filter(|i| region.contains(centroid(&contours[i.outer])))
-            .map(|i| i.area)
             .collect();
+        let mut island_areas: Vec<f64> = counted.iter().map(|i| i.area).collect();
         island_areas.sort_by(f64::total_cmp);
+        let lakes = counted.iter().map(|i| i.lakes.len()).sum::<usize>();
+        let area = region.area().max(1e-9);
         Some(PolygonColor {
             category: category.name.clone(),
             spacing: *spacing,
-            islands_per_area: island_areas.len() as f64 / region.area().max(1e-9),
+            islands_per_area: island_areas.len() as f64 / area,
             island_areas,
+            lakes_per_area: Some(lakes as f64 / area),
         })
     }
 }

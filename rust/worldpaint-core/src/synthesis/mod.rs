@@ -768,8 +768,6 @@ impl<'s> Painting<'s> {
                 .into_iter()
                 .filter(|p| !self.region.contains(*p)),
         );
-        let pc = self.color.polygon(name);
-        let traced = islands::match_sizes(trace(&dense, spacing), pc, self.region, self.area);
         let mut all: Vec<Vec<DVec2>> = self
             .scene
             .contours
@@ -778,6 +776,14 @@ impl<'s> Painting<'s> {
             .filter(|(k, c)| c.category == self.scene_index[ci] && !merged.contains(k))
             .map(|(_, c)| c.points.clone())
             .collect();
+        let traced = islands::match_sizes(
+            trace(&dense, spacing),
+            dense.len() as f64 * spacing * spacing,
+            self.color.polygon(name),
+            &crate::contour::Polygons::new(&all),
+            self.region,
+            self.area,
+        );
         all.extend(traced.iter().cloned());
         state.structured.set_contours(name, &all);
         state
