@@ -5,6 +5,7 @@ and reload keeps the result."""
 
 import json
 import math
+import pathlib
 
 import bpy
 import numpy as np
@@ -90,7 +91,7 @@ def curve_depths(obj, camera):
     return xd[np.argsort(xd[:, 0])]
 
 
-def misplaced(terrain, camera, stroke, curve):
+def misplaced(terrain, camera, stroke, curve, margin=3.0 * CELL):
     """Columns of the stroke where the shown terrain's silhouette is not within TOLERANCE of it: a ray that far
     above meets the terrain before passing the stroke's curve, or a ray that far below passes it."""
     xd = curve_depths(curve, camera)
@@ -100,7 +101,6 @@ def misplaced(terrain, camera, stroke, curve):
         depth = np.interp(x, xd[:, 0], xd[:, 1])
         above = hit_depth(terrain, camera, x, y + TOLERANCE)
         below = hit_depth(terrain, camera, x, y - TOLERANCE)
-        margin = 3.0 * CELL
         if not ((above is None or above > depth + margin) and below is not None and below < depth + margin):
             bad += 1
     return bad, len(xs)
@@ -208,3 +208,87 @@ def test_bad_sketches_are_refused_and_the_terrain_is_left_as_it_was():
     with pytest.raises(RuntimeError, match="No camera"):
         bpy.ops.worldpaint.apply_sketch(strokes="[[[0.1, 0.5], [0.3, 0.6]]]")
     assert terrain.data.shape_keys is None
+
+
+REAL = pathlib.Path(__file__).resolve().parents[2] / "shared" / "data" / "real" / "terrain" / "andorra_srtm3.asc"
+OUT = pathlib.Path(__file__).resolve().parents[1] / "out"
+
+
+def srtm_window(path, row0, col0, size):
+    """A size × size window of an ESRI ASCII SRTM grid as world XYZ (metres, equirectangular about its centre;
+    the grid's first row is its northern edge) and quads."""
+    with open(path) as f:
+        header = dict(next(f).split() for _ in range(6))
+        grid = np.loadtxt(f, dtype=np.float64)
+    cell = float(header["cellsize"])
+    lat = float(header["yllcorner"]) + cell * (grid.shape[0] - row0 - size / 2)
+    heights = grid[row0:row0 + size, col0:col0 + size][::-1]  # south to north
+    assert (heights > -1000).all(), "no missing samples in the window"
+    dx, dy = cell * 111_320.0 * math.cos(math.radians(lat)), cell * 111_320.0
+    x, y = np.meshgrid(dx * np.arange(size), dy * np.arange(size))
+    i, j = np.meshgrid(np.arange(size - 1), np.arange(size - 1))
+    v0 = (j * size + i).ravel()
+    quads = np.column_stack([v0, v0 + 1, v0 + 1 + size, v0 + size])
+    return np.column_stack([x.ravel(), y.ravel(), heights.ravel()]), quads, (dx, dy)
+
+
+def render(camera, path):
+    scene = bpy.context.scene
+    scene.render.engine = 'BLENDER_WORKBENCH'
+    scene.display.shading.light = 'STUDIO'
+    scene.display.shading.color_type = 'OBJECT'
+    scene.render.resolution_percentage = 50
+    scene.render.filepath = str(path)
+    scene.camera = camera
+    bpy.ops.render.render(write_still=True)
+
+
+@pytest.mark.skipif(not REAL.exists(), reason="the real terrains live beside the project, in shared/data/real")
+def test_a_silhouette_taller_than_a_real_ridge_is_met_on_real_terrain():
+    from scene_kit import mesh_object
+
+    co, quads, (dx, dy) = srtm_window(REAL, 100, 180, 64)
+    terrain = mesh_object("Andorra", co, quads)
+    terrain.color = (0.55, 0.5, 0.38, 1.0)
+    scene = bpy.context.scene
+    scene.worldpaint.terrain = terrain
+    scene.render.resolution_x, scene.render.resolution_y = 1200, 800
+    # the camera on the lowest ground of the window's southern middle, 30 m up, looking north over the terrain
+    width = np.ptp(co[:, 0])
+    south = co[(co[:, 1] < 6 * dy) & (np.abs(co[:, 0] - 0.5 * width) < 0.2 * width)]
+    low = south[np.argmin(south[:, 2])]
+    camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
+    camera.data.sensor_fit = 'HORIZONTAL'
+    camera.data.angle = math.radians(60.0)
+    camera.data.clip_end = 20_000.0
+    # off the grid's lines: a ray running exactly along a mesh edge may slip between its faces
+    camera.location = (low[0] + 0.37 * dx, low[1] + 0.41 * dy, low[2] + 30.0)
+    camera.rotation_euler = (math.radians(95.0), 0.0, 0.0)
+    scene.collection.objects.link(camera)
+    scene.camera = camera
+    bpy.context.view_layer.update()
+    OUT.mkdir(exist_ok=True)
+    render(camera, OUT / "sketch_real_before.png")
+    # the real skyline in the middle of the view, by rays through the columns, and a stroke well above it
+    xs = np.linspace(0.3, 0.7, 41)
+    skyline = np.array([_column_top(terrain, camera, x) for x in xs])
+    stroke = np.column_stack([xs, skyline + 0.04 + 0.08 * np.sin(np.pi * (xs - 0.3) / 0.4)])
+    assert bpy.ops.worldpaint.apply_sketch(strokes=json.dumps([stroke.tolist()])) == {'FINISHED'}
+    render(camera, OUT / "sketch_real_after.png")
+    curve = next(o for o in bpy.data.collections["Sketch"].objects if o.get("wp_sketch") == "matched")
+    bad, columns = misplaced(terrain, camera, stroke, curve, margin=3.0 * max(dx, dy))
+    raised = _column_top(terrain, camera, 0.5) - skyline[20]
+    print(f"real terrain {np.ptp(co[:, 0]):.0f} × {np.ptp(co[:, 1]):.0f} m, relief {np.ptp(co[:, 2]):.0f} m; "
+          f"skyline raised by {raised:.3f} of the image height at the centre; {bad} of {columns} columns off by "
+          f"more than {TOLERANCE:.0%}; renders in {OUT}")
+    assert bad == 0
+
+
+def _column_top(terrain, camera, x):
+    """The image y of the shown terrain's silhouette in column x (the highest ray that meets it)."""
+    lo, hi = 0.0, 1.0
+    assert hit_depth(terrain, camera, x, lo) is not None and hit_depth(terrain, camera, x, hi) is None
+    for _ in range(20):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if hit_depth(terrain, camera, x, mid) is not None else (lo, mid)
+    return lo

@@ -55,7 +55,7 @@ class WORLDPAINT_PG_sketch(bpy.types.PropertyGroup):
     reach: FloatProperty(
         name="Reach", default=0.0, min=0.0, soft_max=2000.0, unit='LENGTH',
         description="Distance from the sketched silhouettes beyond which the terrain stays as it was (0: eight times "
-                    "the largest height change)",
+                    "the largest height change, at most half the distance from the camera to the nearest silhouette)",
     )
     completion: BoolProperty(
         name="Complete to Ground", default=True,

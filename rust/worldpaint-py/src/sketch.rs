@@ -59,7 +59,8 @@ fn strokes_from_py(list: &Bound<'_, PyAny>) -> PyResult<Vec<Stroke>> {
 
 /// Deforms the terrain so that, seen from `camera`, its silhouettes follow the `strokes` (float64 (N, 2) arrays of
 /// camera-frame points, 0–1 in x and y) and nothing hides them (thesis ch. 5). `reach`: distance (m) beyond which
-/// the terrain stays as it was (None: eight times the largest height change); `completion`: extend the silhouettes
+/// the terrain stays as it was (None: eight times the largest height change, at most half the
+/// distance from the eye to the nearest silhouette); `completion`: extend the silhouettes
 /// to the ground. Returns a dict: "displacement" (the height change at the world XY `points`, float64 (M,)),
 /// "order" (stroke indices front to back), "features" (float64 (K, 3) polylines) and "feature_kinds"
 /// ("silhouette" / "ridge"), "curves" (per stroke its float64 (K, 3) curve), "sources" (per stroke the feature index

@@ -13,7 +13,7 @@
 //! it hides, its lowered points become new constraints, and the terrain is deformed again from the original with
 //! all constraints, until nothing protrudes. Silhouettes are found column by column: in each image column a stroke
 //! covers (sampled [`DeformOptions::columns`] across the image), the highest ray that meets the terrain nearer than
-//! the stroke's curve is cast ([`Sight::column_silhouette_nearer`]); if it passes above the stroke, the grazed
+//! the stroke's curve is cast ([`Sight::silhouette_above`]); if it passes above the stroke, the grazed
 //! point belongs to a protruding silhouette. Runs of protruding columns are one silhouette each. We count as
 //! "closer to the camera" also the terrain just behind the curve, within the deformation's reach, in the columns
 //! where the stroke is the highest one drawn: when a feature is lowered onto a stroke, the ground behind it, lowered
@@ -35,7 +35,8 @@ use std::time::Instant;
 pub struct DeformOptions {
     /// Distance (m) from the constraints at which the displacement has faded to zero; `None`: eight times the
     /// largest displacement asked for, at least 16 cells (the deformed slopes then stay below about 1 in 8 beside
-    /// the curves).
+    /// the curves), but at most half the distance from the eye to the nearest curve (at least 4 cells), so that
+    /// the ground the artist stands on does not move.
     pub reach: Option<f64>,
     /// Image columns sampled across the whole frame when looking for protruding silhouettes.
     pub columns: usize,
@@ -134,9 +135,18 @@ pub fn deform(
         .flat_map(|c| c.iter())
         .filter_map(|p| terrain.height_at(p.truncate()).map(|h| (p.z - h).abs()))
         .fold(0.0, f64::max);
-    let reach = options
-        .reach
-        .unwrap_or((8.0 * largest).max(16.0 * terrain.cell));
+    // the viewpoint stays where it is: by default the displacement fades before the ground under the eye
+    let to_eye = curves
+        .iter()
+        .flat_map(|c| c.iter())
+        .map(|p| p.truncate().distance(camera.eye.truncate()))
+        .fold(f64::INFINITY, f64::min);
+    let reach = options.reach.unwrap_or(
+        (8.0 * largest)
+            .max(16.0 * terrain.cell)
+            .min(0.5 * to_eye)
+            .max(4.0 * terrain.cell),
+    );
     let solve = |lowered: &[Vec<DVec3>]| -> Result<Diffusion> {
         let mut constraints = Constraints::for_terrain(terrain);
         // the strokes' curves first: a lowered silhouette crossing one never overrides it
@@ -233,15 +243,12 @@ fn protruding(
                 } else {
                     depth + reach
                 };
-                let Some((top, point)) =
-                    sight.column_silhouette_nearer(camera, x, (y, y + 1.0), max_depth)
+                // the stroke's own curve grazes at the stroke: only what rises clear above it protrudes
+                let Some((_, point)) =
+                    sight.silhouette_above(camera, x, y + options.clearance, max_depth)
                 else {
                     continue;
                 };
-                // the stroke's own curve grazes at the stroke: only what rises clear above it protrudes
-                if top <= y + options.clearance {
-                    continue;
-                }
                 let target_y = StrokeCurve::new(&super::Stroke {
                     points: vec![
                         DVec2::new(x - 1.0, y - options.clearance),

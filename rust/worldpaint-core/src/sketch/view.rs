@@ -122,6 +122,10 @@ const MARCH_STEP: f64 = 0.5;
 const COLUMN_ROWS: usize = 64;
 /// Bisection steps of the column search: 2⁻¹⁸ of the searched height, far below a pixel.
 const COLUMN_REFINEMENT: usize = 18;
+/// First step (image heights) of the search above a point of a column, and the bisection steps after it: the
+/// silhouette is then placed within 2⁻¹² of the last step, far below a pixel.
+const ABOVE_FIRST_STEP: f64 = 1.0 / 512.0;
+const ABOVE_REFINEMENT: usize = 12;
 
 impl<'a> Sight<'a> {
     /// The terrain prepared for ray casting.
@@ -136,7 +140,17 @@ impl<'a> Sight<'a> {
     /// Where the ray from `origin` along the unit `dir` first meets the terrain's (bilinear) surface: the distance
     /// along the ray and the point; `None` if it leaves the terrain's box first.
     pub fn hit(&self, origin: DVec3, dir: DVec3) -> Option<(f64, DVec3)> {
+        self.hit_within(origin, dir, f64::INFINITY)
+    }
+
+    /// [`Sight::hit`] looking no farther than `t_max` along the ray: what stands in front of a point at that
+    /// distance (the march stops there, which is what makes occlusion tests cheap).
+    pub fn hit_within(&self, origin: DVec3, dir: DVec3, t_max: f64) -> Option<(f64, DVec3)> {
         let (t0, t1) = self.span(origin, dir)?;
+        let t1 = t1.min(t_max);
+        if !(t0 <= t1) {
+            return None;
+        }
         let horizontal = dir.truncate().length().max(0.05);
         let step = MARCH_STEP * self.terrain.cell / horizontal;
         let above = |t: f64| -> Option<f64> {
@@ -206,22 +220,9 @@ impl<'a> Sight<'a> {
         y_min: f64,
         y_max: f64,
     ) -> Option<(f64, DVec3)> {
-        self.column_silhouette_nearer(camera, x, (y_min, y_max), f64::INFINITY)
-    }
-
-    /// [`Sight::column_silhouette`] counting only the terrain nearer than `max_depth` (along the camera's forward
-    /// axis): the silhouette of what stands in front of something at that depth.
-    pub fn column_silhouette_nearer(
-        &self,
-        camera: &Camera,
-        x: f64,
-        (y_min, y_max): (f64, f64),
-        max_depth: f64,
-    ) -> Option<(f64, DVec3)> {
         let cast = |y: f64| {
             self.hit(camera.eye, camera.ray(DVec2::new(x, y)))
                 .map(|(_, p)| p)
-                .filter(|p| (*p - camera.eye).dot(camera.forward) < max_depth)
         };
         if let Some(p) = cast(y_max) {
             return Some((y_max, p));
@@ -247,6 +248,49 @@ impl<'a> Sight<'a> {
                     point = p;
                 }
                 None => miss = mid,
+            }
+        }
+        Some((lo, point))
+    }
+
+    /// The highest ray of image column `x`, at or above `y`, that meets the terrain nearer than `max_depth` (along
+    /// the camera's forward axis), and the point it grazes; `None` if the ray at `y` meets nothing that near. The
+    /// search steps up from `y` by doubling steps, then bisects: a few dozen rays, each marched no farther than
+    /// `max_depth`.
+    pub fn silhouette_above(
+        &self,
+        camera: &Camera,
+        x: f64,
+        y: f64,
+        max_depth: f64,
+    ) -> Option<(f64, DVec3)> {
+        let cast = |y: f64| {
+            let dir = camera.ray(DVec2::new(x, y));
+            let t_max = max_depth / dir.dot(camera.forward).max(1e-9);
+            self.hit_within(camera.eye, dir, t_max).map(|(_, p)| p)
+        };
+        let mut point = cast(y)?;
+        let (mut lo, mut step) = (y, ABOVE_FIRST_STEP);
+        let mut hi = loop {
+            let next = lo + step;
+            match cast(next) {
+                Some(p) if step < 1.0 => {
+                    lo = next;
+                    point = p;
+                    step *= 2.0;
+                }
+                Some(p) => return Some((next, p)),
+                None => break next,
+            }
+        };
+        for _ in 0..ABOVE_REFINEMENT {
+            let mid = 0.5 * (lo + hi);
+            match cast(mid) {
+                Some(p) => {
+                    lo = mid;
+                    point = p;
+                }
+                None => hi = mid,
             }
         }
         Some((lo, point))
