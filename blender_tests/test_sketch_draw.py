@@ -353,21 +353,46 @@ def test_an_annotation_placed_in_3d_is_read_as_the_camera_sees_it():
     assert np.allclose(strokes[0], expected, atol=1e-9)
 
 
+ROW = [(300.0 + 20.0 * k, 400.0) for k in range(31)]
+COLUMN = [(500.0, 200.0 + 20.0 * k) for k in range(26)]
+
+
 def test_an_annotation_placed_on_the_view_is_read_in_the_camera_frame_it_was_drawn_over():
-    add_camera()
-    stroke = annotate("Silhouettes", PIXELS, 'VIEW')
-    points = stored(stroke)
-    assert np.all(points[:, 2] == 0.0)  # Blender keeps it in percent of the camera frame
+    set_resolution(1920, 1080)
+    camera = add_camera()
+    scene = bpy.context.scene
+    annotate("Silhouettes", ROW, 'VIEW')
+    annotate("Silhouettes", COLUMN, 'VIEW')
     strokes = read_annotations()  # the active layer
-    assert np.allclose(strokes[0], points[:, :2] / 100.0)
-    # farther right on the screen is farther right in the frame
-    assert np.all(np.diff(strokes[0][:, 0]) > 0.0)
+    assert len(strokes) == 2
+    row, column = strokes
+
+    # Blender keeps a View stroke drawn in camera view in the camera frame: the frame the two strokes reveal has the
+    # render's proportions (not the viewport's), half the viewport wide and centred, as the camera view shows it
+    # at its default zoom
+    _window, _area, region = view3d_area()
+    width = (ROW[-1][0] - ROW[0][0]) / (row[-1, 0] - row[0, 0])
+    height = (COLUMN[-1][1] - COLUMN[0][1]) / (column[-1, 1] - column[0, 1])
+    print(f"camera frame on a {region.width} x {region.height} viewport: {width:.1f} x {height:.1f} px")
+    assert width / height == pytest.approx(1920 / 1080, rel=1e-3)
+    assert width == pytest.approx(region.width / 2.0, abs=0.5)
+    left, bottom = ROW[0][0] - row[0, 0] * width, COLUMN[0][1] - column[0, 1] * height
+    assert left + width / 2.0 == pytest.approx(region.width / 2.0, abs=0.5)
+    assert bottom + height / 2.0 == pytest.approx(region.height / 2.0, abs=0.5)
+
+    # and the same pixels drawn with Sketch Silhouettes in that view give the same stroke (the Annotate tool smooths
+    # its strokes' inner points along the line: the ends and the height are compared)
+    view = Region(region.width, region.height)
+    rv3d = CameraView(scene, camera, view, (left, bottom, left + width, bottom + height))
+    drawn = np.array([region_to_camera(view, rv3d, scene, camera, xy) for xy in ROW])
+    assert np.allclose(row[[0, -1]], drawn[[0, -1]], atol=1e-4)
+    assert np.allclose(row[:, 1], drawn[0, 1], atol=1e-4)
 
 
 def test_annotation_strokes_of_one_point_and_unknown_layers_are_reported():
     add_camera()
-    annotate("Silhouettes", PIXELS, 'VIEW')
-    annotate("Silhouettes", [PIXELS[0], PIXELS[0]], 'VIEW')
+    annotate("Silhouettes", ROW, 'VIEW')
+    annotate("Silhouettes", [ROW[0], ROW[0]], 'VIEW')
     strokes = read_annotations("Silhouettes")
     assert len(strokes) == 1
     assert len(strokes.skipped) == 1 and "annotation stroke 2 of 'Silhouettes' skipped" in strokes.skipped[0]
