@@ -16,6 +16,7 @@ def draw_stroke_tools(layout, settings):
         text += ", ordered in depth" if ranked == count else ", not applied yet" if ranked == 0 else ""
     layout.label(text=text, icon='GREASEPENCIL')
     row = layout.row(align=True)
+    row.operator_context = 'INVOKE_DEFAULT'  # Clear asks first
     row.operator("worldpaint.sketch_remove_last", text="Remove Last", icon='BACK')
     row.operator("worldpaint.sketch_clear", text="Clear", icon='TRASH')
 
@@ -34,7 +35,9 @@ class WORLDPAINT_PT_sketch(SidebarPanel, bpy.types.Panel):
             layout.label(text=f"No camera: the scene camera ({name})", icon='INFO')
         layout.prop(settings, "source", expand=True)
         if settings.source == 'STROKES':
-            layout.operator("worldpaint.sketch_silhouettes", icon='GREASEPENCIL')
+            col = layout.column()
+            col.operator_context = 'INVOKE_DEFAULT'  # draws in the viewport until Enter, Esc or a right-click
+            col.operator("worldpaint.sketch_silhouettes", icon='GREASEPENCIL')
             draw_stroke_tools(layout, settings)
         else:
             data = annotation_data(scene)

@@ -103,17 +103,17 @@ class WORLDPAINT_TL_sketch(bpy.types.WorkSpaceTool):
         layout.operator("worldpaint.sketch_clear", text="Clear", icon='TRASH')
 
 
-TOOLS = (WORLDPAINT_TL_brush, WORLDPAINT_TL_eraser, WORLDPAINT_TL_pipette)
+BRUSH_TOOLS = (WORLDPAINT_TL_brush, WORLDPAINT_TL_eraser, WORLDPAINT_TL_pipette)
+TOOLS = (*BRUSH_TOOLS, WORLDPAINT_TL_sketch)
 
 
 def register():
-    bpy.utils.register_tool(TOOLS[0], separator=True, group=False)
-    for tool in TOOLS[1:]:
-        bpy.utils.register_tool(tool, after={TOOLS[0].bl_idname})
-    bpy.utils.register_tool(WORLDPAINT_TL_sketch, after={TOOLS[-1].bl_idname}, separator=True)
+    bpy.utils.register_tool(BRUSH_TOOLS[0], separator=True, group=False)
+    for tool in BRUSH_TOOLS[1:]:
+        bpy.utils.register_tool(tool, after={BRUSH_TOOLS[0].bl_idname})
+    bpy.utils.register_tool(WORLDPAINT_TL_sketch, after={BRUSH_TOOLS[-1].bl_idname}, separator=True)
 
 
 def unregister():
-    bpy.utils.unregister_tool(WORLDPAINT_TL_sketch)
     for tool in reversed(TOOLS):
         bpy.utils.unregister_tool(tool)
