@@ -197,7 +197,8 @@ class WORLDPAINT_OT_sketch_silhouettes(bpy.types.Operator):
         if area is None or area.type != 'VIEW_3D' or _window_region(area) is None:
             raise WorldPaintError(IN_A_VIEWPORT)
         self._area, self._region, self._space = area, _window_region(area), area.spaces.active
-        self._camera = camera
+        # by name: an undo step restored while the tool runs would leave a held object behind
+        self._camera_name = camera.name
         self._points = None
         self._last_pixel = None
         if not looks_through(context.scene, self._space, self._space.region_3d, camera):
@@ -212,6 +213,13 @@ class WORLDPAINT_OT_sketch_silhouettes(bpy.types.Operator):
         if self.single_stroke:
             self._begin_stroke(event)
         return {'RUNNING_MODAL'}
+
+    def _camera(self):
+        return bpy.data.objects.get(self._camera_name)
+
+    def _looks_through(self, context):
+        camera = self._camera()
+        return camera is not None and looks_through(context.scene, self._space, self._space.region_3d, camera)
 
     # the stroke being drawn
 
@@ -232,9 +240,12 @@ class WORLDPAINT_OT_sketch_silhouettes(bpy.types.Operator):
         xy = self._pixel(event)
         if self._last_pixel is not None and math.dist(xy, self._last_pixel) < MIN_SPACING:
             return
+        camera = self._camera()
+        if camera is None:
+            return
         self._last_pixel = xy
         rv3d = self._space.region_3d
-        self._points.append(region_to_camera(self._region, rv3d, bpy.context.scene, self._camera, xy))
+        self._points.append(region_to_camera(self._region, rv3d, bpy.context.scene, camera, xy))
         self._area.tag_redraw()
 
     def _end_stroke(self, context, keep):
@@ -246,6 +257,10 @@ class WORLDPAINT_OT_sketch_silhouettes(bpy.types.Operator):
         if not keep or len(points) < 2:
             return False
         add_stroke(context.scene.worldpaint.sketch, points)
+        if self.single_stroke:  # the stroke is the operator's, so that Adjust Last Operation redoes it
+            self.stroke.clear()
+            for co in points:
+                self.stroke.add().co = co
         return True
 
     def modal(self, context, event):
@@ -255,19 +270,27 @@ class WORLDPAINT_OT_sketch_silhouettes(bpy.types.Operator):
             return {'PASS_THROUGH'}
         if event.value == 'PRESS' and event.type in {'ESC', 'RIGHTMOUSE', 'RET', 'NUMPAD_ENTER'}:
             return self._finish(context, {'CANCELLED'})  # each stroke was its own undo step
-        if event.type == 'Z' and event.value == 'PRESS' and (event.ctrl or event.oskey) and not event.shift:
-            self._remove_last(context)
+        if event.type in {'Z', 'Y'} and (event.ctrl or event.oskey):
+            # Ctrl+Z removes the last stroke; Blender's own undo and redo wait until the sketching ends
+            if event.type == 'Z' and event.value == 'PRESS' and not event.shift:
+                self._remove_last(context)
             return {'RUNNING_MODAL'}
+        if not self._inside(event):
+            return {'PASS_THROUGH'}  # the sidebar's buttons and the other editors stay usable
         if event.type == 'LEFTMOUSE' and event.value == 'PRESS':
-            if not self._inside(event):
-                return {'PASS_THROUGH'}  # the panel's buttons stay usable
-            if not looks_through(context.scene, self._space, self._space.region_3d, self._camera):
-                look_through(context.scene, self._space, self._camera)
+            camera = self._camera()
+            if camera is None:
+                self.report({'ERROR'}, f"The sketch camera '{self._camera_name}' is gone")
+                return self._finish(context, {'CANCELLED'})
+            if not self._looks_through(context):
+                look_through(context.scene, self._space, camera)
                 self._area.tag_redraw()
                 return {'RUNNING_MODAL'}
             self._begin_stroke(event)
             return {'RUNNING_MODAL'}
-        return {'PASS_THROUGH'}
+        if event.type.startswith('NUMPAD_') or event.type in {'MOUSEMOVE', 'INBETWEEN_MOUSEMOVE'}:
+            return {'PASS_THROUGH'}  # the numpad's views, and the cursor
+        return {'RUNNING_MODAL'}
 
     def _modal_drawing(self, context, event):
         if event.type in {'MOUSEMOVE', 'INBETWEEN_MOUSEMOVE'}:
