@@ -565,3 +565,32 @@ def build_waterfall(heightfield, controllers, points, seed, **options):
     d = _engine().build_waterfall(heightfield, controllers, np.ascontiguousarray(points, dtype=np.float64), seed,
                                   **options)
     return WaterfallResult.of(d)
+
+
+@dataclass(frozen=True)
+class SketchResult:
+    """A sketch applied (thesis ch. 5): the height change at the points asked about; the strokes' order front to back;
+    the terrain features detected (world XYZ polylines, with their kinds); per stroke its 3D curve and the feature it
+    deforms (-1: embedded, no feature could serve); the protruding silhouettes as lowered; and how it went."""
+
+    displacement: np.ndarray
+    order: list
+    features: list
+    feature_kinds: list
+    curves: list
+    sources: list
+    lowered: list
+    rounds: int
+    hidden_columns: int
+    reach: float
+    junctions: int
+    seconds: dict
+
+
+def apply_sketch(heightfield, camera, strokes, points, *, reach=None, completion=True, progress=None):
+    """The terrain deformed so that, seen from ``camera`` (a dict: eye, forward, up, frame_min, frame_max), its
+    silhouettes follow the ``strokes`` (camera-frame (N, 2) arrays), read at the XY ``points``."""
+    d = _engine().apply_sketch(heightfield, camera, [np.ascontiguousarray(s, dtype=np.float64) for s in strokes],
+                               np.ascontiguousarray(points, dtype=np.float64), reach=reach, completion=completion,
+                               progress=progress)
+    return SketchResult(**d)

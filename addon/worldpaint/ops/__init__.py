@@ -21,6 +21,7 @@ from .move import WORLDPAINT_OT_move_region
 from .palette_io import WORLDPAINT_OT_export_palette, WORLDPAINT_OT_import_palette
 from .paste import WORLDPAINT_OT_paste_color
 from .pipette import WORLDPAINT_OT_pipette
+from .sketch import WORLDPAINT_OT_apply_sketch
 from .stretch import WORLDPAINT_OT_stretch_region
 from .terrain_edit import WORLDPAINT_OT_build_waterfall, WORLDPAINT_OT_embed_roads
 from .village import (
@@ -61,6 +62,7 @@ _classes = (
     WORLDPAINT_OT_add_village_event,
     WORLDPAINT_OT_remove_village_event,
     WORLDPAINT_OT_move_village_event,
+    WORLDPAINT_OT_apply_sketch,
     *sketch_draw.classes,
 )
 

@@ -17,7 +17,7 @@
 
 use crate::error::{Error, Result};
 use crate::limits;
-pub use glam::DVec2;
+pub use glam::{DVec2, DVec3};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::TAU;
 

@@ -180,3 +180,203 @@ fn a_stroke_above_a_ridge_becomes_its_silhouette_and_the_hill_in_front_is_lowere
         }
     }
 }
+
+/// The Blender test's scene: the same hills on a 4 m grid, the same camera.
+fn hills_coarse() -> Heightfield {
+    let n = 129;
+    let heights = (0..n * n)
+        .map(|k| {
+            let (x, y) = ((k % n) as f64 * 4.0, (k / n) as f64 * 4.0);
+            let ridge = |c: f64, h: f64, w: f64| h * (-((y - c) / w).powi(2)).exp();
+            let hill =
+                45.0 * (-((x - 256.0).powi(2) + (y - 130.0).powi(2)) / 15.0f64.powi(2)).exp();
+            let detail =
+                0.8 * (0.31 * x).sin() * (0.27 * y).cos() + 0.5 * (0.53 * x + 0.41 * y).sin();
+            (ridge(100.0, 18.0, 12.0)
+                .max(ridge(260.0, 40.0, 18.0))
+                .max(hill)
+                + detail) as f32
+        })
+        .collect();
+    Heightfield::new(DVec2::ZERO, 4.0, n, n, heights).expect("a valid grid")
+}
+
+/// A front mountain and two behind it, each ending on its slopes: two T-junctions.
+fn three_strokes() -> Vec<Stroke> {
+    let front = |x: f64| 0.62 + 0.09 * (-((x - 0.38) / 0.12).powi(2)).exp();
+    let line = |x0: f64, x1: f64, n: usize, f: &dyn Fn(f64) -> f64| Stroke {
+        points: (0..n)
+            .map(|k| {
+                let x = x0 + (x1 - x0) * k as f64 / (n - 1) as f64;
+                DVec2::new(x, f(x))
+            })
+            .collect(),
+    };
+    let pi = std::f64::consts::PI;
+    vec![
+        line(0.18, 0.62, 30, &front),
+        line(0.52, 0.9, 30, &|x| {
+            front(0.52) + 0.1 * (pi * (x - 0.52) / 0.5).sin() + 0.01 * (x - 0.52)
+        }),
+        line(0.06, 0.27, 20, &|x| {
+            front(0.27) + 0.08 * (pi * (0.27 - x) / 0.3).sin()
+        }),
+    ]
+}
+
+/// Nodes farther than `distance` from every point of `curves`.
+fn away_from(terrain: &Heightfield, curves: &[&[DVec3]], distance: f64) -> Vec<bool> {
+    let n = terrain.nx;
+    (0..terrain.heights.len())
+        .map(|k| {
+            let p = terrain.origin + DVec2::new((k % n) as f64, (k / n) as f64) * terrain.cell;
+            curves
+                .iter()
+                .all(|c| c.iter().all(|q| q.truncate().distance(p) > distance))
+        })
+        .collect()
+}
+
+/// The terrain minus its mean over a (2r+1)² window: its fine detail.
+fn high_pass(terrain: &Heightfield, r: usize) -> Vec<f64> {
+    let (nx, ny) = (terrain.nx, terrain.ny);
+    let h = |i: usize, j: usize| terrain.heights[j * nx + i] as f64;
+    (0..nx * ny)
+        .map(|k| {
+            let (i, j) = (k % nx, k / nx);
+            let (i0, i1, j0, j1) = (
+                i.saturating_sub(r),
+                (i + r).min(nx - 1),
+                j.saturating_sub(r),
+                (j + r).min(ny - 1),
+            );
+            let mut sum = 0.0;
+            for jj in j0..=j1 {
+                for ii in i0..=i1 {
+                    sum += h(ii, jj);
+                }
+            }
+            h(i, j) - sum / ((i1 - i0 + 1) * (j1 - j0 + 1)) as f64
+        })
+        .collect()
+}
+
+fn correlation(a: &[f64], b: &[f64]) -> f64 {
+    let n = a.len() as f64;
+    let (ma, mb) = (a.iter().sum::<f64>() / n, b.iter().sum::<f64>() / n);
+    let cov: f64 = a.iter().zip(b).map(|(x, y)| (x - ma) * (y - mb)).sum();
+    let va: f64 = a.iter().map(|x| (x - ma).powi(2)).sum();
+    let vb: f64 = b.iter().map(|y| (y - mb).powi(2)).sum();
+    cov / (va * vb).sqrt()
+}
+
+#[test]
+fn three_strokes_with_two_t_junctions_are_all_seen_and_the_detail_is_kept() {
+    use worldpaint_core::sketch::apply::{apply_sketch, SketchOptions, Source};
+    let terrain = hills_coarse();
+    let camera = camera();
+    let mut options = SketchOptions::default();
+    options.deform.reach = Some(120.0);
+    let edit =
+        apply_sketch(&terrain, &camera, &three_strokes(), &options, &|_| true).expect("applied");
+    let d = &edit.deformation;
+    println!(
+        "order {:?}, {} junctions, sources {:?} of {} features, {} rounds, {} lowered, {} hidden columns, {:?}",
+        edit.order.front_to_back,
+        edit.order.junctions.len(),
+        edit.targets.sources,
+        edit.features.len(),
+        d.rounds,
+        d.lowered.len(),
+        d.hidden_columns,
+        edit.seconds
+    );
+    assert_eq!(
+        edit.order.front_to_back,
+        vec![0, 1, 2],
+        "the front mountain first, then the later one's"
+    );
+    assert_eq!(edit.order.junctions.len(), 2);
+    assert!(
+        edit.targets
+            .sources
+            .iter()
+            .all(|s| matches!(s, Source::Feature(_))),
+        "terrain features serve all"
+    );
+    for (s, target) in edit.targets.targets.iter().enumerate() {
+        let (checked, bad) = misplaced_columns(&d.terrain, &camera, target);
+        println!("stroke {s}: {bad} of {checked} columns misplaced");
+        assert_eq!(
+            bad, 0,
+            "stroke {s} is a visible silhouette within 1 % of the image height"
+        );
+    }
+    assert_eq!(d.hidden_columns, 0);
+    // beyond the reach the terrain is as it was; away from the constraints its detail is kept
+    let curves: Vec<&[DVec3]> = edit
+        .targets
+        .targets
+        .iter()
+        .map(|t| t.curve.as_slice())
+        .chain(d.lowered.iter().map(Vec::as_slice))
+        .collect();
+    let far = away_from(&terrain, &curves, d.reach + terrain.cell);
+    let moved_far = (0..far.len())
+        .filter(|&k| far[k] && terrain.heights[k] != d.terrain.heights[k])
+        .count();
+    assert!(
+        far.iter().filter(|&&f| f).count() > 1000 && moved_far == 0,
+        "{moved_far} nodes beyond the reach moved"
+    );
+    let away = away_from(&terrain, &curves, 3.0 * terrain.cell);
+    let (before, after) = (high_pass(&terrain, 2), high_pass(&d.terrain, 2));
+    let pick = |v: &[f64]| -> Vec<f64> {
+        v.iter()
+            .zip(&away)
+            .filter(|(_, &a)| a)
+            .map(|(x, _)| *x)
+            .collect()
+    };
+    let r = correlation(&pick(&before), &pick(&after));
+    println!("high-pass correlation away from the constraints: {r:.4}");
+    assert!(r >= 0.99, "the terrain keeps its fine detail: {r}");
+}
+
+#[test]
+fn a_stroke_no_feature_can_serve_is_embedded_and_seen() {
+    use worldpaint_core::sketch::apply::{apply_sketch, SketchOptions, Source};
+    // flat ground: no ridge, no silhouette but its far edge
+    let terrain =
+        Heightfield::new(DVec2::ZERO, 4.0, 129, 129, vec![0.0; 129 * 129]).expect("a valid grid");
+    let camera = camera();
+    let stroke = Stroke {
+        points: (0..=30)
+            .map(|k| {
+                let x = 0.3 + 0.4 * k as f64 / 30.0;
+                DVec2::new(
+                    x,
+                    0.56 + 0.08 * (std::f64::consts::PI * (x - 0.3) / 0.4).sin(),
+                )
+            })
+            .collect(),
+    };
+    let edit = apply_sketch(
+        &terrain,
+        &camera,
+        &[stroke],
+        &SketchOptions::default(),
+        &|_| true,
+    )
+    .expect("applied");
+    println!("sources {:?}", edit.targets.sources);
+    assert!(
+        matches!(edit.targets.sources[0], Source::Embedded(d) if d > 0.0),
+        "{:?}",
+        edit.targets.sources
+    );
+    let (checked, bad) =
+        misplaced_columns(&edit.deformation.terrain, &camera, &edit.targets.targets[0]);
+    println!("embedded stroke: {bad} of {checked} columns misplaced");
+    assert_eq!(bad, 0, "the embedded stroke is seen where it was drawn");
+}

@@ -396,3 +396,31 @@ fn a_village_on_land_all_under_water_is_refused_with_a_message() {
         ),
     }
 }
+
+#[test]
+fn a_village_type_may_set_its_own_road_costs_but_not_its_width() {
+    let enc = encyclopedia();
+    let highland = enc.road_params("highland");
+    assert_eq!(highland.width, enc.roads.width);
+    assert!(highland.cycle_max_length > enc.roads.cycle_max_length);
+    assert_eq!(enc.road_params("farming"), enc.roads);
+    let mut bad = enc.clone();
+    if let Some(v) = bad.village_types.get_mut("farming") {
+        v.roads.max_grade = Some(-0.1);
+    }
+    let err = Encyclopedia::from_json(&bad.to_json()).expect_err("a negative grade");
+    assert!(
+        err.to_string().contains("village_types.farming.roads"),
+        "{err}"
+    );
+    let widened = ENCYCLOPEDIA.replacen(
+        "\"roads\": {\n    \"reuse_weight\"",
+        "\"roads\": {\n    \"width\": 9.0,\n    \"reuse_weight\"",
+        1,
+    );
+    assert_ne!(widened, ENCYCLOPEDIA);
+    assert!(
+        Encyclopedia::from_json(&widened).is_err(),
+        "a village type's road width"
+    );
+}

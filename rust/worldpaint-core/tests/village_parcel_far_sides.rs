@@ -38,6 +38,7 @@ fn village_parcel_far_sides_on_a_curved_slope_come_out_straight() {
         road_reach: 40.0,
         conquest_weight: 1.0,
         slope_weight: 40.0,
+        fill: 0.0,
     };
     let seed = [ParcelSeed {
         position: DVec2::new(100.0, 106.0),

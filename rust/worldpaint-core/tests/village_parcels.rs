@@ -57,6 +57,7 @@ mod village {
             road_reach,
             conquest_weight: 1.0,
             slope_weight,
+            fill: 0.0,
         }
     }
 
@@ -1026,6 +1027,7 @@ mod village {
                         road_reach: rng.random_range(3.0..12.0),
                         conquest_weight: rng.random_range(0.5..1.5),
                         slope_weight: rng.random_range(0.0..10.0),
+                        fill: 0.0,
                     });
                     s += rng.random_range(6.0..20.0);
                 }

@@ -15,6 +15,7 @@ mod convert;
 mod exemplars;
 mod regions;
 mod scene;
+mod sketch;
 mod terrain;
 mod terrain_edit;
 mod tools;
@@ -274,6 +275,8 @@ mod worldpaint_engine {
     use crate::regions::{fill_polygons, region_area, region_bbox, region_contains};
     #[pymodule_export]
     use crate::scene::PyScene;
+    #[pymodule_export]
+    use crate::sketch::apply_sketch;
     #[pymodule_export]
     use crate::terrain::Terrain;
     #[pymodule_export]

@@ -1,12 +1,17 @@
 //! The whole edit: strokes ordered, features detected and matched, curves built, terrain deformed (thesis §5.1).
 
 use super::curves::{complete, embed, embedding_depth, fallback_depth};
-use super::deform::StrokeTarget;
+use super::deform::{deform, DeformOptions, Deformation, StrokeTarget};
+use super::features::{detect_features, FeatureOptions};
 use super::matching::{
     assign, feature_pieces, priority_list, Assignment, Candidate, MatchingOptions, StrokeCurve,
 };
+use super::ordering::{order_strokes, OrderingOptions, StrokeOrder};
 use super::view::{Camera, Sight};
 use super::{Feature, Stroke};
+use crate::error::{Error, Result};
+use crate::terrain::Heightfield;
+use std::time::Instant;
 
 /// How a stroke got its curve.
 #[derive(Clone, Debug, PartialEq)]
@@ -30,6 +35,9 @@ pub struct Targets {
     pub assignment: Assignment,
 }
 
+/// Cells a stroke's curve must lie behind the curve of a stroke in front of it.
+const SEPARATION_CELLS: f64 = 3.0;
+
 /// Share of a curve's length it may be extended by at each end to reach the ground (feature completion).
 const COMPLETION_SHARE: f64 = 0.5;
 
@@ -51,7 +59,7 @@ pub fn targets(
         .iter()
         .map(|c| priority_list(sight, camera, c, &pieces, options))
         .collect();
-    let assignment = assign(front_to_back, &lists);
+    let assignment = assign(front_to_back, &lists, SEPARATION_CELLS * sight.terrain.cell);
     let mut chosen: Vec<Option<&Candidate>> = assignment
         .chosen
         .iter()
@@ -98,4 +106,128 @@ pub fn targets(
         lists,
         assignment,
     }
+}
+
+/// Everything an edit needs besides the terrain, the camera and the strokes.
+#[derive(Clone, Debug)]
+pub struct SketchOptions {
+    /// Stroke ordering (§5.2).
+    pub ordering: OrderingOptions,
+    /// Feature detection (§5.3.1).
+    pub features: FeatureOptions,
+    /// Matching (§5.3.2).
+    pub matching: MatchingOptions,
+    /// Deformation and lowering (§5.3.3, §5.4).
+    pub deform: DeformOptions,
+    /// Whether the curves are extended to the ground at their ends (§5.3.2, "an optional step").
+    pub completion: bool,
+}
+
+impl Default for SketchOptions {
+    /// Every step's defaults, with the curves completed to the ground.
+    fn default() -> Self {
+        SketchOptions {
+            ordering: OrderingOptions::default(),
+            features: FeatureOptions::default(),
+            matching: MatchingOptions::default(),
+            deform: DeformOptions::default(),
+            completion: true,
+        }
+    }
+}
+
+/// Seconds spent in each step, as the thesis's Table 5.1 reports them.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StepSeconds {
+    /// Stroke ordering.
+    pub ordering: f64,
+    /// Feature detection.
+    pub features: f64,
+    /// Priority lists, assignment and curves.
+    pub matching: f64,
+    /// The first deformation.
+    pub deformation: f64,
+    /// Lowering protruding silhouettes (finding them and deforming again).
+    pub lowering: f64,
+}
+
+/// A sketch applied: the strokes' order, the features, the curves and the deformed terrain.
+#[derive(Clone, Debug)]
+pub struct SketchEdit {
+    /// The strokes ordered in depth and oriented left to right.
+    pub order: StrokeOrder,
+    /// The terrain features detected.
+    pub features: Vec<Feature>,
+    /// The strokes' curves and how they were chosen.
+    pub targets: Targets,
+    /// The deformed terrain.
+    pub deformation: Deformation,
+    /// Time per step.
+    pub seconds: StepSeconds,
+}
+
+/// Applies a sketch (thesis §5.1): orders the strokes, detects the terrain's features, matches them to the strokes,
+/// deforms the terrain and lowers what would hide the strokes. `progress` hears the share done (0 to 1) and cancels
+/// ([`Error::Cancelled`]) by returning `false`.
+pub fn apply_sketch(
+    terrain: &Heightfield,
+    camera: &Camera,
+    strokes: &[Stroke],
+    options: &SketchOptions,
+    progress: &(dyn Fn(f64) -> bool + Sync),
+) -> Result<SketchEdit> {
+    if strokes.is_empty() {
+        return Err(Error::invalid("the sketch", "has no stroke"));
+    }
+    let step = |fraction: f64| {
+        if progress(fraction) {
+            Ok(())
+        } else {
+            Err(Error::Cancelled)
+        }
+    };
+    let clock = Instant::now();
+    let mut lap = {
+        let mut last = 0.0;
+        move || {
+            let now = clock.elapsed().as_secs_f64();
+            let d = now - last;
+            last = now;
+            d
+        }
+    };
+    step(0.0)?;
+    let order = order_strokes(strokes, &options.ordering)?;
+    let ordering = lap();
+    let sight = Sight::new(terrain);
+    let features = detect_features(&sight, camera, &options.features)?;
+    let features_seconds = lap();
+    step(0.2)?;
+    let targets = targets(
+        &sight,
+        camera,
+        &order.oriented,
+        &order.front_to_back,
+        &features,
+        &options.matching,
+        options.completion,
+    );
+    let matching = lap();
+    step(0.3)?;
+    let deformation = deform(terrain, camera, &targets.targets, &options.deform, &|f| {
+        progress(0.3 + 0.7 * f)
+    })?;
+    Ok(SketchEdit {
+        seconds: StepSeconds {
+            ordering,
+            features: features_seconds,
+            matching,
+            deformation: deformation.seconds.0,
+            lowering: deformation.seconds.1,
+        },
+        order,
+        features,
+        targets,
+        deformation,
+    })
 }

@@ -28,6 +28,7 @@ use crate::terrain::Heightfield;
 use crate::terrain_edit::{diffuse, rasterize, Constraints, Diffusion, DiffusionOptions};
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
+use std::time::Instant;
 
 /// How the terrain is deformed and how protruding silhouettes are lowered.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -82,6 +83,9 @@ pub struct Deformation {
     pub hidden_columns: usize,
     /// The reach used (m).
     pub reach: f64,
+    /// Seconds of the first deformation, and of the lowering after it (finding protruding silhouettes, deforming
+    /// again).
+    pub seconds: (f64, f64),
 }
 
 /// The depth of a curve at image `x`, from its projected points (sorted by `x`).
@@ -156,10 +160,13 @@ pub fn deform(
     let rounds = options.max_rounds.max(1);
     let mut lowered: Vec<Vec<DVec3>> = Vec::new();
     let mut round = 0;
+    let start = Instant::now();
+    let mut first_round = None;
     loop {
         round += 1;
         let diffusion = solve(&lowered)?;
         let deformed = diffusion.apply(terrain)?;
+        let first = *first_round.get_or_insert_with(|| start.elapsed().as_secs_f64());
         let found = protruding(&deformed, camera, targets, reach, options);
         let hidden: usize = found.iter().map(Vec::len).sum();
         if !progress(round as f64 / rounds as f64) {
@@ -173,6 +180,7 @@ pub fn deform(
                 rounds: round,
                 hidden_columns: hidden,
                 reach,
+                seconds: (first, start.elapsed().as_secs_f64() - first),
             });
         }
         for run in found {

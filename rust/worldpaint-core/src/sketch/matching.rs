@@ -23,15 +23,16 @@
 //! The thesis writes the two integrals without absolute values; a signed mean would let a feature half above and half
 //! below its stroke cost nothing, so the distances are taken absolute.
 //!
-//! **Assignment.** Strokes are processed front to back; a feature piece serves one stroke at most (pieces of the same
-//! feature may serve different strokes only if they do not overlap in `x`: our reading of "a feature curve assigned
-//! to a stroke is no longer considered", applied to the feature as a whole, is stricter; we take the whole
-//! feature); a stroke's candidate is dropped when it would hide a curve chosen for a stroke in front of it (it lies
-//! nearer the camera somewhere in their common `x` range). A stroke left without candidates costs
-//! [`EMPTY_LIST_COST`], so that an assignment where every stroke has a feature wins whenever one exists; it is then
-//! embedded in 3D between its neighbours in depth (see `super::embed`). The minimum is found by branch and bound:
-//! a partial assignment is cut when its cost plus the cheapest remaining candidate of every later stroke (a lower
-//! bound that ignores the constraints) reaches the best complete cost found.
+//! **Assignment.** Strokes are processed front to back. A feature serves one stroke at most ("a feature curve
+//! assigned to a stroke is no longer considered for subsequent strokes"). A stroke's candidate is dropped when it
+//! would hide the curve chosen for a stroke in front of it: somewhere in their common `x` range it lies nearer the
+//! camera, or less than a few cells behind it. The margin is ours: a crest is often detected twice, as a ridge and
+//! as the silhouette along it, and without it two strokes took the same crest and one was lost. A stroke left
+//! without candidates costs [`EMPTY_LIST_COST`], so that an assignment where every stroke has a feature wins
+//! whenever one exists; it is then embedded in 3D between its neighbours in depth (see `super::curves`). The
+//! minimum is found by branch and bound: a partial assignment is cut when its cost plus the cheapest remaining
+//! candidate of every later stroke (a lower bound that ignores the constraints) reaches the best complete cost
+//! found.
 
 use super::view::{Camera, Sight};
 use super::{Feature, Stroke};
@@ -208,8 +209,9 @@ impl Candidate {
         Some(self.depths[k - 1] + (self.depths[k] - self.depths[k - 1]) * t)
     }
 
-    /// Whether this curve would hide `front`'s: somewhere in their common `x` range it lies nearer the camera.
-    pub fn hides(&self, front: &Candidate) -> bool {
+    /// Whether this curve would hide `front`'s, or run into it: somewhere in their common `x` range it lies less
+    /// than `separation` (m) behind it.
+    pub fn hides(&self, front: &Candidate, separation: f64) -> bool {
         let (Some(&a0), Some(&a1), Some(&b0), Some(&b1)) = (
             self.xs.first(),
             self.xs.last(),
@@ -227,7 +229,7 @@ impl Candidate {
             .chain(front.xs.iter())
             .filter(|&&x| x >= lo && x <= hi)
             .any(|&x| match (self.depth_at(x), front.depth_at(x)) {
-                (Some(d), Some(e)) => d < e,
+                (Some(d), Some(e)) => d < e + separation,
                 _ => false,
             })
     }
@@ -483,13 +485,17 @@ pub struct Assignment {
 
 /// The assignment of least total cost, by branch and bound: `lists[s]` is stroke `s`'s priority list and
 /// `front_to_back` the strokes' depth order. See the module documentation for the rules.
-pub fn assign(front_to_back: &[usize], lists: &[Vec<Candidate>]) -> Assignment {
-    search(front_to_back, lists, true)
+pub fn assign(front_to_back: &[usize], lists: &[Vec<Candidate>], separation: f64) -> Assignment {
+    search(front_to_back, lists, separation, true)
 }
 
 /// The same minimum by exhaustive search (no bound): the baseline branch and bound is measured against.
-pub fn assign_exhaustively(front_to_back: &[usize], lists: &[Vec<Candidate>]) -> Assignment {
-    search(front_to_back, lists, false)
+pub fn assign_exhaustively(
+    front_to_back: &[usize],
+    lists: &[Vec<Candidate>],
+    separation: f64,
+) -> Assignment {
+    search(front_to_back, lists, separation, false)
 }
 
 struct Search<'a> {
@@ -497,12 +503,18 @@ struct Search<'a> {
     lists: &'a [Vec<Candidate>],
     /// Cheapest possible cost of the strokes from position `k` on.
     remaining: Vec<f64>,
+    separation: f64,
     bound: bool,
     current: Vec<Option<usize>>,
     best: Assignment,
 }
 
-fn search(front_to_back: &[usize], lists: &[Vec<Candidate>], bound: bool) -> Assignment {
+fn search(
+    front_to_back: &[usize],
+    lists: &[Vec<Candidate>],
+    separation: f64,
+    bound: bool,
+) -> Assignment {
     let n = front_to_back.len();
     let mut remaining = vec![0.0; n + 1];
     for k in (0..n).rev() {
@@ -517,6 +529,7 @@ fn search(front_to_back: &[usize], lists: &[Vec<Candidate>], bound: bool) -> Ass
         order: front_to_back,
         lists,
         remaining,
+        separation,
         bound,
         current: vec![None; lists.len()],
         best: Assignment {
@@ -576,7 +589,9 @@ impl Search<'_> {
     fn allowed(&self, k: usize, cand: &Candidate) -> bool {
         self.order[..k].iter().all(|&front| {
             match self.current[front].and_then(|c| self.lists[front].get(c)) {
-                Some(chosen) => chosen.feature != cand.feature && !cand.hides(chosen),
+                Some(chosen) => {
+                    chosen.feature != cand.feature && !cand.hides(chosen, self.separation)
+                }
                 None => true,
             }
         })

@@ -225,8 +225,8 @@ fn branch_and_bound_finds_the_exhaustive_minimum_with_fewer_nodes() {
         let n = rng.random_range(1..=5);
         let lists = random_lists(&mut rng, n, 6);
         let order: Vec<usize> = (0..n).collect();
-        let bb = assign(&order, &lists);
-        let ex = assign_exhaustively(&order, &lists);
+        let bb = assign(&order, &lists, 5.0);
+        let ex = assign_exhaustively(&order, &lists, 5.0);
         assert!(
             (bb.cost - ex.cost).abs() < 1e-9,
             "case {case}: {} vs {}",
@@ -244,7 +244,7 @@ fn branch_and_bound_finds_the_exhaustive_minimum_with_fewer_nodes() {
                         "case {case}: a feature serves once"
                     );
                     assert!(
-                        !cand.hides(&lists[front][f]),
+                        !cand.hides(&lists[front][f], 5.0),
                         "case {case}: a back curve hides a front one"
                     );
                 }
@@ -262,7 +262,7 @@ fn branch_and_bound_finds_the_exhaustive_minimum_with_fewer_nodes() {
 #[test]
 fn a_stroke_without_candidates_is_left_to_the_embedding() {
     let lists = vec![Vec::new()];
-    let a = assign(&[0], &lists);
+    let a = assign(&[0], &lists, 5.0);
     assert_eq!(a.chosen, vec![None]);
     assert_eq!(a.cost, EMPTY_LIST_COST);
 }

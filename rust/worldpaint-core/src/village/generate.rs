@@ -247,9 +247,15 @@ pub fn generate(
         ..Default::default()
     };
     let no_buildings = vec![false; land.grid().len()];
+    // the ways through are built by the village's first type
+    let first_type = request.scenario.events.iter().find_map(|e| match e {
+        Event::ChangeVillageType { village_type } => Some(village_type.as_str()),
+        Event::Generate { .. } => None,
+    });
+    let through_roads = enc.road_params(first_type.unwrap_or_default());
     for &p in others {
         reached(Stage::Skeleton, 0.0)?;
-        let through = network.link_connection(&land, &enc.roads, &no_buildings, p)?;
+        let through = network.link_connection(&land, &through_roads, &no_buildings, p)?;
         report.roads_over_max_grade += through.over_max_grade as usize;
     }
     report.connections = network.connections().to_vec();
@@ -280,12 +286,14 @@ pub fn generate(
     let mut fortress: Vec<bool> = Vec::new();
     let mut occupied = vec![false; land.grid().len()];
     let mut village_type = String::new();
+    let mut roads = enc.roads.clone();
     let total = report.requested.max(1) as f64;
     let mut done = 0usize;
     for e in &request.scenario.events {
         let (count, building) = match e {
             Event::ChangeVillageType { village_type: v } => {
                 village_type = v.clone();
+                roads = enc.road_params(v);
                 continue;
             }
             Event::Generate { count, building } => (*count, building),
@@ -324,8 +332,7 @@ pub fn generate(
                 continue;
             };
             failed_in_a_row = 0;
-            let connection =
-                network.connect(&land, &enc.roads, &occupied, found.position, frontage)?;
+            let connection = network.connect(&land, &roads, &occupied, found.position, frontage)?;
             if !connection.reached {
                 report.unreachable += 1;
                 continue;

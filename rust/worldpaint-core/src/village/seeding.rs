@@ -129,6 +129,7 @@ mod tests {
                 road_reach: 10.0,
                 conquest_weight: 1.0,
                 slope_weight: 1.0,
+                fill: 0.0,
             },
         }
     }

@@ -17,7 +17,7 @@ use std::f64::consts::FRAC_1_SQRT_2;
 
 /// Cell states of the conquest grid.
 pub(super) const FREE: u8 = 0;
-const ROAD: u8 = 1;
+pub(super) const ROAD: u8 = 1;
 pub(super) const BLOCKED: u8 = 2;
 
 /// The ends of roads that meet no other road (nor their own road elsewhere).
@@ -84,7 +84,7 @@ impl Work {
         let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
         for (s, p) in seeds.iter().zip(projections) {
             let reach = s.params.budget / s.params.conquest_weight;
-            let r = s.params.road_reach + 2.0 * reach + half + 4.0 * cell;
+            let r = s.params.road_reach + 2.0 * reach + s.params.fill + half + 4.0 * cell;
             lo = lo.min(p.point - DVec2::splat(r));
             hi = hi.max(p.point + DVec2::splat(r));
         }

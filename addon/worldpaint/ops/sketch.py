@@ -1,0 +1,112 @@
+"""Apply Sketch (thesis ch. 5): the terrain deformed so that, seen from the sketch camera, its silhouettes follow the
+strokes drawn over the view and nothing hides them. The change is a shape key named after the operator, what stands
+on the changed ground moves with it, and the run is one undo step with progress and Esc."""
+
+import json
+
+import bpy
+import numpy as np
+from bpy.props import StringProperty
+
+from ..bridge import WorldPaintError, engine, sketch, terrain, terrain_edit
+from .background import BackgroundOperator
+from .common import TerrainProperty
+from .terrain_edit import UNMOVED, editable_terrain
+
+
+def strokes_from_json(text):
+    """Strokes given as JSON text: a list of strokes, each a list of [x, y] camera-frame points."""
+    try:
+        strokes = json.loads(text)
+        arrays = [np.asarray(s, dtype=np.float64).reshape(-1, 2) for s in strokes]
+    except (ValueError, TypeError) as exc:
+        raise WorldPaintError(f"The strokes are not a JSON list of strokes of [x, y] points: {exc}") from None
+    return arrays
+
+
+def scene_strokes(settings):
+    """The strokes drawn with the Sketch Silhouettes tool, as (N, 2) arrays."""
+    return [np.array([tuple(p.co) for p in s.points], dtype=np.float64).reshape(-1, 2) for s in settings.strokes]
+
+
+class WORLDPAINT_OT_apply_sketch(BackgroundOperator, TerrainProperty, bpy.types.Operator):
+    """Deform the terrain so that, seen from the sketch camera, its silhouettes follow the sketched strokes and
+    nothing hides them (a shape key; Esc cancels)"""
+
+    bl_idname = "worldpaint.apply_sketch"
+    bl_label = "Apply Sketch"
+    bl_options = {'REGISTER', 'UNDO'}
+    progress_text = "Applying sketch"
+
+    camera: StringProperty(name="Camera", description="Camera the strokes are drawn through (empty: the panel's, "
+                                                      "else the scene camera)")
+    strokes: StringProperty(
+        name="Strokes", options={'SKIP_SAVE'},
+        description="JSON list of strokes, each a list of [x, y] points in the camera frame (0-1; empty: the "
+                    "strokes drawn in the scene)",
+    )
+
+    def _prepare(self, context):
+        scene = context.scene
+        settings = scene.worldpaint.sketch
+        obj = editable_terrain(context, self.terrain)
+        if self.camera:
+            camera_obj = bpy.data.objects.get(self.camera)
+            if camera_obj is None:
+                raise WorldPaintError(f"No object named '{self.camera}' to sketch through")
+        else:
+            camera_obj = settings.camera or scene.camera
+        camera = sketch.engine_camera(scene, camera_obj)
+        self._from_scene = not self.strokes
+        strokes = scene_strokes(settings) if self._from_scene else strokes_from_json(self.strokes)
+        short = [k for k, s in enumerate(strokes) if len(s) < 2]
+        if short:
+            raise WorldPaintError(f"Stroke(s) {', '.join(map(str, short))} have fewer than two points")
+        if not strokes:
+            raise WorldPaintError("Nothing to apply: draw silhouettes with the Sketch Silhouettes tool first")
+        self._standing = terrain_edit.Standing(scene)
+        with terrain_edit.without_key(obj, sketch.SKETCH_KEY):
+            heightfield = terrain.engine_terrain(context, obj)
+        self._vertices = terrain_edit.basis_world(obj)
+        reseated = self._standing.points() if settings.reseat else self._vertices[:0, :2]
+        self._terrain_obj = obj
+        self._reseat = settings.reseat
+        self._show = settings.show_features
+        self._bevel = 0.002 * float(np.ptp(self._vertices[:, :2], axis=0).max(initial=1.0))
+        self._arguments = (heightfield, camera, strokes, np.vstack([self._vertices[:, :2], reseated]))
+        self._call = dict(reach=settings.reach if settings.reach > 0.0 else None, completion=settings.completion)
+
+    def _compute(self, progress):
+        return engine.apply_sketch(*self._arguments, progress=progress, **self._call)
+
+    def _apply(self, context, result):
+        n = len(self._vertices)
+        dz = result.displacement
+        changed = dz[:n]
+        if np.abs(changed).max(initial=0.0) <= UNMOVED and not terrain_edit.has_shape_key(self._terrain_obj,
+                                                                                       sketch.SKETCH_KEY):
+            self.report({'WARNING'}, "The sketch needs no change to the terrain: it already shows these silhouettes")
+            return {'CANCELLED'}
+        terrain_edit.write_shape_key(self._terrain_obj, sketch.SKETCH_KEY, changed)
+        if self._reseat:
+            self._standing.reseat(dz[n:], "sketch")
+        strokes = context.scene.worldpaint.sketch.strokes
+        if self._from_scene and len(strokes) == len(result.order):
+            for rank, k in enumerate(result.order):
+                strokes[k].depth_rank = rank
+        if self._show:
+            sketch.show(context.scene, result, self._bevel)
+        else:
+            sketch.clear_display(context.scene)
+        embedded = sum(1 for s in result.sources if s < 0)
+        s = result.seconds
+        self.report({'INFO'}, f"Sketch applied to '{self._terrain_obj.name}': {len(result.order)} stroke(s), "
+                              f"{result.junctions} T-junction(s), {len(result.curves) - embedded} on terrain "
+                              f"features, {embedded} embedded; {len(result.lowered)} silhouette(s) lowered in "
+                              f"{result.rounds} round(s); raised {max(changed.max(), 0.0):.1f} m, lowered "
+                              f"{max(-changed.min(), 0.0):.1f} m (shape key '{sketch.SKETCH_KEY}'); "
+                              f"{sum(s.values()):.2f} s")
+        if result.hidden_columns:
+            self.report({'WARNING'}, f"Part of the sketch is still hidden ({result.hidden_columns} image columns): "
+                                     "draw it higher, or over terrain farther away")
+        return {'FINISHED'}

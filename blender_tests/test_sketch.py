@@ -1,0 +1,210 @@
+"""Apply Sketch (thesis ch. 5) through bpy.ops, as an artist would use it: strokes drawn over a camera's view of a
+hilly terrain become its silhouettes seen from that camera (checked by casting rays through the image columns on the
+deformed mesh), the change is one shape key that undo removes, what stands on the ground moves with it, and a save
+and reload keeps the result."""
+
+import json
+import math
+
+import bpy
+import numpy as np
+import pytest
+from bpy_extras.object_utils import world_to_camera_view
+from mathutils import Vector
+from scene_kit import evaluated_vertices, grid_terrain, prototypes
+
+CELL = 4.0
+N = 129
+KEY = "WorldPaint Apply Sketch"
+TOLERANCE = 0.01  # of the image height: how far a stroke's silhouette may lie from it
+
+
+def hills_height(x, y):
+    """A near ridge, a middle ridge and a hill in front of it, with metre-scale detail."""
+    ridge = np.maximum(18.0 * np.exp(-((y - 100.0) / 12.0) ** 2), 40.0 * np.exp(-((y - 260.0) / 18.0) ** 2))
+    hill = 45.0 * np.exp(-((x - 256.0) ** 2 + (y - 130.0) ** 2) / 15.0**2)
+    detail = 0.8 * np.sin(0.31 * x) * np.cos(0.27 * y) + 0.5 * np.sin(0.53 * x + 0.41 * y)
+    return np.maximum(ridge, hill) + detail
+
+
+def sketch_scene():
+    """The terrain and a level camera at its south edge looking north (60° wide, 3:2)."""
+    x, y = np.meshgrid(CELL * np.arange(N), CELL * np.arange(N))
+    terrain = grid_terrain("Terrain", (0.0, 0.0), CELL, hills_height(x, y))
+    scene = bpy.context.scene
+    scene.worldpaint.terrain = terrain
+    scene.render.resolution_x, scene.render.resolution_y = 1200, 800
+    camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
+    camera.data.sensor_fit = 'HORIZONTAL'
+    camera.data.angle = math.radians(60.0)
+    camera.data.clip_end = 2000.0
+    camera.location = (256.0, -60.0, 12.0)
+    camera.rotation_euler = (math.radians(90.0), 0.0, 0.0)
+    scene.collection.objects.link(camera)
+    scene.camera = camera
+    return terrain, camera
+
+
+def three_strokes():
+    """A front mountain, one behind it to the right and one behind it to the left, each of the back ones ending on
+    the front one's slope (two T-junctions)."""
+    def front(x):
+        return 0.62 + 0.09 * np.exp(-((x - 0.38) / 0.12) ** 2)
+
+    xs = np.linspace(0.18, 0.62, 30)
+    right = np.linspace(0.52, 0.9, 30)
+    left = np.linspace(0.06, 0.27, 20)
+    return [
+        np.column_stack([xs, front(xs)]),
+        np.column_stack([right, front(0.52) + 0.1 * np.sin(np.pi * (right - 0.52) / 0.5) + 0.01 * (right - 0.52)]),
+        np.column_stack([left, front(0.27) + 0.08 * np.sin(np.pi * (0.27 - left) / 0.3)]),
+    ]
+
+
+def ray(camera, x, y):
+    """The world ray (origin, unit direction) through camera-frame point (x, y)."""
+    frame = camera.data.view_frame(scene=bpy.context.scene)
+    xs, ys = [v.x for v in frame], [v.y for v in frame]
+    local = Vector((min(xs) + x * (max(xs) - min(xs)), min(ys) + y * (max(ys) - min(ys)), frame[0].z))
+    rotation = camera.matrix_world.to_3x3().normalized()
+    return camera.matrix_world.translation.copy(), (rotation @ local).normalized()
+
+
+def hit_depth(terrain, camera, x, y):
+    """Depth (along the camera's view axis) where the ray through (x, y) meets the shown terrain, or None."""
+    origin, direction = ray(camera, x, y)
+    evaluated = terrain.evaluated_get(bpy.context.evaluated_depsgraph_get())
+    inverse = terrain.matrix_world.inverted()
+    hit, location, _, _ = evaluated.ray_cast(inverse @ origin, inverse.to_3x3() @ direction)
+    if not hit:
+        return None
+    forward = camera.matrix_world.to_3x3().normalized() @ Vector((0.0, 0.0, -1.0))
+    return (terrain.matrix_world @ location - origin).dot(forward)
+
+
+def curve_depths(obj, camera):
+    """(x, depth) of a curve's points in the camera frame, sorted by x."""
+    scene = bpy.context.scene
+    points = [obj.matrix_world @ Vector(p.co[:3]) for s in obj.data.splines for p in s.points]
+    xd = np.array([tuple(world_to_camera_view(scene, camera, p))[::2] for p in points])
+    return xd[np.argsort(xd[:, 0])]
+
+
+def misplaced(terrain, camera, stroke, curve):
+    """Columns of the stroke where the shown terrain's silhouette is not within TOLERANCE of it: a ray that far
+    above meets the terrain before passing the stroke's curve, or a ray that far below passes it."""
+    xd = curve_depths(curve, camera)
+    bad, xs = 0, np.linspace(stroke[0, 0], stroke[-1, 0], 80)[1:-1]
+    for x in xs:
+        y = np.interp(x, stroke[:, 0], stroke[:, 1])
+        depth = np.interp(x, xd[:, 0], xd[:, 1])
+        above = hit_depth(terrain, camera, x, y + TOLERANCE)
+        below = hit_depth(terrain, camera, x, y - TOLERANCE)
+        margin = 3.0 * CELL
+        if not ((above is None or above > depth + margin) and below is not None and below < depth + margin):
+            bad += 1
+    return bad, len(xs)
+
+
+def draw(strokes):
+    settings = bpy.context.scene.worldpaint.sketch
+    settings.strokes.clear()
+    for stroke in strokes:
+        item = settings.strokes.add()
+        for x, y in stroke:
+            item.points.add().co = (x, y)
+
+
+def test_sketched_silhouettes_are_seen_from_the_camera_and_the_far_terrain_stays():
+    terrain, camera = sketch_scene()
+    before = evaluated_vertices(terrain)
+    strokes = three_strokes()
+    draw(strokes)
+    settings = bpy.context.scene.worldpaint.sketch
+    settings.reach = 150.0
+    assert bpy.ops.worldpaint.apply_sketch() == {'FINISHED'}
+    assert KEY in terrain.data.shape_keys.key_blocks
+    ranks = [s.depth_rank for s in settings.strokes]
+    print(f"depth ranks {ranks}")
+    assert ranks[0] == 0, "the mountain the others disappear behind is in front"
+    sketch = bpy.data.collections["Sketch"]
+    curves = sorted((o for o in sketch.objects if o.get("wp_sketch") == "matched"), key=lambda o: o.name)
+    assert len(curves) == 3
+    for k, (stroke, curve) in enumerate(zip(strokes, curves, strict=True)):
+        bad, columns = misplaced(terrain, camera, stroke, curve)
+        print(f"stroke {k} ({curve.name}): {bad} of {columns} columns off by more than {TOLERANCE:.0%}")
+        assert bad == 0
+    after = evaluated_vertices(terrain)
+    anchors = np.vstack([np.array([tuple(p.co[:2]) for s in o.data.splines for p in s.points])
+                         for o in sketch.objects if o.get("wp_sketch") in ("matched", "lowered")])
+    far = np.array([np.min(np.hypot(*(anchors - v[:2]).T)) > settings.reach + CELL for v in before])
+    moved = np.abs(after[:, 2] - before[:, 2])
+    print(f"{far.sum()} vertices beyond the reach, moved at most {moved[far].max():.2e} m; "
+          f"largest change {moved.max():.1f} m")
+    assert far.sum() > 1000 and moved[far].max() < 1e-4
+
+
+def test_headless_strokes_undo_reseat_and_reload(tmp_path):
+    from worldpaint.bridge import points
+    from worldpaint.bridge.instances import point_cloud_arrays
+
+    terrain, camera = sketch_scene()
+    prototypes()
+    xy = np.array([[256.0, 262.0], [150.0, 258.0], [300.0, 250.0], [40.0, 480.0]])
+    cloud = points.point_cloud_object(bpy.context.scene, "Tree")
+    points.write_points(cloud, np.column_stack([xy, hills_height(xy[:, 0], xy[:, 1])]), np.zeros(4), np.ones(4),
+                        np.zeros(4, dtype=np.int32))
+    bpy.ops.ed.undo_push(message="scene built")
+    strokes = three_strokes()
+    assert bpy.ops.worldpaint.apply_sketch(terrain="Terrain", camera="Camera",
+                                           strokes=json.dumps([s.tolist() for s in strokes])) == {'FINISHED'}
+    bpy.ops.ed.undo_push(message="Apply Sketch")
+    shown = evaluated_vertices(terrain)
+    change = shown[:, 2] - hills_height(shown[:, 0], shown[:, 1])
+    print(f"terrain change up to {np.abs(change).max():.1f} m")
+    assert np.abs(change).max() > 5.0
+    # the painted trees stand on the changed ground (within what the mesh's triangles and the engine's bilinear grid
+    # disagree by on a raised crest)
+    co = point_cloud_arrays(cloud)[0]
+    ground = np.array([_ground(terrain, p) for p in co[:, :2]])
+    rise = ground - hills_height(xy[:, 0], xy[:, 1])
+    print(f"trees at {co[:, 2].round(2)}, ground {ground.round(2)}, the ground rose by {rise.round(2)}")
+    assert rise.max() > 10.0, "a tree stands on a raised crest"
+    assert (np.abs(co[:, 2] - ground) <= 0.05 * np.abs(rise) + 0.1).all(), "the trees moved with the ground"
+    bpy.ops.ed.undo()
+    terrain = bpy.data.objects["Terrain"]
+    assert terrain.data.shape_keys is None or KEY not in terrain.data.shape_keys.key_blocks, "undo removes it"
+    bpy.ops.ed.redo()
+    terrain = bpy.data.objects["Terrain"]
+    assert np.abs(evaluated_vertices(terrain) - shown).max() < 1e-4, "redo brings it back"
+    path = str(tmp_path / "sketch.blend")
+    bpy.ops.wm.save_as_mainfile(filepath=path)
+    bpy.ops.wm.open_mainfile(filepath=path)
+    reloaded = evaluated_vertices(bpy.data.objects["Terrain"])
+    assert np.abs(reloaded - shown).max() < 1e-4, "the sketch survives save and reload"
+    assert bpy.data.objects["Terrain"].data.shape_keys.key_blocks[KEY].value == 1.0
+
+
+def _ground(terrain, xy):
+    """Height of the shown terrain at XY, by a vertical ray."""
+    evaluated = terrain.evaluated_get(bpy.context.evaluated_depsgraph_get())
+    inverse = terrain.matrix_world.inverted()
+    hit, location, _, _ = evaluated.ray_cast(inverse @ Vector((xy[0], xy[1], 1000.0)), Vector((0.0, 0.0, -1.0)))
+    assert hit
+    return (terrain.matrix_world @ location).z
+
+
+def test_bad_sketches_are_refused_and_the_terrain_is_left_as_it_was():
+    terrain, _ = sketch_scene()
+    with pytest.raises(RuntimeError, match="Nothing to apply"):
+        bpy.ops.worldpaint.apply_sketch()
+    with pytest.raises(RuntimeError, match="JSON"):
+        bpy.ops.worldpaint.apply_sketch(strokes="[[0.1, 0.5], oops]")
+    with pytest.raises(RuntimeError, match="fewer than two points"):
+        bpy.ops.worldpaint.apply_sketch(strokes="[[[0.1, 0.5]]]")
+    with pytest.raises(RuntimeError, match="not finite|NaN|nan"):
+        bpy.ops.worldpaint.apply_sketch(strokes="[[[0.1, 0.5], [NaN, 0.6]]]")
+    bpy.context.scene.camera = None
+    with pytest.raises(RuntimeError, match="No camera"):
+        bpy.ops.worldpaint.apply_sketch(strokes="[[[0.1, 0.5], [0.3, 0.6]]]")
+    assert terrain.data.shape_keys is None
