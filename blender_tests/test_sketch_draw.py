@@ -404,3 +404,41 @@ def test_no_annotations_at_all_says_how_to_make_them():
     add_camera()
     with pytest.raises(WorldPaintError, match="The scene has no annotations"):
         read_annotations()
+
+
+# --- Apply Sketch reads what was drawn ----------------------------------------------------------------------------
+
+def ridges_scene():
+    """A near ridge and a far one, and a level camera at the south edge looking north at them (3:2)."""
+    from scene_kit import grid_terrain
+
+    cell, n = 4.0, 97
+    x, y = np.meshgrid(cell * np.arange(n), cell * np.arange(n))
+    heights = np.maximum(15.0 * np.exp(-((y - 90.0) / 12.0) ** 2), 35.0 * np.exp(-((y - 250.0) / 18.0) ** 2))
+    terrain = grid_terrain("Terrain", (0.0, 0.0), cell, heights)
+    scene = bpy.context.scene
+    scene.worldpaint.terrain = terrain
+    set_resolution(1200, 800)
+    camera = add_camera("Camera")
+    camera.data.angle = math.radians(60.0)
+    camera.data.clip_end = 2000.0
+    camera.location = (192.0, -60.0, 12.0)
+    camera.rotation_euler = (math.radians(90.0), 0.0, 0.0)
+    bpy.context.view_layer.update()
+    return terrain, camera
+
+
+def test_apply_sketch_orders_the_drawn_strokes_and_leaves_a_one_point_stroke_unranked():
+    ridges_scene()
+    settings = bpy.context.scene.worldpaint.sketch
+    front = [(x, 0.60 + 0.05 * math.sin(math.pi * (x - 0.2) / 0.5)) for x in np.linspace(0.2, 0.7, 25)]
+    back = [(x, 0.66 + 0.04 * math.sin(math.pi * (x - 0.62) / 0.3)) for x in np.linspace(0.62, 0.92, 15)]
+    draw(back)
+    dot = settings.strokes.add()  # a click that a script left behind
+    dot.points.add().co = (0.4, 0.4)
+    draw(front)
+    assert bpy.ops.worldpaint.apply_sketch() == {'FINISHED'}
+    ranks = [s.depth_rank for s in settings.strokes]
+    print(f"depth ranks of the back stroke, the dot and the front stroke: {ranks}")
+    assert ranks[1] == -1
+    assert ranks == [1, -1, 0]  # the lower stroke is the near one; the dot is left out

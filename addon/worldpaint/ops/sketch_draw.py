@@ -11,7 +11,6 @@ the stroke in the camera frame: ``bpy.ops.worldpaint.sketch_silhouettes(stroke=[
 {"name": "", "co": (0.9, 0.6)}])``.
 """
 
-import colorsys
 import math
 
 import bpy
@@ -20,6 +19,7 @@ from bpy.props import BoolProperty, CollectionProperty
 from gpu_extras.batch import batch_for_shader
 
 from ..bridge import WorldPaintError
+from ..bridge.sketch import depth_color
 from ..bridge.sketch_strokes import camera_to_region, look_through, looks_through, region_to_camera, sketch_camera
 from ..props import WORLDPAINT_PG_sketch_point
 from .common import report_errors
@@ -28,7 +28,6 @@ MIN_SPACING = 4.0  # pixels between consecutive points of a stroke
 STROKE_WIDTH = 3.0  # pixels
 UNRANKED_COLOR = (0.62, 0.62, 0.62, 0.95)
 DRAWING_COLOR = (1.0, 1.0, 1.0, 0.95)
-NEAREST_HUE, FARTHEST_HUE = 2.0 / 3.0, 0.0  # blue, red
 SESSION_HINT = "Sketch Silhouettes: drag to draw a stroke · Ctrl+Z remove the last · Enter / Esc / right-click: done"
 IN_A_VIEWPORT = (
     "Sketch Silhouettes draws in a 3D viewport: use its tool in the viewport's toolbar or the button of the Sketch "
@@ -60,11 +59,11 @@ def distinct_points(points):
 
 def rank_color(rank, deepest):
     """The overlay color of a stroke at ``rank`` (0: front) among ranks 0..``deepest``, as in the thesis's Fig. 5.2:
-    blue nearest to red farthest; grey for a stroke not ordered yet (rank -1)."""
+    blue nearest to red farthest, the colors of the matched curves Apply Sketch shows; grey for a stroke not ordered
+    yet (rank -1)."""
     if rank < 0:
         return UNRANKED_COLOR
-    t = rank / deepest if deepest > 0 else 0.0
-    return (*colorsys.hsv_to_rgb(NEAREST_HUE + t * (FARTHEST_HUE - NEAREST_HUE), 0.85, 1.0), 0.95)
+    return depth_color(rank, deepest + 1)
 
 
 def _push_undo(message):
