@@ -2,6 +2,7 @@
 
 import bpy
 
+from . import sketch_draw
 from .blur import WORLDPAINT_OT_blur
 from .brush import WORLDPAINT_OT_brush, WORLDPAINT_OT_brush_radius, WORLDPAINT_OT_erase
 from .clear import WORLDPAINT_OT_clear_region
@@ -62,6 +63,17 @@ _classes = (
     WORLDPAINT_OT_remove_village_event,
     WORLDPAINT_OT_move_village_event,
     WORLDPAINT_OT_apply_sketch,
+    *sketch_draw.classes,
 )
 
-register, unregister = bpy.utils.register_classes_factory(_classes)
+_register_classes, _unregister_classes = bpy.utils.register_classes_factory(_classes)
+
+
+def register():
+    _register_classes()
+    sketch_draw.add_overlay()
+
+
+def unregister():
+    sketch_draw.remove_overlay()
+    _unregister_classes()

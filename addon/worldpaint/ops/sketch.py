@@ -8,7 +8,7 @@ import bpy
 import numpy as np
 from bpy.props import StringProperty
 
-from ..bridge import WorldPaintError, engine, sketch, terrain, terrain_edit
+from ..bridge import WorldPaintError, engine, sketch, sketch_strokes, terrain, terrain_edit
 from .background import BackgroundOperator
 from .common import TerrainProperty
 from .terrain_edit import UNMOVED, editable_terrain
@@ -22,11 +22,6 @@ def strokes_from_json(text):
     except (ValueError, TypeError) as exc:
         raise WorldPaintError(f"The strokes are not a JSON list of strokes of [x, y] points: {exc}") from None
     return arrays
-
-
-def scene_strokes(settings):
-    """The strokes drawn with the Sketch Silhouettes tool, as (N, 2) arrays."""
-    return [np.array([tuple(p.co) for p in s.points], dtype=np.float64).reshape(-1, 2) for s in settings.strokes]
 
 
 class WORLDPAINT_OT_apply_sketch(BackgroundOperator, TerrainProperty, bpy.types.Operator):
@@ -58,7 +53,17 @@ class WORLDPAINT_OT_apply_sketch(BackgroundOperator, TerrainProperty, bpy.types.
             camera_obj = settings.camera or scene.camera
         camera = sketch.engine_camera(scene, camera_obj)
         self._from_scene = not self.strokes
-        strokes = scene_strokes(settings) if self._from_scene else strokes_from_json(self.strokes)
+        self._origins = None
+        if self._from_scene:
+            # the panel's source: the strokes drawn with Sketch Silhouettes, or an annotation layer's
+            found = sketch_strokes.sketch_strokes(context, settings, camera_obj)
+            for reason in found.skipped:
+                self.report({'WARNING'}, reason)
+            strokes = list(found)
+            if settings.source == 'STROKES':
+                self._origins = found.origins
+        else:
+            strokes = strokes_from_json(self.strokes)
         short = [k for k, s in enumerate(strokes) if len(s) < 2]
         if short:
             raise WorldPaintError(f"Stroke(s) {', '.join(map(str, short))} have fewer than two points")
@@ -90,10 +95,13 @@ class WORLDPAINT_OT_apply_sketch(BackgroundOperator, TerrainProperty, bpy.types.
         terrain_edit.write_shape_key(self._terrain_obj, sketch.SKETCH_KEY, changed)
         if self._reseat:
             self._standing.reseat(dz[n:], "sketch")
-        strokes = context.scene.worldpaint.sketch.strokes
-        if self._from_scene and len(strokes) == len(result.order):
+        if self._origins is not None:
+            drawn = context.scene.worldpaint.sketch.strokes
+            for stroke in drawn:
+                stroke.depth_rank = -1
             for rank, k in enumerate(result.order):
-                strokes[k].depth_rank = rank
+                if 0 <= k < len(self._origins) and self._origins[k] < len(drawn):
+                    drawn[self._origins[k]].depth_rank = rank
         if self._show:
             sketch.show(context.scene, result, self._bevel)
         else:

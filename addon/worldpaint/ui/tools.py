@@ -1,6 +1,8 @@
-"""The viewport tools in the toolbar (Object Mode): Brush, Eraser and Pipette, with the brush circle on the terrain.
+"""The viewport tools in the toolbar (Object Mode): Brush, Eraser and Pipette, with the brush circle on the terrain,
+and Sketch Silhouettes, which draws over the sketch camera's view.
 
-Left-drag paints (or erases) one stroke, F resizes the brush, a click with the pipette picks a color.
+Left-drag paints (or erases) one stroke, F resizes the brush, a click with the pipette picks a color; with Sketch
+Silhouettes each left-drag draws one silhouette stroke (Ctrl+Z undoes it).
 """
 
 import bpy
@@ -76,13 +78,40 @@ class WORLDPAINT_TL_pipette(BrushCircleTool, bpy.types.WorkSpaceTool):
         layout.prop(settings, "learn_elevation")
 
 
-TOOLS = (WORLDPAINT_TL_brush, WORLDPAINT_TL_eraser, WORLDPAINT_TL_pipette)
+class WORLDPAINT_TL_sketch(bpy.types.WorkSpaceTool):
+    bl_space_type = 'VIEW_3D'
+    bl_context_mode = 'OBJECT'
+    bl_idname = "worldpaint.sketch_tool"
+    bl_label = "Sketch Silhouettes"
+    bl_description = (
+        "Draw the terrain's silhouettes over the sketch camera's view, one stroke per drag (Ctrl+Z undoes a stroke); "
+        "the first click switches the viewport to the camera"
+    )
+    bl_icon = "ops.gpencil.draw"
+    bl_keymap = (
+        ("worldpaint.sketch_silhouettes", {"type": 'LEFTMOUSE', "value": 'PRESS'},
+         {"properties": [("single_stroke", True)]}),
+    )
+
+    @staticmethod
+    def draw_settings(context, layout, _tool):
+        settings = context.scene.worldpaint.sketch
+        layout.prop(settings, "camera")
+        count = len(settings.strokes)
+        layout.label(text=f"{count} stroke{'s' if count != 1 else ''}")
+        layout.operator("worldpaint.sketch_remove_last", text="Remove Last", icon='BACK')
+        layout.operator("worldpaint.sketch_clear", text="Clear", icon='TRASH')
+
+
+BRUSH_TOOLS = (WORLDPAINT_TL_brush, WORLDPAINT_TL_eraser, WORLDPAINT_TL_pipette)
+TOOLS = (*BRUSH_TOOLS, WORLDPAINT_TL_sketch)
 
 
 def register():
-    bpy.utils.register_tool(TOOLS[0], separator=True, group=False)
-    for tool in TOOLS[1:]:
-        bpy.utils.register_tool(tool, after={TOOLS[0].bl_idname})
+    bpy.utils.register_tool(BRUSH_TOOLS[0], separator=True, group=False)
+    for tool in BRUSH_TOOLS[1:]:
+        bpy.utils.register_tool(tool, after={BRUSH_TOOLS[0].bl_idname})
+    bpy.utils.register_tool(WORLDPAINT_TL_sketch, after={BRUSH_TOOLS[-1].bl_idname}, separator=True)
 
 
 def unregister():
