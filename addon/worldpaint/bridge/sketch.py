@@ -77,6 +77,7 @@ def _curve_object(name, polylines, color, bevel, tag):
         spline.points.foreach_set("co", np.column_stack([xyz, np.ones(len(xyz))]).ravel())
     obj = bpy.data.objects.new(name, curve)
     obj.color = color
+    obj.hide_render = True  # a guide in the viewport, not part of the scene's pictures
     obj[SKETCH_TAG] = tag
     return obj
 
