@@ -112,7 +112,7 @@ class WORLDPAINT_OT_apply_sketch(BackgroundOperator, TerrainProperty, bpy.types.
                               f"{result.junctions} T-junction(s), {len(result.curves) - embedded} on terrain "
                               f"features, {embedded} embedded; {len(result.lowered)} silhouette(s) lowered in "
                               f"{result.rounds} round(s); raised {max(changed.max(), 0.0):.1f} m, lowered "
-                              f"{max(-changed.min(), 0.0):.1f} m (shape key '{sketch.SKETCH_KEY}'); "
+                              f"{max(-changed.min(), 0.0) + 0.0:.1f} m (shape key '{sketch.SKETCH_KEY}'); "
                               f"{sum(s.values()):.2f} s")
         if result.hidden_columns:
             self.report({'WARNING'}, f"Part of the sketch is still hidden ({result.hidden_columns} image columns): "
