@@ -13,11 +13,12 @@ use worldpaint_core::terrain::Heightfield;
 const N: usize = 257;
 const CELL: f64 = 2.0;
 
-/// Rolling ground with a near ridge, a middle ridge and a near hill, plus metre-scale detail.
-fn hills() -> Heightfield {
-    let heights = (0..N * N)
+/// Rolling ground with a near ridge, a middle ridge and a near hill, plus metre-scale detail, on `n × n` nodes
+/// `cell` metres apart.
+fn hills_on(n: usize, cell: f64) -> Heightfield {
+    let heights = (0..n * n)
         .map(|k| {
-            let (x, y) = ((k % N) as f64 * CELL, (k / N) as f64 * CELL);
+            let (x, y) = ((k % n) as f64 * cell, (k / n) as f64 * cell);
             let ridge = |c: f64, h: f64, w: f64| h * (-((y - c) / w).powi(2)).exp();
             let hill =
                 45.0 * (-((x - 256.0).powi(2) + (y - 130.0).powi(2)) / 15.0f64.powi(2)).exp();
@@ -29,7 +30,11 @@ fn hills() -> Heightfield {
                 + detail) as f32
         })
         .collect();
-    Heightfield::new(DVec2::ZERO, CELL, N, N, heights).expect("a valid grid")
+    Heightfield::new(DVec2::ZERO, cell, n, n, heights).expect("a valid grid")
+}
+
+fn hills() -> Heightfield {
+    hills_on(N, CELL)
 }
 
 fn camera() -> Camera {
@@ -183,22 +188,7 @@ fn a_stroke_above_a_ridge_becomes_its_silhouette_and_the_hill_in_front_is_lowere
 
 /// The Blender test's scene: the same hills on a 4 m grid, the same camera.
 fn hills_coarse() -> Heightfield {
-    let n = 129;
-    let heights = (0..n * n)
-        .map(|k| {
-            let (x, y) = ((k % n) as f64 * 4.0, (k / n) as f64 * 4.0);
-            let ridge = |c: f64, h: f64, w: f64| h * (-((y - c) / w).powi(2)).exp();
-            let hill =
-                45.0 * (-((x - 256.0).powi(2) + (y - 130.0).powi(2)) / 15.0f64.powi(2)).exp();
-            let detail =
-                0.8 * (0.31 * x).sin() * (0.27 * y).cos() + 0.5 * (0.53 * x + 0.41 * y).sin();
-            (ridge(100.0, 18.0, 12.0)
-                .max(ridge(260.0, 40.0, 18.0))
-                .max(hill)
-                + detail) as f32
-        })
-        .collect();
-    Heightfield::new(DVec2::ZERO, 4.0, n, n, heights).expect("a valid grid")
+    hills_on(129, 4.0)
 }
 
 /// A front mountain and two behind it, each ending on its slopes: two T-junctions.
