@@ -6,7 +6,6 @@ import bpy
 import numpy as np
 from mathutils import Vector
 
-from . import WorldPaintError
 from .points import worldpaint_collection
 from .village import remove_with_data
 
@@ -18,13 +17,9 @@ LOWERED_COLOR = (0.2, 0.8, 0.2, 1.0)
 
 
 def engine_camera(scene, obj):
-    """The camera object as the engine takes it: eye, viewing direction, image up, and the frame on the plane one
-    metre ahead (its ``view_frame`` divided by its depth, so lens shift and sensor fit are kept)."""
-    if obj is None or obj.type != 'CAMERA':
-        raise WorldPaintError("No camera to sketch through: set the scene camera or pick one in the Sketch panel")
-    if obj.data.type != 'PERSP':
-        raise WorldPaintError(f"The camera '{obj.name}' is not a perspective camera: silhouettes are sketched "
-                              "through a perspective view")
+    """A perspective camera object (see ``sketch_strokes.sketch_camera``) as the engine takes it: eye, viewing
+    direction, image up, and the frame on the plane one metre ahead (its ``view_frame`` divided by its depth, so lens
+    shift and sensor fit are kept)."""
     rotation = obj.matrix_world.to_3x3().normalized()
     frame = obj.data.view_frame(scene=scene)
     depth = -frame[0].z

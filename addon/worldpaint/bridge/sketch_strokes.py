@@ -8,6 +8,7 @@ sensor fit and lens shift included). A stroke point in that frame stays where it
 the viewport's size, zoom or pan.
 """
 
+import bpy
 import numpy as np
 from bpy_extras import view3d_utils
 from bpy_extras.object_utils import world_to_camera_view
@@ -38,10 +39,16 @@ class SketchStrokes(list):
 
 # --- the camera ---------------------------------------------------------------------------------------------------
 
-def sketch_camera(context, settings):
-    """The camera object the sketch is drawn through: ``settings.camera``, else the scene camera. Raises
-    ``WorldPaintError`` when there is none, when it is not a camera, or when it is not a perspective camera."""
-    camera = settings.camera or context.scene.camera
+def sketch_camera(context, settings, name=""):
+    """The camera object the sketch is drawn through: the object called ``name`` when one is given, else
+    ``settings.camera``, else the scene camera. Raises ``WorldPaintError`` when there is none, when it is not a
+    camera, or when it is not a perspective camera."""
+    if name:
+        camera = bpy.data.objects.get(name)
+        if camera is None:
+            raise WorldPaintError(f"No object named '{name}' to sketch through")
+    else:
+        camera = settings.camera or context.scene.camera
     if camera is None:
         raise WorldPaintError(
             "No camera to sketch through: pick one in the Sketch panel (Terrain > Sketch) or set the scene camera"

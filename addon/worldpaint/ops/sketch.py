@@ -45,12 +45,7 @@ class WORLDPAINT_OT_apply_sketch(BackgroundOperator, TerrainProperty, bpy.types.
         scene = context.scene
         settings = scene.worldpaint.sketch
         obj = editable_terrain(context, self.terrain)
-        if self.camera:
-            camera_obj = bpy.data.objects.get(self.camera)
-            if camera_obj is None:
-                raise WorldPaintError(f"No object named '{self.camera}' to sketch through")
-        else:
-            camera_obj = settings.camera or scene.camera
+        camera_obj = sketch_strokes.sketch_camera(context, settings, self.camera)
         camera = sketch.engine_camera(scene, camera_obj)
         self._from_scene = not self.strokes
         self._origins = None
