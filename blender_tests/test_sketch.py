@@ -257,7 +257,17 @@ def render(camera, path):
 
 
 @pytest.mark.skipif(not REAL.exists(), reason="the real terrains live beside the project, in shared/data/real")
-def test_a_silhouette_taller_than_a_real_ridge_is_met_on_real_terrain():
+@pytest.mark.parametrize("view", [
+    "peak",
+    pytest.param("tile edge", marks=pytest.mark.xfail(
+        strict=True, reason="open (issue 18): the ridge in front is raised 550 m to reach the stroke and about a "
+                            "quarter of the columns stay more than 1 % off, at the stroke's ends and where the "
+                            "raised ground behind it still shows")),
+])
+def test_a_silhouette_taller_than_a_real_ridge_is_met_on_real_terrain(view):
+    """Two views of Andorra: 2.5 km south of the window's highest inner peak, whose ridge is the skyline; and from
+    the lowest ground of the window's southern middle looking north, where the skyline is partly the window's far
+    edge (a DEM tile seen across), so the stroke must be served by the ridges in front of it."""
     from scene_kit import mesh_object
 
     co, quads, (dx, dy) = srtm_window(REAL, 100, 180, 64, upsample=3)
@@ -266,36 +276,41 @@ def test_a_silhouette_taller_than_a_real_ridge_is_met_on_real_terrain():
     scene = bpy.context.scene
     scene.worldpaint.terrain = terrain
     scene.render.resolution_x, scene.render.resolution_y = 1200, 800
-    # the camera 2.5 km south of the window's highest inner peak, 30 m above the ground, looking at it: the ridge
-    # of the peak, not the window's edge, is the skyline in the middle of the view
     width, depth = np.ptp(co[:, 0]), np.ptp(co[:, 1])
-    inner = co[(np.abs(co[:, 0] - 0.5 * width) < 0.2 * width) & (co[:, 1] > 0.45 * depth) & (co[:, 1] < 0.8 * depth)]
-    peak = inner[np.argmax(inner[:, 2])]
+    if view == "peak":
+        inner = co[(np.abs(co[:, 0] - 0.5 * width) < 0.2 * width) & (co[:, 1] > 0.45 * depth)
+                   & (co[:, 1] < 0.8 * depth)]
+        peak = inner[np.argmax(inner[:, 2])]
+        eye = peak[:2] - (0.0, 2500.0)
+        pitch = math.atan2(peak[2] - co[np.argmin(np.hypot(*(co[:, :2] - eye).T)), 2] - 30.0, 2500.0)
+    else:
+        south = co[(co[:, 1] < 6 * dy) & (np.abs(co[:, 0] - 0.5 * width) < 0.2 * width)]
+        eye, pitch = south[np.argmin(south[:, 2]), :2], math.radians(2.0)
     # off the grid's lines: a ray running exactly along a mesh edge may slip between its faces
-    eye = np.array([peak[0] + 0.37 * dx, peak[1] - 2500.0 + 0.41 * dy])
+    eye = eye + (0.37 * dx, 0.41 * dy)
     ground = co[np.argmin(np.hypot(co[:, 0] - eye[0], co[:, 1] - eye[1])), 2]
     camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
     camera.data.sensor_fit = 'HORIZONTAL'
     camera.data.angle = math.radians(60.0)
     camera.data.clip_end = 20_000.0
     camera.location = (eye[0], eye[1], ground + 30.0)
-    pitch = math.atan2(peak[2] - ground - 30.0, 2500.0)
     camera.rotation_euler = (math.radians(85.0) + pitch, 0.0, 0.0)
     scene.collection.objects.link(camera)
     scene.camera = camera
     bpy.context.view_layer.update()
     OUT.mkdir(exist_ok=True)
-    render(camera, OUT / "sketch_real_before.png")
+    name = view.replace(" ", "_")
+    render(camera, OUT / f"sketch_real_{name}_before.png")
     # the real skyline in the middle of the view, by rays through the columns, and a stroke well above it
     xs = np.linspace(0.35, 0.65, 31)
     skyline = np.array([_column_top(terrain, camera, x) for x in xs])
     stroke = np.column_stack([xs, skyline + 0.02 + 0.03 * np.sin(np.pi * (xs - 0.35) / 0.3)])
     assert bpy.ops.worldpaint.apply_sketch(strokes=json.dumps([stroke.tolist()])) == {'FINISHED'}
-    render(camera, OUT / "sketch_real_after.png")
+    render(camera, OUT / f"sketch_real_{name}_after.png")
     curve = next(o for o in bpy.data.collections["Sketch"].objects if o.get("wp_sketch") == "matched")
     bad, columns = misplaced(terrain, camera, stroke, curve, margin=3.0 * max(dx, dy))
     raised = _column_top(terrain, camera, 0.5) - skyline[15]
-    print(f"real terrain {np.ptp(co[:, 0]):.0f} × {np.ptp(co[:, 1]):.0f} m, relief {np.ptp(co[:, 2]):.0f} m; "
+    print(f"{view}: real terrain {np.ptp(co[:, 0]):.0f} × {np.ptp(co[:, 1]):.0f} m, relief {np.ptp(co[:, 2]):.0f} m; "
           f"skyline raised by {raised:.3f} of the image height at the centre; {bad} of {columns} columns off by "
           f"more than {TOLERANCE:.0%}; renders in {OUT}")
     assert bad == 0

@@ -149,15 +149,16 @@ pub fn deform(
     );
     let solve = |lowered: &[Vec<DVec3>]| -> Result<Diffusion> {
         let mut constraints = Constraints::for_terrain(terrain);
-        // the strokes' curves first: a lowered silhouette crossing one never overrides it
-        for curve in curves
-            .iter()
-            .copied()
-            .chain(lowered.iter().map(Vec::as_slice))
-        {
-            if curve.len() >= 2 {
-                rasterize::polyline(&mut constraints, terrain, curve)?;
-            }
+        // the strokes' curves first, so that a lowered silhouette crossing one never overrides it; each node of a
+        // curve at the height that puts the node itself on the stroke (a node half a cell nearer the camera than
+        // the curve, at the curve's height, would stand above the stroke)
+        for target in targets.iter().filter(|t| t.curve.len() >= 2) {
+            rasterize::polyline_with(&mut constraints, terrain, &target.curve, |node, z| {
+                on_stroke(camera, &target.stroke, node.extend(z)).map_or(z, |p| p.z)
+            })?;
+        }
+        for curve in lowered.iter().filter(|c| c.len() >= 2) {
+            rasterize::polyline(&mut constraints, terrain, curve)?;
         }
         diffuse(
             &constraints,

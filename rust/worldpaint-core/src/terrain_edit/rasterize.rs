@@ -61,6 +61,18 @@ pub fn point(c: &mut Constraints, terrain: &Heightfield, p: DVec3) -> Result<boo
 /// interpolated linearly), and each node takes `z − H(node)` from the sample nearest to it. Parts off the terrain
 /// are skipped. Returns the number of nodes written.
 pub fn polyline(c: &mut Constraints, terrain: &Heightfield, points: &[DVec3]) -> Result<usize> {
+    polyline_with(c, terrain, points, |_, z| z)
+}
+
+/// [`polyline`] with each node's height chosen by `height(node, z)` from the node's XY and the height `z` of the
+/// curve's sample nearest to it: a curve whose nodes must keep a property of the curve rather than its height (a
+/// sketched silhouette seen from a camera) sets them here.
+pub fn polyline_with(
+    c: &mut Constraints,
+    terrain: &Heightfield,
+    points: &[DVec3],
+    height: impl Fn(DVec2, f64) -> f64,
+) -> Result<usize> {
     check_grid(c, terrain)?;
     check_points(points, "curve")?;
     let mut best: BTreeMap<(usize, usize), (f64, f64)> = BTreeMap::new();
@@ -85,7 +97,12 @@ pub fn polyline(c: &mut Constraints, terrain: &Heightfield, points: &[DVec3]) ->
     }
     let mut written = 0;
     for ((j, i), (_, z)) in best {
-        if c.set_if_free(i, j, z - terrain.heights[j * terrain.nx + i] as f64)? {
+        let node = terrain.origin + DVec2::new(i as f64, j as f64) * terrain.cell;
+        if c.set_if_free(
+            i,
+            j,
+            height(node, z) - terrain.heights[j * terrain.nx + i] as f64,
+        )? {
             written += 1;
         }
     }
