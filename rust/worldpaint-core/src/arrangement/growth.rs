@@ -36,6 +36,7 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 use super::connectivity::segments_cross;
+use super::relax::{solve, Term};
 use super::{Arrangement, Element, Reference, RingTarget};
 use crate::error::{check, Error, Result};
 use crate::geom::Region;
@@ -87,6 +88,9 @@ pub struct GrowthOptions {
     pub priorities: Vec<(u32, i32)>,
     /// The symbol the initial seed must become, if any.
     pub initial_symbol: Option<u32>,
+    /// Relax (eq. (5)–(6)) the elements and seeds grown so far after every this many placed elements; 0 never.
+    /// The seed relaxes "after each growth step" (1); a few steps apart keep the pattern as regular for less work.
+    pub relax_every: usize,
 }
 
 impl Default for GrowthOptions {
@@ -98,6 +102,7 @@ impl Default for GrowthOptions {
             weights: MatchWeights::default(),
             priorities: Vec::new(),
             initial_symbol: None,
+            relax_every: 0,
         }
     }
 }
@@ -142,7 +147,7 @@ pub fn grow(
         }
     }
     let mut grower = Grower::new(reference, region, start, options);
-    grower.run();
+    grower.run()?;
     Ok(grower.finish())
 }
 
@@ -348,14 +353,71 @@ impl<'a> Grower<'a> {
         }
     }
 
-    fn run(&mut self) {
+    fn run(&mut self) -> Result<()> {
         while self.placed.len() < self.options.max_elements {
             let Some(s) = self.next_seed() else { break };
             match self.best_match(s) {
-                Some(m) => self.place(s, m),
+                Some(m) => {
+                    self.place(s, m);
+                    let every = self.options.relax_every;
+                    if every > 0 && self.placed.len().is_multiple_of(every) {
+                        self.relax()?;
+                    }
+                }
                 None => self.remove(s),
             }
         }
+        Ok(())
+    }
+
+    /// Eq. (5)–(6) over the elements and seeds so far: elements pull their ring neighbours to their reference
+    /// offsets, every other edge keeps its current offset (seed §5.5: "All seeds do not have corresponding reference
+    /// elements yet … we use their current neighboring shapes"); the initial element and the elements the region
+    /// stopped are held. The seeds move with the elements, and the heap order (distance to the start) is kept.
+    fn relax(&mut self) -> Result<()> {
+        let n = self.nodes.len();
+        let x0: Vec<DVec2> = self.nodes.iter().map(|node| node.position).collect();
+        let mut terms = Vec::new();
+        let mut targeted = std::collections::BTreeSet::new();
+        for i in 0..n {
+            if self.nodes[i].state == State::Dead {
+                continue;
+            }
+            for &(j, offset) in &self.targets[i] {
+                if self.nodes[j].state != State::Dead && targeted.insert((i, j)) {
+                    terms.push(Term { i, j, offset });
+                }
+            }
+        }
+        for i in 0..n {
+            for &j in &self.adjacency[i] {
+                if !targeted.contains(&(i, j)) {
+                    terms.push(Term {
+                        i,
+                        j,
+                        offset: x0[j] - x0[i],
+                    });
+                }
+            }
+        }
+        let fixed: Vec<bool> = (0..n)
+            .map(|i| i == 0 || self.cut[i] || self.nodes[i].state == State::Dead)
+            .collect();
+        let x = solve(&x0, &terms, &fixed)?;
+        self.grid.clear();
+        for (i, p) in x.into_iter().enumerate() {
+            self.nodes[i].position = p;
+            let cell = self.cell_of(p);
+            self.grid.entry(cell).or_default().push(i);
+        }
+        self.max_edge = 0.0;
+        for i in 0..n {
+            for &j in &self.adjacency[i] {
+                let length = self.nodes[i].position.distance(self.nodes[j].position);
+                self.max_edge = self.max_edge.max(length);
+            }
+        }
+        Ok(())
     }
 
     fn remove(&mut self, s: usize) {

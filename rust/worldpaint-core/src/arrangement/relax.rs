@@ -41,10 +41,10 @@ pub struct Relaxation {
 }
 
 /// One term of eq. (5): element `i`'s neighbour `j` wanted at `x_i + offset`.
-struct Term {
-    i: usize,
-    j: usize,
-    offset: DVec2,
+pub(crate) struct Term {
+    pub(crate) i: usize,
+    pub(crate) j: usize,
+    pub(crate) offset: DVec2,
 }
 
 fn terms(arrangement: &Arrangement) -> Result<Vec<Term>> {
@@ -93,7 +93,7 @@ fn terms(arrangement: &Arrangement) -> Result<Vec<Term>> {
     Ok(terms)
 }
 
-fn error_of(terms: &[Term], x: &[DVec2]) -> f64 {
+pub(crate) fn error_of(terms: &[Term], x: &[DVec2]) -> f64 {
     terms
         .iter()
         .map(|t| (x[t.j] - x[t.i] - t.offset).length_squared())
@@ -121,6 +121,22 @@ pub fn relax(arrangement: &mut Arrangement) -> Result<Relaxation> {
     let fixed: Vec<bool> = (0..n)
         .map(|i| i == 0 || arrangement.at_region_boundary[i])
         .collect();
+    let fixed_count = fixed.iter().filter(|&&f| f).count();
+    let x = solve(&x0, &terms, &fixed)?;
+    let error_after = error_of(&terms, &x);
+    for (e, p) in arrangement.elements.iter_mut().zip(&x) {
+        e.position = *p;
+    }
+    Ok(Relaxation {
+        error_before,
+        error_after,
+        fixed: fixed_count,
+    })
+}
+
+/// The least-squares positions of eq. (5) with the `fixed` elements held (eq. (6)).
+pub(crate) fn solve(x0: &[DVec2], terms: &[Term], fixed: &[bool]) -> Result<Vec<DVec2>> {
+    let n = x0.len();
     let mut unknown = vec![usize::MAX; n];
     let mut free = 0;
     for i in 0..n {
@@ -129,13 +145,8 @@ pub fn relax(arrangement: &mut Arrangement) -> Result<Relaxation> {
             free += 1;
         }
     }
-    let fixed_count = n - free;
     if free == 0 {
-        return Ok(Relaxation {
-            error_before,
-            error_after: error_before,
-            fixed: fixed_count,
-        });
+        return Ok(x0.to_vec());
     }
     let mut entries: BTreeMap<(usize, usize), f64> = BTreeMap::new();
     let mut rhs = vec![DVec2::ZERO; free];
@@ -145,7 +156,7 @@ pub fn relax(arrangement: &mut Arrangement) -> Result<Relaxation> {
             rhs[unknown[i]] += TIKHONOV * x0[i];
         }
     }
-    for t in &terms {
+    for t in terms {
         // residual x_j − x_i − r
         match (fixed[t.i], fixed[t.j]) {
             (false, false) => {
@@ -184,7 +195,7 @@ pub fn relax(arrangement: &mut Arrangement) -> Result<Relaxation> {
     })?;
     let mut b = Mat::from_fn(free, 2, |r, c| if c == 0 { rhs[r].x } else { rhs[r].y });
     llt.solve_in_place(b.as_mut());
-    let mut x = x0.clone();
+    let mut x = x0.to_vec();
     for i in 0..n {
         if !fixed[i] {
             let p = DVec2::new(b[(unknown[i], 0)], b[(unknown[i], 1)]);
@@ -197,13 +208,5 @@ pub fn relax(arrangement: &mut Arrangement) -> Result<Relaxation> {
             x[i] = p;
         }
     }
-    let error_after = error_of(&terms, &x);
-    for (e, p) in arrangement.elements.iter_mut().zip(&x) {
-        e.position = *p;
-    }
-    Ok(Relaxation {
-        error_before,
-        error_after,
-        fixed: fixed_count,
-    })
+    Ok(x)
 }
