@@ -23,7 +23,9 @@
 //!   symbol id, on the bisector of the angle at the grown element at the mean length of the two edges; (f) where the
 //!   extra seed's edges would cross existing ones, those edges are left out;
 //! - seeds outside the region are not created; the element that wanted them is flagged `at_region_boundary`;
-//! - a seed no reference element can match (its ring is larger than every reference ring) is removed.
+//! - a seed no reference element can match (its ring is larger than every reference ring) is removed;
+//! - relaxation during growth ("after each growth step") is run every [`GrowthOptions::relax_every`] placed elements
+//!   over elements and seeds, seeds and edges without a reference ring keeping their current shape.
 //!
 //! Growth is sequential and uses one `ChaCha8Rng` seeded from [`GrowthOptions::seed`]: the result does not depend on
 //! the thread count.

@@ -18,6 +18,14 @@
 //! min_x Σ_i Σ_{j ∈ w(x_i)} ‖x_j − (x_i + r_j^i)‖²      (5)      x_k = x_k^0, k ∈ constraints      (6)
 //! ```
 //!
+//! Growth can relax the elements and seeds grown so far every k placed elements ([`GrowthOptions::relax_every`]):
+//! the seed relaxes after each step; without it the small mismatches of each match add up into sheared patches.
+//!
+//! Built so far: the reference's connectivity with edge flips, growth with the non-rotation and best-fit rotation
+//! modes, seed priorities, the region as the boundary, relaxation. Still to come: the flow-field mode, boundary curves,
+//! the spray tool (growing only the seeds under a brush), scale / rotation / color noise, and the arrangement as a
+//! color of the palette.
+//!
 //! The three modules are one concern each: [`connectivity`] (analysis), `growth` (local growth), `relax`
 //! (relaxation). Each says the readings it chose where the seed is vague.
 

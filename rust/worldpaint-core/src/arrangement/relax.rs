@@ -16,8 +16,6 @@
 //! `faer` is pure Rust, actively maintained, MIT-licensed and fast on the 10⁵-unknown systems a paved town makes;
 //! `sprs-ldl` is LGPL and slower, `nalgebra-sparse`'s Cholesky has no fill-reducing ordering.
 
-use std::collections::BTreeMap;
-
 use faer::prelude::Solve;
 use faer::sparse::{SparseColMat, Triplet};
 use faer::{Mat, Side};
@@ -100,7 +98,9 @@ pub(crate) fn error_of(terms: &[Term], x: &[DVec2]) -> f64 {
         .sum()
 }
 
-/// The summed eq. (5) error of an arrangement over its elements' ring targets (m²).
+/// The summed eq. (5) error of an arrangement as it stands (m²): the terms of its elements' ring targets (the edges
+/// with no ring target hold their current offsets, so they add nothing here; [`relax`] reports the error with those
+/// offsets taken before it moves anything).
 pub fn ring_error(arrangement: &Arrangement) -> Result<f64> {
     let x: Vec<DVec2> = arrangement.elements.iter().map(|e| e.position).collect();
     Ok(error_of(&terms(arrangement)?, &x))
@@ -148,11 +148,12 @@ pub(crate) fn solve(x0: &[DVec2], terms: &[Term], fixed: &[bool]) -> Result<Vec<
     if free == 0 {
         return Ok(x0.to_vec());
     }
-    let mut entries: BTreeMap<(usize, usize), f64> = BTreeMap::new();
+    // the lower triangle only (the Cholesky reads that side); repeated entries are summed when the matrix is built
+    let mut triplets: Vec<Triplet<usize, usize, f64>> = Vec::with_capacity(free + 3 * terms.len());
     let mut rhs = vec![DVec2::ZERO; free];
     for i in 0..n {
         if !fixed[i] {
-            *entries.entry((unknown[i], unknown[i])).or_default() += TIKHONOV;
+            triplets.push(Triplet::new(unknown[i], unknown[i], TIKHONOV));
             rhs[unknown[i]] += TIKHONOV * x0[i];
         }
     }
@@ -161,30 +162,25 @@ pub(crate) fn solve(x0: &[DVec2], terms: &[Term], fixed: &[bool]) -> Result<Vec<
         match (fixed[t.i], fixed[t.j]) {
             (false, false) => {
                 let (i, j) = (unknown[t.i], unknown[t.j]);
-                *entries.entry((i, i)).or_default() += 1.0;
-                *entries.entry((j, j)).or_default() += 1.0;
-                *entries.entry((i, j)).or_default() -= 1.0;
-                *entries.entry((j, i)).or_default() -= 1.0;
+                triplets.push(Triplet::new(i, i, 1.0));
+                triplets.push(Triplet::new(j, j, 1.0));
+                triplets.push(Triplet::new(i.max(j), i.min(j), -1.0));
                 rhs[j] += t.offset;
                 rhs[i] -= t.offset;
             }
             (true, false) => {
                 let j = unknown[t.j];
-                *entries.entry((j, j)).or_default() += 1.0;
+                triplets.push(Triplet::new(j, j, 1.0));
                 rhs[j] += x0[t.i] + t.offset;
             }
             (false, true) => {
                 let i = unknown[t.i];
-                *entries.entry((i, i)).or_default() += 1.0;
+                triplets.push(Triplet::new(i, i, 1.0));
                 rhs[i] += x0[t.j] - t.offset;
             }
             (true, true) => {}
         }
     }
-    let triplets: Vec<Triplet<usize, usize, f64>> = entries
-        .into_iter()
-        .map(|((r, c), v)| Triplet::new(r, c, v))
-        .collect();
     let matrix = SparseColMat::<usize, f64>::try_new_from_triplets(free, free, &triplets)
         .map_err(|e| Error::invalid("relaxation", format!("cannot build the system: {e:?}")))?;
     let llt = matrix.sp_cholesky(Side::Lower).map_err(|e| {
