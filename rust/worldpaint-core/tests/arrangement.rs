@@ -290,7 +290,16 @@ fn the_result_does_not_depend_on_the_thread_count() {
             .build()
             .expect("a thread pool");
         pool.install(|| {
-            let (_, mut grown) = grown_lattice(true, RotationMode::BestFit);
+            let (reference, mut grown) = grown_lattice(true, RotationMode::BestFit);
+            let f = figures(&reference, &grown);
+            println!(
+                "hexagonal lattice, best-fit rotation, {threads} thread(s): same ring size {:.1} %; mean edge \
+                 length ratio {:.4}; edge-angle TV {:.3}",
+                100.0 * f.ring_fraction,
+                f.length_ratio,
+                f.angle_tv
+            );
+            assert!(f.ring_fraction >= 0.95 && (f.length_ratio - 1.0).abs() <= 0.03 && f.angle_tv <= 0.1);
             relax(&mut grown).expect("relaxation solves");
             grown
                 .elements
