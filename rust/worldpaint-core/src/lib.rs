@@ -32,6 +32,7 @@
 //! | [`tools`] | the painting tools: paste, brush and eraser, move, seam-carving stretch, gradient, blur (§5) |
 //! | [`village`] | villages on arbitrary terrain: growth, roads, parcels, houses (thesis ch. 3) |
 //! | [`waterfall`] | waterfall scenes: controller network, hydraulic graph and flow, terrain-adapted subdivision, slope-flow types, integration mesh, terrain deformation, decoration maps (thesis ch. 4) |
+//! | [`arrangement`] | element arrangement by example (Ijiri et al. 2008): reference connectivity, local growth from a seed, relaxation |
 //! | [`exemplar`] | generating processes for demo scenes, tests and benchmarks |
 
 // `!(x > 0.0)` is used on purpose: it rejects NaN as well as non-positive values.
@@ -40,6 +41,7 @@
 #![warn(missing_docs)]
 
 mod analysis;
+pub mod arrangement;
 mod compare;
 pub mod contour;
 pub mod distance;

@@ -1,0 +1,90 @@
+//! Element arrangement by example: *An Example-based Procedural System for Element Arrangement* (Ijiri, Měch,
+//! Igarashi, Miller 2008). A small reference arrangement placed by hand is analysed into its connectivity
+//! ([`Reference`], seed §4), a larger pattern is grown from one seed by neighbourhood matching ([`grow`], seed §5.1–5.4),
+//! and the grown pattern is relaxed towards the reference's ring shapes ([`relax`], seed §5.5).
+//!
+//! The matching error of a target seed's neighbourhood against a reference element's, for one matching pattern
+//! f ∈ F (pairs counter-clockwise "without skipping and flipping"):
+//!
+//! ```text
+//! error(w(e_tar), w(e_ref)) = Σ_{i,j ∈ f} w1 d(e_i^tar, e_j^ref) + w2 id(e_i^tar, e_j^ref) + w3 subid(e_i^tar, e_j^ref)   (2)
+//! ERROR(w(e_tar), w(e_ref)) = min_{f ∈ F} error(w(e_tar), w(e_ref))                                             (3)
+//! min_θ Σ_{i,j ∈ f} d(e_i^tar, R_θ(e_j^ref))                                                                    (4)
+//! ```
+//!
+//! with w1 = 1, w2 = 1, w3 = 100; the relaxation solves
+//!
+//! ```text
+//! min_x Σ_i Σ_{j ∈ w(x_i)} ‖x_j − (x_i + r_j^i)‖²      (5)      x_k = x_k^0, k ∈ constraints      (6)
+//! ```
+//!
+//! Growth can relax the elements and seeds grown so far every k placed elements ([`GrowthOptions::relax_every`]):
+//! the seed relaxes after each step; without it the small mismatches of each match add up into sheared patches.
+//!
+//! Built so far: the reference's connectivity with edge flips, growth with the non-rotation and best-fit rotation
+//! modes, seed priorities, the region as the boundary, relaxation. Still to come: the flow-field mode, boundary curves,
+//! the spray tool (growing only the seeds under a brush), scale / rotation / color noise, and the arrangement as a
+//! color of the palette.
+//!
+//! The three modules are one concern each: [`connectivity`] (analysis), `growth` (local growth), `relax`
+//! (relaxation). Each says the readings it chose where the seed is vague.
+
+pub mod connectivity;
+mod growth;
+mod relax;
+
+use glam::DVec2;
+use serde::{Deserialize, Serialize};
+
+pub use connectivity::Reference;
+pub use growth::{grow, GrowthOptions, MatchWeights, RotationMode};
+pub use relax::{relax, ring_error, Relaxation};
+
+/// One element of an arrangement: where it stands, which symbol it is, how it is turned.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Element {
+    /// The element's centre, world XY (m).
+    pub position: DVec2,
+    /// The symbol id (the category of the element).
+    pub symbol: u32,
+    /// Rotation about Z (radians, counter-clockwise).
+    pub rotation: f64,
+}
+
+/// One neighbour of a grown element and where the element's reference ring puts it: `r_j^i` of eq. (5), already
+/// rotated by the element's rotation.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RingTarget {
+    /// The neighbour's index in [`Arrangement::elements`].
+    pub neighbour: usize,
+    /// Where the reference ring puts it, relative to the element (m).
+    pub offset: DVec2,
+}
+
+/// A grown arrangement: its elements, their connectivity and what each copies from the reference.
+#[derive(Clone, Debug, Default)]
+pub struct Arrangement {
+    /// The elements, the initial one first.
+    pub elements: Vec<Element>,
+    /// For each element, the reference element (sub-id) it copies.
+    pub sub_ids: Vec<usize>,
+    /// The connectivity, each edge once as `(i, j)` with `i < j`, sorted.
+    pub edges: Vec<(usize, usize)>,
+    /// For each element, the reference ring's offsets to the neighbours it was placed with (eq. (5)'s `r_j^i`);
+    /// neighbours connected later are not listed: the relaxation keeps their current offsets (seed §5.5).
+    pub ring_targets: Vec<Vec<RingTarget>>,
+    /// Elements whose growth the region stopped (a neighbour of their reference ring would have fallen outside).
+    pub at_region_boundary: Vec<bool>,
+}
+
+impl Arrangement {
+    /// Each element's neighbours (the connectivity as adjacency lists, in index order).
+    pub fn neighbours(&self) -> Vec<Vec<usize>> {
+        let mut adjacency = vec![Vec::new(); self.elements.len()];
+        for &(i, j) in &self.edges {
+            adjacency[i].push(j);
+            adjacency[j].push(i);
+        }
+        adjacency
+    }
+}
