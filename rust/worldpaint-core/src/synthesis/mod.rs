@@ -137,6 +137,7 @@
 mod adapt;
 mod arc_grid;
 mod arcs;
+mod draws;
 mod ghosts;
 mod islands;
 mod product;
@@ -144,6 +145,8 @@ mod rdf;
 mod relax;
 mod structures;
 mod target;
+
+pub(crate) use draws::{attributes, gaussian};
 
 pub(crate) use adapt::adapt;
 pub use adapt::AdaptOptions;
@@ -153,10 +156,10 @@ use crate::contour::{fill, trace};
 use crate::error::{check, Error, Result};
 use crate::geom::{describe_box, DVec2, PreparedRegion, Region, RegionQueries};
 use crate::limits;
-use crate::palette::{CategoryColor, Color, Histogram, MapSource};
+use crate::palette::{Color, MapSource};
 use crate::scene::{Category, CategoryKind, Contour, Instance, Path, Scene};
 use crate::terrain::Heightfield;
-use rand::{Rng, SeedableRng};
+use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use structures::StructuredContent;
 use target::{
@@ -286,44 +289,6 @@ pub(crate) fn mix_seed(seed: u64, a: u64) -> u64 {
     z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
     z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
     z ^ (z >> 31)
-}
-
-pub(crate) fn gaussian<R: Rng>(rng: &mut R) -> DVec2 {
-    let u1: f64 = rng.random::<f64>().max(1e-300);
-    let u2: f64 = rng.random();
-    let r = (-2.0 * u1.ln()).sqrt();
-    let a = std::f64::consts::TAU * u2;
-    DVec2::new(r * a.cos(), r * a.sin())
-}
-
-fn draw_from_histogram<R: Rng>(h: &Histogram, rng: &mut R, fallback: f64) -> f64 {
-    let total = h.total();
-    if !(total > 0.0) || !(h.bin_width > 0.0) {
-        return fallback;
-    }
-    let mut u = rng.random::<f64>() * total;
-    for (k, v) in h.values.iter().enumerate() {
-        if u < *v {
-            return h.start + (k as f64 + rng.random::<f64>()) * h.bin_width;
-        }
-        u -= v;
-    }
-    h.start + (h.values.len() as f64 - 0.5) * h.bin_width
-}
-
-fn draw_index<R: Rng>(weights: &[f64], rng: &mut R) -> u32 {
-    let total: f64 = weights.iter().sum();
-    if !(total > 0.0) {
-        return 0;
-    }
-    let mut u = rng.random::<f64>() * total;
-    for (k, w) in weights.iter().enumerate() {
-        if u < *w {
-            return k as u32;
-        }
-        u -= w;
-    }
-    (weights.len().saturating_sub(1)) as u32
 }
 
 /// The color's categories in priority order (ties: order in the color), restricted to `only` when given.
@@ -883,20 +848,4 @@ fn graph_paths(
         mix_seed(seed, ci as u64 + 101),
     )
     .to_paths()
-}
-
-pub(crate) fn attributes<R: Rng>(
-    cat: &CategoryColor,
-    p: DVec2,
-    category: usize,
-    rng: &mut R,
-) -> Instance {
-    Instance {
-        position: p,
-        rotation: draw_from_histogram(&cat.rotation, rng, 0.0).rem_euclid(std::f64::consts::TAU),
-        scale: draw_from_histogram(&cat.scale, rng, 1.0),
-        category,
-        prototype: draw_index(&cat.prototype_weights, rng),
-        locked: false,
-    }
 }
