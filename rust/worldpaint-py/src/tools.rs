@@ -27,7 +27,7 @@ use worldpaint_core::tools::gradient::{
 use worldpaint_core::tools::moving::move_region as move_content;
 use worldpaint_core::tools::stretch::{stretch, Side, StretchOptions};
 use worldpaint_core::tools::{clear, paste as paste_color, Edit};
-use worldpaint_core::{compare, learned_back, Scene};
+use worldpaint_core::{compare, learned_back, Scene, SynthesisOptions};
 
 fn edit_result<'py>(py: Python<'py>, edit: &Edit, scene: &Scene) -> PyResult<Bound<'py, PyDict>> {
     edit_to_py(py, edit, scene.terrain.as_deref())
@@ -103,7 +103,7 @@ impl Stroke {
     #[new]
     #[pyo3(signature = (scene, *, color=None, erase=false, only_categories=None, radius=20.0,
                         spacing=0.5, opacity=1.0, falloff="constant", seed=0, influence_radius=None,
-                        iterations_per_instance=None))]
+                        iterations_per_instance=None, guides=None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         scene: &Bound<'_, PyScene>,
@@ -117,6 +117,7 @@ impl Stroke {
         seed: u64,
         influence_radius: Option<f64>,
         iterations_per_instance: Option<f64>,
+        guides: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
         let scene = scene.get().scene();
         let mode = match (erase, color) {
@@ -129,7 +130,10 @@ impl Stroke {
             spacing,
             opacity,
             falloff: falloff_from_str(falloff)?,
-            synthesis: synthesis_options(seed, influence_radius, iterations_per_instance, None),
+            synthesis: SynthesisOptions {
+                guides: crate::arrangement::guides_from_py(guides)?,
+                ..synthesis_options(seed, influence_radius, iterations_per_instance, None)
+            },
         };
         let stroke = CoreStroke::new(scene, mode, opts).map_err(engine_err)?;
         Ok(Stroke {

@@ -29,14 +29,19 @@
 //! The three modules are one concern each: [`connectivity`] (analysis), `growth` (local growth), `relax`
 //! (relaxation). Each says the readings it chose where the seed is vague.
 
+mod color;
 pub mod connectivity;
 mod growth;
+mod paint;
 mod relax;
 
 use glam::DVec2;
 use serde::{Deserialize, Serialize};
 
+pub use color::{ArrangementColor, PatternRotation, ReferenceElement, DEFAULT_RELAX_EVERY};
 pub use connectivity::Reference;
+pub(crate) use paint::paint;
+pub use paint::PatternGuides;
 pub use growth::{grow, GrowthOptions, MatchWeights, RotationMode};
 pub use relax::{relax, ring_error, Relaxation};
 

@@ -292,6 +292,32 @@ impl Working {
         Ok(n)
     }
 
+    /// Grows an arrangement color into `region` around the pattern already there (the spray tool, seed §5.3):
+    /// its own elements in the region stay, the other unlocked content there is cleared.
+    pub(crate) fn spray(
+        &mut self,
+        color: &Color,
+        region: &Region,
+        opts: &SynthesisOptions,
+        progress: &(dyn Fn(f64) -> bool + Sync),
+    ) -> Result<usize> {
+        let own: Vec<bool> = self
+            .scene
+            .categories
+            .iter()
+            .map(|c| color.category(&c.name).is_some())
+            .collect();
+        let prepared = PreparedRegion::new(region);
+        self.remove_where(|i| {
+            !own.get(i.category).copied().unwrap_or(false) && prepared.contains(i.position)
+        });
+        self.clear_structures(region);
+        let result = synthesize_keeping(&self.scene, color, region, opts, progress, &|_| true)?;
+        let n = result.instances.len();
+        self.add(result.categories, result.instances);
+        Ok(n)
+    }
+
     /// The edit from the original scene to the current one.
     pub(crate) fn edit(&self) -> Edit {
         let (removed, added) = self.instances.diff(&self.scene.instances);
