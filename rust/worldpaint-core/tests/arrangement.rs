@@ -34,6 +34,7 @@ fn lattice(hexagonal: bool, seed: u64) -> Vec<Element> {
                 position: DVec2::new(x, y) + jitter,
                 symbol: 0,
                 rotation: 0.0,
+                scale: 1.0,
             });
         }
     }
@@ -342,6 +343,7 @@ fn bad_references_are_refused_with_clear_messages() {
         position: DVec2::new(x, y),
         symbol: 0,
         rotation: 0.0,
+        scale: 1.0,
     };
     let cases: Vec<(&str, Vec<Element>, &str)> = vec![
         ("empty", vec![], "at least 3"),

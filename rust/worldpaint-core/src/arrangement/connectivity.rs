@@ -28,6 +28,7 @@ pub struct Reference {
     boundary: Vec<bool>,
     shortest_edge: f64,
     mean_edge: f64,
+    longest_edge: f64,
 }
 
 impl Reference {
@@ -47,12 +48,12 @@ impl Reference {
             MAX_REFERENCE_ELEMENTS,
         )?;
         for (i, e) in elements.iter().enumerate() {
-            if !(e.position.is_finite() && e.rotation.is_finite()) {
+            if !(e.position.is_finite() && e.rotation.is_finite() && e.scale.is_finite()) {
                 return Err(Error::invalid(
                     "reference arrangement",
                     format!(
-                        "element {i} has a non-finite position or rotation ({}, {}, {})",
-                        e.position.x, e.position.y, e.rotation
+                        "element {i} has a non-finite position, rotation or scale ({}, {}, {}, {})",
+                        e.position.x, e.position.y, e.rotation, e.scale
                     ),
                 ));
             }
@@ -88,6 +89,7 @@ impl Reference {
             boundary: Vec::new(),
             shortest_edge: 0.0,
             mean_edge: 0.0,
+            longest_edge: 0.0,
         };
         reference.rebuild()?;
         Ok(reference)
@@ -190,6 +192,7 @@ impl Reference {
         }
         self.shortest_edge = lengths.iter().copied().fold(f64::INFINITY, f64::min);
         self.mean_edge = lengths.iter().sum::<f64>() / lengths.len().max(1) as f64;
+        self.longest_edge = lengths.iter().copied().fold(0.0, f64::max);
         self.rings = rings;
         self.boundary = boundary;
         Ok(())
@@ -240,6 +243,11 @@ impl Reference {
         self.mean_edge
     }
 
+    /// The longest edge of the connectivity (m).
+    pub fn longest_edge(&self) -> f64 {
+        self.longest_edge
+    }
+
     /// r_short: half the shortest reference edge (seed §5.4); no two grown elements are closer.
     pub fn r_short(&self) -> f64 {
         0.5 * self.shortest_edge
@@ -247,7 +255,7 @@ impl Reference {
 }
 
 /// The largest interior angle of a triangle.
-fn largest_angle(p: [DVec2; 3]) -> f64 {
+pub(crate) fn largest_angle(p: [DVec2; 3]) -> f64 {
     (0..3)
         .map(|k| {
             let (a, b) = (p[(k + 1) % 3] - p[k], p[(k + 2) % 3] - p[k]);

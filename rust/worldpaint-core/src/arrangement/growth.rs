@@ -1,4 +1,4 @@
-//! Local growth from a seed (seed §5.1–5.4). "We sort seeds by the distance from the initial seed and choose the
+//! Local growth from seeds (seed §5.1–5.4). "We sort seeds by the distance from the initial seed and choose the
 //! nearest one in each growth step." For the chosen seed e^tar, every non-boundary reference element e^ref whose ring
 //! is at least as large as the seed's current (partial) ring is compared by eq. (2)–(3) over the matching patterns
 //! "which have no skipping and flipping": both rings counter-clockwise, the target's first neighbour paired in turn
@@ -12,8 +12,9 @@
 //!   with, so that the same reference patch does not repeat itself; seeds (not yet elements) have no sub-id, and a
 //!   seed with no symbol id matches any symbol (`id` = 0);
 //! - eq. (4) is solved as shape matching [MHTG05], i.e. the least-squares rotation θ = atan2(Σ r×q, Σ r·q) of the
-//!   paired offsets, and the pattern's error is then eq. (2) at that θ; a seed with no neighbour takes a reference
-//!   element drawn with the run's seeded generator, unrotated;
+//!   paired offsets, and the pattern's error is then eq. (2) at that θ; in the flow-field mode θ is the flow's
+//!   angle at the seed ("we then rotate the whole reference pattern so as to adjust its local x coordinate to the
+//!   orientation"); a seed with no neighbour takes a reference element drawn with the run's seeded generator;
 //! - seed priority (§5.1): a seed waits while a seed of higher priority lies within 5 l (l the reference's mean edge);
 //!   symbols not listed and seeds with no symbol have priority 0;
 //! - Fig. 6 (b): a new seed within r_short of an existing element or seed is dropped and the edge goes to that one;
@@ -22,148 +23,49 @@
 //!   between two consecutive ring neighbours longer than 1.5 × its reference length gets an extra seed, with no
 //!   symbol id, on the bisector of the angle at the grown element at the mean length of the two edges; (f) where the
 //!   extra seed's edges would cross existing ones, those edges are left out;
-//! - seeds outside the region are not created; the element that wanted them is flagged `at_region_boundary`;
+//! - seeds outside the region or across a boundary curve are not created, and no edge crosses a boundary curve; the
+//!   element that wanted them is flagged `at_region_boundary` (held by the relaxation, as §5.5 holds "elements at
+//!   their generated positions" when "there are user-specified boundaries");
 //! - a seed no reference element can match (its ring is larger than every reference ring) is removed;
 //! - relaxation during growth ("after each growth step") is run every [`GrowthOptions::relax_every`] placed elements
-//!   over elements and seeds, seeds and edges without a reference ring keeping their current shape.
+//!   over a window: the elements placed in the last 2 × `relax_every` steps and the seeds next to them, their other
+//!   neighbours held. Seeds and edges without a reference ring keep their current shape. The seed relaxes the whole
+//!   pattern, which costs the pattern's size at each step (it reports 5 s for 1,000 elements); what a step changes is
+//!   the newest elements' rings, so the window does the same work where it matters, in time independent of the
+//!   pattern's size. A node whose move would cross a boundary curve (or take an edge across one) stays put.
 //!
 //! Growth is sequential and uses one `ChaCha8Rng` seeded from [`GrowthOptions::seed`]: the result does not depend on
 //! the thread count.
 
 use std::cmp::Reverse;
-use std::collections::{BinaryHeap, HashMap};
+use std::collections::{BinaryHeap, HashMap, HashSet};
 
 use glam::DVec2;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
+use super::boundary::BoundaryIndex;
 use super::connectivity::segments_cross;
+use super::options::{GrowthOptions, RotationMode};
 use super::relax::{solve, Term};
-use super::{Arrangement, Element, Reference, RingTarget};
-use crate::error::{check, Error, Result};
-use crate::geom::Region;
+use super::Reference;
+use crate::error::{Error, Result};
+use crate::geom::{PreparedRegion, RegionQueries};
 
-/// How a reference ring is turned when it is matched to a seed (seed §5.3; the flow-field mode comes later).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum RotationMode {
-    /// The reference is used as it is: the pattern keeps the reference's orientation.
-    #[default]
-    None,
-    /// Each match is turned by its best-fitting rotation (eq. (4), shape matching).
-    BestFit,
-}
-
-/// The weights of eq. (2).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct MatchWeights {
-    /// w1: distance between paired relative positions (per metre).
-    pub distance: f64,
-    /// w2: paired neighbours of different symbol ids.
-    pub symbol: f64,
-    /// w3: a paired neighbour that is a copy of the reference neighbour it is paired with.
-    pub sub_id: f64,
-}
-
-impl Default for MatchWeights {
-    /// The seed's values: w1 = 1, w2 = 1, w3 = 100.
-    fn default() -> Self {
-        MatchWeights {
-            distance: 1.0,
-            symbol: 1.0,
-            sub_id: 100.0,
-        }
-    }
-}
-
-/// How a pattern is grown.
-#[derive(Clone, Debug, PartialEq)]
-pub struct GrowthOptions {
-    /// How reference rings are turned.
-    pub rotation: RotationMode,
-    /// Growth stops once this many elements are placed (or no seed is left).
-    pub max_elements: usize,
-    /// The seed of the run's random generator.
-    pub seed: u64,
-    /// The weights of eq. (2).
-    pub weights: MatchWeights,
-    /// Priority per symbol id (higher grows first within 5 l); unlisted symbols have 0.
-    pub priorities: Vec<(u32, i32)>,
-    /// The symbol the initial seed must become, if any.
-    pub initial_symbol: Option<u32>,
-    /// Relax (eq. (5)–(6)) the elements and seeds grown so far after every this many placed elements; 0 never.
-    /// The seed relaxes "after each growth step" (1); a few steps apart keep the pattern as regular for less work.
-    pub relax_every: usize,
-}
-
-impl Default for GrowthOptions {
-    fn default() -> Self {
-        GrowthOptions {
-            rotation: RotationMode::None,
-            max_elements: 1_000,
-            seed: 0,
-            weights: MatchWeights::default(),
-            priorities: Vec::new(),
-            initial_symbol: None,
-            relax_every: 0,
-        }
-    }
-}
-
-/// Grows a pattern from one seed at `start` inside `region`, copying `reference`'s local structure.
-pub fn grow(
-    reference: &Reference,
-    region: &Region,
-    start: DVec2,
-    options: &GrowthOptions,
-) -> Result<Arrangement> {
-    region.validate()?;
-    if !start.is_finite() || !region.contains(start) {
-        return Err(Error::invalid(
-            "growth start",
-            format!(
-                "({}, {}) is not a point inside the region",
-                start.x, start.y
-            ),
-        ));
-    }
-    if options.max_elements == 0 {
-        return Err(Error::invalid("max elements", "must be at least 1"));
-    }
-    crate::limits::check(
-        "arrangement growth",
-        options.max_elements as f64,
-        crate::limits::MAX_INSTANCES,
-        "instances",
-    )?;
-    check::non_negative("match weight w1", options.weights.distance)?;
-    check::non_negative("match weight w2", options.weights.symbol)?;
-    check::non_negative("match weight w3", options.weights.sub_id)?;
-    if let Some(symbol) = options.initial_symbol {
-        let found = (0..reference.elements().len())
-            .any(|i| !reference.is_boundary(i) && reference.elements()[i].symbol == symbol);
-        if !found {
-            return Err(Error::unknown(
-                "symbol id among the reference's interior elements",
-                symbol.to_string(),
-            ));
-        }
-    }
-    let mut grower = Grower::new(reference, region, start, options);
-    grower.run()?;
-    Ok(grower.finish())
-}
+/// Progress is reported every this many placed elements.
+const PROGRESS_EVERY: usize = 256;
 
 #[derive(Clone, Copy, PartialEq)]
-enum State {
+pub(super) enum State {
     Seed,
     Element { sub_id: usize, rotation: f64 },
     Dead,
 }
 
-struct Node {
-    position: DVec2,
-    symbol: Option<u32>,
-    state: State,
+pub(super) struct Node {
+    pub(super) position: DVec2,
+    pub(super) symbol: Option<u32>,
+    pub(super) state: State,
 }
 
 /// One reference element's ring, as offsets from it.
@@ -175,39 +77,59 @@ struct RefRing {
     sub_ids: Vec<usize>,
 }
 
-struct Match {
+pub(super) struct Match {
     ring: usize,
     theta: f64,
     shift: usize,
     targets: Vec<usize>,
 }
 
-struct Grower<'a> {
-    reference: &'a Reference,
-    region: &'a Region,
+impl Match {
+    /// The reference element matched.
+    pub(super) fn sub_id(&self, grower: &Grower) -> usize {
+        grower.rings[self.ring].sub_id
+    }
+
+    /// The size of the reference element's ring.
+    pub(super) fn ring_len(&self, grower: &Grower) -> usize {
+        grower.rings[self.ring].offsets.len()
+    }
+}
+
+/// The state of one growth: the nodes (existing elements first, then the grown elements and seeds), their
+/// connectivity and the seeds' queue.
+pub(super) struct Grower<'a> {
+    pub(super) reference: &'a Reference,
+    region: PreparedRegion<'a>,
     options: &'a GrowthOptions,
+    boundaries: BoundaryIndex,
     rings: Vec<RefRing>,
-    start: DVec2,
-    nodes: Vec<Node>,
-    adjacency: Vec<Vec<usize>>,
-    targets: Vec<Vec<(usize, DVec2)>>,
-    cut: Vec<bool>,
+    /// Seeds are grown nearest-first from here.
+    pub(super) origin: DVec2,
+    pub(super) nodes: Vec<Node>,
+    pub(super) adjacency: Vec<Vec<usize>>,
+    pub(super) targets: Vec<Vec<(usize, DVec2)>>,
+    pub(super) cut: Vec<bool>,
+    /// Nodes `0..existing` are the caller's existing elements: never moved or removed.
+    pub(super) existing: usize,
+    /// The initial seed, held by the relaxation.
+    pub(super) initial: Option<usize>,
     grid: HashMap<(i64, i64), Vec<usize>>,
     cell: f64,
     max_edge: f64,
-    r_short: f64,
+    pub(super) r_short: f64,
     heap: BinaryHeap<Reverse<(u64, usize)>>,
-    placed: Vec<usize>,
-    rng: ChaCha8Rng,
+    /// The new elements, in the order they were placed.
+    pub(super) placed: Vec<usize>,
+    pub(super) rng: ChaCha8Rng,
 }
 
 impl<'a> Grower<'a> {
-    fn new(
+    pub(super) fn new(
         reference: &'a Reference,
-        region: &'a Region,
-        start: DVec2,
+        region: PreparedRegion<'a>,
         options: &'a GrowthOptions,
-    ) -> Self {
+    ) -> Result<Self> {
         let elements = reference.elements();
         let rings = (0..elements.len())
             .filter(|&i| !reference.is_boundary(i))
@@ -225,26 +147,37 @@ impl<'a> Grower<'a> {
                 }
             })
             .collect();
-        let mut grower = Grower {
+        let cell = reference.mean_edge().max(f64::MIN_POSITIVE);
+        Ok(Grower {
             reference,
             region,
             options,
+            boundaries: BoundaryIndex::new(&options.boundaries, cell)?,
             rings,
-            start,
+            origin: DVec2::ZERO,
             nodes: Vec::new(),
             adjacency: Vec::new(),
             targets: Vec::new(),
             cut: Vec::new(),
+            existing: 0,
+            initial: None,
             grid: HashMap::new(),
-            cell: reference.mean_edge().max(f64::MIN_POSITIVE),
+            cell,
             max_edge: 0.0,
             r_short: reference.r_short(),
             heap: BinaryHeap::new(),
             placed: Vec::new(),
             rng: ChaCha8Rng::seed_from_u64(options.seed),
-        };
-        grower.add_seed(start, options.initial_symbol);
-        grower
+        })
+    }
+
+    pub(super) fn region_contains(&self, p: DVec2) -> bool {
+        self.region.contains(p)
+    }
+
+    /// The distance from `p` to the region's boundary, read no further than `max`.
+    pub(super) fn region_distance_within(&self, p: DVec2, max: f64) -> f64 {
+        self.region.distance_to_boundary_within(p, max)
     }
 
     fn cell_of(&self, p: DVec2) -> (i64, i64) {
@@ -254,25 +187,44 @@ impl<'a> Grower<'a> {
         )
     }
 
-    fn add_seed(&mut self, position: DVec2, symbol: Option<u32>) -> usize {
+    /// A new node (not yet queued).
+    pub(super) fn add_node(&mut self, position: DVec2, symbol: Option<u32>, state: State) -> usize {
         let id = self.nodes.len();
         self.nodes.push(Node {
             position,
             symbol,
-            state: State::Seed,
+            state,
         });
         self.adjacency.push(Vec::new());
         self.targets.push(Vec::new());
         self.cut.push(false);
         let cell = self.cell_of(position);
         self.grid.entry(cell).or_default().push(id);
-        let distance = position.distance(self.start);
-        self.heap.push(Reverse((distance.to_bits(), id)));
         id
     }
 
+    /// Queues node `id` as a seed, by its distance from the origin.
+    pub(super) fn queue(&mut self, id: usize) {
+        let distance = self.nodes[id].position.distance(self.origin);
+        self.heap.push(Reverse((distance.to_bits(), id)));
+    }
+
+    fn add_seed(&mut self, position: DVec2, symbol: Option<u32>) -> usize {
+        let id = self.add_node(position, symbol, State::Seed);
+        self.queue(id);
+        id
+    }
+
+    /// A seed at `start` (the initial one), unless an element lies within r_short of it.
+    pub(super) fn add_initial_seed(&mut self, start: DVec2) {
+        if self.near(start, self.r_short).is_empty() {
+            let id = self.add_seed(start, self.options.initial_symbol);
+            self.initial = Some(id);
+        }
+    }
+
     /// Live nodes within `radius` of `p`, in index order.
-    fn near(&self, p: DVec2, radius: f64) -> Vec<usize> {
+    pub(super) fn near(&self, p: DVec2, radius: f64) -> Vec<usize> {
         let (lo, hi) = (self.cell_of(p - radius), self.cell_of(p + radius));
         let mut found = Vec::new();
         for cx in lo.0..=hi.0 {
@@ -303,7 +255,7 @@ impl<'a> Grower<'a> {
         })
     }
 
-    fn connect(&mut self, a: usize, b: usize) {
+    pub(super) fn connect(&mut self, a: usize, b: usize) {
         if a != b && !self.adjacency[a].contains(&b) {
             self.adjacency[a].push(b);
             self.adjacency[b].push(a);
@@ -318,7 +270,7 @@ impl<'a> Grower<'a> {
             .map_or(0, |p| p.1)
     }
 
-    /// The next seed to grow: the nearest to the initial one, unless one of higher priority lies within 5 l.
+    /// The next seed to grow: the nearest to the origin, unless one of higher priority lies within 5 l.
     fn next_seed(&mut self) -> Option<usize> {
         let mut s = loop {
             let Reverse((_, id)) = self.heap.pop()?;
@@ -339,15 +291,14 @@ impl<'a> Grower<'a> {
                 })
                 .min_by(|&i, &j| {
                     let (di, dj) = (
-                        self.nodes[i].position.distance(self.start),
-                        self.nodes[j].position.distance(self.start),
+                        self.nodes[i].position.distance(self.origin),
+                        self.nodes[j].position.distance(self.origin),
                     );
                     di.total_cmp(&dj).then(i.cmp(&j))
                 });
             match higher {
                 Some(h) => {
-                    let d = self.nodes[s].position.distance(self.start);
-                    self.heap.push(Reverse((d.to_bits(), s)));
+                    self.queue(s);
                     s = h;
                 }
                 None => return Some(s),
@@ -355,71 +306,180 @@ impl<'a> Grower<'a> {
         }
     }
 
-    fn run(&mut self) -> Result<()> {
+    /// Grows until no seed is left or `max_elements` are placed; `progress` hears the fraction of `expected`
+    /// elements placed every few hundred, and cancels with `false`.
+    pub(super) fn run(
+        &mut self,
+        expected: f64,
+        reopened: &HashMap<usize, (usize, f64)>,
+        progress: &dyn Fn(f64) -> bool,
+    ) -> Result<()> {
         while self.placed.len() < self.options.max_elements {
             let Some(s) = self.next_seed() else { break };
-            match self.best_match(s) {
+            match self.best_match(s, true) {
                 Some(m) => {
+                    let before = self.placed.len();
                     self.place(s, m);
                     let every = self.options.relax_every;
-                    if every > 0 && self.placed.len().is_multiple_of(every) {
-                        self.relax()?;
+                    if self.placed.len() > before {
+                        if every > 0 && self.placed.len().is_multiple_of(every) {
+                            self.relax_window()?;
+                        }
+                        if self.placed.len().is_multiple_of(PROGRESS_EVERY)
+                            && !progress((self.placed.len() as f64 / expected).min(0.99))
+                        {
+                            return Err(Error::Cancelled);
+                        }
                     }
                 }
-                None => self.remove(s),
+                None => match reopened.get(&s) {
+                    // an existing element stays what it was
+                    Some(&(sub_id, rotation)) => {
+                        self.nodes[s].state = State::Element { sub_id, rotation }
+                    }
+                    None => self.remove(s),
+                },
             }
         }
         Ok(())
     }
 
-    /// Eq. (5)–(6) over the elements and seeds so far: elements pull their ring neighbours to their reference
-    /// offsets, every other edge keeps its current offset (seed §5.5: "All seeds do not have corresponding reference
-    /// elements yet … we use their current neighboring shapes"); the initial element and the elements the region
-    /// stopped are held. The seeds move with the elements, and the heap order (distance to the start) is kept.
-    fn relax(&mut self) -> Result<()> {
-        let n = self.nodes.len();
-        let x0: Vec<DVec2> = self.nodes.iter().map(|node| node.position).collect();
+    /// Whether the relaxation may move node `i`.
+    fn movable(&self, i: usize) -> bool {
+        i >= self.existing
+            && !self.cut[i]
+            && Some(i) != self.initial
+            && self.nodes[i].state != State::Dead
+    }
+
+    /// Eq. (5)–(6) over the newest elements and the seeds next to them (see the module's readings): elements pull
+    /// their ring neighbours to their reference offsets, every other edge keeps its current offset (seed §5.5: "All
+    /// seeds do not have corresponding reference elements yet … we use their current neighboring shapes"); the
+    /// window's other neighbours are held, as are existing elements, the initial element and those the region or a
+    /// boundary stopped. The heap order (distance to the origin at queueing) is kept.
+    fn relax_window(&mut self) -> Result<()> {
+        let recent = self
+            .placed
+            .len()
+            .saturating_sub(2 * self.options.relax_every);
+        let mut local: HashMap<usize, usize> = HashMap::new();
+        let mut order: Vec<usize> = Vec::new();
+        let mut free: Vec<bool> = Vec::new();
+        let mut add = |node: usize, is_free: bool, order: &mut Vec<usize>, free: &mut Vec<bool>| {
+            local.entry(node).or_insert_with(|| {
+                order.push(node);
+                free.push(is_free);
+                order.len() - 1
+            });
+        };
+        for &e in &self.placed[recent..] {
+            if self.movable(e) {
+                add(e, true, &mut order, &mut free);
+            }
+        }
+        for &e in &self.placed[recent..] {
+            for &nb in &self.adjacency[e] {
+                if self.nodes[nb].state == State::Seed && self.movable(nb) {
+                    add(nb, true, &mut order, &mut free);
+                }
+            }
+        }
+        let movers = order.len();
+        if movers == 0 {
+            return Ok(());
+        }
+        for k in 0..movers {
+            for &nb in &self.adjacency[order[k]] {
+                add(nb, false, &mut order, &mut free);
+            }
+        }
         let mut terms = Vec::new();
-        let mut targeted = std::collections::BTreeSet::new();
-        for i in 0..n {
-            if self.nodes[i].state == State::Dead {
+        let mut seen: HashSet<(usize, usize)> = HashSet::new();
+        let mut targeted: HashSet<(usize, usize)> = HashSet::new();
+        for &i in &order[..movers] {
+            for &nb in &self.adjacency[i] {
+                for (a, b) in [(i, nb), (nb, i)] {
+                    if let Some(&(_, offset)) = self.targets[a].iter().find(|t| t.0 == b) {
+                        targeted.insert((a, b));
+                        if seen.insert((a, b)) {
+                            terms.push(Term {
+                                i: local[&a],
+                                j: local[&b],
+                                offset,
+                            });
+                        }
+                    }
+                }
+            }
+        }
+        for &i in &order[..movers] {
+            for &nb in &self.adjacency[i] {
+                for (a, b) in [(i, nb), (nb, i)] {
+                    if !targeted.contains(&(a, b)) && seen.insert((a, b)) {
+                        terms.push(Term {
+                            i: local[&a],
+                            j: local[&b],
+                            offset: self.nodes[b].position - self.nodes[a].position,
+                        });
+                    }
+                }
+            }
+        }
+        let x0: Vec<DVec2> = order.iter().map(|&i| self.nodes[i].position).collect();
+        let fixed: Vec<bool> = free.iter().map(|f| !f).collect();
+        let mut x = solve(&x0, &terms, &fixed)?;
+        if !self.boundaries.is_empty() {
+            self.keep_off_boundaries(&order[..movers], &x0, &mut x, &local);
+        }
+        for (k, &i) in order[..movers].iter().enumerate() {
+            // a move that brings the node within r_short of another is not made (Fig. 6 (b) holds after it too)
+            if x[k] == x0[k] || self.near(x[k], self.r_short).iter().any(|&o| o != i) {
                 continue;
             }
-            for &(j, offset) in &self.targets[i] {
-                if self.nodes[j].state != State::Dead && targeted.insert((i, j)) {
-                    terms.push(Term { i, j, offset });
+            let (from, to) = (self.cell_of(x0[k]), self.cell_of(x[k]));
+            if from != to {
+                if let Some(bucket) = self.grid.get_mut(&from) {
+                    bucket.retain(|&n| n != i);
                 }
+                self.grid.entry(to).or_default().push(i);
             }
-        }
-        for i in 0..n {
-            for &j in &self.adjacency[i] {
-                if !targeted.contains(&(i, j)) {
-                    terms.push(Term {
-                        i,
-                        j,
-                        offset: x0[j] - x0[i],
-                    });
-                }
-            }
-        }
-        let fixed: Vec<bool> = (0..n)
-            .map(|i| i == 0 || self.cut[i] || self.nodes[i].state == State::Dead)
-            .collect();
-        let x = solve(&x0, &terms, &fixed)?;
-        self.grid.clear();
-        for (i, p) in x.into_iter().enumerate() {
-            self.nodes[i].position = p;
-            let cell = self.cell_of(p);
-            self.grid.entry(cell).or_default().push(i);
-        }
-        self.max_edge = 0.0;
-        for i in 0..n {
-            for &j in &self.adjacency[i] {
-                let length = self.nodes[i].position.distance(self.nodes[j].position);
+            self.nodes[i].position = x[k];
+            for &nb in &self.adjacency[i] {
+                let length = x[k].distance(self.nodes[nb].position);
                 self.max_edge = self.max_edge.max(length);
             }
         }
         Ok(())
+    }
+
+    /// Puts back every moved node whose move, or one of whose edges, would cross a boundary curve.
+    fn keep_off_boundaries(
+        &self,
+        movers: &[usize],
+        x0: &[DVec2],
+        x: &mut [DVec2],
+        local: &HashMap<usize, usize>,
+    ) {
+        let at = |x: &[DVec2], n: usize| local.get(&n).map_or(self.nodes[n].position, |&k| x[k]);
+        loop {
+            let mut reverted = false;
+            for (k, &i) in movers.iter().enumerate() {
+                if x[k] == x0[k] {
+                    continue;
+                }
+                let crossing = self.boundaries.crosses(x0[k], x[k])
+                    || self.adjacency[i]
+                        .iter()
+                        .any(|&nb| self.boundaries.crosses(x[k], at(x, nb)));
+                if crossing {
+                    x[k] = x0[k];
+                    reverted = true;
+                }
+            }
+            if !reverted {
+                return;
+            }
+        }
     }
 
     fn remove(&mut self, s: usize) {
@@ -429,7 +489,7 @@ impl<'a> Grower<'a> {
         }
     }
 
-    /// The seed's live neighbours, counter-clockwise, starting after the widest angular gap.
+    /// The node's live neighbours, counter-clockwise, starting after the widest angular gap.
     fn target_ring(&self, s: usize) -> Vec<usize> {
         let p = self.nodes[s].position;
         let mut ring: Vec<(f64, usize)> = self.adjacency[s]
@@ -448,7 +508,9 @@ impl<'a> Grower<'a> {
         (0..m).map(|i| ring[(widest + 1 + i) % m].1).collect()
     }
 
-    fn best_match(&mut self, s: usize) -> Option<Match> {
+    /// The best-matching reference element for node `s` and its current ring (eq. (1)–(4)); a node with no
+    /// neighbour takes a reference element drawn with the run's generator when `draw`, else the first that fits.
+    pub(super) fn best_match(&mut self, s: usize, draw: bool) -> Option<Match> {
         let symbol = self.nodes[s].symbol;
         let targets = self.target_ring(s);
         let m = targets.len();
@@ -459,16 +521,24 @@ impl<'a> Grower<'a> {
         if candidates.is_empty() {
             return None;
         }
+        let p = self.nodes[s].position;
+        let flow_theta = match (&self.options.flow, self.options.rotation) {
+            (Some(flow), RotationMode::Flow) => flow.angle_at(p),
+            _ => 0.0,
+        };
         if m == 0 {
-            let ring = candidates[self.rng.random_range(0..candidates.len())];
+            let ring = if draw {
+                candidates[self.rng.random_range(0..candidates.len())]
+            } else {
+                candidates[0]
+            };
             return Some(Match {
                 ring,
-                theta: 0.0,
+                theta: flow_theta,
                 shift: 0,
                 targets,
             });
         }
-        let p = self.nodes[s].position;
         let q: Vec<DVec2> = targets
             .iter()
             .map(|&t| self.nodes[t].position - p)
@@ -481,6 +551,7 @@ impl<'a> Grower<'a> {
             for shift in 0..n {
                 let theta = match self.options.rotation {
                     RotationMode::None => 0.0,
+                    RotationMode::Flow => flow_theta,
                     RotationMode::BestFit => {
                         let (mut cross, mut dot) = (0.0, 0.0);
                         for (i, qi) in q.iter().enumerate() {
@@ -525,7 +596,8 @@ impl<'a> Grower<'a> {
         })
     }
 
-    /// Replaces seed `s` by the matched reference element and grows its ring (Fig. 2 d–h, Fig. 6).
+    /// Replaces seed `s` by the matched reference element and grows its ring (Fig. 2 d–h, Fig. 6). A reopened
+    /// existing element keeps its place and is not counted as placed.
     fn place(&mut self, s: usize, m: Match) {
         let ring = &self.rings[m.ring];
         let (sub_id, n) = (ring.sub_id, ring.offsets.len());
@@ -535,7 +607,9 @@ impl<'a> Grower<'a> {
         let rotation = self.reference.elements()[sub_id].rotation + m.theta;
         self.nodes[s].state = State::Element { sub_id, rotation };
         self.nodes[s].symbol = Some(self.reference.elements()[sub_id].symbol);
-        self.placed.push(s);
+        if s >= self.existing {
+            self.placed.push(s);
+        }
         let p = self.nodes[s].position;
 
         let mut assigned: Vec<Option<usize>> = vec![None; n];
@@ -551,7 +625,7 @@ impl<'a> Grower<'a> {
                 continue;
             }
             let c = p + offsets[j];
-            if !self.region.contains(c) {
+            if !self.region.contains(c) || self.boundaries.crosses(p, c) {
                 self.cut[s] = true;
                 continue;
             }
@@ -569,7 +643,11 @@ impl<'a> Grower<'a> {
                 })
             {
                 let fp = self.nodes[found].position;
-                if self.adjacency[s].contains(&found) || !self.collides(s, Some(found), p, fp) {
+                if self.boundaries.crosses(p, fp) {
+                    self.cut[s] = true;
+                } else if self.adjacency[s].contains(&found)
+                    || !self.collides(s, Some(found), p, fp)
+                {
                     self.connect(s, found);
                     assigned[j] = Some(found);
                     self.targets[s].push((found, offsets[j]));
@@ -600,6 +678,9 @@ impl<'a> Grower<'a> {
             }
             let (pa, pb) = (self.nodes[a].position, self.nodes[b].position);
             let original = offsets[j].distance(offsets[next]);
+            if self.boundaries.crosses(pa, pb) {
+                continue;
+            }
             if pa.distance(pb) > 1.5 * original {
                 self.extra_seed(s, a, b);
             } else if !self.collides(a, Some(b), pa, pb) {
@@ -635,7 +716,7 @@ impl<'a> Grower<'a> {
         let half = 0.5 * da.angle_to(db).rem_euclid(std::f64::consts::TAU);
         let length = 0.5 * (da.length() + db.length());
         let x = p + DVec2::from_angle(half).rotate(da.normalize_or_zero()) * length;
-        if !self.region.contains(x) {
+        if !self.region.contains(x) || self.boundaries.crosses(p, x) {
             self.cut[s] = true;
             return;
         }
@@ -646,48 +727,9 @@ impl<'a> Grower<'a> {
         self.connect(s, seed);
         for end in [a, b] {
             let pe = self.nodes[end].position;
-            if !self.collides(seed, Some(end), x, pe) {
+            if !self.boundaries.crosses(x, pe) && !self.collides(seed, Some(end), x, pe) {
                 self.connect(seed, end);
             }
         }
-    }
-
-    fn finish(self) -> Arrangement {
-        let mut index = vec![usize::MAX; self.nodes.len()];
-        for (k, &node) in self.placed.iter().enumerate() {
-            index[node] = k;
-        }
-        let mut arrangement = Arrangement::default();
-        for &node in &self.placed {
-            let (sub_id, rotation) = match self.nodes[node].state {
-                State::Element { sub_id, rotation } => (sub_id, rotation),
-                _ => (0, 0.0),
-            };
-            arrangement.elements.push(Element {
-                position: self.nodes[node].position,
-                symbol: self.nodes[node].symbol.unwrap_or(0),
-                rotation,
-            });
-            arrangement.sub_ids.push(sub_id);
-            arrangement.at_region_boundary.push(self.cut[node]);
-            arrangement.ring_targets.push(
-                self.targets[node]
-                    .iter()
-                    .filter(|t| index[t.0] != usize::MAX)
-                    .map(|&(t, offset)| RingTarget {
-                        neighbour: index[t],
-                        offset,
-                    })
-                    .collect(),
-            );
-            for &nb in &self.adjacency[node] {
-                let (i, j) = (index[node], index[nb]);
-                if j != usize::MAX && i < j {
-                    arrangement.edges.push((i, j));
-                }
-            }
-        }
-        arrangement.edges.sort_unstable();
-        arrangement
     }
 }

@@ -18,31 +18,40 @@
 //! min_x Σ_i Σ_{j ∈ w(x_i)} ‖x_j − (x_i + r_j^i)‖²      (5)      x_k = x_k^0, k ∈ constraints      (6)
 //! ```
 //!
-//! Growth can relax the elements and seeds grown so far every k placed elements ([`GrowthOptions::relax_every`]):
-//! the seed relaxes after each step; without it the small mismatches of each match add up into sheared patches.
+//! Growth can relax the newest elements and seeds every k placed elements ([`GrowthOptions::relax_every`]): the
+//! seed relaxes after each step; without it the small mismatches of each match add up into sheared patches.
 //!
-//! Built so far: the reference's connectivity with edge flips, growth with the non-rotation and best-fit rotation
-//! modes, seed priorities, the region as the boundary, relaxation. Still to come: the flow-field mode, boundary curves,
-//! the spray tool (growing only the seeds under a brush), scale / rotation / color noise, and the arrangement as a
-//! color of the palette.
+//! Built so far: the reference's connectivity with edge flips, growth with the non-rotation, best-fit rotation and
+//! flow-field modes ([`FlowField`], a thin-plate spline through the directions of drawn strokes), seed priorities,
+//! the region and boundary curves as limits of growth, growth next to existing elements ([`grow_around`]: a paste
+//! beside an earlier pattern, the spray tool's dabs), scale and rotation noise, relaxation. Still to come: the
+//! arrangement as a color of the palette, the Python binding and the Blender tools (colour noise is theirs).
 //!
-//! The three modules are one concern each: [`connectivity`] (analysis), `growth` (local growth), `relax`
-//! (relaxation). Each says the readings it chose where the seed is vague.
+//! The modules are one concern each: [`connectivity`] (analysis), `options` (what a growth is asked), `flow` (the
+//! flow field), `boundary` (the boundary curves' index), `growth` (local growth), `around` (growing next to
+//! existing elements, the start, the result and its noise), `relax` (relaxation). Each says the readings it chose
+//! where the seed is vague.
 
+mod around;
+mod boundary;
 mod color;
 pub mod connectivity;
+mod flow;
 mod growth;
+mod options;
 mod paint;
 mod relax;
 
 use glam::DVec2;
 use serde::{Deserialize, Serialize};
 
+pub use around::{grow, grow_around};
 pub use color::{ArrangementColor, PatternRotation, ReferenceElement, DEFAULT_RELAX_EVERY};
 pub use connectivity::Reference;
+pub use flow::{FlowField, MAX_FLOW_CURVES};
+pub use options::{GrowthOptions, MatchWeights, Noise, RotationMode};
 pub(crate) use paint::paint;
 pub use paint::PatternGuides;
-pub use growth::{grow, GrowthOptions, MatchWeights, RotationMode};
 pub use relax::{relax, ring_error, Relaxation};
 
 /// One element of an arrangement: where it stands, which symbol it is, how it is turned.
@@ -54,6 +63,13 @@ pub struct Element {
     pub symbol: u32,
     /// Rotation about Z (radians, counter-clockwise).
     pub rotation: f64,
+    /// Uniform scale (1 = the symbol's reference size).
+    #[serde(default = "unit_scale")]
+    pub scale: f64,
+}
+
+fn unit_scale() -> f64 {
+    1.0
 }
 
 /// One neighbour of a grown element and where the element's reference ring puts it: `r_j^i` of eq. (5), already
@@ -69,7 +85,8 @@ pub struct RingTarget {
 /// A grown arrangement: its elements, their connectivity and what each copies from the reference.
 #[derive(Clone, Debug, Default)]
 pub struct Arrangement {
-    /// The elements, the initial one first.
+    /// The elements: the existing ones given to [`grow_around`] first, in their order, then the new ones in the
+    /// order they were placed (the initial one first).
     pub elements: Vec<Element>,
     /// For each element, the reference element (sub-id) it copies.
     pub sub_ids: Vec<usize>,
@@ -78,7 +95,9 @@ pub struct Arrangement {
     /// For each element, the reference ring's offsets to the neighbours it was placed with (eq. (5)'s `r_j^i`);
     /// neighbours connected later are not listed: the relaxation keeps their current offsets (seed §5.5).
     pub ring_targets: Vec<Vec<RingTarget>>,
-    /// Elements whose growth the region stopped (a neighbour of their reference ring would have fallen outside).
+    /// Elements the relaxation holds ([`relax`], eq. (6)): those whose growth the region or a boundary curve stopped
+    /// (a neighbour of their reference ring would have fallen outside or across), and the existing elements of
+    /// [`grow_around`].
     pub at_region_boundary: Vec<bool>,
 }
 

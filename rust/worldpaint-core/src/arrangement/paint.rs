@@ -110,6 +110,8 @@ pub(crate) fn paint(
     let instances = grown.elements[existing.len()..]
         .iter()
         .zip(&grown.sub_ids[existing.len()..])
+        // relaxation may nudge an element by a few millimetres across the region's edge: the region is the user's
+        .filter(|(e, _)| region.contains(e.position))
         .map(|(e, &sub)| {
             let r = &pattern.elements[sub];
             Instance {
