@@ -67,9 +67,7 @@ pub mod tools;
 pub mod village;
 pub mod waterfall;
 
-pub use analysis::{
-    learn_arrangement, learn_color, AnalysisOptions, HeldGraph, SLOPE_BIN_DEGREES,
-};
+pub use analysis::{learn_arrangement, learn_color, AnalysisOptions, HeldGraph, SLOPE_BIN_DEGREES};
 pub use compare::{compare, learned_back, same_options, self_synthesis, Fidelity};
 pub use error::{check, Error, FileKind, Result};
 pub use geom::Region;

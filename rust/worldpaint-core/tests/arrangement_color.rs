@@ -22,14 +22,21 @@ fn lattice_density() -> f64 {
 }
 
 fn flat_terrain() -> Arc<Heightfield> {
-    Arc::new(Heightfield::new(DVec2::ZERO, 1.0, 121, 121, vec![0.0; 121 * 121]).expect("a flat terrain"))
+    Arc::new(
+        Heightfield::new(DVec2::ZERO, 1.0, 121, 121, vec![0.0; 121 * 121]).expect("a flat terrain"),
+    )
 }
 
 /// A scene with a hand-placed 7 × 7 hexagonal lattice of cobbles at (10, 10), jittered by 3 %, locked as placed
 /// objects are.
 fn reference_scene() -> Scene {
     let mut scene = Scene::on(flat_terrain());
-    scene.categories.push(Category::new("cobble", "pattern", CategoryKind::Arrangement, 0));
+    scene.categories.push(Category::new(
+        "cobble",
+        "pattern",
+        CategoryKind::Arrangement,
+        0,
+    ));
     let mut rng = ChaCha8Rng::seed_from_u64(3);
     for row in 0..7 {
         for col in 0..7 {
@@ -53,7 +60,8 @@ fn reference_region() -> Region {
 }
 
 fn learned() -> Color {
-    learn_arrangement(&reference_scene(), &reference_region(), "cobbles").expect("a lattice is learnable")
+    learn_arrangement(&reference_scene(), &reference_region(), "cobbles")
+        .expect("a lattice is learnable")
 }
 
 fn rect(x0: f64, y0: f64, x1: f64, y1: f64) -> Region {
@@ -99,7 +107,14 @@ fn an_arrangement_color_survives_its_file_and_paints_its_lattice_elsewhere() {
 
     let scene = reference_scene();
     let region = rect(40.0, 40.0, 80.0, 80.0);
-    let edit = paste(&scene, &color, &region, &SynthesisOptions::default(), &|_| true).unwrap();
+    let edit = paste(
+        &scene,
+        &color,
+        &region,
+        &SynthesisOptions::default(),
+        &|_| true,
+    )
+    .unwrap();
     assert!(edit.removed.is_empty());
     let points: Vec<DVec2> = edit.added.iter().map(|i| i.position).collect();
     let expected = region.area() * lattice_density();
@@ -123,7 +138,10 @@ fn an_arrangement_color_survives_its_file_and_paints_its_lattice_elsewhere() {
     assert!((points.len() as f64 / expected - 1.0).abs() < 0.10);
     assert!((mean_gap / SPACING - 1.0).abs() < 0.05);
     let r_short = pattern.reference().unwrap().r_short();
-    assert!(closest > r_short, "no two elements within r_short = {r_short:.3} m");
+    assert!(
+        closest > r_short,
+        "no two elements within r_short = {r_short:.3} m"
+    );
 }
 
 #[test]
@@ -161,16 +179,24 @@ fn a_paste_beside_a_pasted_pattern_continues_it_without_a_seam() {
 fn the_spray_brush_grows_the_pattern_and_keeps_what_is_there() {
     let color = learned();
     let patch = rect(40.0, 40.0, 50.0, 50.0);
-    let scene = paste(&reference_scene(), &color, &patch, &SynthesisOptions::default(), &|_| true)
-        .unwrap()
-        .applied_to(&reference_scene());
+    let scene = paste(
+        &reference_scene(),
+        &color,
+        &patch,
+        &SynthesisOptions::default(),
+        &|_| true,
+    )
+    .unwrap()
+    .applied_to(&reference_scene());
     let before = scene.instances.len();
     let opts = BrushOptions {
         radius: 4.0,
         ..Default::default()
     };
     let mut stroke = Stroke::new(&scene, BrushMode::Paint(Box::new(color.clone())), opts).unwrap();
-    let path: Vec<DVec2> = (0..=20).map(|k| DVec2::new(45.0 + k as f64, 45.0)).collect();
+    let path: Vec<DVec2> = (0..=20)
+        .map(|k| DVec2::new(45.0 + k as f64, 45.0))
+        .collect();
     stroke.follow(&path, &|_| true).unwrap();
     let edit = stroke.edit();
     let after = edit.applied_to(&scene);
@@ -188,7 +214,10 @@ fn the_spray_brush_grows_the_pattern_and_keeps_what_is_there() {
         sprayed.area() * lattice_density(),
         closest
     );
-    assert!(edit.removed.is_empty(), "spraying keeps the pattern already there");
+    assert!(
+        edit.removed.is_empty(),
+        "spraying keeps the pattern already there"
+    );
     assert!(band.len() as f64 > 0.85 * sprayed.area() * lattice_density());
     assert!(closest > 0.5 * SPACING);
     // the eraser and Clear Region treat the elements as any instances
@@ -215,5 +244,8 @@ fn an_arrangement_refuses_to_blend_and_keeps_its_flips() {
     let edges = pattern.reference().unwrap().edges();
     assert!(!edges.contains(&(a, b)), "the flipped edge is gone");
     let back = Color::from_json(&flipped.to_json().unwrap()).unwrap();
-    assert_eq!(back.arrangement.unwrap().reference().unwrap().edges(), edges);
+    assert_eq!(
+        back.arrangement.unwrap().reference().unwrap().edges(),
+        edges
+    );
 }

@@ -9,13 +9,19 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use worldpaint_core::arrangement::{PatternGuides, PatternRotation};
 
-fn polylines(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<Vec<worldpaint_core::geom::DVec2>>> {
+fn polylines(
+    obj: &Bound<'_, PyAny>,
+    what: &str,
+) -> PyResult<Vec<Vec<worldpaint_core::geom::DVec2>>> {
     let items = obj
         .try_iter()
         .map_err(|_| input_err(format!("{what} must be a list of (N, 2) arrays")))?;
     let mut out = Vec::new();
     for (i, item) in items.enumerate() {
-        out.push(points_from_py(&ArrayArg::from(item?), &format!("{what} {i}"))?);
+        out.push(points_from_py(
+            &ArrayArg::from(item?),
+            &format!("{what} {i}"),
+        )?);
     }
     Ok(out)
 }
@@ -70,7 +76,10 @@ fn rotation_name(r: PatternRotation) -> &'static str {
 /// connectivity, flips applied), "boundary": bool (N) (elements not used as references), "rotation" ("none",
 /// "best_fit", "flow"), "scale_noise", "rotation_noise", "relax_every", "flips" (count)}.
 #[pyfunction]
-pub(crate) fn arrangement_summary<'py>(py: Python<'py>, color: &str) -> PyResult<Option<Bound<'py, PyDict>>> {
+pub(crate) fn arrangement_summary<'py>(
+    py: Python<'py>,
+    color: &str,
+) -> PyResult<Option<Bound<'py, PyDict>>> {
     let c = parse_color(color)?;
     let Some(pattern) = &c.arrangement else {
         return Ok(None);
@@ -80,16 +89,37 @@ pub(crate) fn arrangement_summary<'py>(py: Python<'py>, color: &str) -> PyResult
     let d = PyDict::new(py);
     d.set_item(
         "positions",
-        rows_to_py(py, pattern.elements.iter().map(|e| [e.position.x - lo.x, e.position.y - lo.y]))?,
+        rows_to_py(
+            py,
+            pattern
+                .elements
+                .iter()
+                .map(|e| [e.position.x - lo.x, e.position.y - lo.y]),
+        )?,
     )?;
-    d.set_item("symbols", pattern.elements.iter().map(|e| e.symbol).collect::<Vec<_>>())?;
+    d.set_item(
+        "symbols",
+        pattern
+            .elements
+            .iter()
+            .map(|e| e.symbol)
+            .collect::<Vec<_>>(),
+    )?;
     d.set_item(
         "edges",
-        rows_to_py(py, reference.edges().into_iter().map(|(a, b)| [a as i64, b as i64]))?,
+        rows_to_py(
+            py,
+            reference
+                .edges()
+                .into_iter()
+                .map(|(a, b)| [a as i64, b as i64]),
+        )?,
     )?;
     d.set_item(
         "boundary",
-        (0..pattern.elements.len()).map(|i| reference.is_boundary(i)).collect::<Vec<_>>(),
+        (0..pattern.elements.len())
+            .map(|i| reference.is_boundary(i))
+            .collect::<Vec<_>>(),
     )?;
     d.set_item("rotation", rotation_name(pattern.rotation))?;
     d.set_item("scale_noise", pattern.scale_noise)?;

@@ -35,17 +35,17 @@ use crate::palette::{
 };
 use crate::scene::{Category, CategoryKind, Instance, Scene};
 
-pub(crate) mod intensity;
 mod arrangement;
+pub(crate) mod intensity;
 mod radius;
 pub(crate) mod structure;
 use crate::spatial::{GridEntry, SpatialGrid};
 use crate::terrain::Heightfield;
+pub use arrangement::learn_arrangement;
 use radius::radius_and_bin_width;
 pub(crate) use radius::CLUSTER_EXCESS;
 use rayon::prelude::*;
 use std::f64::consts::{PI, TAU};
-pub use arrangement::learn_arrangement;
 pub use structure::HeldGraph;
 
 /// Number of distance bins when the bin width is chosen automatically.

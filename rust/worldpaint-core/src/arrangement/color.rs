@@ -136,7 +136,10 @@ impl ArrangementColor {
             if e.symbol as usize >= n_categories {
                 return Err(Error::invalid(
                     field("symbol"),
-                    format!("is {}, but the color has {n_categories} categories", e.symbol),
+                    format!(
+                        "is {}, but the color has {n_categories} categories",
+                        e.symbol
+                    ),
                 ));
             }
         }

@@ -57,9 +57,7 @@ pub(crate) fn paint(
     let existing: Vec<Element> = scene
         .instances
         .iter()
-        .filter(|i| {
-            i.position.cmpge(lo).all() && i.position.cmple(hi).all() && keep(i)
-        })
+        .filter(|i| i.position.cmpge(lo).all() && i.position.cmple(hi).all() && keep(i))
         .filter_map(|i| {
             symbol_of(i.category).map(|s| Element {
                 position: i.position,

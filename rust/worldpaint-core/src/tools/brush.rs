@@ -242,7 +242,10 @@ impl Stroke {
             let mut dab_opts = self.opts.synthesis.clone();
             dab_opts.seed = mix_seed(self.opts.synthesis.seed, k as u64 + 1);
             dab_opts.guides.start = Some(centre);
-            let disc = Region::Circle { center: centre, radius: r };
+            let disc = Region::Circle {
+                center: centre,
+                radius: r,
+            };
             let color = color.clone();
             self.work.spray(&color, &disc, &dab_opts, progress)?;
             return Ok(());
