@@ -34,6 +34,7 @@ import bpy  # noqa: E402
 import numpy as np  # noqa: E402
 import worldpaint  # noqa: E402
 import worldpaint_engine as engine  # noqa: E402
+from mathutils import Vector  # noqa: E402
 from scene_kit import (  # noqa: E402
     collection_instances,
     engine_terrain_object,
@@ -189,7 +190,7 @@ def plant_vineyard(hills):
     bpy.context.view_layer.update()
     select_only(vines)
     run(bpy.ops.worldpaint.learn_arrangement, name="Vineyard", terrain=ground.name, region_mode='RECT',
-        rect_min=(-411.0, -311.0), rect_max=(-395.0, -298.0))
+        rect_min=(-411.0, -311.0), rect_max=(-395.0, -296.5))
     select_only([])
     run(bpy.ops.worldpaint.pattern_settings, rotation='FLOW', rotation_noise=0.05)
     terrain = engine.exemplar_demo_terrain(HILLS_SIZE, 2.0, 11)
@@ -237,8 +238,10 @@ def render_vineyard(path):
     scene = bpy.context.scene
     cam = scene.camera
     x, y = VINEYARD_CENTER
-    cam.location = (x - 20.0, y - 75.0, 75.0)
-    cam.rotation_euler = (math.radians(50.0), 0.0, math.radians(-15.0))
+    ground = float(engine.exemplar_demo_terrain(HILLS_SIZE, 2.0, 11).heights_at(np.array([VINEYARD_CENTER]))[0])
+    target = Vector((x, y, ground))
+    cam.location = target + Vector((25.0, 115.0, 50.0))  # from the valley below, facing the slope
+    cam.rotation_euler = (target - cam.location).to_track_quat('-Z', 'Y').to_euler()
     scene.render.resolution_x, scene.render.resolution_y = 900, 500
     scene.render.filepath = str(path)
     bpy.ops.render.render(write_still=True)

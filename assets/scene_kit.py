@@ -324,8 +324,8 @@ def cobble_reference(corner=(10.0, 10.0), rows=7, cols=7, spacing=1.0):
 def vine_prototype():
     """A collection Vine holding one small low-poly vine (a green cone on a post), excluded from the view layer."""
     bm = bmesh.new()
-    bmesh.ops.create_cone(bm, cap_ends=True, segments=5, radius1=0.55, radius2=0.15, depth=1.3,
-                          matrix=Matrix.Translation((0.0, 0.0, 0.85)))
+    bmesh.ops.create_cone(bm, cap_ends=True, segments=5, radius1=0.35, radius2=0.1, depth=1.4,
+                          matrix=Matrix.Translation((0.0, 0.0, 0.7)))
     collection = bpy.data.collections.new("Vine")
     bpy.context.scene.collection.children.link(collection)
     collection.objects.link(_bmesh_object("Vine", bm, (0.22, 0.45, 0.12, 1.0)))
@@ -333,7 +333,7 @@ def vine_prototype():
     return collection
 
 
-def vineyard_reference(corner, rows=5, cols=8, along=1.2, between=2.5, shear=0.35, seed=4):
+def vineyard_reference(corner, rows=5, cols=8, along=1.2, between=3.0, shear=0.35, seed=4):
     """A hand-planted block of vines at z = 0: ``rows`` rows along X, ``along`` metres apart in a row and ``between``
     metres between rows, each row shifted by ``shear`` of a step so the triangulation has one way to fall."""
     vine_prototype()

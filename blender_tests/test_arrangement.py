@@ -7,7 +7,7 @@ import bpy
 import numpy as np
 import pytest
 from scene_kit import cobble_reference, flat_terrain, poly_curve, select_only
-from worldpaint.bridge import engine
+from worldpaint.bridge import arrangement, engine
 from worldpaint.bridge.instances import point_cloud_arrays, point_cloud_objects
 
 SPACING = 1.0
@@ -163,3 +163,18 @@ def test_boundary_curves_stop_the_pattern_and_flow_curves_orient_it():
     off = np.abs((rotation[new] - angle + math.pi / 6.0) % (math.pi / 3.0) - math.pi / 6.0)
     print(f"flow: {new.sum()} cobbles, mean angle to the flow {np.degrees(off.mean()):.1f}°")
     assert new.sum() > 0.8 * 14.0 * 14.0 * DENSITY and np.degrees(off.mean()) < 5.0
+
+
+def test_the_viewport_overlay_picks_the_edge_clicked_on():
+    terrain_obj, _ = learn_cobbles()
+    color = bpy.context.scene.worldpaint.palette["Cobbles"]
+    overlay = arrangement.ReferenceOverlay(color.json, terrain_obj)
+    try:
+        assert len(overlay.edges) == len(engine.arrangement_summary(color.json).edges)
+        assert np.abs(overlay.xyz[:, 2] - arrangement.LIFT).max() < 1e-6, "drawn on the flat ground"
+        for a, b in overlay.edges[::7]:
+            middle = 0.5 * (overlay.xy[a] + overlay.xy[b])
+            assert overlay.edge_near(middle + 0.05) in {(a, b)}, "a click beside an edge's middle picks it"
+        assert overlay.edge_near((60.0, 60.0)) is None, "a click far from the reference picks nothing"
+    finally:
+        overlay.remove()
