@@ -178,3 +178,19 @@ def test_the_viewport_overlay_picks_the_edge_clicked_on():
         assert overlay.edge_near((60.0, 60.0)) is None, "a click far from the reference picks nothing"
     finally:
         overlay.remove()
+
+
+def test_move_carries_the_pattern_rigidly_and_clear_removes_it():
+    learn_cobbles()
+    assert bpy.ops.worldpaint.paste_color(region_mode='RECT', rect_min=(40.0, 40.0), rect_max=(55.0, 55.0),
+                                          seed=1) == {'FINISHED'}
+    before = cobbles()[0][:, :2]
+    assert bpy.ops.worldpaint.move_region(region_mode='RECT', rect_min=(40.0, 40.0), rect_max=(55.0, 55.0),
+                                          offset=(30.0, 10.0)) == {'FINISHED'}
+    after = cobbles()[0][:, :2]
+    assert len(after) == len(before)
+    moved = np.sort((before + (30.0, 10.0)).view(np.complex128).ravel())
+    assert np.abs(np.sort(after.view(np.complex128).ravel()) - moved).max() < 1e-3, "the pattern moved as a whole"
+    assert bpy.ops.worldpaint.clear_region(region_mode='RECT', rect_min=(60.0, 40.0), rect_max=(90.0, 70.0),
+                                           category="Cobble") == {'FINISHED'}
+    assert len(cobbles()[0]) == 0

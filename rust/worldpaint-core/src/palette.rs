@@ -414,6 +414,24 @@ impl Color {
         Ok(color)
     }
 
+    /// A color with no content over `region`, named `name`: what a tool follows where there is nothing to learn.
+    pub fn empty(name: &str, region: &Region) -> Color {
+        Color {
+            name: name.to_string(),
+            region: region.clone(),
+            region_area: region.area(),
+            max_radius: 1.0,
+            bin_width: 1.0 / 24.0,
+            categories: Vec::new(),
+            pairs: Vec::new(),
+            maps: Vec::new(),
+            graphs: Vec::new(),
+            polygons: Vec::new(),
+            preview: Vec::new(),
+            arrangement: None,
+        }
+    }
+
     /// The color without content: no categories, pairs, maps, graphs, polygons or preview; its name, region and
     /// radii kept. Blending with it scales a color's densities; compared with it, densities read 0.
     pub fn emptied(&self) -> Color {

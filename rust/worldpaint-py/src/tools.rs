@@ -180,7 +180,8 @@ impl Stroke {
 }
 
 /// Move the unlocked content of `source` by `offset` (x, y), adapting it to its new place with the statistics of
-/// `color` (JSON); the content it lands on is replaced. Returns the edit with "moved", "displaced", "reborn" and
+/// `color` (JSON; None: those of the moved content), an arrangement's elements rigidly; the content it lands on is
+/// replaced. Returns the edit with "moved", "displaced", "reborn" and
 /// "lost" counts.
 #[pyfunction]
 #[pyo3(signature = (scene, color, source, offset, seed=0, *,
@@ -190,7 +191,7 @@ impl Stroke {
 pub(crate) fn move_region<'py>(
     py: Python<'py>,
     scene: &Bound<'py, PyScene>,
-    color: &str,
+    color: Option<&str>,
     source: &Bound<'py, PyAny>,
     offset: (f64, f64),
     seed: u64,
@@ -200,7 +201,7 @@ pub(crate) fn move_region<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let scene = scene.get().scene();
     let source = region_from_py(source)?;
-    let color = parse_color(color)?;
+    let color = color.map(parse_color).transpose()?;
     let mut opts = AdaptOptions {
         seed,
         influence_radius,
@@ -212,7 +213,7 @@ pub(crate) fn move_region<'py>(
     }
     let offset = DVec2::new(offset.0, offset.1);
     let moved = with_progress(py, None, |_| {
-        move_content(scene, &color, &source, offset, &opts)
+        move_content(scene, color.as_ref(), &source, offset, &opts)
     })?;
     let d = edit_result(py, &moved.edit, scene)?;
     d.set_item("moved", moved.moved)?;

@@ -47,6 +47,26 @@ pub struct Edit {
     pub unseen_maps: Vec<(String, f64)>,
 }
 
+/// The scene with its arrangements' elements held as if locked (same indices, so an edit of it is one of `scene`):
+/// the tools that repaint a region from the colors around it (blur, stretch) leave a pattern as it is.
+pub(crate) fn holding_arrangements(scene: &Scene) -> std::borrow::Cow<'_, Scene> {
+    let pattern: Vec<bool> = scene
+        .categories
+        .iter()
+        .map(|c| c.kind == crate::scene::CategoryKind::Arrangement)
+        .collect();
+    if !pattern.contains(&true) {
+        return std::borrow::Cow::Borrowed(scene);
+    }
+    let mut held = scene.clone();
+    for i in &mut held.instances {
+        if pattern.get(i.category).copied().unwrap_or(false) {
+            i.locked = true;
+        }
+    }
+    std::borrow::Cow::Owned(held)
+}
+
 /// `items` less the indices `removed`, then `added`.
 fn replaced<T: Clone>(items: &[T], removed: &[usize], added: &[T]) -> Vec<T> {
     let mut gone = vec![false; items.len()];
