@@ -39,11 +39,30 @@ pub struct Assembled {
     pub face_origin: Vec<Option<u32>>,
     /// For each face, its component.
     pub face_component: Vec<u32>,
+    /// For each face, the placed component it comes from (an index into [`Assembled::instances`]) and its face in
+    /// that variant's mesh.
+    pub face_source: Vec<(u32, u32)>,
+    /// The placed components, in placing order: a renderer may instance the variants' meshes with these
+    /// placements instead of storing the welded mesh (the seed's memory argument, §6).
+    pub instances: Vec<Placed>,
     /// The largest distance between the two placements of a welded connecting-region vertex (m): the crack the
     /// weld closed.
     pub max_gap: f64,
     /// A hash of the geometry (vertex positions quantised to 1e-5 m, face by face): equal models hash equal.
     pub hash: u64,
+}
+
+/// One component placed in an assembly.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Placed {
+    /// The component.
+    pub component: usize,
+    /// The entry of its node in the chosen graph ([`AtlasGraph::nodes`]).
+    pub entry: usize,
+    /// The atlas variant that entry holds.
+    pub variant: usize,
+    /// Where it is placed: the product of the frames from the root (and the local cycle's steps).
+    pub placement: DAffine3,
 }
 
 /// Multiplies counts, saturating.
@@ -211,6 +230,8 @@ impl Atlas {
         let mut materials = Vec::new();
         let mut face_origin = Vec::new();
         let mut face_component = Vec::new();
+        let mut face_source = Vec::new();
+        let mut instances = Vec::new();
         let mut max_gap: f64 = 0.0;
         // For each component: its last copy's output index per variant vertex, and that copy's placement.
         let mut placed: Vec<Option<Vec<u32>>> = vec![None; n];
@@ -295,7 +316,14 @@ impl Atlas {
                     materials.push(variant.model.material(f));
                     face_origin.push(variant.face_origin[f]);
                     face_component.push(c as u32);
+                    face_source.push((instances.len() as u32, f as u32));
                 }
+                instances.push(Placed {
+                    component: c,
+                    entry: pick,
+                    variant: node.variant,
+                    placement: world,
+                });
                 last_frame[c] = world;
                 last_variant[c] = node.variant;
                 previous = Some(map);
@@ -310,6 +338,8 @@ impl Atlas {
             model,
             face_origin,
             face_component,
+            face_source,
+            instances,
             max_gap,
             hash,
         })
@@ -332,14 +362,14 @@ fn weighted<R: Rng>(weights: &[f64], rng: &mut R) -> usize {
     weights.len().saturating_sub(1)
 }
 
-/// FNV-1a over the faces' corner positions quantised to 1e-5 m.
+/// A hash of the faces' corner positions quantised to 1e-5 m (FNV-1a over 64-bit words, then a final mix): models
+/// with the same faces at the same places hash equal.
 pub fn geometry_hash(model: &Model) -> u64 {
+    const PRIME: u64 = 0x0000_0100_0000_01b3;
     let mut h: u64 = 0xcbf2_9ce4_8422_2325;
     let mut eat = |x: u64| {
-        for b in x.to_le_bytes() {
-            h ^= b as u64;
-            h = h.wrapping_mul(0x0100_0000_01b3);
-        }
+        h = (h ^ x).wrapping_mul(PRIME);
+        h ^= h >> 29;
     };
     eat(model.faces.len() as u64);
     for face in &model.faces {
@@ -351,5 +381,7 @@ pub fn geometry_hash(model: &Model) -> u64 {
             }
         }
     }
-    h
+    h ^= h >> 33;
+    h = h.wrapping_mul(0xff51_afd7_ed55_8ccd);
+    h ^ (h >> 33)
 }

@@ -8,7 +8,8 @@
 
 use super::assemble::{Assembled, Choice};
 use super::atlas::{Atlas, TOLERANCE};
-use super::intersect::{new_intersection, IntersectionLabels};
+use super::intersect::{intersecting_faces, new_intersection_between_parts, IntersectionLabels};
+use super::model::Model;
 use crate::error::{Error, Result};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -44,26 +45,109 @@ pub struct Generation {
     pub rejected: Vec<(Choice, Rejection)>,
 }
 
-/// Assembles `choice` and checks it: a crack past the tolerance or a new self-intersection rejects it.
+/// The first new intersecting pair of faces of a mesh, if any.
+type FacePair = Option<(u32, u32)>;
+
+/// Checks the assemblies of one atlas against the original's intersection labels. The intersections inside one
+/// placed variant do not depend on the assembly (the variant moves as a solid), so each node variant is checked alone
+/// once, here; an assembly then only tests pairs of faces from different placed variants.
+pub struct AssemblyChecker<'a> {
+    atlas: &'a Atlas,
+    labels: &'a IntersectionLabels,
+    /// `own[g][c][e]`: the first new intersecting pair of faces inside entry `e` of node `c` of graph `g`, in the
+    /// variant's own face numbering.
+    own: Vec<Vec<Vec<FacePair>>>,
+}
+
+impl<'a> AssemblyChecker<'a> {
+    /// Checks every node variant of `atlas` alone (in parallel).
+    pub fn new(atlas: &'a Atlas, labels: &'a IntersectionLabels) -> AssemblyChecker<'a> {
+        let own = atlas
+            .graphs()
+            .iter()
+            .map(|g| {
+                g.nodes
+                    .iter()
+                    .enumerate()
+                    .map(|(c, entries)| {
+                        entries
+                            .par_iter()
+                            .map(|node| {
+                                let v = &atlas.variants(c)[node.variant];
+                                let alone = Model {
+                                    vertices: node
+                                        .positions
+                                        .clone()
+                                        .unwrap_or_else(|| v.model.vertices.clone()),
+                                    faces: v.model.faces.clone(),
+                                    uvs: None,
+                                    materials: None,
+                                };
+                                let allowed = |a: u32, b: u32| match (
+                                    v.face_origin.get(a as usize).copied().flatten(),
+                                    v.face_origin.get(b as usize).copied().flatten(),
+                                ) {
+                                    (Some(oa), Some(ob)) => labels.allows(oa, ob),
+                                    _ => false,
+                                };
+                                intersecting_faces(&alone, allowed, 1).first().copied()
+                            })
+                            .collect()
+                    })
+                    .collect()
+            })
+            .collect();
+        AssemblyChecker { atlas, labels, own }
+    }
+
+    /// Assembles `choice` and checks it: a crack past the tolerance or a new self-intersection rejects it.
+    pub fn check(&self, choice: &Choice) -> Result<std::result::Result<Assembled, Rejection>> {
+        let a = self.atlas.assemble(choice)?;
+        let reach = a
+            .model
+            .vertices
+            .iter()
+            .map(|p| p.length())
+            .fold(1.0, f64::max);
+        if !(a.max_gap <= TOLERANCE * reach) {
+            return Ok(Err(Rejection::Crack(a.max_gap)));
+        }
+        for (i, placed) in a.instances.iter().enumerate() {
+            let own = self
+                .own
+                .get(choice.graph)
+                .and_then(|g| g.get(placed.component))
+                .and_then(|n| n.get(placed.entry))
+                .copied()
+                .flatten();
+            if let Some((fa, fb)) = own {
+                let output = |f: u32| {
+                    a.face_source
+                        .iter()
+                        .position(|&s| s == (i as u32, f))
+                        .map_or(u32::MAX, |k| k as u32)
+                };
+                let (x, y) = (output(fa), output(fb));
+                return Ok(Err(Rejection::SelfIntersection(x.min(y), x.max(y))));
+            }
+        }
+        let parts: Vec<u32> = a.face_source.iter().map(|s| s.0).collect();
+        Ok(
+            match new_intersection_between_parts(&a.model, &a.face_origin, &parts, self.labels) {
+                Some((f, g)) => Err(Rejection::SelfIntersection(f, g)),
+                None => Ok(a),
+            },
+        )
+    }
+}
+
+/// Assembles `choice` and checks it (see [`AssemblyChecker`]; for many choices, make one checker).
 pub fn check_assembly(
     atlas: &Atlas,
     labels: &IntersectionLabels,
     choice: &Choice,
 ) -> Result<std::result::Result<Assembled, Rejection>> {
-    let a = atlas.assemble(choice)?;
-    let reach = a
-        .model
-        .vertices
-        .iter()
-        .map(|p| p.length())
-        .fold(1.0, f64::max);
-    if !(a.max_gap <= TOLERANCE * reach) {
-        return Ok(Err(Rejection::Crack(a.max_gap)));
-    }
-    Ok(match new_intersection(&a.model, &a.face_origin, labels) {
-        Some((f, g)) => Err(Rejection::SelfIntersection(f, g)),
-        None => Ok(a),
-    })
+    AssemblyChecker::new(atlas, labels).check(choice)
 }
 
 /// [`check_assembly`] of many choices in parallel, in their order.
@@ -72,10 +156,8 @@ pub fn check_assemblies(
     labels: &IntersectionLabels,
     choices: &[Choice],
 ) -> Result<Vec<std::result::Result<Assembled, Rejection>>> {
-    choices
-        .par_iter()
-        .map(|c| check_assembly(atlas, labels, c))
-        .collect()
+    let checker = AssemblyChecker::new(atlas, labels);
+    choices.par_iter().map(|c| checker.check(c)).collect()
 }
 
 /// Draws, assembles and checks random variants until `count` are kept or `max_attempts` are drawn.
@@ -99,6 +181,7 @@ pub fn generate(
     if total == 0 {
         return Err(Error::invalid("atlas", "it makes no assembly"));
     }
+    let checker = AssemblyChecker::new(atlas, labels);
     let mut rng = ChaCha8Rng::seed_from_u64(options.seed);
     let mut seen: HashSet<Choice> = HashSet::new();
     let mut drawn = 0usize;
@@ -116,7 +199,10 @@ pub fn generate(
                 batch.push(c);
             }
         }
-        let results = check_assemblies(atlas, labels, &batch)?;
+        let results: Vec<_> = batch
+            .par_iter()
+            .map(|c| checker.check(c))
+            .collect::<Result<_>>()?;
         for (choice, r) in batch.into_iter().zip(results) {
             match r {
                 Ok(a) if out.accepted.len() < options.count => out.accepted.push((choice, a)),

@@ -11,8 +11,13 @@
 //! The candidate pairs come from a small bounding-volume hierarchy written here (a median split on the longest axis,
 //! four triangles a leaf): a model of a thousand faces needs no more, and a collision crate such as `parry3d-f64`
 //! would bring a linear-algebra stack to the engine and minutes to its build on the shared machines for one query.
-//! The query is sequential inside one model, and models are checked in parallel ([`super::generate`]), so a result
-//! never depends on the thread count.
+//! An assembly is checked in parts ([`new_intersection_between_parts`]): the faces inside one placed variant keep
+//! their relative places in every assembly (the variant moves as a solid), so each node variant is checked alone
+//! once per atlas, and an assembly only tests pairs of faces from two placed variants whose boxes overlap — the
+//! triangles of each inside the other's box, by brute force when few and through the hierarchy otherwise. The query
+//! is sequential inside one model, and models are checked in parallel ([`super::generate`]), so a result never
+//! depends on the thread count. (Welding moves a region vertex by at most the 1e-6 m tolerance, which a variant
+//! checked alone does not see; only a contact exactly at that distance could be judged differently.)
 
 use super::model::Model;
 use glam::DVec3;
@@ -64,6 +69,56 @@ pub fn new_intersection(
     intersecting_faces(model, allowed, 1).into_iter().next()
 }
 
+/// The model's triangles with their faces, corners and boxes.
+struct Soup {
+    tris: Vec<(u32, [u32; 3])>,
+    corners: Vec<[DVec3; 3]>,
+    boxes: Vec<(DVec3, DVec3)>,
+}
+
+impl Soup {
+    fn of(model: &Model) -> Soup {
+        let tris = model.triangles();
+        let corners: Vec<[DVec3; 3]> = tris
+            .iter()
+            .map(|(_, t)| t.map(|v| model.vertices[v as usize]))
+            .collect();
+        let boxes = corners
+            .iter()
+            .map(|c| {
+                let (lo, hi) = bounds(c);
+                let pad = (hi - lo).max_element() * 1e-9 + 1e-12;
+                (lo - pad, hi + pad)
+            })
+            .collect();
+        Soup {
+            tris,
+            corners,
+            boxes,
+        }
+    }
+
+    /// The faces of triangles `i` and `j` (lower first) when they are a candidate pair: different faces, no shared
+    /// vertex, not `allowed`.
+    fn candidate(
+        &self,
+        i: usize,
+        j: usize,
+        allowed: &impl Fn(u32, u32) -> bool,
+    ) -> Option<(u32, u32)> {
+        let ((fi, ti), (fj, tj)) = (&self.tris[i], &self.tris[j]);
+        if fi == fj || ti.iter().any(|v| tj.contains(v)) {
+            return None;
+        }
+        let pair = ((*fi).min(*fj), (*fi).max(*fj));
+        (!allowed(pair.0, pair.1)).then_some(pair)
+    }
+}
+
+fn overlaps(a: &(DVec3, DVec3), b: &(DVec3, DVec3)) -> bool {
+    !(a.0.cmpgt(b.1).any() || a.1.cmplt(b.0).any())
+}
+
 /// Pairs of faces (lower first) with intersecting non-adjacent triangles, skipping those `allowed` says may
 /// intersect, stopping after `limit` pairs.
 pub fn intersecting_faces(
@@ -71,59 +126,131 @@ pub fn intersecting_faces(
     allowed: impl Fn(u32, u32) -> bool,
     limit: usize,
 ) -> Vec<(u32, u32)> {
-    let tris = model.triangles();
-    let corners: Vec<[DVec3; 3]> = tris
-        .iter()
-        .map(|(_, t)| t.map(|v| model.vertices[v as usize]))
-        .collect();
-    let bvh = Bvh::build(&corners);
+    let soup = Soup::of(model);
+    let bvh = Bvh::build(&soup.boxes, (0..soup.tris.len() as u32).collect());
     let mut found: Vec<(u32, u32)> = Vec::new();
     let mut seen: HashSet<(u32, u32)> = HashSet::new();
-    let mut stack = Vec::new();
-    for (i, (fi, ti)) in tris.iter().enumerate() {
-        let (lo, hi) = bounds(&corners[i]);
-        let pad = (hi - lo).max_element() * 1e-9 + 1e-12;
-        let (lo, hi) = (lo - pad, hi + pad);
-        stack.clear();
-        stack.push(0usize);
-        while let Some(n) = stack.pop() {
-            let Some(node) = bvh.nodes.get(n) else {
-                continue;
+    for i in 0..soup.tris.len() {
+        let stopped = bvh.query(&soup.boxes, &soup.boxes[i], |j| {
+            let j = j as usize;
+            if j <= i {
+                return false;
+            }
+            let Some(pair) = soup.candidate(i, j, &allowed) else {
+                return false;
             };
-            if node.lo.cmpgt(hi).any() || node.hi.cmplt(lo).any() {
-                continue;
+            if seen.contains(&pair) || !triangles_intersect(&soup.corners[i], &soup.corners[j]) {
+                return false;
             }
-            if node.count == 0 {
-                stack.push(node.first);
-                stack.push(node.first + 1);
-                continue;
-            }
-            for &j in &bvh.order[node.first..node.first + node.count] {
-                let j = j as usize;
-                if j <= i {
-                    continue;
-                }
-                let (fj, tj) = &tris[j];
-                if fj == fi || ti.iter().any(|v| tj.contains(v)) {
-                    continue;
-                }
-                let pair = ((*fi).min(*fj), (*fi).max(*fj));
-                if seen.contains(&pair) || allowed(pair.0, pair.1) {
-                    continue;
-                }
-                if triangles_intersect(&corners[i], &corners[j]) {
-                    seen.insert(pair);
-                    found.push(pair);
-                    if found.len() >= limit {
-                        return found;
-                    }
-                }
-            }
+            seen.insert(pair);
+            found.push(pair);
+            found.len() >= limit
+        });
+        if stopped {
+            return found;
         }
     }
     found.sort_unstable();
     found
 }
+
+/// The first intersecting pair of faces (lower first) that lie in different parts (`face_part`, one per face) and
+/// are not an original intersection by `face_origin`: the check of an assembly whose parts were each checked alone.
+/// Each part gets its own hierarchy; only parts whose boxes overlap are queried, the smaller against the larger.
+pub fn new_intersection_between_parts(
+    model: &Model,
+    face_origin: &[Option<u32>],
+    face_part: &[u32],
+    labels: &IntersectionLabels,
+) -> Option<(u32, u32)> {
+    let allowed = |a: u32, b: u32| match (
+        face_origin.get(a as usize).copied().flatten(),
+        face_origin.get(b as usize).copied().flatten(),
+    ) {
+        (Some(oa), Some(ob)) => labels.allows(oa, ob),
+        _ => false,
+    };
+    let soup = Soup::of(model);
+    let parts = face_part
+        .iter()
+        .copied()
+        .max()
+        .map_or(0, |m| m as usize + 1);
+    let mut members: Vec<Vec<u32>> = vec![Vec::new(); parts];
+    for (t, (f, _)) in soup.tris.iter().enumerate() {
+        if let Some(&p) = face_part.get(*f as usize) {
+            members[p as usize].push(t as u32);
+        }
+    }
+    let part_box = |ids: &[u32]| {
+        ids.iter().fold(
+            (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+            |(lo, hi), &t| {
+                (
+                    lo.min(soup.boxes[t as usize].0),
+                    hi.max(soup.boxes[t as usize].1),
+                )
+            },
+        )
+    };
+    let boxes: Vec<(DVec3, DVec3)> = members.iter().map(|m| part_box(m)).collect();
+    let mut pairs: Vec<(usize, usize)> = Vec::new();
+    for a in 0..parts {
+        for b in a + 1..parts {
+            if !members[a].is_empty() && !members[b].is_empty() && overlaps(&boxes[a], &boxes[b]) {
+                pairs.push((a, b));
+            }
+        }
+    }
+    for (a, b) in pairs {
+        // The triangles of each part inside the other's box: few where two parts only meet at a region.
+        let near = |p: usize, q: usize| -> Vec<u32> {
+            members[p]
+                .iter()
+                .copied()
+                .filter(|&t| overlaps(&soup.boxes[t as usize], &boxes[q]))
+                .collect()
+        };
+        let (na, nb) = (near(a, b), near(b, a));
+        let (small, big) = if na.len() <= nb.len() {
+            (na, nb)
+        } else {
+            (nb, na)
+        };
+        let mut hit = None;
+        let mut test = |i: usize, j: usize| match soup.candidate(i, j, &allowed) {
+            Some(pair) if triangles_intersect(&soup.corners[i], &soup.corners[j]) => {
+                hit = Some(pair);
+                true
+            }
+            _ => false,
+        };
+        if small.len() * big.len() <= BRUTE_FORCE_PAIRS {
+            for &i in &small {
+                for &j in &big {
+                    if overlaps(&soup.boxes[i as usize], &soup.boxes[j as usize])
+                        && test(i as usize, j as usize)
+                    {
+                        return hit;
+                    }
+                }
+            }
+        } else {
+            let tree = Bvh::build(&soup.boxes, big);
+            for &i in &small {
+                if tree.query(&soup.boxes, &soup.boxes[i as usize], |j| {
+                    test(i as usize, j as usize)
+                }) {
+                    return hit;
+                }
+            }
+        }
+    }
+    None
+}
+
+/// Above this many box tests between the near triangles of two parts, a hierarchy is built.
+const BRUTE_FORCE_PAIRS: usize = 20_000;
 
 fn bounds(t: &[DVec3; 3]) -> (DVec3, DVec3) {
     (t[0].min(t[1]).min(t[2]), t[0].max(t[1]).max(t[2]))
@@ -145,18 +272,19 @@ struct Bvh {
 }
 
 impl Bvh {
-    fn build(tris: &[[DVec3; 3]]) -> Bvh {
-        let boxes: Vec<(DVec3, DVec3)> = tris.iter().map(bounds).collect();
+    /// The hierarchy over triangles `order` (indices into `boxes`).
+    fn build(boxes: &[(DVec3, DVec3)], mut order: Vec<u32>) -> Bvh {
+        let n = order.len();
         let centres: Vec<DVec3> = boxes.iter().map(|(a, b)| (*a + *b) * 0.5).collect();
-        let mut order: Vec<u32> = (0..tris.len() as u32).collect();
+        let centre = |t: u32| centres[t as usize];
         let mut nodes = vec![Node {
             lo: DVec3::ZERO,
             hi: DVec3::ZERO,
             first: 0,
-            count: tris.len(),
+            count: n,
         }];
-        let mut work = vec![(0usize, 0usize, tris.len())];
-        while let Some((n, start, end)) = work.pop() {
+        let mut work = vec![(0usize, 0usize, n)];
+        while let Some((node, start, end)) = work.pop() {
             let slice = &mut order[start..end];
             let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
             let (mut clo, mut chi) = (lo, hi);
@@ -164,14 +292,14 @@ impl Bvh {
                 let (a, b) = boxes[t as usize];
                 lo = lo.min(a);
                 hi = hi.max(b);
-                clo = clo.min(centres[t as usize]);
-                chi = chi.max(centres[t as usize]);
+                clo = clo.min(centre(t));
+                chi = chi.max(centre(t));
             }
-            nodes[n].lo = lo;
-            nodes[n].hi = hi;
+            nodes[node].lo = lo;
+            nodes[node].hi = hi;
             if end - start <= 4 {
-                nodes[n].first = start;
-                nodes[n].count = end - start;
+                nodes[node].first = start;
+                nodes[node].count = end - start;
                 continue;
             }
             let extent = chi - clo;
@@ -184,9 +312,7 @@ impl Bvh {
             };
             let mid = slice.len() / 2;
             slice.select_nth_unstable_by(mid, |&a, &b| {
-                centres[a as usize][axis]
-                    .total_cmp(&centres[b as usize][axis])
-                    .then(a.cmp(&b))
+                centre(a)[axis].total_cmp(&centre(b)[axis]).then(a.cmp(&b))
             });
             let left = nodes.len();
             for _ in 0..2 {
@@ -197,12 +323,41 @@ impl Bvh {
                     count: 0,
                 });
             }
-            nodes[n].first = left;
-            nodes[n].count = 0;
+            nodes[node].first = left;
+            nodes[node].count = 0;
             work.push((left, start, start + mid));
             work.push((left + 1, start + mid, end));
         }
         Bvh { nodes, order }
+    }
+
+    /// Calls `visit` on every triangle whose leaf box meets `target`, until it returns true; returns whether it did.
+    fn query(
+        &self,
+        boxes: &[(DVec3, DVec3)],
+        target: &(DVec3, DVec3),
+        mut visit: impl FnMut(u32) -> bool,
+    ) -> bool {
+        let mut stack = vec![0usize];
+        while let Some(n) = stack.pop() {
+            let Some(node) = self.nodes.get(n) else {
+                continue;
+            };
+            if self.order.is_empty() || !overlaps(&(node.lo, node.hi), target) {
+                continue;
+            }
+            if node.count == 0 {
+                stack.push(node.first + 1);
+                stack.push(node.first);
+                continue;
+            }
+            for &t in &self.order[node.first..node.first + node.count] {
+                if overlaps(&boxes[t as usize], target) && visit(t) {
+                    return true;
+                }
+            }
+        }
+        false
     }
 }
 

@@ -48,16 +48,17 @@ pub mod memory;
 pub mod model;
 pub mod texture;
 
-pub use assemble::{geometry_hash, Assembled, Choice};
+pub use assemble::{geometry_hash, Assembled, Choice, Placed};
 pub use atlas::{
     Atlas, AtlasGraph, LocalCycle, NodeVariant, RegionChange, Variant, VariantClass, TOLERANCE,
 };
 pub use decompose::{Chain, Component, ConnectingRegion, Decomposition};
 pub use frame::fit_similarity;
 pub use generate::{
-    check_assemblies, check_assembly, generate, GenerateOptions, Generation, Rejection,
+    check_assemblies, check_assembly, generate, AssemblyChecker, GenerateOptions, Generation,
+    Rejection,
 };
-pub use intersect::{new_intersection, IntersectionLabels};
+pub use intersect::{new_intersection, new_intersection_between_parts, IntersectionLabels};
 pub use memory::{memory_report, MemoryReport};
 pub use model::Model;
 pub use texture::{

@@ -158,32 +158,31 @@ impl Model {
     }
 
     /// The model without the vertices that no face uses (the order of the others kept).
-    pub fn compacted(&self) -> Model {
+    pub fn compacted(mut self) -> Model {
         let mut used = vec![u32::MAX; self.vertices.len()];
-        let mut vertices = Vec::new();
         for face in &self.faces {
             for &v in face {
-                if used[v as usize] == u32::MAX {
-                    used[v as usize] = 0;
-                }
+                used[v as usize] = 0;
             }
         }
-        for (v, slot) in used.iter_mut().enumerate() {
+        let mut next = 0u32;
+        for slot in used.iter_mut() {
             if *slot == 0 {
-                *slot = vertices.len() as u32;
-                vertices.push(self.vertices[v]);
+                *slot = next;
+                next += 1;
             }
         }
-        Model {
-            vertices,
-            faces: self
-                .faces
-                .iter()
-                .map(|f| f.iter().map(|&v| used[v as usize]).collect())
-                .collect(),
-            uvs: self.uvs.clone(),
-            materials: self.materials.clone(),
+        let mut k = 0;
+        self.vertices.retain(|_| {
+            k += 1;
+            used[k - 1] != u32::MAX
+        });
+        for face in &mut self.faces {
+            for v in face.iter_mut() {
+                *v = used[*v as usize];
+            }
         }
+        self
     }
 
     /// The smallest box holding every vertex (zero box when there are none).
