@@ -231,6 +231,68 @@ fn a_new_self_intersection_is_rejected_and_the_originals_own_are_kept() {
 }
 
 #[test]
+fn reshaping_a_branch_base_adapts_the_trunk_in_a_duplicated_graph() {
+    let t = tree(15);
+    let (d, mut atlas, _) = tree_atlas(&t);
+    // Branch 1's base (its connecting region with the lower trunk) loses its square shape: one corner pulled out.
+    let r02 = d
+        .regions
+        .iter()
+        .position(|r| r.components == (0, 2))
+        .expect("R02");
+    let corner = d.regions[r02].vertices[0];
+    let pulled = t.model.vertices[corner as usize] * DVec3::new(1.15, 1.15, 1.0);
+    let reshaped = edit(
+        &t,
+        &d,
+        2,
+        |_, p| {
+            if p == t.model.vertices[corner as usize] {
+                pulled
+            } else {
+                p
+            }
+        },
+        |_| true,
+    );
+    assert_eq!(
+        atlas.add_variant(2, reshaped).expect("reshaped"),
+        VariantClass::RegionChange
+    );
+    assert_eq!(atlas.graphs().len(), 2, "the graph is duplicated (§4.2.3)");
+    assert_eq!(
+        atlas.count(),
+        729 + 243,
+        "G keeps 3^6; G' holds the reshaped branch with 3^5 others"
+    );
+    let labels = IntersectionLabels::of_model(&t.model);
+    let duplicated: Vec<Choice> = all_choices(&atlas)
+        .into_iter()
+        .filter(|c| c.graph == 1)
+        .collect();
+    assert_eq!(duplicated.len(), 243);
+    let results = check_assemblies(&atlas, &labels, &duplicated).expect("assembly");
+    for (choice, r) in duplicated.iter().zip(results) {
+        let a = r.unwrap_or_else(|why| panic!("{choice:?} rejected: {why:?}"));
+        assert!(
+            a.max_gap <= 1e-6,
+            "the adapted trunk meets the reshaped base"
+        );
+        assert!(a.model.is_watertight());
+        let placed = a
+            .instances
+            .iter()
+            .find(|p| p.component == 0)
+            .expect("the trunk");
+        let on_trunk = placed.placement.transform_point3(pulled);
+        assert!(a.model.vertices.iter().any(|v| v.distance(on_trunk) < 1e-9));
+    }
+    println!(
+        "  reshaped branch base: 243 assemblies in the duplicated graph, all closed and crack-free"
+    );
+}
+
+#[test]
 fn memory_overhead_reads_like_the_seeds_table_2() {
     let t = tree(15);
     let (d, atlas, _) = tree_atlas(&t);
@@ -366,6 +428,11 @@ fn a_local_cycle_repeats_a_piece_at_most_the_allowed_number_of_times() {
     assert_eq!(
         atlas.add_variant(1, bulge).expect("local"),
         VariantClass::Local
+    );
+    assert_eq!(
+        atlas.local_cycle_candidates(),
+        vec![1],
+        "only the middle piece has identical ends"
     );
     atlas
         .add_local_cycle(1, 3)
@@ -655,6 +722,15 @@ fn bad_input_is_refused_with_a_message() {
         })
         .expect_err("no variant 7");
     assert!(e.to_string().contains("entry 7"), "{e}");
+    let mut moved_root = d.clone();
+    moved_root.root = 99;
+    let e = Atlas::new(&t.model, moved_root).expect_err("a root that does not exist");
+    assert!(e.to_string().contains("root 99"), "{e}");
+    let e = Atlas::new(&column().0, d.clone()).expect_err("another model");
+    assert!(
+        e.to_string().contains("decomposition was made of one"),
+        "{e}"
+    );
     let e = Image::new(4, 4, vec![0; 10]).expect_err("short image");
     assert!(e.to_string().contains("image"), "{e}");
     let e = TextureComponent::from_edit(

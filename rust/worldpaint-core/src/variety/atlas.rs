@@ -146,9 +146,9 @@ pub struct Atlas {
 
 impl Atlas {
     /// An atlas whose every node holds its original component (variant 0).
-    pub fn new(model: &Model, decomposition: Decomposition) -> Result<Atlas> {
-        decomposition.check_model(model)?;
+    pub fn new(model: &Model, mut decomposition: Decomposition) -> Result<Atlas> {
         model.validate()?;
+        decomposition.revalidate(model)?;
         let mut atlas = Atlas {
             model: model.clone(),
             decomposition,
@@ -440,6 +440,25 @@ impl Atlas {
         self.cycles.sort_by_key(|l| l.component);
         self.rebuild();
         Ok(())
+    }
+
+    /// The components that could repeat in a local cycle (§4.2.4: "we check if identical connecting regions exist"):
+    /// on a tree-like graph, not the root, two regions, the one to the parent identical to the other up to a
+    /// similarity.
+    pub fn local_cycle_candidates(&self) -> Vec<usize> {
+        let d = &self.decomposition;
+        if !d.is_tree_like() {
+            return Vec::new();
+        }
+        (0..d.components.len())
+            .filter(|&c| d.degree(c) == 2)
+            .filter(|&c| {
+                d.parent(c).is_some_and(|(_, entry)| {
+                    let exit = d.arcs(c).iter().copied().find(|&r| r != entry);
+                    exit.is_some_and(|exit| self.match_ends(entry, exit).is_some())
+                })
+            })
+            .collect()
     }
 
     /// Matches the vertices of two regions along their chains (each one chain) and fits the step between them.

@@ -212,6 +212,60 @@ impl Decomposition {
         Ok(d)
     }
 
+    /// Checks a decomposition whose public fields may have been changed since it was made (the root, the
+    /// components, the regions) against `model`, and walks its graph again.
+    pub fn revalidate(&mut self, model: &Model) -> Result<()> {
+        self.check_model(model)?;
+        let n = self.components.len();
+        if n == 0 || self.root >= n {
+            return Err(Error::invalid(
+                "decomposition",
+                format!("root {} is not one of its {n} components", self.root),
+            ));
+        }
+        let (nv, nf) = self.model_size;
+        for (c, comp) in self.components.iter().enumerate() {
+            let sorted = |list: &[u32], below: usize| {
+                list.windows(2).all(|w| w[0] < w[1])
+                    && list.last().is_none_or(|&x| (x as usize) < below)
+            };
+            if !sorted(&comp.faces, nf) || !sorted(&comp.vertices, nv) {
+                return Err(Error::invalid(
+                    format!("decomposition component {c}"),
+                    "its faces and vertices must be ascending model indices",
+                ));
+            }
+            for &f in &comp.faces {
+                if model.faces[f as usize]
+                    .iter()
+                    .any(|v| comp.local_index(*v).is_none())
+                {
+                    return Err(Error::invalid(
+                        format!("decomposition component {c}"),
+                        format!("face {f} uses a vertex the component does not list"),
+                    ));
+                }
+            }
+        }
+        for (r, region) in self.regions.iter().enumerate() {
+            let (a, b) = region.components;
+            let known = a < b
+                && b < n
+                && region.vertices.iter().all(|&v| {
+                    self.components[a].local_index(v).is_some()
+                        && self.components[b].local_index(v).is_some()
+                });
+            if !known {
+                return Err(Error::invalid(
+                    format!("decomposition region {r}"),
+                    "it must join two components (lower first) by vertices both of them use",
+                ));
+            }
+        }
+        self.walk();
+        Ok(())
+    }
+
     /// Breadth-first walk from the root: parents, order, and which arcs lie on a cycle.
     fn walk(&mut self) {
         let n = self.components.len();
@@ -323,6 +377,7 @@ impl Decomposition {
     /// model's texture coordinates and materials of those faces. Variants are edits of this mesh.
     pub fn component_model(&self, model: &Model, c: usize) -> Result<Model> {
         self.check_model(model)?;
+        model.validate()?;
         let comp = self.components.get(c).ok_or_else(|| {
             Error::invalid(
                 "component",

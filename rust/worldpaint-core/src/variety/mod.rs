@@ -19,12 +19,14 @@
 //!     .components / .regions / .root, .parent(c), .order(), .component_model(&model, c) -> Result<Model>
 //! Atlas::new(&model, decomposition) -> Result<Atlas>            // variant 0 of each node is the original piece
 //!     .add_variant(c, edited: Model) -> Result<VariantClass>    // Local | SolidTransform | RegionChange
-//!     .add_local_cycle(c, max_repeat) -> Result<()>
+//!     .local_cycle_candidates() -> Vec<usize>, .add_local_cycle(c, max_repeat) -> Result<()>
+//!     .variants(c) -> &[Variant], .graphs() -> &[AtlasGraph], .cycles() -> &[LocalCycle]
 //!     .count() -> u128                                           // #V
 //!     .choice(index: u128) -> Result<Choice>, .random_choice(&mut rng) -> Choice
-//!     .assemble(&choice) -> Result<Assembled>                    // model, face_origin, max_gap, hash
+//!     .assemble(&choice) -> Result<Assembled>  // model, face_origin, face_source, instances, max_gap, hash
 //! IntersectionLabels::of_model(&model)
 //! generate(&atlas, &labels, &GenerateOptions { count, seed, max_attempts }) -> Result<Generation>
+//! AssemblyChecker::new(&atlas, &labels).check(&choice) -> Result<Result<Assembled, Rejection>>
 //! check_assemblies(&atlas, &labels, &[Choice]) -> Result<Vec<Result<Assembled, Rejection>>>
 //! memory_report(&atlas, &[Choice]) -> Result<MemoryReport>
 //! Image::new(width, height, rgba: Vec<u8>) -> Result<Image>

@@ -41,6 +41,18 @@ pub struct Image {
 impl Image {
     /// An image of `rgba` bytes, checked against its size.
     pub fn new(width: u32, height: u32, rgba: Vec<u8>) -> Result<Image> {
+        let image = Image {
+            width,
+            height,
+            rgba,
+        };
+        image.check()?;
+        Ok(image)
+    }
+
+    /// Checks the image's size and bytes (its fields are public, so one set by hand is checked before use).
+    pub fn check(&self) -> Result<()> {
+        let (width, height) = (self.width, self.height);
         if width == 0 || height == 0 {
             return Err(Error::invalid(
                 "image",
@@ -54,12 +66,7 @@ impl Image {
             crate::limits::MAX_GRID_CELLS,
             "texels",
         )?;
-        crate::error::check::same_len("image bytes (RGBA)", rgba.len(), texels as usize * 4)?;
-        Ok(Image {
-            width,
-            height,
-            rgba,
-        })
+        crate::error::check::same_len("image bytes (RGBA)", self.rgba.len(), texels as usize * 4)
     }
 
     fn texels(&self) -> usize {
@@ -151,6 +158,8 @@ impl TextureComponent {
     /// coordinates (which it only reads).
     pub fn from_edit(model: &Model, base: &Image, painted: &Image) -> Result<TextureComponent> {
         model.validate()?;
+        base.check()?;
+        painted.check()?;
         let uvs = model.uvs.as_ref().ok_or_else(|| {
             Error::invalid("model", "it has no texture coordinates to paint through")
         })?;
