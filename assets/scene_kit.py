@@ -342,3 +342,38 @@ def vineyard_reference(corner, rows=5, cols=8, along=1.2, between=3.0, shear=0.3
     xy = np.column_stack([(col + shear * row) * along, row * between]) + np.asarray(corner)
     xy += rng.uniform(-0.03, 0.03, xy.shape)
     return collection_instances("Vine", xy, np.zeros(len(xy)))
+
+
+def segmented_tree(name="Column tree", sides=8, radius=0.4, height=1.5, crown=(1.6, 3.0)):
+    """A low-poly tree of three parts sharing rings of vertices: a lower and an upper trunk segment and a conical
+    crown, its bottom capped. The integer face attribute ``part`` labels them 0, 1 and 2."""
+    a = np.linspace(0.0, 2.0 * np.pi, sides, endpoint=False)
+    ring = np.column_stack([np.cos(a), np.sin(a)])
+    co = [np.column_stack([radius * ring, np.full(sides, z)]) for z in (0.0, height, 2 * height)]
+    co.append(np.column_stack([crown[0] * ring, np.full(sides, 2 * height)]))
+    co.append(np.array([[0.0, 0.0, 2 * height + crown[1]]]))
+    co = np.vstack(co)
+    faces, parts = [], []
+    for level in (0, 1):
+        for k in range(sides):
+            j = (k + 1) % sides
+            b, t = level * sides, (level + 1) * sides
+            faces.append((b + k, b + j, t + j, t + k))
+            parts.append(level)
+    top, brim, apex = 2 * sides, 3 * sides, 4 * sides
+    for k in range(sides):
+        j = (k + 1) % sides
+        faces.append((top + k, top + j, brim + j, brim + k))  # the crown's underside, from the trunk's top ring
+        faces.append((brim + k, brim + j, apex))
+        parts += [2, 2]
+    faces.append(tuple(range(sides - 1, -1, -1)))  # the bottom cap
+    parts.append(0)
+    mesh = bpy.data.meshes.new(name)
+    mesh.from_pydata(co.tolist(), [], faces)
+    mesh.update()
+    attr = mesh.attributes.new("part", 'INT', 'FACE')
+    attr.data.foreach_set("value", np.asarray(parts, dtype=np.int32))
+    mesh.materials.append(_material(name, COLORS["Tree"]))
+    obj = bpy.data.objects.new(name, mesh)
+    bpy.context.scene.collection.objects.link(obj)
+    return obj

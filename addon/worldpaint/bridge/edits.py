@@ -9,7 +9,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import points
+from . import engine, points
 from .instances import point_cloud_objects
 
 
@@ -63,16 +63,36 @@ def apply_edit(scene, instance_set, edit, terrain_obj):
         if category in added:
             parts.append(added[category])
         columns = [np.concatenate([p[k] for p in parts]) for k in range(4)]
+        variants = variant_collection(scene, category)
+        if variants is not None:
+            kept = len(parts[0][0]) if category in instance_set.cloud_rows else 0
+            columns[3] = variant_indices(columns[0], columns[3], kept, variants)
         obj = clouds.get(category) or points.point_cloud_object(scene, category)
         points.write_points(obj, *columns)
-        if not set_instancer(scene, obj, category, terrain_obj):
+        if not set_instancer(scene, obj, category, terrain_obj, variants):
             out.missing.append(category)
     return out
 
 
-def set_instancer(scene, obj, category, terrain_obj):
-    """Gives a cloud its instancer with the category's prototype collection; False when it has none."""
-    collection = points.instancer_collection(obj)
+def variant_collection(scene, category):
+    """The collection of model variants a category paints with, or None."""
+    item = scene.worldpaint.categories.get(category)
+    variants = None if item is None else item.variants
+    return variants if variants is not None and len(variants.objects) else None
+
+
+def variant_indices(co, prototype, kept, variants):
+    """The prototype (variant) of each point: the ``kept`` first keep theirs, the new ones take the variant least
+    used within 50 m (seeded), so no two trees near each other are the same until the variants run out."""
+    fixed = np.full(len(co), -1, dtype=np.int64)
+    fixed[:kept] = prototype[:kept]
+    return engine.assign_variants(co[:, :2], fixed, len(variants.objects)).astype(np.int32)
+
+
+def set_instancer(scene, obj, category, terrain_obj, variants=None):
+    """Gives a cloud its instancer with the category's prototype collection (its ``variants`` when it paints with
+    some); False when it has none."""
+    collection = variants or points.instancer_collection(obj)
     if collection is None:
         collection = points.prototype_collection(scene, category, exclude=[terrain_obj])
     points.set_instancer(obj, collection, terrain_obj)

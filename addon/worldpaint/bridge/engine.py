@@ -519,6 +519,27 @@ def arrangement_edited(color_json, **changes):
     return _engine().arrangement_edited(color_json, **changes)
 
 
+# --- model variety ------------------------------------------------------------------------------------------------
+
+def decompose_model(model, labels, root=None):
+    """The components of a model (dict of mesh arrays) by a label per face: labels, face counts, connecting regions
+    (a, b, vertex count), root, whether the graph is fully cyclic or tree-like, and each component's sub-mesh."""
+    return _engine().decompose_model(model, np.ascontiguousarray(labels, dtype=np.int64), root)
+
+
+def generate_variants(model, labels, variants, count, seed, *, root=None, cycles=None, progress=None):
+    """``count`` variants assembled from the components' edited ``variants`` (per component a list of model dicts):
+    their classes, #V (a string), the accepted models with their hashes, the rejections."""
+    return _engine().generate_variants(model, np.ascontiguousarray(labels, dtype=np.int64), variants, count, seed,
+                                       root=root, cycles=cycles, progress=progress)
+
+
+def assign_variants(positions, fixed, count, window=50.0, seed=0):
+    """int64 (N,): the variant of each XY position, ``fixed`` (-1: to choose) kept, the others the least used around."""
+    return _engine().assign_variants(np.ascontiguousarray(positions, dtype=np.float64),
+                                     np.ascontiguousarray(fixed, dtype=np.int64), count, window, seed)
+
+
 # --- painting tools -----------------------------------------------------------------------------------------------
 
 def paste(scene_handle, color, region, seed, influence_radius, progress=None, guides=None):

@@ -18,6 +18,7 @@ from bpy.props import (
 from ..bridge.engine import fidelity_line
 from .sketch import WORLDPAINT_PG_sketch, WORLDPAINT_PG_sketch_point, WORLDPAINT_PG_sketch_stroke
 from .terrain_edit import WORLDPAINT_PG_terrain_edit, WORLDPAINT_PG_waterfall_controller
+from .variety import WORLDPAINT_PG_component, WORLDPAINT_PG_variety
 from .village import WORLDPAINT_PG_village, WORLDPAINT_PG_village_event
 
 CATEGORY_KINDS = (
@@ -56,6 +57,11 @@ class WORLDPAINT_PG_category(bpy.types.PropertyGroup):
     depth: FloatProperty(
         name="Depth", default=0.0, min=0.0, soft_max=10.0, unit='LENGTH',
         description="How deep the middle of the ribbon sinks below the terrain: a river's bed (0: a flat road)",
+    )
+    variants: PointerProperty(
+        name="Variants", type=bpy.types.Collection,
+        description="A collection of model variants to instance: each painted instance shows the variant least used "
+        "within 50 m of it (none: the category's own prototypes)",
     )
 
 
@@ -207,7 +213,8 @@ class WORLDPAINT_PG_settings(bpy.types.PropertyGroup):
 _register_classes, _unregister_classes = bpy.utils.register_classes_factory(
     (WORLDPAINT_PG_category, WORLDPAINT_PG_interaction, WORLDPAINT_PG_color, WORLDPAINT_PG_stroke_point,
      WORLDPAINT_PG_village_event, WORLDPAINT_PG_village, WORLDPAINT_PG_terrain_edit, WORLDPAINT_PG_waterfall_controller,
-     WORLDPAINT_PG_sketch_point, WORLDPAINT_PG_sketch_stroke, WORLDPAINT_PG_sketch, WORLDPAINT_PG_settings)
+     WORLDPAINT_PG_sketch_point, WORLDPAINT_PG_sketch_stroke, WORLDPAINT_PG_sketch, WORLDPAINT_PG_component,
+     WORLDPAINT_PG_variety, WORLDPAINT_PG_settings)
 )
 
 
@@ -215,9 +222,11 @@ def register():
     _register_classes()
     bpy.types.Scene.worldpaint = PointerProperty(type=WORLDPAINT_PG_settings)
     bpy.types.Object.worldpaint_waterfall = PointerProperty(type=WORLDPAINT_PG_waterfall_controller)
+    bpy.types.Object.worldpaint_variety = PointerProperty(type=WORLDPAINT_PG_variety)
 
 
 def unregister():
+    del bpy.types.Object.worldpaint_variety
     del bpy.types.Object.worldpaint_waterfall
     del bpy.types.Scene.worldpaint
     _unregister_classes()

@@ -256,9 +256,15 @@ fn move_carries_a_pattern_rigidly_and_blur_leaves_it_as_it_is() {
     use worldpaint_core::tools::moving::move_region;
     let color = learned();
     let patch = rect(40.0, 40.0, 50.0, 50.0);
-    let scene = paste(&reference_scene(), &color, &patch, &SynthesisOptions::default(), &|_| true)
-        .unwrap()
-        .applied_to(&reference_scene());
+    let scene = paste(
+        &reference_scene(),
+        &color,
+        &patch,
+        &SynthesisOptions::default(),
+        &|_| true,
+    )
+    .unwrap()
+    .applied_to(&reference_scene());
     let inside: Vec<DVec2> = scene
         .instances
         .iter()
@@ -269,11 +275,28 @@ fn move_carries_a_pattern_rigidly_and_blur_leaves_it_as_it_is() {
     let moved = move_region(&scene, None, &patch, offset, &Default::default()).unwrap();
     assert_eq!(moved.moved, inside.len());
     let mut expected: Vec<[f64; 2]> = inside.iter().map(|p| (*p + offset).to_array()).collect();
-    let mut landed: Vec<[f64; 2]> = moved.edit.added.iter().map(|i| i.position.to_array()).collect();
+    let mut landed: Vec<[f64; 2]> = moved
+        .edit
+        .added
+        .iter()
+        .map(|i| i.position.to_array())
+        .collect();
     expected.sort_by(|a, b| a.partial_cmp(b).unwrap());
     landed.sort_by(|a, b| a.partial_cmp(b).unwrap());
-    assert_eq!(landed, expected, "every element moved by the offset, none adapted");
+    assert_eq!(
+        landed, expected,
+        "every element moved by the offset, none adapted"
+    );
 
-    let blurred = blur(&scene, &rect(42.0, 42.0, 48.0, 48.0), &BlurOptions::default(), &|_| true).unwrap();
-    assert!(blurred.removed.is_empty() && blurred.added.is_empty(), "blur leaves a pattern as it is");
+    let blurred = blur(
+        &scene,
+        &rect(42.0, 42.0, 48.0, 48.0),
+        &BlurOptions::default(),
+        &|_| true,
+    )
+    .unwrap();
+    assert!(
+        blurred.removed.is_empty() && blurred.added.is_empty(),
+        "blur leaves a pattern as it is"
+    );
 }

@@ -20,6 +20,7 @@ mod sketch;
 mod terrain;
 mod terrain_edit;
 mod tools;
+mod variety;
 mod village;
 mod waterfall;
 
@@ -286,6 +287,8 @@ mod worldpaint_engine {
     use crate::terrain_edit::embed_roads;
     #[pymodule_export]
     use crate::tools::{blur, clear_region, gradient, move_region, paste, stretch_region, Stroke};
+    #[pymodule_export]
+    use crate::variety::{assign_variants, decompose_model, generate_variants};
     #[pymodule_export]
     use crate::village::{
         default_encyclopedia, encyclopedia_contents, generate_village, scenario_presets,

@@ -8,7 +8,8 @@
 //! One concern per file: [`model`] (the mesh), [`decompose`] (components, connecting regions, graph), `frame`
 //! (the least-squares frame of a region), [`atlas`] (variants and their classes, duplicated graphs, local cycles),
 //! `assemble` (choices, count, welding), [`intersect`] (labels and the hierarchy of boxes), `generate` (seeded,
-//! parallel), [`texture`] (§5), [`memory`] (Table 2). Each says the readings it chose where the seed is vague.
+//! parallel), [`texture`] (§5), [`memory`] (Table 2), `assign` (which variant each painted instance shows). Each
+//! says the readings it chose where the seed is vague.
 //!
 //! # The API the bindings call
 //!
@@ -41,6 +42,7 @@
 //! edit cannot be used); [`generate`] N variants with a seed; write each [`Assembled::model`] as a mesh.
 
 mod assemble;
+mod assign;
 pub mod atlas;
 pub mod decompose;
 mod frame;
@@ -51,6 +53,7 @@ pub mod model;
 pub mod texture;
 
 pub use assemble::{geometry_hash, Assembled, Choice, Placed};
+pub use assign::assign_variants;
 pub use atlas::{
     Atlas, AtlasGraph, LocalCycle, NodeVariant, RegionChange, Variant, VariantClass, TOLERANCE,
 };

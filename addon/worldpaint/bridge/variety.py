@@ -1,0 +1,135 @@
+"""Model variety in the scene: a mesh object's model and component labels for the engine, the parts it is
+decomposed into (one collection per component, where the user keeps the edited copies), and the generated variants
+written back as meshes sharing the original's materials.
+
+Every part keeps, in the point attribute ``wp_vertex``, which vertex of its component each vertex is: Blender keeps
+attributes through edit-mode moves, Lattice and Simple Deform, and through deleting faces, which renumbers the
+vertices; the engine numbers a variant's vertices as its component's.
+"""
+
+import bpy
+import numpy as np
+
+from . import WorldPaintError
+
+VERTEX_ATTRIBUTE = "wp_vertex"
+PART_TAG = "wp_part"  # on a part's collection: its original piece (the other objects there are its variants)
+COMPONENT_TAG = "wp_component"  # on a part's collection: its component's label
+FACE_SET_ATTRIBUTE = ".sculpt_face_set"
+
+
+def mesh_model(mesh, with_uvs=True):
+    """The engine's model dict of a mesh's data (object-local coordinates)."""
+    n, f, loops = len(mesh.vertices), len(mesh.polygons), len(mesh.loops)
+    co = np.empty(n * 3, dtype=np.float64)
+    mesh.vertices.foreach_get("co", co)
+    totals = np.empty(f, dtype=np.int64)
+    mesh.polygons.foreach_get("loop_total", totals)
+    corners = np.empty(loops, dtype=np.int64)
+    mesh.loops.foreach_get("vertex_index", corners)
+    materials = np.empty(f, dtype=np.int64)
+    mesh.polygons.foreach_get("material_index", materials)
+    uvs = None
+    if with_uvs and mesh.uv_layers.active is not None:
+        uvs = np.empty(loops * 2, dtype=np.float64)
+        mesh.uv_layers.active.data.foreach_get("uv", uvs)
+        uvs = uvs.reshape(-1, 2)
+    return {"vertices": co.reshape(-1, 3), "loop_totals": totals, "corners": corners, "uvs": uvs,
+            "materials": materials}
+
+
+def face_labels(obj, source, attribute=""):
+    """int64 (F,) component labels of a mesh object's faces: its face sets, its material slots, or an integer face
+    attribute."""
+    mesh = obj.data
+    name = {"FACE_SETS": FACE_SET_ATTRIBUTE, "ATTRIBUTE": attribute}.get(source)
+    labels = np.empty(len(mesh.polygons), dtype=np.int64)
+    if source == 'MATERIALS':
+        mesh.polygons.foreach_get("material_index", labels)
+        return labels
+    attr = mesh.attributes.get(name) if name else None
+    if attr is None or attr.domain != 'FACE' or attr.data_type not in {'INT', 'INT8', 'BOOLEAN'}:
+        what = "face sets (Sculpt Mode > Face Sets)" if source == 'FACE_SETS' else f"an integer face attribute '{name}'"
+        raise WorldPaintError(f"'{obj.name}' has no {what} to decompose it by")
+    values = np.empty(len(mesh.polygons), dtype=np.int64 if attr.data_type != 'BOOLEAN' else bool)
+    attr.data.foreach_get("value", values)
+    return values.astype(np.int64) - min(0, int(values.min(initial=0)))
+
+
+def part_mesh(name, part, materials):
+    """A mesh of a component's sub-mesh (engine model dict), its vertices numbered in ``wp_vertex``."""
+    mesh = bpy.data.meshes.new(name)
+    write_model(mesh, part, materials)
+    attr = mesh.attributes.new(VERTEX_ATTRIBUTE, 'INT', 'POINT')
+    attr.data.foreach_set("value", np.arange(len(mesh.vertices), dtype=np.int32))
+    return mesh
+
+
+def write_model(mesh, model, materials):
+    """Fills an empty mesh with an engine model dict (positions, faces, UVs, material indices) and ``materials``."""
+    vertices = np.asarray(model["vertices"], dtype=np.float32)
+    totals = np.asarray(model["loop_totals"], dtype=np.int32)
+    corners = np.asarray(model["corners"], dtype=np.int32)
+    mesh.vertices.add(len(vertices))
+    mesh.vertices.foreach_set("co", vertices.ravel())
+    mesh.loops.add(len(corners))
+    mesh.loops.foreach_set("vertex_index", corners)
+    mesh.polygons.add(len(totals))
+    mesh.polygons.foreach_set("loop_start", np.concatenate([[0], np.cumsum(totals)[:-1]]).astype(np.int32))
+    mesh.polygons.foreach_set("loop_total", totals)
+    for material in materials:
+        mesh.materials.append(material)
+    if model.get("materials") is not None and len(materials):
+        mesh.polygons.foreach_set("material_index", np.asarray(model["materials"], dtype=np.int32))
+    if model.get("uvs") is not None:
+        layer = mesh.uv_layers.new(name="UVMap")
+        layer.data.foreach_set("uv", np.asarray(model["uvs"], dtype=np.float32).ravel())
+    mesh.update(calc_edges=True)
+    mesh.validate()
+
+
+def variant_model(obj, original):
+    """The engine model of an edited part (modifiers applied), its vertices renumbered as the component's: vertex
+    ``k`` of the component first (its original place, ``original`` model dict, where the edit deleted it), new ones
+    after."""
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    evaluated = obj.evaluated_get(depsgraph)
+    mesh = evaluated.to_mesh()
+    try:
+        model = mesh_model(mesh)
+        attr = mesh.attributes.get(VERTEX_ATTRIBUTE)
+        if attr is None or attr.domain != 'POINT':
+            raise WorldPaintError(f"'{obj.name}' is not a copy of a part made by Decompose Model "
+                                  f"(it has no '{VERTEX_ATTRIBUTE}' attribute)")
+        ids = np.empty(len(mesh.vertices), dtype=np.int64)
+        attr.data.foreach_get("value", ids)
+    finally:
+        evaluated.to_mesh_clear()
+    base = np.asarray(original["vertices"], dtype=np.float64)
+    n = len(base)
+    known = (ids >= 0) & (ids < n)
+    first = np.zeros(len(ids), dtype=bool)
+    _, where = np.unique(np.where(known, ids, -1 - np.arange(len(ids))), return_index=True)
+    first[where] = True
+    keep = known & first  # a vertex an edit duplicated (extrude) copies its id: the first keeps the place
+    index = np.empty(len(ids), dtype=np.int64)
+    index[keep] = ids[keep]
+    extra = np.nonzero(~keep)[0]
+    index[extra] = n + np.arange(len(extra))
+    vertices = np.vstack([base, model["vertices"][extra]])
+    vertices[ids[keep]] = model["vertices"][keep]
+    model["vertices"] = vertices
+    model["corners"] = index[model["corners"]]
+    return model
+
+
+def hide_collection(scene, collection):
+    """Keeps a collection out of the view layer (prototype collections are instanced, never shown themselves)."""
+    layer = scene.view_layers[0].layer_collection
+    stack = [layer]
+    while stack:
+        item = stack.pop()
+        if item.collection == collection:
+            item.exclude = True
+            return
+        stack.extend(item.children)

@@ -1,0 +1,161 @@
+"""Model variety (Maréchal et al.): Decompose Model cuts a low-poly mesh into components and gives each a collection
+holding its original piece; the user adds edited copies of the piece there (edit mode, Lattice, Simple Deform,
+deleted faces); Generate Variants assembles new models from them, rejecting those with new self-intersections, into a
+collection a category can paint with."""
+
+import bpy
+from bpy.props import EnumProperty, IntProperty, StringProperty
+
+from ..bridge import WorldPaintError, engine, variety
+from ..props.variety import LABEL_SOURCES
+from .background import BackgroundOperator
+from .common import reports_errors
+
+
+def model_object(context, name):
+    """The named mesh object, else the active one."""
+    obj = context.scene.objects.get(name) if name else context.view_layer.objects.active
+    if obj is None or obj.type != 'MESH':
+        raise WorldPaintError(f"'{name}' is not a mesh object" if name else "Select the mesh to give variety to")
+    return obj
+
+
+def labels_of(obj):
+    settings = obj.worldpaint_variety
+    return variety.face_labels(obj, settings.source, settings.attribute)
+
+
+def child_collection(parent, name):
+    """A new collection ``name`` under ``parent`` (Blender numbers the name when it is taken)."""
+    collection = bpy.data.collections.new(name)
+    parent.children.link(collection)
+    return collection
+
+
+def remove_collection(collection):
+    """Removes a collection with its objects and their meshes (the parts or variants made before)."""
+    for child in list(collection.children):
+        remove_collection(child)
+    for obj in list(collection.objects):
+        mesh = obj.data if obj.type == 'MESH' else None
+        bpy.data.objects.remove(obj)
+        if mesh is not None and mesh.users == 0:
+            bpy.data.meshes.remove(mesh)
+    bpy.data.collections.remove(collection)
+
+
+class WORLDPAINT_OT_decompose_model(bpy.types.Operator):
+    """Cut the mesh into components (by face sets, materials or a face attribute) joined by connecting regions; each
+    component gets a collection with its piece, where edited copies of it become its variants"""
+
+    bl_idname = "worldpaint.decompose_model"
+    bl_label = "Decompose Model"
+    bl_options = {'REGISTER', 'UNDO'}
+
+    object: StringProperty(name="Object", description="Mesh to decompose (empty: the active object)")
+    source: EnumProperty(name="Components", items=LABEL_SOURCES, default="FACE_SETS")
+    attribute: StringProperty(name="Attribute", description="Integer face attribute (Components: Attribute)")
+    root: IntProperty(name="Root", default=-1, min=-1,
+                      description="Label of the component that stays in place (a tree's trunk); -1: the largest")
+
+    @reports_errors
+    def execute(self, context):
+        obj = model_object(context, self.object)
+        settings = obj.worldpaint_variety
+        labels = variety.face_labels(obj, self.source, self.attribute)
+        root = self.root if self.root >= 0 else None
+        found = engine.decompose_model(variety.mesh_model(obj.data), labels, root)
+        if len(found["labels"]) < 2:
+            raise WorldPaintError(f"'{obj.name}' has one component only: mark at least two")
+
+        # decomposed: now change the scene
+        settings.source, settings.attribute, settings.root = self.source, self.attribute, self.root
+        if settings.parts is not None:
+            remove_collection(settings.parts)
+        parts = child_collection(context.scene.collection, f"{obj.name} Parts")
+        materials = [slot.material for slot in obj.material_slots if slot.material is not None]
+        settings.components.clear()
+        neighbours = {k: [] for k in range(len(found["labels"]))}
+        for a, b, _n in found["regions"]:
+            neighbours[a].append(found["labels"][b])
+            neighbours[b].append(found["labels"][a])
+        for k, (label, faces, piece) in enumerate(zip(found["labels"], found["faces"], found["components"],
+                                                     strict=True)):
+            collection = child_collection(parts, f"{obj.name} part {label}")
+            collection[variety.COMPONENT_TAG] = label
+            part = bpy.data.objects.new(f"{obj.name} part {label}",
+                                        variety.part_mesh(f"{obj.name} part {label}", piece, materials))
+            part.matrix_world = obj.matrix_world
+            collection[variety.PART_TAG] = part
+            collection.objects.link(part)
+            item = settings.components.add()
+            item.name, item.label, item.faces = f"part {label}", label, faces
+            item.regions = ", ".join(f"part {n}" for n in neighbours[k]) or "none"
+        settings.parts = parts
+        shape = "fully cyclic" if found["fully_cyclic"] else "a tree" if found["tree_like"] else "with cycles"
+        settings.graph = f"{len(found['labels'])} components, {len(found['regions'])} connecting regions, {shape}"
+        settings.total = "1"
+        self.report({'INFO'}, f"Decomposed '{obj.name}': {settings.graph}; add edited copies of a part to its "
+                              "collection to make its variants")
+        return {'FINISHED'}
+
+
+class WORLDPAINT_OT_generate_variants(BackgroundOperator, bpy.types.Operator):
+    """Assemble new models from the parts' variants (seeded); those with new self-intersections are rejected"""
+
+    bl_idname = "worldpaint.generate_variants"
+    bl_label = "Generate Variants"
+    bl_options = {'REGISTER', 'UNDO'}
+    progress_text = "Generating variants"
+
+    object: StringProperty(name="Object", description="Decomposed mesh (empty: the active object)")
+    count: IntProperty(name="Count", default=50, min=1, soft_max=1000, description="Variants to generate")
+    seed: IntProperty(name="Seed", default=0, min=0)
+
+    def _prepare(self, context):
+        obj = model_object(context, self.object)
+        settings = obj.worldpaint_variety
+        if settings.parts is None or not settings.components:
+            raise WorldPaintError(f"Decompose '{obj.name}' first")
+        self._object = obj
+        self._model = variety.mesh_model(obj.data)
+        self._labels = labels_of(obj)
+        self._root = settings.root if settings.root >= 0 else None
+        found = engine.decompose_model(self._model, self._labels, self._root)
+        by_label = {c.get(variety.COMPONENT_TAG): c for c in settings.parts.children}
+        self._variants = []
+        for label, piece in zip(found["labels"], found["components"], strict=True):
+            collection = by_label.get(label)
+            # a copy made with Shift+D keeps the piece's custom properties: the collection names its piece
+            piece_obj = None if collection is None else collection.get(variety.PART_TAG)
+            edits = [] if collection is None else [o for o in collection.objects if o.type == 'MESH'
+                                                  and o != piece_obj]
+            self._variants.append([variety.variant_model(o, piece) for o in edits])
+
+    def _compute(self, progress):
+        return engine.generate_variants(self._model, self._labels, self._variants, self.count, self.seed,
+                                        root=self._root, progress=progress)
+
+    def _apply(self, context, result):
+        obj = self._object
+        settings = obj.worldpaint_variety
+        if settings.generated is not None:
+            remove_collection(settings.generated)
+        generated = child_collection(context.scene.collection, f"{obj.name} Variants")
+        materials = [slot.material for slot in obj.material_slots if slot.material is not None]
+        for k, model in enumerate(result["models"]):
+            mesh = bpy.data.meshes.new(f"{obj.name} variant {k:03d}")
+            variety.write_model(mesh, model, materials)
+            generated.objects.link(bpy.data.objects.new(mesh.name, mesh))
+        variety.hide_collection(context.scene, generated)
+        settings.generated = generated
+        settings.total = result["total"]
+        classes = [c for own in result["classes"] for c in own]
+        kinds = ", ".join(f"{classes.count(k)} {k.replace('_', ' ')}" for k in sorted(set(classes))) or "none"
+        settings.report = (f"{len(result['models'])} variants of {result['total']} possible; "
+                           f"{len(result['rejected'])} rejected; variants given: {kinds}")
+        self.report({'INFO'}, settings.report)
+        return {'FINISHED'}
+
+
+classes = (WORLDPAINT_OT_decompose_model, WORLDPAINT_OT_generate_variants)

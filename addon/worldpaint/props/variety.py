@@ -1,0 +1,41 @@
+"""Model variety settings of a mesh object (``object.worldpaint_variety``): how it is cut into components, the
+collections of its parts and of its generated variants, and what the last generation made."""
+
+import bpy
+from bpy.props import CollectionProperty, EnumProperty, IntProperty, PointerProperty, StringProperty
+
+LABEL_SOURCES = (
+    ("FACE_SETS", "Face Sets", "One component per face set (Sculpt Mode > Face Sets)"),
+    ("MATERIALS", "Materials", "One component per material slot"),
+    ("ATTRIBUTE", "Attribute", "One component per value of an integer face attribute"),
+)
+
+
+class WORLDPAINT_PG_component(bpy.types.PropertyGroup):
+    """One component of a decomposed model: its label, its size and its connecting regions."""
+
+    label: IntProperty(name="Label")
+    faces: IntProperty(name="Faces")
+    regions: StringProperty(name="Regions", description="The components it is joined to")
+
+
+class WORLDPAINT_PG_variety(bpy.types.PropertyGroup):
+    source: EnumProperty(name="Components", items=LABEL_SOURCES, default="FACE_SETS",
+                         description="What cuts the model into components")
+    attribute: StringProperty(name="Attribute", description="Integer face attribute labelling the components")
+    root: IntProperty(name="Root", default=-1, min=-1,
+                      description="Label of the component that stays in place; -1: the largest")
+    parts: PointerProperty(name="Parts", type=bpy.types.Collection,
+                           description="One collection per component: its original piece and the edited copies")
+    generated: PointerProperty(name="Variants", type=bpy.types.Collection,
+                               description="The generated variants: use it as a category's prototypes")
+    components: CollectionProperty(type=WORLDPAINT_PG_component)
+    active_component: IntProperty(name="Active Component", default=0)
+    graph: StringProperty(name="Graph", description="The component graph in one line")
+    total: StringProperty(name="Count", description="How many different models the parts can make (#V)")
+    count: IntProperty(name="Generate", default=50, min=1, soft_max=1000, description="Variants to generate")
+    seed: IntProperty(name="Seed", default=0, min=0)
+    report: StringProperty(name="Report", description="What the last generation made")
+
+
+classes = (WORLDPAINT_PG_component, WORLDPAINT_PG_variety)

@@ -1,0 +1,348 @@
+//! Model variety: `decompose_model`, `generate_variants`, `assign_variants`.
+//!
+//! A model crosses as a dict {"vertices": float64 (N, 3), "loop_totals": int (F,) (corners per face), "corners": int
+//! (sum,) (vertex per corner, face after face), "uvs": float64 (sum, 2) or None, "materials": int (F,) or None}, as
+//! Blender's mesh arrays read it.
+
+use crate::arrays::ArrayArg;
+use crate::convert::{field, points_from_py, rows_to_py};
+use crate::{guarded, input_err, with_progress};
+use numpy::{IntoPyArray, PyReadonlyArray1, PyReadonlyArray2};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+use worldpaint_core::geom::{DVec2, DVec3};
+use worldpaint_core::variety::{
+    generate, Atlas, Decomposition, GenerateOptions, IntersectionLabels, Model, Rejection,
+    VariantClass,
+};
+
+fn int_column(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<i64>> {
+    let a: PyReadonlyArray1<'_, i64> = obj
+        .extract()
+        .map_err(|_| input_err(format!("{what} must be an int64 array")))?;
+    Ok(a.as_array().to_vec())
+}
+
+fn model_from_py(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Model> {
+    let vertices: PyReadonlyArray2<'_, f64> = field(obj, "vertices", what)?
+        .extract()
+        .map_err(|_| input_err(format!("{what}: 'vertices' must be a float64 (N, 3) array")))?;
+    let v = vertices.as_array();
+    if v.ncols() != 3 {
+        return Err(input_err(format!("{what}: 'vertices' must have 3 columns")));
+    }
+    let vertices: Vec<DVec3> = v
+        .rows()
+        .into_iter()
+        .map(|r| DVec3::new(r[0], r[1], r[2]))
+        .collect();
+    let totals = int_column(
+        &field(obj, "loop_totals", what)?,
+        &format!("{what} loop_totals"),
+    )?;
+    let corners = int_column(&field(obj, "corners", what)?, &format!("{what} corners"))?;
+    let mut faces = Vec::with_capacity(totals.len());
+    let mut at = 0usize;
+    for (f, &n) in totals.iter().enumerate() {
+        let n = usize::try_from(n)
+            .map_err(|_| input_err(format!("{what}: face {f} has a negative size")))?;
+        let Some(face) = corners.get(at..at + n) else {
+            return Err(input_err(format!(
+                "{what}: the corners end before face {f}"
+            )));
+        };
+        faces.push(
+            face.iter()
+                .map(|&c| {
+                    u32::try_from(c)
+                        .map_err(|_| input_err(format!("{what}: face {f} has a bad vertex {c}")))
+                })
+                .collect::<PyResult<Vec<u32>>>()?,
+        );
+        at += n;
+    }
+    let mut model = guarded(|| Model::new(vertices, faces.clone()))?;
+    if let Ok(uvs) = obj.get_item("uvs") {
+        if !uvs.is_none() {
+            let uv = points_from_py(&ArrayArg::from(uvs), &format!("{what} uvs"))?;
+            if uv.len() != at {
+                return Err(input_err(format!(
+                    "{what}: {} uvs for {at} corners",
+                    uv.len()
+                )));
+            }
+            let mut per_face: Vec<Vec<DVec2>> = Vec::with_capacity(faces.len());
+            let mut k = 0;
+            for face in &faces {
+                per_face.push(uv[k..k + face.len()].to_vec());
+                k += face.len();
+            }
+            model = guarded(|| model.with_uvs(per_face))?;
+        }
+    }
+    if let Ok(materials) = obj.get_item("materials") {
+        if !materials.is_none() {
+            let m = int_column(&materials, &format!("{what} materials"))?;
+            let m = m
+                .into_iter()
+                .map(|x| {
+                    u32::try_from(x)
+                        .map_err(|_| input_err(format!("{what}: a negative material index")))
+                })
+                .collect::<PyResult<Vec<u32>>>()?;
+            model = guarded(|| model.with_materials(m))?;
+        }
+    }
+    Ok(model)
+}
+
+fn model_to_py<'py>(py: Python<'py>, model: &Model) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item(
+        "vertices",
+        rows_to_py(py, model.vertices.iter().map(|v| [v.x, v.y, v.z]))?,
+    )?;
+    d.set_item(
+        "loop_totals",
+        model
+            .faces
+            .iter()
+            .map(|f| f.len() as i64)
+            .collect::<Vec<_>>()
+            .into_pyarray(py),
+    )?;
+    d.set_item(
+        "corners",
+        model
+            .faces
+            .iter()
+            .flatten()
+            .map(|&v| v as i64)
+            .collect::<Vec<_>>()
+            .into_pyarray(py),
+    )?;
+    match &model.uvs {
+        Some(uvs) => d.set_item(
+            "uvs",
+            rows_to_py(py, uvs.iter().flatten().map(|u| [u.x, u.y]))?,
+        )?,
+        None => d.set_item("uvs", py.None())?,
+    }
+    match &model.materials {
+        Some(m) => d.set_item(
+            "materials",
+            m.iter()
+                .map(|&x| x as i64)
+                .collect::<Vec<_>>()
+                .into_pyarray(py),
+        )?,
+        None => d.set_item("materials", py.None())?,
+    }
+    Ok(d)
+}
+
+fn labels_of(labels: &Bound<'_, PyAny>) -> PyResult<Vec<u32>> {
+    int_column(labels, "labels")?
+        .into_iter()
+        .map(|l| u32::try_from(l).map_err(|_| input_err("labels must be non-negative")))
+        .collect()
+}
+
+/// Decompose `model` into components by a label per face (int64 (F,)), with the component labelled `root` as the
+/// root (None: the largest). Returns {"labels": [label per component], "faces": [face count per component],
+/// "regions": [(a, b, vertex count)] (component indices), "root", "fully_cyclic", "tree_like", "components": [the
+/// component's sub-mesh as a model dict, its vertices numbered as every variant of it must keep them]}.
+#[pyfunction]
+#[pyo3(signature = (model, labels, root=None))]
+pub(crate) fn decompose_model<'py>(
+    py: Python<'py>,
+    model: &Bound<'py, PyAny>,
+    labels: &Bound<'py, PyAny>,
+    root: Option<u32>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let model = model_from_py(model, "model")?;
+    let labels = labels_of(labels)?;
+    let decomposition = guarded(|| Decomposition::from_labels(&model, &labels, root))?;
+    let d = PyDict::new(py);
+    let components = PyList::empty(py);
+    for c in 0..decomposition.components.len() {
+        let piece = guarded(|| decomposition.component_model(&model, c))?;
+        components.append(model_to_py(py, &piece)?)?;
+    }
+    d.set_item(
+        "labels",
+        decomposition
+            .components
+            .iter()
+            .map(|c| c.label)
+            .collect::<Vec<_>>(),
+    )?;
+    d.set_item(
+        "faces",
+        decomposition
+            .components
+            .iter()
+            .map(|c| c.faces.len())
+            .collect::<Vec<_>>(),
+    )?;
+    d.set_item(
+        "regions",
+        decomposition
+            .regions
+            .iter()
+            .map(|r| (r.components.0, r.components.1, r.vertices.len()))
+            .collect::<Vec<_>>(),
+    )?;
+    d.set_item("root", decomposition.root)?;
+    d.set_item("fully_cyclic", decomposition.is_fully_cyclic())?;
+    d.set_item("tree_like", decomposition.is_tree_like())?;
+    d.set_item("components", components)?;
+    Ok(d)
+}
+
+fn class_name(c: VariantClass) -> &'static str {
+    match c {
+        VariantClass::Local => "local",
+        VariantClass::SolidTransform => "solid_transform",
+        VariantClass::RegionChange => "region_change",
+    }
+}
+
+/// Assemble `count` variants of `model` decomposed by `labels` (see `decompose_model`), from `variants`: per component
+/// a list of model dicts (edits of its sub-mesh). `cycles`: (component, max repeat) pairs of local cycles. Returns
+/// {"classes": per component the class of each given variant, "total": #V as a string, "models": the accepted
+/// variants as model dicts, "hashes", "rejected": [(reason, detail)]}. `progress(fraction) -> bool` may cancel.
+#[pyfunction]
+#[pyo3(signature = (model, labels, variants, count, seed=0, *, root=None, cycles=None, progress=None))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn generate_variants<'py>(
+    py: Python<'py>,
+    model: &Bound<'py, PyAny>,
+    labels: &Bound<'py, PyAny>,
+    variants: &Bound<'py, PyAny>,
+    count: usize,
+    seed: u64,
+    root: Option<u32>,
+    cycles: Option<Vec<(usize, u32)>>,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let model = model_from_py(model, "model")?;
+    let labels = labels_of(labels)?;
+    let mut edits: Vec<Vec<Model>> = Vec::new();
+    for (c, list) in variants
+        .try_iter()
+        .map_err(|_| input_err("variants must be a list (per component) of lists of models"))?
+        .enumerate()
+    {
+        let list = list?;
+        let mut own = Vec::new();
+        for (k, item) in list
+            .try_iter()
+            .map_err(|_| {
+                input_err(format!(
+                    "variants of component {c} must be a list of models"
+                ))
+            })?
+            .enumerate()
+        {
+            own.push(model_from_py(
+                &item?,
+                &format!("variant {k} of component {c}"),
+            )?);
+        }
+        edits.push(own);
+    }
+    let cycles = cycles.unwrap_or_default();
+    let (classes, total, generation) = with_progress(py, progress, |report| {
+        let decomposition = Decomposition::from_labels(&model, &labels, root)?;
+        let n = decomposition.components.len();
+        if edits.len() > n {
+            return Err(worldpaint_core::Error::invalid(
+                "variants",
+                format!("{} lists for {n} components", edits.len()),
+            ));
+        }
+        let mut atlas = Atlas::new(&model, decomposition)?;
+        let mut classes = Vec::new();
+        for (c, list) in edits.into_iter().enumerate() {
+            let mut own = Vec::new();
+            for edit in list {
+                own.push(class_name(atlas.add_variant(c, edit)?));
+            }
+            classes.push(own);
+        }
+        for &(c, max_repeat) in &cycles {
+            atlas.add_local_cycle(c, max_repeat)?;
+        }
+        if !report(0.1) {
+            return Err(worldpaint_core::Error::Cancelled);
+        }
+        let labels = IntersectionLabels::of_model(&model);
+        let options = GenerateOptions {
+            count,
+            seed,
+            max_attempts: 0,
+        };
+        let generation = generate(&atlas, &labels, &options)?;
+        Ok((classes, atlas.count(), generation))
+    })?;
+    let d = PyDict::new(py);
+    d.set_item("classes", classes)?;
+    d.set_item("total", total.to_string())?;
+    let models = PyList::empty(py);
+    for (_, assembled) in &generation.accepted {
+        models.append(model_to_py(py, &assembled.model)?)?;
+    }
+    d.set_item("models", models)?;
+    d.set_item(
+        "hashes",
+        generation
+            .accepted
+            .iter()
+            .map(|(_, a)| a.hash.to_string())
+            .collect::<Vec<_>>(),
+    )?;
+    d.set_item(
+        "rejected",
+        generation
+            .rejected
+            .iter()
+            .map(|(_, r)| match r {
+                Rejection::SelfIntersection(a, b) => {
+                    ("self_intersection", format!("faces {a} and {b}"))
+                }
+                Rejection::Crack(gap) => ("crack", format!("{gap:.2e} m")),
+            })
+            .collect::<Vec<_>>(),
+    )?;
+    Ok(d)
+}
+
+/// The variant (0..count) of each instance at the XY `positions` (float64 (N, 2)): `fixed` (int64 (N,), -1: to
+/// choose) where given; the others pick the variant least used within `window` metres (seeded).
+#[pyfunction]
+#[pyo3(signature = (positions, fixed, count, window=50.0, seed=0))]
+pub(crate) fn assign_variants<'py>(
+    py: Python<'py>,
+    positions: ArrayArg<'py>,
+    fixed: &Bound<'py, PyAny>,
+    count: u32,
+    window: f64,
+    seed: u64,
+) -> PyResult<Bound<'py, numpy::PyArray1<i64>>> {
+    let positions = points_from_py(&positions, "positions")?;
+    let fixed: Vec<Option<u32>> = int_column(fixed, "fixed")?
+        .into_iter()
+        .map(|v| u32::try_from(v).ok())
+        .collect();
+    let out = py.detach(|| {
+        guarded(|| {
+            worldpaint_core::variety::assign_variants(&positions, &fixed, count, window, seed)
+        })
+    })?;
+    Ok(out
+        .into_iter()
+        .map(i64::from)
+        .collect::<Vec<_>>()
+        .into_pyarray(py))
+}
