@@ -4,10 +4,11 @@
 //!
 //! Readings chosen:
 //! - the existing elements' connectivity is rebuilt as [`Reference::new`] builds a reference's (Delaunay, triangles
-//!   with an angle over 2π/3 dropped), also dropping edges longer than 1.5 × the reference's longest edge (the gaps
-//!   between separate patches), and each existing element takes as sub-id the reference element that best matches
+//!   with an angle over 2π/3 dropped), also dropping edges longer than 1.5 × the longest edge of the reference's
+//!   interior rings (the rings growth copies; the reference's hull can hold a triangle of nearly 2π/3 whose long
+//!   side would bridge a missing element at a pattern's frontier), and each existing element takes as sub-id the reference element that best matches
 //!   its ring (eq. (1)–(4) as for a seed, with no sub-id term: the existing sub-ids are not known);
-//! - an existing element within the region, or within one reference longest edge of it, whose ring has fewer
+//! - an existing element within the region, or within that longest ring edge of it, whose ring has fewer
 //!   neighbours than its matched reference element's is *reopened*: it is queued as a seed at its fixed position
 //!   and, when its turn comes, matched again to its current ring, which places seeds for its missing neighbours
 //!   (inside the region only). The pattern grows on from the old one without a seam;
@@ -136,7 +137,7 @@ fn add_existing(
         );
     }
     grower.existing = existing.len();
-    let longest = reference.longest_edge();
+    let longest = longest_ring_edge(reference);
     for (a, b) in existing_edges(existing, 1.5 * longest) {
         grower.connect(a, b);
     }
@@ -168,6 +169,21 @@ fn add_existing(
         };
     }
     reopened
+}
+
+/// The longest edge of the rings growth copies (the reference's interior elements'): the reference's own longest
+/// edge can be a hull triangle's, near √3 × the spacing, long enough to bridge a missing element of a lattice.
+fn longest_ring_edge(reference: &Reference) -> f64 {
+    let e = reference.elements();
+    (0..e.len())
+        .filter(|&i| !reference.is_boundary(i))
+        .flat_map(|i| {
+            reference
+                .ring(i)
+                .iter()
+                .map(move |&j| e[i].position.distance(e[j].position))
+        })
+        .fold(0.0, f64::max)
 }
 
 /// The sub-id of an existing element no reference ring matches: the first interior reference element of its

@@ -432,8 +432,11 @@ impl<'a> Grower<'a> {
             self.keep_off_boundaries(&order[..movers], &x0, &mut x, &local);
         }
         for (k, &i) in order[..movers].iter().enumerate() {
-            // a move that brings the node within r_short of another is not made (Fig. 6 (b) holds after it too)
-            if x[k] == x0[k] || self.near(x[k], self.r_short).iter().any(|&o| o != i) {
+            // a move out of the region, or within r_short of another node, is not made (Fig. 6 (b) holds after it too)
+            if x[k] == x0[k]
+                || !self.region.contains(x[k])
+                || self.near(x[k], self.r_short).iter().any(|&o| o != i)
+            {
                 continue;
             }
             let (from, to) = (self.cell_of(x0[k]), self.cell_of(x[k]));

@@ -1,0 +1,829 @@
+//! Element arrangement by example (Ijiri et al. 2008), the tools of seed §5.3 and what the painting tools build on:
+//! two symbols in rows keep their adjacencies, an irregular reference keeps its spacing, a flow field turns the
+//! pattern, a boundary curve stops it, a pattern grows on from an existing one without a seam (a paste beside it, a
+//! spray dab), noise leaves growth alone, and the pattern keeps a lattice better than WorldBrush's point synthesis.
+//! Run with `--nocapture` to see the figures.
+
+use std::collections::HashMap;
+
+use glam::DVec2;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use worldpaint_core::arrangement::{
+    grow, grow_around, relax, Arrangement, Element, FlowField, GrowthOptions, Noise, Reference,
+    RotationMode,
+};
+use worldpaint_core::exemplar::{hard_core, scene_from_points};
+use worldpaint_core::{learn_color, synthesize, Error, Region, SynthesisOptions};
+
+fn element(position: DVec2, symbol: u32) -> Element {
+    Element {
+        position,
+        symbol,
+        rotation: 0.0,
+        scale: 1.0,
+    }
+}
+
+fn rect(min: (f64, f64), max: (f64, f64)) -> Region {
+    Region::Rect {
+        min: DVec2::new(min.0, min.1),
+        max: DVec2::new(max.0, max.1),
+    }
+}
+
+/// A jittered lattice of `side` × `side` elements, 1 m apart; `symbol` gives each (row, column) its symbol.
+fn lattice(hexagonal: bool, side: usize, symbol: impl Fn(usize, usize) -> u32) -> Vec<Element> {
+    let mut rng = ChaCha8Rng::seed_from_u64(7);
+    let mut elements = Vec::new();
+    for row in 0..side {
+        for col in 0..side {
+            let (x, y) = if hexagonal {
+                (
+                    col as f64 + 0.5 * (row % 2) as f64,
+                    row as f64 * 3f64.sqrt() / 2.0,
+                )
+            } else {
+                (col as f64, row as f64)
+            };
+            let jitter = DVec2::new(rng.random_range(-0.03..0.03), rng.random_range(-0.03..0.03));
+            elements.push(element(DVec2::new(x, y) + jitter, symbol(row, col)));
+        }
+    }
+    elements
+}
+
+fn hexagonal_reference() -> Reference {
+    Reference::new(lattice(true, 7, |_, _| 0)).expect("a lattice is a valid reference")
+}
+
+fn options(rotation: RotationMode) -> GrowthOptions {
+    GrowthOptions {
+        rotation,
+        seed: 11,
+        relax_every: 50,
+        ..GrowthOptions::default()
+    }
+}
+
+/// The closest pair of points (brute force over a grid of cells of side `cell`).
+fn closest_pair(points: &[DVec2], cell: f64) -> f64 {
+    let key = |p: DVec2| ((p.x / cell).floor() as i64, (p.y / cell).floor() as i64);
+    let mut grid: HashMap<(i64, i64), Vec<usize>> = HashMap::new();
+    for (i, p) in points.iter().enumerate() {
+        grid.entry(key(*p)).or_default().push(i);
+    }
+    let mut closest = f64::INFINITY;
+    for (i, p) in points.iter().enumerate() {
+        let (cx, cy) = key(*p);
+        for dx in -1..=1 {
+            for dy in -1..=1 {
+                for &j in grid.get(&(cx + dx, cy + dy)).map_or(&[][..], |v| &v[..]) {
+                    if j > i {
+                        closest = closest.min(p.distance(points[j]));
+                    }
+                }
+            }
+        }
+    }
+    closest
+}
+
+fn positions(a: &Arrangement) -> Vec<DVec2> {
+    a.elements.iter().map(|e| e.position).collect()
+}
+
+/// The share of `which` elements whose ring has as many neighbours as their reference element's.
+fn ring_share(reference: &Reference, a: &Arrangement, which: &[usize]) -> f64 {
+    let neighbours = a.neighbours();
+    let same = which
+        .iter()
+        .filter(|&&i| neighbours[i].len() == reference.ring(a.sub_ids[i]).len())
+        .count();
+    same as f64 / which.len().max(1) as f64
+}
+
+/// Edge-direction histogram modulo π, 12 bins of 15° centred on multiples of 15°.
+fn angle_histogram(edges: &[(usize, usize)], position: impl Fn(usize) -> DVec2) -> Vec<f64> {
+    let bins = 12;
+    let width = std::f64::consts::PI / bins as f64;
+    let mut hist = vec![0.0; bins];
+    for &(a, b) in edges {
+        let d = position(b) - position(a);
+        let angle = (d.y.atan2(d.x) + 0.5 * width).rem_euclid(std::f64::consts::PI);
+        hist[((angle / width) as usize).min(bins - 1)] += 1.0;
+    }
+    let total: f64 = hist.iter().sum();
+    hist.iter().map(|h| h / total.max(1.0)).collect()
+}
+
+fn total_variation(a: &[f64], b: &[f64]) -> f64 {
+    0.5 * a.iter().zip(b).map(|(x, y)| (x - y).abs()).sum::<f64>()
+}
+
+#[test]
+fn two_symbols_in_rows_keep_their_adjacencies() {
+    // stones in rows (seed Fig. 8 d): rows of big stones (0) and small stones (1) alternate
+    let reference = Reference::new(lattice(true, 9, |row, _| (row % 2) as u32)).expect("valid");
+    let region = rect((-12.0, -12.0), (12.0, 12.0));
+    let grown = grow(
+        &reference,
+        &region,
+        DVec2::ZERO,
+        &options(RotationMode::None),
+    )
+    .expect("grows");
+    // adjacency frequencies: the share of a symbol-s element's neighbours that have symbol t, over interior elements
+    let frequencies =
+        |which: &[usize], ring: &dyn Fn(usize) -> Vec<usize>, symbol: &dyn Fn(usize) -> u32| {
+            let mut counts = [[0.0f64; 2]; 2];
+            for &i in which {
+                for j in ring(i) {
+                    counts[symbol(i) as usize][symbol(j) as usize] += 1.0;
+                }
+            }
+            counts.map(|row| {
+                let total = row[0] + row[1];
+                row.map(|c| c / total)
+            })
+        };
+    let ref_interior: Vec<usize> = (0..reference.elements().len())
+        .filter(|&i| !reference.is_boundary(i))
+        .collect();
+    let expected = frequencies(&ref_interior, &|i| reference.ring(i).to_vec(), &|i| {
+        reference.elements()[i].symbol
+    });
+    let neighbours = grown.neighbours();
+    let interior: Vec<usize> = (0..grown.elements.len())
+        .filter(|&i| {
+            let p = grown.elements[i].position;
+            p.x.abs() < 10.0 && p.y.abs() < 10.0
+        })
+        .collect();
+    let found = frequencies(&interior, &|i| neighbours[i].clone(), &|i| {
+        grown.elements[i].symbol
+    });
+    let closest = closest_pair(&positions(&grown), 1.0);
+    println!(
+        "stones in rows: {} elements ({} interior); share of a big stone's neighbours that are big / small \
+         {:.3} / {:.3} (reference {:.3} / {:.3}), of a small stone's {:.3} / {:.3} (reference {:.3} / {:.3}); \
+         closest pair {closest:.3} (r_short {:.3})",
+        grown.elements.len(),
+        interior.len(),
+        found[0][0],
+        found[0][1],
+        expected[0][0],
+        expected[0][1],
+        found[1][0],
+        found[1][1],
+        expected[1][0],
+        expected[1][1],
+        reference.r_short()
+    );
+    assert!(grown.elements.len() > 500, "the region fills");
+    for s in 0..2 {
+        for t in 0..2 {
+            assert!(
+                (found[s][t] - expected[s][t]).abs() <= 0.1 * expected[s][t],
+                "adjacency frequency {s}–{t} within 10 % of the reference's"
+            );
+        }
+    }
+    assert!(closest >= reference.r_short());
+}
+
+/// Each point's distance to its nearest other point.
+fn nearest_distances(points: &[DVec2]) -> Vec<f64> {
+    points
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            points
+                .iter()
+                .enumerate()
+                .filter(|&(j, _)| j != i)
+                .map(|(_, q)| p.distance(*q))
+                .fold(f64::INFINITY, f64::min)
+        })
+        .collect()
+}
+
+/// The nearest-neighbour distance histogram: 5 bins of 0.2 × `mean` from 0.6 × `mean` (the ends open).
+fn spacing_histogram(d: &[f64], mean: f64) -> Vec<f64> {
+    let bins = 5;
+    let mut h = vec![0.0; bins];
+    for &x in d {
+        let k = ((x / mean - 0.6) / 0.2)
+            .floor()
+            .clamp(0.0, (bins - 1) as f64) as usize;
+        h[k] += 1.0 / d.len() as f64;
+    }
+    h
+}
+
+#[test]
+fn an_irregular_reference_keeps_its_spacing() {
+    let square = rect((0.0, 0.0), (8.0, 8.0));
+    let region = rect((-10.0, -10.0), (10.0, 10.0));
+    let seeds = [3u64, 5, 9, 11];
+    let (mut tvs, mut baselines, mut close) = (Vec::new(), Vec::new(), Vec::new());
+    for (k, &seed) in seeds.iter().enumerate() {
+        // a Poisson-disk reference of 64 points, 0.75 m apart at least
+        let points = hard_core(&square, 1.0, 0.75, seed);
+        let reference = Reference::new(points.iter().map(|p| element(*p, 0)).collect())
+            .expect("valid reference");
+        let mut grown = grow(
+            &reference,
+            &region,
+            DVec2::ZERO,
+            &options(RotationMode::BestFit),
+        )
+        .expect("grows");
+        relax(&mut grown).expect("relaxes");
+        let all = positions(&grown);
+        let nn_all = nearest_distances(&all);
+        let nn_grown: Vec<f64> = all
+            .iter()
+            .zip(&nn_all)
+            .filter(|(p, _)| p.x.abs() < 8.0 && p.y.abs() < 8.0)
+            .map(|(_, d)| *d)
+            .collect();
+        let nn_ref = nearest_distances(&points);
+        let mean_ref = nn_ref.iter().sum::<f64>() / nn_ref.len() as f64;
+        let (h_ref, h_grown) = (
+            spacing_histogram(&nn_ref, mean_ref),
+            spacing_histogram(&nn_grown, mean_ref),
+        );
+        let tv = total_variation(&h_ref, &h_grown);
+        // the same process's own spread: another Poisson-disk set of 64 points against this one
+        let other = hard_core(&square, 1.0, 0.75, seeds[(k + 1) % seeds.len()]);
+        let baseline = total_variation(
+            &h_ref,
+            &spacing_histogram(&nearest_distances(&other), mean_ref),
+        );
+        let mean_grown = nn_grown.iter().sum::<f64>() / nn_grown.len() as f64;
+        println!(
+            "Poisson-disk reference {seed} ({} points): grown {} elements ({} interior); nearest-neighbour distance \
+             mean {mean_grown:.3} m (reference {mean_ref:.3} m); histogram {h_grown:.3?} vs {h_ref:.3?}: TV \
+             {tv:.3} (another reference of the same process: {baseline:.3})",
+            points.len(),
+            grown.elements.len(),
+            nn_grown.len()
+        );
+        assert!(grown.elements.len() > 300);
+        tvs.push(tv);
+        baselines.push(baseline);
+        close.push(h_grown[0]);
+    }
+    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
+    println!(
+        "nearest-neighbour distance TV to the reference: mean {:.3} over {} references (two references of the \
+         process differ by {:.3}); elements closer than 0.8 × the reference's mean spacing {:.1} % (reference 0 %)",
+        mean(&tvs),
+        tvs.len(),
+        mean(&baselines),
+        100.0 * mean(&close)
+    );
+    assert!(mean(&tvs) <= 0.15, "nearest-neighbour distances kept");
+    assert!(mean(&close) <= 0.1, "few pairs closer than the reference's");
+}
+
+/// Two concentric arcs about (0, −30), drawn counter-clockwise... the flow turns about that centre.
+fn two_arcs() -> Vec<Vec<DVec2>> {
+    [25.0, 36.0]
+        .iter()
+        .map(|&r| {
+            (0..=40)
+                .map(|k| {
+                    let a = (115.0 - 50.0 * k as f64 / 40.0f64).to_radians();
+                    DVec2::new(0.0, -30.0) + r * DVec2::from_angle(a)
+                })
+                .collect()
+        })
+        .collect()
+}
+
+#[test]
+fn the_flow_field_mode_turns_elements_along_the_strokes() {
+    let flow = FlowField::from_curves(&two_arcs()).expect("a field");
+    // between the arcs, the field follows the circles about (0, −30) (clockwise, as drawn)
+    let mut worst: f64 = 0.0;
+    for &p in &[
+        DVec2::new(0.0, 0.0),
+        DVec2::new(-8.0, 1.0),
+        DVec2::new(9.0, -2.0),
+    ] {
+        let circle = (p - DVec2::new(0.0, -30.0)).perp() * -1.0;
+        worst = worst.max(flow.direction_at(p).angle_to(circle).abs().to_degrees());
+    }
+    println!("flow field between the arcs: at most {worst:.2}° from the circles' tangents");
+    assert!(worst < 3.0);
+
+    let reference = hexagonal_reference();
+    let region = rect((-12.0, -6.0), (12.0, 6.0));
+    let grown_options = GrowthOptions {
+        flow: Some(flow.clone()),
+        ..options(RotationMode::Flow)
+    };
+    let mut grown = grow(&reference, &region, DVec2::ZERO, &grown_options).expect("grows");
+    relax(&mut grown).expect("relaxes");
+    let angles: Vec<f64> = grown
+        .elements
+        .iter()
+        .map(|e| {
+            let x_axis = DVec2::from_angle(e.rotation);
+            x_axis
+                .angle_to(flow.direction_at(e.position))
+                .abs()
+                .to_degrees()
+        })
+        .collect();
+    let mean = angles.iter().sum::<f64>() / angles.len() as f64;
+    let max = angles.iter().copied().fold(0.0, f64::max);
+    let interior: Vec<usize> = (0..grown.elements.len())
+        .filter(|&i| {
+            let p = grown.elements[i].position;
+            p.x.abs() < 10.0 && p.y.abs() < 4.0
+        })
+        .collect();
+    let share = ring_share(&reference, &grown, &interior);
+    let closest = closest_pair(&positions(&grown), 1.0);
+    println!(
+        "flow-field mode: {} elements; angle between each element's x axis and the flow: mean {mean:.2}°, max \
+         {max:.2}°; same ring size {:.1} % of {} interior; closest pair {closest:.3} (r_short {:.3})",
+        grown.elements.len(),
+        100.0 * share,
+        interior.len(),
+        reference.r_short()
+    );
+    assert!(mean <= 5.0);
+    assert!(share >= 0.8);
+    assert!(closest >= reference.r_short());
+
+    let missing = grow(
+        &reference,
+        &region,
+        DVec2::ZERO,
+        &options(RotationMode::Flow),
+    )
+    .expect_err("no field");
+    println!("flow mode without a field: {missing}");
+    for (name, curves) in [
+        ("no curve", vec![]),
+        ("one point", vec![vec![DVec2::ONE]]),
+        ("zero length", vec![vec![DVec2::ONE, DVec2::ONE]]),
+        ("NaN", vec![vec![DVec2::ZERO, DVec2::new(f64::NAN, 1.0)]]),
+    ] {
+        let err = FlowField::from_curves(&curves).expect_err(name);
+        println!("flow curves, {name}: {err}");
+    }
+    let straight = FlowField::from_curves(&[vec![DVec2::ZERO, DVec2::new(3.0, 4.0)]])
+        .expect("one straight stroke");
+    let d = straight.direction_at(DVec2::new(-50.0, 20.0));
+    assert!((d - DVec2::new(0.6, 0.8)).length() < 1e-6, "{d}");
+}
+
+/// The boundary curve x = 3 + sin(y) from y = −20 to 20.
+fn wavy_boundary() -> Vec<DVec2> {
+    (0..=400)
+        .map(|k| {
+            let y = -20.0 + 0.1 * k as f64;
+            DVec2::new(3.0 + y.sin(), y)
+        })
+        .collect()
+}
+
+#[test]
+fn a_boundary_curve_stops_growth() {
+    let reference = hexagonal_reference();
+    let region = rect((-12.0, -12.0), (12.0, 12.0));
+    let curve = wavy_boundary();
+    let grown_options = GrowthOptions {
+        boundaries: vec![curve.clone()],
+        ..options(RotationMode::None)
+    };
+    let mut grown = grow(&reference, &region, DVec2::ZERO, &grown_options).expect("grows");
+    let far = grown
+        .elements
+        .iter()
+        .filter(|e| e.position.x > 3.0 + e.position.y.sin())
+        .count();
+    let segment_crossings = |a: DVec2, b: DVec2| {
+        curve.windows(2).any(|w| {
+            let (c, d) = (w[0], w[1]);
+            let o = |p: DVec2, q: DVec2, r: DVec2| (q - p).perp_dot(r - p);
+            o(a, b, c) * o(a, b, d) < 0.0 && o(c, d, a) * o(c, d, b) < 0.0
+        })
+    };
+    let crossing = grown
+        .edges
+        .iter()
+        .filter(|&&(a, b)| {
+            segment_crossings(grown.elements[a].position, grown.elements[b].position)
+        })
+        .count();
+    let stopped: Vec<usize> = (0..grown.elements.len())
+        .filter(|&i| {
+            let p = grown.elements[i].position;
+            grown.at_region_boundary[i] && (p.x - 3.0 - p.y.sin()).abs() < 1.5
+        })
+        .collect();
+    let gap = grown
+        .elements
+        .iter()
+        .filter(|e| e.position.y.abs() < 10.0)
+        .map(|e| 3.0 + e.position.y.sin() - e.position.x)
+        .filter(|&d| d >= 0.0)
+        .fold(f64::INFINITY, f64::min);
+    println!(
+        "boundary x = 3 + sin y: {} elements, {far} on the far side, {crossing} edges across it, {} stopped by it; \
+         the nearest element lies {gap:.3} m before it",
+        grown.elements.len(),
+        stopped.len()
+    );
+    assert!(grown.elements.len() > 200);
+    assert_eq!(far, 0);
+    assert_eq!(crossing, 0);
+    assert!(
+        stopped.len() >= 15,
+        "the elements along the curve are flagged"
+    );
+    let before = grown.clone();
+    relax(&mut grown).expect("relaxes");
+    for &i in &stopped {
+        assert_eq!(grown.elements[i].position, before.elements[i].position);
+    }
+    let err = grow(
+        &reference,
+        &region,
+        DVec2::ZERO,
+        &GrowthOptions {
+            boundaries: vec![vec![DVec2::ZERO, DVec2::new(f64::INFINITY, 0.0)]],
+            ..GrowthOptions::default()
+        },
+    )
+    .expect_err("a curve to infinity");
+    println!("boundary to infinity: {err}");
+}
+
+#[test]
+fn a_pattern_grows_on_from_an_existing_one_without_a_seam() {
+    let reference = hexagonal_reference();
+    let l = reference.mean_edge();
+    let left_region = rect((-15.0, -10.0), (0.0, 10.0));
+    let left = grow(
+        &reference,
+        &left_region,
+        DVec2::new(-7.0, 0.0),
+        &options(RotationMode::None),
+    )
+    .expect("the left half grows");
+    let right_region = rect((0.0, -10.0), (15.0, 10.0));
+    let both = grow_around(
+        &reference,
+        &right_region,
+        &left.elements,
+        None,
+        &options(RotationMode::None),
+        &|_| true,
+    )
+    .expect("the right half grows on");
+    let n_left = left.elements.len();
+    assert_eq!(
+        &both.elements[..n_left],
+        &left.elements[..],
+        "existing elements kept, first"
+    );
+    let new = both.elements.len() - n_left;
+    let outside = both.elements[n_left..]
+        .iter()
+        .filter(|e| !right_region.contains(e.position))
+        .count();
+    let seam: Vec<usize> = (0..both.elements.len())
+        .filter(|&i| {
+            let p = both.elements[i].position;
+            p.x.abs() < 2.0 * l && p.y.abs() < 10.0 - 2.0 * l
+        })
+        .collect();
+    let share = ring_share(&reference, &both, &seam);
+    let closest = closest_pair(&positions(&both), 1.0);
+    let across = both
+        .edges
+        .iter()
+        .filter(|&&(a, b)| a < n_left && b >= n_left)
+        .count();
+    let neighbours = both.neighbours();
+    for &i in &seam {
+        let n = neighbours[i].len();
+        let r = reference.ring(both.sub_ids[i]).len();
+        if n != r {
+            eprintln!("seam element {i} (existing {}) at {:?}: {n} neighbours, reference {r}, cut {}; longest ref edge {}", i < n_left, both.elements[i].position, both.at_region_boundary[i], reference.longest_edge());
+            for &j in &neighbours[i] {
+                eprintln!(
+                    "   {j} at {:?} (existing {})",
+                    both.elements[j].position,
+                    j < n_left
+                );
+            }
+            let lnb = left.neighbours();
+            if i < n_left {
+                eprintln!("   in the left growth: {} neighbours", lnb[i].len());
+            }
+        }
+    }
+    println!(
+        "paste beside a pattern: {n_left} existing + {new} new elements ({outside} outside the region), {across} \
+         edges join them; within 2 edges of the seam {} elements, {:.1} % with the reference's ring size; closest \
+         pair {closest:.3} (r_short {:.3})",
+        seam.len(),
+        100.0 * share,
+        reference.r_short()
+    );
+    assert!(new > 200);
+    assert_eq!(outside, 0);
+    assert!(across >= 15, "the new pattern joins the old one");
+    assert!(share >= 0.95, "no gap or overlap at the seam");
+    assert!(closest >= reference.r_short());
+
+    // spray dabs: one at the edge of the left pattern continues it, one in the empty right starts anew
+    for (name, center) in [
+        ("at the pattern's edge", DVec2::new(1.0, 0.0)),
+        ("in empty space", DVec2::new(9.0, 0.0)),
+    ] {
+        let radius = 3.0;
+        let dab = Region::Circle { center, radius };
+        let nearby: Vec<Element> = left
+            .elements
+            .iter()
+            .filter(|e| e.position.distance(center) <= radius + 3.0 * l)
+            .copied()
+            .collect();
+        let sprayed = grow_around(
+            &reference,
+            &dab,
+            &nearby,
+            Some(center),
+            &options(RotationMode::None),
+            &|_| true,
+        )
+        .expect("a dab grows");
+        let k = nearby.len();
+        let fresh: Vec<usize> = (k..sprayed.elements.len()).collect();
+        let inside = fresh
+            .iter()
+            .filter(|&&i| dab.contains(sprayed.elements[i].position))
+            .count();
+        let core: Vec<usize> = fresh
+            .iter()
+            .copied()
+            .filter(|&i| sprayed.elements[i].position.distance(center) < radius - 1.2 * l)
+            .collect();
+        let share = ring_share(&reference, &sprayed, &core);
+        let mut all = positions(&left);
+        all.extend(fresh.iter().map(|&i| sprayed.elements[i].position));
+        let closest = closest_pair(&all, 1.0);
+        let joined = sprayed
+            .edges
+            .iter()
+            .filter(|&&(a, b)| a < k && b >= k)
+            .count();
+        println!(
+            "spray dab {name}: {k} existing passed, {} new ({inside} inside the disc), {joined} edges to the \
+             existing ones; {:.1} % of {} core elements with the reference's ring size; closest pair with the \
+             whole pattern {closest:.3}",
+            fresh.len(),
+            100.0 * share,
+            core.len()
+        );
+        assert!(fresh.len() >= 15 && inside == fresh.len());
+        assert!(share >= 0.9);
+        assert!(closest >= reference.r_short());
+        if k > 0 {
+            assert!(joined >= 3, "the dab continues the pattern");
+        }
+    }
+}
+
+#[test]
+fn noise_leaves_growth_alone_and_results_do_not_depend_on_the_thread_count() {
+    let reference = hexagonal_reference();
+    let left = grow(
+        &reference,
+        &rect((-10.0, -8.0), (0.0, 8.0)),
+        DVec2::new(-5.0, 0.0),
+        &options(RotationMode::BestFit),
+    )
+    .expect("grows");
+    let right = rect((0.0, -8.0), (10.0, 8.0));
+    let noisy = GrowthOptions {
+        noise: Noise {
+            scale: 0.2,
+            rotation: 0.3,
+        },
+        ..options(RotationMode::BestFit)
+    };
+    let run = |threads: usize, options: &GrowthOptions| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("a thread pool");
+        pool.install(|| {
+            grow_around(&reference, &right, &left.elements, None, options, &|_| true)
+                .expect("grows")
+        })
+    };
+    let bits = |a: &Arrangement| {
+        a.elements
+            .iter()
+            .map(|e| {
+                [
+                    e.position.x.to_bits(),
+                    e.position.y.to_bits(),
+                    e.rotation.to_bits(),
+                    e.scale.to_bits(),
+                ]
+            })
+            .collect::<Vec<_>>()
+    };
+    let (one, two) = (run(1, &noisy), run(2, &noisy));
+    assert_eq!(bits(&one), bits(&two), "the same with 1 and 2 threads");
+    let quiet = run(1, &options(RotationMode::BestFit));
+    assert_eq!(
+        positions(&quiet),
+        positions(&one),
+        "noise does not change growth"
+    );
+    let n = left.elements.len();
+    let scales: Vec<f64> = one.elements[n..].iter().map(|e| e.scale).collect();
+    let turns: Vec<f64> = one.elements[n..]
+        .iter()
+        .zip(&quiet.elements[n..])
+        .map(|(a, b)| a.rotation - b.rotation)
+        .collect();
+    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
+    let sd = |v: &[f64]| {
+        let m = mean(v);
+        (v.iter().map(|x| (x - m).powi(2)).sum::<f64>() / v.len() as f64).sqrt()
+    };
+    println!(
+        "noise on {} new elements: scale mean {:.3}, relative sd {:.3} (asked 0.2), min {:.3}; rotation sd {:.3} \
+         rad (asked 0.3); identical with 1 and 2 threads",
+        scales.len(),
+        mean(&scales),
+        sd(&scales) / mean(&scales),
+        scales.iter().copied().fold(f64::INFINITY, f64::min),
+        sd(&turns)
+    );
+    assert!((mean(&scales) - 1.0).abs() < 0.05 && (sd(&scales) - 0.2).abs() < 0.05);
+    assert!((sd(&turns) - 0.3).abs() < 0.06);
+    assert!(
+        one.elements[..n] == left.elements[..],
+        "existing elements get no noise"
+    );
+}
+
+#[test]
+fn progress_is_reported_and_cancels() {
+    let reference = hexagonal_reference();
+    let region = rect((-20.0, -20.0), (20.0, 20.0));
+    let reports = std::cell::RefCell::new(Vec::new());
+    let grown = grow_around(
+        &reference,
+        &region,
+        &[],
+        None,
+        &GrowthOptions::default(),
+        &|f| {
+            reports.borrow_mut().push(f);
+            true
+        },
+    )
+    .expect("grows");
+    let reports = reports.into_inner();
+    println!(
+        "{} elements from the centroid, progress reported {} times, last {:.2}",
+        grown.elements.len(),
+        reports.len(),
+        reports.last().copied().unwrap_or(0.0)
+    );
+    assert!(reports.len() >= 3 && reports.windows(2).all(|w| w[0] <= w[1]));
+    assert!(region.contains(grown.elements[0].position));
+    let cancelled = grow_around(
+        &reference,
+        &region,
+        &[],
+        None,
+        &GrowthOptions::default(),
+        &|_| false,
+    );
+    assert!(matches!(cancelled, Err(Error::Cancelled)));
+}
+
+/// Ring-size share, mean edge length error and edge-angle TV of points with the Delaunay connectivity that
+/// [`Reference::new`] builds (skewed triangles dropped), over its interior points.
+fn delaunay_figures(points: &[DVec2], reference: &Reference, ring: usize) -> (f64, f64, f64) {
+    let analysed =
+        Reference::new(points.iter().map(|p| element(*p, 0)).collect()).expect("a triangulation");
+    let interior: Vec<usize> = (0..points.len())
+        .filter(|&i| !analysed.is_boundary(i))
+        .collect();
+    let share = interior
+        .iter()
+        .filter(|&&i| analysed.ring(i).len() == ring)
+        .count() as f64
+        / interior.len().max(1) as f64;
+    let edges = analysed.edges();
+    let length_error = (analysed.mean_edge() / reference.mean_edge() - 1.0).abs();
+    let tv = total_variation(
+        &angle_histogram(&edges, |i| points[i]),
+        &angle_histogram(&reference.edges(), |i| reference.elements()[i].position),
+    );
+    (share, length_error, tv)
+}
+
+#[test]
+fn the_arrangement_keeps_a_lattice_better_than_point_synthesis() {
+    for hexagonal in [true, false] {
+        let name = if hexagonal { "hexagonal" } else { "square" };
+        let mut reference = Reference::new(lattice(hexagonal, 7, |_, _| 0)).expect("valid");
+        if !hexagonal {
+            // every diagonal the same way (seed Fig. 3), as a user leaves a square lattice
+            let backward: Vec<(usize, usize)> = reference
+                .edges()
+                .into_iter()
+                .filter(|&(a, b)| b - a == 6 && a % 7 != 0)
+                .collect();
+            for (a, b) in backward {
+                reference.flip(a, b).expect("a diagonal flips");
+            }
+        }
+        let ring = reference.ring(24).len();
+        let region = rect((-10.0, -10.0), (10.0, 10.0));
+        let grown = grow(
+            &reference,
+            &region,
+            DVec2::ZERO,
+            &options(RotationMode::None),
+        )
+        .expect("grows");
+        let interior: Vec<usize> = (0..grown.elements.len())
+            .filter(|&i| {
+                let p = grown.elements[i].position;
+                p.x.abs() < 8.0 && p.y.abs() < 8.0
+            })
+            .collect();
+        let arr_share = ring_share(&reference, &grown, &interior);
+        let mean_length = |edges: &[(usize, usize)], at: &dyn Fn(usize) -> DVec2| {
+            edges
+                .iter()
+                .map(|&(a, b)| at(a).distance(at(b)))
+                .sum::<f64>()
+                / edges.len() as f64
+        };
+        let arr_length = (mean_length(&grown.edges, &|i| grown.elements[i].position)
+            / reference.mean_edge()
+            - 1.0)
+            .abs();
+        let arr_tv = total_variation(
+            &angle_histogram(&grown.edges, |i| grown.elements[i].position),
+            &angle_histogram(&reference.edges(), |i| reference.elements()[i].position),
+        );
+
+        let points: Vec<DVec2> = reference.elements().iter().map(|e| e.position).collect();
+        let exemplar = rect((-0.5, -0.5), (7.0, if hexagonal { 5.7 } else { 6.5 }));
+        let color = learn_color(
+            &scene_from_points("stone", &points),
+            &exemplar,
+            "lattice",
+            &Default::default(),
+        )
+        .expect("learns");
+        let synthesized = synthesize(
+            &Default::default(),
+            &color,
+            &region,
+            &SynthesisOptions {
+                seed: 3,
+                ..Default::default()
+            },
+        )
+        .expect("synthesizes");
+        let wb: Vec<DVec2> = synthesized.instances.iter().map(|i| i.position).collect();
+        let (wb_share, wb_length, wb_tv) = delaunay_figures(&wb, &reference, ring);
+        println!(
+            "{name} lattice exemplar: arrangement {} elements, ring size {ring} kept by {:.1} %, mean edge length \
+             error {:.1} %, edge-angle TV {:.3}; WorldBrush point synthesis {} points (Delaunay), ring size {ring} \
+             {:.1} %, mean edge length error {:.1} %, edge-angle TV {:.3}",
+            grown.elements.len(),
+            100.0 * arr_share,
+            100.0 * arr_length,
+            arr_tv,
+            wb.len(),
+            100.0 * wb_share,
+            100.0 * wb_length,
+            wb_tv
+        );
+        assert!(arr_share > wb_share, "{name}: rings kept better");
+        assert!(arr_tv < wb_tv, "{name}: edge directions kept better");
+    }
+}
