@@ -512,25 +512,6 @@ fn a_pattern_grows_on_from_an_existing_one_without_a_seam() {
         .iter()
         .filter(|&&(a, b)| a < n_left && b >= n_left)
         .count();
-    let neighbours = both.neighbours();
-    for &i in &seam {
-        let n = neighbours[i].len();
-        let r = reference.ring(both.sub_ids[i]).len();
-        if n != r {
-            eprintln!("seam element {i} (existing {}) at {:?}: {n} neighbours, reference {r}, cut {}; longest ref edge {}", i < n_left, both.elements[i].position, both.at_region_boundary[i], reference.longest_edge());
-            for &j in &neighbours[i] {
-                eprintln!(
-                    "   {j} at {:?} (existing {})",
-                    both.elements[j].position,
-                    j < n_left
-                );
-            }
-            let lnb = left.neighbours();
-            if i < n_left {
-                eprintln!("   in the left growth: {} neighbours", lnb[i].len());
-            }
-        }
-    }
     println!(
         "paste beside a pattern: {n_left} existing + {new} new elements ({outside} outside the region), {across} \
          edges join them; within 2 edges of the seam {} elements, {:.1} % with the reference's ring size; closest \

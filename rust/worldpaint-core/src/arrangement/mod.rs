@@ -34,6 +34,7 @@
 
 mod around;
 mod boundary;
+mod cells;
 pub mod connectivity;
 mod flow;
 mod growth;
