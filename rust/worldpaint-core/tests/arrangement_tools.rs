@@ -808,3 +808,134 @@ fn the_arrangement_keeps_a_lattice_better_than_point_synthesis() {
         assert!(arr_tv < wb_tv, "{name}: edge directions kept better");
     }
 }
+
+#[test]
+fn a_long_boundary_curve_keeps_growth_fast() {
+    let reference = hexagonal_reference();
+    let region = rect((-12.0, -12.0), (12.0, 12.0));
+    // the wave of `a_boundary_curve_stops_growth` drawn with 200,001 points
+    let curve: Vec<DVec2> = (0..=200_000)
+        .map(|k| {
+            let y = -20.0 + 0.0002 * k as f64;
+            DVec2::new(3.0 + y.sin(), y)
+        })
+        .collect();
+    let t0 = std::time::Instant::now();
+    let grown = grow(
+        &reference,
+        &region,
+        DVec2::ZERO,
+        &GrowthOptions {
+            boundaries: vec![curve, vec![DVec2::ONE], vec![DVec2::ONE, DVec2::ONE]],
+            ..options(RotationMode::None)
+        },
+    )
+    .expect("grows");
+    let far = grown
+        .elements
+        .iter()
+        .filter(|e| e.position.x > 3.0 + e.position.y.sin())
+        .count();
+    println!(
+        "boundary of 200,001 points (and a one-point and a zero-length curve): {} elements, {far} on the far side, \
+         {:.0} ms",
+        grown.elements.len(),
+        1e3 * t0.elapsed().as_secs_f64()
+    );
+    assert!(grown.elements.len() > 200);
+    assert_eq!(far, 0);
+}
+
+#[test]
+fn bad_input_to_grow_around_is_refused_with_clear_messages() {
+    let reference = hexagonal_reference();
+    let region = rect((0.0, 0.0), (10.0, 10.0));
+    let run =
+        |region: &Region, existing: &[Element], start: Option<DVec2>, options: &GrowthOptions| {
+            grow_around(&reference, region, existing, start, options, &|_| true)
+        };
+    let fine = GrowthOptions::default();
+    let nan = element(DVec2::new(f64::NAN, 1.0), 0);
+    let covered = Region::Clipped {
+        within: vec![region.clone()],
+        without: vec![rect((-1.0, -1.0), (11.0, 11.0))],
+    };
+    let cases: Vec<(&str, worldpaint_core::Result<Arrangement>, &str)> = vec![
+        (
+            "NaN existing element",
+            run(&region, &[nan], None, &fine),
+            "non-finite",
+        ),
+        (
+            "NaN start",
+            run(&region, &[], Some(DVec2::new(f64::NAN, 0.0)), &fine),
+            "growth start",
+        ),
+        (
+            "start outside",
+            run(&region, &[], Some(DVec2::new(20.0, 0.0)), &fine),
+            "growth start",
+        ),
+        (
+            "flat region",
+            run(&rect((0.0, 0.0), (10.0, 0.0)), &[], None, &fine),
+            "region",
+        ),
+        (
+            "region cut away entirely",
+            run(&covered, &[], None, &fine),
+            "region",
+        ),
+        (
+            "negative noise",
+            run(
+                &region,
+                &[],
+                None,
+                &GrowthOptions {
+                    noise: Noise {
+                        scale: -1.0,
+                        rotation: 0.0,
+                    },
+                    ..GrowthOptions::default()
+                },
+            ),
+            "scale noise",
+        ),
+        (
+            "no elements",
+            run(
+                &region,
+                &[],
+                None,
+                &GrowthOptions {
+                    max_elements: 0,
+                    ..GrowthOptions::default()
+                },
+            ),
+            "max elements",
+        ),
+    ];
+    for (name, result, words) in cases {
+        match result {
+            Ok(_) => panic!("{name}: accepted"),
+            Err(err) => {
+                println!("{name}: {err}");
+                assert!(err.to_string().contains(words), "{name}: {err}");
+            }
+        }
+    }
+    // existing elements at one place, far from the region, or of a symbol the reference lacks are taken as they are
+    let odd = vec![
+        element(DVec2::new(5.0, 5.0), 0),
+        element(DVec2::new(5.0, 5.0), 0),
+        element(DVec2::new(500.0, 5.0), 0),
+        element(DVec2::new(2.0, 2.0), 9),
+    ];
+    let grown = run(&region, &odd, None, &fine).expect("grows");
+    assert_eq!(&grown.elements[..4], &odd[..]);
+    println!(
+        "odd existing elements: {} new elements",
+        grown.elements.len() - 4
+    );
+}

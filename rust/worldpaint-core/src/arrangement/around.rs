@@ -155,7 +155,7 @@ fn add_existing(
             Some((sub_id, ring_len, rotation)) => {
                 let p = existing[i].position;
                 let near_region = grower.region_contains(p)
-                    || grower.region_distance_within(p, longest) <= longest;
+                    || grower.region_distance_within(p, longest) < longest;
                 if grower.adjacency[i].len() < ring_len && near_region {
                     reopened.insert(i, (sub_id, rotation));
                 }
