@@ -27,9 +27,8 @@ use std::collections::HashMap;
 
 use glam::DVec2;
 use rand::Rng;
-use spade::{DelaunayTriangulation, Point2, Triangulation};
 
-use super::connectivity::MAX_TRIANGLE_ANGLE;
+use super::existing::{existing_edges, fallback_sub_id, longest_ring_edge};
 use super::growth::{Grower, State};
 use super::options::GrowthOptions;
 use super::{Arrangement, Element, Reference, RingTarget};
@@ -138,7 +137,7 @@ fn add_existing(
     }
     grower.existing = existing.len();
     let longest = longest_ring_edge(reference);
-    for (a, b) in existing_edges(existing, 1.5 * longest) {
+    for (a, b) in existing_edges(reference, existing, 1.5 * longest) {
         grower.connect(a, b);
     }
     let matches: Vec<Option<(usize, usize, f64)>> = (0..existing.len())
@@ -169,69 +168,6 @@ fn add_existing(
         };
     }
     reopened
-}
-
-/// The longest edge of the rings growth copies (the reference's interior elements'): the reference's own longest
-/// edge can be a hull triangle's, near √3 × the spacing, long enough to bridge a missing element of a lattice.
-fn longest_ring_edge(reference: &Reference) -> f64 {
-    let e = reference.elements();
-    (0..e.len())
-        .filter(|&i| !reference.is_boundary(i))
-        .flat_map(|i| {
-            reference
-                .ring(i)
-                .iter()
-                .map(move |&j| e[i].position.distance(e[j].position))
-        })
-        .fold(0.0, f64::max)
-}
-
-/// The sub-id of an existing element no reference ring matches: the first interior reference element of its
-/// symbol, else the first interior one.
-fn fallback_sub_id(reference: &Reference, symbol: u32) -> usize {
-    let interior = |i: &usize| !reference.is_boundary(*i);
-    let n = reference.elements().len();
-    (0..n)
-        .filter(interior)
-        .find(|&i| reference.elements()[i].symbol == symbol)
-        .or_else(|| (0..n).find(interior))
-        .unwrap_or(0)
-}
-
-/// The existing elements' connectivity: Delaunay edges of a triangle with no angle over 2π/3, at most `longest`.
-/// An element at the same place as an earlier one gets no edge.
-fn existing_edges(existing: &[Element], longest: f64) -> Vec<(usize, usize)> {
-    let mut tri: DelaunayTriangulation<Point2<f64>> = DelaunayTriangulation::new();
-    let mut owner: Vec<usize> = Vec::with_capacity(existing.len());
-    for (i, e) in existing.iter().enumerate() {
-        let Ok(handle) = tri.insert(Point2::new(e.position.x, e.position.y)) else {
-            continue;
-        };
-        if handle.index() == owner.len() {
-            owner.push(i);
-        }
-    }
-    let mut edges = Vec::new();
-    for face in tri.inner_faces() {
-        let v = face.vertices().map(|v| v.fix().index());
-        if v.iter().any(|&k| k >= owner.len()) {
-            continue;
-        }
-        let v = v.map(|k| owner[k]);
-        let p = v.map(|i| existing[i].position);
-        if super::connectivity::largest_angle(p) > MAX_TRIANGLE_ANGLE {
-            continue;
-        }
-        for k in 0..3 {
-            let (a, b) = (v[k].min(v[(k + 1) % 3]), v[k].max(v[(k + 1) % 3]));
-            if existing[a].position.distance(existing[b].position) <= longest {
-                edges.push((a, b));
-            }
-        }
-    }
-    edges.sort_unstable();
-    edges.dedup();
-    edges
 }
 
 /// A point inside the region: its centroid if inside, else the middle of the widest stretch inside on the scanline

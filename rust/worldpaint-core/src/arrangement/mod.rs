@@ -29,13 +29,14 @@
 //!
 //! The modules are one concern each: [`connectivity`] (analysis), `options` (what a growth is asked), `flow` (the
 //! flow field), `boundary` (the boundary curves' index), `growth` (local growth), `around` (growing next to
-//! existing elements, the start, the result and its noise), `relax` (relaxation). Each says the readings it chose
+//! existing elements, the start, the result and its noise), `existing` (the existing elements' connectivity), `relax` (relaxation). Each says the readings it chose
 //! where the seed is vague.
 
 mod around;
 mod boundary;
 mod cells;
 pub mod connectivity;
+mod existing;
 mod flow;
 mod growth;
 mod options;
