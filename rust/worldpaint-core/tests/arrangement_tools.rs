@@ -585,6 +585,12 @@ fn bad_input_to_grow_around_is_refused_with_clear_messages() {
         element(DVec2::new(500.0, 5.0), 0),
         element(DVec2::new(2.0, 2.0), 9),
     ];
+    let read: Element =
+        serde_json::from_str(r#"{"position":[1.0,2.0],"symbol":3,"rotation":0.5}"#).expect("reads");
+    assert_eq!(
+        read.scale, 1.0,
+        "an element written before scales existed has scale 1"
+    );
     let grown = run(&region, &odd, None, &fine).expect("grows");
     assert_eq!(&grown.elements[..4], &odd[..]);
     println!(
