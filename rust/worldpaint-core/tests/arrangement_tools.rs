@@ -288,6 +288,30 @@ fn a_pattern_grows_on_from_an_existing_one_without_a_seam() {
     let l = reference.mean_edge();
     let left = paste_beside(&reference, "hexagonal lattice", 0.95);
 
+    // a spray dab over the full pattern adds nothing
+    let (center, radius) = (DVec2::new(-7.3, 0.4), 3.0);
+    let nearby: Vec<Element> = left
+        .elements
+        .iter()
+        .filter(|e| e.position.distance(center) <= radius + 3.0 * l)
+        .copied()
+        .collect();
+    let over = grow_around(
+        &reference,
+        &Region::Circle { center, radius },
+        &nearby,
+        Some(center),
+        &options(RotationMode::None),
+        &|_| true,
+    )
+    .expect("a dab grows");
+    println!(
+        "spray dab over the full pattern: {} existing passed, {} new",
+        nearby.len(),
+        over.elements.len() - nearby.len()
+    );
+    assert!(over.elements.len() - nearby.len() <= 2);
+
     // spray dabs: one at the edge of the left pattern continues it, one in the empty right starts anew
     for (name, center) in [
         ("at the pattern's edge", DVec2::new(1.0, 0.0)),

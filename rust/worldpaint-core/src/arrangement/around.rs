@@ -19,7 +19,9 @@
 //!   region's outline); every new element and seed lies inside the region;
 //! - without a reopened element growth starts with one seed at `start`, or at the region's centroid when it lies
 //!   inside, else at the middle of the widest stretch inside on the scanline through the centroid (or the nearest
-//!   scanline that meets the region); no seed is made within r_short of an existing element;
+//!   scanline that meets the region); that seed is not made within the reference's shortest edge (2 r_short) of
+//!   an existing element, where no element has room (a dab over a full pattern adds nothing), nor any other seed
+//!   within r_short of one;
 //! - noise is drawn after growth, from the same generator, for the new elements in order (scale first, then
 //!   rotation), so that growth is the same with and without it.
 

@@ -206,9 +206,10 @@ impl<'a> Grower<'a> {
         id
     }
 
-    /// A seed at `start` (the initial one), unless an element lies within r_short of it.
+    /// A seed at `start` (the initial one), unless an existing element lies within the reference's shortest edge
+    /// (2 r_short) of it: there is no room for an element there (a spray dab over a full pattern adds nothing).
     pub(super) fn add_initial_seed(&mut self, start: DVec2) {
-        if !self.any_within(start, self.r_short, None) {
+        if !self.any_within(start, 2.0 * self.r_short, None) {
             let id = self.add_seed(start, self.options.initial_symbol);
             self.initial = Some(id);
         }
