@@ -1,6 +1,7 @@
 //! Element arrangement by example (Ijiri et al. 2008), the tools of seed §5.3 and what the painting tools build on:
 //! a flow field turns the pattern, a boundary curve stops it, a pattern grows on from an existing one without a
-//! seam (a paste beside it, a spray dab), noise leaves growth alone, progress is reported, bad input is refused.
+//! seam (a paste beside it, a spray dab, a stroke of overlapping dabs), noise leaves growth alone, progress is
+//! reported, bad input is refused.
 //! Run with `--nocapture` to see the figures.
 
 #[path = "common/arrangement.rs"]
@@ -621,4 +622,71 @@ fn bad_input_to_grow_around_is_refused_with_clear_messages() {
         "odd existing elements: {} new elements",
         grown.elements.len() - 4
     );
+}
+
+#[test]
+fn a_spray_stroke_of_overlapping_dabs_paints_one_pattern() {
+    let reference = hexagonal_reference();
+    let l = reference.mean_edge();
+    let radius = 3.0;
+    let mut scene: Vec<Element> = Vec::new();
+    let mut slowest: f64 = 0.0;
+    // a stroke along a gentle curve, a dab every 1.5 m
+    let centers: Vec<DVec2> = (0..12)
+        .map(|k| DVec2::new(1.5 * k as f64, 2.0 * (0.3 * k as f64).sin()))
+        .collect();
+    for (k, &center) in centers.iter().enumerate() {
+        let nearby: Vec<Element> = scene
+            .iter()
+            .filter(|e| e.position.distance(center) <= radius + 3.0 * l)
+            .copied()
+            .collect();
+        let t0 = std::time::Instant::now();
+        let dab = grow_around(
+            &reference,
+            &Region::Circle { center, radius },
+            &nearby,
+            Some(center),
+            &GrowthOptions {
+                seed: k as u64,
+                ..options(RotationMode::None)
+            },
+            &|_| true,
+        )
+        .expect("a dab grows");
+        slowest = slowest.max(t0.elapsed().as_secs_f64());
+        scene.extend_from_slice(&dab.elements[nearby.len()..]);
+    }
+    let points: Vec<DVec2> = scene.iter().map(|e| e.position).collect();
+    let closest = closest_pair(&points, 1.0);
+    // the painted pattern's own Delaunay connectivity: an unambiguous one on a hexagonal lattice
+    let painted = Reference::new(scene.clone()).expect("a triangulation");
+    // interior: the painted area (the union of the dabs) holds a circle of 1.3 mean edges around the element
+    let painted_area = |p: DVec2| centers.iter().any(|c| c.distance(p) <= radius);
+    let interior: Vec<usize> = (0..scene.len())
+        .filter(|&i| {
+            !painted.is_boundary(i)
+                && (0..16).all(|k| {
+                    let around = DVec2::from_angle(k as f64 * std::f64::consts::TAU / 16.0);
+                    painted_area(scene[i].position + 1.3 * l * around)
+                })
+        })
+        .collect();
+    let six = interior
+        .iter()
+        .filter(|&&i| painted.ring(i).len() == 6)
+        .count() as f64
+        / interior.len() as f64;
+    println!(
+        "spray stroke of 12 overlapping dabs: {} elements, {} interior with 6 Delaunay neighbours {:.1} %; closest \
+         pair {closest:.3} (r_short {:.3}); slowest dab {:.1} ms",
+        scene.len(),
+        interior.len(),
+        100.0 * six,
+        reference.r_short(),
+        1e3 * slowest
+    );
+    assert!(scene.len() > 100);
+    assert!(closest >= reference.r_short());
+    assert!(six >= 0.95, "the dabs join without seams");
 }
