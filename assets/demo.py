@@ -13,8 +13,11 @@
 6. A stream drawn down the steepest slope from the hamlet becomes a waterfall scene (thesis ch. 4): it falls into a
    pool where the hills are steepest and leaves it as a river; Build Waterfall classifies its segments, lays the water
    over it, carves its bed and the pool into the terrain and scatters rocks along it.
+7. A block of vines planted by hand in rows becomes the arrangement "Vineyard" (Ijiri et al. 2008); pasted into a
+   clearing of the forest, its rows grow along the hillside's contour lines, drawn as two flow curves.
 
-Writes OUT/demo.blend and renders OUT/demo.png with Workbench. Usage: python assets/demo.py [--out out]
+Writes OUT/demo.blend and renders OUT/demo.png (and a close-up of the vineyard, OUT/demo_vineyard.png) with
+Workbench. Usage: python assets/demo.py [--out out]
 """
 
 import argparse
@@ -31,6 +34,7 @@ import bpy  # noqa: E402
 import numpy as np  # noqa: E402
 import worldpaint  # noqa: E402
 import worldpaint_engine as engine  # noqa: E402
+from mathutils import Vector  # noqa: E402
 from scene_kit import (  # noqa: E402
     collection_instances,
     engine_terrain_object,
@@ -39,6 +43,7 @@ from scene_kit import (  # noqa: E402
     slope_exemplar,
     top_camera,
     village_exemplar,
+    vineyard_reference,
 )
 from worldpaint.bridge.curves import structure_objects  # noqa: E402
 
@@ -50,6 +55,8 @@ VILLAGE_DESTINATION = ((210.0, 460.0), (470.0, 670.0))
 HAMLET_CENTER = (360.0, 360.0)
 HAMLET_RADIUS = 90.0
 STREAM_START = (340.0, 330.0)
+VINEYARD_CENTER = (235.0, 255.0)
+VINEYARD_RADIUS = 45.0
 
 
 def run(op, **kwargs):
@@ -175,6 +182,37 @@ def build_waterfall(hills):
     print(f"waterfall: a {drop[lip]:.1f} m fall into a pool of {radius:.1f} m, {len(path)} path points")
 
 
+def plant_vineyard(hills):
+    """A vineyard learned from a hand-planted block on flat ground, pasted into a clearing of the forest with its rows
+    along the hillside: the flow curves follow the contour line through the clearing's centre."""
+    ground = engine_terrain_object("Vine ground", engine.Terrain.from_grid((-420.0, -320.0), 2.0, np.zeros((21, 21))))
+    vines = vineyard_reference((-410.0, -310.0))
+    bpy.context.view_layer.update()
+    select_only(vines)
+    run(bpy.ops.worldpaint.learn_arrangement, name="Vineyard", terrain=ground.name, region_mode='RECT',
+        rect_min=(-411.0, -311.0), rect_max=(-395.0, -296.5))
+    select_only([])
+    run(bpy.ops.worldpaint.pattern_settings, rotation='FLOW', rotation_noise=0.05)
+    terrain = engine.exemplar_demo_terrain(HILLS_SIZE, 2.0, 11)
+    centre = np.asarray(VINEYARD_CENTER)
+    steps = (np.array([2.0, 0.0]), np.array([0.0, 2.0]))
+    gradient = np.array([np.subtract(*terrain.heights_at(np.ascontiguousarray([centre + d, centre - d])))
+                         for d in steps])
+    along = np.array([-gradient[1], gradient[0]]) / np.linalg.norm(gradient)
+    flow = bpy.data.collections.new("Vineyard flow")
+    bpy.context.scene.collection.children.link(flow)
+    for k, offset in enumerate((-0.6, 0.6)):
+        middle = centre + offset * VINEYARD_RADIUS * np.array([-along[1], along[0]])
+        ends = np.array([middle - 1.2 * VINEYARD_RADIUS * along, middle + 1.2 * VINEYARD_RADIUS * along])
+        poly_curve(f"Row flow {k}", np.column_stack([ends, terrain.heights_at(np.ascontiguousarray(ends))]),
+                   collection=flow)
+    flow.hide_render = True
+    run(bpy.ops.worldpaint.clear_region, terrain=hills.name, region_mode='CIRCLE', circle_center=VINEYARD_CENTER,
+        circle_radius=VINEYARD_RADIUS + 3.0)
+    run(bpy.ops.worldpaint.paste_color, color="Vineyard", terrain=hills.name, seed=4, region_mode='CIRCLE',
+        circle_center=VINEYARD_CENTER, circle_radius=VINEYARD_RADIUS, flow=flow.name)
+
+
 def render(path):
     """A 3/4 view over the part of the hills where the forest, the grove and the two villages meet."""
     scene = bpy.context.scene
@@ -195,6 +233,20 @@ def render(path):
     bpy.ops.render.render(write_still=True)
 
 
+def render_vineyard(path):
+    """A close-up of the vineyard's rows on the hillside."""
+    scene = bpy.context.scene
+    cam = scene.camera
+    x, y = VINEYARD_CENTER
+    ground = float(engine.exemplar_demo_terrain(HILLS_SIZE, 2.0, 11).heights_at(np.array([VINEYARD_CENTER]))[0])
+    target = Vector((x, y, ground))
+    cam.location = target + Vector((25.0, 115.0, 50.0))  # from the valley below, facing the slope
+    cam.rotation_euler = (target - cam.location).to_track_quat('-Z', 'Y').to_euler()
+    scene.render.resolution_x, scene.render.resolution_y = 900, 500
+    scene.render.filepath = str(path)
+    bpy.ops.render.render(write_still=True)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", default="out", help="output folder")
@@ -209,12 +261,14 @@ def main():
     paint(hills)
     grow_hamlet(hills)
     build_waterfall(hills)
+    plant_vineyard(hills)
     painted = time.perf_counter() - start
     for obj in (o for o in bpy.data.collections["WorldPaint"].all_objects if not o.get("wp_village")):
         count = len(obj.data.splines) if obj.type == 'CURVE' else len(obj.data.vertices)
         print(f"{obj.name}: {count} {'curves' if obj.type == 'CURVE' else 'instances'}")
     bpy.ops.wm.save_as_mainfile(filepath=str(out / "demo.blend"))
     render(out / "demo.png")
+    render_vineyard(out / "demo_vineyard.png")
     print(f"learned, painted and grew the hamlet in {painted:.1f} s; wrote {out / 'demo.blend'} and {out / 'demo.png'}")
 
 

@@ -286,3 +286,59 @@ def village_exemplar(size=300.0, extent=(-100.0, -100.0, 900.0, 450.0), seed=1, 
     house_objects = collection_instances("House", xy, village_height(xy[:, 0], xy[:, 1]), data["rotations"][mask])
     bpy.context.scene.worldpaint.terrain = terrain_obj
     return terrain_obj, roads, house_objects, data
+
+
+def stone_prototypes():
+    """Collections Cobble (a low hexagonal slab) and Pebble (a small one), excluded from the view layer."""
+    scene = bpy.context.scene
+    parent = bpy.data.collections.new("Stones")
+    scene.collection.children.link(parent)
+    built = {}
+    for name, radius, rgba in (("Cobble", 0.45, (0.45, 0.43, 0.40, 1.0)), ("Pebble", 0.2, (0.62, 0.58, 0.52, 1.0))):
+        bm = bmesh.new()
+        bmesh.ops.create_cone(bm, cap_ends=True, segments=6, radius1=radius, radius2=0.85 * radius, depth=0.15,
+                              matrix=Matrix.Translation((0.0, 0.0, 0.075)))
+        collection = bpy.data.collections.new(name)
+        parent.children.link(collection)
+        collection.objects.link(_bmesh_object(name, bm, rgba))
+        built[name] = collection
+    bpy.context.view_layer.layer_collection.children["Stones"].exclude = True
+    return built
+
+
+def hexagonal_lattice(corner, rows, cols, spacing, jitter=0.03, seed=3):
+    """XY (rows * cols, 2) of a hexagonal lattice from ``corner``, each point moved by up to ``jitter`` spacings."""
+    rng = np.random.default_rng(seed)
+    row, col = np.divmod(np.arange(rows * cols), cols)
+    xy = np.column_stack([col + 0.5 * (row % 2), row * math.sqrt(3.0) / 2.0]) * spacing + np.asarray(corner)
+    return xy + rng.uniform(-jitter, jitter, xy.shape) * spacing
+
+
+def cobble_reference(corner=(10.0, 10.0), rows=7, cols=7, spacing=1.0):
+    """A hand-placed reference of cobbles on a hexagonal lattice at z = 0; returns the example objects."""
+    stone_prototypes()
+    xy = hexagonal_lattice(corner, rows, cols, spacing)
+    return collection_instances("Cobble", xy, np.zeros(len(xy)))
+
+
+def vine_prototype():
+    """A collection Vine holding one small low-poly vine (a green cone on a post), excluded from the view layer."""
+    bm = bmesh.new()
+    bmesh.ops.create_cone(bm, cap_ends=True, segments=5, radius1=0.35, radius2=0.1, depth=1.4,
+                          matrix=Matrix.Translation((0.0, 0.0, 0.7)))
+    collection = bpy.data.collections.new("Vine")
+    bpy.context.scene.collection.children.link(collection)
+    collection.objects.link(_bmesh_object("Vine", bm, (0.22, 0.45, 0.12, 1.0)))
+    bpy.context.view_layer.layer_collection.children["Vine"].exclude = True
+    return collection
+
+
+def vineyard_reference(corner, rows=5, cols=8, along=1.2, between=3.0, shear=0.35, seed=4):
+    """A hand-planted block of vines at z = 0: ``rows`` rows along X, ``along`` metres apart in a row and ``between``
+    metres between rows, each row shifted by ``shear`` of a step so the triangulation has one way to fall."""
+    vine_prototype()
+    rng = np.random.default_rng(seed)
+    row, col = np.divmod(np.arange(rows * cols), cols)
+    xy = np.column_stack([(col + shear * row) * along, row * between]) + np.asarray(corner)
+    xy += rng.uniform(-0.03, 0.03, xy.shape)
+    return collection_instances("Vine", xy, np.zeros(len(xy)))

@@ -83,6 +83,7 @@ class ColorSummary:
     maps: tuple
     preview: np.ndarray  # (N, 3): x, y from the example's corner, category index
     preview_size: tuple
+    region: dict  # the example's region, as the engine's region dict
 
     @property
     def category_names(self):
@@ -442,6 +443,7 @@ def color_summary(color_json):
         maps=tuple(Interaction(*m) for m in d["maps"]),
         preview=np.asarray(d["preview"], dtype=np.float64).reshape(-1, 3),
         preview_size=tuple(d["preview_size"]),
+        region=d["region"],
     )
 
 
@@ -476,11 +478,53 @@ def palette_from_json(text):
     return list(_engine().palette_from_json(text))
 
 
+# --- arrangements -------------------------------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class ArrangementSummary:
+    """What an arrangement color holds: its reference (XY relative to its region's corner, symbol per element), the
+    reference's connectivity as index pairs, which elements lie on its boundary, and how it is painted."""
+
+    positions: np.ndarray
+    symbols: tuple
+    edges: np.ndarray
+    boundary: tuple
+    rotation: str
+    scale_noise: float
+    rotation_noise: float
+    relax_every: int
+    flips: int
+
+
+def learn_arrangement(scene_handle, region, name):
+    """The arrangement color (JSON) of the scene's arrangement elements inside ``region``."""
+    return _engine().learn_arrangement(scene_handle, region, name)
+
+
+def arrangement_summary(color_json):
+    """The ``ArrangementSummary`` of a color, or None when it is a color of statistics."""
+    d = _engine().arrangement_summary(color_json)
+    if d is None:
+        return None
+    return ArrangementSummary(
+        positions=np.asarray(d["positions"], dtype=np.float64).reshape(-1, 2), symbols=tuple(d["symbols"]),
+        edges=np.asarray(d["edges"], dtype=np.int64).reshape(-1, 2), boundary=tuple(d["boundary"]),
+        rotation=d["rotation"], scale_noise=d["scale_noise"], rotation_noise=d["rotation_noise"],
+        relax_every=d["relax_every"], flips=d["flips"],
+    )
+
+
+def arrangement_edited(color_json, **changes):
+    """The arrangement color with ``changes`` (rotation, scale_noise, rotation_noise, relax_every, flip=(a, b))."""
+    return _engine().arrangement_edited(color_json, **changes)
+
+
 # --- painting tools -----------------------------------------------------------------------------------------------
 
-def paste(scene_handle, color, region, seed, influence_radius, progress=None):
+def paste(scene_handle, color, region, seed, influence_radius, progress=None, guides=None):
+    """Paints ``color`` into ``region``; ``guides`` ({"start", "boundaries", "flow"}) steer an arrangement color."""
     d = _engine().paste(scene_handle, color=color, region=region, seed=seed, influence_radius=influence_radius,
-                        progress=progress)
+                        progress=progress, guides=guides)
     fidelity = d.get("fidelity")
     return Pasted(Edit.of(d), None if fidelity is None else Fidelity.of(fidelity), d.get("fidelity_error", ""))
 
@@ -514,10 +558,11 @@ def move_region(scene_handle, color, source, offset, seed, influence_radius):
                  int(d["stayed"]))
 
 
-def paint_stroke(scene_handle, color, radius, spacing, opacity, falloff, seed, influence_radius):
-    """A brush stroke painting ``color`` (JSON); ``falloff`` is "constant", "linear" or "smooth"."""
+def paint_stroke(scene_handle, color, radius, spacing, opacity, falloff, seed, influence_radius, guides=None):
+    """A brush stroke painting ``color`` (JSON); ``falloff`` is "constant", "linear" or "smooth"; an arrangement
+    color sprays its pattern, steered by ``guides`` (boundary and flow curves)."""
     return Stroke(_engine().Stroke(scene_handle, color=color, radius=radius, spacing=spacing, opacity=opacity,
-                                   falloff=falloff, seed=seed, influence_radius=influence_radius))
+                                   falloff=falloff, seed=seed, influence_radius=influence_radius, guides=guides))
 
 
 def erase_stroke(scene_handle, radius, only_categories=None):

@@ -54,10 +54,37 @@ def preview_pixels(summary, size=SIZE):
     return pixels.ravel()
 
 
+EDGE = (0.45, 0.47, 0.45, 1.0)
+
+
+def draw_edges(pixels, summary, pattern, size=SIZE):
+    """Draws an arrangement's connectivity (``engine.ArrangementSummary``) as grey lines under the preview's dots."""
+    width, height = summary.preview_size
+    extent = max(width, height, 1e-9)
+    grid = pixels.reshape(size, size, 4)
+    ends = pattern.positions[pattern.edges] / extent * (size - 2) + 0.5  # (E, 2, 2) pixel coordinates
+    t = np.linspace(0.0, 1.0, 2 * size)[None, :, None]
+    samples = (ends[:, :1] * (1.0 - t) + ends[:, 1:] * t).reshape(-1, 2).astype(int)
+    samples = np.clip(samples, 0, size - 1)
+    grid[samples[:, 1], samples[:, 0]] = EDGE
+
+
 def make_preview(color_json, name):
-    """A packed 64x64 image of the color's exemplar; returns the image's name."""
+    """A packed 64x64 image of the color's exemplar (an arrangement's with its connectivity); returns its name."""
     summary = engine.color_summary(color_json)
-    return packed_image(f"WP preview {name}", preview_pixels(summary), SIZE, SIZE)
+    pattern = engine.arrangement_summary(color_json)
+    if pattern is None:
+        pixels = preview_pixels(summary)
+    else:
+        pixels = np.empty((SIZE, SIZE, 4), dtype=np.float32)
+        pixels[:] = BACKGROUND
+        if len(pattern.edges):
+            draw_edges(pixels, summary, pattern)
+        dots = preview_pixels(summary).reshape(SIZE, SIZE, 4)
+        drawn = np.any(dots != np.asarray(BACKGROUND, dtype=np.float32), axis=2)
+        pixels[drawn] = dots[drawn]
+        pixels = pixels.ravel()
+    return packed_image(f"WP preview {name}", pixels, SIZE, SIZE)
 
 
 def packed_image(name, pixels, width, height):

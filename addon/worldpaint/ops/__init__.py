@@ -2,7 +2,7 @@
 
 import bpy
 
-from . import sketch_draw
+from . import arrangement, sketch_draw
 from .blur import WORLDPAINT_OT_blur
 from .brush import WORLDPAINT_OT_brush, WORLDPAINT_OT_brush_radius, WORLDPAINT_OT_erase
 from .clear import WORLDPAINT_OT_clear_region
@@ -64,6 +64,7 @@ _classes = (
     WORLDPAINT_OT_move_village_event,
     WORLDPAINT_OT_apply_sketch,
     *sketch_draw.classes,
+    *arrangement.classes,
 )
 
 _register_classes, _unregister_classes = bpy.utils.register_classes_factory(_classes)

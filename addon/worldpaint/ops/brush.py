@@ -12,6 +12,7 @@ from bpy.props import CollectionProperty, EnumProperty, FloatProperty, StringPro
 
 from ..bridge import WorldPaintError, engine, view
 from ..props import FALLOFFS, WORLDPAINT_PG_stroke_point
+from .arrangement import PatternGuideProperties
 from .background import REFRESH_SECONDS, QueueWorker, with_progress
 from .common import (
     SceneContent,
@@ -127,7 +128,7 @@ class StrokeOperator(TerrainProperty):
         return {'FINISHED'}
 
 
-class WORLDPAINT_OT_brush(StrokeOperator, SynthesisProperties, bpy.types.Operator):
+class WORLDPAINT_OT_brush(PatternGuideProperties, StrokeOperator, SynthesisProperties, bpy.types.Operator):
     """Paint the active color along a stroke on the terrain (F: radius, Esc: cancel the stroke)"""
 
     bl_idname = "worldpaint.brush"
@@ -162,6 +163,7 @@ class WORLDPAINT_OT_brush(StrokeOperator, SynthesisProperties, bpy.types.Operato
             spacing=setting(self, "spacing", settings.brush_spacing),
             opacity=setting(self, "opacity", settings.brush_opacity),
             falloff=setting(self, "falloff", settings.brush_falloff).lower(),
+            guides=self.pattern_guides(context, self._entry.json),
             **self.synthesis_arguments(settings),
         )
 

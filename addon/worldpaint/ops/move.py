@@ -28,8 +28,11 @@ class MoveJob:
         if operator.color:
             self.color = active_color(context, operator.color).json
         else:
-            # the moved content's own statistics
-            self.color = self.content.learn(self.source, "moved", ["slope"])
+            # the moved content's own statistics, learned once for the whole drag
+            try:
+                self.color = self.content.learn(self.source, "moved", ["slope"])
+            except engine.NothingToLearn:
+                self.color = None  # only an arrangement's elements: they move rigidly, with nothing to follow
         self.synthesis = operator.synthesis_arguments(settings)
 
     def compute(self, offset):

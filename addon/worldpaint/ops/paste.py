@@ -8,11 +8,12 @@ import bpy
 from bpy.props import StringProperty
 
 from ..bridge import engine
+from .arrangement import PatternGuideProperties
 from .common import active_color
 from .region_synthesis import RegionSynthesisOperator
 
 
-class WORLDPAINT_OT_paste_color(RegionSynthesisOperator, bpy.types.Operator):
+class WORLDPAINT_OT_paste_color(PatternGuideProperties, RegionSynthesisOperator, bpy.types.Operator):
     """Paste new instances with the statistics of the active color into the region (Esc cancels)"""
 
     bl_idname = "worldpaint.paste_color"
@@ -29,7 +30,7 @@ class WORLDPAINT_OT_paste_color(RegionSynthesisOperator, bpy.types.Operator):
         return self._summary.categories
 
     def _arguments(self, context, region):
-        return {"color": self._entry.json}
+        return {"color": self._entry.json, "guides": self.pattern_guides(context, self._entry.json)}
 
     def _edit(self, result):
         return result.edit

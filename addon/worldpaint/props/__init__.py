@@ -25,6 +25,12 @@ CATEGORY_KINDS = (
     ("graph", "Graph", "Connected elements such as roads or rivers"),
     ("polygon", "Polygon", "Areas such as fields or lakes"),
     ("external", "External", "Context only: conditions others, never synthesized"),
+    ("arrangement", "Arrangement", "Elements of a near-regular pattern (paving, tiles, rows) grown from a reference"),
+)
+
+PATTERN_STARTS = (
+    ("CENTER", "Region Centre", "A pattern pasted where none is around starts at the region's centre"),
+    ("CURSOR", "3D Cursor", "A pattern pasted where none is around starts at the 3D cursor"),
 )
 
 REGION_MODES = (
@@ -92,6 +98,9 @@ class WORLDPAINT_PG_color(bpy.types.PropertyGroup):
         description="Ends of the fidelity plot's axes: distance (m), pcf, slope (degrees; 0 without a slope panel)",
     )
     fidelity_note: StringProperty(name="Fidelity Note", description="Why the color has no fidelity view")
+    pattern_line: StringProperty(
+        name="Pattern", description="How an arrangement color paints (empty: a color of statistics)",
+    )
     fidelity_legend: StringProperty(name="Fidelity Legend",
                                     description="Which hue of the plot is which category, with its own pcf L2")
 
@@ -181,6 +190,15 @@ class WORLDPAINT_PG_settings(bpy.types.PropertyGroup):
     erase_category: StringProperty(name="Erase", description="Category the eraser removes (empty: all)")
     gradient_end: StringProperty(name="To Color", description="Palette color at the end of the gradient")
     stretch_side: EnumProperty(name="Side", items=SIDES, default="EAST")
+    pattern_boundaries: PointerProperty(
+        name="Boundaries", type=bpy.types.Collection,
+        description="Curves in this collection stop a painted arrangement: no element or edge crosses them",
+    )
+    pattern_flow: PointerProperty(
+        name="Flow", type=bpy.types.Collection,
+        description="Curves in this collection orient an arrangement whose rotation follows the flow field",
+    )
+    pattern_start: EnumProperty(name="Start", items=PATTERN_STARTS, default="CENTER")
     village: PointerProperty(type=WORLDPAINT_PG_village)
     terrain_edit: PointerProperty(type=WORLDPAINT_PG_terrain_edit)
     sketch: PointerProperty(type=WORLDPAINT_PG_sketch)

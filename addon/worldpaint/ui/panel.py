@@ -56,6 +56,16 @@ def draw_fidelity(layout, color):
     box.label(text=color.fidelity_line(), icon='GRAPH')
 
 
+def draw_pattern(layout, color):
+    """An arrangement color: how it paints, its settings, and flipping an edge of its reference."""
+    box = layout.box()
+    box.label(text=color.pattern_line, icon='MESH_GRID')
+    row = box.row(align=True)
+    row.operator_context = 'INVOKE_DEFAULT'
+    row.operator("worldpaint.pattern_settings", icon='PREFERENCES')
+    row.operator("worldpaint.flip_pattern_edge", icon='UV_SYNC_SELECT')
+
+
 class WORLDPAINT_PT_palette(MainSubpanel, bpy.types.Panel):
     bl_label = "Palette"
 
@@ -75,7 +85,10 @@ class WORLDPAINT_PT_palette(MainSubpanel, bpy.types.Panel):
             image = bpy.data.images.get(color.preview_image)
             if image is not None and not bpy.app.background:
                 layout.template_icon(icon_value=layout.icon(image), scale=4.0)
-            draw_fidelity(layout, color)
+            if color.pattern_line:
+                draw_pattern(layout, color)
+            else:
+                draw_fidelity(layout, color)
         row = layout.row(align=True)
         row.operator("worldpaint.import_palette", text="Import", icon='IMPORT')
         row.operator("worldpaint.export_palette", text="Export", icon='EXPORT')
@@ -123,8 +136,14 @@ class WORLDPAINT_PT_paint(MainSubpanel, bpy.types.Panel):
         col = enlarged(layout.column(align=True))
         learn = col.operator("worldpaint.learn_color", icon='EYEDROPPER')
         learn.use_elevation, learn.oriented = settings.learn_elevation, settings.learn_oriented
+        col.operator("worldpaint.learn_arrangement", icon='MESH_GRID')
         col.operator("worldpaint.paste_color", icon='BRUSH_DATA')
         col.operator("worldpaint.clear_region", icon='TRASH')
+        box = layout.box()
+        box.label(text="Arrangement guides", icon='CURVE_DATA')
+        box.prop(settings, "pattern_boundaries")
+        box.prop(settings, "pattern_flow")
+        box.prop(settings, "pattern_start")
         box = layout.box()
         box.label(text="Brush, Eraser and Pipette: toolbar", icon='TOOL_SETTINGS')
         box.prop(settings, "brush_radius")

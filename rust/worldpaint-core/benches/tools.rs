@@ -168,7 +168,13 @@ fn main() {
     let mut last = None;
     let move_step = median(&mut c, "move", "5000_one_step", || {
         let t0 = Instant::now();
-        let out = move_region(&moved_scene, &color, &square, DVec2::new(5.0, 0.0), &adapt);
+        let out = move_region(
+            &moved_scene,
+            Some(&color),
+            &square,
+            DVec2::new(5.0, 0.0),
+            &adapt,
+        );
         let dt = t0.elapsed();
         last = out.ok();
         dt

@@ -39,7 +39,7 @@
 //! `t = 0` gives `a` and `t = 1` gives `b` exactly (under the new name); `t` outside [0, 1] or NaN is an
 //! [`crate::Error::OutOfRange`].
 
-use crate::error::{check, Result};
+use crate::error::{check, Error, Result};
 use crate::palette::{
     CategoryColor, Color, GraphColor, Histogram, Interaction, MapInteraction, PairInteraction,
     PolygonColor,
@@ -53,6 +53,13 @@ pub fn interpolate_colors(a: &Color, b: &Color, t: f64, name: &str) -> Result<Co
         let mut c = if t == 0.0 { a.clone() } else { b.clone() };
         c.name = name.to_string();
         return Ok(c);
+    }
+    // a pattern's topology has no halfway point with another's or with statistics
+    if let Some(c) = [a, b].into_iter().find(|c| c.arrangement.is_some()) {
+        return Err(Error::invalid(
+            format!("color '{}'", c.name),
+            "is an arrangement: arrangements cannot be blended with other colors",
+        ));
     }
     let near = if t < 0.5 { a } else { b };
     let lerp = |x: f64, y: f64| (1.0 - t) * x + t * y;
@@ -98,6 +105,7 @@ pub fn interpolate_colors(a: &Color, b: &Color, t: f64, name: &str) -> Result<Co
         graphs,
         polygons,
         preview: near.preview.clone(),
+        arrangement: None,
     };
     color.validate()?;
     Ok(color)

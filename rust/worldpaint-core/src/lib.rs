@@ -32,6 +32,7 @@
 //! | [`tools`] | the painting tools: paste, brush and eraser, move, seam-carving stretch, gradient, blur (§5) |
 //! | [`village`] | villages on arbitrary terrain: growth, roads, parcels, houses (thesis ch. 3) |
 //! | [`waterfall`] | waterfall scenes: controller network, hydraulic graph and flow, terrain-adapted subdivision, slope-flow types, integration mesh, terrain deformation, decoration maps (thesis ch. 4) |
+//! | [`variety`] | model variety (Maréchal et al.): components, connecting regions, variant atlas, assembly with frames, self-intersection rejection, texture components |
 //! | [`arrangement`] | element arrangement by example (Ijiri et al. 2008): reference connectivity, local growth from a seed, relaxation |
 //! | [`exemplar`] | generating processes for demo scenes, tests and benchmarks |
 
@@ -64,10 +65,11 @@ pub mod synthesis;
 pub mod terrain;
 pub mod terrain_edit;
 pub mod tools;
+pub mod variety;
 pub mod village;
 pub mod waterfall;
 
-pub use analysis::{learn_color, AnalysisOptions, HeldGraph, SLOPE_BIN_DEGREES};
+pub use analysis::{learn_arrangement, learn_color, AnalysisOptions, HeldGraph, SLOPE_BIN_DEGREES};
 pub use compare::{compare, learned_back, same_options, self_synthesis, Fidelity};
 pub use error::{check, Error, FileKind, Result};
 pub use geom::Region;

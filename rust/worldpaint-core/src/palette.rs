@@ -7,6 +7,7 @@
 //! [`Error::UnsupportedVersion`], anything unreadable or invalid [`Error::Parse`]; reading never panics. Non-finite numbers
 //! (an unbounded `min_distance`) are written as `null` and read back as `+∞`.
 
+use crate::arrangement::ArrangementColor;
 use crate::error::{check, Error, FileKind, Result};
 use crate::geom::Region;
 use crate::limits;
@@ -313,6 +314,10 @@ pub struct Color {
     /// Exemplar points (x, y, category index into `categories`) relative to the region's bbox min, for the
     /// palette's preview picture.
     pub preview: Vec<[f64; 3]>,
+    /// An arrangement color's reference and painting settings: such a color paints by local growth, its
+    /// categories being the reference's symbols. `None` for a color of statistics.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub arrangement: Option<ArrangementColor>,
 }
 
 /// An ordered set of colors.
@@ -409,6 +414,24 @@ impl Color {
         Ok(color)
     }
 
+    /// A color with no content over `region`, named `name`: what a tool follows where there is nothing to learn.
+    pub fn empty(name: &str, region: &Region) -> Color {
+        Color {
+            name: name.to_string(),
+            region: region.clone(),
+            region_area: region.area(),
+            max_radius: 1.0,
+            bin_width: 1.0 / 24.0,
+            categories: Vec::new(),
+            pairs: Vec::new(),
+            maps: Vec::new(),
+            graphs: Vec::new(),
+            polygons: Vec::new(),
+            preview: Vec::new(),
+            arrangement: None,
+        }
+    }
+
     /// The color without content: no categories, pairs, maps, graphs, polygons or preview; its name, region and
     /// radii kept. Blending with it scales a color's densities; compared with it, densities read 0.
     pub fn emptied(&self) -> Color {
@@ -419,6 +442,7 @@ impl Color {
             graphs: Vec::new(),
             polygons: Vec::new(),
             preview: Vec::new(),
+            arrangement: None,
             ..self.clone()
         }
     }
@@ -472,6 +496,9 @@ impl Color {
         self.validate_maps()?;
         self.validate_graphs()?;
         self.validate_polygons()?;
+        if let Some(pattern) = &self.arrangement {
+            pattern.validate(self.categories.len(), &|path| self.at(path))?;
+        }
         check::at_most_items(
             "preview",
             self.preview.len(),

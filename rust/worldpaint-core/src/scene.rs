@@ -1,5 +1,5 @@
 //! The scene the user paints on (Section 3, "Input data"): object *categories* with a *layer* and a *type*
-//! (distribution, graph, polygon, external), a predefined *priority order* ("Scene objects are generated category
+//! (distribution, graph, polygon, external, arrangement), a predefined *priority order* ("Scene objects are generated category
 //! by category ... we set a predefined category priority order"), the instances of distribution categories, the
 //! paths of graph categories, the contours of polygon categories and the terrain that carries the external maps.
 
@@ -20,6 +20,10 @@ pub enum CategoryKind {
     Polygon,
     /// Content the engine does not synthesize (a terrain map, say): never learned nor painted.
     External,
+    /// Elements of a near-regular pattern (paving stones, roof tiles, vineyard stakes): [`Instance`]s learned as
+    /// an arrangement's reference and painted by local growth ([`crate::arrangement`]), never by a color's
+    /// statistics.
+    Arrangement,
 }
 
 /// A category of scene objects. Lower `priority` value = synthesized first (higher priority).

@@ -247,7 +247,7 @@ fn a_move_off_the_terrain_keeps_what_it_cannot_place() {
     let move_by = |dx: f64| {
         move_region(
             &scene,
-            &color,
+            Some(&color),
             &source,
             DVec2::new(dx, 0.0),
             &AdaptOptions::default(),

@@ -70,7 +70,7 @@ fn a_moved_forest_keeps_its_count_and_what_still_fits() {
         seed: 2,
         ..Default::default()
     };
-    let moved = move_region(&scene, &color, &source, offset, &opts).unwrap();
+    let moved = move_region(&scene, Some(&color), &source, offset, &opts).unwrap();
     let after = moved.edit.applied_to(&scene);
     let destination = source.translated(offset);
     let trees_after = trees_in(&after.instances, tree, &destination);
@@ -126,8 +126,8 @@ fn a_drag_recomputed_from_the_original_does_not_flicker() {
     let (scene, color) = slope_forest();
     let source = source();
     let opts = AdaptOptions::default();
-    let a = move_region(&scene, &color, &source, DVec2::new(0.0, 40.0), &opts).unwrap();
-    let b = move_region(&scene, &color, &source, DVec2::new(0.0, 40.0), &opts).unwrap();
+    let a = move_region(&scene, Some(&color), &source, DVec2::new(0.0, 40.0), &opts).unwrap();
+    let b = move_region(&scene, Some(&color), &source, DVec2::new(0.0, 40.0), &opts).unwrap();
     assert_eq!(a.edit.added, b.edit.added);
     // along Y the slopes do not change: every tree travels rigidly
     let tree = scene.category_index("tree").unwrap();

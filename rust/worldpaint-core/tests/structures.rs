@@ -41,7 +41,7 @@ fn move_and_apply(
 ) -> (worldpaint_core::tools::moving::Moved, Scene) {
     let moved = worldpaint_core::tools::moving::move_region(
         scene,
-        color,
+        Some(color),
         source,
         offset,
         &Default::default(),

@@ -76,7 +76,7 @@ pub(crate) struct Painting<'a> {
 }
 
 /// Declares the Python function `$name(scene, color, region, seed=0, *, influence_radius=None,
-/// iterations_per_instance=None, only_categories=None, progress=None)` that paints a color into a region, with
+/// iterations_per_instance=None, only_categories=None, progress=None, guides=None)` that paints a color into a region, with
 /// the doc comments given before the name, and hands its arguments converted to a [`Painting`] to `$paint`.
 /// pyo3 reads a Python signature off the function's own parameters, so the functions that take the same arguments
 /// share them through this declaration.
@@ -85,7 +85,7 @@ macro_rules! color_painter {
         $(#[$doc])*
         #[pyfunction]
         #[pyo3(signature = (scene, color, region, seed=0, *, influence_radius=None, iterations_per_instance=None,
-                            only_categories=None, progress=None))]
+                            only_categories=None, progress=None, guides=None))]
         #[allow(clippy::too_many_arguments)]
         pub(crate) fn $name<'py>(
             py: Python<'py>,
@@ -97,17 +97,20 @@ macro_rules! color_painter {
             iterations_per_instance: Option<f64>,
             only_categories: Option<Vec<String>>,
             progress: Option<Py<PyAny>>,
+            guides: Option<&Bound<'py, PyAny>>,
         ) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
+            let mut opts = $crate::colors::synthesis_options(
+                seed,
+                influence_radius,
+                iterations_per_instance,
+                only_categories,
+            );
+            opts.guides = $crate::arrangement::guides_from_py(guides)?;
             let painting = $crate::colors::Painting {
                 scene: scene.get().scene(),
                 region: $crate::convert::region_from_py(region)?,
                 color: $crate::convert::parse_color(color)?,
-                opts: $crate::colors::synthesis_options(
-                    seed,
-                    influence_radius,
-                    iterations_per_instance,
-                    only_categories,
-                ),
+                opts,
                 progress,
             };
             $paint(py, painting)

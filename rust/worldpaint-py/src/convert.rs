@@ -148,8 +148,9 @@ pub(crate) fn kind_from_str(s: &str) -> PyResult<CategoryKind> {
         "graph" => Ok(CategoryKind::Graph),
         "polygon" => Ok(CategoryKind::Polygon),
         "external" => Ok(CategoryKind::External),
+        "arrangement" => Ok(CategoryKind::Arrangement),
         other => Err(input_err(format!(
-            "unknown category kind '{other}' (distribution, graph, polygon or external)"
+            "unknown category kind '{other}' (distribution, graph, polygon, external or arrangement)"
         ))),
     }
 }
@@ -160,6 +161,7 @@ pub(crate) fn kind_to_str(k: CategoryKind) -> &'static str {
         CategoryKind::Graph => "graph",
         CategoryKind::Polygon => "polygon",
         CategoryKind::External => "external",
+        CategoryKind::Arrangement => "arrangement",
     }
 }
 

@@ -9,6 +9,7 @@
 //! clear (float32, integers, ...) and are cast to the engine's; an unusable one raises `InputError` naming the
 //! argument (see `arrays`).
 
+mod arrangement;
 mod arrays;
 mod colors;
 mod convert;
@@ -261,6 +262,8 @@ pub(crate) fn with_stages<T: Send>(
 mod worldpaint_engine {
     use pyo3::prelude::*;
 
+    #[pymodule_export]
+    use crate::arrangement::{arrangement_edited, arrangement_summary, learn_arrangement};
     #[pymodule_export]
     use crate::colors::{
         color_renamed, color_summary, color_without_interactions, compare, fidelity,

@@ -27,7 +27,7 @@ use worldpaint_core::tools::gradient::{
 use worldpaint_core::tools::moving::move_region as move_content;
 use worldpaint_core::tools::stretch::{stretch, Side, StretchOptions};
 use worldpaint_core::tools::{clear, paste as paste_color, Edit};
-use worldpaint_core::{compare, learned_back, Scene};
+use worldpaint_core::{compare, learned_back, Scene, SynthesisOptions};
 
 fn edit_result<'py>(py: Python<'py>, edit: &Edit, scene: &Scene) -> PyResult<Bound<'py, PyDict>> {
     edit_to_py(py, edit, scene.terrain.as_deref())
@@ -103,7 +103,7 @@ impl Stroke {
     #[new]
     #[pyo3(signature = (scene, *, color=None, erase=false, only_categories=None, radius=20.0,
                         spacing=0.5, opacity=1.0, falloff="constant", seed=0, influence_radius=None,
-                        iterations_per_instance=None))]
+                        iterations_per_instance=None, guides=None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         scene: &Bound<'_, PyScene>,
@@ -117,6 +117,7 @@ impl Stroke {
         seed: u64,
         influence_radius: Option<f64>,
         iterations_per_instance: Option<f64>,
+        guides: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
         let scene = scene.get().scene();
         let mode = match (erase, color) {
@@ -129,7 +130,10 @@ impl Stroke {
             spacing,
             opacity,
             falloff: falloff_from_str(falloff)?,
-            synthesis: synthesis_options(seed, influence_radius, iterations_per_instance, None),
+            synthesis: SynthesisOptions {
+                guides: crate::arrangement::guides_from_py(guides)?,
+                ..synthesis_options(seed, influence_radius, iterations_per_instance, None)
+            },
         };
         let stroke = CoreStroke::new(scene, mode, opts).map_err(engine_err)?;
         Ok(Stroke {
@@ -176,7 +180,8 @@ impl Stroke {
 }
 
 /// Move the unlocked content of `source` by `offset` (x, y), adapting it to its new place with the statistics of
-/// `color` (JSON); the content it lands on is replaced. Returns the edit with "moved", "displaced", "reborn" and
+/// `color` (JSON; None: those of the moved content), an arrangement's elements rigidly; the content it lands on is
+/// replaced. Returns the edit with "moved", "displaced", "reborn" and
 /// "lost" counts.
 #[pyfunction]
 #[pyo3(signature = (scene, color, source, offset, seed=0, *,
@@ -186,7 +191,7 @@ impl Stroke {
 pub(crate) fn move_region<'py>(
     py: Python<'py>,
     scene: &Bound<'py, PyScene>,
-    color: &str,
+    color: Option<&str>,
     source: &Bound<'py, PyAny>,
     offset: (f64, f64),
     seed: u64,
@@ -196,7 +201,7 @@ pub(crate) fn move_region<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let scene = scene.get().scene();
     let source = region_from_py(source)?;
-    let color = parse_color(color)?;
+    let color = color.map(parse_color).transpose()?;
     let mut opts = AdaptOptions {
         seed,
         influence_radius,
@@ -208,7 +213,7 @@ pub(crate) fn move_region<'py>(
     }
     let offset = DVec2::new(offset.0, offset.1);
     let moved = with_progress(py, None, |_| {
-        move_content(scene, &color, &source, offset, &opts)
+        move_content(scene, color.as_ref(), &source, offset, &opts)
     })?;
     let d = edit_result(py, &moved.edit, scene)?;
     d.set_item("moved", moved.moved)?;

@@ -35,11 +35,13 @@ use crate::palette::{
 };
 use crate::scene::{Category, CategoryKind, Instance, Scene};
 
+mod arrangement;
 pub(crate) mod intensity;
 mod radius;
 pub(crate) mod structure;
 use crate::spatial::{GridEntry, SpatialGrid};
 use crate::terrain::Heightfield;
+pub use arrangement::learn_arrangement;
 use radius::radius_and_bin_width;
 pub(crate) use radius::CLUSTER_EXCESS;
 use rayon::prelude::*;
@@ -167,6 +169,7 @@ pub fn learn_color(
         graphs,
         polygons,
         preview,
+        arrangement: None,
     })
 }
 
@@ -237,7 +240,13 @@ fn exemplar_groups<'s>(
     content: &structure::Structures,
 ) -> Result<Vec<Group<'s>>> {
     let mut order: Vec<usize> = (0..scene.categories.len())
-        .filter(|&c| scene.categories[c].kind != CategoryKind::External)
+        .filter(|&c| {
+            // external content is context only; an arrangement's elements are learned by learn_arrangement
+            !matches!(
+                scene.categories[c].kind,
+                CategoryKind::External | CategoryKind::Arrangement
+            )
+        })
         .collect();
     order.sort_by_key(|&c| (scene.categories[c].priority, c));
     let mut groups: Vec<Group> = Vec::new();

@@ -152,6 +152,7 @@ pub(crate) use adapt::adapt;
 pub use adapt::AdaptOptions;
 
 use crate::analysis::region_lattice;
+pub use crate::arrangement::PatternGuides;
 use crate::contour::{fill, trace};
 use crate::error::{check, Error, Result};
 use crate::geom::{describe_box, DVec2, PreparedRegion, Region, RegionQueries};
@@ -199,6 +200,9 @@ pub struct SynthesisOptions {
     /// its maps confine to a small part of the region (rocks along rivers), whose pair counts cannot be compared
     /// with those the region's whole area would give.
     pub product_model: bool,
+    /// Where an arrangement color's pattern starts, and the curves it must not cross or follows (ignored by other
+    /// colors).
+    pub guides: PatternGuides,
 }
 
 impl Default for SynthesisOptions {
@@ -210,6 +214,7 @@ impl Default for SynthesisOptions {
             categories: None,
             exemplar_on_terrain: true,
             product_model: false,
+            guides: PatternGuides::default(),
         }
     }
 }
@@ -399,6 +404,9 @@ pub(crate) fn synthesize_keeping(
 ) -> Result<SynthesisResult> {
     region.validate()?;
     color.validate()?;
+    if let Some(pattern) = &color.arrangement {
+        return crate::arrangement::paint(scene, color, pattern, region, opts, progress, keep);
+    }
     let influence = checked_influence(color, opts)?;
     let order = priority_order(color, opts.categories.as_deref())?;
     check_terrain(scene, color, &order, region)?;

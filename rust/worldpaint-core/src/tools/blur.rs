@@ -13,7 +13,7 @@
 //! * **Synthesis.** The region's unlocked content is removed and the cells are painted from the outside in,
 //!   each conditioned on the content around the region and on the cells painted before it.
 
-use super::{color_of_region, empty_color, Edit, Working};
+use super::{color_of_region, empty_color, holding_arrangements, Edit, Working};
 use crate::error::{Error, Result};
 use crate::geom::{DVec2, PreparedRegion, Region, RegionQueries};
 use crate::interpolate::interpolate_colors;
@@ -111,6 +111,7 @@ pub fn blur(
             ),
         ));
     }
+    let scene = &*holding_arrangements(scene);
     let windows = windows(scene, region, opts.windows)?;
     let mut work = Working::new(scene);
     work.remove_inside(region);

@@ -18,6 +18,9 @@
 //! the brush centre's closest pass, as a stroke across it would paint it. Over bare ground the color under the
 //! brush is empty and alpha thins the brush color's densities.
 //!
+//! **Spray** (Ijiri et al. 2008, §5.3): an arrangement color's dab grows its pattern into the disc from the
+//! elements around and in it, which stay; other content in the disc is cleared. Opacity and falloff do not apply.
+//!
 //! **Eraser** (thesis 6.5.1, "simply removes all objects within the circular region"): the same stroke in
 //! erase mode removes the unlocked instances (of the chosen categories) within the radius of the brush path.
 
@@ -233,6 +236,20 @@ impl Stroke {
         };
         let r = self.opts.radius;
         let k = self.dabs.len();
+        if color.arrangement.is_some() {
+            // the spray tool grows the pattern into the disc's gaps; a pattern has no alpha
+            self.dabs.push(centre);
+            let mut dab_opts = self.opts.synthesis.clone();
+            dab_opts.seed = mix_seed(self.opts.synthesis.seed, k as u64 + 1);
+            dab_opts.guides.start = Some(centre);
+            let disc = Region::Circle {
+                center: centre,
+                radius: r,
+            };
+            let color = color.clone();
+            self.work.spray(&color, &disc, &dab_opts, progress)?;
+            return Ok(());
+        }
         let earlier: Vec<DVec2> = self
             .dabs
             .iter()

@@ -47,6 +47,26 @@ pub struct Edit {
     pub unseen_maps: Vec<(String, f64)>,
 }
 
+/// The scene with its arrangements' elements held as if locked (same indices, so an edit of it is one of `scene`):
+/// the tools that repaint a region from the colors around it (blur, stretch) leave a pattern as it is.
+pub(crate) fn holding_arrangements(scene: &Scene) -> std::borrow::Cow<'_, Scene> {
+    let pattern: Vec<bool> = scene
+        .categories
+        .iter()
+        .map(|c| c.kind == crate::scene::CategoryKind::Arrangement)
+        .collect();
+    if !pattern.contains(&true) {
+        return std::borrow::Cow::Borrowed(scene);
+    }
+    let mut held = scene.clone();
+    for i in &mut held.instances {
+        if pattern.get(i.category).copied().unwrap_or(false) {
+            i.locked = true;
+        }
+    }
+    std::borrow::Cow::Owned(held)
+}
+
 /// `items` less the indices `removed`, then `added`.
 fn replaced<T: Clone>(items: &[T], removed: &[usize], added: &[T]) -> Vec<T> {
     let mut gone = vec![false; items.len()];
@@ -289,6 +309,32 @@ impl Working {
         self.paths.push(&mut self.scene.paths, result.paths);
         self.contours
             .push(&mut self.scene.contours, result.contours);
+        Ok(n)
+    }
+
+    /// Grows an arrangement color into `region` around the pattern already there (the spray tool, seed §5.3):
+    /// its own elements in the region stay, the other unlocked content there is cleared.
+    pub(crate) fn spray(
+        &mut self,
+        color: &Color,
+        region: &Region,
+        opts: &SynthesisOptions,
+        progress: &(dyn Fn(f64) -> bool + Sync),
+    ) -> Result<usize> {
+        let own: Vec<bool> = self
+            .scene
+            .categories
+            .iter()
+            .map(|c| color.category(&c.name).is_some())
+            .collect();
+        let prepared = PreparedRegion::new(region);
+        self.remove_where(|i| {
+            !own.get(i.category).copied().unwrap_or(false) && prepared.contains(i.position)
+        });
+        self.clear_structures(region);
+        let result = synthesize_keeping(&self.scene, color, region, opts, progress, &|_| true)?;
+        let n = result.instances.len();
+        self.add(result.categories, result.instances);
         Ok(n)
     }
 

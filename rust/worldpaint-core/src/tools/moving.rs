@@ -11,12 +11,12 @@
 //! at the source's border: a moved road ends where the cut was), they replace the unlocked parts in the destination,
 //! and the moved instances adapt to the roads and coasts where they land.
 
-use super::{Edit, Working};
+use super::{color_of_region, Edit, Working};
 use crate::contour::split;
 use crate::error::{Error, Result};
 use crate::geom::{DVec2, PreparedRegion, Region, RegionQueries};
 use crate::palette::Color;
-use crate::scene::{Contour, Instance, Path, Scene};
+use crate::scene::{CategoryKind, Contour, Instance, Path, Scene};
 use crate::synthesis::{adapt, AdaptOptions};
 
 /// What a move did, with its counts.
@@ -37,11 +37,11 @@ pub struct Moved {
     pub stayed: usize,
 }
 
-/// Moves the unlocked content of `source` by `offset`, adapting it with `color`'s statistics (see the module
-/// documentation).
+/// Moves the unlocked content of `source` by `offset`, adapting it with `color`'s statistics, or with those of
+/// the moved content itself when `color` is `None` (see the module documentation).
 pub fn move_region(
     scene: &Scene,
-    color: &Color,
+    color: Option<&Color>,
     source: &Region,
     offset: DVec2,
     opts: &AdaptOptions,
@@ -59,6 +59,16 @@ pub fn move_region(
         .filter(|&k| !scene.instances[k].locked && inside.contains(scene.instances[k].position))
         .collect();
     let structures = move_structures(scene, source, &destination, offset);
+    let learned;
+    let color = match color {
+        Some(c) => c,
+        None => {
+            // only an arrangement's elements move: rigidly, with no statistics to follow
+            learned = color_of_region(scene, source, "moved")?
+                .unwrap_or_else(|| Color::empty("moved", source));
+            &learned
+        }
+    };
     let mut moved = move_instances(
         scene,
         &structures.scene,
@@ -135,11 +145,25 @@ pub(crate) fn move_instances(
         let to = scene.instances[k].position + offset;
         scene.terrain.as_deref().is_none_or(|t| t.contains(to))
     });
+    // an arrangement's elements keep their pattern: they move rigidly and condition the others
+    let (rigid, moving): (Vec<usize>, Vec<usize>) = moving.into_iter().partition(|&k| {
+        scene
+            .categories
+            .get(scene.instances[k].category)
+            .is_some_and(|c| c.kind == CategoryKind::Arrangement)
+    });
+    let carried: Vec<Instance> = rigid
+        .iter()
+        .map(|&k| Instance {
+            position: scene.instances[k].position + offset,
+            ..scene.instances[k]
+        })
+        .collect();
     let landing_area = match scene.terrain.as_deref() {
         Some(t) => t.clip(destination),
         None => Some(destination.clone()),
     };
-    let Some(destination) = landing_area.filter(|_| !moving.is_empty()) else {
+    let Some(destination) = landing_area.filter(|_| !moving.is_empty() || !rigid.is_empty()) else {
         return Ok(Moved {
             edit: Edit {
                 categories: scene.categories.clone(),
@@ -163,8 +187,24 @@ pub(crate) fn move_instances(
     for &k in &stayed {
         removed[k] = false;
     }
-    for &k in &moving {
+    for &k in moving.iter().chain(&rigid) {
         removed[k] = true;
+    }
+    let removed_list: Vec<usize> = (0..removed.len()).filter(|&k| removed[k]).collect();
+    if moving.is_empty() {
+        return Ok(Moved {
+            edit: Edit {
+                categories: scene.categories.clone(),
+                removed: removed_list,
+                added: carried,
+                ..Default::default()
+            },
+            moved: rigid.len(),
+            displaced: 0,
+            reborn: 0,
+            lost: 0,
+            stayed: stayed.len(),
+        });
     }
     let fixed = Scene {
         categories: scene.categories.clone(),
@@ -174,6 +214,7 @@ pub(crate) fn move_instances(
             .zip(&removed)
             .filter(|(_, r)| !**r)
             .map(|(i, _)| *i)
+            .chain(carried.iter().copied())
             .collect(),
         paths: landing.paths.clone(),
         contours: landing.contours.clone(),
@@ -187,22 +228,24 @@ pub(crate) fn move_instances(
         })
         .collect();
     let adapted = adapt(&fixed, color, destination, &anchors, opts)?;
-    let mut added: Vec<Instance> = anchors
-        .iter()
-        .zip(&adapted.positions)
-        .filter_map(|(i, p)| p.map(|position| Instance { position, ..*i }))
-        .collect();
+    let mut added: Vec<Instance> = carried;
+    added.extend(
+        anchors
+            .iter()
+            .zip(&adapted.positions)
+            .filter_map(|(i, p)| p.map(|position| Instance { position, ..*i })),
+    );
     let reborn = adapted.positions.iter().filter(|p| p.is_none()).count();
     let lost = reborn.saturating_sub(adapted.births.len());
     added.extend_from_slice(&adapted.births);
     Ok(Moved {
         edit: Edit {
             categories: adapted.categories,
-            removed: (0..removed.len()).filter(|&k| removed[k]).collect(),
+            removed: removed_list,
             added,
             ..Default::default()
         },
-        moved: moving.len(),
+        moved: moving.len() + rigid.len(),
         displaced: adapted.displaced,
         reborn,
         lost,

@@ -728,6 +728,7 @@ pub(crate) fn scatter_rocks(
         categories: Some(names.clone()),
         exemplar_on_terrain: false,
         product_model: true,
+        ..Default::default()
     };
     let made = synthesize(&scene, &color, &region, &opts)?;
     let rocks = made

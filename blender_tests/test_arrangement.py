@@ -1,0 +1,196 @@
+"""Arrangements as a user makes them: cobbles placed by hand are learned as a pattern, pasted along a path, sprayed
+with the brush, erased, kept through save and reload, and pasted again; guides stop and orient the pattern."""
+
+import math
+
+import bpy
+import numpy as np
+import pytest
+from scene_kit import cobble_reference, flat_terrain, poly_curve, select_only
+from worldpaint.bridge import arrangement, engine
+from worldpaint.bridge.instances import point_cloud_arrays, point_cloud_objects
+
+SPACING = 1.0
+DENSITY = 1.0 / (SPACING * SPACING * math.sqrt(3.0) / 2.0)  # a hexagonal lattice's elements per m²
+REFERENCE = {"region_mode": 'RECT', "rect_min": (9.5, 9.5), "rect_max": (17.5, 15.8)}
+
+
+def stroke(points):
+    return [{"name": "", "location": (float(x), float(y), 0.0)} for x, y in points]
+
+
+def learn_cobbles():
+    terrain_obj = flat_terrain(size=(120.0, 120.0), cell=2.0)
+    bpy.context.scene.worldpaint.terrain = terrain_obj
+    examples = cobble_reference()
+    select_only(examples)
+    assert bpy.ops.worldpaint.learn_arrangement(name="Cobbles", **REFERENCE) == {'FINISHED'}
+    select_only([])
+    return terrain_obj, examples
+
+
+def cobbles():
+    """(co (N, 3), rotation, scale, prototype) of the painted cobbles."""
+    clouds = point_cloud_objects(bpy.context.scene)
+    return point_cloud_arrays(clouds["Cobble"]) if "Cobble" in clouds else (np.zeros((0, 3)),) * 4
+
+
+def nearest(xy):
+    d = np.hypot(*(xy[:, None, :] - xy[None, :, :]).transpose(2, 0, 1))
+    np.fill_diagonal(d, np.inf)
+    return d.min(axis=1)
+
+
+def band_polygon(path, half_width):
+    """A closed polygon around a polyline: its left side out, its right side back."""
+    path = np.asarray(path, dtype=np.float64)
+    tangent = np.gradient(path, axis=0)
+    normal = np.column_stack([-tangent[:, 1], tangent[:, 0]]) / np.linalg.norm(tangent, axis=1)[:, None]
+    return np.vstack([path + half_width * normal, (path - half_width * normal)[::-1]])
+
+
+def test_learn_arrangement_makes_a_pattern_color_with_its_connectivity():
+    learn_cobbles()
+    settings = bpy.context.scene.worldpaint
+    color = settings.palette["Cobbles"]
+    summary = engine.arrangement_summary(color.json)
+    assert len(summary.symbols) == 49 and len(summary.edges) >= 100, summary
+    assert color.pattern_line.startswith("49 reference elements")
+    assert settings.categories["Cobble"].kind == "arrangement"
+    pixels = np.empty(64 * 64 * 4, dtype=np.float32)
+    bpy.data.images[color.preview_image].pixels.foreach_get(pixels)
+    grey = np.all(np.abs(pixels.reshape(-1, 4)[:, :3] - (0.45, 0.47, 0.45)) < 0.01, axis=1)
+    assert grey.sum() > 100, "the preview draws the connectivity's edges"
+
+
+def test_a_pattern_pasted_along_a_path_brushed_erased_saved_and_pasted_again(tmp_path):
+    learn_cobbles()
+    path = [(30.0, 40.0), (50.0, 45.0), (70.0, 60.0), (85.0, 85.0)]
+    t = np.linspace(0.0, 3.0, 31)
+    centre = np.column_stack([np.interp(t, range(4), [p[i] for p in path]) for i in (0, 1)])
+    outline = band_polygon(centre, 4.0)
+    poly_curve("Path", [(x, y, 0.0) for x, y in outline], cyclic=True)
+    x, y = outline[:, 0], outline[:, 1]
+    area = 0.5 * abs(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
+    assert bpy.ops.worldpaint.paste_color(region_mode='CURVE', curve="Path", seed=1) == {'FINISHED'}
+    co = cobbles()[0]
+    gaps = nearest(co[:, :2])
+    print(f"pasted {len(co)} cobbles along the path, {area * DENSITY:.0f} expected; nearest neighbour "
+          f"{gaps.mean():.3f} m mean, {gaps.min():.3f} m closest")
+    assert abs(len(co) / (area * DENSITY) - 1.0) < 0.12
+    assert abs(gaps.mean() / SPACING - 1.0) < 0.06 and gaps.min() > 0.45 * SPACING
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    instanced = sum(1 for i in depsgraph.object_instances if i.is_instance and i.parent is not None
+                    and i.parent.original.get("wp_points") == "Cobble")
+    assert instanced == len(co), "every element is a Geometry Nodes instance"
+
+    before = len(co)
+    assert bpy.ops.worldpaint.brush(stroke=stroke([(20.0, 80.0), (35.0, 80.0)]), radius=3.0, seed=2) == {'FINISHED'}
+    sprayed = cobbles()[0]
+    new = sprayed[before:, :2]
+    assert len(sprayed) - before > 0.7 * (15.0 * 6.0) * DENSITY, f"{len(sprayed) - before} sprayed"
+    assert nearest(sprayed[:, :2]).min() > 0.45 * SPACING
+    assert (np.abs(new[:, 1] - 80.0) <= 3.0 + 1e-6).all()
+
+    assert bpy.ops.worldpaint.erase(stroke=stroke([(25.0, 80.0), (30.0, 80.0)]), radius=2.0) == {'FINISHED'}
+    erased = cobbles()[0]
+    x, y = sprayed[:, 0], sprayed[:, 1]
+    under = np.hypot(x - np.clip(x, 25.0, 30.0), y - 80.0) <= 2.0
+    assert len(sprayed) - len(erased) == under.sum() > 0, "the eraser removes the elements under it, no other"
+
+    blend = str(tmp_path / "cobbles.blend")
+    bpy.ops.wm.save_as_mainfile(filepath=blend)
+    bpy.ops.wm.open_mainfile(filepath=blend)
+    color = bpy.context.scene.worldpaint.palette["Cobbles"]
+    assert color.pattern_line and engine.arrangement_summary(color.json) is not None
+    assert len(cobbles()[0]) == len(erased)
+    assert bpy.ops.worldpaint.paste_color(region_mode='RECT', rect_min=(90.0, 10.0), rect_max=(110.0, 30.0),
+                                          seed=3) == {'FINISHED'}
+    assert abs((len(cobbles()[0]) - len(erased)) / (400.0 * DENSITY) - 1.0) < 0.12
+
+
+def test_pattern_settings_noise_and_a_flipped_edge_are_kept_in_the_color():
+    learn_cobbles()
+    settings = bpy.context.scene.worldpaint
+    assert bpy.ops.worldpaint.pattern_settings(rotation='BEST_FIT', scale_noise=0.1,
+                                               rotation_noise=0.05) == {'FINISHED'}
+    color = settings.palette["Cobbles"]
+    assert "scale noise 0.10" in color.pattern_line
+    assert bpy.ops.worldpaint.paste_color(region_mode='RECT', rect_min=(40.0, 40.0), rect_max=(60.0, 60.0),
+                                          seed=1) == {'FINISHED'}
+    _, _, scale, _ = cobbles()
+    assert 0.07 < np.std(scale) < 0.13, f"scale noise {np.std(scale):.3f}"
+
+    edges = {tuple(e) for e in engine.arrangement_summary(color.json).edges}
+    boundary = engine.arrangement_summary(color.json).boundary
+    a, b = next(e for e in sorted(edges) if not boundary[e[0]] and not boundary[e[1]])
+    assert bpy.ops.worldpaint.flip_pattern_edge(a=a, b=b) == {'FINISHED'}
+    after = {tuple(e) for e in engine.arrangement_summary(color.json).edges}
+    assert (a, b) not in after and len(after) == len(edges), "the diagonal turned, no edge lost"
+    with pytest.raises(RuntimeError, match="edge"):
+        bpy.ops.worldpaint.flip_pattern_edge(a=0, b=48)  # no edge joins the two corners
+    assert {tuple(e) for e in engine.arrangement_summary(color.json).edges} == after, "the color is unchanged"
+
+
+def test_boundary_curves_stop_the_pattern_and_flow_curves_orient_it():
+    learn_cobbles()
+    settings = bpy.context.scene.worldpaint
+    walls = bpy.data.collections.new("Walls")
+    bpy.context.scene.collection.children.link(walls)
+    poly_curve("Wall", [(50.0, 35.0, 0.0), (50.0, 85.0, 0.0)], collection=walls)
+    settings.pattern_boundaries = walls
+    bpy.context.scene.cursor.location = (45.0, 60.0, 0.0)
+    assert bpy.ops.worldpaint.paste_color(region_mode='RECT', rect_min=(40.0, 40.0), rect_max=(60.0, 80.0),
+                                          start='CURSOR', seed=1) == {'FINISHED'}
+    co = cobbles()[0]
+    assert len(co) > 0.8 * 10.0 * 40.0 * DENSITY and (co[:, 0] < 50.0).all(), "nothing crosses the wall"
+
+    flow = bpy.data.collections.new("Flow")
+    bpy.context.scene.collection.children.link(flow)
+    angle = math.radians(20.0)
+    direction = np.array([math.cos(angle), math.sin(angle)])
+    for k, offset in enumerate((-8.0, 8.0)):
+        start = np.array([72.0, 22.0]) + offset * np.array([-direction[1], direction[0]]) - 15.0 * direction
+        end = start + 30.0 * direction
+        poly_curve(f"Stream {k}", [(*start, 0.0), (*end, 0.0)], collection=flow)
+    settings.pattern_flow = flow
+    assert bpy.ops.worldpaint.pattern_settings(rotation='FLOW') == {'FINISHED'}
+    assert bpy.ops.worldpaint.paste_color(region_mode='RECT', rect_min=(65.0, 15.0), rect_max=(79.0, 29.0),
+                                          boundaries="", seed=2) == {'FINISHED'}
+    co, rotation, _, _ = cobbles()
+    new = co[:, 0] > 64.0
+    # a hexagonal pattern looks the same turned by 60°
+    off = np.abs((rotation[new] - angle + math.pi / 6.0) % (math.pi / 3.0) - math.pi / 6.0)
+    print(f"flow: {new.sum()} cobbles, mean angle to the flow {np.degrees(off.mean()):.1f}°")
+    assert new.sum() > 0.8 * 14.0 * 14.0 * DENSITY and np.degrees(off.mean()) < 5.0
+
+
+def test_the_viewport_overlay_picks_the_edge_clicked_on():
+    terrain_obj, _ = learn_cobbles()
+    color = bpy.context.scene.worldpaint.palette["Cobbles"]
+    overlay = arrangement.ReferenceOverlay(color.json, terrain_obj)
+    try:
+        assert len(overlay.edges) == len(engine.arrangement_summary(color.json).edges)
+        assert np.abs(overlay.xyz[:, 2] - arrangement.LIFT).max() < 1e-6, "drawn on the flat ground"
+        for a, b in overlay.edges[::7]:
+            middle = 0.5 * (overlay.xy[a] + overlay.xy[b])
+            assert overlay.edge_near(middle + 0.05) in {(a, b)}, "a click beside an edge's middle picks it"
+        assert overlay.edge_near((60.0, 60.0)) is None, "a click far from the reference picks nothing"
+    finally:
+        overlay.remove()
+
+
+def test_move_carries_the_pattern_rigidly_and_clear_removes_it():
+    learn_cobbles()
+    assert bpy.ops.worldpaint.paste_color(region_mode='RECT', rect_min=(40.0, 40.0), rect_max=(55.0, 55.0),
+                                          seed=1) == {'FINISHED'}
+    before = cobbles()[0][:, :2]
+    assert bpy.ops.worldpaint.move_region(region_mode='RECT', rect_min=(40.0, 40.0), rect_max=(55.0, 55.0),
+                                          offset=(30.0, 10.0)) == {'FINISHED'}
+    after = cobbles()[0][:, :2]
+    assert len(after) == len(before)
+    moved = np.sort((before + (30.0, 10.0)).view(np.complex128).ravel())
+    assert np.abs(np.sort(after.view(np.complex128).ravel()) - moved).max() < 1e-3, "the pattern moved as a whole"
+    assert bpy.ops.worldpaint.clear_region(region_mode='RECT', rect_min=(60.0, 40.0), rect_max=(90.0, 70.0),
+                                           category="Cobble") == {'FINISHED'}
+    assert len(cobbles()[0]) == 0

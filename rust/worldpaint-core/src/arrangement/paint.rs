@@ -1,0 +1,130 @@
+//! An arrangement color painted into a scene: every tool's synthesis of such a color comes here. The region is
+//! grown from the elements of the color's categories already around it ([`grow_around`]), so a paste next to a
+//! pattern, or a spray dab at its edge, continues it without a seam; with none around, growth starts at the
+//! guides' start point or the region's centre. The guides (start, boundary curves, flow curves) come with the
+//! synthesis options; other colors ignore them.
+
+use glam::DVec2;
+
+use super::color::ArrangementColor;
+use super::{grow_around, Element, FlowField, GrowthOptions, Noise};
+use crate::error::{Error, Result};
+use crate::geom::Region;
+use crate::limits;
+use crate::palette::Color;
+use crate::scene::{Instance, Scene};
+use crate::synthesis::{scene_categories, SynthesisOptions, SynthesisResult};
+
+/// What guides a painted pattern (seed §5.3's tools): where it starts, the curves it must not cross, and the
+/// curves whose direction it follows in the flow-field mode.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PatternGuides {
+    /// Where growth starts when no element of the pattern is already around the region (None: its centre).
+    pub start: Option<DVec2>,
+    /// Curves (world XY polylines) no element or connectivity edge crosses: the boundary tool.
+    pub boundaries: Vec<Vec<DVec2>>,
+    /// Curves whose tangents, interpolated, orient the pattern when the color's rotation mode is the flow field.
+    pub flow: Vec<Vec<DVec2>>,
+}
+
+/// The elements already around `region` count within this many of the reference's longest edges: enough to
+/// rebuild the rings of those at its edge.
+const CONTEXT_EDGES: f64 = 3.0;
+
+/// Paints the arrangement `pattern` of `color` into `region` of `scene` (the scene's unlocked content there
+/// already cleared by the tool); `keep` says which of the scene's instances stay to continue from.
+pub(crate) fn paint(
+    scene: &Scene,
+    color: &Color,
+    pattern: &ArrangementColor,
+    region: &Region,
+    opts: &SynthesisOptions,
+    progress: &(dyn Fn(f64) -> bool + Sync),
+    keep: &(dyn Fn(&Instance) -> bool + Sync),
+) -> Result<SynthesisResult> {
+    let reference = pattern.reference()?;
+    let region = match scene.terrain.as_deref() {
+        Some(t) => t.clip(region).ok_or_else(|| Error::RegionOffTerrain {
+            reason: "the region and the terrain do not overlap".into(),
+        })?,
+        None => region.clone(),
+    };
+    let (categories, scene_index) = scene_categories(scene, color);
+    let symbol_of = |category: usize| scene_index.iter().position(|&c| c == category);
+    let reach = CONTEXT_EDGES * reference.longest_edge();
+    let (lo, hi) = region.bbox();
+    let (lo, hi) = (lo - DVec2::splat(reach), hi + DVec2::splat(reach));
+    let existing: Vec<Element> = scene
+        .instances
+        .iter()
+        .filter(|i| i.position.cmpge(lo).all() && i.position.cmple(hi).all() && keep(i))
+        .filter_map(|i| {
+            symbol_of(i.category).map(|s| Element {
+                position: i.position,
+                symbol: s as u32,
+                rotation: i.rotation,
+                scale: 1.0,
+            })
+        })
+        .collect();
+    let flow = match (&pattern.rotation, opts.guides.flow.is_empty()) {
+        (super::PatternRotation::Flow, true) => {
+            return Err(Error::invalid(
+                format!("color '{}'", color.name),
+                "follows a flow field: draw curves for it and pick them as the flow",
+            ))
+        }
+        (_, true) => None,
+        (_, false) => Some(FlowField::from_curves(&opts.guides.flow)?),
+    };
+    let growth = GrowthOptions {
+        rotation: pattern.rotation.mode(),
+        max_elements: limits::MAX_INSTANCES as usize,
+        seed: opts.seed,
+        priorities: color
+            .categories
+            .iter()
+            .enumerate()
+            // a lower category priority value is painted first, a higher growth priority grows first
+            .map(|(k, c)| (k as u32, -c.category.priority))
+            .collect(),
+        relax_every: pattern.relax_every,
+        flow,
+        boundaries: opts.guides.boundaries.clone(),
+        noise: Noise {
+            scale: pattern.scale_noise,
+            rotation: pattern.rotation_noise,
+        },
+        ..Default::default()
+    };
+    let grown = grow_around(
+        &reference,
+        &region,
+        &existing,
+        opts.guides.start,
+        &growth,
+        progress,
+    )?;
+    let instances = grown.elements[existing.len()..]
+        .iter()
+        .zip(&grown.sub_ids[existing.len()..])
+        // relaxation may nudge an element by a few millimetres across the region's edge: the region is the user's
+        .filter(|(e, _)| region.contains(e.position))
+        .map(|(e, &sub)| {
+            let r = &pattern.elements[sub];
+            Instance {
+                position: e.position,
+                rotation: e.rotation,
+                scale: r.scale * e.scale,
+                category: scene_index[e.symbol as usize],
+                prototype: r.prototype,
+                locked: false,
+            }
+        })
+        .collect();
+    Ok(SynthesisResult {
+        categories,
+        instances,
+        ..Default::default()
+    })
+}

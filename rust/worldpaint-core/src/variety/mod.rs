@@ -1,0 +1,68 @@
+//! Model variety: *Component-Based Model Synthesis for Low Polygonal Models* (Maréchal, Galin, Guérin, Akkouche).
+//! One low-polygon model (a tree, a rock, a house) is decomposed into components joined by connecting regions
+//! (§4.1), each component is edited into an atlas of variants (§4.2), and variants are assembled into new models
+//! (§4.3): #V = Π #F_i different objects from Σ #F_i edited pieces. Self-intersections that the original did not
+//! have reject an assembly (§4.3). Texture variety (§5) paints details into texture components packed into atlases
+//! without touching the texture coordinates.
+//!
+//! One concern per file: [`model`] (the mesh), [`decompose`] (components, connecting regions, graph), `frame`
+//! (the least-squares frame of a region), [`atlas`] (variants and their classes, duplicated graphs, local cycles),
+//! `assemble` (choices, count, welding), [`intersect`] (labels and the hierarchy of boxes), `generate` (seeded,
+//! parallel), [`texture`] (§5), [`memory`] (Table 2). Each says the readings it chose where the seed is vague.
+//!
+//! # The API the bindings call
+//!
+//! ```text
+//! Model::new(vertices: Vec<DVec3>, faces: Vec<Vec<u32>>) -> Result<Model>
+//!     .with_uvs(Vec<Vec<DVec2>>) / .with_materials(Vec<u32>) -> Result<Model>
+//! Decomposition::from_labels(&model, labels: &[u32], root: Option<u32>) -> Result<Decomposition>
+//!     .components / .regions / .root, .parent(c), .order(), .component_model(&model, c) -> Result<Model>
+//! Atlas::new(&model, decomposition) -> Result<Atlas>            // variant 0 of each node is the original piece
+//!     .add_variant(c, edited: Model) -> Result<VariantClass>    // Local | SolidTransform | RegionChange
+//!     .local_cycle_candidates() -> Vec<usize>, .add_local_cycle(c, max_repeat) -> Result<()>
+//!     .variants(c) -> &[Variant], .graphs() -> &[AtlasGraph], .cycles() -> &[LocalCycle]
+//!     .count() -> u128                                           // #V
+//!     .choice(index: u128) -> Result<Choice>, .random_choice(&mut rng) -> Choice
+//!     .assemble(&choice) -> Result<Assembled>  // model, face_origin, face_source, instances, max_gap, hash
+//! IntersectionLabels::of_model(&model)
+//! generate(&atlas, &labels, &GenerateOptions { count, seed, max_attempts }) -> Result<Generation>
+//! AssemblyChecker::new(&atlas, &labels).check(&choice) -> Result<Result<Assembled, Rejection>>
+//! check_assemblies(&atlas, &labels, &[Choice]) -> Result<Vec<Result<Assembled, Rejection>>>
+//! memory_report(&atlas, &[Choice]) -> Result<MemoryReport>
+//! Image::new(width, height, rgba: Vec<u8>) -> Result<Image>
+//! TextureComponent::from_edit(&model, &base, &painted) -> Result<TextureComponent>
+//! pack_components(&[TextureComponent]) -> Packing               // §5.2, fewest atlases
+//! atlas_images(&base, &[TextureComponent], &packing) -> Vec<Image>
+//! pick_textures(&[TextureComponent], &packing, face_count, probability, seed) -> Result<TextureChoice>
+//! ```
+//!
+//! A typical call from Blender: build the [`Model`] of the object, labels from its face sets, an [`Atlas`] of the
+//! decomposition; for each edited copy of a component's sub-mesh call [`Atlas::add_variant`] (an error says why an
+//! edit cannot be used); [`generate`] N variants with a seed; write each [`Assembled::model`] as a mesh.
+
+mod assemble;
+pub mod atlas;
+pub mod decompose;
+mod frame;
+mod generate;
+pub mod intersect;
+pub mod memory;
+pub mod model;
+pub mod texture;
+
+pub use assemble::{geometry_hash, Assembled, Choice, Placed};
+pub use atlas::{
+    Atlas, AtlasGraph, LocalCycle, NodeVariant, RegionChange, Variant, VariantClass, TOLERANCE,
+};
+pub use decompose::{Chain, Component, ConnectingRegion, Decomposition};
+pub use frame::fit_similarity;
+pub use generate::{
+    check_assemblies, check_assembly, generate, AssemblyChecker, GenerateOptions, Generation,
+    Rejection,
+};
+pub use intersect::{new_intersection, new_intersection_between_parts, IntersectionLabels};
+pub use memory::{memory_report, MemoryReport};
+pub use model::Model;
+pub use texture::{
+    atlas_images, pack_components, pick_textures, Image, Packing, TextureChoice, TextureComponent,
+};

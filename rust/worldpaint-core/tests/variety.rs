@@ -1,0 +1,743 @@
+//! Model variety (Maréchal et al.) as a user would check it: a tree of six components with three variants each
+//! gives 729 different, crack-free, watertight trees; a deliberate new self-intersection is rejected while the
+//! original's own are kept; the memory overhead reads like the seed's Table 2; a fully cyclic rock refuses a solid
+//! transform; local cycles repeat at most as allowed; conflicting texture components never share an atlas; the same
+//! seed gives the same variants at any thread count; bad input is refused with a message.
+//!
+//! `cargo test -p worldpaint-core --release --test variety -- --nocapture` prints the figures.
+
+#[path = "common/variety_models.rs"]
+mod variety_models;
+
+use std::collections::HashSet;
+use variety_models::{column, edit, rock, tree, tree_atlas, DVec3, Role};
+use worldpaint_core::geom::DVec2;
+use worldpaint_core::variety::{
+    atlas_images, check_assemblies, generate, memory_report, pack_components, pick_textures, Atlas,
+    Choice, Decomposition, GenerateOptions, Image, IntersectionLabels, Model, Rejection,
+    TextureComponent, VariantClass,
+};
+
+fn all_choices(atlas: &Atlas) -> Vec<Choice> {
+    (0..atlas.count())
+        .map(|k| {
+            atlas
+                .choice(k)
+                .expect("every number below the count names an assembly")
+        })
+        .collect()
+}
+
+#[test]
+fn a_tree_of_six_components_with_three_variants_each_gives_729_different_sound_trees() {
+    let t = tree(15);
+    let faces = t.model.faces.len();
+    println!(
+        "test tree: {} vertices, {faces} faces",
+        t.model.vertices.len()
+    );
+    assert!((600..=1000).contains(&faces), "{faces} faces");
+    assert!(t.model.is_watertight(), "the original tree is closed");
+    let (d, atlas, classes) = tree_atlas(&t);
+    assert_eq!(d.components.len(), 6);
+    assert_eq!(
+        d.regions.len(),
+        5,
+        "a tree-like graph of 6 nodes has 5 arcs"
+    );
+    assert!(d.is_tree_like());
+    for r in &d.regions {
+        println!(
+            "  R{}{}: {} vertices in {} chain(s), closed: {:?}",
+            r.components.0,
+            r.components.1,
+            r.vertices.len(),
+            r.chains.len(),
+            r.chains.iter().map(|c| c.closed).collect::<Vec<_>>()
+        );
+        assert_eq!(r.chains.len(), 1);
+        assert!(
+            r.chains[0].closed,
+            "each connecting region is one boundary loop"
+        );
+    }
+    assert_eq!(
+        classes[1][1],
+        VariantClass::SolidTransform,
+        "the bend moves two regions as a solid"
+    );
+    for (c, cl) in classes.iter().enumerate() {
+        println!(
+            "  component {c}: {} faces, variants {:?}",
+            d.components[c].faces.len(),
+            cl
+        );
+        if c != 1 {
+            assert!(cl.iter().all(|&k| k == VariantClass::Local));
+        }
+    }
+    assert_eq!(atlas.count(), 729, "#V = 3^6");
+    let labels = IntersectionLabels::of_model(&t.model);
+    println!(
+        "  intersecting face pairs in the original (allowed): {}",
+        labels.pairs().len()
+    );
+    assert!(
+        !labels.pairs().is_empty(),
+        "the foliage overlaps itself, as a real low-poly tree's does"
+    );
+    let choices = all_choices(&atlas);
+    let results = check_assemblies(&atlas, &labels, &choices).expect("assembly");
+    let mut hashes = HashSet::new();
+    let mut worst_gap: f64 = 0.0;
+    for (choice, r) in choices.iter().zip(&results) {
+        let a = match r {
+            Ok(a) => a,
+            Err(why) => panic!("assembly {choice:?} rejected: {why:?}"),
+        };
+        worst_gap = worst_gap.max(a.max_gap);
+        assert!(a.max_gap <= 1e-6, "crack of {} m", a.max_gap);
+        assert!(
+            a.model.is_watertight(),
+            "assembly {choice:?} has an open edge"
+        );
+        assert!(a.model.validate().is_ok());
+        let uvs = a
+            .model
+            .uvs
+            .as_ref()
+            .expect("the variants share the original's texture coordinates");
+        assert_eq!(uvs.len(), a.model.faces.len());
+        assert_eq!(
+            a.model.materials.as_ref().map(Vec::len),
+            Some(a.model.faces.len())
+        );
+        hashes.insert(a.hash);
+    }
+    println!(
+        "  729 assemblies: {} distinct geometry hashes, all accepted, largest weld gap {worst_gap:.2e} m",
+        hashes.len()
+    );
+    assert_eq!(hashes.len(), 729, "no two assemblies are the same tree");
+    // The bent upper trunk carries the crown with it: the crown turns by the bend's 12° about the axis at z = 5 m.
+    let straight = atlas.assemble(&choices[0]).expect("assembly");
+    let bent_choice = Choice {
+        graph: 0,
+        picks: vec![vec![0], vec![1], vec![0], vec![0], vec![0], vec![0]],
+    };
+    let bent = atlas.assemble(&bent_choice).expect("assembly");
+    let crown_centre = |a: &worldpaint_core::variety::Assembled| {
+        let mut used: Vec<u32> = a
+            .model
+            .faces
+            .iter()
+            .zip(&a.face_component)
+            .filter(|(_, &c)| c == 5)
+            .flat_map(|(f, _)| f.iter().copied())
+            .collect();
+        used.sort_unstable();
+        used.dedup();
+        used.iter()
+            .map(|&v| a.model.vertices[v as usize])
+            .sum::<DVec3>()
+            / used.len() as f64
+    };
+    let (before, after) = (crown_centre(&straight), crown_centre(&bent));
+    let bend = glam::DAffine3::from_translation(DVec3::Z * 5.0)
+        * glam::DAffine3::from_rotation_x(12f64.to_radians())
+        * glam::DAffine3::from_translation(-DVec3::Z * 5.0);
+    println!("  bent upper trunk: crown centre {before:.3} → {after:.3}");
+    assert!(
+        after.distance(bend.transform_point3(before)) < 1e-9,
+        "the frame moves the crown with the bend"
+    );
+    assert!(after.distance(before) > 0.5);
+}
+
+#[test]
+fn a_new_self_intersection_is_rejected_and_the_originals_own_are_kept() {
+    let t = tree(15);
+    let (d, mut atlas, _) = tree_atlas(&t);
+    let labels = IntersectionLabels::of_model(&t.model);
+    // Branch 1 (component 2) with one leaf pushed into the middle of its own branch tube.
+    let comp = &d.components[2];
+    let first_leaf = comp
+        .vertices
+        .iter()
+        .find_map(|&v| match t.roles[v as usize] {
+            Role::Leaf(id) => Some(id),
+            _ => None,
+        })
+        .expect("the branch has leaves");
+    let tube_mid: Vec<DVec3> = comp
+        .vertices
+        .iter()
+        .filter(|&&v| t.roles[v as usize] == Role::Tube(2))
+        .map(|&v| t.model.vertices[v as usize])
+        .collect();
+    let mid = tube_mid.iter().copied().sum::<DVec3>() / tube_mid.len() as f64;
+    let leaf_centre = {
+        let pts: Vec<DVec3> = comp
+            .vertices
+            .iter()
+            .filter(|&&v| t.roles[v as usize] == Role::Leaf(first_leaf))
+            .map(|&v| t.model.vertices[v as usize])
+            .collect();
+        pts.iter().copied().sum::<DVec3>() / pts.len() as f64
+    };
+    let poked = edit(
+        &t,
+        &d,
+        2,
+        |r, p| {
+            if r == Role::Leaf(first_leaf) {
+                p - leaf_centre + mid
+            } else {
+                p
+            }
+        },
+        |_| true,
+    );
+    assert_eq!(
+        atlas.add_variant(2, poked).expect("a local edit"),
+        VariantClass::Local
+    );
+    assert_eq!(atlas.count(), 4 * 243);
+    let choices = all_choices(&atlas);
+    let results = check_assemblies(&atlas, &labels, &choices).expect("assembly");
+    let (mut kept, mut rejected) = (0, 0);
+    for (choice, r) in choices.iter().zip(&results) {
+        let poking = choice.picks[2][0] == 3;
+        match r {
+            Ok(_) => {
+                assert!(!poking, "a tree with the leaf through its branch was kept");
+                kept += 1;
+            }
+            Err(Rejection::SelfIntersection(..)) => {
+                assert!(
+                    poking,
+                    "assembly {choice:?} rejected without the new intersection"
+                );
+                rejected += 1;
+            }
+            Err(other) => panic!("unexpected rejection {other:?}"),
+        }
+    }
+    println!(
+        "  with a leaf poked through branch 1: {kept} kept, {rejected} rejected (of {})",
+        choices.len()
+    );
+    assert_eq!((kept, rejected), (729, 243));
+}
+
+#[test]
+fn reshaping_a_branch_base_adapts_the_trunk_in_a_duplicated_graph() {
+    let t = tree(15);
+    let (d, mut atlas, _) = tree_atlas(&t);
+    // Branch 1's base (its connecting region with the lower trunk) loses its square shape: one corner pulled out.
+    let r02 = d
+        .regions
+        .iter()
+        .position(|r| r.components == (0, 2))
+        .expect("R02");
+    let corner = d.regions[r02].vertices[0];
+    let pulled = t.model.vertices[corner as usize] * DVec3::new(1.15, 1.15, 1.0);
+    let reshaped = edit(
+        &t,
+        &d,
+        2,
+        |_, p| {
+            if p == t.model.vertices[corner as usize] {
+                pulled
+            } else {
+                p
+            }
+        },
+        |_| true,
+    );
+    assert_eq!(
+        atlas.add_variant(2, reshaped).expect("reshaped"),
+        VariantClass::RegionChange
+    );
+    assert_eq!(atlas.graphs().len(), 2, "the graph is duplicated (§4.2.3)");
+    assert_eq!(
+        atlas.count(),
+        729 + 243,
+        "G keeps 3^6; G' holds the reshaped branch with 3^5 others"
+    );
+    let labels = IntersectionLabels::of_model(&t.model);
+    let duplicated: Vec<Choice> = all_choices(&atlas)
+        .into_iter()
+        .filter(|c| c.graph == 1)
+        .collect();
+    assert_eq!(duplicated.len(), 243);
+    let results = check_assemblies(&atlas, &labels, &duplicated).expect("assembly");
+    for (choice, r) in duplicated.iter().zip(results) {
+        let a = r.unwrap_or_else(|why| panic!("{choice:?} rejected: {why:?}"));
+        assert!(
+            a.max_gap <= 1e-6,
+            "the adapted trunk meets the reshaped base"
+        );
+        assert!(a.model.is_watertight());
+        let placed = a
+            .instances
+            .iter()
+            .find(|p| p.component == 0)
+            .expect("the trunk");
+        let on_trunk = placed.placement.transform_point3(pulled);
+        assert!(a.model.vertices.iter().any(|v| v.distance(on_trunk) < 1e-9));
+    }
+    println!(
+        "  reshaped branch base: 243 assemblies in the duplicated graph, all closed and crack-free"
+    );
+}
+
+#[test]
+fn memory_overhead_reads_like_the_seeds_table_2() {
+    let t = tree(15);
+    let (d, atlas, _) = tree_atlas(&t);
+    let choices = all_choices(&atlas);
+    let m = memory_report(&atlas, &choices).expect("memory");
+    println!(
+        "  Model      Components  Variations  Objects  Memory   (seed: Birch 6, 3, 729, +54 %)"
+    );
+    println!(
+        "  test tree  {:>10}  {:>10}  {:>7}  {:+.0} %",
+        m.components, m.variations, m.objects, m.overhead_percent
+    );
+    println!(
+        "  original {} B; atlas {} B; 729 trees as components + placements {} B, as full meshes {} B ({:.0}× more)",
+        m.original_bytes,
+        m.atlas_bytes,
+        m.shared_bytes,
+        m.full_bytes,
+        m.full_bytes as f64 / m.shared_bytes as f64
+    );
+    assert_eq!(
+        (m.components, m.variations, m.objects),
+        (d.components.len(), 3, 729)
+    );
+    assert!(
+        m.overhead_percent > 0.0 && m.overhead_percent < 150.0,
+        "{}",
+        m.overhead_percent
+    );
+    assert!(
+        m.full_bytes > 20 * m.shared_bytes,
+        "sharing components must save most of the memory"
+    );
+}
+
+#[test]
+fn a_fully_cyclic_rock_refuses_a_solid_transform_of_a_connecting_region() {
+    let (model, labels) = rock();
+    let d = Decomposition::from_labels(&model, &labels, None).expect("decomposition");
+    assert_eq!(d.components.len(), 4);
+    assert!(
+        d.is_fully_cyclic(),
+        "each piece touches the others in a cycle"
+    );
+    let mut atlas = Atlas::new(&model, d.clone()).expect("atlas");
+    // The meridian between pieces 1 and 2 turned 8° about the vertical axis: a rigid move of that region only.
+    let r12 = d
+        .regions
+        .iter()
+        .position(|r| r.components == (1, 2))
+        .expect("pieces 1 and 2 touch");
+    let on_meridian: HashSet<u32> = d.regions[r12].vertices.iter().copied().collect();
+    let turn = glam::DQuat::from_rotation_z(8f64.to_radians());
+    let mut turned = d.component_model(&model, 1).expect("sub-mesh");
+    for (k, &v) in d.components[1].vertices.iter().enumerate() {
+        if on_meridian.contains(&v) {
+            turned.vertices[k] = turn * turned.vertices[k];
+        }
+    }
+    let err = atlas
+        .add_variant(1, turned)
+        .expect_err("a solid transform on a cycle must be refused");
+    println!("  refused: {err}");
+    let msg = err.to_string();
+    assert!(
+        msg.contains("fully cyclic") && msg.contains("§4.2.3"),
+        "{msg}"
+    );
+    assert_eq!(atlas.count(), 1, "the refused variant is not in the atlas");
+    // A local bump is fine, and so is reshaping the meridian (the neighbour is adapted in a duplicated graph).
+    let mut bump = d.component_model(&model, 1).expect("sub-mesh");
+    let free = d.components[1]
+        .vertices
+        .iter()
+        .position(|v| !d.regions.iter().any(|r| r.vertices.contains(v)))
+        .expect("a vertex inside the piece");
+    bump.vertices[free] *= 1.2;
+    assert_eq!(
+        atlas.add_variant(1, bump).expect("local"),
+        VariantClass::Local
+    );
+    let mut reshaped = d.component_model(&model, 1).expect("sub-mesh");
+    for (k, &v) in d.components[1].vertices.iter().enumerate() {
+        if on_meridian.contains(&v) {
+            let p = reshaped.vertices[k];
+            reshaped.vertices[k] = DVec3::new(p.x * 1.15, p.y * 1.15, p.z);
+        }
+    }
+    assert_eq!(
+        atlas.add_variant(1, reshaped).expect("reshaped"),
+        VariantClass::RegionChange
+    );
+    assert_eq!(atlas.graphs().len(), 2, "the graph was duplicated");
+    assert_eq!(
+        atlas.count(),
+        3,
+        "2 in the main graph, 1 in the duplicated one"
+    );
+    let labels = IntersectionLabels::of_model(&model);
+    let choices = all_choices(&atlas);
+    for (choice, r) in choices
+        .iter()
+        .zip(check_assemblies(&atlas, &labels, &choices).expect("assembly"))
+    {
+        let a = r.unwrap_or_else(|why| panic!("{choice:?} rejected: {why:?}"));
+        assert!(a.max_gap <= 1e-6 && a.model.is_watertight(), "{choice:?}");
+    }
+    let e = atlas
+        .add_local_cycle(1, 3)
+        .expect_err("no local cycle on a cyclic graph");
+    println!("  refused: {e}");
+    assert!(e.to_string().contains("tree-like"));
+}
+
+#[test]
+fn a_local_cycle_repeats_a_piece_at_most_the_allowed_number_of_times() {
+    let (model, labels) = column();
+    let d = Decomposition::from_labels(&model, &labels, Some(0)).expect("decomposition");
+    let mut atlas = Atlas::new(&model, d.clone()).expect("atlas");
+    let e = atlas
+        .add_local_cycle(0, 3)
+        .expect_err("the base is a terminal node");
+    println!("  refused: {e}");
+    assert!(e.to_string().contains("terminal"));
+    let mut bulge = d.component_model(&model, 1).expect("sub-mesh");
+    for p in bulge
+        .vertices
+        .iter_mut()
+        .filter(|p| (p.z - 1.5).abs() < 1e-9)
+    {
+        *p = DVec3::new(p.x * 1.3, p.y * 1.3, p.z);
+    }
+    assert_eq!(
+        atlas.add_variant(1, bulge).expect("local"),
+        VariantClass::Local
+    );
+    assert_eq!(
+        atlas.local_cycle_candidates(),
+        vec![1],
+        "only the middle piece has identical ends"
+    );
+    atlas
+        .add_local_cycle(1, 3)
+        .expect("the middle piece has identical ends");
+    assert_eq!(atlas.count(), 2 + 4 + 8, "Σ_{{r=1..3}} 2^r");
+    let labels = IntersectionLabels::of_model(&model);
+    let choices = all_choices(&atlas);
+    let mut heights = Vec::new();
+    for (choice, r) in choices
+        .iter()
+        .zip(check_assemblies(&atlas, &labels, &choices).expect("assembly"))
+    {
+        let a = r.unwrap_or_else(|why| panic!("{choice:?} rejected: {why:?}"));
+        assert!(a.max_gap <= 1e-6 && a.model.is_watertight(), "{choice:?}");
+        let h = a.model.bounds().1.z;
+        assert!(
+            (h - (2.0 + choice.picks[1].len() as f64)).abs() < 1e-9,
+            "height {h}"
+        );
+        heights.push(h);
+    }
+    heights.sort_by(f64::total_cmp);
+    heights.dedup();
+    println!("  column heights with 1 to 3 middle pieces: {heights:?}");
+    assert_eq!(heights, vec![3.0, 4.0, 5.0]);
+    let g = generate(
+        &atlas,
+        &labels,
+        &GenerateOptions {
+            count: 14,
+            seed: 3,
+            max_attempts: 400,
+        },
+    )
+    .expect("generate");
+    assert_eq!(
+        g.accepted.len(),
+        14,
+        "every assembly is reachable at random"
+    );
+    assert!(g
+        .accepted
+        .iter()
+        .all(|(c, _)| (1..=3).contains(&c.picks[1].len())));
+    let too_many = Choice {
+        graph: 0,
+        picks: vec![vec![0], vec![0; 4], vec![0]],
+    };
+    let e = atlas
+        .assemble(&too_many)
+        .expect_err("4 copies where 3 are allowed");
+    assert!(e.to_string().contains("1 to 3"), "{e}");
+}
+
+/// A strip of five quads; faces 3 and 4 share one UV island (they overlap in the texture domain).
+fn textured_strip() -> Model {
+    let mut v = Vec::new();
+    for x in 0..6 {
+        v.push(DVec3::new(x as f64, 0.0, 0.0));
+        v.push(DVec3::new(x as f64, 1.0, 0.0));
+    }
+    let faces: Vec<Vec<u32>> = (0..5u32)
+        .map(|q| vec![2 * q, 2 * q + 2, 2 * q + 3, 2 * q + 1])
+        .collect();
+    let island = |i: usize| {
+        let (u0, v0) = ((i % 2) as f64 * 0.5, (i / 2) as f64 * 0.5);
+        vec![
+            DVec2::new(u0 + 0.05, v0 + 0.05),
+            DVec2::new(u0 + 0.45, v0 + 0.05),
+            DVec2::new(u0 + 0.45, v0 + 0.45),
+            DVec2::new(u0 + 0.05, v0 + 0.45),
+        ]
+    };
+    let uvs = vec![island(0), island(1), island(2), island(3), island(3)];
+    Model::new(v, faces)
+        .and_then(|m| m.with_uvs(uvs))
+        .expect("strip")
+}
+
+fn paint(base: &Image, texels: &[(u32, u32)], colour: [u8; 4]) -> Image {
+    let mut out = base.clone();
+    for &(x, y) in texels {
+        let i = ((y * base.width + x) * 4) as usize;
+        out.rgba[i..i + 4].copy_from_slice(&colour);
+    }
+    out
+}
+
+#[test]
+fn conflicting_texture_components_never_share_an_atlas_and_uvs_do_not_change() {
+    let model = textured_strip();
+    let before = model.clone();
+    let base = Image::new(32, 32, vec![128; 32 * 32 * 4]).expect("image");
+    let edits = [
+        paint(&base, &[(4, 4), (5, 4)], [200, 30, 30, 255]), // island 0 (face 0)
+        paint(&base, &[(10, 10)], [30, 200, 30, 255]), // island 0 again: conflicts with the first
+        paint(&base, &[(20, 5)], [30, 30, 200, 255]),  // island 1 (face 1)
+        paint(&base, &[(6, 20)], [200, 200, 30, 255]), // island 2 (face 2)
+        paint(&base, &[(22, 22)], [30, 200, 200, 255]), // island 3: faces 3 and 4 both
+    ];
+    let comps: Vec<TextureComponent> = edits
+        .iter()
+        .map(|e| TextureComponent::from_edit(&model, &base, e).expect("component"))
+        .collect();
+    assert_eq!(comps[0].faces, vec![0]);
+    assert_eq!(
+        comps[4].faces,
+        vec![3, 4],
+        "a painted texel shared by two faces takes both"
+    );
+    assert!(comps[0].conflicts(&comps[1]));
+    assert!(!comps[0].conflicts(&comps[2]));
+    let packing = pack_components(&comps);
+    println!(
+        "  5 texture components packed into {} atlases {:?} (exact: {})",
+        packing.atlases, packing.atlas_of, packing.exact
+    );
+    for i in 0..comps.len() {
+        for j in i + 1..comps.len() {
+            if comps[i].conflicts(&comps[j]) {
+                assert_ne!(
+                    packing.atlas_of[i], packing.atlas_of[j],
+                    "components {i} and {j} conflict"
+                );
+            }
+        }
+    }
+    assert_eq!(
+        packing.atlases, 2,
+        "one conflict needs two atlases, no more"
+    );
+    assert!(packing.exact);
+    let images = atlas_images(&base, &comps, &packing);
+    assert_eq!(images.len(), 2);
+    assert_eq!(
+        images[packing.atlas_of[0]].texel(4 * 32 + 4),
+        [200, 30, 30, 255]
+    );
+    assert_eq!(
+        images[packing.atlas_of[1]].texel(4 * 32 + 4),
+        [128; 4],
+        "component 0 is not in atlas of 1"
+    );
+    let mut shown = vec![0usize; comps.len()];
+    for seed in 0..200 {
+        let pick = pick_textures(&comps, &packing, model.faces.len(), 0.6, seed).expect("pick");
+        let mut owner = vec![None; model.faces.len()];
+        for &k in &pick.chosen {
+            shown[k] += 1;
+            for &f in &comps[k].faces {
+                assert!(
+                    owner[f as usize].is_none(),
+                    "face {f} locked by two components"
+                );
+                owner[f as usize] = Some(k);
+                assert_eq!(pick.face_atlas[f as usize], Some(packing.atlas_of[k]));
+            }
+        }
+        assert!(
+            !(pick.chosen.contains(&0) && pick.chosen.contains(&1)),
+            "0 and 1 share face 0"
+        );
+        assert_eq!(
+            pick,
+            pick_textures(&comps, &packing, model.faces.len(), 0.6, seed).expect("pick")
+        );
+    }
+    println!("  times each component was shown over 200 variants: {shown:?}");
+    assert!(shown.iter().all(|&n| n > 0));
+    let bits = |m: &Model| -> Vec<u64> {
+        m.uvs
+            .iter()
+            .flatten()
+            .flatten()
+            .flat_map(|uv| [uv.x.to_bits(), uv.y.to_bits()])
+            .collect()
+    };
+    assert_eq!(
+        bits(&model),
+        bits(&before),
+        "texture coordinates unchanged, bit for bit"
+    );
+}
+
+#[test]
+fn the_same_seed_gives_the_same_variants_at_any_thread_count() {
+    let t = tree(15);
+    let (_, atlas, _) = tree_atlas(&t);
+    let labels = IntersectionLabels::of_model(&t.model);
+    let options = GenerateOptions {
+        count: 300,
+        seed: 42,
+        max_attempts: 0,
+    };
+    let run = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("pool");
+        pool.install(|| generate(&atlas, &labels, &options).expect("generate"))
+    };
+    let (one, four) = (run(1), run(4));
+    let hashes = |g: &worldpaint_core::variety::Generation| -> Vec<u64> {
+        g.accepted.iter().map(|(_, a)| a.hash).collect()
+    };
+    assert_eq!(one.accepted.len(), 300);
+    assert_eq!(hashes(&one), hashes(&four));
+    assert_eq!(
+        one.accepted.iter().map(|a| &a.0).collect::<Vec<_>>(),
+        four.accepted.iter().map(|a| &a.0).collect::<Vec<_>>()
+    );
+    let distinct: HashSet<u64> = hashes(&one).into_iter().collect();
+    assert_eq!(distinct.len(), 300, "the variants are distinct");
+    let other = generate(
+        &atlas,
+        &labels,
+        &GenerateOptions {
+            seed: 43,
+            ..options.clone()
+        },
+    )
+    .expect("generate");
+    assert_ne!(hashes(&one), hashes(&other), "another seed, other variants");
+    println!("  300 variants, seed 42: identical on 1 and 4 threads; seed 43 differs");
+}
+
+#[test]
+fn bad_input_is_refused_with_a_message() {
+    let ok_vertices = vec![DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::Z];
+    let cases: Vec<(&str, worldpaint_core::Result<Model>, &str)> = vec![
+        (
+            "index out of range",
+            Model::new(ok_vertices.clone(), vec![vec![0, 1, 9]]),
+            "vertex 9",
+        ),
+        (
+            "NaN vertex",
+            Model::new(
+                vec![DVec3::new(f64::NAN, 0.0, 0.0), DVec3::X, DVec3::Y],
+                vec![vec![0, 1, 2]],
+            ),
+            "finite",
+        ),
+        (
+            "two corners",
+            Model::new(ok_vertices.clone(), vec![vec![0, 1]]),
+            "3 corners",
+        ),
+        (
+            "repeated corner",
+            Model::new(ok_vertices.clone(), vec![vec![0, 1, 1]]),
+            "twice",
+        ),
+    ];
+    for (name, result, needle) in cases {
+        let e = result.expect_err(name);
+        println!("  {name}: {e}");
+        assert!(e.to_string().contains(needle), "{name}: {e}");
+    }
+    let t = tree(15);
+    let e = Decomposition::from_labels(&t.model, &[], None).expect_err("empty labels");
+    println!("  empty labels: {e}");
+    assert!(e.to_string().contains("label"));
+    let e = Decomposition::from_labels(&t.model, &t.labels[1..], None).expect_err("short labels");
+    assert!(e.to_string().contains("items where"), "{e}");
+    let (d, mut atlas, _) = tree_atlas(&t);
+    let mut short = d.component_model(&t.model, 2).expect("sub-mesh");
+    short.vertices.truncate(3);
+    short.faces.retain(|f| f.iter().all(|&v| v < 3));
+    short.uvs = None;
+    short.materials = None;
+    let e = atlas
+        .add_variant(2, short)
+        .expect_err("a variant that lost vertices");
+    println!("  variant without the component's vertices: {e}");
+    assert!(e.to_string().contains("delete faces, not vertices"), "{e}");
+    let e = atlas
+        .add_variant(9, t.model.clone())
+        .expect_err("no component 9");
+    assert!(e.to_string().contains("component"), "{e}");
+    let e = atlas.choice(atlas.count()).expect_err("past the count");
+    assert!(e.to_string().contains("past"), "{e}");
+    let e = atlas
+        .assemble(&Choice {
+            graph: 0,
+            picks: vec![vec![7]; 6],
+        })
+        .expect_err("no variant 7");
+    assert!(e.to_string().contains("entry 7"), "{e}");
+    let mut moved_root = d.clone();
+    moved_root.root = 99;
+    let e = Atlas::new(&t.model, moved_root).expect_err("a root that does not exist");
+    assert!(e.to_string().contains("root 99"), "{e}");
+    let e = Atlas::new(&column().0, d.clone()).expect_err("another model");
+    assert!(
+        e.to_string().contains("decomposition was made of one"),
+        "{e}"
+    );
+    let e = Image::new(4, 4, vec![0; 10]).expect_err("short image");
+    assert!(e.to_string().contains("image"), "{e}");
+    let e = TextureComponent::from_edit(
+        &t.model,
+        &Image::new(2, 2, vec![0; 16]).expect("image"),
+        &Image::new(2, 2, vec![0; 16]).expect("image"),
+    )
+    .expect_err("nothing painted");
+    assert!(e.to_string().contains("nothing was painted"), "{e}");
+}
