@@ -4,10 +4,11 @@
 //!
 //! Readings chosen:
 //! - the existing elements' connectivity is rebuilt as [`Reference::new`] builds a reference's (Delaunay, triangles
-//!   with an angle over 2π/3 dropped), also dropping edges longer than 1.5 × the reference's longest edge (the gaps
-//!   between separate patches), and each existing element takes as sub-id the reference element that best matches
+//!   with an angle over 2π/3 dropped), also dropping edges longer than 1.5 × the longest edge of the reference's
+//!   interior rings (the rings growth copies; the reference's hull can hold a triangle of nearly 2π/3 whose long
+//!   side would bridge a missing element at a pattern's frontier), and each existing element takes as sub-id the reference element that best matches
 //!   its ring (eq. (1)–(4) as for a seed, with no sub-id term: the existing sub-ids are not known);
-//! - an existing element within the region, or within one reference longest edge of it, whose ring has fewer
+//! - an existing element within the region, or within that longest ring edge of it, whose ring has fewer
 //!   neighbours than its matched reference element's is *reopened*: it is queued as a seed at its fixed position
 //!   and, when its turn comes, matched again to its current ring, which places seeds for its missing neighbours
 //!   (inside the region only). The pattern grows on from the old one without a seam;
@@ -18,7 +19,9 @@
 //!   region's outline); every new element and seed lies inside the region;
 //! - without a reopened element growth starts with one seed at `start`, or at the region's centroid when it lies
 //!   inside, else at the middle of the widest stretch inside on the scanline through the centroid (or the nearest
-//!   scanline that meets the region); no seed is made within r_short of an existing element;
+//!   scanline that meets the region); that seed is not made within the reference's shortest edge (2 r_short) of
+//!   an existing element, where no element has room (a dab over a full pattern adds nothing), nor any other seed
+//!   within r_short of one;
 //! - noise is drawn after growth, from the same generator, for the new elements in order (scale first, then
 //!   rotation), so that growth is the same with and without it.
 
@@ -26,9 +29,8 @@ use std::collections::HashMap;
 
 use glam::DVec2;
 use rand::Rng;
-use spade::{DelaunayTriangulation, Point2, Triangulation};
 
-use super::connectivity::MAX_TRIANGLE_ANGLE;
+use super::existing::{existing_edges, fallback_sub_id, longest_ring_edge};
 use super::growth::{Grower, State};
 use super::options::GrowthOptions;
 use super::{Arrangement, Element, Reference, RingTarget};
@@ -136,8 +138,8 @@ fn add_existing(
         );
     }
     grower.existing = existing.len();
-    let longest = reference.longest_edge();
-    for (a, b) in existing_edges(existing, 1.5 * longest) {
+    let longest = longest_ring_edge(reference);
+    for (a, b) in existing_edges(reference, existing, 1.5 * longest) {
         grower.connect(a, b);
     }
     let matches: Vec<Option<(usize, usize, f64)>> = (0..existing.len())
@@ -154,7 +156,7 @@ fn add_existing(
             Some((sub_id, ring_len, rotation)) => {
                 let p = existing[i].position;
                 let near_region = grower.region_contains(p)
-                    || grower.region_distance_within(p, longest) <= longest;
+                    || grower.region_distance_within(p, longest) < longest;
                 if grower.adjacency[i].len() < ring_len && near_region {
                     reopened.insert(i, (sub_id, rotation));
                 }
@@ -168,54 +170,6 @@ fn add_existing(
         };
     }
     reopened
-}
-
-/// The sub-id of an existing element no reference ring matches: the first interior reference element of its
-/// symbol, else the first interior one.
-fn fallback_sub_id(reference: &Reference, symbol: u32) -> usize {
-    let interior = |i: &usize| !reference.is_boundary(*i);
-    let n = reference.elements().len();
-    (0..n)
-        .filter(interior)
-        .find(|&i| reference.elements()[i].symbol == symbol)
-        .or_else(|| (0..n).find(interior))
-        .unwrap_or(0)
-}
-
-/// The existing elements' connectivity: Delaunay edges of a triangle with no angle over 2π/3, at most `longest`.
-/// An element at the same place as an earlier one gets no edge.
-fn existing_edges(existing: &[Element], longest: f64) -> Vec<(usize, usize)> {
-    let mut tri: DelaunayTriangulation<Point2<f64>> = DelaunayTriangulation::new();
-    let mut owner: Vec<usize> = Vec::with_capacity(existing.len());
-    for (i, e) in existing.iter().enumerate() {
-        let Ok(handle) = tri.insert(Point2::new(e.position.x, e.position.y)) else {
-            continue;
-        };
-        if handle.index() == owner.len() {
-            owner.push(i);
-        }
-    }
-    let mut edges = Vec::new();
-    for face in tri.inner_faces() {
-        let v = face.vertices().map(|v| v.fix().index());
-        if v.iter().any(|&k| k >= owner.len()) {
-            continue;
-        }
-        let v = v.map(|k| owner[k]);
-        let p = v.map(|i| existing[i].position);
-        if super::connectivity::largest_angle(p) > MAX_TRIANGLE_ANGLE {
-            continue;
-        }
-        for k in 0..3 {
-            let (a, b) = (v[k].min(v[(k + 1) % 3]), v[k].max(v[(k + 1) % 3]));
-            if existing[a].position.distance(existing[b].position) <= longest {
-                edges.push((a, b));
-            }
-        }
-    }
-    edges.sort_unstable();
-    edges.dedup();
-    edges
 }
 
 /// A point inside the region: its centroid if inside, else the middle of the widest stretch inside on the scanline

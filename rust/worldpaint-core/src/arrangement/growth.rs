@@ -38,13 +38,14 @@
 //! the thread count.
 
 use std::cmp::Reverse;
-use std::collections::{BinaryHeap, HashMap, HashSet};
+use std::collections::BinaryHeap;
 
 use glam::DVec2;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 use super::boundary::BoundaryIndex;
+use super::cells::{Cells, FastMap, FastSet};
 use super::connectivity::segments_cross;
 use super::options::{GrowthOptions, RotationMode};
 use super::relax::{solve, Term};
@@ -114,8 +115,7 @@ pub(super) struct Grower<'a> {
     pub(super) existing: usize,
     /// The initial seed, held by the relaxation.
     pub(super) initial: Option<usize>,
-    grid: HashMap<(i64, i64), Vec<usize>>,
-    cell: f64,
+    grid: Cells,
     max_edge: f64,
     pub(super) r_short: f64,
     heap: BinaryHeap<Reverse<(u64, usize)>>,
@@ -161,8 +161,7 @@ impl<'a> Grower<'a> {
             cut: Vec::new(),
             existing: 0,
             initial: None,
-            grid: HashMap::new(),
-            cell,
+            grid: Cells::new(cell),
             max_edge: 0.0,
             r_short: reference.r_short(),
             heap: BinaryHeap::new(),
@@ -180,13 +179,6 @@ impl<'a> Grower<'a> {
         self.region.distance_to_boundary_within(p, max)
     }
 
-    fn cell_of(&self, p: DVec2) -> (i64, i64) {
-        (
-            (p.x / self.cell).floor() as i64,
-            (p.y / self.cell).floor() as i64,
-        )
-    }
-
     /// A new node (not yet queued).
     pub(super) fn add_node(&mut self, position: DVec2, symbol: Option<u32>, state: State) -> usize {
         let id = self.nodes.len();
@@ -198,8 +190,7 @@ impl<'a> Grower<'a> {
         self.adjacency.push(Vec::new());
         self.targets.push(Vec::new());
         self.cut.push(false);
-        let cell = self.cell_of(position);
-        self.grid.entry(cell).or_default().push(id);
+        self.grid.insert(position, id);
         id
     }
 
@@ -215,9 +206,10 @@ impl<'a> Grower<'a> {
         id
     }
 
-    /// A seed at `start` (the initial one), unless an element lies within r_short of it.
+    /// A seed at `start` (the initial one), unless an existing element lies within the reference's shortest edge
+    /// (2 r_short) of it: there is no room for an element there (a spray dab over a full pattern adds nothing).
     pub(super) fn add_initial_seed(&mut self, start: DVec2) {
-        if self.near(start, self.r_short).is_empty() {
+        if !self.any_within(start, 2.0 * self.r_short, None) {
             let id = self.add_seed(start, self.options.initial_symbol);
             self.initial = Some(id);
         }
@@ -225,28 +217,53 @@ impl<'a> Grower<'a> {
 
     /// Live nodes within `radius` of `p`, in index order.
     pub(super) fn near(&self, p: DVec2, radius: f64) -> Vec<usize> {
-        let (lo, hi) = (self.cell_of(p - radius), self.cell_of(p + radius));
         let mut found = Vec::new();
-        for cx in lo.0..=hi.0 {
-            for cy in lo.1..=hi.1 {
-                if let Some(bucket) = self.grid.get(&(cx, cy)) {
-                    found.extend(bucket.iter().copied().filter(|&i| {
-                        self.nodes[i].state != State::Dead
-                            && self.nodes[i].position.distance(p) <= radius
-                    }));
-                }
+        self.grid.any_near(p, radius, |i| {
+            if self.is_within(i, p, radius) {
+                found.push(i);
             }
-        }
+            false
+        });
         found.sort_unstable();
         found
     }
 
-    /// Whether the segment `a`–`b` between node `from` and `to` (a node, or none yet) crosses an existing edge.
+    fn is_within(&self, i: usize, p: DVec2, radius: f64) -> bool {
+        self.nodes[i].state != State::Dead
+            && self.nodes[i].position.distance_squared(p) <= radius * radius
+    }
+
+    /// Whether a live node other than `except` lies within `radius` of `p`.
+    fn any_within(&self, p: DVec2, radius: f64, except: Option<usize>) -> bool {
+        self.grid.any_near(p, radius, |i| {
+            Some(i) != except && self.is_within(i, p, radius)
+        })
+    }
+
+    /// The live node other than `except` nearest to `p` within `radius` (the lower index among equally near ones).
+    fn nearest_within(&self, p: DVec2, radius: f64, except: usize) -> Option<usize> {
+        let mut best: Option<(f64, usize)> = None;
+        self.grid.any_near(p, radius, |i| {
+            if i != except && self.is_within(i, p, radius) {
+                let d = self.nodes[i].position.distance(p);
+                if best.is_none_or(|(bd, bi)| d.total_cmp(&bd).then(i.cmp(&bi)).is_lt()) {
+                    best = Some((d, i));
+                }
+            }
+            false
+        });
+        best.map(|(_, i)| i)
+    }
+
+    /// Whether the segment `a`–`b` between node `from` and `to` (a node, or none yet) crosses an existing edge. An
+    /// edge that crosses it has an end within half its length of the crossing, so within half the segment's
+    /// length and half the longest edge of the segment's middle.
     fn collides(&self, from: usize, to: Option<usize>, a: DVec2, b: DVec2) -> bool {
-        let radius = 0.5 * a.distance(b) + self.max_edge;
-        self.near(0.5 * (a + b), radius).into_iter().any(|u| {
+        let (mid, radius) = (0.5 * (a + b), 0.5 * (a.distance(b) + self.max_edge));
+        self.grid.any_near(mid, radius, |u| {
             u != from
                 && Some(u) != to
+                && self.is_within(u, mid, radius)
                 && self.adjacency[u].iter().any(|&v| {
                     v != from
                         && Some(v) != to
@@ -311,7 +328,7 @@ impl<'a> Grower<'a> {
     pub(super) fn run(
         &mut self,
         expected: f64,
-        reopened: &HashMap<usize, (usize, f64)>,
+        reopened: &std::collections::HashMap<usize, (usize, f64)>,
         progress: &dyn Fn(f64) -> bool,
     ) -> Result<()> {
         while self.placed.len() < self.options.max_elements {
@@ -362,7 +379,7 @@ impl<'a> Grower<'a> {
             .placed
             .len()
             .saturating_sub(2 * self.options.relax_every);
-        let mut local: HashMap<usize, usize> = HashMap::new();
+        let mut local: FastMap<usize, usize> = FastMap::default();
         let mut order: Vec<usize> = Vec::new();
         let mut free: Vec<bool> = Vec::new();
         let mut add = |node: usize, is_free: bool, order: &mut Vec<usize>, free: &mut Vec<bool>| {
@@ -394,8 +411,8 @@ impl<'a> Grower<'a> {
             }
         }
         let mut terms = Vec::new();
-        let mut seen: HashSet<(usize, usize)> = HashSet::new();
-        let mut targeted: HashSet<(usize, usize)> = HashSet::new();
+        let mut seen: FastSet<(usize, usize)> = FastSet::default();
+        let mut targeted: FastSet<(usize, usize)> = FastSet::default();
         for &i in &order[..movers] {
             for &nb in &self.adjacency[i] {
                 for (a, b) in [(i, nb), (nb, i)] {
@@ -432,17 +449,14 @@ impl<'a> Grower<'a> {
             self.keep_off_boundaries(&order[..movers], &x0, &mut x, &local);
         }
         for (k, &i) in order[..movers].iter().enumerate() {
-            // a move that brings the node within r_short of another is not made (Fig. 6 (b) holds after it too)
-            if x[k] == x0[k] || self.near(x[k], self.r_short).iter().any(|&o| o != i) {
+            // a move out of the region, or within r_short of another node, is not made (Fig. 6 (b) holds after it too)
+            if x[k] == x0[k]
+                || !self.region.contains(x[k])
+                || self.any_within(x[k], self.r_short, Some(i))
+            {
                 continue;
             }
-            let (from, to) = (self.cell_of(x0[k]), self.cell_of(x[k]));
-            if from != to {
-                if let Some(bucket) = self.grid.get_mut(&from) {
-                    bucket.retain(|&n| n != i);
-                }
-                self.grid.entry(to).or_default().push(i);
-            }
+            self.grid.shift(i, x0[k], x[k]);
             self.nodes[i].position = x[k];
             for &nb in &self.adjacency[i] {
                 let length = x[k].distance(self.nodes[nb].position);
@@ -458,7 +472,7 @@ impl<'a> Grower<'a> {
         movers: &[usize],
         x0: &[DVec2],
         x: &mut [DVec2],
-        local: &HashMap<usize, usize>,
+        local: &FastMap<usize, usize>,
     ) {
         let at = |x: &[DVec2], n: usize| local.get(&n).map_or(self.nodes[n].position, |&k| x[k]);
         loop {
@@ -544,14 +558,19 @@ impl<'a> Grower<'a> {
             .map(|&t| self.nodes[t].position - p)
             .collect();
         let w = self.options.weights;
+        let fixed_theta = if self.options.rotation == RotationMode::Flow {
+            flow_theta
+        } else {
+            0.0
+        };
+        let fixed_rot = DVec2::from_angle(fixed_theta);
         let mut best: Option<(f64, Match)> = None;
         for &r in &candidates {
             let ring = &self.rings[r];
             let n = ring.offsets.len();
             for shift in 0..n {
                 let theta = match self.options.rotation {
-                    RotationMode::None => 0.0,
-                    RotationMode::Flow => flow_theta,
+                    RotationMode::None | RotationMode::Flow => fixed_theta,
                     RotationMode::BestFit => {
                         let (mut cross, mut dot) = (0.0, 0.0);
                         for (i, qi) in q.iter().enumerate() {
@@ -562,7 +581,10 @@ impl<'a> Grower<'a> {
                         cross.atan2(dot)
                     }
                 };
-                let rot = DVec2::from_angle(theta);
+                let rot = match self.options.rotation {
+                    RotationMode::BestFit => DVec2::from_angle(theta),
+                    _ => fixed_rot,
+                };
                 let mut error = 0.0;
                 for (i, &t) in targets.iter().enumerate() {
                     let slot = (shift + i) % n;
@@ -630,18 +652,7 @@ impl<'a> Grower<'a> {
                 continue;
             }
             // (b) an element or seed already within r_short takes the slot
-            if let Some(&found) = self
-                .near(c, self.r_short)
-                .iter()
-                .filter(|&&i| i != s)
-                .min_by(|&&a, &&b| {
-                    let (da, db) = (
-                        self.nodes[a].position.distance(c),
-                        self.nodes[b].position.distance(c),
-                    );
-                    da.total_cmp(&db).then(a.cmp(&b))
-                })
-            {
+            if let Some(found) = self.nearest_within(c, self.r_short, s) {
                 let fp = self.nodes[found].position;
                 if self.boundaries.crosses(p, fp) {
                     self.cut[s] = true;
@@ -720,7 +731,7 @@ impl<'a> Grower<'a> {
             self.cut[s] = true;
             return;
         }
-        if !self.near(x, self.r_short).is_empty() || self.collides(s, None, p, x) {
+        if self.any_within(x, self.r_short, None) || self.collides(s, None, p, x) {
             return;
         }
         let seed = self.add_seed(x, None);

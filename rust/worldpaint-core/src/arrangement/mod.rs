@@ -24,18 +24,21 @@
 //! Built so far: the reference's connectivity with edge flips, growth with the non-rotation, best-fit rotation and
 //! flow-field modes ([`FlowField`], a thin-plate spline through the directions of drawn strokes), seed priorities,
 //! the region and boundary curves as limits of growth, growth next to existing elements ([`grow_around`]: a paste
-//! beside an earlier pattern, the spray tool's dabs), scale and rotation noise, relaxation. Still to come: the
-//! arrangement as a color of the palette, the Python binding and the Blender tools (colour noise is theirs).
+//! beside an earlier pattern, the spray tool's dabs), scale and rotation noise, relaxation, and the arrangement as a
+//! color of the palette ([`ArrangementColor`]) painted into a scene by every tool. Colour noise is the caller's.
 //!
 //! The modules are one concern each: [`connectivity`] (analysis), `options` (what a growth is asked), `flow` (the
-//! flow field), `boundary` (the boundary curves' index), `growth` (local growth), `around` (growing next to
-//! existing elements, the start, the result and its noise), `relax` (relaxation). Each says the readings it chose
-//! where the seed is vague.
+//! flow field), `boundary` (the boundary curves' index), `cells` (the growth's grid of nodes), `growth` (local
+//! growth), `around` (growing next to existing elements, the start, the result and its noise), `existing` (the
+//! existing elements' connectivity), `relax` (relaxation), `color` (the arrangement as a color), `paint` (a color
+//! painted into a scene). Each says the readings it chose where the seed is vague.
 
 mod around;
 mod boundary;
+mod cells;
 mod color;
 pub mod connectivity;
+mod existing;
 mod flow;
 mod growth;
 mod options;

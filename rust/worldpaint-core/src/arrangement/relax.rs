@@ -4,7 +4,8 @@
 //! user-specified boundaries, we constrain elements at their generated positions."
 //!
 //! Readings: the constrained elements are the initial one and those flagged
-//! [`super::Arrangement::at_region_boundary`]; a neighbour an element was not placed with (an edge built later, or a
+//! [`super::Arrangement::at_region_boundary`] (stopped by the region or a boundary curve, or existing elements that
+//! [`super::grow_around`] grew next to); a neighbour an element was not placed with (an edge built later, or a
 //! topology change) keeps its current offset as its target, as the seed does for elements that "lose an edge or get
 //! an extra edge". Instead of Lagrange multipliers the constraints are substituted, leaving a sparse symmetric
 //! positive definite normal system `A x = b` (A a graph Laplacian of the free elements plus the pull of the fixed
