@@ -2,7 +2,7 @@
 
 import bpy
 
-from . import sketch, terrain_edit, tools, village
+from . import sketch, terrain_edit, tools, variety, village
 from .lists import WORLDPAINT_UL_categories, WORLDPAINT_UL_interactions, WORLDPAINT_UL_palette
 from .panel import (
     WORLDPAINT_PT_edit,
@@ -24,6 +24,7 @@ _classes = (
     *village.classes,
     *terrain_edit.classes,
     *sketch.classes,
+    *variety.classes,
 )
 
 _register_classes, _unregister_classes = bpy.utils.register_classes_factory(_classes)

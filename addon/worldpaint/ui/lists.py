@@ -12,6 +12,8 @@ class WORLDPAINT_UL_categories(bpy.types.UIList):
         if item.kind == "graph":
             row.prop(item, "width", text="")
             row.prop(item, "depth", text="")
+        elif item.kind in {"distribution", "arrangement"}:
+            row.prop(item, "variants", text="", icon='OUTLINER_OB_GROUP_INSTANCE')
         row.prop(item, "priority", text="")
 
 

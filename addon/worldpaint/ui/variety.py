@@ -1,0 +1,54 @@
+"""The Model Variety panel: decompose the active mesh, see its components, generate variants."""
+
+import bpy
+
+from .panel import MainSubpanel, enlarged
+
+
+class WORLDPAINT_UL_components(bpy.types.UIList):
+    def draw_item(self, _context, layout, _data, item, _icon, _active_data, _active_propname, _index):
+        row = layout.row(align=True)
+        row.label(text=item.name, icon='MESH_DATA')
+        row.label(text=f"{item.faces} faces")
+        row.label(text=f"joined to {item.regions}")
+
+
+class WORLDPAINT_PT_variety(MainSubpanel, bpy.types.Panel):
+    bl_label = "Model Variety"
+    bl_options = {'DEFAULT_CLOSED'}
+
+    def draw(self, context):
+        layout = self.layout
+        obj = context.view_layer.objects.active
+        if obj is None or obj.type != 'MESH':
+            layout.label(text="Select a low-poly mesh (a tree, a rock, a house)")
+            return
+        settings = obj.worldpaint_variety
+        box = layout.box()
+        box.prop(settings, "source")
+        if settings.source == 'ATTRIBUTE':
+            box.prop(settings, "attribute")
+        box.prop(settings, "root")
+        decompose = enlarged(box.column()).operator("worldpaint.decompose_model", icon='MOD_EXPLODE')
+        decompose.source, decompose.attribute, decompose.root = settings.source, settings.attribute, settings.root
+        if not settings.components:
+            return
+        layout.label(text=settings.graph, icon='NODETREE')
+        layout.template_list("WORLDPAINT_UL_components", "", settings, "components", settings, "active_component",
+                             rows=3)
+        layout.label(text="Edit copies of a part in its collection to make variants", icon='INFO')
+        box = layout.box()
+        row = box.row(align=True)
+        row.prop(settings, "count")
+        row.prop(settings, "seed")
+        col = enlarged(box.column(), invoke=True)
+        generate = col.operator("worldpaint.generate_variants", icon='OUTLINER_OB_GROUP_INSTANCE')
+        generate.count, generate.seed = settings.count, settings.seed
+        if settings.report:
+            box.label(text=settings.report)
+        if settings.generated is not None:
+            box.label(text="Paint with them: set a category's Variants to this collection")
+            box.prop(settings, "generated")
+
+
+classes = (WORLDPAINT_UL_components, WORLDPAINT_PT_variety)
