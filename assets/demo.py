@@ -16,8 +16,11 @@
 7. A block of vines planted by hand in rows becomes the arrangement "Vineyard" (Ijiri et al. 2008); pasted into a
    clearing of the forest, its rows grow along the hillside's contour lines, drawn as two flow curves.
 
+The forest's trees are 36 variants of one low-poly tree (Maréchal et al.): cut into three parts, each part edited
+into a few copies, assembled into every combination; each painted tree shows the variant least used around it.
+
 Writes OUT/demo.blend and renders OUT/demo.png (and a close-up of the vineyard, OUT/demo_vineyard.png) with
-Workbench. Usage: python assets/demo.py [--out out]
+Workbench, with the tree variants side by side in OUT/demo_variants.png. Usage: python assets/demo.py [--out out]
 """
 
 import argparse
@@ -39,12 +42,15 @@ from scene_kit import (  # noqa: E402
     collection_instances,
     engine_terrain_object,
     poly_curve,
+    segmented_tree,
     select_only,
     slope_exemplar,
     top_camera,
+    tree_variants,
     village_exemplar,
     vineyard_reference,
 )
+from worldpaint.bridge import variety  # noqa: E402
 from worldpaint.bridge.curves import structure_objects  # noqa: E402
 
 HILLS_SIZE = 600.0
@@ -102,6 +108,22 @@ def build_and_learn():
     run(bpy.ops.worldpaint.learn_color, name="Village", terrain=village_ground.name, region_mode='RECT',
         rect_min=VILLAGE_ORIGIN, rect_max=(x0 + VILLAGE_SIZE, y0 + VILLAGE_SIZE))
     return hills
+
+
+def vary_trees():
+    """36 variants of a low-poly tree, made off the painted area, that the forest's trees then show."""
+    tree = segmented_tree("Tree model")
+    tree.location = (-600.0, -300.0, 0.0)
+    bpy.context.view_layer.objects.active = tree
+    run(bpy.ops.worldpaint.decompose_model, object=tree.name, source='ATTRIBUTE', attribute="part", root=0)
+    tree_variants(tree)
+    run(bpy.ops.worldpaint.generate_variants, object=tree.name, count=36, seed=1)
+    settings = tree.worldpaint_variety
+    bpy.context.scene.worldpaint.categories["Tree"].variants = settings.generated
+    variety.hide_collection(bpy.context.scene, settings.parts)
+    tree.hide_render = tree.hide_viewport = True
+    print(f"tree variants: {settings.report}")
+    return settings.generated
 
 
 def paint(hills):
@@ -233,6 +255,27 @@ def render(path):
     bpy.ops.render.render(write_still=True)
 
 
+def render_variants(variants, path, shown=12):
+    """The first tree variants side by side, seen from the side."""
+    scene = bpy.context.scene
+    showcase = bpy.data.collections.new("Variant showcase")
+    scene.collection.children.link(showcase)
+    for k, source in enumerate(list(variants.objects)[:shown]):
+        obj = bpy.data.objects.new(f"showcase {k}", source.data)
+        obj.location = (-900.0 + 4.0 * k, -900.0, 0.0)
+        showcase.objects.link(obj)
+    cam = scene.camera
+    cam.data.type = 'ORTHO'
+    cam.data.ortho_scale = 4.0 * shown + 2.0
+    cam.location = (-900.0 + 2.0 * (shown - 1), -960.0, 3.5)
+    cam.rotation_euler = (math.radians(90.0), 0.0, 0.0)
+    scene.render.resolution_x, scene.render.resolution_y = 1200, 300
+    scene.render.filepath = str(path)
+    bpy.ops.render.render(write_still=True)
+    cam.data.type = 'PERSP'
+    bpy.data.collections.remove(showcase)
+
+
 def render_vineyard(path):
     """A close-up of the vineyard's rows on the hillside."""
     scene = bpy.context.scene
@@ -258,6 +301,7 @@ def main():
     bpy.ops.wm.read_factory_settings(use_empty=True)
     start = time.perf_counter()
     hills = build_and_learn()
+    variants = vary_trees()
     paint(hills)
     grow_hamlet(hills)
     build_waterfall(hills)
@@ -269,6 +313,7 @@ def main():
     bpy.ops.wm.save_as_mainfile(filepath=str(out / "demo.blend"))
     render(out / "demo.png")
     render_vineyard(out / "demo_vineyard.png")
+    render_variants(variants, out / "demo_variants.png")
     print(f"learned, painted and grew the hamlet in {painted:.1f} s; wrote {out / 'demo.blend'} and {out / 'demo.png'}")
 
 

@@ -377,3 +377,43 @@ def segmented_tree(name="Column tree", sides=8, radius=0.4, height=1.5, crown=(1
     obj = bpy.data.objects.new(name, mesh)
     bpy.context.scene.collection.objects.link(obj)
     return obj
+
+
+def tilt_ring(obj, above, angle, axis):
+    """Turns the vertices of a part's mesh above height ``above`` about the horizontal ``axis`` ('X' or 'Y') through
+    (0, 0, above), as a solid: the part's top ring leans and what stands on it follows."""
+    c, s = math.cos(angle), math.sin(angle)
+    for v in obj.data.vertices:
+        if v.co.z > above - 1e-3:
+            z = v.co.z - above
+            if axis == 'X':
+                v.co.y, v.co.z = v.co.y * c - z * s, above + v.co.y * s + z * c
+            else:
+                v.co.x, v.co.z = v.co.x * c - z * s, above + v.co.x * s + z * c
+
+
+def edited_part(tree, label, name):
+    """A copy of a decomposed part's piece in its collection, as Shift+D makes one."""
+    collection = tree.worldpaint_variety.parts.children[f"{tree.name} part {label}"]
+    piece = collection["wp_part"]
+    copy = piece.copy()
+    copy.data = piece.data.copy()
+    copy.name = name
+    collection.objects.link(copy)
+    return copy
+
+
+def tree_variants(tree, height=1.5):
+    """Edited copies of a decomposed ``segmented_tree``'s parts: both trunk segments leaning two ways, the crown
+    taller, shorter and narrower (4 x 3 x 3 = 36 trees)."""
+    for label, above in ((0, height), (1, 2 * height)):
+        for k, (angle, axis) in enumerate(((0.15, 'X'), (-0.12, 'Y'))):
+            tilt_ring(edited_part(tree, label, f"lean {label}.{k}"), above, angle, axis)
+    for name, dz in (("tall", 1.2), ("short", -0.8)):
+        crown = edited_part(tree, 2, f"crown {name}")
+        apex = max(crown.data.vertices, key=lambda v: v.co.z)
+        apex.co.z += dz
+    narrow = edited_part(tree, 2, "crown narrow")
+    for v in narrow.data.vertices:
+        if math.hypot(v.co.x, v.co.y) > 0.5:
+            v.co.x, v.co.y = 0.7 * v.co.x, 0.7 * v.co.y

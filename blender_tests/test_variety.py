@@ -6,26 +6,10 @@ import math
 import bpy
 import numpy as np
 import pytest
-from scene_kit import segmented_tree, select_only, slope_exemplar
-from worldpaint.bridge import variety
+from scene_kit import edited_part, segmented_tree, select_only, slope_exemplar, tilt_ring, tree_variants
 from worldpaint.bridge.instances import point_cloud_arrays, point_cloud_objects
 
 EXEMPLAR = {"region_mode": 'RECT', "rect_min": (0.0, 0.0), "rect_max": (100.0, 100.0)}
-
-
-def part(obj, label):
-    return obj.worldpaint_variety.parts.children[f"{obj.name} part {label}"]
-
-
-def edited_copy(obj, label, name):
-    """A copy of a part's piece in its collection, as the user makes one (Shift+D, then edit it)."""
-    collection = part(obj, label)
-    piece = collection[variety.PART_TAG]
-    copy = piece.copy()
-    copy.data = piece.data.copy()
-    copy.name = name
-    collection.objects.link(copy)
-    return copy
 
 
 def closed(mesh):
@@ -43,21 +27,16 @@ def decomposed_tree_with_variants():
     assert bpy.ops.worldpaint.decompose_model(object=tree.name, source='ATTRIBUTE', attribute="part",
                                               root=0) == {'FINISHED'}
     # the crown taller (a local change: its ring to the trunk untouched), by moving the apex in the mesh
-    tall = edited_copy(tree, 2, "Crown tall")
+    tall = edited_part(tree, 2, "Crown tall")
     apex = max(tall.data.vertices, key=lambda v: v.co.z)
     apex.co.z += 1.0
     # the crown narrower: its brim drawn in, its ring to the trunk untouched (a local change too)
-    narrow = edited_copy(tree, 2, "Crown narrow")
+    narrow = edited_part(tree, 2, "Crown narrow")
     for v in narrow.data.vertices:
         if math.hypot(v.co.x, v.co.y) > 0.5:
             v.co.x, v.co.y = 0.7 * v.co.x, 0.7 * v.co.y
     # the upper trunk leaning: its top ring turned as a solid about its centre, so the crown follows it
-    lean = edited_copy(tree, 1, "Trunk leaning")
-    turn = np.radians(12.0)
-    for v in lean.data.vertices:
-        if v.co.z > 2.9:
-            y, z = v.co.y, v.co.z - 3.0
-            v.co.y, v.co.z = y * math.cos(turn) - z * math.sin(turn), 3.0 + y * math.sin(turn) + z * math.cos(turn)
+    tilt_ring(edited_part(tree, 1, "Trunk leaning"), 3.0, np.radians(12.0), 'X')
     return tree
 
 
@@ -114,3 +93,14 @@ def test_generated_variants_are_distinct_crack_free_and_paint_a_forest(tmp_path)
     tree = bpy.data.objects["Column tree"]
     assert tree.worldpaint_variety.total == "6" and len(tree.worldpaint_variety.generated.objects) == 6
     assert bpy.context.scene.worldpaint.categories["Tree"].variants == tree.worldpaint_variety.generated
+
+
+def test_thirty_six_trees_from_nine_edited_parts():
+    tree = segmented_tree()
+    bpy.context.view_layer.objects.active = tree
+    assert bpy.ops.worldpaint.decompose_model(source='ATTRIBUTE', attribute="part", root=0) == {'FINISHED'}
+    tree_variants(tree)
+    assert bpy.ops.worldpaint.generate_variants(count=36, seed=3) == {'FINISHED'}
+    settings = tree.worldpaint_variety
+    assert settings.total == "36" and len(settings.generated.objects) == 36, settings.report
+    assert all(closed(o.data) for o in settings.generated.objects)
