@@ -10,7 +10,7 @@
 //! Each connecting region of the variant is classified ([`RegionChange`]):
 //! - **untouched** (every vertex within the tolerance of its place): §4.2.1, a local change when all are;
 //! - **solid**: moved by one similarity (translation, rotation, uniform scale) fitted by least squares
-//!   ([`super::frame`]): §4.2.2, the map is stored as the region's frame and applied at assembly to the subtree
+//!   ([`super::fit_similarity`]): §4.2.2, the map is stored as the region's frame and applied at assembly to the subtree
 //!   beyond it. When the moved region is the one towards the root, the whole variant is brought back by the inverse
 //!   map (the same geometry seen from its parent), so that only regions towards the leaves carry frames;
 //! - **changed**: any other move, §4.2.3. Reading chosen: the graph is duplicated into a graph G' in which node N_i
@@ -282,9 +282,10 @@ impl Atlas {
         }
         let class = if regions.iter().any(|r| r.1 == RegionChange::Changed) {
             VariantClass::RegionChange
-        } else if regions
-            .iter()
-            .any(|r| matches!(r.1, RegionChange::Solid(_)))
+        } else if normalised_by != DAffine3::IDENTITY
+            || regions
+                .iter()
+                .any(|r| matches!(r.1, RegionChange::Solid(_)))
         {
             VariantClass::SolidTransform
         } else {
