@@ -15,6 +15,7 @@
 //! ```text
 //! Model::new(vertices: Vec<DVec3>, faces: Vec<Vec<u32>>) -> Result<Model>
 //!     .with_uvs(Vec<Vec<DVec2>>) / .with_materials(Vec<u32>) -> Result<Model>
+//! labels_from_cut(&model, paths: &[Vec<u32>]) -> Result<Vec<u32>>  // a cut along existing vertices (§4.1)
 //! Decomposition::from_labels(&model, labels: &[u32], root: Option<u32>) -> Result<Decomposition>
 //!     .components / .regions / .root, .parent(c), .order(), .component_model(&model, c) -> Result<Model>
 //! Atlas::new(&model, decomposition) -> Result<Atlas>            // variant 0 of each node is the original piece
@@ -54,7 +55,7 @@ pub use assemble::{geometry_hash, Assembled, Choice, Placed};
 pub use atlas::{
     Atlas, AtlasGraph, LocalCycle, NodeVariant, RegionChange, Variant, VariantClass, TOLERANCE,
 };
-pub use decompose::{Chain, Component, ConnectingRegion, Decomposition};
+pub use decompose::{labels_from_cut, Chain, Component, ConnectingRegion, Decomposition};
 pub use frame::fit_similarity;
 pub use generate::{
     check_assemblies, check_assembly, generate, AssemblyChecker, GenerateOptions, Generation,
