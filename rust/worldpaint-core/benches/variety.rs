@@ -43,7 +43,10 @@ fn main() {
             panic!("the benchmark's fourth variant: {e}");
         }
     }
-    let labels = IntersectionLabels::of_model(&t.model);
+    let labels = match IntersectionLabels::of_model(&t.model) {
+        Ok(l) => l,
+        Err(e) => panic!("the benchmark's labels: {e}"),
+    };
     let options = GenerateOptions {
         count: 1000,
         seed: 1,
@@ -84,7 +87,7 @@ fn main() {
     });
     let labels_s = timing::median(&mut g, "labels", || {
         let start = Instant::now();
-        black_box(IntersectionLabels::of_model(&t.model));
+        black_box(IntersectionLabels::of_model(&t.model).ok());
         start.elapsed()
     });
     g.finish();

@@ -384,9 +384,15 @@ impl Decomposition {
                 format!("{c} is not one of the {} components", self.components.len()),
             )
         })?;
+        let stale = || {
+            Error::invalid(
+                format!("decomposition component {c}"),
+                "it lists a face the model does not have (check it with revalidate)",
+            )
+        };
         let mut faces = Vec::with_capacity(comp.faces.len());
         for &f in &comp.faces {
-            let face = &model.faces[f as usize];
+            let face = model.faces.get(f as usize).ok_or_else(stale)?;
             let mut local = Vec::with_capacity(face.len());
             for &v in face {
                 local.push(comp.local_index(v).unwrap_or(0) as u32);
@@ -397,8 +403,8 @@ impl Decomposition {
             vertices: comp
                 .vertices
                 .iter()
-                .map(|&v| model.vertices[v as usize])
-                .collect(),
+                .map(|&v| model.vertices.get(v as usize).copied().ok_or_else(stale))
+                .collect::<Result<_>>()?,
             faces,
             uvs: model.uvs.as_ref().map(|uvs| {
                 comp.faces
