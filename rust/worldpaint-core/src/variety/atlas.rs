@@ -12,7 +12,8 @@
 //! - **solid**: moved by one similarity (translation, rotation, uniform scale) fitted by least squares
 //!   ([`super::fit_similarity`]): §4.2.2, the map is stored as the region's frame and applied at assembly to the subtree
 //!   beyond it. When the moved region is the one towards the root, the whole variant is brought back by the inverse
-//!   map (the same geometry seen from its parent), so that only regions towards the leaves carry frames;
+//!   map (the same geometry seen from its parent: a branch whose base was turned leaves the trunk tilted the other
+//!   way), so that only regions towards the leaves carry frames; such a variant is still a solid transform;
 //! - **changed**: any other move, §4.2.3. Reading chosen: the graph is duplicated into a graph G' in which node N_i
 //!   holds this variant only and each neighbour N_j across a changed region holds every variant of F_j adapted to
 //!   it — their region's vertices put where the changed variant put them (through F_j's own frame on that region,
