@@ -43,10 +43,7 @@ fn main() {
             panic!("the benchmark's fourth variant: {e}");
         }
     }
-    let labels = match IntersectionLabels::of_model(&t.model) {
-        Ok(l) => l,
-        Err(e) => panic!("the benchmark's labels: {e}"),
-    };
+    let labels = IntersectionLabels::of_model(&t.model);
     let options = GenerateOptions {
         count: 1000,
         seed: 1,
@@ -87,7 +84,7 @@ fn main() {
     });
     let labels_s = timing::median(&mut g, "labels", || {
         let start = Instant::now();
-        black_box(IntersectionLabels::of_model(&t.model).ok());
+        black_box(IntersectionLabels::of_model(&t.model));
         start.elapsed()
     });
     g.finish();

@@ -77,7 +77,7 @@ fn a_tree_of_six_components_with_three_variants_each_gives_729_different_sound_t
         }
     }
     assert_eq!(atlas.count(), 729, "#V = 3^6");
-    let labels = IntersectionLabels::of_model(&t.model).expect("labels");
+    let labels = IntersectionLabels::of_model(&t.model);
     println!(
         "  intersecting face pairs in the original (allowed): {}",
         labels.pairs().len()
@@ -158,7 +158,7 @@ fn a_tree_of_six_components_with_three_variants_each_gives_729_different_sound_t
 fn a_new_self_intersection_is_rejected_and_the_originals_own_are_kept() {
     let t = tree(15);
     let (d, mut atlas, _) = tree_atlas(&t);
-    let labels = IntersectionLabels::of_model(&t.model).expect("labels");
+    let labels = IntersectionLabels::of_model(&t.model);
     // Branch 1 (component 2) with one leaf pushed into the middle of its own branch tube.
     let comp = &d.components[2];
     let first_leaf = comp
@@ -265,7 +265,7 @@ fn reshaping_a_branch_base_adapts_the_trunk_in_a_duplicated_graph() {
         729 + 243,
         "G keeps 3^6; G' holds the reshaped branch with 3^5 others"
     );
-    let labels = IntersectionLabels::of_model(&t.model).expect("labels");
+    let labels = IntersectionLabels::of_model(&t.model);
     let duplicated: Vec<Choice> = all_choices(&atlas)
         .into_iter()
         .filter(|c| c.graph == 1)
@@ -334,7 +334,7 @@ fn turning_a_branch_base_as_a_solid_tilts_the_branch() {
         v.normalised_by != glam::DAffine3::IDENTITY,
         "brought back by the inverse turn"
     );
-    let labels = IntersectionLabels::of_model(&t.model).expect("labels");
+    let labels = IntersectionLabels::of_model(&t.model);
     let mut picks = vec![vec![0]; 6];
     picks[3] = vec![3];
     let choice = Choice { graph: 0, picks };
@@ -468,7 +468,7 @@ fn a_fully_cyclic_rock_refuses_a_solid_transform_of_a_connecting_region() {
         3,
         "2 in the main graph, 1 in the duplicated one"
     );
-    let labels = IntersectionLabels::of_model(&model).expect("labels");
+    let labels = IntersectionLabels::of_model(&model);
     let choices = all_choices(&atlas);
     for (choice, r) in choices
         .iter()
@@ -515,7 +515,7 @@ fn a_local_cycle_repeats_a_piece_at_most_the_allowed_number_of_times() {
         .add_local_cycle(1, 3)
         .expect("the middle piece has identical ends");
     assert_eq!(atlas.count(), 2 + 4 + 8, "Σ_{{r=1..3}} 2^r");
-    let labels = IntersectionLabels::of_model(&model).expect("labels");
+    let labels = IntersectionLabels::of_model(&model);
     let choices = all_choices(&atlas);
     let mut heights = Vec::new();
     for (choice, r) in choices
@@ -698,7 +698,7 @@ fn conflicting_texture_components_never_share_an_atlas_and_uvs_do_not_change() {
 fn the_same_seed_gives_the_same_variants_at_any_thread_count() {
     let t = tree(15);
     let (_, atlas, _) = tree_atlas(&t);
-    let labels = IntersectionLabels::of_model(&t.model).expect("labels");
+    let labels = IntersectionLabels::of_model(&t.model);
     let options = GenerateOptions {
         count: 300,
         seed: 42,
@@ -806,6 +806,10 @@ fn bad_input_is_refused_with_a_message() {
     )
     .expect_err("face origins of the wrong length");
     assert!(e.to_string().contains("face origins"), "{e}");
+    let mut broken = t.model.clone();
+    broken.faces[0][0] = 99_999;
+    assert!(broken.validate().is_err());
+    let _ = IntersectionLabels::of_model(&broken); // no panic: the bad face's triangles are left out
     let mut moved_root = d.clone();
     moved_root.root = 99;
     let e = Atlas::new(&t.model, moved_root).expect_err("a root that does not exist");

@@ -31,14 +31,14 @@ pub struct IntersectionLabels {
 }
 
 impl IntersectionLabels {
-    /// Labels the intersecting face pairs of `model` (the original).
-    pub fn of_model(model: &Model) -> Result<IntersectionLabels> {
-        model.validate()?;
-        Ok(IntersectionLabels {
+    /// Labels the intersecting face pairs of `model` (the original). A face corner that names no vertex leaves its
+    /// triangles out (validate the model first to be told).
+    pub fn of_model(model: &Model) -> IntersectionLabels {
+        IntersectionLabels {
             pairs: intersecting_faces(model, |_, _| false, usize::MAX)
                 .into_iter()
                 .collect(),
-        })
+        }
     }
 
     /// The labelled pairs (lower face first), sorted.
@@ -82,7 +82,9 @@ struct Soup {
 
 impl Soup {
     fn of(model: &Model) -> Soup {
-        let tris = model.triangles();
+        let n = model.vertices.len();
+        let mut tris = model.triangles();
+        tris.retain(|(_, t)| t.iter().all(|&v| (v as usize) < n));
         let corners: Vec<[DVec3; 3]> = tris
             .iter()
             .map(|(_, t)| t.map(|v| model.vertices[v as usize]))
@@ -124,7 +126,7 @@ fn overlaps(a: &(DVec3, DVec3), b: &(DVec3, DVec3)) -> bool {
 }
 
 /// Pairs of faces (lower first) with intersecting non-adjacent triangles, skipping those `allowed` says may
-/// intersect, stopping after `limit` pairs. The model must be valid.
+/// intersect, stopping after `limit` pairs.
 pub(crate) fn intersecting_faces(
     model: &Model,
     allowed: impl Fn(u32, u32) -> bool,
@@ -483,7 +485,7 @@ mod tests {
             DVec3::new(9.0, 0.0, 1.0),
         ];
         let m = Model::new(v, vec![vec![0, 1, 2], vec![3, 4, 5], vec![6, 7, 8]]).unwrap();
-        let labels = IntersectionLabels::of_model(&m).unwrap();
+        let labels = IntersectionLabels::of_model(&m);
         assert_eq!(labels.pairs(), vec![(0, 1)]);
         let origin = vec![Some(0), Some(1), Some(2)];
         assert_eq!(new_intersection(&m, &origin, &labels).unwrap(), None);

@@ -25,7 +25,7 @@
 //!     .count() -> u128                                           // #V
 //!     .choice(index: u128) -> Result<Choice>, .random_choice(&mut rng) -> Choice
 //!     .assemble(&choice) -> Result<Assembled>  // model, face_origin, face_source, instances, max_gap, hash
-//! IntersectionLabels::of_model(&model) -> Result<IntersectionLabels>   // the original's own intersections (§4.3)
+//! IntersectionLabels::of_model(&model) -> IntersectionLabels   // the original's own intersections (§4.3)
 //! new_intersection(&model, face_origin, &labels) -> Result<Option<(u32, u32)>>
 //! generate(&atlas, &labels, &GenerateOptions { count, seed, max_attempts }) -> Result<Generation>
 //! AssemblyChecker::new(&atlas, &labels).check(&choice) -> Result<Result<Assembled, Rejection>>
