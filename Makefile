@@ -93,6 +93,7 @@ bench: engine
 	cargo bench -p worldpaint-core --bench village
 	cargo bench -p worldpaint-core --bench terrain_edit
 	cargo bench -p worldpaint-core --bench waterfall
+	cargo bench -p worldpaint-core --bench variety
 	$(PY) blender_tests/bench_blender.py
 
 # An installable Blender extension with the engine wheel inside; needs no Blender binary.

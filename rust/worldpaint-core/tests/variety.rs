@@ -293,6 +293,83 @@ fn reshaping_a_branch_base_adapts_the_trunk_in_a_duplicated_graph() {
 }
 
 #[test]
+fn turning_a_branch_base_as_a_solid_tilts_the_branch() {
+    let t = tree(15);
+    let (d, mut atlas, _) = tree_atlas(&t);
+    // Branch 2's base quad turned 10° about its own centre (a solid move of its region with the trunk): the trunk
+    // cannot follow, so the branch is brought back by the inverse turn — it leaves the trunk tilted.
+    let r03 = d
+        .regions
+        .iter()
+        .position(|r| r.components == (0, 3))
+        .expect("R03");
+    let base: Vec<DVec3> = d.regions[r03]
+        .vertices
+        .iter()
+        .map(|&v| t.model.vertices[v as usize])
+        .collect();
+    let centre = base.iter().copied().sum::<DVec3>() / base.len() as f64;
+    let turn = glam::DAffine3::from_translation(centre)
+        * glam::DAffine3::from_rotation_z(10f64.to_radians())
+        * glam::DAffine3::from_translation(-centre);
+    let turned = edit(
+        &t,
+        &d,
+        3,
+        |_, p| {
+            if base.iter().any(|b| b.distance(p) < 1e-12) {
+                turn.transform_point3(p)
+            } else {
+                p
+            }
+        },
+        |_| true,
+    );
+    assert_eq!(
+        atlas.add_variant(3, turned).expect("solid"),
+        VariantClass::SolidTransform
+    );
+    let v = &atlas.variants(3)[3];
+    assert!(
+        v.normalised_by != glam::DAffine3::IDENTITY,
+        "brought back by the inverse turn"
+    );
+    let labels = IntersectionLabels::of_model(&t.model);
+    let mut picks = vec![vec![0]; 6];
+    picks[3] = vec![3];
+    let choice = Choice { graph: 0, picks };
+    let a = worldpaint_core::variety::check_assembly(&atlas, &labels, &choice)
+        .expect("assembly")
+        .expect("kept");
+    assert!(a.max_gap <= 1e-6 && a.model.is_watertight());
+    let plain = atlas
+        .assemble(&atlas.choice(0).expect("choice"))
+        .expect("assembly");
+    let branch_centre = |a: &worldpaint_core::variety::Assembled| {
+        let mut used: Vec<u32> = a
+            .model
+            .faces
+            .iter()
+            .zip(&a.face_component)
+            .filter(|(_, &c)| c == 3)
+            .flat_map(|(f, _)| f.iter().copied())
+            .collect();
+        used.sort_unstable();
+        used.dedup();
+        used.iter()
+            .map(|&v| a.model.vertices[v as usize])
+            .sum::<DVec3>()
+            / used.len() as f64
+    };
+    let moved = branch_centre(&a).distance(branch_centre(&plain));
+    println!(
+        "  turned branch base: kept, closed, crack-free; the branch's centre moved {moved:.3} m"
+    );
+    assert!(moved > 0.1, "the branch tilts");
+    assert_ne!(a.hash, plain.hash);
+}
+
+#[test]
 fn memory_overhead_reads_like_the_seeds_table_2() {
     let t = tree(15);
     let (d, atlas, _) = tree_atlas(&t);
@@ -722,6 +799,17 @@ fn bad_input_is_refused_with_a_message() {
         })
         .expect_err("no variant 7");
     assert!(e.to_string().contains("entry 7"), "{e}");
+    let e = worldpaint_core::variety::new_intersection(
+        &t.model,
+        &[None; 3],
+        &IntersectionLabels::default(),
+    )
+    .expect_err("face origins of the wrong length");
+    assert!(e.to_string().contains("face origins"), "{e}");
+    let mut broken = t.model.clone();
+    broken.faces[0][0] = 99_999;
+    assert!(broken.validate().is_err());
+    let _ = IntersectionLabels::of_model(&broken); // no panic: the bad face's triangles are left out
     let mut moved_root = d.clone();
     moved_root.root = 99;
     let e = Atlas::new(&t.model, moved_root).expect_err("a root that does not exist");

@@ -10,9 +10,10 @@
 //! Each connecting region of the variant is classified ([`RegionChange`]):
 //! - **untouched** (every vertex within the tolerance of its place): §4.2.1, a local change when all are;
 //! - **solid**: moved by one similarity (translation, rotation, uniform scale) fitted by least squares
-//!   ([`super::frame`]): §4.2.2, the map is stored as the region's frame and applied at assembly to the subtree
+//!   ([`super::fit_similarity`]): §4.2.2, the map is stored as the region's frame and applied at assembly to the subtree
 //!   beyond it. When the moved region is the one towards the root, the whole variant is brought back by the inverse
-//!   map (the same geometry seen from its parent), so that only regions towards the leaves carry frames;
+//!   map (the same geometry seen from its parent: a branch whose base was turned leaves the trunk tilted the other
+//!   way), so that only regions towards the leaves carry frames; such a variant is still a solid transform;
 //! - **changed**: any other move, §4.2.3. Reading chosen: the graph is duplicated into a graph G' in which node N_i
 //!   holds this variant only and each neighbour N_j across a changed region holds every variant of F_j adapted to
 //!   it — their region's vertices put where the changed variant put them (through F_j's own frame on that region,
@@ -282,9 +283,10 @@ impl Atlas {
         }
         let class = if regions.iter().any(|r| r.1 == RegionChange::Changed) {
             VariantClass::RegionChange
-        } else if regions
-            .iter()
-            .any(|r| matches!(r.1, RegionChange::Solid(_)))
+        } else if normalised_by != DAffine3::IDENTITY
+            || regions
+                .iter()
+                .any(|r| matches!(r.1, RegionChange::Solid(_)))
         {
             VariantClass::SolidTransform
         } else {

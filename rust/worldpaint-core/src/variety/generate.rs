@@ -8,7 +8,7 @@
 
 use super::assemble::{Assembled, Choice};
 use super::atlas::{Atlas, TOLERANCE};
-use super::intersect::{intersecting_faces, new_intersection_between_parts, IntersectionLabels};
+use super::intersect::{between_parts, intersecting_faces, IntersectionLabels};
 use super::model::Model;
 use crate::error::{Error, Result};
 use rand::SeedableRng;
@@ -133,7 +133,7 @@ impl<'a> AssemblyChecker<'a> {
         }
         let parts: Vec<u32> = a.face_source.iter().map(|s| s.0).collect();
         Ok(
-            match new_intersection_between_parts(&a.model, &a.face_origin, &parts, self.labels) {
+            match between_parts(&a.model, &a.face_origin, &parts, self.labels) {
                 Some((f, g)) => Err(Rejection::SelfIntersection(f, g)),
                 None => Ok(a),
             },

@@ -20,6 +20,7 @@
 //! checked alone does not see; only a contact exactly at that distance could be judged differently.)
 
 use super::model::Model;
+use crate::error::{check, Result};
 use glam::DVec3;
 use std::collections::HashSet;
 
@@ -30,7 +31,8 @@ pub struct IntersectionLabels {
 }
 
 impl IntersectionLabels {
-    /// Labels the intersecting face pairs of `model` (the original).
+    /// Labels the intersecting face pairs of `model` (the original). A face corner that names no vertex leaves its
+    /// triangles out (validate the model first to be told).
     pub fn of_model(model: &Model) -> IntersectionLabels {
         IntersectionLabels {
             pairs: intersecting_faces(model, |_, _| false, usize::MAX)
@@ -58,7 +60,9 @@ pub fn new_intersection(
     model: &Model,
     face_origin: &[Option<u32>],
     labels: &IntersectionLabels,
-) -> Option<(u32, u32)> {
+) -> Result<Option<(u32, u32)>> {
+    model.validate()?;
+    check::same_len("face origins", face_origin.len(), model.faces.len())?;
     let allowed = |a: u32, b: u32| match (
         face_origin.get(a as usize).copied().flatten(),
         face_origin.get(b as usize).copied().flatten(),
@@ -66,7 +70,7 @@ pub fn new_intersection(
         (Some(oa), Some(ob)) => labels.allows(oa, ob),
         _ => false,
     };
-    intersecting_faces(model, allowed, 1).into_iter().next()
+    Ok(intersecting_faces(model, allowed, 1).into_iter().next())
 }
 
 /// The model's triangles with their faces, corners and boxes.
@@ -78,7 +82,9 @@ struct Soup {
 
 impl Soup {
     fn of(model: &Model) -> Soup {
-        let tris = model.triangles();
+        let n = model.vertices.len();
+        let mut tris = model.triangles();
+        tris.retain(|(_, t)| t.iter().all(|&v| (v as usize) < n));
         let corners: Vec<[DVec3; 3]> = tris
             .iter()
             .map(|(_, t)| t.map(|v| model.vertices[v as usize]))
@@ -121,7 +127,7 @@ fn overlaps(a: &(DVec3, DVec3), b: &(DVec3, DVec3)) -> bool {
 
 /// Pairs of faces (lower first) with intersecting non-adjacent triangles, skipping those `allowed` says may
 /// intersect, stopping after `limit` pairs.
-pub fn intersecting_faces(
+pub(crate) fn intersecting_faces(
     model: &Model,
     allowed: impl Fn(u32, u32) -> bool,
     limit: usize,
@@ -158,6 +164,26 @@ pub fn intersecting_faces(
 /// are not an original intersection by `face_origin`: the check of an assembly whose parts were each checked alone.
 /// Each part gets its own hierarchy; only parts whose boxes overlap are queried, the smaller against the larger.
 pub fn new_intersection_between_parts(
+    model: &Model,
+    face_origin: &[Option<u32>],
+    face_part: &[u32],
+    labels: &IntersectionLabels,
+) -> Result<Option<(u32, u32)>> {
+    model.validate()?;
+    check::same_len("face origins", face_origin.len(), model.faces.len())?;
+    check::same_len("face parts", face_part.len(), model.faces.len())?;
+    let mut ids: Vec<u32> = face_part.to_vec();
+    ids.sort_unstable();
+    ids.dedup();
+    let dense: Vec<u32> = face_part
+        .iter()
+        .map(|p| ids.binary_search(p).unwrap_or(0) as u32)
+        .collect();
+    Ok(between_parts(model, face_origin, &dense, labels))
+}
+
+/// [`new_intersection_between_parts`] on a valid model with parts numbered densely from 0.
+pub(crate) fn between_parts(
     model: &Model,
     face_origin: &[Option<u32>],
     face_part: &[u32],
@@ -462,8 +488,11 @@ mod tests {
         let labels = IntersectionLabels::of_model(&m);
         assert_eq!(labels.pairs(), vec![(0, 1)]);
         let origin = vec![Some(0), Some(1), Some(2)];
-        assert_eq!(new_intersection(&m, &origin, &labels), None);
+        assert_eq!(new_intersection(&m, &origin, &labels).unwrap(), None);
         let origin = vec![Some(0), None, Some(2)];
-        assert_eq!(new_intersection(&m, &origin, &labels), Some((0, 1)));
+        assert_eq!(
+            new_intersection(&m, &origin, &labels).unwrap(),
+            Some((0, 1))
+        );
     }
 }

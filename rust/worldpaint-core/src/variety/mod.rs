@@ -16,6 +16,7 @@
 //! ```text
 //! Model::new(vertices: Vec<DVec3>, faces: Vec<Vec<u32>>) -> Result<Model>
 //!     .with_uvs(Vec<Vec<DVec2>>) / .with_materials(Vec<u32>) -> Result<Model>
+//! labels_from_cut(&model, paths: &[Vec<u32>]) -> Result<Vec<u32>>  // a cut along existing vertices (§4.1)
 //! Decomposition::from_labels(&model, labels: &[u32], root: Option<u32>) -> Result<Decomposition>
 //!     .components / .regions / .root, .parent(c), .order(), .component_model(&model, c) -> Result<Model>
 //! Atlas::new(&model, decomposition) -> Result<Atlas>            // variant 0 of each node is the original piece
@@ -25,7 +26,8 @@
 //!     .count() -> u128                                           // #V
 //!     .choice(index: u128) -> Result<Choice>, .random_choice(&mut rng) -> Choice
 //!     .assemble(&choice) -> Result<Assembled>  // model, face_origin, face_source, instances, max_gap, hash
-//! IntersectionLabels::of_model(&model)
+//! IntersectionLabels::of_model(&model) -> IntersectionLabels   // the original's own intersections (§4.3)
+//! new_intersection(&model, face_origin, &labels) -> Result<Option<(u32, u32)>>
 //! generate(&atlas, &labels, &GenerateOptions { count, seed, max_attempts }) -> Result<Generation>
 //! AssemblyChecker::new(&atlas, &labels).check(&choice) -> Result<Result<Assembled, Rejection>>
 //! check_assemblies(&atlas, &labels, &[Choice]) -> Result<Vec<Result<Assembled, Rejection>>>
@@ -57,7 +59,7 @@ pub use assign::assign_variants;
 pub use atlas::{
     Atlas, AtlasGraph, LocalCycle, NodeVariant, RegionChange, Variant, VariantClass, TOLERANCE,
 };
-pub use decompose::{Chain, Component, ConnectingRegion, Decomposition};
+pub use decompose::{labels_from_cut, Chain, Component, ConnectingRegion, Decomposition};
 pub use frame::fit_similarity;
 pub use generate::{
     check_assemblies, check_assembly, generate, AssemblyChecker, GenerateOptions, Generation,

@@ -158,7 +158,7 @@ impl Model {
     }
 
     /// The model without the vertices that no face uses (the order of the others kept).
-    pub fn compacted(mut self) -> Model {
+    pub(crate) fn compacted(mut self) -> Model {
         let mut used = vec![u32::MAX; self.vertices.len()];
         for face in &self.faces {
             for &v in face {
