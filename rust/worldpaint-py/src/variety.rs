@@ -12,8 +12,8 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use worldpaint_core::geom::{DVec2, DVec3};
 use worldpaint_core::variety::{
-    generate, Atlas, Decomposition, GenerateOptions, IntersectionLabels, Model, Rejection,
-    VariantClass,
+    generate, memory_report, Atlas, Decomposition, GenerateOptions, IntersectionLabels, Model,
+    Rejection, VariantClass,
 };
 
 fn int_column(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<i64>> {
@@ -211,7 +211,8 @@ fn class_name(c: VariantClass) -> &'static str {
 /// Assemble `count` variants of `model` decomposed by `labels` (see `decompose_model`), from `variants`: per component
 /// a list of model dicts (edits of its sub-mesh). `cycles`: (component, max repeat) pairs of local cycles. Returns
 /// {"classes": per component the class of each given variant, "total": #V as a string, "models": the accepted
-/// variants as model dicts, "hashes", "rejected": [(reason, detail)]}. `progress(fraction) -> bool` may cancel.
+/// variants as model dicts, "hashes", "rejected": [(reason, detail)], "memory": {"overhead_percent" (the atlas over
+/// the original, the seed's Table 2), "original_bytes", "shared_bytes", "full_bytes"}}. `progress(fraction) -> bool` may cancel.
 #[pyfunction]
 #[pyo3(signature = (model, labels, variants, count, seed=0, *, root=None, cycles=None, progress=None))]
 #[allow(clippy::too_many_arguments)]
@@ -253,7 +254,7 @@ pub(crate) fn generate_variants<'py>(
         edits.push(own);
     }
     let cycles = cycles.unwrap_or_default();
-    let (classes, total, generation) = with_progress(py, progress, |report| {
+    let (classes, total, generation, memory) = with_progress(py, progress, |report| {
         let decomposition = Decomposition::from_labels(&model, &labels, root)?;
         let n = decomposition.components.len();
         if edits.len() > n {
@@ -284,10 +285,18 @@ pub(crate) fn generate_variants<'py>(
             max_attempts: 0,
         };
         let generation = generate(&atlas, &labels, &options)?;
-        Ok((classes, atlas.count(), generation))
+        let choices: Vec<_> = generation.accepted.iter().map(|(c, _)| c.clone()).collect();
+        let memory = memory_report(&atlas, &choices)?;
+        Ok((classes, atlas.count(), generation, memory))
     })?;
     let d = PyDict::new(py);
     d.set_item("classes", classes)?;
+    let m = PyDict::new(py);
+    m.set_item("overhead_percent", memory.overhead_percent)?;
+    m.set_item("original_bytes", memory.original_bytes)?;
+    m.set_item("shared_bytes", memory.shared_bytes)?;
+    m.set_item("full_bytes", memory.full_bytes)?;
+    d.set_item("memory", m)?;
     d.set_item("total", total.to_string())?;
     let models = PyList::empty(py);
     for (_, assembled) in &generation.accepted {
