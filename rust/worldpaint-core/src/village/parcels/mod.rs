@@ -53,7 +53,11 @@
 //!    those in Andorra from 0.63-1.0 to 1.05-1.71 (the strips of houses 20-100 m apart meet behind their roads;
 //!    across a road parcels never neighbour, which keeps a village strung along its roads below the thesis's
 //!    2.8). The price is in edges there: 6.8-8.4 instead of 5.5-5.8, the grown parcels wrapping round the
-//!    switchbacks' hairpins and stepping back beside the road strip.
+//!    switchbacks' hairpins and stepping back beside the road strip. So a parcel that grows fields first keeps
+//!    behind straight road fronts (`fronts`: one line along its road, two on a corner; where its road bends,
+//!    its cells behind the chord go back to the unclaimed land) and its fields grow in front of them only: 6.4,
+//!    7.5 and 5.9 edges instead of 6.8, 8.4 and 7.2, for 1.52, 1.61 and 1.05 neighbours instead of 1.58, 1.71
+//!    and 1.05.
 //! 5. **Parcel simplification** (3.3.4). The cell outlines of all parcels form one planar boundary graph; each
 //!    chain between junctions (points where three or more parcels or the unclaimed land meet) is simplified once,
 //!    so neighbours keep sharing their boundary exactly. Staircases are first straightened (Douglas–Peucker
@@ -85,6 +89,7 @@
 //! | `corner` | road junctions and corner conquest (3.3.2) |
 //! | `land_conquest` | anisotropic land conquest and the resolution of claims (3.3.3) |
 //! | `labels` | from claimed cells to simple regions (3.3.3) |
+//! | `fronts` | straight road fronts of the parcels that grow fields |
 //! | `fill` | unclaimed pockets and gaps given to the parcels around them |
 //! | `boundary` | the boundary graph of all parcels (3.3.4) |
 //! | `simplify` | chain simplification and the rules it keeps (3.3.4) |
@@ -96,6 +101,7 @@
 mod boundary;
 mod corner;
 mod fill;
+mod fronts;
 mod grid;
 mod junctions;
 mod labels;
@@ -114,6 +120,7 @@ use crate::error::{check, Error, Result};
 use crate::progress::Counted;
 use corner::{corner_conquest, junctions, keeping_access};
 use fill::fill_unclaimed;
+use fronts::{cut_behind_fronts, parcel_fronts, reanchor};
 use glam::DVec2;
 use grid::Work;
 use labels::clean_labels;
@@ -254,7 +261,7 @@ pub fn parcels_with(
     keeping_access(seeds.len(), &mut road, |road| {
         corner_conquest(&work, seeds, &junctions, half, options, road)
     });
-    let (fronts, anchors) = fronts_and_anchors(&road, &sources);
+    let (fronts, mut anchors) = fronts_and_anchors(&road, &sources);
     reached(0.2)?;
 
     // 3.3.3 anisotropic land conquest, each parcel on its own
@@ -280,7 +287,7 @@ pub fn parcels_with(
         .collect();
     conquests.finish()?;
     let (mut label, mut best) = resolve_claims(&claims, work.grid.len());
-    let is_anchor = {
+    let mut is_anchor = {
         let mut a = vec![false; work.grid.len()];
         for k in anchors.iter().flatten() {
             a[*k] = true;
@@ -290,26 +297,43 @@ pub fn parcels_with(
     clean_labels(
         &work,
         &road.owner,
-        &anchors,
-        &is_anchor,
+        (&anchors, &is_anchor),
         (&mut label, &mut best),
+        true,
         &|round| reached(0.5 + 0.2 * round),
     )?;
     // unclaimed pockets and the gaps of a sparse village go to the parcels around them
     let pocket_cells = (options.pocket_area / (cell * cell)).floor() as usize;
+    let tolerance = options.straighten * cell;
+    // a parcel that grows fields keeps behind one straight road front (or two, on a corner)
+    let grown = |x: usize| seeds[x].params.fill > 0.0;
+    let fronts = parcel_fronts(&work, &index, n, &label);
+    if cut_behind_fronts(&work, &fronts, tolerance, &grown, (&mut label, &mut best)) {
+        reanchor(&work, &label, &mut anchors, &mut is_anchor);
+        clean_labels(
+            &work,
+            &road.owner,
+            (&anchors, &is_anchor),
+            (&mut label, &mut best),
+            false,
+            &|round| reached(0.6 + 0.05 * round),
+        )?;
+    }
+    let fronts = parcel_fronts(&work, &index, n, &label);
     fill_unclaimed(
         &work,
         &road.owner,
         seeds,
         pocket_cells,
+        (&fronts, tolerance),
         (&mut label, &mut best),
     );
     clean_labels(
         &work,
         &road.owner,
-        &anchors,
-        &is_anchor,
+        (&anchors, &is_anchor),
         (&mut label, &mut best),
+        true,
         &|round| reached(0.7 + 0.15 * round),
     )?;
 
