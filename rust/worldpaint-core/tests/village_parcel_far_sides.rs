@@ -1,6 +1,8 @@
 //! A parcel's far side (thesis 3.3.4): where the conquest's budget, not a neighbour nor a road, drew the line, the
 //! simplification straightens it further (`ParcelOptions::far_merge_angle_degrees`, `far_deviation`), so that a
-//! parcel on a slope whose steepness varies keeps one straight far side instead of the bowed iso-cost line.
+//! parcel on a slope whose steepness varies keeps one straight far side instead of the bowed iso-cost line. And a
+//! parcel growing fields beyond its conquest (`ParcelParams::fill`) keeps them in front of its straight road front,
+//! instead of wrapping them round its road's end.
 
 use worldpaint_core::geom::{polygon_signed_area, DVec2, Region};
 use worldpaint_core::terrain::Heightfield;
@@ -69,5 +71,66 @@ fn village_parcel_far_sides_on_a_curved_slope_come_out_straight() {
     assert!(
         straight < bowed,
         "{straight} edges, {bowed} without the far-side rule"
+    );
+}
+
+#[test]
+fn village_parcel_fields_stay_in_front_of_their_road() {
+    // a dead-end road on flat land: a parcel growing fields near its end keeps to its own side of the road
+    // instead of wrapping round the end to the other side
+    let size = 200.0;
+    let n = size as usize + 1;
+    let terrain = Heightfield::new(DVec2::ZERO, 1.0, n, n, vec![0.0; n * n]).expect("terrain");
+    let region = Region::Rect {
+        min: DVec2::ZERO,
+        max: DVec2::splat(size),
+    };
+    let land = Land::new(&terrain, &region, &Environment::default(), CELL).expect("land");
+    let roads = vec![Road {
+        points: vec![DVec2::new(10.0, 100.0), DVec2::new(100.0, 100.0)],
+    }];
+    let params = ParcelParams {
+        budget: 20.0,
+        road_reach: 9.0,
+        conquest_weight: 1.0,
+        slope_weight: 0.0,
+        fill: 40.0,
+    };
+    let seed = [ParcelSeed {
+        position: DVec2::new(92.0, 106.0),
+        params: &params,
+    }];
+    let result = parcels_with(
+        &land,
+        &roads,
+        WIDTH,
+        &seed,
+        CELL,
+        &ParcelOptions::default(),
+        &|_| true,
+    )
+    .expect("parcels");
+    let Some(parcel) = &result[0] else {
+        panic!("the seed keeps its parcel");
+    };
+    let lowest = parcel
+        .contour
+        .iter()
+        .map(|p| p.y)
+        .fold(f64::INFINITY, f64::min);
+    let beyond = parcel
+        .contour
+        .iter()
+        .map(|p| p.x)
+        .fold(f64::NEG_INFINITY, f64::max);
+    println!("fields beside a dead end: lowest y {lowest}, farthest x {beyond}");
+    assert!(
+        beyond > 110.0,
+        "the fields grow past the road's end ({beyond})"
+    );
+    // the road's corridor edge is at y = 97.5 on the far side, 102.5 on the seed's
+    assert!(
+        lowest >= 100.0 + 0.5 * WIDTH - ParcelOptions::default().straighten * CELL - 1e-9,
+        "the fields wrap round the road's end (lowest y {lowest})"
     );
 }

@@ -8,7 +8,8 @@
 //! * *gaps* of a sparse village: farms and houses tens of metres apart whose strips along the road never meet.
 //!   There a parcel keeps growing over the open land beyond its conquest by up to its
 //!   [`ParcelParams::fill`](super::super::encyclopedia::ParcelParams::fill) metres (its fields), until it meets its
-//!   neighbours.
+//!   neighbours, and only in front of its straight road fronts (see `fronts`; within the straightening
+//!   tolerance), so that its fields do not wrap round the end of its road or round a hairpin of it.
 //!
 //! Both are one multi-source shortest-path growth from every parcel's cells over the unclaimed open cells (not
 //! road, water, wall, outside `Ω`, nor another parcel's road cell), at the Euclidean length of 8-connected steps:
@@ -16,9 +17,11 @@
 //! limit; other cells are taken within the parcel's `fill`. The growth runs on one thread in a total order (cost,
 //! then parcel, then cell), so its result does not depend on the number of threads.
 
+use super::fronts::Front;
 use super::grid::{Work, N4, N8, ROAD};
 use super::{ParcelSeed, NONE};
 use crate::search::{MinCost, MinHeap};
+use glam::DVec2;
 use std::collections::VecDeque;
 use std::f64::consts::SQRT_2;
 
@@ -26,7 +29,8 @@ use std::f64::consts::SQRT_2;
 /// the road there would lengthen the frontage on which the footprint is centred (3.3.5) and move the house.
 const FRONT: i64 = 2;
 
-/// Gives unclaimed open land to the parcels around it (see the module documentation). `label` and `best` are
+/// Gives unclaimed open land to the parcels around it (see the module documentation); beyond the pockets, parcel
+/// `x` grows only where `p·n >= offset - tolerance` for each of its `fronts[x]`. `label` and `best` are
 /// the cells' parcels and costs; a filled cell's cost is above every conquered cell's of its parcel (its
 /// budget plus the distance grown), so that the clean-up drops filled cells first.
 pub(super) fn fill_unclaimed(
@@ -34,6 +38,7 @@ pub(super) fn fill_unclaimed(
     owner: &[u32],
     seeds: &[ParcelSeed],
     pocket_cells: usize,
+    (fronts, tolerance): (&[Vec<Front>], f64),
     (label, best): (&mut [u32], &mut [f64]),
 ) {
     let open = |k: usize| label[k] == NONE && !work.closed_to(owner, NONE, k);
@@ -47,6 +52,12 @@ pub(super) fn fill_unclaimed(
     let by_road = beside_roads(work);
     let mut dist = vec![f64::INFINITY; len];
     let mut from = vec![NONE; len];
+    // beyond the pockets, a parcel grows only in front of its road fronts, not round its road's end or a hairpin
+    let in_front = |x: u32, p: DVec2| {
+        fronts[x as usize]
+            .iter()
+            .all(|f| p.dot(f.normal) >= f.offset - tolerance)
+    };
     let mut heap = MinHeap::new();
     let nx = work.grid.nx;
     for k in 0..len {
@@ -89,7 +100,9 @@ pub(super) fn fill_unclaimed(
             let nd = d + step;
             // beyond the pockets, a parcel keeps the frontage its road conquest gave it (its house is centred
             // on it) and grows behind it only
-            if !pocket[m] && (nd > depth[x as usize] || by_road[m]) {
+            if !pocket[m]
+                && (nd > depth[x as usize] || by_road[m] || !in_front(x, work.grid.point_of(m)))
+            {
                 continue;
             }
             if nd < dist[m] || (nd == dist[m] && x < from[m]) {

@@ -100,13 +100,14 @@ impl Labels<'_> {
 
 /// Keeps each parcel's 4-connected component that holds its anchor, smooths the labels (the first rounds), fills
 /// pinch points and enclosed holes, until every parcel is one simply connected 4-connected region without cells
-/// touching at a corner only. `rounds_done(fraction)` hears of each round and may stop the work.
+/// touching at a corner only. Without `smooth`, no mode filter runs (it would give cells taken out on purpose back
+/// to the parcels around them). `rounds_done(fraction)` hears of each round and may stop the work.
 pub(super) fn clean_labels(
     work: &Work,
     owner: &[u32],
-    anchors: &[Option<usize>],
-    is_anchor: &[bool],
+    (anchors, is_anchor): (&[Option<usize>], &[bool]),
     (label, best): (&mut [u32], &mut [f64]),
+    smooth: bool,
     rounds_done: &dyn Fn(f64) -> Result<()>,
 ) -> Result<()> {
     let mut labels = Labels {
@@ -118,7 +119,7 @@ pub(super) fn clean_labels(
     };
     for round in 0..ROUNDS {
         keep_components(work, anchors, labels.label, labels.best);
-        let smoothed = round < 3 && labels.smooth();
+        let smoothed = smooth && round < 3 && labels.smooth();
         let pinched = labels.fix_pinches();
         let holed = labels.fix_holes(anchors.len());
         if !smoothed && !pinched && !holed {

@@ -53,18 +53,24 @@
 //!    those in Andorra from 0.63-1.0 to 1.05-1.71 (the strips of houses 20-100 m apart meet behind their roads;
 //!    across a road parcels never neighbour, which keeps a village strung along its roads below the thesis's
 //!    2.8). The price is in edges there: 6.8-8.4 instead of 5.5-5.8, the grown parcels wrapping round the
-//!    switchbacks' hairpins and stepping back beside the road strip.
+//!    switchbacks' hairpins and stepping back beside the road strip. So a parcel that grows fields first keeps
+//!    behind straight road fronts (`fronts`: one line along its road, two on a corner; where its road bends,
+//!    its cells behind the chord go back to the unclaimed land) and its fields grow in front of them only: 6.4,
+//!    7.5 and 5.9 edges instead of 6.8, 8.4 and 7.2, for 1.52, 1.61 and 1.05 neighbours instead of 1.58, 1.71
+//!    and 1.05.
 //! 5. **Parcel simplification** (3.3.4). The cell outlines of all parcels form one planar boundary graph; each
 //!    chain between junctions (points where three or more parcels or the unclaimed land meet) is simplified once,
 //!    so neighbours keep sharing their boundary exactly. Staircases are first straightened (Douglas–Peucker
 //!    within [`ParcelOptions::straighten`] cells), then "we remove vertices that have little influence on the
 //!    contour shape": a vertex whose edges turn by less than `ε` ([`ParcelOptions::merge_angle_degrees`]) goes,
-//!    and so does a vertex of an edge shorter than [`ParcelOptions::short_edge`] cells (a clipped corner). On a
-//!    parcel's far side — its free boundary (unclaimed land beyond) away from the road fronts, whose line the
-//!    conquest's budget drew, not a neighbour nor a road — vertices go up to
-//!    [`ParcelOptions::far_merge_angle_degrees`] and [`ParcelOptions::far_deviation`], so that far sides on slopes
-//!    come out straight instead of following the iso-cost curve (our choice: the thesis's real parcels have
-//!    straight far sides, 4.068 edges in all).
+//!    and so does a vertex of an edge shorter than [`ParcelOptions::short_edge`] cells (a clipped corner). Behind
+//!    the road fronts — a stretch of boundary away from the roads, whose line the conquests' budgets and costs drew,
+//!    not a road: a parcel's far side, or where two parcels' conquests met — vertices go up to
+//!    [`ParcelOptions::far_merge_angle_degrees`] (on a side two parcels share,
+//!    [`ParcelOptions::shared_merge_angle_degrees`]) and [`ParcelOptions::far_deviation`], so that far sides on slopes
+//!    come out straight instead of following the iso-cost curve, and the sides two neighbours share do not bend
+//!    where one conquest's square ends (our choice: the thesis's real parcels have straight sides, 4.068 edges in
+//!    all).
 //!    Junctions are simplified by edge collapses, as in mesh simplification: a chain of a cell or so between two
 //!    junctions collapses onto one of them, and — "we remove unplausible acute angles that appear at some
 //!    T-vertices" — a junction where a parcel has an angle below [`ParcelOptions::acute_angle_degrees`] moves
@@ -85,6 +91,7 @@
 //! | `corner` | road junctions and corner conquest (3.3.2) |
 //! | `land_conquest` | anisotropic land conquest and the resolution of claims (3.3.3) |
 //! | `labels` | from claimed cells to simple regions (3.3.3) |
+//! | `fronts` | straight road fronts of the parcels that grow fields |
 //! | `fill` | unclaimed pockets and gaps given to the parcels around them |
 //! | `boundary` | the boundary graph of all parcels (3.3.4) |
 //! | `simplify` | chain simplification and the rules it keeps (3.3.4) |
@@ -96,6 +103,7 @@
 mod boundary;
 mod corner;
 mod fill;
+mod fronts;
 mod grid;
 mod junctions;
 mod labels;
@@ -114,6 +122,7 @@ use crate::error::{check, Error, Result};
 use crate::progress::Counted;
 use corner::{corner_conquest, junctions, keeping_access};
 use fill::fill_unclaimed;
+use fronts::{cut_behind_fronts, parcel_fronts, reanchor};
 use glam::DVec2;
 use grid::Work;
 use labels::clean_labels;
@@ -145,11 +154,13 @@ pub struct ParcelOptions {
     pub merge_deviation: f64,
     /// An edge shorter than this (in cells) loses one of its vertices, within the same deviation.
     pub short_edge: f64,
-    /// `ε` (degrees) on a parcel's far side: the free boundary (unclaimed land beside it) farther than
-    /// `road_width / 2 + merge_deviation` cells from the roads, where the conquest's budget, not a neighbour
-    /// or a road, drew the line.
+    /// `ε` (degrees) behind the road fronts: on boundaries (free, or between two parcels) farther than
+    /// `road_width / 2 + merge_deviation` cells from the roads, where the conquests' budgets and costs, not a road,
+    /// drew the line.
     pub far_merge_angle_degrees: f64,
-    /// Largest distance (in cells) the removal of a far side's vertices may move it.
+    /// `ε` (degrees) behind the road fronts on a side two parcels share (where their conquests met).
+    pub shared_merge_angle_degrees: f64,
+    /// Largest distance (in cells) the removal of vertices behind the road fronts may move a boundary.
     pub far_deviation: f64,
     /// A parcel angle below this (degrees) at a junction of the boundary graph is opened by an edge collapse.
     pub acute_angle_degrees: f64,
@@ -163,10 +174,11 @@ pub struct ParcelOptions {
 impl Default for ParcelOptions {
     /// `ε` = 45°, vertices moved by up to 5 cells and edges shorter than 6 cells merged: the thesis gives no value,
     /// and at 30°, 3 and 4 cells a dense village's parcels kept 8 contour edges on average against the 4.068 of
-    /// its real village (3.5), most of them shallow bends of the far side. Far sides: 60° and 20 cells (with the
-    /// straightened T-junctions, 5.5-6.1 edges instead of 5.9-6.4 on the real terrains of
-    /// `tests/real_village_generation.rs`; 45° and larger deviations everywhere lose footprints to narrowed
-    /// parcels rather than edges). Pockets up to 2000 m² (about three village lots) go to the parcels around them:
+    /// its real village (3.5), most of them shallow bends of the far side. Behind the road fronts, 20 cells and
+    /// 60° on far sides (with the straightened T-junctions, 5.5-6.1 edges instead of 5.9-6.4 on the real terrains
+    /// of `tests/real_village_generation.rs`; at 75° a lone parcel's far side on a slope cuts across its width), 75°
+    /// on the sides two parcels share (5.7-5.8 edges north of Bayreuth instead of 5.9-6.1, for 1-3 footprints of
+    /// 400-458); 45° and larger deviations everywhere lose footprints to narrowed parcels rather than edges. Pockets up to 2000 m² (about three village lots) go to the parcels around them:
     /// 2.45-2.57 neighbours north of Bayreuth instead of 2.26-2.47.
     fn default() -> Self {
         ParcelOptions {
@@ -175,6 +187,7 @@ impl Default for ParcelOptions {
             merge_deviation: 5.0,
             short_edge: 6.0,
             far_merge_angle_degrees: 60.0,
+            shared_merge_angle_degrees: 75.0,
             far_deviation: 20.0,
             acute_angle_degrees: 30.0,
             corner_angle_degrees: 150.0,
@@ -254,7 +267,7 @@ pub fn parcels_with(
     keeping_access(seeds.len(), &mut road, |road| {
         corner_conquest(&work, seeds, &junctions, half, options, road)
     });
-    let (fronts, anchors) = fronts_and_anchors(&road, &sources);
+    let (fronts, mut anchors) = fronts_and_anchors(&road, &sources);
     reached(0.2)?;
 
     // 3.3.3 anisotropic land conquest, each parcel on its own
@@ -280,7 +293,7 @@ pub fn parcels_with(
         .collect();
     conquests.finish()?;
     let (mut label, mut best) = resolve_claims(&claims, work.grid.len());
-    let is_anchor = {
+    let mut is_anchor = {
         let mut a = vec![false; work.grid.len()];
         for k in anchors.iter().flatten() {
             a[*k] = true;
@@ -290,26 +303,43 @@ pub fn parcels_with(
     clean_labels(
         &work,
         &road.owner,
-        &anchors,
-        &is_anchor,
+        (&anchors, &is_anchor),
         (&mut label, &mut best),
+        true,
         &|round| reached(0.5 + 0.2 * round),
     )?;
     // unclaimed pockets and the gaps of a sparse village go to the parcels around them
     let pocket_cells = (options.pocket_area / (cell * cell)).floor() as usize;
+    let tolerance = options.straighten * cell;
+    // a parcel that grows fields keeps behind one straight road front (or two, on a corner)
+    let grown = |x: usize| seeds[x].params.fill > 0.0;
+    let fronts = parcel_fronts(&work, &index, n, &label);
+    if cut_behind_fronts(&work, &fronts, tolerance, &grown, (&mut label, &mut best)) {
+        reanchor(&work, &label, &mut anchors, &mut is_anchor);
+        clean_labels(
+            &work,
+            &road.owner,
+            (&anchors, &is_anchor),
+            (&mut label, &mut best),
+            false,
+            &|round| reached(0.6 + 0.05 * round),
+        )?;
+    }
+    let fronts = parcel_fronts(&work, &index, n, &label);
     fill_unclaimed(
         &work,
         &road.owner,
         seeds,
         pocket_cells,
+        (&fronts, tolerance),
         (&mut label, &mut best),
     );
     clean_labels(
         &work,
         &road.owner,
-        &anchors,
-        &is_anchor,
+        (&anchors, &is_anchor),
         (&mut label, &mut best),
+        true,
         &|round| reached(0.7 + 0.15 * round),
     )?;
 
@@ -357,6 +387,7 @@ fn validate(
         ("merge_angle_degrees", o.merge_angle_degrees),
         ("merge_deviation", o.merge_deviation),
         ("far_merge_angle_degrees", o.far_merge_angle_degrees),
+        ("shared_merge_angle_degrees", o.shared_merge_angle_degrees),
         ("far_deviation", o.far_deviation),
         ("acute_angle_degrees", o.acute_angle_degrees),
         ("corner_angle_degrees", o.corner_angle_degrees),

@@ -1,8 +1,8 @@
 //! Parcel simplification (thesis 3.3.4, Emilien 2014 ch. 3): each chain of the boundary graph is simplified once,
 //! so neighbours keep sharing their boundary exactly. Staircases are first straightened (Douglas–Peucker), then
 //! "we remove vertices that have little influence on the contour shape": a vertex whose edges turn by less than
-//! `ε` goes, and so does a vertex of a short edge; on a far side (free boundary away from the road fronts) with a
-//! wider angle and deviation. No simplified edge may come within `road_width / 2` of a
+//! `ε` goes, and so does a vertex of a short edge; behind the road fronts (a chain's stretch away from the roads,
+//! whether it parts two parcels or a parcel from the unclaimed land) with a wider angle and deviation. No simplified edge may come within `road_width / 2` of a
 //! road's centre line or swallow a water, wall or out-of-`Ω` node, and simplified chains may not cross; a chain
 //! that breaks a rule is simplified less, down to its cell outline.
 
@@ -116,12 +116,11 @@ fn simplify_chain(
     let keep = straightened(ch, &pts, options.straighten * c * scale, rules);
     let mut kept: Vec<usize> = (0..cyc).filter(|&q| keep[q]).collect();
     let max_dev = options.merge_deviation * c * scale;
-    // a far side: a stretch of the free boundary (unclaimed land beside it) away from the road fronts, which
-    // the conquest's budget shaped rather than a neighbour or the road, so it may straighten further
-    let free = ch.labels.contains(&NONE);
+    // behind the road fronts, where the conquests' budgets and costs drew the line (a far side, or where two
+    // conquests met), not the road, a stretch may straighten further
     let front = rules.half + max_dev;
     let far_dev = options.far_deviation * c * scale;
-    let far = |a: DVec2, b: DVec2| free && rules.index.segment_clearance(a, b, front) >= front;
+    let far = |a: DVec2, b: DVec2| rules.index.segment_clearance(a, b, front) >= front;
     let deviation = |a: DVec2, b: DVec2| {
         if far(a, b) {
             far_dev.max(max_dev)
@@ -150,7 +149,15 @@ fn simplify_chain(
     };
     // the vertices where the contour turns by less than ε
     let eps = options.merge_angle_degrees.to_radians() * scale;
-    let far_eps = options.far_merge_angle_degrees.to_radians() * scale;
+    // a far side (unclaimed land beyond) keeps some of its bends: it is the parcel's own outline; a side two
+    // parcels share straightens further
+    let far_eps = if ch.labels.contains(&NONE) {
+        options.far_merge_angle_degrees
+    } else {
+        options.shared_merge_angle_degrees
+    }
+    .to_radians()
+        * scale;
     remove_while(&|kept: &[usize]| {
         let km = kept.len();
         let range = if ch.closed { 0..km } else { 1..km - 1 };
