@@ -35,6 +35,25 @@ def decomposed_tree_with_variants():
     for v in narrow.data.vertices:
         if math.hypot(v.co.x, v.co.y) > 0.5:
             v.co.x, v.co.y = 0.7 * v.co.x, 0.7 * v.co.y
+    # the crown twisted by a Simple Deform and bent by a Lattice, each limited to a vertex group of the brim and the
+    # apex so the ring on the trunk stays
+    for name, kind in (("Crown twisted", 'SIMPLE_DEFORM'), ("Crown latticed", 'LATTICE')):
+        crown = edited_part(tree, 2, name)
+        group = crown.vertex_groups.new(name="top")
+        group.add([v.index for v in crown.data.vertices if math.hypot(v.co.x, v.co.y) > 0.5 or v.co.z > 4.0],
+                  1.0, 'REPLACE')
+        modifier = crown.modifiers.new(name, kind)
+        modifier.vertex_group = "top"
+        if kind == 'SIMPLE_DEFORM':
+            modifier.deform_method, modifier.angle = 'TWIST', math.radians(40.0)
+        else:
+            lattice = bpy.data.objects.new("Crown lattice", bpy.data.lattices.new("Crown lattice"))
+            bpy.context.scene.collection.objects.link(lattice)
+            lattice.location, lattice.scale = (0.0, 0.0, 4.5), (4.0, 4.0, 4.0)
+            for point in lattice.data.points:
+                if point.co.z > 0.0:
+                    point.co_deform.x += 0.3
+            modifier.object = lattice
     # the upper trunk leaning: its top ring turned as a solid about its centre, so the crown follows it
     tilt_ring(edited_part(tree, 1, "Trunk leaning"), 3.0, np.radians(12.0), 'X')
     return tree
@@ -59,15 +78,15 @@ def test_generated_variants_are_distinct_crack_free_and_paint_a_forest(tmp_path)
     assert bpy.ops.worldpaint.generate_variants(object=tree.name, count=20, seed=1) == {'FINISHED'}
     settings = tree.worldpaint_variety
     generated = settings.generated
-    assert settings.total == "6", "1 lower trunk x 2 upper trunks x 3 crowns"
-    assert len(generated.objects) == 6, settings.report
+    assert settings.total == "10", "1 lower trunk x 2 upper trunks x 5 crowns"
+    assert len(generated.objects) == 10, settings.report
     shapes = {tuple(np.round(np.array([v.co for v in o.data.vertices]), 4).ravel()) for o in generated.objects}
-    assert len(shapes) == 6, "no two variants alike"
+    assert len(shapes) == 10, "no two variants alike"
     for obj in generated.objects:
         assert closed(obj.data), f"{obj.name} has a crack or a hole"
         assert obj.data.materials[0] == tree.data.materials[0]
     apex_y = [max(o.data.vertices, key=lambda v: v.co.z).co.y for o in generated.objects]
-    assert sum(abs(y) > 0.5 for y in apex_y) == 3, f"the crown follows the leaning trunk: apex at y {apex_y}"
+    assert sum(abs(y) > 0.5 for y in apex_y) >= 5, f"the crown follows the leaning trunk: apex at y {apex_y}"
 
     # a forest painted with them: the trees show the variants, none repeated while others are unused nearby
     _, examples, _ = slope_exemplar()
@@ -79,8 +98,8 @@ def test_generated_variants_are_distinct_crack_free_and_paint_a_forest(tmp_path)
                                           seed=2) == {'FINISHED'}
     cloud = point_cloud_objects(bpy.context.scene)["Tree"]
     co, _, _, prototype = point_cloud_arrays(cloud)
-    assert set(prototype.tolist()) == set(range(6))
-    counts = np.bincount(prototype, minlength=6)
+    assert set(prototype.tolist()) == set(range(10))
+    counts = np.bincount(prototype, minlength=10)
     assert counts.max() - counts.min() <= 0.3 * counts.mean(), f"variants used unevenly: {counts}"
     depsgraph = bpy.context.evaluated_depsgraph_get()
     shown = {i.object.original.data.name for i in depsgraph.object_instances
@@ -91,7 +110,7 @@ def test_generated_variants_are_distinct_crack_free_and_paint_a_forest(tmp_path)
     bpy.ops.wm.save_as_mainfile(filepath=blend)
     bpy.ops.wm.open_mainfile(filepath=blend)
     tree = bpy.data.objects["Column tree"]
-    assert tree.worldpaint_variety.total == "6" and len(tree.worldpaint_variety.generated.objects) == 6
+    assert tree.worldpaint_variety.total == "10" and len(tree.worldpaint_variety.generated.objects) == 10
     assert bpy.context.scene.worldpaint.categories["Tree"].variants == tree.worldpaint_variety.generated
 
 
@@ -104,3 +123,22 @@ def test_thirty_six_trees_from_nine_edited_parts():
     settings = tree.worldpaint_variety
     assert settings.total == "36" and len(settings.generated.objects) == 36, settings.report
     assert all(closed(o.data) for o in settings.generated.objects)
+
+
+def test_seams_cut_the_model_without_new_vertices():
+    tree = segmented_tree()
+    mesh = tree.data
+    # the two rings where the parts meet, marked as seams as a user would in Edit Mode
+    for e in mesh.edges:
+        z = [mesh.vertices[v].co.z for v in e.vertices]
+        ring = all(abs(h - 1.5) < 1e-4 for h in z) or all(abs(h - 3.0) < 1e-4 for h in z) and all(
+            math.hypot(mesh.vertices[v].co.x, mesh.vertices[v].co.y) < 0.5 for v in e.vertices)
+        e.use_seam = ring
+    bpy.context.view_layer.objects.active = tree
+    assert bpy.ops.worldpaint.decompose_model(source='SEAMS') == {'FINISHED'}
+    settings = tree.worldpaint_variety
+    assert sorted(c.faces for c in settings.components) == [8, 9, 16]
+    assert len(mesh.vertices) == 8 * 4 + 1, "cutting added no vertex"
+    tree_variants(tree)  # the seam labels are 0 (lower trunk), 1 (upper) and 2 (crown) here too
+    assert bpy.ops.worldpaint.generate_variants(count=5, seed=1) == {'FINISHED'}
+    assert "% of the model's memory" in settings.report

@@ -38,12 +38,45 @@ def mesh_model(mesh, with_uvs=True):
             "materials": materials}
 
 
+def seam_islands(obj):
+    """int64 (F,): the islands of faces that the edges marked as seams cut the mesh into (a cut along a path of
+    existing vertices, seed §4.1: no vertex is added)."""
+    mesh = obj.data
+    seam = np.empty(len(mesh.edges), dtype=bool)
+    mesh.edges.foreach_get("use_seam", seam)
+    if not seam.any():
+        raise WorldPaintError(f"'{obj.name}' has no seams: mark the cuts between its components as seams (Edit Mode)")
+    edge = np.empty(len(mesh.loops), dtype=np.int64)
+    mesh.loops.foreach_get("edge_index", edge)
+    totals = np.empty(len(mesh.polygons), dtype=np.int64)
+    mesh.polygons.foreach_get("loop_total", totals)
+    face = np.repeat(np.arange(len(totals)), totals)
+    parent = np.arange(len(totals))
+
+    def root(f):
+        while parent[f] != f:
+            parent[f] = parent[parent[f]]
+            f = parent[f]
+        return f
+
+    first = {}
+    for e, f in zip(edge.tolist(), face.tolist(), strict=True):
+        if seam[e]:
+            continue
+        other = first.setdefault(e, f)
+        parent[root(f)] = root(other)
+    roots = np.array([root(f) for f in range(len(totals))])
+    return np.unique(roots, return_inverse=True)[1].astype(np.int64)
+
+
 def face_labels(obj, source, attribute=""):
-    """int64 (F,) component labels of a mesh object's faces: its face sets, its material slots, or an integer face
-    attribute."""
+    """int64 (F,) component labels of a mesh object's faces: its face sets, its material slots, the islands its seams
+    cut, or an integer face attribute."""
     mesh = obj.data
     name = {"FACE_SETS": FACE_SET_ATTRIBUTE, "ATTRIBUTE": attribute}.get(source)
     labels = np.empty(len(mesh.polygons), dtype=np.int64)
+    if source == 'SEAMS':
+        return seam_islands(obj)
     if source == 'MATERIALS':
         mesh.polygons.foreach_get("material_index", labels)
         return labels

@@ -123,6 +123,7 @@ class WORLDPAINT_OT_generate_variants(BackgroundOperator, bpy.types.Operator):
         self._root = settings.root if settings.root >= 0 else None
         found = engine.decompose_model(self._model, self._labels, self._root)
         by_label = {c.get(variety.COMPONENT_TAG): c for c in settings.parts.children}
+        self._cycles = [(k, c.repeat) for k, c in enumerate(settings.components) if c.repeat > 0]
         self._variants = []
         for label, piece in zip(found["labels"], found["components"], strict=True):
             collection = by_label.get(label)
@@ -134,7 +135,7 @@ class WORLDPAINT_OT_generate_variants(BackgroundOperator, bpy.types.Operator):
 
     def _compute(self, progress):
         return engine.generate_variants(self._model, self._labels, self._variants, self.count, self.seed,
-                                        root=self._root, progress=progress)
+                                        root=self._root, cycles=self._cycles, progress=progress)
 
     def _apply(self, context, result):
         obj = self._object
@@ -153,7 +154,8 @@ class WORLDPAINT_OT_generate_variants(BackgroundOperator, bpy.types.Operator):
         classes = [c for own in result["classes"] for c in own]
         kinds = ", ".join(f"{classes.count(k)} {k.replace('_', ' ')}" for k in sorted(set(classes))) or "none"
         settings.report = (f"{len(result['models'])} variants of {result['total']} possible; "
-                           f"{len(result['rejected'])} rejected; variants given: {kinds}")
+                           f"{len(result['rejected'])} rejected; variants given: {kinds}; the parts take "
+                           f"{result['memory']['overhead_percent']:+.0f} % of the model's memory")
         self.report({'INFO'}, settings.report)
         return {'FINISHED'}
 

@@ -7,6 +7,7 @@ from bpy.props import CollectionProperty, EnumProperty, IntProperty, PointerProp
 LABEL_SOURCES = (
     ("FACE_SETS", "Face Sets", "One component per face set (Sculpt Mode > Face Sets)"),
     ("MATERIALS", "Materials", "One component per material slot"),
+    ("SEAMS", "Seams", "The edges marked as seams cut the mesh into components (no vertex is added)"),
     ("ATTRIBUTE", "Attribute", "One component per value of an integer face attribute"),
 )
 
@@ -17,6 +18,9 @@ class WORLDPAINT_PG_component(bpy.types.PropertyGroup):
     label: IntProperty(name="Label")
     faces: IntProperty(name="Faces")
     regions: StringProperty(name="Regions", description="The components it is joined to")
+    repeat: IntProperty(name="Repeat", default=0, min=0, max=64,
+                        description="Repeat the component up to this many times in a row (a local cycle: its two "
+                        "connecting regions must be alike; 0: once)")
 
 
 class WORLDPAINT_PG_variety(bpy.types.PropertyGroup):

@@ -11,6 +11,7 @@ class WORLDPAINT_UL_components(bpy.types.UIList):
         row.label(text=item.name, icon='MESH_DATA')
         row.label(text=f"{item.faces} faces")
         row.label(text=f"joined to {item.regions}")
+        row.prop(item, "repeat", text="Repeat")
 
 
 class WORLDPAINT_PT_variety(MainSubpanel, bpy.types.Panel):
