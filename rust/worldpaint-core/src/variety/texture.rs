@@ -73,10 +73,10 @@ impl Image {
         self.width as usize * self.height as usize
     }
 
-    /// The RGBA value of texel `i` (row-major from the bottom row).
-    pub fn texel(&self, i: usize) -> [u8; 4] {
-        let s = &self.rgba[i * 4..i * 4 + 4];
-        [s[0], s[1], s[2], s[3]]
+    /// The RGBA value of texel `i` (row-major from the bottom row), `None` past the image.
+    pub fn texel(&self, i: usize) -> Option<[u8; 4]> {
+        let s = self.rgba.get(i * 4..i * 4 + 4)?;
+        Some([s[0], s[1], s[2], s[3]])
     }
 }
 
@@ -175,9 +175,12 @@ impl TextureComponent {
         let mut pixel_mask = Vec::new();
         let mut colours = Vec::new();
         for i in 0..base.texels() {
-            if base.texel(i) != painted.texel(i) {
-                pixel_mask.push(i as u32);
-                colours.push(painted.texel(i));
+            let (was, now) = (base.texel(i), painted.texel(i));
+            if let (Some(was), Some(now)) = (was, now) {
+                if was != now {
+                    pixel_mask.push(i as u32);
+                    colours.push(now);
+                }
             }
         }
         if pixel_mask.is_empty() {
