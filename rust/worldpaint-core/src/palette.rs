@@ -436,14 +436,10 @@ impl Color {
     /// radii kept. Blending with it scales a color's densities; compared with it, densities read 0.
     pub fn emptied(&self) -> Color {
         Color {
-            categories: Vec::new(),
-            pairs: Vec::new(),
-            maps: Vec::new(),
-            graphs: Vec::new(),
-            polygons: Vec::new(),
-            preview: Vec::new(),
-            arrangement: None,
-            ..self.clone()
+            region_area: self.region_area,
+            max_radius: self.max_radius,
+            bin_width: self.bin_width,
+            ..Color::empty(&self.name, &self.region)
         }
     }
 

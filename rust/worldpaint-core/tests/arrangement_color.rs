@@ -4,6 +4,11 @@
 
 use std::sync::Arc;
 
+#[path = "common/arrangement.rs"]
+#[allow(dead_code)]
+mod common;
+
+use common::nearest_distances;
 use glam::DVec2;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -71,22 +76,6 @@ fn rect(x0: f64, y0: f64, x1: f64, y1: f64) -> Region {
     }
 }
 
-/// Nearest-neighbour distance of each point among `points`.
-fn nearest(points: &[DVec2]) -> Vec<f64> {
-    points
-        .iter()
-        .enumerate()
-        .map(|(i, p)| {
-            points
-                .iter()
-                .enumerate()
-                .filter(|&(j, _)| j != i)
-                .map(|(_, q)| p.distance(*q))
-                .fold(f64::INFINITY, f64::min)
-        })
-        .collect()
-}
-
 fn positions_in(scene: &Scene, region: &Region) -> Vec<DVec2> {
     scene
         .instances
@@ -118,7 +107,7 @@ fn an_arrangement_color_survives_its_file_and_paints_its_lattice_elsewhere() {
     assert!(edit.removed.is_empty());
     let points: Vec<DVec2> = edit.added.iter().map(|i| i.position).collect();
     let expected = region.area() * lattice_density();
-    let gaps = nearest(&points);
+    let gaps = nearest_distances(&points);
     let mean_gap = gaps.iter().sum::<f64>() / gaps.len() as f64;
     let closest = gaps.iter().copied().fold(f64::INFINITY, f64::min);
     println!(
@@ -158,7 +147,7 @@ fn a_paste_beside_a_pasted_pattern_continues_it_without_a_seam() {
     let scene = edit.applied_to(&scene);
     let seam = rect(57.0, 45.0, 63.0, 75.0);
     let band = positions_in(&scene, &seam);
-    let gaps = nearest(&band);
+    let gaps = nearest_distances(&band);
     let closest = gaps.iter().copied().fold(f64::INFINITY, f64::min);
     let widest = gaps.iter().copied().fold(0.0, f64::max);
     let density = band.len() as f64 / seam.area();
@@ -202,7 +191,7 @@ fn the_spray_brush_grows_the_pattern_and_keeps_what_is_there() {
     let after = edit.applied_to(&scene);
     let sprayed = rect(51.0, 42.0, 64.0, 48.0);
     let band = positions_in(&after, &sprayed);
-    let gaps = nearest(&positions_in(&after, &rect(38.0, 38.0, 70.0, 52.0)));
+    let gaps = nearest_distances(&positions_in(&after, &rect(38.0, 38.0, 70.0, 52.0)));
     let closest = gaps.iter().copied().fold(f64::INFINITY, f64::min);
     println!(
         "spray: {} elements before, {} added, {} removed; {} in the sprayed band (lattice density gives {:.0}); \

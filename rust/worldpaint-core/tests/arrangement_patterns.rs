@@ -82,22 +82,6 @@ fn two_symbols_in_rows_keep_their_adjacencies() {
     assert!(closest >= reference.r_short());
 }
 
-/// Each point's distance to its nearest other point.
-fn nearest_distances(points: &[DVec2]) -> Vec<f64> {
-    points
-        .iter()
-        .enumerate()
-        .map(|(i, p)| {
-            points
-                .iter()
-                .enumerate()
-                .filter(|&(j, _)| j != i)
-                .map(|(_, q)| p.distance(*q))
-                .fold(f64::INFINITY, f64::min)
-        })
-        .collect()
-}
-
 /// The nearest-neighbour distance histogram: 5 bins of 0.2 × `mean` from 0.6 × `mean` (the ends open).
 fn spacing_histogram(d: &[f64], mean: f64) -> Vec<f64> {
     let bins = 5;

@@ -297,6 +297,18 @@ impl Working {
         progress: &(dyn Fn(f64) -> bool + Sync),
     ) -> Result<usize> {
         self.clear(region);
+        self.fill(color, region, opts, progress)
+    }
+
+    /// Synthesizes `color` in `region` (already cleared as the tool wants), conditioned on the rest; returns the
+    /// count of new instances.
+    fn fill(
+        &mut self,
+        color: &Color,
+        region: &Region,
+        opts: &SynthesisOptions,
+        progress: &(dyn Fn(f64) -> bool + Sync),
+    ) -> Result<usize> {
         let result = synthesize_keeping(&self.scene, color, region, opts, progress, &|_| true)?;
         let n = result.instances.len();
         for (name, share) in result.unseen_maps {
@@ -332,10 +344,7 @@ impl Working {
             !own.get(i.category).copied().unwrap_or(false) && prepared.contains(i.position)
         });
         self.clear_structures(region);
-        let result = synthesize_keeping(&self.scene, color, region, opts, progress, &|_| true)?;
-        let n = result.instances.len();
-        self.add(result.categories, result.instances);
-        Ok(n)
+        self.fill(color, region, opts, progress)
     }
 
     /// The edit from the original scene to the current one.

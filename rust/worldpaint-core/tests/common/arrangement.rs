@@ -115,3 +115,19 @@ pub fn angle_histogram(edges: &[(usize, usize)], position: impl Fn(usize) -> DVe
 pub fn total_variation(a: &[f64], b: &[f64]) -> f64 {
     0.5 * a.iter().zip(b).map(|(x, y)| (x - y).abs()).sum::<f64>()
 }
+
+/// Each point's distance to its nearest other point.
+pub fn nearest_distances(points: &[DVec2]) -> Vec<f64> {
+    points
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            points
+                .iter()
+                .enumerate()
+                .filter(|&(j, _)| j != i)
+                .map(|(_, q)| p.distance(*q))
+                .fold(f64::INFINITY, f64::min)
+        })
+        .collect()
+}
