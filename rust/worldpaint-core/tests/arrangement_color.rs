@@ -5,7 +5,6 @@
 use std::sync::Arc;
 
 #[path = "common/arrangement.rs"]
-#[allow(dead_code)]
 mod common;
 
 use common::nearest_distances;
