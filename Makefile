@@ -94,6 +94,8 @@ bench: engine
 	cargo bench -p worldpaint-core --bench terrain_edit
 	cargo bench -p worldpaint-core --bench waterfall
 	cargo bench -p worldpaint-core --bench variety
+	cargo bench -p worldpaint-core --bench arrangement
+	cargo bench -p worldpaint-core --bench sketch
 	$(PY) blender_tests/bench_blender.py
 
 # An installable Blender extension with the engine wheel inside; needs no Blender binary.

@@ -11,6 +11,9 @@ the painting tools end to end.
    it: per dab, the engine's dab plus the point-cloud update; median and worst dab. Then the same stroke through the
    headless operator, and one step of dragging a 5,000-tree region (engine move plus the cloud update).
 
+4. Model variety: a 501-face tree cut into three parts with ten edits each (1,000 possible trees); Generate Variants
+   makes all 1,000: the engine's assembly and self-intersection check, then building the meshes in Blender.
+
 Usage: python blender_tests/bench_blender.py [--size 1000]
 """
 
@@ -27,9 +30,18 @@ import bpy  # noqa: E402
 import numpy as np  # noqa: E402
 import worldpaint  # noqa: E402
 import worldpaint_engine as engine  # noqa: E402
-from scene_kit import collection_instances, engine_terrain_object, prototypes, select_only  # noqa: E402
+from scene_kit import (  # noqa: E402
+    collection_instances,
+    edited_part,
+    engine_terrain_object,
+    prototypes,
+    segmented_tree,
+    select_only,
+    tilt_ring,
+)
 from worldpaint.bridge import engine as facade  # noqa: E402
 from worldpaint.bridge import points as wp_points  # noqa: E402
+from worldpaint.bridge import variety  # noqa: E402
 from worldpaint.bridge.instances import point_cloud_arrays, point_cloud_objects  # noqa: E402
 from worldpaint.ops.common import SceneContent  # noqa: E402
 
@@ -228,6 +240,44 @@ def bench_painting():
           f"{np.median(steps) * 1e3:.1f} ms, worst {max(steps) * 1e3:.1f} ms (target <= 100 ms)")
 
 
+def bench_variety():
+    """Section 4 of the module documentation."""
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    tree = segmented_tree(sides=125)
+    bpy.context.view_layer.objects.active = tree
+    bpy.ops.worldpaint.decompose_model(source='ATTRIBUTE', attribute="part", root=0)
+    for k in range(1, 10):
+        for label, above in ((0, 1.5), (1, 3.0)):
+            tilt_ring(edited_part(tree, label, f"lean {label}.{k}"), above, 0.02 * k, 'X' if k % 2 else 'Y')
+        crown = edited_part(tree, 2, f"crown {k}")
+        max(crown.data.vertices, key=lambda v: v.co.z).co.z += 0.15 * k
+    operator = bpy.ops.worldpaint.generate_variants
+    _, t_all = timed(lambda: operator(count=1000, seed=1))
+    settings = tree.worldpaint_variety
+    variants = list(settings.generated.objects)
+    model = variety_model(tree)
+    _, t_engine = timed(lambda: engine.generate_variants(model["model"], model["labels"], model["variants"], 1000, 1,
+                                                         root=0))
+    print(f"variety: {len(tree.data.polygons)}-face tree, {settings.total} possible; {len(variants)} generated")
+    print(f"generate variants (engine)   {t_engine:7.3f} s")
+    print(f"Generate Variants operator   {t_all:7.3f} s   (read parts + engine + build {len(variants)} meshes; "
+          f"meshes {t_all - t_engine:.3f} s, target <= 1 s)")
+
+
+def variety_model(tree):
+    """What Generate Variants hands the engine, read again: the model, its labels and the parts' edits."""
+    labels = variety.face_labels(tree, 'ATTRIBUTE', "part")
+    model = variety.mesh_model(tree.data)
+    found = engine.decompose_model(model, labels, 0)
+    edits = []
+    for label, piece in zip(found["labels"], found["components"], strict=True):
+        collection = tree.worldpaint_variety.parts.children[f"{tree.name} part {label}"]
+        edits.append([variety.variant_model(o, piece) for o in collection.objects
+                      if o != collection[variety.PART_TAG]])
+    return {"model": model, "labels": labels, "variants": edits}
+
+
 if __name__ == "__main__":
     main()
     bench_painting()
+    bench_variety()
