@@ -194,3 +194,16 @@ def test_move_carries_the_pattern_rigidly_and_clear_removes_it():
     assert bpy.ops.worldpaint.clear_region(region_mode='RECT', rect_min=(60.0, 40.0), rect_max=(90.0, 70.0),
                                            category="Cobble") == {'FINISHED'}
     assert len(cobbles()[0]) == 0
+
+
+def test_bad_input_is_refused_with_a_clear_message():
+    learn_cobbles()
+    with pytest.raises(RuntimeError, match="Nothing to learn"):
+        bpy.ops.worldpaint.learn_arrangement(**REFERENCE)
+    assert bpy.ops.worldpaint.pattern_settings(rotation='FLOW') == {'FINISHED'}
+    with pytest.raises(RuntimeError, match="flow field"):
+        bpy.ops.worldpaint.paste_color(region_mode='RECT', rect_min=(40.0, 40.0), rect_max=(50.0, 50.0))
+    assert len(cobbles()[0]) == 0, "nothing was painted"
+    with pytest.raises(RuntimeError, match="No collection 'Nowhere'"):
+        bpy.ops.worldpaint.paste_color(region_mode='RECT', rect_min=(40.0, 40.0), rect_max=(50.0, 50.0),
+                                       flow="Nowhere")

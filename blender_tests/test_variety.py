@@ -142,3 +142,24 @@ def test_seams_cut_the_model_without_new_vertices():
     tree_variants(tree)  # the seam labels are 0 (lower trunk), 1 (upper) and 2 (crown) here too
     assert bpy.ops.worldpaint.generate_variants(count=5, seed=1) == {'FINISHED'}
     assert "% of the model's memory" in settings.report
+
+
+def test_bad_input_is_refused_with_a_clear_message_and_nothing_changes():
+    tree = segmented_tree()
+    bpy.context.view_layer.objects.active = tree
+    with pytest.raises(RuntimeError, match="Decompose 'Column tree' first"):
+        bpy.ops.worldpaint.generate_variants()
+    with pytest.raises(RuntimeError, match="one component only"):
+        bpy.ops.worldpaint.decompose_model(source='MATERIALS')
+    with pytest.raises(RuntimeError, match="no seams"):
+        bpy.ops.worldpaint.decompose_model(source='SEAMS')
+    assert tree.worldpaint_variety.parts is None and not tree.worldpaint_variety.components
+    assert bpy.ops.worldpaint.decompose_model(source='ATTRIBUTE', attribute="part") == {'FINISHED'}
+    # a part's copy that lost its vertex numbering (a mesh made elsewhere) is named in the error
+    collection = tree.worldpaint_variety.parts.children[0]
+    stranger = bpy.data.objects.new("Stranger", bpy.data.meshes.new("Stranger"))
+    stranger.data.from_pydata([(0, 0, 0), (1, 0, 0), (0, 1, 0)], [], [(0, 1, 2)])
+    collection.objects.link(stranger)
+    with pytest.raises(RuntimeError, match="'Stranger' is not a copy of a part"):
+        bpy.ops.worldpaint.generate_variants()
+    assert tree.worldpaint_variety.generated is None
