@@ -116,6 +116,8 @@ def test_pattern_settings_noise_and_a_flipped_edge_are_kept_in_the_color():
                                                rotation_noise=0.05) == {'FINISHED'}
     color = settings.palette["Cobbles"]
     assert "scale noise 0.10" in color.pattern_line
+    assert bpy.ops.worldpaint.pattern_settings(relax_every=4) == {'FINISHED'}
+    assert "scale noise 0.10" in color.pattern_line, "what a call does not set stays"
     assert bpy.ops.worldpaint.paste_color(region_mode='RECT', rect_min=(40.0, 40.0), rect_max=(60.0, 60.0),
                                           seed=1) == {'FINISHED'}
     _, _, scale, _ = cobbles()

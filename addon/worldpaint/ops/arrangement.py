@@ -116,18 +116,24 @@ class WORLDPAINT_OT_pattern_settings(bpy.types.Operator):
                              description="Relax the growing pattern every this many elements (0: at the end only)")
 
     def invoke(self, context, event):
-        entry = arrangement_entry(context, self.index)
-        summary = engine.arrangement_summary(entry.json)
-        self.rotation = summary.rotation.upper()
-        self.scale_noise, self.rotation_noise = summary.scale_noise, summary.rotation_noise
-        self.relax_every = summary.relax_every
-        return context.window_manager.invoke_props_dialog(self)
+        def start():
+            summary = engine.arrangement_summary(arrangement_entry(context, self.index).json)
+            self.rotation = summary.rotation.upper()
+            self.scale_noise, self.rotation_noise = summary.scale_noise, summary.rotation_noise
+            self.relax_every = summary.relax_every
+            return context.window_manager.invoke_props_dialog(self)
+
+        return report_errors(self, start)
 
     @reports_errors
     def execute(self, context):
         entry = arrangement_entry(context, self.index)
-        changes = {"rotation": self.rotation.lower(), "scale_noise": self.scale_noise,
-                   "rotation_noise": self.rotation_noise, "relax_every": self.relax_every}
+        summary = engine.arrangement_summary(entry.json)
+        # what the call does not set stays as the color has it
+        changes = {"rotation": setting(self, "rotation", summary.rotation.upper()).lower(),
+                   "scale_noise": setting(self, "scale_noise", summary.scale_noise),
+                   "rotation_noise": setting(self, "rotation_noise", summary.rotation_noise),
+                   "relax_every": setting(self, "relax_every", summary.relax_every)}
         entry.json, entry.learned_json = edited_both(entry, **changes)
         refresh_pattern(entry)
         return {'FINISHED'}
