@@ -84,6 +84,16 @@ fn positions_in(scene: &Scene, region: &Region) -> Vec<DVec2> {
         .collect()
 }
 
+/// The reference scene with `color` pasted into `region`.
+fn pasted(color: &Color, region: &Region) -> Scene {
+    let scene = reference_scene();
+    paste(&scene, color, region, &SynthesisOptions::default(), &|_| {
+        true
+    })
+    .unwrap()
+    .applied_to(&scene)
+}
+
 #[test]
 fn an_arrangement_color_survives_its_file_and_paints_its_lattice_elsewhere() {
     let color = learned();
@@ -167,15 +177,7 @@ fn a_paste_beside_a_pasted_pattern_continues_it_without_a_seam() {
 fn the_spray_brush_grows_the_pattern_and_keeps_what_is_there() {
     let color = learned();
     let patch = rect(40.0, 40.0, 50.0, 50.0);
-    let scene = paste(
-        &reference_scene(),
-        &color,
-        &patch,
-        &SynthesisOptions::default(),
-        &|_| true,
-    )
-    .unwrap()
-    .applied_to(&reference_scene());
+    let scene = pasted(&color, &patch);
     let before = scene.instances.len();
     let opts = BrushOptions {
         radius: 4.0,
@@ -244,15 +246,7 @@ fn move_carries_a_pattern_rigidly_and_blur_leaves_it_as_it_is() {
     use worldpaint_core::tools::moving::move_region;
     let color = learned();
     let patch = rect(40.0, 40.0, 50.0, 50.0);
-    let scene = paste(
-        &reference_scene(),
-        &color,
-        &patch,
-        &SynthesisOptions::default(),
-        &|_| true,
-    )
-    .unwrap()
-    .applied_to(&reference_scene());
+    let scene = pasted(&color, &patch);
     let inside: Vec<DVec2> = scene
         .instances
         .iter()
