@@ -288,7 +288,7 @@ mod worldpaint_engine {
     #[pymodule_export]
     use crate::tools::{blur, clear_region, gradient, move_region, paste, stretch_region, Stroke};
     #[pymodule_export]
-    use crate::variety::{assign_variants, decompose_model, generate_variants};
+    use crate::variety::{assign_variants, decompose_model, generate_variants, texture_variety};
     #[pymodule_export]
     use crate::village::{
         default_encyclopedia, encyclopedia_contents, generate_village, scenario_presets,

@@ -1,20 +1,24 @@
-//! Model variety: `decompose_model`, `generate_variants`, `assign_variants`.
+//! Model variety: `decompose_model`, `generate_variants`, `assign_variants`, `texture_variety`.
 //!
 //! A model crosses as a dict {"vertices": float64 (N, 3), "loop_totals": int (F,) (corners per face), "corners": int
 //! (sum,) (vertex per corner, face after face), "uvs": float64 (sum, 2) or None, "materials": int (F,) or None}, as
-//! Blender's mesh arrays read it.
+//! Blender's mesh arrays read it. An image crosses as uint8 (H, W, 4) RGBA, rows from the bottom as Blender's
+//! `Image.pixels`.
 
 use crate::arrays::ArrayArg;
 use crate::convert::{field, points_from_py, rows_to_py};
 use crate::{guarded, input_err, with_progress};
-use numpy::{IntoPyArray, PyReadonlyArray1, PyReadonlyArray2};
+use numpy::ndarray::{Array2, Array3};
+use numpy::{IntoPyArray, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use worldpaint_core::geom::{DVec2, DVec3};
 use worldpaint_core::variety::{
-    generate, memory_report, Atlas, Decomposition, GenerateOptions, IntersectionLabels, Model,
-    Rejection, VariantClass,
+    atlas_images, generate, memory_report, pack_components, pick_texture_variants, Atlas,
+    Decomposition, GenerateOptions, Image, IntersectionLabels, Model, Rejection, TextureComponent,
+    VariantClass,
 };
+use worldpaint_core::Error;
 
 fn int_column(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<i64>> {
     let a: PyReadonlyArray1<'_, i64> = obj
@@ -211,7 +215,8 @@ fn class_name(c: VariantClass) -> &'static str {
 /// Assemble `count` variants of `model` decomposed by `labels` (see `decompose_model`), from `variants`: per component
 /// a list of model dicts (edits of its sub-mesh). `cycles`: (component, max repeat) pairs of local cycles. Returns
 /// {"classes": per component the class of each given variant, "total": #V as a string, "models": the accepted
-/// variants as model dicts, "hashes", "rejected": [(reason, detail)], "memory": {"overhead_percent" (the atlas over
+/// variants as model dicts, "face_origin": per model int64 (F,) the original face each face copies (-1: a face an
+/// edit added), "hashes", "rejected": [(reason, detail)], "memory": {"overhead_percent" (the atlas over
 /// the original, the seed's Table 2), "original_bytes", "shared_bytes", "full_bytes"}}. `progress(fraction) -> bool` may cancel.
 #[pyfunction]
 #[pyo3(signature = (model, labels, variants, count, seed=0, *, root=None, cycles=None, progress=None))]
@@ -303,6 +308,18 @@ pub(crate) fn generate_variants<'py>(
         models.append(model_to_py(py, &assembled.model)?)?;
     }
     d.set_item("models", models)?;
+    let origins = PyList::empty(py);
+    for (_, assembled) in &generation.accepted {
+        origins.append(
+            assembled
+                .face_origin
+                .iter()
+                .map(|o| o.map_or(-1, i64::from))
+                .collect::<Vec<_>>()
+                .into_pyarray(py),
+        )?;
+    }
+    d.set_item("face_origin", origins)?;
     d.set_item(
         "hashes",
         generation
@@ -354,4 +371,155 @@ pub(crate) fn assign_variants<'py>(
         .map(i64::from)
         .collect::<Vec<_>>()
         .into_pyarray(py))
+}
+
+fn image_from_py(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Image> {
+    let a: PyReadonlyArray3<'_, u8> = obj
+        .extract()
+        .map_err(|_| input_err(format!("{what} must be a uint8 (height, width, 4) array")))?;
+    let a = a.as_array();
+    let (h, w, channels) = a.dim();
+    if channels != 4 {
+        return Err(input_err(format!(
+            "{what} has {channels} channels where 4 (RGBA) are needed"
+        )));
+    }
+    let (Ok(width), Ok(height)) = (u32::try_from(w), u32::try_from(h)) else {
+        return Err(input_err(format!("{what} is too large")));
+    };
+    let rgba: Vec<u8> = a.iter().copied().collect();
+    guarded(|| Image::new(width, height, rgba))
+}
+
+fn image_to_py<'py>(py: Python<'py>, image: &Image) -> PyResult<Bound<'py, numpy::PyArray3<u8>>> {
+    let shape = (image.height as usize, image.width as usize, 4);
+    let array = Array3::from_shape_vec(shape, image.rgba.clone())
+        .map_err(|e| input_err(format!("an image of inconsistent size: {e}")))?;
+    Ok(array.into_pyarray(py))
+}
+
+/// An error about one painted image, named.
+fn about_edit(e: Error, name: &str) -> Error {
+    match e {
+        Error::Invalid { what, reason } if what == "painted image" => Error::invalid(name, reason),
+        other => other,
+    }
+}
+
+/// Texture variety (seed §5): each of `edits` (images the size of `base`, uint8 (H, W, 4)) compared with the `base`
+/// texture becomes a texture component T_k = (P, M, C) over `model`'s texture coordinates; the components are packed
+/// into the fewest atlases with no two conflicting ones together, and `count` variants each pick components at random
+/// (each with `probability`, face locking; seeded). `names` name the edits in errors. Returns {"components": [{"texels":
+/// |P|, "face_texels": |M|, "faces": int64 C}], "conflicts": [(i, j)], "atlas_of": int64 (K,), "atlases", "exact"
+/// (the count is proven the fewest), "images": the atlases as uint8 (H, W, 4), "chosen": per variant the components
+/// it shows, "face_atlas": int64 (count, F) the atlas each face of the model binds in each variant (-1: the base)}.
+#[pyfunction]
+#[pyo3(signature = (model, base, edits, count, probability=0.5, seed=0, *, names=None))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn texture_variety<'py>(
+    py: Python<'py>,
+    model: &Bound<'py, PyAny>,
+    base: &Bound<'py, PyAny>,
+    edits: &Bound<'py, PyAny>,
+    count: usize,
+    probability: f64,
+    seed: u64,
+    names: Option<Vec<String>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let model = model_from_py(model, "model")?;
+    let base = image_from_py(base, "base texture")?;
+    let mut painted = Vec::new();
+    for (k, item) in edits
+        .try_iter()
+        .map_err(|_| input_err("edits must be a list of images"))?
+        .enumerate()
+    {
+        painted.push(image_from_py(&item?, &format!("texture edit {}", k + 1))?);
+    }
+    let names: Vec<String> = (0..painted.len())
+        .map(|k| {
+            names
+                .as_ref()
+                .and_then(|n| n.get(k))
+                .map_or_else(|| format!("texture edit {}", k + 1), |n| format!("'{n}'"))
+        })
+        .collect();
+    let faces = model.faces.len();
+    let (components, packing, images, picks) = py.detach(|| {
+        guarded(|| {
+            if painted.is_empty() {
+                return Err(Error::invalid(
+                    "texture edits",
+                    "none given: paint at least one",
+                ));
+            }
+            let components = painted
+                .iter()
+                .zip(&names)
+                .map(|(edit, name)| {
+                    TextureComponent::from_edit(&model, &base, edit)
+                        .map_err(|e| about_edit(e, name))
+                })
+                .collect::<worldpaint_core::Result<Vec<_>>>()?;
+            let packing = pack_components(&components);
+            let images = atlas_images(&base, &components, &packing);
+            let picks =
+                pick_texture_variants(&components, &packing, faces, probability, count, seed)?;
+            Ok((components, packing, images, picks))
+        })
+    })?;
+    let d = PyDict::new(py);
+    let list = PyList::empty(py);
+    for c in &components {
+        let item = PyDict::new(py);
+        item.set_item("texels", c.pixel_mask.len())?;
+        item.set_item("face_texels", c.face_mask.len())?;
+        item.set_item(
+            "faces",
+            c.faces
+                .iter()
+                .map(|&f| i64::from(f))
+                .collect::<Vec<_>>()
+                .into_pyarray(py),
+        )?;
+        list.append(item)?;
+    }
+    d.set_item("components", list)?;
+    let mut conflicts = Vec::new();
+    for i in 0..components.len() {
+        for j in i + 1..components.len() {
+            if components[i].conflicts(&components[j]) {
+                conflicts.push((i, j));
+            }
+        }
+    }
+    d.set_item("conflicts", conflicts)?;
+    d.set_item(
+        "atlas_of",
+        packing
+            .atlas_of
+            .iter()
+            .map(|&a| a as i64)
+            .collect::<Vec<_>>()
+            .into_pyarray(py),
+    )?;
+    d.set_item("atlases", packing.atlases)?;
+    d.set_item("exact", packing.exact)?;
+    let out = PyList::empty(py);
+    for image in &images {
+        out.append(image_to_py(py, image)?)?;
+    }
+    d.set_item("images", out)?;
+    d.set_item(
+        "chosen",
+        picks.iter().map(|p| p.chosen.clone()).collect::<Vec<_>>(),
+    )?;
+    let mut face_atlas = Array2::<i64>::from_elem((count, faces), -1);
+    for (row, pick) in face_atlas.rows_mut().into_iter().zip(&picks) {
+        for (cell, atlas) in row.into_iter().zip(&pick.face_atlas) {
+            *cell = atlas.map_or(-1, |a| a as i64);
+        }
+    }
+    d.set_item("face_atlas", face_atlas.into_pyarray(py))?;
+    Ok(d)
 }

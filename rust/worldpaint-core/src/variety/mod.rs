@@ -37,6 +37,8 @@
 //! pack_components(&[TextureComponent]) -> Packing               // §5.2, fewest atlases
 //! atlas_images(&base, &[TextureComponent], &packing) -> Vec<Image>
 //! pick_textures(&[TextureComponent], &packing, face_count, probability, seed) -> Result<TextureChoice>
+//! pick_texture_variants(&[TextureComponent], &packing, face_count, probability, count, seed)
+//!     -> Result<Vec<TextureChoice>>                              // one choice per variant, seeded
 //! ```
 //!
 //! A typical call from Blender: build the [`Model`] of the object, labels from its face sets, an [`Atlas`] of the
@@ -69,5 +71,6 @@ pub use intersect::{new_intersection, new_intersection_between_parts, Intersecti
 pub use memory::{memory_report, MemoryReport};
 pub use model::Model;
 pub use texture::{
-    atlas_images, pack_components, pick_textures, Image, Packing, TextureChoice, TextureComponent,
+    atlas_images, pack_components, pick_texture_variants, pick_textures, Image, Packing,
+    TextureChoice, TextureComponent,
 };

@@ -397,3 +397,66 @@ pub fn pick_textures(
     chosen.sort_unstable();
     Ok(TextureChoice { chosen, face_atlas })
 }
+
+/// The texture choices of `count` variants: variant `i` picks with [`pick_textures`] under the `i`-th seed drawn from
+/// one generator seeded with `seed`, so a variant's texture does not depend on how many variants are asked for.
+pub fn pick_texture_variants(
+    components: &[TextureComponent],
+    packing: &Packing,
+    face_count: usize,
+    probability: f64,
+    count: usize,
+    seed: u64,
+) -> Result<Vec<TextureChoice>> {
+    crate::limits::check(
+        "texture choices of the variants",
+        count as f64 * face_count as f64,
+        crate::limits::MAX_GRID_CELLS,
+        "faces",
+    )?;
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    (0..count)
+        .map(|_| pick_textures(components, packing, face_count, probability, rng.random()))
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn component(faces: Vec<u32>, texel: u32) -> TextureComponent {
+        TextureComponent {
+            pixel_mask: vec![texel],
+            colours: vec![[255, 0, 0, 255]],
+            faces,
+            face_mask: vec![texel],
+        }
+    }
+
+    #[test]
+    fn locked_components_are_taken_less_often_than_free_ones() {
+        // components 0 and 1 share face 1 (face locking), component 2 is alone
+        let comps = [
+            component(vec![0, 1], 0),
+            component(vec![1, 2], 1),
+            component(vec![3], 2),
+        ];
+        let packing = pack_components(&comps);
+        let picks = pick_texture_variants(&comps, &packing, 4, 0.5, 4000, 7).expect("picks");
+        let taken =
+            |k: usize| picks.iter().filter(|p| p.chosen.contains(&k)).count() as f64 / 4000.0;
+        // a locked pair: taken first (½ · p) or second when the other was not taken (½ · p · (1 - p)) = 0.375
+        assert!((taken(0) - 0.375).abs() < 0.03, "{}", taken(0));
+        assert!((taken(1) - 0.375).abs() < 0.03, "{}", taken(1));
+        assert!((taken(2) - 0.5).abs() < 0.03, "{}", taken(2));
+        assert!(picks
+            .iter()
+            .all(|p| !(p.chosen.contains(&0) && p.chosen.contains(&1))));
+        let again = pick_texture_variants(&comps, &packing, 4, 0.5, 10, 7).expect("picks");
+        assert_eq!(
+            again[..],
+            picks[..10],
+            "the first variants do not depend on the count"
+        );
+    }
+}
