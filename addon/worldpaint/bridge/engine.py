@@ -534,6 +534,16 @@ def generate_variants(model, labels, variants, count, seed, *, root=None, cycles
                                        root=root, cycles=cycles, progress=progress)
 
 
+def texture_variety(model, base, edits, count, probability=0.5, seed=0, *, names=None):
+    """Texture variety (seed §5): each edit (uint8 (H, W, 4), the size of ``base``) becomes a texture component over
+    the model's UVs; the components packed into the fewest atlases (no two conflicting in one), and ``count``
+    variants' picks with face locking: components (texels, face texels, faces), conflicts, atlas_of, atlases, exact,
+    images (uint8 (H, W, 4)), chosen (per variant), face_atlas (int64 (count, F), -1: the base texture)."""
+    return _engine().texture_variety(model, np.ascontiguousarray(base, dtype=np.uint8),
+                                     [np.ascontiguousarray(e, dtype=np.uint8) for e in edits], count, probability,
+                                     seed, names=names)
+
+
 def assign_variants(positions, fixed, count, window=50.0, seed=0):
     """int64 (N,): the variant of each XY position, ``fixed`` (-1: to choose) kept, the others the least used around."""
     return _engine().assign_variants(np.ascontiguousarray(positions, dtype=np.float64),

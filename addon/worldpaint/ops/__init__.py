@@ -2,7 +2,7 @@
 
 import bpy
 
-from . import arrangement, sketch_draw, variety
+from . import arrangement, sketch_draw, variety, variety_texture
 from .blur import WORLDPAINT_OT_blur
 from .brush import WORLDPAINT_OT_brush, WORLDPAINT_OT_brush_radius, WORLDPAINT_OT_erase
 from .clear import WORLDPAINT_OT_clear_region
@@ -66,6 +66,7 @@ _classes = (
     *sketch_draw.classes,
     *arrangement.classes,
     *variety.classes,
+    *variety_texture.classes,
 )
 
 _register_classes, _unregister_classes = bpy.utils.register_classes_factory(_classes)
@@ -74,8 +75,10 @@ _register_classes, _unregister_classes = bpy.utils.register_classes_factory(_cla
 def register():
     _register_classes()
     sketch_draw.add_overlay()
+    variety_texture.add_save_handler()
 
 
 def unregister():
+    variety_texture.remove_save_handler()
     sketch_draw.remove_overlay()
     _unregister_classes()

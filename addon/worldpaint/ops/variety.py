@@ -1,15 +1,19 @@
 """Model variety (Maréchal et al.): Decompose Model cuts a low-poly mesh into components and gives each a collection
 holding its original piece; the user adds edited copies of the piece there (edit mode, Lattice, Simple Deform,
 deleted faces); Generate Variants assembles new models from them, rejecting those with new self-intersections, into a
-collection a category can paint with."""
+collection a category can paint with. When the model has texture edits (§5), Generate Variants also packs them into
+atlases and each variant shows texture components picked at random, with face locking; it then makes Count variants,
+repeating shapes when there are fewer."""
 
 import bpy
-from bpy.props import EnumProperty, IntProperty, StringProperty
+from bpy.props import EnumProperty, FloatProperty, IntProperty, StringProperty
 
-from ..bridge import WorldPaintError, engine, variety
+from ..bridge import WorldPaintError, engine, variety, variety_texture
 from ..props.variety import LABEL_SOURCES
 from .background import BackgroundOperator
-from .common import reports_errors
+from .common import reports_errors, setting
+
+CHOSEN_TAG = "wp_texture_edits"  # on a generated variant: the texture edits it shows (indices into the list)
 
 
 def model_object(context, name):
@@ -111,6 +115,8 @@ class WORLDPAINT_OT_generate_variants(BackgroundOperator, bpy.types.Operator):
     object: StringProperty(name="Object", description="Decomposed mesh (empty: the active object)")
     count: IntProperty(name="Count", default=50, min=1, soft_max=1000, description="Variants to generate")
     seed: IntProperty(name="Seed", default=0, min=0)
+    probability: FloatProperty(name="Texture Probability", default=0.5, min=0.0, max=1.0, subtype='FACTOR',
+                               description="How likely a variant is to show each texture edit (unset: the panel's)")
 
     def _prepare(self, context):
         obj = model_object(context, self.object)
@@ -132,32 +138,76 @@ class WORLDPAINT_OT_generate_variants(BackgroundOperator, bpy.types.Operator):
             edits = [] if collection is None else [o for o in collection.objects if o.type == 'MESH'
                                                   and o != piece_obj]
             self._variants.append([variety.variant_model(o, piece) for o in edits])
+        self._texture = None
+        if settings.texture_edits:
+            self._texture = variety_texture.texture_inputs(obj, self._model)
+            self._edit_names = [image.name for image in self._texture[2]]
+        self._probability = setting(self, "probability", settings.texture_probability)
 
     def _compute(self, progress):
-        return engine.generate_variants(self._model, self._labels, self._variants, self.count, self.seed,
-                                        root=self._root, cycles=self._cycles, progress=progress)
+        result = engine.generate_variants(self._model, self._labels, self._variants, self.count, self.seed,
+                                          root=self._root, cycles=self._cycles, progress=progress)
+        if self._texture is not None:
+            _base, base_pixels, _images, pixels = self._texture
+            count = max(self.count, len(result["models"])) if result["models"] else 0
+            result["texture"] = engine.texture_variety(self._model, base_pixels, pixels, count, self._probability,
+                                                       self.seed, names=self._edit_names)
+        return result
 
     def _apply(self, context, result):
         obj = self._object
         settings = obj.worldpaint_variety
         if settings.generated is not None:
             remove_collection(settings.generated)
+        variety_texture.remove_atlases(settings)
         generated = child_collection(context.scene.collection, f"{obj.name} Variants")
-        materials = [slot.material for slot in obj.material_slots if slot.material is not None]
-        for k, model in enumerate(result["models"]):
+        materials = variety_texture.object_materials(obj)
+        models, texture = result["models"], result.get("texture")
+        settings.texture_report = ""
+        if texture is not None:
+            materials, table = self._atlases(settings, texture, materials)
+        for k in range(len(texture["face_atlas"]) if texture is not None else len(models)):
+            model, origin = models[k % len(models)], result["face_origin"][k % len(models)]
             mesh = bpy.data.meshes.new(f"{obj.name} variant {k:03d}")
             variety.write_model(mesh, model, materials)
-            generated.objects.link(bpy.data.objects.new(mesh.name, mesh))
+            variety_texture.write_face_origin(mesh, origin)
+            variant = bpy.data.objects.new(mesh.name, mesh)
+            if texture is not None:
+                mesh.polygons.foreach_set("material_index", variety_texture.face_materials(
+                    model["materials"], origin, texture["face_atlas"][k], table))
+                variant[CHOSEN_TAG] = [int(c) for c in texture["chosen"][k]]
+            generated.objects.link(variant)
         variety.hide_collection(context.scene, generated)
         settings.generated = generated
+        settings.texture_probability = self._probability
         settings.total = result["total"]
         classes = [c for own in result["classes"] for c in own]
         kinds = ", ".join(f"{classes.count(k)} {k.replace('_', ' ')}" for k in sorted(set(classes))) or "none"
-        settings.report = (f"{len(result['models'])} variants of {result['total']} possible; "
+        shapes, made = len(result["models"]), len(generated.objects)
+        variants = f"{made} variants, {shapes} shapes" if made != shapes else f"{made} variants"
+        settings.report = (f"{variants} of {result['total']} possible; "
                            f"{len(result['rejected'])} rejected; variants given: {kinds}; the parts take "
                            f"{result['memory']['overhead_percent']:+.0f} % of the model's memory")
-        self.report({'INFO'}, settings.report)
+        self.report({'INFO'}, f"{settings.report}. {settings.texture_report}".rstrip(". "))
         return {'FINISHED'}
+
+    def _atlases(self, settings, texture, materials):
+        """Writes the atlases as packed images, lists them in the settings and returns the variants' materials with
+        the table of atlas copies (see ``variety_texture.atlas_materials``)."""
+        base, _pixels, images, _edits = self._texture
+        name = self._object.name
+        atlases = [variety_texture.new_image(f"{name} atlas {a + 1}", rgba, base)
+                   for a, rgba in enumerate(texture["images"])]
+        for a, atlas in enumerate(atlases):
+            item = settings.atlases.add()
+            item.image = atlas
+            item.edits = ", ".join(image.name for image, at in zip(images, texture["atlas_of"], strict=True) if at == a)
+        shown, pairs = sum(bool(len(c)) for c in texture["chosen"]), len(texture["conflicts"])
+        settings.texture_report = (
+            f"{len(images)} texture edits in {texture['atlases']} atlases"
+            f"{' (the fewest)' if texture['exact'] else ''}, {pairs} conflicting pair{'s' * (pairs != 1)}; "
+            f"{shown} of {len(texture['chosen'])} variants show painted details")
+        return variety_texture.atlas_materials(materials, base, atlases)
 
 
 classes = (WORLDPAINT_OT_decompose_model, WORLDPAINT_OT_generate_variants)

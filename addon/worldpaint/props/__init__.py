@@ -18,7 +18,12 @@ from bpy.props import (
 from ..bridge.engine import fidelity_line
 from .sketch import WORLDPAINT_PG_sketch, WORLDPAINT_PG_sketch_point, WORLDPAINT_PG_sketch_stroke
 from .terrain_edit import WORLDPAINT_PG_terrain_edit, WORLDPAINT_PG_waterfall_controller
-from .variety import WORLDPAINT_PG_component, WORLDPAINT_PG_variety
+from .variety import (
+    WORLDPAINT_PG_component,
+    WORLDPAINT_PG_texture_atlas,
+    WORLDPAINT_PG_texture_edit,
+    WORLDPAINT_PG_variety,
+)
 from .village import WORLDPAINT_PG_village, WORLDPAINT_PG_village_event
 
 CATEGORY_KINDS = (
@@ -214,7 +219,7 @@ _register_classes, _unregister_classes = bpy.utils.register_classes_factory(
     (WORLDPAINT_PG_category, WORLDPAINT_PG_interaction, WORLDPAINT_PG_color, WORLDPAINT_PG_stroke_point,
      WORLDPAINT_PG_village_event, WORLDPAINT_PG_village, WORLDPAINT_PG_terrain_edit, WORLDPAINT_PG_waterfall_controller,
      WORLDPAINT_PG_sketch_point, WORLDPAINT_PG_sketch_stroke, WORLDPAINT_PG_sketch, WORLDPAINT_PG_component,
-     WORLDPAINT_PG_variety, WORLDPAINT_PG_settings)
+     WORLDPAINT_PG_texture_edit, WORLDPAINT_PG_texture_atlas, WORLDPAINT_PG_variety, WORLDPAINT_PG_settings)
 )
 
 

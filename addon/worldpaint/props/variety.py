@@ -1,8 +1,9 @@
 """Model variety settings of a mesh object (``object.worldpaint_variety``): how it is cut into components, the
-collections of its parts and of its generated variants, and what the last generation made."""
+collections of its parts and of its generated variants, its texture edits and atlases, and what the last generation
+made."""
 
 import bpy
-from bpy.props import CollectionProperty, EnumProperty, IntProperty, PointerProperty, StringProperty
+from bpy.props import CollectionProperty, EnumProperty, FloatProperty, IntProperty, PointerProperty, StringProperty
 
 LABEL_SOURCES = (
     ("FACE_SETS", "Face Sets", "One component per face set (Sculpt Mode > Face Sets)"),
@@ -23,6 +24,20 @@ class WORLDPAINT_PG_component(bpy.types.PropertyGroup):
                         "connecting regions must be alike; 0: once)")
 
 
+class WORLDPAINT_PG_texture_edit(bpy.types.PropertyGroup):
+    """One texture edit: a copy of the base texture with details painted in (a texture component, seed §5)."""
+
+    image: PointerProperty(name="Image", type=bpy.types.Image,
+                           description="A copy of the base texture with details painted in")
+
+
+class WORLDPAINT_PG_texture_atlas(bpy.types.PropertyGroup):
+    """One texture component atlas made by the last generation: the base texture with its components painted in."""
+
+    image: PointerProperty(name="Image", type=bpy.types.Image)
+    edits: StringProperty(name="Edits", description="The texture edits painted into this atlas")
+
+
 class WORLDPAINT_PG_variety(bpy.types.PropertyGroup):
     source: EnumProperty(name="Components", items=LABEL_SOURCES, default="FACE_SETS",
                          description="What cuts the model into components")
@@ -40,6 +55,16 @@ class WORLDPAINT_PG_variety(bpy.types.PropertyGroup):
     count: IntProperty(name="Generate", default=50, min=1, soft_max=1000, description="Variants to generate")
     seed: IntProperty(name="Seed", default=0, min=0)
     report: StringProperty(name="Report", description="What the last generation made")
+    base_image: PointerProperty(name="Base Texture", type=bpy.types.Image,
+                                description="The texture the edits are painted over (empty: the first image texture "
+                                "of the object's materials)")
+    texture_edits: CollectionProperty(type=WORLDPAINT_PG_texture_edit)
+    active_texture_edit: IntProperty(name="Active Texture Edit", default=0)
+    texture_probability: FloatProperty(name="Probability", default=0.5, min=0.0, max=1.0, subtype='FACTOR',
+                                       description="How likely a variant is to show each texture edit (one whose "
+                                       "faces already show another is skipped)")
+    atlases: CollectionProperty(type=WORLDPAINT_PG_texture_atlas)
+    texture_report: StringProperty(name="Texture Report", description="What the last generation made of the edits")
 
 
-classes = (WORLDPAINT_PG_component, WORLDPAINT_PG_variety)
+classes = (WORLDPAINT_PG_component, WORLDPAINT_PG_texture_edit, WORLDPAINT_PG_texture_atlas, WORLDPAINT_PG_variety)

@@ -1,4 +1,4 @@
-"""The Model Variety panel: decompose the active mesh, see its components, generate variants."""
+"""The Model Variety panel: decompose the active mesh, see its components, add texture edits, generate variants."""
 
 import bpy
 
@@ -12,6 +12,13 @@ class WORLDPAINT_UL_components(bpy.types.UIList):
         row.label(text=f"{item.faces} faces")
         row.label(text=f"joined to {item.regions}")
         row.prop(item, "repeat", text="Repeat")
+
+
+class WORLDPAINT_UL_texture_edits(bpy.types.UIList):
+    def draw_item(self, _context, layout, _data, item, _icon, _active_data, _active_propname, index):
+        row = layout.row(align=True)
+        row.prop(item, "image", text="")
+        row.operator("worldpaint.paint_texture_edit", text="", icon='BRUSH_DATA').index = index
 
 
 class WORLDPAINT_PT_variety(MainSubpanel, bpy.types.Panel):
@@ -38,6 +45,7 @@ class WORLDPAINT_PT_variety(MainSubpanel, bpy.types.Panel):
         layout.template_list("WORLDPAINT_UL_components", "", settings, "components", settings, "active_component",
                              rows=3)
         layout.label(text="Edit copies of a part in its collection to make variants", icon='INFO')
+        self.draw_texture(layout, settings)
         box = layout.box()
         row = box.row(align=True)
         row.prop(settings, "count")
@@ -45,11 +53,36 @@ class WORLDPAINT_PT_variety(MainSubpanel, bpy.types.Panel):
         col = enlarged(box.column(), invoke=True)
         generate = col.operator("worldpaint.generate_variants", icon='OUTLINER_OB_GROUP_INSTANCE')
         generate.count, generate.seed = settings.count, settings.seed
+        generate.probability = settings.texture_probability
         if settings.report:
             box.label(text=settings.report)
+        if settings.texture_report:
+            box.label(text=settings.texture_report)
         if settings.generated is not None:
             box.label(text="Paint with them: set a category's Variants to this collection")
             box.prop(settings, "generated")
 
 
-classes = (WORLDPAINT_UL_components, WORLDPAINT_PT_variety)
+    @staticmethod
+    def draw_texture(layout, settings):
+        """Texture variety (seed §5): the base texture, the texture edits painted over it, how often variants show
+        them, and the atlases the last generation packed them into."""
+        box = layout.box()
+        box.label(text="Texture Variety", icon='TEXTURE')
+        box.prop(settings, "base_image")
+        row = box.row()
+        row.template_list("WORLDPAINT_UL_texture_edits", "", settings, "texture_edits", settings,
+                          "active_texture_edit", rows=2)
+        col = row.column(align=True)
+        col.operator("worldpaint.add_texture_edit", text="", icon='ADD')
+        col.operator("worldpaint.remove_texture_edit", text="", icon='REMOVE')
+        if not settings.texture_edits:
+            box.label(text="New Texture Edit copies the base texture: paint details on it", icon='INFO')
+            return
+        box.prop(settings, "texture_probability")
+        for item in settings.atlases:
+            if item.image is not None:
+                box.label(text=f"{item.image.name}: {item.edits}", icon='IMAGE_DATA')
+
+
+classes = (WORLDPAINT_UL_components, WORLDPAINT_UL_texture_edits, WORLDPAINT_PT_variety)
