@@ -198,7 +198,8 @@ def test_fewer_shapes_than_asked_repeat_with_other_textures_and_the_probability_
     settings.texture_probability = 0.9  # the panel's setting, used when the call does not give one
     assert bpy.ops.worldpaint.generate_variants(count=60, seed=2) == {'FINISHED'}
     variants = list(settings.generated.objects)
-    assert len(variants) == 60, "one shape (nothing edited), 60 variants told apart by their textures"
+    assert len(variants) == 60 and settings.report.startswith("60 variants, 1 shape of 1 possible"), \
+        "one shape (nothing edited), 60 variants told apart by their textures"
     yellow = sum(2 in o["wp_texture_edits"] for o in variants)
     print(f"\n  probability 0.9: yellow taken by {yellow}/60")
     assert yellow >= 48

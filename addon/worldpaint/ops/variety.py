@@ -184,7 +184,7 @@ class WORLDPAINT_OT_generate_variants(BackgroundOperator, bpy.types.Operator):
         classes = [c for own in result["classes"] for c in own]
         kinds = ", ".join(f"{classes.count(k)} {k.replace('_', ' ')}" for k in sorted(set(classes))) or "none"
         shapes, made = len(result["models"]), len(generated.objects)
-        variants = f"{made} variants, {shapes} shapes" if made != shapes else f"{made} variants"
+        variants = f"{made} variants, {shapes} shape{'s' * (shapes != 1)}" if made != shapes else f"{made} variants"
         settings.report = (f"{variants} of {result['total']} possible; "
                            f"{len(result['rejected'])} rejected; variants given: {kinds}; the parts take "
                            f"{result['memory']['overhead_percent']:+.0f} % of the model's memory")
