@@ -2,7 +2,7 @@
 
 import bpy
 
-from . import arrangement, sketch_draw, variety
+from . import arrangement, sketch_draw, variety, variety_tools
 from .blur import WORLDPAINT_OT_blur
 from .brush import WORLDPAINT_OT_brush, WORLDPAINT_OT_brush_radius, WORLDPAINT_OT_erase
 from .clear import WORLDPAINT_OT_clear_region
@@ -66,6 +66,7 @@ _classes = (
     *sketch_draw.classes,
     *arrangement.classes,
     *variety.classes,
+    *variety_tools.classes,
 )
 
 _register_classes, _unregister_classes = bpy.utils.register_classes_factory(_classes)
@@ -78,4 +79,5 @@ def register():
 
 def unregister():
     sketch_draw.remove_overlay()
+    variety_tools.remove_overlays()
     _unregister_classes()
