@@ -153,7 +153,10 @@ class WORLDPAINT_OT_generate_variants(BackgroundOperator, bpy.types.Operator):
         settings.total = result["total"]
         classes = [c for own in result["classes"] for c in own]
         kinds = ", ".join(f"{classes.count(k)} {k.replace('_', ' ')}" for k in sorted(set(classes))) or "none"
-        settings.report = (f"{len(result['models'])} variants of {result['total']} possible; "
+        made = len(result["models"])
+        short = (f" (every one tried: {self.count} asked)" if result.get("exhausted") and made < self.count
+                 else "")
+        settings.report = (f"{made} variants of {result['total']} possible{short}; "
                            f"{len(result['rejected'])} rejected; variants given: {kinds}; the parts take "
                            f"{result['memory']['overhead_percent']:+.0f} % of the model's memory")
         self.report({'INFO'}, settings.report)

@@ -63,7 +63,7 @@ pub use decompose::{labels_from_cut, Chain, Component, ConnectingRegion, Decompo
 pub use frame::fit_similarity;
 pub use generate::{
     check_assemblies, check_assembly, generate, AssemblyChecker, GenerateOptions, Generation,
-    Rejection,
+    Rejection, ENUMERATION_LIMIT,
 };
 pub use intersect::{new_intersection, new_intersection_between_parts, IntersectionLabels};
 pub use memory::{memory_report, MemoryReport};
