@@ -131,6 +131,14 @@ def write_model(mesh, model, materials):
     mesh.update(calc_edges=True)
 
 
+def write_variants(collection, name, models, materials):
+    """One mesh object per engine model dict in ``collection``, named ``name variant 000`` on."""
+    for k, model in enumerate(models):
+        mesh = bpy.data.meshes.new(f"{name} variant {k:03d}")
+        write_model(mesh, model, materials)
+        collection.objects.link(bpy.data.objects.new(mesh.name, mesh))
+
+
 def variant_model(obj, original):
     """The engine model of an edited part (modifiers applied), its vertices renumbered as the component's: vertex
     ``k`` of the component first (its original place, ``original`` model dict, where the edit deleted it), new ones

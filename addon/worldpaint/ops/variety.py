@@ -144,10 +144,7 @@ class WORLDPAINT_OT_generate_variants(BackgroundOperator, bpy.types.Operator):
             remove_collection(settings.generated)
         generated = child_collection(context.scene.collection, f"{obj.name} Variants")
         materials = [slot.material for slot in obj.material_slots if slot.material is not None]
-        for k, model in enumerate(result["models"]):
-            mesh = bpy.data.meshes.new(f"{obj.name} variant {k:03d}")
-            variety.write_model(mesh, model, materials)
-            generated.objects.link(bpy.data.objects.new(mesh.name, mesh))
+        variety.write_variants(generated, obj.name, result["models"], materials)
         variety.hide_collection(context.scene, generated)
         settings.generated = generated
         settings.total = result["total"]
