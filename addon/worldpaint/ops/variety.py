@@ -144,16 +144,16 @@ class WORLDPAINT_OT_generate_variants(BackgroundOperator, bpy.types.Operator):
             remove_collection(settings.generated)
         generated = child_collection(context.scene.collection, f"{obj.name} Variants")
         materials = [slot.material for slot in obj.material_slots if slot.material is not None]
-        for k, model in enumerate(result["models"]):
-            mesh = bpy.data.meshes.new(f"{obj.name} variant {k:03d}")
-            variety.write_model(mesh, model, materials)
-            generated.objects.link(bpy.data.objects.new(mesh.name, mesh))
+        variety.write_variants(generated, obj.name, result["models"], materials)
         variety.hide_collection(context.scene, generated)
         settings.generated = generated
         settings.total = result["total"]
         classes = [c for own in result["classes"] for c in own]
         kinds = ", ".join(f"{classes.count(k)} {k.replace('_', ' ')}" for k in sorted(set(classes))) or "none"
-        settings.report = (f"{len(result['models'])} variants of {result['total']} possible; "
+        made = len(result["models"])
+        short = (f" (every one tried: {self.count} asked)" if result.get("exhausted") and made < self.count
+                 else "")
+        settings.report = (f"{made} variants of {result['total']} possible{short}; "
                            f"{len(result['rejected'])} rejected; variants given: {kinds}; the parts take "
                            f"{result['memory']['overhead_percent']:+.0f} % of the model's memory")
         self.report({'INFO'}, settings.report)
