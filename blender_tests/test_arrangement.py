@@ -164,7 +164,8 @@ def test_color_noise_tints_each_cobble_and_the_render_shows_it(tmp_path):
     column = np.round((co[:, 0] - 40.0) / 12.0 * 96 - 0.5).astype(int)
     row = np.round((co[:, 1] - 40.0) / 12.0 * 96 - 0.5).astype(int)
     inside = (column >= 1) & (column < 95) & (row >= 1) & (row < 95)
-    brightness = np.array([pixels[r - 1:r + 2, c - 1:c + 2, :3].mean() for r, c in zip(row[inside], column[inside])])
+    brightness = np.array([pixels[r - 1:r + 2, c - 1:c + 2, :3].mean()
+                           for r, c in zip(row[inside], column[inside], strict=True)])
     correlation = np.corrcoef(brightness, tints[inside])[0, 1]
     print(f"{inside.sum()} cobbles in the picture: correlation of their brightness with their tint {correlation:.2f}")
     assert correlation > 0.8

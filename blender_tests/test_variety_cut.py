@@ -91,3 +91,30 @@ def test_a_bad_path_is_refused_and_the_model_is_unchanged():
         with pytest.raises(RuntimeError, match=message):
             bpy.ops.worldpaint.cut_model(object="Column", curve=curve)
         assert len(obj.data.vertices) == before
+
+
+def test_selected_faces_marked_as_components_decompose_the_model():
+    obj = column()
+    poly_curve("Cut", ring(z=2.0), cyclic=True)
+    assert bpy.ops.worldpaint.cut_model(object="Column", curve="Cut") == {'FINISHED'}
+    mesh = obj.data
+    centres = np.empty(len(mesh.polygons) * 3)
+    mesh.polygons.foreach_get("center", centres)
+    top = centres.reshape(-1, 3)[:, 2] > 1.0
+    with pytest.raises(RuntimeError, match="Select the faces"):
+        mesh.polygons.foreach_set("select", np.zeros(len(top), dtype=bool))
+        bpy.ops.worldpaint.mark_component(object="Column")
+    mesh.polygons.foreach_set("select", top)
+    bpy.ops.object.mode_set(mode='EDIT')
+    assert bpy.ops.worldpaint.mark_component(object="Column") == {'FINISHED'}
+    assert obj.mode == 'EDIT', "Edit Mode stays"
+    bpy.ops.object.mode_set(mode='OBJECT')
+    labels = variety.face_labels(obj, 'ATTRIBUTE', variety.COMPONENT_ATTRIBUTE)
+    print(f"marked: {int(top.sum())} selected faces labelled {sorted(set(labels[top].tolist()))}, "
+          f"the other {int((~top).sum())} {sorted(set(labels[~top].tolist()))}")
+    assert set(labels[top].tolist()) == {1} and set(labels[~top].tolist()) == {0}
+    settings = obj.worldpaint_variety
+    assert (settings.source, settings.attribute) == ('ATTRIBUTE', variety.COMPONENT_ATTRIBUTE)
+    assert bpy.ops.worldpaint.decompose_model(object="Column", source='ATTRIBUTE',
+                                              attribute=variety.COMPONENT_ATTRIBUTE) == {'FINISHED'}
+    assert settings.graph.startswith("2 components, 1 connecting regions")

@@ -16,6 +16,7 @@ VERTEX_ATTRIBUTE = "wp_vertex"
 PART_TAG = "wp_part"  # on a part's collection: its original piece (the other objects there are its variants)
 COMPONENT_TAG = "wp_component"  # on a part's collection: its component's label
 FACE_SET_ATTRIBUTE = ".sculpt_face_set"
+COMPONENT_ATTRIBUTE = "wp_component"  # the face attribute Mark Component writes
 
 
 def mesh_model(mesh, with_uvs=True):
@@ -67,6 +68,27 @@ def seam_islands(obj):
         parent[root(f)] = root(other)
     roots = np.array([root(f) for f in range(len(totals))])
     return np.unique(roots, return_inverse=True)[1].astype(np.int64)
+
+
+def mark_selected_faces(mesh):
+    """Gives the selected faces of ``mesh`` a new component label in its face attribute ``wp_component`` (made, with
+    every face in component 0, when missing); returns (label, faces marked). An error when no face is selected."""
+    selected = np.empty(len(mesh.polygons), dtype=bool)
+    mesh.polygons.foreach_get("select", selected)
+    if not selected.any():
+        raise WorldPaintError("Select the faces of the component first (Edit Mode, face select)")
+    attr = mesh.attributes.get(COMPONENT_ATTRIBUTE)
+    if attr is not None and (attr.domain != 'FACE' or attr.data_type != 'INT'):
+        mesh.attributes.remove(attr)
+        attr = None
+    if attr is None:
+        attr = mesh.attributes.new(COMPONENT_ATTRIBUTE, 'INT', 'FACE')
+    labels = np.zeros(len(mesh.polygons), dtype=np.int32)
+    attr.data.foreach_get("value", labels)
+    label = int(labels.max(initial=0)) + 1
+    labels[selected] = label
+    attr.data.foreach_set("value", labels)
+    return label, int(selected.sum())
 
 
 def face_labels(obj, source, attribute=""):

@@ -1,6 +1,6 @@
-"""Model variety's drawing tools: Cut Along Curve cuts a model where the user drew a path (new vertices, their
-texture coordinates interpolated, the cut marked as seams); Show Component Graph draws the decomposed model's
-component graph over it in the viewport."""
+"""Model variety's drawing tools: Mark Component makes the selected faces a component; Cut Along Curve cuts a model
+where the user drew a path (new vertices, their texture coordinates interpolated, the cut marked as seams); Show
+Component Graph draws the decomposed model's component graph over it in the viewport."""
 
 import bpy
 from bpy.props import StringProperty
@@ -40,6 +40,33 @@ class WORLDPAINT_OT_cut_model(bpy.types.Operator):
         return {'FINISHED'}
 
 
+class WORLDPAINT_OT_mark_component(bpy.types.Operator):
+    """Make the selected faces one component (a new label in the face attribute wp_component; the model is then
+    decomposed by that attribute)"""
+
+    bl_idname = "worldpaint.mark_component"
+    bl_label = "Mark Component"
+    bl_options = {'REGISTER', 'UNDO'}
+
+    object: StringProperty(name="Object", description="Mesh (empty: the active object)")
+
+    @reports_errors
+    def execute(self, context):
+        obj = model_object(context, self.object)
+        editing = obj.mode == 'EDIT'
+        if editing:
+            bpy.ops.object.mode_set(mode='OBJECT')  # the selection and the attribute are the mesh's again
+        try:
+            label, count = variety.mark_selected_faces(obj.data)
+        finally:
+            if editing:
+                bpy.ops.object.mode_set(mode='EDIT')
+        settings = obj.worldpaint_variety
+        settings.source, settings.attribute = 'ATTRIBUTE', variety.COMPONENT_ATTRIBUTE
+        self.report({'INFO'}, f"{count} faces of '{obj.name}' are component {label}")
+        return {'FINISHED'}
+
+
 class WORLDPAINT_OT_component_graph(bpy.types.Operator):
     """Show or hide the component graph over the model: a line from each component's centre to each connecting
     region it shares"""
@@ -76,4 +103,4 @@ def remove_overlays():
     _overlays.clear()
 
 
-classes = (WORLDPAINT_OT_cut_model, WORLDPAINT_OT_component_graph)
+classes = (WORLDPAINT_OT_mark_component, WORLDPAINT_OT_cut_model, WORLDPAINT_OT_component_graph)

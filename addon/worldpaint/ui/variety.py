@@ -35,6 +35,8 @@ class WORLDPAINT_PT_variety(MainSubpanel, bpy.types.Panel):
         decompose.source, decompose.attribute, decompose.root = settings.source, settings.attribute, settings.root
         if settings.source == 'SEAMS':
             box.operator("worldpaint.cut_model", icon='SCULPTMODE_HLT').object = obj.name
+        if settings.source == 'ATTRIBUTE':
+            box.operator("worldpaint.mark_component", icon='FACESEL').object = obj.name
         if not settings.components:
             return
         row = layout.row()
