@@ -2,6 +2,7 @@
 exemplars of collection instances. Nothing here is an opaque binary: anyone can regenerate every asset."""
 
 import math
+import pathlib
 
 import bmesh
 import bpy
@@ -417,3 +418,136 @@ def tree_variants(tree, height=1.5):
     for v in narrow.data.vertices:
         if math.hypot(v.co.x, v.co.y) > 0.5:
             v.co.x, v.co.y = 0.7 * v.co.x, 0.7 * v.co.y
+
+
+BIRCH = pathlib.Path(__file__).resolve().parent / "birch.obj"
+
+
+def import_birch():
+    """The variety test tree (``birch.obj``, made by ``birch.py``) through Blender's OBJ importer: one mesh object
+    'Birch' of six material slots, one per component (trunk, branch_a, branch_b, crown, clump_a, clump_b)."""
+    assert bpy.ops.wm.obj_import(filepath=str(BIRCH), forward_axis='Y', up_axis='Z') == {'FINISHED'}
+    return bpy.data.objects["Birch"]
+
+
+def in_edit_mode(obj, edit):
+    """Runs ``edit(bm)`` on ``obj``'s mesh in Edit Mode, as a user moving or deleting there, and leaves it."""
+    bpy.context.view_layer.objects.active = obj
+    bpy.ops.object.mode_set(mode='EDIT')
+    bm = bmesh.from_edit_mesh(obj.data)
+    bm.verts.index_update()
+    bm.faces.index_update()
+    edit(bm)
+    bmesh.update_edit_mesh(obj.data)
+    bpy.ops.object.mode_set(mode='OBJECT')
+
+
+def apply_modifier(obj, kind, vertices, **settings):
+    """Adds a modifier of ``kind`` limited to a vertex group of ``vertices`` (indices), sets ``settings`` on it and
+    applies it (Object > Apply)."""
+    group = obj.vertex_groups.new(name=kind.lower())
+    group.add([int(v) for v in vertices], 1.0, 'REPLACE')
+    modifier = obj.modifiers.new(kind.title(), kind)
+    modifier.vertex_group = group.name
+    for key, value in settings.items():
+        setattr(modifier, key, value)
+    with bpy.context.temp_override(object=obj, active_object=obj):
+        assert bpy.ops.object.modifier_apply(modifier=modifier.name) == {'FINISHED'}
+
+
+def lattice_shear(obj, vertices, amount):
+    """A 2x2x2 Lattice around ``obj`` whose top corners are moved ``amount`` metres along X, applied to ``vertices``:
+    every vertex moves along X in proportion to its height in the box (a shear)."""
+    co = np.array([v.co for v in obj.data.vertices])
+    lo, hi = co.min(axis=0), co.max(axis=0)
+    lattice = bpy.data.objects.new(f"{obj.name} lattice", bpy.data.lattices.new(f"{obj.name} lattice"))
+    bpy.context.scene.collection.objects.link(lattice)
+    lattice.location, lattice.scale = tuple((lo + hi) / 2), tuple(hi - lo)
+    for point in lattice.data.points:
+        if point.co.z > 0.0:
+            point.co_deform.x += amount / (hi - lo)[0]
+    apply_modifier(obj, 'LATTICE', vertices, object=lattice)
+    bpy.data.objects.remove(lattice)
+
+
+def open_boundary(mesh):
+    """bool (N,): the vertices on edges of one face (a part's connecting regions)."""
+    uses = np.zeros(len(mesh.edges), dtype=np.int64)
+    edge = np.empty(len(mesh.loops), dtype=np.int64)
+    mesh.loops.foreach_get("edge_index", edge)
+    np.add.at(uses, edge, 1)
+    ends = np.empty(2 * len(mesh.edges), dtype=np.int64)
+    mesh.edges.foreach_get("vertices", ends)
+    out = np.zeros(len(mesh.vertices), dtype=bool)
+    out[ends.reshape(-1, 2)[uses == 1].ravel()] = True
+    return out
+
+
+def birch_variants(tree):
+    """Two edited copies of each part of a decomposed ``import_birch`` tree, made with Blender's tools (3^6 = 729
+    trees): the trunk's base flared in Edit Mode and its lowest rings twisted by a Simple Deform; each branch tilted
+    from its first ring in Edit Mode (its leaf mass follows) and kinked at its middle ring by a Lattice; every other
+    leaf clump of each leaf mass deleted in Edit Mode, and each mass sheared by a Lattice. Connecting rings stay."""
+    trunk = edited_part(tree, 0, "Trunk flared")
+    foot = Matrix.Translation(-np.array([v.co for v in trunk.data.vertices if abs(v.co.z) < 1e-4]).mean(axis=0))
+    in_edit_mode(trunk, lambda bm: bmesh.ops.scale(bm, vec=(1.35, 1.35, 1.0), space=foot,
+                                                   verts=[v for v in bm.verts if abs(v.co.z) < 1e-4]))
+    trunk = edited_part(tree, 0, "Trunk twisted")
+    apply_modifier(trunk, 'SIMPLE_DEFORM', [v.index for v in trunk.data.vertices if 0.5 < v.co.z < 2.5],
+                   deform_method='TWIST', deform_axis='Z', angle=math.radians(10.0))
+    for label, name, angle in ((1, "a", 8.0), (2, "b", -8.0)):
+        branch = edited_part(tree, label, f"Branch {name} tilted")
+        co = np.array([v.co for v in branch.data.vertices])
+        ring = np.nonzero(open_boundary(branch.data))[0]
+        base = ring[np.argsort(np.hypot(co[ring, 0], co[ring, 1]))[:len(ring) // 2]]
+        root, tip = co[base].mean(axis=0), co[np.setdiff1d(ring, base)].mean(axis=0)
+        axis = tip - root
+        rings = np.rint((co - root) @ axis / (axis @ axis) * 5.0).astype(int)
+        pivot = co[rings == 1].mean(axis=0)
+        across = np.cross(axis, (0.0, 0.0, 1.0))
+        turn = Matrix.Rotation(math.radians(angle), 3, across / np.linalg.norm(across))
+        in_edit_mode(branch, lambda bm, rings=rings, turn=turn, pivot=pivot: bmesh.ops.rotate(
+            bm, cent=pivot, matrix=turn, verts=[v for v in bm.verts if rings[v.index] >= 2]))
+        kinked = edited_part(tree, label, f"Branch {name} kinked")
+        lattice = bpy.data.objects.new("Kink lattice", bpy.data.lattices.new("Kink lattice"))
+        bpy.context.scene.collection.objects.link(lattice)
+        lattice.location, lattice.scale = tuple(co.mean(axis=0)), tuple(co.max(axis=0) - co.min(axis=0) + 0.1)
+        for point in lattice.data.points:
+            point.co_deform.z += 0.08 / lattice.scale.z
+        apply_modifier(kinked, 'LATTICE', np.nonzero(rings == 3)[0], object=lattice)
+        bpy.data.objects.remove(lattice)
+    for label, name, first, shear in ((3, "Crown", 1, 0.3), (4, "Clump a", 0, 0.25), (5, "Clump b", 0, -0.25)):
+        thinned = edited_part(tree, label, f"{name} thinned")
+        doomed = set(leaf_clumps(thinned.data)[first::2].ravel().tolist())
+        in_edit_mode(thinned, lambda bm, doomed=doomed: bmesh.ops.delete(
+            bm, geom=[f for f in bm.faces if f.index in doomed], context='FACES'))
+        sheared = edited_part(tree, label, f"{name} sheared")
+        lattice_shear(sheared, np.nonzero(~open_boundary(sheared.data))[0], shear)
+
+
+def leaf_clumps(mesh):
+    """int (clumps, 20): the faces of each closed clump of a leaf mass (the face islands that do not touch its open
+    ring), in the order of their first face."""
+    totals = np.empty(len(mesh.polygons), dtype=np.int64)
+    mesh.polygons.foreach_get("loop_total", totals)
+    corners = np.empty(len(mesh.loops), dtype=np.int64)
+    mesh.loops.foreach_get("vertex_index", corners)
+    parent = np.arange(len(mesh.vertices))
+
+    def root(v):
+        while parent[v] != v:
+            parent[v] = parent[parent[v]]
+            v = parent[v]
+        return v
+
+    face_of = np.repeat(np.arange(len(totals)), totals)
+    first = {}
+    for f, v in zip(face_of.tolist(), corners.tolist(), strict=True):
+        parent[root(v)] = root(first.setdefault(f, v))
+    island = np.array([root(v) for v in corners[np.cumsum(totals) - totals]])
+    ring = {root(v) for v in np.nonzero(open_boundary(mesh))[0].tolist()}
+    groups = {}
+    for f, r in enumerate(island.tolist()):
+        if r not in ring:
+            groups.setdefault(r, []).append(f)
+    return np.array([groups[r] for r in sorted(groups, key=lambda r: groups[r][0])])

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from scene_kit import cobble_reference, flat_terrain, poly_curve, select_only
 from worldpaint.bridge import arrangement, engine
-from worldpaint.bridge.instances import point_cloud_arrays, point_cloud_objects
+from worldpaint.bridge.instances import point_cloud_arrays, point_cloud_objects, point_cloud_tints
 
 SPACING = 1.0
 DENSITY = 1.0 / (SPACING * SPACING * math.sqrt(3.0) / 2.0)  # a hexagonal lattice's elements per m²
@@ -107,6 +107,76 @@ def test_a_pattern_pasted_along_a_path_brushed_erased_saved_and_pasted_again(tmp
     assert bpy.ops.worldpaint.paste_color(region_mode='RECT', rect_min=(90.0, 10.0), rect_max=(110.0, 30.0),
                                           seed=3) == {'FINISHED'}
     assert abs((len(cobbles()[0]) - len(erased)) / (400.0 * DENSITY) - 1.0) < 0.12
+
+
+def top_view_render(path, center, size, resolution=96):
+    """A Cycles render (CPU, few samples, lit by a white sky) of a square of side ``size`` m seen from straight above;
+    returns its pixels as (rows from the bottom, columns, RGBA)."""
+    scene = bpy.context.scene
+    camera = bpy.data.objects.new("Top", bpy.data.cameras.new("Top"))
+    camera.data.type = 'ORTHO'
+    camera.data.ortho_scale = size
+    camera.location = (center[0], center[1], 30.0)
+    scene.collection.objects.link(camera)
+    scene.camera = camera
+    world = scene.world or bpy.data.worlds.new("Sky")
+    scene.world = world
+    world.color = (1.0, 1.0, 1.0)
+    if world.node_tree is not None:
+        for node in world.node_tree.nodes:
+            if node.bl_idname == 'ShaderNodeBackground':
+                node.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
+    scene.render.engine = 'CYCLES'
+    scene.cycles.device = 'CPU'
+    scene.cycles.samples = 16
+    scene.cycles.use_denoising = False
+    scene.render.resolution_x = scene.render.resolution_y = resolution
+    scene.render.resolution_percentage = 100
+    scene.render.filepath = str(path)
+    bpy.ops.render.render(write_still=True)
+    image = bpy.data.images.load(str(path))
+    pixels = np.empty(resolution * resolution * 4, dtype=np.float32)
+    image.pixels.foreach_get(pixels)
+    return pixels.reshape(resolution, resolution, 4)
+
+
+def test_color_noise_tints_each_cobble_and_the_render_shows_it(tmp_path):
+    learn_cobbles()
+    settings = bpy.context.scene.worldpaint
+    assert bpy.ops.worldpaint.pattern_settings(color_noise=0.3) == {'FINISHED'}
+    assert "color noise 0.30" in settings.palette["Cobbles"].pattern_line
+    assert bpy.ops.worldpaint.paste_color(region_mode='RECT', rect_min=(40.0, 40.0), rect_max=(52.0, 52.0),
+                                          seed=1) == {'FINISHED'}
+    cloud = point_cloud_objects(bpy.context.scene)["Cobble"]
+    tints = point_cloud_tints(cloud)
+    print(f"color noise 0.3: {len(tints)} cobbles, tint standard deviation {np.std(tints):.3f}")
+    assert 0.24 < np.std(tints) < 0.36 and np.abs(tints).max() <= 1.0
+
+    assert bpy.ops.worldpaint.tint_materials() == {'FINISHED'}
+    assert bpy.ops.worldpaint.tint_materials() == {'FINISHED'}
+    material = bpy.data.materials["Cobble"]
+    groups = [n for n in material.node_tree.nodes if n.bl_idname == 'ShaderNodeGroup']
+    assert len(groups) == 1, "tinting twice puts one group in front of the base color"
+
+    # the brightness of each cobble's top, seen from above, follows its tint
+    co, *_ = point_cloud_arrays(cloud)
+    pixels = top_view_render(tmp_path / "tinted.png", (46.0, 46.0), 12.0)
+    column = np.round((co[:, 0] - 40.0) / 12.0 * 96 - 0.5).astype(int)
+    row = np.round((co[:, 1] - 40.0) / 12.0 * 96 - 0.5).astype(int)
+    inside = (column >= 1) & (column < 95) & (row >= 1) & (row < 95)
+    brightness = np.array([pixels[r - 1:r + 2, c - 1:c + 2, :3].mean()
+                           for r, c in zip(row[inside], column[inside], strict=True)])
+    correlation = np.corrcoef(brightness, tints[inside])[0, 1]
+    print(f"{inside.sum()} cobbles in the picture: correlation of their brightness with their tint {correlation:.2f}")
+    assert correlation > 0.8
+
+    bpy.ops.wm.save_as_mainfile(filepath=str(tmp_path / "tinted.blend"))
+    bpy.ops.wm.open_mainfile(filepath=str(tmp_path / "tinted.blend"))
+    assert np.array_equal(point_cloud_tints(point_cloud_objects(bpy.context.scene)["Cobble"]), tints)
+    assert bpy.ops.worldpaint.convert_to_objects(category="Cobble") == {'FINISHED'}
+    converted = bpy.data.collections["WP_Cobble objects"].objects
+    assert sorted(o.get("tint", 0.0) for o in converted) == pytest.approx(sorted(tints), abs=1e-6), \
+        "each object keeps its tint for the material to read"
 
 
 def test_pattern_settings_noise_and_a_flipped_edge_are_kept_in_the_color():

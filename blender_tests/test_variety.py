@@ -6,7 +6,16 @@ import math
 import bpy
 import numpy as np
 import pytest
-from scene_kit import edited_part, segmented_tree, select_only, slope_exemplar, tilt_ring, tree_variants
+from scene_kit import (
+    birch_variants,
+    edited_part,
+    import_birch,
+    segmented_tree,
+    select_only,
+    slope_exemplar,
+    tilt_ring,
+    tree_variants,
+)
 from worldpaint.bridge.instances import point_cloud_arrays, point_cloud_objects
 
 EXEMPLAR = {"region_mode": 'RECT', "rect_min": (0.0, 0.0), "rect_max": (100.0, 100.0)}
@@ -19,6 +28,23 @@ def closed(mesh):
         for key in poly.edge_keys:
             counts[key] = counts.get(key, 0) + 1
     return all(c == 2 for c in counts.values())
+
+
+def closed_meshes(meshes):
+    """Whether every edge of each mesh is shared by exactly two faces (counted on its loops)."""
+    for mesh in meshes:
+        edge = np.empty(len(mesh.loops), dtype=np.int64)
+        mesh.loops.foreach_get("edge_index", edge)
+        if not (np.bincount(edge, minlength=len(mesh.edges)) == 2).all():
+            return False
+    return True
+
+
+def shape_key(mesh):
+    """The mesh's vertex positions rounded to 0.1 mm, as bytes: equal for two equal trees."""
+    co = np.empty(3 * len(mesh.vertices), dtype=np.float32)
+    mesh.vertices.foreach_get("co", co)
+    return np.round(co, 4).tobytes()
 
 
 def decomposed_tree_with_variants():
@@ -163,3 +189,60 @@ def test_bad_input_is_refused_with_a_clear_message_and_nothing_changes():
     with pytest.raises(RuntimeError, match="'Stranger' is not a copy of a part"):
         bpy.ops.worldpaint.generate_variants()
     assert tree.worldpaint_variety.generated is None
+
+
+def test_the_birch_from_assets_gives_729_different_trees_and_paints_a_forest(tmp_path):
+    tree = import_birch()
+    assert len(tree.data.polygons) == 737 and len(tree.material_slots) == 6
+    assert closed_meshes([tree.data])
+    bpy.context.view_layer.objects.active = tree
+    assert bpy.ops.worldpaint.decompose_model(object=tree.name, source='MATERIALS', root=0) == {'FINISHED'}
+    settings = tree.worldpaint_variety
+    assert settings.graph == "6 components, 5 connecting regions, a tree"
+    assert [c.faces for c in settings.components] == [69, 30, 30, 256, 176, 176]
+    birch_variants(tree)
+    assert [len(c.objects) for c in settings.parts.children] == [3] * 6
+
+    # asked for more than there are: every one of the 3^6 trees, once, and the report says so
+    assert bpy.ops.worldpaint.generate_variants(object=tree.name, count=1000, seed=1) == {'FINISHED'}
+    generated = settings.generated
+    print(f"\nbirch: {settings.report}")
+    assert settings.total == "729"
+    assert len(generated.objects) == 729, settings.report
+    assert settings.report.startswith("729 variants of 729 possible (every one tried: 1000 asked); 0 rejected")
+    assert "2 solid transform" in settings.report, "each tilted branch carries its leaf mass"
+    meshes = [o.data for o in generated.objects]
+    assert len({shape_key(m) for m in meshes}) == 729, "no two trees alike"
+    assert closed_meshes(meshes), "every tree closed: no crack at a connecting ring"
+    faces = sorted(len(m.polygons) for m in meshes)
+    print(f"birch: 729 distinct closed trees of {faces[0]} to {faces[-1]} faces")
+    assert faces[0] < 737 == faces[-1], "thinned foliage has fewer faces"
+    assert [m.name for m in meshes[0].materials] == [s.material.name for s in tree.material_slots]
+
+    # a forest painted with them
+    _, examples, _ = slope_exemplar()
+    select_only(examples)
+    assert bpy.ops.worldpaint.learn_color(name="Forest", **EXEMPLAR) == {'FINISHED'}
+    bpy.context.scene.worldpaint.categories["Tree"].variants = generated
+    select_only([])
+    assert bpy.ops.worldpaint.paste_color(region_mode='RECT', rect_min=(0.0, 100.0), rect_max=(200.0, 200.0),
+                                          seed=2) == {'FINISHED'}
+    cloud = point_cloud_objects(bpy.context.scene)["Tree"]
+    co, _, _, prototype = point_cloud_arrays(cloud)
+    counts = np.bincount(prototype, minlength=729)
+    same = prototype[:, None] == prototype[None, :]
+    np.fill_diagonal(same, False)
+    gaps = np.linalg.norm(co[:, None, :2] - co[None, :, :2], axis=2)[same]
+    nearest = gaps.min() if len(gaps) else math.inf
+    print(f"birch forest: {len(prototype)} trees show {np.count_nonzero(counts)} of the 729 variants; two trees "
+          f"alike stand {nearest:.1f} m apart at the nearest")
+    assert nearest > 50.0, "no variant repeats within 50 m"
+    assert np.count_nonzero(counts) >= 0.85 * len(prototype), "nearly every tree a different one"
+
+    blend = str(tmp_path / "birch.blend")
+    bpy.ops.wm.save_as_mainfile(filepath=blend)
+    bpy.ops.wm.open_mainfile(filepath=blend)
+    tree = bpy.data.objects["Birch"]
+    assert tree.worldpaint_variety.total == "729" and len(tree.worldpaint_variety.generated.objects) == 729
+    assert len({shape_key(o.data) for o in tree.worldpaint_variety.generated.objects}) == 729
+    assert bpy.context.scene.worldpaint.categories["Tree"].variants == tree.worldpaint_variety.generated

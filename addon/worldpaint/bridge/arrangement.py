@@ -52,6 +52,8 @@ def pattern_line(summary):
         parts.append(f"scale noise {summary.scale_noise:.2f}")
     if summary.rotation_noise > 0.0:
         parts.append(f"rotation noise {np.degrees(summary.rotation_noise):.0f}°")
+    if summary.color_noise > 0.0:
+        parts.append(f"color noise {summary.color_noise:.2f}")
     if summary.flips:
         parts.append(f"{summary.flips} edges flipped")
     return ", ".join(parts)

@@ -11,6 +11,8 @@ Differences handled here:
 - ``Material.use_nodes``: materials always use nodes in 5.x and setting it is deprecated (removed in 6.0).
 """
 
+import warnings
+
 import bpy
 
 # --- Geometry Nodes modifier inputs -------------------------------------------------------------------------------
@@ -65,3 +67,17 @@ def node_material(name):
     if material.node_tree is None:  # 4.5: a new material has no node tree until it uses nodes
         material.use_nodes = True
     return material
+
+
+def uses_nodes(material):
+    """Makes ``material`` shade with its node tree (4.5: one without nodes renders its diffuse colour, which becomes
+    the Principled BSDF's Base Color); returns the node tree."""
+    with warnings.catch_warnings():  # 5.x: deprecated and always True; 6.0: gone
+        warnings.simplefilter("ignore", DeprecationWarning)
+        flat = not getattr(material, "use_nodes", True)
+    if material.node_tree is None or flat:
+        material.use_nodes = True
+        for node in material.node_tree.nodes:
+            if node.bl_idname == 'ShaderNodeBsdfPrincipled':
+                node.inputs["Base Color"].default_value = material.diffuse_color
+    return material.node_tree

@@ -26,7 +26,7 @@ class Applied:
 
 
 def added_by_category(edit):
-    """{category: (co (N, 3), rotation, scale, prototype)} of an edit's added instances on the terrain."""
+    """{category: (co (N, 3), rotation, scale, prototype, tint)} of an edit's added instances on the terrain."""
     on_terrain = np.isfinite(edit.heights)
     out = {}
     for index in np.unique(edit.category_index):
@@ -34,7 +34,8 @@ def added_by_category(edit):
         if not mask.any():
             continue  # every one off the terrain: no empty cloud for it
         co = np.column_stack([edit.positions[mask], edit.heights[mask]])
-        out[edit.category_names[index]] = (co, edit.rotations[mask], edit.scales[mask], edit.prototype[mask])
+        out[edit.category_names[index]] = (co, edit.rotations[mask], edit.scales[mask], edit.prototype[mask],
+                                           edit.tints[mask])
     return out
 
 
@@ -43,7 +44,8 @@ def cloud_columns(instance_set, category, keep):
     start, stop = instance_set.cloud_rows[category]
     rows = np.arange(start, stop)[keep[start:stop]]
     co = np.column_stack([instance_set.positions[rows], instance_set.heights[rows]])
-    return co, instance_set.rotations[rows], instance_set.scales[rows], instance_set.prototype[rows]
+    return (co, instance_set.rotations[rows], instance_set.scales[rows], instance_set.prototype[rows],
+            instance_set.tints[rows])
 
 
 def apply_edit(scene, instance_set, edit, terrain_obj):
@@ -62,7 +64,7 @@ def apply_edit(scene, instance_set, edit, terrain_obj):
         parts = [cloud_columns(instance_set, category, keep)] if category in instance_set.cloud_rows else []
         if category in added:
             parts.append(added[category])
-        columns = [np.concatenate([p[k] for p in parts]) for k in range(4)]
+        columns = [np.concatenate([p[k] for p in parts]) for k in range(len(parts[0]))]
         variants = variant_collection(scene, category)
         if variants is not None:
             kept = len(parts[0][0]) if category in instance_set.cloud_rows else 0

@@ -112,7 +112,8 @@ class Line(NamedTuple):
 @dataclass(frozen=True)
 class Edit:
     """What a tool did to a scene: the rows of its instances removed, the instances added (XY, height on the terrain
-    or NaN, rotation, scale, category index, prototype), and the paths and contours removed (indices) and added."""
+    or NaN, rotation, scale, category index, prototype, tint), and the paths and contours removed (indices) and
+    added."""
 
     category_names: tuple
     removed: np.ndarray
@@ -122,6 +123,7 @@ class Edit:
     scales: np.ndarray
     category_index: np.ndarray
     prototype: np.ndarray
+    tints: np.ndarray
     removed_paths: np.ndarray
     removed_contours: np.ndarray
     added_paths: tuple
@@ -143,6 +145,7 @@ class Edit:
             scales=d["scales"],
             category_index=d["category_index"],
             prototype=d["prototype"],
+            tints=d["tints"],
             removed_paths=np.asarray(d["removed_paths"], dtype=np.int64),
             removed_contours=np.asarray(d["removed_contours"], dtype=np.int64),
             added_paths=lines("added_paths"),
@@ -492,6 +495,7 @@ class ArrangementSummary:
     rotation: str
     scale_noise: float
     rotation_noise: float
+    color_noise: float
     relax_every: int
     flips: int
 
@@ -510,12 +514,13 @@ def arrangement_summary(color_json):
         positions=np.asarray(d["positions"], dtype=np.float64).reshape(-1, 2), symbols=tuple(d["symbols"]),
         edges=np.asarray(d["edges"], dtype=np.int64).reshape(-1, 2), boundary=tuple(d["boundary"]),
         rotation=d["rotation"], scale_noise=d["scale_noise"], rotation_noise=d["rotation_noise"],
-        relax_every=d["relax_every"], flips=d["flips"],
+        color_noise=d["color_noise"], relax_every=d["relax_every"], flips=d["flips"],
     )
 
 
 def arrangement_edited(color_json, **changes):
-    """The arrangement color with ``changes`` (rotation, scale_noise, rotation_noise, relax_every, flip=(a, b))."""
+    """The arrangement color with ``changes`` (rotation, scale_noise, rotation_noise, color_noise, relax_every,
+    flip=(a, b))."""
     return _engine().arrangement_edited(color_json, **changes)
 
 

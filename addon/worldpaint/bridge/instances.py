@@ -16,6 +16,7 @@ POINTS_TAG = "wp_points"
 PROTOTYPE_TAG = "wp_prototype"
 STRUCTURE_TAG = "wp_structure"  # synthesized paths or contours of a category (see ``curves``)
 FILL_TAG = "wp_fill"  # the filled mesh of a polygon category's synthesized contours
+TINT_ATTRIBUTE = "tint"  # a point's colour variation; materials read it with an Attribute node of type Instancer
 TAGS = (POINTS_TAG, PROTOTYPE_TAG, STRUCTURE_TAG, FILL_TAG)
 TAU = 2.0 * np.pi
 
@@ -130,12 +131,13 @@ class InstanceSet:
     prototype: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int32))
     locked: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))
     heights: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    tints: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.float32))
     cloud_rows: dict = field(default_factory=dict)
 
     def __len__(self):
         return len(self.positions)
 
-    def append(self, category, positions, rotations, scales, prototype, *, locked, heights=None):
+    def append(self, category, positions, rotations, scales, prototype, *, locked, heights=None, tints=None):
         index = [c["name"] for c in self.categories].index(category)
         n = len(positions)
         self.positions = np.concatenate([self.positions, np.asarray(positions, dtype=np.float64).reshape(-1, 2)])
@@ -146,6 +148,8 @@ class InstanceSet:
         self.locked = np.concatenate([self.locked, np.full(n, locked, dtype=bool)])
         z = np.full(n, np.nan) if heights is None else np.asarray(heights, dtype=np.float64)
         self.heights = np.concatenate([self.heights, z])
+        tint = np.zeros(n, dtype=np.float32) if tints is None else np.asarray(tints, dtype=np.float32)
+        self.tints = np.concatenate([self.tints, tint])
 
     def engine_arrays(self):
         """Keyword arguments for the engine's functions that take a scene."""
@@ -157,6 +161,7 @@ class InstanceSet:
             "scales": np.ascontiguousarray(self.scales, dtype=np.float64),
             "prototype": np.ascontiguousarray(self.prototype, dtype=np.int32),
             "locked": np.ascontiguousarray(self.locked, dtype=bool),
+            "tints": np.ascontiguousarray(self.tints, dtype=np.float64),
         }
 
 
@@ -269,6 +274,16 @@ def point_cloud_arrays(obj):
     return co, columns["rotation"].astype(np.float64), columns["scale"].astype(np.float64), columns["prototype"]
 
 
+def point_cloud_tints(obj):
+    """The tint (colour variation, 0: none) of each of a point-cloud object's points."""
+    mesh = obj.data
+    tints = np.zeros(len(mesh.vertices), dtype=np.float32)
+    attr = mesh.attributes.get(TINT_ATTRIBUTE)
+    if attr is not None and attr.data_type == 'FLOAT' and len(attr.data) == len(tints):
+        attr.data.foreach_get("value", tints)
+    return tints
+
+
 def scene_instances(scene, categories, exclude=()):
     """All instances of the given categories in the scene: hand-placed objects (locked), then synthesized points."""
     out = example_set(example_objects(scene.objects, exclude=exclude), categories)
@@ -277,7 +292,8 @@ def scene_instances(scene, categories, exclude=()):
         if category in names:
             co, rotation, scale, prototype = point_cloud_arrays(obj)
             start = len(out)
-            out.append(category, co[:, :2], rotation, scale, prototype, locked=False, heights=co[:, 2])
+            out.append(category, co[:, :2], rotation, scale, prototype, locked=False, heights=co[:, 2],
+                       tints=point_cloud_tints(obj))
             out.cloud_rows[category] = (start, len(out))
     return out
 

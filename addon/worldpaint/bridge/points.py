@@ -1,8 +1,9 @@
 """Synthesized instances as point clouds with a shared Geometry Nodes instancer.
 
 Per category one vertex-only mesh object "WP_<category>" in the "WorldPaint" collection, with point attributes
-``rotation`` (FLOAT, radians about Z), ``scale`` (FLOAT) and ``prototype`` (INT). The node group
-"WorldPaint Instancer" instances the children of the category's prototype collection on the points (Pick Instance
+``rotation`` (FLOAT, radians about Z), ``scale`` (FLOAT), ``prototype`` (INT) and ``tint`` (FLOAT, colour variation:
+Instance on Points hands it to the instances, where a material's Attribute node of type Instancer reads it). The node
+group "WorldPaint Instancer" instances the children of the category's prototype collection on the points (Pick Instance
 by ``prototype``); the modifier's Collection input says which collection. The points carry the engine's terrain
 height; the modifier's Terrain input, when set, snaps them onto the actual mesh surface (a vertical ray cast in
 Geometry Nodes), so instances sit exactly on any terrain topology and follow later terrain edits.
@@ -13,14 +14,22 @@ import bpy
 import numpy as np
 
 from . import WorldPaintError, compat
-from .instances import POINTS_TAG, PROTOTYPE_TAG, example_objects, point_cloud_arrays
+from .instances import (
+    POINTS_TAG,
+    PROTOTYPE_TAG,
+    TINT_ATTRIBUTE,
+    example_objects,
+    point_cloud_arrays,
+    point_cloud_tints,
+)
 
 COLLECTION_NAME = "WorldPaint"
 NODE_GROUP_NAME = "WorldPaint Instancer"
 MODIFIER_NAME = "WorldPaint"
 PROTO_PREFIX = "WP_proto_"
 SNAP_HEIGHT = 500.0  # the snapping ray starts this far above each point and is twice as long
-ATTRIBUTES = (("rotation", 'FLOAT', np.float32), ("scale", 'FLOAT', np.float32), ("prototype", 'INT', np.int32))
+ATTRIBUTES = (("rotation", 'FLOAT', np.float32), ("scale", 'FLOAT', np.float32), ("prototype", 'INT', np.int32),
+              (TINT_ATTRIBUTE, 'FLOAT', np.float32))
 
 
 # --- the Geometry Nodes instancer ---------------------------------------------------------------------------------
@@ -188,15 +197,17 @@ def point_cloud_object(scene, category):
     return obj
 
 
-def write_points(obj, co, rotation, scale, prototype):
-    """Replaces the object's points: co (N, 3) world space, rotation (N), scale (N), prototype (N)."""
+def write_points(obj, co, rotation, scale, prototype, tint=None):
+    """Replaces the object's points: co (N, 3) world space, rotation (N), scale (N), prototype (N), tint (N, or
+    None: no colour variation)."""
     mesh = obj.data
     obj.matrix_world = ((1, 0, 0, 0), (0, 1, 0, 0), (0, 0, 1, 0), (0, 0, 0, 1))
     n = len(co)
     mesh.clear_geometry()
     mesh.vertices.add(n)
     mesh.vertices.foreach_set("co", np.ascontiguousarray(co, dtype=np.float32).ravel())
-    for (name, kind, dtype), values in zip(ATTRIBUTES, (rotation, scale, prototype), strict=True):
+    tint = np.zeros(n) if tint is None else tint
+    for (name, kind, dtype), values in zip(ATTRIBUTES, (rotation, scale, prototype, tint), strict=True):
         attr = mesh.attributes.get(name)
         if attr is not None and (attr.data_type != kind or attr.domain != 'POINT'):
             mesh.attributes.remove(attr)
@@ -225,6 +236,7 @@ def convert_to_objects(scene, obj):
     """
     category = obj[POINTS_TAG]
     co, rotation, scale, prototype = point_cloud_arrays(obj)
+    tint = point_cloud_tints(obj)
     source = instancer_collection(obj)
     if source is None:
         source = prototype_collection(scene, category)
@@ -252,6 +264,8 @@ def convert_to_objects(scene, obj):
         new.location = tuple(co[i])
         new.rotation_euler = (0.0, 0.0, float(rotation[i]))
         new.scale = (float(scale[i]),) * 3
+        if tint[i] != 0.0:
+            new[TINT_ATTRIBUTE] = float(tint[i])  # read by the Attribute node (Instancer) as the point's was
         made.append(new)
     for new in made:
         target.objects.link(new)

@@ -14,7 +14,7 @@ import bpy
 import numpy as np
 
 from . import WorldPaintError, compat, geometry, village
-from .instances import point_cloud_arrays, point_cloud_objects
+from .instances import point_cloud_arrays, point_cloud_objects, point_cloud_tints
 from .points import (
     COLLECTION_NAME,
     point_cloud_object,
@@ -186,6 +186,7 @@ class Standing:
             flags, k = np.asarray(wet[k:k + n], dtype=bool), k + n
             if flags.any():
                 co, rotation, scale, prototype = point_cloud_arrays(obj)
+                tint = point_cloud_tints(obj)
                 keep = ~flags
                 seats = {}
                 for attribute in obj.data.attributes:
@@ -193,7 +194,7 @@ class Standing:
                         values = np.empty(n, dtype=np.float32)
                         attribute.data.foreach_get("value", values)
                         seats[attribute.name] = values[keep]
-                write_points(obj, co[keep], rotation[keep], scale[keep], prototype[keep])
+                write_points(obj, co[keep], rotation[keep], scale[keep], prototype[keep], tint[keep])
                 for name, values in seats.items():
                     attribute = obj.data.attributes.get(name) or obj.data.attributes.new(name, 'FLOAT', 'POINT')
                     attribute.data.foreach_set("value", values)

@@ -2,7 +2,7 @@
 
 import bpy
 
-from . import arrangement, sketch_draw, variety, variety_texture
+from . import arrangement, sketch_draw, variety, variety_texture, variety_tools
 from .blur import WORLDPAINT_OT_blur
 from .brush import WORLDPAINT_OT_brush, WORLDPAINT_OT_brush_radius, WORLDPAINT_OT_erase
 from .clear import WORLDPAINT_OT_clear_region
@@ -66,6 +66,7 @@ _classes = (
     *sketch_draw.classes,
     *arrangement.classes,
     *variety.classes,
+    *variety_tools.classes,
     *variety_texture.classes,
 )
 
@@ -81,4 +82,5 @@ def register():
 def unregister():
     variety_texture.remove_save_handler()
     sketch_draw.remove_overlay()
+    variety_tools.remove_overlays()
     _unregister_classes()

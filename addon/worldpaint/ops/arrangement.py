@@ -5,7 +5,19 @@ like any color, guided by the boundary and flow curves of ``PatternGuideProperti
 import bpy
 from bpy.props import EnumProperty, FloatProperty, IntProperty, StringProperty
 
-from ..bridge import WorldPaintError, arrangement, engine, instances, preview, regions, terrain, view
+from ..bridge import (
+    WorldPaintError,
+    arrangement,
+    edits,
+    engine,
+    instances,
+    points,
+    preview,
+    regions,
+    terrain,
+    tint,
+    view,
+)
 from ..props import PATTERN_STARTS
 from .colors import add_palette_color, palette_index, unique_name
 from .common import RegionProperties, TerrainProperty, report_errors, reports_errors, setting
@@ -112,6 +124,9 @@ class WORLDPAINT_OT_pattern_settings(bpy.types.Operator):
                                description="Standard deviation of each element's scale, relative to its own")
     rotation_noise: FloatProperty(name="Rotation Noise", default=0.0, min=0.0, soft_max=0.5, subtype='ANGLE',
                                   description="Standard deviation of each element's rotation")
+    color_noise: FloatProperty(name="Color Noise", default=0.0, min=0.0, soft_max=0.5,
+                               description="Standard deviation of each element's tint: its brightness changes by "
+                               "that share (materials show it once tinted with Tint Materials)")
     relax_every: IntProperty(name="Relax Every", default=8, min=0, soft_max=64,
                              description="Relax the growing pattern every this many elements (0: at the end only)")
 
@@ -120,6 +135,7 @@ class WORLDPAINT_OT_pattern_settings(bpy.types.Operator):
             summary = engine.arrangement_summary(arrangement_entry(context, self.index).json)
             self.rotation = summary.rotation.upper()
             self.scale_noise, self.rotation_noise = summary.scale_noise, summary.rotation_noise
+            self.color_noise = summary.color_noise
             self.relax_every = summary.relax_every
             return context.window_manager.invoke_props_dialog(self)
 
@@ -133,6 +149,7 @@ class WORLDPAINT_OT_pattern_settings(bpy.types.Operator):
         changes = {"rotation": setting(self, "rotation", summary.rotation.upper()).lower(),
                    "scale_noise": setting(self, "scale_noise", summary.scale_noise),
                    "rotation_noise": setting(self, "rotation_noise", summary.rotation_noise),
+                   "color_noise": setting(self, "color_noise", summary.color_noise),
                    "relax_every": setting(self, "relax_every", summary.relax_every)}
         entry.json, entry.learned_json = edited_both(entry, **changes)
         refresh_pattern(entry)
@@ -200,4 +217,39 @@ class WORLDPAINT_OT_flip_pattern_edge(bpy.types.Operator):
         return {'PASS_THROUGH'}
 
 
-classes = (WORLDPAINT_OT_learn_arrangement, WORLDPAINT_OT_pattern_settings, WORLDPAINT_OT_flip_pattern_edge)
+class WORLDPAINT_OT_tint_materials(bpy.types.Operator):
+    """Make the materials of a color's prototypes show each painted element's tint (its color noise): a "WorldPaint
+    Tint" group goes in front of the Base Color of each Principled BSDF"""
+
+    bl_idname = "worldpaint.tint_materials"
+    bl_label = "Tint Materials"
+    bl_options = {'REGISTER', 'UNDO'}
+
+    index: IntProperty(name="Index", default=-1, description="Palette index (negative: the active color)")
+
+    @reports_errors
+    def execute(self, context):
+        settings = context.scene.worldpaint
+        entry = settings.palette[palette_index(settings, self.index)]
+        clouds = instances.point_cloud_objects(context.scene)
+        changed, bare, sources = 0, 0, []
+        for category in engine.color_summary(entry.json).category_names:
+            source = edits.variant_collection(context.scene, category)
+            if source is None and category in clouds:
+                source = points.instancer_collection(clouds[category])
+            if source is None:
+                source = points.prototype_collection(context.scene, category)
+            if source is not None and source not in sources:
+                sources.append(source)
+                counts = tint.tint_collection(source)
+                changed, bare = changed + counts[0], bare + counts[1]
+        if not sources:
+            raise WorldPaintError(f"The color '{entry.name}' has nothing to instance yet: no prototype to tint")
+        if changed == 0 and bare:
+            raise WorldPaintError(f"The prototypes of '{entry.name}' have no material to tint: give them one")
+        self.report({'INFO'}, f"Tinted {changed} material(s) of '{entry.name}'")
+        return {'FINISHED'}
+
+
+classes = (WORLDPAINT_OT_learn_arrangement, WORLDPAINT_OT_pattern_settings, WORLDPAINT_OT_flip_pattern_edge,
+           WORLDPAINT_OT_tint_materials)

@@ -164,28 +164,32 @@ class WORLDPAINT_OT_generate_variants(BackgroundOperator, bpy.types.Operator):
         materials = variety_texture.object_materials(obj)
         models, texture = result["models"], result.get("texture")
         settings.texture_report = ""
+        count = len(models)
         if texture is not None:
             materials, table = self._atlases(settings, texture, materials)
-        for k in range(len(texture["face_atlas"]) if texture is not None else len(models)):
-            model, origin = models[k % len(models)], result["face_origin"][k % len(models)]
-            mesh = bpy.data.meshes.new(f"{obj.name} variant {k:03d}")
-            variety.write_model(mesh, model, materials)
-            variety_texture.write_face_origin(mesh, origin)
-            variant = bpy.data.objects.new(mesh.name, mesh)
+            count = len(texture["face_atlas"])
+        shown = [dict(models[k % len(models)]) for k in range(count)]
+        origins = [result["face_origin"][k % len(models)] for k in range(count)]
+        if texture is not None:
+            for k, model in enumerate(shown):
+                model["materials"] = variety_texture.face_materials(model["materials"], origins[k],
+                                                                    texture["face_atlas"][k], table)
+        variants = variety.write_variants(generated, obj.name, shown, materials)
+        for k, variant in enumerate(variants):
+            variety_texture.write_face_origin(variant.data, origins[k])
             if texture is not None:
-                mesh.polygons.foreach_set("material_index", variety_texture.face_materials(
-                    model["materials"], origin, texture["face_atlas"][k], table))
                 variant[CHOSEN_TAG] = [int(c) for c in texture["chosen"][k]]
-            generated.objects.link(variant)
         variety.hide_collection(context.scene, generated)
         settings.generated = generated
         settings.texture_probability = self._probability
         settings.total = result["total"]
         classes = [c for own in result["classes"] for c in own]
         kinds = ", ".join(f"{classes.count(k)} {k.replace('_', ' ')}" for k in sorted(set(classes))) or "none"
-        shapes, made = len(result["models"]), len(generated.objects)
-        variants = f"{made} variants, {shapes} shape{'s' * (shapes != 1)}" if made != shapes else f"{made} variants"
-        settings.report = (f"{variants} of {result['total']} possible; "
+        shapes, made = len(result["models"]), len(variants)
+        short = (f" (every one tried: {self.count} asked)" if result.get("exhausted") and made < self.count
+                 else "")
+        told = f"{made} variants, {shapes} shape{'s' * (shapes != 1)}" if made != shapes else f"{made} variants"
+        settings.report = (f"{told} of {result['total']} possible{short}; "
                            f"{len(result['rejected'])} rejected; variants given: {kinds}; the parts take "
                            f"{result['memory']['overhead_percent']:+.0f} % of the model's memory")
         self.report({'INFO'}, f"{settings.report}. {settings.texture_report}".rstrip(". "))

@@ -64,6 +64,7 @@ def draw_pattern(layout, color):
     row.operator_context = 'INVOKE_DEFAULT'
     row.operator("worldpaint.pattern_settings", icon='PREFERENCES')
     row.operator("worldpaint.flip_pattern_edge", icon='UV_SYNC_SELECT')
+    box.operator("worldpaint.tint_materials", icon='COLOR')
 
 
 class WORLDPAINT_PT_palette(MainSubpanel, bpy.types.Panel):

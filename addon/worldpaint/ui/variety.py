@@ -2,6 +2,7 @@
 
 import bpy
 
+from ..ops import variety_tools
 from .panel import MainSubpanel, enlarged
 
 
@@ -39,9 +40,16 @@ class WORLDPAINT_PT_variety(MainSubpanel, bpy.types.Panel):
         box.prop(settings, "root")
         decompose = enlarged(box.column()).operator("worldpaint.decompose_model", icon='MOD_EXPLODE')
         decompose.source, decompose.attribute, decompose.root = settings.source, settings.attribute, settings.root
+        if settings.source == 'SEAMS':
+            box.operator("worldpaint.cut_model", icon='SCULPTMODE_HLT').object = obj.name
+        if settings.source == 'ATTRIBUTE':
+            box.operator("worldpaint.mark_component", icon='FACESEL').object = obj.name
         if not settings.components:
             return
-        layout.label(text=settings.graph, icon='NODETREE')
+        row = layout.row()
+        row.label(text=settings.graph, icon='NODETREE')
+        row.operator("worldpaint.component_graph", text="", icon='HIDE_OFF' if variety_tools.shown(obj) else
+                     'HIDE_ON', depress=variety_tools.shown(obj)).object = obj.name
         layout.template_list("WORLDPAINT_UL_components", "", settings, "components", settings, "active_component",
                              rows=3)
         layout.label(text="Edit copies of a part in its collection to make variants", icon='INFO')

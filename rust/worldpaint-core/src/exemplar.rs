@@ -281,6 +281,7 @@ pub fn slope_scene(size: f64, seed: u64) -> Scene {
             category,
             prototype: rng.random_range(0..3u32),
             locked: false,
+            tint: 0.0,
         });
     };
     let (lo_slope, hi_slope) = (20f64.to_radians(), 35f64.to_radians());
@@ -379,6 +380,7 @@ pub fn river_rocks(seed: u64) -> Scene {
                 category: 0,
                 prototype: 0,
                 locked: false,
+                tint: 0.0,
             });
             placed += 1;
         }
@@ -513,6 +515,7 @@ pub fn village(size: f64, seed: u64) -> Scene {
             category,
             prototype: 0,
             locked: false,
+            tint: 0.0,
         });
     };
     for h in houses {

@@ -74,6 +74,10 @@ pub struct Instance {
     /// Placed by hand: never removed by a tool.
     #[serde(default)]
     pub locked: bool,
+    /// Colour variation (0: the prototype's own colour). The add-on keeps it as the point attribute `tint`, which a
+    /// material reads with an Attribute node of type Instancer.
+    #[serde(default)]
+    pub tint: f32,
 }
 
 impl Instance {
@@ -86,6 +90,7 @@ impl Instance {
             category,
             prototype: 0,
             locked: false,
+            tint: 0.0,
         }
     }
 }

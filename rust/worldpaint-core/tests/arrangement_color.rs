@@ -282,3 +282,50 @@ fn move_carries_a_pattern_rigidly_and_blur_leaves_it_as_it_is() {
         "blur leaves a pattern as it is"
     );
 }
+
+#[test]
+fn colour_noise_tints_each_element_and_the_tint_moves_with_it() {
+    use worldpaint_core::tools::moving::move_region;
+    let plain = learned();
+    let mut tinted = plain.clone();
+    tinted
+        .arrangement
+        .as_mut()
+        .expect("an arrangement color")
+        .color_noise = 0.2;
+    let patch = rect(40.0, 40.0, 60.0, 60.0);
+    let (a, b) = (pasted(&plain, &patch), pasted(&tinted, &patch));
+    let positions = |s: &Scene| -> Vec<DVec2> { s.instances.iter().map(|i| i.position).collect() };
+    assert_eq!(
+        positions(&a),
+        positions(&b),
+        "the colour noise leaves the pattern as it grew"
+    );
+    assert!(a.instances.iter().all(|i| i.tint == 0.0));
+    let tints: Vec<f64> = b
+        .instances
+        .iter()
+        .filter(|i| !i.locked)
+        .map(|i| i.tint as f64)
+        .collect();
+    let mean = tints.iter().sum::<f64>() / tints.len() as f64;
+    let sd = (tints.iter().map(|t| (t - mean).powi(2)).sum::<f64>() / tints.len() as f64).sqrt();
+    println!(
+        "colour noise 0.2: {} elements, tint mean {mean:.3}, standard deviation {sd:.3}",
+        tints.len()
+    );
+    assert!(mean.abs() < 0.03 && (sd - 0.2).abs() < 0.03);
+    assert!(tints.iter().all(|t| t.abs() <= 1.0));
+
+    let moved = move_region(&b, None, &patch, DVec2::new(30.0, 0.0), &Default::default()).unwrap();
+    let mut before: Vec<f32> = b
+        .instances
+        .iter()
+        .filter(|i| !i.locked)
+        .map(|i| i.tint)
+        .collect();
+    let mut after: Vec<f32> = moved.edit.added.iter().map(|i| i.tint).collect();
+    before.sort_by(f32::total_cmp);
+    after.sort_by(f32::total_cmp);
+    assert_eq!(before, after, "each element keeps its tint when moved");
+}

@@ -155,20 +155,30 @@ fn a_boundary_curve_stops_growth() {
             grown.at_region_boundary[i] && (p.x - 3.0 - p.y.sin()).abs() < 1.5
         })
         .collect();
+    let to_curve = |p: DVec2| {
+        curve
+            .windows(2)
+            .map(|w| {
+                let (c, d) = (w[0], w[1]);
+                let t = ((p - c).dot(d - c) / (d - c).length_squared()).clamp(0.0, 1.0);
+                p.distance(c.lerp(d, t))
+            })
+            .fold(f64::INFINITY, f64::min)
+    };
     let gap = grown
         .elements
         .iter()
-        .filter(|e| e.position.y.abs() < 10.0)
-        .map(|e| 3.0 + e.position.y.sin() - e.position.x)
-        .filter(|&d| d >= 0.0)
+        .map(|e| to_curve(e.position))
         .fold(f64::INFINITY, f64::min);
+    let r_short = reference.r_short();
     println!(
         "boundary x = 3 + sin y: {} elements, {far} on the far side, {crossing} edges across it, {} stopped by it; \
-         the nearest element lies {gap:.3} m before it",
+         the nearest element lies {gap:.3} m from it (r_short {r_short:.3} m)",
         grown.elements.len(),
         stopped.len()
     );
     assert!(grown.elements.len() > 200);
+    assert!(gap >= r_short, "every element keeps r_short from the curve");
     assert_eq!(far, 0);
     assert_eq!(crossing, 0);
     assert!(
@@ -180,6 +190,15 @@ fn a_boundary_curve_stops_growth() {
     for &i in &stopped {
         assert_eq!(grown.elements[i].position, before.elements[i].position);
     }
+    let relaxed_gap = grown
+        .elements
+        .iter()
+        .map(|e| to_curve(e.position))
+        .fold(f64::INFINITY, f64::min);
+    assert!(
+        relaxed_gap >= r_short,
+        "and keeps it through the relaxation"
+    );
     let err = grow(
         &reference,
         &region,

@@ -9,6 +9,10 @@
 #[path = "common/variety_models.rs"]
 mod variety_models;
 
+#[path = "common/birch.rs"]
+mod birch;
+
+use birch::{birch, birch_atlas};
 use std::collections::HashSet;
 use variety_models::{column, edit, rock, tree, tree_atlas, DVec3, Role};
 use worldpaint_core::geom::DVec2;
@@ -29,16 +33,17 @@ fn all_choices(atlas: &Atlas) -> Vec<Choice> {
 }
 
 #[test]
-fn a_tree_of_six_components_with_three_variants_each_gives_729_different_sound_trees() {
-    let t = tree(15);
-    let faces = t.model.faces.len();
+fn the_birch_from_assets_gives_729_different_sound_trees() {
+    let b = birch();
+    let faces = b.model.faces.len();
     println!(
-        "test tree: {} vertices, {faces} faces",
-        t.model.vertices.len()
+        "assets/birch.obj: {} vertices, {faces} faces, components {:?}",
+        b.model.vertices.len(),
+        b.names
     );
     assert!((600..=1000).contains(&faces), "{faces} faces");
-    assert!(t.model.is_watertight(), "the original tree is closed");
-    let (d, atlas, classes) = tree_atlas(&t);
+    assert!(b.model.is_watertight(), "the original birch is closed");
+    let (d, atlas, classes) = birch_atlas(&b);
     assert_eq!(d.components.len(), 6);
     assert_eq!(
         d.regions.len(),
@@ -48,53 +53,43 @@ fn a_tree_of_six_components_with_three_variants_each_gives_729_different_sound_t
     assert!(d.is_tree_like());
     for r in &d.regions {
         println!(
-            "  R{}{}: {} vertices in {} chain(s), closed: {:?}",
-            r.components.0,
-            r.components.1,
+            "  {}–{}: a ring of {} vertices, closed: {}",
+            b.names[r.components.0],
+            b.names[r.components.1],
             r.vertices.len(),
-            r.chains.len(),
-            r.chains.iter().map(|c| c.closed).collect::<Vec<_>>()
+            r.chains.len() == 1 && r.chains[0].closed
         );
-        assert_eq!(r.chains.len(), 1);
         assert!(
-            r.chains[0].closed,
-            "each connecting region is one boundary loop"
+            r.chains.len() == 1 && r.chains[0].closed,
+            "one boundary loop"
         );
     }
-    assert_eq!(
-        classes[1][1],
-        VariantClass::SolidTransform,
-        "the bend moves two regions as a solid"
-    );
     for (c, cl) in classes.iter().enumerate() {
         println!(
-            "  component {c}: {} faces, variants {:?}",
-            d.components[c].faces.len(),
-            cl
+            "  {}: {} faces, variants {cl:?}",
+            b.names[c],
+            d.components[c].faces.len()
         );
-        if c != 1 {
-            assert!(cl.iter().all(|&k| k == VariantClass::Local));
-        }
+        let solid = c == 1 || c == 2; // a branch tilted from its first ring moves its leaf mass as a solid
+        assert_eq!(cl[1] == VariantClass::SolidTransform, solid, "{cl:?}");
+        assert!(cl.iter().all(|&k| k != VariantClass::RegionChange));
     }
     assert_eq!(atlas.count(), 729, "#V = 3^6");
-    let labels = IntersectionLabels::of_model(&t.model);
+    let labels = IntersectionLabels::of_model(&b.model);
     println!(
-        "  intersecting face pairs in the original (allowed): {}",
+        "  intersecting face pairs in the original (clumps set into their leaf masses, allowed): {}",
         labels.pairs().len()
     );
-    assert!(
-        !labels.pairs().is_empty(),
-        "the foliage overlaps itself, as a real low-poly tree's does"
-    );
+    assert!(!labels.pairs().is_empty());
     let choices = all_choices(&atlas);
     let results = check_assemblies(&atlas, &labels, &choices).expect("assembly");
     let mut hashes = HashSet::new();
     let mut worst_gap: f64 = 0.0;
+    let mut sizes = (usize::MAX, 0);
     for (choice, r) in choices.iter().zip(&results) {
-        let a = match r {
-            Ok(a) => a,
-            Err(why) => panic!("assembly {choice:?} rejected: {why:?}"),
-        };
+        let a = r
+            .as_ref()
+            .unwrap_or_else(|why| panic!("assembly {choice:?} rejected: {why:?}"));
         worst_gap = worst_gap.max(a.max_gap);
         assert!(a.max_gap <= 1e-6, "crack of {} m", a.max_gap);
         assert!(
@@ -102,25 +97,32 @@ fn a_tree_of_six_components_with_three_variants_each_gives_729_different_sound_t
             "assembly {choice:?} has an open edge"
         );
         assert!(a.model.validate().is_ok());
-        let uvs = a
-            .model
-            .uvs
-            .as_ref()
-            .expect("the variants share the original's texture coordinates");
+        let uvs = a.model.uvs.as_ref().expect("the original's UVs");
         assert_eq!(uvs.len(), a.model.faces.len());
-        assert_eq!(
-            a.model.materials.as_ref().map(Vec::len),
-            Some(a.model.faces.len())
+        sizes = (
+            sizes.0.min(a.model.faces.len()),
+            sizes.1.max(a.model.faces.len()),
         );
         hashes.insert(a.hash);
     }
     println!(
-        "  729 assemblies: {} distinct geometry hashes, all accepted, largest weld gap {worst_gap:.2e} m",
-        hashes.len()
+        "  729 assemblies: {} distinct geometry hashes, all accepted, all closed, largest weld gap {worst_gap:.2e} m, \
+         {} to {} faces",
+        hashes.len(),
+        sizes.0,
+        sizes.1
     );
     assert_eq!(hashes.len(), 729, "no two assemblies are the same tree");
+}
+
+#[test]
+fn bending_the_upper_trunk_carries_the_crown() {
+    let t = tree(15);
+    let (_, atlas, _) = tree_atlas(&t);
     // The bent upper trunk carries the crown with it: the crown turns by the bend's 12° about the axis at z = 5 m.
-    let straight = atlas.assemble(&choices[0]).expect("assembly");
+    let straight = atlas
+        .assemble(&atlas.choice(0).expect("choice"))
+        .expect("assembly");
     let bent_choice = Choice {
         graph: 0,
         picks: vec![vec![0], vec![1], vec![0], vec![0], vec![0], vec![0]],
@@ -371,15 +373,15 @@ fn turning_a_branch_base_as_a_solid_tilts_the_branch() {
 
 #[test]
 fn memory_overhead_reads_like_the_seeds_table_2() {
-    let t = tree(15);
-    let (d, atlas, _) = tree_atlas(&t);
+    let b = birch();
+    let (d, atlas, _) = birch_atlas(&b);
     let choices = all_choices(&atlas);
     let m = memory_report(&atlas, &choices).expect("memory");
     println!(
         "  Model      Components  Variations  Objects  Memory   (seed: Birch 6, 3, 729, +54 %)"
     );
     println!(
-        "  test tree  {:>10}  {:>10}  {:>7}  {:+.0} %",
+        "  birch      {:>10}  {:>10}  {:>7}  {:+.0} %",
         m.components, m.variations, m.objects, m.overhead_percent
     );
     println!(
@@ -734,6 +736,70 @@ fn the_same_seed_gives_the_same_variants_at_any_thread_count() {
     .expect("generate");
     assert_ne!(hashes(&one), hashes(&other), "another seed, other variants");
     println!("  300 variants, seed 42: identical on 1 and 4 threads; seed 43 differs");
+}
+
+#[test]
+fn asking_for_every_possible_birch_gives_every_one_once() {
+    let b = birch();
+    let (_, atlas, _) = birch_atlas(&b);
+    let labels = IntersectionLabels::of_model(&b.model);
+    // 700 in at most 700 draws: the draws stall on repeats, and the assemblies never drawn are enumerated
+    for (count, max_attempts) in [(729usize, 0usize), (1000, 0), (700, 0), (700, 700)] {
+        let (seed, options) = (
+            1,
+            GenerateOptions {
+                count,
+                seed: 1,
+                max_attempts,
+            },
+        );
+        let g = generate(&atlas, &labels, &options).expect("generate");
+        let distinct: HashSet<u64> = g.accepted.iter().map(|(_, a)| a.hash).collect();
+        println!(
+            "  {count} asked of 729 possible (seed {seed}, attempts {max_attempts}): {} made, {} distinct, \
+             {} rejected, every one tried: {}",
+            g.accepted.len(),
+            distinct.len(),
+            g.rejected.len(),
+            g.exhausted
+        );
+        assert_eq!(g.accepted.len(), count.min(729));
+        assert_eq!(distinct.len(), count.min(729));
+        assert!(g.rejected.is_empty());
+        assert_eq!(
+            g.exhausted,
+            count >= 729,
+            "the report says when no other variant exists"
+        );
+    }
+    // with a rejected branch (a leaf poked into it, 243 of its 972 assemblies): all asked gives the others, once
+    let t = tree(15);
+    let (d, mut poked_atlas, _) = tree_atlas(&t);
+    let poked = edit(
+        &t,
+        &d,
+        2,
+        |r, p| if r == Role::Tube(2) { p * 0.2 } else { p },
+        |_| true,
+    );
+    poked_atlas.add_variant(2, poked).expect("a local edit");
+    let labels = IntersectionLabels::of_model(&t.model);
+    let options = GenerateOptions {
+        count: 972,
+        seed: 5,
+        max_attempts: 0,
+    };
+    let g = generate(&poked_atlas, &labels, &options).expect("generate");
+    let distinct: HashSet<u64> = g.accepted.iter().map(|(_, a)| a.hash).collect();
+    println!(
+        "  972 asked of 972 possible with one bad branch: {} made ({} distinct), {} rejected",
+        g.accepted.len(),
+        distinct.len(),
+        g.rejected.len()
+    );
+    assert_eq!((g.accepted.len(), g.rejected.len()), (729, 243));
+    assert_eq!(distinct.len(), 729);
+    assert!(g.exhausted);
 }
 
 #[test]

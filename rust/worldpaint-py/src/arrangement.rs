@@ -74,7 +74,7 @@ fn rotation_name(r: PatternRotation) -> &'static str {
 /// What the add-on shows of an arrangement color, or None for a color of statistics: {"positions": float64 (N, 2)
 /// (the reference relative to the color's region bbox min), "symbols": int (N), "edges": int (E, 2) (its
 /// connectivity, flips applied), "boundary": bool (N) (elements not used as references), "rotation" ("none",
-/// "best_fit", "flow"), "scale_noise", "rotation_noise", "relax_every", "flips" (count)}.
+/// "best_fit", "flow"), "scale_noise", "rotation_noise", "color_noise", "relax_every", "flips" (count)}.
 #[pyfunction]
 pub(crate) fn arrangement_summary<'py>(
     py: Python<'py>,
@@ -124,6 +124,7 @@ pub(crate) fn arrangement_summary<'py>(
     d.set_item("rotation", rotation_name(pattern.rotation))?;
     d.set_item("scale_noise", pattern.scale_noise)?;
     d.set_item("rotation_noise", pattern.rotation_noise)?;
+    d.set_item("color_noise", pattern.color_noise)?;
     d.set_item("relax_every", pattern.relax_every)?;
     d.set_item("flips", pattern.flips.len())?;
     Ok(Some(d))
@@ -132,12 +133,14 @@ pub(crate) fn arrangement_summary<'py>(
 /// The arrangement color (JSON) with its settings changed: `rotation` ("none", "best_fit", "flow"), noise, the
 /// relaxation period, and `flip`: the two reference elements (indices) whose shared edge is flipped (seed Fig. 3).
 #[pyfunction]
-#[pyo3(signature = (color, *, rotation=None, scale_noise=None, rotation_noise=None, relax_every=None, flip=None))]
+#[pyo3(signature = (color, *, rotation=None, scale_noise=None, rotation_noise=None, color_noise=None, relax_every=None,
+                    flip=None))]
 pub(crate) fn arrangement_edited(
     color: &str,
     rotation: Option<&str>,
     scale_noise: Option<f64>,
     rotation_noise: Option<f64>,
+    color_noise: Option<f64>,
     relax_every: Option<usize>,
     flip: Option<(usize, usize)>,
 ) -> PyResult<String> {
@@ -163,6 +166,9 @@ pub(crate) fn arrangement_edited(
     }
     if let Some(v) = rotation_noise {
         pattern.rotation_noise = v;
+    }
+    if let Some(v) = color_noise {
+        pattern.color_noise = v;
     }
     if let Some(v) = relax_every {
         pattern.relax_every = v;

@@ -294,6 +294,7 @@ pub(crate) fn scene_from_py(
     scales: Option<ArrayArg<'_>>,
     prototype: Option<ArrayArg<'_>>,
     locked: Option<ArrayArg<'_>>,
+    tints: Option<ArrayArg<'_>>,
     structures: &Structures<'_, '_>,
 ) -> PyResult<Scene> {
     let categories = categories_from_py(categories)?;
@@ -305,6 +306,7 @@ pub(crate) fn scene_from_py(
     let sca = column(scales, n, 1.0, "scales")?;
     let pro = column(prototype, n, 0, "prototype")?;
     let lock = column(locked, n, false, "locked")?;
+    let tint = column(tints, n, 0.0, "tints")?;
     let mut out = Vec::with_capacity(n);
     for i in 0..n {
         let c = cat[i];
@@ -316,6 +318,9 @@ pub(crate) fn scene_from_py(
         if !pos[i].is_finite() {
             return Err(input_err(format!("instance {i} has a non-finite position")));
         }
+        if !tint[i].is_finite() {
+            return Err(input_err(format!("instance {i} has a non-finite tint")));
+        }
         out.push(Instance {
             position: pos[i],
             rotation: rot[i],
@@ -323,6 +328,7 @@ pub(crate) fn scene_from_py(
             category: c as usize,
             prototype: pro[i].max(0) as u32,
             locked: lock[i],
+            tint: tint[i] as f32,
         });
     }
     let paths = polylines_from_py(structures.paths, &categories, CategoryKind::Graph, "path")?
@@ -492,6 +498,7 @@ pub(crate) fn instances_to_py<'py>(
         "prototype",
         instance_column(py, instances, |i| i.prototype as i32),
     )?;
+    d.set_item("tints", instance_column(py, instances, |i| i.tint))?;
     Ok(())
 }
 

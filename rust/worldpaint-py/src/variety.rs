@@ -214,9 +214,10 @@ fn class_name(c: VariantClass) -> &'static str {
 
 /// Assemble `count` variants of `model` decomposed by `labels` (see `decompose_model`), from `variants`: per component
 /// a list of model dicts (edits of its sub-mesh). `cycles`: (component, max repeat) pairs of local cycles. Returns
-/// {"classes": per component the class of each given variant, "total": #V as a string, "models": the accepted
-/// variants as model dicts, "face_origin": per model int64 (F,) the original face each face copies (-1: a face an
-/// edit added), "hashes", "rejected": [(reason, detail)], "memory": {"overhead_percent" (the atlas over
+/// {"classes": per component the class of each given variant, "total": #V as a string, "exhausted": whether every
+/// assembly was tried (a count of #V or more tries them all), "models": the accepted variants as model dicts,
+/// "face_origin": per model int64 (F,) the original face each face copies (-1: a face an edit added), "hashes",
+/// "rejected": [(reason, detail)], "memory": {"overhead_percent" (the atlas over
 /// the original, the seed's Table 2), "original_bytes", "shared_bytes", "full_bytes"}}. `progress(fraction) -> bool` may cancel.
 #[pyfunction]
 #[pyo3(signature = (model, labels, variants, count, seed=0, *, root=None, cycles=None, progress=None))]
@@ -303,6 +304,7 @@ pub(crate) fn generate_variants<'py>(
     m.set_item("full_bytes", memory.full_bytes)?;
     d.set_item("memory", m)?;
     d.set_item("total", total.to_string())?;
+    d.set_item("exhausted", generation.exhausted)?;
     let models = PyList::empty(py);
     for (_, assembled) in &generation.accepted {
         models.append(model_to_py(py, &assembled.model)?)?;

@@ -1,7 +1,9 @@
 //! Boundary curves (seed §5.3's boundary tool: "a set of boundary strokes which stop the local growth"), indexed so
 //! that a growth step asks only the curve pieces near it whether a new edge crosses them.
 //!
-//! Readings: a segment that touches a curve (an end on it) crosses it, so that no element stands on a boundary;
+//! Readings: a segment that touches a curve (an end on it) crosses it, so that no element stands on a boundary; no
+//! element stands nearer a curve than r_short either (half the reference's shortest edge: the room an element keeps
+//! from its neighbours, so that a stone does not straddle a wall);
 //! each curve segment is cut into pieces no longer than a grid cell (the reference's mean edge, larger for curves
 //! so long that more than [`MAX_PIECES`] pieces would be needed), each piece listed in the cells its box covers.
 
@@ -91,6 +93,29 @@ impl BoundaryIndex {
     /// Whether there are no curves.
     pub(crate) fn is_empty(&self) -> bool {
         self.pieces.is_empty()
+    }
+
+    /// Whether a boundary curve passes within `radius` of `p`.
+    pub(crate) fn near(&self, p: DVec2, radius: f64) -> bool {
+        if self.pieces.is_empty() {
+            return false;
+        }
+        let (lo, hi) = (
+            self.cell_of(p - DVec2::splat(radius)),
+            self.cell_of(p + DVec2::splat(radius)),
+        );
+        let close = |&id: &u32| {
+            let (c, d) = self.pieces[id as usize];
+            let t = ((p - c).dot(d - c) / (d - c).length_squared()).clamp(0.0, 1.0);
+            p.distance_squared(c.lerp(d, t)) <= radius * radius
+        };
+        (lo.0..=hi.0).any(|cx| {
+            (lo.1..=hi.1).any(|cy| {
+                self.cells
+                    .get(&(cx, cy))
+                    .is_some_and(|ids| ids.iter().any(close))
+            })
+        })
     }
 
     /// Whether the segment `a`–`b` crosses or touches a boundary curve.

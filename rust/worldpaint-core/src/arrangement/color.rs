@@ -73,6 +73,10 @@ pub struct ArrangementColor {
     /// Standard deviation of each painted element's rotation (radians; 0: none).
     #[serde(default)]
     pub rotation_noise: f64,
+    /// Standard deviation of each painted element's tint (the colour noise; the tint is kept within ±1, and a
+    /// material reads it as a relative change of brightness).
+    #[serde(default)]
+    pub color_noise: f64,
     /// Relax the growing pattern every this many placed elements (eq. (5)–(6)); 0 relaxes only at the end.
     #[serde(default = "default_relax_every")]
     pub relax_every: usize,
@@ -87,6 +91,7 @@ impl ArrangementColor {
             rotation: PatternRotation::None,
             scale_noise: 0.0,
             rotation_noise: 0.0,
+            color_noise: 0.0,
             relax_every: DEFAULT_RELAX_EVERY,
         }
     }
@@ -145,6 +150,7 @@ impl ArrangementColor {
         }
         check::non_negative(&at("arrangement.scale_noise"), self.scale_noise)?;
         check::non_negative(&at("arrangement.rotation_noise"), self.rotation_noise)?;
+        check::non_negative(&at("arrangement.color_noise"), self.color_noise)?;
         self.reference()
             .map(drop)
             .map_err(|e| Error::invalid(at("arrangement"), e.reason()))

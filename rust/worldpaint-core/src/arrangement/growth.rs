@@ -472,7 +472,14 @@ impl<'a> Grower<'a> {
         Ok(())
     }
 
-    /// Puts back every moved node whose move, or one of whose edges, would cross a boundary curve.
+    /// Whether a node at `from` may not reach `to`: the way crosses a boundary curve, or `to` lies within r_short of
+    /// one.
+    fn off_limits(&self, from: DVec2, to: DVec2) -> bool {
+        self.boundaries.crosses(from, to) || self.boundaries.near(to, self.r_short)
+    }
+
+    /// Puts back every moved node whose move, or one of whose edges, would cross a boundary curve, or which would
+    /// come within r_short of one.
     fn keep_off_boundaries(
         &self,
         movers: &[usize],
@@ -487,7 +494,7 @@ impl<'a> Grower<'a> {
                 if x[k] == x0[k] {
                     continue;
                 }
-                let crossing = self.boundaries.crosses(x0[k], x[k])
+                let crossing = self.off_limits(x0[k], x[k])
                     || self.adjacency[i]
                         .iter()
                         .any(|&nb| self.boundaries.crosses(x[k], at(x, nb)));
@@ -653,7 +660,7 @@ impl<'a> Grower<'a> {
                 continue;
             }
             let c = p + offsets[j];
-            if !self.region.contains(c) || self.boundaries.crosses(p, c) {
+            if !self.region.contains(c) || self.off_limits(p, c) {
                 self.cut[s] = true;
                 continue;
             }
@@ -737,7 +744,7 @@ impl<'a> Grower<'a> {
         let half = 0.5 * da.angle_to(db).rem_euclid(std::f64::consts::TAU);
         let length = 0.5 * (da.length() + db.length());
         let x = p + DVec2::from_angle(half).rotate(da.normalize_or_zero()) * length;
-        if !self.region.contains(x) || self.boundaries.crosses(p, x) {
+        if !self.region.contains(x) || self.off_limits(p, x) {
             self.cut[s] = true;
             return;
         }

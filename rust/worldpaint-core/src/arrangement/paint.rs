@@ -5,7 +5,10 @@
 //! synthesis options; other colors ignore them.
 
 use glam::DVec2;
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
 
+use super::around::gaussian;
 use super::color::ArrangementColor;
 use super::{grow_around, Element, FlowField, GrowthOptions, Noise};
 use crate::error::{Error, Result};
@@ -30,6 +33,9 @@ pub struct PatternGuides {
 /// The elements already around `region` count within this many of the reference's longest edges: enough to
 /// rebuild the rings of those at its edge.
 const CONTEXT_EDGES: f64 = 3.0;
+
+/// The random stream the colour noise draws from.
+const TINT_STREAM: u64 = 1;
 
 /// Paints the arrangement `pattern` of `color` into `region` of `scene` (the scene's unlocked content there
 /// already cleared by the tool); `keep` says which of the scene's instances stay to continue from.
@@ -105,12 +111,19 @@ pub(crate) fn paint(
         &growth,
         progress,
     )?;
+    // the colour noise draws from its own stream of the run's seed, so that it leaves the growth as it was
+    let mut tints = ChaCha8Rng::seed_from_u64(opts.seed);
+    tints.set_stream(TINT_STREAM);
     let instances = grown.elements[existing.len()..]
         .iter()
         .zip(&grown.sub_ids[existing.len()..])
-        // relaxation may nudge an element by a few millimetres across the region's edge: the region is the user's
-        .filter(|(e, _)| region.contains(e.position))
         .map(|(e, &sub)| {
+            let tint = pattern.color_noise * gaussian(&mut tints);
+            (e, sub, tint.clamp(-1.0, 1.0) as f32)
+        })
+        // relaxation may nudge an element by a few millimetres across the region's edge: the region is the user's
+        .filter(|(e, _, _)| region.contains(e.position))
+        .map(|(e, sub, tint)| {
             let r = &pattern.elements[sub];
             Instance {
                 position: e.position,
@@ -119,6 +132,7 @@ pub(crate) fn paint(
                 category: scene_index[e.symbol as usize],
                 prototype: r.prototype,
                 locked: false,
+                tint,
             }
         })
         .collect();

@@ -59,5 +59,6 @@ pub(crate) fn attributes<R: Rng>(
         category,
         prototype: draw_index(&cat.prototype_weights, rng),
         locked: false,
+        tint: 0.0,
     }
 }

@@ -5,12 +5,20 @@
 //! depends only on how many are still wanted; each batch is assembled and checked with rayon and gathered in draw
 //! order. So the same atlas, labels and seed give the same variants in the same order at any thread count.
 //! Repeated choices are skipped, so the variants are distinct assemblies.
+//!
+//! Random draws find fewer and fewer new assemblies as they use up #V (asking 1,000 of 1,000 by draws alone gives
+//! about 983 within four times as many draws). So when the count asked reaches #V, or when the draws stall (their
+//! attempts spent with fewer variants kept than asked), every assembly not yet drawn is enumerated instead, in an
+//! order shuffled by the same seed: the generation then gives min(count, #V) distinct variants less the rejected
+//! ones. Enumeration is done only for an atlas of at most [`ENUMERATION_LIMIT`] assemblies (a larger one does not
+//! stall on repeats).
 
 use super::assemble::{Assembled, Choice};
 use super::atlas::{Atlas, TOLERANCE};
 use super::intersect::{between_parts, intersecting_faces, IntersectionLabels};
 use super::model::Model;
 use crate::error::{Error, Result};
+use rand::seq::SliceRandom;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
@@ -36,6 +44,9 @@ pub struct GenerateOptions {
     pub max_attempts: usize,
 }
 
+/// Most assemblies an atlas may make for [`generate`] to enumerate them all when random draws cannot finish.
+pub const ENUMERATION_LIMIT: u128 = 1 << 22;
+
 /// What [`generate`] made.
 #[derive(Clone, Debug)]
 pub struct Generation {
@@ -43,6 +54,8 @@ pub struct Generation {
     pub accepted: Vec<(Choice, Assembled)>,
     /// The rejected choices and why, in draw order.
     pub rejected: Vec<(Choice, Rejection)>,
+    /// Whether every assembly of the atlas was tried (kept or rejected): no other variant can be made.
+    pub exhausted: bool,
 }
 
 /// The first new intersecting pair of faces of a mesh, if any.
@@ -160,7 +173,10 @@ pub fn check_assemblies(
     choices.par_iter().map(|c| checker.check(c)).collect()
 }
 
-/// Draws, assembles and checks random variants until `count` are kept or `max_attempts` are drawn.
+/// Draws, assembles and checks random variants until `count` are kept or `max_attempts` are drawn; then, when
+/// fewer are kept than asked and the assemblies never drawn are no more than the attempts (the draws stalled on
+/// repeats), checks those in a seeded order until `count` are kept or none is left. A count of #V or more enumerates
+/// every assembly from the start. Enumeration needs #V ≤ [`ENUMERATION_LIMIT`].
 pub fn generate(
     atlas: &Atlas,
     labels: &IntersectionLabels,
@@ -184,12 +200,19 @@ pub fn generate(
     let checker = AssemblyChecker::new(atlas, labels);
     let mut rng = ChaCha8Rng::seed_from_u64(options.seed);
     let mut seen: HashSet<Choice> = HashSet::new();
-    let mut drawn = 0usize;
     let mut out = Generation {
         accepted: Vec::new(),
         rejected: Vec::new(),
+        exhausted: false,
     };
-    while out.accepted.len() < options.count && drawn < attempts && (seen.len() as u128) < total {
+    let enumerable = total <= ENUMERATION_LIMIT;
+    let enumerate_all = enumerable && options.count as u128 >= total;
+    let mut drawn = 0usize;
+    while !enumerate_all
+        && out.accepted.len() < options.count
+        && drawn < attempts
+        && (seen.len() as u128) < total
+    {
         let want = (options.count - out.accepted.len()).min(attempts - drawn);
         let mut batch = Vec::with_capacity(want);
         while batch.len() < want && drawn < attempts && (seen.len() as u128) < total {
@@ -199,17 +222,55 @@ pub fn generate(
                 batch.push(c);
             }
         }
-        let results: Vec<_> = batch
-            .par_iter()
-            .map(|c| checker.check(c))
-            .collect::<Result<_>>()?;
-        for (choice, r) in batch.into_iter().zip(results) {
-            match r {
-                Ok(a) if out.accepted.len() < options.count => out.accepted.push((choice, a)),
-                Ok(_) => {}
-                Err(why) => out.rejected.push((choice, why)),
+        check_batch(&checker, batch, options.count, &mut out)?;
+    }
+    let mut tried = seen.len() as u128;
+    let stalled = total - tried <= attempts as u128;
+    if out.accepted.len() < options.count && enumerable && (enumerate_all || stalled) {
+        // the assemblies not drawn yet, in an order shuffled by the seed (Fisher–Yates on their numbers)
+        let mut order: Vec<u64> = (0..total as u64).collect();
+        order.shuffle(&mut rng);
+        let mut rest = order.into_iter();
+        while out.accepted.len() < options.count {
+            let want = (options.count - out.accepted.len()).min(4096);
+            let mut batch = Vec::with_capacity(want);
+            for k in rest.by_ref() {
+                let c = atlas.choice(u128::from(k))?;
+                if !seen.contains(&c) {
+                    batch.push(c);
+                    if batch.len() == want {
+                        break;
+                    }
+                }
             }
+            if batch.is_empty() {
+                break;
+            }
+            tried += batch.len() as u128;
+            check_batch(&checker, batch, options.count, &mut out)?;
         }
     }
+    out.exhausted = tried == total;
     Ok(out)
+}
+
+/// Checks a batch of new choices in parallel and keeps them in their order, up to `count` accepted in all.
+fn check_batch(
+    checker: &AssemblyChecker<'_>,
+    batch: Vec<Choice>,
+    count: usize,
+    out: &mut Generation,
+) -> Result<()> {
+    let results: Vec<_> = batch
+        .par_iter()
+        .map(|c| checker.check(c))
+        .collect::<Result<_>>()?;
+    for (choice, r) in batch.into_iter().zip(results) {
+        match r {
+            Ok(a) if out.accepted.len() < count => out.accepted.push((choice, a)),
+            Ok(_) => {}
+            Err(why) => out.rejected.push((choice, why)),
+        }
+    }
+    Ok(())
 }

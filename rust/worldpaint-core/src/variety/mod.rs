@@ -28,7 +28,7 @@
 //!     .assemble(&choice) -> Result<Assembled>  // model, face_origin, face_source, instances, max_gap, hash
 //! IntersectionLabels::of_model(&model) -> IntersectionLabels   // the original's own intersections (§4.3)
 //! new_intersection(&model, face_origin, &labels) -> Result<Option<(u32, u32)>>
-//! generate(&atlas, &labels, &GenerateOptions { count, seed, max_attempts }) -> Result<Generation>
+//! generate(&atlas, &labels, &GenerateOptions { count, seed, max_attempts }) -> Result<Generation>  // count ≥ #V: all
 //! AssemblyChecker::new(&atlas, &labels).check(&choice) -> Result<Result<Assembled, Rejection>>
 //! check_assemblies(&atlas, &labels, &[Choice]) -> Result<Vec<Result<Assembled, Rejection>>>
 //! memory_report(&atlas, &[Choice]) -> Result<MemoryReport>
@@ -65,7 +65,7 @@ pub use decompose::{labels_from_cut, Chain, Component, ConnectingRegion, Decompo
 pub use frame::fit_similarity;
 pub use generate::{
     check_assemblies, check_assembly, generate, AssemblyChecker, GenerateOptions, Generation,
-    Rejection,
+    Rejection, ENUMERATION_LIMIT,
 };
 pub use intersect::{new_intersection, new_intersection_between_parts, IntersectionLabels};
 pub use memory::{memory_report, MemoryReport};
