@@ -246,3 +246,27 @@ def test_the_birch_from_assets_gives_729_different_trees_and_paints_a_forest(tmp
     assert tree.worldpaint_variety.total == "729" and len(tree.worldpaint_variety.generated.objects) == 729
     assert len({shape_key(o.data) for o in tree.worldpaint_variety.generated.objects}) == 729
     assert bpy.context.scene.worldpaint.categories["Tree"].variants == tree.worldpaint_variety.generated
+
+
+def test_parts_picked_by_hand_make_the_one_model_asked_for():
+    tree = decomposed_tree_with_variants()
+    settings = tree.worldpaint_variety
+    leaning, tall = bpy.data.objects["Trunk leaning"], bpy.data.objects["Crown tall"]
+    settings.components[1].pick, settings.components[2].pick = leaning, tall
+    assert bpy.ops.worldpaint.generate_variants(object=tree.name, by_hand=True) == {'FINISHED'}
+    assert bpy.ops.worldpaint.generate_variants(object=tree.name, by_hand=True) == {'FINISHED'}
+    picked = list(settings.generated.objects)
+    assert len(picked) == 2, "each assembly by hand adds one model"
+    model = picked[0].data
+    apex = max(model.vertices, key=lambda v: v.co.z).co
+    tall_apex = max(tall.data.vertices, key=lambda v: v.co.z).co.z
+    print(f"picked: the leaning trunk and the tall crown; apex at {tuple(round(c, 3) for c in apex)} "
+          f"(the tall crown's own apex at z {tall_apex:.3f} before the lean)")
+    assert abs(apex.y) > 0.5, "the crown follows the picked leaning trunk"
+    assert apex.z > max(v.co.z for v in tree.data.vertices) + 0.5, "and is the tall one"
+    assert closed(model)
+
+    settings.components[2].pick = bpy.data.objects["Trunk leaning"]  # a copy of another part
+    with pytest.raises(RuntimeError, match="not a copy in the collection"):
+        bpy.ops.worldpaint.generate_variants(object=tree.name, by_hand=True)
+    assert len(settings.generated.objects) == 2, "nothing added"

@@ -532,11 +532,12 @@ def decompose_model(model, labels, root=None):
     return _engine().decompose_model(model, np.ascontiguousarray(labels, dtype=np.int64), root)
 
 
-def generate_variants(model, labels, variants, count, seed, *, root=None, cycles=None, progress=None):
-    """``count`` variants assembled from the components' edited ``variants`` (per component a list of model dicts):
-    their classes, #V (a string), the accepted models with their hashes, the rejections."""
+def generate_variants(model, labels, variants, count, seed, *, root=None, cycles=None, picks=None, progress=None):
+    """``count`` variants assembled from the components' edited ``variants`` (per component a list of model dicts),
+    or the one that ``picks`` (per component: 0 its original, k its k-th edit): their classes, #V (a string), the
+    accepted models with their hashes, the rejections."""
     return _engine().generate_variants(model, np.ascontiguousarray(labels, dtype=np.int64), variants, count, seed,
-                                       root=root, cycles=cycles, progress=progress)
+                                       root=root, cycles=cycles, picks=picks, progress=progress)
 
 
 def texture_variety(model, base, edits, count, probability=0.5, seed=0, *, names=None):

@@ -6,7 +6,7 @@ atlases and each variant shows texture components picked at random, with face lo
 repeating shapes when there are fewer."""
 
 import bpy
-from bpy.props import EnumProperty, FloatProperty, IntProperty, StringProperty
+from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, StringProperty
 
 from ..bridge import WorldPaintError, engine, variety, variety_texture
 from ..props.variety import LABEL_SOURCES
@@ -117,6 +117,9 @@ class WORLDPAINT_OT_generate_variants(BackgroundOperator, bpy.types.Operator):
     seed: IntProperty(name="Seed", default=0, min=0)
     probability: FloatProperty(name="Texture Probability", default=0.5, min=0.0, max=1.0, subtype='FACTOR',
                                description="How likely a variant is to show each texture edit (unset: the panel's)")
+    by_hand: BoolProperty(name="By Hand", default=False,
+                          description="Assemble the copy each component picks (its Pick; empty: the original piece) "
+                          "and add that one model to the variants")
 
     def _prepare(self, context):
         obj = model_object(context, self.object)
@@ -130,14 +133,17 @@ class WORLDPAINT_OT_generate_variants(BackgroundOperator, bpy.types.Operator):
         found = engine.decompose_model(self._model, self._labels, self._root)
         by_label = {c.get(variety.COMPONENT_TAG): c for c in settings.parts.children}
         self._cycles = [(k, c.repeat) for k, c in enumerate(settings.components) if c.repeat > 0]
-        self._variants = []
-        for label, piece in zip(found["labels"], found["components"], strict=True):
+        self._variants, self._picks = [], []
+        for label, piece, item in zip(found["labels"], found["components"], settings.components, strict=True):
             collection = by_label.get(label)
             # a copy made with Shift+D keeps the piece's custom properties: the collection names its piece
             piece_obj = None if collection is None else collection.get(variety.PART_TAG)
             edits = [] if collection is None else [o for o in collection.objects if o.type == 'MESH'
                                                   and o != piece_obj]
             self._variants.append([variety.variant_model(o, piece) for o in edits])
+            if self.by_hand and item.pick is not None and item.pick != piece_obj and item.pick not in edits:
+                raise WorldPaintError(f"'{item.pick.name}' is not a copy in the collection of {item.name}")
+            self._picks.append(edits.index(item.pick) + 1 if item.pick in edits else 0)
         self._texture = None
         if settings.texture_edits:
             self._texture = variety_texture.texture_inputs(obj, self._model)
@@ -146,8 +152,9 @@ class WORLDPAINT_OT_generate_variants(BackgroundOperator, bpy.types.Operator):
 
     def _compute(self, progress):
         result = engine.generate_variants(self._model, self._labels, self._variants, self.count, self.seed,
-                                          root=self._root, cycles=self._cycles, progress=progress)
-        if self._texture is not None:
+                                          root=self._root, cycles=self._cycles, progress=progress,
+                                          picks=self._picks if self.by_hand else None)
+        if self._texture is not None and not self.by_hand:
             _base, base_pixels, _images, pixels = self._texture
             count = max(self.count, len(result["models"])) if result["models"] else 0
             result["texture"] = engine.texture_variety(self._model, base_pixels, pixels, count, self._probability,
@@ -155,6 +162,8 @@ class WORLDPAINT_OT_generate_variants(BackgroundOperator, bpy.types.Operator):
         return result
 
     def _apply(self, context, result):
+        if self.by_hand:
+            return self._apply_picked(context, result)
         obj = self._object
         settings = obj.worldpaint_variety
         if settings.generated is not None:
@@ -193,6 +202,24 @@ class WORLDPAINT_OT_generate_variants(BackgroundOperator, bpy.types.Operator):
                            f"{len(result['rejected'])} rejected; variants given: {kinds}; the parts take "
                            f"{result['memory']['overhead_percent']:+.0f} % of the model's memory")
         self.report({'INFO'}, f"{settings.report}. {settings.texture_report}".rstrip(". "))
+        return {'FINISHED'}
+
+    def _apply_picked(self, context, result):
+        """Adds the model assembled from the picks to the variants (made when there are none)."""
+        obj = self._object
+        settings = obj.worldpaint_variety
+        if result["rejected"]:
+            reason, detail = result["rejected"][0]
+            raise WorldPaintError(f"The picked parts make a model whose faces intersect ({reason}: {detail})")
+        generated = settings.generated
+        if generated is None:
+            generated = child_collection(context.scene.collection, f"{obj.name} Variants")
+            variety.hide_collection(context.scene, generated)
+            settings.generated = generated
+        made = variety.write_variants(generated, f"{obj.name} picked", result["models"],
+                                      variety_texture.object_materials(obj))
+        settings.total = result["total"]
+        self.report({'INFO'}, f"Added '{made[0].name}' to '{generated.name}': picks {self._picks}")
         return {'FINISHED'}
 
     def _atlases(self, settings, texture, materials):

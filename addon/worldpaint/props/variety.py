@@ -22,6 +22,9 @@ class WORLDPAINT_PG_component(bpy.types.PropertyGroup):
     repeat: IntProperty(name="Repeat", default=0, min=0, max=64,
                         description="Repeat the component up to this many times in a row (a local cycle: its two "
                         "connecting regions must be alike; 0: once)")
+    pick: PointerProperty(name="Pick", type=bpy.types.Object, poll=lambda _self, obj: obj.type == 'MESH',
+                          description="The copy of the part that Generate Variants By Hand assembles (empty: the "
+                          "original piece)")
 
 
 class WORLDPAINT_PG_texture_edit(bpy.types.PropertyGroup):

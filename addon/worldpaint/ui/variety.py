@@ -13,6 +13,7 @@ class WORLDPAINT_UL_components(bpy.types.UIList):
         row.label(text=f"{item.faces} faces")
         row.label(text=f"joined to {item.regions}")
         row.prop(item, "repeat", text="Repeat")
+        row.prop(item, "pick", text="")
 
 
 class WORLDPAINT_UL_texture_edits(bpy.types.UIList):
@@ -62,6 +63,8 @@ class WORLDPAINT_PT_variety(MainSubpanel, bpy.types.Panel):
         generate = col.operator("worldpaint.generate_variants", icon='OUTLINER_OB_GROUP_INSTANCE')
         generate.count, generate.seed = settings.count, settings.seed
         generate.probability = settings.texture_probability
+        picked = col.operator("worldpaint.generate_variants", text="Assemble Picks", icon='HAND')
+        picked.by_hand = True
         if settings.report:
             box.label(text=settings.report)
         if settings.texture_report:

@@ -14,9 +14,9 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use worldpaint_core::geom::{DVec2, DVec3};
 use worldpaint_core::variety::{
-    atlas_images, generate, memory_report, pack_components, pick_texture_variants, Atlas,
-    Decomposition, GenerateOptions, Image, IntersectionLabels, Model, Rejection, TextureComponent,
-    VariantClass,
+    atlas_images, check_assembly, generate, memory_report, pack_components, pick_texture_variants,
+    Atlas, Decomposition, GenerateOptions, Generation, Image, IntersectionLabels, Model, Rejection,
+    TextureComponent, VariantClass,
 };
 use worldpaint_core::Error;
 
@@ -213,14 +213,15 @@ fn class_name(c: VariantClass) -> &'static str {
 }
 
 /// Assemble `count` variants of `model` decomposed by `labels` (see `decompose_model`), from `variants`: per component
-/// a list of model dicts (edits of its sub-mesh). `cycles`: (component, max repeat) pairs of local cycles. Returns
+/// a list of model dicts (edits of its sub-mesh). `cycles`: (component, max repeat) pairs of local cycles. `picks`:
+/// per component the variant picked by hand (0 its original; the count and seed are then unused). Returns
 /// {"classes": per component the class of each given variant, "total": #V as a string, "exhausted": whether every
 /// assembly was tried (a count of #V or more tries them all), "models": the accepted variants as model dicts,
 /// "face_origin": per model int64 (F,) the original face each face copies (-1: a face an edit added), "hashes",
 /// "rejected": [(reason, detail)], "memory": {"overhead_percent" (the atlas over
 /// the original, the seed's Table 2), "original_bytes", "shared_bytes", "full_bytes"}}. `progress(fraction) -> bool` may cancel.
 #[pyfunction]
-#[pyo3(signature = (model, labels, variants, count, seed=0, *, root=None, cycles=None, progress=None))]
+#[pyo3(signature = (model, labels, variants, count, seed=0, *, root=None, cycles=None, picks=None, progress=None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn generate_variants<'py>(
     py: Python<'py>,
@@ -231,6 +232,7 @@ pub(crate) fn generate_variants<'py>(
     seed: u64,
     root: Option<u32>,
     cycles: Option<Vec<(usize, u32)>>,
+    picks: Option<Vec<usize>>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let model = model_from_py(model, "model")?;
@@ -290,7 +292,22 @@ pub(crate) fn generate_variants<'py>(
             seed,
             max_attempts: 0,
         };
-        let generation = generate(&atlas, &labels, &options)?;
+        let generation = match &picks {
+            None => generate(&atlas, &labels, &options)?,
+            Some(variants) => {
+                let choice = atlas.choice_of_variants(variants)?;
+                let mut one = Generation {
+                    accepted: Vec::new(),
+                    rejected: Vec::new(),
+                    exhausted: false,
+                };
+                match check_assembly(&atlas, &labels, &choice)? {
+                    Ok(assembled) => one.accepted.push((choice, assembled)),
+                    Err(why) => one.rejected.push((choice, why)),
+                }
+                one
+            }
+        };
         let choices: Vec<_> = generation.accepted.iter().map(|(c, _)| c.clone()).collect();
         let memory = memory_report(&atlas, &choices)?;
         Ok((classes, atlas.count(), generation, memory))

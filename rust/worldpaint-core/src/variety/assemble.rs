@@ -99,6 +99,49 @@ impl Atlas {
             .fold(0u128, |a, b| a.saturating_add(b))
     }
 
+    /// The assembly that shows variant `variants[c]` of each component `c` (0 its original; seed §4.3's "pick
+    /// components by hand"): in the first graph holding them all, each component once. An error names a variant
+    /// that does not exist, or picks no graph holds together (a region-changing variant with a neighbour it was
+    /// not adapted to).
+    pub fn choice_of_variants(&self, variants: &[usize]) -> Result<Choice> {
+        let n = self.decomposition().components.len();
+        if variants.len() != n {
+            return Err(Error::invalid(
+                "picked variants",
+                format!("{} picks for {n} components", variants.len()),
+            ));
+        }
+        for (c, &v) in variants.iter().enumerate() {
+            if v >= self.variants(c).len() {
+                return Err(Error::invalid(
+                    "picked variants",
+                    format!(
+                        "component {c} has variants 0 (its original) to {}, not {v}",
+                        self.variants(c).len() - 1
+                    ),
+                ));
+            }
+        }
+        self.graphs()
+            .iter()
+            .enumerate()
+            .find_map(|(graph, g)| {
+                let picks: Option<Vec<Vec<usize>>> = variants
+                    .iter()
+                    .enumerate()
+                    .map(|(c, &v)| g.nodes[c].iter().position(|e| e.variant == v).map(|e| vec![e]))
+                    .collect();
+                picks.map(|picks| Choice { graph, picks })
+            })
+            .ok_or_else(|| {
+                Error::invalid(
+                    "picked variants",
+                    "no assembly holds them together: a variant that reshapes a connecting region goes only with \
+                     the neighbour adapted to it",
+                )
+            })
+    }
+
     /// The assembly numbered `index` in 0..[`Atlas::count`].
     pub fn choice(&self, mut index: u128) -> Result<Choice> {
         let total = self.count();
