@@ -85,6 +85,21 @@ def decomposed_tree_with_variants():
     return tree
 
 
+def painted_forest(variants):
+    """Learns the slope forest, paints it with the ``variants`` collection as its trees' prototypes; returns the
+    trees' cloud, positions and variant per tree."""
+    _, examples, _ = slope_exemplar()
+    select_only(examples)
+    assert bpy.ops.worldpaint.learn_color(name="Forest", **EXEMPLAR) == {'FINISHED'}
+    bpy.context.scene.worldpaint.categories["Tree"].variants = variants
+    select_only([])
+    assert bpy.ops.worldpaint.paste_color(region_mode='RECT', rect_min=(0.0, 100.0), rect_max=(200.0, 200.0),
+                                          seed=2) == {'FINISHED'}
+    cloud = point_cloud_objects(bpy.context.scene)["Tree"]
+    co, _, _, prototype = point_cloud_arrays(cloud)
+    return cloud, co, prototype
+
+
 def test_decompose_finds_the_parts_and_their_connecting_rings():
     tree = segmented_tree()
     bpy.context.view_layer.objects.active = tree
@@ -115,15 +130,7 @@ def test_generated_variants_are_distinct_crack_free_and_paint_a_forest(tmp_path)
     assert sum(abs(y) > 0.5 for y in apex_y) >= 5, f"the crown follows the leaning trunk: apex at y {apex_y}"
 
     # a forest painted with them: the trees show the variants, none repeated while others are unused nearby
-    _, examples, _ = slope_exemplar()
-    select_only(examples)
-    assert bpy.ops.worldpaint.learn_color(name="Forest", **EXEMPLAR) == {'FINISHED'}
-    bpy.context.scene.worldpaint.categories["Tree"].variants = generated
-    select_only([])
-    assert bpy.ops.worldpaint.paste_color(region_mode='RECT', rect_min=(0.0, 100.0), rect_max=(200.0, 200.0),
-                                          seed=2) == {'FINISHED'}
-    cloud = point_cloud_objects(bpy.context.scene)["Tree"]
-    co, _, _, prototype = point_cloud_arrays(cloud)
+    cloud, co, prototype = painted_forest(generated)
     assert set(prototype.tolist()) == set(range(10))
     counts = np.bincount(prototype, minlength=10)
     assert counts.max() - counts.min() <= 0.3 * counts.mean(), f"variants used unevenly: {counts}"
@@ -220,15 +227,7 @@ def test_the_birch_from_assets_gives_729_different_trees_and_paints_a_forest(tmp
     assert [m.name for m in meshes[0].materials] == [s.material.name for s in tree.material_slots]
 
     # a forest painted with them
-    _, examples, _ = slope_exemplar()
-    select_only(examples)
-    assert bpy.ops.worldpaint.learn_color(name="Forest", **EXEMPLAR) == {'FINISHED'}
-    bpy.context.scene.worldpaint.categories["Tree"].variants = generated
-    select_only([])
-    assert bpy.ops.worldpaint.paste_color(region_mode='RECT', rect_min=(0.0, 100.0), rect_max=(200.0, 200.0),
-                                          seed=2) == {'FINISHED'}
-    cloud = point_cloud_objects(bpy.context.scene)["Tree"]
-    co, _, _, prototype = point_cloud_arrays(cloud)
+    _, co, prototype = painted_forest(generated)
     counts = np.bincount(prototype, minlength=729)
     same = prototype[:, None] == prototype[None, :]
     np.fill_diagonal(same, False)

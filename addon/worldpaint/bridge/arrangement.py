@@ -4,9 +4,7 @@ stops at, the flow curves it follows), read from curve collections, and the conn
 import math
 
 import bpy
-import gpu
 import numpy as np
-from gpu_extras.batch import batch_for_shader
 from mathutils import Vector
 
 from . import WorldPaintError, engine, geometry, view
@@ -100,15 +98,7 @@ class ReferenceOverlay:
         return int(self.edges[k, 0]), int(self.edges[k, 1])
 
     def _draw(self):
-        shader = gpu.shader.from_builtin('POLYLINE_UNIFORM_COLOR')
-        lines = [tuple(self.xyz[i]) for edge in self.edges for i in edge]
-        batch = batch_for_shader(shader, 'LINES', {"pos": lines})
-        viewport = gpu.state.viewport_get()
-        shader.uniform_float("viewportSize", (viewport[2], viewport[3]))
-        shader.uniform_float("lineWidth", 2.0)
-        shader.uniform_float("color", EDGE_COLOR)
-        gpu.state.depth_test_set('NONE')
-        batch.draw(shader)
+        view.draw_segments(self.xyz[np.asarray(self.edges, dtype=np.int64).reshape(-1)], EDGE_COLOR, 2.0)
 
     def remove(self):
         bpy.types.SpaceView3D.draw_handler_remove(self._handler, 'WINDOW')

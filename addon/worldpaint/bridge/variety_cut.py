@@ -12,11 +12,9 @@ from dataclasses import dataclass
 
 import bmesh
 import bpy
-import gpu
 import numpy as np
-from gpu_extras.batch import batch_for_shader
 
-from . import WorldPaintError, geometry
+from . import WorldPaintError, geometry, view
 
 REACH = 1.25  # faces within this many times the path's radius of its centre are cut
 GRAPH_COLOR = (0.3, 0.85, 1.0, 1.0)
@@ -118,14 +116,7 @@ class GraphOverlay:
         self._handler = bpy.types.SpaceView3D.draw_handler_add(self._draw, (), 'WINDOW', 'POST_VIEW')
 
     def _draw(self):
-        shader = gpu.shader.from_builtin('POLYLINE_UNIFORM_COLOR')
-        batch = batch_for_shader(shader, 'LINES', {"pos": [tuple(p) for p in self.lines.reshape(-1, 3)]})
-        viewport = gpu.state.viewport_get()
-        shader.uniform_float("viewportSize", (viewport[2], viewport[3]))
-        shader.uniform_float("lineWidth", 3.0)
-        shader.uniform_float("color", GRAPH_COLOR)
-        gpu.state.depth_test_set('NONE')
-        batch.draw(shader)
+        view.draw_segments(self.lines.reshape(-1, 3), GRAPH_COLOR, 3.0)
 
     def remove(self):
         bpy.types.SpaceView3D.draw_handler_remove(self._handler, 'WINDOW')

@@ -79,3 +79,16 @@ def draw_line_loop(pixels, viewport_size, color, width):
     shader.uniform_float("color", color)
     batch.draw(shader)
     gpu.state.blend_set('NONE')
+
+
+def draw_segments(points, color, width):
+    """Draws world-space line segments (pairs of consecutive XYZ ``points``) over everything in the viewport,
+    ``width`` pixels wide (see ``draw_line_loop`` on the shader)."""
+    shader = gpu.shader.from_builtin('POLYLINE_UNIFORM_COLOR')
+    batch = batch_for_shader(shader, 'LINES', {"pos": [tuple(p) for p in points]})
+    viewport = gpu.state.viewport_get()
+    shader.uniform_float("viewportSize", (viewport[2], viewport[3]))
+    shader.uniform_float("lineWidth", width)
+    shader.uniform_float("color", color)
+    gpu.state.depth_test_set('NONE')
+    batch.draw(shader)
