@@ -269,3 +269,27 @@ def test_parts_picked_by_hand_make_the_one_model_asked_for():
     with pytest.raises(RuntimeError, match="not a copy in the collection"):
         bpy.ops.worldpaint.generate_variants(object=tree.name, by_hand=True)
     assert len(settings.generated.objects) == 2, "nothing added"
+
+
+def test_converted_objects_show_the_variant_the_instancer_showed():
+    from worldpaint.bridge import points
+
+    variants = bpy.data.collections.new("Tree variants")
+    bpy.context.scene.collection.children.link(variants)
+    names = ["tree 10", "tree 9", "Tree 2", "tree.001", "tree"]  # linked out of the instancer's order
+    for k, name in enumerate(names):
+        mesh = bpy.data.meshes.new(name)
+        mesh.from_pydata([(0.0, 0.0, float(k))], [], [])
+        variants.objects.link(bpy.data.objects.new(name, mesh))
+    cloud = points.point_cloud_object(bpy.context.scene, "Tree")
+    n = len(names)
+    points.write_points(cloud, np.column_stack([np.arange(n) * 10.0, np.zeros(n), np.zeros(n)]), np.zeros(n),
+                        np.ones(n), np.arange(n))
+    points.set_instancer(cloud, variants)
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    shown = {round(i.matrix_world.translation.x): i.object.original.data.name for i in depsgraph.object_instances
+             if i.is_instance and i.parent is not None and i.parent.original == cloud}
+    assert bpy.ops.worldpaint.convert_to_objects(category="Tree") == {'FINISHED'}
+    converted = {round(o.location.x): o.data.name for o in bpy.data.collections["WP_Tree objects"].objects}
+    print(f"instancer shows {shown}; converted {converted}")
+    assert converted == shown and len(set(shown.values())) == n

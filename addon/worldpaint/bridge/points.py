@@ -10,6 +10,8 @@ Geometry Nodes), so instances sit exactly on any terrain topology and follow lat
 All writes use foreach_set.
 """
 
+import re
+
 import bpy
 import numpy as np
 
@@ -227,6 +229,16 @@ def remove_object(obj):
 
 # --- converting points to objects ---------------------------------------------------------------------------------
 
+def name_order(name):
+    """A sort key that orders names as Blender's Collection Info node orders a collection's children (the order the
+    instancer's ``prototype`` indexes): case-insensitive, runs of digits by their value, a dot before any other
+    character (so "tree.001" follows "tree")."""
+    key = []
+    for run in re.findall(r"\d+|\D", name):
+        key.append((ord("0"), int(run)) if run.isdigit() else (0 if run == "." else ord(run.lower()), 0))
+    return key
+
+
 def convert_to_objects(scene, obj):
     """Real objects for every point of a point cloud, in a collection "WP_<category> objects"; removes the cloud.
 
@@ -242,7 +254,7 @@ def convert_to_objects(scene, obj):
         source = prototype_collection(scene, category)
     if source is None:
         raise WorldPaintError(f"Nothing to instance for category '{category}': no collection or mesh of that name")
-    children = list(source.objects)
+    children = sorted(source.objects, key=lambda o: name_order(o.name))
     own_collection = not source.get(PROTOTYPE_TAG)
 
     target = bpy.data.collections.new(f"WP_{category} objects")
