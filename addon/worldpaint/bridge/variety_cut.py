@@ -14,7 +14,7 @@ import bmesh
 import bpy
 import numpy as np
 
-from . import WorldPaintError, geometry, view
+from . import WorldPaintError, geometry, variety, view
 
 REACH = 1.25  # faces within this many times the path's radius of its centre are cut
 GRAPH_COLOR = (0.3, 0.85, 1.0, 1.0)
@@ -43,20 +43,21 @@ def path_plane(points):
                           "points not in a line")
 
 
-def cut_along_curve(obj, curve_obj, parts_of):
-    """Cuts mesh object ``obj`` along the plane of the path ``curve_obj`` (see the module); ``parts_of(obj)`` counts
-    the parts its seams then make. Returns a ``Cut``; the mesh is unchanged when the plane crosses none of its
-    faces near the path."""
+def cut_along_curve(obj, curve_obj):
+    """Cuts mesh object ``obj`` along the plane of the path ``curve_obj`` (see the module). Returns a ``Cut``; the
+    mesh is unchanged when the plane crosses none of its faces near the path."""
     if curve_obj is None or curve_obj.type != 'CURVE':
         raise WorldPaintError("Pick a curve object drawn where the model should be cut")
     world = np.vstack([xyz for xyz, _ in geometry.curve_splines([curve_obj])] or [np.zeros((0, 3))])
     matrix = np.linalg.inv(np.array(obj.matrix_world, dtype=np.float64))
     centre, normal, radius = path_plane(world @ matrix[:3, :3].T + matrix[:3, 3])
+    co = np.empty(len(obj.data.vertices) * 3)
+    obj.data.vertices.foreach_get("co", co)
+    close = np.linalg.norm(co.reshape(-1, 3) - centre, axis=1) <= REACH * radius
     bm = bmesh.new()
     try:
         bm.from_mesh(obj.data)
-        near = [f for f in bm.faces
-                if min(np.linalg.norm(np.asarray(v.co) - centre) for v in f.verts) <= REACH * radius]
+        near = [f for f in bm.faces if any(close[v.index] for v in f.verts)]
         if not near:
             raise WorldPaintError(f"The path '{curve_obj.name}' is not near '{obj.name}'")
         edges = {e for f in near for e in f.edges}
@@ -74,7 +75,7 @@ def cut_along_curve(obj, curve_obj, parts_of):
     finally:
         bm.free()
     obj.data.update()
-    return Cut(vertices=added, seams=len(cut_edges), parts=int(parts_of(obj).max(initial=-1)) + 1)
+    return Cut(vertices=added, seams=len(cut_edges), parts=int(variety.seam_islands(obj).max(initial=-1)) + 1)
 
 
 # --- the component graph in the viewport --------------------------------------------------------------------------

@@ -33,7 +33,7 @@ class WORLDPAINT_OT_cut_model(bpy.types.Operator):
             curve = next((o for o in context.selected_objects if o.type == 'CURVE'), None)
         if obj.mode != 'OBJECT':
             raise WorldPaintError(f"Leave Edit Mode on '{obj.name}' to cut it")
-        cut = variety_cut.cut_along_curve(obj, curve, variety.seam_islands)
+        cut = variety_cut.cut_along_curve(obj, curve)
         obj.worldpaint_variety.source = 'SEAMS'
         self.report({'INFO'}, f"Cut '{obj.name}': {cut.vertices} new vertices, {cut.seams} seam edges; its seams "
                               f"make {cut.parts} parts (Components: Seams)")

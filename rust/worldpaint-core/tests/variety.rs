@@ -128,23 +128,7 @@ fn bending_the_upper_trunk_carries_the_crown() {
         picks: vec![vec![0], vec![1], vec![0], vec![0], vec![0], vec![0]],
     };
     let bent = atlas.assemble(&bent_choice).expect("assembly");
-    let crown_centre = |a: &worldpaint_core::variety::Assembled| {
-        let mut used: Vec<u32> = a
-            .model
-            .faces
-            .iter()
-            .zip(&a.face_component)
-            .filter(|(_, &c)| c == 5)
-            .flat_map(|(f, _)| f.iter().copied())
-            .collect();
-        used.sort_unstable();
-        used.dedup();
-        used.iter()
-            .map(|&v| a.model.vertices[v as usize])
-            .sum::<DVec3>()
-            / used.len() as f64
-    };
-    let (before, after) = (crown_centre(&straight), crown_centre(&bent));
+    let (before, after) = (component_centre(&straight, 5), component_centre(&bent, 5));
     let bend = glam::DAffine3::from_translation(DVec3::Z * 5.0)
         * glam::DAffine3::from_rotation_x(12f64.to_radians())
         * glam::DAffine3::from_translation(-DVec3::Z * 5.0);
@@ -347,23 +331,7 @@ fn turning_a_branch_base_as_a_solid_tilts_the_branch() {
     let plain = atlas
         .assemble(&atlas.choice(0).expect("choice"))
         .expect("assembly");
-    let branch_centre = |a: &worldpaint_core::variety::Assembled| {
-        let mut used: Vec<u32> = a
-            .model
-            .faces
-            .iter()
-            .zip(&a.face_component)
-            .filter(|(_, &c)| c == 3)
-            .flat_map(|(f, _)| f.iter().copied())
-            .collect();
-        used.sort_unstable();
-        used.dedup();
-        used.iter()
-            .map(|&v| a.model.vertices[v as usize])
-            .sum::<DVec3>()
-            / used.len() as f64
-    };
-    let moved = branch_centre(&a).distance(branch_centre(&plain));
+    let moved = component_centre(&a, 3).distance(component_centre(&plain, 3));
     println!(
         "  turned branch base: kept, closed, crack-free; the branch's centre moved {moved:.3} m"
     );
@@ -894,4 +862,22 @@ fn bad_input_is_refused_with_a_message() {
     )
     .expect_err("nothing painted");
     assert!(e.to_string().contains("nothing was painted"), "{e}");
+}
+
+/// The mean of the vertices of component `c`'s faces in an assembly.
+fn component_centre(a: &worldpaint_core::variety::Assembled, c: u32) -> DVec3 {
+    let mut used: Vec<u32> = a
+        .model
+        .faces
+        .iter()
+        .zip(&a.face_component)
+        .filter(|(_, &k)| k == c)
+        .flat_map(|(f, _)| f.iter().copied())
+        .collect();
+    used.sort_unstable();
+    used.dedup();
+    used.iter()
+        .map(|&v| a.model.vertices[v as usize])
+        .sum::<DVec3>()
+        / used.len() as f64
 }
