@@ -80,11 +80,13 @@ impl Grid {
     #[inline]
     pub(crate) fn bucket_of(&self, p: DVec2) -> (usize, usize) {
         let f = (p - self.origin) / self.cell;
+        // truncation is the floor of a non-negative value (and cheaper: x86-64 has no floor instruction before
+        // SSE4.1); `max` turns NaN into 0, `as` saturates +∞
         let clamp = |v: f64, n: usize| {
-            if v.is_finite() {
-                v.floor().clamp(0.0, (n - 1) as f64) as usize
-            } else {
+            if v == f64::INFINITY {
                 0
+            } else {
+                (v.max(0.0) as usize).min(n - 1)
             }
         };
         (clamp(f.x, self.nx), clamp(f.y, self.ny))

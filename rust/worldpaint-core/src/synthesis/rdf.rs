@@ -230,7 +230,7 @@ impl<'a> RdfChain<'_, 'a> {
         let r = target.radius;
         let mut own = self.dart_throwing(rng, progress)?;
         let n = own.len() as f64;
-        if own.len() < 2 {
+        if own.len() < 2 || target.matches_nothing() {
             return Ok(own);
         }
         let sweeps = Sweeps {

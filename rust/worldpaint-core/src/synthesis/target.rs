@@ -36,6 +36,8 @@ pub(super) struct PairTable {
     pub(super) other_density: f64,
     pub(super) angle_bins: usize,
     pub(super) bin_width: f64,
+    /// `1 / bin_width`: a pair's bin is read millions of times, and a product is cheaper than a quotient.
+    pub(super) inv_bin_width: f64,
     pub(super) n_bins: usize,
     pub(super) hard_core2: f64,
 }
@@ -68,6 +70,7 @@ impl PairTable {
             other_density: 0.0,
             angle_bins,
             bin_width,
+            inv_bin_width: 1.0 / bin_width,
             n_bins,
             hard_core2: if hard_core.is_finite() {
                 hard_core * hard_core
@@ -150,7 +153,7 @@ impl PairTable {
     /// Histogram index (distance bin × angle bin) and distance bin of a pair at offset `v`, `d2 = |v|²`.
     #[inline]
     pub(super) fn bin_of(&self, v: DVec2, d2: f64) -> Option<(usize, usize)> {
-        let k = (d2.sqrt() / self.bin_width) as usize;
+        let k = (d2.sqrt() * self.inv_bin_width) as usize;
         if k >= self.n_bins {
             return None;
         }
@@ -176,7 +179,7 @@ impl PairTable {
         if d2 < self.hard_core2 {
             return f64::NEG_INFINITY;
         }
-        let k = (d2.sqrt() / self.bin_width) as usize;
+        let k = (d2.sqrt() * self.inv_bin_width) as usize;
         if k >= self.n_bins {
             return 0.0;
         }
@@ -459,6 +462,16 @@ impl<'a> Target<'a> {
 
     /// The free-border term at `p` (0 without ghosts).
     #[inline]
+    /// Whether the rdf-matching chain has nothing to match: every pair table holds only forbidden (hard-core)
+    /// bins and no map has a wanted distribution. Its moves would then only trade one arrangement that keeps the
+    /// hard cores for another, and the dart throwing that starts it is already one.
+    pub(super) fn matches_nothing(&self) -> bool {
+        self.tables
+            .iter()
+            .all(|t| t.log_factor.iter().all(|v| *v == f64::NEG_INFINITY))
+            && self.maps.iter().all(|m| m.wanted.is_empty())
+    }
+
     pub(super) fn ghost_log(&self, p: DVec2) -> f64 {
         self.ghosts.as_ref().map_or(0.0, |g| g.log_factor(p))
     }
@@ -631,11 +644,16 @@ fn pair_tables(
             continue;
         };
         let tag = tables.len() as u32;
+        // a pair whose rdf was 1 at every distance leaves the other category out: its points would cost every
+        // move a neighbour search and change nothing
+        let interacts = table.n_bins > 0 || table.hard_core2 > 0.0;
         tables.push(table);
         if same {
             self_tag = Some(tag);
         }
-        push_fixed_entries(&mut fixed_entries, cond, oi, tag);
+        if interacts {
+            push_fixed_entries(&mut fixed_entries, cond, oi, tag);
+        }
     }
     let self_tag = match self_tag {
         Some(t) => t,

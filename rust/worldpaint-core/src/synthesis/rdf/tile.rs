@@ -145,6 +145,7 @@ impl<'s, 'a, 'b> TileChain<'s, 'a, 'b> {
         let pos = local_points(sh, tile, &bounds);
         let (pool, slot) = weight_rows(sh, &pos);
         let grid = static_grid(sh, &bounds, &pos[m..], &slot[m..]);
+        let grid_len = grid.xs.len();
         let mut cells = MemberCells::new(grid.n_cells(), m);
         for (k, p) in pos[..m].iter().enumerate() {
             let (cx, cy) = grid.cell_coords(*p);
@@ -167,7 +168,7 @@ impl<'s, 'a, 'b> TileChain<'s, 'a, 'b> {
             delta,
             nt: 0,
             ia_new: vec![1.0; sh.n_alpha],
-            cand: Vec::new(),
+            cand: vec![(0, 0, DVec2::ZERO, 0.0); grid_len + m],
             inv_share: 1.0 / tile.share,
         }
     }
@@ -241,38 +242,39 @@ impl<'s, 'a, 'b> TileChain<'s, 'a, 'b> {
     }
 
     /// Gathers into `cand` the neighbours within the radius of `at` (member `k` left out), without branching on
-    /// the distance; returns their count.
+    /// the distance; returns their count. `cand` holds a slot for every
+    /// local point, so it never grows here, and the loops read local slices (writes to `cand` would otherwise make
+    /// them reload every field of `self`).
     fn gather_neighbours(&mut self, at: DVec2, k: usize) -> usize {
         let r = self.sh.target.radius;
         let r2 = r * r;
+        let self_tag = self.sh.self_tag;
         let grid = &self.grid;
+        let (xs, ys, tags, ids) = (&grid.xs[..], &grid.ys[..], &grid.tags[..], &grid.ids[..]);
+        let (head, next) = (&self.cells.head[..], &self.cells.next[..]);
+        let (pos, slot) = (&self.pos[..], &self.slot[..]);
+        let cand = &mut self.cand[..];
         let lnx = grid.nx();
-        let cand = &mut self.cand;
         let mut n = 0usize;
         let (x0, y0) = grid.cell_coords(at - DVec2::splat(r));
         let (x1, y1) = grid.cell_coords(at + DVec2::splat(r));
         for cy in y0..=y1 {
             let (a, b) = grid.row_range(cy, x0, x1);
-            if cand.len() < n + (b - a) {
-                cand.resize(n + (b - a), (0, 0, DVec2::ZERO, 0.0));
-            }
             for i in a..b {
-                let v = DVec2::new(grid.xs[i] - at.x, grid.ys[i] - at.y);
+                let v = DVec2::new(xs[i] - at.x, ys[i] - at.y);
                 let d2 = v.x * v.x + v.y * v.y;
-                cand[n] = (grid.tags[i], grid.ids[i], v, d2);
+                cand[n] = (tags[i], ids[i], v, d2);
                 n += usize::from(d2 <= r2);
             }
-            for c in cy * lnx + x0..=cy * lnx + x1 {
-                let mut j = self.cells.head[c];
+            for &first in &head[cy * lnx + x0..=cy * lnx + x1] {
+                let mut j = first;
                 while j != NONE {
-                    if cand.len() <= n {
-                        cand.resize(n + 64, (0, 0, DVec2::ZERO, 0.0));
-                    }
-                    let v = self.pos[j as usize] - at;
+                    let ju = j as usize;
+                    let v = pos[ju] - at;
                     let d2 = v.length_squared();
-                    cand[n] = (self.sh.self_tag, self.slot[j as usize], v, d2);
-                    n += usize::from(d2 <= r2 && j != k as u32);
-                    j = self.cells.next[j as usize];
+                    cand[n] = (self_tag, slot[ju], v, d2);
+                    n += usize::from(d2 <= r2 && ju != k);
+                    j = next[ju];
                 }
             }
         }
@@ -282,20 +284,23 @@ impl<'s, 'a, 'b> TileChain<'s, 'a, 'b> {
     /// Adds (`sign` 1, member `k` born at `at`) or removes (−1, member `k` dying at `at`) its pairs in `d_h`;
     /// returns the log product factor of its pairs with the context, None when a birth breaks a hard core.
     fn pair_changes(&mut self, sign: f64, at: DVec2, k: usize, q_border: bool) -> Option<f64> {
+        let n = self.gather_neighbours(at, k);
         let sh = self.sh;
         let (tables, offs, nb) = (&sh.target.tables, sh.offs, sh.n_alpha);
-        let n = self.gather_neighbours(at, k);
+        let (last_bin, log_factor) = (sh.last_bin, sh.log_factor);
+        let pool = &self.pool[..];
         let ia_x: &[f64] = if sign > 0.0 && q_border {
             &self.ia_new
         } else {
             let row = if sign > 0.0 { 1 } else { self.slot[k] as usize };
-            &self.pool[row * nb..(row + 1) * nb]
+            &pool[row * nb..(row + 1) * nb]
         };
+        let (d_h, touched, nt) = (&mut self.d_h[..], &mut self.touched[..], &mut self.nt);
         let mut ctx = 0.0;
         for &(tag, row, v, d2) in &self.cand[..n] {
             let ti = (tag & !CONTEXT_TAG) as usize;
             let t = &tables[ti];
-            let kd = ((d2.sqrt() / t.bin_width) as usize).min(sh.last_bin[ti]);
+            let kd = ((d2.sqrt() * t.inv_bin_width) as usize).min(last_bin[ti]);
             let idx = if t.angle_bins == 1 {
                 kd
             } else {
@@ -305,7 +310,7 @@ impl<'s, 'a, 'b> TileChain<'s, 'a, 'b> {
             let lf = if d2 < t.hard_core2 {
                 f64::NEG_INFINITY
             } else {
-                sh.log_factor[h]
+                log_factor[h]
             };
             if sign > 0.0 && lf == f64::NEG_INFINITY {
                 return None;
@@ -315,8 +320,8 @@ impl<'s, 'a, 'b> TileChain<'s, 'a, 'b> {
                 continue;
             }
             let kd = kd.min(nb - 1);
-            let w = ia_x[kd] + self.pool[row as usize * nb + kd];
-            touch(&mut self.d_h, &mut self.touched, &mut self.nt, h, sign * w);
+            let w = ia_x[kd] + pool[row as usize * nb + kd];
+            touch(d_h, touched, nt, h, sign * w);
         }
         Some(ctx)
     }
