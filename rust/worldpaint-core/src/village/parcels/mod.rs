@@ -62,11 +62,12 @@
 //!    chain between junctions (points where three or more parcels or the unclaimed land meet) is simplified once,
 //!    so neighbours keep sharing their boundary exactly. A side two parcels share (where their conquests met, no
 //!    road drew it) first becomes one straight edge between its two corners, when that moves it by at most
-//!    [`ParcelOptions::far_deviation`] and a quarter of its length and makes no angle below
+//!    [`ParcelOptions::far_deviation`] and 0.4 of its length and makes no angle below
 //!    [`ParcelOptions::acute_angle_degrees`] with the other chains at its corners (our choice: the thesis's real
-//!    parcels have straight sides; on the real terrains of `tests/real_village_generation.rs` 5.5-5.6 contour
-//!    edges north of Bayreuth instead of 5.7-5.8, and 5.5-6.8 in Andorra instead of 5.7-7.1, for the same
-//!    neighbours and footprints). Otherwise staircases are first straightened (Douglas–Peucker
+//!    parcels have straight sides; on the real terrains of `tests/real_village_generation.rs` 5.3-5.4 contour
+//!    edges north of Bayreuth instead of 5.7-5.8, and 5.5-6.7 in Andorra instead of 5.7-7.1, for the same
+//!    neighbours and footprints; at a quarter of the length 5.5-5.6 north of Bayreuth, at 0.6 no fewer edges
+//!    there and 7.0 near les Bons). Otherwise staircases are first straightened (Douglas–Peucker
 //!    within [`ParcelOptions::straighten`] cells), then "we remove vertices that have little influence on the
 //!    contour shape": a vertex whose edges turn by less than `ε` ([`ParcelOptions::merge_angle_degrees`]) goes,
 //!    and so does a vertex of an edge shorter than [`ParcelOptions::short_edge`] cells (a clipped corner). Behind

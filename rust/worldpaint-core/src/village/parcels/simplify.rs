@@ -148,11 +148,11 @@ fn simplify_chain(
     let scale = 0.5f64.powi(level as i32);
     let c = rules.work.grid.cell;
     // a side two parcels share runs straight between its corners (where it meets a third parcel, the unclaimed
-    // land or the road): where two conquests met, no road drew its line. Within the far deviation and a quarter
-    // of its length, and making no angle below the acute angle with the other chains at its corners
+    // land or the road): where two conquests met, no road drew its line. Within the far deviation and 0.4 of its
+    // length, and making no angle below the acute angle with the other chains at its corners
     if level == 0 && !ch.closed && !ch.is_loop() && !ch.labels.contains(&NONE) {
         let (a, b) = (pts[0], pts[m - 1]);
-        let bound = (options.far_deviation * c).min(0.25 * a.distance(b));
+        let bound = (options.far_deviation * c).min(0.4 * a.distance(b));
         let acute = options.acute_angle_degrees.to_radians();
         let opens = |v: u32, d: DVec2| {
             leaving.get(&v).is_none_or(|ends| {
