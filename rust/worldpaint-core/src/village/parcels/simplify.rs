@@ -1,5 +1,6 @@
 //! Parcel simplification (thesis 3.3.4, Emilien 2014 ch. 3): each chain of the boundary graph is simplified once,
-//! so neighbours keep sharing their boundary exactly. Staircases are first straightened (Douglas–Peucker), then
+//! so neighbours keep sharing their boundary exactly. A side two parcels share becomes one straight edge between
+//! its corners when it may (see [`simplify_chain`]). Otherwise staircases are first straightened (Douglas–Peucker), then
 //! "we remove vertices that have little influence on the contour shape": a vertex whose edges turn by less than
 //! `ε` goes, and so does a vertex of a short edge; behind the road fronts (a chain's stretch away from the roads,
 //! whether it parts two parcels or a parcel from the unclaimed land) with a wider angle and deviation. No simplified edge may come within `road_width / 2` of a
@@ -95,10 +96,43 @@ impl Rules<'_> {
 /// Kept vertices with a score, as (score, index into the kept list).
 type ScoredVertices = Vec<(f64, usize)>;
 
+/// How the chains leave each junction: per junction vertex, (chain, direction from the junction to the chain's
+/// cell outline `short_edge` cells away).
+type Leaving = std::collections::HashMap<u32, Vec<(usize, DVec2)>>;
+
+fn leaving_directions(chains: &[Chain], lat: &Lattice, reach: f64) -> Leaving {
+    let towards = |from: DVec2, along: &mut dyn Iterator<Item = DVec2>| {
+        let mut last = from;
+        for p in along {
+            last = p;
+            if p.distance(from) >= reach {
+                break;
+            }
+        }
+        last - from
+    };
+    let mut map = Leaving::new();
+    for (ci, ch) in chains.iter().enumerate() {
+        let (Some(&first), Some(&last)) = (ch.ids.first(), ch.ids.last()) else {
+            continue;
+        };
+        if ch.closed {
+            continue;
+        }
+        let (a, b) = (lat.pos(first), lat.pos(last));
+        let d = towards(a, &mut ch.ids.iter().map(|&v| lat.pos(v)));
+        map.entry(first).or_default().push((ci, d));
+        let d = towards(b, &mut ch.ids.iter().rev().map(|&v| lat.pos(v)));
+        map.entry(last).or_default().push((ci, d));
+    }
+    map
+}
+
 /// The vertices of a chain (indices into `ids`) kept at simplification level `level`: 0 the full simplification,
 /// 1 half of it, 2 the cell outline (only its corners).
 fn simplify_chain(
-    ch: &Chain,
+    (ci, ch): (usize, &Chain),
+    leaving: &Leaving,
     lat: &Lattice,
     rules: &Rules,
     options: &ParcelOptions,
@@ -113,6 +147,27 @@ fn simplify_chain(
     let cyc = if ch.closed { m - 1 } else { m };
     let scale = 0.5f64.powi(level as i32);
     let c = rules.work.grid.cell;
+    // a side two parcels share runs straight between its corners (where it meets a third parcel, the unclaimed
+    // land or the road): where two conquests met, no road drew its line. Within the far deviation and 0.4 of its
+    // length, and making no angle below the acute angle with the other chains at its corners
+    if level == 0 && !ch.closed && !ch.is_loop() && !ch.labels.contains(&NONE) {
+        let (a, b) = (pts[0], pts[m - 1]);
+        let bound = (options.far_deviation * c).min(0.4 * a.distance(b));
+        let acute = options.acute_angle_degrees.to_radians();
+        let opens = |v: u32, d: DVec2| {
+            leaving.get(&v).is_none_or(|ends| {
+                ends.iter()
+                    .all(|&(other, e)| other == ci || angle_between(d, e) >= acute)
+            })
+        };
+        if opens(ch.ids[0], b - a)
+            && opens(ch.ids[m - 1], a - b)
+            && pts.iter().all(|p| segment_distance(*p, a, b) <= bound)
+            && rules.replaces(&pts)
+        {
+            return vec![0, m - 1];
+        }
+    }
     let keep = straightened(ch, &pts, options.straighten * c * scale, rules);
     let mut kept: Vec<usize> = (0..cyc).filter(|&q| keep[q]).collect();
     let max_dev = options.merge_deviation * c * scale;
@@ -356,14 +411,16 @@ pub(super) fn simplified_contours(
             cells[x as usize] += 1;
         }
     }
+    let leaving = leaving_directions(&chains, &lat, options.short_edge * work.grid.cell);
     let mut levels = vec![0u8; chains.len()];
     let mut flag = vec![false; lat.vx * (work.grid.ny + 1)];
     let mut polygons: Vec<Option<Vec<DVec2>>> = vec![None; n];
     for round in 0.. {
         let kept: Vec<Vec<usize>> = chains
             .par_iter()
+            .enumerate()
             .zip(levels.par_iter())
-            .map(|(ch, &level)| simplify_chain(ch, &lat, &rules, options, level))
+            .map(|(ch, &level)| simplify_chain(ch, &leaving, &lat, &rules, options, level))
             .collect();
         let moved = collapse_junctions(&lat, &chains, &kept, &levels, &rules, options);
         polygons = outlines(&lat, &chains, &kept, &moved, &loops, &mut flag);
