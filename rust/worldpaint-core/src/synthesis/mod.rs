@@ -81,6 +81,10 @@
 //! paid for with a ring of gaps right behind them (measured on the Luquillo plot: a pcf of 0.91–0.96 at 15–30 m
 //! where the real one stays at 1.0–1.1). Shift moves are three bins long (an eighth of three mean spacings),
 //! whatever the radius.
+//! A pair whose rdf is cut to nothing (the other category's placement is independent of this one's) leaves
+//! that category's content out of the chain altogether, and a chain left with nothing to match (only hard-core
+//! bins and no map) makes no moves: the dart throwing that starts it already keeps every hard core, and its moves
+//! would only trade one such arrangement for another at the cost of every neighbour search.
 //!
 //! **Tiles and determinism.** The region is cut into square tiles at least twice the interaction radius wide
 //! (and holding ≥ `MIN_TILE_INSTANCES` expected instances), with a random offset per sweep; tiles are processed
