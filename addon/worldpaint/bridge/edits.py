@@ -2,14 +2,15 @@
 
 Every painting tool returns an edit: the rows of the given ``InstanceSet`` it removed and the instances it added.
 Removed hand-placed objects cannot happen (they are locked); removed cloud points are dropped, added instances are
-appended to their category's cloud (made when missing), and every cloud gets its instancer.
+appended to their category's cloud (made when missing), every cloud gets its instancer, and the clouds written are
+snapped onto the terrain mesh.
 """
 
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import engine, points
+from . import engine, points, snap
 from .instances import point_cloud_objects
 
 
@@ -60,6 +61,7 @@ def apply_edit(scene, instance_set, edit, terrain_obj):
         if not keep[start:stop].all():
             touched.add(category)
     out = Applied(added=sum(len(a[0]) for a in added.values()), removed=int((~keep).sum()))
+    written = []
     for category in sorted(touched):
         parts = [cloud_columns(instance_set, category, keep)] if category in instance_set.cloud_rows else []
         if category in added:
@@ -73,6 +75,8 @@ def apply_edit(scene, instance_set, edit, terrain_obj):
         points.write_points(obj, *columns)
         if not set_instancer(scene, obj, category, terrain_obj, variants):
             out.missing.append(category)
+        written.append(obj)
+    snap.snap_clouds(scene, written, terrain_obj)  # the engine's heights are its heightfield's, not the mesh's
     return out
 
 

@@ -2,6 +2,7 @@
 
 import bpy
 
+from ..bridge import snap
 from . import arrangement, sketch_draw, variety, variety_texture, variety_tools
 from .blur import WORLDPAINT_OT_blur
 from .brush import WORLDPAINT_OT_brush, WORLDPAINT_OT_brush_radius, WORLDPAINT_OT_erase
@@ -77,9 +78,11 @@ def register():
     _register_classes()
     sketch_draw.add_overlay()
     variety_texture.add_save_handler()
+    snap.add_handlers()
 
 
 def unregister():
+    snap.remove_handlers()
     variety_texture.remove_save_handler()
     sketch_draw.remove_overlay()
     variety_tools.remove_overlays()
