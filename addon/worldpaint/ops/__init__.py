@@ -3,7 +3,7 @@
 import bpy
 
 from ..bridge import snap
-from . import arrangement, sketch_draw, variety, variety_texture, variety_tools
+from . import arrangement, display, sketch_draw, variety, variety_texture, variety_tools
 from .blur import WORLDPAINT_OT_blur
 from .brush import WORLDPAINT_OT_brush, WORLDPAINT_OT_brush_radius, WORLDPAINT_OT_erase
 from .clear import WORLDPAINT_OT_clear_region
@@ -64,6 +64,7 @@ _classes = (
     WORLDPAINT_OT_remove_village_event,
     WORLDPAINT_OT_move_village_event,
     WORLDPAINT_OT_apply_sketch,
+    *display.classes,
     *sketch_draw.classes,
     *arrangement.classes,
     *variety.classes,
