@@ -48,12 +48,12 @@ class Surface:
         k = np.arange(len(tri)) - np.repeat(np.cumsum(count) - count, count)  # rank within its triangle's cells
         cells = (np.repeat(j0, count) + k // np.repeat(wide, count)) * self.shape[0] + np.repeat(i0, count) \
             + k % np.repeat(wide, count)
-        by_cell = np.argsort(cells, kind='stable')
+        by_cell = tri[np.argsort(cells, kind='stable')]
         self.start = np.concatenate([[0], np.cumsum(np.bincount(cells, minlength=self.shape[0] * self.shape[1]))])
         # per candidate slot, in cell order, the columns its test reads: corner a, both edges, 1 / det of the XY
-        # edges (contiguous float32 columns: a round gathers them in memory order)
-        columns = np.column_stack([a, e1, e2, 1.0 / det])[tri[by_cell]]
-        self.columns = [np.ascontiguousarray(columns[:, m], dtype=np.float32) for m in range(10)]
+        # edges (contiguous float32 columns, so a round gathers them in memory order)
+        per_triangle = (*a.T, *e1.T, *e2.T, 1.0 / det)
+        self.columns = [column.astype(np.float32)[by_cell] for column in per_triangle]
 
     def _cells(self, xy, local=False):
         ij = np.floor((xy if local else xy - self.origin) / self.cell).astype(np.int64)
