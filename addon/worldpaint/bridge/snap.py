@@ -18,7 +18,7 @@ from . import geometry, points, terrain
 from .instances import point_cloud_objects
 
 INSIDE = 1e-5  # barycentric slack (float32): a point on an edge between two triangles is in both
-TRIANGLES_PER_CELL = 8.0  # the grid's cells hold about this many triangles' bounding boxes
+TRIANGLES_PER_CELL = 4.0  # the grid's cells hold about this many triangles' bounding boxes
 
 
 class Surface:
