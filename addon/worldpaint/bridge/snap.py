@@ -137,6 +137,17 @@ def snap_cloud(cloud, found):
     return moved
 
 
+def onto(terrain_obj, co):
+    """World XYZ ``co`` (N, 3) with each z on ``terrain_obj``'s surface (kept over no triangle); a new array."""
+    co = np.array(co, dtype=np.float64).reshape(-1, 3)
+    if terrain_obj is None or len(co) == 0:
+        return co
+    z = surface(terrain_obj).heights(co[:, :2])
+    hit = np.isfinite(z)
+    co[hit, 2] = z[hit]
+    return co
+
+
 def clouds_on(scene, terrain_obj=None):
     """{terrain object: [clouds standing on it]} of the scene's point clouds (one terrain's only, when given)."""
     out = {}
