@@ -15,7 +15,12 @@ the painting tools end to end.
    makes all 1,000 (asking #V enumerates them): the engine's assembly and self-intersection check, then building
    the 1,000 meshes in Blender (timed alone, and the whole operator).
 
-Usage: python blender_tests/bench_blender.py [--size 1000]
+5. Millions: 100k and then 1,000,000 instances (uniform, in the 3 categories, at the engine's terrain heights) on the
+   1 km² terrain: building the point clouds and instancers, evaluating the instancers with the terrain unchanged in
+   each display mode (Full, Percentage 10 %, Bounds, Proxy), and after a change of the terrain mesh the update that
+   re-snaps every cloud (the snap alone, and the whole depsgraph update with the instancers), side by side.
+
+Usage: python blender_tests/bench_blender.py [--size 1000] [--only millions]
 """
 
 import argparse
@@ -42,7 +47,7 @@ from scene_kit import (  # noqa: E402
 )
 from worldpaint.bridge import engine as facade  # noqa: E402
 from worldpaint.bridge import points as wp_points  # noqa: E402
-from worldpaint.bridge import variety  # noqa: E402
+from worldpaint.bridge import snap, variety  # noqa: E402
 from worldpaint.bridge.instances import point_cloud_arrays, point_cloud_objects  # noqa: E402
 from worldpaint.ops.common import SceneContent  # noqa: E402
 
@@ -114,6 +119,7 @@ def poisson_disk_points(terrain_obj, count, distance_min):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--size", type=float, default=1000.0, help="terrain side in metres")
+    parser.add_argument("--only", choices=["millions"], help="run only this section")
     args = parser.parse_args()
     worldpaint.register()
     bpy.ops.wm.read_factory_settings(use_empty=True)
@@ -174,7 +180,7 @@ def main():
     print(f"engine synthesis          {n:7d} instances, 3 categories  {t_engine:7.3f} s")
     print(f"build point clouds + GN   {n:7d} instances               {t_build:7.3f} s   (target <= 0.5 s)")
     print(f"Paste Color operator      {n_op:7d} instances               {t_operator:7.3f} s   (extract+engine+build)")
-    print(f"evaluate GN instancer     {instances:7d} instances (snap+inst)  {t_eval:7.3f} s")
+    print(f"evaluate GN instancer     {instances:7d} instances               {t_eval:7.3f} s")
     print(f"GN Distribute (Poisson)   {len(gn_xy):7d} points                  {t_gn:7.3f} s")
     print(f"clustered fidelity  engine: density ratio {ratio_engine:.3f}, rdf L2 {rdf_engine:.3f}")
     print(f"clustered fidelity  GN Poisson disk: density ratio {ratio_gn:.3f}, rdf L2 {rdf_gn:.3f}")
@@ -282,7 +288,72 @@ def variety_model(tree):
     return {"model": model, "labels": labels, "variants": edits}
 
 
+def bench_millions(size, counts=(100_000, 1_000_000)):
+    """Section 5 of the module documentation; one column per count."""
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    prototypes()
+    terrain = engine.exemplar_demo_terrain(size, 2.0, 7)
+    terrain_obj = engine_terrain_object("Terrain", terrain)
+    scene = bpy.context.scene
+    scene.worldpaint.terrain = terrain_obj
+    bpy.context.view_layer.update()
+    rows = {}
+
+    def row(name, value):
+        rows.setdefault(name, []).append(value)
+
+    for n in counts:
+        for obj in list(point_cloud_objects(scene).values()):
+            wp_points.remove_object(obj)
+        bpy.context.view_layer.update()
+        rng = np.random.default_rng(n)
+        xy = rng.uniform(0.0, size, (n, 2))
+        co = np.column_stack([xy, terrain.heights_at(xy)])
+        which = rng.integers(0, len(CATEGORIES), n)
+        columns = [(c["name"], co[which == k]) for k, c in enumerate(CATEGORIES)]
+
+        def build(columns=columns, rng=rng):
+            for name, part in columns:
+                obj = wp_points.point_cloud_object(scene, name)
+                wp_points.write_points(obj, part, rng.uniform(0.0, 6.3, len(part)), rng.uniform(0.8, 1.2, len(part)),
+                                       np.zeros(len(part), np.int32))
+                wp_points.set_instancer(obj, bpy.data.collections[name], terrain_obj)
+
+        row("build point clouds + instancers", timed(build)[1])
+        clouds = list(point_cloud_objects(scene).values())
+        bpy.context.view_layer.update()  # the first evaluation of new objects
+        for mode, _label, _ in wp_points.DISPLAY_MODES:
+            for obj in clouds:
+                wp_points.set_display(obj, mode=mode, percentage=10.0)
+            bpy.context.view_layer.update()
+            for obj in clouds:
+                obj.update_tag()
+            row(f"evaluate instancers, {mode.lower()}", timed(bpy.context.view_layer.update)[1])
+        for obj in clouds:
+            wp_points.set_display(obj, mode='FULL')
+        bpy.context.view_layer.update()
+        row("re-snap alone (read terrain, bin, look up)", timed(lambda: snap.snap_scene(scene))[1])
+        mesh = terrain_obj.data
+        ground = np.empty(len(mesh.vertices) * 3, np.float32)
+        mesh.vertices.foreach_get("co", ground)
+        ground[2::3] += 0.5 * np.sin(ground[0::3] / 40.0)  # a change under every instance
+        mesh.vertices.foreach_set("co", ground)
+        mesh.update()
+        row("terrain changed: update (re-snap + instancers)", timed(bpy.context.view_layer.update)[1])
+    print(f"millions: terrain {size:.0f} m x {size:.0f} m ({len(terrain_obj.data.vertices)} vertices, "
+          f"{len(terrain_obj.data.polygons) * 2} triangles)")
+    print(f"{'':48s}" + "".join(f"{n:>12,d}" for n in counts))
+    for name, values in rows.items():
+        print(f"{name:48s}" + "".join(f"{v:10.3f} s" for v in values))
+    print("targets at 1M: build <= 0.5 s, evaluation without terrain change <= 0.3 s")
+
+
 if __name__ == "__main__":
-    main()
-    bench_painting()
-    bench_variety()
+    if "--only" in sys.argv and sys.argv[sys.argv.index("--only") + 1] == "millions":
+        worldpaint.register()
+        bench_millions(1000.0)
+    else:
+        main()
+        bench_painting()
+        bench_variety()
+        bench_millions(1000.0)

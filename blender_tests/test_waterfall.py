@@ -148,7 +148,8 @@ def test_a_cliff_network_gets_water_meshes_a_deformed_terrain_and_undo_removes_t
           f"rotations {rotation.min():.2f}..{rotation.max():.2f}, scales {scale.min():.2f}..{scale.max():.2f}")
     # the water's edge is read between grid nodes: a rock may stand a little past the mesh's bank
     assert again["is_water"].all() and on_mesh.mean() > 0.95
-    assert np.allclose(again["rocks"], rock_co, atol=1e-3), "the same seed gives the same rocks"
+    # where they stand: the heights are the terrain mesh's (the cloud is snapped onto it), not the engine's grid's
+    assert np.allclose(again["rocks"][:, :2], rock_co[:, :2], atol=1e-3), "the same seed gives the same rocks"
     assert rotation.max() > 0.0 and scale.min() < scale.max()
 
     bpy.ops.ed.undo()
@@ -209,7 +210,7 @@ def test_rocks_from_a_learned_palette_color_stand_in_the_water_with_its_spacing(
           f"{learned['min_distance']:.2f} m apart): {len(rocks)} rocks, {again['is_water'].sum()} in the water, "
           f"closest two {closest:.2f} m")
     assert len(rocks) >= 5 and again["is_water"].all()
-    assert np.allclose(again["rocks"], rocks, atol=1e-3), "the rocks are the learned color's"
+    assert np.allclose(again["rocks"][:, :2], rocks[:, :2], atol=1e-3), "the rocks are the learned color's"
     assert closest >= learned["min_distance"] - 1e-3 and closest >= 3.0
     builtin = engine_waterfall(rocks[:, :2])["rocks"]
     print(f"the built-in river rocks instead: {len(builtin)}, closest two {closest_pair(builtin[:, :2]):.2f} m")

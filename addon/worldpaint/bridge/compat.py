@@ -6,6 +6,7 @@ Differences handled here:
 
 - Geometry Nodes modifier inputs: 4.5 stores them as ID properties (``modifier[identifier]``); 5.x has no ID
   properties on the modifier and exposes them as ``modifier.properties.inputs.<identifier>.value``.
+  Drawing one in a panel follows the same split.
 - Node modes that became menu inputs: Resample Curve's and Set Curve Normal's ``mode`` property is, in 5.x, a
   ``Mode`` menu socket whose items are named by their labels ("Length", "Z Up").
 - ``Material.use_nodes``: materials always use nodes in 5.x and setting it is deprecated (removed in 6.0).
@@ -46,6 +47,16 @@ def modifier_input(modifier, name, default=None):
         socket = getattr(properties.inputs, identifier, None)
         return default if socket is None else socket.value
     return modifier.get(identifier, default)
+
+
+def draw_modifier_input(layout, modifier, name, text=None):
+    """Draws the Geometry Nodes modifier's input called ``name`` as a field of ``layout``."""
+    identifier = _input_identifier(modifier, name)
+    properties = getattr(modifier, "properties", None)
+    if properties is not None and hasattr(properties, "inputs"):
+        layout.prop(getattr(properties.inputs, identifier), "value", text=text or name)
+    else:
+        layout.prop(modifier, f'["{identifier}"]', text=text or name)
 
 
 # --- nodes --------------------------------------------------------------------------------------------------------

@@ -2,14 +2,15 @@
 
 Every painting tool returns an edit: the rows of the given ``InstanceSet`` it removed and the instances it added.
 Removed hand-placed objects cannot happen (they are locked); removed cloud points are dropped, added instances are
-appended to their category's cloud (made when missing), and every cloud gets its instancer.
+appended to their category's cloud (made when missing), and every cloud gets its instancer. Added instances stand
+on the terrain mesh (``snap``), kept ones where they stood.
 """
 
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import engine, points
+from . import engine, points, snap
 from .instances import point_cloud_objects
 
 
@@ -25,15 +26,16 @@ class Applied:
     lines_removed: int = 0
 
 
-def added_by_category(edit):
-    """{category: (co (N, 3), rotation, scale, prototype, tint)} of an edit's added instances on the terrain."""
+def added_by_category(edit, terrain_obj):
+    """{category: (co (N, 3), rotation, scale, prototype, tint)} of an edit's added instances on the terrain, their
+    heights on its mesh (the engine's are its heightfield's)."""
     on_terrain = np.isfinite(edit.heights)
     out = {}
     for index in np.unique(edit.category_index):
         mask = (edit.category_index == index) & on_terrain
         if not mask.any():
             continue  # every one off the terrain: no empty cloud for it
-        co = np.column_stack([edit.positions[mask], edit.heights[mask]])
+        co = snap.onto(terrain_obj, np.column_stack([edit.positions[mask], edit.heights[mask]]))
         out[edit.category_names[index]] = (co, edit.rotations[mask], edit.scales[mask], edit.prototype[mask],
                                            edit.tints[mask])
     return out
@@ -53,7 +55,7 @@ def apply_edit(scene, instance_set, edit, terrain_obj):
     touches."""
     keep = np.ones(len(instance_set), dtype=bool)
     keep[edit.removed] = False
-    added = added_by_category(edit)
+    added = added_by_category(edit, terrain_obj)
     clouds = point_cloud_objects(scene)
     touched = set(added)
     for category, (start, stop) in instance_set.cloud_rows.items():

@@ -4,9 +4,17 @@ Per category one vertex-only mesh object "WP_<category>" in the "WorldPaint" col
 ``rotation`` (FLOAT, radians about Z), ``scale`` (FLOAT), ``prototype`` (INT) and ``tint`` (FLOAT, colour variation:
 Instance on Points hands it to the instances, where a material's Attribute node of type Instancer reads it). The node
 group "WorldPaint Instancer" instances the children of the category's prototype collection on the points (Pick Instance
-by ``prototype``); the modifier's Collection input says which collection. The points carry the engine's terrain
-height; the modifier's Terrain input, when set, snaps them onto the actual mesh surface (a vertical ray cast in
-Geometry Nodes), so instances sit exactly on any terrain topology and follow later terrain edits.
+by ``prototype``); the modifier's Collection input says which collection.
+
+The points stand where they are: their z is their height on the terrain, and the instancer casts no ray, so an
+evaluation costs only the instancing. The modifier's Terrain input names the mesh they stand on; ``snap`` puts them
+onto its surface when they are written and again, once, whenever that mesh changes. (Files saved with the older
+instancer, which snapped with a ray cast on every evaluation, get this one when loaded.)
+
+What the viewport shows of a cloud is set per cloud on its modifier (``set_display``): every instance (Full), a fixed
+share of them (Percentage, drawn by point index so the same ones show on every redraw), a wire box (Bounds) or a cone
+(Proxy) the size of the prototypes instead of each mesh, and only the instances within a distance of the active
+camera (Cull Distance, 0: all). A render always has every instance with its full mesh (the Is Viewport node).
 All writes use foreach_set.
 """
 
@@ -29,20 +37,42 @@ COLLECTION_NAME = "WorldPaint"
 NODE_GROUP_NAME = "WorldPaint Instancer"
 MODIFIER_NAME = "WorldPaint"
 PROTO_PREFIX = "WP_proto_"
-SNAP_HEIGHT = 500.0  # the snapping ray starts this far above each point and is twice as long
+SNAP_HEIGHT = 500.0  # a curve ribbon's snapping ray starts this far above each point and is twice as long
+INSTANCER_VERSION = 2  # 1: ray-cast onto the terrain on every evaluation; 2: display modes, no ray cast
 ATTRIBUTES = (("rotation", 'FLOAT', np.float32), ("scale", 'FLOAT', np.float32), ("prototype", 'INT', np.int32),
               (TINT_ATTRIBUTE, 'FLOAT', np.float32))
+DISPLAY_MODES = (
+    ('FULL', "Full", "Every instance with its full mesh"),
+    ('PERCENTAGE', "Percentage", "A fixed share of the instances (the same ones on every redraw)"),
+    ('BOUNDS', "Bounds", "A wire box the size of the prototypes instead of each mesh"),
+    ('PROXY', "Proxy", "A cone the size of the prototypes instead of each mesh"),
+)
+# the instancer's inputs after Geometry: (name, socket type, default, min, max, subtype)
+INPUTS = (
+    ("Collection", 'NodeSocketCollection', None, None, None, None),
+    ("Terrain", 'NodeSocketObject', None, None, None, None),
+    ("Display", 'NodeSocketInt', 0, 0, len(DISPLAY_MODES) - 1, None),
+    ("Percentage", 'NodeSocketFloat', 10.0, 0.0, 100.0, 'PERCENTAGE'),
+    ("Cull Distance", 'NodeSocketFloat', 0.0, 0.0, 1e6, 'DISTANCE'),
+)
 
 
 # --- the Geometry Nodes instancer ---------------------------------------------------------------------------------
 
 def node_adder(group):
     """A function adding a node of a kind at a location to ``group``."""
-    def node(kind, x, y):
+    def node(kind, x, y, **settings):
         n = group.nodes.new(kind)
         n.location = (x, y)
+        for name, value in settings.items():
+            setattr(n, name, value)
         return n
     return node
+
+
+def socket(sockets, name):
+    """The available socket called ``name`` (4.5 keeps a node's unused typed sockets, hidden; 5.x drops them)."""
+    return next(s for s in sockets if s.name == name and s.enabled)
 
 
 def terrain_ray(group, node, terrain_socket, position, x, y):
@@ -63,56 +93,166 @@ def terrain_ray(group, node, terrain_socket, position, x, y):
     return ray
 
 
+def instancer_interface(group):
+    """Adds the instancer's sockets the group lacks; existing ones keep their identifiers, so the modifiers of a file
+    saved with an older instancer keep their collection and terrain."""
+    items = group.interface.items_tree
+    if "Geometry" not in [i.name for i in items if getattr(i, "in_out", None) == 'INPUT']:
+        group.interface.new_socket("Geometry", in_out='INPUT', socket_type='NodeSocketGeometry')
+    for name, kind, default, low, high, subtype in INPUTS:
+        if items.get(name) is None:
+            item = group.interface.new_socket(name, in_out='INPUT', socket_type=kind)
+            if default is not None:
+                item.default_value, item.min_value, item.max_value = default, low, high
+            if subtype is not None:
+                item.subtype = subtype
+    if "Geometry" not in [i.name for i in items if getattr(i, "in_out", None) == 'OUTPUT']:
+        group.interface.new_socket("Geometry", in_out='OUTPUT', socket_type='NodeSocketGeometry')
+
+
 def instancer_node_group():
-    """The shared node group, built once per file."""
+    """The shared node group, built once per file (and rebuilt in place over an older version of it)."""
     group = bpy.data.node_groups.get(NODE_GROUP_NAME)
-    if group is not None and group.bl_idname == 'GeometryNodeTree' and "Terrain" in group.interface.items_tree:
+    if group is not None and group.bl_idname == 'GeometryNodeTree' and group.get("wp_version") == INSTANCER_VERSION:
         return group
-    group = bpy.data.node_groups.new(NODE_GROUP_NAME, 'GeometryNodeTree')
-    group.interface.new_socket("Geometry", in_out='INPUT', socket_type='NodeSocketGeometry')
-    group.interface.new_socket("Collection", in_out='INPUT', socket_type='NodeSocketCollection')
-    group.interface.new_socket("Terrain", in_out='INPUT', socket_type='NodeSocketObject')
-    group.interface.new_socket("Geometry", in_out='OUTPUT', socket_type='NodeSocketGeometry')
+    if group is None or group.bl_idname != 'GeometryNodeTree':
+        group = bpy.data.node_groups.new(NODE_GROUP_NAME, 'GeometryNodeTree')
+    instancer_interface(group)
+    group.nodes.clear()
+    build_instancer(group)
+    group["wp_version"] = INSTANCER_VERSION
+    return group
+
+
+def build_instancer(group):
+    """The instancer's nodes: the prototypes (or, in the viewport, boxes or cones of their size) on the points;
+    in the viewport, only the points of the display percentage and within the cull distance of the camera."""
     links, node = group.links, node_adder(group)
-    group_in = node('NodeGroupInput', -800, 0)
-    group_out = node('NodeGroupOutput', 550, 0)
-    info = node('GeometryNodeCollectionInfo', -500, -150)
-    info.transform_space = 'ORIGINAL'
+    group_in = node('NodeGroupInput', -1400, 0)
+    group_out = node('NodeGroupOutput', 700, 0)
+    info = node('GeometryNodeCollectionInfo', -1100, -150, transform_space='ORIGINAL')
     info.inputs["Separate Children"].default_value = True
     info.inputs["Reset Children"].default_value = True
+    links.new(group_in.outputs["Collection"], info.inputs["Collection"])
 
     def attribute(name, data_type, y):
-        n = node('GeometryNodeInputNamedAttribute', -500, y)
-        n.data_type = data_type
+        n = node('GeometryNodeInputNamedAttribute', 0, y, data_type=data_type)
         n.inputs["Name"].default_value = name
         return n
 
     prototype = attribute("prototype", 'INT', -350)
     rotation = attribute("rotation", 'FLOAT', -500)
     scale = attribute("scale", 'FLOAT', -650)
-    combine = node('ShaderNodeCombineXYZ', -250, -500)
-    euler = node('FunctionNodeEulerToRotation', -80, -500)
-    on_points = node('GeometryNodeInstanceOnPoints', 300, 0)
+    combine = node('ShaderNodeCombineXYZ', 200, -500)
+    euler = node('FunctionNodeEulerToRotation', 350, -500)
+    on_points = node('GeometryNodeInstanceOnPoints', 500, 0)
     on_points.inputs["Pick Instance"].default_value = True
 
-    # snap onto the terrain: a ray from above each point; points without a hit keep the engine's height
-    position = node('GeometryNodeInputPosition', -500, 450)
-    ray = terrain_ray(group, node, group_in.outputs["Terrain"], position.outputs["Position"], -500, 300)
-    snap = node('GeometryNodeSetPosition', 100, 250)
-    links.new(group_in.outputs["Geometry"], snap.inputs["Geometry"])
-    links.new(ray.outputs["Is Hit"], snap.inputs["Selection"])
-    links.new(ray.outputs["Hit Position"], snap.inputs["Position"])
+    # the display mode applies in the viewport only: a render always has every instance with its full mesh
+    viewport = node('GeometryNodeIsViewport', -1100, 400)
+    mode = node('GeometryNodeSwitch', -900, 400, input_type='INT')
+    links.new(viewport.outputs[0], mode.inputs["Switch"])
+    links.new(group_in.outputs["Display"], socket(mode.inputs, "True"))
+    mode_out = socket(mode.outputs, "Output")
 
-    links.new(group_in.outputs["Collection"], info.inputs["Collection"])
-    links.new(snap.outputs["Geometry"], on_points.inputs["Points"])
-    links.new(info.outputs["Instances"], on_points.inputs["Instance"])
+    def mode_is(index, x, y):
+        n = node('FunctionNodeCompare', x, y, data_type='INT', operation='EQUAL')
+        links.new(mode_out, socket(n.inputs, "A"))
+        socket(n.inputs, "B").default_value = index
+        return n.outputs["Result"]
+
+    def boolean(operation, a, b, x, y):
+        n = node('FunctionNodeBooleanMath', x, y, operation=operation)
+        links.new(a, n.inputs[0])
+        links.new(b, n.inputs[1])
+        return n.outputs[0]
+
+    def math(operation, a, b, x, y):
+        n = node('ShaderNodeMath', x, y, operation=operation)
+        for k, value in enumerate((a, b)):
+            if isinstance(value, float):
+                n.inputs[k].default_value = value
+            else:
+                links.new(value, n.inputs[k])
+        return n.outputs[0]
+
+    # Percentage: a random draw per point index with a fixed seed, so the same points show on every redraw
+    share = math('DIVIDE', group_in.outputs["Percentage"], 100.0, -900, 250)
+    draw = node('FunctionNodeRandomValue', -700, 250, data_type='BOOLEAN')
+    links.new(share, socket(draw.inputs, "Probability"))
+    shown = boolean('IMPLY', mode_is(1, -700, 400), socket(draw.outputs, "Value"), -500, 300)
+
+    # culling: in the viewport, points farther than the cull distance (0: none) from the active camera are left out
+    camera = node('GeometryNodeInputActiveCamera', -1100, 100)
+    where = node('GeometryNodeObjectInfo', -900, 100, transform_space='ORIGINAL')
+    links.new(camera.outputs[0], where.inputs["Object"])
+    position = node('GeometryNodeInputPosition', -900, -50)
+    distance = node('ShaderNodeVectorMath', -700, 50, operation='DISTANCE')
+    links.new(position.outputs["Position"], distance.inputs[0])
+    links.new(where.outputs["Location"], distance.inputs[1])
+    near = node('FunctionNodeCompare', -500, 50, data_type='FLOAT', operation='LESS_EQUAL')
+    links.new(distance.outputs["Value"], socket(near.inputs, "A"))
+    links.new(group_in.outputs["Cull Distance"], socket(near.inputs, "B"))
+    culling = math('GREATER_THAN', group_in.outputs["Cull Distance"], 0.0, -700, -100)
+    culled = boolean('AND', viewport.outputs[0], culling, -500, -100)
+    kept = boolean('IMPLY', culled, near.outputs["Result"], -300, 50)
+    links.new(boolean('AND', shown, kept, -100, 200), on_points.inputs["Selection"])
+
+    # Bounds and Proxy: one wire box or cone the size of all the prototypes together, instead of each mesh
+    whole = node('GeometryNodeRealizeInstances', -1000, -300)  # a bounding box leaves instances out
+    links.new(info.outputs["Instances"], whole.inputs["Geometry"])
+    bounds = node('GeometryNodeBoundBox', -900, -300)
+    links.new(whole.outputs["Geometry"], bounds.inputs["Geometry"])
+    size = node('ShaderNodeVectorMath', -700, -300, operation='SUBTRACT')
+    links.new(bounds.outputs["Max"], size.inputs[0])
+    links.new(bounds.outputs["Min"], size.inputs[1])
+    centre = node('ShaderNodeVectorMath', -700, -450, operation='MULTIPLY_ADD')
+    links.new(size.outputs["Vector"], centre.inputs[0])
+    centre.inputs[1].default_value = (0.5, 0.5, 0.5)
+    links.new(bounds.outputs["Min"], centre.inputs[2])
+    box = node('GeometryNodeMeshCube', -500, -300)
+    links.new(size.outputs["Vector"], box.inputs["Size"])
+    wire = node('GeometryNodeDeleteGeometry', -350, -300, domain='FACE', mode='ONLY_FACE')  # its 12 edges
+    links.new(box.outputs["Mesh"], wire.inputs["Geometry"])
+    extent = node('ShaderNodeSeparateXYZ', -500, -500)
+    links.new(size.outputs["Vector"], extent.inputs[0])
+    cone = node('GeometryNodeMeshCone', -350, -500)
+    cone.inputs["Vertices"].default_value = 8
+    links.new(math('MULTIPLY', math('MAXIMUM', extent.outputs["X"], extent.outputs["Y"], -500, -650), 0.5, -350,
+                   -650), cone.inputs["Radius Bottom"])
+    links.new(extent.outputs["Z"], cone.inputs["Depth"])
+    base = node('ShaderNodeVectorMath', -500, -800, operation='MULTIPLY_ADD')  # the cone stands on its base
+    links.new(size.outputs["Vector"], base.inputs[0])
+    base.inputs[1].default_value = (0.0, 0.0, -0.5)
+    links.new(centre.outputs["Vector"], base.inputs[2])
+    placed_box = node('GeometryNodeTransform', -200, -300)  # the cube is made about its centre
+    links.new(wire.outputs["Geometry"], placed_box.inputs["Geometry"])
+    links.new(centre.outputs["Vector"], placed_box.inputs["Translation"])
+    placed_cone = node('GeometryNodeTransform', -200, -500)
+    links.new(cone.outputs["Mesh"], placed_cone.inputs["Geometry"])
+    links.new(base.outputs["Vector"], placed_cone.inputs["Translation"])
+    proxy_switch = node('GeometryNodeSwitch', -50, -400, input_type='GEOMETRY')
+    links.new(mode_is(3, -350, -200), proxy_switch.inputs["Switch"])
+    links.new(placed_box.outputs["Geometry"], socket(proxy_switch.inputs, "False"))
+    links.new(placed_cone.outputs["Geometry"], socket(proxy_switch.inputs, "True"))
+    stand_in = node('GeometryNodeGeometryToInstance', 100, -400)
+    links.new(proxy_switch.outputs[0], stand_in.inputs["Geometry"])
+    simple = node('FunctionNodeCompare', -350, -100, data_type='INT', operation='GREATER_EQUAL')
+    links.new(mode_out, socket(simple.inputs, "A"))
+    socket(simple.inputs, "B").default_value = 2
+    source = node('GeometryNodeSwitch', 300, -150, input_type='GEOMETRY')
+    links.new(simple.outputs["Result"], source.inputs["Switch"])
+    links.new(info.outputs["Instances"], socket(source.inputs, "False"))
+    links.new(stand_in.outputs["Instances"], socket(source.inputs, "True"))
+
+    links.new(group_in.outputs["Geometry"], on_points.inputs["Points"])
+    links.new(source.outputs[0], on_points.inputs["Instance"])
     links.new(prototype.outputs["Attribute"], on_points.inputs["Instance Index"])
     links.new(rotation.outputs["Attribute"], combine.inputs["Z"])
     links.new(combine.outputs["Vector"], euler.inputs["Euler"])
     links.new(euler.outputs["Rotation"], on_points.inputs["Rotation"])
     links.new(scale.outputs["Attribute"], on_points.inputs["Scale"])
     links.new(on_points.outputs["Instances"], group_out.inputs["Geometry"])
-    return group
 
 
 def nodes_modifier(obj, name, group):
@@ -126,7 +266,8 @@ def nodes_modifier(obj, name, group):
 
 
 def set_instancer(obj, collection=None, terrain=None):
-    """Gives a point cloud the instancer modifier; sets its Collection and Terrain inputs when given."""
+    """Gives a point cloud the instancer modifier; sets its Collection and Terrain (the mesh its points are snapped
+    onto when it changes) inputs when given."""
     mod = nodes_modifier(obj, MODIFIER_NAME, instancer_node_group())
     if collection is not None:
         compat.set_modifier_input(mod, "Collection", collection)
@@ -139,6 +280,36 @@ def instancer_collection(obj):
     """The Collection input of a point cloud's instancer, or None."""
     mod = obj.modifiers.get(MODIFIER_NAME)
     return None if mod is None else compat.modifier_input(mod, "Collection")
+
+
+def instancer_terrain(obj):
+    """The Terrain input of a point cloud's instancer (the mesh its points stand on), or None."""
+    mod = obj.modifiers.get(MODIFIER_NAME)
+    return None if mod is None else compat.modifier_input(mod, "Terrain")
+
+
+def display(obj):
+    """(mode, percentage, cull distance) of a point cloud's viewport display: mode one of ``DISPLAY_MODES``'
+    identifiers, percentage 0-100, cull distance in metres (0: none)."""
+    mod = obj.modifiers.get(MODIFIER_NAME)
+    if mod is None:
+        return DISPLAY_MODES[0][0], 100.0, 0.0
+    index = min(max(int(compat.modifier_input(mod, "Display", 0)), 0), len(DISPLAY_MODES) - 1)
+    percentage = float(compat.modifier_input(mod, "Percentage", 10.0))
+    return DISPLAY_MODES[index][0], percentage, float(compat.modifier_input(mod, "Cull Distance", 0.0))
+
+
+def set_display(obj, mode=None, percentage=None, cull_distance=None):
+    """Sets what of a point cloud the viewport shows (see ``display``); a render always shows everything. Stored on
+    the cloud's instancer modifier, so it is saved with the file."""
+    mod = nodes_modifier(obj, MODIFIER_NAME, instancer_node_group())
+    if mode is not None:
+        compat.set_modifier_input(mod, "Display", [m[0] for m in DISPLAY_MODES].index(mode))
+    if percentage is not None:
+        compat.set_modifier_input(mod, "Percentage", float(percentage))
+    if cull_distance is not None:
+        compat.set_modifier_input(mod, "Cull Distance", float(cull_distance))
+    obj.update_tag()
 
 
 # --- prototype collections ----------------------------------------------------------------------------------------

@@ -13,7 +13,7 @@ import bmesh
 import bpy
 import numpy as np
 
-from . import WorldPaintError, compat, geometry, village
+from . import WorldPaintError, compat, geometry, snap, village
 from .instances import point_cloud_arrays, point_cloud_objects, point_cloud_tints
 from .points import (
     COLLECTION_NAME,
@@ -338,4 +338,5 @@ def build_rocks(scene, waterfall, terrain_obj):
     obj = point_cloud_object(scene, ROCK_CATEGORY)
     write_points(obj, waterfall.rocks, waterfall.rock_rotation, waterfall.rock_scale, waterfall.rock_prototype)
     set_instancer(obj, collection=rock_prototypes(), terrain=terrain_obj)
+    snap.snap_scene(scene, terrains={terrain_obj.name_full})  # the terrain was just deformed: read it again
     return obj

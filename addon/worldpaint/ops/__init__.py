@@ -2,7 +2,8 @@
 
 import bpy
 
-from . import arrangement, sketch_draw, variety, variety_texture, variety_tools
+from ..bridge import snap
+from . import arrangement, display, sketch_draw, variety, variety_texture, variety_tools
 from .blur import WORLDPAINT_OT_blur
 from .brush import WORLDPAINT_OT_brush, WORLDPAINT_OT_brush_radius, WORLDPAINT_OT_erase
 from .clear import WORLDPAINT_OT_clear_region
@@ -63,6 +64,7 @@ _classes = (
     WORLDPAINT_OT_remove_village_event,
     WORLDPAINT_OT_move_village_event,
     WORLDPAINT_OT_apply_sketch,
+    *display.classes,
     *sketch_draw.classes,
     *arrangement.classes,
     *variety.classes,
@@ -77,9 +79,11 @@ def register():
     _register_classes()
     sketch_draw.add_overlay()
     variety_texture.add_save_handler()
+    snap.add_handlers()
 
 
 def unregister():
+    snap.remove_handlers()
     variety_texture.remove_save_handler()
     sketch_draw.remove_overlay()
     variety_tools.remove_overlays()

@@ -5,6 +5,7 @@ import bpy
 from . import sketch, terrain_edit, tools, variety, village
 from .lists import WORLDPAINT_UL_categories, WORLDPAINT_UL_interactions, WORLDPAINT_UL_palette
 from .panel import (
+    WORLDPAINT_PT_display,
     WORLDPAINT_PT_edit,
     WORLDPAINT_PT_interactions,
     WORLDPAINT_PT_main,
@@ -21,6 +22,7 @@ _classes = (
     WORLDPAINT_PT_interactions,
     WORLDPAINT_PT_paint,
     WORLDPAINT_PT_edit,
+    WORLDPAINT_PT_display,
     *village.classes,
     *terrain_edit.classes,
     *sketch.classes,

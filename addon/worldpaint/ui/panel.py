@@ -2,6 +2,9 @@
 
 import bpy
 
+from ..bridge import compat, points
+from ..bridge.instances import point_cloud_objects
+
 
 class SidebarPanel:
     """Where the WorldPaint panels live: the WorldPaint tab of the 3D viewport's sidebar. A panel's idname is its
@@ -174,3 +177,33 @@ class WORLDPAINT_PT_edit(MainSubpanel, bpy.types.Panel):
         col = layout.column(align=True)
         col.operator("worldpaint.blur", icon='MOD_SMOOTH')
         col.operator("worldpaint.convert_to_objects", icon='OUTLINER_OB_GROUP_INSTANCE')
+
+
+class WORLDPAINT_PT_display(MainSubpanel, bpy.types.Panel):
+    """How the viewport shows each category's painted instances; a render shows them all, in full."""
+
+    bl_label = "Instance Display"
+    bl_options = {'DEFAULT_CLOSED'}
+
+    def draw(self, context):
+        layout = self.layout
+        clouds = point_cloud_objects(context.scene)
+        if not clouds:
+            layout.label(text="No painted instances")
+            return
+        layout.label(text="Viewport only: a render shows every instance", icon='INFO')
+        for category, obj in sorted(clouds.items()):
+            mod = obj.modifiers.get(points.MODIFIER_NAME)
+            if mod is None or mod.node_group is None or "Display" not in mod.node_group.interface.items_tree:
+                continue  # an instancer of an older file, until it is loaded again
+            box = layout.box()
+            box.label(text=f"{category}: {len(obj.data.vertices):,} instances", icon='OUTLINER_OB_POINTCLOUD')
+            mode = points.display(obj)[0]
+            row = box.row(align=True)
+            for identifier, label, _ in points.DISPLAY_MODES:
+                button = row.operator("worldpaint.instance_display", text=label, depress=identifier == mode)
+                button.category, button.mode = category, identifier
+            col = box.column(align=True)
+            if mode == 'PERCENTAGE':
+                compat.draw_modifier_input(col, mod, "Percentage")
+            compat.draw_modifier_input(col, mod, "Cull Distance")
