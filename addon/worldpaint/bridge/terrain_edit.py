@@ -338,5 +338,8 @@ def build_rocks(scene, waterfall, terrain_obj):
     obj = point_cloud_object(scene, ROCK_CATEGORY)
     write_points(obj, waterfall.rocks, waterfall.rock_rotation, waterfall.rock_scale, waterfall.rock_prototype)
     set_instancer(obj, collection=rock_prototypes(), terrain=terrain_obj)
-    snap.snap_scene(scene, terrains={terrain_obj.name_full})  # the terrain was just deformed: read it again
+    # the terrain was just deformed: read it again for the new rocks (the clouds already on it are snapped by the
+    # handler that sees the terrain change)
+    snap.forget(terrain_obj)
+    snap.snap_clouds(scene, [obj], terrain_obj)
     return obj

@@ -242,9 +242,8 @@ impl<'s, 'a, 'b> TileChain<'s, 'a, 'b> {
     }
 
     /// Gathers into `cand` the neighbours within the radius of `at` (member `k` left out), without branching on
-    /// the distance; returns their count. `cand` holds a slot for every
-    /// local point, so it never grows here, and the loops read local slices (writes to `cand` would otherwise make
-    /// them reload every field of `self`).
+    /// the distance; returns their count. `cand` holds a slot for every local point, so it never grows here, and
+    /// the loops read local slices (writes to `cand` would otherwise make them reload every field of `self`).
     fn gather_neighbours(&mut self, at: DVec2, k: usize) -> usize {
         let r = self.sh.target.radius;
         let r2 = r * r;
