@@ -19,6 +19,8 @@ pub enum FileKind {
     Scenario,
     /// A set of named growth scenarios.
     ScenarioPresets,
+    /// One tile of a world's tile set.
+    Tile,
 }
 
 impl fmt::Display for FileKind {
@@ -29,6 +31,7 @@ impl fmt::Display for FileKind {
             FileKind::Encyclopedia => "encyclopedia",
             FileKind::Scenario => "scenario",
             FileKind::ScenarioPresets => "scenario presets",
+            FileKind::Tile => "world tile",
         })
     }
 }

@@ -68,6 +68,7 @@ pub mod tools;
 pub mod variety;
 pub mod village;
 pub mod waterfall;
+pub mod world;
 
 pub use analysis::{learn_arrangement, learn_color, AnalysisOptions, HeldGraph, SLOPE_BIN_DEGREES};
 pub use compare::{compare, learned_back, same_options, self_synthesis, Fidelity};

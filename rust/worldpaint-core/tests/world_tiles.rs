@@ -1,0 +1,252 @@
+//! A world filled tile by tile: the same bytes whatever the tile order and thread count, no seam a user can find
+//! (hard cores kept across tile borders, the pcf of windows straddling four tiles as that of windows inside one),
+//! and the color's density over the whole world.
+
+#[path = "common/pcf.rs"]
+mod pcf;
+
+use std::collections::BTreeMap;
+use worldpaint_core::exemplar;
+use worldpaint_core::geom::DVec2;
+use worldpaint_core::world::{synthesize_tile, tile_file, TileId, WorldPlan};
+use worldpaint_core::{learn_color, AnalysisOptions, Category, Color, Instance, Region, Scene};
+
+/// The Blender benchmark's color: trees with a 3 m hard core, uniform rocks, grass in 2 m clumps; 0.1 per m².
+fn bench_color() -> Color {
+    let ex = Region::Rect {
+        min: DVec2::ZERO,
+        max: DVec2::splat(100.0),
+    };
+    let mut instances = Vec::new();
+    let mut add = |points: Vec<DVec2>, category: usize| {
+        instances.extend(points.into_iter().map(|p| Instance::at(p, category)));
+    };
+    add(exemplar::hard_core(&ex, 0.03, 3.0, 1), 0);
+    add(exemplar::uniform(&ex, 0.03, 2), 1);
+    add(exemplar::clustered(&ex, 0.004, 10.0, 2.0, 3), 2);
+    let scene = Scene {
+        categories: vec![
+            Category::distribution("Tree", "vegetation", 0),
+            Category::distribution("Rock", "vegetation", 1),
+            Category::distribution("Grass", "vegetation", 2),
+        ],
+        instances,
+        ..Default::default()
+    };
+    match learn_color(&scene, &ex, "Bench", &AnalysisOptions::default()) {
+        Ok(c) => c,
+        Err(e) => panic!("learning the bench color failed: {e}"),
+    }
+}
+
+const SIDE: f64 = 400.0;
+const TILE: f64 = 100.0;
+
+fn plan(color: &Color) -> WorldPlan {
+    match WorldPlan::for_color(DVec2::ZERO, DVec2::splat(SIDE), color, Some(TILE)) {
+        Ok(p) => p,
+        Err(e) => panic!("plan: {e}"),
+    }
+}
+
+/// Every tile's file bytes, the tiles of each phase taken in the order `order` gives them, as a driver would:
+/// a tile is given the border strips (as bytes, decoded) of its earlier neighbours.
+fn fill(color: &Color, seed: u64, order: fn(&mut Vec<TileId>)) -> BTreeMap<TileId, Vec<u8>> {
+    let plan = plan(color);
+    let mut files: BTreeMap<TileId, Vec<u8>> = BTreeMap::new();
+    let mut borders: BTreeMap<TileId, Vec<u8>> = BTreeMap::new();
+    for phase in 0..4 {
+        let mut tiles: Vec<TileId> = plan
+            .tiles()
+            .into_iter()
+            .filter(|&t| plan.phase(t) == phase)
+            .collect();
+        order(&mut tiles);
+        for t in tiles {
+            let neighbours: Vec<_> = plan
+                .earlier_neighbours(t)
+                .iter()
+                .map(|n| match tile_file::decode(&borders[n]) {
+                    Ok(b) => b,
+                    Err(e) => panic!("border of {n:?}: {e}"),
+                })
+                .collect();
+            let content = match synthesize_tile(&plan, t, color, None, &neighbours, seed, None) {
+                Ok(c) => c,
+                Err(e) => panic!("tile {t:?}: {e}"),
+            };
+            let encode = |c: &worldpaint_core::world::TileContent| match tile_file::encode(c) {
+                Ok(b) => b,
+                Err(e) => panic!("encoding {t:?}: {e}"),
+            };
+            borders.insert(t, encode(&content.border(&plan)));
+            files.insert(t, encode(&content));
+        }
+    }
+    files
+}
+
+/// The world's instances of category `c`, read back from the tile files, with the tile each lies in.
+fn points(files: &BTreeMap<TileId, Vec<u8>>, c: usize) -> Vec<(DVec2, TileId)> {
+    let mut out = Vec::new();
+    for (t, bytes) in files {
+        let tile = match tile_file::decode(bytes) {
+            Ok(tile) => tile,
+            Err(e) => panic!("decoding {t:?}: {e}"),
+        };
+        out.extend(
+            tile.instances
+                .iter()
+                .filter(|i| i.category == c)
+                .map(|i| (i.position, *t)),
+        );
+    }
+    out
+}
+
+#[test]
+fn the_same_world_whatever_the_tile_order_and_thread_count() {
+    let color = bench_color();
+    let forward = fill(&color, 7, |_| {});
+    let backward = fill(&color, 7, |tiles| tiles.reverse());
+    let one_thread = match rayon::ThreadPoolBuilder::new().num_threads(1).build() {
+        Ok(pool) => pool.install(|| fill(&color, 7, |_| {})),
+        Err(e) => panic!("thread pool: {e}"),
+    };
+    assert_eq!(forward.len(), 16);
+    assert!(forward == backward, "the tile order changed the world");
+    assert!(forward == one_thread, "the thread count changed the world");
+    let other_seed = fill(&color, 8, |_| {});
+    assert!(forward != other_seed, "another seed gave the same world");
+}
+
+#[test]
+fn no_seam_between_tiles() {
+    let color = bench_color();
+    let files = fill(&color, 1, |_| {});
+    let area = SIDE * SIDE;
+
+    // the density of every category over the whole world, as the color's
+    for (c, cat) in color.categories.iter().enumerate() {
+        let n = points(&files, c).len() as f64;
+        let expected = cat.density * area;
+        println!(
+            "{}: {n} instances, expected {expected:.0}",
+            cat.category.name
+        );
+        assert!(
+            (n / expected - 1.0).abs() < 0.05,
+            "{}: {n} against {expected:.0}",
+            cat.category.name
+        );
+    }
+
+    // hard cores across tile borders: no two trees of different tiles closer than the color's minimum distance
+    let trees = points(&files, 0);
+    let min_distance = color.categories[0].min_distance;
+    let mut closest = f64::INFINITY;
+    for (k, (p, tp)) in trees.iter().enumerate() {
+        for (q, tq) in &trees[k + 1..] {
+            if tp != tq {
+                closest = closest.min(p.distance(*q));
+            }
+        }
+    }
+    println!("closest trees across a tile border {closest:.3} m, the color's minimum distance {min_distance:.3} m");
+    assert!(closest >= min_distance - 1e-3);
+
+    // the pcf of windows straddling four tiles against windows inside one, and the same windows of a second world
+    let second = fill(&color, 2, |_| {});
+    let (half, r_max, dr) = (30.0, 20.0, 1.0);
+    let mean_pcf = |pts: &[DVec2], centres: &[DVec2]| {
+        let mut sum = vec![0.0; (r_max / dr) as usize];
+        for &c in centres {
+            let g = pcf::pcf(
+                pts,
+                c - DVec2::splat(half),
+                c + DVec2::splat(half),
+                r_max,
+                dr,
+            );
+            sum.iter_mut()
+                .zip(g)
+                .for_each(|(s, v)| *s += v / centres.len() as f64);
+        }
+        sum
+    };
+    let corners: Vec<DVec2> = (1..4)
+        .flat_map(|j| (1..4).map(move |i| DVec2::new(i as f64, j as f64) * TILE))
+        .collect();
+    let centres: Vec<DVec2> = corners
+        .iter()
+        .map(|c| *c - DVec2::splat(TILE / 2.0))
+        .collect();
+    for (c, name) in [(0, "trees"), (2, "grass")] {
+        let world: Vec<DVec2> = points(&files, c).into_iter().map(|(p, _)| p).collect();
+        let other: Vec<DVec2> = points(&second, c).into_iter().map(|(p, _)| p).collect();
+        let straddling = mean_pcf(&world, &corners);
+        let inside = mean_pcf(&world, &centres);
+        let second_draw = pcf::l2(&mean_pcf(&other, &centres), &inside);
+        let seam = pcf::l2(&straddling, &inside);
+        println!("{name}: pcf L2 straddling vs inside {seam:.3}, a second draw's {second_draw:.3}");
+        assert!(
+            seam <= 1.25 * second_draw,
+            "{name}: the seams show ({seam:.3} against {second_draw:.3})"
+        );
+    }
+}
+
+#[test]
+fn a_tile_file_reads_back_what_was_written_and_refuses_damage() {
+    let color = bench_color();
+    let files = fill(&color, 3, |_| {});
+    let (t, bytes) = match files.iter().next() {
+        Some(f) => f,
+        None => panic!("no tile"),
+    };
+    let tile = match tile_file::decode(bytes) {
+        Ok(tile) => tile,
+        Err(e) => panic!("decoding: {e}"),
+    };
+    assert_eq!(tile.tile, *t);
+    assert_eq!(tile.categories, ["Tree", "Rock", "Grass"]);
+    assert_eq!(
+        tile_file::encode(&tile).ok().as_ref(),
+        Some(bytes),
+        "a decoded tile encodes to other bytes"
+    );
+    assert_eq!(
+        bytes.len(),
+        8 + 8 + 16 + 8 + 3 * 2 + "TreeRockGrass".len() + 28 * tile.instances.len()
+    );
+    for cut in [0, 7, 20, bytes.len() / 2, bytes.len() - 1] {
+        let e = tile_file::decode(&bytes[..cut]);
+        assert!(
+            matches!(e, Err(worldpaint_core::Error::Parse { .. })),
+            "a file cut at {cut} was read"
+        );
+    }
+    let mut bad = bytes.clone();
+    bad[0] = b'X';
+    assert!(tile_file::decode(&bad).is_err());
+}
+
+#[test]
+fn a_plan_refuses_tiles_narrower_than_the_region_of_influence() {
+    let color = bench_color();
+    let narrow = WorldPlan::for_color(
+        DVec2::ZERO,
+        DVec2::splat(SIDE),
+        &color,
+        Some(color.max_radius / 2.0),
+    );
+    assert!(narrow.is_err());
+    let p = plan(&color);
+    // each phase: no two tiles touch
+    for a in p.tiles() {
+        for n in p.earlier_neighbours(a) {
+            assert!(p.phase(n) < p.phase(a));
+        }
+    }
+    assert_eq!((p.columns, p.rows), (4, 4));
+}
