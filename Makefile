@@ -36,7 +36,7 @@ $(call venv_of,$(1))/.installed:
 	@test -n "$(call python_of,$(1))" || { echo "No Python for bpy $(1): put it on PATH or under pyenv"; exit 1; }
 	$(call python_of,$(1)) -m venv $(call venv_of,$(1))
 	$(call venv_of,$(1))/bin/python -m pip install --quiet --upgrade pip
-	$(call venv_of,$(1))/bin/python -m pip install --quiet "bpy==$(1).*" pytest pyyaml $(if $(filter 4.5,$(1)),$(BUILD_TOOLS))
+	$(call venv_of,$(1))/bin/python -m pip install --quiet "bpy==$(1).*" pytest pyyaml "dask[distributed]" $(if $(filter 4.5,$(1)),$(BUILD_TOOLS))
 	touch $$@
 endef
 $(foreach b,$(BLENDERS),$(eval $(call blender_venv,$(b))))
@@ -59,7 +59,7 @@ lint: venv
 	cargo clippy --workspace --all-targets --release -- -D warnings
 	RUSTDOCFLAGS="-D rustdoc::broken_intra_doc_links -D rustdoc::private_intra_doc_links" \
 		cargo doc --no-deps --quiet -p worldpaint-core -p worldpaint-py
-	$(VENV)/bin/ruff check addon blender_tests assets
+	$(VENV)/bin/ruff check addon blender_tests assets rust/worldpaint-py/python
 
 # The tests that measure against real data are ignored by default (they say why); they run here where the data is.
 REAL_DATA := ../shared/data/real

@@ -408,6 +408,37 @@ def scene(heightfield, instances, structures):
     return _engine().Scene(heightfield, **instances, **structures)
 
 
+@dataclass
+class WorldTile:
+    """One tile of a world's tile set: its instances' columns, ``category_index`` into ``categories`` (names)."""
+
+    column: int
+    row: int
+    categories: list
+    positions: np.ndarray
+    heights: np.ndarray
+    rotations: np.ndarray
+    scales: np.ndarray
+    category_index: np.ndarray
+    prototype: np.ndarray
+    tints: np.ndarray
+
+
+def world_manifest(folder):
+    """The manifest (a dict) of the tile set in ``folder``; ``ValueError`` when it is not one."""
+    _engine()
+    from worldpaint_engine import world
+
+    return world.read_manifest(folder)
+
+
+def read_world_tile(path):
+    with open(path, "rb") as f:
+        d = _engine().read_world_tile(f.read())
+    return WorldTile(d["column"], d["row"], list(d["categories"]), d["positions"], d["heights"], d["rotations"],
+                     d["scales"], d["category_index"], d["prototype"], d["tints"])
+
+
 def region_bbox(region):
     """((xmin, ymin), (xmax, ymax)) of a region."""
     return _engine().region_bbox(region)

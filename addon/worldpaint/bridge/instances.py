@@ -17,7 +17,8 @@ PROTOTYPE_TAG = "wp_prototype"
 STRUCTURE_TAG = "wp_structure"  # synthesized paths or contours of a category (see ``curves``)
 FILL_TAG = "wp_fill"  # the filled mesh of a polygon category's synthesized contours
 TINT_ATTRIBUTE = "tint"  # a point's colour variation; materials read it with an Attribute node of type Instancer
-TAGS = (POINTS_TAG, PROTOTYPE_TAG, STRUCTURE_TAG, FILL_TAG)
+WORLD_TILE_TAG = "wp_world_tile"  # a cloud of one tile of a loaded world: "column,row" (see ``world``)
+TAGS = (POINTS_TAG, PROTOTYPE_TAG, STRUCTURE_TAG, FILL_TAG, WORLD_TILE_TAG)
 TAU = 2.0 * np.pi
 
 

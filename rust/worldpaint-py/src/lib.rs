@@ -23,6 +23,7 @@ mod tools;
 mod variety;
 mod village;
 mod waterfall;
+mod world;
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::sync::Mutex;
@@ -260,6 +261,7 @@ pub(crate) fn with_stages<T: Send>(
 // The Python module: the engine's classes and functions, the error classes, the version and the palette format
 // version. (A doc comment here would become the module's docstring, which is empty.)
 #[pymodule]
+#[pyo3(name = "_engine")]
 mod worldpaint_engine {
     use pyo3::prelude::*;
 
@@ -296,6 +298,8 @@ mod worldpaint_engine {
     };
     #[pymodule_export]
     use crate::waterfall::build_waterfall;
+    #[pymodule_export]
+    use crate::world::{read_world_tile, world_plan, world_tile};
 
     #[pymodule_init]
     fn init(m: &Bound<'_, PyModule>) -> PyResult<()> {

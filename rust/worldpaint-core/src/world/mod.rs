@@ -101,10 +101,15 @@ impl WorldPlan {
         paintable(color)?;
         let influence = color.max_radius;
         let density: f64 = color.categories.iter().map(|c| c.density).sum();
+        let extent = (max - min).max_element();
         let tile = match tile {
             Some(t) => t,
-            None if density > 0.0 => (TILE_INSTANCES / density).sqrt().max(influence),
-            None => (max - min).max_element().max(influence),
+            // as many equal tiles as the size asks along the longer side (none left narrow at the end)
+            None if density > 0.0 => {
+                let ideal = (TILE_INSTANCES / density).sqrt();
+                (extent / (extent / ideal).round().max(1.0)).max(influence)
+            }
+            None => extent.max(influence),
         };
         WorldPlan::new(min, max, tile, influence)
     }

@@ -1,0 +1,88 @@
+"""A world's tile set (written by ``python -m worldpaint_engine.world``) in the scene.
+
+Each tile becomes one point cloud per category, named "WP_<category> <column>,<row>", with the shared instancer
+and the category's prototype collection, in a collection per world ("WP World <color>") that remembers the tile
+set's folder. The instances keep the heights the engine gave them on the world's terrain. Tiles load nearest
+first from a point (the camera), within a radius; loading again adds the tiles not yet in the scene, so a world of
+tens of millions of instances comes in as far as the view needs.
+"""
+
+import math
+import os
+
+import bpy
+import numpy as np
+
+from . import engine, points
+from .instances import WORLD_TILE_TAG
+
+WORLD_TAG = "wp_world"  # on a world's collection: the tile set's folder
+CATEGORY_TAG = "wp_world_category"
+
+
+def tile_distance(manifest, tile, centre):
+    """Distance (m) from ``centre`` (x, y) to the tile's rectangle (0 inside it)."""
+    size = manifest["tile"]
+    x0 = manifest["min"][0] + tile["column"] * size
+    y0 = manifest["min"][1] + tile["row"] * size
+    dx = max(x0 - centre[0], 0.0, centre[0] - min(x0 + size, manifest["max"][0]))
+    dy = max(y0 - centre[1], 0.0, centre[1] - min(y0 + size, manifest["max"][1]))
+    return math.hypot(dx, dy)
+
+
+def tiles_to_load(manifest, centre, radius, loaded):
+    """The manifest's tiles not in ``loaded`` ({(column, row)}), nearest ``centre`` first, within ``radius`` of it
+    (0: all)."""
+    waiting = [t for t in manifest["tiles"] if (t["column"], t["row"]) not in loaded]
+    if radius > 0.0:
+        waiting = [t for t in waiting if tile_distance(manifest, t, centre) <= radius]
+    return sorted(waiting, key=lambda t: (tile_distance(manifest, t, centre), t["row"], t["column"]))
+
+
+def world_collection(scene, folder, manifest):
+    """The collection of the world in ``folder``, made (inside the WorldPaint collection) when missing."""
+    folder = os.path.abspath(folder)
+    for collection in bpy.data.collections:
+        if collection.get(WORLD_TAG) == folder:
+            return collection
+    collection = bpy.data.collections.new(f"WP World {manifest['color']}")
+    collection[WORLD_TAG] = folder
+    points.worldpaint_collection(scene).children.link(collection)
+    return collection
+
+
+def loaded_tiles(collection):
+    """{(column, row)} of the tiles whose clouds the world's collection holds."""
+    out = set()
+    for obj in collection.objects:
+        tag = obj.get(WORLD_TILE_TAG)
+        if tag:
+            column, row = (int(v) for v in tag.split(","))
+            out.add((column, row))
+    return out
+
+
+def load_tile(scene, collection, folder, entry, display=None, cull_distance=None):
+    """Puts one tile of the manifest (``entry``) in the scene: its clouds. Returns (instances, the clouds made,
+    the names of its categories with nothing to instance)."""
+    tile = engine.read_world_tile(os.path.join(folder, entry["file"]))
+    made, missing = [], []
+    for index, category in enumerate(tile.categories):
+        mask = tile.category_index == index
+        if not mask.any():
+            continue
+        name = f"WP_{category} {tile.column},{tile.row}"
+        obj = bpy.data.objects.new(name, bpy.data.meshes.new(name))
+        obj[WORLD_TILE_TAG] = f"{tile.column},{tile.row}"
+        obj[CATEGORY_TAG] = category
+        collection.objects.link(obj)
+        co = np.column_stack([tile.positions[mask], tile.heights[mask]])
+        points.write_points(obj, co, tile.rotations[mask], tile.scales[mask], tile.prototype[mask], tile.tints[mask])
+        prototypes = points.prototype_collection(scene, category)
+        points.set_instancer(obj, prototypes)
+        if display is not None or cull_distance is not None:
+            points.set_display(obj, mode=display, cull_distance=cull_distance)
+        if prototypes is None:
+            missing.append(category)
+        made.append(obj)
+    return int(len(tile.positions)), made, missing

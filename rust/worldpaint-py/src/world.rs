@@ -1,0 +1,130 @@
+//! Worlds in tiles: the plan, one tile's synthesis and the tile files. The driver that runs the tiles' phases (Dask)
+//! is the package's Python module `worldpaint_engine.world`.
+
+use crate::convert::{instances_to_py, parse_color};
+use crate::guarded;
+use crate::terrain::Terrain;
+use numpy::IntoPyArray;
+use pyo3::prelude::*;
+use pyo3::types::{PyBytes, PyDict};
+use worldpaint_core::geom::DVec2;
+use worldpaint_core::world::{synthesize_tile, tile_file, TileId, WorldPlan};
+
+fn plan_from_py(plan: &Bound<'_, PyDict>) -> PyResult<WorldPlan> {
+    let get = |key: &str| -> PyResult<Bound<'_, PyAny>> {
+        plan.get_item(key)?
+            .ok_or_else(|| crate::input_err(format!("the world plan has no '{key}'")))
+    };
+    let corner = |key: &str| -> PyResult<DVec2> {
+        let (x, y): (f64, f64) = get(key)?.extract()?;
+        Ok(DVec2::new(x, y))
+    };
+    let (min, max) = (corner("min")?, corner("max")?);
+    let (tile, influence): (f64, f64) = (get("tile")?.extract()?, get("influence")?.extract()?);
+    guarded(|| WorldPlan::new(min, max, tile, influence))
+}
+
+/// How `color` (JSON) fills the world rectangle `min`–`max`: {"min", "max", "tile" (side, m), "influence" (m),
+/// "columns", "rows", "tiles": [(column, row, phase, [(column, row) of the earlier neighbours it is conditioned
+/// on])]}, tiles in phase order. `tile` overrides the side (at least the color's region of influence).
+#[pyfunction]
+#[pyo3(signature = (color, min, max, *, tile=None))]
+pub(crate) fn world_plan<'py>(
+    py: Python<'py>,
+    color: &str,
+    min: (f64, f64),
+    max: (f64, f64),
+    tile: Option<f64>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let color = parse_color(color)?;
+    let (min, max) = (DVec2::new(min.0, min.1), DVec2::new(max.0, max.1));
+    let plan = guarded(|| WorldPlan::for_color(min, max, &color, tile))?;
+    let d = PyDict::new(py);
+    d.set_item("min", (plan.min.x, plan.min.y))?;
+    d.set_item("max", (plan.max.x, plan.max.y))?;
+    d.set_item("tile", plan.tile)?;
+    d.set_item("influence", plan.influence)?;
+    d.set_item("columns", plan.columns)?;
+    d.set_item("rows", plan.rows)?;
+    let mut tiles = plan.tiles();
+    tiles.sort_by_key(|&t| (plan.phase(t), t.row, t.column));
+    let tiles: Vec<_> = tiles
+        .into_iter()
+        .map(|t| {
+            let after: Vec<(u32, u32)> = plan
+                .earlier_neighbours(t)
+                .iter()
+                .map(|n| (n.column, n.row))
+                .collect();
+            (t.column, t.row, plan.phase(t), after)
+        })
+        .collect();
+    d.set_item("tiles", tiles)?;
+    Ok(d)
+}
+
+/// Synthesizes tile (`column`, `row`) of `plan` (as `world_plan` returns it) with `color` (JSON), conditioned on
+/// `neighbours` (the border bytes its earlier neighbours returned) and on `terrain` (at least the part around the
+/// tile; None on flat ground). Returns (the tile file's bytes, the tile's border bytes for its later neighbours,
+/// the instance count of each of the color's categories).
+#[pyfunction]
+#[pyo3(signature = (color, plan, column, row, neighbours, seed, *, terrain=None, iterations_per_instance=None))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn world_tile<'py>(
+    py: Python<'py>,
+    color: &str,
+    plan: &Bound<'py, PyDict>,
+    column: u32,
+    row: u32,
+    neighbours: Vec<Bound<'py, PyBytes>>,
+    seed: u64,
+    terrain: Option<&Bound<'py, Terrain>>,
+    iterations_per_instance: Option<f64>,
+) -> PyResult<(Bound<'py, PyBytes>, Bound<'py, PyBytes>, Vec<usize>)> {
+    let color = parse_color(color)?;
+    let plan = plan_from_py(plan)?;
+    let neighbours = neighbours
+        .iter()
+        .map(|b| guarded(|| tile_file::decode(b.as_bytes())))
+        .collect::<PyResult<Vec<_>>>()?;
+    let terrain = terrain.map(|t| t.get().hf.clone());
+    let t = TileId { column, row };
+    let (file, border, counts) = py.detach(|| {
+        guarded(|| {
+            let tile = synthesize_tile(
+                &plan,
+                t,
+                &color,
+                terrain,
+                &neighbours,
+                seed,
+                iterations_per_instance,
+            )?;
+            Ok((
+                tile_file::encode(&tile)?,
+                tile_file::encode(&tile.border(&plan))?,
+                tile.counts(),
+            ))
+        })
+    })?;
+    Ok((PyBytes::new(py, &file), PyBytes::new(py, &border), counts))
+}
+
+/// The content of a tile file's bytes: {"column", "row", "categories" (the names), and the instance
+/// columns of an edit ("positions", "heights" (the terrain's, as the tile was synthesized on it), "rotations",
+/// "scales", "category_index", "prototype", "tints")}. A damaged file raises `FileFormatError`.
+#[pyfunction]
+pub(crate) fn read_world_tile<'py>(
+    py: Python<'py>,
+    data: &Bound<'py, PyBytes>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let tile = guarded(|| tile_file::decode(data.as_bytes()))?;
+    let d = PyDict::new(py);
+    d.set_item("column", tile.tile.column)?;
+    d.set_item("row", tile.tile.row)?;
+    d.set_item("categories", &tile.categories)?;
+    instances_to_py(py, &d, &tile.instances, None)?;
+    let heights: Vec<f64> = tile.heights.iter().map(|&h| h as f64).collect();
+    d.set_item("heights", heights.into_pyarray(py))?;
+    Ok(d)
+}
