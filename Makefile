@@ -98,6 +98,7 @@ bench: engine
 	cargo bench -p worldpaint-core --bench arrangement
 	cargo bench -p worldpaint-core --bench sketch
 	$(PY) blender_tests/bench_blender.py
+	$(PY) blender_tests/bench_world.py
 
 # An installable Blender extension with the engine wheel inside; needs no Blender binary.
 extension: wheel

@@ -254,7 +254,7 @@ def peak_memory_mb(client):
 def start_client(scheduler=None, workers=None):
     """A Dask client of the cluster at ``scheduler``, or of a new LocalCluster of ``workers`` processes (default:
     one per core) that share the cores between them (the engine's own threads included)."""
-    from distributed import Client, LocalCluster
+    from distributed import Client
 
     if scheduler:
         return Client(scheduler)
@@ -262,8 +262,8 @@ def start_client(scheduler=None, workers=None):
     workers = workers or cores
     # the workers inherit the environment: the engine's thread pool takes the worker's share of the cores
     os.environ["RAYON_NUM_THREADS"] = str(max(1, cores // workers))
-    cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=":0")
-    return Client(cluster)
+    # a client that makes its cluster also shuts it down when it is closed
+    return Client(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=":0")
 
 
 def main(argv=None):
