@@ -208,7 +208,7 @@ impl TileContent {
             .filter(|&k| near_edge(self.instances[k].position))
             .collect();
         TileContent {
-            instances: keep.iter().map(|&k| self.instances[k].clone()).collect(),
+            instances: keep.iter().map(|&k| self.instances[k]).collect(),
             heights: keep.iter().map(|&k| self.heights[k]).collect(),
             categories: self.categories.clone(),
             ..*self
@@ -289,7 +289,7 @@ pub fn synthesize_tile(
                 ),
             ));
         }
-        scene.instances.extend(n.instances.iter().cloned());
+        scene.instances.extend_from_slice(&n.instances);
     }
     let mut opts = SynthesisOptions {
         seed: mix_seed(seed, ((t.column as u64) << 32) | t.row as u64),
