@@ -11,26 +11,17 @@ import time
 import numpy as np
 import pytest
 import worldpaint_engine as engine
+from bench_world import bench_color
+from worldpaint_engine import world
 
 distributed = pytest.importorskip("distributed", reason="filling worlds needs dask[distributed]")
-world = pytest.importorskip("worldpaint_engine.world")
-
-EXEMPLAR = {"shape": "rect", "min": [0.0, 0.0], "max": [100.0, 100.0]}
-CATEGORIES = [{"name": name, "layer": "vegetation", "kind": "distribution", "priority": i}
-              for i, name in enumerate(["Tree", "Rock", "Grass"])]
 
 
 @pytest.fixture(scope="module")
 def palette(tmp_path_factory):
     """A palette file of the benchmark color: trees hard-core, rocks uniform, grass clustered, 0.1 per m²."""
-    trees = engine.exemplar_hard_core(EXEMPLAR, 0.03, 3.0, 1)
-    rocks = engine.exemplar_uniform(EXEMPLAR, 0.03, 2)
-    grass = engine.exemplar_clustered(EXEMPLAR, 0.004, 10.0, 2.0, 3)
-    xy = np.concatenate([trees, rocks, grass])
-    index = np.repeat(np.arange(3, dtype=np.int32), [len(trees), len(rocks), len(grass)])
-    color = engine.learn_color(engine.Scene(None, CATEGORIES, xy, index), EXEMPLAR, "Bench")
     path = tmp_path_factory.mktemp("palette") / "bench.json"
-    path.write_text(engine.palette_to_json([color]))
+    path.write_text(engine.palette_to_json([bench_color()]))
     return path
 
 

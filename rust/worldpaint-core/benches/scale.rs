@@ -17,8 +17,7 @@ use std::time::{Duration, Instant};
 use worldpaint_core::exemplar;
 use worldpaint_core::geom::DVec2;
 use worldpaint_core::{
-    learn_color, synthesize, AnalysisOptions, Category, Color, Instance, Region, Scene,
-    SynthesisOptions,
+    learn_color, synthesize, AnalysisOptions, Color, Region, Scene, SynthesisOptions,
 };
 
 /// Counts the bytes allocated now and at most since the last reset.
@@ -66,22 +65,7 @@ fn square(side: f64) -> Region {
 /// The Blender benchmark's color: trees hard-core, rocks uniform, grass clustered.
 fn bench_color() -> Color {
     let ex = square(EXEMPLAR);
-    let mut instances = Vec::new();
-    let mut add = |points: Vec<DVec2>, category: usize| {
-        instances.extend(points.into_iter().map(|p| Instance::at(p, category)));
-    };
-    add(exemplar::hard_core(&ex, 0.03, 3.0, 1), 0);
-    add(exemplar::uniform(&ex, 0.03, 2), 1);
-    add(exemplar::clustered(&ex, 0.004, 10.0, 2.0, 3), 2);
-    let scene = Scene {
-        categories: vec![
-            Category::distribution("Tree", "vegetation", 0),
-            Category::distribution("Rock", "vegetation", 1),
-            Category::distribution("Grass", "vegetation", 2),
-        ],
-        instances,
-        ..Default::default()
-    };
+    let scene = exemplar::undergrowth(EXEMPLAR);
     match learn_color(&scene, &ex, "Bench", &AnalysisOptions::default()) {
         Ok(c) => c,
         Err(e) => panic!("learning the bench color failed: {e}"),

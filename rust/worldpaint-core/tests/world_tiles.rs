@@ -9,7 +9,7 @@ use std::collections::BTreeMap;
 use worldpaint_core::exemplar;
 use worldpaint_core::geom::DVec2;
 use worldpaint_core::world::{synthesize_tile, tile_file, TileId, WorldPlan};
-use worldpaint_core::{learn_color, AnalysisOptions, Category, Color, Instance, Region, Scene};
+use worldpaint_core::{learn_color, AnalysisOptions, Color, Region};
 
 /// The Blender benchmark's color: trees with a 3 m hard core, uniform rocks, grass in 2 m clumps; 0.1 per m².
 fn bench_color() -> Color {
@@ -17,22 +17,7 @@ fn bench_color() -> Color {
         min: DVec2::ZERO,
         max: DVec2::splat(100.0),
     };
-    let mut instances = Vec::new();
-    let mut add = |points: Vec<DVec2>, category: usize| {
-        instances.extend(points.into_iter().map(|p| Instance::at(p, category)));
-    };
-    add(exemplar::hard_core(&ex, 0.03, 3.0, 1), 0);
-    add(exemplar::uniform(&ex, 0.03, 2), 1);
-    add(exemplar::clustered(&ex, 0.004, 10.0, 2.0, 3), 2);
-    let scene = Scene {
-        categories: vec![
-            Category::distribution("Tree", "vegetation", 0),
-            Category::distribution("Rock", "vegetation", 1),
-            Category::distribution("Grass", "vegetation", 2),
-        ],
-        instances,
-        ..Default::default()
-    };
+    let scene = exemplar::undergrowth(100.0);
     match learn_color(&scene, &ex, "Bench", &AnalysisOptions::default()) {
         Ok(c) => c,
         Err(e) => panic!("learning the bench color failed: {e}"),
