@@ -193,6 +193,43 @@ def test_a_gradient_from_a_sparse_to_a_dense_color_rises_across_the_region():
     assert np.all(np.diff(bands) > 0), f"density across the gradient {np.round(bands, 4)}"
 
 
+def test_a_gradient_runs_along_any_angle_and_a_bilinear_one_takes_four_corner_colors():
+    prototypes()
+    bpy.context.scene.worldpaint.terrain = flat_terrain(size=(520.0, 320.0))
+    names = ("Sparse", "Light", "Medium", "Dense")
+    for k, (name, density) in enumerate(zip(names, (0.008, 0.02, 0.035, 0.05), strict=True)):
+        lo = (250.0 + 65.0 * (k % 4), 250.0)
+        select_only(hard_core_examples("Tree", lo, 60.0, density, 2.0, 10 + k))
+        assert bpy.ops.worldpaint.learn_color(name=name, region_mode='RECT', rect_min=lo,
+                                              rect_max=(lo[0] + 60.0, lo[1] + 60.0)) == {'FINISHED'}
+    select_only([])
+    region = {"region_mode": 'RECT', "rect_min": (0.0, 0.0), "rect_max": (240.0, 240.0)}
+
+    # toward the north-east (45°): sparse at the south-west corner, dense at the north-east one
+    assert bpy.ops.worldpaint.gradient(color="Sparse", end_color="Dense", shape='LINEAR', toward='ANGLE',
+                                       angle=np.pi / 4, **region) == {'FINISHED'}
+    xy = trees()[:, :2]
+    sw = np.sum((xy[:, 0] < 80.0) & (xy[:, 1] < 80.0)) / 6400.0
+    ne = np.sum((xy[:, 0] > 160.0) & (xy[:, 1] > 160.0)) / 6400.0
+    print(f"gradient toward 45°: south-west corner {sw:.4f}, north-east corner {ne:.4f} per m²")
+    assert ne > 3.0 * sw, f"south-west {sw:.4f}, north-east {ne:.4f} per m²"
+
+    # four corner colors: each corner's density is its color's
+    with pytest.raises(RuntimeError, match="North-West and North-East"):
+        bpy.ops.worldpaint.gradient(color="Sparse", end_color="Light", shape='BILINEAR', **region)
+    assert bpy.ops.worldpaint.gradient(color="Sparse", end_color="Light", north_west_color="Medium",
+                                       north_east_color="Dense", shape='BILINEAR', bands=3, **region) == {'FINISHED'}
+    xy = trees()[:, :2]
+    corners = {"Sparse": (0.0, 0.0), "Light": (160.0, 0.0), "Medium": (0.0, 160.0), "Dense": (160.0, 160.0)}
+    palette = bpy.context.scene.worldpaint.palette
+    for name, (x0, y0) in corners.items():
+        inside = (xy[:, 0] >= x0) & (xy[:, 0] < x0 + 80.0) & (xy[:, 1] >= y0) & (xy[:, 1] < y0 + 80.0)
+        density = inside.sum() / 6400.0
+        want = engine.color_summary(palette[name].json)["categories"][0]["density"]
+        print(f"bilinear gradient, {name}'s corner: {density:.4f} per m², its color {want:.4f}")
+        assert abs(density / want - 1.0) < 0.25, f"{name}'s corner: {density:.4f} per m², its color {want:.4f}"
+
+
 def test_blur_blends_the_edge_between_two_forests_inside_its_region_only():
     forest(density=0.05, name="Dense", seed=7)
     examples = hard_core_examples("Tree", (200.0, 140.0), 60.0, 0.008, 2.0, 8)

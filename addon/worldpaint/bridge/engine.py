@@ -608,7 +608,13 @@ def blur(scene_handle, region, windows, cells, seed, influence_radius, progress=
 
 def gradient(scene_handle, start, end, region, shape, bands, seed, influence_radius, progress=None):
     """Paints ``region`` from color ``start`` to color ``end`` (JSON) along ``shape`` (see
-    ``regions.gradient_shape``) in ``bands`` bands (None: one per interaction radius)."""
+    ``regions.gradient_shape``) in ``bands`` bands (None: one per interaction radius); a shape
+    {"kind": "bilinear", "north_west", "north_east"} puts ``start``, ``end`` and those two colors at the corners of
+    the region's box (south-west, south-east, north-west, north-east) in ``bands`` × ``bands`` cells."""
+    if shape["kind"] == "bilinear":
+        corners = [start, end, shape["north_west"], shape["north_east"]]
+        return Edit.of(_engine().bilinear_gradient(scene_handle, corners=corners, region=region, bands=bands,
+                                                   seed=seed, influence_radius=influence_radius, progress=progress))
     return Edit.of(_engine().gradient(scene_handle, start=start, end=end, region=region, shape=shape, bands=bands,
                                       seed=seed, influence_radius=influence_radius, progress=progress))
 

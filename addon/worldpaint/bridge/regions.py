@@ -5,6 +5,8 @@ A region is the engine's dict: {"shape": "rect", "min", "max"}, {"shape": "circl
 (see ``geometry``), whichever tool reads it.
 """
 
+import math
+
 import numpy as np
 
 from . import WorldPaintError, engine, geometry
@@ -59,15 +61,21 @@ def curve_polygon(obj, what="curve"):
     return {"shape": "polygon", "points": max(closed, key=geometry.polygon_area).tolist()}
 
 
-def gradient_shape(region, shape, toward):
-    """The engine's gradient shape over a region: LINEAR toward one side (EAST, WEST, NORTH, SOUTH) of its bounds,
-    or RADIAL from its centre out to its edge."""
+def gradient_shape(region, shape, toward, angle=0.0):
+    """The engine's gradient shape over a region: LINEAR toward one side (EAST, WEST, NORTH, SOUTH) of its bounds or
+    toward ``angle`` (ANGLE: radians from +X, counter-clockwise, across the whole box), or RADIAL from its centre out
+    to its edge."""
     (x0, y0), (x1, y1) = engine.region_bbox(region)
     cx, cy = 0.5 * (x0 + x1), 0.5 * (y0 + y1)
     if shape == 'RADIAL':
         if region["shape"] == "circle":
             return {"kind": "radial", "center": region["center"], "radius": region["radius"]}
         return {"kind": "radial", "center": (cx, cy), "radius": 0.5 * ((x1 - x0) ** 2 + (y1 - y0) ** 2) ** 0.5}
+    if toward == 'ANGLE':
+        dx, dy = math.cos(angle), math.sin(angle)
+        # half the box's extent along the direction: the gradient spans it from corner to corner
+        reach = 0.5 * (abs(dx) * (x1 - x0) + abs(dy) * (y1 - y0))
+        return {"kind": "linear", "from": (cx - dx * reach, cy - dy * reach), "to": (cx + dx * reach, cy + dy * reach)}
     ends = {"EAST": ((x0, cy), (x1, cy)), "WEST": ((x1, cy), (x0, cy)),
             "NORTH": ((cx, y0), (cx, y1)), "SOUTH": ((cx, y1), (cx, y0))}
     start, end = ends[toward]

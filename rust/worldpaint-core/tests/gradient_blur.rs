@@ -5,7 +5,9 @@
 use worldpaint_core::exemplar;
 use worldpaint_core::geom::DVec2;
 use worldpaint_core::tools::blur::{blur, BlurOptions};
-use worldpaint_core::tools::gradient::{gradient, GradientOptions, GradientShape};
+use worldpaint_core::tools::gradient::{
+    bilinear_gradient, gradient, GradientOptions, GradientShape,
+};
 use worldpaint_core::{learn_color, Category, Color, Instance, Region, Scene, SynthesisOptions};
 
 fn rect(x0: f64, y0: f64, x1: f64, y1: f64) -> Region {
@@ -180,4 +182,52 @@ fn blur_turns_the_edge_between_two_forests_into_a_slope() {
             .collect()
     };
     assert_eq!(outside(&before), outside(&after));
+}
+
+#[test]
+fn a_bilinear_gradient_takes_each_corner_color_at_its_corner() {
+    // south-west, south-east, north-west, north-east
+    let densities = [0.01, 0.03, 0.05, 0.07];
+    let colors: Vec<Color> = densities
+        .iter()
+        .zip(5..)
+        .map(|(&d, s)| color(d, s))
+        .collect();
+    let region = rect(0.0, 0.0, 300.0, 300.0);
+    let corners = [&colors[0], &colors[1], &colors[2], &colors[3]];
+    let opts = GradientOptions {
+        bands: Some(4),
+        ..Default::default()
+    };
+    let painted = bilinear_gradient(&scene(Vec::new()), corners, &region, &opts, &|_| true)
+        .unwrap()
+        .applied_to(&scene(Vec::new()));
+    let density_in = |r: Region| {
+        painted
+            .instances
+            .iter()
+            .filter(|i| r.contains(i.position))
+            .count() as f64
+            / r.area()
+    };
+    let quarter = [
+        rect(0.0, 0.0, 75.0, 75.0),
+        rect(225.0, 0.0, 300.0, 75.0),
+        rect(0.0, 225.0, 75.0, 300.0),
+        rect(225.0, 225.0, 300.0, 300.0),
+    ];
+    let at_corners: Vec<f64> = quarter.into_iter().map(density_in).collect();
+    let centre = density_in(rect(112.5, 112.5, 187.5, 187.5));
+    println!("bilinear gradient: density at the corners {at_corners:.4?} (colors {densities:?}), centre {centre:.4}");
+    for (d, want) in at_corners.iter().zip(densities) {
+        assert!(
+            (d / want - 1.0).abs() < 0.2,
+            "a corner has {d:.4} per m² where its color has {want}"
+        );
+    }
+    let mean = densities.iter().sum::<f64>() / 4.0;
+    assert!(
+        (centre / mean - 1.0).abs() < 0.2,
+        "the centre has {centre:.4} per m², the corners' mean {mean}"
+    );
 }

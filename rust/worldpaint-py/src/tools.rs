@@ -1,4 +1,5 @@
-//! The painting tools: paste, brush strokes (paint, alpha, erase), move, stretch, gradient and blur.
+//! The painting tools: paste, brush strokes (paint, alpha, erase), move, stretch, gradients (linear, radial,
+//! bilinear) and blur.
 //!
 //! Each takes a `Scene` (the terrain and the instance columns, converted once) and returns an *edit*:
 //! {"categories", "removed": int64 indices of the scene's instances it removed, and the added instances' columns
@@ -22,7 +23,7 @@ use worldpaint_core::synthesis::AdaptOptions;
 use worldpaint_core::tools::blur::{blur as blur_region, BlurOptions};
 use worldpaint_core::tools::brush::{BrushMode, BrushOptions, Falloff, Stroke as CoreStroke};
 use worldpaint_core::tools::gradient::{
-    gradient as paint_gradient, GradientOptions, GradientShape,
+    bilinear_gradient as paint_bilinear, gradient as paint_gradient, GradientOptions, GradientShape,
 };
 use worldpaint_core::tools::moving::move_region as move_content;
 use worldpaint_core::tools::stretch::{stretch, Side, StretchOptions};
@@ -336,6 +337,49 @@ pub(crate) fn gradient<'py>(
     };
     let edit = with_progress(py, progress, |report| {
         paint_gradient(scene, &start, &end, &region, shape, &opts, report)
+    })?;
+    edit_result(py, &edit, scene)
+}
+
+/// Paint a bilinear gradient over `region`: `corners` are four colors (JSON) at the corners of its box, south-west,
+/// south-east, north-west, north-east; `bands` cells along each side (None: adapted to the region). Returns the edit.
+#[pyfunction]
+#[pyo3(signature = (scene, corners, region, bands=None, seed=0,
+                    *, influence_radius=None,
+                    iterations_per_instance=None, progress=None))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn bilinear_gradient<'py>(
+    py: Python<'py>,
+    scene: &Bound<'py, PyScene>,
+    corners: Vec<String>,
+    region: &Bound<'py, PyAny>,
+    bands: Option<usize>,
+    seed: u64,
+    influence_radius: Option<f64>,
+    iterations_per_instance: Option<f64>,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let scene = scene.get().scene();
+    let [sw, se, nw, ne]: [String; 4] = corners.try_into().map_err(|c: Vec<String>| {
+        input_err(format!(
+            "a bilinear gradient takes 4 corner colors, not {}",
+            c.len()
+        ))
+    })?;
+    let corners = [
+        parse_color(&sw)?,
+        parse_color(&se)?,
+        parse_color(&nw)?,
+        parse_color(&ne)?,
+    ];
+    let region = region_from_py(region)?;
+    let opts = GradientOptions {
+        bands,
+        synthesis: synthesis_options(seed, influence_radius, iterations_per_instance, None),
+    };
+    let edit = with_progress(py, progress, |report| {
+        let [a, b, c, d] = &corners;
+        paint_bilinear(scene, [a, b, c, d], &region, &opts, report)
     })?;
     edit_result(py, &edit, scene)
 }

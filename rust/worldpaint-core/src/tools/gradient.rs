@@ -6,6 +6,12 @@
 //! `c_k = interpolate(k / (N − 1), c_start, c_end)` while "taking into account the surrounding objects in `X`
 //! and the newly created objects in `{φ_i, i < k}`" (thesis Fig. 6.16). `N` is given, or adapted to the region:
 //! one band per interaction radius of the two colors along the gradient, between 2 and `MAX_BANDS`.
+//!
+//! A *bilinear* gradient ([`bilinear_gradient`]) spreads four colors over the corners of the region's box: `t`
+//! becomes `(u, v)`, the box is cut into `N × N` cells, and cell `(i, j)` is painted, in row order and conditioned
+//! on the cells before it, with `interpolate(v, interpolate(u, c_sw, c_se), interpolate(u, c_nw, c_ne))` at its
+//! centre's `(u, v) = (i, j) / (N − 1)`. `N` is given, or one cell per interaction radius of the four colors
+//! across the box's longer side, between 2 and `MAX_BILINEAR_CELLS`.
 
 use super::{Edit, Working};
 use crate::error::{Error, Result};
@@ -17,6 +23,8 @@ use crate::synthesis::{mix_seed, SynthesisOptions};
 
 /// Largest number of bands of an adaptive gradient.
 pub(crate) const MAX_BANDS: usize = 32;
+/// Largest number of cells along each side of an adaptive bilinear gradient (each cell interpolates three colors).
+pub(crate) const MAX_BILINEAR_CELLS: usize = 8;
 
 /// Where `t` runs from 0 to 1.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -170,6 +178,70 @@ pub fn gradient(
         work.paint(&color, &band, &band_opts, &|f| {
             progress((k as f64 + f) / n as f64)
         })?;
+    }
+    Ok(work.edit())
+}
+
+/// Paints a bilinear gradient over `region` (see the module documentation): `corners` are the colors at the
+/// corners of its box, south-west, south-east, north-west, north-east (min x min y first); `opts.bands` is the
+/// number of cells along each side. The region's unlocked content is replaced.
+pub fn bilinear_gradient(
+    scene: &Scene,
+    corners: [&Color; 4],
+    region: &Region,
+    opts: &GradientOptions,
+    progress: &(dyn Fn(f64) -> bool + Sync),
+) -> Result<Edit> {
+    region.validate()?;
+    let (lo, hi) = region.bbox();
+    let size = hi - lo;
+    let n = match opts.bands {
+        Some(n) => n.clamp(2, MAX_BANDS),
+        None => {
+            let w = corners.iter().map(|c| c.max_radius).fold(0.0, f64::max);
+            ((size.max_element() / w).round() as usize).clamp(2, MAX_BILINEAR_CELLS)
+        }
+    };
+    let [sw, se, nw, ne] = corners;
+    let mut work = Working::new(scene);
+    work.remove_inside(region);
+    // cell edges; the outer cells reach past the box, so that nothing of the region is left between them
+    let edges = |lo: f64, side: f64| -> Vec<f64> {
+        (0..=n)
+            .map(|k| match k {
+                0 => lo - side,
+                k if k == n => lo + 2.0 * side,
+                k => lo + side * k as f64 / n as f64,
+            })
+            .collect()
+    };
+    let (xs, ys) = (edges(lo.x, size.x), edges(lo.y, size.y));
+    for j in 0..n {
+        let v = j as f64 / (n - 1) as f64;
+        for i in 0..n {
+            let cell_index = j * n + i;
+            let (min, max) = (DVec2::new(xs[i], ys[j]), DVec2::new(xs[i + 1], ys[j + 1]));
+            let cell = Region::Clipped {
+                within: vec![region.clone(), Region::Rect { min, max }],
+                without: Vec::new(),
+            };
+            if cell.validate().is_err() || cell.area() <= 0.0 {
+                continue;
+            }
+            let u = i as f64 / (n - 1) as f64;
+            let south = interpolate_colors(sw, se, u, "south")?;
+            let north = interpolate_colors(nw, ne, u, "north")?;
+            let name = format!(
+                "{}·{}·{}·{} ({u:.2}, {v:.2})",
+                sw.name, se.name, nw.name, ne.name
+            );
+            let color = interpolate_colors(&south, &north, v, &name)?;
+            let mut cell_opts = opts.synthesis.clone();
+            cell_opts.seed = mix_seed(opts.synthesis.seed, cell_index as u64 + 1);
+            work.paint(&color, &cell, &cell_opts, &|f| {
+                progress((cell_index as f64 + f) / (n * n) as f64)
+            })?;
+        }
     }
     Ok(work.edit())
 }
