@@ -89,6 +89,7 @@ demo: engine
 bench: engine
 	cargo bench -p worldpaint-core --bench synthesis
 	cargo bench -p worldpaint-core --bench scale
+	cargo bench -p worldpaint-core --bench table2
 	cargo bench -p worldpaint-core --bench tools
 	cargo bench -p worldpaint-core --bench structures
 	cargo bench -p worldpaint-core --bench village
