@@ -209,6 +209,9 @@ def fill_world(client, color, out, *, seed=0, region=None, terrain=None, tile=No
         print(file=sys.stderr)
     tiles = sorted(client.gather(summaries), key=lambda s: (s["row"], s["column"]))
     del borders, summaries
+    for name in os.listdir(out):
+        if name.endswith(".part"):  # left by a worker that died while writing; its tile was written again
+            os.remove(os.path.join(out, name))
     categories = [{k: c[k] for k in ("name", "layer", "priority")} for c in _engine.color_summary(color)["categories"]]
     manifest = {
         "format": FORMAT,
