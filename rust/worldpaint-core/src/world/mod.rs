@@ -61,10 +61,12 @@ impl WorldPlan {
     /// A plan for the rectangle `[min, max]` with tiles of side `tile` and a region of influence `influence`;
     /// the tile must be at least as wide as the region of influence (see the module documentation).
     pub fn new(min: DVec2, max: DVec2, tile: f64, influence: f64) -> Result<Self> {
-        for (what, v) in [("world min x", min.x), ("world min y", min.y)] {
-            check::finite(what, v)?;
-        }
-        for (what, v) in [("world max x", max.x), ("world max y", max.y)] {
+        for (what, v) in [
+            ("world min x", min.x),
+            ("world min y", min.y),
+            ("world max x", max.x),
+            ("world max y", max.y),
+        ] {
             check::finite(what, v)?;
         }
         if !(max.x > min.x && max.y > min.y) {

@@ -212,11 +212,12 @@ def fill_world(client, color, out, *, seed=0, region=None, terrain=None, tile=No
     for name in os.listdir(out):
         if name.endswith(".part"):  # left by a worker that died while writing; its tile was written again
             os.remove(os.path.join(out, name))
-    categories = [{k: c[k] for k in ("name", "layer", "priority")} for c in _engine.color_summary(color)["categories"]]
+    summary = _engine.color_summary(color)
+    categories = [{k: c[k] for k in ("name", "layer", "priority")} for c in summary["categories"]]
     manifest = {
         "format": FORMAT,
         "version": FORMAT_VERSION,
-        "color": _engine.color_summary(color)["name"],
+        "color": summary["name"],
         "seed": int(seed),
         "min": list(plan["min"]),
         "max": list(plan["max"]),
