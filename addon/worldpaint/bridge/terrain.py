@@ -2,11 +2,17 @@
 
 import numpy as np
 
-from . import WorldPaintError, engine, geometry
+from . import WorldPaintError, engine, geometry, scene_maps
 
 
 def mesh_arrays(obj, depsgraph):
     """World-space vertices float64 (N, 3) and triangles uint32 (M, 3) of the evaluated mesh object."""
+    return mesh_with_maps(obj, depsgraph)[:2]
+
+
+def mesh_with_maps(obj, depsgraph, vertex_maps=()):
+    """``mesh_arrays`` and the values per vertex of the mesh's ``vertex_maps`` (scene map names), {name: float64
+    (N,)}."""
     evaluated = obj.evaluated_get(depsgraph)
     mesh = evaluated.to_mesh()
     try:
@@ -14,9 +20,10 @@ def mesh_arrays(obj, depsgraph):
         mesh.calc_loop_triangles()
         tris = np.empty(len(mesh.loop_triangles) * 3, dtype=np.int32)
         mesh.loop_triangles.foreach_get("vertices", tris)
+        values = {name: scene_maps.vertex_values(obj, mesh, name) for name in vertex_maps}
     finally:
         evaluated.to_mesh_clear()
-    return world, tris.reshape(-1, 3).astype(np.uint32)
+    return world, tris.reshape(-1, 3).astype(np.uint32), values
 
 
 def terrain_object(context, name=""):
@@ -32,12 +39,25 @@ def terrain_object(context, name=""):
     return obj
 
 
-def engine_terrain(context, obj):
-    """The engine's Terrain of a mesh object."""
-    vertices, triangles = mesh_arrays(obj, context.evaluated_depsgraph_get())
+def engine_terrain(context, obj, maps=()):
+    """The engine's Terrain of a mesh object, with the scene maps (``scene_maps`` names) among ``maps``."""
+    depsgraph = context.evaluated_depsgraph_get()
+    wanted = [name for name in maps if scene_maps.is_scene_map(name)]
+    by_vertex = [name for name in wanted if scene_maps.split(name)[0] in scene_maps.VERTEX_PREFIXES]
+    vertices, triangles, values = mesh_with_maps(obj, depsgraph, by_vertex)
     if len(triangles) == 0:
         raise WorldPaintError(f"The terrain '{obj.name}' has no faces")
-    return engine.terrain(vertices, triangles)
+    heightfield = engine.terrain(vertices, triangles)
+    try:
+        for name in wanted:
+            if name in values:
+                heightfield = heightfield.with_vertex_map(name, vertices, triangles, values[name])
+            else:
+                geometry_xy = scene_maps.distance_geometry(depsgraph, name, exclude={obj})
+                heightfield = heightfield.with_distance_map(name, *geometry_xy)
+    except engine.engine_error() as exc:
+        raise WorldPaintError(f"The map '{name}' on the terrain '{obj.name}': {exc}") from exc
+    return heightfield
 
 
 def check_region_on_terrain(terrain, region, what):

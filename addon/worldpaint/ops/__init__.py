@@ -16,7 +16,7 @@ from .colors import (
 )
 from .convert import WORLDPAINT_OT_convert_to_objects
 from .gradient import WORLDPAINT_OT_gradient
-from .learn import WORLDPAINT_OT_learn_color
+from .learn import WORLDPAINT_OT_learn_color, WORLDPAINT_OT_set_learn_relation, WORLDPAINT_OT_toggle_learn_map
 from .manage import WORLDPAINT_OT_find_categories
 from .move import WORLDPAINT_OT_move_region
 from .palette_io import WORLDPAINT_OT_export_palette, WORLDPAINT_OT_import_palette
@@ -36,6 +36,8 @@ from .village import (
 
 _classes = (
     WORLDPAINT_OT_learn_color,
+    WORLDPAINT_OT_toggle_learn_map,
+    WORLDPAINT_OT_set_learn_relation,
     WORLDPAINT_OT_paste_color,
     WORLDPAINT_OT_clear_region,
     WORLDPAINT_OT_convert_to_objects,

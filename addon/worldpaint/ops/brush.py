@@ -37,11 +37,11 @@ class StrokeOperator(TerrainProperty):
     def _make_stroke(self, context, content):
         raise NotImplementedError
 
-    def _categories(self, context):
+    def _colors(self, context):
         return ()
 
     def _begin(self, context):
-        content = SceneContent(context, self.terrain, self._categories(context))
+        content = SceneContent(context, self.terrain, self._colors(context))
         return content, self._make_stroke(context, content)
 
     def execute(self, context):
@@ -150,9 +150,9 @@ class WORLDPAINT_OT_brush(PatternGuideProperties, StrokeOperator, SynthesisPrope
                             ("falloff", settings.brush_falloff), ("seed", settings.seed)):
             setattr(self, name, setting(self, name, value))
 
-    def _categories(self, context):
+    def _colors(self, context):
         self._entry = active_color(context, self.color)
-        return engine.color_summary(self._entry.json).categories
+        return [engine.color_summary(self._entry.json)]
 
     def _make_stroke(self, context, content):
         settings = context.scene.worldpaint

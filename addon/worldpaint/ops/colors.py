@@ -91,23 +91,26 @@ def paste_fidelity(entry, copy):
         setattr(entry, name, value)
 
 
-def add_palette_color(settings, name, color_json, fidelity=None, copy=None):
+def add_palette_color(settings, name, color_json, fidelity=None, copy=None, off=()):
     """Adds a color (JSON) to the palette under ``name`` with its preview and its fidelity view, makes it active, and
     adds the categories it knows to the scene's list; returns the entry. The view is the (view, note) ``fidelity``
     that ``fidelity_view`` made of the color, or the ``fidelity_copy`` of an entry of the same color; with neither it
-    is made here, without terrain (for a color whose terrain is not known)."""
+    is made here, without terrain (for a color whose terrain is not known). The interactions ``off`` ((category,
+    other) pairs of the color) are switched off from the start."""
+    painted_json = engine.color_without_interactions(color_json, set(off)) if off else color_json
     if fidelity is None and copy is None:
-        fidelity = fidelity_view(color_json)
+        fidelity = fidelity_view(painted_json)
     summary = engine.color_summary(color_json)
     entry = settings.palette.add()
     entry.name = name
-    entry.json = entry.learned_json = color_json
+    entry.json, entry.learned_json = painted_json, color_json
     how = {}
     for category, other, kind in summary.interactions:
         how.setdefault((category, other), []).append(INTERACTION_NAMES.get(kind, kind))
     for (category, other), kinds in how.items():
         item = entry.interactions.add()
         item.category, item.other, item.how = category, other, ", ".join(kinds)
+        item.enabled = (category, other) not in off
     entry.preview_image = preview.make_preview(color_json, name)
     if copy is not None:
         paste_fidelity(entry, copy)

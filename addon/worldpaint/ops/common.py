@@ -4,7 +4,7 @@ import functools
 
 from bpy.props import EnumProperty, FloatProperty, FloatVectorProperty, IntProperty, StringProperty
 
-from ..bridge import WorldPaintError, curves, edits, engine, instances, regions, terrain
+from ..bridge import WorldPaintError, curves, edits, engine, instances, regions, scene_maps, terrain
 from ..props import REGION_MODES
 
 OPERATOR_REGION_MODES = (
@@ -151,13 +151,14 @@ def color_pair(context, first, second, missing):
 class SceneContent:
     """What a tool reads of the scene before the engine runs: the terrain object, its heightfield, every instance
     of the scene's categories (hand-placed objects locked, point-cloud points editable) and every path and contour
-    (hand-drawn curves locked, synthesized ones editable)."""
+    (hand-drawn curves locked, synthesized ones editable). The ``colors`` a tool paints (``engine.ColorSummary``)
+    add their categories and the maps made in the scene that they follow."""
 
-    def __init__(self, context, terrain_name="", extra_categories=()):
+    def __init__(self, context, terrain_name="", colors=()):
         scene = context.scene
         self.terrain_obj = terrain.terrain_object(context, terrain_name)
-        self.heightfield = terrain.engine_terrain(context, self.terrain_obj)
-        self.categories = instances.all_categories(scene, extra_categories)
+        self.heightfield = terrain.engine_terrain(context, self.terrain_obj, scene_maps.used_by(colors))
+        self.categories = instances.all_categories(scene, [c for color in colors for c in color.categories])
         self.instances = instances.scene_instances(scene, self.categories, exclude=[self.terrain_obj])
         self.structures = curves.scene_structures(scene, self.categories, exclude=[self.terrain_obj])
         self._engine_scene = None

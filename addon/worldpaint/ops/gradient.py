@@ -47,7 +47,7 @@ class WORLDPAINT_OT_gradient(RegionSynthesisOperator, bpy.types.Operator):
                        description="Interpolated colors across the region, along each side for a bilinear gradient "
                                    "(0: one per interaction radius)")
 
-    def _categories(self, context):
+    def _colors(self, context):
         colors = list(color_pair(context, self.color, self.end_color,
                                  "Choose the gradient's To Color in the WorldPaint panel"))
         if self.shape == 'BILINEAR':
@@ -55,7 +55,7 @@ class WORLDPAINT_OT_gradient(RegionSynthesisOperator, bpy.types.Operator):
                 raise WorldPaintError("A bilinear gradient needs its North-West and North-East colors")
             colors += [active_color(context, self.north_west_color), active_color(context, self.north_east_color)]
         self._colors = colors
-        return [c for color in colors for c in engine.color_summary(color.json).categories]
+        return [engine.color_summary(color.json) for color in colors]
 
     def _arguments(self, context, region):
         colors = [c.json for c in self._colors]

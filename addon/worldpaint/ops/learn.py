@@ -1,12 +1,79 @@
 """Learn Color: the statistics of the selected example objects and curves become a new color in the palette."""
 
 import bpy
-from bpy.props import BoolProperty, StringProperty
+from bpy.props import BoolProperty, EnumProperty, StringProperty
 
-from ..bridge import WorldPaintError, curves, engine, instances, regions, terrain
+from ..bridge import WorldPaintError, curves, engine, instances, regions, scene_maps, terrain
+from ..props import LEARN_RELATIONS
 from .background import with_progress
 from .colors import add_palette_color, fidelity_view, unique_name
 from .common import RegionProperties, TerrainProperty, reports_errors
+
+
+def split_pair(item, what):
+    """(category, other) of a pair written 'category:other'; the other may be a scene map ('group:Moisture')."""
+    category, colon, other = item.partition(":")
+    category, other = category.strip(), other.strip()
+    if not (colon and category and other):
+        raise WorldPaintError(f"{what} pair '{item}' is not of the form 'category:other'")
+    return category, other
+
+
+class WORLDPAINT_OT_set_learn_relation(bpy.types.Operator):
+    """Set how Learn Color relates a category to another category or a map (click: the next choice)"""
+
+    bl_idname = "worldpaint.set_learn_relation"
+    bl_label = "Set Learn Relation"
+    bl_options = {'REGISTER', 'UNDO'}
+
+    category: StringProperty(name="Category")
+    other: StringProperty(name="Other", description="Another category, or a map")
+    how: EnumProperty(name="How", items=(*LEARN_RELATIONS, ("NEXT", "Next", "The next of Auto, None, Oriented")),
+                      default="NEXT")
+
+    @reports_errors
+    def execute(self, context):
+        settings = context.scene.worldpaint
+        if not (self.category and self.other):
+            raise WorldPaintError("Give the category and the other category or map of the relation")
+        kinds = {c.name: c.kind for c in settings.categories}
+        can_orient = kinds.get(self.category) == "distribution" and kinds.get(self.other) == "distribution"
+        how = self.how
+        if how == "NEXT":
+            order = ["AUTO", "NONE", "ORIENTED"] if can_orient else ["AUTO", "NONE"]
+            current = settings.learn_relation(self.category, self.other)
+            how = order[(order.index(current) + 1) % len(order)] if current in order else "AUTO"
+        elif how == "ORIENTED" and not can_orient:
+            raise WorldPaintError(f"Only two distributions can have an oriented relation, not {self.category} and "
+                                  f"{self.other}")
+        cells = settings.learn_relations
+        for index in reversed(range(len(cells))):
+            if (cells[index].category, cells[index].other) == (self.category, self.other):
+                cells.remove(index)
+        if how != "AUTO":
+            cell = cells.add()
+            cell.category, cell.other, cell.how = self.category, self.other, how
+        return {'FINISHED'}
+
+
+class WORLDPAINT_OT_toggle_learn_map(bpy.types.Operator):
+    """Learn Color learns this map made in the scene too, or no longer"""
+
+    bl_idname = "worldpaint.toggle_learn_map"
+    bl_label = "Toggle Scene Map"
+    bl_options = {'REGISTER', 'UNDO'}
+
+    name: StringProperty(name="Map", description="group:<vertex group>, attribute:<name>, image:<name> or "
+                         "distance:<collection>")
+
+    @reports_errors
+    def execute(self, context):
+        settings = context.scene.worldpaint
+        scene_maps.check_names([self.name])
+        chosen = scene_maps.names_in(settings.learn_maps)
+        chosen = [name for name in chosen if name != self.name] if self.name in chosen else chosen + [self.name]
+        settings.learn_maps = ",".join(chosen)
+        return {'FINISHED'}
 
 
 class WORLDPAINT_OT_learn_color(RegionProperties, TerrainProperty, bpy.types.Operator):
@@ -24,20 +91,29 @@ class WORLDPAINT_OT_learn_color(RegionProperties, TerrainProperty, bpy.types.Ope
         "heights beyond the example's range are treated like its highest or lowest ones",
     )
 
+    maps: StringProperty(
+        name="Scene Maps",
+        description="Maps made in the scene to learn too, comma-separated: group:<vertex group>, "
+        "attribute:<attribute>, image:<image texture>, distance:<collection> (Paste reads the same maps on the "
+        "destination's terrain)",
+    )
     oriented: StringProperty(
         name="Oriented Pairs",
         description="Pairs 'category:other', comma-separated, whose relation also depends on direction (an oriented "
         "rdf: houses facing a road, grass downhill of rocks)",
+    )
+    independent: StringProperty(
+        name="Independent Pairs",
+        description="Pairs 'category:other' (another category or a map), comma-separated, learned as independent: "
+        "the category is painted as if the other were not there",
     )
 
     def oriented_pairs(self, categories):
         """The oriented pairs as (category, other), checked against the categories."""
         kinds = {c["name"]: c["kind"] for c in categories}
         pairs = []
-        for item in filter(None, (part.strip() for part in self.oriented.split(","))):
-            pair = tuple(name.strip() for name in item.split(":"))
-            if len(pair) != 2 or not all(pair):
-                raise WorldPaintError(f"Oriented pair '{item}' is not of the form 'category:other'")
+        for item in scene_maps.names_in(self.oriented):
+            pair = split_pair(item, "Oriented")
             unknown = [name for name in pair if name not in kinds]
             if unknown:
                 raise WorldPaintError(f"Oriented pair '{item}': no category {', '.join(unknown)} in the example")
@@ -47,6 +123,20 @@ class WORLDPAINT_OT_learn_color(RegionProperties, TerrainProperty, bpy.types.Ope
                                       "seen through its distance; oriented pairs are between distributions")
             pairs.append(pair)
         return pairs
+
+    def independent_pairs(self, color_json):
+        """The interactions of the learned color that the independent pairs switch off, as (category, other)."""
+        learned = {(i.category, i.other) for i in engine.color_summary(color_json).interactions}
+        off = set()
+        for item in scene_maps.names_in(self.independent):
+            category, other = split_pair(item, "Independent")
+            # a pair between two categories is one interaction, whichever of them the priority order puts first
+            found = [pair for pair in ((category, other), (other, category)) if pair in learned]
+            if not found:
+                raise WorldPaintError(f"Independent pair '{item}': the example gives no interaction between "
+                                      f"{category} and {other}")
+            off.add(found[0])
+        return off
 
     @reports_errors
     def execute(self, context):
@@ -72,7 +162,9 @@ class WORLDPAINT_OT_learn_color(RegionProperties, TerrainProperty, bpy.types.Ope
             use_bounds=not examples,
             **self.region_kwargs(),
         )
-        heightfield = terrain.engine_terrain(context, terrain_obj)
+        maps = ["slope", "elevation"] if self.use_elevation else ["slope"]
+        maps = list(dict.fromkeys(maps + scene_maps.check_names(scene_maps.names_in(self.maps))))
+        heightfield = terrain.engine_terrain(context, terrain_obj, maps)
         terrain.check_region_on_terrain(heightfield, region, "example")
 
         new = instances.new_categories(settings, examples, drawn)
@@ -83,15 +175,16 @@ class WORLDPAINT_OT_learn_color(RegionProperties, TerrainProperty, bpy.types.Ope
             structures.add(obj, category, locked=True)
         # a typed name the palette has is numbered, as the Pipette and Interpolate Colors do
         name = unique_name(settings.palette, self.name or "Color")
-        maps = ["slope", "elevation"] if self.use_elevation else ["slope"]
         scene_data = engine.scene(heightfield, exemplar.engine_arrays(), structures.engine_arrays())
         color_json = engine.learn_color(scene_data, region, name, maps, self.oriented_pairs(categories))
+        off = self.independent_pairs(color_json)
+        painted_json = engine.color_without_interactions(color_json, off) if off else color_json
         # the color painted into its own example region and learned back: how well it reproduces the example
-        fidelity = with_progress(context, lambda progress: fidelity_view(color_json, heightfield, progress))
+        fidelity = with_progress(context, lambda progress: fidelity_view(painted_json, heightfield, progress))
 
         # validated and computed: now change the scene
         instances.add_categories(settings, new)
-        entry = add_palette_color(settings, name, color_json, fidelity)
+        entry = add_palette_color(settings, name, color_json, fidelity, off=off)
         n_categories = len({c for _, c in examples} | {c for _, c, _ in drawn})
         self.report({'INFO'}, f"Learned '{name}' from {len(exemplar)} instances and {len(structures)} curves in "
                               f"{n_categories} categories; painted into its example's region: {entry.fidelity_line()}")

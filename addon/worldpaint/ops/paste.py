@@ -24,10 +24,10 @@ class WORLDPAINT_OT_paste_color(PatternGuideProperties, RegionSynthesisOperator,
 
     color: StringProperty(name="Color", description="Palette color to paste (empty: the active one)")
 
-    def _categories(self, context):
+    def _colors(self, context):
         self._entry = active_color(context, self.color)
         self._summary = engine.color_summary(self._entry.json)
-        return self._summary.categories
+        return [self._summary]
 
     def _arguments(self, context, region):
         return {"color": self._entry.json, "guides": self.pattern_guides(context, self._entry.json)}

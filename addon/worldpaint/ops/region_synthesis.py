@@ -15,8 +15,9 @@ class RegionSynthesisOperator(BackgroundOperator, RegionSynthesisProperties):
     # what the region is called in the error when it leaves the terrain (None: not checked)
     region_role = None
 
-    def _categories(self, context):
-        """Categories to read besides the scene's: those of the colors the operator paints (resolved first)."""
+    def _colors(self, context):
+        """The colors the operator paints (``engine.ColorSummary``, resolved first): their categories are read
+        besides the scene's, and the scene maps they follow."""
         return ()
 
     def _arguments(self, context, region):
@@ -32,7 +33,7 @@ class RegionSynthesisOperator(BackgroundOperator, RegionSynthesisProperties):
 
     def _prepare(self, context):
         """Validates the inputs and extracts what the engine needs; changes nothing."""
-        self._content = SceneContent(context, self.terrain, self._categories(context))
+        self._content = SceneContent(context, self.terrain, self._colors(context))
         region = self.destination(context, self._content.terrain_obj)
         if self.region_role is not None:
             terrain.check_region_on_terrain(self._content.heightfield, region, self.region_role)

@@ -79,6 +79,23 @@ class WORLDPAINT_PG_interaction(bpy.types.PropertyGroup):
     enabled: BoolProperty(name="Enabled", default=True)
 
 
+LEARN_RELATIONS = (
+    ("AUTO", "Auto", "As the priority order gives: an rdf between distributions, a distance to a road or island, a "
+     "map histogram"),
+    ("NONE", "None", "Independent: the category is learned and painted as if the other (or the map) were not there"),
+    ("ORIENTED", "Oriented", "An rdf that also depends on direction (between distributions)"),
+)
+
+
+class WORLDPAINT_PG_learn_relation(bpy.types.PropertyGroup):
+    """A cell of the interaction matrix Learn Color uses: how ``category`` will relate to ``other`` (a category or a
+    map); cells not listed are Auto."""
+
+    category: StringProperty(name="Category")
+    other: StringProperty(name="Other", description="The category or map it depends on")
+    how: EnumProperty(name="How", items=LEARN_RELATIONS, default="AUTO")
+
+
 class WORLDPAINT_PG_color(bpy.types.PropertyGroup):
     """A learned color: its name, the engine's JSON of it (as painted: without the interactions switched off), the
     JSON as learned, its interaction matrix, the name of its preview image, and its fidelity view: the plot of its
@@ -172,6 +189,11 @@ class WORLDPAINT_PG_settings(bpy.types.PropertyGroup):
         description="Learn Color also learns which terrain heights the example occupies; heights beyond the "
         "example's range are treated like its highest or lowest ones",
     )
+    learn_maps: StringProperty(
+        name="Scene Maps",
+        description="Maps made in the scene that Learn Color learns too (comma-separated; ticked in the Paint panel)",
+    )
+    learn_relations: CollectionProperty(type=WORLDPAINT_PG_learn_relation)
     learn_oriented: StringProperty(
         name="Oriented Pairs",
         description="Learn Color also learns how these pairs ('category:other', comma-separated) depend on "
@@ -214,10 +236,22 @@ class WORLDPAINT_PG_settings(bpy.types.PropertyGroup):
     terrain_edit: PointerProperty(type=WORLDPAINT_PG_terrain_edit)
     sketch: PointerProperty(type=WORLDPAINT_PG_sketch)
 
+    def learn_relation(self, category, other):
+        """How the interaction matrix says ``category`` relates to ``other``: AUTO, NONE or ORIENTED."""
+        for cell in self.learn_relations:
+            if (cell.category, cell.other) == (category, other):
+                return cell.how
+        return "AUTO"
+
+    def learn_pairs(self, how):
+        """The matrix's pairs of one kind (NONE or ORIENTED) as Learn Color takes them: 'category:other, ...'."""
+        return ", ".join(f"{c.category}:{c.other}" for c in self.learn_relations if c.how == how)
+
 
 _register_classes, _unregister_classes = bpy.utils.register_classes_factory(
-    (WORLDPAINT_PG_category, WORLDPAINT_PG_interaction, WORLDPAINT_PG_color, WORLDPAINT_PG_stroke_point,
-     WORLDPAINT_PG_village_event, WORLDPAINT_PG_village, WORLDPAINT_PG_terrain_edit, WORLDPAINT_PG_waterfall_controller,
+    (WORLDPAINT_PG_category, WORLDPAINT_PG_interaction, WORLDPAINT_PG_learn_relation, WORLDPAINT_PG_color,
+     WORLDPAINT_PG_stroke_point, WORLDPAINT_PG_village_event, WORLDPAINT_PG_village, WORLDPAINT_PG_terrain_edit,
+     WORLDPAINT_PG_waterfall_controller,
      WORLDPAINT_PG_sketch_point, WORLDPAINT_PG_sketch_stroke, WORLDPAINT_PG_sketch, WORLDPAINT_PG_component,
      WORLDPAINT_PG_texture_edit, WORLDPAINT_PG_texture_atlas, WORLDPAINT_PG_variety, WORLDPAINT_PG_settings)
 )

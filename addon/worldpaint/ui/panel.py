@@ -2,7 +2,7 @@
 
 import bpy
 
-from ..bridge import compat, points
+from ..bridge import compat, points, scene_maps
 from ..bridge.instances import point_cloud_objects
 
 
@@ -121,6 +121,51 @@ class WORLDPAINT_PT_interactions(SidebarPanel, bpy.types.Panel):
         )
 
 
+def draw_scene_maps(layout, settings):
+    """The maps made in the scene that Learn Color can learn, with check boxes (and chosen ones the terrain lacks)."""
+    offered = scene_maps.available(settings.terrain) if settings.terrain is not None else []
+    chosen = scene_maps.names_in(settings.learn_maps)
+    offered += [(name, f"{name} (missing)") for name in chosen if name not in dict(offered)]
+    if not offered:
+        return
+    col = layout.column(align=True)
+    col.label(text="Scene Maps", icon='GROUP_VERTEX')
+    for name, label in offered:
+        icon = 'CHECKBOX_HLT' if name in chosen else 'CHECKBOX_DEHLT'
+        col.operator("worldpaint.toggle_learn_map", text=label, icon=icon, emboss=False).name = name
+
+
+# what a cell of the learn matrix shows
+RELATION_LABELS = {"AUTO": "auto", "NONE": "none", "ORIENTED": "orient"}
+
+
+class WORLDPAINT_PT_learn_matrix(SidebarPanel, bpy.types.Panel):
+    """The interaction matrix Learn Color will use: for each category (rows, in priority order), how it relates to
+    the categories before it and to the maps; a click on a cell gives the next choice."""
+
+    bl_label = "Learn Matrix"
+    bl_parent_id = "WORLDPAINT_PT_paint"
+    bl_options = {'DEFAULT_CLOSED'}
+
+    def draw(self, context):
+        settings = context.scene.worldpaint
+        rows = sorted((c for c in settings.categories if c.kind != "external"), key=lambda c: c.priority)
+        if not rows:
+            self.layout.label(text="No categories: Find Categories of the selected example first")
+            return
+        maps = ["slope"] + (["elevation"] if settings.learn_elevation else [])
+        maps += scene_maps.names_in(settings.learn_maps)
+        for k, category in enumerate(rows):
+            box = self.layout.box()
+            box.label(text=category.name, icon='OUTLINER_COLLECTION')
+            flow = box.grid_flow(columns=3, even_columns=True, align=True)
+            for other in [c.name for c in rows[:k + 1]] + (maps if category.kind == "distribution" else []):
+                how = settings.learn_relation(category.name, other)
+                button = flow.operator("worldpaint.set_learn_relation", text=f"{other}: {RELATION_LABELS[how]}",
+                                       depress=how != "AUTO")
+                button.category, button.other, button.how = category.name, other, "NEXT"
+
+
 class WORLDPAINT_PT_paint(MainSubpanel, bpy.types.Panel):
     bl_label = "Paint"
 
@@ -134,12 +179,16 @@ class WORLDPAINT_PT_paint(MainSubpanel, bpy.types.Panel):
         box.prop(settings, "seed")
         box.prop(settings, "learn_elevation")
         box.prop(settings, "learn_oriented")
+        draw_scene_maps(box, settings)
         box.prop(settings, "auto_influence")
         if not settings.auto_influence:
             box.prop(settings, "influence_radius")
         col = enlarged(layout.column(align=True))
         learn = col.operator("worldpaint.learn_color", icon='EYEDROPPER')
         learn.use_elevation, learn.oriented = settings.learn_elevation, settings.learn_oriented
+        learn.maps = settings.learn_maps
+        learn.oriented = ", ".join(filter(None, (settings.learn_oriented, settings.learn_pairs("ORIENTED"))))
+        learn.independent = settings.learn_pairs("NONE")
         col.operator("worldpaint.learn_arrangement", icon='MESH_GRID')
         col.operator("worldpaint.paste_color", icon='BRUSH_DATA')
         col.operator("worldpaint.clear_region", icon='TRASH')

@@ -20,6 +20,7 @@
 //! | [`polygon_mesh`] | polygons as a filled mesh (constrained Delaunay triangulation) for display |
 //! | [`terrain`] | the terrain and its external maps (§3) |
 //! | [`distance`] | exact Euclidean distance transforms on grids |
+//! | `scene_maps` | maps made in the scene on the terrain's grid: a value per mesh vertex, the distance to geometry (§3) |
 //! | [`terrain_edit`] | terrain that adapts: constraint-based deformation by multigrid diffusion (thesis 4.4.2, 5.3.3) |
 //! | [`sketch`] | terrain edited from silhouettes sketched over a first-person view (thesis ch. 5) |
 //! | [`scene`] | categories, priority order, instances (§3) |
@@ -58,6 +59,7 @@ pub mod palette;
 pub mod polygon_mesh;
 mod progress;
 pub mod scene;
+mod scene_maps;
 pub mod search;
 pub mod sketch;
 pub mod spatial;

@@ -371,7 +371,7 @@ fn lattice_heightfield(
 
 /// Rasterizes triangles onto an nx×ny grid of nodes (spacing cx, cy from `lo`); nodes no triangle covers are
 /// filled from the nearest covered node along their row, then along their column.
-fn rasterize(
+pub(crate) fn rasterize(
     vertices: &[[f64; 3]],
     triangles: &[[u32; 3]],
     lo: DVec2,

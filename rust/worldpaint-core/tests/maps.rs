@@ -203,3 +203,34 @@ fn clumps_keep_their_tightness_where_the_preferred_heights_are_a_small_share_of_
         );
     }
 }
+
+#[test]
+fn a_color_following_a_map_made_in_the_scene_refuses_a_terrain_without_it() {
+    let mut wet = (*ramp()).clone();
+    let moisture: Vec<f32> = (0..wet.nx * wet.ny)
+        .map(|k| if k % wet.nx < 25 { 1.0 } else { 0.0 })
+        .collect();
+    wet.add_map("group:moisture", moisture)
+        .expect("a map on the grid");
+    let trees = exemplar::uniform(&rect(0.0, 50.0), 0.02, 7);
+    let mut scene = scene_from_points("tree", &trees);
+    scene.terrain = Some(Arc::new(wet));
+    let opts = AnalysisOptions {
+        maps: vec!["group:moisture".into()],
+        ..Default::default()
+    };
+    let color = learn_color(&scene, &rect(0.0, 100.0), "wet", &opts).expect("learned");
+    let dry = Scene::on(ramp());
+    let err = paste(
+        &dry,
+        &color,
+        &rect(200.0, 300.0),
+        &Default::default(),
+        &|_| true,
+    )
+    .expect_err("the destination has no such map");
+    assert!(
+        err.to_string().contains("follows the map 'group:moisture'"),
+        "{err}"
+    );
+}

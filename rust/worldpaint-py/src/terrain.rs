@@ -3,7 +3,7 @@
 use crate::arrays::ArrayArg;
 use crate::convert::points_from_py;
 use crate::{guarded, input_err};
-use numpy::ndarray::{Array2, Ix2};
+use numpy::ndarray::{Array2, Ix1, Ix2};
 use numpy::{IntoPyArray, PyArray1};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -31,12 +31,7 @@ impl Terrain {
         triangles: ArrayArg<'_>,
         cell: Option<f64>,
     ) -> PyResult<Self> {
-        let vertices = vertices.read::<f64, Ix2>("vertices", &[3])?;
-        let triangles = triangles.read::<u32, Ix2>("triangles", &[3])?;
-        let v = vertices.as_array();
-        let t = triangles.as_array();
-        let verts: Vec<[f64; 3]> = v.rows().into_iter().map(|r| [r[0], r[1], r[2]]).collect();
-        let tris: Vec<[u32; 3]> = t.rows().into_iter().map(|r| [r[0], r[1], r[2]]).collect();
+        let (verts, tris) = mesh_from_py(&vertices, &triangles)?;
         let hf = py.detach(|| guarded(|| Heightfield::from_mesh(&verts, &tris, cell)))?;
         Ok(Terrain { hf: hf.into() })
     }
@@ -92,6 +87,49 @@ impl Terrain {
         sample_points(py, &xy, |p| hf.map_at(name, p))
     }
 
+    /// A copy of the terrain with the map `name` from a value per vertex of a world-space triangle mesh (float64
+    /// (N, 3) vertices, (M, 3) triangles, float64 (N,) values): a weight-painted group, an attribute, an image read
+    /// through the UVs. Values are interpolated in each triangle onto the terrain's grid.
+    fn with_vertex_map(
+        &self,
+        py: Python<'_>,
+        name: &str,
+        vertices: ArrayArg<'_>,
+        triangles: ArrayArg<'_>,
+        values: ArrayArg<'_>,
+    ) -> PyResult<Self> {
+        let (verts, tris) = mesh_from_py(&vertices, &triangles)?;
+        let values = values.read::<f64, Ix1>("values", &[])?;
+        let values: Vec<f64> = values.as_array().iter().copied().collect();
+        let mut hf = (*self.hf).clone();
+        py.detach(|| guarded(|| hf.add_mesh_map(name, &verts, &tris, &values)))?;
+        Ok(Terrain { hf: hf.into() })
+    }
+
+    /// A copy of the terrain with the map `name`: the XY distance (m) to the given geometry (float64 (N, 2)
+    /// vertices, (E, 2) edges and (M, 3) triangles between them; vertices alone count as points).
+    fn with_distance_map(
+        &self,
+        py: Python<'_>,
+        name: &str,
+        vertices: ArrayArg<'_>,
+        edges: ArrayArg<'_>,
+        triangles: ArrayArg<'_>,
+    ) -> PyResult<Self> {
+        let verts = points_from_py(&vertices, "vertices")?;
+        let edges = edges.read::<u32, Ix2>("edges", &[2])?;
+        let edges: Vec<[u32; 2]> = edges
+            .as_array()
+            .rows()
+            .into_iter()
+            .map(|r| [r[0], r[1]])
+            .collect();
+        let tris = triangles_from_py(&triangles)?;
+        let mut hf = (*self.hf).clone();
+        py.detach(|| guarded(|| hf.add_distance_map(name, &verts, &edges, &tris)))?;
+        Ok(Terrain { hf: hf.into() })
+    }
+
     /// ((xmin, ymin), (xmax, ymax)) of the terrain in world XY.
     fn bbox(&self) -> ((f64, f64), (f64, f64)) {
         let (a, b) = self.hf.bbox();
@@ -123,6 +161,31 @@ impl Terrain {
             self.hf.nx, self.hf.ny, self.hf.cell, a.x, b.x, a.y, b.y
         )
     }
+}
+
+/// A triangle mesh: world XYZ vertices and triangles as vertex indices.
+type Mesh = (Vec<[f64; 3]>, Vec<[u32; 3]>);
+
+/// World XYZ vertices (float64 (N, 3)) and triangles ((M, 3) vertex indices of any integer dtype).
+fn mesh_from_py(vertices: &ArrayArg<'_>, triangles: &ArrayArg<'_>) -> PyResult<Mesh> {
+    let vertices = vertices.read::<f64, Ix2>("vertices", &[3])?;
+    let verts = vertices
+        .as_array()
+        .rows()
+        .into_iter()
+        .map(|r| [r[0], r[1], r[2]])
+        .collect();
+    Ok((verts, triangles_from_py(triangles)?))
+}
+
+fn triangles_from_py(triangles: &ArrayArg<'_>) -> PyResult<Vec<[u32; 3]>> {
+    let triangles = triangles.read::<u32, Ix2>("triangles", &[3])?;
+    Ok(triangles
+        .as_array()
+        .rows()
+        .into_iter()
+        .map(|r| [r[0], r[1], r[2]])
+        .collect())
 }
 
 /// `value` at each world XY point of `xy` (float64 (N, 2)), NaN where it has none, computed without the GIL.

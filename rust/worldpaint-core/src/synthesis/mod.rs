@@ -354,6 +354,25 @@ pub(crate) fn check_terrain(
             "follows terrain maps but the scene has no terrain",
         )
     })?;
+    // a map made in the scene (a painted group, a distance) must be read on the destination too: without it the
+    // category would be painted as if the map did not matter
+    if let Some(m) = color.maps.iter().find(|m| {
+        m.source == MapSource::Terrain
+            && !t.maps.contains_key(&m.map)
+            && order
+                .iter()
+                .any(|&c| color.categories[c].category.name == m.category)
+    }) {
+        let known: Vec<&str> = t.maps.keys().map(String::as_str).collect();
+        return Err(Error::invalid(
+            format!("color '{}'", color.name),
+            format!(
+                "follows the map '{}', which the terrain does not have (it has {})",
+                m.map,
+                known.join(", ")
+            ),
+        ));
+    }
     let (lo, hi) = region.bbox();
     let (tlo, thi) = t.bbox();
     if hi.x < tlo.x || hi.y < tlo.y || lo.x > thi.x || lo.y > thi.y {
