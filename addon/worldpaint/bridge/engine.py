@@ -13,7 +13,7 @@ False to cancel; the engine gives a stage's name to a callable that takes the se
 """
 
 import json
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, replace
 from typing import NamedTuple
 
 import numpy as np
@@ -151,6 +151,19 @@ class Edit:
             added_paths=lines("added_paths"),
             added_contours=lines("added_contours"),
             unseen_maps=dict(d.get("unseen_maps", {})),
+        )
+
+    def restricted(self, allowed):
+        """This edit without the instances, paths and contours it adds of the categories ``allowed`` (one bool per
+        category name) rules out; what it removes stays."""
+        allowed = np.asarray(allowed, dtype=bool)
+        keep = allowed[self.category_index] if len(self.category_index) else np.zeros(0, dtype=bool)
+        columns = {name: getattr(self, name)[keep] for name in ("positions", "heights", "rotations", "scales",
+                                                                  "category_index", "prototype", "tints")}
+        return replace(
+            self, **columns,
+            added_paths=tuple(line for line in self.added_paths if allowed[line.category]),
+            added_contours=tuple(line for line in self.added_contours if allowed[line.category]),
         )
 
     def painted_categories(self):
@@ -589,10 +602,11 @@ def assign_variants(positions, fixed, count, window=50.0, seed=0):
 
 # --- painting tools -----------------------------------------------------------------------------------------------
 
-def paste(scene_handle, color, region, seed, influence_radius, progress=None, guides=None):
-    """Paints ``color`` into ``region``; ``guides`` ({"start", "boundaries", "flow"}) steer an arrangement color."""
+def paste(scene_handle, color, region, seed, influence_radius, progress=None, guides=None, only_categories=None):
+    """Paints ``color`` into ``region`` (only its ``only_categories`` when given); ``guides`` ({"start",
+    "boundaries", "flow"}) steer an arrangement color."""
     d = _engine().paste(scene_handle, color=color, region=region, seed=seed, influence_radius=influence_radius,
-                        progress=progress, guides=guides)
+                        progress=progress, guides=guides, only_categories=only_categories)
     fidelity = d.get("fidelity")
     return Pasted(Edit.of(d), None if fidelity is None else Fidelity.of(fidelity), d.get("fidelity_error", ""))
 

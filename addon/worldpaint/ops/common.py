@@ -2,6 +2,7 @@
 
 import functools
 
+import numpy as np
 from bpy.props import EnumProperty, FloatProperty, FloatVectorProperty, IntProperty, StringProperty
 
 from ..bridge import WorldPaintError, curves, edits, engine, instances, regions, scene_maps, terrain
@@ -152,10 +153,16 @@ class SceneContent:
     """What a tool reads of the scene before the engine runs: the terrain object, its heightfield, every instance
     of the scene's categories (hand-placed objects locked, point-cloud points editable) and every path and contour
     (hand-drawn curves locked, synthesized ones editable). The ``colors`` a tool paints (``engine.ColorSummary``)
-    add their categories and the maps made in the scene that they follow."""
+    add their categories and the maps made in the scene that they follow.
+
+    With the panel's Active Layer Only, a tool changes the active layer alone: the content of the other layers is
+    held as if hand-placed (it conditions the result, nothing removes or moves it) and what the tool would add of
+    their categories is left out."""
 
     def __init__(self, context, terrain_name="", colors=()):
         scene = context.scene
+        settings = scene.worldpaint
+        self.layer = settings.active_layer if settings.layer_only else None
         self.terrain_obj = terrain.terrain_object(context, terrain_name)
         self.heightfield = terrain.engine_terrain(context, self.terrain_obj, scene_maps.used_by(colors))
         self.categories = instances.all_categories(scene, [c for color in colors for c in color.categories])
@@ -170,13 +177,36 @@ class SceneContent:
     def engine_scene(self):
         """The engine's Scene of this content (made once; the tools read it and return edits of it)."""
         if self._engine_scene is None:
-            self._engine_scene = engine.scene(
-                self.heightfield, self.instances.engine_arrays(), self.structures.engine_arrays()
-            )
+            instance_arrays = self.instances.engine_arrays()
+            structure_arrays = self.structures.engine_arrays()
+            if self.layer is not None:
+                held = np.array([not self.in_layer(c["name"]) for c in self.categories], dtype=bool)
+                if len(instance_arrays["category_index"]):
+                    instance_arrays["locked"] = instance_arrays["locked"] | held[instance_arrays["category_index"]]
+                for lines in structure_arrays.values():
+                    for line in lines:
+                        line["locked"] = line["locked"] or bool(held[line["category"]])
+            self._engine_scene = engine.scene(self.heightfield, instance_arrays, structure_arrays)
         return self._engine_scene
+
+    def in_layer(self, category):
+        """Whether the tools may change ``category`` (a name): always, unless they act on the active layer only."""
+        if self.layer is None:
+            return True
+        return any(c["name"] == category and c["layer"] == self.layer for c in self.categories)
+
+    def layer_categories(self, names):
+        """Those of the category ``names`` the tools may change; an error when that leaves none."""
+        allowed = [name for name in names if self.in_layer(name)]
+        if names and not allowed:
+            raise WorldPaintError(f"None of {', '.join(names)} is in the active layer '{self.layer}' (Active Layer "
+                                  "Only is on)")
+        return allowed
 
     def apply(self, context, edit):
         """Writes an edit (``engine.Edit``) of this content to the point clouds and the synthesized curves."""
+        if self.layer is not None:
+            edit = edit.restricted([self.in_layer(name) for name in edit.category_names])
         applied = edits.apply_edit(context.scene, self.instances, edit, self.terrain_obj)
         applied.lines_added, applied.lines_removed = curves.apply_structures(
             context.scene, self.structures, edit, self.terrain_obj, self.heightfield

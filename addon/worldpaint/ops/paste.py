@@ -30,7 +30,9 @@ class WORLDPAINT_OT_paste_color(PatternGuideProperties, RegionSynthesisOperator,
         return [self._summary]
 
     def _arguments(self, context, region):
-        return {"color": self._entry.json, "guides": self.pattern_guides(context, self._entry.json)}
+        self._only = self._content.layer_categories(self._summary.category_names) if self._content.layer else None
+        return {"color": self._entry.json, "guides": self.pattern_guides(context, self._entry.json),
+                "only_categories": self._only}
 
     def _edit(self, result):
         return result.edit
@@ -43,7 +45,7 @@ class WORLDPAINT_OT_paste_color(PatternGuideProperties, RegionSynthesisOperator,
             self.report({'INFO'}, f"What the region holds now: {result.fidelity.line()}")
         else:
             self.report({'WARNING'}, f"No fidelity figure for the paste: {result.fidelity_error}")
-        empty = sorted(set(self._summary.category_names) - edit.painted_categories())
+        empty = sorted(set(self._only or self._summary.category_names) - edit.painted_categories())
         if empty:
             self.report({'WARNING'}, f"Nothing pasted for {', '.join(empty)}: the example had none on slopes (or, "
                                      "for a color with a height preference, heights) like the destination's")

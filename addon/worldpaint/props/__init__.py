@@ -189,6 +189,15 @@ class WORLDPAINT_PG_settings(bpy.types.PropertyGroup):
         description="Learn Color also learns which terrain heights the example occupies; heights beyond the "
         "example's range are treated like its highest or lowest ones",
     )
+    active_layer: StringProperty(
+        name="Active Layer", default="default",
+        description="The layer the tools act on when Active Layer Only is on (categories have a layer each)",
+    )
+    layer_only: BoolProperty(
+        name="Active Layer Only", default=False,
+        description="The tools change only the categories of the active layer: the other layers' content stays as it "
+        "is and conditions the result",
+    )
     learn_maps: StringProperty(
         name="Scene Maps",
         description="Maps made in the scene that Learn Color learns too (comma-separated; ticked in the Paint panel)",

@@ -177,6 +177,11 @@ class WORLDPAINT_PT_paint(MainSubpanel, bpy.types.Panel):
         if settings.region_mode == 'CURSOR':
             box.prop(settings, "region_radius")
         box.prop(settings, "seed")
+        row = box.row(align=True)
+        row.prop(settings, "layer_only", text="", icon='RENDERLAYERS')
+        sub = row.row(align=True)
+        sub.active = settings.layer_only
+        sub.prop(settings, "active_layer")
         box.prop(settings, "learn_elevation")
         box.prop(settings, "learn_oriented")
         draw_scene_maps(box, settings)
