@@ -33,7 +33,7 @@ def test_a_layer_restricted_erase_leaves_the_other_layers_untouched():
     stroke = [{"name": "", "location": (x, 150.0, 0.0)} for x in np.linspace(20.0, 180.0, 17)]
     assert bpy.ops.worldpaint.erase(stroke=stroke, radius=30.0) == {'FINISHED'}
     after = clouds()
-    print(f"\nerased on layer 'ground': " + ", ".join(f"{c} {len(before[c])} -> {len(after[c])}" for c in before))
+    print("\nerased on layer 'ground': " + ", ".join(f"{c} {len(before[c])} -> {len(after[c])}" for c in before))
     assert np.array_equal(after["Tree"], before["Tree"]), "the trees' layer is untouched"
     for category in ("Rock", "Grass"):
         xy = after[category][:, :2]
