@@ -3,7 +3,7 @@
 import bpy
 import numpy as np
 import pytest
-from scene_kit import select_only, slope_exemplar
+from scene_kit import flat_terrain, hard_core_examples, prototypes, select_only, slope_exemplar
 from worldpaint.bridge.instances import point_cloud_arrays, point_cloud_objects
 
 EXEMPLAR = {"region_mode": 'RECT', "rect_min": (0.0, 0.0), "rect_max": (100.0, 100.0)}
@@ -75,3 +75,47 @@ def test_bad_matrix_cells_and_pairs_are_clear_errors():
     with pytest.raises(RuntimeError, match="not of the form"):
         bpy.ops.worldpaint.learn_color(independent="Grass", **EXEMPLAR)
     assert len(bpy.context.scene.worldpaint.palette) == 0
+
+
+def test_a_colors_own_iterations_and_influence_are_used_when_it_is_pasted():
+    _, examples, _ = slope_exemplar()
+    select_only(examples)
+    assert bpy.ops.worldpaint.learn_color(name="Forest", **EXEMPLAR) == {'FINISHED'}
+    select_only([])
+    entry = bpy.context.scene.worldpaint.palette["Forest"]
+    figures = {}
+    for iterations in (0.0, 1.0):
+        entry.iterations_per_instance = iterations
+        assert bpy.ops.worldpaint.paste_color(seed=5, **DESTINATION) == {'FINISHED'}
+        clouds = point_cloud_objects(bpy.context.scene)
+        figures[iterations] = {name: len(point_cloud_arrays(obj)[0]) for name, obj in clouds.items()}
+        figures[iterations]["Grass near rocks"] = deviation(cross_pcf(*pasted_pair()))
+    print(f"\ndefault iterations: {figures[0.0]}; one per instance: {figures[1.0]}")
+    # one proposal per instance leaves the grass far from clustering around the rocks as the example does
+    assert figures[1.0]["Grass near rocks"] < 0.5 * figures[0.0]["Grass near rocks"]
+
+
+def test_a_colors_own_region_of_influence_decides_whether_a_paste_sees_its_neighbour():
+    bpy.context.scene.worldpaint.terrain = flat_terrain("Flat", size=(300.0, 200.0))
+    prototypes()
+    select_only(hard_core_examples("Tree", (0.0, 0.0), 100.0, 0.04, 3.0, 4))
+    assert bpy.ops.worldpaint.learn_color(name="Hard core", **EXEMPLAR) == {'FINISHED'}
+    select_only([])
+    entry = bpy.context.scene.worldpaint.palette["Hard core"]
+    closest = {}
+    for influence in (-1.0, 0.0):  # the panel's (automatic: the color's interaction radius), then none
+        entry.influence_radius = influence
+        for rect_min, rect_max in (((0.0, 100.0), (100.0, 200.0)), ((100.0, 100.0), (200.0, 200.0))):
+            assert bpy.ops.worldpaint.paste_color(seed=5, region_mode='RECT', rect_min=rect_min,
+                                                  rect_max=rect_max) == {'FINISHED'}
+        trees = point_cloud_arrays(point_cloud_objects(bpy.context.scene)["Tree"])[0][:, :2]
+        west, east = trees[trees[:, 0] < 100.0], trees[trees[:, 0] >= 100.0]
+        closest[influence] = np.linalg.norm(west[:, None, :] - east[None, :, :], axis=2).min()
+    print(f"\nclosest trees across the seam: {closest[-1.0]:.2f} m with the automatic influence, "
+          f"{closest[0.0]:.2f} m with none")
+    assert closest[-1.0] >= 3.0 > closest[0.0]
+
+
+def pasted_pair():
+    clouds = point_cloud_objects(bpy.context.scene)
+    return (point_cloud_arrays(clouds["Rock"])[0][:, :2], point_cloud_arrays(clouds["Grass"])[0][:, :2])

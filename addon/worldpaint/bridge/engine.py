@@ -602,11 +602,13 @@ def assign_variants(positions, fixed, count, window=50.0, seed=0):
 
 # --- painting tools -----------------------------------------------------------------------------------------------
 
-def paste(scene_handle, color, region, seed, influence_radius, progress=None, guides=None, only_categories=None):
+def paste(scene_handle, color, region, seed, influence_radius, progress=None, guides=None, only_categories=None,
+          iterations_per_instance=None):
     """Paints ``color`` into ``region`` (only its ``only_categories`` when given); ``guides`` ({"start",
     "boundaries", "flow"}) steer an arrangement color."""
     d = _engine().paste(scene_handle, color=color, region=region, seed=seed, influence_radius=influence_radius,
-                        progress=progress, guides=guides, only_categories=only_categories)
+                        progress=progress, guides=guides, only_categories=only_categories,
+                        iterations_per_instance=iterations_per_instance)
     fidelity = d.get("fidelity")
     return Pasted(Edit.of(d), None if fidelity is None else Fidelity.of(fidelity), d.get("fidelity_error", ""))
 
@@ -646,11 +648,13 @@ def move_region(scene_handle, color, source, offset, seed, influence_radius):
                  int(d["stayed"]))
 
 
-def paint_stroke(scene_handle, color, radius, spacing, opacity, falloff, seed, influence_radius, guides=None):
+def paint_stroke(scene_handle, color, radius, spacing, opacity, falloff, seed, influence_radius, guides=None,
+                 iterations_per_instance=None):
     """A brush stroke painting ``color`` (JSON); ``falloff`` is "constant", "linear" or "smooth"; an arrangement
     color sprays its pattern, steered by ``guides`` (boundary and flow curves)."""
     return Stroke(_engine().Stroke(scene_handle, color=color, radius=radius, spacing=spacing, opacity=opacity,
-                                   falloff=falloff, seed=seed, influence_radius=influence_radius, guides=guides))
+                                   falloff=falloff, seed=seed, influence_radius=influence_radius, guides=guides,
+                                   iterations_per_instance=iterations_per_instance))
 
 
 def erase_stroke(scene_handle, radius, only_categories=None):

@@ -164,7 +164,7 @@ class WORLDPAINT_OT_brush(PatternGuideProperties, StrokeOperator, SynthesisPrope
             opacity=setting(self, "opacity", settings.brush_opacity),
             falloff=setting(self, "falloff", settings.brush_falloff).lower(),
             guides=self.pattern_guides(context, self._entry.json),
-            **self.synthesis_arguments(settings),
+            **self.synthesis_arguments(settings, self._entry),
         )
 
 

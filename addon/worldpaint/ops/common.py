@@ -66,14 +66,20 @@ class SynthesisProperties:
         name="Influence", default=-1.0, description="Region of influence width (negative: the panel's setting)"
     )
 
-    def synthesis_arguments(self, settings):
-        """The engine's ``seed`` and ``influence_radius`` (None: the color's own interaction radius)."""
+    def synthesis_arguments(self, settings, color=None):
+        """The engine's ``seed`` and ``influence_radius`` (None: the color's own interaction radius), and the
+        ``iterations_per_instance`` of the palette ``color`` painted when it sets them."""
         seed = setting(self, "seed", settings.seed)
         if self.influence_radius >= 0.0:
             influence = self.influence_radius
+        elif color is not None and color.influence_radius >= 0.0:
+            influence = color.influence_radius
         else:
             influence = None if settings.auto_influence else settings.influence_radius
-        return {"seed": seed, "influence_radius": influence}
+        arguments = {"seed": seed, "influence_radius": influence}
+        if color is not None and color.iterations_per_instance > 0.0:
+            arguments["iterations_per_instance"] = color.iterations_per_instance
+        return arguments
 
 
 class TerrainProperty:

@@ -29,6 +29,9 @@ class WORLDPAINT_OT_paste_color(PatternGuideProperties, RegionSynthesisOperator,
         self._summary = engine.color_summary(self._entry.json)
         return [self._summary]
 
+    def _painted_color(self):
+        return self._entry
+
     def _arguments(self, context, region):
         self._only = self._content.layer_categories(self._summary.category_names) if self._content.layer else None
         return {"color": self._entry.json, "guides": self.pattern_guides(context, self._entry.json),

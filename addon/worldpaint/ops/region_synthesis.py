@@ -20,6 +20,10 @@ class RegionSynthesisOperator(BackgroundOperator, RegionSynthesisProperties):
         besides the scene's, and the scene maps they follow."""
         return ()
 
+    def _painted_color(self):
+        """The palette color whose own synthesis settings apply (resolved in ``_colors``); None: the panel's."""
+        return None
+
     def _arguments(self, context, region):
         """The engine function's own arguments, validated."""
         return {}
@@ -38,7 +42,7 @@ class RegionSynthesisOperator(BackgroundOperator, RegionSynthesisProperties):
         if self.region_role is not None:
             terrain.check_region_on_terrain(self._content.heightfield, region, self.region_role)
         self._call = dict(region=region, **self._arguments(context, region),
-                          **self.synthesis_arguments(context.scene.worldpaint))
+                          **self.synthesis_arguments(context.scene.worldpaint, self._painted_color()))
 
     def _compute(self, progress):
         compute = getattr(engine, self.engine_function)

@@ -126,6 +126,16 @@ class WORLDPAINT_PG_color(bpy.types.PropertyGroup):
         description="Ends of the fidelity plot's axes: distance (m), pcf, slope (degrees; 0 without a slope panel)",
     )
     fidelity_note: StringProperty(name="Fidelity Note", description="Why the color has no fidelity view")
+    iterations_per_instance: FloatProperty(
+        name="Iterations per Instance", default=0.0, min=0.0, soft_max=200.0,
+        description="Proposals the synthesis makes per instance when this color is pasted or brushed (0: the engine's "
+        "default): more comes closer to the example and takes longer",
+    )
+    influence_radius: FloatProperty(
+        name="Influence", default=-1.0, min=-1.0, unit='LENGTH',
+        description="Region of influence of this color: how far around a paste the content conditions it "
+        "(negative: the panel's setting)",
+    )
     pattern_line: StringProperty(
         name="Pattern", description="How an arrangement color paints (empty: a color of statistics)",
     )

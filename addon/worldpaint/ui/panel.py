@@ -104,7 +104,8 @@ class WORLDPAINT_PT_palette(MainSubpanel, bpy.types.Panel):
 
 
 class WORLDPAINT_PT_interactions(SidebarPanel, bpy.types.Panel):
-    """The active color's interaction matrix: what depends on what, and how; each can be switched off."""
+    """The active color's interaction matrix: what depends on what, and how; each can be switched off. Below it, the
+    color's own synthesis settings."""
 
     bl_label = "Interactions"
     bl_parent_id = "WORLDPAINT_PT_palette"
@@ -119,6 +120,10 @@ class WORLDPAINT_PT_interactions(SidebarPanel, bpy.types.Panel):
         self.layout.template_list(
             "WORLDPAINT_UL_interactions", "", color, "interactions", color, "active_interaction_index", rows=4
         )
+        box = self.layout.box()
+        box.label(text="Advanced", icon='PREFERENCES')
+        box.prop(color, "iterations_per_instance")
+        box.prop(color, "influence_radius")
 
 
 def draw_scene_maps(layout, settings):
