@@ -244,6 +244,30 @@ def test_clear_region_cuts_the_synthesized_roads_at_its_border():
     assert not ((house_co[:, 0] > 450.0) & (house_co[:, 0] < 600.0)).any()
 
 
+def test_the_eraser_cuts_roads_under_the_brush_and_leaves_no_stub_shorter_than_the_colors_shortest_edge():
+    learn_and_paste()
+    scene = bpy.context.scene
+    shortest = dict(engine.color_summary(scene.worldpaint.palette["Village"].json)["shortest_edges"])["road"]
+    houses = point_cloud_arrays(point_cloud_objects(scene)["House"])[0].copy()
+    road_obj = structure_objects(scene)["road"]
+    before = sum(np.linalg.norm(np.diff(spline_points(road_obj, s)[:, :2], axis=0), axis=1).sum()
+                 for s in road_obj.data.splines)
+    line = [(float(x), 150.0) for x in np.linspace(460.0, 740.0, 15)]
+    stroke = [{"name": "", "location": (x, y, 0.0)} for x, y in line]
+    assert bpy.ops.worldpaint.erase(stroke=stroke, radius=12.0, category="road") == {'FINISHED'}
+    road_obj = structure_objects(scene)["road"]
+    paths = [spline_points(road_obj, s)[:, :2] for s in road_obj.data.splines]
+    lengths = [np.linalg.norm(np.diff(p, axis=0), axis=1).sum() for p in paths]
+    print(f"\nroads {before:.0f} m -> {sum(lengths):.0f} m in {len(paths)} pieces, the shortest {min(lengths):.1f} m; "
+          f"the color's shortest edge {shortest:.1f} m")
+    assert 0.3 * before < sum(lengths) < 0.97 * before
+    assert min(lengths) >= shortest
+    starts, ends = segments_of(paths)
+    on_stroke = np.array(line)
+    assert distance_to_segments(on_stroke, starts, ends).min() >= 12.0 - 1e-3, "no road left under the brush"
+    assert np.array_equal(point_cloud_arrays(point_cloud_objects(scene)["House"])[0], houses), "houses stay"
+
+
 def test_a_brush_stroke_paints_roads_on_the_terrain_within_its_reach():
     learn_and_paste()
     scene = bpy.context.scene

@@ -84,6 +84,8 @@ class ColorSummary:
     preview: np.ndarray  # (N, 3): x, y from the example's corner, category index
     preview_size: tuple
     region: dict  # the example's region, as the engine's region dict
+    # {road, river or coast category: the shortest edge the color makes of it (m)}
+    shortest_edges: dict
 
     @property
     def category_names(self):
@@ -491,6 +493,7 @@ def color_summary(color_json):
         preview=np.asarray(d["preview"], dtype=np.float64).reshape(-1, 3),
         preview_size=tuple(d["preview_size"]),
         region=d["region"],
+        shortest_edges=dict(d["shortest_edges"]),
     )
 
 
@@ -657,9 +660,11 @@ def paint_stroke(scene_handle, color, radius, spacing, opacity, falloff, seed, i
                                    iterations_per_instance=iterations_per_instance))
 
 
-def erase_stroke(scene_handle, radius, only_categories=None):
-    """An eraser stroke removing synthesized instances (of ``only_categories``; None: all)."""
-    return Stroke(_engine().Stroke(scene_handle, erase=True, only_categories=only_categories, radius=radius))
+def erase_stroke(scene_handle, radius, only_categories=None, shortest_edges=None):
+    """An eraser stroke removing synthesized instances (of ``only_categories``; None: all) and cutting the roads,
+    rivers and coasts of the categories it names, with no piece left shorter than ``shortest_edges[category]``."""
+    return Stroke(_engine().Stroke(scene_handle, erase=True, only_categories=only_categories, radius=radius,
+                                   shortest_edges=shortest_edges))
 
 
 # --- villages -----------------------------------------------------------------------------------------------------

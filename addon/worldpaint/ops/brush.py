@@ -188,11 +188,26 @@ class WORLDPAINT_OT_erase(StrokeOperator, bpy.types.Operator):
         known = {c["name"] for c in content.categories}
         if category and category not in known:
             raise WorldPaintError(f"No category '{category}' to erase")
+        only = [category] if category else None
+        if content.layer is not None:
+            only = content.layer_categories(only or sorted(known))
         return engine.erase_stroke(
             content.engine_scene(),
-            only_categories=[category] if category else None,
+            only_categories=only,
             radius=setting(self, "radius", settings.brush_radius),
+            shortest_edges=shortest_edges(settings.palette, only or ()),
         )
+
+
+def shortest_edges(palette, categories):
+    """{road, river or coast category: the shortest edge of the first palette color that paints it} of
+    ``categories``: the eraser leaves no shorter piece of them."""
+    out = {}
+    for entry in palette:
+        for category, length in engine.color_summary(entry.json).shortest_edges.items():
+            if category in categories:
+                out.setdefault(category, length)
+    return out
 
 
 class WORLDPAINT_OT_brush_radius(bpy.types.Operator):

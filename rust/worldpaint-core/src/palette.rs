@@ -466,6 +466,21 @@ impl Color {
         self.categories.iter().find(|c| c.category.name == name)
     }
 
+    /// The shortest edge the color makes of each road, river (the lower edge of the first edge-length bin it
+    /// holds) or coast category (its contours' point spacing): shorter pieces are stubs it would never make.
+    pub fn shortest_edges(&self) -> Vec<(String, f64)> {
+        let graphs = self.graphs.iter().filter_map(|g| {
+            let h = &g.edge_length;
+            let first = h.values.iter().position(|v| *v > 0.0)?;
+            Some((g.category.clone(), h.start + first as f64 * h.bin_width))
+        });
+        let polygons = self
+            .polygons
+            .iter()
+            .map(|p| (p.category.clone(), p.spacing));
+        graphs.chain(polygons).collect()
+    }
+
     /// The color with the interactions `off` switched off: each `(category, other)` names a pair (its rdf), a map
     /// (`other` is the map's name, or the graph or polygon category whose distance it is), or a graph's clearance
     /// from or avoidance of `other`. Switched off, `category` is synthesized as if `other` were not there.

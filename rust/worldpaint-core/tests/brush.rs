@@ -3,9 +3,10 @@
 
 use worldpaint_core::exemplar;
 use worldpaint_core::geom::DVec2;
+use worldpaint_core::scene::Path;
 use worldpaint_core::tools::brush::{BrushMode, BrushOptions, Falloff, Stroke};
 use worldpaint_core::{
-    compare, learn_color, AnalysisOptions, Category, Color, Instance, Region, Scene,
+    compare, learn_color, AnalysisOptions, Category, CategoryKind, Color, Instance, Region, Scene,
     SynthesisOptions,
 };
 
@@ -270,4 +271,97 @@ fn the_same_stroke_and_seed_paint_the_same_instances() {
     let (a, b) = (run(), run());
     assert!(!a.is_empty());
     assert_eq!(a, b);
+}
+
+#[test]
+fn the_eraser_cuts_a_road_under_the_brush_and_leaves_no_stub_shorter_than_its_shortest_edge() {
+    // a road of 10 m edges from x = 0 to 200 along y = 50, and a hand-drawn one beside it that stays
+    let road: Vec<DVec2> = (0..=20)
+        .map(|k| DVec2::new(10.0 * k as f64, 50.0))
+        .collect();
+    let drawn: Vec<DVec2> = road.iter().map(|p| *p + DVec2::new(0.0, 4.0)).collect();
+    let scene = Scene {
+        categories: vec![Category::new("road", "roads", CategoryKind::Graph, 0)],
+        paths: vec![
+            Path {
+                category: 0,
+                points: road,
+                locked: false,
+            },
+            Path {
+                category: 0,
+                points: drawn.clone(),
+                locked: true,
+            },
+        ],
+        ..Default::default()
+    };
+    // across the road at x = 103, then, as a second stroke, over its end at x = 192 (which would leave a 3 m stub)
+    let strokes = [
+        [DVec2::new(103.0, 0.0), DVec2::new(103.0, 70.0)],
+        [DVec2::new(192.0, 30.0), DVec2::new(192.0, 70.0)],
+    ];
+    let mut now = scene.clone();
+    for s in &strokes {
+        let mode = BrushMode::Erase(Some(vec!["road".into()]));
+        let mut stroke = Stroke::new(&now, mode, opts_radius(5.0)).unwrap();
+        stroke.follow(s, &|_| true).unwrap();
+        now = stroke.scene().clone();
+    }
+    let pieces: Vec<&Path> = now.paths.iter().filter(|p| !p.locked).collect();
+    let lengths: Vec<f64> = pieces
+        .iter()
+        .map(|p| p.points.windows(2).map(|w| w[0].distance(w[1])).sum())
+        .collect();
+    println!("road pieces left: {lengths:?} m");
+    assert_eq!(
+        pieces.len(),
+        2,
+        "one piece each side of the first cut; the stub at the end is gone"
+    );
+    assert!(lengths.iter().all(|l| *l >= 10.0));
+    assert!(
+        (lengths.iter().sum::<f64>() - (98.0 + 79.0)).abs() < 1e-6,
+        "cut at 98 and 108, and at 187"
+    );
+    let under_brush = |p: DVec2| {
+        strokes
+            .iter()
+            .any(|s| worldpaint_core::geom::segment_distance(p, s[0], s[1]) < 5.0 - 1e-6)
+    };
+    for piece in &pieces {
+        assert!(piece.points.iter().all(|p| !under_brush(*p)));
+    }
+    assert_eq!(
+        now.paths
+            .iter()
+            .filter(|p| p.locked)
+            .map(|p| &p.points)
+            .collect::<Vec<_>>(),
+        vec![&drawn]
+    );
+    // erasing instances only (no category named) leaves roads alone
+    let mut all = Stroke::new(&scene, BrushMode::Erase(None), opts_radius(5.0)).unwrap();
+    all.follow(&strokes[0], &|_| true).unwrap();
+    assert!(all.edit().removed_paths.is_empty());
+    // the color's shortest edge given: a road color whose edges are 95 m or more keeps the 98 m piece only
+    let mode = BrushMode::Erase(Some(vec!["road".into()]));
+    let mut long = Stroke::new(&scene, mode, opts_radius(5.0)).unwrap();
+    long.set_shortest_edge("road", 95.0).unwrap();
+    assert!(long.set_shortest_edge("castle", 1.0).is_err());
+    long.follow(&strokes[0], &|_| true).unwrap();
+    let kept: Vec<usize> = long
+        .edit()
+        .added_paths
+        .iter()
+        .map(|p| p.points.len())
+        .collect();
+    assert_eq!(kept.len(), 1, "{kept:?}");
+}
+
+fn opts_radius(radius: f64) -> BrushOptions {
+    BrushOptions {
+        radius,
+        ..options(0)
+    }
 }

@@ -353,6 +353,7 @@ pub(crate) fn color_summary<'py>(py: Python<'py>, color: &str) -> PyResult<Bound
             })
             .collect::<Vec<_>>(),
     )?;
+    d.set_item("shortest_edges", c.shortest_edges())?;
     d.set_item("preview", rows_to_py(py, c.preview.iter().copied())?)?;
     let (lo, hi) = c.region.bbox();
     d.set_item("preview_size", (hi.x - lo.x, hi.y - lo.y))?;

@@ -17,6 +17,7 @@ use crate::{engine_err, guarded, input_err, with_progress};
 use numpy::PyArray2;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use std::collections::HashMap;
 use std::sync::Mutex;
 use worldpaint_core::geom::DVec2;
 use worldpaint_core::synthesis::AdaptOptions;
@@ -88,8 +89,11 @@ fn falloff_from_str(s: &str) -> PyResult<Falloff> {
 }
 
 /// One brush stroke over a scene. `Stroke(scene, *, color=None, erase=False, only_categories=None, radius=20.0,
-/// spacing=0.5, opacity=1.0, falloff="constant", seed=0, influence_radius=None, iterations_per_instance=None)`
-/// paints `color` (JSON), or with `erase=True` removes unlocked instances (of `only_categories`, all when None) within `radius` of the path.
+/// spacing=0.5, opacity=1.0, falloff="constant", seed=0, influence_radius=None, iterations_per_instance=None,
+/// guides=None, shortest_edges=None)` paints `color` (JSON), or with `erase=True` removes unlocked instances (of
+/// `only_categories`, all when None) within `radius` of the path, and cuts the roads, rivers and coasts of the road
+/// or coast categories named there, removing the pieces shorter than `shortest_edges[category]` (m; by default the
+/// category's shortest edge in the scene).
 ///
 /// `follow(path, progress=None)` moves the brush along float64 (N, 2) points (a dab every `spacing × radius`, the
 /// first at once) with the GIL released and returns the number of dabs; `edit()` is what the stroke has done so far
@@ -104,7 +108,7 @@ impl Stroke {
     #[new]
     #[pyo3(signature = (scene, *, color=None, erase=false, only_categories=None, radius=20.0,
                         spacing=0.5, opacity=1.0, falloff="constant", seed=0, influence_radius=None,
-                        iterations_per_instance=None, guides=None))]
+                        iterations_per_instance=None, guides=None, shortest_edges=None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         scene: &Bound<'_, PyScene>,
@@ -119,6 +123,7 @@ impl Stroke {
         influence_radius: Option<f64>,
         iterations_per_instance: Option<f64>,
         guides: Option<&Bound<'_, PyAny>>,
+        shortest_edges: Option<HashMap<String, f64>>,
     ) -> PyResult<Self> {
         let scene = scene.get().scene();
         let mode = match (erase, color) {
@@ -136,7 +141,12 @@ impl Stroke {
                 ..synthesis_options(seed, influence_radius, iterations_per_instance, None)
             },
         };
-        let stroke = CoreStroke::new(scene, mode, opts).map_err(engine_err)?;
+        let mut stroke = CoreStroke::new(scene, mode, opts).map_err(engine_err)?;
+        for (category, length) in shortest_edges.unwrap_or_default() {
+            stroke
+                .set_shortest_edge(&category, length)
+                .map_err(engine_err)?;
+        }
         Ok(Stroke {
             stroke: Mutex::new(stroke),
         })

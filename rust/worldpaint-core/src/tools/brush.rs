@@ -22,7 +22,10 @@
 //! elements around and in it, which stay; other content in the disc is cleared. Opacity and falloff do not apply.
 //!
 //! **Eraser** (thesis 6.5.1, "simply removes all objects within the circular region"): the same stroke in
-//! erase mode removes the unlocked instances (of the chosen categories) within the radius of the brush path.
+//! erase mode removes the unlocked instances (of the chosen categories) within the radius of the brush path. A
+//! road, river or coast category chosen by name is cut too: the parts of its paths and contours under the brush
+//! go, and so do the pieces left beside the cut that are shorter than the category's shortest edge before the
+//! stroke (stubs no synthesis of it would make).
 
 use super::{color_of_region, empty_color, Edit, Working};
 use crate::error::{check, Error, Result};
@@ -64,7 +67,8 @@ impl Falloff {
 pub enum BrushMode {
     /// Paints a color.
     Paint(Box<Color>),
-    /// Removes unlocked instances of these categories (all when `None`).
+    /// Removes unlocked instances of these categories (all when `None`), and cuts the paths and contours of the
+    /// graph and polygon categories named.
     Erase(Option<Vec<String>>),
 }
 
@@ -107,6 +111,9 @@ pub struct Stroke {
     last: Option<DVec2>,
     /// Path length since the last dab.
     travelled: f64,
+    /// The shortest edge of each category's paths and contours before the stroke (0 without any): the eraser
+    /// removes pieces shorter than it.
+    shortest_edges: Vec<f64>,
 }
 
 impl Stroke {
@@ -135,7 +142,20 @@ impl Stroke {
             dabs: Vec::new(),
             last: None,
             travelled: 0.0,
+            shortest_edges: shortest_edges(scene),
         })
+    }
+
+    /// Sets the length below which the eraser removes what it leaves of a road, river or coast category: the
+    /// shortest edge of the color that made it ([`Color::shortest_edges`]); by default, the shortest edge of the
+    /// category's paths and contours in the scene, the ends of open paths left out (they may be earlier cuts).
+    pub fn set_shortest_edge(&mut self, category: &str, length: f64) -> Result<()> {
+        check::non_negative("shortest edge", length)?;
+        let index = self.work.scene.category_index(category).ok_or_else(|| {
+            Error::invalid("the scene", format!("has no category named '{category}'"))
+        })?;
+        self.shortest_edges[index] = length;
+        Ok(())
     }
 
     /// The scene as the stroke has left it so far.
@@ -227,6 +247,14 @@ impl Stroke {
                 .is_none_or(|w| w.get(i.category).copied().unwrap_or(false))
                 && segment_distance(i.position, a, b) <= r
         });
+        if let Some(wanted) = wanted.filter(|w| w.iter().any(|&x| x)) {
+            let shortest = &self.shortest_edges;
+            let of = |c: usize| {
+                (wanted.get(c).copied().unwrap_or(false))
+                    .then(|| shortest.get(c).copied().unwrap_or(0.0))
+            };
+            self.work.cut_structures(&capsule(a, b, r), &of);
+        }
     }
 
     /// One dab of a painting stroke at `centre` (see the module documentation).
@@ -313,4 +341,55 @@ impl Stroke {
         }
         Ok(())
     }
+}
+
+/// Sides of the half-discs that end the eraser's capsule.
+const CAPSULE_ARC_SIDES: usize = 12;
+
+/// The region within `r` of the segment `a`–`b` (a disc when they coincide), as a polygon whose sides stay
+/// within 2 % of `r` of the true outline.
+fn capsule(a: DVec2, b: DVec2, r: f64) -> Region {
+    let along = (b - a).try_normalize().unwrap_or(DVec2::X);
+    let normal = along.perp();
+    let mut points = Vec::with_capacity(2 * CAPSULE_ARC_SIDES + 2);
+    for (centre, start) in [(b, -normal), (a, normal)] {
+        for k in 0..=CAPSULE_ARC_SIDES {
+            let t = std::f64::consts::PI * k as f64 / CAPSULE_ARC_SIDES as f64;
+            // half a turn from `start`, counter-clockwise through the segment's outward direction
+            let dir = start * t.cos() + start.perp() * t.sin();
+            points.push(centre + dir * r);
+        }
+    }
+    Region::Polygon { points }
+}
+
+/// The shortest edge of each category's paths and contours in `scene` (0 for a category without any); the end
+/// edges of an open path of more than two edges are left out: a cut may have shortened them.
+fn shortest_edges(scene: &Scene) -> Vec<f64> {
+    let mut out = vec![f64::INFINITY; scene.categories.len()];
+    let lines = scene
+        .paths
+        .iter()
+        .map(|p| (p.category, &p.points, false))
+        .chain(scene.contours.iter().map(|c| (c.category, &c.points, true)));
+    for (category, points, closed) in lines {
+        let Some(slot) = out.get_mut(category) else {
+            continue;
+        };
+        let mut edges: Vec<f64> = points.windows(2).map(|w| w[0].distance(w[1])).collect();
+        match (points.first(), points.last()) {
+            (Some(first), Some(last)) if closed => edges.push(first.distance(*last)),
+            _ if edges.len() > 2 => {
+                edges.pop();
+                edges.remove(0);
+            }
+            _ => {}
+        }
+        for length in edges.into_iter().filter(|l| *l > 0.0) {
+            *slot = slot.min(length);
+        }
+    }
+    out.into_iter()
+        .map(|l| if l.is_finite() { l } else { 0.0 })
+        .collect()
 }

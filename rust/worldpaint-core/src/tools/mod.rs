@@ -18,7 +18,7 @@ pub mod stretch;
 use crate::analysis::{learn_color, AnalysisOptions};
 use crate::contour::cut;
 use crate::error::{Error, Result};
-use crate::geom::{DVec2, PreparedRegion, Region, RegionQueries};
+use crate::geom::{polyline_length, DVec2, PreparedRegion, Region, RegionQueries};
 use crate::palette::Color;
 use crate::scene::{Category, Contour, Instance, Path, Scene};
 use crate::synthesis::{add_unseen, synthesize_keeping, SynthesisOptions};
@@ -220,10 +220,23 @@ impl Working {
     /// Removes the unlocked parts of paths and contours inside `region` (their parts outside stay, as new pieces).
     /// Its large polygons are indexed once for all their segments and points.
     pub(crate) fn clear_structures(&mut self, region: &Region) {
+        self.cut_structures(region, &|_| Some(0.0));
+    }
+
+    /// Removes the unlocked parts inside `region` of the paths and contours whose category `shortest` gives a
+    /// length for, and the pieces left outside shorter than that length (stubs); the other pieces stay.
+    pub(crate) fn cut_structures(
+        &mut self,
+        region: &Region,
+        shortest: &dyn Fn(usize) -> Option<f64>,
+    ) {
         let region = &PreparedRegion::new(region);
+        let long_enough = |category: usize, points: &[DVec2]| {
+            shortest(category).is_some_and(|l| polyline_length(points) >= l)
+        };
         let mut pieces: Vec<Path> = Vec::new();
         self.paths.retain(&mut self.scene.paths, |p| {
-            if p.locked {
+            if p.locked || shortest(p.category).is_none() {
                 return true;
             }
             let (inside, outside) = region.clip_polyline(&p.points);
@@ -233,7 +246,7 @@ impl Working {
             pieces.extend(
                 outside
                     .into_iter()
-                    .filter(|o| o.len() >= 2)
+                    .filter(|o| o.len() >= 2 && long_enough(p.category, o))
                     .map(|points| Path {
                         points,
                         ..p.clone()
@@ -244,16 +257,20 @@ impl Working {
         self.paths.push(&mut self.scene.paths, pieces);
         let mut pieces: Vec<Contour> = Vec::new();
         self.contours.retain(&mut self.scene.contours, |c| {
-            if c.locked {
+            if c.locked || shortest(c.category).is_none() {
                 return true;
             }
             match cut(&c.points, region) {
                 None => true,
                 Some(rest) => {
-                    pieces.extend(rest.into_iter().map(|points| Contour {
-                        points,
-                        ..c.clone()
-                    }));
+                    pieces.extend(
+                        rest.into_iter()
+                            .filter(|points| long_enough(c.category, points))
+                            .map(|points| Contour {
+                                points,
+                                ..c.clone()
+                            }),
+                    );
                     false
                 }
             }
