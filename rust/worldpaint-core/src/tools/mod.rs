@@ -278,6 +278,42 @@ impl Working {
         self.contours.push(&mut self.scene.contours, pieces);
     }
 
+    /// Replaces each unlocked path and contour by the pieces `reshape` makes of its points (`true` for a contour);
+    /// `None` keeps it as it is. Pieces too short to be a path (2 points) or a contour (3) are dropped.
+    pub(crate) fn reshape_structures(
+        &mut self,
+        reshape: &dyn Fn(&[DVec2], bool) -> Option<Vec<Vec<DVec2>>>,
+    ) {
+        let mut pieces: Vec<Path> = Vec::new();
+        self.paths.retain(&mut self.scene.paths, |p| {
+            let Some(new) = (!p.locked).then(|| reshape(&p.points, false)).flatten() else {
+                return true;
+            };
+            pieces.extend(new.into_iter().filter(|n| n.len() >= 2).map(|points| Path {
+                points,
+                ..p.clone()
+            }));
+            false
+        });
+        self.paths.push(&mut self.scene.paths, pieces);
+        let mut pieces: Vec<Contour> = Vec::new();
+        self.contours.retain(&mut self.scene.contours, |c| {
+            let Some(new) = (!c.locked).then(|| reshape(&c.points, true)).flatten() else {
+                return true;
+            };
+            pieces.extend(
+                new.into_iter()
+                    .filter(|n| n.len() >= 3)
+                    .map(|points| Contour {
+                        points,
+                        ..c.clone()
+                    }),
+            );
+            false
+        });
+        self.contours.push(&mut self.scene.contours, pieces);
+    }
+
     /// Adds instances whose categories index `categories` (an extension of the scene's list).
     pub(crate) fn add(&mut self, categories: Vec<Category>, instances: Vec<Instance>) {
         if categories.len() > self.scene.categories.len() {
@@ -319,7 +355,7 @@ impl Working {
 
     /// Synthesizes `color` in `region` (already cleared as the tool wants), conditioned on the rest; returns the
     /// count of new instances.
-    fn fill(
+    pub(crate) fn fill(
         &mut self,
         color: &Color,
         region: &Region,

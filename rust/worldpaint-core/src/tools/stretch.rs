@@ -6,8 +6,9 @@
 //! In the region's frame `u` runs across the dragged side (towards it) and `v` along it.
 //!
 //! * **Energy map.** The region is rasterized and every cell gets the repulsion energy
-//!   `e(p) = 1 / min_i d(p, o_i)` (the distance to the nearest instance, floored at half a cell), computed with
-//!   an exact Euclidean distance transform (Felzenszwalb & Huttenlocher).
+//!   `e(p) = 1 / min_i d(p, o_i)` (the distance to the nearest instance or road, river or coast point, floored
+//!   at half a cell), computed with an exact Euclidean distance transform (Felzenszwalb & Huttenlocher): the cut
+//!   crosses roads rather than running along them.
 //! * **Cut.** The least-energy path across the region along `v`, "in the direction perpendicular to the main
 //!   deformation", by dynamic programming over 8-connected cells (Avidan & Shamir's seam), kept in the middle
 //!   80 % of the region so that it cuts through the content rather than along its edge.
@@ -19,6 +20,12 @@
 //!   inside the band of width `|amount|` beyond the cut is removed and the content beyond the band moves back by
 //!   `|amount|`. The strip this releases at the dragged side is synthesized with the color of the content just
 //!   outside that side, so the region's surroundings close over it (left empty when there is nothing there).
+//! * **Roads, rivers and coasts** are stretched with the ground they lie on, so none is torn: their points beyond
+//!   the cut move with the instances, and where a line crosses the cut it is rejoined by a straight piece across
+//!   the band (a road crossing the band is a road stretched along its way). Parts in the space the drag removes
+//!   (the band of a shrink, the ground the moved side lands on beyond the region) go, and the line runs on from
+//!   where it left that space. The synthesis of the opened space paints only the color's distributions, conditioned
+//!   on these lines: it adds no road that could end in the band.
 
 use super::moving::move_instances;
 use super::{color_of_region, Edit, Working};
@@ -26,7 +33,7 @@ use crate::distance::squared_distance_1d;
 use crate::error::{check, Error, Result};
 use crate::geom::{DVec2, Region};
 use crate::palette::Color;
-use crate::scene::Scene;
+use crate::scene::{CategoryKind, Scene};
 use crate::synthesis::{AdaptOptions, SynthesisOptions};
 use std::borrow::Cow;
 
@@ -247,13 +254,18 @@ pub fn stretch(
             ),
         ));
     }
-    let inside: Vec<DVec2> = scene
+    let mut inside: Vec<DVec2> = scene
         .instances
         .iter()
         .filter(|i| region.contains(i.position))
         .map(|i| frame.local(i.position))
         .collect();
     let cell = energy_cell(opts.cell, &frame, inside.len())?;
+    inside.extend(
+        line_samples(scene, cell)
+            .filter(|p| region.contains(*p))
+            .map(|p| frame.local(p)),
+    );
     let seam = least_energy_seam(&frame, &inside, cell, shrink);
     let color = stretch_color(scene, region, color)?;
     let color = color.as_ref();
@@ -270,6 +282,7 @@ pub fn stretch(
     if shrink > 0.0 {
         work.remove_inside(&band);
     }
+    work.reshape_structures(&|points, closed| drag.reshape(points, closed));
     let moved = move_instances(
         &work.scene,
         &work.scene,
@@ -438,12 +451,160 @@ impl Drag<'_> {
             let strip = frame.rect(width - shrink, width);
             let outside = frame.rect(width, width + shrink.max(2.0 * color.max_radius));
             if let Some(around) = color_of_region(self.scene, &outside, "beyond the region")? {
-                work.paint(&around, &strip, synthesis, report)?;
+                fill_distributions(work, &around, &strip, synthesis, report)?;
             }
             Ok(frame.rect(0.0, width - shrink))
         } else {
-            work.paint(color, band, synthesis, report)?;
+            fill_distributions(work, color, band, synthesis, report)?;
             Ok(frame.rect(0.0, width + self.amount))
         }
     }
+
+    /// Where a point of a road, river or coast goes (see the module documentation).
+    fn zone(&self, p: DVec2) -> Zone {
+        let l = self.frame.local(p);
+        let seam = u_at(&self.seam, l.y);
+        if self.region.contains(p) {
+            if l.x > seam + self.shrink {
+                Zone::Moves
+            } else if l.x > seam && self.shrink > 0.0 {
+                Zone::Gone
+            } else {
+                Zone::Stays
+            }
+        } else if self.shrink == 0.0
+            && (0.0..=self.frame.height).contains(&l.y)
+            && l.x > self.frame.width
+            && l.x <= self.frame.width + self.amount
+        {
+            Zone::Gone
+        } else {
+            Zone::Stays
+        }
+    }
+
+    /// The line `points` (closed: a contour) stretched with the ground, as one piece; `None` when the drag leaves
+    /// it as it is. Where it crosses from one zone to another, the crossing (found by bisection between samples a
+    /// fraction of the energy cell apart) is added in both zones' places, so a line across the cut is rejoined.
+    fn reshape(&self, points: &[DVec2], closed: bool) -> Option<Vec<Vec<DVec2>>> {
+        let n = points.len();
+        if n < 2 {
+            return None;
+        }
+        let step = self.frame.width.min(self.frame.height) / LINE_SAMPLES_ACROSS;
+        let place = |zone: Zone, p: DVec2| match zone {
+            Zone::Stays => Some(p),
+            Zone::Moves => Some(p + self.frame.u * self.amount),
+            Zone::Gone => None,
+        };
+        let mut out: Vec<DVec2> = Vec::with_capacity(n + 4);
+        let mut emit = |p: Option<DVec2>| {
+            if let Some(p) = p.filter(|p| out.last() != Some(p)) {
+                out.push(p);
+            }
+        };
+        let mut changed = false;
+        let first = self.zone(points[0]);
+        emit(place(first, points[0]));
+        let segments = if closed { n } else { n - 1 };
+        for k in 0..segments {
+            let (a, b) = (points[k], points[(k + 1) % n]);
+            let samples = ((a.distance(b) / step).ceil() as usize).max(1);
+            let (mut t0, mut z0) = (0.0, self.zone(a));
+            changed |= z0 != Zone::Stays;
+            for s in 1..=samples {
+                let t1 = s as f64 / samples as f64;
+                let z1 = self.zone(a.lerp(b, t1));
+                if z1 != z0 {
+                    let (lo, hi) = self.crossing(a, b, t0, t1, z0);
+                    emit(place(z0, a.lerp(b, lo)));
+                    emit(place(z1, a.lerp(b, hi)));
+                    changed = true;
+                }
+                (t0, z0) = (t1, z1);
+            }
+            if !(closed && k + 1 == n) {
+                emit(place(z0, b));
+            }
+        }
+        if closed && out.len() > 1 && out.first() == out.last() {
+            out.pop();
+        }
+        changed.then(|| vec![out])
+    }
+
+    /// The parameters just before and just after the point between `t0` (in `zone`) and `t1` where the segment
+    /// `a`–`b` leaves `zone`.
+    fn crossing(&self, a: DVec2, b: DVec2, mut t0: f64, mut t1: f64, zone: Zone) -> (f64, f64) {
+        for _ in 0..CROSSING_BISECTIONS {
+            let mid = 0.5 * (t0 + t1);
+            if self.zone(a.lerp(b, mid)) == zone {
+                t0 = mid;
+            } else {
+                t1 = mid;
+            }
+        }
+        (t0, t1)
+    }
+}
+
+/// Where a drag puts a point of a road, river or coast.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Zone {
+    Stays,
+    Moves,
+    /// In the space the drag removes.
+    Gone,
+}
+
+/// Samples per side of the region along a line, to find where it crosses from one zone to another.
+const LINE_SAMPLES_ACROSS: f64 = 400.0;
+/// Bisections that place a crossing (to 2^-30 of the sample step).
+const CROSSING_BISECTIONS: usize = 30;
+
+/// Points every `cell` along the scene's roads, rivers and coasts: the cut keeps off them like off instances.
+fn line_samples(scene: &Scene, cell: f64) -> impl Iterator<Item = DVec2> + '_ {
+    let paths = scene.paths.iter().map(|p| (&p.points, false));
+    let contours = scene.contours.iter().map(|c| (&c.points, true));
+    paths.chain(contours).flat_map(move |(points, closed)| {
+        let n = points.len();
+        let segments = if closed { n } else { n.saturating_sub(1) };
+        (0..segments).flat_map(move |k| {
+            let (a, b) = (points[k], points[(k + 1) % n]);
+            let steps = ((a.distance(b) / cell).ceil() as usize).max(1);
+            (0..steps).map(move |s| a.lerp(b, s as f64 / steps as f64))
+        })
+    })
+}
+
+/// Synthesizes the color's distributions in `region` (its roads, rivers and coasts are the stretched ones).
+fn fill_distributions(
+    work: &mut Working,
+    color: &Color,
+    region: &Region,
+    synthesis: &SynthesisOptions,
+    report: &(dyn Fn(f64) -> bool + Sync),
+) -> Result<()> {
+    let distributions: Vec<String> = color
+        .categories
+        .iter()
+        .filter(|c| c.category.kind == CategoryKind::Distribution)
+        .map(|c| c.category.name.clone())
+        .filter(|name| {
+            synthesis
+                .categories
+                .as_ref()
+                .is_none_or(|only| only.contains(name))
+        })
+        .collect();
+    work.remove_inside(region);
+    if distributions.is_empty() {
+        return Ok(());
+    }
+    let opts = SynthesisOptions {
+        categories: Some(distributions),
+        ..synthesis.clone()
+    };
+    work.fill(color, region, &opts, report)?;
+    Ok(())
 }
