@@ -21,9 +21,9 @@ into a few copies, assembled into every combination; each painted tree shows the
 
 The scene is then dressed for Cycles (``showcase.py``: a sky and a sun, materials made by code, land around the
 terrain to the horizon) and rendered on the CPU, few samples denoised: OUT/demo.png (the whole scene), one picture
-per system (OUT/demo_forest.png, demo_village.png, demo_waterfall.png, demo_vineyard.png, demo_variants.png) and a
-sketch's before and after (OUT/sketch_before.png, sketch_after.png). OUT/demo.blend holds the scene with a camera per
-picture. Usage: python assets/demo.py [--out out] [--samples 16] [--percent 100]
+per system (OUT/demo_forest.png, demo_village.png, demo_waterfall.png, demo_vineyard.png, demo_variants.png).
+OUT/demo.blend holds the scene with a camera per picture.
+Usage: python assets/demo.py [--out out] [--samples 16] [--percent 100]
 """
 
 import argparse
