@@ -19,12 +19,14 @@
 The forest's trees are 36 variants of one low-poly tree (Maréchal et al.): cut into three parts, each part edited
 into a few copies, assembled into every combination; each painted tree shows the variant least used around it.
 
-Writes OUT/demo.blend and renders OUT/demo.png (and a close-up of the vineyard, OUT/demo_vineyard.png) with
-Workbench, with the tree variants side by side in OUT/demo_variants.png. Usage: python assets/demo.py [--out out]
+The scene is then dressed for Cycles (``showcase.py``: a sky and a sun, materials made by code, land around the
+terrain to the horizon) and rendered on the CPU, few samples denoised: OUT/demo.png (the whole scene), one picture
+per system (OUT/demo_forest.png, demo_village.png, demo_waterfall.png, demo_vineyard.png, demo_variants.png).
+OUT/demo.blend holds the scene with a camera per picture.
+Usage: python assets/demo.py [--out out] [--samples 16] [--percent 100]
 """
 
 import argparse
-import math
 import pathlib
 import sys
 import time
@@ -35,17 +37,18 @@ sys.path.insert(0, str(ROOT / "assets"))
 
 import bpy  # noqa: E402
 import numpy as np  # noqa: E402
+import showcase  # noqa: E402
 import worldpaint  # noqa: E402
 import worldpaint_engine as engine  # noqa: E402
 from mathutils import Vector  # noqa: E402
 from scene_kit import (  # noqa: E402
     collection_instances,
     engine_terrain_object,
+    mesh_object,
     poly_curve,
     segmented_tree,
     select_only,
     slope_exemplar,
-    top_camera,
     tree_variants,
     village_exemplar,
     vineyard_reference,
@@ -107,12 +110,21 @@ def build_and_learn():
     select_only([roads, *houses])
     run(bpy.ops.worldpaint.learn_color, name="Village", terrain=village_ground.name, region_mode='RECT',
         rect_min=VILLAGE_ORIGIN, rect_max=(x0 + VILLAGE_SIZE, y0 + VILLAGE_SIZE))
+    out_of_pictures([exemplar_terrain, *examples, ground, *grove, village_ground, roads, *houses])
     return hills
+
+
+def out_of_pictures(objects):
+    """The exemplars stay in the file beside the hills but out of the renders, where the land around the hills
+    would run through them."""
+    for obj in objects:
+        obj.hide_render = True
 
 
 def vary_trees():
     """36 variants of a low-poly tree, made off the painted area, that the forest's trees then show."""
     tree = segmented_tree("Tree model")
+    showcase.bark_and_leaves(tree)
     tree.location = (-600.0, -300.0, 0.0)
     bpy.context.view_layer.objects.active = tree
     run(bpy.ops.worldpaint.decompose_model, object=tree.name, source='ATTRIBUTE', attribute="part", root=0)
@@ -137,9 +149,7 @@ def paint(hills):
     run(bpy.ops.worldpaint.paste_color, color="Village", terrain=hills.name, seed=3, region_mode='RECT',
         rect_min=(x0, y0), rect_max=(x1, y1))
     road = structure_objects(bpy.context.scene)["road"]
-    material = bpy.data.materials.new("Road")
-    material.diffuse_color = (0.35, 0.33, 0.30, 1.0)
-    road.data.materials.append(material)
+    road.data.materials.append(bpy.data.materials.new("Road"))  # shaded by showcase
 
 
 def grow_hamlet(hills):
@@ -202,6 +212,7 @@ def build_waterfall(hills):
     bpy.context.scene.worldpaint.terrain_edit.max_width = 6.0
     run(bpy.ops.worldpaint.build_waterfall, terrain=hills.name, seed=1)
     print(f"waterfall: a {drop[lip]:.1f} m fall into a pool of {radius:.1f} m, {len(path)} path points")
+    return path[lip], ahead
 
 
 def plant_vineyard(hills):
@@ -209,6 +220,7 @@ def plant_vineyard(hills):
     along the hillside: the flow curves follow the contour line through the clearing's centre."""
     ground = engine_terrain_object("Vine ground", engine.Terrain.from_grid((-420.0, -320.0), 2.0, np.zeros((21, 21))))
     vines = vineyard_reference((-410.0, -310.0))
+    out_of_pictures([ground, *vines])
     bpy.context.view_layer.update()
     select_only(vines)
     run(bpy.ops.worldpaint.learn_arrangement, name="Vineyard", terrain=ground.name, region_mode='RECT',
@@ -235,64 +247,97 @@ def plant_vineyard(hills):
         circle_center=VINEYARD_CENTER, circle_radius=VINEYARD_RADIUS, flow=flow.name)
 
 
-def render(path):
-    """A 3/4 view over the part of the hills where the forest, the grove and the two villages meet."""
-    scene = bpy.context.scene
-    cam = top_camera((0.0, 0.0), 1.0, 1.0)
-    cam.data.type = 'PERSP'
-    cam.data.lens = 40.0
-    cam.data.clip_end = 5000.0
-    cam.location = (350.0, 20.0, 320.0)
-    cam.rotation_euler = (math.radians(53.0), 0.0, math.radians(15.0))
-    scene.render.engine = 'BLENDER_WORKBENCH'
-    scene.display.shading.light = 'STUDIO'
-    scene.display.shading.color_type = 'MATERIAL'
-    scene.display.shading.show_cavity = True
-    scene.display.shading.show_shadows = True
-    scene.render.resolution_x, scene.render.resolution_y = 1200, 700
-    scene.render.resolution_percentage = 100
-    scene.render.filepath = str(path)
-    bpy.ops.render.render(write_still=True)
+def dress(hills):
+    """The look of the pictures: smooth terrain, land to the horizon and materials (the sky and the sun are set per
+    picture)."""
+    showcase.smooth(hills)
+    grid = engine.exemplar_demo_terrain(HILLS_SIZE, 2.0, 11).grid()
+    showcase.backdrop("Land around", grid["origin"], grid["cell"], grid["heights"])
+    untouched = showcase.dress_materials()
+    if untouched:
+        print(f"materials left as they were: {', '.join(untouched)}")
 
 
-def render_variants(variants, path, shown=12):
-    """The first tree variants side by side, seen from the side."""
+def ground_at(x, y):
+    return float(engine.exemplar_demo_terrain(HILLS_SIZE, 2.0, 11).heights_at(np.array([[x, y]]))[0])
+
+
+def cameras(fall):
+    """A camera per picture: (file name, camera, resolution). ``fall`` is the waterfall's lip and the direction it
+    falls towards."""
+    lip, ahead = fall
+    x, y = VINEYARD_CENTER
+    vineyard = Vector((x, y, ground_at(x, y)))
+    pool = Vector((lip[0], lip[1], lip[2] - 8.0))
+    front = pool + Vector((*(40.0 * ahead - 25.0 * np.array([ahead[1], -ahead[0]])), 8.0))  # downstream, aside
+    views = [  # the sun's azimuth (degrees from north) is turned for a picture whose slope would be in shadow
+        # the whole scene from the south-east: the hamlet, the pasted village behind it, the forest on the slopes
+        ("demo", (560.0, 170.0, 110.0), (300.0, 430.0, 30.0), 26.0, (1152, 648), showcase.SUN_AZIMUTH),
+        # the forest on the slopes from the south-west, the grove's clumps beyond
+        ("demo_forest", (60.0, -20.0, 70.0), (180.0, 200.0, 0.0), 30.0, (800, 450), showcase.SUN_AZIMUTH),
+        # the hamlet's church, houses and farms on their parcels, the pasted village above them
+        ("demo_village", (470.0, 250.0, 85.0), (370.0, 365.0, 15.0), 32.0, (800, 450), showcase.SUN_AZIMUTH),
+        # the fall, its pool and the cliff it has cut, the hamlet's church above, from down the valley
+        ("demo_waterfall", tuple(front), tuple(pool + Vector((0.0, 0.0, 3.0))), 26.0, (800, 450),
+         showcase.SUN_AZIMUTH),
+        # the vineyard's rows on the north-facing hillside, from the valley below
+        ("demo_vineyard", tuple(vineyard + Vector((25.0, 115.0, 50.0))), tuple(vineyard), 35.0, (800, 450), 330.0),
+    ]
+    return [(name, showcase.camera(f"Camera {name}", location, target, lens), resolution, azimuth)
+            for name, location, target, lens, resolution, azimuth in views]
+
+
+def variants_stage(variants, shown=12):
+    """The first tree variants in a row on a meadow far from the hills, and the camera looking at them from the
+    side; the land around the hills is hidden for that picture (returns what to undo afterwards)."""
     scene = bpy.context.scene
-    showcase = bpy.data.collections.new("Variant showcase")
-    scene.collection.children.link(showcase)
+    stage = bpy.data.collections.new("Variant showcase")
+    scene.collection.children.link(stage)
+    x0, y0 = -900.0, -900.0
     for k, source in enumerate(list(variants.objects)[:shown]):
         obj = bpy.data.objects.new(f"showcase {k}", source.data)
-        obj.location = (-900.0 + 4.0 * k, -900.0, 0.0)
-        showcase.objects.link(obj)
-    cam = scene.camera
-    cam.data.type = 'ORTHO'
-    cam.data.ortho_scale = 4.0 * shown + 2.0
-    cam.location = (-900.0 + 2.0 * (shown - 1), -960.0, 3.5)
-    cam.rotation_euler = (math.radians(90.0), 0.0, 0.0)
-    scene.render.resolution_x, scene.render.resolution_y = 1200, 300
-    scene.render.filepath = str(path)
-    bpy.ops.render.render(write_still=True)
-    cam.data.type = 'PERSP'
-    bpy.data.collections.remove(showcase)
+        obj.location = (x0 + 4.0 * k, y0, 0.0)
+        obj.rotation_euler.z = 0.7 * k
+        stage.objects.link(obj)
+    # a meadow to the horizon: one quad, the air hides its edge 20 km away
+    meadow = mesh_object("Meadow", [(x0 - 2e4, y0 - 2e4, 0.0), (x0 + 2e4, y0 - 2e4, 0.0),
+                                             (x0 + 2e4, y0 + 2e4, 0.0), (x0 - 2e4, y0 + 2e4, 0.0)], [(0, 1, 2, 3)])
+    meadow.data.materials.append(bpy.data.objects["Hills"].data.materials[0])
+    scene.collection.objects.unlink(meadow)
+    stage.objects.link(meadow)
+    middle = x0 + 2.0 * (shown - 1)
+    cam = showcase.camera("Camera demo_variants", (middle, y0 - 58.0, 2.5), (middle, y0, 3.5), 40.0)
+    return stage, cam
 
 
-def render_vineyard(path):
-    """A close-up of the vineyard's rows on the hillside."""
+def render_all(out, fall, variants, percent=100):
+    """Renders every picture; returns (name, seconds, resolution) of each."""
     scene = bpy.context.scene
-    cam = scene.camera
-    x, y = VINEYARD_CENTER
-    ground = float(engine.exemplar_demo_terrain(HILLS_SIZE, 2.0, 11).heights_at(np.array([VINEYARD_CENTER]))[0])
-    target = Vector((x, y, ground))
-    cam.location = target + Vector((25.0, 115.0, 50.0))  # from the valley below, facing the slope
-    cam.rotation_euler = (target - cam.location).to_track_quat('-Z', 'Y').to_euler()
-    scene.render.resolution_x, scene.render.resolution_y = 900, 500
-    scene.render.filepath = str(path)
-    bpy.ops.render.render(write_still=True)
+    report = []
+    for name, cam, (w, h), azimuth in cameras(fall):
+        showcase.sky(scene, azimuth=azimuth)
+        showcase.sun(scene, azimuth=azimuth)
+        seconds = showcase.render(scene, cam, out / f"{name}.png", (w * percent // 100, h * percent // 100))
+        report.append((name, seconds, (w, h)))
+    land = bpy.data.objects["Land around"]
+    land.hide_render = True
+    showcase.sky(scene)
+    showcase.sun(scene)
+    stage, cam = variants_stage(variants)
+    seconds = showcase.render(scene, cam, out / "demo_variants.png", (960 * percent // 100, 320 * percent // 100))
+    report.append(("demo_variants", seconds, (960, 320)))
+    for obj in list(stage.objects):
+        bpy.data.objects.remove(obj)
+    bpy.data.collections.remove(stage)
+    land.hide_render = False
+    return report
 
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", default="out", help="output folder")
+    parser.add_argument("--samples", type=int, default=16, help="Cycles samples per pixel (denoised)")
+    parser.add_argument("--percent", type=int, default=100, help="resolution of the pictures, in percent")
     args = parser.parse_args(sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else sys.argv[1:])
     out = pathlib.Path(args.out).resolve()
     out.mkdir(parents=True, exist_ok=True)
@@ -304,17 +349,23 @@ def main():
     variants = vary_trees()
     paint(hills)
     grow_hamlet(hills)
-    build_waterfall(hills)
+    fall = build_waterfall(hills)
     plant_vineyard(hills)
     painted = time.perf_counter() - start
     for obj in (o for o in bpy.data.collections["WorldPaint"].all_objects if not o.get("wp_village")):
         count = len(obj.data.splines) if obj.type == 'CURVE' else len(obj.data.vertices)
         print(f"{obj.name}: {count} {'curves' if obj.type == 'CURVE' else 'instances'}")
+    dress(hills)
+    denoised = showcase.cycles(bpy.context.scene, args.samples)
+    report = render_all(out, fall, variants, args.percent)
+    bpy.context.scene.camera = bpy.data.objects["Camera demo"]
     bpy.ops.wm.save_as_mainfile(filepath=str(out / "demo.blend"))
-    render(out / "demo.png")
-    render_vineyard(out / "demo_vineyard.png")
-    render_variants(variants, out / "demo_variants.png")
-    print(f"learned, painted and grew the hamlet in {painted:.1f} s; wrote {out / 'demo.blend'} and {out / 'demo.png'}")
+    samples = bpy.context.scene.cycles.samples
+    print(f"learned, painted and grew the hamlet in {painted:.1f} s; rendered with Cycles on the CPU, {samples} samples"
+          f"{', denoised by OpenImageDenoise' if denoised else ' (no denoiser in this Blender)'}:")
+    for name, seconds, (w, h) in report:
+        print(f"  {name}.png  {w * args.percent // 100} x {h * args.percent // 100}  {seconds:5.1f} s")
+    print(f"wrote {out / 'demo.blend'} and the pictures in {out} in {time.perf_counter() - start:.0f} s")
 
 
 if __name__ == "__main__":
