@@ -268,6 +268,53 @@ def test_the_eraser_cuts_roads_under_the_brush_and_leaves_no_stub_shorter_than_t
     assert np.array_equal(point_cloud_arrays(point_cloud_objects(scene)["House"])[0], houses), "houses stay"
 
 
+def road_network(scene):
+    """The synthesized roads' polylines (N_k, 2) and their dangling ends: endpoints no other road passes within
+    1 m of (dead ends)."""
+    road_obj = structure_objects(scene)["road"]
+    paths = [spline_points(road_obj, s)[:, :2] for s in road_obj.data.splines]
+    dangling = []
+    for k, path in enumerate(paths):
+        others = [p for j, p in enumerate(paths) if j != k]
+        if not others:
+            continue
+        starts, ends = segments_of(others)
+        ends_of_path = np.array([path[0], path[-1]])
+        dangling += list(ends_of_path[distance_to_segments(ends_of_path, starts, ends) > 1.0])
+    return paths, np.array(dangling).reshape(-1, 2)
+
+
+def road_per_house(scene, x0, x1):
+    paths, _ = road_network(scene)
+    length = 0.0
+    for p in paths:
+        mid = 0.5 * (p[1:] + p[:-1])
+        inside = (mid[:, 0] > x0) & (mid[:, 0] < x1) & (mid[:, 1] > 0.0) & (mid[:, 1] < 300.0)
+        length += np.linalg.norm(np.diff(p, axis=0), axis=1)[inside].sum()
+    houses = point_cloud_arrays(point_cloud_objects(scene)["House"])[0]
+    inside = (houses[:, 0] > x0) & (houses[:, 0] < x1) & (houses[:, 1] > 0.0) & (houses[:, 1] < 300.0)
+    return length / max(int(inside.sum()), 1)
+
+
+def test_stretching_a_village_stretches_its_roads_without_tearing_them():
+    learn_and_paste()
+    scene = bpy.context.scene
+    _, dangling_before = road_network(scene)
+    per_house_before = road_per_house(scene, 450.0, 750.0)
+    assert bpy.ops.worldpaint.stretch_region(region_mode='RECT', rect_min=(450.0, 0.0), rect_max=(750.0, 300.0),
+                                             side='EAST', amount=60.0, color="Village", seed=4) == {'FINISHED'}
+    paths, dangling_after = road_network(scene)
+    per_house_after = road_per_house(scene, 450.0, 810.0)
+    assert max(p[:, 0].max() for p in paths) > 780.0, "the roads beyond the cut moved with the dragged side"
+    print(f"\ndangling road ends {len(dangling_before)} -> {len(dangling_after)}; road per house "
+          f"{per_house_before:.1f} m -> {per_house_after:.1f} m")
+    # each dead end after the stretch was one before (where it stood, or moved with its side)
+    moved = np.vstack([dangling_before, dangling_before + [60.0, 0.0]]) if len(dangling_before) else np.zeros((0, 2))
+    for end in dangling_after:
+        assert len(moved) and np.linalg.norm(moved - end, axis=1).min() < 1.0, f"a new dead end at {end}"
+    assert abs(per_house_after - per_house_before) <= 0.15 * per_house_before
+
+
 def test_a_brush_stroke_paints_roads_on_the_terrain_within_its_reach():
     learn_and_paste()
     scene = bpy.context.scene

@@ -203,3 +203,98 @@ fn stretching_asks_for_a_rectangle_and_a_length() {
     assert!(stretched(&scene, &region(), Side::East, 0.0).is_err());
     assert!(stretched(&scene, &region(), Side::East, -90.0).is_err());
 }
+
+/// The signed area of a closed polygon.
+fn area(points: &[DVec2]) -> f64 {
+    let n = points.len();
+    0.5 * (0..n)
+        .map(|k| points[k].perp_dot(points[(k + 1) % n]))
+        .sum::<f64>()
+}
+
+#[test]
+fn a_road_across_the_cut_is_stretched_whole_and_an_island_stays_closed() {
+    use worldpaint_core::scene::{Contour, Path};
+    use worldpaint_core::CategoryKind;
+    let mut scene = scene();
+    scene
+        .categories
+        .push(Category::new("road", "roads", CategoryKind::Graph, 1));
+    scene
+        .categories
+        .push(Category::new("island", "land", CategoryKind::Polygon, 2));
+    // a road along the region from outside its west side to outside its east side, and an island across it
+    let road: Vec<DVec2> = (0..=17)
+        .map(|k| DVec2::new(-20.0 + 10.0 * k as f64, 30.0 + 0.1 * k as f64))
+        .collect();
+    let island: Vec<DVec2> = (0..24)
+        .map(|k| {
+            let a = std::f64::consts::TAU * k as f64 / 24.0;
+            DVec2::new(50.0 + 45.0 * a.cos(), 30.0 + 20.0 * a.sin())
+        })
+        .collect();
+    scene.paths.push(Path {
+        category: 1,
+        points: road.clone(),
+        locked: false,
+    });
+    scene.contours.push(Contour {
+        category: 2,
+        points: island.clone(),
+        locked: false,
+    });
+    let color = color_of_region(&scene, &region(), "trees")
+        .unwrap()
+        .unwrap();
+    let amount = 30.0;
+    let Stretched { edit, .. } = stretch(
+        &scene,
+        &region(),
+        Side::East,
+        amount,
+        Some(&color),
+        &StretchOptions::default(),
+        &|_| true,
+    )
+    .unwrap();
+    assert_eq!(
+        (edit.removed_paths.clone(), edit.removed_contours.clone()),
+        (vec![0], vec![0])
+    );
+    assert_eq!(
+        (edit.added_paths.len(), edit.added_contours.len()),
+        (1, 1),
+        "one road, one island"
+    );
+    let length = |p: &[DVec2]| p.windows(2).map(|w| w[0].distance(w[1])).sum::<f64>();
+    let stretched = &edit.added_paths[0].points;
+    println!(
+        "road {:.2} m -> {:.2} m; island {:.1} m² -> {:.1} m²",
+        length(&road),
+        length(stretched),
+        area(&island),
+        area(&edit.added_contours[0].points)
+    );
+    // the part in the ground the east side lands on (100..130 m) goes: the road runs on from 130 m, as long as it was
+    assert!((stretched[0] - road[0]).length() < 1e-9);
+    assert!((stretched[stretched.len() - 1] - road[road.len() - 1]).length() < 1e-9);
+    assert!(
+        (length(stretched) - length(&road)).abs() < 0.005 * length(&road),
+        "the road is as long, its band piece replacing the landing's"
+    );
+    // the island, cut across, is rejoined by two pieces across the band and gains the band between them
+    let new_island = &edit.added_contours[0].points;
+    let n = new_island.len();
+    let bridges: Vec<f64> = (0..n)
+        .map(|k| (new_island[k], new_island[(k + 1) % n]))
+        .filter(|(a, b)| (b.y - a.y).abs() < 1e-9 && ((b.x - a.x).abs() - amount).abs() < 1e-6)
+        .map(|(a, _)| a.y)
+        .collect();
+    assert_eq!(bridges.len(), 2, "{bridges:?}");
+    let gained = area(new_island) - area(&island);
+    let band = amount * (bridges[0] - bridges[1]).abs();
+    assert!(
+        (gained - band).abs() < 0.02 * band,
+        "{gained} against {band}"
+    );
+}

@@ -278,21 +278,23 @@ impl Working {
         self.contours.push(&mut self.scene.contours, pieces);
     }
 
-    /// Replaces each unlocked path and contour by the pieces `reshape` makes of its points (`true` for a contour);
-    /// `None` keeps it as it is. Pieces too short to be a path (2 points) or a contour (3) are dropped.
+    /// Replaces each unlocked path and contour by what `reshape` makes of its points (`true` for a contour); `None`
+    /// keeps it as it is. A result too short to be a path (2 points) or a contour (3) removes it.
     pub(crate) fn reshape_structures(
         &mut self,
-        reshape: &dyn Fn(&[DVec2], bool) -> Option<Vec<Vec<DVec2>>>,
+        reshape: impl Fn(&[DVec2], bool) -> Option<Vec<DVec2>>,
     ) {
         let mut pieces: Vec<Path> = Vec::new();
         self.paths.retain(&mut self.scene.paths, |p| {
             let Some(new) = (!p.locked).then(|| reshape(&p.points, false)).flatten() else {
                 return true;
             };
-            pieces.extend(new.into_iter().filter(|n| n.len() >= 2).map(|points| Path {
-                points,
-                ..p.clone()
-            }));
+            if new.len() >= 2 {
+                pieces.push(Path {
+                    points: new,
+                    ..p.clone()
+                });
+            }
             false
         });
         self.paths.push(&mut self.scene.paths, pieces);
@@ -301,14 +303,12 @@ impl Working {
             let Some(new) = (!c.locked).then(|| reshape(&c.points, true)).flatten() else {
                 return true;
             };
-            pieces.extend(
-                new.into_iter()
-                    .filter(|n| n.len() >= 3)
-                    .map(|points| Contour {
-                        points,
-                        ..c.clone()
-                    }),
-            );
+            if new.len() >= 3 {
+                pieces.push(Contour {
+                    points: new,
+                    ..c.clone()
+                });
+            }
             false
         });
         self.contours.push(&mut self.scene.contours, pieces);

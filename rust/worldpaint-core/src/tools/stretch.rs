@@ -282,7 +282,7 @@ pub fn stretch(
     if shrink > 0.0 {
         work.remove_inside(&band);
     }
-    work.reshape_structures(&|points, closed| drag.reshape(points, closed));
+    work.reshape_structures(|points, closed| drag.reshape(points, closed));
     let moved = move_instances(
         &work.scene,
         &work.scene,
@@ -483,10 +483,9 @@ impl Drag<'_> {
         }
     }
 
-    /// The line `points` (closed: a contour) stretched with the ground, as one piece; `None` when the drag leaves
-    /// it as it is. Where it crosses from one zone to another, the crossing (found by bisection between samples a
+    /// The line `points` (closed: a contour) stretched with the ground; `None` when the drag leaves it as it is. Where it crosses from one zone to another, the crossing (found by bisection between samples a
     /// fraction of the energy cell apart) is added in both zones' places, so a line across the cut is rejoined.
-    fn reshape(&self, points: &[DVec2], closed: bool) -> Option<Vec<Vec<DVec2>>> {
+    fn reshape(&self, points: &[DVec2], closed: bool) -> Option<Vec<DVec2>> {
         let n = points.len();
         if n < 2 {
             return None;
@@ -530,7 +529,7 @@ impl Drag<'_> {
         if closed && out.len() > 1 && out.first() == out.last() {
             out.pop();
         }
-        changed.then(|| vec![out])
+        changed.then_some(out)
     }
 
     /// The parameters just before and just after the point between `t0` (in `zone`) and `t1` where the segment
