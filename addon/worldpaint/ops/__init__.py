@@ -3,7 +3,7 @@
 import bpy
 
 from ..bridge import snap
-from . import arrangement, display, sketch_draw, variety, variety_texture, variety_tools, world
+from . import arrangement, display, drag, sketch_draw, variety, variety_texture, variety_tools, world
 from .blur import WORLDPAINT_OT_blur
 from .brush import WORLDPAINT_OT_brush, WORLDPAINT_OT_brush_radius, WORLDPAINT_OT_erase
 from .clear import WORLDPAINT_OT_clear_region
@@ -73,6 +73,7 @@ _classes = (
     *variety_tools.classes,
     *variety_texture.classes,
     *world.classes,
+    *drag.classes,
 )
 
 _register_classes, _unregister_classes = bpy.utils.register_classes_factory(_classes)

@@ -54,11 +54,11 @@ class WORLDPAINT_OT_gradient(RegionSynthesisOperator, bpy.types.Operator):
             if not (self.north_west_color and self.north_east_color):
                 raise WorldPaintError("A bilinear gradient needs its North-West and North-East colors")
             colors += [active_color(context, self.north_west_color), active_color(context, self.north_east_color)]
-        self._colors = colors
+        self._entries = colors
         return [engine.color_summary(color.json) for color in colors]
 
     def _arguments(self, context, region):
-        colors = [c.json for c in self._colors]
+        colors = [c.json for c in self._entries]
         if self.shape == 'BILINEAR':
             shape = {"kind": "bilinear", "north_west": colors[2], "north_east": colors[3]}
         else:
@@ -66,5 +66,5 @@ class WORLDPAINT_OT_gradient(RegionSynthesisOperator, bpy.types.Operator):
         return dict(start=colors[0], end=colors[1], shape=shape, bands=self.bands or None)
 
     def _report(self, applied, edit):
-        names = " / ".join(f"'{c.name}'" for c in self._colors)
+        names = " / ".join(f"'{c.name}'" for c in self._entries)
         self.report({'INFO'}, f"Painted a gradient of {names}: {applied.added} instances")

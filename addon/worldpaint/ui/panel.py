@@ -101,6 +101,8 @@ class WORLDPAINT_PT_palette(MainSubpanel, bpy.types.Panel):
         row = box.row(align=True)
         row.operator("worldpaint.interpolate_colors", text="Interpolate", icon='IPO_EASE_IN_OUT')
         row.operator("worldpaint.gradient", text="Gradient", icon='IPO_LINEAR')
+        row.operator_context = 'INVOKE_REGION_WIN'
+        row.operator("worldpaint.drag_gradient", text="Drag", icon='TRACKING')
 
 
 class WORLDPAINT_PT_interactions(SidebarPanel, bpy.types.Panel):
@@ -232,7 +234,10 @@ class WORLDPAINT_PT_edit(MainSubpanel, bpy.types.Panel):
         col = layout.column(align=True)
         row = col.row(align=True)
         row.prop(settings, "stretch_side", expand=True)
-        col.operator("worldpaint.stretch_region", icon='ARROW_LEFTRIGHT').side = settings.stretch_side
+        row = col.row(align=True)
+        row.operator("worldpaint.stretch_region", icon='ARROW_LEFTRIGHT').side = settings.stretch_side
+        row.operator_context = 'INVOKE_REGION_WIN'
+        row.operator("worldpaint.drag_stretch", text="Drag a Side", icon='TRACKING')
         col = layout.column(align=True)
         col.operator("worldpaint.blur", icon='MOD_SMOOTH')
         col.operator("worldpaint.convert_to_objects", icon='OUTLINER_OB_GROUP_INSTANCE')
