@@ -142,8 +142,9 @@ def draw_scene_maps(layout, settings):
         col.operator("worldpaint.toggle_learn_map", text=label, icon=icon, emboss=False).name = name
 
 
-# what a cell of the learn matrix shows
-RELATION_LABELS = {"AUTO": "auto", "NONE": "none", "ORIENTED": "orient"}
+# what a cell of the learn matrix shows when set; Auto shows the kind the priority order gives
+RELATION_LABELS = {"NONE": "none", "ORIENTED": "oriented rdf"}
+AUTO_LABELS = {"distribution": "rdf", "arrangement": "rdf", "graph": "distance", "polygon": "signed distance"}
 
 
 class WORLDPAINT_PT_learn_matrix(SidebarPanel, bpy.types.Panel):
@@ -162,13 +163,15 @@ class WORLDPAINT_PT_learn_matrix(SidebarPanel, bpy.types.Panel):
             return
         maps = ["slope"] + (["elevation"] if settings.learn_elevation else [])
         maps += scene_maps.names_in(settings.learn_maps)
+        kinds = {c.name: c.kind for c in rows}
         for k, category in enumerate(rows):
             box = self.layout.box()
             box.label(text=category.name, icon='OUTLINER_COLLECTION')
-            flow = box.grid_flow(columns=3, even_columns=True, align=True)
+            flow = box.grid_flow(columns=2, even_columns=True, align=True)
             for other in [c.name for c in rows[:k + 1]] + (maps if category.kind == "distribution" else []):
                 how = settings.learn_relation(category.name, other)
-                button = flow.operator("worldpaint.set_learn_relation", text=f"{other}: {RELATION_LABELS[how]}",
+                label = RELATION_LABELS.get(how) or AUTO_LABELS.get(kinds.get(other), "map")
+                button = flow.operator("worldpaint.set_learn_relation", text=f"{other}: {label}",
                                        depress=how != "AUTO")
                 button.category, button.other, button.how = category.name, other, "NEXT"
 
