@@ -129,3 +129,23 @@ def test_attributes_and_images_are_read_at_the_terrain_where_they_were_painted()
     assert np.allclose(heightfield.map_at("attribute:wet", points), [1.0, 0.0, 1.0, 0.0], atol=1e-6)
     assert np.allclose(heightfield.map_at("attribute:tint", points), 0.5, atol=1e-3)
     assert np.allclose(heightfield.map_at("image:Mask", points), [0.0, 0.0, 1.0, 1.0], atol=1e-6)
+
+
+def test_the_distance_to_painted_instances_is_measured_from_where_they_stand():
+    terrain_obj = ground()
+    xy = engine.exemplar_hard_core({"shape": "rect", "min": [0.0, 0.0], "max": [50.0, 100.0]}, 0.02, 3.0, 4)
+    select_only(collection_instances("Rock", xy, np.zeros(len(xy))))
+    assert bpy.ops.worldpaint.learn_color(name="Rocks", **EXEMPLAR) == {'FINISHED'}
+    select_only([])
+    assert bpy.ops.worldpaint.paste_color(seed=3, **DESTINATION) == {'FINISHED'}
+    rocks_cloud = point_cloud_objects(bpy.context.scene)["Rock"]
+    rocks = pasted("Rock")[:, :2]
+    collection = bpy.data.collections.new("Pasted rocks")
+    bpy.context.scene.collection.children.link(collection)
+    collection.objects.link(rocks_cloud)
+    from worldpaint.bridge import terrain
+    heightfield = terrain.engine_terrain(bpy.context, terrain_obj, ["distance:Pasted rocks"])
+    probes = np.array([[150.0, 20.0], [190.0, 50.0], [230.0, 80.0], [60.0, 50.0]])
+    exact = np.linalg.norm(probes[:, None, :] - rocks[None, :, :], axis=2).min(axis=1)
+    measured = heightfield.map_at("distance:Pasted rocks", probes)
+    assert np.abs(measured - exact).max() <= 1.5, (measured, exact)  # within a 2 m grid's rounding

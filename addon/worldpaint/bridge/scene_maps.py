@@ -189,16 +189,23 @@ def _object_geometry(obj, depsgraph):
     evaluated = obj.evaluated_get(depsgraph)
     mesh = evaluated.to_mesh()
     try:
-        if mesh is None or len(mesh.vertices) == 0:
-            return (origin, *nothing)
-        xy = geometry.vertices_world(obj, mesh)[:, :2]
-        edges = np.empty(len(mesh.edges) * 2, dtype=np.int64)
-        mesh.edges.foreach_get("vertices", edges)
-        mesh.calc_loop_triangles()
-        triangles = np.empty(len(mesh.loop_triangles) * 3, dtype=np.int64)
-        mesh.loop_triangles.foreach_get("vertices", triangles)
+        if mesh is not None and len(mesh.vertices) > 0:
+            return _mesh_geometry(obj, mesh)
+        if obj.type == 'MESH' and len(obj.data.vertices) > 0:
+            # a mesh shown as instances (the synthesized point clouds): its points are where they stand
+            return _mesh_geometry(obj, obj.data)
+        return (origin, *nothing)
     finally:
         evaluated.to_mesh_clear()
+
+
+def _mesh_geometry(obj, mesh):
+    xy = geometry.vertices_world(obj, mesh)[:, :2]
+    edges = np.empty(len(mesh.edges) * 2, dtype=np.int64)
+    mesh.edges.foreach_get("vertices", edges)
+    mesh.calc_loop_triangles()
+    triangles = np.empty(len(mesh.loop_triangles) * 3, dtype=np.int64)
+    mesh.loop_triangles.foreach_get("vertices", triangles)
     return xy, edges.reshape(-1, 2), triangles.reshape(-1, 3)
 
 
