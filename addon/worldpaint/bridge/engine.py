@@ -418,6 +418,12 @@ def terrain(vertices, triangles):
     return _engine().Terrain(vertices, triangles)
 
 
+def terrain_from_grid(origin, cell, heights):
+    """The engine's Terrain of a regular grid of heights (ny, nx), sample (i, j) at ``origin`` + (i, j) * ``cell``."""
+    return _engine().Terrain.from_grid((float(origin[0]), float(origin[1])), float(cell),
+                                       np.ascontiguousarray(heights, dtype=np.float64))
+
+
 def scene(heightfield, instances, structures):
     """The engine's Scene of the instances (keyword arrays) and the paths and contours (keyword lists) on a terrain."""
     return _engine().Scene(heightfield, **instances, **structures)

@@ -6,6 +6,7 @@ from ..bridge import snap
 from . import arrangement, display, drag, sketch_draw, variety, variety_texture, variety_tools, world
 from .blur import WORLDPAINT_OT_blur
 from .brush import WORLDPAINT_OT_brush, WORLDPAINT_OT_brush_radius, WORLDPAINT_OT_erase
+from .builtin import WORLDPAINT_OT_add_builtin_color
 from .clear import WORLDPAINT_OT_clear_region
 from .colors import (
     WORLDPAINT_OT_duplicate_color,
@@ -43,6 +44,7 @@ _classes = (
     WORLDPAINT_OT_convert_to_objects,
     WORLDPAINT_OT_export_palette,
     WORLDPAINT_OT_import_palette,
+    WORLDPAINT_OT_add_builtin_color,
     WORLDPAINT_OT_find_categories,
     WORLDPAINT_OT_remove_color,
     WORLDPAINT_OT_duplicate_color,

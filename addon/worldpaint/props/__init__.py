@@ -141,6 +141,8 @@ class WORLDPAINT_PG_color(bpy.types.PropertyGroup):
     )
     fidelity_legend: StringProperty(name="Fidelity Legend",
                                     description="Which hue of the plot is which category, with its own pcf L2")
+    builtin: BoolProperty(name="Built-in", default=False,
+                          description="A color of the built-in palette, learned from an exemplar made by code")
 
     def fidelity_line(self):
         """The one-line figure of the color's fidelity view, or why it has none."""

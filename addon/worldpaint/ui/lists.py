@@ -18,12 +18,17 @@ class WORLDPAINT_UL_categories(bpy.types.UIList):
 
 
 class WORLDPAINT_UL_palette(bpy.types.UIList):
+    """The palette: each color with its preview; a color of the built-in palette is marked by a package icon."""
+
     def draw_item(self, _context, layout, _data, item, _icon, _active_data, _active_propname, _index):
+        row = layout.row(align=True)
         image = bpy.data.images.get(item.preview_image)
         if image is not None and not bpy.app.background:
-            layout.prop(item, "name", text="", emboss=False, icon_value=layout.icon(image))
+            row.prop(item, "name", text="", emboss=False, icon_value=layout.icon(image))
         else:
-            layout.prop(item, "name", text="", emboss=False, icon='COLOR')
+            row.prop(item, "name", text="", emboss=False, icon='COLOR')
+        if item.builtin:
+            row.label(text="", icon='PACKAGE')
 
 
 class WORLDPAINT_UL_interactions(bpy.types.UIList):

@@ -96,6 +96,7 @@ class WORLDPAINT_PT_palette(MainSubpanel, bpy.types.Panel):
         row = layout.row(align=True)
         row.operator("worldpaint.import_palette", text="Import", icon='IMPORT')
         row.operator("worldpaint.export_palette", text="Export", icon='EXPORT')
+        layout.operator_menu_enum("worldpaint.add_builtin_color", "color", text="Add Built-in Color", icon='PACKAGE')
         box = layout.box()
         box.prop_search(settings, "gradient_end", settings, "palette", text="Blend With")
         row = box.row(align=True)
