@@ -190,7 +190,9 @@ class WORLDPAINT_OT_erase(StrokeOperator, bpy.types.Operator):
             raise WorldPaintError(f"No category '{category}' to erase")
         only = [category] if category else None
         if content.layer is not None:
-            only = content.layer_categories(only or sorted(known))
+            # roads and coasts are cut only when picked by name, as without a layer
+            instances_only = sorted(c["name"] for c in content.categories if c["kind"] not in ("graph", "polygon"))
+            only = content.layer_categories(only or instances_only)
         return engine.erase_stroke(
             content.engine_scene(),
             only_categories=only,
