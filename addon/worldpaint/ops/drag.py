@@ -12,6 +12,9 @@ from .common import RegionProperties, TerrainProperty, reports_errors
 
 # a drag shorter than this (m) gives no direction
 MIN_DRAG = 0.01
+# the dragged line as the viewport draws it: colour (RGBA) and width (pixels)
+LINE_COLOR = (1.0, 0.6, 0.1, 0.9)
+LINE_WIDTH = 3.0
 # the region's sides as Stretch Region names them, with their outward normals
 SIDE_NORMALS = {"EAST": (1.0, 0.0), "WEST": (-1.0, 0.0), "NORTH": (0.0, 1.0), "SOUTH": (0.0, -1.0)}
 
@@ -49,6 +52,21 @@ class DragLineOperator(RegionProperties, TerrainProperty):
         """What releasing the mouse now would do, for the header."""
         return ""
 
+    def guides(self):
+        """World XYZ segment ends (pairs) drawn with the dragged line: none here."""
+        return []
+
+    def _draw(self):
+        if self._pressed:
+            z = self._height
+            line = [(*self.start, z), (*self.end, z)]
+            view.draw_segments(line + self.guides(), LINE_COLOR, LINE_WIDTH)
+
+    def _finish(self, context):
+        context.area.header_text_set(None)
+        bpy.types.SpaceView3D.draw_handler_remove(self._handler, 'WINDOW')
+        context.area.tag_redraw()
+
     def invoke(self, context, event):
         if context.area is None or context.area.type != 'VIEW_3D':
             self.report({'ERROR'}, "Drag in a 3D viewport (or give the start and end from a script)")
@@ -59,6 +77,7 @@ class DragLineOperator(RegionProperties, TerrainProperty):
             self.report({'ERROR'}, str(exc))
             return {'CANCELLED'}
         self._pressed = False
+        self._handler = bpy.types.SpaceView3D.draw_handler_add(self._draw, (), 'WINDOW', 'POST_VIEW')
         context.area.header_text_set(self.hint)
         context.window_manager.modal_handler_add(self)
         return {'RUNNING_MODAL'}
@@ -69,17 +88,22 @@ class DragLineOperator(RegionProperties, TerrainProperty):
             hit = view.terrain_under_mouse(context, self._terrain_obj, event)
         if event.type == 'LEFTMOUSE' and event.value == 'PRESS' and hit is not None:
             self.start = self.end = hit.xy
+            self._height = hit.z
             self._pressed = True
         elif event.type == 'MOUSEMOVE' and self._pressed and hit is not None:
             self.end = hit.xy
             context.area.header_text_set(f"{self.describe()} (release to apply, Esc to cancel)")
+            context.area.tag_redraw()
         elif event.type == 'LEFTMOUSE' and event.value == 'RELEASE' and self._pressed:
-            context.area.header_text_set(None)
+            self._finish(context)
             return self.execute(context)
         elif event.type in {'ESC', 'RIGHTMOUSE'}:
-            context.area.header_text_set(None)
+            self._finish(context)
             return {'CANCELLED'}
         return {'RUNNING_MODAL'}
+
+    def cancel(self, context):
+        self._finish(context)
 
     def drag_vector(self):
         d = np.array(self.end) - np.array(self.start)
@@ -134,7 +158,27 @@ class WORLDPAINT_OT_drag_stretch(DragLineOperator, bpy.types.Operator):
         return region["min"], region["max"]
 
     def describe(self):
-        return "Stretch"
+        side, amount = stretch_from_drag(*self._outline, self.start, self.end)
+        return f"{'Stretch' if amount >= 0.0 else 'Shrink'} the {side.lower()} side by {abs(amount):.1f} m"
+
+    def invoke(self, context, event):
+        try:
+            self._outline = self._rect(context)
+        except WorldPaintError as exc:
+            self.report({'ERROR'}, str(exc))
+            return {'CANCELLED'}
+        return super().invoke(context, event)
+
+    def guides(self):
+        """The region's outline, the side the drag moves drawn at its new place."""
+        (x0, y0), (x1, y1) = self._outline
+        z = self._height
+        corners = [(x0, y0, z), (x1, y0, z), (x1, y1, z), (x0, y1, z)]
+        outline = [p for k in range(4) for p in (corners[k], corners[(k + 1) % 4])]
+        side, amount = stretch_from_drag(*self._outline, self.start, self.end)
+        nx, ny = SIDE_NORMALS[side]
+        moved = {"EAST": (1, 2), "WEST": (3, 0), "NORTH": (2, 3), "SOUTH": (0, 1)}[side]
+        return outline + [(corners[k][0] + nx * amount, corners[k][1] + ny * amount, z) for k in moved]
 
     @reports_errors
     def execute(self, context):
