@@ -15,13 +15,16 @@
    over it, carves its bed and the pool into the terrain and scatters rocks along it.
 7. A block of vines planted by hand in rows becomes the arrangement "Vineyard" (Ijiri et al. 2008); pasted into a
    clearing of the forest, its rows grow along the hillside's contour lines, drawn as two flow curves.
+8. In a scene of its own, three mountain silhouettes are sketched over a camera's view of other hills (thesis ch. 5);
+   Apply Sketch deforms the terrain until, seen from that camera, its silhouettes follow the strokes.
 
 The forest's trees are 36 variants of one low-poly tree (Maréchal et al.): cut into three parts, each part edited
 into a few copies, assembled into every combination; each painted tree shows the variant least used around it.
 
 The scene is then dressed for Cycles (``showcase.py``: a sky and a sun, materials made by code, land around the
 terrain to the horizon) and rendered on the CPU, few samples denoised: OUT/demo.png (the whole scene), one picture
-per system (OUT/demo_forest.png, demo_village.png, demo_waterfall.png, demo_vineyard.png, demo_variants.png).
+per system (OUT/demo_forest.png, demo_village.png, demo_waterfall.png, demo_vineyard.png, demo_variants.png) and
+the sketch before and after (OUT/sketch_before.png with the strokes drawn over it, sketch_after.png).
 OUT/demo.blend holds the scene with a camera per picture.
 Usage: python assets/demo.py [--out out] [--samples 16] [--percent 100]
 """
@@ -42,19 +45,26 @@ import worldpaint  # noqa: E402
 import worldpaint_engine as engine  # noqa: E402
 from mathutils import Vector  # noqa: E402
 from scene_kit import (  # noqa: E402
+    SKETCH_CELL,
+    SKETCH_N,
     collection_instances,
+    draw_strokes,
     engine_terrain_object,
+    evaluated_vertices,
     mesh_object,
     poly_curve,
     segmented_tree,
     select_only,
+    sketch_scene,
     slope_exemplar,
+    three_strokes,
     tree_variants,
     village_exemplar,
     vineyard_reference,
 )
 from worldpaint.bridge import variety  # noqa: E402
 from worldpaint.bridge.curves import structure_objects  # noqa: E402
+from worldpaint.bridge.sketch import sketch_collection  # noqa: E402
 
 HILLS_SIZE = 600.0
 GROVE_REGION = {"shape": "rect", "min": [-220.0, -150.0], "max": [-120.0, -50.0]}
@@ -333,6 +343,44 @@ def render_all(out, fall, variants, percent=100):
     return report
 
 
+def land_around(terrain):
+    """A plain around the sketch's terrain, from the heights of its edge as shown (shape keys applied)."""
+    heights = evaluated_vertices(terrain)[:, 2].reshape(SKETCH_N, SKETCH_N)
+    land = showcase.backdrop(f"Land around {terrain.name}", (0.0, 0.0), SKETCH_CELL, heights, relief=0.0)
+    showcase.far_land(land.data.materials[0])
+    return land
+
+
+def sketch_pictures(out, samples, percent=100):
+    """Apply Sketch (thesis ch. 5) in a scene of its own: hills seen from a camera at their southern edge, three
+    mountain silhouettes drawn over its view (two of them ending on the first), rendered before with the strokes
+    over the picture and after Apply Sketch has raised the terrain to meet them."""
+    scene = bpy.data.scenes.new("Sketch")
+    with bpy.context.temp_override(scene=scene, view_layer=scene.view_layers[0]):
+        terrain, cam = sketch_scene("Sketch hills", "Camera sketch")
+        showcase.smooth(terrain)
+        showcase.terrain(terrain.data.materials[0])
+        land = land_around(terrain)
+        showcase.cycles(scene, samples)
+        showcase.sky(scene)
+        showcase.sun(scene)
+        strokes = three_strokes()
+        draw_strokes(strokes)
+        scene.worldpaint.sketch.reach = 150.0
+        w, h = 900 * percent // 100, 600 * percent // 100
+        shown = showcase.strokes_in_view(cam, strokes, scene)
+        report = [("sketch_before", showcase.render(scene, cam, out / "sketch_before.png", (w, h)), (w, h))]
+        bpy.data.objects.remove(shown)
+        start = time.perf_counter()
+        run(bpy.ops.worldpaint.apply_sketch, terrain=terrain.name, camera=cam.name)
+        print(f"sketch: applied in {time.perf_counter() - start:.1f} s")
+        sketch_collection(scene).hide_render = True  # the features it used, drawn as curves
+        bpy.data.objects.remove(land)
+        land_around(terrain)  # from the deformed terrain's edge, which Apply Sketch may have raised
+        report.append(("sketch_after", showcase.render(scene, cam, out / "sketch_after.png", (w, h)), (w, h)))
+    return report
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", default="out", help="output folder")
@@ -358,6 +406,7 @@ def main():
     dress(hills)
     denoised = showcase.cycles(bpy.context.scene, args.samples)
     report = render_all(out, fall, variants, args.percent)
+    report += sketch_pictures(out, args.samples, args.percent)
     bpy.context.scene.camera = bpy.data.objects["Camera demo"]
     bpy.ops.wm.save_as_mainfile(filepath=str(out / "demo.blend"))
     samples = bpy.context.scene.cycles.samples

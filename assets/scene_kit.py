@@ -551,3 +551,62 @@ def leaf_clumps(mesh):
         if r not in ring:
             groups.setdefault(r, []).append(f)
     return np.array([groups[r] for r in sorted(groups, key=lambda r: groups[r][0])])
+
+
+# --- the sketch scene (thesis ch. 5) -------------------------------------------------------------------------------
+
+SKETCH_CELL = 4.0
+SKETCH_N = 129
+
+
+def hills_height(x, y):
+    """A near ridge, a middle ridge and a hill in front of it, with metre-scale detail."""
+    ridge = np.maximum(18.0 * np.exp(-((y - 100.0) / 12.0) ** 2), 40.0 * np.exp(-((y - 260.0) / 18.0) ** 2))
+    hill = 45.0 * np.exp(-((x - 256.0) ** 2 + (y - 130.0) ** 2) / 15.0**2)
+    detail = 0.8 * np.sin(0.31 * x) * np.cos(0.27 * y) + 0.5 * np.sin(0.53 * x + 0.41 * y)
+    return np.maximum(ridge, hill) + detail
+
+
+def sketch_scene(name="Terrain", camera_name="Camera"):
+    """The terrain and a level camera at its south edge looking north (60° wide, 3:2)."""
+    x, y = np.meshgrid(SKETCH_CELL * np.arange(SKETCH_N), SKETCH_CELL * np.arange(SKETCH_N))
+    terrain = grid_terrain(name, (0.0, 0.0), SKETCH_CELL, hills_height(x, y))
+    terrain.color = (0.55, 0.5, 0.38, 1.0)
+    scene = bpy.context.scene
+    scene.worldpaint.terrain = terrain
+    scene.render.resolution_x, scene.render.resolution_y = 1200, 800
+    camera = bpy.data.objects.new(camera_name, bpy.data.cameras.new(camera_name))
+    camera.data.sensor_fit = 'HORIZONTAL'
+    camera.data.angle = math.radians(60.0)
+    camera.data.clip_end = 2000.0
+    camera.location = (256.0, -60.0, 12.0)
+    camera.rotation_euler = (math.radians(90.0), 0.0, 0.0)
+    scene.collection.objects.link(camera)
+    scene.camera = camera
+    return terrain, camera
+
+
+def three_strokes():
+    """A front mountain, one behind it to the right and one behind it to the left, each of the back ones ending on
+    the front one's slope (two T-junctions)."""
+    def front(x):
+        return 0.62 + 0.09 * np.exp(-((x - 0.38) / 0.12) ** 2)
+
+    xs = np.linspace(0.18, 0.62, 30)
+    right = np.linspace(0.52, 0.9, 30)
+    left = np.linspace(0.06, 0.27, 20)
+    return [
+        np.column_stack([xs, front(xs)]),
+        np.column_stack([right, front(0.52) + 0.1 * np.sin(np.pi * (right - 0.52) / 0.5) + 0.01 * (right - 0.52)]),
+        np.column_stack([left, front(0.27) + 0.08 * np.sin(np.pi * (0.27 - left) / 0.3)]),
+    ]
+
+
+def draw_strokes(strokes):
+    """Strokes (camera-frame points, 0-1) as if drawn with the Sketch Silhouettes tool."""
+    settings = bpy.context.scene.worldpaint.sketch
+    settings.strokes.clear()
+    for stroke in strokes:
+        item = settings.strokes.add()
+        for x, y in stroke:
+            item.points.add().co = (x, y)

@@ -179,8 +179,8 @@ class Shader:
         self.tree = material.node_tree
         self.tree.nodes.clear()
         self.bsdf = self.node("ShaderNodeBsdfPrincipled")
-        out = self.node("ShaderNodeOutputMaterial")
-        self.link(self.haze(self.bsdf.outputs["BSDF"]), out.inputs["Surface"])
+        self.out = self.node("ShaderNodeOutputMaterial")
+        self.link(self.haze(self.bsdf.outputs["BSDF"]), self.out.inputs["Surface"])
 
     def haze(self, shader):
         """Aerial perspective at the cost of a mix: seen from the camera, a surface fades into the horizon's colour
@@ -394,10 +394,12 @@ def smooth(obj):
 
 # --- land to the horizon -----------------------------------------------------------------------------------------
 
-def backdrop(name, origin, cell, heights, rings=(0, 2, 6, 14, 30, 60, 120, 250, 500, 900, 1500, 2500)):
+def backdrop(name, origin, cell, heights, rings=(0, 2, 6, 14, 30, 60, 120, 250, 500, 900, 1500, 2500),
+             relief=1.0):
     """Land around a grid terrain out to the horizon, so that no picture shows where the terrain ends: rings of
     vertices going out from its edge (fanned at the corners), at the edge's own height there, settling into rolling
-    fields a few hundred metres out and rising to a range of mountains from 3 km away."""
+    fields a few hundred metres out and rising to a range of mountains from 3 km away (``relief`` scales both; 0: a
+    plain)."""
     heights = np.asarray(heights, dtype=np.float64)
     ny, nx = heights.shape
     x0, y0 = origin
@@ -424,7 +426,7 @@ def backdrop(name, origin, cell, heights, rings=(0, 2, 6, 14, 30, 60, 120, 250, 
     ridge = 0.65 + 0.18 * np.sin(3.0 * bearing + 1.0) + 0.1 * np.sin(7.0 * bearing) + 0.08 * np.sin(17.0 * bearing)
     mountains = 1200.0 * ridge * np.clip((far - 3000.0) / 6000.0, 0.0, 1.0) ** 1.5
     near = np.exp(-radii / 250.0)[None, :]
-    z = edge[:, 2, None] * near + (fields + mountains) * (1.0 - near)
+    z = edge[:, 2, None] * near + relief * (fields + mountains) * (1.0 - near)
     co = np.column_stack([px.ravel(), py.ravel(), z.ravel()])
     n, m = px.shape
     k, j = np.meshgrid(np.arange(n), np.arange(m - 1), indexing='ij')
@@ -458,6 +460,35 @@ def camera(name, location, target, lens=35.0, scene=None):
     return obj
 
 
+def strokes_in_view(cam, strokes, scene, width=0.003, rgb=(1.0, 0.45, 0.05)):
+    """Strokes drawn over a camera's picture (points in its frame, 0-1) as glowing lines just in front of its lens,
+    ``width`` of the picture's width wide: what the artist sketched, seen in the render."""
+    frame = cam.data.view_frame(scene=scene)
+    xs, ys, depth = [v.x for v in frame], [v.y for v in frame], -frame[0].z
+    scale = 2.0 * cam.data.clip_start / depth  # the lines lie twice the clip distance in front of the lens
+    material = bpy.data.materials.get("Stroke") or bpy.data.materials.new("Stroke")
+    s = Shader(material)
+    glow = s.node("ShaderNodeEmission")
+    glow.inputs["Color"].default_value = (*rgb, 1.0)
+    glow.inputs["Strength"].default_value = 3.0
+    s.link(glow.outputs["Emission"], s.out.inputs["Surface"])
+    curve = bpy.data.curves.new("Strokes", 'CURVE')
+    curve.dimensions = '3D'
+    curve.bevel_depth = 0.5 * width * (max(xs) - min(xs)) * scale
+    curve.materials.append(material)
+    for stroke in strokes:
+        spline = curve.splines.new('POLY')
+        spline.points.add(len(stroke) - 1)
+        for point, (x, y) in zip(spline.points, stroke, strict=True):
+            local = Vector((min(xs) + x * (max(xs) - min(xs)), min(ys) + y * (max(ys) - min(ys)), -depth)) * scale
+            point.co = (*local, 1.0)
+    obj = bpy.data.objects.new("Strokes", curve)
+    obj.parent = cam
+    obj.visible_shadow = False
+    scene.collection.objects.link(obj)
+    return obj
+
+
 def render(scene, cam, path, resolution=(1280, 720)):
     """Renders the scene through ``cam`` to the PNG ``path``; returns the seconds it took."""
     scene.camera = cam
@@ -465,5 +496,5 @@ def render(scene, cam, path, resolution=(1280, 720)):
     scene.render.resolution_percentage = 100
     scene.render.filepath = str(path)
     start = time.perf_counter()
-    bpy.ops.render.render(write_still=True)
+    bpy.ops.render.render(write_still=True, scene=scene.name)
     return time.perf_counter() - start

@@ -12,55 +12,20 @@ import numpy as np
 import pytest
 from bpy_extras.object_utils import world_to_camera_view
 from mathutils import Vector
-from scene_kit import evaluated_vertices, grid_terrain, prototypes
+from scene_kit import (
+    SKETCH_CELL as CELL,
+)
+from scene_kit import (
+    draw_strokes,
+    evaluated_vertices,
+    hills_height,
+    prototypes,
+    sketch_scene,
+    three_strokes,
+)
 
-CELL = 4.0
-N = 129
 KEY = "WorldPaint Apply Sketch"
 TOLERANCE = 0.01  # of the image height: how far a stroke's silhouette may lie from it
-
-
-def hills_height(x, y):
-    """A near ridge, a middle ridge and a hill in front of it, with metre-scale detail."""
-    ridge = np.maximum(18.0 * np.exp(-((y - 100.0) / 12.0) ** 2), 40.0 * np.exp(-((y - 260.0) / 18.0) ** 2))
-    hill = 45.0 * np.exp(-((x - 256.0) ** 2 + (y - 130.0) ** 2) / 15.0**2)
-    detail = 0.8 * np.sin(0.31 * x) * np.cos(0.27 * y) + 0.5 * np.sin(0.53 * x + 0.41 * y)
-    return np.maximum(ridge, hill) + detail
-
-
-def sketch_scene():
-    """The terrain and a level camera at its south edge looking north (60° wide, 3:2)."""
-    x, y = np.meshgrid(CELL * np.arange(N), CELL * np.arange(N))
-    terrain = grid_terrain("Terrain", (0.0, 0.0), CELL, hills_height(x, y))
-    terrain.color = (0.55, 0.5, 0.38, 1.0)
-    scene = bpy.context.scene
-    scene.worldpaint.terrain = terrain
-    scene.render.resolution_x, scene.render.resolution_y = 1200, 800
-    camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
-    camera.data.sensor_fit = 'HORIZONTAL'
-    camera.data.angle = math.radians(60.0)
-    camera.data.clip_end = 2000.0
-    camera.location = (256.0, -60.0, 12.0)
-    camera.rotation_euler = (math.radians(90.0), 0.0, 0.0)
-    scene.collection.objects.link(camera)
-    scene.camera = camera
-    return terrain, camera
-
-
-def three_strokes():
-    """A front mountain, one behind it to the right and one behind it to the left, each of the back ones ending on
-    the front one's slope (two T-junctions)."""
-    def front(x):
-        return 0.62 + 0.09 * np.exp(-((x - 0.38) / 0.12) ** 2)
-
-    xs = np.linspace(0.18, 0.62, 30)
-    right = np.linspace(0.52, 0.9, 30)
-    left = np.linspace(0.06, 0.27, 20)
-    return [
-        np.column_stack([xs, front(xs)]),
-        np.column_stack([right, front(0.52) + 0.1 * np.sin(np.pi * (right - 0.52) / 0.5) + 0.01 * (right - 0.52)]),
-        np.column_stack([left, front(0.27) + 0.08 * np.sin(np.pi * (0.27 - left) / 0.3)]),
-    ]
 
 
 def ray(camera, x, y):
@@ -107,26 +72,17 @@ def misplaced(terrain, camera, stroke, curve, margin=3.0 * CELL):
     return bad, len(xs)
 
 
-def draw(strokes):
-    settings = bpy.context.scene.worldpaint.sketch
-    settings.strokes.clear()
-    for stroke in strokes:
-        item = settings.strokes.add()
-        for x, y in stroke:
-            item.points.add().co = (x, y)
-
-
 def test_sketched_silhouettes_are_seen_from_the_camera_and_the_far_terrain_stays():
     terrain, camera = sketch_scene()
     before = evaluated_vertices(terrain)
     strokes = three_strokes()
-    draw(strokes)
+    draw_strokes(strokes)
     settings = bpy.context.scene.worldpaint.sketch
     settings.reach = 150.0
     OUT.mkdir(exist_ok=True)
-    render(camera, OUT / "sketch_before.png")
+    render(camera, OUT / "test_sketch_before.png")
     assert bpy.ops.worldpaint.apply_sketch() == {'FINISHED'}
-    render(camera, OUT / "sketch_after.png")
+    render(camera, OUT / "test_sketch_after.png")
     assert KEY in terrain.data.shape_keys.key_blocks
     ranks = [s.depth_rank for s in settings.strokes]
     print(f"depth ranks {ranks}")
@@ -187,6 +143,37 @@ def test_headless_strokes_undo_reseat_and_reload(tmp_path):
     reloaded = evaluated_vertices(bpy.data.objects["Terrain"])
     assert np.abs(reloaded - shown).max() < 1e-4, "the sketch survives save and reload"
     assert bpy.data.objects["Terrain"].data.shape_keys.key_blocks[KEY].value == 1.0
+
+
+def test_a_sketch_in_another_scene_leaves_this_scenes_trees_where_they_stand():
+    """Two scenes over the same ground: the trees painted in the first stay out of the second and do not move when
+    Apply Sketch deforms the second's terrain under them."""
+    from worldpaint.bridge import points
+    from worldpaint.bridge.instances import point_cloud_arrays, point_cloud_objects
+
+    first = bpy.context.scene
+    sketch_scene()
+    prototypes()
+    xy = np.array([[256.0, 262.0], [150.0, 258.0], [300.0, 250.0]])
+    cloud = points.point_cloud_object(first, "Tree")
+    points.write_points(cloud, np.column_stack([xy, hills_height(xy[:, 0], xy[:, 1])]), np.zeros(3), np.ones(3),
+                        np.zeros(3, dtype=np.int32))
+    before = point_cloud_arrays(cloud)[0].copy()
+    second = bpy.data.scenes.new("Second")
+    with bpy.context.temp_override(scene=second, view_layer=second.view_layers[0]):
+        terrain, camera = sketch_scene("Second hills", "Second camera")
+        assert point_cloud_objects(second) == {}, "the first scene's trees are not in the second"
+        assert bpy.ops.worldpaint.apply_sketch(terrain=terrain.name, camera=camera.name, strokes=json.dumps(
+            [s.tolist() for s in three_strokes()])) == {'FINISHED'}
+        shown = evaluated_vertices(terrain)
+        rise = shown[:, 2] - hills_height(shown[:, 0], shown[:, 1])
+        own = points.worldpaint_collection(second, create=False)
+    print(f"the second terrain rose by up to {rise.max():.1f} m; the first scene's trees moved by "
+          f"{np.abs(point_cloud_arrays(cloud)[0] - before).max():.2e} m")
+    assert rise.max() > 10.0
+    assert np.array_equal(point_cloud_arrays(cloud)[0], before)
+    assert own is not None and own != points.worldpaint_collection(first, create=False)
+    assert own.name not in first.collection.children and cloud.name not in second.objects
 
 
 def _ground(terrain, xy):

@@ -22,7 +22,7 @@ import numpy as np
 from . import compat, engine
 from .geometry import spline_control_points
 from .instances import FILL_TAG, STRUCTURE_TAG, is_worldpaint_object
-from .points import node_adder, nodes_modifier, remove_object, terrain_ray, worldpaint_collection
+from .points import node_adder, nodes_modifier, remove_object, terrain_ray, worldpaint_child
 
 PROFILE_GROUP_NAME = "WorldPaint Profile"
 PROFILE_MODIFIER = "WorldPaint Profile"
@@ -126,14 +126,7 @@ def scene_structures(scene, categories, exclude=()):
 
 def layer_collection(scene, layer):
     """The collection "WP <layer>" under "WorldPaint"."""
-    parent = worldpaint_collection(scene)
-    name = f"WP {layer or 'default'}"
-    collection = bpy.data.collections.get(name)
-    if collection is None:
-        collection = bpy.data.collections.new(name)
-    if collection.name not in parent.children:
-        parent.children.link(collection)
-    return collection
+    return worldpaint_child(scene, f"WP {layer or 'default'}")
 
 
 def category_settings(scene, name):

@@ -34,6 +34,8 @@ from .instances import (
 )
 
 COLLECTION_NAME = "WorldPaint"
+CHILD_TAG = "wp_collection"  # on the collections under it: what each is, whatever its name
+ROOT_TAG = "wp_root"  # on a scene's "WorldPaint" collection, whatever Blender numbered its name
 NODE_GROUP_NAME = "WorldPaint Instancer"
 MODIFIER_NAME = "WorldPaint"
 PROTO_PREFIX = "WP_proto_"
@@ -348,12 +350,34 @@ def prototype_collection(scene, category, exclude=()):
 
 # --- point clouds -------------------------------------------------------------------------------------------------
 
-def worldpaint_collection(scene):
-    collection = bpy.data.collections.get(COLLECTION_NAME)
-    if collection is None:
-        collection = bpy.data.collections.new(COLLECTION_NAME)
-    if collection.name not in scene.collection.children:
-        scene.collection.children.link(collection)
+def worldpaint_collection(scene, create=True):
+    """The scene's own "WorldPaint" collection (a child of its scene collection; None without ``create`` when absent).
+    Each scene has its own, so that painting or editing in one never reaches what another holds."""
+    for child in scene.collection.children:
+        if child.get(ROOT_TAG) or child.name == COLLECTION_NAME:
+            return child
+    if not create:
+        return None
+    collection = bpy.data.collections.new(COLLECTION_NAME)
+    collection[ROOT_TAG] = True
+    scene.collection.children.link(collection)
+    return collection
+
+
+def worldpaint_child(scene, name, create=True):
+    """The collection ``name`` ("Water", "Sketch", "WP <layer>") under the scene's "WorldPaint" collection, made
+    when absent (None without ``create``); in another scene Blender numbers the new one's name, its tag keeps it."""
+    parent = worldpaint_collection(scene, create)
+    if parent is None:
+        return None
+    for child in parent.children:
+        if child.get(CHILD_TAG, child.name) == name:
+            return child
+    if not create:
+        return None
+    collection = bpy.data.collections.new(name)
+    collection[CHILD_TAG] = name
+    parent.children.link(collection)
     return collection
 
 

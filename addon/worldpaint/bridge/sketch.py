@@ -6,7 +6,7 @@ import bpy
 import numpy as np
 from mathutils import Vector
 
-from .points import worldpaint_collection
+from .points import worldpaint_child
 from .village import remove_with_data
 
 SKETCH_KEY = "WorldPaint Apply Sketch"
@@ -42,14 +42,7 @@ def depth_color(rank, count):
 
 def sketch_collection(scene, create=True):
     """The "Sketch" collection under "WorldPaint" (None without ``create`` when absent)."""
-    parent = worldpaint_collection(scene) if create else bpy.data.collections.get("WorldPaint")
-    if parent is None:
-        return None
-    collection = parent.children.get(SKETCH_COLLECTION)
-    if collection is None and create:
-        collection = bpy.data.collections.new(SKETCH_COLLECTION)
-        parent.children.link(collection)
-    return collection
+    return worldpaint_child(scene, SKETCH_COLLECTION, create)
 
 
 def clear_display(scene):

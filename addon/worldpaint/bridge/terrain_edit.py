@@ -16,12 +16,11 @@ import numpy as np
 from . import WorldPaintError, compat, geometry, snap, village
 from .instances import point_cloud_arrays, point_cloud_objects, point_cloud_tints
 from .points import (
-    COLLECTION_NAME,
     point_cloud_object,
     prototype_collection,
     remove_object,
     set_instancer,
-    worldpaint_collection,
+    worldpaint_child,
     write_points,
 )
 
@@ -229,15 +228,7 @@ def waterfall_controllers(context, collection):
 
 def water_collection(scene, create=True):
     """The "Water" collection under "WorldPaint", made when absent (else None without ``create``)."""
-    if not create:
-        parent = bpy.data.collections.get(COLLECTION_NAME)
-        return parent.children.get(WATER_COLLECTION) if parent is not None else None
-    parent = worldpaint_collection(scene)
-    collection = parent.children.get(WATER_COLLECTION)
-    if collection is None:
-        collection = bpy.data.collections.new(WATER_COLLECTION)
-        parent.children.link(collection)
-    return collection
+    return worldpaint_child(scene, WATER_COLLECTION, create)
 
 
 def water_material():
