@@ -15,8 +15,9 @@
    over it, carves its bed and the pool into the terrain and scatters rocks along it.
 7. A block of vines planted by hand in rows becomes the arrangement "Vineyard" (Ijiri et al. 2008); pasted into a
    clearing of the forest, its rows grow along the hillside's contour lines, drawn as two flow curves.
-8. In a scene of its own, three mountain silhouettes are sketched over a camera's view of other hills (thesis ch. 5);
-   Apply Sketch deforms the terrain until, seen from that camera, its silhouettes follow the strokes.
+8. In a scene of its own, three mountain silhouettes are sketched over a camera's view of other, wooded hills (thesis
+   ch. 5); Apply Sketch deforms the terrain until, seen from that camera, its silhouettes follow the strokes, and
+   carries the trees with the ground.
 
 The forest's trees are 36 variants of one low-poly tree (Maréchal et al.): cut into three parts, each part edited
 into a few copies, assembled into every combination; each painted tree shows the variant least used around it.
@@ -51,6 +52,7 @@ from scene_kit import (  # noqa: E402
     draw_strokes,
     engine_terrain_object,
     evaluated_vertices,
+    hills_height,
     mesh_object,
     poly_curve,
     segmented_tree,
@@ -62,7 +64,7 @@ from scene_kit import (  # noqa: E402
     village_exemplar,
     vineyard_reference,
 )
-from worldpaint.bridge import variety  # noqa: E402
+from worldpaint.bridge import points, variety  # noqa: E402
 from worldpaint.bridge.curves import structure_objects  # noqa: E402
 from worldpaint.bridge.sketch import sketch_collection  # noqa: E402
 
@@ -351,25 +353,39 @@ def land_around(terrain):
     return land
 
 
-def sketch_pictures(out, samples, percent=100):
-    """Apply Sketch (thesis ch. 5) in a scene of its own: hills seen from a camera at their southern edge, three
-    mountain silhouettes drawn over its view (two of them ending on the first), rendered before with the strokes
-    over the picture and after Apply Sketch has raised the terrain to meet them."""
+def sketch_forest(scene, terrain, trees, count=2500, seed=8):
+    """Trees scattered over the sketch's hills beyond the camera's foreground, shown by the instancer as ``trees``
+    (the demo's variants): Apply Sketch carries them with the ground it moves."""
+    rng = np.random.default_rng(seed)
+    xy = rng.uniform((0.0, 40.0), (SKETCH_CELL * (SKETCH_N - 1), 480.0), (count, 2))
+    cloud = points.point_cloud_object(scene, "Tree")
+    points.write_points(cloud, np.column_stack([xy, hills_height(xy[:, 0], xy[:, 1])]),
+                        rng.uniform(0.0, 2.0 * np.pi, count), rng.uniform(0.8, 1.3, count),
+                        rng.integers(0, len(trees.objects), count).astype(np.int32))
+    points.set_instancer(cloud, trees, terrain)
+
+
+def sketch_pictures(out, samples, trees, percent=100):
+    """Apply Sketch (thesis ch. 5) in a scene of its own: wooded hills seen from a camera at their southern edge,
+    three mountain silhouettes drawn over its view (two of them ending on the first), rendered before with the
+    strokes over the picture and after Apply Sketch has raised the terrain, and the trees on it, to meet them."""
     scene = bpy.data.scenes.new("Sketch")
     with bpy.context.temp_override(scene=scene, view_layer=scene.view_layers[0]):
         terrain, cam = sketch_scene("Sketch hills", "Camera sketch")
         showcase.smooth(terrain)
         showcase.terrain(terrain.data.materials[0])
         land = land_around(terrain)
+        sketch_forest(scene, terrain, trees)
         showcase.cycles(scene, samples)
         showcase.sky(scene)
         showcase.sun(scene)
         strokes = three_strokes()
         draw_strokes(strokes)
         scene.worldpaint.sketch.reach = 150.0
-        w, h = 900 * percent // 100, 600 * percent // 100
+        size = (900, 600)
+        w, h = (side * percent // 100 for side in size)
         shown = showcase.strokes_in_view(cam, strokes, scene)
-        report = [("sketch_before", showcase.render(scene, cam, out / "sketch_before.png", (w, h)), (w, h))]
+        report = [("sketch_before", showcase.render(scene, cam, out / "sketch_before.png", (w, h)), size)]
         bpy.data.objects.remove(shown)
         start = time.perf_counter()
         run(bpy.ops.worldpaint.apply_sketch, terrain=terrain.name, camera=cam.name)
@@ -377,7 +393,7 @@ def sketch_pictures(out, samples, percent=100):
         sketch_collection(scene).hide_render = True  # the features it used, drawn as curves
         bpy.data.objects.remove(land)
         land_around(terrain)  # from the deformed terrain's edge, which Apply Sketch may have raised
-        report.append(("sketch_after", showcase.render(scene, cam, out / "sketch_after.png", (w, h)), (w, h)))
+        report.append(("sketch_after", showcase.render(scene, cam, out / "sketch_after.png", (w, h)), size))
     return report
 
 
@@ -406,7 +422,7 @@ def main():
     dress(hills)
     denoised = showcase.cycles(bpy.context.scene, args.samples)
     report = render_all(out, fall, variants, args.percent)
-    report += sketch_pictures(out, args.samples, args.percent)
+    report += sketch_pictures(out, args.samples, variants, args.percent)
     bpy.context.scene.camera = bpy.data.objects["Camera demo"]
     bpy.ops.wm.save_as_mainfile(filepath=str(out / "demo.blend"))
     samples = bpy.context.scene.cycles.samples
