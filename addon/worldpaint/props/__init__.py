@@ -128,8 +128,8 @@ class WORLDPAINT_PG_color(bpy.types.PropertyGroup):
     fidelity_note: StringProperty(name="Fidelity Note", description="Why the color has no fidelity view")
     iterations_per_instance: FloatProperty(
         name="Iterations per Instance", default=0.0, min=0.0, soft_max=200.0,
-        description="Proposals the synthesis makes per instance when this color is pasted or brushed (0: the engine's "
-        "default): more comes closer to the example and takes longer",
+        description="Most proposals the synthesis makes per instance when this color is pasted or brushed (0: the "
+        "engine's default, 40); it stops sooner once what it paints matches the example within counting noise",
     )
     influence_radius: FloatProperty(
         name="Influence", default=-1.0, min=-1.0, unit='LENGTH',

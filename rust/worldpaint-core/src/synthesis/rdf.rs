@@ -22,6 +22,8 @@ const TAU_START: f64 = 1.0;
 const TAU_END: f64 = 0.02;
 /// Fraction of the sweeps over which the temperature decreases (it is then held at `TAU_END`).
 const ANNEALING_FRACTION: f64 = 0.75;
+/// The chain stops before a sweep once its histograms' χ² per bin is at most this (see [`converged`]).
+const CONVERGED_CHI2_PER_BIN: f64 = 0.25;
 /// Tiles hold at least this many expected instances (and are at least twice the interaction radius wide).
 const MIN_TILE_INSTANCES: f64 = 256.0;
 
@@ -210,6 +212,18 @@ struct Matched {
     last_bin: Vec<usize>,
 }
 
+/// Whether the matched histograms lie within counting noise of their targets: Pearson's χ², the chain's energy
+/// `Σ w (H − T)²` with `w = 1 / max(T, 1)`, at most [`CONVERGED_CHI2_PER_BIN`] per bin that has a target.
+fn converged(dev: &[f64], matched: &Matched) -> bool {
+    let bins = matched.targets.iter().filter(|t| **t > 0.0).count();
+    let chi2: f64 = dev
+        .iter()
+        .zip(&matched.weight)
+        .map(|(d, w)| w * d * d)
+        .sum();
+    bins > 0 && chi2 <= CONVERGED_CHI2_PER_BIN * bins as f64
+}
+
 /// What every sweep of the chain shares: the matched histograms and the fixed content in a flat grid.
 struct Sweeps<'c, 'a> {
     chain: &'c RdfChain<'c, 'a>,
@@ -260,6 +274,9 @@ impl<'a> RdfChain<'_, 'a> {
                 for (x, y) in dev.iter_mut().zip(&sweeps.matched.targets) {
                     *x -= y;
                 }
+            }
+            if converged(&dev, &sweeps.matched) {
+                break;
             }
             let phases = tiling.phases();
             for phase in 0..phases {
