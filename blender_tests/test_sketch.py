@@ -13,9 +13,7 @@ import pytest
 from bpy_extras.object_utils import world_to_camera_view
 from mathutils import Vector
 from scene_kit import (
-    SKETCH_CELL as CELL,
-)
-from scene_kit import (
+    SKETCH_CELL,
     draw_strokes,
     evaluated_vertices,
     hills_height,
@@ -57,7 +55,7 @@ def curve_depths(obj, camera):
     return xd[np.argsort(xd[:, 0])]
 
 
-def misplaced(terrain, camera, stroke, curve, margin=3.0 * CELL):
+def misplaced(terrain, camera, stroke, curve, margin=3.0 * SKETCH_CELL):
     """Columns of the stroke where the shown terrain's silhouette is not within TOLERANCE of it: a ray that far
     above meets the terrain before passing the stroke's curve, or a ray that far below passes it."""
     xd = curve_depths(curve, camera)
@@ -97,7 +95,7 @@ def test_sketched_silhouettes_are_seen_from_the_camera_and_the_far_terrain_stays
     after = evaluated_vertices(terrain)
     anchors = np.vstack([np.array([tuple(p.co[:2]) for s in o.data.splines for p in s.points])
                          for o in sketch.objects if o.get("wp_sketch") in ("matched", "lowered")])
-    far = np.array([np.min(np.hypot(*(anchors - v[:2]).T)) > settings.reach + CELL for v in before])
+    far = np.array([np.min(np.hypot(*(anchors - v[:2]).T)) > settings.reach + SKETCH_CELL for v in before])
     moved = np.abs(after[:, 2] - before[:, 2])
     print(f"{far.sum()} vertices beyond the reach, moved at most {moved[far].max():.2e} m; "
           f"largest change {moved.max():.1f} m")

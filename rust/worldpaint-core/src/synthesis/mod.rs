@@ -78,8 +78,8 @@
 //! color (trees, rocks and clumped grass) the grass reaches it after 7 of the 12 sweeps, and painting 100k
 //! instances takes 0.6 of the full budget's time; at 1M the counts are so large that their noise is small
 //! beside what the chain leaves, the bound is not reached and the whole budget runs. A color whose cross pairs
-//! converge slowly (the slope forest's rock–grass pair) runs on as well. The bound is a quarter rather than one because at one the chain stopped while the
-//! borders of small patches were still 14 % denser than their insides.
+//! converge slowly (the slope forest's rock–grass pair) runs on as well. The bound is a quarter rather than one
+//! because at one the chain stopped while the borders of small patches were still 14 % denser than their insides.
 //!
 //! **Interaction radius.** Each pair's rdf is cut after its last bin that differs from 1 by more than
 //! `SIGNIFICANCE` standard deviations of the exemplar's counting noise (the larger of the Poisson noise of
