@@ -223,6 +223,65 @@ fn forest_learned_on_a_slope_stays_on_the_slope_and_grass_stays_around_rocks() {
     );
 }
 
+/// The undergrowth of the benchmarks at scale (hard-core trees, uniform rocks, clumped grass) learned on 100 m and
+/// painted over 1 km²: a paste a hundred examples large, whose chain stops as soon as it matches its targets within
+/// the example's own noise (see "When to stop"), still matches every pair's rdf as well as a second draw does.
+#[test]
+fn a_paste_a_hundred_examples_large_matches_them_as_well_as_a_second_draw() {
+    let region = exemplar_region();
+    let color = learn_color(
+        &exemplar::undergrowth(100.0),
+        &region,
+        "bench",
+        &Default::default(),
+    )
+    .unwrap();
+    let mut second = exemplar::undergrowth(100.0);
+    second.instances.clear();
+    let layers = [
+        exemplar::hard_core(&region, 0.03, 3.0, 11),
+        exemplar::uniform(&region, 0.03, 12),
+        exemplar::clustered(&region, 0.004, 10.0, 2.0, 13),
+    ];
+    for (c, points) in layers.iter().enumerate() {
+        second
+            .instances
+            .extend(points.iter().map(|p| worldpaint_core::Instance::at(*p, c)));
+    }
+    let second_color = learn_color(&second, &region, "second", &same_bins(&color)).unwrap();
+    let reference = compare(&color, &second_color);
+
+    let paint = Region::Rect {
+        min: DVec2::ZERO,
+        max: DVec2::splat(1000.0),
+    };
+    let out = synthesize(
+        &Scene::default(),
+        &color,
+        &paint,
+        &SynthesisOptions::default(),
+    )
+    .unwrap();
+    let n = out.instances.len();
+    let fid = compare(&color, &learned_back(&color, out, None, &paint, "painted"));
+    println!(
+        "{n} instances: rdf L2 per pair painted {:.3?}, a second draw {:.3?}; density {:.3?}",
+        fid.rdf_l2, reference.rdf_l2, fid.density_ratio
+    );
+    for (cat, ratio) in &fid.density_ratio {
+        assert!(
+            (ratio - 1.0).abs() <= 0.10,
+            "{cat}: density ratio {ratio:.3}"
+        );
+    }
+    assert!(
+        fid.max_rdf_l2() <= 1.5 * reference.max_rdf_l2(),
+        "rdf L2 {:.4} exceeds 1.5 × the second draw's {:.4}",
+        fid.max_rdf_l2(),
+        reference.max_rdf_l2()
+    );
+}
+
 /// Three categories at 0.1 instances / m² (hard-core trees, uniform rocks, clustered grass) learned on
 /// 200 m × 200 m and painted on 1 km²: ~100k instances. A timing harness, not a pass / fail test:
 /// `cargo test -p worldpaint-core --release --test fidelity -- --ignored --nocapture timing`.

@@ -73,13 +73,16 @@
 //!
 //! **When to stop.** The seed sets the number of iterations by the category's density and notes that sparse
 //! categories with many interactions need more; `iterations_per_instance` is therefore a budget, and the chain
-//! stops before a sweep once `E` (Pearson's χ²) is at most `CONVERGED_CHI2_PER_BIN` per bin that has a target:
-//! the histograms then lie well within the counting noise a second draw of the example would show. On the bench
-//! color (trees, rocks and clumped grass) the grass reaches it after 7 of the 12 sweeps, and painting 100k
-//! instances takes 0.6 of the full budget's time; at 1M the counts are so large that their noise is small
-//! beside what the chain leaves, the bound is not reached and the whole budget runs. A color whose cross pairs
-//! converge slowly (the slope forest's rock–grass pair) runs on as well. The bound is a quarter rather than one
-//! because at one the chain stopped while the borders of small patches were still 14 % denser than their insides.
+//! stops before a sweep once `E` (Pearson's χ²) is at most `CONVERGED_CHI2_PER_BIN` per bin that has a target,
+//! times the paste's size in examples `k = n / n_example` (at least 1). Why `k`: the targets are the example's
+//! counts scaled up by about `k`, so each carries the example's counting noise scaled up too, a variance of about
+//! `k T` against the `T` of the paste's own counts. Matching them more closely than that copies the example's
+//! noise, not its process; the bound lets the chain leave a quarter of the variance the target already carries.
+//! On the bench color (trees, rocks and clumped grass) the grass stops after 2 sweeps of 12 at 100k instances
+//! and after 3 at 1M, where a bound of a quarter alone ran 7 and all 12. The slope forest's
+//! rock–grass pair, which converges slowly, is left at the level of a second draw of the example (rdf L2 7.2
+//! against 7.8) rather than well below it. The bound is a quarter rather than one because at one the chain
+//! stopped while the borders of small patches were still 14 % denser than their insides.
 //!
 //! **Interaction radius.** Each pair's rdf is cut after its last bin that differs from 1 by more than
 //! `SIGNIFICANCE` standard deviations of the exemplar's counting noise (the larger of the Poisson noise of
@@ -618,6 +621,7 @@ impl<'s> Painting<'s> {
                 self_tag,
                 self_pair_scale: pair_scale,
                 iterations_per_instance: self.opts.iterations_per_instance,
+                exemplar_count: cat.count as f64,
             };
             chain.run(&mut rng, report)?
         } else {

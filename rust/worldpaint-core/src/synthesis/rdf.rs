@@ -199,6 +199,8 @@ pub(super) struct RdfChain<'c, 'a> {
     /// one the painted region's maps give them (see "Maps" in the module documentation of [`super`]).
     pub(super) self_pair_scale: f64,
     pub(super) iterations_per_instance: f64,
+    /// The category's instances in the example, whose counting noise the targets carry (see [`converged`]).
+    pub(super) exemplar_count: f64,
 }
 
 /// The matched histograms, flat (see `histogram_offsets`): their targets `T = h · cell area · n_X · n_Y / A`
@@ -212,16 +214,17 @@ struct Matched {
     last_bin: Vec<usize>,
 }
 
-/// Whether the matched histograms lie within counting noise of their targets: Pearson's χ², the chain's energy
-/// `Σ w (H − T)²` with `w = 1 / max(T, 1)`, at most [`CONVERGED_CHI2_PER_BIN`] per bin that has a target.
-fn converged(dev: &[f64], matched: &Matched) -> bool {
+/// Whether the matched histograms lie within the noise of their targets: Pearson's χ², the chain's energy
+/// `Σ w (H − T)²` with `w = 1 / max(T, 1)`, at most [`CONVERGED_CHI2_PER_BIN`] per bin that has a target, times
+/// `noise_scale`, the paste's size in examples (see "When to stop" in the module documentation of [`super`]).
+fn converged(dev: &[f64], matched: &Matched, noise_scale: f64) -> bool {
     let bins = matched.targets.iter().filter(|t| **t > 0.0).count();
     let chi2: f64 = dev
         .iter()
         .zip(&matched.weight)
         .map(|(d, w)| w * d * d)
         .sum();
-    bins > 0 && chi2 <= CONVERGED_CHI2_PER_BIN * bins as f64
+    bins > 0 && chi2 <= CONVERGED_CHI2_PER_BIN * noise_scale * bins as f64
 }
 
 /// What every sweep of the chain shares: the matched histograms and the fixed content in a flat grid.
@@ -262,6 +265,11 @@ impl<'a> RdfChain<'_, 'a> {
         let ext = rhi - rlo;
         let tiled = ext.x >= 3.0 * tile_size && ext.y >= 3.0 * tile_size;
         let base_seed: u64 = rng.random();
+        let noise_scale = if self.exemplar_count > 0.0 {
+            (n / self.exemplar_count).max(1.0)
+        } else {
+            1.0
+        };
         let mut dev: Vec<f64> = Vec::new();
         for sweep in 0..RDF_SWEEPS {
             let tau = annealed(TAU_START, TAU_END, sweep, RDF_SWEEPS, ANNEALING_FRACTION);
@@ -275,7 +283,7 @@ impl<'a> RdfChain<'_, 'a> {
                     *x -= y;
                 }
             }
-            if converged(&dev, &sweeps.matched) {
+            if converged(&dev, &sweeps.matched, noise_scale) {
                 break;
             }
             let phases = tiling.phases();
