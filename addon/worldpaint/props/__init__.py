@@ -129,7 +129,8 @@ class WORLDPAINT_PG_color(bpy.types.PropertyGroup):
     iterations_per_instance: FloatProperty(
         name="Iterations per Instance", default=0.0, min=0.0, soft_max=200.0,
         description="Most proposals the synthesis makes per instance when this color is pasted or brushed (0: the "
-        "engine's default, 40); it stops sooner once what it paints matches the example within counting noise",
+        "engine's default, 40); it stops sooner once what it paints matches the example as closely as the example's "
+        "own counting noise allows",
     )
     influence_radius: FloatProperty(
         name="Influence", default=-1.0, min=-1.0, unit='LENGTH',
