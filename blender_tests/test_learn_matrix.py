@@ -51,17 +51,20 @@ def test_a_pair_set_to_none_before_learning_is_painted_independent():
     select_only([])
     settings.active_color_index = 0
     clumped = pasted(seed=5)
-    settings.active_color_index = 1
-    independent = pasted(seed=5)
-    second_draw = pasted(seed=6)
     clumped_pcf = cross_pcf(clumped["Rock"], clumped["Grass"])
-    independent_pcf = cross_pcf(independent["Rock"], independent["Grass"])
-    # grass of another draw around these rocks: independent by construction, with the same slope preference
-    reference_pcf = cross_pcf(independent["Rock"], second_draw["Grass"])
+    settings.active_color_index = 1
+    # three draws each: the cross pcf of one draw of clumped grass is noisy (its RMS ranged over 0.26-0.87 here)
+    independent, reference = [], []
+    for seed in (5, 7, 9):
+        drawn, second_draw = pasted(seed=seed), pasted(seed=seed + 1)
+        independent.append(deviation(cross_pcf(drawn["Rock"], drawn["Grass"])))
+        # grass of another draw around these rocks: independent by construction, with the same slope preference
+        reference.append(deviation(cross_pcf(drawn["Rock"], second_draw["Grass"])))
+    independent, reference = float(np.mean(independent)), float(np.mean(reference))
     print(f"\ngrass around rocks, pcf - 1 RMS over 0-10 m: learned {deviation(clumped_pcf):.3f}, "
-          f"set to none {deviation(independent_pcf):.3f}, a second draw {deviation(reference_pcf):.3f}")
-    assert deviation(clumped_pcf) > 2.0 * deviation(reference_pcf), "the example's grass clusters around its rocks"
-    assert deviation(independent_pcf) <= 1.5 * deviation(reference_pcf) + 0.05
+          f"set to none {independent:.3f}, a second draw {reference:.3f} (means of three draws)")
+    assert deviation(clumped_pcf) > 2.0 * reference, "the example's grass clusters around its rocks"
+    assert independent <= 1.5 * reference + 0.05
 
 
 def test_bad_matrix_cells_and_pairs_are_clear_errors():
