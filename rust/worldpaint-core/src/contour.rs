@@ -125,14 +125,27 @@ impl Polygons {
 
     /// `d` outside, `−d / d_max` inside (thesis 6.2.1); outside distances saturate at `max`.
     pub fn signed_distance(&self, p: DVec2, max: f64) -> f64 {
+        self.side_and_signed_distance(p, max).1
+    }
+
+    /// Whether `p` lies inside, and [`Polygons::signed_distance`] there (one containment test for both).
+    pub(crate) fn side_and_signed_distance(&self, p: DVec2, max: f64) -> (bool, f64) {
         if self.contours.is_empty() {
-            return max;
+            return (false, max);
         }
-        if self.contains(p) {
-            let d_max = self.owner(p).map_or(1.0, |i| self.inner[i]).max(1e-9);
-            -(self.border.distance(p, d_max) / d_max).min(1.0)
+        // the contours holding `p`, read once: inside when odd, the innermost sets `d_max`
+        let (mut holding, mut owner) = (0usize, None::<usize>);
+        for i in self.holding(p) {
+            holding += 1;
+            if owner.is_none_or(|o| self.areas[i] < self.areas[o]) {
+                owner = Some(i);
+            }
+        }
+        if holding % 2 == 1 {
+            let d_max = owner.map_or(1.0, |i| self.inner[i]).max(1e-9);
+            (true, -(self.border.distance(p, d_max) / d_max).min(1.0))
         } else {
-            self.border.distance(p, max)
+            (false, self.border.distance(p, max))
         }
     }
 

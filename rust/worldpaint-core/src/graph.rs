@@ -279,12 +279,55 @@ pub(crate) fn angle_between(u: DVec2, v: DVec2) -> f64 {
     u.perp_dot(v).abs().atan2(u.dot(v))
 }
 
+/// Per cell of an `nx × ny` grid, the Chebyshev distance in cells to the nearest non-empty cell (saturating;
+/// `u16::MAX` everywhere when all are empty): the two-pass distance transform with unit steps to the 8
+/// neighbours, exact for this metric.
+fn chebyshev_rings(cells: &[Vec<u32>], nx: usize, ny: usize) -> Vec<u16> {
+    let mut d: Vec<u16> = cells
+        .iter()
+        .map(|c| if c.is_empty() { u16::MAX } else { 0 })
+        .collect();
+    let at = |x: usize, y: usize| y * nx + x;
+    for y in 0..ny {
+        for x in 0..nx {
+            let mut v = d[at(x, y)];
+            if x > 0 {
+                v = v.min(d[at(x - 1, y)].saturating_add(1));
+            }
+            if y > 0 {
+                for xx in x.saturating_sub(1)..=(x + 1).min(nx - 1) {
+                    v = v.min(d[at(xx, y - 1)].saturating_add(1));
+                }
+            }
+            d[at(x, y)] = v;
+        }
+    }
+    for y in (0..ny).rev() {
+        for x in (0..nx).rev() {
+            let mut v = d[at(x, y)];
+            if x + 1 < nx {
+                v = v.min(d[at(x + 1, y)].saturating_add(1));
+            }
+            if y + 1 < ny {
+                for xx in x.saturating_sub(1)..=(x + 1).min(nx - 1) {
+                    v = v.min(d[at(xx, y + 1)].saturating_add(1));
+                }
+            }
+            d[at(x, y)] = v;
+        }
+    }
+    d
+}
+
 /// Segments in a uniform grid: nearest-segment distances and crossing tests visit the cells near the query only.
 #[derive(Clone, Debug, Default)]
 pub struct SegmentIndex {
     segments: Vec<(DVec2, DVec2)>,
     grid: Grid,
     cells: Vec<Vec<u32>>,
+    /// Per cell: the ring (Chebyshev distance in cells) of the nearest cell that lists a segment, so that a
+    /// distance query skips the empty rings around it (far from every segment, it answers at once).
+    empty_rings: Vec<u16>,
 }
 
 impl SegmentIndex {
@@ -322,6 +365,7 @@ impl SegmentIndex {
             segments: Vec::new(),
             grid,
             cells: vec![Vec::new(); grid.len()],
+            empty_rings: Vec::new(),
         };
         for (i, &(a, b)) in segments.iter().enumerate() {
             let (x0, y0) = index.cell_of(a.min(b));
@@ -337,6 +381,7 @@ impl SegmentIndex {
             }
         }
         index.segments = segments;
+        index.empty_rings = chebyshev_rings(&index.cells, index.grid.nx, index.grid.ny);
         index
     }
 
@@ -397,8 +442,11 @@ impl SegmentIndex {
         let (nx, ny) = (self.grid.nx as i64, self.grid.ny as i64);
         // rings beyond this one lie wholly outside the grid
         let last = (px.max(nx - 1 - px).max(py).max(ny - 1 - py)).max(0);
-        // and rings before this one miss it
-        let first = (px - (nx - 1)).max(-px).max(py - (ny - 1)).max(-py).max(0);
+        // and rings before this one miss it, or hold no segment
+        let mut first = (px - (nx - 1)).max(-px).max(py - (ny - 1)).max(-py).max(0);
+        if first == 0 {
+            first = i64::from(self.empty_rings[(py * nx + px) as usize]);
+        }
         let visit = |cx: i64, cy: i64, best: &mut f64| {
             if cx < 0 || cy < 0 || cx >= nx || cy >= ny {
                 return;

@@ -39,10 +39,9 @@ pub(crate) fn graph_map_value(index: &SegmentIndex, p: DVec2, max_radius: f64) -
 /// The value of the signed-distance map of polygons at `p`: `−d / d_max` inside (never 0: the coast belongs to
 /// the outside), `d / max_radius` outside.
 pub(crate) fn polygon_map_value(polygons: &Polygons, p: DVec2, max_radius: f64) -> f64 {
-    if polygons.contains(p) {
-        polygons.signed_distance(p, 2.0 * max_radius).min(-1e-9)
-    } else {
-        polygons.signed_distance(p, 2.0 * max_radius) / max_radius
+    match polygons.side_and_signed_distance(p, 2.0 * max_radius) {
+        (true, d) => d.min(-1e-9),
+        (false, d) => d / max_radius,
     }
 }
 

@@ -181,8 +181,8 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use structures::StructuredContent;
 use target::{
-    build_target, concentration, learned_concentration, rake_maps, unseen_shares, Conditioning,
-    Target,
+    build_target, concentration, lattice_bins, lattice_log, learned_concentration, rake_maps,
+    unseen_shares, Conditioning, Target,
 };
 
 /// Floor of empty rdf bins beyond the hard core (see the module documentation).
@@ -585,7 +585,12 @@ impl<'s> Painting<'s> {
         let cat = &self.color.categories[ci];
         let merged = self.condition_on_structures(ci, state);
         let (mut target, self_tag) = self.category_target(ci, state);
-        let expected = self.expected_count(ci, &target, &state.context[ci]);
+        let bins = if target.maps.is_empty() {
+            Vec::new()
+        } else {
+            lattice_bins(&target, &self.lattice)
+        };
+        let expected = self.expected_count(ci, &target, &bins, &state.context[ci]);
         // the terrain's maps can raise the count above the density's (a map bin preferred a million-fold)
         limits::check(
             &format!(
@@ -603,10 +608,10 @@ impl<'s> Painting<'s> {
             None => learned_concentration(&target),
         };
         if !target.maps.is_empty() && !self.lattice.is_empty() {
-            for (name, share) in unseen_shares(&target, &self.lattice) {
+            for (name, share) in unseen_shares(&target, &bins) {
                 add_unseen(&mut state.out.unseen_maps, name, share);
             }
-            rake_maps(&mut target, &self.lattice);
+            rake_maps(&mut target, &bins);
         }
         let pair_scale = learned / concentration(&target, &self.lattice);
         let mut rng = ChaCha8Rng::seed_from_u64(mix_seed(self.opts.seed, ci as u64 + 1));
@@ -715,14 +720,14 @@ impl<'s> Painting<'s> {
 
     /// The expected count: exemplar density times the map preference integrated over the region, less the kept
     /// (locked) instances already inside it (`kept`: the category's fixed content).
-    fn expected_count(&self, ci: usize, target: &Target, kept: &[DVec2]) -> f64 {
-        let mean_preference = |points: &[DVec2], terrain_only: bool| {
-            points
-                .iter()
-                .map(|p| target.maps_log(*p, terrain_only).exp())
-                .sum::<f64>()
-                / points.len() as f64
-        };
+    /// `bins`: the maps' bins over the region's lattice (see [`lattice_bins`]).
+    fn expected_count(
+        &self,
+        ci: usize,
+        target: &Target,
+        bins: &[Vec<Option<usize>>],
+        kept: &[DVec2],
+    ) -> f64 {
         let preference = if target.maps.is_empty() || self.lattice.is_empty() {
             1.0
         } else {
@@ -732,10 +737,20 @@ impl<'s> Painting<'s> {
             let own = self
                 .exemplar_lattice
                 .as_deref()
-                .map(|l| mean_preference(l, true))
+                .map(|l| {
+                    l.iter()
+                        .map(|p| target.maps_log(*p, true).exp())
+                        .sum::<f64>()
+                        / l.len() as f64
+                })
                 .filter(|v| v.is_finite() && *v > 0.0)
                 .unwrap_or(1.0);
-            mean_preference(&self.lattice, false) / own
+            let n = self.lattice.len();
+            (0..n)
+                .map(|i| lattice_log(target, bins, i).exp())
+                .sum::<f64>()
+                / n as f64
+                / own
         };
         let kept_inside = kept.iter().filter(|p| self.region.contains(**p)).count() as f64;
         (self.color.categories[ci].density * self.area * preference - kept_inside).max(0.0)

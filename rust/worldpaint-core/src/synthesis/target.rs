@@ -390,21 +390,44 @@ pub(super) fn learned_concentration(target: &Target) -> f64 {
         .product()
 }
 
-/// The share of `lattice` (the painted region's samples) where each map reads a value the exemplar's region
-/// never showed, by map name; maps with none are left out.
-pub(super) fn unseen_shares(target: &Target, lattice: &[DVec2]) -> Vec<(String, f64)> {
-    if lattice.is_empty() {
-        return Vec::new();
-    }
+/// The bins each map reads over `lattice`, `bins[map][point]`: read once per category, as the expected count, the
+/// unseen shares and the raking all use them (a distance map's reads are nearest-segment searches).
+pub(super) fn lattice_bins(target: &Target, lattice: &[DVec2]) -> Vec<Vec<Option<usize>>> {
+    use rayon::prelude::*;
     target
         .maps
         .iter()
-        .filter_map(|m| {
-            let unseen = lattice
-                .iter()
-                .filter(|p| m.bin_at(target.terrain, **p).is_some_and(|b| !m.seen[b]))
-                .count();
-            (unseen > 0).then(|| (m.name.to_string(), unseen as f64 / lattice.len() as f64))
+        .map(|m| {
+            lattice
+                .par_iter()
+                .map(|p| m.bin_at(target.terrain, *p))
+                .collect()
+        })
+        .collect()
+}
+
+/// `ln` of the map factors at lattice point `i` of `bins` (see [`lattice_bins`]).
+pub(super) fn lattice_log(target: &Target, bins: &[Vec<Option<usize>>], i: usize) -> f64 {
+    let mut sum = 0.0;
+    for (m, b) in target.maps.iter().zip(bins) {
+        match b[i] {
+            Some(k) => sum += m.hist.values[k],
+            None => return f64::NEG_INFINITY,
+        }
+    }
+    sum
+}
+
+/// The share of the painted region's lattice, read as `bins` (see [`lattice_bins`]), where each map reads a value
+/// the exemplar's region never showed, by map name; maps with none are left out.
+pub(super) fn unseen_shares(target: &Target, bins: &[Vec<Option<usize>>]) -> Vec<(String, f64)> {
+    target
+        .maps
+        .iter()
+        .zip(bins)
+        .filter_map(|(m, b)| {
+            let unseen = b.iter().filter(|b| b.is_some_and(|b| !m.seen[b])).count();
+            (unseen > 0).then(|| (m.name.to_string(), unseen as f64 / b.len() as f64))
         })
         .collect()
 }
@@ -514,19 +537,14 @@ const RAKING_ITERATIONS: usize = 12;
 /// alone (`∝ h_m q_region / q_exemplar`, which is `h_m` on the same kind of terrain): the maximum-entropy
 /// arrangement with the learned marginals. Zero factors stay zero.
 #[allow(clippy::needless_range_loop)] // bins[map][point]: the loops run over points and maps crosswise
-pub(super) fn rake_maps(target: &mut Target, lattice: &[DVec2]) {
-    let terrain = target.terrain;
-    let bins: Vec<Vec<Option<usize>>> = target
-        .maps
-        .iter()
-        .map(|m| lattice.iter().map(|p| m.bin_at(terrain, *p)).collect())
-        .collect();
+pub(super) fn rake_maps(target: &mut Target, bins: &[Vec<Option<usize>>]) {
+    let points = bins.first().map_or(0, Vec::len);
     let marginals = |maps: &[MapTable], only: Option<usize>| -> Vec<Vec<f64>> {
         let mut out: Vec<Vec<f64>> = maps
             .iter()
             .map(|m| vec![0.0; m.hist.values.len()])
             .collect();
-        for i in 0..lattice.len() {
+        for i in 0..points {
             let mut log_w = 0.0;
             for (mi, m) in maps.iter().enumerate() {
                 if only.is_some_and(|o| o != mi) {
