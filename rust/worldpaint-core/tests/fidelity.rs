@@ -223,6 +223,22 @@ fn forest_learned_on_a_slope_stays_on_the_slope_and_grass_stays_around_rocks() {
     );
 }
 
+/// `color` painted with the default options over the square kilometre from the origin: the region and the result.
+fn paint_square_kilometre(color: &Color) -> (Region, SynthesisResult) {
+    let paint = Region::Rect {
+        min: DVec2::ZERO,
+        max: DVec2::splat(1000.0),
+    };
+    let out = synthesize(
+        &Scene::default(),
+        color,
+        &paint,
+        &SynthesisOptions::default(),
+    )
+    .unwrap();
+    (paint, out)
+}
+
 /// The undergrowth of the benchmarks at scale (hard-core trees, uniform rocks, clumped grass) learned on 100 m and
 /// painted over 1 km²: a paste a hundred examples large, whose chain stops as soon as it matches its targets within
 /// the example's own noise (see "When to stop"), still matches every pair's rdf as well as a second draw does.
@@ -251,17 +267,7 @@ fn a_paste_a_hundred_examples_large_matches_them_as_well_as_a_second_draw() {
     let second_color = learn_color(&second, &region, "second", &same_bins(&color)).unwrap();
     let reference = compare(&color, &second_color);
 
-    let paint = Region::Rect {
-        min: DVec2::ZERO,
-        max: DVec2::splat(1000.0),
-    };
-    let out = synthesize(
-        &Scene::default(),
-        &color,
-        &paint,
-        &SynthesisOptions::default(),
-    )
-    .unwrap();
+    let (paint, out) = paint_square_kilometre(&color);
     let n = out.instances.len();
     let fid = compare(&color, &learned_back(&color, out, None, &paint, "painted"));
     println!(
@@ -310,18 +316,8 @@ fn timing_100k_instances_three_categories_on_a_square_kilometre() {
             .extend(pts.iter().map(|p| worldpaint_core::Instance::at(*p, c)));
     }
     let color = learn_color(&ex, &region, "mix", &Default::default()).unwrap();
-    let paint = Region::Rect {
-        min: DVec2::ZERO,
-        max: DVec2::splat(1000.0),
-    };
     let t0 = std::time::Instant::now();
-    let out = synthesize(
-        &Scene::default(),
-        &color,
-        &paint,
-        &SynthesisOptions::default(),
-    )
-    .unwrap();
+    let (paint, out) = paint_square_kilometre(&color);
     let secs = t0.elapsed().as_secs_f64();
     let n = out.instances.len();
     println!(
