@@ -16,10 +16,10 @@
 //! heightfield in 10 m pieces, elevation percentiles among the square's nodes on a 10 m grid.
 //!
 //! Printed (`--nocapture`): one table per place (house-to-road distance histogram, nearest neighbour, share
-//! within 50 m, road length per house, road grade distribution, elevation percentile; real columns, then
-//! generated ones), the engine's report per village, and the parcel figures — mean neighbouring parcels and
-//! contour edges — of the thesis's real village and model, the cadastre, the place's land-use tiles and the
-//! generated villages.
+//! within 50 m, road length per house, the road network's dead ends and junctions per kilometre, road grade
+//! distribution, elevation percentile; real columns, then generated ones), the engine's report per village, and
+//! the parcel figures — mean neighbouring parcels and contour edges — of the thesis's real village and model, the
+//! cadastre, the place's land-use tiles and the generated villages.
 //!
 //! Checked for every generated village, issue 17's criteria: its mean nearest-neighbour distance and its road
 //! length per house within ±30 % of the means of its place's real villages (the generator is given the place's
@@ -357,6 +357,12 @@ fn table(reals: &[RealColumn], generated: &[GeneratedColumn], max_grade: f64) ->
     });
     add_figure(t, "road length per house (m)", r, g, &|f| {
         format!("{:.1}", f.layout.road_length_per_house)
+    });
+    add_figure(t, "road dead ends per km", r, g, &|f| {
+        format!("{:.1}", f.network.dead_ends_per_km)
+    });
+    add_figure(t, "road junctions per km", r, g, &|f| {
+        format!("{:.1}", f.network.junctions_per_km)
     });
     add(
         t,
@@ -744,7 +750,8 @@ fn report_place(
         let rep = &v.village.report;
         out.push_str(&format!(
             "engine report, {}: requested {}, seeded {} ({} by fallback), unplaced {}, unreachable {}, without \
-             access {}, without footprint {}, roads over max grade {}, cycles {}, seconds {:.1}/{:.1}/{:.1}\n",
+             access {}, without footprint {}, roads over max grade {}, cycles {}, unused dead ends removed {}, seconds \
+             {:.1}/{:.1}/{:.1}\n",
             r.window.name,
             rep.requested,
             rep.seeded,
@@ -755,6 +762,7 @@ fn report_place(
             rep.without_footprint,
             rep.roads_over_max_grade,
             rep.cycles,
+            rep.pruned_roads,
             rep.seconds[0],
             rep.seconds[1],
             rep.seconds[2],

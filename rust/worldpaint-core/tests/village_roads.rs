@@ -298,6 +298,44 @@ mod village {
     }
 
     #[test]
+    fn a_new_road_ends_on_the_centre_line_of_the_road_it_joins() {
+        // a first road at a slant: the nodes it passes over lie up to a cell off its centre line
+        let land = land(400.0, |_| 0.0);
+        let free = vec![false; land.grid().len()];
+        let mut net = RoadNetwork::new(&land, &[DVec2::new(0.0, 20.0)], &[]).unwrap();
+        let p = RoadParams {
+            cycle_max_length: 0.0,
+            ..params()
+        };
+        let homes = [
+            DVec2::new(390.0, 250.0),
+            DVec2::new(150.0, 160.0),
+            DVec2::new(260.0, 110.0),
+            DVec2::new(330.0, 290.0),
+            DVec2::new(90.0, 110.0),
+            DVec2::new(220.0, 230.0),
+        ];
+        for h in homes {
+            assert!(connect(&mut net, &land, &p, &free, h).reached);
+        }
+        let on_road = |q: DVec2, roads: &[Road]| {
+            roads
+                .iter()
+                .flat_map(|r| r.points.windows(2))
+                .map(|w| worldpaint_core::geom::segment_distance(q, w[0], w[1]))
+                .fold(f64::INFINITY, f64::min)
+        };
+        for k in 1..net.roads.len() {
+            let end = *net.roads[k].points.last().unwrap();
+            let gap = on_road(end, &net.roads[..k]);
+            assert!(
+                gap < 1e-6,
+                "road {k} ends {gap:.3} m from the roads before it"
+            );
+        }
+    }
+
+    #[test]
     fn new_buildings_re_use_the_roads() {
         let land = land(400.0, |_| 0.0);
         let free = vec![false; land.grid().len()];

@@ -11,6 +11,7 @@ use super::metrics::on_water;
 use super::parcels::{parcels_with, ParcelOptions, ParcelSeed};
 use super::roads::RoadNetwork;
 use super::seeding::seed_building;
+use super::spurs::used_roads;
 use super::{BuildingSeed, Footprint, HouseMesh, Parcel, Road};
 use crate::error::{Error, Result};
 use crate::geom::Region;
@@ -81,6 +82,8 @@ pub struct VillageReport {
     pub roads_over_max_grade: usize,
     /// Cycle roads built (3.2.4).
     pub cycles: usize,
+    /// New dead-end roads left unused by the buildings, removed before the parcels (see `village::spurs`).
+    pub pruned_roads: usize,
     /// The connection points `Ψ` the roads started from: the request's, or those found when it gave none.
     pub connections: Vec<DVec2>,
     /// Seconds spent in the skeleton, the parcels and footprints, and the houses.
@@ -369,8 +372,23 @@ pub fn generate(
     // 3.3: parcels and footprints
     let stage = Instant::now();
     reached(Stage::Parcels, 0.0)?;
-    // the network holds the existing roads first, then the new ones
-    let all_roads: &[Road] = &network.roads;
+    // the network holds the existing roads first, then the new ones; new dead ends no building uses go
+    let existing = request.existing_roads.len().min(network.roads.len());
+    let positions: Vec<DVec2> = seeds.iter().map(|s| s.position).collect();
+    let keep = used_roads(
+        &network.roads,
+        existing,
+        &positions,
+        network.connections(),
+        0.1 * request.site.cell,
+    );
+    let mut kept_roads: Vec<Road> = std::mem::take(&mut network.roads)
+        .into_iter()
+        .zip(&keep)
+        .filter_map(|(r, &k)| k.then_some(r))
+        .collect();
+    report.pruned_roads = keep.iter().filter(|&&k| !k).count();
+    let all_roads: &[Road] = &kept_roads;
     let placements: Vec<_> = seeds
         .iter()
         .map(|s| enc.placement(&s.village_type, &s.building))
@@ -467,9 +485,7 @@ pub fn generate(
 
     Ok(Village {
         seeds: kept_seeds,
-        roads: network
-            .roads
-            .split_off(request.existing_roads.len().min(network.roads.len())),
+        roads: kept_roads.split_off(existing),
         parcels: kept_parcels,
         footprints: kept_footprints,
         houses,

@@ -10,6 +10,7 @@
 //! | [`interest`] | dynamic interest maps and the interest equation, Fig. 3.6 templates (3.2.2) |
 //! | `seeding` | aggregation-based building seeding, Algorithm 1 (3.2.3) |
 //! | [`roads`] | weighted anisotropic shortest path with re-use and cycles (3.2.4) |
+//! | `spurs` | new dead ends no building uses, removed before the parcels (our addition to 3.2.4) |
 //! | [`parcels`] | road, corner and anisotropic land conquest, simplification (3.3.1–3.3.4) |
 //! | [`footprint`] | quad footprints grown from the road (3.3.5) |
 //! | [`house`] | open shape grammar houses (3.4) |
@@ -26,6 +27,7 @@ pub mod parcels;
 mod road_index;
 pub mod roads;
 mod seeding;
+mod spurs;
 
 pub use encyclopedia::{Encyclopedia, Event, Scenario, ScenarioPresets};
 pub use land::{Environment, Land, Site};

@@ -55,6 +55,7 @@ use crate::rings::area_centroid;
 use crate::squares::{centre_of_points_in, points_in, square, squares_by_count};
 use std::collections::{HashMap, VecDeque};
 use worldpaint_core::geom::{polygon_contains, polygon_signed_area, DVec2};
+use worldpaint_core::graph::Graph;
 use worldpaint_core::village::metrics::{
     layout_statistics, mean_elevation_percentile, road_grades, road_length, LayoutStatistics,
 };
@@ -657,6 +658,79 @@ pub struct Figures {
     pub over_max_grade: f64,
     pub road_length: f64,
     pub elevation_percentile: f64,
+    pub network: NetworkShape,
+}
+
+/// The shape of a road network inside a window: its dead ends and junctions per kilometre of road. Nodes within
+/// [`BORDER_MARGIN`] of the window's border are left out (the roads were clipped there).
+#[derive(Clone, Debug, Default)]
+pub struct NetworkShape {
+    pub dead_ends_per_km: f64,
+    pub junctions_per_km: f64,
+}
+
+/// Distance (m) from a window's border within which a road end is where the window clipped it.
+const BORDER_MARGIN: f64 = 10.0;
+
+fn network_shape(land: &Land, roads: &[Road]) -> NetworkShape {
+    // OpenStreetMap ways meet at shared nodes, while a generated road may end inside a segment of the road it
+    // joins: every road end is made a vertex of the roads it lies on
+    const SNAP: f64 = 0.5;
+    let ends: Vec<DVec2> = roads
+        .iter()
+        .filter_map(|r| Some([*r.points.first()?, *r.points.last()?]))
+        .flatten()
+        .collect();
+    let noded: Vec<Vec<DVec2>> = roads
+        .iter()
+        .map(|r| {
+            let mut out: Vec<DVec2> = Vec::with_capacity(r.points.len());
+            for w in r.points.windows(2) {
+                let (a, b) = (w[0], w[1]);
+                out.push(a);
+                let ab = b - a;
+                let mut on: Vec<(f64, DVec2)> = ends
+                    .iter()
+                    .filter_map(|&e| {
+                        let t = (e - a).dot(ab) / ab.length_squared().max(1e-12);
+                        (t > 0.0 && t < 1.0 && (a + ab * t).distance(e) <= SNAP).then_some((t, e))
+                    })
+                    .collect();
+                on.sort_by(|x, y| x.0.total_cmp(&y.0));
+                out.extend(on.into_iter().map(|(_, e)| e));
+            }
+            out.extend(r.points.last());
+            out
+        })
+        .collect();
+    let paths: Vec<&[DVec2]> = noded.iter().map(|r| r.as_slice()).collect();
+    let graph = Graph::from_paths(&paths, SNAP);
+    let inside = |p: DVec2| {
+        land.grid()
+            .nearest(p)
+            .is_some_and(|(i, j)| land.inside()[land.grid().index(i, j)])
+    };
+    let away_from_border = |p: DVec2| {
+        [(1.0, 0.0), (-1.0, 0.0), (0.0, 1.0), (0.0, -1.0)]
+            .iter()
+            .all(|&(x, y)| inside(p + DVec2::new(x, y) * BORDER_MARGIN))
+    };
+    let (mut dead, mut junctions) = (0usize, 0usize);
+    for (v, nb) in graph.adjacency().iter().enumerate() {
+        if !away_from_border(graph.nodes[v]) {
+            continue;
+        }
+        match nb.len() {
+            1 => dead += 1,
+            n if n >= 3 => junctions += 1,
+            _ => {}
+        }
+    }
+    let km = (road_length(roads) / 1e3).max(1e-9);
+    NetworkShape {
+        dead_ends_per_km: dead as f64 / km,
+        junctions_per_km: junctions as f64 / km,
+    }
 }
 
 /// The grid over a window on which elevation percentiles and relief are read.
@@ -705,6 +779,7 @@ pub fn figures(
         over_max_grade: GradeSummary::share_over(&grades, max_grade),
         road_length: road_length(roads),
         elevation_percentile: mean_elevation_percentile(land, houses),
+        network: network_shape(land, roads),
     }
 }
 
