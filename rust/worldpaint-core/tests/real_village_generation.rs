@@ -547,7 +547,7 @@ const MAX_PARCEL_EDGES: f64 = 5.0;
 const OPEN: [(&str, &str); 3] = [
     ("Andorra", "road length per house"),
     ("Andorra", "parcel neighbours"),
-    ("", "parcel contour edges"),
+    ("Andorra", "parcel contour edges"),
 ];
 
 fn is_open(place: &str, criterion: &str) -> bool {
@@ -660,7 +660,7 @@ fn checks(
     asserted.push(Check {
         what: format!("{name}: buildings generated"),
         measured: format!("{} of {}", gl.houses, g.asked),
-        // footprints are still lost in narrow parcels: 86-90 % stand near Bayreuth, 90-100 % in Andorra
+        // footprints are still lost in narrow parcels: 82-91 % stand near Bayreuth, 90-96 % in Andorra
         bound: ">= 80 %".into(),
         holds: gl.houses * 10 >= g.asked * 8,
     });

@@ -5,7 +5,7 @@
 use worldpaint_core::exemplar::village_terrain;
 use worldpaint_core::geom::DVec2;
 use worldpaint_core::terrain_edit::{embed_roads, Road as EmbeddedRoad, RoadOptions};
-use worldpaint_core::village::encyclopedia::Event;
+use worldpaint_core::village::encyclopedia::{Event, RoadParams};
 use worldpaint_core::village::generate::{generate, Stage, Village, VillageRequest};
 use worldpaint_core::village::metrics::{
     footprint_conflicts, layout_statistics, mean_elevation_percentile, road_grades,
@@ -403,7 +403,17 @@ fn a_village_type_may_set_its_own_road_costs_but_not_its_width() {
     let highland = enc.road_params("highland");
     assert_eq!(highland.width, enc.roads.width);
     assert!(highland.cycle_max_length > enc.roads.cycle_max_length);
-    assert_eq!(enc.road_params("farming"), enc.roads);
+    assert_eq!(enc.road_params("defensive"), enc.roads);
+    // farming lays streets past its new roads' buildings, with the shared costs
+    let farming = enc.road_params("farming");
+    assert!(farming.street_length > 0.0 && enc.roads.street_length == 0.0);
+    assert_eq!(
+        RoadParams {
+            street_length: 0.0,
+            ..farming
+        },
+        enc.roads
+    );
     let mut bad = enc.clone();
     if let Some(v) = bad.village_types.get_mut("farming") {
         v.roads.max_grade = Some(-0.1);

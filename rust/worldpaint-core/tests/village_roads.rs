@@ -24,6 +24,7 @@ fn params() -> RoadParams {
         cycle_angle_degrees: 30.0,
         cycle_max_length: 150.0,
         cycle_min_separation: 25.0,
+        street_length: 0.0,
     }
 }
 
@@ -333,6 +334,36 @@ mod village {
                 "road {k} ends {gap:.3} m from the roads before it"
             );
         }
+    }
+
+    #[test]
+    fn a_street_goes_on_past_its_house_until_the_land_stops_it() {
+        let mut land = land(300.0, |_| 10.0);
+        // a pond from x = 230 m on
+        set(&mut land, |l, k| l.water_mut()[k] = true, |p| p.x >= 230.0);
+        let free = vec![false; land.grid().len()];
+        let psi = DVec2::new(0.0, 150.0);
+        let street = |length: f64, house: DVec2| {
+            let p = RoadParams {
+                street_length: length,
+                cycle_max_length: 0.0,
+                ..params()
+            };
+            let mut net = RoadNetwork::new(&land, &[psi], &[]).unwrap();
+            let c = connect(&mut net, &land, &p, &free, house);
+            let laid = net.lay_street(&land, &p, &free, c.roads[0]);
+            (laid, net.roads[c.roads[0]].points[0])
+        };
+        // 40 m asked on open land: 40 m laid, straight on from the house, away from Ψ
+        let (laid, end) = street(40.0, DVec2::new(150.0, 150.0));
+        assert_eq!(laid, 40.0);
+        assert!((end - DVec2::new(190.0, 150.0)).length() < 1e-9, "{end:?}");
+        // towards the pond: it stops on the dry land before it
+        let (laid, end) = street(100.0, DVec2::new(150.0, 150.0));
+        assert!(laid < 80.0 && end.x < 230.0, "{laid} m to {end:?}");
+        assert!(end.x >= 226.0, "{laid} m to {end:?}");
+        // none asked, none laid
+        assert_eq!(street(0.0, DVec2::new(150.0, 150.0)).0, 0.0);
     }
 
     #[test]

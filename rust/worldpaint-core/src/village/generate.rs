@@ -358,6 +358,10 @@ pub fn generate(
                 None => found.position,
             };
             stamp(&land, &mut occupied, position, radius);
+            // the building's road goes on past it as a street for the houses that come next
+            if let (Some(&r), false) = (connection.roads.first(), connection.cycle) {
+                network.lay_street(&land, &roads, &occupied, r);
+            }
             seeds.push(BuildingSeed {
                 building: building.clone(),
                 village_type: village_type.clone(),

@@ -93,6 +93,7 @@ fn the_searches_find_the_cheapest_path() {
             cycle_angle_degrees: 30.0,
             cycle_max_length: 100.0,
             cycle_min_separation: 20.0,
+            street_length: 0.0,
         };
         let mut search = Search::new(&land, &params).unwrap();
         search.flags = (0..land.grid().len())
@@ -197,6 +198,7 @@ fn network_costs_kept_up_to_date_match_a_full_computation() {
         cycle_angle_degrees: 40.0,
         cycle_max_length: 80.0,
         cycle_min_separation: 10.0,
+        street_length: 0.0,
     };
     let free = vec![false; land.grid().len()];
     let mut net = RoadNetwork::new(
