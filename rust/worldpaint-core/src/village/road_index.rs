@@ -81,6 +81,11 @@ impl RoadIndex {
         best
     }
 
+    /// The distance from `p` to the roads, or `max` when they are farther.
+    pub(crate) fn distance(&self, p: DVec2, max: f64) -> f64 {
+        self.index.distance(p, max)
+    }
+
     /// The closest road point to `p`, however far (`p` itself at an infinite distance when there is no road).
     pub(crate) fn project(&self, p: DVec2) -> Projection {
         let d = self.index.distance(p, f64::INFINITY);

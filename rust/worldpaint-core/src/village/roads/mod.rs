@@ -109,11 +109,11 @@ mod search;
 mod tests;
 
 use crate::error::{Error, Result};
-use crate::geom::{closest_on_segment, finite, polyline_segments};
-use crate::graph::SegmentIndex;
+use crate::geom::finite;
 use crate::grid::Grid;
 use crate::village::encyclopedia::RoadParams;
 use crate::village::land::Land;
+use crate::village::road_index::RoadIndex;
 use crate::village::Road;
 use checks::{land_mark, nearest_inside};
 use glam::DVec2;
@@ -137,7 +137,7 @@ pub struct RoadNetwork {
     on_road: Vec<bool>,
     /// The nodes of `on_road`, in the order they were added.
     road_nodes: Vec<u32>,
-    index: SegmentIndex,
+    index: RoadIndex,
     /// A fingerprint of the land the network was made on: the cached move costs belong to it.
     land_mark: u64,
     search: Option<Box<Search>>,
@@ -203,7 +203,7 @@ impl RoadNetwork {
             connection_nodes: Vec::new(),
             on_road: vec![false; grid.len()],
             road_nodes: Vec::new(),
-            index: SegmentIndex::default(),
+            index: RoadIndex::default(),
             land_mark: land_mark(land),
             search: None,
         };
@@ -329,27 +329,8 @@ impl RoadNetwork {
         laid
     }
 
-    /// The closest point of the roads to `p` when it lies within `reach`.
-    fn foot_on_roads(&self, p: DVec2, reach: f64) -> Option<DVec2> {
-        let mut near = Vec::new();
-        self.index
-            .candidates(p - DVec2::splat(reach), p + DVec2::splat(reach), &mut near);
-        near.iter()
-            .map(|&s| {
-                let (a, b) = self.index.segments()[s as usize];
-                closest_on_segment(p, a, b)
-            })
-            .filter(|q| q.distance(p) <= reach)
-            .min_by(|a, b| a.distance(p).total_cmp(&b.distance(p)))
-    }
-
     fn rebuild_index(&mut self) {
-        let segments: Vec<(DVec2, DVec2)> = self
-            .roads
-            .iter()
-            .flat_map(|r| polyline_segments(&r.points))
-            .collect();
-        self.index = SegmentIndex::new(segments);
+        self.index = RoadIndex::new(&self.roads, 4.0 * self.grid.cell);
     }
 
     /// Adds the connection point `p` (snapped to the nearest node inside `Ω`) to `Ψ`, joined to the network by the
@@ -551,7 +532,8 @@ impl RoadNetwork {
         let n = points.len();
         if n >= 2 {
             let (before, end) = (points[n - 2], points[n - 1]);
-            if let Some(foot) = self.foot_on_roads(end, grid.cell * std::f64::consts::SQRT_2) {
+            let reach = grid.cell * std::f64::consts::SQRT_2;
+            if let Some(foot) = self.index.nearest(end, reach).map(|p| p.point) {
                 let grade = |a: DVec2, b: DVec2| {
                     (ctx.land.height_at(b) - ctx.land.height_at(a)).abs() / a.distance(b).max(1e-9)
                 };
