@@ -414,6 +414,27 @@ fn a_village_type_may_set_its_own_road_costs_but_not_its_width() {
         },
         enc.roads
     );
+    // a steep village type may take a finer move mask; it goes through the file, and its range is checked
+    let mut steep = enc.clone();
+    if let Some(v) = steep.village_types.get_mut("highland") {
+        v.roads.mask_radius = Some(4);
+    }
+    let steep = Encyclopedia::from_json(&steep.to_json()).expect("a mask of radius 4");
+    assert_eq!(steep.road_params("highland").mask_radius, 4);
+    assert_eq!(
+        steep.road_params("farming").mask_radius,
+        enc.roads.mask_radius
+    );
+    let mut bad = enc.clone();
+    if let Some(v) = bad.village_types.get_mut("highland") {
+        v.roads.mask_radius = Some(0);
+    }
+    let err = Encyclopedia::from_json(&bad.to_json()).expect_err("a mask of radius 0");
+    assert!(
+        err.to_string()
+            .contains("village_types.highland.roads.mask_radius"),
+        "{err}"
+    );
     let mut bad = enc.clone();
     if let Some(v) = bad.village_types.get_mut("farming") {
         v.roads.max_grade = Some(-0.1);
