@@ -15,10 +15,10 @@
 //! maps churches and barns as buildings too), roads are clipped to the square, grades are read on the same
 //! heightfield in 10 m pieces, elevation percentiles among the square's nodes on a 10 m grid.
 //!
-//! Printed (`--nocapture`): one table per place (house-to-road distance histogram, nearest neighbour, share
-//! within 50 m, road length per house, the road network's dead ends and junctions per kilometre, road grade
-//! distribution, elevation percentile; real columns, then generated ones), the engine's report per village, and
-//! the parcel figures — mean neighbouring parcels and contour edges — of the thesis's real village and model, the
+//! Printed (`--nocapture`): one table per place (house-to-road distance histogram, nearest neighbour, shares
+//! within 20 m and 50 m, road length per house, the road network's dead ends and junctions per kilometre, road
+//! grade distribution, elevation percentile; real columns, then generated ones), the engine's report per village,
+//! and the parcel figures — mean neighbouring parcels and contour edges — of the thesis's real village and model, the
 //! cadastre, the place's land-use tiles and the generated villages.
 //!
 //! Checked for every generated village, issue 17's criteria: its mean nearest-neighbour distance and its road
@@ -36,8 +36,9 @@
 //!
 //! The villages of a place grow in parallel. Each is asked for as many buildings as its real window holds (450–510
 //! north of Bayreuth, 20–100 in Andorra; [`MAX_BUILDINGS`] only guards the running time), so its density is
-//! the real one's, not a sparser village's by construction. The thesis's parcel figures come from one real village; the cadastre (a
-//! suburban town) and the land-use tiles (fields and woods, not lots) bracket them rather than match them.
+//! the real one's, not a sparser village's by construction. The thesis's parcel figures come from one real
+//! village; the cadastre (a suburban town) and the land-use tiles (fields and woods, not lots) bracket them rather
+//! than match them.
 
 #[path = "common/checks.rs"]
 mod checks;
@@ -348,6 +349,9 @@ fn table(reals: &[RealColumn], generated: &[GeneratedColumn], max_grade: f64) ->
     );
     add_figure(t, "mean nearest neighbour (m)", r, g, &|f| {
         format!("{:.1}", f.layout.mean_nearest_neighbour)
+    });
+    add_figure(t, "with another within 20 m (%)", r, g, &|f| {
+        pct(f.layout.share_within_20m)
     });
     add_figure(t, "with another within 50 m (%)", r, g, &|f| {
         pct(f.layout.share_within_50m)

@@ -240,6 +240,8 @@ pub struct LayoutStatistics {
     pub houses: usize,
     /// Mean distance from a house to the nearest other house (m), over the houses that have one.
     pub mean_nearest_neighbour: f64,
+    /// Share of houses with another house within 20 m: the close pairs (a house and its barn, a row).
+    pub share_within_20m: f64,
     /// Share of houses with another house within 50 m.
     pub share_within_50m: f64,
     /// Total road length over the number of houses (m).
@@ -291,6 +293,7 @@ pub fn layout_statistics(houses: &[DVec2], roads: &[Road]) -> LayoutStatistics {
     LayoutStatistics {
         houses: n,
         mean_nearest_neighbour: finite.iter().sum::<f64>() / finite.len().max(1) as f64,
+        share_within_20m: nearest.iter().filter(|d| **d <= 20.0).count() as f64 / n.max(1) as f64,
         share_within_50m: nearest.iter().filter(|d| **d <= 50.0).count() as f64 / n.max(1) as f64,
         road_length_per_house: length / n.max(1) as f64,
         road_distance_histogram: histogram,

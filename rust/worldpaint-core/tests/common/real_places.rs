@@ -28,9 +28,9 @@
 //!   else "near" the nearest one. Connection points are where through roads (primary to unclassified) cross the
 //!   window's border, merged within 60 m.
 //! * **Measured** on a window (houses and roads clipped to it) by the engine's own metrics: layout statistics
-//!   (nearest neighbour, share within 50 m, road length per house, house-to-road distance histogram), road grades
-//!   in pieces of [`GRADE_STEP`] metres on the heightfield, summarised in grade bins, and the houses' mean
-//!   elevation percentile among the nodes of the window on a [`PERCENTILE_CELL`] metre grid.
+//!   (nearest neighbour, shares within 20 m and 50 m, road length per house, house-to-road distance histogram),
+//!   road grades in pieces of [`GRADE_STEP`] metres on the heightfield, summarised in grade bins, and the houses'
+//!   mean elevation percentile among the nodes of the window on a [`PERCENTILE_CELL`] metre grid.
 //! * **Real parcels.** The cadastre of Épinay-sur-Orge (`parcels/cadastre-91216-parcelles.json`, outer rings in
 //!   metres about their centre), and the OpenStreetMap land-use polygons of a place that tile the land: the
 //!   `landuse` polygons whose centroid lies in no other land-use polygon and that hold no other one's centroid.
