@@ -16,10 +16,10 @@
 //! heightfield in 10 m pieces, elevation percentiles among the square's nodes on a 10 m grid.
 //!
 //! Printed (`--nocapture`): one table per place (house-to-road distance histogram, nearest neighbour, shares
-//! within 20 m and 50 m, road length per house, the road network's dead ends and junctions per kilometre, road
-//! grade distribution, elevation percentile; real columns, then generated ones), the engine's report per village,
-//! and the parcel figures — mean neighbouring parcels and contour edges — of the thesis's real village and model, the
-//! cadastre, the place's land-use tiles and the generated villages.
+//! within 20 m and 50 m, road length per house, the road network's dead ends, junctions and hairpins per
+//! kilometre, road grade distribution, elevation percentile; real columns, then generated ones), the engine's
+//! report per village, and the parcel figures — mean neighbouring parcels and contour edges — of the thesis's
+//! real village and model, the cadastre, the place's land-use tiles and the generated villages.
 //!
 //! Checked for every generated village, issue 17's criteria: its mean nearest-neighbour distance and its road
 //! length per house within ±30 % of the means of its place's real villages (the generator is given the place's
@@ -367,6 +367,9 @@ fn table(reals: &[RealColumn], generated: &[GeneratedColumn], max_grade: f64) ->
     });
     add_figure(t, "road junctions per km", r, g, &|f| {
         format!("{:.1}", f.network.junctions_per_km)
+    });
+    add_figure(t, "road hairpins per km", r, g, &|f| {
+        format!("{:.1}", f.network.hairpins_per_km)
     });
     add(
         t,
@@ -854,4 +857,27 @@ fn generated_villages_beside_real_ones() {
         t0.elapsed().as_secs_f64()
     );
     assert_all_hold(&all);
+}
+
+/// The hairpin count of the table: a U-turn counts once whether one vertex or an arc of many draws it; a
+/// straight road and a right-angle corner have none.
+#[test]
+fn a_hairpin_counts_once_however_many_vertices_draw_it() {
+    let p = |x: f64, y: f64| DVec2::new(x, y);
+    assert_eq!(real::hairpins(&[p(0.0, 0.0), p(100.0, 0.0)]), 0);
+    assert_eq!(
+        real::hairpins(&[p(0.0, 0.0), p(50.0, 0.0), p(50.0, 50.0)]),
+        0
+    );
+    assert_eq!(real::hairpins(&[p(0.0, 0.0), p(50.0, 0.0), p(0.0, 6.0)]), 1);
+    let mut arc = vec![p(0.0, 0.0)];
+    arc.extend((0..=10).map(|s| {
+        let a = std::f64::consts::PI * (s as f64 / 10.0 - 0.5);
+        p(50.0 + 4.0 * a.cos(), 4.0 + 4.0 * a.sin())
+    }));
+    arc.push(p(0.0, 8.0));
+    assert_eq!(real::hairpins(&arc), 1);
+    // a serpentine of three legs: two hairpins
+    let legs = [p(0.0, 0.0), p(60.0, 0.0), p(0.0, 10.0), p(60.0, 20.0)];
+    assert_eq!(real::hairpins(&legs), 2);
 }

@@ -661,12 +661,48 @@ pub struct Figures {
     pub network: NetworkShape,
 }
 
-/// The shape of a road network inside a window: its dead ends and junctions per kilometre of road. Nodes within
-/// [`BORDER_MARGIN`] of the window's border are left out (the roads were clipped there).
+/// The shape of a road network inside a window: its dead ends and junctions per kilometre of road (nodes within
+/// [`BORDER_MARGIN`] of the window's border are left out: the roads were clipped there), and its hairpins per
+/// kilometre (see [`hairpins`]).
 #[derive(Clone, Debug, Default)]
 pub struct NetworkShape {
     pub dead_ends_per_km: f64,
     pub junctions_per_km: f64,
+    pub hairpins_per_km: f64,
+}
+
+/// Half the length (m) over which a road's turn is measured, and the turn (degrees) that makes a hairpin.
+const HAIRPIN_REACH: f64 = 10.0;
+const HAIRPIN_DEGREES: f64 = 120.0;
+
+/// The hairpins of a road: the stretches where its heading over the [`HAIRPIN_REACH`] metres ahead turns from
+/// its heading over the metres behind by more than [`HAIRPIN_DEGREES`], each stretch counted once. Measured on
+/// points a metre apart along the road, so that a hairpin counts alike whether one vertex or ten draw it.
+pub fn hairpins(road: &[DVec2]) -> usize {
+    // a point every metre of its length
+    let mut points = Vec::new();
+    let mut next = 0.0;
+    let mut walked = 0.0;
+    for w in road.windows(2) {
+        let length = w[0].distance(w[1]);
+        while next <= walked + length && length > 0.0 {
+            points.push(w[0].lerp(w[1], (next - walked) / length));
+            next += 1.0;
+        }
+        walked += length;
+    }
+    let k = HAIRPIN_REACH as usize;
+    let limit = HAIRPIN_DEGREES.to_radians();
+    let mut count = 0;
+    let mut within = false;
+    for i in k..points.len().saturating_sub(k) {
+        let (behind, ahead) = (points[i] - points[i - k], points[i + k] - points[i]);
+        let turn = behind.angle_to(ahead).abs();
+        let sharp = behind.length() > 0.0 && ahead.length() > 0.0 && turn > limit;
+        count += usize::from(sharp && !within);
+        within = sharp;
+    }
+    count
 }
 
 /// Distance (m) from a window's border within which a road end is where the window clipped it.
@@ -730,6 +766,7 @@ fn network_shape(land: &Land, roads: &[Road]) -> NetworkShape {
     NetworkShape {
         dead_ends_per_km: dead as f64 / km,
         junctions_per_km: junctions as f64 / km,
+        hairpins_per_km: roads.iter().map(|r| hairpins(&r.points)).sum::<usize>() as f64 / km,
     }
 }
 
