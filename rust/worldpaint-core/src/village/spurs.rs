@@ -30,13 +30,11 @@ pub(crate) fn used_roads(
         if kept.is_empty() {
             return keep;
         }
-        let mut owner = Vec::new();
-        let polylines: Vec<Road> = kept
+        let polylines: Vec<Road> = kept.iter().map(|&r| roads[r].clone()).collect();
+        // the road of each of the index's segments, in the order it numbers them
+        let owner: Vec<usize> = kept
             .iter()
-            .map(|&r| {
-                owner.extend(std::iter::repeat_n(r, roads[r].points.len() - 1));
-                roads[r].clone()
-            })
+            .flat_map(|&r| std::iter::repeat_n(r, roads[r].points.len() - 1))
             .collect();
         let index = RoadIndex::new(&polylines, 8.0 * tolerance.max(0.5));
         let mut used = vec![false; roads.len()];
