@@ -202,9 +202,14 @@ fn check_lattice(name: &str, hexagonal: bool) {
         relaxation.error_before / relaxation.error_after.max(1e-300),
         relaxation.fixed
     );
+    // grown on the lattice the reference was placed on, every ring already holds its reference offsets
     assert!(
-        relaxation.error_after < relaxation.error_before,
-        "{name}: relaxation lowers the error"
+        relaxation.error_before <= 1e-9 * grown.elements.len() as f64,
+        "{name}: nothing left to relax"
+    );
+    assert!(
+        relaxation.error_after <= relaxation.error_before + 1e-9,
+        "{name}: relaxation does not raise the error"
     );
 }
 
@@ -230,18 +235,38 @@ fn a_hexagonal_lattice_grows_into_a_hexagonal_lattice() {
 
 #[test]
 fn relaxation_lowers_the_ring_error_of_a_pattern_grown_without_it() {
-    for hexagonal in [false, true] {
-        let (_, mut grown) = grown_with(reference_of(hexagonal), RotationMode::None, 0);
+    // an irregular reference (a lattice's rings all agree, and there is nothing to relax): a Poisson-disk scatter
+    for seed in [3, 5] {
+        let square = Region::Rect {
+            min: DVec2::ZERO,
+            max: DVec2::splat(8.0),
+        };
+        let points = worldpaint_core::exemplar::hard_core(&square, 1.0, 0.75, seed);
+        let reference = Reference::new(
+            points
+                .iter()
+                .map(|&position| Element {
+                    position,
+                    symbol: 0,
+                    rotation: 0.0,
+                    scale: 1.0,
+                })
+                .collect(),
+        )
+        .expect("a valid reference");
+        let (_, mut grown) = grown_with(reference, RotationMode::None, 0);
         let first = grown.elements[0].position;
         let relaxation = relax(&mut grown).expect("relaxation solves");
         let factor = relaxation.error_before / relaxation.error_after.max(1e-300);
         println!(
-            "{} lattice grown without relaxation: eq. (5) error {:.3} -> {:.3} m², lowered by a factor {factor:.2}",
-            if hexagonal { "hexagonal" } else { "square" },
-            relaxation.error_before,
-            relaxation.error_after
+            "irregular reference {seed} grown without relaxation: eq. (5) error {:.3} -> {:.3} m², lowered by a \
+             factor {factor:.2}",
+            relaxation.error_before, relaxation.error_after
         );
-        assert!(factor > 1.5);
+        assert!(
+            factor > 1.3,
+            "relaxation lowers the error by a quarter or more"
+        );
         assert_eq!(
             grown.elements[0].position, first,
             "the initial element stays"

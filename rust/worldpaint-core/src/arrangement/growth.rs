@@ -1,20 +1,10 @@
 //! Local growth from seeds (seed §5.1–5.4). "We sort seeds by the distance from the initial seed and choose the
-//! nearest one in each growth step." For the chosen seed e^tar, every non-boundary reference element e^ref whose ring
-//! is at least as large as the seed's current (partial) ring is compared by eq. (2)–(3) over the matching patterns
-//! "which have no skipping and flipping": both rings counter-clockwise, the target's first neighbour paired in turn
-//! with each reference neighbour. "We overlay a copy of the reference ring shape with the target seed neighborhood
-//! … delete every neighboring element which was paired … The remaining elements will form new seeds with
-//! corresponding symbol ids … Finally, we construct edges to connect the new seeds", with the heuristics of Fig. 6.
+//! nearest one in each growth step." The chosen seed is matched to a reference element (`super::matching`), then
+//! "we overlay a copy of the reference ring shape with the target seed neighborhood … delete every neighboring
+//! element which was paired … The remaining elements will form new seeds with corresponding symbol ids … Finally,
+//! we construct edges to connect the new seeds", with the heuristics of Fig. 6.
 //!
 //! Readings where the seed is vague:
-//! - the target ring starts after its widest angular gap ("we start with the element which is on the boundary");
-//! - `subid(e_i^tar, e_j^ref)` is 1 when the target neighbour is a copy of the very reference element it is paired
-//!   with, so that the same reference patch does not repeat itself; seeds (not yet elements) have no sub-id, and a
-//!   seed with no symbol id matches any symbol (`id` = 0);
-//! - eq. (4) is solved as shape matching [MHTG05], i.e. the least-squares rotation θ = atan2(Σ r×q, Σ r·q) of the
-//!   paired offsets, and the pattern's error is then eq. (2) at that θ; in the flow-field mode θ is the flow's
-//!   angle at the seed ("we then rotate the whole reference pattern so as to adjust its local x coordinate to the
-//!   orientation"); a seed with no neighbour takes a reference element drawn with the run's seeded generator;
 //! - seed priority (§5.1): a seed waits while a seed of higher priority lies within 5 l (l the reference's mean edge);
 //!   symbols not listed and seeds with no symbol have priority 0;
 //! - Fig. 6 (b): a new seed within r_short of an existing element or seed is dropped and the edge goes to that one;
@@ -22,10 +12,12 @@
 //!   seed's figure leaves this band open, and an irregular reference's spacing is lost through it: with r_short alone
 //!   6.5 % of grown elements stood closer than 0.8 mean spacings to a neighbour, none of the reference's did);
 //!   (c) a new edge whose angle to the seed's nearest edge on either side is under half the reference ring's angle
-//!   there is dropped with its seed; (d) a new edge crossing an existing edge is dropped with its seed; (e) an edge
+//!   there is dropped with its seed (not on a lattice, whose sites are a spacing apart); (d) a new edge crossing an existing edge is dropped with its seed; (e) an edge
 //!   between two consecutive ring neighbours longer than 1.5 × its reference length gets an extra seed, with no
-//!   symbol id, on the bisector of the angle at the grown element at the mean length of the two edges; (f) where the
-//!   extra seed's edges would cross existing ones, those edges are left out;
+//!   symbol id, on the bisector of the angle at the grown element at the mean length of the two edges (on a lattice,
+//!   at the site nearest that point); (f) where the extra seed's edges would cross existing ones, those edges are
+//!   left out;
+//! - a near-regular reference's rings are copied with the offsets of the lattice it stands on (`super::lattice`);
 //! - seeds outside the region or across a boundary curve are not created, and no edge crosses a boundary curve; the
 //!   element that wanted them is flagged `at_region_boundary` (held by the relaxation, as §5.5 holds "elements at
 //!   their generated positions" when "there are user-specified boundaries");
@@ -44,13 +36,15 @@ use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
 use glam::DVec2;
-use rand::{Rng, SeedableRng};
+use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
 use super::boundary::BoundaryIndex;
 use super::cells::{Cells, FastMap, FastSet};
 use super::connectivity::segments_cross;
-use super::options::{GrowthOptions, RotationMode};
+use super::lattice::Lattice;
+use super::matching::Match;
+use super::options::GrowthOptions;
 use super::relax::{solve, Term};
 use super::Reference;
 use crate::error::{Error, Result};
@@ -76,31 +70,12 @@ pub(super) struct Node {
 }
 
 /// One reference element's ring, as offsets from it.
-struct RefRing {
-    sub_id: usize,
-    symbol: u32,
-    offsets: Vec<DVec2>,
-    symbols: Vec<u32>,
-    sub_ids: Vec<usize>,
-}
-
-pub(super) struct Match {
-    ring: usize,
-    theta: f64,
-    shift: usize,
-    targets: Vec<usize>,
-}
-
-impl Match {
-    /// The reference element matched.
-    pub(super) fn sub_id(&self, grower: &Grower) -> usize {
-        grower.rings[self.ring].sub_id
-    }
-
-    /// The size of the reference element's ring.
-    pub(super) fn ring_len(&self, grower: &Grower) -> usize {
-        grower.rings[self.ring].offsets.len()
-    }
+pub(super) struct RefRing {
+    pub(super) sub_id: usize,
+    pub(super) symbol: u32,
+    pub(super) offsets: Vec<DVec2>,
+    pub(super) symbols: Vec<u32>,
+    pub(super) sub_ids: Vec<usize>,
 }
 
 /// The state of one growth: the nodes (existing elements first, then the grown elements and seeds), their
@@ -108,9 +83,9 @@ impl Match {
 pub(super) struct Grower<'a> {
     pub(super) reference: &'a Reference,
     region: PreparedRegion<'a>,
-    options: &'a GrowthOptions,
+    pub(super) options: &'a GrowthOptions,
     boundaries: BoundaryIndex,
-    rings: Vec<RefRing>,
+    pub(super) rings: Vec<RefRing>,
     /// Seeds are grown nearest-first from here.
     pub(super) origin: DVec2,
     pub(super) nodes: Vec<Node>,
@@ -124,6 +99,8 @@ pub(super) struct Grower<'a> {
     grid: Cells,
     max_edge: f64,
     pub(super) r_short: f64,
+    /// The lattice a near-regular reference stands on (see `lattice`).
+    pub(super) lattice: Option<Lattice>,
     heap: BinaryHeap<Reverse<(u64, usize)>>,
     /// The new elements, in the order they were placed.
     pub(super) placed: Vec<usize>,
@@ -137,22 +114,35 @@ impl<'a> Grower<'a> {
         options: &'a GrowthOptions,
     ) -> Result<Self> {
         let elements = reference.elements();
-        let rings = (0..elements.len())
-            .filter(|&i| !reference.is_boundary(i))
-            .map(|i| {
-                let ring = reference.ring(i);
-                RefRing {
-                    sub_id: i,
-                    symbol: elements[i].symbol,
-                    offsets: ring
-                        .iter()
-                        .map(|&j| elements[j].position - elements[i].position)
-                        .collect(),
-                    symbols: ring.iter().map(|&j| elements[j].symbol).collect(),
-                    sub_ids: ring.to_vec(),
-                }
-            })
-            .collect();
+        // a near-regular reference's rings are copied on the lattice it was meant to be (see `lattice`)
+        let lattice = Lattice::estimate(reference);
+        let ring_of = |i: usize, lattice: Option<&Lattice>| {
+            let ring = reference.ring(i);
+            let offset = |j: usize| {
+                let o = elements[j].position - elements[i].position;
+                lattice.map_or(o, |l| l.vector_near(o))
+            };
+            RefRing {
+                sub_id: i,
+                symbol: elements[i].symbol,
+                offsets: ring.iter().map(|&j| offset(j)).collect(),
+                symbols: ring.iter().map(|&j| elements[j].symbol).collect(),
+                sub_ids: ring.to_vec(),
+            }
+        };
+        let interior = || (0..elements.len()).filter(|&i| !reference.is_boundary(i));
+        let on_lattice: Vec<RefRing> = match &lattice {
+            Some(l) => interior()
+                .map(|i| ring_of(i, Some(l)))
+                .filter(|r| l.is_ring(&r.offsets))
+                .collect(),
+            None => Vec::new(),
+        };
+        let (lattice, rings) = if on_lattice.is_empty() {
+            (None, interior().map(|i| ring_of(i, None)).collect())
+        } else {
+            (lattice, on_lattice)
+        };
         let cell = reference.mean_edge().max(f64::MIN_POSITIVE);
         Ok(Grower {
             reference,
@@ -170,6 +160,7 @@ impl<'a> Grower<'a> {
             grid: Cells::new(cell),
             max_edge: 0.0,
             r_short: reference.r_short(),
+            lattice,
             heap: BinaryHeap::new(),
             placed: Vec::new(),
             rng: ChaCha8Rng::seed_from_u64(options.seed),
@@ -516,121 +507,6 @@ impl<'a> Grower<'a> {
         }
     }
 
-    /// The node's live neighbours, counter-clockwise, starting after the widest angular gap.
-    fn target_ring(&self, s: usize) -> Vec<usize> {
-        let p = self.nodes[s].position;
-        let mut ring: Vec<(f64, usize)> = self.adjacency[s]
-            .iter()
-            .map(|&n| ((self.nodes[n].position - p).to_angle(), n))
-            .collect();
-        ring.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-        let m = ring.len();
-        if m < 2 {
-            return ring.into_iter().map(|r| r.1).collect();
-        }
-        let gap = |k: usize| (ring[(k + 1) % m].0 - ring[k].0).rem_euclid(std::f64::consts::TAU);
-        let widest = (0..m)
-            .max_by(|&a, &b| gap(a).total_cmp(&gap(b)).then(b.cmp(&a)))
-            .unwrap_or(0);
-        (0..m).map(|i| ring[(widest + 1 + i) % m].1).collect()
-    }
-
-    /// The best-matching reference element for node `s` and its current ring (eq. (1)–(4)); a node with no
-    /// neighbour takes a reference element drawn with the run's generator when `draw`, else the first that fits.
-    pub(super) fn best_match(&mut self, s: usize, draw: bool) -> Option<Match> {
-        let symbol = self.nodes[s].symbol;
-        let targets = self.target_ring(s);
-        let m = targets.len();
-        let candidates: Vec<usize> = (0..self.rings.len())
-            .filter(|&r| symbol.is_none_or(|sym| self.rings[r].symbol == sym))
-            .filter(|&r| self.rings[r].offsets.len() >= m)
-            .collect();
-        if candidates.is_empty() {
-            return None;
-        }
-        let p = self.nodes[s].position;
-        let flow_theta = match (&self.options.flow, self.options.rotation) {
-            (Some(flow), RotationMode::Flow) => flow.angle_at(p),
-            _ => 0.0,
-        };
-        if m == 0 {
-            let ring = if draw {
-                candidates[self.rng.random_range(0..candidates.len())]
-            } else {
-                candidates[0]
-            };
-            return Some(Match {
-                ring,
-                theta: flow_theta,
-                shift: 0,
-                targets,
-            });
-        }
-        let q: Vec<DVec2> = targets
-            .iter()
-            .map(|&t| self.nodes[t].position - p)
-            .collect();
-        let w = self.options.weights;
-        let fixed_theta = if self.options.rotation == RotationMode::Flow {
-            flow_theta
-        } else {
-            0.0
-        };
-        let fixed_rot = DVec2::from_angle(fixed_theta);
-        let mut best: Option<(f64, Match)> = None;
-        for &r in &candidates {
-            let ring = &self.rings[r];
-            let n = ring.offsets.len();
-            for shift in 0..n {
-                let theta = match self.options.rotation {
-                    RotationMode::None | RotationMode::Flow => fixed_theta,
-                    RotationMode::BestFit => {
-                        let (mut cross, mut dot) = (0.0, 0.0);
-                        for (i, qi) in q.iter().enumerate() {
-                            let o = ring.offsets[(shift + i) % n];
-                            cross += o.perp_dot(*qi);
-                            dot += o.dot(*qi);
-                        }
-                        cross.atan2(dot)
-                    }
-                };
-                let rot = match self.options.rotation {
-                    RotationMode::BestFit => DVec2::from_angle(theta),
-                    _ => fixed_rot,
-                };
-                let mut error = 0.0;
-                for (i, &t) in targets.iter().enumerate() {
-                    let slot = (shift + i) % n;
-                    error += w.distance * q[i].distance(rot.rotate(ring.offsets[slot]));
-                    let node = &self.nodes[t];
-                    if node.symbol.is_some_and(|sym| sym != ring.symbols[slot]) {
-                        error += w.symbol;
-                    }
-                    if let State::Element { sub_id, .. } = node.state {
-                        if sub_id == ring.sub_ids[slot] {
-                            error += w.sub_id;
-                        }
-                    }
-                }
-                if best.as_ref().is_none_or(|b| error < b.0) {
-                    best = Some((
-                        error,
-                        Match {
-                            ring: r,
-                            theta,
-                            shift,
-                            targets: Vec::new(),
-                        },
-                    ));
-                }
-            }
-        }
-        best.map(|(_, mut m)| {
-            m.targets = targets;
-            m
-        })
-    }
-
     /// Replaces seed `s` by the matched reference element and grows its ring (Fig. 2 d–h, Fig. 6). A reopened
     /// existing element keeps its place and is not counted as placed.
     fn place(&mut self, s: usize, m: Match) {
@@ -648,12 +524,11 @@ impl<'a> Grower<'a> {
         let p = self.nodes[s].position;
 
         let mut assigned: Vec<Option<usize>> = vec![None; n];
-        for (i, &t) in m.targets.iter().enumerate() {
-            let slot = (m.shift + i) % n;
+        for (&t, &slot) in m.targets.iter().zip(&m.slots) {
             assigned[slot] = Some(t);
             self.targets[s].push((t, offsets[slot]));
         }
-        let first_free = m.shift + m.targets.len();
+        let first_free = m.slots.last().map_or(0, |&k| k + 1);
         for step in 0..n {
             let j = (first_free + step) % n;
             if assigned[j].is_some() {
@@ -682,8 +557,9 @@ impl<'a> Grower<'a> {
             if self.any_within(c, CROWDED * 2.0 * self.r_short, Some(s)) {
                 continue;
             }
-            // (c) the angle to the nearest edges on either side
-            if self.too_narrow(s, offsets[j], &offsets, j) {
+            // (c) the angle to the nearest edges on either side (a lattice's sites are a spacing apart already: an
+            // edge along a cell's diagonal, which the ring copied may not have, would leave a site empty)
+            if self.lattice.is_none() && self.too_narrow(s, offsets[j], &offsets, j) {
                 continue;
             }
             // (d) edge collisions
@@ -710,7 +586,7 @@ impl<'a> Grower<'a> {
                 continue;
             }
             if pa.distance(pb) > 1.5 * original {
-                self.extra_seed(s, a, b);
+                self.extra_seed(s, a, b, rot);
             } else if !self.collides(a, Some(b), pa, pb) {
                 self.connect(a, b);
             }
@@ -738,12 +614,17 @@ impl<'a> Grower<'a> {
     }
 
     /// Fig. 6 (e)–(f): an extra seed, with no symbol, on the bisector of the angle a–s–b.
-    fn extra_seed(&mut self, s: usize, a: usize, b: usize) {
+    /// On a lattice, the seed goes to the lattice site nearest that point (`rot`: the match's turn).
+    fn extra_seed(&mut self, s: usize, a: usize, b: usize, rot: DVec2) {
         let p = self.nodes[s].position;
         let (da, db) = (self.nodes[a].position - p, self.nodes[b].position - p);
         let half = 0.5 * da.angle_to(db).rem_euclid(std::f64::consts::TAU);
         let length = 0.5 * (da.length() + db.length());
-        let x = p + DVec2::from_angle(half).rotate(da.normalize_or_zero()) * length;
+        let mut x = p + DVec2::from_angle(half).rotate(da.normalize_or_zero()) * length;
+        if let Some(lattice) = &self.lattice {
+            let back = DVec2::new(rot.x, -rot.y);
+            x = p + rot.rotate(lattice.vector_near(back.rotate(x - p)));
+        }
         if !self.region.contains(x) || self.off_limits(p, x) {
             self.cut[s] = true;
             return;

@@ -39,8 +39,11 @@ mod cells;
 mod color;
 pub mod connectivity;
 mod existing;
+mod fidelity;
 mod flow;
 mod growth;
+mod lattice;
+mod matching;
 mod options;
 mod paint;
 mod relax;
@@ -51,6 +54,9 @@ use serde::{Deserialize, Serialize};
 pub use around::{grow, grow_around};
 pub use color::{ArrangementColor, PatternRotation, ReferenceElement, DEFAULT_RELAX_EVERY};
 pub use connectivity::Reference;
+pub use fidelity::{
+    pattern_fidelity, reference_density, PatternFidelity, RingMatch, RING_RADIUS, RING_TOLERANCE,
+};
 pub use flow::{FlowField, MAX_FLOW_CURVES};
 pub use options::{GrowthOptions, MatchWeights, Noise, RotationMode};
 pub(crate) use paint::paint;

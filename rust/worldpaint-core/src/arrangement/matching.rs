@@ -1,0 +1,294 @@
+//! Finding the best matching element (seed §5.2–5.3): for a seed e^tar and its current (partial) ring, every
+//! non-boundary reference element e^ref whose ring is at least as large is compared by eq. (2)–(3).
+//!
+//! The seed's matching patterns F pair the rings "without skipping and flipping": both rings counter-clockwise, the
+//! target's first neighbour paired in turn with each reference neighbour. Readings where the seed is vague:
+//! - the target ring starts after its widest angular gap ("we start with the element which is on the boundary");
+//! - `subid(e_i^tar, e_j^ref)` is 1 when the target neighbour is a copy of the very reference element it is paired
+//!   with, so that the same reference patch does not repeat itself; seeds (not yet elements) have no sub-id, and a
+//!   seed with no symbol id matches any symbol (`id` = 0);
+//! - eq. (4) is solved as shape matching [MHTG05], i.e. the least-squares rotation θ = atan2(Σ r×q, Σ r·q) of the
+//!   paired offsets, and the pattern's error is then eq. (2) at that θ; in the flow-field mode θ is the flow's
+//!   angle at the seed ("we then rotate the whole reference pattern so as to adjust its local x coordinate to the
+//!   orientation"); a seed with no neighbour takes a reference element drawn with the run's seeded generator.
+//!
+//! **On a lattice** (a near-regular reference, see `super::lattice`), in the non-rotation and best-fit modes:
+//! - where growth fronts meet, a seed's neighbours are not one run of its ring: one is missing between two that are
+//!   there, and no pattern without skipping pairs them with the right offsets. Each target neighbour is then paired
+//!   with the reference offset nearest to it (turned by θ), which skips the missing one and never flips, since the
+//!   offsets are a lattice's, a spacing apart;
+//! - θ is one of the turns that map the lattice onto itself (0 in the non-rotation mode, else the one of least
+//!   error), since any other turn starts a grain of another orientation;
+//! - a match is *on the lattice* when every pair lies within a quarter of the lattice's shortest vector, and only
+//!   those are compared by eq. (2): the sub-id term (w3 = 100) would otherwise prefer a ring put a whole spacing off
+//!   to one that repeats a neighbour's reference element. When no candidate is on the lattice, the seed's patterns
+//!   are searched as without one.
+
+use glam::DVec2;
+use rand::Rng;
+
+use super::growth::{Grower, RefRing, State};
+use super::lattice::OFF_SITE;
+use super::options::RotationMode;
+
+/// A seed matched to a reference element: its ring, its turn, and the ring slot of each of the seed's neighbours.
+pub(super) struct Match {
+    pub(super) ring: usize,
+    pub(super) theta: f64,
+    /// The seed's neighbours, counter-clockwise.
+    pub(super) targets: Vec<usize>,
+    /// The reference ring's slot each of `targets` is paired with, increasing counter-clockwise.
+    pub(super) slots: Vec<usize>,
+}
+
+impl Match {
+    /// The reference element matched.
+    pub(super) fn sub_id(&self, grower: &Grower) -> usize {
+        grower.rings[self.ring].sub_id
+    }
+
+    /// The size of the reference element's ring.
+    pub(super) fn ring_len(&self, grower: &Grower) -> usize {
+        grower.rings[self.ring].offsets.len()
+    }
+}
+
+/// A candidate match: the reference ring, its turn and the pairs (index among the seed's neighbours, ring slot).
+struct Candidate {
+    ring: usize,
+    theta: f64,
+    pairs: Vec<(usize, usize)>,
+}
+
+impl Grower<'_> {
+    /// The node's live neighbours, counter-clockwise, starting after the widest angular gap.
+    fn target_ring(&self, s: usize) -> Vec<usize> {
+        let p = self.nodes[s].position;
+        let mut ring: Vec<(f64, usize)> = self.adjacency[s]
+            .iter()
+            .map(|&n| ((self.nodes[n].position - p).to_angle(), n))
+            .collect();
+        ring.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        let m = ring.len();
+        if m < 2 {
+            return ring.into_iter().map(|r| r.1).collect();
+        }
+        let gap = |k: usize| (ring[(k + 1) % m].0 - ring[k].0).rem_euclid(std::f64::consts::TAU);
+        let widest = (0..m)
+            .max_by(|&a, &b| gap(a).total_cmp(&gap(b)).then(b.cmp(&a)))
+            .unwrap_or(0);
+        (0..m).map(|i| ring[(widest + 1 + i) % m].1).collect()
+    }
+
+    /// The best-matching reference element for node `s` and its current ring (eq. (1)–(4)); a node with no
+    /// neighbour takes a reference element drawn with the run's generator when `draw`, else the first that fits.
+    pub(super) fn best_match(&mut self, s: usize, draw: bool) -> Option<Match> {
+        let symbol = self.nodes[s].symbol;
+        let targets = self.target_ring(s);
+        let m = targets.len();
+        // on a lattice whose cells' diagonals fall either way, a neighbour along one need not be in the ring
+        let either = |t: &usize| {
+            self.lattice.is_some_and(|l| {
+                l.is_either_diagonal(self.nodes[*t].position - self.nodes[s].position)
+            })
+        };
+        let required = m - targets.iter().filter(|t| either(t)).count();
+        let candidates: Vec<usize> = (0..self.rings.len())
+            .filter(|&r| symbol.is_none_or(|sym| self.rings[r].symbol == sym))
+            .filter(|&r| self.rings[r].offsets.len() >= required)
+            .collect();
+        if candidates.is_empty() {
+            return None;
+        }
+        let p = self.nodes[s].position;
+        let flow_theta = match (&self.options.flow, self.options.rotation) {
+            (Some(flow), RotationMode::Flow) => flow.angle_at(p),
+            _ => 0.0,
+        };
+        if m == 0 {
+            let ring = if draw {
+                candidates[self.rng.random_range(0..candidates.len())]
+            } else {
+                candidates[0]
+            };
+            return Some(Match {
+                ring,
+                theta: flow_theta,
+                targets,
+                slots: Vec::new(),
+            });
+        }
+        let q: Vec<DVec2> = targets
+            .iter()
+            .map(|&t| self.nodes[t].position - p)
+            .collect();
+        let on_lattice = match self.options.rotation {
+            RotationMode::None | RotationMode::BestFit => {
+                self.lattice_match(&candidates, &targets, &q)
+            }
+            RotationMode::Flow => None,
+        };
+        let found = on_lattice.or_else(|| {
+            let candidates: Vec<usize> = candidates
+                .into_iter()
+                .filter(|&r| self.rings[r].offsets.len() >= m)
+                .collect();
+            self.pattern_match(&candidates, &targets, &q, flow_theta)
+        })?;
+        let (targets, slots) = found
+            .pairs
+            .iter()
+            .map(|&(i, slot)| (targets[i], slot))
+            .unzip();
+        Some(Match {
+            ring: found.ring,
+            theta: found.theta,
+            targets,
+            slots,
+        })
+    }
+
+    /// The seed's search: every candidate ring with every matching pattern (a shift, no skipping), turned by the
+    /// mode's θ.
+    fn pattern_match(
+        &self,
+        candidates: &[usize],
+        targets: &[usize],
+        q: &[DVec2],
+        flow_theta: f64,
+    ) -> Option<Candidate> {
+        let fixed_theta = if self.options.rotation == RotationMode::Flow {
+            flow_theta
+        } else {
+            0.0
+        };
+        let mut best: Option<(f64, Candidate)> = None;
+        for &r in candidates {
+            let ring = &self.rings[r];
+            let n = ring.offsets.len();
+            for shift in 0..n {
+                let slots: Vec<usize> = (0..targets.len()).map(|i| (shift + i) % n).collect();
+                let theta = match self.options.rotation {
+                    RotationMode::None | RotationMode::Flow => fixed_theta,
+                    RotationMode::BestFit => {
+                        let (mut cross, mut dot) = (0.0, 0.0);
+                        for (qi, &slot) in q.iter().zip(&slots) {
+                            cross += ring.offsets[slot].perp_dot(*qi);
+                            dot += ring.offsets[slot].dot(*qi);
+                        }
+                        let theta = cross.atan2(dot);
+                        self.lattice.map_or(theta, |l| l.nearest_symmetry(theta))
+                    }
+                };
+                let error = self.error(ring, targets, q, DVec2::from_angle(theta), &slots);
+                if best.as_ref().is_none_or(|b| error < b.0) {
+                    let pairs = slots.into_iter().enumerate().collect();
+                    best = Some((
+                        error,
+                        Candidate {
+                            ring: r,
+                            theta,
+                            pairs,
+                        },
+                    ));
+                }
+            }
+        }
+        best.map(|b| b.1)
+    }
+
+    /// On a lattice: every candidate ring turned by each of the lattice's symmetry turns the mode allows, each
+    /// target neighbour paired with the nearest offset (a neighbour along a cell diagonal that falls either way left
+    /// unpaired when the ring does not have it); the least error among the matches on the lattice, with the pairs
+    /// (target index, slot).
+    fn lattice_match(
+        &self,
+        candidates: &[usize],
+        targets: &[usize],
+        q: &[DVec2],
+    ) -> Option<Candidate> {
+        let lattice = self.lattice?;
+        let tolerance = OFF_SITE * lattice.basis[0].length();
+        let turns = match self.options.rotation {
+            RotationMode::BestFit => lattice.symmetries(),
+            _ => vec![0.0],
+        };
+        let mut best: Option<(f64, Candidate)> = None;
+        for &r in candidates {
+            let ring = &self.rings[r];
+            'turns: for &theta in &turns {
+                let rot = DVec2::from_angle(theta);
+                let mut pairs: Vec<(usize, usize)> = Vec::with_capacity(q.len());
+                for (i, qi) in q.iter().enumerate() {
+                    let nearest = (0..ring.offsets.len()).min_by(|&a, &b| {
+                        let da = qi.distance_squared(rot.rotate(ring.offsets[a]));
+                        let db = qi.distance_squared(rot.rotate(ring.offsets[b]));
+                        da.total_cmp(&db)
+                    });
+                    match nearest {
+                        Some(k)
+                            if qi.distance(rot.rotate(ring.offsets[k])) <= tolerance
+                                && pairs.iter().all(|p| p.1 != k) =>
+                        {
+                            pairs.push((i, k))
+                        }
+                        _ if lattice.is_either_diagonal(*qi) => {}
+                        _ => continue 'turns,
+                    }
+                }
+                let slots: Vec<usize> = pairs.iter().map(|p| p.1).collect();
+                if !counter_clockwise(&slots) {
+                    continue;
+                }
+                let paired: Vec<usize> = pairs.iter().map(|p| targets[p.0]).collect();
+                let paired_q: Vec<DVec2> = pairs.iter().map(|p| q[p.0]).collect();
+                let error = self.error(ring, &paired, &paired_q, rot, &slots);
+                if best.as_ref().is_none_or(|b| error < b.0) {
+                    best = Some((
+                        error,
+                        Candidate {
+                            ring: r,
+                            theta,
+                            pairs,
+                        },
+                    ));
+                }
+            }
+        }
+        best.map(|b| b.1)
+    }
+
+    /// Eq. (2) for one pairing of the seed's neighbours (offsets `q`) with `ring`'s `slots`, turned by `rot`.
+    fn error(
+        &self,
+        ring: &RefRing,
+        targets: &[usize],
+        q: &[DVec2],
+        rot: DVec2,
+        slots: &[usize],
+    ) -> f64 {
+        let w = self.options.weights;
+        let mut error = 0.0;
+        for ((&t, qi), &slot) in targets.iter().zip(q).zip(slots) {
+            error += w.distance * qi.distance(rot.rotate(ring.offsets[slot]));
+            let node = &self.nodes[t];
+            if node.symbol.is_some_and(|sym| sym != ring.symbols[slot]) {
+                error += w.symbol;
+            }
+            if let State::Element { sub_id, .. } = node.state {
+                if sub_id == ring.sub_ids[slot] {
+                    error += w.sub_id;
+                }
+            }
+        }
+        error
+    }
+}
+
+/// Whether ring slots, read from the first, go once round counter-clockwise (no flipping): at most one descent.
+fn counter_clockwise(slots: &[usize]) -> bool {
+    slots.windows(2).filter(|w| w[1] < w[0]).count() <= 1
+        && (slots.len() < 2
+            || slots.windows(2).all(|w| w[1] > w[0])
+            || slots[slots.len() - 1] < slots[0])
+}
