@@ -9,6 +9,7 @@
 use glam::DVec2;
 use spade::{DelaunayTriangulation, Point2, Triangulation};
 
+use super::lattice::Lattice;
 use super::Element;
 use crate::error::{Error, Result};
 
@@ -29,6 +30,7 @@ pub struct Reference {
     shortest_edge: f64,
     mean_edge: f64,
     longest_edge: f64,
+    lattice: Option<Lattice>,
 }
 
 impl Reference {
@@ -90,6 +92,7 @@ impl Reference {
             shortest_edge: 0.0,
             mean_edge: 0.0,
             longest_edge: 0.0,
+            lattice: None,
         };
         reference.rebuild()?;
         Ok(reference)
@@ -193,6 +196,15 @@ impl Reference {
         self.shortest_edge = lengths.iter().copied().fold(f64::INFINITY, f64::min);
         self.mean_edge = lengths.iter().sum::<f64>() / lengths.len().max(1) as f64;
         self.longest_edge = lengths.iter().copied().fold(0.0, f64::max);
+        let offsets: Vec<DVec2> = (0..n)
+            .filter(|&i| !boundary[i])
+            .flat_map(|i| {
+                let p = self.elements[i].position;
+                rings[i].iter().map(move |&j| (j, p))
+            })
+            .map(|(j, p)| self.elements[j].position - p)
+            .collect();
+        self.lattice = Lattice::estimate(&offsets, self.shortest_edge);
         self.rings = rings;
         self.boundary = boundary;
         Ok(())
@@ -231,6 +243,11 @@ impl Reference {
             edges.extend(ring.iter().filter(|&&j| j > i).map(|&j| (i, j)));
         }
         edges
+    }
+
+    /// The lattice the reference was placed on, when it is near-regular (see `super::lattice`).
+    pub fn lattice(&self) -> Option<&Lattice> {
+        self.lattice.as_ref()
     }
 
     /// The shortest edge of the connectivity (m).

@@ -115,7 +115,7 @@ impl<'a> Grower<'a> {
     ) -> Result<Self> {
         let elements = reference.elements();
         // a near-regular reference's rings are copied on the lattice it was meant to be (see `lattice`)
-        let lattice = Lattice::estimate(reference);
+        let lattice = reference.lattice().copied();
         let ring_of = |i: usize, lattice: Option<&Lattice>| {
             let ring = reference.ring(i);
             let offset = |j: usize| {

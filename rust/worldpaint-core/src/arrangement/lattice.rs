@@ -25,16 +25,14 @@
 
 use glam::DVec2;
 
-use super::Reference;
-
 /// Largest distance of an offset from its lattice vector, in lengths of `b1`.
-pub const MAX_RESIDUAL: f64 = 0.3;
+pub(crate) const MAX_RESIDUAL: f64 = 0.3;
 /// Largest root mean square of the offsets' distances from their lattice vectors, in lengths of `b1`.
-pub const MAX_RMS_RESIDUAL: f64 = 0.1;
+pub(crate) const MAX_RMS_RESIDUAL: f64 = 0.1;
 /// Largest integer coordinate of a ring offset in the basis (a ring reaches its nearest few sites).
-pub const MAX_INDEX: i64 = 3;
+pub(crate) const MAX_INDEX: i64 = 3;
 /// A point farther than this many lengths of `b1` from a site is not on it.
-pub const OFF_SITE: f64 = 0.25;
+pub(crate) const OFF_SITE: f64 = 0.25;
 /// Least angle between the basis vectors' lines (radians): 20°.
 const MIN_BASIS_ANGLE: f64 = 0.349;
 /// A basis whose vectors' lengths differ by less than this share, at an angle within [`REGULAR_ANGLE`] of 60°
@@ -55,13 +53,13 @@ pub struct Lattice {
 }
 
 impl Lattice {
-    /// The lattice under `reference`'s interior rings, or None when the reference is not near-regular.
-    pub fn estimate(reference: &Reference) -> Option<Lattice> {
-        let offsets = ring_offsets(reference);
+    /// The lattice under a reference's interior rings, given as every `offset` from an interior element to one of its
+    /// ring's (both ways along each edge), with the shortest edge; None when the reference is not near-regular.
+    pub(crate) fn estimate(offsets: &[DVec2], shortest_edge: f64) -> Option<Lattice> {
         if offsets.len() < 4 {
             return None;
         }
-        let means = cluster_means(&offsets, 0.25 * reference.shortest_edge());
+        let means = cluster_means(offsets, 0.25 * shortest_edge);
         let basis = reduced(initial_basis(&means)?);
         let coordinates: Vec<(i64, i64)> = offsets
             .iter()
@@ -99,7 +97,7 @@ impl Lattice {
 
     /// The turns (radians, in [0, 2π)) that map the lattice onto itself: every 60° for a hexagonal one, 90° for a
     /// square one, else a half turn.
-    pub fn symmetries(&self) -> Vec<f64> {
+    pub(crate) fn symmetries(&self) -> Vec<f64> {
         let [a, b] = self.basis;
         let step = if is_regular(a, b, HEXAGONAL) {
             std::f64::consts::FRAC_PI_3
@@ -113,7 +111,7 @@ impl Lattice {
     }
 
     /// The symmetry turn nearest to `theta` (radians).
-    pub fn nearest_symmetry(&self, theta: f64) -> f64 {
+    pub(crate) fn nearest_symmetry(&self, theta: f64) -> f64 {
         let tau = std::f64::consts::TAU;
         self.symmetries()
             .into_iter()
@@ -125,12 +123,28 @@ impl Lattice {
             .unwrap_or(0.0)
     }
 
+    /// What a user calls the lattice: hexagonal, square, rhombic (bricks in a running bond), rectangular or oblique.
+    pub fn name(&self) -> &'static str {
+        let [a, b] = self.basis;
+        if is_regular(a, b, HEXAGONAL) {
+            "hexagonal"
+        } else if is_regular(a, b, std::f64::consts::FRAC_PI_2) {
+            "square"
+        } else if (a.length() - b.length()).abs() <= REGULAR_LENGTH * b.length() {
+            "rhombic"
+        } else if a.angle_to(b).cos().abs() <= REGULAR_ANGLE.sin() {
+            "rectangular"
+        } else {
+            "oblique"
+        }
+    }
+
     /// Whether `offsets` (counter-clockwise) are a whole ring of the lattice's Delaunay triangulation: each one and
     /// each step between neighbouring ones no longer than the shorter diagonal of the reduced cell (either diagonal
     /// when they are equal, as on a square lattice or bricks). A reference placed by hand has, along its outline,
     /// elements whose fan closes with a triangle of just under 2π/3 or reaches a second neighbour (√3 away on a
     /// hexagonal lattice): copied, their rings connect sites no other ring connects.
-    pub fn is_ring(&self, offsets: &[DVec2]) -> bool {
+    pub(crate) fn is_ring(&self, offsets: &[DVec2]) -> bool {
         let [a, b] = self.basis;
         let longest =
             (1.0 + REGULAR_LENGTH) * (a + b).length().min((a - b).length()).max(b.length());
@@ -145,7 +159,7 @@ impl Lattice {
     /// Whether `v` is a diagonal of a cell whose two diagonals are equally long (a square lattice's, or bricks'
     /// rows and columns): four sites on a circle, whose Delaunay triangulation takes either diagonal, so that
     /// elements of one pattern have it in some cells and not in others.
-    pub fn is_either_diagonal(&self, v: DVec2) -> bool {
+    pub(crate) fn is_either_diagonal(&self, v: DVec2) -> bool {
         let [a, b] = self.basis;
         let (plus, minus) = (a + b, a - b);
         let tolerance = 0.5 * OFF_SITE * a.length();
@@ -156,24 +170,10 @@ impl Lattice {
     }
 
     /// The lattice vector nearest to `offset`.
-    pub fn vector_near(&self, offset: DVec2) -> DVec2 {
+    pub(crate) fn vector_near(&self, offset: DVec2) -> DVec2 {
         let (i, j) = integer_coordinates(self.basis, offset);
         i as f64 * self.basis[0] + j as f64 * self.basis[1]
     }
-}
-
-/// Every offset of the interior elements' rings (both ways along each edge).
-fn ring_offsets(reference: &Reference) -> Vec<DVec2> {
-    let elements = reference.elements();
-    (0..elements.len())
-        .filter(|&i| !reference.is_boundary(i))
-        .flat_map(|i| {
-            reference
-                .ring(i)
-                .iter()
-                .map(move |&j| elements[j].position - elements[i].position)
-        })
-        .collect()
 }
 
 /// The means of the offsets' clusters, with their sizes: each offset joins the nearest mean within `radius` (the
@@ -310,8 +310,8 @@ mod tests {
     use rand::{Rng, SeedableRng};
     use rand_chacha::ChaCha8Rng;
 
-    fn reference(points: impl Iterator<Item = DVec2>) -> Reference {
-        Reference::new(
+    fn reference(points: impl Iterator<Item = DVec2>) -> Option<Lattice> {
+        crate::arrangement::Reference::new(
             points
                 .map(|position| Element {
                     position,
@@ -322,18 +322,21 @@ mod tests {
                 .collect(),
         )
         .expect("a reference")
+        .lattice()
+        .copied()
     }
 
     #[test]
     fn a_turned_noisy_hexagonal_lattice_is_found_and_an_irregular_reference_is_not() {
         let mut rng = ChaCha8Rng::seed_from_u64(3);
         let turn = DVec2::from_angle(0.3);
-        let hexagonal = reference((0..49).map(|k| {
+        let lattice = reference((0..49).map(|k| {
             let (r, c) = ((k / 7) as f64, (k % 7) as f64);
             let jitter = DVec2::new(rng.random_range(-0.05..0.05), rng.random_range(-0.05..0.05));
             turn.rotate(DVec2::new(c + 0.5 * (r % 2.0), r * 0.866)) + jitter
         }));
-        let lattice = Lattice::estimate(&hexagonal).expect("a lattice");
+        let lattice = lattice.expect("a lattice");
+        assert_eq!(lattice.name(), "hexagonal");
         assert!((lattice.basis[0].length() - 1.0).abs() < 0.02);
         assert!((lattice.basis[1].length() - 1.0).abs() < 0.02);
         let angle = lattice.basis[0]
@@ -353,7 +356,7 @@ mod tests {
                 points.push(p);
             }
         }
-        assert_eq!(Lattice::estimate(&reference(points.into_iter())), None);
+        assert_eq!(reference(points.into_iter()), None);
     }
 
     #[test]

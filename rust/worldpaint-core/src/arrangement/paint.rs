@@ -10,6 +10,7 @@ use rand_chacha::ChaCha8Rng;
 
 use super::around::gaussian;
 use super::color::ArrangementColor;
+use super::fidelity::{pattern_fidelity, PatternFidelity};
 use super::{grow_around, Element, FlowField, GrowthOptions, Noise};
 use crate::error::{Error, Result};
 use crate::geom::Region;
@@ -37,6 +38,45 @@ const CONTEXT_EDGES: f64 = 3.0;
 /// The random stream the colour noise draws from.
 const TINT_STREAM: u64 = 1;
 
+/// The part of `region` a pattern is painted in: on the terrain when the scene has one.
+fn painted_region(scene: &Scene, region: &Region) -> Result<Region> {
+    match scene.terrain.as_deref() {
+        Some(t) => t.clip(region).ok_or_else(|| Error::RegionOffTerrain {
+            reason: "the region and the terrain do not overlap".into(),
+        }),
+        None => Ok(region.clone()),
+    }
+}
+
+/// What `region` of `scene` holds of the arrangement color `color`, against its reference
+/// ([`super::pattern_fidelity`]): the figures a paste reports. None when `color` is not an arrangement.
+pub fn painted_fidelity(
+    scene: &Scene,
+    region: &Region,
+    color: &Color,
+) -> Result<Option<PatternFidelity>> {
+    let Some(pattern) = &color.arrangement else {
+        return Ok(None);
+    };
+    let reference = pattern.reference()?;
+    let region = painted_region(scene, region)?;
+    let (_, scene_index) = scene_categories(scene, color);
+    let elements: Vec<Element> = scene
+        .instances
+        .iter()
+        .filter_map(|i| {
+            let symbol = scene_index.iter().position(|&c| c == i.category)?;
+            Some(Element {
+                position: i.position,
+                symbol: symbol as u32,
+                rotation: i.rotation,
+                scale: i.scale,
+            })
+        })
+        .collect();
+    Ok(Some(pattern_fidelity(&reference, &elements, &region)))
+}
+
 /// Paints the arrangement `pattern` of `color` into `region` of `scene` (the scene's unlocked content there
 /// already cleared by the tool); `keep` says which of the scene's instances stay to continue from.
 pub(crate) fn paint(
@@ -49,12 +89,7 @@ pub(crate) fn paint(
     keep: &(dyn Fn(&Instance) -> bool + Sync),
 ) -> Result<SynthesisResult> {
     let reference = pattern.reference()?;
-    let region = match scene.terrain.as_deref() {
-        Some(t) => t.clip(region).ok_or_else(|| Error::RegionOffTerrain {
-            reason: "the region and the terrain do not overlap".into(),
-        })?,
-        None => region.clone(),
-    };
+    let region = painted_region(scene, region)?;
     let (categories, scene_index) = scene_categories(scene, color);
     let symbol_of = |category: usize| scene_index.iter().position(|&c| c == category);
     let reach = CONTEXT_EDGES * reference.longest_edge();
