@@ -8,7 +8,8 @@
 //! across that region made for it; the distance between the two placements is the assembly's crack measure
 //! ([`Assembled::max_gap`], within 1e-6 m when the atlas is sound). Vertices no face uses are dropped.
 //!
-//! The count #V = Σ_graphs Π_i #F_i (eq. 1 per graph), where a component in a local cycle counts
+//! The count #V = Σ_graphs Π_i #F_i (eq. 1 per graph): the number of different models, since the atlas holds no
+//! variant that would repeat one (see [`super::atlas`]), where a component in a local cycle counts
 //! Σ_{r=1}^{max} #F_i^r (each copy picks its variant). It saturates at `u128::MAX`. [`Atlas::choice`] numbers the
 //! assemblies 0..#V (a mixed radix in graph, then component order), so all of them can be listed;
 //! [`Atlas::random_choice`] draws a graph by its count, then each node's repetition by its count, then variants
@@ -88,7 +89,7 @@ impl Atlas {
         }
     }
 
-    /// The number of distinct assemblies #V (eq. 1), saturating at `u128::MAX`.
+    /// The number of assemblies #V (eq. 1), each a different model, saturating at `u128::MAX`.
     pub fn count(&self) -> u128 {
         self.graphs()
             .iter()
@@ -116,7 +117,8 @@ impl Atlas {
                 return Err(Error::invalid(
                     "picked variants",
                     format!(
-                        "component {c} has variants 0 (its original) to {}, not {v}",
+                        "'{}' has variants 0 (its original) to {}, not {v}",
+                        self.name(c),
                         self.variants(c).len() - 1
                     ),
                 ));
@@ -408,23 +410,76 @@ fn weighted<R: Rng>(weights: &[f64], rng: &mut R) -> usize {
 /// A hash of the faces' corner positions quantised to 1e-5 m (FNV-1a over 64-bit words, then a final mix): models
 /// with the same faces at the same places hash equal.
 pub fn geometry_hash(model: &Model) -> u64 {
-    const PRIME: u64 = 0x0000_0100_0000_01b3;
-    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-    let mut eat = |x: u64| {
-        h = (h ^ x).wrapping_mul(PRIME);
-        h ^= h >> 29;
-    };
-    eat(model.faces.len() as u64);
+    let mut h = Fnv::new();
+    h.eat(model.faces.len() as u64);
     for face in &model.faces {
-        eat(face.len() as u64);
+        h.eat(face.len() as u64);
         for &v in face {
             let p: DVec3 = model.vertices[v as usize];
             for x in p.to_array() {
-                eat(((x * 1e5).round() as i64) as u64);
+                h.eat(((x * 1e5).round() as i64) as u64);
             }
         }
     }
-    h ^= h >> 33;
-    h = h.wrapping_mul(0xff51_afd7_ed55_8ccd);
-    h ^ (h >> 33)
+    h.finish()
+}
+
+/// FNV-1a over 64-bit words with a shift after each, then a final mix.
+struct Fnv(u64);
+
+impl Fnv {
+    fn new() -> Fnv {
+        Fnv(0xcbf2_9ce4_8422_2325)
+    }
+
+    fn eat(&mut self, x: u64) {
+        const PRIME: u64 = 0x0000_0100_0000_01b3;
+        self.0 = (self.0 ^ x).wrapping_mul(PRIME);
+        self.0 ^= self.0 >> 29;
+    }
+
+    fn finish(self) -> u64 {
+        let mut h = self.0;
+        h ^= h >> 33;
+        h = h.wrapping_mul(0xff51_afd7_ed55_8ccd);
+        h ^ (h >> 33)
+    }
+}
+
+/// A hash of a model's shape whatever the order of its faces and vertices: each face's material and its corners
+/// quantised to 1e-5 m (as [`geometry_hash`]), started at its least corner, the faces sorted, then hashed as
+/// [`geometry_hash`] does. Two models with the same faces at the same places, of the same materials, hash equal.
+pub fn shape_hash(model: &Model) -> u64 {
+    let quantise = |v: u32| -> [i64; 3] {
+        let p = model
+            .vertices
+            .get(v as usize)
+            .copied()
+            .unwrap_or(DVec3::NAN)
+            * 1e5;
+        [p.x.round() as i64, p.y.round() as i64, p.z.round() as i64]
+    };
+    let mut faces: Vec<Vec<[i64; 3]>> = model
+        .faces
+        .iter()
+        .enumerate()
+        .map(|(f, face)| {
+            let corners: Vec<[i64; 3]> = face.iter().map(|&v| quantise(v)).collect();
+            let first = (0..corners.len()).min_by_key(|&k| corners[k]).unwrap_or(0);
+            let material = [i64::from(model.material(f)), 0, 0];
+            std::iter::once(material)
+                .chain(corners[first..].iter().chain(&corners[..first]).copied())
+                .collect()
+        })
+        .collect();
+    faces.sort_unstable();
+    let mut h = Fnv::new();
+    h.eat(faces.len() as u64);
+    for face in &faces {
+        h.eat(face.len() as u64);
+        for x in face.iter().flatten() {
+            h.eat(*x as u64);
+        }
+    }
+    h.finish()
 }
