@@ -155,9 +155,15 @@ def vary_trees():
     return settings.generated
 
 
-def vary_birches(count=8, seed=3):
-    """``count`` of the 729 variants of the low-poly birch (seeded), for the variety picture: white bark on its trunk
-    and branches, leaves on its leaf masses (the six material slots it is decomposed by share two materials)."""
+# the birches the variety picture shows, as the copy each of the six parts takes (0 its original piece, 1 and 2 its
+# two edited copies): every two of them differ in every part
+BIRCH_PICKS = [[(k + shift * c) % 3 for c in range(6)] for shift in (0, 1) for k in range(3)]
+
+
+def vary_birches():
+    """Every variant of the low-poly birch (729), and the birches of ``BIRCH_PICKS`` assembled by hand for the variety
+    picture: white bark on the trunk and branches, leaves on the leaf masses (the six material slots it is decomposed
+    by share two materials). Returns the picked birches' objects."""
     tree = import_birch()
     bark = bpy.data.materials.get("Birch bark") or bpy.data.materials.new("Birch bark")
     leaves = bpy.data.materials.get("Birch leaves") or bpy.data.materials.new("Birch leaves")
@@ -170,12 +176,21 @@ def vary_birches(count=8, seed=3):
     bpy.context.view_layer.objects.active = tree
     run(bpy.ops.worldpaint.decompose_model, object=tree.name, source='MATERIALS', root=0)
     birch_variants(tree)
-    run(bpy.ops.worldpaint.generate_variants, object=tree.name, count=count, seed=seed)
+    run(bpy.ops.worldpaint.generate_variants, object=tree.name, count=1000, seed=1)
     settings = tree.worldpaint_variety
+    print(f"birch variants: {settings.report}")
+    picked = []
+    for picks in BIRCH_PICKS:
+        for item, pick in zip(settings.components, picks, strict=True):
+            collection = settings.parts.children[f"{tree.name} part {item.label}"]
+            copies = sorted((o for o in collection.objects if o != collection["wp_part"]), key=lambda o: o.name)
+            item.pick = copies[pick - 1] if pick else None
+        before = set(settings.generated.objects)
+        run(bpy.ops.worldpaint.generate_variants, object=tree.name, by_hand=True)
+        picked.extend(set(settings.generated.objects) - before)
     variety.hide_collection(bpy.context.scene, settings.parts)
     tree.hide_render = tree.hide_viewport = True
-    print(f"birch variants: {settings.report}")
-    return settings.generated
+    return picked
 
 
 def paint(hills):
@@ -327,14 +342,13 @@ def cameras(fall):
             for name, location, target, lens, resolution, azimuth in views]
 
 
-def variants_stage(variants, meadow_material):
-    """The birch variants in a row on a meadow far from the hills (``meadow_material``), and the camera looking at
-    them from the side; returns the stage's collection (to remove afterwards) and the camera."""
+def variants_stage(shown, meadow_material):
+    """The birch variants ``shown`` (objects) in a row on a meadow far from the hills (``meadow_material``), and the
+    camera looking at them from the side; returns the stage's collection (to remove afterwards) and the camera."""
     scene = bpy.context.scene
     stage = bpy.data.collections.new("Variant showcase")
     scene.collection.children.link(stage)
     x0, y0, spacing = -900.0, -900.0, 7.0
-    shown = list(variants.objects)
     for k, source in enumerate(shown):
         obj = bpy.data.objects.new(f"showcase {k}", source.data)
         obj.location = (x0 + spacing * k, y0, 0.0)
@@ -347,11 +361,11 @@ def variants_stage(variants, meadow_material):
     scene.collection.objects.unlink(meadow)
     stage.objects.link(meadow)
     middle = x0 + spacing * (len(shown) - 1) / 2.0
-    cam = showcase.camera("Camera demo_variants", (middle, y0 - 95.0, 4.0), (middle, y0, 6.2), 50.0)
+    cam = showcase.camera("Camera demo_variants", (middle, y0 - 58.0, 3.0), (middle, y0, 6.0), 50.0)
     return stage, cam
 
 
-def render_variants(out, variants, meadow_material, percent=100):
+def render_variants(out, birches, meadow_material, percent=100):
     """Renders the variety picture (the land around the hills, if any, hidden); returns its (name, seconds, size)."""
     scene = bpy.context.scene
     land = bpy.data.objects.get("Land around")
@@ -359,8 +373,8 @@ def render_variants(out, variants, meadow_material, percent=100):
         land.hide_render = True
     showcase.sky(scene)
     showcase.sun(scene)
-    stage, cam = variants_stage(variants, meadow_material)
-    size = (1200, 400)
+    stage, cam = variants_stage(birches, meadow_material)
+    size = (1200, 500)
     seconds = showcase.render(scene, cam, out / "demo_variants.png", tuple(side * percent // 100 for side in size))
     for obj in list(stage.objects):
         bpy.data.objects.remove(obj)
