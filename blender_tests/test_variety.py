@@ -488,3 +488,18 @@ def test_a_cactus_with_turned_arms_makes_each_different_cactus_once():
     apex = max(v.co.z for v in picked.vertices)
     print(f"cactus, the top stretched in Object Mode: the dome's apex at {apex:.3f} m (7.000 m before)")
     assert abs(apex - (4.8 + 1.25 * 2.2)) < 1e-4
+
+    # a copy of arm A whose elbow is pushed back into the trunk, picked by hand: the model is refused, naming the picks
+    poked = edited_part(plant, 3, "Arm A poked")
+    elbow = arms[0][2]
+    back = -1.3 * (elbow.mean(axis=0) * (1.0, 1.0, 0.0)) / np.linalg.norm(elbow.mean(axis=0)[:2])
+    in_edit_mode(poked, lambda bm: bmesh.ops.translate(bm, vec=back, verts=[
+        v for v in bm.verts if np.min(np.linalg.norm(elbow - np.array(v.co), axis=1)) < 1e-4]))
+    settings.components[3].pick = poked
+    with pytest.raises(RuntimeError) as refused:
+        bpy.ops.worldpaint.generate_variants(object=plant.name, by_hand=True)
+    message = str(refused.value)
+    print(f"cactus, an arm poked into the trunk picked by hand: {message}")
+    assert ("The picked copies ('Top stretched' in 'Cactus Parts/Cactus part 2', 'Arm A poked' in 'Cactus "
+            "Parts/Cactus part 3') make a model whose faces intersect") in message
+    assert len(settings.generated.objects) == 649, "nothing added"

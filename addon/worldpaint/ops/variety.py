@@ -233,7 +233,10 @@ class WORLDPAINT_OT_generate_variants(BackgroundOperator, bpy.types.Operator):
         settings = obj.worldpaint_variety
         if result["rejected"]:
             reason, detail = result["rejected"][0]
-            raise WorldPaintError(f"The picked parts make a model whose faces intersect ({reason}: {detail})")
+            picked = ", ".join(f"'{item.pick.name}' in '{where}'" for item, where in zip(
+                obj.worldpaint_variety.components, self._names, strict=True) if item.pick is not None)
+            raise WorldPaintError(f"The picked copies ({picked or 'the original pieces'}) make a model whose faces "
+                                  f"intersect ({reason}: {detail})")
         generated = settings.generated
         if generated is None:
             generated = child_collection(context.scene.collection, f"{obj.name} Variants")

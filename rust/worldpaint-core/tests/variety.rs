@@ -1230,8 +1230,9 @@ fn a_cactus_with_an_arm_turned_whole_counts_only_different_models() {
     assert!(e.to_string().contains("12 of its 16 other vertices"), "{e}");
     assert_eq!(atlas.count(), 648);
 
-    // Arm A's tip with its ring to the arm stretched along x (§4.2.3: the arm is adapted in a duplicated graph): 648 + 324
-    // models, all different; the same ring widened from the arm's side would repeat some of them and is refused.
+    // Arm A's tip with its ring to the arm stretched along x (§4.2.3: the arm is adapted in a duplicated graph):
+    // 648 + 324 models, all different. The same ring stretched from the arm's side would repeat some of them (1,188
+    // possible, 1,080 different) and is refused.
     let ring4: Vec<usize> = (0..parts.len())
         .filter(|&v| parts[v] == CactusPart::Arm(0, 4))
         .collect();
@@ -1264,4 +1265,36 @@ fn a_cactus_with_an_arm_turned_whole_counts_only_different_models() {
     let (made, distinct, rejected) = made_and_distinct(&atlas, model);
     println!("  cactus with a reshaped ring: 972 possible, {made} made, {distinct} different, {rejected} rejected");
     assert_eq!((made, distinct, rejected), (972, 972, 0));
+    // two copies that each reshape a ring cannot be picked together, and the message names them
+    let top = part(2);
+    let ring6: Vec<usize> = (0..parts.len())
+        .filter(|&v| parts[v] == CactusPart::Trunk(6))
+        .collect();
+    let oval = moved_piece(model, &d, top, |v, p| {
+        if ring6.contains(&v) {
+            DVec3::new(p.x * 1.2, p.y, p.z)
+        } else {
+            p
+        }
+    });
+    assert_eq!(
+        atlas
+            .add_named_variant(top, "Top oval", oval)
+            .expect("a reshaped ring"),
+        VariantClass::RegionChange
+    );
+    let mut picks = vec![0; 7];
+    picks[top] = atlas.variants(top).len() - 1;
+    picks[tip] = atlas.variants(tip).len() - 1;
+    let e = atlas
+        .choice_of_variants(&picks)
+        .expect_err("two reshaped rings");
+    println!("  refused: {e}");
+    assert!(
+        e.to_string().contains(
+            "copy 'Top oval' in 'Cactus Parts/Cactus part 2' and copy 'Tip wide' in 'Cactus Parts/Cactus part 4' \
+             each reshape a connecting region"
+        ),
+        "{e}"
+    );
 }

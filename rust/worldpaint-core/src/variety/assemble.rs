@@ -15,7 +15,7 @@
 //! [`Atlas::random_choice`] draws a graph by its count, then each node's repetition by its count, then variants
 //! uniformly: every assembly equally likely.
 
-use super::atlas::{Atlas, AtlasGraph};
+use super::atlas::{Atlas, AtlasGraph, VariantClass};
 use super::model::Model;
 use crate::error::{Error, Result};
 use glam::{DAffine3, DVec2, DVec3};
@@ -136,10 +136,19 @@ impl Atlas {
                 picks.map(|picks| Choice { graph, picks })
             })
             .ok_or_else(|| {
+                let reshaping: Vec<String> = variants
+                    .iter()
+                    .enumerate()
+                    .filter(|&(c, &v)| self.variants(c)[v].class == VariantClass::RegionChange)
+                    .map(|(c, &v)| format!("copy '{}' in '{}'", self.variants(c)[v].name, self.name(c)))
+                    .collect();
                 Error::invalid(
                     "picked variants",
-                    "no assembly holds them together: a variant that reshapes a connecting region goes only with \
-                     the neighbour adapted to it",
+                    format!(
+                        "no assembly holds them together: {} each reshape a connecting region, and a copy that \
+                         does goes only with parts that keep theirs (the neighbour adapted to it); pick one of them",
+                        reshaping.join(" and ")
+                    ),
                 )
             })
     }
@@ -447,26 +456,37 @@ impl Fnv {
 }
 
 /// A hash of a model's shape whatever the order of its faces and vertices: each face's material and its corners
-/// quantised to 1e-5 m (as [`geometry_hash`]), started at its least corner, the faces sorted, then hashed as
-/// [`geometry_hash`] does. Two models with the same faces at the same places, of the same materials, hash equal.
+/// (positions quantised to 1e-5 m as [`geometry_hash`] does, and texture coordinates to 1e-5), started at its least
+/// corner, the faces sorted, then hashed as [`geometry_hash`] does. Two models with the same faces at the same places,
+/// of the same materials and texture coordinates, hash equal.
 pub fn shape_hash(model: &Model) -> u64 {
-    let quantise = |v: u32| -> [i64; 3] {
+    let corner = |f: usize, k: usize, v: u32| -> [i64; 5] {
         let p = model
             .vertices
             .get(v as usize)
             .copied()
             .unwrap_or(DVec3::NAN)
             * 1e5;
-        [p.x.round() as i64, p.y.round() as i64, p.z.round() as i64]
+        let uv = model
+            .uvs
+            .as_ref()
+            .and_then(|u| u.get(f))
+            .and_then(|u| u.get(k))
+            .map_or(DVec2::ZERO, |&uv| uv * 1e5);
+        [p.x, p.y, p.z, uv.x, uv.y].map(|x| x.round() as i64)
     };
-    let mut faces: Vec<Vec<[i64; 3]>> = model
+    let mut faces: Vec<Vec<[i64; 5]>> = model
         .faces
         .iter()
         .enumerate()
         .map(|(f, face)| {
-            let corners: Vec<[i64; 3]> = face.iter().map(|&v| quantise(v)).collect();
+            let corners: Vec<[i64; 5]> = face
+                .iter()
+                .enumerate()
+                .map(|(k, &v)| corner(f, k, v))
+                .collect();
             let first = (0..corners.len()).min_by_key(|&k| corners[k]).unwrap_or(0);
-            let material = [i64::from(model.material(f)), 0, 0];
+            let material = [i64::from(model.material(f)), 0, 0, 0, 0];
             std::iter::once(material)
                 .chain(corners[first..].iter().chain(&corners[..first]).copied())
                 .collect()

@@ -33,8 +33,8 @@
 //!   carry what lies towards the leaves only) and leave the original. Reading chosen: refused, saying how to make
 //!   the turn (keep that region, turn the rest of the piece about it); in a cycle, that no region can move. The root
 //!   moved whole moves the whole model and makes no new one: refused too;
-//! - one with the same shape as a variant its node holds ([`super::shape_hash`]: faces, corners to 1e-5 m and
-//!   materials, in any order): a copy left as it was, a copy of a copy;
+//! - one with the same shape as a variant its node holds ([`super::shape_hash`]: faces, corners to 1e-5 m, texture
+//!   coordinates and materials, in any order): a copy left as it was, a copy of a copy;
 //! - one that reshapes a region exactly as a copy of the neighbour across it does: both duplicated graphs would hold
 //!   the models where each side is adapted to the other.
 //!
@@ -100,8 +100,8 @@ pub struct Variant {
     pub face_origin: Vec<Option<u32>>,
     /// The frame that brought it back (identity unless it moved its region towards the root).
     pub normalised_by: DAffine3,
-    /// A hash of its faces' corners quantised as [`super::geometry_hash`] does, whatever their order: two variants
-    /// of one component with the same shape hash equal.
+    /// Its [`super::shape_hash`] (faces, corners, texture coordinates and materials, whatever their order): two
+    /// variants of one component with the same shape hash equal.
     pub shape: u64,
 }
 
