@@ -20,14 +20,17 @@
    carries the trees with the ground.
 
 The forest's trees are 36 variants of one low-poly tree (Maréchal et al.): cut into three parts, each part edited
-into a few copies, assembled into every combination; each painted tree shows the variant least used around it.
+into a few copies, assembled into every combination; each painted tree shows the variant least used around it. The
+variety picture shows birches made the same way from the low-poly birch (``assets/birch.obj``): decomposed by its
+materials, two edited copies of each of its six parts (``scene_kit.birch_variants``), 729 different trees.
 
 The scene is then dressed for Cycles (``showcase.py``: a sky and a sun, materials made by code, land around the
 terrain to the horizon) and rendered on the CPU, few samples denoised: OUT/demo.png (the whole scene), one picture
 per system (OUT/demo_forest.png, demo_village.png, demo_waterfall.png, demo_vineyard.png, demo_variants.png) and
 the sketch before and after (OUT/sketch_before.png with the strokes drawn over it, sketch_after.png).
-OUT/demo.blend holds the scene with a camera per picture.
-Usage: python assets/demo.py [--out out] [--samples 16] [--percent 100]
+OUT/demo.blend holds the scene with a camera per picture. ``--only variants`` makes and renders the variety picture
+alone, on a meadow of its own (a quick look at it without the rest of the demo).
+Usage: python assets/demo.py [--out out] [--samples 16] [--percent 100] [--only variants]
 """
 
 import argparse
@@ -48,11 +51,13 @@ from mathutils import Vector  # noqa: E402
 from scene_kit import (  # noqa: E402
     SKETCH_CELL,
     SKETCH_N,
+    birch_variants,
     collection_instances,
     draw_strokes,
     engine_terrain_object,
     evaluated_vertices,
     hills_height,
+    import_birch,
     mesh_object,
     poly_curve,
     segmented_tree,
@@ -148,6 +153,44 @@ def vary_trees():
     tree.hide_render = tree.hide_viewport = True
     print(f"tree variants: {settings.report}")
     return settings.generated
+
+
+# the birches the variety picture shows, as the copy each of the six parts takes (0 its original piece, 1 and 2 its
+# two edited copies): every two of them differ in every part
+BIRCH_PICKS = [[(k + shift * c) % 3 for c in range(6)] for shift in (0, 1) for k in range(3)]
+
+
+def vary_birches():
+    """Every variant of the low-poly birch (729), and the birches of ``BIRCH_PICKS`` assembled by hand for the variety
+    picture: white bark on the trunk and branches, leaves on the leaf masses (the six material slots it is decomposed
+    by share two materials). Returns the picked birches' objects."""
+    tree = import_birch()
+    bark = bpy.data.materials.get("Birch bark") or bpy.data.materials.new("Birch bark")
+    leaves = bpy.data.materials.get("Birch leaves") or bpy.data.materials.new("Birch leaves")
+    old = [slot.material for slot in tree.material_slots]
+    for k, slot in enumerate(tree.material_slots):
+        slot.material = bark if k < 3 else leaves
+    for material in old:
+        if material is not None and material.users == 0:
+            bpy.data.materials.remove(material)
+    bpy.context.view_layer.objects.active = tree
+    run(bpy.ops.worldpaint.decompose_model, object=tree.name, source='MATERIALS', root=0)
+    birch_variants(tree)
+    run(bpy.ops.worldpaint.generate_variants, object=tree.name, count=1000, seed=1)
+    settings = tree.worldpaint_variety
+    print(f"birch variants: {settings.report}")
+    picked = []
+    for picks in BIRCH_PICKS:
+        for item, pick in zip(settings.components, picks, strict=True):
+            collection = settings.parts.children[f"{tree.name} part {item.label}"]
+            copies = sorted((o for o in collection.objects if o != collection["wp_part"]), key=lambda o: o.name)
+            item.pick = copies[pick - 1] if pick else None
+        before = set(settings.generated.objects)
+        run(bpy.ops.worldpaint.generate_variants, object=tree.name, by_hand=True)
+        picked.extend(set(settings.generated.objects) - before)
+    variety.hide_collection(bpy.context.scene, settings.parts)
+    tree.hide_render = tree.hide_viewport = True
+    return picked
 
 
 def paint(hills):
@@ -299,31 +342,51 @@ def cameras(fall):
             for name, location, target, lens, resolution, azimuth in views]
 
 
-def variants_stage(variants, shown=12):
-    """The first tree variants in a row on a meadow far from the hills, and the camera looking at them from the
-    side; the land around the hills is hidden for that picture (returns what to undo afterwards)."""
+def variants_stage(shown, meadow_material):
+    """The birch variants ``shown`` (objects) in a row on a meadow far from the hills (``meadow_material``), and the
+    camera looking at them from the side; returns the stage's collection (to remove afterwards) and the camera."""
     scene = bpy.context.scene
     stage = bpy.data.collections.new("Variant showcase")
     scene.collection.children.link(stage)
-    x0, y0 = -900.0, -900.0
-    for k, source in enumerate(list(variants.objects)[:shown]):
+    x0, y0, spacing = -900.0, -900.0, 7.0
+    for k, source in enumerate(shown):
         obj = bpy.data.objects.new(f"showcase {k}", source.data)
-        obj.location = (x0 + 4.0 * k, y0, 0.0)
-        obj.rotation_euler.z = 0.7 * k
+        obj.location = (x0 + spacing * k, y0, 0.0)
+        obj.rotation_euler.z = 0.5
         stage.objects.link(obj)
     # a meadow to the horizon: one quad, the air hides its edge 20 km away
     meadow = mesh_object("Meadow", [(x0 - 2e4, y0 - 2e4, 0.0), (x0 + 2e4, y0 - 2e4, 0.0),
                                              (x0 + 2e4, y0 + 2e4, 0.0), (x0 - 2e4, y0 + 2e4, 0.0)], [(0, 1, 2, 3)])
-    meadow.data.materials.append(bpy.data.objects["Hills"].data.materials[0])
+    meadow.data.materials.append(meadow_material)
     scene.collection.objects.unlink(meadow)
     stage.objects.link(meadow)
-    middle = x0 + 2.0 * (shown - 1)
-    cam = showcase.camera("Camera demo_variants", (middle, y0 - 58.0, 2.5), (middle, y0, 3.5), 40.0)
+    middle = x0 + spacing * (len(shown) - 1) / 2.0
+    cam = showcase.camera("Camera demo_variants", (middle, y0 - 58.0, 3.0), (middle, y0, 6.0), 50.0)
     return stage, cam
 
 
-def render_all(out, fall, variants, percent=100):
-    """Renders every picture; returns (name, seconds, resolution) of each."""
+def render_variants(out, birches, meadow_material, percent=100):
+    """Renders the variety picture (the land around the hills, if any, hidden); returns its (name, seconds, size)."""
+    scene = bpy.context.scene
+    land = bpy.data.objects.get("Land around")
+    if land is not None:
+        land.hide_render = True
+    showcase.sky(scene)
+    showcase.sun(scene)
+    stage, cam = variants_stage(birches, meadow_material)
+    size = (1200, 500)
+    seconds = showcase.render(scene, cam, out / "demo_variants.png", tuple(side * percent // 100 for side in size))
+    for obj in list(stage.objects):
+        bpy.data.objects.remove(obj)
+    bpy.data.collections.remove(stage)
+    if land is not None:
+        land.hide_render = False
+    return ("demo_variants", seconds, size)
+
+
+def render_all(out, fall, birches, percent=100):
+    """Renders every picture (``birches``: the variants the variety picture shows); returns (name, seconds,
+    resolution) of each."""
     scene = bpy.context.scene
     report = []
     for name, cam, (w, h), azimuth in cameras(fall):
@@ -331,17 +394,7 @@ def render_all(out, fall, variants, percent=100):
         showcase.sun(scene, azimuth=azimuth)
         seconds = showcase.render(scene, cam, out / f"{name}.png", (w * percent // 100, h * percent // 100))
         report.append((name, seconds, (w, h)))
-    land = bpy.data.objects["Land around"]
-    land.hide_render = True
-    showcase.sky(scene)
-    showcase.sun(scene)
-    stage, cam = variants_stage(variants)
-    seconds = showcase.render(scene, cam, out / "demo_variants.png", (960 * percent // 100, 320 * percent // 100))
-    report.append(("demo_variants", seconds, (960, 320)))
-    for obj in list(stage.objects):
-        bpy.data.objects.remove(obj)
-    bpy.data.collections.remove(stage)
-    land.hide_render = False
+    report.append(render_variants(out, birches, bpy.data.objects["Hills"].data.materials[0], percent))
     return report
 
 
@@ -402,6 +455,7 @@ def main():
     parser.add_argument("--out", default="out", help="output folder")
     parser.add_argument("--samples", type=int, default=16, help="Cycles samples per pixel (denoised)")
     parser.add_argument("--percent", type=int, default=100, help="resolution of the pictures, in percent")
+    parser.add_argument("--only", choices=["variants"], help="make and render only this picture")
     args = parser.parse_args(sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else sys.argv[1:])
     out = pathlib.Path(args.out).resolve()
     out.mkdir(parents=True, exist_ok=True)
@@ -409,8 +463,17 @@ def main():
     worldpaint.register()
     bpy.ops.wm.read_factory_settings(use_empty=True)
     start = time.perf_counter()
+    if args.only == "variants":
+        birches = vary_birches()
+        meadow = bpy.data.materials.new("Terrain")
+        showcase.dress_materials()
+        showcase.cycles(bpy.context.scene, args.samples)
+        name, seconds, (w, h) = render_variants(out, birches, meadow, args.percent)
+        print(f"  {name}.png  {w * args.percent // 100} x {h * args.percent // 100}  {seconds:5.1f} s")
+        return
     hills = build_and_learn()
     variants = vary_trees()
+    birches = vary_birches()
     paint(hills)
     grow_hamlet(hills)
     fall = build_waterfall(hills)
@@ -421,7 +484,7 @@ def main():
         print(f"{obj.name}: {count} {'curves' if obj.type == 'CURVE' else 'instances'}")
     dress(hills)
     denoised = showcase.cycles(bpy.context.scene, args.samples)
-    report = render_all(out, fall, variants, args.percent)
+    report = render_all(out, fall, birches, args.percent)
     report += sketch_pictures(out, args.samples, variants, args.percent)
     bpy.context.scene.camera = bpy.data.objects["Camera demo"]
     bpy.ops.wm.save_as_mainfile(filepath=str(out / "demo.blend"))

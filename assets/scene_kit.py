@@ -420,6 +420,87 @@ def tree_variants(tree, height=1.5):
             v.co.x, v.co.y = 0.7 * v.co.x, 0.7 * v.co.y
 
 
+def parts_object(name, co, faces, parts, rgba):
+    """A mesh object of polygons ``faces`` (lists of vertex indices) with the integer face attribute ``part``."""
+    mesh = bpy.data.meshes.new(name)
+    mesh.from_pydata(np.asarray(co).tolist(), [], [tuple(int(v) for v in f) for f in faces])
+    mesh.update()
+    attr = mesh.attributes.new("part", 'INT', 'FACE')
+    attr.data.foreach_set("value", np.asarray(parts, dtype=np.int32))
+    mesh.materials.append(_material(name, rgba))
+    obj = bpy.data.objects.new(name, mesh)
+    bpy.context.scene.collection.objects.link(obj)
+    return obj
+
+
+def ring_of_parts(name="Ring", sections=16, corners=6):
+    """A ring of four parts (the seed's fully cyclic graph, Fig. 11, as a torus): ``sections`` sections of ``corners``
+    vertices around a circle of radius 2 m (tube radius 0.5 m), parts of four segments each (``part`` 0-3); each
+    part meets the next in one section."""
+    a = 2.0 * np.pi * np.arange(sections) / sections
+    b = 2.0 * np.pi * np.arange(corners) / corners
+    radius = 2.0 + 0.5 * np.cos(b)
+    co = np.stack([np.outer(np.cos(a), radius), np.outer(np.sin(a), radius),
+                   np.tile(0.5 * np.sin(b), (sections, 1))], axis=-1).reshape(-1, 3)
+    i, j = np.meshgrid(np.arange(sections), np.arange(corners), indexing='ij')
+    at = lambda i, j: (i % sections) * corners + j % corners  # noqa: E731
+    faces = np.stack([at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)], axis=-1).reshape(-1, 4)
+    return parts_object(name, co, faces, (i // 4).ravel(), COLORS["Rock"])
+
+
+def cactus(name="Cactus"):
+    """A low-poly cactus of seven parts as a tree: an 8-sided trunk of 9 rings 0.8 m apart (``part`` 0 lower, 1
+    middle, 2 top with its dome), two arms out of quad holes in the lower and middle trunk (3 and 5), each going out
+    then up through an elbow, their upper rings a part of their own (4 and 6, the tips). Returns the object and, per
+    arm, its rings 1 to 6 as (6, 4, 3) positions (1-2 out, 3 the elbow, 4 where the tip starts, 6 the top)."""
+    sides = 8
+    a = 2.0 * np.pi * (np.arange(sides) + 0.5) / sides
+    co = [(0.5 * math.cos(t), 0.5 * math.sin(t), 0.8 * r) for r in range(9) for t in a] + [(0.0, 0.0, 7.0)]
+    apex = len(co) - 1
+    at = lambda r, s: r * sides + s % sides  # noqa: E731
+    holes = ((1, 0, 3), (4, 4, 5))
+    faces, parts = [], []
+    for seg in range(8):
+        for s in range(sides):
+            if (seg, s) not in {(h[0], h[1]) for h in holes}:
+                faces.append((at(seg, s), at(seg, s + 1), at(seg + 1, s + 1), at(seg + 1, s)))
+                parts.append(0 if seg <= 2 else 1 if seg <= 5 else 2)
+    faces.append(tuple(at(0, s) for s in reversed(range(sides))))
+    parts.append(0)
+    for s in range(sides):
+        faces.append((at(8, s), at(8, s + 1), apex))
+        parts.append(2)
+    arms = []
+    for seg, s, label in holes:
+        hole = (at(seg, s), at(seg, s + 1), at(seg + 1, s + 1), at(seg + 1, s))
+        corners = np.array([co[v] for v in hole])
+        centre = corners.mean(axis=0)
+        out = np.array([centre[0], centre[1], 0.0]) / math.hypot(centre[0], centre[1])
+        z = np.array([0.0, 0.0, 1.0])
+        across = np.cross(z, out)
+        offsets = [((p - centre) @ across, (p - centre) @ z) for p in corners]
+        previous, rings = hole, []
+        for k in range(1, 7):
+            if k <= 2:
+                c, up, shrink = centre + out * 0.45 * k, z, 0.8
+            elif k == 3:
+                c, up, shrink = centre + out * 1.3 + z * 0.35, (z - out) / math.sqrt(2.0), 0.7
+            else:
+                c, up, shrink = centre + out * 1.5 + z * (0.9 + 0.55 * (k - 4)), -out, 0.6
+            ring = [c + (across * x + up * y * 0.45) * shrink for x, y in offsets]
+            rings.append(ring)
+            index = list(range(len(co), len(co) + 4))
+            co.extend(tuple(p) for p in ring)
+            for e in range(4):
+                faces.append((previous[e], previous[(e + 1) % 4], index[(e + 1) % 4], index[e]))
+                parts.append(label if k <= 4 else label + 1)
+            previous = index
+        faces.append(tuple(previous))
+        parts.append(label + 1)
+        arms.append(np.array(rings))
+    return parts_object(name, co, faces, parts, COLORS["Tree"]), arms
+
+
 BIRCH = pathlib.Path(__file__).resolve().parent / "birch.obj"
 
 

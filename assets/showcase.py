@@ -342,6 +342,8 @@ LOOKS = {  # material name (without Blender's .001 suffixes) -> how it is shaded
     "Tree": leaves,
     "Leaves": leaves,
     "Bark": lambda m: plain(m, BARK, 0.9, 0.4, 8.0),
+    "Birch bark": lambda m: plain(m, (0.55, 0.53, 0.48), 0.7, 0.5, 6.0),
+    "Birch leaves": lambda m: leaves(m, (0.07, 0.16, 0.03), 0.5),
     "Grass": lambda m: leaves(m, (0.07, 0.16, 0.02), 0.5),
     "Vine": lambda m: leaves(m, (0.06, 0.14, 0.02), 0.4),
     "Rock": lambda m: plain(m, ROCK, 0.85, 0.35, 1.5),

@@ -21,7 +21,7 @@ the painting tools end to end.
    each display mode (Full, Percentage 10 %, Bounds, Proxy), and after a change of the terrain mesh the update that
    re-snaps every cloud (the snap alone, and the whole depsgraph update with the instancers), side by side.
 
-Usage: python blender_tests/bench_blender.py [--size 1000] [--only millions]
+Usage: python blender_tests/bench_blender.py [--size 1000] [--only millions | --only variety]
 """
 
 import argparse
@@ -357,9 +357,13 @@ def bench_millions(size, counts=(100_000, 1_000_000)):
 
 
 if __name__ == "__main__":
-    if "--only" in sys.argv and sys.argv[sys.argv.index("--only") + 1] == "millions":
+    only = sys.argv[sys.argv.index("--only") + 1] if "--only" in sys.argv else None
+    if only == "millions":
         worldpaint.register()
         bench_millions(1000.0)
+    elif only == "variety":
+        worldpaint.register()
+        bench_variety()
     else:
         main()
         bench_painting()

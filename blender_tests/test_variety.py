@@ -3,13 +3,19 @@ own tools, variants generated, a forest painted with them, and all of it kept th
 
 import math
 
+import bmesh
 import bpy
 import numpy as np
 import pytest
+from mathutils import Matrix, Vector
 from scene_kit import (
     birch_variants,
+    cactus,
     edited_part,
     import_birch,
+    in_edit_mode,
+    open_boundary,
+    ring_of_parts,
     segmented_tree,
     select_only,
     slope_exemplar,
@@ -45,6 +51,23 @@ def shape_key(mesh):
     co = np.empty(3 * len(mesh.vertices), dtype=np.float32)
     mesh.vertices.foreach_get("co", co)
     return np.round(co, 4).tobytes()
+
+
+def shapes(meshes):
+    """The different shapes among ``meshes``: each a set of faces, each face its corners rounded to 0.1 mm, started
+    at the least (the same model written with its faces or vertices in another order is the same shape)."""
+    found = set()
+    for mesh in meshes:
+        co = np.empty(3 * len(mesh.vertices), dtype=np.float32)
+        mesh.vertices.foreach_get("co", co)
+        co = [tuple(p) for p in np.round(co.reshape(-1, 3).astype(np.float64), 4).tolist()]
+        faces = []
+        for poly in mesh.polygons:
+            corners = [co[v] for v in poly.vertices]
+            first = corners.index(min(corners))
+            faces.append(tuple(corners[first:] + corners[:first]))
+        found.add(tuple(sorted(faces)))
+    return found
 
 
 def decomposed_tree_with_variants():
@@ -193,7 +216,7 @@ def test_bad_input_is_refused_with_a_clear_message_and_nothing_changes():
     stranger = bpy.data.objects.new("Stranger", bpy.data.meshes.new("Stranger"))
     stranger.data.from_pydata([(0, 0, 0), (1, 0, 0), (0, 1, 0)], [], [(0, 1, 2)])
     collection.objects.link(stranger)
-    with pytest.raises(RuntimeError, match="'Stranger' is not a copy of a part"):
+    with pytest.raises(RuntimeError, match="'Stranger' in 'Column tree Parts/Column tree part 0' is not a copy of a"):
         bpy.ops.worldpaint.generate_variants()
     assert tree.worldpaint_variety.generated is None
 
@@ -266,7 +289,7 @@ def test_parts_picked_by_hand_make_the_one_model_asked_for():
     assert closed(model)
 
     settings.components[2].pick = bpy.data.objects["Trunk leaning"]  # a copy of another part
-    with pytest.raises(RuntimeError, match="not a copy in the collection"):
+    with pytest.raises(RuntimeError, match="'Trunk leaning' is not a copy in 'Column tree Parts/Column tree part 2'"):
         bpy.ops.worldpaint.generate_variants(object=tree.name, by_hand=True)
     assert len(settings.generated.objects) == 2, "nothing added"
 
@@ -293,3 +316,190 @@ def test_converted_objects_show_the_variant_the_instancer_showed():
     converted = {round(o.location.x): o.data.name for o in bpy.data.collections["WP_Tree objects"].objects}
     print(f"instancer shows {shown}; converted {converted}")
     assert converted == shown and len(set(shown.values())) == n
+
+
+def ring_section(co, sections=16):
+    """The section of ``ring_of_parts`` a vertex lies on."""
+    return round(math.atan2(co.y, co.x) / (2.0 * math.pi / sections)) % sections
+
+
+def ring_with_copies():
+    """The ring of four parts decomposed, each part with two copies edited in Edit Mode: its middle section pushed
+    out from the ring's axis, its three inner sections flattened (3^4 = 81 different rings)."""
+    ring = ring_of_parts()
+    bpy.context.view_layer.objects.active = ring
+    assert bpy.ops.worldpaint.decompose_model(object=ring.name, source='ATTRIBUTE', attribute="part",
+                                              root=0) == {'FINISHED'}
+    assert ring.worldpaint_variety.graph == "4 components, 4 connecting regions, fully cyclic"
+    for p in range(4):
+        middle = 4 * p + 2
+        out = 0.2 * np.array([math.cos(middle * math.pi / 8.0), math.sin(middle * math.pi / 8.0), 0.0])
+        in_edit_mode(edited_part(ring, p, f"Part {p} bulged"), lambda bm, middle=middle, out=out: bmesh.ops.translate(
+            bm, vec=out, verts=[v for v in bm.verts if ring_section(v.co) == middle]))
+        in_edit_mode(edited_part(ring, p, f"Part {p} flat"), lambda bm, middle=middle: bmesh.ops.scale(
+            bm, vec=(1.0, 1.0, 0.6), verts=[v for v in bm.verts if abs(ring_section(v.co) - middle) <= 1]))
+    return ring
+
+
+def test_a_ring_of_parts_makes_each_different_ring_once():
+    ring = ring_with_copies()
+    settings = ring.worldpaint_variety
+    # a third copy of part 1 turned whole 10 degrees about the ring's axis in Edit Mode (its two sections with it):
+    # the assembly would keep the sections where parts 0 and 2 have them (counted before as a 4th piece of part 1:
+    # "108 variants of 108 possible", of which 81 differ); refused now, by name
+    turned = edited_part(ring, 1, "Part 1 turned")
+    in_edit_mode(turned, lambda bm: bmesh.ops.rotate(bm, cent=(0.0, 0.0, 0.0), matrix=Matrix.Rotation(
+        math.radians(10.0), 3, 'Z'), verts=bm.verts[:]))
+    with pytest.raises(RuntimeError) as refused:
+        bpy.ops.worldpaint.generate_variants(object=ring.name, count=200, seed=1)
+    message = str(refused.value)
+    print(f"\nring, a part turned whole in Edit Mode: {message}")
+    assert "copy 'Part 1 turned' in 'Ring Parts/Ring part 1'" in message
+    assert "connecting region with 'Ring Parts/Ring part 0'" in message and "the parts form a ring" in message
+    assert "Object Mode" not in message
+    assert settings.generated is None, "nothing made"
+    bpy.data.objects.remove(turned)
+
+    # the same turn made in Object Mode on another part's copy: its rotation is read as part of the copy, refused
+    spun = edited_part(ring, 2, "Part 2 spun")
+    spun.rotation_euler.z = math.radians(10.0)
+    with pytest.raises(RuntimeError) as refused:
+        bpy.ops.worldpaint.generate_variants(object=ring.name, count=200, seed=1)
+    message = str(refused.value)
+    print(f"ring, a part turned in Object Mode: {message}")
+    assert "copy 'Part 2 spun' in 'Ring Parts/Ring part 2'" in message
+    assert "'Part 2 spun' is turned in Object Mode" in message
+    bpy.data.objects.remove(spun)
+
+    # a copy left as it was would only repeat the original's rings
+    edited_part(ring, 3, "Part 3 unedited")
+    with pytest.raises(RuntimeError, match="copy 'Part 3 unedited' in 'Ring Parts/Ring part 3': no vertex"):
+        bpy.ops.worldpaint.generate_variants(object=ring.name, count=200, seed=1)
+    bpy.data.objects.remove(bpy.data.objects["Part 3 unedited"])
+
+    assert bpy.ops.worldpaint.generate_variants(object=ring.name, count=200, seed=1) == {'FINISHED'}
+    meshes = [o.data for o in settings.generated.objects]
+    different = len(shapes(meshes))
+    print(f"ring: {settings.report}; {len(meshes)} made, {different} different")
+    assert settings.total == "81"
+    assert settings.report.startswith("81 variants of 81 possible (every one tried: 200 asked); 0 rejected")
+    assert len(meshes) == different == 81, "every ring made once"
+    assert closed_meshes(meshes)
+
+
+def cactus_with_copies():
+    """The cactus decomposed, its parts' copies edited in Edit Mode (3^4 x 2^3 = 648 different cacti): the foot
+    flared, the waist and the middle bulged or pinched, the dome raised, the top ring widened, arm A thickened or its
+    elbow raised, arm B bent 15 degrees at its elbow (its ring to the tip turned as a solid: the tip follows), the
+    tips' tops raised. Returns the cactus and its arms' rings."""
+    plant, arms = cactus()
+    bpy.context.view_layer.objects.active = plant
+    assert bpy.ops.worldpaint.decompose_model(object=plant.name, source='ATTRIBUTE', attribute="part",
+                                              root=0) == {'FINISHED'}
+    assert plant.worldpaint_variety.graph == "7 components, 6 connecting regions, a tree"
+
+    def on(ring):
+        return lambda co: np.min(np.linalg.norm(np.asarray(ring) - np.array(co), axis=1)) < 1e-4
+
+    def trunk(r):
+        return lambda co: abs(math.hypot(co.x, co.y) - 0.5) < 1e-4 and abs(co.z - 0.8 * r) < 1e-4
+
+    def edit(label, name, operation, where, free_only=False):
+        copy = edited_part(plant, label, name)
+        free = ~open_boundary(copy.data) if free_only else np.ones(len(copy.data.vertices), dtype=bool)
+        in_edit_mode(copy, lambda bm: operation(bm, [v for v in bm.verts if where(v.co) and free[v.index]]))
+
+    def scale(factor, centre=(0.0, 0.0, 0.0)):
+        return lambda bm, verts: bmesh.ops.scale(bm, vec=factor, space=Matrix.Translation(-Vector(centre)),
+                                                 verts=verts)
+
+    def lift(dz):
+        return lambda bm, verts: bmesh.ops.translate(bm, vec=(0.0, 0.0, dz), verts=verts)
+
+    edit(0, "Foot flared", scale((1.3, 1.3, 1.0)), trunk(0))
+    edit(0, "Waist bulged", scale((1.15, 1.15, 1.0)), trunk(2), free_only=True)
+    edit(1, "Middle bulged", scale((1.15, 1.15, 1.0)), trunk(4), free_only=True)
+    edit(1, "Middle pinched", scale((0.88, 0.88, 1.0)), trunk(5), free_only=True)
+    edit(2, "Dome raised", lift(0.5), lambda co: co.z > 6.5)
+    edit(2, "Top widened", scale((1.15, 1.15, 1.0)), trunk(7))
+    edit(3, "Arm A thick", scale((1.3, 1.3, 1.3), arms[0][1].mean(axis=0)), on(arms[0][1]))
+    edit(3, "Arm A elbow up", lift(0.15), on(arms[0][2]))
+    edit(4, "Tip A raised", lift(0.3), on(arms[0][5]))
+    elbow, out = arms[1][1].mean(axis=0), arms[1][1].mean(axis=0) - arms[1][0].mean(axis=0)
+    axis = np.cross((0.0, 0.0, 1.0), out)
+    bend = Matrix.Rotation(math.radians(15.0), 3, Vector(axis / np.linalg.norm(axis)))
+    edit(5, "Arm B bent", lambda bm, verts: bmesh.ops.rotate(bm, cent=elbow, matrix=bend, verts=verts),
+         lambda co: on(arms[1][2])(co) or on(arms[1][3])(co))
+    edit(6, "Tip B raised", lift(0.3), on(arms[1][5]))
+    return plant, arms
+
+
+def test_a_cactus_with_turned_arms_makes_each_different_cactus_once():
+    plant, arms = cactus_with_copies()
+    settings = plant.worldpaint_variety
+    # arm A's copy turned 20 degrees about the cactus's axis in Object Mode (counted before as a 4th piece of the
+    # arm: "864 variants of 864 possible", of which 648 differ): read as part of the copy, and refused by name
+    turned = edited_part(plant, 3, "Arm turned")
+    turned.rotation_euler.z = math.radians(20.0)
+    with pytest.raises(RuntimeError) as refused:
+        bpy.ops.worldpaint.generate_variants(object=plant.name, count=1000, seed=1)
+    message = str(refused.value)
+    print(f"\ncactus, an arm turned in Object Mode: {message}")
+    for needle in ("copy 'Arm turned' in 'Cactus Parts/Cactus part 3'",
+                   "turns or moves its connecting region with 'Cactus Parts/Cactus part 0' as one solid together "
+                   "with the whole piece", "turn the rest of the piece about it",
+                   "'Arm turned' is turned in Object Mode"):
+        assert needle in message
+    assert settings.generated is None, "nothing made"
+    # the same turn made in Edit Mode, on the copy's mesh: refused the same way
+    turned.rotation_euler.z = 0.0
+    in_edit_mode(turned, lambda bm: bmesh.ops.rotate(bm, cent=(0.0, 0.0, 0.0), matrix=Matrix.Rotation(
+        math.radians(20.0), 3, 'Z'), verts=bm.verts[:]))
+    with pytest.raises(RuntimeError, match="copy 'Arm turned' in 'Cactus Parts/Cactus part 3': it turns or moves"):
+        bpy.ops.worldpaint.generate_variants(object=plant.name, count=1000, seed=1)
+    bpy.data.objects.remove(turned)
+
+    assert bpy.ops.worldpaint.generate_variants(object=plant.name, count=1000, seed=1) == {'FINISHED'}
+    meshes = [o.data for o in settings.generated.objects]
+    different = len(shapes(meshes))
+    print(f"cactus: {settings.report}; {len(meshes)} made, {different} different")
+    assert settings.total == "648"
+    assert settings.report.startswith("648 variants of 648 possible (every one tried: 1000 asked); 0 rejected")
+    assert "1 solid transform" in settings.report, "arm B's bent copy"
+    assert len(meshes) == different == 648, "every cactus made once"
+    assert closed_meshes(meshes)
+    # arm B's bent copy shows: in half the cacti the ring where its tip starts is away from the original arm's
+    ring = arms[1][3]
+    moved = 0
+    for mesh in meshes:
+        co = np.empty(3 * len(mesh.vertices), dtype=np.float32)
+        mesh.vertices.foreach_get("co", co)
+        moved += np.min(np.linalg.norm(co.reshape(-1, 3)[:, None] - ring, axis=2), axis=0).max() > 0.1
+    assert moved == 324, moved
+
+    # the top stretched 25 % upwards in Object Mode (about the cactus's foot): read as part of the copy, its ring on
+    # the middle part brought back, the dome stands higher in the model assembled by hand
+    stretched = edited_part(plant, 2, "Top stretched")
+    stretched.scale.z = 1.25
+    settings.components[2].pick = stretched
+    assert bpy.ops.worldpaint.generate_variants(object=plant.name, by_hand=True) == {'FINISHED'}
+    assert settings.total == "864"
+    picked = bpy.data.objects[f"{plant.name} picked variant 000"].data
+    apex = max(v.co.z for v in picked.vertices)
+    print(f"cactus, the top stretched in Object Mode: the dome's apex at {apex:.3f} m (7.000 m before)")
+    assert abs(apex - (4.8 + 1.25 * 2.2)) < 1e-4
+
+    # a copy of arm A whose elbow is pushed back into the trunk, picked by hand: the model is refused, naming the picks
+    poked = edited_part(plant, 3, "Arm A poked")
+    elbow = arms[0][2]
+    back = -1.3 * (elbow.mean(axis=0) * (1.0, 1.0, 0.0)) / np.linalg.norm(elbow.mean(axis=0)[:2])
+    in_edit_mode(poked, lambda bm: bmesh.ops.translate(bm, vec=back, verts=[
+        v for v in bm.verts if np.min(np.linalg.norm(elbow - np.array(v.co), axis=1)) < 1e-4]))
+    settings.components[3].pick = poked
+    with pytest.raises(RuntimeError) as refused:
+        bpy.ops.worldpaint.generate_variants(object=plant.name, by_hand=True)
+    message = str(refused.value)
+    print(f"cactus, an arm poked into the trunk picked by hand: {message}")
+    assert ("The picked copies ('Top stretched' in 'Cactus Parts/Cactus part 2', 'Arm A poked' in 'Cactus "
+            "Parts/Cactus part 3') make a model whose faces intersect") in message
+    assert len(settings.generated.objects) == 649, "nothing added"

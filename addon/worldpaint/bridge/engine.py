@@ -585,12 +585,15 @@ def decompose_model(model, labels, root=None):
     return _engine().decompose_model(model, np.ascontiguousarray(labels, dtype=np.int64), root)
 
 
-def generate_variants(model, labels, variants, count, seed, *, root=None, cycles=None, picks=None, progress=None):
+def generate_variants(model, labels, variants, count, seed, *, root=None, cycles=None, picks=None, names=None,
+                      variant_names=None, progress=None):
     """``count`` variants assembled from the components' edited ``variants`` (per component a list of model dicts),
-    or the one that ``picks`` (per component: 0 its original, k its k-th edit): their classes, #V (a string), the
-    accepted models with their hashes, the rejections."""
+    or the one that ``picks`` (per component: 0 its original, k its k-th edit): their classes, #V (a string: the
+    number of different models), the accepted models with their hashes, the rejections. ``names`` (per component)
+    and ``variant_names`` (per component, per variant) are what the errors call the parts and their copies."""
     return _engine().generate_variants(model, np.ascontiguousarray(labels, dtype=np.int64), variants, count, seed,
-                                       root=root, cycles=cycles, picks=picks, progress=progress)
+                                       root=root, cycles=cycles, picks=picks, names=names,
+                                       variant_names=variant_names, progress=progress)
 
 
 def texture_variety(model, base, edits, count, probability=0.5, seed=0, *, names=None):

@@ -164,10 +164,28 @@ def write_variants(collection, name, models, materials):
     return objects
 
 
-def variant_model(obj, original):
+def part_path(parts, collection, default):
+    """How messages name a part: its collection under the model's parts collection ("Tree Parts/Tree part 2")."""
+    name = collection.name if collection is not None else default
+    return f"{parts.name}/{name}" if parts is not None else name
+
+
+def object_mode_change(relative, tolerance=1e-6):
+    """What a copy's Object Mode transform (``relative``: its matrix in its piece's frame) does, in words ("turned",
+    "moved and scaled"), or "" when it is the piece's own."""
+    location, rotation, scale = relative.decompose()
+    words = [word for word, changed in (
+        ("moved", location.length > tolerance),
+        ("turned", rotation.angle > tolerance),
+        ("scaled", max(abs(s - 1.0) for s in scale) > tolerance)) if changed]
+    return " and ".join(words)
+
+
+def variant_model(obj, original, where="", matrix=None):
     """The engine model of an edited part (modifiers applied), its vertices renumbered as the component's: vertex
     ``k`` of the component first (its original place, ``original`` model dict, where the edit deleted it), new ones
-    after."""
+    after. ``matrix`` (the copy's Object Mode transform in its piece's frame) moves the copy's vertices: the transform
+    is read as part of the copy. ``where`` names the part's collection in messages."""
     depsgraph = bpy.context.evaluated_depsgraph_get()
     evaluated = obj.evaluated_get(depsgraph)
     mesh = evaluated.to_mesh()
@@ -175,12 +193,16 @@ def variant_model(obj, original):
         model = mesh_model(mesh)
         attr = mesh.attributes.get(VERTEX_ATTRIBUTE)
         if attr is None or attr.domain != 'POINT':
-            raise WorldPaintError(f"'{obj.name}' is not a copy of a part made by Decompose Model "
+            place = f" in '{where}'" if where else ""
+            raise WorldPaintError(f"'{obj.name}'{place} is not a copy of a part made by Decompose Model "
                                   f"(it has no '{VERTEX_ATTRIBUTE}' attribute)")
         ids = np.empty(len(mesh.vertices), dtype=np.int64)
         attr.data.foreach_get("value", ids)
     finally:
         evaluated.to_mesh_clear()
+    if matrix is not None:
+        m = np.array(matrix, dtype=np.float64)
+        model["vertices"] = model["vertices"] @ m[:3, :3].T + m[:3, 3]
     base = np.asarray(original["vertices"], dtype=np.float64)
     n = len(base)
     known = (ids >= 0) & (ids < n)

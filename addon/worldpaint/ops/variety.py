@@ -132,17 +132,30 @@ class WORLDPAINT_OT_generate_variants(BackgroundOperator, bpy.types.Operator):
         self._root = settings.root if settings.root >= 0 else None
         found = engine.decompose_model(self._model, self._labels, self._root)
         by_label = {c.get(variety.COMPONENT_TAG): c for c in settings.parts.children}
+        context.evaluated_depsgraph_get()  # the copies' Object Mode transforms up to date
         self._cycles = [(k, c.repeat) for k, c in enumerate(settings.components) if c.repeat > 0]
-        self._variants, self._picks = [], []
+        self._variants, self._picks, self._names, self._variant_names = [], [], [], []
+        self._moved = {}  # copy name -> what its Object Mode transform does, read as part of the copy
         for label, piece, item in zip(found["labels"], found["components"], settings.components, strict=True):
             collection = by_label.get(label)
+            where = variety.part_path(settings.parts, collection, f"{obj.name} part {label}")
             # a copy made with Shift+D keeps the piece's custom properties: the collection names its piece
             piece_obj = None if collection is None else collection.get(variety.PART_TAG)
             edits = [] if collection is None else [o for o in collection.objects if o.type == 'MESH'
                                                   and o != piece_obj]
-            self._variants.append([variety.variant_model(o, piece) for o in edits])
+            reference = (piece_obj or obj).matrix_world
+            models = []
+            for o in edits:
+                relative = reference.inverted_safe() @ o.matrix_world
+                moved = variety.object_mode_change(relative)
+                if moved:
+                    self._moved[o.name] = moved
+                models.append(variety.variant_model(o, piece, where, relative if moved else None))
+            self._variants.append(models)
+            self._names.append(where)
+            self._variant_names.append([o.name for o in edits])
             if self.by_hand and item.pick is not None and item.pick != piece_obj and item.pick not in edits:
-                raise WorldPaintError(f"'{item.pick.name}' is not a copy in the collection of {item.name}")
+                raise WorldPaintError(f"'{item.pick.name}' is not a copy in '{where}'")
             self._picks.append(edits.index(item.pick) + 1 if item.pick in edits else 0)
         self._texture = None
         if settings.texture_edits:
@@ -151,9 +164,19 @@ class WORLDPAINT_OT_generate_variants(BackgroundOperator, bpy.types.Operator):
         self._probability = setting(self, "probability", settings.texture_probability)
 
     def _compute(self, progress):
-        result = engine.generate_variants(self._model, self._labels, self._variants, self.count, self.seed,
-                                          root=self._root, cycles=self._cycles, progress=progress,
-                                          picks=self._picks if self.by_hand else None)
+        try:
+            result = engine.generate_variants(self._model, self._labels, self._variants, self.count, self.seed,
+                                              root=self._root, cycles=self._cycles, progress=progress,
+                                              picks=self._picks if self.by_hand else None, names=self._names,
+                                              variant_names=self._variant_names)
+        except engine.engine_error() as exc:
+            # a copy refused for what its Object Mode transform did: say so, and how to undo it
+            named = [(name, moved) for name, moved in self._moved.items() if f"copy '{name}' in" in str(exc)]
+            if not named:
+                raise
+            name, moved = named[0]
+            raise WorldPaintError(f"{exc} ('{name}' is {moved} in Object Mode, which counts as part of the copy: "
+                                  "clear that with Alt+G, Alt+R or Alt+S, or edit the copy in Edit Mode)") from None
         if self._texture is not None and not self.by_hand:
             _base, base_pixels, _images, pixels = self._texture
             count = max(self.count, len(result["models"])) if result["models"] else 0
@@ -210,7 +233,10 @@ class WORLDPAINT_OT_generate_variants(BackgroundOperator, bpy.types.Operator):
         settings = obj.worldpaint_variety
         if result["rejected"]:
             reason, detail = result["rejected"][0]
-            raise WorldPaintError(f"The picked parts make a model whose faces intersect ({reason}: {detail})")
+            picked = ", ".join(f"'{item.pick.name}' in '{where}'" for item, where in zip(
+                obj.worldpaint_variety.components, self._names, strict=True) if item.pick is not None)
+            raise WorldPaintError(f"The picked copies ({picked or 'the original pieces'}) make a model whose faces "
+                                  f"intersect ({reason}: {detail})")
         generated = settings.generated
         if generated is None:
             generated = child_collection(context.scene.collection, f"{obj.name} Variants")

@@ -14,7 +14,9 @@ mod birch;
 
 use birch::{birch, birch_atlas};
 use std::collections::HashSet;
-use variety_models::{column, edit, rock, tree, tree_atlas, DVec3, Role};
+use variety_models::{
+    cactus, column, edit, moved_piece, ring, rock, tree, tree_atlas, CactusPart, DVec3, Role,
+};
 use worldpaint_core::geom::DVec2;
 use worldpaint_core::variety::{
     atlas_images, check_assemblies, generate, memory_report, pack_components, pick_textures, Atlas,
@@ -880,4 +882,419 @@ fn component_centre(a: &worldpaint_core::variety::Assembled, c: u32) -> DVec3 {
         .map(|&v| a.model.vertices[v as usize])
         .sum::<DVec3>()
         / used.len() as f64
+}
+
+/// An order-free key of a model's geometry: each face's corners quantised to 1e-5 m (as `Assembled::hash`), started
+/// at its least corner, the faces sorted. Two models with the same faces at the same places have the same key.
+fn shape_key(m: &Model) -> Vec<Vec<[i64; 3]>> {
+    let mut faces: Vec<Vec<[i64; 3]>> = m
+        .faces
+        .iter()
+        .map(|f| {
+            let q: Vec<[i64; 3]> = f
+                .iter()
+                .map(|&v| {
+                    let p = m.vertices[v as usize] * 1e5;
+                    [p.x.round() as i64, p.y.round() as i64, p.z.round() as i64]
+                })
+                .collect();
+            let first = (0..q.len()).min_by_key(|&k| q[k]).unwrap_or(0);
+            q[first..].iter().chain(&q[..first]).copied().collect()
+        })
+        .collect();
+    faces.sort();
+    faces
+}
+
+/// Asks for every assembly of the atlas: (made, distinct shapes among them, rejected).
+fn made_and_distinct(atlas: &Atlas, model: &Model) -> (usize, usize, usize) {
+    let labels = IntersectionLabels::of_model(model);
+    let options = GenerateOptions {
+        count: atlas.count() as usize,
+        seed: 1,
+        max_attempts: 0,
+    };
+    let g = generate(atlas, &labels, &options).expect("generate");
+    let shapes: HashSet<Vec<Vec<[i64; 3]>>> = g
+        .accepted
+        .iter()
+        .map(|(_, a)| shape_key(&a.model))
+        .collect();
+    for (choice, a) in &g.accepted {
+        assert!(a.max_gap <= 1e-6 && a.model.is_watertight(), "{choice:?}");
+    }
+    (g.accepted.len(), shapes.len(), g.rejected.len())
+}
+
+/// Whether model vertex `v` lies on a connecting region.
+fn on_region(d: &Decomposition, v: usize) -> bool {
+    d.regions.iter().any(|r| r.vertices.contains(&(v as u32)))
+}
+
+/// The ring of four parts with two local edits of each (its middle section pushed out from the ring's axis, its
+/// three inner sections flattened): 3^4 = 81 different rings.
+fn ring_atlas() -> (Model, Decomposition, Atlas) {
+    let (model, labels, place) = ring();
+    let d = Decomposition::from_labels(&model, &labels, None).expect("decomposition");
+    assert!(d.components.len() == 4 && d.is_fully_cyclic());
+    let mut atlas = Atlas::new(&model, d.clone()).expect("atlas");
+    for c in 0..4 {
+        let first = 4 * d.components[c].label as usize;
+        let bulged = moved_piece(&model, &d, c, |v, p| {
+            if place[v].0 == first + 2 {
+                p + DVec3::new(p.x, p.y, 0.0).normalize() * 0.2
+            } else {
+                p
+            }
+        });
+        let flat = moved_piece(&model, &d, c, |v, p| {
+            if (first + 1..=first + 3).contains(&place[v].0) {
+                DVec3::new(p.x, p.y, p.z * 0.6)
+            } else {
+                p
+            }
+        });
+        for edit in [bulged, flat] {
+            assert_eq!(
+                atlas.add_variant(c, edit).expect("a local edit"),
+                VariantClass::Local
+            );
+        }
+    }
+    (model, d, atlas)
+}
+
+#[test]
+fn a_ring_of_four_parts_counts_only_different_models() {
+    let (model, d, mut atlas) = ring_atlas();
+    let names: Vec<String> = (0..4)
+        .map(|c| format!("Ring Parts/Ring part {}", d.components[c].label))
+        .collect();
+    atlas.set_names(names.clone()).expect("names");
+    assert_eq!(atlas.count(), 81);
+    // A third copy of a part next to the root, turned whole 10° about the ring's axis (its two sections with it):
+    // the assembly keeps the sections where the neighbours have them, so it would be the original again (counted
+    // before as a 4th piece: 108 possible, 81 different). It is refused by name.
+    let c = (0..4)
+        .find(|&c| d.parent(c).is_some_and(|(p, _)| p == d.root))
+        .expect("a part next to the root");
+    let parent = d.parent(c).map(|(p, _)| p).unwrap_or(d.root);
+    let turn = glam::DQuat::from_rotation_z(10f64.to_radians());
+    let turned = moved_piece(&model, &d, c, |_, p| turn * p);
+    let e = atlas
+        .add_named_variant(c, "Part turned", turned)
+        .expect_err("a part of a ring turned whole is refused");
+    println!("  refused: {e}");
+    let msg = e.to_string();
+    for needle in [
+        format!("copy 'Part turned' in '{}'", names[c]),
+        format!("connecting region with '{}'", names[parent]),
+        "the whole piece".to_string(),
+        "ring".to_string(),
+    ] {
+        assert!(msg.contains(&needle), "{needle:?} in {msg}");
+    }
+    // the root turned whole moves every part with it: no new ring either
+    let root_turned = moved_piece(&model, &d, d.root, |_, p| turn * p);
+    let e = atlas
+        .add_named_variant(d.root, "Root turned", root_turned)
+        .expect_err("the root turned whole is refused");
+    println!("  refused: {e}");
+    assert!(e
+        .to_string()
+        .contains(&format!("copy 'Root turned' in '{}'", names[d.root])));
+    // a copy left as it was, and a copy of a copy, would only repeat models
+    let same = d.component_model(&model, c).expect("piece");
+    let e = atlas
+        .add_named_variant(c, "Part.001", same)
+        .expect_err("an unedited copy");
+    println!("  refused: {e}");
+    assert!(e.to_string().contains("copy 'Part.001'") && e.to_string().contains("original piece"));
+    let again = atlas.variants(c)[1].model.clone();
+    let e = atlas
+        .add_named_variant(c, "Part.002", again)
+        .expect_err("a copy of a copy");
+    println!("  refused: {e}");
+    assert!(e.to_string().contains("same shape as copy 'copy 1'"), "{e}");
+    assert_eq!(atlas.count(), 81, "none of them counted");
+    let (made, distinct, rejected) = made_and_distinct(&atlas, &model);
+    println!("  ring of four parts, three pieces each: 81 possible, {made} made, {distinct} different, {rejected} rejected");
+    assert_eq!((made, distinct, rejected), (81, 81, 0));
+}
+
+/// How an edit moves a vertex: (vertex of the model, position) to its new position.
+type MoveVertex<'a> = dyn Fn(usize, DVec3) -> DVec3 + 'a;
+
+/// The cactus's atlas: two or three pieces per part, 3^4 × 2^3 = 648 different cacti. Arm B's copy is turned from
+/// its elbow (its ring to the tip turned as a solid: the tip follows).
+fn cactus_atlas() -> (variety_models::Cactus, Decomposition, Atlas) {
+    let cactus = cactus();
+    let (model, parts) = (&cactus.model, &cactus.parts);
+    let d = Decomposition::from_labels(model, &cactus.labels, Some(0)).expect("decomposition");
+    assert!(d.components.len() == 7 && d.is_tree_like());
+    let mut atlas = Atlas::new(model, d.clone()).expect("atlas");
+    let radial = |p: DVec3, f: f64| DVec3::new(p.x * f, p.y * f, p.z);
+    let centre = |a: usize, k: usize| {
+        let ring: Vec<DVec3> = (0..parts.len())
+            .filter(|&v| parts[v] == CactusPart::Arm(a, k))
+            .map(|v| model.vertices[v])
+            .collect();
+        ring.iter().copied().sum::<DVec3>() / ring.len() as f64
+    };
+    let free = |v: usize, part: CactusPart| parts[v] == part && !on_region(&d, v);
+    let bend = {
+        let (elbow, out) = (centre(1, 2), centre(1, 2) - centre(1, 1));
+        let axis = DVec3::Z.cross(out).normalize();
+        glam::DAffine3::from_translation(elbow)
+            * glam::DAffine3::from_axis_angle(axis, 15f64.to_radians())
+            * glam::DAffine3::from_translation(-elbow)
+    };
+    let edits: Vec<(u32, Box<MoveVertex>)> = vec![
+        (
+            0,
+            Box::new(|v, p| {
+                if parts[v] == CactusPart::Trunk(0) {
+                    radial(p, 1.3)
+                } else {
+                    p
+                }
+            }),
+        ),
+        (
+            0,
+            Box::new(|v, p| {
+                if free(v, CactusPart::Trunk(2)) {
+                    radial(p, 1.15)
+                } else {
+                    p
+                }
+            }),
+        ),
+        (
+            1,
+            Box::new(|v, p| {
+                if free(v, CactusPart::Trunk(4)) {
+                    radial(p, 1.15)
+                } else {
+                    p
+                }
+            }),
+        ),
+        (
+            1,
+            Box::new(|v, p| {
+                if free(v, CactusPart::Trunk(5)) {
+                    radial(p, 0.88)
+                } else {
+                    p
+                }
+            }),
+        ),
+        (
+            2,
+            Box::new(|v, p| {
+                if parts[v] == CactusPart::Trunk(9) {
+                    p + DVec3::Z * 0.5
+                } else {
+                    p
+                }
+            }),
+        ),
+        (
+            2,
+            Box::new(|v, p| {
+                if parts[v] == CactusPart::Trunk(7) {
+                    radial(p, 1.15)
+                } else {
+                    p
+                }
+            }),
+        ),
+        (
+            3,
+            Box::new(|v, p| {
+                let c = centre(0, 2);
+                if parts[v] == CactusPart::Arm(0, 2) {
+                    c + (p - c) * 1.3
+                } else {
+                    p
+                }
+            }),
+        ),
+        (
+            3,
+            Box::new(|v, p| {
+                if parts[v] == CactusPart::Arm(0, 3) {
+                    p + DVec3::Z * 0.15
+                } else {
+                    p
+                }
+            }),
+        ),
+        (
+            4,
+            Box::new(|v, p| {
+                if parts[v] == CactusPart::Arm(0, 6) {
+                    p + DVec3::Z * 0.3
+                } else {
+                    p
+                }
+            }),
+        ),
+        (
+            5,
+            Box::new(|v, p| match parts[v] {
+                CactusPart::Arm(1, k) if k >= 3 => bend.transform_point3(p),
+                _ => p,
+            }),
+        ),
+        (
+            6,
+            Box::new(|v, p| {
+                if parts[v] == CactusPart::Arm(1, 6) {
+                    p + DVec3::Z * 0.3
+                } else {
+                    p
+                }
+            }),
+        ),
+    ];
+    for (label, edit) in edits {
+        let c = d
+            .components
+            .iter()
+            .position(|k| k.label == label)
+            .expect("part");
+        let class = atlas
+            .add_variant(c, moved_piece(model, &d, c, edit))
+            .expect("a variant");
+        let solid = label == 5;
+        assert_eq!(
+            class == VariantClass::SolidTransform,
+            solid,
+            "part {label}: {class:?}"
+        );
+    }
+    (cactus, d, atlas)
+}
+
+#[test]
+fn a_cactus_with_an_arm_turned_whole_counts_only_different_models() {
+    let (cactus, d, mut atlas) = cactus_atlas();
+    let (model, parts) = (&cactus.model, &cactus.parts);
+    let names: Vec<String> = (0..7)
+        .map(|c| format!("Cactus Parts/Cactus part {}", d.components[c].label))
+        .collect();
+    atlas.set_names(names.clone()).expect("names");
+    let part = |label: u32| {
+        d.components
+            .iter()
+            .position(|k| k.label == label)
+            .expect("part")
+    };
+    let (arm, tip) = (part(3), part(4));
+    assert_eq!(atlas.count(), 648);
+    let (made, distinct, rejected) = made_and_distinct(&atlas, model);
+    println!("  cactus, arm B's copy turned from its elbow: 648 possible, {made} made, {distinct} different, {rejected} rejected");
+    assert_eq!((made, distinct, rejected), (648, 648, 0));
+
+    // Arm A's piece turned whole 20° about the trunk's axis, its rings on the trunk and to the tip with it: counted
+    // before as a 4th piece (864 possible, 648 different), refused now by name.
+    let turn = glam::DQuat::from_rotation_z(20f64.to_radians());
+    let turned = moved_piece(model, &d, arm, |_, p| turn * p);
+    let e = atlas
+        .add_named_variant(arm, "Arm turned", turned)
+        .expect_err("an arm turned whole is refused");
+    println!("  refused: {e}");
+    let msg = e.to_string();
+    for needle in [
+        "copy 'Arm turned' in 'Cactus Parts/Cactus part 3'",
+        "turns or moves its connecting region with 'Cactus Parts/Cactus part 0'",
+        "the whole piece",
+        "turn the rest of the piece about it",
+    ] {
+        assert!(msg.contains(needle), "{needle:?} in {msg}");
+    }
+    // turned whole after its elbow was raised: most of the piece moves with the ring, refused the same way
+    let raised_and_turned = moved_piece(model, &d, arm, |v, p| {
+        turn * if parts[v] == CactusPart::Arm(0, 3) {
+            p + DVec3::Z * 0.3
+        } else {
+            p
+        }
+    });
+    let e = atlas
+        .add_named_variant(arm, "Arm raised and turned", raised_and_turned)
+        .expect_err("an arm turned with its ring is refused");
+    println!("  refused: {e}");
+    assert!(e.to_string().contains("12 of its 16 other vertices"), "{e}");
+    assert_eq!(atlas.count(), 648);
+
+    // Arm A's tip with its ring to the arm stretched along x (§4.2.3: the arm is adapted in a duplicated graph):
+    // 648 + 324 models, all different. The same ring stretched from the arm's side would repeat some of them (1,188
+    // possible, 1,080 different) and is refused.
+    let ring4: Vec<usize> = (0..parts.len())
+        .filter(|&v| parts[v] == CactusPart::Arm(0, 4))
+        .collect();
+    let centre = ring4.iter().map(|&v| model.vertices[v]).sum::<DVec3>() / 4.0;
+    let widen = |v: usize, p: DVec3| {
+        if ring4.contains(&v) {
+            DVec3::new(centre.x + (p.x - centre.x) * 1.3, p.y, p.z)
+        } else {
+            p
+        }
+    };
+    let wide_tip = moved_piece(model, &d, tip, widen);
+    assert_eq!(
+        atlas
+            .add_named_variant(tip, "Tip wide", wide_tip)
+            .expect("a reshaped ring"),
+        VariantClass::RegionChange
+    );
+    assert_eq!(atlas.count(), 972);
+    let wide_arm = moved_piece(model, &d, arm, widen);
+    let e = atlas
+        .add_named_variant(arm, "Arm wide", wide_arm)
+        .expect_err("the same ring reshaped from both sides");
+    println!("  refused: {e}");
+    assert!(
+        e.to_string()
+            .contains("exactly as copy 'Tip wide' in 'Cactus Parts/Cactus part 4'"),
+        "{e}"
+    );
+    let (made, distinct, rejected) = made_and_distinct(&atlas, model);
+    println!("  cactus with a reshaped ring: 972 possible, {made} made, {distinct} different, {rejected} rejected");
+    assert_eq!((made, distinct, rejected), (972, 972, 0));
+    // two copies that each reshape a ring cannot be picked together, and the message names them
+    let top = part(2);
+    let ring6: Vec<usize> = (0..parts.len())
+        .filter(|&v| parts[v] == CactusPart::Trunk(6))
+        .collect();
+    let oval = moved_piece(model, &d, top, |v, p| {
+        if ring6.contains(&v) {
+            DVec3::new(p.x * 1.2, p.y, p.z)
+        } else {
+            p
+        }
+    });
+    assert_eq!(
+        atlas
+            .add_named_variant(top, "Top oval", oval)
+            .expect("a reshaped ring"),
+        VariantClass::RegionChange
+    );
+    let mut picks = vec![0; 7];
+    picks[top] = atlas.variants(top).len() - 1;
+    picks[tip] = atlas.variants(tip).len() - 1;
+    let e = atlas
+        .choice_of_variants(&picks)
+        .expect_err("two reshaped rings");
+    println!("  refused: {e}");
+    assert!(
+        e.to_string().contains(
+            "copy 'Top oval' in 'Cactus Parts/Cactus part 2' and copy 'Tip wide' in 'Cactus Parts/Cactus part 4' \
+             each reshape a connecting region"
+        ),
+        "{e}"
+    );
 }

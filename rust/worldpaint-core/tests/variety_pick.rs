@@ -69,7 +69,7 @@ fn the_variants_picked_by_hand_are_the_ones_assembled() {
     println!("a pick past the variants: {err}");
     assert!(err
         .to_string()
-        .contains("component 3 has variants 0 (its original) to 2, not 3"));
+        .contains("'component 3' has variants 0 (its original) to 2, not 3"));
     assert!(
         atlas.choice_of_variants(&[0; 5]).is_err(),
         "a pick per component"

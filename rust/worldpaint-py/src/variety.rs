@@ -214,14 +214,17 @@ fn class_name(c: VariantClass) -> &'static str {
 
 /// Assemble `count` variants of `model` decomposed by `labels` (see `decompose_model`), from `variants`: per component
 /// a list of model dicts (edits of its sub-mesh). `cycles`: (component, max repeat) pairs of local cycles. `picks`:
-/// per component the variant picked by hand (0 its original; the count and seed are then unused). Returns
+/// per component the variant picked by hand (0 its original; the count and seed are then unused). `names`: per
+/// component the name the user knows it by (its collection), `variant_names`: per component the name of each
+/// variant (its copy object); messages about a copy name both. Returns
 /// {"classes": per component the class of each given variant, "total": #V as a string, "exhausted": whether every
 /// assembly was tried (a count of #V or more tries them all), "models": the accepted variants as model dicts,
 /// "face_origin": per model int64 (F,) the original face each face copies (-1: a face an edit added), "hashes",
 /// "rejected": [(reason, detail)], "memory": {"overhead_percent" (the atlas over
 /// the original, the seed's Table 2), "original_bytes", "shared_bytes", "full_bytes"}}. `progress(fraction) -> bool` may cancel.
 #[pyfunction]
-#[pyo3(signature = (model, labels, variants, count, seed=0, *, root=None, cycles=None, picks=None, progress=None))]
+#[pyo3(signature = (model, labels, variants, count, seed=0, *, root=None, cycles=None, picks=None, names=None,
+    variant_names=None, progress=None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn generate_variants<'py>(
     py: Python<'py>,
@@ -233,10 +236,27 @@ pub(crate) fn generate_variants<'py>(
     root: Option<u32>,
     cycles: Option<Vec<(usize, u32)>>,
     picks: Option<Vec<usize>>,
+    names: Option<Vec<String>>,
+    variant_names: Option<Vec<Vec<String>>>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let model = model_from_py(model, "model")?;
     let labels = labels_of(labels)?;
+    let component_name = |c: usize| {
+        names
+            .as_ref()
+            .and_then(|n| n.get(c))
+            .cloned()
+            .unwrap_or_else(|| format!("component {c}"))
+    };
+    let variant_name = |c: usize, k: usize| {
+        variant_names
+            .as_ref()
+            .and_then(|n| n.get(c))
+            .and_then(|n| n.get(k))
+            .cloned()
+            .unwrap_or_else(|| format!("copy {}", k + 1))
+    };
     let mut edits: Vec<Vec<Model>> = Vec::new();
     for (c, list) in variants
         .try_iter()
@@ -256,7 +276,7 @@ pub(crate) fn generate_variants<'py>(
         {
             own.push(model_from_py(
                 &item?,
-                &format!("variant {k} of component {c}"),
+                &format!("copy '{}' in '{}'", variant_name(c, k), component_name(c)),
             )?);
         }
         edits.push(own);
@@ -272,11 +292,16 @@ pub(crate) fn generate_variants<'py>(
             ));
         }
         let mut atlas = Atlas::new(&model, decomposition)?;
+        atlas.set_names((0..n).map(component_name).collect())?;
         let mut classes = Vec::new();
         for (c, list) in edits.into_iter().enumerate() {
             let mut own = Vec::new();
-            for edit in list {
-                own.push(class_name(atlas.add_variant(c, edit)?));
+            for (k, edit) in list.into_iter().enumerate() {
+                own.push(class_name(atlas.add_named_variant(
+                    c,
+                    &variant_name(c, k),
+                    edit,
+                )?));
             }
             classes.push(own);
         }

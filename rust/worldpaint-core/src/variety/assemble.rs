@@ -8,13 +8,14 @@
 //! across that region made for it; the distance between the two placements is the assembly's crack measure
 //! ([`Assembled::max_gap`], within 1e-6 m when the atlas is sound). Vertices no face uses are dropped.
 //!
-//! The count #V = Σ_graphs Π_i #F_i (eq. 1 per graph), where a component in a local cycle counts
+//! The count #V = Σ_graphs Π_i #F_i (eq. 1 per graph): the number of different models, since the atlas holds no
+//! variant that would repeat one (see [`super::atlas`]), where a component in a local cycle counts
 //! Σ_{r=1}^{max} #F_i^r (each copy picks its variant). It saturates at `u128::MAX`. [`Atlas::choice`] numbers the
 //! assemblies 0..#V (a mixed radix in graph, then component order), so all of them can be listed;
 //! [`Atlas::random_choice`] draws a graph by its count, then each node's repetition by its count, then variants
 //! uniformly: every assembly equally likely.
 
-use super::atlas::{Atlas, AtlasGraph};
+use super::atlas::{Atlas, AtlasGraph, VariantClass};
 use super::model::Model;
 use crate::error::{Error, Result};
 use glam::{DAffine3, DVec2, DVec3};
@@ -88,7 +89,7 @@ impl Atlas {
         }
     }
 
-    /// The number of distinct assemblies #V (eq. 1), saturating at `u128::MAX`.
+    /// The number of assemblies #V (eq. 1), each a different model, saturating at `u128::MAX`.
     pub fn count(&self) -> u128 {
         self.graphs()
             .iter()
@@ -116,7 +117,8 @@ impl Atlas {
                 return Err(Error::invalid(
                     "picked variants",
                     format!(
-                        "component {c} has variants 0 (its original) to {}, not {v}",
+                        "'{}' has variants 0 (its original) to {}, not {v}",
+                        self.name(c),
                         self.variants(c).len() - 1
                     ),
                 ));
@@ -134,10 +136,19 @@ impl Atlas {
                 picks.map(|picks| Choice { graph, picks })
             })
             .ok_or_else(|| {
+                let reshaping: Vec<String> = variants
+                    .iter()
+                    .enumerate()
+                    .filter(|&(c, &v)| self.variants(c)[v].class == VariantClass::RegionChange)
+                    .map(|(c, &v)| format!("copy '{}' in '{}'", self.variants(c)[v].name, self.name(c)))
+                    .collect();
                 Error::invalid(
                     "picked variants",
-                    "no assembly holds them together: a variant that reshapes a connecting region goes only with \
-                     the neighbour adapted to it",
+                    format!(
+                        "no assembly holds them together: {} each reshape a connecting region, and a copy that \
+                         does goes only with parts that keep theirs (the neighbour adapted to it); pick one of them",
+                        reshaping.join(" and ")
+                    ),
                 )
             })
     }
@@ -408,23 +419,87 @@ fn weighted<R: Rng>(weights: &[f64], rng: &mut R) -> usize {
 /// A hash of the faces' corner positions quantised to 1e-5 m (FNV-1a over 64-bit words, then a final mix): models
 /// with the same faces at the same places hash equal.
 pub fn geometry_hash(model: &Model) -> u64 {
-    const PRIME: u64 = 0x0000_0100_0000_01b3;
-    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-    let mut eat = |x: u64| {
-        h = (h ^ x).wrapping_mul(PRIME);
-        h ^= h >> 29;
-    };
-    eat(model.faces.len() as u64);
+    let mut h = Fnv::new();
+    h.eat(model.faces.len() as u64);
     for face in &model.faces {
-        eat(face.len() as u64);
+        h.eat(face.len() as u64);
         for &v in face {
             let p: DVec3 = model.vertices[v as usize];
             for x in p.to_array() {
-                eat(((x * 1e5).round() as i64) as u64);
+                h.eat(((x * 1e5).round() as i64) as u64);
             }
         }
     }
-    h ^= h >> 33;
-    h = h.wrapping_mul(0xff51_afd7_ed55_8ccd);
-    h ^ (h >> 33)
+    h.finish()
+}
+
+/// FNV-1a over 64-bit words with a shift after each, then a final mix.
+struct Fnv(u64);
+
+impl Fnv {
+    fn new() -> Fnv {
+        Fnv(0xcbf2_9ce4_8422_2325)
+    }
+
+    fn eat(&mut self, x: u64) {
+        const PRIME: u64 = 0x0000_0100_0000_01b3;
+        self.0 = (self.0 ^ x).wrapping_mul(PRIME);
+        self.0 ^= self.0 >> 29;
+    }
+
+    fn finish(self) -> u64 {
+        let mut h = self.0;
+        h ^= h >> 33;
+        h = h.wrapping_mul(0xff51_afd7_ed55_8ccd);
+        h ^ (h >> 33)
+    }
+}
+
+/// A hash of a model's shape whatever the order of its faces and vertices: each face's material and its corners
+/// (positions quantised to 1e-5 m as [`geometry_hash`] does, and texture coordinates to 1e-5), started at its least
+/// corner, the faces sorted, then hashed as [`geometry_hash`] does. Two models with the same faces at the same places,
+/// of the same materials and texture coordinates, hash equal.
+pub fn shape_hash(model: &Model) -> u64 {
+    let corner = |f: usize, k: usize, v: u32| -> [i64; 5] {
+        let p = model
+            .vertices
+            .get(v as usize)
+            .copied()
+            .unwrap_or(DVec3::NAN)
+            * 1e5;
+        let uv = model
+            .uvs
+            .as_ref()
+            .and_then(|u| u.get(f))
+            .and_then(|u| u.get(k))
+            .map_or(DVec2::ZERO, |&uv| uv * 1e5);
+        [p.x, p.y, p.z, uv.x, uv.y].map(|x| x.round() as i64)
+    };
+    let mut faces: Vec<Vec<[i64; 5]>> = model
+        .faces
+        .iter()
+        .enumerate()
+        .map(|(f, face)| {
+            let corners: Vec<[i64; 5]> = face
+                .iter()
+                .enumerate()
+                .map(|(k, &v)| corner(f, k, v))
+                .collect();
+            let first = (0..corners.len()).min_by_key(|&k| corners[k]).unwrap_or(0);
+            let material = [i64::from(model.material(f)), 0, 0, 0, 0];
+            std::iter::once(material)
+                .chain(corners[first..].iter().chain(&corners[..first]).copied())
+                .collect()
+        })
+        .collect();
+    faces.sort_unstable();
+    let mut h = Fnv::new();
+    h.eat(faces.len() as u64);
+    for face in &faces {
+        h.eat(face.len() as u64);
+        for x in face.iter().flatten() {
+            h.eat(*x as u64);
+        }
+    }
+    h.finish()
 }

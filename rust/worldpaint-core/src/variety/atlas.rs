@@ -24,6 +24,24 @@
 //! graph, no region can move without opening a crack where the cycle closes); the refusal names the region and says
 //! whether the whole graph is fully cyclic.
 //!
+//! Every model once: #V ([`Atlas::count`]) counts different models, exactly, by construction (no assembly is hashed
+//! to find repeats). [`Atlas::add_named_variant`] refuses, naming the copy, its part and the neighbour, a copy that
+//! would only repeat models or that the assembly could not show as it was edited:
+//! - one that moves its region towards the root as a solid and carries vertices off that region with the same move
+//!   (more of them in place once the copy is brought back than before): a piece turned or moved whole, in Edit Mode
+//!   or by an Object Mode transform read into its mesh. Bringing it back would undo the turn (the frames of §4.2.2
+//!   carry what lies towards the leaves only) and leave the original. Reading chosen: refused, saying how to make
+//!   the turn (keep that region, turn the rest of the piece about it); in a cycle, that no region can move. The root
+//!   moved whole moves the whole model and makes no new one: refused too;
+//! - one with the same shape as a variant its node holds ([`super::shape_hash`]: faces, corners to 1e-5 m, texture
+//!   coordinates and materials, in any order): a copy left as it was, a copy of a copy;
+//! - one that reshapes a region exactly as a copy of the neighbour across it does: both duplicated graphs would hold
+//!   the models where each side is adapted to the other.
+//!
+//! With these, two choices of one graph differ at the first component (in assembly order) whose pick differs, placed
+//! the same way, so they make different models; a duplicated graph's models differ from the others' in the region
+//! its variant reshaped.
+//!
 //! Local cycles (§4.2.4): a component whose two connecting regions are identical up to a similarity T (the same
 //! vertex count, matched along their chains in either direction from any start) can be repeated 1 to `max_repeat`
 //! times, each copy moved by T from the one before and welded to it; each copy picks its own variant. As in the seed
@@ -69,6 +87,8 @@ pub enum VariantClass {
 /// One variant F_i^k of a component, ready for assembly.
 #[derive(Clone, Debug)]
 pub struct Variant {
+    /// What the user calls it (the copy's object name; the original piece is named after its component).
+    pub name: String,
     /// The mesh, numbered as the component's sub-mesh, brought back so its region towards the root is in place.
     pub model: Model,
     /// What it did to each of its component's regions: (region index, change), in the order of
@@ -80,6 +100,9 @@ pub struct Variant {
     pub face_origin: Vec<Option<u32>>,
     /// The frame that brought it back (identity unless it moved its region towards the root).
     pub normalised_by: DAffine3,
+    /// Its [`super::shape_hash`] (faces, corners, texture coordinates and materials, whatever their order): two
+    /// variants of one component with the same shape hash equal.
+    pub shape: u64,
 }
 
 impl Variant {
@@ -140,6 +163,7 @@ pub struct LocalCycle {
 pub struct Atlas {
     model: Model,
     decomposition: Decomposition,
+    names: Vec<String>,
     variants: Vec<Vec<Variant>>,
     graphs: Vec<AtlasGraph>,
     cycles: Vec<LocalCycle>,
@@ -150,16 +174,20 @@ impl Atlas {
     pub fn new(model: &Model, mut decomposition: Decomposition) -> Result<Atlas> {
         model.validate()?;
         decomposition.revalidate(model)?;
+        let names = (0..decomposition.components.len())
+            .map(|c| format!("component {c}"))
+            .collect();
         let mut atlas = Atlas {
             model: model.clone(),
             decomposition,
+            names,
             variants: Vec::new(),
             graphs: Vec::new(),
             cycles: Vec::new(),
         };
         for c in 0..atlas.decomposition.components.len() {
             let sub = atlas.decomposition.component_model(model, c)?;
-            let v = atlas.prepare(c, sub)?;
+            let v = atlas.prepare(c, atlas.names[c].clone(), sub)?;
             atlas.variants.push(vec![v]);
         }
         atlas.rebuild();
@@ -196,25 +224,128 @@ impl Atlas {
         self.cycles.iter().find(|l| l.component == c)
     }
 
-    /// Adds an edit of component `c`'s sub-mesh as a new variant; returns its class. A solid transform of a region
-    /// on a cycle of the graph is refused (§4.2.3).
+    /// Names the components as the user knows them (a part's collection): messages about a component or its copies
+    /// use these names. Each original piece takes its component's name.
+    pub fn set_names(&mut self, names: Vec<String>) -> Result<()> {
+        crate::error::check::same_len("component names", names.len(), self.names.len())?;
+        for (list, name) in self.variants.iter_mut().zip(&names) {
+            if let Some(original) = list.first_mut() {
+                original.name = name.clone();
+            }
+        }
+        self.names = names;
+        Ok(())
+    }
+
+    /// The name of component `c` ("component c" unless [`Atlas::set_names`] named it).
+    pub fn name(&self, c: usize) -> &str {
+        self.names.get(c).map_or("?", String::as_str)
+    }
+
+    /// How messages name a copy of component `c`.
+    fn copy_what(&self, c: usize, name: &str) -> String {
+        format!("copy '{name}' in '{}'", self.name(c))
+    }
+
+    /// Adds an edit of component `c`'s sub-mesh as a new variant called "copy k"; see [`Atlas::add_named_variant`].
     pub fn add_variant(&mut self, c: usize, edited: Model) -> Result<VariantClass> {
+        let k = self.variants(c).len();
+        self.add_named_variant(c, &format!("copy {k}"), edited)
+    }
+
+    /// Adds an edit of component `c`'s sub-mesh, called `name` (the copy's object), as a new variant; returns its
+    /// class. Refused, with a message naming the copy and its component, when the assembly could not show it as it
+    /// was edited or it would only repeat models (see the module documentation): its region towards the root moved
+    /// as one solid with vertices off it (the root: the whole piece moved), the same shape as a variant the node holds
+    /// already, a solid transform of a region on a cycle of the graph (§4.2.3), a reshaped end of a piece that repeats
+    /// in a local cycle, a connecting region reshaped exactly as a copy of the neighbour reshapes it.
+    pub fn add_named_variant(
+        &mut self,
+        c: usize,
+        name: &str,
+        edited: Model,
+    ) -> Result<VariantClass> {
         self.component_checked(c)?;
-        let v = self.prepare(c, edited)?;
+        let v = self.prepare(c, name.to_string(), edited)?;
+        let what = self.copy_what(c, name);
+        if let Some((k, same)) = self.variants[c]
+            .iter()
+            .enumerate()
+            .find(|(_, w)| w.shape == v.shape)
+        {
+            let reason = if k == 0 {
+                "no vertex of it is away from the original piece (once brought back onto its connecting region \
+                 towards the root), so it would only repeat the original's models; edit it or remove it"
+                    .to_string()
+            } else {
+                format!(
+                    "it has the same shape as copy '{}', so it would only repeat that copy's models; edit it or \
+                     remove it",
+                    same.name
+                )
+            };
+            return Err(Error::invalid(what, reason));
+        }
         let class = v.class;
         if let Some(cycle) = self.cycle_of(c) {
             if v.change(cycle.entry) != RegionChange::Untouched
                 || v.change(cycle.exit) == RegionChange::Changed
             {
                 return Err(Error::invalid(
-                    format!("variant of component {c}"),
-                    "the component repeats in a local cycle, so its two ends must keep their shape",
+                    what,
+                    "the part repeats in a local cycle, so its two ends must keep their shape",
                 ));
             }
+        }
+        if class == VariantClass::RegionChange {
+            self.check_reshaped_once(c, &v, &what)?;
         }
         self.variants[c].push(v);
         self.rebuild();
         Ok(class)
+    }
+
+    /// Refuses a variant `v` of component `c` that reshapes a connecting region exactly as a variant of the
+    /// neighbour across it does: each would bring a duplicated graph (§4.2.3) holding the other's models.
+    fn check_reshaped_once(&self, c: usize, v: &Variant, what: &str) -> Result<()> {
+        let d = &self.decomposition;
+        for &(r, change) in &v.regions {
+            if change != RegionChange::Changed {
+                continue;
+            }
+            let o = d.regions[r].other(c);
+            let (comp_c, comp_o) = (&d.components[c], &d.components[o]);
+            let reach = d.regions[r]
+                .vertices
+                .iter()
+                .map(|&x| self.model.vertices[x as usize].length())
+                .fold(1.0, f64::max);
+            let same = self.variants[o].iter().find(|w| {
+                w.change(r) == RegionChange::Changed
+                    && d.regions[r].vertices.iter().all(|&x| {
+                        match (comp_c.local_index(x), comp_o.local_index(x)) {
+                            (Some(lc), Some(lo)) => {
+                                v.model.vertices[lc].distance(w.model.vertices[lo])
+                                    <= TOLERANCE * reach
+                            }
+                            _ => false,
+                        }
+                    })
+            });
+            if let Some(w) = same {
+                return Err(Error::invalid(
+                    what,
+                    format!(
+                        "it reshapes its connecting region with '{}' exactly as copy '{}' in '{}' does, so some \
+                         models would be made twice; reshape that region in one of the two parts only",
+                        self.name(o),
+                        w.name,
+                        self.name(o)
+                    ),
+                ));
+            }
+        }
+        Ok(())
     }
 
     fn component_checked(&self, c: usize) -> Result<()> {
@@ -230,9 +361,10 @@ impl Atlas {
         Ok(())
     }
 
-    /// Classifies an edited sub-mesh of component `c` and brings it back to its parent region.
-    fn prepare(&self, c: usize, mut edited: Model) -> Result<Variant> {
-        let what = format!("variant of component {c}");
+    /// Classifies an edited sub-mesh of component `c` and brings it back to its parent region. Refuses a piece moved
+    /// with its region towards the root (or, the root, moved whole) and a solid transform of a region on a cycle.
+    fn prepare(&self, c: usize, name: String, mut edited: Model) -> Result<Variant> {
+        let what = self.copy_what(c, &name);
         edited
             .validate()
             .map_err(|e| Error::invalid(what.clone(), e.reason()))?;
@@ -243,23 +375,77 @@ impl Atlas {
             return Err(Error::invalid(
                 what,
                 format!(
-                    "it has {} vertices but the component has {n}: a variant keeps the component's vertices first, \
-                     in their order (move vertices or delete faces, not vertices)",
+                    "it has {} vertices but the piece has {n}: a copy keeps the piece's vertices first, in their \
+                     order (move vertices or delete faces, not vertices)",
                     edited.vertices.len()
                 ),
             ));
         }
+        let original: Vec<DVec3> = comp
+            .vertices
+            .iter()
+            .map(|&v| self.model.vertices[v as usize])
+            .collect();
+        let reach = original.iter().map(|p| p.length()).fold(1.0, f64::max);
+        let tol = TOLERANCE * reach;
         let mut regions = self.classify(c, &edited);
         let mut normalised_by = DAffine3::IDENTITY;
-        if let Some((_, pr)) = d.parent(c) {
-            if let Some((_, RegionChange::Solid(t))) = regions.iter().find(|(r, _)| *r == pr) {
-                let inverse = t.inverse();
-                if inverse.is_finite() {
-                    normalised_by = inverse;
-                    for p in &mut edited.vertices {
-                        *p = inverse.transform_point3(*p);
+        match d.parent(c) {
+            Some((p, pr)) => {
+                if let Some((_, RegionChange::Solid(t))) = regions.iter().find(|(r, _)| *r == pr) {
+                    let inverse = t.inverse();
+                    if inverse.is_finite() {
+                        // the vertices off that region in their place, before and after bringing the copy back
+                        let off: Vec<usize> = (0..n)
+                            .filter(|&k| {
+                                d.regions[pr]
+                                    .vertices
+                                    .binary_search(&comp.vertices[k])
+                                    .is_err()
+                            })
+                            .collect();
+                        let in_place = |m: &Model| {
+                            off.iter()
+                                .filter(|&&k| original[k].distance(m.vertices[k]) <= tol)
+                                .count()
+                        };
+                        let before = in_place(&edited);
+                        for q in &mut edited.vertices {
+                            *q = inverse.transform_point3(*q);
+                        }
+                        let after = in_place(&edited);
+                        if after > before {
+                            return Err(self.moved_with_region(&what, (p, pr), after, off.len()));
+                        }
+                        normalised_by = inverse;
+                        regions = self.classify(c, &edited);
                     }
-                    regions = self.classify(c, &edited);
+                }
+            }
+            None => {
+                if !regions.is_empty()
+                    && regions
+                        .iter()
+                        .all(|r| matches!(r.1, RegionChange::Solid(_)))
+                {
+                    let (frame, residual) = fit_similarity(&original, &edited.vertices[..n]);
+                    if residual <= tol && !is_identity(&frame, reach, tol) {
+                        let neighbours: Vec<String> = d
+                            .arcs(c)
+                            .iter()
+                            .map(|&r| format!("'{}'", self.name(d.regions[r].other(c))))
+                            .collect();
+                        return Err(Error::invalid(
+                            what,
+                            format!(
+                                "it turns or moves the whole piece as one solid, its connecting regions with {} \
+                                 included; the root carries every other part, so that only moves the whole model \
+                                 and makes no new one. Reshape the piece, or turn what lies beyond one of its \
+                                 connecting regions about it",
+                                neighbours.join(", ")
+                            ),
+                        ));
+                    }
                 }
             }
         }
@@ -267,16 +453,17 @@ impl Atlas {
             if matches!(change, RegionChange::Solid(_)) && d.region_on_cycle(r) {
                 let other = d.regions[r].other(c);
                 let whole = if d.is_fully_cyclic() {
-                    "the component graph is fully cyclic (no terminal node), so"
+                    "the parts form a ring (the component graph is fully cyclic, no terminal node), so"
                 } else {
                     "that region lies on a cycle of the component graph, so"
                 };
                 return Err(Error::invalid(
                     what,
                     format!(
-                        "it moves its connecting region with component {other} as a solid (a frame transform), but \
-                         {whole} moving what lies beyond it would open a crack where the cycle closes (seed §4.2.3, \
-                         Fig. 11); keep that region in place or reshape it"
+                        "it turns or moves its connecting region with '{}' as a solid (a frame transform), but \
+                         {whole} moving what lies beyond it would open a crack where the cycle closes (seed \
+                         §4.2.3, Fig. 11); keep that region in place or reshape it",
+                        self.name(other)
                     ),
                 ));
             }
@@ -293,13 +480,58 @@ impl Atlas {
             VariantClass::Local
         };
         let face_origin = self.face_origins(c, &edited);
+        let shape = super::assemble::shape_hash(&edited);
         Ok(Variant {
+            name,
             model: edited,
             regions,
             class,
             face_origin,
             normalised_by,
+            shape,
         })
+    }
+
+    /// The refusal of a copy (`what`) that moves its region `pr` to its parent `p` as one solid together with `with`
+    /// of its `n` other vertices.
+    fn moved_with_region(
+        &self,
+        what: &str,
+        (p, pr): (usize, usize),
+        with: usize,
+        n: usize,
+    ) -> Error {
+        let d = &self.decomposition;
+        let parent = self.name(p);
+        let how_much = if with == n {
+            "the whole piece".to_string()
+        } else {
+            format!("{with} of its {n} other vertices")
+        };
+        let advice = if d.region_on_cycle(pr) {
+            let ring = if d.is_fully_cyclic() {
+                "the parts form a ring"
+            } else {
+                "that region lies on a cycle of the parts"
+            };
+            format!(
+                "{ring}, where no connecting region can turn or move (seed §4.2.3, Fig. 11): keep its connecting \
+                 regions in place and reshape what lies between them"
+            )
+        } else {
+            format!(
+                "to turn the part, keep its connecting region with '{parent}' in place and turn the rest of the \
+                 piece about it (Edit Mode)"
+            )
+        };
+        Error::invalid(
+            what,
+            format!(
+                "it turns or moves its connecting region with '{parent}' as one solid together with {how_much}, and \
+                 the assembly keeps that region where '{parent}' has it, so the copy would come out unturned and \
+                 unmoved; {advice}"
+            ),
+        )
     }
 
     /// What the edit did to each region of component `c`.
@@ -373,7 +605,7 @@ impl Atlas {
     pub fn add_local_cycle(&mut self, c: usize, max_repeat: u32) -> Result<()> {
         self.component_checked(c)?;
         let d = &self.decomposition;
-        let what = format!("local cycle on component {c}");
+        let what = format!("local cycle on '{}'", self.name(c));
         if max_repeat == 0 || max_repeat > MAX_REPEAT {
             return Err(Error::OutOfRange {
                 what: format!("maximum repetition of the {what}"),
@@ -421,12 +653,15 @@ impl Atlas {
                  up to a move, a rotation and a uniform scale)",
             )
         })?;
-        for (k, v) in self.variants[c].iter().enumerate() {
+        for v in &self.variants[c] {
             if v.change(entry) != RegionChange::Untouched || v.change(exit) == RegionChange::Changed
             {
                 return Err(Error::invalid(
                     what,
-                    format!("variant {k} of the component reshapes one of its ends, so it cannot repeat"),
+                    format!(
+                        "its copy '{}' reshapes one of its ends, so it cannot repeat",
+                        v.name
+                    ),
                 ));
             }
         }

@@ -4,7 +4,8 @@
 //! The choices are drawn one after the other from one `ChaCha8Rng` seeded by the caller, in batches whose size
 //! depends only on how many are still wanted; each batch is assembled and checked with rayon and gathered in draw
 //! order. So the same atlas, labels and seed give the same variants in the same order at any thread count.
-//! Repeated choices are skipped, so the variants are distinct assemblies.
+//! Repeated choices are skipped, so the variants are distinct assemblies, and so different models (the atlas holds
+//! no variant that would repeat one).
 //!
 //! Random draws find fewer and fewer new assemblies as they use up #V (asking 1,000 of 1,000 by draws alone gives
 //! about 983 within four times as many draws). So when the count asked reaches #V, or when the draws stall (their

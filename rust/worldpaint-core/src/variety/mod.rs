@@ -1,7 +1,8 @@
 //! Model variety: *Component-Based Model Synthesis for Low Polygonal Models* (Maréchal, Galin, Guérin, Akkouche).
 //! One low-polygon model (a tree, a rock, a house) is decomposed into components joined by connecting regions
 //! (§4.1), each component is edited into an atlas of variants (§4.2), and variants are assembled into new models
-//! (§4.3): #V = Π #F_i different objects from Σ #F_i edited pieces. Self-intersections that the original did not
+//! (§4.3): #V = Π #F_i different objects from Σ #F_i edited pieces (a copy that would repeat a model, or whose turn
+//! the assembly would undo, is refused by name: [`atlas`]). Self-intersections that the original did not
 //! have reject an assembly (§4.3). Texture variety (§5) paints details into texture components packed into atlases
 //! without touching the texture coordinates.
 //!
@@ -20,10 +21,12 @@
 //! Decomposition::from_labels(&model, labels: &[u32], root: Option<u32>) -> Result<Decomposition>
 //!     .components / .regions / .root, .parent(c), .order(), .component_model(&model, c) -> Result<Model>
 //! Atlas::new(&model, decomposition) -> Result<Atlas>            // variant 0 of each node is the original piece
-//!     .add_variant(c, edited: Model) -> Result<VariantClass>    // Local | SolidTransform | RegionChange
+//!     .set_names(Vec<String>) -> Result<()>                     // the parts as the user knows them (messages)
+//!     .add_named_variant(c, name, edited: Model) -> Result<VariantClass>  // Local | SolidTransform | RegionChange
+//!     .add_variant(c, edited: Model) -> Result<VariantClass>    // named "copy k"
 //!     .local_cycle_candidates() -> Vec<usize>, .add_local_cycle(c, max_repeat) -> Result<()>
 //!     .variants(c) -> &[Variant], .graphs() -> &[AtlasGraph], .cycles() -> &[LocalCycle]
-//!     .count() -> u128                                           // #V
+//!     .count() -> u128                                           // #V: different models, exactly
 //!     .choice(index: u128) -> Result<Choice>, .random_choice(&mut rng) -> Choice
 //!     .assemble(&choice) -> Result<Assembled>  // model, face_origin, face_source, instances, max_gap, hash
 //! IntersectionLabels::of_model(&model) -> IntersectionLabels   // the original's own intersections (§4.3)
@@ -42,8 +45,8 @@
 //! ```
 //!
 //! A typical call from Blender: build the [`Model`] of the object, labels from its face sets, an [`Atlas`] of the
-//! decomposition; for each edited copy of a component's sub-mesh call [`Atlas::add_variant`] (an error says why an
-//! edit cannot be used); [`generate`] N variants with a seed; write each [`Assembled::model`] as a mesh.
+//! decomposition; for each edited copy of a component's sub-mesh call [`Atlas::add_named_variant`] (an error names
+//! the copy and its part and says why it cannot be used); [`generate`] N variants with a seed; write each [`Assembled::model`] as a mesh.
 
 mod assemble;
 mod assign;
@@ -56,7 +59,7 @@ pub mod memory;
 pub mod model;
 pub mod texture;
 
-pub use assemble::{geometry_hash, Assembled, Choice, Placed};
+pub use assemble::{geometry_hash, shape_hash, Assembled, Choice, Placed};
 pub use assign::assign_variants;
 pub use atlas::{
     Atlas, AtlasGraph, LocalCycle, NodeVariant, RegionChange, Variant, VariantClass, TOLERANCE,

@@ -469,3 +469,180 @@ pub fn column() -> (Model, Vec<u32>) {
         Err(e) => panic!("the test column: {e}"),
     }
 }
+
+/// A ring of four parts (seed Fig. 11's fully cyclic graph, as a torus): 16 sections of 6 vertices around a circle of
+/// radius 2 m (tube radius 0.5 m), parts of four segments each (labels 0–3); each part meets the next in one section.
+/// Returns the model, the labels and, per vertex, (section, corner).
+pub fn ring() -> (Model, Vec<u32>, Vec<(usize, usize)>) {
+    let (sections, corners) = (16usize, 6usize);
+    let mut v = Vec::new();
+    let mut place = Vec::new();
+    for i in 0..sections {
+        let a = TAU * i as f64 / sections as f64;
+        let (out, z) = (DVec3::new(a.cos(), a.sin(), 0.0), DVec3::Z);
+        for j in 0..corners {
+            let b = TAU * j as f64 / corners as f64;
+            v.push(out * (2.0 + 0.5 * b.cos()) + z * 0.5 * b.sin());
+            place.push((i, j));
+        }
+    }
+    let at = |i: usize, j: usize| ((i % sections) * corners + j % corners) as u32;
+    let mut faces = Vec::new();
+    let mut labels = Vec::new();
+    for i in 0..sections {
+        for j in 0..corners {
+            faces.push(vec![at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)]);
+            labels.push((i / 4) as u32);
+        }
+    }
+    match Model::new(v, faces) {
+        Ok(model) => (model, labels, place),
+        Err(e) => panic!("the test ring: {e}"),
+    }
+}
+
+/// Where a vertex of the cactus is, so that edits can pick vertices as a modeller would.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum CactusPart {
+    /// On ring `r` (z = 0.8 r m) of the trunk, or its apex (ring 9).
+    Trunk(usize),
+    /// On ring `k` of arm `a` (0 or 1): 1–2 out from the hole in the trunk, 3 the elbow, 4–6 up (4 where the tip
+    /// part starts).
+    Arm(usize, usize),
+}
+
+/// The cactus and what the edits need to know about it.
+pub struct Cactus {
+    pub model: Model,
+    /// Part per face: 0 lower trunk (root), 1 middle trunk, 2 top with its dome, 3 arm A, 4 arm A's tip, 5 arm B,
+    /// 6 arm B's tip.
+    pub labels: Vec<u32>,
+    pub parts: Vec<CactusPart>,
+}
+
+/// A low-poly cactus of seven parts as a tree: an 8-sided trunk of 9 rings 0.8 m apart (lower, middle and top
+/// parts, a dome on top), two arms out of quad holes in the lower and middle trunk, each going out then up through
+/// an elbow, its upper rings a part of their own (the tip).
+pub fn cactus() -> Cactus {
+    let sides = 8usize;
+    let mut v: Vec<DVec3> = Vec::new();
+    let mut parts = Vec::new();
+    for r in 0..9 {
+        for s in 0..sides {
+            let a = TAU * (s as f64 + 0.5) / sides as f64;
+            v.push(DVec3::new(0.5 * a.cos(), 0.5 * a.sin(), 0.8 * r as f64));
+            parts.push(CactusPart::Trunk(r));
+        }
+    }
+    v.push(DVec3::new(0.0, 0.0, 7.0));
+    parts.push(CactusPart::Trunk(9));
+    let apex = (v.len() - 1) as u32;
+    let at = |r: usize, s: usize| (r * sides + s % sides) as u32;
+    let trunk_label = |seg: usize| match seg {
+        0..=2 => 0,
+        3..=5 => 1,
+        _ => 2,
+    };
+    let holes = [(1usize, 0usize, 3u32), (4, 4, 5)];
+    let mut faces = Vec::new();
+    let mut labels = Vec::new();
+    for seg in 0..8 {
+        for s in 0..sides {
+            if holes.iter().any(|h| h.0 == seg && h.1 == s) {
+                continue;
+            }
+            faces.push(vec![
+                at(seg, s),
+                at(seg, s + 1),
+                at(seg + 1, s + 1),
+                at(seg + 1, s),
+            ]);
+            labels.push(trunk_label(seg));
+        }
+    }
+    faces.push((0..sides).rev().map(|s| at(0, s)).collect());
+    labels.push(0);
+    for s in 0..sides {
+        faces.push(vec![at(8, s), at(8, s + 1), apex]);
+        labels.push(2);
+    }
+    for (a, &(seg, s, label)) in holes.iter().enumerate() {
+        let hole = [
+            at(seg, s),
+            at(seg, s + 1),
+            at(seg + 1, s + 1),
+            at(seg + 1, s),
+        ];
+        let corners: Vec<DVec3> = hole.iter().map(|&i| v[i as usize]).collect();
+        let centre = corners.iter().copied().sum::<DVec3>() / 4.0;
+        let out = DVec3::new(centre.x, centre.y, 0.0).normalize();
+        // each corner as (across, up) in the hole's plane, carried along the arm's frames
+        let across = DVec3::Z.cross(out);
+        let offsets: Vec<(f64, f64)> = corners
+            .iter()
+            .map(|&p| ((p - centre).dot(across), (p - centre).dot(DVec3::Z)))
+            .collect();
+        let mut previous = hole;
+        for k in 1..=6 {
+            let (c, up, shrink) = match k {
+                1 | 2 => (centre + out * 0.45 * k as f64, DVec3::Z, 0.8),
+                3 => (
+                    centre + out * 1.3 + DVec3::Z * 0.35,
+                    (DVec3::Z - out).normalize(),
+                    0.7,
+                ),
+                _ => (
+                    centre + out * 1.5 + DVec3::Z * (0.9 + 0.55 * (k - 4) as f64),
+                    -out,
+                    0.6,
+                ),
+            };
+            let ring: Vec<u32> = offsets
+                .iter()
+                .map(|&(x, y)| {
+                    v.push(c + (across * x + up * y * 0.45) * shrink);
+                    parts.push(CactusPart::Arm(a, k));
+                    (v.len() - 1) as u32
+                })
+                .collect();
+            let part = if k <= 4 { label } else { label + 1 };
+            for e in 0..4 {
+                faces.push(vec![
+                    previous[e],
+                    previous[(e + 1) % 4],
+                    ring[(e + 1) % 4],
+                    ring[e],
+                ]);
+                labels.push(part);
+            }
+            previous = [ring[0], ring[1], ring[2], ring[3]];
+        }
+        faces.push(previous.to_vec());
+        labels.push(label + 1);
+    }
+    match Model::new(v, faces) {
+        Ok(model) => Cactus {
+            model,
+            labels,
+            parts,
+        },
+        Err(e) => panic!("the test cactus: {e}"),
+    }
+}
+
+/// Component `c`'s sub-mesh with each vertex moved by `move_vertex(vertex of the model, position)`.
+pub fn moved_piece(
+    model: &Model,
+    d: &Decomposition,
+    c: usize,
+    move_vertex: impl Fn(usize, DVec3) -> DVec3,
+) -> Model {
+    let mut m = match d.component_model(model, c) {
+        Ok(m) => m,
+        Err(e) => panic!("component {c}: {e}"),
+    };
+    for (k, &v) in d.components[c].vertices.iter().enumerate() {
+        m.vertices[k] = move_vertex(v as usize, m.vertices[k]);
+    }
+    m
+}
