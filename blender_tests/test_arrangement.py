@@ -2,6 +2,7 @@
 with the brush, erased, kept through save and reload, and pasted again; guides stop and orient the pattern."""
 
 import math
+import re
 
 import bpy
 import numpy as np
@@ -61,6 +62,49 @@ def test_learn_arrangement_makes_a_pattern_color_with_its_connectivity():
     bpy.data.images[color.preview_image].pixels.foreach_get(pixels)
     grey = np.all(np.abs(pixels.reshape(-1, 4)[:, :3] - (0.45, 0.47, 0.45)) < 0.01, axis=1)
     assert grey.sum() > 100, "the preview draws the connectivity's edges"
+
+
+def hand_placed_cobbles(turn_degrees=17.0, noise=0.03, seed=5):
+    """Cobbles placed by hand on a hexagonal lattice turned by ``turn_degrees``, each off by a normal offset of
+    ``noise`` spacings, about (13, 13) at z = 0; returns the example objects."""
+    from scene_kit import collection_instances, stone_prototypes
+
+    stone_prototypes()
+    rng = np.random.default_rng(seed)
+    row, col = np.divmod(np.arange(49), 7)
+    xy = np.column_stack([col + 0.5 * (row % 2), row * math.sqrt(3.0) / 2.0]) * SPACING
+    xy -= xy.mean(axis=0)
+    c, s = math.cos(math.radians(turn_degrees)), math.sin(math.radians(turn_degrees))
+    xy = xy @ np.array([[c, s], [-s, c]]) + (13.0, 13.0) + rng.normal(0.0, noise * SPACING, xy.shape)
+    return collection_instances("Cobble", xy, np.zeros(len(xy)))
+
+
+def test_cobbles_placed_by_hand_learn_without_a_terrain_and_paste_as_a_lattice(capfd):
+    examples = hand_placed_cobbles()
+    select_only(examples)
+    assert bpy.context.scene.worldpaint.terrain is None
+    assert bpy.ops.worldpaint.learn_arrangement(name="Cobbles", region_mode='RECT', rect_min=(8.0, 8.0),
+                                                rect_max=(18.0, 18.0)) == {'FINISHED'}, "flat ground"
+    select_only([])
+    out = capfd.readouterr().out
+    assert "Learned 'Cobbles': 49 reference elements" in out and "hexagonal lattice" in out, out
+    bpy.context.scene.worldpaint.terrain = flat_terrain(size=(120.0, 120.0), cell=2.0)
+    # 30 m x 30 m: about 26 times the reference's 34 m²
+    assert bpy.ops.worldpaint.paste_color(region_mode='RECT', rect_min=(50.0, 50.0), rect_max=(80.0, 80.0),
+                                          seed=1) == {'FINISHED'}
+    out = capfd.readouterr().out
+    line = next(line for line in out.splitlines() if "What the region holds now" in line)
+    print(line)
+    assert "pcf" not in line, "an arrangement is judged by its rings, not by a pcf"
+    kept, interior, own = (float(x) for x in re.search(
+        r"reference's for (\d+)% of (\d+) interior elements \(the reference's own (\d+)%\)", line).groups())
+    assert interior > 500 and kept >= 0.95 * own, line
+    co = cobbles()[0]
+    assert abs(len(co) / (900.0 * DENSITY) - 1.0) < 0.1, f"{len(co)} cobbles"
+    count_ratio = float(re.search(r"×([\d.]+) the reference's density", line).group(1))
+    assert abs(count_ratio - len(co) / (900.0 * DENSITY)) < 0.05
+    gaps = nearest(co[:, :2])
+    assert np.abs(gaps / SPACING - 1.0).max() < 0.05, "every cobble a spacing from its nearest"
 
 
 def test_a_pattern_pasted_along_a_path_brushed_erased_saved_and_pasted_again(tmp_path):

@@ -44,8 +44,12 @@ def guides(context, boundaries="", flow="", start='CENTER'):
 def pattern_line(summary):
     """One line saying how an arrangement color paints (``engine.ArrangementSummary``)."""
     rotation = {"none": "reference orientation", "best_fit": "best-fit rotation", "flow": "follows the flow"}
-    parts = [f"{len(summary.symbols)} reference elements, {len(summary.edges)} edges",
-             rotation.get(summary.rotation, summary.rotation)]
+    parts = [f"{len(summary.symbols)} reference elements, {len(summary.edges)} edges"]
+    if summary.lattice is not None:
+        lattice = summary.lattice
+        parts.append(f"a {lattice['name']} lattice {lattice['spacing']:.2f} m apart (placed within "
+                     f"{lattice['spread']:.2f} m)")
+    parts.append(rotation.get(summary.rotation, summary.rotation))
     if summary.scale_noise > 0.0:
         parts.append(f"scale noise {summary.scale_noise:.2f}")
     if summary.rotation_noise > 0.0:

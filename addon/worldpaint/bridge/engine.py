@@ -216,13 +216,37 @@ class FidelityView:
 
 
 @dataclass(frozen=True)
+class PatternFidelity:
+    """What a region holds of an arrangement color against its reference: the share of its interior elements whose
+    neighbour ring is one of the reference's (and the reference's own share, each of its rings against the others),
+    how many elements it holds, and their count over what the reference's density gives for the region."""
+
+    ring_share: float
+    reference_ring_share: float
+    interior: int
+    elements: int
+    count_ratio: float
+
+    @classmethod
+    def of(cls, d):
+        return cls(ring_share=float(d["ring_share"]), reference_ring_share=float(d["reference_ring_share"]),
+                   interior=int(d["interior"]), elements=int(d["elements"]), count_ratio=float(d["count_ratio"]))
+
+    def line(self):
+        return (f"neighbour rings as the reference's for {self.ring_share:.0%} of {self.interior} interior elements "
+                f"(the reference's own {self.reference_ring_share:.0%}); {self.elements} elements, "
+                f"×{self.count_ratio:.2f} the reference's density")
+
+
+@dataclass(frozen=True)
 class Pasted:
     """A paste: the edit, and the figure of what the region holds afterwards against the color (None when it could
-    not be learned back; ``fidelity_error`` then says why)."""
+    not be learned back; ``fidelity_error`` then says why), or for an arrangement color against its reference."""
 
     edit: Edit
     fidelity: Fidelity | None
     fidelity_error: str = ""
+    pattern: PatternFidelity | None = None
 
 
 @dataclass(frozen=True)
@@ -539,7 +563,9 @@ def palette_from_json(text):
 @dataclass(frozen=True)
 class ArrangementSummary:
     """What an arrangement color holds: its reference (XY relative to its region's corner, symbol per element), the
-    reference's connectivity as index pairs, which elements lie on its boundary, and how it is painted."""
+    reference's connectivity as index pairs, which elements lie on its boundary, how it is painted, and the lattice
+    it was placed on when it is near-regular ({"name", "spacing": its shortest step (m), "spread": how far the hand
+    placed elements from it (m, root mean square)}, else None)."""
 
     positions: np.ndarray
     symbols: tuple
@@ -551,6 +577,7 @@ class ArrangementSummary:
     color_noise: float
     relax_every: int
     flips: int
+    lattice: dict | None
 
 
 def learn_arrangement(scene_handle, region, name):
@@ -567,7 +594,7 @@ def arrangement_summary(color_json):
         positions=np.asarray(d["positions"], dtype=np.float64).reshape(-1, 2), symbols=tuple(d["symbols"]),
         edges=np.asarray(d["edges"], dtype=np.int64).reshape(-1, 2), boundary=tuple(d["boundary"]),
         rotation=d["rotation"], scale_noise=d["scale_noise"], rotation_noise=d["rotation_noise"],
-        color_noise=d["color_noise"], relax_every=d["relax_every"], flips=d["flips"],
+        color_noise=d["color_noise"], relax_every=d["relax_every"], flips=d["flips"], lattice=d["lattice"],
     )
 
 
@@ -621,8 +648,9 @@ def paste(scene_handle, color, region, seed, influence_radius, progress=None, gu
     d = _engine().paste(scene_handle, color=color, region=region, seed=seed, influence_radius=influence_radius,
                         progress=progress, guides=guides, only_categories=only_categories,
                         iterations_per_instance=iterations_per_instance)
-    fidelity = d.get("fidelity")
-    return Pasted(Edit.of(d), None if fidelity is None else Fidelity.of(fidelity), d.get("fidelity_error", ""))
+    fidelity, pattern = d.get("fidelity"), d.get("pattern")
+    return Pasted(Edit.of(d), None if fidelity is None else Fidelity.of(fidelity), d.get("fidelity_error", ""),
+                  None if pattern is None else PatternFidelity.of(pattern))
 
 
 def clear_region(scene_handle, region, category=None):

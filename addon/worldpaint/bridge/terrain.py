@@ -39,6 +39,13 @@ def terrain_object(context, name=""):
     return obj
 
 
+def optional_terrain_object(context, name=""):
+    """The terrain object as ``terrain_object`` finds it, or None when none is named or picked (flat ground)."""
+    if not name and context.scene.worldpaint.terrain is None:
+        return None
+    return terrain_object(context, name)
+
+
 def engine_terrain(context, obj, maps=()):
     """The engine's Terrain of a mesh object, with the scene maps (``scene_maps`` names) among ``maps``."""
     depsgraph = context.evaluated_depsgraph_get()

@@ -65,7 +65,7 @@ def arrangement_entry(context, index):
 
 class WORLDPAINT_OT_learn_arrangement(RegionProperties, TerrainProperty, bpy.types.Operator):
     """Learn the selected elements (stones, tiles, stakes placed by hand) as an arrangement color: their connectivity
-    is the reference a pattern grows from"""
+    is the reference a pattern grows from. Without a terrain the pattern is read on flat ground"""
 
     bl_idname = "worldpaint.learn_arrangement"
     bl_label = "Learn Arrangement"
@@ -76,7 +76,7 @@ class WORLDPAINT_OT_learn_arrangement(RegionProperties, TerrainProperty, bpy.typ
     @reports_errors
     def execute(self, context):
         settings = context.scene.worldpaint
-        terrain_obj = terrain.terrain_object(context, self.terrain)
+        terrain_obj = terrain.optional_terrain_object(context, self.terrain)
         examples = instances.example_objects(context.selected_objects, exclude=[terrain_obj])
         if not examples:
             raise WorldPaintError("Nothing to learn: select the reference elements (collection instances, linked "
@@ -85,8 +85,10 @@ class WORLDPAINT_OT_learn_arrangement(RegionProperties, TerrainProperty, bpy.typ
         mode = self.resolved_region_mode(context)
         region = regions.region_for(context, mode, objects=[obj for obj, _ in examples], use_bounds=False,
                                     **self.region_kwargs())
-        heightfield = terrain.engine_terrain(context, terrain_obj)
-        terrain.check_region_on_terrain(heightfield, region, "example")
+        heightfield = None
+        if terrain_obj is not None:
+            heightfield = terrain.engine_terrain(context, terrain_obj)
+            terrain.check_region_on_terrain(heightfield, region, "example")
         names = sorted({category for _, category in examples})
         new = instances.new_categories(settings, examples, [])
         for c in new:

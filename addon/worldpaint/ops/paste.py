@@ -44,11 +44,17 @@ class WORLDPAINT_OT_paste_color(PatternGuideProperties, RegionSynthesisOperator,
         edit = result.edit
         lines = f" and {applied.lines_added} paths or contours" if applied.lines_added else ""
         self.report({'INFO'}, f"Pasted {applied.added} instances{lines} of '{self._entry.name}'")
+        empty = sorted(set(self._only or self._summary.category_names) - edit.painted_categories())
+        if result.pattern is not None:
+            self.report({'INFO'}, f"What the region holds now: {result.pattern.line()}")
+            if empty:
+                self.report({'WARNING'}, f"Nothing pasted for {', '.join(empty)}: the region holds no room for "
+                                         "the pattern there, or the pattern around it is already whole")
+            return
         if result.fidelity is not None:
             self.report({'INFO'}, f"What the region holds now: {result.fidelity.line()}")
         else:
             self.report({'WARNING'}, f"No fidelity figure for the paste: {result.fidelity_error}")
-        empty = sorted(set(self._only or self._summary.category_names) - edit.painted_categories())
         if empty:
             self.report({'WARNING'}, f"Nothing pasted for {', '.join(empty)}: the example had none on slopes (or, "
                                      "for a color with a height preference, heights) like the destination's")

@@ -127,6 +127,16 @@ pub(crate) fn arrangement_summary<'py>(
     d.set_item("color_noise", pattern.color_noise)?;
     d.set_item("relax_every", pattern.relax_every)?;
     d.set_item("flips", pattern.flips.len())?;
+    match reference.lattice() {
+        Some(lattice) => {
+            let l = PyDict::new(py);
+            l.set_item("name", lattice.name())?;
+            l.set_item("spacing", lattice.basis[0].length())?;
+            l.set_item("spread", lattice.spread)?;
+            d.set_item("lattice", l)?;
+        }
+        None => d.set_item("lattice", py.None())?,
+    }
     Ok(Some(d))
 }
 

@@ -19,6 +19,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::collections::HashMap;
 use std::sync::Mutex;
+use worldpaint_core::arrangement::painted_fidelity;
 use worldpaint_core::geom::DVec2;
 use worldpaint_core::synthesis::AdaptOptions;
 use worldpaint_core::tools::blur::{blur as blur_region, BlurOptions};
@@ -39,12 +40,33 @@ color_painter! {
     /// Paste `color` (JSON) into `region`: the unlocked instances inside it are replaced by a new arrangement
     /// consistent with its surroundings. Returns the edit, with "fidelity": what the region holds after the paste,
     /// learned back with the color's bins and maps and compared with the color (the dict `compare` returns), or
-    /// None when it cannot be learned back, and "fidelity_error" then says why (the paste itself stands);
-    /// `progress(fraction) -> bool` may cancel.
+    /// None when it cannot be learned back, and "fidelity_error" then says why (the paste itself stands); for an
+    /// arrangement color, "pattern": what the region holds against its reference ({"ring_share",
+    /// "reference_ring_share", "interior", "elements", "count_ratio"}) instead. `progress(fraction) -> bool` may
+    /// cancel.
     paste => pasted
 }
 
 fn pasted<'py>(py: Python<'py>, p: Painting<'_>) -> PyResult<Bound<'py, PyDict>> {
+    if p.color.arrangement.is_some() {
+        let (edit, pattern) = with_progress(py, p.progress, |report| {
+            let edit = paste_color(p.scene, &p.color, &p.region, &p.opts, report)?;
+            let pattern = painted_fidelity(&edit.applied_to(p.scene), &p.region, &p.color)?;
+            Ok((edit, pattern))
+        })?;
+        let d = edit_result(py, &edit, p.scene)?;
+        d.set_item("fidelity", py.None())?;
+        if let Some(f) = pattern {
+            let figures = PyDict::new(py);
+            figures.set_item("ring_share", f.ring_share)?;
+            figures.set_item("reference_ring_share", f.reference_ring_share)?;
+            figures.set_item("interior", f.interior)?;
+            figures.set_item("elements", f.elements)?;
+            figures.set_item("count_ratio", f.count_ratio)?;
+            d.set_item("pattern", figures)?;
+        }
+        return Ok(d);
+    }
     let (edit, fid) = with_progress(py, p.progress, |report| {
         let edit = paste_color(p.scene, &p.color, &p.region, &p.opts, report)?;
         let painted = learned_back(&edit.applied_to(p.scene), &p.region, &p.color);

@@ -302,6 +302,9 @@ mod tests {
             .map(|(_, e)| e)
             .collect();
         let f = pattern_fidelity(&reference, &holes, &region);
-        assert!(f.ring_share < 0.75 && (f.count_ratio - 6.0 / 7.0).abs() < 0.01, "{f:?}");
+        assert!(
+            f.ring_share < 0.75 && (f.count_ratio - 6.0 / 7.0).abs() < 0.01,
+            "{f:?}"
+        );
     }
 }

@@ -54,11 +54,11 @@ use serde::{Deserialize, Serialize};
 pub use around::{grow, grow_around};
 pub use color::{ArrangementColor, PatternRotation, ReferenceElement, DEFAULT_RELAX_EVERY};
 pub use connectivity::Reference;
-pub use lattice::Lattice;
 pub use fidelity::{
     pattern_fidelity, reference_density, PatternFidelity, RingMatch, RING_RADIUS, RING_TOLERANCE,
 };
 pub use flow::{FlowField, MAX_FLOW_CURVES};
+pub use lattice::Lattice;
 pub use options::{GrowthOptions, MatchWeights, Noise, RotationMode};
 pub(crate) use paint::paint;
 pub use paint::{painted_fidelity, PatternGuides};
