@@ -19,20 +19,24 @@
 //! ```
 //!
 //! Growth can relax the newest elements and seeds every k placed elements ([`GrowthOptions::relax_every`]): the
-//! seed relaxes after each step; without it the small mismatches of each match add up into sheared patches.
+//! seed relaxes after each step; without it the small mismatches of each match add up into sheared patches (on a
+//! lattice the rings agree exactly and there is nothing to relax).
 //!
-//! Built so far: the reference's connectivity with edge flips, growth with the non-rotation, best-fit rotation and
-//! flow-field modes ([`FlowField`], a thin-plate spline through the directions of drawn strokes), seed priorities,
-//! the region and boundary curves as limits of growth, growth next to existing elements ([`grow_around`]: a paste
-//! beside an earlier pattern, the spray tool's dabs), scale and rotation noise, relaxation, and the arrangement as a
-//! color of the palette ([`ArrangementColor`]) painted into a scene by every tool. Colour noise is the caller's.
+//! Built so far: the reference's connectivity with edge flips and the lattice it was placed on ([`Lattice`]), growth
+//! with the non-rotation, best-fit rotation and flow-field modes ([`FlowField`], a thin-plate spline through the
+//! directions of drawn strokes), seed priorities, the region and boundary curves as limits of growth, growth next to
+//! existing elements ([`grow_around`]: a paste beside an earlier pattern, the spray tool's dabs), scale and rotation
+//! noise, relaxation, the arrangement as a color of the palette ([`ArrangementColor`]) painted into a scene by every
+//! tool, and the figures a paste reports ([`pattern_fidelity`]). Colour noise is the caller's.
 //!
-//! The modules are one concern each: [`connectivity`] (analysis), `options` (what a growth is asked), `flow` (the
-//! flow field), `boundary` (the boundary curves' index), `cells` (the growth's grid of nodes), `growth` (local
-//! growth), `around` (growing next to existing elements, the start, the result and its noise), `existing` (the
-//! existing elements' connectivity), `relax` (relaxation), `color` (the arrangement as a color), `paint` (a color
-//! painted into a scene). Each says the readings it chose where the seed is vague.
-
+//! The modules are one concern each: [`connectivity`] (analysis), `lattice` (the lattice under a near-regular
+//! reference placed by hand), `options` (what a growth is asked), `flow` (the flow field), `boundary` (the boundary
+//! curves' index), `cells` (the growth's grid of nodes), `matching` (the best matching element, eq. (1)–(4)),
+//! `growth` (local growth), `around` (growing next to existing elements, the start, the result and its noise),
+//! `existing` (the existing elements' connectivity), `relax` (relaxation), `fidelity` (a painted pattern's rings
+//! and density against its reference), `color` (the arrangement as a color), `paint` (a color painted into a
+//! scene). Each says the readings it chose where the seed is vague.
+//!
 mod around;
 mod boundary;
 mod cells;
