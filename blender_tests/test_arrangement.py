@@ -270,6 +270,12 @@ def test_boundary_curves_stop_the_pattern_and_flow_curves_orient_it():
         end = start + 30.0 * direction
         poly_curve(f"Stream {k}", [(*start, 0.0), (*end, 0.0)], collection=flow)
     settings.pattern_flow = flow
+    json_before = bpy.context.scene.worldpaint.palette["Cobbles"].json
+    for noise in ({"rotation_noise": float("inf")}, {"scale_noise": 5.0}, {"color_noise": float("inf")}):
+        name = next(iter(noise))
+        with pytest.raises(RuntimeError, match=f"{name} must be between 0 and"):
+            bpy.ops.worldpaint.pattern_settings(**noise)
+    assert bpy.context.scene.worldpaint.palette["Cobbles"].json == json_before, "the color is as it was"
     assert bpy.ops.worldpaint.pattern_settings(rotation='FLOW') == {'FINISHED'}
     assert bpy.ops.worldpaint.paste_color(region_mode='RECT', rect_min=(65.0, 15.0), rect_max=(79.0, 29.0),
                                           boundaries="", seed=2) == {'FINISHED'}
@@ -316,6 +322,12 @@ def test_bad_input_is_refused_with_a_clear_message():
     learn_cobbles()
     with pytest.raises(RuntimeError, match="Nothing to learn"):
         bpy.ops.worldpaint.learn_arrangement(**REFERENCE)
+    json_before = bpy.context.scene.worldpaint.palette["Cobbles"].json
+    for noise in ({"rotation_noise": float("inf")}, {"scale_noise": 5.0}, {"color_noise": float("inf")}):
+        name = next(iter(noise))
+        with pytest.raises(RuntimeError, match=f"{name} must be between 0 and"):
+            bpy.ops.worldpaint.pattern_settings(**noise)
+    assert bpy.context.scene.worldpaint.palette["Cobbles"].json == json_before, "the color is as it was"
     assert bpy.ops.worldpaint.pattern_settings(rotation='FLOW') == {'FINISHED'}
     with pytest.raises(RuntimeError, match="flow field"):
         bpy.ops.worldpaint.paste_color(region_mode='RECT', rect_min=(40.0, 40.0), rect_max=(50.0, 50.0))

@@ -329,3 +329,46 @@ fn colour_noise_tints_each_element_and_the_tint_moves_with_it() {
     after.sort_by(f32::total_cmp);
     assert_eq!(before, after, "each element keeps its tint when moved");
 }
+
+#[test]
+fn noise_past_its_range_and_a_region_past_the_budget_are_refused_before_any_growth() {
+    // a noise typed as infinity (Blender stores it as 3.4e38) or past its range, named by its field
+    for (field, value) in [
+        ("rotation_noise", 3.4e38),
+        ("rotation_noise", 4.0),
+        ("scale_noise", f64::INFINITY),
+        ("color_noise", 1.5),
+    ] {
+        let mut color = learned();
+        let pattern = color.arrangement.as_mut().unwrap();
+        match field {
+            "rotation_noise" => pattern.rotation_noise = value,
+            "scale_noise" => pattern.scale_noise = value,
+            _ => pattern.color_noise = value,
+        }
+        let err = color.validate().unwrap_err().to_string();
+        assert!(
+            err.contains(field) && err.contains("between 0 and"),
+            "{field} = {value}: {err}"
+        );
+    }
+    // 8 km × 8 km at the reference's density: 74 million elements, past the budget of 50 million
+    let huge = rect(0.0, 0.0, 8_000.0, 8_000.0);
+    let scene = Scene::default();
+    match paste(
+        &scene,
+        &learned(),
+        &huge,
+        &SynthesisOptions::default(),
+        &|_| true,
+    ) {
+        Err(e) => assert!(
+            e.to_string().contains("too large") && e.to_string().contains("reference's density"),
+            "{e}"
+        ),
+        Ok(edit) => panic!(
+            "grown: {} elements",
+            edit.applied_to(&scene).instances.len()
+        ),
+    }
+}

@@ -31,6 +31,7 @@ use glam::DVec2;
 use rand::Rng;
 
 use super::existing::{existing_edges, fallback_sub_id, longest_ring_edge};
+use super::fidelity::reference_density;
 use super::growth::{Grower, State};
 use super::options::GrowthOptions;
 use super::{Arrangement, Element, Reference, RingTarget};
@@ -83,6 +84,14 @@ pub fn grow_around(
             ));
         }
     }
+    // the work budget before the work: a region whose pattern would pass it is refused at once, however far growth
+    // is asked to go
+    crate::limits::check(
+        "the pattern over the region (its area times the reference's density)",
+        region_count(reference, region),
+        crate::limits::MAX_INSTANCES,
+        "instances",
+    )?;
     let region = &*region.with_bounded_detail();
     let mut grower = Grower::new(reference, PreparedRegion::new(region), options)?;
     let reopened = add_existing(&mut grower, reference, existing);
@@ -231,19 +240,14 @@ fn polygon_centroid(points: &[DVec2]) -> Option<DVec2> {
 
 /// How many elements the region holds at the reference's density (for the progress fraction).
 fn expected_count(reference: &Reference, region: &Region, options: &GrowthOptions) -> f64 {
-    let e = reference.elements();
-    let triangles = reference.triangles();
-    let mean_area = triangles
-        .iter()
-        .map(|t| {
-            let (a, b, c) = (e[t[0]].position, e[t[1]].position, e[t[2]].position);
-            0.5 * (b - a).perp_dot(c - a).abs()
-        })
-        .sum::<f64>()
-        / triangles.len().max(1) as f64;
-    // a planar triangulation has about two triangles per vertex
-    let count = region.area() / (2.0 * mean_area).max(f64::MIN_POSITIVE);
-    count.min(options.max_elements as f64).max(1.0)
+    region_count(reference, region)
+        .min(options.max_elements as f64)
+        .max(1.0)
+}
+
+/// The elements `region` holds at the reference's density.
+fn region_count(reference: &Reference, region: &Region) -> f64 {
+    region.area() * reference_density(reference)
 }
 
 /// The arrangement: the existing elements as given, then the new ones in the order they were placed, with noise.

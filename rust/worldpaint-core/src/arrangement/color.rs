@@ -6,6 +6,7 @@
 use glam::DVec2;
 use serde::{Deserialize, Serialize};
 
+use super::options::{MAX_COLOR_NOISE, MAX_ROTATION_NOISE, MAX_SCALE_NOISE};
 use super::{Element, Reference, RotationMode};
 use crate::error::{check, Error, Result};
 use crate::limits;
@@ -148,9 +149,24 @@ impl ArrangementColor {
                 ));
             }
         }
-        check::non_negative(&at("arrangement.scale_noise"), self.scale_noise)?;
-        check::non_negative(&at("arrangement.rotation_noise"), self.rotation_noise)?;
-        check::non_negative(&at("arrangement.color_noise"), self.color_noise)?;
+        check::within(
+            &at("arrangement.scale_noise"),
+            self.scale_noise,
+            0.0,
+            MAX_SCALE_NOISE,
+        )?;
+        check::within(
+            &at("arrangement.rotation_noise"),
+            self.rotation_noise,
+            0.0,
+            MAX_ROTATION_NOISE,
+        )?;
+        check::within(
+            &at("arrangement.color_noise"),
+            self.color_noise,
+            0.0,
+            MAX_COLOR_NOISE,
+        )?;
         self.reference()
             .map(drop)
             .map_err(|e| Error::invalid(at("arrangement"), e.reason()))

@@ -7,6 +7,14 @@ use super::flow::FlowField;
 use super::Reference;
 use crate::error::{check, Error, Result};
 
+/// The largest relative standard deviation of an element's scale: beyond it, the log-normal factor's spread is
+/// no longer noise about one size.
+pub const MAX_SCALE_NOISE: f64 = 1.0;
+/// The largest standard deviation of an element's rotation (radians): half a turn already turns elements anyhow.
+pub const MAX_ROTATION_NOISE: f64 = std::f64::consts::PI;
+/// The largest standard deviation of an element's tint (tints are kept within ±1).
+pub const MAX_COLOR_NOISE: f64 = 1.0;
+
 /// How a reference ring is turned when it is matched to a seed (seed §5.3).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum RotationMode {
@@ -112,8 +120,13 @@ impl GrowthOptions {
         check::non_negative("match weight w1", self.weights.distance)?;
         check::non_negative("match weight w2", self.weights.symbol)?;
         check::non_negative("match weight w3", self.weights.sub_id)?;
-        check::non_negative("scale noise", self.noise.scale)?;
-        check::non_negative("rotation noise", self.noise.rotation)?;
+        check::within("scale noise", self.noise.scale, 0.0, MAX_SCALE_NOISE)?;
+        check::within(
+            "rotation noise",
+            self.noise.rotation,
+            0.0,
+            MAX_ROTATION_NOISE,
+        )?;
         if self.rotation == RotationMode::Flow && self.flow.is_none() {
             return Err(Error::invalid(
                 "rotation mode",
