@@ -162,27 +162,31 @@ impl Grower<'_> {
         } else {
             0.0
         };
+        let fixed_rot = DVec2::from_angle(fixed_theta);
+        let mut pairs: Vec<(usize, usize)> = Vec::with_capacity(q.len());
         let mut best: Option<(f64, Candidate)> = None;
         for &r in candidates {
             let ring = &self.rings[r];
             let n = ring.offsets.len();
             for shift in 0..n {
-                let slots: Vec<usize> = (0..targets.len()).map(|i| (shift + i) % n).collect();
-                let theta = match self.options.rotation {
-                    RotationMode::None | RotationMode::Flow => fixed_theta,
+                pairs.clear();
+                pairs.extend((0..targets.len()).map(|i| (i, (shift + i) % n)));
+                let (theta, rot) = match self.options.rotation {
+                    RotationMode::None | RotationMode::Flow => (fixed_theta, fixed_rot),
                     RotationMode::BestFit => {
                         let (mut cross, mut dot) = (0.0, 0.0);
-                        for (qi, &slot) in q.iter().zip(&slots) {
-                            cross += ring.offsets[slot].perp_dot(*qi);
-                            dot += ring.offsets[slot].dot(*qi);
+                        for &(i, slot) in &pairs {
+                            cross += ring.offsets[slot].perp_dot(q[i]);
+                            dot += ring.offsets[slot].dot(q[i]);
                         }
                         let theta = cross.atan2(dot);
-                        self.lattice.map_or(theta, |l| l.nearest_symmetry(theta))
+                        let theta = self.lattice.map_or(theta, |l| l.nearest_symmetry(theta));
+                        (theta, DVec2::from_angle(theta))
                     }
                 };
-                let error = self.error(ring, targets, q, DVec2::from_angle(theta), &slots);
+                let error = self.error(ring, targets, q, rot, &pairs);
                 if best.as_ref().is_none_or(|b| error < b.0) {
-                    let pairs = slots.into_iter().enumerate().collect();
+                    let pairs = pairs.clone();
                     best = Some((
                         error,
                         Candidate {
@@ -208,42 +212,41 @@ impl Grower<'_> {
         q: &[DVec2],
     ) -> Option<Candidate> {
         let lattice = self.lattice?;
-        let tolerance = OFF_SITE * lattice.basis[0].length();
-        let turns = match self.options.rotation {
+        let tolerance2 = (OFF_SITE * lattice.basis[0].length()).powi(2);
+        let turns: Vec<(f64, DVec2)> = match self.options.rotation {
             RotationMode::BestFit => lattice.symmetries(),
             _ => vec![0.0],
-        };
+        }
+        .into_iter()
+        .map(|theta| (theta, DVec2::from_angle(theta)))
+        .collect();
+        let either: Vec<bool> = q.iter().map(|&qi| lattice.is_either_diagonal(qi)).collect();
+        let mut pairs: Vec<(usize, usize)> = Vec::with_capacity(q.len());
         let mut best: Option<(f64, Candidate)> = None;
         for &r in candidates {
             let ring = &self.rings[r];
-            'turns: for &theta in &turns {
-                let rot = DVec2::from_angle(theta);
-                let mut pairs: Vec<(usize, usize)> = Vec::with_capacity(q.len());
+            'turns: for &(theta, rot) in &turns {
+                pairs.clear();
                 for (i, qi) in q.iter().enumerate() {
-                    let nearest = (0..ring.offsets.len()).min_by(|&a, &b| {
-                        let da = qi.distance_squared(rot.rotate(ring.offsets[a]));
-                        let db = qi.distance_squared(rot.rotate(ring.offsets[b]));
-                        da.total_cmp(&db)
-                    });
-                    match nearest {
-                        Some(k)
-                            if qi.distance(rot.rotate(ring.offsets[k])) <= tolerance
-                                && pairs.iter().all(|p| p.1 != k) =>
-                        {
-                            pairs.push((i, k))
+                    let (mut slot, mut nearest) = (0, f64::INFINITY);
+                    for (k, &o) in ring.offsets.iter().enumerate() {
+                        let d2 = qi.distance_squared(rot.rotate(o));
+                        if d2 < nearest {
+                            (slot, nearest) = (k, d2);
                         }
-                        _ if lattice.is_either_diagonal(*qi) => {}
-                        _ => continue 'turns,
+                    }
+                    if nearest <= tolerance2 && pairs.iter().all(|p| p.1 != slot) {
+                        pairs.push((i, slot));
+                    } else if !either[i] {
+                        continue 'turns;
                     }
                 }
-                let slots: Vec<usize> = pairs.iter().map(|p| p.1).collect();
-                if !counter_clockwise(&slots) {
+                if !counter_clockwise(&pairs) {
                     continue;
                 }
-                let paired: Vec<usize> = pairs.iter().map(|p| targets[p.0]).collect();
-                let paired_q: Vec<DVec2> = pairs.iter().map(|p| q[p.0]).collect();
-                let error = self.error(ring, &paired, &paired_q, rot, &slots);
+                let error = self.error(ring, targets, q, rot, &pairs);
                 if best.as_ref().is_none_or(|b| error < b.0) {
+                    let pairs = pairs.clone();
                     best = Some((
                         error,
                         Candidate {
@@ -258,20 +261,21 @@ impl Grower<'_> {
         best.map(|b| b.1)
     }
 
-    /// Eq. (2) for one pairing of the seed's neighbours (offsets `q`) with `ring`'s `slots`, turned by `rot`.
+    /// Eq. (2) for one pairing of the seed's neighbours (`targets`, at offsets `q`) with `ring`'s slots, turned by
+    /// `rot`: `pairs` of (index among the neighbours, slot).
     fn error(
         &self,
         ring: &RefRing,
         targets: &[usize],
         q: &[DVec2],
         rot: DVec2,
-        slots: &[usize],
+        pairs: &[(usize, usize)],
     ) -> f64 {
         let w = self.options.weights;
         let mut error = 0.0;
-        for ((&t, qi), &slot) in targets.iter().zip(q).zip(slots) {
-            error += w.distance * qi.distance(rot.rotate(ring.offsets[slot]));
-            let node = &self.nodes[t];
+        for &(i, slot) in pairs {
+            error += w.distance * q[i].distance(rot.rotate(ring.offsets[slot]));
+            let node = &self.nodes[targets[i]];
             if node.symbol.is_some_and(|sym| sym != ring.symbols[slot]) {
                 error += w.symbol;
             }
@@ -285,10 +289,12 @@ impl Grower<'_> {
     }
 }
 
-/// Whether ring slots, read from the first, go once round counter-clockwise (no flipping): at most one descent.
-fn counter_clockwise(slots: &[usize]) -> bool {
-    slots.windows(2).filter(|w| w[1] < w[0]).count() <= 1
-        && (slots.len() < 2
-            || slots.windows(2).all(|w| w[1] > w[0])
-            || slots[slots.len() - 1] < slots[0])
+/// Whether the pairs' ring slots, read from the first, go once round counter-clockwise (no flipping): at most one
+/// descent, and none unless the last slot comes before the first.
+fn counter_clockwise(pairs: &[(usize, usize)]) -> bool {
+    let descents = pairs.windows(2).filter(|w| w[1].1 < w[0].1).count();
+    match (pairs.first(), pairs.last()) {
+        (Some(first), Some(last)) => descents == 0 || (descents == 1 && last.1 < first.1),
+        _ => true,
+    }
 }
