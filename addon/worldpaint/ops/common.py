@@ -5,7 +5,7 @@ import functools
 import numpy as np
 from bpy.props import EnumProperty, FloatProperty, FloatVectorProperty, IntProperty, StringProperty
 
-from ..bridge import WorldPaintError, curves, edits, engine, instances, regions, scene_maps, terrain
+from ..bridge import WorldPaintError, curves, edits, engine, instances, points, regions, scene_maps, terrain
 from ..props import REGION_MODES
 
 OPERATOR_REGION_MODES = (
@@ -227,4 +227,7 @@ class SceneContent:
 
 def report_missing(operator, applied):
     if applied.missing:
-        operator.report({'WARNING'}, f"No collection or mesh to instance for: {', '.join(applied.missing)}")
+        empty = [f"the collection '{c.name}' shows nothing" for c in map(points.empty_named_collection,
+                                                                         applied.missing) if c is not None]
+        why = f" ({'; '.join(empty)})" if empty else ""
+        operator.report({'WARNING'}, f"No collection or mesh to instance for: {', '.join(applied.missing)}{why}")
