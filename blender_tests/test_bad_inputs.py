@@ -559,7 +559,7 @@ def copy_in_another_parts_collection(tagged):
         tree = decomposed_tree()
         crown = edited_part(tree, 2, "Crown copy")
         if not tagged:  # a part decomposed before parts were tagged: told by its vertex numbering
-            del crown[variety.COMPONENT_TAG]
+            crown.pop(variety.COMPONENT_TAG, None)
         moved_to_part(crown, tree, 1)
         return lambda: bpy.ops.worldpaint.generate_variants(object=tree.name)
     return setup
