@@ -54,6 +54,18 @@ fn stroke_over(camera: &Camera, y: f64, h: f64, dy: f64) -> StrokeCurve {
     StrokeCurve::new(&Stroke { points })
 }
 
+/// The priority list of `stroke` among `pieces`, with the default options.
+fn list_of(
+    sight: &Sight,
+    camera: &Camera,
+    stroke: &StrokeCurve,
+    pieces: &[FeaturePiece],
+) -> Vec<Candidate> {
+    let options = MatchingOptions::default();
+    let context = MatchingContext::new(sight, camera, pieces, &options);
+    priority_list(&context, stroke, &Neighbours::default(), pieces, &options)
+}
+
 #[test]
 fn a_level_camera_lifts_points_by_the_thesis_formula() {
     let camera = level_camera();
@@ -92,17 +104,11 @@ fn the_ridge_nearest_the_stroke_in_the_image_is_chosen() {
         "each crest projects left to right in one piece"
     );
     let stroke = stroke_over(&camera, 200.0, 35.0, 0.01);
-    let list = priority_list(
-        &sight,
-        &camera,
-        &stroke,
-        &pieces,
-        &MatchingOptions::default(),
-    );
+    let list = list_of(&sight, &camera, &stroke, &pieces);
     assert_eq!(list.len(), 3);
     assert_eq!(
         list[0].feature,
-        1,
+        Some(1),
         "costs: {:?}",
         list.iter()
             .map(|c| (c.feature, c.terms))
@@ -143,16 +149,10 @@ fn between_two_ridges_the_one_needing_less_deformation_wins() {
         .y;
     assert!(far > near + 0.02);
     let stroke = stroke_over(&camera, 100.0, 20.0, 0.5 * (far - near));
-    let list = priority_list(
-        &sight,
-        &camera,
-        &stroke,
-        &pieces,
-        &MatchingOptions::default(),
-    );
+    let list = list_of(&sight, &camera, &stroke, &pieces);
     assert_eq!(list.len(), 2);
     let (a, b) = (&list[0], &list[1]);
-    assert_eq!(a.feature, 0, "{:?} vs {:?}", a.terms, b.terms);
+    assert_eq!(a.feature, Some(0), "{:?} vs {:?}", a.terms, b.terms);
     assert!(
         (a.terms[0] - b.terms[0]).abs() < 0.01 * a.terms[0].max(1e-3),
         "equal image distances"
@@ -174,13 +174,7 @@ fn a_feature_shorter_than_the_stroke_is_extended_and_pays_for_it() {
     short.points.retain(|p| p.x >= 180.0 && p.x <= 240.0);
     let pieces = feature_pieces(&camera, &[short]);
     let stroke = stroke_over(&camera, 200.0, 35.0, 0.0);
-    let list = priority_list(
-        &sight,
-        &camera,
-        &stroke,
-        &pieces,
-        &MatchingOptions::default(),
-    );
+    let list = list_of(&sight, &camera, &stroke, &pieces);
     assert_eq!(list.len(), 1);
     let c = &list[0];
     let (x0, x1) = stroke.x_range();
@@ -202,12 +196,14 @@ fn random_lists(rng: &mut ChaCha8Rng, strokes: usize, features: usize) -> Vec<Ve
                     let x1 = x0 + rng.random_range(0.1..0.5);
                     let depth = rng.random_range(50.0..500.0);
                     Candidate {
-                        feature: rng.random_range(0..features),
+                        feature: Some(rng.random_range(0..features)),
                         curve: Vec::new(),
+                        breaks: Vec::new(),
                         depths: vec![depth, depth + rng.random_range(-40.0..40.0)],
                         xs: vec![x0, x1],
                         cost: rng.random_range(1.0..3.0),
                         terms: [0.0; 3],
+                        largest_change: 0.0,
                     }
                 })
                 .collect();
