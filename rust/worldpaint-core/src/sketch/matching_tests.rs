@@ -262,3 +262,67 @@ fn a_stroke_without_candidates_is_left_to_the_embedding() {
     assert_eq!(a.chosen, vec![None]);
     assert_eq!(a.cost, EMPTY_LIST_COST);
 }
+
+#[test]
+fn a_stroke_just_above_a_skyline_of_two_ridges_takes_the_skyline_and_lifts_it_least() {
+    use crate::sketch::features::{detect_features, FeatureOptions};
+    // a near ridge 45 m high over the left of the view (200 m away, fading out beyond x = 200 m) and a far one
+    // 60 m high across it (350 m away): the skyline is the near one on the left and the far one on the right
+    let (n, cell) = (201, 2.0);
+    let heights = (0..n * n)
+        .map(|k| {
+            let (x, y) = ((k % n) as f64 * cell, (k / n) as f64 * cell);
+            let left = 1.0 / (1.0 + ((x - 210.0) / 5.0).exp());
+            let near = 45.0 * left * (-((y - 150.0) / 12.0).powi(2)).exp();
+            let far = 60.0 * (-((y - 300.0) / 12.0).powi(2)).exp();
+            near.max(far) as f32
+        })
+        .collect();
+    let terrain = Heightfield::new(DVec2::ZERO, cell, n, n, heights).expect("a valid grid");
+    let sight = Sight::new(&terrain);
+    let camera = level_camera();
+    let features = detect_features(&sight, &camera, &FeatureOptions::default()).expect("features");
+    let pieces = feature_pieces(&camera, &features);
+    // the stroke: 3 % of the image above the skyline over x 0.3..0.7
+    let skyline = |x: f64| {
+        sight
+            .column_silhouette(&camera, x, 0.0, 1.0)
+            .expect("a skyline")
+    };
+    let stroke = StrokeCurve::new(&Stroke {
+        points: (0..=40)
+            .map(|k| {
+                let x = 0.3 + 0.01 * k as f64;
+                DVec2::new(x, skyline(x).0 + 0.03)
+            })
+            .collect(),
+    });
+    // what lifting the skyline's own points onto the stroke needs, column by column
+    let needed = (0..=40)
+        .map(|k| {
+            let x = 0.3 + 0.01 * k as f64;
+            let p = skyline(x).1;
+            on_stroke(&camera, &stroke, p).expect("on the stroke").z - p.z
+        })
+        .fold(0.0, f64::max);
+    let list = list_of(&sight, &camera, &stroke, &pieces);
+    let best = &list[0];
+    let others: Vec<(Option<usize>, f64, f64)> = list
+        .iter()
+        .map(|c| (c.feature, c.cost, c.largest_change))
+        .collect();
+    assert_eq!(best.feature, None, "the skyline wins: {others:?}");
+    assert!(
+        !best.breaks.is_empty(),
+        "it jumps from the near ridge to the far one"
+    );
+    assert!(
+        best.largest_change <= 1.25 * needed,
+        "{} m for {needed} m",
+        best.largest_change
+    );
+    // every single feature covering the stroke changes the terrain more
+    for c in list.iter().filter(|c| c.feature.is_some()) {
+        assert!(c.largest_change > best.largest_change, "{others:?}");
+    }
+}
