@@ -8,7 +8,7 @@
 //! artist). Each grid node the curve fixes takes the curve's height, or the lower height that puts the node itself on
 //! the stroke where it stands in front of the curve (a node half a cell nearer the camera than the curve, at the
 //! curve's height, would rise above the stroke), and where the curve crosses a cell through its middle, the corner
-//! in front of it is fixed too (see [`constrain_on_stroke`]); between the breaks of a curve that jumps from one
+//! in front of it is fixed too (see `constrain_on_stroke`); between the breaks of a curve that jumps from one
 //! silhouette to another, nothing is fixed.
 //!
 //! **Lowering protruding silhouettes.** "Mountain silhouette `s` hides a user-specified silhouette `g` if `s` is
