@@ -91,10 +91,14 @@ def test_a_worker_killed_mid_run_leaves_the_world_unchanged(palette, tmp_path):
         killed_at = []
 
         def kill_once_a_tile_is_written():
+            # the tiles are written into a hidden folder beside the output, renamed into place when all are done
             while not killed_at:
-                if survivor.exists() and any(n.endswith(".wpt") for n in os.listdir(survivor)):
-                    os.kill(victim, signal.SIGKILL)
-                    killed_at.append(len([n for n in os.listdir(survivor) if n.endswith(".wpt")]))
+                for staging in tmp_path.glob(".survivor.partial-*"):
+                    written = [n for n in os.listdir(staging) if n.endswith(".wpt")]
+                    if written:
+                        os.kill(victim, signal.SIGKILL)
+                        killed_at.append(len(written))
+                        break
                 time.sleep(0.01)
 
         killer = threading.Thread(target=kill_once_a_tile_is_written, daemon=True)
@@ -104,6 +108,7 @@ def test_a_worker_killed_mid_run_leaves_the_world_unchanged(palette, tmp_path):
     print(f"killed a worker with {killed_at} of {len(manifest['tiles'])} tiles written")
     assert killed_at and killed_at[0] < len(manifest["tiles"]), "the worker was killed after the world was done"
     assert not any(n.endswith(".part") for n in os.listdir(survivor))
+    assert sorted(os.listdir(tmp_path)) == ["reference", "survivor"], "the staging folder was left"
     assert tile_set(reference) == tile_set(survivor), "a dead worker changed the world"
 
 

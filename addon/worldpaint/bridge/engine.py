@@ -749,14 +749,17 @@ def build_waterfall(heightfield, controllers, points, seed, **options):
 @dataclass(frozen=True)
 class SketchResult:
     """A sketch applied (thesis ch. 5): the height change at the points asked about; the strokes' order front to back;
-    the terrain features detected (world XYZ polylines, with their kinds); per stroke its 3D curve and the feature it
-    deforms (-1: embedded, no feature could serve); the protruding silhouettes as lowered; and how it went."""
+    the terrain features detected (world XYZ polylines, with their kinds); per stroke its 3D curve, the indices where
+    that curve jumps from one silhouette to another (no part of it between them), and the feature it deforms (-2: the
+    skyline under the stroke; -1: embedded, no feature could serve); the protruding silhouettes as lowered; and how it
+    went."""
 
     displacement: np.ndarray
     order: list
     features: list
     feature_kinds: list
     curves: list
+    curve_breaks: list
     sources: list
     lowered: list
     rounds: int
@@ -766,10 +769,11 @@ class SketchResult:
     seconds: dict
 
 
-def apply_sketch(heightfield, camera, strokes, points, *, reach=None, completion=True, progress=None):
+def apply_sketch(heightfield, camera, strokes, points, *, reach=None, completion=True, aspect=None, progress=None):
     """The terrain deformed so that, seen from ``camera`` (a dict: eye, forward, up, frame_min, frame_max), its
-    silhouettes follow the ``strokes`` (camera-frame (N, 2) arrays), read at the XY ``points``."""
+    silhouettes follow the ``strokes`` (camera-frame (N, 2) arrays), read at the XY ``points``; ``aspect``: the
+    frame's width over its height, for the stroke ordering (None: the camera frame's)."""
     d = _engine().apply_sketch(heightfield, camera, [np.ascontiguousarray(s, dtype=np.float64) for s in strokes],
                                np.ascontiguousarray(points, dtype=np.float64), reach=reach, completion=completion,
-                               progress=progress)
+                               aspect=aspect, progress=progress)
     return SketchResult(**d)

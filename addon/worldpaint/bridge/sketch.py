@@ -14,6 +14,7 @@ SKETCH_COLLECTION = "Sketch"
 SKETCH_TAG = "wp_sketch"  # "feature", "matched" or "lowered"
 FEATURE_COLOR = (0.85, 0.85, 0.85, 1.0)
 LOWERED_COLOR = (0.2, 0.8, 0.2, 1.0)
+EMBEDDED, SKYLINE = -1, -2  # a stroke's source when it is no feature of the terrain
 
 
 def engine_camera(scene, obj):
@@ -32,6 +33,13 @@ def engine_camera(scene, obj):
         "frame_min": (min(xs), min(ys)),
         "frame_max": (max(xs), max(ys)),
     }
+
+
+def frame_aspect(scene):
+    """Width over height of the camera frame the scene renders: its resolution times its pixel aspect (the sensor
+    fit decides which side the sensor spans, not this ratio)."""
+    render = scene.render
+    return (render.resolution_x * render.pixel_aspect_x) / (render.resolution_y * render.pixel_aspect_y)
 
 
 def depth_color(rank, count):
@@ -77,10 +85,11 @@ def show(scene, result, bevel):
     collection = sketch_collection(scene)
     objects = [_curve_object("Sketch features", result.features, FEATURE_COLOR, 0.25 * bevel, "feature")]
     rank = {stroke: k for k, stroke in enumerate(result.order)}
-    for stroke, curve in enumerate(result.curves):
+    for stroke, (curve, breaks) in enumerate(zip(result.curves, result.curve_breaks, strict=True)):
         source = result.sources[stroke]
-        what = f"feature {source}" if source >= 0 else "embedded"
-        objects.append(_curve_object(f"Sketch stroke {stroke} ({what})", [curve],
+        what = f"feature {source}" if source >= 0 else "skyline" if source == SKYLINE else "embedded"
+        pieces = np.split(np.asarray(curve), list(breaks))
+        objects.append(_curve_object(f"Sketch stroke {stroke} ({what})", pieces,
                                      depth_color(rank.get(stroke, 0), len(result.order)), bevel, "matched"))
     if result.lowered:
         objects.append(_curve_object("Sketch lowered", result.lowered, LOWERED_COLOR, 0.5 * bevel, "lowered"))

@@ -6,11 +6,11 @@ import json
 
 import bpy
 import numpy as np
-from bpy.props import StringProperty
+from bpy.props import BoolProperty, FloatProperty, StringProperty
 
 from ..bridge import WorldPaintError, engine, sketch, sketch_strokes, terrain, terrain_edit
 from .background import BackgroundOperator
-from .common import TerrainProperty
+from .common import TerrainProperty, setting
 from .terrain_edit import UNMOVED, editable_terrain
 
 
@@ -26,7 +26,8 @@ def strokes_from_json(text):
 
 class WORLDPAINT_OT_apply_sketch(BackgroundOperator, TerrainProperty, bpy.types.Operator):
     """Deform the terrain so that, seen from the sketch camera, its silhouettes follow the sketched strokes and
-    nothing hides them (a shape key; Esc cancels)"""
+    nothing hides them (a shape key; Esc cancels). Stroke points are in the camera frame: x from 0 (left) to 1
+    (right), y from 0 (bottom) to 1 (top)"""
 
     bl_idname = "worldpaint.apply_sketch"
     bl_label = "Apply Sketch"
@@ -37,8 +38,19 @@ class WORLDPAINT_OT_apply_sketch(BackgroundOperator, TerrainProperty, bpy.types.
                                                       "else the scene camera)")
     strokes: StringProperty(
         name="Strokes", options={'SKIP_SAVE'},
-        description="JSON list of strokes, each a list of [x, y] points in the camera frame (0-1; empty: the "
-                    "strokes drawn in the scene)",
+        description="JSON list of strokes, each a list of [x, y] points in the camera frame: x from 0 at its left "
+                    "edge to 1 at its right, y from 0 at its bottom to 1 at its top (empty: the strokes drawn in the "
+                    "scene)",
+    )
+    reach: FloatProperty(
+        name="Reach", default=0.0, min=0.0, soft_max=2000.0, unit='LENGTH', options={'SKIP_SAVE'},
+        description="Distance from the sketched silhouettes beyond which the terrain stays as it was (0: eight times "
+                    "the largest height change, at most half the distance from the camera to the nearest silhouette; "
+                    "unset: the panel's)",
+    )
+    completion: BoolProperty(
+        name="Complete to Ground", default=True, options={'SKIP_SAVE'},
+        description="Extend each silhouette along its ends until it meets the terrain (unset: the panel's)",
     )
 
     def _prepare(self, context):
@@ -74,7 +86,10 @@ class WORLDPAINT_OT_apply_sketch(BackgroundOperator, TerrainProperty, bpy.types.
         self._show = settings.show_features
         self._bevel = 0.002 * float(np.ptp(self._vertices[:, :2], axis=0).max(initial=1.0))
         self._arguments = (heightfield, camera, strokes, np.vstack([self._vertices[:, :2], reseated]))
-        self._call = dict(reach=settings.reach if settings.reach > 0.0 else None, completion=settings.completion)
+        reach = setting(self, "reach", settings.reach)
+        self._call = dict(reach=reach if reach > 0.0 else None, completion=setting(self, "completion",
+                                                                                   settings.completion),
+                          aspect=sketch.frame_aspect(scene))
 
     def _compute(self, progress):
         return engine.apply_sketch(*self._arguments, progress=progress, **self._call)
@@ -101,11 +116,13 @@ class WORLDPAINT_OT_apply_sketch(BackgroundOperator, TerrainProperty, bpy.types.
             sketch.show(context.scene, result, self._bevel)
         else:
             sketch.clear_display(context.scene)
-        embedded = sum(1 for s in result.sources if s < 0)
+        embedded = sum(1 for s in result.sources if s == sketch.EMBEDDED)
+        skyline = sum(1 for s in result.sources if s == sketch.SKYLINE)
         s = result.seconds
         self.report({'INFO'}, f"Sketch applied to '{self._terrain_obj.name}': {len(result.order)} stroke(s), "
-                              f"{result.junctions} T-junction(s), {len(result.curves) - embedded} on terrain "
-                              f"features, {embedded} embedded; {len(result.lowered)} silhouette(s) lowered in "
+                              f"{result.junctions} T-junction(s), {len(result.curves) - embedded - skyline} on "
+                              f"terrain features, {skyline} on the skyline, {embedded} embedded; "
+                              f"{len(result.lowered)} silhouette(s) lowered in "
                               f"{result.rounds} round(s); raised {max(changed.max(), 0.0):.1f} m, lowered "
                               f"{max(-changed.min(), 0.0) + 0.0:.1f} m (shape key '{sketch.SKETCH_KEY}'); "
                               f"{sum(s.values()):.2f} s")

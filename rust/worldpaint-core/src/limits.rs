@@ -9,6 +9,10 @@ use crate::error::{Error, Result};
 
 /// Instances one synthesis call may create (a paste, a brush dab, a fill).
 pub const MAX_INSTANCES: u64 = 50_000_000;
+/// Instances one world of tiles may hold: a thousand times the 10 × 10 km forest of the world benchmark.
+pub const MAX_WORLD_INSTANCES: u64 = 10_000_000_000;
+/// Chain proposals per instance one synthesis may be asked for: 250 times the default of 40.
+pub const MAX_ITERATIONS_PER_INSTANCE: u64 = 10_000;
 /// Buildings one village scenario may request (a town of ten thousand houses, ten times over).
 pub const MAX_BUILDINGS: u64 = 100_000;
 /// Cells of one grid (a terrain, a raster map, a conquest grid, a bucket index).

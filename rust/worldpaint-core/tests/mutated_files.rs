@@ -5,6 +5,10 @@
 //!
 //! `make test` runs `MUTATED_FILES` cases (default 300); `MUTATED_FILES=2500 cargo test --release --test
 //! mutated_files -- --nocapture` runs the acceptance count.
+//!
+//! The world command line's arguments and terrain files (`.asc`, `.npy`) are mutated by
+//! `blender_tests/test_world_cli_mutated.py`, which runs the real command line (`python -m worldpaint_engine.world`)
+//! in a subprocess: its checks live in the Python package, in front of the engine (`WORLD_CLI_MUTATIONS` cases).
 
 use rand::seq::IndexedRandom;
 use rand::{Rng, SeedableRng};

@@ -242,3 +242,50 @@ fn a_plan_refuses_tiles_narrower_than_the_region_of_influence() {
     }
     assert_eq!((p.columns, p.rows), (4, 4));
 }
+
+#[test]
+fn a_plan_past_the_work_budget_is_refused_before_any_tile() {
+    let color = bench_color();
+    let refused = |min: f64, max: f64, tile: Option<f64>, words: &[&str]| match WorldPlan::for_color(
+        DVec2::splat(min),
+        DVec2::splat(max),
+        &color,
+        tile,
+    ) {
+        Ok(p) => panic!("{min}..{max} with tile {tile:?} was planned: {p:?}"),
+        Err(e) => {
+            let message = e.to_string();
+            for w in words {
+                assert!(message.contains(w), "'{message}' does not say '{w}'");
+            }
+        }
+    };
+    // 10,000 km square: 10^8 tiles of the default size
+    refused(0.0, 1e7, None, &["too large", "tiles", "1000000"]);
+    // one tile of 100 km² at 0.1 per m² is 10^9 instances, past one synthesis call's 5 × 10^7
+    refused(
+        0.0,
+        1e5,
+        Some(1e5),
+        &["a tile of 100000 m", "instances", "50000000"],
+    );
+    // 10^6 tiles of 5 × 10^6 instances: past the world's 10^10
+    refused(
+        0.0,
+        1e6,
+        Some(5000.0),
+        &["a world of", "instances", "10000000000"],
+    );
+    // an inverted or empty world, and tiles that are not a length
+    refused(100.0, 0.0, None, &["max corner"]);
+    refused(0.0, 100.0, Some(f64::NAN), &["tile size", "positive"]);
+    refused(0.0, 100.0, Some(-50.0), &["tile size", "positive", "-50"]);
+    // the chain length a tile is asked for
+    for bad in [0.0, -5.0, f64::NAN, 1e300] {
+        assert!(
+            worldpaint_core::world::check_iterations(bad).is_err(),
+            "{bad} iterations"
+        );
+    }
+    assert!(worldpaint_core::world::check_iterations(60.0).is_ok());
+}

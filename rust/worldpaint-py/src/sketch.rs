@@ -58,17 +58,18 @@ fn strokes_from_py(list: &Bound<'_, PyAny>) -> PyResult<Vec<Stroke>> {
 }
 
 /// Deforms the terrain so that, seen from `camera`, its silhouettes follow the `strokes` (float64 (N, 2) arrays of
-/// camera-frame points, 0–1 in x and y) and nothing hides them (thesis ch. 5). `reach`: distance (m) beyond which
-/// the terrain stays as it was (None: eight times the largest height change, at most half the
-/// distance from the eye to the nearest silhouette); `completion`: extend the silhouettes
-/// to the ground. Returns a dict: "displacement" (the height change at the world XY `points`, float64 (M,)),
-/// "order" (stroke indices front to back), "features" (float64 (K, 3) polylines) and "feature_kinds"
-/// ("silhouette" / "ridge"), "curves" (per stroke its float64 (K, 3) curve), "sources" (per stroke the feature index
-/// it deforms, or -1 when it was embedded), "lowered" (the protruding silhouettes as lowered), "rounds",
-/// "hidden_columns", "reach", "junctions" and "seconds" (per step: ordering, features, matching, deformation,
-/// lowering). `progress(fraction) -> bool` may return False to cancel.
+/// camera-frame points, 0–1 in x and y) and nothing hides them (thesis ch. 5). `reach`: distance (m) beyond which the
+/// terrain stays as it was (None: eight times the largest height change, at most half the distance from the eye to the
+/// nearest silhouette); `completion`: extend the silhouettes to the ground; `aspect`: the frame's width over its
+/// height, with which the stroke ordering measures distances alike across and up the image (None: the camera frame's).
+/// Returns a dict: "displacement" (the height change at the world XY `points`, float64 (M,)), "order" (stroke indices
+/// front to back), "features" (float64 (K, 3) polylines) and "feature_kinds" ("silhouette" / "ridge"), "curves" (per
+/// stroke its float64 (K, 3) curve), "sources" (per stroke the feature index it deforms, or -1 when it was embedded),
+/// "lowered" (the protruding silhouettes as lowered), "rounds", "hidden_columns", "reach", "junctions" and "seconds"
+/// (per step: ordering, features, matching, deformation, lowering). `progress(fraction) -> bool` may return False to
+/// cancel.
 #[pyfunction]
-#[pyo3(signature = (terrain, camera, strokes, points, *, reach=None, completion=true, progress=None))]
+#[pyo3(signature = (terrain, camera, strokes, points, *, reach=None, completion=true, aspect=None, progress=None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn apply_sketch<'py>(
     py: Python<'py>,
@@ -78,6 +79,7 @@ pub(crate) fn apply_sketch<'py>(
     points: ArrayArg<'py>,
     reach: Option<f64>,
     completion: bool,
+    aspect: Option<f64>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let hf = terrain.get().hf.clone();
@@ -94,6 +96,14 @@ pub(crate) fn apply_sketch<'py>(
         ..SketchOptions::default()
     };
     options.deform.reach = reach;
+    options.ordering.aspect = match aspect {
+        Some(a) if a.is_finite() && a > 0.0 => a,
+        Some(a) => return Err(input_err(format!("aspect {a} must be a positive ratio"))),
+        None => {
+            let size = camera.frame_max - camera.frame_min;
+            size.x / size.y
+        }
+    };
     let (edit, change) = with_progress(py, progress, |report| {
         let edit = apply(&hf, &camera, &strokes, &options, report)?;
         let change = height_change(&hf, &edit.deformation.terrain, &pts);
@@ -116,10 +126,13 @@ pub(crate) fn apply_sketch<'py>(
     out.set_item("features", features)?;
     out.set_item("feature_kinds", kinds)?;
     let curves = PyList::empty(py);
+    let breaks = PyList::empty(py);
     for t in &edit.targets.targets {
         curves.append(xyz(&t.curve)?)?;
+        breaks.append(t.breaks.clone())?;
     }
     out.set_item("curves", curves)?;
+    out.set_item("curve_breaks", breaks)?;
     let sources: Vec<i64> = edit
         .targets
         .sources
@@ -127,6 +140,7 @@ pub(crate) fn apply_sketch<'py>(
         .map(|s| match s {
             Source::Feature(f) => *f as i64,
             Source::Embedded(_) => -1,
+            Source::Skyline => -2,
         })
         .collect();
     out.set_item("sources", sources)?;

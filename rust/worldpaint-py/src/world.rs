@@ -8,7 +8,7 @@ use numpy::IntoPyArray;
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
 use worldpaint_core::geom::DVec2;
-use worldpaint_core::world::{synthesize_tile, tile_file, TileId, WorldPlan};
+use worldpaint_core::world::{check_iterations, synthesize_tile, tile_file, TileId, WorldPlan};
 
 fn plan_from_py(plan: &Bound<'_, PyDict>) -> PyResult<WorldPlan> {
     let get = |key: &str| -> PyResult<Bound<'_, PyAny>> {
@@ -26,19 +26,27 @@ fn plan_from_py(plan: &Bound<'_, PyDict>) -> PyResult<WorldPlan> {
 
 /// How `color` (JSON) fills the world rectangle `min`–`max`: {"min", "max", "tile" (side, m), "influence" (m),
 /// "columns", "rows", "tiles": [(column, row, phase, [(column, row) of the earlier neighbours it is conditioned
-/// on])]}, tiles in phase order. `tile` overrides the side (at least the color's region of influence).
+/// on])]}, tiles in phase order. `tile` overrides the side (at least the color's region of influence). A plan past
+/// the work budget (tiles, instances a tile or the world would hold, `iterations_per_instance` when given) raises
+/// `InputError` before any tile is started.
 #[pyfunction]
-#[pyo3(signature = (color, min, max, *, tile=None))]
+#[pyo3(signature = (color, min, max, *, tile=None, iterations_per_instance=None))]
 pub(crate) fn world_plan<'py>(
     py: Python<'py>,
     color: &str,
     min: (f64, f64),
     max: (f64, f64),
     tile: Option<f64>,
+    iterations_per_instance: Option<f64>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let color = parse_color(color)?;
     let (min, max) = (DVec2::new(min.0, min.1), DVec2::new(max.0, max.1));
-    let plan = guarded(|| WorldPlan::for_color(min, max, &color, tile))?;
+    let plan = guarded(|| {
+        if let Some(it) = iterations_per_instance {
+            check_iterations(it)?;
+        }
+        WorldPlan::for_color(min, max, &color, tile)
+    })?;
     let d = PyDict::new(py);
     d.set_item("min", (plan.min.x, plan.min.y))?;
     d.set_item("max", (plan.max.x, plan.max.y))?;

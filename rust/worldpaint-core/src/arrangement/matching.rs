@@ -21,8 +21,9 @@
 //!   error), since any other turn starts a grain of another orientation;
 //! - a match is *on the lattice* when every pair lies within a quarter of the lattice's shortest vector, and only
 //!   those are compared by eq. (2): the sub-id term (w3 = 100) would otherwise prefer a ring put a whole spacing off
-//!   to one that repeats a neighbour's reference element. When no candidate is on the lattice, the seed's patterns
-//!   are searched as without one.
+//!   to one that repeats a neighbour's reference element. For the same reason the matches with the fewest paired
+//!   neighbours of another symbol are compared first (a checkerboard keeps its alternation). When no candidate is on
+//!   the lattice, the seed's patterns are searched as without one.
 
 use glam::DVec2;
 use rand::Rng;
@@ -222,7 +223,7 @@ impl Grower<'_> {
         .collect();
         let either: Vec<bool> = q.iter().map(|&qi| lattice.is_either_diagonal(qi)).collect();
         let mut pairs: Vec<(usize, usize)> = Vec::with_capacity(q.len());
-        let mut best: Option<(f64, Candidate)> = None;
+        let mut best: Option<((usize, f64), Candidate)> = None;
         for &r in candidates {
             let ring = &self.rings[r];
             'turns: for &(theta, rot) in &turns {
@@ -244,11 +245,23 @@ impl Grower<'_> {
                 if !counter_clockwise(&pairs) {
                     continue;
                 }
-                let error = self.error(ring, targets, q, rot, &pairs);
-                if best.as_ref().is_none_or(|b| error < b.0) {
+                // a pattern of symbols on a lattice (a checkerboard) keeps them before it avoids repeats
+                let mismatches = pairs
+                    .iter()
+                    .filter(|&&(i, slot)| {
+                        self.nodes[targets[i]]
+                            .symbol
+                            .is_some_and(|sym| sym != ring.symbols[slot])
+                    })
+                    .count();
+                let key = (mismatches, self.error(ring, targets, q, rot, &pairs));
+                if best
+                    .as_ref()
+                    .is_none_or(|b| key.0 < b.0 .0 || (key.0 == b.0 .0 && key.1 < b.0 .1))
+                {
                     let pairs = pairs.clone();
                     best = Some((
-                        error,
+                        key,
                         Candidate {
                             ring: r,
                             theta,

@@ -4,7 +4,8 @@ use super::curves::{complete, embed, embedding_depth, fallback_depth};
 use super::deform::{deform, DeformOptions, Deformation, StrokeTarget};
 use super::features::{detect_features, FeatureOptions};
 use super::matching::{
-    assign, feature_pieces, priority_list, Assignment, Candidate, MatchingOptions, StrokeCurve,
+    assign, feature_pieces, priority_list, Assignment, Candidate, MatchingContext, MatchingOptions,
+    Neighbours, StrokeCurve,
 };
 use super::ordering::{order_strokes, OrderingOptions, StrokeOrder};
 use super::view::{Camera, Sight};
@@ -18,6 +19,8 @@ use std::time::Instant;
 pub enum Source {
     /// A terrain feature (index in the features detected), deformed onto the stroke.
     Feature(usize),
+    /// The skyline under the stroke (the highest visible silhouettes of its columns), deformed onto the stroke.
+    Skyline,
     /// No feature could serve: the stroke was embedded at this depth (m, along the camera's forward axis).
     Embedded(f64),
 }
@@ -34,9 +37,6 @@ pub struct Targets {
     /// The assignment found by branch and bound.
     pub assignment: Assignment,
 }
-
-/// Cells a stroke's curve must lie behind the curve of a stroke in front of it.
-const SEPARATION_CELLS: f64 = 3.0;
 
 /// Share of a curve's length it may be extended by at each end to reach the ground (feature completion).
 const COMPLETION_SHARE: f64 = 0.5;
@@ -55,11 +55,16 @@ pub fn targets(
 ) -> Targets {
     let curves: Vec<StrokeCurve> = strokes.iter().map(StrokeCurve::new).collect();
     let pieces = feature_pieces(camera, features);
+    let context = MatchingContext::new(sight, camera, &pieces, options);
     let lists: Vec<Vec<Candidate>> = curves
         .iter()
-        .map(|c| priority_list(sight, camera, c, &pieces, options))
+        .enumerate()
+        .map(|(s, c)| {
+            let neighbours = Neighbours::of(s, &curves, front_to_back);
+            priority_list(&context, c, &neighbours, &pieces, options)
+        })
         .collect();
-    let assignment = assign(front_to_back, &lists, SEPARATION_CELLS * sight.terrain.cell);
+    let assignment = assign(front_to_back, &lists, context.separation);
     let mut chosen: Vec<Option<&Candidate>> = assignment
         .chosen
         .iter()
@@ -73,31 +78,45 @@ pub fn targets(
         .map(|&s| chosen[s].map(mean_depth))
         .collect();
     let mut sources = vec![Source::Embedded(0.0); strokes.len()];
-    let mut built: Vec<Vec<glam::DVec3>> = vec![Vec::new(); strokes.len()];
+    let mut built: Vec<(Vec<glam::DVec3>, Vec<usize>)> = vec![Default::default(); strokes.len()];
     for (k, &s) in front_to_back.iter().enumerate() {
         match chosen[s] {
             Some(c) => {
-                sources[s] = Source::Feature(c.feature);
-                built[s] = c.curve.clone();
+                sources[s] = c.feature.map_or(Source::Skyline, Source::Feature);
+                built[s] = (c.curve.clone(), c.breaks.clone());
             }
             None => {
                 let depth = embedding_depth(k, &depths, fallback_depth(sight, camera, &curves[s]));
                 sources[s] = Source::Embedded(depth);
-                built[s] = embed(camera, &curves[s], depth);
+                built[s] = (embed(camera, &curves[s], depth), Vec::new());
             }
         }
     }
     let targets = curves
         .into_iter()
         .zip(built)
-        .map(|(stroke, curve)| {
-            let curve = if completion {
-                let length: f64 = curve.windows(2).map(|w| w[0].distance(w[1])).sum();
-                complete(sight, &curve, COMPLETION_SHARE * length)
+        .map(|(stroke, (curve, breaks))| {
+            if completion {
+                let length: f64 = curve
+                    .windows(2)
+                    .enumerate()
+                    .filter(|(k, _)| !breaks.contains(&(k + 1)))
+                    .map(|(_, w)| w[0].distance(w[1]))
+                    .sum();
+                let (curve, before) = complete(sight, &curve, &breaks, COMPLETION_SHARE * length);
+                let breaks = breaks.iter().map(|b| b + before).collect();
+                StrokeTarget {
+                    stroke,
+                    curve,
+                    breaks,
+                }
             } else {
-                curve
-            };
-            StrokeTarget { stroke, curve }
+                StrokeTarget {
+                    stroke,
+                    curve,
+                    breaks,
+                }
+            }
         })
         .collect();
     Targets {

@@ -59,22 +59,44 @@ pub fn fallback_depth(sight: &Sight, camera: &Camera, stroke: &StrokeCurve) -> f
         .unwrap_or(centre.max(sight.terrain.cell))
 }
 
-/// Segments the tangent at an end is averaged over.
-const TANGENT_SEGMENTS: usize = 3;
+/// Length (in terrain cells) of the end of a curve whose chord gives its tangent there.
+const TANGENT_CELLS: f64 = 3.0;
 
-/// `curve` extended at both ends along its tangent (averaged over its last segments) until it meets the terrain,
-/// stepping half a cell, for at most `max_length` metres; an end whose tangent does not lead down to the surface
-/// within that length stays as it is.
-pub fn complete(sight: &Sight, curve: &[DVec3], max_length: f64) -> Vec<DVec3> {
+/// `curve` (broken at `breaks`, see [`super::matching::Candidate::breaks`]) extended at both ends along its tangent
+/// (the chord over its last three cells, within its end piece) until it meets the terrain, stepping half
+/// a cell, for at most `max_length` metres; an end whose tangent does not lead down to the surface within that
+/// length, or that would pass higher above the ground than the end itself (flying over a valley behind a ridge
+/// rather than coming down to it), stays as it is. Returns the curve and the number of points put before its first.
+pub fn complete(
+    sight: &Sight,
+    curve: &[DVec3],
+    breaks: &[usize],
+    max_length: f64,
+) -> (Vec<DVec3>, usize) {
     let n = curve.len();
     if n < 2 {
-        return curve.to_vec();
+        return (curve.to_vec(), 0);
     }
-    let end = |tip: DVec3, inner: DVec3| -> Vec<DVec3> {
-        let Some(dir) = (tip - inner).try_normalize() else {
+    let cell = sight.terrain.cell;
+    let end = |piece: &mut dyn Iterator<Item = &DVec3>| -> Vec<DVec3> {
+        let Some(&tip) = piece.next() else {
             return Vec::new();
         };
-        let step = 0.5 * sight.terrain.cell;
+        let mut inner = tip;
+        for &p in piece {
+            inner = p;
+            if p.distance(tip) >= TANGENT_CELLS * cell {
+                break;
+            }
+        }
+        let (Some(dir), Some(ground)) = (
+            (tip - inner).try_normalize(),
+            sight.terrain.height_at(tip.truncate()),
+        ) else {
+            return Vec::new();
+        };
+        let clearance = tip.z - ground;
+        let step = 0.5 * cell;
         let steps = (max_length / step).floor() as usize;
         let mut out = Vec::new();
         for k in 1..=steps {
@@ -86,15 +108,22 @@ pub fn complete(sight: &Sight, curve: &[DVec3], max_length: f64) -> Vec<DVec3> {
                 out.push(DVec3::new(p.x, p.y, h));
                 return out;
             }
+            if p.z - h > clearance {
+                return Vec::new();
+            }
             out.push(p);
         }
         Vec::new()
     };
-    let back = TANGENT_SEGMENTS.min(n - 1);
-    let mut start = end(curve[0], curve[back]);
+    // the end pieces: up to the first break, from the last one
+    let first_piece = breaks.iter().copied().min().unwrap_or(n).min(n);
+    let last_piece = breaks.iter().copied().max().unwrap_or(0).min(n);
+    let mut start = end(&mut curve[..first_piece].iter());
     start.reverse();
-    let finish = end(curve[n - 1], curve[n - 1 - back]);
-    start.iter().chain(curve).chain(&finish).copied().collect()
+    let finish = end(&mut curve[last_piece..].iter().rev());
+    let before = start.len();
+    let done = start.iter().chain(curve).chain(&finish).copied().collect();
+    (done, before)
 }
 
 /// Image coordinates of a curve's points, with their depths; points behind the eye are left out.
@@ -149,7 +178,8 @@ mod tests {
         let curve: Vec<DVec3> = (0..=20)
             .map(|k| DVec3::new(40.0 + k as f64, 50.0, 20.0 - (k as f64 - 10.0).abs()))
             .collect();
-        let done = complete(&sight, &curve, 50.0);
+        let (done, before) = complete(&sight, &curve, &[], 50.0);
+        assert_eq!(done[before], curve[0]);
         let (first, last) = (done[0], done[done.len() - 1]);
         assert!(
             first.z.abs() < 1e-9 && last.z.abs() < 1e-9,
@@ -163,6 +193,6 @@ mod tests {
         let rising: Vec<DVec3> = (0..=10)
             .map(|k| DVec3::new(40.0 + k as f64, 50.0, 5.0 + k as f64))
             .collect();
-        assert_eq!(complete(&sight, &rising, 50.0).last(), rising.last());
+        assert_eq!(complete(&sight, &rising, &[], 50.0).0.last(), rising.last());
     }
 }

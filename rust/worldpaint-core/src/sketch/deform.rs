@@ -5,13 +5,19 @@
 //! the displacement map `M`, and `H′ = H + M`. Diffusing differences keeps the terrain's fine detail. The
 //! displacement fades to zero at [`DeformOptions::reach`] from the constraints, so the terrain farther away is
 //! unchanged (the thesis diffuses over the whole grid; an edit that moves a far corner of the map would surprise an
-//! artist).
+//! artist). Each grid node the curve fixes takes the curve's height, or the lower height that puts the node itself on
+//! the stroke where it stands in front of the curve (a node half a cell nearer the camera than the curve, at the
+//! curve's height, would rise above the stroke), and where the curve crosses a cell through its middle, the corner
+//! in front of it is fixed too (see `constrain_on_stroke`); between the breaks of a curve that jumps from one
+//! silhouette to another, nothing is fixed.
 //!
 //! **Lowering protruding silhouettes.** "Mountain silhouette `s` hides a user-specified silhouette `g` if `s` is
 //! closer to the camera than `g` and the projection `s_p` of `s` on the sketching plane has a higher altitude than
 //! `g_p`"; it is lowered "uniformly by an offset `h`", the largest height difference between it and the silhouettes
 //! it hides, its lowered points become new constraints, and the terrain is deformed again from the original with
-//! all constraints, until nothing protrudes. Silhouettes are found column by column: in each image column a stroke
+//! all constraints, until nothing protrudes, or the same silhouettes protrude by the same amounts as in the round
+//! before (their lowering could not take: the ground there is held by a stroke's own curve, as where a stroke ends
+//! on another, and a further round would solve the same constraints again). Silhouettes are found column by column: in each image column a stroke
 //! covers (sampled [`DeformOptions::columns`] across the image), the highest ray that meets the terrain nearer than
 //! the stroke's curve is cast ([`Sight::silhouette_above`]); if it passes above the stroke, the grazed
 //! point belongs to a protruding silhouette. Runs of protruding columns are one silhouette each. We count as
@@ -67,6 +73,25 @@ pub struct StrokeTarget {
     pub stroke: StrokeCurve,
     /// The curve (on the stroke when seen from the camera).
     pub curve: Vec<DVec3>,
+    /// Indices `k` where the curve jumps between points `k − 1` and `k`: the segment between them is no constraint.
+    pub breaks: Vec<usize>,
+}
+
+impl StrokeTarget {
+    /// The curve's pieces between its breaks.
+    pub fn pieces(&self) -> impl Iterator<Item = &[DVec3]> {
+        let mut bounds: Vec<usize> = self
+            .breaks
+            .iter()
+            .copied()
+            .filter(|&b| b > 0 && b < self.curve.len())
+            .collect();
+        bounds.sort_unstable();
+        bounds.dedup();
+        let starts = std::iter::once(0).chain(bounds.clone());
+        let ends = bounds.into_iter().chain(std::iter::once(self.curve.len()));
+        starts.zip(ends).map(|(a, b)| &self.curve[a..b])
+    }
 }
 
 /// The deformed terrain and how it was reached.
@@ -89,6 +114,76 @@ pub struct Deformation {
     pub seconds: (f64, f64),
 }
 
+/// Grid nodes in front of a curve's sample within this many cells of it are fixed: the corners of a cell the curve
+/// crosses through its middle (0.71 cells away), not those of the cells beside it (a cell or more).
+const NODE_REACH: f64 = 0.75;
+
+/// Fixes the grid nodes along `curve` (a stroke's curve, between breaks), each at the height of its nearest sample
+/// of the curve, or lower, at the height that puts the node itself on `stroke` seen from `camera`, where it stands
+/// nearer the camera than the curve (at the curve's height it would rise above the stroke). The curve is sampled half
+/// a cell apart; the node of each sample (within half a cell of it) is fixed, and so is every node in front of it
+/// within [`NODE_REACH`] cells: a curve crossing a cell on the diagonal also fixes the corner in front of it, where
+/// fixing only the nearest nodes left the other two corners at their lower height and the silhouette sagged between
+/// them by up to half the lift (the corner behind is left free: fixed, it lifted the ground behind the curve above
+/// the stroke). Nodes already fixed keep their value. Returns the number of nodes fixed.
+fn constrain_on_stroke(
+    constraints: &mut Constraints,
+    terrain: &Heightfield,
+    camera: &Camera,
+    stroke: &StrokeCurve,
+    curve: &[DVec3],
+) -> Result<usize> {
+    let cell = terrain.cell;
+    // per node (row, column): the distance to its nearest sample and that sample's height
+    let mut nearest: std::collections::BTreeMap<(usize, usize), (f64, f64)> = Default::default();
+    let mut visit = |p: DVec3| {
+        if !p.is_finite() {
+            return;
+        }
+        let f = (p.truncate() - terrain.origin) / cell;
+        let depth = (p - camera.eye).dot(camera.forward);
+        for j in (f.y - NODE_REACH).ceil() as i64..=(f.y + NODE_REACH).floor() as i64 {
+            for i in (f.x - NODE_REACH).ceil() as i64..=(f.x + NODE_REACH).floor() as i64 {
+                if i < 0 || j < 0 || i as usize >= terrain.nx || j as usize >= terrain.ny {
+                    continue;
+                }
+                let d = f.distance(DVec2::new(i as f64, j as f64));
+                let node = terrain.origin + DVec2::new(i as f64, j as f64) * cell;
+                let in_front = (node.extend(p.z) - camera.eye).dot(camera.forward) <= depth;
+                if d <= 0.5 || (d <= NODE_REACH && in_front) {
+                    let e = nearest
+                        .entry((j as usize, i as usize))
+                        .or_insert((f64::INFINITY, 0.0));
+                    if d < e.0 {
+                        *e = (d, p.z);
+                    }
+                }
+            }
+        }
+    };
+    if let Some(&first) = curve.first() {
+        visit(first);
+    }
+    for w in curve.windows(2) {
+        let (a, b) = (w[0], w[1]);
+        let steps = ((a.truncate().distance(b.truncate()) / (0.5 * cell)).ceil() as usize)
+            .clamp(1, 10_000_000);
+        for k in 1..=steps {
+            visit(a.lerp(b, k as f64 / steps as f64));
+        }
+    }
+    let mut fixed = 0;
+    for ((j, i), (_, z)) in nearest {
+        let node = terrain.origin + DVec2::new(i as f64, j as f64) * cell;
+        // on the stroke where the node is in front of the curve; no higher than the curve where it is behind it
+        let height = on_stroke(camera, stroke, node.extend(z)).map_or(z, |p| p.z.min(z));
+        if constraints.set_if_free(i, j, height - terrain.heights[j * terrain.nx + i] as f64)? {
+            fixed += 1;
+        }
+    }
+    Ok(fixed)
+}
+
 /// The depth of a curve at image `x`, from its projected points (sorted by `x`).
 fn depth_at(points: &[(DVec2, f64)], x: f64) -> Option<f64> {
     let k = points.partition_point(|p| p.0.x < x);
@@ -108,7 +203,7 @@ fn depth_at(points: &[(DVec2, f64)], x: f64) -> Option<f64> {
 }
 
 /// One image column of a stroke where terrain rises above it: the grazed point and how much it must drop (m).
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 struct Protrusion {
     column: usize,
     point: DVec3,
@@ -149,13 +244,11 @@ pub fn deform(
     );
     let solve = |lowered: &[Vec<DVec3>]| -> Result<Diffusion> {
         let mut constraints = Constraints::for_terrain(terrain);
-        // the strokes' curves first, so that a lowered silhouette crossing one never overrides it; each node of a
-        // curve at the height that puts the node itself on the stroke (a node half a cell nearer the camera than
-        // the curve, at the curve's height, would stand above the stroke)
-        for target in targets.iter().filter(|t| t.curve.len() >= 2) {
-            rasterize::polyline_with(&mut constraints, terrain, &target.curve, |node, z| {
-                on_stroke(camera, &target.stroke, node.extend(z)).map_or(z, |p| p.z)
-            })?;
+        // the strokes' curves first, so that a lowered silhouette crossing one never overrides it
+        for target in targets {
+            for piece in target.pieces().filter(|p| !p.is_empty()) {
+                constrain_on_stroke(&mut constraints, terrain, camera, &target.stroke, piece)?;
+            }
         }
         for curve in lowered.iter().filter(|c| c.len() >= 2) {
             rasterize::polyline(&mut constraints, terrain, curve)?;
@@ -173,6 +266,7 @@ pub fn deform(
     let mut round = 0;
     let start = Instant::now();
     let mut first_round = None;
+    let mut last_found: Option<Vec<Vec<Protrusion>>> = None;
     loop {
         round += 1;
         let diffusion = solve(&lowered)?;
@@ -183,7 +277,10 @@ pub fn deform(
         if !progress(round as f64 / rounds as f64) {
             return Err(Error::Cancelled);
         }
-        if hidden == 0 || round >= rounds {
+        // the same protrusions as in the last round: its lowering could not take (the terrain there is held by a
+        // stroke's curve, as where a stroke ends on another), and another round would solve the same constraints
+        let stuck = last_found.as_ref() == Some(&found);
+        if hidden == 0 || round >= rounds || stuck {
             return Ok(Deformation {
                 terrain: deformed,
                 displacement: diffusion.displacement,
@@ -194,11 +291,12 @@ pub fn deform(
                 seconds: (first, start.elapsed().as_secs_f64() - first),
             });
         }
-        for run in found {
+        for run in &found {
             // "uniformly lower s by an offset h": the largest drop any of its columns needs
             let h = run.iter().map(|p| p.drop).fold(0.0, f64::max);
             lowered.push(run.iter().map(|p| p.point - DVec3::Z * h).collect());
         }
+        last_found = Some(found);
     }
 }
 

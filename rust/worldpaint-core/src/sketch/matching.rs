@@ -14,17 +14,30 @@
 //! move also shifts `x`; the height is then solved by a few Newton steps on "projection on the stroke", which is
 //! the same formula's intent (see [`on_stroke`]).
 //!
+//! Besides the features, each stroke's list holds **the skyline under it** (see [`super::skyline`]): the highest
+//! visible silhouette of each of its image columns, which seen from the ground is seldom one feature. Where other
+//! strokes share its columns, the list also holds the skyline left to them there: pushed behind the strokes in front
+//! of it, pulled in front of the strokes behind it drawn above it, so that a stroke ending on another does not take
+//! from it the skyline both are drawn over.
+//!
 //! **Cost.** `E(f, s) = w_dis E_dis + w_def E_def + w_e E_e`, all weights 1 as in the thesis, with:
 //! * `E_dis`: the mean image distance `|f_p.y − s.y|` along the piece's projection, in image heights;
-//! * `E_def`: the mean `|f′.z − h|` along `f′`, divided by the terrain's relief (highest minus lowest point), so
-//!   that it is as dimensionless as `E_dis` (the thesis adds them with unit weights without saying their units);
+//! * `E_def`: the deformation `f′` needs, divided by the terrain's relief (highest minus lowest point), so that it is
+//!   as dimensionless as `E_dis` (the thesis adds them with unit weights without saying their units). At each point
+//!   of `f′` the change is `|f′.z − h|` plus the lowering it forces in front of it (how far the terrain nearer the
+//!   camera would have to come down not to rise above the stroke, §5.4: a feature behind a higher ridge costs that
+//!   ridge's lowering too). `E_def` is the mean of the two, the thesis's mean along `f′` and the largest change: the
+//!   deformation spreads as far as its largest change (the reach is eight times it), and a candidate that lifts
+//!   one stretch far more than the rest makes a spike the mean alone hardly sees (on real terrain it chose a slope
+//!   0.55–1 km from the camera raised by 165 m over the skyline's own ridge raised by at most 100 m);
 //! * `E_e = l(f′) / l(f)`: 1 for a piece that covers the stroke, more for one extended to cover it.
 //!
 //! The thesis writes the two integrals without absolute values; a signed mean would let a feature half above and half
 //! below its stroke cost nothing, so the distances are taken absolute.
 //!
 //! **Assignment.** Strokes are processed front to back. A feature serves one stroke at most ("a feature curve
-//! assigned to a stroke is no longer considered for subsequent strokes"). A stroke's candidate is dropped when it
+//! assigned to a stroke is no longer considered for subsequent strokes"); the skyline may serve several, each over
+//! its own columns. A stroke's candidate is dropped when it
 //! would hide the curve chosen for a stroke in front of it: somewhere in their common `x` range it lies nearer the
 //! camera, or less than a few cells behind it. The margin is ours: a crest is often detected twice, as a ridge and
 //! as the silhouette along it, and without it two strokes took the same crest and one was lost. A stroke left
@@ -34,8 +47,9 @@
 //! candidate of every later stroke (a lower bound that ignores the constraints) reaches the best complete cost
 //! found.
 
+use super::skyline::SilhouetteColumns;
 use super::view::{Camera, Sight};
-use super::{Feature, Stroke};
+use super::{Feature, FeatureKind, Stroke};
 use glam::{DVec2, DVec3};
 
 /// Cost of a stroke that no feature can serve: far above any feature's cost.
@@ -48,6 +62,9 @@ const NEWTON_STEPS: usize = 6;
 const MAX_CELL_SPAN: f64 = 0.03;
 /// Image widths beyond a stroke's end within which a point still counts as under the stroke's end.
 const END_SLACK: f64 = 1e-3;
+/// Cells a stroke's curve must lie behind the curve of a stroke in front of it; terrain nearer than a candidate by
+/// more than this is in front of it.
+pub const SEPARATION_CELLS: f64 = 3.0;
 
 /// The weights of the cost and what makes a candidate.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -62,11 +79,15 @@ pub struct MatchingOptions {
     pub min_cover: f64,
     /// Candidates kept per stroke, cheapest first (bounds the branch and bound's width).
     pub max_candidates: usize,
+    /// Image columns across the frame in which the visible silhouettes are read: the skyline under a stroke, and
+    /// the terrain a candidate forces down in front of it.
+    pub columns: usize,
 }
 
 impl Default for MatchingOptions {
     /// The thesis's unit weights; a piece must cover a quarter of the stroke (so that the extension, penalised by
-    /// `E_e`, stays shorter than three times the feature); eight candidates per stroke.
+    /// `E_e`, stays shorter than three times the feature); eight candidates per stroke; 512 columns (those the
+    /// lowering of protruding silhouettes samples by default).
     fn default() -> Self {
         MatchingOptions {
             w_dis: 1.0,
@@ -74,6 +95,7 @@ impl Default for MatchingOptions {
             w_e: 1.0,
             min_cover: 0.25,
             max_candidates: 8,
+            columns: 512,
         }
     }
 }
@@ -131,6 +153,8 @@ impl StrokeCurve {
 pub struct FeaturePiece {
     /// The feature it comes from (index in the features given).
     pub feature: usize,
+    /// That feature's kind.
+    pub kind: FeatureKind,
     /// World points, left to right in the image.
     pub points: Vec<DVec3>,
     /// Their image coordinates.
@@ -151,6 +175,7 @@ pub fn feature_pieces(camera: &Camera, features: &[Feature]) -> Vec<FeaturePiece
                 }
                 pieces.push(FeaturePiece {
                     feature: f,
+                    kind: feature.kind,
                     points: run.iter().map(|r| r.0).collect(),
                     image: run.iter().map(|r| r.1).collect(),
                 });
@@ -186,10 +211,13 @@ pub fn feature_pieces(camera: &Camera, features: &[Feature]) -> Vec<FeaturePiece
 /// A feature piece deformed to follow a stroke: a candidate of the stroke's priority list.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Candidate {
-    /// The feature (index in the features given).
-    pub feature: usize,
+    /// The feature (index in the features given); `None` for the skyline under the stroke.
+    pub feature: Option<usize>,
     /// `f′`: the deformed curve, left to right in the image, its projection on the stroke.
     pub curve: Vec<DVec3>,
+    /// Indices `k` where `curve` jumps between points `k − 1` and `k` (from one silhouette of the skyline to
+    /// another, at another depth): the segment between them is no part of it.
+    pub breaks: Vec<usize>,
     /// Depth along the camera's forward axis of each point of `curve`.
     pub depths: Vec<f64>,
     /// Image `x` of each point of `curve`.
@@ -198,6 +226,8 @@ pub struct Candidate {
     pub cost: f64,
     /// `E_dis`, `E_def`, `E_e`.
     pub terms: [f64; 3],
+    /// The largest height change (m) of a point of `curve`, or of the terrain it forces down in front of it.
+    pub largest_change: f64,
 }
 
 impl Candidate {
@@ -366,16 +396,49 @@ fn extension(
     None
 }
 
+/// What every candidate of one sketch is measured against: the terrain seen from the camera, its relief, and the
+/// visible silhouettes column by column.
+pub struct MatchingContext<'a> {
+    /// The terrain as the camera sees it.
+    pub sight: &'a Sight<'a>,
+    /// The camera.
+    pub camera: &'a Camera,
+    /// Highest minus lowest terrain point (m): the scale of `E_def`.
+    pub relief: f64,
+    /// The visible silhouettes per image column.
+    pub columns: SilhouetteColumns,
+    /// How far (m) in front of a candidate terrain counts as in front of it: the separation the assignment keeps
+    /// between two strokes' curves.
+    pub separation: f64,
+}
+
+impl<'a> MatchingContext<'a> {
+    /// The context of `pieces` (all the features' pieces) seen from `camera`, with `options.columns` columns.
+    pub fn new(
+        sight: &'a Sight<'a>,
+        camera: &'a Camera,
+        pieces: &[FeaturePiece],
+        options: &MatchingOptions,
+    ) -> MatchingContext<'a> {
+        MatchingContext {
+            sight,
+            camera,
+            relief: relief(sight),
+            columns: SilhouetteColumns::new(camera, pieces, options.columns),
+            separation: SEPARATION_CELLS * sight.terrain.cell,
+        }
+    }
+}
+
 /// The candidate `f′` of `piece` for `stroke`, with its cost; `None` if the piece does not cover enough of the
 /// stroke or cannot be deformed or extended onto it.
 pub fn candidate(
-    sight: &Sight,
-    camera: &Camera,
+    context: &MatchingContext,
     stroke: &StrokeCurve,
     piece: &FeaturePiece,
-    relief: f64,
     options: &MatchingOptions,
 ) -> Option<Candidate> {
+    let (sight, camera) = (context.sight, context.camera);
     let (x0, x1) = stroke.x_range();
     let (p0, p1) = (piece.image.first()?.x, piece.image.last()?.x);
     let cover = (p1.min(x1) - p0.max(x0)) / (x1 - x0);
@@ -386,14 +449,7 @@ pub fn candidate(
     if part.len() < 2 {
         return None;
     }
-    // E_dis along the projection of the feature as it is
     let image: Vec<DVec2> = part.iter().map(|r| r.1).collect();
-    let image_lengths: Vec<f64> = image.windows(2).map(|w| w[0].distance(w[1])).collect();
-    let gaps: Vec<f64> = image
-        .iter()
-        .map(|p| stroke.y_at(p.x).map_or(0.0, |y| (p.y - y).abs()))
-        .collect();
-    let e_dis = mean_along(&image_lengths, &gaps);
     // the ground curve, extended to cover the stroke
     let original: Vec<DVec3> = part.iter().map(|r| r.0).collect();
     let mut ground = original.clone();
@@ -410,27 +466,201 @@ pub fn candidate(
         let dir = horizontal(original[n - 2], original[n - 1])?;
         ground.extend(extension(sight, camera, original[n - 1], dir, x1, false)?);
     }
+    let length = polyline_length(&original, DVec3::distance);
+    deformed_onto(
+        context,
+        stroke,
+        Some(piece.feature),
+        &image,
+        &ground,
+        &[],
+        length,
+        options,
+    )
+}
+
+/// The skyline under `stroke` (see [`super::skyline`]) as a candidate, with its cost, each column's point moved
+/// `offset(x)` metres along the column; `None` where fewer than [`MatchingOptions::min_cover`] of the stroke's
+/// columns have a visible silhouette.
+pub fn skyline_candidate(
+    context: &MatchingContext,
+    stroke: &StrokeCurve,
+    offset: &dyn Fn(f64) -> f64,
+    options: &MatchingOptions,
+) -> Option<Candidate> {
+    let sky = context
+        .columns
+        .skyline(context.camera, context.sight.terrain, stroke, offset)?;
+    let (x0, x1) = stroke.x_range();
+    let covered = sky.image.len() as f64 / ((x1 - x0) * (options.columns.max(2) - 1) as f64 + 1.0);
+    if !(covered >= options.min_cover) {
+        return None;
+    }
+    let length = pieces_length(&sky.points, &sky.breaks);
+    deformed_onto(
+        context,
+        stroke,
+        None,
+        &sky.image,
+        &sky.points,
+        &sky.breaks,
+        length,
+        options,
+    )
+}
+
+/// The strokes that share image columns with a stroke: those nearer the camera, and those farther.
+#[derive(Clone, Debug, Default)]
+pub struct Neighbours<'a> {
+    /// Strokes in front of it.
+    pub in_front: Vec<&'a StrokeCurve>,
+    /// Strokes behind it.
+    pub behind: Vec<&'a StrokeCurve>,
+}
+
+impl<'a> Neighbours<'a> {
+    /// The strokes of `curves` that share columns with stroke `s`, `front_to_back` their depth order.
+    pub fn of(s: usize, curves: &'a [StrokeCurve], front_to_back: &[usize]) -> Neighbours<'a> {
+        let Some(stroke) = curves.get(s) else {
+            return Neighbours::default();
+        };
+        let (x0, x1) = stroke.x_range();
+        let sharing = |&r: &usize| {
+            let (a, b) = curves.get(r)?.x_range();
+            (r != s && a < x1 && b > x0).then(|| &curves[r])
+        };
+        let k = front_to_back
+            .iter()
+            .position(|&r| r == s)
+            .unwrap_or(front_to_back.len());
+        Neighbours {
+            in_front: front_to_back[..k].iter().filter_map(sharing).collect(),
+            behind: front_to_back
+                .get(k + 1..)
+                .unwrap_or(&[])
+                .iter()
+                .filter_map(sharing)
+                .collect(),
+        }
+    }
+}
+
+/// The skyline candidates of `stroke`: the skyline as it is, and where strokes share its columns, the skyline
+/// left to them there: pushed behind the strokes in front of it, pulled in front of the strokes behind it drawn
+/// above it (a cell more than the separation the assignment asks for).
+fn skyline_candidates(
+    context: &MatchingContext,
+    stroke: &StrokeCurve,
+    neighbours: &Neighbours,
+    options: &MatchingOptions,
+) -> Vec<Candidate> {
+    let shift = context.separation + context.sight.terrain.cell;
+    let behind_front = |x: f64| {
+        if neighbours.in_front.iter().any(|r| r.y_at(x).is_some()) {
+            shift
+        } else {
+            0.0
+        }
+    };
+    let before_back = |x: f64| {
+        let y = stroke.y_at(x).unwrap_or(f64::INFINITY);
+        if neighbours
+            .behind
+            .iter()
+            .any(|r| r.y_at(x).is_some_and(|yr| yr > y))
+        {
+            -shift
+        } else {
+            0.0
+        }
+    };
+    let mut offsets: Vec<&dyn Fn(f64) -> f64> = vec![&|_| 0.0];
+    if !neighbours.in_front.is_empty() {
+        offsets.push(&behind_front);
+    }
+    if !neighbours.behind.is_empty() {
+        offsets.push(&before_back);
+    }
+    offsets
+        .into_iter()
+        .filter_map(|offset| skyline_candidate(context, stroke, offset, options))
+        .collect()
+}
+
+/// The length of a polyline broken at `breaks` (the segments ending at those indices left out).
+fn pieces_length(points: &[DVec3], breaks: &[usize]) -> f64 {
+    points
+        .windows(2)
+        .enumerate()
+        .filter(|(k, _)| !breaks.contains(&(k + 1)))
+        .map(|(_, w)| w[0].distance(w[1]))
+        .sum()
+}
+
+/// The candidate that moves `ground` (broken at `breaks`) vertically onto `stroke`, from `feature`, whose
+/// projection as it is was `image` and whose length before any extension was `length`.
+#[allow(clippy::too_many_arguments)]
+fn deformed_onto(
+    context: &MatchingContext,
+    stroke: &StrokeCurve,
+    feature: Option<usize>,
+    image: &[DVec2],
+    ground: &[DVec3],
+    breaks: &[usize],
+    length: f64,
+    options: &MatchingOptions,
+) -> Option<Candidate> {
+    let (sight, camera) = (context.sight, context.camera);
+    // E_dis along the projection of the feature as it is
+    let image_lengths: Vec<f64> = image.windows(2).map(|w| w[0].distance(w[1])).collect();
+    let gaps: Vec<f64> = image
+        .iter()
+        .map(|p| stroke.y_at(p.x).map_or(0.0, |y| (p.y - y).abs()))
+        .collect();
+    let e_dis = mean_along(&image_lengths, &gaps);
     // f′: each point moved vertically onto the stroke (points projecting just outside it are dropped)
     let mut curve = Vec::with_capacity(ground.len());
-    let mut lifts = Vec::with_capacity(ground.len());
-    for &q in &ground {
-        if let Some(p) = on_stroke(camera, stroke, q) {
-            let h = sight.terrain.height_at(q.truncate()).unwrap_or(q.z);
-            lifts.push((p.z - h).abs());
-            curve.push(p);
+    let mut kept_breaks = Vec::new();
+    let mut changes = Vec::with_capacity(ground.len());
+    let mut projected = Vec::with_capacity(ground.len());
+    let mut pending_break = false;
+    for (k, &q) in ground.iter().enumerate() {
+        pending_break |= breaks.contains(&k);
+        let Some(p) = on_stroke(camera, stroke, q) else {
+            continue;
+        };
+        let (image, depth) = camera.project(p)?;
+        let h = sight.terrain.height_at(q.truncate()).unwrap_or(q.z);
+        // the point's own change, and the lowering it forces on the terrain in front of it
+        let lowering =
+            context
+                .columns
+                .lowering_in_front(image.x, image.y, depth, context.separation);
+        changes.push((p.z - h).abs() + lowering);
+        if pending_break && !curve.is_empty() {
+            kept_breaks.push(curve.len());
         }
+        pending_break = false;
+        curve.push(p);
+        projected.push((image, depth));
     }
     if curve.len() < 2 {
         return None;
     }
-    let lengths: Vec<f64> = curve.windows(2).map(|w| w[0].distance(w[1])).collect();
-    let e_def = mean_along(&lengths, &lifts) / relief.max(1e-9);
-    let e_e = polyline_length(&curve, DVec3::distance)
-        / polyline_length(&original, DVec3::distance).max(1e-9);
-    let projected: Vec<(DVec2, f64)> = curve.iter().filter_map(|&p| camera.project(p)).collect();
-    if projected.len() != curve.len() {
-        return None;
-    }
+    let lengths: Vec<f64> = curve
+        .windows(2)
+        .enumerate()
+        .map(|(k, w)| {
+            if kept_breaks.contains(&(k + 1)) {
+                0.0
+            } else {
+                w[0].distance(w[1])
+            }
+        })
+        .collect();
+    let largest_change = changes.iter().copied().fold(0.0, f64::max);
+    let e_def = 0.5 * (mean_along(&lengths, &changes) + largest_change) / context.relief.max(1e-9);
+    let e_e = pieces_length(&curve, &kept_breaks) / length.max(1e-9);
     // a terrain cell seen this near spans more of the image than the terrain can bend a silhouette within
     let depth = projected.iter().map(|p| p.1).sum::<f64>() / projected.len() as f64;
     let width = camera.frame_max.x - camera.frame_min.x;
@@ -439,32 +669,35 @@ pub fn candidate(
     }
     let cost = options.w_dis * e_dis + options.w_def * e_def + options.w_e * e_e;
     cost.is_finite().then(|| Candidate {
-        feature: piece.feature,
+        feature,
         xs: projected.iter().map(|p| p.0.x).collect(),
         depths: projected.iter().map(|p| p.1).collect(),
         curve,
+        breaks: kept_breaks,
         cost,
         terms: [e_dis, e_def, e_e],
+        largest_change,
     })
 }
 
-/// The priority list of `stroke`: its candidates among `pieces`, cheapest first, at most
-/// [`MatchingOptions::max_candidates`], one per feature (its cheapest piece).
+/// The priority list of `stroke`: its candidates among `pieces` and the skyline under it (as it is, and left to
+/// its `neighbours` where they share its columns), cheapest first, at most [`MatchingOptions::max_candidates`], one
+/// per feature (its cheapest piece).
 pub fn priority_list(
-    sight: &Sight,
-    camera: &Camera,
+    context: &MatchingContext,
     stroke: &StrokeCurve,
+    neighbours: &Neighbours,
     pieces: &[FeaturePiece],
     options: &MatchingOptions,
 ) -> Vec<Candidate> {
-    let relief = relief(sight);
     let mut list: Vec<Candidate> = pieces
         .iter()
-        .filter_map(|piece| candidate(sight, camera, stroke, piece, relief, options))
+        .filter_map(|piece| candidate(context, stroke, piece, options))
+        .chain(skyline_candidates(context, stroke, neighbours, options))
         .collect();
     list.sort_by(|a, b| a.cost.total_cmp(&b.cost).then(a.feature.cmp(&b.feature)));
     let mut seen = std::collections::BTreeSet::new();
-    list.retain(|c| seen.insert(c.feature));
+    list.retain(|c| c.feature.is_none() || seen.insert(c.feature));
     list.truncate(options.max_candidates);
     list
 }
@@ -600,7 +833,8 @@ impl Search<'_> {
         self.order[..k].iter().all(|&front| {
             match self.current[front].and_then(|c| self.lists[front].get(c)) {
                 Some(chosen) => {
-                    chosen.feature != cand.feature && !cand.hides(chosen, self.separation)
+                    (chosen.feature.is_none() || chosen.feature != cand.feature)
+                        && !cand.hides(chosen, self.separation)
                 }
                 None => true,
             }

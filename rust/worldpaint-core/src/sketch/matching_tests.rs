@@ -54,6 +54,18 @@ fn stroke_over(camera: &Camera, y: f64, h: f64, dy: f64) -> StrokeCurve {
     StrokeCurve::new(&Stroke { points })
 }
 
+/// The priority list of `stroke` among `pieces`, with the default options.
+fn list_of(
+    sight: &Sight,
+    camera: &Camera,
+    stroke: &StrokeCurve,
+    pieces: &[FeaturePiece],
+) -> Vec<Candidate> {
+    let options = MatchingOptions::default();
+    let context = MatchingContext::new(sight, camera, pieces, &options);
+    priority_list(&context, stroke, &Neighbours::default(), pieces, &options)
+}
+
 #[test]
 fn a_level_camera_lifts_points_by_the_thesis_formula() {
     let camera = level_camera();
@@ -92,17 +104,11 @@ fn the_ridge_nearest_the_stroke_in_the_image_is_chosen() {
         "each crest projects left to right in one piece"
     );
     let stroke = stroke_over(&camera, 200.0, 35.0, 0.01);
-    let list = priority_list(
-        &sight,
-        &camera,
-        &stroke,
-        &pieces,
-        &MatchingOptions::default(),
-    );
+    let list = list_of(&sight, &camera, &stroke, &pieces);
     assert_eq!(list.len(), 3);
     assert_eq!(
         list[0].feature,
-        1,
+        Some(1),
         "costs: {:?}",
         list.iter()
             .map(|c| (c.feature, c.terms))
@@ -143,16 +149,10 @@ fn between_two_ridges_the_one_needing_less_deformation_wins() {
         .y;
     assert!(far > near + 0.02);
     let stroke = stroke_over(&camera, 100.0, 20.0, 0.5 * (far - near));
-    let list = priority_list(
-        &sight,
-        &camera,
-        &stroke,
-        &pieces,
-        &MatchingOptions::default(),
-    );
+    let list = list_of(&sight, &camera, &stroke, &pieces);
     assert_eq!(list.len(), 2);
     let (a, b) = (&list[0], &list[1]);
-    assert_eq!(a.feature, 0, "{:?} vs {:?}", a.terms, b.terms);
+    assert_eq!(a.feature, Some(0), "{:?} vs {:?}", a.terms, b.terms);
     assert!(
         (a.terms[0] - b.terms[0]).abs() < 0.01 * a.terms[0].max(1e-3),
         "equal image distances"
@@ -174,13 +174,7 @@ fn a_feature_shorter_than_the_stroke_is_extended_and_pays_for_it() {
     short.points.retain(|p| p.x >= 180.0 && p.x <= 240.0);
     let pieces = feature_pieces(&camera, &[short]);
     let stroke = stroke_over(&camera, 200.0, 35.0, 0.0);
-    let list = priority_list(
-        &sight,
-        &camera,
-        &stroke,
-        &pieces,
-        &MatchingOptions::default(),
-    );
+    let list = list_of(&sight, &camera, &stroke, &pieces);
     assert_eq!(list.len(), 1);
     let c = &list[0];
     let (x0, x1) = stroke.x_range();
@@ -202,12 +196,14 @@ fn random_lists(rng: &mut ChaCha8Rng, strokes: usize, features: usize) -> Vec<Ve
                     let x1 = x0 + rng.random_range(0.1..0.5);
                     let depth = rng.random_range(50.0..500.0);
                     Candidate {
-                        feature: rng.random_range(0..features),
+                        feature: Some(rng.random_range(0..features)),
                         curve: Vec::new(),
+                        breaks: Vec::new(),
                         depths: vec![depth, depth + rng.random_range(-40.0..40.0)],
                         xs: vec![x0, x1],
                         cost: rng.random_range(1.0..3.0),
                         terms: [0.0; 3],
+                        largest_change: 0.0,
                     }
                 })
                 .collect();
@@ -265,4 +261,68 @@ fn a_stroke_without_candidates_is_left_to_the_embedding() {
     let a = assign(&[0], &lists, 5.0);
     assert_eq!(a.chosen, vec![None]);
     assert_eq!(a.cost, EMPTY_LIST_COST);
+}
+
+#[test]
+fn a_stroke_just_above_a_skyline_of_two_ridges_takes_the_skyline_and_lifts_it_least() {
+    use crate::sketch::features::{detect_features, FeatureOptions};
+    // a near ridge 45 m high over the left of the view (200 m away, fading out beyond x = 200 m) and a far one
+    // 60 m high across it (350 m away): the skyline is the near one on the left and the far one on the right
+    let (n, cell) = (201, 2.0);
+    let heights = (0..n * n)
+        .map(|k| {
+            let (x, y) = ((k % n) as f64 * cell, (k / n) as f64 * cell);
+            let left = 1.0 / (1.0 + ((x - 210.0) / 5.0).exp());
+            let near = 45.0 * left * (-((y - 150.0) / 12.0).powi(2)).exp();
+            let far = 60.0 * (-((y - 300.0) / 12.0).powi(2)).exp();
+            near.max(far) as f32
+        })
+        .collect();
+    let terrain = Heightfield::new(DVec2::ZERO, cell, n, n, heights).expect("a valid grid");
+    let sight = Sight::new(&terrain);
+    let camera = level_camera();
+    let features = detect_features(&sight, &camera, &FeatureOptions::default()).expect("features");
+    let pieces = feature_pieces(&camera, &features);
+    // the stroke: 3 % of the image above the skyline over x 0.3..0.7
+    let skyline = |x: f64| {
+        sight
+            .column_silhouette(&camera, x, 0.0, 1.0)
+            .expect("a skyline")
+    };
+    let stroke = StrokeCurve::new(&Stroke {
+        points: (0..=40)
+            .map(|k| {
+                let x = 0.3 + 0.01 * k as f64;
+                DVec2::new(x, skyline(x).0 + 0.03)
+            })
+            .collect(),
+    });
+    // what lifting the skyline's own points onto the stroke needs, column by column
+    let needed = (0..=40)
+        .map(|k| {
+            let x = 0.3 + 0.01 * k as f64;
+            let p = skyline(x).1;
+            on_stroke(&camera, &stroke, p).expect("on the stroke").z - p.z
+        })
+        .fold(0.0, f64::max);
+    let list = list_of(&sight, &camera, &stroke, &pieces);
+    let best = &list[0];
+    let others: Vec<(Option<usize>, f64, f64)> = list
+        .iter()
+        .map(|c| (c.feature, c.cost, c.largest_change))
+        .collect();
+    assert_eq!(best.feature, None, "the skyline wins: {others:?}");
+    assert!(
+        !best.breaks.is_empty(),
+        "it jumps from the near ridge to the far one"
+    );
+    assert!(
+        best.largest_change <= 1.25 * needed,
+        "{} m for {needed} m",
+        best.largest_change
+    );
+    // every single feature covering the stroke changes the terrain more
+    for c in list.iter().filter(|c| c.feature.is_some()) {
+        assert!(c.largest_change > best.largest_change, "{others:?}");
+    }
 }

@@ -10,6 +10,7 @@
 //! | [`ordering`] | 1. strokes ordered in depth by the left-to-right sweep with T-junctions (§5.2) |
 //! | [`features`] | 2. the terrain's features: silhouettes from the camera and ridges (PPA with a spanning forest, §5.3.1) |
 //! | [`matching`] | 3. each stroke's priority list of deformed features, and their assignment by branch and bound (§5.3.2) |
+//! | [`skyline`] | 3. the visible silhouettes per image column: the skyline under a stroke, the lowering a candidate forces |
 //! | [`curves`] | 3. the strokes' 3D curves: matched features, embedded strokes, completion to the ground (§5.3.2) |
 //! | [`deform`] | 4. and 5. the deformation (§5.3.3) and the lowering of protruding silhouettes (§5.4) |
 //! | [`apply`] | the whole edit (§5.1) |
@@ -23,6 +24,7 @@ pub mod deform;
 pub mod features;
 pub mod matching;
 pub mod ordering;
+pub mod skyline;
 pub mod view;
 
 pub use view::{Camera, Sight};

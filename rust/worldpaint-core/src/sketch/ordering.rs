@@ -38,7 +38,13 @@
 //!   A stroke goes after every listed stroke the labels put in front of it, directly or through other strokes, and
 //!   before every listed stroke they put behind it; between those bounds it moves back past each stroke the cues
 //!   put in front of it. The result is a topological order of the "in front of" relation of the labels.
-//! - Labels can contradict one another (a cycle: a hand-drawn impossible figure, or two strokes drawn end to end).
+//! - Two strokes may each have an extremity near the other: one ends on the other, and the other's extremity only
+//!   comes within the threshold of it (a peak drawn just above the end of a ridge that disappears behind it). Read
+//!   as two junctions, their labels may contradict. They are **one junction**, that of the stroke that ends on the
+//!   other: of two junctions between the same strokes, each onto the other, whose labels put different strokes in
+//!   front, the nearer one is kept (on a tie the more confident, then the first of the sweep) and the other is no
+//!   junction.
+//! - Labels can still contradict one another (a cycle through three strokes or more: a hand-drawn impossible figure).
 //!   They are then taken in order of confidence, `|sin ∠(t_s, t_r)|` (a label whose tangents are nearly parallel is
 //!   the least sure), then closer junctions first, then in the sweep's order: a label that would close a cycle with
 //!   those already taken is left out of the order and reported as [`Junction::overruled`].
@@ -176,7 +182,8 @@ pub fn order_strokes(strokes: &[Stroke], options: &OrderingOptions) -> Result<St
         .iter()
         .map(|s| Line::new(&s.points, options.aspect))
         .collect();
-    let (mut junctions, confidence) = sweep(&oriented, &lines, options);
+    let (junctions, confidence) = sweep(&oriented, &lines, options);
+    let (mut junctions, confidence) = one_junction_per_contradiction(junctions, confidence);
     let front = resolve(strokes.len(), &mut junctions, &confidence);
     let cues: Vec<Cue> = oriented.iter().map(|s| Cue::new(&s.points)).collect();
     let front_to_back = insert(&oriented, &front, &cues);
@@ -422,6 +429,41 @@ fn sweep(
         confidence.push(cross.abs());
     }
     (junctions, confidence)
+}
+
+/// Of two junctions between the same strokes, each ending on the other, whose labels contradict (each puts a
+/// different stroke in front), keeps the one of the stroke that ends on the other: the nearer one (on a tie, the more
+/// confident one, then the first of the sweep). The other extremity only came near the stroke that ends on it.
+fn one_junction_per_contradiction(
+    junctions: Vec<Junction>,
+    confidence: Vec<f64>,
+) -> (Vec<Junction>, Vec<f64>) {
+    let mut nearest_first: Vec<usize> = (0..junctions.len()).collect();
+    nearest_first.sort_by(|&a, &b| {
+        junctions[a]
+            .distance
+            .total_cmp(&junctions[b].distance)
+            .then(confidence[b].total_cmp(&confidence[a]))
+            .then(a.cmp(&b))
+    });
+    let mut kept = vec![false; junctions.len()];
+    for k in nearest_first {
+        let j = &junctions[k];
+        kept[k] = !(0..junctions.len()).any(|o| {
+            let other = &junctions[o];
+            kept[o]
+                && other.stroke == j.onto
+                && other.onto == j.stroke
+                && other.front_back() != j.front_back()
+        });
+    }
+    junctions
+        .into_iter()
+        .zip(confidence)
+        .zip(kept)
+        .filter(|(_, keep)| *keep)
+        .map(|(pair, _)| pair)
+        .unzip()
 }
 
 /// Keeps the labels, most confident first, that close no cycle with those kept before; marks the others overruled.

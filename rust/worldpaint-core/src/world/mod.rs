@@ -113,7 +113,36 @@ impl WorldPlan {
             }
             None => extent.max(influence),
         };
-        WorldPlan::new(min, max, tile, influence)
+        let plan = WorldPlan::new(min, max, tile, influence)?;
+        plan.check_instances(color, density)?;
+        Ok(plan)
+    }
+
+    /// Refuses a plan whose tiles or whole world would hold more instances of the color (at its density) than the
+    /// engine's budget allows, before any tile is started: a tile is one synthesis call
+    /// ([`crate::limits::MAX_INSTANCES`]), and the world has its own bound
+    /// ([`crate::limits::MAX_WORLD_INSTANCES`]).
+    fn check_instances(&self, color: &Color, density: f64) -> Result<()> {
+        let extent = self.max - self.min;
+        let tile_area = self.tile.min(extent.x) * self.tile.min(extent.y);
+        crate::limits::check(
+            &format!(
+                "a tile of {} m of color '{}' (at {density} instances per m²)",
+                self.tile, color.name
+            ),
+            density * tile_area,
+            crate::limits::MAX_INSTANCES,
+            "instances",
+        )?;
+        crate::limits::check(
+            &format!(
+                "a world of {} x {} m of color '{}' (at {density} instances per m²)",
+                extent.x, extent.y, color.name
+            ),
+            density * extent.x * extent.y,
+            crate::limits::MAX_WORLD_INSTANCES,
+            "instances",
+        )
     }
 
     /// Every tile, row by row.
@@ -229,6 +258,18 @@ impl TileContent {
     }
 }
 
+/// Refuses a chain length a tile cannot run in reasonable time: it must be positive and at most
+/// [`crate::limits::MAX_ITERATIONS_PER_INSTANCE`] proposals per instance.
+pub fn check_iterations(iterations_per_instance: f64) -> Result<()> {
+    check::positive("iterations per instance", iterations_per_instance)?;
+    crate::limits::check(
+        "the chain",
+        iterations_per_instance,
+        crate::limits::MAX_ITERATIONS_PER_INSTANCE,
+        "proposals per instance",
+    )
+}
+
 /// A clear error for colors a world cannot be filled with: tiles hold instances only.
 fn paintable(color: &Color) -> Result<()> {
     if color.arrangement.is_some() {
@@ -301,6 +342,7 @@ pub fn synthesize_tile(
         ..Default::default()
     };
     if let Some(it) = iterations_per_instance {
+        check_iterations(it)?;
         opts.iterations_per_instance = it;
     }
     let (min, max) = plan.rect(t);

@@ -134,7 +134,7 @@ pub fn nearest_distances(points: &[DVec2]) -> Vec<f64> {
 
 /// The lattices a user places by hand as references.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Lattice {
+pub enum LatticeKind {
     Hexagonal,
     Square,
     /// Running bond: bricks twice as long as high, each row shifted by half a brick.
@@ -143,27 +143,27 @@ pub enum Lattice {
     Checkerboard,
 }
 
-impl Lattice {
-    pub const ALL: [Lattice; 4] = [
-        Lattice::Hexagonal,
-        Lattice::Square,
-        Lattice::RunningBond,
-        Lattice::Checkerboard,
+impl LatticeKind {
+    pub const ALL: [LatticeKind; 4] = [
+        LatticeKind::Hexagonal,
+        LatticeKind::Square,
+        LatticeKind::RunningBond,
+        LatticeKind::Checkerboard,
     ];
 
     pub fn name(self) -> &'static str {
         match self {
-            Lattice::Hexagonal => "hexagonal",
-            Lattice::Square => "square",
-            Lattice::RunningBond => "running bond",
-            Lattice::Checkerboard => "checkerboard",
+            LatticeKind::Hexagonal => "hexagonal",
+            LatticeKind::Square => "square",
+            LatticeKind::RunningBond => "running bond",
+            LatticeKind::Checkerboard => "checkerboard",
         }
     }
 
     /// Elements per square metre of the exact lattice (its nearest neighbours 1 m apart).
     pub fn density(self) -> f64 {
         match self {
-            Lattice::Hexagonal => 2.0 / 3f64.sqrt(),
+            LatticeKind::Hexagonal => 2.0 / 3f64.sqrt(),
             // a brick of w × h with w = √2, h = 1/√2 (its diagonal neighbours 1 m away)
             _ => 1.0,
         }
@@ -172,10 +172,10 @@ impl Lattice {
 
 /// A reference of about 50 elements of `lattice` (nearest neighbours 1 m apart) placed by hand: turned by `turn`
 /// radians about its middle and each element moved by a normal offset of standard deviation `noise` m in x and y.
-pub fn hand_placed(lattice: Lattice, turn: f64, noise: f64, seed: u64) -> Vec<Element> {
+pub fn hand_placed(lattice: LatticeKind, turn: f64, noise: f64, seed: u64) -> Vec<Element> {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let (rows, cols) = match lattice {
-        Lattice::RunningBond => (10, 5),
+        LatticeKind::RunningBond => (10, 5),
         _ => (7, 7),
     };
     let mut elements = Vec::new();
@@ -184,10 +184,10 @@ pub fn hand_placed(lattice: Lattice, turn: f64, noise: f64, seed: u64) -> Vec<El
             let (r, c) = (row as f64, col as f64);
             let odd = (row % 2) as f64;
             let (position, symbol) = match lattice {
-                Lattice::Hexagonal => (DVec2::new(c + 0.5 * odd, r * 3f64.sqrt() / 2.0), 0),
-                Lattice::Square => (DVec2::new(c, r), 0),
-                Lattice::Checkerboard => (DVec2::new(c, r), ((row + col) % 2) as u32),
-                Lattice::RunningBond => {
+                LatticeKind::Hexagonal => (DVec2::new(c + 0.5 * odd, r * 3f64.sqrt() / 2.0), 0),
+                LatticeKind::Square => (DVec2::new(c, r), 0),
+                LatticeKind::Checkerboard => (DVec2::new(c, r), ((row + col) % 2) as u32),
+                LatticeKind::RunningBond => {
                     let (w, h) = (2f64.sqrt(), 0.5f64.sqrt());
                     (DVec2::new((c + 0.5 * odd) * w, r * h), 0)
                 }

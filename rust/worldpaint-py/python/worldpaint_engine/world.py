@@ -1,7 +1,8 @@
 """Fill a world of any size with a color, tile by tile, on Dask distributed.
 
     python -m worldpaint_engine.world --terrain heights.asc --palette forest.json --color Forest \\
-        --seed 1 --out world/ [--region X0 Y0 X1 Y1] [--tile 1000] [--workers 2 | --scheduler tcp://host:8786]
+        --seed 1 --out world/ [--region X0 Y0 X1 Y1] [--tile 1000] [--workers 2 | --scheduler tcp://host:8786] \\
+        [--overwrite]
 
 The engine cuts the world into square tiles in four checkerboard phases (``world_plan``); a tile is synthesized
 after its neighbours of earlier phases, conditioned on their border strips (``world_tile``). Here that order
@@ -13,133 +14,41 @@ out byte-identical whatever the worker count, the order or the failures.
 Each task writes its tile file into the output folder (on a cluster, one every worker reaches: a shared file
 system); only the border strips travel between tasks. The folder then holds ``manifest.json`` (the plan, the
 color's categories, each tile's file and counts) and one ``tile_<column>_<row>.wpt`` per tile
-(``read_world_tile`` reads one). Dask is an optional dependency: ``pip install "worldpaint_engine[cluster]"``.
+(``read_world_tile`` reads one). The set is written into a fresh hidden folder beside the output and moved into
+place whole (``tile_set_folder``): a failed or interrupted run leaves nothing, and an existing folder is refused
+unless ``--overwrite``, which replaces it. Dask is an optional dependency: ``pip install
+"worldpaint_engine[cluster]"``.
+
+The command line checks everything before any work: each argument's range where argparse reads it, the palette and
+the terrain file (``terrain_files``), the plan against the engine's work budget, the output folder (by making the
+hidden one) and the scheduler (it must answer within ``CONNECT_SECONDS``). Every failure is one line on stderr:
+exit 2 for input refused before the run, 1 for a run that failed, 130 for an interrupted (or terminated) one. It
+says what it will make on stdout before it starts the cluster.
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import logging
+import math
 import os
+import signal
 import sys
 import time
-from dataclasses import dataclass
-
-import numpy as np
 
 from . import _engine
+from .terrain_files import TerrainGrid, load_terrain, read_ascii_grid  # noqa: F401 (the driver's public surface)
+from .tile_set_folder import FORMAT, FORMAT_VERSION, MANIFEST, TileSetFolder
 
-MANIFEST = "manifest.json"
-FORMAT = "worldpaint tile set"
-FORMAT_VERSION = 1
+PROG = "python -m worldpaint_engine.world"
+# a scheduler must answer within this, and have a worker within as long again
+CONNECT_SECONDS = 5.0
+MAX_SEED = 2**64 - 1
 
 
 def tile_file_name(column, row):
     return f"tile_{column}_{row}.wpt"
-
-
-@dataclass(frozen=True)
-class TerrainGrid:
-    """Heights on a regular grid: sample (i, j) = heights[j, i] at origin + (i, j) * cell."""
-
-    origin: tuple[float, float]
-    cell: float
-    heights: np.ndarray
-
-    def bbox(self):
-        ny, nx = self.heights.shape
-        ox, oy = self.origin
-        return (ox, oy), (ox + (nx - 1) * self.cell, oy + (ny - 1) * self.cell)
-
-    def window(self, lo, hi):
-        """The samples covering the box ``lo``–``hi`` (clamped to the grid), None where it misses the grid."""
-        ny, nx = self.heights.shape
-        i0 = max(int(np.floor((lo[0] - self.origin[0]) / self.cell)), 0)
-        j0 = max(int(np.floor((lo[1] - self.origin[1]) / self.cell)), 0)
-        i1 = min(int(np.ceil((hi[0] - self.origin[0]) / self.cell)), nx - 1)
-        j1 = min(int(np.ceil((hi[1] - self.origin[1]) / self.cell)), ny - 1)
-        if i1 - i0 < 1 or j1 - j0 < 1:
-            return None
-        origin = (self.origin[0] + i0 * self.cell, self.origin[1] + j0 * self.cell)
-        return TerrainGrid(origin, self.cell, np.ascontiguousarray(self.heights[j0:j1 + 1, i0:i1 + 1]))
-
-
-def read_ascii_grid(path):
-    """An ESRI ASCII grid (.asc): rows from north to south; no-data samples take the lowest height."""
-    header = {}
-    with open(path, encoding="ascii") as f:
-        while len(header) < 6:
-            pos = f.tell()
-            parts = f.readline().split()
-            if len(parts) != 2 or not parts[0][0].isalpha():
-                f.seek(pos)
-                break
-            header[parts[0].lower()] = float(parts[1])
-        values = np.loadtxt(f, dtype=np.float64, ndmin=2)
-    try:
-        nx, ny, cell = int(header["ncols"]), int(header["nrows"]), header["cellsize"]
-    except KeyError as e:
-        raise ValueError(f"{path}: the ASCII grid's header has no {e.args[0]}") from None
-    if values.shape != (ny, nx):
-        raise ValueError(f"{path}: {values.shape[1]} x {values.shape[0]} values where the header says {nx} x {ny}")
-    # the corner convention puts samples at cell centres
-    shift = 0.5 * cell if "xllcorner" in header else 0.0
-    origin = (header.get("xllcorner", header.get("xllcenter", 0.0)) + shift,
-              header.get("yllcorner", header.get("yllcenter", 0.0)) + shift)
-    heights = values[::-1]
-    nodata = header.get("nodata_value")
-    if nodata is not None:
-        missing = heights == nodata
-        if missing.all():
-            raise ValueError(f"{path}: every sample is no-data")
-        heights = np.where(missing, heights[~missing].min(), heights)
-    return TerrainGrid(origin, cell, heights.astype(np.float32))
-
-
-def read_blend_terrain(path, object_name):
-    """The named mesh object of a .blend, rasterized by the engine (needs Blender's Python module ``bpy``)."""
-    try:
-        import bpy
-    except ImportError:
-        raise ValueError("reading a .blend needs Blender's Python module bpy (pip install bpy)") from None
-    bpy.ops.wm.open_mainfile(filepath=str(path))
-    obj = bpy.data.objects.get(object_name) if object_name else None
-    if obj is None or obj.type != 'MESH':
-        names = sorted(o.name for o in bpy.data.objects if o.type == 'MESH')
-        raise ValueError(f"{path}: no mesh object {object_name!r} (meshes: {', '.join(names) or 'none'})")
-    evaluated = obj.evaluated_get(bpy.context.evaluated_depsgraph_get())
-    mesh = evaluated.to_mesh()
-    try:
-        mesh.calc_loop_triangles()
-        co = np.empty(len(mesh.vertices) * 3)
-        mesh.vertices.foreach_get("co", co)
-        co = co.reshape(-1, 3)
-        tris = np.empty(len(mesh.loop_triangles) * 3, np.int32)
-        mesh.loop_triangles.foreach_get("vertices", tris)
-        world = np.array(obj.matrix_world)
-        co = co @ world[:3, :3].T + world[:3, 3]
-    finally:
-        evaluated.to_mesh_clear()
-    grid = _engine.Terrain(co, tris.reshape(-1, 3)).grid()
-    return TerrainGrid(tuple(grid["origin"]), grid["cell"], grid["heights"])
-
-
-def load_terrain(path, *, cell=None, origin=(0.0, 0.0), object_name=None):
-    """A terrain from a heightmap file: .asc (ESRI ASCII grid), .npy (2-D heights, rows along +Y; needs ``cell``)
-    or .blend (the mesh object ``object_name``)."""
-    suffix = os.path.splitext(str(path))[1].lower()
-    if suffix == ".asc":
-        return read_ascii_grid(path)
-    if suffix == ".npy":
-        heights = np.load(path)
-        if heights.ndim != 2 or min(heights.shape) < 2:
-            raise ValueError(f"{path}: a heightmap is a 2-D array of at least 2 x 2 heights, not {heights.shape}")
-        if not cell or cell <= 0:
-            raise ValueError(f"{path}: a .npy heightmap needs its sample spacing (--cell)")
-        return TerrainGrid(tuple(origin), float(cell), heights.astype(np.float32))
-    if suffix == ".blend":
-        return read_blend_terrain(path, object_name)
-    raise ValueError(f"{path}: a terrain is an .asc, .npy or .blend file")
 
 
 def run_tile(job, column, row, window, *borders):
@@ -176,20 +85,72 @@ def color_by_name(palette_text, name=None):
     raise ValueError(f"the palette has no color {name!r} (colors: {', '.join(names) or 'none'})")
 
 
+def plan_world(color, region=None, terrain=None, tile=None, iterations=None):
+    """The engine's plan for filling ``region`` ((x0, y0), (x1, y1); default: the terrain's extent) with ``color``,
+    and the region it fills: with a terrain, the part of ``region`` on the terrain. Raises ``InputError`` for a
+    region that is not a rectangle of finite numbers, lies entirely off the terrain, or asks for more than the
+    engine's work budget, and for a tile narrower than the color's region of influence."""
+    if region is None:
+        if terrain is None:
+            raise _engine.InputError("a world needs --region X0 Y0 X1 Y1 or a --terrain whose extent it fills")
+        region = terrain.bbox()
+    (x0, y0), (x1, y1) = region
+    given = f"--region {x0:g} {y0:g} {x1:g} {y1:g}"
+    if not all(math.isfinite(v) for v in (x0, y0, x1, y1)):
+        raise _engine.InputError(f"{given}: the corners must be finite numbers")
+    if not (x1 > x0 and y1 > y0):
+        raise _engine.InputError(f"{given}: X1 must be greater than X0 and Y1 greater than Y0")
+    if terrain is not None:
+        (tx0, ty0), (tx1, ty1) = terrain.bbox()
+        lo, hi = (max(x0, tx0), max(y0, ty0)), (min(x1, tx1), min(y1, ty1))
+        if not (hi[0] > lo[0] and hi[1] > lo[1]):
+            raise _engine.InputError(f"{given} lies entirely off the terrain, whose samples span {tx0:g} {ty0:g} "
+                                     f"{tx1:g} {ty1:g}")
+        region = (lo, hi)
+    if iterations is not None and not (math.isfinite(iterations) and iterations > 0):
+        raise _engine.InputError(f"--iterations {iterations:g}: must be a number > 0 (proposals per instance)")
+    try:
+        plan = _engine.world_plan(color, *region, tile=tile, iterations_per_instance=iterations)
+    except _engine.InputError as e:
+        size = "the default size" if tile is None else f"{tile:g} m"
+        raise _engine.InputError(f"{region_text(region)} in tiles of {size}: {e}") from None
+    return plan, region
+
+
+def region_text(region):
+    (x0, y0), (x1, y1) = region
+    return f"the region {x0:g} {y0:g} {x1:g} {y1:g}"
+
+
+def check_seed(seed):
+    if isinstance(seed, bool) or not isinstance(seed, int) or not 0 <= seed <= MAX_SEED:
+        raise _engine.InputError(f"--seed {seed}: must be a whole number from 0 to {MAX_SEED}")
+    return seed
+
+
 def fill_world(client, color, out, *, seed=0, region=None, terrain=None, tile=None, iterations=None,
-               progress=False):
-    """Fills ``region`` ((x0, y0), (x1, y1); default: the terrain's extent) with ``color`` (JSON) on the Dask
-    ``client``, writing the tile set into ``out``. Returns the manifest (also written as ``out/manifest.json``)."""
+               overwrite=False, progress=False):
+    """Fills ``region`` ((x0, y0), (x1, y1); default: the terrain's extent; on a terrain, the part of it on the
+    terrain) with ``color`` (JSON) on the Dask ``client``, writing the tile set into ``out`` whole or not at all
+    (see ``tile_set_folder``): an existing ``out`` is refused unless ``overwrite``, which replaces it. Returns the
+    manifest (also written as ``out/manifest.json``). Bad input raises ``InputError`` before anything is
+    written."""
+    check_seed(seed)
+    plan, _region = plan_world(color, region, terrain, tile, iterations)
+    with TileSetFolder(out, overwrite) as folder:
+        manifest = write_tiles(client, color, plan, folder.path, seed=seed, terrain=terrain, iterations=iterations,
+                               progress=progress)
+        folder.commit()
+    return manifest
+
+
+def write_tiles(client, color, plan, out, *, seed, terrain=None, iterations=None, progress=False):
+    """Runs ``plan``'s tiles on ``client`` as a task graph, each writing its file into the folder ``out``, then
+    writes the manifest there; returns it."""
     import dask.base
     from distributed import progress as progress_bar
 
-    if region is None:
-        if terrain is None:
-            raise ValueError("a world needs a region or a terrain whose extent it takes")
-        region = terrain.bbox()
-    (x0, y0), (x1, y1) = region
-    plan = _engine.world_plan(color, (x0, y0), (x1, y1), tile=tile)
-    os.makedirs(out, exist_ok=True)
+    (x0, y0), (x1, y1) = plan["min"], plan["max"]
     job = {"color": color, "plan": plan, "seed": int(seed), "iterations": iterations, "out": os.path.abspath(out)}
     token = dask.base.tokenize(color, plan, seed, iterations, job["out"])
     borders, summaries = {}, []
@@ -205,8 +166,8 @@ def fill_world(client, color, out, *, seed=0, region=None, terrain=None, tile=No
         summaries.append(client.submit(_summary, tile_future, key=f"worldpaint-summary-{key}"))
     del tile_future  # a tile's result is released once its border and summary are taken
     if progress:
-        progress_bar(summaries)
-        print(file=sys.stderr)
+        progress_bar(summaries)  # on stdout
+        print()
     tiles = sorted(client.gather(summaries), key=lambda s: (s["row"], s["column"]))
     del borders, summaries
     for name in os.listdir(out):
@@ -255,60 +216,240 @@ def peak_memory_mb(client):
     return peak(), sorted(client.run(peak).values())
 
 
+def probe_scheduler(address, seconds=CONNECT_SECONDS):
+    """The identity of the Dask scheduler at ``address`` (``distributed``'s own connection can wait forever on a
+    server that accepts and never answers); raises ``InputError`` unless a scheduler answers within ``seconds``."""
+    import asyncio
+
+    from distributed.core import rpc
+
+    async def identity():
+        remote = rpc(address, timeout=seconds)
+        try:
+            return await remote.identity()
+        finally:
+            await remote.close_rpc()
+
+    async def within():
+        return await asyncio.wait_for(identity(), seconds)
+
+    try:
+        answer = asyncio.run(within())
+    except (ValueError, TypeError) as e:
+        raise _engine.InputError(f"--scheduler {address}: not the address of a Dask scheduler ({e})") from None
+    except (TimeoutError, OSError) as e:
+        why = str(e).strip() or "no answer"
+        raise _engine.InputError(f"--scheduler {address}: no Dask scheduler answered within {seconds:g} s "
+                                 f"({why})") from None
+    if not isinstance(answer, dict) or answer.get("type") != "Scheduler":
+        kind = answer.get("type") if isinstance(answer, dict) else type(answer).__name__
+        raise _engine.InputError(f"--scheduler {address}: it is a Dask {kind}, not a scheduler")
+    return answer
+
+
 def start_client(scheduler=None, workers=None):
-    """A Dask client of the cluster at ``scheduler``, or of a new LocalCluster of ``workers`` processes (default:
-    one per core) that share the cores between them (the engine's own threads included)."""
+    """A Dask client of the cluster at ``scheduler`` (which must answer, and have a worker, within
+    ``CONNECT_SECONDS`` each), or of a new LocalCluster of ``workers`` processes (default: one per core) that share
+    the cores between them (the engine's own threads included)."""
+    # Dask's own log lines (a task cancelled by an interrupt, a worker restarted) would break the one-line report
+    # of a failure; the workers of a LocalCluster inherit the setting (a user's own is kept)
+    os.environ.setdefault("DASK_LOGGING__DISTRIBUTED", "error")
     from distributed import Client
 
     if scheduler:
-        return Client(scheduler)
+        probe_scheduler(scheduler)
+        client = Client(scheduler, timeout=CONNECT_SECONDS)
+        try:
+            client.wait_for_workers(1, timeout=CONNECT_SECONDS)
+        except (TimeoutError, OSError):
+            client.close()
+            raise _engine.InputError(f"--scheduler {scheduler}: the scheduler has no worker (waited "
+                                     f"{CONNECT_SECONDS:g} s)") from None
+        return client
     cores = os.cpu_count() or 1
     workers = workers or cores
+    if not 1 <= workers <= cores:
+        raise _engine.InputError(f"--workers {workers}: a LocalCluster runs 1 to {cores} workers on this machine's "
+                                 f"{cores} cores (a cluster of more: --scheduler)")
     # the workers inherit the environment: the engine's thread pool takes the worker's share of the cores
     os.environ["RAYON_NUM_THREADS"] = str(max(1, cores // workers))
     # a client that makes its cluster also shuts it down when it is closed
     return Client(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=":0")
 
 
-def main(argv=None):
-    p = argparse.ArgumentParser(prog="python -m worldpaint_engine.world", description=__doc__.split("\n\n")[0],
-                                formatter_class=argparse.RawDescriptionHelpFormatter)
+# ---- the command line: every argument checked where it enters, every failure one line on stderr ----
+
+def finite(text):
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+    if not math.isfinite(value):
+        raise argparse.ArgumentTypeError(f"{text} is not a finite number")
+    return value
+
+
+def positive(text):
+    value = finite(text)
+    if value <= 0.0:
+        raise argparse.ArgumentTypeError(f"{text} must be greater than 0")
+    return value
+
+
+def iterations_per_instance(text):
+    value = positive(text)
+    limit = _engine.LIMITS["iterations_per_instance"]
+    if value > limit:
+        raise argparse.ArgumentTypeError(f"{text} is more than the engine's limit of {limit:,} proposals an instance")
+    return value
+
+
+def whole(text, low, high):
+    try:
+        value = int(text, 10)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number") from None
+    if not low <= value <= high:
+        raise argparse.ArgumentTypeError(f"{text} must be from {low} to {high}")
+    return value
+
+
+def seed(text):
+    return whole(text, 0, MAX_SEED)
+
+
+def worker_count(text):
+    cores = os.cpu_count() or 1
+    try:
+        return whole(text, 1, cores)
+    except argparse.ArgumentTypeError as e:
+        raise argparse.ArgumentTypeError(f"{e} (a LocalCluster runs at most one worker per core of this machine; "
+                                         f"a cluster of more: --scheduler)") from None
+
+
+def address(text):
+    if not text.strip():
+        raise argparse.ArgumentTypeError("an empty address; give one such as tcp://10.0.0.1:8786")
+    return text.strip()
+
+
+class Parser(argparse.ArgumentParser):
+    """argparse with its errors on one line (its usage is in --help)."""
+
+    def error(self, message):
+        self.exit(2, f"{self.prog}: error: {message} (see --help)\n")
+
+
+def parser():
+    p = Parser(prog=PROG, description=__doc__.split("\n\n")[0], formatter_class=argparse.RawDescriptionHelpFormatter,
+               allow_abbrev=False)
     p.add_argument("--palette", required=True, help="a palette JSON file (the add-on's Export Palette)")
     p.add_argument("--color", help="the palette's color to paint (default: its only one)")
     p.add_argument("--terrain", help="heightmap: .asc, .npy (with --cell) or .blend (with --object)")
-    p.add_argument("--cell", type=float, help="sample spacing of a .npy heightmap (m)")
-    p.add_argument("--origin", type=float, nargs=2, default=(0.0, 0.0), metavar=("X", "Y"),
-                   help="world XY of a .npy heightmap's first sample")
+    p.add_argument("--cell", type=positive, help="sample spacing of a .npy heightmap (m)")
+    p.add_argument("--origin", type=finite, nargs=2, metavar=("X", "Y"),
+                   help="world XY of a .npy heightmap's first sample (default: 0 0)")
     p.add_argument("--object", help="the terrain's object in a .blend")
-    p.add_argument("--region", type=float, nargs=4, metavar=("X0", "Y0", "X1", "Y1"),
-                   help="the rectangle to fill (default: the terrain's extent)")
-    p.add_argument("--seed", type=int, default=0)
-    p.add_argument("--tile", type=float, help="tile side (m; default: about 100,000 instances a tile)")
-    p.add_argument("--iterations", type=float, help="chain iterations per instance (default: the engine's)")
-    p.add_argument("--out", required=True, help="the folder the tile set is written to")
+    p.add_argument("--region", type=finite, nargs=4, metavar=("X0", "Y0", "X1", "Y1"),
+                   help="the rectangle to fill (default: the terrain's extent; on a terrain, only its part on the "
+                        "terrain is filled)")
+    p.add_argument("--seed", type=seed, default=0, help="0 or more (default 0): the same seed gives the same bytes")
+    p.add_argument("--tile", type=positive,
+                   help="tile side (m), at least the color's region of influence (default: about 100,000 instances "
+                        "a tile)")
+    p.add_argument("--iterations", type=iterations_per_instance,
+                   help="chain proposals per instance, > 0 (default: the engine's, 40)")
+    p.add_argument("--out", required=True, help="the folder the tile set is written to (made whole at the end)")
+    p.add_argument("--overwrite", action="store_true",
+                   help="replace an existing tile set (or empty folder) at --out; without it, one is refused")
     where = p.add_mutually_exclusive_group()
-    where.add_argument("--workers", type=int, help="worker processes of a LocalCluster (default: one per core)")
-    where.add_argument("--scheduler", help="address of a running Dask scheduler, e.g. tcp://10.0.0.1:8786")
+    where.add_argument("--workers", type=worker_count,
+                       help="worker processes of a LocalCluster (default: one per core)")
+    where.add_argument("--scheduler", type=address,
+                       help="address of a running Dask scheduler, e.g. tcp://10.0.0.1:8786 (it must answer within "
+                            f"{CONNECT_SECONDS:g} s)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
-    args = p.parse_args(argv)
+    return p
+
+
+def read_color(path, name):
     try:
-        with open(args.palette, encoding="utf-8") as f:
-            color = color_by_name(f.read(), args.color)
-        terrain = None
-        if args.terrain:
-            terrain = load_terrain(args.terrain, cell=args.cell, origin=args.origin, object_name=args.object)
-        region = None if args.region is None else (tuple(args.region[:2]), tuple(args.region[2:]))
-    except (OSError, ValueError) as e:
-        p.error(str(e))
-    client = start_client(args.scheduler, args.workers)
+        with open(path, encoding="utf-8") as f:
+            text = f.read()
+    except (OSError, UnicodeDecodeError) as e:
+        raise _engine.InputError(f"--palette {path}: cannot read it ({getattr(e, 'strerror', None) or e})") from None
     try:
-        t0 = time.perf_counter()
-        manifest = fill_world(client, color, args.out, seed=args.seed, region=region, terrain=terrain,
-                              tile=args.tile, iterations=args.iterations, progress=not args.quiet)
-        seconds = time.perf_counter() - t0
-        here, workers = peak_memory_mb(client)
-    finally:
-        client.close()
+        return color_by_name(text, name)
+    except ValueError as e:
+        raise type(e)(f"--palette {path}: {e}") from None
+
+
+def read_terrain(args):
+    if args.terrain is None:
+        for option, value in (("--cell", args.cell), ("--origin", args.origin), ("--object", args.object)):
+            if value is not None:
+                raise _engine.InputError(f"{option} describes a --terrain, and none is given")
+        return None
+    try:
+        return load_terrain(args.terrain, cell=args.cell, origin=args.origin, object_name=args.object)
+    except OSError as e:
+        raise _engine.InputError(f"--terrain {args.terrain}: cannot read it ({e.strerror or e})") from None
+
+
+def plan_line(color, plan, region, asked, out):
+    """What the run will make, said before it starts."""
+    density = sum(c["density"] for c in _engine.color_summary(color)["categories"])
+    (x0, y0), (x1, y1) = region
+    cut = ""
+    if asked is not None and tuple(map(tuple, asked)) != tuple(map(tuple, region)):
+        cut = " (the part of --region on the terrain)"
+    return (f"filling {x0:g} {y0:g} {x1:g} {y1:g}{cut}: {plan['columns']} x {plan['rows']} tiles of "
+            f"{plan['tile']:g} m, about {density * (x1 - x0) * (y1 - y0):,.0f} instances, into {out}")
+
+
+def one_line(error):
+    return " ".join(str(error).split()) or type(error).__name__
+
+
+def interrupt(signum, frame):
+    raise KeyboardInterrupt
+
+
+def main(argv=None):
+    args = parser().parse_args(argv)
+    # a terminated run is cleaned up like an interrupted one
+    signal.signal(signal.SIGTERM, interrupt)
+    # the waits an interrupted gather leaves behind would each log a traceback: the one line below says it all
+    logging.getLogger("asyncio").setLevel(logging.CRITICAL)
+    started = False
+    try:
+        color = read_color(args.palette, args.color)
+        terrain = read_terrain(args)
+        asked = None if args.region is None else (tuple(args.region[:2]), tuple(args.region[2:]))
+        plan, region = plan_world(color, asked, terrain, args.tile, args.iterations)
+        with TileSetFolder(args.out, args.overwrite) as folder:
+            print(plan_line(color, plan, region, asked, args.out), flush=True)
+            client = start_client(args.scheduler, args.workers)
+            started = True
+            try:
+                t0 = time.perf_counter()
+                manifest = write_tiles(client, color, plan, folder.path, seed=args.seed, terrain=terrain,
+                                       iterations=args.iterations, progress=not args.quiet)
+                seconds = time.perf_counter() - t0
+                here, workers = peak_memory_mb(client)
+            finally:
+                client.close()
+            folder.commit()
+    except KeyboardInterrupt:
+        print(f"{PROG}: interrupted; {args.out} was left as it was", file=sys.stderr)
+        return 130
+    except (_engine.WorldPaintError, ValueError, OSError) as e:
+        print(f"{PROG}: error: {one_line(e)}", file=sys.stderr)
+        return 1 if started else 2
+    except Exception as e:  # noqa: BLE001 (a failure inside Dask or a worker: still one line, and nothing left)
+        print(f"{PROG}: error: {'the run failed' if started else 'internal error'}: {type(e).__name__}: "
+              f"{one_line(e)}", file=sys.stderr)
+        return 1 if started else 3
     size = sum(os.path.getsize(os.path.join(args.out, t["file"])) for t in manifest["tiles"])
     n = manifest["instances"]
     print(f"{n:,} instances in {len(manifest['tiles'])} tiles ({manifest['columns']} x {manifest['rows']} of "
