@@ -594,6 +594,34 @@ def probability_not_a_number():
     return lambda: bpy.ops.worldpaint.generate_variants(object=tree.name, probability=float("nan"))
 
 
+def panel_probability_not_a_number():
+    tree = decomposed_tree()
+    tree.worldpaint_variety.texture_probability = float("nan")  # Blender's min and max do not stop a NaN
+    return lambda: bpy.ops.worldpaint.generate_variants(object=tree.name)
+
+
+def slope_forest():
+    """The slope exemplar learned as the active color "Slope forest", nothing selected."""
+    _, examples, _ = slope_exemplar()
+    select_only(examples)
+    assert bpy.ops.worldpaint.learn_color(name="Slope forest", **EXEMPLAR) == {'FINISHED'}
+    select_only([])
+
+
+def paste_with(**numbers):
+    def setup():
+        slope_forest()
+        return lambda: bpy.ops.worldpaint.paste_color(seed=1, **{**ELSEWHERE, **numbers})
+    return setup
+
+
+def pipette_of_radius(radius):
+    def setup():
+        slope_forest()
+        return lambda: bpy.ops.worldpaint.pipette(location=(50.0, 50.0, 0.0), radius=radius)
+    return setup
+
+
 REFUSED = [
     ("cut along a path with a NaN point", cut_with_a_nan_point,
      r"The path 'Cut' has a point at \(nan, nan, nan\) \(point 3\): a cut's points must be finite numbers"),
@@ -618,12 +646,28 @@ REFUSED = [
     ("a root that is no label", root_that_is_no_label,
      r"Root 99 is not the label of a component of 'Column tree' \(its labels: 0, 1, 2\)"),
     ("a texture probability that is not a number", probability_not_a_number,
+     r"Texture Probability must be a finite number, got nan"),
+    ("a texture probability of the panel that is not a number", panel_probability_not_a_number,
      r"Texture Probability must be between 0 and 1, got nan"),
 ]
 
+# numbers given to an operator: Blender's min and max let a NaN through and store an infinity as 3.4e38
+NOT_FINITE = [
+    ("an influence that is not a number", paste_with(influence_radius=float("nan")),
+     r"Influence must be a finite number, got nan"),
+    ("a time limit that is not a number", paste_with(time_limit=float("nan")),
+     r"Time Limit must be a finite number, got nan"),
+    ("a circle of infinite radius", paste_with(region_mode='CIRCLE', circle_center=(50.0, 150.0),
+                                               circle_radius=float("inf")),
+     r"Circle Radius must be a finite number, got inf"),
+    ("a pipette radius that is not a number", pipette_of_radius(float("nan")),
+     r"Radius must be a finite number, got nan"),
+]
 
-@pytest.mark.parametrize(("setup", "message"), [case[1:] for case in REFUSED], ids=[case[0] for case in REFUSED])
-def test_a_bad_input_to_variety_is_refused_in_time_naming_it_and_the_scene_is_unchanged(setup, message):
+
+@pytest.mark.parametrize(("setup", "message"), [case[1:] for case in REFUSED + NOT_FINITE],
+                         ids=[case[0] for case in REFUSED + NOT_FINITE])
+def test_a_bad_input_is_refused_in_time_naming_it_and_the_scene_is_unchanged(setup, message):
     run = setup()
     before = scene_hash()
     start = time.perf_counter()

@@ -90,9 +90,33 @@ class RegionSynthesisProperties(RegionProperties, SynthesisProperties, TerrainPr
     """The properties of an operator that synthesizes in a region of the terrain."""
 
 
+FLOAT_MAX = 3.4e38  # Blender stores an infinity typed in a float field as the largest float, 3.4028e38
+
+
+def number_text(value):
+    return "nan" if value != value else f"{'-' if value < 0 else ''}inf" if abs(value) >= FLOAT_MAX else f"{value:g}"
+
+
+def check_numbers(operator):
+    """Refuses a float property of ``operator`` that is not a finite number, naming it: Blender's min and max let a
+    NaN through, and store an infinity as the largest float."""
+    given = operator.properties
+    for prop in given.bl_rna.properties:
+        if prop.type != 'FLOAT':
+            continue
+        value = getattr(given, prop.identifier)
+        values = list(value) if prop.is_array else [value]
+        if not all(abs(v) < FLOAT_MAX for v in values):  # false for a NaN too
+            shown = ", ".join(number_text(v) for v in values)
+            raise WorldPaintError(f"{prop.name} must be {'finite numbers' if prop.is_array else 'a finite number'}, "
+                                  f"got {f'({shown})' if prop.is_array else shown}")
+
+
 def report_errors(operator, action):
-    """Runs ``action`` (which changes nothing before it has validated everything); errors become UI reports."""
+    """Runs ``action`` (which changes nothing before it has validated everything) once the operator's numbers are
+    checked; errors become UI reports."""
     try:
+        check_numbers(operator)
         return action()
     except WorldPaintError as exc:
         operator.report({'ERROR'}, str(exc))
