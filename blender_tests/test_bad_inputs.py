@@ -473,7 +473,8 @@ def test_a_stretch_far_past_the_terrain_keeps_the_count_of_the_terrain(capfd, co
     assert abs(ratio - 1.0) <= 0.1, f"the stretched band on the terrain holds {ratio:.2f} of the color's density"
 
 
-# --- model variety, the built-in prototypes, scene maps and the learn matrix: every bad input answered in time -----
+# --- model variety, the built-in prototypes, scene maps, the learn matrix and operator numbers: every bad input
+# answered in time, naming what was given, the scene unchanged (one block, apart from the other surfaces' cases) ---
 
 def set_values(value):
     """A custom property's value with the settings groups in it read as dicts, leaving out those never set (Blender
