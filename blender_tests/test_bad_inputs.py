@@ -649,7 +649,7 @@ REFUSED = [
     ("a texture probability that is not a number", probability_not_a_number,
      r"Texture Probability must be a finite number, got nan"),
     ("a texture probability of the panel that is not a number", panel_probability_not_a_number,
-     r"Texture Probability must be between 0 and 1, got nan"),
+     r"Texture Probability in the panel must be a finite number, got nan"),
 ]
 
 # numbers given to an operator: Blender's min and max let a NaN through and store an infinity as 3.4e38

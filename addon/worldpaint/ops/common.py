@@ -53,9 +53,23 @@ class RegionProperties:
         }
 
 
+FLOAT_MAX = 3.4e38  # Blender stores an infinity typed in a float field as the largest float, 3.4028e38
+
+
+def number_text(value):
+    """A number for a message: "nan", "inf" for what Blender stores of an infinity, else as it is."""
+    return "nan" if value != value else f"{'-' if value < 0 else ''}inf" if abs(value) >= FLOAT_MAX else f"{value:g}"
+
+
 def setting(operator, name, default):
-    """The operator's property when it was given, else ``default`` (the panel's setting)."""
-    return getattr(operator, name) if operator.properties.is_property_set(name) else default
+    """The operator's property when it was given, else ``default`` (the panel's setting), which must be finite when
+    it is a number (a script can store a NaN there: Blender's min and max do not stop it)."""
+    if operator.properties.is_property_set(name):
+        return getattr(operator, name)
+    if isinstance(default, float) and not abs(default) < FLOAT_MAX:
+        label = operator.properties.bl_rna.properties[name].name
+        raise WorldPaintError(f"{label} in the panel must be a finite number, got {number_text(default)}")
+    return default
 
 
 class SynthesisProperties:
@@ -88,13 +102,6 @@ class TerrainProperty:
 
 class RegionSynthesisProperties(RegionProperties, SynthesisProperties, TerrainProperty):
     """The properties of an operator that synthesizes in a region of the terrain."""
-
-
-FLOAT_MAX = 3.4e38  # Blender stores an infinity typed in a float field as the largest float, 3.4028e38
-
-
-def number_text(value):
-    return "nan" if value != value else f"{'-' if value < 0 else ''}inf" if abs(value) >= FLOAT_MAX else f"{value:g}"
 
 
 def check_numbers(operator):

@@ -200,8 +200,6 @@ class WORLDPAINT_OT_generate_variants(BackgroundOperator, bpy.types.Operator):
             self._texture = variety_texture.texture_inputs(obj, self._model)
             self._edit_names = [image.name for image in self._texture[2]]
         self._probability = setting(self, "probability", settings.texture_probability)
-        if not 0.0 <= self._probability <= 1.0:
-            raise WorldPaintError(f"Texture Probability must be between 0 and 1, got {self._probability}")
 
     def _compute(self, progress):
         try:
