@@ -27,8 +27,10 @@ WHEEL_DIR := build/wheels
 
 .PHONY: venv venvs wheel engine test test-rust test-blender lint demo bench extension clean
 
-# The 4.5 venv also builds the wheel (maturin, zig) and lints.
-BUILD_TOOLS := "maturin>=1.5,<2" ziglang ruff
+# The 4.5 venv also builds the wheel (maturin, zig) and lints (ruff; mypy, which `lint` also adds to a venv made
+# before it was listed here).
+MYPY := "mypy>=1.15,<2"
+BUILD_TOOLS := "maturin>=1.5,<2" ziglang ruff $(MYPY)
 
 # One Blender's environment: bpy and pytest (the engine wheel is installed into it by test-blender).
 define blender_venv
@@ -60,6 +62,8 @@ lint: venv
 	RUSTDOCFLAGS="-D rustdoc::broken_intra_doc_links -D rustdoc::private_intra_doc_links" \
 		cargo doc --no-deps --quiet -p worldpaint-core -p worldpaint-py
 	$(VENV)/bin/ruff check addon blender_tests assets rust/worldpaint-py/python
+	@test -x $(VENV)/bin/mypy || $(PY) -m pip install --quiet $(MYPY)
+	$(VENV)/bin/mypy
 
 # The tests that measure against real data are ignored by default (they say why); they run here where the data is.
 REAL_DATA := ../shared/data/real

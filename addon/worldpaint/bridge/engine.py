@@ -10,46 +10,117 @@ loads without the wheel and says so when it is needed.
 
 Long computations take ``progress``: a callable ``progress(fraction)`` or ``progress(fraction, stage)`` returning
 False to cancel; the engine gives a stage's name to a callable that takes the second argument.
+
+The compiled module's types (its functions, and the dicts it takes and returns) are in its stub,
+``worldpaint_engine/_engine.pyi``; a type checker reads ``_lib`` below as that module, so every call here is checked
+against it.
 """
 
+from __future__ import annotations
+
 import json
+import os
+from collections.abc import Iterable, Sequence
 from dataclasses import asdict, dataclass, replace
-from typing import NamedTuple
+from typing import TYPE_CHECKING, Any, Literal, NamedTuple, TypedDict, TypeVar
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from . import WorldPaintError as AddonError
+
+if TYPE_CHECKING:
+    from typing import Unpack
+
+    import worldpaint_engine._engine as _lib
+
+    # the engine's exceptions are reachable as this module's own (``__getattr__`` looks them up when the add-on runs)
+    from worldpaint_engine._engine import (  # noqa: F401
+        AnalysisOptions,
+        ArrangementChanges,
+        Camera,
+        Cancelled,
+        CategoryInput,
+        DecompositionDict,
+        EditDict,
+        FidelityDict,
+        FileFormatError,
+        GradientShape,
+        InputError,
+        InterestSetting,
+        InternalError,
+        LatticeDict,
+        Model,
+        NothingToLearn,
+        PatternFidelityDict,
+        PatternGuides,
+        Progress,
+        Region,
+        Scene,
+        SceneColumns,
+        SceneStructures,
+        SketchSecondsDict,
+        Terrain,
+        TextureVarietyDict,
+        VariantsDict,
+        VillageDict,
+        VillageSetting,
+        WaterfallController,
+        WaterfallDict,
+        WaterfallOptions,
+        WorldPaintError,
+    )
+    from worldpaint_engine._engine import Stroke as StrokeHandle
+
+T = TypeVar("T")
 
 ENGINE_ERRORS = ("WorldPaintError", "InputError", "FileFormatError", "NothingToLearn", "Cancelled", "InternalError")
 
 
-def _engine():
-    """The engine module; a clear error when the wheel is missing."""
+def _engine_module() -> Any:
+    """The compiled engine module; a clear error when the wheel is missing."""
     try:
-        import worldpaint_engine
+        from worldpaint_engine import _engine
     except ImportError as exc:  # pragma: no cover - only without the bundled wheel
         raise AddonError(f"The WorldPaint engine is not installed ({exc})") from exc
-    return worldpaint_engine
+    return _engine
 
 
-def __getattr__(name):
-    if name in ENGINE_ERRORS:
-        return getattr(_engine(), name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+if not TYPE_CHECKING:
+    class _Engine:
+        """The compiled module, imported when first used: the add-on loads without the wheel and says so when it is
+        needed."""
+
+        def __getattr__(self, name: str) -> Any:
+            return getattr(_engine_module(), name)
+
+    _lib = _Engine()
+
+    def __getattr__(name: str) -> Any:
+        if name in ENGINE_ERRORS:
+            return getattr(_lib, name)
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
-def engine_error():
+def engine_error() -> type[WorldPaintError]:
     """The base class of every exception the engine raises (``Cancelled``, ``InputError`` and the rest)."""
-    return _engine().WorldPaintError
+    return _lib.WorldPaintError
 
 
-def is_cancelled(exc):
-    return isinstance(exc, _engine().Cancelled)
+def is_cancelled(exc: BaseException) -> bool:
+    return isinstance(exc, _lib.Cancelled)
+
+
+def _pair_of(values: Sequence[T]) -> tuple[T, T]:
+    """A pair as a tuple, as the engine takes pairs."""
+    a, b = values
+    return a, b
 
 
 # --- what the engine returns --------------------------------------------------------------------------------------
 
-class Category(NamedTuple):
+@dataclass(frozen=True)
+class Category:
     """A category as a color knows it: what it is and how much of it the example held."""
 
     name: str
@@ -60,7 +131,7 @@ class Category(NamedTuple):
     density: float = 0.0
     min_distance: float = 0.0
 
-    def as_input(self):
+    def as_input(self) -> CategoryInput:
         """The category as the engine's Scene takes it."""
         return {"name": self.name, "layer": self.layer, "kind": self.kind, "priority": self.priority}
 
@@ -78,37 +149,37 @@ class ColorSummary:
     """What a color (its JSON) holds: its categories, its interactions and the preview of its example."""
 
     name: str
-    categories: tuple
-    pairs: tuple
-    maps: tuple
-    preview: np.ndarray  # (N, 3): x, y from the example's corner, category index
-    preview_size: tuple
-    region: dict  # the example's region, as the engine's region dict
+    categories: tuple[Category, ...]
+    pairs: tuple[Interaction, ...]
+    maps: tuple[Interaction, ...]
+    preview: NDArray[np.float64]  # (N, 3): x, y from the example's corner, category index
+    preview_size: tuple[float, float]
+    region: Region  # the example's region, as the engine's region dict
     # {road, river or coast category: the shortest edge the color makes of it (m)}
-    shortest_edges: dict
+    shortest_edges: dict[str, float]
 
     @property
-    def category_names(self):
+    def category_names(self) -> list[str]:
         return [c.name for c in self.categories]
 
     @property
-    def interactions(self):
+    def interactions(self) -> tuple[Interaction, ...]:
         return self.pairs + self.maps
 
 
 class Polyline(NamedTuple):
     """A line on the terrain: XY points (N, 2) and their heights (N,), NaN off the terrain."""
 
-    points: np.ndarray
-    heights: np.ndarray
+    points: NDArray[np.float64]
+    heights: NDArray[np.float64]
 
 
 class Line(NamedTuple):
     """A path or contour of an edit: its category (an index into the edit's categories), points and heights."""
 
     category: int
-    points: np.ndarray
-    heights: np.ndarray
+    points: NDArray[np.float64]
+    heights: NDArray[np.float64]
 
 
 @dataclass(frozen=True)
@@ -117,25 +188,25 @@ class Edit:
     or NaN, rotation, scale, category index, prototype, tint), and the paths and contours removed (indices) and
     added."""
 
-    category_names: tuple
-    removed: np.ndarray
-    positions: np.ndarray
-    heights: np.ndarray
-    rotations: np.ndarray
-    scales: np.ndarray
-    category_index: np.ndarray
-    prototype: np.ndarray
-    tints: np.ndarray
-    removed_paths: np.ndarray
-    removed_contours: np.ndarray
-    added_paths: tuple
-    added_contours: tuple
+    category_names: tuple[str, ...]
+    removed: NDArray[np.int64]
+    positions: NDArray[np.float64]
+    heights: NDArray[np.float64]
+    rotations: NDArray[np.float64]
+    scales: NDArray[np.float64]
+    category_index: NDArray[np.int32]
+    prototype: NDArray[np.int32]
+    tints: NDArray[np.float32]
+    removed_paths: NDArray[np.int64]
+    removed_contours: NDArray[np.int64]
+    added_paths: tuple[Line, ...]
+    added_contours: tuple[Line, ...]
     # {map name: share of the painted region where it read values the color's example never showed}
-    unseen_maps: dict
+    unseen_maps: dict[str, float]
 
     @classmethod
-    def of(cls, d):
-        def lines(key):
+    def of(cls, d: EditDict) -> Edit:
+        def lines(key: Literal["added_paths", "added_contours"]) -> tuple[Line, ...]:
             return tuple(Line(int(line["category"]), line["points"], line["heights"]) for line in d[key])
 
         return cls(
@@ -155,26 +226,26 @@ class Edit:
             unseen_maps=dict(d.get("unseen_maps", {})),
         )
 
-    def restricted(self, allowed):
+    def restricted(self, allowed: ArrayLike) -> Edit:
         """This edit without the instances, paths and contours it adds of the categories ``allowed`` (one bool per
         category name) rules out; what it removes stays."""
-        allowed = np.asarray(allowed, dtype=bool)
-        keep = allowed[self.category_index] if len(self.category_index) else np.zeros(0, dtype=bool)
+        by_category = np.asarray(allowed, dtype=bool)
+        keep = by_category[self.category_index] if len(self.category_index) else np.zeros(0, dtype=bool)
         columns = {name: getattr(self, name)[keep] for name in ("positions", "heights", "rotations", "scales",
                                                                   "category_index", "prototype", "tints")}
         return replace(
             self, **columns,
-            added_paths=tuple(line for line in self.added_paths if allowed[line.category]),
-            added_contours=tuple(line for line in self.added_contours if allowed[line.category]),
+            added_paths=tuple(line for line in self.added_paths if by_category[line.category]),
+            added_contours=tuple(line for line in self.added_contours if by_category[line.category]),
         )
 
-    def painted_categories(self):
+    def painted_categories(self) -> set[str]:
         """The names of the categories this edit added instances, paths or contours of."""
         names = {self.category_names[i] for i in np.unique(self.category_index)}
         return names | {self.category_names[line.category] for line in self.added_paths + self.added_contours}
 
 
-def fidelity_line(max_rdf_l2, density_factor):
+def fidelity_line(max_rdf_l2: float, density_factor: float) -> str:
     """The one-line figure of a color's fidelity: its worst pcf L2 against the example and its density factor."""
     return f"pcf L2 {max_rdf_l2:.2f} against the example (density ×{density_factor:.2f})"
 
@@ -184,21 +255,21 @@ class Fidelity:
     """How close what a color painted is to its example: per category the density ratio (painted / example), per
     pair of categories the L2 distance between their pair-correlation functions (rdf), and the worst of these."""
 
-    density_ratio: dict
-    rdf_l2: tuple  # (category, other, l2)
+    density_ratio: dict[str, float]
+    rdf_l2: tuple[tuple[str, str, float], ...]  # (category, other, l2)
     max_rdf_l2: float
 
     @classmethod
-    def of(cls, d):
+    def of(cls, d: FidelityDict) -> Fidelity:
         return cls(density_ratio=dict(d["density_ratio"]), rdf_l2=tuple((a, b, float(v)) for a, b, v in d["rdf_l2"]),
                    max_rdf_l2=float(d["max_rdf_l2"]))
 
     @property
-    def density_factor(self):
+    def density_factor(self) -> float:
         """The density ratio farthest from 1 (1 when the color has no category)."""
         return max(self.density_ratio.values(), key=lambda r: abs(r - 1.0), default=1.0)
 
-    def line(self):
+    def line(self) -> str:
         return fidelity_line(self.max_rdf_l2, self.density_factor)
 
 
@@ -209,7 +280,7 @@ class FidelityView:
     ends of its axes (``max_slope_degrees`` None without a slope panel)."""
 
     fidelity: Fidelity
-    image: np.ndarray
+    image: NDArray[np.uint8]
     max_distance: float
     max_pcf: float
     max_slope_degrees: float | None
@@ -228,11 +299,11 @@ class PatternFidelity:
     count_ratio: float
 
     @classmethod
-    def of(cls, d):
+    def of(cls, d: PatternFidelityDict) -> PatternFidelity:
         return cls(ring_share=float(d["ring_share"]), reference_ring_share=float(d["reference_ring_share"]),
                    interior=int(d["interior"]), elements=int(d["elements"]), count_ratio=float(d["count_ratio"]))
 
-    def line(self):
+    def line(self) -> str:
         return (f"neighbour rings as the reference's for {self.ring_share:.0%} of {self.interior} interior elements "
                 f"(the reference's own {self.reference_ring_share:.0%}); {self.elements} elements, "
                 f"×{self.count_ratio:.2f} the reference's density")
@@ -268,25 +339,25 @@ class Stretched:
     off the terrain (not moved)."""
 
     edit: Edit
-    region_min: tuple
-    region_max: tuple
+    region_min: tuple[float, float]
+    region_max: tuple[float, float]
     pushed_off: int
 
 
 class Stroke:
     """A brush or eraser stroke on a scene; ``follow`` may run on a worker thread while ``edit`` is read."""
 
-    def __init__(self, handle):
+    def __init__(self, handle: StrokeHandle) -> None:
         self._handle = handle
 
-    def follow(self, path, progress=None):
+    def follow(self, path: ArrayLike, progress: Progress | None = None) -> int:
         """Moves the brush along float64 (N, 2) points; returns the number of dabs."""
         return self._handle.follow(np.ascontiguousarray(path, dtype=np.float64), progress=progress)
 
-    def dab_count(self):
+    def dab_count(self) -> int:
         return len(self._handle.dabs())
 
-    def edit(self):
+    def edit(self) -> Edit:
         return Edit.of(self._handle.edit())
 
 
@@ -294,9 +365,9 @@ class Stroke:
 class FilledPolygons:
     """The triangulated inside of polygons: vertices XY (N, 2), their heights (N,) and triangles (M, 3)."""
 
-    vertices: np.ndarray
-    heights: np.ndarray
-    triangles: np.ndarray
+    vertices: NDArray[np.float64]
+    heights: NDArray[np.float64]
+    triangles: NDArray[np.int32]
 
 
 @dataclass(frozen=True)
@@ -304,8 +375,8 @@ class Encyclopedia:
     """A building encyclopedia: its JSON text (None: the shipped one) and the types it defines."""
 
     text: str | None
-    village_types: list
-    buildings: list
+    village_types: list[str]
+    buildings: list[str]
 
 
 @dataclass(frozen=True)
@@ -315,17 +386,17 @@ class VillageReport:
     requested: int
     seeded: int
     fallbacks: int
-    unplaced: list
+    unplaced: list[str]
     unreachable: int
     without_access: int
     without_footprint: int
     roads_over_max_grade: int
     cycles: int
-    seconds: list
+    seconds: list[float]
     road_width: float
     max_grade: float
 
-    def as_dict(self):
+    def as_dict(self) -> dict[str, Any]:
         return asdict(self)
 
 
@@ -335,10 +406,10 @@ class House:
     ``seed`` indexes the village's kept seeds and footprints."""
 
     seed: int
-    vertices: np.ndarray
-    loop_starts: np.ndarray
-    indices: np.ndarray
-    materials: np.ndarray
+    vertices: NDArray[np.float64]
+    loop_starts: NDArray[np.int32]
+    indices: NDArray[np.int32]
+    materials: NDArray[np.int32]
 
 
 @dataclass(frozen=True)
@@ -346,17 +417,17 @@ class VillageResult:
     """A generated village: new roads, parcels (N, 2), footprints (M, 4, 2) and houses per kept seed, the seeds'
     building and village types, the connections used, and the report."""
 
-    roads: tuple
-    parcels: tuple
-    footprints: np.ndarray
-    houses: tuple
-    seed_buildings: tuple
-    seed_village_types: tuple
-    connections: np.ndarray
+    roads: tuple[Polyline, ...]
+    parcels: tuple[NDArray[np.float64], ...]
+    footprints: NDArray[np.float64]
+    houses: tuple[House, ...]
+    seed_buildings: tuple[str, ...]
+    seed_village_types: tuple[str, ...]
+    connections: NDArray[np.float64]
     report: VillageReport
 
     @classmethod
-    def of(cls, d):
+    def of(cls, d: VillageDict) -> VillageResult:
         seeds = d["seeds"]
         return cls(
             roads=tuple(Polyline(r["points"], r["heights"]) for r in d["roads"]),
@@ -375,7 +446,7 @@ class VillageResult:
 class RoadEmbedding:
     """Roads cut into a terrain: the height change (N,) at the points asked about."""
 
-    displacement: np.ndarray
+    displacement: NDArray[np.float64]
 
 
 @dataclass(frozen=True)
@@ -383,14 +454,14 @@ class WaterMesh:
     """The water's integration mesh (world XYZ vertices, triangles) and its per-vertex attributes: speed, foam,
     rocks, disturbance and invalid (floats), and the part of the water each vertex belongs to."""
 
-    vertices: np.ndarray
-    triangles: np.ndarray
-    speed: np.ndarray
-    foam: np.ndarray
-    rocks: np.ndarray
-    disturbance: np.ndarray
-    invalid: np.ndarray
-    part: np.ndarray
+    vertices: NDArray[np.float64]
+    triangles: NDArray[np.uint32]
+    speed: NDArray[np.float64]
+    foam: NDArray[np.float64]
+    rocks: NDArray[np.float64]
+    disturbance: NDArray[np.float64]
+    invalid: NDArray[np.float64]
+    part: NDArray[np.int32]
 
 
 class WaterfallSegment(NamedTuple):
@@ -405,26 +476,26 @@ class WaterfallResult:
     whether water stands there; the water mesh; the classified segments; the river rocks (XYZ, rotation, scale,
     prototype); and the number of arcs of its hydraulic graph."""
 
-    displacement: np.ndarray
-    horizontal: np.ndarray
-    is_water: np.ndarray
+    displacement: NDArray[np.float64]
+    horizontal: NDArray[np.float64]
+    is_water: NDArray[np.bool_]
     water: WaterMesh
-    segments: tuple
-    rocks: np.ndarray
-    rock_rotation: np.ndarray
-    rock_scale: np.ndarray
-    rock_prototype: np.ndarray
+    segments: tuple[WaterfallSegment, ...]
+    rocks: NDArray[np.float64]
+    rock_rotation: NDArray[np.float64]
+    rock_scale: NDArray[np.float64]
+    rock_prototype: NDArray[np.int32]
     arcs: int
 
     @classmethod
-    def of(cls, d):
+    def of(cls, d: WaterfallDict) -> WaterfallResult:
         water = d["water"]
         return cls(
             displacement=d["displacement"],
             horizontal=d["horizontal"],
             is_water=d["is_water"],
-            water=WaterMesh(*(water[name] for name in ("vertices", "triangles", "speed", "foam", "rocks",
-                                                       "disturbance", "invalid", "part"))),
+            water=WaterMesh(water["vertices"], water["triangles"], water["speed"], water["foam"], water["rocks"],
+                            water["disturbance"], water["invalid"], water["part"]),
             segments=tuple(WaterfallSegment(s["type"], int(s["controller"]), bool(s["valid"]))
                            for s in d["segments"]),
             rocks=np.asarray(d["rocks"], dtype=np.float64).reshape(-1, 3),
@@ -437,20 +508,20 @@ class WaterfallResult:
 
 # --- terrain, scenes and regions ----------------------------------------------------------------------------------
 
-def terrain(vertices, triangles):
+def terrain(vertices: ArrayLike, triangles: ArrayLike) -> Terrain:
     """The engine's Terrain (a heightfield) of a world-space triangle mesh: vertices (N, 3), triangles (M, 3)."""
-    return _engine().Terrain(vertices, triangles)
+    return _lib.Terrain(vertices, triangles)
 
 
-def terrain_from_grid(origin, cell, heights):
+def terrain_from_grid(origin: Sequence[float], cell: float, heights: ArrayLike) -> Terrain:
     """The engine's Terrain of a regular grid of heights (ny, nx), sample (i, j) at ``origin`` + (i, j) * ``cell``."""
-    return _engine().Terrain.from_grid((float(origin[0]), float(origin[1])), float(cell),
+    return _lib.Terrain.from_grid((float(origin[0]), float(origin[1])), float(cell),
                                        np.ascontiguousarray(heights, dtype=np.float64))
 
 
-def scene(heightfield, instances, structures):
+def scene(heightfield: Terrain | None, instances: SceneColumns, structures: SceneStructures) -> Scene:
     """The engine's Scene of the instances (keyword arrays) and the paths and contours (keyword lists) on a terrain."""
-    return _engine().Scene(heightfield, **instances, **structures)
+    return _lib.Scene(heightfield, **instances, **structures)
 
 
 @dataclass
@@ -459,61 +530,63 @@ class WorldTile:
 
     column: int
     row: int
-    categories: list
-    positions: np.ndarray
-    heights: np.ndarray
-    rotations: np.ndarray
-    scales: np.ndarray
-    category_index: np.ndarray
-    prototype: np.ndarray
-    tints: np.ndarray
+    categories: list[str]
+    positions: NDArray[np.float64]
+    heights: NDArray[np.float64]
+    rotations: NDArray[np.float64]
+    scales: NDArray[np.float64]
+    category_index: NDArray[np.int32]
+    prototype: NDArray[np.int32]
+    tints: NDArray[np.float32]
 
 
-def world_manifest(folder):
+def world_manifest(folder: str) -> dict[str, Any]:
     """The manifest (a dict) of the tile set in ``folder``; ``ValueError`` when it is not one."""
-    _engine()
+    _engine_module()
     from worldpaint_engine import world
 
-    return world.read_manifest(folder)
+    manifest: dict[str, Any] = world.read_manifest(folder)
+    return manifest
 
 
-def read_world_tile(path):
+def read_world_tile(path: str | os.PathLike[str]) -> WorldTile:
     with open(path, "rb") as f:
-        d = _engine().read_world_tile(f.read())
+        d = _lib.read_world_tile(f.read())
     return WorldTile(d["column"], d["row"], list(d["categories"]), d["positions"], d["heights"], d["rotations"],
                      d["scales"], d["category_index"], d["prototype"], d["tints"])
 
 
-def region_bbox(region):
+def region_bbox(region: Region) -> tuple[tuple[float, float], tuple[float, float]]:
     """((xmin, ymin), (xmax, ymax)) of a region."""
-    return _engine().region_bbox(region)
+    return _lib.region_bbox(region)
 
 
-def region_contains(region, points):
+def region_contains(region: Region, points: ArrayLike) -> NDArray[np.bool_]:
     """bool (N,): which of the XY points (N, 2) lie inside the region."""
-    return _engine().region_contains(region, np.ascontiguousarray(points, dtype=np.float64))
+    return _lib.region_contains(region, np.ascontiguousarray(points, dtype=np.float64))
 
 
-def fill_polygons(contours, spacing, heightfield):
+def fill_polygons(contours: Iterable[ArrayLike], spacing: float, heightfield: Terrain | None) -> FilledPolygons:
     """The triangulated inside of closed XY contours, inner vertices about ``spacing`` apart, on the terrain."""
-    mesh = _engine().fill_polygons([np.ascontiguousarray(c, dtype=np.float64) for c in contours], spacing,
+    mesh = _lib.fill_polygons([np.ascontiguousarray(c, dtype=np.float64) for c in contours], spacing,
                                    heightfield)
     return FilledPolygons(mesh["vertices"], mesh["heights"], mesh["triangles"])
 
 
 # --- colors and palettes ------------------------------------------------------------------------------------------
 
-def learn_color(scene_handle, region, name, maps, oriented=None):
+def learn_color(scene_handle: Scene, region: Region, name: str, maps: Iterable[str],
+                oriented: Iterable[Sequence[str]] | None = None) -> str:
     """The color (JSON) of a scene's content inside ``region``, with the terrain ``maps`` and the ``oriented``
     pairs (category, other); raises ``NothingToLearn`` when the region holds nothing."""
-    options = {"maps": list(maps)}
+    options: AnalysisOptions = {"maps": list(maps)}
     if oriented is not None:
-        options["oriented"] = [tuple(pair) for pair in oriented]
-    return _engine().learn_color(scene_handle, region, name, options=options)
+        options["oriented"] = [_pair_of(pair) for pair in oriented]
+    return _lib.learn_color(scene_handle, region, name, options=options)
 
 
-def color_summary(color_json):
-    d = _engine().color_summary(color_json)
+def color_summary(color_json: str) -> ColorSummary:
+    d = _lib.color_summary(color_json)
     return ColorSummary(
         name=d["name"],
         categories=tuple(Category(c["name"], c["layer"], c["kind"], c["priority"], c["count"], c["density"],
@@ -521,41 +594,42 @@ def color_summary(color_json):
         pairs=tuple(Interaction(*p) for p in d["pairs"]),
         maps=tuple(Interaction(*m) for m in d["maps"]),
         preview=np.asarray(d["preview"], dtype=np.float64).reshape(-1, 3),
-        preview_size=tuple(d["preview_size"]),
+        preview_size=d["preview_size"],
         region=d["region"],
         shortest_edges=dict(d["shortest_edges"]),
     )
 
 
-def fidelity(color_json, heightfield, seed, width, height, progress=None):
+def fidelity(color_json: str, heightfield: Terrain | None, seed: int, width: int, height: int,
+             progress: Progress | None = None) -> FidelityView:
     """The fidelity view of a color: its self-synthesis with ``seed`` in its example region on ``heightfield`` (the
     terrain it was learned on; None: without terrain), compared with it and plotted ``width`` x ``height``."""
-    d = _engine().fidelity(color_json, heightfield, seed, width=width, height=height, progress=progress)
+    d = _lib.fidelity(color_json, heightfield, seed, width=width, height=height, progress=progress)
     return FidelityView(Fidelity.of(d), d["image"], float(d["max_distance"]), float(d["max_pcf"]),
                         d["max_slope_degrees"])
 
 
-def color_renamed(color_json, name):
-    return _engine().color_renamed(color_json, name)
+def color_renamed(color_json: str, name: str) -> str:
+    return _lib.color_renamed(color_json, name)
 
 
-def color_without_interactions(color_json, off):
+def color_without_interactions(color_json: str, off: Iterable[tuple[str, str]]) -> str:
     """The color with the interactions (category, other) in ``off`` switched off."""
-    return _engine().color_without_interactions(color_json, sorted(off))
+    return _lib.color_without_interactions(color_json, sorted(off))
 
 
-def interpolate_colors(a_json, b_json, factor, name):
+def interpolate_colors(a_json: str, b_json: str, factor: float, name: str) -> str:
     """The color ``factor`` of the way from color a to color b (optimal transport of their statistics)."""
-    return _engine().interpolate_colors(a_json, b_json, factor, name)
+    return _lib.interpolate_colors(a_json, b_json, factor, name)
 
 
-def palette_to_json(colors):
-    return _engine().palette_to_json(list(colors))
+def palette_to_json(colors: Iterable[str]) -> str:
+    return _lib.palette_to_json(list(colors))
 
 
-def palette_from_json(text):
+def palette_from_json(text: str) -> list[str]:
     """The colors (JSON each) of a palette file's text; raises ``FileFormatError`` when it is not one."""
-    return list(_engine().palette_from_json(text))
+    return list(_lib.palette_from_json(text))
 
 
 # --- arrangements -------------------------------------------------------------------------------------------------
@@ -567,27 +641,27 @@ class ArrangementSummary:
     it was placed on when it is near-regular ({"name", "spacing": its shortest step (m), "spread": how far the hand
     placed elements from it (m, root mean square)}, else None)."""
 
-    positions: np.ndarray
-    symbols: tuple
-    edges: np.ndarray
-    boundary: tuple
+    positions: NDArray[np.float64]
+    symbols: tuple[int, ...]
+    edges: NDArray[np.int64]
+    boundary: tuple[bool, ...]
     rotation: str
     scale_noise: float
     rotation_noise: float
     color_noise: float
     relax_every: int
     flips: int
-    lattice: dict | None
+    lattice: LatticeDict | None
 
 
-def learn_arrangement(scene_handle, region, name):
+def learn_arrangement(scene_handle: Scene, region: Region, name: str) -> str:
     """The arrangement color (JSON) of the scene's arrangement elements inside ``region``."""
-    return _engine().learn_arrangement(scene_handle, region, name)
+    return _lib.learn_arrangement(scene_handle, region, name)
 
 
-def arrangement_summary(color_json):
+def arrangement_summary(color_json: str) -> ArrangementSummary | None:
     """The ``ArrangementSummary`` of a color, or None when it is a color of statistics."""
-    d = _engine().arrangement_summary(color_json)
+    d = _lib.arrangement_summary(color_json)
     if d is None:
         return None
     return ArrangementSummary(
@@ -598,54 +672,60 @@ def arrangement_summary(color_json):
     )
 
 
-def arrangement_edited(color_json, **changes):
+def arrangement_edited(color_json: str, **changes: Unpack[ArrangementChanges]) -> str:
     """The arrangement color with ``changes`` (rotation, scale_noise, rotation_noise, color_noise, relax_every,
     flip=(a, b))."""
-    return _engine().arrangement_edited(color_json, **changes)
+    return _lib.arrangement_edited(color_json, **changes)
 
 
 # --- model variety ------------------------------------------------------------------------------------------------
 
-def decompose_model(model, labels, root=None):
+def decompose_model(model: Model, labels: ArrayLike, root: int | None = None) -> DecompositionDict:
     """The components of a model (dict of mesh arrays) by a label per face: labels, face counts, connecting regions
     (a, b, vertex count), root, whether the graph is fully cyclic or tree-like, and each component's sub-mesh."""
-    return _engine().decompose_model(model, np.ascontiguousarray(labels, dtype=np.int64), root)
+    return _lib.decompose_model(model, np.ascontiguousarray(labels, dtype=np.int64), root)
 
 
-def generate_variants(model, labels, variants, count, seed, *, root=None, cycles=None, picks=None, names=None,
-                      variant_names=None, progress=None):
+def generate_variants(model: Model, labels: ArrayLike, variants: Sequence[Sequence[Model]], count: int, seed: int, *,
+                      root: int | None = None, cycles: Sequence[tuple[int, int]] | None = None,
+                      picks: Sequence[int] | None = None, names: Sequence[str] | None = None,
+                      variant_names: Sequence[Sequence[str]] | None = None,
+                      progress: Progress | None = None) -> VariantsDict:
     """``count`` variants assembled from the components' edited ``variants`` (per component a list of model dicts),
     or the one that ``picks`` (per component: 0 its original, k its k-th edit): their classes, #V (a string: the
     number of different models), the accepted models with their hashes, the rejections. ``names`` (per component)
     and ``variant_names`` (per component, per variant) are what the errors call the parts and their copies."""
-    return _engine().generate_variants(model, np.ascontiguousarray(labels, dtype=np.int64), variants, count, seed,
+    return _lib.generate_variants(model, np.ascontiguousarray(labels, dtype=np.int64), variants, count, seed,
                                        root=root, cycles=cycles, picks=picks, names=names,
                                        variant_names=variant_names, progress=progress)
 
 
-def texture_variety(model, base, edits, count, probability=0.5, seed=0, *, names=None):
+def texture_variety(model: Model, base: ArrayLike, edits: Iterable[ArrayLike], count: int, probability: float = 0.5,
+                    seed: int = 0, *, names: Sequence[str] | None = None) -> TextureVarietyDict:
     """Texture variety (seed §5): each edit (uint8 (H, W, 4), the size of ``base``) becomes a texture component over
     the model's UVs; the components packed into the fewest atlases (no two conflicting in one), and ``count``
     variants' picks with face locking: components (texels, face texels, faces), conflicts, atlas_of, atlases, exact,
     images (uint8 (H, W, 4)), chosen (per variant), face_atlas (int64 (count, F), -1: the base texture)."""
-    return _engine().texture_variety(model, np.ascontiguousarray(base, dtype=np.uint8),
+    return _lib.texture_variety(model, np.ascontiguousarray(base, dtype=np.uint8),
                                      [np.ascontiguousarray(e, dtype=np.uint8) for e in edits], count, probability,
                                      seed, names=names)
 
 
-def assign_variants(positions, fixed, count, window=50.0, seed=0):
+def assign_variants(positions: ArrayLike, fixed: ArrayLike, count: int, window: float = 50.0,
+                    seed: int = 0) -> NDArray[np.int64]:
     """int64 (N,): the variant of each XY position, ``fixed`` (-1: to choose) kept, the others the least used around."""
-    return _engine().assign_variants(np.ascontiguousarray(positions, dtype=np.float64),
+    return _lib.assign_variants(np.ascontiguousarray(positions, dtype=np.float64),
                                      np.ascontiguousarray(fixed, dtype=np.int64), count, window, seed)
 
 
 # --- painting tools -----------------------------------------------------------------------------------------------
 
-def paste(scene_handle, color, region, seed, influence_radius, progress=None, guides=None, only_categories=None,
-          iterations_per_instance=None):
+def paste(scene_handle: Scene, color: str, region: Region, seed: int, influence_radius: float | None,
+          progress: Progress | None = None, guides: PatternGuides | None = None,
+          only_categories: Sequence[str] | None = None, iterations_per_instance: float | None = None) -> Pasted:
     """Paints ``color`` into ``region`` (only its ``only_categories`` when given); ``guides`` ({"start",
     "boundaries", "flow"}) steer an arrangement color."""
-    d = _engine().paste(scene_handle, color=color, region=region, seed=seed, influence_radius=influence_radius,
+    d = _lib.paste(scene_handle, color=color, region=region, seed=seed, influence_radius=influence_radius,
                         progress=progress, guides=guides, only_categories=only_categories,
                         iterations_per_instance=iterations_per_instance)
     fidelity, pattern = d.get("fidelity"), d.get("pattern")
@@ -653,95 +733,113 @@ def paste(scene_handle, color, region, seed, influence_radius, progress=None, gu
                   None if pattern is None else PatternFidelity.of(pattern))
 
 
-def clear_region(scene_handle, region, category=None):
-    return Edit.of(_engine().clear_region(scene_handle, region, category=category))
+def clear_region(scene_handle: Scene, region: Region, category: str | None = None) -> Edit:
+    return Edit.of(_lib.clear_region(scene_handle, region, category=category))
 
 
-def blur(scene_handle, region, windows, cells, seed, influence_radius, progress=None):
-    return Edit.of(_engine().blur(scene_handle, region=region, windows=windows, cells=cells, seed=seed,
+def blur(scene_handle: Scene, region: Region, windows: int, cells: int, seed: int, influence_radius: float | None,
+         progress: Progress | None = None) -> Edit:
+    return Edit.of(_lib.blur(scene_handle, region=region, windows=windows, cells=cells, seed=seed,
                                   influence_radius=influence_radius, progress=progress))
 
 
-def gradient(scene_handle, start, end, region, shape, bands, seed, influence_radius, progress=None):
+class BilinearShape(TypedDict):
+    """The gradient shape whose two other colors (JSON) take the region's northern corners."""
+
+    kind: Literal["bilinear"]
+    north_west: str
+    north_east: str
+
+
+def gradient(scene_handle: Scene, start: str, end: str, region: Region, shape: GradientShape | BilinearShape,
+             bands: int | None, seed: int, influence_radius: float | None, progress: Progress | None = None) -> Edit:
     """Paints ``region`` from color ``start`` to color ``end`` (JSON) along ``shape`` (see
     ``regions.gradient_shape``) in ``bands`` bands (None: one per interaction radius); a shape
     {"kind": "bilinear", "north_west", "north_east"} puts ``start``, ``end`` and those two colors at the corners of
     the region's box (south-west, south-east, north-west, north-east) in ``bands`` × ``bands`` cells."""
     if shape["kind"] == "bilinear":
         corners = [start, end, shape["north_west"], shape["north_east"]]
-        return Edit.of(_engine().bilinear_gradient(scene_handle, corners=corners, region=region, bands=bands,
+        return Edit.of(_lib.bilinear_gradient(scene_handle, corners=corners, region=region, bands=bands,
                                                    seed=seed, influence_radius=influence_radius, progress=progress))
-    return Edit.of(_engine().gradient(scene_handle, start=start, end=end, region=region, shape=shape, bands=bands,
+    return Edit.of(_lib.gradient(scene_handle, start=start, end=end, region=region, shape=shape, bands=bands,
                                       seed=seed, influence_radius=influence_radius, progress=progress))
 
 
-def stretch_region(scene_handle, region, side, amount, color, seed, influence_radius, progress=None):
-    d = _engine().stretch_region(scene_handle, region=region, side=side, amount=amount, color=color, seed=seed,
+def stretch_region(scene_handle: Scene, region: Region, side: Literal["east", "west", "north", "south"], amount: float,
+                   color: str | None, seed: int, influence_radius: float | None,
+                   progress: Progress | None = None) -> Stretched:
+    d = _lib.stretch_region(scene_handle, region=region, side=side, amount=amount, color=color, seed=seed,
                                  influence_radius=influence_radius, progress=progress)
-    return Stretched(Edit.of(d), tuple(d["region"]["min"]), tuple(d["region"]["max"]), int(d["pushed_off"]))
+    return Stretched(Edit.of(d), _pair_of(d["region"]["min"]), _pair_of(d["region"]["max"]), int(d["pushed_off"]))
 
 
-def move_region(scene_handle, color, source, offset, seed, influence_radius):
-    d = _engine().move_region(scene_handle, color=color, source=source, offset=(float(offset[0]), float(offset[1])),
+def move_region(scene_handle: Scene, color: str | None, source: Region, offset: Sequence[float], seed: int,
+                influence_radius: float | None) -> Moved:
+    d = _lib.move_region(scene_handle, color=color, source=source, offset=(float(offset[0]), float(offset[1])),
                               seed=seed, influence_radius=influence_radius)
     return Moved(Edit.of(d), int(d["moved"]), int(d["displaced"]), int(d["reborn"]), int(d["lost"]),
                  int(d["stayed"]))
 
 
-def paint_stroke(scene_handle, color, radius, spacing, opacity, falloff, seed, influence_radius, guides=None,
-                 iterations_per_instance=None):
+def paint_stroke(scene_handle: Scene, color: str, radius: float, spacing: float, opacity: float,
+                 falloff: Literal["constant", "linear", "smooth"], seed: int, influence_radius: float | None,
+                 guides: PatternGuides | None = None, iterations_per_instance: float | None = None) -> Stroke:
     """A brush stroke painting ``color`` (JSON); ``falloff`` is "constant", "linear" or "smooth"; an arrangement
     color sprays its pattern, steered by ``guides`` (boundary and flow curves)."""
-    return Stroke(_engine().Stroke(scene_handle, color=color, radius=radius, spacing=spacing, opacity=opacity,
+    return Stroke(_lib.Stroke(scene_handle, color=color, radius=radius, spacing=spacing, opacity=opacity,
                                    falloff=falloff, seed=seed, influence_radius=influence_radius, guides=guides,
                                    iterations_per_instance=iterations_per_instance))
 
 
-def erase_stroke(scene_handle, radius, only_categories=None, shortest_edges=None):
+def erase_stroke(scene_handle: Scene, radius: float, only_categories: Sequence[str] | None = None,
+                 shortest_edges: dict[str, float] | None = None) -> Stroke:
     """An eraser stroke removing synthesized instances (of ``only_categories``; None: all) and cutting the roads,
     rivers and coasts of the categories it names, with no piece left shorter than ``shortest_edges[category]``."""
-    return Stroke(_engine().Stroke(scene_handle, erase=True, only_categories=only_categories, radius=radius,
+    return Stroke(_lib.Stroke(scene_handle, erase=True, only_categories=only_categories, radius=radius,
                                    shortest_edges=shortest_edges))
 
 
 # --- villages -----------------------------------------------------------------------------------------------------
 
-def encyclopedia(text=None):
+def encyclopedia(text: str | None = None) -> Encyclopedia:
     """The encyclopedia of a JSON text (None: the shipped one); raises the engine's error when it is not usable."""
-    eng = _engine()
-    village_types, buildings = eng.encyclopedia_contents(eng.default_encyclopedia() if text is None else text)
+    village_types, buildings = _lib.encyclopedia_contents(_lib.default_encyclopedia() if text is None else text)
     return Encyclopedia(text, list(village_types), list(buildings))
 
 
-def scenario_presets():
+def scenario_presets() -> dict[str, list[dict[str, Any]]]:
     """{name: [event dicts]} of the shipped growth scenario presets."""
-    return {name: preset["events"] for name, preset in json.loads(_engine().scenario_presets())["presets"].items()}
+    return {name: preset["events"] for name, preset in json.loads(_lib.scenario_presets())["presets"].items()}
 
 
-def generate_village(heightfield, region, scenario, seed, *, progress=None, **setting):
+def generate_village(heightfield: Terrain, region: Region, scenario: str, seed: int, *,
+                     progress: Progress | None = None, **setting: Unpack[VillageSetting]) -> VillageResult:
     """A village grown on the terrain inside ``region`` by the ``scenario`` (JSON); ``setting`` holds the
     encyclopedia, connections, existing roads, cells and surroundings. The engine reports its stages by name."""
-    return VillageResult.of(_engine().generate_village(heightfield, region, scenario, seed, progress=progress,
+    return VillageResult.of(_lib.generate_village(heightfield, region, scenario, seed, progress=progress,
                                                        **setting))
 
 
-def village_interest(heightfield, region, points, village_type, building, criterion=None, **setting):
+def village_interest(heightfield: Terrain, region: Region, points: ArrayLike, village_type: str, building: str,
+                     criterion: str | None = None, **setting: Unpack[InterestSetting]) -> NDArray[np.float64]:
     """float (N,) at the XY points: one criterion of a building type's interest (None: the combined interest)."""
-    return _engine().village_interest(heightfield, region, np.ascontiguousarray(points, dtype=np.float64),
+    return _lib.village_interest(heightfield, region, np.ascontiguousarray(points, dtype=np.float64),
                                       village_type, building, criterion, **setting)
 
 
 # --- terrain edits ------------------------------------------------------------------------------------------------
 
-def embed_roads(heightfield, roads, points, width, bank_width, *, use_heights, smoothing):
-    d = _engine().embed_roads(heightfield, roads, np.ascontiguousarray(points, dtype=np.float64), width, bank_width,
+def embed_roads(heightfield: Terrain, roads: Sequence[ArrayLike], points: ArrayLike, width: float, bank_width: float, *,
+                use_heights: bool, smoothing: float | None) -> RoadEmbedding:
+    d = _lib.embed_roads(heightfield, roads, np.ascontiguousarray(points, dtype=np.float64), width, bank_width,
                               use_heights=use_heights, smoothing=smoothing)
     return RoadEmbedding(d["displacement"])
 
 
-def build_waterfall(heightfield, controllers, points, seed, **options):
+def build_waterfall(heightfield: Terrain, controllers: Sequence[WaterfallController], points: ArrayLike, seed: int,
+                    **options: Unpack[WaterfallOptions]) -> WaterfallResult:
     """The waterfall scene of the controllers on the terrain, read at the XY ``points``."""
-    d = _engine().build_waterfall(heightfield, controllers, np.ascontiguousarray(points, dtype=np.float64), seed,
+    d = _lib.build_waterfall(heightfield, controllers, np.ascontiguousarray(points, dtype=np.float64), seed,
                                   **options)
     return WaterfallResult.of(d)
 
@@ -754,26 +852,28 @@ class SketchResult:
     skyline under the stroke; -1: embedded, no feature could serve); the protruding silhouettes as lowered; and how it
     went."""
 
-    displacement: np.ndarray
-    order: list
-    features: list
-    feature_kinds: list
-    curves: list
-    curve_breaks: list
-    sources: list
-    lowered: list
+    displacement: NDArray[np.float64]
+    order: list[int]
+    features: list[NDArray[np.float64]]
+    feature_kinds: list[str]
+    curves: list[NDArray[np.float64]]
+    curve_breaks: list[list[int]]
+    sources: list[int]
+    lowered: list[NDArray[np.float64]]
     rounds: int
     hidden_columns: int
     reach: float
     junctions: int
-    seconds: dict
+    seconds: SketchSecondsDict
 
 
-def apply_sketch(heightfield, camera, strokes, points, *, reach=None, completion=True, aspect=None, progress=None):
+def apply_sketch(heightfield: Terrain, camera: Camera, strokes: Iterable[ArrayLike], points: ArrayLike, *,
+                 reach: float | None = None, completion: bool = True, aspect: float | None = None,
+                 progress: Progress | None = None) -> SketchResult:
     """The terrain deformed so that, seen from ``camera`` (a dict: eye, forward, up, frame_min, frame_max), its
     silhouettes follow the ``strokes`` (camera-frame (N, 2) arrays), read at the XY ``points``; ``aspect``: the
     frame's width over its height, for the stroke ordering (None: the camera frame's)."""
-    d = _engine().apply_sketch(heightfield, camera, [np.ascontiguousarray(s, dtype=np.float64) for s in strokes],
+    d = _lib.apply_sketch(heightfield, camera, [np.ascontiguousarray(s, dtype=np.float64) for s in strokes],
                                np.ascontiguousarray(points, dtype=np.float64), reach=reach, completion=completion,
                                aspect=aspect, progress=progress)
     return SketchResult(**d)

@@ -91,7 +91,8 @@ class Surface:
         return out
 
 
-_surfaces = {}  # terrain object name -> (its world matrix and vertex count, Surface)
+# terrain object name -> (its world matrix and vertex count, Surface)
+_surfaces: dict[str, tuple[tuple[tuple[float, ...], int], Surface]] = {}
 
 
 def surface(obj, depsgraph=None):

@@ -1,0 +1,166 @@
+"""The stub of the compiled engine (``worldpaint_engine/_engine.pyi``) says what the module is: the same names, the same
+parameters (names, kinds and defaults, as pyo3 gives them in ``__text_signature__``), the same exception hierarchy,
+and result dicts with the keys its ``TypedDict``s declare. The type check of the add-on is only as true as this stub.
+"""
+
+import ast
+import inspect
+import pathlib
+from importlib import resources
+
+import numpy as np
+import pytest
+from worldpaint_engine import _engine
+
+STUB = pathlib.Path(__file__).resolve().parents[1] / "rust/worldpaint-py/python/worldpaint_engine/_engine.pyi"
+TREE = ast.parse(STUB.read_text(encoding="utf-8"))
+TOP = {node.name: node for node in TREE.body if isinstance(node, ast.FunctionDef | ast.ClassDef)}
+
+
+def declared_all():
+    (node,) = [n for n in TREE.body if isinstance(n, ast.Assign) and n.targets[0].id == "__all__"]
+    return ast.literal_eval(node.value)
+
+
+def is_typed_dict(node):
+    return isinstance(node, ast.ClassDef) and any(
+        (isinstance(b, ast.Name) and (b.id == "TypedDict" or is_typed_dict(TOP.get(b.id)))) for b in node.bases)
+
+
+def type_only_names():
+    """The names the stub declares for type checkers only: TypedDicts and aliases."""
+    names = {name for name, node in TOP.items() if is_typed_dict(node)}
+    for node in TREE.body:
+        if isinstance(node, ast.AnnAssign) and ast.unparse(node.annotation) == "TypeAlias":
+            names.add(node.target.id)
+        elif isinstance(node, ast.Assign) and isinstance(node.value, ast.Call) and \
+                ast.unparse(node.value.func) == "TypedDict":
+            names.add(node.targets[0].id)
+    return names
+
+
+def typed_dict_keys(name):
+    """The keys of a TypedDict of the stub, with those of its bases."""
+    node = TOP[name]
+    keys = {n.target.id for n in node.body if isinstance(n, ast.AnnAssign)}
+    for base in node.bases:
+        if isinstance(base, ast.Name) and base.id in TOP:
+            keys |= typed_dict_keys(base.id)
+    return keys
+
+
+def stub_parameters(function, drop_first=False):
+    """(name, kind, default) of each parameter of a function of the stub."""
+    a = function.args
+    out = []
+    positional = a.posonlyargs + a.args
+    defaults = [None] * (len(positional) - len(a.defaults)) + a.defaults
+    for arg, default in zip(positional, defaults, strict=True):
+        kind = inspect.Parameter.POSITIONAL_ONLY if arg in a.posonlyargs else inspect.Parameter.POSITIONAL_OR_KEYWORD
+        out.append((arg.arg, kind, ast.literal_eval(default) if default else inspect.Parameter.empty))
+    if a.vararg:
+        out.append((a.vararg.arg, inspect.Parameter.VAR_POSITIONAL, inspect.Parameter.empty))
+    for arg, default in zip(a.kwonlyargs, a.kw_defaults, strict=True):
+        out.append((arg.arg, inspect.Parameter.KEYWORD_ONLY,
+                    ast.literal_eval(default) if default else inspect.Parameter.empty))
+    if a.kwarg:
+        out.append((a.kwarg.arg, inspect.Parameter.VAR_KEYWORD, inspect.Parameter.empty))
+    return out[1:] if drop_first else out
+
+
+def runtime_parameters(obj, drop_self=False):
+    """(name, kind, default) of each parameter of a compiled function, from the signature pyo3 gives it."""
+    assert obj.__text_signature__, f"{obj!r} has no text signature"
+    params = list(inspect.signature(obj).parameters.values())
+    if drop_self:
+        params = params[1:]
+    return [(p.name, p.kind, p.default) for p in params]
+
+
+def test_the_stub_declares_every_name_the_module_exports_and_no_other():
+    exported = {name for name in dir(_engine) if not name.startswith("_")} | {"__version__"}
+    assert set(declared_all()) == exported
+    defined = set(TOP) | {n.target.id for n in TREE.body if isinstance(n, ast.AnnAssign)} | {
+        t.id for n in TREE.body if isinstance(n, ast.Assign) for t in n.targets}
+    assert set(declared_all()) <= defined, "names in __all__ the stub does not define"
+    type_only = type_only_names()
+    assert not type_only & exported, "a name the module exports is declared as a type only"
+    runtime_looking = {name for name in defined - type_only if not name.startswith("_")}
+    assert runtime_looking <= set(declared_all()), f"not in __all__: {sorted(runtime_looking - set(declared_all()))}"
+
+
+@pytest.mark.parametrize("name", sorted(n for n in declared_all() if isinstance(TOP.get(n), ast.FunctionDef)))
+def test_each_function_takes_the_parameters_the_stub_gives_it(name):
+    assert stub_parameters(TOP[name]) == runtime_parameters(getattr(_engine, name))
+
+
+@pytest.mark.parametrize("name", ["Scene", "Stroke", "Terrain"])
+def test_each_class_has_the_constructor_and_methods_the_stub_gives_it(name):
+    cls = getattr(_engine, name)
+    methods = {n.name: n for n in TOP[name].body if isinstance(n, ast.FunctionDef)}
+    runtime = {m for m in vars(cls) if m not in ("__doc__", "__module__")}
+    assert set(methods) == runtime
+    assert stub_parameters(methods["__new__"], drop_first=True) == runtime_parameters(cls)
+    for method, node in methods.items():
+        if method == "__new__":
+            continue
+        static = any(ast.unparse(d) == "staticmethod" for d in node.decorator_list)
+        assert stub_parameters(node, drop_first=not static) == runtime_parameters(
+            getattr(cls, method), drop_self=not static), method
+
+
+def test_the_exceptions_derive_as_the_stub_says():
+    for name in ("WorldPaintError", "InputError", "FileFormatError", "NothingToLearn", "Cancelled", "InternalError"):
+        bases = tuple(ast.unparse(b) for b in TOP[name].bases)
+        assert tuple(b.__name__ for b in getattr(_engine, name).__bases__) == bases, name
+
+
+def test_the_constants_are_as_declared():
+    assert set(_engine.LIMITS) == typed_dict_keys("Limits")
+    assert all(isinstance(v, int) for v in _engine.LIMITS.values())
+    assert isinstance(_engine.PALETTE_FORMAT_VERSION, int) and isinstance(_engine.__version__, str)
+
+
+SQUARE = {"shape": "rect", "min": [0.0, 0.0], "max": [40.0, 40.0]}
+
+
+def test_the_results_carry_the_keys_their_typed_dicts_declare():
+    """One call of each kind of result the add-on reads through the facade: an optional key may be absent, no other."""
+    def check(result, name, optional=()):
+        keys = typed_dict_keys(name)
+        assert set(result) <= keys and keys - set(optional) <= set(result), name
+
+    pts = _engine.exemplar_hard_core(SQUARE, 0.04, 2.5, 1)
+    scene = _engine.Scene(None, [{"name": "tree"}], pts, np.zeros(len(pts), np.int32))
+    color = _engine.learn_color(scene, SQUARE, "trees")
+    summary = _engine.color_summary(color)
+    check(summary, "ColorSummaryDict")
+    check(summary["categories"][0], "ColorCategoryDict")
+    check(_engine.compare(color, color), "FidelityDict")
+    empty = _engine.Scene(None, [{"name": "tree"}], np.zeros((0, 2)), np.zeros(0, np.int32))
+    check(_engine.synthesize(empty, color, SQUARE, 1), "SynthesisDict")
+    pasted = _engine.paste(scene, color, SQUARE, 2)
+    check(pasted, "PastedDict", optional=("fidelity_error", "pattern"))
+    check(pasted["fidelity"], "FidelityDict")
+    check(pasted["categories"][0], "CategoryDict")
+    check(_engine.clear_region(scene, SQUARE), "EditDict")
+    check(_engine.move_region(scene, color, {"shape": "circle", "center": [20.0, 20.0], "radius": 8.0}, (5.0, 0.0)),
+          "MovedDict")
+    stretched = _engine.stretch_region(scene, {"shape": "rect", "min": [10.0, 10.0], "max": [30.0, 30.0]}, "east",
+                                       5.0, color)
+    check(stretched, "StretchedDict")
+    check(stretched["region"], "RectRegion")
+    check(_engine.fidelity(color, None, 1, width=64, height=32), "FidelityViewDict")
+    village = _engine.exemplar_village(80.0, 3)
+    check(village, "VillageSceneDict")
+    check(village["paths"][0], "Polyline")
+    terrain = _engine.exemplar_demo_terrain(40.0, 2.0, 7)
+    check(terrain.grid(), "TerrainGrid")
+    square = np.array([[5.0, 5.0], [30.0, 5.0], [30.0, 30.0], [5.0, 30.0]])
+    check(_engine.fill_polygons([square], 5.0, terrain), "FilledPolygonsDict")
+    check(_engine.exemplar_slope_scene(60.0, 1), "SlopeSceneDict")
+
+
+def test_the_installed_package_ships_the_stub_and_says_it_is_typed():
+    package = resources.files("worldpaint_engine")
+    assert package.joinpath("_engine.pyi").is_file() and package.joinpath("py.typed").is_file()
