@@ -77,6 +77,8 @@ class ReferenceOverlay:
     def update(self, color_json):
         """Re-reads the color (after a flip)."""
         summary = engine.arrangement_summary(color_json)
+        if summary is None:
+            raise WorldPaintError("The color is not an arrangement: it has no reference to show")
         (x0, y0), _ = engine.region_bbox(engine.color_summary(color_json).region)
         self.xy = summary.positions + (x0, y0)
         self.edges = summary.edges

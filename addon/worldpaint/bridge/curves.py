@@ -202,7 +202,7 @@ def apply_structures(scene, structure_set, edit, terrain_obj, heightfield):
         gone = {int(i) for i in getattr(edit, removed_key)}
         removed_count += len(gone)
         added_count += len(getattr(edit, added_key))
-        added = {}
+        added: dict[str, list[engine.Line]] = {}
         for line in getattr(edit, added_key):
             added.setdefault(edit.category_names[line.category], []).append(line)
         touched = set(added)

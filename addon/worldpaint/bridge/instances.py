@@ -54,7 +54,8 @@ def check_example_categories(examples, drawn):
     instance as either; or both objects and curves, or open and closed curves. A mesh held by a collection of the
     same category is that collection (the original of its instances); a ``wp_category`` property merges on purpose.
     ``examples`` are (object, category) pairs, ``drawn`` (object, category, closed) triples."""
-    kinds, sources = {}, {}
+    kinds: dict[str, dict[str, str]] = {}  # category -> {kind: an object's name}
+    sources: dict[str, dict[bpy.types.ID, str]] = {}  # category -> {data block: an object's name}
     entries = [(obj, category, "distribution") for obj, category in examples]
     entries += [(obj, category, "polygon" if closed else "graph") for obj, category, closed in drawn]
     for obj, category, kind in entries:
@@ -195,7 +196,7 @@ def category_entry(category):
 def add_categories(settings, categories, layer="default"):
     """Adds categories the scene does not know yet, after the existing ones in the priority order; each is a name
     (a distribution of ``layer``), a color's category or a dict whose kind and layer it keeps."""
-    by_name = {}
+    by_name: dict[str, dict[str, object]] = {}
     for c in categories:
         entry = category_entry(c)
         by_name.setdefault(entry["name"], entry)
@@ -214,17 +215,17 @@ def new_categories(settings, examples, drawn):
     the scene does not know yet, in priority order after the known ones: polygons (islands, lakes), then graphs
     (roads, rivers), then distributions rarest first, so that few large things (trees, rocks) condition the many and
     everything can follow the roads and coasts."""
-    counts = {}
+    counts: dict[str, int] = {}
     for _, category in examples:
         counts[category] = counts.get(category, 0) + 1
     kinds = {category: "polygon" if closed else "graph" for _, category, closed in drawn}
     order = {"polygon": 0, "graph": 1}
     names = missing_categories(settings, list(kinds) + list(counts))
-    names.sort(key=lambda c: (order.get(kinds.get(c), 2), counts.get(c, 0), c))
+    names.sort(key=lambda c: (order.get(kinds.get(c, ""), 2), counts.get(c, 0), c))
     layers = {"polygon": "terrain", "graph": "settlement"}
     base = max((c.priority for c in settings.categories), default=-1) + 1
     return [
-        {"name": n, "layer": layers.get(kinds.get(n), "default"), "kind": kinds.get(n, "distribution"),
+        {"name": n, "layer": layers.get(kinds.get(n, ""), "default"), "kind": kinds.get(n, "distribution"),
          "priority": base + i}
         for i, n in enumerate(names)
     ]
@@ -245,7 +246,7 @@ def example_set(pairs, categories):
     """InstanceSet of (object, category) pairs whose category is in ``categories``."""
     out = InstanceSet(categories=categories)
     names = {c["name"] for c in categories}
-    by_category = {}
+    by_category: dict[str, list[bpy.types.Object]] = {}
     for obj, category in pairs:
         if category in names:
             by_category.setdefault(category, []).append(obj)

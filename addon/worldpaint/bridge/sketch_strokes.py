@@ -160,12 +160,12 @@ def annotation_data(scene):
 def annotation_layer(scene, name):
     """The annotation layer called ``name`` (empty: the active one). Raises ``WorldPaintError`` when there is none."""
     data = annotation_data(scene)
-    layers = data.layers if data is not None else ()
-    if len(layers) == 0:
+    if data is None or len(data.layers) == 0:
         raise WorldPaintError(
             "The scene has no annotations: draw silhouettes with the Annotate tool, looking through the camera, or "
             "switch the Sketch source to Strokes"
         )
+    layers = data.layers
     if name:
         layer = layers.get(name)
         if layer is None:

@@ -151,7 +151,7 @@ def onto(terrain_obj, co):
 
 def clouds_on(scene, terrain_obj=None):
     """{terrain object: [clouds standing on it]} of the scene's point clouds (one terrain's only, when given)."""
-    out = {}
+    out: dict[bpy.types.Object, list[bpy.types.Object]] = {}
     for cloud in point_cloud_objects(scene).values():
         ground = points.instancer_terrain(cloud)
         if ground is not None and ground.type == 'MESH' and (terrain_obj is None or ground == terrain_obj):

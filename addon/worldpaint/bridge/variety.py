@@ -60,7 +60,7 @@ def seam_islands(obj):
             f = parent[f]
         return f
 
-    first = {}
+    first: dict[int, int] = {}  # edge -> the first face seen across it
     for e, f in zip(edge.tolist(), face.tolist(), strict=True):
         if seam[e]:
             continue

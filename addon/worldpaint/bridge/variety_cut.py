@@ -103,10 +103,10 @@ def graph_lines(obj, labels):
     face_of_loop = np.repeat(np.arange(len(totals)), totals)
     label_of_loop = np.asarray(labels)[face_of_loop]
     centres = {int(k): co[np.unique(corners[label_of_loop == k])].mean(axis=0) for k in np.unique(labels)}
-    owners = {}
+    owners: dict[int, set[int]] = {}  # vertex -> the labels of the faces around it
     for vertex, label in set(zip(corners.tolist(), label_of_loop.tolist(), strict=True)):
         owners.setdefault(vertex, set()).add(label)
-    shared = {}
+    shared: dict[tuple[int, int], list[int]] = {}
     for vertex, found in owners.items():
         for a in found:
             for b in found:

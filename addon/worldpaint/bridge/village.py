@@ -289,10 +289,10 @@ def shared_material(name, rgba):
 
 @dataclass
 class BuiltVillage:
-    collection: object
-    houses: list = field(default_factory=list)
-    roads: object = None
-    parcels: object = None
+    collection: bpy.types.Collection
+    houses: list[bpy.types.Object] = field(default_factory=list)
+    roads: bpy.types.Object | None = None
+    parcels: bpy.types.Object | None = None
 
 
 def lines_object(collection, name, part):

@@ -40,7 +40,7 @@ class Exemplar:
     columns and paths, in the square [0, size]²."""
 
     size: float
-    terrain: object
+    terrain: "engine.Terrain"
     rng: np.random.Generator
     categories: list = field(default_factory=list)
     columns: dict = field(default_factory=lambda: {"positions": [], "category_index": [], "rotations": [],
@@ -75,7 +75,8 @@ class Exemplar:
         self.columns["positions"].append(xy)
         self.columns["category_index"].append(np.full(len(xy), self.category(name), dtype=np.int32))
         self.columns["rotations"].append(rotations)
-        self.columns["scales"].append(self.rng.uniform(*scales, len(xy)))
+        low, high = scales
+        self.columns["scales"].append(self.rng.uniform(low, high, len(xy)))
         return xy
 
     def add_path(self, name, points, layer):
@@ -102,7 +103,7 @@ class Exemplar:
         """The engine's Scene of the exemplar."""
         n = sum(len(xy) for xy in self.columns["positions"])
         columns = {key: np.concatenate(values) if values else np.zeros(0) for key, values in self.columns.items()}
-        instances = {
+        instances: engine.SceneColumns = {
             "categories": self.categories,
             "positions": np.ascontiguousarray(columns["positions"], dtype=np.float64).reshape(-1, 2),
             "category_index": np.ascontiguousarray(columns["category_index"], dtype=np.int32),

@@ -33,7 +33,7 @@ def hard_core(xy, min_distance, keep=()):
     """The candidates ``xy`` thinned in their order so that no two kept points (nor a kept one and a point of
     ``keep``) are closer than ``min_distance``: a sequential hard core. Returns the kept rows' indices."""
     cell = float(min_distance)
-    grid = {}
+    grid: dict[tuple[int, int], list[tuple[float, float]]] = {}
 
     def near(p):
         i, j = int(np.floor(p[0] / cell)), int(np.floor(p[1] / cell))
