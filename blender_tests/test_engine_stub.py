@@ -5,6 +5,7 @@ and result dicts with the keys its ``TypedDict``s declare. The type check of the
 
 import ast
 import inspect
+import json
 import pathlib
 from importlib import resources
 
@@ -39,14 +40,38 @@ def type_only_names():
     return names
 
 
-def typed_dict_keys(name):
-    """The keys of a TypedDict of the stub, with those of its bases."""
+def typed_dict_fields(name):
+    """{key: annotation text} of a TypedDict of the stub, with those of its bases."""
     node = TOP[name]
-    keys = {n.target.id for n in node.body if isinstance(n, ast.AnnAssign)}
+    fields = {}
     for base in node.bases:
         if isinstance(base, ast.Name) and base.id in TOP:
-            keys |= typed_dict_keys(base.id)
-    return keys
+            fields |= typed_dict_fields(base.id)
+    return fields | {n.target.id: ast.unparse(n.annotation) for n in node.body if isinstance(n, ast.AnnAssign)}
+
+
+def typed_dict_keys(name):
+    return set(typed_dict_fields(name))
+
+
+# the array annotations of the stub and the dtype each stands for
+DTYPES = {"Float64Array": np.float64, "Int32Array": np.int32, "Int64Array": np.int64, "NDArray[np.float32]": np.float32,
+          "NDArray[np.uint8]": np.uint8, "NDArray[np.uint32]": np.uint32, "NDArray[np.bool_]": np.bool_}
+
+
+def check(result, name, optional=()):
+    """``result`` has the keys of the stub's TypedDict ``name`` (those in ``optional`` may be absent, no other key may
+    be there), and its arrays the dtypes the stub gives them."""
+    fields = typed_dict_fields(name)
+    assert set(result) <= set(fields) and set(fields) - set(optional) <= set(result), name
+    for key, value in result.items():
+        annotation = fields[key]
+        if annotation.startswith("NotRequired["):
+            annotation = annotation.removeprefix("NotRequired[").removesuffix("]")
+        dtype = DTYPES.get(annotation.removesuffix(" | None"))
+        if dtype is not None and value is not None:
+            assert isinstance(value, np.ndarray), f"{name}[{key!r}] is a {type(value).__name__}, not an array"
+            assert value.dtype == dtype, f"{name}[{key!r}]: {value.dtype}, not {np.dtype(dtype)}"
 
 
 def stub_parameters(function, drop_first=False):
@@ -124,12 +149,8 @@ def test_the_constants_are_as_declared():
 SQUARE = {"shape": "rect", "min": [0.0, 0.0], "max": [40.0, 40.0]}
 
 
-def test_the_results_carry_the_keys_their_typed_dicts_declare():
-    """One call of each kind of result the add-on reads through the facade: an optional key may be absent, no other."""
-    def check(result, name, optional=()):
-        keys = typed_dict_keys(name)
-        assert set(result) <= keys and keys - set(optional) <= set(result), name
-
+def test_the_painting_results_carry_the_keys_and_dtypes_their_typed_dicts_declare():
+    """Colors, the painting tools, regions and terrains."""
     pts = _engine.exemplar_hard_core(SQUARE, 0.04, 2.5, 1)
     scene = _engine.Scene(None, [{"name": "tree"}], pts, np.zeros(len(pts), np.int32))
     color = _engine.learn_color(scene, SQUARE, "trees")
@@ -159,6 +180,76 @@ def test_the_results_carry_the_keys_their_typed_dicts_declare():
     square = np.array([[5.0, 5.0], [30.0, 5.0], [30.0, 30.0], [5.0, 30.0]])
     check(_engine.fill_polygons([square], 5.0, terrain), "FilledPolygonsDict")
     check(_engine.exemplar_slope_scene(60.0, 1), "SlopeSceneDict")
+
+
+def test_the_other_results_carry_the_keys_and_dtypes_their_typed_dicts_declare():
+    """Arrangements, worlds, model and texture variety, villages, roads, waterfalls and sketches, on small inputs."""
+    pts = _engine.exemplar_hard_core(SQUARE, 0.04, 2.5, 1)
+    color = _engine.learn_color(_engine.Scene(None, [{"name": "tree"}], pts, np.zeros(len(pts), np.int32)), SQUARE, "t")
+    plan = _engine.world_plan(color, (0.0, 0.0), (100.0, 100.0))
+    check(plan, "WorldPlanDict")
+    column, row, _phase, _after = plan["tiles"][0]
+    tile, _border, _counts = _engine.world_tile(color, plan, column, row, [], 1)
+    check(_engine.read_world_tile(tile), "WorldTileDict")
+
+    lattice = np.array([[x + 0.5 * (y % 2), 0.866 * y] for y in range(12) for x in range(12)]) * 2.0
+    cobbles = [{"name": "cobble", "kind": "arrangement"}]
+    reference = _engine.Scene(None, cobbles, lattice, np.zeros(len(lattice), np.int32))
+    arrangement = _engine.learn_arrangement(reference, {"shape": "rect", "min": [-0.5, -0.5], "max": [24.5, 19.5]}, "c")
+    summary = _engine.arrangement_summary(arrangement)
+    check(summary, "ArrangementSummaryDict")
+    check(summary["lattice"], "LatticeDict")
+    empty = _engine.Scene(None, cobbles, np.zeros((0, 2)), np.zeros(0, np.int32))
+    pasted = _engine.paste(empty, arrangement, {"shape": "rect", "min": [0.0, 0.0], "max": [20.0, 20.0]}, 1)
+    check(pasted, "PastedDict", optional=("fidelity_error",))
+    check(pasted["pattern"], "PatternFidelityDict")
+
+    # two quads side by side, one component each
+    model = {"vertices": np.array([[0, 0, 0], [1, 0, 0], [2, 0, 0], [0, 1, 0], [1, 1, 0], [2, 1, 0]], np.float64),
+             "loop_totals": np.array([4, 4], np.int64), "corners": np.array([0, 1, 4, 3, 1, 2, 5, 4], np.int64),
+             "uvs": np.array([[0, 0], [0.5, 0], [0.5, 1], [0, 1], [0.5, 0], [1, 0], [1, 1], [0.5, 1]], np.float64)}
+    labels = np.array([0, 1], np.int64)
+    decomposition = _engine.decompose_model(model, labels)
+    check(decomposition, "DecompositionDict")
+    check(decomposition["components"][1], "Model")
+    raised = dict(decomposition["components"][1])
+    raised["vertices"] = raised["vertices"] + np.where(raised["vertices"][:, :1] > 1.5, [0.0, 0.0, 0.1], 0.0)
+    variants = _engine.generate_variants(model, labels, [[], [raised]], 2, 1)
+    check(variants, "VariantsDict")
+    check(variants["memory"], "MemoryDict")
+    check(variants["models"][0], "Model")
+    base = np.zeros((8, 8, 4), np.uint8)
+    painted = base.copy()
+    painted[1:3, 1:3, 0] = 200
+    texture = _engine.texture_variety(model, base, [painted], 2)
+    check(texture, "TextureVarietyDict")
+    check(texture["components"][0], "TextureComponentDict")
+
+    terrain = _engine.exemplar_demo_terrain(200.0, 2.0, 7)
+    (x0, y0), (x1, y1) = terrain.bbox()
+    middle = np.array([[x0 + 100.0, y0 + 100.0]])
+    scenario = json.dumps({"events": json.loads(_engine.scenario_presets())["presets"]["farming_hamlet"]["events"]})
+    village = _engine.generate_village(terrain, {"shape": "rect", "min": [x0, y0], "max": [x1, y1]}, scenario, 1)
+    check(village, "VillageDict")
+    for key, name in (("seeds", "VillageSeedsDict"), ("report", "VillageReportDict")):
+        check(village[key], name)
+    check(village["roads"][0], "RoadDict")
+    check(village["houses"][0], "HouseDict")
+    road = np.array([[x0 + 20.0, y0 + 100.0], [x1 - 20.0, y0 + 100.0]])
+    check(_engine.embed_roads(terrain, [road], middle), "RoadEmbeddingDict")
+    stream = np.array([[x0 + 100.0, y0 + 40.0, 0.0], [x0 + 100.0, y0 + 160.0, 0.0]])
+    stream[:, 2] = terrain.heights_at(stream[:, :2])
+    waterfall = _engine.build_waterfall(terrain, [{"kind": "contact", "points": stream}], middle)
+    check(waterfall, "WaterfallDict")
+    check(waterfall["water"], "WaterMeshDict")
+    check(waterfall["segments"][0], "WaterfallSegmentDict")
+    check(waterfall["report"], "WaterfallReportDict")
+    check(waterfall["report"]["nodes"], "WaterfallNodesDict")
+    camera = {"eye": [x0 + 100.0, y0 - 150.0, 80.0], "forward": [0.0, 1.0, -0.2], "up": [0.0, 0.2, 1.0],
+              "frame_min": [-0.5, -0.3], "frame_max": [0.5, 0.3]}
+    sketch = _engine.apply_sketch(terrain, camera, [np.array([[0.1, 0.6], [0.5, 0.7], [0.9, 0.6]])], middle)
+    check(sketch, "SketchDict")
+    check(sketch["seconds"], "SketchSecondsDict")
 
 
 def test_the_installed_package_ships_the_stub_and_says_it_is_typed():
