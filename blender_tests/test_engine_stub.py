@@ -7,6 +7,7 @@ import ast
 import inspect
 import json
 import pathlib
+import re
 from importlib import resources
 
 import numpy as np
@@ -250,6 +251,29 @@ def test_the_other_results_carry_the_keys_and_dtypes_their_typed_dicts_declare()
     sketch = _engine.apply_sketch(terrain, camera, [np.array([[0.1, 0.6], [0.5, 0.7], [0.9, 0.6]])], middle)
     check(sketch, "SketchDict")
     check(sketch["seconds"], "SketchSecondsDict")
+
+
+def test_the_keyword_dicts_name_the_keywords_the_functions_take():
+    """The TypedDicts the facade unpacks into a call (``**options``) hold the keywords the function takes, and the
+    surroundings of a village the ones the engine reads (it names them when it refuses another)."""
+    def keywords(function, *excluded):
+        params = inspect.signature(function).parameters.values()
+        return {p.name for p in params if p.kind == inspect.Parameter.KEYWORD_ONLY} - set(excluded)
+
+    assert typed_dict_keys("ArrangementChanges") == keywords(_engine.arrangement_edited)
+    assert typed_dict_keys("WaterfallOptions") == keywords(_engine.build_waterfall)
+    assert typed_dict_keys("VillageSetting") - typed_dict_keys("Surroundings") == keywords(
+        _engine.generate_village, "progress")
+    assert typed_dict_keys("InterestSetting") - typed_dict_keys("Surroundings") == keywords(_engine.village_interest)
+    scene = inspect.signature(_engine.Scene).parameters
+    assert typed_dict_keys("SceneColumns") | typed_dict_keys("SceneStructures") == set(scene) - {"terrain"}
+    terrain = _engine.exemplar_demo_terrain(40.0, 2.0, 7)
+    (x0, y0), (x1, y1) = terrain.bbox()
+    with pytest.raises(_engine.InputError, match=r"the surroundings are ([a-z_, ]+)\)") as refused:
+        _engine.village_interest(terrain, {"shape": "rect", "min": [x0, y0], "max": [x1, y1]}, np.zeros((1, 2)),
+                                 "hamlet", "house", unknown=1.0)
+    named = re.search(r"the surroundings are ([a-z_, ]+)\)", str(refused.value)).group(1)
+    assert set(named.split(", ")) == typed_dict_keys("Surroundings")
 
 
 def test_the_installed_package_ships_the_stub_and_says_it_is_typed():
