@@ -19,9 +19,10 @@ use crate::analysis::{learn_color, AnalysisOptions};
 use crate::contour::cut;
 use crate::error::{Error, Result};
 use crate::geom::{polyline_length, DVec2, PreparedRegion, Region, RegionQueries};
+use crate::paint::{synthesize, synthesize_keeping};
 use crate::palette::Color;
 use crate::scene::{Category, Contour, Instance, Path, Scene};
-use crate::synthesis::{add_unseen, synthesize_keeping, SynthesisOptions};
+use crate::synthesis::{add_unseen, SynthesisOptions};
 
 /// What a tool did: the scene's instances, paths and contours it removed (indices, ascending) and those it added,
 /// whose `category` indexes `categories` (the scene's categories, then any the tool's colors brought). A path or
@@ -508,7 +509,7 @@ pub fn with_painted_preview(mut color: Color) -> Result<Color> {
         };
         (patch, (hi - lo) / side)
     };
-    let painted = crate::synthesis::synthesize(&canvas, &plain, &region, &Default::default())?;
+    let painted = synthesize(&canvas, &plain, &region, &Default::default())?;
     let (origin, _) = region.bbox();
     color.preview = painted
         .instances
