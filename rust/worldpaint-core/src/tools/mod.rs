@@ -143,6 +143,20 @@ impl Origins {
         });
     }
 
+    /// Replaces each item for which `replace` gives new items (none removes it) by those, after the kept ones;
+    /// `None` keeps it as it is.
+    fn replace<T>(&mut self, items: &mut Vec<T>, mut replace: impl FnMut(&T) -> Option<Vec<T>>) {
+        let mut pieces = Vec::new();
+        self.retain(items, |item| match replace(item) {
+            None => true,
+            Some(new) => {
+                pieces.extend(new);
+                false
+            }
+        });
+        self.push(items, pieces);
+    }
+
     fn push<T>(&mut self, items: &mut Vec<T>, added: impl IntoIterator<Item = T>) {
         for i in added {
             items.push(i);
@@ -235,48 +249,38 @@ impl Working {
         let long_enough = |category: usize, points: &[DVec2]| {
             shortest(category).is_some_and(|l| polyline_length(points) >= l)
         };
-        let mut pieces: Vec<Path> = Vec::new();
-        self.paths.retain(&mut self.scene.paths, |p| {
+        self.paths.replace(&mut self.scene.paths, |p: &Path| {
             if p.locked || shortest(p.category).is_none() {
-                return true;
+                return None;
             }
             let (inside, outside) = region.clip_polyline(&p.points);
-            if inside.is_empty() {
-                return true;
-            }
-            pieces.extend(
+            (!inside.is_empty()).then(|| {
                 outside
                     .into_iter()
                     .filter(|o| o.len() >= 2 && long_enough(p.category, o))
                     .map(|points| Path {
                         points,
                         ..p.clone()
-                    }),
-            );
-            false
+                    })
+                    .collect()
+            })
         });
-        self.paths.push(&mut self.scene.paths, pieces);
-        let mut pieces: Vec<Contour> = Vec::new();
-        self.contours.retain(&mut self.scene.contours, |c| {
-            if c.locked || shortest(c.category).is_none() {
-                return true;
-            }
-            match cut(&c.points, region) {
-                None => true,
-                Some(rest) => {
-                    pieces.extend(
-                        rest.into_iter()
-                            .filter(|points| long_enough(c.category, points))
-                            .map(|points| Contour {
-                                points,
-                                ..c.clone()
-                            }),
-                    );
-                    false
+        self.contours
+            .replace(&mut self.scene.contours, |c: &Contour| {
+                if c.locked || shortest(c.category).is_none() {
+                    return None;
                 }
-            }
-        });
-        self.contours.push(&mut self.scene.contours, pieces);
+                let rest = cut(&c.points, region)?;
+                Some(
+                    rest.into_iter()
+                        .filter(|points| long_enough(c.category, points))
+                        .map(|points| Contour {
+                            points,
+                            ..c.clone()
+                        })
+                        .collect(),
+                )
+            });
     }
 
     /// Replaces each unlocked path and contour by what `reshape` makes of its points (`true` for a contour); `None`
@@ -285,34 +289,21 @@ impl Working {
         &mut self,
         reshape: impl Fn(&[DVec2], bool) -> Option<Vec<DVec2>>,
     ) {
-        let mut pieces: Vec<Path> = Vec::new();
-        self.paths.retain(&mut self.scene.paths, |p| {
-            let Some(new) = (!p.locked).then(|| reshape(&p.points, false)).flatten() else {
-                return true;
-            };
-            if new.len() >= 2 {
-                pieces.push(Path {
-                    points: new,
-                    ..p.clone()
-                });
-            }
-            false
+        self.paths.replace(&mut self.scene.paths, |p: &Path| {
+            let new = (!p.locked).then(|| reshape(&p.points, false)).flatten()?;
+            Some(Vec::from_iter((new.len() >= 2).then(|| Path {
+                points: new,
+                ..p.clone()
+            })))
         });
-        self.paths.push(&mut self.scene.paths, pieces);
-        let mut pieces: Vec<Contour> = Vec::new();
-        self.contours.retain(&mut self.scene.contours, |c| {
-            let Some(new) = (!c.locked).then(|| reshape(&c.points, true)).flatten() else {
-                return true;
-            };
-            if new.len() >= 3 {
-                pieces.push(Contour {
+        self.contours
+            .replace(&mut self.scene.contours, |c: &Contour| {
+                let new = (!c.locked).then(|| reshape(&c.points, true)).flatten()?;
+                Some(Vec::from_iter((new.len() >= 3).then(|| Contour {
                     points: new,
                     ..c.clone()
-                });
-            }
-            false
-        });
-        self.contours.push(&mut self.scene.contours, pieces);
+                })))
+            });
     }
 
     /// Adds instances whose categories index `categories` (an extension of the scene's list).

@@ -135,7 +135,7 @@ use grid::Work;
 use labels::clean_labels;
 use land_conquest::{conquer, resolve_claims, Claim};
 use rayon::prelude::*;
-use road_conquest::{fronts_and_anchors, road_conquest};
+use road_conquest::{fronts_and_anchors, road_conquest, RoadConquest};
 use simplify::simplified_contours;
 
 /// No parcel.
@@ -279,28 +279,9 @@ pub fn parcels_with(
     reached(0.2)?;
 
     // 3.3.3 anisotropic land conquest, each parcel on its own
-    let conquests = Counted::new(n, |f| progress(0.2 + 0.3 * f));
-    let claims: Vec<Vec<Claim>> = (0..n)
-        .into_par_iter()
-        .map(|i| {
-            if anchors[i].is_none() || !conquests.go_on() {
-                return Vec::new();
-            }
-            let claim = conquer(
-                &work,
-                land,
-                &index,
-                &road.owner,
-                i as u32,
-                &fronts[i],
-                seeds[i].params,
-            );
-            conquests.done_one();
-            claim
-        })
-        .collect();
-    conquests.finish()?;
-    let (mut label, mut best) = resolve_claims(&claims, work.grid.len());
+    let (mut label, mut best) = conquer_land(
+        &work, land, &index, &road, &fronts, &anchors, seeds, progress,
+    )?;
     let mut is_anchor = {
         let mut a = vec![false; work.grid.len()];
         for k in anchors.iter().flatten() {
@@ -308,13 +289,27 @@ pub fn parcels_with(
         }
         a
     };
-    clean_labels(
-        &work,
-        &road.owner,
-        (&anchors, &is_anchor),
+    // the labels' clean-up, reporting its rounds within `span` of the progress from `from`
+    let clean = |anchors: &[Option<usize>],
+                 is_anchor: &[bool],
+                 cells: (&mut [u32], &mut [f64]),
+                 smooth: bool,
+                 (from, span): (f64, f64)| {
+        clean_labels(
+            &work,
+            &road.owner,
+            (anchors, is_anchor),
+            cells,
+            smooth,
+            &|round| reached(from + span * round),
+        )
+    };
+    clean(
+        &anchors,
+        &is_anchor,
         (&mut label, &mut best),
         true,
-        &|round| reached(0.5 + 0.2 * round),
+        (0.5, 0.2),
     )?;
     // unclaimed pockets and the gaps of a sparse village go to the parcels around them
     let pocket_cells = (options.pocket_area / (cell * cell)).floor() as usize;
@@ -324,13 +319,12 @@ pub fn parcels_with(
     let fronts = parcel_fronts(&work, &index, n, &label);
     if cut_behind_fronts(&work, &fronts, tolerance, &grown, (&mut label, &mut best)) {
         reanchor(&work, &label, &mut anchors, &mut is_anchor);
-        clean_labels(
-            &work,
-            &road.owner,
-            (&anchors, &is_anchor),
+        clean(
+            &anchors,
+            &is_anchor,
             (&mut label, &mut best),
             false,
-            &|round| reached(0.6 + 0.05 * round),
+            (0.6, 0.05),
         )?;
     }
     let fronts = parcel_fronts(&work, &index, n, &label);
@@ -342,13 +336,12 @@ pub fn parcels_with(
         (&fronts, tolerance),
         (&mut label, &mut best),
     );
-    clean_labels(
-        &work,
-        &road.owner,
-        (&anchors, &is_anchor),
+    clean(
+        &anchors,
+        &is_anchor,
         (&mut label, &mut best),
         true,
-        &|round| reached(0.7 + 0.15 * round),
+        (0.7, 0.15),
     )?;
 
     // 3.3.4 simplification of the shared boundary graph
@@ -406,4 +399,42 @@ fn validate(
         }
     }
     Ok(())
+}
+
+/// 3.3.3: each parcel anchored on the road conquers its land on its own (in parallel); the claims are resolved
+/// into each cell's label and its cost. Reports progress from 0.2 to 0.5.
+#[allow(clippy::too_many_arguments)]
+fn conquer_land(
+    work: &Work,
+    land: &Land,
+    index: &RoadIndex,
+    road: &RoadConquest,
+    fronts: &[Vec<usize>],
+    anchors: &[Option<usize>],
+    seeds: &[ParcelSeed],
+    progress: &(dyn Fn(f64) -> bool + Sync),
+) -> Result<(Vec<u32>, Vec<f64>)> {
+    let n = seeds.len();
+    let conquests = Counted::new(n, |f| progress(0.2 + 0.3 * f));
+    let claims: Vec<Vec<Claim>> = (0..n)
+        .into_par_iter()
+        .map(|i| {
+            if anchors[i].is_none() || !conquests.go_on() {
+                return Vec::new();
+            }
+            let claim = conquer(
+                work,
+                land,
+                index,
+                &road.owner,
+                i as u32,
+                &fronts[i],
+                seeds[i].params,
+            );
+            conquests.done_one();
+            claim
+        })
+        .collect();
+    conquests.finish()?;
+    Ok(resolve_claims(&claims, work.grid.len()))
 }
