@@ -1,14 +1,31 @@
 """Bad inputs give a clear error from the operator and leave the scene as it was."""
 
+import hashlib
 import json
 import re
+import time
 
+import bmesh
 import bpy
 import numpy as np
 import pytest
-from scene_kit import flat_terrain, hard_core_examples, prototypes, select_only, slope_exemplar
-from worldpaint.bridge import engine
+import worldpaint_engine
+from scene_kit import (
+    collection_instances,
+    edited_part,
+    engine_terrain_object,
+    flat_terrain,
+    hard_core_examples,
+    in_edit_mode,
+    poly_curve,
+    prototypes,
+    segmented_tree,
+    select_only,
+    slope_exemplar,
+)
+from worldpaint.bridge import engine, variety
 from worldpaint.bridge.instances import point_cloud_arrays, point_cloud_objects
+from worldpaint.bridge.points import instancer_collection
 
 EXEMPLAR = {"region_mode": 'RECT', "rect_min": (0.0, 0.0), "rect_max": (100.0, 100.0)}
 ELSEWHERE = {"region_mode": 'RECT', "rect_min": (0.0, 100.0), "rect_max": (100.0, 200.0)}
@@ -454,3 +471,325 @@ def test_a_stretch_far_past_the_terrain_keeps_the_count_of_the_terrain(capfd, co
     band = (after[:, 1] >= 20.0) & (after[:, 1] <= 180.0) & (after[:, 0] >= 20.0)
     ratio = band.sum() / (280.0 * 160.0 * density)
     assert abs(ratio - 1.0) <= 0.1, f"the stretched band on the terrain holds {ratio:.2f} of the color's density"
+
+
+# --- model variety, the built-in prototypes, scene maps, the learn matrix and operator numbers: every bad input
+# answered in time, naming what was given, the scene unchanged (one block, apart from the other surfaces' cases) ---
+
+def set_values(value):
+    """A custom property's value with the settings groups in it read as dicts, leaving out those never set (Blender
+    stores a group, empty, the first time it is read)."""
+    if hasattr(value, "to_dict"):
+        value = value.to_dict()
+    if isinstance(value, dict):
+        return {k: v for k, v in ((k, set_values(v)) for k, v in value.items()) if v != {}}
+    if isinstance(value, list):
+        return [set_values(v) for v in value]
+    return value
+
+
+def custom_properties(data):
+    """The custom properties of an ID as text."""
+    return repr(sorted((k, repr(v)) for k, v in ((k, set_values(data[k])) for k in data.keys()) if v != {}))
+
+
+def scene_hash():
+    """A hash of every object (name, type, transform, collections, custom properties, its mesh's vertices and faces)
+    and of the terrain's vertices: equal before and after an operator that left the scene as it was."""
+    bpy.context.view_layer.update()  # the transforms set since the last update, evaluated
+    digest = hashlib.sha256()
+    for obj in sorted(bpy.data.objects, key=lambda o: o.name):
+        digest.update(f"{obj.name}|{obj.type}|{sorted(c.name for c in obj.users_collection)}|"
+                      f"{custom_properties(obj)}".encode())
+        digest.update(np.array(obj.matrix_world, dtype=np.float64).tobytes())
+        if obj.type == 'MESH':
+            mesh = obj.data
+            co = np.empty(3 * len(mesh.vertices), dtype=np.float32)
+            mesh.vertices.foreach_get("co", co)
+            corners = np.empty(len(mesh.loops), dtype=np.int32)
+            mesh.loops.foreach_get("vertex_index", corners)
+            digest.update(co.tobytes() + corners.tobytes())
+    for collection in sorted(bpy.data.collections, key=lambda c: c.name):
+        digest.update(f"{collection.name}|{sorted(o.name for o in collection.objects)}".encode())
+    terrain_obj = bpy.context.scene.worldpaint.terrain
+    if terrain_obj is not None:
+        co = np.empty(3 * len(terrain_obj.data.vertices), dtype=np.float32)
+        terrain_obj.data.vertices.foreach_get("co", co)
+        digest.update(b"terrain" + co.tobytes())
+    return digest.hexdigest()
+
+
+def decomposed_tree():
+    tree = segmented_tree()
+    bpy.context.view_layer.objects.active = tree
+    assert bpy.ops.worldpaint.decompose_model(object=tree.name, source='ATTRIBUTE', attribute="part",
+                                              root=0) == {'FINISHED'}
+    return tree
+
+
+def part_collection(tree, label):
+    return tree.worldpaint_variety.parts.children[f"{tree.name} part {label}"]
+
+
+def moved_to_part(copy, tree, label):
+    for collection in list(copy.users_collection):
+        collection.objects.unlink(copy)
+    part_collection(tree, label).objects.link(copy)
+
+
+def cut_with_a_nan_point():
+    decomposed_tree()
+    ring = [(1.0 * np.cos(a), 1.0 * np.sin(a), 2.0) for a in np.linspace(0.0, 2.0 * np.pi, 12, endpoint=False)]
+    curve = poly_curve("Cut", ring, cyclic=True)
+    curve.data.splines[0].points[3].co = (float("nan"), 0.0, 2.0, 1.0)
+    return lambda: bpy.ops.worldpaint.cut_model(object="Column tree", curve="Cut")
+
+
+def relabelled_after_decomposing():
+    tree = decomposed_tree()
+    attr = tree.data.attributes["part"]
+    labels = np.empty(len(tree.data.polygons), dtype=np.int32)
+    attr.data.foreach_get("value", labels)
+    labels[np.flatnonzero(labels == 2)[:8]] = 3  # half the crown marked as a new component
+    attr.data.foreach_set("value", labels)
+    return lambda: bpy.ops.worldpaint.generate_variants(object=tree.name)
+
+
+def copy_in_another_parts_collection(tagged):
+    def setup():
+        tree = decomposed_tree()
+        crown = edited_part(tree, 2, "Crown copy")
+        if not tagged:  # a part decomposed before parts were tagged: told by its vertex numbering
+            crown.pop(variety.COMPONENT_TAG, None)
+        moved_to_part(crown, tree, 1)
+        return lambda: bpy.ops.worldpaint.generate_variants(object=tree.name)
+    return setup
+
+
+def piece_moved_far():
+    tree = decomposed_tree()
+    edited_part(tree, 2, "Crown far").location.x += 1e30  # in Object Mode, which counts as part of the copy
+    return lambda: bpy.ops.worldpaint.generate_variants(object=tree.name)
+
+
+def copy_with_every_vertex_deleted():
+    tree = decomposed_tree()
+    in_edit_mode(edited_part(tree, 2, "Crown empty"),
+                 lambda bm: bmesh.ops.delete(bm, geom=list(bm.verts), context='VERTS'))
+    return lambda: bpy.ops.worldpaint.generate_variants(object=tree.name)
+
+
+def copy_with_a_nan_vertex():
+    tree = decomposed_tree()
+    edited_part(tree, 2, "Crown nan").data.vertices[3].co.x = float("nan")
+    return lambda: bpy.ops.worldpaint.generate_variants(object=tree.name)
+
+
+def root_that_is_no_label():
+    tree = segmented_tree()
+    return lambda: bpy.ops.worldpaint.decompose_model(object=tree.name, source='ATTRIBUTE', attribute="part", root=99)
+
+
+def probability_not_a_number():
+    tree = decomposed_tree()
+    return lambda: bpy.ops.worldpaint.generate_variants(object=tree.name, probability=float("nan"))
+
+
+def panel_probability_not_a_number():
+    tree = decomposed_tree()
+    tree.worldpaint_variety.texture_probability = float("nan")  # Blender's min and max do not stop a NaN
+    return lambda: bpy.ops.worldpaint.generate_variants(object=tree.name)
+
+
+def slope_forest():
+    """The slope exemplar learned as the active color "Slope forest", nothing selected."""
+    _, examples, _ = slope_exemplar()
+    select_only(examples)
+    assert bpy.ops.worldpaint.learn_color(name="Slope forest", **EXEMPLAR) == {'FINISHED'}
+    select_only([])
+
+
+def paste_with(**numbers):
+    def setup():
+        slope_forest()
+        return lambda: bpy.ops.worldpaint.paste_color(seed=1, **{**ELSEWHERE, **numbers})
+    return setup
+
+
+def pipette_of_radius(radius):
+    def setup():
+        slope_forest()
+        return lambda: bpy.ops.worldpaint.pipette(location=(50.0, 50.0, 0.0), radius=radius)
+    return setup
+
+
+REFUSED = [
+    ("cut along a path with a NaN point", cut_with_a_nan_point,
+     r"The path 'Cut' has a point at \(nan, nan, nan\) \(point 3\): a cut's points must be finite numbers"),
+    ("a new label after decomposing", relabelled_after_decomposing,
+     r"'Column tree' has changed since it was decomposed: its components are labelled 0, 1, 2, 3 where Decompose "
+     r"Model found 0, 1, 2\. Undo the change, or click Decompose Model again"),
+    ("a copy in another part's collection", copy_in_another_parts_collection(tagged=True),
+     r"'Crown copy' in 'Column tree Parts/Column tree part 1' is a copy of the piece of 'Column tree Parts/Column "
+     r"tree part 2' \(its vertices and faces are that part's\): move it to 'Column tree Parts/Column tree part 2'"),
+    ("an untagged copy in another part's collection", copy_in_another_parts_collection(tagged=False),
+     r"'Crown copy' in 'Column tree Parts/Column tree part 1' is not a copy of that part's piece: its vertices are "
+     r"numbered 0 to 16 \(attribute 'wp_vertex'\) where the piece's are 0 to 15"),
+    ("a piece moved by 1e30 m", piece_moved_far,
+     r"copy 'Crown far' in 'Column tree Parts/Column tree part 2': it has a vertex at \(1\.000e30, 0\.000, 3\.000\), "
+     r"1\.000e30 m from the model, more than 100 times the model's size .* \('Crown far' is moved in Object Mode"),
+    ("a copy with every vertex deleted", copy_with_every_vertex_deleted,
+     r"copy 'Crown empty' in 'Column tree Parts/Column tree part 2': it has no faces \(every vertex or face of it "
+     r"deleted\)"),
+    ("a NaN in a part's copy", copy_with_a_nan_vertex,
+     r"'Crown nan' in 'Column tree Parts/Column tree part 2' has a vertex that is not a finite number \(vertex 3 at "
+     r"\(nan, "),
+    ("a root that is no label", root_that_is_no_label,
+     r"Root 99 is not the label of a component of 'Column tree' \(its labels: 0, 1, 2\)"),
+    ("a texture probability that is not a number", probability_not_a_number,
+     r"Texture Probability must be a finite number, got nan"),
+    ("a texture probability of the panel that is not a number", panel_probability_not_a_number,
+     r"Texture Probability in the panel must be a finite number, got nan"),
+]
+
+# numbers given to an operator: Blender's min and max let a NaN through and store an infinity as 3.4e38
+NOT_FINITE = [
+    ("an influence that is not a number", paste_with(influence_radius=float("nan")),
+     r"Influence must be a finite number, got nan"),
+    ("a time limit that is not a number", paste_with(time_limit=float("nan")),
+     r"Time Limit must be a finite number, got nan"),
+    ("a circle of infinite radius", paste_with(region_mode='CIRCLE', circle_center=(50.0, 150.0),
+                                               circle_radius=float("inf")),
+     r"Circle Radius must be a finite number, got inf"),
+    ("a pipette radius that is not a number", pipette_of_radius(float("nan")),
+     r"Radius must be a finite number, got nan"),
+]
+
+
+@pytest.mark.parametrize(("setup", "message"), [case[1:] for case in REFUSED + NOT_FINITE],
+                         ids=[case[0] for case in REFUSED + NOT_FINITE])
+def test_a_bad_input_is_refused_in_time_naming_it_and_the_scene_is_unchanged(setup, message):
+    run = setup()
+    before = scene_hash()
+    start = time.perf_counter()
+    with pytest.raises(RuntimeError, match=message):
+        run()
+    assert time.perf_counter() - start < 10.0, "answered in time"
+    assert scene_hash() == before, "the scene as it was"
+
+
+def test_a_count_past_the_number_of_models_makes_every_model_once(capfd):
+    tree = decomposed_tree()
+    tall = edited_part(tree, 2, "Crown tall")
+    max(tall.data.vertices, key=lambda v: v.co.z).co.z += 1.0
+    before = scene_hash()
+    start = time.perf_counter()
+    assert bpy.ops.worldpaint.generate_variants(object=tree.name, count=10 ** 9) == {'FINISHED'}
+    assert time.perf_counter() - start < 10.0, "answered in time"
+    assert scene_hash() != before, "the variants written"
+    settings = tree.worldpaint_variety
+    assert settings.total == "2" and len(settings.generated.objects) == 2
+    assert "2 variants of 2 possible (every one tried: 1000000000 asked)" in capfd.readouterr().out
+
+
+def test_a_cell_of_the_learn_matrix_left_from_another_example_is_named_and_left_out(capfd):
+    _, examples, _ = slope_exemplar()
+    settings = bpy.context.scene.worldpaint
+    select_only(examples)
+    assert bpy.ops.worldpaint.learn_color(name="Clumped", **EXEMPLAR) == {'FINISHED'}
+    assert bpy.ops.worldpaint.set_learn_relation(category="Grass", other="Rock") == {'FINISHED'}
+    assert settings.learn_relation("Grass", "Rock") == "NONE"
+    # an example of trees only, learned with the matrix as the Learn Color button passes it
+    select_only([obj for obj in examples if obj.instance_collection.name == "Tree"])
+    capfd.readouterr()
+    start = time.perf_counter()
+    assert bpy.ops.worldpaint.learn_color(name="Trees", independent=settings.learn_pairs("NONE"),
+                                          **EXEMPLAR) == {'FINISHED'}
+    assert time.perf_counter() - start < 10.0, "answered in time"
+    out = capfd.readouterr().out
+    assert ("Not used: the Learn Matrix cell Grass: Rock (None) names Grass, Rock, which this example does not have"
+            in out), out
+    assert not [i for i in settings.palette["Trees"].interactions if not i.enabled]
+    # a cell typed as an independent pair, not set in the matrix, is still refused as a pair
+    with pytest.raises(RuntimeError, match="Independent pair 'Tree:Castle': the example gives no interaction"):
+        bpy.ops.worldpaint.learn_color(name="Trees", independent="Tree:Castle", **EXEMPLAR)
+
+
+def moist_ground(example_weight):
+    """A flat 240 x 100 m terrain "Ground" with trees in the west half of the 100 m example, its vertex group
+    "Moisture" weighing ``example_weight(x)`` in the example and 0 elsewhere. Returns (terrain, group, trees)."""
+    terrain_obj = flat_terrain("Ground", size=(240.0, 100.0), cell=2.0)
+    bpy.context.scene.worldpaint.terrain = terrain_obj
+    prototypes()
+    group = terrain_obj.vertex_groups.new(name="Moisture")
+    x = np.array([v.co.x for v in terrain_obj.data.vertices])
+    weights = np.where(x <= 100.0, example_weight(x), 0.0)
+    for value in np.unique(weights):
+        group.add([int(i) for i in np.flatnonzero(weights == value)], float(value), 'REPLACE')
+    xy = worldpaint_engine.exemplar_hard_core({"shape": "rect", "min": [0.0, 0.0], "max": [50.0, 100.0]}, 0.02, 3.0,
+                                              4)
+    return terrain_obj, group, collection_instances("Tree", xy, np.zeros(len(xy)))
+
+
+def test_a_weight_group_of_zeros_is_named_where_it_explains_an_empty_paste(capfd):
+    terrain_obj, group, trees = moist_ground(lambda x: (x < 50.0).astype(float))
+    select_only(trees)
+    assert bpy.ops.worldpaint.learn_color(name="Wet forest", maps="group:Moisture", **EXEMPLAR) == {'FINISHED'}
+    select_only([])
+    # the group weighs nothing anywhere now: a paste where the example had no tree at 0 pastes none, and says why
+    group.add(list(range(len(terrain_obj.data.vertices))), 0.0, 'REPLACE')
+    before = scene_hash()
+    capfd.readouterr()
+    start = time.perf_counter()
+    assert bpy.ops.worldpaint.paste_color(seed=3, region_mode='RECT', rect_min=(140.0, 0.0),
+                                          rect_max=(240.0, 100.0)) == {'FINISHED'}
+    assert time.perf_counter() - start < 10.0, "answered in time"
+    out = capfd.readouterr().out
+    assert ("Warning: Nothing pasted for Tree: the map 'group:Moisture' is 0 everywhere in the region (the vertex "
+            "group 'Moisture' of 'Ground'), and the example had no Tree where it is 0") in out, out
+    assert "slopes" not in out, "not blamed on slopes or heights"
+    assert scene_hash() == before
+    # learned from it as it is now, the color learns nothing from the group: said when it is learned
+    select_only(trees)
+    assert bpy.ops.worldpaint.learn_color(name="Zero", maps="group:Moisture", **EXEMPLAR) == {'FINISHED'}
+    assert ("Warning: Nothing learned from a map: the map 'group:Moisture' is 0 everywhere in the example's region "
+            "(the vertex group 'Moisture' of 'Ground')") in capfd.readouterr().out
+
+
+def test_a_share_of_the_destination_outside_the_example_is_never_said_to_be_0_percent(capfd):
+    terrain_obj, group, trees = moist_ground(lambda x: (x < 50.0).astype(float))
+    select_only(trees)
+    assert bpy.ops.worldpaint.learn_color(name="Wet forest", maps="group:Moisture", **EXEMPLAR) == {'FINISHED'}
+    select_only([])
+    # one vertex of the destination half wet, a value the example (dry or wet) never showed
+    co = np.array([v.co[:2] for v in terrain_obj.data.vertices])
+    group.add([int(np.argmin(np.linalg.norm(co - (190.0, 50.0), axis=1)))], 0.5, 'REPLACE')
+    capfd.readouterr()
+    assert bpy.ops.worldpaint.paste_color(seed=3, region_mode='RECT', rect_min=(140.0, 0.0),
+                                          rect_max=(240.0, 100.0)) == {'FINISHED'}
+    out = capfd.readouterr().out
+    share = re.search(r"The example never showed parts of the destination: (\S+)% of it has group:Moisture", out)
+    assert share is not None, out
+    print(f"\n{share[0]}")
+    assert 0.0 < float(share[1]) < 1.0, f"a share of a few cells, said as it is: {share[1]}%"
+
+
+def test_an_empty_collection_named_like_a_category_is_not_its_prototype(capfd):
+    terrain_obj = engine_terrain_object("Terrain", worldpaint_engine.exemplar_demo_terrain(600.0, 2.0, 7))
+    bpy.context.scene.worldpaint.terrain = terrain_obj
+    pine = bpy.data.collections.new("Pine")
+    bpy.context.scene.collection.children.link(pine)
+    capfd.readouterr()
+    assert bpy.ops.worldpaint.add_builtin_color(color='PINE_SLOPE') == {'FINISHED'}
+    out = capfd.readouterr().out
+    assert ("Warning: The collection 'Pine' shows nothing, so it is not used as the prototype of Pine: pastes use "
+            "the built-in model in 'Pine.001'") in out, out
+    assert not pine.all_objects, "the user's collection left as it was"
+    assert bpy.ops.worldpaint.paste_color(seed=1, color="Pine Slope", region_mode='RECT', rect_min=(200.0, 200.0),
+                                          rect_max=(330.0, 330.0)) == {'FINISHED'}
+    cloud = point_cloud_objects(bpy.context.scene)["Pine"]
+    assert instancer_collection(cloud).name == "Pine.001"
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    shown = sum(1 for i in depsgraph.object_instances if i.is_instance and i.parent is not None
+                and i.parent.original == cloud)
+    assert shown == len(cloud.data.vertices) > 100, f"{shown} pines shown of {len(cloud.data.vertices)}"

@@ -128,8 +128,12 @@ def test_appending_a_color_twice_numbers_it_and_reuses_its_prototypes():
 def test_a_collection_of_the_artist_named_as_a_category_is_kept_as_its_prototype():
     own = bpy.data.collections.new("Boulder")
     bpy.context.scene.collection.children.link(own)
+    rock = bpy.data.meshes.new("My boulder")
+    rock.from_pydata([(0.0, 0.0, 0.0), (1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)], [],
+                     [(0, 2, 1), (0, 1, 3), (1, 2, 3), (2, 0, 3)])
+    own.objects.link(bpy.data.objects.new("My boulder", rock))
     assert bpy.ops.worldpaint.add_builtin_color(color='MEADOW_BOULDERS') == {'FINISHED'}
-    assert bpy.data.collections["Boulder"] == own and len(own.objects) == 0
+    assert bpy.data.collections["Boulder"] == own and [o.name for o in own.objects] == ["My boulder"]
     assert "Boulder.001" not in bpy.data.collections
     assert len(bpy.data.collections["Grass tuft"].objects) == 1, "the others are made"
 

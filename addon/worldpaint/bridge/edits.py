@@ -97,7 +97,7 @@ def set_instancer(scene, obj, category, terrain_obj, variants=None):
     """Gives a cloud its instancer with the category's prototype collection (its ``variants`` when it paints with
     some); False when it has none."""
     collection = variants or points.instancer_collection(obj)
-    if collection is None:
+    if not points.shows_something(collection):  # none yet, or one emptied since
         collection = points.prototype_collection(scene, category, exclude=[terrain_obj])
     points.set_instancer(obj, collection, terrain_obj)
     return collection is not None

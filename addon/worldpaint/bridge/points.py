@@ -39,6 +39,9 @@ ROOT_TAG = "wp_root"  # on a scene's "WorldPaint" collection, whatever Blender n
 NODE_GROUP_NAME = "WorldPaint Instancer"
 MODIFIER_NAME = "WorldPaint"
 PROTO_PREFIX = "WP_proto_"
+# object types an instance never shows (a mesh shows its vertices, or what its modifiers make)
+NOTHING_SHOWN = {'MESH', 'EMPTY', 'LIGHT', 'CAMERA', 'SPEAKER', 'LIGHT_PROBE', 'ARMATURE', 'LATTICE'}
+BUILTIN_TAG = "wp_builtin"  # on a built-in prototype collection: its category (its name may be numbered)
 SNAP_HEIGHT = 500.0  # a curve ribbon's snapping ray starts this far above each point and is twice as long
 INSTANCER_VERSION = 2  # 1: ray-cast onto the terrain on every evaluation; 2: display modes, no ray cast
 ATTRIBUTES = (("rotation", 'FLOAT', np.float32), ("scale", 'FLOAT', np.float32), ("prototype", 'INT', np.int32),
@@ -316,16 +319,42 @@ def set_display(obj, mode=None, percentage=None, cull_distance=None):
 
 # --- prototype collections ----------------------------------------------------------------------------------------
 
+def shows_something(collection, seen=None):
+    """Whether instancing ``collection`` shows anything: an object with geometry in it or its children (a mesh with
+    vertices or modifiers, a curve, a text...), or an empty instancing a collection that does."""
+    seen = set() if seen is None else seen
+    if collection is None or collection.name_full in seen:
+        return False
+    seen.add(collection.name_full)
+    for obj in collection.all_objects:
+        if obj.type == 'MESH' and (len(obj.data.vertices) or len(obj.modifiers)) or obj.type not in NOTHING_SHOWN:
+            return True
+        if obj.type == 'EMPTY' and obj.instance_type == 'COLLECTION' and shows_something(obj.instance_collection,
+                                                                                         seen):
+            return True
+    return False
+
+
+def empty_named_collection(category):
+    """The collection named ``category`` when it shows nothing (so it is not used as the category's prototypes)."""
+    own = bpy.data.collections.get(category)
+    return own if own is not None and not own.get(PROTOTYPE_TAG) and not shows_something(own) else None
+
+
 def prototype_collection(scene, category, exclude=()):
     """The collection whose children are the category's prototypes, making "WP_proto_<category>" when needed.
 
-    A collection category uses its own collection. Otherwise a hidden collection (not linked to the scene) holds
-    one object with the category's mesh data, or a copy of one example object of the category. None when the file
-    has nothing to instance for the category.
+    A collection category uses its own collection, unless it shows nothing (an empty collection of the category's
+    name is not what the user means to paste); then the built-in model of the category when the file has it.
+    Otherwise a hidden collection (not linked to the scene) holds one object with the category's mesh data, or a
+    copy of one example object of the category. None when the file has nothing to instance for the category.
     """
     own = bpy.data.collections.get(category)
-    if own is not None and not own.get(PROTOTYPE_TAG):
+    if own is not None and not own.get(PROTOTYPE_TAG) and shows_something(own):
         return own
+    builtin = next((c for c in bpy.data.collections if c.get(BUILTIN_TAG) == category and shows_something(c)), None)
+    if builtin is not None:
+        return builtin
     name = PROTO_PREFIX + category
     existing = bpy.data.collections.get(name)
     if existing is not None:

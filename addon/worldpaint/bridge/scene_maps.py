@@ -8,10 +8,12 @@ attribute or an image by its luminance; an attribute of the faces or corners ave
 finer than the terrain's mesh is not seen.
 """
 
+import json
+
 import bpy
 import numpy as np
 
-from . import WorldPaintError, geometry
+from . import WorldPaintError, engine, geometry
 
 PREFIXES = ("group", "attribute", "image", "distance")
 VERTEX_PREFIXES = ("group", "attribute", "image")
@@ -216,3 +218,86 @@ def check_names(names):
             raise WorldPaintError(f"'{name}' is not a map: use slope, elevation or group:<vertex group>, "
                                   "attribute:<attribute>, image:<image> or distance:<collection>")
     return list(names)
+
+
+# --- maps that hold one value: what they explain ------------------------------------------------------------------
+
+MAX_SAMPLES = 1 << 20  # grid nodes read to tell whether a map holds one value in a region (a coarser stride past it)
+
+
+def source_text(name, terrain_obj):
+    """Where a map's values come from, in words: "the vertex group 'Moisture' of 'Terrain'"."""
+    prefix, source = split(name)
+    return {
+        "group": f"the vertex group '{source}' of '{terrain_obj.name}'",
+        "attribute": f"the attribute '{source}' of '{terrain_obj.name}'",
+        "image": f"the image '{source}'",
+        "distance": f"the distance to the collection '{source}'",
+    }.get(prefix, f"the {name} of '{terrain_obj.name}'")
+
+
+def one_value(heightfield, name, region):
+    """The value map ``name`` of ``heightfield`` (an engine terrain) has at every node of its grid inside ``region``
+    (an engine region), or None when it varies there or no node lies inside."""
+    grid = heightfield.grid()
+    (ox, oy), cell, nx, ny = grid["origin"], grid["cell"], grid["nx"], grid["ny"]
+    (rx0, ry0), (rx1, ry1) = engine.region_bbox(region)
+    i0, i1 = max(0, int(np.floor((rx0 - ox) / cell))), min(nx - 1, int(np.ceil((rx1 - ox) / cell)))
+    j0, j1 = max(0, int(np.floor((ry0 - oy) / cell))), min(ny - 1, int(np.ceil((ry1 - oy) / cell)))
+    if i0 > i1 or j0 > j1:
+        return None
+    stride = max(1, int(np.ceil(np.sqrt((i1 - i0 + 1) * (j1 - j0 + 1) / MAX_SAMPLES))))
+    gx, gy = np.meshgrid(ox + cell * np.arange(i0, i1 + 1, stride), oy + cell * np.arange(j0, j1 + 1, stride))
+    xy = np.column_stack([gx.ravel(), gy.ravel()])
+    xy = xy[engine.region_contains(region, xy)]
+    values = np.asarray(heightfield.map_at(name, xy))
+    values = values[np.isfinite(values)]
+    if len(values) == 0 or values.max() - values.min() > 1e-6 * max(1.0, float(np.abs(values).max())):
+        return None
+    return float(values[0])
+
+
+def value_text(value):
+    return f"{value:.3g}"
+
+
+def one_value_causes(heightfield, region, color_json, categories, terrain_obj):
+    """{category: why}: for each of ``categories`` that a paste of the color (JSON) in ``region`` left empty, the
+    scene map that explains it, if one does: it holds one value all over the region, and the example held none of
+    the category where the map had that value while it showed the value elsewhere (so the color paints none there)."""
+    color = json.loads(color_json)["color"]
+    causes = {}
+    values = {}
+    for interaction in color.get("maps", ()):
+        category, name = interaction["category"], interaction["map"]
+        if category not in categories or category in causes or not is_scene_map(name):
+            continue
+        if name not in values:
+            values[name] = one_value(heightfield, name, region)
+        value = values[name]
+        if value is None:
+            continue
+        hist, shown = interaction["hist"], interaction.get("region_hist") or {}
+        count = len(hist["values"])
+        if count == 0 or not hist["bin_width"] > 0.0:
+            continue
+        k = int(np.clip(np.floor((value - hist["start"]) / hist["bin_width"]), 0, count - 1))
+        seen = not shown.get("values") or shown["values"][k] > 0.0
+        if hist["values"][k] == 0.0 and seen:
+            causes[category] = (f"the map '{name}' is {value_text(value)} everywhere in the region "
+                                f"({source_text(name, terrain_obj)}), and the example had no {category} where it "
+                                f"is {value_text(value)}")
+    return causes
+
+
+def constant_in(heightfield, names, region, terrain_obj):
+    """Lines saying which of the scene maps ``names`` hold one value all over ``region``: nothing is learned from
+    them there."""
+    lines = []
+    for name in names:
+        if is_scene_map(name):
+            value = one_value(heightfield, name, region)
+            if value is not None:
+                lines.append(f"the map '{name}' is {value_text(value)} everywhere in the example's region "
+                             f"({source_text(name, terrain_obj)})")
+    return lines

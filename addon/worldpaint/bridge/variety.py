@@ -186,6 +186,7 @@ def variant_model(obj, original, where="", matrix=None):
     ``k`` of the component first (its original place, ``original`` model dict, where the edit deleted it), new ones
     after. ``matrix`` (the copy's Object Mode transform in its piece's frame) moves the copy's vertices: the transform
     is read as part of the copy. ``where`` names the part's collection in messages."""
+    place = f" in '{where}'" if where else ""
     depsgraph = bpy.context.evaluated_depsgraph_get()
     evaluated = obj.evaluated_get(depsgraph)
     mesh = evaluated.to_mesh()
@@ -193,7 +194,6 @@ def variant_model(obj, original, where="", matrix=None):
         model = mesh_model(mesh)
         attr = mesh.attributes.get(VERTEX_ATTRIBUTE)
         if attr is None or attr.domain != 'POINT':
-            place = f" in '{where}'" if where else ""
             raise WorldPaintError(f"'{obj.name}'{place} is not a copy of a part made by Decompose Model "
                                   f"(it has no '{VERTEX_ATTRIBUTE}' attribute)")
         ids = np.empty(len(mesh.vertices), dtype=np.int64)
@@ -203,12 +203,22 @@ def variant_model(obj, original, where="", matrix=None):
     if matrix is not None:
         m = np.array(matrix, dtype=np.float64)
         model["vertices"] = model["vertices"] @ m[:3, :3].T + m[:3, 3]
+    bad = np.flatnonzero(~np.isfinite(model["vertices"]).all(axis=1))
+    if len(bad):
+        moved = " once its Object Mode transform is applied" if matrix is not None else ""
+        raise WorldPaintError(f"'{obj.name}'{place} has a vertex that is not a finite number{moved} (vertex "
+                              f"{int(bad[0])} at {tuple(float(x) for x in model['vertices'][bad[0]])}): move it "
+                              "or delete the copy")
     base = np.asarray(original["vertices"], dtype=np.float64)
     n = len(base)
+    if len(ids) and ids.max() >= n:
+        raise WorldPaintError(f"'{obj.name}'{place} is not a copy of that part's piece: its vertices are numbered "
+                              f"0 to {int(ids.max())} (attribute '{VERTEX_ATTRIBUTE}') where the piece's are 0 to "
+                              f"{n - 1}, so it is a copy of another part's piece (put it in that part's collection)")
     known = (ids >= 0) & (ids < n)
     first = np.zeros(len(ids), dtype=bool)
-    _, where = np.unique(np.where(known, ids, -1 - np.arange(len(ids))), return_index=True)
-    first[where] = True
+    _, firsts = np.unique(np.where(known, ids, -1 - np.arange(len(ids))), return_index=True)
+    first[firsts] = True
     keep = known & first  # a vertex an edit duplicated (extrude) copies its id: the first keeps the place
     index = np.empty(len(ids), dtype=np.int64)
     index[keep] = ids[keep]

@@ -17,6 +17,7 @@ import numpy as np
 from . import WorldPaintError, geometry, variety, view
 
 REACH = 1.25  # faces within this many times the path's radius of its centre are cut
+FARTHEST = 1e9  # m from the origin: a path's point beyond is a typo (and its plane fit would overflow)
 GRAPH_COLOR = (0.3, 0.85, 1.0, 1.0)
 
 
@@ -49,7 +50,16 @@ def cut_along_curve(obj, curve_obj):
     if curve_obj is None or curve_obj.type != 'CURVE':
         raise WorldPaintError("Pick a curve object drawn where the model should be cut")
     world = np.vstack([xyz for xyz, _ in geometry.curve_splines([curve_obj])] or [np.zeros((0, 3))])
-    matrix = np.linalg.inv(np.array(obj.matrix_world, dtype=np.float64))
+    bad = np.flatnonzero(~(np.abs(world) <= FARTHEST).all(axis=1))
+    if len(bad):
+        raise WorldPaintError(f"The path '{curve_obj.name}' has a point at {tuple(float(x) for x in world[bad[0]])} "
+                              f"(point {int(bad[0])}): a cut's points must be finite numbers within a million km "
+                              "of the origin; move or delete it")
+    matrix = np.array(obj.matrix_world, dtype=np.float64)
+    if not np.isfinite(matrix).all() or abs(np.linalg.det(matrix[:3, :3])) < 1e-12:
+        raise WorldPaintError(f"'{obj.name}' is scaled to nothing or by a number that is not finite in Object Mode: "
+                              "give it a scale (Alt+S clears it) to cut it")
+    matrix = np.linalg.inv(matrix)
     centre, normal, radius = path_plane(world @ matrix[:3, :3].T + matrix[:3, 3])
     co = np.empty(len(obj.data.vertices) * 3)
     obj.data.vertices.foreach_get("co", co)

@@ -11,7 +11,7 @@ import bpy
 import numpy as np
 from mathutils import Matrix, Vector
 
-from ..bridge import compat
+from ..bridge import compat, points
 from ..bridge.instances import PROTOTYPE_TAG
 
 # material name: base colour (linear RGBA)
@@ -238,8 +238,11 @@ def parent_collection(scene):
 
 
 def has_prototype(category):
-    """Whether the file already has something to instance for ``category`` (a collection or mesh of its name)."""
-    return bpy.data.collections.get(category) is not None or bpy.data.meshes.get(category) is not None
+    """Whether the file already has something to instance for ``category``: a collection of its name that shows
+    something, a built-in model of it, or a mesh of its name (an empty collection of the name is not one)."""
+    own = bpy.data.collections.get(category)
+    return (own is not None and points.shows_something(own) or bpy.data.meshes.get(category) is not None
+            or any(c.get(points.BUILTIN_TAG) == category and points.shows_something(c) for c in bpy.data.collections))
 
 
 def make_prototype(scene, category, builder, seed=0):
@@ -250,7 +253,8 @@ def make_prototype(scene, category, builder, seed=0):
     mesh = m.mesh(f"{category} model")
     obj = bpy.data.objects.new(f"{category} model", mesh)
     obj[PROTOTYPE_TAG] = category
-    collection = bpy.data.collections.new(category)
+    collection = bpy.data.collections.new(category)  # numbered when the name is taken: the tag finds it
+    collection[points.BUILTIN_TAG] = category
     collection.objects.link(obj)
     parent_collection(scene).children.link(collection)
     # excluding the parent after linking a child keeps the new child excluded too

@@ -4,7 +4,7 @@ prototypes of its categories when the file has none of their names."""
 import bpy
 from bpy.props import EnumProperty
 
-from ..bridge import WorldPaintError, engine
+from ..bridge import WorldPaintError, engine, points
 from ..builtin import catalog, learn, prototypes
 from .arrangement import NO_FIDELITY, refresh_pattern
 from .background import with_progress
@@ -65,10 +65,16 @@ class WORLDPAINT_OT_add_builtin_color(bpy.types.Operator):
             for category in engine.color_summary(result.color_json).category_names:
                 builder = catalog.PROTOTYPES.get(category)
                 if builder is not None and not prototypes.has_prototype(category):
-                    prototypes.make_prototype(context.scene, category, builder)
-                    made.append(category)
+                    made.append(prototypes.make_prototype(context.scene, category, builder))
         style_graphs(settings, {item.name for item in settings.categories} - known)
         names = ", ".join(f"'{name}'" for name, *_ in learned)
-        models = f"; made prototypes for {', '.join(made)}" if made else ""
+        models = f"; made prototypes for {', '.join(c[points.BUILTIN_TAG] for c in made)}" if made else ""
         self.report({'INFO'}, f"Added {names}{models}")
+        # a collection of a category's name that shows nothing is not used: say which model is used instead
+        for collection in made:
+            empty = points.empty_named_collection(collection[points.BUILTIN_TAG])
+            if empty is not None:
+                self.report({'WARNING'}, f"The collection '{empty.name}' shows nothing, so it is not used as the "
+                                         f"prototype of {collection[points.BUILTIN_TAG]}: pastes use the built-in "
+                                         f"model in '{collection.name}' (put objects in '{empty.name}' to use them)")
         return {'FINISHED'}

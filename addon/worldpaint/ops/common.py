@@ -5,7 +5,7 @@ import functools
 import numpy as np
 from bpy.props import EnumProperty, FloatProperty, FloatVectorProperty, IntProperty, StringProperty
 
-from ..bridge import WorldPaintError, curves, edits, engine, instances, regions, scene_maps, terrain
+from ..bridge import WorldPaintError, curves, edits, engine, instances, points, regions, scene_maps, terrain
 from ..props import REGION_MODES
 
 OPERATOR_REGION_MODES = (
@@ -53,9 +53,23 @@ class RegionProperties:
         }
 
 
+FLOAT_MAX = 3.4e38  # Blender stores an infinity typed in a float field as the largest float, 3.4028e38
+
+
+def number_text(value):
+    """A number for a message: "nan", "inf" for what Blender stores of an infinity, else as it is."""
+    return "nan" if value != value else f"{'-' if value < 0 else ''}inf" if abs(value) >= FLOAT_MAX else f"{value:g}"
+
+
 def setting(operator, name, default):
-    """The operator's property when it was given, else ``default`` (the panel's setting)."""
-    return getattr(operator, name) if operator.properties.is_property_set(name) else default
+    """The operator's property when it was given, else ``default`` (the panel's setting), which must be finite when
+    it is a number (a script can store a NaN there: Blender's min and max do not stop it)."""
+    if operator.properties.is_property_set(name):
+        return getattr(operator, name)
+    if isinstance(default, float) and not abs(default) < FLOAT_MAX:
+        label = operator.properties.bl_rna.properties[name].name
+        raise WorldPaintError(f"{label} in the panel must be a finite number, got {number_text(default)}")
+    return default
 
 
 class SynthesisProperties:
@@ -90,9 +104,26 @@ class RegionSynthesisProperties(RegionProperties, SynthesisProperties, TerrainPr
     """The properties of an operator that synthesizes in a region of the terrain."""
 
 
+def check_numbers(operator):
+    """Refuses a float property of ``operator`` that is not a finite number, naming it: Blender's min and max let a
+    NaN through, and store an infinity as the largest float."""
+    given = operator.properties
+    for prop in given.bl_rna.properties:
+        if prop.type != 'FLOAT':
+            continue
+        value = getattr(given, prop.identifier)
+        values = list(value) if prop.is_array else [value]
+        if not all(abs(v) < FLOAT_MAX for v in values):  # false for a NaN too
+            shown = ", ".join(number_text(v) for v in values)
+            raise WorldPaintError(f"{prop.name} must be {'finite numbers' if prop.is_array else 'a finite number'}, "
+                                  f"got {f'({shown})' if prop.is_array else shown}")
+
+
 def report_errors(operator, action):
-    """Runs ``action`` (which changes nothing before it has validated everything); errors become UI reports."""
+    """Runs ``action`` (which changes nothing before it has validated everything) once the operator's numbers are
+    checked; errors become UI reports."""
     try:
+        check_numbers(operator)
         return action()
     except WorldPaintError as exc:
         operator.report({'ERROR'}, str(exc))
@@ -227,4 +258,7 @@ class SceneContent:
 
 def report_missing(operator, applied):
     if applied.missing:
-        operator.report({'WARNING'}, f"No collection or mesh to instance for: {', '.join(applied.missing)}")
+        empty = [f"the collection '{c.name}' shows nothing" for c in map(points.empty_named_collection,
+                                                                         applied.missing) if c is not None]
+        why = f" ({'; '.join(empty)})" if empty else ""
+        operator.report({'WARNING'}, f"No collection or mesh to instance for: {', '.join(applied.missing)}{why}")

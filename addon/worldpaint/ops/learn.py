@@ -108,12 +108,26 @@ class WORLDPAINT_OT_learn_color(RegionProperties, TerrainProperty, bpy.types.Ope
         "the category is painted as if the other were not there",
     )
 
-    def oriented_pairs(self, categories):
-        """The oriented pairs as (category, other), checked against the categories."""
+    def matrix_cell(self, settings, pair, how, present):
+        """Whether ``pair`` is a cell of the Learn Matrix set to ``how`` that names a category or map the example
+        does not have (a cell left from another example): such a cell is left out, and said so."""
+        absent = [name for name in pair if name not in present]
+        if not absent or settings.learn_relation(*pair) != how:
+            return False
+        label = {"NONE": "None", "ORIENTED": "Oriented"}[how]
+        self._left_out.append(f"the Learn Matrix cell {pair[0]}: {pair[1]} ({label}) names "
+                              f"{', '.join(absent)}, which this example does not have")
+        return True
+
+    def oriented_pairs(self, categories, settings, present):
+        """The oriented pairs as (category, other), checked against the categories; the Learn Matrix's cells for
+        categories the example does not have are left out."""
         kinds = {c["name"]: c["kind"] for c in categories}
         pairs = []
         for item in scene_maps.names_in(self.oriented):
             pair = split_pair(item, "Oriented")
+            if self.matrix_cell(settings, pair, "ORIENTED", present):
+                continue
             unknown = [name for name in pair if name not in kinds]
             if unknown:
                 raise WorldPaintError(f"Oriented pair '{item}': no category {', '.join(unknown)} in the example")
@@ -124,17 +138,21 @@ class WORLDPAINT_OT_learn_color(RegionProperties, TerrainProperty, bpy.types.Ope
             pairs.append(pair)
         return pairs
 
-    def independent_pairs(self, color_json):
-        """The interactions of the learned color that the independent pairs switch off, as (category, other)."""
+    def independent_pairs(self, color_json, settings, present):
+        """The interactions of the learned color that the independent pairs switch off, as (category, other); the
+        Learn Matrix's cells for categories the example does not have are left out."""
         learned = {(i.category, i.other) for i in engine.color_summary(color_json).interactions}
         off = set()
         for item in scene_maps.names_in(self.independent):
             category, other = split_pair(item, "Independent")
+            if self.matrix_cell(settings, (category, other), "NONE", present):
+                continue
             # a pair between two categories is one interaction, whichever of them the priority order puts first
             found = [pair for pair in ((category, other), (other, category)) if pair in learned]
             if not found:
-                raise WorldPaintError(f"Independent pair '{item}': the example gives no interaction between "
-                                      f"{category} and {other}")
+                cell = (f"The Learn Matrix cell {category}: {other} (None)" if settings.learn_relation(
+                    category, other) == "NONE" else f"Independent pair '{item}'")
+                raise WorldPaintError(f"{cell}: the example gives no interaction between {category} and {other}")
             off.add(found[0])
         return off
 
@@ -176,8 +194,12 @@ class WORLDPAINT_OT_learn_color(RegionProperties, TerrainProperty, bpy.types.Ope
         # a typed name the palette has is numbered, as the Pipette and Interpolate Colors do
         name = unique_name(settings.palette, self.name or "Color")
         scene_data = engine.scene(heightfield, exemplar.engine_arrays(), structures.engine_arrays())
-        color_json = engine.learn_color(scene_data, region, name, maps, self.oriented_pairs(categories))
-        off = self.independent_pairs(color_json)
+        # what the example has: a cell of the Learn Matrix naming anything else is left from another example
+        present = {c for _, c in examples} | {c for _, c, _ in drawn} | set(maps)
+        self._left_out = []
+        oriented = self.oriented_pairs(categories, settings, present)
+        color_json = engine.learn_color(scene_data, region, name, maps, oriented)
+        off = self.independent_pairs(color_json, settings, present)
         painted_json = engine.color_without_interactions(color_json, off) if off else color_json
         # the color painted into its own example region and learned back: how well it reproduces the example
         fidelity = with_progress(context, lambda progress: fidelity_view(painted_json, heightfield, progress))
@@ -188,4 +210,11 @@ class WORLDPAINT_OT_learn_color(RegionProperties, TerrainProperty, bpy.types.Ope
         n_categories = len({c for _, c in examples} | {c for _, c, _ in drawn})
         self.report({'INFO'}, f"Learned '{name}' from {len(exemplar)} instances and {len(structures)} curves in "
                               f"{n_categories} categories; painted into its example's region: {entry.fidelity_line()}")
+        if self._left_out:
+            self.report({'INFO'}, f"Not used: {'; '.join(self._left_out)}")
+        flat = scene_maps.constant_in(heightfield, maps, region, terrain_obj)
+        if flat:
+            self.report({'WARNING'}, f"Nothing learned from a map: {'; '.join(flat)}, so the example shows nothing "
+                                     "of how its categories follow it (where it differs, the color paints at most "
+                                     "its mean density)")
         return {'FINISHED'}

@@ -7,10 +7,17 @@ worker thread with a progress bar and Esc to cancel (see ``background``).
 import bpy
 from bpy.props import StringProperty
 
-from ..bridge import engine
+from ..bridge import engine, scene_maps
 from .arrangement import PatternGuideProperties
 from .common import active_color
 from .region_synthesis import RegionSynthesisOperator
+
+
+def share_text(share):
+    """A share of a region in words that never round a share above 0 down to "0%" (nor one below 1 up to "100%")."""
+    if share >= 0.01:
+        return f"{min(share, 0.99) if share < 1.0 else share:.0%}"
+    return f"{100.0 * share:.1g}%"
 
 
 class WORLDPAINT_OT_paste_color(PatternGuideProperties, RegionSynthesisOperator, bpy.types.Operator):
@@ -56,9 +63,17 @@ class WORLDPAINT_OT_paste_color(PatternGuideProperties, RegionSynthesisOperator,
         else:
             self.report({'WARNING'}, f"No fidelity figure for the paste: {result.fidelity_error}")
         if empty:
-            self.report({'WARNING'}, f"Nothing pasted for {', '.join(empty)}: the example had none on slopes (or, "
-                                     "for a color with a height preference, heights) like the destination's")
+            # a scene map of one value all over the region (a weight group of zeros) explains what it explains
+            causes = scene_maps.one_value_causes(self._content.heightfield, self._call["region"], self._entry.json,
+                                                 empty, self._content.terrain_obj)
+            for category, cause in sorted(causes.items()):
+                self.report({'WARNING'}, f"Nothing pasted for {category}: {cause}")
+            rest = [category for category in empty if category not in causes]
+            if rest:
+                self.report({'WARNING'}, f"Nothing pasted for {', '.join(rest)}: the example had none on slopes (or, "
+                                         "for a color with a height preference, heights) like the destination's")
         if edit.unseen_maps:
-            shares = ", ".join(f"{share:.0%} of it has {name}" for name, share in sorted(edit.unseen_maps.items()))
+            shares = ", ".join(f"{share_text(share)} of it has {name}" for name, share in
+                               sorted(edit.unseen_maps.items()))
             self.report({'WARNING'}, f"The example never showed parts of the destination: {shares} outside what "
                                      "it showed; painted there at most at the example's mean density")

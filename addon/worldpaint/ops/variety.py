@@ -48,6 +48,33 @@ def remove_collection(collection):
     bpy.data.collections.remove(collection)
 
 
+def check_unchanged(obj, found, by_label):
+    """An error when ``obj``'s components (``found`` by ``engine.decompose_model``) are no longer those it was
+    decomposed into: a face given a new label, faces moved to another component, vertices added or removed."""
+    settings = obj.worldpaint_variety
+    was = [(item.label, item.faces) for item in settings.components]
+    now = list(zip(found["labels"], found["faces"], strict=True))
+    changed = []
+    if [label for label, _ in was] != [label for label, _ in now]:
+        changed.append(f"its components are labelled {', '.join(str(label) for label, _ in now)} where Decompose "
+                       f"Model found {', '.join(str(label) for label, _ in was)}")
+    elif was != now:
+        changed += [f"its part {label} has {n} faces where it had {m}"
+                    for (label, m), (_, n) in zip(was, now, strict=True) if m != n]
+    else:
+        for label, piece in zip(found["labels"], found["components"], strict=True):
+            collection = by_label.get(label)
+            piece_obj = None if collection is None else collection.get(variety.PART_TAG)
+            if piece_obj is not None and piece_obj.type == 'MESH' and len(piece_obj.data.vertices) != len(
+                    piece["vertices"]):
+                changed.append(f"its part {label} has {len(piece['vertices'])} vertices where the piece "
+                               f"'{piece_obj.name}' has {len(piece_obj.data.vertices)}")
+    if changed:
+        raise WorldPaintError(f"'{obj.name}' has changed since it was decomposed: {'; '.join(changed)}. Undo the "
+                              "change, or click Decompose Model again (it makes new parts, removing the old ones "
+                              "with their copies)")
+
+
 class WORLDPAINT_OT_decompose_model(bpy.types.Operator):
     """Cut the mesh into components (by face sets, materials or a face attribute) joined by connecting regions; each
     component gets a collection with its piece, where edited copies of it become its variants"""
@@ -68,6 +95,9 @@ class WORLDPAINT_OT_decompose_model(bpy.types.Operator):
         settings = obj.worldpaint_variety
         labels = variety.face_labels(obj, self.source, self.attribute)
         root = self.root if self.root >= 0 else None
+        if root is not None and root not in labels:
+            raise WorldPaintError(f"Root {root} is not the label of a component of '{obj.name}' (its labels: "
+                                  f"{', '.join(str(label) for label in sorted(set(labels.tolist())))})")
         found = engine.decompose_model(variety.mesh_model(obj.data), labels, root)
         if len(found["labels"]) < 2:
             raise WorldPaintError(f"'{obj.name}' has one component only: mark at least two")
@@ -90,6 +120,7 @@ class WORLDPAINT_OT_decompose_model(bpy.types.Operator):
             part = bpy.data.objects.new(f"{obj.name} part {label}",
                                         variety.part_mesh(f"{obj.name} part {label}", piece, materials))
             part.matrix_world = obj.matrix_world
+            part[variety.COMPONENT_TAG] = label  # a copy (Shift+D) keeps it: where it came from
             collection[variety.PART_TAG] = part
             collection.objects.link(part)
             item = settings.components.add()
@@ -132,6 +163,7 @@ class WORLDPAINT_OT_generate_variants(BackgroundOperator, bpy.types.Operator):
         self._root = settings.root if settings.root >= 0 else None
         found = engine.decompose_model(self._model, self._labels, self._root)
         by_label = {c.get(variety.COMPONENT_TAG): c for c in settings.parts.children}
+        check_unchanged(obj, found, by_label)
         context.evaluated_depsgraph_get()  # the copies' Object Mode transforms up to date
         self._cycles = [(k, c.repeat) for k, c in enumerate(settings.components) if c.repeat > 0]
         self._variants, self._picks, self._names, self._variant_names = [], [], [], []
@@ -146,6 +178,12 @@ class WORLDPAINT_OT_generate_variants(BackgroundOperator, bpy.types.Operator):
             reference = (piece_obj or obj).matrix_world
             models = []
             for o in edits:
+                copied_from = o.get(variety.COMPONENT_TAG)
+                if copied_from is not None and copied_from != label:
+                    home = variety.part_path(settings.parts, by_label.get(copied_from),
+                                             f"{obj.name} part {copied_from}")
+                    raise WorldPaintError(f"'{o.name}' in '{where}' is a copy of the piece of '{home}' (its vertices "
+                                          f"and faces are that part's): move it to '{home}'")
                 relative = reference.inverted_safe() @ o.matrix_world
                 moved = variety.object_mode_change(relative)
                 if moved:

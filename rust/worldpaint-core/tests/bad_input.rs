@@ -313,3 +313,158 @@ fn a_stretch_far_past_the_terrain_does_not_cram_what_it_moves() {
         "{after} instances on a terrain that holds {full:.0}"
     );
 }
+
+#[path = "common/variety_models.rs"]
+mod variety_models;
+
+/// Model variety: copies that are not edits of their part's piece, and counts past the number of models.
+mod variety {
+    use super::variety_models;
+    use std::time::Instant;
+    use worldpaint_core::variety::{
+        generate, pack_components, pick_texture_variants, Atlas, Decomposition, GenerateOptions,
+        IntersectionLabels, Model,
+    };
+
+    /// The variety test tree decomposed (root: the lower trunk) into an atlas of its original pieces, its parts named
+    /// as Blender names their collections.
+    fn named_tree_atlas() -> (variety_models::Tree, Decomposition, Atlas) {
+        let tree = variety_models::tree(4);
+        let d = Decomposition::from_labels(&tree.model, &tree.labels, Some(0)).expect("decomposed");
+        let mut atlas = Atlas::new(&tree.model, d.clone()).expect("atlas");
+        let names = (0..d.components.len())
+            .map(|c| format!("Tree Parts/Tree part {c}"))
+            .collect();
+        atlas.set_names(names).expect("names");
+        (tree, d, atlas)
+    }
+
+    #[test]
+    fn a_copy_that_is_not_an_edit_of_its_parts_piece_is_refused_naming_it_and_nothing_changes() {
+        let (tree, d, atlas) = named_tree_atlas();
+        let piece = |c: usize| d.component_model(&tree.model, c).expect("piece");
+        let crown_as_trunk = piece(5);
+        let mut thrown = piece(5);
+        for v in &mut thrown.vertices {
+            v.x += 1e30;
+        }
+        let mut emptied = piece(5);
+        emptied.faces.clear();
+        emptied.uvs = None;
+        emptied.materials = None;
+        let mut not_a_number = piece(5);
+        not_a_number.vertices[3].x = f64::NAN;
+        let cases: Vec<(usize, &str, Model, Vec<&str>)> = vec![
+            (
+                0,
+                "Crown copy",
+                crown_as_trunk,
+                vec![
+                    "copy 'Crown copy' in 'Tree Parts/Tree part 0'",
+                    "do not match the piece of 'Tree Parts/Tree part 0'",
+                ],
+            ),
+            (
+                5,
+                "Crown far",
+                thrown,
+                vec![
+                    "copy 'Crown far' in 'Tree Parts/Tree part 5'",
+                    "m from the model, more than 100 times the model's size",
+                ],
+            ),
+            (
+                5,
+                "Crown empty",
+                emptied,
+                vec![
+                    "copy 'Crown empty' in 'Tree Parts/Tree part 5'",
+                    "it has no faces",
+                ],
+            ),
+            (
+                5,
+                "Crown nan",
+                not_a_number,
+                vec![
+                    "copy 'Crown nan' in 'Tree Parts/Tree part 5': vertex 3",
+                    "coordinates must be finite numbers",
+                ],
+            ),
+        ];
+        for (c, name, copy, words) in cases {
+            let mut tried = atlas.clone();
+            let start = Instant::now();
+            let e = tried
+                .add_named_variant(c, name, copy)
+                .expect_err(name)
+                .to_string();
+            println!("  {name}: {e} ({:.3} s)", start.elapsed().as_secs_f64());
+            assert!(
+                start.elapsed().as_secs_f64() < 10.0,
+                "{name}: answered in time"
+            );
+            for w in words {
+                assert!(e.contains(w), "'{e}' should say '{w}'");
+            }
+            assert_eq!(
+                (tried.count(), tried.variants(c).len()),
+                (1, 1),
+                "{name}: the atlas as it was"
+            );
+        }
+    }
+
+    #[test]
+    fn a_count_past_the_number_of_models_makes_every_model_once() {
+        let (tree, d, mut atlas) = named_tree_atlas();
+        let mut taller = d.component_model(&tree.model, 5).expect("crown");
+        let top = taller.vertices.iter().map(|v| v.z).fold(f64::MIN, f64::max);
+        for v in &mut taller.vertices {
+            if v.z > top - 1e-9 {
+                v.z += 0.5;
+            }
+        }
+        atlas
+            .add_named_variant(5, "Crown tall", taller)
+            .expect("a taller crown");
+        let labels = IntersectionLabels::of_model(&tree.model);
+        let start = Instant::now();
+        let made = generate(
+            &atlas,
+            &labels,
+            &GenerateOptions {
+                count: 1_000_000_000,
+                seed: 1,
+                max_attempts: 0,
+            },
+        )
+        .expect("a count of #V or more makes every model");
+        println!(
+            "  a billion asked of {}: {} made, {} rejected in {:.3} s",
+            atlas.count(),
+            made.accepted.len(),
+            made.rejected.len(),
+            start.elapsed().as_secs_f64()
+        );
+        assert!(start.elapsed().as_secs_f64() < 10.0, "answered in time");
+        assert_eq!(atlas.count(), 2);
+        assert_eq!(made.accepted.len() + made.rejected.len(), 2);
+        assert!(made.exhausted, "every model tried");
+        // with texture edits each of the count asked is made (a shape repeats with other details): a billion is
+        // refused, naming the count, before anything is allocated
+        let faces = tree.model.faces.len();
+        let start = Instant::now();
+        let e = pick_texture_variants(&[], &pack_components(&[]), faces, 0.5, 1_000_000_000, 1)
+            .expect_err("a billion textured variants")
+            .to_string();
+        println!("  {e}");
+        assert!(start.elapsed().as_secs_f64() < 10.0, "answered in time");
+        assert!(
+            e.contains(&format!(
+                "the texture choices of 1000000000 variants of {faces} faces"
+            )),
+            "{e}"
+        );
+    }
+}

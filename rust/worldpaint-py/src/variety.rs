@@ -13,6 +13,7 @@ use numpy::{IntoPyArray, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use worldpaint_core::geom::{DVec2, DVec3};
+use worldpaint_core::variety::model::error_about;
 use worldpaint_core::variety::{
     atlas_images, check_assembly, generate, memory_report, pack_components, pick_texture_variants,
     Atlas, Decomposition, GenerateOptions, Generation, Image, IntersectionLabels, Model, Rejection,
@@ -65,7 +66,8 @@ fn model_from_py(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Model> {
         );
         at += n;
     }
-    let mut model = guarded(|| Model::new(vertices, faces.clone()))?;
+    let mut model =
+        guarded(|| Model::new(vertices, faces.clone()).map_err(|e| error_about(e, what)))?;
     if let Ok(uvs) = obj.get_item("uvs") {
         if !uvs.is_none() {
             let uv = points_from_py(&ArrayArg::from(uvs), &format!("{what} uvs"))?;
@@ -81,7 +83,7 @@ fn model_from_py(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Model> {
                 per_face.push(uv[k..k + face.len()].to_vec());
                 k += face.len();
             }
-            model = guarded(|| model.with_uvs(per_face))?;
+            model = guarded(|| model.with_uvs(per_face).map_err(|e| error_about(e, what)))?;
         }
     }
     if let Ok(materials) = obj.get_item("materials") {
@@ -94,7 +96,7 @@ fn model_from_py(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Model> {
                         .map_err(|_| input_err(format!("{what}: a negative material index")))
                 })
                 .collect::<PyResult<Vec<u32>>>()?;
-            model = guarded(|| model.with_materials(m))?;
+            model = guarded(|| model.with_materials(m).map_err(|e| error_about(e, what)))?;
         }
     }
     Ok(model)

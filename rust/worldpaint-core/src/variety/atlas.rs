@@ -7,6 +7,12 @@
 //! refused by the check that the connecting-region vertices are still there. A variant face copies an original face
 //! when it uses the same component vertices (the self-intersection labels follow it).
 //!
+//! A copy must be an edit of its own part's piece, and is refused, by name, when it is not: one with no faces left
+//! (every vertex or face deleted: it would only take the part off), one with a vertex farther from the model than
+//! [`MAX_REACH`] times the model's size (a typo, a piece thrown 1e30 m away), and one put in another part's
+//! collection. Reading chosen for the last: a copy is another part's when more than half of its edges between the
+//! piece's vertices (numbered as the piece's) are not edges of the piece; edits keep the piece's edges or add a few.
+//!
 //! Each connecting region of the variant is classified ([`RegionChange`]):
 //! - **untouched** (every vertex within the tolerance of its place): §4.2.1, a local change when all are;
 //! - **solid**: moved by one similarity (translation, rotation, uniform scale) fitted by least squares
@@ -61,6 +67,9 @@ pub const TOLERANCE: f64 = 1e-6;
 
 /// Most repetitions a local cycle may allow.
 pub const MAX_REPEAT: u32 = 64;
+
+/// How far from the model a copy's vertices may lie, in times the model's size (its box's diagonal, 1 m at least).
+pub const MAX_REACH: f64 = 100.0;
 
 /// What a variant did to one of its component's connecting regions.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -361,13 +370,79 @@ impl Atlas {
         Ok(())
     }
 
+    /// Refuses a copy (`what`) with a vertex farther from the model's box than [`MAX_REACH`] times the model's size:
+    /// an edit of a piece, not a piece thrown away (a typo, a move of the whole copy). Past that the tolerances,
+    /// relative to the distance from the origin, would no longer see the model.
+    fn check_near_model(&self, what: &str, edited: &Model) -> Result<()> {
+        let (lo, hi) = self.model.bounds();
+        let size = lo.distance(hi).max(1.0);
+        let far = edited
+            .vertices
+            .iter()
+            .map(|&v| (v, v.clamp(lo, hi).distance(v)))
+            .find(|&(_, d)| d > MAX_REACH * size);
+        match far {
+            Some((v, d)) => Err(Error::invalid(
+                what,
+                format!(
+                    "it has a vertex at ({}, {}, {}), {} m from the model, more than {MAX_REACH} times the model's \
+                     size ({size:.3} m): a copy is an edit of the piece where it lies; move it back",
+                    metres(v.x),
+                    metres(v.y),
+                    metres(v.z),
+                    metres(d)
+                ),
+            )),
+            None => Ok(()),
+        }
+    }
+
+    /// Refuses a copy (`what`) put in component `c`'s collection that is not a copy of `c`'s piece: more than half of
+    /// its edges between the piece's vertices (numbered as the piece's) join vertices the piece does not join. An
+    /// edit keeps the piece's edges (moves, deformers, deleted faces), or adds a few (a quad split in two keeps
+    /// two thirds); a copy of another part's piece, numbered as that part, matches by chance only.
+    fn check_piece_edges(&self, c: usize, what: &str, edited: &Model) -> Result<()> {
+        let comp = &self.decomposition.components[c];
+        let n = comp.vertices.len() as u32;
+        let piece: std::collections::HashSet<(u32, u32)> = comp
+            .faces
+            .iter()
+            .flat_map(|&f| {
+                let face = &self.model.faces[f as usize];
+                (0..face.len()).map(move |k| (face[k], face[(k + 1) % face.len()]))
+            })
+            .filter_map(|(a, b)| Some((comp.local_index(a)? as u32, comp.local_index(b)? as u32)))
+            .map(|(a, b)| (a.min(b), a.max(b)))
+            .collect();
+        let own: Vec<(u32, u32)> = edited
+            .edge_uses()
+            .into_iter()
+            .map(|(e, _)| e)
+            .filter(|&(a, b)| a < n && b < n)
+            .collect();
+        let kept = own.iter().filter(|e| piece.contains(e)).count();
+        if 2 * kept >= own.len() {
+            return Ok(());
+        }
+        Err(Error::invalid(
+            what,
+            format!(
+                "its vertices and faces do not match the piece of '{}': only {kept} of its {} edges between the \
+                 piece's vertices are edges of the piece (is it a copy of another part's piece? Each copy goes in \
+                 the collection of the part it was copied from)",
+                self.name(c),
+                own.len()
+            ),
+        ))
+    }
+
     /// Classifies an edited sub-mesh of component `c` and brings it back to its parent region. Refuses a piece moved
     /// with its region towards the root (or, the root, moved whole) and a solid transform of a region on a cycle.
     fn prepare(&self, c: usize, name: String, mut edited: Model) -> Result<Variant> {
         let what = self.copy_what(c, &name);
         edited
             .validate()
-            .map_err(|e| Error::invalid(what.clone(), e.reason()))?;
+            .map_err(|e| super::model::error_about(e, &what))?;
         let d = &self.decomposition;
         let comp = &d.components[c];
         let n = comp.vertices.len();
@@ -381,6 +456,15 @@ impl Atlas {
                 ),
             ));
         }
+        if edited.faces.is_empty() {
+            return Err(Error::invalid(
+                what,
+                "it has no faces (every vertex or face of it deleted), so it would only take the part off the \
+                 model; delete the copy, or keep the faces of the part you want it to show",
+            ));
+        }
+        self.check_near_model(&what, &edited)?;
+        self.check_piece_edges(c, &what, &edited)?;
         let original: Vec<DVec3> = comp
             .vertices
             .iter()
@@ -796,5 +880,14 @@ impl Atlas {
             }
         }
         self.graphs = graphs;
+    }
+}
+
+/// A length for a message: millimetres near the model, powers of ten far from it.
+fn metres(x: f64) -> String {
+    if x.abs() < 1e6 {
+        format!("{x:.3}")
+    } else {
+        format!("{x:.3e}")
     }
 }

@@ -177,12 +177,22 @@ pub fn check_assemblies(
 /// Draws, assembles and checks random variants until `count` are kept or `max_attempts` are drawn; then, when
 /// fewer are kept than asked and the assemblies never drawn are no more than the attempts (the draws stalled on
 /// repeats), checks those in a seeded order until `count` are kept or none is left. A count of #V or more enumerates
-/// every assembly from the start. Enumeration needs #V ≤ [`ENUMERATION_LIMIT`].
+/// every assembly from the start (a count past #V asks for #V). Enumeration needs #V ≤ [`ENUMERATION_LIMIT`]; a count
+/// past [`crate::limits::MAX_INSTANCES`] that #V does not bring down is refused.
 pub fn generate(
     atlas: &Atlas,
     labels: &IntersectionLabels,
     options: &GenerateOptions,
 ) -> Result<Generation> {
+    let total = atlas.count();
+    if total == 0 {
+        return Err(Error::invalid("atlas", "it makes no assembly"));
+    }
+    // a count of #V or more asks for every model once: #V is what is made
+    let options = &GenerateOptions {
+        count: usize::try_from(total).map_or(options.count, |all| options.count.min(all)),
+        ..options.clone()
+    };
     crate::limits::check(
         "variants to generate",
         options.count as f64,
@@ -194,10 +204,6 @@ pub fn generate(
     } else {
         options.max_attempts
     };
-    let total = atlas.count();
-    if total == 0 {
-        return Err(Error::invalid("atlas", "it makes no assembly"));
-    }
     let checker = AssemblyChecker::new(atlas, labels);
     let mut rng = ChaCha8Rng::seed_from_u64(options.seed);
     let mut seen: HashSet<Choice> = HashSet::new();

@@ -62,7 +62,8 @@ pub mod texture;
 pub use assemble::{geometry_hash, shape_hash, Assembled, Choice, Placed};
 pub use assign::assign_variants;
 pub use atlas::{
-    Atlas, AtlasGraph, LocalCycle, NodeVariant, RegionChange, Variant, VariantClass, TOLERANCE,
+    Atlas, AtlasGraph, LocalCycle, NodeVariant, RegionChange, Variant, VariantClass, MAX_REACH,
+    TOLERANCE,
 };
 pub use decompose::{labels_from_cut, Chain, Component, ConnectingRegion, Decomposition};
 pub use frame::fit_similarity;

@@ -10,6 +10,16 @@ use std::collections::HashMap;
 /// Most vertices or faces one model may have (far above a low-polygon model; refuses a typo before allocating).
 pub const MAX_MODEL_ITEMS: usize = 10_000_000;
 
+/// A model's error as one about `what` (a copy names itself and its part): the invalid input "model vertex 3: ..."
+/// reads "`what`: vertex 3: ...". Other errors, and those about "model" itself, pass unchanged.
+pub fn error_about(error: Error, what: &str) -> Error {
+    if what == "model" || !error.is_invalid_input() {
+        return error;
+    }
+    let reason = error.reason();
+    Error::invalid(what, reason.strip_prefix("model ").unwrap_or(&reason))
+}
+
 /// A low-polygon mesh: what Blender passes for one object.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Model {

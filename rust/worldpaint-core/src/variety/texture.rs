@@ -409,7 +409,7 @@ pub fn pick_texture_variants(
     seed: u64,
 ) -> Result<Vec<TextureChoice>> {
     crate::limits::check(
-        "texture choices of the variants",
+        &format!("the texture choices of {count} variants of {face_count} faces"),
         count as f64 * face_count as f64,
         crate::limits::MAX_GRID_CELLS,
         "faces",
