@@ -101,6 +101,17 @@ impl Edit {
     }
 }
 
+/// How a tool's region is cleared before a color fills it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Clearing {
+    /// All its unlocked content goes.
+    All,
+    /// Its unlocked content goes but the elements of the arrangement being painted, which growth continues.
+    KeepingPattern,
+    /// The tool has cleared it already, as it wants.
+    Done,
+}
+
 /// Which original item each current item of a list being edited is (`None` for an added one).
 #[derive(Clone, Debug)]
 struct Origins {
@@ -333,27 +344,21 @@ impl Working {
         );
     }
 
-    /// Clears `region` and synthesizes `color` there, conditioned on the rest; returns the count of new instances.
-    pub(crate) fn paint(
-        &mut self,
-        color: &Color,
-        region: &Region,
-        opts: &SynthesisOptions,
-        progress: &(dyn Fn(f64) -> bool + Sync),
-    ) -> Result<usize> {
-        self.clear(region);
-        self.fill(color, region, opts, progress)
-    }
-
-    /// Synthesizes `color` in `region` (already cleared as the tool wants), conditioned on the rest; returns the
-    /// count of new instances.
+    /// Clears `region` as `clearing` says and synthesizes `color` there, conditioned on the rest; returns the count
+    /// of new instances.
     pub(crate) fn fill(
         &mut self,
+        clearing: Clearing,
         color: &Color,
         region: &Region,
         opts: &SynthesisOptions,
         progress: &(dyn Fn(f64) -> bool + Sync),
     ) -> Result<usize> {
+        match clearing {
+            Clearing::All => self.clear(region),
+            Clearing::KeepingPattern => self.clear_around_pattern(color, region),
+            Clearing::Done => {}
+        }
         let result = synthesize_keeping(&self.scene, color, region, opts, progress, &|_| true)?;
         let n = result.instances.len();
         for (name, share) in result.unseen_maps {
@@ -369,15 +374,9 @@ impl Working {
         Ok(n)
     }
 
-    /// Grows an arrangement color into `region` around the pattern already there (the spray tool, seed §5.3):
-    /// its own elements in the region stay, the other unlocked content there is cleared.
-    pub(crate) fn spray(
-        &mut self,
-        color: &Color,
-        region: &Region,
-        opts: &SynthesisOptions,
-        progress: &(dyn Fn(f64) -> bool + Sync),
-    ) -> Result<usize> {
+    /// Clears the unlocked content of `region` but the elements of the arrangement `color` there, which its
+    /// growth continues (the spray tool, seed §5.3).
+    fn clear_around_pattern(&mut self, color: &Color, region: &Region) {
         let own: Vec<bool> = self
             .scene
             .categories
@@ -389,7 +388,6 @@ impl Working {
             !own.get(i.category).copied().unwrap_or(false) && prepared.contains(i.position)
         });
         self.clear_structures(region);
-        self.fill(color, region, opts, progress)
     }
 
     /// The edit from the original scene to the current one.
@@ -422,7 +420,7 @@ pub fn paste(
 ) -> Result<Edit> {
     region.validate()?;
     let mut work = Working::new(scene);
-    work.paint(color, region, opts, progress)?;
+    work.fill(Clearing::All, color, region, opts, progress)?;
     Ok(work.edit())
 }
 
