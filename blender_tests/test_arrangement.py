@@ -270,13 +270,6 @@ def test_boundary_curves_stop_the_pattern_and_flow_curves_orient_it():
         end = start + 30.0 * direction
         poly_curve(f"Stream {k}", [(*start, 0.0), (*end, 0.0)], collection=flow)
     settings.pattern_flow = flow
-    json_before = bpy.context.scene.worldpaint.palette["Cobbles"].json
-    for noise in ({"rotation_noise": float("inf")}, {"scale_noise": 5.0}, {"color_noise": float("inf")}):
-        name = next(iter(noise))
-        # an infinity typed in Blender (stored as 3.4e38) is refused as not finite, a 5 as past the range
-        with pytest.raises(RuntimeError, match=f"(?i){name.replace('_', '[ _]')} must be (between 0 and|a finite)"):
-            bpy.ops.worldpaint.pattern_settings(**noise)
-    assert bpy.context.scene.worldpaint.palette["Cobbles"].json == json_before, "the color is as it was"
     assert bpy.ops.worldpaint.pattern_settings(rotation='FLOW') == {'FINISHED'}
     assert bpy.ops.worldpaint.paste_color(region_mode='RECT', rect_min=(65.0, 15.0), rect_max=(79.0, 29.0),
                                           boundaries="", seed=2) == {'FINISHED'}

@@ -16,9 +16,10 @@
 use crate::analysis::{learn_color, AnalysisOptions};
 use crate::error::{Error, Result};
 use crate::geom::Region;
+use crate::paint::synthesize_with_progress;
 use crate::palette::{Color, Histogram, Interaction, MapInteraction, MapSource};
 use crate::scene::Scene;
-use crate::synthesis::{synthesize_with_progress, SynthesisOptions};
+use crate::synthesis::SynthesisOptions;
 use crate::terrain::Heightfield;
 use serde::Serialize;
 use std::sync::Arc;

@@ -67,7 +67,7 @@ pub enum Error {
         /// The name given.
         name: String,
     },
-    /// Work past the engine's limits ([`crate::limits`]): refused before anything is allocated.
+    /// Work past the engine's limits (its work budget): refused before anything is allocated.
     #[error("too large: {what} would need {needed:.0} {unit}, more than the limit of {limit}")]
     TooLarge {
         /// The input that asks for the work.
@@ -246,7 +246,22 @@ pub mod check {
 
     /// At most `limit` items (a list read from a file, whose length is work the engine would do).
     pub fn at_most_items(what: &str, found: usize, limit: usize) -> Result<()> {
-        crate::limits::check(what, found as f64, limit as u64, "items")
+        budget(what, found as f64, limit as u64, "items")
+    }
+
+    /// Refuses `needed` units of work past `limit` (the engine's work budget, `limits`). `needed` is a float so
+    /// that an estimate from absurd inputs (1e300, or not a number) is refused instead of overflowing an integer.
+    pub fn budget(what: &str, needed: f64, limit: u64, unit: &'static str) -> Result<()> {
+        if needed <= limit as f64 {
+            Ok(())
+        } else {
+            Err(Error::TooLarge {
+                what: what.to_string(),
+                needed,
+                limit,
+                unit,
+            })
+        }
     }
 
     /// A grid of `found` (nx, ny) nodes laid on a terrain of `terrain` nodes: they must be the same.

@@ -440,7 +440,6 @@ pub fn village(size: f64, seed: u64) -> Scene {
     let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0x0011_a9e5);
     let spacing = 60.0;
     let n = ((size / spacing).round() as usize).max(2) + 1;
-    let at = |i: usize, j: usize| j * n + i;
     let nodes: Vec<DVec2> = (0..n * n)
         .map(|k| {
             let (i, j) = ((k % n) as f64, (k / n) as f64);
@@ -449,39 +448,7 @@ pub fn village(size: f64, seed: u64) -> Scene {
                 - DVec2::splat(0.5 * spacing)
         })
         .collect();
-    // grid streets in random order: a spanning tree (union-find), then a share of the others
-    let mut streets: Vec<(usize, usize)> = Vec::new();
-    for j in 0..n {
-        for i in 0..n {
-            if i + 1 < n {
-                streets.push((at(i, j), at(i + 1, j)));
-            }
-            if j + 1 < n {
-                streets.push((at(i, j), at(i, j + 1)));
-            }
-        }
-    }
-    for k in (1..streets.len()).rev() {
-        streets.swap(k, rng.random_range(0..=k));
-    }
-    let mut parent: Vec<usize> = (0..n * n).collect();
-    fn root(parent: &mut [usize], mut x: usize) -> usize {
-        while parent[x] != x {
-            parent[x] = parent[parent[x]];
-            x = parent[x];
-        }
-        x
-    }
-    let mut roads: Vec<(usize, usize)> = Vec::new();
-    for &(a, b) in &streets {
-        let (ra, rb) = (root(&mut parent, a), root(&mut parent, b));
-        if ra != rb {
-            parent[ra] = rb;
-            roads.push((a, b));
-        } else if rng.random::<f64>() < 0.35 {
-            roads.push((a, b));
-        }
-    }
+    let roads = village_streets(n, &mut rng);
     // each street bends once on its way
     let paths: Vec<Path> = roads
         .iter()
@@ -515,26 +482,7 @@ pub fn village(size: f64, seed: u64) -> Scene {
         max: DVec2::splat(size),
     };
     let mut instances: Vec<Instance> = Vec::new();
-    let mut houses: Vec<DVec2> = Vec::new();
-    for &(a, b) in &segments {
-        let len = a.distance(b);
-        let dir = (b - a) / len.max(1e-9);
-        let mut s = rng.random::<f64>() * 12.0;
-        while s < len {
-            for side in [-1.0, 1.0] {
-                let offset = 8.0 + 7.0 * rng.random::<f64>();
-                let p = a + dir * s + dir.perp() * side * offset;
-                let d = road_distance(p);
-                if square.contains(p)
-                    && (8.0..=15.0).contains(&d)
-                    && houses.iter().all(|h| h.distance(p) >= 8.0)
-                {
-                    houses.push(p);
-                }
-            }
-            s += 14.0 + 10.0 * rng.random::<f64>();
-        }
-    }
+    let houses = houses_along(&segments, &square, &road_distance, &mut rng);
     let mut push = |p: DVec2, category: usize, rng: &mut ChaCha8Rng| {
         instances.push(Instance {
             position: p,
@@ -565,6 +513,75 @@ pub fn village(size: f64, seed: u64) -> Scene {
         paths,
         ..Default::default()
     }
+}
+
+/// The streets of the village's `n × n` grid of crossroads in random order: a spanning tree (union-find), then a
+/// share of the others; each as a pair of crossroad indices.
+fn village_streets(n: usize, rng: &mut ChaCha8Rng) -> Vec<(usize, usize)> {
+    let at = |i: usize, j: usize| j * n + i;
+    let mut streets: Vec<(usize, usize)> = Vec::new();
+    for j in 0..n {
+        for i in 0..n {
+            if i + 1 < n {
+                streets.push((at(i, j), at(i + 1, j)));
+            }
+            if j + 1 < n {
+                streets.push((at(i, j), at(i, j + 1)));
+            }
+        }
+    }
+    for k in (1..streets.len()).rev() {
+        streets.swap(k, rng.random_range(0..=k));
+    }
+    let mut parent: Vec<usize> = (0..n * n).collect();
+    fn root(parent: &mut [usize], mut x: usize) -> usize {
+        while parent[x] != x {
+            parent[x] = parent[parent[x]];
+            x = parent[x];
+        }
+        x
+    }
+    let mut roads: Vec<(usize, usize)> = Vec::new();
+    for &(a, b) in &streets {
+        let (ra, rb) = (root(&mut parent, a), root(&mut parent, b));
+        if ra != rb {
+            parent[ra] = rb;
+            roads.push((a, b));
+        } else if rng.random::<f64>() < 0.35 {
+            roads.push((a, b));
+        }
+    }
+    roads
+}
+
+/// Houses along the road `segments` at 8–15 m from the roads (`road_distance`) and at least 8 m apart, in `square`.
+fn houses_along(
+    segments: &[(DVec2, DVec2)],
+    square: &Region,
+    road_distance: &dyn Fn(DVec2) -> f64,
+    rng: &mut ChaCha8Rng,
+) -> Vec<DVec2> {
+    let mut houses: Vec<DVec2> = Vec::new();
+    for &(a, b) in segments {
+        let len = a.distance(b);
+        let dir = (b - a) / len.max(1e-9);
+        let mut s = rng.random::<f64>() * 12.0;
+        while s < len {
+            for side in [-1.0, 1.0] {
+                let offset = 8.0 + 7.0 * rng.random::<f64>();
+                let p = a + dir * s + dir.perp() * side * offset;
+                let d = road_distance(p);
+                if square.contains(p)
+                    && (8.0..=15.0).contains(&d)
+                    && houses.iter().all(|h| h.distance(p) >= 8.0)
+                {
+                    houses.push(p);
+                }
+            }
+            s += 14.0 + 10.0 * rng.random::<f64>();
+        }
+    }
+    houses
 }
 
 /// Islands in the sea (square `size × size` from the origin): wobbly contours of 25–45 m radius at least 40 m

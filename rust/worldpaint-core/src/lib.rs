@@ -55,6 +55,7 @@ pub mod graph;
 pub mod grid;
 pub mod interpolate;
 pub mod limits;
+mod paint;
 pub mod palette;
 pub mod polygon_mesh;
 mod progress;
@@ -77,7 +78,8 @@ pub use compare::{compare, learned_back, same_options, self_synthesis, Fidelity}
 pub use error::{check, Error, FileKind, Result};
 pub use geom::Region;
 pub use interpolate::interpolate_colors;
+pub use paint::{painted_fidelity, synthesize, synthesize_with_progress};
 pub use palette::{Color, Palette};
 pub use scene::{Category, CategoryKind, Instance, Scene};
-pub use synthesis::{synthesize, synthesize_with_progress, SynthesisOptions, SynthesisResult};
+pub use synthesis::{SynthesisOptions, SynthesisResult};
 pub use terrain::Heightfield;

@@ -1,11 +1,11 @@
 //! The engine's work budget, in one place. Synthesis, learning, terrains, regions, colors read from files and
 //! village scenarios estimate the work an input asks for (instances, grid cells, histogram bins, region vertices,
-//! nesting depth, buildings) from the input alone and refuse it with [`Error::TooLarge`] before allocating
+//! nesting depth, buildings) from the input alone and refuse it with [`crate::Error::TooLarge`] before allocating
 //! anything, so that a typo or a shared file with one bad number cannot exhaust memory or hang the host
-//! application. (The village grid and the bucket indexes keep their own bounds, in [`crate::grid`].) The limits are far above real use: a 10 × 10 km world painted at
+//! application. (The village grid and the bucket indexes keep their own bounds, in the grid module.) The limits are far above real use: a 10 × 10 km world painted at
 //! forest density is about 5M trees per call; a 4,096² terrain is 16.8M cells.
 
-use crate::error::{Error, Result};
+pub use crate::error::check::budget as check;
 
 /// Instances one synthesis call may create (a paste, a brush dab, a fill).
 pub const MAX_INSTANCES: u64 = 50_000_000;
@@ -28,21 +28,6 @@ pub const MAX_DENSITY: f64 = 1e4;
 pub const MAX_REGION_VERTICES: u64 = 1_000_000;
 /// Nesting depth of a region (clipped inside clipped ...).
 pub const MAX_REGION_DEPTH: u64 = 64;
-
-/// Refuses `needed` units of work past `limit`. `needed` is a float so that an estimate from absurd inputs (1e300, or
-/// not a number) is refused instead of overflowing an integer.
-pub fn check(what: &str, needed: f64, limit: u64, unit: &'static str) -> Result<()> {
-    if needed <= limit as f64 {
-        Ok(())
-    } else {
-        Err(Error::TooLarge {
-            what: what.to_string(),
-            needed,
-            limit,
-            unit,
-        })
-    }
-}
 
 #[cfg(test)]
 mod tests {

@@ -16,13 +16,7 @@ fn two_symbols_in_rows_keep_their_adjacencies() {
     // stones in rows (seed Fig. 8 d): rows of big stones (0) and small stones (1) alternate
     let reference = Reference::new(lattice(true, 9, |row, _| (row % 2) as u32)).expect("valid");
     let region = rect((-12.0, -12.0), (12.0, 12.0));
-    let grown = grow(
-        &reference,
-        &region,
-        DVec2::ZERO,
-        &options(RotationMode::None),
-    )
-    .expect("grows");
+    let grown = grown_from_centre(&reference, &region);
     // adjacency frequencies: the share of a symbol-s element's neighbours that have symbol t, over interior elements
     let frequencies =
         |which: &[usize], ring: &dyn Fn(usize) -> Vec<usize>, symbol: &dyn Fn(usize) -> u32| {
@@ -224,13 +218,7 @@ fn the_arrangement_keeps_a_lattice_better_than_point_synthesis() {
         }
         let ring = reference.ring(24).len();
         let region = rect((-10.0, -10.0), (10.0, 10.0));
-        let grown = grow(
-            &reference,
-            &region,
-            DVec2::ZERO,
-            &options(RotationMode::None),
-        )
-        .expect("grows");
+        let grown = grown_from_centre(&reference, &region);
         let interior: Vec<usize> = (0..grown.elements.len())
             .filter(|&i| {
                 let p = grown.elements[i].position;

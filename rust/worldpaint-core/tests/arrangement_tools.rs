@@ -310,21 +310,12 @@ fn a_pattern_grows_on_from_an_existing_one_without_a_seam() {
 
     // a spray dab over the full pattern adds nothing
     let (center, radius) = (DVec2::new(-7.3, 0.4), 3.0);
-    let nearby: Vec<Element> = left
-        .elements
-        .iter()
-        .filter(|e| e.position.distance(center) <= radius + 3.0 * l)
-        .copied()
-        .collect();
-    let over = grow_around(
+    let (nearby, over) = spray_dab(
         &reference,
+        &left,
         &Region::Circle { center, radius },
-        &nearby,
-        Some(center),
-        &options(RotationMode::None),
-        &|_| true,
-    )
-    .expect("a dab grows");
+        center,
+    );
     println!(
         "spray dab over the full pattern: {} existing passed, {} new",
         nearby.len(),
@@ -339,21 +330,7 @@ fn a_pattern_grows_on_from_an_existing_one_without_a_seam() {
     ] {
         let radius = 3.0;
         let dab = Region::Circle { center, radius };
-        let nearby: Vec<Element> = left
-            .elements
-            .iter()
-            .filter(|e| e.position.distance(center) <= radius + 3.0 * l)
-            .copied()
-            .collect();
-        let sprayed = grow_around(
-            &reference,
-            &dab,
-            &nearby,
-            Some(center),
-            &options(RotationMode::None),
-            &|_| true,
-        )
-        .expect("a dab grows");
+        let (nearby, sprayed) = spray_dab(&reference, &left, &dab, center);
         let k = nearby.len();
         let fresh: Vec<usize> = (k..sprayed.elements.len()).collect();
         let inside = fresh
@@ -708,4 +685,34 @@ fn a_spray_stroke_of_overlapping_dabs_paints_one_pattern() {
     assert!(scene.len() > 100);
     assert!(closest >= reference.r_short());
     assert!(six >= 0.95, "the dabs join without seams");
+}
+
+/// A spray dab of `reference` over the disc `dab` centred at `center`, growing from the elements of `pattern`
+/// within three mean edges of it (the spray tool's context): those elements and the grown arrangement.
+fn spray_dab(
+    reference: &Reference,
+    pattern: &Arrangement,
+    dab: &Region,
+    center: DVec2,
+) -> (Vec<Element>, Arrangement) {
+    let Region::Circle { radius, .. } = *dab else {
+        panic!("a dab is a disc")
+    };
+    let reach = radius + 3.0 * reference.mean_edge();
+    let nearby: Vec<Element> = pattern
+        .elements
+        .iter()
+        .filter(|e| e.position.distance(center) <= reach)
+        .copied()
+        .collect();
+    let grown = grow_around(
+        reference,
+        dab,
+        &nearby,
+        Some(center),
+        &options(RotationMode::None),
+        &|_| true,
+    )
+    .expect("a dab grows");
+    (nearby, grown)
 }

@@ -133,6 +133,16 @@ fn share_in_band(points: &[DVec2], g: &Graph, band: std::ops::RangeInclusive<f64
 }
 
 /// An exemplar scene of `size` m from the origin and the color `name` learned over all of it.
+/// The archipelago exemplar of `size`, its color, and an empty canvas with its categories.
+fn archipelago_color(size: f64) -> (Scene, Color, Scene) {
+    let (scene, color) = with_color(exemplar::archipelago(size, 1), size, "islands");
+    let canvas = Scene {
+        categories: scene.categories.clone(),
+        ..Default::default()
+    };
+    (scene, color, canvas)
+}
+
 fn with_color(scene: Scene, size: f64, name: &str) -> (Scene, Color) {
     let color = learn_color(
         &scene,
@@ -253,12 +263,8 @@ fn a_road_network_keeps_its_statistics_over_nine_times_the_area() {
 #[test]
 fn island_trees_stay_on_land_and_boats_along_the_coast() {
     let size = 300.0;
-    let (scene, color) = with_color(exemplar::archipelago(size, 1), size, "islands");
+    let (scene, color, canvas) = archipelago_color(size);
     let dest = square(2000.0, 2.0 * size);
-    let canvas = Scene {
-        categories: scene.categories.clone(),
-        ..Default::default()
-    };
     // the synthesis of a color and the land of its islands
     let paint = |color: &Color| {
         let opts = SynthesisOptions {
@@ -354,12 +360,8 @@ fn island_figures(contours: &[Vec<DVec2>], region: &Region) -> (f64, f64, f64) {
 #[test]
 fn islands_keep_their_count_and_size_over_nine_times_the_area() {
     let size = 300.0;
-    let (scene, color) = with_color(exemplar::archipelago(size, 1), size, "islands");
+    let (scene, color, canvas) = archipelago_color(size);
     let dest = square(2000.0, 3.0 * size);
-    let canvas = Scene {
-        categories: scene.categories.clone(),
-        ..Default::default()
-    };
     let contours = |c: &[worldpaint_core::scene::Contour]| -> Vec<Vec<DVec2>> {
         c.iter().map(|c| c.points.clone()).collect()
     };

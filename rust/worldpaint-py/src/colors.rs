@@ -133,9 +133,7 @@ color_painter! {
 
 fn synthesized<'py>(py: Python<'py>, p: Painting<'_>) -> PyResult<Bound<'py, PyDict>> {
     let result = with_progress(py, p.progress, |report| {
-        worldpaint_core::synthesis::synthesize_with_progress(
-            p.scene, &p.color, &p.region, &p.opts, report,
-        )
+        worldpaint_core::synthesize_with_progress(p.scene, &p.color, &p.region, &p.opts, report)
     })?;
     let d = PyDict::new(py);
     d.set_item("categories", categories_to_py(py, &result.categories)?)?;

@@ -282,31 +282,35 @@ pub(crate) fn column<T: Number>(
     }
 }
 
+/// The instance columns of a scene as given, one row per instance; each optional but the first two.
+pub(crate) struct InstanceColumns<'py> {
+    pub(crate) positions: ArrayArg<'py>,
+    pub(crate) category_index: ArrayArg<'py>,
+    pub(crate) rotations: Option<ArrayArg<'py>>,
+    pub(crate) scales: Option<ArrayArg<'py>>,
+    pub(crate) prototype: Option<ArrayArg<'py>>,
+    pub(crate) locked: Option<ArrayArg<'py>>,
+    pub(crate) tints: Option<ArrayArg<'py>>,
+}
+
 /// The scene the engine works on: the category list, the instance arrays (one row per instance, checked against
 /// the categories; `locked` marks hand-placed instances the tools never remove) and the terrain.
-#[allow(clippy::too_many_arguments)] // the columns of the scene, each optional but the first three
 pub(crate) fn scene_from_py(
     terrain: &Option<Py<Terrain>>,
     categories: &Bound<'_, PyAny>,
-    positions: &ArrayArg<'_>,
-    category_index: ArrayArg<'_>,
-    rotations: Option<ArrayArg<'_>>,
-    scales: Option<ArrayArg<'_>>,
-    prototype: Option<ArrayArg<'_>>,
-    locked: Option<ArrayArg<'_>>,
-    tints: Option<ArrayArg<'_>>,
+    columns: InstanceColumns<'_>,
     structures: &Structures<'_, '_>,
 ) -> PyResult<Scene> {
     let categories = categories_from_py(categories)?;
     let n_categories = categories.len();
-    let pos = points_from_py(positions, "positions")?;
+    let pos = points_from_py(&columns.positions, "positions")?;
     let n = pos.len();
-    let cat = column(Some(category_index), n, 0, "category_index")?;
-    let rot = column(rotations, n, 0.0, "rotations")?;
-    let sca = column(scales, n, 1.0, "scales")?;
-    let pro = column(prototype, n, 0, "prototype")?;
-    let lock = column(locked, n, false, "locked")?;
-    let tint = column(tints, n, 0.0, "tints")?;
+    let cat = column(Some(columns.category_index), n, 0, "category_index")?;
+    let rot = column(columns.rotations, n, 0.0, "rotations")?;
+    let sca = column(columns.scales, n, 1.0, "scales")?;
+    let pro = column(columns.prototype, n, 0, "prototype")?;
+    let lock = column(columns.locked, n, false, "locked")?;
+    let tint = column(columns.tints, n, 0.0, "tints")?;
     let mut out = Vec::with_capacity(n);
     for i in 0..n {
         let c = cat[i];

@@ -1,7 +1,7 @@
 //! The scene handed to the engine: the terrain and the instance columns, converted once.
 
 use crate::arrays::ArrayArg;
-use crate::convert::{scene_from_py, Structures};
+use crate::convert::{scene_from_py, InstanceColumns, Structures};
 use crate::terrain::Terrain;
 use pyo3::prelude::*;
 use worldpaint_core::Scene;
@@ -38,16 +38,19 @@ impl PyScene {
         paths: Option<&Bound<'_, PyAny>>,
         contours: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
-        let scene = scene_from_py(
-            &terrain,
-            categories,
-            &positions,
+        let columns = InstanceColumns {
+            positions,
             category_index,
             rotations,
             scales,
             prototype,
             locked,
             tints,
+        };
+        let scene = scene_from_py(
+            &terrain,
+            categories,
+            columns,
             &Structures { paths, contours },
         )?;
         Ok(PyScene { scene })

@@ -14,6 +14,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use worldpaint_core::geom::{DVec2, DVec3};
 use worldpaint_core::variety::model::error_about;
+use worldpaint_core::variety::MemoryReport;
 use worldpaint_core::variety::{
     atlas_images, check_assembly, generate, memory_report, pack_components, pick_texture_variants,
     Atlas, Decomposition, GenerateOptions, Generation, Image, IntersectionLabels, Model, Rejection,
@@ -244,21 +245,66 @@ pub(crate) fn generate_variants<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let model = model_from_py(model, "model")?;
     let labels = labels_of(labels)?;
-    let component_name = |c: usize| {
-        names
+    let names = CopyNames {
+        parts: names,
+        copies: variant_names,
+    };
+    let edits = edits_from_py(variants, &names)?;
+    let cycles = cycles.unwrap_or_default();
+    let (classes, total, generation, memory) = with_progress(py, progress, |report| {
+        let decomposition = Decomposition::from_labels(&model, &labels, root)?;
+        let n = decomposition.components.len();
+        if edits.len() > n {
+            return Err(worldpaint_core::Error::invalid(
+                "variants",
+                format!("{} lists for {n} components", edits.len()),
+            ));
+        }
+        let (atlas, classes) = atlas_of(&model, decomposition, edits, &cycles, &names)?;
+        if !report(0.1) {
+            return Err(worldpaint_core::Error::Cancelled);
+        }
+        let labels = IntersectionLabels::of_model(&model);
+        let options = GenerateOptions {
+            count,
+            seed,
+            max_attempts: 0,
+        };
+        let generation = generation_of(&atlas, &labels, &options, picks.as_deref())?;
+        let choices: Vec<_> = generation.accepted.iter().map(|(c, _)| c.clone()).collect();
+        let memory = memory_report(&atlas, &choices)?;
+        Ok((classes, atlas.count(), generation, memory))
+    })?;
+    generation_to_py(py, classes, total, &generation, &memory)
+}
+
+/// The names the user gave the parts (their collections) and the copies (their objects), for the messages.
+struct CopyNames {
+    parts: Option<Vec<String>>,
+    copies: Option<Vec<Vec<String>>>,
+}
+
+impl CopyNames {
+    fn part(&self, c: usize) -> String {
+        self.parts
             .as_ref()
             .and_then(|n| n.get(c))
             .cloned()
             .unwrap_or_else(|| format!("component {c}"))
-    };
-    let variant_name = |c: usize, k: usize| {
-        variant_names
+    }
+
+    fn copy(&self, c: usize, k: usize) -> String {
+        self.copies
             .as_ref()
             .and_then(|n| n.get(c))
             .and_then(|n| n.get(k))
             .cloned()
             .unwrap_or_else(|| format!("copy {}", k + 1))
-    };
+    }
+}
+
+/// The copies of each part as models, each refused by its name when it is not one.
+fn edits_from_py(variants: &Bound<'_, PyAny>, names: &CopyNames) -> PyResult<Vec<Vec<Model>>> {
     let mut edits: Vec<Vec<Model>> = Vec::new();
     for (c, list) in variants
         .try_iter()
@@ -278,67 +324,77 @@ pub(crate) fn generate_variants<'py>(
         {
             own.push(model_from_py(
                 &item?,
-                &format!("copy '{}' in '{}'", variant_name(c, k), component_name(c)),
+                &format!("copy '{}' in '{}'", names.copy(c, k), names.part(c)),
             )?);
         }
         edits.push(own);
     }
-    let cycles = cycles.unwrap_or_default();
-    let (classes, total, generation, memory) = with_progress(py, progress, |report| {
-        let decomposition = Decomposition::from_labels(&model, &labels, root)?;
-        let n = decomposition.components.len();
-        if edits.len() > n {
-            return Err(worldpaint_core::Error::invalid(
-                "variants",
-                format!("{} lists for {n} components", edits.len()),
-            ));
+    Ok(edits)
+}
+
+/// The atlas of the model's parts with the copies added (and each copy's class) and the local cycles allowed.
+fn atlas_of(
+    model: &Model,
+    decomposition: Decomposition,
+    edits: Vec<Vec<Model>>,
+    cycles: &[(usize, u32)],
+    names: &CopyNames,
+) -> worldpaint_core::Result<(Atlas, Vec<Vec<&'static str>>)> {
+    let n = decomposition.components.len();
+    let mut atlas = Atlas::new(model, decomposition)?;
+    atlas.set_names((0..n).map(|c| names.part(c)).collect())?;
+    let mut classes = Vec::new();
+    for (c, list) in edits.into_iter().enumerate() {
+        let mut own = Vec::new();
+        for (k, edit) in list.into_iter().enumerate() {
+            own.push(class_name(atlas.add_named_variant(
+                c,
+                &names.copy(c, k),
+                edit,
+            )?));
         }
-        let mut atlas = Atlas::new(&model, decomposition)?;
-        atlas.set_names((0..n).map(component_name).collect())?;
-        let mut classes = Vec::new();
-        for (c, list) in edits.into_iter().enumerate() {
-            let mut own = Vec::new();
-            for (k, edit) in list.into_iter().enumerate() {
-                own.push(class_name(atlas.add_named_variant(
-                    c,
-                    &variant_name(c, k),
-                    edit,
-                )?));
+        classes.push(own);
+    }
+    for &(c, max_repeat) in cycles {
+        atlas.add_local_cycle(c, max_repeat)?;
+    }
+    Ok((atlas, classes))
+}
+
+/// The variants generated (`picks`: the one assembly of those variants, kept or rejected).
+fn generation_of(
+    atlas: &Atlas,
+    labels: &IntersectionLabels,
+    options: &GenerateOptions,
+    picks: Option<&[usize]>,
+) -> worldpaint_core::Result<Generation> {
+    let generation = match picks {
+        None => generate(atlas, labels, options)?,
+        Some(variants) => {
+            let choice = atlas.choice_of_variants(variants)?;
+            let mut one = Generation {
+                accepted: Vec::new(),
+                rejected: Vec::new(),
+                exhausted: false,
+            };
+            match check_assembly(atlas, labels, &choice)? {
+                Ok(assembled) => one.accepted.push((choice, assembled)),
+                Err(why) => one.rejected.push((choice, why)),
             }
-            classes.push(own);
+            one
         }
-        for &(c, max_repeat) in &cycles {
-            atlas.add_local_cycle(c, max_repeat)?;
-        }
-        if !report(0.1) {
-            return Err(worldpaint_core::Error::Cancelled);
-        }
-        let labels = IntersectionLabels::of_model(&model);
-        let options = GenerateOptions {
-            count,
-            seed,
-            max_attempts: 0,
-        };
-        let generation = match &picks {
-            None => generate(&atlas, &labels, &options)?,
-            Some(variants) => {
-                let choice = atlas.choice_of_variants(variants)?;
-                let mut one = Generation {
-                    accepted: Vec::new(),
-                    rejected: Vec::new(),
-                    exhausted: false,
-                };
-                match check_assembly(&atlas, &labels, &choice)? {
-                    Ok(assembled) => one.accepted.push((choice, assembled)),
-                    Err(why) => one.rejected.push((choice, why)),
-                }
-                one
-            }
-        };
-        let choices: Vec<_> = generation.accepted.iter().map(|(c, _)| c.clone()).collect();
-        let memory = memory_report(&atlas, &choices)?;
-        Ok((classes, atlas.count(), generation, memory))
-    })?;
+    };
+    Ok(generation)
+}
+
+/// What [`generate_variants`] returns, from its parts.
+fn generation_to_py<'py>(
+    py: Python<'py>,
+    classes: Vec<Vec<&'static str>>,
+    total: u128,
+    generation: &Generation,
+    memory: &MemoryReport,
+) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     d.set_item("classes", classes)?;
     let m = PyDict::new(py);
@@ -515,22 +571,7 @@ pub(crate) fn texture_variety<'py>(
         })
     })?;
     let d = PyDict::new(py);
-    let list = PyList::empty(py);
-    for c in &components {
-        let item = PyDict::new(py);
-        item.set_item("texels", c.pixel_mask.len())?;
-        item.set_item("face_texels", c.face_mask.len())?;
-        item.set_item(
-            "faces",
-            c.faces
-                .iter()
-                .map(|&f| i64::from(f))
-                .collect::<Vec<_>>()
-                .into_pyarray(py),
-        )?;
-        list.append(item)?;
-    }
-    d.set_item("components", list)?;
+    d.set_item("components", components_to_py(py, &components)?)?;
     let mut conflicts = Vec::new();
     for i in 0..components.len() {
         for j in i + 1..components.len() {
@@ -568,4 +609,27 @@ pub(crate) fn texture_variety<'py>(
     }
     d.set_item("face_atlas", face_atlas.into_pyarray(py))?;
     Ok(d)
+}
+
+/// Each texture component's texel counts and faces (see [`texture_variety`]).
+fn components_to_py<'py>(
+    py: Python<'py>,
+    components: &[TextureComponent],
+) -> PyResult<Bound<'py, PyList>> {
+    let list = PyList::empty(py);
+    for c in components {
+        let item = PyDict::new(py);
+        item.set_item("texels", c.pixel_mask.len())?;
+        item.set_item("face_texels", c.face_mask.len())?;
+        item.set_item(
+            "faces",
+            c.faces
+                .iter()
+                .map(|&f| i64::from(f))
+                .collect::<Vec<_>>()
+                .into_pyarray(py),
+        )?;
+        list.append(item)?;
+    }
+    Ok(list)
 }

@@ -9,10 +9,12 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use worldpaint_core::geom::DVec2;
 use worldpaint_core::village::generate::{
-    generate, interest_at, InterestRequest, Stage, VillageRequest,
+    generate, interest_at, InterestRequest, Stage, VillageReport, VillageRequest,
 };
 use worldpaint_core::village::interest::Criterion;
-use worldpaint_core::village::{BuildingSeed, Encyclopedia, Environment, Scenario, Site};
+use worldpaint_core::village::{
+    BuildingSeed, Encyclopedia, Environment, HouseMesh, Road, Scenario, Site,
+};
 
 const ENCYCLOPEDIA: &str = include_str!("../../../assets/villages/encyclopedia.json");
 const SCENARIOS: &str = include_str!("../../../assets/villages/scenarios.json");
@@ -178,51 +180,10 @@ pub(crate) fn generate_village<'py>(
         })
     })?;
 
-    let out = PyDict::new(py);
     let height = |p: &DVec2| hf.height_at(*p).unwrap_or(f64::NAN);
-    let seeds = PyDict::new(py);
-    let positions: Vec<DVec2> = village.seeds.iter().map(|s| s.position).collect();
-    seeds.set_item("positions", points_to_py(py, &positions))?;
-    seeds.set_item(
-        "heights",
-        positions
-            .iter()
-            .map(height)
-            .collect::<Vec<f64>>()
-            .into_pyarray(py),
-    )?;
-    seeds.set_item(
-        "building",
-        village
-            .seeds
-            .iter()
-            .map(|s| s.building.clone())
-            .collect::<Vec<String>>(),
-    )?;
-    seeds.set_item(
-        "village_type",
-        village
-            .seeds
-            .iter()
-            .map(|s| s.village_type.clone())
-            .collect::<Vec<String>>(),
-    )?;
-    out.set_item("seeds", seeds)?;
-    let roads = PyList::empty(py);
-    for r in &village.roads {
-        let d = PyDict::new(py);
-        d.set_item("points", points_to_py(py, &r.points))?;
-        d.set_item(
-            "heights",
-            r.points
-                .iter()
-                .map(height)
-                .collect::<Vec<f64>>()
-                .into_pyarray(py),
-        )?;
-        roads.append(d)?;
-    }
-    out.set_item("roads", roads)?;
+    let out = PyDict::new(py);
+    out.set_item("seeds", seeds_to_py(py, &village.seeds, &height)?)?;
+    out.set_item("roads", roads_to_py(py, &village.roads, &height)?)?;
     let parcels = PyList::empty(py);
     for p in &village.parcels {
         parcels.append(points_to_py(py, &p.contour))?;
@@ -236,8 +197,76 @@ pub(crate) fn generate_village<'py>(
         }
     }
     out.set_item("footprints", fp.into_pyarray(py))?;
+    out.set_item("houses", houses_to_py(py, &village.houses)?)?;
+    out.set_item("connections", points_to_py(py, &village.report.connections))?;
+    out.set_item("report", report_to_py(py, &village.report, &encyclopedia)?)?;
+    Ok(out)
+}
+
+/// The kept seeds' positions, ground heights, building and village types (see [`generate_village`]).
+fn seeds_to_py<'py>(
+    py: Python<'py>,
+    village_seeds: &[BuildingSeed],
+    height: &dyn Fn(&DVec2) -> f64,
+) -> PyResult<Bound<'py, PyDict>> {
+    let seeds = PyDict::new(py);
+    let positions: Vec<DVec2> = village_seeds.iter().map(|s| s.position).collect();
+    seeds.set_item("positions", points_to_py(py, &positions))?;
+    seeds.set_item(
+        "heights",
+        positions
+            .iter()
+            .map(height)
+            .collect::<Vec<f64>>()
+            .into_pyarray(py),
+    )?;
+    seeds.set_item(
+        "building",
+        village_seeds
+            .iter()
+            .map(|s| s.building.clone())
+            .collect::<Vec<String>>(),
+    )?;
+    seeds.set_item(
+        "village_type",
+        village_seeds
+            .iter()
+            .map(|s| s.village_type.clone())
+            .collect::<Vec<String>>(),
+    )?;
+    Ok(seeds)
+}
+
+/// The new roads' points and ground heights (see [`generate_village`]).
+fn roads_to_py<'py>(
+    py: Python<'py>,
+    village_roads: &[Road],
+    height: &dyn Fn(&DVec2) -> f64,
+) -> PyResult<Bound<'py, PyList>> {
+    let roads = PyList::empty(py);
+    for r in village_roads {
+        let d = PyDict::new(py);
+        d.set_item("points", points_to_py(py, &r.points))?;
+        d.set_item(
+            "heights",
+            r.points
+                .iter()
+                .map(height)
+                .collect::<Vec<f64>>()
+                .into_pyarray(py),
+        )?;
+        roads.append(d)?;
+    }
+    Ok(roads)
+}
+
+/// Each house as a mesh's arrays (see [`generate_village`]).
+fn houses_to_py<'py>(
+    py: Python<'py>,
+    village_houses: &[HouseMesh],
+) -> PyResult<Bound<'py, PyList>> {
     let houses = PyList::empty(py);
-    for h in &village.houses {
+    for h in village_houses {
         let d = PyDict::new(py);
         d.set_item("seed", h.seed)?;
         d.set_item("vertices", rows_to_py(py, h.vertices.iter().copied())?)?;
@@ -262,9 +291,15 @@ pub(crate) fn generate_village<'py>(
         )?;
         houses.append(d)?;
     }
-    out.set_item("houses", houses)?;
-    let report = &village.report;
-    out.set_item("connections", points_to_py(py, &report.connections))?;
+    Ok(houses)
+}
+
+/// The village's report with the road figures it was built with (see [`generate_village`]).
+fn report_to_py<'py>(
+    py: Python<'py>,
+    report: &VillageReport,
+    encyclopedia: &Encyclopedia,
+) -> PyResult<Bound<'py, PyDict>> {
     let r = PyDict::new(py);
     r.set_item("requested", report.requested)?;
     r.set_item("seeded", report.seeded)?;
@@ -278,8 +313,7 @@ pub(crate) fn generate_village<'py>(
     r.set_item("seconds", report.seconds.to_vec())?;
     r.set_item("road_width", encyclopedia.roads.width)?;
     r.set_item("max_grade", encyclopedia.roads.max_grade)?;
-    out.set_item("report", r)?;
-    Ok(out)
+    Ok(r)
 }
 
 /// One interest criterion ("sociability", "worship", "accessibility", "slope", "water", "fortification",

@@ -10,7 +10,8 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use worldpaint_core::geom::DVec2;
 use worldpaint_core::waterfall::{
-    scene, Controller, ControllerKind, SceneOptions, WaterPart, WaterfallParams, WaterfallType,
+    scene, Controller, ControllerKind, Rock, SceneOptions, SceneReport, WaterPart, WaterfallParams,
+    WaterfallScene, WaterfallType,
 };
 use worldpaint_core::{Color, Error};
 
@@ -108,33 +109,13 @@ pub(crate) fn build_waterfall<'py>(
     let hf = terrain.get().hf.clone();
     let controllers = controllers_from_py(controllers)?;
     let pts = points_from_py(&points, "points")?;
-    let mut params = WaterfallParams {
+    let params = WaterfallParams {
+        min_slope: min_slope.unwrap_or(WaterfallParams::default().min_slope),
         subdivide,
         ..Default::default()
     };
-    if let Some(s) = min_slope {
-        params.min_slope = s;
-    }
-    let mut options = SceneOptions::default();
-    if let Some(v) = overhang {
-        options.deform.overhang = v;
-    }
-    if let Some(v) = falloff {
-        options.deform.falloff = v;
-    }
-    if let Some(v) = freeboard {
-        options.deform.freeboard = v;
-    }
-    if let Some(v) = max_width {
-        options.integration.max_width = v;
-        options.integration.min_width = options.integration.min_width.min(v);
-    }
-    if let Some(json) = rock_color {
-        options.decoration.rock_color = Some(guarded(|| {
-            Color::from_json(json)
-                .map_err(|e| Error::invalid("rock_color is not a color", e.reason()))
-        })?);
-    }
+    let deform = (overhang, falloff, freeboard);
+    let options = scene_options(deform, max_width, rock_color)?;
     let (s, change, shift, wet) = py.detach(|| {
         guarded(|| {
             let s = scene(&hf, &controllers, &params, &options, seed)?;
@@ -155,6 +136,44 @@ pub(crate) fn build_waterfall<'py>(
     out.set_item("displacement", change.into_pyarray(py))?;
     out.set_item("horizontal", rows_to_py(py, shift.into_iter())?)?;
     out.set_item("is_water", wet.into_pyarray(py))?;
+    out.set_item("water", water_to_py(py, &s)?)?;
+    out.set_item("segments", segments_to_py(py, &s)?)?;
+    rocks_into_py(&out, &s.rocks)?;
+    out.set_item("report", report_to_py(py, &s.report)?)?;
+    Ok(out)
+}
+
+/// The scene's options from the keyword arguments (None: the default of each).
+fn scene_options(
+    (overhang, falloff, freeboard): (Option<f64>, Option<f64>, Option<f64>),
+    max_width: Option<f64>,
+    rock_color: Option<&str>,
+) -> PyResult<SceneOptions> {
+    let mut options = SceneOptions::default();
+    if let Some(v) = overhang {
+        options.deform.overhang = v;
+    }
+    if let Some(v) = falloff {
+        options.deform.falloff = v;
+    }
+    if let Some(v) = freeboard {
+        options.deform.freeboard = v;
+    }
+    if let Some(v) = max_width {
+        options.integration.max_width = v;
+        options.integration.min_width = options.integration.min_width.min(v);
+    }
+    if let Some(json) = rock_color {
+        options.decoration.rock_color = Some(guarded(|| {
+            Color::from_json(json)
+                .map_err(|e| Error::invalid("rock_color is not a color", e.reason()))
+        })?);
+    }
+    Ok(options)
+}
+
+/// The integration mesh as a dict of arrays (see [`build_waterfall`]).
+fn water_to_py<'py>(py: Python<'py>, s: &WaterfallScene) -> PyResult<Bound<'py, PyDict>> {
     let m = &s.mesh;
     let water = PyDict::new(py);
     water.set_item(
@@ -196,7 +215,11 @@ pub(crate) fn build_waterfall<'py>(
         })
         .collect();
     water.set_item("invalid", invalid.into_pyarray(py))?;
-    out.set_item("water", water)?;
+    Ok(water)
+}
+
+/// Each segment of the hydraulic graph as a dict (see [`build_waterfall`]).
+fn segments_to_py<'py>(py: Python<'py>, s: &WaterfallScene) -> PyResult<Bound<'py, PyList>> {
     let segments = PyList::empty(py);
     for seg in &s.network.segments {
         let d = PyDict::new(py);
@@ -216,8 +239,12 @@ pub(crate) fn build_waterfall<'py>(
         )?;
         segments.append(d)?;
     }
-    out.set_item("segments", segments)?;
-    let rocks = &s.rocks;
+    Ok(segments)
+}
+
+/// The rocks' positions, rotations, scales and prototypes into `out` (see [`build_waterfall`]).
+fn rocks_into_py(out: &Bound<'_, PyDict>, rocks: &[Rock]) -> PyResult<()> {
+    let py = out.py();
     out.set_item(
         "rocks",
         rows_to_py(py, rocks.iter().map(|r| r.position.to_array()))?,
@@ -231,7 +258,11 @@ pub(crate) fn build_waterfall<'py>(
         .map(|r| i32::try_from(r.prototype).unwrap_or(i32::MAX))
         .collect();
     out.set_item("rock_prototype", prototype.into_pyarray(py))?;
-    let r = &s.report;
+    Ok(())
+}
+
+/// The scene's report as a dict (see [`build_waterfall`]).
+fn report_to_py<'py>(py: Python<'py>, r: &SceneReport) -> PyResult<Bound<'py, PyDict>> {
     let report = PyDict::new(py);
     let nodes = PyDict::new(py);
     nodes.set_item("source", r.sources)?;
@@ -246,6 +277,5 @@ pub(crate) fn build_waterfall<'py>(
     report.set_item("water_nodes", r.water_nodes)?;
     report.set_item("rocks", r.rocks)?;
     report.set_item("converged", r.converged)?;
-    out.set_item("report", report)?;
-    Ok(out)
+    Ok(report)
 }

@@ -316,7 +316,7 @@ fn finish(mut grower: Grower, existing: &[Element], options: &GrowthOptions) -> 
 }
 
 /// A standard normal draw (Box–Muller).
-pub(super) fn gaussian(rng: &mut impl Rng) -> f64 {
+pub(crate) fn gaussian(rng: &mut impl Rng) -> f64 {
     let u1: f64 = 1.0 - rng.random::<f64>();
     let u2: f64 = rng.random::<f64>();
     (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()

@@ -49,12 +49,12 @@ mod growth;
 mod lattice;
 mod matching;
 mod options;
-mod paint;
 mod relax;
 
 use glam::DVec2;
 use serde::{Deserialize, Serialize};
 
+pub(crate) use around::gaussian;
 pub use around::{grow, grow_around};
 pub use color::{ArrangementColor, PatternRotation, ReferenceElement, DEFAULT_RELAX_EVERY};
 pub use connectivity::Reference;
@@ -63,9 +63,7 @@ pub use fidelity::{
 };
 pub use flow::{FlowField, MAX_FLOW_CURVES};
 pub use lattice::Lattice;
-pub use options::{GrowthOptions, MatchWeights, Noise, RotationMode};
-pub(crate) use paint::paint;
-pub use paint::{painted_fidelity, PatternGuides};
+pub use options::{GrowthOptions, MatchWeights, Noise, PatternGuides, RotationMode};
 pub use relax::{relax, ring_error, Relaxation};
 
 /// One element of an arrangement: where it stands, which symbol it is, how it is turned.

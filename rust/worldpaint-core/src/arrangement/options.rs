@@ -146,3 +146,15 @@ impl GrowthOptions {
         Ok(())
     }
 }
+
+/// What guides a painted pattern (seed §5.3's tools): where it starts, the curves it must not cross, and the
+/// curves whose direction it follows in the flow-field mode.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PatternGuides {
+    /// Where growth starts when no element of the pattern is already around the region (None: its centre).
+    pub start: Option<DVec2>,
+    /// Curves (world XY polylines) no element or connectivity edge crosses: the boundary tool.
+    pub boundaries: Vec<Vec<DVec2>>,
+    /// Curves whose tangents, interpolated, orient the pattern when the color's rotation mode is the flow field.
+    pub flow: Vec<Vec<DVec2>>,
+}

@@ -281,6 +281,25 @@ fn free_gaps(order: &StrokeOrder) -> Vec<f64> {
     gaps
 }
 
+/// The junctions of `order` are exact and none is overruled, every stroke has a free gap of its own, and the
+/// strokes come out in the true order however they are drawn.
+fn assert_exact_junctions_and_true_order(
+    order: &StrokeOrder,
+    mountains: &[Mountain],
+    strokes: &[Stroke],
+) {
+    assert!(order
+        .junctions
+        .iter()
+        .all(|j| j.distance < 1e-9 && !j.overruled));
+    assert!(
+        free_gaps(order).iter().all(|&g| g > 0.075),
+        "{:?}",
+        free_gaps(order)
+    );
+    assert_true_order_whatever_the_drawing(mountains, strokes);
+}
+
 #[test]
 fn the_three_strokes_of_figure_5_3_come_out_front_to_back_however_drawn() {
     let mountains = figure_5_3();
@@ -292,16 +311,7 @@ fn the_three_strokes_of_figure_5_3_come_out_front_to_back_however_drawn() {
         labels(&order),
         vec![(0, false, 1, OccludedBy), (1, false, 2, OccludedBy)]
     );
-    assert!(order
-        .junctions
-        .iter()
-        .all(|j| j.distance < 1e-9 && !j.overruled));
-    assert!(
-        free_gaps(&order).iter().all(|&g| g > 0.075),
-        "{:?}",
-        free_gaps(&order)
-    );
-    assert_true_order_whatever_the_drawing(&mountains, &strokes);
+    assert_exact_junctions_and_true_order(&order, &mountains, &strokes);
 }
 
 #[test]
@@ -321,16 +331,7 @@ fn a_sketch_with_five_t_junctions_as_in_figure_5_8_comes_out_front_to_back_howev
             (4, false, 3, InFrontOf),
         ]
     );
-    assert!(order
-        .junctions
-        .iter()
-        .all(|j| j.distance < 1e-9 && !j.overruled));
-    assert!(
-        free_gaps(&order).iter().all(|&g| g > 0.075),
-        "{:?}",
-        free_gaps(&order)
-    );
-    assert_true_order_whatever_the_drawing(&mountains, &strokes);
+    assert_exact_junctions_and_true_order(&order, &mountains, &strokes);
 }
 
 #[test]

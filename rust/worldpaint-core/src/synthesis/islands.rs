@@ -80,43 +80,18 @@ pub(super) fn match_sizes(
     // count: the smallest of the region's own islands go first (stable: ties keep the tracing order)
     let target = (pc.islands_per_area * area).round().max(1.0) as usize;
     let median = pc.island_areas[pc.island_areas.len() / 2];
-    let mut order: Vec<usize> = (0..all.len()).filter(|&k| own[k]).collect();
-    order.sort_by(|&a, &b| all[a].area.total_cmp(&all[b].area));
-    let mut removed = vec![false; all.len()];
-    let mut count = all.iter().filter(|i| counted(i)).count();
-    for &k in &order {
-        if count <= target || all[k].area >= median {
-            break;
-        }
-        removed[k] = true;
-        count -= 1;
-    }
-    let kept: Vec<usize> = (0..all.len()).filter(|&k| !removed[k]).collect();
+    let kept = islands_kept(&all, &own, &counted, target, median);
 
     // lakes: the smallest lakes of the region's own islands are filled
     let contour_area = |c: usize| polygon_signed_area(&traced[c]).abs();
-    let mut filled = vec![false; traced.len()];
-    if let Some(per_area) = pc.lakes_per_area {
-        let lake_target = (per_area * area).round() as usize;
-        let mut lakes = kept
-            .iter()
-            .filter(|&&k| counted(&all[k]))
-            .map(|&k| all[k].lakes.len())
-            .sum::<usize>();
-        let mut fillable: Vec<usize> = kept
-            .iter()
-            .filter(|&&k| own[k])
-            .flat_map(|&k| all[k].lakes.iter().copied())
-            .collect();
-        fillable.sort_by(|&a, &b| contour_area(a).total_cmp(&contour_area(b)));
-        for c in fillable {
-            if lakes <= lake_target {
-                break;
-            }
-            filled[c] = true;
-            lakes -= 1;
-        }
-    }
+    let filled = lakes_filled(
+        &traced,
+        &all,
+        &kept,
+        &own,
+        &counted,
+        pc.lakes_per_area.map(|l| l * area),
+    );
     let land = |k: usize| {
         all[k].area
             + all[k]
@@ -170,8 +145,80 @@ pub(super) fn match_sizes(
     if final_land < (1.0 - LAND_LOSS) * traced_land {
         return traced;
     }
+    contours_of(&traced, &all, &kept, &cells, &filled, spacing)
+}
+
+/// The islands kept so that the region holds `target` of those `counted` in it: the smallest of its `own` islands
+/// under the `median` learned size go first (stable: ties keep the tracing order).
+fn islands_kept(
+    all: &[Island],
+    own: &[bool],
+    counted: &dyn Fn(&Island) -> bool,
+    target: usize,
+    median: f64,
+) -> Vec<usize> {
+    let mut order: Vec<usize> = (0..all.len()).filter(|&k| own[k]).collect();
+    order.sort_by(|&a, &b| all[a].area.total_cmp(&all[b].area));
+    let mut removed = vec![false; all.len()];
+    let mut count = all.iter().filter(|i| counted(i)).count();
+    for &k in &order {
+        if count <= target || all[k].area >= median {
+            break;
+        }
+        removed[k] = true;
+        count -= 1;
+    }
+    (0..all.len()).filter(|&k| !removed[k]).collect()
+}
+
+/// Which lakes are filled so that the region's islands hold `lakes_wanted` lakes (None: as traced): the smallest
+/// lakes of the region's `own` islands first, counting those of the islands `counted` in the region.
+fn lakes_filled(
+    traced: &[Vec<DVec2>],
+    all: &[Island],
+    kept: &[usize],
+    own: &[bool],
+    counted: &dyn Fn(&Island) -> bool,
+    lakes_wanted: Option<f64>,
+) -> Vec<bool> {
+    let contour_area = |c: usize| polygon_signed_area(&traced[c]).abs();
+    let mut filled = vec![false; traced.len()];
+    if let Some(lakes_wanted) = lakes_wanted {
+        let lake_target = lakes_wanted.round() as usize;
+        let mut lakes = kept
+            .iter()
+            .filter(|&&k| counted(&all[k]))
+            .map(|&k| all[k].lakes.len())
+            .sum::<usize>();
+        let mut fillable: Vec<usize> = kept
+            .iter()
+            .filter(|&&k| own[k])
+            .flat_map(|&k| all[k].lakes.iter().copied())
+            .collect();
+        fillable.sort_by(|&a, &b| contour_area(a).total_cmp(&contour_area(b)));
+        for c in fillable {
+            if lakes <= lake_target {
+                break;
+            }
+            filled[c] = true;
+            lakes -= 1;
+        }
+    }
+    filled
+}
+
+/// The contours of the `kept` islands: those grown as their lattice `cells` traced (the largest piece), the others
+/// as traced with their lakes that are not `filled`.
+fn contours_of(
+    traced: &[Vec<DVec2>],
+    all: &[Island],
+    kept: &[usize],
+    cells: &[Option<Vec<DVec2>>],
+    filled: &[bool],
+    spacing: f64,
+) -> Vec<Vec<DVec2>> {
     let mut out = Vec::new();
-    for &k in &kept {
+    for &k in kept {
         match &cells[k] {
             Some(points) => {
                 // one island: a piece the lattice leaves apart (a neck thinner than a spacing) is dropped

@@ -169,7 +169,7 @@ pub(crate) use draws::{attributes, gaussian};
 pub(crate) use adapt::adapt;
 pub use adapt::AdaptOptions;
 
-pub use crate::arrangement::PatternGuides;
+use crate::arrangement::PatternGuides;
 use crate::error::{check, Error, Result};
 use crate::geom::{describe_box, DVec2, PreparedRegion, Region, RegionQueries};
 use crate::limits;
@@ -254,37 +254,6 @@ pub(crate) fn add_unseen(unseen: &mut Vec<(String, f64)>, name: String, share: f
         Some((_, s)) => *s = s.max(share),
         None => unseen.push((name, share)),
     }
-}
-
-/// Synthesize the color in `region`. The scene's unlocked instances *inside* the region are treated as removed
-/// (paste replaces); locked ones inside it and all within the influence radius outside it condition the result.
-/// Paths and contours are all kept as they are ([`crate::tools::paste`] cuts them at the region first).
-pub fn synthesize(
-    scene: &Scene,
-    color: &Color,
-    region: &Region,
-    opts: &SynthesisOptions,
-) -> Result<SynthesisResult> {
-    synthesize_with_progress(scene, color, region, opts, &|_| true)
-}
-
-/// As [`synthesize`], calling `progress` with the fraction done; returning false cancels
-/// ([`Error::Cancelled`]).
-pub fn synthesize_with_progress(
-    scene: &Scene,
-    color: &Color,
-    region: &Region,
-    opts: &SynthesisOptions,
-    progress: &(dyn Fn(f64) -> bool + Sync),
-) -> Result<SynthesisResult> {
-    // the scene's instances around a drawn outline can be many: its polygons are indexed once, when one is asked
-    let inside = std::sync::OnceLock::new();
-    synthesize_keeping(scene, color, region, opts, progress, &|i: &Instance| {
-        i.locked
-            || !inside
-                .get_or_init(|| PreparedRegion::new(region))
-                .contains(i.position)
-    })
 }
 
 /// The annealing schedule the chains share: a value lowered geometrically from `start` to `end` over the first
@@ -417,7 +386,7 @@ pub(crate) fn conditioning_content(
     out
 }
 
-/// Synthesize `color` in `region`, conditioned on the scene's instances for which `keep` holds: those inside the
+/// Synthesize the statistical color `color` (validated, with its region, by the caller) in `region`, conditioned on the scene's instances for which `keep` holds: those inside the
 /// region (locked content) and those within the influence radius around it enter as fixed content, and the kept
 /// instances of a category inside the region count towards its expected number. Instances for which `keep` fails
 /// are ignored (the caller removes them).
@@ -429,11 +398,6 @@ pub(crate) fn synthesize_keeping(
     progress: &(dyn Fn(f64) -> bool + Sync),
     keep: &(dyn Fn(&Instance) -> bool + Sync),
 ) -> Result<SynthesisResult> {
-    region.validate()?;
-    color.validate()?;
-    if let Some(pattern) = &color.arrangement {
-        return crate::arrangement::paint(scene, color, pattern, region, opts, progress, keep);
-    }
     let influence = checked_influence(color, opts)?;
     let order = priority_order(color, opts.categories.as_deref())?;
     check_terrain(scene, color, &order, region)?;

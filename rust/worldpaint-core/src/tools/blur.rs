@@ -13,7 +13,7 @@
 //! * **Synthesis.** The region's unlocked content is removed and the cells are painted from the outside in,
 //!   each conditioned on the content around the region and on the cells painted before it.
 
-use super::{color_of_region, empty_color, holding_arrangements, Edit, Working};
+use super::{color_of_region, empty_color, holding_arrangements, Clearing, Edit, Working};
 use crate::error::{Error, Result};
 use crate::geom::{DVec2, PreparedRegion, Region, RegionQueries};
 use crate::interpolate::interpolate_colors;
@@ -149,7 +149,7 @@ pub fn blur(
         let color = blended_color(&windows, *mid, &like, cell)?;
         let mut cell_opts = opts.synthesis.clone();
         cell_opts.seed = mix_seed(opts.synthesis.seed, k as u64 + 1);
-        work.paint(&color, cell, &cell_opts, &|f| {
+        work.fill(Clearing::All, &color, cell, &cell_opts, &|f| {
             progress((k as f64 + f) / count as f64)
         })?;
     }

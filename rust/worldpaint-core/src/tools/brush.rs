@@ -27,7 +27,7 @@
 //! go, and so do the pieces left beside the cut that are shorter than the category's shortest edge before the
 //! stroke (stubs no synthesis of it would make).
 
-use super::{color_of_region, empty_color, Edit, Working};
+use super::{color_of_region, empty_color, Clearing, Edit, Working};
 use crate::error::{check, Error, Result};
 use crate::geom::{segment_distance, DVec2, Region};
 use crate::interpolate::interpolate_colors;
@@ -275,7 +275,8 @@ impl Stroke {
                 radius: r,
             };
             let color = color.clone();
-            self.work.spray(&color, &disc, &dab_opts, progress)?;
+            self.work
+                .fill(Clearing::KeepingPattern, &color, &disc, &dab_opts, progress)?;
             return Ok(());
         }
         let earlier: Vec<DVec2> = self
@@ -335,9 +336,10 @@ impl Stroke {
             let mut ring_opts = dab_opts.clone();
             ring_opts.seed = mix_seed(dab_opts.seed, j as u64);
             let f0 = j as f64 / rings as f64;
-            self.work.paint(ring_color, &region, &ring_opts, &|f| {
-                progress(f0 + f / rings as f64)
-            })?;
+            self.work
+                .fill(Clearing::All, ring_color, &region, &ring_opts, &|f| {
+                    progress(f0 + f / rings as f64)
+                })?;
         }
         Ok(())
     }

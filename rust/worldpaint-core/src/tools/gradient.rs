@@ -13,7 +13,7 @@
 //! centre's `(u, v) = (i, j) / (N − 1)`. `N` is given, or one cell per interaction radius of the four colors
 //! across the box's longer side, between 2 and `MAX_BILINEAR_CELLS`.
 
-use super::{Edit, Working};
+use super::{Clearing, Edit, Working};
 use crate::error::{Error, Result};
 use crate::geom::{DVec2, Region};
 use crate::interpolate::interpolate_colors;
@@ -175,7 +175,7 @@ pub fn gradient(
         )?;
         let mut band_opts = opts.synthesis.clone();
         band_opts.seed = mix_seed(opts.synthesis.seed, k as u64 + 1);
-        work.paint(&color, &band, &band_opts, &|f| {
+        work.fill(Clearing::All, &color, &band, &band_opts, &|f| {
             progress((k as f64 + f) / n as f64)
         })?;
     }
@@ -238,7 +238,7 @@ pub fn bilinear_gradient(
             let color = interpolate_colors(&south, &north, v, &name)?;
             let mut cell_opts = opts.synthesis.clone();
             cell_opts.seed = mix_seed(opts.synthesis.seed, cell_index as u64 + 1);
-            work.paint(&color, &cell, &cell_opts, &|f| {
+            work.fill(Clearing::All, &color, &cell, &cell_opts, &|f| {
                 progress((cell_index as f64 + f) / (n * n) as f64)
             })?;
         }

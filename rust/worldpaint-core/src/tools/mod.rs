@@ -19,9 +19,10 @@ use crate::analysis::{learn_color, AnalysisOptions};
 use crate::contour::cut;
 use crate::error::{Error, Result};
 use crate::geom::{polyline_length, DVec2, PreparedRegion, Region, RegionQueries};
+use crate::paint::{synthesize, synthesize_keeping};
 use crate::palette::Color;
 use crate::scene::{Category, Contour, Instance, Path, Scene};
-use crate::synthesis::{add_unseen, synthesize_keeping, SynthesisOptions};
+use crate::synthesis::{add_unseen, SynthesisOptions};
 
 /// What a tool did: the scene's instances, paths and contours it removed (indices, ascending) and those it added,
 /// whose `category` indexes `categories` (the scene's categories, then any the tool's colors brought). A path or
@@ -100,6 +101,17 @@ impl Edit {
     }
 }
 
+/// How a tool's region is cleared before a color fills it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Clearing {
+    /// All its unlocked content goes.
+    All,
+    /// Its unlocked content goes but the elements of the arrangement being painted, which growth continues.
+    KeepingPattern,
+    /// The tool has cleared it already, as it wants.
+    Done,
+}
+
 /// Which original item each current item of a list being edited is (`None` for an added one).
 #[derive(Clone, Debug)]
 struct Origins {
@@ -140,6 +152,20 @@ impl Origins {
             k += 1;
             !gone.get(k - 1).copied().unwrap_or(false)
         });
+    }
+
+    /// Replaces each item for which `replace` gives new items (none removes it) by those, after the kept ones;
+    /// `None` keeps it as it is.
+    fn replace<T>(&mut self, items: &mut Vec<T>, mut replace: impl FnMut(&T) -> Option<Vec<T>>) {
+        let mut pieces = Vec::new();
+        self.retain(items, |item| match replace(item) {
+            None => true,
+            Some(new) => {
+                pieces.extend(new);
+                false
+            }
+        });
+        self.push(items, pieces);
     }
 
     fn push<T>(&mut self, items: &mut Vec<T>, added: impl IntoIterator<Item = T>) {
@@ -234,48 +260,38 @@ impl Working {
         let long_enough = |category: usize, points: &[DVec2]| {
             shortest(category).is_some_and(|l| polyline_length(points) >= l)
         };
-        let mut pieces: Vec<Path> = Vec::new();
-        self.paths.retain(&mut self.scene.paths, |p| {
+        self.paths.replace(&mut self.scene.paths, |p: &Path| {
             if p.locked || shortest(p.category).is_none() {
-                return true;
+                return None;
             }
             let (inside, outside) = region.clip_polyline(&p.points);
-            if inside.is_empty() {
-                return true;
-            }
-            pieces.extend(
+            (!inside.is_empty()).then(|| {
                 outside
                     .into_iter()
                     .filter(|o| o.len() >= 2 && long_enough(p.category, o))
                     .map(|points| Path {
                         points,
                         ..p.clone()
-                    }),
-            );
-            false
+                    })
+                    .collect()
+            })
         });
-        self.paths.push(&mut self.scene.paths, pieces);
-        let mut pieces: Vec<Contour> = Vec::new();
-        self.contours.retain(&mut self.scene.contours, |c| {
-            if c.locked || shortest(c.category).is_none() {
-                return true;
-            }
-            match cut(&c.points, region) {
-                None => true,
-                Some(rest) => {
-                    pieces.extend(
-                        rest.into_iter()
-                            .filter(|points| long_enough(c.category, points))
-                            .map(|points| Contour {
-                                points,
-                                ..c.clone()
-                            }),
-                    );
-                    false
+        self.contours
+            .replace(&mut self.scene.contours, |c: &Contour| {
+                if c.locked || shortest(c.category).is_none() {
+                    return None;
                 }
-            }
-        });
-        self.contours.push(&mut self.scene.contours, pieces);
+                let rest = cut(&c.points, region)?;
+                Some(
+                    rest.into_iter()
+                        .filter(|points| long_enough(c.category, points))
+                        .map(|points| Contour {
+                            points,
+                            ..c.clone()
+                        })
+                        .collect(),
+                )
+            });
     }
 
     /// Replaces each unlocked path and contour by what `reshape` makes of its points (`true` for a contour); `None`
@@ -284,34 +300,21 @@ impl Working {
         &mut self,
         reshape: impl Fn(&[DVec2], bool) -> Option<Vec<DVec2>>,
     ) {
-        let mut pieces: Vec<Path> = Vec::new();
-        self.paths.retain(&mut self.scene.paths, |p| {
-            let Some(new) = (!p.locked).then(|| reshape(&p.points, false)).flatten() else {
-                return true;
-            };
-            if new.len() >= 2 {
-                pieces.push(Path {
-                    points: new,
-                    ..p.clone()
-                });
-            }
-            false
+        self.paths.replace(&mut self.scene.paths, |p: &Path| {
+            let new = (!p.locked).then(|| reshape(&p.points, false)).flatten()?;
+            Some(Vec::from_iter((new.len() >= 2).then(|| Path {
+                points: new,
+                ..p.clone()
+            })))
         });
-        self.paths.push(&mut self.scene.paths, pieces);
-        let mut pieces: Vec<Contour> = Vec::new();
-        self.contours.retain(&mut self.scene.contours, |c| {
-            let Some(new) = (!c.locked).then(|| reshape(&c.points, true)).flatten() else {
-                return true;
-            };
-            if new.len() >= 3 {
-                pieces.push(Contour {
+        self.contours
+            .replace(&mut self.scene.contours, |c: &Contour| {
+                let new = (!c.locked).then(|| reshape(&c.points, true)).flatten()?;
+                Some(Vec::from_iter((new.len() >= 3).then(|| Contour {
                     points: new,
                     ..c.clone()
-                });
-            }
-            false
-        });
-        self.contours.push(&mut self.scene.contours, pieces);
+                })))
+            });
     }
 
     /// Adds instances whose categories index `categories` (an extension of the scene's list).
@@ -341,27 +344,21 @@ impl Working {
         );
     }
 
-    /// Clears `region` and synthesizes `color` there, conditioned on the rest; returns the count of new instances.
-    pub(crate) fn paint(
-        &mut self,
-        color: &Color,
-        region: &Region,
-        opts: &SynthesisOptions,
-        progress: &(dyn Fn(f64) -> bool + Sync),
-    ) -> Result<usize> {
-        self.clear(region);
-        self.fill(color, region, opts, progress)
-    }
-
-    /// Synthesizes `color` in `region` (already cleared as the tool wants), conditioned on the rest; returns the
-    /// count of new instances.
+    /// Clears `region` as `clearing` says and synthesizes `color` there, conditioned on the rest; returns the count
+    /// of new instances.
     pub(crate) fn fill(
         &mut self,
+        clearing: Clearing,
         color: &Color,
         region: &Region,
         opts: &SynthesisOptions,
         progress: &(dyn Fn(f64) -> bool + Sync),
     ) -> Result<usize> {
+        match clearing {
+            Clearing::All => self.clear(region),
+            Clearing::KeepingPattern => self.clear_around_pattern(color, region),
+            Clearing::Done => {}
+        }
         let result = synthesize_keeping(&self.scene, color, region, opts, progress, &|_| true)?;
         let n = result.instances.len();
         for (name, share) in result.unseen_maps {
@@ -377,15 +374,9 @@ impl Working {
         Ok(n)
     }
 
-    /// Grows an arrangement color into `region` around the pattern already there (the spray tool, seed §5.3):
-    /// its own elements in the region stay, the other unlocked content there is cleared.
-    pub(crate) fn spray(
-        &mut self,
-        color: &Color,
-        region: &Region,
-        opts: &SynthesisOptions,
-        progress: &(dyn Fn(f64) -> bool + Sync),
-    ) -> Result<usize> {
+    /// Clears the unlocked content of `region` but the elements of the arrangement `color` there, which its
+    /// growth continues (the spray tool, seed §5.3).
+    fn clear_around_pattern(&mut self, color: &Color, region: &Region) {
         let own: Vec<bool> = self
             .scene
             .categories
@@ -397,7 +388,6 @@ impl Working {
             !own.get(i.category).copied().unwrap_or(false) && prepared.contains(i.position)
         });
         self.clear_structures(region);
-        self.fill(color, region, opts, progress)
     }
 
     /// The edit from the original scene to the current one.
@@ -430,7 +420,7 @@ pub fn paste(
 ) -> Result<Edit> {
     region.validate()?;
     let mut work = Working::new(scene);
-    work.paint(color, region, opts, progress)?;
+    work.fill(Clearing::All, color, region, opts, progress)?;
     Ok(work.edit())
 }
 
@@ -508,7 +498,7 @@ pub fn with_painted_preview(mut color: Color) -> Result<Color> {
         };
         (patch, (hi - lo) / side)
     };
-    let painted = crate::synthesis::synthesize(&canvas, &plain, &region, &Default::default())?;
+    let painted = synthesize(&canvas, &plain, &region, &Default::default())?;
     let (origin, _) = region.bbox();
     color.preview = painted
         .instances

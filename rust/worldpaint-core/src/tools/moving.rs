@@ -128,6 +128,62 @@ fn move_structures(scene: &Scene, source: &Region, destination: &Region, offset:
     work
 }
 
+/// The instances `indices` of the scene moved by `offset`.
+fn shifted(scene: &Scene, indices: &[usize], offset: DVec2) -> Vec<Instance> {
+    indices
+        .iter()
+        .map(|&k| Instance {
+            position: scene.instances[k].position + offset,
+            ..scene.instances[k]
+        })
+        .collect()
+}
+
+/// Which of the scene's instances a move removes: the unlocked ones at the `destination` and the `moved` ones,
+/// but not those that `stayed` where they were.
+fn removed_by_move<'a>(
+    scene: &Scene,
+    destination: &Region,
+    stayed: &[usize],
+    moved: impl Iterator<Item = &'a usize>,
+) -> Vec<bool> {
+    let at_destination = PreparedRegion::new(destination);
+    let mut removed: Vec<bool> = scene
+        .instances
+        .iter()
+        .map(|i| !i.locked && at_destination.contains(i.position))
+        .collect();
+    for &k in stayed {
+        removed[k] = false;
+    }
+    for &k in moved {
+        removed[k] = true;
+    }
+    removed
+}
+
+/// A move of only an arrangement's elements (`carried` rigidly; none when empty), which adapts nothing.
+fn carried_only(
+    scene: &Scene,
+    removed: Vec<usize>,
+    carried: Vec<Instance>,
+    stayed: usize,
+) -> Moved {
+    Moved {
+        moved: carried.len(),
+        edit: Edit {
+            categories: scene.categories.clone(),
+            removed,
+            added: carried,
+            ..Default::default()
+        },
+        displaced: 0,
+        reborn: 0,
+        lost: 0,
+        stayed,
+    }
+}
+
 /// Moves the instances `moving` (indices into the scene) by `offset` into `destination`, where they replace the
 /// unlocked instances, and adapts them to the instances left and to the paths and contours of `landing` (the
 /// scene as it will be around them).
@@ -152,59 +208,19 @@ pub(crate) fn move_instances(
             .get(scene.instances[k].category)
             .is_some_and(|c| c.kind == CategoryKind::Arrangement)
     });
-    let carried: Vec<Instance> = rigid
-        .iter()
-        .map(|&k| Instance {
-            position: scene.instances[k].position + offset,
-            ..scene.instances[k]
-        })
-        .collect();
+    let carried = shifted(scene, &rigid, offset);
     let landing_area = match scene.terrain.as_deref() {
         Some(t) => t.clip(destination),
         None => Some(destination.clone()),
     };
     let Some(destination) = landing_area.filter(|_| !moving.is_empty() || !rigid.is_empty()) else {
-        return Ok(Moved {
-            edit: Edit {
-                categories: scene.categories.clone(),
-                ..Default::default()
-            },
-            moved: 0,
-            displaced: 0,
-            reborn: 0,
-            lost: 0,
-            stayed: stayed.len(),
-        });
+        return Ok(carried_only(scene, Vec::new(), Vec::new(), stayed.len()));
     };
     let destination = &destination;
-    let at_destination = PreparedRegion::new(destination);
-    let mut removed = vec![false; scene.instances.len()];
-    for (k, i) in scene.instances.iter().enumerate() {
-        if !i.locked && at_destination.contains(i.position) {
-            removed[k] = true;
-        }
-    }
-    for &k in &stayed {
-        removed[k] = false;
-    }
-    for &k in moving.iter().chain(&rigid) {
-        removed[k] = true;
-    }
+    let removed = removed_by_move(scene, destination, &stayed, moving.iter().chain(&rigid));
     let removed_list: Vec<usize> = (0..removed.len()).filter(|&k| removed[k]).collect();
     if moving.is_empty() {
-        return Ok(Moved {
-            edit: Edit {
-                categories: scene.categories.clone(),
-                removed: removed_list,
-                added: carried,
-                ..Default::default()
-            },
-            moved: rigid.len(),
-            displaced: 0,
-            reborn: 0,
-            lost: 0,
-            stayed: stayed.len(),
-        });
+        return Ok(carried_only(scene, removed_list, carried, stayed.len()));
     }
     let fixed = Scene {
         categories: scene.categories.clone(),
@@ -220,13 +236,7 @@ pub(crate) fn move_instances(
         contours: landing.contours.clone(),
         terrain: scene.terrain.clone(),
     };
-    let anchors: Vec<Instance> = moving
-        .iter()
-        .map(|&k| Instance {
-            position: scene.instances[k].position + offset,
-            ..scene.instances[k]
-        })
-        .collect();
+    let anchors = shifted(scene, &moving, offset);
     let adapted = adapt(&fixed, color, destination, &anchors, opts)?;
     let mut added: Vec<Instance> = carried;
     added.extend(

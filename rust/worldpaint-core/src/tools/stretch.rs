@@ -28,7 +28,7 @@
 //!   on these lines: it adds no road that could end in the band.
 
 use super::moving::move_instances;
-use super::{color_of_region, Edit, Working};
+use super::{color_of_region, Clearing, Edit, Working};
 use crate::distance::squared_distance_1d;
 use crate::error::{check, Error, Result};
 use crate::geom::{DVec2, Region};
@@ -604,6 +604,6 @@ fn fill_distributions(
         categories: Some(distributions),
         ..synthesis.clone()
     };
-    work.fill(color, region, &opts, report)?;
+    work.fill(Clearing::Done, color, region, &opts, report)?;
     Ok(())
 }

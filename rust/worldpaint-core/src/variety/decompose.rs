@@ -92,6 +92,59 @@ pub struct Decomposition {
     arcs: Vec<Vec<usize>>,
 }
 
+/// The connecting regions of each pair of components that share vertices: the vertices and, as chains, the
+/// edges they share (oriented as the first component's faces run along them).
+fn connecting_regions(
+    model: &Model,
+    comp_of_face: &[usize],
+    comps_of_vertex: &[Vec<usize>],
+) -> Vec<ConnectingRegion> {
+    let mut shared: BTreeMap<(usize, usize), Vec<u32>> = BTreeMap::new();
+    for (v, list) in comps_of_vertex.iter().enumerate() {
+        for (k, &a) in list.iter().enumerate() {
+            for &b in &list[k + 1..] {
+                shared.entry((a, b)).or_default().push(v as u32);
+            }
+        }
+    }
+    // Directed edges of each component, to find and orient the shared ones.
+    let mut edge_comps: HashMap<(u32, u32), Vec<(usize, bool)>> = HashMap::new();
+    for (f, face) in model.faces.iter().enumerate() {
+        let c = comp_of_face[f];
+        for (k, &a) in face.iter().enumerate() {
+            let b = face[(k + 1) % face.len()];
+            let key = (a.min(b), a.max(b));
+            edge_comps.entry(key).or_default().push((c, a < b));
+        }
+    }
+    let mut region_edges: BTreeMap<(usize, usize), Vec<(u32, u32)>> = BTreeMap::new();
+    for (&(a, b), uses) in &edge_comps {
+        let mut comps: Vec<usize> = uses.iter().map(|u| u.0).collect();
+        comps.sort_unstable();
+        comps.dedup();
+        for (k, &i) in comps.iter().enumerate() {
+            for &j in &comps[k + 1..] {
+                // Oriented as component i's face runs along it.
+                let forward = uses.iter().find(|u| u.0 == i).is_none_or(|u| u.1);
+                let e = if forward { (a, b) } else { (b, a) };
+                region_edges.entry((i, j)).or_default().push(e);
+            }
+        }
+    }
+    shared
+        .into_iter()
+        .map(|(pair, vertices)| {
+            let edges = region_edges.remove(&pair).unwrap_or_default();
+            let chains = chains_of(&vertices, edges);
+            ConnectingRegion {
+                components: pair,
+                vertices,
+                chains,
+            }
+        })
+        .collect()
+}
+
 impl Decomposition {
     /// Decomposes `model` by a label per face. `root` names the root component by its label; `None` takes the
     /// component with the most faces.
@@ -139,50 +192,7 @@ impl Decomposition {
                 components[c].vertices.push(v as u32);
             }
         }
-        let mut shared: BTreeMap<(usize, usize), Vec<u32>> = BTreeMap::new();
-        for (v, list) in comps_of_vertex.iter().enumerate() {
-            for (k, &a) in list.iter().enumerate() {
-                for &b in &list[k + 1..] {
-                    shared.entry((a, b)).or_default().push(v as u32);
-                }
-            }
-        }
-        // Directed edges of each component, to find and orient the shared ones.
-        let mut edge_comps: HashMap<(u32, u32), Vec<(usize, bool)>> = HashMap::new();
-        for (f, face) in model.faces.iter().enumerate() {
-            let c = comp_of_face[f];
-            for (k, &a) in face.iter().enumerate() {
-                let b = face[(k + 1) % face.len()];
-                let key = (a.min(b), a.max(b));
-                edge_comps.entry(key).or_default().push((c, a < b));
-            }
-        }
-        let mut region_edges: BTreeMap<(usize, usize), Vec<(u32, u32)>> = BTreeMap::new();
-        for (&(a, b), uses) in &edge_comps {
-            let mut comps: Vec<usize> = uses.iter().map(|u| u.0).collect();
-            comps.sort_unstable();
-            comps.dedup();
-            for (k, &i) in comps.iter().enumerate() {
-                for &j in &comps[k + 1..] {
-                    // Oriented as component i's face runs along it.
-                    let forward = uses.iter().find(|u| u.0 == i).is_none_or(|u| u.1);
-                    let e = if forward { (a, b) } else { (b, a) };
-                    region_edges.entry((i, j)).or_default().push(e);
-                }
-            }
-        }
-        let regions: Vec<ConnectingRegion> = shared
-            .into_iter()
-            .map(|(pair, vertices)| {
-                let edges = region_edges.remove(&pair).unwrap_or_default();
-                let chains = chains_of(&vertices, edges);
-                ConnectingRegion {
-                    components: pair,
-                    vertices,
-                    chains,
-                }
-            })
-            .collect();
+        let regions = connecting_regions(model, &comp_of_face, &comps_of_vertex);
         let root = match root {
             Some(label) => *index_of.get(&label).ok_or_else(|| {
                 Error::invalid(

@@ -125,8 +125,44 @@ fn footprint_indexed(
     if index.is_empty() {
         return None;
     }
-    let mut poly: Vec<DVec2> = Vec::with_capacity(parcel.contour.len());
-    for &p in &parcel.contour {
+    let poly = counter_clockwise(&parcel.contour)?;
+    let scale = poly
+        .iter()
+        .fold(1.0f64, |m, p| m.max(p.abs().max_element()));
+    let eps = 1e-9 * scale;
+    let half = 0.5 * road_width;
+    let frame = road_frame(&poly, index)?;
+    let fits = |corners: &[DVec2; 4]| {
+        quad_inside(&poly, corners, eps) && clear_of_roads(index, corners, half)
+    };
+
+    let quad = largest_quad(&frame, min_size, max_size, &fits)?;
+    let mut corners = frame.corners(&quad);
+    // walls near the contour are projected onto it: neighbours then share them
+    for side in [3usize, 1, 2, 0] {
+        let (i, j) = (side, (side + 1) % 4);
+        let Some((a, b)) = wall_support(&poly, corners[i], corners[j], snap, eps) else {
+            continue;
+        };
+        let onto = |p: DVec2| a + (b - a) * ((p - a).dot(b - a) / (b - a).length_squared());
+        let mut moved = corners;
+        moved[i] = onto(corners[i]);
+        moved[j] = onto(corners[j]);
+        if convex_ccw(&moved, eps) && fits(&moved) {
+            corners = moved;
+        }
+    }
+    Some(Footprint {
+        seed: parcel.seed,
+        corners,
+    })
+}
+
+/// The contour without repeated points and its closing point, counter-clockwise; None when it has a point that is
+/// not finite or no area.
+fn counter_clockwise(contour: &[DVec2]) -> Option<Vec<DVec2>> {
+    let mut poly: Vec<DVec2> = Vec::with_capacity(contour.len());
+    for &p in contour {
         if !(p.x.is_finite() && p.y.is_finite()) {
             return None;
         }
@@ -147,17 +183,17 @@ fn footprint_indexed(
     if area < 0.0 {
         poly.reverse();
     }
-    let scale = poly
-        .iter()
-        .fold(1.0f64, |m, p| m.max(p.abs().max_element()));
-    let eps = 1e-9 * scale;
-    let half = 0.5 * road_width;
-    let frame = road_frame(&poly, index)?;
-    let fits = |corners: &[DVec2; 4]| {
-        quad_inside(&poly, corners, eps) && clear_of_roads(index, corners, half)
-    };
+    Some(poly)
+}
 
-    // grow quads from a few set-backs of the front wall and shifts along it, and keep the largest
+/// The largest quad grown from a few set-backs of the front wall and shifts along it, at least `min_size`; a quad
+/// nearer the road wins unless a farther one is clearly larger.
+fn largest_quad(
+    frame: &Frame,
+    min_size: [f64; 2],
+    max_size: [f64; 2],
+    fits: &dyn Fn(&[DVec2; 4]) -> bool,
+) -> Option<Quad> {
     let step = (max_size[0].min(max_size[1]) / 64.0).clamp(0.02, 0.25);
     let setback = (max_size[1] / 16.0).max(step);
     let shift = 0.25 * max_size[0];
@@ -177,7 +213,7 @@ fn footprint_indexed(
         if !fits(&frame.corners(&start)) {
             continue;
         }
-        let grown = grow(&frame, start, max_size, step, &fits);
+        let grown = grow(frame, start, max_size, step, &fits);
         let (width, depth) = (grown.left + grown.right, grown.depth);
         if width + 1e-9 < min_size[0] || depth + 1e-9 < min_size[1] {
             continue;
@@ -191,26 +227,7 @@ fn footprint_indexed(
             break;
         }
     }
-    let (_, quad) = best?;
-    let mut corners = frame.corners(&quad);
-    // walls near the contour are projected onto it: neighbours then share them
-    for side in [3usize, 1, 2, 0] {
-        let (i, j) = (side, (side + 1) % 4);
-        let Some((a, b)) = wall_support(&poly, corners[i], corners[j], snap, eps) else {
-            continue;
-        };
-        let onto = |p: DVec2| a + (b - a) * ((p - a).dot(b - a) / (b - a).length_squared());
-        let mut moved = corners;
-        moved[i] = onto(corners[i]);
-        moved[j] = onto(corners[j]);
-        if convex_ccw(&moved, eps) && fits(&moved) {
-            corners = moved;
-        }
-    }
-    Some(Footprint {
-        seed: parcel.seed,
-        corners,
-    })
+    best.map(|(_, quad)| quad)
 }
 
 /// The frontage middle of the contour and the road frame there.

@@ -2,7 +2,7 @@
 //! and a growth scenario, grow the skeleton (3.2: each new building seed connected to the roads at once), then
 //! the land parcels and footprints (3.3), then the houses (3.4).
 
-use super::encyclopedia::{BuildingKind, Encyclopedia, Event, Placement, Scenario};
+use super::encyclopedia::{BuildingKind, Encyclopedia, Event, Placement, RoadParams, Scenario};
 use super::footprint::footprint;
 use super::house::house;
 use super::interest::{criteria, interest, Criterion, StaticMaps, VillageState};
@@ -214,7 +214,9 @@ fn beside_its_road(
         .map(|(_, p)| p)
 }
 
-/// Generates a village; `progress(stage, fraction)` returning `false` cancels (`Error::Cancelled`).
+/// Generates a village; `progress(stage, fraction)` returning `false` cancels (`Error::Cancelled`). The thesis's
+/// stages, each a function of its own: the ways through the region, the skeleton of seeds and roads (3.2), the
+/// parcels and footprints (3.3), the houses (3.4).
 pub fn generate(
     request: &VillageRequest,
     progress: &(dyn Fn(Stage, f64) -> bool + Sync),
@@ -236,37 +238,76 @@ pub fn generate(
             "the village region holds no node of its grid; use a finer cell",
         ));
     }
-    let connections = if request.connections.is_empty() {
-        default_connections(&land, &request.site.region, &request.existing_roads)
-    } else {
-        request.connections.clone()
-    };
-    reached(Stage::Skeleton, 0.0)?;
-    // the roads between the connection points come first: the village grows on the ways through it
-    let (first, others) = connections.split_at(connections.len().min(1));
-    let mut network = RoadNetwork::new(&land, first, &request.existing_roads)?;
     let mut report = VillageReport {
         requested: request.scenario.building_count() as usize,
         ..Default::default()
     };
+    let mut network = ways_through(request, &land, &mut report, &reached)?;
+    let seeds = skeleton(request, &land, &mut network, &mut report, &reached)?;
+    report.seconds[0] = started.elapsed().as_secs_f64();
+
+    let stage = Instant::now();
+    reached(Stage::Parcels, 0.0)?;
+    let existing = request.existing_roads.len().min(network.roads.len());
+    let mut roads = roads_in_use(request, network, existing, &seeds, &mut report);
+    let lots = parcels_and_footprints(request, &land, &roads, seeds, &mut report, progress)?;
+    report.seconds[1] = stage.elapsed().as_secs_f64();
+
+    let stage = Instant::now();
+    reached(Stage::Houses, 0.0)?;
+    let houses = houses(request, &land, &lots, progress)?;
+    report.seconds[2] = stage.elapsed().as_secs_f64();
+    progress(Stage::Houses, 1.0);
+
+    Ok(Village {
+        seeds: lots.seeds,
+        roads: roads.split_off(existing),
+        parcels: lots.parcels,
+        footprints: lots.footprints,
+        houses,
+        land: Some(land),
+        report,
+    })
+}
+
+/// The roads the village starts from: the existing ones and, before any building, a through road from each
+/// connection point after the first (built by the village's first type; the village grows on the ways through it).
+fn ways_through(
+    request: &VillageRequest,
+    land: &Land,
+    report: &mut VillageReport,
+    reached: &dyn Fn(Stage, f64) -> Result<()>,
+) -> Result<RoadNetwork> {
+    let connections = if request.connections.is_empty() {
+        default_connections(land, &request.site.region, &request.existing_roads)
+    } else {
+        request.connections.clone()
+    };
+    reached(Stage::Skeleton, 0.0)?;
+    let (first, others) = connections.split_at(connections.len().min(1));
+    let mut network = RoadNetwork::new(land, first, &request.existing_roads)?;
     let no_buildings = vec![false; land.grid().len()];
-    // the ways through are built by the village's first type
     let first_type = request.scenario.events.iter().find_map(|e| match e {
         Event::ChangeVillageType { village_type } => Some(village_type.as_str()),
         Event::Generate { .. } => None,
     });
-    let through_roads = enc.road_params(first_type.unwrap_or_default());
+    let through_roads = request
+        .encyclopedia
+        .road_params(first_type.unwrap_or_default());
     for &p in others {
         reached(Stage::Skeleton, 0.0)?;
-        let through = network.link_connection(&land, &through_roads, &no_buildings, p)?;
+        let through = network.link_connection(land, &through_roads, &no_buildings, p)?;
         report.roads_over_max_grade += through.over_max_grade as usize;
     }
     report.connections = network.connections().to_vec();
+    Ok(network)
+}
 
-    // every domination radius the scenario may ask for, computed once
+/// Every domination radius the scenario may ask for, so that the static maps compute each once.
+fn domination_radii(enc: &Encyclopedia, scenario: &Scenario) -> Result<Vec<f64>> {
     let mut radii: Vec<f64> = Vec::new();
     let mut current: Option<&str> = None;
-    for e in &request.scenario.events {
+    for e in &scenario.events {
         match e {
             Event::ChangeVillageType { village_type } => current = Some(village_type),
             Event::Generate { building, .. } => {
@@ -279,15 +320,36 @@ pub fn generate(
             }
         }
     }
-    let maps = StaticMaps::new(&land, &radii);
-    reached(Stage::Skeleton, 0.0)?;
+    Ok(radii)
+}
 
-    // 3.2: the skeleton
+/// The skeleton as it grows (3.2): the buildings seeded so far and the land they hold.
+struct Skeleton {
+    seeds: Vec<BuildingSeed>,
+    religious: Vec<bool>,
+    fortress: Vec<bool>,
+    occupied: Vec<bool>,
+}
+
+/// 3.2: the scenario's buildings seeded one by one where their interest is highest, each joined to the roads by a
+/// new road that goes on past it as a street.
+fn skeleton(
+    request: &VillageRequest,
+    land: &Land,
+    network: &mut RoadNetwork,
+    report: &mut VillageReport,
+    reached: &dyn Fn(Stage, f64) -> Result<()>,
+) -> Result<Vec<BuildingSeed>> {
+    let enc = request.encyclopedia;
+    let maps = StaticMaps::new(land, &domination_radii(enc, request.scenario)?);
+    reached(Stage::Skeleton, 0.0)?;
     let mut rng = ChaCha8Rng::seed_from_u64(mix_seed(request.seed, 0x5EED));
-    let mut seeds: Vec<BuildingSeed> = Vec::new();
-    let mut religious: Vec<bool> = Vec::new();
-    let mut fortress: Vec<bool> = Vec::new();
-    let mut occupied = vec![false; land.grid().len()];
+    let mut grown = Skeleton {
+        seeds: Vec::new(),
+        religious: Vec::new(),
+        fortress: Vec::new(),
+        occupied: vec![false; land.grid().len()],
+    };
     let mut village_type = String::new();
     let mut roads = enc.roads.clone();
     let total = report.requested.max(1) as f64;
@@ -306,9 +368,6 @@ pub fn generate(
             .buildings
             .get(building)
             .ok_or_else(|| Error::unknown("building type", building))?;
-        let radius = 0.5 * kind.footprint_min[0].max(kind.footprint_min[1]);
-        // a house this close to a road fronts it: its footprint, grown from the road side, can reach the seed
-        let frontage = 0.5 * enc.roads.width + kind.footprint_max[0].max(kind.footprint_max[1]);
         let mut failed_in_a_row = 0;
         for _ in 0..count {
             reached(Stage::Skeleton, done as f64 / total)?;
@@ -318,66 +377,99 @@ pub fn generate(
                 report.unplaced.push(building.clone());
                 continue;
             }
-            let has_roads = !network.roads.is_empty();
-            let road_distance = |p: DVec2| network.distance(p);
             let state = VillageState {
-                buildings: &seeds,
-                religious: &religious,
-                fortress: &fortress,
-                road_distance: &road_distance,
-                has_roads,
+                buildings: &grown.seeds,
+                religious: &grown.religious,
+                fortress: &grown.fortress,
+                road_distance: &|p: DVec2| network.distance(p),
+                has_roads: !network.roads.is_empty(),
             };
-            let Some(found) =
-                seed_building(&land, &maps, &state, placement, &mut rng, MAX_ATTEMPTS)
+            let Some(found) = seed_building(land, &maps, &state, placement, &mut rng, MAX_ATTEMPTS)
             else {
                 report.unplaced.push(building.clone());
                 failed_in_a_row += 1;
                 continue;
             };
             failed_in_a_row = 0;
-            let connection = network.connect(&land, &roads, &occupied, found.position, frontage)?;
-            if !connection.reached {
-                report.unreachable += 1;
-                continue;
-            }
-            report.seeded += 1;
-            report.fallbacks += found.fallback as usize;
-            report.roads_over_max_grade += connection.over_max_grade as usize;
-            report.cycles += connection.cycle as usize;
-            let position = match connection.roads.first() {
-                Some(&r) => beside_its_road(
-                    &land,
-                    &network,
-                    &network.roads[r].points,
-                    &seeds,
-                    placement,
-                    kind,
-                    enc.roads.width,
-                )
-                .unwrap_or(found.position),
-                None => found.position,
-            };
-            stamp(&land, &mut occupied, position, radius);
-            // the building's road goes on past it as a street for the houses that come next
-            if let (Some(&r), false) = (connection.roads.first(), connection.cycle) {
-                network.lay_street(&land, &roads, &occupied, r);
-            }
-            seeds.push(BuildingSeed {
+            let seed = BuildingSeed {
                 building: building.clone(),
                 village_type: village_type.clone(),
-                position,
-            });
-            religious.push(kind.religious);
-            fortress.push(kind.fortress);
+                position: found.position,
+            };
+            let at = Placing {
+                land,
+                roads: &roads,
+                road_width: enc.roads.width,
+                placement,
+                kind,
+            };
+            if grown.connect(&at, network, seed, report)? {
+                report.fallbacks += found.fallback as usize;
+            }
         }
     }
-    report.seconds[0] = started.elapsed().as_secs_f64();
+    Ok(grown.seeds)
+}
 
-    // 3.3: parcels and footprints
-    let stage = Instant::now();
-    reached(Stage::Parcels, 0.0)?;
-    // the network holds the existing roads first, then the new ones; new dead ends no building uses go
-    let existing = request.existing_roads.len().min(network.roads.len());
+/// What a building is placed with: the land, the roads its village type builds (and the encyclopedia's road
+/// width), its placement and its type.
+struct Placing<'a> {
+    land: &'a Land,
+    roads: &'a RoadParams,
+    road_width: f64,
+    placement: &'a Placement,
+    kind: &'a BuildingKind,
+}
+
+impl Skeleton {
+    /// Joins the building `seed` (placed where its interest is highest) to the roads and keeps it where the road
+    /// reached it, beside its road's end; one the roads cannot reach is dropped (false).
+    fn connect(
+        &mut self,
+        at: &Placing,
+        network: &mut RoadNetwork,
+        mut seed: BuildingSeed,
+        report: &mut VillageReport,
+    ) -> Result<bool> {
+        let (land, roads, width, kind) = (at.land, at.roads, at.road_width, at.kind);
+        // a house this close to a road fronts it: its footprint, grown from the road side, can reach the seed
+        let frontage = 0.5 * width + kind.footprint_max[0].max(kind.footprint_max[1]);
+        let connection = network.connect(land, roads, &self.occupied, seed.position, frontage)?;
+        if !connection.reached {
+            report.unreachable += 1;
+            return Ok(false);
+        }
+        report.seeded += 1;
+        report.roads_over_max_grade += connection.over_max_grade as usize;
+        report.cycles += connection.cycle as usize;
+        if let Some(&r) = connection.roads.first() {
+            let road = &network.roads[r].points;
+            let beside =
+                beside_its_road(land, network, road, &self.seeds, at.placement, kind, width);
+            seed.position = beside.unwrap_or(seed.position);
+        }
+        let radius = 0.5 * kind.footprint_min[0].max(kind.footprint_min[1]);
+        stamp(land, &mut self.occupied, seed.position, radius);
+        // the building's road goes on past it as a street for the houses that come next
+        if let (Some(&r), false) = (connection.roads.first(), connection.cycle) {
+            network.lay_street(land, roads, &self.occupied, r);
+        }
+        self.seeds.push(seed);
+        self.religious.push(kind.religious);
+        self.fortress.push(kind.fortress);
+        Ok(true)
+    }
+}
+
+/// The network's roads without the new dead ends no building uses: the existing roads (the first `existing`)
+/// first, then the new ones kept.
+fn roads_in_use(
+    request: &VillageRequest,
+    mut network: RoadNetwork,
+    existing: usize,
+    seeds: &[BuildingSeed],
+    report: &mut VillageReport,
+) -> Vec<Road> {
     let positions: Vec<DVec2> = seeds.iter().map(|s| s.position).collect();
     let keep = used_roads(
         &network.roads,
@@ -386,13 +478,32 @@ pub fn generate(
         network.connections(),
         0.1 * request.site.cell,
     );
-    let mut kept_roads: Vec<Road> = std::mem::take(&mut network.roads)
+    report.pruned_roads = keep.iter().filter(|&&k| !k).count();
+    std::mem::take(&mut network.roads)
         .into_iter()
         .zip(&keep)
         .filter_map(|(r, &k)| k.then_some(r))
-        .collect();
-    report.pruned_roads = keep.iter().filter(|&&k| !k).count();
-    let all_roads: &[Road] = &kept_roads;
+        .collect()
+}
+
+/// The seeds that got a parcel and a footprint, with them, in the same order.
+struct Lots {
+    seeds: Vec<BuildingSeed>,
+    parcels: Vec<Parcel>,
+    footprints: Vec<Footprint>,
+}
+
+/// 3.3: each seed's parcel conquered from its road, and the building's footprint inside it; the seeds that lose
+/// their access or whose parcel holds no footprint (or only one over the water) are counted and dropped.
+fn parcels_and_footprints(
+    request: &VillageRequest,
+    land: &Land,
+    roads: &[Road],
+    seeds: Vec<BuildingSeed>,
+    report: &mut VillageReport,
+    progress: &(dyn Fn(Stage, f64) -> bool + Sync),
+) -> Result<Lots> {
+    let enc = request.encyclopedia;
     let placements: Vec<_> = seeds
         .iter()
         .map(|s| enc.placement(&s.village_type, &s.building))
@@ -411,17 +522,14 @@ pub fn generate(
         request.site.cell
     };
     let conquered = parcels_with(
-        &land,
-        all_roads,
+        land,
+        roads,
         enc.roads.width,
         &parcel_seeds,
         parcel_cell,
         &ParcelOptions::default(),
         &|f| progress(Stage::Parcels, 0.8 * f),
     )?;
-    let mut kept_seeds = Vec::new();
-    let mut kept_parcels = Vec::new();
-    let mut kept_footprints = Vec::new();
     let footprints = Counted::new(conquered.len(), |f| progress(Stage::Parcels, 0.8 + 0.2 * f));
     let found: Vec<Option<Footprint>> = conquered
         .par_iter()
@@ -431,7 +539,7 @@ pub fn generate(
             let kind = enc.buildings.get(&s.building)?;
             let fp = footprint(
                 parcel,
-                all_roads,
+                roads,
                 enc.roads.width,
                 kind.footprint_min,
                 kind.footprint_max,
@@ -442,35 +550,47 @@ pub fn generate(
         })
         .collect();
     footprints.finish()?;
+    let mut lots = Lots {
+        seeds: Vec::new(),
+        parcels: Vec::new(),
+        footprints: Vec::new(),
+    };
     for ((s, parcel), fp) in seeds.into_iter().zip(conquered).zip(found) {
         let Some(parcel) = parcel else {
             report.without_access += 1;
             continue;
         };
         // a parcel on the shore may still leave its footprint's edge over the water
-        let Some(fp) = fp.filter(|f| !on_water(&land, f)) else {
+        let Some(fp) = fp.filter(|f| !on_water(land, f)) else {
             report.without_footprint += 1;
             continue;
         };
-        let index = kept_seeds.len();
-        kept_seeds.push(s);
-        kept_parcels.push(Parcel {
+        let index = lots.seeds.len();
+        lots.seeds.push(s);
+        lots.parcels.push(Parcel {
             seed: index,
             ..parcel
         });
-        kept_footprints.push(Footprint { seed: index, ..fp });
+        lots.footprints.push(Footprint { seed: index, ..fp });
     }
-    report.seconds[1] = stage.elapsed().as_secs_f64();
+    Ok(lots)
+}
 
-    // 3.4: houses
-    let stage = Instant::now();
-    reached(Stage::Houses, 0.0)?;
+/// 3.4: a house on each footprint, its storeys drawn from the building type's range, its floor on the terrain.
+fn houses(
+    request: &VillageRequest,
+    land: &Land,
+    lots: &Lots,
+    progress: &(dyn Fn(Stage, f64) -> bool + Sync),
+) -> Result<Vec<HouseMesh>> {
+    let enc = request.encyclopedia;
     let terrain = request.site.terrain;
     let ground = |p: DVec2| terrain.height_at(p).unwrap_or_else(|| land.height_at(p));
-    let built = Counted::new(kept_footprints.len(), |f| progress(Stage::Houses, f));
-    let houses: Vec<HouseMesh> = kept_footprints
+    let built = Counted::new(lots.footprints.len(), |f| progress(Stage::Houses, f));
+    let houses: Vec<HouseMesh> = lots
+        .footprints
         .par_iter()
-        .zip(kept_seeds.par_iter())
+        .zip(lots.seeds.par_iter())
         .enumerate()
         .filter_map(|(k, (fp, s))| {
             let kind = enc.buildings.get(&s.building).filter(|_| built.go_on())?;
@@ -484,18 +604,7 @@ pub fn generate(
         })
         .collect();
     built.finish()?;
-    report.seconds[2] = stage.elapsed().as_secs_f64();
-    progress(Stage::Houses, 1.0);
-
-    Ok(Village {
-        seeds: kept_seeds,
-        roads: kept_roads.split_off(existing),
-        parcels: kept_parcels,
-        footprints: kept_footprints,
-        houses,
-        land: Some(land),
-        report,
-    })
+    Ok(houses)
 }
 
 /// What an interest map is shown for: one building type of one village type, in a village as it stands.

@@ -356,6 +356,43 @@ pub fn house_layout(
         openings.push(door.opening(&walls, &style.doors));
     }
     let mut report = HouseReport::default();
+    let storeys = Storeys {
+        n,
+        height: h,
+        floor: &floor,
+    };
+    place_windows(
+        &walls,
+        ground,
+        &storeys,
+        &style.windows,
+        &mut placed,
+        &mut openings,
+        &mut report,
+    );
+    open_faces(&mut b, &walls, &floor, &openings, &mut report);
+    (b.finish(footprint.seed), report, openings)
+}
+
+/// The storeys of a house: how many, their height, and the height of each one's floor.
+struct Storeys<'a> {
+    n: u32,
+    height: f64,
+    floor: &'a dyn Fn(u32) -> f64,
+}
+
+/// A window in each bay of each wall of each storey where one fits beside what is already placed (the door, its
+/// steps); counts the rooms, and those left with no opening.
+fn place_windows(
+    walls: &[Wall],
+    ground: &Ground,
+    storeys: &Storeys,
+    windows: &[Shape],
+    placed: &mut [Vec<Rect>],
+    openings: &mut Vec<PlacedOpening>,
+    report: &mut HouseReport,
+) {
+    let (n, floor) = (storeys.n, storeys.floor);
     for k in 0..n {
         for (w, wall) in walls.iter().enumerate() {
             let nb = bays(wall.len);
@@ -366,23 +403,23 @@ pub fn house_layout(
                     wall,
                     ground,
                     floor: floor(k),
-                    placed: &placed[slot(w, k)],
+                    placed: &placed[w * n as usize + k as usize],
                     u_lo: (s0 + BAY_MARGIN).max(CORNER_MARGIN),
                     u_hi: (s1 - BAY_MARGIN).min(wall.len - CORNER_MARGIN),
                     v_lo: MIN_SILL,
-                    v_hi: h - LINTEL,
+                    v_hi: storeys.height - LINTEL,
                     vertical: true,
                     reach: None,
                 };
-                let window = site.place(&style.windows, 0.5 * (s0 + s1));
+                let window = site.place(windows, 0.5 * (s0 + s1));
                 let has_door = openings.iter().any(|o| {
                     o.kind == OpeningKind::Door && o.wall == w && o.storey == k && o.bay == j
                 });
                 report.rooms += 1;
                 match window {
                     Some(p) => {
-                        let s = &style.windows[p.shape];
-                        placed[slot(w, k)].push(Rect::of(s, p.at));
+                        let s = &windows[p.shape];
+                        placed[w * n as usize + k as usize].push(Rect::of(s, p.at));
                         openings.push(PlacedOpening {
                             kind: OpeningKind::Window,
                             wall: w,
@@ -403,8 +440,17 @@ pub fn house_layout(
             }
         }
     }
+}
 
-    for o in &openings {
+/// The doors' and windows' faces on their walls, counted in the report.
+fn open_faces(
+    b: &mut MeshBuilder,
+    walls: &[Wall],
+    floor: &dyn Fn(u32) -> f64,
+    openings: &[PlacedOpening],
+    report: &mut HouseReport,
+) {
+    for o in openings {
         let wall = &walls[o.wall];
         let z = floor(o.storey);
         let p = |u: f64, v: f64| wall.at(u).extend(z + v);
@@ -422,7 +468,6 @@ pub fn house_layout(
         report.moved += usize::from(o.moved);
         report.reshaped += usize::from(o.reshaped);
     }
-    (b.finish(footprint.seed), report, openings)
 }
 
 /// The lowest terrain along the closed outline `poly`, or `None` where the terrain is not finite.

@@ -18,9 +18,10 @@
 pub mod tile_file;
 
 use crate::geom::DVec2;
+use crate::paint::synthesize;
 use crate::palette::Color;
 use crate::scene::{CategoryKind, Instance, Scene};
-use crate::synthesis::{mix_seed, synthesize, SynthesisOptions};
+use crate::synthesis::{mix_seed, SynthesisOptions};
 use crate::terrain::Heightfield;
 use crate::{check, Error, Region, Result};
 use std::sync::Arc;

@@ -8,7 +8,9 @@ use std::collections::HashMap;
 use glam::DVec2;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use worldpaint_core::arrangement::{Arrangement, Element, GrowthOptions, Reference, RotationMode};
+use worldpaint_core::arrangement::{
+    grow, Arrangement, Element, GrowthOptions, Reference, RotationMode,
+};
 use worldpaint_core::Region;
 
 pub fn element(position: DVec2, symbol: u32) -> Element {
@@ -62,6 +64,11 @@ pub fn options(rotation: RotationMode) -> GrowthOptions {
 }
 
 /// The closest pair of points (brute force over a grid of cells of side `cell`).
+/// `reference` grown over `region` from the origin, keeping its orientation.
+pub fn grown_from_centre(reference: &Reference, region: &Region) -> Arrangement {
+    grow(reference, region, DVec2::ZERO, &options(RotationMode::None)).expect("grows")
+}
+
 pub fn closest_pair(points: &[DVec2], cell: f64) -> f64 {
     let key = |p: DVec2| ((p.x / cell).floor() as i64, (p.y / cell).floor() as i64);
     let mut grid: HashMap<(i64, i64), Vec<usize>> = HashMap::new();

@@ -135,7 +135,7 @@ use grid::Work;
 use labels::clean_labels;
 use land_conquest::{conquer, resolve_claims, Claim};
 use rayon::prelude::*;
-use road_conquest::{fronts_and_anchors, road_conquest};
+use road_conquest::{fronts_and_anchors, road_conquest, RoadConquest};
 use simplify::simplified_contours;
 
 /// No parcel.
@@ -264,91 +264,30 @@ pub fn parcels_with(
     };
 
     // 3.3.1 road conquest, 3.3.2 corner conquest
-    let sources: Vec<Option<usize>> = projections
-        .iter()
-        .map(|p| work.source_cell(&index, p, half))
-        .collect();
-    reached(0.0)?;
-    let mut road = road_conquest(&work, seeds, &sources);
-    reached(0.1)?;
-    let junctions = junctions(roads, &work, seeds, road_width, options);
-    keeping_access(seeds.len(), &mut road, |road| {
-        corner_conquest(&work, seeds, &junctions, half, options, road)
-    });
-    let (fronts, mut anchors) = fronts_and_anchors(&road, &sources);
-    reached(0.2)?;
+    let (road, fronts, anchors) = conquer_roads(
+        &work,
+        &index,
+        roads,
+        &projections,
+        seeds,
+        road_width,
+        options,
+        &reached,
+    )?;
 
     // 3.3.3 anisotropic land conquest, each parcel on its own
-    let conquests = Counted::new(n, |f| progress(0.2 + 0.3 * f));
-    let claims: Vec<Vec<Claim>> = (0..n)
-        .into_par_iter()
-        .map(|i| {
-            if anchors[i].is_none() || !conquests.go_on() {
-                return Vec::new();
-            }
-            let claim = conquer(
-                &work,
-                land,
-                &index,
-                &road.owner,
-                i as u32,
-                &fronts[i],
-                seeds[i].params,
-            );
-            conquests.done_one();
-            claim
-        })
-        .collect();
-    conquests.finish()?;
-    let (mut label, mut best) = resolve_claims(&claims, work.grid.len());
-    let mut is_anchor = {
-        let mut a = vec![false; work.grid.len()];
-        for k in anchors.iter().flatten() {
-            a[*k] = true;
-        }
-        a
-    };
-    clean_labels(
-        &work,
-        &road.owner,
-        (&anchors, &is_anchor),
-        (&mut label, &mut best),
-        true,
-        &|round| reached(0.5 + 0.2 * round),
+    let (mut label, mut best) = conquer_land(
+        &work, land, &index, &road, &fronts, &anchors, seeds, progress,
     )?;
-    // unclaimed pockets and the gaps of a sparse village go to the parcels around them
-    let pocket_cells = (options.pocket_area / (cell * cell)).floor() as usize;
-    let tolerance = options.straighten * cell;
-    // a parcel that grows fields keeps behind one straight road front (or two, on a corner)
-    let grown = |x: usize| seeds[x].params.fill > 0.0;
-    let fronts = parcel_fronts(&work, &index, n, &label);
-    if cut_behind_fronts(&work, &fronts, tolerance, &grown, (&mut label, &mut best)) {
-        reanchor(&work, &label, &mut anchors, &mut is_anchor);
-        clean_labels(
-            &work,
-            &road.owner,
-            (&anchors, &is_anchor),
-            (&mut label, &mut best),
-            false,
-            &|round| reached(0.6 + 0.05 * round),
-        )?;
-    }
-    let fronts = parcel_fronts(&work, &index, n, &label);
-    fill_unclaimed(
+    settle_labels(
         &work,
+        &index,
         &road.owner,
         seeds,
-        pocket_cells,
-        (&fronts, tolerance),
+        options,
+        anchors,
         (&mut label, &mut best),
-    );
-    clean_labels(
-        &work,
-        &road.owner,
-        (&anchors, &is_anchor),
-        (&mut label, &mut best),
-        true,
-        &|round| reached(0.7 + 0.15 * round),
+        &reached,
     )?;
 
     // 3.3.4 simplification of the shared boundary graph
@@ -405,5 +344,124 @@ fn validate(
             return bad(format!("option {name} = {v} must be zero or more"));
         }
     }
+    Ok(())
+}
+
+/// 3.3.3: each parcel anchored on the road conquers its land on its own (in parallel); the claims are resolved
+/// into each cell's label and its cost. Reports progress from 0.2 to 0.5.
+#[allow(clippy::too_many_arguments)]
+fn conquer_land(
+    work: &Work,
+    land: &Land,
+    index: &RoadIndex,
+    road: &RoadConquest,
+    fronts: &[Vec<usize>],
+    anchors: &[Option<usize>],
+    seeds: &[ParcelSeed],
+    progress: &(dyn Fn(f64) -> bool + Sync),
+) -> Result<(Vec<u32>, Vec<f64>)> {
+    let n = seeds.len();
+    let conquests = Counted::new(n, |f| progress(0.2 + 0.3 * f));
+    let claims: Vec<Vec<Claim>> = (0..n)
+        .into_par_iter()
+        .map(|i| {
+            if anchors[i].is_none() || !conquests.go_on() {
+                return Vec::new();
+            }
+            let claim = conquer(
+                work,
+                land,
+                index,
+                &road.owner,
+                i as u32,
+                &fronts[i],
+                seeds[i].params,
+            );
+            conquests.done_one();
+            claim
+        })
+        .collect();
+    conquests.finish()?;
+    Ok(resolve_claims(&claims, work.grid.len()))
+}
+
+/// 3.3.1 and 3.3.2: the road edge conquered from each seed's source cell (its projection on the roads), then the
+/// corners at the junctions, keeping each parcel's access; returns the conquest with each parcel's fronts and anchor.
+#[allow(clippy::too_many_arguments, clippy::type_complexity)]
+fn conquer_roads(
+    work: &Work,
+    index: &RoadIndex,
+    roads: &[Road],
+    projections: &[Projection],
+    seeds: &[ParcelSeed],
+    road_width: f64,
+    options: &ParcelOptions,
+    reached: &dyn Fn(f64) -> Result<()>,
+) -> Result<(RoadConquest, Vec<Vec<usize>>, Vec<Option<usize>>)> {
+    let half = 0.5 * road_width;
+    let sources: Vec<Option<usize>> = projections
+        .iter()
+        .map(|p| work.source_cell(index, p, half))
+        .collect();
+    reached(0.0)?;
+    let mut road = road_conquest(work, seeds, &sources);
+    reached(0.1)?;
+    let junctions = junctions(roads, work, seeds, road_width, options);
+    keeping_access(seeds.len(), &mut road, |road| {
+        corner_conquest(work, seeds, &junctions, half, options, road)
+    });
+    let (fronts, anchors) = fronts_and_anchors(&road, &sources);
+    reached(0.2)?;
+    Ok((road, fronts, anchors))
+}
+
+/// After the land conquest: the labels cleaned (islands of a label joined to their neighbours' or smoothed), a
+/// parcel that grows fields cut back behind its road front (and cleaned again), the unclaimed pockets and the gaps of
+/// a sparse village given to the parcels around them, and a last clean-up. Reports progress from 0.5 to 0.85.
+#[allow(clippy::too_many_arguments)]
+fn settle_labels(
+    work: &Work,
+    index: &RoadIndex,
+    owner: &[u32],
+    seeds: &[ParcelSeed],
+    options: &ParcelOptions,
+    mut anchors: Vec<Option<usize>>,
+    (label, best): (&mut [u32], &mut [f64]),
+    reached: &dyn Fn(f64) -> Result<()>,
+) -> Result<()> {
+    let cell = work.grid.cell;
+    let mut is_anchor = vec![false; work.grid.len()];
+    anchors.iter().flatten().for_each(|&k| is_anchor[k] = true);
+    // the labels' clean-up, reporting its rounds within `span` of the progress from `from`
+    let clean = |anchors: &[Option<usize>],
+                 is_anchor: &[bool],
+                 cells: (&mut [u32], &mut [f64]),
+                 smooth: bool,
+                 (from, span): (f64, f64)| {
+        clean_labels(work, owner, (anchors, is_anchor), cells, smooth, &|round| {
+            reached(from + span * round)
+        })
+    };
+    clean(&anchors, &is_anchor, (label, best), true, (0.5, 0.2))?;
+    // unclaimed pockets and the gaps of a sparse village go to the parcels around them
+    let pocket_cells = (options.pocket_area / (cell * cell)).floor() as usize;
+    let tolerance = options.straighten * cell;
+    // a parcel that grows fields keeps behind one straight road front (or two, on a corner)
+    let grown = |x: usize| seeds[x].params.fill > 0.0;
+    let fronts = parcel_fronts(work, index, seeds.len(), label);
+    if cut_behind_fronts(work, &fronts, tolerance, &grown, (label, best)) {
+        reanchor(work, label, &mut anchors, &mut is_anchor);
+        clean(&anchors, &is_anchor, (label, best), false, (0.6, 0.05))?;
+    }
+    let fronts = parcel_fronts(work, index, seeds.len(), label);
+    fill_unclaimed(
+        work,
+        owner,
+        seeds,
+        pocket_cells,
+        (&fronts, tolerance),
+        (label, best),
+    );
+    clean(&anchors, &is_anchor, (label, best), true, (0.7, 0.15))?;
     Ok(())
 }

@@ -147,26 +147,8 @@ fn simplify_chain(
     let cyc = if ch.closed { m - 1 } else { m };
     let scale = 0.5f64.powi(level as i32);
     let c = rules.work.grid.cell;
-    // a side two parcels share runs straight between its corners (where it meets a third parcel, the unclaimed
-    // land or the road): where two conquests met, no road drew its line. Within the far deviation and 0.4 of its
-    // length, and making no angle below the acute angle with the other chains at its corners
-    if level == 0 && !ch.closed && !ch.is_loop() && !ch.labels.contains(&NONE) {
-        let (a, b) = (pts[0], pts[m - 1]);
-        let bound = (options.far_deviation * c).min(0.4 * a.distance(b));
-        let acute = options.acute_angle_degrees.to_radians();
-        let opens = |v: u32, d: DVec2| {
-            leaving.get(&v).is_none_or(|ends| {
-                ends.iter()
-                    .all(|&(other, e)| other == ci || angle_between(d, e) >= acute)
-            })
-        };
-        if opens(ch.ids[0], b - a)
-            && opens(ch.ids[m - 1], a - b)
-            && pts.iter().all(|p| segment_distance(*p, a, b) <= bound)
-            && rules.replaces(&pts)
-        {
-            return vec![0, m - 1];
-        }
+    if level == 0 && runs_straight((ci, ch), &pts, leaving, rules, options) {
+        return vec![0, m - 1];
     }
     let keep = straightened(ch, &pts, options.straighten * c * scale, rules);
     let mut kept: Vec<usize> = (0..cyc).filter(|&q| keep[q]).collect();
@@ -243,6 +225,35 @@ fn simplify_chain(
             .collect()
     });
     kept
+}
+
+/// Whether a side two parcels share runs straight between its corners (where it meets a third parcel, the
+/// unclaimed land or the road): where two conquests met, no road drew its line. Within the far deviation and 0.4 of
+/// its length, and making no angle below the acute angle with the other chains at its corners.
+fn runs_straight(
+    (ci, ch): (usize, &Chain),
+    pts: &[DVec2],
+    leaving: &Leaving,
+    rules: &Rules,
+    options: &ParcelOptions,
+) -> bool {
+    if ch.closed || ch.is_loop() || ch.labels.contains(&NONE) {
+        return false;
+    }
+    let (m, c) = (pts.len(), rules.work.grid.cell);
+    let (a, b) = (pts[0], pts[m - 1]);
+    let bound = (options.far_deviation * c).min(0.4 * a.distance(b));
+    let acute = options.acute_angle_degrees.to_radians();
+    let opens = |v: u32, d: DVec2| {
+        leaving.get(&v).is_none_or(|ends| {
+            ends.iter()
+                .all(|&(other, e)| other == ci || angle_between(d, e) >= acute)
+        })
+    };
+    opens(ch.ids[0], b - a)
+        && opens(ch.ids[m - 1], a - b)
+        && pts.iter().all(|p| segment_distance(*p, a, b) <= bound)
+        && rules.replaces(pts)
 }
 
 /// The corners of a chain's cell outline (indices into `ids`), with the ends of an open chain: the simplification

@@ -1,5 +1,5 @@
 //! An arrangement color painted into a scene: every tool's synthesis of such a color comes here. The region is
-//! grown from the elements of the color's categories already around it ([`grow_around`]), so a paste next to a
+//! grown from the elements of the color's categories already around it ([`crate::arrangement::grow_around`]), so a paste next to a
 //! pattern, or a spray dab at its edge, continues it without a seam; with none around, growth starts at the
 //! guides' start point or the region's centre. The guides (start, boundary curves, flow curves) come with the
 //! synthesis options; other colors ignore them.
@@ -8,28 +8,16 @@ use glam::DVec2;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
-use super::around::gaussian;
-use super::color::ArrangementColor;
-use super::fidelity::{pattern_fidelity, PatternFidelity};
-use super::{grow_around, Element, FlowField, GrowthOptions, Noise};
+use crate::arrangement::{
+    gaussian, grow_around, pattern_fidelity, ArrangementColor, Element, FlowField, GrowthOptions,
+    Noise, PatternFidelity, PatternRotation,
+};
 use crate::error::{Error, Result};
 use crate::geom::Region;
 use crate::limits;
 use crate::palette::Color;
 use crate::scene::{Instance, Scene};
 use crate::synthesis::{scene_categories, SynthesisOptions, SynthesisResult};
-
-/// What guides a painted pattern (seed §5.3's tools): where it starts, the curves it must not cross, and the
-/// curves whose direction it follows in the flow-field mode.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct PatternGuides {
-    /// Where growth starts when no element of the pattern is already around the region (None: its centre).
-    pub start: Option<DVec2>,
-    /// Curves (world XY polylines) no element or connectivity edge crosses: the boundary tool.
-    pub boundaries: Vec<Vec<DVec2>>,
-    /// Curves whose tangents, interpolated, orient the pattern when the color's rotation mode is the flow field.
-    pub flow: Vec<Vec<DVec2>>,
-}
 
 /// The elements already around `region` count within this many of the reference's longest edges: enough to
 /// rebuild the rings of those at its edge.
@@ -49,7 +37,7 @@ fn painted_region(scene: &Scene, region: &Region) -> Result<Region> {
 }
 
 /// What `region` of `scene` holds of the arrangement color `color`, against its reference
-/// ([`super::pattern_fidelity`]): the figures a paste reports. None when `color` is not an arrangement.
+/// ([`crate::arrangement::pattern_fidelity`]): the figures a paste reports. None when `color` is not an arrangement.
 pub fn painted_fidelity(
     scene: &Scene,
     region: &Region,
@@ -109,7 +97,7 @@ pub(crate) fn paint(
         })
         .collect();
     let flow = match (&pattern.rotation, opts.guides.flow.is_empty()) {
-        (super::PatternRotation::Flow, true) => {
+        (PatternRotation::Flow, true) => {
             return Err(Error::invalid(
                 format!("color '{}'", color.name),
                 "follows a flow field: draw curves for it and pick them as the flow",
