@@ -14,8 +14,8 @@
 //! with this profile the flow sets the depth and the slope the width. A segment without flow is dry: depth and
 //! width 0.
 
+use super::model::{ControllerKind, Segment, WaterfallParams};
 use super::network::HydraulicArc;
-use super::{ControllerKind, Segment, WaterfallParams};
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::{FRAC_PI_2, PI};

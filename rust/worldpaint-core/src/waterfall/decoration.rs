@@ -50,8 +50,8 @@
 //! The rocks are seeded from the scene's seed and do not depend on the thread count.
 
 use super::integration::{Footprint, PoolWater, WaterMesh, WaterPart};
+use super::model::{ControllerKind, Segment, WaterfallNetwork};
 use super::network::{Node, NodeKind};
-use super::{ControllerKind, Segment, WaterfallNetwork};
 use crate::error::{check, Error, Result};
 use crate::geom::Region;
 use crate::paint::synthesize;

@@ -24,8 +24,9 @@
 //!
 //! Free-fall footprints get no height constraint: the cliff under the sheet is left to the diffusion.
 
+use super::classify::WaterfallType;
 use super::integration::{Footprint, WaterMesh, WaterPart};
-use super::{ControllerKind, WaterfallNetwork, WaterfallType};
+use super::model::{ControllerKind, WaterfallNetwork};
 use crate::error::{check, Result};
 use crate::terrain::Heightfield;
 use crate::terrain_edit::{

@@ -13,8 +13,8 @@
 //!   with no inflow supplies its own strength (or the default flow) split as a pool.
 //! * Well: takes what comes in.
 
+use super::model::{Controller, WaterfallParams};
 use super::network::{HydraulicGraph, NodeKind};
-use super::{Controller, WaterfallParams};
 use crate::error::{Error, Result};
 use glam::DVec3;
 

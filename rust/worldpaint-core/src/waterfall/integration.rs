@@ -24,8 +24,9 @@
 //! * a pool's values for foam, rocks and disturbance are those of the segments falling or flowing into it,
 //!   fading linearly with the distance from where they arrive to the far side of the pool.
 
+use super::classify::WaterfallType;
+use super::model::{ControllerKind, WaterfallNetwork};
 use super::network::NodeKind;
-use super::{ControllerKind, WaterfallNetwork, WaterfallType};
 use crate::contour::Polygons;
 use crate::error::{check, Result};
 use crate::polygon_mesh::{triangles_area, triangulate};

@@ -16,7 +16,7 @@
 //! must drop by at least `d · tan ω_min`. A free-fall keeps the drop the user gave it (it moves down with its
 //! start when that is lowered) and drops at least as much as the minimum slope asks over its horizontal run.
 
-use super::{Controller, ControllerKind, WaterfallParams};
+use super::model::{Controller, ControllerKind, WaterfallParams};
 use crate::error::{check, Error, Result};
 use crate::geom::{polygon_contains, segment_distance, DVec2};
 use crate::terrain::Heightfield;

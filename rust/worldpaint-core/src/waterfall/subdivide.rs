@@ -24,7 +24,7 @@
 //! Distance to the controller: a cut displaces by at most half the segment and leaves halves at most `1/√2` as
 //! long, so no point strays more than `L/2 · 1/(1 − 1/√2) ≈ 1.71 L` from a control segment of plan length `L`.
 
-use super::WaterfallParams;
+use super::model::WaterfallParams;
 use crate::geom::DVec2;
 use crate::terrain::Heightfield;
 use glam::DVec3;
