@@ -27,7 +27,7 @@
 //! See module `radius`.
 
 use crate::error::{Error, Result};
-use crate::geom::{circle_fraction, describe_box, DVec2, PreparedRegion, Region, RegionQueries};
+use crate::geom::{describe_box, DVec2, PreparedRegion, Region};
 use crate::limits;
 use crate::palette::{
     CategoryColor, Color, GraphColor, Histogram, Interaction, MapInteraction, MapSource,
@@ -36,16 +36,20 @@ use crate::palette::{
 use crate::scene::{Category, CategoryKind, Instance, Scene};
 
 mod arrangement;
+mod estimators;
 pub(crate) mod intensity;
 mod radius;
+mod sampling;
 pub(crate) mod structure;
 use crate::spatial::{GridEntry, SpatialGrid};
-use crate::terrain::Heightfield;
 pub use arrangement::learn_arrangement;
+pub(crate) use estimators::{alphas, folded_angle_bin, rdf};
+use estimators::{distance_bins, map_bins};
 use radius::radius_and_bin_width;
 pub(crate) use radius::CLUSTER_EXCESS;
 use rayon::prelude::*;
-use std::f64::consts::{PI, TAU};
+pub(crate) use sampling::{region_lattice, region_samples};
+use std::f64::consts::TAU;
 pub use structure::HeldGraph;
 
 /// Number of distance bins when the bin width is chosen automatically.
@@ -56,12 +60,6 @@ pub const ORIENTED_ANGLE_BINS: usize = 12;
 pub const SLOPE_BIN_DEGREES: f64 = 2.5;
 /// Bins of the histogram of any other map, spread over the map's range in the exemplar region.
 pub const MAP_BINS: usize = 24;
-const ALPHA_FLOOR: f64 = 0.05;
-/// Samples of a region for the distribution of a distance map over it.
-const REGION_SAMPLES: f64 = 40_000.0;
-/// Most bins of a distance map.
-const DISTANCE_BINS: usize = 256;
-
 /// How to learn a color.
 #[derive(Clone, Debug, Default)]
 pub struct AnalysisOptions {
@@ -560,72 +558,6 @@ fn map_interaction(
     }
 }
 
-/// Bins of a distance map: metres from 0 to twice the color's radius for graphs; for polygons `−1` (deep inside)
-/// to 2 (two radii outside). Eight bins span the middle 90 % of the category's own values (at least
-/// `span / DISTANCE_BINS` wide, at most a 32nd of the span for graphs and 0.125 for polygons), so a band of
-/// distances is resolved without splitting a small exemplar into empty bins.
-fn distance_bins(source: MapSource, max_radius: f64, at: &[f64]) -> Histogram {
-    let mut sorted: Vec<f64> = at.iter().copied().filter(|v| v.is_finite()).collect();
-    sorted.sort_by(f64::total_cmp);
-    let quantile = |q: f64| {
-        sorted
-            .get((q * sorted.len() as f64) as usize)
-            .copied()
-            .unwrap_or(0.0)
-    };
-    let range = quantile(0.95) - quantile(0.05);
-    let (start, span, coarsest) = match source {
-        MapSource::PolygonDistance => (-1.0, 3.0, 0.125),
-        _ => (0.0, 2.0 * max_radius, 2.0 * max_radius / 32.0),
-    };
-    let finest = span / DISTANCE_BINS as f64;
-    let mut width = (range / 8.0).clamp(finest, coarsest.max(finest));
-    if source == MapSource::PolygonDistance {
-        // the coast is a bin edge: no bin holds both land and water
-        width = 1.0 / (1.0 / width).ceil();
-    }
-    Histogram::zeros(start, width, (span / width).ceil() as usize)
-}
-
-/// Lattice samples over a region on a terrain, at most.
-const LATTICE_SAMPLES: f64 = 1e6;
-
-/// One axis of a sampling lattice: `count` points `step` apart, unless a region far longer than wide would make more
-/// than `max` of them; then `max` points spread over its `extent`. So a sliver of a region is sampled along its
-/// length with a bounded number of points, instead of one point per `step` (which the area alone sets).
-fn lattice_axis(count: f64, extent: f64, step: f64, max: f64) -> (usize, f64) {
-    if count <= max {
-        (count as usize, step)
-    } else {
-        (max as usize, extent / max)
-    }
-}
-
-/// Points spread over the region (a lattice of about `REGION_SAMPLES` points).
-pub(crate) fn region_samples(region: &Region) -> Vec<DVec2> {
-    let (lo, hi) = region.bbox();
-    let ext = hi - lo;
-    let step = (ext.x * ext.y / REGION_SAMPLES).sqrt().max(1e-9);
-    let (nx, sx) = lattice_axis((ext.x / step).ceil().max(1.0), ext.x, step, REGION_SAMPLES);
-    let (ny, sy) = lattice_axis((ext.y / step).ceil().max(1.0), ext.y, step, REGION_SAMPLES);
-    let lattice: Vec<DVec2> = (0..ny)
-        .flat_map(|j| {
-            (0..nx).map(move |i| lo + DVec2::new((i as f64 + 0.5) * sx, (j as f64 + 0.5) * sy))
-        })
-        .collect();
-    inside_of(region, lattice)
-}
-
-/// The points that lie in the region, in their order.
-fn inside_of(region: &Region, points: Vec<DVec2>) -> Vec<DVec2> {
-    let inside = region.contains_each(&points);
-    points
-        .into_iter()
-        .zip(inside)
-        .filter_map(|(p, i)| i.then_some(p))
-        .collect()
-}
-
 /// Count, density, smallest same-category distance, scale / rotation histograms and prototype weights.
 fn category_color(g: &Group, area: f64, grid: &SpatialGrid, max_radius: f64) -> CategoryColor {
     let n = g.positions.len();
@@ -699,139 +631,4 @@ fn category_color(g: &Group, area: f64, grid: &SpatialGrid, max_radius: f64) -> 
         rotation: rotation.normalized(),
         prototype_weights,
     }
-}
-
-/// α per distance bin for the point `p` (1 everywhere when the whole disc lies inside).
-pub(crate) fn alphas(
-    region: &impl RegionQueries,
-    p: DVec2,
-    bin_width: f64,
-    n_bins: usize,
-) -> Vec<f64> {
-    // whether p is inside and how near the boundary comes are the same for every bin: asked once
-    let reach = bin_width * n_bins as f64;
-    let inside = region.contains(p);
-    let near = region.distance_to_boundary_within(p, reach);
-    if inside && near >= reach {
-        return vec![1.0; n_bins];
-    }
-    (0..n_bins)
-        .map(|k| {
-            circle_fraction(region, p, (k as f64 + 0.5) * bin_width, inside, near).max(ALPHA_FLOOR)
-        })
-        .collect()
-}
-
-/// Window-corrected rdf of eq. (2) between `xs` and the points of `grid_y` (`ys`), each shell split into
-/// `sectors` of the folded angle (one sector: the plain rdf), sector fastest.
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn rdf(
-    region: &PreparedRegion,
-    area: f64,
-    xs: &[DVec2],
-    ys: &[DVec2],
-    grid_y: &SpatialGrid,
-    same: bool,
-    bin_width: f64,
-    n_bins: usize,
-    sectors: usize,
-) -> Vec<f64> {
-    let na = sectors;
-    let pairs_norm = xs.len() as f64 * (ys.len() as f64 - if same { 1.0 } else { 0.0 });
-    let mut values = vec![0.0; n_bins * na];
-    if pairs_norm <= 0.0 {
-        return values;
-    }
-    let r_max = bin_width * n_bins as f64;
-    // per-point contributions in parallel, summed in a fixed order (deterministic)
-    let per_point: Vec<Vec<f64>> = xs
-        .par_iter()
-        .enumerate()
-        .map(|(k, &p)| {
-            let mut counts = vec![0.0; n_bins * na];
-            grid_y.for_each_within(p, r_max, |e, d2| {
-                if same && e.id == k as u32 {
-                    return;
-                }
-                let b = (d2.sqrt() / bin_width) as usize;
-                if b < n_bins {
-                    // a single sector needs no angle
-                    let sector = if na > 1 {
-                        folded_angle_bin(e.position - p, na)
-                    } else {
-                        0
-                    };
-                    counts[b * na + sector] += 1.0;
-                }
-            });
-            if counts.iter().any(|c| *c > 0.0) {
-                let a = alphas(region, p, bin_width, n_bins);
-                for (idx, c) in counts.iter_mut().enumerate() {
-                    *c /= a[idx / na];
-                }
-            }
-            counts
-        })
-        .collect();
-    for counts in per_point {
-        for (h, c) in values.iter_mut().zip(counts) {
-            *h += c;
-        }
-    }
-    for (idx, h) in values.iter_mut().enumerate() {
-        let k = idx / na;
-        let sector = PI * bin_width * bin_width * ((k + 1).pow(2) - k.pow(2)) as f64 / na as f64;
-        *h *= area / (sector * pairs_norm);
-    }
-    values
-}
-
-/// Bin of the direction of `v` relative to world X, folded to [0, π).
-#[inline]
-pub(crate) fn folded_angle_bin(v: DVec2, angle_bins: usize) -> usize {
-    let a = v.y.atan2(v.x).rem_euclid(PI);
-    ((a / PI * angle_bins as f64) as usize).min(angle_bins - 1)
-}
-
-/// Bins of a map histogram: fixed 2.5° bins for "slope", else the values' range in `MAP_BINS` bins.
-fn map_bins(map: &str, values: &[f64]) -> Histogram {
-    if map == "slope" {
-        let w = SLOPE_BIN_DEGREES.to_radians();
-        return Histogram::zeros(0.0, w, (90.0 / SLOPE_BIN_DEGREES) as usize + 1);
-    }
-    let (lo, hi) = values
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
-            (a.min(*v), b.max(*v))
-        });
-    if !(lo.is_finite() && hi.is_finite()) {
-        return Histogram::zeros(0.0, 1.0, 1);
-    }
-    let span = (hi - lo).max(1e-6 * lo.abs().max(1.0));
-    Histogram::zeros(lo, span * (1.0 + 1e-9) / MAP_BINS as f64, MAP_BINS)
-}
-
-/// Sample positions on a lattice covering `region` and the terrain (spacing half a terrain cell, coarser when
-/// that would exceed a million points).
-pub(crate) fn region_lattice(region: &Region, terrain: &Heightfield) -> Vec<DVec2> {
-    let (lo, hi) = region.bbox();
-    let (tlo, thi) = terrain.bbox();
-    let lo = lo.max(tlo);
-    let hi = hi.min(thi);
-    if !(hi.x >= lo.x && hi.y >= lo.y) {
-        return Vec::new();
-    }
-    let ext = hi - lo;
-    let step = (0.5 * terrain.cell)
-        .max((ext.x * ext.y / LATTICE_SAMPLES).sqrt())
-        .max(1e-9);
-    let (nx, sx) = lattice_axis((ext.x / step).floor() + 1.0, ext.x, step, LATTICE_SAMPLES);
-    let (ny, sy) = lattice_axis((ext.y / step).floor() + 1.0, ext.y, step, LATTICE_SAMPLES);
-    let lattice: Vec<DVec2> = (0..ny)
-        .flat_map(|j| {
-            (0..nx).map(move |i| lo + DVec2::new((i as f64 + 0.5) * sx, (j as f64 + 0.5) * sy))
-        })
-        .filter(|p| p.x <= hi.x && p.y <= hi.y && terrain.contains(*p))
-        .collect();
-    inside_of(region, lattice)
 }
