@@ -206,6 +206,9 @@ fn depth_at(points: &[(DVec2, f64)], x: f64) -> Option<f64> {
     Some(a.1 + (b.1 - a.1) * t)
 }
 
+/// Strokes searched for protruding silhouettes between two questions whether to stop.
+const STROKES_BETWEEN_STOPS: usize = 4;
+
 /// One image column of a stroke where terrain rises above it: the grazed point and how much it must drop (m).
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct Protrusion {
@@ -276,7 +279,10 @@ pub fn deform(
     let mut round = 1;
     let mut last_hidden = usize::MAX;
     loop {
-        let found = protruding(&shown, camera, targets, reach, options);
+        let done_before = (round - 1) as f64 / rounds as f64;
+        let found = protruding(&shown, camera, targets, reach, options, &|| {
+            progress(done_before)
+        })?;
         let hidden: usize = found.iter().map(Vec::len).sum();
         if !progress(round as f64 / rounds as f64) {
             return Err(Error::Cancelled);
@@ -498,7 +504,8 @@ fn protruding(
     targets: &[StrokeTarget],
     reach: f64,
     options: &DeformOptions,
-) -> Vec<Vec<Protrusion>> {
+    go_on: &dyn Fn() -> bool,
+) -> Result<Vec<Vec<Protrusion>>> {
     let sight = Sight::new(deformed);
     let columns = options.columns.max(2);
     let projections: Vec<Vec<(DVec2, f64)>> = targets
@@ -509,9 +516,16 @@ fn protruding(
             p
         })
         .collect();
-    let per_stroke: Vec<Vec<Vec<Protrusion>>> = (0..targets.len())
-        .into_par_iter()
-        .map(|s| {
+    let mut per_stroke: Vec<Vec<Vec<Protrusion>>> = Vec::with_capacity(targets.len());
+    // a few strokes at a time, asking between them whether to stop (each stroke casts some rays per column)
+    for chunk in (0..targets.len())
+        .collect::<Vec<_>>()
+        .chunks(STROKES_BETWEEN_STOPS)
+    {
+        if !go_on() {
+            return Err(Error::Cancelled);
+        }
+        per_stroke.par_extend(chunk.par_iter().map(|&s| {
             let target = &targets[s];
             let (x0, x1) = target.stroke.x_range();
             let first = (x0 * columns as f64).ceil().max(0.0) as usize;
@@ -558,7 +572,7 @@ fn protruding(
                 }
             }
             runs
-        })
-        .collect();
-    per_stroke.into_iter().flatten().collect()
+        }));
+    }
+    Ok(per_stroke.into_iter().flatten().collect())
 }
