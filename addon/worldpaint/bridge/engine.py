@@ -769,11 +769,13 @@ class SketchResult:
     seconds: dict
 
 
-def apply_sketch(heightfield, camera, strokes, points, *, reach=None, completion=True, aspect=None, progress=None):
+def apply_sketch(heightfield, camera, strokes, points, *, reach=None, completion=True, aspect=None, max_change=None,
+                 progress=None):
     """The terrain deformed so that, seen from ``camera`` (a dict: eye, forward, up, frame_min, frame_max), its
     silhouettes follow the ``strokes`` (camera-frame (N, 2) arrays), read at the XY ``points``; ``aspect``: the
-    frame's width over its height, for the stroke ordering (None: the camera frame's)."""
+    frame's width over its height, for the stroke ordering (None: the camera frame's); ``max_change``: the largest
+    height change allowed (None: the terrain's relief, at least a quarter of its shorter side)."""
     d = _engine().apply_sketch(heightfield, camera, [np.ascontiguousarray(s, dtype=np.float64) for s in strokes],
                                np.ascontiguousarray(points, dtype=np.float64), reach=reach, completion=completion,
-                               aspect=aspect, progress=progress)
+                               aspect=aspect, max_change=max_change, progress=progress)
     return SketchResult(**d)
