@@ -793,3 +793,99 @@ def test_an_empty_collection_named_like_a_category_is_not_its_prototype(capfd):
     shown = sum(1 for i in depsgraph.object_instances if i.is_instance and i.parent is not None
                 and i.parent.original == cloud)
     assert shown == len(cloud.data.vertices) > 100, f"{shown} pines shown of {len(cloud.data.vertices)}"
+
+
+# ---- Apply Sketch: strokes and cameras no view can show, and sketches too large to match -------------------------
+
+def _sketch_state(terrain):
+    """What a failed Apply Sketch must leave as it was: the objects, the terrain's vertices and shape keys."""
+    co = np.zeros(3 * len(terrain.data.vertices))
+    terrain.data.vertices.foreach_get("co", co)
+    return (sorted(o.name for o in bpy.data.objects), co.tobytes(), terrain.data.shape_keys is None,
+            tuple(o.matrix_world.translation.to_tuple() for o in bpy.data.objects))
+
+
+def _random_strokes(count, seed):
+    rng = np.random.default_rng(seed)
+    return json.dumps([rng.random((2, 2)).tolist() for _ in range(count)])
+
+
+def _sky(camera):
+    camera.rotation_euler = (np.radians(170.0), 0.0, 0.0)
+
+
+def _far(camera):
+    camera.location = (256.0, -1e7, 12.0)
+
+
+def _wide(camera):
+    # Blender's own angle stops at 172.8°, a 1 mm lens on a 100 mm sensor does not: 177.7°
+    camera.data.sensor_width, camera.data.lens = 100.0, 1.0
+
+
+def _under(camera):
+    from scene_kit import hills_height
+
+    camera.location = (256.0, 200.0, hills_height(np.array(256.0), np.array(200.0)) - 60.0)
+
+
+SKETCH_CASES = [
+    ("nested 100,000 deep", "[" * 100_000 + "]" * 100_000, {}, None, "nested too deeply"),
+    ("3-D points", "[[[0.2, 0.6, 5.0], [0.4, 0.7, 5.0]]]", {}, None,
+     r"Stroke 0, point 0 is not an \[x, y\] pair of numbers: got 3 values"),
+    ("booleans", "[[[0.2, 0.6], [true, 0.7]]]", {}, None,
+     r"Stroke 0, point 1 is not an \[x, y\] pair of numbers: got true"),
+    ("a point at 1e300", "[[[0.2, 0.6], [1e300, 0.7]]]", {}, None, r"stroke 0, point 1: .* out of the camera frame"),
+    ("a stroke at y = 50-60", "[[[0.2, 50.0], [0.4, 60.0]]]", {}, None,
+     r"stroke 0, point 0: .* out of the camera frame"),
+    ("strokes in pixels", "[[[300, 500], [700, 560]]]", {}, None, r"out of the camera frame .*not in pixels"),
+    ("a camera looking at the sky", "[[[0.2, 0.6], [0.4, 0.7]]]", {}, _sky, "sees no terrain"),
+    ("a camera 1e7 m away", "[[[0.2, 0.6], [0.4, 0.7]]]", {}, _far, r"m from the terrain, farther than the bound"),
+    ("a 177.7° field of view", "[[[0.2, 0.6], [0.4, 0.7]]]", {}, _wide, r"field of view: 177\.7.*172\.847"),
+    ("a camera 60 m under the ground", "[[[0.2, 0.6], [0.4, 0.7]]]", {}, _under, r"60\.0 m under the ground"),
+    ("a change larger than the bound set", "[[[0.3, 0.97], [0.7, 0.98]]]", {"max_change": 5.0}, None,
+     r"would change the terrain by .* more than the bound set of 5\.0 m"),
+    ("50 random strokes past the time limit", _random_strokes(50, 7), {"max_change": 1e6, "time_limit": 2.0}, None,
+     "stopped at the time limit of 2 s"),
+]
+
+
+@pytest.mark.parametrize("strokes, options, camera_change, message", [c[1:] for c in SKETCH_CASES],
+                         ids=[c[0] for c in SKETCH_CASES])
+def test_a_sketch_no_camera_can_show_is_refused_and_the_scene_kept(strokes, options, camera_change, message):
+    import time
+
+    from scene_kit import sketch_scene
+
+    terrain, camera = sketch_scene()
+    if camera_change is not None:
+        camera_change(camera)
+    bpy.context.view_layer.update()
+    before = _sketch_state(terrain)
+    start = time.monotonic()
+    with pytest.raises(RuntimeError) as refused:
+        bpy.ops.worldpaint.apply_sketch(strokes=strokes, **options)
+    took = time.monotonic() - start
+    assert re.search(message, str(refused.value)), str(refused.value)
+    assert "needs no change" not in str(refused.value)
+    assert took < 10.0, f"answered in {took:.1f} s"
+    if "time_limit" in options:
+        assert took < options["time_limit"] + 2.0, f"stopped {took - options['time_limit']:.1f} s after the limit"
+    assert _sketch_state(terrain) == before
+
+
+@pytest.mark.parametrize("strokes, message", [
+    ([[[0.2, 0.6], [True, 0.7]]], r"stroke 0, point 1: x and y must be numbers, got a boolean"),
+    ([[[0.2, 0.6], [0.4, 0.7]], [[0.2, 0.6, 1.0], [0.4, 0.7, 1.0]]],
+     r"stroke 1 must have shape \(N, 2\), got \(N, 3\)"),
+    ([[[0.2, 0.6], [1e300, 0.7]]], r"stroke 0, point 1: .* out of the camera frame"),
+], ids=["booleans", "3-D points", "a point at 1e300"])
+def test_the_engine_refuses_strokes_it_cannot_read_naming_the_stroke_and_point(strokes, message):
+    from scene_kit import sketch_scene
+    from worldpaint.bridge import sketch, terrain
+
+    obj, camera = sketch_scene()
+    heightfield = terrain.engine_terrain(bpy.context, obj)
+    view = sketch.engine_camera(bpy.context.scene, camera)
+    with pytest.raises(engine.InputError, match=message):
+        engine._engine().apply_sketch(heightfield, view, strokes, np.zeros((0, 2)))

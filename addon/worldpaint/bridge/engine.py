@@ -869,11 +869,12 @@ class SketchResult:
 
 def apply_sketch(heightfield: Terrain, camera: Camera, strokes: Iterable[ArrayLike], points: ArrayLike, *,
                  reach: float | None = None, completion: bool = True, aspect: float | None = None,
-                 progress: Progress | None = None) -> SketchResult:
+                 max_change: float | None = None, progress: Progress | None = None) -> SketchResult:
     """The terrain deformed so that, seen from ``camera`` (a dict: eye, forward, up, frame_min, frame_max), its
     silhouettes follow the ``strokes`` (camera-frame (N, 2) arrays), read at the XY ``points``; ``aspect``: the
-    frame's width over its height, for the stroke ordering (None: the camera frame's)."""
+    frame's width over its height, for the stroke ordering (None: the camera frame's); ``max_change``: the largest
+    height change allowed (None: the terrain's relief, at least a quarter of its shorter side)."""
     d = _lib.apply_sketch(heightfield, camera, [np.ascontiguousarray(s, dtype=np.float64) for s in strokes],
                                np.ascontiguousarray(points, dtype=np.float64), reach=reach, completion=completion,
-                               aspect=aspect, progress=progress)
+                               aspect=aspect, max_change=max_change, progress=progress)
     return SketchResult(**d)

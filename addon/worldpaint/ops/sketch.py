@@ -15,12 +15,34 @@ from .terrain_edit import UNMOVED, editable_terrain
 
 
 def strokes_from_json(text):
-    """Strokes given as JSON text: a list of strokes, each a list of [x, y] camera-frame points."""
+    """Strokes given as JSON text: a list of strokes, each a list of [x, y] camera-frame points. A point must be two
+    numbers (not booleans, not three coordinates); the frame itself is checked by the engine."""
     try:
         strokes = json.loads(text)
-        arrays = [np.asarray(s, dtype=np.float64).reshape(-1, 2) for s in strokes]
-    except (ValueError, TypeError) as exc:
+    except RecursionError:
+        raise WorldPaintError("The strokes are not a JSON list of strokes of [x, y] points: they are nested too "
+                              "deeply") from None
+    except ValueError as exc:
         raise WorldPaintError(f"The strokes are not a JSON list of strokes of [x, y] points: {exc}") from None
+    if not isinstance(strokes, list):
+        raise WorldPaintError(f"The strokes are not a JSON list of strokes of [x, y] points: got a "
+                              f"{type(strokes).__name__}")
+    arrays = []
+    for k, stroke in enumerate(strokes):
+        if not isinstance(stroke, list):
+            raise WorldPaintError(f"Stroke {k} is not a list of [x, y] points: got a {type(stroke).__name__}")
+        for j, point in enumerate(stroke):
+            if not isinstance(point, list) or len(point) != 2:
+                shape = f"{len(point)} values" if isinstance(point, list) else f"a {type(point).__name__}"
+                raise WorldPaintError(f"Stroke {k}, point {j} is not an [x, y] pair of numbers: got {shape}")
+            for value in point:
+                if isinstance(value, bool) or not isinstance(value, (int, float)):
+                    raise WorldPaintError(f"Stroke {k}, point {j} is not an [x, y] pair of numbers: got "
+                                          f"{json.dumps(value)}")
+                if isinstance(value, int) and abs(value) > 1e300:
+                    raise WorldPaintError(f"Stroke {k}, point {j} lies out of the camera frame: {value:.3g} (the "
+                                          "frame runs from 0 to 1)")
+        arrays.append(np.array(stroke, dtype=np.float64).reshape(-1, 2))
     return arrays
 
 
@@ -47,6 +69,11 @@ class WORLDPAINT_OT_apply_sketch(BackgroundOperator, TerrainProperty, bpy.types.
         description="Distance from the sketched silhouettes beyond which the terrain stays as it was (0: eight times "
                     "the largest height change, at most half the distance from the camera to the nearest silhouette; "
                     "unset: the panel's)",
+    )
+    max_change: FloatProperty(
+        name="Largest Change", default=0.0, min=0.0, unit='LENGTH', options={'SKIP_SAVE'},
+        description="Largest height change the sketch may make; a sketch asking for more is refused with the figure "
+                    "(0: the terrain's relief, at least a quarter of its shorter side)",
     )
     completion: BoolProperty(
         name="Complete to Ground", default=True, options={'SKIP_SAVE'},
@@ -89,7 +116,8 @@ class WORLDPAINT_OT_apply_sketch(BackgroundOperator, TerrainProperty, bpy.types.
         reach = setting(self, "reach", settings.reach)
         self._call = dict(reach=reach if reach > 0.0 else None, completion=setting(self, "completion",
                                                                                    settings.completion),
-                          aspect=sketch.frame_aspect(scene))
+                          aspect=sketch.frame_aspect(scene),
+                          max_change=self.max_change if self.max_change > 0.0 else None)
 
     def _compute(self, progress):
         return engine.apply_sketch(*self._arguments, progress=progress, **self._call)

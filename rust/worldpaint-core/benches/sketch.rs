@@ -12,6 +12,10 @@
 //!   lowering of protruding silhouettes) of three strokes raising the visible skyline, on 512² and 1025²
 //!   (the requirement: at most 0.5 s and 1.5 s, the lowering at most 0.2 s on 512²).
 //!
+//! * `sketch_many/random_20`: Apply Sketch of 20 random two-point strokes on 512² (seeded; the change bound lifted,
+//!   as their strokes ask for hundreds of metres), which must finish in under 5 s; `sketch_many/random_50_stop_3s`:
+//!   50 of them told to stop once 3 s have passed, which must stop within 2 s of it.
+//!
 //! The summary prints the medians, their ratio to the baseline, and the ratio to the thesis's Table 5.1
 //! (0.12–0.15 s for the features of its 512² terrains).
 //!
@@ -21,6 +25,7 @@
 mod timing;
 
 use criterion::Criterion;
+use rand::{Rng, SeedableRng};
 use std::hint::black_box;
 use std::time::{Duration, Instant};
 use worldpaint_core::exemplar::rough_terrain;
@@ -120,6 +125,7 @@ fn main() {
         ));
     }
     g.finish();
+    let many = many_strokes(&mut c);
     c.final_summary();
 
     println!();
@@ -138,6 +144,10 @@ fn main() {
         0.12 / features_s,
         0.15 / features_s
     );
+    let (twenty, fifty) = many;
+    println!(
+        "20 random strokes: {twenty:.2} s (at most 5 s); 50 random strokes told to stop at 3 s: stopped at {fifty:.2} s (at most 5 s)"
+    );
     // Table 5.1: features + matching + deformation + lowering, 2.56 s (Fig. 5.8) to 5.37 s (Fig. 5.7) on 512²
     for (n, median, lowering) in whole {
         println!(
@@ -146,6 +156,51 @@ fn main() {
             5.37 / median
         );
     }
+}
+
+/// The medians of Apply Sketch with 20 random strokes, and with 50 told to stop at 3 s.
+fn many_strokes(c: &mut Criterion) -> (f64, f64) {
+    let mut g = timing::flat_group(c, "sketch_many", 10, Duration::from_secs(30));
+    let side = 2.0 * 511.0;
+    let terrain = rough_terrain(side, 2.0, 3);
+    let at = |x: f64, y: f64| {
+        let p = DVec2::new(x, y) * side;
+        p.extend(terrain.height_at(p).unwrap_or(0.0))
+    };
+    let eye = at(0.15, 0.15) + glam::DVec3::Z * 15.0;
+    let camera = match Camera::looking_at(eye, at(0.7, 0.7), 60.0, 1.5) {
+        Ok(c) => c,
+        Err(e) => panic!("the benchmark camera: {e}"),
+    };
+    let mut options = SketchOptions::default();
+    options.limits.max_change = Some(1e6);
+    let random = |count: usize| -> Vec<Stroke> {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
+        (0..count)
+            .map(|_| Stroke {
+                points: (0..2)
+                    .map(|_| DVec2::new(rng.random::<f64>(), rng.random::<f64>()))
+                    .collect(),
+            })
+            .collect()
+    };
+    let twenty = random(20);
+    let twenty_s = timing::median(&mut g, "random_20", || {
+        let t0 = Instant::now();
+        if let Err(e) = apply_sketch(&terrain, &camera, &twenty, &options, &|_| true) {
+            panic!("the benchmark sketch of 20 strokes: {e}");
+        }
+        t0.elapsed()
+    });
+    let fifty = random(50);
+    let fifty_s = timing::median(&mut g, "random_50_stop_3s", || {
+        let t0 = Instant::now();
+        let stop = |_: f64| t0.elapsed() < Duration::from_secs(3);
+        black_box(apply_sketch(&terrain, &camera, &fifty, &options, &stop).ok());
+        t0.elapsed()
+    });
+    g.finish();
+    (twenty_s, fifty_s)
 }
 
 /// Three strokes over the left, middle and right thirds of the view, each 3 % of the image above the visible

@@ -468,3 +468,283 @@ mod variety {
         );
     }
 }
+
+// ---- Apply Sketch: what no camera can show, and sketches too large to match -----------------------------------
+
+mod sketch {
+    use rand::{Rng, SeedableRng};
+    use worldpaint_core::exemplar::rough_terrain;
+    use worldpaint_core::geom::{DVec2, DVec3};
+    use worldpaint_core::sketch::apply::{apply_sketch, SketchEdit, SketchOptions};
+    use worldpaint_core::sketch::checks::MAX_MATCHING_WORK;
+    use worldpaint_core::sketch::matching::MAX_ASSIGNMENT_NODES;
+    use worldpaint_core::sketch::{Camera, Sight, Stroke};
+    use worldpaint_core::{Error, Heightfield};
+
+    /// The sketch benchmark's view on a 256 m rough terrain: 15 m above its ground at (0.15, 0.15) of it, looking
+    /// at (0.7, 0.7), 60° wide.
+    fn view() -> (Heightfield, Camera) {
+        view_of(128)
+    }
+
+    /// That view on an `n` × `n` terrain.
+    fn view_of(n: usize) -> (Heightfield, Camera) {
+        let side = 2.0 * (n - 1) as f64;
+        let terrain = rough_terrain(side, 2.0, 3);
+        let at = |x: f64, y: f64| {
+            let p = DVec2::new(x, y) * side;
+            p.extend(terrain.height_at(p).unwrap_or(0.0))
+        };
+        let camera =
+            Camera::looking_at(at(0.15, 0.15) + DVec3::Z * 15.0, at(0.7, 0.7), 60.0, 1.5).unwrap();
+        (terrain, camera)
+    }
+
+    /// A stroke 3 % of the image above the visible skyline over the middle of the view.
+    fn above_skyline(terrain: &Heightfield, camera: &Camera) -> Stroke {
+        let sight = Sight::new(terrain);
+        Stroke {
+            points: (0..=20)
+                .filter_map(|k| {
+                    let x = 0.3 + 0.4 * k as f64 / 20.0;
+                    let (y, _) = sight.column_silhouette(camera, x, 0.0, 1.0)?;
+                    Some(DVec2::new(x, y + 0.03))
+                })
+                .collect(),
+        }
+    }
+
+    fn stroke(points: &[(f64, f64)]) -> Stroke {
+        Stroke {
+            points: points.iter().map(|&(x, y)| DVec2::new(x, y)).collect(),
+        }
+    }
+
+    /// `count` random two-point strokes in the frame (seeded).
+    fn random_strokes(count: usize, seed: u64) -> Vec<Stroke> {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+        (0..count)
+            .map(|_| Stroke {
+                points: (0..2)
+                    .map(|_| DVec2::new(rng.random::<f64>(), rng.random::<f64>()))
+                    .collect(),
+            })
+            .collect()
+    }
+
+    fn apply(
+        terrain: &Heightfield,
+        camera: &Camera,
+        strokes: &[Stroke],
+        options: &SketchOptions,
+    ) -> worldpaint_core::Result<SketchEdit> {
+        apply_sketch(terrain, camera, strokes, options, &|_| true)
+    }
+
+    #[test]
+    fn a_sketch_no_camera_can_show_is_refused_with_the_figure() {
+        let (terrain, camera) = view();
+        let good = above_skyline(&terrain, &camera);
+        let frame = camera.frame_max;
+        let moved = |eye: DVec3| Camera::new(eye, camera.forward, DVec3::Z, -frame, frame).unwrap();
+        let ground = terrain.height_at(camera.eye.truncate()).unwrap();
+        let far = camera.eye - camera.forward * 1e7;
+        // 175° across the frame's width: tan(87.5°) at the frame's edges
+        let wide = {
+            let half = 87.5f64.to_radians().tan();
+            Camera::new(
+                camera.eye,
+                camera.forward,
+                DVec3::Z,
+                DVec2::new(-half, -half / 1.5),
+                DVec2::new(half, half / 1.5),
+            )
+            .unwrap()
+        };
+        let sky = Camera::new(
+            camera.eye,
+            DVec3::new(0.3, 0.3, 1.0),
+            DVec3::X,
+            -frame,
+            frame,
+        )
+        .unwrap();
+        let sketch_of = |s: Stroke| vec![s];
+        #[allow(clippy::type_complexity)]
+        let cases: Vec<(&str, Camera, Vec<Stroke>, &[&str])> = vec![
+            (
+                "a stroke at y = 50-60",
+                camera,
+                sketch_of(stroke(&[(0.3, 50.0), (0.6, 60.0)])),
+                &["stroke 0, point 0", "out of the camera frame"],
+            ),
+            (
+                "strokes in pixels",
+                camera,
+                vec![good.clone(), stroke(&[(300.0, 200.0), (600.0, 250.0)])],
+                &[
+                    "stroke 1, point 0",
+                    "(300.0000, 200.0000)",
+                    "out of the camera frame",
+                    "not in pixels",
+                ],
+            ),
+            (
+                "a point at 1e300",
+                camera,
+                sketch_of(stroke(&[(0.3, 0.5), (1e300, 0.5)])),
+                &["stroke 0, point 1", "out of the camera frame"],
+            ),
+            (
+                "a point not a number",
+                camera,
+                sketch_of(stroke(&[(0.3, 0.5), (f64::NAN, 0.5)])),
+                &["stroke 0, point 1", "not finite"],
+            ),
+            (
+                "a camera 1e7 m away",
+                moved(far),
+                sketch_of(good.clone()),
+                &[
+                    "the camera",
+                    "its eye is 99999",
+                    "m from the terrain, farther than the bound of 359 m",
+                ],
+            ),
+            (
+                "a 175° field of view",
+                wide,
+                sketch_of(good.clone()),
+                &[
+                    "field of view",
+                    "175.000°",
+                    "Blender camera's range",
+                    "172.847°",
+                ],
+            ),
+            (
+                "a camera 60 m under the ground",
+                moved(camera.eye.truncate().extend(ground - 60.0)),
+                sketch_of(good.clone()),
+                &["the camera", "60.0 m under the ground"],
+            ),
+            (
+                "a camera looking at the sky",
+                sky,
+                sketch_of(good.clone()),
+                &["the camera", "sees no terrain"],
+            ),
+            (
+                "a stroke at the top of the frame",
+                camera,
+                sketch_of(stroke(&[(0.3, 0.97), (0.7, 0.98)])),
+                &[
+                    "the sketch",
+                    "would change the terrain by",
+                    "more than the terrain's relief of",
+                ],
+            ),
+        ];
+        for (name, camera, strokes, words) in cases {
+            let before = terrain.heights.clone();
+            let e = match apply(&terrain, &camera, &strokes, &SketchOptions::default()) {
+                Ok(edit) => panic!(
+                    "{name}: applied (raised {:.1} m)",
+                    edit.deformation
+                        .displacement
+                        .iter()
+                        .fold(0.0f64, |a, d| a.max(*d))
+                ),
+                Err(e) => e.to_string(),
+            };
+            for w in words {
+                assert!(e.contains(w), "{name}: '{e}' does not say '{w}'");
+            }
+            assert!(!e.contains("needs no change"), "{name}: {e}");
+            assert_eq!(terrain.heights, before, "{name}: the terrain changed");
+        }
+    }
+
+    #[test]
+    fn the_change_bound_is_the_terrains_relief_unless_set() {
+        let (terrain, camera) = view();
+        let high = vec![stroke(&[(0.3, 0.97), (0.7, 0.98)])];
+        let e = apply(&terrain, &camera, &high, &SketchOptions::default())
+            .unwrap_err()
+            .to_string();
+        // the figure asked for, and the bound: the 256 m terrain's relief, unless a quarter of its side is more
+        let (lo, hi) = terrain
+            .heights
+            .iter()
+            .fold((f32::MAX, f32::MIN), |(l, h), &z| (l.min(z), h.max(z)));
+        let bound = ((hi - lo) as f64).max(0.25 * 254.0);
+        let relief = format!("{bound:.1} m");
+        assert!(
+            e.contains(&relief),
+            "'{e}' does not name the relief {relief}"
+        );
+        let mut options = SketchOptions::default();
+        options.limits.max_change = Some(1e4);
+        let edit = apply(&terrain, &camera, &high, &options).expect("allowed with a larger bound");
+        let raised = edit
+            .deformation
+            .displacement
+            .iter()
+            .fold(0.0f64, |a, d| a.max(*d));
+        assert!(raised > bound, "raised {raised:.1} m");
+        // and a bound set smaller than a sensible sketch's change refuses it, naming the bound
+        let good = vec![above_skyline(&terrain, &camera)];
+        options.limits.max_change = Some(0.5);
+        let e = apply(&terrain, &camera, &good, &options)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("more than the bound set of 0.5 m"), "{e}");
+    }
+
+    #[test]
+    fn a_sketch_too_large_to_match_is_refused_before_the_work() {
+        // the benchmark's 512² terrain, with its 1,000-odd feature pieces
+        let (terrain, camera) = view_of(512);
+        let strokes = random_strokes(1_000, 1);
+        let e = apply(&terrain, &camera, &strokes, &SketchOptions::default()).unwrap_err();
+        match &e {
+            Error::TooLarge {
+                what,
+                needed,
+                limit,
+                ..
+            } => {
+                assert_eq!(what, "the sketch's matching");
+                assert_eq!(*limit, MAX_MATCHING_WORK);
+                assert!(*needed > MAX_MATCHING_WORK as f64);
+            }
+            other => panic!("not refused as too large: {other}"),
+        }
+        assert!(e.to_string().contains("candidate columns"), "{e}");
+    }
+
+    #[test]
+    fn many_strokes_are_matched_within_the_node_budget_and_the_search_stops_when_asked() {
+        let (terrain, camera) = view();
+        let strokes = random_strokes(20, 3);
+        let mut options = SketchOptions::default();
+        options.limits.max_change = Some(1e6);
+        let edit =
+            apply(&terrain, &camera, &strokes, &options).expect("20 random strokes are matched");
+        let a = &edit.targets.assignment;
+        assert!(a.nodes <= MAX_ASSIGNMENT_NODES + 1, "{} nodes", a.nodes);
+        assert_eq!(a.chosen.len(), 20);
+        // asked to stop from inside the matching (the callback hears 0.2 there, again and again): it stops there
+        let asked = std::sync::atomic::AtomicUsize::new(0);
+        let e = apply_sketch(&terrain, &camera, &strokes, &options, &|f| {
+            if f == 0.2 {
+                asked.fetch_add(1, std::sync::atomic::Ordering::Relaxed) < 5
+            } else {
+                true
+            }
+        })
+        .unwrap_err();
+        assert!(matches!(e, Error::Cancelled), "{e}");
+        assert_eq!(asked.load(std::sync::atomic::Ordering::Relaxed), 6);
+    }
+}

@@ -134,7 +134,9 @@ fn a_stroke_above_a_ridge_becomes_its_silhouette_and_the_hill_in_front_is_lowere
         &features,
         &MatchingOptions::default(),
         true,
-    );
+        &|| false,
+    )
+    .expect("a matching well within the work budget");
     assert_eq!(
         t.sources,
         vec![Source::Feature(1)],

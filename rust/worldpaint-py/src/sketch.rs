@@ -6,7 +6,7 @@ use crate::terrain::Terrain;
 use crate::{input_err, with_progress};
 use numpy::IntoPyArray;
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList};
+use pyo3::types::{PyBool, PyDict, PyList, PyTuple};
 use worldpaint_core::geom::{DVec2, DVec3};
 use worldpaint_core::sketch::apply::{apply_sketch as apply, SketchOptions, Source};
 use worldpaint_core::sketch::{Camera, FeatureKind, Stroke};
@@ -43,13 +43,43 @@ fn camera_from_py(obj: &Bound<'_, PyAny>) -> PyResult<Camera> {
     .map_err(crate::engine_err)
 }
 
+/// Refuses a stroke given as a list whose point is a boolean where a number belongs (numpy would read `True` as
+/// 1.0), naming the stroke and the point.
+fn refuse_booleans(stroke: &Bound<'_, PyAny>, i: usize) -> PyResult<()> {
+    let is_list =
+        |o: &Bound<'_, PyAny>| o.is_instance_of::<PyList>() || o.is_instance_of::<PyTuple>();
+    if !is_list(stroke) {
+        return Ok(());
+    }
+    for (j, point) in stroke.try_iter()?.enumerate() {
+        let point = point?;
+        if point.is_instance_of::<PyBool>() {
+            return Err(input_err(format!(
+                "stroke {i}, point {j}: a point is two numbers (x, y), got a boolean"
+            )));
+        }
+        if is_list(&point) {
+            for value in point.try_iter()? {
+                if value?.is_instance_of::<PyBool>() {
+                    return Err(input_err(format!(
+                        "stroke {i}, point {j}: x and y must be numbers, got a boolean"
+                    )));
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
 fn strokes_from_py(list: &Bound<'_, PyAny>) -> PyResult<Vec<Stroke>> {
     let items = list
         .try_iter()
         .map_err(|_| input_err("strokes must be a list of (N, 2) arrays"))?;
     let mut out = Vec::new();
     for (i, item) in items.enumerate() {
-        let a = ArrayArg::from(item?);
+        let item = item?;
+        refuse_booleans(&item, i)?;
+        let a = ArrayArg::from(item);
         out.push(Stroke {
             points: points_from_py(&a, &format!("stroke {i}"))?,
         });
@@ -61,7 +91,11 @@ fn strokes_from_py(list: &Bound<'_, PyAny>) -> PyResult<Vec<Stroke>> {
 /// camera-frame points, 0–1 in x and y) and nothing hides them (thesis ch. 5). `reach`: distance (m) beyond which the
 /// terrain stays as it was (None: eight times the largest height change, at most half the distance from the eye to the
 /// nearest silhouette); `completion`: extend the silhouettes to the ground; `aspect`: the frame's width over its
-/// height, with which the stroke ordering measures distances alike across and up the image (None: the camera frame's).
+/// height, with which the stroke ordering measures distances alike across and up the image (None: the camera frame's);
+/// `max_change`: the largest height change (m) the sketch may ask for or make (None: the terrain's relief, at least a
+/// quarter of its shorter side); `max_camera_distance`: how far (m) the eye may be from the terrain (None: its
+/// diagonal). Strokes out of the frame, a camera under the ground, too far, seeing no terrain or wider than a Blender
+/// camera, and a larger change are refused with the figure (`InputError`).
 /// Returns a dict: "displacement" (the height change at the world XY `points`, float64 (M,)), "order" (stroke indices
 /// front to back), "features" (float64 (K, 3) polylines) and "feature_kinds" ("silhouette" / "ridge"), "curves" (per
 /// stroke its float64 (K, 3) curve), "sources" (per stroke the feature index it deforms, or -1 when it was embedded),
@@ -69,7 +103,8 @@ fn strokes_from_py(list: &Bound<'_, PyAny>) -> PyResult<Vec<Stroke>> {
 /// (per step: ordering, features, matching, deformation, lowering). `progress(fraction) -> bool` may return False to
 /// cancel.
 #[pyfunction]
-#[pyo3(signature = (terrain, camera, strokes, points, *, reach=None, completion=true, aspect=None, progress=None))]
+#[pyo3(signature = (terrain, camera, strokes, points, *, reach=None, completion=true, aspect=None, max_change=None,
+    max_camera_distance=None, progress=None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn apply_sketch<'py>(
     py: Python<'py>,
@@ -80,15 +115,23 @@ pub(crate) fn apply_sketch<'py>(
     reach: Option<f64>,
     completion: bool,
     aspect: Option<f64>,
+    max_change: Option<f64>,
+    max_camera_distance: Option<f64>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let hf = terrain.get().hf.clone();
     let camera = camera_from_py(camera)?;
     let strokes = strokes_from_py(strokes)?;
     let pts = points_from_py(&points, "points")?;
-    if let Some(r) = reach {
-        if !(r.is_finite() && r > 0.0) {
-            return Err(input_err(format!("reach {r} must be a positive distance")));
+    for (name, value) in [
+        ("reach", reach),
+        ("max_change", max_change),
+        ("max_camera_distance", max_camera_distance),
+    ] {
+        if let Some(r) = value {
+            if !(r.is_finite() && r > 0.0) {
+                return Err(input_err(format!("{name} {r} must be a positive distance")));
+            }
         }
     }
     let mut options = SketchOptions {
@@ -96,6 +139,8 @@ pub(crate) fn apply_sketch<'py>(
         ..SketchOptions::default()
     };
     options.deform.reach = reach;
+    options.limits.max_change = max_change;
+    options.limits.max_camera_distance = max_camera_distance;
     options.ordering.aspect = match aspect {
         Some(a) if a.is_finite() && a > 0.0 => a,
         Some(a) => return Err(input_err(format!("aspect {a} must be a positive ratio"))),

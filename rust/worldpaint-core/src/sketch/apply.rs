@@ -1,17 +1,19 @@
 //! The whole edit: strokes ordered, features detected and matched, curves built, terrain deformed (thesis §5.1).
 
+use super::checks::{check_camera, check_change, check_matching_work, check_strokes, SketchLimits};
 use super::curves::{complete, embed, embedding_depth, fallback_depth};
 use super::deform::{deform, DeformOptions, Deformation, StrokeTarget};
 use super::features::{detect_features, FeatureOptions};
 use super::matching::{
-    assign, feature_pieces, priority_list, Assignment, Candidate, MatchingContext, MatchingOptions,
-    Neighbours, StrokeCurve,
+    assign_until, feature_pieces, priority_list, Assignment, Candidate, MatchingContext,
+    MatchingOptions, Neighbours, StrokeCurve,
 };
 use super::ordering::{order_strokes, OrderingOptions, StrokeOrder};
 use super::view::{Camera, Sight};
 use super::{Feature, Stroke};
 use crate::error::{Error, Result};
 use crate::terrain::Heightfield;
+use glam::{DVec2, DVec3};
 use std::time::Instant;
 
 /// How a stroke got its curve.
@@ -43,7 +45,10 @@ const COMPLETION_SHARE: f64 = 0.5;
 
 /// The 3D curves for `strokes` (oriented left to right), `front_to_back` their depth order: each stroke's priority
 /// list among `features`, the assignment by branch and bound, the embedding of the strokes left without a feature,
-/// and, if `completion`, every curve extended to the ground.
+/// and, if `completion`, every curve extended to the ground. Refuses a matching past
+/// [`super::checks::MAX_MATCHING_WORK`] before any of it; `stop` is asked after each priority list and inside the
+/// assignment's search whether to give up ([`Error::Cancelled`]).
+#[allow(clippy::too_many_arguments)]
 pub fn targets(
     sight: &Sight,
     camera: &Camera,
@@ -52,19 +57,21 @@ pub fn targets(
     features: &[Feature],
     options: &MatchingOptions,
     completion: bool,
-) -> Targets {
-    let curves: Vec<StrokeCurve> = strokes.iter().map(StrokeCurve::new).collect();
+    stop: &dyn Fn() -> bool,
+) -> Result<Targets> {
     let pieces = feature_pieces(camera, features);
+    check_matching_work(strokes, pieces.len(), options.columns)?;
+    let curves: Vec<StrokeCurve> = strokes.iter().map(StrokeCurve::new).collect();
     let context = MatchingContext::new(sight, camera, &pieces, options);
-    let lists: Vec<Vec<Candidate>> = curves
-        .iter()
-        .enumerate()
-        .map(|(s, c)| {
-            let neighbours = Neighbours::of(s, &curves, front_to_back);
-            priority_list(&context, c, &neighbours, &pieces, options)
-        })
-        .collect();
-    let assignment = assign(front_to_back, &lists, context.separation);
+    let mut lists: Vec<Vec<Candidate>> = Vec::with_capacity(curves.len());
+    for (s, c) in curves.iter().enumerate() {
+        if stop() {
+            return Err(Error::Cancelled);
+        }
+        let neighbours = Neighbours::of(s, &curves, front_to_back);
+        lists.push(priority_list(&context, c, &neighbours, &pieces, options));
+    }
+    let assignment = assign_until(front_to_back, &lists, context.separation, stop)?;
     let mut chosen: Vec<Option<&Candidate>> = assignment
         .chosen
         .iter()
@@ -119,12 +126,12 @@ pub fn targets(
             }
         })
         .collect();
-    Targets {
+    Ok(Targets {
         targets,
         sources,
         lists,
         assignment,
-    }
+    })
 }
 
 /// Everything an edit needs besides the terrain, the camera and the strokes.
@@ -140,6 +147,8 @@ pub struct SketchOptions {
     pub deform: DeformOptions,
     /// Whether the curves are extended to the ground at their ends (§5.3.2, "an optional step").
     pub completion: bool,
+    /// How far the camera may be from the terrain and how much the terrain may change.
+    pub limits: SketchLimits,
 }
 
 impl Default for SketchOptions {
@@ -151,6 +160,7 @@ impl Default for SketchOptions {
             matching: MatchingOptions::default(),
             deform: DeformOptions::default(),
             completion: true,
+            limits: SketchLimits::default(),
         }
     }
 }
@@ -198,6 +208,8 @@ pub fn apply_sketch(
     if strokes.is_empty() {
         return Err(Error::invalid("the sketch", "has no stroke"));
     }
+    check_strokes(strokes)?;
+    check_camera(camera, terrain, &options.limits)?;
     let step = |fraction: f64| {
         if progress(fraction) {
             Ok(())
@@ -230,12 +242,40 @@ pub fn apply_sketch(
         &features,
         &options.matching,
         options.completion,
-    );
+        &|| !progress(0.2),
+    )?;
     let matching = lap();
+    // the change asked for, before the deformation; and the change made, lowering included
+    let asked = targets
+        .targets
+        .iter()
+        .flat_map(|t| t.curve.iter())
+        .filter_map(|p| {
+            terrain
+                .height_at(p.truncate())
+                .map(|h| ((p.z - h).abs(), *p))
+        })
+        .fold((0.0, DVec3::ZERO), |a, b| if b.0 > a.0 { b } else { a });
+    check_change("the sketch", asked.0, asked.1, terrain, &options.limits)?;
     step(0.3)?;
     let deformation = deform(terrain, camera, &targets.targets, &options.deform, &|f| {
         progress(0.3 + 0.7 * f)
     })?;
+    let (mut largest, mut at) = (0.0, DVec3::ZERO);
+    for (k, d) in deformation.displacement.iter().enumerate() {
+        if d.abs() > largest {
+            largest = d.abs();
+            let node = DVec2::new((k % terrain.nx) as f64, (k / terrain.nx) as f64);
+            at = (terrain.origin + node * terrain.cell).extend(terrain.heights[k] as f64);
+        }
+    }
+    check_change(
+        "the sketch's deformation",
+        largest,
+        at,
+        terrain,
+        &options.limits,
+    )?;
     Ok(SketchEdit {
         seconds: StepSeconds {
             ordering,

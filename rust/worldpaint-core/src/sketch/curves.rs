@@ -63,7 +63,7 @@ pub fn fallback_depth(sight: &Sight, camera: &Camera, stroke: &StrokeCurve) -> f
 const TANGENT_CELLS: f64 = 3.0;
 
 /// `curve` (broken at `breaks`, see [`super::matching::Candidate::breaks`]) extended at both ends along its tangent
-/// (the chord over its last three cells, within its end piece) until it meets the terrain, stepping half
+/// (the chord over its last `TANGENT_CELLS` cells, within its end piece) until it meets the terrain, stepping half
 /// a cell, for at most `max_length` metres; an end whose tangent does not lead down to the surface within that
 /// length, or that would pass higher above the ground than the end itself (flying over a valley behind a ridge
 /// rather than coming down to it), stays as it is. Returns the curve and the number of points put before its first.

@@ -45,15 +45,24 @@
 //! whenever one exists; it is then embedded in 3D between its neighbours in depth (see `super::curves`). The
 //! minimum is found by branch and bound: a partial assignment is cut when its cost plus the cheapest remaining
 //! candidate of every later stroke (a lower bound that ignores the constraints) reaches the best complete cost
-//! found.
+//! found. With many strokes whose candidates exclude one another the bound is weak and the search grows
+//! exponentially (20 random strokes: 128 s), so it visits at most [`MAX_ASSIGNMENT_NODES`] partial assignments and
+//! keeps the best found by then (the first is the greedy one: front to back, each stroke's cheapest candidate
+//! allowed); [`Assignment::complete`] says whether the minimum was proven. It asks every [`STOP_CHECK_NODES`]
+//! nodes whether to stop.
 
 use super::skyline::SilhouetteColumns;
 use super::view::{Camera, Sight};
 use super::{Feature, FeatureKind, Stroke};
+use crate::error::{Error, Result};
 use glam::{DVec2, DVec3};
 
 /// Cost of a stroke that no feature can serve: far above any feature's cost.
 pub const EMPTY_LIST_COST: f64 = 1.0e6;
+/// Partial assignments the branch and bound may visit before it keeps the best found.
+pub const MAX_ASSIGNMENT_NODES: usize = 20_000;
+/// Partial assignments between two questions whether to stop.
+pub const STOP_CHECK_NODES: usize = 1_024;
 /// Newton steps that put a point's projection on its stroke.
 const NEWTON_STEPS: usize = 6;
 /// Largest share of the image width one terrain cell may span at a candidate's depth: nearer, the stroke's shape
@@ -724,12 +733,27 @@ pub struct Assignment {
     pub cost: f64,
     /// Search nodes visited (partial assignments extended).
     pub nodes: usize,
+    /// Whether the search finished: `false` when it stopped at [`MAX_ASSIGNMENT_NODES`] with the best found then.
+    pub complete: bool,
 }
 
 /// The assignment of least total cost, by branch and bound: `lists[s]` is stroke `s`'s priority list and
 /// `front_to_back` the strokes' depth order. See the module documentation for the rules.
 pub fn assign(front_to_back: &[usize], lists: &[Vec<Candidate>], separation: f64) -> Assignment {
-    search(front_to_back, lists, separation, true)
+    search(front_to_back, lists, separation, true, &|| false).0
+}
+
+/// [`assign`], asking `stop` every [`STOP_CHECK_NODES`] nodes whether to give up ([`Error::Cancelled`]).
+pub fn assign_until(
+    front_to_back: &[usize],
+    lists: &[Vec<Candidate>],
+    separation: f64,
+    stop: &dyn Fn() -> bool,
+) -> Result<Assignment> {
+    match search(front_to_back, lists, separation, true, stop) {
+        (_, true) => Err(Error::Cancelled),
+        (a, false) => Ok(a),
+    }
 }
 
 /// The same minimum by exhaustive search (no bound): the baseline branch and bound is measured against.
@@ -738,7 +762,7 @@ pub fn assign_exhaustively(
     lists: &[Vec<Candidate>],
     separation: f64,
 ) -> Assignment {
-    search(front_to_back, lists, separation, false)
+    search(front_to_back, lists, separation, false, &|| false).0
 }
 
 struct Search<'a> {
@@ -748,16 +772,22 @@ struct Search<'a> {
     remaining: Vec<f64>,
     separation: f64,
     bound: bool,
+    stop: &'a dyn Fn() -> bool,
+    /// Set once the search must end: stopped, or out of nodes.
+    halted: bool,
+    cancelled: bool,
     current: Vec<Option<usize>>,
     best: Assignment,
 }
 
+/// The assignment, and whether `stop` cancelled the search.
 fn search(
     front_to_back: &[usize],
     lists: &[Vec<Candidate>],
     separation: f64,
     bound: bool,
-) -> Assignment {
+    stop: &dyn Fn() -> bool,
+) -> (Assignment, bool) {
     let n = front_to_back.len();
     let mut remaining = vec![0.0; n + 1];
     for k in (0..n).rev() {
@@ -774,27 +804,46 @@ fn search(
         remaining,
         separation,
         bound,
+        stop,
+        halted: false,
+        cancelled: false,
         current: vec![None; lists.len()],
         best: Assignment {
             chosen: vec![None; lists.len()],
             cost: f64::INFINITY,
             nodes: 0,
+            complete: true,
         },
     };
     s.extend(0, 0.0);
     let nodes = s.best.nodes;
+    let complete = !s.halted;
     let mut best = s.best;
     if !best.cost.is_finite() {
         best.cost = n as f64 * EMPTY_LIST_COST;
     }
     best.nodes = nodes;
-    best
+    best.complete = complete;
+    (best, s.cancelled)
 }
 
 impl Search<'_> {
     /// Assigns the stroke at depth position `k`, the ones in front being assigned in `self.current` at `cost`.
     fn extend(&mut self, k: usize, cost: f64) {
+        if self.halted {
+            return;
+        }
         self.best.nodes += 1;
+        if self.best.nodes.is_multiple_of(STOP_CHECK_NODES) && (self.stop)() {
+            self.halted = true;
+            self.cancelled = true;
+            return;
+        }
+        // out of nodes once an assignment is known (the first descent reaches one in a node per stroke)
+        if self.bound && self.best.nodes > MAX_ASSIGNMENT_NODES && self.best.cost.is_finite() {
+            self.halted = true;
+            return;
+        }
         if k == self.order.len() {
             if cost < self.best.cost {
                 let nodes = self.best.nodes;
@@ -802,6 +851,7 @@ impl Search<'_> {
                     chosen: self.current.clone(),
                     cost,
                     nodes,
+                    complete: true,
                 };
             }
             return;

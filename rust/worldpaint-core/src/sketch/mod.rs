@@ -13,12 +13,14 @@
 //! | [`skyline`] | 3. the visible silhouettes per image column: the skyline under a stroke, the lowering a candidate forces |
 //! | [`curves`] | 3. the strokes' 3D curves: matched features, embedded strokes, completion to the ground (§5.3.2) |
 //! | [`deform`] | 4. and 5. the deformation (§5.3.3) and the lowering of protruding silhouettes (§5.4) |
+//! | [`checks`] | what a sketch is checked for before any work: the frame, the camera, the work, the change |
 //! | [`apply`] | the whole edit (§5.1) |
 //!
 //! Image coordinates are those of Blender's camera view: `x` from 0 (left) to 1 (right) and `y` from 0 (bottom)
 //! to 1 (top) of the camera frame; the "altitude" of a point in the sketching plane is its `y`.
 
 pub mod apply;
+pub mod checks;
 pub mod curves;
 pub mod deform;
 pub mod features;

@@ -73,6 +73,16 @@ pub fn polyline_with(
     points: &[DVec3],
     height: impl Fn(DVec2, f64) -> f64,
 ) -> Result<usize> {
+    polyline_nodes(c, terrain, points, height).map(|written| written.len())
+}
+
+/// [`polyline_with`], returning the nodes `(i, j)` it wrote.
+pub(crate) fn polyline_nodes(
+    c: &mut Constraints,
+    terrain: &Heightfield,
+    points: &[DVec3],
+    height: impl Fn(DVec2, f64) -> f64,
+) -> Result<Vec<(usize, usize)>> {
     check_grid(c, terrain)?;
     check_points(points, "curve")?;
     let mut best: BTreeMap<(usize, usize), (f64, f64)> = BTreeMap::new();
@@ -95,7 +105,7 @@ pub fn polyline_with(
             visit(a.lerp(b, s as f64 / steps as f64));
         }
     }
-    let mut written = 0;
+    let mut written = Vec::new();
     for ((j, i), (_, z)) in best {
         let node = terrain.origin + DVec2::new(i as f64, j as f64) * terrain.cell;
         if c.set_if_free(
@@ -103,7 +113,7 @@ pub fn polyline_with(
             j,
             height(node, z) - terrain.heights[j * terrain.nx + i] as f64,
         )? {
-            written += 1;
+            written.push((i, j));
         }
     }
     Ok(written)
