@@ -862,6 +862,8 @@ def apply_sketch(
     reach: float | None = None,
     completion: bool = True,
     aspect: float | None = None,
+    max_change: float | None = None,
+    max_camera_distance: float | None = None,
     progress: Progress | None = None,
 ) -> SketchDict: ...
 
