@@ -35,7 +35,7 @@ use super::view::{Camera, Sight};
 use crate::distance::distance_transform;
 use crate::error::{Error, Result};
 use crate::terrain::Heightfield;
-use crate::terrain_edit::{diffuse, rasterize, Constraints, DiffusionOptions};
+use crate::terrain_edit::{diffuse, displaced, rasterize, Constraints, DiffusionOptions};
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 use std::time::Instant;
@@ -325,7 +325,7 @@ pub fn deform(
             }
         }
         if done {
-            let terrain = with_displacement(terrain, &displacement)?;
+            let terrain = displaced(terrain, &displacement)?;
             return Ok(Deformation {
                 terrain,
                 displacement,
@@ -342,27 +342,6 @@ pub fn deform(
 
 /// Nodes `i0..i1 × j0..j1` of the grid, as `(i0, j0, i1, j1)`.
 type Window = (usize, usize, usize, usize);
-
-/// `H + M` with the maps of `terrain` (slope made anew).
-fn with_displacement(terrain: &Heightfield, displacement: &[f64]) -> Result<Heightfield> {
-    let heights = terrain
-        .heights
-        .iter()
-        .zip(displacement)
-        .map(|(h, d)| (*h as f64 + d) as f32)
-        .collect();
-    let mut out = Heightfield::new(
-        terrain.origin,
-        terrain.cell,
-        terrain.nx,
-        terrain.ny,
-        heights,
-    )?;
-    for (name, map) in &terrain.maps {
-        out.maps.entry(name.clone()).or_insert_with(|| map.clone());
-    }
-    Ok(out)
-}
 
 /// Writes `H + M` into the heights of `shown` over the nodes `i0..i1 × j0..j1`.
 fn add_displacement(

@@ -176,25 +176,30 @@ impl Diffusion {
                 format!("does not fit a {}x{} terrain", terrain.nx, terrain.ny),
             ));
         }
-        let heights = terrain
-            .heights
-            .iter()
-            .zip(&self.displacement)
-            .map(|(h, d)| (*h as f64 + d) as f32)
-            .collect();
-        let mut out = Heightfield::new(
-            terrain.origin,
-            terrain.cell,
-            terrain.nx,
-            terrain.ny,
-            heights,
-        )?;
-        // other maps (water, land use, ...) describe the same ground; only height and slope change
-        for (name, map) in &terrain.maps {
-            out.maps.entry(name.clone()).or_insert_with(|| map.clone());
-        }
-        Ok(out)
+        displaced(terrain, &self.displacement)
     }
+}
+
+/// `terrain` with `displacement` (one value a node, of the same grid) added to its heights, its slope made anew;
+/// its other maps (water, land use, ...) describe the same ground and are kept.
+pub(crate) fn displaced(terrain: &Heightfield, displacement: &[f64]) -> Result<Heightfield> {
+    let heights = terrain
+        .heights
+        .iter()
+        .zip(displacement)
+        .map(|(h, d)| (*h as f64 + d) as f32)
+        .collect();
+    let mut out = Heightfield::new(
+        terrain.origin,
+        terrain.cell,
+        terrain.nx,
+        terrain.ny,
+        heights,
+    )?;
+    for (name, map) in &terrain.maps {
+        out.maps.entry(name.clone()).or_insert_with(|| map.clone());
+    }
+    Ok(out)
 }
 
 /// The solver to run.

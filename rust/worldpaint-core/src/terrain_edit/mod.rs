@@ -24,6 +24,7 @@ mod multigrid;
 pub mod rasterize;
 pub mod roads;
 
+pub(crate) use diffusion::displaced;
 pub use diffusion::{diffuse, jacobi, Constraints, Diffusion, DiffusionOptions};
 pub use horizontal::{diffuse_horizontal, HorizontalConstraints, HorizontalDisplacement};
 pub use roads::{embed_road, embed_roads, Road, RoadEmbedding, RoadOptions, RoadProfile};
