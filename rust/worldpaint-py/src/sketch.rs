@@ -8,7 +8,7 @@ use numpy::IntoPyArray;
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyList, PyTuple};
 use worldpaint_core::geom::{DVec2, DVec3};
-use worldpaint_core::sketch::apply::{apply_sketch as apply, SketchOptions, Source};
+use worldpaint_core::sketch::apply::{apply_sketch as apply, SketchEdit, SketchOptions, Source};
 use worldpaint_core::sketch::{Camera, FeatureKind, Stroke};
 
 fn triple(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<DVec3> {
@@ -134,6 +134,24 @@ pub(crate) fn apply_sketch<'py>(
             }
         }
     }
+    let limits = (max_change, max_camera_distance);
+    let options = sketch_options(&camera, reach, completion, aspect, limits)?;
+    let (edit, change) = with_progress(py, progress, |report| {
+        let edit = apply(&hf, &camera, &strokes, &options, report)?;
+        let change = height_change(&hf, &edit.deformation.terrain, &pts);
+        Ok((edit, change))
+    })?;
+    sketch_to_py(py, &edit, change)
+}
+
+/// Apply Sketch's options from its keyword arguments (the aspect defaults to the camera frame's).
+fn sketch_options(
+    camera: &Camera,
+    reach: Option<f64>,
+    completion: bool,
+    aspect: Option<f64>,
+    (max_change, max_camera_distance): (Option<f64>, Option<f64>),
+) -> PyResult<SketchOptions> {
     let mut options = SketchOptions {
         completion,
         ..SketchOptions::default()
@@ -149,11 +167,15 @@ pub(crate) fn apply_sketch<'py>(
             size.x / size.y
         }
     };
-    let (edit, change) = with_progress(py, progress, |report| {
-        let edit = apply(&hf, &camera, &strokes, &options, report)?;
-        let change = height_change(&hf, &edit.deformation.terrain, &pts);
-        Ok((edit, change))
-    })?;
+    Ok(options)
+}
+
+/// What [`apply_sketch`] returns, from the edit and the height change at the points asked.
+fn sketch_to_py<'py>(
+    py: Python<'py>,
+    edit: &SketchEdit,
+    change: Vec<f64>,
+) -> PyResult<Bound<'py, PyDict>> {
     let out = PyDict::new(py);
     out.set_item("displacement", change.into_pyarray(py))?;
     out.set_item("order", edit.order.front_to_back.clone())?;
