@@ -227,28 +227,9 @@ pub fn deform(
     options: &DeformOptions,
     progress: &dyn Fn(f64) -> bool,
 ) -> Result<Deformation> {
-    let curves: Vec<&[DVec3]> = targets
-        .iter()
-        .map(|t| t.curve.as_slice())
-        .filter(|c| !c.is_empty())
-        .collect();
-    let largest = curves
-        .iter()
-        .flat_map(|c| c.iter())
-        .filter_map(|p| terrain.height_at(p.truncate()).map(|h| (p.z - h).abs()))
-        .fold(0.0, f64::max);
-    // the viewpoint stays where it is: by default the displacement fades before the ground under the eye
-    let to_eye = curves
-        .iter()
-        .flat_map(|c| c.iter())
-        .map(|p| p.truncate().distance(camera.eye.truncate()))
-        .fold(f64::INFINITY, f64::min);
-    let reach = options.reach.unwrap_or(
-        (8.0 * largest)
-            .max(16.0 * terrain.cell)
-            .min(0.5 * to_eye)
-            .max(4.0 * terrain.cell),
-    );
+    let reach = options
+        .reach
+        .unwrap_or_else(|| default_reach(terrain, camera, targets));
     let start = Instant::now();
     let mut constraints = Constraints::for_terrain(terrain);
     // the strokes' curves first, so that a lowered silhouette crossing one never overrides it
@@ -340,6 +321,31 @@ pub fn deform(
     }
 }
 
+/// How far the displacement fades by default: eight times the largest change the curves ask for, at least 16 cells,
+/// but fading before the ground under the eye (the viewpoint stays where it is), and at least 4 cells.
+fn default_reach(terrain: &Heightfield, camera: &Camera, targets: &[StrokeTarget]) -> f64 {
+    let curves: Vec<&[DVec3]> = targets
+        .iter()
+        .map(|t| t.curve.as_slice())
+        .filter(|c| !c.is_empty())
+        .collect();
+    let largest = curves
+        .iter()
+        .flat_map(|c| c.iter())
+        .filter_map(|p| terrain.height_at(p.truncate()).map(|h| (p.z - h).abs()))
+        .fold(0.0, f64::max);
+    // the viewpoint stays where it is: by default the displacement fades before the ground under the eye
+    let to_eye = curves
+        .iter()
+        .flat_map(|c| c.iter())
+        .map(|p| p.truncate().distance(camera.eye.truncate()))
+        .fold(f64::INFINITY, f64::min);
+    (8.0 * largest)
+        .max(16.0 * terrain.cell)
+        .min(0.5 * to_eye)
+        .max(4.0 * terrain.cell)
+}
+
 /// Nodes `i0..i1 × j0..j1` of the grid, as `(i0, j0, i1, j1)`.
 type Window = (usize, usize, usize, usize);
 
@@ -388,7 +394,57 @@ fn lower(
         .fold(0.0, f64::max);
     let fade = (8.0 * largest).max(16.0 * cell).min(reach);
     let margin = (fade / cell).ceil() as usize + 2;
-    // windows: each silhouette's nodes with the margin, merged while they overlap
+    let windows = merged_windows(fresh, margin, (nx, ny));
+    let corrections: Vec<(Window, Vec<f64>)> = windows
+        .par_iter()
+        .map(|((i0, j0, i1, j1), members)| {
+            let (w, h) = (i1 - i0, j1 - j0);
+            let mut is_fresh = vec![false; w * h];
+            for &k in members {
+                for &(i, j) in &fresh[k] {
+                    is_fresh[(j - j0) * w + (i - i0)] = true;
+                }
+            }
+            let distance = distance_transform(w, h, cell, &is_fresh);
+            let mut local = Constraints::new(w, h, cell)?;
+            for lj in 0..h {
+                for li in 0..w {
+                    let k = lj * w + li;
+                    let (i, j) = (i0 + li, j0 + lj);
+                    if is_fresh[k] {
+                        local.set(li, lj, change(&(i, j)))?;
+                    } else if constraints.get(i, j).is_some() || distance[k] as f64 > fade {
+                        local.set(li, lj, 0.0)?;
+                    }
+                }
+            }
+            let solved = diffuse(&local, &DiffusionOptions::default())?;
+            Ok(((*i0, *j0, *i1, *j1), solved.displacement))
+        })
+        .collect::<Result<_>>()?;
+    for ((i0, j0, i1, j1), correction) in corrections {
+        let w = i1 - i0;
+        for j in j0..j1 {
+            let row = &mut displacement[j * nx + i0..j * nx + i1];
+            for (d, e) in row
+                .iter_mut()
+                .zip(&correction[(j - j0) * w..(j - j0 + 1) * w])
+            {
+                *d += e;
+            }
+        }
+        add_displacement(terrain, displacement, shown, (i0, j0, i1, j1));
+    }
+    Ok(())
+}
+
+/// The windows of the grid a round's lowering is diffused in: each silhouette's `fresh` nodes with `margin` nodes
+/// around them (within the `nx × ny` grid), merged while they overlap; each with the silhouettes it holds.
+fn merged_windows(
+    fresh: &[Vec<(usize, usize)>],
+    margin: usize,
+    (nx, ny): (usize, usize),
+) -> Vec<(Window, Vec<usize>)> {
     let mut windows: Vec<(Window, Vec<usize>)> = fresh
         .iter()
         .enumerate()
@@ -432,47 +488,7 @@ fn lower(
         );
         p.1.extend(members);
     }
-    let corrections: Vec<(Window, Vec<f64>)> = windows
-        .par_iter()
-        .map(|((i0, j0, i1, j1), members)| {
-            let (w, h) = (i1 - i0, j1 - j0);
-            let mut is_fresh = vec![false; w * h];
-            for &k in members {
-                for &(i, j) in &fresh[k] {
-                    is_fresh[(j - j0) * w + (i - i0)] = true;
-                }
-            }
-            let distance = distance_transform(w, h, cell, &is_fresh);
-            let mut local = Constraints::new(w, h, cell)?;
-            for lj in 0..h {
-                for li in 0..w {
-                    let k = lj * w + li;
-                    let (i, j) = (i0 + li, j0 + lj);
-                    if is_fresh[k] {
-                        local.set(li, lj, change(&(i, j)))?;
-                    } else if constraints.get(i, j).is_some() || distance[k] as f64 > fade {
-                        local.set(li, lj, 0.0)?;
-                    }
-                }
-            }
-            let solved = diffuse(&local, &DiffusionOptions::default())?;
-            Ok(((*i0, *j0, *i1, *j1), solved.displacement))
-        })
-        .collect::<Result<_>>()?;
-    for ((i0, j0, i1, j1), correction) in corrections {
-        let w = i1 - i0;
-        for j in j0..j1 {
-            let row = &mut displacement[j * nx + i0..j * nx + i1];
-            for (d, e) in row
-                .iter_mut()
-                .zip(&correction[(j - j0) * w..(j - j0 + 1) * w])
-            {
-                *d += e;
-            }
-        }
-        add_displacement(terrain, displacement, shown, (i0, j0, i1, j1));
-    }
-    Ok(())
+    windows
 }
 
 /// The protruding silhouettes over the strokes: per stroke, runs of consecutive columns where terrain that may not
