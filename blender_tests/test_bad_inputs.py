@@ -845,8 +845,6 @@ SKETCH_CASES = [
     ("a camera 60 m under the ground", "[[[0.2, 0.6], [0.4, 0.7]]]", {}, _under, r"60\.0 m under the ground"),
     ("a change larger than the bound set", "[[[0.3, 0.97], [0.7, 0.98]]]", {"max_change": 5.0}, None,
      r"would change the terrain by .* more than the bound set of 5\.0 m"),
-    ("50 random strokes past the time limit", _random_strokes(50, 7), {"max_change": 1e6, "time_limit": 2.0}, None,
-     "stopped at the time limit of 2 s"),
 ]
 
 
@@ -869,9 +867,29 @@ def test_a_sketch_no_camera_can_show_is_refused_and_the_scene_kept(strokes, opti
     assert re.search(message, str(refused.value)), str(refused.value)
     assert "needs no change" not in str(refused.value)
     assert took < 10.0, f"answered in {took:.1f} s"
-    if "time_limit" in options:
-        assert took < options["time_limit"] + 2.0, f"stopped {took - options['time_limit']:.1f} s after the limit"
     assert _sketch_state(terrain) == before
+
+
+def test_fifty_random_strokes_finish_or_stop_at_the_time_limit():
+    """Fifty random strokes (a matching that once ran for hours) finish, or stop at the time limit within 2 s of it
+    with the scene as it was: which of the two depends on the machine's speed, the answer in time does not."""
+    from scene_kit import sketch_scene
+
+    terrain, _ = sketch_scene()
+    bpy.context.view_layer.update()
+    before = _sketch_state(terrain)
+    limit = 1.0
+    start = time.monotonic()
+    try:
+        result = bpy.ops.worldpaint.apply_sketch(strokes=_random_strokes(50, 7), max_change=1e6, time_limit=limit)
+        print(f"50 random strokes finished in {time.monotonic() - start:.2f} s")
+        assert result == {'FINISHED'}
+    except RuntimeError as stopped:
+        print(f"50 random strokes stopped after {time.monotonic() - start:.2f} s: {stopped}")
+        assert "stopped at the time limit of 1 s" in str(stopped)
+        assert _sketch_state(terrain) == before
+    took = time.monotonic() - start
+    assert took < limit + 2.0, f"answered {took - limit:.1f} s after the limit"
 
 
 @pytest.mark.parametrize("strokes, message", [
@@ -888,4 +906,4 @@ def test_the_engine_refuses_strokes_it_cannot_read_naming_the_stroke_and_point(s
     heightfield = terrain.engine_terrain(bpy.context, obj)
     view = sketch.engine_camera(bpy.context.scene, camera)
     with pytest.raises(engine.InputError, match=message):
-        engine._engine().apply_sketch(heightfield, view, strokes, np.zeros((0, 2)))
+        worldpaint_engine._engine.apply_sketch(heightfield, view, strokes, np.zeros((0, 2)))

@@ -248,7 +248,8 @@ def test_the_other_results_carry_the_keys_and_dtypes_their_typed_dicts_declare()
     check(waterfall["report"]["nodes"], "WaterfallNodesDict")
     camera = {"eye": [x0 + 100.0, y0 - 150.0, 80.0], "forward": [0.0, 1.0, -0.2], "up": [0.0, 0.2, 1.0],
               "frame_min": [-0.5, -0.3], "frame_max": [0.5, 0.3]}
-    sketch = _engine.apply_sketch(terrain, camera, [np.array([[0.1, 0.6], [0.5, 0.7], [0.9, 0.6]])], middle)
+    sketch = _engine.apply_sketch(terrain, camera, [np.array([[0.1, 0.6], [0.5, 0.7], [0.9, 0.6]])], middle,
+                                  max_change=1e6)
     check(sketch, "SketchDict")
     check(sketch["seconds"], "SketchSecondsDict")
 
