@@ -19,12 +19,12 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::hint::black_box;
 use std::time::{Duration, Instant};
-use worldpaint_core::arrangement::{
-    grow, grow_around, relax, Element, GrowthOptions, Reference, RotationMode,
+use worldpaint_core::{
+    grow_arrangement, grow_arrangement_around, relax_arrangement, Element, GrowthOptions,
+    ReferenceArrangement, Region, RotationMode,
 };
-use worldpaint_core::Region;
 
-fn hexagonal_reference() -> Reference {
+fn hexagonal_reference() -> ReferenceArrangement {
     let mut rng = ChaCha8Rng::seed_from_u64(7);
     let mut elements = Vec::new();
     for row in 0..7 {
@@ -42,7 +42,7 @@ fn hexagonal_reference() -> Reference {
             });
         }
     }
-    match Reference::new(elements) {
+    match ReferenceArrangement::new(elements) {
         Ok(r) => r,
         Err(e) => panic!("the benchmark reference: {e}"),
     }
@@ -70,10 +70,11 @@ fn main() {
     let small = square(100.0);
     let grow_1000_s = timing::median(&mut g, "grow_1000", || {
         let t0 = Instant::now();
-        let grown = grow(&reference, &small, DVec2::ZERO, &options(1_000)).map(|mut a| {
-            let _ = relax(&mut a);
-            a
-        });
+        let grown =
+            grow_arrangement(&reference, &small, DVec2::ZERO, &options(1_000)).map(|mut a| {
+                let _ = relax_arrangement(&mut a);
+                a
+            });
         black_box(grown.ok());
         t0.elapsed()
     });
@@ -88,11 +89,11 @@ fn main() {
         within: vec![square(66.0)],
         without: vec![hole],
     };
-    let scene = match grow(
+    let scene = match grow_arrangement(
         &reference,
         &holed,
         DVec2::ZERO,
-        &options(worldpaint_core::limits::MAX_INSTANCES as usize),
+        &options(worldpaint_core::MAX_INSTANCES as usize),
     ) {
         Ok(a) => a.elements,
         Err(e) => panic!("the benchmark pattern: {e}"),
@@ -109,12 +110,12 @@ fn main() {
             .filter(|e| e.position.distance(center) <= reach)
             .copied()
             .collect();
-        let grown = grow_around(
+        let grown = grow_arrangement_around(
             &reference,
             &dab,
             &nearby,
             Some(center),
-            &options(worldpaint_core::limits::MAX_INSTANCES as usize),
+            &options(worldpaint_core::MAX_INSTANCES as usize),
             &|_| true,
         );
         let dt = t0.elapsed();
@@ -130,7 +131,7 @@ fn main() {
     let large = square(200.0);
     let grow_100000_s = timing::median(&mut g, "grow_100000", || {
         let t0 = Instant::now();
-        black_box(grow(&reference, &large, DVec2::ZERO, &options(100_000)).ok());
+        black_box(grow_arrangement(&reference, &large, DVec2::ZERO, &options(100_000)).ok());
         t0.elapsed()
     });
     g.finish();

@@ -14,10 +14,9 @@ use criterion::Criterion;
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
-use worldpaint_core::exemplar;
-use worldpaint_core::geom::DVec2;
 use worldpaint_core::{
-    learn_color, synthesize, AnalysisOptions, Color, Region, Scene, SynthesisOptions,
+    hard_core_points, learn_color, synthesize, undergrowth_scene, AnalysisOptions, Color, DVec2,
+    Region, Scene, SynthesisOptions,
 };
 
 /// Counts the bytes allocated now and at most since the last reset.
@@ -65,7 +64,7 @@ fn square(side: f64) -> Region {
 /// The Blender benchmark's color: trees hard-core, rocks uniform, grass clustered.
 fn bench_color() -> Color {
     let ex = square(EXEMPLAR);
-    let scene = exemplar::undergrowth(EXEMPLAR);
+    let scene = undergrowth_scene(EXEMPLAR);
     match learn_color(&scene, &ex, "Bench", &AnalysisOptions::default()) {
         Ok(c) => c,
         Err(e) => panic!("learning the bench color failed: {e}"),
@@ -104,7 +103,7 @@ fn paint(color: &Color, side: f64, threads: usize) -> (usize, f64, usize) {
 fn darts(n: usize, side: f64) -> f64 {
     let t0 = Instant::now();
     let density = n as f64 / (side * side);
-    let points = exemplar::hard_core(&square(side), density, 0.5 / density.sqrt(), 7);
+    let points = hard_core_points(&square(side), density, 0.5 / density.sqrt(), 7);
     std::hint::black_box(points.len());
     t0.elapsed().as_secs_f64()
 }

@@ -28,12 +28,10 @@ use criterion::Criterion;
 use rand::{Rng, SeedableRng};
 use std::hint::black_box;
 use std::time::{Duration, Instant};
-use worldpaint_core::exemplar::rough_terrain;
-use worldpaint_core::geom::DVec2;
-use worldpaint_core::sketch::apply::{apply_sketch, SketchOptions};
-use worldpaint_core::sketch::features::{detect_features, ridges, silhouettes, FeatureOptions};
-use worldpaint_core::sketch::{Camera, FeatureKind, Sight, Stroke};
-use worldpaint_core::Heightfield;
+use worldpaint_core::{
+    apply_sketch, detect_features, ridges, rough_terrain, silhouettes, Camera, DVec2, FeatureKind,
+    FeatureOptions, Heightfield, Sight, SketchOptions, SketchStroke,
+};
 
 const BUDGET_S: f64 = 0.5;
 
@@ -164,10 +162,10 @@ fn many_strokes(c: &mut Criterion, terrain: &Heightfield, camera: &Camera) -> (f
     let mut g = timing::flat_group(c, "sketch_many", 10, Duration::from_secs(30));
     let mut options = SketchOptions::default();
     options.limits.max_change = Some(1e6);
-    let random = |count: usize| -> Vec<Stroke> {
+    let random = |count: usize| -> Vec<SketchStroke> {
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
         (0..count)
-            .map(|_| Stroke {
+            .map(|_| SketchStroke {
                 points: (0..2)
                     .map(|_| DVec2::new(rng.random::<f64>(), rng.random::<f64>()))
                     .collect(),
@@ -195,10 +193,10 @@ fn many_strokes(c: &mut Criterion, terrain: &Heightfield, camera: &Camera) -> (f
 
 /// Three strokes over the left, middle and right thirds of the view, each 3 % of the image above the visible
 /// skyline with a bump in its middle.
-fn skyline_strokes(sight: &Sight, camera: &Camera) -> Vec<Stroke> {
+fn skyline_strokes(sight: &Sight, camera: &Camera) -> Vec<SketchStroke> {
     [(0.08, 0.4), (0.35, 0.68), (0.62, 0.92)]
         .iter()
-        .map(|&(x0, x1)| Stroke {
+        .map(|&(x0, x1)| SketchStroke {
             points: (0..=40)
                 .filter_map(|k| {
                     let t = k as f64 / 40.0;

@@ -20,12 +20,9 @@ mod timing;
 use criterion::Criterion;
 use std::hint::black_box;
 use std::time::{Duration, Instant};
-use worldpaint_core::exemplar;
-use worldpaint_core::geom::DVec2;
-use worldpaint_core::graph::Graph;
-use worldpaint_core::synthesis::SynthesisResult;
 use worldpaint_core::{
-    learn_color, synthesize, AnalysisOptions, Color, Region, Scene, SynthesisOptions,
+    learn_color, synthesize, village_scene, AnalysisOptions, Color, DVec2, Graph, Region, Scene,
+    SynthesisOptions, SynthesisResult,
 };
 
 const EXEMPLAR: f64 = 450.0;
@@ -44,7 +41,7 @@ fn square(origin: f64, size: f64) -> Region {
 /// The village exemplar (roads, houses, trees) and its color, learned as in `tests/structures.rs`, with its house
 /// density raised by `HOUSE_DENSITY`.
 fn village_color() -> (Scene, Color) {
-    let scene = exemplar::village(EXEMPLAR, 1);
+    let scene = village_scene(EXEMPLAR, 1);
     let opts = AnalysisOptions::default();
     let mut color = match learn_color(&scene, &square(0.0, EXEMPLAR), "village", &opts) {
         Ok(color) => color,

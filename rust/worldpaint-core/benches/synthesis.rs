@@ -18,12 +18,9 @@
 //!
 //! `cargo bench -p worldpaint-core --bench synthesis`
 
-#[path = "../tests/common/forest_report.rs"]
-mod forest;
-#[path = "../tests/common/pcf.rs"]
-mod pcf;
-#[path = "../tests/common/real_data.rs"]
-mod real_data;
+#[path = "../tests/common/mod.rs"]
+mod common;
+use common::forest_report;
 #[path = "support/timing.rs"]
 mod timing;
 
@@ -33,11 +30,10 @@ use rand_chacha::ChaCha8Rng;
 use std::cell::RefCell;
 use std::hint::black_box;
 use std::time::{Duration, Instant};
-use worldpaint_core::exemplar;
-use worldpaint_core::geom::DVec2;
 use worldpaint_core::{
-    learn_color, synthesize, AnalysisOptions, Category, Color, Heightfield, Instance, Region,
-    Scene, SynthesisOptions,
+    clustered_points, demo_terrain, hard_core_points, learn_color, slope_scene, synthesize,
+    uniform_points, AnalysisOptions, Category, Color, DVec2, Heightfield, Instance, Region, Scene,
+    SynthesisOptions,
 };
 
 /// Table 2, Fig. 1 (centre): objects and seconds on one 3.2 GHz core.
@@ -49,7 +45,7 @@ const EXEMPLAR: f64 = 250.0;
 
 /// The demo terrain (1 km, 2 m cells), the color learned from its exemplar corner, and the painted region.
 fn synthesis_setup() -> (Scene, Color, Region) {
-    let terrain = exemplar::demo_terrain(WORLD, 2.0, 3);
+    let terrain = demo_terrain(WORLD, 2.0, 3);
     let ex_region = Region::Rect {
         min: DVec2::ZERO,
         max: DVec2::splat(EXEMPLAR),
@@ -59,9 +55,9 @@ fn synthesis_setup() -> (Scene, Color, Region) {
         instances.extend(points.into_iter().map(|p| Instance::at(p, category)));
     };
     // 0.02 + 0.02 + 0.06 instances per m²: ~100,000 on a square kilometre
-    add(exemplar::uniform(&ex_region, 0.02, 1), 0);
-    add(exemplar::hard_core(&ex_region, 0.02, 3.0, 2), 1);
-    add(exemplar::clustered(&ex_region, 0.003, 20.0, 2.0, 3), 2);
+    add(uniform_points(&ex_region, 0.02, 1), 0);
+    add(hard_core_points(&ex_region, 0.02, 3.0, 2), 1);
+    add(clustered_points(&ex_region, 0.003, 20.0, 2.0, 3), 2);
     let mut scene = Scene {
         categories: vec![
             Category::distribution("tree", "vegetation", 0),
@@ -161,7 +157,7 @@ fn outline(n: usize, centre: DVec2, radius: f64, waves: f64, amplitude: f64) -> 
 }
 
 fn bench_learn(c: &mut Criterion) {
-    let scene = exemplar::slope_scene(200.0, 7);
+    let scene = slope_scene(200.0, 7);
     let region = Region::Rect {
         min: DVec2::ZERO,
         max: DVec2::splat(200.0),
@@ -197,7 +193,7 @@ fn bench_paste_in_outline(c: &mut Criterion) {
     let categories = vec![Category::distribution("tree", "vegetation", 0)];
     let exemplar = Scene {
         categories: categories.clone(),
-        instances: exemplar::hard_core(&square, 0.04, 2.5, 1)
+        instances: hard_core_points(&square, 0.04, 2.5, 1)
             .into_iter()
             .map(|p| Instance::at(p, 0))
             .collect(),
@@ -273,11 +269,11 @@ fn summary(runs: &[Run]) {
     }
     println!();
     println!("== forest report ==");
-    if !forest::data_dir().is_dir() {
-        println!("skipped: {} is absent", forest::data_dir().display());
+    if !forest_report::data_dir().is_dir() {
+        println!("skipped: {} is absent", forest_report::data_dir().display());
         return;
     }
-    match forest::run() {
+    match forest_report::run() {
         Ok(report) => println!("{}", report.table()),
         Err(e) => println!("forest report failed: {e}"),
     }

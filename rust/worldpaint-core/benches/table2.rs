@@ -3,9 +3,9 @@
 //!
 //! | row | paper: m, n, seconds | here |
 //! |---|---|---|
-//! | Fig. 1 (centre) | 4, 83,209, 13.9 | trees, rocks and grass following the slope (`exemplar::slope_scene`), pasted |
-//! | Fig. 1 (right) | 3, 522, 0.16 | islands with trees and boats (`exemplar::archipelago`), pasted |
-//! | Fig. 7 | 4, 235, 0.13 | a village of roads, houses and trees (`exemplar::village`), pasted |
+//! | Fig. 1 (centre) | 4, 83,209, 13.9 | trees, rocks and grass following the slope (`slope_scene`), pasted |
+//! | Fig. 1 (right) | 3, 522, 0.16 | islands with trees and boats (`archipelago_scene`), pasted |
+//! | Fig. 7 | 4, 235, 0.13 | a village of roads, houses and trees (`village_scene`), pasted |
 //! | Fig. 11 | 2, 3,936, 0.71 | a linear gradient from hard-core trees to clumped bushes |
 //!
 //! Each row prints the objects synthesized (instances, path nodes and contours), the median time, the paper's and
@@ -18,12 +18,10 @@ mod timing;
 
 use criterion::Criterion;
 use std::time::{Duration, Instant};
-use worldpaint_core::exemplar;
-use worldpaint_core::geom::DVec2;
-use worldpaint_core::tools::gradient::{gradient, GradientOptions, GradientShape};
-use worldpaint_core::tools::{paste, Edit};
 use worldpaint_core::{
-    learn_color, AnalysisOptions, Category, Color, Instance, Region, Scene, SynthesisOptions,
+    archipelago_scene, clustered_points, gradient, hard_core_points, learn_color, paste,
+    slope_scene, village_scene, AnalysisOptions, Category, Color, DVec2, GradientOptions,
+    GradientShape, Instance, Region, Scene, SynthesisOptions, ToolEdit,
 };
 
 fn square(min: f64, side: f64) -> Region {
@@ -41,7 +39,7 @@ fn learned(scene: &Scene, region: &Region, name: &str, opts: &AnalysisOptions) -
 }
 
 /// Objects an edit adds: instances, path nodes and contours.
-fn objects(edit: &Edit) -> usize {
+fn objects(edit: &ToolEdit) -> usize {
     edit.added.len()
         + edit
             .added_paths
@@ -58,10 +56,10 @@ struct Row {
     paper_objects: f64,
     paper_seconds: f64,
     categories: usize,
-    run: Box<dyn Fn() -> Edit + Send + Sync>,
+    run: Box<dyn Fn() -> ToolEdit + Send + Sync>,
 }
 
-fn pasted(scene: Scene, color: Color, region: Region) -> Box<dyn Fn() -> Edit + Send + Sync> {
+fn pasted(scene: Scene, color: Color, region: Region) -> Box<dyn Fn() -> ToolEdit + Send + Sync> {
     Box::new(move || {
         let opts = SynthesisOptions {
             seed: 1,
@@ -76,7 +74,7 @@ fn pasted(scene: Scene, color: Color, region: Region) -> Box<dyn Fn() -> Edit + 
 
 /// Fig. 1 (centre): the slope exemplar's color over a terrain sized for about 83,209 instances.
 fn forest_on_slopes() -> Row {
-    let example = exemplar::slope_scene(400.0, 1);
+    let example = slope_scene(400.0, 1);
     let opts = AnalysisOptions {
         maps: vec!["slope".into()],
         ..Default::default()
@@ -84,7 +82,7 @@ fn forest_on_slopes() -> Row {
     let color = learned(&example, &square(0.0, 100.0), "slope forest", &opts);
     let density: f64 = color.categories.iter().map(|c| c.density).sum();
     let side = (83_209.0 / density).sqrt();
-    let terrain = exemplar::slope_scene(side, 2).terrain;
+    let terrain = slope_scene(side, 2).terrain;
     let scene = Scene {
         categories: example.categories.clone(),
         terrain,
@@ -102,7 +100,7 @@ fn forest_on_slopes() -> Row {
 
 /// Fig. 1 (right): islands with trees (and boats) pasted over a sea sized for about 522 objects.
 fn islands() -> Row {
-    let example = exemplar::archipelago(300.0, 4);
+    let example = archipelago_scene(300.0, 4);
     let color = learned(
         &example,
         &square(0.0, 300.0),
@@ -127,7 +125,7 @@ fn islands() -> Row {
 
 /// Fig. 7: a village's roads, houses and trees pasted over a region sized for about 235 objects.
 fn village() -> Row {
-    let example = exemplar::village(300.0, 5);
+    let example = village_scene(300.0, 5);
     let color = learned(
         &example,
         &square(0.0, 300.0),
@@ -162,8 +160,8 @@ fn gradient_row() -> Row {
         };
         learned(&scene, &ex, name, &AnalysisOptions::default())
     };
-    let trees = one("tree", exemplar::hard_core(&ex, 0.01, 4.0, 6));
-    let bushes = one("bush", exemplar::clustered(&ex, 0.005, 8.0, 2.0, 7));
+    let trees = one("tree", hard_core_points(&ex, 0.01, 4.0, 6));
+    let bushes = one("bush", clustered_points(&ex, 0.005, 8.0, 2.0, 7));
     // the mean of the two densities over a strip three times as long as wide
     let density = 0.5 * (trees.categories[0].density + bushes.categories[0].density);
     let width = (3936.0 / density / 3.0).sqrt();

@@ -19,10 +19,10 @@ use criterion::Criterion;
 use glam::DVec3;
 use std::hint::black_box;
 use std::time::{Duration, Instant};
-use worldpaint_core::exemplar::rough_terrain;
-use worldpaint_core::geom::DVec2;
-use worldpaint_core::terrain_edit::rasterize::polyline;
-use worldpaint_core::terrain_edit::{diffuse, jacobi, Constraints, DiffusionOptions};
+use worldpaint_core::{
+    diffuse, diffuse_jacobi, rasterize_polyline, rough_terrain, Constraints, DVec2,
+    DiffusionOptions,
+};
 
 /// The constraints of the benchmark on a `size` m terrain of 1 m cells: three curves placed in proportion to the
 /// size, each with its own height offset.
@@ -44,7 +44,7 @@ fn problem(size: f64) -> Constraints {
                 p.extend(h + offset * (std::f64::consts::PI * s).sin().max(0.2))
             })
             .collect();
-        if let Err(e) = polyline(&mut c, &t, &pts) {
+        if let Err(e) = rasterize_polyline(&mut c, &t, &pts) {
             panic!("benchmark curve: {e}");
         }
     }
@@ -63,7 +63,7 @@ fn main() {
         Err(e) => panic!("benchmark diffusion: {e}"),
     };
     let (d257, d1025, d2049) = (solve(&p257), solve(&p1025), solve(&p2049));
-    let jacobi_257 = match jacobi(
+    let jacobi_257 = match diffuse_jacobi(
         &p257,
         &DiffusionOptions {
             max_cycles: 10_000_000,
@@ -77,7 +77,7 @@ fn main() {
         max_cycles: 1000,
         ..options.clone()
     };
-    let jacobi_1025 = match jacobi(&p1025, &jacobi_options) {
+    let jacobi_1025 = match diffuse_jacobi(&p1025, &jacobi_options) {
         Ok(d) => d,
         Err(e) => panic!("benchmark Jacobi: {e}"),
     };
@@ -118,7 +118,7 @@ fn main() {
     let j257 = timing::median(&mut g, "jacobi_257", || {
         let t0 = Instant::now();
         black_box(
-            jacobi(
+            diffuse_jacobi(
                 &p257,
                 &DiffusionOptions {
                     max_cycles: 10_000_000,
@@ -131,7 +131,7 @@ fn main() {
     });
     let j1025 = timing::median(&mut g, "jacobi_1025_x1000", || {
         let t0 = Instant::now();
-        black_box(jacobi(&p1025, &jacobi_options).ok());
+        black_box(diffuse_jacobi(&p1025, &jacobi_options).ok());
         t0.elapsed()
     });
     g.finish();

@@ -17,14 +17,10 @@ mod timing;
 use criterion::Criterion;
 use std::hint::black_box;
 use std::time::{Duration, Instant};
-use worldpaint_core::exemplar;
-use worldpaint_core::geom::DVec2;
-use worldpaint_core::synthesis::AdaptOptions;
-use worldpaint_core::tools::brush::{BrushMode, BrushOptions, Stroke};
-use worldpaint_core::tools::moving::move_region;
-use worldpaint_core::tools::paste;
 use worldpaint_core::{
-    learn_color, AnalysisOptions, Category, Color, Instance, Region, Scene, SynthesisOptions,
+    demo_terrain, hard_core_points, learn_color, move_region, paste, slope_scene, AdaptOptions,
+    AnalysisOptions, BrushMode, BrushOptions, BrushStroke, Category, Color, DVec2, Instance,
+    Region, Scene, SynthesisOptions,
 };
 
 const WORLD: f64 = 600.0;
@@ -32,14 +28,14 @@ const RADIUS: f64 = 20.0;
 
 /// Hills, and a hard-core color of one tree per 25 m² (3 m apart) learned with its slope preference.
 fn hills_and_color() -> (Scene, Color) {
-    let terrain = exemplar::demo_terrain(WORLD, 2.0, 7);
+    let terrain = demo_terrain(WORLD, 2.0, 7);
     let corner = Region::Rect {
         min: DVec2::ZERO,
         max: DVec2::splat(100.0),
     };
     let scene = Scene {
         categories: vec![Category::distribution("tree", "vegetation", 0)],
-        instances: exemplar::hard_core(&corner, 0.04, 3.0, 1)
+        instances: hard_core_points(&corner, 0.04, 3.0, 1)
             .into_iter()
             .map(|p| Instance::at(p, 0))
             .collect(),
@@ -63,7 +59,7 @@ fn forest_around_a_corridor(scene: &Scene) -> Scene {
         max: DVec2::splat(WORLD),
     };
     Scene {
-        instances: exemplar::hard_core(&world, 0.04, 3.0, 2)
+        instances: hard_core_points(&world, 0.04, 3.0, 2)
             .into_iter()
             .filter(|p| (p.y - 300.0).abs() > 30.0)
             .map(|p| Instance::at(p, 0))
@@ -112,7 +108,7 @@ fn main() {
         t0.elapsed()
     });
     let first_dab = median(&mut c, "brush", "first_dab_r20", || {
-        let mut stroke = match Stroke::new(&scene, paint.clone(), brush_options()) {
+        let mut stroke = match BrushStroke::new(&scene, paint.clone(), brush_options()) {
             Ok(s) => s,
             Err(e) => panic!("stroke: {e}"),
         };
@@ -121,7 +117,7 @@ fn main() {
         t0.elapsed()
     });
     let next_dab = median(&mut c, "brush", "next_dab_r20", || {
-        let mut stroke = match Stroke::new(&scene, paint.clone(), brush_options()) {
+        let mut stroke = match BrushStroke::new(&scene, paint.clone(), brush_options()) {
             Ok(s) => s,
             Err(e) => panic!("stroke: {e}"),
         };
@@ -131,7 +127,7 @@ fn main() {
         t0.elapsed()
     });
     let new_in_first = {
-        let mut stroke = Stroke::new(&scene, paint.clone(), brush_options()).ok();
+        let mut stroke = BrushStroke::new(&scene, paint.clone(), brush_options()).ok();
         stroke
             .as_mut()
             .map(|s| {
@@ -142,7 +138,7 @@ fn main() {
     };
 
     // move: about 5,000 instances of the slope scene (period 200 m across X), 5 m across the slopes
-    let slopes = exemplar::slope_scene(800.0, 3);
+    let slopes = slope_scene(800.0, 3);
     let learn = AnalysisOptions {
         maps: vec!["slope".into()],
         ..Default::default()

@@ -10,17 +10,17 @@
 //!
 //! `cargo bench -p worldpaint-core --bench variety`
 
+#[path = "../tests/common/mod.rs"]
+mod common;
 #[path = "support/timing.rs"]
 mod timing;
-#[path = "../tests/common/variety_models.rs"]
-mod variety_models;
 
+use common::variety_models::{edit, tree, tree_atlas, DVec3, Role};
 use criterion::Criterion;
 use rayon::prelude::*;
 use std::hint::black_box;
 use std::time::{Duration, Instant};
-use variety_models::{edit, tree, tree_atlas, DVec3, Role};
-use worldpaint_core::variety::{generate, GenerateOptions, IntersectionLabels};
+use worldpaint_core::{generate_variants, GenerateOptions, IntersectionLabels};
 
 const BUDGET_S: f64 = 1.0;
 
@@ -49,7 +49,7 @@ fn main() {
         seed: 1,
         max_attempts: 0,
     };
-    let first = match generate(&atlas, &labels, &options) {
+    let first = match generate_variants(&atlas, &labels, &options) {
         Ok(g) => g,
         Err(e) => panic!("the benchmark generation: {e}"),
     };
@@ -67,7 +67,7 @@ fn main() {
     let generate_s = timing::median(&mut g, "generate_1000", || {
         let start = Instant::now();
         black_box(
-            generate(&atlas, &labels, &options)
+            generate_variants(&atlas, &labels, &options)
                 .map(|g| g.accepted.len())
                 .ok(),
         );

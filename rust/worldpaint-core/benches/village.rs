@@ -17,13 +17,10 @@ mod timing;
 use criterion::Criterion;
 use std::hint::black_box;
 use std::time::{Duration, Instant};
-use worldpaint_core::exemplar::village_terrain;
-use worldpaint_core::geom::DVec2;
-use worldpaint_core::village::encyclopedia::Event;
-use worldpaint_core::village::generate::{generate, VillageRequest};
-use worldpaint_core::village::interest::StaticMaps;
-use worldpaint_core::village::{Encyclopedia, Environment, Land, Scenario, Site};
-use worldpaint_core::Region;
+use worldpaint_core::{
+    generate_village, village_terrain, DVec2, Encyclopedia, Environment, Land, Region, Scenario,
+    ScenarioEvent, Site, StaticInterestMaps, VillageRequest,
+};
 
 const ENCYCLOPEDIA: &str = include_str!("../../../assets/villages/encyclopedia.json");
 const BUDGET_S: f64 = 3.0;
@@ -36,13 +33,13 @@ fn main() {
         Ok(e) => e,
         Err(e) => panic!("the shipped encyclopedia: {e}"),
     };
-    let generate_event = |count: u32, building: &str| Event::Generate {
+    let generate_event = |count: u32, building: &str| ScenarioEvent::Generate {
         count,
         building: building.into(),
     };
     let scenario = Scenario {
         events: vec![
-            Event::ChangeVillageType {
+            ScenarioEvent::ChangeVillageType {
                 village_type: "farming".into(),
             },
             generate_event(1, "church"),
@@ -73,7 +70,7 @@ fn main() {
         seed: 1,
         parcel_cell: 1.0,
     };
-    let one = match generate(&request, &|_, _| true) {
+    let one = match generate_village(&request, &|_, _| true) {
         Ok(v) => v,
         Err(e) => panic!("the benchmark village: {e}"),
     };
@@ -90,14 +87,14 @@ fn main() {
 
     let full_s = timing::median(&mut g, "100_buildings", || {
         let t0 = Instant::now();
-        black_box(generate(&request, &|_, _| true).ok());
+        black_box(generate_village(&request, &|_, _| true).ok());
         t0.elapsed()
     });
     let radii: Vec<f64> = vec![150.0, 200.0];
     let base_s = timing::median(&mut g, "land_and_interest_maps", || {
         let t0 = Instant::now();
         if let Ok(land) = Land::new(&terrain, &region, &environment, 2.0) {
-            black_box(StaticMaps::new(&land, &radii));
+            black_box(StaticInterestMaps::new(&land, &radii));
         }
         t0.elapsed()
     });

@@ -24,9 +24,9 @@ mod timing;
 use criterion::Criterion;
 use std::hint::black_box;
 use std::time::{Duration, Instant};
-use worldpaint_core::exemplar::{village_terrain, waterfall_controllers};
-use worldpaint_core::waterfall::{
-    build, hydraulics, scene, HydraulicGraph, SceneOptions, WaterfallParams,
+use worldpaint_core::{
+    build_waterfall_network, build_waterfall_scene, distribute_flow, village_terrain,
+    waterfall_controllers, HydraulicGraph, WaterfallParams, WaterfallSceneOptions,
 };
 
 const BUDGET_S: f64 = 2.0;
@@ -52,12 +52,12 @@ fn main() {
     };
     let t_correct = t1.elapsed().as_secs_f64();
     let t2 = Instant::now();
-    if let Err(e) = hydraulics::distribute_flow(&mut graph, &corrected, &params) {
+    if let Err(e) = distribute_flow(&mut graph, &corrected, &params) {
         panic!("the benchmark scene: {e}");
     }
     let t_flow = t2.elapsed().as_secs_f64();
     let t3 = Instant::now();
-    let net = match build(&terrain, &controllers, &params, 1) {
+    let net = match build_waterfall_network(&terrain, &controllers, &params, 1) {
         Ok(n) => n,
         Err(e) => panic!("the benchmark scene: {e}"),
     };
@@ -67,7 +67,7 @@ fn main() {
         ..params.clone()
     };
     let t4 = Instant::now();
-    black_box(build(&terrain, &controllers, &unsubdivided, 1).ok());
+    black_box(build_waterfall_network(&terrain, &controllers, &unsubdivided, 1).ok());
     let t_plain = t4.elapsed().as_secs_f64();
     let points: usize = net.paths.iter().map(|p| p.len()).sum();
     println!(
@@ -86,27 +86,27 @@ fn main() {
 
     let full_s = timing::median(&mut g, "20_controllers", || {
         let t = Instant::now();
-        black_box(build(&terrain, &controllers, &params, 1).ok());
+        black_box(build_waterfall_network(&terrain, &controllers, &params, 1).ok());
         t.elapsed()
     });
     let base_s = timing::median(&mut g, "graph_and_flow", || {
         let t = Instant::now();
         if let Ok(mut graph) = HydraulicGraph::new(&terrain, &controllers, &params) {
             if let Ok(corrected) = graph.correct_slopes(&controllers, &params) {
-                black_box(hydraulics::distribute_flow(&mut graph, &corrected, &params).ok());
+                black_box(distribute_flow(&mut graph, &corrected, &params).ok());
             }
         }
         t.elapsed()
     });
-    let options = SceneOptions::default();
-    let one = match scene(&terrain, &controllers, &params, &options, 1) {
+    let options = WaterfallSceneOptions::default();
+    let one = match build_waterfall_scene(&terrain, &controllers, &params, &options, 1) {
         Ok(s) => s,
         Err(e) => panic!("the benchmark scene: {e}"),
     };
     println!("scene report: {:?}", one.report);
     let scene_s = timing::median(&mut g, "scene_20_controllers", || {
         let t = Instant::now();
-        black_box(scene(&terrain, &controllers, &params, &options, 1).ok());
+        black_box(build_waterfall_scene(&terrain, &controllers, &params, &options, 1).ok());
         t.elapsed()
     });
     g.finish();
@@ -121,7 +121,7 @@ fn main() {
         full_s / base_s
     );
     println!(
-        "20 controllers, whole scene (hydraulics, mesh, terrain deformation, maps, rocks) on 1001 x 1001 nodes of 1 m: {:.1} ms; scene / hydraulic part = {:.2}",
+        "20 controllers, whole build_waterfall_scene (hydraulics, mesh, terrain deformation, maps, rocks) on 1001 x 1001 nodes of 1 m: {:.1} ms; scene / hydraulic part = {:.2}",
         1e3 * scene_s,
         scene_s / full_s
     );

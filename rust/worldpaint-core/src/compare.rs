@@ -36,7 +36,7 @@ pub struct Fidelity {
 }
 
 /// L2 distance between two rdfs as functions of distance, at the reference's bin centres.
-pub fn rdf_l2(reference: &Histogram, candidate: &Histogram) -> f64 {
+pub(crate) fn rdf_l2(reference: &Histogram, candidate: &Histogram) -> f64 {
     let w = reference.bin_width;
     (reference
         .values
@@ -53,7 +53,7 @@ pub fn rdf_l2(reference: &Histogram, candidate: &Histogram) -> f64 {
 
 /// The options that learn a color comparable with `color` bin by bin: its bins, its terrain maps and its oriented
 /// pairs.
-pub fn same_options(color: &Color) -> AnalysisOptions {
+pub(crate) fn same_options(color: &Color) -> AnalysisOptions {
     let mut maps: Vec<String> = terrain_maps(color).map(|m| m.map.clone()).collect();
     maps.sort();
     maps.dedup();

@@ -3,9 +3,9 @@
 //! region within the contours using a jittered grid ... synthesized islands and lakes are rendered as contours by
 //! tracing a contour around dense clusters".
 //!
-//! * [`fill`]: one point per cell of a grid of side `spacing`, jittered uniformly within its cell, kept where the
+//! * [`fill_polygons`]: one point per cell of a grid of side `spacing`, jittered uniformly within its cell, kept where the
 //!   contours (combined by the even-odd rule, so a lake in an island is a hole) contain it.
-//! * [`trace`]: the density of the points, smoothed by a Gaussian of `0.6 × spacing` and scaled so that a filled
+//! * [`trace_contours`]: the density of the points, smoothed by a Gaussian of `0.6 × spacing` and scaled so that a filled
 //!   area reads 1, is contoured by marching squares on a grid of half the spacing, and the closed loops are
 //!   simplified (Douglas–Peucker, a tenth of the spacing). Loops smaller than four cells are dropped. The level is
 //!   the one that keeps the points' area (one spacing² each): ½ for a jittered grid, down to 0.3 for the looser
@@ -26,7 +26,7 @@ use std::collections::BTreeMap;
 
 /// Smoothing of the traced density, in units of the spacing.
 const TRACE_SIGMA: f64 = 0.6;
-/// The lowest iso-level a trace uses (see [`trace`]).
+/// The lowest iso-level a trace uses (see [`trace_contours`]).
 const MIN_LEVEL: f64 = 0.3;
 /// Samples across a contour's bounding box to find its largest inner distance.
 const INNER_SAMPLES: usize = 64;
@@ -159,7 +159,7 @@ impl Polygons {
 }
 
 /// Dense points filling the contours (see the module documentation); `seed` draws the jitter.
-pub fn fill(polygons: &Polygons, spacing: f64, seed: u64) -> Vec<DVec2> {
+pub fn fill_polygons(polygons: &Polygons, spacing: f64, seed: u64) -> Vec<DVec2> {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let mut out = Vec::new();
     if !(spacing > 0.0 && spacing.is_finite()) {
@@ -237,14 +237,17 @@ pub(crate) fn split(contour: &[DVec2], region: &impl RegionQueries) -> Option<(L
     let perimeter: f64 = edges().map(|(a, b)| a.distance(b)).sum();
     let spacing = (perimeter / CUT_SAMPLES).max(1e-3);
     let polygons = Polygons::new(&[contour.to_vec()]);
-    let (inside, outside): (Vec<DVec2>, Vec<DVec2>) = fill(&polygons, spacing, n as u64)
+    let (inside, outside): (Vec<DVec2>, Vec<DVec2>) = fill_polygons(&polygons, spacing, n as u64)
         .into_iter()
         .partition(|p| region.contains(*p));
-    Some((trace(&inside, spacing), trace(&outside, spacing)))
+    Some((
+        trace_contours(&inside, spacing),
+        trace_contours(&outside, spacing),
+    ))
 }
 
 /// Closed contours around dense points (see the module documentation).
-pub fn trace(points: &[DVec2], spacing: f64) -> Vec<Vec<DVec2>> {
+pub fn trace_contours(points: &[DVec2], spacing: f64) -> Vec<Vec<DVec2>> {
     if points.is_empty() || !(spacing > 0.0 && spacing.is_finite()) {
         return Vec::new();
     }

@@ -197,7 +197,7 @@ impl Error {
 pub type Result<T> = std::result::Result<T, Error>;
 
 /// The checks of numbers given to the engine. Each returns the value when it passes, so a check reads as the value.
-pub mod check {
+pub(crate) mod check {
     use super::{Error, Result};
 
     fn out_of_range(what: &str, rule: impl Into<String>, value: f64) -> Error {
@@ -209,7 +209,7 @@ pub mod check {
     }
 
     /// `value` is finite and above zero.
-    pub fn positive(what: &str, value: f64) -> Result<f64> {
+    pub(crate) fn positive(what: &str, value: f64) -> Result<f64> {
         if value.is_finite() && value > 0.0 {
             Ok(value)
         } else {
@@ -218,7 +218,7 @@ pub mod check {
     }
 
     /// `value` is finite and zero or more.
-    pub fn non_negative(what: &str, value: f64) -> Result<f64> {
+    pub(crate) fn non_negative(what: &str, value: f64) -> Result<f64> {
         if value.is_finite() && value >= 0.0 {
             Ok(value)
         } else {
@@ -227,7 +227,7 @@ pub mod check {
     }
 
     /// `value` is a finite number.
-    pub fn finite(what: &str, value: f64) -> Result<f64> {
+    pub(crate) fn finite(what: &str, value: f64) -> Result<f64> {
         if value.is_finite() {
             Ok(value)
         } else {
@@ -236,7 +236,7 @@ pub mod check {
     }
 
     /// `value` lies in `[lo, hi]`.
-    pub fn within(what: &str, value: f64, lo: f64, hi: f64) -> Result<f64> {
+    pub(crate) fn within(what: &str, value: f64, lo: f64, hi: f64) -> Result<f64> {
         if value >= lo && value <= hi {
             Ok(value)
         } else {
@@ -245,7 +245,7 @@ pub mod check {
     }
 
     /// At most `limit` items (a list read from a file, whose length is work the engine would do).
-    pub fn at_most_items(what: &str, found: usize, limit: usize) -> Result<()> {
+    pub(crate) fn at_most_items(what: &str, found: usize, limit: usize) -> Result<()> {
         budget(what, found as f64, limit as u64, "items")
     }
 
@@ -265,7 +265,11 @@ pub mod check {
     }
 
     /// A grid of `found` (nx, ny) nodes laid on a terrain of `terrain` nodes: they must be the same.
-    pub fn fits_terrain(what: &str, found: (usize, usize), terrain: (usize, usize)) -> Result<()> {
+    pub(crate) fn fits_terrain(
+        what: &str,
+        found: (usize, usize),
+        terrain: (usize, usize),
+    ) -> Result<()> {
         if found == terrain {
             Ok(())
         } else {
@@ -280,7 +284,7 @@ pub mod check {
     }
 
     /// `found` items where `expected` are needed.
-    pub fn same_len(what: &str, found: usize, expected: usize) -> Result<()> {
+    pub(crate) fn same_len(what: &str, found: usize, expected: usize) -> Result<()> {
         if found == expected {
             Ok(())
         } else {

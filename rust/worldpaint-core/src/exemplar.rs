@@ -1,7 +1,8 @@
 //! Generating processes for demo scenes, tests and benchmarks (all seeded, deterministic): the kinds of
 //! arrangement the paper's examples are made of (Section 6, "Examples"; Figure 1's trees, rocks and grass) —
 //! uniform (Poisson), clustered (Thomas), hard-core (dart throwing) — a multi-category scene on a slope, a
-//! smooth demo terrain and rougher ones.
+//! smooth demo terrain and rougher ones. Also the discrete Laplace equation's residual, recomputed independently of
+//! the terrain-edit solvers that the tests check against it.
 
 use crate::geom::{DVec2, Region};
 use crate::scene::{Category, CategoryKind, Contour, Instance, Path, Scene};
@@ -46,7 +47,7 @@ fn uniform_in_box<R: Rng>(lo: DVec2, hi: DVec2, rng: &mut R) -> DVec2 {
 }
 
 /// Poisson process of intensity `density` (per m²) in the region.
-pub fn uniform(region: &Region, density: f64, seed: u64) -> Vec<DVec2> {
+pub fn uniform_points(region: &Region, density: f64, seed: u64) -> Vec<DVec2> {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let (lo, hi) = region.bbox();
     let box_area = (hi.x - lo.x) * (hi.y - lo.y);
@@ -60,7 +61,7 @@ pub fn uniform(region: &Region, density: f64, seed: u64) -> Vec<DVec2> {
 /// Thomas cluster process: parents Poisson(`parent_density`), each with Poisson(`children_mean`) children at
 /// isotropic Gaussian offsets of deviation `sigma`; parents are drawn in the region grown by 4σ, so clusters
 /// crossing the border are not thinned out. Only the children inside the region are returned.
-pub fn clustered(
+pub fn clustered_points(
     region: &Region,
     parent_density: f64,
     children_mean: f64,
@@ -88,7 +89,7 @@ pub fn clustered(
 
 /// Hard-core arrangement by random sequential adsorption (dart throwing): uniform candidates are kept when no
 /// kept point is closer than `min_distance`, until `density × area` points or 50× that many attempts.
-pub fn hard_core(region: &Region, density: f64, min_distance: f64, seed: u64) -> Vec<DVec2> {
+pub fn hard_core_points(region: &Region, density: f64, min_distance: f64, seed: u64) -> Vec<DVec2> {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let want = (density * region.area()).round().max(0.0) as usize;
     let (lo, hi) = region.bbox();
@@ -285,13 +286,13 @@ pub fn slope_scene(size: f64, seed: u64) -> Scene {
         });
     };
     let (lo_slope, hi_slope) = (20f64.to_radians(), 35f64.to_radians());
-    for p in hard_core(&region, 0.03, 3.0, seed.wrapping_add(1)) {
+    for p in hard_core_points(&region, 0.03, 3.0, seed.wrapping_add(1)) {
         let s = terrain.map_at("slope", p).unwrap_or(0.0);
         if s >= lo_slope && s <= hi_slope {
             push(p, 0, &mut rng);
         }
     }
-    let rocks = uniform(&region, 0.002, seed.wrapping_add(2));
+    let rocks = uniform_points(&region, 0.002, seed.wrapping_add(2));
     for p in &rocks {
         push(*p, 1, &mut rng);
     }
@@ -304,7 +305,7 @@ pub fn slope_scene(size: f64, seed: u64) -> Scene {
             }
         }
     }
-    for p in uniform(&region, 0.004, seed.wrapping_add(3)) {
+    for p in uniform_points(&region, 0.004, seed.wrapping_add(3)) {
         push(p, 2, &mut rng);
     }
     Scene {
@@ -321,8 +322,8 @@ pub const RIVER_ROCK_DENSITY: f64 = 0.08;
 pub const RIVER_ROCK_SPACING: f64 = 1.5;
 /// The category of [`river_rocks`].
 pub const RIVER_ROCK_CATEGORY: &str = "River rock";
-/// The terrain map of [`river_rocks`] that says how dense the rocks are: the waterfall's rock map.
-pub use crate::waterfall::ROCK_MAP;
+// The terrain map of `river_rocks` that says how dense the rocks are: the waterfall's rock map.
+use crate::waterfall::ROCK_MAP;
 
 /// Rocks on a riverbed whose named map "rocks" (thesis 4.4.3: "the rock map indicates the density of rocks to
 /// generate") sets their density: a flat terrain 240 m by 120 m of 1 m cells from the origin, the map 0 on a
@@ -397,16 +398,16 @@ pub fn river_rocks(seed: u64) -> Scene {
 /// Figure 1's undergrowth over the square `size × size` from the origin, as the benchmarks at scale paint it:
 /// trees with a 3 m hard core (0.03 per m²), uniform rocks (0.03 per m²) and grass in 2 m clumps of ten (0.04 per
 /// m²); 0.1 instances per m² in all. Categories in priority order: Tree, Rock, Grass.
-pub fn undergrowth(size: f64) -> Scene {
+pub fn undergrowth_scene(size: f64) -> Scene {
     let region = Region::Rect {
         min: DVec2::ZERO,
         max: DVec2::splat(size),
     };
     let mut instances = Vec::new();
     let layers = [
-        hard_core(&region, 0.03, 3.0, 1),
-        uniform(&region, 0.03, 2),
-        clustered(&region, 0.004, 10.0, 2.0, 3),
+        hard_core_points(&region, 0.03, 3.0, 1),
+        uniform_points(&region, 0.03, 2),
+        clustered_points(&region, 0.004, 10.0, 2.0, 3),
     ];
     for (category, points) in layers.into_iter().enumerate() {
         instances.extend(points.into_iter().map(|p| Instance::at(p, category)));
@@ -436,7 +437,7 @@ pub fn scene_from_points(name: &str, points: &[DVec2]) -> Scene {
 /// crossroads about 60 m apart (a random spanning tree of the grid plus some of its other streets, so there are
 /// dead ends, bends, T junctions and crossings), houses along the roads at 8–15 m from them and at least 8 m
 /// apart, and trees at least 20 m from any road. Categories in priority order: road (graph), house, tree.
-pub fn village(size: f64, seed: u64) -> Scene {
+pub fn village_scene(size: f64, seed: u64) -> Scene {
     let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0x0011_a9e5);
     let spacing = 60.0;
     let n = ((size / spacing).round() as usize).max(2) + 1;
@@ -497,7 +498,7 @@ pub fn village(size: f64, seed: u64) -> Scene {
     for h in houses {
         push(h, 1, &mut rng);
     }
-    for p in uniform(&square, 0.004, seed.wrapping_add(7)) {
+    for p in uniform_points(&square, 0.004, seed.wrapping_add(7)) {
         if road_distance(p) >= 20.0 {
             push(p, 2, &mut rng);
         }
@@ -587,7 +588,7 @@ fn houses_along(
 /// Islands in the sea (square `size × size` from the origin): wobbly contours of 25–45 m radius at least 40 m
 /// apart, one with a lake; trees anywhere on the islands (not in the lake), boats within 12 m of a coast on the
 /// water. Categories in priority order: island (polygon), tree, boat.
-pub fn archipelago(size: f64, seed: u64) -> Scene {
+pub fn archipelago_scene(size: f64, seed: u64) -> Scene {
     let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0x15_1a2d);
     let square = Region::Rect {
         min: DVec2::ZERO,
@@ -639,12 +640,12 @@ pub fn archipelago(size: f64, seed: u64) -> Scene {
             .collect::<Vec<_>>(),
     );
     let mut instances = Vec::new();
-    for p in hard_core(&square, 0.02, 3.0, seed.wrapping_add(1)) {
+    for p in hard_core_points(&square, 0.02, 3.0, seed.wrapping_add(1)) {
         if land.contains(p) {
             instances.push(Instance::at(p, 1));
         }
     }
-    for p in hard_core(&square, 0.01, 6.0, seed.wrapping_add(2)) {
+    for p in hard_core_points(&square, 0.01, 6.0, seed.wrapping_add(2)) {
         if !land.contains(p) && land.distance(p, 100.0) <= 12.0 {
             instances.push(Instance::at(p, 2));
         }
@@ -763,4 +764,33 @@ pub fn waterfall_controllers(
         out.push(Controller::new(ControllerKind::Contact, pts));
     }
     out
+}
+
+/// Largest `|mean of the 4 neighbours − value|` over the nodes of the row-major `nx` × `ny` grid `values` that
+/// `free` accepts (by index): the residual of the discrete Laplace equation, computed without the solvers' code.
+pub fn laplace_residual(values: &[f64], nx: usize, ny: usize, free: impl Fn(usize) -> bool) -> f64 {
+    let mut worst = 0.0f64;
+    for j in 0..ny {
+        for i in 0..nx {
+            let k = j * nx + i;
+            if !free(k) {
+                continue;
+            }
+            let mut n = Vec::with_capacity(4);
+            if i > 0 {
+                n.push(values[k - 1]);
+            }
+            if i + 1 < nx {
+                n.push(values[k + 1]);
+            }
+            if j > 0 {
+                n.push(values[k - nx]);
+            }
+            if j + 1 < ny {
+                n.push(values[k + nx]);
+            }
+            worst = worst.max((n.iter().sum::<f64>() / n.len() as f64 - values[k]).abs());
+        }
+    }
+    worst
 }

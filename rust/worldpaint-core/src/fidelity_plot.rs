@@ -17,9 +17,9 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 /// Smallest side of a plot (px).
-pub const MIN_PLOT_SIDE: u32 = 32;
+pub(crate) const MIN_PLOT_SIDE: u32 = 32;
 /// Largest side of a plot (px).
-pub const MAX_PLOT_SIDE: u32 = 2048;
+pub(crate) const MAX_PLOT_SIDE: u32 = 2048;
 
 const BACKGROUND: RGBColor = RGBColor(20, 23, 20);
 const AXIS: RGBColor = RGBColor(150, 150, 150);

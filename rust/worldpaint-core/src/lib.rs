@@ -41,45 +41,160 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord, clippy::nonminimal_bool)]
 // Every public item says what it is; `make lint` turns this into an error.
 #![warn(missing_docs)]
+#![warn(unreachable_pub)]
 
 mod analysis;
-pub mod arrangement;
+mod arrangement;
 mod compare;
-pub mod contour;
-pub mod distance;
+mod contour;
+mod distance;
 mod error;
-pub mod exemplar;
-pub mod fidelity_plot;
-pub mod geom;
-pub mod graph;
-pub mod grid;
-pub mod interpolate;
-pub mod limits;
+mod exemplar;
+mod fidelity_plot;
+mod geom;
+mod graph;
+mod grid;
+mod interpolate;
+mod limits;
 mod paint;
-pub mod palette;
-pub mod polygon_mesh;
+mod palette;
+mod polygon_mesh;
 mod progress;
-pub mod scene;
+mod scene;
 mod scene_maps;
-pub mod search;
-pub mod sketch;
-pub mod spatial;
-pub mod synthesis;
-pub mod terrain;
-pub mod terrain_edit;
-pub mod tools;
-pub mod variety;
-pub mod village;
-pub mod waterfall;
-pub mod world;
+mod search;
+mod sketch;
+mod spatial;
+mod synthesis;
+mod terrain;
+mod terrain_edit;
+mod tools;
+mod variety;
+mod village;
+mod waterfall;
+mod world;
 
+// analysis: learning a color
 pub use analysis::{learn_arrangement, learn_color, AnalysisOptions, HeldGraph, SLOPE_BIN_DEGREES};
-pub use compare::{compare, learned_back, same_options, self_synthesis, Fidelity};
-pub use error::{check, Error, FileKind, Result};
-pub use geom::Region;
-pub use interpolate::interpolate_colors;
+// arrangement: element arrangement by example
+pub use arrangement::{
+    grow_arrangement, grow_arrangement_around, pattern_fidelity, reference_density,
+    relax_arrangement, Arrangement, Element, FlowField, GrowthNoise, GrowthOptions,
+    PatternFidelity, PatternGuides, PatternRotation, ReferenceArrangement, RingMatch, RotationMode,
+    DEFAULT_RELAX_EVERY, RING_RADIUS,
+};
+// compare: fidelity between colors
+pub use compare::{compare, learned_back, self_synthesis, Fidelity};
+// contour: islands and lakes as dense points and back
+pub use contour::{fill_polygons, islands, trace_contours, Polygons};
+// distance: distance transforms
+pub use distance::distance_transform;
+// error
+pub use error::{Error, FileKind, Result};
+// exemplar: demo scenes and terrains
+pub use exemplar::{
+    archipelago_scene, clustered_points, demo_terrain, hard_core_points, laplace_residual,
+    river_rocks, rough_terrain, scene_from_points, slope_scene, undergrowth_scene, uniform_points,
+    village_scene, village_terrain, waterfall_controllers, RIVER_ROCK_CATEGORY, RIVER_ROCK_DENSITY,
+    RIVER_ROCK_SPACING,
+};
+// fidelity_plot
+pub use fidelity_plot::{draw_fidelity, FidelityPlot};
+// geom: regions and polygons
+pub use geom::{
+    polygon_contains, polygon_signed_area, segment_distance, segments_distance, DVec2, DVec3,
+    PreparedRegion, Region, RegionQueries,
+};
+// graph: roads and rivers as planar graphs
+pub use graph::{Graph, SegmentIndex};
+// grid
+pub use grid::Grid;
+// interpolate: interpolation between colors
+pub use interpolate::{displacement_interpolate, interpolate_colors};
+// limits: the work budget
+pub use limits::{
+    check, MAX_GRID_CELLS, MAX_INSTANCES, MAX_ITERATIONS_PER_INSTANCE, MAX_REGION_DEPTH,
+    MAX_WORLD_INSTANCES,
+};
+// paint: a color painted into a scene
 pub use paint::{painted_fidelity, synthesize, synthesize_with_progress};
-pub use palette::{Color, Palette};
-pub use scene::{Category, CategoryKind, Instance, Scene};
-pub use synthesis::{SynthesisOptions, SynthesisResult};
+// palette: histograms, colors, palettes
+pub use palette::{
+    Color, GraphColor, Histogram, Interaction, MapSource, Palette, PALETTE_FORMAT_VERSION,
+};
+// polygon_mesh
+pub use polygon_mesh::triangulate;
+// scene
+pub use scene::{Category, CategoryKind, Contour, Instance, Path, Scene};
+// sketch: terrain edited from sketched silhouettes
+pub use sketch::apply::{apply_sketch, stroke_targets, CurveSource, SketchEdit, SketchOptions};
+pub use sketch::checks::MAX_MATCHING_WORK;
+pub use sketch::deform::{deform_to_targets, SketchDeformOptions, StrokeTarget};
+pub use sketch::features::{detect_features, ridges, silhouettes, FeatureOptions};
+pub use sketch::matching::{MatchingOptions, MAX_ASSIGNMENT_NODES};
+pub use sketch::{Camera, Feature, FeatureKind, Sight, SketchStroke};
+// synthesis
+pub use synthesis::{AdaptOptions, SynthesisOptions, SynthesisResult};
+// terrain
 pub use terrain::Heightfield;
+// terrain_edit: constraint-based terrain deformation
+pub use terrain_edit::rasterize::{
+    rasterize_corridor, rasterize_gradient_polyline, rasterize_point, rasterize_polyline,
+};
+pub use terrain_edit::{
+    diffuse, diffuse_horizontal, diffuse_jacobi, embed_road, embed_roads, Constraints,
+    DiffusionOptions, EmbeddedRoad, HorizontalConstraints, RoadEmbedding, RoadEmbeddingOptions,
+    RoadProfile,
+};
+// tools: the painting tools
+pub use tools::blur::{blur, BlurOptions};
+pub use tools::brush::{BrushMode, BrushOptions, BrushStroke, Falloff};
+pub use tools::gradient::{bilinear_gradient, gradient, GradientOptions, GradientShape};
+pub use tools::moving::{move_region, Moved};
+pub use tools::stretch::{stretch, StretchOptions, StretchSide, Stretched};
+pub use tools::{clear_region, color_of_region, paste, with_painted_preview, ToolEdit};
+// variety: model variety
+pub use variety::model::error_about as model_error_about;
+pub use variety::{
+    assign_variants, atlas_images, check_assemblies, check_assembly, generate as generate_variants,
+    memory_report, new_intersection, pack_components, pick_texture_variants, pick_textures,
+    Assembled, Atlas, Choice, Decomposition, GenerateOptions, Generation, Image,
+    IntersectionLabels, MemoryReport, Model, Rejection, TextureComponent, VariantClass,
+};
+// village: villages on arbitrary terrain
+pub use village::encyclopedia::{BuildingKind, ParcelParams, RoadParams, RoofStyle, ScenarioEvent};
+pub use village::footprint::{house_footprint, house_footprints};
+pub use village::generate::{
+    generate_village, interest_at, InterestRequest, Village, VillageReport, VillageRequest,
+    VillageStage,
+};
+pub use village::house::{
+    build_house, house_layout, openings_below_ground, HouseReport, OpeningKind, PlacedOpening,
+};
+pub use village::interest::{InterestCriterion, StaticInterestMaps};
+pub use village::metrics::{
+    footprint_conflicts, layout_statistics, mean_elevation_percentile, road_grades, road_length,
+    unreachable_footprints, LayoutStatistics,
+};
+pub use village::parcels::{
+    parcel_statistics, parcel_statistics_with, parcels, parcels_with, ParcelOptions, ParcelSeed,
+    ParcelStatistics,
+};
+pub use village::roads::{RoadConnection, RoadNetwork};
+pub use village::{
+    BuildingSeed, Encyclopedia, Environment, HouseFootprint, HouseMaterial, HouseMesh, Land,
+    Parcel, Road, Scenario, ScenarioPresets, Site,
+};
+// waterfall: waterfall scenes
+pub use waterfall::classify::classify_waterfall;
+pub use waterfall::hydraulics::{distribute_flow, max_imbalance};
+pub use waterfall::subdivide::{detail_length, downhill, MAX_DEVIATION_FACTOR};
+pub use waterfall::{
+    build_waterfall_network, build_waterfall_scene, river_rock_color, waterfall_footprint,
+    Controller, ControllerKind, HydraulicGraph, HydraulicNodeKind, Rock, WaterPart,
+    WaterfallFootprint, WaterfallNetwork, WaterfallParams, WaterfallScene, WaterfallSceneOptions,
+    WaterfallSceneReport, WaterfallType, ROCK_MAP, TABLE_4_1,
+};
+// world: worlds of tiles
+pub use world::tile_file::{decode_tile, encode_tile};
+pub use world::{check_iterations, synthesize_tile, TileContent, TileId, WorldPlan, MAX_TILES};

@@ -14,18 +14,18 @@ pub const MAX_WORLD_INSTANCES: u64 = 10_000_000_000;
 /// Chain proposals per instance one synthesis may be asked for: 250 times the default of 40.
 pub const MAX_ITERATIONS_PER_INSTANCE: u64 = 10_000;
 /// Buildings one village scenario may request (a town of ten thousand houses, ten times over).
-pub const MAX_BUILDINGS: u64 = 100_000;
+pub(crate) const MAX_BUILDINGS: u64 = 100_000;
 /// Cells of one grid (a terrain, a raster map, a conquest grid, a bucket index).
 pub const MAX_GRID_CELLS: u64 = 64 * 1024 * 1024;
 /// Bins of one histogram (an rdf, a map histogram): its extent over its bin width.
-pub const MAX_HISTOGRAM_BINS: u64 = 4_096;
+pub(crate) const MAX_HISTOGRAM_BINS: u64 = 4_096;
 /// Largest bin value of a color's histogram: rdf values are ratios to a Poisson arrangement (a few hundred for
 /// the most clustered content), map histograms and weights are masses (at most 1).
-pub const MAX_HISTOGRAM_VALUE: f64 = 1e6;
+pub(crate) const MAX_HISTOGRAM_VALUE: f64 = 1e6;
 /// Largest density of a category, per m² (one instance per cm²).
-pub const MAX_DENSITY: f64 = 1e4;
+pub(crate) const MAX_DENSITY: f64 = 1e4;
 /// Vertices of one region's polygons, all nested parts together.
-pub const MAX_REGION_VERTICES: u64 = 1_000_000;
+pub(crate) const MAX_REGION_VERTICES: u64 = 1_000_000;
 /// Nesting depth of a region (clipped inside clipped ...).
 pub const MAX_REGION_DEPTH: u64 = 64;
 

@@ -18,19 +18,14 @@ use std::collections::BinaryHeap;
 ///
 /// To pop equal costs in another order (deeper states first, say), give the item an `Ord` that says so.
 #[derive(Clone, Copy, Debug)]
-pub struct MinCost<T> {
+pub(crate) struct MinCost<T> {
     /// The search's cost of reaching `item` (its priority).
     pub cost: f64,
     /// The state reached, or whatever the search pops.
     pub item: T,
 }
 
-impl<T> MinCost<T> {
-    /// An entry of `item` at `cost`.
-    pub fn new(cost: f64, item: T) -> MinCost<T> {
-        MinCost { cost, item }
-    }
-}
+impl<T> MinCost<T> {}
 
 impl<T: Ord> Ord for MinCost<T> {
     fn cmp(&self, other: &Self) -> Ordering {
@@ -58,7 +53,7 @@ impl<T: Ord> Eq for MinCost<T> {}
 
 /// A min-heap of items by cost (see [`MinCost`] for the order).
 #[derive(Clone, Debug)]
-pub struct MinHeap<T> {
+pub(crate) struct MinHeap<T> {
     heap: BinaryHeap<MinCost<T>>,
 }
 
@@ -70,39 +65,24 @@ impl<T: Ord> Default for MinHeap<T> {
 
 impl<T: Ord> MinHeap<T> {
     /// An empty heap.
-    pub fn new() -> MinHeap<T> {
+    pub(crate) fn new() -> MinHeap<T> {
         MinHeap {
             heap: BinaryHeap::new(),
         }
     }
 
     /// Adds `item` at `cost`.
-    pub fn push(&mut self, cost: f64, item: T) {
+    pub(crate) fn push(&mut self, cost: f64, item: T) {
         self.heap.push(MinCost { cost, item });
     }
 
     /// The cheapest entry (smallest item among equal costs).
-    pub fn pop(&mut self) -> Option<MinCost<T>> {
+    pub(crate) fn pop(&mut self) -> Option<MinCost<T>> {
         self.heap.pop()
     }
 
-    /// The entry [`MinHeap::pop`] would return next, left in the heap.
-    pub fn peek(&self) -> Option<&MinCost<T>> {
-        self.heap.peek()
-    }
-
-    /// Number of entries.
-    pub fn len(&self) -> usize {
-        self.heap.len()
-    }
-
-    /// Whether the heap has no entry.
-    pub fn is_empty(&self) -> bool {
-        self.heap.is_empty()
-    }
-
     /// Empties the heap and keeps its allocation, for the next search.
-    pub fn clear(&mut self) {
+    pub(crate) fn clear(&mut self) {
         self.heap.clear();
     }
 }

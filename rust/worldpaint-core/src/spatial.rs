@@ -10,7 +10,7 @@ use glam::DVec2;
 
 /// One indexed point: its position, a caller-defined `tag` (e.g. which interaction table applies) and `id`.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct GridEntry {
+pub(crate) struct GridEntry {
     /// World XY (m).
     pub position: DVec2,
     /// What the caller groups entries by (a category, an interaction table).
@@ -21,32 +21,20 @@ pub struct GridEntry {
 
 /// A uniform grid of square cells over a box.
 #[derive(Clone, Debug)]
-pub struct SpatialGrid {
+pub(crate) struct SpatialGrid {
     grid: Grid,
     cells: Vec<Vec<GridEntry>>,
-    len: usize,
 }
 
 impl SpatialGrid {
     /// Grid over the box `min..max` with cells of side `cell` (normally the largest query radius).
     /// The cell count is capped (4 million) by enlarging cells, which keeps queries correct.
-    pub fn new(min: DVec2, max: DVec2, cell: f64) -> Self {
+    pub(crate) fn new(min: DVec2, max: DVec2, cell: f64) -> Self {
         let grid = Grid::buckets_covering(min, max, cell);
         SpatialGrid {
             grid,
             cells: vec![Vec::new(); grid.nx * grid.ny],
-            len: 0,
         }
-    }
-
-    /// Number of entries.
-    pub fn len(&self) -> usize {
-        self.len
-    }
-
-    /// Whether the grid holds no entry.
-    pub fn is_empty(&self) -> bool {
-        self.len == 0
     }
 
     fn cell_coords(&self, p: DVec2) -> (usize, usize) {
@@ -54,31 +42,17 @@ impl SpatialGrid {
     }
 
     /// Adds an entry to the cell of its position.
-    pub fn insert(&mut self, entry: GridEntry) {
+    pub(crate) fn insert(&mut self, entry: GridEntry) {
         let (cx, cy) = self.cell_coords(entry.position);
         self.cells[cy * self.grid.nx + cx].push(entry);
-        self.len += 1;
     }
 
     /// Removes the entry with this `id` stored at `position`; returns whether it was found.
-    pub fn remove(&mut self, position: DVec2, id: u32) -> bool {
+    pub(crate) fn remove(&mut self, position: DVec2, id: u32) -> bool {
         let (cx, cy) = self.cell_coords(position);
         let cell = &mut self.cells[cy * self.grid.nx + cx];
         if let Some(k) = cell.iter().position(|e| e.id == id) {
             cell.swap_remove(k);
-            self.len -= 1;
-            true
-        } else {
-            false
-        }
-    }
-
-    /// Changes the id of the entry stored at `position` with id `old` (used when the owner array compacts).
-    pub fn rename(&mut self, position: DVec2, old: u32, new: u32) -> bool {
-        let (cx, cy) = self.cell_coords(position);
-        let cell = &mut self.cells[cy * self.grid.nx + cx];
-        if let Some(e) = cell.iter_mut().find(|e| e.id == old) {
-            e.id = new;
             true
         } else {
             false
@@ -87,7 +61,12 @@ impl SpatialGrid {
 
     /// Calls `visit(entry, distance²)` for every entry within `radius` of `p` (inclusive).
     #[inline]
-    pub fn for_each_within<F: FnMut(&GridEntry, f64)>(&self, p: DVec2, radius: f64, mut visit: F) {
+    pub(crate) fn for_each_within<F: FnMut(&GridEntry, f64)>(
+        &self,
+        p: DVec2,
+        radius: f64,
+        mut visit: F,
+    ) {
         let r2 = radius * radius;
         let (x0, y0) = self.cell_coords(p - DVec2::splat(radius));
         let (x1, y1) = self.cell_coords(p + DVec2::splat(radius));
@@ -110,7 +89,7 @@ impl SpatialGrid {
     }
 
     /// Whether any entry other than `skip_id` lies strictly closer than `radius` to `p`.
-    pub fn any_closer_than(&self, p: DVec2, radius: f64, skip_id: Option<u32>) -> bool {
+    pub(crate) fn any_closer_than(&self, p: DVec2, radius: f64, skip_id: Option<u32>) -> bool {
         let r2 = radius * radius;
         let (x0, y0) = self.cell_coords(p - DVec2::splat(radius));
         let (x1, y1) = self.cell_coords(p + DVec2::splat(radius));

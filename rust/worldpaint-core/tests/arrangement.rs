@@ -5,10 +5,10 @@
 use glam::DVec2;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use worldpaint_core::arrangement::{
-    grow, relax, Arrangement, Element, GrowthOptions, Reference, RotationMode,
+use worldpaint_core::{
+    grow_arrangement, relax_arrangement, Arrangement, Element, GrowthOptions, ReferenceArrangement,
+    Region, RotationMode,
 };
-use worldpaint_core::Region;
 
 const SIDE: usize = 7;
 const JITTER: f64 = 0.03;
@@ -75,7 +75,7 @@ struct Figures {
     closest: f64,
 }
 
-fn figures(reference: &Reference, grown: &Arrangement) -> Figures {
+fn figures(reference: &ReferenceArrangement, grown: &Arrangement) -> Figures {
     let neighbours = grown.neighbours();
     let origin = grown.elements[0].position;
     let reach = grown
@@ -120,9 +120,9 @@ fn figures(reference: &Reference, grown: &Arrangement) -> Figures {
 
 /// The lattice's connectivity as a user leaves it: on the square lattice, whose Delaunay diagonals fall either way
 /// with the jitter, every diagonal flipped to run the same way (seed Fig. 3).
-fn reference_of(hexagonal: bool) -> Reference {
+fn reference_of(hexagonal: bool) -> ReferenceArrangement {
     let mut reference =
-        Reference::new(lattice(hexagonal, 7)).expect("a lattice is a valid reference");
+        ReferenceArrangement::new(lattice(hexagonal, 7)).expect("a lattice is a valid reference");
     if !hexagonal {
         let backward: Vec<(usize, usize)> = reference
             .edges()
@@ -136,15 +136,18 @@ fn reference_of(hexagonal: bool) -> Reference {
     reference
 }
 
-fn grown_from(reference: Reference, rotation: RotationMode) -> (Reference, Arrangement) {
+fn grown_from(
+    reference: ReferenceArrangement,
+    rotation: RotationMode,
+) -> (ReferenceArrangement, Arrangement) {
     grown_with(reference, rotation, RELAX_EVERY)
 }
 
 fn grown_with(
-    reference: Reference,
+    reference: ReferenceArrangement,
     rotation: RotationMode,
     relax_every: usize,
-) -> (Reference, Arrangement) {
+) -> (ReferenceArrangement, Arrangement) {
     let region = Region::Rect {
         min: DVec2::splat(-100.0),
         max: DVec2::splat(100.0),
@@ -156,11 +159,11 @@ fn grown_with(
         relax_every,
         ..GrowthOptions::default()
     };
-    let grown = grow(&reference, &region, DVec2::ZERO, &options).expect("growth runs");
+    let grown = grow_arrangement(&reference, &region, DVec2::ZERO, &options).expect("growth runs");
     (reference, grown)
 }
 
-fn grown_lattice(hexagonal: bool, rotation: RotationMode) -> (Reference, Arrangement) {
+fn grown_lattice(hexagonal: bool, rotation: RotationMode) -> (ReferenceArrangement, Arrangement) {
     grown_from(reference_of(hexagonal), rotation)
 }
 
@@ -194,7 +197,7 @@ fn check_lattice(name: &str, hexagonal: bool) {
         "{name}: no two elements closer than r_short"
     );
 
-    let relaxation = relax(&mut grown).expect("relaxation solves");
+    let relaxation = relax_arrangement(&mut grown).expect("relaxation solves");
     println!(
         "{name}: a last relaxation, eq. (5) error {:.4} -> {:.4} m² (factor {:.3}), {} elements fixed",
         relaxation.error_before,
@@ -215,7 +218,8 @@ fn check_lattice(name: &str, hexagonal: bool) {
 
 #[test]
 fn a_square_lattice_grows_into_a_square_lattice() {
-    let automatic = Reference::new(lattice(false, 7)).expect("a lattice is a valid reference");
+    let automatic =
+        ReferenceArrangement::new(lattice(false, 7)).expect("a lattice is a valid reference");
     let (automatic, grown) = grown_from(automatic, RotationMode::None);
     let f = figures(&automatic, &grown);
     println!(
@@ -241,8 +245,8 @@ fn relaxation_lowers_the_ring_error_of_a_pattern_grown_without_it() {
             min: DVec2::ZERO,
             max: DVec2::splat(8.0),
         };
-        let points = worldpaint_core::exemplar::hard_core(&square, 1.0, 0.75, seed);
-        let reference = Reference::new(
+        let points = worldpaint_core::hard_core_points(&square, 1.0, 0.75, seed);
+        let reference = ReferenceArrangement::new(
             points
                 .iter()
                 .map(|&position| Element {
@@ -256,7 +260,7 @@ fn relaxation_lowers_the_ring_error_of_a_pattern_grown_without_it() {
         .expect("a valid reference");
         let (_, mut grown) = grown_with(reference, RotationMode::None, 0);
         let first = grown.elements[0].position;
-        let relaxation = relax(&mut grown).expect("relaxation solves");
+        let relaxation = relax_arrangement(&mut grown).expect("relaxation solves");
         let factor = relaxation.error_before / relaxation.error_after.max(1e-300);
         println!(
             "irregular reference {seed} grown without relaxation: eq. (5) error {:.3} -> {:.3} m², lowered by a \
@@ -276,7 +280,7 @@ fn relaxation_lowers_the_ring_error_of_a_pattern_grown_without_it() {
 
 #[test]
 fn growth_stops_at_the_region_and_relaxation_keeps_its_edge_fixed() {
-    let reference = Reference::new(lattice(true, 3)).expect("valid reference");
+    let reference = ReferenceArrangement::new(lattice(true, 3)).expect("valid reference");
     let region = Region::Circle {
         center: DVec2::ZERO,
         radius: 6.0,
@@ -285,7 +289,8 @@ fn growth_stops_at_the_region_and_relaxation_keeps_its_edge_fixed() {
         max_elements: 2_000,
         ..GrowthOptions::default()
     };
-    let mut grown = grow(&reference, &region, DVec2::ZERO, &options).expect("growth runs");
+    let mut grown =
+        grow_arrangement(&reference, &region, DVec2::ZERO, &options).expect("growth runs");
     let outside = grown
         .elements
         .iter()
@@ -300,7 +305,7 @@ fn growth_stops_at_the_region_and_relaxation_keeps_its_edge_fixed() {
     assert!(grown.elements.len() > 100 && grown.elements.len() < 2_000);
     assert!(at_edge > 10);
     let before = grown.clone();
-    relax(&mut grown).expect("relaxation solves");
+    relax_arrangement(&mut grown).expect("relaxation solves");
     for i in 0..grown.elements.len() {
         if i == 0 || grown.at_region_boundary[i] {
             assert_eq!(grown.elements[i].position, before.elements[i].position);
@@ -326,7 +331,7 @@ fn the_result_does_not_depend_on_the_thread_count() {
                 f.angle_tv
             );
             assert!(f.ring_fraction >= 0.95 && (f.length_ratio - 1.0).abs() <= 0.03 && f.angle_tv <= 0.1);
-            relax(&mut grown).expect("relaxation solves");
+            relax_arrangement(&mut grown).expect("relaxation solves");
             grown
                 .elements
                 .iter()
@@ -345,7 +350,7 @@ fn the_result_does_not_depend_on_the_thread_count() {
 
 #[test]
 fn an_edge_flip_swaps_the_diagonal_of_two_triangles() {
-    let mut reference = Reference::new(lattice(false, 5)).expect("valid reference");
+    let mut reference = ReferenceArrangement::new(lattice(false, 5)).expect("valid reference");
     let (a, b) = reference
         .edges()
         .into_iter()
@@ -396,16 +401,16 @@ fn bad_references_are_refused_with_clear_messages() {
         ),
     ];
     for (name, elements, words) in cases {
-        let err = Reference::new(elements).expect_err(name);
+        let err = ReferenceArrangement::new(elements).expect_err(name);
         println!("{name}: {err}");
         assert!(err.to_string().contains(words), "{name}: {err}");
     }
-    let reference = Reference::new(lattice(false, 1)).expect("valid reference");
+    let reference = ReferenceArrangement::new(lattice(false, 1)).expect("valid reference");
     let region = Region::Circle {
         center: DVec2::ZERO,
         radius: 5.0,
     };
-    let err = grow(
+    let err = grow_arrangement(
         &reference,
         &region,
         DVec2::new(9.0, 0.0),
@@ -413,7 +418,7 @@ fn bad_references_are_refused_with_clear_messages() {
     )
     .expect_err("start outside");
     println!("start outside: {err}");
-    let err = grow(
+    let err = grow_arrangement(
         &reference,
         &region,
         DVec2::new(f64::NAN, 0.0),
@@ -425,6 +430,6 @@ fn bad_references_are_refused_with_clear_messages() {
         elements: vec![element(0.0, 0.0)],
         ..Arrangement::default()
     };
-    let err = relax(&mut broken).expect_err("inconsistent lists");
+    let err = relax_arrangement(&mut broken).expect_err("inconsistent lists");
     println!("inconsistent arrangement: {err}");
 }

@@ -4,18 +4,16 @@
 
 use std::sync::Arc;
 
-#[path = "common/arrangement.rs"]
 mod common;
 
-use common::nearest_distances;
+use common::arrangement::nearest_distances;
 use glam::DVec2;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use worldpaint_core::tools::brush::{BrushMode, BrushOptions, Stroke};
-use worldpaint_core::tools::{clear, paste};
 use worldpaint_core::{
-    interpolate_colors, learn_arrangement, Category, CategoryKind, Color, Heightfield, Instance,
-    Region, Scene, SynthesisOptions,
+    clear_region, interpolate_colors, learn_arrangement, paste, BrushMode, BrushOptions,
+    BrushStroke, Category, CategoryKind, Color, Heightfield, Instance, Region, Scene,
+    SynthesisOptions,
 };
 
 /// Spacing of the reference lattice (m).
@@ -183,7 +181,8 @@ fn the_spray_brush_grows_the_pattern_and_keeps_what_is_there() {
         radius: 4.0,
         ..Default::default()
     };
-    let mut stroke = Stroke::new(&scene, BrushMode::Paint(Box::new(color.clone())), opts).unwrap();
+    let mut stroke =
+        BrushStroke::new(&scene, BrushMode::Paint(Box::new(color.clone())), opts).unwrap();
     let path: Vec<DVec2> = (0..=20)
         .map(|k| DVec2::new(45.0 + k as f64, 45.0))
         .collect();
@@ -211,7 +210,7 @@ fn the_spray_brush_grows_the_pattern_and_keeps_what_is_there() {
     assert!(band.len() as f64 > 0.85 * sprayed.area() * lattice_density());
     assert!(closest > 0.5 * SPACING);
     // the eraser and Clear Region treat the elements as any instances
-    let cleared = clear(&after, &rect(40.0, 40.0, 45.0, 45.0), Some("cobble")).unwrap();
+    let cleared = clear_region(&after, &rect(40.0, 40.0, 45.0, 45.0), Some("cobble")).unwrap();
     assert!(!cleared.removed.is_empty());
 }
 
@@ -242,8 +241,8 @@ fn an_arrangement_refuses_to_blend_and_keeps_its_flips() {
 
 #[test]
 fn move_carries_a_pattern_rigidly_and_blur_leaves_it_as_it_is() {
-    use worldpaint_core::tools::blur::{blur, BlurOptions};
-    use worldpaint_core::tools::moving::move_region;
+    use worldpaint_core::move_region;
+    use worldpaint_core::{blur, BlurOptions};
     let color = learned();
     let patch = rect(40.0, 40.0, 50.0, 50.0);
     let scene = pasted(&color, &patch);
@@ -285,7 +284,7 @@ fn move_carries_a_pattern_rigidly_and_blur_leaves_it_as_it_is() {
 
 #[test]
 fn colour_noise_tints_each_element_and_the_tint_moves_with_it() {
-    use worldpaint_core::tools::moving::move_region;
+    use worldpaint_core::move_region;
     let plain = learned();
     let mut tinted = plain.clone();
     tinted

@@ -4,19 +4,17 @@
 //! growth fronts meet) and its density. Run with `--nocapture` to see the figures; the pictures are written to
 //! `out/arrangement/` (each element green where its ring matches the reference's, red where it does not).
 
-#[path = "common/arrangement.rs"]
 mod common;
 
 use std::path::PathBuf;
 
-use common::*;
+use common::arrangement::*;
 use glam::DVec2;
 use plotters::prelude::*;
-use worldpaint_core::arrangement::{
-    grow, pattern_fidelity, reference_density, Arrangement, GrowthOptions, PatternFidelity,
-    Reference, RingMatch, RotationMode, DEFAULT_RELAX_EVERY,
+use worldpaint_core::{
+    grow_arrangement, pattern_fidelity, reference_density, Arrangement, GrowthOptions,
+    PatternFidelity, ReferenceArrangement, Region, RingMatch, RotationMode, DEFAULT_RELAX_EVERY,
 };
-use worldpaint_core::Region;
 
 const TURN_DEGREES: f64 = 17.0;
 const NOISE: f64 = 0.03;
@@ -33,12 +31,12 @@ struct Paste {
 }
 
 /// `reference` pasted from the middle of a square of [`AREA_FACTOR`] times its area, relaxed as a color does.
-fn paste(reference: &Reference, rotation: RotationMode, seed: u64) -> Paste {
+fn paste(reference: &ReferenceArrangement, rotation: RotationMode, seed: u64) -> Paste {
     paste_relaxed(reference, rotation, seed, DEFAULT_RELAX_EVERY)
 }
 
 fn paste_relaxed(
-    reference: &Reference,
+    reference: &ReferenceArrangement,
     rotation: RotationMode,
     seed: u64,
     relax_every: usize,
@@ -52,7 +50,7 @@ fn paste_relaxed(
         relax_every,
         ..GrowthOptions::default()
     };
-    let grown = grow(reference, &region, DVec2::ZERO, &options).expect("grows");
+    let grown = grow_arrangement(reference, &region, DVec2::ZERO, &options).expect("grows");
     let fidelity = pattern_fidelity(reference, &grown.elements, &region);
     Paste {
         grown,
@@ -63,7 +61,7 @@ fn paste_relaxed(
 
 /// The pattern's elements and edges, each interior element green where its ring matches and red where not.
 fn draw(name: &str, paste: &Paste, rings: &RingMatch) {
-    let margin = worldpaint_core::arrangement::RING_RADIUS * rings.spacing();
+    let margin = worldpaint_core::RING_RADIUS * rings.spacing();
     let interior =
         |p: DVec2| paste.region.contains(p) && paste.region.distance_to_boundary(p) > margin;
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../out/arrangement");
@@ -127,8 +125,8 @@ fn hand_placed_lattices_keep_their_rings_wherever_they_grow() {
             let cases = SEEDS.iter().map(|&s| (s, NOISE)).chain([(6, 0.0)]);
             for (seed, noise) in cases.chain(SEEDS.iter().map(|&s| (s + 10, MORE_NOISE))) {
                 let elements = hand_placed(lattice, TURN_DEGREES.to_radians(), noise, seed);
-                let reference =
-                    Reference::new(elements.clone()).expect("a hand-placed lattice is a reference");
+                let reference = ReferenceArrangement::new(elements.clone())
+                    .expect("a hand-placed lattice is a reference");
                 let density = reference_density(&reference) / lattice.density();
                 let pasted = paste(&reference, rotation, seed);
                 let f = pasted.fidelity;
@@ -182,8 +180,9 @@ fn hand_placed_lattices_keep_their_rings_wherever_they_grow() {
 #[test]
 fn relaxation_settings_keep_a_hand_placed_lattice() {
     for lattice in LatticeKind::ALL {
-        let reference = Reference::new(hand_placed(lattice, TURN_DEGREES.to_radians(), NOISE, 1))
-            .expect("valid");
+        let reference =
+            ReferenceArrangement::new(hand_placed(lattice, TURN_DEGREES.to_radians(), NOISE, 1))
+                .expect("valid");
         for relax_every in [0, 1, 64] {
             let f = paste_relaxed(&reference, RotationMode::None, 1, relax_every).fidelity;
             println!(

@@ -2,19 +2,20 @@
 //! adjacencies, an irregular reference keeps its spacing, and a lattice is kept better than by WorldBrush's point
 //! synthesis. Run with `--nocapture` to see the figures.
 
-#[path = "common/arrangement.rs"]
 mod common;
 
-use common::*;
+use common::arrangement::*;
 use glam::DVec2;
-use worldpaint_core::arrangement::{grow, relax, Reference, RotationMode};
-use worldpaint_core::exemplar::{hard_core, scene_from_points};
-use worldpaint_core::{learn_color, synthesize, SynthesisOptions};
+use worldpaint_core::{
+    grow_arrangement, hard_core_points, learn_color, relax_arrangement, scene_from_points,
+    synthesize, ReferenceArrangement, RotationMode, SynthesisOptions,
+};
 
 #[test]
 fn two_symbols_in_rows_keep_their_adjacencies() {
     // stones in rows (seed Fig. 8 d): rows of big stones (0) and small stones (1) alternate
-    let reference = Reference::new(lattice(true, 9, |row, _| (row % 2) as u32)).expect("valid");
+    let reference =
+        ReferenceArrangement::new(lattice(true, 9, |row, _| (row % 2) as u32)).expect("valid");
     let region = rect((-12.0, -12.0), (12.0, 12.0));
     let grown = grown_from_centre(&reference, &region);
     // adjacency frequencies: the share of a symbol-s element's neighbours that have symbol t, over interior elements
@@ -99,17 +100,17 @@ fn an_irregular_reference_keeps_its_spacing() {
     let (mut pooled_ref, mut pooled_grown) = (vec![0.0; 5], vec![0.0; 5]);
     for (k, &seed) in seeds.iter().enumerate() {
         // a Poisson-disk reference of 64 points, 0.75 m apart at least
-        let points = hard_core(&square, 1.0, 0.75, seed);
-        let reference = Reference::new(points.iter().map(|p| element(*p, 0)).collect())
+        let points = hard_core_points(&square, 1.0, 0.75, seed);
+        let reference = ReferenceArrangement::new(points.iter().map(|p| element(*p, 0)).collect())
             .expect("valid reference");
-        let mut grown = grow(
+        let mut grown = grow_arrangement(
             &reference,
             &region,
             DVec2::ZERO,
             &options(RotationMode::BestFit),
         )
         .expect("grows");
-        relax(&mut grown).expect("relaxes");
+        relax_arrangement(&mut grown).expect("relaxes");
         let all = positions(&grown);
         let nn_all = nearest_distances(&all);
         let nn_grown: Vec<f64> = all
@@ -126,7 +127,7 @@ fn an_irregular_reference_keeps_its_spacing() {
         );
         let tv = total_variation(&h_ref, &h_grown);
         // the same process's own spread: another Poisson-disk set of 64 points against this one
-        let other = hard_core(&square, 1.0, 0.75, seeds[(k + 1) % seeds.len()]);
+        let other = hard_core_points(&square, 1.0, 0.75, seeds[(k + 1) % seeds.len()]);
         let baseline = total_variation(
             &h_ref,
             &spacing_histogram(&nearest_distances(&other), mean_ref),
@@ -180,9 +181,13 @@ fn an_irregular_reference_keeps_its_spacing() {
 
 /// Ring-size share, mean edge length error and edge-angle TV of points with the Delaunay connectivity that
 /// [`Reference::new`] builds (skewed triangles dropped), over its interior points.
-fn delaunay_figures(points: &[DVec2], reference: &Reference, ring: usize) -> (f64, f64, f64) {
-    let analysed =
-        Reference::new(points.iter().map(|p| element(*p, 0)).collect()).expect("a triangulation");
+fn delaunay_figures(
+    points: &[DVec2],
+    reference: &ReferenceArrangement,
+    ring: usize,
+) -> (f64, f64, f64) {
+    let analysed = ReferenceArrangement::new(points.iter().map(|p| element(*p, 0)).collect())
+        .expect("a triangulation");
     let interior: Vec<usize> = (0..points.len())
         .filter(|&i| !analysed.is_boundary(i))
         .collect();
@@ -204,7 +209,8 @@ fn delaunay_figures(points: &[DVec2], reference: &Reference, ring: usize) -> (f6
 fn the_arrangement_keeps_a_lattice_better_than_point_synthesis() {
     for hexagonal in [true, false] {
         let name = if hexagonal { "hexagonal" } else { "square" };
-        let mut reference = Reference::new(lattice(hexagonal, 7, |_, _| 0)).expect("valid");
+        let mut reference =
+            ReferenceArrangement::new(lattice(hexagonal, 7, |_, _| 0)).expect("valid");
         if !hexagonal {
             // every diagonal the same way (seed Fig. 3), as a user leaves a square lattice
             let backward: Vec<(usize, usize)> = reference

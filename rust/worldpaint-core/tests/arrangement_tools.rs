@@ -4,16 +4,14 @@
 //! reported, bad input is refused.
 //! Run with `--nocapture` to see the figures.
 
-#[path = "common/arrangement.rs"]
 mod common;
 
-use common::*;
+use common::arrangement::*;
 use glam::DVec2;
-use worldpaint_core::arrangement::{
-    grow, grow_around, relax, Arrangement, Element, FlowField, GrowthOptions, Noise, Reference,
-    RotationMode,
+use worldpaint_core::{
+    grow_arrangement, grow_arrangement_around, relax_arrangement, Arrangement, Element, Error,
+    FlowField, GrowthNoise, GrowthOptions, ReferenceArrangement, Region, RotationMode,
 };
-use worldpaint_core::{Error, Region};
 
 /// Two concentric arcs about (0, −30), drawn counter-clockwise... the flow turns about that centre.
 fn two_arcs() -> Vec<Vec<DVec2>> {
@@ -52,8 +50,9 @@ fn the_flow_field_mode_turns_elements_along_the_strokes() {
         flow: Some(flow.clone()),
         ..options(RotationMode::Flow)
     };
-    let mut grown = grow(&reference, &region, DVec2::ZERO, &grown_options).expect("grows");
-    relax(&mut grown).expect("relaxes");
+    let mut grown =
+        grow_arrangement(&reference, &region, DVec2::ZERO, &grown_options).expect("grows");
+    relax_arrangement(&mut grown).expect("relaxes");
     let angles: Vec<f64> = grown
         .elements
         .iter()
@@ -87,7 +86,7 @@ fn the_flow_field_mode_turns_elements_along_the_strokes() {
     assert!(share >= 0.8);
     assert!(closest >= reference.r_short());
 
-    let missing = grow(
+    let missing = grow_arrangement(
         &reference,
         &region,
         DVec2::ZERO,
@@ -129,7 +128,8 @@ fn a_boundary_curve_stops_growth() {
         boundaries: vec![curve.clone()],
         ..options(RotationMode::None)
     };
-    let mut grown = grow(&reference, &region, DVec2::ZERO, &grown_options).expect("grows");
+    let mut grown =
+        grow_arrangement(&reference, &region, DVec2::ZERO, &grown_options).expect("grows");
     let far = grown
         .elements
         .iter()
@@ -186,7 +186,7 @@ fn a_boundary_curve_stops_growth() {
         "the elements along the curve are flagged"
     );
     let before = grown.clone();
-    relax(&mut grown).expect("relaxes");
+    relax_arrangement(&mut grown).expect("relaxes");
     for &i in &stopped {
         assert_eq!(grown.elements[i].position, before.elements[i].position);
     }
@@ -199,7 +199,7 @@ fn a_boundary_curve_stops_growth() {
         relaxed_gap >= r_short,
         "and keeps it through the relaxation"
     );
-    let err = grow(
+    let err = grow_arrangement(
         &reference,
         &region,
         DVec2::ZERO,
@@ -214,10 +214,10 @@ fn a_boundary_curve_stops_growth() {
 
 /// A pattern grown in the left half of a 30 × 20 m rectangle, then the right half grown on from it: the seam's
 /// figures, checked; returns the left half.
-fn paste_beside(reference: &Reference, name: &str, min_share: f64) -> Arrangement {
+fn paste_beside(reference: &ReferenceArrangement, name: &str, min_share: f64) -> Arrangement {
     let l = reference.mean_edge();
     let left_region = rect((-15.0, -10.0), (0.0, 10.0));
-    let left = grow(
+    let left = grow_arrangement(
         reference,
         &left_region,
         DVec2::new(-7.0, 0.0),
@@ -225,7 +225,7 @@ fn paste_beside(reference: &Reference, name: &str, min_share: f64) -> Arrangemen
     )
     .expect("the left half grows");
     let right_region = rect((0.0, -10.0), (15.0, 10.0));
-    let both = grow_around(
+    let both = grow_arrangement_around(
         reference,
         &right_region,
         &left.elements,
@@ -294,7 +294,7 @@ fn paste_beside(reference: &Reference, name: &str, min_share: f64) -> Arrangemen
 
 #[test]
 fn a_pattern_grows_on_from_an_existing_one_without_a_seam() {
-    let mut square = Reference::new(lattice(false, 7, |_, _| 0)).expect("valid");
+    let mut square = ReferenceArrangement::new(lattice(false, 7, |_, _| 0)).expect("valid");
     let backward: Vec<(usize, usize)> = square
         .edges()
         .into_iter()
@@ -371,7 +371,7 @@ fn a_pattern_grows_on_from_an_existing_one_without_a_seam() {
 #[test]
 fn noise_leaves_growth_alone_and_results_do_not_depend_on_the_thread_count() {
     let reference = hexagonal_reference();
-    let left = grow(
+    let left = grow_arrangement(
         &reference,
         &rect((-10.0, -8.0), (0.0, 8.0)),
         DVec2::new(-5.0, 0.0),
@@ -380,7 +380,7 @@ fn noise_leaves_growth_alone_and_results_do_not_depend_on_the_thread_count() {
     .expect("grows");
     let right = rect((0.0, -8.0), (10.0, 8.0));
     let noisy = GrowthOptions {
-        noise: Noise {
+        noise: GrowthNoise {
             scale: 0.2,
             rotation: 0.3,
         },
@@ -392,7 +392,7 @@ fn noise_leaves_growth_alone_and_results_do_not_depend_on_the_thread_count() {
             .build()
             .expect("a thread pool");
         pool.install(|| {
-            grow_around(&reference, &right, &left.elements, None, options, &|_| true)
+            grow_arrangement_around(&reference, &right, &left.elements, None, options, &|_| true)
                 .expect("grows")
         })
     };
@@ -451,7 +451,7 @@ fn progress_is_reported_and_cancels() {
     let reference = hexagonal_reference();
     let region = rect((-20.0, -20.0), (20.0, 20.0));
     let reports = std::cell::RefCell::new(Vec::new());
-    let grown = grow_around(
+    let grown = grow_arrangement_around(
         &reference,
         &region,
         &[],
@@ -472,7 +472,7 @@ fn progress_is_reported_and_cancels() {
     );
     assert!(reports.len() >= 3 && reports.windows(2).all(|w| w[0] <= w[1]));
     assert!(region.contains(grown.elements[0].position));
-    let cancelled = grow_around(
+    let cancelled = grow_arrangement_around(
         &reference,
         &region,
         &[],
@@ -495,7 +495,7 @@ fn a_long_boundary_curve_keeps_growth_fast() {
         })
         .collect();
     let t0 = std::time::Instant::now();
-    let grown = grow(
+    let grown = grow_arrangement(
         &reference,
         &region,
         DVec2::ZERO,
@@ -526,7 +526,7 @@ fn bad_input_to_grow_around_is_refused_with_clear_messages() {
     let region = rect((0.0, 0.0), (10.0, 10.0));
     let run =
         |region: &Region, existing: &[Element], start: Option<DVec2>, options: &GrowthOptions| {
-            grow_around(&reference, region, existing, start, options, &|_| true)
+            grow_arrangement_around(&reference, region, existing, start, options, &|_| true)
         };
     let fine = GrowthOptions::default();
     let nan = element(DVec2::new(f64::NAN, 1.0), 0);
@@ -567,7 +567,7 @@ fn bad_input_to_grow_around_is_refused_with_clear_messages() {
                 &[],
                 None,
                 &GrowthOptions {
-                    noise: Noise {
+                    noise: GrowthNoise {
                         scale: -1.0,
                         rotation: 0.0,
                     },
@@ -638,7 +638,7 @@ fn a_spray_stroke_of_overlapping_dabs_paints_one_pattern() {
             .copied()
             .collect();
         let t0 = std::time::Instant::now();
-        let dab = grow_around(
+        let dab = grow_arrangement_around(
             &reference,
             &Region::Circle { center, radius },
             &nearby,
@@ -656,7 +656,7 @@ fn a_spray_stroke_of_overlapping_dabs_paints_one_pattern() {
     let points: Vec<DVec2> = scene.iter().map(|e| e.position).collect();
     let closest = closest_pair(&points, 1.0);
     // the painted pattern's own Delaunay connectivity: an unambiguous one on a hexagonal lattice
-    let painted = Reference::new(scene.clone()).expect("a triangulation");
+    let painted = ReferenceArrangement::new(scene.clone()).expect("a triangulation");
     // interior: the painted area (the union of the dabs) holds a circle of 1.3 mean edges around the element
     let painted_area = |p: DVec2| centers.iter().any(|c| c.distance(p) <= radius);
     let interior: Vec<usize> = (0..scene.len())
@@ -690,7 +690,7 @@ fn a_spray_stroke_of_overlapping_dabs_paints_one_pattern() {
 /// A spray dab of `reference` over the disc `dab` centred at `center`, growing from the elements of `pattern`
 /// within three mean edges of it (the spray tool's context): those elements and the grown arrangement.
 fn spray_dab(
-    reference: &Reference,
+    reference: &ReferenceArrangement,
     pattern: &Arrangement,
     dab: &Region,
     center: DVec2,
@@ -705,7 +705,7 @@ fn spray_dab(
         .filter(|e| e.position.distance(center) <= reach)
         .copied()
         .collect();
-    let grown = grow_around(
+    let grown = grow_arrangement_around(
         reference,
         dab,
         &nearby,

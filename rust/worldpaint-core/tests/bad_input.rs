@@ -3,14 +3,10 @@
 //! belong.
 
 use std::sync::Arc;
-use worldpaint_core::exemplar::{self, scene_from_points};
-use worldpaint_core::geom::DVec2;
-use worldpaint_core::synthesis::AdaptOptions;
-use worldpaint_core::tools::moving::move_region;
-use worldpaint_core::tools::stretch::{stretch, Side, StretchOptions};
 use worldpaint_core::{
-    learn_color, synthesize, AnalysisOptions, Color, Error, Heightfield, Palette, Region, Scene,
-    SynthesisOptions,
+    learn_color, move_region, scene_from_points, stretch, synthesize, uniform_points, AdaptOptions,
+    AnalysisOptions, Color, DVec2, Error, Heightfield, Palette, Region, Scene, StretchOptions,
+    StretchSide, SynthesisOptions,
 };
 
 fn rect(min: (f64, f64), max: (f64, f64)) -> Region {
@@ -29,7 +25,7 @@ fn flat_terrain() -> Arc<Heightfield> {
 /// A uniform forest of 0.05 trees per m², learned on a 50 m square without maps.
 fn forest_color() -> Color {
     let region = rect((0.0, 0.0), (50.0, 50.0));
-    let scene = scene_from_points("tree", &exemplar::uniform(&region, 0.05, 3));
+    let scene = scene_from_points("tree", &uniform_points(&region, 0.05, 3));
     learn_color(&scene, &region, "forest", &AnalysisOptions::default()).unwrap()
 }
 
@@ -201,7 +197,7 @@ fn work_past_the_limits_is_refused_before_it_is_allocated() {
     assert_eq!(learned.categories[0].count, 2);
     // a bin width of a nanometre
     let square = rect((0.0, 0.0), (50.0, 50.0));
-    let forest = scene_from_points("tree", &exemplar::uniform(&square, 0.05, 3));
+    let forest = scene_from_points("tree", &uniform_points(&square, 0.05, 3));
     let fine = AnalysisOptions {
         bin_width: Some(1e-9),
         ..Default::default()
@@ -295,7 +291,7 @@ fn a_stretch_far_past_the_terrain_does_not_cram_what_it_moves() {
     let stretched = stretch(
         &scene,
         &rect((20.0, 20.0), (180.0, 180.0)),
-        Side::East,
+        StretchSide::East,
         10_000.0,
         Some(&color),
         &StretchOptions::default(),
@@ -314,16 +310,16 @@ fn a_stretch_far_past_the_terrain_does_not_cram_what_it_moves() {
     );
 }
 
-#[path = "common/variety_models.rs"]
-mod variety_models;
+mod common;
+use common::variety_models;
 
 /// Model variety: copies that are not edits of their part's piece, and counts past the number of models.
 mod variety {
     use super::variety_models;
     use std::time::Instant;
-    use worldpaint_core::variety::{
-        generate, pack_components, pick_texture_variants, Atlas, Decomposition, GenerateOptions,
-        IntersectionLabels, Model,
+    use worldpaint_core::{
+        generate_variants, pack_components, pick_texture_variants, Atlas, Decomposition,
+        GenerateOptions, IntersectionLabels, Model,
     };
 
     /// The variety test tree decomposed (root: the lower trunk) into an atlas of its original pieces, its parts named
@@ -430,7 +426,7 @@ mod variety {
             .expect("a taller crown");
         let labels = IntersectionLabels::of_model(&tree.model);
         let start = Instant::now();
-        let made = generate(
+        let made = generate_variants(
             &atlas,
             &labels,
             &GenerateOptions {
@@ -473,12 +469,12 @@ mod variety {
 
 mod sketch {
     use rand::{Rng, SeedableRng};
-    use worldpaint_core::exemplar::rough_terrain;
-    use worldpaint_core::geom::{DVec2, DVec3};
-    use worldpaint_core::sketch::apply::{apply_sketch, SketchEdit, SketchOptions};
-    use worldpaint_core::sketch::checks::MAX_MATCHING_WORK;
-    use worldpaint_core::sketch::matching::MAX_ASSIGNMENT_NODES;
-    use worldpaint_core::sketch::{Camera, Sight, Stroke};
+    use worldpaint_core::rough_terrain;
+    use worldpaint_core::MAX_ASSIGNMENT_NODES;
+    use worldpaint_core::MAX_MATCHING_WORK;
+    use worldpaint_core::{apply_sketch, SketchEdit, SketchOptions};
+    use worldpaint_core::{Camera, Sight, SketchStroke};
+    use worldpaint_core::{DVec2, DVec3};
     use worldpaint_core::{Error, Heightfield};
 
     /// The sketch benchmark's view on a 256 m rough terrain: 15 m above its ground at (0.15, 0.15) of it, looking
@@ -501,9 +497,9 @@ mod sketch {
     }
 
     /// A stroke 3 % of the image above the visible skyline over the middle of the view.
-    fn above_skyline(terrain: &Heightfield, camera: &Camera) -> Stroke {
+    fn above_skyline(terrain: &Heightfield, camera: &Camera) -> SketchStroke {
         let sight = Sight::new(terrain);
-        Stroke {
+        SketchStroke {
             points: (0..=20)
                 .filter_map(|k| {
                     let x = 0.3 + 0.4 * k as f64 / 20.0;
@@ -514,17 +510,17 @@ mod sketch {
         }
     }
 
-    fn stroke(points: &[(f64, f64)]) -> Stroke {
-        Stroke {
+    fn stroke(points: &[(f64, f64)]) -> SketchStroke {
+        SketchStroke {
             points: points.iter().map(|&(x, y)| DVec2::new(x, y)).collect(),
         }
     }
 
     /// `count` random two-point strokes in the frame (seeded).
-    fn random_strokes(count: usize, seed: u64) -> Vec<Stroke> {
+    fn random_strokes(count: usize, seed: u64) -> Vec<SketchStroke> {
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
         (0..count)
-            .map(|_| Stroke {
+            .map(|_| SketchStroke {
                 points: (0..2)
                     .map(|_| DVec2::new(rng.random::<f64>(), rng.random::<f64>()))
                     .collect(),
@@ -535,7 +531,7 @@ mod sketch {
     fn apply(
         terrain: &Heightfield,
         camera: &Camera,
-        strokes: &[Stroke],
+        strokes: &[SketchStroke],
         options: &SketchOptions,
     ) -> worldpaint_core::Result<SketchEdit> {
         apply_sketch(terrain, camera, strokes, options, &|_| true)
@@ -569,9 +565,9 @@ mod sketch {
             frame,
         )
         .unwrap();
-        let sketch_of = |s: Stroke| vec![s];
+        let sketch_of = |s: SketchStroke| vec![s];
         #[allow(clippy::type_complexity)]
-        let cases: Vec<(&str, Camera, Vec<Stroke>, &[&str])> = vec![
+        let cases: Vec<(&str, Camera, Vec<SketchStroke>, &[&str])> = vec![
             (
                 "a stroke at y = 50-60",
                 camera,

@@ -2,10 +2,9 @@
 //! from meshes have the right heights, the window-edge fraction is right, pasting respects neighbours, and the
 //! same seed gives the same world whatever the thread count.
 
-use worldpaint_core::exemplar::{self, scene_from_points};
-use worldpaint_core::geom::DVec2;
 use worldpaint_core::{
-    learn_color, synthesize, Error, Heightfield, Instance, Palette, Region, SynthesisOptions,
+    hard_core_points, learn_color, scene_from_points, slope_scene, synthesize, DVec2, Error,
+    Heightfield, Instance, Palette, Region, SynthesisOptions,
 };
 
 fn square(min: f64, max: f64) -> Region {
@@ -17,7 +16,7 @@ fn square(min: f64, max: f64) -> Region {
 
 fn hard_core_color() -> worldpaint_core::Color {
     let region = square(0.0, 100.0);
-    let scene = scene_from_points("tree", &exemplar::hard_core(&region, 0.04, 3.0, 7));
+    let scene = scene_from_points("tree", &hard_core_points(&region, 0.04, 3.0, 7));
     learn_color(&scene, &region, "hard core", &Default::default()).unwrap()
 }
 
@@ -195,7 +194,7 @@ fn seamless_paste_keeps_the_hard_core_across_the_border() {
 
 #[test]
 fn same_seed_same_world_with_one_or_two_threads() {
-    let scene = exemplar::slope_scene(200.0, 5);
+    let scene = slope_scene(200.0, 5);
     let learn_region = square(0.0, 100.0);
     let run = || {
         let color = learn_color(&scene, &learn_region, "slope", &Default::default()).unwrap();

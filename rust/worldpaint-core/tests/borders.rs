@@ -2,10 +2,9 @@
 //! the density inside it (the free-border term of the synthesis), for the product model of small counts and for
 //! the rdf-matching chain of larger ones.
 
-use worldpaint_core::exemplar;
-use worldpaint_core::geom::DVec2;
 use worldpaint_core::{
-    learn_color, synthesize, Category, Instance, Region, Scene, SynthesisOptions,
+    hard_core_points, learn_color, synthesize, Category, DVec2, Instance, Region, Scene,
+    SynthesisOptions,
 };
 
 /// Density in 2 m bands by distance to the border of `side × side` squares painted `runs` times, relative to the
@@ -17,7 +16,7 @@ fn border_profile(density: f64, side: f64, runs: u64) -> Vec<f64> {
     };
     let scene = Scene {
         categories: vec![Category::distribution("tree", "vegetation", 0)],
-        instances: exemplar::hard_core(&exemplar_region, density, 3.0, 11)
+        instances: hard_core_points(&exemplar_region, density, 3.0, 11)
             .into_iter()
             .map(|p| Instance::at(p, 0))
             .collect(),

@@ -1,13 +1,10 @@
 //! Brush strokes (Section 5.3): a stroke of dabs paints the color's statistics along its whole length with no
 //! seam between the dabs; alpha thins the color over bare ground; the eraser removes only what it should.
 
-use worldpaint_core::exemplar;
-use worldpaint_core::geom::DVec2;
-use worldpaint_core::scene::Path;
-use worldpaint_core::tools::brush::{BrushMode, BrushOptions, Falloff, Stroke};
 use worldpaint_core::{
-    compare, learn_color, AnalysisOptions, Category, CategoryKind, Color, Instance, Region, Scene,
-    SynthesisOptions,
+    compare, demo_terrain, hard_core_points, learn_color, uniform_points, AnalysisOptions,
+    BrushMode, BrushOptions, BrushStroke, Category, CategoryKind, Color, DVec2, Falloff, Instance,
+    Path, Region, Scene, SynthesisOptions,
 };
 
 const RADIUS: f64 = 20.0;
@@ -19,7 +16,7 @@ fn hard_core_on_hills() -> (Scene, Color) {
         min: DVec2::ZERO,
         max: DVec2::splat(100.0),
     };
-    let points = exemplar::hard_core(&exemplar_region, 0.04, 3.0, 11);
+    let points = hard_core_points(&exemplar_region, 0.04, 3.0, 11);
     let exemplar = Scene {
         categories: vec![Category::distribution("tree", "vegetation", 0)],
         instances: points.iter().map(|p| Instance::at(*p, 0)).collect(),
@@ -35,7 +32,7 @@ fn hard_core_on_hills() -> (Scene, Color) {
     .unwrap();
     let canvas = Scene {
         instances: Vec::new(),
-        terrain: Some(exemplar::demo_terrain(600.0, 2.0, 7).into()),
+        terrain: Some(demo_terrain(600.0, 2.0, 7).into()),
         ..exemplar
     };
     (canvas, color)
@@ -75,7 +72,7 @@ fn options(seed: u64) -> BrushOptions {
 #[test]
 fn a_stroke_of_forty_dabs_paints_the_color_without_seams() {
     let (canvas, color) = hard_core_on_hills();
-    let mut stroke = Stroke::new(
+    let mut stroke = BrushStroke::new(
         &canvas,
         BrushMode::Paint(Box::new(color.clone())),
         options(3),
@@ -132,7 +129,7 @@ fn a_stroke_of_forty_dabs_paints_the_color_without_seams() {
     // (the painted color is learned with the terrain's slope map, which the reference color does not compare)
     let stroke_color = learn_color(&painted, &band, "stroke", &same_bins).unwrap();
     let second = Scene {
-        instances: exemplar::hard_core(&band, 0.04, 3.0, 99)
+        instances: hard_core_points(&band, 0.04, 3.0, 99)
             .into_iter()
             .map(|p| Instance::at(p, 0))
             .collect(),
@@ -155,7 +152,7 @@ fn an_alpha_brush_thins_the_color_over_bare_ground() {
             .iter()
             .filter(|i| {
                 path.windows(2)
-                    .any(|w| worldpaint_core::geom::segment_distance(i.position, w[0], w[1]) <= r)
+                    .any(|w| worldpaint_core::segment_distance(i.position, w[0], w[1]) <= r)
             })
             .count() as f64
     };
@@ -169,7 +166,8 @@ fn an_alpha_brush_thins_the_color_over_bare_ground() {
     };
     let mut half = options(5);
     half.opacity = 0.5;
-    let mut stroke = Stroke::new(&canvas, BrushMode::Paint(Box::new(color.clone())), half).unwrap();
+    let mut stroke =
+        BrushStroke::new(&canvas, BrushMode::Paint(Box::new(color.clone())), half).unwrap();
     stroke.follow(&straight, &|_| true).unwrap();
     let painted = stroke.edit().applied_to(&canvas);
     let region = inner(RADIUS);
@@ -188,7 +186,7 @@ fn an_alpha_brush_thins_the_color_over_bare_ground() {
     // a smooth falloff: denser near the path than near the brush's edge
     let mut soft = options(6);
     soft.falloff = Falloff::Smooth;
-    let mut stroke = Stroke::new(&canvas, BrushMode::Paint(Box::new(color)), soft).unwrap();
+    let mut stroke = BrushStroke::new(&canvas, BrushMode::Paint(Box::new(color)), soft).unwrap();
     stroke.follow(&straight, &|_| true).unwrap();
     let painted = stroke.edit().applied_to(&canvas);
     let core = count_within(&painted, &straight, RADIUS / 3.0);
@@ -207,12 +205,12 @@ fn the_eraser_removes_unlocked_instances_of_its_categories_near_the_path() {
         min: DVec2::ZERO,
         max: DVec2::splat(200.0),
     };
-    let mut instances: Vec<Instance> = exemplar::uniform(&region, 0.02, 1)
+    let mut instances: Vec<Instance> = uniform_points(&region, 0.02, 1)
         .into_iter()
         .map(|p| Instance::at(p, 0))
         .collect();
     instances.extend(
-        exemplar::uniform(&region, 0.02, 2)
+        uniform_points(&region, 0.02, 2)
             .into_iter()
             .map(|p| Instance::at(p, 1)),
     );
@@ -234,13 +232,13 @@ fn the_eraser_removes_unlocked_instances_of_its_categories_near_the_path() {
         DVec2::new(180.0, 20.0),
     ];
     let mode = BrushMode::Erase(Some(vec!["rock".into()]));
-    let mut stroke = Stroke::new(&scene, mode, options(0)).unwrap();
+    let mut stroke = BrushStroke::new(&scene, mode, options(0)).unwrap();
     stroke.follow(&path, &|_| true).unwrap();
     let edit = stroke.edit();
     assert!(edit.added.is_empty());
     let near = |p: DVec2| {
         path.windows(2)
-            .any(|w| worldpaint_core::geom::segment_distance(p, w[0], w[1]) <= RADIUS)
+            .any(|w| worldpaint_core::segment_distance(p, w[0], w[1]) <= RADIUS)
     };
     let expected: Vec<usize> = (0..scene.instances.len())
         .filter(|&k| {
@@ -257,7 +255,7 @@ fn the_eraser_removes_unlocked_instances_of_its_categories_near_the_path() {
 fn the_same_stroke_and_seed_paint_the_same_instances() {
     let (canvas, color) = hard_core_on_hills();
     let run = || {
-        let mut s = Stroke::new(
+        let mut s = BrushStroke::new(
             &canvas,
             BrushMode::Paint(Box::new(color.clone())),
             options(9),
@@ -304,7 +302,7 @@ fn the_eraser_cuts_a_road_under_the_brush_and_leaves_no_stub_shorter_than_its_sh
     let mut now = scene.clone();
     for s in &strokes {
         let mode = BrushMode::Erase(Some(vec!["road".into()]));
-        let mut stroke = Stroke::new(&now, mode, opts_radius(5.0)).unwrap();
+        let mut stroke = BrushStroke::new(&now, mode, opts_radius(5.0)).unwrap();
         stroke.follow(s, &|_| true).unwrap();
         now = stroke.scene().clone();
     }
@@ -327,7 +325,7 @@ fn the_eraser_cuts_a_road_under_the_brush_and_leaves_no_stub_shorter_than_its_sh
     let under_brush = |p: DVec2| {
         strokes
             .iter()
-            .any(|s| worldpaint_core::geom::segment_distance(p, s[0], s[1]) < 5.0 - 1e-6)
+            .any(|s| worldpaint_core::segment_distance(p, s[0], s[1]) < 5.0 - 1e-6)
     };
     for piece in &pieces {
         assert!(piece.points.iter().all(|p| !under_brush(*p)));
@@ -341,12 +339,12 @@ fn the_eraser_cuts_a_road_under_the_brush_and_leaves_no_stub_shorter_than_its_sh
         vec![&drawn]
     );
     // erasing instances only (no category named) leaves roads alone
-    let mut all = Stroke::new(&scene, BrushMode::Erase(None), opts_radius(5.0)).unwrap();
+    let mut all = BrushStroke::new(&scene, BrushMode::Erase(None), opts_radius(5.0)).unwrap();
     all.follow(&strokes[0], &|_| true).unwrap();
     assert!(all.edit().removed_paths.is_empty());
     // the color's shortest edge given: a road color whose edges are 95 m or more keeps the 98 m piece only
     let mode = BrushMode::Erase(Some(vec!["road".into()]));
-    let mut long = Stroke::new(&scene, mode, opts_radius(5.0)).unwrap();
+    let mut long = BrushStroke::new(&scene, mode, opts_radius(5.0)).unwrap();
     long.set_shortest_edge("road", 95.0).unwrap();
     assert!(long.set_shortest_edge("castle", 1.0).is_err());
     long.follow(&strokes[0], &|_| true).unwrap();

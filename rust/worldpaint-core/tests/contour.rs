@@ -1,9 +1,10 @@
 //! Islands and lakes: a contour filled with dense points and traced back keeps its shape; signed distances.
 
 use std::f64::consts::TAU;
-use worldpaint_core::contour::{fill, trace, Polygons};
-use worldpaint_core::geom::{polygon_signed_area, segment_distance, DVec2};
-use worldpaint_core::polygon_mesh::triangulate;
+use worldpaint_core::{
+    fill_polygons, polygon_signed_area, segment_distance, trace_contours, triangulate, DVec2,
+    Polygons,
+};
 
 /// A wobbly island around `c`.
 fn island(c: DVec2, r: f64) -> Vec<DVec2> {
@@ -43,10 +44,10 @@ fn a_contour_traced_back_from_its_dense_points_keeps_its_shape() {
     let spacing = 2.0;
     let shape = island(DVec2::new(100.0, 80.0), 40.0);
     let polygons = Polygons::new(std::slice::from_ref(&shape));
-    let points = fill(&polygons, spacing, 1);
+    let points = fill_polygons(&polygons, spacing, 1);
     let area = polygon_signed_area(&shape).abs();
     assert!((points.len() as f64 * spacing * spacing / area - 1.0).abs() < 0.05);
-    let traced = trace(&points, spacing);
+    let traced = trace_contours(&points, spacing);
     assert_eq!(traced.len(), 1);
     let traced_area = polygon_signed_area(&traced[0]).abs();
     let h = hausdorff(&shape, &traced[0]);
@@ -76,9 +77,9 @@ fn a_lake_in_an_island_is_a_hole() {
     );
     let s = polygons.signed_distance(DVec2::new(25.0, 0.0), 1000.0);
     assert!((-1.0..0.0).contains(&s), "{s}");
-    let points = fill(&polygons, 2.0, 3);
+    let points = fill_polygons(&polygons, 2.0, 3);
     assert!(points.iter().all(|p| p.length() > 10.0 - 1e-9));
-    let traced = trace(&points, 2.0);
+    let traced = trace_contours(&points, 2.0);
     assert_eq!(traced.len(), 2, "the coast and the lake shore");
 }
 
@@ -114,11 +115,11 @@ fn an_island_with_a_lake_fills_as_a_mesh_with_a_hole() {
 #[test]
 fn tracing_the_same_points_gives_the_same_contours() {
     let (outer, lake) = island_with_a_lake();
-    let points = fill(&Polygons::new(&[outer, lake]), 2.0, 5);
-    let first = trace(&points, 2.0);
+    let points = fill_polygons(&Polygons::new(&[outer, lake]), 2.0, 5);
+    let first = trace_contours(&points, 2.0);
     for _ in 0..5 {
         assert_eq!(
-            trace(&points, 2.0),
+            trace_contours(&points, 2.0),
             first,
             "loops start at the same place on every call"
         );

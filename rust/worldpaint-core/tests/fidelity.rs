@@ -2,11 +2,10 @@
 //! pair statistics about as well as a second draw of the process that made the exemplar.
 
 use std::sync::Arc;
-use worldpaint_core::exemplar::{self, scene_from_points};
-use worldpaint_core::geom::DVec2;
 use worldpaint_core::{
-    compare, learn_color, synthesize, AnalysisOptions, Color, Heightfield, Region, Scene,
-    SynthesisOptions, SynthesisResult,
+    clustered_points, compare, demo_terrain, hard_core_points, learn_color, scene_from_points,
+    slope_scene, synthesize, undergrowth_scene, uniform_points, AnalysisOptions, Color, DVec2,
+    Heightfield, Region, Scene, SynthesisOptions, SynthesisResult,
 };
 
 fn exemplar_region() -> Region {
@@ -100,19 +99,17 @@ fn check(kind: &str, make: &dyn Fn(&Region, u64) -> Vec<DVec2>) {
 
 #[test]
 fn uniform_exemplar_is_reproduced() {
-    check("uniform", &|r, s| exemplar::uniform(r, 0.05, s));
+    check("uniform", &|r, s| uniform_points(r, 0.05, s));
 }
 
 #[test]
 fn clustered_exemplar_is_reproduced() {
-    check("clustered", &|r, s| {
-        exemplar::clustered(r, 0.004, 8.0, 2.0, s)
-    });
+    check("clustered", &|r, s| clustered_points(r, 0.004, 8.0, 2.0, s));
 }
 
 #[test]
 fn hard_core_exemplar_is_reproduced() {
-    check("hard-core", &|r, s| exemplar::hard_core(r, 0.04, 3.0, s));
+    check("hard-core", &|r, s| hard_core_points(r, 0.04, 3.0, s));
 }
 
 /// Slope, tree density, rock density, grass density, rock–grass rdf L2 (synthesized, second draw) for one seed.
@@ -136,9 +133,9 @@ fn slope_fidelity(seed: u64) -> SlopeFidelity {
         min: DVec2::ZERO,
         max: DVec2::splat(size),
     };
-    let scene = exemplar::slope_scene(size, seed);
+    let scene = slope_scene(size, seed);
     let color = learn_color(&scene, &learn_region, "slope", &Default::default()).unwrap();
-    let second = exemplar::slope_scene(size, seed + 1000);
+    let second = slope_scene(size, seed + 1000);
     let second_color = learn_color(&second, &learn_region, "second", &same_bins(&color)).unwrap();
     let reference_l2 = compare(&color, &second_color)
         .rdf_l2_of("grass", "rock")
@@ -246,18 +243,18 @@ fn paint_square_kilometre(color: &Color) -> (Region, SynthesisResult) {
 fn a_paste_a_hundred_examples_large_matches_them_as_well_as_a_second_draw() {
     let region = exemplar_region();
     let color = learn_color(
-        &exemplar::undergrowth(100.0),
+        &undergrowth_scene(100.0),
         &region,
         "bench",
         &Default::default(),
     )
     .unwrap();
-    let mut second = exemplar::undergrowth(100.0);
+    let mut second = undergrowth_scene(100.0);
     second.instances.clear();
     let layers = [
-        exemplar::hard_core(&region, 0.03, 3.0, 11),
-        exemplar::uniform(&region, 0.03, 12),
-        exemplar::clustered(&region, 0.004, 10.0, 2.0, 13),
+        hard_core_points(&region, 0.03, 3.0, 11),
+        uniform_points(&region, 0.03, 12),
+        clustered_points(&region, 0.004, 10.0, 2.0, 13),
     ];
     for (c, points) in layers.iter().enumerate() {
         second
@@ -307,9 +304,9 @@ fn timing_100k_instances_three_categories_on_a_square_kilometre() {
         ..Default::default()
     };
     let layers = [
-        exemplar::hard_core(&region, 0.03, 3.0, 1),
-        exemplar::uniform(&region, 0.02, 2),
-        exemplar::clustered(&region, 0.005, 10.0, 2.0, 3),
+        hard_core_points(&region, 0.03, 3.0, 1),
+        uniform_points(&region, 0.02, 2),
+        clustered_points(&region, 0.005, 10.0, 2.0, 3),
     ];
     for (c, pts) in layers.iter().enumerate() {
         ex.instances
@@ -340,7 +337,7 @@ fn a_grove_learned_on_flat_ground_pastes_on_hills_at_its_density() {
             .unwrap();
     let mut grove = scene_from_points(
         "tree",
-        &exemplar::clustered(&exemplar_region(), 0.002, 8.0, 3.0, 4),
+        &clustered_points(&exemplar_region(), 0.002, 8.0, 3.0, 4),
     );
     grove.terrain = Some(flat.into());
     let maps = AnalysisOptions {
@@ -349,7 +346,7 @@ fn a_grove_learned_on_flat_ground_pastes_on_hills_at_its_density() {
     };
     let color = learn_color(&grove, &exemplar_region(), "grove", &maps).unwrap();
 
-    let hills = exemplar::demo_terrain(600.0, 2.0, 11);
+    let hills = demo_terrain(600.0, 2.0, 11);
     let slopes: Vec<f64> = hills.maps["slope"]
         .iter()
         .map(|s| f64::from(*s).to_degrees())
@@ -373,7 +370,7 @@ fn a_grove_learned_on_flat_ground_pastes_on_hills_at_its_density() {
 }
 
 /// Writes a plot as a binary PPM under the directory `WORLDPAINT_PLOT_DIR` names, when it is set (to look at it).
-fn keep_plot(plot: &worldpaint_core::fidelity_plot::FidelityPlot, name: &str) {
+fn keep_plot(plot: &worldpaint_core::FidelityPlot, name: &str) {
     let Ok(dir) = std::env::var("WORLDPAINT_PLOT_DIR") else {
         return;
     };
@@ -387,7 +384,7 @@ fn keep_plot(plot: &worldpaint_core::fidelity_plot::FidelityPlot, name: &str) {
 }
 
 /// Standard deviation of the plot's pixel values over all channels but alpha.
-fn pixel_spread(plot: &worldpaint_core::fidelity_plot::FidelityPlot) -> f64 {
+fn pixel_spread(plot: &worldpaint_core::FidelityPlot) -> f64 {
     let values: Vec<f64> = plot
         .rgba
         .chunks_exact(4)
@@ -400,9 +397,9 @@ fn pixel_spread(plot: &worldpaint_core::fidelity_plot::FidelityPlot) -> f64 {
 
 #[test]
 fn a_clustered_colors_self_synthesis_is_far_closer_to_its_example_than_a_uniform_scatter() {
-    use worldpaint_core::fidelity_plot::draw_fidelity;
+    use worldpaint_core::draw_fidelity;
     let region = exemplar_region();
-    let ex = scene_from_points("tree", &exemplar::clustered(&region, 0.004, 8.0, 2.0, 5));
+    let ex = scene_from_points("tree", &clustered_points(&region, 0.004, 8.0, 2.0, 5));
     let color = learn_color(&ex, &region, "grove", &Default::default()).unwrap();
     let density = color.categories[0].density;
 
@@ -414,7 +411,7 @@ fn a_clustered_colors_self_synthesis_is_far_closer_to_its_example_than_a_uniform
     let own_fid = compare(&color, &own);
 
     // a uniform scatter of the same density in the same region, learned with the same bins
-    let uniform = scene_from_points("tree", &exemplar::uniform(&region, density, 6));
+    let uniform = scene_from_points("tree", &uniform_points(&region, density, 6));
     let uniform_color = learn_color(&uniform, &region, "uniform", &same_bins(&color)).unwrap();
     let uniform_fid = compare(&color, &uniform_color);
     println!(
@@ -460,8 +457,8 @@ fn a_clustered_colors_self_synthesis_is_far_closer_to_its_example_than_a_uniform
 
 #[test]
 fn a_forest_on_a_slope_shows_its_slope_histograms_beside_its_pcf() {
-    use worldpaint_core::fidelity_plot::draw_fidelity;
-    let scene = exemplar::slope_scene(400.0, 3);
+    use worldpaint_core::draw_fidelity;
+    let scene = slope_scene(400.0, 3);
     let region = exemplar_region();
     let color = learn_color(&scene, &region, "slope", &Default::default()).unwrap();
     let t0 = std::time::Instant::now();
@@ -482,12 +479,12 @@ fn a_forest_on_a_slope_shows_its_slope_histograms_beside_its_pcf() {
 
 #[test]
 fn a_slope_color_without_its_terrain_is_painted_without_its_terrain_maps() {
-    let scene = exemplar::slope_scene(400.0, 3);
+    let scene = slope_scene(400.0, 3);
     let region = exemplar_region();
     let color = learn_color(&scene, &region, "slope", &Default::default()).unwrap();
     let own = worldpaint_core::self_synthesis(&color, None, 1, &|_| true).unwrap();
     assert!(own.maps.is_empty() && own.categories.len() == 3);
-    let plot = worldpaint_core::fidelity_plot::draw_fidelity(&color, &own, 256, 128).unwrap();
+    let plot = worldpaint_core::draw_fidelity(&color, &own, 256, 128).unwrap();
     assert_eq!(
         plot.extent.max_slope_degrees, None,
         "no slope histogram of the self-synthesis, no slope panel"

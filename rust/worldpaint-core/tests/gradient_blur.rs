@@ -2,13 +2,10 @@
 //! steadily across the region; a blur across the edge between a dense and a sparse forest turns the step into a
 //! slope.
 
-use worldpaint_core::exemplar;
-use worldpaint_core::geom::DVec2;
-use worldpaint_core::tools::blur::{blur, BlurOptions};
-use worldpaint_core::tools::gradient::{
-    bilinear_gradient, gradient, GradientOptions, GradientShape,
+use worldpaint_core::{
+    bilinear_gradient, blur, gradient, hard_core_points, learn_color, BlurOptions, Category, Color,
+    DVec2, GradientOptions, GradientShape, Instance, Region, Scene, SynthesisOptions,
 };
-use worldpaint_core::{learn_color, Category, Color, Instance, Region, Scene, SynthesisOptions};
 
 fn rect(x0: f64, y0: f64, x1: f64, y1: f64) -> Region {
     Region::Rect {
@@ -18,7 +15,7 @@ fn rect(x0: f64, y0: f64, x1: f64, y1: f64) -> Region {
 }
 
 fn forest(region: &Region, density: f64, seed: u64) -> Vec<Instance> {
-    exemplar::hard_core(region, density, 2.0, seed)
+    hard_core_points(region, density, 2.0, seed)
         .into_iter()
         .map(|p| Instance::at(p, 0))
         .collect()

@@ -2,9 +2,7 @@
 //! and segment queries are right.
 
 use std::f64::consts::PI;
-use worldpaint_core::geom::DVec2;
-use worldpaint_core::graph::{Graph, SegmentIndex};
-use worldpaint_core::Region;
+use worldpaint_core::{DVec2, Graph, Region, SegmentIndex};
 
 fn v(x: f64, y: f64) -> DVec2 {
     DVec2::new(x, y)
@@ -116,7 +114,7 @@ proptest::proptest! {
             let p = v(x, y);
             let scan = segments
                 .iter()
-                .map(|(a, b)| worldpaint_core::geom::segment_distance(p, *a, *b))
+                .map(|(a, b)| worldpaint_core::segment_distance(p, *a, *b))
                 .fold(max, f64::min);
             proptest::prop_assert!((index.distance(p, max) - scan).abs() < 1e-9);
         }

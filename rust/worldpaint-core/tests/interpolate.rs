@@ -1,12 +1,9 @@
 //! Distribution interpolation (Section 5.2): histogram shapes are transported, not cross-faded; an
 //! interpolated hard-core color paints a hard core between the two; the ends give the two colors back.
 
-use worldpaint_core::exemplar::{self, scene_from_points};
-use worldpaint_core::geom::DVec2;
-use worldpaint_core::interpolate::displacement_interpolate;
-use worldpaint_core::palette::{Histogram, Interaction};
 use worldpaint_core::{
-    interpolate_colors, learn_color, synthesize, AnalysisOptions, Color, Error, Region, Scene,
+    displacement_interpolate, hard_core_points, interpolate_colors, learn_color, scene_from_points,
+    synthesize, AnalysisOptions, Color, DVec2, Error, Histogram, Interaction, Region, Scene,
     SynthesisOptions,
 };
 
@@ -86,7 +83,7 @@ fn hard_core_color(min_distance: f64, density: f64, seed: u64, opts: &AnalysisOp
     let region = square(0.0, 100.0);
     let scene = scene_from_points(
         "tree",
-        &exemplar::hard_core(&region, density, min_distance, seed),
+        &hard_core_points(&region, density, min_distance, seed),
     );
     learn_color(&scene, &region, &format!("hard core {min_distance}"), opts).unwrap()
 }
@@ -222,7 +219,7 @@ fn an_interpolated_color_is_previewed_by_an_arrangement_painted_with_it() {
         hard_core_color(6.0, 0.01, 2, &opts),
     );
     let mid = interpolate_colors(&a, &b, 0.5, "mid").unwrap();
-    let previewed = worldpaint_core::tools::with_painted_preview(mid.clone()).unwrap();
+    let previewed = worldpaint_core::with_painted_preview(mid.clone()).unwrap();
     let points: Vec<DVec2> = previewed
         .preview
         .iter()

@@ -3,10 +3,10 @@
 //! lay outside what the example showed.
 
 use std::sync::Arc;
-use worldpaint_core::exemplar::{self, scene_from_points};
-use worldpaint_core::geom::DVec2;
-use worldpaint_core::tools::paste;
-use worldpaint_core::{learn_color, AnalysisOptions, Color, Heightfield, Region, Scene};
+use worldpaint_core::{
+    clustered_points, learn_color, paste, scene_from_points, uniform_points, AnalysisOptions,
+    Color, DVec2, Heightfield, Region, Scene,
+};
 
 fn rect(x0: f64, x1: f64) -> Region {
     Region::Rect {
@@ -27,7 +27,7 @@ fn ramp() -> Arc<Heightfield> {
 /// Trees on the upper half of the example (x 50..100, heights 25..50 m) only, 0.02 per m² there: 0.01 per m² over
 /// the example, twice that in its highest heights.
 fn upper_half_color(terrain: &Arc<Heightfield>) -> Color {
-    let trees = exemplar::uniform(&rect(50.0, 100.0), 0.02, 7);
+    let trees = uniform_points(&rect(50.0, 100.0), 0.02, 7);
     let mut scene = scene_from_points("tree", &trees);
     scene.terrain = Some(terrain.clone());
     learn_color(
@@ -155,7 +155,7 @@ fn clumps_keep_their_tightness_where_the_preferred_heights_are_a_small_share_of_
         min: DVec2::new(50.0, 0.0),
         max: DVec2::new(100.0, 200.0),
     };
-    let trees = exemplar::clustered(&band, 0.004, 8.0, 2.0, 11);
+    let trees = clustered_points(&band, 0.004, 8.0, 2.0, 11);
     let mut scene = scene_from_points("tree", &trees);
     scene.terrain = Some(terrain.clone());
     let opts = AnalysisOptions {
@@ -212,7 +212,7 @@ fn a_color_following_a_map_made_in_the_scene_refuses_a_terrain_without_it() {
         .collect();
     wet.add_map("group:moisture", moisture)
         .expect("a map on the grid");
-    let trees = exemplar::uniform(&rect(0.0, 50.0), 0.02, 7);
+    let trees = uniform_points(&rect(0.0, 50.0), 0.02, 7);
     let mut scene = scene_from_points("tree", &trees);
     scene.terrain = Some(Arc::new(wet));
     let opts = AnalysisOptions {

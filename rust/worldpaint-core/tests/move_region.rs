@@ -2,15 +2,14 @@
 //! keeps the trees that still fit exactly in place relative to each other, and leaves no tree on a slope the
 //! color never had.
 
-use worldpaint_core::exemplar;
-use worldpaint_core::geom::DVec2;
-use worldpaint_core::synthesis::AdaptOptions;
-use worldpaint_core::tools::moving::move_region;
-use worldpaint_core::{learn_color, AnalysisOptions, Color, Instance, Region, Scene};
+use worldpaint_core::{
+    learn_color, move_region, slope_scene, AdaptOptions, AnalysisOptions, Color, DVec2, Instance,
+    Region, Scene,
+};
 
 /// The slope scene (its terrain's slopes repeat every 100 m along X), and the color of its first 100 m square.
 fn slope_forest() -> (Scene, Color) {
-    let scene = exemplar::slope_scene(400.0, 4);
+    let scene = slope_scene(400.0, 4);
     let exemplar_region = Region::Rect {
         min: DVec2::ZERO,
         max: DVec2::splat(100.0),

@@ -3,13 +3,13 @@
 //! in 2 m rings) is at most 1.5× as far from the example's as a second draw of the generating process over the
 //! example's area is: the synthesis keeps the patches, not only the clumps.
 
-#[path = "common/pcf.rs"]
-mod pcf;
+mod common;
 
-use pcf::{l2, pcf};
-use worldpaint_core::exemplar::{self, scene_from_points};
-use worldpaint_core::geom::DVec2;
-use worldpaint_core::{learn_color, synthesize, AnalysisOptions, Region, SynthesisOptions};
+use common::pcf::{l2, pcf};
+use worldpaint_core::{
+    clustered_points, learn_color, scene_from_points, synthesize, uniform_points, AnalysisOptions,
+    DVec2, Region, SynthesisOptions,
+};
 
 const SIDE: f64 = 240.0;
 const PATCH_RADIUS: f64 = 20.0;
@@ -32,8 +32,8 @@ fn clumps_in_patches(region: &Region, seed: u64) -> Vec<DVec2> {
         max: hi + DVec2::splat(PATCH_RADIUS),
     };
     let patch_density = 0.3 / (std::f64::consts::PI * PATCH_RADIUS * PATCH_RADIUS);
-    let patches = exemplar::uniform(&grown, patch_density, seed.wrapping_mul(7919));
-    exemplar::clustered(region, 0.006, 8.0, 2.5, seed)
+    let patches = uniform_points(&grown, patch_density, seed.wrapping_mul(7919));
+    clustered_points(region, 0.006, 8.0, 2.5, seed)
         .into_iter()
         .filter(|p| patches.iter().any(|c| c.distance(*p) <= PATCH_RADIUS))
         .collect()

@@ -18,12 +18,10 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
-use worldpaint_core::exemplar::{self, scene_from_points};
-use worldpaint_core::geom::DVec2;
-use worldpaint_core::village::encyclopedia::{Encyclopedia, ScenarioPresets};
 use worldpaint_core::{
-    learn_color, synthesize_with_progress, AnalysisOptions, Color, Heightfield, Palette, Region,
-    Scene,
+    clustered_points, demo_terrain, hard_core_points, learn_color, scene_from_points,
+    synthesize_with_progress, AnalysisOptions, Color, DVec2, Encyclopedia, Heightfield, Palette,
+    Region, ScenarioPresets, Scene,
 };
 
 /// Seeds of mutations that once crashed or hung, kept as regression cases.
@@ -72,11 +70,11 @@ fn read_asset(path: &str) -> Value {
 
 /// A palette of two colors learned here: a clustered forest with a terrain map, and a hard-core one.
 fn palette_file() -> Value {
-    let terrain = Arc::new(exemplar::demo_terrain(100.0, 2.0, 1));
+    let terrain = Arc::new(demo_terrain(100.0, 2.0, 1));
     let region = square(10.0, 60.0);
-    let mut forest = scene_from_points("tree", &exemplar::clustered(&region, 0.002, 8.0, 4.0, 2));
+    let mut forest = scene_from_points("tree", &clustered_points(&region, 0.002, 8.0, 4.0, 2));
     forest.terrain = Some(terrain);
-    let rocks = scene_from_points("rock", &exemplar::hard_core(&region, 0.03, 2.0, 3));
+    let rocks = scene_from_points("rock", &hard_core_points(&region, 0.03, 2.0, 3));
     let opts = AnalysisOptions::default();
     let palette = Palette {
         colors: vec![
@@ -255,7 +253,7 @@ fn mutated_files_are_read_and_pasted_without_a_crash_or_a_hang() {
         encyclopedia: read_asset("villages/encyclopedia.json"),
         scenarios: read_asset("villages/scenarios.json"),
     };
-    let terrain = Arc::new(exemplar::demo_terrain(100.0, 2.0, 5));
+    let terrain = Arc::new(demo_terrain(100.0, 2.0, 5));
     let cases: u64 = std::env::var("MUTATED_FILES")
         .ok()
         .and_then(|v| v.parse().ok())

@@ -6,19 +6,15 @@
 //! that follows the western trees' slope preference; their slope histogram and their counts over 10 m cells are at
 //! least as close to the real eastern trees' as that Poisson process's.
 
-#[path = "common/forest_report.rs"]
-mod forest;
-#[path = "common/pcf.rs"]
-mod pcf;
-#[path = "common/real_data.rs"]
-mod real_data;
+mod common;
+use common::forest_report;
 
-use forest::mean;
+use common::forest_report::mean;
 
 #[test]
 #[ignore = "needs shared/data/real (make test-rust runs it where present)"]
 fn luquillo_east_from_west() {
-    let report = match forest::run() {
+    let report = match forest_report::run() {
         Ok(r) => r,
         Err(e) => panic!("forest report failed: {e}"),
     };

@@ -40,29 +40,17 @@
 //! village; the cadastre (a suburban town) and the land-use tiles (fields and woods, not lots) bracket them rather
 //! than match them.
 
-#[path = "common/checks.rs"]
-mod checks;
-#[path = "common/geojson.rs"]
-mod geojson;
-#[path = "common/real_places.rs"]
-mod real;
-#[path = "common/real_data.rs"]
-mod real_data;
-#[path = "common/rings.rs"]
-mod rings;
-#[path = "common/squares.rs"]
-mod squares;
+mod common;
+use common::real_places;
 
-use checks::{assert_all_hold, Check};
+use common::checks::{assert_all_hold, Check};
+use common::real_places::{Figures, Place, PlaceSpec, RealParcels, RealWindow, Table, Window};
 use rayon::prelude::*;
-use real::{Figures, Place, PlaceSpec, RealParcels, RealWindow, Table, Window};
 use std::time::Instant;
-use worldpaint_core::geom::DVec2;
-use worldpaint_core::village::encyclopedia::Event;
-use worldpaint_core::village::generate::{generate, Stage, Village, VillageRequest};
-use worldpaint_core::village::parcels::{parcel_statistics, ParcelStatistics};
-use worldpaint_core::village::{Encyclopedia, Environment, Scenario, Site};
-use worldpaint_core::Error;
+use worldpaint_core::{
+    generate_village, parcel_statistics, DVec2, Encyclopedia, Environment, Error, ParcelStatistics,
+    Scenario, ScenarioEvent, Site, Village, VillageRequest, VillageStage,
+};
 
 const ENCYCLOPEDIA: &str = include_str!("../../../assets/villages/encyclopedia.json");
 
@@ -97,7 +85,7 @@ struct Style {
 }
 
 fn style(spec: &PlaceSpec) -> Style {
-    if spec.stem == real::ANDORRA.stem {
+    if spec.stem == real_places::ANDORRA.stem {
         Style {
             village_type: "highland",
             houses_per_farm: 4,
@@ -116,18 +104,18 @@ fn scenario(style: &Style, buildings: usize) -> Scenario {
     let houses = buildings.saturating_sub(1 + farms);
     Scenario {
         events: vec![
-            Event::ChangeVillageType {
+            ScenarioEvent::ChangeVillageType {
                 village_type: style.village_type.into(),
             },
-            Event::Generate {
+            ScenarioEvent::Generate {
                 count: 1,
                 building: "church".into(),
             },
-            Event::Generate {
+            ScenarioEvent::Generate {
                 count: houses as u32,
                 building: "house".into(),
             },
-            Event::Generate {
+            ScenarioEvent::Generate {
                 count: farms as u32,
                 building: "farm".into(),
             },
@@ -145,7 +133,7 @@ struct RealColumn {
     window: Window,
     real: RealWindow,
     figures: Figures,
-    relief: real::Relief,
+    relief: real_places::Relief,
 }
 
 /// A village generated on a window: what was asked, how long it took, and the village with its figures unless
@@ -183,7 +171,7 @@ fn generate_on(
             terrain,
             region: column.window.region.clone(),
             environment: Environment {
-                water_areas: real::water_near(place, &column.window),
+                water_areas: real_places::water_near(place, &column.window),
                 ..Default::default()
             },
             cell: CELL,
@@ -196,8 +184,8 @@ fn generate_on(
         parcel_cell: PARCEL_CELL,
     };
     let t0 = Instant::now();
-    let within_budget = |_: Stage, _: f64| t0.elapsed().as_secs_f64() <= TIME_BUDGET;
-    let village = match generate(&request, &within_budget) {
+    let within_budget = |_: VillageStage, _: f64| t0.elapsed().as_secs_f64() <= TIME_BUDGET;
+    let village = match generate_village(&request, &within_budget) {
         Ok(v) => v,
         Err(Error::Cancelled) => {
             return Ok(GeneratedColumn {
@@ -220,11 +208,11 @@ fn generate_on(
         roads.extend(
             inside
                 .into_iter()
-                .map(|points| worldpaint_core::village::Road { points }),
+                .map(|points| worldpaint_core::Road { points }),
         );
     }
-    let land = real::window_land(terrain, &column.window)?;
-    let figures = real::figures(terrain, &land, &houses, &roads, enc.roads.max_grade);
+    let land = real_places::window_land(terrain, &column.window)?;
+    let figures = real_places::figures(terrain, &land, &houses, &roads, enc.roads.max_grade);
     let contours: Vec<Vec<DVec2>> = village.parcels.iter().map(|p| p.contour.clone()).collect();
     let parcels = parcel_statistics(&contours, PARCEL_TOLERANCE);
     Ok(GeneratedColumn {
@@ -240,11 +228,11 @@ fn generate_on(
 
 fn real_column(place: &Place, window: Window, max_grade: f64) -> Result<RealColumn, String> {
     let terrain = &place.terrain.heightfield;
-    let real = real::real_window(place, &window);
-    let land = real::window_land(terrain, &window)?;
-    let figures = real::figures(terrain, &land, &real.houses, &real.roads, max_grade);
+    let real = real_places::real_window(place, &window);
+    let land = real_places::window_land(terrain, &window)?;
+    let figures = real_places::figures(terrain, &land, &real.houses, &real.roads, max_grade);
     Ok(RealColumn {
-        relief: real::relief(&land),
+        relief: real_places::relief(&land),
         window,
         real,
         figures,
@@ -409,7 +397,7 @@ fn table(reals: &[RealColumn], generated: &[GeneratedColumn], max_grade: f64) ->
         });
     }
     let bounds: Vec<String> = std::iter::once(0.0)
-        .chain(real::GRADE_BINS)
+        .chain(real_places::GRADE_BINS)
         .map(|b| format!("{:.0}", 100.0 * b))
         .collect();
     for bin in 0..6 {
@@ -689,10 +677,10 @@ fn report_place(
     enc: &Encyclopedia,
     cadastre: &(RealParcels, ParcelStatistics),
 ) -> Result<PlaceChecks, Failure> {
-    let place = real::load_place(spec).map_err(Failure::Data)?;
+    let place = real_places::load_place(spec).map_err(Failure::Data)?;
     let max_grade = enc.roads.max_grade;
     let style = style(&spec);
-    let windows = real::densest_windows(&place, SIDE, WINDOWS, MIN_BUILDINGS);
+    let windows = real_places::densest_windows(&place, SIDE, WINDOWS, MIN_BUILDINGS);
     if windows.is_empty() {
         return Err(Failure::Data(format!(
             "no window of {SIDE} m holds {MIN_BUILDINGS} buildings"
@@ -710,7 +698,7 @@ fn report_place(
         .collect::<Result<_, _>>()
         .map_err(Failure::Engine)?;
     let generation = t0.elapsed().as_secs_f64();
-    let landuse = real::tiling_landuse(&place);
+    let landuse = real_places::tiling_landuse(&place);
     let landuse_stats = parcel_statistics(&landuse.contours, PARCEL_TOLERANCE);
 
     let t = &place.terrain;
@@ -830,7 +818,7 @@ fn generated_villages_beside_real_ones() {
         Ok(e) => e,
         Err(e) => panic!("the shipped encyclopedia: {e}"),
     };
-    let cadastre = match real::load_cadastre() {
+    let cadastre = match real_places::load_cadastre() {
         Ok(c) => {
             let stats = parcel_statistics(&c.contours, PARCEL_TOLERANCE);
             (c, stats)
@@ -838,7 +826,7 @@ fn generated_villages_beside_real_ones() {
         Err(e) => panic!("real parcels: the cadastre is unreadable ({e})"),
     };
     let (mut all, mut targets) = (Vec::new(), Vec::new());
-    for spec in [real::NORTH_BAYREUTH, real::ANDORRA] {
+    for spec in [real_places::NORTH_BAYREUTH, real_places::ANDORRA] {
         match report_place(spec, &enc, &cadastre) {
             Ok((asserted, open)) => {
                 all.extend(asserted);
@@ -864,20 +852,23 @@ fn generated_villages_beside_real_ones() {
 #[test]
 fn a_hairpin_counts_once_however_many_vertices_draw_it() {
     let p = |x: f64, y: f64| DVec2::new(x, y);
-    assert_eq!(real::hairpins(&[p(0.0, 0.0), p(100.0, 0.0)]), 0);
+    assert_eq!(real_places::hairpins(&[p(0.0, 0.0), p(100.0, 0.0)]), 0);
     assert_eq!(
-        real::hairpins(&[p(0.0, 0.0), p(50.0, 0.0), p(50.0, 50.0)]),
+        real_places::hairpins(&[p(0.0, 0.0), p(50.0, 0.0), p(50.0, 50.0)]),
         0
     );
-    assert_eq!(real::hairpins(&[p(0.0, 0.0), p(50.0, 0.0), p(0.0, 6.0)]), 1);
+    assert_eq!(
+        real_places::hairpins(&[p(0.0, 0.0), p(50.0, 0.0), p(0.0, 6.0)]),
+        1
+    );
     let mut arc = vec![p(0.0, 0.0)];
     arc.extend((0..=10).map(|s| {
         let a = std::f64::consts::PI * (s as f64 / 10.0 - 0.5);
         p(50.0 + 4.0 * a.cos(), 4.0 + 4.0 * a.sin())
     }));
     arc.push(p(0.0, 8.0));
-    assert_eq!(real::hairpins(&arc), 1);
+    assert_eq!(real_places::hairpins(&arc), 1);
     // a serpentine of three legs: two hairpins
     let legs = [p(0.0, 0.0), p(60.0, 0.0), p(0.0, 10.0), p(60.0, 20.0)];
-    assert_eq!(real::hairpins(&legs), 2);
+    assert_eq!(real_places::hairpins(&legs), 2);
 }

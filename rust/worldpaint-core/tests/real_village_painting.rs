@@ -24,20 +24,10 @@
 //! and, with it, the crossings (476–670) and both TVs (up to 0.132 and 0.138). The exemplar here is the one the
 //! rule picks, not one picked for the result.
 
-#[path = "common/checks.rs"]
-mod checks;
-#[path = "common/geojson.rs"]
-mod geojson;
-#[path = "common/real_data.rs"]
-mod real_data;
-#[path = "common/rings.rs"]
-mod rings;
-#[path = "common/squares.rs"]
-mod squares;
-#[path = "common/village_painting_report.rs"]
-mod villages;
+mod common;
+use common::village_painting_report;
 
-use checks::{assert_all_hold, Check};
+use common::checks::{assert_all_hold, Check};
 
 /// A typical draw.
 const SEED: u64 = 1;
@@ -45,7 +35,7 @@ const SEED: u64 = 1;
 #[test]
 #[ignore = "needs shared/data/real (make test-rust runs it where present)"]
 fn north_bayreuth_village_over_nine_times_the_area() {
-    let report = match villages::run(SEED) {
+    let report = match village_painting_report::run(SEED) {
         Ok(r) => r,
         Err(e) => panic!("real-village report failed: {e}"),
     };

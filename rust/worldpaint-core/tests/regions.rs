@@ -6,8 +6,7 @@
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::f64::consts::{PI, TAU};
-use worldpaint_core::geom::{DVec2, PreparedRegion, RegionQueries};
-use worldpaint_core::Region;
+use worldpaint_core::{DVec2, PreparedRegion, Region, RegionQueries};
 
 fn circle(x: f64, y: f64, r: f64) -> Region {
     Region::Circle {

@@ -3,12 +3,10 @@
 //! height, what hid a stroke has been lowered, and the terrain beyond the deformation's reach is unchanged.
 
 use glam::DVec3;
-use worldpaint_core::geom::DVec2;
-use worldpaint_core::sketch::apply::{targets, Source};
-use worldpaint_core::sketch::deform::{deform, DeformOptions, StrokeTarget};
-use worldpaint_core::sketch::matching::MatchingOptions;
-use worldpaint_core::sketch::{Camera, Feature, FeatureKind, Sight, Stroke};
-use worldpaint_core::terrain::Heightfield;
+use worldpaint_core::{
+    deform_to_targets, stroke_targets, Camera, CurveSource, DVec2, Feature, FeatureKind,
+    Heightfield, MatchingOptions, Sight, SketchDeformOptions, SketchStroke, StrokeTarget,
+};
 
 const N: usize = 257;
 const CELL: f64 = 2.0;
@@ -114,7 +112,7 @@ fn a_stroke_above_a_ridge_becomes_its_silhouette_and_the_hill_in_front_is_lowere
             .0
             .y
     };
-    let stroke = Stroke {
+    let stroke = SketchStroke {
         points: (0..=60)
             .map(|k| {
                 let x = 0.25 + 0.5 * k as f64 / 60.0;
@@ -126,7 +124,7 @@ fn a_stroke_above_a_ridge_becomes_its_silhouette_and_the_hill_in_front_is_lowere
             .collect(),
     };
     let features = vec![crest(100.0, 18.0), crest(260.0, 40.0)];
-    let t = targets(
+    let t = stroke_targets(
         &sight,
         &camera,
         &[stroke],
@@ -139,25 +137,26 @@ fn a_stroke_above_a_ridge_becomes_its_silhouette_and_the_hill_in_front_is_lowere
     .expect("a matching well within the work budget");
     assert_eq!(
         t.sources,
-        vec![Source::Feature(1)],
+        vec![CurveSource::Feature(1)],
         "the middle ridge serves the stroke"
     );
     // deformed once, without lowering, the hill in front still hides part of the stroke
-    let once = DeformOptions {
+    let once = SketchDeformOptions {
         max_rounds: 1,
-        ..DeformOptions::default()
+        ..SketchDeformOptions::default()
     };
-    let first = deform(&terrain, &camera, &t.targets, &once, &|_| true).expect("deformed");
+    let first =
+        deform_to_targets(&terrain, &camera, &t.targets, &once, &|_| true).expect("deformed");
     let (_, hidden) = misplaced_columns(&first.terrain, &camera, &t.targets[0]);
     assert!(
         hidden > 10,
         "the hill hides part of the stroke: {hidden} columns"
     );
-    let d = deform(
+    let d = deform_to_targets(
         &terrain,
         &camera,
         &t.targets,
-        &DeformOptions::default(),
+        &SketchDeformOptions::default(),
         &|_| true,
     )
     .expect("deformed");
@@ -194,9 +193,9 @@ fn hills_coarse() -> Heightfield {
 }
 
 /// A front mountain and two behind it, each ending on its slopes: two T-junctions.
-fn three_strokes() -> Vec<Stroke> {
+fn three_strokes() -> Vec<SketchStroke> {
     let front = |x: f64| 0.62 + 0.09 * (-((x - 0.38) / 0.12).powi(2)).exp();
-    let line = |x0: f64, x1: f64, n: usize, f: &dyn Fn(f64) -> f64| Stroke {
+    let line = |x0: f64, x1: f64, n: usize, f: &dyn Fn(f64) -> f64| SketchStroke {
         points: (0..n)
             .map(|k| {
                 let x = x0 + (x1 - x0) * k as f64 / (n - 1) as f64;
@@ -264,7 +263,7 @@ fn correlation(a: &[f64], b: &[f64]) -> f64 {
 
 #[test]
 fn three_strokes_with_two_t_junctions_are_all_seen_and_the_detail_is_kept() {
-    use worldpaint_core::sketch::apply::{apply_sketch, SketchOptions, Source};
+    use worldpaint_core::{apply_sketch, CurveSource, SketchOptions};
     let terrain = hills_coarse();
     let camera = camera();
     let mut options = SketchOptions::default();
@@ -293,7 +292,7 @@ fn three_strokes_with_two_t_junctions_are_all_seen_and_the_detail_is_kept() {
         edit.targets
             .sources
             .iter()
-            .all(|s| !matches!(s, Source::Embedded(_))),
+            .all(|s| !matches!(s, CurveSource::Embedded(_))),
         "the terrain's features or its skyline serve all"
     );
     for (s, target) in edit.targets.targets.iter().enumerate() {
@@ -337,12 +336,12 @@ fn three_strokes_with_two_t_junctions_are_all_seen_and_the_detail_is_kept() {
 
 #[test]
 fn a_stroke_no_feature_can_serve_is_embedded_and_seen() {
-    use worldpaint_core::sketch::apply::{apply_sketch, SketchOptions, Source};
+    use worldpaint_core::{apply_sketch, CurveSource, SketchOptions};
     // flat ground: no ridge, no silhouette but its far edge
     let terrain =
         Heightfield::new(DVec2::ZERO, 4.0, 129, 129, vec![0.0; 129 * 129]).expect("a valid grid");
     let camera = camera();
-    let stroke = Stroke {
+    let stroke = SketchStroke {
         points: (0..=30)
             .map(|k| {
                 let x = 0.3 + 0.4 * k as f64 / 30.0;
@@ -363,7 +362,7 @@ fn a_stroke_no_feature_can_serve_is_embedded_and_seen() {
     .expect("applied");
     println!("sources {:?}", edit.targets.sources);
     assert!(
-        matches!(edit.targets.sources[0], Source::Embedded(d) if d > 0.0),
+        matches!(edit.targets.sources[0], CurveSource::Embedded(d) if d > 0.0),
         "{:?}",
         edit.targets.sources
     );

@@ -2,11 +2,10 @@
 //! was (up to the rigid move of its side) and fills the opened band with the region's statistics; shrinking
 //! removes only the content of the band.
 
-use worldpaint_core::exemplar;
-use worldpaint_core::geom::DVec2;
-use worldpaint_core::tools::color_of_region;
-use worldpaint_core::tools::stretch::{stretch, Side, StretchOptions, Stretched};
-use worldpaint_core::{Category, Instance, Region, Scene};
+use worldpaint_core::{
+    color_of_region, hard_core_points, stretch, Category, DVec2, Instance, Region, Scene,
+    StretchOptions, StretchSide, Stretched,
+};
 
 const WIDTH: f64 = 100.0;
 const HEIGHT: f64 = 60.0;
@@ -22,7 +21,7 @@ fn region() -> Region {
 fn scene() -> Scene {
     Scene {
         categories: vec![Category::distribution("tree", "vegetation", 0)],
-        instances: exemplar::hard_core(&region(), 0.04, 3.0, 5)
+        instances: hard_core_points(&region(), 0.04, 3.0, 5)
             .into_iter()
             .map(|p| Instance::at(p, 0))
             .collect(),
@@ -51,7 +50,7 @@ fn has(points: &[DVec2], p: DVec2) -> bool {
 fn stretched(
     scene: &Scene,
     region: &Region,
-    side: Side,
+    side: StretchSide,
     amount: f64,
 ) -> worldpaint_core::Result<Stretched> {
     stretch(
@@ -91,7 +90,7 @@ fn stretching_by_half_keeps_both_sides_and_fills_the_band() {
         .unwrap()
         .unwrap();
     let amount = 0.5 * WIDTH;
-    let out = stretched(&scene, &region(), Side::East, amount).unwrap();
+    let out = stretched(&scene, &region(), StretchSide::East, amount).unwrap();
     let after = positions_after(&out, &scene);
     let seam = &out.seam;
     let (lo, hi) = seam
@@ -142,7 +141,7 @@ fn stretching_by_half_keeps_both_sides_and_fills_the_band() {
 fn shrinking_removes_the_band_only() {
     let scene = scene();
     let amount = -30.0;
-    let out = stretched(&scene, &region(), Side::East, amount).unwrap();
+    let out = stretched(&scene, &region(), StretchSide::East, amount).unwrap();
     let in_band: Vec<usize> = (0..scene.instances.len())
         .filter(|&k| out.band.contains(scene.instances[k].position))
         .collect();
@@ -169,14 +168,14 @@ fn shrinking_removes_the_band_only() {
 #[test]
 fn stretching_north_and_west_mirror_east() {
     let scene = scene();
-    for side in [Side::West, Side::North, Side::South] {
+    for side in [StretchSide::West, StretchSide::North, StretchSide::South] {
         let out = stretched(&scene, &region(), side, 20.0).unwrap();
         let want = match side {
-            Side::West => Region::Rect {
+            StretchSide::West => Region::Rect {
                 min: DVec2::new(-20.0, 0.0),
                 max: DVec2::new(WIDTH, HEIGHT),
             },
-            Side::North => Region::Rect {
+            StretchSide::North => Region::Rect {
                 min: DVec2::ZERO,
                 max: DVec2::new(WIDTH, HEIGHT + 20.0),
             },
@@ -199,9 +198,9 @@ fn stretching_asks_for_a_rectangle_and_a_length() {
         center: DVec2::splat(50.0),
         radius: 20.0,
     };
-    assert!(stretched(&scene, &circle, Side::East, 10.0).is_err());
-    assert!(stretched(&scene, &region(), Side::East, 0.0).is_err());
-    assert!(stretched(&scene, &region(), Side::East, -90.0).is_err());
+    assert!(stretched(&scene, &circle, StretchSide::East, 10.0).is_err());
+    assert!(stretched(&scene, &region(), StretchSide::East, 0.0).is_err());
+    assert!(stretched(&scene, &region(), StretchSide::East, -90.0).is_err());
 }
 
 /// The signed area of a closed polygon.
@@ -214,8 +213,8 @@ fn area(points: &[DVec2]) -> f64 {
 
 #[test]
 fn a_road_across_the_cut_is_stretched_whole_and_an_island_stays_closed() {
-    use worldpaint_core::scene::{Contour, Path};
     use worldpaint_core::CategoryKind;
+    use worldpaint_core::{Contour, Path};
     let mut scene = scene();
     scene
         .categories
@@ -250,7 +249,7 @@ fn a_road_across_the_cut_is_stretched_whole_and_an_island_stays_closed() {
     let Stretched { edit, .. } = stretch(
         &scene,
         &region(),
-        Side::East,
+        StretchSide::East,
         amount,
         Some(&color),
         &StretchOptions::default(),

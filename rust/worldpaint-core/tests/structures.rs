@@ -2,12 +2,10 @@
 //! angles, smallest angle and fragmentation; houses keep their band along the roads; islands keep their trees
 //! on land and their boats along the coast.
 
-use worldpaint_core::contour::Polygons;
-use worldpaint_core::exemplar;
-use worldpaint_core::geom::DVec2;
-use worldpaint_core::graph::Graph;
-use worldpaint_core::palette::{Color, Histogram};
-use worldpaint_core::{learn_color, synthesize, AnalysisOptions, Region, Scene, SynthesisOptions};
+use worldpaint_core::{
+    archipelago_scene, learn_color, synthesize, village_scene, AnalysisOptions, Color, DVec2,
+    Graph, Histogram, Polygons, Region, Scene, SynthesisOptions,
+};
 
 fn square(origin: f64, size: f64) -> Region {
     Region::Rect {
@@ -17,7 +15,7 @@ fn square(origin: f64, size: f64) -> Region {
 }
 
 /// The graph of the synthesized paths.
-fn graph_of(paths: &[worldpaint_core::scene::Path]) -> Graph {
+fn graph_of(paths: &[worldpaint_core::Path]) -> Graph {
     let paths: Vec<&[DVec2]> = paths.iter().map(|p| p.points.as_slice()).collect();
     Graph::from_paths(&paths, 1e-6)
 }
@@ -38,22 +36,17 @@ fn move_and_apply(
     color: &Color,
     source: &Region,
     offset: DVec2,
-) -> (worldpaint_core::tools::moving::Moved, Scene) {
-    let moved = worldpaint_core::tools::moving::move_region(
-        scene,
-        Some(color),
-        source,
-        offset,
-        &Default::default(),
-    )
-    .unwrap();
+) -> (worldpaint_core::Moved, Scene) {
+    let moved =
+        worldpaint_core::move_region(scene, Some(color), source, offset, &Default::default())
+            .unwrap();
     let after = moved.edit.applied_to(scene);
     (moved, after)
 }
 
 /// The paths as drawn: nodes at their vertices only (shared vertices merged), so that edges crossing away from a
 /// node show up as crossings, which the planar graph of [`graph_of`] would have split into nodes.
-fn drawn_graph(paths: &[worldpaint_core::scene::Path]) -> Graph {
+fn drawn_graph(paths: &[worldpaint_core::Path]) -> Graph {
     let mut g = Graph::default();
     let mut ids = std::collections::HashMap::new();
     for p in paths {
@@ -124,7 +117,7 @@ fn turns(g: &Graph, learned: &Histogram) -> Histogram {
 
 /// The share of `points` whose distance to `g` lies in `band`.
 fn share_in_band(points: &[DVec2], g: &Graph, band: std::ops::RangeInclusive<f64>) -> f64 {
-    let index = worldpaint_core::graph::SegmentIndex::new(g.segments());
+    let index = worldpaint_core::SegmentIndex::new(g.segments());
     let inside = points
         .iter()
         .filter(|p| band.contains(&index.distance(**p, 1e3)))
@@ -135,7 +128,7 @@ fn share_in_band(points: &[DVec2], g: &Graph, band: std::ops::RangeInclusive<f64
 /// An exemplar scene of `size` m from the origin and the color `name` learned over all of it.
 /// The archipelago exemplar of `size`, its color, and an empty canvas with its categories.
 fn archipelago_color(size: f64) -> (Scene, Color, Scene) {
-    let (scene, color) = with_color(exemplar::archipelago(size, 1), size, "islands");
+    let (scene, color) = with_color(archipelago_scene(size, 1), size, "islands");
     let canvas = Scene {
         categories: scene.categories.clone(),
         ..Default::default()
@@ -155,7 +148,7 @@ fn with_color(scene: Scene, size: f64, name: &str) -> (Scene, Color) {
 }
 
 fn village_color(size: f64) -> (Scene, Color) {
-    with_color(exemplar::village(size, 1), size, "village")
+    with_color(village_scene(size, 1), size, "village")
 }
 
 #[test]
@@ -277,7 +270,7 @@ fn island_trees_stay_on_land_and_boats_along_the_coast() {
     };
     let (out, land) = paint(&color);
     let (trees, boats) = (positions_of(&out, "tree"), positions_of(&out, "boat"));
-    let land_share = |contours: &[worldpaint_core::scene::Contour], region: &Region| {
+    let land_share = |contours: &[worldpaint_core::Contour], region: &Region| {
         let polys = Polygons::new(
             &contours
                 .iter()
@@ -348,7 +341,7 @@ fn island_figures(contours: &[Vec<DVec2>], region: &Region) -> (f64, f64, f64) {
         .iter()
         .filter(|c| region.contains(centroid(c)))
         .count();
-    let islands: Vec<f64> = worldpaint_core::contour::islands(contours)
+    let islands: Vec<f64> = worldpaint_core::islands(contours)
         .into_iter()
         .filter(|i| region.contains(centroid(&contours[i.outer])))
         .map(|i| i.area)
@@ -362,7 +355,7 @@ fn islands_keep_their_count_and_size_over_nine_times_the_area() {
     let size = 300.0;
     let (scene, color, canvas) = archipelago_color(size);
     let dest = square(2000.0, 3.0 * size);
-    let contours = |c: &[worldpaint_core::scene::Contour]| -> Vec<Vec<DVec2>> {
+    let contours = |c: &[worldpaint_core::Contour]| -> Vec<Vec<DVec2>> {
         c.iter().map(|c| c.points.clone()).collect()
     };
     let (before_contours, before_islands, before_mean) =
@@ -400,25 +393,23 @@ fn four_islands() -> Scene {
         (150.0, 150.0, 32.0),
     ]
     .iter()
-    .map(
-        |&(cx, cy, r): &(f64, f64, f64)| worldpaint_core::scene::Contour {
-            category: 0,
-            points: (0..48)
-                .map(|k| {
-                    let a = std::f64::consts::TAU * k as f64 / 48.0;
-                    let rr = r * (1.0 + 0.15 * (3.0 * a + cx).sin());
-                    DVec2::new(cx + rr * a.cos(), cy + rr * a.sin())
-                })
-                .collect(),
-            locked: false,
-        },
-    )
+    .map(|&(cx, cy, r): &(f64, f64, f64)| worldpaint_core::Contour {
+        category: 0,
+        points: (0..48)
+            .map(|k| {
+                let a = std::f64::consts::TAU * k as f64 / 48.0;
+                let rr = r * (1.0 + 0.15 * (3.0 * a + cx).sin());
+                DVec2::new(cx + rr * a.cos(), cy + rr * a.sin())
+            })
+            .collect(),
+        locked: false,
+    })
     .collect();
     Scene {
-        categories: vec![worldpaint_core::scene::Category::new(
+        categories: vec![worldpaint_core::Category::new(
             "island",
             "terrain",
-            worldpaint_core::scene::CategoryKind::Polygon,
+            worldpaint_core::CategoryKind::Polygon,
             0,
         )],
         contours,
@@ -438,7 +429,7 @@ fn four_islands_pasted_into_a_small_region_keep_their_count_size_and_land() {
         categories: scene.categories.clone(),
         ..Default::default()
     };
-    let contours = |c: &[worldpaint_core::scene::Contour]| -> Vec<Vec<DVec2>> {
+    let contours = |c: &[worldpaint_core::Contour]| -> Vec<Vec<DVec2>> {
         c.iter().map(|c| c.points.clone()).collect()
     };
     let (before_contours, before_islands, before_mean) =
@@ -475,7 +466,7 @@ fn four_islands_pasted_into_a_small_region_keep_their_count_size_and_land() {
 #[test]
 fn colors_saved_before_turning_angles_and_island_sizes_still_load_and_paint() {
     let (_, roads) = village_color(450.0);
-    let (_, islands) = with_color(exemplar::archipelago(300.0, 1), 300.0, "islands");
+    let (_, islands) = with_color(archipelago_scene(300.0, 1), 300.0, "islands");
     // the files as written before these fields were learned
     let strip = |color: &Color, fields: &[&str]| -> Color {
         let mut json: serde_json::Value = serde_json::from_str(&color.to_json().unwrap()).unwrap();
@@ -523,13 +514,13 @@ fn strip_fields(v: &mut serde_json::Value, fields: &[&str]) {
 #[test]
 fn pasted_roads_join_the_roads_around() {
     let (_, color) = village_color(450.0);
-    let world = exemplar::village(900.0, 2);
+    let world = village_scene(900.0, 2);
     let region = square(350.0, 200.0);
     let opts = SynthesisOptions {
         seed: 7,
         ..Default::default()
     };
-    let edit = worldpaint_core::tools::paste(&world, &color, &region, &opts, &|_| true).unwrap();
+    let edit = worldpaint_core::paste(&world, &color, &region, &opts, &|_| true).unwrap();
     let after = edit.applied_to(&world);
     // the roads were cut at the border: their loose ends there
     let on_border = |p: DVec2| region.distance_to_boundary(p) < 1e-6;
@@ -544,7 +535,7 @@ fn pasted_roads_join_the_roads_around() {
         .flat_map(|p| [p.points[0], p.points[p.points.len() - 1]])
         .filter(|q| on_border(*q))
         .collect();
-    let new_paths: Vec<&worldpaint_core::scene::Path> = edit
+    let new_paths: Vec<&worldpaint_core::Path> = edit
         .added_paths
         .iter()
         .filter(|p| {
@@ -582,7 +573,7 @@ fn pasted_roads_join_the_roads_around() {
         .iter()
         .position(|c| c.name == "house")
         .unwrap();
-    let index = worldpaint_core::graph::SegmentIndex::new(g.segments());
+    let index = worldpaint_core::SegmentIndex::new(g.segments());
     let nearest = edit
         .added
         .iter()
@@ -595,25 +586,25 @@ fn pasted_roads_join_the_roads_around() {
 
 #[test]
 fn clearing_a_region_cuts_the_roads_at_its_border_and_keeps_the_rest() {
-    let scene = exemplar::village(450.0, 2);
+    let scene = village_scene(450.0, 2);
     let region = Region::Circle {
         center: DVec2::splat(200.0),
         radius: 80.0,
     };
-    let length = |paths: &[worldpaint_core::scene::Path]| -> f64 {
+    let length = |paths: &[worldpaint_core::Path]| -> f64 {
         paths
             .iter()
             .flat_map(|p| p.points.windows(2).map(|w| w[0].distance(w[1])))
             .sum()
     };
-    let outside = |paths: &[worldpaint_core::scene::Path]| -> f64 {
+    let outside = |paths: &[worldpaint_core::Path]| -> f64 {
         paths
             .iter()
             .flat_map(|p| region.clip_polyline(&p.points).1)
             .map(|piece| piece.windows(2).map(|w| w[0].distance(w[1])).sum::<f64>())
             .sum()
     };
-    let after = worldpaint_core::tools::clear(&scene, &region, None)
+    let after = worldpaint_core::clear_region(&scene, &region, None)
         .unwrap()
         .applied_to(&scene);
     println!(
@@ -634,7 +625,7 @@ fn clearing_a_region_cuts_the_roads_at_its_border_and_keeps_the_rest() {
     assert!(after.instances.len() < scene.instances.len());
 
     // one category only: the roads stay
-    let houses_only = worldpaint_core::tools::clear(&scene, &region, Some("house"))
+    let houses_only = worldpaint_core::clear_region(&scene, &region, Some("house"))
         .unwrap()
         .applied_to(&scene);
     assert_eq!(houses_only.paths, scene.paths);
@@ -647,7 +638,7 @@ fn clearing_a_region_cuts_the_roads_at_its_border_and_keeps_the_rest() {
         .instances
         .iter()
         .any(|i| i.category != house && region.contains(i.position)));
-    assert!(worldpaint_core::tools::clear(&scene, &region, Some("castle")).is_err());
+    assert!(worldpaint_core::clear_region(&scene, &region, Some("castle")).is_err());
 }
 
 #[test]
@@ -672,7 +663,7 @@ fn moving_a_region_carries_its_roads_and_the_houses_keep_off_them() {
             .sum()
     };
     let house = after.category_index("house").unwrap();
-    let roads = worldpaint_core::graph::SegmentIndex::new(graph_of(&after.paths).segments());
+    let roads = worldpaint_core::SegmentIndex::new(graph_of(&after.paths).segments());
     let closest = after
         .instances
         .iter()
@@ -701,14 +692,14 @@ fn moving_a_region_carries_its_roads_and_the_houses_keep_off_them() {
 
 #[test]
 fn moving_a_region_carries_its_islands() {
-    let (scene, color) = with_color(exemplar::archipelago(300.0, 1), 300.0, "islands");
+    let (scene, color) = with_color(archipelago_scene(300.0, 1), 300.0, "islands");
     // a square that cuts some islands: their parts inside move, the rest stays
     let source = square(0.0, 160.0);
     let offset = DVec2::new(1000.0, 0.0);
-    let area = |contours: &[worldpaint_core::scene::Contour]| -> f64 {
+    let area = |contours: &[worldpaint_core::Contour]| -> f64 {
         contours
             .iter()
-            .map(|c| worldpaint_core::geom::polygon_signed_area(&c.points).abs())
+            .map(|c| worldpaint_core::polygon_signed_area(&c.points).abs())
             .sum()
     };
     let (_, after) = move_and_apply(&scene, &color, &source, offset);
@@ -736,7 +727,7 @@ fn moving_a_region_carries_its_islands() {
 
 #[test]
 fn a_gradient_paints_one_road_network_across_its_bands() {
-    use worldpaint_core::tools::gradient::{gradient, GradientOptions, GradientShape};
+    use worldpaint_core::{gradient, GradientOptions, GradientShape};
     let (_, sparse) = village_color(450.0);
     // the same village with three times the houses along its roads
     let mut dense = sparse.clone();

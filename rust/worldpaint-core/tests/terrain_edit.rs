@@ -2,20 +2,14 @@
 //! and roads embedded into it. Run with `cargo test -p worldpaint-core --release --test terrain_edit --
 //! --nocapture` to see the figures.
 
-use worldpaint_core::distance::distance_transform;
-use worldpaint_core::exemplar::rough_terrain;
-use worldpaint_core::geom::DVec2;
-use worldpaint_core::terrain_edit::rasterize::{corridor, gradient_polyline, point, polyline};
-use worldpaint_core::terrain_edit::{
-    diffuse, diffuse_horizontal, embed_road, embed_roads, Constraints, DiffusionOptions,
-    HorizontalConstraints, Road, RoadEmbedding, RoadOptions, RoadProfile,
+use worldpaint_core::{
+    diffuse, diffuse_horizontal, distance_transform, embed_road, embed_roads, laplace_residual,
+    rasterize_corridor, rasterize_gradient_polyline, rasterize_point, rasterize_polyline,
+    rough_terrain, Constraints, DVec2, DiffusionOptions, EmbeddedRoad, Error, Heightfield,
+    HorizontalConstraints, RoadEmbedding, RoadEmbeddingOptions, RoadProfile,
 };
-use worldpaint_core::{Error, Heightfield};
 
 use glam::DVec3;
-
-#[path = "common/laplace.rs"]
-mod laplace;
 
 /// 1025 × 1025 nodes, 1 m apart, with relief down to 3 m wavelengths.
 fn terrain() -> Heightfield {
@@ -105,7 +99,7 @@ fn diffusion_meets_constraints_keeps_detail_and_stays_within_the_falloff() {
     let mut wanted: Vec<(usize, f64)> = Vec::new();
     let curves = curves(&t);
     for curve in &curves {
-        polyline(&mut c, &t, curve).expect("curve on the terrain");
+        rasterize_polyline(&mut c, &t, curve).expect("curve on the terrain");
     }
     for k in 0..nx * ny {
         if let Some(v) = c.get(k % nx, k / nx) {
@@ -147,7 +141,7 @@ fn diffusion_meets_constraints_keeps_detail_and_stays_within_the_falloff() {
         .zip(&distance)
         .map(|(m, dist)| *m || (*dist as f64) > falloff)
         .collect();
-    let residual = laplace::residual(&d.displacement, nx, ny, |k| !fixed[k]);
+    let residual = laplace_residual(&d.displacement, nx, ny, |k| !fixed[k]);
     // nothing moves beyond the falloff
     let beyond = (0..nx * ny)
         .filter(|k| (distance[*k] as f64) > falloff)
@@ -209,7 +203,7 @@ fn diffusion_does_not_depend_on_the_thread_count() {
     let t = rough_terrain(256.0, 1.0, 5);
     let mut c = Constraints::for_terrain(&t);
     let z = t.height_at(DVec2::new(100.0, 100.0)).unwrap_or(0.0);
-    polyline(
+    rasterize_polyline(
         &mut c,
         &t,
         &[
@@ -240,12 +234,12 @@ fn bad_input_is_refused_with_a_message() {
         Err(Error::OutOfRange { .. })
     ));
     assert!(matches!(c.set(999, 3, 1.0), Err(Error::Invalid { .. })));
-    assert!(polyline(&mut c, &t, &[]).is_err());
-    assert!(polyline(&mut c, &t, &[DVec3::new(f64::NAN, 1.0, 1.0)]).is_err());
-    assert!(corridor(&mut c, &t, &[DVec3::new(5.0, 5.0, 1.0)], 0.0).is_err());
+    assert!(rasterize_polyline(&mut c, &t, &[]).is_err());
+    assert!(rasterize_polyline(&mut c, &t, &[DVec3::new(f64::NAN, 1.0, 1.0)]).is_err());
+    assert!(rasterize_corridor(&mut c, &t, &[DVec3::new(5.0, 5.0, 1.0)], 0.0).is_err());
     // off the terrain: skipped, not an error
     assert_eq!(
-        point(&mut c, &t, DVec3::new(-50.0, 5.0, 1.0)).ok(),
+        rasterize_point(&mut c, &t, DVec3::new(-50.0, 5.0, 1.0)).ok(),
         Some(false)
     );
     let bad = DiffusionOptions {
@@ -256,13 +250,13 @@ fn bad_input_is_refused_with_a_message() {
     // nothing to diffuse: nothing moves
     let none = diffuse(&Constraints::for_terrain(&t), &DiffusionOptions::default()).expect("empty");
     assert!(none.displacement.iter().all(|d| *d == 0.0));
-    let road = |centreline: Vec<DVec2>, width: f64| Road {
+    let road = |centreline: Vec<DVec2>, width: f64| EmbeddedRoad {
         centreline,
         heights: None,
         width,
         bank_width: 5.0,
     };
-    let opts = RoadOptions::default();
+    let opts = RoadEmbeddingOptions::default();
     let line = vec![DVec2::new(10.0, 10.0), DVec2::new(50.0, 30.0)];
     for bad in [
         road(line.clone(), 0.0),
@@ -293,7 +287,7 @@ fn gradient_and_horizontal_constraints() {
     let mut c = Constraints::for_terrain(&t);
     let z = 30.0;
     let ridge = [DVec3::new(20.0, 64.0, z), DVec3::new(108.0, 64.0, z)];
-    gradient_polyline(&mut c, &t, &ridge, -0.5, -0.5).expect("ridge");
+    rasterize_gradient_polyline(&mut c, &t, &ridge, -0.5, -0.5).expect("ridge");
     let d = diffuse(&c, &within(30.0)).expect("diffusion");
     let e = d.apply(&t).expect("grid");
     // along the ridge, and half a metre lower one cell to each side
@@ -340,16 +334,17 @@ fn roads_are_level_across_smooth_along_and_banked_into_the_slope() {
         })
         .collect();
     let straight = vec![DVec2::new(200.0, 150.0), DVec2::new(900.0, 260.0)];
-    let roads: Vec<Road> = [winding, straight]
+    let roads: Vec<EmbeddedRoad> = [winding, straight]
         .into_iter()
-        .map(|centreline| Road {
+        .map(|centreline| EmbeddedRoad {
             centreline,
             heights: None,
             width,
             bank_width: bank,
         })
         .collect();
-    let e = embed_roads(&t, &roads, &RoadOptions::default()).expect("roads on the terrain");
+    let e =
+        embed_roads(&t, &roads, &RoadEmbeddingOptions::default()).expect("roads on the terrain");
     let h = &e.terrain;
     println!(
         "roads on 1025²: {} PCG iterations, residual {:.2e} m (tolerance {:.2e} m), {} cells solved",
@@ -422,9 +417,7 @@ fn roads_are_level_across_smooth_along_and_banked_into_the_slope() {
             .map(|prof| {
                 prof.points
                     .windows(2)
-                    .map(|w| {
-                        worldpaint_core::geom::segment_distance(p, w[0].truncate(), w[1].truncate())
-                    })
+                    .map(|w| worldpaint_core::segment_distance(p, w[0].truncate(), w[1].truncate()))
                     .fold(f64::INFINITY, f64::min)
             })
             .fold(f64::INFINITY, f64::min)
@@ -472,19 +465,19 @@ fn roads_are_level_across_smooth_along_and_banked_into_the_slope() {
 #[test]
 fn where_roads_cross_the_first_keeps_its_heights() {
     let t = rough_terrain(256.0, 1.0, 4);
-    let a = Road {
+    let a = EmbeddedRoad {
         centreline: vec![DVec2::new(20.0, 128.0), DVec2::new(236.0, 128.0)],
         heights: Some(vec![40.0, 40.0]),
         width: 6.0,
         bank_width: 8.0,
     };
     // 2 m above the first road where they cross
-    let b = Road {
+    let b = EmbeddedRoad {
         centreline: vec![DVec2::new(128.0, 20.0), DVec2::new(128.0, 236.0)],
         heights: Some(vec![32.0, 52.0]),
         ..a.clone()
     };
-    let e = embed_roads(&t, &[a, b], &RoadOptions::default()).expect("roads");
+    let e = embed_roads(&t, &[a, b], &RoadEmbeddingOptions::default()).expect("roads");
     let at = |x: f64, y: f64| e.terrain.height_at(DVec2::new(x, y)).unwrap_or(f64::NAN);
     assert!((at(128.0, 128.0) - 40.0).abs() < 1e-3);
     assert!((at(128.0, 130.0) - 40.0).abs() < 1e-3);
@@ -553,8 +546,8 @@ fn spur_slope() -> Heightfield {
 }
 
 /// A road of the junction tests through points given in the slope's frame: 6 m carriageway, 10 m banks.
-fn junction_road(points: &[(f64, f64)]) -> Road {
-    Road {
+fn junction_road(points: &[(f64, f64)]) -> EmbeddedRoad {
+    EmbeddedRoad {
         centreline: points.iter().map(|(u, v)| on_slope(*u, *v)).collect(),
         heights: None,
         width: 6.0,
@@ -670,8 +663,8 @@ fn cross_slopes(h: &Heightfield, r: usize, profiles: &[RoadProfile], widths: &[f
 }
 
 /// Embeds the roads with the default options.
-fn embed(t: &Heightfield, roads: &[Road]) -> RoadEmbedding {
-    match embed_roads(t, roads, &RoadOptions::default()) {
+fn embed(t: &Heightfield, roads: &[EmbeddedRoad]) -> RoadEmbedding {
+    match embed_roads(t, roads, &RoadEmbeddingOptions::default()) {
         Ok(e) => e,
         Err(e) => panic!("roads on the terrain: {e}"),
     }
@@ -679,7 +672,7 @@ fn embed(t: &Heightfield, roads: &[Road]) -> RoadEmbedding {
 
 /// Prints the steps along every road (all along it and near the other roads), the steps along its carriageway's edges
 /// near the other roads, and the cross-slopes outside and within the junction squares; returns the failures.
-fn junction_figures(label: &str, t: &Heightfield, roads: &[Road]) -> Vec<String> {
+fn junction_figures(label: &str, t: &Heightfield, roads: &[EmbeddedRoad]) -> Vec<String> {
     let e = embed(t, roads);
     let mut failures = Vec::new();
     if !e.diffusion.converged {
@@ -724,7 +717,7 @@ fn roads_that_cross_on_a_slope_meet_without_a_step() {
     let crossing = on_slope(0.0, 0.0);
     let contour = junction_road(&[(-100.0, 0.0), (100.0, 0.0)]);
     let down = junction_road(&[(0.0, -100.0), (0.0, 100.0)]);
-    let natural = |road: &Road| {
+    let natural = |road: &EmbeddedRoad| {
         nearest_on_profile(&embed(&t, std::slice::from_ref(road)).profiles[0], crossing).1
     };
     let (zc, zd) = (natural(&contour), natural(&down));
@@ -792,7 +785,7 @@ fn a_road_meeting_several_roads_and_one_crossing_itself_stay_smooth() {
         })
         .collect();
     let ring = junction_road(&ring_points);
-    let roads: Vec<Road> = ladder
+    let roads: Vec<EmbeddedRoad> = ladder
         .iter()
         .cloned()
         .chain([across, lasso, ring])

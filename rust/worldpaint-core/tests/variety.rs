@@ -6,22 +6,18 @@
 //!
 //! `cargo test -p worldpaint-core --release --test variety -- --nocapture` prints the figures.
 
-#[path = "common/variety_models.rs"]
-mod variety_models;
+mod common;
+use common::variety_models;
 
-#[path = "common/birch.rs"]
-mod birch;
-
-use birch::{birch, birch_atlas};
-use std::collections::HashSet;
-use variety_models::{
+use common::birch::{birch, birch_atlas};
+use common::variety_models::{
     cactus, column, edit, moved_piece, ring, rock, tree, tree_atlas, CactusPart, DVec3, Role,
 };
-use worldpaint_core::geom::DVec2;
-use worldpaint_core::variety::{
-    atlas_images, check_assemblies, generate, memory_report, pack_components, pick_textures, Atlas,
-    Choice, Decomposition, GenerateOptions, Image, IntersectionLabels, Model, Rejection,
-    TextureComponent, VariantClass,
+use std::collections::HashSet;
+use worldpaint_core::{
+    atlas_images, check_assemblies, generate_variants, memory_report, pack_components,
+    pick_textures, Atlas, Choice, DVec2, Decomposition, GenerateOptions, Image, IntersectionLabels,
+    Model, Rejection, TextureComponent, VariantClass,
 };
 
 fn all_choices(atlas: &Atlas) -> Vec<Choice> {
@@ -326,7 +322,7 @@ fn turning_a_branch_base_as_a_solid_tilts_the_branch() {
     let mut picks = vec![vec![0]; 6];
     picks[3] = vec![3];
     let choice = Choice { graph: 0, picks };
-    let a = worldpaint_core::variety::check_assembly(&atlas, &labels, &choice)
+    let a = worldpaint_core::check_assembly(&atlas, &labels, &choice)
         .expect("assembly")
         .expect("kept");
     assert!(a.max_gap <= 1e-6 && a.model.is_watertight());
@@ -507,7 +503,7 @@ fn a_local_cycle_repeats_a_piece_at_most_the_allowed_number_of_times() {
     heights.dedup();
     println!("  column heights with 1 to 3 middle pieces: {heights:?}");
     assert_eq!(heights, vec![3.0, 4.0, 5.0]);
-    let g = generate(
+    let g = generate_variants(
         &atlas,
         &labels,
         &GenerateOptions {
@@ -681,10 +677,10 @@ fn the_same_seed_gives_the_same_variants_at_any_thread_count() {
             .num_threads(threads)
             .build()
             .expect("pool");
-        pool.install(|| generate(&atlas, &labels, &options).expect("generate"))
+        pool.install(|| generate_variants(&atlas, &labels, &options).expect("generate"))
     };
     let (one, four) = (run(1), run(4));
-    let hashes = |g: &worldpaint_core::variety::Generation| -> Vec<u64> {
+    let hashes = |g: &worldpaint_core::Generation| -> Vec<u64> {
         g.accepted.iter().map(|(_, a)| a.hash).collect()
     };
     assert_eq!(one.accepted.len(), 300);
@@ -695,7 +691,7 @@ fn the_same_seed_gives_the_same_variants_at_any_thread_count() {
     );
     let distinct: HashSet<u64> = hashes(&one).into_iter().collect();
     assert_eq!(distinct.len(), 300, "the variants are distinct");
-    let other = generate(
+    let other = generate_variants(
         &atlas,
         &labels,
         &GenerateOptions {
@@ -723,7 +719,7 @@ fn asking_for_every_possible_birch_gives_every_one_once() {
                 max_attempts,
             },
         );
-        let g = generate(&atlas, &labels, &options).expect("generate");
+        let g = generate_variants(&atlas, &labels, &options).expect("generate");
         let distinct: HashSet<u64> = g.accepted.iter().map(|(_, a)| a.hash).collect();
         println!(
             "  {count} asked of 729 possible (seed {seed}, attempts {max_attempts}): {} made, {} distinct, \
@@ -759,7 +755,7 @@ fn asking_for_every_possible_birch_gives_every_one_once() {
         seed: 5,
         max_attempts: 0,
     };
-    let g = generate(&poked_atlas, &labels, &options).expect("generate");
+    let g = generate_variants(&poked_atlas, &labels, &options).expect("generate");
     let distinct: HashSet<u64> = g.accepted.iter().map(|(_, a)| a.hash).collect();
     println!(
         "  972 asked of 972 possible with one bad branch: {} made ({} distinct), {} rejected",
@@ -835,12 +831,8 @@ fn bad_input_is_refused_with_a_message() {
         })
         .expect_err("no variant 7");
     assert!(e.to_string().contains("entry 7"), "{e}");
-    let e = worldpaint_core::variety::new_intersection(
-        &t.model,
-        &[None; 3],
-        &IntersectionLabels::default(),
-    )
-    .expect_err("face origins of the wrong length");
+    let e = worldpaint_core::new_intersection(&t.model, &[None; 3], &IntersectionLabels::default())
+        .expect_err("face origins of the wrong length");
     assert!(e.to_string().contains("face origins"), "{e}");
     let mut broken = t.model.clone();
     broken.faces[0][0] = 99_999;
@@ -867,7 +859,7 @@ fn bad_input_is_refused_with_a_message() {
 }
 
 /// The mean of the vertices of component `c`'s faces in an assembly.
-fn component_centre(a: &worldpaint_core::variety::Assembled, c: u32) -> DVec3 {
+fn component_centre(a: &worldpaint_core::Assembled, c: u32) -> DVec3 {
     let mut used: Vec<u32> = a
         .model
         .faces
@@ -914,7 +906,7 @@ fn made_and_distinct(atlas: &Atlas, model: &Model) -> (usize, usize, usize) {
         seed: 1,
         max_attempts: 0,
     };
-    let g = generate(atlas, &labels, &options).expect("generate");
+    let g = generate_variants(atlas, &labels, &options).expect("generate");
     let shapes: HashSet<Vec<Vec<[i64; 3]>>> = g
         .accepted
         .iter()

@@ -6,7 +6,7 @@ use glam::DVec2;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::collections::HashMap;
-use worldpaint_core::variety::assign_variants;
+use worldpaint_core::assign_variants;
 
 const SIDE: f64 = 1_000.0;
 const WINDOW: f64 = 50.0;

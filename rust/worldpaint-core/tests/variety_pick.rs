@@ -2,11 +2,10 @@
 //! `assets/`: the assembly shows exactly the picked variants, the original's picks rebuild the original, and a pick
 //! past a component's variants is refused with a message.
 
-#[path = "common/birch.rs"]
-mod birch;
+mod common;
 
-use birch::{birch, birch_atlas};
-use worldpaint_core::variety::{check_assembly, IntersectionLabels};
+use common::birch::{birch, birch_atlas};
+use worldpaint_core::{check_assembly, IntersectionLabels};
 
 #[test]
 fn the_variants_picked_by_hand_are_the_ones_assembled() {

@@ -2,18 +2,13 @@
 //! the water or on another house, roads no steeper than the encyclopedia allows, village types that differ in
 //! the way the thesis describes, and parcel figures beside the thesis's real village.
 
-use worldpaint_core::exemplar::village_terrain;
-use worldpaint_core::geom::DVec2;
-use worldpaint_core::terrain_edit::{embed_roads, Road as EmbeddedRoad, RoadOptions};
-use worldpaint_core::village::encyclopedia::{Event, RoadParams};
-use worldpaint_core::village::generate::{generate, Stage, Village, VillageRequest};
-use worldpaint_core::village::metrics::{
-    footprint_conflicts, layout_statistics, mean_elevation_percentile, road_grades,
-    unreachable_footprints,
+use worldpaint_core::{
+    embed_roads, footprint_conflicts, generate_village, layout_statistics,
+    mean_elevation_percentile, parcel_statistics, road_grades, unreachable_footprints,
+    village_terrain, DVec2, EmbeddedRoad, Encyclopedia, Environment, Error, Heightfield, Region,
+    Road, RoadEmbeddingOptions, RoadParams, Scenario, ScenarioEvent, ScenarioPresets, Site,
+    Village, VillageRequest, VillageStage,
 };
-use worldpaint_core::village::parcels::parcel_statistics;
-use worldpaint_core::village::{Encyclopedia, Environment, Road, Scenario, ScenarioPresets, Site};
-use worldpaint_core::{Error, Heightfield, Region};
 
 const ENCYCLOPEDIA: &str = include_str!("../../../assets/villages/encyclopedia.json");
 const SCENARIOS: &str = include_str!("../../../assets/villages/scenarios.json");
@@ -30,14 +25,14 @@ fn preset(name: &str) -> Scenario {
 fn scenario(village_type: &str, houses: u32) -> Scenario {
     Scenario {
         events: vec![
-            Event::ChangeVillageType {
+            ScenarioEvent::ChangeVillageType {
                 village_type: village_type.into(),
             },
-            Event::Generate {
+            ScenarioEvent::Generate {
                 count: 1,
                 building: "church".into(),
             },
-            Event::Generate {
+            ScenarioEvent::Generate {
                 count: houses,
                 building: "house".into(),
             },
@@ -79,7 +74,7 @@ fn village(terrain: &Heightfield, enc: &Encyclopedia, scenario: &Scenario, seed:
         water_level: Some(0.0),
         ..Default::default()
     };
-    generate(
+    generate_village(
         &request(terrain, region, sea, enc, scenario, seed),
         &|_, _| true,
     )
@@ -225,7 +220,7 @@ fn bad_scenarios_and_cancelling_give_clear_errors() {
     let terrain = village_terrain(400.0, 2.0, 2);
     let enc = encyclopedia();
     let bad = Scenario {
-        events: vec![Event::Generate {
+        events: vec![ScenarioEvent::Generate {
             count: 1,
             building: "house".into(),
         }],
@@ -245,21 +240,22 @@ fn bad_scenarios_and_cancelling_give_clear_errors() {
         )
     };
     let bad: &'static Scenario = Box::leak(Box::new(bad));
-    let err = generate(&request(bad), &|_, _| true).expect_err("generate before a village type");
+    let err =
+        generate_village(&request(bad), &|_, _| true).expect_err("generate before a village type");
     assert!(err.to_string().contains("before any village type"), "{err}");
     let unknown: &'static Scenario = Box::leak(Box::new(scenario("nomads", 3)));
-    let err = generate(&request(unknown), &|_, _| true).expect_err("unknown village type");
+    let err = generate_village(&request(unknown), &|_, _| true).expect_err("unknown village type");
     assert!(err.to_string().contains("nomads"), "{err}");
     let empty: &'static Scenario = Box::leak(Box::new(Scenario::default()));
-    let err = generate(&request(empty), &|_, _| true).expect_err("no building asked");
+    let err = generate_village(&request(empty), &|_, _| true).expect_err("no building asked");
     assert!(err.to_string().contains("generates no building"), "{err}");
     let mut palace = scenario("farming", 3);
-    palace.events.push(Event::Generate {
+    palace.events.push(ScenarioEvent::Generate {
         count: 1,
         building: "palace".into(),
     });
     let palace: &'static Scenario = Box::leak(Box::new(palace));
-    let err = generate(&request(palace), &|_, _| true).expect_err("unknown building type");
+    let err = generate_village(&request(palace), &|_, _| true).expect_err("unknown building type");
     assert!(
         err.to_string().contains(
             "event 4: unknown building type 'palace' (the encyclopedia has castle, church"
@@ -267,14 +263,14 @@ fn bad_scenarios_and_cancelling_give_clear_errors() {
         "{err}"
     );
     let fine: &'static Scenario = Box::leak(Box::new(scenario("farming", 3)));
-    let err = generate(&request(fine), &|_, f| f < 0.5).expect_err("cancelled");
+    let err = generate_village(&request(fine), &|_, f| f < 0.5).expect_err("cancelled");
     assert!(matches!(err, Error::Cancelled));
     // each stage hears the cancel while it works, not only between stages: the land conquest of the parcels
     // (their first 20 % is the road conquest), the footprints (their last 20 %) and the houses
     for (name, stop_at) in [
-        ("land conquest", (Stage::Parcels, 0.3)),
-        ("footprints", (Stage::Parcels, 0.85)),
-        ("houses", (Stage::Houses, 0.01)),
+        ("land conquest", (VillageStage::Parcels, 0.3)),
+        ("footprints", (VillageStage::Parcels, 0.85)),
+        ("houses", (VillageStage::Houses, 0.01)),
     ] {
         let seen = std::sync::Mutex::new(Vec::new());
         let cancel = |stage, f| {
@@ -283,7 +279,7 @@ fn bad_scenarios_and_cancelling_give_clear_errors() {
             }
             !(stage == stop_at.0 && f >= stop_at.1)
         };
-        let err = generate(&request(fine), &cancel).expect_err(name);
+        let err = generate_village(&request(fine), &cancel).expect_err(name);
         assert!(matches!(err, Error::Cancelled), "{name}: {err}");
         let seen = seen.into_inner().unwrap_or_default();
         assert!(
@@ -305,7 +301,7 @@ fn a_request_for_more_houses_than_the_land_holds_stops_when_it_is_full() {
             max: DVec2::splat(155.0),
         };
         let request = request(&terrain, region, Environment::default(), &enc, &scenario, 3);
-        generate(&request, &|_, _| true)
+        generate_village(&request, &|_, _| true)
     };
     let full = grow(400).expect("a full village");
     let more = grow(4000).expect("the same full village");
@@ -344,7 +340,7 @@ fn a_village_over_the_whole_terrain_keeps_its_roads_on_it_and_they_embed() {
             &scenario,
             seed,
         );
-        let v = generate(&request, &|_, _| true).expect("the village grows");
+        let v = generate_village(&request, &|_, _| true).expect("the village grows");
         let on_terrain = |p: &DVec2| terrain.contains(*p);
         assert!(
             v.roads.iter().all(|r| r.points.iter().all(on_terrain)),
@@ -361,7 +357,7 @@ fn a_village_over_the_whole_terrain_keeps_its_roads_on_it_and_they_embed() {
                 bank_width: 2.0,
             })
             .collect();
-        if let Err(e) = embed_roads(&terrain, &roads, &RoadOptions::default()) {
+        if let Err(e) = embed_roads(&terrain, &roads, &RoadEmbeddingOptions::default()) {
             panic!("seed {seed}: {e}");
         }
     }
@@ -385,7 +381,7 @@ fn a_village_on_land_all_under_water_is_refused_with_a_message() {
         &scenario,
         1,
     );
-    let refused = std::panic::catch_unwind(|| generate(&request, &|_, _| true))
+    let refused = std::panic::catch_unwind(|| generate_village(&request, &|_, _| true))
         .expect("no panic on a drowned region");
     match refused {
         Err(e) => assert!(!e.to_string().is_empty()),

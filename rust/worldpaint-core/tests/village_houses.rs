@@ -24,11 +24,11 @@ mod village_houses {
     use glam::{DVec2, DVec3};
     use rayon::prelude::*;
     use std::collections::HashMap;
-    use worldpaint_core::village::encyclopedia::{BuildingKind, RoofStyle};
-    use worldpaint_core::village::house::{
-        house, house_layout, openings_below_ground, HouseReport, OpeningKind, PlacedOpening,
+    use worldpaint_core::{
+        build_house, house_layout, openings_below_ground, HouseReport, OpeningKind, PlacedOpening,
     };
-    use worldpaint_core::village::{Footprint, HouseMaterial, HouseMesh};
+    use worldpaint_core::{BuildingKind, RoofStyle};
+    use worldpaint_core::{HouseFootprint, HouseMaterial, HouseMesh};
 
     const ROOFS: [RoofStyle; 3] = [RoofStyle::Gable, RoofStyle::Hip, RoofStyle::Flat];
     const SIZES: [(f64, f64); 6] = [
@@ -54,7 +54,7 @@ mod village_houses {
     }
 
     /// A `width` (front) by `depth` rectangle centred at `centre`, its front facing `angle` degrees from -y.
-    fn rectangle(centre: DVec2, width: f64, depth: f64, angle: f64) -> Footprint {
+    fn rectangle(centre: DVec2, width: f64, depth: f64, angle: f64) -> HouseFootprint {
         let r = DVec2::from_angle(angle.to_radians());
         let local = [
             DVec2::new(-0.5 * width, -0.5 * depth),
@@ -62,7 +62,7 @@ mod village_houses {
             DVec2::new(0.5 * width, 0.5 * depth),
             DVec2::new(-0.5 * width, 0.5 * depth),
         ];
-        Footprint {
+        HouseFootprint {
             seed: 7,
             corners: local.map(|p| centre + r.rotate(p)),
         }
@@ -88,7 +88,7 @@ mod village_houses {
     /// Valid indices, one material per face, planar faces with an area; the solids (all but the openings)
     /// closed, every edge met once in each direction, with a volume of at least the storeys'; wall faces
     /// looking away from the footprint centre.
-    fn check_mesh(mesh: &HouseMesh, footprint: &Footprint, storeys_volume: f64) {
+    fn check_mesh(mesh: &HouseMesh, footprint: &HouseFootprint, storeys_volume: f64) {
         assert_eq!(mesh.materials.len(), mesh.faces.len());
         let mut edges: HashMap<(u32, u32), i32> = HashMap::new();
         let mut volume = 0.0;
@@ -129,14 +129,18 @@ mod village_houses {
         );
     }
 
-    fn area(f: &Footprint) -> f64 {
+    fn area(f: &HouseFootprint) -> f64 {
         let c = &f.corners;
         0.5 * (0..4).map(|i| c[i].perp_dot(c[(i + 1) % 4])).sum::<f64>()
     }
 
     /// The foundation reaches the terrain under every corner of the house and under every wall vertex, and its
     /// top covers the bottom of the walls; the roof stays above the terrain.
-    fn check_foundation(mesh: &HouseMesh, footprint: &Footprint, ground: &dyn Fn(DVec2) -> f64) {
+    fn check_foundation(
+        mesh: &HouseMesh,
+        footprint: &HouseFootprint,
+        ground: &dyn Fn(DVec2) -> f64,
+    ) {
         let of = |m: HouseMaterial| {
             let mut v: Vec<DVec3> = mesh
                 .faces
@@ -182,7 +186,7 @@ mod village_houses {
         angle: f64,
         storeys: u32,
         roof: RoofStyle,
-        footprint: Footprint,
+        footprint: HouseFootprint,
         seed: u64,
     }
 
@@ -364,7 +368,7 @@ mod village_houses {
         );
     }
 
-    fn slope_layouts(degrees: f64) -> Vec<(Footprint, f64, Vec<PlacedOpening>)> {
+    fn slope_layouts(degrees: f64) -> Vec<(HouseFootprint, f64, Vec<PlacedOpening>)> {
         let grade = degrees.to_radians().tan();
         let ground = move |p: DVec2| grade * p.x;
         let mut out = Vec::new();
@@ -437,7 +441,7 @@ mod village_houses {
     }
 
     /// A rectangle with each corner moved up to `jitter` metres, kept when still convex.
-    fn irregular(i: u64, jitter: f64) -> Option<Footprint> {
+    fn irregular(i: u64, jitter: f64) -> Option<HouseFootprint> {
         let mut state = i.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1;
         let mut next = move || {
             state ^= state << 13;
@@ -470,7 +474,7 @@ mod village_houses {
             let Some(f) = irregular(i, 1.5) else { continue };
             let roof = ROOFS[(i % 3) as usize];
             let storeys = 1 + (i % 3) as u32;
-            let (mesh, report) = house(&f, &kind(roof), storeys, &ground, i);
+            let (mesh, report) = build_house(&f, &kind(roof), storeys, &ground, i);
             assert!(!mesh.faces.is_empty());
             check_mesh(&mesh, &f, area(&f) * 2.9 * storeys as f64);
             check_foundation(&mesh, &f, &ground);
@@ -490,15 +494,15 @@ mod village_houses {
     #[test]
     fn deterministic_on_any_thread_count() {
         let ground = |p: DVec2| 0.4 * p.x + 0.1 * (p.y * 0.7).sin();
-        let jobs: Vec<(Footprint, RoofStyle, u32)> = (0..24)
+        let jobs: Vec<(HouseFootprint, RoofStyle, u32)> = (0..24)
             .map(|i| {
                 let (w, d) = SIZES[i % SIZES.len()];
                 let f = rectangle(DVec2::new(i as f64 * 13.0, 0.0), w, d, ANGLES[i % 8]);
                 (f, ROOFS[i % 3], 1 + (i % 3) as u32)
             })
             .collect();
-        let run = |(f, roof, storeys): &(Footprint, RoofStyle, u32)| {
-            house(f, &kind(*roof), *storeys, &ground, 99)
+        let run = |(f, roof, storeys): &(HouseFootprint, RoofStyle, u32)| {
+            build_house(f, &kind(*roof), *storeys, &ground, 99)
         };
         let serial: Vec<_> = jobs.iter().map(run).collect();
         let parallel: Vec<_> = jobs.par_iter().map(run).collect();
@@ -511,11 +515,11 @@ mod village_houses {
     fn degenerate_input_gives_an_empty_house() {
         let ground = |p: DVec2| p.x;
         let k = kind(RoofStyle::Gable);
-        let flat = Footprint {
+        let flat = HouseFootprint {
             seed: 3,
             corners: [DVec2::ZERO, DVec2::X, DVec2::X * 2.0, DVec2::X * 3.0],
         };
-        let nan = Footprint {
+        let nan = HouseFootprint {
             seed: 3,
             corners: [
                 DVec2::ZERO,
@@ -524,11 +528,11 @@ mod village_houses {
                 DVec2::Y * 5.0,
             ],
         };
-        let point = Footprint {
+        let point = HouseFootprint {
             seed: 3,
             corners: [DVec2::ONE; 4],
         };
-        let bow_tie = Footprint {
+        let bow_tie = HouseFootprint {
             seed: 3,
             corners: [
                 DVec2::ZERO,
@@ -537,31 +541,31 @@ mod village_houses {
                 DVec2::new(0.0, 6.0),
             ],
         };
-        let huge = Footprint {
+        let huge = HouseFootprint {
             seed: 3,
             ..rectangle(DVec2::ZERO, 1e5, 10.0, 0.0)
         };
         // A corner of less than 10°.
-        let mut sliver = Footprint {
+        let mut sliver = HouseFootprint {
             seed: 3,
             ..rectangle(DVec2::ZERO, 8.0, 6.0, 0.0)
         };
         sliver.corners[2] = DVec2::new(40.0, 3.2);
         for f in [&flat, &nan, &point, &bow_tie, &huge, &sliver] {
-            let (mesh, report) = house(f, &k, 2, &ground, 1);
+            let (mesh, report) = build_house(f, &k, 2, &ground, 1);
             assert!(mesh.faces.is_empty() && mesh.vertices.is_empty());
             assert_eq!(report.rooms, 0);
             assert_eq!(mesh.seed, 3);
         }
         let good = rectangle(DVec2::ZERO, 8.0, 6.0, 0.0);
-        let (mesh, _) = house(&good, &k, 2, &|_| f64::NAN, 1);
+        let (mesh, _) = build_house(&good, &k, 2, &|_| f64::NAN, 1);
         assert!(mesh.faces.is_empty());
         for h in [0.0, -3.0, f64::NAN, f64::INFINITY] {
             let bad = BuildingKind {
                 storey_height: h,
                 ..k.clone()
             };
-            assert!(house(&good, &bad, 2, &ground, 1).0.faces.is_empty());
+            assert!(build_house(&good, &bad, 2, &ground, 1).0.faces.is_empty());
         }
         // Clockwise corners are the same house turned the right way, its front kept.
         let mut cw = good.clone();
@@ -571,18 +575,18 @@ mod village_houses {
             good.corners[3],
             good.corners[2],
         ];
-        let (a, _) = house(&good, &k, 2, &ground, 1);
-        let (b, _) = house(&cw, &k, 2, &ground, 1);
+        let (a, _) = build_house(&good, &k, 2, &ground, 1);
+        let (b, _) = build_house(&cw, &k, 2, &ground, 1);
         assert_eq!(a, b);
         // Zero storeys build one.
-        assert!(!house(&good, &k, 0, &ground, 1).0.faces.is_empty());
+        assert!(!build_house(&good, &k, 0, &ground, 1).0.faces.is_empty());
     }
 
     #[test]
     fn hundred_houses_quickly() {
         let grade = 30f64.to_radians().tan();
         let ground = move |p: DVec2| grade * p.x + 0.3 * (0.2 * p.y).sin();
-        let jobs: Vec<(Footprint, RoofStyle, u32)> = (0..100)
+        let jobs: Vec<(HouseFootprint, RoofStyle, u32)> = (0..100)
             .map(|i| {
                 let (w, d) = SIZES[i % SIZES.len()];
                 let f = rectangle(
@@ -601,7 +605,10 @@ mod village_houses {
             let t = std::time::Instant::now();
             faces = 0;
             for (f, roof, storeys) in &jobs {
-                faces += house(f, &kind(*roof), *storeys, &ground, 5).0.faces.len();
+                faces += build_house(f, &kind(*roof), *storeys, &ground, 5)
+                    .0
+                    .faces
+                    .len();
             }
             best = best.min(t.elapsed().as_secs_f64());
         }

@@ -4,13 +4,10 @@
 //! parcel growing fields beyond its conquest (`ParcelParams::fill`) keeps them in front of its straight road front,
 //! instead of wrapping them round its road's end.
 
-use worldpaint_core::geom::{polygon_signed_area, DVec2, Region};
-use worldpaint_core::terrain::Heightfield;
-use worldpaint_core::village::encyclopedia::ParcelParams;
-use worldpaint_core::village::parcels::{
-    parcel_statistics, parcels_with, ParcelOptions, ParcelSeed,
+use worldpaint_core::{
+    parcel_statistics, parcels_with, polygon_signed_area, DVec2, Environment, Heightfield, Land,
+    ParcelOptions, ParcelParams, ParcelSeed, Region, Road,
 };
-use worldpaint_core::village::{Environment, Land, Road};
 
 const CELL: f64 = 1.0;
 const WIDTH: f64 = 5.0;

@@ -11,23 +11,22 @@
 //! edges (the thesis: real village 2.812 and 4.068, its model 2.873 and 4.29); 100 parcels on 1 km² in about
 //! 0.25 s on two threads (the ignored timing test).
 
-#[path = "common/real_data.rs"]
-mod real_data;
+mod common;
 
 mod village {
-    use crate::real_data::{real_data_dir, require, Projection};
+    use crate::common::real_data::{real_data_dir, require, Projection};
     use std::f64::consts::PI;
     use std::path::Path;
-    use worldpaint_core::geom::{
-        polygon_signed_area, segment_distance, segments_distance, DVec2, Region,
-    };
-    use worldpaint_core::terrain::Heightfield;
-    use worldpaint_core::village::encyclopedia::ParcelParams;
-    use worldpaint_core::village::footprint::{footprint, footprints};
-    use worldpaint_core::village::parcels::{
+    use worldpaint_core::Heightfield;
+    use worldpaint_core::ParcelParams;
+    use worldpaint_core::{house_footprint, house_footprints};
+    use worldpaint_core::{
         parcel_statistics, parcel_statistics_with, parcels, parcels_with, ParcelOptions, ParcelSeed,
     };
-    use worldpaint_core::village::{Environment, Footprint, Land, Parcel, Road};
+    use worldpaint_core::{
+        polygon_signed_area, segment_distance, segments_distance, DVec2, Region,
+    };
+    use worldpaint_core::{Environment, HouseFootprint, Land, Parcel, Road};
 
     const CELL: f64 = 1.0;
     const WIDTH: f64 = 5.0;
@@ -211,7 +210,7 @@ mod village {
     }
 
     /// The longest stretch along which a wall of `a` and a wall of `b` lie on one line.
-    fn shared_wall(a: &Footprint, b: &Footprint) -> f64 {
+    fn shared_wall(a: &HouseFootprint, b: &HouseFootprint) -> f64 {
         let mut best: f64 = 0.0;
         for i in 0..4 {
             for j in 0..4 {
@@ -231,7 +230,7 @@ mod village {
 
     /// Whether a footprint lies inside its parcel: corners inside or on the contour, no contour vertex inside the
     /// quad, and its inner points inside the parcel.
-    fn footprint_inside(f: &Footprint, poly: &[DVec2]) -> bool {
+    fn footprint_inside(f: &HouseFootprint, poly: &[DVec2]) -> bool {
         let corners_in = f
             .corners
             .iter()
@@ -261,7 +260,7 @@ mod village {
         land: &Land,
         roads: &[Road],
         result: &[Option<Parcel>],
-        footprints: &[Option<Footprint>],
+        footprints: &[Option<HouseFootprint>],
     ) {
         let got: Vec<&Parcel> = result.iter().flatten().collect();
         for p in &got {
@@ -306,7 +305,7 @@ mod village {
         }
         let polys: Vec<&[DVec2]> = got.iter().map(|p| p.contour.as_slice()).collect();
         assert_eq!(overlapping_samples(&polys, 0.25), 0, "parcels overlap");
-        let fps: Vec<&Footprint> = footprints.iter().flatten().collect();
+        let fps: Vec<&HouseFootprint> = footprints.iter().flatten().collect();
         for f in &fps {
             let parcel = got
                 .iter()
@@ -338,10 +337,10 @@ mod village {
         }
     }
 
-    fn footprints_of(result: &[Option<Parcel>], roads: &[Road]) -> Vec<Option<Footprint>> {
+    fn footprints_of(result: &[Option<Parcel>], roads: &[Road]) -> Vec<Option<HouseFootprint>> {
         let got: Vec<Parcel> = result.iter().flatten().cloned().collect();
         let sizes = vec![(HOUSE_MIN, HOUSE_MAX); got.len()];
-        footprints(&got, &sizes, roads, WIDTH, SNAP).expect("footprints")
+        house_footprints(&got, &sizes, roads, WIDTH, SNAP).expect("footprints")
     }
 
     fn contours(result: &[Option<Parcel>]) -> Vec<Vec<DVec2>> {
@@ -936,20 +935,22 @@ mod village {
         // footprints
         let result = parcels(&land, &roads, WIDTH, &seeds(&at, &good), CELL).expect("parcels");
         let parcel = result[0].clone().expect("a parcel");
-        assert!(footprint(&parcel, &roads, WIDTH, [0.0, 4.0], [8.0, 8.0], SNAP).is_none());
-        assert!(footprint(&parcel, &roads, WIDTH, [6.0, 4.0], [5.0, 8.0], SNAP).is_none());
-        assert!(footprint(&parcel, &roads, WIDTH, [4.0, 4.0], [8.0, f64::NAN], SNAP).is_none());
+        assert!(house_footprint(&parcel, &roads, WIDTH, [0.0, 4.0], [8.0, 8.0], SNAP).is_none());
+        assert!(house_footprint(&parcel, &roads, WIDTH, [6.0, 4.0], [5.0, 8.0], SNAP).is_none());
         assert!(
-            footprint(&parcel, &roads, WIDTH, [40.0, 40.0], [50.0, 50.0], SNAP).is_none(),
+            house_footprint(&parcel, &roads, WIDTH, [4.0, 4.0], [8.0, f64::NAN], SNAP).is_none()
+        );
+        assert!(
+            house_footprint(&parcel, &roads, WIDTH, [40.0, 40.0], [50.0, 50.0], SNAP).is_none(),
             "too large"
         );
-        assert!(footprint(&parcel, &roads, WIDTH, [4.0, 4.0], [8.0, 8.0], SNAP).is_some());
+        assert!(house_footprint(&parcel, &roads, WIDTH, [4.0, 4.0], [8.0, 8.0], SNAP).is_some());
         assert!(matches!(
-            footprints(std::slice::from_ref(&parcel), &[], &roads, WIDTH, SNAP),
+            house_footprints(std::slice::from_ref(&parcel), &[], &roads, WIDTH, SNAP),
             Err(e) if e.is_invalid_input()
         ));
         assert!(matches!(
-            footprints(&[parcel], &[([4.0, 4.0], [3.0, 8.0])], &roads, WIDTH, SNAP),
+            house_footprints(&[parcel], &[([4.0, 4.0], [3.0, 8.0])], &roads, WIDTH, SNAP),
             Err(e) if e.is_invalid_input()
         ));
     }
@@ -1102,7 +1103,7 @@ mod village {
         let got: Vec<Parcel> = result.iter().flatten().cloned().collect();
         let sizes = vec![(HOUSE_MIN, HOUSE_MAX); got.len()];
         let t = std::time::Instant::now();
-        let fps = footprints(&got, &sizes, &roads, WIDTH, SNAP).expect("footprints");
+        let fps = house_footprints(&got, &sizes, &roads, WIDTH, SNAP).expect("footprints");
         let tf = t.elapsed().as_secs_f64();
         times.sort_by(f64::total_cmp);
         println!(

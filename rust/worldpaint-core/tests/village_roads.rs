@@ -2,11 +2,7 @@
 //! buildings and walls, cycles, unreachable buildings, bad inputs and determinism.
 
 use glam::DVec2;
-use worldpaint_core::grid::Grid;
-use worldpaint_core::village::encyclopedia::RoadParams;
-use worldpaint_core::village::roads::{Connection, RoadNetwork};
-use worldpaint_core::village::{Land, Road};
-use worldpaint_core::Error;
+use worldpaint_core::{Error, Grid, Land, Road, RoadConnection, RoadNetwork, RoadParams};
 
 const CELL: f64 = 2.0;
 
@@ -133,14 +129,14 @@ fn connect(
     p: &RoadParams,
     occupied: &[bool],
     from: DVec2,
-) -> Connection {
+) -> RoadConnection {
     net.connect(land, p, occupied, from, 0.0)
         .expect("valid input")
 }
 
 /// A network of the one connection point `psi` on `land`, and the connection of a first building at `b` to it
 /// over unbuilt land.
-fn first_road(land: &Land, psi: DVec2, p: &RoadParams, b: DVec2) -> (RoadNetwork, Connection) {
+fn first_road(land: &Land, psi: DVec2, p: &RoadParams, b: DVec2) -> (RoadNetwork, RoadConnection) {
     let mut net = RoadNetwork::new(land, &[psi], &[]).unwrap();
     let c = connect(&mut net, land, p, &vec![false; land.grid().len()], b);
     (net, c)
@@ -323,7 +319,7 @@ mod village {
             roads
                 .iter()
                 .flat_map(|r| r.points.windows(2))
-                .map(|w| worldpaint_core::geom::segment_distance(q, w[0], w[1]))
+                .map(|w| worldpaint_core::segment_distance(q, w[0], w[1]))
                 .fold(f64::INFINITY, f64::min)
         };
         for k in 1..net.roads.len() {
@@ -571,7 +567,7 @@ mod village {
             &params(),
             DVec2::new(150.0, 150.0),
         );
-        assert_eq!(c, Connection::default());
+        assert_eq!(c, RoadConnection::default());
         assert!(net.roads.is_empty());
         assert_eq!(net.distance(DVec2::ZERO), f64::INFINITY);
 
@@ -666,7 +662,7 @@ mod village {
     }
 
     /// Connects a village of buildings one after the other, marking each house (10 × 8 m) as occupied.
-    fn grow(land: &Land, p: &RoadParams, homes: &[DVec2]) -> (RoadNetwork, Vec<Connection>) {
+    fn grow(land: &Land, p: &RoadParams, homes: &[DVec2]) -> (RoadNetwork, Vec<RoadConnection>) {
         let (net, out, _) = grow_timed(land, p, homes);
         (net, out)
     }
@@ -676,7 +672,7 @@ mod village {
         land: &Land,
         p: &RoadParams,
         homes: &[DVec2],
-    ) -> (RoadNetwork, Vec<Connection>, Vec<f64>) {
+    ) -> (RoadNetwork, Vec<RoadConnection>, Vec<f64>) {
         let psi = [DVec2::new(0.0, 500.0), DVec2::new(1000.0, 820.0)];
         let mut net = RoadNetwork::new(land, &psi, &[]).unwrap();
         let mut occupied = vec![false; land.grid().len()];

@@ -4,15 +4,12 @@
 
 use glam::DVec3;
 use std::collections::BTreeMap;
-use worldpaint_core::exemplar::{demo_terrain, village_terrain, waterfall_controllers};
-use worldpaint_core::geom::{segment_distance, DVec2};
-use worldpaint_core::waterfall::hydraulics::max_imbalance;
-use worldpaint_core::waterfall::subdivide::{detail_length, downhill, MAX_DEVIATION_FACTOR};
-use worldpaint_core::waterfall::{
-    build, classify, Controller, ControllerKind, NodeKind, WaterfallNetwork, WaterfallParams,
-    WaterfallType,
+use worldpaint_core::{
+    build_waterfall_network, classify_waterfall, demo_terrain, detail_length, downhill,
+    max_imbalance, segment_distance, village_terrain, waterfall_controllers, Controller,
+    ControllerKind, DVec2, Heightfield, HydraulicNodeKind, WaterfallNetwork, WaterfallParams,
+    WaterfallType, MAX_DEVIATION_FACTOR,
 };
-use worldpaint_core::Heightfield;
 
 fn scene() -> (Heightfield, Vec<Controller>) {
     let t = village_terrain(1000.0, 2.0, 3);
@@ -22,7 +19,7 @@ fn scene() -> (Heightfield, Vec<Controller>) {
 }
 
 fn built(t: &Heightfield, c: &[Controller], seed: u64) -> WaterfallNetwork {
-    match build(t, c, &WaterfallParams::default(), seed) {
+    match build_waterfall_network(t, c, &WaterfallParams::default(), seed) {
         Ok(n) => n,
         Err(e) => panic!("the test scene: {e}"),
     }
@@ -110,7 +107,7 @@ fn branches_follow_angles_and_pools_follow_strengths() {
         subdivide: false,
         ..Default::default()
     };
-    let net = match build(&t, &[river, straight, side], &params, 0) {
+    let net = match build_waterfall_network(&t, &[river, straight, side], &params, 0) {
         Ok(n) => n,
         Err(e) => panic!("{e}"),
     };
@@ -157,7 +154,7 @@ fn branches_follow_angles_and_pools_follow_strengths() {
             outlet(DVec2::Y, None),
             outlet(DVec2::NEG_Y, None),
         ];
-        let net = match build(&t, &c, &params, 0) {
+        let net = match build_waterfall_network(&t, &c, &params, 0) {
             Ok(n) => n,
             Err(e) => panic!("{e}"),
         };
@@ -173,7 +170,7 @@ fn branches_follow_angles_and_pools_follow_strengths() {
             net.graph
                 .nodes
                 .iter()
-                .filter(|n| n.kind == NodeKind::Pool)
+                .filter(|n| n.kind == HydraulicNodeKind::Pool)
                 .count(),
             1
         );
@@ -242,7 +239,7 @@ fn contact_segments_run_downhill_by_the_minimum_slope() {
             .map(|k| on(&tp, 50.0 + 20.0 * k as f64, 50.0))
             .collect(),
     );
-    let net = match build(&tp, &[up], &params, 0) {
+    let net = match build_waterfall_network(&tp, &[up], &params, 0) {
         Ok(n) => n,
         Err(e) => panic!("{e}"),
     };
@@ -352,8 +349,8 @@ fn less_upstream_flow_turns_ledges_into_plunges() {
 #[test]
 fn classification_and_section_follow_the_table() {
     // each seed of Table 4.1 is in its own cell
-    for s in worldpaint_core::waterfall::TABLE_4_1 {
-        assert_eq!(classify::classify(s.slope, s.flow), s.kind);
+    for s in worldpaint_core::TABLE_4_1 {
+        assert_eq!(classify_waterfall(s.slope, s.flow), s.kind);
     }
     let (t, c) = scene();
     let params = WaterfallParams::default();
@@ -389,7 +386,7 @@ fn classification_and_section_follow_the_table() {
         ControllerKind::FreeFall,
         vec![on(&tp, 100.0, 100.0), on(&tp, 60.0, 100.0)],
     );
-    let net = match build(&tp, &[flat_fall], &params, 0) {
+    let net = match build_waterfall_network(&tp, &[flat_fall], &params, 0) {
         Ok(n) => n,
         Err(e) => panic!("{e}"),
     };
@@ -487,7 +484,7 @@ fn subdivision_follows_the_terrain() {
 
     // the gradient cost is what makes the path run down the slope: compare with random displacements alone
     let alignment = |params: &WaterfallParams| -> f64 {
-        let net = match build(&t, &c, params, 9) {
+        let net = match build_waterfall_network(&t, &c, params, 9) {
             Ok(n) => n,
             Err(e) => panic!("{e}"),
         };
@@ -539,7 +536,7 @@ fn seeded_runs_are_deterministic() {
 }
 
 fn refused(t: &Heightfield, c: &[Controller], words: &[&str]) {
-    match build(t, c, &WaterfallParams::default(), 0) {
+    match build_waterfall_network(t, c, &WaterfallParams::default(), 0) {
         Err(e) if e.is_invalid_input() => {
             let m = e.to_string();
             println!("refused: {m}");
@@ -602,9 +599,9 @@ fn bad_input_is_refused() {
         min_slope: f64::NAN,
         ..Default::default()
     };
-    assert!(build(&t, std::slice::from_ref(&ok), &bad, 0).is_err());
+    assert!(build_waterfall_network(&t, std::slice::from_ref(&ok), &bad, 0).is_err());
     // an empty scene is an empty network
-    match build(&t, &[], &WaterfallParams::default(), 0) {
+    match build_waterfall_network(&t, &[], &WaterfallParams::default(), 0) {
         Ok(n) => assert!(n.segments.is_empty()),
         Err(e) => panic!("{e}"),
     }

@@ -3,17 +3,13 @@
 //! `cargo test -p worldpaint-core --release --test waterfall_terrain -- --nocapture` to see the figures.
 
 use glam::{DVec2, DVec3};
-use worldpaint_core::distance::distance_transform;
-use worldpaint_core::exemplar::{
-    hard_core, river_rocks, scene_from_points, village_terrain, waterfall_controllers,
-    RIVER_ROCK_CATEGORY, RIVER_ROCK_DENSITY, RIVER_ROCK_SPACING, ROCK_MAP,
+use worldpaint_core::{
+    build_waterfall_scene, distance_transform, hard_core_points, learn_color, river_rock_color,
+    river_rocks, scene_from_points, village_terrain, waterfall_controllers, AnalysisOptions,
+    Controller, ControllerKind, Heightfield, Interaction, Region, Rock, WaterPart, WaterfallParams,
+    WaterfallScene, WaterfallSceneOptions, WaterfallType, RIVER_ROCK_CATEGORY, RIVER_ROCK_DENSITY,
+    RIVER_ROCK_SPACING, ROCK_MAP,
 };
-use worldpaint_core::palette::Interaction;
-use worldpaint_core::waterfall::{
-    river_rock_color, scene, Controller, ControllerKind, Rock, SceneOptions, WaterPart,
-    WaterfallParams, WaterfallScene, WaterfallType,
-};
-use worldpaint_core::{learn_color, AnalysisOptions, Heightfield, Region};
 
 fn setup() -> (Heightfield, Vec<Controller>) {
     let t = village_terrain(1000.0, 2.0, 3);
@@ -21,8 +17,13 @@ fn setup() -> (Heightfield, Vec<Controller>) {
     (t, c)
 }
 
-fn made(t: &Heightfield, c: &[Controller], options: &SceneOptions, seed: u64) -> WaterfallScene {
-    match scene(t, c, &WaterfallParams::default(), options, seed) {
+fn made(
+    t: &Heightfield,
+    c: &[Controller],
+    options: &WaterfallSceneOptions,
+    seed: u64,
+) -> WaterfallScene {
+    match build_waterfall_scene(t, c, &WaterfallParams::default(), options, seed) {
         Ok(s) => s,
         Err(e) => panic!("the test scene: {e}"),
     }
@@ -31,7 +32,7 @@ fn made(t: &Heightfield, c: &[Controller], options: &SceneOptions, seed: u64) ->
 /// The test terrain and its scene with the default options, seed 1.
 fn default_scene() -> (Heightfield, WaterfallScene) {
     let (t, c) = setup();
-    let s = made(&t, &c, &SceneOptions::default(), 1);
+    let s = made(&t, &c, &WaterfallSceneOptions::default(), 1);
     (t, s)
 }
 
@@ -149,7 +150,7 @@ fn riverbed_below_the_water_and_banks_beside_it() {
 #[test]
 fn terrain_beyond_the_falloff_is_unchanged() {
     let (t, c) = setup();
-    let options = SceneOptions::default();
+    let options = WaterfallSceneOptions::default();
     let s = made(&t, &c, &options, 1);
     let d = &s.terrain;
     let mask: Vec<bool> = d
@@ -216,7 +217,7 @@ fn overhangs_push_the_lip_forward_and_the_pool_wall_back() {
             .filter(|p| {
                 let m = *p - centre;
                 m.dot(u) <= -0.5 * m.length()
-                    && worldpaint_core::geom::segment_distance(*p, l0, l1) > 2.0 * t.cell
+                    && worldpaint_core::segment_distance(*p, l0, l1) > 2.0 * t.cell
             })
             .collect();
         if back.is_empty() {
@@ -285,7 +286,7 @@ fn overhangs_push_the_lip_forward_and_the_pool_wall_back() {
                 .collect(),
         ),
     ];
-    let s = made(&t, &controllers, &SceneOptions::default(), 1);
+    let s = made(&t, &controllers, &WaterfallSceneOptions::default(), 1);
     let hd = s.horizontal();
     let d = |p: DVec2| {
         let f = ((p - t.origin) / t.cell).round();
@@ -363,11 +364,11 @@ fn maps_foam_and_footprint() {
     let m = &s.maps;
     // mean foam per type over the water nodes of that type's segments (by the node's nearest mesh vertex would
     // need a search; the footprint is rebuilt instead)
-    let fp = match worldpaint_core::waterfall::footprint(
+    let fp = match worldpaint_core::waterfall_footprint(
         &t,
         &s.network,
         &s.mesh,
-        &SceneOptions::default().integration,
+        &WaterfallSceneOptions::default().integration,
         0.0,
     ) {
         Ok(f) => f,
@@ -670,14 +671,14 @@ fn a_learned_color_scatters_rocks_with_its_own_spacing() {
         max: DVec2::splat(100.0),
     };
     let (density, spacing) = (0.05, 3.0);
-    let points = hard_core(&square, density, spacing, 4);
+    let points = hard_core_points(&square, density, spacing, 4);
     let exemplar = scene_from_points("Boulder", &points);
     let learned = match learn_color(&exemplar, &square, "Boulders", &AnalysisOptions::default()) {
         Ok(c) => c,
         Err(e) => panic!("{e}"),
     };
     assert!(learned.maps.is_empty(), "learned without any rock map");
-    let mut options = SceneOptions::default();
+    let mut options = WaterfallSceneOptions::default();
     options.decoration.rock_color = Some(learned.clone());
     let s = made(&t, &c, &options, 1);
     let off = s.rocks.iter().filter(|r| !on_the_riverbed(&s, r)).count();
@@ -719,18 +720,18 @@ fn a_learned_color_scatters_rocks_with_its_own_spacing() {
 #[test]
 fn same_seed_same_scene() {
     let (t, c) = setup();
-    let a = made(&t, &c, &SceneOptions::default(), 5);
+    let a = made(&t, &c, &WaterfallSceneOptions::default(), 5);
     let b = rayon::ThreadPoolBuilder::new()
         .num_threads(1)
         .build()
-        .map(|p| p.install(|| made(&t, &c, &SceneOptions::default(), 5)))
+        .map(|p| p.install(|| made(&t, &c, &WaterfallSceneOptions::default(), 5)))
         .unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(a.report, b.report);
     assert_eq!(a.terrain.terrain.heights, b.terrain.terrain.heights);
     assert_eq!(a.mesh.vertices, b.mesh.vertices);
     assert_eq!(a.maps.foam, b.maps.foam);
     assert_eq!(a.rocks, b.rocks);
-    let other = made(&t, &c, &SceneOptions::default(), 6);
+    let other = made(&t, &c, &WaterfallSceneOptions::default(), 6);
     assert_ne!(a.rocks, other.rocks);
     println!("seed 5 twice (all threads, one thread): identical; seed 6 differs");
 }
@@ -738,18 +739,18 @@ fn same_seed_same_scene() {
 #[test]
 fn bad_options_are_refused() {
     let (t, c) = setup();
-    let mut o = SceneOptions::default();
+    let mut o = WaterfallSceneOptions::default();
     o.deform.falloff = f64::NAN;
-    assert!(scene(&t, &c, &WaterfallParams::default(), &o, 1).is_err());
-    let mut o = SceneOptions::default();
+    assert!(build_waterfall_scene(&t, &c, &WaterfallParams::default(), &o, 1).is_err());
+    let mut o = WaterfallSceneOptions::default();
     o.integration.min_width = 0.0;
-    assert!(scene(&t, &c, &WaterfallParams::default(), &o, 1).is_err());
+    assert!(build_waterfall_scene(&t, &c, &WaterfallParams::default(), &o, 1).is_err());
     // a rock color with nothing to scatter
     let square = Region::Rect {
         min: DVec2::ZERO,
         max: DVec2::splat(50.0),
     };
-    let points = hard_core(&square, 0.05, 2.0, 1);
+    let points = hard_core_points(&square, 0.05, 2.0, 1);
     let mut color = match learn_color(
         &scene_from_points("Boulder", &points),
         &square,
@@ -761,9 +762,9 @@ fn bad_options_are_refused() {
     };
     color.categories.clear();
     color.pairs.clear();
-    let mut o = SceneOptions::default();
+    let mut o = WaterfallSceneOptions::default();
     o.decoration.rock_color = Some(color);
-    let e = scene(&t, &c, &WaterfallParams::default(), &o, 1)
+    let e = build_waterfall_scene(&t, &c, &WaterfallParams::default(), &o, 1)
         .err()
         .map(|e| e.to_string());
     println!("refused: {e:?}");

@@ -2,14 +2,14 @@
 //! (hard cores kept across tile borders, the pcf of windows straddling four tiles as that of windows inside one),
 //! and the color's density over the whole world.
 
-#[path = "common/pcf.rs"]
-mod pcf;
+mod common;
+use common::pcf;
 
 use std::collections::BTreeMap;
-use worldpaint_core::exemplar;
-use worldpaint_core::geom::DVec2;
-use worldpaint_core::world::{synthesize_tile, tile_file, TileId, WorldPlan};
-use worldpaint_core::{learn_color, AnalysisOptions, Color, Region};
+use worldpaint_core::{
+    decode_tile, encode_tile, learn_color, synthesize_tile, undergrowth_scene, AnalysisOptions,
+    Color, DVec2, Region, TileId, WorldPlan,
+};
 
 /// The Blender benchmark's color: trees with a 3 m hard core, uniform rocks, grass in 2 m clumps; 0.1 per m².
 fn bench_color() -> Color {
@@ -17,7 +17,7 @@ fn bench_color() -> Color {
         min: DVec2::ZERO,
         max: DVec2::splat(100.0),
     };
-    let scene = exemplar::undergrowth(100.0);
+    let scene = undergrowth_scene(100.0);
     match learn_color(&scene, &ex, "Bench", &AnalysisOptions::default()) {
         Ok(c) => c,
         Err(e) => panic!("learning the bench color failed: {e}"),
@@ -51,7 +51,7 @@ fn fill(color: &Color, seed: u64, order: fn(&mut Vec<TileId>)) -> BTreeMap<TileI
             let neighbours: Vec<_> = plan
                 .earlier_neighbours(t)
                 .iter()
-                .map(|n| match tile_file::decode(&borders[n]) {
+                .map(|n| match decode_tile(&borders[n]) {
                     Ok(b) => b,
                     Err(e) => panic!("border of {n:?}: {e}"),
                 })
@@ -60,7 +60,7 @@ fn fill(color: &Color, seed: u64, order: fn(&mut Vec<TileId>)) -> BTreeMap<TileI
                 Ok(c) => c,
                 Err(e) => panic!("tile {t:?}: {e}"),
             };
-            let encode = |c: &worldpaint_core::world::TileContent| match tile_file::encode(c) {
+            let encode = |c: &worldpaint_core::TileContent| match encode_tile(c) {
                 Ok(b) => b,
                 Err(e) => panic!("encoding {t:?}: {e}"),
             };
@@ -75,7 +75,7 @@ fn fill(color: &Color, seed: u64, order: fn(&mut Vec<TileId>)) -> BTreeMap<TileI
 fn points(files: &BTreeMap<TileId, Vec<u8>>, c: usize) -> Vec<(DVec2, TileId)> {
     let mut out = Vec::new();
     for (t, bytes) in files {
-        let tile = match tile_file::decode(bytes) {
+        let tile = match decode_tile(bytes) {
             Ok(tile) => tile,
             Err(e) => panic!("decoding {t:?}: {e}"),
         };
@@ -196,14 +196,14 @@ fn a_tile_file_reads_back_what_was_written_and_refuses_damage() {
         Some(f) => f,
         None => panic!("no tile"),
     };
-    let tile = match tile_file::decode(bytes) {
+    let tile = match decode_tile(bytes) {
         Ok(tile) => tile,
         Err(e) => panic!("decoding: {e}"),
     };
     assert_eq!(tile.tile, *t);
     assert_eq!(tile.categories, ["Tree", "Rock", "Grass"]);
     assert_eq!(
-        tile_file::encode(&tile).ok().as_ref(),
+        encode_tile(&tile).ok().as_ref(),
         Some(bytes),
         "a decoded tile encodes to other bytes"
     );
@@ -212,7 +212,7 @@ fn a_tile_file_reads_back_what_was_written_and_refuses_damage() {
         8 + 8 + 16 + 8 + 3 * 2 + "TreeRockGrass".len() + 28 * tile.instances.len()
     );
     for cut in [0, 7, 20, bytes.len() / 2, bytes.len() - 1] {
-        let e = tile_file::decode(&bytes[..cut]);
+        let e = decode_tile(&bytes[..cut]);
         assert!(
             matches!(e, Err(worldpaint_core::Error::Parse { .. })),
             "a file cut at {cut} was read"
@@ -220,7 +220,7 @@ fn a_tile_file_reads_back_what_was_written_and_refuses_damage() {
     }
     let mut bad = bytes.clone();
     bad[0] = b'X';
-    assert!(tile_file::decode(&bad).is_err());
+    assert!(decode_tile(&bad).is_err());
 }
 
 #[test]
@@ -283,9 +283,9 @@ fn a_plan_past_the_work_budget_is_refused_before_any_tile() {
     // the chain length a tile is asked for
     for bad in [0.0, -5.0, f64::NAN, 1e300] {
         assert!(
-            worldpaint_core::world::check_iterations(bad).is_err(),
+            worldpaint_core::check_iterations(bad).is_err(),
             "{bad} iterations"
         );
     }
-    assert!(worldpaint_core::world::check_iterations(60.0).is_ok());
+    assert!(worldpaint_core::check_iterations(60.0).is_ok());
 }

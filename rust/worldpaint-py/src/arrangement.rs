@@ -7,12 +7,9 @@ use crate::scene::PyScene;
 use crate::{engine_err, guarded, input_err};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use worldpaint_core::arrangement::{PatternGuides, PatternRotation};
+use worldpaint_core::{PatternGuides, PatternRotation};
 
-fn polylines(
-    obj: &Bound<'_, PyAny>,
-    what: &str,
-) -> PyResult<Vec<Vec<worldpaint_core::geom::DVec2>>> {
+fn polylines(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<Vec<worldpaint_core::DVec2>>> {
     let items = obj
         .try_iter()
         .map_err(|_| input_err(format!("{what} must be a list of (N, 2) arrays")))?;

@@ -11,9 +11,10 @@ use numpy::ndarray::Array3;
 use numpy::IntoPyArray;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
-use worldpaint_core::fidelity_plot::draw_fidelity;
-use worldpaint_core::palette::{Interaction, MapSource, Palette};
-use worldpaint_core::{AnalysisOptions, Color, Fidelity, Region, Scene, SynthesisOptions};
+use worldpaint_core::{
+    draw_fidelity, AnalysisOptions, Color, Fidelity, Interaction, MapSource, Palette, Region,
+    Scene, SynthesisOptions,
+};
 
 pub(crate) fn analysis_options(options: Option<&Bound<'_, PyAny>>) -> PyResult<AnalysisOptions> {
     let mut o = AnalysisOptions::default();
@@ -184,7 +185,7 @@ pub(crate) fn interpolate_colors(
     py.detach(|| {
         guarded(|| {
             let c = worldpaint_core::interpolate_colors(&a, &b, t, &name)?;
-            worldpaint_core::tools::with_painted_preview(c)?.to_json()
+            worldpaint_core::with_painted_preview(c)?.to_json()
         })
     })
 }

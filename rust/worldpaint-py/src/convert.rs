@@ -7,10 +7,10 @@ use numpy::ndarray::{Array1, Array2, Ix1, Ix2};
 use numpy::{IntoPyArray, PyArray1, PyArray2};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
-use worldpaint_core::geom::DVec2;
-use worldpaint_core::scene::{Contour, Path};
-use worldpaint_core::tools::Edit;
-use worldpaint_core::{Category, CategoryKind, Color, Heightfield, Instance, Region, Scene};
+use worldpaint_core::{
+    Category, CategoryKind, Color, Contour, DVec2, Heightfield, Instance, Path, Region, Scene,
+    ToolEdit,
+};
 
 pub(crate) fn field<'py>(
     obj: &Bound<'py, PyAny>,
@@ -47,10 +47,10 @@ pub(crate) fn region_from_py(obj: &Bound<'_, PyAny>) -> PyResult<Region> {
 /// nested thousands deep would overflow the stack.
 fn region_part_from_py(obj: &Bound<'_, PyAny>, depth: u64) -> PyResult<Region> {
     guarded(|| {
-        worldpaint_core::limits::check(
+        worldpaint_core::check(
             "the region's nesting",
             depth as f64,
-            worldpaint_core::limits::MAX_REGION_DEPTH,
+            worldpaint_core::MAX_REGION_DEPTH,
             "levels",
         )
     })?;
@@ -530,7 +530,7 @@ pub(crate) fn parse_color(json: &str) -> PyResult<Color> {
 /// where the map read values the color's example never showed}}.
 pub(crate) fn edit_to_py<'py>(
     py: Python<'py>,
-    edit: &Edit,
+    edit: &ToolEdit,
     terrain: Option<&Heightfield>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);

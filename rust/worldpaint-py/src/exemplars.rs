@@ -8,8 +8,7 @@ use crate::terrain::Terrain;
 use numpy::PyArray2;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use worldpaint_core::geom::DVec2;
-use worldpaint_core::{Region, Scene};
+use worldpaint_core::{DVec2, Region, Scene};
 
 /// Runs a point generator on a region with the GIL released: float64 (N, 2).
 fn generated_points<'py>(
@@ -44,7 +43,7 @@ pub(crate) fn exemplar_uniform<'py>(
     seed: u64,
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
     generated_points(py, region, |r| {
-        worldpaint_core::exemplar::uniform(r, density, seed)
+        worldpaint_core::uniform_points(r, density, seed)
     })
 }
 
@@ -59,7 +58,7 @@ pub(crate) fn exemplar_clustered<'py>(
     seed: u64,
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
     generated_points(py, region, |r| {
-        worldpaint_core::exemplar::clustered(r, parent_density, children_mean, sigma, seed)
+        worldpaint_core::clustered_points(r, parent_density, children_mean, sigma, seed)
     })
 }
 
@@ -73,7 +72,7 @@ pub(crate) fn exemplar_hard_core<'py>(
     seed: u64,
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
     generated_points(py, region, |r| {
-        worldpaint_core::exemplar::hard_core(r, density, min_distance, seed)
+        worldpaint_core::hard_core_points(r, density, min_distance, seed)
     })
 }
 
@@ -85,7 +84,7 @@ pub(crate) fn exemplar_slope_scene<'py>(
     size: f64,
     seed: u64,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let (scene, d) = generated_scene(py, || worldpaint_core::exemplar::slope_scene(size, seed))?;
+    let (scene, d) = generated_scene(py, || worldpaint_core::slope_scene(size, seed))?;
     match scene.terrain {
         Some(hf) => d.set_item("terrain", Py::new(py, Terrain { hf })?)?,
         None => d.set_item("terrain", py.None())?,
@@ -101,7 +100,7 @@ pub(crate) fn exemplar_village<'py>(
     size: f64,
     seed: u64,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let (scene, d) = generated_scene(py, || worldpaint_core::exemplar::village(size, seed))?;
+    let (scene, d) = generated_scene(py, || worldpaint_core::village_scene(size, seed))?;
     structures_to_py(
         py,
         &d,
@@ -121,7 +120,6 @@ pub(crate) fn exemplar_demo_terrain(
     cell: f64,
     seed: u64,
 ) -> PyResult<Terrain> {
-    let hf =
-        py.detach(|| guarded(|| Ok(worldpaint_core::exemplar::demo_terrain(size, cell, seed))))?;
+    let hf = py.detach(|| guarded(|| Ok(worldpaint_core::demo_terrain(size, cell, seed))))?;
     Ok(Terrain { hf: hf.into() })
 }

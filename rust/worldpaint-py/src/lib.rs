@@ -309,20 +309,17 @@ mod worldpaint_engine {
         m.add("__version__", env!("CARGO_PKG_VERSION"))?;
         m.add(
             "PALETTE_FORMAT_VERSION",
-            worldpaint_core::palette::PALETTE_FORMAT_VERSION,
+            worldpaint_core::PALETTE_FORMAT_VERSION,
         )?;
         // the work budget, for drivers that check their input before calling the engine
         let limits = pyo3::types::PyDict::new(py);
-        limits.set_item("grid_cells", worldpaint_core::limits::MAX_GRID_CELLS)?;
-        limits.set_item("instances", worldpaint_core::limits::MAX_INSTANCES)?;
-        limits.set_item(
-            "world_instances",
-            worldpaint_core::limits::MAX_WORLD_INSTANCES,
-        )?;
-        limits.set_item("world_tiles", worldpaint_core::world::MAX_TILES)?;
+        limits.set_item("grid_cells", worldpaint_core::MAX_GRID_CELLS)?;
+        limits.set_item("instances", worldpaint_core::MAX_INSTANCES)?;
+        limits.set_item("world_instances", worldpaint_core::MAX_WORLD_INSTANCES)?;
+        limits.set_item("world_tiles", worldpaint_core::MAX_TILES)?;
         limits.set_item(
             "iterations_per_instance",
-            worldpaint_core::limits::MAX_ITERATIONS_PER_INSTANCE,
+            worldpaint_core::MAX_ITERATIONS_PER_INSTANCE,
         )?;
         m.add("LIMITS", limits)?;
         m.add("WorldPaintError", py.get_type::<crate::WorldPaintError>())?;

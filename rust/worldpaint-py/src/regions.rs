@@ -7,8 +7,7 @@ use crate::{guarded, input_err};
 use numpy::{IntoPyArray, PyArray1};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use worldpaint_core::contour::Polygons;
-use worldpaint_core::polygon_mesh::triangulate;
+use worldpaint_core::{triangulate, Polygons};
 
 /// Which of the points (float64 (N, 2)) lie inside the region: bool (N).
 #[pyfunction]

@@ -7,9 +7,10 @@ use crate::{input_err, with_progress};
 use numpy::IntoPyArray;
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyList, PyTuple};
-use worldpaint_core::geom::{DVec2, DVec3};
-use worldpaint_core::sketch::apply::{apply_sketch as apply, SketchEdit, SketchOptions, Source};
-use worldpaint_core::sketch::{Camera, FeatureKind, Stroke};
+use worldpaint_core::{
+    apply_sketch as apply, Camera, CurveSource, DVec2, DVec3, FeatureKind, SketchEdit,
+    SketchOptions, SketchStroke,
+};
 
 fn triple(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<DVec3> {
     let v: Vec<f64> = obj
@@ -71,7 +72,7 @@ fn refuse_booleans(stroke: &Bound<'_, PyAny>, i: usize) -> PyResult<()> {
     Ok(())
 }
 
-fn strokes_from_py(list: &Bound<'_, PyAny>) -> PyResult<Vec<Stroke>> {
+fn strokes_from_py(list: &Bound<'_, PyAny>) -> PyResult<Vec<SketchStroke>> {
     let items = list
         .try_iter()
         .map_err(|_| input_err("strokes must be a list of (N, 2) arrays"))?;
@@ -80,7 +81,7 @@ fn strokes_from_py(list: &Bound<'_, PyAny>) -> PyResult<Vec<Stroke>> {
         let item = item?;
         refuse_booleans(&item, i)?;
         let a = ArrayArg::from(item);
-        out.push(Stroke {
+        out.push(SketchStroke {
             points: points_from_py(&a, &format!("stroke {i}"))?,
         });
     }
@@ -205,9 +206,9 @@ fn sketch_to_py<'py>(
         .sources
         .iter()
         .map(|s| match s {
-            Source::Feature(f) => *f as i64,
-            Source::Embedded(_) => -1,
-            Source::Skyline => -2,
+            CurveSource::Feature(f) => *f as i64,
+            CurveSource::Embedded(_) => -1,
+            CurveSource::Skyline => -2,
         })
         .collect();
     out.set_item("sources", sources)?;

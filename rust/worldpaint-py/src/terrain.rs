@@ -8,8 +8,7 @@ use numpy::{IntoPyArray, PyArray1};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::sync::Arc;
-use worldpaint_core::geom::DVec2;
-use worldpaint_core::Heightfield;
+use worldpaint_core::{DVec2, Heightfield};
 
 /// The terrain as a heightfield with named maps ("elevation", "slope" in radians, ...).
 ///
@@ -46,10 +45,10 @@ impl Terrain {
         };
         // refused before the copy or the cast: a broadcast array of any shape costs Python nothing
         guarded(|| {
-            worldpaint_core::limits::check(
+            worldpaint_core::check(
                 "the terrain grid",
                 nx as f64 * ny as f64,
-                worldpaint_core::limits::MAX_GRID_CELLS,
+                worldpaint_core::MAX_GRID_CELLS,
                 "cells",
             )
         })?;

@@ -8,8 +8,7 @@ use numpy::ndarray::Ix2;
 use numpy::IntoPyArray;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
-use worldpaint_core::geom::DVec2;
-use worldpaint_core::terrain_edit::roads::{embed_roads as embed, Road, RoadOptions};
+use worldpaint_core::{embed_roads as embed, DVec2, EmbeddedRoad, RoadEmbeddingOptions};
 
 /// Road centrelines from a list of float64 (N, 2) or (N, 3) arrays; with `use_heights`, the third column gives the
 /// carriageway's heights.
@@ -18,7 +17,7 @@ fn roads_from_py(
     width: f64,
     bank_width: f64,
     use_heights: bool,
-) -> PyResult<Vec<Road>> {
+) -> PyResult<Vec<EmbeddedRoad>> {
     let mut out = Vec::new();
     let items = list
         .try_iter()
@@ -35,7 +34,7 @@ fn roads_from_py(
             .map(|r| DVec2::new(r[0], r[1]))
             .collect();
         let heights = (use_heights && a.ncols() == 3).then(|| a.column(2).to_vec());
-        out.push(Road {
+        out.push(EmbeddedRoad {
             centreline,
             heights,
             width,
@@ -70,7 +69,7 @@ pub(crate) fn embed_roads<'py>(
         return Err(input_err("no road to embed"));
     }
     let pts = points_from_py(&points, "points")?;
-    let options = RoadOptions {
+    let options = RoadEmbeddingOptions {
         smoothing,
         ..Default::default()
     };

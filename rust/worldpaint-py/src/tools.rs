@@ -19,18 +19,13 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::collections::HashMap;
 use std::sync::Mutex;
-use worldpaint_core::geom::DVec2;
-use worldpaint_core::painted_fidelity;
-use worldpaint_core::synthesis::AdaptOptions;
-use worldpaint_core::tools::blur::{blur as blur_region, BlurOptions};
-use worldpaint_core::tools::brush::{BrushMode, BrushOptions, Falloff, Stroke as CoreStroke};
-use worldpaint_core::tools::gradient::{
-    bilinear_gradient as paint_bilinear, gradient as paint_gradient, GradientOptions, GradientShape,
+use worldpaint_core::{
+    bilinear_gradient as paint_bilinear, blur as blur_region, clear_region as clear, compare,
+    gradient as paint_gradient, learned_back, move_region as move_content, painted_fidelity,
+    paste as paste_color, stretch, AdaptOptions, BlurOptions, BrushMode, BrushOptions,
+    BrushStroke as CoreStroke, DVec2, Falloff, GradientOptions, GradientShape, Scene,
+    StretchOptions, StretchSide as Side, SynthesisOptions, ToolEdit as Edit,
 };
-use worldpaint_core::tools::moving::move_region as move_content;
-use worldpaint_core::tools::stretch::{stretch, Side, StretchOptions};
-use worldpaint_core::tools::{clear, paste as paste_color, Edit};
-use worldpaint_core::{compare, learned_back, Scene, SynthesisOptions};
 
 fn edit_result<'py>(py: Python<'py>, edit: &Edit, scene: &Scene) -> PyResult<Bound<'py, PyDict>> {
     edit_to_py(py, edit, scene.terrain.as_deref())

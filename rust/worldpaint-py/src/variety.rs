@@ -12,15 +12,11 @@ use numpy::ndarray::{Array2, Array3};
 use numpy::{IntoPyArray, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
-use worldpaint_core::geom::{DVec2, DVec3};
-use worldpaint_core::variety::model::error_about;
-use worldpaint_core::variety::MemoryReport;
-use worldpaint_core::variety::{
-    atlas_images, check_assembly, generate, memory_report, pack_components, pick_texture_variants,
-    Atlas, Decomposition, GenerateOptions, Generation, Image, IntersectionLabels, Model, Rejection,
-    TextureComponent, VariantClass,
+use worldpaint_core::{
+    atlas_images, check_assembly, memory_report, model_error_about, pack_components,
+    pick_texture_variants, Atlas, DVec2, DVec3, Decomposition, Error, GenerateOptions, Generation,
+    Image, IntersectionLabels, MemoryReport, Model, Rejection, TextureComponent, VariantClass,
 };
-use worldpaint_core::Error;
 
 fn int_column(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<i64>> {
     let a: PyReadonlyArray1<'_, i64> = obj
@@ -68,7 +64,7 @@ fn model_from_py(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Model> {
         at += n;
     }
     let mut model =
-        guarded(|| Model::new(vertices, faces.clone()).map_err(|e| error_about(e, what)))?;
+        guarded(|| Model::new(vertices, faces.clone()).map_err(|e| model_error_about(e, what)))?;
     if let Ok(uvs) = obj.get_item("uvs") {
         if !uvs.is_none() {
             let uv = points_from_py(&ArrayArg::from(uvs), &format!("{what} uvs"))?;
@@ -84,7 +80,11 @@ fn model_from_py(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Model> {
                 per_face.push(uv[k..k + face.len()].to_vec());
                 k += face.len();
             }
-            model = guarded(|| model.with_uvs(per_face).map_err(|e| error_about(e, what)))?;
+            model = guarded(|| {
+                model
+                    .with_uvs(per_face)
+                    .map_err(|e| model_error_about(e, what))
+            })?;
         }
     }
     if let Ok(materials) = obj.get_item("materials") {
@@ -97,7 +97,11 @@ fn model_from_py(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Model> {
                         .map_err(|_| input_err(format!("{what}: a negative material index")))
                 })
                 .collect::<PyResult<Vec<u32>>>()?;
-            model = guarded(|| model.with_materials(m).map_err(|e| error_about(e, what)))?;
+            model = guarded(|| {
+                model
+                    .with_materials(m)
+                    .map_err(|e| model_error_about(e, what))
+            })?;
         }
     }
     Ok(model)
@@ -369,7 +373,7 @@ fn generation_of(
     picks: Option<&[usize]>,
 ) -> worldpaint_core::Result<Generation> {
     let generation = match picks {
-        None => generate(atlas, labels, options)?,
+        None => worldpaint_core::generate_variants(atlas, labels, options)?,
         Some(variants) => {
             let choice = atlas.choice_of_variants(variants)?;
             let mut one = Generation {
@@ -464,9 +468,7 @@ pub(crate) fn assign_variants<'py>(
         .map(|v| u32::try_from(v).ok())
         .collect();
     let out = py.detach(|| {
-        guarded(|| {
-            worldpaint_core::variety::assign_variants(&positions, &fixed, count, window, seed)
-        })
+        guarded(|| worldpaint_core::assign_variants(&positions, &fixed, count, window, seed))
     })?;
     Ok(out
         .into_iter()

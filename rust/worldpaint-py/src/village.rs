@@ -7,13 +7,9 @@ use crate::{guarded, input_err, with_stages};
 use numpy::IntoPyArray;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
-use worldpaint_core::geom::DVec2;
-use worldpaint_core::village::generate::{
-    generate, interest_at, InterestRequest, Stage, VillageReport, VillageRequest,
-};
-use worldpaint_core::village::interest::Criterion;
-use worldpaint_core::village::{
-    BuildingSeed, Encyclopedia, Environment, HouseMesh, Road, Scenario, Site,
+use worldpaint_core::{
+    interest_at, BuildingSeed, DVec2, Encyclopedia, Environment, HouseMesh, InterestCriterion,
+    InterestRequest, Road, Scenario, Site, VillageReport, VillageRequest, VillageStage,
 };
 
 const ENCYCLOPEDIA: &str = include_str!("../../../assets/villages/encyclopedia.json");
@@ -121,11 +117,11 @@ fn encyclopedia_of(text: Option<&str>) -> PyResult<Encyclopedia> {
 }
 
 /// A stage's name as the user reads it, and its share of the whole generation: (name, start, span).
-fn stage_share(stage: Stage) -> (&'static str, f64, f64) {
+fn stage_share(stage: VillageStage) -> (&'static str, f64, f64) {
     match stage {
-        Stage::Skeleton => ("growing the skeleton", 0.0, 0.7),
-        Stage::Parcels => ("parcels and footprints", 0.7, 0.15),
-        Stage::Houses => ("houses", 0.85, 0.15),
+        VillageStage::Skeleton => ("growing the skeleton", 0.0, 0.7),
+        VillageStage::Parcels => ("parcels and footprints", 0.7, 0.15),
+        VillageStage::Houses => ("houses", 0.85, 0.15),
     }
 }
 
@@ -174,7 +170,7 @@ pub(crate) fn generate_village<'py>(
         parcel_cell,
     };
     let village = with_stages(py, progress, |report| {
-        generate(&request, &|stage, f| {
+        worldpaint_core::generate_village(&request, &|stage, f| {
             let (name, start, span) = stage_share(stage);
             report(start + span * f, Some(name))
         })
@@ -344,8 +340,8 @@ pub(crate) fn village_interest<'py>(
     let encyclopedia = encyclopedia_of(encyclopedia)?;
     let criterion = match criterion {
         None => None,
-        Some(name) => Some(Criterion::from_name(name).ok_or_else(|| {
-            let names: Vec<&str> = Criterion::ALL.iter().map(|c| c.name()).collect();
+        Some(name) => Some(InterestCriterion::from_name(name).ok_or_else(|| {
+            let names: Vec<&str> = InterestCriterion::ALL.iter().map(|c| c.name()).collect();
             input_err(format!(
                 "unknown criterion '{name}' (one of {})",
                 names.join(", ")

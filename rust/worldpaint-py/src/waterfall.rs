@@ -8,12 +8,10 @@ use numpy::ndarray::Ix2;
 use numpy::IntoPyArray;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
-use worldpaint_core::geom::DVec2;
-use worldpaint_core::waterfall::{
-    scene, Controller, ControllerKind, Rock, SceneOptions, SceneReport, WaterPart, WaterfallParams,
-    WaterfallScene, WaterfallType,
+use worldpaint_core::{
+    build_waterfall_scene, Color, Controller, ControllerKind, DVec2, Error, Rock, WaterPart,
+    WaterfallParams, WaterfallScene, WaterfallSceneOptions, WaterfallSceneReport, WaterfallType,
 };
-use worldpaint_core::{Color, Error};
 
 fn controllers_from_py(list: &Bound<'_, PyAny>) -> PyResult<Vec<Controller>> {
     let items = list
@@ -118,7 +116,7 @@ pub(crate) fn build_waterfall<'py>(
     let options = scene_options(deform, max_width, rock_color)?;
     let (s, change, shift, wet) = py.detach(|| {
         guarded(|| {
-            let s = scene(&hf, &controllers, &params, &options, seed)?;
+            let s = build_waterfall_scene(&hf, &controllers, &params, &options, seed)?;
             let change = height_change(&hf, &s.terrain.terrain, &pts);
             let hd = &s.terrain.horizontal;
             let shift: Vec<[f64; 2]> = pts
@@ -148,8 +146,8 @@ fn scene_options(
     (overhang, falloff, freeboard): (Option<f64>, Option<f64>, Option<f64>),
     max_width: Option<f64>,
     rock_color: Option<&str>,
-) -> PyResult<SceneOptions> {
-    let mut options = SceneOptions::default();
+) -> PyResult<WaterfallSceneOptions> {
+    let mut options = WaterfallSceneOptions::default();
     if let Some(v) = overhang {
         options.deform.overhang = v;
     }
@@ -262,7 +260,7 @@ fn rocks_into_py(out: &Bound<'_, PyDict>, rocks: &[Rock]) -> PyResult<()> {
 }
 
 /// The scene's report as a dict (see [`build_waterfall`]).
-fn report_to_py<'py>(py: Python<'py>, r: &SceneReport) -> PyResult<Bound<'py, PyDict>> {
+fn report_to_py<'py>(py: Python<'py>, r: &WaterfallSceneReport) -> PyResult<Bound<'py, PyDict>> {
     let report = PyDict::new(py);
     let nodes = PyDict::new(py);
     nodes.set_item("source", r.sources)?;

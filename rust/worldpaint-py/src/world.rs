@@ -7,8 +7,9 @@ use crate::terrain::Terrain;
 use numpy::IntoPyArray;
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
-use worldpaint_core::geom::DVec2;
-use worldpaint_core::world::{check_iterations, synthesize_tile, tile_file, TileId, WorldPlan};
+use worldpaint_core::{
+    check_iterations, decode_tile, encode_tile, synthesize_tile, DVec2, TileId, WorldPlan,
+};
 
 fn plan_from_py(plan: &Bound<'_, PyDict>) -> PyResult<WorldPlan> {
     let get = |key: &str| -> PyResult<Bound<'_, PyAny>> {
@@ -93,7 +94,7 @@ pub(crate) fn world_tile<'py>(
     let plan = plan_from_py(plan)?;
     let neighbours = neighbours
         .iter()
-        .map(|b| guarded(|| tile_file::decode(b.as_bytes())))
+        .map(|b| guarded(|| decode_tile(b.as_bytes())))
         .collect::<PyResult<Vec<_>>>()?;
     let terrain = terrain.map(|t| t.get().hf.clone());
     let t = TileId { column, row };
@@ -109,8 +110,8 @@ pub(crate) fn world_tile<'py>(
                 iterations_per_instance,
             )?;
             Ok((
-                tile_file::encode(&tile)?,
-                tile_file::encode(&tile.border(&plan))?,
+                encode_tile(&tile)?,
+                encode_tile(&tile.border(&plan))?,
                 tile.counts(),
             ))
         })
@@ -126,7 +127,7 @@ pub(crate) fn read_world_tile<'py>(
     py: Python<'py>,
     data: &Bound<'py, PyBytes>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let tile = guarded(|| tile_file::decode(data.as_bytes()))?;
+    let tile = guarded(|| decode_tile(data.as_bytes()))?;
     let d = PyDict::new(py);
     d.set_item("column", tile.tile.column)?;
     d.set_item("row", tile.tile.row)?;

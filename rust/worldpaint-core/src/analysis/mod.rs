@@ -53,13 +53,13 @@ use std::f64::consts::TAU;
 pub use structure::HeldGraph;
 
 /// Number of distance bins when the bin width is chosen automatically.
-pub const DEFAULT_RDF_BINS: usize = 24;
+pub(crate) const DEFAULT_RDF_BINS: usize = 24;
 /// Angular bins of an oriented rdf over [0, π).
-pub const ORIENTED_ANGLE_BINS: usize = 12;
+pub(crate) const ORIENTED_ANGLE_BINS: usize = 12;
 /// Slope histograms use fixed bins of 2.5° from 0 (so any two are comparable bin by bin).
 pub const SLOPE_BIN_DEGREES: f64 = 2.5;
 /// Bins of the histogram of any other map, spread over the map's range in the exemplar region.
-pub const MAP_BINS: usize = 24;
+pub(crate) const MAP_BINS: usize = 24;
 /// How to learn a color.
 #[derive(Clone, Debug, Default)]
 pub struct AnalysisOptions {

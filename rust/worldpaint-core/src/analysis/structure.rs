@@ -7,14 +7,14 @@
 //!   read at the planar graph's nodes of two edges), the degrees, the smallest angle, the connected components, the clearance from
 //!   higher-priority instances and the polygons the graph never crosses. Statistics are taken at the nodes inside
 //!   the region, over every edge that has an end inside (at its full length: the scene holds the whole graph).
-//! * A polygon category's contours are filled with dense points (a jittered grid, [`crate::contour::fill`]); their
+//! * A polygon category's contours are filled with dense points (a jittered grid, [`crate::contour::fill_polygons`]); their
 //!   spacing keeps about `POLYGON_POINTS` points inside the region, and their rdf spans the polygons' own scale.
 //!   Its islands (outer contours with their lakes) whose centroid lies in the region are counted per area and
 //!   their land areas kept: the synthesis matches both (module `synthesis::islands`).
 //! * Later categories see graphs through their distance and polygons through their signed distance: maps whose
 //!   values [`graph_map_value`] and [`polygon_map_value`] give, the same at analysis and synthesis.
 
-use crate::contour::{fill, islands, Polygons};
+use crate::contour::{fill_polygons, islands, Polygons};
 use crate::geom::{DVec2, Region};
 use crate::graph::{Graph, SegmentIndex};
 use crate::palette::{GraphColor, Histogram, MapSource, PolygonColor};
@@ -125,7 +125,7 @@ impl Structures {
         let Some((polys, spacing)) = self.polygons.get(&category.name) else {
             return Vec::new();
         };
-        fill(polys, *spacing, c as u64)
+        fill_polygons(polys, *spacing, c as u64)
             .into_iter()
             .filter(|p| region.contains(*p))
             .map(|p| Instance::at(p, c))

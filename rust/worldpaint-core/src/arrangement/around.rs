@@ -3,7 +3,7 @@
 //! user-specified distance from the cursor").
 //!
 //! Readings chosen:
-//! - the existing elements' connectivity is rebuilt as [`Reference::new`] builds a reference's (Delaunay, triangles
+//! - the existing elements' connectivity is rebuilt as [`ReferenceArrangement::new`] builds a reference's (Delaunay, triangles
 //!   with an angle over 2π/3 dropped), also dropping edges longer than 1.5 × the longest edge of the reference's
 //!   interior rings (the rings growth copies; the reference's hull can hold a triangle of nearly 2π/3 whose long
 //!   side would bridge a missing element at a pattern's frontier), and each existing element takes as sub-id the reference element that best matches
@@ -13,7 +13,7 @@
 //!   and, when its turn comes, matched again to its current ring, which places seeds for its missing neighbours
 //!   (inside the region only). The pattern grows on from the old one without a seam;
 //! - existing elements are never moved or removed: they are held by every relaxation, flagged
-//!   [`super::Arrangement::at_region_boundary`] in the result so that [`super::relax`] holds them too, and keep
+//!   [`super::Arrangement::at_region_boundary`] in the result so that [`super::relax_arrangement`] holds them too, and keep
 //!   their position, symbol, rotation and scale;
 //! - an edge from a reopened element outside the region to a new element inside is kept (it necessarily crosses the
 //!   region's outline); every new element and seed lies inside the region;
@@ -34,26 +34,26 @@ use super::existing::{existing_edges, fallback_sub_id, longest_ring_edge};
 use super::fidelity::reference_density;
 use super::growth::{Grower, State};
 use super::options::GrowthOptions;
-use super::{Arrangement, Element, Reference, RingTarget};
+use super::{Arrangement, Element, ReferenceArrangement, RingTarget};
 use crate::error::{Error, Result};
 use crate::geom::{PreparedRegion, Region};
 
-/// Grows a pattern from one seed at `start` inside `region`, copying `reference`'s local structure: [`grow_around`]
+/// Grows a pattern from one seed at `start` inside `region`, copying `reference`'s local structure: [`grow_arrangement_around`]
 /// with no existing element.
-pub fn grow(
-    reference: &Reference,
+pub fn grow_arrangement(
+    reference: &ReferenceArrangement,
     region: &Region,
     start: DVec2,
     options: &GrowthOptions,
 ) -> Result<Arrangement> {
-    grow_around(reference, region, &[], Some(start), options, &|_| true)
+    grow_arrangement_around(reference, region, &[], Some(start), options, &|_| true)
 }
 
 /// Grows a pattern inside `region` next to the `existing` elements (held fixed, listed first in the result, in their
 /// order), continuing them where their rings are incomplete, else from `start` (see the module's readings).
 /// `progress` hears the fraction done every few hundred elements; returning false cancels ([`Error::Cancelled`]).
-pub fn grow_around(
-    reference: &Reference,
+pub fn grow_arrangement_around(
+    reference: &ReferenceArrangement,
     region: &Region,
     existing: &[Element],
     start: Option<DVec2>,
@@ -133,7 +133,7 @@ pub fn grow_around(
 /// ones with their matched sub-id and rotation.
 fn add_existing(
     grower: &mut Grower,
-    reference: &Reference,
+    reference: &ReferenceArrangement,
     existing: &[Element],
 ) -> HashMap<usize, (usize, f64)> {
     for e in existing {
@@ -239,14 +239,18 @@ fn polygon_centroid(points: &[DVec2]) -> Option<DVec2> {
 }
 
 /// How many elements the region holds at the reference's density (for the progress fraction).
-fn expected_count(reference: &Reference, region: &Region, options: &GrowthOptions) -> f64 {
+fn expected_count(
+    reference: &ReferenceArrangement,
+    region: &Region,
+    options: &GrowthOptions,
+) -> f64 {
     region_count(reference, region)
         .min(options.max_elements as f64)
         .max(1.0)
 }
 
 /// The elements `region` holds at the reference's density.
-fn region_count(reference: &Reference, region: &Region) -> f64 {
+fn region_count(reference: &ReferenceArrangement, region: &Region) -> f64 {
     region.area() * reference_density(reference)
 }
 

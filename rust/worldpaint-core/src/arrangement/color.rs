@@ -7,7 +7,7 @@ use glam::DVec2;
 use serde::{Deserialize, Serialize};
 
 use super::options::{MAX_COLOR_NOISE, MAX_ROTATION_NOISE, MAX_SCALE_NOISE};
-use super::{Element, Reference, RotationMode};
+use super::{Element, ReferenceArrangement, RotationMode};
 use crate::error::{check, Error, Result};
 use crate::limits;
 
@@ -98,7 +98,7 @@ impl ArrangementColor {
     }
 
     /// The reference's connectivity (seed §4) with the user's flips applied.
-    pub fn reference(&self) -> Result<Reference> {
+    pub fn reference(&self) -> Result<ReferenceArrangement> {
         let elements = self
             .elements
             .iter()
@@ -109,7 +109,7 @@ impl ArrangementColor {
                 scale: 1.0,
             })
             .collect();
-        let mut reference = Reference::new(elements)?;
+        let mut reference = ReferenceArrangement::new(elements)?;
         for &(a, b) in &self.flips {
             reference.flip(a, b)?;
         }

@@ -1,7 +1,7 @@
 //! The reference arrangement's connectivity (seed §4): "we extract the connectivity by Delaunay triangulation … we
 //! remove skewed triangles which have angles greater than 2/3π and we keep only edges which are a part of at least
 //! one un-skewed triangle … We do not use elements around the boundary of the reference arrangement, since they do
-//! not have enough neighborhood elements." The user "can flip an edge by clicking it" (Fig. 3): [`Reference::flip`].
+//! not have enough neighborhood elements." The user "can flip an edge by clicking it" (Fig. 3): [`ReferenceArrangement::flip`].
 //!
 //! Readings: a triangle is skewed when its largest angle is over 2π/3; an element is a *boundary* element when the
 //! kept triangles around it do not close a full fan (it lies on the hull, or next to a removed triangle).
@@ -14,14 +14,14 @@ use super::Element;
 use crate::error::{Error, Result};
 
 /// The largest angle a kept triangle may have (seed §4: 2π/3).
-pub const MAX_TRIANGLE_ANGLE: f64 = 2.0 * std::f64::consts::FRAC_PI_3;
+pub(crate) const MAX_TRIANGLE_ANGLE: f64 = 2.0 * std::f64::consts::FRAC_PI_3;
 
 /// The most elements a reference arrangement may hold (it is placed by hand: a few hundred at most in practice).
-pub const MAX_REFERENCE_ELEMENTS: usize = 100_000;
+pub(crate) const MAX_REFERENCE_ELEMENTS: usize = 100_000;
 
 /// A reference arrangement analysed into its connectivity: each element's ring of neighbours, counter-clockwise.
 #[derive(Clone, Debug)]
-pub struct Reference {
+pub struct ReferenceArrangement {
     elements: Vec<Element>,
     /// Kept (un-skewed) triangles, counter-clockwise.
     triangles: Vec<[usize; 3]>,
@@ -33,11 +33,11 @@ pub struct Reference {
     lattice: Option<Lattice>,
 }
 
-impl Reference {
+impl ReferenceArrangement {
     /// Analyses `elements` (each element's index is its *sub-id*): Delaunay triangulation, skewed triangles removed,
     /// rings and boundary flags. Errors on fewer than 3 elements, a non-finite value, two elements at one place, or
     /// a reference whose every element lies on its boundary (nothing to grow from).
-    pub fn new(elements: Vec<Element>) -> Result<Reference> {
+    pub fn new(elements: Vec<Element>) -> Result<ReferenceArrangement> {
         if elements.len() < 3 {
             return Err(Error::invalid(
                 "reference arrangement",
@@ -84,7 +84,7 @@ impl Reference {
                 triangles.push(counter_clockwise(v, p));
             }
         }
-        let mut reference = Reference {
+        let mut reference = ReferenceArrangement {
             elements,
             triangles,
             rings: Vec::new(),

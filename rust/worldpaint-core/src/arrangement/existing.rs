@@ -1,5 +1,5 @@
-//! The connectivity of elements already in the scene, rebuilt for [`super::grow_around`] from their positions
-//! alone, as [`Reference::new`] builds a reference's: a Delaunay triangulation without the triangles that have an
+//! The connectivity of elements already in the scene, rebuilt for [`super::grow_arrangement_around`] from their positions
+//! alone, as [`ReferenceArrangement::new`] builds a reference's: a Delaunay triangulation without the triangles that have an
 //! angle over 2π/3, and without edges longer than 1.5 × the longest edge of the reference's interior rings.
 //!
 //! Where four elements lie nearly on a circle (a square lattice, bricks), the Delaunay diagonal of their
@@ -16,7 +16,7 @@ use spade::{DelaunayTriangulation, Point2, Triangulation};
 
 use super::cells::FastMap;
 use super::connectivity::{largest_angle, segments_cross, MAX_TRIANGLE_ANGLE};
-use super::{Element, Reference};
+use super::{Element, ReferenceArrangement};
 
 /// The most distinct ring offsets for which diagonals are chosen.
 const MAX_OFFSETS: usize = 64;
@@ -24,7 +24,7 @@ const MAX_OFFSETS: usize = 64;
 /// The existing elements' connectivity: Delaunay edges of a triangle with no angle over 2π/3, at most `longest`.
 /// An element at the same place as an earlier one gets no edge.
 pub(super) fn existing_edges(
-    reference: &Reference,
+    reference: &ReferenceArrangement,
     existing: &[Element],
     longest: f64,
 ) -> Vec<(usize, usize)> {
@@ -65,7 +65,11 @@ pub(super) fn existing_edges(
 }
 
 /// Flips the diagonals that match the reference's ring offsets worse than the other diagonal (see the module doc).
-fn choose_diagonals(reference: &Reference, existing: &[Element], triangles: &mut [[usize; 3]]) {
+fn choose_diagonals(
+    reference: &ReferenceArrangement,
+    existing: &[Element],
+    triangles: &mut [[usize; 3]],
+) {
     let Some(offsets) = ring_offsets(reference) else {
         return;
     };
@@ -134,7 +138,7 @@ fn choose_diagonals(reference: &Reference, existing: &[Element], triangles: &mut
 }
 
 /// The distinct offsets of the reference's interior rings (none past [`MAX_OFFSETS`]: an irregular reference).
-fn ring_offsets(reference: &Reference) -> Option<Vec<DVec2>> {
+fn ring_offsets(reference: &ReferenceArrangement) -> Option<Vec<DVec2>> {
     let e = reference.elements();
     let near = 0.05 * reference.mean_edge();
     let mut offsets: Vec<DVec2> = Vec::new();
@@ -154,7 +158,7 @@ fn ring_offsets(reference: &Reference) -> Option<Vec<DVec2>> {
 
 /// The longest edge of the rings growth copies (the reference's interior elements'): the reference's own longest
 /// edge can be a hull triangle's, near √3 × the spacing, long enough to bridge a missing element of a lattice.
-pub(super) fn longest_ring_edge(reference: &Reference) -> f64 {
+pub(super) fn longest_ring_edge(reference: &ReferenceArrangement) -> f64 {
     let e = reference.elements();
     (0..e.len())
         .filter(|&i| !reference.is_boundary(i))
@@ -169,7 +173,7 @@ pub(super) fn longest_ring_edge(reference: &Reference) -> f64 {
 
 /// The sub-id of an existing element no reference ring matches: the first interior reference element of its
 /// symbol, else the first interior one.
-pub(super) fn fallback_sub_id(reference: &Reference, symbol: u32) -> usize {
+pub(super) fn fallback_sub_id(reference: &ReferenceArrangement, symbol: u32) -> usize {
     let interior = |i: &usize| !reference.is_boundary(*i);
     let n = reference.elements().len();
     (0..n)

@@ -15,14 +15,14 @@
 
 use glam::DVec2;
 
-use super::{Element, Reference};
+use super::{Element, ReferenceArrangement};
 use crate::geom::{PreparedRegion, Region, RegionQueries};
 use crate::spatial::{GridEntry, SpatialGrid};
 
 /// An element's ring reaches this many spacings.
 pub const RING_RADIUS: f64 = 1.25;
 /// Two rings' neighbours pair within this many spacings.
-pub const RING_TOLERANCE: f64 = 0.15;
+pub(super) const RING_TOLERANCE: f64 = 0.15;
 
 /// A painted pattern's figures against its reference.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -48,7 +48,7 @@ pub struct RingMatch {
 
 impl RingMatch {
     /// The rings of `reference`'s interior elements.
-    pub fn new(reference: &Reference) -> RingMatch {
+    pub fn new(reference: &ReferenceArrangement) -> RingMatch {
         let elements = reference.elements();
         let points: Vec<DVec2> = elements.iter().map(|e| e.position).collect();
         let spacing = first_shell_spacing(reference);
@@ -144,7 +144,7 @@ impl Neighbours {
 
 /// The figures of the pattern `elements` (its elements in `region`) against `reference`.
 pub fn pattern_fidelity(
-    reference: &Reference,
+    reference: &ReferenceArrangement,
     elements: &[Element],
     region: &Region,
 ) -> PatternFidelity {
@@ -179,7 +179,7 @@ pub fn pattern_fidelity(
 }
 
 /// Elements per square metre of the reference: its kept triangles' count over twice their area.
-pub fn reference_density(reference: &Reference) -> f64 {
+pub fn reference_density(reference: &ReferenceArrangement) -> f64 {
     let p = |i: usize| reference.elements()[i].position;
     let area: f64 = reference
         .triangles()
@@ -197,7 +197,7 @@ pub fn reference_density(reference: &Reference) -> f64 {
 /// longer than 1.2 times the median distance from an element to its nearest neighbour (a nearest neighbour is a
 /// Delaunay neighbour). The mean nearest distance alone is biased short by the hand's noise (0.91 spacings with 5 %
 /// noise), and a ring radius read from it cuts through the first shell.
-fn first_shell_spacing(reference: &Reference) -> f64 {
+fn first_shell_spacing(reference: &ReferenceArrangement) -> f64 {
     let elements = reference.elements();
     let edges: Vec<(usize, f64)> = reference
         .edges()
@@ -288,7 +288,8 @@ mod tests {
 
     #[test]
     fn a_lattice_keeps_its_rings_and_a_sheared_one_does_not() {
-        let reference = Reference::new(square_lattice(7, |_| DVec2::ZERO)).expect("a reference");
+        let reference =
+            ReferenceArrangement::new(square_lattice(7, |_| DVec2::ZERO)).expect("a reference");
         let region = Region::Rect {
             min: DVec2::splat(-0.5),
             max: DVec2::splat(19.5),

@@ -30,7 +30,7 @@ use crate::error::{Error, Result};
 /// The samples of all strokes together, at most.
 const SAMPLES: usize = 256;
 /// The most strokes one flow field takes.
-pub const MAX_FLOW_CURVES: usize = 256;
+pub(super) const MAX_FLOW_CURVES: usize = 256;
 /// The ridge on the kernel's diagonal.
 const RIDGE: f64 = 1e-6;
 

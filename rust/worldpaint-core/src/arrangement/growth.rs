@@ -46,7 +46,7 @@ use super::lattice::Lattice;
 use super::matching::Match;
 use super::options::GrowthOptions;
 use super::relax::{solve, Term};
-use super::Reference;
+use super::ReferenceArrangement;
 use crate::error::{Error, Result};
 use crate::geom::{PreparedRegion, RegionQueries};
 
@@ -81,7 +81,7 @@ pub(super) struct RefRing {
 /// The state of one growth: the nodes (existing elements first, then the grown elements and seeds), their
 /// connectivity and the seeds' queue.
 pub(super) struct Grower<'a> {
-    pub(super) reference: &'a Reference,
+    pub(super) reference: &'a ReferenceArrangement,
     region: PreparedRegion<'a>,
     pub(super) options: &'a GrowthOptions,
     boundaries: BoundaryIndex,
@@ -109,7 +109,7 @@ pub(super) struct Grower<'a> {
 
 impl<'a> Grower<'a> {
     pub(super) fn new(
-        reference: &'a Reference,
+        reference: &'a ReferenceArrangement,
         region: PreparedRegion<'a>,
         options: &'a GrowthOptions,
     ) -> Result<Self> {

@@ -314,7 +314,7 @@ mod tests {
     use rand_chacha::ChaCha8Rng;
 
     fn reference(points: impl Iterator<Item = DVec2>) -> Option<Lattice> {
-        crate::arrangement::Reference::new(
+        crate::arrangement::ReferenceArrangement::new(
             points
                 .map(|position| Element {
                     position,

@@ -1,7 +1,7 @@
 //! Element arrangement by example: *An Example-based Procedural System for Element Arrangement* (Ijiri, Měch,
 //! Igarashi, Miller 2008). A small reference arrangement placed by hand is analysed into its connectivity
-//! ([`Reference`], seed §4), a larger pattern is grown from one seed by neighbourhood matching ([`grow`], seed §5.1–5.4),
-//! and the grown pattern is relaxed towards the reference's ring shapes ([`relax`], seed §5.5).
+//! ([`ReferenceArrangement`], seed §4), a larger pattern is grown from one seed by neighbourhood matching ([`grow_arrangement`], seed §5.1–5.4),
+//! and the grown pattern is relaxed towards the reference's ring shapes ([`relax_arrangement`], seed §5.5).
 //!
 //! The matching error of a target seed's neighbourhood against a reference element's, for one matching pattern
 //! f ∈ F (pairs counter-clockwise "without skipping and flipping"):
@@ -25,7 +25,7 @@
 //! Built so far: the reference's connectivity with edge flips and the lattice it was placed on ([`Lattice`]), growth
 //! with the non-rotation, best-fit rotation and flow-field modes ([`FlowField`], a thin-plate spline through the
 //! directions of drawn strokes), seed priorities, the region and boundary curves as limits of growth, growth next to
-//! existing elements ([`grow_around`]: a paste beside an earlier pattern, the spray tool's dabs), scale and rotation
+//! existing elements ([`grow_arrangement_around`]: a paste beside an earlier pattern, the spray tool's dabs), scale and rotation
 //! noise, relaxation, the arrangement as a color of the palette ([`ArrangementColor`]) painted into a scene by every
 //! tool, and the figures a paste reports ([`pattern_fidelity`]). Colour noise is the caller's.
 //!
@@ -41,7 +41,7 @@ mod around;
 mod boundary;
 mod cells;
 mod color;
-pub mod connectivity;
+pub(crate) mod connectivity;
 mod existing;
 mod fidelity;
 mod flow;
@@ -55,16 +55,14 @@ use glam::DVec2;
 use serde::{Deserialize, Serialize};
 
 pub(crate) use around::gaussian;
-pub use around::{grow, grow_around};
-pub use color::{ArrangementColor, PatternRotation, ReferenceElement, DEFAULT_RELAX_EVERY};
-pub use connectivity::Reference;
-pub use fidelity::{
-    pattern_fidelity, reference_density, PatternFidelity, RingMatch, RING_RADIUS, RING_TOLERANCE,
-};
-pub use flow::{FlowField, MAX_FLOW_CURVES};
-pub use lattice::Lattice;
-pub use options::{GrowthOptions, MatchWeights, Noise, PatternGuides, RotationMode};
-pub use relax::{relax, ring_error, Relaxation};
+pub use around::{grow_arrangement, grow_arrangement_around};
+pub(crate) use color::{ArrangementColor, ReferenceElement};
+pub use color::{PatternRotation, DEFAULT_RELAX_EVERY};
+pub use connectivity::ReferenceArrangement;
+pub use fidelity::{pattern_fidelity, reference_density, PatternFidelity, RingMatch, RING_RADIUS};
+pub use flow::FlowField;
+pub use options::{GrowthNoise, GrowthOptions, PatternGuides, RotationMode};
+pub use relax::relax_arrangement;
 
 /// One element of an arrangement: where it stands, which symbol it is, how it is turned.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -97,7 +95,7 @@ pub struct RingTarget {
 /// A grown arrangement: its elements, their connectivity and what each copies from the reference.
 #[derive(Clone, Debug, Default)]
 pub struct Arrangement {
-    /// The elements: the existing ones given to [`grow_around`] first, in their order, then the new ones in the
+    /// The elements: the existing ones given to [`grow_arrangement_around`] first, in their order, then the new ones in the
     /// order they were placed (the initial one first).
     pub elements: Vec<Element>,
     /// For each element, the reference element (sub-id) it copies.
@@ -107,9 +105,9 @@ pub struct Arrangement {
     /// For each element, the reference ring's offsets to the neighbours it was placed with (eq. (5)'s `r_j^i`);
     /// neighbours connected later are not listed: the relaxation keeps their current offsets (seed §5.5).
     pub ring_targets: Vec<Vec<RingTarget>>,
-    /// Elements the relaxation holds ([`relax`], eq. (6)): those whose growth the region or a boundary curve stopped
+    /// Elements the relaxation holds ([`relax_arrangement`], eq. (6)): those whose growth the region or a boundary curve stopped
     /// (a neighbour of their reference ring would have fallen outside or across), and the existing elements of
-    /// [`grow_around`].
+    /// [`grow_arrangement_around`].
     pub at_region_boundary: Vec<bool>,
 }
 

@@ -4,16 +4,16 @@
 use glam::DVec2;
 
 use super::flow::FlowField;
-use super::Reference;
+use super::ReferenceArrangement;
 use crate::error::{check, Error, Result};
 
 /// The largest relative standard deviation of an element's scale: beyond it, the log-normal factor's spread is
 /// no longer noise about one size.
-pub const MAX_SCALE_NOISE: f64 = 1.0;
+pub(super) const MAX_SCALE_NOISE: f64 = 1.0;
 /// The largest standard deviation of an element's rotation (radians): half a turn already turns elements anyhow.
-pub const MAX_ROTATION_NOISE: f64 = std::f64::consts::PI;
+pub(super) const MAX_ROTATION_NOISE: f64 = std::f64::consts::PI;
 /// The largest standard deviation of an element's tint (tints are kept within ±1).
-pub const MAX_COLOR_NOISE: f64 = 1.0;
+pub(super) const MAX_COLOR_NOISE: f64 = 1.0;
 
 /// How a reference ring is turned when it is matched to a seed (seed §5.3).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -52,7 +52,7 @@ impl Default for MatchWeights {
 /// Per-element noise drawn after growth (seed §3: "random noises to modify the scale, rotation, and color of each
 /// synthesized element"); colour noise is left to the caller.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Noise {
+pub struct GrowthNoise {
     /// Relative standard deviation of the scale (0 = none). The factor is log-normal with mean 1 and this relative
     /// standard deviation, so that it is never zero or negative.
     pub scale: f64,
@@ -84,7 +84,7 @@ pub struct GrowthOptions {
     /// end): no seed, element or edge crosses them.
     pub boundaries: Vec<Vec<DVec2>>,
     /// Scale and rotation noise of the new elements, drawn after growth.
-    pub noise: Noise,
+    pub noise: GrowthNoise,
 }
 
 impl Default for GrowthOptions {
@@ -99,7 +99,7 @@ impl Default for GrowthOptions {
             relax_every: 0,
             flow: None,
             boundaries: Vec::new(),
-            noise: Noise::default(),
+            noise: GrowthNoise::default(),
         }
     }
 }
@@ -107,7 +107,7 @@ impl Default for GrowthOptions {
 impl GrowthOptions {
     /// The checks a growth makes before it starts: numbers in range, the flow field there when its mode asks for
     /// it, the initial symbol one of the reference's interior elements.
-    pub(crate) fn validate(&self, reference: &Reference) -> Result<()> {
+    pub(crate) fn validate(&self, reference: &ReferenceArrangement) -> Result<()> {
         if self.max_elements == 0 {
             return Err(Error::invalid("max elements", "must be at least 1"));
         }

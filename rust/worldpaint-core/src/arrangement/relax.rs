@@ -5,7 +5,7 @@
 //!
 //! Readings: the constrained elements are the initial one and those flagged
 //! [`super::Arrangement::at_region_boundary`] (stopped by the region or a boundary curve, or existing elements that
-//! [`super::grow_around`] grew next to); a neighbour an element was not placed with (an edge built later, or a
+//! [`super::grow_arrangement_around`] grew next to); a neighbour an element was not placed with (an edge built later, or a
 //! topology change) keeps its current offset as its target, as the seed does for elements that "lose an edge or get
 //! an extra edge". Instead of Lagrange multipliers the constraints are substituted, leaving a sparse symmetric
 //! positive definite normal system `A x = b` (A a graph Laplacian of the free elements plus the pull of the fixed
@@ -99,16 +99,8 @@ pub(crate) fn error_of(terms: &[Term], x: &[DVec2]) -> f64 {
         .sum()
 }
 
-/// The summed eq. (5) error of an arrangement as it stands (m²): the terms of its elements' ring targets (the edges
-/// with no ring target hold their current offsets, so they add nothing here; [`relax`] reports the error with those
-/// offsets taken before it moves anything).
-pub fn ring_error(arrangement: &Arrangement) -> Result<f64> {
-    let x: Vec<DVec2> = arrangement.elements.iter().map(|e| e.position).collect();
-    Ok(error_of(&terms(arrangement)?, &x))
-}
-
 /// Moves the arrangement's free elements to the least-squares solution of eq. (5)–(6).
-pub fn relax(arrangement: &mut Arrangement) -> Result<Relaxation> {
+pub fn relax_arrangement(arrangement: &mut Arrangement) -> Result<Relaxation> {
     let terms = terms(arrangement)?;
     let n = arrangement.elements.len();
     let x0: Vec<DVec2> = arrangement.elements.iter().map(|e| e.position).collect();

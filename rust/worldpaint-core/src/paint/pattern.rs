@@ -9,8 +9,8 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
 use crate::arrangement::{
-    gaussian, grow_around, pattern_fidelity, ArrangementColor, Element, FlowField, GrowthOptions,
-    Noise, PatternFidelity, PatternRotation,
+    gaussian, grow_arrangement_around as grow_around, pattern_fidelity, ArrangementColor, Element,
+    FlowField, GrowthNoise as Noise, GrowthOptions, PatternFidelity, PatternRotation,
 };
 use crate::error::{Error, Result};
 use crate::geom::Region;

@@ -2,7 +2,7 @@
 
 use super::checks::{check_camera, check_change, check_matching_work, check_strokes, SketchLimits};
 use super::curves::{complete, embed, embedding_depth, fallback_depth};
-use super::deform::{deform, DeformOptions, Deformation, StrokeTarget};
+use super::deform::{deform_to_targets, Deformation, SketchDeformOptions, StrokeTarget};
 use super::features::{detect_features, FeatureOptions};
 use super::matching::{
     assign_until, feature_pieces, priority_list, Assignment, Candidate, MatchingContext,
@@ -10,7 +10,7 @@ use super::matching::{
 };
 use super::ordering::{order_strokes, OrderingOptions, StrokeOrder};
 use super::view::{Camera, Sight};
-use super::{Feature, Stroke};
+use super::{Feature, SketchStroke};
 use crate::error::{Error, Result};
 use crate::terrain::Heightfield;
 use glam::{DVec2, DVec3};
@@ -18,7 +18,7 @@ use std::time::Instant;
 
 /// How a stroke got its curve.
 #[derive(Clone, Debug, PartialEq)]
-pub enum Source {
+pub enum CurveSource {
     /// A terrain feature (index in the features detected), deformed onto the stroke.
     Feature(usize),
     /// The skyline under the stroke (the highest visible silhouettes of its columns), deformed onto the stroke.
@@ -33,7 +33,7 @@ pub struct Targets {
     /// Per stroke (in the order given), its curve.
     pub targets: Vec<StrokeTarget>,
     /// Per stroke, where its curve comes from.
-    pub sources: Vec<Source>,
+    pub sources: Vec<CurveSource>,
     /// Per stroke, its priority list.
     pub lists: Vec<Vec<Candidate>>,
     /// The assignment found by branch and bound.
@@ -49,10 +49,10 @@ const COMPLETION_SHARE: f64 = 0.5;
 /// [`super::checks::MAX_MATCHING_WORK`] before any of it; `stop` is asked after each priority list and inside the
 /// assignment's search whether to give up ([`Error::Cancelled`]).
 #[allow(clippy::too_many_arguments)]
-pub fn targets(
+pub fn stroke_targets(
     sight: &Sight,
     camera: &Camera,
-    strokes: &[Stroke],
+    strokes: &[SketchStroke],
     front_to_back: &[usize],
     features: &[Feature],
     options: &MatchingOptions,
@@ -84,17 +84,17 @@ pub fn targets(
         .iter()
         .map(|&s| chosen[s].map(mean_depth))
         .collect();
-    let mut sources = vec![Source::Embedded(0.0); strokes.len()];
+    let mut sources = vec![CurveSource::Embedded(0.0); strokes.len()];
     let mut built: Vec<(Vec<glam::DVec3>, Vec<usize>)> = vec![Default::default(); strokes.len()];
     for (k, &s) in front_to_back.iter().enumerate() {
         match chosen[s] {
             Some(c) => {
-                sources[s] = c.feature.map_or(Source::Skyline, Source::Feature);
+                sources[s] = c.feature.map_or(CurveSource::Skyline, CurveSource::Feature);
                 built[s] = (c.curve.clone(), c.breaks.clone());
             }
             None => {
                 let depth = embedding_depth(k, &depths, fallback_depth(sight, camera, &curves[s]));
-                sources[s] = Source::Embedded(depth);
+                sources[s] = CurveSource::Embedded(depth);
                 built[s] = (embed(camera, &curves[s], depth), Vec::new());
             }
         }
@@ -144,7 +144,7 @@ pub struct SketchOptions {
     /// Matching (§5.3.2).
     pub matching: MatchingOptions,
     /// Deformation and lowering (§5.3.3, §5.4).
-    pub deform: DeformOptions,
+    pub deform: SketchDeformOptions,
     /// Whether the curves are extended to the ground at their ends (§5.3.2, "an optional step").
     pub completion: bool,
     /// How far the camera may be from the terrain and how much the terrain may change.
@@ -158,7 +158,7 @@ impl Default for SketchOptions {
             ordering: OrderingOptions::default(),
             features: FeatureOptions::default(),
             matching: MatchingOptions::default(),
-            deform: DeformOptions::default(),
+            deform: SketchDeformOptions::default(),
             completion: true,
             limits: SketchLimits::default(),
         }
@@ -201,7 +201,7 @@ pub struct SketchEdit {
 pub fn apply_sketch(
     terrain: &Heightfield,
     camera: &Camera,
-    strokes: &[Stroke],
+    strokes: &[SketchStroke],
     options: &SketchOptions,
     progress: &(dyn Fn(f64) -> bool + Sync),
 ) -> Result<SketchEdit> {
@@ -234,7 +234,7 @@ pub fn apply_sketch(
     let features = detect_features(&sight, camera, &options.features)?;
     let features_seconds = lap();
     step(0.2)?;
-    let targets = targets(
+    let targets = stroke_targets(
         &sight,
         camera,
         &order.oriented,
@@ -258,9 +258,10 @@ pub fn apply_sketch(
         .fold((0.0, DVec3::ZERO), |a, b| if b.0 > a.0 { b } else { a });
     check_change("the sketch", asked.0, asked.1, terrain, &options.limits)?;
     step(0.3)?;
-    let deformation = deform(terrain, camera, &targets.targets, &options.deform, &|f| {
-        progress(0.3 + 0.7 * f)
-    })?;
+    let deformation =
+        deform_to_targets(terrain, camera, &targets.targets, &options.deform, &|f| {
+            progress(0.3 + 0.7 * f)
+        })?;
     let (mut largest, mut at) = (0.0, DVec3::ZERO);
     for (k, d) in deformation.displacement.iter().enumerate() {
         if d.abs() > largest {

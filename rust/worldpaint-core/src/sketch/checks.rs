@@ -15,7 +15,7 @@
 //!   relief, or a quarter of its shorter side on flatter ground).
 
 use super::view::{Camera, Sight};
-use super::Stroke;
+use super::SketchStroke;
 use crate::error::{Error, Result};
 use crate::limits;
 use crate::terrain::Heightfield;
@@ -23,13 +23,13 @@ use glam::{DVec2, DVec3};
 
 /// How far (share of the frame) a stroke point may lie past the frame's edge: a stroke drawn over the view may stray
 /// a little beyond it.
-pub const FRAME_SLACK: f64 = 0.05;
+pub(crate) const FRAME_SLACK: f64 = 0.05;
 /// Narrowest field of view of a Blender camera (`Camera.angle`'s minimum, 0.367°).
-pub const MIN_FOV_DEGREES: f64 = 0.367;
+pub(crate) const MIN_FOV_DEGREES: f64 = 0.367;
 /// Widest field of view of a Blender camera (`Camera.angle`'s maximum, 172.847°).
-pub const MAX_FOV_DEGREES: f64 = 172.847;
+pub(crate) const MAX_FOV_DEGREES: f64 = 172.847;
 /// Image columns across the frame of which one must meet the terrain.
-pub const SEEN_COLUMNS: usize = 64;
+pub(crate) const SEEN_COLUMNS: usize = 64;
 /// Rows (intervals between the rays cast, bottom to top) of each of those columns.
 const SEEN_ROWS: usize = 8;
 /// Stroke × candidate × image column evaluations the matching may be asked for (about 2 s of it): 100 strokes
@@ -63,7 +63,7 @@ impl SketchLimits {
 }
 
 /// Refuses a stroke point that is not finite or lies out of the camera frame, naming the stroke and the point.
-pub fn check_strokes(strokes: &[Stroke]) -> Result<()> {
+pub(crate) fn check_strokes(strokes: &[SketchStroke]) -> Result<()> {
     let (lo, hi) = (-FRAME_SLACK, 1.0 + FRAME_SLACK);
     for (s, stroke) in strokes.iter().enumerate() {
         for (k, p) in stroke.points.iter().enumerate() {
@@ -90,7 +90,7 @@ pub fn check_strokes(strokes: &[Stroke]) -> Result<()> {
 }
 
 /// The camera's field of view across the frame's wider side, in degrees.
-pub fn field_of_view(camera: &Camera) -> f64 {
+pub(crate) fn field_of_view(camera: &Camera) -> f64 {
     let across = |lo: f64, hi: f64| (hi.atan() - lo.atan()).to_degrees();
     across(camera.frame_min.x, camera.frame_max.x)
         .max(across(camera.frame_min.y, camera.frame_max.y))
@@ -98,7 +98,11 @@ pub fn field_of_view(camera: &Camera) -> f64 {
 
 /// Refuses a camera Blender could not have, one under the ground or too far from the terrain, and one that sees no
 /// terrain.
-pub fn check_camera(camera: &Camera, terrain: &Heightfield, limits: &SketchLimits) -> Result<()> {
+pub(crate) fn check_camera(
+    camera: &Camera,
+    terrain: &Heightfield,
+    limits: &SketchLimits,
+) -> Result<()> {
     let fov = field_of_view(camera);
     if !(MIN_FOV_DEGREES..=MAX_FOV_DEGREES).contains(&fov) {
         return Err(Error::invalid(
@@ -157,7 +161,11 @@ pub fn check_camera(camera: &Camera, terrain: &Heightfield, limits: &SketchLimit
 
 /// Refuses a matching of `strokes` among `pieces` feature pieces (and their skyline candidates) at `columns` image
 /// columns past [`MAX_MATCHING_WORK`].
-pub fn check_matching_work(strokes: &[Stroke], pieces: usize, columns: usize) -> Result<()> {
+pub(crate) fn check_matching_work(
+    strokes: &[SketchStroke],
+    pieces: usize,
+    columns: usize,
+) -> Result<()> {
     let columns_covered: f64 = strokes
         .iter()
         .map(|s| {
@@ -181,7 +189,7 @@ pub fn check_matching_work(strokes: &[Stroke], pieces: usize, columns: usize) ->
 }
 
 /// Refuses a change of `largest` metres at `at` past the bound of `limits` on `terrain`; `what` says what changes.
-pub fn check_change(
+pub(crate) fn check_change(
     what: &str,
     largest: f64,
     at: DVec3,

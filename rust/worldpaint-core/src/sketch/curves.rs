@@ -10,13 +10,13 @@ use glam::{DVec2, DVec3};
 
 /// How far an embedded stroke is placed behind the farthest stroke, or in front of the nearest one, as a share of
 /// that stroke's depth: our choice (the thesis says "behind" and "in front", not how far).
-pub const EMBED_MARGIN: f64 = 0.25;
+pub(crate) const EMBED_MARGIN: f64 = 0.25;
 
 /// The depth at which the stroke at depth position `k` (of `mean_depths.len()`, front to back) is embedded: halfway
 /// between the nearest strokes in front of and behind it that have a curve (`mean_depths[k]` their mean depth along
 /// the camera's forward axis), behind the farthest or in front of the nearest one when it has no neighbour on one
 /// side, at `fallback` when no stroke has a curve.
-pub fn embedding_depth(k: usize, mean_depths: &[Option<f64>], fallback: f64) -> f64 {
+pub(crate) fn embedding_depth(k: usize, mean_depths: &[Option<f64>], fallback: f64) -> f64 {
     let front = mean_depths[..k].iter().rev().find_map(|d| *d);
     let back = mean_depths
         .get(k + 1..)
@@ -30,7 +30,7 @@ pub fn embedding_depth(k: usize, mean_depths: &[Option<f64>], fallback: f64) -> 
 }
 
 /// The stroke placed at `depth` along the camera's forward axis: each point where its ray reaches that depth.
-pub fn embed(camera: &Camera, stroke: &StrokeCurve, depth: f64) -> Vec<DVec3> {
+pub(crate) fn embed(camera: &Camera, stroke: &StrokeCurve, depth: f64) -> Vec<DVec3> {
     stroke
         .points()
         .iter()
@@ -43,7 +43,7 @@ pub fn embed(camera: &Camera, stroke: &StrokeCurve, depth: f64) -> Vec<DVec3> {
 
 /// The depth an embedded stroke takes when no stroke has a feature: that of the terrain it is drawn over (the
 /// visible silhouette in its middle column), else of the terrain's centre.
-pub fn fallback_depth(sight: &Sight, camera: &Camera, stroke: &StrokeCurve) -> f64 {
+pub(crate) fn fallback_depth(sight: &Sight, camera: &Camera, stroke: &StrokeCurve) -> f64 {
     let (x0, x1) = stroke.x_range();
     let x = 0.5 * (x0 + x1);
     let grazed = sight
@@ -67,7 +67,7 @@ const TANGENT_CELLS: f64 = 3.0;
 /// a cell, for at most `max_length` metres; an end whose tangent does not lead down to the surface within that
 /// length, or that would pass higher above the ground than the end itself (flying over a valley behind a ridge
 /// rather than coming down to it), stays as it is. Returns the curve and the number of points put before its first.
-pub fn complete(
+pub(crate) fn complete(
     sight: &Sight,
     curve: &[DVec3],
     breaks: &[usize],
@@ -127,14 +127,14 @@ pub fn complete(
 }
 
 /// Image coordinates of a curve's points, with their depths; points behind the eye are left out.
-pub fn projected(camera: &Camera, curve: &[DVec3]) -> Vec<(DVec2, f64)> {
+pub(crate) fn projected(camera: &Camera, curve: &[DVec3]) -> Vec<(DVec2, f64)> {
     curve.iter().filter_map(|&p| camera.project(p)).collect()
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sketch::Stroke;
+    use crate::sketch::SketchStroke;
     use crate::terrain::Heightfield;
 
     #[test]
@@ -156,7 +156,7 @@ mod tests {
             1.5,
         )
         .expect("a camera");
-        let stroke = StrokeCurve::new(&Stroke {
+        let stroke = StrokeCurve::new(&SketchStroke {
             points: vec![
                 DVec2::new(0.2, 0.6),
                 DVec2::new(0.5, 0.7),

@@ -3,7 +3,7 @@
 //! **Deformation.** For every point `p` of the strokes' 3D curves, `δ = z − H(x, y)` is a displacement
 //! constraint on the terrain's grid; the constraints are diffused by the multigrid solver of `terrain_edit` into
 //! the displacement map `M`, and `H′ = H + M`. Diffusing differences keeps the terrain's fine detail. The
-//! displacement fades to zero at [`DeformOptions::reach`] from the constraints, so the terrain farther away is
+//! displacement fades to zero at [`SketchDeformOptions::reach`] from the constraints, so the terrain farther away is
 //! unchanged (the thesis diffuses over the whole grid; an edit that moves a far corner of the map would surprise an
 //! artist). Each grid node the curve fixes takes the curve's height, or the lower height that puts the node itself on
 //! the stroke where it stands in front of the curve (a node half a cell nearer the camera than the curve, at the
@@ -21,7 +21,7 @@
 //! met, in a fraction of the time of a whole-grid solve per round. Rounds go on until nothing protrudes, or a round
 //! hides no fewer columns than the one before (what still protrudes is held by a stroke's own curve, as where a
 //! stroke ends on another). Silhouettes are found column by column: in each image column a stroke
-//! covers (sampled [`DeformOptions::columns`] across the image), the highest ray that meets the terrain nearer than
+//! covers (sampled [`SketchDeformOptions::columns`] across the image), the highest ray that meets the terrain nearer than
 //! the stroke's curve is cast ([`Sight::silhouette_above`]); if it passes above the stroke, the grazed
 //! point belongs to a protruding silhouette. Runs of protruding columns are one silhouette each. We count as
 //! "closer to the camera" also the terrain just behind the curve, within the deformation's reach, in the columns
@@ -42,7 +42,7 @@ use std::time::Instant;
 
 /// How the terrain is deformed and how protruding silhouettes are lowered.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct DeformOptions {
+pub struct SketchDeformOptions {
     /// Distance (m) from the constraints at which the displacement has faded to zero; `None`: eight times the
     /// largest displacement asked for, at least 16 cells (the deformed slopes then stay below about 1 in 8 beside
     /// the curves), but at most half the distance from the eye to the nearest curve (at least 4 cells), so that
@@ -57,11 +57,11 @@ pub struct DeformOptions {
     pub max_rounds: usize,
 }
 
-impl Default for DeformOptions {
+impl Default for SketchDeformOptions {
     /// 512 columns, a clearance of 0.2 % of the image height (a pixel of a 512-pixel-high view), 6 rounds (the
     /// thesis: "a single iteration is usually sufficient").
     fn default() -> Self {
-        DeformOptions {
+        SketchDeformOptions {
             reach: None,
             columns: 512,
             clearance: 0.002,
@@ -218,13 +218,13 @@ struct Protrusion {
 }
 
 /// Deforms `terrain` so that the targets' curves lie on it, then lowers what hides them, round after round;
-/// `progress` hears the share of [`DeformOptions::max_rounds`] done after each round, and cancels
+/// `progress` hears the share of [`SketchDeformOptions::max_rounds`] done after each round, and cancels
 /// ([`Error::Cancelled`]) by returning `false`.
-pub fn deform(
+pub fn deform_to_targets(
     terrain: &Heightfield,
     camera: &Camera,
     targets: &[StrokeTarget],
-    options: &DeformOptions,
+    options: &SketchDeformOptions,
     progress: &dyn Fn(f64) -> bool,
 ) -> Result<Deformation> {
     let reach = options
@@ -498,7 +498,7 @@ fn protruding(
     camera: &Camera,
     targets: &[StrokeTarget],
     reach: f64,
-    options: &DeformOptions,
+    options: &SketchDeformOptions,
     go_on: &dyn Fn() -> bool,
 ) -> Result<Vec<Vec<Protrusion>>> {
     let sight = Sight::new(deformed);
@@ -547,7 +547,7 @@ fn protruding(
                 else {
                     continue;
                 };
-                let target_y = StrokeCurve::new(&super::Stroke {
+                let target_y = StrokeCurve::new(&super::SketchStroke {
                     points: vec![
                         DVec2::new(x - 1.0, y - options.clearance),
                         DVec2::new(x + 1.0, y - options.clearance),

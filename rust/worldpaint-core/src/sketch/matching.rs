@@ -53,16 +53,16 @@
 
 use super::skyline::SilhouetteColumns;
 use super::view::{Camera, Sight};
-use super::{Feature, FeatureKind, Stroke};
+use super::{Feature, FeatureKind, SketchStroke};
 use crate::error::{Error, Result};
 use glam::{DVec2, DVec3};
 
 /// Cost of a stroke that no feature can serve: far above any feature's cost.
-pub const EMPTY_LIST_COST: f64 = 1.0e6;
+pub(crate) const EMPTY_LIST_COST: f64 = 1.0e6;
 /// Partial assignments the branch and bound may visit before it keeps the best found.
 pub const MAX_ASSIGNMENT_NODES: usize = 20_000;
 /// Partial assignments between two questions whether to stop.
-pub const STOP_CHECK_NODES: usize = 1_024;
+pub(crate) const STOP_CHECK_NODES: usize = 1_024;
 /// Newton steps that put a point's projection on its stroke.
 const NEWTON_STEPS: usize = 6;
 /// Largest share of the image width one terrain cell may span at a candidate's depth: nearer, the stroke's shape
@@ -73,7 +73,7 @@ const MAX_CELL_SPAN: f64 = 0.03;
 const END_SLACK: f64 = 1e-3;
 /// Cells a stroke's curve must lie behind the curve of a stroke in front of it; terrain nearer than a candidate by
 /// more than this is in front of it.
-pub const SEPARATION_CELLS: f64 = 3.0;
+pub(crate) const SEPARATION_CELLS: f64 = 3.0;
 
 /// The weights of the cost and what makes a candidate.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -118,7 +118,7 @@ pub struct StrokeCurve {
 impl StrokeCurve {
     /// The curve of an oriented stroke (points with increasing `x`; see `super::ordering`). Points that do not
     /// advance in `x` are dropped.
-    pub fn new(stroke: &Stroke) -> StrokeCurve {
+    pub fn new(stroke: &SketchStroke) -> StrokeCurve {
         let mut points: Vec<DVec2> = Vec::with_capacity(stroke.points.len());
         let mut sorted = stroke.points.clone();
         if sorted.len() > 1 && sorted[0].x > sorted[sorted.len() - 1].x {
@@ -159,7 +159,7 @@ impl StrokeCurve {
 
 /// A piece of a feature whose projection runs left to right.
 #[derive(Clone, Debug)]
-pub struct FeaturePiece {
+pub(crate) struct FeaturePiece {
     /// The feature it comes from (index in the features given).
     pub feature: usize,
     /// That feature's kind.
@@ -172,7 +172,7 @@ pub struct FeaturePiece {
 
 /// Cuts every feature into pieces whose projection runs one way in `x`, turned to run left to right; points behind
 /// the eye end a piece.
-pub fn feature_pieces(camera: &Camera, features: &[Feature]) -> Vec<FeaturePiece> {
+pub(crate) fn feature_pieces(camera: &Camera, features: &[Feature]) -> Vec<FeaturePiece> {
     let mut pieces = Vec::new();
     for (f, feature) in features.iter().enumerate() {
         let mut run: Vec<(DVec3, DVec2)> = Vec::new();
@@ -281,7 +281,7 @@ impl Candidate {
 /// The height that puts the projection of the point above `q`'s ground position on the stroke (Newton steps on
 /// the image distance, starting from `q.z`); `None` if the stroke does not reach the point's image column or the
 /// point leaves the view.
-pub fn on_stroke(camera: &Camera, stroke: &StrokeCurve, q: DVec3) -> Option<DVec3> {
+pub(crate) fn on_stroke(camera: &Camera, stroke: &StrokeCurve, q: DVec3) -> Option<DVec3> {
     let gap = |z: f64| -> Option<f64> {
         let (image, _) = camera.project(DVec3::new(q.x, q.y, z))?;
         // a point a hair beyond the stroke's end (where an extension stopped) takes the end's height
@@ -407,7 +407,7 @@ fn extension(
 
 /// What every candidate of one sketch is measured against: the terrain seen from the camera, its relief, and the
 /// visible silhouettes column by column.
-pub struct MatchingContext<'a> {
+pub(crate) struct MatchingContext<'a> {
     /// The terrain as the camera sees it.
     pub sight: &'a Sight<'a>,
     /// The camera.
@@ -423,7 +423,7 @@ pub struct MatchingContext<'a> {
 
 impl<'a> MatchingContext<'a> {
     /// The context of `pieces` (all the features' pieces) seen from `camera`, with `options.columns` columns.
-    pub fn new(
+    pub(crate) fn new(
         sight: &'a Sight<'a>,
         camera: &'a Camera,
         pieces: &[FeaturePiece],
@@ -441,7 +441,7 @@ impl<'a> MatchingContext<'a> {
 
 /// The candidate `f′` of `piece` for `stroke`, with its cost; `None` if the piece does not cover enough of the
 /// stroke or cannot be deformed or extended onto it.
-pub fn candidate(
+pub(crate) fn candidate(
     context: &MatchingContext,
     stroke: &StrokeCurve,
     piece: &FeaturePiece,
@@ -491,7 +491,7 @@ pub fn candidate(
 /// The skyline under `stroke` (see [`super::skyline`]) as a candidate, with its cost, each column's point moved
 /// `offset(x)` metres along the column; `None` where fewer than [`MatchingOptions::min_cover`] of the stroke's
 /// columns have a visible silhouette.
-pub fn skyline_candidate(
+pub(crate) fn skyline_candidate(
     context: &MatchingContext,
     stroke: &StrokeCurve,
     offset: &dyn Fn(f64) -> f64,
@@ -520,7 +520,7 @@ pub fn skyline_candidate(
 
 /// The strokes that share image columns with a stroke: those nearer the camera, and those farther.
 #[derive(Clone, Debug, Default)]
-pub struct Neighbours<'a> {
+pub(crate) struct Neighbours<'a> {
     /// Strokes in front of it.
     pub in_front: Vec<&'a StrokeCurve>,
     /// Strokes behind it.
@@ -529,7 +529,11 @@ pub struct Neighbours<'a> {
 
 impl<'a> Neighbours<'a> {
     /// The strokes of `curves` that share columns with stroke `s`, `front_to_back` their depth order.
-    pub fn of(s: usize, curves: &'a [StrokeCurve], front_to_back: &[usize]) -> Neighbours<'a> {
+    pub(crate) fn of(
+        s: usize,
+        curves: &'a [StrokeCurve],
+        front_to_back: &[usize],
+    ) -> Neighbours<'a> {
         let Some(stroke) = curves.get(s) else {
             return Neighbours::default();
         };
@@ -692,7 +696,7 @@ fn deformed_onto(
 /// The priority list of `stroke`: its candidates among `pieces` and the skyline under it (as it is, and left to
 /// its `neighbours` where they share its columns), cheapest first, at most [`MatchingOptions::max_candidates`], one
 /// per feature (its cheapest piece).
-pub fn priority_list(
+pub(crate) fn priority_list(
     context: &MatchingContext,
     stroke: &StrokeCurve,
     neighbours: &Neighbours,
@@ -738,13 +742,9 @@ pub struct Assignment {
 }
 
 /// The assignment of least total cost, by branch and bound: `lists[s]` is stroke `s`'s priority list and
-/// `front_to_back` the strokes' depth order. See the module documentation for the rules.
-pub fn assign(front_to_back: &[usize], lists: &[Vec<Candidate>], separation: f64) -> Assignment {
-    search(front_to_back, lists, separation, true, &|| false).0
-}
-
-/// [`assign`], asking `stop` every [`STOP_CHECK_NODES`] nodes whether to give up ([`Error::Cancelled`]).
-pub fn assign_until(
+/// `front_to_back` the strokes' depth order (see the module documentation for the rules); `stop` is asked every
+/// [`STOP_CHECK_NODES`] nodes whether to give up ([`Error::Cancelled`]).
+pub(crate) fn assign_until(
     front_to_back: &[usize],
     lists: &[Vec<Candidate>],
     separation: f64,
@@ -754,15 +754,6 @@ pub fn assign_until(
         (_, true) => Err(Error::Cancelled),
         (a, false) => Ok(a),
     }
-}
-
-/// The same minimum by exhaustive search (no bound): the baseline branch and bound is measured against.
-pub fn assign_exhaustively(
-    front_to_back: &[usize],
-    lists: &[Vec<Candidate>],
-    separation: f64,
-) -> Assignment {
-    search(front_to_back, lists, separation, false, &|| false).0
 }
 
 struct Search<'a> {
@@ -893,5 +884,4 @@ impl Search<'_> {
 }
 
 #[cfg(test)]
-#[path = "matching_tests.rs"]
 mod tests;

@@ -19,15 +19,15 @@
 //! Image coordinates are those of Blender's camera view: `x` from 0 (left) to 1 (right) and `y` from 0 (bottom)
 //! to 1 (top) of the camera frame; the "altitude" of a point in the sketching plane is its `y`.
 
-pub mod apply;
-pub mod checks;
-pub mod curves;
-pub mod deform;
-pub mod features;
-pub mod matching;
-pub mod ordering;
-pub mod skyline;
-pub mod view;
+pub(crate) mod apply;
+pub(crate) mod checks;
+pub(crate) mod curves;
+pub(crate) mod deform;
+pub(crate) mod features;
+pub(crate) mod matching;
+pub(crate) mod ordering;
+pub(crate) mod skyline;
+pub(crate) mod view;
 
 pub use view::{Camera, Sight};
 
@@ -36,7 +36,7 @@ use glam::{DVec2, DVec3};
 /// A silhouette stroke drawn over the camera view: points in image coordinates (see the module documentation), in
 /// the order they were drawn.
 #[derive(Clone, Debug, Default, PartialEq)]
-pub struct Stroke {
+pub struct SketchStroke {
     /// Points `(x, y)`, 0–1 across the camera frame.
     pub points: Vec<DVec2>,
 }

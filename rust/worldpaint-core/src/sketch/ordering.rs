@@ -51,7 +51,7 @@
 //!
 //! Everything is deterministic: ties are broken by `x`, then by the strokes' indices.
 
-use super::Stroke;
+use super::SketchStroke;
 use crate::error::{check, Error, Result};
 use crate::limits;
 use glam::DVec2;
@@ -136,7 +136,7 @@ pub struct StrokeOrder {
     pub front_to_back: Vec<usize>,
     /// The input strokes oriented left to right (`x` strictly increasing; upper envelope of a stroke drawn back over
     /// itself), in input order.
-    pub oriented: Vec<Stroke>,
+    pub oriented: Vec<SketchStroke>,
     /// The T-junctions found, in the sweep's order (increasing `x`).
     pub junctions: Vec<Junction>,
 }
@@ -158,7 +158,10 @@ impl StrokeOrder {
 /// documentation for the rules and their reading). Refuses, naming the stroke, one that is empty, has a point that
 /// is not finite, has fewer than two distinct points or no width; refuses past the engine's limits a sketch of more
 /// than 1,000 strokes or 200,000 points, or a long stroke scribbled back and forth across the frame.
-pub fn order_strokes(strokes: &[Stroke], options: &OrderingOptions) -> Result<StrokeOrder> {
+pub(crate) fn order_strokes(
+    strokes: &[SketchStroke],
+    options: &OrderingOptions,
+) -> Result<StrokeOrder> {
     check::positive(
         "stroke ordering junction distance",
         options.junction_distance,
@@ -176,7 +179,7 @@ pub fn order_strokes(strokes: &[Stroke], options: &OrderingOptions) -> Result<St
     let oriented = strokes
         .iter()
         .enumerate()
-        .map(|(k, s)| orient(k, s).map(|points| Stroke { points }))
+        .map(|(k, s)| orient(k, s).map(|points| SketchStroke { points }))
         .collect::<Result<Vec<_>>>()?;
     let lines: Vec<Line> = oriented
         .iter()
@@ -195,7 +198,7 @@ pub fn order_strokes(strokes: &[Stroke], options: &OrderingOptions) -> Result<St
 }
 
 /// Checks stroke `k` and orients it left to right (see the module documentation).
-fn orient(k: usize, stroke: &Stroke) -> Result<Vec<DVec2>> {
+fn orient(k: usize, stroke: &SketchStroke) -> Result<Vec<DVec2>> {
     let what = || format!("sketch stroke {k}");
     if stroke.points.is_empty() {
         return Err(Error::invalid(what(), "is empty"));
@@ -361,7 +364,7 @@ impl Line {
 
 /// The sweep: the extremities in increasing `x`, each labelled if it is a T-junction; with each label's confidence.
 fn sweep(
-    oriented: &[Stroke],
+    oriented: &[SketchStroke],
     lines: &[Line],
     options: &OrderingOptions,
 ) -> (Vec<Junction>, Vec<f64>) {
@@ -561,7 +564,7 @@ fn height_at(points: &[DVec2], x: f64) -> f64 {
 }
 
 /// Inserts the strokes, by increasing left extremity, into the front-to-back list (see the module documentation).
-fn insert(oriented: &[Stroke], front: &[Vec<bool>], cues: &[Cue]) -> Vec<usize> {
+fn insert(oriented: &[SketchStroke], front: &[Vec<bool>], cues: &[Cue]) -> Vec<usize> {
     let left = |s: usize| oriented[s].points.first().map_or(0.0, |p| p.x);
     let mut sweep: Vec<usize> = (0..oriented.len()).collect();
     sweep.sort_by(|&a, &b| left(a).total_cmp(&left(b)).then(a.cmp(&b)));
@@ -583,5 +586,4 @@ fn insert(oriented: &[Stroke], front: &[Vec<bool>], cues: &[Cue]) -> Vec<usize> 
 }
 
 #[cfg(test)]
-#[path = "ordering_tests.rs"]
 mod tests;

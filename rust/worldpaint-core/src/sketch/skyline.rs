@@ -40,14 +40,14 @@ struct Crossing {
 
 /// The visible silhouettes crossing each of `n` image columns across the frame.
 #[derive(Clone, Debug)]
-pub struct SilhouetteColumns {
+pub(crate) struct SilhouetteColumns {
     crossings: Vec<Vec<Crossing>>,
     image_height: f64,
 }
 
 /// The skyline under a stroke, as a candidate curve before it is moved onto the stroke.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Skyline {
+pub(crate) struct Skyline {
     /// Its points, one per image column, left to right.
     pub points: Vec<DVec3>,
     /// Their image coordinates.
@@ -59,7 +59,11 @@ pub struct Skyline {
 impl SilhouetteColumns {
     /// The crossings of the silhouette pieces among `pieces` with `columns` image columns across the frame
     /// (column `c` at `x = c / (columns − 1)`).
-    pub fn new(camera: &Camera, pieces: &[FeaturePiece], columns: usize) -> SilhouetteColumns {
+    pub(crate) fn new(
+        camera: &Camera,
+        pieces: &[FeaturePiece],
+        columns: usize,
+    ) -> SilhouetteColumns {
         let n = columns.max(2);
         let mut crossings = vec![Vec::new(); n];
         let last = (n - 1) as f64;
@@ -114,7 +118,7 @@ impl SilhouetteColumns {
 
     /// The height (m) by which the terrain nearer than `depth` minus `separation` in image column `x` would have to
     /// be lowered so that none of it rises above image height `y`.
-    pub fn lowering_in_front(&self, x: f64, y: f64, depth: f64, separation: f64) -> f64 {
+    pub(crate) fn lowering_in_front(&self, x: f64, y: f64, depth: f64, separation: f64) -> f64 {
         self.column(x).map_or(0.0, |crossings| {
             crossings
                 .iter()
@@ -128,7 +132,7 @@ impl SilhouetteColumns {
     /// from one silhouette piece to another or a column has none; `None` if fewer than two columns have one. Where
     /// `offset(x)` is not zero, the point of column `x` is the ground that many metres farther along the column
     /// (nearer where it is negative): the skyline there is left to another stroke.
-    pub fn skyline(
+    pub(crate) fn skyline(
         &self,
         camera: &Camera,
         terrain: &Heightfield,
@@ -204,7 +208,7 @@ fn ground_along(
 mod tests {
     use super::*;
     use crate::sketch::matching::feature_pieces;
-    use crate::sketch::{Feature, Stroke};
+    use crate::sketch::{Feature, SketchStroke};
 
     fn camera() -> Camera {
         Camera::looking_at(
@@ -241,7 +245,7 @@ mod tests {
         ];
         let pieces = feature_pieces(&camera, &features);
         let columns = SilhouetteColumns::new(&camera, &pieces, 101);
-        let stroke = StrokeCurve::new(&Stroke {
+        let stroke = StrokeCurve::new(&SketchStroke {
             points: vec![DVec2::new(0.2, 0.8), DVec2::new(0.8, 0.8)],
         });
         let flat = Heightfield::new(

@@ -37,7 +37,7 @@
 //! (islands in order of area, then of tracing; the growth's ties broken by lattice index).
 
 use crate::analysis::structure::centroid;
-use crate::contour::{islands, trace, Island, Polygons};
+use crate::contour::{islands, trace_contours as trace, Island, Polygons};
 use crate::geom::{polygon_contains, polygon_signed_area, DVec2, PreparedRegion, RegionQueries};
 use crate::grid::Grid;
 use crate::palette::PolygonColor;

@@ -13,7 +13,7 @@ use super::{
     SynthesisResult,
 };
 use crate::analysis::region_lattice;
-use crate::contour::{fill, trace};
+use crate::contour::{fill_polygons as fill, trace_contours as trace};
 use crate::error::Result;
 use crate::geom::{DVec2, PreparedRegion, Region, RegionQueries};
 use crate::limits;

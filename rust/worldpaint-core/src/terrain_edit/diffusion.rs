@@ -131,7 +131,7 @@ pub struct DiffusionOptions {
     /// Stop when no free cell differs from the mean of its neighbours by more than this fraction of the largest
     /// constraint magnitude.
     pub tolerance: f64,
-    /// Most iterations: preconditioned conjugate-gradient steps (one V-cycle each), or sweeps for [`jacobi`].
+    /// Most iterations: preconditioned conjugate-gradient steps (one V-cycle each), or sweeps for [`diffuse_jacobi`].
     pub max_cycles: usize,
 }
 
@@ -216,7 +216,7 @@ pub fn diffuse(constraints: &Constraints, options: &DiffusionOptions) -> Result<
 
 /// The same diffusion by plain Jacobi iteration (each free cell the mean of its neighbours' previous values), to
 /// the same residual or `options.max_cycles` iterations: the baseline multigrid is measured against.
-pub fn jacobi(constraints: &Constraints, options: &DiffusionOptions) -> Result<Diffusion> {
+pub fn diffuse_jacobi(constraints: &Constraints, options: &DiffusionOptions) -> Result<Diffusion> {
     run(constraints, options, Method::Jacobi)
 }
 

@@ -21,10 +21,14 @@ mod diffusion;
 mod horizontal;
 mod junctions;
 mod multigrid;
-pub mod rasterize;
-pub mod roads;
+pub(crate) mod rasterize;
+pub(crate) mod roads;
 
 pub(crate) use diffusion::displaced;
-pub use diffusion::{diffuse, jacobi, Constraints, Diffusion, DiffusionOptions};
-pub use horizontal::{diffuse_horizontal, HorizontalConstraints, HorizontalDisplacement};
-pub use roads::{embed_road, embed_roads, Road, RoadEmbedding, RoadOptions, RoadProfile};
+pub(crate) use diffusion::Diffusion;
+pub use diffusion::{diffuse, diffuse_jacobi, Constraints, DiffusionOptions};
+pub(crate) use horizontal::HorizontalDisplacement;
+pub use horizontal::{diffuse_horizontal, HorizontalConstraints};
+pub use roads::{
+    embed_road, embed_roads, EmbeddedRoad, RoadEmbedding, RoadEmbeddingOptions, RoadProfile,
+};

@@ -859,5 +859,4 @@ pub(crate) fn jacobi(
 }
 
 #[cfg(test)]
-#[path = "multigrid_tests.rs"]
 mod tests;

@@ -48,7 +48,7 @@ fn nearest_node(terrain: &Heightfield, p: DVec2) -> Option<(usize, usize)> {
 
 /// Fixes the node nearest to `p` at `p.z − H(node)`; whether it was written (false off the terrain or when the
 /// node was already fixed).
-pub fn point(c: &mut Constraints, terrain: &Heightfield, p: DVec3) -> Result<bool> {
+pub fn rasterize_point(c: &mut Constraints, terrain: &Heightfield, p: DVec3) -> Result<bool> {
     check_grid(c, terrain)?;
     check_points(&[p], "point constraint")?;
     match nearest_node(terrain, p.truncate()) {
@@ -60,14 +60,18 @@ pub fn point(c: &mut Constraints, terrain: &Heightfield, p: DVec3) -> Result<boo
 /// Fixes every node the 3D polyline passes through: the curve is sampled at most half a cell apart (`z`
 /// interpolated linearly), and each node takes `z − H(node)` from the sample nearest to it. Parts off the terrain
 /// are skipped. Returns the number of nodes written.
-pub fn polyline(c: &mut Constraints, terrain: &Heightfield, points: &[DVec3]) -> Result<usize> {
+pub fn rasterize_polyline(
+    c: &mut Constraints,
+    terrain: &Heightfield,
+    points: &[DVec3],
+) -> Result<usize> {
     polyline_with(c, terrain, points, |_, z| z)
 }
 
-/// [`polyline`] with each node's height chosen by `height(node, z)` from the node's XY and the height `z` of the
+/// [`rasterize_polyline`] with each node's height chosen by `height(node, z)` from the node's XY and the height `z` of the
 /// curve's sample nearest to it: a curve whose nodes must keep a property of the curve rather than its height (a
 /// sketched silhouette seen from a camera) sets them here.
-pub fn polyline_with(
+pub(crate) fn polyline_with(
     c: &mut Constraints,
     terrain: &Heightfield,
     points: &[DVec3],
@@ -119,11 +123,11 @@ pub(crate) fn polyline_nodes(
     Ok(written)
 }
 
-/// A curve with gradient constraints: the curve itself (as [`polyline`]), and beside it, one cell away on each
+/// A curve with gradient constraints: the curve itself (as [`rasterize_polyline`]), and beside it, one cell away on each
 /// side, nodes fixed at the curve's height plus `left_slope` (resp. `right_slope`) times that distance — rise per
 /// metre away from the curve, negative for falling ground (a ridge has both negative). Left is to the left when
 /// walking along the curve. Returns the number of nodes written.
-pub fn gradient_polyline(
+pub fn rasterize_gradient_polyline(
     c: &mut Constraints,
     terrain: &Heightfield,
     points: &[DVec3],
@@ -132,7 +136,7 @@ pub fn gradient_polyline(
 ) -> Result<usize> {
     check::finite("the curve's left side slope", left_slope)?;
     check::finite("the curve's right side slope", right_slope)?;
-    let mut written = polyline(c, terrain, points)?;
+    let mut written = rasterize_polyline(c, terrain, points)?;
     let offset = terrain.cell;
     for (side, slope) in [(1.0, left_slope), (-1.0, right_slope)] {
         for w in points.windows(2) {
@@ -142,7 +146,7 @@ pub fn gradient_polyline(
             };
             let n = t.perp() * (side * offset);
             let shift = DVec3::new(n.x, n.y, slope * offset);
-            written += polyline(c, terrain, &[w[0] + shift, w[1] + shift])?;
+            written += rasterize_polyline(c, terrain, &[w[0] + shift, w[1] + shift])?;
         }
     }
     Ok(written)
@@ -151,7 +155,7 @@ pub fn gradient_polyline(
 /// A level corridor along a 3D polyline: every node within `half_width` of the curve (in plan) is fixed at the
 /// height of the nearest point of the curve (so the ground is level across the corridor) minus `H(node)`. Returns
 /// the number of nodes written.
-pub fn corridor(
+pub fn rasterize_corridor(
     c: &mut Constraints,
     terrain: &Heightfield,
     points: &[DVec3],

@@ -16,7 +16,7 @@ use glam::{DVec2, DVec3};
 
 /// A road to embed.
 #[derive(Clone, Debug)]
-pub struct Road {
+pub struct EmbeddedRoad {
     /// Centreline in plan (m), at least two points.
     pub centreline: Vec<DVec2>,
     /// Heights of the carriageway at the centreline points; `None`: the terrain's, smoothed along the road.
@@ -29,7 +29,7 @@ pub struct Road {
 
 /// How roads are embedded.
 #[derive(Clone, Debug, Default)]
-pub struct RoadOptions {
+pub struct RoadEmbeddingOptions {
     /// Standard deviation (m) of the Gaussian smoothing the terrain's heights along the road into the profile;
     /// `None`: twice the carriageway width.
     pub smoothing: Option<f64>,
@@ -58,7 +58,7 @@ pub struct RoadEmbedding {
     pub profiles: Vec<RoadProfile>,
 }
 
-fn check_road(terrain: &Heightfield, r: usize, road: &Road) -> Result<()> {
+fn check_road(terrain: &Heightfield, r: usize, road: &EmbeddedRoad) -> Result<()> {
     if road.centreline.len() < 2 {
         return Err(Error::invalid(
             format!("road {r}"),
@@ -111,7 +111,7 @@ fn check_road(terrain: &Heightfield, r: usize, road: &Road) -> Result<()> {
 /// loops nor cusps), sampled about `spacing` apart, with the distance along it and the user's heights interpolated
 /// linearly between their points, if any. A polyline's corners would fan the level carriageway out around each
 /// vertex and put steps in its grade.
-fn resample(road: &Road, spacing: f64) -> (Vec<DVec2>, Vec<f64>, Option<Vec<f64>>) {
+fn resample(road: &EmbeddedRoad, spacing: f64) -> (Vec<DVec2>, Vec<f64>, Option<Vec<f64>>) {
     // consecutive duplicates carry no direction
     let mut c: Vec<DVec2> = Vec::with_capacity(road.centreline.len());
     let mut hs: Vec<f64> = Vec::with_capacity(road.centreline.len());
@@ -200,8 +200,8 @@ fn smooth(s: &[f64], z: &[f64], sigma: f64) -> Vec<f64> {
 fn profile(
     terrain: &Heightfield,
     r: usize,
-    road: &Road,
-    options: &RoadOptions,
+    road: &EmbeddedRoad,
+    options: &RoadEmbeddingOptions,
 ) -> Result<RoadProfile> {
     let (points, s, heights) = resample(road, 0.5 * terrain.cell);
     // the smooth curve through points on the terrain can bulge past its border by a fraction of a cell (a road
@@ -239,8 +239,8 @@ fn profile(
 /// keeps its height, and the nodes between (the banks) take the diffused height differences.
 pub fn embed_roads(
     terrain: &Heightfield,
-    roads: &[Road],
-    options: &RoadOptions,
+    roads: &[EmbeddedRoad],
+    options: &RoadEmbeddingOptions,
 ) -> Result<RoadEmbedding> {
     for (r, road) in roads.iter().enumerate() {
         check_road(terrain, r, road)?;
@@ -292,8 +292,8 @@ pub fn embed_roads(
 /// Embeds one road; see [`embed_roads`].
 pub fn embed_road(
     terrain: &Heightfield,
-    road: &Road,
-    options: &RoadOptions,
+    road: &EmbeddedRoad,
+    options: &RoadEmbeddingOptions,
 ) -> Result<RoadEmbedding> {
     embed_roads(terrain, std::slice::from_ref(road), options)
 }

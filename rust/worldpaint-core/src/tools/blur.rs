@@ -13,7 +13,7 @@
 //! * **Synthesis.** The region's unlocked content is removed and the cells are painted from the outside in,
 //!   each conditioned on the content around the region and on the cells painted before it.
 
-use super::{color_of_region, empty_color, holding_arrangements, Clearing, Edit, Working};
+use super::{color_of_region, empty_color, holding_arrangements, Clearing, ToolEdit, Working};
 use crate::error::{Error, Result};
 use crate::geom::{DVec2, PreparedRegion, Region, RegionQueries};
 use crate::interpolate::interpolate_colors;
@@ -100,7 +100,7 @@ pub fn blur(
     region: &Region,
     opts: &BlurOptions,
     progress: &(dyn Fn(f64) -> bool + Sync),
-) -> Result<Edit> {
+) -> Result<ToolEdit> {
     region.validate()?;
     if opts.windows == 0 || opts.cells == 0 {
         return Err(Error::invalid(

@@ -1,6 +1,6 @@
 //! Brushes (Section 5.3, Fig. 12–13; thesis 6.5.1): "the region for synthesizing evolves along the brush path".
 //!
-//! A [`Stroke`] follows the brush: each time the brush has travelled `spacing × radius` along its path it makes a
+//! A [`BrushStroke`] follows the brush: each time the brush has travelled `spacing × radius` along its path it makes a
 //! *dab* at the brush centre. Dab `k` paints the disc `φ_k` without the discs of the earlier dabs of the stroke
 //! — "we remove all existing objects in `φ_k` except those objects in `φ_i`, `i < k`. Then we synthesize new
 //! objects in `φ_k` while considering the region of influence `I_k = X_k ∪ {φ_i, i ≤ k}`" — so the stroke
@@ -27,7 +27,7 @@
 //! go, and so do the pieces left beside the cut that are shorter than the category's shortest edge before the
 //! stroke (stubs no synthesis of it would make).
 
-use super::{color_of_region, empty_color, Clearing, Edit, Working};
+use super::{color_of_region, empty_color, Clearing, ToolEdit, Working};
 use crate::error::{check, Error, Result};
 use crate::geom::{segment_distance, DVec2, Region};
 use crate::interpolate::interpolate_colors;
@@ -101,7 +101,7 @@ impl Default for BrushOptions {
 }
 
 /// One brush stroke over a scene (see the module documentation).
-pub struct Stroke {
+pub struct BrushStroke {
     work: Working,
     /// The scene before the stroke (kept only for an alpha brush, to read the color under the brush).
     before: Option<Scene>,
@@ -116,10 +116,10 @@ pub struct Stroke {
     shortest_edges: Vec<f64>,
 }
 
-impl Stroke {
+impl BrushStroke {
     /// Starts a stroke on `scene` (no dab yet); fails on a radius or spacing that is not positive, an opacity
     /// outside (0, 1] or an invalid color.
-    pub fn new(scene: &Scene, mode: BrushMode, opts: BrushOptions) -> Result<Stroke> {
+    pub fn new(scene: &Scene, mode: BrushMode, opts: BrushOptions) -> Result<BrushStroke> {
         check::positive("brush radius", opts.radius)?;
         check::positive("brush spacing", opts.spacing)?;
         if !(opts.opacity > 0.0 && opts.opacity <= 1.0) {
@@ -134,7 +134,7 @@ impl Stroke {
         }
         let alpha = opts.opacity < 1.0 || opts.falloff != Falloff::Constant;
         let before = (alpha && matches!(mode, BrushMode::Paint(_))).then(|| scene.clone());
-        Ok(Stroke {
+        Ok(BrushStroke {
             work: Working::new(scene),
             before,
             mode,
@@ -164,7 +164,7 @@ impl Stroke {
     }
 
     /// What the stroke has done so far, relative to the scene it started on.
-    pub fn edit(&self) -> Edit {
+    pub fn edit(&self) -> ToolEdit {
         self.work.edit()
     }
 

@@ -13,7 +13,7 @@
 //! centre's `(u, v) = (i, j) / (N − 1)`. `N` is given, or one cell per interaction radius of the four colors
 //! across the box's longer side, between 2 and `MAX_BILINEAR_CELLS`.
 
-use super::{Clearing, Edit, Working};
+use super::{Clearing, ToolEdit, Working};
 use crate::error::{Error, Result};
 use crate::geom::{DVec2, Region};
 use crate::interpolate::interpolate_colors;
@@ -137,7 +137,7 @@ pub fn gradient(
     shape: GradientShape,
     opts: &GradientOptions,
     progress: &(dyn Fn(f64) -> bool + Sync),
-) -> Result<Edit> {
+) -> Result<ToolEdit> {
     region.validate()?;
     let valid = match shape {
         GradientShape::Linear { from, to } => {
@@ -191,7 +191,7 @@ pub fn bilinear_gradient(
     region: &Region,
     opts: &GradientOptions,
     progress: &(dyn Fn(f64) -> bool + Sync),
-) -> Result<Edit> {
+) -> Result<ToolEdit> {
     region.validate()?;
     let (lo, hi) = region.bbox();
     let size = hi - lo;

@@ -2,18 +2,18 @@
 //! strokes with alpha and the eraser ([`brush`], §5.3 and thesis 6.5.1), move ([`moving`], §5.4),
 //! seam-carving stretch ([`stretch`], §5.5), gradients ([`gradient`], §5.2) and blur ([`blur`], thesis 6.5.2).
 //!
-//! Every tool returns an [`Edit`]: which of the scene's instances it removed and which it added, so a caller
+//! Every tool returns a [`ToolEdit`]: which of the scene's instances it removed and which it added, so a caller
 //! holding the scene elsewhere (Blender's point clouds) applies exactly that. Locked instances (placed by hand)
 //! are never removed; inside a painted region they condition the synthesis like the region of influence does.
 //! A tool that paints several regions in turn (a stroke's dabs, a gradient's bands, a blur's cells) paints each
 //! conditioned on everything around it, including what its earlier steps painted: "each of them taking into
 //! account the previously synthesized regions" (Section 5.3).
 
-pub mod blur;
-pub mod brush;
-pub mod gradient;
-pub mod moving;
-pub mod stretch;
+pub(crate) mod blur;
+pub(crate) mod brush;
+pub(crate) mod gradient;
+pub(crate) mod moving;
+pub(crate) mod stretch;
 
 use crate::analysis::{learn_color, AnalysisOptions};
 use crate::contour::cut;
@@ -28,7 +28,7 @@ use crate::synthesis::{add_unseen, SynthesisOptions};
 /// whose `category` indexes `categories` (the scene's categories, then any the tool's colors brought). A path or
 /// contour a tool cuts is removed, and its pieces outside the painted region come back among the added ones.
 #[derive(Clone, Debug, Default)]
-pub struct Edit {
+pub struct ToolEdit {
     /// The scene's categories, then any the tool's colors brought; the added content indexes these.
     pub categories: Vec<Category>,
     /// Indices of the scene's instances removed, ascending.
@@ -84,7 +84,7 @@ fn replaced<T: Clone>(items: &[T], removed: &[usize], added: &[T]) -> Vec<T> {
     out
 }
 
-impl Edit {
+impl ToolEdit {
     /// The scene after the edit.
     pub fn applied_to(&self, scene: &Scene) -> Scene {
         Scene {
@@ -326,7 +326,7 @@ impl Working {
     }
 
     /// Applies an edit computed on the current scene (its removed indices index the current content).
-    pub(crate) fn apply(&mut self, edit: &Edit) {
+    pub(crate) fn apply(&mut self, edit: &ToolEdit) {
         let gone = flags(self.scene.instances.len(), &edit.removed);
         self.instances
             .remove_flagged(&mut self.scene.instances, &gone);
@@ -391,11 +391,11 @@ impl Working {
     }
 
     /// The edit from the original scene to the current one.
-    pub(crate) fn edit(&self) -> Edit {
+    pub(crate) fn edit(&self) -> ToolEdit {
         let (removed, added) = self.instances.diff(&self.scene.instances);
         let (removed_paths, added_paths) = self.paths.diff(&self.scene.paths);
         let (removed_contours, added_contours) = self.contours.diff(&self.scene.contours);
-        Edit {
+        ToolEdit {
             categories: self.scene.categories.clone(),
             removed,
             added,
@@ -417,7 +417,7 @@ pub fn paste(
     region: &Region,
     opts: &SynthesisOptions,
     progress: &(dyn Fn(f64) -> bool + Sync),
-) -> Result<Edit> {
+) -> Result<ToolEdit> {
     region.validate()?;
     let mut work = Working::new(scene);
     work.fill(Clearing::All, color, region, opts, progress)?;
@@ -426,7 +426,7 @@ pub fn paste(
 
 /// Clear Region: removes the unlocked content inside `region` (instances, and the parts of paths and contours in
 /// it; the parts outside stay), of every category or only of `category`.
-pub fn clear(scene: &Scene, region: &Region, category: Option<&str>) -> Result<Edit> {
+pub fn clear_region(scene: &Scene, region: &Region, category: Option<&str>) -> Result<ToolEdit> {
     region.validate()?;
     let only = match category {
         None => None,

@@ -11,7 +11,7 @@
 //! at the source's border: a moved road ends where the cut was), they replace the unlocked parts in the destination,
 //! and the moved instances adapt to the roads and coasts where they land.
 
-use super::{color_of_region, Edit, Working};
+use super::{color_of_region, ToolEdit, Working};
 use crate::contour::split;
 use crate::error::{Error, Result};
 use crate::geom::{DVec2, PreparedRegion, Region, RegionQueries};
@@ -24,7 +24,7 @@ use crate::synthesis::{adapt, AdaptOptions};
 pub struct Moved {
     /// The change to the scene: the unlocked instances of the source and of the destination removed, the moved
     /// ones (where they settled) and the births added; paths and contours moved likewise.
-    pub edit: Edit,
+    pub edit: ToolEdit,
     /// Instances carried from the source.
     pub moved: usize,
     /// Of those, the ones that had to leave the place the move put them.
@@ -171,7 +171,7 @@ fn carried_only(
 ) -> Moved {
     Moved {
         moved: carried.len(),
-        edit: Edit {
+        edit: ToolEdit {
             categories: scene.categories.clone(),
             removed,
             added: carried,
@@ -249,7 +249,7 @@ pub(crate) fn move_instances(
     let lost = reborn.saturating_sub(adapted.births.len());
     added.extend_from_slice(&adapted.births);
     Ok(Moved {
-        edit: Edit {
+        edit: ToolEdit {
             categories: adapted.categories,
             removed: removed_list,
             added,

@@ -28,7 +28,7 @@
 //!   on these lines: it adds no road that could end in the band.
 
 use super::moving::move_instances;
-use super::{color_of_region, Clearing, Edit, Working};
+use super::{color_of_region, Clearing, ToolEdit, Working};
 use crate::distance::squared_distance_1d;
 use crate::error::{check, Error, Result};
 use crate::geom::{DVec2, Region};
@@ -44,7 +44,7 @@ const FAR: f64 = 1e20;
 
 /// The side of the region that is dragged.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Side {
+pub enum StretchSide {
     /// +X
     East,
     /// −X
@@ -70,7 +70,7 @@ pub struct StretchOptions {
 #[derive(Clone, Debug)]
 pub struct Stretched {
     /// The change to the scene.
-    pub edit: Edit,
+    pub edit: ToolEdit,
     /// The cut, a polyline across the region (world XY).
     pub seam: Vec<DVec2>,
     /// The band that was opened (stretch) or removed (shrink).
@@ -91,13 +91,13 @@ struct Frame {
 }
 
 impl Frame {
-    fn new(min: DVec2, max: DVec2, side: Side) -> Frame {
+    fn new(min: DVec2, max: DVec2, side: StretchSide) -> Frame {
         let (w, h) = (max.x - min.x, max.y - min.y);
         let (origin, u, v, width, height) = match side {
-            Side::East => (min, DVec2::X, DVec2::Y, w, h),
-            Side::West => (DVec2::new(max.x, min.y), -DVec2::X, DVec2::Y, w, h),
-            Side::North => (min, DVec2::Y, DVec2::X, h, w),
-            Side::South => (DVec2::new(min.x, max.y), -DVec2::Y, DVec2::X, h, w),
+            StretchSide::East => (min, DVec2::X, DVec2::Y, w, h),
+            StretchSide::West => (DVec2::new(max.x, min.y), -DVec2::X, DVec2::Y, w, h),
+            StretchSide::North => (min, DVec2::Y, DVec2::X, h, w),
+            StretchSide::South => (DVec2::new(min.x, max.y), -DVec2::Y, DVec2::X, h, w),
         };
         Frame {
             origin,
@@ -222,7 +222,7 @@ fn u_at(line: &[DVec2], v: f64) -> f64 {
 pub fn stretch(
     scene: &Scene,
     region: &Region,
-    side: Side,
+    side: StretchSide,
     amount: f64,
     color: Option<&Color>,
     opts: &StretchOptions,

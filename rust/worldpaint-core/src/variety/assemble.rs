@@ -418,7 +418,7 @@ fn weighted<R: Rng>(weights: &[f64], rng: &mut R) -> usize {
 
 /// A hash of the faces' corner positions quantised to 1e-5 m (FNV-1a over 64-bit words, then a final mix): models
 /// with the same faces at the same places hash equal.
-pub fn geometry_hash(model: &Model) -> u64 {
+pub(super) fn geometry_hash(model: &Model) -> u64 {
     let mut h = Fnv::new();
     h.eat(model.faces.len() as u64);
     for face in &model.faces {
@@ -459,7 +459,7 @@ impl Fnv {
 /// (positions quantised to 1e-5 m as [`geometry_hash`] does, and texture coordinates to 1e-5), started at its least
 /// corner, the faces sorted, then hashed as [`geometry_hash`] does. Two models with the same faces at the same places,
 /// of the same materials and texture coordinates, hash equal.
-pub fn shape_hash(model: &Model) -> u64 {
+pub(super) fn shape_hash(model: &Model) -> u64 {
     let corner = |f: usize, k: usize, v: u32| -> [i64; 5] {
         let p = model
             .vertices

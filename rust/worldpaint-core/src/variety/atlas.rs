@@ -63,13 +63,13 @@ use std::collections::HashMap;
 
 /// Distance (m, per metre from the origin past the first) within which a vertex counts as in place, and a fit as
 /// solid. Blender stores positions as 32-bit floats, whose rounding is far below it.
-pub const TOLERANCE: f64 = 1e-6;
+pub(crate) const TOLERANCE: f64 = 1e-6;
 
 /// Most repetitions a local cycle may allow.
-pub const MAX_REPEAT: u32 = 64;
+pub(crate) const MAX_REPEAT: u32 = 64;
 
 /// How far from the model a copy's vertices may lie, in times the model's size (its box's diagonal, 1 m at least).
-pub const MAX_REACH: f64 = 100.0;
+pub(crate) const MAX_REACH: f64 = 100.0;
 
 /// What a variant did to one of its component's connecting regions.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -447,69 +447,6 @@ impl Decomposition {
     }
 }
 
-/// Labels for a cut along paths of existing vertices (seed §4.1, Fig. 5 right: no vertex is added): faces joined
-/// by an edge that is not on a path get the same label; labels are numbered 0, 1, … by their lowest face. Each path
-/// is a list of model vertices, consecutive ones joined by an edge of the model. Pieces of the model that no edge
-/// joins (a leaf that floats beside its branch) get labels of their own; the caller merges labels as it sees fit.
-pub fn labels_from_cut(model: &Model, paths: &[Vec<u32>]) -> Result<Vec<u32>> {
-    model.validate()?;
-    let mut faces_of_edge: HashMap<(u32, u32), Vec<usize>> = HashMap::new();
-    for (f, face) in model.faces.iter().enumerate() {
-        for (k, &a) in face.iter().enumerate() {
-            let b = face[(k + 1) % face.len()];
-            faces_of_edge
-                .entry((a.min(b), a.max(b)))
-                .or_default()
-                .push(f);
-        }
-    }
-    let mut cut = std::collections::HashSet::new();
-    for (p, path) in paths.iter().enumerate() {
-        for w in path.windows(2) {
-            let key = (w[0].min(w[1]), w[0].max(w[1]));
-            if !faces_of_edge.contains_key(&key) {
-                return Err(Error::invalid(
-                    format!("cut path {p}"),
-                    format!(
-                        "vertices {} and {} are not joined by an edge of the model",
-                        w[0], w[1]
-                    ),
-                ));
-            }
-            cut.insert(key);
-        }
-    }
-    let mut parent: Vec<usize> = (0..model.faces.len()).collect();
-    fn find(parent: &mut [usize], mut x: usize) -> usize {
-        while parent[x] != x {
-            parent[x] = parent[parent[x]];
-            x = parent[x];
-        }
-        x
-    }
-    let mut edges: Vec<_> = faces_of_edge.into_iter().collect();
-    edges.sort_unstable();
-    for (edge, faces) in edges {
-        if cut.contains(&edge) {
-            continue;
-        }
-        for w in faces.windows(2) {
-            let (a, b) = (find(&mut parent, w[0]), find(&mut parent, w[1]));
-            if a != b {
-                parent[a.max(b)] = a.min(b);
-            }
-        }
-    }
-    let mut label_of_root: HashMap<usize, u32> = HashMap::new();
-    let mut labels = Vec::with_capacity(model.faces.len());
-    for f in 0..model.faces.len() {
-        let root = find(&mut parent, f);
-        let next = label_of_root.len() as u32;
-        labels.push(*label_of_root.entry(root).or_insert(next));
-    }
-    Ok(labels)
-}
-
 /// Orders a region's shared edges into chains; vertices on no shared edge become one-vertex chains.
 fn chains_of(vertices: &[u32], mut edges: Vec<(u32, u32)>) -> Vec<Chain> {
     edges.sort_unstable();
@@ -612,19 +549,6 @@ mod tests {
         let sub = d.component_model(&m, 1).unwrap();
         assert_eq!(sub.vertices.len(), 4);
         assert_eq!(sub.faces, vec![vec![0, 2, 3, 1]]);
-    }
-
-    #[test]
-    fn a_cut_along_existing_vertices_is_a_labelling() {
-        let (m, _) = strip();
-        assert_eq!(labels_from_cut(&m, &[vec![2, 3]]).unwrap(), vec![0, 1, 1]);
-        assert_eq!(
-            labels_from_cut(&m, &[vec![2, 3], vec![5, 4]]).unwrap(),
-            vec![0, 1, 2]
-        );
-        assert_eq!(labels_from_cut(&m, &[]).unwrap(), vec![0, 0, 0]);
-        let e = labels_from_cut(&m, &[vec![0, 3]]).unwrap_err();
-        assert!(e.to_string().contains("not joined by an edge"), "{e}");
     }
 
     #[test]

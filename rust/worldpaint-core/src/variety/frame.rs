@@ -12,7 +12,7 @@ use glam::{DAffine3, DMat3, DQuat, DVec3};
 
 /// The similarity that best maps `from` onto `to` (same length) in the least-squares sense, and the largest
 /// distance between a mapped point and its target.
-pub fn fit_similarity(from: &[DVec3], to: &[DVec3]) -> (DAffine3, f64) {
+pub(super) fn fit_similarity(from: &[DVec3], to: &[DVec3]) -> (DAffine3, f64) {
     let n = from.len().min(to.len());
     if n == 0 {
         return (DAffine3::IDENTITY, 0.0);
@@ -128,7 +128,7 @@ fn jacobi4(a: &mut [[f64; 4]; 4]) -> ([f64; 4], [[f64; 4]; 4]) {
 }
 
 /// Whether `frame` is the identity within `tol` over points whose distance from the origin is at most `reach`.
-pub fn is_identity(frame: &DAffine3, reach: f64, tol: f64) -> bool {
+pub(super) fn is_identity(frame: &DAffine3, reach: f64, tol: f64) -> bool {
     let d = frame.matrix3 - DMat3::IDENTITY;
     let linear = d.x_axis.length() + d.y_axis.length() + d.z_axis.length();
     linear * reach + frame.translation.length() <= tol

@@ -46,7 +46,7 @@ pub struct GenerateOptions {
 }
 
 /// Most assemblies an atlas may make for [`generate`] to enumerate them all when random draws cannot finish.
-pub const ENUMERATION_LIMIT: u128 = 1 << 22;
+pub(super) const ENUMERATION_LIMIT: u128 = 1 << 22;
 
 /// What [`generate`] made.
 #[derive(Clone, Debug)]
@@ -65,7 +65,7 @@ type FacePair = Option<(u32, u32)>;
 /// Checks the assemblies of one atlas against the original's intersection labels. The intersections inside one
 /// placed variant do not depend on the assembly (the variant moves as a solid), so each node variant is checked alone
 /// once, here; an assembly then only tests pairs of faces from different placed variants.
-pub struct AssemblyChecker<'a> {
+pub(super) struct AssemblyChecker<'a> {
     atlas: &'a Atlas,
     labels: &'a IntersectionLabels,
     /// `own[g][c][e]`: the first new intersecting pair of faces inside entry `e` of node `c` of graph `g`, in the
@@ -75,7 +75,7 @@ pub struct AssemblyChecker<'a> {
 
 impl<'a> AssemblyChecker<'a> {
     /// Checks every node variant of `atlas` alone (in parallel).
-    pub fn new(atlas: &'a Atlas, labels: &'a IntersectionLabels) -> AssemblyChecker<'a> {
+    pub(super) fn new(atlas: &'a Atlas, labels: &'a IntersectionLabels) -> AssemblyChecker<'a> {
         let own = atlas
             .graphs()
             .iter()
@@ -115,7 +115,10 @@ impl<'a> AssemblyChecker<'a> {
     }
 
     /// Assembles `choice` and checks it: a crack past the tolerance or a new self-intersection rejects it.
-    pub fn check(&self, choice: &Choice) -> Result<std::result::Result<Assembled, Rejection>> {
+    pub(super) fn check(
+        &self,
+        choice: &Choice,
+    ) -> Result<std::result::Result<Assembled, Rejection>> {
         let a = self.atlas.assemble(choice)?;
         let reach = a
             .model

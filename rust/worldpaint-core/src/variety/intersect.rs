@@ -11,7 +11,7 @@
 //! The candidate pairs come from a small bounding-volume hierarchy written here (a median split on the longest axis,
 //! four triangles a leaf): a model of a thousand faces needs no more, and a collision crate such as `parry3d-f64`
 //! would bring a linear-algebra stack to the engine and minutes to its build on the shared machines for one query.
-//! An assembly is checked in parts ([`new_intersection_between_parts`]): the faces inside one placed variant keep
+//! An assembly is checked in parts (`between_parts`): the faces inside one placed variant keep
 //! their relative places in every assembly (the variant moves as a solid), so each node variant is checked alone
 //! once per atlas, and an assembly only tests pairs of faces from two placed variants whose boxes overlap — the
 //! triangles of each inside the other's box, by brute force when few and through the hierarchy otherwise. The query
@@ -160,29 +160,10 @@ pub(crate) fn intersecting_faces(
     found
 }
 
-/// The first intersecting pair of faces (lower first) that lie in different parts (`face_part`, one per face) and
-/// are not an original intersection by `face_origin`: the check of an assembly whose parts were each checked alone.
-/// Each part gets its own hierarchy; only parts whose boxes overlap are queried, the smaller against the larger.
-pub fn new_intersection_between_parts(
-    model: &Model,
-    face_origin: &[Option<u32>],
-    face_part: &[u32],
-    labels: &IntersectionLabels,
-) -> Result<Option<(u32, u32)>> {
-    model.validate()?;
-    check::same_len("face origins", face_origin.len(), model.faces.len())?;
-    check::same_len("face parts", face_part.len(), model.faces.len())?;
-    let mut ids: Vec<u32> = face_part.to_vec();
-    ids.sort_unstable();
-    ids.dedup();
-    let dense: Vec<u32> = face_part
-        .iter()
-        .map(|p| ids.binary_search(p).unwrap_or(0) as u32)
-        .collect();
-    Ok(between_parts(model, face_origin, &dense, labels))
-}
-
-/// [`new_intersection_between_parts`] on a valid model with parts numbered densely from 0.
+/// The first intersecting pair of faces (lower first) that lie in different parts (`face_part`, one per face,
+/// numbered densely from 0) and are not an original intersection by `face_origin`, on a valid model: the check of
+/// an assembly whose parts were each checked alone. Each part gets its own hierarchy; only parts whose boxes overlap
+/// are queried, the smaller against the larger.
 pub(crate) fn between_parts(
     model: &Model,
     face_origin: &[Option<u32>],
@@ -388,7 +369,7 @@ impl Bvh {
 }
 
 /// Whether two triangles share a point.
-pub fn triangles_intersect(a: &[DVec3; 3], b: &[DVec3; 3]) -> bool {
+pub(crate) fn triangles_intersect(a: &[DVec3; 3], b: &[DVec3; 3]) -> bool {
     let scale = bounds(a).1.max(bounds(b).1) - bounds(a).0.min(bounds(b).0);
     let eps = scale.max_element().max(1e-300) * 1e-10;
     let na = (a[1] - a[0]).cross(a[2] - a[0]);

@@ -20,15 +20,15 @@ use crate::error::Result;
 use rayon::prelude::*;
 
 /// Bytes of one vertex: position, normal, texture coordinate (8 × f32).
-pub const VERTEX_BYTES: u64 = 32;
+pub(crate) const VERTEX_BYTES: u64 = 32;
 /// Bytes of one triangle: three u32 indices.
-pub const TRIANGLE_BYTES: u64 = 12;
+pub(crate) const TRIANGLE_BYTES: u64 = 12;
 /// Bytes of one vertex stored sparsely in a variant: the vertex and its u32 index.
-pub const SPARSE_VERTEX_BYTES: u64 = VERTEX_BYTES + 4;
+pub(crate) const SPARSE_VERTEX_BYTES: u64 = VERTEX_BYTES + 4;
 /// Bytes of one frame: a 3 × 4 matrix of f32.
-pub const FRAME_BYTES: u64 = 48;
+pub(crate) const FRAME_BYTES: u64 = 48;
 /// Bytes of one placed component of an assembly: a u16 variant number and a 3 × 4 f32 placement.
-pub const INSTANCE_BYTES: u64 = 2 + FRAME_BYTES;
+pub(crate) const INSTANCE_BYTES: u64 = 2 + FRAME_BYTES;
 
 /// One row of Table 2, with the bytes behind it.
 #[derive(Clone, Debug, PartialEq)]

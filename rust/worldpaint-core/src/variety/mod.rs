@@ -17,7 +17,6 @@
 //! ```text
 //! Model::new(vertices: Vec<DVec3>, faces: Vec<Vec<u32>>) -> Result<Model>
 //!     .with_uvs(Vec<Vec<DVec2>>) / .with_materials(Vec<u32>) -> Result<Model>
-//! labels_from_cut(&model, paths: &[Vec<u32>]) -> Result<Vec<u32>>  // a cut along existing vertices (§4.1)
 //! Decomposition::from_labels(&model, labels: &[u32], root: Option<u32>) -> Result<Decomposition>
 //!     .components / .regions / .root, .parent(c), .order(), .component_model(&model, c) -> Result<Model>
 //! Atlas::new(&model, decomposition) -> Result<Atlas>            // variant 0 of each node is the original piece
@@ -50,31 +49,25 @@
 
 mod assemble;
 mod assign;
-pub mod atlas;
-pub mod decompose;
+pub(crate) mod atlas;
+pub(crate) mod decompose;
 mod frame;
 mod generate;
-pub mod intersect;
-pub mod memory;
-pub mod model;
-pub mod texture;
+pub(crate) mod intersect;
+pub(crate) mod memory;
+pub(crate) mod model;
+pub(crate) mod texture;
 
-pub use assemble::{geometry_hash, shape_hash, Assembled, Choice, Placed};
+pub use assemble::{Assembled, Choice};
 pub use assign::assign_variants;
-pub use atlas::{
-    Atlas, AtlasGraph, LocalCycle, NodeVariant, RegionChange, Variant, VariantClass, MAX_REACH,
-    TOLERANCE,
-};
-pub use decompose::{labels_from_cut, Chain, Component, ConnectingRegion, Decomposition};
-pub use frame::fit_similarity;
+pub use atlas::{Atlas, VariantClass};
+pub use decompose::Decomposition;
 pub use generate::{
-    check_assemblies, check_assembly, generate, AssemblyChecker, GenerateOptions, Generation,
-    Rejection, ENUMERATION_LIMIT,
+    check_assemblies, check_assembly, generate, GenerateOptions, Generation, Rejection,
 };
-pub use intersect::{new_intersection, new_intersection_between_parts, IntersectionLabels};
+pub use intersect::{new_intersection, IntersectionLabels};
 pub use memory::{memory_report, MemoryReport};
 pub use model::Model;
 pub use texture::{
-    atlas_images, pack_components, pick_texture_variants, pick_textures, Image, Packing,
-    TextureChoice, TextureComponent,
+    atlas_images, pack_components, pick_texture_variants, pick_textures, Image, TextureComponent,
 };

@@ -8,7 +8,7 @@ use glam::{DVec2, DVec3};
 use std::collections::HashMap;
 
 /// Most vertices or faces one model may have (far above a low-polygon model; refuses a typo before allocating).
-pub const MAX_MODEL_ITEMS: usize = 10_000_000;
+pub(crate) const MAX_MODEL_ITEMS: usize = 10_000_000;
 
 /// A model's error as one about `what` (a copy names itself and its part): the invalid input "model vertex 3: ..."
 /// reads "`what`: vertex 3: ...". Other errors, and those about "model" itself, pass unchanged.

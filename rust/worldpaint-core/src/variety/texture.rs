@@ -25,7 +25,7 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 /// Steps of the exact packing search before it falls back to DSatur.
-pub const EXACT_STEPS: u64 = 2_000_000;
+pub(crate) const EXACT_STEPS: u64 = 2_000_000;
 
 /// An RGBA image, 8 bits per channel, rows from the bottom.
 #[derive(Clone, Debug, PartialEq, Eq)]

@@ -46,7 +46,7 @@ pub struct InterestWeights {
 }
 
 impl InterestWeights {
-    /// The weights in the order of the criteria (`interest::Criterion::ALL`).
+    /// The weights in the order of the criteria (`interest::InterestCriterion::ALL`).
     pub(crate) fn as_array(&self) -> [f64; 7] {
         [
             self.sociability,
@@ -266,7 +266,7 @@ pub struct Encyclopedia {
 /// One event of a growth scenario.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "event", rename_all = "snake_case")]
-pub enum Event {
+pub enum ScenarioEvent {
     /// The village type the following buildings are placed by.
     ChangeVillageType {
         /// A key of the encyclopedia's `village_types`.
@@ -285,7 +285,7 @@ pub enum Event {
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Scenario {
     /// The events, in the order they happen; the first must choose a village type.
-    pub events: Vec<Event>,
+    pub events: Vec<ScenarioEvent>,
 }
 
 /// Named scenarios shipped as presets.
@@ -497,14 +497,14 @@ impl Encyclopedia {
         let mut current: Option<&str> = None;
         for (k, e) in scenario.events.iter().enumerate() {
             match e {
-                Event::ChangeVillageType { village_type } => {
+                ScenarioEvent::ChangeVillageType { village_type } => {
                     if !self.village_types.contains_key(village_type) {
                         let names = known(self.village_types.keys().collect());
                         return Err(at(k, format!("unknown village type '{village_type}' (the encyclopedia has {names})")));
                     }
                     current = Some(village_type);
                 }
-                Event::Generate { count, building } => {
+                ScenarioEvent::Generate { count, building } => {
                     if !self.buildings.contains_key(building) {
                         let names = known(self.buildings.keys().collect());
                         return Err(at(
@@ -540,8 +540,8 @@ impl Scenario {
         self.events
             .iter()
             .map(|e| match e {
-                Event::Generate { count, .. } => *count,
-                Event::ChangeVillageType { .. } => 0,
+                ScenarioEvent::Generate { count, .. } => *count,
+                ScenarioEvent::ChangeVillageType { .. } => 0,
             })
             .fold(0, u32::saturating_add)
     }

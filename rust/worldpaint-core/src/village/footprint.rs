@@ -22,7 +22,7 @@
 //! every step), so footprints never overlap roads nor each other, except along shared walls.
 
 use super::road_index::RoadIndex;
-use super::{Footprint, Parcel, Road};
+use super::{HouseFootprint, Parcel, Road};
 use crate::error::{check, Error, Result};
 use crate::geom::{polygon_contains, polygon_signed_area, segment_distance, segment_intersection};
 use glam::DVec2;
@@ -30,26 +30,26 @@ use rayon::prelude::*;
 
 /// The footprint of one parcel, or `None` when not even a `min_size` quad fits in it (or the inputs are not
 /// usable: a degenerate contour, no road, sizes that are not positive with `min_size <= max_size`).
-pub fn footprint(
+pub fn house_footprint(
     parcel: &Parcel,
     roads: &[Road],
     road_width: f64,
     min_size: [f64; 2],
     max_size: [f64; 2],
     snap: f64,
-) -> Option<Footprint> {
+) -> Option<HouseFootprint> {
     let index = RoadIndex::new(roads, road_width.max(8.0));
     footprint_indexed(parcel, &index, road_width, min_size, max_size, snap)
 }
 
 /// The footprints of many parcels in parallel: `sizes[i]` holds the `(min_size, max_size)` of `parcels[i]`.
-pub fn footprints(
+pub fn house_footprints(
     parcels: &[Parcel],
     sizes: &[([f64; 2], [f64; 2])],
     roads: &[Road],
     road_width: f64,
     snap: f64,
-) -> Result<Vec<Option<Footprint>>> {
+) -> Result<Vec<Option<HouseFootprint>>> {
     check::same_len("footprint sizes", sizes.len(), parcels.len())?;
     check::non_negative("footprint road width", road_width)?;
     check::non_negative("footprint snapping distance", snap)?;
@@ -109,7 +109,7 @@ fn footprint_indexed(
     min_size: [f64; 2],
     max_size: [f64; 2],
     snap: f64,
-) -> Option<Footprint> {
+) -> Option<HouseFootprint> {
     let sizes_ok = (0..2).all(|k| {
         min_size[k].is_finite()
             && min_size[k] > 0.0
@@ -152,7 +152,7 @@ fn footprint_indexed(
             corners = moved;
         }
     }
-    Some(Footprint {
+    Some(HouseFootprint {
         seed: parcel.seed,
         corners,
     })

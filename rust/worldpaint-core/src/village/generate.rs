@@ -2,17 +2,19 @@
 //! and a growth scenario, grow the skeleton (3.2: each new building seed connected to the roads at once), then
 //! the land parcels and footprints (3.3), then the houses (3.4).
 
-use super::encyclopedia::{BuildingKind, Encyclopedia, Event, Placement, RoadParams, Scenario};
-use super::footprint::footprint;
-use super::house::house;
-use super::interest::{criteria, interest, Criterion, StaticMaps, VillageState};
+use super::encyclopedia::{
+    BuildingKind, Encyclopedia, Placement, RoadParams, Scenario, ScenarioEvent,
+};
+use super::footprint::house_footprint;
+use super::house::build_house;
+use super::interest::{criteria, interest, InterestCriterion, StaticInterestMaps, VillageState};
 use super::land::{Land, Site};
 use super::metrics::on_water;
 use super::parcels::{parcels_with, ParcelOptions, ParcelSeed};
 use super::roads::RoadNetwork;
 use super::seeding::seed_building;
 use super::spurs::used_roads;
-use super::{BuildingSeed, Footprint, HouseMesh, Parcel, Road};
+use super::{BuildingSeed, HouseFootprint, HouseMesh, Parcel, Road};
 use crate::error::{Error, Result};
 use crate::geom::Region;
 use crate::graph::SegmentIndex;
@@ -52,7 +54,7 @@ pub struct VillageRequest<'a> {
 
 /// The stages reported to the progress callback.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Stage {
+pub enum VillageStage {
     /// Building seeds and the roads to them (3.2).
     Skeleton,
     /// Parcels and footprints (3.3).
@@ -100,7 +102,7 @@ pub struct Village {
     /// One per seed.
     pub parcels: Vec<Parcel>,
     /// One per seed, inside its parcel.
-    pub footprints: Vec<Footprint>,
+    pub footprints: Vec<HouseFootprint>,
     /// One per seed, on its footprint.
     pub houses: Vec<HouseMesh>,
     /// The land the village was generated on (`None` only in a default value).
@@ -217,15 +219,15 @@ fn beside_its_road(
 /// Generates a village; `progress(stage, fraction)` returning `false` cancels (`Error::Cancelled`). The thesis's
 /// stages, each a function of its own: the ways through the region, the skeleton of seeds and roads (3.2), the
 /// parcels and footprints (3.3), the houses (3.4).
-pub fn generate(
+pub fn generate_village(
     request: &VillageRequest,
-    progress: &(dyn Fn(Stage, f64) -> bool + Sync),
+    progress: &(dyn Fn(VillageStage, f64) -> bool + Sync),
 ) -> Result<Village> {
     let enc = request.encyclopedia;
     enc.validate()?;
     enc.check_scenario(request.scenario)?;
     let started = Instant::now();
-    let reached = |stage: Stage, fraction: f64| {
+    let reached = |stage: VillageStage, fraction: f64| {
         if progress(stage, fraction) {
             Ok(())
         } else {
@@ -247,17 +249,17 @@ pub fn generate(
     report.seconds[0] = started.elapsed().as_secs_f64();
 
     let stage = Instant::now();
-    reached(Stage::Parcels, 0.0)?;
+    reached(VillageStage::Parcels, 0.0)?;
     let existing = request.existing_roads.len().min(network.roads.len());
     let mut roads = roads_in_use(request, network, existing, &seeds, &mut report);
     let lots = parcels_and_footprints(request, &land, &roads, seeds, &mut report, progress)?;
     report.seconds[1] = stage.elapsed().as_secs_f64();
 
     let stage = Instant::now();
-    reached(Stage::Houses, 0.0)?;
+    reached(VillageStage::Houses, 0.0)?;
     let houses = houses(request, &land, &lots, progress)?;
     report.seconds[2] = stage.elapsed().as_secs_f64();
-    progress(Stage::Houses, 1.0);
+    progress(VillageStage::Houses, 1.0);
 
     Ok(Village {
         seeds: lots.seeds,
@@ -276,26 +278,26 @@ fn ways_through(
     request: &VillageRequest,
     land: &Land,
     report: &mut VillageReport,
-    reached: &dyn Fn(Stage, f64) -> Result<()>,
+    reached: &dyn Fn(VillageStage, f64) -> Result<()>,
 ) -> Result<RoadNetwork> {
     let connections = if request.connections.is_empty() {
         default_connections(land, &request.site.region, &request.existing_roads)
     } else {
         request.connections.clone()
     };
-    reached(Stage::Skeleton, 0.0)?;
+    reached(VillageStage::Skeleton, 0.0)?;
     let (first, others) = connections.split_at(connections.len().min(1));
     let mut network = RoadNetwork::new(land, first, &request.existing_roads)?;
     let no_buildings = vec![false; land.grid().len()];
     let first_type = request.scenario.events.iter().find_map(|e| match e {
-        Event::ChangeVillageType { village_type } => Some(village_type.as_str()),
-        Event::Generate { .. } => None,
+        ScenarioEvent::ChangeVillageType { village_type } => Some(village_type.as_str()),
+        ScenarioEvent::Generate { .. } => None,
     });
     let through_roads = request
         .encyclopedia
         .road_params(first_type.unwrap_or_default());
     for &p in others {
-        reached(Stage::Skeleton, 0.0)?;
+        reached(VillageStage::Skeleton, 0.0)?;
         let through = network.link_connection(land, &through_roads, &no_buildings, p)?;
         report.roads_over_max_grade += through.over_max_grade as usize;
     }
@@ -309,8 +311,8 @@ fn domination_radii(enc: &Encyclopedia, scenario: &Scenario) -> Result<Vec<f64>>
     let mut current: Option<&str> = None;
     for e in &scenario.events {
         match e {
-            Event::ChangeVillageType { village_type } => current = Some(village_type),
-            Event::Generate { building, .. } => {
+            ScenarioEvent::ChangeVillageType { village_type } => current = Some(village_type),
+            ScenarioEvent::Generate { building, .. } => {
                 if let Some(v) = current {
                     let r = enc.placement(v, building)?.domination_radius;
                     if !radii.contains(&r) {
@@ -338,11 +340,11 @@ fn skeleton(
     land: &Land,
     network: &mut RoadNetwork,
     report: &mut VillageReport,
-    reached: &dyn Fn(Stage, f64) -> Result<()>,
+    reached: &dyn Fn(VillageStage, f64) -> Result<()>,
 ) -> Result<Vec<BuildingSeed>> {
     let enc = request.encyclopedia;
-    let maps = StaticMaps::new(land, &domination_radii(enc, request.scenario)?);
-    reached(Stage::Skeleton, 0.0)?;
+    let maps = StaticInterestMaps::new(land, &domination_radii(enc, request.scenario)?);
+    reached(VillageStage::Skeleton, 0.0)?;
     let mut rng = ChaCha8Rng::seed_from_u64(mix_seed(request.seed, 0x5EED));
     let mut grown = Skeleton {
         seeds: Vec::new(),
@@ -356,12 +358,12 @@ fn skeleton(
     let mut done = 0usize;
     for e in &request.scenario.events {
         let (count, building) = match e {
-            Event::ChangeVillageType { village_type: v } => {
+            ScenarioEvent::ChangeVillageType { village_type: v } => {
                 village_type = v.clone();
                 roads = enc.road_params(v);
                 continue;
             }
-            Event::Generate { count, building } => (*count, building),
+            ScenarioEvent::Generate { count, building } => (*count, building),
         };
         let placement = enc.placement(&village_type, building)?;
         let kind = enc
@@ -370,7 +372,7 @@ fn skeleton(
             .ok_or_else(|| Error::unknown("building type", building))?;
         let mut failed_in_a_row = 0;
         for _ in 0..count {
-            reached(Stage::Skeleton, done as f64 / total)?;
+            reached(VillageStage::Skeleton, done as f64 / total)?;
             done += 1;
             if failed_in_a_row >= MAX_FAILURES_IN_A_ROW {
                 // the land has no more room for this building: the rest of the request cannot be placed either
@@ -490,7 +492,7 @@ fn roads_in_use(
 struct Lots {
     seeds: Vec<BuildingSeed>,
     parcels: Vec<Parcel>,
-    footprints: Vec<Footprint>,
+    footprints: Vec<HouseFootprint>,
 }
 
 /// 3.3: each seed's parcel conquered from its road, and the building's footprint inside it; the seeds that lose
@@ -501,7 +503,7 @@ fn parcels_and_footprints(
     roads: &[Road],
     seeds: Vec<BuildingSeed>,
     report: &mut VillageReport,
-    progress: &(dyn Fn(Stage, f64) -> bool + Sync),
+    progress: &(dyn Fn(VillageStage, f64) -> bool + Sync),
 ) -> Result<Lots> {
     let enc = request.encyclopedia;
     let placements: Vec<_> = seeds
@@ -528,16 +530,18 @@ fn parcels_and_footprints(
         &parcel_seeds,
         parcel_cell,
         &ParcelOptions::default(),
-        &|f| progress(Stage::Parcels, 0.8 * f),
+        &|f| progress(VillageStage::Parcels, 0.8 * f),
     )?;
-    let footprints = Counted::new(conquered.len(), |f| progress(Stage::Parcels, 0.8 + 0.2 * f));
-    let found: Vec<Option<Footprint>> = conquered
+    let footprints = Counted::new(conquered.len(), |f| {
+        progress(VillageStage::Parcels, 0.8 + 0.2 * f)
+    });
+    let found: Vec<Option<HouseFootprint>> = conquered
         .par_iter()
         .zip(seeds.par_iter())
         .map(|(parcel, s)| {
             let parcel = parcel.as_ref().filter(|_| footprints.go_on())?;
             let kind = enc.buildings.get(&s.building)?;
-            let fp = footprint(
+            let fp = house_footprint(
                 parcel,
                 roads,
                 enc.roads.width,
@@ -571,7 +575,7 @@ fn parcels_and_footprints(
             seed: index,
             ..parcel
         });
-        lots.footprints.push(Footprint { seed: index, ..fp });
+        lots.footprints.push(HouseFootprint { seed: index, ..fp });
     }
     Ok(lots)
 }
@@ -581,12 +585,12 @@ fn houses(
     request: &VillageRequest,
     land: &Land,
     lots: &Lots,
-    progress: &(dyn Fn(Stage, f64) -> bool + Sync),
+    progress: &(dyn Fn(VillageStage, f64) -> bool + Sync),
 ) -> Result<Vec<HouseMesh>> {
     let enc = request.encyclopedia;
     let terrain = request.site.terrain;
     let ground = |p: DVec2| terrain.height_at(p).unwrap_or_else(|| land.height_at(p));
-    let built = Counted::new(lots.footprints.len(), |f| progress(Stage::Houses, f));
+    let built = Counted::new(lots.footprints.len(), |f| progress(VillageStage::Houses, f));
     let houses: Vec<HouseMesh> = lots
         .footprints
         .par_iter()
@@ -597,7 +601,7 @@ fn houses(
             let seed = mix_seed(request.seed, k as u64 + 1);
             let span = (kind.storeys[1] - kind.storeys[0] + 1) as u64;
             let storeys = kind.storeys[0] + (seed % span) as u32;
-            let (mut mesh, _) = house(fp, kind, storeys, &ground, seed);
+            let (mut mesh, _) = build_house(fp, kind, storeys, &ground, seed);
             mesh.seed = k;
             built.done_one();
             Some(mesh)
@@ -619,7 +623,7 @@ pub struct InterestRequest<'a> {
     /// The building type `B` (a key of the encyclopedia's `buildings`).
     pub building: &'a str,
     /// One criterion `f_i`, or `None` for the combined interest `I(p, B, V)`.
-    pub criterion: Option<Criterion>,
+    pub criterion: Option<InterestCriterion>,
     /// The buildings and roads already there (the dynamic criteria depend on them).
     pub buildings: &'a [BuildingSeed],
     /// The roads already there, as polylines.
@@ -631,7 +635,7 @@ pub fn interest_at(request: &InterestRequest, points: &[DVec2]) -> Result<Vec<f6
     let enc = request.encyclopedia;
     let placement = enc.placement(request.village_type, request.building)?;
     let land = request.site.land()?;
-    let maps = StaticMaps::new(&land, &[placement.domination_radius]);
+    let maps = StaticInterestMaps::new(&land, &[placement.domination_radius]);
     let flags = |pick: fn(&super::encyclopedia::BuildingKind) -> bool| -> Vec<bool> {
         request
             .buildings
@@ -664,7 +668,10 @@ pub fn interest_at(request: &InterestRequest, points: &[DVec2]) -> Result<Vec<f6
             match request.criterion {
                 None => interest(&land, &maps, &state, placement, *p),
                 Some(c) => {
-                    let k = Criterion::ALL.iter().position(|x| *x == c).unwrap_or(0);
+                    let k = InterestCriterion::ALL
+                        .iter()
+                        .position(|x| *x == c)
+                        .unwrap_or(0);
                     criteria(&land, &maps, &state, placement, *p)[k]
                 }
             }

@@ -36,11 +36,11 @@
 mod geometry;
 mod grammar;
 
-pub use grammar::Ground;
+pub(crate) use grammar::Ground;
 
 use crate::geom::polygon_signed_area;
 use crate::village::encyclopedia::{BuildingKind, RoofStyle};
-use crate::village::{Footprint, HouseMaterial, HouseMesh};
+use crate::village::{HouseFootprint, HouseMaterial, HouseMesh};
 use geometry::{block, offset, roof, MeshBuilder, RoofParams};
 use glam::DVec2;
 use grammar::{Rect, Shape, Site, Wall};
@@ -143,8 +143,8 @@ pub struct PlacedOpening {
 
 /// The house of `kind` on `footprint`: floors and roof first, then doors and windows by the open shape grammar,
 /// against the ground `ground(xy) -> z`.
-pub fn house(
-    footprint: &Footprint,
+pub fn build_house(
+    footprint: &HouseFootprint,
     kind: &BuildingKind,
     storeys: u32,
     ground: &Ground,
@@ -274,9 +274,9 @@ fn bays(len: f64) -> usize {
     ((len / BAY).round() as usize).max(1)
 }
 
-/// [`house`], with the list of doors and windows as placed.
+/// [`build_house`], with the list of doors and windows as placed.
 pub fn house_layout(
-    footprint: &Footprint,
+    footprint: &HouseFootprint,
     kind: &BuildingKind,
     storeys: u32,
     ground: &Ground,

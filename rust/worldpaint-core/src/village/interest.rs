@@ -32,9 +32,9 @@ use glam::DVec2;
 use rayon::prelude::*;
 use std::collections::BTreeMap;
 
-/// The criteria of 3.2.2, in the order of [`Criterion::ALL`].
+/// The criteria of 3.2.2, in the order of [`InterestCriterion::ALL`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum Criterion {
+pub enum InterestCriterion {
     /// Attraction-repulsion to the surrounding buildings.
     Sociability,
     /// Attraction-repulsion to the religious buildings.
@@ -51,34 +51,36 @@ pub enum Criterion {
     Domination,
 }
 
-impl Criterion {
+impl InterestCriterion {
     /// The criteria in the order of [`InterestWeights`](super::encyclopedia::InterestWeights)' fields.
-    pub const ALL: [Criterion; 7] = [
-        Criterion::Sociability,
-        Criterion::Worship,
-        Criterion::Accessibility,
-        Criterion::Slope,
-        Criterion::Water,
-        Criterion::Fortification,
-        Criterion::Domination,
+    pub const ALL: [InterestCriterion; 7] = [
+        InterestCriterion::Sociability,
+        InterestCriterion::Worship,
+        InterestCriterion::Accessibility,
+        InterestCriterion::Slope,
+        InterestCriterion::Water,
+        InterestCriterion::Fortification,
+        InterestCriterion::Domination,
     ];
 
     /// The criterion's name in lower case, as the encyclopedia's weights and the add-on spell it.
     pub fn name(self) -> &'static str {
         match self {
-            Criterion::Sociability => "sociability",
-            Criterion::Worship => "worship",
-            Criterion::Accessibility => "accessibility",
-            Criterion::Slope => "slope",
-            Criterion::Water => "water",
-            Criterion::Fortification => "fortification",
-            Criterion::Domination => "domination",
+            InterestCriterion::Sociability => "sociability",
+            InterestCriterion::Worship => "worship",
+            InterestCriterion::Accessibility => "accessibility",
+            InterestCriterion::Slope => "slope",
+            InterestCriterion::Water => "water",
+            InterestCriterion::Fortification => "fortification",
+            InterestCriterion::Domination => "domination",
         }
     }
 
-    /// The criterion of that [`Criterion::name`], if any.
-    pub fn from_name(name: &str) -> Option<Criterion> {
-        Criterion::ALL.into_iter().find(|c| c.name() == name)
+    /// The criterion of that [`InterestCriterion::name`], if any.
+    pub fn from_name(name: &str) -> Option<InterestCriterion> {
+        InterestCriterion::ALL
+            .into_iter()
+            .find(|c| c.name() == name)
     }
 }
 
@@ -136,7 +138,7 @@ pub(crate) fn open_distance(d: f64, s: &Shape) -> f64 {
     }
 }
 
-/// The interest equation over criterion values (in [`Criterion::ALL`] order), clipped to `[0, 1]` so it is the
+/// The interest equation over criterion values (in [`InterestCriterion::ALL`] order), clipped to `[0, 1]` so it is the
 /// probability of the aggregation test.
 pub(crate) fn combine(values: &[f64; 7], placement: &Placement) -> f64 {
     let w = placement.weights.as_array();
@@ -163,7 +165,7 @@ pub(crate) fn distance_transform(grid: &Grid, mask: &[bool]) -> Vec<f32> {
 }
 
 /// The criteria that do not change while the village grows, computed once per village.
-pub struct StaticMaps {
+pub struct StaticInterestMaps {
     /// Terrain grade (rise over run) per node.
     pub grade: Vec<f32>,
     /// Distance (m) to the nearest water node.
@@ -174,9 +176,9 @@ pub struct StaticMaps {
     domination: BTreeMap<u64, (Grid, Vec<f32>)>,
 }
 
-impl StaticMaps {
+impl StaticInterestMaps {
     /// The static maps, with the domination of every radius in `radii`.
-    pub fn new(land: &Land, radii: &[f64]) -> StaticMaps {
+    pub fn new(land: &Land, radii: &[f64]) -> StaticInterestMaps {
         let grade = (0..land.grid().len())
             .into_par_iter()
             .map(|k| land.grade_at_node(k) as f32)
@@ -189,7 +191,7 @@ impl StaticMaps {
                 .entry(r.to_bits())
                 .or_insert_with(|| domination_map(land, *r));
         }
-        StaticMaps {
+        StaticInterestMaps {
             grade,
             water_distance,
             enclosure_distance,
@@ -261,7 +263,7 @@ pub(crate) struct VillageState<'a> {
 /// The seven criterion values `f_i(p, V, B)` at `p` for a building placed by `placement`.
 pub(crate) fn criteria(
     land: &Land,
-    maps: &StaticMaps,
+    maps: &StaticInterestMaps,
     state: &VillageState,
     placement: &Placement,
     p: DVec2,
@@ -318,7 +320,7 @@ pub(crate) fn criteria(
 /// `I(p, B, V)` at `p`, 0 where the land cannot take a building.
 pub(crate) fn interest(
     land: &Land,
-    maps: &StaticMaps,
+    maps: &StaticInterestMaps,
     state: &VillageState,
     placement: &Placement,
     p: DVec2,

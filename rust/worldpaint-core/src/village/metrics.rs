@@ -4,7 +4,7 @@
 //! distances, road length per house).
 
 use super::land::Land;
-use super::{Footprint, Road};
+use super::{HouseFootprint, Road};
 use crate::graph::SegmentIndex;
 use glam::DVec2;
 
@@ -31,7 +31,7 @@ impl Conflicts {
 }
 
 /// Points on and inside a footprint, about `step` apart (edges included), for containment checks.
-pub(crate) fn footprint_samples(f: &Footprint, step: f64) -> Vec<DVec2> {
+pub(crate) fn footprint_samples(f: &HouseFootprint, step: f64) -> Vec<DVec2> {
     let c = &f.corners;
     let nu = ((c[1] - c[0]).length() / step).ceil().max(1.0) as usize;
     let nv = ((c[3] - c[0]).length() / step).ceil().max(1.0) as usize;
@@ -81,7 +81,7 @@ pub(crate) fn overlap_depth(a: &[DVec2], b: &[DVec2]) -> f64 {
 /// Counts the footprints that overlap a road corridor (closer than `road_width / 2` to a centreline), water, a
 /// wall, the outside of the region, or each other by more than `tolerance` (m).
 pub fn footprint_conflicts(
-    footprints: &[Footprint],
+    footprints: &[HouseFootprint],
     roads: &[Road],
     road_width: f64,
     land: &Land,
@@ -123,7 +123,7 @@ pub fn footprint_conflicts(
 }
 
 /// Whether a footprint reaches onto water: a point of it nearer (bilinearly) to water nodes than to dry ones.
-pub(crate) fn on_water(land: &Land, f: &Footprint) -> bool {
+pub(crate) fn on_water(land: &Land, f: &HouseFootprint) -> bool {
     let g = land.grid();
     let wet = |i: i64, j: i64| {
         let (i, j) = (
@@ -165,7 +165,7 @@ fn road_index(roads: &[Road]) -> SegmentIndex {
 /// a road joined, through roads whose corridors meet (centrelines closer than `touch`), to a road passing within
 /// `reach` of a connection point.
 pub fn unreachable_footprints(
-    footprints: &[Footprint],
+    footprints: &[HouseFootprint],
     roads: &[Road],
     connections: &[DVec2],
     reach: f64,

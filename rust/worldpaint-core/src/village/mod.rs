@@ -16,20 +16,20 @@
 //! | [`house`] | open shape grammar houses (3.4) |
 //! | [`metrics`] | what a layout team checks: reachability, overlaps, grades, parcel statistics |
 
-pub mod encyclopedia;
-pub mod footprint;
-pub mod generate;
-pub mod house;
-pub mod interest;
+pub(crate) mod encyclopedia;
+pub(crate) mod footprint;
+pub(crate) mod generate;
+pub(crate) mod house;
+pub(crate) mod interest;
 mod land;
-pub mod metrics;
-pub mod parcels;
+pub(crate) mod metrics;
+pub(crate) mod parcels;
 mod road_index;
-pub mod roads;
+pub(crate) mod roads;
 mod seeding;
 mod spurs;
 
-pub use encyclopedia::{Encyclopedia, Event, Scenario, ScenarioPresets};
+pub use encyclopedia::{Encyclopedia, Scenario, ScenarioPresets};
 pub use land::{Environment, Land, Site};
 
 use glam::DVec2;
@@ -65,7 +65,7 @@ pub struct Parcel {
 /// A quadrilateral building footprint `F_i ⊂ P_i`: corners counter-clockwise, `corners[0]..corners[1]` the front
 /// (road side) wall.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Footprint {
+pub struct HouseFootprint {
     /// Index of its building seed.
     pub seed: usize,
     /// The four corners, world XY (m).

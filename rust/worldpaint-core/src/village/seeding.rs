@@ -9,7 +9,7 @@
 //! so that a scenario asking for ten farms gets ten farms wherever the land allows them.
 
 use super::encyclopedia::Placement;
-use super::interest::{interest, StaticMaps, VillageState};
+use super::interest::{interest, StaticInterestMaps, VillageState};
 use super::land::Land;
 use glam::DVec2;
 use rand::Rng;
@@ -21,7 +21,7 @@ const BATCH: usize = 256;
 
 /// Where a building was seeded and how.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Seeding {
+pub(super) struct Seeding {
     pub position: DVec2,
     /// Its interest `I(p, B, V)`.
     pub interest: f64,
@@ -32,9 +32,9 @@ pub struct Seeding {
 }
 
 /// Algorithm 1 for one building; `None` when no candidate had a positive interest.
-pub fn seed_building(
+pub(super) fn seed_building(
     land: &Land,
-    maps: &StaticMaps,
+    maps: &StaticInterestMaps,
     state: &VillageState,
     placement: &Placement,
     rng: &mut ChaCha8Rng,
@@ -135,7 +135,7 @@ mod tests {
     }
 
     fn seed_many(land: &Land, p: &Placement, n: usize, seed: u64) -> Vec<DVec2> {
-        let maps = StaticMaps::new(land, &[p.domination_radius]);
+        let maps = StaticInterestMaps::new(land, &[p.domination_radius]);
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
         let mut buildings = Vec::new();
         let mut out = Vec::new();

@@ -129,7 +129,7 @@ pub(crate) fn diagram_point(slope: f64, flow: f64) -> (f64, f64) {
 }
 
 /// The Voronoi cell of `(slope, flow)` among the seeds of Table 4.1.
-pub fn classify(slope: f64, flow: f64) -> WaterfallType {
+pub fn classify_waterfall(slope: f64, flow: f64) -> WaterfallType {
     let (x, y) = diagram_point(slope, flow);
     let mut best = (f64::INFINITY, TABLE_4_1[0].kind);
     for s in &TABLE_4_1 {
@@ -184,7 +184,7 @@ pub(crate) fn arc_segments(
 ) -> Vec<Segment> {
     let make = |points: Vec<DVec3>| {
         let slope = inclination(points[0], points[points.len() - 1]);
-        let kind_of_water = classify(slope, arc.flow);
+        let kind_of_water = classify_waterfall(slope, arc.flow);
         let class_ok = kind_of_water.is_free_fall() == (arc.kind == ControllerKind::FreeFall);
         Segment {
             arc: a,

@@ -49,9 +49,9 @@
 //!
 //! The rocks are seeded from the scene's seed and do not depend on the thread count.
 
-use super::integration::{Footprint, PoolWater, WaterMesh, WaterPart};
+use super::integration::{PoolWater, WaterMesh, WaterPart, WaterfallFootprint};
 use super::model::{ControllerKind, Segment, WaterfallNetwork};
-use super::network::{Node, NodeKind};
+use super::network::{HydraulicNode, HydraulicNodeKind};
 use crate::error::{check, Error, Result};
 use crate::geom::Region;
 use crate::paint::synthesize;
@@ -156,7 +156,7 @@ impl WaterMaps {
 pub(crate) fn water_maps(
     net: &WaterfallNetwork,
     mesh: &WaterMesh,
-    footprint: &Footprint,
+    footprint: &WaterfallFootprint,
     options: &DecorationOptions,
 ) -> Result<WaterMaps> {
     options.validate()?;
@@ -319,11 +319,11 @@ fn along_path(path: &[DVec3], r: f64, from_end: bool) -> Option<(DVec2, DVec2)> 
 fn branch_speeds(
     net: &WaterfallNetwork,
     mesh: &WaterMesh,
-    footprint: &Footprint,
+    footprint: &WaterfallFootprint,
     maps: &mut WaterMaps,
 ) {
     for node in &net.graph.nodes {
-        if node.kind != NodeKind::Branch {
+        if node.kind != HydraulicNodeKind::Branch {
             continue;
         }
         let arcs = branch_arcs(net, node);
@@ -346,7 +346,7 @@ fn branch_speeds(
 }
 
 /// The contact arcs (with segments) at a node: `(arc, whether it comes in)`, the incoming first.
-fn branch_arcs(net: &WaterfallNetwork, node: &Node) -> Vec<(usize, bool)> {
+fn branch_arcs(net: &WaterfallNetwork, node: &HydraulicNode) -> Vec<(usize, bool)> {
     let graph = &net.graph;
     node.arcs_in
         .iter()
@@ -453,7 +453,7 @@ type PoolSpeeds = (usize, usize, usize, usize, Vec<DVec2>);
 fn pool_speeds(
     net: &WaterfallNetwork,
     mesh: &WaterMesh,
-    footprint: &Footprint,
+    footprint: &WaterfallFootprint,
     maps: &mut WaterMaps,
 ) -> Result<()> {
     let solved: Vec<Option<PoolSpeeds>> = mesh
@@ -478,7 +478,7 @@ fn pool_speeds(
 }
 
 /// Whether node `k` lies in the water of `pool`.
-fn in_pool(footprint: &Footprint, k: usize, pool: &PoolWater) -> bool {
+fn in_pool(footprint: &WaterfallFootprint, k: usize, pool: &PoolWater) -> bool {
     footprint.nodes[k].is_some_and(|f| {
         f.inside > 0.0 && f.part == WaterPart::Pool && f.element == pool.controller
     })
@@ -535,7 +535,7 @@ impl VelocityConstraints {
 /// The velocity field of one pool over its box: `(i0, j0, bx, by, velocities)`, `None` when the box is empty.
 fn pool_speed_field(
     net: &WaterfallNetwork,
-    footprint: &Footprint,
+    footprint: &WaterfallFootprint,
     maps: &WaterMaps,
     pool: &PoolWater,
 ) -> Result<Option<PoolSpeeds>> {
@@ -639,7 +639,7 @@ pub fn river_rock_color() -> Result<&'static Color> {
 }
 
 /// The names of the color's distribution categories: what [`scatter_rocks`] synthesizes.
-pub fn rock_categories(color: &Color) -> Vec<String> {
+pub(super) fn rock_categories(color: &Color) -> Vec<String> {
     color
         .categories
         .iter()
@@ -650,7 +650,7 @@ pub fn rock_categories(color: &Color) -> Vec<String> {
 
 /// The color rocks are synthesized from: `color` with the built-in color's preference for the terrain map
 /// "rocks" given to each of its distribution categories that follows no such map.
-pub fn following_the_rock_map(color: &Color) -> Result<Color> {
+pub(super) fn following_the_rock_map(color: &Color) -> Result<Color> {
     let follows = |c: &Color, name: &str| {
         c.maps
             .iter()

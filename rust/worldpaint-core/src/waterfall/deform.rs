@@ -4,9 +4,9 @@
 //! stays as it was.
 //!
 //! * **Border constraints** — on the contour `Ω` of the integration mesh: the bank comes to the water's level
-//!   plus [`DeformOptions::freeboard`] (of the higher water where two banks meet, as beside a stream above the
+//!   plus [`WaterfallDeformOptions::freeboard`] (of the higher water where two banks meet, as beside a stream above the
 //!   pool it falls into). The contour is rasterized as the band of grid nodes outside the water and
-//!   within [`DeformOptions::bank_width`] of it (the footprint of [`super::integration`]), so that the bank holds
+//!   within [`WaterfallDeformOptions::bank_width`] of it (the footprint of [`super::integration`]), so that the bank holds
 //!   on the grid whatever its direction. The nodes within a cell diagonal of the water come to the level of the
 //!   water nearest to them, as the thesis's `Ω` does, and the freeboard starts beyond them: the terrain
 //!   interpolated between them and the riverbed then stays under the water surface on any grid, also under a
@@ -25,7 +25,7 @@
 //! Free-fall footprints get no height constraint: the cliff under the sheet is left to the diffusion.
 
 use super::classify::WaterfallType;
-use super::integration::{Footprint, WaterMesh, WaterPart};
+use super::integration::{WaterMesh, WaterPart, WaterfallFootprint};
 use super::model::{ControllerKind, WaterfallNetwork};
 use crate::error::{check, Result};
 use crate::terrain::Heightfield;
@@ -37,7 +37,7 @@ use glam::DVec2;
 
 /// How the terrain is deformed.
 #[derive(Clone, Debug)]
-pub struct DeformOptions {
+pub struct WaterfallDeformOptions {
     /// Height of the banks above the water (m).
     pub freeboard: f64,
     /// Width of the band of border constraints along the water (m); `None`: three grid cells.
@@ -46,13 +46,13 @@ pub struct DeformOptions {
     pub overhang: f64,
     /// Beyond this distance (m) from every constraint the terrain is unchanged.
     pub falloff: f64,
-    /// Tolerance and cycle limit of the solver (its falloff is [`DeformOptions::falloff`]).
+    /// Tolerance and cycle limit of the solver (its falloff is [`WaterfallDeformOptions::falloff`]).
     pub diffusion: DiffusionOptions,
 }
 
-impl Default for DeformOptions {
+impl Default for WaterfallDeformOptions {
     fn default() -> Self {
-        DeformOptions {
+        WaterfallDeformOptions {
             freeboard: 0.3,
             bank_width: None,
             overhang: 1.0,
@@ -65,7 +65,7 @@ impl Default for DeformOptions {
     }
 }
 
-impl DeformOptions {
+impl WaterfallDeformOptions {
     /// Checks that the heights and distances are finite and not negative (the bank width positive).
     pub fn validate(&self) -> Result<()> {
         check::non_negative("terrain deformation freeboard", self.freeboard)?;
@@ -103,7 +103,7 @@ pub struct TerrainDeformation {
 }
 
 /// The riverbed profile `g` on `[0, 1]` (0 on the border, 1 in the middle).
-pub fn profile(part: WaterPart, kind: Option<WaterfallType>, x: f64) -> f64 {
+pub(super) fn profile(part: WaterPart, kind: Option<WaterfallType>, x: f64) -> f64 {
     let x = x.clamp(0.0, 1.0);
     let u = 1.0 - (1.0 - x) * (1.0 - x);
     match (part, kind) {
@@ -118,8 +118,8 @@ pub(crate) fn deform(
     terrain: &Heightfield,
     net: &WaterfallNetwork,
     mesh: &WaterMesh,
-    footprint: &Footprint,
-    options: &DeformOptions,
+    footprint: &WaterfallFootprint,
+    options: &WaterfallDeformOptions,
 ) -> Result<TerrainDeformation> {
     options.validate()?;
     check::fits_terrain(

@@ -38,7 +38,7 @@ pub struct FootprintNode {
 /// The integration mesh rendered from above onto the terrain's grid: per node, the element it lies deepest
 /// inside, or, within `margin` outside all water, the nearest element (its bank).
 #[derive(Clone, Debug)]
-pub struct Footprint {
+pub struct WaterfallFootprint {
     /// Nodes along X (the terrain's).
     pub nx: usize,
     /// Nodes along Y.
@@ -53,7 +53,7 @@ pub struct Footprint {
     pub nodes: Vec<Option<FootprintNode>>,
 }
 
-impl Footprint {
+impl WaterfallFootprint {
     /// Whether node `k` lies under water.
     pub fn is_water(&self, k: usize) -> bool {
         self.nodes
@@ -204,13 +204,13 @@ impl FootprintInputs<'_> {
 
 /// Rasterizes the mesh's footprint: contacts and pools first (the node takes the element it is deepest in), then
 /// free-falls on the nodes no other water covers.
-pub fn footprint(
+pub fn waterfall_footprint(
     terrain: &Heightfield,
     net: &WaterfallNetwork,
     mesh: &WaterMesh,
     options: &IntegrationOptions,
     margin: f64,
-) -> Result<Footprint> {
+) -> Result<WaterfallFootprint> {
     check::non_negative("footprint margin", margin)?;
     let ribbons: Vec<Vec<[DVec3; 3]>> = net
         .graph
@@ -236,7 +236,7 @@ pub fn footprint(
         .par_iter()
         .map(|&job| inputs.hits(job))
         .collect();
-    Ok(Footprint {
+    Ok(WaterfallFootprint {
         nx: terrain.nx,
         ny: terrain.ny,
         origin: terrain.origin,

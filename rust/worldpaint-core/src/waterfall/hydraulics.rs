@@ -14,7 +14,7 @@
 //! * Well: takes what comes in.
 
 use super::model::{Controller, WaterfallParams};
-use super::network::{HydraulicGraph, NodeKind};
+use super::network::{HydraulicGraph, HydraulicNodeKind};
 use crate::error::{Error, Result};
 use glam::DVec3;
 
@@ -41,13 +41,13 @@ pub fn distribute_flow(
         let inflow: f64 = node.arcs_in.iter().map(|&a| graph.arcs[a].flow).sum();
         let mut flows = vec![0.0; outs.len()];
         let supplied = match node.kind {
-            NodeKind::Source => {
+            HydraulicNodeKind::Source => {
                 for (f, &a) in flows.iter_mut().zip(&outs) {
                     *f = graph.arcs[a].strength.unwrap_or(params.source_flow);
                 }
                 flows.iter().sum()
             }
-            NodeKind::Pool => {
+            HydraulicNodeKind::Pool => {
                 let total = if node.arcs_in.is_empty() {
                     node.pool
                         .and_then(|i| controllers.get(i))
@@ -59,7 +59,7 @@ pub fn distribute_flow(
                 split(total, &share, &mut flows);
                 total
             }
-            NodeKind::Branch | NodeKind::Well => {
+            HydraulicNodeKind::Branch | HydraulicNodeKind::Well => {
                 for &j in &node.arcs_in {
                     let u = direction_in(&graph.arcs[j].points);
                     let w: Vec<f64> = outs

@@ -26,14 +26,14 @@
 
 use super::classify::WaterfallType;
 use super::model::{ControllerKind, WaterfallNetwork};
-use super::network::NodeKind;
+use super::network::HydraulicNodeKind;
 use crate::contour::Polygons;
 use crate::error::{check, Result};
 use crate::polygon_mesh::{triangles_area, triangulate};
 use glam::{DVec2, DVec3};
 
 // the rasterization of the mesh onto the terrain's grid
-pub use super::footprint::{footprint, Footprint, FootprintNode};
+pub use super::footprint::{waterfall_footprint, WaterfallFootprint};
 
 /// Which kind of element a vertex, border or footprint node belongs to.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -129,7 +129,7 @@ pub struct PoolWater {
 }
 
 /// Table 4.1's `[foam, rocks, disturbance]` of a type.
-pub fn decoration_values(t: WaterfallType) -> [f64; 3] {
+pub(super) fn decoration_values(t: WaterfallType) -> [f64; 3] {
     let s = t.seed();
     [s.foam, s.rocks, s.disturbance]
 }
@@ -384,10 +384,10 @@ impl WaterMesh {
         };
         self.borders.push(bank(first, left.to_vec()));
         self.borders.push(bank(first, right.to_vec()));
-        if graph.nodes[arc.from].kind == NodeKind::Source {
+        if graph.nodes[arc.from].kind == HydraulicNodeKind::Source {
             self.borders.push(bank(first, vec![left[0], right[0]]));
         }
-        if graph.nodes[arc.to].kind == NodeKind::Well {
+        if graph.nodes[arc.to].kind == HydraulicNodeKind::Well {
             self.borders
                 .push(bank(last, vec![left[n - 1], right[n - 1]]));
         }
@@ -454,13 +454,13 @@ impl WaterMesh {
 }
 
 /// Largest distance from the centroid of a contour to its points.
-pub fn pool_radius(contour: &[DVec2]) -> f64 {
+pub(super) fn pool_radius(contour: &[DVec2]) -> f64 {
     let c = contour.iter().copied().sum::<DVec2>() / contour.len().max(1) as f64;
     contour.iter().map(|p| p.distance(c)).fold(0.0, f64::max)
 }
 
 /// A pool's `[foam, rocks, disturbance]` at `p`: the strongest inflow's values fading over the pool's diameter.
-pub fn pool_values(pool: &PoolWater, p: DVec2) -> [f64; 3] {
+pub(super) fn pool_values(pool: &PoolWater, p: DVec2) -> [f64; 3] {
     let reach = 2.0 * pool_radius(&pool.contour).max(1e-9);
     let mut out = [0.0; 3];
     for (at, v) in &pool.inflows {
@@ -473,7 +473,7 @@ pub fn pool_values(pool: &PoolWater, p: DVec2) -> [f64; 3] {
 }
 
 /// The plan direction of free-fall arc `a`: lip to foot, or the incoming contact's direction for a vertical drop.
-pub fn fall_direction(net: &WaterfallNetwork, a: usize) -> DVec2 {
+pub(super) fn fall_direction(net: &WaterfallNetwork, a: usize) -> DVec2 {
     let path = &net.paths[a];
     let (s, e) = (path[0], path[path.len() - 1]);
     let d = (e - s).truncate();
@@ -498,7 +498,7 @@ fn incoming_contact(net: &WaterfallNetwork, a: usize) -> Option<usize> {
 }
 
 /// The width of free-fall arc `a`'s sheet.
-pub fn fall_width(net: &WaterfallNetwork, a: usize, o: &IntegrationOptions) -> f64 {
+pub(super) fn fall_width(net: &WaterfallNetwork, a: usize, o: &IntegrationOptions) -> f64 {
     match incoming_contact(net, a) {
         Some(b) => width(net, net.segment_ranges[b].end - 1, o),
         None => width(net, net.segment_ranges[a].start, o),

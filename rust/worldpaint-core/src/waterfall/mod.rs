@@ -8,11 +8,11 @@
 //! | [`hydraulics`] | the hydraulic graph `G`: sources, wells, branches, pools and the flow through them (4.2.2) |
 //! | [`subdivide`] | midpoint-displacement subdivision of contact curves adapted to the terrain (4.3.1) |
 //! | [`classify`] | Table 4.1, the slope-flow Voronoi classification and the triangular section (4.1.1, 4.3.2) |
-//! | `integration` ([`WaterMesh`], [`footprint()`]) | the integration mesh, its contour `Ω` and its footprint on the terrain grid (4.4.1) |
+//! | `integration` ([`WaterMesh`], [`waterfall_footprint()`]) | the integration mesh, its contour `Ω` and its footprint on the terrain grid (4.4.1) |
 //! | `deform` ([`TerrainDeformation`]) | border, riverbed and overhang constraints diffused into the terrain (4.4.2) |
 //! | `decoration` ([`WaterMaps`], [`Rock`]) | water, foam, rock, disturbance and speed maps; rocks along the riverbeds, synthesized from a learned rock color following the rock map (4.4.3) |
 //!
-//! [`build`] runs the hydraulic pipeline: correction, graph, flow, subdivision, classification. [`scene`] runs it
+//! [`build_waterfall_network`] runs the hydraulic pipeline: correction, graph, flow, subdivision, classification. [`build_waterfall_scene`] runs it
 //! and then adapts the terrain to the water and makes the decoration maps.
 //!
 //! Readings of the thesis where it is silent or ambiguous (each module says more):
@@ -28,24 +28,26 @@
 //! * [`Controller::strength`] is the flow of a controller that starts at a source, and its relative share where
 //!   it leaves a pool or a branch (the thesis's "relative strength pre-set by the user").
 
-pub mod classify;
+pub(crate) mod classify;
 mod decoration;
 mod deform;
 mod footprint;
-pub mod hydraulics;
+pub(crate) mod hydraulics;
 mod integration;
 mod model;
 mod network;
 mod pipeline;
-pub mod subdivide;
+pub(crate) mod subdivide;
 
-pub use classify::{Section, TypeSeed, WaterfallType, TABLE_4_1};
-pub use decoration::{river_rock_color, DecorationOptions, Rock, WaterMaps, ROCK_MAP};
-pub use deform::{DeformOptions, TerrainDeformation};
-pub use integration::{
-    footprint, Border, Footprint, FootprintNode, IntegrationOptions, PoolWater, WaterMesh,
-    WaterPart,
+pub use classify::{WaterfallType, TABLE_4_1};
+pub use decoration::{river_rock_color, Rock, ROCK_MAP};
+pub(crate) use decoration::{DecorationOptions, WaterMaps};
+pub(crate) use deform::{TerrainDeformation, WaterfallDeformOptions};
+pub use integration::{waterfall_footprint, WaterPart, WaterfallFootprint};
+pub(crate) use integration::{IntegrationOptions, WaterMesh};
+pub use model::{Controller, ControllerKind, WaterfallNetwork, WaterfallParams};
+pub use network::{HydraulicGraph, HydraulicNodeKind};
+pub use pipeline::{
+    build_waterfall_network, build_waterfall_scene, WaterfallScene, WaterfallSceneOptions,
+    WaterfallSceneReport,
 };
-pub use model::{Controller, ControllerKind, Segment, WaterfallNetwork, WaterfallParams};
-pub use network::{HydraulicArc, HydraulicGraph, Node, NodeKind};
-pub use pipeline::{build, scene, SceneOptions, SceneReport, WaterfallScene};

@@ -27,7 +27,7 @@ use std::collections::VecDeque;
 /// The node type `β_j` of the hydraulic graph.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
-pub enum NodeKind {
+pub enum HydraulicNodeKind {
     /// Where flow enters the network: no arc comes in.
     Source,
     /// Where flow leaves the network: no arc goes out.
@@ -40,9 +40,9 @@ pub enum NodeKind {
 
 /// A node `N_j = (β_j, γ_j)` of the hydraulic graph, and the waterfall node `B_j = (μ_j, γ_j, ζ_j)` made from it.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Node {
+pub struct HydraulicNode {
     /// `β_j`.
-    pub kind: NodeKind,
+    pub kind: HydraulicNodeKind,
     /// The connection point; for a pool the centroid of its contour at its level.
     pub position: DVec3,
     /// The pool controller of a pool node.
@@ -88,7 +88,7 @@ pub struct HydraulicArc {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct HydraulicGraph {
     /// The nodes: the pools first, then the other connections and curve ends.
-    pub nodes: Vec<Node>,
+    pub nodes: Vec<HydraulicNode>,
     /// The arcs; arc `k` is `k` in the nodes' `arcs_in` and `arcs_out`.
     pub arcs: Vec<HydraulicArc>,
     /// The nodes in dependency order, sources first.
@@ -211,8 +211,8 @@ struct Candidate {
 }
 
 /// A node with no arcs yet.
-fn bare_node(kind: NodeKind, position: DVec3, pool: Option<usize>) -> Node {
-    Node {
+fn bare_node(kind: HydraulicNodeKind, position: DVec3, pool: Option<usize>) -> HydraulicNode {
+    HydraulicNode {
         kind,
         position,
         pool,
@@ -306,7 +306,7 @@ fn candidate_nodes(
     controllers: &[Controller],
     cands: &[Candidate],
     sets: &mut Sets,
-    nodes: &mut Vec<Node>,
+    nodes: &mut Vec<HydraulicNode>,
 ) -> Vec<Option<usize>> {
     let pos = |c: &Candidate| controllers[c.controller].points[c.point];
     let mut members: Vec<Vec<usize>> = vec![Vec::new(); cands.len()];
@@ -330,7 +330,7 @@ fn candidate_nodes(
         if r == k {
             let mean =
                 members[r].iter().map(|&m| pos(&cands[m])).sum::<DVec3>() / members[r].len() as f64;
-            nodes.push(bare_node(NodeKind::Branch, mean, None));
+            nodes.push(bare_node(HydraulicNodeKind::Branch, mean, None));
             node_of[k] = Some(nodes.len() - 1);
         } else {
             node_of[k] = node_of[r];
@@ -345,7 +345,7 @@ fn cut_arcs(
     controllers: &[Controller],
     cands: &[Candidate],
     node_of: &[Option<usize>],
-    nodes: &[Node],
+    nodes: &[HydraulicNode],
 ) -> Vec<HydraulicArc> {
     let mut arcs: Vec<HydraulicArc> = Vec::new();
     let mut k = 0;
@@ -394,7 +394,7 @@ fn cut_arcs(
 
 /// Records each arc at its two nodes; refuses an arc that returns to its own node and a free-fall that does
 /// not fall.
-fn link_arcs(nodes: &mut [Node], arcs: &[HydraulicArc]) -> Result<()> {
+fn link_arcs(nodes: &mut [HydraulicNode], arcs: &[HydraulicArc]) -> Result<()> {
     for (a, arc) in arcs.iter().enumerate() {
         nodes[arc.from].arcs_out.push(a);
         nodes[arc.to].arcs_in.push(a);
@@ -418,13 +418,13 @@ fn link_arcs(nodes: &mut [Node], arcs: &[HydraulicArc]) -> Result<()> {
 }
 
 /// A connection with no arc in is a source, one with no arc out a well, any other a branch.
-fn classify_connections(nodes: &mut [Node]) {
+fn classify_connections(nodes: &mut [HydraulicNode]) {
     for node in nodes {
         if node.pool.is_none() {
             node.kind = match (node.arcs_in.is_empty(), node.arcs_out.is_empty()) {
-                (true, _) => NodeKind::Source,
-                (false, true) => NodeKind::Well,
-                _ => NodeKind::Branch,
+                (true, _) => HydraulicNodeKind::Source,
+                (false, true) => HydraulicNodeKind::Well,
+                _ => HydraulicNodeKind::Branch,
             };
         }
     }
@@ -449,11 +449,11 @@ impl HydraulicGraph {
             .filter(|(_, c)| c.kind == ControllerKind::Pool)
             .map(|(i, c)| (i, PoolShape::new(c)))
             .collect();
-        let mut nodes: Vec<Node> = pools
+        let mut nodes: Vec<HydraulicNode> = pools
             .iter()
             .map(|(i, shape)| {
                 bare_node(
-                    NodeKind::Pool,
+                    HydraulicNodeKind::Pool,
                     shape.centroid().extend(shape.level),
                     Some(*i),
                 )
@@ -541,7 +541,7 @@ impl HydraulicGraph {
 }
 
 /// Kahn's order, smallest ready node first; a cycle is refused, naming the controllers on it.
-fn dependency_order(nodes: &[Node], arcs: &[HydraulicArc]) -> Result<Vec<usize>> {
+fn dependency_order(nodes: &[HydraulicNode], arcs: &[HydraulicArc]) -> Result<Vec<usize>> {
     let mut missing: Vec<usize> = nodes.iter().map(|n| n.arcs_in.len()).collect();
     let mut ready: VecDeque<usize> = (0..nodes.len()).filter(|&n| missing[n] == 0).collect();
     let mut order = Vec::with_capacity(nodes.len());

@@ -1,16 +1,16 @@
-//! The pipeline of chapter 4: [`build`] (4.1–4.3) and [`scene`] (the integration mesh, the terrain deformation and
+//! The pipeline of chapter 4: [`build_waterfall_network`] (4.1–4.3) and [`build_waterfall_scene`] (the integration mesh, the terrain deformation and
 //! the decoration after it, 4.4).
 
 use super::decoration::{scatter_rocks, water_maps};
 use super::deform::deform;
 use super::integration::integration_mesh;
-use super::integration::{footprint, WaterPart};
+use super::integration::{waterfall_footprint, WaterPart};
 use super::model::{Controller, ControllerKind, Segment, WaterfallNetwork, WaterfallParams};
-use super::network::{HydraulicGraph, NodeKind};
+use super::network::{HydraulicGraph, HydraulicNodeKind};
 use super::{classify, hydraulics, subdivide};
 use super::{
-    DecorationOptions, DeformOptions, IntegrationOptions, Rock, TerrainDeformation, WaterMaps,
-    WaterMesh,
+    DecorationOptions, IntegrationOptions, Rock, TerrainDeformation, WaterMaps, WaterMesh,
+    WaterfallDeformOptions,
 };
 use crate::error::Result;
 use crate::terrain::Heightfield;
@@ -23,7 +23,7 @@ use serde::{Deserialize, Serialize};
 /// and distributes the flow (4.2.2), subdivides the contact arcs on the terrain (4.3.1, seeded) and classifies
 /// every segment with its speed, width and depth (4.3.2). Same input and seed give the same network whatever the
 /// number of threads.
-pub fn build(
+pub fn build_waterfall_network(
     terrain: &Heightfield,
     controllers: &[Controller],
     params: &WaterfallParams,
@@ -80,20 +80,20 @@ fn arc_seed(seed: u64, a: usize) -> u64 {
     z ^ (z >> 31)
 }
 
-/// Options of the terrain and decoration stages of [`scene`].
+/// Options of the terrain and decoration stages of [`build_waterfall_scene`].
 #[derive(Clone, Debug, Default)]
-pub struct SceneOptions {
+pub struct WaterfallSceneOptions {
     /// Widths and resolution of the integration mesh (4.4.1).
     pub integration: IntegrationOptions,
     /// How the terrain is deformed under the water (4.4.2).
-    pub deform: DeformOptions,
+    pub deform: WaterfallDeformOptions,
     /// The decoration maps and the rocks (4.4.3).
     pub decoration: DecorationOptions,
 }
 
 /// Figures of a scene.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
-pub struct SceneReport {
+pub struct WaterfallSceneReport {
     /// Source nodes of the hydraulic graph.
     pub sources: usize,
     /// Well nodes.
@@ -144,7 +144,7 @@ pub struct WaterfallScene {
     /// Rocks along the riverbeds, on the deformed terrain.
     pub rocks: Vec<Rock>,
     /// Figures of the scene.
-    pub report: SceneReport,
+    pub report: WaterfallSceneReport,
 }
 
 impl WaterfallScene {
@@ -154,21 +154,21 @@ impl WaterfallScene {
     }
 }
 
-/// The whole of chapter 4: [`build`] (4.1–4.3), the integration mesh (4.4.1), the terrain deformation (4.4.2),
+/// The whole of chapter 4: [`build_waterfall_network`] (4.1–4.3), the integration mesh (4.4.1), the terrain deformation (4.4.2),
 /// the decoration maps and rocks (4.4.3). Same input and seed give the same scene whatever the number of threads.
-pub fn scene(
+pub fn build_waterfall_scene(
     terrain: &Heightfield,
     controllers: &[Controller],
     params: &WaterfallParams,
-    options: &SceneOptions,
+    options: &WaterfallSceneOptions,
     seed: u64,
 ) -> Result<WaterfallScene> {
     options.integration.validate()?;
     options.deform.validate()?;
     options.decoration.validate()?;
-    let network = build(terrain, controllers, params, seed)?;
+    let network = build_waterfall_network(terrain, controllers, params, seed)?;
     let mut mesh = integration_mesh(&network, &options.integration)?;
-    let print = footprint(
+    let print = waterfall_footprint(
         terrain,
         &network,
         &mesh,
@@ -193,12 +193,12 @@ pub fn scene(
         arc_seed(seed, usize::MAX),
     )?;
     let g = &network.graph;
-    let count = |k: NodeKind| g.nodes.iter().filter(|n| n.kind == k).count();
-    let report = SceneReport {
-        sources: count(NodeKind::Source),
-        wells: count(NodeKind::Well),
-        branches: count(NodeKind::Branch),
-        pools: count(NodeKind::Pool),
+    let count = |k: HydraulicNodeKind| g.nodes.iter().filter(|n| n.kind == k).count();
+    let report = WaterfallSceneReport {
+        sources: count(HydraulicNodeKind::Source),
+        wells: count(HydraulicNodeKind::Well),
+        branches: count(HydraulicNodeKind::Branch),
+        pools: count(HydraulicNodeKind::Pool),
         arcs: g.arcs.len(),
         segments: network.segments.len(),
         invalid_segments: network.invalid_segments().count(),

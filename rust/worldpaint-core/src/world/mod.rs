@@ -15,19 +15,20 @@
 //! bounded by a tile, not by the world. The driver that runs the phases on a cluster is the Python package's
 //! `worldpaint_engine.world` (Dask distributed): no scheduler lives here.
 
-pub mod tile_file;
+pub(crate) mod tile_file;
 
+use crate::error::check;
 use crate::geom::DVec2;
 use crate::paint::synthesize;
 use crate::palette::Color;
 use crate::scene::{CategoryKind, Instance, Scene};
 use crate::synthesis::{mix_seed, SynthesisOptions};
 use crate::terrain::Heightfield;
-use crate::{check, Error, Region, Result};
+use crate::{Error, Region, Result};
 use std::sync::Arc;
 
 /// Instances a tile is sized to hold by default: a tile then takes about a second and some tens of MB.
-pub const TILE_INSTANCES: f64 = 100_000.0;
+pub(crate) const TILE_INSTANCES: f64 = 100_000.0;
 
 /// Most tiles a world is cut into (a manifest of this many entries is still read at once).
 pub const MAX_TILES: usize = 1_000_000;

@@ -28,7 +28,7 @@ fn too_many(what: &str, n: usize) -> Error {
 }
 
 /// The tile's bytes.
-pub fn encode(tile: &TileContent) -> Result<Vec<u8>> {
+pub fn encode_tile(tile: &TileContent) -> Result<Vec<u8>> {
     let n = tile.instances.len();
     let count = u32::try_from(n).map_err(|_| too_many("instances", n))?;
     let mut out = Vec::with_capacity(64 + 28 * n);
@@ -121,7 +121,7 @@ impl<'a> Reader<'a> {
 }
 
 /// The tile a file's bytes hold.
-pub fn decode(bytes: &[u8]) -> Result<TileContent> {
+pub fn decode_tile(bytes: &[u8]) -> Result<TileContent> {
     let mut r = Reader { bytes, at: 0 };
     if r.take(MAGIC.len(), "the header")? != MAGIC {
         return Err(Error::Parse {

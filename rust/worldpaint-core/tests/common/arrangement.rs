@@ -1,5 +1,4 @@
-//! What the arrangement tests share: elements, lattice references, growth options and the figures a user checks
-//! (included with `#[path]`).
+//! What the arrangement tests share: elements, lattice references, growth options and the figures a user checks.
 
 #![allow(dead_code)] // each test file that includes this uses a part of it
 
@@ -8,10 +7,10 @@ use std::collections::HashMap;
 use glam::DVec2;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use worldpaint_core::arrangement::{
-    grow, Arrangement, Element, GrowthOptions, Reference, RotationMode,
+use worldpaint_core::{
+    grow_arrangement, Arrangement, Element, GrowthOptions, ReferenceArrangement, Region,
+    RotationMode,
 };
-use worldpaint_core::Region;
 
 pub fn element(position: DVec2, symbol: u32) -> Element {
     Element {
@@ -50,8 +49,8 @@ pub fn lattice(hexagonal: bool, side: usize, symbol: impl Fn(usize, usize) -> u3
     elements
 }
 
-pub fn hexagonal_reference() -> Reference {
-    Reference::new(lattice(true, 7, |_, _| 0)).expect("a lattice is a valid reference")
+pub fn hexagonal_reference() -> ReferenceArrangement {
+    ReferenceArrangement::new(lattice(true, 7, |_, _| 0)).expect("a lattice is a valid reference")
 }
 
 pub fn options(rotation: RotationMode) -> GrowthOptions {
@@ -65,8 +64,8 @@ pub fn options(rotation: RotationMode) -> GrowthOptions {
 
 /// The closest pair of points (brute force over a grid of cells of side `cell`).
 /// `reference` grown over `region` from the origin, keeping its orientation.
-pub fn grown_from_centre(reference: &Reference, region: &Region) -> Arrangement {
-    grow(reference, region, DVec2::ZERO, &options(RotationMode::None)).expect("grows")
+pub fn grown_from_centre(reference: &ReferenceArrangement, region: &Region) -> Arrangement {
+    grow_arrangement(reference, region, DVec2::ZERO, &options(RotationMode::None)).expect("grows")
 }
 
 pub fn closest_pair(points: &[DVec2], cell: f64) -> f64 {
@@ -96,7 +95,7 @@ pub fn positions(a: &Arrangement) -> Vec<DVec2> {
 }
 
 /// The share of `which` elements whose ring has as many neighbours as their reference element's.
-pub fn ring_share(reference: &Reference, a: &Arrangement, which: &[usize]) -> f64 {
+pub fn ring_share(reference: &ReferenceArrangement, a: &Arrangement, which: &[usize]) -> f64 {
     let neighbours = a.neighbours();
     let same = which
         .iter()

@@ -12,8 +12,7 @@
 
 use glam::DVec3;
 use std::collections::HashSet;
-use worldpaint_core::geom::DVec2;
-use worldpaint_core::variety::{Atlas, Decomposition, Model, VariantClass};
+use worldpaint_core::{Atlas, DVec2, Decomposition, Model, VariantClass};
 
 /// The birch as the engine sees it.
 pub struct Birch {

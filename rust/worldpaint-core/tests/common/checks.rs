@@ -1,4 +1,4 @@
-//! Acceptance checks of the reports against real data (included with `#[path]`): what is measured, the bound, and
+//! Acceptance checks of the reports against real data: what is measured, the bound, and
 //! whether it holds; the test fails naming every check that does not.
 
 /// One acceptance check.

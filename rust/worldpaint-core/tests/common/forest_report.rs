@@ -1,4 +1,4 @@
-//! The Luquillo forest report, shared by `tests/forest.rs` and `benches/synthesis.rs` (included with `#[path]`).
+//! The Luquillo forest report, shared by `tests/real_forest_painting.rs` and `benches/synthesis.rs`.
 //!
 //! Real data (ForestGEO's Luquillo plot, Puerto Rico), read from `shared/data/real/forest` beside the project —
 //! never copied into the repository. The living trees of the one-hectare census (x 100–200 m, y 400–500 m) are
@@ -10,17 +10,15 @@
 //! and the eastern half lies partly outside the western half's range, where the learned preference would be
 //! zero; slope uses fixed 2.5° bins and transfers between the halves.
 
-use crate::pcf::{count_correlation, l2, pcf};
-use crate::real_data::{real_data_dir, require};
+use super::pcf::{count_correlation, l2, pcf};
+use super::real_data::{real_data_dir, require};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
-use worldpaint_core::exemplar;
-use worldpaint_core::geom::DVec2;
 use worldpaint_core::{
-    compare, learn_color, synthesize, AnalysisOptions, Category, Color, Heightfield, Instance,
-    Region, Scene, SynthesisOptions,
+    compare, hard_core_points, learn_color, synthesize, uniform_points, AnalysisOptions, Category,
+    Color, DVec2, Heightfield, Instance, Region, Scene, SynthesisOptions,
 };
 
 /// Where the forest data lives.
@@ -332,7 +330,7 @@ fn slope_poisson(
     };
     let peak = (0..count.len()).map(intensity).fold(0.0, f64::max);
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    exemplar::uniform(to, peak, seed)
+    uniform_points(to, peak, seed)
         .into_iter()
         .filter(|p| {
             slope_bin(terrain, *p).is_some_and(|k| rng.random::<f64>() * peak < intensity(k))
@@ -461,8 +459,8 @@ pub fn report(data: &ForestData) -> Result<ForestReport, String> {
     // reference scatters at the synthesized count
     let density = first.len() as f64 / east.area();
     let radius = 0.5 / density.sqrt();
-    let disk = exemplar::hard_core(&east, density, radius, 11);
-    let uniform = exemplar::uniform(&east, density, 12);
+    let disk = hard_core_points(&east, density, radius, 11);
+    let uniform = uniform_points(&east, density, 12);
     let inhomogeneous = slope_poisson(terrain, &data.trees, &west, &east, 13);
     let west_trees: Vec<DVec2> = data
         .trees

@@ -1,5 +1,5 @@
 //! The pair-correlation function as a user measures it (spatstat's `pcf` with the translation correction), independent
-//! of the engine's own rdf estimator, for the tests that check clustering at every scale (included with `#[path]`).
+//! of the engine's own rdf estimator, for the tests that check clustering at every scale.
 //!
 //! Over a rectangular window `W` of sides `a × b`, a pair at offset `(dx, dy)` weighs `1 / |W ∩ (W + (dx, dy))|
 //! = 1 / ((a − |dx|)(b − |dy|))`; `g(r) = Σ_{i≠j, d ∈ ring} w_ij / (λ² |ring|)` with `λ = n / |W|`. Rings are
@@ -7,7 +7,7 @@
 
 #![allow(dead_code)] // each test that includes this file uses a part of it
 
-use worldpaint_core::geom::DVec2;
+use worldpaint_core::DVec2;
 
 /// The translation-corrected pcf of `points` in the window `[lo, hi]`, one value per ring of width `dr`.
 pub fn pcf(points: &[DVec2], lo: DVec2, hi: DVec2, r_max: f64, dr: f64) -> Vec<f64> {

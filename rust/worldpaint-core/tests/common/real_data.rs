@@ -1,12 +1,12 @@
 //! Where the real data lives and how its lon/lat coordinates become metres, for the tests that measure against real
-//! forests, terrains and villages (included with `#[path]`). The data lies beside the project, in
+//! forests, terrains and villages. The data lies beside the project, in
 //! `shared/data/real`, never in the repository: those tests are `#[ignore]`d with the reason, and `make test-rust`
 //! runs them with `--ignored` where the folder is present.
 
 #![allow(dead_code)] // each test that includes this file uses a part of it
 
 use std::path::PathBuf;
-use worldpaint_core::geom::DVec2;
+use worldpaint_core::DVec2;
 
 /// The real data folder (`shared/data/real` beside the project).
 pub fn real_data_dir() -> PathBuf {

@@ -1,4 +1,4 @@
-//! Real villages and real land, for `tests/real_village_generation.rs` (included with `#[path]`).
+//! Real villages and real land, for `tests/real_village_generation.rs`.
 //!
 //! Everything here is read from `shared/data/real` beside the project (see its README) and never copied into the
 //! repository; a loader panics with the reason when a file is absent (the tests that use it are `#[ignore]`d).
@@ -49,18 +49,16 @@
 //! * SRTM at 3″ cannot resolve the benches and hairpins a mountain road is built on: a road along a steep slope
 //!   reads the slope's grade, so real road grades in Andorra read far steeper than the roads are.
 
-use crate::geojson::{geometry, read_features, tag, FOOT_AND_BRIDLE_WAYS};
-use crate::real_data::{real_data_dir, require, Projection};
-use crate::rings::area_centroid;
-use crate::squares::{centre_of_points_in, points_in, square, squares_by_count};
+use super::geojson::{geometry, read_features, tag, FOOT_AND_BRIDLE_WAYS};
+use super::real_data::{real_data_dir, require, Projection};
+use super::rings::area_centroid;
+use super::squares::{centre_of_points_in, points_in, square, squares_by_count};
 use std::collections::{HashMap, VecDeque};
-use worldpaint_core::geom::{polygon_contains, polygon_signed_area, DVec2};
-use worldpaint_core::graph::Graph;
-use worldpaint_core::village::metrics::{
-    layout_statistics, mean_elevation_percentile, road_grades, road_length, LayoutStatistics,
+use worldpaint_core::{
+    layout_statistics, mean_elevation_percentile, polygon_contains, polygon_signed_area,
+    road_grades, road_length, DVec2, Environment, Graph, Heightfield, Land, LayoutStatistics,
+    Region, Road,
 };
-use worldpaint_core::village::{Environment, Land, Road};
-use worldpaint_core::{Heightfield, Region};
 
 /// Cell (m) of the metre heightfield resampled from the SRTM grid.
 pub const TERRAIN_CELL: f64 = 15.0;

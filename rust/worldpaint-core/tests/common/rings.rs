@@ -1,7 +1,6 @@
-//! The outer rings of buildings and land-use areas, in metres, as the real-data reports reduce them to a point
-//! (included with `#[path]`).
+//! The outer rings of buildings and land-use areas, in metres, as the real-data reports reduce them to a point.
 
-use worldpaint_core::geom::DVec2;
+use worldpaint_core::DVec2;
 
 /// The area centroid of `rings` taken together; the mean of their vertices when twice their signed area is
 /// within `flat` (m²) of zero.

@@ -1,8 +1,6 @@
-//! Squares of a search grid ranked by how many points they hold, for picking the densest windows of real data
-//! (included with `#[path]`).
+//! Squares of a search grid ranked by how many points they hold, for picking the densest windows of real data.
 
-use worldpaint_core::geom::DVec2;
-use worldpaint_core::Region;
+use worldpaint_core::{DVec2, Region};
 
 /// The squares of `side` whose corners lie on a `step` grid inside `lo..hi`, each with the number of `points` it
 /// holds, most first (ties in grid order). Counted with a summed-area table of the points per cell.

@@ -7,8 +7,7 @@
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::f64::consts::TAU;
-use worldpaint_core::geom::DVec2;
-use worldpaint_core::variety::{Atlas, Decomposition, Model, VariantClass};
+use worldpaint_core::{Atlas, DVec2, Decomposition, Model, VariantClass};
 
 pub use glam::DVec3;
 

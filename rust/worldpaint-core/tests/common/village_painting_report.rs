@@ -1,4 +1,4 @@
-//! The real-village report, for `tests/real_villages.rs` (included with `#[path]`).
+//! The real-village report, for `tests/real_village_painting.rs`.
 //!
 //! Real data (OpenStreetMap, the countryside north of Bayreuth), read from `shared/data/real/villages` beside the
 //! project — never copied into the repository. Roads (`highway` LineStrings; footways, paths, cycleways, steps
@@ -19,20 +19,16 @@
 //! * **Reference.** The next densest square clear of the exemplar (another village) is measured on the same
 //!   bins: the natural variation between two real villages.
 
-use crate::geojson::{geometry, read_features, tag, FOOT_AND_BRIDLE_WAYS};
-use crate::real_data::{real_data_dir, require, Projection};
-use crate::rings::area_centroid;
-use crate::squares::{centre_of_points_in, points_in, square, squares_by_count};
+use super::geojson::{geometry, read_features, tag, FOOT_AND_BRIDLE_WAYS};
+use super::real_data::{real_data_dir, require, Projection};
+use super::rings::area_centroid;
+use super::squares::{centre_of_points_in, points_in, square, squares_by_count};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
-use worldpaint_core::geom::DVec2;
-use worldpaint_core::graph::{Graph, SegmentIndex};
-use worldpaint_core::palette::{GraphColor, Histogram, MapSource};
-use worldpaint_core::scene::Path as ScenePath;
-use worldpaint_core::HeldGraph;
 use worldpaint_core::{
-    learn_color, synthesize, AnalysisOptions, Category, CategoryKind, Color, Instance, Region,
-    Scene, SynthesisOptions,
+    learn_color, synthesize, AnalysisOptions, Category, CategoryKind, Color, DVec2, Graph,
+    GraphColor, HeldGraph, Histogram, Instance, MapSource, Path as ScenePath, Region, Scene,
+    SegmentIndex, SynthesisOptions,
 };
 
 /// Where the village data lives.

@@ -15,7 +15,7 @@ const WELD: f64 = 1e-6;
 const MIN_AREA: f64 = 1e-8;
 
 /// Twice the vector area of a polygon (Newell): its direction is the normal seen counter-clockwise.
-pub fn newell(points: &[DVec3]) -> DVec3 {
+pub(super) fn newell(points: &[DVec3]) -> DVec3 {
     let Some(&first) = points.first() else {
         return DVec3::ZERO;
     };
@@ -28,7 +28,7 @@ pub fn newell(points: &[DVec3]) -> DVec3 {
 
 /// Faces over welded vertices, one material each.
 #[derive(Default)]
-pub struct MeshBuilder {
+pub(super) struct MeshBuilder {
     vertices: Vec<[f64; 3]>,
     lookup: HashMap<[i64; 3], u32>,
     faces: Vec<Vec<u32>>,
@@ -53,7 +53,7 @@ impl MeshBuilder {
 
     /// Adds the polygon `points` (counter-clockwise seen from the side it faces). Repeated consecutive points
     /// are merged; a polygon left with no area is dropped.
-    pub fn face(&mut self, points: &[DVec3], material: HouseMaterial) {
+    pub(super) fn face(&mut self, points: &[DVec3], material: HouseMaterial) {
         if points.len() < 3 || points.iter().any(|p| !p.is_finite()) {
             return;
         }
@@ -82,7 +82,7 @@ impl MeshBuilder {
     }
 
     /// A closed prism over the counter-clockwise polygon `poly`, from `z0` up to `z1`.
-    pub fn prism(&mut self, poly: &[DVec2], z0: f64, z1: f64, material: HouseMaterial) {
+    pub(super) fn prism(&mut self, poly: &[DVec2], z0: f64, z1: f64, material: HouseMaterial) {
         let bottom: Vec<DVec3> = poly.iter().rev().map(|p| p.extend(z0)).collect();
         let top: Vec<DVec3> = poly.iter().map(|p| p.extend(z1)).collect();
         self.face(&bottom, material);
@@ -96,7 +96,7 @@ impl MeshBuilder {
         }
     }
 
-    pub fn finish(self, seed: usize) -> HouseMesh {
+    pub(super) fn finish(self, seed: usize) -> HouseMesh {
         HouseMesh {
             seed,
             vertices: self.vertices,
@@ -107,7 +107,7 @@ impl MeshBuilder {
 }
 
 /// The convex counter-clockwise polygon `poly` with each edge moved `d` outward (inward when negative).
-pub fn offset(poly: &[DVec2], d: f64) -> Vec<DVec2> {
+pub(super) fn offset(poly: &[DVec2], d: f64) -> Vec<DVec2> {
     let n = poly.len();
     (0..n)
         .map(|i| {
@@ -127,7 +127,7 @@ pub fn offset(poly: &[DVec2], d: f64) -> Vec<DVec2> {
 }
 
 /// Unit outward normal of an edge of a counter-clockwise polygon (its right side).
-pub fn outward(edge: DVec2) -> DVec2 {
+pub(super) fn outward(edge: DVec2) -> DVec2 {
     DVec2::new(edge.y, -edge.x).normalize_or_zero()
 }
 
@@ -149,7 +149,7 @@ fn clip(poly: &[DVec2], f: impl Fn(DVec2) -> f64) -> Vec<DVec2> {
 
 /// What the roof is made of, drawn per house.
 #[derive(Clone, Copy, Debug)]
-pub struct RoofParams {
+pub(super) struct RoofParams {
     pub style: RoofStyle,
     /// Slope of the roof planes (rise over run).
     pub pitch: f64,
@@ -165,7 +165,7 @@ const FLAT_CREST: f64 = 0.7;
 const PARAPET: f64 = 0.25;
 
 /// The roof over the counter-clockwise footprint `f` whose walls end at `z_top`.
-pub fn roof(b: &mut MeshBuilder, f: &[DVec2; 4], z_top: f64, p: &RoofParams) {
+pub(super) fn roof(b: &mut MeshBuilder, f: &[DVec2; 4], z_top: f64, p: &RoofParams) {
     match p.style {
         RoofStyle::Flat => flat_roof(b, f, z_top, p),
         RoofStyle::Gable => pitched_roof(b, f, z_top, p, true),
@@ -322,6 +322,6 @@ fn boundary_chain(a: DVec2, b: DVec2, regions: &[Vec<DVec2>]) -> Vec<DVec2> {
 }
 
 /// A stair block: the convex quad `corners` from `z0` up to its tread at `z1`.
-pub fn block(b: &mut MeshBuilder, corners: &[DVec2; 4], z0: f64, z1: f64) {
+pub(super) fn block(b: &mut MeshBuilder, corners: &[DVec2; 4], z0: f64, z1: f64) {
     b.prism(corners, z0, z1, HouseMaterial::Foundation);
 }

@@ -8,25 +8,25 @@ use crate::search::MinHeap;
 use glam::DVec2;
 
 /// The terrain height under a point of the plane.
-pub type Ground<'a> = dyn Fn(DVec2) -> f64 + Sync + 'a;
+pub(crate) type Ground<'a> = dyn Fn(DVec2) -> f64 + Sync + 'a;
 
 /// Lattice step of the position adaptation on the wall surface (m).
-pub const STEP: f64 = 0.1;
+pub(super) const STEP: f64 = 0.1;
 /// Openings stand this far in front of their wall (m).
-pub const OPENING_OFFSET: f64 = 0.03;
+pub(super) const OPENING_OFFSET: f64 = 0.03;
 /// Height an opening keeps above the terrain line along its wall (m), so that no vertex is below the ground.
-pub const CLEARANCE: f64 = 0.1;
+pub(super) const CLEARANCE: f64 = 0.1;
 /// Spacing of the terrain samples kept per wall (m), at most.
 const SAMPLE: f64 = 0.05;
 /// Smallest free wall between two openings (m).
 const GAP: f64 = 0.3;
 /// Largest number of positions tried per shape before the rule fails (the "user-defined number of tests").
-pub const MAX_TESTS: usize = 400;
+pub(super) const MAX_TESTS: usize = 400;
 
 /// The displacement cost kernel `K(dx, dy)` for one lattice step: a vertical move costs ten horizontal ones and a
 /// diagonal one a little more than a vertical one (Fig. 3.13). An element thus slides along its floor line
 /// before it leaves it, as long as the terrain falls along the wall by more than one in ten.
-pub fn kernel(dx: i32, dy: i32) -> u32 {
+pub(super) fn kernel(dx: i32, dy: i32) -> u32 {
     match (dx != 0, dy != 0) {
         (false, false) => 0,
         (true, false) => 1,
@@ -48,7 +48,7 @@ const NEIGHBOURS: [(i32, i32); 8] = [
 
 /// A door or window shape: width and height, and the sill above the storey floor where it first goes (m).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Shape {
+pub(super) struct Shape {
     pub name: &'static str,
     pub width: f64,
     pub height: f64,
@@ -57,7 +57,7 @@ pub struct Shape {
 
 /// An opening on a wall: along the wall `u0..u1`, above the storey floor `v0..v1` (m).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Rect {
+pub(super) struct Rect {
     pub u0: f64,
     pub u1: f64,
     pub v0: f64,
@@ -66,7 +66,7 @@ pub struct Rect {
 
 impl Rect {
     /// The shape with its bottom centre at `at` (centre along the wall, sill above the floor).
-    pub fn of(shape: &Shape, at: DVec2) -> Rect {
+    pub(super) fn of(shape: &Shape, at: DVec2) -> Rect {
         Rect {
             u0: at.x - shape.width * 0.5,
             u1: at.x + shape.width * 0.5,
@@ -82,7 +82,7 @@ impl Rect {
 
 /// One outer wall, from corner `a` along `dir` for `len`, with the terrain sampled along the line where its
 /// openings stand.
-pub struct Wall {
+pub(super) struct Wall {
     pub a: DVec2,
     pub dir: DVec2,
     pub normal: DVec2,
@@ -93,7 +93,7 @@ pub struct Wall {
 
 impl Wall {
     /// The wall `a..b` of a counter-clockwise footprint; `None` when the terrain is not finite along it.
-    pub fn new(a: DVec2, b: DVec2, ground: &Ground) -> Option<Wall> {
+    pub(super) fn new(a: DVec2, b: DVec2, ground: &Ground) -> Option<Wall> {
         let len = (b - a).length();
         let n = ((len / SAMPLE).ceil() as usize).max(1);
         let mut wall = Wall {
@@ -115,7 +115,7 @@ impl Wall {
     }
 
     /// The point `u` along the wall, on the line of its openings.
-    pub fn at(&self, u: f64) -> DVec2 {
+    pub(super) fn at(&self, u: f64) -> DVec2 {
         self.a + self.dir * u + self.normal * OPENING_OFFSET
     }
 
@@ -132,7 +132,7 @@ impl Wall {
 }
 
 /// Where a rule looks for a valid position: one wall of one storey, the free band of it, and what is built there.
-pub struct Site<'a> {
+pub(super) struct Site<'a> {
     pub wall: &'a Wall,
     pub ground: &'a Ground<'a>,
     /// Height of the storey floor.
@@ -152,7 +152,7 @@ pub struct Site<'a> {
 
 /// A successful rule: which shape of the list, where it was first tried and where it went.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Placement {
+pub(super) struct Placement {
     pub shape: usize,
     pub first: DVec2,
     pub at: DVec2,
@@ -161,7 +161,7 @@ pub struct Placement {
 impl Site<'_> {
     /// The external constraints: away from the other openings, above the terrain line with a clearance, and
     /// (for doors) not out of reach above it.
-    pub fn valid(&self, r: &Rect) -> bool {
+    pub(super) fn valid(&self, r: &Rect) -> bool {
         if self.placed.iter().any(|p| p.near(r, GAP)) {
             return false;
         }
@@ -196,7 +196,7 @@ impl Site<'_> {
 
     /// Position adaptation: from `first` (centre along the wall, sill), the lattice positions in order of the
     /// cost `c(p) + K(dx, dy)` of the cheapest path of kernel moves, until one is valid or `MAX_TESTS` are spent.
-    pub fn adapt_position(&self, shape: &Shape, first: DVec2) -> Option<DVec2> {
+    pub(super) fn adapt_position(&self, shape: &Shape, first: DVec2) -> Option<DVec2> {
         let half = shape.width * 0.5;
         let iu_lo = ((self.u_lo + half - first.x) / STEP - 1e-9).ceil();
         let iu_hi = ((self.u_hi - half - first.x) / STEP + 1e-9).floor();
@@ -263,7 +263,7 @@ impl Site<'_> {
 
     /// Algorithm 3: for each shape of the priority list, position adaptation from the shape's place on the
     /// floor line at `centre`; the first success is kept, and `None` (plain wall) when every shape fails.
-    pub fn place(&self, shapes: &[Shape], centre: f64) -> Option<Placement> {
+    pub(super) fn place(&self, shapes: &[Shape], centre: f64) -> Option<Placement> {
         shapes.iter().enumerate().find_map(|(i, s)| {
             let first = DVec2::new(centre, s.sill);
             if self.hopeless(s) {

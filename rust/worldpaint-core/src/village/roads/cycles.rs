@@ -5,7 +5,7 @@
 
 use super::grid_lines::node_polyline;
 use super::search::{Ctx, Search, GOAL};
-use super::{Connection, RoadNetwork};
+use super::{RoadConnection, RoadNetwork};
 use crate::geom::{polyline_distance, polyline_length};
 use glam::DVec2;
 
@@ -38,7 +38,7 @@ impl RoadNetwork {
         b: usize,
         first: &[usize],
         first_cells: &[usize],
-        connection: &mut Connection,
+        connection: &mut RoadConnection,
     ) {
         let params = ctx.params;
         if params.cycle_max_length <= 0.0 {
@@ -89,7 +89,7 @@ impl RoadNetwork {
         {
             return;
         }
-        let mut cycle = Connection::default();
+        let mut cycle = RoadConnection::default();
         self.add_road(search, ctx, &path, &mut cycle);
         connection.roads.extend(cycle.roads);
         connection.steepest_grade = connection.steepest_grade.max(cycle.steepest_grade);

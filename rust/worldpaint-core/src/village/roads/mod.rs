@@ -145,7 +145,7 @@ pub struct RoadNetwork {
 
 /// What [`RoadNetwork::connect`] did.
 #[derive(Clone, Debug, Default, PartialEq)]
-pub struct Connection {
+pub struct RoadConnection {
     /// Indices in [`RoadNetwork::roads`] of the roads added (the first road, then the cycle road if any).
     pub roads: Vec<usize>,
     /// Whether the building is served by the network (false when nothing can reach it).
@@ -342,14 +342,14 @@ impl RoadNetwork {
         params: &RoadParams,
         occupied: &[bool],
         p: DVec2,
-    ) -> Result<Connection> {
+    ) -> Result<RoadConnection> {
         let Some(node) = nearest_inside(land, p) else {
-            return Ok(Connection::default());
+            return Ok(RoadConnection::default());
         };
         let connection = if self.on_road[node] {
-            Connection {
+            RoadConnection {
                 reached: true,
-                ..Connection::default()
+                ..RoadConnection::default()
             }
         } else {
             self.connect(land, params, occupied, self.grid.point_of(node), 0.0)?
@@ -378,7 +378,7 @@ impl RoadNetwork {
         occupied: &[bool],
         from: DVec2,
         frontage: f64,
-    ) -> Result<Connection> {
+    ) -> Result<RoadConnection> {
         if *land.grid() != self.grid || land_mark(land) != self.land_mark {
             return Err(Error::invalid(
                 "roads",
@@ -413,7 +413,7 @@ impl RoadNetwork {
         };
         let b = self.grid.index(bi, bj);
         if !land.inside()[b] {
-            return Ok(Connection::default());
+            return Ok(RoadConnection::default());
         }
         let mut search = match self.search.take() {
             Some(s) if s.fits(params, &self.grid) => s,
@@ -432,7 +432,7 @@ impl RoadNetwork {
         occupied: &[bool],
         b: usize,
         frontage: f64,
-    ) -> Result<Connection> {
+    ) -> Result<RoadConnection> {
         self.exit_costs(search, land);
         let mut sources: Vec<(usize, f64)> = Vec::new();
         search.flags.clear();
@@ -453,9 +453,9 @@ impl RoadNetwork {
         }
         if search.flags[b] & GOAL != 0 || self.fronts(search, b, frontage) {
             // already on the network
-            return Ok(Connection {
+            return Ok(RoadConnection {
                 reached: true,
-                ..Connection::default()
+                ..RoadConnection::default()
             });
         }
         let ctx = Ctx { land, params };
@@ -466,12 +466,12 @@ impl RoadNetwork {
             over_max_grade = path.is_some();
         }
         let Some((path, _)) = path else {
-            return Ok(Connection::default());
+            return Ok(RoadConnection::default());
         };
-        let mut connection = Connection {
+        let mut connection = RoadConnection {
             reached: true,
             over_max_grade,
-            ..Connection::default()
+            ..RoadConnection::default()
         };
         let first_cells = self.add_road(search, &ctx, &path, &mut connection);
         for &c in &first_cells {
@@ -505,7 +505,7 @@ impl RoadNetwork {
         search: &Search,
         ctx: &Ctx,
         path: &[usize],
-        connection: &mut Connection,
+        connection: &mut RoadConnection,
     ) -> Vec<usize> {
         let grid = self.grid;
         let mut cells = Vec::new();

@@ -13,8 +13,8 @@ fn v(x: f64, y: f64) -> DVec2 {
     DVec2::new(x, y)
 }
 
-fn stroke(points: &[(f64, f64)]) -> Stroke {
-    Stroke {
+fn stroke(points: &[(f64, f64)]) -> SketchStroke {
+    SketchStroke {
         points: points.iter().map(|&(x, y)| v(x, y)).collect(),
     }
 }
@@ -70,7 +70,7 @@ fn y_on(line: &[DVec2], x: f64) -> Option<f64> {
 
 /// What a user would draw: each mountain's silhouette where no nearer mountain hides it (a nearer mountain's body
 /// covers the image below its silhouette), inside the frame. Each mountain must show exactly one piece.
-fn sketch(mountains: &[Mountain]) -> Vec<Stroke> {
+fn sketch(mountains: &[Mountain]) -> Vec<SketchStroke> {
     let lines: Vec<Vec<DVec2>> = mountains.iter().map(projected).collect();
     let mut strokes = Vec::new();
     for (i, m) in mountains.iter().enumerate() {
@@ -118,7 +118,7 @@ fn sketch(mountains: &[Mountain]) -> Vec<Stroke> {
             .iter()
             .map(|&x| v(x, y_on(&lines[i], x).unwrap()))
             .collect();
-        strokes.push(Stroke { points });
+        strokes.push(SketchStroke { points });
     }
     strokes
 }
@@ -212,13 +212,13 @@ fn permutations(n: usize) -> Vec<Vec<usize>> {
 }
 
 /// Orders the strokes given in every order and drawn in every direction; the result is always the true order.
-fn assert_true_order_whatever_the_drawing(mountains: &[Mountain], strokes: &[Stroke]) {
+fn assert_true_order_whatever_the_drawing(mountains: &[Mountain], strokes: &[SketchStroke]) {
     let n = mountains.len();
     let mut truth: Vec<usize> = (0..n).collect();
     truth.sort_by(|&a, &b| mountains[a].depth.total_cmp(&mountains[b].depth));
     for perm in permutations(n) {
         for directions in 0..1u32 << n {
-            let given: Vec<Stroke> = (0..n)
+            let given: Vec<SketchStroke> = (0..n)
                 .map(|k| {
                     let mut s = strokes[perm[k]].clone();
                     if directions & (1 << k) != 0 {
@@ -286,7 +286,7 @@ fn free_gaps(order: &StrokeOrder) -> Vec<f64> {
 fn assert_exact_junctions_and_true_order(
     order: &StrokeOrder,
     mountains: &[Mountain],
-    strokes: &[Stroke],
+    strokes: &[SketchStroke],
 ) {
     assert!(order
         .junctions
@@ -339,9 +339,9 @@ fn a_shaky_hand_that_misses_the_junctions_by_a_little_still_gives_the_true_order
     let mountains = figure_5_8();
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(18);
     for _ in 0..20 {
-        let strokes: Vec<Stroke> = sketch(&mountains)
+        let strokes: Vec<SketchStroke> = sketch(&mountains)
             .into_iter()
-            .map(|s| Stroke {
+            .map(|s| SketchStroke {
                 points: s
                     .points
                     .iter()
@@ -441,7 +441,7 @@ fn a_stroke_drawn_back_over_itself_is_read_as_its_upper_envelope() {
     .unwrap_err();
     assert!(err.to_string().contains("no width"), "{err}");
     // a long scribble back and forth across the frame is refused before its envelope is worked out
-    let scribble = Stroke {
+    let scribble = SketchStroke {
         points: (0..12_000)
             .map(|k| v(if k % 2 == 0 { 0.1 } else { 0.9 } + 1e-6 * k as f64, 0.5))
             .collect(),
@@ -491,8 +491,8 @@ fn a_peak_drawn_as_two_strokes_end_to_end_is_one_junction() {
 /// A ridge over the left of the view that comes down onto the slope of a peak in front of it, and the peak, whose
 /// foot starts 0.024 image heights (0.014 frame widths) under the ridge: within the junction distance of it, as a
 /// hand draws two summits a few per cent above a skyline. Drawn as a hand does, a point every 0.01 across.
-fn ridge_ending_on_a_peak() -> [Stroke; 2] {
-    let drawn = |corners: &[(f64, f64)]| -> Stroke {
+fn ridge_ending_on_a_peak() -> [SketchStroke; 2] {
+    let drawn = |corners: &[(f64, f64)]| -> SketchStroke {
         let mut points = vec![corners[0]];
         for w in corners.windows(2) {
             let n = ((w[1].0 - w[0].0) / 0.01).round() as usize;
@@ -571,7 +571,7 @@ fn bad_strokes_are_refused_by_name() {
     let o = OrderingOptions::default();
     let good = stroke(&[(0.1, 0.5), (0.9, 0.5)]);
     for (bad, words) in [
-        (Stroke::default(), "is empty"),
+        (SketchStroke::default(), "is empty"),
         (stroke(&[(0.2, 0.3)]), "fewer than 2 distinct"),
         (stroke(&[(0.2, 0.3), (0.2, 0.3)]), "fewer than 2 distinct"),
         (stroke(&[(0.2, f64::NAN), (0.4, 0.3)]), "not finite"),
@@ -608,7 +608,7 @@ proptest::proptest! {
             proptest::collection::vec((-0.2..1.2f64, -0.2..1.2f64), 2..10), 0..8),
         distance in 0.01..0.3f64,
     ) {
-        let strokes: Vec<Stroke> = strokes.iter().map(|s| stroke(s)).collect();
+        let strokes: Vec<SketchStroke> = strokes.iter().map(|s| stroke(s)).collect();
         let o = OrderingOptions { junction_distance: distance, ..OrderingOptions::default() };
         if let Ok(order) = order_strokes(&strokes, &o) {
             let mut sorted = order.front_to_back.clone();

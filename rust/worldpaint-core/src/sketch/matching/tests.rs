@@ -4,6 +4,20 @@ use crate::terrain::Heightfield;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
+/// The assignment of least total cost by branch and bound, never stopped.
+fn assign(front_to_back: &[usize], lists: &[Vec<Candidate>], separation: f64) -> Assignment {
+    search(front_to_back, lists, separation, true, &|| false).0
+}
+
+/// The same minimum by exhaustive search (no bound): the baseline branch and bound is measured against.
+fn assign_exhaustively(
+    front_to_back: &[usize],
+    lists: &[Vec<Candidate>],
+    separation: f64,
+) -> Assignment {
+    search(front_to_back, lists, separation, false, &|| false).0
+}
+
 /// Ridges along X at the given (y, height) on flat ground at 0, Gaussian across (10 m), on 0..400 m.
 fn ridges(crests: &[(f64, f64)]) -> Heightfield {
     let (n, cell) = (201, 2.0);
@@ -51,7 +65,7 @@ fn stroke_over(camera: &Camera, y: f64, h: f64, dy: f64) -> StrokeCurve {
             DVec2::new(image.x, image.y + dy)
         })
         .collect();
-    StrokeCurve::new(&Stroke { points })
+    StrokeCurve::new(&SketchStroke { points })
 }
 
 /// The priority list of `stroke` among `pieces`, with the default options.
@@ -289,7 +303,7 @@ fn a_stroke_just_above_a_skyline_of_two_ridges_takes_the_skyline_and_lifts_it_le
             .column_silhouette(&camera, x, 0.0, 1.0)
             .expect("a skyline")
     };
-    let stroke = StrokeCurve::new(&Stroke {
+    let stroke = StrokeCurve::new(&SketchStroke {
         points: (0..=40)
             .map(|k| {
                 let x = 0.3 + 0.01 * k as f64;
