@@ -121,7 +121,7 @@ fn main() {
         full_s / base_s
     );
     println!(
-        "20 controllers, whole build_waterfall_scene (hydraulics, mesh, terrain deformation, maps, rocks) on 1001 x 1001 nodes of 1 m: {:.1} ms; scene / hydraulic part = {:.2}",
+        "20 controllers, whole scene (hydraulics, mesh, terrain deformation, maps, rocks) on 1001 x 1001 nodes of 1 m: {:.1} ms; scene / hydraulic part = {:.2}",
         1e3 * scene_s,
         scene_s / full_s
     );

@@ -76,7 +76,7 @@ fn terrain_maps(color: &Color) -> impl Iterator<Item = &MapInteraction> {
     color.maps.iter().filter(|m| m.source == MapSource::Terrain)
 }
 
-/// What `color` painted into `region` of `scene`, learned back with the options of `color` ([`same_options`]) under
+/// What `color` painted into `region` of `scene`, learned back with the options of `color` (`same_options`) under
 /// its name. A region with nothing in it gives a color without categories (compared, its densities read 0).
 pub fn learned_back(scene: &Scene, region: &Region, color: &Color) -> Result<Color> {
     match learn_color(scene, region, &color.name, &same_options(color)) {

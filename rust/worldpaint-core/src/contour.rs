@@ -420,7 +420,7 @@ pub struct Island {
     pub area: f64,
 }
 
-/// The islands of `contours` (see [`Island`]), in the order of their outer contours.
+/// The islands of `contours` (see `Island`), in the order of their outer contours.
 pub fn islands(contours: &[Vec<DVec2>]) -> Vec<Island> {
     let valid = |c: &Vec<DVec2>| c.len() >= 3;
     // per contour: the contours holding its first vertex

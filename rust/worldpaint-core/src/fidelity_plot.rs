@@ -218,7 +218,7 @@ fn panel(
 }
 
 /// Draws the fidelity plot of `candidate` against `reference` (see the module documentation), `width` × `height`
-/// pixels, each between [`MIN_PLOT_SIDE`] and [`MAX_PLOT_SIDE`]. The candidate should be learned with the
+/// pixels, each between `MIN_PLOT_SIDE` and `MAX_PLOT_SIDE`. The candidate should be learned with the
 /// reference's bins.
 pub fn draw_fidelity(
     reference: &Color,

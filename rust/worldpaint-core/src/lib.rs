@@ -7,40 +7,48 @@
 //! sampler (eq. (1)) paints new arrangements with the same statistics into any region, consistent with what
 //! surrounds it (the region of influence).
 //!
+//! The modules are private: what a caller uses is re-exported at the crate root under a name that says what it is
+//! (`worldpaint_core::generate_village`, `worldpaint_core::VillageRequest`). The main entry points of each module
+//! are named beside it.
+//!
 //! | module | part of the paper |
 //! |---|---|
-//! | [`geom`] | active regions, window-edge correction α (§3, §4.1); a region prepared once for many queries (indexed polygons) |
-//! | [`search`] | the min-cost order of the best-first (Dijkstra, A*) searches |
-//! | [`spatial`] | neighbour queries behind the product simplification (§6) |
-//! | [`graph`] | roads and rivers as planar graphs of intersecting paths, segment queries (§4.2) |
-//! | [`grid`] | one regular grid for every raster and bucket index, with its two size rules |
-//! | [`limits`] | the work budget every entry point checks before allocating: instances, cells, bins, region size |
+//! | `error` ([`Error`], [`Result`]) | typed errors: what was wrong, the bad value and the rule it breaks |
+//! | `geom` ([`Region`], [`PreparedRegion`]) | active regions, window-edge correction α (§3, §4.1); a region prepared once for many queries (indexed polygons) |
+//! | `search` | the min-cost order of the best-first (Dijkstra, A*) searches |
+//! | `spatial` | neighbour queries behind the product simplification (§6) |
+//! | `graph` ([`Graph`], [`SegmentIndex`]) | roads and rivers as planar graphs of intersecting paths, segment queries (§4.2) |
+//! | `grid` ([`Grid`]) | one regular grid for every raster and bucket index, with its two size rules |
+//! | `limits` ([`check`], [`MAX_INSTANCES`], [`MAX_GRID_CELLS`]) | the work budget every entry point checks before allocating: instances, cells, bins, region size |
 //! | `progress` | progress and cancelling of work done item by item on several threads |
-//! | [`contour`] | islands and lakes: contours to dense points and back, signed distance (§6, thesis 6.2.1) |
-//! | [`polygon_mesh`] | polygons as a filled mesh (constrained Delaunay triangulation) for display |
-//! | [`terrain`] | the terrain and its external maps (§3) |
-//! | [`distance`] | exact Euclidean distance transforms on grids |
+//! | `contour` ([`fill_polygons`], [`trace_contours`], [`islands`]) | islands and lakes: contours to dense points and back, signed distance (§6, thesis 6.2.1) |
+//! | `polygon_mesh` ([`triangulate`]) | polygons as a filled mesh (constrained Delaunay triangulation) for display |
+//! | `terrain` ([`Heightfield`]) | the terrain and its external maps (§3) |
+//! | `distance` ([`distance_transform`]) | exact Euclidean distance transforms on grids |
 //! | `scene_maps` | maps made in the scene on the terrain's grid: a value per mesh vertex, the distance to geometry (§3) |
-//! | [`terrain_edit`] | terrain that adapts: constraint-based deformation by multigrid diffusion (thesis 4.4.2, 5.3.3) |
-//! | [`sketch`] | terrain edited from silhouettes sketched over a first-person view (thesis ch. 5) |
-//! | [`scene`] | categories, priority order, instances (§3) |
-//! | [`palette`] | histograms, colors, palettes (§3, §4.1) |
+//! | `terrain_edit` ([`diffuse`], [`embed_roads`]) | terrain that adapts: constraint-based deformation by multigrid diffusion (thesis 4.4.2, 5.3.3) |
+//! | `sketch` ([`apply_sketch`], [`SketchStroke`], [`Camera`]) | terrain edited from silhouettes sketched over a first-person view (thesis ch. 5) |
+//! | `scene` ([`Scene`], [`Category`], [`Instance`]) | categories, priority order, instances (§3) |
+//! | `palette` ([`Color`], [`Palette`]) | histograms, colors, palettes (§3, §4.1) |
 //! | `analysis` ([`learn_color`]) | learning a color (§4.1); its radius, which follows a clustered example (`radius`), and the pair correlation of a map preference (`intensity`) |
 //! | `compare` ([`compare()`], [`Fidelity`], [`self_synthesis`]) | fidelity metrics between two colors; a color learned back from what it painted |
-//! | [`fidelity_plot`] | the fidelity picture: example and self-synthesis pcf and slope histograms |
-//! | [`interpolate`] | distribution interpolation by optimal mass transport (§5.2) |
-//! | [`synthesis`] | Metropolis-Hastings synthesis with a region of influence (§4.1, §4.3, §5.1, §6); adapting moved content (§5.4); island count and size matched after tracing (`islands`) |
-//! | [`tools`] | the painting tools: paste, brush and eraser, move, seam-carving stretch, gradient, blur (§5) |
-//! | [`village`] | villages on arbitrary terrain: growth, roads, parcels, houses (thesis ch. 3) |
-//! | [`waterfall`] | waterfall scenes: controller network, hydraulic graph and flow, terrain-adapted subdivision, slope-flow types, integration mesh, terrain deformation, decoration maps (thesis ch. 4) |
-//! | [`variety`] | model variety (Maréchal et al.): components, connecting regions, variant atlas, assembly with frames, self-intersection rejection, texture components |
-//! | [`arrangement`] | element arrangement by example (Ijiri et al. 2008): reference connectivity, local growth from a seed, relaxation |
-//! | [`exemplar`] | generating processes for demo scenes, tests and benchmarks |
+//! | `fidelity_plot` ([`draw_fidelity`]) | the fidelity picture: example and self-synthesis pcf and slope histograms |
+//! | `interpolate` ([`interpolate_colors`]) | distribution interpolation by optimal mass transport (§5.2) |
+//! | `paint` ([`synthesize`]) | the one door through which a color is painted into a scene, whichever kind it is |
+//! | `synthesis` ([`SynthesisOptions`], [`SynthesisResult`]) | Metropolis-Hastings synthesis with a region of influence (§4.1, §4.3, §5.1, §6); adapting moved content (§5.4); island count and size matched after tracing (`islands`) |
+//! | `tools` ([`paste`], [`BrushStroke`], [`move_region`], [`stretch`], [`gradient`], [`blur`]) | the painting tools: paste, brush and eraser, move, seam-carving stretch, gradient, blur (§5) |
+//! | `world` ([`WorldPlan`], [`synthesize_tile`]) | worlds larger than one paste, synthesized tile by tile |
+//! | `village` ([`generate_village`], [`VillageRequest`], [`Encyclopedia`]) | villages on arbitrary terrain: growth, roads, parcels, houses (thesis ch. 3) |
+//! | `waterfall` ([`build_waterfall_scene`], [`WaterfallParams`]) | waterfall scenes: controller network, hydraulic graph and flow, terrain-adapted subdivision, slope-flow types, integration mesh, terrain deformation, decoration maps (thesis ch. 4) |
+//! | `variety` ([`generate_variants`], [`Atlas`], [`Model`]) | model variety (Maréchal et al.): components, connecting regions, variant atlas, assembly with frames, self-intersection rejection, texture components |
+//! | `arrangement` ([`grow_arrangement`], [`relax_arrangement`]) | element arrangement by example (Ijiri et al. 2008): reference connectivity, local growth from a seed, relaxation |
+//! | `exemplar` ([`uniform_points`], [`slope_scene`], [`demo_terrain`]) | generating processes for demo scenes, tests and benchmarks |
 
 // `!(x > 0.0)` is used on purpose: it rejects NaN as well as non-positive values.
 #![allow(clippy::neg_cmp_op_on_partial_ord, clippy::nonminimal_bool)]
 // Every public item says what it is; `make lint` turns this into an error.
 #![warn(missing_docs)]
+// An item is `pub` only when the root re-exports it; internal helpers are `pub(crate)`.
 #![warn(unreachable_pub)]
 
 mod analysis;

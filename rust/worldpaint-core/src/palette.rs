@@ -498,7 +498,7 @@ impl Color {
     }
 
     /// Checks what synthesis relies on (as read from a file it may be anything): the engine's limits on histogram
-    /// bins, densities and regions ([`crate::limits`]), positive finite radii, finite bounded histogram values,
+    /// bins, densities and regions (`limits`), positive finite radii, finite bounded histogram values,
     /// unique and known category names. Errors name the field's path in the color.
     pub fn validate(&self) -> Result<()> {
         self.validate_scales()?;

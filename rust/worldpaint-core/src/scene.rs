@@ -21,7 +21,7 @@ pub enum CategoryKind {
     /// Content the engine does not synthesize (a terrain map, say): never learned nor painted.
     External,
     /// Elements of a near-regular pattern (paving stones, roof tiles, vineyard stakes): [`Instance`]s learned as
-    /// an arrangement's reference and painted by local growth ([`crate::arrangement`]), never by a color's
+    /// an arrangement's reference and painted by local growth (`arrangement`), never by a color's
     /// statistics.
     Arrangement,
 }

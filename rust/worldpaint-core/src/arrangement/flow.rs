@@ -51,7 +51,7 @@ pub struct FlowField {
 
 impl FlowField {
     /// Fits the field to the directions of `curves` (polylines, world XY). Errors when there is no curve of
-    /// positive length, a point is not finite, or there are more than [`MAX_FLOW_CURVES`] curves.
+    /// positive length, a point is not finite, or there are more than `MAX_FLOW_CURVES` curves.
     pub fn from_curves(curves: &[Vec<DVec2>]) -> Result<FlowField> {
         crate::error::check::at_most_items("flow curves", curves.len(), MAX_FLOW_CURVES)?;
         let mut polylines: Vec<Vec<DVec2>> = Vec::new();

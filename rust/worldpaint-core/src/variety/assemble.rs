@@ -26,7 +26,7 @@ use rand::Rng;
 pub struct Choice {
     /// The graph of the atlas ([`Atlas::graphs`]; 0 is the main one).
     pub graph: usize,
-    /// For each component, the chosen entries of its node ([`AtlasGraph::nodes`]): one per copy (one unless the
+    /// For each component, the chosen entries of its node (`AtlasGraph::nodes`): one per copy (one unless the
     /// component repeats in a local cycle).
     pub picks: Vec<Vec<usize>>,
 }

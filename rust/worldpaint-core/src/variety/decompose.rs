@@ -383,7 +383,7 @@ impl Decomposition {
         }
     }
 
-    /// The sub-mesh of component `c`: its vertices in [`Component::vertices`] order, its faces renumbered, with the
+    /// The sub-mesh of component `c`: its vertices in `Component::vertices` order, its faces renumbered, with the
     /// model's texture coordinates and materials of those faces. Variants are edits of this mesh.
     pub fn component_model(&self, model: &Model, c: usize) -> Result<Model> {
         self.check_model(model)?;

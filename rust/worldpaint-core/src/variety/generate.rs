@@ -158,7 +158,7 @@ impl<'a> AssemblyChecker<'a> {
     }
 }
 
-/// Assembles `choice` and checks it (see [`AssemblyChecker`]; for many choices, make one checker).
+/// Assembles `choice` and checks it (see `AssemblyChecker`; for many choices, make one checker).
 pub fn check_assembly(
     atlas: &Atlas,
     labels: &IntersectionLabels,
@@ -180,7 +180,7 @@ pub fn check_assemblies(
 /// Draws, assembles and checks random variants until `count` are kept or `max_attempts` are drawn; then, when
 /// fewer are kept than asked and the assemblies never drawn are no more than the attempts (the draws stalled on
 /// repeats), checks those in a seeded order until `count` are kept or none is left. A count of #V or more enumerates
-/// every assembly from the start (a count past #V asks for #V). Enumeration needs #V ≤ [`ENUMERATION_LIMIT`]; a count
+/// every assembly from the start (a count past #V asks for #V). Enumeration needs #V ≤ `ENUMERATION_LIMIT`; a count
 /// past [`crate::limits::MAX_INSTANCES`] that #V does not bring down is refused.
 pub fn generate(
     atlas: &Atlas,

@@ -60,7 +60,7 @@ impl Model {
         Ok(self)
     }
 
-    /// Checks every rule of a model: sizes within [`MAX_MODEL_ITEMS`], finite vertices, faces of three or more
+    /// Checks every rule of a model: sizes within `MAX_MODEL_ITEMS`, finite vertices, faces of three or more
     /// distinct existing vertices, one texture coordinate per corner, one material per face.
     pub fn validate(&self) -> Result<()> {
         crate::limits::check(

@@ -52,7 +52,7 @@ pub enum InterestCriterion {
 }
 
 impl InterestCriterion {
-    /// The criteria in the order of [`InterestWeights`](super::encyclopedia::InterestWeights)' fields.
+    /// The criteria in the order of `InterestWeights`' fields.
     pub const ALL: [InterestCriterion; 7] = [
         InterestCriterion::Sociability,
         InterestCriterion::Worship,

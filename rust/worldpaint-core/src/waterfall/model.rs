@@ -172,7 +172,7 @@ pub struct Segment {
     pub valid: bool,
 }
 
-/// The result of [`super::build`]: the corrected controllers, the hydraulic graph with its flows, and the waterfall
+/// The result of [`super::build_waterfall_network`]: the corrected controllers, the hydraulic graph with its flows, and the waterfall
 /// network `W` as segments along each arc.
 #[derive(Clone, Debug)]
 pub struct WaterfallNetwork {

@@ -100,7 +100,7 @@ impl WorldPlan {
     }
 
     /// A plan for painting `color` over `[min, max]`: the region of influence is the color's largest radius, and
-    /// the tile (unless given) holds about [`TILE_INSTANCES`] of the color's instances.
+    /// the tile (unless given) holds about `TILE_INSTANCES` of the color's instances.
     pub fn for_color(min: DVec2, max: DVec2, color: &Color, tile: Option<f64>) -> Result<Self> {
         paintable(color)?;
         let influence = color.max_radius;
