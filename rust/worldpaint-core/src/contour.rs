@@ -3,13 +3,13 @@
 //! region within the contours using a jittered grid ... synthesized islands and lakes are rendered as contours by
 //! tracing a contour around dense clusters".
 //!
-//! * [`fill_polygons`]: one point per cell of a grid of side `spacing`, jittered uniformly within its cell, kept where the
-//!   contours (combined by the even-odd rule, so a lake in an island is a hole) contain it.
-//! * [`trace_contours`]: the density of the points, smoothed by a Gaussian of `0.6 × spacing` and scaled so that a filled
-//!   area reads 1, is contoured by marching squares on a grid of half the spacing, and the closed loops are
-//!   simplified (Douglas–Peucker, a tenth of the spacing). Loops smaller than four cells are dropped. The level is
-//!   the one that keeps the points' area (one spacing² each): ½ for a jittered grid, down to 0.3 for the looser
-//!   clusters synthesis makes, whose rim never reaches ½.
+//! * [`fill_polygons`]: one point per cell of a grid of side `spacing`, jittered uniformly within its cell, kept where
+//!   the contours (combined by the even-odd rule, so a lake in an island is a hole) contain it.
+//! * [`trace_contours`]: the density of the points, smoothed by a Gaussian of `0.6 × spacing` and scaled so that a
+//!   filled area reads 1, is contoured by marching squares on a grid of half the spacing, and the closed loops are
+//!   simplified (Douglas–Peucker, a tenth of the spacing). Loops smaller than four cells are dropped. The level is the
+//!   one that keeps the points' area (one spacing² each): ½ for a jittered grid, down to 0.3 for the looser clusters
+//!   synthesis makes, whose rim never reaches ½.
 //! * `cut` and `split`: a contour less a region, or its parts inside and outside, by the same dense points:
 //!   filled, the points parted by the region, traced.
 //! * [`islands`]: the islands of a set of contours (each outer contour with the lakes directly inside it, by the

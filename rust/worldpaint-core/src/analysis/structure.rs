@@ -7,10 +7,10 @@
 //!   read at the planar graph's nodes of two edges), the degrees, the smallest angle, the connected components, the clearance from
 //!   higher-priority instances and the polygons the graph never crosses. Statistics are taken at the nodes inside
 //!   the region, over every edge that has an end inside (at its full length: the scene holds the whole graph).
-//! * A polygon category's contours are filled with dense points (a jittered grid, [`crate::contour::fill_polygons`]); their
-//!   spacing keeps about `POLYGON_POINTS` points inside the region, and their rdf spans the polygons' own scale.
-//!   Its islands (outer contours with their lakes) whose centroid lies in the region are counted per area and
-//!   their land areas kept: the synthesis matches both (module `synthesis::islands`).
+//! * A polygon category's contours are filled with dense points (a jittered grid, [`crate::contour::fill_polygons`]);
+//!   their spacing keeps about `POLYGON_POINTS` points inside the region, and their rdf spans the polygons' own scale.
+//!   Its islands (outer contours with their lakes) whose centroid lies in the region are counted per area and their
+//!   land areas kept: the synthesis matches both (module `synthesis::islands`).
 //! * Later categories see graphs through their distance and polygons through their signed distance: maps whose
 //!   values [`graph_map_value`] and [`polygon_map_value`] give, the same at analysis and synthesis.
 

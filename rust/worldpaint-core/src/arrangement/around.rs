@@ -3,18 +3,19 @@
 //! user-specified distance from the cursor").
 //!
 //! Readings chosen:
-//! - the existing elements' connectivity is rebuilt as [`ReferenceArrangement::new`] builds a reference's (Delaunay, triangles
-//!   with an angle over 2π/3 dropped), also dropping edges longer than 1.5 × the longest edge of the reference's
-//!   interior rings (the rings growth copies; the reference's hull can hold a triangle of nearly 2π/3 whose long
-//!   side would bridge a missing element at a pattern's frontier), and each existing element takes as sub-id the reference element that best matches
-//!   its ring (eq. (1)–(4) as for a seed, with no sub-id term: the existing sub-ids are not known);
+//! - the existing elements' connectivity is rebuilt as [`ReferenceArrangement::new`] builds a reference's (Delaunay,
+//!   triangles with an angle over 2π/3 dropped), also dropping edges longer than 1.5 × the longest edge of the
+//!   reference's interior rings (the rings growth copies; the reference's hull can hold a triangle of nearly 2π/3 whose
+//!   long side would bridge a missing element at a pattern's frontier), and each existing element takes as sub-id the
+//!   reference element that best matches its ring (eq. (1)–(4) as for a seed, with no sub-id term: the existing sub-ids
+//!   are not known);
 //! - an existing element within the region, or within that longest ring edge of it, whose ring has fewer
 //!   neighbours than its matched reference element's is *reopened*: it is queued as a seed at its fixed position
 //!   and, when its turn comes, matched again to its current ring, which places seeds for its missing neighbours
 //!   (inside the region only). The pattern grows on from the old one without a seam;
 //! - existing elements are never moved or removed: they are held by every relaxation, flagged
-//!   [`super::Arrangement::at_region_boundary`] in the result so that [`super::relax_arrangement`] holds them too, and keep
-//!   their position, symbol, rotation and scale;
+//!   [`super::Arrangement::at_region_boundary`] in the result so that [`super::relax_arrangement`] holds them too, and
+//!   keep their position, symbol, rotation and scale;
 //! - an edge from a reopened element outside the region to a new element inside is kept (it necessarily crosses the
 //!   region's outline); every new element and seed lies inside the region;
 //! - without a reopened element growth starts with one seed at `start`, or at the region's centroid when it lies
@@ -38,8 +39,8 @@ use super::{Arrangement, Element, ReferenceArrangement, RingTarget};
 use crate::error::{Error, Result};
 use crate::geom::{PreparedRegion, Region};
 
-/// Grows a pattern from one seed at `start` inside `region`, copying `reference`'s local structure: [`grow_arrangement_around`]
-/// with no existing element.
+/// Grows a pattern from one seed at `start` inside `region`, copying `reference`'s local structure:
+/// [`grow_arrangement_around`] with no existing element.
 pub fn grow_arrangement(
     reference: &ReferenceArrangement,
     region: &Region,

@@ -1,7 +1,7 @@
 //! The reference arrangement's connectivity (seed §4): "we extract the connectivity by Delaunay triangulation … we
-//! remove skewed triangles which have angles greater than 2/3π and we keep only edges which are a part of at least
-//! one un-skewed triangle … We do not use elements around the boundary of the reference arrangement, since they do
-//! not have enough neighborhood elements." The user "can flip an edge by clicking it" (Fig. 3): [`ReferenceArrangement::flip`].
+//! remove skewed triangles which have angles greater than 2/3π and we keep only edges which are a part of at least one
+//! un-skewed triangle … We do not use elements around the boundary of the reference arrangement, since they do not have
+//! enough neighborhood elements." The user "can flip an edge by clicking it" (Fig. 3): [`ReferenceArrangement::flip`].
 //!
 //! Readings: a triangle is skewed when its largest angle is over 2π/3; an element is a *boundary* element when the
 //! kept triangles around it do not close a full fan (it lies on the hull, or next to a removed triangle).

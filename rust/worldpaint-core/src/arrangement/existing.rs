@@ -1,6 +1,7 @@
-//! The connectivity of elements already in the scene, rebuilt for [`super::grow_arrangement_around`] from their positions
-//! alone, as [`ReferenceArrangement::new`] builds a reference's: a Delaunay triangulation without the triangles that have an
-//! angle over 2π/3, and without edges longer than 1.5 × the longest edge of the reference's interior rings.
+//! The connectivity of elements already in the scene, rebuilt for [`super::grow_arrangement_around`] from their
+//! positions alone, as [`ReferenceArrangement::new`] builds a reference's: a Delaunay triangulation without the
+//! triangles that have an angle over 2π/3, and without edges longer than 1.5 × the longest edge of the reference's
+//! interior rings.
 //!
 //! Where four elements lie nearly on a circle (a square lattice, bricks), the Delaunay diagonal of their
 //! quadrilateral falls either way with the smallest jitter, where the pattern was grown with the diagonal the

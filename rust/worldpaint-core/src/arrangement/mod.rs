@@ -1,7 +1,8 @@
-//! Element arrangement by example: *An Example-based Procedural System for Element Arrangement* (Ijiri, Měch,
-//! Igarashi, Miller 2008). A small reference arrangement placed by hand is analysed into its connectivity
-//! ([`ReferenceArrangement`], seed §4), a larger pattern is grown from one seed by neighbourhood matching ([`grow_arrangement`], seed §5.1–5.4),
-//! and the grown pattern is relaxed towards the reference's ring shapes ([`relax_arrangement`], seed §5.5).
+//! Element arrangement by example: *An Example-based Procedural System for Element Arrangement* (Ijiri, Měch, Igarashi,
+//! Miller 2008). A small reference arrangement placed by hand is analysed into its connectivity
+//! ([`ReferenceArrangement`], seed §4), a larger pattern is grown from one seed by neighbourhood matching
+//! ([`grow_arrangement`], seed §5.1–5.4), and the grown pattern is relaxed towards the reference's ring shapes
+//! ([`relax_arrangement`], seed §5.5).
 //!
 //! The matching error of a target seed's neighbourhood against a reference element's, for one matching pattern
 //! f ∈ F (pairs counter-clockwise "without skipping and flipping"):
@@ -25,9 +26,9 @@
 //! Built so far: the reference's connectivity with edge flips and the lattice it was placed on ([`Lattice`]), growth
 //! with the non-rotation, best-fit rotation and flow-field modes ([`FlowField`], a thin-plate spline through the
 //! directions of drawn strokes), seed priorities, the region and boundary curves as limits of growth, growth next to
-//! existing elements ([`grow_arrangement_around`]: a paste beside an earlier pattern, the spray tool's dabs), scale and rotation
-//! noise, relaxation, the arrangement as a color of the palette ([`ArrangementColor`]) painted into a scene by every
-//! tool, and the figures a paste reports ([`pattern_fidelity`]). Colour noise is the caller's.
+//! existing elements ([`grow_arrangement_around`]: a paste beside an earlier pattern, the spray tool's dabs), scale and
+//! rotation noise, relaxation, the arrangement as a color of the palette ([`ArrangementColor`]) painted into a scene by
+//! every tool, and the figures a paste reports ([`pattern_fidelity`]). Colour noise is the caller's.
 //!
 //! The modules are one concern each: [`connectivity`] (analysis), `lattice` (the lattice under a near-regular
 //! reference placed by hand), `options` (what a growth is asked), `flow` (the flow field), `boundary` (the boundary
@@ -95,8 +96,8 @@ pub struct RingTarget {
 /// A grown arrangement: its elements, their connectivity and what each copies from the reference.
 #[derive(Clone, Debug, Default)]
 pub struct Arrangement {
-    /// The elements: the existing ones given to [`grow_arrangement_around`] first, in their order, then the new ones in the
-    /// order they were placed (the initial one first).
+    /// The elements: the existing ones given to [`grow_arrangement_around`] first, in their order, then the new ones in
+    /// the order they were placed (the initial one first).
     pub elements: Vec<Element>,
     /// For each element, the reference element (sub-id) it copies.
     pub sub_ids: Vec<usize>,
@@ -105,9 +106,9 @@ pub struct Arrangement {
     /// For each element, the reference ring's offsets to the neighbours it was placed with (eq. (5)'s `r_j^i`);
     /// neighbours connected later are not listed: the relaxation keeps their current offsets (seed §5.5).
     pub ring_targets: Vec<Vec<RingTarget>>,
-    /// Elements the relaxation holds ([`relax_arrangement`], eq. (6)): those whose growth the region or a boundary curve stopped
-    /// (a neighbour of their reference ring would have fallen outside or across), and the existing elements of
-    /// [`grow_arrangement_around`].
+    /// Elements the relaxation holds ([`relax_arrangement`], eq. (6)): those whose growth the region or a boundary
+    /// curve stopped (a neighbour of their reference ring would have fallen outside or across), and the existing
+    /// elements of [`grow_arrangement_around`].
     pub at_region_boundary: Vec<bool>,
 }
 

@@ -3,14 +3,13 @@
 //! for the constrained elements: "we simply hold the initial element at the initial position. If there are
 //! user-specified boundaries, we constrain elements at their generated positions."
 //!
-//! Readings: the constrained elements are the initial one and those flagged
-//! [`super::Arrangement::at_region_boundary`] (stopped by the region or a boundary curve, or existing elements that
-//! [`super::grow_arrangement_around`] grew next to); a neighbour an element was not placed with (an edge built later, or a
-//! topology change) keeps its current offset as its target, as the seed does for elements that "lose an edge or get
-//! an extra edge". Instead of Lagrange multipliers the constraints are substituted, leaving a sparse symmetric
-//! positive definite normal system `A x = b` (A a graph Laplacian of the free elements plus the pull of the fixed
-//! ones), one per coordinate with the same A. A vanishing Tikhonov term 1e-9 ‖x − x^0‖² keeps A definite on a
-//! part of the pattern that no constraint reaches.
+//! Readings: the constrained elements are the initial one and those flagged [`super::Arrangement::at_region_boundary`]
+//! (stopped by the region or a boundary curve, or existing elements that [`super::grow_arrangement_around`] grew next
+//! to); a neighbour an element was not placed with (an edge built later, or a topology change) keeps its current offset
+//! as its target, as the seed does for elements that "lose an edge or get an extra edge". Instead of Lagrange
+//! multipliers the constraints are substituted, leaving a sparse symmetric positive definite normal system `A x = b` (A
+//! a graph Laplacian of the free elements plus the pull of the fixed ones), one per coordinate with the same A. A
+//! vanishing Tikhonov term 1e-9 ‖x − x^0‖² keeps A definite on a part of the pattern that no constraint reaches.
 //!
 //! The solver is `faer`'s sparse Cholesky (LLᵀ, fill-reducing ordering, supernodal for large systems): the problem
 //! is symmetric positive definite, which is what a Cholesky is made for (half the work of an LU, no pivoting), and

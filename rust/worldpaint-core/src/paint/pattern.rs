@@ -1,7 +1,7 @@
-//! An arrangement color painted into a scene: every tool's synthesis of such a color comes here. The region is
-//! grown from the elements of the color's categories already around it ([`crate::arrangement::grow_arrangement_around`]), so a paste next to a
-//! pattern, or a spray dab at its edge, continues it without a seam; with none around, growth starts at the
-//! guides' start point or the region's centre. The guides (start, boundary curves, flow curves) come with the
+//! An arrangement color painted into a scene: every tool's synthesis of such a color comes here. The region is grown
+//! from the elements of the color's categories already around it ([`crate::arrangement::grow_arrangement_around`]), so
+//! a paste next to a pattern, or a spray dab at its edge, continues it without a seam; with none around, growth starts
+//! at the guides' start point or the region's centre. The guides (start, boundary curves, flow curves) come with the
 //! synthesis options; other colors ignore them.
 
 use glam::DVec2;

@@ -11,23 +11,23 @@
 //! in front of it is fixed too (see `constrain_on_stroke`); between the breaks of a curve that jumps from one
 //! silhouette to another, nothing is fixed.
 //!
-//! **Lowering protruding silhouettes.** "Mountain silhouette `s` hides a user-specified silhouette `g` if `s` is
-//! closer to the camera than `g` and the projection `s_p` of `s` on the sketching plane has a higher altitude than
-//! `g_p`"; it is lowered "uniformly by an offset `h`", the largest height difference between it and the silhouettes
-//! it hides, and its lowered points become new constraints. The thesis deforms the terrain again from the original
-//! with all constraints; we diffuse the strokes' constraints once, and in each round only the change the new
-//! constraints still ask for, around them alone (every node fixed before held where it is, the change fading within
-//! eight times its size, each group of nearby silhouettes in its own window of the grid): the same constraints are
-//! met, in a fraction of the time of a whole-grid solve per round. Rounds go on until nothing protrudes, or a round
-//! hides no fewer columns than the one before (what still protrudes is held by a stroke's own curve, as where a
-//! stroke ends on another). Silhouettes are found column by column: in each image column a stroke
-//! covers (sampled [`SketchDeformOptions::columns`] across the image), the highest ray that meets the terrain nearer than
-//! the stroke's curve is cast ([`Sight::silhouette_above`]); if it passes above the stroke, the grazed
-//! point belongs to a protruding silhouette. Runs of protruding columns are one silhouette each. We count as
-//! "closer to the camera" also the terrain just behind the curve, within the deformation's reach, in the columns
-//! where the stroke is the highest one drawn: when a feature is lowered onto a stroke, the ground behind it, lowered
-//! less, would otherwise rise above the stroke and no silhouette would be seen where the user drew one. Terrain
-//! farther behind, or behind a stroke with another stroke drawn above it, is background the user may see.
+//! **Lowering protruding silhouettes.** "Mountain silhouette `s` hides a user-specified silhouette `g` if `s` is closer
+//! to the camera than `g` and the projection `s_p` of `s` on the sketching plane has a higher altitude than `g_p`"; it
+//! is lowered "uniformly by an offset `h`", the largest height difference between it and the silhouettes it hides, and
+//! its lowered points become new constraints. The thesis deforms the terrain again from the original with all
+//! constraints; we diffuse the strokes' constraints once, and in each round only the change the new constraints still
+//! ask for, around them alone (every node fixed before held where it is, the change fading within eight times its size,
+//! each group of nearby silhouettes in its own window of the grid): the same constraints are met, in a fraction of the
+//! time of a whole-grid solve per round. Rounds go on until nothing protrudes, or a round hides no fewer columns than
+//! the one before (what still protrudes is held by a stroke's own curve, as where a stroke ends on another).
+//! Silhouettes are found column by column: in each image column a stroke covers (sampled
+//! [`SketchDeformOptions::columns`] across the image), the highest ray that meets the terrain nearer than the stroke's
+//! curve is cast ([`Sight::silhouette_above`]); if it passes above the stroke, the grazed point belongs to a protruding
+//! silhouette. Runs of protruding columns are one silhouette each. We count as "closer to the camera" also the terrain
+//! just behind the curve, within the deformation's reach, in the columns where the stroke is the highest one drawn:
+//! when a feature is lowered onto a stroke, the ground behind it, lowered less, would otherwise rise above the stroke
+//! and no silhouette would be seen where the user drew one. Terrain farther behind, or behind a stroke with another
+//! stroke drawn above it, is background the user may see.
 
 use super::curves::projected;
 use super::matching::{on_stroke, StrokeCurve};

@@ -68,8 +68,8 @@ pub fn rasterize_polyline(
     polyline_with(c, terrain, points, |_, z| z)
 }
 
-/// [`rasterize_polyline`] with each node's height chosen by `height(node, z)` from the node's XY and the height `z` of the
-/// curve's sample nearest to it: a curve whose nodes must keep a property of the curve rather than its height (a
+/// [`rasterize_polyline`] with each node's height chosen by `height(node, z)` from the node's XY and the height `z` of
+/// the curve's sample nearest to it: a curve whose nodes must keep a property of the curve rather than its height (a
 /// sketched silhouette seen from a camera) sets them here.
 pub(crate) fn polyline_with(
     c: &mut Constraints,
@@ -123,10 +123,10 @@ pub(crate) fn polyline_nodes(
     Ok(written)
 }
 
-/// A curve with gradient constraints: the curve itself (as [`rasterize_polyline`]), and beside it, one cell away on each
-/// side, nodes fixed at the curve's height plus `left_slope` (resp. `right_slope`) times that distance — rise per
-/// metre away from the curve, negative for falling ground (a ridge has both negative). Left is to the left when
-/// walking along the curve. Returns the number of nodes written.
+/// A curve with gradient constraints: the curve itself (as [`rasterize_polyline`]), and beside it, one cell away on
+/// each side, nodes fixed at the curve's height plus `left_slope` (resp. `right_slope`) times that distance — rise per
+/// metre away from the curve, negative for falling ground (a ridge has both negative). Left is to the left when walking
+/// along the curve. Returns the number of nodes written.
 pub fn rasterize_gradient_polyline(
     c: &mut Constraints,
     terrain: &Heightfield,

@@ -3,14 +3,13 @@
 //! into a displacement map `D`, and `H' = H + D`; beyond the falloff radius from every constraint the terrain
 //! stays as it was.
 //!
-//! * **Border constraints** — on the contour `Ω` of the integration mesh: the bank comes to the water's level
-//!   plus [`WaterfallDeformOptions::freeboard`] (of the higher water where two banks meet, as beside a stream above the
-//!   pool it falls into). The contour is rasterized as the band of grid nodes outside the water and
-//!   within [`WaterfallDeformOptions::bank_width`] of it (the footprint of [`super::integration`]), so that the bank holds
-//!   on the grid whatever its direction. The nodes within a cell diagonal of the water come to the level of the
-//!   water nearest to them, as the thesis's `Ω` does, and the freeboard starts beyond them: the terrain
-//!   interpolated between them and the riverbed then stays under the water surface on any grid, also under a
-//!   stream narrower than a cell.
+//! * **Border constraints** — on the contour `Ω` of the integration mesh: the bank comes to the water's level plus
+//!   [`WaterfallDeformOptions::freeboard`] (of the higher water where two banks meet, as beside a stream above the pool
+//!   it falls into). The contour is rasterized as the band of grid nodes outside the water and within
+//!   [`WaterfallDeformOptions::bank_width`] of it (the footprint of [`super::integration`]), so that the bank holds on
+//!   the grid whatever its direction. The nodes within a cell diagonal of the water come to the level of the water
+//!   nearest to them, as the thesis's `Ω` does, and the freeboard starts beyond them: the terrain interpolated between
+//!   them and the riverbed then stays under the water surface on any grid, also under a stream narrower than a cell.
 //! * **Riverbed constraints** — every node inside the border, at distance `e` from the nearest border point, is
 //!   fixed at `surface − ζ g(e / e_max)`: the profile `f_d` of the thesis, deepest (`ζ`, the section's depth) in
 //!   the middle. The thesis wants the profile "a function of the river type" and does not give it; here streams

@@ -12,8 +12,8 @@
 //! | `deform` ([`TerrainDeformation`]) | border, riverbed and overhang constraints diffused into the terrain (4.4.2) |
 //! | `decoration` ([`WaterMaps`], [`Rock`]) | water, foam, rock, disturbance and speed maps; rocks along the riverbeds, synthesized from a learned rock color following the rock map (4.4.3) |
 //!
-//! [`build_waterfall_network`] runs the hydraulic pipeline: correction, graph, flow, subdivision, classification. [`build_waterfall_scene`] runs it
-//! and then adapts the terrain to the water and makes the decoration maps.
+//! [`build_waterfall_network`] runs the hydraulic pipeline: correction, graph, flow, subdivision, classification.
+//! [`build_waterfall_scene`] runs it and then adapts the terrain to the water and makes the decoration maps.
 //!
 //! Readings of the thesis where it is silent or ambiguous (each module says more):
 //!

@@ -172,8 +172,8 @@ pub struct Segment {
     pub valid: bool,
 }
 
-/// The result of [`super::build_waterfall_network`]: the corrected controllers, the hydraulic graph with its flows, and the waterfall
-/// network `W` as segments along each arc.
+/// The result of [`super::build_waterfall_network`]: the corrected controllers, the hydraulic graph with its flows, and
+/// the waterfall network `W` as segments along each arc.
 #[derive(Clone, Debug)]
 pub struct WaterfallNetwork {
     /// The controllers after the minimum-slope correction (pools flattened to their level).

@@ -1,5 +1,5 @@
-//! The pipeline of chapter 4: [`build_waterfall_network`] (4.1–4.3) and [`build_waterfall_scene`] (the integration mesh, the terrain deformation and
-//! the decoration after it, 4.4).
+//! The pipeline of chapter 4: [`build_waterfall_network`] (4.1–4.3) and [`build_waterfall_scene`] (the integration
+//! mesh, the terrain deformation and the decoration after it, 4.4).
 
 use super::decoration::{scatter_rocks, water_maps};
 use super::deform::deform;
@@ -154,8 +154,9 @@ impl WaterfallScene {
     }
 }
 
-/// The whole of chapter 4: [`build_waterfall_network`] (4.1–4.3), the integration mesh (4.4.1), the terrain deformation (4.4.2),
-/// the decoration maps and rocks (4.4.3). Same input and seed give the same scene whatever the number of threads.
+/// The whole of chapter 4: [`build_waterfall_network`] (4.1–4.3), the integration mesh (4.4.1), the terrain deformation
+/// (4.4.2), the decoration maps and rocks (4.4.3). Same input and seed give the same scene whatever the number of
+/// threads.
 pub fn build_waterfall_scene(
     terrain: &Heightfield,
     controllers: &[Controller],
