@@ -8,13 +8,22 @@
 //! `guarded`, which reports a panic as `InternalError`. Array arguments take any real numeric dtype whose meaning is
 //! clear (float32, integers, ...) and are cast to the engine's; an unusable one raises `InputError` naming the
 //! argument (see `arrays`).
+//!
+//! One file per area of the engine, named after the engine's module it binds (`exemplar`, `palette`, `compare`,
+//! `village`, ...); `arrays` and `convert` turn Python values into the engine's types and back. Everything is
+//! imported from the engine's crate root.
 
+mod analysis;
 mod arrangement;
 mod arrays;
-mod colors;
+mod compare;
 mod convert;
-mod exemplars;
-mod regions;
+mod exemplar;
+mod geom;
+mod interpolate;
+mod paint;
+mod palette;
+mod polygon_mesh;
 mod scene;
 mod sketch;
 mod terrain;
@@ -266,19 +275,29 @@ mod worldpaint_engine {
     use pyo3::prelude::*;
 
     #[pymodule_export]
+    use crate::analysis::learn_color;
+    #[pymodule_export]
     use crate::arrangement::{arrangement_edited, arrangement_summary, learn_arrangement};
     #[pymodule_export]
-    use crate::colors::{
-        color_renamed, color_summary, color_without_interactions, compare, fidelity,
-        interpolate_colors, learn_color, palette_from_json, palette_to_json, synthesize,
-    };
+    use crate::compare::{compare, fidelity};
     #[pymodule_export]
-    use crate::exemplars::{
+    use crate::exemplar::{
         exemplar_clustered, exemplar_demo_terrain, exemplar_hard_core, exemplar_slope_scene,
         exemplar_uniform, exemplar_village,
     };
     #[pymodule_export]
-    use crate::regions::{fill_polygons, region_area, region_bbox, region_contains};
+    use crate::geom::{region_area, region_bbox, region_contains};
+    #[pymodule_export]
+    use crate::interpolate::interpolate_colors;
+    #[pymodule_export]
+    use crate::paint::synthesize;
+    #[pymodule_export]
+    use crate::palette::{
+        color_renamed, color_summary, color_without_interactions, palette_from_json,
+        palette_to_json,
+    };
+    #[pymodule_export]
+    use crate::polygon_mesh::fill_polygons;
     #[pymodule_export]
     use crate::scene::PyScene;
     #[pymodule_export]

@@ -7,11 +7,12 @@
 //! what they measured.
 
 use crate::arrays::ArrayArg;
-use crate::colors::{color_painter, fidelity_to_py, synthesis_options, Painting};
+use crate::compare::fidelity_to_py;
 use crate::convert::{
     edit_to_py, field, parse_color, points_from_py, points_to_py, region_from_py, region_to_py,
     vec2,
 };
+use crate::paint::{color_painter, synthesis_options, Painting};
 use crate::scene::PyScene;
 use crate::{engine_err, guarded, input_err, with_progress};
 use numpy::PyArray2;

@@ -1,42 +1,13 @@
-//! Regions: containment, area and bounds for the add-on's checks; polygons filled as a mesh for display.
+//! Polygons filled as a mesh for display.
 
 use crate::arrays::ArrayArg;
-use crate::convert::{heights_of, points_from_py, points_to_py, region_from_py, rows_to_py};
+use crate::convert::{heights_of, points_from_py, points_to_py, rows_to_py};
 use crate::terrain::{terrain_of, Terrain};
 use crate::{guarded, input_err};
-use numpy::{IntoPyArray, PyArray1};
+use numpy::IntoPyArray;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use worldpaint_core::{triangulate, Polygons};
-
-/// Which of the points (float64 (N, 2)) lie inside the region: bool (N).
-#[pyfunction]
-pub(crate) fn region_contains<'py>(
-    py: Python<'py>,
-    region: &Bound<'py, PyAny>,
-    xy: ArrayArg<'py>,
-) -> PyResult<Bound<'py, PyArray1<bool>>> {
-    let region = region_from_py(region)?;
-    let pts = points_from_py(&xy, "xy")?;
-    let inside: Vec<bool> =
-        py.detach(|| guarded(|| Ok(pts.iter().map(|p| region.contains(*p)).collect())))?;
-    Ok(inside.into_pyarray(py))
-}
-
-/// Area of the region in m².
-#[pyfunction]
-pub(crate) fn region_area(region: &Bound<'_, PyAny>) -> PyResult<f64> {
-    let region = region_from_py(region)?;
-    guarded(|| Ok(region.area()))
-}
-
-/// ((xmin, ymin), (xmax, ymax)) of the region.
-#[pyfunction]
-pub(crate) fn region_bbox(region: &Bound<'_, PyAny>) -> PyResult<((f64, f64), (f64, f64))> {
-    let region = region_from_py(region)?;
-    let (a, b) = guarded(|| Ok(region.bbox()))?;
-    Ok(((a.x, a.y), (b.x, b.y)))
-}
 
 /// The filled mesh of closed contours (float64 (N, 2) arrays, combined by the even-odd rule: a lake in an island
 /// is a hole), with inner vertices about `spacing` apart so it can follow the terrain: {"vertices": float64 (V, 2),
