@@ -45,7 +45,7 @@ pub(crate) fn fidelity_to_py<'py>(py: Python<'py>, f: &Fidelity) -> PyResult<Bou
 /// The color is synthesized with `seed` into its own example region of an empty scene, on `terrain` (a `Terrain`:
 /// the one the color was learned on) when the color has terrain maps, else without terrain and without its terrain
 /// maps; what it painted is learned back with the color's bins and maps and compared with it (as `compare`), and
-/// the two are plotted (see `worldpaint_core::fidelity_plot`): each category's pair-correlation function with
+/// the two are plotted (see `worldpaint_core::draw_fidelity`): each category's pair-correlation function with
 /// itself over distance, the example's solid and the self-synthesis's dashed and lighter, over a grey line at 1;
 /// beside it, when the color has a slope map, the slope histograms, likewise. The picture holds no text.
 ///

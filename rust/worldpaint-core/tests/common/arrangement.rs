@@ -1,7 +1,5 @@
 //! What the arrangement tests share: elements, lattice references, growth options and the figures a user checks.
 
-#![allow(dead_code)] // each test file that includes this uses a part of it
-
 use std::collections::HashMap;
 
 use glam::DVec2;

@@ -8,8 +8,6 @@
 //! `assets/birch.py` writes (`v x y z`, `vt u v`, `usemtl name`, `f v/vt …`, comments), and a reader of it is shorter
 //! than the crate's options, and the test then follows the file line for line (a line it does not know is an error).
 
-#![allow(dead_code)] // each test that includes this file uses a part of it
-
 use glam::DVec3;
 use std::collections::HashSet;
 use worldpaint_core::{Atlas, DVec2, Decomposition, Model, VariantClass};

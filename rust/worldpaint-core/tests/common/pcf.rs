@@ -5,8 +5,6 @@
 //! = 1 / ((a − |dx|)(b − |dy|))`; `g(r) = Σ_{i≠j, d ∈ ring} w_ij / (λ² |ring|)` with `λ = n / |W|`. Rings are
 //! `dr` wide out to `r_max` (pairs beyond either side of the window are left out).
 
-#![allow(dead_code)] // each test that includes this file uses a part of it
-
 use worldpaint_core::DVec2;
 
 /// The translation-corrected pcf of `points` in the window `[lo, hi]`, one value per ring of width `dr`.

@@ -3,8 +3,6 @@
 //! `shared/data/real`, never in the repository: those tests are `#[ignore]`d with the reason, and `make test-rust`
 //! runs them with `--ignored` where the folder is present.
 
-#![allow(dead_code)] // each test that includes this file uses a part of it
-
 use std::path::PathBuf;
 use worldpaint_core::DVec2;
 

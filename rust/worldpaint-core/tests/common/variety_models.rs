@@ -2,8 +2,6 @@
 //! with foliage clusters, a crown) decomposed into 6 components with 3 variants each, a fully cyclic rock of four
 //! pieces, and a column whose middle piece has identical ends.
 
-#![allow(dead_code)] // each test or benchmark that includes this file uses a part of it
-
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::f64::consts::TAU;
