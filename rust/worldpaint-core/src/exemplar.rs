@@ -5,6 +5,7 @@
 
 use crate::geom::{DVec2, Region};
 use crate::scene::{Category, CategoryKind, Contour, Instance, Path, Scene};
+use crate::sketch::Stroke;
 use crate::spatial::{GridEntry, SpatialGrid};
 use crate::terrain::Heightfield;
 use rand::{Rng, SeedableRng};
@@ -763,4 +764,17 @@ pub fn waterfall_controllers(
         out.push(Controller::new(ControllerKind::Contact, pts));
     }
     out
+}
+
+/// `count` random two-point strokes anywhere in the sketch's frame (seeded): the scribbles of a user trying the tool,
+/// which the sketch must finish or refuse within its time limit.
+pub fn random_strokes(count: usize, seed: u64) -> Vec<Stroke> {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    (0..count)
+        .map(|_| Stroke {
+            points: (0..2)
+                .map(|_| DVec2::new(rng.random::<f64>(), rng.random::<f64>()))
+                .collect(),
+        })
+        .collect()
 }

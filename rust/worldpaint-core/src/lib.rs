@@ -79,7 +79,7 @@ pub use error::{check, Error, FileKind, Result};
 pub use geom::Region;
 pub use interpolate::interpolate_colors;
 pub use paint::{painted_fidelity, synthesize, synthesize_with_progress};
-pub use palette::{Color, Palette};
+pub use palette::{Color, ColorKind, Palette};
 pub use scene::{Category, CategoryKind, Instance, Scene};
 pub use synthesis::{SynthesisOptions, SynthesisResult};
 pub use terrain::Heightfield;

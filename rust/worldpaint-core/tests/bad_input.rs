@@ -472,8 +472,7 @@ mod variety {
 // ---- Apply Sketch: what no camera can show, and sketches too large to match -----------------------------------
 
 mod sketch {
-    use rand::{Rng, SeedableRng};
-    use worldpaint_core::exemplar::rough_terrain;
+    use worldpaint_core::exemplar::{random_strokes, rough_terrain};
     use worldpaint_core::geom::{DVec2, DVec3};
     use worldpaint_core::sketch::apply::{apply_sketch, SketchEdit, SketchOptions};
     use worldpaint_core::sketch::checks::MAX_MATCHING_WORK;
@@ -518,18 +517,6 @@ mod sketch {
         Stroke {
             points: points.iter().map(|&(x, y)| DVec2::new(x, y)).collect(),
         }
-    }
-
-    /// `count` random two-point strokes in the frame (seeded).
-    fn random_strokes(count: usize, seed: u64) -> Vec<Stroke> {
-        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
-        (0..count)
-            .map(|_| Stroke {
-                points: (0..2)
-                    .map(|_| DVec2::new(rng.random::<f64>(), rng.random::<f64>()))
-                    .collect(),
-            })
-            .collect()
     }
 
     fn apply(

@@ -48,7 +48,7 @@ color_painter! {
 }
 
 fn pasted<'py>(py: Python<'py>, p: Painting<'_>) -> PyResult<Bound<'py, PyDict>> {
-    if p.color.arrangement.is_some() {
+    if !p.color.kind.is_statistics() {
         let (edit, pattern) = with_progress(py, p.progress, |report| {
             let edit = paste_color(p.scene, &p.color, &p.region, &p.opts, report)?;
             let pattern = painted_fidelity(&edit.applied_to(p.scene), &p.region, &p.color)?;
