@@ -5,8 +5,11 @@ arrays and return the dataclasses below, built from the engine's dicts in this o
 Terrain are opaque handles that are only passed back in.
 
 The engine's exceptions are reachable here under their own names (``WorldPaintError``, ``InputError``,
-``FileFormatError``, ``NothingToLearn``, ``Cancelled``, ``InternalError``), looked up when first used so the add-on
-loads without the wheel and says so when it is needed.
+``FileFormatError``, ``NothingToLearn``, ``Cancelled``, ``InternalError``), and so are its generators of example
+scenes (``exemplar_uniform``, ``exemplar_clustered``, ``exemplar_hard_core``, ``exemplar_slope_scene``,
+``exemplar_village``, ``exemplar_demo_terrain``, for the tests, the demo and the benchmarks: what they return is the
+engine's, as its stub types it); all looked up when first used so the add-on loads without the wheel and says so when
+it is needed.
 
 Long computations take ``progress``: a callable ``progress(fraction)`` or ``progress(fraction, stage)`` returning
 False to cancel; the engine gives a stage's name to a callable that takes the second argument.
@@ -34,7 +37,8 @@ if TYPE_CHECKING:
 
     import worldpaint_engine._engine as _lib
 
-    # the engine's exceptions are reachable as this module's own (``__getattr__`` looks them up when the add-on runs)
+    # the engine's exceptions and example scenes are reachable as this module's own (``__getattr__`` looks them up
+    # when the add-on runs)
     from worldpaint_engine._engine import (  # noqa: F401
         AnalysisOptions,
         ArrangementChanges,
@@ -69,12 +73,20 @@ if TYPE_CHECKING:
         WaterfallDict,
         WaterfallOptions,
         WorldPaintError,
+        exemplar_clustered,
+        exemplar_demo_terrain,
+        exemplar_hard_core,
+        exemplar_slope_scene,
+        exemplar_uniform,
+        exemplar_village,
     )
     from worldpaint_engine._engine import Stroke as StrokeHandle
 
 T = TypeVar("T")
 
 ENGINE_ERRORS = ("WorldPaintError", "InputError", "FileFormatError", "NothingToLearn", "Cancelled", "InternalError")
+EXEMPLARS = ("exemplar_uniform", "exemplar_clustered", "exemplar_hard_core", "exemplar_slope_scene", "exemplar_village",
+             "exemplar_demo_terrain")
 
 
 def _engine_module() -> Any:
@@ -97,7 +109,7 @@ if not TYPE_CHECKING:
     _lib = _Engine()
 
     def __getattr__(name: str) -> Any:
-        if name in ENGINE_ERRORS:
+        if name in ENGINE_ERRORS or name in EXEMPLARS:
             return getattr(_lib, name)
         raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
