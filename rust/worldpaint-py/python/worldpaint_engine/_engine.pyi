@@ -365,16 +365,21 @@ class LatticeDict(TypedDict):
     spacing: float
     spread: float
 
-class ArrangementSummaryDict(TypedDict):
-    positions: Float64Array
-    symbols: list[int]
-    edges: Int64Array
-    boundary: list[bool]
+class ArrangementSettings(TypedDict):
+    """How an arrangement color paints: its elements' rotation, the noise of their scale, rotation (radians) and
+    tint, and every how many elements the growing pattern relaxes (0: at the end only)."""
+
     rotation: str
     scale_noise: float
     rotation_noise: float
     color_noise: float
     relax_every: int
+
+class ArrangementSummaryDict(ArrangementSettings):
+    positions: Float64Array
+    symbols: list[int]
+    edges: Int64Array
+    boundary: list[bool]
     flips: int
     lattice: LatticeDict | None
 
