@@ -25,7 +25,7 @@ import json
 import os
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, fields, replace
-from typing import TYPE_CHECKING, Any, Literal, NamedTuple, TypedDict, TypeVar
+from typing import TYPE_CHECKING, Any, Literal, NamedTuple, TypeVar
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -733,24 +733,12 @@ def blur(scene_handle: Scene, region: Region, windows: int, cells: int, seed: in
                                   influence_radius=influence_radius, progress=progress))
 
 
-class BilinearShape(TypedDict):
-    """The gradient shape whose two other colors (JSON) take the region's northern corners."""
-
-    kind: Literal["bilinear"]
-    north_west: str
-    north_east: str
-
-
-def gradient(scene_handle: Scene, start: str, end: str, region: Region, shape: GradientShape | BilinearShape,
-             bands: int | None, seed: int, influence_radius: float | None, progress: Progress | None = None) -> Edit:
+def gradient(scene_handle: Scene, start: str, end: str, region: Region, shape: GradientShape, bands: int | None,
+             seed: int, influence_radius: float | None, progress: Progress | None = None) -> Edit:
     """Paints ``region`` from color ``start`` to color ``end`` (JSON) along ``shape`` (see
     ``regions.gradient_shape``) in ``bands`` bands (None: one per interaction radius); a shape
     {"kind": "bilinear", "north_west", "north_east"} puts ``start``, ``end`` and those two colors at the corners of
     the region's box (south-west, south-east, north-west, north-east) in ``bands`` × ``bands`` cells."""
-    if shape["kind"] == "bilinear":
-        corners = [start, end, shape["north_west"], shape["north_east"]]
-        return Edit.of(_lib.bilinear_gradient(scene_handle, corners=corners, region=region, bands=bands,
-                                                   seed=seed, influence_radius=influence_radius, progress=progress))
     return Edit.of(_lib.gradient(scene_handle, start=start, end=end, region=region, shape=shape, bands=bands,
                                       seed=seed, influence_radius=influence_radius, progress=progress))
 

@@ -37,7 +37,6 @@ __all__ = [
     "arrangement_edited",
     "arrangement_summary",
     "assign_variants",
-    "bilinear_gradient",
     "blur",
     "build_waterfall",
     "clear_region",
@@ -162,7 +161,14 @@ class RadialShape(TypedDict):
     center: Pair
     radius: float
 
-GradientShape: TypeAlias = LinearShape | RadialShape
+class BilinearShape(TypedDict):
+    """The gradient shape whose two other colors (JSON) take the region's northern corners."""
+
+    kind: Literal["bilinear"]
+    north_west: str
+    north_east: str
+
+GradientShape: TypeAlias = LinearShape | RadialShape | BilinearShape
 
 class Model(TypedDict):
     """A mesh as Blender's arrays read it: corners per face, the vertex of each corner face after face, a UV per
@@ -738,14 +744,6 @@ def gradient(
     end: str,
     region: Region,
     shape: GradientShape,
-    bands: int | None = None,
-    seed: int = 0,
-    **options: Unpack[SynthesisOptions],
-) -> EditDict: ...
-def bilinear_gradient(
-    scene: Scene,
-    corners: Sequence[str],
-    region: Region,
     bands: int | None = None,
     seed: int = 0,
     **options: Unpack[SynthesisOptions],
