@@ -46,7 +46,6 @@ import bpy  # noqa: E402
 import numpy as np  # noqa: E402
 import showcase  # noqa: E402
 import worldpaint  # noqa: E402
-import worldpaint_engine as engine  # noqa: E402
 from mathutils import Vector  # noqa: E402
 from scene_kit import (  # noqa: E402
     SKETCH_CELL,
@@ -69,7 +68,7 @@ from scene_kit import (  # noqa: E402
     village_exemplar,
     vineyard_reference,
 )
-from worldpaint.bridge import points, variety  # noqa: E402
+from worldpaint.bridge import engine, points, variety  # noqa: E402
 from worldpaint.bridge.curves import structure_objects  # noqa: E402
 from worldpaint.bridge.sketch import sketch_collection  # noqa: E402
 
@@ -107,7 +106,7 @@ def build_and_learn():
     hills = engine_terrain_object("Hills", engine.exemplar_demo_terrain(HILLS_SIZE, 2.0, 11))
 
     # the grove: Thomas-process clumps of trees on a flat patch beside the exemplar
-    flat = engine.Terrain.from_grid((-230.0, -160.0), 2.0, np.zeros((61, 61)))
+    flat = engine.terrain_from_grid((-230.0, -160.0), 2.0, np.zeros((61, 61)))
     ground = engine_terrain_object("Grove ground", flat)
     xy = engine.exemplar_clustered(GROVE_REGION, 0.0015, 9.0, 3.0, 5)
     rng = np.random.default_rng(5)
@@ -273,7 +272,7 @@ def build_waterfall(hills):
 def plant_vineyard(hills):
     """A vineyard learned from a hand-planted block on flat ground, pasted into a clearing of the forest with its rows
     along the hillside: the flow curves follow the contour line through the clearing's centre."""
-    ground = engine_terrain_object("Vine ground", engine.Terrain.from_grid((-420.0, -320.0), 2.0, np.zeros((21, 21))))
+    ground = engine_terrain_object("Vine ground", engine.terrain_from_grid((-420.0, -320.0), 2.0, np.zeros((21, 21))))
     vines = vineyard_reference((-410.0, -310.0))
     out_of_pictures([ground, *vines])
     bpy.context.view_layer.update()

@@ -7,8 +7,8 @@ import pathlib
 import bmesh
 import bpy
 import numpy as np
-import worldpaint_engine as engine
 from mathutils import Matrix
+from worldpaint.bridge import engine
 
 CATEGORY_COLLECTIONS = {"tree": "Tree", "rock": "Rock", "grass": "Grass"}
 TERRAIN_COLOR = (0.55, 0.50, 0.36, 1.0)

@@ -68,9 +68,9 @@ def timed(fn):
 
 def exemplar_color():
     """Trees hard-core, rocks uniform, grass clustered: 0.1 per m² together."""
-    trees = engine.exemplar_hard_core(EXEMPLAR, 0.03, 3.0, 1)
-    rocks = engine.exemplar_uniform(EXEMPLAR, 0.03, 2)
-    grass = engine.exemplar_clustered(EXEMPLAR, 0.004, 10.0, 2.0, 3)
+    trees = facade.exemplar_hard_core(EXEMPLAR, 0.03, 3.0, 1)
+    rocks = facade.exemplar_uniform(EXEMPLAR, 0.03, 2)
+    grass = facade.exemplar_clustered(EXEMPLAR, 0.004, 10.0, 2.0, 3)
     xy = np.concatenate([trees, rocks, grass])
     index = np.repeat(np.arange(3, dtype=np.int32), [len(trees), len(rocks), len(grass)])
     color = engine.learn_color(engine.Scene(None, CATEGORIES, xy, index), EXEMPLAR, "Bench")
@@ -125,7 +125,7 @@ def main():
     worldpaint.register()
     bpy.ops.wm.read_factory_settings(use_empty=True)
     prototypes()
-    terrain = engine.exemplar_demo_terrain(args.size, 2.0, 7)
+    terrain = facade.exemplar_demo_terrain(args.size, 2.0, 7)
     terrain_obj = engine_terrain_object("Terrain", terrain)
     scene = bpy.context.scene
     scene.worldpaint.terrain = terrain_obj
@@ -175,7 +175,7 @@ def main():
 
     (ratio_engine, rdf_engine), (ratio_gn, rdf_gn) = fidelity(grass_engine), fidelity(gn_xy)
     # the reference: a second independent draw of the clustered process, on the exemplar's own area
-    second = engine.exemplar_clustered(EXEMPLAR, 0.004, 10.0, 2.0, 99)
+    second = facade.exemplar_clustered(EXEMPLAR, 0.004, 10.0, 2.0, 99)
     learned_second = engine.learn_color(engine.Scene(None, one, second, np.zeros(len(second), np.int32)), EXEMPLAR,
                                         "second")
     rdf_second = engine.compare(grass_color, learned_second)["max_rdf_l2"]
@@ -199,12 +199,12 @@ def bench_painting():
     """Section 3 of the module documentation."""
     bpy.ops.wm.read_factory_settings(use_empty=True)
     prototypes()
-    terrain = engine.exemplar_demo_terrain(600.0, 2.0, 7)
+    terrain = facade.exemplar_demo_terrain(600.0, 2.0, 7)
     terrain_obj = engine_terrain_object("Terrain", terrain)
     scene = bpy.context.scene
     scene.worldpaint.terrain = terrain_obj
     corner = {"shape": "rect", "min": [0.0, 0.0], "max": [100.0, 100.0]}
-    xy = engine.exemplar_hard_core(corner, 0.04, 3.0, 1)
+    xy = facade.exemplar_hard_core(corner, 0.04, 3.0, 1)
     examples = collection_instances("Tree", xy, terrain.heights_at(xy))
     select_only(examples)
     bpy.ops.worldpaint.learn_color(name="Trees", region_mode='RECT', rect_min=(0.0, 0.0), rect_max=(100.0, 100.0))
@@ -300,7 +300,7 @@ def bench_millions(size, counts=(100_000, 1_000_000)):
     """Section 5 of the module documentation; one column per count."""
     bpy.ops.wm.read_factory_settings(use_empty=True)
     prototypes()
-    terrain = engine.exemplar_demo_terrain(size, 2.0, 7)
+    terrain = facade.exemplar_demo_terrain(size, 2.0, 7)
     terrain_obj = engine_terrain_object("Terrain", terrain)
     scene = bpy.context.scene
     scene.worldpaint.terrain = terrain_obj

@@ -726,8 +726,7 @@ def moist_ground(example_weight):
     weights = np.where(x <= 100.0, example_weight(x), 0.0)
     for value in np.unique(weights):
         group.add([int(i) for i in np.flatnonzero(weights == value)], float(value), 'REPLACE')
-    xy = worldpaint_engine.exemplar_hard_core({"shape": "rect", "min": [0.0, 0.0], "max": [50.0, 100.0]}, 0.02, 3.0,
-                                              4)
+    xy = engine.exemplar_hard_core({"shape": "rect", "min": [0.0, 0.0], "max": [50.0, 100.0]}, 0.02, 3.0, 4)
     return terrain_obj, group, collection_instances("Tree", xy, np.zeros(len(xy)))
 
 
@@ -775,7 +774,7 @@ def test_a_share_of_the_destination_outside_the_example_is_never_said_to_be_0_pe
 
 
 def test_an_empty_collection_named_like_a_category_is_not_its_prototype(capfd):
-    terrain_obj = engine_terrain_object("Terrain", worldpaint_engine.exemplar_demo_terrain(600.0, 2.0, 7))
+    terrain_obj = engine_terrain_object("Terrain", engine.exemplar_demo_terrain(600.0, 2.0, 7))
     bpy.context.scene.worldpaint.terrain = terrain_obj
     pine = bpy.data.collections.new("Pine")
     bpy.context.scene.collection.children.link(pine)

@@ -5,7 +5,6 @@ through save and reload; appending a color again numbers its name and makes no s
 import bpy
 import numpy as np
 import pytest
-import worldpaint_engine
 from scene_kit import engine_terrain_object
 from worldpaint.bridge import engine
 from worldpaint.bridge.curves import structure_objects
@@ -24,7 +23,7 @@ def palette_file(tmp_path_factory):
     """The demo terrain with every built-in color appended, saved; the tests open the file (so everything they
     read has been through a save and a reload)."""
     bpy.ops.wm.read_factory_settings(use_empty=True)
-    terrain_obj = engine_terrain_object("Terrain", worldpaint_engine.exemplar_demo_terrain(600.0, 2.0, 7))
+    terrain_obj = engine_terrain_object("Terrain", engine.exemplar_demo_terrain(600.0, 2.0, 7))
     bpy.context.scene.worldpaint.terrain = terrain_obj
     assert bpy.ops.worldpaint.add_builtin_color(color='ALL') == {'FINISHED'}
     path = str(tmp_path_factory.mktemp("builtin") / "palette.blend")

@@ -2,8 +2,9 @@
 
 import bpy
 import numpy as np
-import worldpaint_engine as engine
+import worldpaint_engine
 from scene_kit import engine_terrain_object, mesh_object, select_only
+from worldpaint.bridge import engine
 from worldpaint.bridge.instances import point_cloud_arrays, point_cloud_objects
 
 SQUARE = {"region_mode": 'RECT', "rect_min": (0.0, 0.0), "rect_max": (60.0, 60.0)}
@@ -11,7 +12,7 @@ DESTINATION = {"region_mode": 'RECT', "rect_min": (60.0, 0.0), "rect_max": (120.
 
 
 def flat_world():
-    terrain = engine.Terrain.from_grid((0.0, 0.0), 2.0, np.zeros((61, 61)))
+    terrain = engine.terrain_from_grid((0.0, 0.0), 2.0, np.zeros((61, 61)))
     obj = engine_terrain_object("Flat", terrain)
     bpy.context.scene.worldpaint.terrain = obj
     return obj
@@ -87,7 +88,7 @@ def test_category_layer_and_priority_are_editable_and_learned():
     pebble.priority, boulder.priority = 0, 5
     pebble.layer = "ground"
     bpy.ops.worldpaint.learn_color(name="Stones", **SQUARE)
-    learned = {c["name"]: c for c in engine.color_summary(settings.palette["Stones"].json)["categories"]}
+    learned = {c["name"]: c for c in worldpaint_engine.color_summary(settings.palette["Stones"].json)["categories"]}
     assert learned["Pebble"]["priority"] == 0 and learned["Boulder"]["priority"] == 5
     assert learned["Pebble"]["layer"] == "ground"
 
@@ -112,7 +113,8 @@ def test_paste_next_to_hand_placed_content_respects_the_spacing_across_the_borde
     examples = linked_duplicates("Stone", pts)
     select_only(examples)
     bpy.ops.worldpaint.learn_color(name="Stones", **SQUARE)
-    min_distance = engine.color_summary(bpy.context.scene.worldpaint.palette[0].json)["categories"][0]["min_distance"]
+    (learned,) = worldpaint_engine.color_summary(bpy.context.scene.worldpaint.palette[0].json)["categories"]
+    min_distance = learned["min_distance"]
     select_only([])
     assert bpy.ops.worldpaint.paste_color(seed=3, **DESTINATION) == {'FINISHED'}
     pasted = point_cloud_arrays(point_cloud_objects(bpy.context.scene)["Stone"])[0][:, :2]

@@ -1,6 +1,10 @@
 """The stub of the compiled engine (``worldpaint_engine/_engine.pyi``) says what the module is: the same names, the same
 parameters (names, kinds and defaults, as pyo3 gives them in ``__text_signature__``), the same exception hierarchy,
 and result dicts with the keys its ``TypedDict``s declare. The type check of the add-on is only as true as this stub.
+
+A ``**options: Unpack[SomeOptions]`` of the stub (PEP 692) stands for the keys of its ``TypedDict``: keyword-only
+parameters of the compiled function, with the default None where their type admits None and some default where it
+does not (none for a ``Required`` key), unless the compiled function takes ``**options`` itself.
 """
 
 import ast
@@ -41,14 +45,26 @@ def type_only_names():
     return names
 
 
-def typed_dict_fields(name):
-    """{key: annotation text} of a TypedDict of the stub, with those of its bases."""
+def typed_dict_declarations(name):
+    """{key: (annotation text, whether the key is required)} of a TypedDict of the stub, with those of its bases (the
+    ``total`` of a class holds for the keys it declares)."""
     node = TOP[name]
-    fields = {}
+    declared = {}
     for base in node.bases:
         if isinstance(base, ast.Name) and base.id in TOP:
-            fields |= typed_dict_fields(base.id)
-    return fields | {n.target.id: ast.unparse(n.annotation) for n in node.body if isinstance(n, ast.AnnAssign)}
+            declared |= typed_dict_declarations(base.id)
+    total = not any(k.arg == "total" and ast.literal_eval(k.value) is False for k in node.keywords)
+    for n in node.body:
+        if isinstance(n, ast.AnnAssign):
+            annotation = ast.unparse(n.annotation)
+            required = annotation.startswith("Required[") or (total and not annotation.startswith("NotRequired["))
+            declared[n.target.id] = annotation, required
+    return declared
+
+
+def typed_dict_fields(name):
+    """{key: annotation text} of a TypedDict of the stub, with those of its bases."""
+    return {key: annotation for key, (annotation, _) in typed_dict_declarations(name).items()}
 
 
 def typed_dict_keys(name):
@@ -75,8 +91,37 @@ def check(result, name, optional=()):
             assert value.dtype == dtype, f"{name}[{key!r}]: {value.dtype}, not {np.dtype(dtype)}"
 
 
-def stub_parameters(function, drop_first=False):
-    """(name, kind, default) of each parameter of a function of the stub."""
+# the default of a keyword a stub's TypedDict stands for, where its type does not admit None: any default at all
+SOME_DEFAULT = "<some default>"
+
+
+def unpacked(arg):
+    """The TypedDict a ``**kw: Unpack[TD]`` of the stub unpacks, or None."""
+    annotation = arg.annotation
+    if isinstance(annotation, ast.Subscript) and ast.unparse(annotation.value) == "Unpack":
+        return ast.unparse(annotation.slice)
+    return None
+
+
+def keywords_of(typed_dict):
+    """(name, KEYWORD_ONLY, default) of each key of a stub's TypedDict unpacked as keywords: no default for a
+    required key, else None where the key's type admits None and ``SOME_DEFAULT`` where it does not."""
+    out = []
+    for key, (annotation, required) in typed_dict_declarations(typed_dict).items():
+        annotation = re.sub(r"^(Not)?Required\[(.*)\]$", r"\2", annotation)
+        if required:
+            default = inspect.Parameter.empty
+        elif annotation == "None" or annotation.endswith("| None"):
+            default = None
+        else:
+            default = SOME_DEFAULT
+        out.append((key, inspect.Parameter.KEYWORD_ONLY, default))
+    return out
+
+
+def stub_parameters(function, drop_first=False, runtime=()):
+    """(name, kind, default) of each parameter of a function of the stub; a ``**kw: Unpack[TD]`` is the TypedDict's
+    keys (``keywords_of``) unless the compiled function's parameters ``runtime`` take ``**kw`` too."""
     a = function.args
     out = []
     positional = a.posonlyargs + a.args
@@ -89,7 +134,9 @@ def stub_parameters(function, drop_first=False):
     for arg, default in zip(a.kwonlyargs, a.kw_defaults, strict=True):
         out.append((arg.arg, inspect.Parameter.KEYWORD_ONLY,
                     ast.literal_eval(default) if default else inspect.Parameter.empty))
-    if a.kwarg:
+    if a.kwarg and unpacked(a.kwarg) and (a.kwarg.arg, inspect.Parameter.VAR_KEYWORD) not in {p[:2] for p in runtime}:
+        out += keywords_of(unpacked(a.kwarg))
+    elif a.kwarg:
         out.append((a.kwarg.arg, inspect.Parameter.VAR_KEYWORD, inspect.Parameter.empty))
     return out[1:] if drop_first else out
 
@@ -101,6 +148,17 @@ def runtime_parameters(obj, drop_self=False):
     if drop_self:
         params = params[1:]
     return [(p.name, p.kind, p.default) for p in params]
+
+
+def assert_same_parameters(stub, runtime, what=""):
+    """The stub's parameters are the compiled function's: the positional ones in order, the keyword-only ones in any
+    order (a caller names them); a default ``SOME_DEFAULT`` of the stub's stands for any default of the function's."""
+    keyword = (inspect.Parameter.KEYWORD_ONLY, inspect.Parameter.VAR_KEYWORD)
+    some = {name for name, _, default in stub if default == SOME_DEFAULT}
+    assert [p for p in stub if p[1] not in keyword] == [p for p in runtime if p[1] not in keyword], what
+    assert sorted(p for p in stub if p[1] in keyword) == sorted(
+        (name, kind, SOME_DEFAULT if name in some and default is not inspect.Parameter.empty else default)
+        for name, kind, default in runtime if kind in keyword), what
 
 
 def test_the_stub_declares_every_name_the_module_exports_and_no_other():
@@ -117,7 +175,8 @@ def test_the_stub_declares_every_name_the_module_exports_and_no_other():
 
 @pytest.mark.parametrize("name", sorted(n for n in declared_all() if isinstance(TOP.get(n), ast.FunctionDef)))
 def test_each_function_takes_the_parameters_the_stub_gives_it(name):
-    assert stub_parameters(TOP[name]) == runtime_parameters(getattr(_engine, name))
+    runtime = runtime_parameters(getattr(_engine, name))
+    assert_same_parameters(stub_parameters(TOP[name], runtime=runtime), runtime)
 
 
 @pytest.mark.parametrize("name", ["Scene", "Stroke", "Terrain"])
@@ -126,13 +185,14 @@ def test_each_class_has_the_constructor_and_methods_the_stub_gives_it(name):
     methods = {n.name: n for n in TOP[name].body if isinstance(n, ast.FunctionDef)}
     runtime = {m for m in vars(cls) if m not in ("__doc__", "__module__")}
     assert set(methods) == runtime
-    assert stub_parameters(methods["__new__"], drop_first=True) == runtime_parameters(cls)
+    constructor = runtime_parameters(cls)
+    assert_same_parameters(stub_parameters(methods["__new__"], drop_first=True, runtime=constructor), constructor)
     for method, node in methods.items():
         if method == "__new__":
             continue
         static = any(ast.unparse(d) == "staticmethod" for d in node.decorator_list)
-        assert stub_parameters(node, drop_first=not static) == runtime_parameters(
-            getattr(cls, method), drop_self=not static), method
+        parameters = runtime_parameters(getattr(cls, method), drop_self=not static)
+        assert_same_parameters(stub_parameters(node, drop_first=not static, runtime=parameters), parameters, method)
 
 
 def test_the_exceptions_derive_as_the_stub_says():

@@ -4,9 +4,8 @@ near the water of a collection, each pasted on ground painted or laid out differ
 import bpy
 import numpy as np
 import pytest
-import worldpaint_engine as engine
 from scene_kit import collection_instances, flat_terrain, poly_curve, prototypes, select_only
-from worldpaint.bridge import scene_maps
+from worldpaint.bridge import engine, scene_maps
 from worldpaint.bridge.instances import point_cloud_arrays, point_cloud_objects
 
 EXEMPLAR = {"region_mode": 'RECT', "rect_min": (0.0, 0.0), "rect_max": (100.0, 100.0)}

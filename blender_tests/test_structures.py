@@ -7,6 +7,7 @@ import pytest
 import worldpaint_engine as engine
 from scene_kit import select_only, village_exemplar, village_height
 from worldpaint.bridge.curves import structure_objects
+from worldpaint.bridge.engine import exemplar_hard_core
 from worldpaint.bridge.geometry import spline_control_points as spline_points
 from worldpaint.bridge.instances import point_cloud_arrays, point_cloud_objects
 
@@ -171,7 +172,7 @@ def island_exemplar():
     islands = bpy.data.objects.new("Islands", curve)
     bpy.context.scene.collection.objects.link(islands)
     region = {"shape": "rect", "min": [0.0, 0.0], "max": [200.0, 200.0]}
-    xy = engine.exemplar_hard_core(region, 0.01, 4.0, 2)
+    xy = exemplar_hard_core(region, 0.01, 4.0, 2)
     on_land = inside_any(contours, xy)
     trees = collection_instances("Tree", xy[on_land], village_height(xy[on_land, 0], xy[on_land, 1]))
     return islands, trees

@@ -323,12 +323,11 @@ def test_a_village_that_builds_nothing_keeps_the_current_village(grown):
 
 
 def test_the_reasons_nothing_was_built_come_from_the_engine_report():
-    from worldpaint.bridge.engine import VillageReport
     from worldpaint.bridge.village import nothing_built
 
-    report = VillageReport(requested=3, seeded=1, fallbacks=0, unplaced=["farm", "farm"], unreachable=0,
-                           without_access=1, without_footprint=0, roads_over_max_grade=0, cycles=0,
-                           seconds=[0.0, 0.0, 0.0], road_width=5.0, max_grade=0.1)
+    report = {"requested": 3, "seeded": 1, "fallbacks": 0, "unplaced": ["farm", "farm"], "unreachable": 0,
+              "without_access": 1, "without_footprint": 0, "roads_over_max_grade": 0, "cycles": 0,
+              "seconds": [0.0, 0.0, 0.0], "road_width": 5.0, "max_grade": 0.1}
     message = nothing_built(report)
     assert message.startswith("Nothing could be built, the scene is unchanged")
     assert "2 requested buildings unplaced (2 farm)" in message and "1 without road access" in message

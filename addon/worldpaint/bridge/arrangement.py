@@ -49,13 +49,14 @@ def pattern_line(summary):
         lattice = summary.lattice
         parts.append(f"a {lattice['name']} lattice {lattice['spacing']:.2f} m apart (placed within "
                      f"{lattice['spread']:.2f} m)")
-    parts.append(rotation.get(summary.rotation, summary.rotation))
-    if summary.scale_noise > 0.0:
-        parts.append(f"scale noise {summary.scale_noise:.2f}")
-    if summary.rotation_noise > 0.0:
-        parts.append(f"rotation noise {np.degrees(summary.rotation_noise):.0f}°")
-    if summary.color_noise > 0.0:
-        parts.append(f"color noise {summary.color_noise:.2f}")
+    settings = summary.settings
+    parts.append(rotation.get(settings["rotation"], settings["rotation"]))
+    if settings["scale_noise"] > 0.0:
+        parts.append(f"scale noise {settings['scale_noise']:.2f}")
+    if settings["rotation_noise"] > 0.0:
+        parts.append(f"rotation noise {np.degrees(settings['rotation_noise']):.0f}°")
+    if settings["color_noise"] > 0.0:
+        parts.append(f"color noise {settings['color_noise']:.2f}")
     if summary.flips:
         parts.append(f"{summary.flips} edges flipped")
     return ", ".join(parts)

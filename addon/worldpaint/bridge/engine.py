@@ -5,8 +5,11 @@ arrays and return the dataclasses below, built from the engine's dicts in this o
 Terrain are opaque handles that are only passed back in.
 
 The engine's exceptions are reachable here under their own names (``WorldPaintError``, ``InputError``,
-``FileFormatError``, ``NothingToLearn``, ``Cancelled``, ``InternalError``), looked up when first used so the add-on
-loads without the wheel and says so when it is needed.
+``FileFormatError``, ``NothingToLearn``, ``Cancelled``, ``InternalError``), and so are its generators of example
+scenes (``exemplar_uniform``, ``exemplar_clustered``, ``exemplar_hard_core``, ``exemplar_slope_scene``,
+``exemplar_village``, ``exemplar_demo_terrain``, for the tests, the demo and the benchmarks: what they return is the
+engine's, as its stub types it); all looked up when first used so the add-on loads without the wheel and says so when
+it is needed.
 
 Long computations take ``progress``: a callable ``progress(fraction)`` or ``progress(fraction, stage)`` returning
 False to cancel; the engine gives a stage's name to a callable that takes the second argument.
@@ -21,8 +24,8 @@ from __future__ import annotations
 import json
 import os
 from collections.abc import Iterable, Sequence
-from dataclasses import asdict, dataclass, replace
-from typing import TYPE_CHECKING, Any, Literal, NamedTuple, TypedDict, TypeVar
+from dataclasses import dataclass, fields, replace
+from typing import TYPE_CHECKING, Any, Literal, NamedTuple, TypeVar
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -34,10 +37,12 @@ if TYPE_CHECKING:
 
     import worldpaint_engine._engine as _lib
 
-    # the engine's exceptions are reachable as this module's own (``__getattr__`` looks them up when the add-on runs)
+    # the engine's exceptions and example scenes are reachable as this module's own (``__getattr__`` looks them up
+    # when the add-on runs)
     from worldpaint_engine._engine import (  # noqa: F401
         AnalysisOptions,
         ArrangementChanges,
+        ArrangementSettings,
         Camera,
         Cancelled,
         CategoryInput,
@@ -64,17 +69,26 @@ if TYPE_CHECKING:
         TextureVarietyDict,
         VariantsDict,
         VillageDict,
+        VillageReportDict,
         VillageSetting,
         WaterfallController,
         WaterfallDict,
         WaterfallOptions,
         WorldPaintError,
+        exemplar_clustered,
+        exemplar_demo_terrain,
+        exemplar_hard_core,
+        exemplar_slope_scene,
+        exemplar_uniform,
+        exemplar_village,
     )
     from worldpaint_engine._engine import Stroke as StrokeHandle
 
 T = TypeVar("T")
 
 ENGINE_ERRORS = ("WorldPaintError", "InputError", "FileFormatError", "NothingToLearn", "Cancelled", "InternalError")
+EXEMPLARS = ("exemplar_uniform", "exemplar_clustered", "exemplar_hard_core", "exemplar_slope_scene", "exemplar_village",
+             "exemplar_demo_terrain")
 
 
 def _engine_module() -> Any:
@@ -97,7 +111,7 @@ if not TYPE_CHECKING:
     _lib = _Engine()
 
     def __getattr__(name: str) -> Any:
-        if name in ENGINE_ERRORS:
+        if name in ENGINE_ERRORS or name in EXEMPLARS:
             return getattr(_lib, name)
         raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
@@ -183,13 +197,10 @@ class Line(NamedTuple):
 
 
 @dataclass(frozen=True)
-class Edit:
-    """What a tool did to a scene: the rows of its instances removed, the instances added (XY, height on the terrain
-    or NaN, rotation, scale, category index, prototype, tint), and the paths and contours removed (indices) and
-    added."""
+class Instances:
+    """Instances as columns: XY (N, 2), height on the terrain (NaN off it or without one), rotation about Z, scale,
+    category index, prototype and tint."""
 
-    category_names: tuple[str, ...]
-    removed: NDArray[np.int64]
     positions: NDArray[np.float64]
     heights: NDArray[np.float64]
     rotations: NDArray[np.float64]
@@ -197,6 +208,15 @@ class Edit:
     category_index: NDArray[np.int32]
     prototype: NDArray[np.int32]
     tints: NDArray[np.float32]
+
+
+@dataclass(frozen=True)
+class Edit(Instances):
+    """What a tool did to a scene: the rows of its instances removed, the instances added (the columns), and the
+    paths and contours removed (indices) and added."""
+
+    category_names: tuple[str, ...]
+    removed: NDArray[np.int64]
     removed_paths: NDArray[np.int64]
     removed_contours: NDArray[np.int64]
     added_paths: tuple[Line, ...]
@@ -231,8 +251,7 @@ class Edit:
         category name) rules out; what it removes stays."""
         by_category = np.asarray(allowed, dtype=bool)
         keep = by_category[self.category_index] if len(self.category_index) else np.zeros(0, dtype=bool)
-        columns = {name: getattr(self, name)[keep] for name in ("positions", "heights", "rotations", "scales",
-                                                                  "category_index", "prototype", "tints")}
+        columns = {column.name: getattr(self, column.name)[keep] for column in fields(Instances)}
         return replace(
             self, **columns,
             added_paths=tuple(line for line in self.added_paths if by_category[line.category]),
@@ -380,27 +399,6 @@ class Encyclopedia:
 
 
 @dataclass(frozen=True)
-class VillageReport:
-    """What happened while a village grew."""
-
-    requested: int
-    seeded: int
-    fallbacks: int
-    unplaced: list[str]
-    unreachable: int
-    without_access: int
-    without_footprint: int
-    roads_over_max_grade: int
-    cycles: int
-    seconds: list[float]
-    road_width: float
-    max_grade: float
-
-    def as_dict(self) -> dict[str, Any]:
-        return asdict(self)
-
-
-@dataclass(frozen=True)
 class House:
     """One house mesh in world space: vertices (V, 3), faces as loop starts into ``indices``, a material per face;
     ``seed`` indexes the village's kept seeds and footprints."""
@@ -415,7 +413,8 @@ class House:
 @dataclass(frozen=True)
 class VillageResult:
     """A generated village: new roads, parcels (N, 2), footprints (M, 4, 2) and houses per kept seed, the seeds'
-    building and village types, the connections used, and the report."""
+    building and village types, the connections used, and the engine's report of how it grew (figures, kept as the
+    engine gives them: they are saved with the village as JSON)."""
 
     roads: tuple[Polyline, ...]
     parcels: tuple[NDArray[np.float64], ...]
@@ -424,7 +423,7 @@ class VillageResult:
     seed_buildings: tuple[str, ...]
     seed_village_types: tuple[str, ...]
     connections: NDArray[np.float64]
-    report: VillageReport
+    report: VillageReportDict
 
     @classmethod
     def of(cls, d: VillageDict) -> VillageResult:
@@ -438,7 +437,7 @@ class VillageResult:
             seed_buildings=tuple(seeds["building"]),
             seed_village_types=tuple(seeds["village_type"]),
             connections=d["connections"],
-            report=VillageReport(**d["report"]),
+            report=d["report"],
         )
 
 
@@ -524,20 +523,13 @@ def scene(heightfield: Terrain | None, instances: SceneColumns, structures: Scen
     return _lib.Scene(heightfield, **instances, **structures)
 
 
-@dataclass
-class WorldTile:
+@dataclass(frozen=True)
+class WorldTile(Instances):
     """One tile of a world's tile set: its instances' columns, ``category_index`` into ``categories`` (names)."""
 
     column: int
     row: int
     categories: list[str]
-    positions: NDArray[np.float64]
-    heights: NDArray[np.float64]
-    rotations: NDArray[np.float64]
-    scales: NDArray[np.float64]
-    category_index: NDArray[np.int32]
-    prototype: NDArray[np.int32]
-    tints: NDArray[np.float32]
 
 
 def world_manifest(folder: str) -> dict[str, Any]:
@@ -552,8 +544,8 @@ def world_manifest(folder: str) -> dict[str, Any]:
 def read_world_tile(path: str | os.PathLike[str]) -> WorldTile:
     with open(path, "rb") as f:
         d = _lib.read_world_tile(f.read())
-    return WorldTile(d["column"], d["row"], list(d["categories"]), d["positions"], d["heights"], d["rotations"],
-                     d["scales"], d["category_index"], d["prototype"], d["tints"])
+    return WorldTile(d["positions"], d["heights"], d["rotations"], d["scales"], d["category_index"], d["prototype"],
+                     d["tints"], column=d["column"], row=d["row"], categories=list(d["categories"]))
 
 
 def region_bbox(region: Region) -> tuple[tuple[float, float], tuple[float, float]]:
@@ -637,21 +629,17 @@ def palette_from_json(text: str) -> list[str]:
 @dataclass(frozen=True)
 class ArrangementSummary:
     """What an arrangement color holds: its reference (XY relative to its region's corner, symbol per element), the
-    reference's connectivity as index pairs, which elements lie on its boundary, how it is painted, and the lattice
-    it was placed on when it is near-regular ({"name", "spacing": its shortest step (m), "spread": how far the hand
-    placed elements from it (m, root mean square)}, else None)."""
+    reference's connectivity as index pairs, which elements lie on its boundary, how many of its edges were flipped,
+    the lattice it was placed on when it is near-regular ({"name", "spacing": its shortest step (m), "spread": how far
+    the hand placed elements from it (m, root mean square)}, else None), and how it is painted."""
 
     positions: NDArray[np.float64]
     symbols: tuple[int, ...]
     edges: NDArray[np.int64]
     boundary: tuple[bool, ...]
-    rotation: str
-    scale_noise: float
-    rotation_noise: float
-    color_noise: float
-    relax_every: int
     flips: int
     lattice: LatticeDict | None
+    settings: ArrangementSettings
 
 
 def learn_arrangement(scene_handle: Scene, region: Region, name: str) -> str:
@@ -664,11 +652,13 @@ def arrangement_summary(color_json: str) -> ArrangementSummary | None:
     d = _lib.arrangement_summary(color_json)
     if d is None:
         return None
+    settings: ArrangementSettings = {"rotation": d["rotation"], "scale_noise": d["scale_noise"],
+                                     "rotation_noise": d["rotation_noise"], "color_noise": d["color_noise"],
+                                     "relax_every": d["relax_every"]}
     return ArrangementSummary(
         positions=np.asarray(d["positions"], dtype=np.float64).reshape(-1, 2), symbols=tuple(d["symbols"]),
         edges=np.asarray(d["edges"], dtype=np.int64).reshape(-1, 2), boundary=tuple(d["boundary"]),
-        rotation=d["rotation"], scale_noise=d["scale_noise"], rotation_noise=d["rotation_noise"],
-        color_noise=d["color_noise"], relax_every=d["relax_every"], flips=d["flips"], lattice=d["lattice"],
+        flips=d["flips"], lattice=d["lattice"], settings=settings,
     )
 
 
@@ -743,24 +733,12 @@ def blur(scene_handle: Scene, region: Region, windows: int, cells: int, seed: in
                                   influence_radius=influence_radius, progress=progress))
 
 
-class BilinearShape(TypedDict):
-    """The gradient shape whose two other colors (JSON) take the region's northern corners."""
-
-    kind: Literal["bilinear"]
-    north_west: str
-    north_east: str
-
-
-def gradient(scene_handle: Scene, start: str, end: str, region: Region, shape: GradientShape | BilinearShape,
-             bands: int | None, seed: int, influence_radius: float | None, progress: Progress | None = None) -> Edit:
+def gradient(scene_handle: Scene, start: str, end: str, region: Region, shape: GradientShape, bands: int | None,
+             seed: int, influence_radius: float | None, progress: Progress | None = None) -> Edit:
     """Paints ``region`` from color ``start`` to color ``end`` (JSON) along ``shape`` (see
     ``regions.gradient_shape``) in ``bands`` bands (None: one per interaction radius); a shape
     {"kind": "bilinear", "north_west", "north_east"} puts ``start``, ``end`` and those two colors at the corners of
     the region's box (south-west, south-east, north-west, north-east) in ``bands`` × ``bands`` cells."""
-    if shape["kind"] == "bilinear":
-        corners = [start, end, shape["north_west"], shape["north_east"]]
-        return Edit.of(_lib.bilinear_gradient(scene_handle, corners=corners, region=region, bands=bands,
-                                                   seed=seed, influence_radius=influence_radius, progress=progress))
     return Edit.of(_lib.gradient(scene_handle, start=start, end=end, region=region, shape=shape, bands=bands,
                                       seed=seed, influence_radius=influence_radius, progress=progress))
 

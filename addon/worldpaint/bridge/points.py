@@ -129,135 +129,169 @@ def instancer_node_group():
     return group
 
 
-def build_instancer(group):
-    """The instancer's nodes: the prototypes (or, in the viewport, boxes or cones of their size) on the points;
-    in the viewport, only the points of the display percentage and within the cull distance of the camera."""
-    links, node = group.links, node_adder(group)
-    group_in = node('NodeGroupInput', -1400, 0)
-    group_out = node('NodeGroupOutput', 700, 0)
-    info = node('GeometryNodeCollectionInfo', -1100, -150, transform_space='ORIGINAL')
-    info.inputs["Separate Children"].default_value = True
-    info.inputs["Reset Children"].default_value = True
-    links.new(group_in.outputs["Collection"], info.inputs["Collection"])
+class NodeTree:
+    """Adds nodes to a node group (``node(kind, x, y, **settings)``) and links their sockets, with the few
+    combinations of nodes the instancer is made of."""
 
-    def attribute(name, data_type, y):
-        n = node('GeometryNodeInputNamedAttribute', 0, y, data_type=data_type)
-        n.inputs["Name"].default_value = name
-        return n
+    def __init__(self, group):
+        self.links = group.links
+        self.node = node_adder(group)
 
-    prototype = attribute("prototype", 'INT', -350)
-    rotation = attribute("rotation", 'FLOAT', -500)
-    scale = attribute("scale", 'FLOAT', -650)
-    combine = node('ShaderNodeCombineXYZ', 200, -500)
-    euler = node('FunctionNodeEulerToRotation', 350, -500)
-    on_points = node('GeometryNodeInstanceOnPoints', 500, 0)
-    on_points.inputs["Pick Instance"].default_value = True
+    def link(self, output, into):
+        self.links.new(output, into)
 
-    # the display mode applies in the viewport only: a render always has every instance with its full mesh
-    viewport = node('GeometryNodeIsViewport', -1100, 400)
-    mode = node('GeometryNodeSwitch', -900, 400, input_type='INT')
-    links.new(viewport.outputs[0], mode.inputs["Switch"])
-    links.new(group_in.outputs["Display"], socket(mode.inputs, "True"))
-    mode_out = socket(mode.outputs, "Output")
-
-    def mode_is(index, x, y):
-        n = node('FunctionNodeCompare', x, y, data_type='INT', operation='EQUAL')
-        links.new(mode_out, socket(n.inputs, "A"))
-        socket(n.inputs, "B").default_value = index
-        return n.outputs["Result"]
-
-    def boolean(operation, a, b, x, y):
-        n = node('FunctionNodeBooleanMath', x, y, operation=operation)
-        links.new(a, n.inputs[0])
-        links.new(b, n.inputs[1])
-        return n.outputs[0]
-
-    def math(operation, a, b, x, y):
-        n = node('ShaderNodeMath', x, y, operation=operation)
+    def math(self, operation, a, b, x, y):
+        """A Math node of ``operation`` on ``a`` and ``b``, each a socket or a number."""
+        n = self.node('ShaderNodeMath', x, y, operation=operation)
         for k, value in enumerate((a, b)):
             if isinstance(value, float):
                 n.inputs[k].default_value = value
             else:
-                links.new(value, n.inputs[k])
+                self.link(value, n.inputs[k])
         return n.outputs[0]
 
+    def boolean(self, operation, a, b, x, y):
+        n = self.node('FunctionNodeBooleanMath', x, y, operation=operation)
+        self.link(a, n.inputs[0])
+        self.link(b, n.inputs[1])
+        return n.outputs[0]
+
+    def compare(self, data_type, operation, a, b, x, y):
+        """A Compare node of socket ``a`` with ``b``, a socket or a number."""
+        n = self.node('FunctionNodeCompare', x, y, data_type=data_type, operation=operation)
+        self.link(a, socket(n.inputs, "A"))
+        if isinstance(b, int | float):
+            socket(n.inputs, "B").default_value = b
+        else:
+            self.link(b, socket(n.inputs, "B"))
+        return n.outputs["Result"]
+
+    def vector_math(self, operation, a, b, x, y):
+        """A Vector Math node of ``operation`` on sockets ``a`` and ``b``."""
+        n = self.node('ShaderNodeVectorMath', x, y, operation=operation)
+        self.link(a, n.inputs[0])
+        self.link(b, n.inputs[1])
+        return n
+
+
+def build_instancer(group):
+    """The instancer's nodes: the prototypes (or, in the viewport, boxes or cones of their size) on the points;
+    in the viewport, only the points of the display percentage and within the cull distance of the camera."""
+    tree = NodeTree(group)
+    group_in = tree.node('NodeGroupInput', -1400, 0)
+    group_out = tree.node('NodeGroupOutput', 700, 0)
+    info = tree.node('GeometryNodeCollectionInfo', -1100, -150, transform_space='ORIGINAL')
+    info.inputs["Separate Children"].default_value = True
+    info.inputs["Reset Children"].default_value = True
+    tree.link(group_in.outputs["Collection"], info.inputs["Collection"])
+    on_points = tree.node('GeometryNodeInstanceOnPoints', 500, 0)
+    on_points.inputs["Pick Instance"].default_value = True
+
+    # the display mode applies in the viewport only: a render always has every instance with its full mesh
+    viewport = tree.node('GeometryNodeIsViewport', -1100, 400).outputs[0]
+    switch = tree.node('GeometryNodeSwitch', -900, 400, input_type='INT')
+    tree.link(viewport, switch.inputs["Switch"])
+    tree.link(group_in.outputs["Display"], socket(switch.inputs, "True"))
+    mode = socket(switch.outputs, "Output")
+
+    tree.link(shown_points(tree, group_in, viewport, mode), on_points.inputs["Selection"])
+    tree.link(group_in.outputs["Geometry"], on_points.inputs["Points"])
+    tree.link(instanced(tree, info.outputs["Instances"], mode), on_points.inputs["Instance"])
+    place_by_attributes(tree, on_points)
+    tree.link(on_points.outputs["Instances"], group_out.inputs["Geometry"])
+
+
+def shown_points(tree, group_in, viewport, mode):
+    """The selection of the points the instancer shows: in the Percentage mode a fixed share of them, and in the
+    viewport, when the cull distance is set, only those within it of the active camera."""
     # Percentage: a random draw per point index with a fixed seed, so the same points show on every redraw
-    share = math('DIVIDE', group_in.outputs["Percentage"], 100.0, -900, 250)
-    draw = node('FunctionNodeRandomValue', -700, 250, data_type='BOOLEAN')
-    links.new(share, socket(draw.inputs, "Probability"))
-    shown = boolean('IMPLY', mode_is(1, -700, 400), socket(draw.outputs, "Value"), -500, 300)
+    share = tree.math('DIVIDE', group_in.outputs["Percentage"], 100.0, -900, 250)
+    draw = tree.node('FunctionNodeRandomValue', -700, 250, data_type='BOOLEAN')
+    tree.link(share, socket(draw.inputs, "Probability"))
+    percentage = tree.compare('INT', 'EQUAL', mode, 1, -700, 400)
+    shown = tree.boolean('IMPLY', percentage, socket(draw.outputs, "Value"), -500, 300)
 
     # culling: in the viewport, points farther than the cull distance (0: none) from the active camera are left out
-    camera = node('GeometryNodeInputActiveCamera', -1100, 100)
-    where = node('GeometryNodeObjectInfo', -900, 100, transform_space='ORIGINAL')
-    links.new(camera.outputs[0], where.inputs["Object"])
-    position = node('GeometryNodeInputPosition', -900, -50)
-    distance = node('ShaderNodeVectorMath', -700, 50, operation='DISTANCE')
-    links.new(position.outputs["Position"], distance.inputs[0])
-    links.new(where.outputs["Location"], distance.inputs[1])
-    near = node('FunctionNodeCompare', -500, 50, data_type='FLOAT', operation='LESS_EQUAL')
-    links.new(distance.outputs["Value"], socket(near.inputs, "A"))
-    links.new(group_in.outputs["Cull Distance"], socket(near.inputs, "B"))
-    culling = math('GREATER_THAN', group_in.outputs["Cull Distance"], 0.0, -700, -100)
-    culled = boolean('AND', viewport.outputs[0], culling, -500, -100)
-    kept = boolean('IMPLY', culled, near.outputs["Result"], -300, 50)
-    links.new(boolean('AND', shown, kept, -100, 200), on_points.inputs["Selection"])
+    camera = tree.node('GeometryNodeInputActiveCamera', -1100, 100)
+    where = tree.node('GeometryNodeObjectInfo', -900, 100, transform_space='ORIGINAL')
+    tree.link(camera.outputs[0], where.inputs["Object"])
+    position = tree.node('GeometryNodeInputPosition', -900, -50)
+    distance = tree.vector_math('DISTANCE', position.outputs["Position"], where.outputs["Location"], -700, 50)
+    near = tree.compare('FLOAT', 'LESS_EQUAL', distance.outputs["Value"], group_in.outputs["Cull Distance"], -500, 50)
+    culling = tree.math('GREATER_THAN', group_in.outputs["Cull Distance"], 0.0, -700, -100)
+    culled = tree.boolean('AND', viewport, culling, -500, -100)
+    kept = tree.boolean('IMPLY', culled, near, -300, 50)
+    return tree.boolean('AND', shown, kept, -100, 200)
 
-    # Bounds and Proxy: one wire box or cone the size of all the prototypes together, instead of each mesh
-    whole = node('GeometryNodeRealizeInstances', -1000, -300)  # a bounding box leaves instances out
-    links.new(info.outputs["Instances"], whole.inputs["Geometry"])
-    bounds = node('GeometryNodeBoundBox', -900, -300)
-    links.new(whole.outputs["Geometry"], bounds.inputs["Geometry"])
-    size = node('ShaderNodeVectorMath', -700, -300, operation='SUBTRACT')
-    links.new(bounds.outputs["Max"], size.inputs[0])
-    links.new(bounds.outputs["Min"], size.inputs[1])
-    centre = node('ShaderNodeVectorMath', -700, -450, operation='MULTIPLY_ADD')
-    links.new(size.outputs["Vector"], centre.inputs[0])
+
+def instanced(tree, prototypes, mode):
+    """What is instanced on the points: the ``prototypes`` (the collection's children as instances), or in the Bounds
+    and Proxy modes one wire box or cone the size of all of them together, standing where they stand."""
+    whole = tree.node('GeometryNodeRealizeInstances', -1000, -300)  # a bounding box leaves instances out
+    tree.link(prototypes, whole.inputs["Geometry"])
+    bounds = tree.node('GeometryNodeBoundBox', -900, -300)
+    tree.link(whole.outputs["Geometry"], bounds.inputs["Geometry"])
+    size = tree.vector_math('SUBTRACT', bounds.outputs["Max"], bounds.outputs["Min"], -700, -300).outputs["Vector"]
+    centre = tree.node('ShaderNodeVectorMath', -700, -450, operation='MULTIPLY_ADD')
+    tree.link(size, centre.inputs[0])
     centre.inputs[1].default_value = (0.5, 0.5, 0.5)
-    links.new(bounds.outputs["Min"], centre.inputs[2])
-    box = node('GeometryNodeMeshCube', -500, -300)
-    links.new(size.outputs["Vector"], box.inputs["Size"])
-    wire = node('GeometryNodeDeleteGeometry', -350, -300, domain='FACE', mode='ONLY_FACE')  # its 12 edges
-    links.new(box.outputs["Mesh"], wire.inputs["Geometry"])
-    extent = node('ShaderNodeSeparateXYZ', -500, -500)
-    links.new(size.outputs["Vector"], extent.inputs[0])
-    cone = node('GeometryNodeMeshCone', -350, -500)
-    cone.inputs["Vertices"].default_value = 8
-    links.new(math('MULTIPLY', math('MAXIMUM', extent.outputs["X"], extent.outputs["Y"], -500, -650), 0.5, -350,
-                   -650), cone.inputs["Radius Bottom"])
-    links.new(extent.outputs["Z"], cone.inputs["Depth"])
-    base = node('ShaderNodeVectorMath', -500, -800, operation='MULTIPLY_ADD')  # the cone stands on its base
-    links.new(size.outputs["Vector"], base.inputs[0])
-    base.inputs[1].default_value = (0.0, 0.0, -0.5)
-    links.new(centre.outputs["Vector"], base.inputs[2])
-    placed_box = node('GeometryNodeTransform', -200, -300)  # the cube is made about its centre
-    links.new(wire.outputs["Geometry"], placed_box.inputs["Geometry"])
-    links.new(centre.outputs["Vector"], placed_box.inputs["Translation"])
-    placed_cone = node('GeometryNodeTransform', -200, -500)
-    links.new(cone.outputs["Mesh"], placed_cone.inputs["Geometry"])
-    links.new(base.outputs["Vector"], placed_cone.inputs["Translation"])
-    proxy_switch = node('GeometryNodeSwitch', -50, -400, input_type='GEOMETRY')
-    links.new(mode_is(3, -350, -200), proxy_switch.inputs["Switch"])
-    links.new(placed_box.outputs["Geometry"], socket(proxy_switch.inputs, "False"))
-    links.new(placed_cone.outputs["Geometry"], socket(proxy_switch.inputs, "True"))
-    stand_in = node('GeometryNodeGeometryToInstance', 100, -400)
-    links.new(proxy_switch.outputs[0], stand_in.inputs["Geometry"])
-    simple = node('FunctionNodeCompare', -350, -100, data_type='INT', operation='GREATER_EQUAL')
-    links.new(mode_out, socket(simple.inputs, "A"))
-    socket(simple.inputs, "B").default_value = 2
-    source = node('GeometryNodeSwitch', 300, -150, input_type='GEOMETRY')
-    links.new(simple.outputs["Result"], source.inputs["Switch"])
-    links.new(info.outputs["Instances"], socket(source.inputs, "False"))
-    links.new(stand_in.outputs["Instances"], socket(source.inputs, "True"))
+    tree.link(bounds.outputs["Min"], centre.inputs[2])
+    box = tree.node('GeometryNodeMeshCube', -500, -300)
+    tree.link(size, box.inputs["Size"])
+    wire = tree.node('GeometryNodeDeleteGeometry', -350, -300, domain='FACE', mode='ONLY_FACE')  # its 12 edges
+    tree.link(box.outputs["Mesh"], wire.inputs["Geometry"])
+    placed_box = tree.node('GeometryNodeTransform', -200, -300)  # the cube is made about its centre
+    tree.link(wire.outputs["Geometry"], placed_box.inputs["Geometry"])
+    tree.link(centre.outputs["Vector"], placed_box.inputs["Translation"])
 
-    links.new(group_in.outputs["Geometry"], on_points.inputs["Points"])
-    links.new(source.outputs[0], on_points.inputs["Instance"])
-    links.new(prototype.outputs["Attribute"], on_points.inputs["Instance Index"])
-    links.new(rotation.outputs["Attribute"], combine.inputs["Z"])
-    links.new(combine.outputs["Vector"], euler.inputs["Euler"])
-    links.new(euler.outputs["Rotation"], on_points.inputs["Rotation"])
-    links.new(scale.outputs["Attribute"], on_points.inputs["Scale"])
-    links.new(on_points.outputs["Instances"], group_out.inputs["Geometry"])
+    proxy_switch = tree.node('GeometryNodeSwitch', -50, -400, input_type='GEOMETRY')
+    tree.link(tree.compare('INT', 'EQUAL', mode, 3, -350, -200), proxy_switch.inputs["Switch"])
+    tree.link(placed_box.outputs["Geometry"], socket(proxy_switch.inputs, "False"))
+    tree.link(proxy_cone(tree, size, centre.outputs["Vector"]), socket(proxy_switch.inputs, "True"))
+    stand_in = tree.node('GeometryNodeGeometryToInstance', 100, -400)
+    tree.link(proxy_switch.outputs[0], stand_in.inputs["Geometry"])
+    simple = tree.compare('INT', 'GREATER_EQUAL', mode, 2, -350, -100)
+    source = tree.node('GeometryNodeSwitch', 300, -150, input_type='GEOMETRY')
+    tree.link(simple, source.inputs["Switch"])
+    tree.link(prototypes, socket(source.inputs, "False"))
+    tree.link(stand_in.outputs["Instances"], socket(source.inputs, "True"))
+    return source.outputs[0]
+
+
+def proxy_cone(tree, size, centre):
+    """An 8-sided cone as wide as the larger of the prototypes' X and Y extents and as tall as their Z extent
+    (``size``), standing on the base of their box about ``centre``."""
+    extent = tree.node('ShaderNodeSeparateXYZ', -500, -500)
+    tree.link(size, extent.inputs[0])
+    cone = tree.node('GeometryNodeMeshCone', -350, -500)
+    cone.inputs["Vertices"].default_value = 8
+    widest = tree.math('MAXIMUM', extent.outputs["X"], extent.outputs["Y"], -500, -650)
+    tree.link(tree.math('MULTIPLY', widest, 0.5, -350, -650), cone.inputs["Radius Bottom"])
+    tree.link(extent.outputs["Z"], cone.inputs["Depth"])
+    base = tree.node('ShaderNodeVectorMath', -500, -800, operation='MULTIPLY_ADD')  # the cone stands on its base
+    tree.link(size, base.inputs[0])
+    base.inputs[1].default_value = (0.0, 0.0, -0.5)
+    tree.link(centre, base.inputs[2])
+    placed = tree.node('GeometryNodeTransform', -200, -500)
+    tree.link(cone.outputs["Mesh"], placed.inputs["Geometry"])
+    tree.link(base.outputs["Vector"], placed.inputs["Translation"])
+    return placed.outputs["Geometry"]
+
+
+def place_by_attributes(tree, on_points):
+    """Each instance picked, turned about Z and scaled by its point's ``prototype``, ``rotation`` and ``scale``."""
+    def attribute(name, data_type, y):
+        n = tree.node('GeometryNodeInputNamedAttribute', 0, y, data_type=data_type)
+        n.inputs["Name"].default_value = name
+        return n.outputs["Attribute"]
+
+    tree.link(attribute("prototype", 'INT', -350), on_points.inputs["Instance Index"])
+    combine = tree.node('ShaderNodeCombineXYZ', 200, -500)
+    tree.link(attribute("rotation", 'FLOAT', -500), combine.inputs["Z"])
+    euler = tree.node('FunctionNodeEulerToRotation', 350, -500)
+    tree.link(combine.outputs["Vector"], euler.inputs["Euler"])
+    tree.link(euler.outputs["Rotation"], on_points.inputs["Rotation"])
+    tree.link(attribute("scale", 'FLOAT', -650), on_points.inputs["Scale"])
 
 
 def nodes_modifier(obj, name, group):

@@ -347,7 +347,7 @@ def build_village(scene, result, terrain_obj, heightfield, parcels_as_curves):
     collection = village_collection(scene)
     clear_village(collection)
     built = BuiltVillage(collection)
-    width = float(result.report.road_width)
+    width = float(result.report["road_width"])
 
     if result.roads:
         built.roads = lines_object(collection, ROADS_NAME, "roads")
@@ -371,7 +371,7 @@ def build_village(scene, result, terrain_obj, heightfield, parcels_as_curves):
         built.houses.append(house_object(collection, house, result.footprints[k], result.seed_buildings[k],
                                          result.seed_village_types[k], materials))
 
-    collection[REPORT_PROP] = json.dumps(result.report.as_dict())
+    collection[REPORT_PROP] = json.dumps(result.report)
     return built
 
 
@@ -383,33 +383,33 @@ def builds_nothing(result, parcels_as_curves):
 def shortfalls(report):
     """What the engine's report says of the requested buildings that were not built."""
     parts = []
-    unplaced = Counter(report.unplaced)
+    unplaced = Counter(report["unplaced"])
     if unplaced:
         kinds = ", ".join(f"{n} {name}" for name, n in sorted(unplaced.items()))
         parts.append(f"{sum(unplaced.values())} requested buildings unplaced ({kinds})")
-    dropped = report.unreachable + report.without_access + report.without_footprint
+    dropped = report["unreachable"] + report["without_access"] + report["without_footprint"]
     if dropped:
-        parts.append(f"{dropped} seeds dropped ({report.unreachable} out of the roads' reach, "
-                     f"{report.without_access} without road access, {report.without_footprint} with a parcel "
+        parts.append(f"{dropped} seeds dropped ({report['unreachable']} out of the roads' reach, "
+                     f"{report['without_access']} without road access, {report['without_footprint']} with a parcel "
                      "too small)")
     return parts
 
 
 def nothing_built(report):
-    """The warning of a generation that built nothing, with the reasons its ``engine.VillageReport`` gives."""
+    """The warning of a generation that built nothing, with the reasons its report (``VillageResult.report``) gives."""
     why = "; ".join(shortfalls(report)) or "no building of the scenario found a place in the region"
     return (f"Nothing could be built, the scene is unchanged: {why}. Try a larger or flatter region, another seed "
             "or another scenario")
 
 
 def summary(built, report):
-    """(info, warnings) of a generation (its ``engine.VillageReport``), as the panel and the status bar show them."""
+    """(info, warnings) of a generation (its ``VillageResult.report``), as the panel and the status bar show them."""
     roads = len(built.roads.data.splines) if built.roads is not None else 0
-    parts = [f"{len(built.houses)} houses, {roads} roads ({report.cycles} cycles)"] + shortfalls(report)
+    parts = [f"{len(built.houses)} houses, {roads} roads ({report['cycles']} cycles)"] + shortfalls(report)
     warnings = []
-    if report.roads_over_max_grade:
-        warnings.append(f"{report.roads_over_max_grade} roads had to be steeper than the maximum grade of "
-                        f"{report.max_grade:.0%}: the terrain left no gentler way")
+    if report["roads_over_max_grade"]:
+        warnings.append(f"{report['roads_over_max_grade']} roads had to be steeper than the maximum grade of "
+                        f"{report['max_grade']:.0%}: the terrain left no gentler way")
     if not built.houses:
         warnings.append("No house was built: try another region, seed or scenario")
     return "; ".join(parts), warnings

@@ -23,6 +23,8 @@ from .colors import add_palette_color, palette_index, unique_name
 from .common import RegionProperties, TerrainProperty, report_errors, reports_errors, setting
 
 NO_FIDELITY = "An arrangement: painted by growth from its reference, it has no pcf view"
+# the numbers of how a pattern is painted (the other setting is its rotation), as the engine and the operator name them
+NUMBERS = ("scale_noise", "rotation_noise", "color_noise", "relax_every")
 
 
 class PatternGuideProperties:
@@ -134,11 +136,10 @@ class WORLDPAINT_OT_pattern_settings(bpy.types.Operator):
 
     def invoke(self, context, event):
         def start():
-            summary = engine.arrangement_summary(arrangement_entry(context, self.index).json)
-            self.rotation = summary.rotation.upper()
-            self.scale_noise, self.rotation_noise = summary.scale_noise, summary.rotation_noise
-            self.color_noise = summary.color_noise
-            self.relax_every = summary.relax_every
+            current = engine.arrangement_summary(arrangement_entry(context, self.index).json).settings
+            self.rotation = current["rotation"].upper()
+            for name in NUMBERS:
+                setattr(self, name, current[name])
             return context.window_manager.invoke_props_dialog(self)
 
         return report_errors(self, start)
@@ -146,13 +147,10 @@ class WORLDPAINT_OT_pattern_settings(bpy.types.Operator):
     @reports_errors
     def execute(self, context):
         entry = arrangement_entry(context, self.index)
-        summary = engine.arrangement_summary(entry.json)
+        current = engine.arrangement_summary(entry.json).settings
         # what the call does not set stays as the color has it
-        changes = {"rotation": setting(self, "rotation", summary.rotation.upper()).lower(),
-                   "scale_noise": setting(self, "scale_noise", summary.scale_noise),
-                   "rotation_noise": setting(self, "rotation_noise", summary.rotation_noise),
-                   "color_noise": setting(self, "color_noise", summary.color_noise),
-                   "relax_every": setting(self, "relax_every", summary.relax_every)}
+        changes = {name: setting(self, name, current[name]) for name in NUMBERS}
+        changes["rotation"] = setting(self, "rotation", current["rotation"].upper()).lower()
         entry.json, entry.learned_json = edited_both(entry, **changes)
         refresh_pattern(entry)
         return {'FINISHED'}

@@ -7,16 +7,6 @@ they are saved in the .blend and read the same whatever the viewport's size.
 """
 
 import bpy
-from bpy.props import (
-    BoolProperty,
-    CollectionProperty,
-    EnumProperty,
-    FloatProperty,
-    FloatVectorProperty,
-    IntProperty,
-    PointerProperty,
-    StringProperty,
-)
 
 SOURCES = (
     ("STROKES", "Strokes", "The strokes drawn with the Sketch Silhouettes tool"),
@@ -27,14 +17,14 @@ SOURCES = (
 class WORLDPAINT_PG_sketch_point(bpy.types.PropertyGroup):
     """A point of a silhouette stroke in the camera frame (0-1 in x and y)."""
 
-    co: FloatVectorProperty(name="Point", size=2)
+    co: bpy.props.FloatVectorProperty(name="Point", size=2)
 
 
 class WORLDPAINT_PG_sketch_stroke(bpy.types.PropertyGroup):
     """A silhouette stroke, and where Apply Sketch put it in depth."""
 
-    points: CollectionProperty(type=WORLDPAINT_PG_sketch_point)
-    depth_rank: IntProperty(
+    points: bpy.props.CollectionProperty(type=WORLDPAINT_PG_sketch_point)
+    depth_rank: bpy.props.IntProperty(
         name="Depth", default=-1, min=-1,
         description="Place of the stroke from front (0) to back found by the last Apply Sketch (-1: not applied yet)",
     )
@@ -43,30 +33,30 @@ class WORLDPAINT_PG_sketch_stroke(bpy.types.PropertyGroup):
 class WORLDPAINT_PG_sketch(bpy.types.PropertyGroup):
     """The sketch and how the terrain is deformed to it."""
 
-    camera: PointerProperty(
+    camera: bpy.props.PointerProperty(
         name="Camera", type=bpy.types.Object,
         description="Camera the strokes are drawn through (empty: the scene camera)",
     )
-    strokes: CollectionProperty(type=WORLDPAINT_PG_sketch_stroke)
-    source: EnumProperty(name="Strokes From", items=SOURCES, default="STROKES")
-    annotation_layer: StringProperty(
+    strokes: bpy.props.CollectionProperty(type=WORLDPAINT_PG_sketch_stroke)
+    source: bpy.props.EnumProperty(name="Strokes From", items=SOURCES, default="STROKES")
+    annotation_layer: bpy.props.StringProperty(
         name="Layer", description="Annotation layer whose strokes are read through the camera (empty: the active one)",
     )
-    reach: FloatProperty(
+    reach: bpy.props.FloatProperty(
         name="Reach", default=0.0, min=0.0, soft_max=2000.0, unit='LENGTH',
         description="Distance from the sketched silhouettes beyond which the terrain stays as it was (0: eight times "
                     "the largest height change, at most half the distance from the camera to the nearest silhouette)",
     )
-    completion: BoolProperty(
+    completion: bpy.props.BoolProperty(
         name="Complete to Ground", default=True,
         description="Extend each silhouette along its ends until it meets the terrain, so that seen from elsewhere it "
                     "does not begin in mid-air",
     )
-    show_features: BoolProperty(
+    show_features: bpy.props.BoolProperty(
         name="Show Features", default=True,
         description="Draw the detected terrain features and the matched ones as curves in a 'Sketch' collection",
     )
-    reseat: BoolProperty(
+    reseat: bpy.props.BoolProperty(
         name="Re-seat", default=True,
         description="Move instances and village houses standing on changed ground with it",
     )

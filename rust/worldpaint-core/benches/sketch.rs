@@ -25,12 +25,11 @@
 mod timing;
 
 use criterion::Criterion;
-use rand::{Rng, SeedableRng};
 use std::hint::black_box;
 use std::time::{Duration, Instant};
 use worldpaint_core::{
-    apply_sketch, detect_features, ridges, rough_terrain, silhouettes, Camera, DVec2, FeatureKind,
-    FeatureOptions, Heightfield, Sight, SketchOptions, SketchStroke,
+    apply_sketch, detect_features, random_strokes, ridges, rough_terrain, silhouettes, Camera,
+    DVec2, FeatureKind, FeatureOptions, Heightfield, Sight, SketchOptions, SketchStroke,
 };
 
 const BUDGET_S: f64 = 0.5;
@@ -162,17 +161,7 @@ fn many_strokes(c: &mut Criterion, terrain: &Heightfield, camera: &Camera) -> (f
     let mut g = timing::flat_group(c, "sketch_many", 10, Duration::from_secs(30));
     let mut options = SketchOptions::default();
     options.limits.max_change = Some(1e6);
-    let random = |count: usize| -> Vec<SketchStroke> {
-        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
-        (0..count)
-            .map(|_| SketchStroke {
-                points: (0..2)
-                    .map(|_| DVec2::new(rng.random::<f64>(), rng.random::<f64>()))
-                    .collect(),
-            })
-            .collect()
-    };
-    let twenty = random(20);
+    let twenty = random_strokes(20, 7);
     let twenty_s = timing::median(&mut g, "random_20", || {
         let t0 = Instant::now();
         if let Err(e) = apply_sketch(terrain, camera, &twenty, &options, &|_| true) {
@@ -180,7 +169,7 @@ fn many_strokes(c: &mut Criterion, terrain: &Heightfield, camera: &Camera) -> (f
         }
         t0.elapsed()
     });
-    let fifty = random(50);
+    let fifty = random_strokes(50, 7);
     let fifty_s = timing::median(&mut g, "random_50_stop_3s", || {
         let t0 = Instant::now();
         let stop = |_: f64| t0.elapsed() < Duration::from_secs(3);

@@ -6,6 +6,7 @@
 
 use crate::geom::{DVec2, Region};
 use crate::scene::{Category, CategoryKind, Contour, Instance, Path, Scene};
+use crate::sketch::SketchStroke;
 use crate::spatial::{GridEntry, SpatialGrid};
 use crate::terrain::Heightfield;
 use rand::{Rng, SeedableRng};
@@ -793,4 +794,17 @@ pub fn laplace_residual(values: &[f64], nx: usize, ny: usize, free: impl Fn(usiz
         }
     }
     worst
+}
+
+/// `count` random two-point strokes anywhere in the sketch's frame (seeded): the scribbles of a user trying the tool,
+/// which the sketch must finish or refuse within its time limit.
+pub fn random_strokes(count: usize, seed: u64) -> Vec<SketchStroke> {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    (0..count)
+        .map(|_| SketchStroke {
+            points: (0..2)
+                .map(|_| DVec2::new(rng.random::<f64>(), rng.random::<f64>()))
+                .collect(),
+        })
+        .collect()
 }

@@ -41,8 +41,8 @@
 
 use crate::error::{check, Error, Result};
 use crate::palette::{
-    CategoryColor, Color, GraphColor, Histogram, Interaction, MapInteraction, PairInteraction,
-    PolygonColor,
+    CategoryColor, Color, ColorKind, GraphColor, Histogram, Interaction, MapInteraction,
+    PairInteraction, PolygonColor,
 };
 
 /// Interpolates two colors at `t` ∈ [0, 1] by displacement interpolation of their histograms (see the module
@@ -55,7 +55,7 @@ pub fn interpolate_colors(a: &Color, b: &Color, t: f64, name: &str) -> Result<Co
         return Ok(c);
     }
     // a pattern's topology has no halfway point with another's or with statistics
-    if let Some(c) = [a, b].into_iter().find(|c| c.arrangement.is_some()) {
+    if let Some(c) = [a, b].into_iter().find(|c| !c.kind.is_statistics()) {
         return Err(Error::invalid(
             format!("color '{}'", c.name),
             "is an arrangement: arrangements cannot be blended with other colors",
@@ -105,7 +105,7 @@ pub fn interpolate_colors(a: &Color, b: &Color, t: f64, name: &str) -> Result<Co
         graphs,
         polygons,
         preview: near.preview.clone(),
-        arrangement: None,
+        kind: ColorKind::Statistics,
     };
     color.validate()?;
     Ok(color)

@@ -102,9 +102,9 @@ pub use error::{Error, FileKind, Result};
 // exemplar: demo scenes and terrains
 pub use exemplar::{
     archipelago_scene, clustered_points, demo_terrain, hard_core_points, laplace_residual,
-    river_rocks, rough_terrain, scene_from_points, slope_scene, undergrowth_scene, uniform_points,
-    village_scene, village_terrain, waterfall_controllers, RIVER_ROCK_CATEGORY, RIVER_ROCK_DENSITY,
-    RIVER_ROCK_SPACING,
+    random_strokes, river_rocks, rough_terrain, scene_from_points, slope_scene, undergrowth_scene,
+    uniform_points, village_scene, village_terrain, waterfall_controllers, RIVER_ROCK_CATEGORY,
+    RIVER_ROCK_DENSITY, RIVER_ROCK_SPACING,
 };
 // fidelity_plot
 pub use fidelity_plot::{draw_fidelity, FidelityPlot};
@@ -128,7 +128,8 @@ pub use limits::{
 pub use paint::{painted_fidelity, synthesize, synthesize_with_progress};
 // palette: histograms, colors, palettes
 pub use palette::{
-    Color, GraphColor, Histogram, Interaction, MapSource, Palette, PALETTE_FORMAT_VERSION,
+    Color, ColorKind, GraphColor, Histogram, Interaction, MapSource, Palette,
+    PALETTE_FORMAT_VERSION,
 };
 // polygon_mesh
 pub use polygon_mesh::triangulate;

@@ -314,10 +314,52 @@ pub struct Color {
     /// Exemplar points (x, y, category index into `categories`) relative to the region's bbox min, for the
     /// palette's preview picture.
     pub preview: Vec<[f64; 3]>,
-    /// An arrangement color's reference and painting settings: such a color paints by local growth, its
-    /// categories being the reference's symbols. `None` for a color of statistics.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub arrangement: Option<ArrangementColor>,
+    /// What the color paints by: its statistics, or an arrangement's reference grown element by element. Written
+    /// as the optional `"arrangement"` field, so files of either kind read as before.
+    #[serde(
+        default,
+        rename = "arrangement",
+        with = "kind_as_arrangement",
+        skip_serializing_if = "ColorKind::is_statistics"
+    )]
+    pub kind: ColorKind,
+}
+
+/// What a color paints by.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub enum ColorKind {
+    /// The Metropolis-Hastings synthesis of its histograms (WorldBrush).
+    #[default]
+    Statistics,
+    /// Local growth from a reference (Ijiri et al. 2008), its categories being the reference's symbols.
+    Arrangement(ArrangementColor),
+}
+
+impl ColorKind {
+    /// True for a color of statistics.
+    pub fn is_statistics(&self) -> bool {
+        matches!(self, ColorKind::Statistics)
+    }
+}
+
+/// The kind as the file's optional `"arrangement"` field: absent (or `null`) for statistics.
+mod kind_as_arrangement {
+    use super::{ArrangementColor, ColorKind};
+    use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+    pub(crate) fn serialize<S: Serializer>(kind: &ColorKind, s: S) -> Result<S::Ok, S::Error> {
+        match kind {
+            ColorKind::Statistics => None::<&ArrangementColor>.serialize(s),
+            ColorKind::Arrangement(pattern) => Some(pattern).serialize(s),
+        }
+    }
+
+    pub(crate) fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<ColorKind, D::Error> {
+        Ok(match Option::<ArrangementColor>::deserialize(d)? {
+            Some(pattern) => ColorKind::Arrangement(pattern),
+            None => ColorKind::Statistics,
+        })
+    }
 }
 
 /// An ordered set of colors.
@@ -414,6 +456,22 @@ impl Color {
         Ok(color)
     }
 
+    /// The arrangement's reference and settings, for a color that paints by growth.
+    pub fn arrangement(&self) -> Option<&ArrangementColor> {
+        match &self.kind {
+            ColorKind::Arrangement(pattern) => Some(pattern),
+            ColorKind::Statistics => None,
+        }
+    }
+
+    /// The same, to change the painting settings.
+    pub fn arrangement_mut(&mut self) -> Option<&mut ArrangementColor> {
+        match &mut self.kind {
+            ColorKind::Arrangement(pattern) => Some(pattern),
+            ColorKind::Statistics => None,
+        }
+    }
+
     /// A color with no content over `region`, named `name`: what a tool follows where there is nothing to learn.
     pub fn empty(name: &str, region: &Region) -> Color {
         Color {
@@ -428,7 +486,7 @@ impl Color {
             graphs: Vec::new(),
             polygons: Vec::new(),
             preview: Vec::new(),
-            arrangement: None,
+            kind: ColorKind::Statistics,
         }
     }
 
@@ -507,7 +565,7 @@ impl Color {
         self.validate_maps()?;
         self.validate_graphs()?;
         self.validate_polygons()?;
-        if let Some(pattern) = &self.arrangement {
+        if let Some(pattern) = self.arrangement() {
             pattern.validate(self.categories.len(), &|path| self.at(path))?;
         }
         check::at_most_items(

@@ -95,7 +95,7 @@ fn pasted(color: &Color, region: &Region) -> Scene {
 #[test]
 fn an_arrangement_color_survives_its_file_and_paints_its_lattice_elsewhere() {
     let color = learned();
-    let pattern = color.arrangement.as_ref().expect("an arrangement color");
+    let pattern = color.arrangement().expect("an arrangement color");
     assert_eq!(pattern.elements.len(), 49);
     assert_eq!(color.categories.len(), 1);
     let back = Color::from_json(&color.to_json().unwrap()).unwrap();
@@ -221,7 +221,7 @@ fn an_arrangement_refuses_to_blend_and_keeps_its_flips() {
     assert!(err.to_string().contains("arrangement"), "{err}");
 
     let mut flipped = color.clone();
-    let pattern = flipped.arrangement.as_mut().unwrap();
+    let pattern = flipped.arrangement_mut().unwrap();
     let reference = pattern.reference().unwrap();
     // an interior edge of the lattice shared by two triangles
     let (a, b) = reference
@@ -234,7 +234,7 @@ fn an_arrangement_refuses_to_blend_and_keeps_its_flips() {
     assert!(!edges.contains(&(a, b)), "the flipped edge is gone");
     let back = Color::from_json(&flipped.to_json().unwrap()).unwrap();
     assert_eq!(
-        back.arrangement.unwrap().reference().unwrap().edges(),
+        back.arrangement().unwrap().reference().unwrap().edges(),
         edges
     );
 }
@@ -288,8 +288,7 @@ fn colour_noise_tints_each_element_and_the_tint_moves_with_it() {
     let plain = learned();
     let mut tinted = plain.clone();
     tinted
-        .arrangement
-        .as_mut()
+        .arrangement_mut()
         .expect("an arrangement color")
         .color_noise = 0.2;
     let patch = rect(40.0, 40.0, 60.0, 60.0);
@@ -339,7 +338,7 @@ fn noise_past_its_range_and_a_region_past_the_budget_are_refused_before_any_grow
         ("color_noise", 1.5),
     ] {
         let mut color = learned();
-        let pattern = color.arrangement.as_mut().unwrap();
+        let pattern = color.arrangement_mut().unwrap();
         match field {
             "rotation_noise" => pattern.rotation_noise = value,
             "scale_noise" => pattern.scale_noise = value,

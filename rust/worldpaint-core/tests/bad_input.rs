@@ -468,13 +468,10 @@ mod variety {
 // ---- Apply Sketch: what no camera can show, and sketches too large to match -----------------------------------
 
 mod sketch {
-    use rand::{Rng, SeedableRng};
-    use worldpaint_core::rough_terrain;
-    use worldpaint_core::MAX_ASSIGNMENT_NODES;
-    use worldpaint_core::MAX_MATCHING_WORK;
-    use worldpaint_core::{apply_sketch, SketchEdit, SketchOptions};
-    use worldpaint_core::{Camera, Sight, SketchStroke};
-    use worldpaint_core::{DVec2, DVec3};
+    use worldpaint_core::{
+        apply_sketch, random_strokes, rough_terrain, Camera, DVec2, DVec3, Sight, SketchEdit,
+        SketchOptions, SketchStroke, MAX_ASSIGNMENT_NODES, MAX_MATCHING_WORK,
+    };
     use worldpaint_core::{Error, Heightfield};
 
     /// The sketch benchmark's view on a 256 m rough terrain: 15 m above its ground at (0.15, 0.15) of it, looking
@@ -514,18 +511,6 @@ mod sketch {
         SketchStroke {
             points: points.iter().map(|&(x, y)| DVec2::new(x, y)).collect(),
         }
-    }
-
-    /// `count` random two-point strokes in the frame (seeded).
-    fn random_strokes(count: usize, seed: u64) -> Vec<SketchStroke> {
-        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
-        (0..count)
-            .map(|_| SketchStroke {
-                points: (0..2)
-                    .map(|_| DVec2::new(rng.random::<f64>(), rng.random::<f64>()))
-                    .collect(),
-            })
-            .collect()
     }
 
     fn apply(

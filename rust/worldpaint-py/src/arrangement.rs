@@ -78,7 +78,7 @@ pub(crate) fn arrangement_summary<'py>(
     color: &str,
 ) -> PyResult<Option<Bound<'py, PyDict>>> {
     let c = parse_color(color)?;
-    let Some(pattern) = &c.arrangement else {
+    let Some(pattern) = c.arrangement() else {
         return Ok(None);
     };
     let reference = pattern.reference().map_err(engine_err)?;
@@ -153,7 +153,7 @@ pub(crate) fn arrangement_edited(
 ) -> PyResult<String> {
     let mut c = parse_color(color)?;
     let name = c.name.clone();
-    let Some(pattern) = c.arrangement.as_mut() else {
+    let Some(pattern) = c.arrangement_mut() else {
         return Err(input_err(format!("color '{name}' is not an arrangement")));
     };
     if let Some(r) = rotation {

@@ -307,9 +307,7 @@ mod worldpaint_engine {
     #[pymodule_export]
     use crate::terrain_edit::embed_roads;
     #[pymodule_export]
-    use crate::tools::{
-        bilinear_gradient, blur, clear_region, gradient, move_region, paste, stretch_region, Stroke,
-    };
+    use crate::tools::{blur, clear_region, gradient, move_region, paste, stretch_region, Stroke};
     #[pymodule_export]
     use crate::variety::{assign_variants, decompose_model, generate_variants, texture_variety};
     #[pymodule_export]

@@ -44,7 +44,7 @@ color_painter! {
 }
 
 fn pasted<'py>(py: Python<'py>, p: Painting<'_>) -> PyResult<Bound<'py, PyDict>> {
-    if p.color.arrangement.is_some() {
+    if !p.color.kind.is_statistics() {
         let (edit, pattern) = with_progress(py, p.progress, |report| {
             let edit = paste_color(p.scene, &p.color, &p.region, &p.opts, report)?;
             let pattern = painted_fidelity(&edit.applied_to(p.scene), &p.region, &p.color)?;
@@ -310,17 +310,31 @@ pub(crate) fn stretch_region<'py>(
     Ok(d)
 }
 
-/// `{"kind": "linear", "from": (x, y), "to": (x, y)}` or `{"kind": "radial", "center": (x, y), "radius": r}`.
-fn gradient_shape(obj: &Bound<'_, PyAny>) -> PyResult<GradientShape> {
+/// The shape of a gradient: along a line or about a centre between two colors, or over the region's box between
+/// four.
+enum Shape {
+    Along(GradientShape),
+    /// The colors (JSON) at the north-west and north-east corners; the two others take the south ones.
+    Bilinear(String, String),
+}
+
+/// `{"kind": "linear", "from": (x, y), "to": (x, y)}`, `{"kind": "radial", "center": (x, y), "radius": r}` or
+/// `{"kind": "bilinear", "north_west": color, "north_east": color}`.
+fn gradient_shape(obj: &Bound<'_, PyAny>) -> PyResult<Shape> {
     let kind: String = field(obj, "kind", "gradient shape")?
         .extract()
         .map_err(|_| input_err("gradient 'kind' must be a string"))?;
+    let color = |key: &str| -> PyResult<String> {
+        field(obj, key, "bilinear gradient")?
+            .extract()
+            .map_err(|_| input_err(format!("gradient '{key}' must be a color (JSON)")))
+    };
     match kind.as_str() {
-        "linear" => Ok(GradientShape::Linear {
+        "linear" => Ok(Shape::Along(GradientShape::Linear {
             from: vec2(&field(obj, "from", "linear gradient")?, "gradient 'from'")?,
             to: vec2(&field(obj, "to", "linear gradient")?, "gradient 'to'")?,
-        }),
-        "radial" => Ok(GradientShape::Radial {
+        })),
+        "radial" => Ok(Shape::Along(GradientShape::Radial {
             center: vec2(
                 &field(obj, "center", "radial gradient")?,
                 "gradient 'center'",
@@ -328,15 +342,18 @@ fn gradient_shape(obj: &Bound<'_, PyAny>) -> PyResult<GradientShape> {
             radius: field(obj, "radius", "radial gradient")?
                 .extract()
                 .map_err(|_| input_err("gradient 'radius' must be a number"))?,
-        }),
+        })),
+        "bilinear" => Ok(Shape::Bilinear(color("north_west")?, color("north_east")?)),
         other => Err(input_err(format!(
-            "unknown gradient kind '{other}' (linear or radial)"
+            "unknown gradient kind '{other}' (linear, radial or bilinear)"
         ))),
     }
 }
 
 /// Paint a gradient from color `start` to color `end` (JSON) over `region`, along `shape` (see `gradient_shape`),
-/// in `bands` bands (None: adapted to the region). Returns the edit.
+/// in `bands` bands (None: adapted to the region); a bilinear shape puts `start`, `end` and its two colors at the
+/// corners of the region's box (south-west, south-east, north-west, north-east) in `bands` × `bands` cells.
+/// Returns the edit.
 #[pyfunction]
 #[pyo3(signature = (scene, start, end, region, shape, bands=None, seed=0,
                     *, influence_radius=None,
@@ -363,52 +380,17 @@ pub(crate) fn gradient<'py>(
         bands,
         synthesis: synthesis_options(seed, influence_radius, iterations_per_instance, None),
     };
-    let edit = with_progress(py, progress, |report| {
-        paint_gradient(scene, &start, &end, &region, shape, &opts, report)
-    })?;
-    edit_result(py, &edit, scene)
-}
-
-/// Paint a bilinear gradient over `region`: `corners` are four colors (JSON) at the corners of its box, south-west,
-/// south-east, north-west, north-east; `bands` cells along each side (None: adapted to the region). Returns the edit.
-#[pyfunction]
-#[pyo3(signature = (scene, corners, region, bands=None, seed=0,
-                    *, influence_radius=None,
-                    iterations_per_instance=None, progress=None))]
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn bilinear_gradient<'py>(
-    py: Python<'py>,
-    scene: &Bound<'py, PyScene>,
-    corners: Vec<String>,
-    region: &Bound<'py, PyAny>,
-    bands: Option<usize>,
-    seed: u64,
-    influence_radius: Option<f64>,
-    iterations_per_instance: Option<f64>,
-    progress: Option<Py<PyAny>>,
-) -> PyResult<Bound<'py, PyDict>> {
-    let scene = scene.get().scene();
-    let [sw, se, nw, ne]: [String; 4] = corners.try_into().map_err(|c: Vec<String>| {
-        input_err(format!(
-            "a bilinear gradient takes 4 corner colors, not {}",
-            c.len()
-        ))
-    })?;
-    let corners = [
-        parse_color(&sw)?,
-        parse_color(&se)?,
-        parse_color(&nw)?,
-        parse_color(&ne)?,
-    ];
-    let region = region_from_py(region)?;
-    let opts = GradientOptions {
-        bands,
-        synthesis: synthesis_options(seed, influence_radius, iterations_per_instance, None),
+    let edit = match shape {
+        Shape::Along(shape) => with_progress(py, progress, |report| {
+            paint_gradient(scene, &start, &end, &region, shape, &opts, report)
+        })?,
+        Shape::Bilinear(north_west, north_east) => {
+            let (nw, ne) = (parse_color(&north_west)?, parse_color(&north_east)?);
+            with_progress(py, progress, |report| {
+                paint_bilinear(scene, [&start, &end, &nw, &ne], &region, &opts, report)
+            })?
+        }
     };
-    let edit = with_progress(py, progress, |report| {
-        let [a, b, c, d] = &corners;
-        paint_bilinear(scene, [a, b, c, d], &region, &opts, report)
-    })?;
     edit_result(py, &edit, scene)
 }
 

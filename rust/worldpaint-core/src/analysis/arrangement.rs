@@ -8,7 +8,7 @@ use glam::DVec2;
 use super::{category_color, point_grid, Group};
 use crate::arrangement::{ArrangementColor, ReferenceElement};
 use crate::error::{Error, Result};
-use crate::palette::Color;
+use crate::palette::{Color, ColorKind};
 use crate::scene::{CategoryKind, Scene};
 
 /// The rdf radius an arrangement color records, in the reference's mean edges: painting never reads it, but the
@@ -99,7 +99,7 @@ pub fn learn_arrangement(scene: &Scene, region: &crate::geom::Region, name: &str
         graphs: Vec::new(),
         polygons: Vec::new(),
         preview,
-        arrangement: Some(pattern),
+        kind: ColorKind::Arrangement(pattern),
     };
     color.validate()?;
     Ok(color)

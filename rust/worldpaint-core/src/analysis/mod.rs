@@ -30,7 +30,7 @@ use crate::error::{Error, Result};
 use crate::geom::{describe_box, DVec2, PreparedRegion, Region};
 use crate::limits;
 use crate::palette::{
-    CategoryColor, Color, GraphColor, Histogram, Interaction, MapInteraction, MapSource,
+    CategoryColor, Color, ColorKind, GraphColor, Histogram, Interaction, MapInteraction, MapSource,
     PairInteraction, PolygonColor,
 };
 use crate::scene::{Category, CategoryKind, Instance, Scene};
@@ -167,7 +167,7 @@ pub fn learn_color(
         graphs,
         polygons,
         preview,
-        arrangement: None,
+        kind: ColorKind::Statistics,
     })
 }
 

@@ -9,9 +9,9 @@ pub use pattern::painted_fidelity;
 
 use crate::error::Result;
 use crate::geom::{PreparedRegion, Region, RegionQueries};
-use crate::palette::Color;
+use crate::palette::{Color, ColorKind};
 use crate::scene::{Instance, Scene};
-use crate::synthesis::{SynthesisOptions, SynthesisResult};
+use crate::synthesis::{PaintRequest, SynthesisOptions, SynthesisResult};
 
 /// Synthesize the color in `region`. The scene's unlocked instances *inside* the region are treated as removed
 /// (paste replaces); locked ones inside it and all within the influence radius outside it condition the result.
@@ -36,28 +36,28 @@ pub fn synthesize_with_progress(
 ) -> Result<SynthesisResult> {
     // the scene's instances around a drawn outline can be many: its polygons are indexed once, when one is asked
     let inside = std::sync::OnceLock::new();
-    synthesize_keeping(scene, color, region, opts, progress, &|i: &Instance| {
-        i.locked
-            || !inside
-                .get_or_init(|| PreparedRegion::new(region))
-                .contains(i.position)
+    synthesize_keeping(PaintRequest {
+        scene,
+        color,
+        region,
+        opts,
+        progress,
+        keep: &|i: &Instance| {
+            i.locked
+                || !inside
+                    .get_or_init(|| PreparedRegion::new(region))
+                    .contains(i.position)
+        },
     })
 }
 
-/// Paints `color` in `region`, conditioned on the scene's instances for which `keep` holds (those the caller does
-/// not remove): the color and the region are checked, then the color's painter runs.
-pub(crate) fn synthesize_keeping(
-    scene: &Scene,
-    color: &Color,
-    region: &Region,
-    opts: &SynthesisOptions,
-    progress: &(dyn Fn(f64) -> bool + Sync),
-    keep: &(dyn Fn(&Instance) -> bool + Sync),
-) -> Result<SynthesisResult> {
-    region.validate()?;
-    color.validate()?;
-    match &color.arrangement {
-        Some(pattern) => pattern::paint(scene, color, pattern, region, opts, progress, keep),
-        None => crate::synthesis::synthesize_keeping(scene, color, region, opts, progress, keep),
+/// Paints the request's color in its region, conditioned on the scene's instances for which `keep` holds (those the
+/// caller does not remove): the color and the region are checked, then the color's painter runs.
+pub(crate) fn synthesize_keeping(request: PaintRequest<'_>) -> Result<SynthesisResult> {
+    request.region.validate()?;
+    request.color.validate()?;
+    match &request.color.kind {
+        ColorKind::Arrangement(pattern) => pattern::paint(request, pattern),
+        ColorKind::Statistics => crate::synthesis::synthesize_keeping(request),
     }
 }

@@ -17,7 +17,7 @@ use crate::geom::Region;
 use crate::limits;
 use crate::palette::Color;
 use crate::scene::{Instance, Scene};
-use crate::synthesis::{scene_categories, SynthesisOptions, SynthesisResult};
+use crate::synthesis::{scene_categories, PaintRequest, SynthesisResult};
 
 /// The elements already around `region` count within this many of the reference's longest edges: enough to
 /// rebuild the rings of those at its edge.
@@ -43,7 +43,7 @@ pub fn painted_fidelity(
     region: &Region,
     color: &Color,
 ) -> Result<Option<PatternFidelity>> {
-    let Some(pattern) = &color.arrangement else {
+    let Some(pattern) = color.arrangement() else {
         return Ok(None);
     };
     let reference = pattern.reference()?;
@@ -68,16 +68,12 @@ pub fn painted_fidelity(
 /// Paints the arrangement `pattern` of `color` into `region` of `scene` (the scene's unlocked content there
 /// already cleared by the tool); `keep` says which of the scene's instances stay to continue from.
 pub(crate) fn paint(
-    scene: &Scene,
-    color: &Color,
+    request: PaintRequest<'_>,
     pattern: &ArrangementColor,
-    region: &Region,
-    opts: &SynthesisOptions,
-    progress: &(dyn Fn(f64) -> bool + Sync),
-    keep: &(dyn Fn(&Instance) -> bool + Sync),
 ) -> Result<SynthesisResult> {
+    let (scene, color, opts) = (request.scene, request.color, request.opts);
     let reference = pattern.reference()?;
-    let region = painted_region(scene, region)?;
+    let region = painted_region(scene, request.region)?;
     let (categories, scene_index) = scene_categories(scene, color);
     let symbol_of = |category: usize| scene_index.iter().position(|&c| c == category);
     let reach = CONTEXT_EDGES * reference.longest_edge();
@@ -86,7 +82,7 @@ pub(crate) fn paint(
     let existing: Vec<Element> = scene
         .instances
         .iter()
-        .filter(|i| i.position.cmpge(lo).all() && i.position.cmple(hi).all() && keep(i))
+        .filter(|i| i.position.cmpge(lo).all() && i.position.cmple(hi).all() && (request.keep)(i))
         .filter_map(|i| {
             symbol_of(i.category).map(|s| Element {
                 position: i.position,
@@ -132,7 +128,7 @@ pub(crate) fn paint(
         &existing,
         opts.guides.start,
         &growth,
-        progress,
+        request.progress,
     )?;
     // the colour noise draws from its own stream of the run's seed, so that it leaves the growth as it was
     let mut tints = ChaCha8Rng::seed_from_u64(opts.seed);

@@ -386,18 +386,31 @@ pub(crate) fn conditioning_content(
     out
 }
 
-/// Synthesize the statistical color `color` (validated, with its region, by the caller) in `region`, conditioned on the scene's instances for which `keep` holds: those inside the
-/// region (locked content) and those within the influence radius around it enter as fixed content, and the kept
-/// instances of a category inside the region count towards its expected number. Instances for which `keep` fails
-/// are ignored (the caller removes them).
-pub(crate) fn synthesize_keeping(
-    scene: &Scene,
-    color: &Color,
-    region: &Region,
-    opts: &SynthesisOptions,
-    progress: &(dyn Fn(f64) -> bool + Sync),
-    keep: &(dyn Fn(&Instance) -> bool + Sync),
-) -> Result<SynthesisResult> {
+/// What every painter of a color takes: paint `color` into `region` of `scene`, conditioned on the instances for
+/// which `keep` holds.
+#[derive(Clone, Copy)]
+pub(crate) struct PaintRequest<'a> {
+    pub scene: &'a Scene,
+    pub color: &'a Color,
+    pub region: &'a Region,
+    pub opts: &'a SynthesisOptions,
+    pub progress: &'a (dyn Fn(f64) -> bool + Sync),
+    pub keep: &'a (dyn Fn(&Instance) -> bool + Sync),
+}
+
+/// Synthesize the request's statistical color (validated, with its region, by the caller) in its region, conditioned
+/// on the scene's instances for which `keep` holds: those inside the region (locked content) and those within the
+/// influence radius around it enter as fixed content, and the kept instances of a category inside the region count
+/// towards its expected number. Instances for which `keep` fails are ignored (the caller removes them).
+pub(crate) fn synthesize_keeping(request: PaintRequest<'_>) -> Result<SynthesisResult> {
+    let PaintRequest {
+        scene,
+        color,
+        region,
+        opts,
+        progress,
+        keep,
+    } = request;
     let influence = checked_influence(color, opts)?;
     let order = priority_order(color, opts.categories.as_deref())?;
     check_terrain(scene, color, &order, region)?;

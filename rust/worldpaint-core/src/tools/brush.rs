@@ -264,7 +264,7 @@ impl BrushStroke {
         };
         let r = self.opts.radius;
         let k = self.dabs.len();
-        if color.arrangement.is_some() {
+        if !color.kind.is_statistics() {
             // the spray tool grows the pattern into the disc's gaps; a pattern has no alpha
             self.dabs.push(centre);
             let mut dab_opts = self.opts.synthesis.clone();

@@ -22,7 +22,7 @@ use crate::geom::{polyline_length, DVec2, PreparedRegion, Region, RegionQueries}
 use crate::paint::{synthesize, synthesize_keeping};
 use crate::palette::Color;
 use crate::scene::{Category, Contour, Instance, Path, Scene};
-use crate::synthesis::{add_unseen, SynthesisOptions};
+use crate::synthesis::{add_unseen, PaintRequest, SynthesisOptions};
 
 /// What a tool did: the scene's instances, paths and contours it removed (indices, ascending) and those it added,
 /// whose `category` indexes `categories` (the scene's categories, then any the tool's colors brought). A path or
@@ -359,7 +359,14 @@ impl Working {
             Clearing::KeepingPattern => self.clear_around_pattern(color, region),
             Clearing::Done => {}
         }
-        let result = synthesize_keeping(&self.scene, color, region, opts, progress, &|_| true)?;
+        let result = synthesize_keeping(PaintRequest {
+            scene: &self.scene,
+            color,
+            region,
+            opts,
+            progress,
+            keep: &|_| true,
+        })?;
         let n = result.instances.len();
         for (name, share) in result.unseen_maps {
             add_unseen(&mut self.unseen_maps, name, share);

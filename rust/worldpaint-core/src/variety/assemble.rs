@@ -15,7 +15,7 @@
 //! [`Atlas::random_choice`] draws a graph by its count, then each node's repetition by its count, then variants
 //! uniformly: every assembly equally likely.
 
-use super::atlas::{Atlas, AtlasGraph, VariantClass};
+use super::atlas::{Atlas, AtlasGraph, LocalCycle, Variant, VariantClass};
 use super::model::Model;
 use crate::error::{Error, Result};
 use glam::{DAffine3, DVec2, DVec3};
@@ -278,21 +278,12 @@ impl Atlas {
         let g = self.check_choice(choice)?;
         let d = self.decomposition();
         let n = d.components.len();
-        let mut out = Model::default();
-        let mut uvs: Vec<Vec<DVec2>> = Vec::new();
-        let mut has_uvs = true;
-        let mut materials = Vec::new();
-        let mut face_origin = Vec::new();
-        let mut face_component = Vec::new();
-        let mut face_source = Vec::new();
-        let mut instances = Vec::new();
-        let mut max_gap: f64 = 0.0;
+        let mut out = Assembly::default();
         // For each component: its last copy's output index per variant vertex, and that copy's placement.
         let mut placed: Vec<Option<Vec<u32>>> = vec![None; n];
         let mut last_frame: Vec<DAffine3> = vec![DAffine3::IDENTITY; n];
         let mut last_variant: Vec<usize> = vec![0; n];
         for &c in d.order() {
-            let comp = &d.components[c];
             let mut world = match d.parent(c) {
                 Some((p, r)) => last_frame[p] * self.variants(p)[last_variant[p]].frame(r),
                 None => DAffine3::IDENTITY,
@@ -309,70 +300,18 @@ impl Atlas {
                         world = world * before.frame(cycle.exit) * cycle.step;
                     }
                 }
-                let mut map = Vec::with_capacity(positions.len());
-                for (k, p) in positions.iter().enumerate() {
-                    let at = world.transform_point3(*p);
-                    let mut weld: Option<u32> = None;
-                    if let Some(&v) = comp.vertices.get(k) {
-                        if let (Some(cycle), Some(prev)) = (cycle, previous.as_ref()) {
-                            if let Some(&(_, exit_v)) = cycle.matching.iter().find(|m| m.0 == v) {
-                                weld = comp.local_index(exit_v).map(|l| prev[l]);
-                            }
-                        }
-                        if weld.is_none() {
-                            for &r in d.arcs(c) {
-                                let o = d.regions[r].other(c);
-                                if copy > 0 && d.parent(c).is_some_and(|(p, _)| p == o) {
-                                    continue;
-                                }
-                                let Some(other) = placed[o].as_ref() else {
-                                    continue;
-                                };
-                                if d.regions[r].vertices.binary_search(&v).is_err() {
-                                    continue;
-                                }
-                                if let Some(l) = d.components[o].local_index(v) {
-                                    weld = Some(other[l]);
-                                    break;
-                                }
-                            }
-                        }
-                    }
-                    match weld {
-                        Some(idx) => {
-                            max_gap = max_gap.max(out.vertices[idx as usize].distance(at));
-                            map.push(idx);
-                        }
-                        None => {
-                            map.push(out.vertices.len() as u32);
-                            out.vertices.push(at);
-                        }
-                    }
-                }
-                for (f, face) in variant.model.faces.iter().enumerate() {
-                    let mut mapped: Vec<u32> = Vec::with_capacity(face.len());
-                    let mut corner_uvs = Vec::with_capacity(face.len());
-                    for (corner, &v) in face.iter().enumerate() {
-                        let idx = map[v as usize];
-                        if !mapped.contains(&idx) {
-                            mapped.push(idx);
-                            if let Some(u) = &variant.model.uvs {
-                                corner_uvs.push(u[f][corner]);
-                            }
-                        }
-                    }
-                    if mapped.len() < 3 {
-                        continue;
-                    }
-                    has_uvs &= variant.model.uvs.is_some();
-                    uvs.push(corner_uvs);
-                    out.faces.push(mapped);
-                    materials.push(variant.model.material(f));
-                    face_origin.push(variant.face_origin[f]);
-                    face_component.push(c as u32);
-                    face_source.push((instances.len() as u32, f as u32));
-                }
-                instances.push(Placed {
+                let map: Vec<u32> = positions
+                    .iter()
+                    .enumerate()
+                    .map(|(k, p)| {
+                        let weld = d.components[c].vertices.get(k).and_then(|&v| {
+                            self.weld_target(c, copy, v, cycle, previous.as_deref(), &placed)
+                        });
+                        out.add_vertex(world.transform_point3(*p), weld)
+                    })
+                    .collect();
+                out.add_faces(c, variant, &map);
+                out.instances.push(Placed {
                     component: c,
                     entry: pick,
                     variant: node.variant,
@@ -384,19 +323,117 @@ impl Atlas {
             }
             placed[c] = previous;
         }
-        out.uvs = has_uvs.then_some(uvs);
-        out.materials = Some(materials);
+        Ok(out.finish())
+    }
+
+    /// The output vertex that vertex `v` (model index) of copy `copy` of component `c` welds to, if any: on a local
+    /// cycle the previous copy's exit vertex it continues, else the same vertex of an already placed neighbour
+    /// across a connecting region holding it (a later copy of a cycle does not weld back to the parent).
+    fn weld_target(
+        &self,
+        c: usize,
+        copy: usize,
+        v: u32,
+        cycle: Option<&LocalCycle>,
+        previous: Option<&[u32]>,
+        placed: &[Option<Vec<u32>>],
+    ) -> Option<u32> {
+        let d = self.decomposition();
+        if let (Some(cycle), Some(prev)) = (cycle, previous) {
+            if let Some(&(_, exit_v)) = cycle.matching.iter().find(|m| m.0 == v) {
+                if let Some(weld) = d.components[c].local_index(exit_v).map(|l| prev[l]) {
+                    return Some(weld);
+                }
+            }
+        }
+        d.arcs(c).iter().find_map(|&r| {
+            let o = d.regions[r].other(c);
+            if copy > 0 && d.parent(c).is_some_and(|(p, _)| p == o) {
+                return None;
+            }
+            let other = placed[o].as_ref()?;
+            d.regions[r].vertices.binary_search(&v).ok()?;
+            d.components[o].local_index(v).map(|l| other[l])
+        })
+    }
+}
+
+/// The welded model as it is assembled, copy after copy, with what it records per face.
+#[derive(Default)]
+struct Assembly {
+    model: Model,
+    uvs: Vec<Vec<DVec2>>,
+    missing_uvs: bool,
+    materials: Vec<u32>,
+    face_origin: Vec<Option<u32>>,
+    face_component: Vec<u32>,
+    face_source: Vec<(u32, u32)>,
+    instances: Vec<Placed>,
+    max_gap: f64,
+}
+
+impl Assembly {
+    /// The output index of a vertex placed `at`: the vertex it welds to (the gap between the two recorded), or a
+    /// new one.
+    fn add_vertex(&mut self, at: DVec3, weld: Option<u32>) -> u32 {
+        match weld {
+            Some(idx) => {
+                self.max_gap = self
+                    .max_gap
+                    .max(self.model.vertices[idx as usize].distance(at));
+                idx
+            }
+            None => {
+                self.model.vertices.push(at);
+                (self.model.vertices.len() - 1) as u32
+            }
+        }
+    }
+
+    /// Adds the faces of `variant` of component `c` with its vertices at `map`, as the next placed instance; a face
+    /// that welding folded to fewer than three corners is left out.
+    fn add_faces(&mut self, c: usize, variant: &Variant, map: &[u32]) {
+        for (f, face) in variant.model.faces.iter().enumerate() {
+            let mut mapped: Vec<u32> = Vec::with_capacity(face.len());
+            let mut corner_uvs = Vec::with_capacity(face.len());
+            for (corner, &v) in face.iter().enumerate() {
+                let idx = map[v as usize];
+                if !mapped.contains(&idx) {
+                    mapped.push(idx);
+                    if let Some(u) = &variant.model.uvs {
+                        corner_uvs.push(u[f][corner]);
+                    }
+                }
+            }
+            if mapped.len() < 3 {
+                continue;
+            }
+            self.missing_uvs |= variant.model.uvs.is_none();
+            self.uvs.push(corner_uvs);
+            self.model.faces.push(mapped);
+            self.materials.push(variant.model.material(f));
+            self.face_origin.push(variant.face_origin[f]);
+            self.face_component.push(c as u32);
+            self.face_source
+                .push((self.instances.len() as u32, f as u32));
+        }
+    }
+
+    fn finish(self) -> Assembled {
+        let mut out = self.model;
+        out.uvs = (!self.missing_uvs).then_some(self.uvs);
+        out.materials = Some(self.materials);
         let model = out.compacted();
         let hash = geometry_hash(&model);
-        Ok(Assembled {
+        Assembled {
             model,
-            face_origin,
-            face_component,
-            face_source,
-            instances,
-            max_gap,
+            face_origin: self.face_origin,
+            face_component: self.face_component,
+            face_source: self.face_source,
+            instances: self.instances,
+            max_gap: self.max_gap,
             hash,
-        })
+        }
     }
 }
 

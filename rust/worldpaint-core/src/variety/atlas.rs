@@ -440,31 +440,8 @@ impl Atlas {
     /// with its region towards the root (or, the root, moved whole) and a solid transform of a region on a cycle.
     fn prepare(&self, c: usize, name: String, mut edited: Model) -> Result<Variant> {
         let what = self.copy_what(c, &name);
-        edited
-            .validate()
-            .map_err(|e| super::model::error_about(e, &what))?;
-        let d = &self.decomposition;
-        let comp = &d.components[c];
-        let n = comp.vertices.len();
-        if edited.vertices.len() < n {
-            return Err(Error::invalid(
-                what,
-                format!(
-                    "it has {} vertices but the piece has {n}: a copy keeps the piece's vertices first, in their \
-                     order (move vertices or delete faces, not vertices)",
-                    edited.vertices.len()
-                ),
-            ));
-        }
-        if edited.faces.is_empty() {
-            return Err(Error::invalid(
-                what,
-                "it has no faces (every vertex or face of it deleted), so it would only take the part off the \
-                 model; delete the copy, or keep the faces of the part you want it to show",
-            ));
-        }
-        self.check_near_model(&what, &edited)?;
-        self.check_piece_edges(c, &what, &edited)?;
+        self.check_copy(c, &what, &edited)?;
+        let comp = &self.decomposition.components[c];
         let original: Vec<DVec3> = comp
             .vertices
             .iter()
@@ -474,84 +451,20 @@ impl Atlas {
         let tol = TOLERANCE * reach;
         let mut regions = self.classify(c, &edited);
         let mut normalised_by = DAffine3::IDENTITY;
-        match d.parent(c) {
-            Some((p, pr)) => {
-                if let Some((_, RegionChange::Solid(t))) = regions.iter().find(|(r, _)| *r == pr) {
-                    let inverse = t.inverse();
-                    if inverse.is_finite() {
-                        // the vertices off that region in their place, before and after bringing the copy back
-                        let off: Vec<usize> = (0..n)
-                            .filter(|&k| {
-                                d.regions[pr]
-                                    .vertices
-                                    .binary_search(&comp.vertices[k])
-                                    .is_err()
-                            })
-                            .collect();
-                        let in_place = |m: &Model| {
-                            off.iter()
-                                .filter(|&&k| original[k].distance(m.vertices[k]) <= tol)
-                                .count()
-                        };
-                        let before = in_place(&edited);
-                        for q in &mut edited.vertices {
-                            *q = inverse.transform_point3(*q);
-                        }
-                        let after = in_place(&edited);
-                        if after > before {
-                            return Err(self.moved_with_region(&what, (p, pr), after, off.len()));
-                        }
-                        normalised_by = inverse;
-                        regions = self.classify(c, &edited);
-                    }
+        match self.decomposition.parent(c) {
+            Some(parent) => {
+                if let Some(inverse) =
+                    self.bring_back(c, &what, parent, &regions, &original, tol, &mut edited)?
+                {
+                    normalised_by = inverse;
+                    regions = self.classify(c, &edited);
                 }
             }
             None => {
-                if !regions.is_empty()
-                    && regions
-                        .iter()
-                        .all(|r| matches!(r.1, RegionChange::Solid(_)))
-                {
-                    let (frame, residual) = fit_similarity(&original, &edited.vertices[..n]);
-                    if residual <= tol && !is_identity(&frame, reach, tol) {
-                        let neighbours: Vec<String> = d
-                            .arcs(c)
-                            .iter()
-                            .map(|&r| format!("'{}'", self.name(d.regions[r].other(c))))
-                            .collect();
-                        return Err(Error::invalid(
-                            what,
-                            format!(
-                                "it turns or moves the whole piece as one solid, its connecting regions with {} \
-                                 included; the root carries every other part, so that only moves the whole model \
-                                 and makes no new one. Reshape the piece, or turn what lies beyond one of its \
-                                 connecting regions about it",
-                                neighbours.join(", ")
-                            ),
-                        ));
-                    }
-                }
+                self.check_root_not_moved_whole(c, &what, &regions, &original, &edited, reach, tol)?
             }
         }
-        for &(r, change) in &regions {
-            if matches!(change, RegionChange::Solid(_)) && d.region_on_cycle(r) {
-                let other = d.regions[r].other(c);
-                let whole = if d.is_fully_cyclic() {
-                    "the parts form a ring (the component graph is fully cyclic, no terminal node), so"
-                } else {
-                    "that region lies on a cycle of the component graph, so"
-                };
-                return Err(Error::invalid(
-                    what,
-                    format!(
-                        "it turns or moves its connecting region with '{}' as a solid (a frame transform), but \
-                         {whole} moving what lies beyond it would open a crack where the cycle closes (seed \
-                         §4.2.3, Fig. 11); keep that region in place or reshape it",
-                        self.name(other)
-                    ),
-                ));
-            }
-        }
+        self.check_no_solid_region_on_cycle(c, &what, &regions)?;
         let class = if regions.iter().any(|r| r.1 == RegionChange::Changed) {
             VariantClass::RegionChange
         } else if normalised_by != DAffine3::IDENTITY
@@ -574,6 +487,154 @@ impl Atlas {
             normalised_by,
             shape,
         })
+    }
+
+    /// Refuses a copy (`what`) of component `c`'s piece that is not a mesh, lost vertices or every face, lies far
+    /// from the model or is a copy of another part.
+    fn check_copy(&self, c: usize, what: &str, edited: &Model) -> Result<()> {
+        edited
+            .validate()
+            .map_err(|e| super::model::error_about(e, what))?;
+        let n = self.decomposition.components[c].vertices.len();
+        if edited.vertices.len() < n {
+            return Err(Error::invalid(
+                what,
+                format!(
+                    "it has {} vertices but the piece has {n}: a copy keeps the piece's vertices first, in their \
+                     order (move vertices or delete faces, not vertices)",
+                    edited.vertices.len()
+                ),
+            ));
+        }
+        if edited.faces.is_empty() {
+            return Err(Error::invalid(
+                what,
+                "it has no faces (every vertex or face of it deleted), so it would only take the part off the \
+                 model; delete the copy, or keep the faces of the part you want it to show",
+            ));
+        }
+        self.check_near_model(what, edited)?;
+        self.check_piece_edges(c, what, edited)
+    }
+
+    /// A copy of component `c` that moves its region `pr` with its parent `p` as one solid is brought back by that
+    /// solid's inverse (returned), unless that puts more of the piece's other vertices in place than it took away:
+    /// then the piece itself was moved with its region, which is refused.
+    #[allow(clippy::too_many_arguments)]
+    fn bring_back(
+        &self,
+        c: usize,
+        what: &str,
+        (p, pr): (usize, usize),
+        regions: &[(usize, RegionChange)],
+        original: &[DVec3],
+        tol: f64,
+        edited: &mut Model,
+    ) -> Result<Option<DAffine3>> {
+        let Some((_, RegionChange::Solid(t))) = regions.iter().find(|(r, _)| *r == pr) else {
+            return Ok(None);
+        };
+        let inverse = t.inverse();
+        if !inverse.is_finite() {
+            return Ok(None);
+        }
+        let d = &self.decomposition;
+        let comp = &d.components[c];
+        // the vertices off that region in their place, before and after bringing the copy back
+        let off: Vec<usize> = (0..comp.vertices.len())
+            .filter(|&k| {
+                d.regions[pr]
+                    .vertices
+                    .binary_search(&comp.vertices[k])
+                    .is_err()
+            })
+            .collect();
+        let in_place = |m: &Model| {
+            off.iter()
+                .filter(|&&k| original[k].distance(m.vertices[k]) <= tol)
+                .count()
+        };
+        let before = in_place(edited);
+        for q in &mut edited.vertices {
+            *q = inverse.transform_point3(*q);
+        }
+        let after = in_place(edited);
+        if after > before {
+            return Err(self.moved_with_region(what, (p, pr), after, off.len()));
+        }
+        Ok(Some(inverse))
+    }
+
+    /// Refuses a copy of the root component `c` that turns or moves the whole piece as one solid.
+    #[allow(clippy::too_many_arguments)]
+    fn check_root_not_moved_whole(
+        &self,
+        c: usize,
+        what: &str,
+        regions: &[(usize, RegionChange)],
+        original: &[DVec3],
+        edited: &Model,
+        reach: f64,
+        tol: f64,
+    ) -> Result<()> {
+        if regions.is_empty()
+            || !regions
+                .iter()
+                .all(|r| matches!(r.1, RegionChange::Solid(_)))
+        {
+            return Ok(());
+        }
+        let (frame, residual) = fit_similarity(original, &edited.vertices[..original.len()]);
+        if residual > tol || is_identity(&frame, reach, tol) {
+            return Ok(());
+        }
+        let d = &self.decomposition;
+        let neighbours: Vec<String> = d
+            .arcs(c)
+            .iter()
+            .map(|&r| format!("'{}'", self.name(d.regions[r].other(c))))
+            .collect();
+        Err(Error::invalid(
+            what,
+            format!(
+                "it turns or moves the whole piece as one solid, its connecting regions with {} \
+                 included; the root carries every other part, so that only moves the whole model \
+                 and makes no new one. Reshape the piece, or turn what lies beyond one of its \
+                 connecting regions about it",
+                neighbours.join(", ")
+            ),
+        ))
+    }
+
+    /// Refuses a copy of component `c` that moves one of its connecting regions on a cycle as a solid.
+    fn check_no_solid_region_on_cycle(
+        &self,
+        c: usize,
+        what: &str,
+        regions: &[(usize, RegionChange)],
+    ) -> Result<()> {
+        let d = &self.decomposition;
+        let Some(&(r, _)) = regions
+            .iter()
+            .find(|&&(r, change)| matches!(change, RegionChange::Solid(_)) && d.region_on_cycle(r))
+        else {
+            return Ok(());
+        };
+        let other = d.regions[r].other(c);
+        let whole = if d.is_fully_cyclic() {
+            "the parts form a ring (the component graph is fully cyclic, no terminal node), so"
+        } else {
+            "that region lies on a cycle of the component graph, so"
+        };
+        Err(Error::invalid(
+            what,
+            format!(
+                "it turns or moves its connecting region with '{}' as a solid (a frame transform), but \
+                 {whole} moving what lies beyond it would open a crack where the cycle closes (seed \
+                 §4.2.3, Fig. 11); keep that region in place or reshape it",
+                self.name(other)
+            ),
+        ))
     }
 
     /// The refusal of a copy (`what`) that moves its region `pr` to its parent `p` as one solid together with `with`

@@ -274,7 +274,7 @@ pub fn check_iterations(iterations_per_instance: f64) -> Result<()> {
 
 /// A clear error for colors a world cannot be filled with: tiles hold instances only.
 fn paintable(color: &Color) -> Result<()> {
-    if color.arrangement.is_some() {
+    if !color.kind.is_statistics() {
         return Err(Error::invalid(
             format!("color '{}'", color.name),
             "is an arrangement; a world is filled with colors of distributions",

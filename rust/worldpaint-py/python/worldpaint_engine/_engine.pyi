@@ -4,6 +4,11 @@
 compiled module, and each function's and method's parameters against the signature pyo3 gives it. The other public
 names here (the ``TypedDict`` dicts the engine takes and returns, and the aliases) exist for type checkers only.
 
+Keywords several functions share are declared once, in a ``TypedDict`` a function unpacks (``**options:
+Unpack[SynthesisOptions]``, PEP 692): its keys are keyword-only parameters of the compiled function, with the default
+None where their type admits None (a key whose type does not, as ``WaterfallOptions``' ``subdivide``, has the default
+its ``TypedDict`` names). A function that takes ``**surroundings`` itself reads their keys (``Surroundings``).
+
 Arrays: an argument typed ``ArrayLike`` takes any real numeric dtype whose meaning is clear and is cast to the
 engine's (see ``arrays.rs``); a result is a numpy array of the dtype given. A progress callback is
 ``progress(fraction)`` or ``progress(fraction, stage)``, returning False to cancel (then ``Cancelled`` is raised).
@@ -32,7 +37,6 @@ __all__ = [
     "arrangement_edited",
     "arrangement_summary",
     "assign_variants",
-    "bilinear_gradient",
     "blur",
     "build_waterfall",
     "clear_region",
@@ -135,6 +139,21 @@ class PatternGuides(TypedDict, total=False):
     boundaries: Sequence[ArrayLike] | None
     flow: Sequence[ArrayLike] | None
 
+class SynthesisOptions(TypedDict, total=False):
+    """The keywords of the tools that synthesize: how far around the region the scene conditions it (None: the
+    color's interaction radius), the synthesis' iterations per instance (None: the engine's), and progress."""
+
+    influence_radius: float | None
+    iterations_per_instance: float | None
+    progress: Progress | None
+
+class PasteOptions(SynthesisOptions, total=False):
+    """The keywords of ``synthesize`` and ``paste``: also the categories painted (None: all) and the guides of an
+    arrangement color."""
+
+    only_categories: Sequence[str] | None
+    guides: PatternGuides | None
+
 LinearShape = TypedDict("LinearShape", {"kind": Literal["linear"], "from": Pair, "to": Pair})
 
 class RadialShape(TypedDict):
@@ -142,7 +161,14 @@ class RadialShape(TypedDict):
     center: Pair
     radius: float
 
-GradientShape: TypeAlias = LinearShape | RadialShape
+class BilinearShape(TypedDict):
+    """The gradient shape whose two other colors (JSON) take the region's northern corners."""
+
+    kind: Literal["bilinear"]
+    north_west: str
+    north_east: str
+
+GradientShape: TypeAlias = LinearShape | RadialShape | BilinearShape
 
 class Model(TypedDict):
     """A mesh as Blender's arrays read it: corners per face, the vertex of each corner face after face, a UV per
@@ -169,6 +195,8 @@ class WaterfallController(TypedDict):
     strength: NotRequired[float | None]
 
 class WaterfallOptions(TypedDict, total=False):
+    """The keywords of ``build_waterfall``; ``subdivide`` defaults to True."""
+
     min_slope: float | None
     overhang: float | None
     falloff: float | None
@@ -177,21 +205,28 @@ class WaterfallOptions(TypedDict, total=False):
     subdivide: bool
     rock_color: str | None
 
-class SceneColumns(TypedDict, total=False):
-    """The instance columns of a scene, as ``Scene`` takes them by keyword."""
+class InstanceOptions(TypedDict, total=False):
+    """The instance columns a scene may go without (rotation 0, scale 1, prototype 0, locked, no tint)."""
 
-    categories: Required[Sequence[CategoryInput]]
-    positions: Required[ArrayLike]
-    category_index: Required[ArrayLike]
     rotations: ArrayLike | None
     scales: ArrayLike | None
     prototype: ArrayLike | None
     locked: ArrayLike | None
     tints: ArrayLike | None
 
+class SceneColumns(InstanceOptions, total=False):
+    """The instance columns of a scene, as ``Scene`` takes them by keyword."""
+
+    categories: Required[Sequence[CategoryInput]]
+    positions: Required[ArrayLike]
+    category_index: Required[ArrayLike]
+
 class SceneStructures(TypedDict, total=False):
     paths: Sequence[StructureInput] | None
     contours: Sequence[StructureInput] | None
+
+class SceneOptions(InstanceOptions, SceneStructures, total=False):
+    """The keywords of ``Scene``."""
 
 class ArrangementChanges(TypedDict, total=False):
     """The settings ``arrangement_edited`` changes; ``flip``: the two reference elements whose shared edge flips."""
@@ -336,16 +371,21 @@ class LatticeDict(TypedDict):
     spacing: float
     spread: float
 
-class ArrangementSummaryDict(TypedDict):
-    positions: Float64Array
-    symbols: list[int]
-    edges: Int64Array
-    boundary: list[bool]
+class ArrangementSettings(TypedDict):
+    """How an arrangement color paints: its elements' rotation, the noise of their scale, rotation (radians) and
+    tint, and every how many elements the growing pattern relaxes (0: at the end only)."""
+
     rotation: str
     scale_noise: float
     rotation_noise: float
     color_noise: float
     relax_every: int
+
+class ArrangementSummaryDict(ArrangementSettings):
+    positions: Float64Array
+    symbols: list[int]
+    edges: Int64Array
+    boundary: list[bool]
     flips: int
     lattice: LatticeDict | None
 
@@ -587,14 +627,7 @@ class Scene:
         categories: Sequence[CategoryInput],
         positions: ArrayLike,
         category_index: ArrayLike,
-        *,
-        rotations: ArrayLike | None = None,
-        scales: ArrayLike | None = None,
-        prototype: ArrayLike | None = None,
-        locked: ArrayLike | None = None,
-        tints: ArrayLike | None = None,
-        paths: Sequence[StructureInput] | None = None,
-        contours: Sequence[StructureInput] | None = None,
+        **options: Unpack[SceneOptions],
     ) -> Scene: ...
     def __len__(self) -> int: ...
 
@@ -628,12 +661,7 @@ def synthesize(
     color: str,
     region: Region,
     seed: int = 0,
-    *,
-    influence_radius: float | None = None,
-    iterations_per_instance: float | None = None,
-    only_categories: Sequence[str] | None = None,
-    progress: Progress | None = None,
-    guides: PatternGuides | None = None,
+    **options: Unpack[PasteOptions],
 ) -> SynthesisDict: ...
 def interpolate_colors(a: str, b: str, t: float, name: str) -> str: ...
 def color_renamed(color: str, name: str) -> str: ...
@@ -656,16 +684,7 @@ def color_without_interactions(color: str, off: Sequence[tuple[str, str]]) -> st
 
 def learn_arrangement(scene: Scene, region: Region, name: str) -> str: ...
 def arrangement_summary(color: str) -> ArrangementSummaryDict | None: ...
-def arrangement_edited(
-    color: str,
-    *,
-    rotation: Literal["none", "best_fit", "flow"] | None = None,
-    scale_noise: float | None = None,
-    rotation_noise: float | None = None,
-    color_noise: float | None = None,
-    relax_every: int | None = None,
-    flip: tuple[int, int] | None = None,
-) -> str: ...
+def arrangement_edited(color: str, **changes: Unpack[ArrangementChanges]) -> str: ...
 
 # exemplars
 
@@ -694,12 +713,7 @@ def paste(
     color: str,
     region: Region,
     seed: int = 0,
-    *,
-    influence_radius: float | None = None,
-    iterations_per_instance: float | None = None,
-    only_categories: Sequence[str] | None = None,
-    progress: Progress | None = None,
-    guides: PatternGuides | None = None,
+    **options: Unpack[PasteOptions],
 ) -> PastedDict: ...
 def clear_region(scene: Scene, region: Region, *, category: str | None = None) -> EditDict: ...
 def move_region(
@@ -721,10 +735,8 @@ def stretch_region(
     color: str | None = None,
     seed: int = 0,
     *,
-    influence_radius: float | None = None,
-    iterations_per_instance: float | None = None,
     cell: float | None = None,
-    progress: Progress | None = None,
+    **options: Unpack[SynthesisOptions],
 ) -> StretchedDict: ...
 def gradient(
     scene: Scene,
@@ -734,21 +746,7 @@ def gradient(
     shape: GradientShape,
     bands: int | None = None,
     seed: int = 0,
-    *,
-    influence_radius: float | None = None,
-    iterations_per_instance: float | None = None,
-    progress: Progress | None = None,
-) -> EditDict: ...
-def bilinear_gradient(
-    scene: Scene,
-    corners: Sequence[str],
-    region: Region,
-    bands: int | None = None,
-    seed: int = 0,
-    *,
-    influence_radius: float | None = None,
-    iterations_per_instance: float | None = None,
-    progress: Progress | None = None,
+    **options: Unpack[SynthesisOptions],
 ) -> EditDict: ...
 def blur(
     scene: Scene,
@@ -757,9 +755,7 @@ def blur(
     *,
     windows: int = 8,
     cells: int = 4,
-    influence_radius: float | None = None,
-    iterations_per_instance: float | None = None,
-    progress: Progress | None = None,
+    **options: Unpack[SynthesisOptions],
 ) -> EditDict: ...
 
 # model variety
@@ -844,14 +840,7 @@ def build_waterfall(
     controllers: Sequence[WaterfallController],
     points: ArrayLike,
     seed: int = 0,
-    *,
-    min_slope: float | None = None,
-    overhang: float | None = None,
-    falloff: float | None = None,
-    freeboard: float | None = None,
-    max_width: float | None = None,
-    subdivide: bool = True,
-    rock_color: str | None = None,
+    **options: Unpack[WaterfallOptions],
 ) -> WaterfallDict: ...
 def apply_sketch(
     terrain: Terrain,

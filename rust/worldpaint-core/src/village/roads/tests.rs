@@ -72,29 +72,67 @@ fn random_land(rng: &mut rand_chacha::ChaCha8Rng, n: usize) -> Land {
     .expect("land")
 }
 
+/// Road parameters drawn at random, the mask radius cycling with the case.
+fn random_road_params(rng: &mut rand_chacha::ChaCha8Rng, case: u32) -> RoadParams {
+    use rand::Rng;
+    RoadParams {
+        width: 4.0,
+        distance_weight: rng.random_range(0.5..2.0),
+        slope_weight: rng.random_range(0.0..4.0),
+        max_grade: rng.random_range(0.1..0.3),
+        curvature_weight: rng.random_range(0.0..4.0),
+        water_weight: rng.random_range(0.0..30.0),
+        building_cost: rng.random_range(0.0..200.0),
+        reuse_weight: 0.1,
+        mask_radius: 1 + case % 3,
+        cycle_angle_degrees: 30.0,
+        cycle_max_length: 100.0,
+        cycle_min_separation: 20.0,
+        street_length: 0.0,
+    }
+}
+
+/// Searches `query` with the bound alone, the field at once, the field after a few states and in a corridor, and
+/// checks each against Dijkstra's cost (a corridor may only cost more). Returns how many found a path.
+fn compare_with_dijkstra(search: &mut Search, query: &Query, case: u32) -> usize {
+    let reference = search.dijkstra(query);
+    let mut compared = 0;
+    for (budget, state_budget) in [(usize::MAX, 0), (0, usize::MAX), (40, usize::MAX), (0, 20)] {
+        search.budget = budget;
+        search.state_budget = state_budget;
+        let got = search.find(query);
+        let steep = query.steep;
+        match (reference, &got) {
+            (None, None) => {}
+            (Some(a), Some((path, b))) => {
+                let exact = state_budget > 20;
+                assert!(
+                    (a - b).abs() <= 1e-3 * a.max(1.0) || !exact && *b >= a,
+                    "case {case} steep {steep} budget {budget}: {a} vs {b}"
+                );
+                assert_eq!(path[0], query.target);
+                let last = *path.last().unwrap();
+                assert!(query.sources.iter().any(|&(r, _)| r == last));
+                compared += 1;
+            }
+            _ => panic!(
+                "case {case} steep {steep} budget {budget}: {reference:?} vs {:?}",
+                got.map(|g| g.1)
+            ),
+        }
+    }
+    compared
+}
+
 #[test]
 fn the_searches_find_the_cheapest_path() {
     use rand::{Rng, SeedableRng};
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
     let mut compared = 0;
-    for case in 0..24 {
+    for case in 0..24u32 {
         let n = 40;
         let land = random_land(&mut rng, n);
-        let params = RoadParams {
-            width: 4.0,
-            distance_weight: rng.random_range(0.5..2.0),
-            slope_weight: rng.random_range(0.0..4.0),
-            max_grade: rng.random_range(0.1..0.3),
-            curvature_weight: rng.random_range(0.0..4.0),
-            water_weight: rng.random_range(0.0..30.0),
-            building_cost: rng.random_range(0.0..200.0),
-            reuse_weight: 0.1,
-            mask_radius: 1 + case % 3,
-            cycle_angle_degrees: 30.0,
-            cycle_max_length: 100.0,
-            cycle_min_separation: 20.0,
-            street_length: 0.0,
-        };
+        let params = random_road_params(&mut rng, case);
         let mut search = Search::new(&land, &params).unwrap();
         search.flags = (0..land.grid().len())
             .map(|_| {
@@ -126,15 +164,14 @@ fn the_searches_find_the_cheapest_path() {
         if search.flags[target] & GOAL != 0 {
             continue;
         }
+        let (a, b) = (
+            land.grid().point_of(target),
+            land.grid().point_of(sources[0].0),
+        );
         let ellipse = (case % 4 == 3).then(|| Ellipse {
-            a: land.grid().point_of(target),
-            b: land.grid().point_of(sources[0].0),
-            length: 1.3
-                * land
-                    .grid()
-                    .point_of(target)
-                    .distance(land.grid().point_of(sources[0].0))
-                + 10.0,
+            a,
+            b,
+            length: 1.3 * a.distance(b) + 10.0,
         });
         let ctx = Ctx {
             land: &land,
@@ -148,33 +185,7 @@ fn the_searches_find_the_cheapest_path() {
                 steep,
                 ellipse,
             };
-            let reference = search.dijkstra(&query);
-            // the bound alone, the field at once, the field after a few states, the corridor
-            for (budget, state_budget) in
-                [(usize::MAX, 0), (0, usize::MAX), (40, usize::MAX), (0, 20)]
-            {
-                search.budget = budget;
-                search.state_budget = state_budget;
-                let got = search.find(&query);
-                match (reference, &got) {
-                    (None, None) => {}
-                    (Some(a), Some((path, b))) => {
-                        let exact = state_budget > 20;
-                        assert!(
-                            (a - b).abs() <= 1e-3 * a.max(1.0) || !exact && *b >= a,
-                            "case {case} steep {steep} budget {budget}: {a} vs {b}"
-                        );
-                        assert_eq!(path[0], target);
-                        let last = *path.last().unwrap();
-                        assert!(sources.iter().any(|&(r, _)| r == last));
-                        compared += 1;
-                    }
-                    _ => panic!(
-                        "case {case} steep {steep} budget {budget}: {reference:?} vs {:?}",
-                        got.map(|g| g.1)
-                    ),
-                }
-            }
+            compared += compare_with_dijkstra(&mut search, &query, case);
         }
     }
     assert!(compared >= 60, "{compared}");
