@@ -9,8 +9,8 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
 use crate::arrangement::{
-    gaussian, grow_arrangement_around as grow_around, pattern_fidelity, ArrangementColor, Element,
-    FlowField, GrowthNoise as Noise, GrowthOptions, PatternFidelity, PatternRotation,
+    gaussian, grow_arrangement_around, pattern_fidelity, ArrangementColor, Element, FlowField,
+    GrowthNoise, GrowthOptions, PatternFidelity, PatternRotation,
 };
 use crate::error::{Error, Result};
 use crate::geom::Region;
@@ -116,13 +116,13 @@ pub(crate) fn paint(
         relax_every: pattern.relax_every,
         flow,
         boundaries: opts.guides.boundaries.clone(),
-        noise: Noise {
+        noise: GrowthNoise {
             scale: pattern.scale_noise,
             rotation: pattern.rotation_noise,
         },
         ..Default::default()
     };
-    let grown = grow_around(
+    let grown = grow_arrangement_around(
         &reference,
         &region,
         &existing,

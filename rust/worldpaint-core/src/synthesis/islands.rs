@@ -37,7 +37,7 @@
 //! (islands in order of area, then of tracing; the growth's ties broken by lattice index).
 
 use crate::analysis::structure::centroid;
-use crate::contour::{islands, trace_contours as trace, Island, Polygons};
+use crate::contour::{islands, trace_contours, Island, Polygons};
 use crate::geom::{polygon_contains, polygon_signed_area, DVec2, PreparedRegion, RegionQueries};
 use crate::grid::Grid;
 use crate::palette::PolygonColor;
@@ -222,7 +222,7 @@ fn contours_of(
         match &cells[k] {
             Some(points) => {
                 // one island: a piece the lattice leaves apart (a neck thinner than a spacing) is dropped
-                let loops = trace(points, spacing);
+                let loops = trace_contours(points, spacing);
                 let largest = islands(&loops)
                     .into_iter()
                     .max_by(|a, b| a.area.total_cmp(&b.area));

@@ -13,7 +13,7 @@ use super::{
     SynthesisResult,
 };
 use crate::analysis::region_lattice;
-use crate::contour::{fill_polygons as fill, trace_contours as trace};
+use crate::contour::{fill_polygons, trace_contours};
 use crate::error::Result;
 use crate::geom::{DVec2, PreparedRegion, Region, RegionQueries};
 use crate::limits;
@@ -201,7 +201,7 @@ impl<'s> Painting<'s> {
                     3.0 * spacing,
                 );
                 let kept = state.structured.polygons(name);
-                let kept_points = fill(&kept, spacing, ci as u64);
+                let kept_points = fill_polygons(&kept, spacing, ci as u64);
                 let merged_polygons = self.contour_polygons(&merged);
                 state.context[ci].extend(kept_points.into_iter().filter(|p| {
                     region.distance_outside(*p) <= influence
@@ -307,7 +307,7 @@ impl<'s> Painting<'s> {
         let merged_polygons = self.contour_polygons(&merged);
         let mut dense = points.to_vec();
         dense.extend(
-            fill(&merged_polygons, spacing, ci as u64)
+            fill_polygons(&merged_polygons, spacing, ci as u64)
                 .into_iter()
                 .filter(|p| !self.region.contains(*p)),
         );
@@ -320,7 +320,7 @@ impl<'s> Painting<'s> {
             .map(|(_, c)| c.points.clone())
             .collect();
         let traced = islands::match_sizes(
-            trace(&dense, spacing),
+            trace_contours(&dense, spacing),
             dense.len() as f64 * spacing * spacing,
             self.color.polygon(name),
             &crate::contour::Polygons::new(&all),
