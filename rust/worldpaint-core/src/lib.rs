@@ -36,6 +36,7 @@
 //! | [`variety`] | model variety (Maréchal et al.): components, connecting regions, variant atlas, assembly with frames, self-intersection rejection, texture components |
 //! | [`arrangement`] | element arrangement by example (Ijiri et al. 2008): reference connectivity, local growth from a seed, relaxation |
 //! | [`exemplar`] | generating processes for demo scenes, tests and benchmarks |
+//! | `place` ([`import_place`]) | real places: OpenStreetMap layers, elevation models and tree inventories in a local metric frame |
 
 // `!(x > 0.0)` is used on purpose: it rejects NaN as well as non-positive values.
 #![allow(clippy::neg_cmp_op_on_partial_ord, clippy::nonminimal_bool)]
@@ -57,6 +58,7 @@ pub mod interpolate;
 pub mod limits;
 mod paint;
 pub mod palette;
+mod place;
 pub mod polygon_mesh;
 mod progress;
 pub mod scene;
@@ -80,6 +82,14 @@ pub use geom::Region;
 pub use interpolate::interpolate_colors;
 pub use paint::{painted_fidelity, synthesize, synthesize_with_progress};
 pub use palette::{Color, Palette};
+pub use place::{
+    import_place, read_elevation_model, read_map_layer, read_tree_inventory, AreaClass,
+    BuildingType, ElevationModel, InventoryCoordinates, InventoryRow, InventoryTree,
+    LocalProjection, LonLat, LonLatShape, MapFeature, MapLayer, MappedArea, MappedBuilding,
+    MappedRoad, MappedWaterway, NamedPlace, Place, PlaceFrame, PlaceOptions, PlaceReport,
+    PlaceSources, RoadClass, TerrainReport, TreeInventory, DEFAULT_MARGIN, MAX_EXTENT_DEGREES,
+    MAX_HOLE_SHARE,
+};
 pub use scene::{Category, CategoryKind, Instance, Scene};
 pub use synthesis::{SynthesisOptions, SynthesisResult};
 pub use terrain::Heightfield;
