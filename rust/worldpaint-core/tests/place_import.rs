@@ -812,7 +812,7 @@ fn write_ascii_grid(path: &Path, n: usize, holes: usize, one_cell: Option<&str>)
     let mut text = format!(
         "ncols {n}\nnrows {n}\nxllcorner 11\nyllcorner 49\ncellsize 0.001\nNODATA_value -32768\n"
     );
-    let every = if holes > 0 { n * n / holes } else { usize::MAX };
+    let every = (n * n).checked_div(holes);
     for r in 0..n {
         let row: Vec<String> = (0..n)
             .map(|c| {
@@ -822,7 +822,7 @@ fn write_ascii_grid(path: &Path, n: usize, holes: usize, one_cell: Option<&str>)
                         return v.to_string();
                     }
                 }
-                if holes > 0 && (r * 37 + c) % every == 0 {
+                if every.is_some_and(|every| (r * 37 + c) % every == 0) {
                     "-32768".into()
                 } else {
                     let p = [

@@ -42,8 +42,6 @@
 
 #[path = "common/checks.rs"]
 mod checks;
-#[path = "common/geojson.rs"]
-mod geojson;
 #[path = "common/real_places.rs"]
 mod real;
 #[path = "common/real_data.rs"]

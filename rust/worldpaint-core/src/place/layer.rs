@@ -4,9 +4,9 @@
 //! Features are read one by one with the `geojson` crate; the collection around them is read with `serde_json`,
 //! since OpenStreetMap extract tools write a collection `bbox` as an object (`{"minlat": ...}`) where RFC 7946 wants
 //! an array, and the crate refuses the whole file for it. A feature the crate cannot read, or whose geometry is
-//! missing, of a kind with no place in a map (MultiPoint, GeometryCollection) or too short (a line of one point, a
-//! ring of fewer than three), is counted as unreadable and left out; a coordinate outside the ranges of degrees
-//! refuses the whole layer as being in a CRS it cannot place.
+//! missing, of a kind with no place in a map (MultiPoint, GeometryCollection) or too short (a line of one point, an
+//! outer ring of fewer than three; a hole that short is dropped), is counted as unreadable and left out; a coordinate
+//! outside the ranges of degrees refuses the whole layer as being in a CRS it cannot place.
 
 use super::crs::{self, Crs};
 use super::read_file;
@@ -197,10 +197,12 @@ fn line(points: &[geojson::Position], min: usize) -> Option<Vec<LonLat>> {
     line.filter(|l| l.len() >= min)
 }
 
-/// A polygon: its rings, the outer first, each of at least three positions.
+/// A polygon: its outer ring then its holes, each of at least three positions; a hole too short is left out, an
+/// outer ring too short leaves out the polygon.
 fn polygon(rings: &[Vec<geojson::Position>]) -> Option<Vec<Vec<LonLat>>> {
-    let rings: Option<Vec<Vec<LonLat>>> = rings.iter().map(|r| line(r, 3)).collect();
-    rings.filter(|r| !r.is_empty())
+    let mut out = vec![line(rings.first()?, 3)?];
+    out.extend(rings[1..].iter().filter_map(|r| line(r, 3)));
+    Some(out)
 }
 
 fn shape(value: &geojson::GeometryValue) -> Option<LonLatShape> {
