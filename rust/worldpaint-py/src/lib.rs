@@ -14,6 +14,7 @@ mod arrays;
 mod colors;
 mod convert;
 mod exemplars;
+mod place;
 mod regions;
 mod scene;
 mod sketch;
@@ -277,6 +278,8 @@ mod worldpaint_engine {
         exemplar_clustered, exemplar_demo_terrain, exemplar_hard_core, exemplar_slope_scene,
         exemplar_uniform, exemplar_village,
     };
+    #[pymodule_export]
+    use crate::place::import_place;
     #[pymodule_export]
     use crate::regions::{fill_polygons, region_area, region_bbox, region_contains};
     #[pymodule_export]
