@@ -952,6 +952,20 @@ fn bad_elevation_models_are_refused_and_few_holes_filled() {
         &["terrain cell", "positive"],
     );
     let opts = PlaceOptions {
+        origin: Some([0.0, 0.0]),
+        ..Default::default()
+    };
+    refused(
+        import_place(
+            std::slice::from_ref(&layer),
+            Some(&wgs84),
+            None,
+            &opts,
+            &no_progress,
+        ),
+        &["origin", "from the farthest point of the place"],
+    );
+    let opts = PlaceOptions {
         origin: Some([f64::INFINITY, 0.0]),
         ..Default::default()
     };

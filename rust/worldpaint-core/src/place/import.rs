@@ -62,6 +62,9 @@ pub fn import_place(
     if let Some(cell) = options.cell {
         check::positive("terrain cell", cell)?;
     }
+    if let Some(origin) = options.origin {
+        PlaceFrame::centred_on(origin)?;
+    }
     if layers.is_empty() && elevation.is_none() && inventory.is_none() {
         return Err(Error::invalid(
             "a place",
@@ -168,6 +171,23 @@ fn frame_of(
                     "spans {span:.1}° (lon {:.3}..{:.3}, lat {:.3}..{:.3}): more than the {MAX_EXTENT_DEGREES}° one \
                      local frame holds",
                     lo[0], hi[0], lo[1], hi[1]
+                ),
+            ));
+        }
+    }
+    if let (Some(origin), Some((lo, hi))) = (options.origin, data_box) {
+        let far = (lo[0] - origin[0])
+            .abs()
+            .max((hi[0] - origin[0]).abs())
+            .max((lo[1] - origin[1]).abs())
+            .max((hi[1] - origin[1]).abs());
+        if !(far <= MAX_EXTENT_DEGREES) {
+            return Err(Error::invalid(
+                "the place's origin",
+                format!(
+                    "({}, {}) lies {far:.1}° from the farthest point of the place, more than the \
+                     {MAX_EXTENT_DEGREES}° one local frame holds",
+                    origin[0], origin[1]
                 ),
             ));
         }
