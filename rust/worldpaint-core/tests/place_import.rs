@@ -617,6 +617,27 @@ fn an_srtm_tile_is_read_from_its_name_and_big_endian_samples() {
     );
     assert!((b.orientation - std::f64::consts::FRAC_PI_2).abs() < 0.01);
     assert_eq!(b.name.as_deref(), Some("Test"));
+    // the terrain survives the place's JSON
+    let back = Place::from_json(&place.to_json().unwrap()).unwrap();
+    let (t, u) = (
+        place.terrain.as_ref().unwrap(),
+        back.terrain.as_ref().unwrap(),
+    );
+    assert_eq!(
+        (t.origin, t.cell, t.nx, t.ny),
+        (u.origin, u.cell, u.nx, u.ny)
+    );
+    assert_eq!(t.heights, u.heights);
+    // the tile alone is the place: its whole extent, less up to a cell on each side where the grid nodes fall
+    let alone = import(&[], Some(&tile), None, &PlaceOptions::default());
+    let (lo, hi) = alone.terrain.as_ref().unwrap().bbox();
+    let size = hi - lo;
+    println!(
+        "the tile alone: {:.0} x {:.0} m, origin {:?}",
+        size.x, size.y, alone.frame.origin
+    );
+    assert_eq!(alone.frame.origin, Some([11.5, 49.5]));
+    assert!((size.y - 111_250.0).abs() < 300.0, "{size}");
 }
 
 /// Writes a single-band float GeoTIFF of the plane over lon 11..11.1, lat 49..49.1 in 0.001° cells, with the given
