@@ -819,7 +819,11 @@ fn bad_map_layers_are_refused_with_what_is_wrong() {
         .unwrap()
         .set_len(worldpaint_core::limits::MAX_PLACE_FILE_BYTES + 1)
         .unwrap();
-    refused(try_layers(&[huge]), &["too large", "huge.geojson", "bytes"]);
+    refused(
+        try_layers(std::slice::from_ref(&huge)),
+        &["too large", "huge.geojson", "bytes"],
+    );
+    std::fs::remove_file(&huge).unwrap();
     refused(
         import_place(&[], None, None, &PlaceOptions::default(), &no_progress),
         &["needs a map layer"],
