@@ -21,6 +21,14 @@ pub enum FileKind {
     ScenarioPresets,
     /// One tile of a world's tile set.
     Tile,
+    /// A map layer of a real place (GeoJSON).
+    MapLayer,
+    /// An elevation model of a real place (ESRI ASCII grid, SRTM `.hgt`, GeoTIFF).
+    ElevationModel,
+    /// A tree inventory of a real place (CSV).
+    TreeInventory,
+    /// A real place as imported and saved.
+    Place,
 }
 
 impl fmt::Display for FileKind {
@@ -32,6 +40,10 @@ impl fmt::Display for FileKind {
             FileKind::Scenario => "scenario",
             FileKind::ScenarioPresets => "scenario presets",
             FileKind::Tile => "world tile",
+            FileKind::MapLayer => "map layer (GeoJSON)",
+            FileKind::ElevationModel => "elevation model",
+            FileKind::TreeInventory => "tree inventory",
+            FileKind::Place => "place",
         })
     }
 }

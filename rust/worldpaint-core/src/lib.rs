@@ -43,6 +43,7 @@
 //! | `variety` ([`generate_variants`], [`Atlas`], [`Model`]) | model variety (Maréchal et al.): components, connecting regions, variant atlas, assembly with frames, self-intersection rejection, texture components |
 //! | `arrangement` ([`grow_arrangement`], [`relax_arrangement`]) | element arrangement by example (Ijiri et al. 2008): reference connectivity, local growth from a seed, relaxation |
 //! | `exemplar` ([`uniform_points`], [`slope_scene`], [`demo_terrain`]) | generating processes for demo scenes, tests and benchmarks |
+//! | `place` ([`import_place`]) | real places: OpenStreetMap layers, elevation models and tree inventories in a local metric frame |
 
 // `!(x > 0.0)` is used on purpose: it rejects NaN as well as non-positive values.
 #![allow(clippy::neg_cmp_op_on_partial_ord, clippy::nonminimal_bool)]
@@ -66,6 +67,7 @@ mod interpolate;
 mod limits;
 mod paint;
 mod palette;
+mod place;
 mod polygon_mesh;
 mod progress;
 mod scene;
@@ -121,8 +123,8 @@ pub use grid::Grid;
 pub use interpolate::{displacement_interpolate, interpolate_colors};
 // limits: the work budget
 pub use limits::{
-    check, MAX_GRID_CELLS, MAX_INSTANCES, MAX_ITERATIONS_PER_INSTANCE, MAX_REGION_DEPTH,
-    MAX_WORLD_INSTANCES,
+    check, MAX_GRID_CELLS, MAX_INSTANCES, MAX_ITERATIONS_PER_INSTANCE, MAX_PLACE_FILE_BYTES,
+    MAX_REGION_DEPTH, MAX_WORLD_INSTANCES,
 };
 // paint: a color painted into a scene
 pub use paint::{painted_fidelity, synthesize, synthesize_with_progress};
@@ -130,6 +132,15 @@ pub use paint::{painted_fidelity, synthesize, synthesize_with_progress};
 pub use palette::{
     Color, ColorKind, GraphColor, Histogram, Interaction, MapSource, Palette,
     PALETTE_FORMAT_VERSION,
+};
+// place: real places read from map, elevation and inventory files
+pub use place::{
+    import_place, read_elevation_model, read_map_layer, read_tree_inventory, AreaClass,
+    BuildingType, ElevationModel, InventoryCoordinates, InventoryRow, InventoryTree,
+    LocalProjection, LonLat, LonLatShape, MapFeature, MapLayer, MappedArea, MappedBuilding,
+    MappedRoad, MappedWaterway, NamedPlace, Place, PlaceFrame, PlaceOptions, PlaceReport,
+    PlaceSources, RoadClass, TerrainReport, TreeInventory, DEFAULT_MARGIN, MAX_EXTENT_DEGREES,
+    MAX_HOLE_SHARE,
 };
 // polygon_mesh
 pub use polygon_mesh::triangulate;

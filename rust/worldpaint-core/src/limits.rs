@@ -26,6 +26,9 @@ pub(crate) const MAX_HISTOGRAM_VALUE: f64 = 1e6;
 pub(crate) const MAX_DENSITY: f64 = 1e4;
 /// Vertices of one region's polygons, all nested parts together.
 pub(crate) const MAX_REGION_VERTICES: u64 = 1_000_000;
+/// Bytes of one file of a real place (a map layer, an elevation model, a tree inventory): a GeoJSON layer is held
+/// parsed in memory at several times its size.
+pub const MAX_PLACE_FILE_BYTES: u64 = 512 * 1024 * 1024;
 /// Nesting depth of a region (clipped inside clipped ...).
 pub const MAX_REGION_DEPTH: u64 = 64;
 

@@ -23,6 +23,7 @@ mod geom;
 mod interpolate;
 mod paint;
 mod palette;
+mod place;
 mod polygon_mesh;
 mod scene;
 mod sketch;
@@ -296,6 +297,8 @@ mod worldpaint_engine {
         color_renamed, color_summary, color_without_interactions, palette_from_json,
         palette_to_json,
     };
+    #[pymodule_export]
+    use crate::place::import_place;
     #[pymodule_export]
     use crate::polygon_mesh::fill_polygons;
     #[pymodule_export]

@@ -4,18 +4,18 @@
 //! repository; a loader panics with the reason when a file is absent (the tests that use it are `#[ignore]`d).
 //!
 //! * **Terrain.** `terrain/<place>_srtm3.asc`: SRTM 3″ elevations as an ESRI ASCII grid (lon/lat of the lower-left
-//!   corner and the cell size in degrees, first data row at the northern edge, -32768 = no data). No-data cells
-//!   take the value of the nearest valid cell (breadth-first over the grid). The grid is projected
-//!   equirectangularly about its own centre, which maps it onto an axis-aligned grid of anisotropic cells
-//!   (north of Bayreuth, 50° N: 59.6 m east–west by 92.7 m north–south; Andorra, 42.5° N: 68.3 m by 92.7 m). A
+//!   corner and the cell size in degrees, first data row at the northern edge, -32768 = no data), read by the
+//!   engine's reader (`read_elevation_model`); no-data cells take the value of the nearest valid cell (breadth-first
+//!   over the grid, `ElevationModel::fill_holes`). The grid is projected equirectangularly about its own centre,
+//!   which maps it onto an axis-aligned grid of anisotropic cells (north of Bayreuth, 50° N: 59.6 m east–west by 92.7 m north–south; Andorra, 42.5° N: 68.3 m by 92.7 m). A
 //!   [`Heightfield`] needs square cells, so the grid is resampled by bilinear interpolation onto [`TERRAIN_CELL`]
 //!   metre cells, a quarter of the finer source spacing: the resampled surface departs from the source's
 //!   bilinear surface by 0.02 m on average north of Bayreuth and 0.06 m in Andorra (at most 1.4 m and 7.4 m, on
 //!   the sharpest ridges; 30 m cells gave 0.08 m and 0.29 m, at most 2.6 m and 19.7 m). Building the heightfield
 //!   directly with the mean source spacing as its cell would stretch the terrain east–west by 18–28 % and shrink
 //!   it north–south by 13–18 %, moving the valleys away from the villages.
-//! * **Villages.** `villages/<place>_{buildings,roads,areas,places}.geojson` (OpenStreetMap, WGS84), projected
-//!   with the terrain's projection so both line up. Each building is one house at its area centroid. Roads are
+//! * **Villages.** `villages/<place>_{buildings,roads,areas,places}.geojson` (OpenStreetMap, WGS84, read by the
+//!   engine's `read_map_layer`), projected with the terrain's projection so both line up. Each building is one house at its area centroid. Roads are
 //!   the `highway` ways people drive on: footways, paths, cycleways, steps, pedestrian ways and bridleways are
 //!   left out, and so are motorways and trunk roads (no house is served by them) and ways under construction.
 //!   Tracks and service ways stay: they are how farms are reached, and their share of the length is reported.
@@ -49,15 +49,15 @@
 //! * SRTM at 3″ cannot resolve the benches and hairpins a mountain road is built on: a road along a steep slope
 //!   reads the slope's grade, so real road grades in Andorra read far steeper than the roads are.
 
-use super::geojson::{geometry, read_features, tag, FOOT_AND_BRIDLE_WAYS};
 use super::real_data::{real_data_dir, require, Projection};
 use super::rings::area_centroid;
 use super::squares::{centre_of_points_in, points_in, square, squares_by_count};
-use std::collections::{HashMap, VecDeque};
+use std::collections::HashMap;
+use std::path::Path;
 use worldpaint_core::{
     layout_statistics, mean_elevation_percentile, polygon_contains, polygon_signed_area,
-    road_grades, road_length, DVec2, Environment, Graph, Heightfield, Land, LayoutStatistics,
-    Region, Road,
+    read_elevation_model, read_map_layer, road_grades, road_length, DVec2, ElevationModel,
+    Environment, Graph, Heightfield, Land, LayoutStatistics, LonLatShape, MapLayer, Region, Road,
 };
 
 /// Cell (m) of the metre heightfield resampled from the SRTM grid.
@@ -77,6 +77,15 @@ const FLAT_RING: f64 = 1e-9;
 /// Upper bounds of the reported grade bins (rise over run); the last bin holds everything steeper.
 pub const GRADE_BINS: [f64; 5] = [0.02, 0.05, 0.08, 0.12, 0.15];
 
+/// `highway` values of ways for people on foot, on bicycles or on horses: not part of a village's road network.
+const FOOT_AND_BRIDLE_WAYS: [&str; 6] = [
+    "footway",
+    "path",
+    "cycleway",
+    "steps",
+    "pedestrian",
+    "bridleway",
+];
 /// `highway` values besides the foot and bridle ways that are not roads a house is served by.
 const NOT_SERVING: [&str; 7] = [
     "motorway",
@@ -122,112 +131,25 @@ pub const ANDORRA: PlaceSpec = PlaceSpec {
 // ---------------------------------------------------------------------------------------------------------------
 // Terrain
 
-/// An ESRI ASCII grid as read: `values[r * ncols + c]`, row 0 the northern edge; no-data cells already filled.
+/// The engine's reading of an SRTM grid with its holes filled: `heights[r * ncols + c]`, row 0 the northern edge.
 pub struct AsciiGrid {
-    pub ncols: usize,
-    pub nrows: usize,
-    /// Lower-left corner of the lower-left cell (degrees).
-    pub xll: f64,
-    pub yll: f64,
-    pub cellsize: f64,
-    pub values: Vec<f64>,
+    pub model: ElevationModel,
     /// Cells that had no data and took the nearest valid value.
     pub filled: usize,
 }
 
-/// Parses an ESRI ASCII grid (header keys in any case; `xllcenter`/`yllcenter` accepted; `NODATA_value`
-/// optional) and fills its no-data cells with the nearest valid value.
-pub fn parse_ascii_grid(text: &str) -> Result<AsciiGrid, String> {
-    let mut tokens = text.split_ascii_whitespace().peekable();
-    let mut header: HashMap<String, f64> = HashMap::new();
-    while let Some(t) = tokens.peek() {
-        if !t.starts_with(|c: char| c.is_ascii_alphabetic()) {
-            break;
-        }
-        let key = t.to_ascii_lowercase();
-        tokens.next();
-        let value = tokens
-            .next()
-            .and_then(|v| v.parse::<f64>().ok())
-            .ok_or_else(|| format!("header '{key}' has no number"))?;
-        header.insert(key, value);
-    }
-    let get = |k: &str| header.get(k).copied();
-    let count = |k: &str| -> Result<usize, String> {
-        match get(k) {
-            Some(v) if v >= 2.0 && v.fract() == 0.0 => Ok(v as usize),
-            _ => Err(format!("header '{k}' missing or below 2")),
-        }
-    };
-    let (ncols, nrows) = (count("ncols")?, count("nrows")?);
-    let cellsize = get("cellsize")
-        .filter(|c| c.is_finite() && *c > 0.0)
-        .ok_or("header 'cellsize' missing or not positive")?;
-    let corner = |corner: &str, centre: &str| -> Result<f64, String> {
-        get(corner)
-            .or_else(|| get(centre).map(|c| c - 0.5 * cellsize))
-            .ok_or_else(|| format!("header '{corner}' missing"))
-    };
-    let (xll, yll) = (
-        corner("xllcorner", "xllcenter")?,
-        corner("yllcorner", "yllcenter")?,
-    );
-    let nodata = get("nodata_value");
-    let mut values = Vec::with_capacity(ncols * nrows);
-    for t in tokens {
-        let v: f64 = t.parse().map_err(|_| format!("'{t}' is not a number"))?;
-        values.push(v);
-    }
-    if values.len() != ncols * nrows {
+/// Reads an ESRI ASCII grid with the engine's reader and fills its no-data cells with the nearest valid value.
+pub fn read_ascii_grid(path: &Path) -> Result<AsciiGrid, String> {
+    let mut model = read_elevation_model(path).map_err(|e| e.to_string())?;
+    if model.cell[0] != model.cell[1] {
         return Err(format!(
-            "{} values for a {ncols} x {nrows} grid",
-            values.len()
+            "{}: cells of {:?} degrees are not square",
+            path.display(),
+            model.cell
         ));
     }
-    let valid: Vec<bool> = values
-        .iter()
-        .map(|v| v.is_finite() && nodata.is_none_or(|n| *v != n))
-        .collect();
-    let filled = valid.iter().filter(|v| !**v).count();
-    if filled == values.len() {
-        return Err("the grid holds no data".into());
-    }
-    if filled > 0 {
-        // breadth-first from every valid cell: each no-data cell takes the value of the cell that reaches it first
-        let mut done = valid.clone();
-        let mut queue: VecDeque<usize> = (0..values.len()).filter(|k| valid[*k]).collect();
-        while let Some(k) = queue.pop_front() {
-            let (r, c) = (k / ncols, k % ncols);
-            let mut visit = |n: usize| {
-                if !done[n] {
-                    done[n] = true;
-                    values[n] = values[k];
-                    queue.push_back(n);
-                }
-            };
-            if c > 0 {
-                visit(k - 1);
-            }
-            if c + 1 < ncols {
-                visit(k + 1);
-            }
-            if r > 0 {
-                visit(k - ncols);
-            }
-            if r + 1 < nrows {
-                visit(k + ncols);
-            }
-        }
-    }
-    Ok(AsciiGrid {
-        ncols,
-        nrows,
-        xll,
-        yll,
-        cellsize,
-        values,
-        filled,
-    })
+    let filled = model.fill_holes().map_err(|e| e.to_string())?;
+    Ok(AsciiGrid { model, filled })
 }
 
 /// A terrain in metres with the projection of its grid.
@@ -241,14 +163,16 @@ pub struct Terrain {
 }
 
 /// The grid projected about its centre and resampled by bilinear interpolation onto square cells of `cell` m.
-pub fn terrain_from_grid(grid: &AsciiGrid, cell: f64) -> Result<Terrain, String> {
-    let cs = grid.cellsize;
+pub fn terrain_from_grid(ascii: &AsciiGrid, cell: f64) -> Result<Terrain, String> {
+    let grid = &ascii.model;
+    let cs = grid.cell[0];
+    let [xll, yll] = grid.lower_left;
     let projection = Projection::new([
-        grid.xll + 0.5 * grid.ncols as f64 * cs,
-        grid.yll + 0.5 * grid.nrows as f64 * cs,
+        xll + 0.5 * grid.ncols as f64 * cs,
+        yll + 0.5 * grid.nrows as f64 * cs,
     ]);
     // sample (i, j), j counted from the south, is the centre of its cell
-    let origin = projection.project([grid.xll + 0.5 * cs, grid.yll + 0.5 * cs]);
+    let origin = projection.project([xll + 0.5 * cs, yll + 0.5 * cs]);
     let spacing = projection.scale() * cs;
     let extent = DVec2::new(
         (grid.ncols - 1) as f64 * spacing.x,
@@ -256,7 +180,7 @@ pub fn terrain_from_grid(grid: &AsciiGrid, cell: f64) -> Result<Terrain, String>
     );
     let nx = (extent.x / cell).floor() as usize + 1;
     let ny = (extent.y / cell).floor() as usize + 1;
-    let source = |i: usize, j: usize| grid.values[(grid.nrows - 1 - j) * grid.ncols + i];
+    let source = |i: usize, j: usize| grid.heights[(grid.nrows - 1 - j) * grid.ncols + i];
     let mut heights = Vec::with_capacity(nx * ny);
     for b in 0..ny {
         let fy = (b as f64 * cell / spacing.y).min((grid.nrows - 1) as f64);
@@ -278,12 +202,26 @@ pub fn terrain_from_grid(grid: &AsciiGrid, cell: f64) -> Result<Terrain, String>
         projection,
         source_spacing: spacing,
         source_size: [grid.ncols, grid.nrows],
-        filled: grid.filled,
+        filled: ascii.filled,
     })
 }
 
 // ---------------------------------------------------------------------------------------------------------------
 // GeoJSON
+
+/// A map layer read by the engine's reader, refused with its message.
+fn read_features(path: &Path) -> Result<MapLayer, String> {
+    read_map_layer(path).map_err(|e| e.to_string())
+}
+
+/// The lines of a (Multi)LineString, the outer rings of a (Multi)Polygon, or a Point as a one-point line.
+fn outer_lines(shape: &LonLatShape) -> Vec<Vec<[f64; 2]>> {
+    match shape {
+        LonLatShape::Point(p) => vec![vec![*p]],
+        LonLatShape::Lines(lines) => lines.clone(),
+        LonLatShape::Polygons(polygons) => polygons.iter().map(|rings| rings[0].clone()).collect(),
+    }
+}
 
 /// A ring without its closing repetition, if at least a triangle is left.
 fn open_ring(mut ring: Vec<DVec2>) -> Option<Vec<DVec2>> {
@@ -357,9 +295,7 @@ pub fn load_place(spec: PlaceSpec) -> Result<Place, String> {
         layer("places"),
     ];
     require(&paths);
-    let text = std::fs::read_to_string(&terrain_path)
-        .map_err(|e| format!("cannot read {}: {e}", terrain_path.display()))?;
-    let grid = parse_ascii_grid(&text).map_err(|e| format!("{}: {e}", terrain_path.display()))?;
+    let grid = read_ascii_grid(&terrain_path)?;
     let terrain = terrain_from_grid(&grid, TERRAIN_CELL)?;
     let proj = terrain.projection;
     let project =
@@ -368,8 +304,10 @@ pub fn load_place(spec: PlaceSpec) -> Result<Place, String> {
     let mut unreadable = 0;
     let mut not_roads = 0;
     let mut roads = Vec::new();
-    for f in read_features(&paths[2])? {
-        match (tag(&f, "highway"), geometry(&f)) {
+    let roads_layer = read_features(&paths[2])?;
+    unreadable += roads_layer.unreadable;
+    for f in &roads_layer.features {
+        match (f.tag("highway"), Some(outer_lines(&f.shape))) {
             (Some(h), Some(_)) if FOOT_AND_BRIDLE_WAYS.contains(&h) || NOT_SERVING.contains(&h) => {
                 not_roads += 1
             }
@@ -383,26 +321,27 @@ pub fn load_place(spec: PlaceSpec) -> Result<Place, String> {
         }
     }
     let mut houses = Vec::new();
-    for f in read_features(&paths[1])? {
-        match geometry(&f).and_then(|rings| open_ring(project(rings.first()?))) {
+    let buildings_layer = read_features(&paths[1])?;
+    unreadable += buildings_layer.unreadable;
+    for f in &buildings_layer.features {
+        match open_ring(project(&outer_lines(&f.shape)[0])) {
             Some(ring) => houses.push(area_centroid(&[ring], FLAT_RING)),
             None => unreadable += 1,
         }
     }
     let mut areas = Vec::new();
     let mut water = Vec::new();
-    for f in read_features(&paths[3])? {
-        let landuse = tag(&f, "landuse");
-        let is_water = tag(&f, "natural") == Some("water")
-            || tag(&f, "waterway") == Some("riverbank")
+    let areas_layer = read_features(&paths[3])?;
+    unreadable += areas_layer.unreadable;
+    for f in &areas_layer.features {
+        let landuse = f.tag("landuse");
+        let is_water = f.tag("natural") == Some("water")
+            || f.tag("waterway") == Some("riverbank")
             || matches!(landuse, Some("reservoir" | "basin"));
         if !is_water && landuse.is_none() {
             continue;
         }
-        let Some(rings) = geometry(&f) else {
-            unreadable += 1;
-            continue;
-        };
+        let rings = outer_lines(&f.shape);
         if is_water {
             water.extend(rings.iter().filter_map(|r| open_ring(project(r))));
         }
@@ -424,12 +363,14 @@ pub fn load_place(spec: PlaceSpec) -> Result<Place, String> {
         }
     }
     let mut places = Vec::new();
-    for f in read_features(&paths[4])? {
-        let point = geometry(&f).and_then(|g| g.first()?.first().copied());
-        if let (Some(kind), Some(p)) = (tag(&f, "place"), point) {
+    for f in &read_features(&paths[4])?.features {
+        let point = outer_lines(&f.shape)
+            .first()
+            .and_then(|l| l.first().copied());
+        if let (Some(kind), Some(p)) = (f.tag("place"), point) {
             places.push(NamedPlace {
                 kind: kind.to_string(),
-                name: tag(&f, "name").unwrap_or("(unnamed)").to_string(),
+                name: f.tag("name").unwrap_or("(unnamed)").to_string(),
                 position: proj.project(p),
             });
         }
@@ -845,11 +786,13 @@ fn counter_clockwise(mut ring: Vec<DVec2>) -> Vec<DVec2> {
 pub fn load_cadastre() -> Result<RealParcels, String> {
     let path = real_data_dir().join("parcels/cadastre-91216-parcelles.json");
     require(std::slice::from_ref(&path));
-    let features = read_features(&path)?;
-    let rings: Vec<Option<Vec<[f64; 2]>>> = features
+    let layer = read_features(&path)?;
+    let rings: Vec<Option<Vec<[f64; 2]>>> = layer
+        .features
         .iter()
-        .map(|f| geometry(f).and_then(|g| g.into_iter().next()))
+        .map(|f| outer_lines(&f.shape).into_iter().next())
         .collect();
+    let read = layer.features.len() + layer.unreadable;
     let (lo, hi) = rings.iter().flatten().flatten().fold(
         ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]),
         |(lo, hi), p| {
@@ -877,8 +820,8 @@ pub fn load_cadastre() -> Result<RealParcels, String> {
         }
     }
     Ok(RealParcels {
-        read: features.len(),
-        left_out: features.len() - contours.len(),
+        read,
+        left_out: read - contours.len(),
         sharing: sharing(&nodes),
         contours,
         classes: Vec::new(),

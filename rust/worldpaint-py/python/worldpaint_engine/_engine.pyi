@@ -15,6 +15,7 @@ engine's (see ``arrays.rs``); a result is a numpy array of the dtype given. A pr
 """
 
 from collections.abc import Callable, Sequence
+from os import PathLike
 from typing import Final, Literal, NotRequired, Required, TypeAlias, TypedDict, Unpack
 
 import numpy as np
@@ -59,6 +60,7 @@ __all__ = [
     "generate_variants",
     "generate_village",
     "gradient",
+    "import_place",
     "interpolate_colors",
     "learn_arrangement",
     "learn_color",
@@ -878,3 +880,110 @@ def world_tile(
     iterations_per_instance: float | None = None,
 ) -> tuple[bytes, bytes, list[int]]: ...
 def read_world_tile(data: bytes) -> WorldTileDict: ...
+
+# real places
+
+class PlaceFrameDict(TypedDict):
+    """Where a place's metres are: (lon, lat) of the local origin and the proj string from WGS84 lon/lat; both None
+    for a place of local data only."""
+
+    origin: tuple[float, float] | None
+    projection: str | None
+
+class PlaceSourcesDict(TypedDict):
+    layers: list[str]
+    elevation: str | None
+    inventory: str | None
+
+class PlaceBuildingsDict(TypedDict):
+    """One row per building: area centroid, its ground height, the minimum-area rectangle's (length, width) and its
+    long side's angle from +X in [0, pi), the area, the type (house, farm, church, barn, shed, apartments,
+    industrial, commercial, garage, other), the ``building`` tag, the name ("" when none), and the footprint rings
+    (outer counter-clockwise, holes clockwise)."""
+
+    centroid: Float64Array
+    height: Float64Array
+    size: Float64Array
+    orientation: Float64Array
+    area: Float64Array
+    type: list[str]
+    building: list[str]
+    name: list[str]
+    footprints: list[list[Float64Array]]
+
+class PlaceLinesDict(TypedDict):
+    """One row per line: its (N, 2) points and their ground heights (N,), NaN off the terrain, and its name."""
+
+    name: list[str]
+    points: list[Float64Array]
+    heights: list[Float64Array]
+
+class PlaceRoadsDict(PlaceLinesDict):
+    """``kind``: the road's class, major, minor, residential, track, path or other; ``highway``: the tag."""
+
+    kind: list[str]
+    highway: list[str]
+
+class PlaceWaterwaysDict(PlaceLinesDict):
+    """``kind``: the ``waterway`` tag (river, stream, canal, ditch...)."""
+
+    kind: list[str]
+
+class PlaceAreasDict(TypedDict):
+    """``kind``: the area's class, water, residential, commercial, industrial, farmland, meadow, orchard, forest,
+    farmyard, cemetery, wetland or other; ``tag``: the tag it was classed by (``landuse=forest``); rings as the
+    footprints'."""
+
+    kind: list[str]
+    tag: list[str]
+    name: list[str]
+    rings: list[list[Float64Array]]
+
+class PlacePointsDict(TypedDict):
+    """Named places: ``kind`` is the ``place`` tag (village, hamlet, town...)."""
+
+    position: Float64Array
+    height: Float64Array
+    kind: list[str]
+    name: list[str]
+
+class PlaceTreesDict(TypedDict):
+    """``size``: the inventory's dbh or height, NaN where unknown."""
+
+    position: Float64Array
+    height: Float64Array
+    species: list[str]
+    size: Float64Array
+
+class PlaceReportDict(TypedDict):
+    features: int
+    unreadable: int
+    left_out: int
+    trees_not_alive: int
+    trees_unreadable: int
+    holes_filled: int
+    hole_share: float
+    source_spacing: tuple[float, float] | None
+
+class PlaceDict(TypedDict):
+    frame: PlaceFrameDict
+    sources: PlaceSourcesDict
+    terrain: TerrainGrid | None
+    buildings: PlaceBuildingsDict
+    roads: PlaceRoadsDict
+    waterways: PlaceWaterwaysDict
+    areas: PlaceAreasDict
+    places: PlacePointsDict
+    trees: PlaceTreesDict
+    report: PlaceReportDict
+
+def import_place(
+    geojson_paths: Sequence[str | PathLike[str]],
+    dem_path: str | PathLike[str] | None = None,
+    inventory_path: str | PathLike[str] | None = None,
+    *,
+    origin: tuple[float, float] | None = None,
+    cell: float | None = None,
+    margin: float = 200.0,
+    progress: Progress | None = None,
+) -> PlaceDict: ...
