@@ -103,10 +103,10 @@ pub use distance::distance_transform;
 pub use error::{Error, FileKind, Result};
 // exemplar: demo scenes and terrains
 pub use exemplar::{
-    archipelago_scene, clustered_points, demo_terrain, hard_core_points, laplace_residual,
-    random_strokes, river_rocks, rough_terrain, scene_from_points, slope_scene, undergrowth_scene,
-    uniform_points, village_scene, village_terrain, waterfall_controllers, RIVER_ROCK_CATEGORY,
-    RIVER_ROCK_DENSITY, RIVER_ROCK_SPACING,
+    archipelago_scene, clustered_points, demo_terrain, hard_core_points, random_strokes,
+    river_rocks, rough_terrain, scene_from_points, slope_scene, undergrowth_scene, uniform_points,
+    village_scene, village_terrain, waterfall_controllers, RIVER_ROCK_CATEGORY, RIVER_ROCK_DENSITY,
+    RIVER_ROCK_SPACING,
 };
 // fidelity_plot
 pub use fidelity_plot::{draw_fidelity, FidelityPlot};
@@ -162,9 +162,9 @@ pub use terrain_edit::rasterize::{
     rasterize_corridor, rasterize_gradient_polyline, rasterize_point, rasterize_polyline,
 };
 pub use terrain_edit::{
-    diffuse, diffuse_horizontal, diffuse_jacobi, embed_road, embed_roads, Constraints,
-    DiffusionOptions, EmbeddedRoad, HorizontalConstraints, RoadEmbedding, RoadEmbeddingOptions,
-    RoadProfile,
+    diffuse, diffuse_horizontal, diffuse_jacobi, embed_road, embed_roads, laplace_residual,
+    Constraints, DiffusionOptions, EmbeddedRoad, HorizontalConstraints, RoadEmbedding,
+    RoadEmbeddingOptions, RoadProfile,
 };
 // tools: the painting tools
 pub use tools::blur::{blur, BlurOptions};

@@ -371,3 +371,34 @@ fn a_stroke_no_feature_can_serve_is_embedded_and_seen() {
     println!("embedded stroke: {bad} of {checked} columns misplaced");
     assert_eq!(bad, 0, "the embedded stroke is seen where it was drawn");
 }
+
+/// A rough terrain (2 m cells, `n` × `n` nodes) and a camera 15 m above it looking across it.
+fn rough_view(n: usize) -> (Heightfield, Camera) {
+    let size = 2.0 * (n - 1) as f64;
+    let terrain = worldpaint_core::rough_terrain(size, 2.0, 3);
+    let at = |x: f64, y: f64| {
+        let p = DVec2::new(x, y) * size;
+        p.extend(terrain.height_at(p).unwrap_or(0.0))
+    };
+    let eye = at(0.15, 0.15) + DVec3::Z * 15.0;
+    let camera = Camera::looking_at(eye, at(0.7, 0.7), 60.0, 1.5).expect("a camera");
+    (terrain, camera)
+}
+
+#[test]
+fn the_features_do_not_depend_on_the_thread_count() {
+    let (terrain, camera) = rough_view(160);
+    let options = worldpaint_core::FeatureOptions::default();
+    let run = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("a pool");
+        pool.install(|| worldpaint_core::detect_features(&Sight::new(&terrain), &camera, &options))
+            .expect("valid")
+    };
+    let one = run(1);
+    assert!(one.iter().any(|f| f.kind == FeatureKind::Silhouette));
+    assert!(one.iter().any(|f| f.kind == FeatureKind::Ridge));
+    assert_eq!(one, run(3));
+}

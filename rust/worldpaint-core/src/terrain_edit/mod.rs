@@ -26,7 +26,7 @@ pub(crate) mod roads;
 
 pub(crate) use diffusion::displaced;
 pub(crate) use diffusion::Diffusion;
-pub use diffusion::{diffuse, diffuse_jacobi, Constraints, DiffusionOptions};
+pub use diffusion::{diffuse, diffuse_jacobi, laplace_residual, Constraints, DiffusionOptions};
 pub(crate) use horizontal::HorizontalDisplacement;
 pub use horizontal::{diffuse_horizontal, HorizontalConstraints};
 pub use roads::{

@@ -1,7 +1,7 @@
 //! Tests of the multigrid solver against Jacobi iteration and an independent residual.
 
 use super::*;
-use crate::exemplar::laplace_residual;
+use crate::terrain_edit::laplace_residual;
 
 /// Max residual of a row-major solution, recomputed independently of the solver; the fixed nodes keep their value.
 fn check(nx: usize, ny: usize, fixed: &[f64], u: &[f64]) -> f64 {
