@@ -10,7 +10,6 @@
 //!
 //! `cargo bench -p worldpaint-core --bench arrangement`
 
-#[path = "support/timing.rs"]
 mod timing;
 
 use criterion::Criterion;

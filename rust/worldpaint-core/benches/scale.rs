@@ -7,7 +7,6 @@
 //!
 //! `cargo bench -p worldpaint-core --bench scale`
 
-#[path = "support/timing.rs"]
 mod timing;
 
 use criterion::Criterion;

@@ -21,7 +21,6 @@
 //!
 //! `cargo bench -p worldpaint-core --bench sketch`
 
-#[path = "support/timing.rs"]
 mod timing;
 
 use criterion::Criterion;

@@ -14,7 +14,6 @@
 //!
 //! `cargo bench -p worldpaint-core --bench structures`
 
-#[path = "support/timing.rs"]
 mod timing;
 
 use criterion::Criterion;

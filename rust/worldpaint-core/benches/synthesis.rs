@@ -21,7 +21,6 @@
 #[path = "../tests/common/mod.rs"]
 mod common;
 use common::forest_report;
-#[path = "support/timing.rs"]
 mod timing;
 
 use criterion::Criterion;

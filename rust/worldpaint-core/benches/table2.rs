@@ -13,7 +13,6 @@
 //!
 //! `cargo bench -p worldpaint-core --bench table2`
 
-#[path = "support/timing.rs"]
 mod timing;
 
 use criterion::Criterion;

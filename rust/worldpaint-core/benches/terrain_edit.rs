@@ -12,7 +12,6 @@
 //!
 //! `cargo bench -p worldpaint-core --bench terrain_edit`
 
-#[path = "support/timing.rs"]
 mod timing;
 
 use criterion::Criterion;

@@ -12,7 +12,6 @@
 
 #[path = "../tests/common/mod.rs"]
 mod common;
-#[path = "support/timing.rs"]
 mod timing;
 
 use common::variety_models::{edit, tree, tree_atlas, DVec3, Role};

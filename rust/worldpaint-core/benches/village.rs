@@ -11,7 +11,6 @@
 //!
 //! `cargo bench -p worldpaint-core --bench village`
 
-#[path = "support/timing.rs"]
 mod timing;
 
 use criterion::Criterion;

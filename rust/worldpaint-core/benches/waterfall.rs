@@ -18,7 +18,6 @@
 //!
 //! `cargo bench -p worldpaint-core --bench waterfall`
 
-#[path = "support/timing.rs"]
 mod timing;
 
 use criterion::Criterion;
