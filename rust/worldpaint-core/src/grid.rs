@@ -76,6 +76,16 @@ impl Grid {
         }
     }
 
+    /// The first and last buckets (column, row) of the square of half-side `radius` about `p`: the buckets a
+    /// fixed-radius query visits.
+    #[inline]
+    pub(crate) fn buckets_within(&self, p: DVec2, radius: f64) -> ((usize, usize), (usize, usize)) {
+        (
+            self.bucket_of(p - DVec2::splat(radius)),
+            self.bucket_of(p + DVec2::splat(radius)),
+        )
+    }
+
     /// The bucket holding `p`; points outside the box (or not finite) are clamped into the border buckets.
     #[inline]
     pub(crate) fn bucket_of(&self, p: DVec2) -> (usize, usize) {

@@ -68,8 +68,7 @@ impl SpatialGrid {
         mut visit: F,
     ) {
         let r2 = radius * radius;
-        let (x0, y0) = self.cell_coords(p - DVec2::splat(radius));
-        let (x1, y1) = self.cell_coords(p + DVec2::splat(radius));
+        let ((x0, y0), (x1, y1)) = self.grid.buckets_within(p, radius);
         for cy in y0..=y1 {
             let row = cy * self.grid.nx;
             for cx in x0..=x1 {
@@ -91,8 +90,7 @@ impl SpatialGrid {
     /// Whether any entry other than `skip_id` lies strictly closer than `radius` to `p`.
     pub(crate) fn any_closer_than(&self, p: DVec2, radius: f64, skip_id: Option<u32>) -> bool {
         let r2 = radius * radius;
-        let (x0, y0) = self.cell_coords(p - DVec2::splat(radius));
-        let (x1, y1) = self.cell_coords(p + DVec2::splat(radius));
+        let ((x0, y0), (x1, y1)) = self.grid.buckets_within(p, radius);
         for cy in y0..=y1 {
             for cx in x0..=x1 {
                 for e in &self.cells[cy * self.grid.nx + cx] {
@@ -185,18 +183,17 @@ impl FlatGrid {
         self.grid.nx * self.grid.ny
     }
 
-    /// Calls `visit(index, distance²)` for every entry within `radius` of `p` (inclusive) until it returns
+    /// Calls `keep_going(index, distance²)` for every entry within `radius` of `p` (inclusive) until it returns
     /// false.
     #[inline]
     pub(crate) fn for_each_within<F: FnMut(usize, f64) -> bool>(
         &self,
         p: DVec2,
         radius: f64,
-        mut visit: F,
+        mut keep_going: F,
     ) {
         let r2 = radius * radius;
-        let (x0, y0) = self.cell_coords(p - DVec2::splat(radius));
-        let (x1, y1) = self.cell_coords(p + DVec2::splat(radius));
+        let ((x0, y0), (x1, y1)) = self.grid.buckets_within(p, radius);
         for cy in y0..=y1 {
             let row = cy * self.grid.nx;
             let (a, b) = (
@@ -207,7 +204,7 @@ impl FlatGrid {
                 let dx = x - p.x;
                 let dy = y - p.y;
                 let d2 = dx * dx + dy * dy;
-                if d2 <= r2 && !visit(a + o, d2) {
+                if d2 <= r2 && !keep_going(a + o, d2) {
                     return;
                 }
             }

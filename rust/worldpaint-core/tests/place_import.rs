@@ -962,46 +962,34 @@ fn bad_elevation_models_are_refused_and_few_holes_filled() {
         &["not an elevation model it reads"],
     );
     // options
-    let opts = PlaceOptions {
-        cell: Some(f64::NAN),
-        ..Default::default()
-    };
-    refused(
+    let with_options = |opts: PlaceOptions| {
         import_place(
             std::slice::from_ref(&layer),
             Some(&wgs84),
             None,
             &opts,
             &no_progress,
-        ),
+        )
+    };
+    refused(
+        with_options(PlaceOptions {
+            cell: Some(f64::NAN),
+            ..Default::default()
+        }),
         &["terrain cell", "positive"],
     );
-    let opts = PlaceOptions {
-        origin: Some([0.0, 0.0]),
-        ..Default::default()
-    };
     refused(
-        import_place(
-            std::slice::from_ref(&layer),
-            Some(&wgs84),
-            None,
-            &opts,
-            &no_progress,
-        ),
+        with_options(PlaceOptions {
+            origin: Some([0.0, 0.0]),
+            ..Default::default()
+        }),
         &["origin", "from the farthest point of the place"],
     );
-    let opts = PlaceOptions {
-        origin: Some([f64::INFINITY, 0.0]),
-        ..Default::default()
-    };
     refused(
-        import_place(
-            std::slice::from_ref(&layer),
-            Some(&wgs84),
-            None,
-            &opts,
-            &no_progress,
-        ),
+        with_options(PlaceOptions {
+            origin: Some([f64::INFINITY, 0.0]),
+            ..Default::default()
+        }),
         &["origin"],
     );
 }

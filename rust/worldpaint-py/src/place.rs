@@ -76,21 +76,40 @@ fn lines_to_py<'py>(
 }
 
 fn place_to_py<'py>(py: Python<'py>, place: &Place) -> PyResult<Bound<'py, PyDict>> {
-    let terrain = place.terrain.as_ref();
     let out = PyDict::new(py);
+    out.set_item("frame", frame_to_py(py, place)?)?;
+    out.set_item("sources", sources_to_py(py, place)?)?;
+    out.set_item("terrain", terrain_to_py(py, place)?)?;
+    out.set_item("buildings", buildings_to_py(py, place)?)?;
+    out.set_item("roads", roads_to_py(py, place)?)?;
+    out.set_item("waterways", waterways_to_py(py, place)?)?;
+    out.set_item("areas", areas_to_py(py, place)?)?;
+    out.set_item("places", places_to_py(py, place)?)?;
+    out.set_item("trees", trees_to_py(py, place)?)?;
+    out.set_item("report", report_to_py(py, place)?)?;
+    Ok(out)
+}
 
+/// The local frame: the lon/lat origin and the projection.
+fn frame_to_py<'py>(py: Python<'py>, place: &Place) -> PyResult<Bound<'py, PyDict>> {
     let frame = PyDict::new(py);
     frame.set_item("origin", place.frame.origin.map(|[lon, lat]| (lon, lat)))?;
     frame.set_item("projection", place.frame.projection.clone())?;
-    out.set_item("frame", frame)?;
+    Ok(frame)
+}
 
+/// The files the place was read from.
+fn sources_to_py<'py>(py: Python<'py>, place: &Place) -> PyResult<Bound<'py, PyDict>> {
     let sources = PyDict::new(py);
     sources.set_item("layers", place.sources.layers.clone())?;
     sources.set_item("elevation", place.sources.elevation.clone())?;
     sources.set_item("inventory", place.sources.inventory.clone())?;
-    out.set_item("sources", sources)?;
+    Ok(sources)
+}
 
-    match terrain {
+/// The terrain grid, heights as (ny, nx) float32; None without an elevation model.
+fn terrain_to_py<'py>(py: Python<'py>, place: &Place) -> PyResult<Bound<'py, PyAny>> {
+    match place.terrain.as_ref() {
         Some(t) => {
             let d = PyDict::new(py);
             d.set_item("origin", (t.origin.x, t.origin.y))?;
@@ -100,11 +119,15 @@ fn place_to_py<'py>(py: Python<'py>, place: &Place) -> PyResult<Bound<'py, PyDic
             let h = Array2::from_shape_vec((t.ny, t.nx), t.heights.clone())
                 .map_err(|e| input_err(format!("terrain of inconsistent size: {e}")))?;
             d.set_item("heights", h.into_pyarray(py))?;
-            out.set_item("terrain", d)?;
+            Ok(d.into_any())
         }
-        None => out.set_item("terrain", py.None())?,
+        None => Ok(py.None().into_bound(py)),
     }
+}
 
+/// The buildings: centroid, ground height, footprint size and orientation, area, type, tag, name, rings.
+fn buildings_to_py<'py>(py: Python<'py>, place: &Place) -> PyResult<Bound<'py, PyDict>> {
+    let terrain = place.terrain.as_ref();
     let b = &place.buildings;
     let d = PyDict::new(py);
     let centroids: Vec<DVec2> = b.iter().map(|b| b.centroid).collect();
@@ -145,8 +168,12 @@ fn place_to_py<'py>(py: Python<'py>, place: &Place) -> PyResult<Bound<'py, PyDic
                 .collect::<PyResult<Vec<_>>>()?,
         )?,
     )?;
-    out.set_item("buildings", d)?;
+    Ok(d)
+}
 
+/// The roads and paths: class, highway tag, name, points and their ground heights.
+fn roads_to_py<'py>(py: Python<'py>, place: &Place) -> PyResult<Bound<'py, PyDict>> {
+    let terrain = place.terrain.as_ref();
     let r = &place.roads;
     let d = PyDict::new(py);
     d.set_item(
@@ -165,8 +192,12 @@ fn place_to_py<'py>(py: Python<'py>, place: &Place) -> PyResult<Bound<'py, PyDic
     )?;
     d.set_item("points", points)?;
     d.set_item("heights", heights)?;
-    out.set_item("roads", d)?;
+    Ok(d)
+}
 
+/// The waterway lines: kind, name, points and their ground heights.
+fn waterways_to_py<'py>(py: Python<'py>, place: &Place) -> PyResult<Bound<'py, PyDict>> {
+    let terrain = place.terrain.as_ref();
     let w = &place.waterways;
     let d = PyDict::new(py);
     d.set_item(
@@ -181,8 +212,11 @@ fn place_to_py<'py>(py: Python<'py>, place: &Place) -> PyResult<Bound<'py, PyDic
     )?;
     d.set_item("points", points)?;
     d.set_item("heights", heights)?;
-    out.set_item("waterways", d)?;
+    Ok(d)
+}
 
+/// The areas: class, tag, name, rings.
+fn areas_to_py<'py>(py: Python<'py>, place: &Place) -> PyResult<Bound<'py, PyDict>> {
     let a = &place.areas;
     let d = PyDict::new(py);
     d.set_item(
@@ -203,8 +237,12 @@ fn place_to_py<'py>(py: Python<'py>, place: &Place) -> PyResult<Bound<'py, PyDic
                 .collect::<PyResult<Vec<_>>>()?,
         )?,
     )?;
-    out.set_item("areas", d)?;
+    Ok(d)
+}
 
+/// The named places: position, ground height, kind, name.
+fn places_to_py<'py>(py: Python<'py>, place: &Place) -> PyResult<Bound<'py, PyDict>> {
+    let terrain = place.terrain.as_ref();
     let p = &place.places;
     let d = PyDict::new(py);
     let positions: Vec<DVec2> = p.iter().map(|p| p.position).collect();
@@ -215,8 +253,12 @@ fn place_to_py<'py>(py: Python<'py>, place: &Place) -> PyResult<Bound<'py, PyDic
         p.iter().map(|p| p.kind.clone()).collect::<Vec<String>>(),
     )?;
     d.set_item("name", names(p.iter().map(|p| &p.name)))?;
-    out.set_item("places", d)?;
+    Ok(d)
+}
 
+/// The inventory trees: position, ground height, species, size (NaN when unknown).
+fn trees_to_py<'py>(py: Python<'py>, place: &Place) -> PyResult<Bound<'py, PyDict>> {
+    let terrain = place.terrain.as_ref();
     let t = &place.trees;
     let d = PyDict::new(py);
     let positions: Vec<DVec2> = t.iter().map(|t| t.position).collect();
@@ -233,8 +275,11 @@ fn place_to_py<'py>(py: Python<'py>, place: &Place) -> PyResult<Bound<'py, PyDic
             .collect::<Vec<f64>>()
             .into_pyarray(py),
     )?;
-    out.set_item("trees", d)?;
+    Ok(d)
+}
 
+/// What the import read, left out and filled.
+fn report_to_py<'py>(py: Python<'py>, place: &Place) -> PyResult<Bound<'py, PyDict>> {
     let r = &place.report;
     let d = PyDict::new(py);
     d.set_item("features", r.features)?;
@@ -249,6 +294,5 @@ fn place_to_py<'py>(py: Python<'py>, place: &Place) -> PyResult<Bound<'py, PyDic
         "source_spacing",
         terrain_report.map(|t| (t.source_spacing[0], t.source_spacing[1])),
     )?;
-    out.set_item("report", d)?;
-    Ok(out)
+    Ok(d)
 }

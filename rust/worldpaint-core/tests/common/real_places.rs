@@ -49,6 +49,7 @@
 //! * SRTM at 3″ cannot resolve the benches and hairpins a mountain road is built on: a road along a steep slope
 //!   reads the slope's grade, so real road grades in Andorra read far steeper than the roads are.
 
+use super::geojson::FOOT_AND_BRIDLE_WAYS;
 use super::real_data::{real_data_dir, require, Projection};
 use super::rings::area_centroid;
 use super::squares::{centre_of_points_in, points_in, square, squares_by_count};
@@ -77,15 +78,6 @@ const FLAT_RING: f64 = 1e-9;
 /// Upper bounds of the reported grade bins (rise over run); the last bin holds everything steeper.
 pub const GRADE_BINS: [f64; 5] = [0.02, 0.05, 0.08, 0.12, 0.15];
 
-/// `highway` values of ways for people on foot, on bicycles or on horses: not part of a village's road network.
-const FOOT_AND_BRIDLE_WAYS: [&str; 6] = [
-    "footway",
-    "path",
-    "cycleway",
-    "steps",
-    "pedestrian",
-    "bridleway",
-];
 /// `highway` values besides the foot and bridle ways that are not roads a house is served by.
 const NOT_SERVING: [&str; 7] = [
     "motorway",

@@ -1,9 +1,11 @@
 //! The ESRI ASCII grid: a header of `key value` lines (`ncols`, `nrows`, `xllcorner` or `xllcenter`, `yllcorner` or
 //! `yllcenter`, `cellsize` or `dx` and `dy`, optional `NODATA_value`; keys in any case), then the heights row by row,
 //! the first row the northern edge. A `.prj` beside it must name WGS84 lon/lat; without one the grid must read as
-//! lon/lat (see [`super::looks_like_lon_lat`]).
+//! lon/lat (see [`super::check_reads_as_lon_lat`]).
 
-use super::{check_grid_size, looks_like_lon_lat, ElevationModel, SRTM_VOID};
+use super::{
+    check_grid_size, check_reads_as_lon_lat, not_finite_height, ElevationModel, SRTM_VOID,
+};
 use crate::error::{Error, FileKind, Result};
 use crate::place::crs::{self, Crs};
 use crate::place::read_file;
@@ -24,29 +26,12 @@ const HEADER_KEYS: [&str; 10] = [
 ];
 
 pub(super) fn read(path: &Path, source: &str) -> Result<ElevationModel> {
-    let bad =
-        |reason: String| Error::parse(FileKind::ElevationModel, format!("{source}: {reason}"));
+    let bad = |reason: String| bad(source, reason);
     let bytes = read_file(path, FileKind::ElevationModel)?;
     let text =
         std::str::from_utf8(&bytes).map_err(|_| bad("not an ESRI ASCII grid: not text".into()))?;
     let mut tokens = text.split_ascii_whitespace().peekable();
-    let mut header: HashMap<String, f64> = HashMap::new();
-    while let Some(t) = tokens.peek() {
-        let key = t.to_ascii_lowercase();
-        if !HEADER_KEYS.contains(&key.as_str()) {
-            break;
-        }
-        tokens.next();
-        let value = tokens
-            .next()
-            .and_then(|v| v.parse::<f64>().ok())
-            .ok_or_else(|| {
-                bad(format!(
-                    "not an ESRI ASCII grid: header '{key}' has no number"
-                ))
-            })?;
-        header.insert(key, value);
-    }
+    let header = read_header(&mut tokens, source)?;
     let get = |k: &str| header.get(k).copied();
     let count = |k: &str| -> Result<usize> {
         match get(k) {
@@ -92,27 +77,69 @@ pub(super) fn read(path: &Path, source: &str) -> Result<ElevationModel> {
         Some(Crs::Other(name)) => {
             return Err(crs::cannot_place(FileKind::ElevationModel, source, &name))
         }
-        None => {
-            if !looks_like_lon_lat(lower_left, cell, ncols, nrows) {
-                return Err(crs::not_lon_lat(
-                    FileKind::ElevationModel,
-                    source,
-                    lower_left,
-                ));
-            }
-        }
+        None => check_reads_as_lon_lat(source, lower_left, cell, ncols, nrows)?,
     }
     check_grid_size(source, ncols, nrows)?;
-    let nodata = get("nodata_value");
+    let heights = read_heights(tokens, source, ncols, nrows, get("nodata_value"))?;
+    Ok(ElevationModel::new(
+        source,
+        (ncols, nrows),
+        lower_left,
+        cell,
+        heights,
+    ))
+}
+
+fn bad(source: &str, reason: String) -> Error {
+    Error::parse(FileKind::ElevationModel, format!("{source}: {reason}"))
+}
+
+/// The header's `key value` pairs, keys in lower case, up to the first token that is no header key.
+fn read_header<'a>(
+    tokens: &mut std::iter::Peekable<impl Iterator<Item = &'a str>>,
+    source: &str,
+) -> Result<HashMap<String, f64>> {
+    let mut header = HashMap::new();
+    while let Some(t) = tokens.peek() {
+        let key = t.to_ascii_lowercase();
+        if !HEADER_KEYS.contains(&key.as_str()) {
+            break;
+        }
+        tokens.next();
+        let value = tokens
+            .next()
+            .and_then(|v| v.parse::<f64>().ok())
+            .ok_or_else(|| {
+                bad(
+                    source,
+                    format!("not an ESRI ASCII grid: header '{key}' has no number"),
+                )
+            })?;
+        header.insert(key, value);
+    }
+    Ok(header)
+}
+
+/// The `ncols` × `nrows` heights after the header, holes (the SRTM void or the header's NODATA) as NaN.
+fn read_heights<'a>(
+    tokens: impl Iterator<Item = &'a str>,
+    source: &str,
+    ncols: usize,
+    nrows: usize,
+    nodata: Option<f64>,
+) -> Result<Vec<f64>> {
     let mut heights = Vec::with_capacity(ncols * nrows);
     for t in tokens {
         let k = heights.len();
         let v: f64 = t.parse().map_err(|_| {
-            bad(format!(
-                "'{t}' at row {}, column {} is not a number",
-                k / ncols,
-                k % ncols
-            ))
+            bad(
+                source,
+                format!(
+                    "'{t}' at row {}, column {} is not a number",
+                    k / ncols,
+                    k % ncols
+                ),
+            )
         })?;
         let hole = v == SRTM_VOID || nodata.is_some_and(|n| v == n || (n.is_nan() && v.is_nan()));
         if hole {
@@ -120,11 +147,7 @@ pub(super) fn read(path: &Path, source: &str) -> Result<ElevationModel> {
         } else if v.is_finite() {
             heights.push(v);
         } else {
-            return Err(bad(format!(
-                "the height at row {}, column {} is not finite ({v})",
-                k / ncols,
-                k % ncols
-            )));
+            return Err(not_finite_height(source, v, k, ncols));
         }
         if heights.len() > ncols * nrows {
             break;
@@ -136,14 +159,10 @@ pub(super) fn read(path: &Path, source: &str) -> Result<ElevationModel> {
         } else {
             heights.len().to_string()
         };
-        return Err(bad(format!("{found} heights for a {ncols} x {nrows} grid")));
+        return Err(bad(
+            source,
+            format!("{found} heights for a {ncols} x {nrows} grid"),
+        ));
     }
-    Ok(ElevationModel {
-        source: source.to_string(),
-        ncols,
-        nrows,
-        lower_left,
-        cell,
-        heights,
-    })
+    Ok(heights)
 }

@@ -5,7 +5,9 @@
 //! on the WGS84 datum); a file with no GeoKeys must read as lon/lat. A rotated or sheared grid
 //! (`ModelTransformation`) is refused.
 
-use super::{check_grid_size, looks_like_lon_lat, ElevationModel, SRTM_VOID};
+use super::{
+    check_grid_size, check_reads_as_lon_lat, not_finite_height, ElevationModel, SRTM_VOID,
+};
 use crate::error::{Error, FileKind, Result};
 use crate::place::crs;
 use crate::place::read_file;
@@ -101,14 +103,61 @@ pub(super) fn read(path: &Path, source: &str) -> Result<ElevationModel> {
             )))
         }
     }
-    let find_f64s = |decoder: &mut Decoder<_>, tag: Tag| -> Result<Option<Vec<f64>>> {
+    let (lower_left, cell, keys) = georeference(&mut decoder, source, nrows)?;
+    match &keys {
+        Some(keys) => check_crs(keys, source)?,
+        None => check_reads_as_lon_lat(source, lower_left, cell, ncols, nrows)?,
+    }
+    let nodata = match decoder.find_tag(Tag::GdalNodata).map_err(tiff_error)? {
+        Some(value) => {
+            let text = value.into_string().map_err(tiff_error)?;
+            let text = text.trim_matches(|c: char| c.is_whitespace() || c == '\0');
+            Some(
+                text.parse::<f64>()
+                    .map_err(|_| bad(format!("its GDAL_NODATA '{text}' is not a number")))?,
+            )
+        }
+        None => None,
+    };
+    let heights = values(decoder.read_image().map_err(tiff_error)?);
+    let model = ElevationModel::new(source, (ncols, nrows), lower_left, cell, heights);
+    holes_marked(model, nodata)
+}
+
+/// The model with its holes (the SRTM void, NaN or the GDAL_NODATA value) as NaN; any other non-finite height is
+/// refused.
+fn holes_marked(mut model: ElevationModel, nodata: Option<f64>) -> Result<ElevationModel> {
+    for (k, h) in model.heights.iter_mut().enumerate() {
+        let hole = *h == SRTM_VOID || h.is_nan() || nodata.is_some_and(|n| *h == n);
+        if hole {
+            *h = f64::NAN;
+        } else if !h.is_finite() {
+            return Err(not_finite_height(&model.source, *h, k, model.ncols));
+        }
+    }
+    Ok(model)
+}
+
+/// Where the raster lies: its lower-left corner and cell size from the ModelPixelScale and ModelTiepoint tags (the
+/// tiepoint's raster point is the first pixel's corner when area-registered, its centre when point-registered), and
+/// the GeoKeys when there are any.
+#[allow(clippy::type_complexity)]
+fn georeference<R: std::io::Read + std::io::Seek>(
+    decoder: &mut Decoder<R>,
+    source: &str,
+    nrows: usize,
+) -> Result<([f64; 2], [f64; 2], Option<Vec<(u16, u16)>>)> {
+    let bad =
+        |reason: String| Error::parse(FileKind::ElevationModel, format!("{source}: {reason}"));
+    let tiff_error = |e: tiff::TiffError| bad(format!("not a GeoTIFF it reads ({e})"));
+    let mut find_f64s = |tag: Tag| -> Result<Option<Vec<f64>>> {
         match decoder.find_tag(tag).map_err(tiff_error)? {
             Some(value) => value.into_f64_vec().map(Some).map_err(tiff_error),
             None => Ok(None),
         }
     };
-    let scale = find_f64s(&mut decoder, Tag::ModelPixelScaleTag)?;
-    let tiepoint = find_f64s(&mut decoder, Tag::ModelTiepointTag)?;
+    let scale = find_f64s(Tag::ModelPixelScaleTag)?;
+    let tiepoint = find_f64s(Tag::ModelTiepointTag)?;
     let (scale, tiepoint) = match (scale, tiepoint) {
         (Some(s), Some(t)) if s.len() >= 2 && t.len() >= 6 => (s, t),
         _ => {
@@ -132,8 +181,6 @@ pub(super) fn read(path: &Path, source: &str) -> Result<ElevationModel> {
         None => None,
     };
     let cell = [scale[0], scale[1]];
-    // the raster point (i, j) of the tiepoint is at (x, y); raster (0, 0) is the corner of the first pixel when
-    // area-registered, its centre when point-registered
     let point_registered = keys
         .as_ref()
         .and_then(|k| k.iter().find(|k| k.0 == GT_RASTER_TYPE))
@@ -148,48 +195,5 @@ pub(super) fn read(path: &Path, source: &str) -> Result<ElevationModel> {
             "its ModelPixelScale or ModelTiepoint is not usable".into()
         ));
     }
-    match &keys {
-        Some(keys) => check_crs(keys, source)?,
-        None => {
-            if !looks_like_lon_lat(lower_left, cell, ncols, nrows) {
-                return Err(crs::not_lon_lat(
-                    FileKind::ElevationModel,
-                    source,
-                    lower_left,
-                ));
-            }
-        }
-    }
-    let nodata = match decoder.find_tag(Tag::GdalNodata).map_err(tiff_error)? {
-        Some(value) => {
-            let text = value.into_string().map_err(tiff_error)?;
-            let text = text.trim_matches(|c: char| c.is_whitespace() || c == '\0');
-            Some(
-                text.parse::<f64>()
-                    .map_err(|_| bad(format!("its GDAL_NODATA '{text}' is not a number")))?,
-            )
-        }
-        None => None,
-    };
-    let mut heights = values(decoder.read_image().map_err(tiff_error)?);
-    for (k, h) in heights.iter_mut().enumerate() {
-        let hole = *h == SRTM_VOID || h.is_nan() || nodata.is_some_and(|n| *h == n);
-        if hole {
-            *h = f64::NAN;
-        } else if !h.is_finite() {
-            return Err(bad(format!(
-                "the height at row {}, column {} is not finite ({h})",
-                k / ncols,
-                k % ncols
-            )));
-        }
-    }
-    Ok(ElevationModel {
-        source: source.to_string(),
-        ncols,
-        nrows,
-        lower_left,
-        cell,
-        heights,
-    })
+    Ok((lower_left, cell, keys))
 }

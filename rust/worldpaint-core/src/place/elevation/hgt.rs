@@ -61,14 +61,13 @@ pub(super) fn read(path: &Path, source: &str) -> Result<ElevationModel> {
         })
         .collect();
     let step = 1.0 / (n - 1) as f64;
-    Ok(ElevationModel {
-        source: source.to_string(),
-        ncols: n,
-        nrows: n,
-        lower_left: [lon - 0.5 * step, lat - 0.5 * step],
-        cell: [step, step],
+    Ok(ElevationModel::new(
+        source,
+        (n, n),
+        [lon - 0.5 * step, lat - 0.5 * step],
+        [step, step],
         heights,
-    })
+    ))
 }
 
 #[cfg(test)]

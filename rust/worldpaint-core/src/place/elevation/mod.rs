@@ -46,6 +46,25 @@ pub struct ElevationModel {
 }
 
 impl ElevationModel {
+    /// The model of `heights` (row-major, row 0 north) over `ncols` × `nrows` cells of `cell` degrees from
+    /// `lower_left`, read from `source`.
+    pub(crate) fn new(
+        source: &str,
+        (ncols, nrows): (usize, usize),
+        lower_left: LonLat,
+        cell: [f64; 2],
+        heights: Vec<f64>,
+    ) -> ElevationModel {
+        ElevationModel {
+            source: source.to_string(),
+            ncols,
+            nrows,
+            lower_left,
+            cell,
+            heights,
+        }
+    }
+
     /// Lon/lat of sample (c, r).
     pub fn sample_lon_lat(&self, c: usize, r: usize) -> LonLat {
         [
@@ -199,21 +218,42 @@ pub(crate) fn check_grid_size(source: &str, ncols: usize, nrows: usize) -> Resul
     )
 }
 
-/// Whether a grid that names no CRS reads as lon/lat: its corners lie in the ranges of degrees and its cells are
-/// at most [`MAX_DEGREE_CELL`].
-pub(crate) fn looks_like_lon_lat(
+/// Refuses a grid that names no CRS and does not read as lon/lat: its corners must lie in the ranges of degrees and
+/// its cells be at most [`MAX_DEGREE_CELL`].
+pub(crate) fn check_reads_as_lon_lat(
+    source: &str,
     lower_left: LonLat,
     cell: [f64; 2],
     ncols: usize,
     nrows: usize,
-) -> bool {
+) -> Result<()> {
     let upper_right = [
         lower_left[0] + ncols as f64 * cell[0],
         lower_left[1] + nrows as f64 * cell[1],
     ];
-    super::crs::is_lon_lat(lower_left)
+    if super::crs::is_lon_lat(lower_left)
         && super::crs::is_lon_lat(upper_right)
         && cell.iter().all(|c| *c <= MAX_DEGREE_CELL)
+    {
+        return Ok(());
+    }
+    Err(super::crs::not_lon_lat(
+        FileKind::ElevationModel,
+        source,
+        lower_left,
+    ))
+}
+
+/// The refusal of sample `k` (row-major, `ncols` a row) whose height `v` is not finite and no hole.
+pub(crate) fn not_finite_height(source: &str, v: f64, k: usize, ncols: usize) -> Error {
+    Error::parse(
+        FileKind::ElevationModel,
+        format!(
+            "{source}: the height at row {}, column {} is not finite ({v})",
+            k / ncols,
+            k % ncols
+        ),
+    )
 }
 
 /// Reads an elevation model by its file's extension: `.asc` (ESRI ASCII grid), `.hgt` (SRTM), `.tif`/`.tiff`
