@@ -445,6 +445,14 @@ def test_a_building_cloud_keeps_its_footprints_through_an_edit():
     stretch = point_cloud_stretch(cloud)
     assert not np.allclose(stretch, 1.0)
     co = point_cloud_arrays(cloud)[0]
+    # Convert to Objects makes each church its footprint's length by width
+    sizes = engine.import_place([str(layers[0])], str(dem)).buildings
+    assert bpy.ops.worldpaint.convert_to_objects(category="Church") == {'FINISHED'}
+    made = [o for o in bpy.context.scene.objects if o.name.startswith("Church.")]
+    assert len(made) == Counter(sizes.type)["church"] == 5
+    length, width = BUILDING_SHAPES["church"][:2]
+    expected = sorted(tuple(sizes.size[k]) for k, t in enumerate(sizes.type) if t == "church")
+    np.testing.assert_allclose(sorted((o.scale.x * length, o.scale.y * width) for o in made), expected, rtol=1e-5)
     # Clear Region removes the points of a region and writes the cloud again: the others keep their shape
     low, middle = co[:, :2].min(axis=0) - 1.0, np.median(co[:, :2], axis=0)
     keep = ~np.all(co[:, :2] < middle, axis=1)
