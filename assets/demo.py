@@ -30,7 +30,11 @@ per system (OUT/demo_forest.png, demo_village.png, demo_waterfall.png, demo_vine
 the sketch before and after (OUT/sketch_before.png with the strokes drawn over it, sketch_after.png).
 OUT/demo.blend holds the scene with a camera per picture. ``--only variants`` makes and renders the variety picture
 alone, on a meadow of its own (a quick look at it without the rest of the demo).
-Usage: python assets/demo.py [--out out] [--samples 16] [--percent 100] [--only variants]
+
+``--only place`` imports a real place through File › Import › WorldPaint Place, the countryside north of Bayreuth
+(its OpenStreetMap buildings, roads and land-use areas, and its SRTM terrain, from ``../shared/data/real`` beside the
+project), and renders the village of Neudrossenfeld from above at an angle: OUT/demo_place.png.
+Usage: python assets/demo.py [--out out] [--samples 16] [--percent 100] [--only variants|place]
 """
 
 import argparse
@@ -68,7 +72,7 @@ from scene_kit import (  # noqa: E402
     village_exemplar,
     vineyard_reference,
 )
-from worldpaint.bridge import engine, points, variety  # noqa: E402
+from worldpaint.bridge import engine, place, points, variety  # noqa: E402
 from worldpaint.bridge.curves import structure_objects  # noqa: E402
 from worldpaint.bridge.sketch import sketch_collection  # noqa: E402
 
@@ -449,12 +453,102 @@ def sketch_pictures(out, samples, trees, percent=100):
     return report
 
 
+REAL_DATA = ROOT.parent / "shared" / "data" / "real"
+PLACE = "north_bayreuth"
+PLACE_VILLAGE = "Neudrossenfeld"
+# area category: (material, linear colour); the other areas are not drawn (the terrain's grass shows there)
+AREA_LOOKS = {
+    "Forest": ("Place forest", (0.018, 0.045, 0.012)),
+    "Meadow": ("Place meadow", (0.075, 0.14, 0.03)),
+    "Farmland": ("Place farmland", (0.20, 0.17, 0.075)),
+    "Orchard": ("Place orchard", (0.06, 0.12, 0.025)),
+    "Residential area": ("Place gardens", (0.085, 0.12, 0.045)),
+    "Farmyard": ("Place farmyard", (0.16, 0.14, 0.10)),
+    "Water": ("WorldPaint Water", None),
+}
+AREA_LIFT = 0.4  # the areas' fills float this far above the terrain, the roads' ribbons above them
+
+
+def place_files():
+    """(map layers, elevation model) of the demo's real place; the demo stops saying where it looked when absent."""
+    layers = [REAL_DATA / "villages" / f"{PLACE}_{name}.geojson" for name in ("buildings", "roads", "areas", "places")]
+    dem = REAL_DATA / "terrain" / f"{PLACE}_srtm3.asc"
+    missing = [str(f) for f in [*layers, dem] if not f.is_file()]
+    if missing:
+        sys.exit(f"the real place's files are not there: {', '.join(missing)}")
+    return layers, dem
+
+
+def dress_place(scene):
+    """The imported place for Cycles: materials on its roads and areas (the areas lifted above the terrain, the road
+    ribbons above the areas), land to the horizon from its terrain's edge."""
+    road_names = {name for name, _ in place.ROAD_CATEGORIES.values()}
+    road = bpy.data.materials.get("Road") or bpy.data.materials.new("Road")
+    for category, obj in structure_objects(scene).items():
+        if category in road_names:
+            obj.data.materials.append(road)
+        fill = next((o for o in scene.objects if o.get("wp_fill") == category), None)
+        if fill is None:
+            continue
+        look = AREA_LOOKS.get(category)
+        fill.hide_render = look is None
+        if look is not None:
+            name, rgb = look
+            material = bpy.data.materials.get(name) or bpy.data.materials.new(name)
+            if rgb is not None:
+                showcase.plain(material, rgb, 0.9, 0.3, 0.05)
+            fill.data.materials.append(material)
+            fill.location.z += AREA_LIFT
+    lift = bpy.data.node_groups["WorldPaint Profile"].nodes  # the ribbons' lift over what they are draped on
+    for node in lift:
+        if node.bl_idname == 'ShaderNodeVectorMath' and node.operation == 'ADD' and \
+                tuple(node.inputs[1].default_value)[:2] == (0.0, 0.0) and node.inputs[1].default_value[2] > 0.0:
+            node.inputs[1].default_value = (0.0, 0.0, AREA_LIFT + 0.3)
+    showcase.smooth(scene.worldpaint.terrain)
+    showcase.backdrop("Land around the place", *grid_of(scene.worldpaint.terrain), relief=0.3)
+    untouched = showcase.dress_materials()
+    if untouched:
+        print(f"materials left as they were: {', '.join(untouched)}")
+
+
+def place_picture(out, samples, percent=100):
+    """File › Import › WorldPaint Place on the countryside north of Bayreuth, rendered around one of its villages:
+    OUT/demo_place.png. Returns (name, seconds, resolution)."""
+    layers, dem = place_files()
+    start = time.perf_counter()
+    run(bpy.ops.worldpaint.import_place, layers=";".join(map(str, layers)), elevation=str(dem))
+    print(f"place: imported {', '.join(p.name for p in layers)} and {dem.name} in {time.perf_counter() - start:.1f} s")
+    scene = bpy.context.scene
+    named = engine.import_place([str(layers[-1])], origin=place.place_origin(scene)).places
+    x, y = named.position[named.name.index(PLACE_VILLAGE)]
+    ground = float(engine.terrain_from_grid(*grid_of(scene.worldpaint.terrain)).heights_at(np.array([[x, y]]))[0])
+    dress_place(scene)
+    showcase.cycles(scene, samples)
+    showcase.sky(scene)
+    showcase.sun(scene)
+    # from the south-east, 700 m out and 380 m up, the village in the middle, the fields and woods beyond
+    cam = showcase.camera("Camera place", (x + 420.0, y - 560.0, ground + 380.0), (x - 40.0, y + 60.0, ground), 30.0)
+    cam.data.clip_end = 40000.0
+    size = (1152, 648)
+    seconds = showcase.render(scene, cam, out / "demo_place.png", (size[0] * percent // 100, size[1] * percent // 100))
+    return ("demo_place", seconds, size)
+
+
+def grid_of(terrain):
+    """(origin, cell, heights (ny, nx)) of a grid terrain mesh."""
+    co = np.empty(len(terrain.data.vertices) * 3)
+    terrain.data.vertices.foreach_get("co", co)
+    co = co.reshape(-1, 3)
+    xs, ys = np.unique(co[:, 0]), np.unique(co[:, 1])
+    return (float(xs[0]), float(ys[0])), float(xs[1] - xs[0]), co[:, 2].reshape(len(ys), len(xs))
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", default="out", help="output folder")
     parser.add_argument("--samples", type=int, default=16, help="Cycles samples per pixel (denoised)")
     parser.add_argument("--percent", type=int, default=100, help="resolution of the pictures, in percent")
-    parser.add_argument("--only", choices=["variants"], help="make and render only this picture")
+    parser.add_argument("--only", choices=["variants", "place"], help="make and render only this picture")
     args = parser.parse_args(sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else sys.argv[1:])
     out = pathlib.Path(args.out).resolve()
     out.mkdir(parents=True, exist_ok=True)
@@ -468,6 +562,11 @@ def main():
         showcase.dress_materials()
         showcase.cycles(bpy.context.scene, args.samples)
         name, seconds, (w, h) = render_variants(out, birches, meadow, args.percent)
+        print(f"  {name}.png  {w * args.percent // 100} x {h * args.percent // 100}  {seconds:5.1f} s")
+        return
+    if args.only == "place":
+        name, seconds, (w, h) = place_picture(out, args.samples, args.percent)
+        bpy.ops.wm.save_as_mainfile(filepath=str(out / "demo_place.blend"))
         print(f"  {name}.png  {w * args.percent // 100} x {h * args.percent // 100}  {seconds:5.1f} s")
         return
     hills = build_and_learn()

@@ -352,6 +352,8 @@ LOOKS = {  # material name (without Blender's .001 suffixes) -> how it is shaded
     "House": block_house,
     "Wall": lambda m: plain(m, (0.60, 0.52, 0.40), 0.85, 0.15, 1.0),
     "Roof": lambda m: plain(m, (0.32, 0.075, 0.035), 0.7, 0.2, 3.0),
+    "WP Wall": lambda m: plain(m, (0.60, 0.55, 0.46), 0.85, 0.15, 1.0),  # the imported places' buildings
+    "WP Roof": lambda m: plain(m, (0.30, 0.08, 0.04), 0.7, 0.2, 3.0),
     "Door": lambda m: plain(m, (0.10, 0.05, 0.02), 0.6),
     "Window": lambda m: plain(m, (0.01, 0.015, 0.02), 0.1),
     "Foundation": lambda m: plain(m, (0.22, 0.21, 0.19), 0.9, 0.3, 2.0),

@@ -21,7 +21,12 @@ the painting tools end to end.
    each display mode (Full, Percentage 10 %, Bounds, Proxy), and after a change of the terrain mesh the update that
    re-snaps every cloud (the snap alone, and the whole depsgraph update with the instancers), side by side.
 
-Usage: python blender_tests/bench_blender.py [--size 1000] [--only millions | --only variety]
+6. Real places: File › Import › WorldPaint Place on the OpenStreetMap layers and SRTM tiles of ``../shared/data/real``
+   beside the project (Bayreuth, Andorra; Kirchberg's two layers without terrain): the engine's import alone, then the
+   whole operator (the engine, building the scene, and the first evaluation of the roads' ribbons), against the
+   issue's bound of 30 s each.
+
+Usage: python blender_tests/bench_blender.py [--size 1000] [--only millions | --only variety | --only place]
 """
 
 import argparse
@@ -356,6 +361,35 @@ def bench_millions(size, counts=(100_000, 1_000_000)):
     print("targets at 1M: build <= 0.5 s, evaluation without terrain change <= 0.3 s")
 
 
+REAL_DATA = ROOT.parent / "shared" / "data" / "real"
+PLACES = (  # (name, map layers, elevation model)
+    ("north_bayreuth", ("buildings", "roads", "areas", "places"), "north_bayreuth_srtm3.asc"),
+    ("andorra", ("buildings", "roads", "areas", "places"), "andorra_srtm3.asc"),
+    ("kirchberg_iller", ("buildings", "roads"), None),
+)
+
+
+def bench_place():
+    """Section 6 of the module documentation."""
+    for stem, names, dem_name in PLACES:
+        layers = [REAL_DATA / "villages" / f"{stem}_{name}.geojson" for name in names]
+        dem = REAL_DATA / "terrain" / dem_name if dem_name else None
+        missing = [str(f) for f in [*layers, dem] if f is not None and not f.is_file()]
+        if missing:
+            print(f"place {stem}: skipped, {missing[0]} not found")
+            continue
+        bpy.ops.wm.read_factory_settings(use_empty=True)
+        paths, elevation = [str(f) for f in layers], "" if dem is None else str(dem)
+        imported, t_engine = timed(lambda p=paths, e=elevation: facade.import_place(p, e or None))
+        _, t_operator = timed(lambda p=paths, e=elevation: bpy.ops.worldpaint.import_place(layers=";".join(p),
+                                                                                           elevation=e))
+        roads = sum(float(np.linalg.norm(np.diff(p, axis=0), axis=1).sum()) for p in imported.roads.points)
+        grid = "" if imported.terrain is None else " x ".join(map(str, imported.terrain.heights.shape[::-1]))
+        print(f"place {stem:16s} {len(imported.buildings.type):5d} buildings, {roads / 1000:6.1f} km of roads, "
+              f"{len(imported.areas.kind):5d} areas{', terrain ' + grid if grid else ''}: engine {t_engine:6.2f} s, "
+              f"Import WorldPaint Place operator {t_operator:6.2f} s   (bound 30 s)")
+
+
 if __name__ == "__main__":
     only = sys.argv[sys.argv.index("--only") + 1] if "--only" in sys.argv else None
     if only == "millions":
@@ -364,8 +398,12 @@ if __name__ == "__main__":
     elif only == "variety":
         worldpaint.register()
         bench_variety()
+    elif only == "place":
+        worldpaint.register()
+        bench_place()
     else:
         main()
         bench_painting()
         bench_variety()
         bench_millions(1000.0)
+        bench_place()

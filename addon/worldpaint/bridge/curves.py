@@ -171,8 +171,13 @@ def lines_with_heights(lines):
 def write_lines(obj, lines, cyclic):
     """Replaces the curve's splines by poly splines through ``lines`` [(points (N, 2), z (N))]."""
     obj.matrix_world = ((1, 0, 0, 0), (0, 1, 0, 0), (0, 0, 1, 0), (0, 0, 0, 1))
+    obj.data.splines.clear()
+    add_lines(obj, lines, cyclic)
+
+
+def add_lines(obj, lines, cyclic):
+    """Adds poly splines through ``lines`` [(points (N, 2), z (N))] to a curve whose object stands at the origin."""
     splines = obj.data.splines
-    splines.clear()
     for xy, z in lines:
         spline = splines.new('POLY')
         spline.points.add(len(xy) - 1)
@@ -247,10 +252,10 @@ def fill_object(scene, category, create=True):
     return layer_object(scene, category, name, bpy.data.meshes.new(name), FILL_TAG)
 
 
-def write_fill(scene, curve_obj, category, contours, heightfield):
-    """The polygons' filled mesh, its vertices at the terrain's height."""
+def write_fill(scene, curve_obj, category, contours, heightfield, spacing=FILL_SPACING):
+    """The polygons' filled mesh, its vertices at the terrain's height, inner ones about ``spacing`` apart."""
     obj = fill_object(scene, category)
-    mesh = engine.fill_polygons(contours, FILL_SPACING, heightfield)
+    mesh = engine.fill_polygons(contours, spacing, heightfield)
     z = mesh.heights
     z = np.where(np.isfinite(z), z, np.nanmean(z) if np.isfinite(z).any() else 0.0)
     co = np.column_stack([mesh.vertices, z]).astype(np.float32)

@@ -27,8 +27,8 @@ class Applied:
 
 
 def added_by_category(edit, terrain_obj):
-    """{category: (co (N, 3), rotation, scale, prototype, tint)} of an edit's added instances on the terrain, their
-    heights on its mesh (the engine's are its heightfield's)."""
+    """{category: (co (N, 3), rotation, scale, prototype, tint, stretch)} of an edit's added instances on the
+    terrain, their heights on its mesh (the engine's are its heightfield's), in their prototypes' own shape."""
     on_terrain = np.isfinite(edit.heights)
     out = {}
     for index in np.unique(edit.category_index):
@@ -37,7 +37,7 @@ def added_by_category(edit, terrain_obj):
             continue  # every one off the terrain: no empty cloud for it
         co = snap.onto(terrain_obj, np.column_stack([edit.positions[mask], edit.heights[mask]]))
         out[edit.category_names[index]] = (co, edit.rotations[mask], edit.scales[mask], edit.prototype[mask],
-                                           edit.tints[mask])
+                                           edit.tints[mask], np.ones((len(co), 3)))
     return out
 
 
@@ -47,7 +47,7 @@ def cloud_columns(instance_set, category, keep):
     rows = np.arange(start, stop)[keep[start:stop]]
     co = np.column_stack([instance_set.positions[rows], instance_set.heights[rows]])
     return (co, instance_set.rotations[rows], instance_set.scales[rows], instance_set.prototype[rows],
-            instance_set.tints[rows])
+            instance_set.tints[rows], instance_set.stretches[rows])
 
 
 def apply_edit(scene, instance_set, edit, terrain_obj):

@@ -17,6 +17,7 @@ PROTOTYPE_TAG = "wp_prototype"
 STRUCTURE_TAG = "wp_structure"  # synthesized paths or contours of a category (see ``curves``)
 FILL_TAG = "wp_fill"  # the filled mesh of a polygon category's synthesized contours
 TINT_ATTRIBUTE = "tint"  # a point's colour variation; materials read it with an Attribute node of type Instancer
+STRETCH_ATTRIBUTE = "stretch"  # a point's factor per axis on top of its scale (a building's length and width)
 WORLD_TILE_TAG = "wp_world_tile"  # a cloud of one tile of a loaded world: "column,row" (see ``world``)
 TAGS = (POINTS_TAG, PROTOTYPE_TAG, STRUCTURE_TAG, FILL_TAG, WORLD_TILE_TAG)
 TAU = 2.0 * np.pi
@@ -134,12 +135,15 @@ class InstanceSet:
     locked: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))
     heights: np.ndarray = field(default_factory=lambda: np.zeros(0))
     tints: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.float32))
+    # the factor per axis on top of the scale (not the engine's: it keeps a point's shape through an edit)
+    stretches: np.ndarray = field(default_factory=lambda: np.ones((0, 3)))
     cloud_rows: dict = field(default_factory=dict)
 
     def __len__(self):
         return len(self.positions)
 
-    def append(self, category, positions, rotations, scales, prototype, *, locked, heights=None, tints=None):
+    def append(self, category, positions, rotations, scales, prototype, *, locked, heights=None, tints=None,
+               stretches=None):
         index = [c["name"] for c in self.categories].index(category)
         n = len(positions)
         self.positions = np.concatenate([self.positions, np.asarray(positions, dtype=np.float64).reshape(-1, 2)])
@@ -152,6 +156,8 @@ class InstanceSet:
         self.heights = np.concatenate([self.heights, z])
         tint = np.zeros(n, dtype=np.float32) if tints is None else np.asarray(tints, dtype=np.float32)
         self.tints = np.concatenate([self.tints, tint])
+        stretch = np.ones((n, 3)) if stretches is None else np.asarray(stretches, dtype=np.float64).reshape(-1, 3)
+        self.stretches = np.concatenate([self.stretches, stretch])
 
     def engine_arrays(self):
         """Keyword arguments for the engine's functions that take a scene."""
@@ -286,6 +292,19 @@ def point_cloud_tints(obj):
     return tints
 
 
+def point_cloud_stretch(obj):
+    """The stretch (a factor per axis on top of the scale, 1 without one) of each of a point-cloud object's points
+    (N, 3)."""
+    mesh = obj.data
+    n = len(mesh.vertices)
+    attr = mesh.attributes.get(STRETCH_ATTRIBUTE)
+    if attr is None or attr.data_type != 'FLOAT_VECTOR' or len(attr.data) != n:
+        return np.ones((n, 3))
+    values = np.empty(n * 3, dtype=np.float32)
+    attr.data.foreach_get("vector", values)
+    return values.reshape(-1, 3).astype(np.float64)
+
+
 def scene_instances(scene, categories, exclude=()):
     """All instances of the given categories in the scene: hand-placed objects (locked), then synthesized points."""
     out = example_set(example_objects(scene.objects, exclude=exclude), categories)
@@ -295,7 +314,7 @@ def scene_instances(scene, categories, exclude=()):
             co, rotation, scale, prototype = point_cloud_arrays(obj)
             start = len(out)
             out.append(category, co[:, :2], rotation, scale, prototype, locked=False, heights=co[:, 2],
-                       tints=point_cloud_tints(obj))
+                       tints=point_cloud_tints(obj), stretches=point_cloud_stretch(obj))
             out.cloud_rows[category] = (start, len(out))
     return out
 

@@ -2,7 +2,9 @@
 
 Per category one vertex-only mesh object "WP_<category>" in the "WorldPaint" collection, with point attributes
 ``rotation`` (FLOAT, radians about Z), ``scale`` (FLOAT), ``prototype`` (INT) and ``tint`` (FLOAT, colour variation:
-Instance on Points hands it to the instances, where a material's Attribute node of type Instancer reads it). The node
+Instance on Points hands it to the instances, where a material's Attribute node of type Instancer reads it), and,
+where a point's shape is not the prototype's, ``stretch`` (FLOAT_VECTOR, a factor per axis of the instance's own
+frame on top of ``scale``: an imported building's footprint, length by width). The node
 group "WorldPaint Instancer" instances the children of the category's prototype collection on the points (Pick Instance
 by ``prototype``); the modifier's Collection input says which collection.
 
@@ -27,9 +29,11 @@ from . import WorldPaintError, compat
 from .instances import (
     POINTS_TAG,
     PROTOTYPE_TAG,
+    STRETCH_ATTRIBUTE,
     TINT_ATTRIBUTE,
     example_objects,
     point_cloud_arrays,
+    point_cloud_stretch,
     point_cloud_tints,
 )
 
@@ -43,7 +47,8 @@ PROTO_PREFIX = "WP_proto_"
 NOTHING_SHOWN = {'MESH', 'EMPTY', 'LIGHT', 'CAMERA', 'SPEAKER', 'LIGHT_PROBE', 'ARMATURE', 'LATTICE'}
 BUILTIN_TAG = "wp_builtin"  # on a built-in prototype collection: its category (its name may be numbered)
 SNAP_HEIGHT = 500.0  # a curve ribbon's snapping ray starts this far above each point and is twice as long
-INSTANCER_VERSION = 2  # 1: ray-cast onto the terrain on every evaluation; 2: display modes, no ray cast
+# 1: ray-cast onto the terrain on every evaluation; 2: display modes, no ray cast; 3: a point's stretch per axis
+INSTANCER_VERSION = 3
 ATTRIBUTES = (("rotation", 'FLOAT', np.float32), ("scale", 'FLOAT', np.float32), ("prototype", 'INT', np.int32),
               (TINT_ATTRIBUTE, 'FLOAT', np.float32))
 DISPLAY_MODES = (
@@ -279,19 +284,29 @@ def proxy_cone(tree, size, centre):
 
 
 def place_by_attributes(tree, on_points):
-    """Each instance picked, turned about Z and scaled by its point's ``prototype``, ``rotation`` and ``scale``."""
+    """Each instance picked, turned about Z and scaled by its point's ``prototype``, ``rotation`` and ``scale``, and
+    stretched per axis by its ``stretch`` where the cloud has one."""
     def attribute(name, data_type, y):
         n = tree.node('GeometryNodeInputNamedAttribute', 0, y, data_type=data_type)
         n.inputs["Name"].default_value = name
-        return n.outputs["Attribute"]
+        return n
 
-    tree.link(attribute("prototype", 'INT', -350), on_points.inputs["Instance Index"])
+    tree.link(attribute("prototype", 'INT', -350).outputs["Attribute"], on_points.inputs["Instance Index"])
     combine = tree.node('ShaderNodeCombineXYZ', 200, -500)
-    tree.link(attribute("rotation", 'FLOAT', -500), combine.inputs["Z"])
+    tree.link(attribute("rotation", 'FLOAT', -500).outputs["Attribute"], combine.inputs["Z"])
     euler = tree.node('FunctionNodeEulerToRotation', 350, -500)
     tree.link(combine.outputs["Vector"], euler.inputs["Euler"])
     tree.link(euler.outputs["Rotation"], on_points.inputs["Rotation"])
-    tree.link(attribute("scale", 'FLOAT', -650), on_points.inputs["Scale"])
+    # without a stretch attribute (most clouds) the factor is (1, 1, 1), not the zero a missing attribute reads as
+    stretch = attribute(STRETCH_ATTRIBUTE, 'FLOAT_VECTOR', -800)
+    factor = tree.node('GeometryNodeSwitch', 200, -800, input_type='VECTOR')
+    tree.link(stretch.outputs["Exists"], factor.inputs["Switch"])
+    socket(factor.inputs, "False").default_value = (1.0, 1.0, 1.0)
+    tree.link(stretch.outputs["Attribute"], socket(factor.inputs, "True"))
+    scaled = tree.node('ShaderNodeVectorMath', 350, -700, operation='SCALE')
+    tree.link(socket(factor.outputs, "Output"), scaled.inputs[0])
+    tree.link(attribute("scale", 'FLOAT', -650).outputs["Attribute"], socket(scaled.inputs, "Scale"))
+    tree.link(scaled.outputs["Vector"], on_points.inputs["Scale"])
 
 
 def nodes_modifier(obj, name, group):
@@ -457,9 +472,9 @@ def point_cloud_object(scene, category):
     return obj
 
 
-def write_points(obj, co, rotation, scale, prototype, tint=None):
+def write_points(obj, co, rotation, scale, prototype, tint=None, stretch=None):
     """Replaces the object's points: co (N, 3) world space, rotation (N), scale (N), prototype (N), tint (N, or
-    None: no colour variation)."""
+    None: no colour variation), stretch (N, 3, or None: the prototypes' own shape)."""
     mesh = obj.data
     obj.matrix_world = ((1, 0, 0, 0), (0, 1, 0, 0), (0, 0, 1, 0), (0, 0, 0, 1))
     n = len(co)
@@ -475,6 +490,10 @@ def write_points(obj, co, rotation, scale, prototype, tint=None):
         if attr is None:
             attr = mesh.attributes.new(name, kind, 'POINT')
         attr.data.foreach_set("value", np.ascontiguousarray(values, dtype=dtype))
+    # clear_geometry dropped the attribute; it is only written where some point is not the prototype's shape
+    if stretch is not None and n and not np.all(np.asarray(stretch) == 1.0):
+        attr = mesh.attributes.new(STRETCH_ATTRIBUTE, 'FLOAT_VECTOR', 'POINT')
+        attr.data.foreach_set("vector", np.ascontiguousarray(stretch, dtype=np.float32).reshape(-1))
     mesh.update()
 
 
@@ -507,6 +526,7 @@ def convert_to_objects(scene, obj):
     category = obj[POINTS_TAG]
     co, rotation, scale, prototype = point_cloud_arrays(obj)
     tint = point_cloud_tints(obj)
+    stretch = point_cloud_stretch(obj)
     source = instancer_collection(obj)
     if source is None:
         source = prototype_collection(scene, category)
@@ -533,7 +553,7 @@ def convert_to_objects(scene, obj):
                 new["wp_category"] = category
         new.location = tuple(co[i])
         new.rotation_euler = (0.0, 0.0, float(rotation[i]))
-        new.scale = (float(scale[i]),) * 3
+        new.scale = tuple(float(scale[i]) * stretch[i])
         if tint[i] != 0.0:
             new[TINT_ATTRIBUTE] = float(tint[i])  # read by the Attribute node (Instancer) as the point's was
         made.append(new)

@@ -14,7 +14,7 @@ import bpy
 import numpy as np
 
 from . import WorldPaintError, compat, geometry, snap, village
-from .instances import point_cloud_arrays, point_cloud_objects, point_cloud_tints
+from .instances import point_cloud_arrays, point_cloud_objects, point_cloud_stretch, point_cloud_tints
 from .points import (
     point_cloud_object,
     prototype_collection,
@@ -185,7 +185,7 @@ class Standing:
             flags, k = np.asarray(wet[k:k + n], dtype=bool), k + n
             if flags.any():
                 co, rotation, scale, prototype = point_cloud_arrays(obj)
-                tint = point_cloud_tints(obj)
+                tint, stretch = point_cloud_tints(obj), point_cloud_stretch(obj)
                 keep = ~flags
                 seats = {}
                 for attribute in obj.data.attributes:
@@ -193,7 +193,7 @@ class Standing:
                         values = np.empty(n, dtype=np.float32)
                         attribute.data.foreach_get("value", values)
                         seats[attribute.name] = values[keep]
-                write_points(obj, co[keep], rotation[keep], scale[keep], prototype[keep], tint[keep])
+                write_points(obj, co[keep], rotation[keep], scale[keep], prototype[keep], tint[keep], stretch[keep])
                 for name, values in seats.items():
                     attribute = obj.data.attributes.get(name) or obj.data.attributes.new(name, 'FLOAT', 'POINT')
                     attribute.data.foreach_set("value", values)

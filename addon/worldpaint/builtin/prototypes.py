@@ -2,8 +2,9 @@
 with plain materials (a Principled BSDF of one colour). No downloaded asset: every model is these lines.
 
 A model stands on its origin (the instance's point on the terrain), metres, Z up; a house's front faces +X, the
-heading its exemplar gives it. Rocks and crowns are jittered by a generator seeded per model, so they are the same in
-every file.
+heading its exemplar gives it. The buildings of an imported place (``place_building``) are a box with a gabled or flat
+roof per type, their long side along +X, the heading the place's footprints give them. Rocks and crowns are jittered
+by a generator seeded per model, so they are the same in every file.
 """
 
 import bmesh
@@ -115,6 +116,17 @@ class Model:
             self.bm.faces.new(face)
         return self._paint(v, name)
 
+    def gable_roof(self, name, length, width, eaves, ridge):
+        """A gabled roof over a box ``length`` (X) by ``width`` (Y) whose walls end at height ``eaves``: two slopes
+        overhanging by 0.3 m and two gable triangles, the ridge along X at height ``ridge``."""
+        hx, hy, low = 0.5 * length + 0.3, 0.5 * width + 0.3, eaves - 0.15
+        co = [(-hx, -hy, low), (-hx, hy, low), (-hx, 0.0, ridge), (hx, -hy, low), (hx, hy, low), (hx, 0.0, ridge)]
+        v = [self.bm.verts.new(Vector(c)) for c in co]
+        for face in ((v[0], v[3], v[5], v[2]), (v[1], v[2], v[5], v[4]), (v[0], v[2], v[1]), (v[3], v[4], v[5]),
+                     (v[0], v[1], v[4], v[3])):
+            self.bm.faces.new(face)
+        return self._paint(v, name)
+
     def mesh(self, name):
         """The finished mesh data ``name`` with its materials."""
         bmesh.ops.recalc_face_normals(self.bm, faces=self.bm.faces)
@@ -213,6 +225,42 @@ def cottage(m):
     m.box("Wall", (0.6, 0.6, 1.6), (-1.2, 2.6, eaves + 2.2))  # the chimney
 
 
+# an imported building's type: (length, width, eaves, ridge) of its model (m), None: a flat roof. The footprint
+# stretches the model to the building's length and width; its height is the type's
+BUILDING_SHAPES = {
+    "house": (12.0, 9.0, 5.5, 9.0),
+    "farm": (20.0, 12.0, 6.0, 11.0),
+    "church": (24.0, 12.0, 10.0, 17.0),
+    "barn": (20.0, 12.0, 5.0, 10.0),
+    "shed": (5.0, 4.0, 2.5, 3.6),
+    "apartments": (20.0, 12.0, 14.0, None),
+    "industrial": (40.0, 25.0, 9.0, None),
+    "commercial": (25.0, 18.0, 8.0, None),
+    "garage": (6.0, 3.5, 2.6, None),
+    "other": (10.0, 8.0, 4.5, 7.5),
+}
+
+
+def place_building(m, kind):
+    """A building of an imported place: walls to the eaves and a gabled roof along its length (a flat one for the
+    flat-roofed types); a church has a tower with a spire at its west end."""
+    length, width, eaves, ridge = BUILDING_SHAPES[kind]
+    m.box("Wall", (length, width, eaves), (0.0, 0.0, 0.5 * eaves))
+    if ridge is None:
+        m.box("Roof", (length + 0.3, width + 0.3, 0.4), (0.0, 0.0, eaves + 0.2))
+    else:
+        m.gable_roof("Roof", length, width, eaves, ridge)
+    if kind == "church" and ridge is not None:
+        side, top = 0.45 * width, ridge + 8.0
+        m.box("Wall", (side, side, top), (-0.5 * length + 0.5 * side, 0.0, 0.5 * top))
+        m.cone("Roof", 4, 0.75 * side, 0.0, top, top + 9.0, x=-0.5 * length + 0.5 * side)
+
+
+def place_tree(m):
+    """An inventory tree: the broadleaf model (about 9 m tall), scaled by the tree's size."""
+    broadleaf(m)
+
+
 BUILDERS = {
     "pine": pine, "broadleaf": broadleaf, "field_oak": field_oak, "willow": willow, "fruit_tree": fruit_tree,
     "garden_tree": garden_tree, "boulder": boulder, "stone": stone, "grass_tuft": grass_tuft, "shrub": shrub,
@@ -246,10 +294,11 @@ def has_prototype(category):
 
 
 def make_prototype(scene, category, builder, seed=0):
-    """The collection ``category`` holding one object of the ``builder``'s model, in the built-in parent
-    collection. The object is tagged a prototype so the tools never read it as an example."""
+    """The collection ``category`` holding one object of the ``builder``'s model (a name in ``BUILDERS``, or a
+    function building into a ``Model``), in the built-in parent collection. The object is tagged a prototype so the
+    tools never read it as an example."""
     m = Model(seed)
-    BUILDERS[builder](m)
+    (BUILDERS[builder] if isinstance(builder, str) else builder)(m)
     mesh = m.mesh(f"{category} model")
     obj = bpy.data.objects.new(f"{category} model", mesh)
     obj[PROTOTYPE_TAG] = category

@@ -1,4 +1,7 @@
-"""Learn Color: the statistics of the selected example objects and curves become a new color in the palette."""
+"""Learn Color: the statistics of the selected example objects and curves become a new color in the palette.
+
+Selected point clouds and synthesized curves (a painted forest, an imported place) are examples too: what they hold
+inside the region is learned as if placed by hand."""
 
 import bpy
 from bpy.props import BoolProperty, EnumProperty, StringProperty
@@ -165,18 +168,24 @@ class WORLDPAINT_OT_learn_color(RegionProperties, TerrainProperty, bpy.types.Ope
         region_curve = regions.find_curve(context, self.curve) if mode == 'CURVE' else None
         examples = instances.example_objects(context.selected_objects, exclude=[terrain_obj])
         drawn = curves.example_curves(context.selected_objects, exclude=[terrain_obj, region_curve])
-        if not examples and not drawn:
+        # point clouds and synthesized curves selected (an imported place, a painted forest): what they hold
+        clouds = [o for o in context.selected_objects if o.get(instances.POINTS_TAG) and o.type == 'MESH']
+        painted = [(o, o[instances.STRUCTURE_TAG], all(s.use_cyclic_u for s in o.data.splines))
+                   for o in context.selected_objects
+                   if o.type == 'CURVE' and o.get(instances.STRUCTURE_TAG) and o.data.splines and o != region_curve]
+        if not (examples or drawn or clouds or painted):
             raise WorldPaintError(
                 "Nothing to learn: select the example objects (collection instances, linked duplicates or "
-                "objects with a 'wp_category' property) and curves (roads, rivers; closed: islands, lakes)"
+                "objects with a 'wp_category' property), curves (roads, rivers; closed: islands, lakes), or the "
+                "point clouds and curves of a painted or imported place"
             )
         # merged silently, two things of one name would be learned as one and pasted as either
         instances.check_example_categories(examples, drawn)
-        # the region is around the example objects; curves (which usually run on beyond it) only when alone
+        # the region is around the example objects; curves and clouds (which usually reach beyond it) only when alone
         region = regions.region_for(
             context,
             mode,
-            objects=[obj for obj, _ in examples] or [obj for obj, _, _ in drawn],
+            objects=[obj for obj, _ in examples] or [obj for obj, _, _ in drawn + painted] + clouds,
             use_bounds=not examples,
             **self.region_kwargs(),
         )
@@ -185,17 +194,23 @@ class WORLDPAINT_OT_learn_color(RegionProperties, TerrainProperty, bpy.types.Ope
         heightfield = terrain.engine_terrain(context, terrain_obj, maps)
         terrain.check_region_on_terrain(heightfield, region, "example")
 
-        new = instances.new_categories(settings, examples, drawn)
+        new = instances.new_categories(settings, examples + [(o, o[instances.POINTS_TAG]) for o in clouds],
+                                       drawn + painted)
         categories = instances.merged_categories(settings, new)
         exemplar = instances.example_set(examples, categories)
+        for cloud in clouds:
+            co, rotation, scale, prototype = instances.point_cloud_arrays(cloud)
+            exemplar.append(cloud[instances.POINTS_TAG], co[:, :2], rotation, scale, prototype, locked=True,
+                            heights=co[:, 2])
         structures = curves.StructureSet(categories=categories)
-        for obj, category, _ in drawn:
+        for obj, category, _ in drawn + painted:
             structures.add(obj, category, locked=True)
         # a typed name the palette has is numbered, as the Pipette and Interpolate Colors do
         name = unique_name(settings.palette, self.name or "Color")
         scene_data = engine.scene(heightfield, exemplar.engine_arrays(), structures.engine_arrays())
         # what the example has: a cell of the Learn Matrix naming anything else is left from another example
-        present = {c for _, c in examples} | {c for _, c, _ in drawn} | set(maps)
+        present = ({c for _, c in examples} | {c for _, c, _ in drawn + painted}
+                   | {o[instances.POINTS_TAG] for o in clouds} | set(maps))
         self._left_out = []
         oriented = self.oriented_pairs(categories, settings, present)
         color_json = engine.learn_color(scene_data, region, name, maps, oriented)
@@ -207,7 +222,7 @@ class WORLDPAINT_OT_learn_color(RegionProperties, TerrainProperty, bpy.types.Ope
         # validated and computed: now change the scene
         instances.add_categories(settings, new)
         entry = add_palette_color(settings, name, color_json, fidelity, off=off)
-        n_categories = len({c for _, c in examples} | {c for _, c, _ in drawn})
+        n_categories = len(present - set(maps))
         self.report({'INFO'}, f"Learned '{name}' from {len(exemplar)} instances and {len(structures)} curves in "
                               f"{n_categories} categories; painted into its example's region: {entry.fidelity_line()}")
         if self._left_out:

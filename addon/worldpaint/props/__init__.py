@@ -16,6 +16,7 @@ from bpy.props import (
 )
 
 from ..bridge.engine import fidelity_line
+from .place import WORLDPAINT_PG_place
 from .sketch import WORLDPAINT_PG_sketch, WORLDPAINT_PG_sketch_point, WORLDPAINT_PG_sketch_stroke
 from .terrain_edit import WORLDPAINT_PG_terrain_edit, WORLDPAINT_PG_waterfall_controller
 from .variety import (
@@ -257,6 +258,7 @@ class WORLDPAINT_PG_settings(bpy.types.PropertyGroup):
     village: PointerProperty(type=WORLDPAINT_PG_village)
     terrain_edit: PointerProperty(type=WORLDPAINT_PG_terrain_edit)
     sketch: PointerProperty(type=WORLDPAINT_PG_sketch)
+    place: PointerProperty(type=WORLDPAINT_PG_place)
 
     def learn_relation(self, category, other):
         """How the interaction matrix says ``category`` relates to ``other``: AUTO, NONE or ORIENTED."""
@@ -275,7 +277,8 @@ _register_classes, _unregister_classes = bpy.utils.register_classes_factory(
      WORLDPAINT_PG_stroke_point, WORLDPAINT_PG_village_event, WORLDPAINT_PG_village, WORLDPAINT_PG_terrain_edit,
      WORLDPAINT_PG_waterfall_controller,
      WORLDPAINT_PG_sketch_point, WORLDPAINT_PG_sketch_stroke, WORLDPAINT_PG_sketch, WORLDPAINT_PG_component,
-     WORLDPAINT_PG_texture_edit, WORLDPAINT_PG_texture_atlas, WORLDPAINT_PG_variety, WORLDPAINT_PG_settings)
+     WORLDPAINT_PG_texture_edit, WORLDPAINT_PG_texture_atlas, WORLDPAINT_PG_variety, WORLDPAINT_PG_place,
+     WORLDPAINT_PG_settings)
 )
 
 

@@ -2,7 +2,7 @@
 
 import bpy
 
-from . import sketch, terrain_edit, tools, variety, village
+from . import place, sketch, terrain_edit, tools, variety, village
 from .lists import WORLDPAINT_UL_categories, WORLDPAINT_UL_interactions, WORLDPAINT_UL_palette
 from .panel import (
     WORLDPAINT_PT_display,
@@ -26,6 +26,7 @@ _classes = (
     WORLDPAINT_PT_edit,
     WORLDPAINT_PT_display,
     *village.classes,
+    *place.classes,
     *terrain_edit.classes,
     *sketch.classes,
     *variety.classes,
@@ -37,8 +38,10 @@ _register_classes, _unregister_classes = bpy.utils.register_classes_factory(_cla
 def register():
     _register_classes()
     tools.register()
+    place.register()
 
 
 def unregister():
+    place.unregister()
     tools.unregister()
     _unregister_classes()
