@@ -28,6 +28,10 @@ site = pathlib.Path(bpy.utils.user_resource('EXTENSIONS')) / ".local"
 result["bundled_engine"] = sorted(str(p.relative_to(site)) for p in site.rglob("worldpaint_engine/__init__.py"))
 import addon_utils
 result["modules"] = [m.__name__ for m in addon_utils.modules() if m.__name__.endswith("worldpaint")]
+# the scene kit builds through the add-on's facade: the installed extension's
+import importlib
+for name in ("", ".bridge", ".bridge.engine"):
+    sys.modules["worldpaint" + name] = importlib.import_module("bl_ext.user_default.worldpaint" + name)
 from scene_kit import select_only, slope_exemplar
 _, examples, _ = slope_exemplar()
 select_only(examples)
