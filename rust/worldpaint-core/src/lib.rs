@@ -130,7 +130,7 @@ pub use limits::{
 pub use paint::{painted_fidelity, synthesize, synthesize_with_progress};
 // palette: histograms, colors, palettes
 pub use palette::{
-    Color, ColorKind, GraphColor, Histogram, Interaction, MapSource, Palette,
+    Color, ColorKind, GraphColor, Histogram, Interaction, MapSource, Palette, RoadFacing,
     PALETTE_FORMAT_VERSION,
 };
 // place: real places read from map, elevation and inventory files

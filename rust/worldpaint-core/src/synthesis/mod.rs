@@ -164,7 +164,7 @@ mod relax;
 mod structures;
 mod target;
 
-pub(crate) use draws::{attributes, gaussian};
+pub(crate) use draws::{attributes, gaussian, Facing};
 
 pub(crate) use adapt::adapt;
 pub use adapt::AdaptOptions;
