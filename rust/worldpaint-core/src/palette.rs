@@ -178,17 +178,17 @@ pub struct CategoryColor {
     pub facing: Option<RoadFacing>,
 }
 
-/// The orientation of a category's instances to the nearest road: the angle between an instance's long axis (its
-/// local +X, read modulo π: a footprint has no front) and the direction of the nearest segment of the roads,
-/// folded into [0, π/2] (0: along the road, π/2: across it), by band of distance to that road. Beyond the last
-/// band (the reach) instances keep the category's `rotation`.
+/// The orientation of a category's instances to the nearest road: the angle of an instance's local +X axis from the
+/// direction towards the nearest point of the roads, counter-clockwise in [0, 2π) (0: +X towards the road, π/2 or
+/// 3π/2: along it), by band of distance to that road. Beyond the last band (the reach) instances keep the
+/// category's `rotation`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct RoadFacing {
     /// The graph categories that are the roads (of higher priority than the category): the nearest segment of any.
     pub roads: Vec<String>,
     /// Upper edges (m) of the bands of distance to the nearest road, ascending, from 0; the last is the reach.
     pub bands: Vec<f64>,
-    /// Per band, the angle to the nearest segment over [0, π/2] (mass per bin, sums to 1).
+    /// Per band, the angle from the direction towards the nearest road over [0, 2π) (mass per bin, sums to 1).
     pub angles: Vec<Histogram>,
     /// Share of the example's instances within the reach of a road.
     pub near_share: f64,
@@ -741,7 +741,7 @@ impl Color {
     }
 
     /// The roads are known categories, the bands ascend from 0 with one angle histogram each, the angles lie in
-    /// [0, π/2].
+    /// [0, 2π].
     fn validate_facing(&self, f: &RoadFacing, path: &str) -> Result<()> {
         let at = |field: &str| format!("{path}.{field}");
         for road in &f.roads {
@@ -770,12 +770,11 @@ impl Color {
         for (k, h) in f.angles.iter().enumerate() {
             let path = at(&format!("angles[{k}]"));
             self.check_hist(h, &path)?;
-            if !h.values.is_empty()
-                && !(h.start >= 0.0 && h.end() <= std::f64::consts::FRAC_PI_2 + 1e-9)
+            if !h.values.is_empty() && !(h.start >= 0.0 && h.end() <= std::f64::consts::TAU + 1e-9)
             {
                 return self.invalid(
                     &path,
-                    format!("spans [{}, {}], not within [0, π/2]", h.start, h.end()),
+                    format!("spans [{}, {}], not within [0, 2π]", h.start, h.end()),
                 );
             }
         }

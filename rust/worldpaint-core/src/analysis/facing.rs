@@ -7,14 +7,18 @@
 //!   the log because real sizes spread over an order of magnitude (a 4 m shed and a 40 m barn of one category): on
 //!   a linear scale the few large ones would make bins as wide as a small house, on the log each bin is the same
 //!   share (under 10 % from 3 m to 60 m) of the sizes it holds.
-//! * **Facing.** An instance's direction is its local +X axis (its rotation about Z) taken modulo π: a footprint
-//!   (a mapped building's minimum-area rectangle, whose long side the import turns +X along) has no front. Its
-//!   angle to the direction of the nearest segment of the roads, folded into [0, π/2] (0: along the road, π/2:
-//!   across it), is histogrammed on [`FACING_BINS`] bins for the instances closer than the reach to a road. The
-//!   roads are the graph categories of higher priority with content in the example (what the synthesis will have
-//!   painted or kept by the time the category is painted), all of them together: a house faces whichever way is
-//!   nearest, a street or a farm track. The reach is the color's radius, the distance at which the synthesis lets
-//!   one thing condition another.
+//! * **Facing.** An instance's direction is its local +X axis (its rotation about Z). What is learned is its angle
+//!   from the direction towards the nearest point of the roads, counter-clockwise over [0, 2π), on [`FACING_BINS`]
+//!   bins, for the instances closer than the reach to a road. The full turn rather than the angle modulo π: an
+//!   exemplar made in Blender may give its models a front (the built-in hamlet's cottages have their +X towards the
+//!   street), which the synthesis then keeps towards the street on either side of it; a footprint from a map has
+//!   none (the import gives its long side's angle modulo π), and its angles are learned as they come, which
+//!   reproduces them as well. Towards the nearest point rather than along the nearest segment, because that
+//!   direction is the same whichever of two segments meeting at a bend is taken as the nearest (the points beyond
+//!   the bend are equally near both). The roads are the graph categories of higher priority with content in the
+//!   example (what the synthesis will have painted or kept by the time the category is painted), all of them
+//!   together: a house faces whichever way is nearest, a street or a farm track. The reach is the color's radius,
+//!   the distance at which the synthesis lets one thing condition another.
 //! * **By distance to the road.** One histogram per band of distance, the bands holding equal shares of the
 //!   instances near a road (at least [`MIN_PER_BAND`] each, at most [`MAX_BANDS`] bands), because how strictly a
 //!   building follows its road depends on how far it stands from it: north of Bayreuth 61 % of the buildings
@@ -23,28 +27,31 @@
 //!   behind them.
 //! * **Whether the category faces the roads at all.** Unrotated trees near a diagonal road are aligned to the
 //!   world, not to the road: a category whose instances all share one rotation keeps it, and facing is kept only
-//!   when the angles to the roads are at least as concentrated (lower or equal entropy on the same bins) as the
-//!   same instances' angles to the world's X axis; otherwise the category keeps its world rotation histogram
+//!   when the instances' long axes (modulo π, folded into [0, π/2]: the reading that a footprint without a front
+//!   allows) are at least as concentrated (lower or equal entropy on the same bins) against the road's direction
+//!   at its nearest point as against the world's X axis; otherwise the category keeps its world rotation histogram
 //!   alone, as before.
 
 use super::structure::Structures;
-use crate::geom::DVec2;
+use crate::geom::{closest_on_segment, DVec2};
 use crate::graph::SegmentIndex;
 use crate::palette::{Histogram, RoadFacing};
 use crate::scene::Instance;
-use std::f64::consts::{FRAC_PI_2, PI};
+use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 /// Bins of the histogram of the log of the scale.
 pub(crate) const SIZE_BINS: usize = 32;
-/// Bins of the angle to the nearest road over [0, π/2] (5° each).
-pub(crate) const FACING_BINS: usize = 18;
+/// Bins of the angle from the direction towards the nearest road, over [0, 2π) (5° each).
+pub(crate) const FACING_BINS: usize = 72;
+/// Bins of the folded angles over [0, π/2] that tell whether a category faces the roads (5° each).
+const FOLDED_BINS: usize = 18;
 /// Bands of distance to the road: as many as hold this many instances each, at most `MAX_BANDS`.
 const MIN_PER_BAND: usize = 50;
 const MAX_BANDS: usize = 4;
 
 /// The angle between a direction `rotation` (radians from +X) read modulo π and the undirected line of direction
 /// `along`, folded into [0, π/2].
-pub(crate) fn folded_angle(rotation: f64, along: DVec2) -> f64 {
+fn folded_angle(rotation: f64, along: DVec2) -> f64 {
     let delta = (rotation - along.y.atan2(along.x)).rem_euclid(PI);
     delta.min(PI - delta).clamp(0.0, FRAC_PI_2)
 }
@@ -70,8 +77,19 @@ pub(super) fn size_histogram(instances: &[Instance]) -> Histogram {
     h.normalized()
 }
 
+/// The direction from `p` towards the nearest point of the segment `a`–`b` (across the segment when `p` lies on
+/// it).
+pub(crate) fn toward_road(p: DVec2, (a, b): (DVec2, DVec2)) -> DVec2 {
+    let toward = closest_on_segment(p, a, b) - p;
+    if toward.length() > 1e-9 * (1.0 + p.length()) {
+        toward
+    } else {
+        (b - a).perp()
+    }
+}
+
 /// The segments of the named graph categories in one index (`None` when they have none).
-pub(crate) fn road_index(structures: &Structures, roads: &[String]) -> Option<SegmentIndex> {
+fn road_index(structures: &Structures, roads: &[String]) -> Option<SegmentIndex> {
     let segments: Vec<(DVec2, DVec2)> = roads
         .iter()
         .filter_map(|r| structures.graph(r))
@@ -94,15 +112,18 @@ pub(super) fn road_facing(
         return None;
     }
     let index = road_index(structures, &roads)?;
-    // (distance to the nearest road, angle to it, angle to the world's X axis) of the instances near one
-    let mut near: Vec<(f64, f64, f64)> = instances
+    // (distance to the nearest road, angle from the way to it, folded angles to the road and to the world's X axis)
+    // of the instances near one
+    let mut near: Vec<(f64, f64, f64, f64)> = instances
         .iter()
         .filter(|i| i.rotation.is_finite())
         .filter_map(|i| {
-            let (d, (a, b)) = index.nearest(i.position, reach)?;
+            let (d, segment) = index.nearest(i.position, reach)?;
+            let toward = toward_road(i.position, segment);
             Some((
                 d,
-                folded_angle(i.rotation, b - a),
+                (i.rotation - toward.y.atan2(toward.x)).rem_euclid(TAU),
+                folded_angle(i.rotation, toward.perp()),
                 folded_angle(i.rotation, DVec2::X),
             ))
         })
@@ -110,8 +131,14 @@ pub(super) fn road_facing(
     if near.is_empty() {
         return None;
     }
-    let pooled = |angle: fn(&(f64, f64, f64)) -> f64| angle_histogram(near.iter().map(angle));
-    if entropy(&pooled(|n| n.1)) > entropy(&pooled(|n| n.2)) {
+    let folded = |angle: fn(&(f64, f64, f64, f64)) -> f64| {
+        let mut h = Histogram::zeros(0.0, FRAC_PI_2 / FOLDED_BINS as f64, FOLDED_BINS);
+        for n in &near {
+            h.add(angle(n).min(FRAC_PI_2 * (1.0 - 1e-12)), 1.0);
+        }
+        h
+    };
+    if entropy(&folded(|n| n.2)) > entropy(&folded(|n| n.3)) {
         return None;
     }
     near.sort_by(|x, y| x.0.total_cmp(&y.0));
@@ -126,13 +153,14 @@ pub(super) fn road_facing(
         }
     }
     bands.push(reach);
-    let mut angles = vec![angle_histogram(std::iter::empty()); bands.len()];
-    for (d, to_road, _) in &near {
+    let mut angles =
+        vec![Histogram::zeros(0.0, TAU / FACING_BINS as f64, FACING_BINS); bands.len()];
+    for (d, from_road, _, _) in &near {
         let band = bands
             .iter()
             .position(|edge| d < edge)
             .unwrap_or(bands.len() - 1);
-        angles[band].add(to_road.min(FRAC_PI_2 * (1.0 - 1e-12)), 1.0);
+        angles[band].add(from_road.min(TAU * (1.0 - 1e-12)), 1.0);
     }
     // a band left empty by equal distances joins the one above it
     let mut k = 0;
@@ -151,16 +179,6 @@ pub(super) fn road_facing(
         angles,
         near_share: near.len() as f64 / instances.len() as f64,
     })
-}
-
-/// The histogram of angles over [0, π/2] on [`FACING_BINS`] bins.
-fn angle_histogram(angles: impl Iterator<Item = f64>) -> Histogram {
-    let mut h = Histogram::zeros(0.0, FRAC_PI_2 / FACING_BINS as f64, FACING_BINS);
-    let last = FRAC_PI_2 * (1.0 - 1e-12);
-    for a in angles {
-        h.add(a.min(last), 1.0);
-    }
-    h
 }
 
 /// Shannon entropy (nats) of a histogram's masses.

@@ -7,12 +7,13 @@
 //! every birth and move, with one nearest-road query per instance instead of one per proposal.
 
 use super::structures::StructuredContent;
+use crate::analysis::facing::toward_road;
 use crate::graph::SegmentIndex;
 use crate::palette::{CategoryColor, Histogram, RoadFacing};
 use crate::scene::Instance;
 use glam::DVec2;
 use rand::Rng;
-use std::f64::consts::{PI, TAU};
+use std::f64::consts::TAU;
 use std::sync::Arc;
 
 /// A standard normal 2D step (Box–Muller).
@@ -55,9 +56,9 @@ fn draw_index<R: Rng>(weights: &[f64], rng: &mut R) -> u32 {
 }
 
 /// A new instance at `p`: rotation, scale and prototype drawn from the category's learned distributions. Near a
-/// road (`facing`, for a category that faces the roads) its rotation is the direction of the nearest road segment
-/// turned by an angle drawn from the learned angles of its band of distance to that road, to either side and
-/// either way round (a footprint has no front); farther, from the world rotation histogram. Its scale is drawn from the size histogram (the log of the
+/// road (`facing`, for a category that faces the roads) its rotation is the direction towards the nearest point of
+/// the roads turned by an angle drawn from the learned angles of its band of distance to them; farther, it is drawn
+/// from the world rotation histogram. Its scale is drawn from the size histogram (the log of the
 /// scale) when the color has one, else from the scale histogram.
 pub(crate) fn attributes<R: Rng>(
     cat: &CategoryColor,
@@ -67,12 +68,7 @@ pub(crate) fn attributes<R: Rng>(
     rng: &mut R,
 ) -> Instance {
     let rotation = match facing.and_then(|f| f.nearest_road(p)) {
-        Some((angles, along)) => {
-            let angle = draw_from_histogram(angles, rng, 0.0);
-            let side = if rng.random::<bool>() { angle } else { -angle };
-            let way = if rng.random::<bool>() { PI } else { 0.0 };
-            along.y.atan2(along.x) + side + way
-        }
+        Some((angles, toward)) => toward.y.atan2(toward.x) + draw_from_histogram(angles, rng, 0.0),
         None => draw_from_histogram(&cat.rotation, rng, 0.0),
     };
     let scale = if cat.size.values.is_empty() {
@@ -108,8 +104,8 @@ impl<'c> Facing<'c> {
         })
     }
 
-    /// The direction of the nearest road segment within the learned reach of `p`, with the learned angles of its
-    /// distance band, if there is one.
+    /// The direction from `p` towards the nearest point of the roads within the learned reach, with the learned
+    /// angles of its distance band, if there is one.
     fn nearest_road(&self, p: DVec2) -> Option<(&'c Histogram, DVec2)> {
         let mut best: Option<(f64, (DVec2, DVec2))> = None;
         for index in &self.roads {
@@ -118,7 +114,7 @@ impl<'c> Facing<'c> {
                 best = Some(found);
             }
         }
-        let (d, (a, b)) = best?;
-        Some((self.learned.angles_at(d)?, b - a))
+        let (d, segment) = best?;
+        Some((self.learned.angles_at(d)?, toward_road(p, segment)))
     }
 }
