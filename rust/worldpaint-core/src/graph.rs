@@ -433,10 +433,24 @@ impl SegmentIndex {
         if self.segments.is_empty() {
             return f64::INFINITY;
         }
-        if !(p.x.is_finite() && p.y.is_finite()) {
-            return max;
+        self.nearest_within(p, max).0
+    }
+
+    /// The nearest segment to `p` closer than `max`, with its distance; `None` beyond `max` (and for an empty
+    /// index). Of segments at the same distance, the first in the cells' order.
+    pub fn nearest(&self, p: DVec2, max: f64) -> Option<(f64, (DVec2, DVec2))> {
+        match self.nearest_within(p, max) {
+            (d, Some(s)) => Some((d, self.segments[s])),
+            _ => None,
         }
-        let mut best = max;
+    }
+
+    /// The distance from `p` to the nearest segment closer than `max` (else `max`) and that segment's index.
+    fn nearest_within(&self, p: DVec2, max: f64) -> (f64, Option<usize>) {
+        if self.segments.is_empty() || !(p.x.is_finite() && p.y.is_finite()) {
+            return (max, None);
+        }
+        let (mut best, mut which) = (max, None);
         let f = (p - self.grid.origin) / self.grid.cell;
         let (px, py) = (f.x.floor() as i64, f.y.floor() as i64);
         let (nx, ny) = (self.grid.nx as i64, self.grid.ny as i64);
@@ -447,13 +461,17 @@ impl SegmentIndex {
         if first == 0 {
             first = i64::from(self.empty_rings[(py * nx + px) as usize]);
         }
-        let visit = |cx: i64, cy: i64, best: &mut f64| {
+        let mut visit = |cx: i64, cy: i64, best: &mut f64| {
             if cx < 0 || cy < 0 || cx >= nx || cy >= ny {
                 return;
             }
             for &s in &self.cells[(cy * nx + cx) as usize] {
                 let (a, b) = self.segments[s as usize];
-                *best = best.min(segment_distance(p, a, b));
+                let d = segment_distance(p, a, b);
+                if d < *best {
+                    *best = d;
+                    which = Some(s as usize);
+                }
             }
         };
         for ring in first..=last {
@@ -474,7 +492,7 @@ impl SegmentIndex {
                 visit(px + ring, cy, &mut best);
             }
         }
-        best
+        (best, which)
     }
 
     /// Whether the segment `a`–`b` crosses or touches an indexed segment anywhere but at `a` or `b` themselves.

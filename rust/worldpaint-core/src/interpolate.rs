@@ -23,8 +23,10 @@
 //!   1 — the neutral value synthesis uses beyond an rdf's range — so both span the same distances; otherwise
 //!   the shorter one would drag mass of the longer one inwards and leave zeros (read as hard cores) at its end.
 //!   The hard core of a pair thereby moves continuously, e.g. from 2 m to 6 m through 4 m at `t = ½`.
-//! * **scale, rotation, map sampling** histograms and the map's region histogram: masses per bin, transported
-//!   as above.
+//! * **scale, rotation, size, map sampling** histograms, the map's region histogram and the angles to the nearest
+//!   road: masses per bin, transported as above (a size only one color has is kept; the angles are transported band
+//!   by band, the bands' edges blended, when both colors have as many bands, else the nearer color's facing is
+//!   kept).
 //! * **oriented rdf**: linear blend of the values (the angular dimension has no single order to transport
 //!   along). Values past the shorter one's distance range are taken as 1; grids that differ in distance bin or
 //!   angle bins are not blended, the nearer color's (`t < ½`: `a`) is kept.
@@ -42,7 +44,7 @@
 use crate::error::{check, Error, Result};
 use crate::palette::{
     CategoryColor, Color, ColorKind, GraphColor, Histogram, Interaction, MapInteraction,
-    PairInteraction, PolygonColor,
+    PairInteraction, PolygonColor, RoadFacing,
 };
 
 /// Interpolates two colors at `t` ∈ [0, 1] by displacement interpolation of their histograms (see the module
@@ -257,6 +259,43 @@ fn interpolate_category(ca: &CategoryColor, cb: &CategoryColor, t: f64) -> Categ
         scale: displacement_interpolate(&ca.scale, &cb.scale, t),
         rotation: displacement_interpolate(&ca.rotation, &cb.rotation, t),
         prototype_weights,
+        size: match (ca.size.values.is_empty(), cb.size.values.is_empty()) {
+            (false, false) => displacement_interpolate(&ca.size, &cb.size, t),
+            // a color learned before sizes were has none to blend
+            (true, _) => cb.size.clone(),
+            (false, true) => ca.size.clone(),
+        },
+        facing: interpolate_facing(ca.facing.as_ref(), cb.facing.as_ref(), t),
+    }
+}
+
+/// Facing the roads: with as many distance bands, each band's edge blended and its angles transported, the share
+/// near roads blended, the roads of the nearer color; otherwise (bands that do not correspond, or a color that does
+/// not face its roads) the nearer color's facing.
+fn interpolate_facing(
+    fa: Option<&RoadFacing>,
+    fb: Option<&RoadFacing>,
+    t: f64,
+) -> Option<RoadFacing> {
+    let lerp = |x: f64, y: f64| (1.0 - t) * x + t * y;
+    match (fa, fb) {
+        (Some(a), Some(b)) if a.bands.len() == b.bands.len() => Some(RoadFacing {
+            roads: if t < 0.5 { &a.roads } else { &b.roads }.clone(),
+            bands: a
+                .bands
+                .iter()
+                .zip(&b.bands)
+                .map(|(x, y)| lerp(*x, *y))
+                .collect(),
+            angles: a
+                .angles
+                .iter()
+                .zip(&b.angles)
+                .map(|(x, y)| displacement_interpolate(x, y, t))
+                .collect(),
+            near_share: lerp(a.near_share, b.near_share),
+        }),
+        _ => if t < 0.5 { fa } else { fb }.cloned(),
     }
 }
 

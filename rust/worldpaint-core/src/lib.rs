@@ -30,7 +30,7 @@
 //! | `sketch` ([`apply_sketch`], [`SketchStroke`], [`Camera`]) | terrain edited from silhouettes sketched over a first-person view (thesis ch. 5) |
 //! | `scene` ([`Scene`], [`Category`], [`Instance`]) | categories, priority order, instances (§3) |
 //! | `palette` ([`Color`], [`Palette`]) | histograms, colors, palettes (§3, §4.1) |
-//! | `analysis` ([`learn_color`]) | learning a color (§4.1); its radius, which follows a clustered example (`radius`), and the pair correlation of a map preference (`intensity`) |
+//! | `analysis` ([`learn_color`]) | learning a color (§4.1); its radius, which follows a clustered example (`radius`), the pair correlation of a map preference (`intensity`), and the instances' sizes and facing of the nearest road ([`RoadFacing`], `facing`) |
 //! | `compare` ([`compare()`], [`Fidelity`], [`self_synthesis`]) | fidelity metrics between two colors; a color learned back from what it painted |
 //! | `fidelity_plot` ([`draw_fidelity`]) | the fidelity picture: example and self-synthesis pcf and slope histograms |
 //! | `interpolate` ([`interpolate_colors`]) | distribution interpolation by optimal mass transport (§5.2) |
@@ -130,7 +130,7 @@ pub use limits::{
 pub use paint::{painted_fidelity, synthesize, synthesize_with_progress};
 // palette: histograms, colors, palettes
 pub use palette::{
-    Color, ColorKind, GraphColor, Histogram, Interaction, MapSource, Palette,
+    Color, ColorKind, GraphColor, Histogram, Interaction, MapSource, Palette, RoadFacing,
     PALETTE_FORMAT_VERSION,
 };
 // place: real places read from map, elevation and inventory files

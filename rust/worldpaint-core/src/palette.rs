@@ -18,6 +18,10 @@ use serde::{Deserialize, Serialize};
 pub const PALETTE_FORMAT_VERSION: u32 = 1;
 const PALETTE_FORMAT: &str = "worldpaint-palette";
 const COLOR_FORMAT: &str = "worldpaint-color";
+/// Largest log of a scale a size histogram may span (e^±100: far beyond any model, and finite).
+const MAX_LOG_SCALE: f64 = 100.0;
+/// Most distance bands of a facing.
+const MAX_FACING_BANDS: usize = 64;
 
 /// A 1D histogram with bins `[start + k w, start + (k+1) w)`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -162,6 +166,45 @@ pub struct CategoryColor {
     pub rotation: Histogram,
     /// Frequency of prototype index 0..n.
     pub prototype_weights: Vec<f64>,
+    /// The instances' sizes: the histogram of the natural log of their scale (mass per bin), on bins fine enough
+    /// for sizes spread over an order of magnitude (a shed and a barn). The synthesis draws scales from it. Empty
+    /// in colors learned before it was, whose synthesis draws scales from `scale`.
+    #[serde(default = "empty_histogram")]
+    pub size: Histogram,
+    /// How the instances are turned to the nearest road, when they follow the roads rather than the world's axes
+    /// (houses that face their street). `None` in colors learned before it was, and where the example had no road
+    /// near the category or its rotations follow the world's axes better.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub facing: Option<RoadFacing>,
+}
+
+/// The orientation of a category's instances to the nearest road: the angle of an instance's local +X axis from the
+/// direction towards the nearest point of the roads, counter-clockwise in [0, 2π) (0: +X towards the road, π/2 or
+/// 3π/2: along it), by band of distance to that road. Beyond the last band (the reach) instances keep the
+/// category's `rotation`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RoadFacing {
+    /// The graph categories that are the roads (of higher priority than the category): the nearest segment of any.
+    pub roads: Vec<String>,
+    /// Upper edges (m) of the bands of distance to the nearest road, ascending, from 0; the last is the reach.
+    pub bands: Vec<f64>,
+    /// Per band, the angle from the direction towards the nearest road over [0, 2π) (mass per bin, sums to 1).
+    pub angles: Vec<Histogram>,
+    /// Share of the example's instances within the reach of a road.
+    pub near_share: f64,
+}
+
+impl RoadFacing {
+    /// The distance within which instances face the roads.
+    pub fn reach(&self) -> f64 {
+        self.bands.last().copied().unwrap_or(0.0)
+    }
+
+    /// The angles of the band holding the distance `d` to the nearest road (`None` at the reach and beyond).
+    pub fn angles_at(&self, d: f64) -> Option<&Histogram> {
+        let band = self.bands.iter().position(|edge| d < *edge)?;
+        self.angles.get(band)
+    }
 }
 
 /// An interaction histogram between two categories (Section 4.1).
@@ -540,13 +583,22 @@ impl Color {
     }
 
     /// The color with the interactions `off` switched off: each `(category, other)` names a pair (its rdf), a map
-    /// (`other` is the map's name, or the graph or polygon category whose distance it is), or a graph's clearance
-    /// from or avoidance of `other`. Switched off, `category` is synthesized as if `other` were not there.
+    /// (`other` is the map's name, or the graph or polygon category whose distance it is), a graph's clearance
+    /// from or avoidance of `other`, or the facing of `category` to the roads of category `other`. Switched off, `category` is synthesized as if `other` were not there.
     pub fn without_interactions(&self, off: &[(String, String)]) -> Color {
         let is_off = |a: &str, b: &str| off.iter().any(|(x, y)| x == a && y == b);
         let mut out = self.clone();
         out.pairs.retain(|p| !is_off(&p.category, &p.other));
         out.maps.retain(|m| !is_off(&m.category, &m.map));
+        for c in &mut out.categories {
+            let name = c.category.name.clone();
+            if let Some(f) = &mut c.facing {
+                f.roads.retain(|road| !is_off(&name, road));
+                if f.roads.is_empty() {
+                    c.facing = None;
+                }
+            }
+        }
         for g in &mut out.graphs {
             let name = g.category.clone();
             g.clearance.retain(|(other, _)| !is_off(&name, other));
@@ -661,12 +713,70 @@ impl Color {
             }
             self.check_hist(&c.scale, &at("scale"))?;
             self.check_hist(&c.rotation, &at("rotation"))?;
+            self.check_hist(&c.size, &at("size"))?;
+            // a scale is the exponential of a size: a finite one
+            if !c.size.values.is_empty()
+                && !(c.size.start >= -MAX_LOG_SCALE && c.size.end() <= MAX_LOG_SCALE)
+            {
+                return self.invalid(
+                    &at("size"),
+                    format!(
+                        "spans the log scales [{}, {}], beyond ±{MAX_LOG_SCALE}",
+                        c.size.start,
+                        c.size.end()
+                    ),
+                );
+            }
+            if let Some(f) = &c.facing {
+                self.validate_facing(f, &at("facing"))?;
+            }
             check::at_most_items(
                 &self.at(&at("prototype_weights")),
                 c.prototype_weights.len(),
                 limits::MAX_HISTOGRAM_BINS as usize,
             )?;
             self.check_values(&c.prototype_weights, &at("prototype_weights"))?;
+        }
+        Ok(())
+    }
+
+    /// The roads are known categories, the bands ascend from 0 with one angle histogram each, the angles lie in
+    /// [0, 2π].
+    fn validate_facing(&self, f: &RoadFacing, path: &str) -> Result<()> {
+        let at = |field: &str| format!("{path}.{field}");
+        for road in &f.roads {
+            self.check_known(&at("roads"), road)?;
+        }
+        check::at_most_items(&self.at(&at("bands")), f.bands.len(), MAX_FACING_BANDS)?;
+        if f.bands.is_empty() || f.angles.len() != f.bands.len() {
+            return self.invalid(
+                &at("angles"),
+                format!(
+                    "are {} histograms for {} distance bands (at least one)",
+                    f.angles.len(),
+                    f.bands.len()
+                ),
+            );
+        }
+        let mut below = 0.0;
+        for (k, edge) in f.bands.iter().enumerate() {
+            check::positive(&self.at(&at(&format!("bands[{k}]"))), *edge)?;
+            if !(*edge > below) {
+                return self.invalid(&at("bands"), "must ascend".into());
+            }
+            below = *edge;
+        }
+        check::within(&self.at(&at("near_share")), f.near_share, 0.0, 1.0)?;
+        for (k, h) in f.angles.iter().enumerate() {
+            let path = at(&format!("angles[{k}]"));
+            self.check_hist(h, &path)?;
+            if !h.values.is_empty() && !(h.start >= 0.0 && h.end() <= std::f64::consts::TAU + 1e-9)
+            {
+                return self.invalid(
+                    &path,
+                    format!("spans [{}, {}], not within [0, 2π]", h.start, h.end()),
+                );
+            }
         }
         Ok(())
     }

@@ -20,8 +20,8 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 use worldpaint_core::{
     clustered_points, demo_terrain, hard_core_points, learn_color, scene_from_points,
-    synthesize_with_progress, AnalysisOptions, Color, DVec2, Encyclopedia, Heightfield, Palette,
-    Region, ScenarioPresets, Scene,
+    segment_distance, synthesize_with_progress, village_scene, AnalysisOptions, Color, DVec2,
+    Encyclopedia, Heightfield, Palette, Region, ScenarioPresets, Scene,
 };
 
 /// Seeds of mutations that once crashed or hung, kept as regression cases.
@@ -68,7 +68,8 @@ fn read_asset(path: &str) -> Value {
     serde_json::from_str(&text).expect("the shipped assets are JSON")
 }
 
-/// A palette of two colors learned here: a clustered forest with a terrain map, and a hard-core one.
+/// A palette of three colors learned here: a clustered forest with a terrain map, a hard-core one, and a village whose
+/// houses face their streets.
 fn palette_file() -> Value {
     let terrain = Arc::new(demo_terrain(100.0, 2.0, 1));
     let region = square(10.0, 60.0);
@@ -80,10 +81,50 @@ fn palette_file() -> Value {
         colors: vec![
             learn_color(&forest, &region, "forest", &opts).expect("the forest is learned"),
             learn_color(&rocks, &region, "rocks", &opts).expect("the rocks are learned"),
+            facing_village(),
         ],
     };
     serde_json::from_str(&palette.to_json().expect("the palette is written"))
         .expect("a palette is JSON")
+}
+
+/// A village whose houses face their streets, so that the mutations reach the facing and size fields.
+fn facing_village() -> Color {
+    let mut village = village_scene(150.0, 4);
+    let roads: Vec<(DVec2, DVec2)> = village
+        .paths
+        .iter()
+        .flat_map(|p| p.points.windows(2).map(|w| (w[0], w[1])))
+        .collect();
+    for (k, house) in village.instances.iter_mut().enumerate() {
+        if house.category != 1 {
+            continue;
+        }
+        let nearest = roads
+            .iter()
+            .min_by(|x, y| {
+                segment_distance(house.position, x.0, x.1).total_cmp(&segment_distance(
+                    house.position,
+                    y.0,
+                    y.1,
+                ))
+            })
+            .map(|(a, b)| *b - *a);
+        if let Some(along) = nearest {
+            house.rotation = along.y.atan2(along.x) + 0.02 * (k % 5) as f64;
+            house.scale = [8.0, 9.0, 20.0][k % 3];
+        }
+    }
+    let color = learn_color(
+        &village,
+        &square(0.0, 150.0),
+        "village",
+        &Default::default(),
+    )
+    .expect("the village is learned");
+    let house = color.category("house").expect("the village has houses");
+    assert!(house.facing.is_some() && !house.size.values.is_empty());
+    color
 }
 
 /// Every place in a JSON tree, as paths of keys and indices.
@@ -214,7 +255,9 @@ fn run_case(seed: u64, files: &Files, terrain: &Arc<Heightfield>, pools: &Pools)
         }
         Err(_) => outcome.refused += 1,
     }
-    let color = serde_json::json!({"format": "worldpaint-color", "version": 1, "color": files.palette["colors"][0]});
+    // each color of the palette in turn as a file of its own
+    let one = &files.palette["colors"][(seed % 3) as usize];
+    let color = serde_json::json!({"format": "worldpaint-color", "version": 1, "color": one});
     match Color::from_json(&mutate(&color, &mut rng).to_string()) {
         Ok(c) => {
             outcome.accepted += 1;

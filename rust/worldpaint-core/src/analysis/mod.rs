@@ -23,6 +23,10 @@
 //! store the histogram of the same map over the whole exemplar region, used by synthesis to turn `h_m` into a
 //! *preference* (see `synthesis`).
 //!
+//! Per instance, besides the paper's statistics: the histogram of the log of the scale (the instances' sizes) and,
+//! for a distribution near roads of higher priority, the histogram of its angle to the nearest road (module
+//! `facing`).
+//!
 //! ## Bin width and maximum radius (when not given)
 //! See module `radius`.
 
@@ -37,6 +41,7 @@ use crate::scene::{Category, CategoryKind, Instance, Scene};
 
 mod arrangement;
 mod estimators;
+pub(crate) mod facing;
 pub(crate) mod intensity;
 mod radius;
 mod sampling;
@@ -353,16 +358,24 @@ struct Exemplar<'a> {
 }
 
 impl Exemplar<'_> {
-    /// The per-category statistics of every group.
+    /// The per-category statistics of every group, with how the instances of distributions face the roads of
+    /// higher priority.
     fn category_colors(&self) -> Vec<CategoryColor> {
         let mut categories = Vec::with_capacity(self.groups.len());
         for (gi, g) in self.groups.iter().enumerate() {
-            categories.push(category_color(
-                g,
-                self.area,
-                &self.grids[gi],
-                self.max_radius,
-            ));
+            let mut color = category_color(g, self.area, &self.grids[gi], self.max_radius);
+            if g.kind() == CategoryKind::Distribution {
+                let roads: Vec<String> = self.groups[..gi]
+                    .iter()
+                    .filter(|o| o.kind() == CategoryKind::Graph)
+                    .map(|o| o.category.name.clone())
+                    .collect();
+                if !roads.is_empty() {
+                    color.facing =
+                        facing::road_facing(&g.instances, self.content, roads, self.max_radius);
+                }
+            }
+            categories.push(color);
         }
         categories
     }
@@ -558,7 +571,7 @@ fn map_interaction(
     }
 }
 
-/// Count, density, smallest same-category distance, scale / rotation histograms and prototype weights.
+/// Count, density, smallest same-category distance, scale / rotation / size histograms and prototype weights.
 fn category_color(g: &Group, area: f64, grid: &SpatialGrid, max_radius: f64) -> CategoryColor {
     let n = g.positions.len();
     let min_distance = (0..n)
@@ -630,5 +643,7 @@ fn category_color(g: &Group, area: f64, grid: &SpatialGrid, max_radius: f64) -> 
         scale,
         rotation: rotation.normalized(),
         prototype_weights,
+        size: facing::size_histogram(&g.instances),
+        facing: None,
     }
 }

@@ -96,6 +96,11 @@ impl Structures {
         Structures { graphs, polygons }
     }
 
+    /// The graph of a graph category, planarized, when the scene has paths of it.
+    pub(crate) fn graph(&self, name: &str) -> Option<&Graph> {
+        self.graphs.get(name)
+    }
+
     /// The nodes of a graph category inside the region, as instances.
     pub(crate) fn graph_nodes_inside(
         &self,

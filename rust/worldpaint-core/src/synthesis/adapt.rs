@@ -25,7 +25,7 @@
 use super::structures::StructuredContent;
 use super::target::{build_target, Conditioning, Target, FIXED_ID};
 use super::{
-    attributes, conditioning_content, gaussian, mix_seed, priority_order, scene_categories,
+    attributes, conditioning_content, gaussian, mix_seed, priority_order, scene_categories, Facing,
     HISTOGRAM_FLOOR,
 };
 use crate::error::{check, Result};
@@ -161,9 +161,15 @@ pub(crate) fn adapt(
         }
         adapted[ci] = positions.iter().flatten().copied().collect();
         adapted[ci].extend_from_slice(&born);
+        let facing = Facing::of(cat, &structured);
         for p in born {
-            out.births
-                .push(attributes(cat, p, scene_index[ci], &mut rng));
+            out.births.push(attributes(
+                cat,
+                p,
+                scene_index[ci],
+                facing.as_ref(),
+                &mut rng,
+            ));
         }
     }
     out.categories = categories;

@@ -147,6 +147,12 @@
 //! missing and the chain crowds the border; a first-order field of them is added to the log-density of instances
 //! near such free borders (module `ghosts`).
 //!
+//! ## Attributes
+//! Rotation, scale and prototype are drawn for the points the chain leaves, from the category's histograms (module
+//! `draws`): the scale from the size histogram (its log) when the color has one; near a road, for a category that
+//! faces the roads, the rotation from the angles learned in the band of distance to the nearest road, turned from
+//! the direction towards it (the roads being those painted or kept by then: see `analysis::facing`).
+//!
 //! ## Determinism
 //! Every random choice comes from ChaCha8 generators seeded from (seed, category) and, for tiles, (sweep,
 //! phase, tile); parallel results are merged in a fixed order, so nothing depends on the rayon thread count.
@@ -164,7 +170,7 @@ mod relax;
 mod structures;
 mod target;
 
-pub(crate) use draws::{attributes, gaussian};
+pub(crate) use draws::{attributes, gaussian, Facing};
 
 pub(crate) use adapt::adapt;
 pub use adapt::AdaptOptions;

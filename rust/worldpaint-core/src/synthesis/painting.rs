@@ -9,7 +9,7 @@ use super::target::{
     unseen_shares, Conditioning, Target,
 };
 use super::{
-    add_unseen, arcs, attributes, islands, mix_seed, product, rdf, SynthesisOptions,
+    add_unseen, arcs, attributes, islands, mix_seed, product, rdf, Facing, SynthesisOptions,
     SynthesisResult,
 };
 use crate::analysis::region_lattice;
@@ -162,11 +162,15 @@ impl<'s> Painting<'s> {
             CategoryKind::Graph => self.add_paths(ci, &points, state),
             CategoryKind::Polygon => self.add_contours(ci, &points, merged, state),
             _ => {
+                let facing = Facing::of(cat, &state.structured);
                 for p in &points {
-                    state
-                        .out
-                        .instances
-                        .push(attributes(cat, *p, self.scene_index[ci], &mut rng));
+                    state.out.instances.push(attributes(
+                        cat,
+                        *p,
+                        self.scene_index[ci],
+                        facing.as_ref(),
+                        &mut rng,
+                    ));
                 }
             }
         }
