@@ -23,6 +23,7 @@ use crate::graph::SegmentIndex;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::collections::BTreeMap;
+use std::sync::OnceLock;
 
 /// Smoothing of the traced density, in units of the spacing.
 const TRACE_SIGMA: f64 = 0.6;
@@ -37,9 +38,10 @@ pub struct Polygons {
     contours: Vec<Region>,
     /// Per contour: its bounding box, so that containment tests only the contours whose box holds the point.
     boxes: Vec<(DVec2, DVec2)>,
-    /// Per contour: its area (to find the innermost contour holding a point) and its largest inner distance.
+    /// Per contour: its area (to find the innermost contour holding a point) and its largest inner distance, found
+    /// when first asked (a place holds a thousand fields, of which a paste reads a few).
     areas: Vec<f64>,
-    inner: Vec<f64>,
+    inner: Vec<OnceLock<f64>>,
     border: SegmentIndex,
 }
 
@@ -60,17 +62,13 @@ impl Polygons {
                 _ => Vec::new(),
             })
             .collect();
-        let mut polygons = Polygons {
+        Polygons {
             areas: contours.iter().map(|c| c.area()).collect(),
             boxes: contours.iter().map(|c| c.bbox()).collect(),
-            inner: Vec::new(),
+            inner: contours.iter().map(|_| OnceLock::new()).collect(),
             border: SegmentIndex::new(segments),
             contours,
-        };
-        polygons.inner = (0..polygons.contours.len())
-            .map(|i| polygons.largest_inner_distance(i))
-            .collect();
-        polygons
+        }
     }
 
     /// Whether no contour was kept.
@@ -85,27 +83,38 @@ impl Polygons {
 
     /// The contours that hold `p`.
     fn holding(&self, p: DVec2) -> impl Iterator<Item = usize> + '_ {
-        (0..self.contours.len()).filter(move |&i| {
-            let (lo, hi) = self.boxes[i];
-            p.cmpge(lo).all() && p.cmple(hi).all() && self.contours[i].contains(p)
-        })
+        (0..self.contours.len()).filter(move |&i| self.holds(i, p))
     }
 
-    /// The innermost contour holding `p`.
-    fn owner(&self, p: DVec2) -> Option<usize> {
-        self.holding(p)
-            .min_by(|&a, &b| self.areas[a].total_cmp(&self.areas[b]))
+    /// Whether contour `i` holds `p`.
+    fn holds(&self, i: usize, p: DVec2) -> bool {
+        let (lo, hi) = self.boxes[i];
+        p.cmpge(lo).all() && p.cmple(hi).all() && self.contours[i].contains(p)
     }
 
     fn largest_inner_distance(&self, i: usize) -> f64 {
-        let (lo, hi) = self.contours[i].bbox();
+        let (lo, hi) = self.boxes[i];
         let step = (hi - lo) / INNER_SAMPLES as f64;
         let reach = (hi - lo).length();
+        // only the contours whose boxes meet this one's can hold its samples
+        let near: Vec<usize> = (0..self.contours.len())
+            .filter(|&k| {
+                let (a, b) = self.boxes[k];
+                a.cmple(hi).all() && b.cmpge(lo).all()
+            })
+            .collect();
         let mut best: f64 = 0.0;
         for j in 0..INNER_SAMPLES {
             for k in 0..INNER_SAMPLES {
                 let p = lo + DVec2::new(k as f64 + 0.5, j as f64 + 0.5) * step;
-                if self.owner(p) == Some(i) && self.contains(p) {
+                let holding = near.iter().copied().filter(|&c| self.holds(c, p));
+                let (count, owner) = holding.fold((0, None::<usize>), |(n, o), c| {
+                    (
+                        n + 1,
+                        Some(o.filter(|o| self.areas[*o] <= self.areas[c]).unwrap_or(c)),
+                    )
+                });
+                if owner == Some(i) && count % 2 == 1 {
                     best = best.max(self.border.distance(p, reach));
                 }
             }
@@ -142,7 +151,11 @@ impl Polygons {
             }
         }
         if holding % 2 == 1 {
-            let d_max = owner.map_or(1.0, |i| self.inner[i]).max(1e-9);
+            let d_max = owner
+                .map_or(1.0, |i| {
+                    *self.inner[i].get_or_init(|| self.largest_inner_distance(i))
+                })
+                .max(1e-9);
             (true, -(self.border.distance(p, d_max) / d_max).min(1.0))
         } else {
             (false, self.border.distance(p, max))
@@ -160,13 +173,31 @@ impl Polygons {
 
 /// Dense points filling the contours (see the module documentation); `seed` draws the jitter.
 pub fn fill_polygons(polygons: &Polygons, spacing: f64, seed: u64) -> Vec<DVec2> {
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let whole = polygons.boxes.iter().fold(
+        (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+        |(lo, hi), (a, b)| (lo.min(*a), hi.max(*b)),
+    );
+    fill_polygons_within(polygons, spacing, seed, whole)
+}
+
+/// The points of [`fill_polygons`] inside the box `within`: the same points there, whatever the box, and a cost
+/// that grows with the box rather than with the contours' extent (a place's fields span kilometres).
+pub(crate) fn fill_polygons_within(
+    polygons: &Polygons,
+    spacing: f64,
+    seed: u64,
+    within: (DVec2, DVec2),
+) -> Vec<DVec2> {
     let mut out = Vec::new();
     if !(spacing > 0.0 && spacing.is_finite()) {
         return out;
     }
-    for c in polygons.contours.iter() {
-        let (lo, hi) = c.bbox();
+    let covers = |(a, b): &(DVec2, DVec2), p: DVec2| p.cmpge(*a).all() && p.cmple(*b).all();
+    for (k, (lo, hi)) in polygons.boxes.iter().enumerate() {
+        let (lo, hi) = (lo.max(within.0), hi.min(within.1));
+        if !(lo.x <= hi.x && lo.y <= hi.y) {
+            continue;
+        }
         // cells aligned on a global lattice, so overlapping contours share them
         let (i0, j0) = (
             (lo.x / spacing).floor() as i64,
@@ -178,26 +209,26 @@ pub fn fill_polygons(polygons: &Polygons, spacing: f64, seed: u64) -> Vec<DVec2>
         );
         for j in j0..j1 {
             for i in i0..i1 {
-                let p = DVec2::new(
-                    (i as f64 + rng.random::<f64>()) * spacing,
-                    (j as f64 + rng.random::<f64>()) * spacing,
-                );
-                // a cell belongs to the first contour whose box covers it, so it is drawn once
-                let first = polygons
-                    .contours
-                    .iter()
-                    .position(|d| {
-                        let (a, b) = d.bbox();
-                        p.x >= a.x && p.y >= a.y && p.x <= b.x && p.y <= b.y
-                    })
-                    .is_some_and(|k| std::ptr::eq(&polygons.contours[k], c));
-                if first && polygons.contains(p) {
+                let p = (DVec2::new(i as f64, j as f64) + cell_jitter(seed, i, j)) * spacing;
+                // a cell belongs to the first contour whose box covers its point, so it is drawn once
+                let first = covers(&polygons.boxes[k], p)
+                    && !polygons.boxes[..k].iter().any(|b| covers(b, p));
+                if first && covers(&within, p) && polygons.contains(p) {
                     out.push(p);
                 }
             }
         }
     }
     out
+}
+
+/// The jitter of cell `(i, j)` within it, drawn from the seed and the cell alone, so that a cell's point does not
+/// depend on which part of the contours is filled.
+fn cell_jitter(seed: u64, i: i64, j: i64) -> DVec2 {
+    let cell = (i as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15)
+        ^ (j as u64).wrapping_mul(0xC2B2_AE3D_27D4_EB4F);
+    let mut rng = ChaCha8Rng::seed_from_u64(seed ^ cell);
+    DVec2::new(rng.random(), rng.random())
 }
 
 /// Dense points along a contour's perimeter when a tool cuts it: the traced cut stays within two cells of it.

@@ -14,7 +14,7 @@
 //! * Later categories see graphs through their distance and polygons through their signed distance: maps whose
 //!   values [`graph_map_value`] and [`polygon_map_value`] give, the same at analysis and synthesis.
 
-use crate::contour::{fill_polygons, islands, Polygons};
+use crate::contour::{fill_polygons_within, islands, Polygons};
 use crate::geom::{DVec2, Region};
 use crate::graph::{Graph, SegmentIndex};
 use crate::palette::{GraphColor, Histogram, MapSource, PolygonColor};
@@ -130,7 +130,7 @@ impl Structures {
         let Some((polys, spacing)) = self.polygons.get(&category.name) else {
             return Vec::new();
         };
-        fill_polygons(polys, *spacing, c as u64)
+        fill_polygons_within(polys, *spacing, c as u64, region.bbox())
             .into_iter()
             .filter(|p| region.contains(*p))
             .map(|p| Instance::at(p, c))

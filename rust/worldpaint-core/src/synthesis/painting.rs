@@ -13,7 +13,7 @@ use super::{
     SynthesisResult,
 };
 use crate::analysis::region_lattice;
-use crate::contour::{fill_polygons, trace_contours};
+use crate::contour::{fill_polygons, fill_polygons_within, trace_contours};
 use crate::error::Result;
 use crate::geom::{DVec2, PreparedRegion, Region, RegionQueries};
 use crate::limits;
@@ -205,7 +205,9 @@ impl<'s> Painting<'s> {
                     3.0 * spacing,
                 );
                 let kept = state.structured.polygons(name);
-                let kept_points = fill_polygons(&kept, spacing, ci as u64);
+                let (lo, hi) = region.bbox();
+                let near = (lo - DVec2::splat(influence), hi + DVec2::splat(influence));
+                let kept_points = fill_polygons_within(&kept, spacing, ci as u64, near);
                 let merged_polygons = self.contour_polygons(&merged);
                 state.context[ci].extend(kept_points.into_iter().filter(|p| {
                     region.distance_outside(*p) <= influence
