@@ -57,4 +57,27 @@ fn luquillo_east_from_west() {
         "count correlation {counts:.3}, slope Poisson {:.3}",
         poisson.count_correlation
     );
+    // over 50 m squares, and against the mean of five Poisson draws as well as the first
+    let windows = mean(s, |r| r.window_correlation);
+    let poisson_mean = report.slope_poisson_mean();
+    for p in [poisson, &poisson_mean] {
+        assert!(
+            windows >= p.window_correlation,
+            "50 m count correlation {windows:.3}, {} {:.3}",
+            p.label,
+            p.window_correlation
+        );
+    }
+    assert!(
+        slope_tv <= poisson_mean.slope_tv,
+        "slope TV {slope_tv:.4}, {} {:.4}",
+        poisson_mean.label,
+        poisson_mean.slope_tv
+    );
+    assert!(
+        counts >= poisson_mean.count_correlation,
+        "count correlation {counts:.3}, {} {:.3}",
+        poisson_mean.label,
+        poisson_mean.count_correlation
+    );
 }

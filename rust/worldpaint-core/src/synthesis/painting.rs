@@ -3,6 +3,7 @@
 //! content (instances, arcs of a graph, contours traced from dense points) added to the result. See the module
 //! documentation of [`super`] for the method.
 
+use super::births::BirthIntensity;
 use super::structures::StructuredContent;
 use super::target::{
     build_target, concentration, lattice_bins, lattice_log, learned_concentration, rake_maps,
@@ -131,6 +132,16 @@ impl<'s> Painting<'s> {
             rake_maps(&mut target, &bins);
         }
         let pair_scale = learned / concentration(&target, &self.lattice);
+        // births where the (raked) map factors put the intensity
+        let births = if target.maps.is_empty() {
+            None
+        } else {
+            BirthIntensity::new(
+                &self.lattice,
+                |i| lattice_log(&target, &bins, i),
+                self.region.bbox(),
+            )
+        };
         let mut rng = ChaCha8Rng::seed_from_u64(mix_seed(self.opts.seed, ci as u64 + 1));
         let points = if !(expected > 0.0) || !expected.is_finite() {
             Vec::new()
@@ -144,6 +155,7 @@ impl<'s> Painting<'s> {
                 self_pair_scale: pair_scale,
                 iterations_per_instance: self.opts.iterations_per_instance,
                 exemplar_count: cat.count as f64,
+                births: births.as_ref(),
             };
             chain.run(&mut rng, report)?
         } else {
@@ -154,6 +166,7 @@ impl<'s> Painting<'s> {
                 self_tag,
                 self.color.max_radius,
                 self.opts.iterations_per_instance,
+                births.as_ref(),
                 &mut rng,
                 report,
             )?

@@ -2,6 +2,7 @@
 //! of [`super`]): an annealed chi-square energy between the window-corrected pair histograms and the learned
 //! ones, evaluated on tiles in parallel.
 
+use super::births::{birth_in, BirthIntensity};
 use super::target::{PairTable, Target, CONTEXT_TAG};
 use super::{annealed, mix_seed};
 use crate::error::{Error, Result};
@@ -107,6 +108,8 @@ struct Shared<'a, 'b> {
     weight: &'a [f64],
     tau: f64,
     shift_sigma: f64,
+    /// Where relocations are born (uniformly in the tile without it).
+    births: Option<&'a BirthIntensity>,
 }
 
 /// Pair histograms `H` (flat, see `histogram_offsets`) of the own points with the own points and with the fixed
@@ -201,6 +204,8 @@ pub(super) struct RdfChain<'c, 'a> {
     pub(super) iterations_per_instance: f64,
     /// The category's instances in the example, whose counting noise the targets carry (see [`converged`]).
     pub(super) exemplar_count: f64,
+    /// The map-weighted intensity births are drawn from (None: uniformly), see [`super::births`].
+    pub(super) births: Option<&'c BirthIntensity>,
 }
 
 /// The matched histograms, flat (see `histogram_offsets`): their targets `T = h · cell area · n_X · n_Y / A`
@@ -318,6 +323,8 @@ impl<'a> RdfChain<'_, 'a> {
         let mut own: Vec<DVec2> = Vec::with_capacity(want);
         let (lo, hi) = self.grid_bounds();
         let mut own_grid = SpatialGrid::new(lo, hi, target.cell);
+        let (rlo, rhi) = self.region.bbox();
+        let births = self.births.map(|b| b.over(rlo, rhi));
         for dart in 0..(30 * want + 1000) {
             if own.len() >= want {
                 break;
@@ -325,7 +332,7 @@ impl<'a> RdfChain<'_, 'a> {
             if dart % DARTS_PER_PROGRESS == DARTS_PER_PROGRESS - 1 && !progress(0.0) {
                 return Err(Error::Cancelled);
             }
-            let Some(p) = self.region.sample_uniform(rng) else {
+            let Some(p) = birth_in(self.region, births.as_ref(), rng) else {
                 break;
             };
             if allowed(target, &own_grid, self_tag, p) {
@@ -425,6 +432,7 @@ impl<'a> Sweeps<'_, 'a> {
             weight: &self.matched.weight,
             tau,
             shift_sigma: self.shift_sigma,
+            births: self.chain.births,
         }
     }
 

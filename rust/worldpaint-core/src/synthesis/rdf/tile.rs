@@ -1,11 +1,13 @@
 //! The moves of one tile of the rdf-matching chain (see "Tiles and determinism" in the module documentation of
 //! [`super::super`]): relocations and shifts of the tile's own instances, each accepted with `exp(−ΔE / τ)`
-//! times the ratio of the product factors, where `ΔE` is computed from the pairs of the moved instance alone.
+//! times the ratio of the product factors, where `ΔE` is computed from the pairs of the moved instance alone, and
+//! the Hastings ratio of a relocation born from the map-weighted intensity (see [`super::super::births`]).
 
 use super::{inverse_alphas, map_bin, Shared};
 use crate::analysis::folded_angle_bin;
 use crate::geom::{DVec2, RegionQueries};
 use crate::spatial::{FlatGrid, GridEntry};
+use crate::synthesis::births::RectProposal;
 use crate::synthesis::gaussian;
 use crate::synthesis::target::CONTEXT_TAG;
 use rand::{Rng, SeedableRng};
@@ -113,6 +115,8 @@ struct TileChain<'s, 'a, 'b> {
     /// Where relocations land: the tile within the region's box.
     slo: DVec2,
     shi: DVec2,
+    /// Relocations drawn from the map-weighted intensity over `slo..shi` (uniformly without it).
+    births: Option<RectProposal<'a>>,
     m: usize,
     pos: Vec<DVec2>,
     /// `1/α` per local own point: a row of `pool` (row 0: zeros, for the fixed content; row 1: ones, interior).
@@ -152,11 +156,13 @@ impl<'s, 'a, 'b> TileChain<'s, 'a, 'b> {
             cells.insert(k, cy * grid.nx() + cx);
         }
         let (rlo, rhi) = sh.region.bbox();
+        let (slo, shi) = (tile.lo.max(rlo), tile.hi.min(rhi));
         TileChain {
             sh,
             bounds,
-            slo: tile.lo.max(rlo),
-            shi: tile.hi.min(rhi),
+            slo,
+            shi,
+            births: sh.births.map(|b| b.over(slo, shi)),
             m,
             pos,
             pool,
@@ -184,7 +190,7 @@ impl<'s, 'a, 'b> TileChain<'s, 'a, 'b> {
         let target = sh.target;
         let k = rng.random_range(0..self.m);
         let p = self.pos[k];
-        let q = self.propose(p, rng);
+        let (q, hastings) = self.propose(p, rng);
         if !self.bounds.in_tile(q) || !sh.region.contains(q) {
             return;
         }
@@ -207,7 +213,8 @@ impl<'s, 'a, 'b> TileChain<'s, 'a, 'b> {
         let log_accept = -self.energy_change() / sh.tau
             + (map_new - target.map_log(p))
             + (target.ghost_log(q) - target.ghost_log(p))
-            + (ctx_new.min(target.saturation) - ctx_old.min(target.saturation));
+            + (ctx_new.min(target.saturation) - ctx_old.min(target.saturation))
+            + hastings;
         let accept = rng.random::<f64>().ln() < log_accept;
         for &h in &self.touched[..self.nt] {
             let h = h as usize;
@@ -221,16 +228,27 @@ impl<'s, 'a, 'b> TileChain<'s, 'a, 'b> {
         }
     }
 
-    /// A relocation inside the tile (the death of p and the birth of q) or a Gaussian shift, both symmetric.
-    fn propose(&self, p: DVec2, rng: &mut ChaCha8Rng) -> DVec2 {
+    /// A relocation inside the tile (the death of p and the birth of q, drawn from the map-weighted intensity
+    /// `g` when there is one) or a symmetric Gaussian shift, with the log Hastings ratio `ln g(p) − ln g(q)` of
+    /// the move (0 when symmetric).
+    fn propose(&self, p: DVec2, rng: &mut ChaCha8Rng) -> (DVec2, f64) {
         let (slo, shi) = (self.slo, self.shi);
         if rng.random::<f64>() < 0.5 {
-            DVec2::new(
-                slo.x + rng.random::<f64>() * (shi.x - slo.x),
-                slo.y + rng.random::<f64>() * (shi.y - slo.y),
-            )
+            match &self.births {
+                Some(b) => {
+                    let q = b.sample(rng);
+                    (q, b.log_density(p) - b.log_density(q))
+                }
+                None => (
+                    DVec2::new(
+                        slo.x + rng.random::<f64>() * (shi.x - slo.x),
+                        slo.y + rng.random::<f64>() * (shi.y - slo.y),
+                    ),
+                    0.0,
+                ),
+            }
         } else {
-            p + gaussian(rng) * self.sh.shift_sigma
+            (p + gaussian(rng) * self.sh.shift_sigma, 0.0)
         }
     }
 
