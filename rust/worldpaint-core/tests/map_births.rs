@@ -102,3 +102,71 @@ fn a_forest_three_times_as_dense_uphill_is_painted_three_times_as_dense_uphill()
         );
     }
 }
+
+/// A ramp rising 0.25 m per metre eastwards over 1000 × 100 m.
+fn long_ramp() -> Arc<Heightfield> {
+    let (nx, ny, cell) = (501, 51, 2.0);
+    let heights = (0..nx * ny)
+        .map(|k| (0.25 * cell * (k % nx) as f64) as f32)
+        .collect();
+    Arc::new(Heightfield::new(DVec2::ZERO, cell, nx, ny, heights).expect("a ramp"))
+}
+
+#[test]
+fn a_forest_its_map_confines_to_a_sliver_of_the_region_gets_its_whole_count() {
+    let terrain = long_ramp();
+    let strip = |x0: f64, x1: f64| Region::Rect {
+        min: DVec2::new(x0, 0.0),
+        max: DVec2::new(x1, 100.0),
+    };
+    // a band of trees 3 m wide across a 200 m example: the only heights they grow at
+    let trees = uniform_points(&strip(120.0, 123.0), 2.0, 4);
+    let scene = Scene {
+        categories: vec![worldpaint_core::Category::distribution(
+            "tree",
+            "vegetation",
+            0,
+        )],
+        instances: trees.iter().map(|p| Instance::at(*p, 0)).collect(),
+        terrain: Some(terrain.clone()),
+        ..Default::default()
+    };
+    let color = learn_color(
+        &scene,
+        &strip(0.0, 200.0),
+        "band",
+        &AnalysisOptions {
+            maps: vec!["elevation".into()],
+            ..Default::default()
+        },
+    )
+    .expect("the color is learned");
+    // painted over five times the example: the band's heights are under 1 % of it
+    for product_model in [false, true] {
+        let out = synthesize(
+            &Scene::on(terrain.clone()),
+            &color,
+            &strip(0.0, 1000.0),
+            &SynthesisOptions {
+                seed: 1,
+                product_model,
+                ..Default::default()
+            },
+        )
+        .expect("the paste");
+        let painted: Vec<DVec2> = out.instances.iter().map(|i| i.position).collect();
+        println!(
+            "product model {product_model}: {} trees painted for the example's {}, x {:.1}..{:.1}",
+            painted.len(),
+            trees.len(),
+            painted.iter().map(|p| p.x).fold(f64::INFINITY, f64::min),
+            painted.iter().map(|p| p.x).fold(0.0, f64::max)
+        );
+        assert!(
+            (painted.len() as f64 / trees.len() as f64 - 1.0).abs() <= 0.05,
+            "{} trees painted for the example's {}",
+            painted.len(),
+            trees.len()
+        );
+    }
+}

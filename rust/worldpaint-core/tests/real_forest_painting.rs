@@ -3,8 +3,9 @@
 //! and checks what a user would: the painted density is within 15% of the real one; the painted trees' pcf
 //! (translation-corrected, 0–50 m) is at most 1.25× as far from the real eastern trees' as the real western trees'
 //! is (the natural difference between the halves), and nearer than a uniform scatter's and than a Poisson process
-//! that follows the western trees' slope preference; their slope histogram and their counts over 10 m cells are at
-//! least as close to the real eastern trees' as that Poisson process's.
+//! that follows the western trees' slope preference; their slope histogram, their counts over 10 m cells and their
+//! counts over 50 m squares are at least as close to the real eastern trees' as that Poisson process's, and as the
+//! mean of five of its draws.
 
 mod common;
 use common::forest_report;

@@ -122,7 +122,7 @@ impl<'s> Painting<'s> {
         // the learned rdf counted the pairs the example's maps concentrated into part of its region; the painted
         // region's maps concentrate them by another factor (see "Maps")
         let learned = match self.exemplar_lattice.as_deref() {
-            Some(l) => concentration(&target, l),
+            Some(l) => concentration(&target, l.iter().map(|p| target.maps_log(*p, true))),
             None => learned_concentration(&target),
         };
         if !target.maps.is_empty() && !self.lattice.is_empty() {
@@ -131,14 +131,31 @@ impl<'s> Painting<'s> {
             }
             rake_maps(&mut target, &bins);
         }
-        let pair_scale = learned / concentration(&target, &self.lattice);
+        // read from the bins: a million terrain samples fewer
+        let pair_scale = learned
+            / concentration(
+                &target,
+                (0..self.lattice.len()).map(|i| lattice_log(&target, &bins, i, true)),
+            );
         // births where the (raked) map factors put the intensity
         let births = if target.maps.is_empty() {
             None
         } else {
+            // ψ per bin of each map, once: the lattice is read a million times
+            let factors: Vec<Vec<f64>> = target
+                .maps
+                .iter()
+                .map(|m| m.hist.values.iter().map(|v| v.exp()).collect())
+                .collect();
             BirthIntensity::new(
                 &self.lattice,
-                |i| lattice_log(&target, &bins, i),
+                |i| {
+                    factors
+                        .iter()
+                        .zip(&bins)
+                        .map(|(f, b)| b[i].map_or(0.0, |k| f[k]))
+                        .product()
+                },
                 self.region.bbox(),
             )
         };
@@ -277,7 +294,7 @@ impl<'s> Painting<'s> {
                 .unwrap_or(1.0);
             let n = self.lattice.len();
             (0..n)
-                .map(|i| lattice_log(target, bins, i).exp())
+                .map(|i| lattice_log(target, bins, i, false).exp())
                 .sum::<f64>()
                 / n as f64
                 / own

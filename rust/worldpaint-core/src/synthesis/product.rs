@@ -77,7 +77,7 @@ pub(super) fn run_chain<R: Rng>(
                         q,
                         births
                             .as_ref()
-                            .map_or(0.0, |b| b.log_density(p) - b.log_density(q)),
+                            .map_or(0.0, |b| b.log_weight(p) - b.log_weight(q)),
                     ),
                     None => continue,
                 }
