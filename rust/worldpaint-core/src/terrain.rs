@@ -232,9 +232,10 @@ impl Heightfield {
         if !self.contains(p) || values.len() != self.nx * self.ny {
             return None;
         }
+        // f ≥ 0 inside the grid: truncation is the floor, without a call to it
         let f = (p - self.origin) / self.cell;
-        let i = (f.x.floor() as usize).min(self.nx - 2);
-        let j = (f.y.floor() as usize).min(self.ny - 2);
+        let i = (f.x as usize).min(self.nx - 2);
+        let j = (f.y as usize).min(self.ny - 2);
         let tx = (f.x - i as f64).clamp(0.0, 1.0);
         let ty = (f.y - j as f64).clamp(0.0, 1.0);
         let at = |i: usize, j: usize| values[j * self.nx + i] as f64;

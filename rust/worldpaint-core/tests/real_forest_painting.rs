@@ -3,8 +3,9 @@
 //! and checks what a user would: the painted density is within 15% of the real one; the painted trees' pcf
 //! (translation-corrected, 0–50 m) is at most 1.25× as far from the real eastern trees' as the real western trees'
 //! is (the natural difference between the halves), and nearer than a uniform scatter's and than a Poisson process
-//! that follows the western trees' slope preference; their slope histogram and their counts over 10 m cells are at
-//! least as close to the real eastern trees' as that Poisson process's.
+//! that follows the western trees' slope preference; their slope histogram, their counts over 10 m cells and their
+//! counts over 50 m squares are at least as close to the real eastern trees' as that Poisson process's, and as the
+//! mean of five of its draws.
 
 mod common;
 use common::forest_report;
@@ -56,5 +57,28 @@ fn luquillo_east_from_west() {
         counts >= poisson.count_correlation,
         "count correlation {counts:.3}, slope Poisson {:.3}",
         poisson.count_correlation
+    );
+    // over 50 m squares, and against the mean of five Poisson draws as well as the first
+    let windows = mean(s, |r| r.window_correlation);
+    let poisson_mean = report.slope_poisson_mean();
+    for p in [poisson, &poisson_mean] {
+        assert!(
+            windows >= p.window_correlation,
+            "50 m count correlation {windows:.3}, {} {:.3}",
+            p.label,
+            p.window_correlation
+        );
+    }
+    assert!(
+        slope_tv <= poisson_mean.slope_tv,
+        "slope TV {slope_tv:.4}, {} {:.4}",
+        poisson_mean.label,
+        poisson_mean.slope_tv
+    );
+    assert!(
+        counts >= poisson_mean.count_correlation,
+        "count correlation {counts:.3}, {} {:.3}",
+        poisson_mean.label,
+        poisson_mean.count_correlation
     );
 }

@@ -32,6 +32,14 @@
 //! whatever β. Relocations and small Gaussian shifts alternate; when a hard core leaves the dart-throwing start
 //! short of `n`, allowed births fill the gap.
 //!
+//! ## Births where the maps say
+//! A color that follows maps has its births — the darts of the start, the births of a relocation — drawn from the
+//! map-weighted intensity `λ(x) ∝ Π_m ψ_m(m(x))` of the painted terrain instead of uniformly, and the move is
+//! accepted with the Hastings ratio of that proposal (`g(x_old) / g(x_new)` times the ratio of `f`): the chain
+//! samples the same `f`, but content starts where the terrain says instead of being moved there from uniform
+//! darts. The rdf-matching chain starts such a color, when clustered, as clusters of the size and spread its rdf
+//! shows, their first instances drawn from `λ` (module `births`).
+//!
 //! ## Small counts: the product model of eq. (1)
 //! When the painted region holds fewer than 100 expected instances of a category (or the caller asks for it,
 //! [`SynthesisOptions::product_model`]), the chain is the paper's:
@@ -160,6 +168,7 @@
 mod adapt;
 mod arc_grid;
 mod arcs;
+mod births;
 mod draws;
 mod ghosts;
 mod islands;

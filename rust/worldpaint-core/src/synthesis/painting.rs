@@ -3,6 +3,7 @@
 //! content (instances, arcs of a graph, contours traced from dense points) added to the result. See the module
 //! documentation of [`super`] for the method.
 
+use super::births::BirthIntensity;
 use super::structures::StructuredContent;
 use super::target::{
     build_target, concentration, lattice_bins, lattice_log, learned_concentration, rake_maps,
@@ -121,7 +122,7 @@ impl<'s> Painting<'s> {
         // the learned rdf counted the pairs the example's maps concentrated into part of its region; the painted
         // region's maps concentrate them by another factor (see "Maps")
         let learned = match self.exemplar_lattice.as_deref() {
-            Some(l) => concentration(&target, l),
+            Some(l) => concentration(&target, l.iter().map(|p| target.maps_log(*p, true))),
             None => learned_concentration(&target),
         };
         if !target.maps.is_empty() && !self.lattice.is_empty() {
@@ -130,7 +131,34 @@ impl<'s> Painting<'s> {
             }
             rake_maps(&mut target, &bins);
         }
-        let pair_scale = learned / concentration(&target, &self.lattice);
+        // read from the bins: a million terrain samples fewer
+        let pair_scale = learned
+            / concentration(
+                &target,
+                (0..self.lattice.len()).map(|i| lattice_log(&target, &bins, i, true)),
+            );
+        // births where the (raked) map factors put the intensity
+        let births = if target.maps.is_empty() {
+            None
+        } else {
+            // ψ per bin of each map, once: the lattice is read a million times
+            let factors: Vec<Vec<f64>> = target
+                .maps
+                .iter()
+                .map(|m| m.hist.values.iter().map(|v| v.exp()).collect())
+                .collect();
+            BirthIntensity::new(
+                &self.lattice,
+                |i| {
+                    factors
+                        .iter()
+                        .zip(&bins)
+                        .map(|(f, b)| b[i].map_or(0.0, |k| f[k]))
+                        .product()
+                },
+                self.region.bbox(),
+            )
+        };
         let mut rng = ChaCha8Rng::seed_from_u64(mix_seed(self.opts.seed, ci as u64 + 1));
         let points = if !(expected > 0.0) || !expected.is_finite() {
             Vec::new()
@@ -144,6 +172,7 @@ impl<'s> Painting<'s> {
                 self_pair_scale: pair_scale,
                 iterations_per_instance: self.opts.iterations_per_instance,
                 exemplar_count: cat.count as f64,
+                births: births.as_ref(),
             };
             chain.run(&mut rng, report)?
         } else {
@@ -154,6 +183,7 @@ impl<'s> Painting<'s> {
                 self_tag,
                 self.color.max_radius,
                 self.opts.iterations_per_instance,
+                births.as_ref(),
                 &mut rng,
                 report,
             )?
@@ -270,7 +300,7 @@ impl<'s> Painting<'s> {
                 .unwrap_or(1.0);
             let n = self.lattice.len();
             (0..n)
-                .map(|i| lattice_log(target, bins, i).exp())
+                .map(|i| lattice_log(target, bins, i, false).exp())
                 .sum::<f64>()
                 / n as f64
                 / own

@@ -1,6 +1,8 @@
 //! The product model of eq. (1) for small counts (see "Small counts" in the module documentation of
-//! [`super`]): relocations and shifts at a fixed count, accepted with `f(X')/f(X)`.
+//! [`super`]): relocations and shifts at a fixed count, accepted with `f(X')/f(X)` (times the Hastings ratio of a
+//! relocation whose birth is drawn from the map-weighted intensity, see [`super::births`]).
 
+use super::births::{birth_in, BirthIntensity};
 use super::gaussian;
 use super::target::{Target, FIXED_ID};
 use crate::error::{Error, Result};
@@ -17,9 +19,12 @@ pub(super) fn run_chain<R: Rng>(
     self_tag: u32,
     max_radius: f64,
     iterations_per_instance: f64,
+    births: Option<&BirthIntensity>,
     rng: &mut R,
     progress: &dyn Fn(f64) -> bool,
 ) -> Result<Vec<DVec2>> {
+    let (lo, hi) = region.bbox();
+    let births = births.map(|b| b.over(lo, hi));
     let mut own: Vec<DVec2> = Vec::new();
     let insert = |target: &mut Target, own: &mut Vec<DVec2>, p: DVec2| {
         target.grid.insert(GridEntry {
@@ -36,7 +41,7 @@ pub(super) fn run_chain<R: Rng>(
         if own.len() >= want {
             break;
         }
-        let Some(p) = region.sample_uniform(rng) else {
+        let Some(p) = birth_in(region, births.as_ref(), rng) else {
             break;
         };
         if target.energy(p, FIXED_ID) > f64::NEG_INFINITY {
@@ -52,7 +57,7 @@ pub(super) fn run_chain<R: Rng>(
         for _ in done..end {
             if own.len() < want {
                 // a hard core left the start short: keep trying allowed births
-                if let Some(p) = region.sample_uniform(rng) {
+                if let Some(p) = birth_in(region, births.as_ref(), rng) {
                     if target.energy(p, FIXED_ID) > f64::NEG_INFINITY {
                         insert(&mut target, &mut own, p);
                     }
@@ -64,15 +69,21 @@ pub(super) fn run_chain<R: Rng>(
             }
             let k = rng.random_range(0..own.len());
             let p = own[k];
-            let q = if rng.random::<f64>() < 0.5 {
-                // relocation: the death of p and the birth of q in one move (f(X')/f(X), symmetric)
-                match region.sample_uniform(rng) {
-                    Some(q) => q,
+            let (q, hastings) = if rng.random::<f64>() < 0.5 {
+                // relocation: the death of p and the birth of q in one move, q drawn from the map-weighted
+                // intensity g (or uniformly): f(X')/f(X) · g(p)/g(q)
+                match birth_in(region, births.as_ref(), rng) {
+                    Some(q) => (
+                        q,
+                        births
+                            .as_ref()
+                            .map_or(0.0, |b| b.log_weight(p) - b.log_weight(q)),
+                    ),
                     None => continue,
                 }
             } else {
-                // shift: a small Gaussian step
-                p + gaussian(rng) * shift_sigma
+                // shift: a small Gaussian step (symmetric)
+                (p + gaussian(rng) * shift_sigma, 0.0)
             };
             if !region.contains(q) {
                 continue;
@@ -82,7 +93,7 @@ pub(super) fn run_chain<R: Rng>(
                 continue;
             }
             let e_old = target.energy(p, k as u32);
-            if rng.random::<f64>().ln() < e_new - e_old {
+            if rng.random::<f64>().ln() < e_new - e_old + hastings {
                 target.grid.remove(p, k as u32);
                 target.grid.insert(GridEntry {
                     position: q,

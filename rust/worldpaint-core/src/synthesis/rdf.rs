@@ -2,6 +2,7 @@
 //! of [`super`]): an annealed chi-square energy between the window-corrected pair histograms and the learned
 //! ones, evaluated on tiles in parallel.
 
+use super::births::{birth_in, BirthIntensity, Clusters};
 use super::target::{PairTable, Target, CONTEXT_TAG};
 use super::{annealed, mix_seed};
 use crate::error::{Error, Result};
@@ -107,6 +108,8 @@ struct Shared<'a, 'b> {
     weight: &'a [f64],
     tau: f64,
     shift_sigma: f64,
+    /// Where relocations are born (uniformly in the tile without it).
+    births: Option<&'a BirthIntensity>,
 }
 
 /// Pair histograms `H` (flat, see `histogram_offsets`) of the own points with the own points and with the fixed
@@ -201,6 +204,8 @@ pub(super) struct RdfChain<'c, 'a> {
     pub(super) iterations_per_instance: f64,
     /// The category's instances in the example, whose counting noise the targets carry (see [`converged`]).
     pub(super) exemplar_count: f64,
+    /// The map-weighted intensity births are drawn from (None: uniformly), see [`super::births`].
+    pub(super) births: Option<&'c BirthIntensity>,
 }
 
 /// The matched histograms, flat (see `histogram_offsets`): their targets `T = h · cell area · n_X · n_Y / A`
@@ -306,7 +311,9 @@ impl<'a> RdfChain<'_, 'a> {
         Ok(own)
     }
 
-    /// The count (see "The count"), then dart throwing among allowed positions.
+    /// The count (see "The count"), then dart throwing among allowed positions: uniformly without maps; with
+    /// them drawn from the map-weighted intensity, and for a clustered color only the first instance of each
+    /// cluster so, the others around them (see "Clusters" in [`super::births`]).
     fn dart_throwing<R: Rng>(
         &self,
         rng: &mut R,
@@ -315,18 +322,49 @@ impl<'a> RdfChain<'_, 'a> {
         let (target, self_tag) = (self.target, self.self_tag);
         let want = self.expected.floor() as usize
             + usize::from(rng.random::<f64>() < self.expected.fract());
+        let table = &target.tables[self_tag as usize];
+        let clusters = self.births.and_then(|_| {
+            Clusters::of_rdf(
+                &table.target_hist,
+                table.angle_bins,
+                table.bin_width,
+                want as f64 / self.area,
+                target.radius,
+            )
+        });
+        let darts = 30 * want + 1000;
+        // darts grown around the first instances of the clusters, while half the darts remain
+        let grown = clusters.map(|c| {
+            (
+                c,
+                ((want as f64 * c.seed_share()).ceil() as usize).max(1),
+                darts / 2,
+            )
+        });
         let mut own: Vec<DVec2> = Vec::with_capacity(want);
         let (lo, hi) = self.grid_bounds();
         let mut own_grid = SpatialGrid::new(lo, hi, target.cell);
-        for dart in 0..(30 * want + 1000) {
+        let (rlo, rhi) = self.region.bbox();
+        let births = self.births.map(|b| b.over(rlo, rhi));
+        for dart in 0..darts {
             if own.len() >= want {
                 break;
             }
             if dart % DARTS_PER_PROGRESS == DARTS_PER_PROGRESS - 1 && !progress(0.0) {
                 return Err(Error::Cancelled);
             }
-            let Some(p) = self.region.sample_uniform(rng) else {
-                break;
+            let dart = match grown {
+                Some((c, seeds, until)) if own.len() >= seeds && dart < until => {
+                    Some(own[rng.random_range(0..seeds)] + c.offset_from_seed(rng))
+                        .filter(|p| self.region.contains(*p))
+                }
+                _ => match birth_in(self.region, births.as_ref(), rng) {
+                    Some(p) => Some(p),
+                    None => break,
+                },
+            };
+            let Some(p) = dart else {
+                continue;
             };
             if allowed(target, &own_grid, self_tag, p) {
                 own_grid.insert(GridEntry {
@@ -425,6 +463,7 @@ impl<'a> Sweeps<'_, 'a> {
             weight: &self.matched.weight,
             tau,
             shift_sigma: self.shift_sigma,
+            births: self.chain.births,
         }
     }
 

@@ -361,16 +361,19 @@ fn with_unseen_bins(values: Vec<f64>, h: &[f64], q: &[f64]) -> Vec<f64> {
 /// product of the terrain map factors, 1 where they are uniform and the share of the lattice they allow when
 /// they allow a part of it evenly (the "effective area" of an inhomogeneous process, Baddeley, Møller and
 /// Waagepetersen 2000). Distance maps are left out: they change as the synthesis adds content. 1 without terrain
-/// maps or samples.
-pub(super) fn concentration(target: &Target, lattice: &[DVec2]) -> f64 {
-    if lattice.is_empty() || !target.maps.iter().any(|m| m.is_terrain()) {
+/// maps or samples. `log_psi`: `ln ψ` at each sample.
+pub(super) fn concentration(target: &Target, log_psi: impl Iterator<Item = f64>) -> f64 {
+    if !target.maps.iter().any(|m| m.is_terrain()) {
         return 1.0;
     }
-    let (sum, sum2) = lattice.iter().fold((0.0, 0.0), |(s, s2), p| {
-        let psi = target.maps_log(*p, true).exp();
-        (s + psi, s2 + psi * psi)
+    let (sum, sum2, n) = log_psi.fold((0.0, 0.0, 0usize), |(s, s2, n), l| {
+        let psi = l.exp();
+        (s + psi, s2 + psi * psi, n + 1)
     });
-    let n = lattice.len() as f64;
+    if n == 0 {
+        return 1.0;
+    }
+    let n = n as f64;
     let kappa = (sum / n).powi(2) / (sum2 / n);
     if kappa.is_finite() && kappa > 0.0 {
         kappa
@@ -406,10 +409,19 @@ pub(super) fn lattice_bins(target: &Target, lattice: &[DVec2]) -> Vec<Vec<Option
         .collect()
 }
 
-/// `ln` of the map factors at lattice point `i` of `bins` (see [`lattice_bins`]).
-pub(super) fn lattice_log(target: &Target, bins: &[Vec<Option<usize>>], i: usize) -> f64 {
+/// `ln` of the map factors at lattice point `i` of `bins` (see [`lattice_bins`]), of the terrain maps only when
+/// `terrain_only`: [`Target::maps_log`] read from the bins.
+pub(super) fn lattice_log(
+    target: &Target,
+    bins: &[Vec<Option<usize>>],
+    i: usize,
+    terrain_only: bool,
+) -> f64 {
     let mut sum = 0.0;
     for (m, b) in target.maps.iter().zip(bins) {
+        if terrain_only && !m.is_terrain() {
+            continue;
+        }
         match b[i] {
             Some(k) => sum += m.hist.values[k],
             None => return f64::NEG_INFINITY,

@@ -10,7 +10,7 @@
 //! and the eastern half lies partly outside the western half's range, where the learned preference would be
 //! zero; slope uses fixed 2.5° bins and transfers between the halves.
 
-use super::pcf::{count_correlation, l2, pcf};
+use super::pcf::{count_correlation, l2, pcf, pearson, window_count_correlation};
 use super::real_data::{real_data_dir, require};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -217,8 +217,14 @@ pub fn load(dir: &Path) -> Result<ForestData, String> {
 pub const PCF_RANGE: f64 = 50.0;
 pub const PCF_RING: f64 = 1.0;
 pub const COUNT_CELL: f64 = 10.0;
+/// The side of the coarser squares whose counts are correlated, and the step between them (m): every 50 m square
+/// in the 50 × 100 m half, 5 m apart (two 50 m cells tiling it would only tell which half is the denser: ±1).
+pub const COUNT_WINDOW: f64 = 50.0;
+pub const COUNT_WINDOW_STEP: f64 = 5.0;
 /// Seeds of the synthesized eastern halves.
 pub const SEEDS: [u64; 5] = [1, 2, 3, 4, 5];
+/// Seeds of the slope-intensity Poisson draws averaged as a baseline (the first is the single draw's).
+pub const POISSON_SEEDS: [u64; 5] = [13, 14, 15, 16, 17];
 
 /// One line of the report: a candidate arrangement of the eastern half against a reference.
 pub struct Row {
@@ -232,6 +238,11 @@ pub struct Row {
     pub slope_tv: f64,
     /// Correlation of the counts in `COUNT_CELL` cells with the real eastern trees'.
     pub count_correlation: f64,
+    /// Correlation of the counts in `COUNT_WINDOW` squares with the real eastern trees'.
+    pub window_correlation: f64,
+    /// Correlation of the counts in `COUNT_CELL` cells with the western trees' slope intensity over the cells:
+    /// how closely the candidate follows the learned slope preference, right or wrong.
+    pub intensity_correlation: f64,
 }
 
 pub struct ForestReport {
@@ -242,6 +253,9 @@ pub struct ForestReport {
     pub max_radius: f64,
     pub bin_width: f64,
     pub synthesis_seconds: f64,
+    /// [`Row::intensity_correlation`] of the real eastern trees: whether the western trees' slope preference
+    /// holds in the east.
+    pub east_intensity_correlation: f64,
     /// Synthesized (one per seed of `SEEDS`) vs the real eastern trees.
     pub synthesized: Vec<Row>,
     /// Real western trees vs the real eastern trees (natural variation between the two halves).
@@ -256,6 +270,8 @@ pub struct ForestReport {
     /// Inhomogeneous Poisson scatter whose intensity is the western trees per slope bin over the western area
     /// per slope bin, vs the real eastern trees.
     pub slope_poisson: Row,
+    /// The same process drawn with each of `POISSON_SEEDS`.
+    pub slope_poisson_draws: Vec<Row>,
 }
 
 pub fn west() -> Region {
@@ -287,69 +303,132 @@ fn slope_bin(terrain: &Heightfield, p: DVec2) -> Option<usize> {
     Some((slope / worldpaint_core::SLOPE_BIN_DEGREES).max(0.0) as usize)
 }
 
-/// An inhomogeneous Poisson process on `to` whose intensity per slope bin is `points` per unit area of that bin in
-/// `from` (areas from a 0.5 m lattice), drawn by thinning uniform candidates.
-fn slope_poisson(
-    terrain: &Heightfield,
-    points: &[DVec2],
-    from: &Region,
-    to: &Region,
-    seed: u64,
-) -> Vec<DVec2> {
-    let mut count = Vec::<f64>::new();
-    let mut area = Vec::<f64>::new();
-    let grow = |v: &mut Vec<f64>, k: usize| {
-        if v.len() <= k {
-            v.resize(k + 1, 0.0);
+/// The intensity an inhomogeneous Poisson process fitted on the slope map gives: per slope bin, `points` per unit
+/// area of that bin in `from` (areas from a 0.5 m lattice).
+pub struct SlopeIntensity<'t> {
+    terrain: &'t Heightfield,
+    count: Vec<f64>,
+    area: Vec<f64>,
+}
+
+impl<'t> SlopeIntensity<'t> {
+    pub fn fit(terrain: &'t Heightfield, points: &[DVec2], from: &Region) -> Self {
+        let mut count = Vec::<f64>::new();
+        let mut area = Vec::<f64>::new();
+        let grow = |v: &mut Vec<f64>, k: usize| {
+            if v.len() <= k {
+                v.resize(k + 1, 0.0);
+            }
+        };
+        for p in points.iter().filter(|p| from.contains(**p)) {
+            if let Some(k) = slope_bin(terrain, *p) {
+                grow(&mut count, k);
+                count[k] += 1.0;
+            }
         }
-    };
-    for p in points.iter().filter(|p| from.contains(**p)) {
-        if let Some(k) = slope_bin(terrain, *p) {
-            grow(&mut count, k);
-            count[k] += 1.0;
+        for p in lattice(from, LATTICE_STEP) {
+            if let Some(k) = slope_bin(terrain, p) {
+                grow(&mut area, k);
+                area[k] += LATTICE_STEP * LATTICE_STEP;
+            }
+        }
+        SlopeIntensity {
+            terrain,
+            count,
+            area,
         }
     }
-    let (lo, hi) = from.bbox();
-    let step = 0.5;
+
+    /// Trees per m² at `p`.
+    pub fn at(&self, p: DVec2) -> f64 {
+        slope_bin(self.terrain, p).map_or(0.0, |k| self.of_bin(k))
+    }
+
+    fn of_bin(&self, k: usize) -> f64 {
+        match (self.count.get(k), self.area.get(k)) {
+            (Some(c), Some(a)) if *a > 0.0 => c / a,
+            _ => 0.0,
+        }
+    }
+
+    fn peak(&self) -> f64 {
+        (0..self.count.len())
+            .map(|k| self.of_bin(k))
+            .fold(0.0, f64::max)
+    }
+
+    /// The inhomogeneous Poisson process of this intensity on `to`, drawn by thinning uniform candidates.
+    pub fn draw(&self, to: &Region, seed: u64) -> Vec<DVec2> {
+        let peak = self.peak();
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        uniform_points(to, peak, seed)
+            .into_iter()
+            .filter(|p| rng.random::<f64>() * peak < self.at(*p))
+            .collect()
+    }
+
+    /// Pearson correlation of the counts of `points` in square cells of side `cell` tiling `[lo, hi]` with the
+    /// intensity integrated over the cells: how closely the points follow the slope preference.
+    pub fn correlation(&self, points: &[DVec2], lo: DVec2, hi: DVec2, cell: f64) -> f64 {
+        let window = Region::Rect { min: lo, max: hi };
+        let (nx, ny) = (
+            ((hi.x - lo.x) / cell).floor() as usize,
+            ((hi.y - lo.y) / cell).floor() as usize,
+        );
+        let cell_of = |p: DVec2| {
+            let (i, j) = ((p.x - lo.x) / cell, (p.y - lo.y) / cell);
+            (i >= 0.0 && j >= 0.0 && (i as usize) < nx && (j as usize) < ny)
+                .then(|| j as usize * nx + i as usize)
+        };
+        let mut expected = vec![0.0; nx * ny];
+        for p in lattice(&window, LATTICE_STEP) {
+            if let Some(k) = cell_of(p) {
+                expected[k] += self.at(p);
+            }
+        }
+        let mut counts = vec![0.0; nx * ny];
+        for k in points.iter().filter_map(|p| cell_of(*p)) {
+            counts[k] += 1.0;
+        }
+        pearson(&counts, &expected)
+    }
+}
+
+/// The lattice the slope intensity's areas are read on (m).
+const LATTICE_STEP: f64 = 0.5;
+
+/// The centres of a `step` lattice over `region`'s box that lie in it.
+fn lattice(region: &Region, step: f64) -> Vec<DVec2> {
+    let (lo, hi) = region.bbox();
     let (nx, ny) = (
         ((hi.x - lo.x) / step) as usize,
         ((hi.y - lo.y) / step) as usize,
     );
-    for j in 0..ny {
-        for i in 0..nx {
-            let p = lo + DVec2::new(i as f64 + 0.5, j as f64 + 0.5) * step;
-            if let Some(k) = slope_bin(terrain, p).filter(|_| from.contains(p)) {
-                grow(&mut area, k);
-                area[k] += step * step;
-            }
-        }
-    }
-    let intensity = |k: usize| match (count.get(k), area.get(k)) {
-        (Some(c), Some(a)) if *a > 0.0 => c / a,
-        _ => 0.0,
-    };
-    let peak = (0..count.len()).map(intensity).fold(0.0, f64::max);
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    uniform_points(to, peak, seed)
-        .into_iter()
-        .filter(|p| {
-            slope_bin(terrain, *p).is_some_and(|k| rng.random::<f64>() * peak < intensity(k))
-        })
+    (0..nx * ny)
+        .map(|k| lo + DVec2::new((k % nx) as f64 + 0.5, (k / nx) as f64 + 0.5) * step)
+        .filter(|p| region.contains(*p))
         .collect()
 }
 
-/// What every candidate is measured against: the real eastern trees, their learned color and their pcf.
+/// What every candidate is measured against: the real eastern trees, their learned color and their pcf, and the
+/// western trees' slope intensity.
 struct Reference<'a> {
     color: Color,
     trees: &'a [DVec2],
     pcf: Vec<f64>,
+    intensity: &'a SlopeIntensity<'a>,
 }
 
 impl<'a> Reference<'a> {
-    fn of(color: Color, trees: &'a [DVec2]) -> Self {
+    fn of(color: Color, trees: &'a [DVec2], intensity: &'a SlopeIntensity<'a>) -> Self {
         let (lo, hi) = east().bbox();
         let pcf = pcf(trees, lo, hi, PCF_RANGE, PCF_RING);
-        Reference { color, trees, pcf }
+        Reference {
+            color,
+            trees,
+            pcf,
+            intensity,
+        }
     }
 }
 
@@ -373,6 +452,15 @@ fn row(
             .find(|(c, m, _)| c == "tree" && m == "slope")
             .map_or(f64::NAN, |t| t.2),
         count_correlation: count_correlation(points, reference.trees, lo, hi, COUNT_CELL),
+        window_correlation: window_count_correlation(
+            points,
+            reference.trees,
+            lo,
+            hi,
+            COUNT_WINDOW,
+            COUNT_WINDOW_STEP,
+        ),
+        intensity_correlation: reference.intensity.correlation(points, lo, hi, COUNT_CELL),
     }
 }
 
@@ -411,7 +499,12 @@ pub fn report(data: &ForestData) -> Result<ForestReport, String> {
     };
     let east_trees = in_east(&data.trees);
     let (lo, hi) = east.bbox();
-    let reference = Reference::of(learn(&east_trees, "luquillo east")?, &east_trees);
+    let intensity = SlopeIntensity::fit(terrain, &data.trees, &west);
+    let reference = Reference::of(
+        learn(&east_trees, "luquillo east")?,
+        &east_trees,
+        &intensity,
+    );
 
     // paint the eastern half next to the real western trees (the eastern trees are what the paste replaces)
     let context: Vec<DVec2> = data
@@ -451,7 +544,7 @@ pub fn report(data: &ForestData) -> Result<ForestReport, String> {
     let first = &draws[0];
     let second_draw = row(
         "synthesized seed 2 vs seed 1",
-        &Reference::of(colors[0].clone(), first),
+        &Reference::of(colors[0].clone(), first, &intensity),
         &colors[1],
         &draws[1],
     );
@@ -461,7 +554,7 @@ pub fn report(data: &ForestData) -> Result<ForestReport, String> {
     let radius = 0.5 / density.sqrt();
     let disk = hard_core_points(&east, density, radius, 11);
     let uniform = uniform_points(&east, density, 12);
-    let inhomogeneous = slope_poisson(terrain, &data.trees, &west, &east, 13);
+    let inhomogeneous = intensity.draw(&east, 13);
     let west_trees: Vec<DVec2> = data
         .trees
         .iter()
@@ -484,6 +577,27 @@ pub fn report(data: &ForestData) -> Result<ForestReport, String> {
     // the western trees shifted onto the eastern half, for the count correlation
     let shifted: Vec<DVec2> = west_trees.iter().map(|p| *p + (lo - wlo)).collect();
     real_west.count_correlation = count_correlation(&shifted, &east_trees, lo, hi, COUNT_CELL);
+    real_west.window_correlation = window_count_correlation(
+        &shifted,
+        &east_trees,
+        lo,
+        hi,
+        COUNT_WINDOW,
+        COUNT_WINDOW_STEP,
+    );
+    real_west.intensity_correlation = intensity.correlation(&shifted, lo, hi, COUNT_CELL);
+    let slope_poisson_draws = POISSON_SEEDS
+        .iter()
+        .map(|seed| {
+            let points = intensity.draw(&east, *seed);
+            Ok(row(
+                format!("slope-intensity Poisson (seed {seed})"),
+                &reference,
+                &learn(&points, "slope poisson")?,
+                &points,
+            ))
+        })
+        .collect::<Result<Vec<_>, String>>()?;
     Ok(ForestReport {
         trees: data.trees.len(),
         unreadable: data.unreadable,
@@ -492,6 +606,7 @@ pub fn report(data: &ForestData) -> Result<ForestReport, String> {
         max_radius: west_color.max_radius,
         bin_width: west_color.bin_width,
         synthesis_seconds,
+        east_intensity_correlation: intensity.correlation(&east_trees, lo, hi, COUNT_CELL),
         synthesized,
         real_west,
         second_draw,
@@ -514,6 +629,7 @@ pub fn report(data: &ForestData) -> Result<ForestReport, String> {
             &learn(&inhomogeneous, "slope poisson")?,
             &inhomogeneous,
         ),
+        slope_poisson_draws,
     })
 }
 
@@ -522,15 +638,51 @@ pub fn mean(rows: &[Row], figure: impl Fn(&Row) -> f64) -> f64 {
     rows.iter().map(figure).sum::<f64>() / rows.len().max(1) as f64
 }
 
+/// The mean of every figure over rows, as one row.
+pub fn mean_row(label: impl Into<String>, rows: &[Row]) -> Row {
+    Row {
+        label: label.into(),
+        count: mean(rows, |r| r.count as f64).round() as usize,
+        density_ratio: mean(rows, |r| r.density_ratio),
+        rdf_l2: mean(rows, |r| r.rdf_l2),
+        pcf_l2: mean(rows, |r| r.pcf_l2),
+        slope_tv: mean(rows, |r| r.slope_tv),
+        count_correlation: mean(rows, |r| r.count_correlation),
+        window_correlation: mean(rows, |r| r.window_correlation),
+        intensity_correlation: mean(rows, |r| r.intensity_correlation),
+    }
+}
+
 impl ForestReport {
+    /// The mean of the synthesized rows.
+    pub fn synthesized_mean(&self) -> Row {
+        mean_row(
+            format!("synthesized, mean of {} seeds", self.synthesized.len()),
+            &self.synthesized,
+        )
+    }
+
+    /// The mean of the slope-intensity Poisson draws.
+    pub fn slope_poisson_mean(&self) -> Row {
+        mean_row(
+            format!(
+                "slope-intensity Poisson, mean of {}",
+                self.slope_poisson_draws.len()
+            ),
+            &self.slope_poisson_draws,
+        )
+    }
+
     /// The report as a plain-text table.
     pub fn table(&self) -> String {
         let mut s = format!(
             "Luquillo forest plot, living trees: {} ({} unreadable rows skipped); western half (x 100-150 m) {} \
              trees, eastern half (x 150-200 m) {} trees; rdf to {:.2} m in {:.3} m bins; map: slope\n\
              eastern half painted with the western color next to the real western trees in {:.2} s per seed\n\
-             pcf: translation-corrected, 0-{PCF_RANGE} m in {PCF_RING} m rings; count correlation over \
-             {COUNT_CELL} m cells\n",
+             pcf: translation-corrected, 0-{PCF_RANGE} m in {PCF_RING} m rings; count correlations with the real \
+             eastern trees over {COUNT_CELL} m cells (10 m) and over every {COUNT_WINDOW} m square of the half, \
+             {COUNT_WINDOW_STEP} m apart (50 m); slope λ: count correlation over {COUNT_CELL} m cells with the \
+             western trees' slope intensity (the slope-intensity Poisson's), {:.3} for the real eastern trees\n",
             self.trees,
             self.unreadable,
             self.west_count,
@@ -538,49 +690,53 @@ impl ForestReport {
             self.max_radius,
             self.bin_width,
             self.synthesis_seconds,
+            self.east_intensity_correlation,
         );
         s.push_str(&format!(
-            "{:<38} {:>6} {:>8} {:>8} {:>8} {:>9} {:>7}\n",
-            "candidate vs reference", "count", "density", "rdf L2", "pcf L2", "slope TV", "counts"
+            "{:<40} {:>6} {:>8} {:>8} {:>8} {:>9} {:>7} {:>7} {:>7}\n",
+            "candidate vs reference",
+            "count",
+            "density",
+            "rdf L2",
+            "pcf L2",
+            "slope TV",
+            "10 m",
+            "50 m",
+            "slope λ"
         ));
         let line = |r: &Row| {
             format!(
-                "{:<38} {:>6} {:>8.3} {:>8.4} {:>8.4} {:>9.4} {:>7.3}\n",
+                "{:<40} {:>6} {:>8.3} {:>8.4} {:>8.4} {:>9.4} {:>7.3} {:>7.3} {:>7.3}\n",
                 r.label,
                 r.count,
                 r.density_ratio,
                 r.rdf_l2,
                 r.pcf_l2,
                 r.slope_tv,
-                r.count_correlation
+                r.count_correlation,
+                r.window_correlation,
+                r.intensity_correlation
             )
         };
         for r in &self.synthesized {
             s.push_str(&line(r));
         }
-        s.push_str(&line(&Row {
-            label: format!("synthesized, mean of {} seeds", self.synthesized.len()),
-            count: mean(&self.synthesized, |r| r.count as f64).round() as usize,
-            density_ratio: mean(&self.synthesized, |r| r.density_ratio),
-            rdf_l2: mean(&self.synthesized, |r| r.rdf_l2),
-            pcf_l2: mean(&self.synthesized, |r| r.pcf_l2),
-            slope_tv: mean(&self.synthesized, |r| r.slope_tv),
-            count_correlation: mean(&self.synthesized, |r| r.count_correlation),
-        }));
+        s.push_str(&line(&self.synthesized_mean()));
         for r in [
             &self.real_west,
             &self.second_draw,
             &self.poisson_disk,
             &self.uniform,
             &self.slope_poisson,
+            &self.slope_poisson_mean(),
         ] {
             s.push_str(&line(r));
         }
         s.push_str(&format!(
             "(Poisson-disk: dart throwing, hard core {:.2} m = half the mean spacing; uniform: Poisson process; \
              both at the synthesized density; slope-intensity Poisson: the western trees per slope bin over the \
-             western area per slope bin)\n",
-            self.poisson_disk_radius
+             western area per slope bin, seed {}, and the mean of seeds {:?})\n",
+            self.poisson_disk_radius, POISSON_SEEDS[0], POISSON_SEEDS
         ));
         s
     }

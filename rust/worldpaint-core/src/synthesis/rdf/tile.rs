@@ -1,13 +1,15 @@
 //! The moves of one tile of the rdf-matching chain (see "Tiles and determinism" in the module documentation of
 //! [`super::super`]): relocations and shifts of the tile's own instances, each accepted with `exp(−ΔE / τ)`
-//! times the ratio of the product factors, where `ΔE` is computed from the pairs of the moved instance alone.
+//! times the ratio of the product factors, where `ΔE` is computed from the pairs of the moved instance alone, and
+//! the Hastings ratio of a relocation born from the map-weighted intensity (see [`super::super::births`]).
 
-use super::{inverse_alphas, map_bin, Shared};
+use super::{inverse_alphas, Shared};
 use crate::analysis::folded_angle_bin;
 use crate::geom::{DVec2, RegionQueries};
 use crate::spatial::{FlatGrid, GridEntry};
+use crate::synthesis::births::RectProposal;
 use crate::synthesis::gaussian;
-use crate::synthesis::target::CONTEXT_TAG;
+use crate::synthesis::target::{Target, CONTEXT_TAG};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -31,6 +33,9 @@ struct MemberCells {
 }
 
 const NONE: u32 = u32::MAX;
+/// A map bin not read yet, and a map read outside its bins (see [`TileChain::bins`]).
+const UNREAD: u32 = u32::MAX;
+const NO_BIN: u32 = u32::MAX - 1;
 
 impl MemberCells {
     fn new(cells: usize, members: usize) -> Self {
@@ -64,6 +69,25 @@ impl MemberCells {
             self.prev[n as usize] = p;
         }
     }
+}
+
+/// Each map's bin at `at` into `out` (`NO_BIN` outside its bins).
+fn read_bins(target: &Target, at: DVec2, out: &mut [u32]) {
+    for (m, b) in target.maps.iter().zip(out) {
+        *b = m.bin_at(target.terrain, at).map_or(NO_BIN, |k| k as u32);
+    }
+}
+
+/// `ln` of the map factors of a point whose bins are `bins`, as [`Target::map_log`] reads them.
+fn log_factor_of(target: &Target, bins: &[u32]) -> f64 {
+    let mut sum = 0.0;
+    for (m, &b) in target.maps.iter().zip(bins) {
+        if b == NO_BIN {
+            return f64::NEG_INFINITY;
+        }
+        sum += m.hist.values[b as usize];
+    }
+    sum
 }
 
 /// Moves of one tile: returns the new positions of its members (in order) and its change of `H` (flat).
@@ -113,6 +137,8 @@ struct TileChain<'s, 'a, 'b> {
     /// Where relocations land: the tile within the region's box.
     slo: DVec2,
     shi: DVec2,
+    /// Relocations drawn from the map-weighted intensity over `slo..shi` (uniformly without it).
+    births: Option<RectProposal<'a>>,
     m: usize,
     pos: Vec<DVec2>,
     /// `1/α` per local own point: a row of `pool` (row 0: zeros, for the fixed content; row 1: ones, interior).
@@ -130,6 +156,10 @@ struct TileChain<'s, 'a, 'b> {
     ia_new: Vec<f64>,
     cand: Vec<Neighbour>,
     inv_share: f64,
+    /// Each map's bin at each member's position (`maps` a member, `UNREAD` until a move of the member reads
+    /// them) and at the proposed position: the terrain is sampled once a proposal, not at both ends twice.
+    bins: Vec<u32>,
+    q_bins: Vec<u32>,
 }
 
 impl<'s, 'a, 'b> TileChain<'s, 'a, 'b> {
@@ -152,11 +182,13 @@ impl<'s, 'a, 'b> TileChain<'s, 'a, 'b> {
             cells.insert(k, cy * grid.nx() + cx);
         }
         let (rlo, rhi) = sh.region.bbox();
+        let (slo, shi) = (tile.lo.max(rlo), tile.hi.min(rhi));
         TileChain {
             sh,
             bounds,
-            slo: tile.lo.max(rlo),
-            shi: tile.hi.min(rhi),
+            slo,
+            shi,
+            births: sh.births.map(|b| b.over(slo, shi)),
             m,
             pos,
             pool,
@@ -170,6 +202,8 @@ impl<'s, 'a, 'b> TileChain<'s, 'a, 'b> {
             ia_new: vec![1.0; sh.n_alpha],
             cand: vec![(0, 0, DVec2::ZERO, 0.0); grid_len + m],
             inv_share: 1.0 / tile.share,
+            bins: vec![UNREAD; m * sh.target.maps.len()],
+            q_bins: vec![UNREAD; sh.target.maps.len()],
         }
     }
 
@@ -184,11 +218,12 @@ impl<'s, 'a, 'b> TileChain<'s, 'a, 'b> {
         let target = sh.target;
         let k = rng.random_range(0..self.m);
         let p = self.pos[k];
-        let q = self.propose(p, rng);
+        let (q, hastings) = self.propose(p, rng);
         if !self.bounds.in_tile(q) || !sh.region.contains(q) {
             return;
         }
-        let map_new = target.map_log(q);
+        read_bins(target, q, &mut self.q_bins);
+        let map_new = log_factor_of(target, &self.q_bins);
         if map_new == f64::NEG_INFINITY {
             return;
         }
@@ -203,11 +238,16 @@ impl<'s, 'a, 'b> TileChain<'s, 'a, 'b> {
             self.forget_move();
             return;
         };
-        self.map_changes(q, p);
+        let nm = target.maps.len();
+        if self.bins[k * nm..].first() == Some(&UNREAD) {
+            read_bins(target, p, &mut self.bins[k * nm..(k + 1) * nm]);
+        }
+        self.map_changes(k);
         let log_accept = -self.energy_change() / sh.tau
-            + (map_new - target.map_log(p))
+            + (map_new - log_factor_of(target, &self.bins[k * nm..(k + 1) * nm]))
             + (target.ghost_log(q) - target.ghost_log(p))
-            + (ctx_new.min(target.saturation) - ctx_old.min(target.saturation));
+            + (ctx_new.min(target.saturation) - ctx_old.min(target.saturation))
+            + hastings;
         let accept = rng.random::<f64>().ln() < log_accept;
         for &h in &self.touched[..self.nt] {
             let h = h as usize;
@@ -218,19 +258,31 @@ impl<'s, 'a, 'b> TileChain<'s, 'a, 'b> {
         }
         if accept {
             self.move_member(k, q, q_border);
+            self.bins[k * nm..(k + 1) * nm].copy_from_slice(&self.q_bins);
         }
     }
 
-    /// A relocation inside the tile (the death of p and the birth of q) or a Gaussian shift, both symmetric.
-    fn propose(&self, p: DVec2, rng: &mut ChaCha8Rng) -> DVec2 {
+    /// A relocation inside the tile (the death of p and the birth of q, drawn from the map-weighted intensity
+    /// `g` when there is one) or a symmetric Gaussian shift, with the log Hastings ratio `ln g(p) − ln g(q)` of
+    /// the move (0 when symmetric).
+    fn propose(&self, p: DVec2, rng: &mut ChaCha8Rng) -> (DVec2, f64) {
         let (slo, shi) = (self.slo, self.shi);
         if rng.random::<f64>() < 0.5 {
-            DVec2::new(
-                slo.x + rng.random::<f64>() * (shi.x - slo.x),
-                slo.y + rng.random::<f64>() * (shi.y - slo.y),
-            )
+            match &self.births {
+                Some(b) => {
+                    let q = b.sample(rng);
+                    (q, b.log_weight(p) - b.log_weight(q))
+                }
+                None => (
+                    DVec2::new(
+                        slo.x + rng.random::<f64>() * (shi.x - slo.x),
+                        slo.y + rng.random::<f64>() * (shi.y - slo.y),
+                    ),
+                    0.0,
+                ),
+            }
         } else {
-            p + gaussian(rng) * self.sh.shift_sigma
+            (p + gaussian(rng) * self.sh.shift_sigma, 0.0)
         }
     }
 
@@ -325,14 +377,18 @@ impl<'s, 'a, 'b> TileChain<'s, 'a, 'b> {
         Some(ctx)
     }
 
-    /// The map histograms: one instance leaves p's bins for q's.
-    fn map_changes(&mut self, q: DVec2, p: DVec2) {
+    /// The map histograms: member `k` leaves its bins for those of the proposed position.
+    fn map_changes(&mut self, k: usize) {
         let target = self.sh.target;
         let offs = self.sh.offs;
-        for mi in 0..target.maps.len() {
-            for (sign, at) in [(1.0, q), (-1.0, p)] {
-                if let Some(b) = map_bin(target, mi, at) {
-                    let h = offs[target.tables.len() + mi] + b;
+        let nm = target.maps.len();
+        for (mi, m) in target.maps.iter().enumerate() {
+            if m.wanted.is_empty() {
+                continue;
+            }
+            for (sign, b) in [(1.0, self.q_bins[mi]), (-1.0, self.bins[k * nm + mi])] {
+                if b != NO_BIN {
+                    let h = offs[target.tables.len() + mi] + b as usize;
                     touch(&mut self.d_h, &mut self.touched, &mut self.nt, h, sign);
                 }
             }
