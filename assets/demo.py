@@ -33,7 +33,9 @@ alone, on a meadow of its own (a quick look at it without the rest of the demo).
 
 ``--only place`` imports a real place through File › Import › WorldPaint Place, the countryside north of Bayreuth
 (its OpenStreetMap buildings, roads and land-use areas, and its SRTM terrain, from ``../shared/data/real`` beside the
-project), and renders the village of Neudrossenfeld from above at an angle: OUT/demo_place.png.
+project), and renders the village of Neudrossenfeld from above at an angle: OUT/demo_place.png; then learns a color
+over the village and pastes it over gentle hills far from the place: OUT/demo_place_learned.png shows both side by
+side.
 Usage: python assets/demo.py [--out out] [--samples 16] [--percent 100] [--only variants|place]
 """
 
@@ -59,6 +61,7 @@ from scene_kit import (  # noqa: E402
     draw_strokes,
     engine_terrain_object,
     evaluated_vertices,
+    grid_terrain,
     hills_height,
     import_birch,
     mesh_object,
@@ -74,6 +77,7 @@ from scene_kit import (  # noqa: E402
 )
 from worldpaint.bridge import engine, place, points, variety  # noqa: E402
 from worldpaint.bridge.curves import structure_objects  # noqa: E402
+from worldpaint.bridge.instances import point_cloud_objects  # noqa: E402
 from worldpaint.bridge.sketch import sketch_collection  # noqa: E402
 
 HILLS_SIZE = 600.0
@@ -467,6 +471,12 @@ AREA_LOOKS = {
     "Water": ("WorldPaint Water", None),
 }
 AREA_LIFT = 0.4  # the areas' fills float this far above the terrain, the roads' ribbons above them
+LEARNED_SIDE = 800.0  # the square around the village that Learn Color reads
+# the other terrain: the demo's hills made gentle (the village learned where the land is nearly flat), far enough
+# east that neither the place nor the land drawn around it is in its picture
+ELSEWHERE = (80000.0, 0.0)
+ELSEWHERE_SIZE = 1200.0
+ELSEWHERE_RELIEF = 0.2
 
 
 def place_files():
@@ -479,7 +489,7 @@ def place_files():
     return layers, dem
 
 
-def dress_place(scene):
+def dress_place(scene, terrain):
     """The imported place for Cycles: materials on its roads and areas (the areas lifted above the terrain, the road
     ribbons above the areas), land to the horizon from its terrain's edge."""
     road_names = {name for name, _ in place.ROAD_CATEGORIES.values()}
@@ -504,16 +514,17 @@ def dress_place(scene):
         if node.bl_idname == 'ShaderNodeVectorMath' and node.operation == 'ADD' and \
                 tuple(node.inputs[1].default_value)[:2] == (0.0, 0.0) and node.inputs[1].default_value[2] > 0.0:
             node.inputs[1].default_value = (0.0, 0.0, AREA_LIFT + 0.3)
-    showcase.smooth(scene.worldpaint.terrain)
-    showcase.backdrop("Land around the place", *grid_of(scene.worldpaint.terrain), relief=0.3)
+    showcase.smooth(terrain)
+    showcase.backdrop("Land around the place", *grid_of(terrain), relief=0.3)
     untouched = showcase.dress_materials()
     if untouched:
         print(f"materials left as they were: {', '.join(untouched)}")
 
 
 def place_picture(out, samples, percent=100):
-    """File › Import › WorldPaint Place on the countryside north of Bayreuth, rendered around one of its villages:
-    OUT/demo_place.png. Returns (name, seconds, resolution)."""
+    """File › Import › WorldPaint Place on the countryside north of Bayreuth, rendered around one of its villages
+    (OUT/demo_place.png); then a color learned over the village, pasted on other hills, beside it
+    (OUT/demo_place_learned.png: the village left, the paste right). Returns the report lines of both."""
     layers, dem = place_files()
     start = time.perf_counter()
     run(bpy.ops.worldpaint.import_place, layers=";".join(map(str, layers)), elevation=str(dem))
@@ -522,7 +533,12 @@ def place_picture(out, samples, percent=100):
     named = engine.import_place([str(layers[-1])], origin=place.place_origin(scene)).places
     x, y = named.position[named.name.index(PLACE_VILLAGE)]
     ground = float(engine.terrain_from_grid(*grid_of(scene.worldpaint.terrain)).heights_at(np.array([[x, y]]))[0])
-    dress_place(scene)
+    terrain = scene.worldpaint.terrain
+    learn_from_place(scene, (x, y))
+    hills = paste_elsewhere(scene)
+    dress_place(scene, terrain)
+    showcase.smooth(hills)
+    showcase.backdrop("Land around the hills", *grid_of(hills), relief=0.3)
     showcase.cycles(scene, samples)
     showcase.sky(scene)
     showcase.sun(scene)
@@ -530,8 +546,65 @@ def place_picture(out, samples, percent=100):
     cam = showcase.camera("Camera place", (x + 420.0, y - 560.0, ground + 380.0), (x - 40.0, y + 60.0, ground), 30.0)
     cam.data.clip_end = 40000.0
     size = (1152, 648)
-    seconds = showcase.render(scene, cam, out / "demo_place.png", (size[0] * percent // 100, size[1] * percent // 100))
-    return ("demo_place", seconds, size)
+    w, h = size[0] * percent // 100, size[1] * percent // 100
+    report = [("demo_place", showcase.render(scene, cam, out / "demo_place.png", (w, h)), size)]
+    # the paste seen as the village is, and the two side by side
+    cx, cy = ELSEWHERE[0] + ELSEWHERE_SIZE / 2, ELSEWHERE[1] + ELSEWHERE_SIZE / 2
+    height = float(engine.terrain_from_grid(*grid_of(hills)).heights_at(np.array([[cx, cy]]))[0])
+    cam = showcase.camera("Camera paste", (cx + 420.0, cy - 560.0, height + 380.0), (cx - 40.0, cy + 60.0, height),
+                          30.0)
+    cam.data.clip_end = 30000.0
+    seconds = showcase.render(scene, cam, out / "demo_place_pasted.png", (w, h))
+    side_by_side(out / "demo_place.png", out / "demo_place_pasted.png", out / "demo_place_learned.png")
+    report.append(("demo_place_learned", seconds, (2 * size[0], size[1])))
+    return report
+
+
+def learn_from_place(scene, centre):
+    """Learn Color over the square around the village: its building clouds and the roads people drive on."""
+    low, high = np.asarray(centre) - LEARNED_SIDE / 2, np.asarray(centre) + LEARNED_SIDE / 2
+    buildings = set(place.BUILDING_CATEGORIES.values())
+    roads = {name for name, _ in place.ROAD_CATEGORIES.values()}
+    select_only([o for c, o in point_cloud_objects(scene).items() if c in buildings]
+                + [o for c, o in structure_objects(scene).items() if c in roads])
+    start = time.perf_counter()
+    run(bpy.ops.worldpaint.learn_color, name=PLACE_VILLAGE, region_mode='RECT', rect_min=tuple(low),
+        rect_max=tuple(high))
+    color = scene.worldpaint.palette[PLACE_VILLAGE]
+    print(f"place: learned {PLACE_VILLAGE} in {time.perf_counter() - start:.1f} s; {color.fidelity_line()}")
+
+
+def paste_elsewhere(scene):
+    """The learned village pasted over gentle hills far from the place; the hills' terrain object."""
+    grid = engine.exemplar_demo_terrain(ELSEWHERE_SIZE, 4.0, 11).grid()
+    hills = grid_terrain("Elsewhere", ELSEWHERE, grid["cell"], ELSEWHERE_RELIEF * np.asarray(grid["heights"]))
+    select_only([])
+    scene.worldpaint.terrain = hills
+    margin = (ELSEWHERE_SIZE - LEARNED_SIDE) / 2
+    start = time.perf_counter()
+    run(bpy.ops.worldpaint.paste_color, color=PLACE_VILLAGE, terrain=hills.name, seed=1, region_mode='RECT',
+        rect_min=(ELSEWHERE[0] + margin, ELSEWHERE[1] + margin),
+        rect_max=(ELSEWHERE[0] + ELSEWHERE_SIZE - margin, ELSEWHERE[1] + ELSEWHERE_SIZE - margin))
+    print(f"place: pasted {PLACE_VILLAGE} on other hills in {time.perf_counter() - start:.1f} s")
+    return hills
+
+
+def side_by_side(left, right, path):
+    """The PNG ``path``: the pictures ``left`` and ``right`` (of one size) side by side."""
+    images = [bpy.data.images.load(str(p)) for p in (left, right)]
+    w, h = images[0].size
+    pixels = []
+    for image in images:
+        rgba = np.empty(w * h * 4, dtype=np.float32)
+        image.pixels.foreach_get(rgba)
+        pixels.append(rgba.reshape(h, w, 4))
+        bpy.data.images.remove(image)
+    both = bpy.data.images.new("Side by side", 2 * w, h, alpha=True)
+    both.pixels.foreach_set(np.concatenate(pixels, axis=1).ravel())
+    both.filepath_raw = str(path)
+    both.file_format = 'PNG'
+    both.save()
+    bpy.data.images.remove(both)
 
 
 def grid_of(terrain):
@@ -565,9 +638,10 @@ def main():
         print(f"  {name}.png  {w * args.percent // 100} x {h * args.percent // 100}  {seconds:5.1f} s")
         return
     if args.only == "place":
-        name, seconds, (w, h) = place_picture(out, args.samples, args.percent)
+        report = place_picture(out, args.samples, args.percent)
         bpy.ops.wm.save_as_mainfile(filepath=str(out / "demo_place.blend"))
-        print(f"  {name}.png  {w * args.percent // 100} x {h * args.percent // 100}  {seconds:5.1f} s")
+        for name, seconds, (w, h) in report:
+            print(f"  {name}.png  {w * args.percent // 100} x {h * args.percent // 100}  {seconds:5.1f} s")
         return
     hills = build_and_learn()
     variants = vary_trees()

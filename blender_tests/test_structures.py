@@ -5,8 +5,8 @@ import bpy
 import numpy as np
 import pytest
 import worldpaint_engine as engine
-from scene_kit import select_only, village_exemplar, village_height
-from worldpaint.bridge.curves import structure_objects
+from scene_kit import grid_terrain, select_only, village_exemplar, village_height
+from worldpaint.bridge.curves import PROFILE_LIFT, structure_objects
 from worldpaint.bridge.engine import exemplar_hard_core
 from worldpaint.bridge.geometry import spline_control_points as spline_points
 from worldpaint.bridge.instances import point_cloud_arrays, point_cloud_objects
@@ -87,6 +87,28 @@ def test_pasted_roads_are_curves_on_the_terrain_and_houses_keep_off_them():
           f"{(distance >= 8.0).mean():.1%} at 8 m or more")
     assert distance.min() > WIDTH / 2.0, "no house on a road"
     assert 8.0 <= np.median(distance) <= 15.0, "houses stay in the band they were learned in"
+
+
+def test_roads_pasted_on_a_second_terrain_leave_the_first_terrains_ribbons_on_it():
+    # one curve object per category drapes on one terrain, the last pasted on: the ribbons of the roads on the other
+    # keep their curves' heights (within the road's cross slope), lifted as draped ones are
+    terrain_obj, _ = learn_and_paste()
+    x = 5000.0 + 2.0 * np.arange(201)
+    far = grid_terrain("Far hills", (5000.0, 0.0), 2.0, 40.0 + 0.05 * (x[None, :] - 5000.0) + np.zeros((151, 1)))
+    select_only([])
+    assert bpy.ops.worldpaint.paste_color(seed=4, terrain=far.name, region_mode='RECT', rect_min=(5050.0, 0.0),
+                                          rect_max=(5350.0, 300.0)) == {'FINISHED'}
+    co, _ = evaluated_mesh(structure_objects(bpy.context.scene)["road"])
+    inner = (co[:, 1] > 5.0) & (co[:, 1] < 295.0)  # off the far terrain's edges, where no ray hits it
+    here, there = co[inner & (co[:, 0] < 1000.0)], co[inner & (co[:, 0] > 4000.0)]
+    above_here = here[:, 2] - village_height(here[:, 0], here[:, 1])
+    off_there = np.abs(there[:, 2] - (40.0 + 0.05 * (there[:, 0] - 5000.0)))
+    print(f"ribbons: {len(here)} vertices on the first terrain within {np.abs(above_here).max():.3f} m of it (median "
+          f"{np.median(above_here):.3f} m above), {len(there)} on the second within {off_there.max():.3f} m")
+    assert len(here) > 1000 and len(there) > 1000
+    assert off_there.max() < 0.1, "the last pasted roads drape on their terrain"
+    assert np.abs(above_here).max() < 0.5, "the first terrain's roads stay on it"
+    assert np.median(above_here) >= 0.5 * PROFILE_LIFT, "lifted as the draped ones are, so they do not flicker into it"
 
 
 def test_undo_and_a_second_paste_replace_the_synthesized_roads_only():

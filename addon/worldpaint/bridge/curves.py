@@ -272,7 +272,8 @@ def profile_node_group():
     """The shared profile group: resampled curve, Z-up normals, a line profile of the width, draped on the terrain,
     and sunk by the depth in the middle (a river's bed: ``depth · (1 − (2d/w)²)`` at a distance d from the axis)."""
     group = bpy.data.node_groups.get(PROFILE_GROUP_NAME)
-    if group is not None and group.bl_idname == 'GeometryNodeTree' and "Depth" in group.interface.items_tree:
+    if group is not None and group.bl_idname == 'GeometryNodeTree' and "Depth" in group.interface.items_tree and \
+            any(n.bl_idname == 'GeometryNodeSwitch' for n in group.nodes):
         return group
     group = bpy.data.node_groups.new(PROFILE_GROUP_NAME, 'GeometryNodeTree')
     group.interface.new_socket("Geometry", in_out='INPUT', socket_type='NodeSocketGeometry')
@@ -300,9 +301,12 @@ def profile_node_group():
     profile.inputs["Count"].default_value = 5
     to_mesh = node('GeometryNodeCurveToMesh', 150, 0)
 
-    # drape: a vertical ray from above each vertex onto the terrain; vertices without a hit keep their height
+    # drape: a vertical ray from above each vertex onto the terrain; vertices without a hit (a curve on another
+    # terrain than the one its category's object drapes on) keep their height, lifted as the others are
     position = node('GeometryNodeInputPosition', 150, 500)
     ray = terrain_ray(group, node, group_in.outputs["Terrain"], position.outputs["Position"], 150, 350)
+    ground = node('GeometryNodeSwitch', 400, 300)
+    ground.input_type = 'VECTOR'
     lift = node('ShaderNodeVectorMath', 550, 200)
     lift.operation, lift.inputs[1].default_value = 'ADD', (0.0, 0.0, PROFILE_LIFT)
     drape = node('GeometryNodeSetPosition', 700, 0)
@@ -318,9 +322,11 @@ def profile_node_group():
     links.new(line.outputs["Curve"], profile.inputs["Curve"])
     links.new(normal.outputs["Curve"], to_mesh.inputs["Curve"])
     links.new(profile.outputs["Curve"], to_mesh.inputs["Profile Curve"])
-    links.new(ray.outputs["Hit Position"], lift.inputs[0])
+    links.new(ray.outputs["Is Hit"], ground.inputs["Switch"])
+    links.new(position.outputs["Position"], ground.inputs["False"])
+    links.new(ray.outputs["Hit Position"], ground.inputs["True"])
+    links.new(ground.outputs[0], lift.inputs[0])
     links.new(to_mesh.outputs["Mesh"], drape.inputs["Geometry"])
-    links.new(ray.outputs["Is Hit"], drape.inputs["Selection"])
     links.new(lift.outputs["Vector"], drape.inputs["Position"])
     # the bed: each vertex's horizontal distance to the axis, on flattened copies of both
     flat = node('ShaderNodeVectorMath', 150, -500)

@@ -276,17 +276,19 @@ class Fidelity:
 
     density_ratio: dict[str, float]
     rdf_l2: tuple[tuple[str, str, float], ...]  # (category, other, l2)
-    max_rdf_l2: float
+    max_rdf_l2: float  # over the measured categories
+    too_few: tuple[str, ...] = ()  # categories the example holds too few of to measure
 
     @classmethod
     def of(cls, d: FidelityDict) -> Fidelity:
         return cls(density_ratio=dict(d["density_ratio"]), rdf_l2=tuple((a, b, float(v)) for a, b, v in d["rdf_l2"]),
-                   max_rdf_l2=float(d["max_rdf_l2"]))
+                   max_rdf_l2=float(d["max_rdf_l2"]), too_few=tuple(d["too_few"]))
 
     @property
     def density_factor(self) -> float:
-        """The density ratio farthest from 1 (1 when the color has no category)."""
-        return max(self.density_ratio.values(), key=lambda r: abs(r - 1.0), default=1.0)
+        """The density ratio farthest from 1 over the measured categories (1 when there is none)."""
+        measured = (r for c, r in self.density_ratio.items() if c not in self.too_few)
+        return max(measured, key=lambda r: abs(r - 1.0), default=1.0)
 
     def line(self) -> str:
         return fidelity_line(self.max_rdf_l2, self.density_factor)

@@ -8,6 +8,10 @@
 //!   pass the reference's `max_radius` and `bin_width` in `AnalysisOptions` when learning the candidate);
 //! * map TV: total variation distance of the normalized map histograms.
 //!
+//! The worst of each (the figures a paste and the palette report) leave out the categories the reference holds
+//! fewer than `MEASURED_COUNT` of (a village's one church): counting noise alone moves their density by a third
+//! and their rdf by more, so they would hide how the rest is reproduced. They are named in `too_few`.
+//!
 //! The candidate is a color learned back from what a color painted ([`learned_back`]): after a paste, from the
 //! pasted region; for the palette's fidelity view, from the color's *self-synthesis* ([`self_synthesis`]), the
 //! color painted into its own example region on the same terrain with nothing else around, which says how well
@@ -24,6 +28,9 @@ use crate::terrain::Heightfield;
 use serde::Serialize;
 use std::sync::Arc;
 
+/// Categories with fewer instances in the reference are left out of the worst figures (see the module documentation).
+const MEASURED_COUNT: usize = 10;
+
 /// How close a candidate color is to a reference color.
 #[derive(Clone, Debug, Serialize)]
 pub struct Fidelity {
@@ -33,6 +40,8 @@ pub struct Fidelity {
     pub rdf_l2: Vec<(String, String, f64)>,
     /// Per category and map: total variation of map histograms.
     pub map_tv: Vec<(String, String, f64)>,
+    /// The reference's categories with too few instances to measure, left out of the worst figures.
+    pub too_few: Vec<String>,
 }
 
 /// L2 distance between two rdfs as functions of distance, at the reference's bin centres.
@@ -177,30 +186,51 @@ pub fn compare(reference: &Color, candidate: &Color) -> Fidelity {
             (m.category.clone(), m.map.clone(), tv)
         })
         .collect();
+    let too_few = reference
+        .categories
+        .iter()
+        .filter(|c| c.count < MEASURED_COUNT)
+        .map(|c| c.category.name.clone())
+        .collect();
     Fidelity {
         density_ratio,
         rdf_l2: rdf_l2s,
         map_tv,
+        too_few,
     }
 }
 
 impl Fidelity {
-    /// Largest |density ratio − 1| over the categories.
+    /// Whether `category` has enough instances in the reference to be measured.
+    pub fn measured(&self, category: &str) -> bool {
+        !self.too_few.iter().any(|c| c == category)
+    }
+
+    /// Largest |density ratio − 1| over the measured categories.
     pub fn worst_density_error(&self) -> f64 {
         self.density_ratio
             .iter()
+            .filter(|(c, _)| self.measured(c))
             .map(|(_, r)| (r - 1.0).abs())
             .fold(0.0, f64::max)
     }
 
-    /// Largest rdf L2 over the pairs (0 when there is none).
+    /// Largest rdf L2 over the pairs of measured categories (0 when there is none).
     pub fn max_rdf_l2(&self) -> f64 {
-        self.rdf_l2.iter().map(|(_, _, v)| *v).fold(0.0, f64::max)
+        self.rdf_l2
+            .iter()
+            .filter(|(a, b, _)| self.measured(a) && self.measured(b))
+            .map(|(_, _, v)| *v)
+            .fold(0.0, f64::max)
     }
 
-    /// Largest map total variation over the categories and maps (0 when there is none).
+    /// Largest map total variation over the measured categories and maps (0 when there is none).
     pub fn max_map_tv(&self) -> f64 {
-        self.map_tv.iter().map(|(_, _, v)| *v).fold(0.0, f64::max)
+        self.map_tv
+            .iter()
+            .filter(|(c, _, _)| self.measured(c))
+            .map(|(_, _, v)| *v)
+            .fold(0.0, f64::max)
     }
 
     /// The rdf L2 of one pair (either order), if present.

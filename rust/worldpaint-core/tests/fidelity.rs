@@ -490,3 +490,60 @@ fn a_slope_color_without_its_terrain_is_painted_without_its_terrain_maps() {
         "no slope histogram of the self-synthesis, no slope panel"
     );
 }
+
+#[test]
+fn a_category_with_one_instance_in_the_example_does_not_set_the_figures() {
+    // a village's one chapel beside its trees: whether a paste gets a chapel is counting noise, not fidelity
+    let region = exemplar_region();
+    let mut ex = scene_from_points("tree", &uniform_points(&region, 0.02, 3));
+    ex.categories.push(worldpaint_core::Category::distribution(
+        "chapel",
+        "buildings",
+        1,
+    ));
+    ex.instances
+        .push(worldpaint_core::Instance::at(DVec2::new(50.0, 50.0), 1));
+    let color = learn_color(&ex, &region, "ex", &Default::default()).unwrap();
+    let trees_only = learn_color(
+        &scene_from_points("tree", &uniform_points(&region, 0.02, 3)),
+        &region,
+        "trees",
+        &same_bins(&color),
+    )
+    .unwrap();
+    let paint = paint_region();
+    let opts = SynthesisOptions {
+        seed: 1,
+        ..Default::default()
+    };
+    let out = synthesize(&Scene::default(), &color, &paint, &opts).unwrap();
+    let fid = compare(&color, &learned_back(&color, out, None, &paint, "painted"));
+    let out = synthesize(&Scene::default(), &trees_only, &paint, &opts).unwrap();
+    let tree_fid = compare(
+        &trees_only,
+        &learned_back(&trees_only, out, None, &paint, "painted"),
+    );
+    println!(
+        "with the chapel: density error {:.3}, rdf L2 {:.3}, too few {:?} (per pair {:?}); trees alone: {:.3}, {:.3}",
+        fid.worst_density_error(),
+        fid.max_rdf_l2(),
+        fid.too_few,
+        fid.rdf_l2,
+        tree_fid.worst_density_error(),
+        tree_fid.max_rdf_l2()
+    );
+    assert_eq!(fid.too_few, vec!["chapel".to_string()]);
+    // the chapel's own figures stay listed, but the worst ones read the trees, as the trees alone do
+    assert!(fid.density_ratio.iter().any(|(c, _)| c == "chapel"));
+    assert!(
+        fid.worst_density_error() <= 0.1,
+        "{}",
+        fid.worst_density_error()
+    );
+    assert!(
+        fid.max_rdf_l2() <= 1.5 * tree_fid.max_rdf_l2().max(0.05),
+        "{} against the trees alone {}",
+        fid.max_rdf_l2(),
+        tree_fid.max_rdf_l2()
+    );
+}

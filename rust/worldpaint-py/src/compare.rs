@@ -10,7 +10,8 @@ use pyo3::types::PyDict;
 use worldpaint_core::{draw_fidelity, Fidelity};
 
 /// How far `candidate` is from `reference` (both color JSON): {"density_ratio": {category: ratio},
-/// "rdf_l2": [(a, b, l2), ...], "map_tv": [(category, map, tv), ...], "worst_density_error", "max_rdf_l2",
+/// "rdf_l2": [(a, b, l2), ...], "map_tv": [(category, map, tv), ...], "too_few": [category, ...] (left out of
+/// the worst figures: fewer than ten instances in the reference), "worst_density_error", "max_rdf_l2",
 /// "max_map_tv"}.
 #[pyfunction]
 pub(crate) fn compare<'py>(
@@ -34,6 +35,7 @@ pub(crate) fn fidelity_to_py<'py>(py: Python<'py>, f: &Fidelity) -> PyResult<Bou
     d.set_item("density_ratio", ratios)?;
     d.set_item("rdf_l2", f.rdf_l2.clone())?;
     d.set_item("map_tv", f.map_tv.clone())?;
+    d.set_item("too_few", f.too_few.clone())?;
     d.set_item("worst_density_error", f.worst_density_error())?;
     d.set_item("max_rdf_l2", f.max_rdf_l2())?;
     d.set_item("max_map_tv", f.max_map_tv())?;

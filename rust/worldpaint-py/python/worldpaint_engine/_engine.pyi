@@ -314,6 +314,7 @@ class FidelityDict(TypedDict):
     density_ratio: dict[str, float]
     rdf_l2: list[tuple[str, str, float]]
     map_tv: list[tuple[str, str, float]]
+    too_few: list[str]
     worst_density_error: float
     max_rdf_l2: float
     max_map_tv: float
