@@ -55,6 +55,7 @@ if TYPE_CHECKING:
         InterestSetting,
         InternalError,
         LatticeDict,
+        LearnedVillageDict,
         Model,
         NothingToLearn,
         PatternFidelityDict,
@@ -798,6 +799,18 @@ def generate_village(heightfield: Terrain, region: Region, scenario: str, seed: 
     encyclopedia, connections, existing roads, cells and surroundings. The engine reports its stages by name."""
     return VillageResult.of(_lib.generate_village(heightfield, region, scenario, seed, progress=progress,
                                                        **setting))
+
+
+def learn_village(heightfield: Terrain, region: Region, buildings: ArrayLike, orientations: ArrayLike,
+                  roads: Sequence[ArrayLike], *, progress: Progress | None = None,
+                  **options: Any) -> LearnedVillageDict:
+    """A village type learned from the real village of ``buildings`` (centres (N, 2), long axes ``orientations``
+    (N,)) and ``roads`` inside ``region``: the encyclopedia with the type added, the scenario growing the real count
+    with it, and how the fit went. ``options`` are the engine's (``name``, ``base_type``, ``max_seconds``...)."""
+    return _lib.learn_village(heightfield, region, np.ascontiguousarray(buildings, dtype=np.float64),
+                              np.ascontiguousarray(orientations, dtype=np.float64),
+                              [np.ascontiguousarray(r, dtype=np.float64) for r in roads], progress=progress,
+                              **options)
 
 
 def village_interest(heightfield: Terrain, region: Region, points: ArrayLike, village_type: str, building: str,

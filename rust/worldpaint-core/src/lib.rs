@@ -135,8 +135,8 @@ pub use palette::{
 };
 // place: real places read from map, elevation and inventory files
 pub use place::{
-    import_place, read_elevation_model, read_map_layer, read_tree_inventory, AreaClass,
-    BuildingType, ElevationModel, InventoryCoordinates, InventoryRow, InventoryTree,
+    import_place, min_area_rectangle, read_elevation_model, read_map_layer, read_tree_inventory,
+    AreaClass, BuildingType, ElevationModel, InventoryCoordinates, InventoryRow, InventoryTree,
     LocalProjection, LonLat, LonLatShape, MapFeature, MapLayer, MappedArea, MappedBuilding,
     MappedRoad, MappedWaterway, NamedPlace, Place, PlaceFrame, PlaceOptions, PlaceReport,
     PlaceSources, RoadClass, TerrainReport, TreeInventory, DEFAULT_MARGIN, MAX_EXTENT_DEGREES,
@@ -182,7 +182,9 @@ pub use variety::{
     IntersectionLabels, MemoryReport, Model, Rejection, TextureComponent, VariantClass,
 };
 // village: villages on arbitrary terrain
-pub use village::encyclopedia::{BuildingKind, ParcelParams, RoadParams, RoofStyle, ScenarioEvent};
+pub use village::encyclopedia::{
+    BuildingKind, FootprintSize, ParcelParams, RoadParams, RoofStyle, ScenarioEvent,
+};
 pub use village::footprint::{house_footprint, house_footprints};
 pub use village::generate::{
     generate_village, interest_at, InterestRequest, Village, VillageReport, VillageRequest,
@@ -192,6 +194,16 @@ pub use village::house::{
     build_house, house_layout, openings_below_ground, HouseReport, OpeningKind, PlacedOpening,
 };
 pub use village::interest::{InterestCriterion, StaticInterestMaps};
+// village::figures, village::fit: a village's figures, and a village type learned from a real village's
+pub use village::figures::{
+    hairpins, network_shape, village_figures, NetworkShape, SitedBuilding, VillageFigures,
+    ORIENTATION_BINS,
+};
+pub use village::fit::objective::{objective as village_objective, Figure as FitFigure};
+pub use village::fit::{
+    border_crossings, fit_village_type, scenario_for, FitOptions, FitProgress, FitTarget,
+    FittedVillage, MIN_BUILDINGS as FIT_MIN_BUILDINGS,
+};
 pub use village::metrics::{
     footprint_conflicts, layout_statistics, mean_elevation_percentile, road_grades, road_length,
     unreachable_footprints, LayoutStatistics,

@@ -212,7 +212,14 @@ fn generate_on(
         );
     }
     let land = real_places::window_land(terrain, &column.window)?;
-    let figures = real_places::figures(terrain, &land, &houses, &roads, enc.roads.max_grade);
+    let figures = real_places::figures(
+        terrain,
+        &land,
+        &column.window.region,
+        &houses,
+        &roads,
+        enc.roads.max_grade,
+    );
     let contours: Vec<Vec<DVec2>> = village.parcels.iter().map(|p| p.contour.clone()).collect();
     let parcels = parcel_statistics(&contours, PARCEL_TOLERANCE);
     Ok(GeneratedColumn {
@@ -230,7 +237,14 @@ fn real_column(place: &Place, window: Window, max_grade: f64) -> Result<RealColu
     let terrain = &place.terrain.heightfield;
     let real = real_places::real_window(place, &window);
     let land = real_places::window_land(terrain, &window)?;
-    let figures = real_places::figures(terrain, &land, &real.houses, &real.roads, max_grade);
+    let figures = real_places::figures(
+        terrain,
+        &land,
+        &window.region,
+        &real.houses,
+        &real.roads,
+        max_grade,
+    );
     Ok(RealColumn {
         relief: real_places::relief(&land),
         window,
@@ -852,13 +866,13 @@ fn generated_villages_beside_real_ones() {
 #[test]
 fn a_hairpin_counts_once_however_many_vertices_draw_it() {
     let p = |x: f64, y: f64| DVec2::new(x, y);
-    assert_eq!(real_places::hairpins(&[p(0.0, 0.0), p(100.0, 0.0)]), 0);
+    assert_eq!(worldpaint_core::hairpins(&[p(0.0, 0.0), p(100.0, 0.0)]), 0);
     assert_eq!(
-        real_places::hairpins(&[p(0.0, 0.0), p(50.0, 0.0), p(50.0, 50.0)]),
+        worldpaint_core::hairpins(&[p(0.0, 0.0), p(50.0, 0.0), p(50.0, 50.0)]),
         0
     );
     assert_eq!(
-        real_places::hairpins(&[p(0.0, 0.0), p(50.0, 0.0), p(0.0, 6.0)]),
+        worldpaint_core::hairpins(&[p(0.0, 0.0), p(50.0, 0.0), p(0.0, 6.0)]),
         1
     );
     let mut arc = vec![p(0.0, 0.0)];
@@ -867,8 +881,8 @@ fn a_hairpin_counts_once_however_many_vertices_draw_it() {
         p(50.0 + 4.0 * a.cos(), 4.0 + 4.0 * a.sin())
     }));
     arc.push(p(0.0, 8.0));
-    assert_eq!(real_places::hairpins(&arc), 1);
+    assert_eq!(worldpaint_core::hairpins(&arc), 1);
     // a serpentine of three legs: two hairpins
     let legs = [p(0.0, 0.0), p(60.0, 0.0), p(0.0, 10.0), p(60.0, 20.0)];
-    assert_eq!(real_places::hairpins(&legs), 2);
+    assert_eq!(worldpaint_core::hairpins(&legs), 2);
 }

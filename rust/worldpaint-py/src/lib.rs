@@ -315,8 +315,8 @@ mod worldpaint_engine {
     use crate::variety::{assign_variants, decompose_model, generate_variants, texture_variety};
     #[pymodule_export]
     use crate::village::{
-        default_encyclopedia, encyclopedia_contents, generate_village, scenario_presets,
-        village_interest,
+        default_encyclopedia, encyclopedia_contents, generate_village, learn_village,
+        scenario_presets, village_interest,
     };
     #[pymodule_export]
     use crate::waterfall::build_waterfall;

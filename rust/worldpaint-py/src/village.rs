@@ -1,15 +1,16 @@
 //! Villages: `generate_village`, `village_interest`, and the shipped encyclopedia and scenario presets (JSON).
 
 use crate::arrays::ArrayArg;
-use crate::convert::{points_from_py, points_to_py, region_from_py, rows_to_py};
+use crate::convert::{column, points_from_py, points_to_py, region_from_py, rows_to_py};
 use crate::terrain::Terrain;
-use crate::{guarded, input_err, with_stages};
+use crate::{guarded, input_err, with_progress, with_stages};
 use numpy::IntoPyArray;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use worldpaint_core::{
-    interest_at, BuildingSeed, DVec2, Encyclopedia, Environment, HouseMesh, InterestCriterion,
-    InterestRequest, Road, Scenario, Site, VillageReport, VillageRequest, VillageStage,
+    border_crossings, fit_village_type, interest_at, BuildingSeed, DVec2, Encyclopedia,
+    Environment, FitOptions, FitTarget, HouseMesh, InterestCriterion, InterestRequest, Road,
+    Scenario, Site, SitedBuilding, VillageFigures, VillageReport, VillageRequest, VillageStage,
 };
 
 const ENCYCLOPEDIA: &str = include_str!("../../../assets/villages/encyclopedia.json");
@@ -370,4 +371,115 @@ pub(crate) fn village_interest<'py>(
     };
     let values = py.detach(|| guarded(|| interest_at(&request, &pts)))?;
     Ok(values.into_pyarray(py))
+}
+
+/// Learns a village type from a real village (issue 42): the buildings (centres float64 (N, 2) and long-axis
+/// `orientations` (N,), radians from +X) and `roads` (list of (N, 2)) inside `region` on `terrain`, starting from
+/// the encyclopedia's `base_type`; CMA-ES grows villages on the same terrain, region and `connections` at `seeds`
+/// until their figures match the real village's, within `max_evaluations` candidates and `max_seconds`; without
+/// `connections`, the village's roads come in where the given roads cross the region's border.
+///
+/// Returns {"encyclopedia": JSON with the learned type added as `name`, "scenario": JSON growing the real village's
+/// count of buildings with it, "objective", "base_objective", "evaluations", "generations",
+/// "seconds", "stopped_early", "real": the real village's figures}. `progress(fraction) -> bool` returning False
+/// stops the fit and keeps the best type so far (`stopped_early`). The surroundings are keywords, as for
+/// `generate_village`. A region with fewer than 5 buildings, no road or reaching off the terrain is refused.
+#[pyfunction]
+#[pyo3(signature = (terrain, region, buildings, orientations, roads, *, encyclopedia=None, base_type="highland",
+                    name="learned", connections=None, seeds=None, seed=1, max_evaluations=200, max_seconds=540.0,
+                    cell=2.0, parcel_cell=1.0, progress=None, **surroundings))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn learn_village<'py>(
+    py: Python<'py>,
+    terrain: &Bound<'py, Terrain>,
+    region: &Bound<'py, PyAny>,
+    buildings: ArrayArg<'py>,
+    orientations: ArrayArg<'py>,
+    roads: &Bound<'py, PyAny>,
+    encyclopedia: Option<&str>,
+    base_type: &str,
+    name: &str,
+    connections: Option<ArrayArg<'py>>,
+    seeds: Option<Vec<u64>>,
+    seed: u64,
+    max_evaluations: usize,
+    max_seconds: f64,
+    cell: f64,
+    parcel_cell: f64,
+    progress: Option<Py<PyAny>>,
+    surroundings: Option<&Bound<'py, PyDict>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let hf = terrain.get().hf.clone();
+    let region = region_from_py(region)?;
+    let encyclopedia = encyclopedia_of(encyclopedia)?;
+    let centres = points_from_py(&buildings, "buildings")?;
+    let turns = column(Some(orientations), centres.len(), 0.0, "orientations")?;
+    if centres.iter().any(|p| !p.is_finite()) || turns.iter().any(|t| !t.is_finite()) {
+        return Err(input_err("buildings and orientations must be finite"));
+    }
+    if max_seconds.is_nan() || max_seconds <= 0.0 {
+        return Err(input_err("max_seconds must be more than 0"));
+    }
+    let sited: Vec<SitedBuilding> = centres
+        .iter()
+        .zip(&turns)
+        .map(|(c, o)| SitedBuilding {
+            centre: *c,
+            orientation: *o,
+        })
+        .collect();
+    let roads: Vec<Road> = polylines(Some(roads), "road")?
+        .into_iter()
+        .map(|points| Road { points })
+        .collect();
+    let site = site(&hf, region, cell, surroundings)?;
+    let connections = match connections {
+        Some(c) => points_from_py(&c, "connections")?,
+        None => border_crossings(&site.region, &roads),
+    };
+    let target = guarded(|| FitTarget::new(site, connections, &sited, &roads))?;
+    let defaults = FitOptions::default();
+    let options = FitOptions {
+        base_type: base_type.to_string(),
+        name: name.to_string(),
+        seeds: seeds.unwrap_or(defaults.seeds),
+        seed,
+        max_evaluations,
+        max_seconds,
+        parcel_cell,
+        ..defaults
+    };
+    let fitted = with_progress(py, progress, |report| {
+        fit_village_type(&target, &encyclopedia, &options, &|p| {
+            let by_count = p.evaluations as f64 / p.max_evaluations.max(1) as f64;
+            report((by_count.max(p.seconds / max_seconds)).min(1.0))
+        })
+    })?;
+    let out = PyDict::new(py);
+    out.set_item("encyclopedia", fitted.encyclopedia.to_json())?;
+    out.set_item("scenario", fitted.scenario.to_json())?;
+    out.set_item("objective", fitted.objective)?;
+    out.set_item("base_objective", fitted.base_objective)?;
+    out.set_item("evaluations", fitted.evaluations)?;
+    out.set_item("generations", fitted.generations)?;
+    out.set_item("seconds", fitted.seconds)?;
+    out.set_item("stopped_early", fitted.stopped_early)?;
+    out.set_item("real", figures_to_py(py, &target.figures)?)?;
+    Ok(out)
+}
+
+/// A village's figures as a dict (see `learn_village`).
+fn figures_to_py<'py>(py: Python<'py>, f: &VillageFigures) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("buildings", f.layout.houses)?;
+    d.set_item("mean_nearest_neighbour", f.layout.mean_nearest_neighbour)?;
+    d.set_item("share_within_20m", f.layout.share_within_20m)?;
+    d.set_item("road_length_per_house", f.layout.road_length_per_house)?;
+    d.set_item("mean_road_distance", f.layout.mean_road_distance)?;
+    d.set_item("buildings_per_hectare", f.buildings_per_hectare)?;
+    d.set_item("road_length", f.road_length)?;
+    d.set_item("hairpins_per_km", f.network.hairpins_per_km)?;
+    d.set_item("dead_end_share", f.network.dead_end_share)?;
+    d.set_item("orientation_to_road", f.orientation_to_road.to_vec())?;
+    Ok(d)
 }

@@ -74,7 +74,7 @@ pub(crate) fn centroid(rings: &[Vec<DVec2>]) -> DVec2 {
 
 /// The minimum-area bounding rectangle of points: (length, width, orientation), the length the longer side, the
 /// orientation the angle of the long side from +X (east), counter-clockwise, in [0, π).
-pub(crate) fn min_area_rectangle(points: &[DVec2]) -> (f64, f64, f64) {
+pub fn min_area_rectangle(points: &[DVec2]) -> (f64, f64, f64) {
     let hull = convex_hull(points);
     if hull.len() < 2 {
         return (0.0, 0.0, 0.0);

@@ -48,6 +48,7 @@ mod terrain;
 
 pub use classify::{AreaClass, BuildingType, RoadClass};
 pub use elevation::{read_elevation_model, ElevationModel, MAX_HOLE_SHARE};
+pub use footprint::min_area_rectangle;
 pub use frame::{LocalProjection, PlaceFrame, MAX_EXTENT_DEGREES};
 pub use import::{import_place, PlaceOptions, DEFAULT_MARGIN};
 pub use imported::{

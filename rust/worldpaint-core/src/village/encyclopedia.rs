@@ -101,6 +101,44 @@ pub struct Placement {
     pub domination_radius: f64,
     /// How the building's parcel is conquered.
     pub parcel: ParcelParams,
+    /// Footprint sizes for this village type in place of the building type's (a learned village's houses stand
+    /// along their street where the shipped ones turn their gable to it); absent: the building type's.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub footprint: Option<FootprintSize>,
+}
+
+/// Smallest and largest footprint (width along the road, depth away from it), metres.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FootprintSize {
+    /// Smallest (width, depth).
+    pub min: [f64; 2],
+    /// Largest (width, depth).
+    pub max: [f64; 2],
+}
+
+impl Placement {
+    /// The footprint sizes (smallest, largest) of `kind` placed with this placement.
+    pub(crate) fn footprint_sizes(&self, kind: &BuildingKind) -> FootprintSize {
+        self.footprint.unwrap_or(FootprintSize {
+            min: kind.footprint_min,
+            max: kind.footprint_max,
+        })
+    }
+}
+
+/// Checks that footprint sizes are positive with the smallest at most the largest.
+fn check_footprint(at: &str, size: &FootprintSize) -> Result<()> {
+    for k in 0..2 {
+        check::positive(&format!("{at}.footprint_min"), size.min[k])?;
+        check::within(
+            &format!("{at}.footprint_max"),
+            size.max[k],
+            size.min[k],
+            f64::MAX,
+        )?;
+    }
+    Ok(())
 }
 
 /// Roof of a house (3.4: "first we generate the floors and the roof").
@@ -388,18 +426,11 @@ impl Encyclopedia {
     pub fn validate(&self) -> Result<()> {
         self.roads.validate("roads")?;
         for (name, b) in &self.buildings {
-            for k in 0..2 {
-                check::positive(
-                    &format!("buildings.{name}.footprint_min"),
-                    b.footprint_min[k],
-                )?;
-                check::within(
-                    &format!("buildings.{name}.footprint_max"),
-                    b.footprint_max[k],
-                    b.footprint_min[k],
-                    f64::MAX,
-                )?;
-            }
+            let size = FootprintSize {
+                min: b.footprint_min,
+                max: b.footprint_max,
+            };
+            check_footprint(&format!("buildings.{name}"), &size)?;
             if b.storeys[0] == 0 || b.storeys[1] < b.storeys[0] || b.storeys[1] > 12 {
                 return Err(Error::invalid(
                     format!("buildings.{name}.storeys"),
@@ -429,6 +460,9 @@ impl Encyclopedia {
                     }
                 }
                 check_shape(&format!("{at}.sociability"), &p.sociability)?;
+                if let Some(size) = &p.footprint {
+                    check_footprint(&format!("{at}.footprint"), size)?;
+                }
                 for (other, s) in &p.sociability_with {
                     if !self.buildings.contains_key(other) {
                         return Err(Error::invalid(
@@ -533,6 +567,11 @@ impl Scenario {
     /// Reads a scenario file; what it names is checked against an encyclopedia when a village is generated.
     pub fn from_json(text: &str) -> Result<Scenario> {
         serde_json::from_str(text).map_err(|err| Error::parse(FileKind::Scenario, err.to_string()))
+    }
+
+    /// The scenario as a JSON file.
+    pub fn to_json(&self) -> String {
+        serde_json::to_string(self).unwrap_or_default()
     }
 
     /// Number of buildings the scenario asks for.

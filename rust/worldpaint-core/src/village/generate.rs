@@ -186,9 +186,10 @@ fn beside_its_road(
 ) -> Option<DVec2> {
     let (&end, &next) = (road.first()?, road.get(1)?);
     let along = (next - end).try_normalize()?;
-    let clear = 0.5 * road_width + 0.5 * kind.footprint_min[0].max(kind.footprint_min[1]);
+    let size = placement.footprint_sizes(kind);
+    let clear = 0.5 * road_width + 0.5 * size.min[0].max(size.min[1]);
     let off = placement.accessibility.zero.max(clear);
-    let back = (0.5 * kind.footprint_min[0].min(kind.footprint_min[1])).min(end.distance(next));
+    let back = (0.5 * size.min[0].min(size.min[1])).min(end.distance(next));
     let nearest = |p: DVec2| -> Option<f64> {
         let mut nearest = f64::INFINITY;
         for b in seeds {
@@ -435,7 +436,8 @@ impl Skeleton {
     ) -> Result<bool> {
         let (land, roads, width, kind) = (at.land, at.roads, at.road_width, at.kind);
         // a house this close to a road fronts it: its footprint, grown from the road side, can reach the seed
-        let frontage = 0.5 * width + kind.footprint_max[0].max(kind.footprint_max[1]);
+        let size = at.placement.footprint_sizes(kind);
+        let frontage = 0.5 * width + size.max[0].max(size.max[1]);
         let connection = network.connect(land, roads, &self.occupied, seed.position, frontage)?;
         if !connection.reached {
             report.unreachable += 1;
@@ -450,7 +452,7 @@ impl Skeleton {
                 beside_its_road(land, network, road, &self.seeds, at.placement, kind, width);
             seed.position = beside.unwrap_or(seed.position);
         }
-        let radius = 0.5 * kind.footprint_min[0].max(kind.footprint_min[1]);
+        let radius = 0.5 * size.min[0].max(size.min[1]);
         stamp(land, &mut self.occupied, seed.position, radius);
         // the building's road goes on past it as a street for the houses that come next
         if let (Some(&r), false) = (connection.roads.first(), connection.cycle) {
@@ -537,18 +539,11 @@ fn parcels_and_footprints(
     });
     let found: Vec<Option<HouseFootprint>> = conquered
         .par_iter()
-        .zip(seeds.par_iter())
-        .map(|(parcel, s)| {
+        .zip(seeds.par_iter().zip(placements.par_iter()))
+        .map(|(parcel, (s, placement))| {
             let parcel = parcel.as_ref().filter(|_| footprints.go_on())?;
-            let kind = enc.buildings.get(&s.building)?;
-            let fp = house_footprint(
-                parcel,
-                roads,
-                enc.roads.width,
-                kind.footprint_min,
-                kind.footprint_max,
-                1.0,
-            );
+            let size = placement.footprint_sizes(enc.buildings.get(&s.building)?);
+            let fp = house_footprint(parcel, roads, enc.roads.width, size.min, size.max, 1.0);
             footprints.done_one();
             fp
         })

@@ -15,8 +15,12 @@
 //! | [`footprint`] | quad footprints grown from the road (3.3.5) |
 //! | [`house`] | open shape grammar houses (3.4) |
 //! | [`metrics`] | what a layout team checks: reachability, overlaps, grades, parcel statistics |
+//! | [`figures`] | the statistics a village is compared by, real or generated (issue 42) |
+//! | [`fit`] | a village type learned from a real village's figures by CMA-ES (our addition) |
 
 pub(crate) mod encyclopedia;
+pub(crate) mod figures;
+pub(crate) mod fit;
 pub(crate) mod footprint;
 pub(crate) mod generate;
 pub(crate) mod house;

@@ -131,6 +131,7 @@ mod tests {
                 slope_weight: 1.0,
                 fill: 0.0,
             },
+            footprint: None,
         }
     }
 

@@ -56,9 +56,10 @@ use super::squares::{centre_of_points_in, points_in, square, squares_by_count};
 use std::collections::HashMap;
 use std::path::Path;
 use worldpaint_core::{
-    layout_statistics, mean_elevation_percentile, polygon_contains, polygon_signed_area,
-    read_elevation_model, read_map_layer, road_grades, road_length, DVec2, ElevationModel,
-    Environment, Graph, Heightfield, Land, LayoutStatistics, LonLatShape, MapLayer, Region, Road,
+    layout_statistics, mean_elevation_percentile, min_area_rectangle, network_shape,
+    polygon_contains, polygon_signed_area, read_elevation_model, read_map_layer, road_grades,
+    road_length, DVec2, ElevationModel, Environment, Heightfield, Land, LayoutStatistics,
+    LonLatShape, MapLayer, NetworkShape, Region, Road,
 };
 
 /// Cell (m) of the metre heightfield resampled from the SRTM grid.
@@ -263,6 +264,8 @@ pub struct Place {
     pub roads: Vec<RealRoad>,
     /// Building centroids.
     pub houses: Vec<DVec2>,
+    /// Each building's long axis (radians from +X, any half-turn): its minimum-area rectangle's longer side.
+    pub orientations: Vec<f64>,
     pub areas: Vec<Area>,
     /// Lakes, ponds, reservoirs and river areas (`natural=water`, `waterway=riverbank`, `landuse=reservoir` or
     /// `basin`).
@@ -313,11 +316,15 @@ pub fn load_place(spec: PlaceSpec) -> Result<Place, String> {
         }
     }
     let mut houses = Vec::new();
+    let mut orientations = Vec::new();
     let buildings_layer = read_features(&paths[1])?;
     unreadable += buildings_layer.unreadable;
     for f in &buildings_layer.features {
         match open_ring(project(&outer_lines(&f.shape)[0])) {
-            Some(ring) => houses.push(area_centroid(&[ring], FLAT_RING)),
+            Some(ring) => {
+                orientations.push(min_area_rectangle(&ring).2);
+                houses.push(area_centroid(&[ring], FLAT_RING));
+            }
             None => unreadable += 1,
         }
     }
@@ -374,6 +381,7 @@ pub fn load_place(spec: PlaceSpec) -> Result<Place, String> {
         terrain,
         roads,
         houses,
+        orientations,
         areas,
         water,
         places,
@@ -592,115 +600,6 @@ pub struct Figures {
     pub network: NetworkShape,
 }
 
-/// The shape of a road network inside a window: its dead ends and junctions per kilometre of road (nodes within
-/// [`BORDER_MARGIN`] of the window's border are left out: the roads were clipped there), and its hairpins per
-/// kilometre (see [`hairpins`]).
-#[derive(Clone, Debug, Default)]
-pub struct NetworkShape {
-    pub dead_ends_per_km: f64,
-    pub junctions_per_km: f64,
-    pub hairpins_per_km: f64,
-}
-
-/// Half the length (m) over which a road's turn is measured, and the turn (degrees) that makes a hairpin.
-const HAIRPIN_REACH: f64 = 10.0;
-const HAIRPIN_DEGREES: f64 = 120.0;
-
-/// The hairpins of a road: the stretches where its heading over the [`HAIRPIN_REACH`] metres ahead turns from
-/// its heading over the metres behind by more than [`HAIRPIN_DEGREES`], each stretch counted once. Measured on
-/// points a metre apart along the road, so that a hairpin counts alike whether one vertex or ten draw it.
-pub fn hairpins(road: &[DVec2]) -> usize {
-    // a point every metre of its length
-    let mut points = Vec::new();
-    let mut next = 0.0;
-    let mut walked = 0.0;
-    for w in road.windows(2) {
-        let length = w[0].distance(w[1]);
-        while next <= walked + length && length > 0.0 {
-            points.push(w[0].lerp(w[1], (next - walked) / length));
-            next += 1.0;
-        }
-        walked += length;
-    }
-    let k = HAIRPIN_REACH as usize;
-    let limit = HAIRPIN_DEGREES.to_radians();
-    let mut count = 0;
-    let mut within = false;
-    for i in k..points.len().saturating_sub(k) {
-        let (behind, ahead) = (points[i] - points[i - k], points[i + k] - points[i]);
-        let turn = behind.angle_to(ahead).abs();
-        let sharp = behind.length() > 0.0 && ahead.length() > 0.0 && turn > limit;
-        count += usize::from(sharp && !within);
-        within = sharp;
-    }
-    count
-}
-
-/// Distance (m) from a window's border within which a road end is where the window clipped it.
-const BORDER_MARGIN: f64 = 10.0;
-
-fn network_shape(land: &Land, roads: &[Road]) -> NetworkShape {
-    // OpenStreetMap ways meet at shared nodes, while a generated road may end inside a segment of the road it
-    // joins: every road end is made a vertex of the roads it lies on
-    const SNAP: f64 = 0.5;
-    let ends: Vec<DVec2> = roads
-        .iter()
-        .filter_map(|r| Some([*r.points.first()?, *r.points.last()?]))
-        .flatten()
-        .collect();
-    let noded: Vec<Vec<DVec2>> = roads
-        .iter()
-        .map(|r| {
-            let mut out: Vec<DVec2> = Vec::with_capacity(r.points.len());
-            for w in r.points.windows(2) {
-                let (a, b) = (w[0], w[1]);
-                out.push(a);
-                let ab = b - a;
-                let mut on: Vec<(f64, DVec2)> = ends
-                    .iter()
-                    .filter_map(|&e| {
-                        let t = (e - a).dot(ab) / ab.length_squared().max(1e-12);
-                        (t > 0.0 && t < 1.0 && (a + ab * t).distance(e) <= SNAP).then_some((t, e))
-                    })
-                    .collect();
-                on.sort_by(|x, y| x.0.total_cmp(&y.0));
-                out.extend(on.into_iter().map(|(_, e)| e));
-            }
-            out.extend(r.points.last());
-            out
-        })
-        .collect();
-    let paths: Vec<&[DVec2]> = noded.iter().map(|r| r.as_slice()).collect();
-    let graph = Graph::from_paths(&paths, SNAP);
-    let inside = |p: DVec2| {
-        land.grid()
-            .nearest(p)
-            .is_some_and(|(i, j)| land.inside()[land.grid().index(i, j)])
-    };
-    let away_from_border = |p: DVec2| {
-        [(1.0, 0.0), (-1.0, 0.0), (0.0, 1.0), (0.0, -1.0)]
-            .iter()
-            .all(|&(x, y)| inside(p + DVec2::new(x, y) * BORDER_MARGIN))
-    };
-    let (mut dead, mut junctions) = (0usize, 0usize);
-    for (v, nb) in graph.adjacency().iter().enumerate() {
-        if !away_from_border(graph.nodes[v]) {
-            continue;
-        }
-        match nb.len() {
-            1 => dead += 1,
-            n if n >= 3 => junctions += 1,
-            _ => {}
-        }
-    }
-    let km = (road_length(roads) / 1e3).max(1e-9);
-    NetworkShape {
-        dead_ends_per_km: dead as f64 / km,
-        junctions_per_km: junctions as f64 / km,
-        hairpins_per_km: roads.iter().map(|r| hairpins(&r.points)).sum::<usize>() as f64 / km,
-    }
-}
-
 /// The grid over a window on which elevation percentiles and relief are read.
 pub fn window_land(terrain: &Heightfield, window: &Window) -> Result<Land, String> {
     Land::new(
@@ -734,6 +633,7 @@ pub fn relief(land: &Land) -> Relief {
 pub fn figures(
     terrain: &Heightfield,
     land: &Land,
+    region: &Region,
     houses: &[DVec2],
     roads: &[Road],
     max_grade: f64,
@@ -747,7 +647,7 @@ pub fn figures(
         over_max_grade: GradeSummary::share_over(&grades, max_grade),
         road_length: road_length(roads),
         elevation_percentile: mean_elevation_percentile(land, houses),
-        network: network_shape(land, roads),
+        network: network_shape(region, roads),
     }
 }
 

@@ -488,6 +488,29 @@ class VillageDict(TypedDict):
     connections: Float64Array
     report: VillageReportDict
 
+class VillageFiguresDict(TypedDict):
+    buildings: int
+    mean_nearest_neighbour: float
+    share_within_20m: float
+    road_length_per_house: float
+    mean_road_distance: float
+    buildings_per_hectare: float
+    road_length: float
+    hairpins_per_km: float
+    dead_end_share: float
+    orientation_to_road: list[float]
+
+class LearnedVillageDict(TypedDict):
+    encyclopedia: str
+    scenario: str
+    objective: float
+    base_objective: float
+    evaluations: int
+    generations: int
+    seconds: float
+    stopped_early: bool
+    real: VillageFiguresDict
+
 class RoadEmbeddingDict(TypedDict):
     displacement: Float64Array
     profiles: list[Float64Array]
@@ -811,6 +834,26 @@ def generate_village(
     progress: Progress | None = None,
     **surroundings: Unpack[Surroundings],
 ) -> VillageDict: ...
+def learn_village(
+    terrain: Terrain,
+    region: Region,
+    buildings: ArrayLike,
+    orientations: ArrayLike,
+    roads: Sequence[ArrayLike],
+    *,
+    encyclopedia: str | None = None,
+    base_type: str = "highland",
+    name: str = "learned",
+    connections: ArrayLike | None = None,
+    seeds: Sequence[int] | None = None,
+    seed: int = 1,
+    max_evaluations: int = 200,
+    max_seconds: float = 540.0,
+    cell: float = 2.0,
+    parcel_cell: float = 1.0,
+    progress: Progress | None = None,
+    **surroundings: Unpack[Surroundings],
+) -> LearnedVillageDict: ...
 def village_interest(
     terrain: Terrain,
     region: Region,

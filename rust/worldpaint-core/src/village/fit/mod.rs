@@ -1,0 +1,427 @@
+//! A village type learned from a real village (issue 42; the thesis sets its encyclopedia by hand, 3.1): the
+//! parameters of a base village type (see [`space`]) are searched by CMA-ES (the `cmaes` crate: Hansen's
+//! covariance matrix adaptation, made for noisy, non-separable black-box problems of tens of dimensions) so
+//! that villages grown with them on the real village's terrain, region and connection points have the real
+//! village's figures ([`village_figures`]; the distance is [`objective`]'s).
+//!
+//! Readings chosen:
+//! * The scenario is the base's: a church when the base builds churches, then houses, then farms; its counts
+//!   are the real village's building count times a learned factor (the generator loses buildings in narrow
+//!   parcels and the real count includes outbuildings), split by a learned share of farms.
+//! * Each candidate is grown at the same few seeds (common random numbers: two candidates differ by their
+//!   parameters, not by their luck), all candidates of a generation and all their seeds in parallel; results
+//!   are gathered in order, so a fit is the same whatever the number of threads.
+//! * A budget of evaluations (candidates) and of seconds; past the seconds, or when the progress callback
+//!   returns `false`, the villages growing are cancelled and the best type of the generations completed is
+//!   kept.
+
+pub(crate) mod objective;
+pub(crate) mod space;
+
+use super::encyclopedia::{Encyclopedia, Scenario, ScenarioEvent, VillageType};
+use super::figures::{village_figures, SitedBuilding, VillageFigures};
+use super::generate::{generate_village, VillageRequest};
+use super::{Road, Site};
+use crate::geom::Region;
+use crate::{Error, Result};
+use glam::DVec2;
+use objective::objective;
+use rayon::prelude::*;
+use space::ParameterSpace;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Mutex;
+use std::time::Instant;
+
+/// Fewest buildings a real village must hold to be learned from.
+pub const MIN_BUILDINGS: usize = 5;
+/// Crossings of the border closer than this (m) are one way into the village.
+const CROSSING_MERGE: f64 = 60.0;
+
+/// Where `roads` cross the border of `region`: a real village's ways in, each crossing within [`CROSSING_MERGE`]
+/// of one already found merged into it.
+pub fn border_crossings(region: &Region, roads: &[Road]) -> Vec<DVec2> {
+    let mut out: Vec<DVec2> = Vec::new();
+    for s in roads.iter().flat_map(|r| r.points.windows(2)) {
+        for t in region.segment_crossings(s[0], s[1]) {
+            let p = s[0] + (s[1] - s[0]) * t;
+            if out.iter().all(|c| c.distance(p) > CROSSING_MERGE) {
+                out.push(p);
+            }
+        }
+    }
+    out
+}
+
+/// The real village a type is learned from: where it stands and its figures.
+#[derive(Clone, Debug)]
+pub struct FitTarget<'a> {
+    /// The terrain, the village's region and its environment (the region is where the figures are measured).
+    pub site: Site<'a>,
+    /// Where roads come into the region.
+    pub connections: Vec<DVec2>,
+    /// The real village's figures.
+    pub figures: VillageFigures,
+}
+
+impl<'a> FitTarget<'a> {
+    /// The real village of `buildings` and `roads` in `site`'s region, refused with a clear message when it
+    /// cannot be learned from: fewer than [`MIN_BUILDINGS`] buildings in the region, no road in it, or a region
+    /// outside the terrain.
+    pub fn new(
+        site: Site<'a>,
+        connections: Vec<DVec2>,
+        buildings: &[SitedBuilding],
+        roads: &[Road],
+    ) -> Result<FitTarget<'a>> {
+        let (lo, hi) = site.region.bbox();
+        let (tlo, thi) = site.terrain.bbox();
+        if lo.x < tlo.x || lo.y < tlo.y || hi.x > thi.x || hi.y > thi.y {
+            return Err(Error::bad_region(format!(
+                "the selected village reaches off the terrain (selection {:.0}..{:.0} x {:.0}..{:.0} m, terrain \
+                 {:.0}..{:.0} x {:.0}..{:.0} m): select a village on the terrain",
+                lo.x, hi.x, lo.y, hi.y, tlo.x, thi.x, tlo.y, thi.y
+            )));
+        }
+        let figures = village_figures(buildings, roads, &site.region);
+        if figures.layout.houses < MIN_BUILDINGS {
+            return Err(Error::bad_region(format!(
+                "the selected village holds {} buildings: a village type is learned from at least {MIN_BUILDINGS}",
+                figures.layout.houses
+            )));
+        }
+        if figures.road_length <= 0.0 {
+            return Err(Error::bad_region(
+                "the selected village has no road: a village type is learned from buildings and the roads that \
+                 serve them",
+            ));
+        }
+        Ok(FitTarget {
+            site,
+            connections,
+            figures,
+        })
+    }
+}
+
+/// How a village type is learned.
+#[derive(Clone, Debug)]
+pub struct FitOptions {
+    /// The village type the search starts from.
+    pub base_type: String,
+    /// The name of the learned type in the encyclopedia.
+    pub name: String,
+    /// Seeds each candidate is grown at.
+    pub seeds: Vec<u64>,
+    /// Seed of the search.
+    pub seed: u64,
+    /// Most candidates evaluated.
+    pub max_evaluations: usize,
+    /// Most seconds spent (the villages growing then are cancelled).
+    pub max_seconds: f64,
+    /// Initial step of the search, in unit coordinates (each parameter's range is 1).
+    pub step: f64,
+    /// Candidates per generation; 0: CMA-ES's default, 4 + 3 ln(dimensions).
+    pub population: usize,
+    /// Share of farms the search starts from.
+    pub farm_share: f64,
+    /// Grid cell (m) of the land conquest.
+    pub parcel_cell: f64,
+}
+
+impl Default for FitOptions {
+    fn default() -> FitOptions {
+        FitOptions {
+            base_type: "highland".into(),
+            name: "learned".into(),
+            seeds: vec![1, 2],
+            seed: 1,
+            max_evaluations: 200,
+            max_seconds: 540.0,
+            step: 0.15,
+            population: 0,
+            farm_share: 0.2,
+            parcel_cell: 1.0,
+        }
+    }
+}
+
+/// Where a fit stands, for a progress bar.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FitProgress {
+    /// Candidates evaluated so far.
+    pub evaluations: usize,
+    /// The budget of evaluations.
+    pub max_evaluations: usize,
+    /// Generations completed.
+    pub generation: usize,
+    /// The best objective so far (the base type's before the first generation ends).
+    pub best: f64,
+    /// Seconds since the fit started.
+    pub seconds: f64,
+}
+
+/// A learned village type.
+#[derive(Clone, Debug)]
+pub struct FittedVillage {
+    /// The encyclopedia given, with the learned type added under the options' name.
+    pub encyclopedia: Encyclopedia,
+    /// The learned type.
+    pub village_type: VillageType,
+    /// The scenario that grows the real village's count of buildings with it.
+    pub scenario: Scenario,
+    /// Its objective at the fit's seeds.
+    pub objective: f64,
+    /// The base type's objective at the fit's seeds.
+    pub base_objective: f64,
+    /// Candidates evaluated (the base type's included).
+    pub evaluations: usize,
+    /// Generations of the search completed.
+    pub generations: usize,
+    /// Seconds the fit took.
+    pub seconds: f64,
+    /// Stopped by the callback or the time budget before the evaluation budget was spent.
+    pub stopped_early: bool,
+}
+
+/// The scenario of `village_type` for `buildings` real buildings: a church if the type builds churches, then
+/// houses and farms, `buildings × count_factor` in all.
+pub fn scenario_for(
+    enc: &Encyclopedia,
+    name: &str,
+    village_type: &VillageType,
+    buildings: usize,
+    count_factor: f64,
+    farm_share: f64,
+) -> Scenario {
+    let total = ((buildings as f64 * count_factor).round() as usize).max(1);
+    let church = usize::from(
+        village_type
+            .buildings
+            .keys()
+            .any(|b| enc.buildings.get(b).is_some_and(|k| k.religious) && b == "church"),
+    );
+    let farms = if village_type.buildings.contains_key("farm") {
+        ((total.saturating_sub(church)) as f64 * farm_share).round() as usize
+    } else {
+        0
+    };
+    let houses = total.saturating_sub(church + farms).max(1);
+    let mut events = vec![ScenarioEvent::ChangeVillageType {
+        village_type: name.into(),
+    }];
+    for (building, count) in [("church", church), ("house", houses), ("farm", farms)] {
+        if count > 0 {
+            events.push(ScenarioEvent::Generate {
+                count: count as u32,
+                building: building.into(),
+            });
+        }
+    }
+    Scenario { events }
+}
+
+/// The figures of a village grown on `target` with `village_type` under `name`; `None` when it was cancelled
+/// or could not grow. `keep_going` is asked between buildings.
+pub(crate) fn grow_figures(
+    target: &FitTarget,
+    enc: &Encyclopedia,
+    scenario: &Scenario,
+    seed: u64,
+    parcel_cell: f64,
+    keep_going: &(dyn Fn() -> bool + Sync),
+) -> Result<Option<VillageFigures>> {
+    let request = VillageRequest {
+        site: target.site.clone(),
+        connections: target.connections.clone(),
+        existing_roads: Vec::new(),
+        encyclopedia: enc,
+        scenario,
+        seed,
+        parcel_cell,
+    };
+    match generate_village(&request, &|_, _| keep_going()) {
+        Ok(v) => {
+            let buildings: Vec<SitedBuilding> = v
+                .footprints
+                .iter()
+                .map(SitedBuilding::of_footprint)
+                .collect();
+            Ok(Some(village_figures(
+                &buildings,
+                &v.roads,
+                &target.site.region,
+            )))
+        }
+        Err(Error::Cancelled) => Ok(None),
+        // a candidate whose parameters leave no place to build: no figures, the worst objective
+        Err(Error::BadRegion { .. } | Error::Invalid { .. }) => Ok(None),
+        Err(e) => Err(e),
+    }
+}
+
+/// Learns a village type from `target`, starting from `options.base_type` of `enc`. `progress` is called after
+/// each generation and returning `false` stops the fit (the best type so far is kept).
+pub fn fit_village_type(
+    target: &FitTarget,
+    enc: &Encyclopedia,
+    options: &FitOptions,
+    progress: &(dyn Fn(&FitProgress) -> bool + Sync),
+) -> Result<FittedVillage> {
+    if options.seeds.is_empty() {
+        return Err(Error::invalid("fit seeds", "at least one seed"));
+    }
+    if enc.village_types.contains_key(&options.name) {
+        return Err(Error::invalid(
+            "learned village type name",
+            format!(
+                "'{}' is already a village type of the encyclopedia",
+                options.name
+            ),
+        ));
+    }
+    let space = ParameterSpace::new(enc, &options.base_type, options.farm_share)?;
+    let started = Instant::now();
+    let stop = AtomicBool::new(false);
+    // where the fit stands: reported between buildings too, so a stop is heard within a village, not a generation
+    let state = Mutex::new(FitProgress {
+        evaluations: 0,
+        max_evaluations: options.max_evaluations,
+        generation: 0,
+        best: f64::INFINITY,
+        seconds: 0.0,
+    });
+    let report = |update: &dyn Fn(&mut FitProgress)| {
+        let now = state.lock().ok().map(|mut s| {
+            update(&mut s);
+            s.seconds = started.elapsed().as_secs_f64();
+            *s
+        });
+        if now.is_some_and(|s| !progress(&s)) {
+            stop.store(true, Ordering::Relaxed);
+        }
+    };
+    let keep_going = || {
+        report(&|_| {});
+        !stop.load(Ordering::Relaxed) && started.elapsed().as_secs_f64() <= options.max_seconds
+    };
+    let buildings = target.figures.layout.houses;
+    // the first engine error met (not a cancellation): the fit reports it rather than learning around it
+    let failure: Mutex<Option<Error>> = Mutex::new(None);
+    // a candidate's objective: its seeds grown in parallel, gathered in order
+    let evaluate = |x: &[f64]| -> f64 {
+        let c = space.candidate(x);
+        let scenario = scenario_for(
+            enc,
+            &options.name,
+            &c.village_type,
+            buildings,
+            c.count_factor,
+            c.farm_share,
+        );
+        let mut e = enc.clone();
+        e.village_types.insert(options.name.clone(), c.village_type);
+        let grown: Vec<Option<VillageFigures>> = options
+            .seeds
+            .par_iter()
+            .map(|seed| {
+                grow_figures(
+                    target,
+                    &e,
+                    &scenario,
+                    *seed,
+                    options.parcel_cell,
+                    &keep_going,
+                )
+                .unwrap_or_else(|err| {
+                    if let Ok(mut f) = failure.lock() {
+                        f.get_or_insert(err);
+                    }
+                    None
+                })
+            })
+            .collect();
+        let value = objective(&target.figures, &grown);
+        report(&|s| s.evaluations += 1);
+        value
+    };
+    let failed = || failure.lock().ok().and_then(|mut f| f.take());
+    let start = space.start();
+    let base_objective = evaluate(&start);
+    if let Some(e) = failed() {
+        return Err(e);
+    }
+    let mut best = (base_objective, start.clone());
+    report(&|s| s.best = base_objective);
+    let dimensions = space.dimensions.len();
+    let population = if options.population > 0 {
+        options.population
+    } else {
+        4 + (3.0 * (dimensions as f64).ln()).floor() as usize
+    };
+    let told = |x: &cmaes::DVector<f64>| evaluate(x.as_slice());
+    let mut cma = cmaes::CMAESOptions::new(start, options.step)
+        .population_size(population)
+        .seed(options.seed)
+        .build(&told)
+        .map_err(|e| Error::invalid("fit options", format!("{e:?}")))?;
+    let mut stopped_early = !keep_going();
+    let mut generations = 0;
+    let evaluations = |cma: &cmaes::CMAES<_>| 1 + cma.function_evals();
+    while !stopped_early && evaluations(&cma) + population <= options.max_evaluations.max(1) {
+        let finished = cma.next_parallel();
+        if let Some(e) = failed() {
+            return Err(e);
+        }
+        if !keep_going() {
+            // villages of this generation were cancelled: its figures are not all there
+            stopped_early = true;
+            break;
+        }
+        generations += 1;
+        if let Some(b) = cma.current_best_individual() {
+            if b.value < best.0 {
+                best = (b.value, b.point.as_slice().to_vec());
+            }
+        }
+        let best_value = best.0;
+        report(&|s| {
+            s.generation = generations;
+            s.best = best_value;
+        });
+        if stop.load(Ordering::Relaxed) {
+            stopped_early = true;
+        }
+        if finished.is_some() {
+            break;
+        }
+    }
+    let c = space.candidate(&best.1);
+    let scenario = scenario_for(
+        enc,
+        &options.name,
+        &c.village_type,
+        buildings,
+        c.count_factor,
+        c.farm_share,
+    );
+    let mut encyclopedia = enc.clone();
+    let mut village_type = c.village_type;
+    village_type.description = format!(
+        "Learned from a real village of {buildings} buildings, starting from '{}'.",
+        options.base_type
+    );
+    encyclopedia
+        .village_types
+        .insert(options.name.clone(), village_type.clone());
+    Ok(FittedVillage {
+        encyclopedia,
+        village_type,
+        scenario,
+        objective: best.0,
+        base_objective,
+        evaluations: evaluations(&cma),
+        generations,
+        seconds: started.elapsed().as_secs_f64(),
+        stopped_early,
+    })
+}

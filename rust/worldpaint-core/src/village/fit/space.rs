@@ -1,0 +1,423 @@
+//! The parameters a village type is learned over, and their coordinates for the optimizer.
+//!
+//! Each parameter is a [`Dimension`]: a bounded range, read on a log scale where the parameter is a scale or a
+//! cost (distances, ratios, road cost weights), linearly where it is a weight or a share. The optimizer moves in
+//! unbounded coordinates; each is folded back into `[0, 1]` by reflection at the bounds (a triangle wave), then
+//! mapped onto the range: every point the optimizer asks about is a valid village type, and no penalty is needed.
+//!
+//! Per building type learned (the types of the base village type that the scenario builds many of: houses and
+//! farms), the interest weights of sociability, accessibility, slope and domination (the criteria a real
+//! village's layout tells about), the sociability and accessibility shapes (`λ_min`, and `λ_0`, `λ_max` as
+//! ratios of the one before, so that `λ_min ≤ λ_0 ≤ λ_max` always holds), the parcel's road reach and the
+//! footprint's aspect (width along the road over depth) and scale; for the
+//! village type's roads, the slope, curvature and re-use weights, the grade limit, the move mask's radius, the
+//! longest cycle road and the street length laid past a new building; for the scenario, the buildings asked for
+//! per real building (the generator loses some in narrow parcels) and the share of farms.
+
+use crate::village::encyclopedia::{Encyclopedia, FootprintSize, RoadParams, Shape, VillageType};
+use crate::{Error, Result};
+use std::collections::BTreeMap;
+
+/// What one coordinate sets.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) enum Knob {
+    /// An interest weight of a building type: 0 sociability, 2 accessibility, 3 slope, 6 domination (the
+    /// order of `InterestWeights::as_array`).
+    Weight(String, usize),
+    /// `λ_min` of the sociability shape (m).
+    SociabilityMin(String),
+    /// `λ_0 / λ_min` of the sociability shape.
+    SociabilityZero(String),
+    /// `λ_max / λ_0` of the sociability shape.
+    SociabilityMax(String),
+    /// `λ_min` of the accessibility shape (m).
+    AccessibilityMin(String),
+    /// `λ_0 / λ_min` of the accessibility shape.
+    AccessibilityZero(String),
+    /// `λ_max / λ_0` of the accessibility shape.
+    AccessibilityMax(String),
+    /// The parcel conquest's road reach (m).
+    RoadReach(String),
+    /// The footprint's width along the road over its depth (both sizes, smallest and largest, keep their area).
+    FootprintAspect(String),
+    /// The footprint's sides over the base's.
+    FootprintScale(String),
+    RoadSlopeWeight,
+    RoadCurvatureWeight,
+    RoadReuseWeight,
+    RoadMaxGrade,
+    RoadMaskRadius,
+    RoadCycleMaxLength,
+    RoadStreetLength,
+    /// Buildings asked of the generator per building of the real village.
+    CountFactor,
+    /// Share of the buildings asked for that are farms.
+    FarmShare,
+}
+
+/// A bounded parameter.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Dimension {
+    pub(crate) knob: Knob,
+    pub(crate) low: f64,
+    pub(crate) high: f64,
+    /// Read on a log scale (both bounds above 0).
+    pub(crate) log: bool,
+}
+
+impl Dimension {
+    fn new(knob: Knob, low: f64, high: f64, log: bool) -> Dimension {
+        Dimension {
+            knob,
+            low,
+            high,
+            log,
+        }
+    }
+
+    /// The value at unit coordinate `u` in `[0, 1]`.
+    pub(crate) fn value(&self, u: f64) -> f64 {
+        let u = u.clamp(0.0, 1.0);
+        if self.log {
+            (self.low.ln() + u * (self.high.ln() - self.low.ln())).exp()
+        } else {
+            self.low + u * (self.high - self.low)
+        }
+    }
+
+    /// The unit coordinate of `v`, clamped into the range.
+    pub(crate) fn unit(&self, v: f64) -> f64 {
+        let v = v.clamp(self.low, self.high);
+        let u = if self.log {
+            (v.ln() - self.low.ln()) / (self.high.ln() - self.low.ln())
+        } else {
+            (v - self.low) / (self.high - self.low)
+        };
+        if u.is_finite() {
+            u
+        } else {
+            0.5
+        }
+    }
+}
+
+/// An unbounded coordinate folded into `[0, 1]` by reflection at 0 and 1.
+pub(crate) fn fold(x: f64) -> f64 {
+    if !x.is_finite() {
+        return 0.5;
+    }
+    let t = x.rem_euclid(2.0);
+    if t > 1.0 {
+        2.0 - t
+    } else {
+        t
+    }
+}
+
+/// The learned village type and scenario counts a point of the space stands for.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Candidate {
+    pub(crate) village_type: VillageType,
+    pub(crate) count_factor: f64,
+    pub(crate) farm_share: f64,
+}
+
+/// The parameter space around a base village type.
+#[derive(Clone, Debug)]
+pub(crate) struct ParameterSpace {
+    pub(crate) dimensions: Vec<Dimension>,
+    base: VillageType,
+    roads: RoadParams,
+    /// The base's footprint sizes of the building types learned.
+    footprints: BTreeMap<String, FootprintSize>,
+    /// The count factor and farm share the search starts from.
+    start_counts: (f64, f64),
+}
+
+/// Building types learned when the base village type has them.
+pub(crate) const LEARNED_BUILDINGS: [&str; 2] = ["house", "farm"];
+
+impl ParameterSpace {
+    /// The space around `base_type` of `enc`, starting from its values and from `farm_share`.
+    pub(crate) fn new(
+        enc: &Encyclopedia,
+        base_type: &str,
+        farm_share: f64,
+    ) -> Result<ParameterSpace> {
+        let base = enc.village_types.get(base_type).ok_or_else(|| {
+            Error::invalid(
+                "base village type",
+                format!("'{base_type}' is not in the encyclopedia"),
+            )
+        })?;
+        let learned: Vec<String> = LEARNED_BUILDINGS
+            .iter()
+            .filter(|b| base.buildings.contains_key(**b))
+            .map(|b| b.to_string())
+            .collect();
+        if !learned.iter().any(|b| b == "house") {
+            return Err(Error::invalid(
+                "base village type",
+                format!("'{base_type}' builds no houses"),
+            ));
+        }
+        let mut dimensions = Vec::new();
+        let mut footprints = BTreeMap::new();
+        for b in &learned {
+            let kind = enc.buildings.get(b).ok_or_else(|| {
+                Error::invalid("base village type", format!("'{b}' is not a building type"))
+            })?;
+            footprints.insert(b.clone(), base.buildings[b].footprint_sizes(kind));
+            for criterion in [0, 2, 3, 6] {
+                dimensions.push(Dimension::new(
+                    Knob::Weight(b.clone(), criterion),
+                    0.0,
+                    1.0,
+                    false,
+                ));
+            }
+            dimensions.extend([
+                Dimension::new(Knob::SociabilityMin(b.clone()), 3.0, 60.0, true),
+                Dimension::new(Knob::SociabilityZero(b.clone()), 1.05, 4.0, true),
+                Dimension::new(Knob::SociabilityMax(b.clone()), 1.2, 8.0, true),
+                Dimension::new(Knob::AccessibilityMin(b.clone()), 2.0, 40.0, true),
+                Dimension::new(Knob::AccessibilityZero(b.clone()), 1.05, 4.0, true),
+                Dimension::new(Knob::AccessibilityMax(b.clone()), 1.2, 8.0, true),
+                Dimension::new(Knob::RoadReach(b.clone()), 4.0, 30.0, true),
+                Dimension::new(Knob::FootprintAspect(b.clone()), 0.4, 3.0, true),
+                Dimension::new(Knob::FootprintScale(b.clone()), 0.7, 1.6, true),
+            ]);
+        }
+        dimensions.extend([
+            Dimension::new(Knob::RoadSlopeWeight, 0.2, 20.0, true),
+            Dimension::new(Knob::RoadCurvatureWeight, 0.2, 20.0, true),
+            Dimension::new(Knob::RoadReuseWeight, 0.02, 0.6, true),
+            Dimension::new(Knob::RoadMaxGrade, 0.08, 0.35, false),
+            Dimension::new(Knob::RoadMaskRadius, 1.0, 4.0, false),
+            Dimension::new(Knob::RoadCycleMaxLength, 0.0, 500.0, false),
+            Dimension::new(Knob::RoadStreetLength, 0.0, 120.0, false),
+            Dimension::new(Knob::CountFactor, 0.8, 2.0, true),
+            Dimension::new(Knob::FarmShare, 0.0, 0.6, false),
+        ]);
+        Ok(ParameterSpace {
+            dimensions,
+            base: base.clone(),
+            roads: enc.road_params(base_type),
+            footprints,
+            start_counts: (1.0, farm_share),
+        })
+    }
+
+    /// The unit coordinates of the base village type (the search's start).
+    pub(crate) fn start(&self) -> Vec<f64> {
+        self.dimensions
+            .iter()
+            .map(|d| d.unit(self.read(&d.knob)))
+            .collect()
+    }
+
+    /// The base's value of a knob.
+    fn read(&self, knob: &Knob) -> f64 {
+        let p = |b: &String| &self.base.buildings[b];
+        let ratio = |a: f64, b: f64| if a > 0.0 { b / a } else { f64::INFINITY };
+        let r = &self.roads;
+        match knob {
+            Knob::Weight(b, c) => p(b).weights.as_array()[*c],
+            Knob::SociabilityMin(b) => p(b).sociability.min,
+            Knob::SociabilityZero(b) => ratio(p(b).sociability.min, p(b).sociability.zero),
+            Knob::SociabilityMax(b) => ratio(p(b).sociability.zero, p(b).sociability.max),
+            Knob::AccessibilityMin(b) => p(b).accessibility.min,
+            Knob::AccessibilityZero(b) => ratio(p(b).accessibility.min, p(b).accessibility.zero),
+            Knob::AccessibilityMax(b) => ratio(p(b).accessibility.zero, p(b).accessibility.max),
+            Knob::RoadReach(b) => p(b).parcel.road_reach,
+            Knob::FootprintAspect(b) => {
+                let max = self.footprints[b].max;
+                max[0] / max[1]
+            }
+            Knob::FootprintScale(_) => 1.0,
+            Knob::RoadSlopeWeight => r.slope_weight,
+            Knob::RoadCurvatureWeight => r.curvature_weight,
+            Knob::RoadReuseWeight => r.reuse_weight,
+            Knob::RoadMaxGrade => r.max_grade,
+            Knob::RoadMaskRadius => r.mask_radius as f64,
+            Knob::RoadCycleMaxLength => r.cycle_max_length,
+            Knob::RoadStreetLength => r.street_length,
+            Knob::CountFactor => self.start_counts.0,
+            Knob::FarmShare => self.start_counts.1,
+        }
+    }
+
+    /// The candidate at optimizer coordinates `x` (one per dimension, unbounded: folded into `[0, 1]`).
+    pub(crate) fn candidate(&self, x: &[f64]) -> Candidate {
+        let mut t = self.base.clone();
+        let (mut count_factor, mut farm_share) = self.start_counts;
+        // shapes are set from their three coordinates together, after the loop
+        let mut shapes: Vec<(String, bool, [f64; 3])> = Vec::new();
+        let mut shape = |b: &String, accessibility: bool, k: usize, v: f64| match shapes
+            .iter_mut()
+            .find(|s| s.0 == *b && s.1 == accessibility)
+        {
+            Some(s) => s.2[k] = v,
+            None => {
+                let placement = &self.base.buildings[b];
+                let s = if accessibility {
+                    placement.accessibility
+                } else {
+                    placement.sociability
+                };
+                let mut values = [s.min, s.zero / s.min.max(1e-9), s.max / s.zero.max(1e-9)];
+                values[k] = v;
+                shapes.push((b.clone(), accessibility, values));
+            }
+        };
+        // footprints are set from their aspect and scale together, after the loop
+        let mut sizes: BTreeMap<String, (Option<f64>, f64)> = BTreeMap::new();
+        let roads = &mut t.roads;
+        for (d, xi) in self.dimensions.iter().zip(x) {
+            let v = d.value(fold(*xi));
+            match &d.knob {
+                Knob::Weight(b, c) => {
+                    // the knobs name only building types the base has (`ParameterSpace::new`)
+                    if let Some(p) = t.buildings.get_mut(b) {
+                        let w = &mut p.weights;
+                        match c {
+                            0 => w.sociability = v,
+                            2 => w.accessibility = v,
+                            3 => w.slope = v,
+                            _ => w.domination = v,
+                        }
+                    }
+                }
+                Knob::SociabilityMin(b) => shape(b, false, 0, v),
+                Knob::SociabilityZero(b) => shape(b, false, 1, v),
+                Knob::SociabilityMax(b) => shape(b, false, 2, v),
+                Knob::AccessibilityMin(b) => shape(b, true, 0, v),
+                Knob::AccessibilityZero(b) => shape(b, true, 1, v),
+                Knob::AccessibilityMax(b) => shape(b, true, 2, v),
+                Knob::RoadReach(b) => {
+                    if let Some(p) = t.buildings.get_mut(b) {
+                        p.parcel.road_reach = v;
+                    }
+                }
+                Knob::FootprintAspect(b) => {
+                    sizes.entry(b.clone()).or_insert((None, 1.0)).0 = Some(v)
+                }
+                Knob::FootprintScale(b) => sizes.entry(b.clone()).or_insert((None, 1.0)).1 = v,
+                Knob::RoadSlopeWeight => roads.slope_weight = Some(v),
+                Knob::RoadCurvatureWeight => roads.curvature_weight = Some(v),
+                Knob::RoadReuseWeight => roads.reuse_weight = Some(v),
+                Knob::RoadMaxGrade => roads.max_grade = Some(v),
+                Knob::RoadMaskRadius => roads.mask_radius = Some(v.round() as u32),
+                Knob::RoadCycleMaxLength => roads.cycle_max_length = Some(v),
+                Knob::RoadStreetLength => roads.street_length = Some(v),
+                Knob::CountFactor => count_factor = v,
+                Knob::FarmShare => farm_share = v,
+            }
+        }
+        for (b, accessibility, [min, zero, max]) in shapes {
+            let s = Shape {
+                min,
+                zero: min * zero,
+                max: min * zero * max,
+            };
+            if let Some(p) = t.buildings.get_mut(&b) {
+                if accessibility {
+                    p.accessibility = s;
+                } else {
+                    p.sociability = s;
+                }
+            }
+        }
+        for (b, (aspect, scale)) in sizes {
+            let base = self.footprints[&b];
+            let turn = |side: [f64; 2]| {
+                let area = side[0] * side[1] * scale * scale;
+                let a = aspect.unwrap_or(side[0] / side[1]);
+                [(area * a).sqrt(), (area / a).sqrt()]
+            };
+            let (min, max) = (turn(base.min), turn(base.max));
+            // the smallest never above the largest, side by side
+            let min = [min[0].min(max[0]), min[1].min(max[1])];
+            if let Some(p) = t.buildings.get_mut(&b) {
+                p.footprint = Some(FootprintSize { min, max });
+            }
+        }
+        Candidate {
+            village_type: t,
+            count_factor,
+            farm_share,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const ENCYCLOPEDIA: &str = include_str!("../../../../../assets/villages/encyclopedia.json");
+
+    fn enc() -> Encyclopedia {
+        Encyclopedia::from_json(ENCYCLOPEDIA).expect("the shipped encyclopedia")
+    }
+
+    #[test]
+    fn the_start_is_the_base_type_and_every_point_is_a_valid_type() {
+        let enc = enc();
+        let space = ParameterSpace::new(&enc, "highland", 0.2).expect("highland");
+        assert_eq!(
+            space.footprints.keys().collect::<Vec<_>>(),
+            ["farm", "house"]
+        );
+        assert_eq!(space.dimensions.len(), 2 * 13 + 9);
+        let start = space.candidate(&space.start());
+        let base = &enc.village_types["highland"];
+        // the base's values inside the bounds come back (up to rounding through logarithms)
+        let (h, b) = (
+            &start.village_type.buildings["house"],
+            &base.buildings["house"],
+        );
+        assert!((h.sociability.min - b.sociability.min).abs() < 1e-9);
+        assert!((h.sociability.max - b.sociability.max).abs() < 1e-9);
+        assert!((h.accessibility.zero - b.accessibility.zero).abs() < 1e-9);
+        assert!((h.weights.domination - b.weights.domination).abs() < 1e-12);
+        assert_eq!(start.village_type.roads.mask_radius, Some(2));
+        assert!((start.farm_share - 0.2).abs() < 1e-12);
+        // far-off coordinates fold into the bounds and give a type the encyclopedia accepts
+        for k in 0..20 {
+            let x: Vec<f64> = (0..space.dimensions.len())
+                .map(|i| ((i * 7 + k * 13) % 17) as f64 * 1.9 - 15.0)
+                .collect();
+            let c = space.candidate(&x);
+            let mut e = enc.clone();
+            e.village_types
+                .insert("learned".into(), c.village_type.clone());
+            e.validate()
+                .expect("a folded point is a valid village type");
+            let h = &c.village_type.buildings["house"];
+            assert!(
+                h.sociability.min <= h.sociability.zero && h.sociability.zero <= h.sociability.max
+            );
+            assert!((0.8..=2.0).contains(&c.count_factor) && (0.0..=0.6).contains(&c.farm_share));
+            let radius = c.village_type.roads.mask_radius.unwrap_or(0);
+            assert!((1..=4).contains(&radius));
+        }
+    }
+
+    #[test]
+    fn log_dimensions_are_even_in_ratio_and_folding_reflects() {
+        let d = Dimension::new(Knob::CountFactor, 1.0, 100.0, true);
+        assert!((d.value(0.5) - 10.0).abs() < 1e-9);
+        assert!((d.unit(10.0) - 0.5).abs() < 1e-12);
+        assert_eq!(d.unit(1e6), 1.0);
+        assert!((fold(1.25) - 0.75).abs() < 1e-12);
+        assert!((fold(-0.25) - 0.25).abs() < 1e-12);
+        assert!((fold(2.25) - 0.25).abs() < 1e-12);
+        assert_eq!(fold(f64::NAN), 0.5);
+    }
+
+    #[test]
+    fn an_unknown_or_houseless_base_is_refused() {
+        let enc = enc();
+        assert!(ParameterSpace::new(&enc, "no such type", 0.2).is_err());
+    }
+}
