@@ -452,3 +452,35 @@ def keep_frame(collection, place):
     sources += [name for name in (os.path.basename(f) for f in files if f) if name not in sources]
     collection["wp_sources"] = json.dumps(sources)
     collection["wp_report"] = json.dumps(place.report)
+
+
+# --- a real village of the place, as Learn Village reads it -------------------------------------------------------
+
+# the ways a village's houses are served by (paths and footways are not)
+SERVING_ROADS = tuple(category for key, (category, _) in ROAD_CATEGORIES.items() if key != "path")
+
+
+def real_village(scene, region):
+    """(centres (N, 2), long-axis orientations (N,), roads [(M, 2)]) of the place's buildings whose centre lies in
+    ``region`` and of its serving roads (every road class but paths; the engine clips them to the region)."""
+    clouds = instances.point_cloud_objects(scene)
+    centres, turns = [np.zeros((0, 2))], [np.zeros(0)]
+    for category in sorted(set(BUILDING_CATEGORIES.values())):
+        obj = clouds.get(category)
+        if obj is None:
+            continue
+        co, rotation, _, _ = instances.point_cloud_arrays(obj)
+        inside = engine.region_contains(region, np.ascontiguousarray(co[:, :2]))
+        centres.append(co[inside, :2])
+        turns.append(rotation[inside])
+    roads = []
+    structures = curves.structure_objects(scene)
+    for category in SERVING_ROADS:
+        obj = structures.get(category)
+        if obj is None:
+            continue
+        for spline in obj.data.splines:
+            co = geometry.spline_control_points(obj, spline)
+            if len(co) >= 2:
+                roads.append(np.ascontiguousarray(co[:, :2]))
+    return np.concatenate(centres), np.concatenate(turns), roads

@@ -47,6 +47,7 @@ HOUSE_MATERIALS = (  # (slot name, colour) in the engine's material order: 0 wal
     ("Foundation", (0.42, 0.40, 0.37, 1.0)),
 )
 ROAD_MATERIAL = ("Road", (0.35, 0.33, 0.30, 1.0))
+ENCYCLOPEDIA_TEXT = "WorldPaint Encyclopedia"  # the text a .blend keeps its learned village types in
 INTEREST_ATTRIBUTE = "WorldPaint Interest"
 INTEREST_VALUES = "wp_interest"
 # the colormap's stops (value, sRGB colour): negative blue, zero white, positive red to yellow
@@ -82,20 +83,47 @@ def load_encyclopedia(path=""):
         raise WorldPaintError(f"'{path}' is not a usable building encyclopedia: {exc}") from exc
 
 
+def scene_encyclopedia(settings, path=""):
+    """The encyclopedia a village of the scene grows with: the file ``path`` or the panel's file, else the one the
+    .blend holds (``settings.encyclopedia_text``, where Learn Village adds its types), else the shipped one."""
+    path = path or settings.encyclopedia_path
+    text = settings.encyclopedia_text
+    if path or text is None:
+        return load_encyclopedia(path)
+    try:
+        return engine.encyclopedia(text.as_string())
+    except engine.engine_error() as exc:
+        raise WorldPaintError(f"The encyclopedia text '{text.name}' is not a usable building encyclopedia: {exc}") \
+            from exc
+
+
+def keep_encyclopedia(settings, text, name=ENCYCLOPEDIA_TEXT):
+    """Writes an encyclopedia's JSON into the .blend (the panel's text, else a new one) and makes it the panel's."""
+    block = settings.encyclopedia_text or bpy.data.texts.new(name)
+    block.clear()
+    block.write(text)
+    settings.encyclopedia_text = block
+    return block
+
+
 _known_types = {}
 
 
-def known_types(path=""):
-    """(village types, building types) of an encyclopedia file for the panel's menus, read again only when the
-    file changes; the shipped encyclopedia's when the file is not usable."""
+def known_types(settings):
+    """(village types, building types) of the scene's encyclopedia for the panel's menus, read again only when the
+    file or the text changes; the shipped encyclopedia's when it is not usable."""
+    path = settings.encyclopedia_path
+    text = settings.encyclopedia_text
     try:
         absolute = files.absolute_path(path, "encyclopedia file") if path else ""
         key = (absolute, os.path.getmtime(absolute)) if absolute else ("", 0.0)
     except (OSError, WorldPaintError):
         key = ("", 0.0)
+    if not path and text is not None:
+        key = ("text", hash(text.as_string()))
     if key not in _known_types:
         try:
-            found = load_encyclopedia(key[0])
+            found = scene_encyclopedia(settings)
         except WorldPaintError:
             found = load_encyclopedia()
         _known_types[key] = (sorted(found.village_types), sorted(found.buildings))

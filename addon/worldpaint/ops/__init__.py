@@ -28,7 +28,9 @@ from .stretch import WORLDPAINT_OT_stretch_region
 from .terrain_edit import WORLDPAINT_OT_build_waterfall, WORLDPAINT_OT_embed_roads
 from .village import (
     WORLDPAINT_OT_add_village_event,
+    WORLDPAINT_OT_export_encyclopedia,
     WORLDPAINT_OT_generate_village,
+    WORLDPAINT_OT_learn_village,
     WORLDPAINT_OT_load_village_preset,
     WORLDPAINT_OT_move_village_event,
     WORLDPAINT_OT_remove_village_event,
@@ -60,6 +62,8 @@ _classes = (
     WORLDPAINT_OT_gradient,
     WORLDPAINT_OT_blur,
     WORLDPAINT_OT_generate_village,
+    WORLDPAINT_OT_learn_village,
+    WORLDPAINT_OT_export_encyclopedia,
     WORLDPAINT_OT_show_interest,
     WORLDPAINT_OT_embed_roads,
     WORLDPAINT_OT_build_waterfall,

@@ -46,6 +46,8 @@ class BackgroundOperator:
     """
 
     progress_text = "Working"
+    # a search that keeps its best result so far when stopped (Learn Village) applies it after Esc too
+    keeps_best_on_cancel = False
 
     time_limit: FloatProperty(name="Time Limit", default=0.0, min=0.0, unit='TIME_ABSOLUTE', options={'SKIP_SAVE'},
                               description="Stop after this many seconds, changing nothing (0: no limit); for scripts "
@@ -115,7 +117,8 @@ class BackgroundOperator:
         if self._worker.is_alive():
             return {'RUNNING_MODAL'}
         self._end(context)
-        if self._cancel:
+        kept = self.keeps_best_on_cancel and self._outcome is not None and self._outcome[0] == "ok"
+        if self._cancel and not kept:
             self.report({'INFO'}, f"{self.progress_text}: cancelled, nothing changed")
             return {'CANCELLED'}
         kind, value = self._outcome or ("error", RuntimeError("the computation stopped without a result"))

@@ -7,10 +7,12 @@ replaces the current village's objects (see ``bridge.village``), and is one undo
 nothing changes nothing and says why.
 """
 
+import json
+
 import bpy
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, StringProperty
 
-from ..bridge import WorldPaintError, engine, terrain, village
+from ..bridge import WorldPaintError, engine, files, place, terrain, village
 from ..props.village import CRITERIA, EVENT_KINDS
 from .background import BackgroundOperator
 from .common import ListMoveOperator, TerrainProperty, reports_errors, setting
@@ -48,7 +50,7 @@ class VillageInputs(TerrainProperty):
         heightfield = terrain.engine_terrain(context, terrain_obj)
         region = village.village_region(self.region_curve(context), heightfield)
         terrain.check_region_on_terrain(heightfield, region, "village")
-        encyclopedia = village.load_encyclopedia(self.encyclopedia_path or settings.encyclopedia_path)
+        encyclopedia = village.scene_encyclopedia(settings, self.encyclopedia_path)
         cell = self.cell if self.cell > 0.0 else settings.cell
         return terrain_obj, heightfield, region, encyclopedia, cell
 
@@ -110,6 +112,92 @@ class WORLDPAINT_OT_generate_village(BackgroundOperator, VillageInputs, bpy.type
         self.report({'INFO'}, info)
         for warning in warnings:
             self.report({'WARNING'}, warning)
+        return {'FINISHED'}
+
+
+class WORLDPAINT_OT_learn_village(BackgroundOperator, VillageInputs, bpy.types.Operator):
+    """Learn a village type from the real village of the place inside the region: a search grows villages on the
+    same terrain until they have its figures (Esc stops it and keeps the best type so far)"""
+
+    bl_idname = "worldpaint.learn_village"
+    bl_label = "Learn Village"
+    bl_options = {'REGISTER', 'UNDO'}
+    progress_text = "Learning village"
+    keeps_best_on_cancel = True
+
+    name: StringProperty(name="Name", description="Name of the learned village type (unset: the panel's)")
+    minutes: FloatProperty(name="Minutes", default=0.0, min=0.0, description="Longest search (0: the panel's)")
+    max_evaluations: IntProperty(name="Evaluations", default=200, min=1,
+                                 description="Most candidate village types the search grows")
+    seed: IntProperty(name="Seed", default=1, min=0, description="Random seed of the search")
+
+    def _prepare(self, context):
+        settings = context.scene.worldpaint.village
+        if settings.region is None and not self.region_object:
+            raise WorldPaintError("Learn Village: set the Village panel's region to a closed curve around the real "
+                                  "village to learn from")
+        _, heightfield, region, encyclopedia, cell = self.read_setting(context)
+        centres, orientations, roads = place.real_village(context.scene, region)
+        name = self.name or settings.learn_name or f"like {self.region_curve(context).name}"
+        if name in encyclopedia.village_types:
+            raise WorldPaintError(f"Learn Village: the encyclopedia already has a village type '{name}': give the "
+                                  "learned type another name")
+        if settings.learn_base_type not in encyclopedia.village_types:
+            raise WorldPaintError(f"Learn Village: '{settings.learn_base_type}' is not a village type of the "
+                                  f"encyclopedia (it has {', '.join(sorted(encyclopedia.village_types))})")
+        minutes = self.minutes if self.minutes > 0.0 else settings.learn_minutes
+        self._name = name
+        self._arguments = (heightfield, region, centres, orientations, roads)
+        self._call = dict(encyclopedia=encyclopedia.text, base_type=settings.learn_base_type, name=name,
+                          seed=self.seed, max_evaluations=self.max_evaluations, max_seconds=60.0 * minutes, cell=cell,
+                          parcel_cell=min(settings.parcel_cell, cell), **village.surroundings(settings))
+
+    def _compute(self, progress):
+        return engine.learn_village(*self._arguments, progress=progress, **self._call)
+
+    def _apply(self, context, result):
+        settings = context.scene.worldpaint.village
+        village.keep_encyclopedia(settings, result["encyclopedia"])
+        settings.encyclopedia_path = ""
+        village.fill_list(settings.events, json.loads(result["scenario"])["events"])
+        real = result["real"]
+        info = (f"'{self._name}' learned from {real['buildings']} buildings; figures "
+                f"{result['objective']:.2f} bands from the real ones (start {result['base_objective']:.2f}); "
+                f"{result['evaluations']} villages in {result['seconds']:.0f} s"
+                + ("; stopped early, best so far kept" if result["stopped_early"] else ""))
+        settings.learn_report = info
+        self.report({'INFO'}, info)
+        return {'FINISHED'}
+
+
+class WORLDPAINT_OT_export_encyclopedia(bpy.types.Operator):
+    """Write the building encyclopedia the .blend holds (with its learned village types) to a JSON file"""
+
+    bl_idname = "worldpaint.export_encyclopedia"
+    bl_label = "Export Encyclopedia"
+
+    filepath: StringProperty(subtype='FILE_PATH', options={'SKIP_SAVE'})
+    filter_glob: StringProperty(default="*.json", options={'HIDDEN'})
+
+    def invoke(self, context, _event):
+        if not self.filepath:
+            self.filepath = "encyclopedia.json"
+        context.window_manager.fileselect_add(self)
+        return {'RUNNING_MODAL'}
+
+    @reports_errors
+    def execute(self, context):
+        settings = context.scene.worldpaint.village
+        if settings.encyclopedia_text is None:
+            raise WorldPaintError("Export Encyclopedia: the .blend holds no encyclopedia (Learn Village makes one)")
+        text = settings.encyclopedia_text.as_string()
+        path = files.absolute_path(self.filepath, "encyclopedia file")
+        try:
+            with open(path, "w", encoding="utf-8") as f:
+                f.write(text)
+        except OSError as exc:
+            raise WorldPaintError(f"Cannot write the encyclopedia to '{self.filepath}': {exc}") from exc
+        self.report({'INFO'}, f"Encyclopedia written to {path}")
         return {'FINISHED'}
 
 

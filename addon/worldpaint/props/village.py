@@ -85,6 +85,22 @@ class WORLDPAINT_PG_village(bpy.types.PropertyGroup):
         name="Encyclopedia", subtype='FILE_PATH', options={'ANIMATABLE', 'PATH_SUPPORTS_BLEND_RELATIVE'},
         description="Building encyclopedia JSON file (empty: the one shipped with WorldPaint)",
     )
+    encyclopedia_text: PointerProperty(
+        name="Encyclopedia Text", type=bpy.types.Text,
+        description="Building encyclopedia kept in the .blend, used when no file is given (Learn Village adds the "
+        "village types it learns here)",
+    )
+    learn_name: StringProperty(
+        name="Name", default="", description="Name of the learned village type (empty: \"like\" and the region's name)"
+    )
+    learn_base_type: StringProperty(
+        name="Start From", default="highland", description="Village type of the encyclopedia the search starts from"
+    )
+    learn_minutes: FloatProperty(
+        name="Minutes", default=9.0, min=0.1, soft_max=30.0,
+        description="Longest time the search may take (Esc stops it earlier and keeps the best type so far)",
+    )
+    learn_report: StringProperty(name="Learn Report", description="How the last Learn Village went")
     seed: IntProperty(name="Seed", default=0, min=0, description="Random seed of the village")
     cell: FloatProperty(
         name="Grid Cell", default=2.0, min=0.25, soft_max=10.0, unit='LENGTH',

@@ -36,7 +36,7 @@ class WORLDPAINT_MT_village_add_event(bpy.types.Menu):
 
     def draw(self, context):
         layout = self.layout
-        village_types, buildings = village.known_types(context.scene.worldpaint.village.encyclopedia_path)
+        village_types, buildings = village.known_types(context.scene.worldpaint.village)
         layout.label(text="Change Village Type", icon='WORLD')
         for name in village_types:
             op = layout.operator("worldpaint.add_village_event", text=name)
@@ -119,6 +119,26 @@ class WORLDPAINT_PT_village_surroundings(VillageSubpanel, bpy.types.Panel):
         layout.prop(settings, "walls")
 
 
+class WORLDPAINT_PT_village_learn(VillageSubpanel, bpy.types.Panel):
+    bl_label = "Learn Village"
+    bl_options = {'DEFAULT_CLOSED'}
+
+    def draw(self, context):
+        layout = self.layout
+        settings = context.scene.worldpaint.village
+        layout.label(text="Region around a real village of the place", icon='INFO')
+        layout.prop(settings, "learn_name")
+        layout.prop(settings, "learn_base_type")
+        layout.prop(settings, "learn_minutes")
+        enlarged(layout.column(), invoke=True).operator("worldpaint.learn_village", icon='EXPERIMENTAL')
+        layout.prop(settings, "encyclopedia_text")
+        layout.operator("worldpaint.export_encyclopedia", icon='EXPORT')
+        if settings.learn_report:
+            box = layout.box()
+            for part in settings.learn_report.split("; "):
+                box.label(text=part)
+
+
 class WORLDPAINT_PT_village_interest(VillageSubpanel, bpy.types.Panel):
     bl_label = "Interest"
     bl_options = {'DEFAULT_CLOSED'}
@@ -140,5 +160,6 @@ classes = (
     WORLDPAINT_PT_village,
     WORLDPAINT_PT_village_scenario,
     WORLDPAINT_PT_village_surroundings,
+    WORLDPAINT_PT_village_learn,
     WORLDPAINT_PT_village_interest,
 )

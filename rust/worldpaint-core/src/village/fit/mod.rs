@@ -76,24 +76,30 @@ impl<'a> FitTarget<'a> {
         let (lo, hi) = site.region.bbox();
         let (tlo, thi) = site.terrain.bbox();
         if lo.x < tlo.x || lo.y < tlo.y || hi.x > thi.x || hi.y > thi.y {
-            return Err(Error::bad_region(format!(
+            return Err(Error::RegionOffTerrain {
+                reason: format!(
                 "the selected village reaches off the terrain (selection {:.0}..{:.0} x {:.0}..{:.0} m, terrain \
                  {:.0}..{:.0} x {:.0}..{:.0} m): select a village on the terrain",
                 lo.x, hi.x, lo.y, hi.y, tlo.x, thi.x, tlo.y, thi.y
-            )));
+            ),
+            });
         }
         let figures = village_figures(buildings, roads, &site.region);
         if figures.layout.houses < MIN_BUILDINGS {
-            return Err(Error::bad_region(format!(
-                "the selected village holds {} buildings: a village type is learned from at least {MIN_BUILDINGS}",
-                figures.layout.houses
-            )));
+            return Err(Error::EmptyExemplar {
+                reason: format!(
+                    "the selected village holds {} buildings: a village type is learned from at least \
+                     {MIN_BUILDINGS}",
+                    figures.layout.houses
+                ),
+            });
         }
         if figures.road_length <= 0.0 {
-            return Err(Error::bad_region(
-                "the selected village has no road: a village type is learned from buildings and the roads that \
-                 serve them",
-            ));
+            return Err(Error::EmptyExemplar {
+                reason: "the selected village has no road: a village type is learned from buildings and the roads \
+                         that serve them"
+                    .into(),
+            });
         }
         Ok(FitTarget {
             site,
@@ -103,6 +109,13 @@ impl<'a> FitTarget<'a> {
     }
 }
 
+/// The seeds a village of `buildings` is grown at: a small village's figures vary more from seed to seed and
+/// it grows faster, so it is grown at more (2 from 50 buildings, 4 below 25).
+pub(crate) fn seeds_for(buildings: usize) -> Vec<u64> {
+    let count = (100 / buildings.max(1)).clamp(2, 4);
+    (1..=count as u64).collect()
+}
+
 /// How a village type is learned.
 #[derive(Clone, Debug)]
 pub struct FitOptions {
@@ -110,7 +123,7 @@ pub struct FitOptions {
     pub base_type: String,
     /// The name of the learned type in the encyclopedia.
     pub name: String,
-    /// Seeds each candidate is grown at.
+    /// Seeds each candidate is grown at; empty: as many as [`seeds_for`] gives the village's size.
     pub seeds: Vec<u64>,
     /// Seed of the search.
     pub seed: u64,
@@ -133,7 +146,7 @@ impl Default for FitOptions {
         FitOptions {
             base_type: "highland".into(),
             name: "learned".into(),
-            seeds: vec![1, 2],
+            seeds: Vec::new(),
             seed: 1,
             max_evaluations: 200,
             max_seconds: 540.0,
@@ -267,9 +280,11 @@ pub fn fit_village_type(
     options: &FitOptions,
     progress: &(dyn Fn(&FitProgress) -> bool + Sync),
 ) -> Result<FittedVillage> {
-    if options.seeds.is_empty() {
-        return Err(Error::invalid("fit seeds", "at least one seed"));
-    }
+    let seeds = if options.seeds.is_empty() {
+        seeds_for(target.figures.layout.houses)
+    } else {
+        options.seeds.clone()
+    };
     if enc.village_types.contains_key(&options.name) {
         return Err(Error::invalid(
             "learned village type name",
@@ -320,8 +335,7 @@ pub fn fit_village_type(
         );
         let mut e = enc.clone();
         e.village_types.insert(options.name.clone(), c.village_type);
-        let grown: Vec<Option<VillageFigures>> = options
-            .seeds
+        let grown: Vec<Option<VillageFigures>> = seeds
             .par_iter()
             .map(|seed| {
                 grow_figures(
