@@ -15,7 +15,10 @@
 //!
 //! The search's budget is [`FIT_EVALUATIONS`] candidates (`WORLDPAINT_FIT_EVALUATIONS`), so the test learns the
 //! same types on a loaded machine as on an idle one; `WORLDPAINT_FIT_SECONDS` bounds it in time too (default
-//! [`FIT_SECONDS`], as Learn Village's default in Blender: the "one village in 10 minutes").
+//! [`FIT_SECONDS`], as Learn Village's default in Blender: the "one village in 10 minutes"), and
+//! `WORLDPAINT_FIT_VILLAGES` takes only the first villages. The full search on Encamp, timed:
+//! `WORLDPAINT_FIT_VILLAGES=1 WORLDPAINT_FIT_EVALUATIONS=100000 cargo test --release --test real_village_learning
+//! -- --ignored --nocapture`.
 
 mod common;
 

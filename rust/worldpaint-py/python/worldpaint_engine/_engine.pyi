@@ -64,6 +64,7 @@ __all__ = [
     "interpolate_colors",
     "learn_arrangement",
     "learn_color",
+    "learn_village",
     "move_region",
     "palette_from_json",
     "palette_to_json",
