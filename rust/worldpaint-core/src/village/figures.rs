@@ -158,8 +158,8 @@ fn orientation_to_road(buildings: &[SitedBuilding], roads: &[Road]) -> [f64; ORI
     counts.map(|c| if n > 0 { c as f64 / n as f64 } else { 0.0 })
 }
 
-/// The hairpins of a road: the stretches where its heading over the [`HAIRPIN_REACH`] metres ahead turns from
-/// its heading over the metres behind by more than [`HAIRPIN_DEGREES`], each stretch counted once. Measured on
+/// The hairpins of a road: the stretches where its heading over the 10 metres ahead turns from
+/// its heading over the metres behind by more than 120°, each stretch counted once. Measured on
 /// points a metre apart along the road, so that a hairpin counts alike whether one vertex or ten draw it.
 pub fn hairpins(road: &[DVec2]) -> usize {
     let mut points = Vec::new();
@@ -187,7 +187,7 @@ pub fn hairpins(road: &[DVec2]) -> usize {
     count
 }
 
-/// The network's dead ends, junctions and hairpins; nodes within [`BORDER_MARGIN`] of the region's border are
+/// The network's dead ends, junctions and hairpins; nodes within 10 m of the region's border are
 /// left out (the roads were clipped there).
 pub fn network_shape(region: &Region, roads: &[Road]) -> NetworkShape {
     let ends: Vec<DVec2> = roads

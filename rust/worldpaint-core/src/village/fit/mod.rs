@@ -37,7 +37,7 @@ pub const MIN_BUILDINGS: usize = 5;
 /// Crossings of the border closer than this (m) are one way into the village.
 const CROSSING_MERGE: f64 = 60.0;
 
-/// Where `roads` cross the border of `region`: a real village's ways in, each crossing within [`CROSSING_MERGE`]
+/// Where `roads` cross the border of `region`: a real village's ways in, each crossing within 60 m
 /// of one already found merged into it.
 pub fn border_crossings(region: &Region, roads: &[Road]) -> Vec<DVec2> {
     let mut out: Vec<DVec2> = Vec::new();
@@ -123,7 +123,7 @@ pub struct FitOptions {
     pub base_type: String,
     /// The name of the learned type in the encyclopedia.
     pub name: String,
-    /// Seeds each candidate is grown at; empty: as many as [`seeds_for`] gives the village's size.
+    /// Seeds each candidate is grown at; empty: 2 from 50 buildings, up to 4 below 25 (a small village varies more).
     pub seeds: Vec<u64>,
     /// Seed of the search.
     pub seed: u64,

@@ -113,7 +113,7 @@ pub(crate) fn village_error(real: &VillageFigures, grown: &VillageFigures) -> f6
 }
 
 /// The objective of villages grown at several seeds: the mean of their errors; `None` (a seed that grew
-/// nothing) counts as [`FAILED`].
+/// nothing) counts as the worst village (1000).
 pub fn objective(real: &VillageFigures, grown: &[Option<VillageFigures>]) -> f64 {
     if grown.is_empty() {
         return FAILED;
