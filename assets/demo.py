@@ -36,7 +36,11 @@ alone, on a meadow of its own (a quick look at it without the rest of the demo).
 project), and renders the village of Neudrossenfeld from above at an angle: OUT/demo_place.png; then learns a color
 over the village and pastes it over gentle hills far from the place: OUT/demo_place_learned.png shows both side by
 side.
-Usage: python assets/demo.py [--out out] [--samples 16] [--percent 100] [--only variants|place]
+
+``--only village`` imports Andorra the same way, learns a village type from Encamp with Learn Village and grows a
+village like it on steep hills far from the place: OUT/demo_village_like.png shows the real village and the grown one
+side by side.
+Usage: python assets/demo.py [--out out] [--samples 16] [--percent 100] [--only variants|place|village]
 """
 
 import argparse
@@ -477,12 +481,17 @@ LEARNED_SIDE = 800.0  # the square around the village that Learn Color reads
 ELSEWHERE = (80000.0, 0.0)
 ELSEWHERE_SIZE = 1200.0
 ELSEWHERE_RELIEF = 0.2
+LIKE_PLACE = "andorra"  # Learn Village's picture: a village of this place, and one grown like it
+LIKE_VILLAGE = "Encamp"
+LIKE_SIDE = 1000.0  # the square around the village that Learn Village reads
+LIKE_EVALUATIONS = 57  # the search: the start and four generations
+LIKE_RELIEF = 1.0  # the other hills: the demo's exemplar terrain this much steeper
 
 
-def place_files():
-    """(map layers, elevation model) of the demo's real place; the demo stops saying where it looked when absent."""
-    layers = [REAL_DATA / "villages" / f"{PLACE}_{name}.geojson" for name in ("buildings", "roads", "areas", "places")]
-    dem = REAL_DATA / "terrain" / f"{PLACE}_srtm3.asc"
+def place_files(stem=PLACE):
+    """(map layers, elevation model) of a real place; the demo stops saying where it looked when absent."""
+    layers = [REAL_DATA / "villages" / f"{stem}_{name}.geojson" for name in ("buildings", "roads", "areas", "places")]
+    dem = REAL_DATA / "terrain" / f"{stem}_srtm3.asc"
     missing = [str(f) for f in [*layers, dem] if not f.is_file()]
     if missing:
         sys.exit(f"the real place's files are not there: {', '.join(missing)}")
@@ -607,6 +616,55 @@ def side_by_side(left, right, path):
     bpy.data.images.remove(both)
 
 
+def village_like_picture(out, samples, percent=100):
+    """Learn Village on Encamp (Andorra, imported), then a village grown like it on steep hills far from the place:
+    OUT/demo_village_like.png shows the real village (left) and the grown one (right), seen alike. Returns the report
+    line."""
+    layers, dem = place_files(LIKE_PLACE)
+    run(bpy.ops.worldpaint.import_place, layers=";".join(map(str, layers)), elevation=str(dem))
+    scene = bpy.context.scene
+    settings = scene.worldpaint.village
+    named = engine.import_place([str(layers[-1])], origin=place.place_origin(scene)).places
+    x, y = named.position[named.name.index(LIKE_VILLAGE)]
+    terrain = scene.worldpaint.terrain
+    settings.region = square_curve(LIKE_VILLAGE, (x, y), LIKE_SIDE)
+    start = time.perf_counter()
+    run(bpy.ops.worldpaint.learn_village, minutes=9.0, max_evaluations=LIKE_EVALUATIONS)
+    print(f"village: {settings.learn_report} ({time.perf_counter() - start:.0f} s)")
+    grid = engine.exemplar_demo_terrain(ELSEWHERE_SIZE, 4.0, 11).grid()
+    hills = grid_terrain("Elsewhere", ELSEWHERE, grid["cell"], LIKE_RELIEF * np.asarray(grid["heights"]))
+    scene.worldpaint.terrain = hills
+    centre = (ELSEWHERE[0] + ELSEWHERE_SIZE / 2, ELSEWHERE[1] + ELSEWHERE_SIZE / 2)
+    settings.region = square_curve("Elsewhere village", centre, LIKE_SIDE)
+    run(bpy.ops.worldpaint.generate_village, seed=101)
+    print(f"village: grown like {LIKE_VILLAGE} on other hills: {settings.report}")
+    dress_place(scene, terrain)
+    showcase.smooth(hills)
+    showcase.backdrop("Land around the hills", *grid_of(hills), relief=0.3)
+    showcase.cycles(scene, samples)
+    showcase.sky(scene)
+    showcase.sun(scene)
+    size = (1152, 648)
+    w, h = size[0] * percent // 100, size[1] * percent // 100
+    seconds = 0.0
+    for name, (cx, cy), ground_obj in (("demo_village_real", (x, y), terrain),
+                                       ("demo_village_grown", centre, hills)):
+        z = float(engine.terrain_from_grid(*grid_of(ground_obj)).heights_at(np.array([[cx, cy]]))[0])
+        # from the south-east and high up, so the valley's sides do not hide the village
+        cam = showcase.camera(f"Camera {name}", (cx + 350.0, cy - 520.0, z + 800.0), (cx, cy, z), 32.0)
+        cam.data.clip_end = 40000.0
+        seconds += showcase.render(scene, cam, out / f"{name}.png", (w, h))
+    side_by_side(out / "demo_village_real.png", out / "demo_village_grown.png", out / "demo_village_like.png")
+    return [("demo_village_like", seconds, (2 * size[0], size[1]))]
+
+
+def square_curve(name, centre, side):
+    """A closed square curve of ``side`` metres around ``centre`` (a village's region)."""
+    h = side / 2
+    return poly_curve(name, [(centre[0] + dx, centre[1] + dy) for dx, dy in ((-h, -h), (h, -h), (h, h), (-h, h))],
+                      cyclic=True)
+
+
 def grid_of(terrain):
     """(origin, cell, heights (ny, nx)) of a grid terrain mesh."""
     co = np.empty(len(terrain.data.vertices) * 3)
@@ -621,7 +679,7 @@ def main():
     parser.add_argument("--out", default="out", help="output folder")
     parser.add_argument("--samples", type=int, default=16, help="Cycles samples per pixel (denoised)")
     parser.add_argument("--percent", type=int, default=100, help="resolution of the pictures, in percent")
-    parser.add_argument("--only", choices=["variants", "place"], help="make and render only this picture")
+    parser.add_argument("--only", choices=["variants", "place", "village"], help="make and render only this picture")
     args = parser.parse_args(sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else sys.argv[1:])
     out = pathlib.Path(args.out).resolve()
     out.mkdir(parents=True, exist_ok=True)
@@ -637,9 +695,10 @@ def main():
         name, seconds, (w, h) = render_variants(out, birches, meadow, args.percent)
         print(f"  {name}.png  {w * args.percent // 100} x {h * args.percent // 100}  {seconds:5.1f} s")
         return
-    if args.only == "place":
-        report = place_picture(out, args.samples, args.percent)
-        bpy.ops.wm.save_as_mainfile(filepath=str(out / "demo_place.blend"))
+    if args.only in ("place", "village"):
+        picture = place_picture if args.only == "place" else village_like_picture
+        report = picture(out, args.samples, args.percent)
+        bpy.ops.wm.save_as_mainfile(filepath=str(out / f"demo_{args.only}.blend"))
         for name, seconds, (w, h) in report:
             print(f"  {name}.png  {w * args.percent // 100} x {h * args.percent // 100}  {seconds:5.1f} s")
         return
