@@ -71,7 +71,7 @@ test-rust:
 	cargo test -p worldpaint-core --release
 	@if [ -d $(REAL_DATA) ]; then \
 		cargo test -p worldpaint-core --release --test real_forest_painting --test real_village_painting \
-			--test real_village_generation -- --ignored \
+			--test real_village_generation --test real_village_learning -- --ignored \
 		&& cargo test -p worldpaint-core --release --test village_parcels -- --ignored real_cadastre; \
 	else echo "real-data tests skipped: $(REAL_DATA) is absent (listed as ignored above)"; fi
 

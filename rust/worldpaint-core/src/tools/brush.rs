@@ -348,11 +348,13 @@ impl BrushStroke {
 /// Sides of the half-discs that end the eraser's capsule.
 const CAPSULE_ARC_SIDES: usize = 12;
 
-/// The region within `r` of the segment `a`–`b` (a disc when they coincide), as a polygon whose sides stay
-/// within 2 % of `r` of the true outline.
+/// The region within `r` of the segment `a`–`b` (a disc when they coincide), as a polygon around it whose sides
+/// stay within 1 % of `r` outside the true outline.
 fn capsule(a: DVec2, b: DVec2, r: f64) -> Region {
     let along = (b - a).try_normalize().unwrap_or(DVec2::X);
     let normal = along.perp();
+    // the arcs' vertices lie out of the disc so that their chords touch it: all within `r` of the segment is cut
+    let r = r / (std::f64::consts::PI / (2 * CAPSULE_ARC_SIDES) as f64).cos();
     let mut points = Vec::with_capacity(2 * CAPSULE_ARC_SIDES + 2);
     for (centre, start) in [(b, -normal), (a, normal)] {
         for k in 0..=CAPSULE_ARC_SIDES {
