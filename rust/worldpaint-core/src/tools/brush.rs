@@ -348,17 +348,19 @@ impl BrushStroke {
 /// Sides of the half-discs that end the eraser's capsule.
 const CAPSULE_ARC_SIDES: usize = 12;
 
-/// The region within `r` of the segment `a`–`b` (a disc when they coincide), as a polygon around it whose sides
-/// stay within 1 % of `r` outside the true outline.
+/// The region within `r` of the segment `a`–`b` (a disc when they coincide), as a polygon around it: its straight
+/// sides on the outline, its arcs' corners within 1 % of `r` outside it.
 fn capsule(a: DVec2, b: DVec2, r: f64) -> Region {
     let along = (b - a).try_normalize().unwrap_or(DVec2::X);
     let normal = along.perp();
-    // the arcs' vertices lie out of the disc so that their chords touch it: all within `r` of the segment is cut
-    let r = r / (std::f64::consts::PI / (2 * CAPSULE_ARC_SIDES) as f64).cos();
-    let mut points = Vec::with_capacity(2 * CAPSULE_ARC_SIDES + 2);
+    // each half-disc circumscribed: its sides touch the circle (the first and last along the straight sides, at
+    // `r`), so all within `r` of the segment is inside
+    let step = std::f64::consts::PI / CAPSULE_ARC_SIDES as f64;
+    let r = r / (0.5 * step).cos();
+    let mut points = Vec::with_capacity(2 * CAPSULE_ARC_SIDES);
     for (centre, start) in [(b, -normal), (a, normal)] {
-        for k in 0..=CAPSULE_ARC_SIDES {
-            let t = std::f64::consts::PI * k as f64 / CAPSULE_ARC_SIDES as f64;
+        for k in 0..CAPSULE_ARC_SIDES {
+            let t = step * (k as f64 + 0.5);
             // half a turn from `start`, counter-clockwise through the segment's outward direction
             let dir = start * t.cos() + start.perp() * t.sin();
             points.push(centre + dir * r);
