@@ -320,19 +320,23 @@ pub fn fit_village_type(
         !stop.load(Ordering::Relaxed) && started.elapsed().as_secs_f64() <= options.max_seconds
     };
     let buildings = target.figures.layout.houses;
-    // the first engine error met (not a cancellation): the fit reports it rather than learning around it
-    let failure: Mutex<Option<Error>> = Mutex::new(None);
-    // a candidate's objective: its seeds grown in parallel, gathered in order
-    let evaluate = |x: &[f64]| -> f64 {
-        let c = space.candidate(x);
-        let scenario = scenario_for(
+    // the scenario growing the real count of buildings with a candidate
+    let scenario_of = |c: &space::Candidate| {
+        scenario_for(
             enc,
             &options.name,
             &c.village_type,
             buildings,
             c.count_factor,
             c.farm_share,
-        );
+        )
+    };
+    // the first engine error met (not a cancellation): the fit reports it rather than learning around it
+    let failure: Mutex<Option<Error>> = Mutex::new(None);
+    // a candidate's objective: its seeds grown in parallel, gathered in order
+    let evaluate = |x: &[f64]| -> f64 {
+        let c = space.candidate(x);
+        let scenario = scenario_of(&c);
         let mut e = enc.clone();
         e.village_types.insert(options.name.clone(), c.village_type);
         let grown: Vec<Option<VillageFigures>> = seeds
@@ -410,14 +414,7 @@ pub fn fit_village_type(
         }
     }
     let c = space.candidate(&best.1);
-    let scenario = scenario_for(
-        enc,
-        &options.name,
-        &c.village_type,
-        buildings,
-        c.count_factor,
-        c.farm_share,
-    );
+    let scenario = scenario_of(&c);
     let mut encyclopedia = enc.clone();
     let mut village_type = c.village_type;
     village_type.description = format!(
