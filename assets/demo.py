@@ -79,7 +79,7 @@ from scene_kit import (  # noqa: E402
     village_exemplar,
     vineyard_reference,
 )
-from worldpaint.bridge import engine, place, points, variety  # noqa: E402
+from worldpaint.bridge import engine, engine_place, place, points, variety  # noqa: E402
 from worldpaint.bridge.curves import structure_objects  # noqa: E402
 from worldpaint.bridge.instances import point_cloud_objects  # noqa: E402
 from worldpaint.bridge.sketch import sketch_collection  # noqa: E402
@@ -539,7 +539,7 @@ def place_picture(out, samples, percent=100):
     run(bpy.ops.worldpaint.import_place, layers=";".join(map(str, layers)), elevation=str(dem))
     print(f"place: imported {', '.join(p.name for p in layers)} and {dem.name} in {time.perf_counter() - start:.1f} s")
     scene = bpy.context.scene
-    named = engine.import_place([str(layers[-1])], origin=place.place_origin(scene)).places
+    named = engine_place.import_place([str(layers[-1])], origin=place.place_origin(scene)).places
     x, y = named.position[named.name.index(PLACE_VILLAGE)]
     ground = float(engine.terrain_from_grid(*grid_of(scene.worldpaint.terrain)).heights_at(np.array([[x, y]]))[0])
     terrain = scene.worldpaint.terrain
@@ -624,7 +624,7 @@ def village_like_picture(out, samples, percent=100):
     run(bpy.ops.worldpaint.import_place, layers=";".join(map(str, layers)), elevation=str(dem))
     scene = bpy.context.scene
     settings = scene.worldpaint.village
-    named = engine.import_place([str(layers[-1])], origin=place.place_origin(scene)).places
+    named = engine_place.import_place([str(layers[-1])], origin=place.place_origin(scene)).places
     x, y = named.position[named.name.index(LIKE_VILLAGE)]
     terrain = scene.worldpaint.terrain
     settings.region = square_curve(LIKE_VILLAGE, (x, y), LIKE_SIDE)

@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 from scene_kit import flat_terrain, poly_curve
 from test_place_import import operator_import, real_files
-from worldpaint.bridge import engine, place, terrain, village
+from worldpaint.bridge import engine, engine_place, place, terrain, village
 from worldpaint_engine import _engine
 
 SIDE = 1000.0  # the region around the village: a square this wide (m), as the engine's real-village tests take
@@ -27,7 +27,7 @@ def encamp():
     layers, dem = real_files("andorra")
     operator_import(layers, dem)
     scene = bpy.context.scene
-    named = engine.import_place([str(layers[3])], origin=place.place_origin(scene)).places
+    named = engine_place.import_place([str(layers[3])], origin=place.place_origin(scene)).places
     centre = named.position[named.name.index("Encamp")]
     half = 0.5 * SIDE
     corners = [(centre[0] + x, centre[1] + y) for x, y in ((-half, -half), (half, -half), (half, half), (-half, half))]
@@ -53,6 +53,9 @@ def test_learn_village_adds_a_type_like_encamp_that_grows_on_the_first_click(tmp
     real = int(settings.learn_report.split(" learned from ")[1].split()[0])
     assert real >= 50 and 0.8 * real <= asked <= 2.0 * real
     assert "bands from the real ones" in settings.learn_report
+    # started from the shipped type whose villages come nearest Encamp's
+    start = settings.learn_report.split("starting from '")[1].split("'")[0]
+    assert start in json.loads(_engine.default_encyclopedia())["village_types"]
 
     assert bpy.ops.worldpaint.generate_village() == {'FINISHED'}
     houses = village.village_houses(settings.collection)
@@ -82,7 +85,7 @@ def test_a_search_stopped_early_keeps_its_best_type():
         return len(calls) < 3
 
     result = engine.learn_village(heightfield, area, centres, orientations, roads, name="stopped",
-                                  max_seconds=300.0, progress=stop_soon)
+                                  base_type="highland", max_seconds=300.0, progress=stop_soon)
     assert result["stopped_early"]
     assert "stopped" in engine.encyclopedia(result["encyclopedia"]).village_types
     assert result["evaluations"] < 200

@@ -24,7 +24,7 @@ import numpy as np
 import pytest
 from scene_kit import select_only
 from test_engine_stub import check
-from worldpaint.bridge import curves, engine, place, snap
+from worldpaint.bridge import curves, engine, engine_place, place, snap
 from worldpaint.bridge.geometry import spline_control_points
 from worldpaint.bridge.instances import point_cloud_arrays, point_cloud_objects, point_cloud_stretch
 from worldpaint.builtin.prototypes import BUILDING_SHAPES
@@ -50,7 +50,7 @@ def source_count(path, key):
 def test_andorra_comes_in_with_every_building_road_and_place():
     layers, dem = real_files("andorra")
     stages = []
-    place = engine.import_place([str(p) for p in layers], str(dem), progress=lambda f, stage: stages.append(stage)
+    place = engine_place.import_place([str(p) for p in layers], str(dem), progress=lambda f, stage: stages.append(stage)
                                 or True)
     assert "reading map layers" in stages and "resampling the terrain" in stages
     assert len(place.buildings.type) == source_count(layers[0], "building") == 292
@@ -94,8 +94,8 @@ def haversine(a, b):
 
 def test_a_second_import_with_the_first_origin_lines_up():
     layers, _ = real_files("andorra")
-    first = engine.import_place([layers[0], layers[1]])
-    roads = engine.import_place([layers[1]], origin=first.origin)
+    first = engine_place.import_place([layers[0], layers[1]])
+    roads = engine_place.import_place([layers[1]], origin=first.origin)
     assert roads.origin == first.origin
     for a, b in zip(first.roads.points, roads.roads.points, strict=True):
         np.testing.assert_array_equal(a, b)
@@ -152,20 +152,20 @@ def test_the_result_dicts_carry_the_keys_and_dtypes_the_stub_declares(tmp_path):
 def test_bad_files_raise_the_engines_errors_with_what_is_wrong(tmp_path):
     layer, dem, _ = small_place(tmp_path)
     with pytest.raises(engine.FileFormatError, match="not GeoJSON"):
-        engine.import_place([write(tmp_path / "text.geojson", "hello")])
+        engine_place.import_place([write(tmp_path / "text.geojson", "hello")])
     with pytest.raises(engine.FileFormatError, match="an empty layer"):
-        engine.import_place([write(tmp_path / "empty.geojson", '{"type": "FeatureCollection", "features": []}')])
+        engine_place.import_place([write(tmp_path / "empty.geojson", '{"type": "FeatureCollection", "features": []}')])
     utm = '{"type": "FeatureCollection", "crs": {"type": "name", "properties": {"name": "EPSG:32632"}}, "features": []}'
     with pytest.raises(engine.FileFormatError, match="a CRS it cannot place"):
-        engine.import_place([write(tmp_path / "utm.geojson", utm)])
+        engine_place.import_place([write(tmp_path / "utm.geojson", utm)])
     rows = "\n".join(" ".join("-32768" if (r + c) % 5 == 0 else "400" for c in range(100)) for r in range(100))
     holes = write(tmp_path / "holes.asc", "ncols 100\nnrows 100\nxllcorner 11\nyllcorner 49\ncellsize 0.001\n"
                                           "NODATA_value -32768\n" + rows + "\n")
     with pytest.raises(engine.InputError, match=r"no data in 20\.\d % of its samples under the place"):
-        engine.import_place([layer], holes)
+        engine_place.import_place([layer], holes)
     with pytest.raises(TypeError):
         _engine.import_place(layer)  # the engine takes a list of paths, not one path's characters
-    assert engine.import_place(layer).roads.kind == engine.import_place([layer]).roads.kind == ("track",)
+    assert engine_place.import_place(layer).roads.kind == engine_place.import_place([layer]).roads.kind == ("track",)
 
 
 # --- through the operator -------------------------------------------------------------------------------------------
@@ -210,7 +210,7 @@ def test_a_real_place_comes_in_through_the_operator_as_terrain_buildings_and_roa
     layers, dem = real_files(stem)
     seconds = operator_import(layers, dem)
     scene = bpy.context.scene
-    source = engine.import_place([str(p) for p in layers], str(dem))  # the same files: the same frame
+    source = engine_place.import_place([str(p) for p in layers], str(dem))  # the same files: the same frame
     b = source.buildings
     n_buildings = source_count(layers[0], "building")
     clouds = building_clouds(scene)
@@ -299,8 +299,8 @@ def test_a_second_import_lines_up_with_the_place_also_after_save_and_reload(tmp_
     operator_import([areas, buildings])
     assert place.place_origin(scene) == origin
     clouds = point_cloud_objects(scene)
-    again = engine.import_place([areas, buildings], origin=origin)
-    alone = engine.import_place([areas, buildings])
+    again = engine_place.import_place([areas, buildings], origin=origin)
+    alone = engine_place.import_place([areas, buildings])
     shift = np.linalg.norm(np.subtract(alone.buildings.centroid, again.buildings.centroid), axis=1).min()
     print(f"the second import's own centre lies {shift:.0f} m from the place's frame; the place's is used")
     assert shift > 100.0, "without the place's origin the buildings would not line up"
@@ -326,7 +326,7 @@ def test_the_luquillo_inventory_brings_its_trees_by_species():
         pytest.skip(f"{inventory} not found (the real data lives beside the project, in shared/data/real)")
     seconds = operator_import(inventory=inventory)
     scene = bpy.context.scene
-    trees = engine.import_place([], None, str(inventory)).trees
+    trees = engine_place.import_place([], None, str(inventory)).trees
     clouds = point_cloud_objects(scene)
     counts = {c: len(o.data.vertices) for c, o in clouds.items()}
     print(f"Luquillo: {sum(counts.values())} trees in {len(counts)} categories in {seconds:.1f} s: {counts}")
@@ -415,7 +415,7 @@ def test_learn_color_learns_a_bayreuth_village_from_the_imported_place():
     layers, dem = real_files("north_bayreuth")
     operator_import(layers, dem)
     scene = bpy.context.scene
-    villages = engine.import_place([str(layers[3])], origin=place.place_origin(scene)).places
+    villages = engine_place.import_place([str(layers[3])], origin=place.place_origin(scene)).places
     centre = villages.position[villages.name.index("Neudrossenfeld")]
     low, high = centre - 400.0, centre + 400.0
     clouds = building_clouds(scene)
@@ -446,7 +446,7 @@ def test_a_building_cloud_keeps_its_footprints_through_an_edit():
     assert not np.allclose(stretch, 1.0)
     co = point_cloud_arrays(cloud)[0]
     # Convert to Objects makes each church its footprint's length by width
-    sizes = engine.import_place([str(layers[0])], str(dem)).buildings
+    sizes = engine_place.import_place([str(layers[0])], str(dem)).buildings
     assert bpy.ops.worldpaint.convert_to_objects(category="Church") == {'FINISHED'}
     made = [o for o in bpy.context.scene.objects if o.name.startswith("Church.")]
     assert len(made) == Counter(sizes.type)["church"] == 5

@@ -1,4 +1,4 @@
-"""A real place, as the engine imports it (``engine.import_place``), built as a scene the tools understand.
+"""A real place, as the engine imports it (``engine_place.import_place``), built as a scene the tools understand.
 
 Under the scene's WorldPaint collection, the collection "Place" (found by its tag, whatever its name) holds:
 
@@ -152,7 +152,7 @@ class Plan:
 
 
 def plan(place, tree_species):
-    """The categories of an imported place (``engine.ImportedPlace``)."""
+    """The categories of an imported place (``engine_place.ImportedPlace``)."""
     out = Plan(
         buildings=[BUILDING_CATEGORIES.get(kind, "Building") for kind in place.buildings.type],
         roads=[ROAD_CATEGORIES.get(kind, ROAD_CATEGORIES["other"])[0] for kind in place.roads.kind],
@@ -215,8 +215,8 @@ class Built:
 
 
 def build_place(scene, place, plan_, ground_obj=None, heightfield=None):
-    """Builds an imported place (``engine.ImportedPlace``, its categories ``plan_``) into the scene's place. Without
-    a terrain of its own, it stands on ``ground_obj`` (the scene's terrain, None: none), whose engine Terrain
+    """Builds an imported place (``engine_place.ImportedPlace``, its categories ``plan_``) into the scene's place.
+    Without a terrain of its own, it stands on ``ground_obj`` (the scene's terrain, None: none), whose engine Terrain
     ``heightfield`` drapes what the engine could not. Everything is validated before: this only builds."""
     collection = place_collection(scene)
     built = Built(categories=plan_.categories)
@@ -250,7 +250,7 @@ def build_place(scene, place, plan_, ground_obj=None, heightfield=None):
 
 
 def write_terrain(collection, terrain_obj, grid):
-    """The place's terrain object showing ``grid`` (``engine.PlaceTerrain``): a new one, or ``terrain_obj`` with
+    """The place's terrain object showing ``grid`` (``engine_place.PlaceTerrain``): a new one, or ``terrain_obj`` with
     a new mesh."""
     heights = np.asarray(grid.heights, dtype=np.float64)
     ny, nx = heights.shape
@@ -390,7 +390,7 @@ def spline_key(xy, cyclic):
 
 
 def write_paths(scene, collection, names, lines, terrain_obj, heightfield, built, what):
-    """Adds the roads or waterways (``engine.PlaceLines``) to the path curves of their categories, draped on the
+    """Adds the roads or waterways (``engine_place.PlaceLines``) to the path curves of their categories, draped on the
     terrain."""
     by_category: dict[str, list[int]] = {}
     for k, name in enumerate(names):
@@ -409,8 +409,8 @@ def write_paths(scene, collection, names, lines, terrain_obj, heightfield, built
 
 
 def write_areas(scene, collection, names, areas, heightfield, grid, built):
-    """Adds the areas (``engine.PlaceAreas``) as contours of their categories, each category's filled mesh made again
-    with inner vertices a terrain cell apart (4 m without a terrain)."""
+    """Adds the areas (``engine_place.PlaceAreas``) as contours of their categories, each category's filled mesh made
+    again with inner vertices a terrain cell apart (4 m without a terrain)."""
     by_category: dict[str, list[int]] = {}
     for k, name in enumerate(names):
         by_category.setdefault(name, []).append(k)

@@ -15,7 +15,7 @@ import bpy
 from bpy.props import BoolProperty, CollectionProperty, FloatProperty, IntProperty, StringProperty
 from bpy_extras.io_utils import ImportHelper
 
-from ..bridge import WorldPaintError, engine, files, place, terrain
+from ..bridge import WorldPaintError, engine, engine_place, files, place, terrain
 from .background import BackgroundOperator
 from .common import setting
 
@@ -127,7 +127,7 @@ class WORLDPAINT_OT_import_place(BackgroundOperator, ImportHelper, bpy.types.Ope
 
     def _compute(self, progress):
         try:
-            return engine.import_place(**self._arguments, progress=progress)
+            return engine_place.import_place(**self._arguments, progress=progress)
         except engine.InputError as exc:
             if self._origin is not None and "origin" in str(exc):
                 lon, lat = self._origin

@@ -142,13 +142,14 @@ class WORLDPAINT_OT_learn_village(BackgroundOperator, VillageInputs, bpy.types.O
         if name in encyclopedia.village_types:
             raise WorldPaintError(f"Learn Village: the encyclopedia already has a village type '{name}': give the "
                                   "learned type another name")
-        if settings.learn_base_type not in encyclopedia.village_types:
+        if settings.learn_base_type and settings.learn_base_type not in encyclopedia.village_types:
             raise WorldPaintError(f"Learn Village: '{settings.learn_base_type}' is not a village type of the "
                                   f"encyclopedia (it has {', '.join(sorted(encyclopedia.village_types))})")
         minutes = self.minutes if self.minutes > 0.0 else settings.learn_minutes
         self._name = name
         self._arguments = (heightfield, region, centres, orientations, roads)
-        self._call = dict(encyclopedia=encyclopedia.text, base_type=settings.learn_base_type, name=name,
+        self._call = dict(encyclopedia=encyclopedia.text, base_type=settings.learn_base_type or None,
+                          name=name,
                           seed=self.seed, max_evaluations=self.max_evaluations, max_seconds=60.0 * minutes, cell=cell,
                           parcel_cell=min(settings.parcel_cell, cell), **village.surroundings(settings))
 
@@ -161,8 +162,11 @@ class WORLDPAINT_OT_learn_village(BackgroundOperator, VillageInputs, bpy.types.O
         settings.encyclopedia_path = ""
         village.fill_list(settings.events, json.loads(result["scenario"])["events"])
         real = result["real"]
-        info = (f"'{self._name}' learned from {real['buildings']} buildings; figures "
-                f"{result['objective']:.2f} bands from the real ones (start {result['base_objective']:.2f}); "
+        held_out = result["held_out_objective"]
+        info = (f"'{self._name}' learned from {real['buildings']} buildings, starting from '{result['base_type']}'; "
+                f"figures {result['objective']:.2f} bands from the real ones"
+                + (f" ({held_out:.2f} at new seeds)" if held_out is not None else "")
+                + f" (start {result['base_objective']:.2f}); "
                 f"{result['evaluations']} villages in {result['seconds']:.0f} s"
                 + ("; stopped early, best so far kept" if result["stopped_early"] else ""))
         settings.learn_report = info

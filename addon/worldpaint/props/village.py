@@ -94,7 +94,9 @@ class WORLDPAINT_PG_village(bpy.types.PropertyGroup):
         name="Name", default="", description="Name of the learned village type (empty: \"like\" and the region's name)"
     )
     learn_base_type: StringProperty(
-        name="Start From", default="highland", description="Village type of the encyclopedia the search starts from"
+        name="Start From", default="",
+        description="Village type of the encyclopedia the search starts from (empty: the one whose villages come "
+        "nearest the real village)",
     )
     learn_minutes: FloatProperty(
         name="Minutes", default=9.0, min=0.1, soft_max=30.0,

@@ -201,8 +201,9 @@ pub use village::figures::{
 };
 pub use village::fit::objective::{objective as village_objective, Figure as FitFigure};
 pub use village::fit::{
-    border_crossings, fit_village_type, scenario_for, FitOptions, FitProgress, FitTarget,
-    FittedVillage, MIN_BUILDINGS as FIT_MIN_BUILDINGS,
+    border_crossings, fit_village_type, grow_village_figures, rank_village_types, scenario_for,
+    FitOptions, FitProgress, FitTarget, FittedVillage, RankedType,
+    MIN_BUILDINGS as FIT_MIN_BUILDINGS,
 };
 pub use village::metrics::{
     footprint_conflicts, layout_statistics, mean_elevation_percentile, road_grades, road_length,

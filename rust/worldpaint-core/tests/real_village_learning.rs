@@ -23,11 +23,10 @@
 mod common;
 
 use common::real_places::{self, Place, Window};
-use rayon::prelude::*;
 use worldpaint_core::{
-    fit_village_type, scenario_for, village_figures, Encyclopedia, Environment, Error, FitFigure,
-    FitOptions, FitTarget, FittedVillage, Scenario, Site, SitedBuilding, VillageFigures,
-    VillageRequest,
+    fit_village_type, grow_village_figures, rank_village_types, Encyclopedia, Environment, Error,
+    FitFigure, FitOptions, FitTarget, FittedVillage, RankedType, Scenario, Site, SitedBuilding,
+    VillageFigures,
 };
 
 const ENCYCLOPEDIA: &str = include_str!("../../../assets/villages/encyclopedia.json");
@@ -99,40 +98,9 @@ fn grow(
     scenario: &Scenario,
     seeds: &[u64],
 ) -> Vec<Option<VillageFigures>> {
-    seeds
-        .par_iter()
-        .map(|seed| {
-            let request = VillageRequest {
-                site: target.site.clone(),
-                connections: target.connections.clone(),
-                existing_roads: Vec::new(),
-                encyclopedia: enc,
-                scenario,
-                seed: *seed,
-                parcel_cell: PARCEL_CELL,
-            };
-            let village = generate_village_or_none(&request)?;
-            let buildings: Vec<SitedBuilding> = village
-                .footprints
-                .iter()
-                .map(SitedBuilding::of_footprint)
-                .collect();
-            Some(village_figures(
-                &buildings,
-                &village.roads,
-                &target.site.region,
-            ))
-        })
-        .collect()
-}
-
-fn generate_village_or_none(request: &VillageRequest) -> Option<worldpaint_core::Village> {
-    match worldpaint_core::generate_village(request, &|_, _| true) {
-        Ok(v) => Some(v),
-        Err(e) => {
-            println!("    a village did not grow: {e}");
-            None
-        }
+    match grow_village_figures(target, enc, scenario, seeds, PARCEL_CELL, &|| true) {
+        Ok(grown) => grown,
+        Err(e) => panic!("a village failed to grow: {e}"),
     }
 }
 
@@ -163,11 +131,6 @@ fn mean_figures(grown: &[Option<VillageFigures>]) -> Option<VillageFigures> {
 /// The objective of `grown` against the real figures: the fit's own, so "nearer" means what the fit minimised.
 fn objective(real: &VillageFigures, grown: &[Option<VillageFigures>]) -> f64 {
     worldpaint_core::village_objective(real, grown)
-}
-
-/// A preset's scenario for the real count: the test's style (a church, then houses, one farm per four buildings).
-fn preset_scenario(enc: &Encyclopedia, name: &str, buildings: usize) -> Scenario {
-    scenario_for(enc, name, &enc.village_types[name], buildings, 1.0, 0.2)
 }
 
 fn figure_row(label: &str, f: &VillageFigures) -> String {
@@ -212,6 +175,142 @@ struct Learned<'a> {
     fitted: FittedVillage,
 }
 
+/// The fit's budget, from the environment.
+struct Budget {
+    seconds: f64,
+    evaluations: usize,
+}
+
+/// Learns `village`, starting from the shipped type nearest it at the new seeds; prints the real, preset and
+/// learned figures and pushes what misses an asserted band to `failures`. `None` when the learned type grew no
+/// village at a new seed.
+fn learn<'a>(
+    village: RealVillage<'a>,
+    enc: &Encyclopedia,
+    budget: &Budget,
+    failures: &mut Vec<String>,
+) -> Option<Learned<'a>> {
+    let real = &village.target.figures;
+    let name = format!("like {}", village.window.name);
+    println!("{}", village.window.name);
+    println!("{}", figure_row("  real", real));
+    // every shipped type grown alike; the nearest by the objective is the one to beat
+    let presets = match rank_village_types(&village.target, enc, &NEW_SEEDS, PARCEL_CELL, &|| true)
+    {
+        Ok(r) => r,
+        Err(e) => panic!("a shipped type failed to grow: {e}"),
+    };
+    let RankedType {
+        name: preset,
+        objective: preset_objective,
+        grown: preset_grown,
+    } = presets[0].clone();
+    let preset_figures = mean_figures(&preset_grown);
+    if let Some(f) = &preset_figures {
+        println!("{}", figure_row(&format!("  preset {preset}"), f));
+    }
+    let options = FitOptions {
+        base_type: Some(preset.clone()),
+        name: name.clone(),
+        max_seconds: budget.seconds,
+        max_evaluations: budget.evaluations,
+        ..FitOptions::default()
+    };
+    let fitted = match fit_village_type(&village.target, enc, &options, &|_| true) {
+        Ok(f) => f,
+        Err(e) => panic!("{}: the fit failed: {e}", village.window.name),
+    };
+    let grown = grow(
+        &village.target,
+        &fitted.encyclopedia,
+        &fitted.scenario,
+        &NEW_SEEDS,
+    );
+    let fitted_objective = objective(real, &grown);
+    let Some(mean) = mean_figures(&grown) else {
+        failures.push(format!(
+            "{}: the learned type grew no village at a new seed",
+            village.window.name
+        ));
+        return None;
+    };
+    println!("{}", figure_row(&format!("  {name}"), &mean));
+    println!(
+        "  objective: learned {fitted_objective:.3} (at the fit's seeds {:.3}, held-out {}, its base {:.3}), preset \
+         {preset} {preset_objective:.3}; {} evaluations in {} generations, {:.0} s",
+        fitted.objective,
+        fitted.held_out_objective.map_or("-".into(), |h| format!("{h:.3}")),
+        fitted.base_objective,
+        fitted.evaluations,
+        fitted.generations,
+        fitted.seconds
+    );
+    for (f, e, ok) in within_bands(real, &mean) {
+        let preset_e = preset_figures
+            .as_ref()
+            .map_or(f64::NAN, |p| f.error(real, p));
+        println!(
+            "    {:<26} {e:>5.2} bands (preset {preset_e:.2}){}",
+            f.name(),
+            if ok { "" } else { "  OUT" }
+        );
+        if !ok && !OPEN.contains(&f) {
+            failures.push(format!(
+                "{}: {} {e:.2} bands off",
+                village.window.name,
+                f.name()
+            ));
+        }
+    }
+    if fitted_objective >= preset_objective {
+        failures.push(format!(
+            "{}: learned objective {fitted_objective:.3}, nearest preset {preset} {preset_objective:.3}",
+            village.window.name
+        ));
+    }
+    Some(Learned { village, fitted })
+}
+
+/// `from`'s learned type grown on `to`'s terrain and region (the learned village's count on a square of the same
+/// size: its density, on another terrain); prints how far it lands from the village it was learned on.
+fn grow_elsewhere(from: &Learned, to: &RealVillage, failures: &mut Vec<String>) {
+    let grown = grow(
+        &to.target,
+        &from.fitted.encyclopedia,
+        &from.fitted.scenario,
+        &NEW_SEEDS,
+    );
+    let Some(mean) = mean_figures(&grown) else {
+        failures.push(format!(
+            "{} grown on {}: no village",
+            from.village.window.name, to.window.name
+        ));
+        return;
+    };
+    let real = &from.village.target.figures;
+    println!(
+        "{}",
+        figure_row(
+            &format!("{} on {}", from.village.window.name, to.window.name),
+            &mean
+        )
+    );
+    for f in [
+        FitFigure::NearestNeighbour,
+        FitFigure::RoadPerHouse,
+        FitFigure::BuildingsPerArea,
+    ] {
+        // a target (OPEN), printed
+        let off = f.error(real, &mean) * f.tolerance();
+        println!(
+            "    {:<26} {:>4.0} % off the village it was learned on{}",
+            f.name(),
+            100.0 * off,
+            if off > 0.25 { "  OUT" } else { "" }
+        );
+    }
+}
+
 #[test]
 #[ignore = "needs shared/data/real (make test-rust runs it where present)"]
 fn learn_village_on_andorra() {
@@ -231,11 +330,10 @@ fn learn_village_on_andorra() {
     );
     // the first villages only, when timing the full search on one
     let first = from_env("WORLDPAINT_FIT_VILLAGES", WINDOWS as f64) as usize;
-    let windows: Vec<Window> = windows.into_iter().take(first).collect();
-    let seconds = from_env("WORLDPAINT_FIT_SECONDS", FIT_SECONDS);
-    let evaluations = from_env("WORLDPAINT_FIT_EVALUATIONS", FIT_EVALUATIONS as f64) as usize;
-    let mut failures = Vec::new();
-    let mut learned = Vec::new();
+    let budget = Budget {
+        seconds: from_env("WORLDPAINT_FIT_SECONDS", FIT_SECONDS),
+        evaluations: from_env("WORLDPAINT_FIT_EVALUATIONS", FIT_EVALUATIONS as f64) as usize,
+    };
     let header = [
         "nn m", "<20m%", "road/h", "b/ha", "hp/km", "dead", "road m", "n",
     ];
@@ -243,129 +341,21 @@ fn learn_village_on_andorra() {
         "{:<26} {:>6} {:>6} {:>7} {:>6} {:>6} {:>6} {:>6} {:>5}  orientation to road % (0-90 deg)",
         "", header[0], header[1], header[2], header[3], header[4], header[5], header[6], header[7]
     );
-    for window in windows {
+    let mut failures = Vec::new();
+    let mut learned = Vec::new();
+    for window in windows.into_iter().take(first) {
         let village = match real_village(&place, window) {
             Ok(v) => v,
             Err(e) => panic!("a real village cannot be learned from: {e}"),
         };
-        let real = &village.target.figures;
-        let name = format!("like {}", village.window.name);
-        println!("{}", village.window.name);
-        println!("{}", figure_row("  real", real));
-        // every shipped type grown alike; the nearest by the objective is the one to beat
-        let mut presets: Vec<(String, f64, Option<VillageFigures>)> = enc
-            .village_types
-            .keys()
-            .map(|t| {
-                let grown = grow(
-                    &village.target,
-                    &enc,
-                    &preset_scenario(&enc, t, real.layout.houses),
-                    &NEW_SEEDS,
-                );
-                (t.clone(), objective(real, &grown), mean_figures(&grown))
-            })
-            .collect();
-        presets.sort_by(|a, b| a.1.total_cmp(&b.1));
-        let (preset, preset_objective, preset_figures) = presets.remove(0);
-        if let Some(f) = &preset_figures {
-            println!("{}", figure_row(&format!("  preset {preset}"), f));
-        }
-        let options = FitOptions {
-            base_type: preset.clone(),
-            name: name.clone(),
-            max_seconds: seconds,
-            max_evaluations: evaluations,
-            ..FitOptions::default()
-        };
-        let fitted = match fit_village_type(&village.target, &enc, &options, &|_| true) {
-            Ok(f) => f,
-            Err(e) => panic!("{}: the fit failed: {e}", village.window.name),
-        };
-        let grown = grow(
-            &village.target,
-            &fitted.encyclopedia,
-            &fitted.scenario,
-            &NEW_SEEDS,
-        );
-        let fitted_objective = objective(real, &grown);
-        let Some(mean) = mean_figures(&grown) else {
-            failures.push(format!(
-                "{}: the learned type grew no village at a new seed",
-                village.window.name
-            ));
-            continue;
-        };
-        println!("{}", figure_row(&format!("  {name}"), &mean));
-        println!(
-            "  objective: learned {fitted_objective:.3} (at the fit's seeds {:.3}, its base {:.3}), preset {preset} \
-             {preset_objective:.3}; {} evaluations in {} generations, {:.0} s",
-            fitted.objective, fitted.base_objective, fitted.evaluations, fitted.generations, fitted.seconds
-        );
-        for (f, e, ok) in within_bands(real, &mean) {
-            let preset_e = preset_figures
-                .as_ref()
-                .map_or(f64::NAN, |p| f.error(real, p));
-            println!(
-                "    {:<26} {e:>5.2} bands (preset {preset_e:.2}){}",
-                f.name(),
-                if ok { "" } else { "  OUT" }
-            );
-            if !ok && !OPEN.contains(&f) {
-                failures.push(format!(
-                    "{}: {} {e:.2} bands off",
-                    village.window.name,
-                    f.name()
-                ));
-            }
-        }
-        if fitted_objective >= preset_objective {
-            failures.push(format!(
-                "{}: learned objective {fitted_objective:.3}, nearest preset {preset} {preset_objective:.3}",
-                village.window.name
-            ));
-        }
-        learned.push(Learned { village, fitted });
+        learned.extend(learn(village, &enc, &budget, &mut failures));
     }
-    // each learned type grown on the next village's terrain and region
     for (k, from) in learned.iter().enumerate() {
-        let to = &learned[(k + 1) % learned.len()].village;
-        // the learned village's count on a square of the same size: its density, on another terrain
-        let grown = grow(
-            &to.target,
-            &from.fitted.encyclopedia,
-            &from.fitted.scenario,
-            &NEW_SEEDS,
+        grow_elsewhere(
+            from,
+            &learned[(k + 1) % learned.len()].village,
+            &mut failures,
         );
-        let Some(mean) = mean_figures(&grown) else {
-            failures.push(format!(
-                "{} grown on {}: no village",
-                from.village.window.name, to.window.name
-            ));
-            continue;
-        };
-        let real = &from.village.target.figures;
-        println!(
-            "{}",
-            figure_row(
-                &format!("{} on {}", from.village.window.name, to.window.name),
-                &mean
-            )
-        );
-        for f in [
-            FitFigure::NearestNeighbour,
-            FitFigure::RoadPerHouse,
-            FitFigure::BuildingsPerArea,
-        ] {
-            // a target (OPEN), printed
-            let off = f.error(real, &mean) * f.tolerance();
-            println!(
-                "    {:<26} {:>4.0} % off the village it was learned on{}",
-                f.name(),
-                100.0 * off,
-                if off > 0.25 { "  OUT" } else { "" }
-            );
-        }
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }

@@ -375,17 +375,18 @@ pub(crate) fn village_interest<'py>(
 
 /// Learns a village type from a real village (issue 42): the buildings (centres float64 (N, 2) and long-axis
 /// `orientations` (N,), radians from +X) and `roads` (list of (N, 2)) inside `region` on `terrain`, starting from
-/// the encyclopedia's `base_type`; CMA-ES grows villages on the same terrain, region and `connections` at `seeds`
+/// the encyclopedia's `base_type` (None: the type whose villages come nearest); CMA-ES grows villages on the same terrain, region and `connections` at `seeds`
 /// until their figures match the real village's, within `max_evaluations` candidates and `max_seconds`; without
 /// `connections`, the village's roads come in where the given roads cross the region's border.
 ///
 /// Returns {"encyclopedia": JSON with the learned type added as `name`, "scenario": JSON growing the real village's
-/// count of buildings with it, "objective", "base_objective", "evaluations", "generations",
+/// count of buildings with it, "base_type", "objective" (at the fit's seeds), "held_out_objective" (at as many
+/// held-out seeds, or None), "base_objective", "evaluations", "generations",
 /// "seconds", "stopped_early", "real": the real village's figures}. `progress(fraction) -> bool` returning False
 /// stops the fit and keeps the best type so far (`stopped_early`). The surroundings are keywords, as for
 /// `generate_village`. A region with fewer than 5 buildings, no road or reaching off the terrain is refused.
 #[pyfunction]
-#[pyo3(signature = (terrain, region, buildings, orientations, roads, *, encyclopedia=None, base_type="highland",
+#[pyo3(signature = (terrain, region, buildings, orientations, roads, *, encyclopedia=None, base_type=None,
                     name="learned", connections=None, seeds=None, seed=1, max_evaluations=200, max_seconds=540.0,
                     cell=2.0, parcel_cell=1.0, progress=None, **surroundings))]
 #[allow(clippy::too_many_arguments)]
@@ -397,7 +398,7 @@ pub(crate) fn learn_village<'py>(
     orientations: ArrayArg<'py>,
     roads: &Bound<'py, PyAny>,
     encyclopedia: Option<&str>,
-    base_type: &str,
+    base_type: Option<&str>,
     name: &str,
     connections: Option<ArrayArg<'py>>,
     seeds: Option<Vec<u64>>,
@@ -440,7 +441,7 @@ pub(crate) fn learn_village<'py>(
     let target = guarded(|| FitTarget::new(site, connections, &sited, &roads))?;
     let defaults = FitOptions::default();
     let options = FitOptions {
-        base_type: base_type.to_string(),
+        base_type: base_type.map(str::to_string),
         name: name.to_string(),
         seeds: seeds.unwrap_or(defaults.seeds),
         seed,
@@ -458,7 +459,9 @@ pub(crate) fn learn_village<'py>(
     let out = PyDict::new(py);
     out.set_item("encyclopedia", fitted.encyclopedia.to_json())?;
     out.set_item("scenario", fitted.scenario.to_json())?;
+    out.set_item("base_type", &fitted.base_type)?;
     out.set_item("objective", fitted.objective)?;
+    out.set_item("held_out_objective", fitted.held_out_objective)?;
     out.set_item("base_objective", fitted.base_objective)?;
     out.set_item("evaluations", fitted.evaluations)?;
     out.set_item("generations", fitted.generations)?;

@@ -105,6 +105,10 @@ pub struct Placement {
     /// along their street where the shipped ones turn their gable to it); absent: the building type's.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub footprint: Option<FootprintSize>,
+    /// Share of the footprints turned, their width and depth swapped (a real village mixes houses along the street
+    /// and houses with the gable to it); 0: none, as the thesis's types.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub turned_share: f64,
 }
 
 /// Smallest and largest footprint (width along the road, depth away from it), metres.
@@ -117,6 +121,10 @@ pub struct FootprintSize {
     pub max: [f64; 2],
 }
 
+fn is_zero(x: &f64) -> bool {
+    *x == 0.0
+}
+
 impl Placement {
     /// The footprint sizes (smallest, largest) of `kind` placed with this placement.
     pub(crate) fn footprint_sizes(&self, kind: &BuildingKind) -> FootprintSize {
@@ -124,6 +132,20 @@ impl Placement {
             min: kind.footprint_min,
             max: kind.footprint_max,
         })
+    }
+
+    /// The footprint sizes of `kind` for a building whose draw in [0, 1) is `u`: turned (width and depth swapped)
+    /// when `u` falls within the turned share.
+    pub(crate) fn footprint_sizes_drawn(&self, kind: &BuildingKind, u: f64) -> FootprintSize {
+        let s = self.footprint_sizes(kind);
+        if u < self.turned_share {
+            FootprintSize {
+                min: [s.min[1], s.min[0]],
+                max: [s.max[1], s.max[0]],
+            }
+        } else {
+            s
+        }
     }
 }
 
@@ -463,6 +485,7 @@ impl Encyclopedia {
                 if let Some(size) = &p.footprint {
                     check_footprint(&format!("{at}.footprint"), size)?;
                 }
+                check::within(&format!("{at}.turned_share"), p.turned_share, 0.0, 1.0)?;
                 for (other, s) in &p.sociability_with {
                     if !self.buildings.contains_key(other) {
                         return Err(Error::invalid(

@@ -537,12 +537,16 @@ fn parcels_and_footprints(
     let footprints = Counted::new(conquered.len(), |f| {
         progress(VillageStage::Parcels, 0.8 + 0.2 * f)
     });
+    // each building's draw of whether its footprint is turned, from the village's seed and its index
+    let turn_seed = mix_seed(request.seed, 0x7E2D);
     let found: Vec<Option<HouseFootprint>> = conquered
         .par_iter()
         .zip(seeds.par_iter().zip(placements.par_iter()))
-        .map(|(parcel, (s, placement))| {
+        .enumerate()
+        .map(|(i, (parcel, (s, placement)))| {
             let parcel = parcel.as_ref().filter(|_| footprints.go_on())?;
-            let size = placement.footprint_sizes(enc.buildings.get(&s.building)?);
+            let u = (mix_seed(turn_seed, i as u64) >> 11) as f64 / (1u64 << 53) as f64;
+            let size = placement.footprint_sizes_drawn(enc.buildings.get(&s.building)?, u);
             let fp = house_footprint(parcel, roads, enc.roads.width, size.min, size.max, 1.0);
             footprints.done_one();
             fp

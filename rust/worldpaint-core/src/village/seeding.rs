@@ -132,6 +132,7 @@ mod tests {
                 fill: 0.0,
             },
             footprint: None,
+            turned_share: 0.0,
         }
     }
 

@@ -504,7 +504,9 @@ class VillageFiguresDict(TypedDict):
 class LearnedVillageDict(TypedDict):
     encyclopedia: str
     scenario: str
+    base_type: str
     objective: float
+    held_out_objective: float | None
     base_objective: float
     evaluations: int
     generations: int
@@ -843,7 +845,7 @@ def learn_village(
     roads: Sequence[ArrayLike],
     *,
     encyclopedia: str | None = None,
-    base_type: str = "highland",
+    base_type: str | None = None,
     name: str = "learned",
     connections: ArrayLike | None = None,
     seeds: Sequence[int] | None = None,

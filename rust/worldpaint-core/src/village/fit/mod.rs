@@ -5,6 +5,8 @@
 //! village's figures ([`village_figures`]; the distance is [`objective`]'s).
 //!
 //! Readings chosen:
+//! * The search starts from the village type whose villages come nearest the real one (each grown at the fit's
+//!   seeds) unless the options name one.
 //! * The scenario is the base's: a church when the base builds churches, then houses, then farms; its counts
 //!   are the real village's building count times a learned factor (the generator loses buildings in narrow
 //!   parcels and the real count includes outbuildings), split by a learned share of farms.
@@ -14,22 +16,24 @@
 //! * A budget of evaluations (candidates) and of seconds; past the seconds, or when the progress callback
 //!   returns `false`, the villages growing are cancelled and the best type of the generations completed is
 //!   kept.
+//! * The type kept is not the best at the fit's seeds alone, which is partly the best at their luck: the
+//!   finalists are grown again at held-out seeds ([`search`]).
 
+mod grow;
 pub(crate) mod objective;
+mod search;
 pub(crate) mod space;
 
 use super::encyclopedia::{Encyclopedia, Scenario, ScenarioEvent, VillageType};
 use super::figures::{village_figures, SitedBuilding, VillageFigures};
-use super::generate::{generate_village, VillageRequest};
 use super::{Road, Site};
 use crate::geom::Region;
 use crate::{Error, Result};
 use glam::DVec2;
-use objective::objective;
-use rayon::prelude::*;
+pub use grow::{grow_village_figures, rank_village_types, RankedType};
+use search::Search;
 use space::ParameterSpace;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Mutex;
 use std::time::Instant;
 
 /// Fewest buildings a real village must hold to be learned from.
@@ -119,8 +123,8 @@ pub(crate) fn seeds_for(buildings: usize) -> Vec<u64> {
 /// How a village type is learned.
 #[derive(Clone, Debug)]
 pub struct FitOptions {
-    /// The village type the search starts from.
-    pub base_type: String,
+    /// The village type the search starts from; `None`: the one whose villages come nearest the real village.
+    pub base_type: Option<String>,
     /// The name of the learned type in the encyclopedia.
     pub name: String,
     /// Seeds each candidate is grown at; empty: 2 from 50 buildings, up to 4 below 25 (a small village varies more).
@@ -139,12 +143,15 @@ pub struct FitOptions {
     pub farm_share: f64,
     /// Grid cell (m) of the land conquest.
     pub parcel_cell: f64,
+    /// Candidates grown again at held-out seeds when the search ends (the best of the last generations and the
+    /// distribution's mean), the nearest over both sets of seeds kept; 0: the best at the fit's seeds.
+    pub finalists: usize,
 }
 
 impl Default for FitOptions {
     fn default() -> FitOptions {
         FitOptions {
-            base_type: "highland".into(),
+            base_type: None,
             name: "learned".into(),
             seeds: Vec::new(),
             seed: 1,
@@ -154,6 +161,7 @@ impl Default for FitOptions {
             population: 0,
             farm_share: 0.2,
             parcel_cell: 1.0,
+            finalists: 3,
         }
     }
 }
@@ -182,8 +190,12 @@ pub struct FittedVillage {
     pub village_type: VillageType,
     /// The scenario that grows the real village's count of buildings with it.
     pub scenario: Scenario,
+    /// The village type the search started from.
+    pub base_type: String,
     /// Its objective at the fit's seeds.
     pub objective: f64,
+    /// Its objective at as many held-out seeds (`None`: no finalists were grown, or the fit was stopped first).
+    pub held_out_objective: Option<f64>,
     /// The base type's objective at the fit's seeds.
     pub base_objective: f64,
     /// Candidates evaluated (the base type's included).
@@ -233,47 +245,10 @@ pub fn scenario_for(
     Scenario { events }
 }
 
-/// The figures of a village grown on `target` with `village_type` under `name`; `None` when it was cancelled
-/// or could not grow. `keep_going` is asked between buildings.
-pub(crate) fn grow_figures(
-    target: &FitTarget,
-    enc: &Encyclopedia,
-    scenario: &Scenario,
-    seed: u64,
-    parcel_cell: f64,
-    keep_going: &(dyn Fn() -> bool + Sync),
-) -> Result<Option<VillageFigures>> {
-    let request = VillageRequest {
-        site: target.site.clone(),
-        connections: target.connections.clone(),
-        existing_roads: Vec::new(),
-        encyclopedia: enc,
-        scenario,
-        seed,
-        parcel_cell,
-    };
-    match generate_village(&request, &|_, _| keep_going()) {
-        Ok(v) => {
-            let buildings: Vec<SitedBuilding> = v
-                .footprints
-                .iter()
-                .map(SitedBuilding::of_footprint)
-                .collect();
-            Ok(Some(village_figures(
-                &buildings,
-                &v.roads,
-                &target.site.region,
-            )))
-        }
-        Err(Error::Cancelled) => Ok(None),
-        // a candidate whose parameters leave no place to build: no figures, the worst objective
-        Err(Error::BadRegion { .. } | Error::Invalid { .. }) => Ok(None),
-        Err(e) => Err(e),
-    }
-}
-
-/// Learns a village type from `target`, starting from `options.base_type` of `enc`. `progress` is called after
-/// each generation and returning `false` stops the fit (the best type so far is kept).
+/// Learns a village type from `target`, starting from `options.base_type` of `enc` (or the type whose villages
+/// come nearest, ranked at the fit's seeds). `progress` is called between buildings and after each generation;
+/// returning `false` stops the fit, keeping the best type so far (a stop before the search began is
+/// [`Error::Cancelled`]).
 pub fn fit_village_type(
     target: &FitTarget,
     enc: &Encyclopedia,
@@ -294,132 +269,20 @@ pub fn fit_village_type(
             ),
         ));
     }
-    let space = ParameterSpace::new(enc, &options.base_type, options.farm_share)?;
-    let started = Instant::now();
-    let stop = AtomicBool::new(false);
-    // where the fit stands: reported between buildings too, so a stop is heard within a village, not a generation
-    let state = Mutex::new(FitProgress {
-        evaluations: 0,
-        max_evaluations: options.max_evaluations,
-        generation: 0,
-        best: f64::INFINITY,
-        seconds: 0.0,
-    });
-    let report = |update: &dyn Fn(&mut FitProgress)| {
-        let now = state.lock().ok().map(|mut s| {
-            update(&mut s);
-            s.seconds = started.elapsed().as_secs_f64();
-            *s
-        });
-        if now.is_some_and(|s| !progress(&s)) {
-            stop.store(true, Ordering::Relaxed);
-        }
+    let base_type = match &options.base_type {
+        Some(b) => b.clone(),
+        None => nearest_type(target, enc, options, &seeds, progress)?,
     };
-    let keep_going = || {
-        report(&|_| {});
-        !stop.load(Ordering::Relaxed) && started.elapsed().as_secs_f64() <= options.max_seconds
-    };
-    let buildings = target.figures.layout.houses;
-    // the scenario growing the real count of buildings with a candidate
-    let scenario_of = |c: &space::Candidate| {
-        scenario_for(
-            enc,
-            &options.name,
-            &c.village_type,
-            buildings,
-            c.count_factor,
-            c.farm_share,
-        )
-    };
-    // the first engine error met (not a cancellation): the fit reports it rather than learning around it
-    let failure: Mutex<Option<Error>> = Mutex::new(None);
-    // a candidate's objective: its seeds grown in parallel, gathered in order
-    let evaluate = |x: &[f64]| -> f64 {
-        let c = space.candidate(x);
-        let scenario = scenario_of(&c);
-        let mut e = enc.clone();
-        e.village_types.insert(options.name.clone(), c.village_type);
-        let grown: Vec<Option<VillageFigures>> = seeds
-            .par_iter()
-            .map(|seed| {
-                grow_figures(
-                    target,
-                    &e,
-                    &scenario,
-                    *seed,
-                    options.parcel_cell,
-                    &keep_going,
-                )
-                .unwrap_or_else(|err| {
-                    if let Ok(mut f) = failure.lock() {
-                        f.get_or_insert(err);
-                    }
-                    None
-                })
-            })
-            .collect();
-        let value = objective(&target.figures, &grown);
-        report(&|s| s.evaluations += 1);
-        value
-    };
-    let failed = || failure.lock().ok().and_then(|mut f| f.take());
-    let start = space.start();
-    let base_objective = evaluate(&start);
-    if let Some(e) = failed() {
-        return Err(e);
-    }
-    let mut best = (base_objective, start.clone());
-    report(&|s| s.best = base_objective);
-    let dimensions = space.dimensions.len();
-    let population = if options.population > 0 {
-        options.population
-    } else {
-        4 + (3.0 * (dimensions as f64).ln()).floor() as usize
-    };
-    let told = |x: &cmaes::DVector<f64>| evaluate(x.as_slice());
-    let mut cma = cmaes::CMAESOptions::new(start, options.step)
-        .population_size(population)
-        .seed(options.seed)
-        .build(&told)
-        .map_err(|e| Error::invalid("fit options", format!("{e:?}")))?;
-    let mut stopped_early = !keep_going();
-    let mut generations = 0;
-    let evaluations = |cma: &cmaes::CMAES<_>| 1 + cma.function_evals();
-    while !stopped_early && evaluations(&cma) + population <= options.max_evaluations.max(1) {
-        let finished = cma.next_parallel();
-        if let Some(e) = failed() {
-            return Err(e);
-        }
-        if !keep_going() {
-            // villages of this generation were cancelled: its figures are not all there
-            stopped_early = true;
-            break;
-        }
-        generations += 1;
-        if let Some(b) = cma.current_best_individual() {
-            if b.value < best.0 {
-                best = (b.value, b.point.as_slice().to_vec());
-            }
-        }
-        let best_value = best.0;
-        report(&|s| {
-            s.generation = generations;
-            s.best = best_value;
-        });
-        if stop.load(Ordering::Relaxed) {
-            stopped_early = true;
-        }
-        if finished.is_some() {
-            break;
-        }
-    }
-    let c = space.candidate(&best.1);
-    let scenario = scenario_of(&c);
+    let space = ParameterSpace::new(enc, &base_type, options.farm_share)?;
+    let search = Search::new(target, enc, options, &space, seeds, progress);
+    let outcome = search.run()?;
+    let c = space.candidate(&outcome.point);
+    let scenario = search.scenario(&c);
     let mut encyclopedia = enc.clone();
     let mut village_type = c.village_type;
     village_type.description = format!(
-        "Learned from a real village of {buildings} buildings, starting from '{}'.",
-        options.base_type
+        "Learned from a real village of {} buildings, starting from '{base_type}'.",
+        target.figures.layout.houses
     );
     encyclopedia
         .village_types
@@ -428,11 +291,48 @@ pub fn fit_village_type(
         encyclopedia,
         village_type,
         scenario,
-        objective: best.0,
-        base_objective,
-        evaluations: evaluations(&cma),
-        generations,
-        seconds: started.elapsed().as_secs_f64(),
-        stopped_early,
+        base_type,
+        objective: outcome.objective,
+        held_out_objective: outcome.held_out,
+        base_objective: outcome.base_objective,
+        evaluations: outcome.evaluations,
+        generations: outcome.generations,
+        seconds: search.seconds(),
+        stopped_early: outcome.stopped_early,
     })
+}
+
+/// The village type of `enc` whose villages come nearest `target`'s at `seeds`; the progress callback is told
+/// (no evaluation yet) and may stop it.
+fn nearest_type(
+    target: &FitTarget,
+    enc: &Encyclopedia,
+    options: &FitOptions,
+    seeds: &[u64],
+    progress: &(dyn Fn(&FitProgress) -> bool + Sync),
+) -> Result<String> {
+    let started = Instant::now();
+    let stop = AtomicBool::new(false);
+    let keep_going = || {
+        let told = progress(&FitProgress {
+            evaluations: 0,
+            max_evaluations: options.max_evaluations,
+            generation: 0,
+            best: f64::INFINITY,
+            seconds: started.elapsed().as_secs_f64(),
+        });
+        if !told {
+            stop.store(true, Ordering::Relaxed);
+        }
+        !stop.load(Ordering::Relaxed) && started.elapsed().as_secs_f64() <= options.max_seconds
+    };
+    let ranked = rank_village_types(target, enc, seeds, options.parcel_cell, &keep_going)?;
+    if !keep_going() {
+        return Err(Error::Cancelled);
+    }
+    ranked
+        .into_iter()
+        .next()
+        .map(|r| r.name)
+        .ok_or_else(|| Error::invalid("encyclopedia", "it has no village type to start from"))
 }

@@ -42,6 +42,8 @@ pub(crate) enum Knob {
     FootprintAspect(String),
     /// The footprint's sides over the base's.
     FootprintScale(String),
+    /// The share of footprints turned (width and depth swapped).
+    TurnedShare(String),
     RoadSlopeWeight,
     RoadCurvatureWeight,
     RoadReuseWeight,
@@ -186,6 +188,7 @@ impl ParameterSpace {
                 Dimension::new(Knob::RoadReach(b.clone()), 4.0, 30.0, true),
                 Dimension::new(Knob::FootprintAspect(b.clone()), 0.4, 3.0, true),
                 Dimension::new(Knob::FootprintScale(b.clone()), 0.7, 1.6, true),
+                Dimension::new(Knob::TurnedShare(b.clone()), 0.0, 1.0, false),
             ]);
         }
         dimensions.extend([
@@ -235,6 +238,7 @@ impl ParameterSpace {
                 max[0] / max[1]
             }
             Knob::FootprintScale(_) => 1.0,
+            Knob::TurnedShare(b) => p(b).turned_share,
             Knob::RoadSlopeWeight => r.slope_weight,
             Knob::RoadCurvatureWeight => r.curvature_weight,
             Knob::RoadReuseWeight => r.reuse_weight,
@@ -303,6 +307,11 @@ impl ParameterSpace {
                     sizes.entry(b.clone()).or_insert((None, 1.0)).0 = Some(v)
                 }
                 Knob::FootprintScale(b) => sizes.entry(b.clone()).or_insert((None, 1.0)).1 = v,
+                Knob::TurnedShare(b) => {
+                    if let Some(p) = t.buildings.get_mut(b) {
+                        p.turned_share = v;
+                    }
+                }
                 Knob::RoadSlopeWeight => roads.slope_weight = Some(v),
                 Knob::RoadCurvatureWeight => roads.curvature_weight = Some(v),
                 Knob::RoadReuseWeight => roads.reuse_weight = Some(v),
@@ -368,7 +377,7 @@ mod tests {
             space.footprints.keys().collect::<Vec<_>>(),
             ["farm", "house"]
         );
-        assert_eq!(space.dimensions.len(), 2 * 13 + 9);
+        assert_eq!(space.dimensions.len(), 2 * 14 + 9);
         let start = space.candidate(&space.start());
         let base = &enc.village_types["highland"];
         // the base's values inside the bounds come back (up to rounding through logarithms)

@@ -1,0 +1,258 @@
+//! The search of a fit: CMA-ES over the space's coordinates, each candidate grown at the fit's seeds (common
+//! random numbers), then the finalists (the best candidates of the last generations and the distribution's mean)
+//! grown at as many held-out seeds, and the one nearest over both sets of seeds kept: the best at the fit's seeds
+//! alone is partly the best at those seeds' luck.
+
+use super::grow::grow_village_figures;
+use super::objective::objective;
+use super::space::{Candidate, ParameterSpace};
+use super::{scenario_for, FitOptions, FitProgress, FitTarget};
+use crate::village::encyclopedia::{Encyclopedia, Scenario};
+use crate::village::figures::VillageFigures;
+use crate::{Error, Result};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Mutex;
+use std::time::Instant;
+
+/// Added to the fit's seeds to draw the held-out ones.
+const HELD_OUT_OFFSET: u64 = 1000;
+
+/// Where a search ended.
+pub(super) struct Outcome {
+    /// The kept point, in the space's coordinates.
+    pub(super) point: Vec<f64>,
+    /// Its objective at the fit's seeds.
+    pub(super) objective: f64,
+    /// Its objective at the held-out seeds (`None`: no finalist was grown there).
+    pub(super) held_out: Option<f64>,
+    /// The base type's objective at the fit's seeds.
+    pub(super) base_objective: f64,
+    /// Candidates evaluated, finalists included.
+    pub(super) evaluations: usize,
+    /// Generations completed.
+    pub(super) generations: usize,
+    /// Stopped by the callback or the time budget.
+    pub(super) stopped_early: bool,
+}
+
+/// A search under way: its budget, the progress it reports and the first engine error met.
+pub(super) struct Search<'a> {
+    target: &'a FitTarget<'a>,
+    enc: &'a Encyclopedia,
+    options: &'a FitOptions,
+    space: &'a ParameterSpace,
+    seeds: Vec<u64>,
+    started: Instant,
+    stop: AtomicBool,
+    state: Mutex<FitProgress>,
+    // the first engine error met (not a cancellation): the fit reports it rather than learning around it
+    failure: Mutex<Option<Error>>,
+    progress: &'a (dyn Fn(&FitProgress) -> bool + Sync),
+}
+
+impl<'a> Search<'a> {
+    pub(super) fn new(
+        target: &'a FitTarget<'a>,
+        enc: &'a Encyclopedia,
+        options: &'a FitOptions,
+        space: &'a ParameterSpace,
+        seeds: Vec<u64>,
+        progress: &'a (dyn Fn(&FitProgress) -> bool + Sync),
+    ) -> Search<'a> {
+        Search {
+            target,
+            enc,
+            options,
+            space,
+            seeds,
+            started: Instant::now(),
+            stop: AtomicBool::new(false),
+            state: Mutex::new(FitProgress {
+                evaluations: 0,
+                // the finalists are grown at the held-out seeds, and the distribution's mean at the fit's too
+                max_evaluations: options.max_evaluations
+                    + options.finalists
+                    + usize::from(options.finalists > 1),
+                generation: 0,
+                best: f64::INFINITY,
+                seconds: 0.0,
+            }),
+            failure: Mutex::new(None),
+            progress,
+        }
+    }
+
+    /// Seconds since the search began.
+    pub(super) fn seconds(&self) -> f64 {
+        self.started.elapsed().as_secs_f64()
+    }
+
+    /// Updates the progress and tells the callback; its `false` stops the search.
+    fn report(&self, update: &dyn Fn(&mut FitProgress)) {
+        let now = self.state.lock().ok().map(|mut s| {
+            update(&mut s);
+            s.seconds = self.seconds();
+            *s
+        });
+        if now.is_some_and(|s| !(self.progress)(&s)) {
+            self.stop.store(true, Ordering::Relaxed);
+        }
+    }
+
+    /// Asked between buildings, so a stop is heard within a village, not a generation.
+    fn keep_going(&self) -> bool {
+        self.report(&|_| {});
+        !self.stop.load(Ordering::Relaxed) && self.seconds() <= self.options.max_seconds
+    }
+
+    fn failed(&self) -> Result<()> {
+        match self.failure.lock().ok().and_then(|mut f| f.take()) {
+            Some(e) => Err(e),
+            None => Ok(()),
+        }
+    }
+
+    /// The scenario growing the real count of buildings with candidate `c`.
+    pub(super) fn scenario(&self, c: &Candidate) -> Scenario {
+        let buildings = self.target.figures.layout.houses;
+        scenario_for(
+            self.enc,
+            &self.options.name,
+            &c.village_type,
+            buildings,
+            c.count_factor,
+            c.farm_share,
+        )
+    }
+
+    /// The objective of the candidate at `x`, grown at `seeds`.
+    fn objective_at(&self, x: &[f64], seeds: &[u64]) -> f64 {
+        let c = self.space.candidate(x);
+        let scenario = self.scenario(&c);
+        let mut enc = self.enc.clone();
+        enc.village_types
+            .insert(self.options.name.clone(), c.village_type);
+        let keep_going = || self.keep_going();
+        let grown: Vec<Option<VillageFigures>> = grow_village_figures(
+            self.target,
+            &enc,
+            &scenario,
+            seeds,
+            self.options.parcel_cell,
+            &keep_going,
+        )
+        .unwrap_or_else(|err| {
+            if let Ok(mut f) = self.failure.lock() {
+                f.get_or_insert(err);
+            }
+            Vec::new()
+        });
+        let value = objective(&self.target.figures, &grown);
+        self.report(&|s| s.evaluations += 1);
+        value
+    }
+
+    /// Runs the search: the base, the generations of CMA-ES, the finalists.
+    pub(super) fn run(&self) -> Result<Outcome> {
+        let start = self.space.start();
+        let base_objective = self.objective_at(&start, &self.seeds);
+        self.failed()?;
+        self.report(&|s| s.best = base_objective);
+        let dimensions = self.space.dimensions.len();
+        let population = if self.options.population > 0 {
+            self.options.population
+        } else {
+            4 + (3.0 * (dimensions as f64).ln()).floor() as usize
+        };
+        let told = |x: &cmaes::DVector<f64>| self.objective_at(x.as_slice(), &self.seeds);
+        let mut cma = cmaes::CMAESOptions::new(start.clone(), self.options.step)
+            .population_size(population)
+            .seed(self.options.seed)
+            .build(&told)
+            .map_err(|e| Error::invalid("fit options", format!("{e:?}")))?;
+        // the best of each completed generation, the base first
+        let mut bests = vec![(base_objective, start)];
+        let mut stopped_early = !self.keep_going();
+        let evaluations = |cma: &cmaes::CMAES<_>| 1 + cma.function_evals();
+        while !stopped_early
+            && evaluations(&cma) + population <= self.options.max_evaluations.max(1)
+        {
+            let finished = cma.next_parallel();
+            self.failed()?;
+            if !self.keep_going() {
+                // villages of this generation were cancelled: its figures are not all there
+                stopped_early = true;
+                break;
+            }
+            if let Some(b) = cma.current_best_individual() {
+                bests.push((b.value, b.point.as_slice().to_vec()));
+            }
+            let (generation, best) = (
+                bests.len() - 1,
+                bests.iter().map(|b| b.0).fold(f64::INFINITY, f64::min),
+            );
+            self.report(&|s| {
+                s.generation = generation;
+                s.best = best;
+            });
+            stopped_early = self.stop.load(Ordering::Relaxed);
+            if finished.is_some() {
+                break;
+            }
+        }
+        let generations = bests.len() - 1;
+        let mean = (generations > 0).then(|| cma.mean().as_slice().to_vec());
+        let (point, objective, held_out) = self.final_choice(bests, mean, stopped_early)?;
+        Ok(Outcome {
+            point,
+            objective,
+            held_out,
+            base_objective,
+            evaluations: self.state.lock().map_or(0, |s| s.evaluations),
+            generations,
+            stopped_early: stopped_early || self.stop.load(Ordering::Relaxed),
+        })
+    }
+
+    /// The point kept: of the finalists (the `finalists − 1` best generation bests and the distribution's `mean`),
+    /// the one whose objective over the fit's and the held-out seeds is least; the best at the fit's seeds when the
+    /// search was stopped or has no finalists.
+    fn final_choice(
+        &self,
+        mut bests: Vec<(f64, Vec<f64>)>,
+        mean: Option<Vec<f64>>,
+        stopped_early: bool,
+    ) -> Result<(Vec<f64>, f64, Option<f64>)> {
+        bests.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let best = bests[0].clone();
+        let count = self.options.finalists;
+        if stopped_early || count == 0 || bests.len() < 2 {
+            return Ok((best.1, best.0, None));
+        }
+        let mut finalists: Vec<(f64, Vec<f64>)> = bests
+            .into_iter()
+            .take(count.saturating_sub(1).max(1))
+            .collect();
+        if let Some(m) = mean.filter(|_| count > 1) {
+            finalists.push((self.objective_at(&m, &self.seeds), m));
+        }
+        let held_out: Vec<u64> = self.seeds.iter().map(|s| s + HELD_OUT_OFFSET).collect();
+        let mut chosen: Option<(f64, Vec<f64>, f64)> = None;
+        for (fit, point) in finalists {
+            let h = self.objective_at(&point, &held_out);
+            self.failed()?;
+            if !self.keep_going() {
+                break;
+            }
+            // equal counts of seeds: the objective over both sets is the mean of the two
+            let both = 0.5 * (fit + h);
+            if chosen.as_ref().is_none_or(|c| both < 0.5 * (c.0 + c.2)) {
+                chosen = Some((fit, point, h));
+            }
+        }
+        Ok(match chosen {
+            Some((fit, point, h)) => (point, fit, Some(h)),
+            None => (best.1, best.0, None),
+        })
+    }
+}
