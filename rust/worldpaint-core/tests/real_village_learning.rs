@@ -38,7 +38,7 @@ const PARCEL_CELL: f64 = 1.0;
 /// Seconds a fit may take unless `WORLDPAINT_FIT_SECONDS` says otherwise.
 const FIT_SECONDS: f64 = 540.0;
 /// Candidates a fit evaluates unless `WORLDPAINT_FIT_EVALUATIONS` says otherwise: the base type and four
-/// generations of CMA-ES's default population for the 35 coordinates.
+/// generations of CMA-ES's default population for the 37 coordinates.
 const FIT_EVALUATIONS: usize = 57;
 /// The bands not met yet by a fit of [`FIT_EVALUATIONS`]: printed, not asserted.
 const OPEN: [FitFigure; 5] = [

@@ -13,9 +13,9 @@
 //! * Each candidate is grown at the same few seeds (common random numbers: two candidates differ by their
 //!   parameters, not by their luck), all candidates of a generation and all their seeds in parallel; results
 //!   are gathered in order, so a fit is the same whatever the number of threads.
-//! * A budget of evaluations (candidates) and of seconds; past the seconds, or when the progress callback
-//!   returns `false`, the villages growing are cancelled and the best type of the generations completed is
-//!   kept.
+//! * A budget of evaluations (candidates) and of seconds; the search ends before a generation that would not
+//!   leave time for the finalists at the pace so far. Past the seconds, or when the progress callback returns
+//!   `false`, the villages growing are cancelled and the best type of the generations completed is kept.
 //! * The type kept is not the best at the fit's seeds alone, which is partly the best at their luck: the
 //!   finalists are grown again at held-out seeds ([`search`]).
 
@@ -143,8 +143,8 @@ pub struct FitOptions {
     pub farm_share: f64,
     /// Grid cell (m) of the land conquest.
     pub parcel_cell: f64,
-    /// Candidates grown again at held-out seeds when the search ends (the best of the last generations and the
-    /// distribution's mean), the nearest over both sets of seeds kept; 0: the best at the fit's seeds.
+    /// Candidates grown again at held-out seeds when the search ends (the best candidates of the best generations
+    /// and the distribution's final mean), the nearest over both sets of seeds kept; 0: the best at the fit's seeds.
     pub finalists: usize,
 }
 
@@ -204,7 +204,8 @@ pub struct FittedVillage {
     pub generations: usize,
     /// Seconds the fit took.
     pub seconds: f64,
-    /// Stopped by the callback or the time budget before the evaluation budget was spent.
+    /// Stopped by the callback, or cut by the time budget within a generation (a search whose next generation
+    /// and finalists would not fit in the time left ends there, not early).
     pub stopped_early: bool,
 }
 

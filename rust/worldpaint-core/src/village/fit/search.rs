@@ -17,6 +17,12 @@ use std::time::Instant;
 /// Added to the fit's seeds to draw the held-out ones.
 const HELD_OUT_OFFSET: u64 = 1000;
 
+/// Candidates grown once the search ends: each finalist at the held-out seeds, the distribution's mean at the fit's
+/// seeds too.
+fn finalist_evaluations(options: &FitOptions) -> usize {
+    options.finalists + usize::from(options.finalists > 1)
+}
+
 /// Where a search ended.
 pub(super) struct Outcome {
     /// The kept point, in the space's coordinates.
@@ -31,7 +37,7 @@ pub(super) struct Outcome {
     pub(super) evaluations: usize,
     /// Generations completed.
     pub(super) generations: usize,
-    /// Stopped by the callback or the time budget.
+    /// Stopped by the callback, or cut by the time budget within a generation.
     pub(super) stopped_early: bool,
 }
 
@@ -69,10 +75,7 @@ impl<'a> Search<'a> {
             stop: AtomicBool::new(false),
             state: Mutex::new(FitProgress {
                 evaluations: 0,
-                // the finalists are grown at the held-out seeds, and the distribution's mean at the fit's too
-                max_evaluations: options.max_evaluations
-                    + options.finalists
-                    + usize::from(options.finalists > 1),
+                max_evaluations: options.max_evaluations + finalist_evaluations(options),
                 generation: 0,
                 best: f64::INFINITY,
                 seconds: 0.0,
@@ -152,6 +155,16 @@ impl<'a> Search<'a> {
         value
     }
 
+    /// Whether `candidates` more and the finalists fit in the time left, at the pace of the candidates so far: the
+    /// search ends in time for its finalists rather than being cut short.
+    fn time_left_for(&self, candidates: usize) -> bool {
+        let seconds = self.seconds();
+        let done = self.state.lock().map_or(1, |s| s.evaluations.max(1));
+        let pace = seconds / done as f64;
+        seconds + pace * (candidates + finalist_evaluations(self.options)) as f64
+            <= self.options.max_seconds
+    }
+
     /// Runs the search: the base, the generations of CMA-ES, the finalists.
     pub(super) fn run(&self) -> Result<Outcome> {
         let start = self.space.start();
@@ -176,6 +189,7 @@ impl<'a> Search<'a> {
         let evaluations = |cma: &cmaes::CMAES<_>| 1 + cma.function_evals();
         while !stopped_early
             && evaluations(&cma) + population <= self.options.max_evaluations.max(1)
+            && self.time_left_for(population)
         {
             let finished = cma.next_parallel();
             self.failed()?;
