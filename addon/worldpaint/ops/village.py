@@ -148,8 +148,7 @@ class WORLDPAINT_OT_learn_village(BackgroundOperator, VillageInputs, bpy.types.O
         minutes = self.minutes if self.minutes > 0.0 else settings.learn_minutes
         self._name = name
         self._arguments = (heightfield, region, centres, orientations, roads)
-        self._call = dict(encyclopedia=encyclopedia.text, base_type=settings.learn_base_type or None,
-                          name=name,
+        self._call = dict(encyclopedia=encyclopedia.text, base_type=settings.learn_base_type or None, name=name,
                           seed=self.seed, max_evaluations=self.max_evaluations, max_seconds=60.0 * minutes, cell=cell,
                           parcel_cell=min(settings.parcel_cell, cell), **village.surroundings(settings))
 

@@ -375,14 +375,15 @@ pub(crate) fn village_interest<'py>(
 
 /// Learns a village type from a real village (issue 42): the buildings (centres float64 (N, 2) and long-axis
 /// `orientations` (N,), radians from +X) and `roads` (list of (N, 2)) inside `region` on `terrain`, starting from
-/// the encyclopedia's `base_type` (None: the type whose villages come nearest); CMA-ES grows villages on the same terrain, region and `connections` at `seeds`
-/// until their figures match the real village's, within `max_evaluations` candidates and `max_seconds`; without
-/// `connections`, the village's roads come in where the given roads cross the region's border.
+/// the encyclopedia's `base_type` (None: the type whose villages come nearest); CMA-ES grows villages on the same
+/// terrain, region and `connections` at `seeds` until their figures match the real village's, within
+/// `max_evaluations` candidates and `max_seconds`; without `connections`, the village's roads come in where the given
+/// roads cross the region's border.
 ///
 /// Returns {"encyclopedia": JSON with the learned type added as `name`, "scenario": JSON growing the real village's
 /// count of buildings with it, "base_type", "objective" (at the fit's seeds), "held_out_objective" (at as many
-/// held-out seeds, or None), "base_objective", "evaluations", "generations",
-/// "seconds", "stopped_early", "real": the real village's figures}. `progress(fraction) -> bool` returning False
+/// held-out seeds, or None), "base_objective", "evaluations", "generations", "seconds", "stopped_early", "real": the
+/// real village's figures}. `progress(fraction) -> bool` returning False
 /// stops the fit and keeps the best type so far (`stopped_early`). The surroundings are keywords, as for
 /// `generate_village`. A region with fewer than 5 buildings, no road or reaching off the terrain is refused.
 #[pyfunction]
