@@ -283,8 +283,13 @@ def test_an_interrupted_or_terminated_run_leaves_the_old_tile_set_as_it_was(inpu
         # about 1.6 million instances in 4 tiles: seconds of work, stopped once the first tile is under way
         args = ["--palette", inputs["palette"], "--region", 0, 0, 4000, 4000, "--tile", 2000, "--out", out,
                 "--overwrite", "--workers", 1, "--quiet"]
-        run = subprocess.Popen([sys.executable, "-m", "worldpaint_engine.world", *map(str, args)],
-                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        # as a user's terminal starts it: a suite run from a background job would pass SIGINT on ignored
+        previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+        try:
+            run = subprocess.Popen([sys.executable, "-m", "worldpaint_engine.world", *map(str, args)],
+                                   stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        finally:
+            signal.signal(signal.SIGINT, previous)
         try:
             deadline = time.monotonic() + 60
             while time.monotonic() < deadline:
