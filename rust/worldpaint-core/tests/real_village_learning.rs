@@ -24,9 +24,9 @@ mod common;
 
 use common::real_places::{self, Place, Window};
 use worldpaint_core::{
-    fit_village_type, grow_village_figures, rank_village_types, Encyclopedia, Environment, Error,
-    FitFigure, FitOptions, FitTarget, FittedVillage, RankedType, Scenario, Site, SitedBuilding,
-    VillageFigures,
+    fit_village_type, grow_village_figures, rank_village_types, village_objective, Encyclopedia,
+    Environment, Error, FitFigure, FitOptions, FitTarget, FittedVillage, RankedType, Scenario,
+    Site, SitedBuilding, VillageFigures,
 };
 
 const ENCYCLOPEDIA: &str = include_str!("../../../assets/villages/encyclopedia.json");
@@ -128,11 +128,6 @@ fn mean_figures(grown: &[Option<VillageFigures>]) -> Option<VillageFigures> {
     Some(m)
 }
 
-/// The objective of `grown` against the real figures: the fit's own, so "nearer" means what the fit minimised.
-fn objective(real: &VillageFigures, grown: &[Option<VillageFigures>]) -> f64 {
-    worldpaint_core::village_objective(real, grown)
-}
-
 fn figure_row(label: &str, f: &VillageFigures) -> String {
     format!(
         "{label:<26} {:>6.1} {:>6.1} {:>7.1} {:>6.2} {:>6.2} {:>6.2} {:>6.1} {:>5}  {}",
@@ -226,7 +221,8 @@ fn learn<'a>(
         &fitted.scenario,
         &NEW_SEEDS,
     );
-    let fitted_objective = objective(real, &grown);
+    // the fit's own objective, so "nearer" means what the fit minimised
+    let fitted_objective = village_objective(real, &grown);
     let Some(mean) = mean_figures(&grown) else {
         failures.push(format!(
             "{}: the learned type grew no village at a new seed",

@@ -33,8 +33,6 @@ use glam::DVec2;
 pub use grow::{grow_village_figures, rank_village_types, RankedType};
 use search::Search;
 use space::ParameterSpace;
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::Instant;
 
 /// Fewest buildings a real village must hold to be learned from.
 pub const MIN_BUILDINGS: usize = 5;
@@ -270,13 +268,13 @@ pub fn fit_village_type(
             ),
         ));
     }
+    let search = Search::new(target, enc, options, seeds, progress);
     let base_type = match &options.base_type {
         Some(b) => b.clone(),
-        None => nearest_type(target, enc, options, &seeds, progress)?,
+        None => search.nearest_type()?,
     };
     let space = ParameterSpace::new(enc, &base_type, options.farm_share)?;
-    let search = Search::new(target, enc, options, &space, seeds, progress);
-    let outcome = search.run()?;
+    let outcome = search.run(&space)?;
     let c = space.candidate(&outcome.point);
     let scenario = search.scenario(&c);
     let mut encyclopedia = enc.clone();
@@ -301,39 +299,4 @@ pub fn fit_village_type(
         seconds: search.seconds(),
         stopped_early: outcome.stopped_early,
     })
-}
-
-/// The village type of `enc` whose villages come nearest `target`'s at `seeds`; the progress callback is told
-/// (no evaluation yet) and may stop it.
-fn nearest_type(
-    target: &FitTarget,
-    enc: &Encyclopedia,
-    options: &FitOptions,
-    seeds: &[u64],
-    progress: &(dyn Fn(&FitProgress) -> bool + Sync),
-) -> Result<String> {
-    let started = Instant::now();
-    let stop = AtomicBool::new(false);
-    let keep_going = || {
-        let told = progress(&FitProgress {
-            evaluations: 0,
-            max_evaluations: options.max_evaluations,
-            generation: 0,
-            best: f64::INFINITY,
-            seconds: started.elapsed().as_secs_f64(),
-        });
-        if !told {
-            stop.store(true, Ordering::Relaxed);
-        }
-        !stop.load(Ordering::Relaxed) && started.elapsed().as_secs_f64() <= options.max_seconds
-    };
-    let ranked = rank_village_types(target, enc, seeds, options.parcel_cell, &keep_going)?;
-    if !keep_going() {
-        return Err(Error::Cancelled);
-    }
-    ranked
-        .into_iter()
-        .next()
-        .map(|r| r.name)
-        .ok_or_else(|| Error::invalid("encyclopedia", "it has no village type to start from"))
 }

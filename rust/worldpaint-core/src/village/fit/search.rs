@@ -3,7 +3,7 @@
 //! grown at as many held-out seeds, and the one nearest over both sets of seeds kept: the best at the fit's seeds
 //! alone is partly the best at those seeds' luck.
 
-use super::grow::grow_village_figures;
+use super::grow::{grow_village_figures, rank_village_types};
 use super::objective::objective;
 use super::space::{Candidate, ParameterSpace};
 use super::{scenario_for, FitOptions, FitProgress, FitTarget};
@@ -46,7 +46,6 @@ pub(super) struct Search<'a> {
     target: &'a FitTarget<'a>,
     enc: &'a Encyclopedia,
     options: &'a FitOptions,
-    space: &'a ParameterSpace,
     seeds: Vec<u64>,
     started: Instant,
     stop: AtomicBool,
@@ -61,7 +60,6 @@ impl<'a> Search<'a> {
         target: &'a FitTarget<'a>,
         enc: &'a Encyclopedia,
         options: &'a FitOptions,
-        space: &'a ParameterSpace,
         seeds: Vec<u64>,
         progress: &'a (dyn Fn(&FitProgress) -> bool + Sync),
     ) -> Search<'a> {
@@ -69,7 +67,6 @@ impl<'a> Search<'a> {
             target,
             enc,
             options,
-            space,
             seeds,
             started: Instant::now(),
             stop: AtomicBool::new(false),
@@ -129,8 +126,8 @@ impl<'a> Search<'a> {
     }
 
     /// The objective of the candidate at `x`, grown at `seeds`.
-    fn objective_at(&self, x: &[f64], seeds: &[u64]) -> f64 {
-        let c = self.space.candidate(x);
+    fn objective_at(&self, space: &ParameterSpace, x: &[f64], seeds: &[u64]) -> f64 {
+        let c = space.candidate(x);
         let scenario = self.scenario(&c);
         let mut enc = self.enc.clone();
         enc.village_types
@@ -157,27 +154,50 @@ impl<'a> Search<'a> {
 
     /// Whether `candidates` more and the finalists fit in the time left, at the pace of the candidates so far: the
     /// search ends in time for its finalists rather than being cut short.
-    fn time_left_for(&self, candidates: usize) -> bool {
+    /// `since`: when the first candidate began (the ranking of the start is not a candidate's pace).
+    fn time_left_for(&self, candidates: usize, since: f64) -> bool {
         let seconds = self.seconds();
         let done = self.state.lock().map_or(1, |s| s.evaluations.max(1));
-        let pace = seconds / done as f64;
+        let pace = (seconds - since) / done as f64;
         seconds + pace * (candidates + finalist_evaluations(self.options)) as f64
             <= self.options.max_seconds
     }
 
-    /// Runs the search: the base, the generations of CMA-ES, the finalists.
-    pub(super) fn run(&self) -> Result<Outcome> {
-        let start = self.space.start();
-        let base_objective = self.objective_at(&start, &self.seeds);
+    /// The village type of the encyclopedia whose villages come nearest the real one at the fit's seeds; the
+    /// progress callback may stop it ([`Error::Cancelled`]: there is no type to keep yet).
+    pub(super) fn nearest_type(&self) -> Result<String> {
+        let keep_going = || self.keep_going();
+        let ranked = rank_village_types(
+            self.target,
+            self.enc,
+            &self.seeds,
+            self.options.parcel_cell,
+            &keep_going,
+        )?;
+        if !self.keep_going() {
+            return Err(Error::Cancelled);
+        }
+        ranked
+            .into_iter()
+            .next()
+            .map(|r| r.name)
+            .ok_or_else(|| Error::invalid("encyclopedia", "it has no village type to start from"))
+    }
+
+    /// Runs the search over `space`: the base, the generations of CMA-ES, the finalists.
+    pub(super) fn run(&self, space: &ParameterSpace) -> Result<Outcome> {
+        let since = self.seconds();
+        let start = space.start();
+        let base_objective = self.objective_at(space, &start, &self.seeds);
         self.failed()?;
         self.report(&|s| s.best = base_objective);
-        let dimensions = self.space.dimensions.len();
+        let dimensions = space.dimensions.len();
         let population = if self.options.population > 0 {
             self.options.population
         } else {
             4 + (3.0 * (dimensions as f64).ln()).floor() as usize
         };
-        let told = |x: &cmaes::DVector<f64>| self.objective_at(x.as_slice(), &self.seeds);
+        let told = |x: &cmaes::DVector<f64>| self.objective_at(space, x.as_slice(), &self.seeds);
         let mut cma = cmaes::CMAESOptions::new(start.clone(), self.options.step)
             .population_size(population)
             .seed(self.options.seed)
@@ -189,7 +209,7 @@ impl<'a> Search<'a> {
         let evaluations = |cma: &cmaes::CMAES<_>| 1 + cma.function_evals();
         while !stopped_early
             && evaluations(&cma) + population <= self.options.max_evaluations.max(1)
-            && self.time_left_for(population)
+            && self.time_left_for(population, since)
         {
             let finished = cma.next_parallel();
             self.failed()?;
@@ -215,8 +235,8 @@ impl<'a> Search<'a> {
             }
         }
         let generations = bests.len() - 1;
-        let mean = (generations > 0).then(|| cma.mean().as_slice().to_vec());
-        let (point, objective, held_out) = self.final_choice(bests, mean, stopped_early)?;
+        let mean = cma.mean().as_slice().to_vec();
+        let (point, objective, held_out) = self.final_choice(space, bests, mean, stopped_early)?;
         Ok(Outcome {
             point,
             objective,
@@ -233,8 +253,9 @@ impl<'a> Search<'a> {
     /// search was stopped or has no finalists.
     fn final_choice(
         &self,
+        space: &ParameterSpace,
         mut bests: Vec<(f64, Vec<f64>)>,
-        mean: Option<Vec<f64>>,
+        mean: Vec<f64>,
         stopped_early: bool,
     ) -> Result<(Vec<f64>, f64, Option<f64>)> {
         bests.sort_by(|a, b| a.0.total_cmp(&b.0));
@@ -247,13 +268,13 @@ impl<'a> Search<'a> {
             .into_iter()
             .take(count.saturating_sub(1).max(1))
             .collect();
-        if let Some(m) = mean.filter(|_| count > 1) {
-            finalists.push((self.objective_at(&m, &self.seeds), m));
+        if count > 1 {
+            finalists.push((self.objective_at(space, &mean, &self.seeds), mean));
         }
         let held_out: Vec<u64> = self.seeds.iter().map(|s| s + HELD_OUT_OFFSET).collect();
         let mut chosen: Option<(f64, Vec<f64>, f64)> = None;
         for (fit, point) in finalists {
-            let h = self.objective_at(&point, &held_out);
+            let h = self.objective_at(space, &point, &held_out);
             self.failed()?;
             if !self.keep_going() {
                 break;
