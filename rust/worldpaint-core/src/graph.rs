@@ -408,6 +408,31 @@ impl SegmentIndex {
         }
     }
 
+    /// Calls `visit(segment)` for the segments listed in the cells that the box `lo..hi`, grown by a cell,
+    /// covers, until it returns false: no list is gathered, so a segment in several of the cells comes once per
+    /// cell. For questions whose answer no repeat changes (a nearest distance, whether any is near).
+    pub(crate) fn visit_candidates(
+        &self,
+        lo: DVec2,
+        hi: DVec2,
+        mut visit: impl FnMut(u32) -> bool,
+    ) {
+        if self.segments.is_empty() {
+            return;
+        }
+        let (x0, y0) = self.cell_of(lo - DVec2::splat(self.grid.cell));
+        let (x1, y1) = self.cell_of(hi + DVec2::splat(self.grid.cell));
+        for cy in y0..=y1 {
+            for cx in x0..=x1 {
+                for &s in &self.cells[cy * self.grid.nx + cx] {
+                    if !visit(s) {
+                        return;
+                    }
+                }
+            }
+        }
+    }
+
     /// The segments listed in the cells that the box `lo..hi`, grown by a cell, covers: each once, in index
     /// order (so that ties between them resolve the same way whatever the cells).
     pub(crate) fn candidates(&self, lo: DVec2, hi: DVec2, out: &mut Vec<u32>) {

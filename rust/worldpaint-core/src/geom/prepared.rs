@@ -73,7 +73,13 @@ impl<'r> PreparedRegion<'r> {
 impl RegionQueries for PreparedRegion<'_> {
     fn contains(&self, p: DVec2) -> bool {
         match &self.shape {
-            Prepared::Direct => self.region.contains(p),
+            Prepared::Direct => {
+                // a small polygon still tests its every edge; outside its box it holds nothing
+                let (lo, hi) = self.bbox;
+                let in_box = p.x >= lo.x && p.y >= lo.y && p.x <= hi.x && p.y <= hi.y;
+                (in_box || !matches!(self.region, Region::Polygon { .. }))
+                    && self.region.contains(p)
+            }
             Prepared::Polygon { points, bands, .. } => bands.contains(points, p),
             Prepared::Clipped { within, without } => clipped_contains(within, without, p),
         }

@@ -24,7 +24,10 @@
 use super::road_index::RoadIndex;
 use super::{HouseFootprint, Parcel, Road};
 use crate::error::{check, Error, Result};
-use crate::geom::{polygon_contains, polygon_signed_area, segment_distance, segment_intersection};
+use crate::geom::{
+    polygon_contains, polygon_signed_area, segment_distance, segment_intersection,
+    segments_distance,
+};
 use glam::DVec2;
 use rayon::prelude::*;
 
@@ -102,7 +105,8 @@ impl Frame {
 /// front is not exactly parallel to its road.
 pub(crate) const FRONT_TOLERANCE: f64 = 1.5;
 
-fn footprint_indexed(
+/// [`house_footprint`] with the roads already indexed (cells of at least 8 m), as many parcels share them.
+pub(crate) fn footprint_indexed(
     parcel: &Parcel,
     index: &RoadIndex,
     road_width: f64,
@@ -132,8 +136,9 @@ fn footprint_indexed(
     let eps = 1e-9 * scale;
     let half = 0.5 * road_width;
     let frame = road_frame(&poly, index)?;
+    let near = roads_near(index, &poly, half);
     let fits = |corners: &[DVec2; 4]| {
-        quad_inside(&poly, corners, eps) && clear_of_roads(index, corners, half)
+        quad_inside(&poly, corners, eps) && clear_of_roads(&near, corners, half)
     };
 
     let quad = largest_quad(&frame, min_size, max_size, &fits)?;
@@ -223,7 +228,11 @@ fn largest_quad(
         if best.is_none_or(|(b, _)| a > 1.02 * b) {
             best = Some((a, grown));
         }
-        if width >= max_size[0] - 1e-9 && depth >= max_size[1] - 1e-9 {
+        // no later quad, at most the largest size, could be clearly larger
+        let largest = max_size[0] * max_size[1];
+        if (width >= max_size[0] - 1e-9 && depth >= max_size[1] - 1e-9)
+            || best.is_some_and(|(b, _)| largest * (1.0 + 1e-9) < 1.02 * b)
+        {
             break;
         }
     }
@@ -385,14 +394,36 @@ fn quad_inside(poly: &[DVec2], quad: &[DVec2; 4], eps: f64) -> bool {
     true
 }
 
-/// Whether every wall keeps `half` from the road centre lines.
-fn clear_of_roads(index: &RoadIndex, quad: &[DVec2; 4], half: f64) -> bool {
+/// The road segments that may come within `half` of a quad inside the contour `poly`: the quads of one parcel
+/// are tested against these few instead of the index's cells, many times over as they grow.
+fn roads_near(index: &RoadIndex, poly: &[DVec2], half: f64) -> Vec<(DVec2, DVec2)> {
+    let (lo, hi) = poly.iter().fold(
+        (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+        |(lo, hi), &p| (lo.min(p), hi.max(p)),
+    );
+    // a quad may stand a rounding outside its contour
+    let pad = DVec2::splat(half.max(0.0) + 1.0);
+    let mut found = Vec::new();
+    index.candidates(lo - pad, hi + pad, &mut found);
+    found
+        .iter()
+        .map(|&s| index.segments()[s as usize])
+        .collect()
+}
+
+/// Whether every wall keeps `half` from the road centre lines `near` it.
+fn clear_of_roads(near: &[(DVec2, DVec2)], quad: &[DVec2; 4], half: f64) -> bool {
     if half <= 0.0 {
         return true;
     }
     (0..4).all(|k| {
         let (a, b) = (quad[k], quad[(k + 1) % 4]);
-        index.segment_clearance(a, b, half) >= half * (1.0 - 1e-9)
+        let (lo, hi) = (a.min(b) - half, a.max(b) + half);
+        near.iter().all(|&(p, q)| {
+            // a segment whose box lies `half` away from the wall's cannot come nearer
+            let apart = p.max(q).cmplt(lo).any() || p.min(q).cmpgt(hi).any();
+            apart || segments_distance(a, b, p, q) >= half * (1.0 - 1e-9)
+        })
     })
 }
 

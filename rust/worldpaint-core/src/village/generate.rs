@@ -5,12 +5,13 @@
 use super::encyclopedia::{
     BuildingKind, Encyclopedia, Placement, RoadParams, Scenario, ScenarioEvent,
 };
-use super::footprint::house_footprint;
+use super::footprint::footprint_indexed;
 use super::house::build_house;
 use super::interest::{criteria, interest, InterestCriterion, StaticInterestMaps, VillageState};
 use super::land::{Land, Site};
 use super::metrics::on_water;
 use super::parcels::{parcels_with, ParcelOptions, ParcelSeed};
+use super::road_index::RoadIndex;
 use super::roads::RoadNetwork;
 use super::seeding::seed_building;
 use super::spurs::used_roads;
@@ -539,6 +540,7 @@ fn parcels_and_footprints(
     });
     // each building's draw of whether its footprint is turned, from the village's seed and its index
     let turn_seed = mix_seed(request.seed, 0x7E2D);
+    let index = RoadIndex::new(roads, enc.roads.width.max(8.0));
     let found: Vec<Option<HouseFootprint>> = conquered
         .par_iter()
         .zip(seeds.par_iter().zip(placements.par_iter()))
@@ -547,7 +549,7 @@ fn parcels_and_footprints(
             let parcel = parcel.as_ref().filter(|_| footprints.go_on())?;
             let u = (mix_seed(turn_seed, i as u64) >> 11) as f64 / (1u64 << 53) as f64;
             let size = placement.footprint_sizes_drawn(enc.buildings.get(&s.building)?, u);
-            let fp = house_footprint(parcel, roads, enc.roads.width, size.min, size.max, 1.0);
+            let fp = footprint_indexed(parcel, &index, enc.roads.width, size.min, size.max, 1.0);
             footprints.done_one();
             fp
         })

@@ -3,7 +3,7 @@
 //! are searched and interests evaluated on this grid; parcels are conquered on a finer grid over the same box.
 
 use crate::error::{check, Error, Result};
-use crate::geom::{segment_distance, Region};
+use crate::geom::{segment_distance, PreparedRegion, Region, RegionQueries};
 use crate::grid::Grid;
 use crate::terrain::Heightfield;
 use glam::DVec2;
@@ -88,8 +88,16 @@ impl Land {
                 .map(|c| Region::Polygon { points: c.clone() })
                 .collect()
         };
-        let water_polygons = polygons(&environment.water_areas);
-        let wall_polygons = polygons(&environment.walls);
+        let (water_polygons, wall_polygons) = (
+            polygons(&environment.water_areas),
+            polygons(&environment.walls),
+        );
+        // every node asks them: prepared once, a real place's lakes and rivers cost a box test at most nodes
+        let (region, water_polygons, wall_polygons): (_, Vec<_>, Vec<_>) = (
+            PreparedRegion::new(region),
+            water_polygons.iter().map(PreparedRegion::new).collect(),
+            wall_polygons.iter().map(PreparedRegion::new).collect(),
+        );
         let nodes: Vec<(f32, bool, bool, bool, bool)> = (0..grid.len())
             .into_par_iter()
             .map(|k| {

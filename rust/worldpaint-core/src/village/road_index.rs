@@ -100,14 +100,14 @@ impl RoadIndex {
 
     /// The distance from the segment `a`–`b` to the roads, or `limit` when it is farther than `limit`.
     pub(crate) fn segment_clearance(&self, a: DVec2, b: DVec2, limit: f64) -> f64 {
-        let mut c = Vec::new();
         let pad = DVec2::splat(limit);
-        self.candidates(a.min(b) - pad, a.max(b) + pad, &mut c);
         let mut best = limit;
-        for &s in &c {
-            let (p, q) = self.segments()[s as usize];
-            best = best.min(segments_distance(a, b, p, q));
-        }
+        self.index
+            .visit_candidates(a.min(b) - pad, a.max(b) + pad, |s| {
+                let (p, q) = self.segments()[s as usize];
+                best = best.min(segments_distance(a, b, p, q));
+                best > 0.0
+            });
         best
     }
 }

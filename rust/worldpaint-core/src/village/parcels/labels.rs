@@ -34,6 +34,20 @@ impl Labels<'_> {
         for _ in 0..2 {
             let (old, old_best) = (self.label.to_vec(), self.best.to_vec());
             let lab = |i: i64, j: i64| self.work.inside(i, j).map_or(NONE, |k| old[k]);
+            // a cell off the grid's border inside its parcel or inside unclaimed land (most cells) keeps its label
+            let ny = self.work.grid.ny;
+            let uniform = |k: usize| {
+                let (i, j, l) = (k % nx, k / nx, old[k]);
+                i > 0
+                    && j > 0
+                    && i + 1 < nx
+                    && j + 1 < ny
+                    && [k - nx, k + nx]
+                        .iter()
+                        .all(|&r| old[r - 1] == l && old[r] == l && old[r + 1] == l)
+                    && old[k - 1] == l
+                    && old[k + 1] == l
+            };
             // every cell from the previous labels, in parallel
             let changes: Vec<(usize, u32, f64)> = (0..self.work.grid.len())
                 .into_par_iter()
@@ -44,15 +58,22 @@ impl Labels<'_> {
                     {
                         return None;
                     }
+                    if uniform(k) {
+                        return None;
+                    }
                     let (i, j) = ((k % nx) as i64, (k / nx) as i64);
-                    let mut counts: Vec<(u32, usize)> = Vec::with_capacity(8);
-                    for &(di, dj) in &N8 {
-                        let l = lab(i + di, j + dj);
-                        match counts.iter_mut().find(|c| c.0 == l) {
+                    let mut counts = [(NONE, 0usize); 8];
+                    let mut distinct = 0;
+                    for l in N8.map(|(di, dj)| lab(i + di, j + dj)) {
+                        match counts[..distinct].iter_mut().find(|c| c.0 == l) {
                             Some(c) => c.1 += 1,
-                            None => counts.push((l, 1)),
+                            None => {
+                                counts[distinct] = (l, 1);
+                                distinct += 1;
+                            }
                         }
                     }
+                    let counts = &mut counts[..distinct];
                     // the most frequent label, ties to the lower one
                     counts.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(&b.0)));
                     let (top, count) = counts[0];
