@@ -13,6 +13,9 @@
 //! * A building's orientation is that of its long axis (a footprint's longer side; for a real building, the long
 //!   side of its minimum-area rectangle). Its angle to the nearest road segment is folded into 0–90°: a house
 //!   with its eaves along the road reads 0°, one with its gable to the road 90°.
+//! * The road length per house counts the roads that serve the village: the stretches within [`SERVING_REACH`] of
+//!   one of its buildings. A window on a real place also holds roads that pass it by (a valley road, field
+//!   tracks); they say nothing of the village and would make the figure depend on the window's size.
 //! * OpenStreetMap ways meet at shared nodes, while a generated road may end inside a segment of the road it
 //!   joins: every road end is made a vertex of the roads it passes within half a metre of before the network's
 //!   nodes are counted.
@@ -34,6 +37,9 @@ const HAIRPIN_DEGREES: f64 = 120.0;
 const SNAP: f64 = 0.5;
 /// Buildings farther than this (m) from every road have no orientation to the road.
 const ORIENTATION_REACH: f64 = 200.0;
+/// Roads within this distance (m) of a building serve the village; pieces this long (m) at most are judged.
+pub(crate) const SERVING_REACH: f64 = 100.0;
+const SERVING_PIECE: f64 = 2.0;
 
 /// A building as measured: its centre, and the angle (radians from +X, counter-clockwise, any half-turn) of its
 /// long axis.
@@ -117,8 +123,11 @@ pub fn village_figures(
         .collect();
     let centres: Vec<DVec2> = inside.iter().map(|b| b.centre).collect();
     let hectares = region.area() / 1e4;
+    let mut layout = layout_statistics(&centres, &clipped);
+    layout.road_length_per_house =
+        serving_road_length(&centres, &clipped) / centres.len().max(1) as f64;
     VillageFigures {
-        layout: layout_statistics(&centres, &clipped),
+        layout,
         network: network_shape(region, &clipped),
         road_length: road_length(&clipped),
         buildings_per_hectare: if hectares > 0.0 {
@@ -128,6 +137,27 @@ pub fn village_figures(
         },
         orientation_to_road: orientation_to_road(&inside, &clipped),
     }
+}
+
+/// The length (m) of the roads' stretches within [`SERVING_REACH`] of a building (`centres`), judged on pieces of
+/// at most [`SERVING_PIECE`] by their middles.
+fn serving_road_length(centres: &[DVec2], roads: &[Road]) -> f64 {
+    let reach2 = SERVING_REACH * SERVING_REACH;
+    let serves = |p: DVec2| centres.iter().any(|c| c.distance_squared(p) <= reach2);
+    let mut length = 0.0;
+    for road in roads {
+        for w in road.points.windows(2) {
+            let (a, b) = (w[0], w[1]);
+            let pieces = (a.distance(b) / SERVING_PIECE).ceil().max(1.0);
+            let piece = a.distance(b) / pieces;
+            for k in 0..pieces as usize {
+                if serves(a.lerp(b, (k as f64 + 0.5) / pieces)) {
+                    length += piece;
+                }
+            }
+        }
+    }
+    length
 }
 
 /// The histogram of the buildings' long axes' angles to their nearest road segment, folded into 0–90°.
@@ -284,6 +314,34 @@ mod tests {
         assert_eq!(
             total_variation(&f.orientation_to_road, &g.orientation_to_road),
             1.0
+        );
+    }
+
+    #[test]
+    fn the_road_per_house_counts_the_roads_within_reach_of_the_village_not_those_passing_the_window(
+    ) {
+        let region = square(400.0);
+        let street = Road {
+            points: vec![DVec2::new(-50.0, 100.0), DVec2::new(450.0, 100.0)],
+        };
+        // a valley road 190 m from every house
+        let valley = Road {
+            points: vec![DVec2::new(-50.0, 300.0), DVec2::new(450.0, 300.0)],
+        };
+        let houses: Vec<SitedBuilding> = (0..10)
+            .map(|k| SitedBuilding {
+                centre: DVec2::new(110.0 + 18.0 * k as f64, 110.0),
+                orientation: 0.0,
+            })
+            .collect();
+        let f = village_figures(&houses, &[street, valley], &region);
+        assert!((f.road_length - 800.0).abs() < 1e-9);
+        // the street within 100 m of the houses at 10 m: x from 110 - 99.5 to 272 + 99.5
+        let serving = 162.0 + 2.0 * (SERVING_REACH * SERVING_REACH - 100.0).sqrt();
+        assert!(
+            (f.layout.road_length_per_house * 10.0 - serving).abs() <= SERVING_PIECE,
+            "{} m of serving road, {serving:.1} m expected",
+            f.layout.road_length_per_house * 10.0
         );
     }
 

@@ -10,6 +10,7 @@ use super::{scenario_for, FitOptions, FitProgress, FitTarget};
 use crate::village::encyclopedia::{Encyclopedia, Scenario};
 use crate::village::figures::VillageFigures;
 use crate::{Error, Result};
+use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Mutex;
 use std::time::Instant;
@@ -152,13 +153,14 @@ impl<'a> Search<'a> {
         value
     }
 
-    /// Whether `candidates` more and the finalists fit in the time left, at the pace of the candidates so far: the
-    /// search ends in time for its finalists rather than being cut short.
+    /// Whether `candidates` more and the finalists fit in the time left, at the pace of the candidates so far or of
+    /// the slowest generation (`slowest`, seconds a candidate), whichever is slower: the search ends in time for its
+    /// finalists rather than being cut short (one generation's villages may grow slower than the average).
     /// `since`: when the first candidate began (the ranking of the start is not a candidate's pace).
-    fn time_left_for(&self, candidates: usize, since: f64) -> bool {
+    fn time_left_for(&self, candidates: usize, since: f64, slowest: f64) -> bool {
         let seconds = self.seconds();
         let done = self.state.lock().map_or(1, |s| s.evaluations.max(1));
-        let pace = (seconds - since) / done as f64;
+        let pace = ((seconds - since) / done as f64).max(slowest);
         seconds + pace * (candidates + finalist_evaluations(self.options)) as f64
             <= self.options.max_seconds
     }
@@ -207,11 +209,14 @@ impl<'a> Search<'a> {
         let mut bests = vec![(base_objective, start)];
         let mut stopped_early = !self.keep_going();
         let evaluations = |cma: &cmaes::CMAES<_>| 1 + cma.function_evals();
+        let mut slowest = 0.0f64;
         while !stopped_early
             && evaluations(&cma) + population <= self.options.max_evaluations.max(1)
-            && self.time_left_for(population, since)
+            && self.time_left_for(population, since, slowest)
         {
+            let began = self.seconds();
             let finished = cma.next_parallel();
+            slowest = slowest.max((self.seconds() - began) / population as f64);
             self.failed()?;
             if !self.keep_going() {
                 // villages of this generation were cancelled: its figures are not all there
@@ -268,25 +273,37 @@ impl<'a> Search<'a> {
             .into_iter()
             .take(count.saturating_sub(1).max(1))
             .collect();
-        if count > 1 {
-            finalists.push((self.objective_at(space, &mean, &self.seeds), mean));
-        }
         let held_out: Vec<u64> = self.seeds.iter().map(|s| s + HELD_OUT_OFFSET).collect();
-        let mut chosen: Option<(f64, Vec<f64>, f64)> = None;
-        for (fit, point) in finalists {
-            let h = self.objective_at(space, &point, &held_out);
-            self.failed()?;
-            if !self.keep_going() {
-                break;
-            }
-            // equal counts of seeds: the objective over both sets is the mean of the two
-            let both = 0.5 * (fit + h);
-            if chosen.as_ref().is_none_or(|c| both < 0.5 * (c.0 + c.2)) {
-                chosen = Some((fit, point, h));
-            }
+        // every finalist at the held-out seeds and the mean at the fit's seeds too, in parallel as a generation's
+        // candidates are (the pace the search ended by)
+        let mut jobs: Vec<(&[f64], &[u64])> = finalists
+            .iter()
+            .map(|(_, point)| (point.as_slice(), held_out.as_slice()))
+            .collect();
+        if count > 1 {
+            jobs.extend([
+                (mean.as_slice(), held_out.as_slice()),
+                (mean.as_slice(), &self.seeds),
+            ]);
         }
+        let values: Vec<f64> = jobs
+            .par_iter()
+            .map(|(point, seeds)| self.objective_at(space, point, seeds))
+            .collect();
+        self.failed()?;
+        if !self.keep_going() {
+            return Ok((best.1, best.0, None));
+        }
+        if count > 1 {
+            finalists.push((values[values.len() - 1], mean));
+        }
+        // equal counts of seeds: the objective over both sets is the mean of the two
+        let chosen = finalists
+            .into_iter()
+            .zip(values)
+            .min_by(|(a, ha), (b, hb)| (a.0 + ha).total_cmp(&(b.0 + hb)));
         Ok(match chosen {
-            Some((fit, point, h)) => (point, fit, Some(h)),
+            Some(((fit, point), h)) => (point, fit, Some(h)),
             None => (best.1, best.0, None),
         })
     }
