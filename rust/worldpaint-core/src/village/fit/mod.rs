@@ -112,7 +112,7 @@ impl<'a> FitTarget<'a> {
 }
 
 /// The seeds a village of `buildings` is grown at: a small village's figures vary more from seed to seed and
-/// it grows faster, so it is grown at more (3 from 34 buildings, 4 below 25). Two seeds a candidate left the
+/// it grows faster, so it is grown at more (4 up to 25 buildings, 3 above). Two seeds a candidate left the
 /// objective moving by as much between seed sets as between a good type and a poor one.
 pub(crate) fn seeds_for(buildings: usize) -> Vec<u64> {
     let count = (100 / buildings.max(1)).clamp(3, 4);
@@ -126,7 +126,7 @@ pub struct FitOptions {
     pub base_type: Option<String>,
     /// The name of the learned type in the encyclopedia.
     pub name: String,
-    /// Seeds each candidate is grown at; empty: 3 from 34 buildings, 4 below (a small village varies more).
+    /// Seeds each candidate is grown at; empty: 4 up to 25 buildings, 3 above (a small village varies more).
     pub seeds: Vec<u64>,
     /// Seed of the search.
     pub seed: u64,
