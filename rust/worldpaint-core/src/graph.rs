@@ -437,16 +437,10 @@ impl SegmentIndex {
     /// order (so that ties between them resolve the same way whatever the cells).
     pub(crate) fn candidates(&self, lo: DVec2, hi: DVec2, out: &mut Vec<u32>) {
         out.clear();
-        if self.segments.is_empty() {
-            return;
-        }
-        let (x0, y0) = self.cell_of(lo - DVec2::splat(self.grid.cell));
-        let (x1, y1) = self.cell_of(hi + DVec2::splat(self.grid.cell));
-        for cy in y0..=y1 {
-            for cx in x0..=x1 {
-                out.extend_from_slice(&self.cells[cy * self.grid.nx + cx]);
-            }
-        }
+        self.visit_candidates(lo, hi, |s| {
+            out.push(s);
+            true
+        });
         out.sort_unstable();
         out.dedup();
     }
