@@ -5,9 +5,9 @@
 use worldpaint_core::{
     embed_roads, footprint_conflicts, generate_village, layout_statistics,
     mean_elevation_percentile, parcel_statistics, road_grades, unreachable_footprints,
-    village_terrain, DVec2, EmbeddedRoad, Encyclopedia, Environment, Error, Heightfield, Region,
-    Road, RoadEmbeddingOptions, RoadParams, Scenario, ScenarioEvent, ScenarioPresets, Site,
-    Village, VillageRequest, VillageStage,
+    village_figures, village_terrain, DVec2, EmbeddedRoad, Encyclopedia, Environment, Error,
+    Heightfield, Region, Road, RoadEmbeddingOptions, RoadParams, Scenario, ScenarioEvent,
+    ScenarioPresets, Site, SitedBuilding, Village, VillageRequest, VillageStage,
 };
 
 const ENCYCLOPEDIA: &str = include_str!("../../../assets/villages/encyclopedia.json");
@@ -450,4 +450,54 @@ fn a_village_type_may_set_its_own_road_costs_but_not_its_width() {
         Encyclopedia::from_json(&widened).is_err(),
         "a village type's road width"
     );
+}
+
+#[test]
+fn a_village_type_with_skewed_footprints_stands_its_houses_at_every_angle_to_the_road() {
+    let terrain = village_terrain(1000.0, 2.0, 5);
+    let region = Region::Rect {
+        min: DVec2::splat(20.0),
+        max: DVec2::splat(980.0),
+    };
+    let mut enc = encyclopedia();
+    let straight = village(&terrain, &enc, &scenario("farming", 40), 4);
+    let between = |v: &Village| {
+        let sited: Vec<SitedBuilding> = v
+            .footprints
+            .iter()
+            .map(SitedBuilding::of_footprint)
+            .collect();
+        let h = village_figures(&sited, &v.roads, &region).orientation_to_road;
+        (h[1..h.len() - 1].iter().sum::<f64>(), sited.len())
+    };
+    let (straight_between, n) = between(&straight);
+    if let Some(p) = enc
+        .village_types
+        .get_mut("farming")
+        .and_then(|t| t.buildings.get_mut("house"))
+    {
+        p.skew_share = 0.6;
+    }
+    let skewed = village(&terrain, &enc, &scenario("farming", 40), 4);
+    let (skewed_between, m) = between(&skewed);
+    println!(
+        "houses between along and across their road: {:.0} % of {n} straight, {:.0} % of {m} with 60 % skewed",
+        100.0 * straight_between,
+        100.0 * skewed_between
+    );
+    // 60 % drawn evenly over ±45° put about 40 % in the four middle bins of six (a few stand straight when the
+    // skewed footprint finds no room)
+    assert!(straight_between < 0.15, "{straight_between}");
+    assert!((0.25..0.55).contains(&skewed_between), "{skewed_between}");
+    // the skewed footprints keep clear of the roads and of each other, and as many houses stand
+    assert!(m + 3 >= n, "{m} houses skewed, {n} straight");
+    let land = skewed.land.as_ref().expect("land");
+    let conflicts = footprint_conflicts(
+        &skewed.footprints,
+        &skewed.roads,
+        enc.roads.width,
+        land,
+        0.05,
+    );
+    assert_eq!(conflicts.total(), 0, "{conflicts:?}");
 }

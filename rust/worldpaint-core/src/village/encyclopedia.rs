@@ -109,6 +109,10 @@ pub struct Placement {
     /// and houses with the gable to it); 0: none, as the thesis's types.
     #[serde(default, skip_serializing_if = "is_zero")]
     pub turned_share: f64,
+    /// Share of the footprints skewed from their road, each turned by an angle drawn evenly within ±45° (real
+    /// houses also follow the contour lines, or older ways); 0: none, as the thesis's types.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub skew_share: f64,
 }
 
 /// Smallest and largest footprint (width along the road, depth away from it), metres.
@@ -486,6 +490,7 @@ impl Encyclopedia {
                     check_footprint(&format!("{at}.footprint"), size)?;
                 }
                 check::within(&format!("{at}.turned_share"), p.turned_share, 0.0, 1.0)?;
+                check::within(&format!("{at}.skew_share"), p.skew_share, 0.0, 1.0)?;
                 for (other, s) in &p.sociability_with {
                     if !self.buildings.contains_key(other) {
                         return Err(Error::invalid(

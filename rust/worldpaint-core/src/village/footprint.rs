@@ -42,7 +42,7 @@ pub fn house_footprint(
     snap: f64,
 ) -> Option<HouseFootprint> {
     let index = RoadIndex::new(roads, road_width.max(8.0));
-    footprint_indexed(parcel, &index, road_width, min_size, max_size, snap)
+    footprint_indexed(parcel, &index, road_width, (min_size, max_size), snap, 0.0)
 }
 
 /// The footprints of many parcels in parallel: `sizes[i]` holds the `(min_size, max_size)` of `parcels[i]`.
@@ -70,7 +70,7 @@ pub fn house_footprints(
     Ok(parcels
         .par_iter()
         .zip(sizes.par_iter())
-        .map(|(p, (min, max))| footprint_indexed(p, &index, road_width, *min, *max, snap))
+        .map(|(p, sizes)| footprint_indexed(p, &index, road_width, *sizes, snap, 0.0))
         .collect())
 }
 
@@ -93,6 +93,16 @@ struct Frame {
 }
 
 impl Frame {
+    /// The frame turned by `angle` (radians, counter-clockwise) about its origin.
+    fn turned(self, angle: f64) -> Frame {
+        let r = DVec2::from_angle(angle);
+        Frame {
+            q: self.q,
+            u: r.rotate(self.u),
+            n: r.rotate(self.n),
+        }
+    }
+
     fn corners(&self, r: &Quad) -> [DVec2; 4] {
         let f = self.q + self.n * r.front;
         let c0 = f - self.u * r.left;
@@ -105,14 +115,15 @@ impl Frame {
 /// front is not exactly parallel to its road.
 pub(crate) const FRONT_TOLERANCE: f64 = 1.5;
 
-/// [`house_footprint`] with the roads already indexed (cells of at least 8 m), as many parcels share them.
+/// [`house_footprint`] with the roads already indexed (cells of at least 8 m), as many parcels share them, and
+/// the quad turned by `turn` (radians) from the road's direction.
 pub(crate) fn footprint_indexed(
     parcel: &Parcel,
     index: &RoadIndex,
     road_width: f64,
-    min_size: [f64; 2],
-    max_size: [f64; 2],
+    (min_size, max_size): ([f64; 2], [f64; 2]),
     snap: f64,
+    turn: f64,
 ) -> Option<HouseFootprint> {
     let sizes_ok = (0..2).all(|k| {
         min_size[k].is_finite()
@@ -135,7 +146,7 @@ pub(crate) fn footprint_indexed(
         .fold(1.0f64, |m, p| m.max(p.abs().max_element()));
     let eps = 1e-9 * scale;
     let half = 0.5 * road_width;
-    let frame = road_frame(&poly, index)?;
+    let frame = road_frame(&poly, index)?.turned(turn);
     let near = roads_near(index, &poly, half);
     let fits = |corners: &[DVec2; 4]| {
         quad_inside(&poly, corners, eps) && clear_of_roads(&near, corners, half)
@@ -457,4 +468,50 @@ fn convex_ccw(c: &[DVec2; 4], eps: f64) -> bool {
         let (a, b, d) = (c[k], c[(k + 1) % 4], c[(k + 2) % 4]);
         a.distance(b) > eps && (b - a).perp_dot(d - b) > 0.0
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_skewed_footprint_turns_from_its_road_and_stays_in_its_parcel_clear_of_the_road() {
+        // a 30 m square lot whose front lies 4 m from a road along x
+        let road = Road {
+            points: vec![DVec2::new(-50.0, 0.0), DVec2::new(80.0, 0.0)],
+        };
+        let parcel = Parcel {
+            seed: 0,
+            contour: vec![
+                DVec2::new(0.0, 4.0),
+                DVec2::new(30.0, 4.0),
+                DVec2::new(30.0, 34.0),
+                DVec2::new(0.0, 34.0),
+            ],
+        };
+        let index = RoadIndex::new(std::slice::from_ref(&road), 8.0);
+        let sizes = ([6.0, 5.0], [12.0, 8.0]);
+        let front_angle = |f: &HouseFootprint| {
+            let v = f.corners[1] - f.corners[0];
+            v.y.atan2(v.x).to_degrees()
+        };
+        let straight = footprint_indexed(&parcel, &index, 5.0, sizes, 0.0, 0.0);
+        let straight = straight.expect("a footprint along the road");
+        assert!(front_angle(&straight).abs() < 1e-9);
+        for turn in [-25.0f64, 20.0] {
+            let skewed = footprint_indexed(&parcel, &index, 5.0, sizes, 0.0, turn.to_radians());
+            let skewed = skewed.expect("a skewed footprint");
+            assert!(
+                (front_angle(&skewed) - turn).abs() < 1e-6,
+                "front at {:.2}° for a turn of {turn}°",
+                front_angle(&skewed)
+            );
+            assert!(quad_inside(&parcel.contour, &skewed.corners, 1e-9));
+            assert!(clear_of_roads(
+                &[(road.points[0], road.points[1])],
+                &skewed.corners,
+                2.5
+            ));
+        }
+    }
 }

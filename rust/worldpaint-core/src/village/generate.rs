@@ -538,8 +538,11 @@ fn parcels_and_footprints(
     let footprints = Counted::new(conquered.len(), |f| {
         progress(VillageStage::Parcels, 0.8 + 0.2 * f)
     });
-    // each building's draw of whether its footprint is turned, from the village's seed and its index
-    let turn_seed = mix_seed(request.seed, 0x7E2D);
+    // each building's draws of whether its footprint is turned or skewed, and by how much, from the village's seed
+    // and its index
+    let draw = |key: u64, i: usize| {
+        (mix_seed(mix_seed(request.seed, key), i as u64) >> 11) as f64 / (1u64 << 53) as f64
+    };
     let index = RoadIndex::new(roads, enc.roads.width.max(8.0));
     let found: Vec<Option<HouseFootprint>> = conquered
         .par_iter()
@@ -547,9 +550,18 @@ fn parcels_and_footprints(
         .enumerate()
         .map(|(i, (parcel, (s, placement)))| {
             let parcel = parcel.as_ref().filter(|_| footprints.go_on())?;
-            let u = (mix_seed(turn_seed, i as u64) >> 11) as f64 / (1u64 << 53) as f64;
-            let size = placement.footprint_sizes_drawn(enc.buildings.get(&s.building)?, u);
-            let fp = footprint_indexed(parcel, &index, enc.roads.width, size.min, size.max, 1.0);
+            let size =
+                placement.footprint_sizes_drawn(enc.buildings.get(&s.building)?, draw(0x7E2D, i));
+            let sizes = (size.min, size.max);
+            let grown =
+                |turn: f64| footprint_indexed(parcel, &index, enc.roads.width, sizes, 1.0, turn);
+            // a skewed footprint that finds no room in its parcel stands along the road
+            let fp = if draw(0x5E3A, i) < placement.skew_share {
+                let turn = std::f64::consts::FRAC_PI_4 * (2.0 * draw(0x5E3B, i) - 1.0);
+                grown(turn).or_else(|| grown(0.0))
+            } else {
+                grown(0.0)
+            };
             footprints.done_one();
             fp
         })

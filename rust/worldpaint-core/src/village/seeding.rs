@@ -133,6 +133,7 @@ mod tests {
             },
             footprint: None,
             turned_share: 0.0,
+            skew_share: 0.0,
         }
     }
 

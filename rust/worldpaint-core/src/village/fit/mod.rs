@@ -274,7 +274,8 @@ pub fn fit_village_type(
         Some(b) => b.clone(),
         None => search.nearest_type()?,
     };
-    let space = ParameterSpace::new(enc, &base_type, options.farm_share)?;
+    let skew_share = space::skew_share_of(&target.figures.orientation_to_road);
+    let space = ParameterSpace::new(enc, &base_type, options.farm_share, skew_share)?;
     let outcome = search.run(&space)?;
     let c = space.candidate(&outcome.point);
     let scenario = search.scenario(&c);

@@ -9,12 +9,14 @@
 //! farms), the interest weights of sociability, accessibility, slope and domination (the criteria a real
 //! village's layout tells about), the sociability and accessibility shapes (`λ_min`, and `λ_0`, `λ_max` as
 //! ratios of the one before, so that `λ_min ≤ λ_0 ≤ λ_max` always holds), the parcel's road reach, the
-//! footprint's aspect (width along the road over depth) and scale and the share of footprints turned; for the
-//! village type's roads, the slope, curvature and re-use weights, the grade limit, the move mask's radius, the
+//! footprint's aspect (width along the road over depth) and scale and the share of footprints turned; for all of
+//! them, the share of footprints skewed from their road (starting from the real village's share of buildings
+//! neither along nor across their road); for the village type's roads, the slope, curvature and re-use weights, the grade limit, the move mask's radius, the
 //! longest cycle road and the street length laid past a new building; for the scenario, the buildings asked for
 //! per real building (the generator loses some in narrow parcels) and the share of farms.
 
 use crate::village::encyclopedia::{Encyclopedia, FootprintSize, RoadParams, Shape, VillageType};
+use crate::village::figures::ORIENTATION_BINS;
 use crate::{Error, Result};
 use std::collections::BTreeMap;
 
@@ -44,6 +46,8 @@ pub(crate) enum Knob {
     FootprintScale(String),
     /// The share of footprints turned (width and depth swapped).
     TurnedShare(String),
+    /// The share of footprints skewed from their road, one for every learned building type.
+    SkewShare,
     RoadSlopeWeight,
     RoadCurvatureWeight,
     RoadReuseWeight,
@@ -134,17 +138,27 @@ pub(crate) struct ParameterSpace {
     footprints: BTreeMap<String, FootprintSize>,
     /// The count factor and farm share the search starts from.
     start_counts: (f64, f64),
+    /// The skew share the search starts from.
+    start_skew: f64,
+}
+
+/// The share of buildings standing at any angle to their road, read from the histogram of `orientation` to the
+/// road: those of the bins neither along nor across the road, as though spread evenly over every bin.
+pub(crate) fn skew_share_of(orientation: &[f64; ORIENTATION_BINS]) -> f64 {
+    let between: f64 = orientation[1..ORIENTATION_BINS - 1].iter().sum();
+    (between * ORIENTATION_BINS as f64 / (ORIENTATION_BINS - 2) as f64).clamp(0.0, 1.0)
 }
 
 /// Building types learned when the base village type has them.
 pub(crate) const LEARNED_BUILDINGS: [&str; 2] = ["house", "farm"];
 
 impl ParameterSpace {
-    /// The space around `base_type` of `enc`, starting from its values and from `farm_share`.
+    /// The space around `base_type` of `enc`, starting from its values, from `farm_share` and from `skew_share`.
     pub(crate) fn new(
         enc: &Encyclopedia,
         base_type: &str,
         farm_share: f64,
+        skew_share: f64,
     ) -> Result<ParameterSpace> {
         let base = enc.village_types.get(base_type).ok_or_else(|| {
             Error::invalid(
@@ -192,6 +206,7 @@ impl ParameterSpace {
             ]);
         }
         dimensions.extend([
+            Dimension::new(Knob::SkewShare, 0.0, 1.0, false),
             Dimension::new(Knob::RoadSlopeWeight, 0.2, 20.0, true),
             Dimension::new(Knob::RoadCurvatureWeight, 0.2, 20.0, true),
             Dimension::new(Knob::RoadReuseWeight, 0.02, 0.6, true),
@@ -208,6 +223,7 @@ impl ParameterSpace {
             roads: enc.road_params(base_type),
             footprints,
             start_counts: (1.0, farm_share),
+            start_skew: skew_share,
         })
     }
 
@@ -239,6 +255,7 @@ impl ParameterSpace {
             }
             Knob::FootprintScale(_) => 1.0,
             Knob::TurnedShare(b) => p(b).turned_share,
+            Knob::SkewShare => self.start_skew,
             Knob::RoadSlopeWeight => r.slope_weight,
             Knob::RoadCurvatureWeight => r.curvature_weight,
             Knob::RoadReuseWeight => r.reuse_weight,
@@ -312,6 +329,13 @@ impl ParameterSpace {
                         p.turned_share = v;
                     }
                 }
+                Knob::SkewShare => {
+                    for b in self.footprints.keys() {
+                        if let Some(p) = t.buildings.get_mut(b) {
+                            p.skew_share = v;
+                        }
+                    }
+                }
                 Knob::RoadSlopeWeight => roads.slope_weight = Some(v),
                 Knob::RoadCurvatureWeight => roads.curvature_weight = Some(v),
                 Knob::RoadReuseWeight => roads.reuse_weight = Some(v),
@@ -372,12 +396,12 @@ mod tests {
     #[test]
     fn the_start_is_the_base_type_and_every_point_is_a_valid_type() {
         let enc = enc();
-        let space = ParameterSpace::new(&enc, "highland", 0.2).expect("highland");
+        let space = ParameterSpace::new(&enc, "highland", 0.2, 0.3).expect("highland");
         assert_eq!(
             space.footprints.keys().collect::<Vec<_>>(),
             ["farm", "house"]
         );
-        assert_eq!(space.dimensions.len(), 2 * 14 + 9);
+        assert_eq!(space.dimensions.len(), 2 * 14 + 10);
         let start = space.candidate(&space.start());
         let base = &enc.village_types["highland"];
         // the base's values inside the bounds come back (up to rounding through logarithms)
@@ -391,6 +415,7 @@ mod tests {
         assert!((h.weights.domination - b.weights.domination).abs() < 1e-12);
         assert_eq!(start.village_type.roads.mask_radius, Some(2));
         assert!((start.farm_share - 0.2).abs() < 1e-12);
+        assert!((h.skew_share - 0.3).abs() < 1e-12);
         // far-off coordinates fold into the bounds and give a type the encyclopedia accepts
         for k in 0..20 {
             let x: Vec<f64> = (0..space.dimensions.len())
@@ -425,8 +450,17 @@ mod tests {
     }
 
     #[test]
+    fn the_skew_share_spreads_the_buildings_between_along_and_across_over_every_bin() {
+        // near les Bons: 67 % along the road, 8 % across, 26 % between
+        let s = skew_share_of(&[0.67, 0.08, 0.04, 0.04, 0.10, 0.07]);
+        assert!((s - 0.39).abs() < 1e-9, "{s}");
+        assert_eq!(skew_share_of(&[0.5, 0.0, 0.0, 0.0, 0.0, 0.5]), 0.0);
+        assert_eq!(skew_share_of(&[0.0, 0.4, 0.3, 0.3, 0.0, 0.0]), 1.0);
+    }
+
+    #[test]
     fn an_unknown_or_houseless_base_is_refused() {
         let enc = enc();
-        assert!(ParameterSpace::new(&enc, "no such type", 0.2).is_err());
+        assert!(ParameterSpace::new(&enc, "no such type", 0.2, 0.0).is_err());
     }
 }
