@@ -5,15 +5,15 @@
 //! unbounded coordinates; each is folded back into `[0, 1]` by reflection at the bounds (a triangle wave), then
 //! mapped onto the range: every point the optimizer asks about is a valid village type, and no penalty is needed.
 //!
-//! Per building type learned (the types of the base village type that the scenario builds many of: houses and
-//! farms), the interest weights of sociability, accessibility, slope and domination (the criteria a real
-//! village's layout tells about), the sociability and accessibility shapes (`λ_min`, and `λ_0`, `λ_max` as
-//! ratios of the one before, so that `λ_min ≤ λ_0 ≤ λ_max` always holds), the parcel's road reach, the
-//! footprint's aspect (width along the road over depth) and scale and the share of footprints turned; for all of
-//! them, the share of footprints skewed from their road (starting from the real village's share of buildings
-//! neither along nor across their road); for the village type's roads, the slope, curvature and re-use weights, the grade limit, the move mask's radius, the
-//! longest cycle road and the street length laid past a new building; for the scenario, the buildings asked for
-//! per real building (the generator loses some in narrow parcels) and the share of farms.
+//! Per building type learned (the types of the base village type that the scenario builds many of: houses and farms),
+//! the interest weights of sociability, accessibility, slope and domination (the criteria a real village's layout tells
+//! about), the sociability and accessibility shapes (`λ_min`, and `λ_0`, `λ_max` as ratios of the one before, so that
+//! `λ_min ≤ λ_0 ≤ λ_max` always holds), the parcel's road reach, the footprint's aspect (width along the road over
+//! depth) and scale and the share of footprints turned; for all of them, the share of footprints skewed from their road
+//! (starting from the real village's share of buildings neither along nor across their road); for the village type's
+//! roads, the slope, curvature and re-use weights, the grade limit, the move mask's radius, the longest cycle road and
+//! the street length laid past a new building; for the scenario, the buildings asked for per real building (the
+//! generator loses some in narrow parcels) and the share of farms.
 
 use crate::village::encyclopedia::{Encyclopedia, FootprintSize, RoadParams, Shape, VillageType};
 use crate::village::figures::ORIENTATION_BINS;
