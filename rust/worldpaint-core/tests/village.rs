@@ -501,3 +501,59 @@ fn a_village_type_with_skewed_footprints_stands_its_houses_at_every_angle_to_the
     );
     assert_eq!(conflicts.total(), 0, "{conflicts:?}");
 }
+
+#[test]
+fn a_village_type_that_clusters_its_houses_stands_them_in_pairs_and_groups() {
+    let terrain = village_terrain(1000.0, 2.0, 5);
+    let region = Region::Rect {
+        min: DVec2::splat(20.0),
+        max: DVec2::splat(980.0),
+    };
+    let mut enc = encyclopedia();
+    let figures = |v: &Village| {
+        let sited: Vec<SitedBuilding> = v
+            .footprints
+            .iter()
+            .map(SitedBuilding::of_footprint)
+            .collect();
+        village_figures(&sited, &v.roads, &region).layout
+    };
+    let scattered = figures(&village(&terrain, &enc, &scenario("farming", 40), 4));
+    if let Some(p) = enc
+        .village_types
+        .get_mut("farming")
+        .and_then(|t| t.buildings.get_mut("house"))
+    {
+        p.cluster_share = 0.7;
+    }
+    let grouped = village(&terrain, &enc, &scenario("farming", 40), 4);
+    let clustered = figures(&grouped);
+    println!(
+        "houses with another within 20 m: {:.0} % of {} scattered, {:.0} % of {} with 70 % seeded beside another; \
+         nearest neighbour {:.1} m and {:.1} m",
+        100.0 * scattered.share_within_20m,
+        scattered.houses,
+        100.0 * clustered.share_within_20m,
+        clustered.houses,
+        scattered.mean_nearest_neighbour,
+        clustered.mean_nearest_neighbour,
+    );
+    assert!(
+        clustered.share_within_20m > scattered.share_within_20m + 0.2,
+        "{} against {}",
+        clustered.share_within_20m,
+        scattered.share_within_20m
+    );
+    assert!(clustered.mean_nearest_neighbour < 0.85 * scattered.mean_nearest_neighbour);
+    // as many houses, clear of the roads, the water and each other
+    assert!(clustered.houses + 3 >= scattered.houses);
+    let land = grouped.land.as_ref().expect("land");
+    let conflicts = footprint_conflicts(
+        &grouped.footprints,
+        &grouped.roads,
+        enc.roads.width,
+        land,
+        0.05,
+    );
+    assert_eq!(conflicts.total(), 0, "{conflicts:?}");
+}

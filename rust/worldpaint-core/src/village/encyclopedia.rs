@@ -113,6 +113,11 @@ pub struct Placement {
     /// houses also follow the contour lines, or older ways); 0: none, as the thesis's types.
     #[serde(default, skip_serializing_if = "is_zero")]
     pub skew_share: f64,
+    /// Share of the buildings seeded beside one already there (a farm's barn, a house built next to its
+    /// parents'): their candidates are drawn between `λ_min` and `λ_0` of the sociability from a building drawn
+    /// among those standing, and they stand on the side of their road nearer it; 0: none, as the thesis's types.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub cluster_share: f64,
 }
 
 /// Smallest and largest footprint (width along the road, depth away from it), metres.
@@ -491,6 +496,7 @@ impl Encyclopedia {
                 }
                 check::within(&format!("{at}.turned_share"), p.turned_share, 0.0, 1.0)?;
                 check::within(&format!("{at}.skew_share"), p.skew_share, 0.0, 1.0)?;
+                check::within(&format!("{at}.cluster_share"), p.cluster_share, 0.0, 1.0)?;
                 for (other, s) in &p.sociability_with {
                     if !self.buildings.contains_key(other) {
                         return Err(Error::invalid(

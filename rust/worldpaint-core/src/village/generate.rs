@@ -13,7 +13,7 @@ use super::metrics::on_water;
 use super::parcels::{parcels_with, ParcelOptions, ParcelSeed};
 use super::road_index::RoadIndex;
 use super::roads::RoadNetwork;
-use super::seeding::seed_building;
+use super::seeding::{seed_building, Ring};
 use super::spurs::used_roads;
 use super::{BuildingSeed, HouseFootprint, HouseMesh, Parcel, Road};
 use crate::error::{Error, Result};
@@ -29,6 +29,9 @@ use std::time::Instant;
 
 /// Candidates tried per building before the best one seen is taken (Algorithm 1's loop bound).
 const MAX_ATTEMPTS: usize = 20_000;
+/// Candidates tried around the standing buildings for a building seeded beside one, before it is seeded as the
+/// others are.
+const CLUSTER_ATTEMPTS: usize = 1024;
 /// Failed placements of one building type in a row after which the rest of its request is reported unplaced
 /// without trying: each failure costs [`MAX_ATTEMPTS`] candidate positions.
 const MAX_FAILURES_IN_A_ROW: usize = 32;
@@ -154,6 +157,31 @@ pub(crate) fn default_connections(
         .unwrap_or_default()
 }
 
+/// Building `i`'s draw in [0, 1) of the village's `seed` for the choice `key` (whether its footprint is turned,
+/// skewed, whether it is seeded beside another...): independent of the thread count and of the other choices.
+fn draw(seed: u64, key: u64, i: usize) -> f64 {
+    (mix_seed(mix_seed(seed, key), i as u64) >> 11) as f64 / (1u64 << 53) as f64
+}
+
+/// The rings a building placed by `placement` is seeded in beside one of `seeds`: between the sociability's
+/// `λ_min` and `λ_0` towards each.
+fn rings_around(seeds: &[BuildingSeed], placement: &Placement) -> Vec<Ring> {
+    seeds
+        .iter()
+        .map(|b| {
+            let shape = placement
+                .sociability_with
+                .get(&b.building)
+                .unwrap_or(&placement.sociability);
+            Ring {
+                centre: b.position,
+                inner: shape.min,
+                outer: shape.zero.max(shape.min),
+            }
+        })
+        .collect()
+}
+
 /// Marks the nodes within `radius` of `p` in `mask`.
 fn stamp(land: &Land, mask: &mut [bool], p: DVec2, radius: f64) {
     let g = land.grid();
@@ -172,19 +200,17 @@ fn stamp(land: &Land, mask: &mut [bool], p: DVec2, radius: f64) {
 
 /// Where a building whose new road `road` (from the building on) ends at it stands: beside the road's last
 /// metres, at its preferred distance from a road (accessibility `λ_0`, at least clear of the road and its own
-/// smallest footprint), on the side farther from the other buildings. The road reaches the building's door, and
-/// its lot fronts the road's side, not the cap of the dead end (3.3.1: a parcel is conquered from the road beside
-/// its seed). `None` when neither side is free: too close to another building (sociability's `λ_min`), another
-/// road, the water or the border.
+/// smallest footprint), on the side farther from the other buildings (nearer them for a building seeded beside
+/// one). The road reaches the building's door, and its lot fronts the road's side, not the cap of the dead end
+/// (3.3.1: a parcel is conquered from the road beside its seed). `None` when neither side is free: too close to
+/// another building (sociability's `λ_min`), another road, the water or the border.
 fn beside_its_road(
-    land: &Land,
+    at: &Placing,
     network: &RoadNetwork,
     road: &[DVec2],
     seeds: &[BuildingSeed],
-    placement: &Placement,
-    kind: &BuildingKind,
-    road_width: f64,
 ) -> Option<DVec2> {
+    let (land, placement, kind, road_width) = (at.land, at.placement, at.kind, at.road_width);
     let (&end, &next) = (road.first()?, road.get(1)?);
     let along = (next - end).try_normalize()?;
     let size = placement.footprint_sizes(kind);
@@ -214,7 +240,14 @@ fn beside_its_road(
             let free = land.buildable(land.grid().index(i, j)) && network.distance(p) >= clear;
             free.then(|| nearest(p).map(|d| (d, p)))?
         })
-        .max_by(|a, b| a.0.total_cmp(&b.0))
+        .max_by(|a, b| {
+            let farther = a.0.total_cmp(&b.0);
+            if at.beside_one {
+                farther.reverse()
+            } else {
+                farther
+            }
+        })
         .map(|(_, p)| p)
 }
 
@@ -388,8 +421,28 @@ fn skeleton(
                 road_distance: &|p: DVec2| network.distance(p),
                 has_roads: !network.roads.is_empty(),
             };
-            let Some(found) = seed_building(land, &maps, &state, placement, &mut rng, MAX_ATTEMPTS)
-            else {
+            // a building of the cluster share is seeded beside a standing one where there is room
+            let near = if !grown.seeds.is_empty()
+                && draw(request.seed, 0xC1A5, done) < placement.cluster_share
+            {
+                let rings = rings_around(&grown.seeds, placement);
+                seed_building(
+                    land,
+                    &maps,
+                    &state,
+                    placement,
+                    &rings,
+                    &mut rng,
+                    CLUSTER_ATTEMPTS,
+                )
+            } else {
+                None
+            };
+            let beside_one = near.is_some();
+            let found = near.or_else(|| {
+                seed_building(land, &maps, &state, placement, &[], &mut rng, MAX_ATTEMPTS)
+            });
+            let Some(found) = found else {
                 report.unplaced.push(building.clone());
                 failed_in_a_row += 1;
                 continue;
@@ -406,6 +459,7 @@ fn skeleton(
                 road_width: enc.roads.width,
                 placement,
                 kind,
+                beside_one,
             };
             if grown.connect(&at, network, seed, report)? {
                 report.fallbacks += found.fallback as usize;
@@ -416,13 +470,14 @@ fn skeleton(
 }
 
 /// What a building is placed with: the land, the roads its village type builds (and the encyclopedia's road
-/// width), its placement and its type.
+/// width), its placement and its type, and whether it was seeded beside a standing building.
 struct Placing<'a> {
     land: &'a Land,
     roads: &'a RoadParams,
     road_width: f64,
     placement: &'a Placement,
     kind: &'a BuildingKind,
+    beside_one: bool,
 }
 
 impl Skeleton {
@@ -449,8 +504,7 @@ impl Skeleton {
         report.cycles += connection.cycle as usize;
         if let Some(&r) = connection.roads.first() {
             let road = &network.roads[r].points;
-            let beside =
-                beside_its_road(land, network, road, &self.seeds, at.placement, kind, width);
+            let beside = beside_its_road(at, network, road, &self.seeds);
             seed.position = beside.unwrap_or(seed.position);
         }
         let radius = 0.5 * size.min[0].max(size.min[1]);
@@ -538,11 +592,8 @@ fn parcels_and_footprints(
     let footprints = Counted::new(conquered.len(), |f| {
         progress(VillageStage::Parcels, 0.8 + 0.2 * f)
     });
-    // each building's draws of whether its footprint is turned or skewed, and by how much, from the village's seed
-    // and its index
-    let draw = |key: u64, i: usize| {
-        (mix_seed(mix_seed(request.seed, key), i as u64) >> 11) as f64 / (1u64 << 53) as f64
-    };
+    // each building's draws of whether its footprint is turned or skewed, and by how much
+    let draw = |key: u64, i: usize| draw(request.seed, key, i);
     let index = RoadIndex::new(roads, enc.roads.width.max(8.0));
     let found: Vec<Option<HouseFootprint>> = conquered
         .par_iter()

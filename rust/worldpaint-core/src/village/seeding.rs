@@ -7,6 +7,9 @@
 //! is what the sequential loop gives, whatever the number of threads. After `max_attempts` failed tests the
 //! building goes to the most interesting candidate seen (if any had a positive interest) and the caller is told,
 //! so that a scenario asking for ten farms gets ten farms wherever the land allows them.
+//!
+//! A building seeded beside one already there (a village type's cluster share) draws its candidates in rings
+//! around the standing buildings instead of over the whole land; the aggregation test is the same.
 
 use super::encyclopedia::Placement;
 use super::interest::{interest, StaticInterestMaps, VillageState};
@@ -31,12 +34,31 @@ pub(super) struct Seeding {
     pub fallback: bool,
 }
 
-/// Algorithm 1 for one building; `None` when no candidate had a positive interest.
+/// A ring around a standing building, between `inner` and `outer` metres of its `centre`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct Ring {
+    pub centre: DVec2,
+    pub inner: f64,
+    pub outer: f64,
+}
+
+impl Ring {
+    /// A point drawn evenly over the ring's area.
+    fn draw(&self, rng: &mut ChaCha8Rng) -> DVec2 {
+        let (a, b) = (self.inner * self.inner, self.outer * self.outer);
+        let r = (a + (b - a) * rng.random::<f64>()).sqrt();
+        self.centre + DVec2::from_angle(std::f64::consts::TAU * rng.random::<f64>()) * r
+    }
+}
+
+/// Algorithm 1 for one building, its candidates drawn evenly over the land, or over one of `rings` drawn evenly
+/// when there are some; `None` when no candidate had a positive interest.
 pub(super) fn seed_building(
     land: &Land,
     maps: &StaticInterestMaps,
     state: &VillageState,
     placement: &Placement,
+    rings: &[Ring],
     rng: &mut ChaCha8Rng,
     max_attempts: usize,
 ) -> Option<Seeding> {
@@ -48,7 +70,11 @@ pub(super) fn seed_building(
         let n = BATCH.min(max_attempts - attempts);
         let draws: Vec<(DVec2, f64)> = (0..n)
             .map(|_| {
-                let p = DVec2::new(rng.random_range(lo.x..=hi.x), rng.random_range(lo.y..=hi.y));
+                let p = if rings.is_empty() {
+                    DVec2::new(rng.random_range(lo.x..=hi.x), rng.random_range(lo.y..=hi.y))
+                } else {
+                    rings[rng.random_range(0..rings.len())].draw(rng)
+                };
                 (p, rng.random::<f64>())
             })
             .collect();
@@ -134,6 +160,7 @@ mod tests {
             footprint: None,
             turned_share: 0.0,
             skew_share: 0.0,
+            cluster_share: 0.0,
         }
     }
 
@@ -151,7 +178,7 @@ mod tests {
                 road_distance: &|_| f64::INFINITY,
                 has_roads: false,
             };
-            let Some(s) = seed_building(land, &maps, &state, p, &mut rng, 5000) else {
+            let Some(s) = seed_building(land, &maps, &state, p, &[], &mut rng, 5000) else {
                 break;
             };
             out.push(s.position);
@@ -200,6 +227,61 @@ mod tests {
                 assert!(p.distance(*q) >= 10.0);
             }
         }
+    }
+
+    #[test]
+    fn a_building_seeded_in_rings_stands_within_one_of_them() {
+        let land = flat_land(101, 2.0);
+        let p = placement(InterestWeights {
+            slope: 1.0,
+            ..Default::default()
+        });
+        let maps = StaticInterestMaps::new(&land, &[p.domination_radius]);
+        let standing: Vec<crate::village::BuildingSeed> =
+            [DVec2::new(60.0, 60.0), DVec2::new(150.0, 140.0)]
+                .into_iter()
+                .map(|position| crate::village::BuildingSeed {
+                    building: "house".into(),
+                    village_type: "test".into(),
+                    position,
+                })
+                .collect();
+        let flags = vec![false; standing.len()];
+        let state = VillageState {
+            buildings: &standing,
+            religious: &flags,
+            fortress: &flags,
+            road_distance: &|_| f64::INFINITY,
+            has_roads: false,
+        };
+        let rings: Vec<Ring> = standing
+            .iter()
+            .map(|b| Ring {
+                centre: b.position,
+                inner: 10.0,
+                outer: 16.0,
+            })
+            .collect();
+        let mut rng = ChaCha8Rng::seed_from_u64(3);
+        let mut near = [0usize; 2];
+        for _ in 0..40 {
+            let s = seed_building(&land, &maps, &state, &p, &rings, &mut rng, 1000)
+                .expect("room in the rings");
+            let d: Vec<f64> = standing
+                .iter()
+                .map(|b| b.position.distance(s.position))
+                .collect();
+            let k = usize::from(d[1] < d[0]);
+            // within the ring, and outside the sociability's λ_min (10 m)
+            assert!(
+                (10.0..=16.0 + 1e-9).contains(&d[k]),
+                "{} m from its building",
+                d[k]
+            );
+            near[k] += 1;
+        }
+        // both rings are drawn from
+        assert!(near.iter().all(|&n| n >= 10), "{near:?}");
     }
 
     #[test]

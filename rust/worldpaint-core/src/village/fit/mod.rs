@@ -274,8 +274,8 @@ pub fn fit_village_type(
         Some(b) => b.clone(),
         None => search.nearest_type()?,
     };
-    let skew_share = space::skew_share_of(&target.figures.orientation_to_road);
-    let space = ParameterSpace::new(enc, &base_type, options.farm_share, skew_share)?;
+    let starts = space::Starts::of(&target.figures, options.farm_share);
+    let space = ParameterSpace::new(enc, &base_type, starts)?;
     let outcome = search.run(&space)?;
     let c = space.candidate(&outcome.point);
     let scenario = search.scenario(&c);

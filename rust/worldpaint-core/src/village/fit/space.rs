@@ -10,13 +10,15 @@
 //! about), the sociability and accessibility shapes (`λ_min`, and `λ_0`, `λ_max` as ratios of the one before, so that
 //! `λ_min ≤ λ_0 ≤ λ_max` always holds), the parcel's road reach, the footprint's aspect (width along the road over
 //! depth) and scale and the share of footprints turned; for all of them, the share of footprints skewed from their road
-//! (starting from the real village's share of buildings neither along nor across their road); for the village type's
+//! (starting from the real village's share of buildings neither along nor across their road) and the share of
+//! buildings seeded beside a standing one (starting from the real village's close pairs, see [`Starts`]); for the
+//! village type's
 //! roads, the slope, curvature and re-use weights, the grade limit, the move mask's radius, the longest cycle road and
 //! the street length laid past a new building; for the scenario, the buildings asked for per real building (the
 //! generator loses some in narrow parcels) and the share of farms.
 
 use crate::village::encyclopedia::{Encyclopedia, FootprintSize, RoadParams, Shape, VillageType};
-use crate::village::figures::ORIENTATION_BINS;
+use crate::village::figures::{VillageFigures, ORIENTATION_BINS};
 use crate::{Error, Result};
 use std::collections::BTreeMap;
 
@@ -48,6 +50,8 @@ pub(crate) enum Knob {
     TurnedShare(String),
     /// The share of footprints skewed from their road, one for every learned building type.
     SkewShare,
+    /// The share of buildings seeded beside a standing one, one for every learned building type.
+    ClusterShare,
     RoadSlopeWeight,
     RoadCurvatureWeight,
     RoadReuseWeight,
@@ -138,8 +142,39 @@ pub(crate) struct ParameterSpace {
     footprints: BTreeMap<String, FootprintSize>,
     /// The count factor and farm share the search starts from.
     start_counts: (f64, f64),
-    /// The skew share the search starts from.
-    start_skew: f64,
+    /// The shares the search starts from.
+    starts: Starts,
+}
+
+/// The shares the search starts from, not the base type's: the scenario's farms, and the skewed footprints and
+/// clustered buildings read from the real village (the shipped types have none of either).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Starts {
+    pub(crate) farm_share: f64,
+    pub(crate) skew_share: f64,
+    pub(crate) cluster_share: f64,
+}
+
+impl Starts {
+    /// The starts for a real village of `figures` with `farm_share` of farms.
+    pub(crate) fn of(figures: &VillageFigures, farm_share: f64) -> Starts {
+        Starts {
+            farm_share,
+            skew_share: skew_share_of(&figures.orientation_to_road),
+            cluster_share: cluster_share_of(
+                figures.layout.share_within_20m,
+                figures.buildings_per_hectare,
+            ),
+        }
+    }
+}
+
+/// The share of buildings seeded beside another, read from the share `within_20m` of buildings with another
+/// within 20 m at `per_hectare` buildings: the excess over buildings scattered at random at that density
+/// (`1 - exp(-λπ 20²)`), as though each building seeded beside another made a pair of them.
+pub(crate) fn cluster_share_of(within_20m: f64, per_hectare: f64) -> f64 {
+    let scattered = 1.0 - (-per_hectare / 1e4 * std::f64::consts::PI * 400.0).exp();
+    (0.5 * (within_20m - scattered)).clamp(0.0, 1.0)
 }
 
 /// The share of buildings standing at any angle to their road, read from the histogram of `orientation` to the
@@ -153,12 +188,11 @@ pub(crate) fn skew_share_of(orientation: &[f64; ORIENTATION_BINS]) -> f64 {
 pub(crate) const LEARNED_BUILDINGS: [&str; 2] = ["house", "farm"];
 
 impl ParameterSpace {
-    /// The space around `base_type` of `enc`, starting from its values, from `farm_share` and from `skew_share`.
+    /// The space around `base_type` of `enc`, starting from its values and from `starts`.
     pub(crate) fn new(
         enc: &Encyclopedia,
         base_type: &str,
-        farm_share: f64,
-        skew_share: f64,
+        starts: Starts,
     ) -> Result<ParameterSpace> {
         let base = enc.village_types.get(base_type).ok_or_else(|| {
             Error::invalid(
@@ -207,6 +241,7 @@ impl ParameterSpace {
         }
         dimensions.extend([
             Dimension::new(Knob::SkewShare, 0.0, 1.0, false),
+            Dimension::new(Knob::ClusterShare, 0.0, 1.0, false),
             Dimension::new(Knob::RoadSlopeWeight, 0.2, 20.0, true),
             Dimension::new(Knob::RoadCurvatureWeight, 0.2, 20.0, true),
             Dimension::new(Knob::RoadReuseWeight, 0.02, 0.6, true),
@@ -222,8 +257,8 @@ impl ParameterSpace {
             base: base.clone(),
             roads: enc.road_params(base_type),
             footprints,
-            start_counts: (1.0, farm_share),
-            start_skew: skew_share,
+            start_counts: (1.0, starts.farm_share),
+            starts,
         })
     }
 
@@ -255,7 +290,8 @@ impl ParameterSpace {
             }
             Knob::FootprintScale(_) => 1.0,
             Knob::TurnedShare(b) => p(b).turned_share,
-            Knob::SkewShare => self.start_skew,
+            Knob::SkewShare => self.starts.skew_share,
+            Knob::ClusterShare => self.starts.cluster_share,
             Knob::RoadSlopeWeight => r.slope_weight,
             Knob::RoadCurvatureWeight => r.curvature_weight,
             Knob::RoadReuseWeight => r.reuse_weight,
@@ -329,10 +365,14 @@ impl ParameterSpace {
                         p.turned_share = v;
                     }
                 }
-                Knob::SkewShare => {
+                Knob::SkewShare | Knob::ClusterShare => {
                     for b in self.footprints.keys() {
                         if let Some(p) = t.buildings.get_mut(b) {
-                            p.skew_share = v;
+                            if d.knob == Knob::SkewShare {
+                                p.skew_share = v;
+                            } else {
+                                p.cluster_share = v;
+                            }
                         }
                     }
                 }
@@ -396,12 +436,17 @@ mod tests {
     #[test]
     fn the_start_is_the_base_type_and_every_point_is_a_valid_type() {
         let enc = enc();
-        let space = ParameterSpace::new(&enc, "highland", 0.2, 0.3).expect("highland");
+        let starts = Starts {
+            farm_share: 0.2,
+            skew_share: 0.3,
+            cluster_share: 0.1,
+        };
+        let space = ParameterSpace::new(&enc, "highland", starts).expect("highland");
         assert_eq!(
             space.footprints.keys().collect::<Vec<_>>(),
             ["farm", "house"]
         );
-        assert_eq!(space.dimensions.len(), 2 * 14 + 10);
+        assert_eq!(space.dimensions.len(), 2 * 14 + 11);
         let start = space.candidate(&space.start());
         let base = &enc.village_types["highland"];
         // the base's values inside the bounds come back (up to rounding through logarithms)
@@ -416,6 +461,7 @@ mod tests {
         assert_eq!(start.village_type.roads.mask_radius, Some(2));
         assert!((start.farm_share - 0.2).abs() < 1e-12);
         assert!((h.skew_share - 0.3).abs() < 1e-12);
+        assert!((start.village_type.buildings["farm"].cluster_share - 0.1).abs() < 1e-12);
         // far-off coordinates fold into the bounds and give a type the encyclopedia accepts
         for k in 0..20 {
             let x: Vec<f64> = (0..space.dimensions.len())
@@ -459,8 +505,24 @@ mod tests {
     }
 
     #[test]
+    fn the_cluster_share_is_half_the_close_pairs_beyond_a_random_scatter() {
+        // the hamlet near les Bons: 68 % within 20 m at 0.22 buildings per hectare (2.7 % at random)
+        let s = cluster_share_of(0.682, 0.22);
+        assert!((s - 0.5 * (0.682 - 0.0273)).abs() < 1e-3, "{s}");
+        // Encamp's 26 % at 0.96 per hectare: 11 % at random
+        assert!((cluster_share_of(0.26, 0.96) - 0.075).abs() < 0.005);
+        // a village more scattered than random starts from none
+        assert_eq!(cluster_share_of(0.01, 2.0), 0.0);
+    }
+
+    #[test]
     fn an_unknown_or_houseless_base_is_refused() {
         let enc = enc();
-        assert!(ParameterSpace::new(&enc, "no such type", 0.2, 0.0).is_err());
+        let starts = Starts {
+            farm_share: 0.2,
+            skew_share: 0.0,
+            cluster_share: 0.0,
+        };
+        assert!(ParameterSpace::new(&enc, "no such type", starts).is_err());
     }
 }
