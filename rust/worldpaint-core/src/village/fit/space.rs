@@ -10,9 +10,8 @@
 //! about), the sociability and accessibility shapes (`λ_min`, and `λ_0`, `λ_max` as ratios of the one before, so that
 //! `λ_min ≤ λ_0 ≤ λ_max` always holds), the parcel's road reach, the footprint's aspect (width along the road over
 //! depth) and scale and the share of footprints turned; for all of them, the share of footprints skewed from their road
-//! (starting from the real village's share of buildings neither along nor across their road) and the share of
-//! buildings seeded beside a standing one (starting from the real village's close pairs, see [`Starts`]); for the
-//! village type's
+//! (starting from the real village's share of buildings neither along nor across their road) and the share of buildings
+//! seeded beside a standing one (starting from the real village's close pairs, see [`Starts`]); for the village type's
 //! roads, the slope, curvature and re-use weights, the grade limit, the move mask's radius, the longest cycle road and
 //! the street length laid past a new building; for the scenario, the buildings asked for per real building (the
 //! generator loses some in narrow parcels) and the share of farms.
@@ -140,9 +139,7 @@ pub(crate) struct ParameterSpace {
     roads: RoadParams,
     /// The base's footprint sizes of the building types learned.
     footprints: BTreeMap<String, FootprintSize>,
-    /// The count factor and farm share the search starts from.
-    start_counts: (f64, f64),
-    /// The shares the search starts from.
+    /// The shares the search starts from (its count factor is 1: the real village's count).
     starts: Starts,
 }
 
@@ -257,7 +254,6 @@ impl ParameterSpace {
             base: base.clone(),
             roads: enc.road_params(base_type),
             footprints,
-            start_counts: (1.0, starts.farm_share),
             starts,
         })
     }
@@ -299,15 +295,15 @@ impl ParameterSpace {
             Knob::RoadMaskRadius => r.mask_radius as f64,
             Knob::RoadCycleMaxLength => r.cycle_max_length,
             Knob::RoadStreetLength => r.street_length,
-            Knob::CountFactor => self.start_counts.0,
-            Knob::FarmShare => self.start_counts.1,
+            Knob::CountFactor => 1.0,
+            Knob::FarmShare => self.starts.farm_share,
         }
     }
 
     /// The candidate at optimizer coordinates `x` (one per dimension, unbounded: folded into `[0, 1]`).
     pub(crate) fn candidate(&self, x: &[f64]) -> Candidate {
         let mut t = self.base.clone();
-        let (mut count_factor, mut farm_share) = self.start_counts;
+        let (mut count_factor, mut farm_share) = (1.0, self.starts.farm_share);
         // shapes are set from their three coordinates together, after the loop
         let mut shapes: Vec<(String, bool, [f64; 3])> = Vec::new();
         let mut shape = |b: &String, accessibility: bool, k: usize, v: f64| match shapes
