@@ -183,7 +183,7 @@ pub use variety::{
 };
 // village: villages on arbitrary terrain
 pub use village::encyclopedia::{
-    BuildingKind, FootprintSize, ParcelParams, RoadParams, RoofStyle, ScenarioEvent,
+    BuildingKind, FootprintSize, ParcelParams, Placement, RoadParams, RoofStyle, ScenarioEvent,
 };
 pub use village::footprint::{house_footprint, house_footprints};
 pub use village::generate::{

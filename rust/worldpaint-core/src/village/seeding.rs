@@ -110,6 +110,7 @@ mod tests {
     use super::*;
     use crate::grid::Grid;
     use crate::village::encyclopedia::{InterestWeights, ParcelParams, Shape};
+    use crate::village::BuildingSeed;
     use rand::SeedableRng;
 
     fn flat_land(n: usize, cell: f64) -> Land {
@@ -164,6 +165,29 @@ mod tests {
         }
     }
 
+    fn house_at(position: DVec2) -> BuildingSeed {
+        BuildingSeed {
+            building: "house".into(),
+            village_type: "test".into(),
+            position,
+        }
+    }
+
+    fn no_road(_: DVec2) -> f64 {
+        f64::INFINITY
+    }
+
+    /// A village of `buildings`, none religious or fortified, without roads.
+    fn roadless<'a>(buildings: &'a [BuildingSeed], flags: &'a [bool]) -> VillageState<'a> {
+        VillageState {
+            buildings,
+            religious: flags,
+            fortress: flags,
+            road_distance: &no_road,
+            has_roads: false,
+        }
+    }
+
     fn seed_many(land: &Land, p: &Placement, n: usize, seed: u64) -> Vec<DVec2> {
         let maps = StaticInterestMaps::new(land, &[p.domination_radius]);
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
@@ -171,22 +195,12 @@ mod tests {
         let mut out = Vec::new();
         for _ in 0..n {
             let flags = vec![false; buildings.len()];
-            let state = VillageState {
-                buildings: &buildings,
-                religious: &flags,
-                fortress: &flags,
-                road_distance: &|_| f64::INFINITY,
-                has_roads: false,
-            };
+            let state = roadless(&buildings, &flags);
             let Some(s) = seed_building(land, &maps, &state, p, &[], &mut rng, 5000) else {
                 break;
             };
             out.push(s.position);
-            buildings.push(crate::village::BuildingSeed {
-                building: "house".into(),
-                village_type: "test".into(),
-                position: s.position,
-            });
+            buildings.push(house_at(s.position));
         }
         out
     }
@@ -237,23 +251,9 @@ mod tests {
             ..Default::default()
         });
         let maps = StaticInterestMaps::new(&land, &[p.domination_radius]);
-        let standing: Vec<crate::village::BuildingSeed> =
-            [DVec2::new(60.0, 60.0), DVec2::new(150.0, 140.0)]
-                .into_iter()
-                .map(|position| crate::village::BuildingSeed {
-                    building: "house".into(),
-                    village_type: "test".into(),
-                    position,
-                })
-                .collect();
-        let flags = vec![false; standing.len()];
-        let state = VillageState {
-            buildings: &standing,
-            religious: &flags,
-            fortress: &flags,
-            road_distance: &|_| f64::INFINITY,
-            has_roads: false,
-        };
+        let standing = [DVec2::new(60.0, 60.0), DVec2::new(150.0, 140.0)].map(house_at);
+        let flags = [false; 2];
+        let state = roadless(&standing, &flags);
         let rings: Vec<Ring> = standing
             .iter()
             .map(|b| Ring {
