@@ -54,6 +54,8 @@ const OPEN: [FitFigure; 5] = [
 ];
 /// Seeds the fitted types are judged at: none of them is a seed of the fit.
 const NEW_SEEDS: [u64; 3] = [101, 102, 103];
+/// Three more sets of three new seeds, for the spread of the objective between sets.
+const MORE_SEEDS: [u64; 9] = [201, 202, 203, 204, 205, 206, 207, 208, 209];
 
 /// A positive number from the environment variable `name`, else `default`.
 fn from_env(name: &str, default: f64) -> f64 {
@@ -235,15 +237,30 @@ fn learn<'a>(
         return None;
     };
     println!("{}", figure_row(&format!("  {name}"), &mean));
+    // the bands judge three seeds; how much three others move the objective says what a band missed means
+    let others: Vec<String> = MORE_SEEDS
+        .chunks(NEW_SEEDS.len())
+        .map(|seeds| {
+            let grown = grow(
+                &village.target,
+                &fitted.encyclopedia,
+                &fitted.scenario,
+                seeds,
+            );
+            format!("{:.3}", village_objective(real, &grown))
+        })
+        .collect();
     println!(
         "  objective: learned {fitted_objective:.3} (at the fit's seeds {:.3}, held-out {}, its base {:.3}), preset \
-         {preset} {preset_objective:.3}; {} evaluations in {} generations, {:.0} s",
+         {preset} {preset_objective:.3}; {} evaluations in {} generations, {:.0} s; at three other seeds, \
+         three times: {}",
         fitted.objective,
         fitted.held_out_objective.map_or("-".into(), |h| format!("{h:.3}")),
         fitted.base_objective,
         fitted.evaluations,
         fitted.generations,
-        fitted.seconds
+        fitted.seconds,
+        others.join(", ")
     );
     for (f, e, ok) in within_bands(real, &mean) {
         let preset_e = preset_figures

@@ -381,9 +381,9 @@ pub(crate) fn village_interest<'py>(
 /// roads cross the region's border.
 ///
 /// Returns {"encyclopedia": JSON with the learned type added as `name`, "scenario": JSON growing the real village's
-/// count of buildings with it, "base_type", "objective" (at the fit's seeds), "held_out_objective" (at as many
-/// held-out seeds, or None), "base_objective", "evaluations", "generations", "seconds", "stopped_early", "real": the
-/// real village's figures}. `progress(fraction) -> bool` returning False
+/// count of buildings with it, "base_type", "objective" (at the fit's seeds), "held_out_objective" (at four times as
+/// many held-out seeds, or None), "base_objective", "evaluations", "generations", "seconds", "stopped_early",
+/// "real": the real village's figures}. `progress(fraction) -> bool` returning False
 /// stops the fit and keeps the best type so far (`stopped_early`). The surroundings are keywords, as for
 /// `generate_village`. A region with fewer than 5 buildings, no road or reaching off the terrain is refused.
 #[pyfunction]

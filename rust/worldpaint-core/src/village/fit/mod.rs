@@ -16,8 +16,8 @@
 //! * A budget of evaluations (candidates) and of seconds; the search ends before a generation that would not
 //!   leave time for the finalists at the pace so far. Past the seconds, or when the progress callback returns
 //!   `false`, the villages growing are cancelled and the best type of the generations completed is kept.
-//! * The type kept is not the best at the fit's seeds alone, which is partly the best at their luck: the
-//!   finalists are grown again at held-out seeds ([`search`]).
+//! * The type kept is not the best at the fit's seeds, which is partly the best at their luck: the finalists are
+//!   grown again at four times as many held-out seeds, which alone judge them ([`search`]).
 
 mod grow;
 pub(crate) mod objective;
@@ -143,7 +143,7 @@ pub struct FitOptions {
     /// Grid cell (m) of the land conquest.
     pub parcel_cell: f64,
     /// Candidates grown again at held-out seeds when the search ends (the best candidates of the best generations
-    /// and the distribution's final mean), the nearest over both sets of seeds kept; 0: the best at the fit's seeds.
+    /// and the distribution's final mean), the nearest there kept; 0: the best at the fit's seeds.
     pub finalists: usize,
 }
 
@@ -193,7 +193,8 @@ pub struct FittedVillage {
     pub base_type: String,
     /// Its objective at the fit's seeds.
     pub objective: f64,
-    /// Its objective at as many held-out seeds (`None`: no finalists were grown, or the fit was stopped first).
+    /// Its objective at four times as many held-out seeds (`None`: no finalists were grown, or the fit was
+    /// stopped first).
     pub held_out_objective: Option<f64>,
     /// The base type's objective at the fit's seeds.
     pub base_objective: f64,

@@ -1,7 +1,8 @@
 //! The search of a fit: CMA-ES over the space's coordinates, each candidate grown at the fit's seeds (common
-//! random numbers), then the finalists (the best candidates of the last generations and the distribution's mean)
-//! grown at as many held-out seeds, and the one nearest over both sets of seeds kept: the best at the fit's seeds
-//! alone is partly the best at those seeds' luck.
+//! random numbers), then the finalists (the best candidates of the best generations and the distribution's mean)
+//! grown at four times as many held-out seeds, and the one nearest there kept: the best at the fit's seeds is
+//! partly the best at those seeds' luck, the more so the more candidates were tried, so the fit's seeds do not
+//! judge the finalists they chose.
 
 use super::grow::{grow_village_figures, rank_village_types};
 use super::objective::objective;
@@ -15,13 +16,22 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Mutex;
 use std::time::Instant;
 
-/// Added to the fit's seeds to draw the held-out ones.
+/// The held-out seeds are the first after this one.
 const HELD_OUT_OFFSET: u64 = 1000;
+
+/// Held-out seeds per seed of the fit: a hamlet's figures move from one set of three or four seeds to another by as
+/// much as between a finalist and the next, so a few held-out seeds would only pick the luckiest again.
+const HELD_OUT_PER_SEED: usize = 4;
 
 /// Candidates grown once the search ends: each finalist at the held-out seeds, the distribution's mean at the fit's
 /// seeds too.
 fn finalist_evaluations(options: &FitOptions) -> usize {
     options.finalists + usize::from(options.finalists > 1)
+}
+
+/// The finalists' cost in candidates grown at the fit's seeds.
+fn finalist_cost(options: &FitOptions) -> usize {
+    options.finalists * HELD_OUT_PER_SEED + usize::from(options.finalists > 1)
 }
 
 /// Where a search ended.
@@ -161,7 +171,7 @@ impl<'a> Search<'a> {
         let seconds = self.seconds();
         let done = self.state.lock().map_or(1, |s| s.evaluations.max(1));
         let pace = ((seconds - since) / done as f64).max(slowest);
-        seconds + pace * (candidates + finalist_evaluations(self.options)) as f64
+        seconds + pace * (candidates + finalist_cost(self.options)) as f64
             <= self.options.max_seconds
     }
 
@@ -254,8 +264,8 @@ impl<'a> Search<'a> {
     }
 
     /// The point kept: of the finalists (the `finalists − 1` best generation bests and the distribution's `mean`),
-    /// the one whose objective over the fit's and the held-out seeds is least; the best at the fit's seeds when the
-    /// search was stopped or has no finalists.
+    /// the one whose objective at the held-out seeds is least; the best at the fit's seeds when the search was
+    /// stopped or has no finalists.
     fn final_choice(
         &self,
         space: &ParameterSpace,
@@ -273,7 +283,9 @@ impl<'a> Search<'a> {
             .into_iter()
             .take(count.saturating_sub(1).max(1))
             .collect();
-        let held_out: Vec<u64> = self.seeds.iter().map(|s| s + HELD_OUT_OFFSET).collect();
+        let held_out: Vec<u64> = (1..=(self.seeds.len() * HELD_OUT_PER_SEED) as u64)
+            .map(|k| HELD_OUT_OFFSET + k)
+            .collect();
         // every finalist at the held-out seeds and the mean at the fit's seeds too, in parallel as a generation's
         // candidates are (the pace the search ended by)
         let mut jobs: Vec<(&[f64], &[u64])> = finalists
@@ -297,11 +309,10 @@ impl<'a> Search<'a> {
         if count > 1 {
             finalists.push((values[values.len() - 1], mean));
         }
-        // equal counts of seeds: the objective over both sets is the mean of the two
         let chosen = finalists
             .into_iter()
             .zip(values)
-            .min_by(|(a, ha), (b, hb)| (a.0 + ha).total_cmp(&(b.0 + hb)));
+            .min_by(|(_, a), (_, b)| a.total_cmp(b));
         Ok(match chosen {
             Some(((fit, point), h)) => (point, fit, Some(h)),
             None => (best.1, best.0, None),
