@@ -412,6 +412,8 @@ def one_line(error):
 
 
 def interrupt(signum, frame):
+    # one answer: a second signal while the first is being cleaned up would escape it
+    signal.signal(signal.SIGTERM, signal.SIG_IGN)
     raise KeyboardInterrupt
 
 
@@ -464,4 +466,11 @@ if __name__ == "__main__":
     # run as the package's module, not as __main__: the tasks Dask ships to the workers name it
     from worldpaint_engine.world import main as package_main
 
-    sys.exit(package_main())
+    try:
+        code = package_main()
+    except KeyboardInterrupt:  # landed after main had answered it: its one line is out
+        code = 130
+    # leave now: a signal during the interpreter's shutdown would end the process by it, not by this code
+    sys.stdout.flush()
+    sys.stderr.flush()
+    os._exit(code)
