@@ -40,7 +40,8 @@ def test_learn_village_adds_a_type_like_encamp_that_grows_on_the_first_click(tmp
     encamp()
     scene = bpy.context.scene
     settings = scene.worldpaint.village
-    result = bpy.ops.worldpaint.learn_village(minutes=1.0, max_evaluations=15)
+    # time for the base, one generation, the finalists and the orientation step
+    result = bpy.ops.worldpaint.learn_village(minutes=1.5, max_evaluations=15)
     assert result == {'FINISHED'}
     print(settings.learn_report)
     assert settings.encyclopedia_text is not None
@@ -53,6 +54,10 @@ def test_learn_village_adds_a_type_like_encamp_that_grows_on_the_first_click(tmp
     real = int(settings.learn_report.split(" learned from ")[1].split()[0])
     assert real >= 50 and 0.8 * real <= asked <= 2.0 * real
     assert "bands from the real ones" in settings.learn_report
+    # nearer the real village than the type it started from
+    learned_bands = float(settings.learn_report.split("figures ")[1].split()[0])
+    start_bands = float(settings.learn_report.split("(start ")[1].split(")")[0])
+    assert learned_bands < start_bands
     # started from the shipped type whose villages come nearest Encamp's
     start = settings.learn_report.split("starting from '")[1].split("'")[0]
     assert start in json.loads(_engine.default_encyclopedia())["village_types"]

@@ -511,10 +511,17 @@ fn a_village_type_with_skewed_footprints_stands_its_houses_at_every_angle_to_the
         100.0 * skewed_between,
         skewed.layout.houses
     );
-    // 60 % drawn evenly over ±45° put about 40 % in the four middle bins of six (a few stand straight when the
-    // skewed footprint finds no room)
+    // 60 % drawn evenly over ±90° put about 40 % in the four middle bins of six (a few stand straight when the
+    // skewed footprint finds no room), as many nearer across the road as nearer along it
     assert!(straight_between < 0.15, "{straight_between}");
     assert!((0.25..0.55).contains(&skewed_between), "{skewed_between}");
+    let h = &skewed.orientation_to_road;
+    let nearer_across = h[3] + h[4];
+    assert!(
+        (0.3..0.7).contains(&(nearer_across / skewed_between)),
+        "{:.0} % of the skewed at 45–75°",
+        100.0 * nearer_across / skewed_between
+    );
 }
 
 #[test]

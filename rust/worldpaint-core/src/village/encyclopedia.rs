@@ -109,8 +109,9 @@ pub struct Placement {
     /// and houses with the gable to it); 0: none, as the thesis's types.
     #[serde(default, skip_serializing_if = "is_zero")]
     pub turned_share: f64,
-    /// Share of the footprints skewed from their road, each turned by an angle drawn evenly within ±45° (real
-    /// houses also follow the contour lines, or older ways); 0: none, as the thesis's types.
+    /// Share of the footprints skewed from their road, each turned by an angle drawn evenly within ±90°, so at
+    /// every angle to it alike (real houses also follow the contour lines, or older ways: near les Bons as many
+    /// stand at 45–75° to their road as at 15–45°, but few across it); 0: none, as the thesis's types.
     #[serde(default, skip_serializing_if = "is_zero")]
     pub skew_share: f64,
     /// Share of the buildings seeded beside one already there (a farm's barn, a house built next to its

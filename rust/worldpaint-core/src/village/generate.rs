@@ -608,7 +608,7 @@ fn parcels_and_footprints(
                 |turn: f64| footprint_indexed(parcel, &index, enc.roads.width, sizes, 1.0, turn);
             // a skewed footprint that finds no room in its parcel stands along the road
             let fp = if draw(0x5E3A, i) < placement.skew_share {
-                let turn = std::f64::consts::FRAC_PI_4 * (2.0 * draw(0x5E3B, i) - 1.0);
+                let turn = std::f64::consts::FRAC_PI_2 * (2.0 * draw(0x5E3B, i) - 1.0);
                 grown(turn).or_else(|| grown(0.0))
             } else {
                 grown(0.0)

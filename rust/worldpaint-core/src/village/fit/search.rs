@@ -2,14 +2,16 @@
 //! random numbers), then the finalists (the best candidates of the best generations and the distribution's mean)
 //! grown at four times as many held-out seeds, and the one nearest there kept: the best at the fit's seeds is
 //! partly the best at those seeds' luck, the more so the more candidates were tried, so the fit's seeds do not
-//! judge the finalists they chose.
+//! judge the finalists they chose. Last, the kept point's orientation knobs take one step towards the real
+//! village's orientation to the road from the histogram its villages showed at the held-out seeds, and the step
+//! is kept where it comes nearer there.
 
 use super::grow::{grow_village_figures, rank_village_types};
 use super::objective::objective;
 use super::space::{Candidate, ParameterSpace};
 use super::{scenario_for, FitOptions, FitProgress, FitTarget};
 use crate::village::encyclopedia::{Encyclopedia, Scenario};
-use crate::village::figures::VillageFigures;
+use crate::village::figures::{VillageFigures, ORIENTATION_BINS};
 use crate::{Error, Result};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -24,14 +26,34 @@ const HELD_OUT_OFFSET: u64 = 1000;
 const HELD_OUT_PER_SEED: usize = 4;
 
 /// Candidates grown once the search ends: each finalist at the held-out seeds, the distribution's mean at the fit's
-/// seeds too.
+/// seeds too, and the orientation step at both.
 fn finalist_evaluations(options: &FitOptions) -> usize {
-    options.finalists + usize::from(options.finalists > 1)
+    if options.finalists == 0 {
+        return 0;
+    }
+    options.finalists + usize::from(options.finalists > 1) + 2
 }
 
 /// The finalists' cost in candidates grown at the fit's seeds.
 fn finalist_cost(options: &FitOptions) -> usize {
-    options.finalists * HELD_OUT_PER_SEED + usize::from(options.finalists > 1)
+    if options.finalists == 0 {
+        return 0;
+    }
+    (options.finalists + 1) * HELD_OUT_PER_SEED + usize::from(options.finalists > 1) + 1
+}
+
+/// The mean of the grown villages' histograms of the orientation to the road (`None`: none grew).
+fn mean_orientation(grown: &[Option<VillageFigures>]) -> Option<[f64; ORIENTATION_BINS]> {
+    let villages: Vec<&VillageFigures> = grown.iter().flatten().collect();
+    (!villages.is_empty()).then(|| {
+        std::array::from_fn(|i| {
+            villages
+                .iter()
+                .map(|v| v.orientation_to_road[i])
+                .sum::<f64>()
+                / villages.len() as f64
+        })
+    })
 }
 
 /// Where a search ended.
@@ -138,6 +160,16 @@ impl<'a> Search<'a> {
 
     /// The objective of the candidate at `x`, grown at `seeds`.
     fn objective_at(&self, space: &ParameterSpace, x: &[f64], seeds: &[u64]) -> f64 {
+        self.grown_at(space, x, seeds).0
+    }
+
+    /// The candidate at `x` grown at `seeds`: its objective and its villages' figures.
+    fn grown_at(
+        &self,
+        space: &ParameterSpace,
+        x: &[f64],
+        seeds: &[u64],
+    ) -> (f64, Vec<Option<VillageFigures>>) {
         let c = space.candidate(x);
         let scenario = self.scenario(&c);
         let mut enc = self.enc.clone();
@@ -160,7 +192,7 @@ impl<'a> Search<'a> {
         });
         let value = objective(&self.target.figures, &grown);
         self.report(&|s| s.evaluations += 1);
-        value
+        (value, grown)
     }
 
     /// Whether `candidates` more and the finalists fit in the time left, at the pace of the candidates so far or of
@@ -298,24 +330,42 @@ impl<'a> Search<'a> {
                 (mean.as_slice(), &self.seeds),
             ]);
         }
-        let values: Vec<f64> = jobs
+        let mut grown: Vec<(f64, Vec<Option<VillageFigures>>)> = jobs
             .par_iter()
-            .map(|(point, seeds)| self.objective_at(space, point, seeds))
+            .map(|(point, seeds)| self.grown_at(space, point, seeds))
             .collect();
         self.failed()?;
         if !self.keep_going() {
             return Ok((best.1, best.0, None));
         }
         if count > 1 {
-            finalists.push((values[values.len() - 1], mean));
+            let at_fit_seeds = grown.pop().map_or(f64::INFINITY, |g| g.0);
+            finalists.push((at_fit_seeds, mean));
         }
-        let chosen = finalists
+        let Some(((fit, point), (held, villages))) = finalists
             .into_iter()
-            .zip(values)
-            .min_by(|(_, a), (_, b)| a.total_cmp(b));
-        Ok(match chosen {
-            Some(((fit, point), h)) => (point, fit, Some(h)),
-            None => (best.1, best.0, None),
+            .zip(grown)
+            .min_by(|(_, a), (_, b)| a.0.total_cmp(&b.0))
+        else {
+            return Ok((best.1, best.0, None));
+        };
+        let Some(orientation) = mean_orientation(&villages) else {
+            return Ok((point, fit, Some(held)));
+        };
+        let stepped = space.orientation_step(
+            &point,
+            &orientation,
+            &self.target.figures.orientation_to_road,
+        );
+        let values: Vec<f64> = [held_out.as_slice(), &self.seeds]
+            .par_iter()
+            .map(|seeds| self.objective_at(space, &stepped, seeds))
+            .collect();
+        self.failed()?;
+        Ok(if self.keep_going() && values[0] < held {
+            (stepped, values[1], Some(values[0]))
+        } else {
+            (point, fit, Some(held))
         })
     }
 }
