@@ -14,10 +14,12 @@
 //!   parameters, not by their luck), all candidates of a generation and all their seeds in parallel; results
 //!   are gathered in order, so a fit is the same whatever the number of threads.
 //! * A budget of evaluations (candidates) and of seconds; the search ends before a generation that would not
-//!   leave time for the finalists at the pace so far. Past the seconds, or when the progress callback returns
+//!   leave time for the finalists and the step at the pace so far. Past the seconds, or when the progress callback returns
 //!   `false`, the villages growing are cancelled and the best type of the generations completed is kept.
 //! * The type kept is not the best at the fit's seeds, which is partly the best at their luck: the finalists are
-//!   grown again at four times as many held-out seeds, which alone judge them ([`search`]).
+//!   grown again at four times as many held-out seeds, which alone judge them ([`search`]); the one kept then
+//!   takes a step on its shares of turned and skewed footprints towards the real orientation to the road
+//!   ([`space::ParameterSpace::orientation_step`]), kept where it comes nearer at those seeds.
 
 mod grow;
 pub(crate) mod objective;
