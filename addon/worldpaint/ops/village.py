@@ -127,8 +127,9 @@ class WORLDPAINT_OT_learn_village(BackgroundOperator, VillageInputs, bpy.types.O
 
     name: StringProperty(name="Name", description="Name of the learned village type (unset: the panel's)")
     minutes: FloatProperty(name="Minutes", default=0.0, min=0.0, description="Longest search (0: the panel's)")
-    max_evaluations: IntProperty(name="Evaluations", default=200, min=1,
-                                 description="Most candidate village types the search grows")
+    max_evaluations: IntProperty(name="Evaluations", default=0, min=0,
+                                 description="Most candidate village types the search grows (0: as many as grow "
+                                 "about 60,000 buildings, so that the same village and seed learn the same type)")
     seed: IntProperty(name="Seed", default=1, min=0, description="Random seed of the search")
 
     def _prepare(self, context):

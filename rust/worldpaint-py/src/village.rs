@@ -377,7 +377,8 @@ pub(crate) fn village_interest<'py>(
 /// `orientations` (N,), radians from +X) and `roads` (list of (N, 2)) inside `region` on `terrain`, starting from
 /// the encyclopedia's `base_type` (None: the type whose villages come nearest); CMA-ES grows villages on the same
 /// terrain, region and `connections` at `seeds` until their figures match the real village's, within
-/// `max_evaluations` candidates and `max_seconds`; without `connections`, the village's roads come in where the given
+/// `max_evaluations` candidates (0: as many as grow about 60,000 buildings, so that the same village and seed learn
+/// the same type on any machine that finishes in time) and `max_seconds`; without `connections`, the village's roads come in where the given
 /// roads cross the region's border.
 ///
 /// Returns {"encyclopedia": JSON with the learned type added as `name`, "scenario": JSON growing the real village's
@@ -388,7 +389,7 @@ pub(crate) fn village_interest<'py>(
 /// `generate_village`. A region with fewer than 5 buildings, no road or reaching off the terrain is refused.
 #[pyfunction]
 #[pyo3(signature = (terrain, region, buildings, orientations, roads, *, encyclopedia=None, base_type=None,
-                    name="learned", connections=None, seeds=None, seed=1, max_evaluations=200, max_seconds=540.0,
+                    name="learned", connections=None, seeds=None, seed=1, max_evaluations=0, max_seconds=540.0,
                     cell=2.0, parcel_cell=1.0, progress=None, **surroundings))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn learn_village<'py>(

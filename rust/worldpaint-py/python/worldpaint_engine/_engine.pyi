@@ -850,7 +850,7 @@ def learn_village(
     connections: ArrayLike | None = None,
     seeds: Sequence[int] | None = None,
     seed: int = 1,
-    max_evaluations: int = 200,
+    max_evaluations: int = 0,
     max_seconds: float = 540.0,
     cell: float = 2.0,
     parcel_cell: float = 1.0,
