@@ -230,4 +230,7 @@ pub use waterfall::{
 };
 // world: worlds of tiles
 pub use world::tile_file::{decode_tile, encode_tile};
-pub use world::{check_iterations, synthesize_tile, TileContent, TileId, WorldPlan, MAX_TILES};
+pub use world::{
+    check_iterations, synthesize_tile, Block, ColorMap, LabelGrid, Paint, TileContent, TileId,
+    WorldPlan, DEFAULT_BAND_RADII, MAX_TILES,
+};

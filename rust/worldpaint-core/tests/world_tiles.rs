@@ -8,7 +8,7 @@ use common::pcf;
 use std::collections::BTreeMap;
 use worldpaint_core::{
     decode_tile, encode_tile, learn_color, synthesize_tile, undergrowth_scene, AnalysisOptions,
-    Color, DVec2, Region, TileId, WorldPlan,
+    Color, ColorMap, DVec2, Region, TileId, WorldPlan,
 };
 
 /// The Blender benchmark's color: trees with a 3 m hard core, uniform rocks, grass in 2 m clumps; 0.1 per m².
@@ -27,8 +27,15 @@ fn bench_color() -> Color {
 const SIDE: f64 = 400.0;
 const TILE: f64 = 100.0;
 
+fn uniform(color: &Color) -> ColorMap {
+    match ColorMap::uniform(color.clone()) {
+        Ok(m) => m,
+        Err(e) => panic!("a map of one color: {e}"),
+    }
+}
+
 fn plan(color: &Color) -> WorldPlan {
-    match WorldPlan::for_color(DVec2::ZERO, DVec2::splat(SIDE), color, Some(TILE)) {
+    match WorldPlan::for_map(DVec2::ZERO, DVec2::splat(SIDE), &uniform(color), Some(TILE)) {
         Ok(p) => p,
         Err(e) => panic!("plan: {e}"),
     }
@@ -38,6 +45,7 @@ fn plan(color: &Color) -> WorldPlan {
 /// a tile is given the border strips (as bytes, decoded) of its earlier neighbours.
 fn fill(color: &Color, seed: u64, order: fn(&mut Vec<TileId>)) -> BTreeMap<TileId, Vec<u8>> {
     let plan = plan(color);
+    let map = uniform(color);
     let mut files: BTreeMap<TileId, Vec<u8>> = BTreeMap::new();
     let mut borders: BTreeMap<TileId, Vec<u8>> = BTreeMap::new();
     for phase in 0..4 {
@@ -56,7 +64,7 @@ fn fill(color: &Color, seed: u64, order: fn(&mut Vec<TileId>)) -> BTreeMap<TileI
                     Err(e) => panic!("border of {n:?}: {e}"),
                 })
                 .collect();
-            let content = match synthesize_tile(&plan, t, color, None, &neighbours, seed, None) {
+            let content = match synthesize_tile(&plan, t, &map, None, &neighbours, seed, None) {
                 Ok(c) => c,
                 Err(e) => panic!("tile {t:?}: {e}"),
             };
@@ -226,10 +234,10 @@ fn a_tile_file_reads_back_what_was_written_and_refuses_damage() {
 #[test]
 fn a_plan_refuses_tiles_narrower_than_the_region_of_influence() {
     let color = bench_color();
-    let narrow = WorldPlan::for_color(
+    let narrow = WorldPlan::for_map(
         DVec2::ZERO,
         DVec2::splat(SIDE),
-        &color,
+        &uniform(&color),
         Some(color.max_radius / 2.0),
     );
     assert!(narrow.is_err());
@@ -246,10 +254,11 @@ fn a_plan_refuses_tiles_narrower_than_the_region_of_influence() {
 #[test]
 fn a_plan_past_the_work_budget_is_refused_before_any_tile() {
     let color = bench_color();
-    let refused = |min: f64, max: f64, tile: Option<f64>, words: &[&str]| match WorldPlan::for_color(
+    let map = uniform(&color);
+    let refused = |min: f64, max: f64, tile: Option<f64>, words: &[&str]| match WorldPlan::for_map(
         DVec2::splat(min),
         DVec2::splat(max),
-        &color,
+        &map,
         tile,
     ) {
         Ok(p) => panic!("{min}..{max} with tile {tile:?} was planned: {p:?}"),

@@ -4,12 +4,65 @@
 use crate::convert::{instances_to_py, parse_color};
 use crate::guarded;
 use crate::terrain::Terrain;
-use numpy::IntoPyArray;
+use numpy::{IntoPyArray, PyReadonlyArray2};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
 use worldpaint_core::{
-    check_iterations, decode_tile, encode_tile, synthesize_tile, DVec2, TileId, WorldPlan,
+    check_iterations, decode_tile, encode_tile, synthesize_tile, ColorMap, DVec2, LabelGrid,
+    TileId, WorldPlan,
 };
+
+/// What fills a world: a color's JSON (one color everywhere), or a map {"labels": uint32 (ny, nx) array, row 0 at
+/// the smallest Y, "origin": (x, y) of its corner with the smaller coordinates, "cell": side of a cell (m),
+/// "legend": {label: color JSON}, "band": width of the transition band (m; None: three regions of influence)}.
+fn paint_from_py(paint: &Bound<'_, PyAny>) -> PyResult<ColorMap> {
+    if let Ok(json) = paint.extract::<String>() {
+        let color = parse_color(&json)?;
+        return guarded(|| ColorMap::uniform(color));
+    }
+    let Ok(map) = paint.cast::<PyDict>() else {
+        return Err(crate::input_err(
+            "a world is filled with a color's JSON or a map (a dict of labels, origin, cell, legend and band)",
+        ));
+    };
+    let get = |key: &str| -> PyResult<Bound<'_, PyAny>> {
+        map.get_item(key)?
+            .ok_or_else(|| crate::input_err(format!("the map has no '{key}'")))
+    };
+    let labels: PyReadonlyArray2<'_, u32> = get("labels")?.extract().map_err(|_| {
+        crate::input_err("the map's labels must be a 2-D array of unsigned 32-bit integers")
+    })?;
+    let labels = labels.as_array();
+    let (ny, nx) = labels.dim();
+    let labels: Vec<u32> = labels.iter().copied().collect();
+    let (x, y): (f64, f64) = get("origin")?.extract()?;
+    let cell: f64 = get("cell")?.extract()?;
+    let legend_dict = get("legend")?;
+    let legend_dict = legend_dict
+        .cast::<PyDict>()
+        .map_err(|_| crate::input_err("the map's legend must be a dict {label: color JSON}"))?;
+    let mut legend = Vec::new();
+    for (label, color) in legend_dict.iter() {
+        let label: u32 = label.extract().map_err(|_| {
+            crate::input_err(format!(
+                "the map's legend has the label {label}, not a whole number from 0"
+            ))
+        })?;
+        legend.push((label, parse_color(&color.extract::<String>()?)?));
+    }
+    let band: Option<f64> = match map.get_item("band")? {
+        Some(b) => b.extract()?,
+        None => None,
+    };
+    let grid = LabelGrid {
+        origin: DVec2::new(x, y),
+        cell,
+        nx,
+        ny,
+        labels,
+    };
+    guarded(|| ColorMap::new(grid, legend, band))
+}
 
 fn plan_from_py(plan: &Bound<'_, PyDict>) -> PyResult<WorldPlan> {
     let get = |key: &str| -> PyResult<Bound<'_, PyAny>> {
@@ -25,28 +78,29 @@ fn plan_from_py(plan: &Bound<'_, PyDict>) -> PyResult<WorldPlan> {
     guarded(|| WorldPlan::new(min, max, tile, influence))
 }
 
-/// How `color` (JSON) fills the world rectangle `min`–`max`: {"min", "max", "tile" (side, m), "influence" (m),
-/// "columns", "rows", "tiles": [(column, row, phase, [(column, row) of the earlier neighbours it is conditioned
-/// on])]}, tiles in phase order. `tile` overrides the side (at least the color's region of influence). A plan past
-/// the work budget (tiles, instances a tile or the world would hold, `iterations_per_instance` when given) raises
-/// `InputError` before any tile is started.
+/// How `paint` (a color's JSON, or a map: see `world_tile`) fills the world rectangle `min`–`max`: {"min", "max",
+/// "tile" (side, m), "influence" (m), "columns", "rows", "tiles": [(column, row, phase, [(column, row) of the earlier
+/// neighbours it is conditioned on])], "categories": the tiles' category names}, tiles in phase order. `tile`
+/// overrides the side (at least the colors' region of influence). A plan past the work budget (tiles, instances a
+/// tile or the world would hold, `iterations_per_instance` when given), or a map that does not cover the rectangle
+/// or is not read (a label with no legend entry...), raises `InputError` before any tile is started.
 #[pyfunction]
-#[pyo3(signature = (color, min, max, *, tile=None, iterations_per_instance=None))]
+#[pyo3(signature = (paint, min, max, *, tile=None, iterations_per_instance=None))]
 pub(crate) fn world_plan<'py>(
     py: Python<'py>,
-    color: &str,
+    paint: &Bound<'py, PyAny>,
     min: (f64, f64),
     max: (f64, f64),
     tile: Option<f64>,
     iterations_per_instance: Option<f64>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let color = parse_color(color)?;
+    let map = paint_from_py(paint)?;
     let (min, max) = (DVec2::new(min.0, min.1), DVec2::new(max.0, max.1));
     let plan = guarded(|| {
         if let Some(it) = iterations_per_instance {
             check_iterations(it)?;
         }
-        WorldPlan::for_color(min, max, &color, tile)
+        WorldPlan::for_map(min, max, &map, tile)
     })?;
     let d = PyDict::new(py);
     d.set_item("min", (plan.min.x, plan.min.y))?;
@@ -69,19 +123,24 @@ pub(crate) fn world_plan<'py>(
         })
         .collect();
     d.set_item("tiles", tiles)?;
+    let categories: Vec<&str> = map.categories().iter().map(|c| c.name.as_str()).collect();
+    d.set_item("categories", categories)?;
     Ok(d)
 }
 
-/// Synthesizes tile (`column`, `row`) of `plan` (as `world_plan` returns it) with `color` (JSON), conditioned on
+/// Synthesizes tile (`column`, `row`) of `plan` (as `world_plan` returns it) with `paint`, conditioned on
 /// `neighbours` (the border bytes its earlier neighbours returned) and on `terrain` (at least the part around the
-/// tile; None on flat ground). Returns (the tile file's bytes, the tile's border bytes for its later neighbours,
-/// the instance count of each of the color's categories).
+/// tile; None on flat ground). `paint` is a color's JSON (one color everywhere) or a map: {"labels": uint32 (ny, nx)
+/// array, row 0 at the smallest Y, "origin": (x, y) of its corner with the smaller coordinates, "cell": side of a
+/// cell (m), "legend": {label: color JSON}, "band": width of the transition band across each boundary (m; None:
+/// three regions of influence)}. Returns (the tile file's bytes, the tile's border bytes for its later neighbours,
+/// the instance count of each of the plan's categories).
 #[pyfunction]
-#[pyo3(signature = (color, plan, column, row, neighbours, seed, *, terrain=None, iterations_per_instance=None))]
+#[pyo3(signature = (paint, plan, column, row, neighbours, seed, *, terrain=None, iterations_per_instance=None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn world_tile<'py>(
     py: Python<'py>,
-    color: &str,
+    paint: &Bound<'py, PyAny>,
     plan: &Bound<'py, PyDict>,
     column: u32,
     row: u32,
@@ -90,7 +149,7 @@ pub(crate) fn world_tile<'py>(
     terrain: Option<&Bound<'py, Terrain>>,
     iterations_per_instance: Option<f64>,
 ) -> PyResult<(Bound<'py, PyBytes>, Bound<'py, PyBytes>, Vec<usize>)> {
-    let color = parse_color(color)?;
+    let map = paint_from_py(paint)?;
     let plan = plan_from_py(plan)?;
     let neighbours = neighbours
         .iter()
@@ -103,7 +162,7 @@ pub(crate) fn world_tile<'py>(
             let tile = synthesize_tile(
                 &plan,
                 t,
-                &color,
+                &map,
                 terrain,
                 &neighbours,
                 seed,

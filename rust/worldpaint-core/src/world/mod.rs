@@ -10,11 +10,15 @@
 //! own generator, seeded from (seed, column, row), so the same seed gives the same world whatever the tile order,
 //! the worker count or the machine.
 //!
+//! What fills the world is a [`map::ColorMap`]: one color everywhere, or a grid of labels whose colors blend across
+//! each boundary; a tile is painted in blocks of one paint each ([`map::ColorMap::blocks`]).
+//!
 //! A tile needs only the terrain around it ([`WorldPlan::terrain_window`]) and the border strips of its earlier
 //! neighbours ([`TileContent::border`]); its whole content goes to one tile file ([`tile_file`]). Memory is therefore
 //! bounded by a tile, not by the world. The driver that runs the phases on a cluster is the Python package's
 //! `worldpaint_engine.world` (Dask distributed): no scheduler lives here.
 
+pub(crate) mod map;
 pub(crate) mod tile_file;
 
 use crate::error::check;
@@ -25,6 +29,7 @@ use crate::scene::{CategoryKind, Instance, Scene};
 use crate::synthesis::{mix_seed, SynthesisOptions};
 use crate::terrain::Heightfield;
 use crate::{Error, Region, Result};
+pub use map::{Block, ColorMap, LabelGrid, Paint, DEFAULT_BAND_RADII};
 use std::sync::Arc;
 
 /// Instances a tile is sized to hold by default: a tile then takes about a second and some tens of MB.
@@ -99,12 +104,12 @@ impl WorldPlan {
         })
     }
 
-    /// A plan for painting `color` over `[min, max]`: the region of influence is the color's largest radius, and
-    /// the tile (unless given) holds about `TILE_INSTANCES` of the color's instances.
-    pub fn for_color(min: DVec2, max: DVec2, color: &Color, tile: Option<f64>) -> Result<Self> {
-        paintable(color)?;
-        let influence = color.max_radius;
-        let density: f64 = color.categories.iter().map(|c| c.density).sum();
+    /// A plan for painting `map` over `[min, max]`: the region of influence is the colors' largest radius, and
+    /// the tile (unless given) holds about `TILE_INSTANCES` instances of the densest color. A map that does not
+    /// cover the world is refused.
+    pub fn for_map(min: DVec2, max: DVec2, map: &ColorMap, tile: Option<f64>) -> Result<Self> {
+        let influence = map.influence();
+        let density = map.max_density();
         let extent = (max - min).max_element();
         let tile = match tile {
             Some(t) => t,
@@ -116,21 +121,27 @@ impl WorldPlan {
             None => extent.max(influence),
         };
         let plan = WorldPlan::new(min, max, tile, influence)?;
-        plan.check_instances(color, density)?;
+        map.check_covers(plan.min, plan.max)?;
+        plan.check_instances(map, density)?;
         Ok(plan)
     }
 
-    /// Refuses a plan whose tiles or whole world would hold more instances of the color (at its density) than the
-    /// engine's budget allows, before any tile is started: a tile is one synthesis call
-    /// ([`crate::limits::MAX_INSTANCES`]), and the world has its own bound
-    /// ([`crate::limits::MAX_WORLD_INSTANCES`]).
-    fn check_instances(&self, color: &Color, density: f64) -> Result<()> {
+    /// Refuses a plan whose tiles or whole world would hold more instances (at the densest color's density) than
+    /// the engine's budget allows, before any tile is started: a tile is at most one synthesis call's
+    /// ([`crate::limits::MAX_INSTANCES`]), and the world has its own bound ([`crate::limits::MAX_WORLD_INSTANCES`]).
+    fn check_instances(&self, map: &ColorMap, density: f64) -> Result<()> {
         let extent = self.max - self.min;
         let tile_area = self.tile.min(extent.x) * self.tile.min(extent.y);
+        let names: Vec<&str> = map.colors().iter().map(|c| c.name.as_str()).collect();
+        let what = if names.len() == 1 {
+            format!("color '{}'", names[0])
+        } else {
+            format!("colors '{}'", names.join("', '"))
+        };
         crate::limits::check(
             &format!(
-                "a tile of {} m of color '{}' (at {density} instances per m²)",
-                self.tile, color.name
+                "a tile of {} m of {what} (at {density} instances per m²)",
+                self.tile
             ),
             density * tile_area,
             crate::limits::MAX_INSTANCES,
@@ -138,8 +149,8 @@ impl WorldPlan {
         )?;
         crate::limits::check(
             &format!(
-                "a world of {} x {} m of color '{}' (at {density} instances per m²)",
-                extent.x, extent.y, color.name
+                "a world of {} x {} m of {what} (at {density} instances per m²)",
+                extent.x, extent.y
             ),
             density * extent.x * extent.y,
             crate::limits::MAX_WORLD_INSTANCES,
@@ -273,7 +284,7 @@ pub fn check_iterations(iterations_per_instance: f64) -> Result<()> {
 }
 
 /// A clear error for colors a world cannot be filled with: tiles hold instances only.
-fn paintable(color: &Color) -> Result<()> {
+pub(crate) fn paintable(color: &Color) -> Result<()> {
     if !color.kind.is_statistics() {
         return Err(Error::invalid(
             format!("color '{}'", color.name),
@@ -296,31 +307,24 @@ fn paintable(color: &Color) -> Result<()> {
     Ok(())
 }
 
-/// Synthesize tile `t` of `plan` with `color`, conditioned on `neighbours` (the border strips of its earlier
+/// Synthesize tile `t` of `plan` with `map`, conditioned on `neighbours` (the border strips of its earlier
 /// neighbours), on `terrain` (at least the tile's [`WorldPlan::terrain_window`]; `None` on flat ground).
-/// `iterations_per_instance` overrides the color's chain length.
+/// `iterations_per_instance` overrides the colors' chain length. The tile's blocks are synthesized in turn, each
+/// conditioned on the blocks before it; the first draws from the tile's seed, the others from seeds derived from
+/// it and their place in the order.
 pub fn synthesize_tile(
     plan: &WorldPlan,
     t: TileId,
-    color: &Color,
+    map: &ColorMap,
     terrain: Option<Arc<Heightfield>>,
     neighbours: &[TileContent],
     seed: u64,
     iterations_per_instance: Option<f64>,
 ) -> Result<TileContent> {
     plan.check_tile(t)?;
-    paintable(color)?;
-    let names: Vec<String> = color
-        .categories
-        .iter()
-        .map(|c| c.category.name.clone())
-        .collect();
+    let names: Vec<String> = map.categories().iter().map(|c| c.name.clone()).collect();
     let mut scene = Scene {
-        categories: color
-            .categories
-            .iter()
-            .map(|c| c.category.clone())
-            .collect(),
+        categories: map.categories().to_vec(),
         terrain: terrain.clone(),
         ..Default::default()
     };
@@ -329,15 +333,16 @@ pub fn synthesize_tile(
             return Err(Error::invalid(
                 format!("neighbour tile ({}, {})", n.tile.column, n.tile.row),
                 format!(
-                    "holds categories {:?}, not those of color '{}'",
-                    n.categories, color.name
+                    "holds categories {:?}, not the map's {names:?}",
+                    n.categories
                 ),
             ));
         }
         scene.instances.extend_from_slice(&n.instances);
     }
+    let tile_seed = mix_seed(seed, ((t.column as u64) << 32) | t.row as u64);
     let mut opts = SynthesisOptions {
-        seed: mix_seed(seed, ((t.column as u64) << 32) | t.row as u64),
+        seed: tile_seed,
         influence_radius: Some(plan.influence),
         // the tile's terrain is a window of the world's, which does not hold the exemplar's ground
         exemplar_on_terrain: false,
@@ -348,9 +353,27 @@ pub fn synthesize_tile(
         opts.iterations_per_instance = it;
     }
     let (min, max) = plan.rect(t);
-    let painted = synthesize(&scene, color, &Region::Rect { min, max }, &opts)?;
-    let heights = painted
-        .instances
+    let borrowed = scene.instances.len();
+    let mut colors = std::collections::HashMap::new();
+    for (k, block) in map.blocks(min, max).into_iter().enumerate() {
+        let color = match colors.entry(block.paint) {
+            std::collections::hash_map::Entry::Occupied(e) => e.into_mut(),
+            std::collections::hash_map::Entry::Vacant(e) => e.insert(map.color_of(block.paint)?),
+        };
+        opts.seed = if k == 0 {
+            tile_seed
+        } else {
+            mix_seed(tile_seed, k as u64)
+        };
+        let region = Region::Rect {
+            min: block.min,
+            max: block.max,
+        };
+        let painted = synthesize(&scene, color, &region, &opts)?;
+        scene.instances.extend(painted.instances);
+    }
+    let instances = scene.instances.split_off(borrowed);
+    let heights = instances
         .iter()
         .map(|i| {
             terrain
@@ -363,7 +386,7 @@ pub fn synthesize_tile(
         tile: t,
         origin: min,
         categories: names,
-        instances: painted.instances,
+        instances,
         heights,
     })
 }

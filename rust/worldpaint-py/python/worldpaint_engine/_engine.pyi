@@ -603,6 +603,18 @@ class WorldPlanDict(TypedDict):
     rows: int
     # (column, row, phase, [(column, row) of the earlier neighbours it is conditioned on])
     tiles: list[tuple[int, int, int, list[tuple[int, int]]]]
+    # the tiles' category names: every category of the colors, each once, in the legend's order
+    categories: list[str]
+
+class ColorMapDict(TypedDict):
+    # uint32 (ny, nx), row 0 at the smallest Y
+    labels: NDArray[np.uint32]
+    origin: tuple[float, float]
+    cell: float
+    # label -> color JSON
+    legend: dict[int, str]
+    # width of the transition band (m); None: three regions of influence
+    band: float | None
 
 class WorldTileDict(InstanceColumns):
     column: int
@@ -908,7 +920,7 @@ def apply_sketch(
 # worlds in tiles
 
 def world_plan(
-    color: str,
+    paint: str | ColorMapDict,
     min: tuple[float, float],
     max: tuple[float, float],
     *,
@@ -916,7 +928,7 @@ def world_plan(
     iterations_per_instance: float | None = None,
 ) -> WorldPlanDict: ...
 def world_tile(
-    color: str,
+    paint: str | ColorMapDict,
     plan: WorldPlanDict,
     column: int,
     row: int,

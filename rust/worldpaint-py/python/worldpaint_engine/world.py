@@ -1,8 +1,14 @@
-"""Fill a world of any size with a color, tile by tile, on Dask distributed.
+"""Fill a world of any size with a color, or with the colors of a map, tile by tile, on Dask distributed.
 
     python -m worldpaint_engine.world --terrain heights.asc --palette forest.json --color Forest \\
         --seed 1 --out world/ [--region X0 Y0 X1 Y1] [--tile 1000] [--workers 2 | --scheduler tcp://host:8786] \\
         [--overwrite]
+    python -m worldpaint_engine.world --terrain heights.asc --palette palette.json --map labels.asc \\
+        --legend legend.json [--band 60] --out world/ ...
+
+A map (``map_files``) is a grid of labels and a legend naming each label's palette color; across each boundary
+the two colors blend over a transition band (``--band``, default three regions of influence), as the Gradient tool
+blends them.
 
 The engine cuts the world into square tiles in four checkerboard phases (``world_plan``); a tile is synthesized
 after its neighbours of earlier phases, conditioned on their border strips (``world_tile``). Here that order
@@ -37,7 +43,10 @@ import signal
 import sys
 import time
 
+import numpy as np
+
 from . import _engine
+from .map_files import read_map
 from .terrain_files import TerrainGrid, load_terrain, read_ascii_grid  # noqa: F401 (the driver's public surface)
 from .tile_set_folder import FORMAT, FORMAT_VERSION, MANIFEST, TileSetFolder
 
@@ -54,7 +63,7 @@ def tile_file_name(column, row):
 def run_tile(job, column, row, window, *borders):
     """One tile: synthesized, written (atomically: a re-run replaces it with the same bytes), its border returned."""
     terrain = None if window is None else _engine.Terrain.from_grid(window.origin, window.cell, window.heights)
-    data, border, counts = _engine.world_tile(job["color"], job["plan"], column, row, list(borders), job["seed"],
+    data, border, counts = _engine.world_tile(job["paint"], job["plan"], column, row, list(borders), job["seed"],
                                               terrain=terrain, iterations_per_instance=job["iterations"])
     name = tile_file_name(column, row)
     path = os.path.join(job["out"], name)
@@ -85,11 +94,10 @@ def color_by_name(palette_text, name=None):
     raise ValueError(f"the palette has no color {name!r} (colors: {', '.join(names) or 'none'})")
 
 
-def plan_world(color, region=None, terrain=None, tile=None, iterations=None):
-    """The engine's plan for filling ``region`` ((x0, y0), (x1, y1); default: the terrain's extent) with ``color``,
-    and the region it fills: with a terrain, the part of ``region`` on the terrain. Raises ``InputError`` for a
-    region that is not a rectangle of finite numbers, lies entirely off the terrain, or asks for more than the
-    engine's work budget, and for a tile narrower than the color's region of influence."""
+def world_region(region=None, terrain=None):
+    """The region a world fills: ``region`` ((x0, y0), (x1, y1); default: the terrain's extent), with a terrain the
+    part of it on the terrain. Raises ``InputError`` for a region that is not a rectangle of finite numbers or lies
+    entirely off the terrain."""
     if region is None:
         if terrain is None:
             raise _engine.InputError("a world needs --region X0 Y0 X1 Y1 or a --terrain whose extent it fills")
@@ -107,10 +115,19 @@ def plan_world(color, region=None, terrain=None, tile=None, iterations=None):
             raise _engine.InputError(f"{given} lies entirely off the terrain, whose samples span {tx0:g} {ty0:g} "
                                      f"{tx1:g} {ty1:g}")
         region = (lo, hi)
+    return region
+
+
+def plan_world(paint, region=None, terrain=None, tile=None, iterations=None):
+    """The engine's plan for filling ``region`` (as ``world_region`` reads it) with ``paint`` (a color's JSON, or a
+    map as ``map_files.read_map`` makes it), and the region it fills. Raises ``InputError`` for a bad region, a plan
+    past the engine's work budget, a tile narrower than the colors' region of influence, and a map that does not
+    cover the region or has a label with no legend entry."""
+    region = world_region(region, terrain)
     if iterations is not None and not (math.isfinite(iterations) and iterations > 0):
         raise _engine.InputError(f"--iterations {iterations:g}: must be a number > 0 (proposals per instance)")
     try:
-        plan = _engine.world_plan(color, *region, tile=tile, iterations_per_instance=iterations)
+        plan = _engine.world_plan(paint, *region, tile=tile, iterations_per_instance=iterations)
     except _engine.InputError as e:
         size = "the default size" if tile is None else f"{tile:g} m"
         raise _engine.InputError(f"{region_text(region)} in tiles of {size}: {e}") from None
@@ -128,31 +145,46 @@ def check_seed(seed):
     return seed
 
 
-def fill_world(client, color, out, *, seed=0, region=None, terrain=None, tile=None, iterations=None,
+def fill_world(client, paint, out, *, seed=0, region=None, terrain=None, tile=None, iterations=None,
                overwrite=False, progress=False):
     """Fills ``region`` ((x0, y0), (x1, y1); default: the terrain's extent; on a terrain, the part of it on the
-    terrain) with ``color`` (JSON) on the Dask ``client``, writing the tile set into ``out`` whole or not at all
-    (see ``tile_set_folder``): an existing ``out`` is refused unless ``overwrite``, which replaces it. Returns the
-    manifest (also written as ``out/manifest.json``). Bad input raises ``InputError`` before anything is
-    written."""
+    terrain) with ``paint`` (a color's JSON, or a map as ``map_files.read_map`` makes it) on the Dask ``client``,
+    writing the tile set into ``out`` whole or not at all (see ``tile_set_folder``): an existing ``out`` is refused
+    unless ``overwrite``, which replaces it. Returns the manifest (also written as ``out/manifest.json``). Bad input
+    raises ``InputError`` before anything is written."""
     check_seed(seed)
-    plan, _region = plan_world(color, region, terrain, tile, iterations)
+    plan, _region = plan_world(paint, region, terrain, tile, iterations)
     with TileSetFolder(out, overwrite) as folder:
-        manifest = write_tiles(client, color, plan, folder.path, seed=seed, terrain=terrain, iterations=iterations,
+        manifest = write_tiles(client, paint, plan, folder.path, seed=seed, terrain=terrain, iterations=iterations,
                                progress=progress)
         folder.commit()
     return manifest
 
 
-def write_tiles(client, color, plan, out, *, seed, terrain=None, iterations=None, progress=False):
+def paint_colors(paint):
+    """The colors (JSON) ``paint`` fills a world with, in the legend's order."""
+    return [paint] if isinstance(paint, str) else list(paint["legend"].values())
+
+
+def paint_categories(paint, names):
+    """The manifest's categories: each of ``names`` (the plan's) with its layer and priority in the first color that
+    has it."""
+    known = {}
+    for color in paint_colors(paint):
+        for c in _engine.color_summary(color)["categories"]:
+            known.setdefault(c["name"], {k: c[k] for k in ("name", "layer", "priority")})
+    return [known[n] for n in names]
+
+
+def write_tiles(client, paint, plan, out, *, seed, terrain=None, iterations=None, progress=False):
     """Runs ``plan``'s tiles on ``client`` as a task graph, each writing its file into the folder ``out``, then
     writes the manifest there; returns it."""
     import dask.base
     from distributed import progress as progress_bar
 
     (x0, y0), (x1, y1) = plan["min"], plan["max"]
-    job = {"color": color, "plan": plan, "seed": int(seed), "iterations": iterations, "out": os.path.abspath(out)}
-    token = dask.base.tokenize(color, plan, seed, iterations, job["out"])
+    job = {"paint": paint, "plan": plan, "seed": int(seed), "iterations": iterations, "out": os.path.abspath(out)}
+    token = dask.base.tokenize(paint, plan, seed, iterations, job["out"])
     borders, summaries = {}, []
     reach = plan["influence"] + 2.0 * (terrain.cell if terrain is not None else 0.0)
     for column, row, _phase, after in plan["tiles"]:
@@ -173,12 +205,12 @@ def write_tiles(client, color, plan, out, *, seed, terrain=None, iterations=None
     for name in os.listdir(out):
         if name.endswith(".part"):  # left by a worker that died while writing; its tile was written again
             os.remove(os.path.join(out, name))
-    summary = _engine.color_summary(color)
-    categories = [{k: c[k] for k in ("name", "layer", "priority")} for c in summary["categories"]]
+    names = [_engine.color_summary(c)["name"] for c in paint_colors(paint)]
     manifest = {
         "format": FORMAT,
         "version": FORMAT_VERSION,
-        "color": summary["name"],
+        "color": " + ".join(names),
+        "colors": names,
         "seed": int(seed),
         "min": list(plan["min"]),
         "max": list(plan["max"]),
@@ -186,7 +218,7 @@ def write_tiles(client, color, plan, out, *, seed, terrain=None, iterations=None
         "influence": plan["influence"],
         "columns": plan["columns"],
         "rows": plan["rows"],
-        "categories": categories,
+        "categories": paint_categories(paint, plan["categories"]),
         "instances": sum(t["count"] for t in tiles),
         "tiles": tiles,
     }
@@ -289,6 +321,13 @@ def finite(text):
     return value
 
 
+def non_negative(text):
+    value = finite(text)
+    if value < 0.0:
+        raise argparse.ArgumentTypeError(f"{text} must be 0 or more")
+    return value
+
+
 def positive(text):
     value = finite(text)
     if value <= 0.0:
@@ -344,7 +383,14 @@ def parser():
     p = Parser(prog=PROG, description=__doc__.split("\n\n")[0], formatter_class=argparse.RawDescriptionHelpFormatter,
                allow_abbrev=False)
     p.add_argument("--palette", required=True, help="a palette JSON file (the add-on's Export Palette)")
-    p.add_argument("--color", help="the palette's color to paint (default: its only one)")
+    what = p.add_mutually_exclusive_group()
+    what.add_argument("--color", help="the palette's color to paint (default: its only one)")
+    what.add_argument("--map", help="a map of labels, .asc (placed by its header) or .npy (rows along +Y, over the "
+                                    "region): each label painted with its --legend color")
+    p.add_argument("--legend", help='the --map\'s legend, a JSON file {"label": "color name"}')
+    p.add_argument("--band", type=non_negative,
+                   help="width of the transition band across the --map's boundaries (m; default: three regions of "
+                        "influence of its colors)")
     p.add_argument("--terrain", help="heightmap: .asc, .npy (with --cell) or .blend (with --object)")
     p.add_argument("--cell", type=positive, help="sample spacing of a .npy heightmap (m)")
     p.add_argument("--origin", type=finite, nargs=2, metavar=("X", "Y"),
@@ -372,16 +418,46 @@ def parser():
     return p
 
 
-def read_color(path, name):
+def read_palette(path):
     try:
         with open(path, encoding="utf-8") as f:
-            text = f.read()
+            return f.read()
     except (OSError, UnicodeDecodeError) as e:
         raise _engine.InputError(f"--palette {path}: cannot read it ({getattr(e, 'strerror', None) or e})") from None
+
+
+def read_color(path, name):
+    text = read_palette(path)
     try:
         return color_by_name(text, name)
     except ValueError as e:
         raise type(e)(f"--palette {path}: {e}") from None
+
+
+def read_single_color(args):
+    """The --color the command line fills the world with (None: it paints a --map)."""
+    if args.map is not None:
+        return None
+    for option, value in (("--legend", args.legend), ("--band", args.band)):
+        if value is not None:
+            raise _engine.InputError(f"{option} describes a --map, and none is given")
+    return read_color(args.palette, args.color)
+
+
+def read_map_paint(args, region):
+    """The --map the command line fills ``region`` with, its colors named by the --legend."""
+    if args.legend is None:
+        raise _engine.InputError(f"--map {args.map}: a map needs its --legend (a JSON file "
+                                 '{"label": "color name"})')
+    try:
+        colors = _engine.palette_from_json(read_palette(args.palette))
+    except ValueError as e:
+        raise type(e)(f"--palette {args.palette}: {e}") from None
+    named = {_engine.color_summary(c)["name"]: c for c in colors}
+    try:
+        return read_map(args.map, args.legend, named, region, args.band)
+    except OSError as e:
+        raise _engine.InputError(f"cannot read {e.filename}: {e.strerror or e}") from None
 
 
 def read_terrain(args):
@@ -396,9 +472,21 @@ def read_terrain(args):
         raise _engine.InputError(f"--terrain {args.terrain}: cannot read it ({e.strerror or e})") from None
 
 
-def plan_line(color, plan, region, asked, out):
+def mean_density(paint):
+    """Instances per m² of ``paint``: a map's colors weighted by their labels' shares of its cells."""
+    def density(color):
+        return sum(c["density"] for c in _engine.color_summary(color)["categories"])
+
+    if isinstance(paint, str):
+        return density(paint)
+    labels, counts = np.unique(paint["labels"], return_counts=True)
+    return sum(density(paint["legend"][int(k)]) * n for k, n in zip(labels, counts, strict=True)
+               if int(k) in paint["legend"]) / max(sum(counts), 1)
+
+
+def plan_line(paint, plan, region, asked, out):
     """What the run will make, said before it starts."""
-    density = sum(c["density"] for c in _engine.color_summary(color)["categories"])
+    density = mean_density(paint)
     (x0, y0), (x1, y1) = region
     cut = ""
     if asked is not None and tuple(map(tuple, asked)) != tuple(map(tuple, region)):
@@ -425,17 +513,18 @@ def main(argv=None):
     logging.getLogger("asyncio").setLevel(logging.CRITICAL)
     started = False
     try:
-        color = read_color(args.palette, args.color)
+        paint = read_single_color(args)
         terrain = read_terrain(args)
         asked = None if args.region is None else (tuple(args.region[:2]), tuple(args.region[2:]))
-        plan, region = plan_world(color, asked, terrain, args.tile, args.iterations)
+        paint = paint or read_map_paint(args, world_region(asked, terrain))
+        plan, region = plan_world(paint, asked, terrain, args.tile, args.iterations)
         with TileSetFolder(args.out, args.overwrite) as folder:
-            print(plan_line(color, plan, region, asked, args.out), flush=True)
+            print(plan_line(paint, plan, region, asked, args.out), flush=True)
             client = start_client(args.scheduler, args.workers)
             started = True
             try:
                 t0 = time.perf_counter()
-                manifest = write_tiles(client, color, plan, folder.path, seed=args.seed, terrain=terrain,
+                manifest = write_tiles(client, paint, plan, folder.path, seed=args.seed, terrain=terrain,
                                        iterations=args.iterations, progress=not args.quiet)
                 seconds = time.perf_counter() - t0
                 here, workers = peak_memory_mb(client)
