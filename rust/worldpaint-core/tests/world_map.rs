@@ -6,8 +6,8 @@
 use std::collections::BTreeMap;
 use worldpaint_core::{
     decode_tile, encode_tile, learn_color, scene_from_points, synthesize_tile, uniform_points,
-    AnalysisOptions, Color, ColorMap, DVec2, LabelGrid, Paint, Region, TileContent, TileId,
-    WorldPlan,
+    AnalysisOptions, Color, ColorMap, DVec2, LabelGrid, Obstacles, Paint, Region, TileContent,
+    TileId, WorldPlan,
 };
 
 const WIDTH: f64 = 600.0;
@@ -91,7 +91,16 @@ fn fill(
                     Err(e) => panic!("border of {n:?}: {e}"),
                 })
                 .collect();
-            let content = match synthesize_tile(&plan, t, map, None, &neighbours, seed, None) {
+            let content = match synthesize_tile(
+                &plan,
+                t,
+                map,
+                &Obstacles::default(),
+                None,
+                &neighbours,
+                seed,
+                None,
+            ) {
                 Ok(c) => c,
                 Err(e) => panic!("tile {t:?}: {e}"),
             };

@@ -8,7 +8,7 @@ use common::pcf;
 use std::collections::BTreeMap;
 use worldpaint_core::{
     decode_tile, encode_tile, learn_color, synthesize_tile, undergrowth_scene, AnalysisOptions,
-    Color, ColorMap, DVec2, Region, TileId, WorldPlan,
+    Color, ColorMap, DVec2, Obstacles, Region, TileId, WorldPlan,
 };
 
 /// The Blender benchmark's color: trees with a 3 m hard core, uniform rocks, grass in 2 m clumps; 0.1 per m².
@@ -64,7 +64,16 @@ fn fill(color: &Color, seed: u64, order: fn(&mut Vec<TileId>)) -> BTreeMap<TileI
                     Err(e) => panic!("border of {n:?}: {e}"),
                 })
                 .collect();
-            let content = match synthesize_tile(&plan, t, &map, None, &neighbours, seed, None) {
+            let content = match synthesize_tile(
+                &plan,
+                t,
+                &map,
+                &Obstacles::default(),
+                None,
+                &neighbours,
+                seed,
+                None,
+            ) {
                 Ok(c) => c,
                 Err(e) => panic!("tile {t:?}: {e}"),
             };

@@ -321,7 +321,7 @@ mod worldpaint_engine {
     #[pymodule_export]
     use crate::waterfall::build_waterfall;
     #[pymodule_export]
-    use crate::world::{read_world_tile, world_plan, world_tile};
+    use crate::world::{read_world_tile, world_plan, world_tile, world_villages};
 
     #[pymodule_init]
     fn init(m: &Bound<'_, PyModule>) -> PyResult<()> {

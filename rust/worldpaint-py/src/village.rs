@@ -9,8 +9,9 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use worldpaint_core::{
     border_crossings, fit_village_type, interest_at, BuildingSeed, DVec2, Encyclopedia,
-    Environment, FitOptions, FitTarget, HouseMesh, InterestCriterion, InterestRequest, Road,
-    Scenario, Site, SitedBuilding, VillageFigures, VillageReport, VillageRequest, VillageStage,
+    Environment, FitOptions, FitTarget, Heightfield, HouseMesh, InterestCriterion, InterestRequest,
+    Road, Scenario, Site, SitedBuilding, Village, VillageFigures, VillageReport, VillageRequest,
+    VillageStage,
 };
 
 const ENCYCLOPEDIA: &str = include_str!("../../../assets/villages/encyclopedia.json");
@@ -38,7 +39,7 @@ pub(crate) fn encyclopedia_contents(encyclopedia: &str) -> PyResult<(Vec<String>
     ))
 }
 
-fn polylines(list: Option<&Bound<'_, PyAny>>, what: &str) -> PyResult<Vec<Vec<DVec2>>> {
+pub(crate) fn polylines(list: Option<&Bound<'_, PyAny>>, what: &str) -> PyResult<Vec<Vec<DVec2>>> {
     let mut out = Vec::new();
     let Some(list) = list.filter(|l| !l.is_none()) else {
         return Ok(out);
@@ -113,7 +114,7 @@ fn site<'a>(
     })
 }
 
-fn encyclopedia_of(text: Option<&str>) -> PyResult<Encyclopedia> {
+pub(crate) fn encyclopedia_of(text: Option<&str>) -> PyResult<Encyclopedia> {
     guarded(|| Encyclopedia::from_json(text.unwrap_or(ENCYCLOPEDIA)))
 }
 
@@ -177,6 +178,16 @@ pub(crate) fn generate_village<'py>(
         })
     })?;
 
+    village_to_py(py, &village, &hf, &encyclopedia)
+}
+
+/// A generated village as `generate_village` returns it.
+pub(crate) fn village_to_py<'py>(
+    py: Python<'py>,
+    village: &Village,
+    hf: &Heightfield,
+    encyclopedia: &Encyclopedia,
+) -> PyResult<Bound<'py, PyDict>> {
     let height = |p: &DVec2| hf.height_at(*p).unwrap_or(f64::NAN);
     let out = PyDict::new(py);
     out.set_item("seeds", seeds_to_py(py, &village.seeds, &height)?)?;
@@ -196,7 +207,7 @@ pub(crate) fn generate_village<'py>(
     out.set_item("footprints", fp.into_pyarray(py))?;
     out.set_item("houses", houses_to_py(py, &village.houses)?)?;
     out.set_item("connections", points_to_py(py, &village.report.connections))?;
-    out.set_item("report", report_to_py(py, &village.report, &encyclopedia)?)?;
+    out.set_item("report", report_to_py(py, &village.report, encyclopedia)?)?;
     Ok(out)
 }
 
@@ -235,7 +246,7 @@ fn seeds_to_py<'py>(
 }
 
 /// The new roads' points and ground heights (see [`generate_village`]).
-fn roads_to_py<'py>(
+pub(crate) fn roads_to_py<'py>(
     py: Python<'py>,
     village_roads: &[Road],
     height: &dyn Fn(&DVec2) -> f64,

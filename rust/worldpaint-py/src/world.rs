@@ -4,12 +4,13 @@
 use crate::convert::{instances_to_py, parse_color};
 use crate::guarded;
 use crate::terrain::Terrain;
+use crate::village::{encyclopedia_of, polylines, roads_to_py, village_to_py};
 use numpy::{IntoPyArray, PyReadonlyArray2};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
 use worldpaint_core::{
-    check_iterations, decode_tile, encode_tile, synthesize_tile, ColorMap, DVec2, LabelGrid,
-    TileId, WorldPlan,
+    check_iterations, decode_tile, encode_tile, grow_world_villages, synthesize_tile, ColorMap,
+    DVec2, LabelGrid, Obstacles, TileId, VillageSite, WorldPlan,
 };
 
 /// What fills a world: a color's JSON (one color everywhere), or a map {"labels": uint32 (ny, nx) array, row 0 at
@@ -133,10 +134,32 @@ pub(crate) fn world_plan<'py>(
 /// tile; None on flat ground). `paint` is a color's JSON (one color everywhere) or a map: {"labels": uint32 (ny, nx)
 /// array, row 0 at the smallest Y, "origin": (x, y) of its corner with the smaller coordinates, "cell": side of a
 /// cell (m), "legend": {label: color JSON}, "band": width of the transition band across each boundary (m; None:
-/// three regions of influence)}. Returns (the tile file's bytes, the tile's border bytes for its later neighbours,
+/// three regions of influence)}. Instances on `obstacles` ({"footprints": outlines, "roads": polylines, "width": m})
+/// are removed. Returns (the tile file's bytes, the tile's border bytes for its later neighbours,
 /// the instance count of each of the plan's categories).
+/// What a world's instances keep off: {"footprints": list of (N, 2) outlines, "roads": list of (N, 2) polylines,
+/// "width": the roads' width (m)}; None: nothing.
+fn obstacles_from_py(obstacles: Option<&Bound<'_, PyDict>>) -> PyResult<Obstacles> {
+    let Some(o) = obstacles else {
+        return Ok(Obstacles::default());
+    };
+    let footprints = polylines(o.get_item("footprints")?.as_ref(), "footprint")?;
+    let roads = polylines(o.get_item("roads")?.as_ref(), "road")?;
+    let width: f64 = match o.get_item("width")? {
+        Some(w) => w.extract()?,
+        None => 0.0,
+    };
+    if !(width.is_finite() && width >= 0.0) {
+        return Err(crate::input_err(format!(
+            "the roads' width {width} must be a length of 0 or more"
+        )));
+    }
+    Ok(Obstacles::new(&footprints, &roads, width))
+}
+
 #[pyfunction]
-#[pyo3(signature = (paint, plan, column, row, neighbours, seed, *, terrain=None, iterations_per_instance=None))]
+#[pyo3(signature = (paint, plan, column, row, neighbours, seed, *, terrain=None, iterations_per_instance=None,
+                    obstacles=None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn world_tile<'py>(
     py: Python<'py>,
@@ -148,8 +171,10 @@ pub(crate) fn world_tile<'py>(
     seed: u64,
     terrain: Option<&Bound<'py, Terrain>>,
     iterations_per_instance: Option<f64>,
+    obstacles: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<(Bound<'py, PyBytes>, Bound<'py, PyBytes>, Vec<usize>)> {
     let map = paint_from_py(paint)?;
+    let obstacles = obstacles_from_py(obstacles)?;
     let plan = plan_from_py(plan)?;
     let neighbours = neighbours
         .iter()
@@ -163,6 +188,7 @@ pub(crate) fn world_tile<'py>(
                 &plan,
                 t,
                 &map,
+                &obstacles,
                 terrain,
                 &neighbours,
                 seed,
@@ -195,4 +221,57 @@ pub(crate) fn read_world_tile<'py>(
     let heights: Vec<f64> = tile.heights.iter().map(|&h| h as f64).collect();
     d.set_item("heights", heights.into_pyarray(py))?;
     Ok(d)
+}
+
+/// Grows the villages of a world on `terrain` within `min`–`max`: `sites` is a list of {"position": (x, y), "type":
+/// a village type of the encyclopedia, "buildings": how many, "seed"}; the roads joining them are laid first, over
+/// the whole world, then each village grows in a square around its site with those roads as its ways in. `cell` is
+/// the villages' grid cell (m). Returns {"roads": the roads between villages as `generate_village` gives roads,
+/// "road_width": m, "villages": one `generate_village` result per site}. A site off the terrain, of an unknown type,
+/// of no building or too many, or too near another raises `InputError` before anything grows.
+#[pyfunction]
+#[pyo3(signature = (terrain, min, max, sites, *, encyclopedia=None, cell=2.0))]
+pub(crate) fn world_villages<'py>(
+    py: Python<'py>,
+    terrain: &Bound<'py, Terrain>,
+    min: (f64, f64),
+    max: (f64, f64),
+    sites: Vec<Bound<'py, PyDict>>,
+    encyclopedia: Option<&str>,
+    cell: f64,
+) -> PyResult<Bound<'py, PyDict>> {
+    let hf = terrain.get().hf.clone();
+    let encyclopedia = encyclopedia_of(encyclopedia)?;
+    let sites = sites
+        .iter()
+        .enumerate()
+        .map(|(k, d)| {
+            let get = |key: &str| -> PyResult<Bound<'_, PyAny>> {
+                d.get_item(key)?.ok_or_else(|| {
+                    crate::input_err(format!("village site {} has no '{key}'", k + 1))
+                })
+            };
+            let (x, y): (f64, f64) = get("position")?.extract()?;
+            Ok(VillageSite {
+                position: DVec2::new(x, y),
+                village_type: get("type")?.extract()?,
+                buildings: get("buildings")?.extract()?,
+                seed: get("seed")?.extract()?,
+            })
+        })
+        .collect::<PyResult<Vec<VillageSite>>>()?;
+    let (min, max) = (DVec2::new(min.0, min.1), DVec2::new(max.0, max.1));
+    let world =
+        py.detach(|| guarded(|| grow_world_villages(&hf, min, max, &sites, &encyclopedia, cell)))?;
+    let height = |p: &DVec2| hf.height_at(*p).unwrap_or(f64::NAN);
+    let out = PyDict::new(py);
+    out.set_item("roads", roads_to_py(py, &world.roads, &height)?)?;
+    out.set_item("road_width", world.road_width)?;
+    let villages = world
+        .villages
+        .iter()
+        .map(|v| village_to_py(py, v, &hf, &encyclopedia))
+        .collect::<PyResult<Vec<_>>>()?;
+    out.set_item("villages", villages)?;
+    Ok(out)
 }

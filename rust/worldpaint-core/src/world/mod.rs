@@ -19,7 +19,9 @@
 //! `worldpaint_engine.world` (Dask distributed): no scheduler lives here.
 
 pub(crate) mod map;
+pub(crate) mod obstacles;
 pub(crate) mod tile_file;
+pub(crate) mod villages;
 
 use crate::error::check;
 use crate::geom::DVec2;
@@ -30,7 +32,9 @@ use crate::synthesis::{mix_seed, SynthesisOptions};
 use crate::terrain::Heightfield;
 use crate::{Error, Region, Result};
 pub use map::{Block, ColorMap, LabelGrid, Paint, DEFAULT_BAND_RADII};
+pub use obstacles::Obstacles;
 use std::sync::Arc;
+pub use villages::{grow_world_villages, village_side, VillageSite, WorldVillages};
 
 /// Instances a tile is sized to hold by default: a tile then takes about a second and some tens of MB.
 pub(crate) const TILE_INSTANCES: f64 = 100_000.0;
@@ -311,11 +315,13 @@ pub(crate) fn paintable(color: &Color) -> Result<()> {
 /// neighbours), on `terrain` (at least the tile's [`WorldPlan::terrain_window`]; `None` on flat ground).
 /// `iterations_per_instance` overrides the colors' chain length. The tile's blocks are synthesized in turn, each
 /// conditioned on the blocks before it; the first draws from the tile's seed, the others from seeds derived from
-/// it and their place in the order.
+/// it and their place in the order. A block's instances on the `obstacles` (houses, roads) are removed at once.
+#[allow(clippy::too_many_arguments)]
 pub fn synthesize_tile(
     plan: &WorldPlan,
     t: TileId,
     map: &ColorMap,
+    obstacles: &Obstacles,
     terrain: Option<Arc<Heightfield>>,
     neighbours: &[TileContent],
     seed: u64,
@@ -370,7 +376,12 @@ pub fn synthesize_tile(
             max: block.max,
         };
         let painted = synthesize(&scene, color, &region, &opts)?;
-        scene.instances.extend(painted.instances);
+        scene.instances.extend(
+            painted
+                .instances
+                .into_iter()
+                .filter(|i| !obstacles.covers(i.position)),
+        );
     }
     let instances = scene.instances.split_off(borrowed);
     let heights = instances

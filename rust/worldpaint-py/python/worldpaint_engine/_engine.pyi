@@ -80,6 +80,7 @@ __all__ = [
     "village_interest",
     "world_plan",
     "world_tile",
+    "world_villages",
 ]
 
 # --- values the caller gives -----------------------------------------------------------------------------------------
@@ -616,6 +617,23 @@ class ColorMapDict(TypedDict):
     # width of the transition band (m); None: three regions of influence
     band: float | None
 
+class ObstaclesDict(TypedDict):
+    # house outlines (N, 2) and road polylines (N, 2), the roads `width` metres wide
+    footprints: Sequence[ArrayLike]
+    roads: Sequence[ArrayLike]
+    width: float
+
+class VillageSiteDict(TypedDict):
+    position: tuple[float, float]
+    type: str
+    buildings: int
+    seed: int
+
+class WorldVillagesDict(TypedDict):
+    roads: list[RoadDict]
+    road_width: float
+    villages: list[VillageDict]
+
 class WorldTileDict(InstanceColumns):
     column: int
     row: int
@@ -937,7 +955,17 @@ def world_tile(
     *,
     terrain: Terrain | None = None,
     iterations_per_instance: float | None = None,
+    obstacles: ObstaclesDict | None = None,
 ) -> tuple[bytes, bytes, list[int]]: ...
+def world_villages(
+    terrain: Terrain,
+    min: tuple[float, float],
+    max: tuple[float, float],
+    sites: Sequence[VillageSiteDict],
+    *,
+    encyclopedia: str | None = None,
+    cell: float = 2.0,
+) -> WorldVillagesDict: ...
 def read_world_tile(data: bytes) -> WorldTileDict: ...
 
 # real places

@@ -8,7 +8,9 @@
 
 A map (``map_files``) is a grid of labels and a legend naming each label's palette color; across each boundary
 the two colors blend over a transition band (``--band``, default three regions of influence), as the Gradient tool
-blends them.
+blends them. Village sites (``--villages``, ``village_sites``) grow their villages on the terrain before any tile,
+joined by roads laid over the whole world; the tiles keep off the roads' carriageways and the houses' footprints, and
+the tile set holds the villages and roads in ``villages.json``.
 
 The engine cuts the world into square tiles in four checkerboard phases (``world_plan``); a tile is synthesized
 after its neighbours of earlier phases, conditioned on their border strips (``world_tile``). Here that order
@@ -49,6 +51,9 @@ from . import _engine
 from .map_files import read_map
 from .terrain_files import TerrainGrid, load_terrain, read_ascii_grid  # noqa: F401 (the driver's public surface)
 from .tile_set_folder import FORMAT, FORMAT_VERSION, MANIFEST, TileSetFolder
+from .village_sites import read_sites
+
+VILLAGES = "villages.json"
 
 PROG = "python -m worldpaint_engine.world"
 # a scheduler must answer within this, and have a worker within as long again
@@ -64,7 +69,8 @@ def run_tile(job, column, row, window, *borders):
     """One tile: synthesized, written (atomically: a re-run replaces it with the same bytes), its border returned."""
     terrain = None if window is None else _engine.Terrain.from_grid(window.origin, window.cell, window.heights)
     data, border, counts = _engine.world_tile(job["paint"], job["plan"], column, row, list(borders), job["seed"],
-                                              terrain=terrain, iterations_per_instance=job["iterations"])
+                                              terrain=terrain, iterations_per_instance=job["iterations"],
+                                              obstacles=job["obstacles"])
     name = tile_file_name(column, row)
     path = os.path.join(job["out"], name)
     partial = f"{path}.{os.getpid()}.part"
@@ -145,18 +151,20 @@ def check_seed(seed):
     return seed
 
 
-def fill_world(client, paint, out, *, seed=0, region=None, terrain=None, tile=None, iterations=None,
-               overwrite=False, progress=False):
+def fill_world(client, paint, out, *, seed=0, region=None, terrain=None, tile=None, iterations=None, sites=None,
+               encyclopedia=None, overwrite=False, progress=False):
     """Fills ``region`` ((x0, y0), (x1, y1); default: the terrain's extent; on a terrain, the part of it on the
     terrain) with ``paint`` (a color's JSON, or a map as ``map_files.read_map`` makes it) on the Dask ``client``,
     writing the tile set into ``out`` whole or not at all (see ``tile_set_folder``): an existing ``out`` is refused
-    unless ``overwrite``, which replaces it. Returns the manifest (also written as ``out/manifest.json``). Bad input
-    raises ``InputError`` before anything is written."""
+    unless ``overwrite``, which replaces it. ``sites`` (as ``village_sites.read_sites`` reads them) grow their
+    villages on the terrain first, with the ``encyclopedia`` (JSON; None: the shipped one). Returns the manifest
+    (also written as ``out/manifest.json``). Bad input raises ``InputError`` before anything is written."""
     check_seed(seed)
-    plan, _region = plan_world(paint, region, terrain, tile, iterations)
+    plan, region = plan_world(paint, region, terrain, tile, iterations)
     with TileSetFolder(out, overwrite) as folder:
+        villages = grow_villages(terrain, region, sites, encyclopedia)
         manifest = write_tiles(client, paint, plan, folder.path, seed=seed, terrain=terrain, iterations=iterations,
-                               progress=progress)
+                               villages=villages, progress=progress)
         folder.commit()
     return manifest
 
@@ -176,15 +184,56 @@ def paint_categories(paint, names):
     return [known[n] for n in names]
 
 
-def write_tiles(client, paint, plan, out, *, seed, terrain=None, iterations=None, progress=False):
+def grow_villages(terrain, region, sites, encyclopedia=None):
+    """The engine's villages of ``sites`` on ``terrain`` within ``region`` (None without sites)."""
+    if not sites:
+        return None
+    if terrain is None:
+        raise _engine.InputError("villages grow on a --terrain, and none is given")
+    ground = _engine.Terrain.from_grid(terrain.origin, terrain.cell, terrain.heights)
+    villages = _engine.world_villages(ground, *region, sites, encyclopedia=encyclopedia)
+    villages["sites"] = sites
+    return villages
+
+
+def obstacles_of(villages):
+    """What the tiles keep off: the houses' footprints and the roads, as ``world_tile`` takes them."""
+    if villages is None:
+        return None
+    roads = [r["points"] for r in villages["roads"]]
+    roads += [r["points"] for v in villages["villages"] for r in v["roads"]]
+    footprints = [f for v in villages["villages"] for f in v["footprints"]]
+    return {"footprints": footprints, "roads": roads, "width": villages["road_width"]}
+
+
+def villages_json(villages):
+    """The villages and roads of a tile set, as ``villages.json`` holds them (m, to the millimetre)."""
+    def points(a):
+        return [[round(float(v), 3) for v in p] for p in a]
+
+    def roads(rs):
+        return [points([[*p, h] for p, h in zip(r["points"], r["heights"], strict=True)]) for r in rs]
+
+    return {
+        "road_width": villages["road_width"],
+        "roads": roads(villages["roads"]),
+        "villages": [{"type": site["type"], "position": list(site["position"]), "seed": site["seed"],
+                      "buildings": list(v["seeds"]["building"]), "footprints": [points(f) for f in v["footprints"]],
+                      "roads": roads(v["roads"])}
+                     for site, v in zip(villages["sites"], villages["villages"], strict=True)],
+    }
+
+
+def write_tiles(client, paint, plan, out, *, seed, terrain=None, iterations=None, villages=None, progress=False):
     """Runs ``plan``'s tiles on ``client`` as a task graph, each writing its file into the folder ``out``, then
     writes the manifest there; returns it."""
     import dask.base
     from distributed import progress as progress_bar
 
     (x0, y0), (x1, y1) = plan["min"], plan["max"]
-    job = {"paint": paint, "plan": plan, "seed": int(seed), "iterations": iterations, "out": os.path.abspath(out)}
-    token = dask.base.tokenize(paint, plan, seed, iterations, job["out"])
+    job = {"paint": paint, "plan": plan, "seed": int(seed), "iterations": iterations, "out": os.path.abspath(out),
+           "obstacles": obstacles_of(villages)}
+    token = dask.base.tokenize(paint, plan, seed, iterations, job["out"], job["obstacles"])
     borders, summaries = {}, []
     reach = plan["influence"] + 2.0 * (terrain.cell if terrain is not None else 0.0)
     for column, row, _phase, after in plan["tiles"]:
@@ -222,6 +271,11 @@ def write_tiles(client, paint, plan, out, *, seed, terrain=None, iterations=None
         "instances": sum(t["count"] for t in tiles),
         "tiles": tiles,
     }
+    if villages is not None:
+        with open(os.path.join(out, VILLAGES), "w", encoding="utf-8") as f:
+            json.dump(villages_json(villages), f)
+        manifest["villages"] = {"file": VILLAGES, "count": len(villages["villages"]),
+                                "buildings": sum(len(v["footprints"]) for v in villages["villages"])}
     with open(os.path.join(out, MANIFEST), "w", encoding="utf-8") as f:
         json.dump(manifest, f, indent=1, sort_keys=True)
         f.write("\n")
@@ -399,6 +453,10 @@ def parser():
     p.add_argument("--region", type=finite, nargs=4, metavar=("X0", "Y0", "X1", "Y1"),
                    help="the rectangle to fill (default: the terrain's extent; on a terrain, only its part on the "
                         "terrain is filled)")
+    p.add_argument("--villages", help='village sites, a JSON file [{"x", "y", "type", "buildings", "seed"}]: they grow '
+                                      "on the --terrain first, joined by roads, and the tiles keep off them")
+    p.add_argument("--encyclopedia", help="the village encyclopedia (JSON) the sites' types come from (default: the "
+                                          "shipped one)")
     p.add_argument("--seed", type=seed, default=0, help="0 or more (default 0): the same seed gives the same bytes")
     p.add_argument("--tile", type=positive,
                    help="tile side (m), at least the color's region of influence (default: about 100,000 instances "
@@ -460,6 +518,25 @@ def read_map_paint(args, region):
         raise _engine.InputError(f"cannot read {e.filename}: {e.strerror or e}") from None
 
 
+def read_villages(args):
+    """The --villages sites and the --encyclopedia's text (None: the shipped one); (None, None) without sites."""
+    if args.villages is None:
+        if args.encyclopedia is not None:
+            raise _engine.InputError("--encyclopedia describes --villages, and none are given")
+        return None, None
+    if args.terrain is None:
+        raise _engine.InputError(f"--villages {args.villages}: villages grow on a --terrain, and none is given")
+    try:
+        sites = read_sites(args.villages)
+        if args.encyclopedia is None:
+            return sites, None
+        with open(args.encyclopedia, encoding="utf-8") as f:
+            return sites, f.read()
+    except (OSError, UnicodeDecodeError) as e:
+        raise _engine.InputError(f"cannot read {getattr(e, 'filename', None) or args.encyclopedia}: "
+                                 f"{getattr(e, 'strerror', None) or e}") from None
+
+
 def read_terrain(args):
     if args.terrain is None:
         for option, value in (("--cell", args.cell), ("--origin", args.origin), ("--object", args.object)):
@@ -495,6 +572,15 @@ def plan_line(paint, plan, region, asked, out):
             f"{plan['tile']:g} m, about {density * (x1 - x0) * (y1 - y0):,.0f} instances, into {out}")
 
 
+def villages_line(villages):
+    """What grew before the tiles."""
+    built = [len(v["footprints"]) for v in villages["villages"]]
+    asked = [s["buildings"] for s in villages["sites"]]
+    km = sum(float(np.linalg.norm(np.diff(r["points"], axis=0), axis=1).sum()) for r in villages["roads"]) / 1000.0
+    return (f"{len(built)} villages of {', '.join(f'{b} of {a}' for b, a in zip(built, asked, strict=True))} "
+            f"buildings, joined by {km:.1f} km of road")
+
+
 def one_line(error):
     return " ".join(str(error).split()) or type(error).__name__
 
@@ -517,15 +603,19 @@ def main(argv=None):
         terrain = read_terrain(args)
         asked = None if args.region is None else (tuple(args.region[:2]), tuple(args.region[2:]))
         paint = paint or read_map_paint(args, world_region(asked, terrain))
+        sites, encyclopedia = read_villages(args)
         plan, region = plan_world(paint, asked, terrain, args.tile, args.iterations)
         with TileSetFolder(args.out, args.overwrite) as folder:
             print(plan_line(paint, plan, region, asked, args.out), flush=True)
+            villages = grow_villages(terrain, region, sites, encyclopedia)
+            if villages is not None:
+                print(villages_line(villages), flush=True)
             client = start_client(args.scheduler, args.workers)
             started = True
             try:
                 t0 = time.perf_counter()
                 manifest = write_tiles(client, paint, plan, folder.path, seed=args.seed, terrain=terrain,
-                                       iterations=args.iterations, progress=not args.quiet)
+                                       iterations=args.iterations, villages=villages, progress=not args.quiet)
                 seconds = time.perf_counter() - t0
                 here, workers = peak_memory_mb(client)
             finally:
