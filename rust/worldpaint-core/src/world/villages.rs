@@ -3,16 +3,22 @@
 //!
 //! Readings chosen:
 //! * The roads between villages are the village road model (`village::roads`: the anisotropic shortest path with
-//!   slope, curvature and re-use costs) on a coarse grid over the whole world, at most [`WORLD_ROAD_NODES`] nodes a
-//!   side: the first site starts the network and each next site, nearest the sites already joined first (Prim's
-//!   order), is joined to it by a through road with re-use, so every village is reachable from every other.
+//!   slope, curvature and re-use costs), coarse to fine: first on a coarse grid over the whole world, at most
+//!   [`WORLD_ROAD_NODES`] nodes a side, where the first site starts the network and each next site, nearest the
+//!   sites already joined first (Prim's order), is joined to it by a through road with re-use, so every village is
+//!   reachable from every other; then each coarse road is laid again on the villages' grid, piece by piece
+//!   ([`PIECE_LENGTH`] of road each), within a corridor of [`CORRIDOR_COARSE_CELLS`] coarse cells around it. A
+//!   10 km road is then a search over a few hundred thousand nodes, not the world's millions. A piece the fine
+//!   search cannot lay keeps its coarse course.
 //! * Each village grows in a square around its site, as large as its buildings need at [`BUILDINGS_PER_HECTARE`],
 //!   with the world roads that cross the square as its ways in and its existing roads; its own roads join them.
 //!   Villages grow in parallel, each from its own seed.
 
-use crate::geom::{DVec2, Region};
+use crate::geom::{polyline_distance, DVec2, Region};
+use crate::grid::Grid;
 use crate::terrain::Heightfield;
 use crate::village::encyclopedia::Encyclopedia;
+use crate::village::encyclopedia::RoadParams;
 use crate::village::fit::{border_crossings, scenario_for};
 use crate::village::generate::{generate_village, Village, VillageRequest};
 use crate::village::roads::RoadNetwork;
@@ -23,6 +29,10 @@ use rayon::prelude::*;
 
 /// Most nodes along a side of the coarse grid the roads between villages are laid on.
 pub(crate) const WORLD_ROAD_NODES: f64 = 400.0;
+/// Road (m) a coarse road is laid again in at a time.
+pub(crate) const PIECE_LENGTH: f64 = 500.0;
+/// Half-width of the corridor a coarse road is laid again within, in coarse cells.
+pub(crate) const CORRIDOR_COARSE_CELLS: f64 = 3.0;
 /// Density a village's square is sized for: a hamlet of 20 buildings gets about 630 m, a village of 100 1.4 km.
 pub(crate) const BUILDINGS_PER_HECTARE: f64 = 0.5;
 /// Most buildings a village site may ask for.
@@ -178,7 +188,104 @@ fn world_roads(
             ));
         }
     }
-    Ok(network.roads)
+    let half_width = CORRIDOR_COARSE_CELLS * coarse;
+    network
+        .roads
+        .iter()
+        .map(|road| {
+            let pieces = pieces(&road.points, PIECE_LENGTH);
+            let fine = pieces
+                .par_iter()
+                .map(|piece| {
+                    Ok(refined(piece, terrain, &params, cell, half_width)?
+                        .unwrap_or_else(|| piece.clone()))
+                })
+                .collect::<Result<Vec<Vec<DVec2>>>>()?;
+            let mut points: Vec<DVec2> = Vec::new();
+            for piece in fine {
+                let skip = usize::from(!points.is_empty());
+                points.extend(piece.into_iter().skip(skip));
+            }
+            Ok(Road { points })
+        })
+        .collect()
+}
+
+/// `points` cut at vertices into pieces of at least `length` of road each (the last may be shorter); consecutive
+/// pieces share their joining vertex.
+fn pieces(points: &[DVec2], length: f64) -> Vec<Vec<DVec2>> {
+    let mut out = Vec::new();
+    let mut piece: Vec<DVec2> = Vec::new();
+    let mut run = 0.0;
+    for (k, &p) in points.iter().enumerate() {
+        if let Some(&last) = piece.last() {
+            run += last.distance(p);
+        }
+        piece.push(p);
+        if run >= length && k + 1 < points.len() {
+            out.push(std::mem::replace(&mut piece, vec![p]));
+            run = 0.0;
+        }
+    }
+    if piece.len() >= 2 {
+        out.push(piece);
+    }
+    out
+}
+
+/// `piece` laid again on a grid of `cell` within `half_width` of it, from its first point to its last (which it
+/// keeps exactly); `None` when no road joins them there.
+fn refined(
+    piece: &[DVec2],
+    terrain: &Heightfield,
+    params: &RoadParams,
+    cell: f64,
+    half_width: f64,
+) -> Result<Option<Vec<DVec2>>> {
+    let (Some(&first), Some(&last)) = (piece.first(), piece.last()) else {
+        return Ok(None);
+    };
+    let (tmin, tmax) = terrain.bbox();
+    let (lo, hi) = piece
+        .iter()
+        .fold((first, first), |(lo, hi), p| (lo.min(*p), hi.max(*p)));
+    let (lo, hi) = ((lo - half_width).max(tmin), (hi + half_width).min(tmax));
+    let grid = Grid::nodes_covering(lo, hi, cell)?;
+    let n = grid.len();
+    let height: Vec<f32> = (0..n)
+        .map(|k| terrain.height_at(grid.point_of(k).min(tmax)).unwrap_or(0.0) as f32)
+        .collect();
+    let inside: Vec<bool> = (0..n)
+        .map(|k| polyline_distance(grid.point_of(k), piece) <= half_width)
+        .collect();
+    let land = Land::from_maps(
+        grid,
+        height,
+        [inside, vec![false; n], vec![false; n], vec![false; n]],
+    )?;
+    let mut network = RoadNetwork::new(&land, &[first], &[])?;
+    let joined = network.link_connection(&land, params, &vec![false; n], last)?;
+    if !joined.reached {
+        return Ok(None);
+    }
+    // the through road (a cycle road the search may add after it is not the piece)
+    let Some(mut points) = joined
+        .roads
+        .first()
+        .and_then(|&k| network.roads.get(k))
+        .map(|r| r.points.clone())
+        .filter(|p| p.len() >= 2)
+    else {
+        return Ok(None);
+    };
+    // the search lays it from the last point back to the first, between the nodes nearest them
+    if points[0].distance(first) > points[points.len() - 1].distance(first) {
+        points.reverse();
+    }
+    let end = points.len() - 1;
+    points[0] = first;
+    points[end] = last;
+    Ok(Some(points))
 }
 
 /// Grows every site's village on `terrain` within the world `min`–`max`, after the roads joining them; `cell` is the
