@@ -1,13 +1,14 @@
 //! A world painted from a map of two colors: across the boundary the density of each color's category moves
-//! monotonically from one color's to the other's over the transition band, away from the band each color keeps
-//! its own density, the same seed gives the same bytes whatever the tile order, and bad maps are refused before any
-//! tile runs.
+//! monotonically from one color's to the other's over the transition band, and the pcf's hard core from one color's
+//! to the other's; away from the band each color keeps its own density; no two instances come closer than the hard
+//! core across blocks, bands and tiles; the same seed gives the same bytes whatever the tile order; and bad maps are
+//! refused before any tile runs.
 
 use std::collections::BTreeMap;
 use worldpaint_core::{
-    decode_tile, encode_tile, learn_color, scene_from_points, synthesize_tile, uniform_points,
-    AnalysisOptions, Color, ColorMap, DVec2, LabelGrid, Obstacles, Paint, Region, TileContent,
-    TileId, WorldPlan,
+    decode_tile, encode_tile, hard_core_points, learn_color, scene_from_points, synthesize_tile,
+    uniform_points, AnalysisOptions, Color, ColorMap, DVec2, LabelGrid, Obstacles, Paint, Region,
+    TileContent, TileId, WorldPlan,
 };
 
 const WIDTH: f64 = 600.0;
@@ -312,4 +313,107 @@ fn bad_maps_are_refused_with_what_is_wrong() {
             "{e}"
         ),
     }
+}
+
+/// A color of trees with a hard core `core` (m) at `density`.
+fn stand(name: &str, density: f64, core: f64, seed: u64) -> Color {
+    let example = Region::Rect {
+        min: DVec2::ZERO,
+        max: DVec2::splat(100.0),
+    };
+    let scene = scene_from_points("tree", &hard_core_points(&example, density, core, seed));
+    match learn_color(&scene, &example, name, &AnalysisOptions::default()) {
+        Ok(c) => c,
+        Err(e) => panic!("learning {name}: {e}"),
+    }
+}
+
+#[test]
+fn no_two_trees_come_closer_than_the_hard_core_across_blocks_bands_and_tiles() {
+    // dense trees with a 3 m core west, sparse ones with a 6 m core east: the band between them is painted in
+    // blocks, each conditioned on those before it and on the earlier tiles
+    let legend = vec![
+        (7, stand("Stand", 0.03, 3.0, 1)),
+        (3, stand("Grove", 0.006, 6.0, 2)),
+    ];
+    let map = match ColorMap::new(two_label_grid(), legend, None) {
+        Ok(m) => m,
+        Err(e) => panic!("the map: {e}"),
+    };
+    let (_, files) = fill(&map, 3, |_| {});
+    let trees: Vec<DVec2> = files
+        .values()
+        .flat_map(|b| match decode_tile(b) {
+            Ok(t) => t
+                .instances
+                .into_iter()
+                .map(|i| i.position)
+                .collect::<Vec<_>>(),
+            Err(e) => panic!("{e}"),
+        })
+        .collect();
+    // the closest pair, through a grid of 3 m cells
+    let mut cells: std::collections::HashMap<(i64, i64), Vec<usize>> =
+        std::collections::HashMap::new();
+    let key = |p: DVec2| ((p.x / 3.0).floor() as i64, (p.y / 3.0).floor() as i64);
+    for (k, p) in trees.iter().enumerate() {
+        cells.entry(key(*p)).or_default().push(k);
+    }
+    let mut closest = f64::INFINITY;
+    for (k, p) in trees.iter().enumerate() {
+        let (i, j) = key(*p);
+        for di in -1..=1 {
+            for dj in -1..=1 {
+                for &o in cells.get(&(i + di, j + dj)).map_or(&[][..], |v| &v[..]) {
+                    if o > k {
+                        closest = closest.min(p.distance(trees[o]));
+                    }
+                }
+            }
+        }
+    }
+    println!(
+        "{} trees, the closest two {closest:.2} m apart (hard cores 3 and 6 m)",
+        trees.len()
+    );
+    assert!(trees.len() > 1000);
+    assert!(closest >= 0.95 * 3.0, "two trees {closest:.2} m apart");
+    // displacement interpolation moves the pcf's hard core from 3 m to 6 m across the band: in windows along it,
+    // the distance below which a tenth of the trees have their nearest neighbour never falls eastwards (beyond
+    // 0.3 m), and runs from the stand's to the grove's
+    let band = map.band();
+    let windows = 6;
+    let w = band * 1.5 / windows as f64;
+    let x0 = BOUNDARY - band * 0.75;
+    let nearest = |i: usize| {
+        let (ci, cj) = key(trees[i]);
+        (-2..=2)
+            .flat_map(|di| (-2..=2).map(move |dj| (ci + di, cj + dj)))
+            .flat_map(|c| cells.get(&c).map_or(&[][..], |v| &v[..]))
+            .filter(|&&o| o != i)
+            .map(|&o| trees[i].distance(trees[o]))
+            .fold(f64::INFINITY, f64::min)
+    };
+    let mut cores = Vec::new();
+    for k in 0..windows {
+        let (a, b) = (x0 + k as f64 * w, x0 + (k + 1) as f64 * w);
+        let mut d: Vec<f64> = (0..trees.len())
+            .filter(|&i| {
+                trees[i].x >= a && trees[i].x < b && trees[i].y >= 6.0 && trees[i].y < HEIGHT - 6.0
+            })
+            .map(nearest)
+            .filter(|d| d.is_finite())
+            .collect();
+        d.sort_by(f64::total_cmp);
+        cores.push(((a + b) / 2.0, d[d.len() / 10]));
+    }
+    println!("nearest-neighbour distance of the closest tenth across the band (x, m): {cores:.2?}");
+    assert!(
+        cores.windows(2).all(|c| c[1].1 >= c[0].1 - 0.3),
+        "{cores:.2?}"
+    );
+    assert!(
+        cores[0].1 < 4.0 && cores[windows - 1].1 > 5.5,
+        "{cores:.2?}"
+    );
 }
