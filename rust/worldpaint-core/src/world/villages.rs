@@ -289,7 +289,8 @@ fn refined(
 }
 
 /// Grows every site's village on `terrain` within the world `min`–`max`, after the roads joining them; `cell` is the
-/// villages' grid cell (m). Bad sites are refused before anything grows (see [`check_sites`]).
+/// villages' grid cell (m). A site off the terrain, of an unknown type, of no building or too many, or too near
+/// another is refused before anything grows.
 pub fn grow_world_villages(
     terrain: &Heightfield,
     min: DVec2,

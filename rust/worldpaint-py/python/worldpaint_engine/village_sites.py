@@ -37,25 +37,25 @@ def read_sites(path):
     if not isinstance(entries, list) or not entries:
         raise refuse(path, 'village sites are a JSON list of {"x", "y", "type", "buildings", "seed"}, at least one')
     sites = []
-    for k, e in enumerate(entries, start=1):
+    for k, entry in enumerate(entries, start=1):
         where = f"village site {k}"
-        if not isinstance(e, dict):
+        if not isinstance(entry, dict):
             raise refuse(path, f"{where} is not an object with {', '.join(KEYS)}")
-        unknown = sorted(set(e) - set(KEYS))
+        unknown = sorted(set(entry) - set(KEYS))
         if unknown:
             raise refuse(path, f"{where} has the unknown key {unknown[0]!r} (a site has {', '.join(KEYS)})")
         for key in ("x", "y"):
-            v = e.get(key)
+            v = entry.get(key)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
                 raise refuse(path, f"{where}'s {key} {v!r} is not a finite number (m)")
-        if not isinstance(e.get("type"), str) or not e["type"]:
+        if not isinstance(entry.get("type"), str) or not entry["type"]:
             raise refuse(path, f"{where} needs a village type (\"type\": \"farming\")")
-        if not whole(e.get("buildings"), 1, MAX_BUILDINGS):
-            raise refuse(path, f"{where}'s buildings {e.get('buildings')!r} is not a whole number from 1 to "
+        if not whole(entry.get("buildings"), 1, MAX_BUILDINGS):
+            raise refuse(path, f"{where}'s buildings {entry.get('buildings')!r} is not a whole number from 1 to "
                                f"{MAX_BUILDINGS}")
-        seed = e.get("seed", k - 1)
+        seed = entry.get("seed", k - 1)
         if not whole(seed, 0, MAX_SEED):
             raise refuse(path, f"{where}'s seed {seed!r} is not a whole number from 0 to {MAX_SEED}")
-        sites.append({"position": (float(e["x"]), float(e["y"])), "type": e["type"], "buildings": e["buildings"],
-                      "seed": seed})
+        sites.append({"position": (float(entry["x"]), float(entry["y"])), "type": entry["type"],
+                      "buildings": entry["buildings"], "seed": seed})
     return sites
