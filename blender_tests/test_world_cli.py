@@ -60,6 +60,15 @@ def cli(*args, timeout=120):
                           capture_output=True, text=True, timeout=timeout)
 
 
+def assert_refused(run, words):
+    """``run`` exited 2 with one line on stderr, the command's error, holding each of ``words``."""
+    assert run.returncode == 2, (run.returncode, run.stderr)
+    lines = run.stderr.splitlines()
+    assert len(lines) == 1 and lines[0].startswith(f"{PROG}: error: "), run.stderr
+    for w in words:
+        assert w in lines[0], f"'{w}' is not in: {lines[0]}"
+
+
 def snapshot(folder):
     """Every file under ``folder``: {relative path: bytes}."""
     found = {}
@@ -207,11 +216,7 @@ def test_bad_input_is_answered_in_time_with_one_line_and_nothing_created(inputs,
     server.close()
     print(f"{case}: {seconds:.1f} s: {run.stderr.strip()}")
     assert seconds < ANSWER_WITHIN, f"{case} took {seconds:.1f} s"
-    assert run.returncode == 2, (run.returncode, run.stderr)
-    lines = run.stderr.splitlines()
-    assert len(lines) == 1 and lines[0].startswith(f"{PROG}: error: "), run.stderr
-    for w in words:
-        assert w in lines[0], f"'{w}' is not in: {lines[0]}"
+    assert_refused(run, words)
     assert snapshot(tmp_path) == before and not out.exists(), "a refused run left files"
     assert snapshot(inputs["folder"]) == old_before, "a refused run changed the inputs or the old tile set"
     assert not [n for n in os.listdir(inputs["folder"]) if ".partial-" in n]

@@ -3,14 +3,12 @@ on Dask; the same bytes with one worker and with two, each color's own density a
 across it, and every bad map refused with one line before any tile runs."""
 
 import json
-import subprocess
-import sys
 
 import numpy as np
 import pytest
 import worldpaint_engine as engine
 from bench_world import EXEMPLAR, bench_color
-from test_world_cli import PROG, snapshot
+from test_world_cli import assert_refused, cli, snapshot
 from worldpaint_engine import world
 
 pytest.importorskip("distributed", reason="filling worlds needs dask[distributed]")
@@ -53,10 +51,6 @@ def inputs(tmp_path_factory):
     legend.write_text(json.dumps({"1": "Bench", "2": "Meadow"}))
     return {"palette": palette, "map": labels, "legend": legend, "folder": folder}
 
-
-def cli(*args, timeout=300):
-    return subprocess.run([sys.executable, "-m", "worldpaint_engine.world", *map(str, args)],
-                          capture_output=True, text=True, timeout=timeout)
 
 
 def test_a_map_world_has_each_color_on_its_side_a_blend_between_and_the_same_bytes_on_one_or_two_workers(
@@ -140,9 +134,5 @@ def test_a_bad_map_is_refused_with_one_line_before_any_tile(inputs, tmp_path, ca
     out = tmp_path / "world"
     run = cli(*args, "--out", out, timeout=60)
     print(f"{case}: {run.stderr.strip()}")
-    assert run.returncode == 2, (run.returncode, run.stderr)
-    lines = run.stderr.splitlines()
-    assert len(lines) == 1 and lines[0].startswith(f"{PROG}: error: "), run.stderr
-    for w in words:
-        assert w in lines[0], f"'{w}' is not in: {lines[0]}"
+    assert_refused(run, words)
     assert not out.exists()

@@ -3,13 +3,11 @@ roads; the tiles keep off the roads and the houses; one and two workers write th
 and every bad site is refused with one line before anything grows."""
 
 import json
-import subprocess
-import sys
 
 import numpy as np
 import pytest
 import worldpaint_engine as engine
-from test_world_cli import PROG, snapshot
+from test_world_cli import assert_refused, cli, snapshot
 from test_world_map_cli import meadow_color
 from worldpaint_engine import world
 
@@ -40,10 +38,6 @@ def inputs(tmp_path_factory):
     sites.write_text(json.dumps(SITES))
     return {"palette": palette, "terrain": write_hills(folder / "hills.asc"), "sites": sites}
 
-
-def cli(*args, timeout=600):
-    return subprocess.run([sys.executable, "-m", "worldpaint_engine.world", *map(str, args)],
-                          capture_output=True, text=True, timeout=timeout)
 
 
 def distance_to_polyline(xy, line):
@@ -124,11 +118,7 @@ def test_a_bad_site_is_refused_with_one_line_before_anything_grows(inputs, tmp_p
     run = cli("--palette", inputs["palette"], "--terrain", inputs["terrain"], "--villages", path, "--out", out,
               "--quiet", timeout=60)
     print(f"{case}: {run.stderr.strip()}")
-    assert run.returncode == 2, (run.returncode, run.stderr)
-    lines = run.stderr.splitlines()
-    assert len(lines) == 1 and lines[0].startswith(f"{PROG}: error: "), run.stderr
-    for w in words:
-        assert w in lines[0], f"'{w}' is not in: {lines[0]}"
+    assert_refused(run, words)
     assert not out.exists()
 
 

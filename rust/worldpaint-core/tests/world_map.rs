@@ -4,11 +4,13 @@
 //! core across blocks, bands and tiles; the same seed gives the same bytes whatever the tile order; and bad maps are
 //! refused before any tile runs.
 
+mod common;
+
+use common::world_driver::fill_tiles;
 use std::collections::BTreeMap;
 use worldpaint_core::{
-    decode_tile, encode_tile, hard_core_points, learn_color, scene_from_points, synthesize_tile,
-    uniform_points, AnalysisOptions, Color, ColorMap, DVec2, LabelGrid, Obstacles, Paint, Region,
-    TileContent, TileId, WorldPlan,
+    decode_tile, hard_core_points, learn_color, scene_from_points, uniform_points, AnalysisOptions,
+    Color, ColorMap, DVec2, LabelGrid, Paint, Region, TileContent, TileId, WorldPlan,
 };
 
 const WIDTH: f64 = 600.0;
@@ -74,45 +76,7 @@ fn fill(
         Ok(p) => p,
         Err(e) => panic!("plan: {e}"),
     };
-    let mut files = BTreeMap::new();
-    let mut borders: BTreeMap<TileId, Vec<u8>> = BTreeMap::new();
-    for phase in 0..4 {
-        let mut tiles: Vec<TileId> = plan
-            .tiles()
-            .into_iter()
-            .filter(|&t| plan.phase(t) == phase)
-            .collect();
-        order(&mut tiles);
-        for t in tiles {
-            let neighbours: Vec<TileContent> = plan
-                .earlier_neighbours(t)
-                .iter()
-                .map(|n| match decode_tile(&borders[n]) {
-                    Ok(b) => b,
-                    Err(e) => panic!("border of {n:?}: {e}"),
-                })
-                .collect();
-            let content = match synthesize_tile(
-                &plan,
-                t,
-                map,
-                &Obstacles::default(),
-                None,
-                &neighbours,
-                seed,
-                None,
-            ) {
-                Ok(c) => c,
-                Err(e) => panic!("tile {t:?}: {e}"),
-            };
-            let encode = |c: &TileContent| match encode_tile(c) {
-                Ok(b) => b,
-                Err(e) => panic!("encoding {t:?}: {e}"),
-            };
-            borders.insert(t, encode(&content.border(&plan)));
-            files.insert(t, encode(&content));
-        }
-    }
+    let files = fill_tiles(&plan, map, seed, order);
     (plan, files)
 }
 

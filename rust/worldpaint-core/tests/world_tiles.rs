@@ -4,11 +4,12 @@
 
 mod common;
 use common::pcf;
+use common::world_driver::fill_tiles;
 
 use std::collections::BTreeMap;
 use worldpaint_core::{
-    decode_tile, encode_tile, learn_color, synthesize_tile, undergrowth_scene, AnalysisOptions,
-    Color, ColorMap, DVec2, Obstacles, Region, TileId, WorldPlan,
+    decode_tile, encode_tile, learn_color, undergrowth_scene, AnalysisOptions, Color, ColorMap,
+    DVec2, Region, TileId, WorldPlan,
 };
 
 /// The Blender benchmark's color: trees with a 3 m hard core, uniform rocks, grass in 2 m clumps; 0.1 per m².
@@ -41,51 +42,9 @@ fn plan(color: &Color) -> WorldPlan {
     }
 }
 
-/// Every tile's file bytes, the tiles of each phase taken in the order `order` gives them, as a driver would:
-/// a tile is given the border strips (as bytes, decoded) of its earlier neighbours.
+/// Every tile's file bytes, the tiles of each phase taken in the order `order` gives them.
 fn fill(color: &Color, seed: u64, order: fn(&mut Vec<TileId>)) -> BTreeMap<TileId, Vec<u8>> {
-    let plan = plan(color);
-    let map = uniform(color);
-    let mut files: BTreeMap<TileId, Vec<u8>> = BTreeMap::new();
-    let mut borders: BTreeMap<TileId, Vec<u8>> = BTreeMap::new();
-    for phase in 0..4 {
-        let mut tiles: Vec<TileId> = plan
-            .tiles()
-            .into_iter()
-            .filter(|&t| plan.phase(t) == phase)
-            .collect();
-        order(&mut tiles);
-        for t in tiles {
-            let neighbours: Vec<_> = plan
-                .earlier_neighbours(t)
-                .iter()
-                .map(|n| match decode_tile(&borders[n]) {
-                    Ok(b) => b,
-                    Err(e) => panic!("border of {n:?}: {e}"),
-                })
-                .collect();
-            let content = match synthesize_tile(
-                &plan,
-                t,
-                &map,
-                &Obstacles::default(),
-                None,
-                &neighbours,
-                seed,
-                None,
-            ) {
-                Ok(c) => c,
-                Err(e) => panic!("tile {t:?}: {e}"),
-            };
-            let encode = |c: &worldpaint_core::TileContent| match encode_tile(c) {
-                Ok(b) => b,
-                Err(e) => panic!("encoding {t:?}: {e}"),
-            };
-            borders.insert(t, encode(&content.border(&plan)));
-            files.insert(t, encode(&content));
-        }
-    }
-    files
+    fill_tiles(&plan(color), &uniform(color), seed, order)
 }
 
 /// The world's instances of category `c`, read back from the tile files, with the tile each lies in.

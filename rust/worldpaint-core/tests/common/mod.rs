@@ -16,3 +16,4 @@ pub mod rings;
 pub mod squares;
 pub mod variety_models;
 pub mod village_painting_report;
+pub mod world_driver;

@@ -14,13 +14,12 @@ does not cover the world are refused by the engine's plan, also before any tile 
 
 from __future__ import annotations
 
-import json
 import math
 
 import numpy as np
 
 from . import _engine
-from .terrain_files import read_ascii_header, refuse
+from .terrain_files import read_ascii_header, read_json, refuse
 
 MAX_LABEL = 2**32 - 1
 
@@ -89,13 +88,7 @@ def read_npy_labels(path, region):
 
 def read_legend(path, palette_colors):
     """The legend file's {label: color JSON}, in the file's order; ``palette_colors`` is {name: color JSON}."""
-    try:
-        with open(path, encoding="utf-8") as f:
-            legend = json.load(f)
-    except json.JSONDecodeError as e:
-        raise refuse(path, f"not JSON ({e})") from None
-    except UnicodeDecodeError as e:
-        raise refuse(path, f"not UTF-8 text ({e})") from None
+    legend = read_json(path)
     if not isinstance(legend, dict) or not legend:
         raise refuse(path, 'a legend is a JSON object of labels and color names, e.g. {"1": "Forest"}')
     out = {}

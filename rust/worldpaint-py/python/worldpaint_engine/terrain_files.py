@@ -10,6 +10,7 @@ height the grid holds.
 
 from __future__ import annotations
 
+import json
 import math
 import os
 import warnings
@@ -52,6 +53,17 @@ class TerrainGrid:
 
 def refuse(path, message):
     return _engine.FileFormatError(f"{path}: {message}")
+
+
+def read_json(path):
+    """The JSON value of the file ``path`` (a map's legend, village sites); refused when it is not UTF-8 JSON."""
+    try:
+        with open(path, encoding="utf-8") as f:
+            return json.load(f)
+    except json.JSONDecodeError as e:
+        raise refuse(path, f"not JSON ({e})") from None
+    except UnicodeDecodeError as e:
+        raise refuse(path, f"not UTF-8 text ({e})") from None
 
 
 def checked_grid(path, origin, cell, heights):

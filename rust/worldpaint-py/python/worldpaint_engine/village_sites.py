@@ -11,10 +11,9 @@ the engine, also before anything grows.
 
 from __future__ import annotations
 
-import json
 import math
 
-from .terrain_files import refuse
+from .terrain_files import read_json, refuse
 
 MAX_BUILDINGS = 2000
 MAX_SEED = 2**64 - 1
@@ -27,13 +26,7 @@ def whole(value, low, high):
 
 def read_sites(path):
     """The sites of ``path`` as the engine's ``world_villages`` takes them."""
-    try:
-        with open(path, encoding="utf-8") as f:
-            entries = json.load(f)
-    except json.JSONDecodeError as e:
-        raise refuse(path, f"not JSON ({e})") from None
-    except UnicodeDecodeError as e:
-        raise refuse(path, f"not UTF-8 text ({e})") from None
+    entries = read_json(path)
     if not isinstance(entries, list) or not entries:
         raise refuse(path, 'village sites are a JSON list of {"x", "y", "type", "buildings", "seed"}, at least one')
     sites = []
