@@ -129,3 +129,27 @@ def test_villages_need_a_terrain_and_an_encyclopedia_needs_villages(inputs, tmp_
     run = cli("--palette", inputs["palette"], "--terrain", inputs["terrain"], "--encyclopedia", inputs["sites"],
               "--out", tmp_path / "b", "--quiet", timeout=60)
     assert run.returncode == 2 and "--encyclopedia describes --villages" in run.stderr, run.stderr
+
+
+def test_load_world_brings_in_the_villages_houses_and_roads_once(inputs, tmp_path):
+    import bpy
+
+    out = tmp_path / "world"
+    run = cli("--palette", inputs["palette"], "--terrain", inputs["terrain"], "--villages", inputs["sites"], "--tile",
+              800, "--seed", 2, "--out", out, "--workers", 1, "--quiet", timeout=600)
+    assert run.returncode == 0, run.stderr
+    villages = json.loads((out / "villages.json").read_text())
+    houses = sum(len(v["houses"]) for v in villages["villages"])
+    bpy.ops.worldpaint.load_world(directory=str(out), radius=500.0)
+    made = [o for o in bpy.data.objects if o.get("wp_world_villages")]
+    roads = [o for o in made if o.type == 'CURVE']
+    built = [o for o in made if o.type == 'MESH']
+    assert len(roads) == 1 and len(built) == houses >= 27, (len(roads), len(built), houses)
+    assert len(roads[0].data.splines) == len(villages["roads"]) + sum(len(v["roads"]) for v in villages["villages"])
+    # each house stands on its footprint
+    centres = np.array([np.asarray(f)[:, :2].mean(axis=0) for v in villages["villages"] for f in v["footprints"]])
+    for obj in built:
+        assert np.hypot(*(centres - np.asarray(obj.location[:2])).T).min() < 0.01, obj.name
+    # loading the rest of the tiles does not bring the villages in twice
+    bpy.ops.worldpaint.load_world(directory=str(out))
+    assert len([o for o in bpy.data.objects if o.get("wp_world_villages")]) == len(made)

@@ -498,10 +498,13 @@ def write_points(obj, co, rotation, scale, prototype, tint=None, stretch=None):
 
 
 def remove_object(obj):
-    mesh = obj.data if obj.type == 'MESH' else None
+    """Removes the object, and its mesh or curve when nothing else uses it."""
+    data = obj.data
     bpy.data.objects.remove(obj, do_unlink=True)
-    if mesh is not None and mesh.users == 0:
-        bpy.data.meshes.remove(mesh)
+    if isinstance(data, bpy.types.Mesh) and data.users == 0:
+        bpy.data.meshes.remove(data)
+    elif isinstance(data, bpy.types.Curve) and data.users == 0:
+        bpy.data.curves.remove(data)
 
 
 # --- converting points to objects ---------------------------------------------------------------------------------

@@ -4,20 +4,24 @@ Each tile becomes one point cloud per category, named "WP_<category> <column>,<r
 and the category's prototype collection, in a collection per world ("WP World <color>") that remembers the tile
 set's folder. The instances keep the heights the engine gave them on the world's terrain. Tiles load nearest
 first from a point (the camera), within a radius; loading again adds the tiles not yet in the scene, so a world of
-tens of millions of instances comes in as far as the view needs.
+tens of millions of instances comes in as far as the view needs. A world with villages (``villages.json``) brings
+them in with its first load: one curve of every road (the world's and the villages', with the road width's ribbon)
+and one mesh object per house, as Generate Village makes them.
 """
 
+import json
 import math
 import os
 
 import bpy
 import numpy as np
 
-from . import engine, points
+from . import curves, engine, points, village
 from .instances import WORLD_TILE_TAG
 
 WORLD_TAG = "wp_world"  # on a world's collection: the tile set's folder
 CATEGORY_TAG = "wp_world_category"
+VILLAGES_TAG = "wp_world_villages"  # on the objects of a world's villages and roads
 
 
 def tile_distance(manifest, tile, centre):
@@ -86,3 +90,38 @@ def load_tile(scene, collection, folder, entry, display=None, cull_distance=None
             missing.append(category)
         made.append(obj)
     return int(len(tile.positions)), made, missing
+
+
+def villages_loaded(collection):
+    return any(obj.get(VILLAGES_TAG) for obj in collection.objects)
+
+
+def load_villages(collection, folder, manifest):
+    """Puts the world's villages and roads in its collection, once; returns the objects made."""
+    entry = manifest.get("villages")
+    if not entry or villages_loaded(collection):
+        return []
+    with open(os.path.join(folder, entry["file"]), encoding="utf-8") as f:
+        data = json.load(f)
+    made = []
+    lines = [np.asarray(r, dtype=np.float64) for r in data["roads"]]
+    lines += [np.asarray(r, dtype=np.float64) for v in data["villages"] for r in v["roads"]]
+    lines = [r for r in lines if len(r) >= 2]
+    if lines:
+        roads = village.lines_object(collection, "WP World Roads", "roads")
+        roads[VILLAGES_TAG] = "roads"
+        curves.write_lines(roads, [(r[:, :2], r[:, 2]) for r in lines], cyclic=False)
+        curves.set_profile(roads, float(data["road_width"]), 0.0, None)
+        roads.data.materials.append(village.shared_material(*village.ROAD_MATERIAL))
+        made.append(roads)
+    materials = [village.shared_material(name, rgba) for name, rgba in village.HOUSE_MATERIALS]
+    for v in data["villages"]:
+        for h in v["houses"]:
+            house = engine.House(int(h["seed"]), np.asarray(h["vertices"], dtype=np.float64),
+                                 np.asarray(h["loop_starts"], dtype=np.int32), np.asarray(h["indices"], dtype=np.int32),
+                                 np.asarray(h["materials"], dtype=np.int32))
+            footprint = np.asarray(v["footprints"][house.seed], dtype=np.float64)
+            obj = village.house_object(collection, house, footprint, v["buildings"][house.seed], v["type"], materials)
+            obj[VILLAGES_TAG] = "house"
+            made.append(obj)
+    return made

@@ -43,6 +43,12 @@ class WORLDPAINT_OT_load_world(bpy.types.Operator):
             centre = tuple((a + b) / 2.0 for a, b in zip(manifest["min"], manifest["max"], strict=True))
         self._folder, self._made, self._instances, self._missing = folder, [], 0, set()
         self._collection = world.world_collection(scene, folder, manifest)
+        try:
+            self._made.extend(world.load_villages(self._collection, folder, manifest))
+        except (OSError, ValueError, KeyError, IndexError) as exc:
+            self._undo()
+            raise WorldPaintError(f"Cannot read the villages of the tile set in '{folder}': {exc}") from exc
+        self._houses = sum(1 for obj in self._made if obj.get(world.VILLAGES_TAG) == "house")
         self._waiting = world.tiles_to_load(manifest, centre, self.radius, world.loaded_tiles(self._collection))
         self._total = len(self._waiting)
 
@@ -61,6 +67,8 @@ class WORLDPAINT_OT_load_world(bpy.types.Operator):
         text = f"Loaded {self._total} tiles, {self._instances:,} instances"
         if not self._total:
             text = "Every tile within the radius is already loaded"
+        if self._houses:
+            text += f", and the villages' {self._houses} houses and roads"
         self.report({'INFO'}, text)
         if self._missing:
             self.report({'WARNING'}, "Nothing to instance for " + ", ".join(sorted(self._missing))

@@ -207,19 +207,25 @@ def obstacles_of(villages):
 
 
 def villages_json(villages):
-    """The villages and roads of a tile set, as ``villages.json`` holds them (m, to the millimetre)."""
+    """The villages and roads of a tile set, as ``villages.json`` holds them (m, to the millimetre): per village its
+    type, site and seed, its buildings' types, footprints and house meshes (as ``generate_village`` gives them), and
+    its own roads with their heights."""
     def points(a):
         return [[round(float(v), 3) for v in p] for p in a]
 
     def roads(rs):
         return [points([[*p, h] for p, h in zip(r["points"], r["heights"], strict=True)]) for r in rs]
 
+    def houses(hs):
+        return [{"seed": int(h["seed"]), "vertices": points(h["vertices"]), "loop_starts": h["loop_starts"].tolist(),
+                 "indices": h["indices"].tolist(), "materials": h["materials"].tolist()} for h in hs]
+
     return {
         "road_width": villages["road_width"],
         "roads": roads(villages["roads"]),
         "villages": [{"type": site["type"], "position": list(site["position"]), "seed": site["seed"],
                       "buildings": list(v["seeds"]["building"]), "footprints": [points(f) for f in v["footprints"]],
-                      "roads": roads(v["roads"])}
+                      "houses": houses(v["houses"]), "roads": roads(v["roads"])}
                      for site, v in zip(villages["sites"], villages["villages"], strict=True)],
     }
 
