@@ -342,8 +342,20 @@ def bench_millions(size, counts=(100_000, 1_000_000)):
             for obj in clouds:
                 obj.update_tag()
             row(f"evaluate instancers, {mode.lower()}", timed(bpy.context.view_layer.update)[1])
+        # distance LOD: full meshes within 150 m of a camera in the middle, cones to 400 m, nothing beyond
+        camera = scene.camera or bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
+        if scene.camera is None:
+            scene.collection.objects.link(camera)
+            scene.camera = camera
+        camera.location = (size / 2.0, size / 2.0, 50.0)
         for obj in clouds:
-            wp_points.set_display(obj, mode='FULL')
+            wp_points.set_display(obj, mode='PROXY', cull_distance=400.0, lod_distance=150.0)
+        bpy.context.view_layer.update()
+        for obj in clouds:
+            obj.update_tag()
+        row("evaluate instancers, proxy LOD 150 m, cull 400", timed(bpy.context.view_layer.update)[1])
+        for obj in clouds:
+            wp_points.set_display(obj, mode='FULL', cull_distance=0.0, lod_distance=0.0)
         bpy.context.view_layer.update()
         row("re-snap alone (read terrain, bin, look up)", timed(lambda: snap.snap_scene(scene))[1])
         mesh = terrain_obj.data

@@ -108,6 +108,27 @@ def test_embed_roads_puts_the_instances_on_the_cut_and_filled_ground():
     assert error.max() < 0.01
 
 
+def rendered_instances(obj):
+    """The objects instanced on ``obj`` in a render (Cycles, one sample, 8 x 8 pixels, from the scene's camera)."""
+    found = []
+
+    def collect(_scene, depsgraph=None):
+        if depsgraph is not None and depsgraph.mode == 'RENDER':
+            found[:] = [i.object.original for i in depsgraph.object_instances
+                        if i.is_instance and i.parent is not None and i.parent.original == obj]
+
+    scene = bpy.context.scene
+    scene.render.engine = 'CYCLES'
+    scene.cycles.samples = 1
+    scene.render.resolution_x = scene.render.resolution_y = 8
+    bpy.app.handlers.frame_change_post.append(collect)  # a render evaluates its own depsgraph and calls it
+    try:
+        bpy.ops.render.render()
+    finally:
+        bpy.app.handlers.frame_change_post.remove(collect)
+    return found
+
+
 def test_display_percentage_shows_that_share_in_the_viewport_and_every_instance_in_a_render():
     terrain = irregular_terrain()
     obj = painted_cloud(terrain, n=5000)
@@ -118,26 +139,12 @@ def test_display_percentage_shows_that_share_in_the_viewport_and_every_instance_
     assert 400 <= len(first) <= 600
     assert np.array_equal(first, again), "the same instances on every redraw"
 
-    rendered = {}
-
-    def count(_scene, depsgraph=None):
-        if depsgraph is not None and depsgraph.mode == 'RENDER':
-            rendered["count"] = len(instance_positions(obj, depsgraph))
-
-    scene = bpy.context.scene
     camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
-    scene.collection.objects.link(camera)
-    scene.camera = camera
-    scene.render.engine = 'CYCLES'
-    scene.cycles.samples = 1
-    scene.render.resolution_x = scene.render.resolution_y = 8
-    bpy.app.handlers.frame_change_post.append(count)  # a render evaluates its own depsgraph and calls it
-    try:
-        bpy.ops.render.render()
-    finally:
-        bpy.app.handlers.frame_change_post.remove(count)
-    print(f"in a render: {rendered.get('count')} instances")
-    assert rendered.get("count") == 5000
+    bpy.context.scene.collection.objects.link(camera)
+    bpy.context.scene.camera = camera
+    rendered = rendered_instances(obj)
+    print(f"in a render: {len(rendered)} instances")
+    assert len(rendered) == 5000
 
 
 def test_bounds_proxy_and_cull_distance_show_what_they_say():
@@ -173,16 +180,43 @@ def test_bounds_proxy_and_cull_distance_show_what_they_say():
     assert len(shown) == within > 0 and distance.max() <= 30.0 + 1e-4
 
 
+def test_a_lod_distance_keeps_full_meshes_near_the_camera_and_stand_ins_beyond_it_and_a_render_has_all_in_full():
+    terrain = irregular_terrain()
+    obj = painted_cloud(terrain, n=400)
+    tree = bpy.data.collections["Tree"].objects[0]
+    scene = bpy.context.scene
+    camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
+    scene.collection.objects.link(camera)
+    scene.camera = camera
+    camera.location = (20.0, 20.0, 5.0)
+    points.set_display(obj, mode='PROXY', cull_distance=90.0, lod_distance=35.0)
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    shown = [(i.object.original == tree, tuple(i.matrix_world.translation)) for i in depsgraph.object_instances
+             if i.is_instance and i.parent is not None and i.parent.original == obj]
+    full = np.array([xyz for is_tree, xyz in shown if is_tree]).reshape(-1, 3)
+    cones = np.array([xyz for is_tree, xyz in shown if not is_tree]).reshape(-1, 3)
+    co = np.empty(400 * 3, dtype=np.float32)
+    obj.data.vertices.foreach_get("co", co)
+    d = np.linalg.norm(co.reshape(-1, 3) - camera.location, axis=1)
+    print(f"LOD 35 m, cull 90 m: {len(full)} full, {len(cones)} cones, {(d > 90.0).sum()} hidden of 400")
+    assert len(full) == (d <= 35.0).sum() > 0 and len(cones) == ((d > 35.0) & (d <= 90.0)).sum() > 0
+    assert np.linalg.norm(full - camera.location, axis=1).max() <= 35.0 + 1e-3
+    assert np.linalg.norm(cones - camera.location, axis=1).min() > 35.0 - 1e-3
+    # a render has every instance with its full mesh
+    rendered = rendered_instances(obj)
+    assert len(rendered) == 400 and all(o == tree for o in rendered)
+
+
 def test_display_settings_and_heights_survive_save_and_reload(tmp_path):
     terrain = irregular_terrain()
     obj = painted_cloud(terrain, n=500)
-    points.set_display(obj, mode='PERCENTAGE', percentage=25.0, cull_distance=80.0)
+    points.set_display(obj, mode='PERCENTAGE', percentage=25.0, cull_distance=80.0, lod_distance=40.0)
     shown = len(instance_positions(obj))
     path = str(tmp_path / "display.blend")
     bpy.ops.wm.save_as_mainfile(filepath=path)
     bpy.ops.wm.open_mainfile(filepath=path)
     obj = point_cloud_objects(bpy.context.scene)["Tree"]
-    assert points.display(obj) == ('PERCENTAGE', 25.0, 80.0)
+    assert points.display(obj) == ('PERCENTAGE', 25.0, 80.0, 40.0)
     assert len(instance_positions(obj)) == shown
 
 

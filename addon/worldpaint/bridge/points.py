@@ -16,7 +16,10 @@ instancer, which snapped with a ray cast on every evaluation, get this one when 
 What the viewport shows of a cloud is set per cloud on its modifier (``set_display``): every instance (Full), a fixed
 share of them (Percentage, drawn by point index so the same ones show on every redraw), a wire box (Bounds) or a cone
 (Proxy) the size of the prototypes instead of each mesh, and only the instances within a distance of the active
-camera (Cull Distance, 0: all). A render always has every instance with its full mesh (the Is Viewport node).
+camera (Cull Distance, 0: all). With a LOD Distance, the Bounds and Proxy modes keep the full mesh for the
+instances within that distance of the camera and show the box or cone only beyond it: full near the camera, stand-ins
+farther, nothing past the cull distance. A render always has every instance with its full mesh (the Is Viewport
+node).
 All writes use foreach_set.
 """
 
@@ -47,8 +50,9 @@ PROTO_PREFIX = "WP_proto_"
 NOTHING_SHOWN = {'MESH', 'EMPTY', 'LIGHT', 'CAMERA', 'SPEAKER', 'LIGHT_PROBE', 'ARMATURE', 'LATTICE'}
 BUILTIN_TAG = "wp_builtin"  # on a built-in prototype collection: its category (its name may be numbered)
 SNAP_HEIGHT = 500.0  # a curve ribbon's snapping ray starts this far above each point and is twice as long
-# 1: ray-cast onto the terrain on every evaluation; 2: display modes, no ray cast; 3: a point's stretch per axis
-INSTANCER_VERSION = 3
+# 1: ray-cast onto the terrain on every evaluation; 2: display modes, no ray cast; 3: a point's stretch per axis;
+# 4: the full mesh within the LOD distance of the camera, the Bounds or Proxy stand-in beyond it
+INSTANCER_VERSION = 4
 ATTRIBUTES = (("rotation", 'FLOAT', np.float32), ("scale", 'FLOAT', np.float32), ("prototype", 'INT', np.int32),
               (TINT_ATTRIBUTE, 'FLOAT', np.float32))
 DISPLAY_MODES = (
@@ -64,6 +68,7 @@ INPUTS = (
     ("Display", 'NodeSocketInt', 0, 0, len(DISPLAY_MODES) - 1, None),
     ("Percentage", 'NodeSocketFloat', 10.0, 0.0, 100.0, 'PERCENTAGE'),
     ("Cull Distance", 'NodeSocketFloat', 0.0, 0.0, 1e6, 'DISTANCE'),
+    ("LOD Distance", 'NodeSocketFloat', 0.0, 0.0, 1e6, 'DISTANCE'),
 )
 
 
@@ -180,17 +185,16 @@ class NodeTree:
 
 
 def build_instancer(group):
-    """The instancer's nodes: the prototypes (or, in the viewport, boxes or cones of their size) on the points;
-    in the viewport, only the points of the display percentage and within the cull distance of the camera."""
+    """The instancer's nodes: the prototypes on the points (or, in the viewport, boxes or cones of their size beyond
+    the LOD distance of the camera); in the viewport, only the points of the display percentage and within the cull
+    distance of the camera."""
     tree = NodeTree(group)
     group_in = tree.node('NodeGroupInput', -1400, 0)
-    group_out = tree.node('NodeGroupOutput', 700, 0)
+    group_out = tree.node('NodeGroupOutput', 900, 0)
     info = tree.node('GeometryNodeCollectionInfo', -1100, -150, transform_space='ORIGINAL')
     info.inputs["Separate Children"].default_value = True
     info.inputs["Reset Children"].default_value = True
     tree.link(group_in.outputs["Collection"], info.inputs["Collection"])
-    on_points = tree.node('GeometryNodeInstanceOnPoints', 500, 0)
-    on_points.inputs["Pick Instance"].default_value = True
 
     # the display mode applies in the viewport only: a render always has every instance with its full mesh
     viewport = tree.node('GeometryNodeIsViewport', -1100, 400).outputs[0]
@@ -199,16 +203,44 @@ def build_instancer(group):
     tree.link(group_in.outputs["Display"], socket(switch.inputs, "True"))
     mode = socket(switch.outputs, "Output")
 
-    tree.link(shown_points(tree, group_in, viewport, mode), on_points.inputs["Selection"])
-    tree.link(group_in.outputs["Geometry"], on_points.inputs["Points"])
-    tree.link(instanced(tree, info.outputs["Instances"], mode), on_points.inputs["Instance"])
-    place_by_attributes(tree, on_points)
-    tree.link(on_points.outputs["Instances"], group_out.inputs["Geometry"])
+    distance = camera_distance(tree)
+    shown = shown_points(tree, group_in, viewport, mode, distance)
+    # a stand-in where the mode has one (Bounds, Proxy) and the point lies beyond the LOD distance (0: everywhere)
+    simple_mode = tree.compare('INT', 'GREATER_EQUAL', mode, 2, -350, -100)
+    lod = group_in.outputs["LOD Distance"]
+    beyond = tree.boolean('OR', tree.compare('FLOAT', 'LESS_EQUAL', lod, 0.0, -500, 650),
+                          tree.compare('FLOAT', 'GREATER_THAN', distance, lod, -500, 550), -300, 600)
+    simple = tree.boolean('AND', simple_mode, beyond, -100, 600)
+    full_points = tree.node('GeometryNodeInstanceOnPoints', 500, 100)
+    full_points.inputs["Pick Instance"].default_value = True
+    tree.link(tree.boolean('NIMPLY', shown, simple, 100, 350), full_points.inputs["Selection"])
+    tree.link(group_in.outputs["Geometry"], full_points.inputs["Points"])
+    tree.link(info.outputs["Instances"], full_points.inputs["Instance"])
+    place_by_attributes(tree, full_points)
+    stand_in_points = tree.node('GeometryNodeInstanceOnPoints', 500, -200)
+    tree.link(tree.boolean('AND', shown, simple, 100, 250), stand_in_points.inputs["Selection"])
+    tree.link(group_in.outputs["Geometry"], stand_in_points.inputs["Points"])
+    tree.link(stand_in(tree, info.outputs["Instances"], mode), stand_in_points.inputs["Instance"])
+    place_by_attributes(tree, stand_in_points)
+    joined = tree.node('GeometryNodeJoinGeometry', 700, 0)
+    tree.link(full_points.outputs["Instances"], joined.inputs["Geometry"])
+    tree.link(stand_in_points.outputs["Instances"], joined.inputs["Geometry"])
+    tree.link(joined.outputs["Geometry"], group_out.inputs["Geometry"])
 
 
-def shown_points(tree, group_in, viewport, mode):
+def camera_distance(tree):
+    """Each point's distance to the active camera."""
+    camera = tree.node('GeometryNodeInputActiveCamera', -1100, 100)
+    where = tree.node('GeometryNodeObjectInfo', -900, 100, transform_space='ORIGINAL')
+    tree.link(camera.outputs[0], where.inputs["Object"])
+    position = tree.node('GeometryNodeInputPosition', -900, -50)
+    return tree.vector_math('DISTANCE', position.outputs["Position"], where.outputs["Location"], -700, 50).outputs[
+        "Value"]
+
+
+def shown_points(tree, group_in, viewport, mode, distance):
     """The selection of the points the instancer shows: in the Percentage mode a fixed share of them, and in the
-    viewport, when the cull distance is set, only those within it of the active camera."""
+    viewport, when the cull distance is set, only those within it (``distance``) of the active camera."""
     # Percentage: a random draw per point index with a fixed seed, so the same points show on every redraw
     share = tree.math('DIVIDE', group_in.outputs["Percentage"], 100.0, -900, 250)
     draw = tree.node('FunctionNodeRandomValue', -700, 250, data_type='BOOLEAN')
@@ -217,21 +249,16 @@ def shown_points(tree, group_in, viewport, mode):
     shown = tree.boolean('IMPLY', percentage, socket(draw.outputs, "Value"), -500, 300)
 
     # culling: in the viewport, points farther than the cull distance (0: none) from the active camera are left out
-    camera = tree.node('GeometryNodeInputActiveCamera', -1100, 100)
-    where = tree.node('GeometryNodeObjectInfo', -900, 100, transform_space='ORIGINAL')
-    tree.link(camera.outputs[0], where.inputs["Object"])
-    position = tree.node('GeometryNodeInputPosition', -900, -50)
-    distance = tree.vector_math('DISTANCE', position.outputs["Position"], where.outputs["Location"], -700, 50)
-    near = tree.compare('FLOAT', 'LESS_EQUAL', distance.outputs["Value"], group_in.outputs["Cull Distance"], -500, 50)
+    near = tree.compare('FLOAT', 'LESS_EQUAL', distance, group_in.outputs["Cull Distance"], -500, 50)
     culling = tree.math('GREATER_THAN', group_in.outputs["Cull Distance"], 0.0, -700, -100)
     culled = tree.boolean('AND', viewport, culling, -500, -100)
     kept = tree.boolean('IMPLY', culled, near, -300, 50)
     return tree.boolean('AND', shown, kept, -100, 200)
 
 
-def instanced(tree, prototypes, mode):
-    """What is instanced on the points: the ``prototypes`` (the collection's children as instances), or in the Bounds
-    and Proxy modes one wire box or cone the size of all of them together, standing where they stand."""
+def stand_in(tree, prototypes, mode):
+    """The Bounds or Proxy stand-in, as one instance: a wire box or a cone the size of all the ``prototypes``
+    together, standing where they stand (a cone in the Proxy mode, a box otherwise)."""
     whole = tree.node('GeometryNodeRealizeInstances', -1000, -300)  # a bounding box leaves instances out
     tree.link(prototypes, whole.inputs["Geometry"])
     bounds = tree.node('GeometryNodeBoundBox', -900, -300)
@@ -253,14 +280,9 @@ def instanced(tree, prototypes, mode):
     tree.link(tree.compare('INT', 'EQUAL', mode, 3, -350, -200), proxy_switch.inputs["Switch"])
     tree.link(placed_box.outputs["Geometry"], socket(proxy_switch.inputs, "False"))
     tree.link(proxy_cone(tree, size, centre.outputs["Vector"]), socket(proxy_switch.inputs, "True"))
-    stand_in = tree.node('GeometryNodeGeometryToInstance', 100, -400)
-    tree.link(proxy_switch.outputs[0], stand_in.inputs["Geometry"])
-    simple = tree.compare('INT', 'GREATER_EQUAL', mode, 2, -350, -100)
-    source = tree.node('GeometryNodeSwitch', 300, -150, input_type='GEOMETRY')
-    tree.link(simple, source.inputs["Switch"])
-    tree.link(prototypes, socket(source.inputs, "False"))
-    tree.link(stand_in.outputs["Instances"], socket(source.inputs, "True"))
-    return source.outputs[0]
+    one = tree.node('GeometryNodeGeometryToInstance', 100, -400)
+    tree.link(proxy_switch.outputs[0], one.inputs["Geometry"])
+    return one.outputs["Instances"]
 
 
 def proxy_cone(tree, size, centre):
@@ -343,17 +365,18 @@ def instancer_terrain(obj):
 
 
 def display(obj):
-    """(mode, percentage, cull distance) of a point cloud's viewport display: mode one of ``DISPLAY_MODES``'
-    identifiers, percentage 0-100, cull distance in metres (0: none)."""
+    """(mode, percentage, cull distance, LOD distance) of a point cloud's viewport display: mode one of
+    ``DISPLAY_MODES``' identifiers, percentage 0-100, the distances in metres (0: none)."""
     mod = obj.modifiers.get(MODIFIER_NAME)
     if mod is None:
-        return DISPLAY_MODES[0][0], 100.0, 0.0
+        return DISPLAY_MODES[0][0], 100.0, 0.0, 0.0
     index = min(max(int(compat.modifier_input(mod, "Display", 0)), 0), len(DISPLAY_MODES) - 1)
     percentage = float(compat.modifier_input(mod, "Percentage", 10.0))
-    return DISPLAY_MODES[index][0], percentage, float(compat.modifier_input(mod, "Cull Distance", 0.0))
+    return (DISPLAY_MODES[index][0], percentage, float(compat.modifier_input(mod, "Cull Distance", 0.0)),
+            float(compat.modifier_input(mod, "LOD Distance", 0.0)))
 
 
-def set_display(obj, mode=None, percentage=None, cull_distance=None):
+def set_display(obj, mode=None, percentage=None, cull_distance=None, lod_distance=None):
     """Sets what of a point cloud the viewport shows (see ``display``); a render always shows everything. Stored on
     the cloud's instancer modifier, so it is saved with the file."""
     mod = nodes_modifier(obj, MODIFIER_NAME, instancer_node_group())
@@ -363,6 +386,8 @@ def set_display(obj, mode=None, percentage=None, cull_distance=None):
         compat.set_modifier_input(mod, "Percentage", float(percentage))
     if cull_distance is not None:
         compat.set_modifier_input(mod, "Cull Distance", float(cull_distance))
+    if lod_distance is not None:
+        compat.set_modifier_input(mod, "LOD Distance", float(lod_distance))
     obj.update_tag()
 
 

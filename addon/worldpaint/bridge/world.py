@@ -66,7 +66,7 @@ def loaded_tiles(collection):
     return out
 
 
-def load_tile(scene, collection, folder, entry, display=None, cull_distance=None):
+def load_tile(scene, collection, folder, entry, display=None, cull_distance=None, lod_distance=None):
     """Puts one tile of the manifest (``entry``) in the scene: its clouds. Returns (instances, the clouds made,
     the names of its categories with nothing to instance)."""
     tile = engine.read_world_tile(os.path.join(folder, entry["file"]))
@@ -84,8 +84,8 @@ def load_tile(scene, collection, folder, entry, display=None, cull_distance=None
         points.write_points(obj, co, tile.rotations[mask], tile.scales[mask], tile.prototype[mask], tile.tints[mask])
         prototypes = points.prototype_collection(scene, category)
         points.set_instancer(obj, prototypes)
-        if display is not None or cull_distance is not None:
-            points.set_display(obj, mode=display, cull_distance=cull_distance)
+        if display is not None or cull_distance is not None or lod_distance is not None:
+            points.set_display(obj, mode=display, cull_distance=cull_distance, lod_distance=lod_distance)
         if prototypes is None:
             missing.append(category)
         made.append(obj)

@@ -1,4 +1,5 @@
-"""What the viewport shows of a category's instances: all, a share, boxes or cones, within a camera distance."""
+"""What the viewport shows of a category's instances: all, a share, boxes or cones (full meshes within a LOD distance
+of the camera), within a camera distance."""
 
 import bpy
 from bpy.props import EnumProperty, FloatProperty, StringProperty
@@ -25,6 +26,11 @@ class WORLDPAINT_OT_instance_display(bpy.types.Operator):
         name="Cull Distance", default=-1.0, min=-1.0, unit='LENGTH',
         description="Instances farther than this from the active camera are not shown (0: none; negative: unchanged)",
     )
+    lod_distance: FloatProperty(
+        name="LOD Distance", default=-1.0, min=-1.0, unit='LENGTH',
+        description="In the Bounds and Proxy modes, instances within this distance of the active camera keep their "
+                    "full mesh (0: none; negative: unchanged)",
+    )
 
     @reports_errors
     def execute(self, context):
@@ -35,7 +41,8 @@ class WORLDPAINT_OT_instance_display(bpy.types.Operator):
         for obj in chosen:
             points.set_display(obj, mode=self.mode if self.properties.is_property_set("mode") else None,
                                percentage=self.percentage if self.percentage >= 0.0 else None,
-                               cull_distance=self.cull_distance if self.cull_distance >= 0.0 else None)
+                               cull_distance=self.cull_distance if self.cull_distance >= 0.0 else None,
+                               lod_distance=self.lod_distance if self.lod_distance >= 0.0 else None)
         return {'FINISHED'}
 
 

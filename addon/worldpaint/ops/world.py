@@ -26,6 +26,9 @@ class WORLDPAINT_OT_load_world(bpy.types.Operator):
     cull_distance: FloatProperty(name="Cull Distance", default=0.0, min=0.0, unit='LENGTH',
                                  description="Instances farther than this from the camera are not shown in the "
                                              "viewport (0: all)")
+    lod_distance: FloatProperty(name="LOD Distance", default=0.0, min=0.0, unit='LENGTH',
+                                description="With the Bounds or Proxy display, instances within this distance of the "
+                                            "camera keep their full mesh (0: none)")
 
     def _start(self, context):
         """Reads the manifest and lists the tiles to load; raises for a folder that is not a tile set."""
@@ -56,7 +59,7 @@ class WORLDPAINT_OT_load_world(bpy.types.Operator):
         entry = self._waiting.pop(0)
         try:
             count, made, missing = world.load_tile(context.scene, self._collection, self._folder, entry,
-                                                   self.display, self.cull_distance)
+                                                   self.display, self.cull_distance, self.lod_distance)
         except (OSError, engine.engine_error()) as exc:
             raise WorldPaintError(f"Cannot read tile {entry['file']}: {exc}") from exc
         self._instances += count

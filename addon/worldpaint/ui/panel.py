@@ -275,4 +275,6 @@ class WORLDPAINT_PT_display(MainSubpanel, bpy.types.Panel):
             col = box.column(align=True)
             if mode == 'PERCENTAGE':
                 compat.draw_modifier_input(col, mod, "Percentage")
+            if mode in {'BOUNDS', 'PROXY'} and "LOD Distance" in mod.node_group.interface.items_tree:
+                compat.draw_modifier_input(col, mod, "LOD Distance")
             compat.draw_modifier_input(col, mod, "Cull Distance")
