@@ -40,7 +40,12 @@ side.
 ``--only village`` imports Andorra the same way, learns a village type from Encamp with Learn Village and grows a
 village like it on steep hills far from the place: OUT/demo_village_like.png shows the real village and the grown one
 side by side.
-Usage: python assets/demo.py [--out out] [--samples 16] [--percent 100] [--only variants|place|village]
+
+``--only world`` paints a world of 10 x 10 km of Andorra's SRTM model from a map of five colors with three villages
+joined by roads (``blender_tests/bench_world_painted.py``'s world, filled on a LocalCluster of threads), loads it with
+Load World Tiles (as cones beyond 1.5 km of the camera in the viewport, full nearer; a render shows every instance in
+full) and renders it from above (OUT/demo_world.png) and from the road into a village (OUT/demo_world_inside.png).
+Usage: python assets/demo.py [--out out] [--samples 16] [--percent 100] [--only variants|place|village|world]
 """
 
 import argparse
@@ -52,11 +57,12 @@ ROOT = pathlib.Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "addon"))
 sys.path.insert(0, str(ROOT / "assets"))
 
-import bpy  # noqa: E402
+import bpy  # noqa: E402, I001 (bpy first: it provides bmesh)
+import bmesh  # noqa: E402
 import numpy as np  # noqa: E402
 import showcase  # noqa: E402
 import worldpaint  # noqa: E402
-from mathutils import Vector  # noqa: E402
+from mathutils import Matrix, Vector  # noqa: E402
 from scene_kit import (  # noqa: E402
     SKETCH_CELL,
     SKETCH_N,
@@ -658,6 +664,101 @@ def village_like_picture(out, samples, percent=100):
     return [("demo_village_like", seconds, (2 * size[0], size[1]))]
 
 
+def world_prototypes():
+    """A collection per category of the painted world, each one low-poly mesh with its material."""
+    parent = bpy.data.collections.new("World prototypes")
+    bpy.context.scene.collection.children.link(parent)
+    shapes = {  # (radius, height, segments, leaves rgb) of a cone on a trunk, or of a lump (no trunk)
+        "Pine": (2.2, 11.0, 7, (0.018, 0.05, 0.02)), "Oak": (3.2, 9.0, 8, (0.035, 0.08, 0.02)),
+        "Bush": (1.1, 1.2, 6, (0.06, 0.09, 0.03)), "Shrub": (1.4, 1.6, 6, (0.07, 0.08, 0.035)),
+        "Fern": (0.8, 0.6, 6, (0.05, 0.11, 0.02)), "Grass": (0.5, 0.5, 5, (0.12, 0.15, 0.04)),
+        "Rock": (1.2, 0.9, 5, (0.16, 0.15, 0.14)),
+    }
+    for name, (radius, height, segments, rgb) in shapes.items():
+        bm = bmesh.new()
+        tall = name in ("Pine", "Oak")
+        if tall:
+            bmesh.ops.create_cone(bm, cap_ends=True, segments=5, radius1=0.25, radius2=0.2, depth=height * 0.3,
+                                  matrix=Matrix.Translation((0.0, 0.0, height * 0.15)))
+        if name == "Oak":
+            bmesh.ops.create_icosphere(bm, subdivisions=1, radius=radius,
+                                       matrix=Matrix.Translation((0.0, 0.0, height * 0.65)))
+        else:
+            bmesh.ops.create_cone(bm, cap_ends=True, segments=segments, radius1=radius, radius2=0.0 if tall else
+                                  radius * 0.3, depth=height * (0.8 if tall else 1.0),
+                                  matrix=Matrix.Translation((0.0, 0.0, height * (0.55 if tall else 0.5))))
+        mesh = bpy.data.meshes.new(name)
+        bm.to_mesh(mesh)
+        bm.free()
+        material = bpy.data.materials.new(name)
+        (showcase.plain(material, rgb, grain=0.3) if name == "Rock" else showcase.leaves(material, rgb))
+        mesh.materials.append(material)
+        collection = bpy.data.collections.new(name)
+        parent.children.link(collection)
+        collection.objects.link(bpy.data.objects.new(name, mesh))
+    bpy.context.view_layer.layer_collection.children[parent.name].exclude = True
+
+
+def world_picture(out, samples, percent=100):
+    """The painted world (see the module documentation); returns the report lines."""
+    sys.path.insert(0, str(ROOT / "blender_tests"))
+    import bench_world_painted as painted
+    from worldpaint_engine import world
+
+    if not painted.SRTM.is_file():
+        raise SystemExit(f"the world picture needs {painted.SRTM}")
+    showcase.HAZE_DISTANCE = 30000.0  # a view across 10 km of mountains, not across one valley
+    side = 10000.0
+    colors = [painted.learned(name, cats, 10 * k + 1) for k, (name, cats) in enumerate(painted.COLORS)]
+    ground = painted.andorra(side)
+    paint_map = painted.painted_map(ground, side, colors)
+    sites = painted.village_sites(ground, side)
+    folder = out / "demo_world"
+    # a cluster of threads: worker processes would start this script again, and Blender with it
+    from distributed import Client
+
+    client = Client(processes=False, n_workers=1, threads_per_worker=2, dashboard_address=":0")
+    try:
+        start = time.perf_counter()
+        manifest = world.fill_world(client, paint_map, folder, seed=1, region=((0.0, 0.0), (side, side)),
+                                    terrain=ground, sites=sites, overwrite=True)
+        filled = time.perf_counter() - start
+    finally:
+        client.close()
+    print(f"world: {manifest['instances']:,} instances and {manifest['villages']['buildings']} buildings in "
+          f"{filled:.1f} s")
+    scene = bpy.context.scene
+    terrain = grid_terrain("Andorra", ground.origin, ground.cell, ground.heights)
+    world_prototypes()
+    inside = sites[1]["position"]
+    # from the road below the village, looking past it to the wooded slope above
+    at, seen = (inside[0] + 60.0, inside[1] - 330.0), (inside[0] - 120.0, inside[1] + 250.0)
+    z_at, z_seen = engine.terrain_from_grid(*grid_of(terrain)).heights_at(np.array([at, seen]))
+    eye = showcase.camera("Camera world inside", (*at, float(z_at) + 30.0), (*seen, float(z_seen) + 20.0), 28.0)
+    eye.data.clip_end = 20000.0
+    scene.camera = eye
+    run(bpy.ops.worldpaint.load_world, directory=str(folder), display='PROXY', lod_distance=1500.0)
+    showcase.smooth(terrain)
+    showcase.backdrop("Land around Andorra", *grid_of(terrain), relief=0.3)
+    showcase.dress_materials()
+    terrain.data.materials.clear()
+    material = bpy.data.materials.new("Andorra ground")
+    showcase.terrain(material)
+    terrain.data.materials.append(material)
+    showcase.cycles(scene, samples)
+    showcase.sky(scene)
+    showcase.sun(scene)
+    size = (1152, 648)
+    w, h = size[0] * percent // 100, size[1] * percent // 100
+    above = showcase.camera("Camera world", (side * 0.5, -side * 0.05, 6000.0), (side * 0.5, side * 0.6, 1400.0), 40.0)
+    above.data.clip_end = 40000.0
+    report = []
+    for name, cam in (("demo_world", above), ("demo_world_inside", eye)):
+        seconds = showcase.render(scene, cam, out / f"{name}.png", (w, h))
+        report.append((name, seconds, size))
+    return report
+
+
 def square_curve(name, centre, side):
     """A closed square curve of ``side`` metres around ``centre`` (a village's region)."""
     h = side / 2
@@ -679,7 +780,8 @@ def main():
     parser.add_argument("--out", default="out", help="output folder")
     parser.add_argument("--samples", type=int, default=16, help="Cycles samples per pixel (denoised)")
     parser.add_argument("--percent", type=int, default=100, help="resolution of the pictures, in percent")
-    parser.add_argument("--only", choices=["variants", "place", "village"], help="make and render only this picture")
+    parser.add_argument("--only", choices=["variants", "place", "village", "world"],
+                        help="make and render only this picture")
     args = parser.parse_args(sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else sys.argv[1:])
     out = pathlib.Path(args.out).resolve()
     out.mkdir(parents=True, exist_ok=True)
@@ -695,8 +797,8 @@ def main():
         name, seconds, (w, h) = render_variants(out, birches, meadow, args.percent)
         print(f"  {name}.png  {w * args.percent // 100} x {h * args.percent // 100}  {seconds:5.1f} s")
         return
-    if args.only in ("place", "village"):
-        picture = place_picture if args.only == "place" else village_like_picture
+    if args.only in ("place", "village", "world"):
+        picture = {"place": place_picture, "village": village_like_picture, "world": world_picture}[args.only]
         report = picture(out, args.samples, args.percent)
         bpy.ops.wm.save_as_mainfile(filepath=str(out / f"demo_{args.only}.blend"))
         for name, seconds, (w, h) in report:
