@@ -65,12 +65,13 @@ def tile_file_name(column, row):
     return f"tile_{column}_{row}.wpt"
 
 
-def run_tile(job, column, row, window, *borders):
-    """One tile: synthesized, written (atomically: a re-run replaces it with the same bytes), its border returned."""
+def run_tile(job, column, row, window, obstacles, *borders):
+    """One tile: synthesized, written (atomically: a re-run replaces it with the same bytes), its border returned;
+    ``obstacles`` are those of the world's villages that reach into the tile."""
     terrain = None if window is None else _engine.Terrain.from_grid(window.origin, window.cell, window.heights)
     data, border, counts = _engine.world_tile(job["paint"], job["plan"], column, row, list(borders), job["seed"],
                                               terrain=terrain, iterations_per_instance=job["iterations"],
-                                              obstacles=job["obstacles"])
+                                              obstacles=obstacles)
     name = tile_file_name(column, row)
     path = os.path.join(job["out"], name)
     partial = f"{path}.{os.getpid()}.part"
@@ -206,6 +207,21 @@ def obstacles_of(villages):
     return {"footprints": footprints, "roads": roads, "width": villages["road_width"]}
 
 
+def obstacles_within(obstacles, lo, hi):
+    """The footprints and roads of ``obstacles`` whose box (a road's grown by its half-width) meets the box
+    ``lo``-``hi``: a tile needs only those, and a world of thousands of houses is not shipped to every tile."""
+    if obstacles is None:
+        return None
+    half = obstacles["width"] / 2.0
+
+    def meets(points, grow):
+        a = np.asarray(points)[:, :2]
+        return bool((a.min(axis=0) - grow <= hi).all() and (a.max(axis=0) + grow >= lo).all())
+
+    return {"footprints": [f for f in obstacles["footprints"] if meets(f, 0.0)],
+            "roads": [r for r in obstacles["roads"] if meets(r, half)], "width": obstacles["width"]}
+
+
 def villages_json(villages):
     """The villages and roads of a tile set, as ``villages.json`` holds them (m, to the millimetre): per village its
     type, site and seed, its buildings' types, footprints and house meshes (as ``generate_village`` gives them), and
@@ -237,17 +253,18 @@ def write_tiles(client, paint, plan, out, *, seed, terrain=None, iterations=None
     from distributed import progress as progress_bar
 
     (x0, y0), (x1, y1) = plan["min"], plan["max"]
-    job = {"paint": paint, "plan": plan, "seed": int(seed), "iterations": iterations, "out": os.path.abspath(out),
-           "obstacles": obstacles_of(villages)}
-    token = dask.base.tokenize(paint, plan, seed, iterations, job["out"], job["obstacles"])
+    job = {"paint": paint, "plan": plan, "seed": int(seed), "iterations": iterations, "out": os.path.abspath(out)}
+    obstacles = obstacles_of(villages)
+    token = dask.base.tokenize(paint, plan, seed, iterations, job["out"], obstacles)
     borders, summaries = {}, []
     reach = plan["influence"] + 2.0 * (terrain.cell if terrain is not None else 0.0)
     for column, row, _phase, after in plan["tiles"]:
         lo = (x0 + column * plan["tile"] - reach, y0 + row * plan["tile"] - reach)
         hi = (min(x0 + (column + 1) * plan["tile"], x1) + reach, min(y0 + (row + 1) * plan["tile"], y1) + reach)
         window = terrain.window(lo, hi) if terrain is not None else None
+        near = obstacles_within(obstacles, np.array(lo), np.array(hi))
         key = f"{column}-{row}-{token}"
-        tile_future = client.submit(run_tile, job, column, row, window, *(borders[tuple(a)] for a in after),
+        tile_future = client.submit(run_tile, job, column, row, window, near, *(borders[tuple(a)] for a in after),
                                     key=f"worldpaint-tile-{key}")
         borders[(column, row)] = client.submit(_border, tile_future, key=f"worldpaint-border-{key}")
         summaries.append(client.submit(_summary, tile_future, key=f"worldpaint-summary-{key}"))
