@@ -360,9 +360,11 @@ def start_client(scheduler=None, workers=None):
     """A Dask client of the cluster at ``scheduler`` (which must answer, and have a worker, within
     ``CONNECT_SECONDS`` each), or of a new LocalCluster of ``workers`` processes (default: one per core) that share
     the cores between them (the engine's own threads included)."""
-    # Dask's own log lines (a task cancelled by an interrupt, a worker restarted) would break the one-line report
-    # of a failure; the workers of a LocalCluster inherit the setting (a user's own is kept)
-    os.environ.setdefault("DASK_LOGGING__DISTRIBUTED", "error")
+    # Dask's own log lines (a task cancelled by an interrupt, a worker restarted, a worker's heartbeat to a scheduler
+    # an interrupt has just closed, logged as an error) would break the one-line report of a failure: a failure that
+    # matters reaches the client as an exception; the workers of a LocalCluster inherit the setting (a user's own is
+    # kept)
+    os.environ.setdefault("DASK_LOGGING__DISTRIBUTED", "critical")
     from distributed import Client
 
     if scheduler:
