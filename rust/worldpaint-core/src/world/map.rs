@@ -146,7 +146,7 @@ impl ColorMap {
             })
             .collect::<Result<Vec<usize>>>()?;
         let colors: Vec<Color> = legend.into_iter().map(|(_, c)| c).collect();
-        let influence = colors.iter().map(|c| c.max_radius).fold(0.0, f64::max);
+        let influence = largest_radius(&colors);
         let band = match band {
             Some(b) => check::non_negative("the transition band's width", b)?,
             None => DEFAULT_BAND_RADII * influence,
@@ -188,7 +188,7 @@ impl ColorMap {
 
     /// The largest region of influence of the colors (m).
     pub fn influence(&self) -> f64 {
-        self.colors.iter().map(|c| c.max_radius).fold(0.0, f64::max)
+        largest_radius(&self.colors)
     }
 
     /// The largest total density of the colors (instances per m²).
@@ -325,6 +325,11 @@ impl ColorMap {
             }
         }
     }
+}
+
+/// The largest region of influence of `colors` (m).
+fn largest_radius(colors: &[Color]) -> f64 {
+    colors.iter().map(|c| c.max_radius).fold(0.0, f64::max)
 }
 
 /// Splits the cell rectangle `r` = (i0, j0, i1, j1) of the row-major `paints` (`nx` wide) in halves along its

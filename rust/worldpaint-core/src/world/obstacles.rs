@@ -3,104 +3,90 @@
 //! block and the tile's border see them: the free ground keeps the color's density and pair correlation, and no
 //! tree stands on a road or in a house.
 
-use crate::geom::{polygon_contains, segment_distance, DVec2};
-use std::collections::HashMap;
+use crate::geom::{polygon_contains, DVec2};
+use crate::graph::SegmentIndex;
+use crate::spatial::{GridEntry, SpatialGrid};
 
-/// Side (m) of the cells the obstacles are indexed in.
-const INDEX_CELL: f64 = 25.0;
-
-/// One obstacle.
-#[derive(Clone, Debug, PartialEq)]
-enum Shape {
-    /// A closed outline (a house's footprint).
-    Polygon(Vec<DVec2>),
-    /// A road's segment with its half-width.
-    Segment(DVec2, DVec2, f64),
-}
-
-impl Shape {
-    fn bbox(&self) -> (DVec2, DVec2) {
-        match self {
-            Shape::Polygon(points) => points.iter().fold(
-                (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
-                |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-            ),
-            Shape::Segment(a, b, r) => (a.min(*b) - *r, a.max(*b) + *r),
-        }
-    }
-
-    fn is_finite(&self) -> bool {
-        match self {
-            Shape::Polygon(points) => points.iter().all(|p| p.is_finite()),
-            Shape::Segment(a, b, r) => a.is_finite() && b.is_finite() && r.is_finite(),
-        }
-    }
-
-    fn covers(&self, p: DVec2) -> bool {
-        match self {
-            Shape::Polygon(points) => polygon_contains(points, p),
-            Shape::Segment(a, b, r) => segment_distance(p, *a, *b) <= *r,
-        }
-    }
-}
-
-/// The footprints and carriageways of a world, indexed on a grid.
+/// The footprints and carriageways of a world: the roads' segments in a [`SegmentIndex`], the footprints by their
+/// centres in a uniform grid searched as far as the widest footprint reaches from its centre.
 #[derive(Clone, Debug, Default)]
 pub struct Obstacles {
-    shapes: Vec<Shape>,
-    cells: HashMap<(i64, i64), Vec<u32>>,
+    footprints: Vec<Vec<DVec2>>,
+    centres: Option<SpatialGrid>,
+    /// Farthest a footprint's corner lies from its centre (m).
+    reach: f64,
+    roads: SegmentIndex,
+    half_width: f64,
 }
 
 impl Obstacles {
     /// The obstacles of `footprints` (closed outlines, at least three points; others are skipped) and `roads`
     /// (polylines), each road `width` metres wide. Shapes with a coordinate that is not finite are skipped.
     pub fn new(footprints: &[Vec<DVec2>], roads: &[Vec<DVec2>], width: f64) -> Obstacles {
-        let half = (width / 2.0).max(0.0);
-        let mut shapes: Vec<Shape> = footprints
+        let footprints: Vec<Vec<DVec2>> = footprints
             .iter()
-            .filter(|f| f.len() >= 3)
-            .map(|f| Shape::Polygon(f.clone()))
+            .filter(|f| f.len() >= 3 && f.iter().all(|p| p.is_finite()))
+            .cloned()
             .collect();
-        if half > 0.0 {
-            shapes.extend(
-                roads
-                    .iter()
-                    .flat_map(|r| r.windows(2))
-                    .map(|s| Shape::Segment(s[0], s[1], half)),
+        let centre = |f: &[DVec2]| f.iter().copied().sum::<DVec2>() / f.len() as f64;
+        let reach = footprints
+            .iter()
+            .map(|f| f.iter().map(|p| p.distance(centre(f))).fold(0.0, f64::max))
+            .fold(0.0, f64::max);
+        let centres = (!footprints.is_empty()).then(|| {
+            let (lo, hi) = footprints.iter().flatten().fold(
+                (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+                |(lo, hi), p| (lo.min(*p), hi.max(*p)),
             );
-        }
-        shapes.retain(Shape::is_finite);
-        let mut cells: HashMap<(i64, i64), Vec<u32>> = HashMap::new();
-        for (k, s) in shapes.iter().enumerate() {
-            let (lo, hi) = s.bbox();
-            let (a, b) = (cell_of(lo), cell_of(hi));
-            for i in a.0..=b.0 {
-                for j in a.1..=b.1 {
-                    cells.entry((i, j)).or_default().push(k as u32);
-                }
+            let mut grid = SpatialGrid::new(lo, hi, reach.max(1.0));
+            for (k, f) in footprints.iter().enumerate() {
+                grid.insert(GridEntry {
+                    position: centre(f),
+                    tag: 0,
+                    id: k as u32,
+                });
             }
+            grid
+        });
+        let half_width = (width / 2.0).max(0.0);
+        let segments = if half_width > 0.0 {
+            roads
+                .iter()
+                .flat_map(|r| r.windows(2))
+                .filter(|s| s[0].is_finite() && s[1].is_finite())
+                .map(|s| (s[0], s[1]))
+                .collect()
+        } else {
+            Vec::new()
+        };
+        Obstacles {
+            footprints,
+            centres,
+            reach,
+            roads: SegmentIndex::new(segments),
+            half_width,
         }
-        Obstacles { shapes, cells }
     }
 
     /// No obstacle at all.
     pub fn is_empty(&self) -> bool {
-        self.shapes.is_empty()
+        self.footprints.is_empty() && self.roads.is_empty()
     }
 
     /// Whether `p` lies on a footprint or a carriageway.
     pub fn covers(&self, p: DVec2) -> bool {
-        self.cells
-            .get(&cell_of(p))
-            .is_some_and(|ks| ks.iter().any(|&k| self.shapes[k as usize].covers(p)))
+        if self.half_width > 0.0 && self.roads.distance(p, 2.0 * self.half_width) <= self.half_width
+        {
+            return true;
+        }
+        let mut inside = false;
+        if let Some(grid) = &self.centres {
+            grid.for_each_within(p, self.reach, |e, _| {
+                inside = inside || polygon_contains(&self.footprints[e.id as usize], p);
+            });
+        }
+        inside
     }
-}
-
-fn cell_of(p: DVec2) -> (i64, i64) {
-    (
-        (p.x / INDEX_CELL).floor() as i64,
-        (p.y / INDEX_CELL).floor() as i64,
-    )
 }
 
 #[cfg(test)]

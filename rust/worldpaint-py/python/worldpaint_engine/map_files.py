@@ -14,12 +14,10 @@ does not cover the world are refused by the engine's plan, also before any tile 
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from . import _engine
-from .terrain_files import read_ascii_header, read_json, refuse
+from .terrain_files import read_ascii_values, read_json, refuse
 
 MAX_LABEL = 2**32 - 1
 
@@ -40,22 +38,8 @@ def checked_labels(path, values):
 
 def read_ascii_labels(path):
     """An ESRI ASCII grid of labels: (labels rows along +Y, origin of the grid's corner, cell)."""
-    with open(path, "rb") as f:
-        data = f.read()
-    try:
-        lines = data.decode("ascii").splitlines()
-    except UnicodeDecodeError as e:
-        raise refuse(path, f"an ASCII grid holds ASCII text only; byte {e.start} is 0x{data[e.start]:02x}") from None
-    header, first = read_ascii_header(path, lines)
-    nx, ny, cell = int(header["ncols"]), int(header["nrows"]), header["cellsize"]
-    if not (math.isfinite(cell) and cell > 0.0):
-        raise refuse(path, f"the ASCII grid's cellsize {cell:g} must be a positive length (m)")
-    try:
-        values = np.loadtxt(lines[first:], dtype=np.float64, ndmin=2)
-    except ValueError as e:
-        raise refuse(path, f"the ASCII grid's values: {str(e).rstrip('.')} (one row of ncols labels a line)") from None
-    if values.shape != (ny, nx):
-        raise refuse(path, f"{values.shape[1]} x {values.shape[0]} labels where the header says {nx} x {ny}")
+    header, values = read_ascii_values(path, "labels")
+    cell = header["cellsize"]
     nodata = header.get("nodata_value")
     if nodata is not None and (values == nodata).any():
         raise refuse(path, f"it has no-data cells ({nodata:g}): every cell of a map needs a label")

@@ -143,8 +143,9 @@ def read_ascii_header(path, lines):
     return header, first
 
 
-def read_ascii_grid(path):
-    """An ESRI ASCII grid (.asc): rows from north to south; no-data samples take the lowest height."""
+def read_ascii_values(path, what="values"):
+    """The header of an ESRI ASCII grid and its values (ny, nx), rows as the file has them (from the north), each
+    checked against the header; ``what`` names the values in messages."""
     with open(path, "rb") as f:
         data = f.read()
     try:
@@ -162,9 +163,16 @@ def read_ascii_grid(path):
             warnings.simplefilter("ignore")  # an empty grid is refused below, not warned about
             values = np.loadtxt(lines[first:], dtype=np.float64, ndmin=2)
     except ValueError as e:
-        raise refuse(path, f"the ASCII grid's values: {str(e).rstrip('.')} (one row of ncols numbers a line)") from None
+        raise refuse(path, f"the ASCII grid's {what}: {str(e).rstrip('.')} (one row of ncols {what} a line)") from None
     if values.shape != (ny, nx):
-        raise refuse(path, f"{values.shape[1]} x {values.shape[0]} values where the header says {nx} x {ny}")
+        raise refuse(path, f"{values.shape[1]} x {values.shape[0]} {what} where the header says {nx} x {ny}")
+    return header, values
+
+
+def read_ascii_grid(path):
+    """An ESRI ASCII grid (.asc): rows from north to south; no-data samples take the lowest height."""
+    header, values = read_ascii_values(path)
+    cell = header["cellsize"]
     check_finite(path, values, "the file's values, rows from the north")
     # the corner convention puts samples at cell centres
     shift = 0.5 * cell if "xllcorner" in header else 0.0

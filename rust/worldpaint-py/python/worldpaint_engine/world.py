@@ -207,19 +207,33 @@ def obstacles_of(villages):
     return {"footprints": footprints, "roads": roads, "width": villages["road_width"]}
 
 
-def obstacles_within(obstacles, lo, hi):
-    """The footprints and roads of ``obstacles`` whose box (a road's grown by its half-width) meets the box
-    ``lo``-``hi``: a tile needs only those, and a world of thousands of houses is not shipped to every tile."""
+def obstacle_boxes(obstacles):
+    """The boxes of ``obstacles``' footprints and of their roads grown by half the road width: (footprint (min, max),
+    road (min, max)), arrays (K, 2) each; None without obstacles."""
     if obstacles is None:
         return None
     half = obstacles["width"] / 2.0
 
-    def meets(points, grow):
-        a = np.asarray(points)[:, :2]
-        return bool((a.min(axis=0) - grow <= hi).all() and (a.max(axis=0) + grow >= lo).all())
+    def boxes(shapes, grow):
+        lo = np.array([np.asarray(s)[:, :2].min(axis=0) for s in shapes]).reshape(-1, 2) - grow
+        hi = np.array([np.asarray(s)[:, :2].max(axis=0) for s in shapes]).reshape(-1, 2) + grow
+        return lo, hi
 
-    return {"footprints": [f for f in obstacles["footprints"] if meets(f, 0.0)],
-            "roads": [r for r in obstacles["roads"] if meets(r, half)], "width": obstacles["width"]}
+    return boxes(obstacles["footprints"], 0.0), boxes(obstacles["roads"], half)
+
+
+def obstacles_within(obstacles, boxes, lo, hi):
+    """The footprints and roads of ``obstacles`` whose box (``obstacle_boxes``) meets the box ``lo``-``hi``: a tile
+    needs only those, and a world of thousands of houses is not shipped to every tile."""
+    if obstacles is None:
+        return None
+
+    def meeting(shapes, box):
+        keep = np.flatnonzero((box[0] <= hi).all(axis=1) & (box[1] >= lo).all(axis=1))
+        return [shapes[k] for k in keep]
+
+    return {"footprints": meeting(obstacles["footprints"], boxes[0]), "roads": meeting(obstacles["roads"], boxes[1]),
+            "width": obstacles["width"]}
 
 
 def villages_json(villages):
@@ -255,6 +269,7 @@ def write_tiles(client, paint, plan, out, *, seed, terrain=None, iterations=None
     (x0, y0), (x1, y1) = plan["min"], plan["max"]
     job = {"paint": paint, "plan": plan, "seed": int(seed), "iterations": iterations, "out": os.path.abspath(out)}
     obstacles = obstacles_of(villages)
+    boxes = obstacle_boxes(obstacles)
     token = dask.base.tokenize(paint, plan, seed, iterations, job["out"], obstacles)
     borders, summaries = {}, []
     reach = plan["influence"] + 2.0 * (terrain.cell if terrain is not None else 0.0)
@@ -262,7 +277,7 @@ def write_tiles(client, paint, plan, out, *, seed, terrain=None, iterations=None
         lo = (x0 + column * plan["tile"] - reach, y0 + row * plan["tile"] - reach)
         hi = (min(x0 + (column + 1) * plan["tile"], x1) + reach, min(y0 + (row + 1) * plan["tile"], y1) + reach)
         window = terrain.window(lo, hi) if terrain is not None else None
-        near = obstacles_within(obstacles, np.array(lo), np.array(hi))
+        near = obstacles_within(obstacles, boxes, np.array(lo), np.array(hi))
         key = f"{column}-{row}-{token}"
         tile_future = client.submit(run_tile, job, column, row, window, near, *(borders[tuple(a)] for a in after),
                                     key=f"worldpaint-tile-{key}")
