@@ -171,6 +171,8 @@ REFUSED = [
      ["--scheduler tcp://127.0.0.1:", "no Dask scheduler answered within 5 s"]),
     ("scheduler of an unknown kind", ["--region", 0, 0, 200, 200, "--scheduler", "carrier-pigeon://loft"],
      ["--scheduler carrier-pigeon://loft", "unknown address scheme"]),
+    ("two kinds of progress", ["--region", 0, 0, 200, 200, "--quiet", "--progress-lines"],
+     ["--progress-lines", "not allowed with argument --quiet"]),
     ("workers and a scheduler", ["--region", 0, 0, 200, 200, "--workers", 1, "--scheduler", "tcp://127.0.0.1:1"],
      ["--scheduler", "not allowed with argument --workers"]),
 ] + [(f"terrain: {kind}", ["--terrain", f"{{damaged:{kind}}}"] + (["--cell", 5] if "npy" in kind else []), words)
@@ -231,10 +233,14 @@ def listed(folder):
 def test_a_region_partly_off_the_terrain_fills_the_part_on_it(inputs, tmp_path):
     out = tmp_path / "world"
     run = cli("--palette", inputs["palette"], "--terrain", inputs["asc"], "--region", -100, 50, 120, 400,
-              "--seed", 2, "--out", out, "--workers", 1, "--quiet")
+              "--seed", 2, "--out", out, "--workers", 1, "--progress-lines")
     assert run.returncode == 0, run.stderr
     assert "filling 0 50 120 200 (the part of --region on the terrain)" in run.stdout
     names, manifest = listed(out)
+    # a line as each tile ends, for a program (Blender's Fill World) to follow
+    n = len(manifest["tiles"])
+    assert [line for line in run.stdout.splitlines() if line.startswith("tile ")] == \
+        [f"tile {k} of {n}" for k in range(1, n + 1)]
     assert sorted(os.listdir(out)) == names
     assert (manifest["min"], manifest["max"]) == ([0.0, 50.0], [120.0, 200.0])
     # every instance stands on the terrain, at the heightmap's height

@@ -43,14 +43,35 @@ def tiles_to_load(manifest, centre, radius, loaded):
     return sorted(waiting, key=lambda t: (tile_distance(manifest, t, centre), t["row"], t["column"]))
 
 
+def view_centre(scene, manifest):
+    """Where the tiles load from: the active camera, else the world's middle."""
+    if scene.camera is not None:
+        return tuple(scene.camera.matrix_world.translation)[:2]
+    return tuple((a + b) / 2.0 for a, b in zip(manifest["min"], manifest["max"], strict=True))
+
+
+def find_collection(folder):
+    """The collection of the world loaded from ``folder``, or None."""
+    folder = os.path.abspath(folder)
+    return next((c for c in bpy.data.collections if c.get(WORLD_TAG) == folder), None)
+
+
+def remove_world(folder):
+    """Removes the world loaded from ``folder`` from the file: its tiles, villages and collection."""
+    collection = find_collection(folder)
+    if collection is not None:
+        for obj in list(collection.all_objects):
+            points.remove_object(obj)
+        bpy.data.collections.remove(collection)
+
+
 def world_collection(scene, folder, manifest):
     """The collection of the world in ``folder``, made (inside the WorldPaint collection) when missing."""
-    folder = os.path.abspath(folder)
-    for collection in bpy.data.collections:
-        if collection.get(WORLD_TAG) == folder:
-            return collection
+    collection = find_collection(folder)
+    if collection is not None:
+        return collection
     collection = bpy.data.collections.new(f"WP World {manifest['color']}")
-    collection[WORLD_TAG] = folder
+    collection[WORLD_TAG] = os.path.abspath(folder)
     points.worldpaint_collection(scene).children.link(collection)
     return collection
 

@@ -3,7 +3,18 @@
 import bpy
 
 from ..bridge import snap
-from . import arrangement, display, drag, place, sketch_draw, variety, variety_texture, variety_tools, world
+from . import (
+    arrangement,
+    display,
+    drag,
+    place,
+    sketch_draw,
+    variety,
+    variety_texture,
+    variety_tools,
+    world,
+    world_fill,
+)
 from .blur import WORLDPAINT_OT_blur
 from .brush import WORLDPAINT_OT_brush, WORLDPAINT_OT_brush_radius, WORLDPAINT_OT_erase
 from .builtin import WORLDPAINT_OT_add_builtin_color
@@ -79,6 +90,7 @@ _classes = (
     *variety_tools.classes,
     *variety_texture.classes,
     *world.classes,
+    *world_fill.classes,
     *place.classes,
     *drag.classes,
 )

@@ -40,10 +40,7 @@ class WORLDPAINT_OT_load_world(bpy.types.Operator):
         except (OSError, ValueError) as exc:
             raise WorldPaintError(f"Cannot read the tile set in '{folder}': {exc}") from exc
         scene = context.scene
-        if scene.camera is not None:
-            centre = tuple(scene.camera.matrix_world.translation)[:2]
-        else:
-            centre = tuple((a + b) / 2.0 for a, b in zip(manifest["min"], manifest["max"], strict=True))
+        centre = world.view_centre(scene, manifest)
         self._folder, self._made, self._instances, self._missing = folder, [], 0, set()
         self._collection = world.world_collection(scene, folder, manifest)
         try:

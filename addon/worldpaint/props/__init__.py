@@ -26,6 +26,7 @@ from .variety import (
     WORLDPAINT_PG_variety,
 )
 from .village import WORLDPAINT_PG_village, WORLDPAINT_PG_village_event
+from .world import WORLDPAINT_PG_village_site, WORLDPAINT_PG_world
 
 CATEGORY_KINDS = (
     ("distribution", "Distribution", "Instances scattered by the learned statistics"),
@@ -259,6 +260,7 @@ class WORLDPAINT_PG_settings(bpy.types.PropertyGroup):
     terrain_edit: PointerProperty(type=WORLDPAINT_PG_terrain_edit)
     sketch: PointerProperty(type=WORLDPAINT_PG_sketch)
     place: PointerProperty(type=WORLDPAINT_PG_place)
+    world: PointerProperty(type=WORLDPAINT_PG_world)
 
     def learn_relation(self, category, other):
         """How the interaction matrix says ``category`` relates to ``other``: AUTO, NONE or ORIENTED."""
@@ -278,7 +280,7 @@ _register_classes, _unregister_classes = bpy.utils.register_classes_factory(
      WORLDPAINT_PG_waterfall_controller,
      WORLDPAINT_PG_sketch_point, WORLDPAINT_PG_sketch_stroke, WORLDPAINT_PG_sketch, WORLDPAINT_PG_component,
      WORLDPAINT_PG_texture_edit, WORLDPAINT_PG_texture_atlas, WORLDPAINT_PG_variety, WORLDPAINT_PG_place,
-     WORLDPAINT_PG_settings)
+     WORLDPAINT_PG_world, WORLDPAINT_PG_village_site, WORLDPAINT_PG_settings)
 )
 
 
@@ -287,9 +289,11 @@ def register():
     bpy.types.Scene.worldpaint = PointerProperty(type=WORLDPAINT_PG_settings)
     bpy.types.Object.worldpaint_waterfall = PointerProperty(type=WORLDPAINT_PG_waterfall_controller)
     bpy.types.Object.worldpaint_variety = PointerProperty(type=WORLDPAINT_PG_variety)
+    bpy.types.Object.worldpaint_site = PointerProperty(type=WORLDPAINT_PG_village_site)
 
 
 def unregister():
+    del bpy.types.Object.worldpaint_site
     del bpy.types.Object.worldpaint_variety
     del bpy.types.Object.worldpaint_waterfall
     del bpy.types.Scene.worldpaint

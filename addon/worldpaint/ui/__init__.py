@@ -2,7 +2,7 @@
 
 import bpy
 
-from . import place, sketch, terrain_edit, tools, variety, village
+from . import place, sketch, terrain_edit, tools, variety, village, world
 from .lists import WORLDPAINT_UL_categories, WORLDPAINT_UL_interactions, WORLDPAINT_UL_palette
 from .panel import (
     WORLDPAINT_PT_display,
@@ -25,6 +25,7 @@ _classes = (
     WORLDPAINT_PT_learn_matrix,
     WORLDPAINT_PT_edit,
     WORLDPAINT_PT_display,
+    world.WORLDPAINT_PT_world,
     *village.classes,
     *place.classes,
     *terrain_edit.classes,

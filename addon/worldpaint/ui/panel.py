@@ -255,7 +255,6 @@ class WORLDPAINT_PT_display(MainSubpanel, bpy.types.Panel):
 
     def draw(self, context):
         layout = self.layout
-        layout.operator("worldpaint.load_world", icon='WORLD')
         clouds = point_cloud_objects(context.scene)
         if not clouds:
             layout.label(text="No painted instances")

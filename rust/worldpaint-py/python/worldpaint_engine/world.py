@@ -262,8 +262,10 @@ def villages_json(villages):
 
 def write_tiles(client, paint, plan, out, *, seed, terrain=None, iterations=None, villages=None, progress=False):
     """Runs ``plan``'s tiles on ``client`` as a task graph, each writing its file into the folder ``out``, then
-    writes the manifest there; returns it."""
+    writes the manifest there; returns it. ``progress``: True for Dask's progress bar on stdout, or a function
+    called with (tiles done, tiles) as each tile ends."""
     import dask.base
+    from distributed import as_completed
     from distributed import progress as progress_bar
 
     (x0, y0), (x1, y1) = plan["min"], plan["max"]
@@ -284,7 +286,10 @@ def write_tiles(client, paint, plan, out, *, seed, terrain=None, iterations=None
         borders[(column, row)] = client.submit(_border, tile_future, key=f"worldpaint-border-{key}")
         summaries.append(client.submit(_summary, tile_future, key=f"worldpaint-summary-{key}"))
     del tile_future  # a tile's result is released once its border and summary are taken
-    if progress:
+    if callable(progress):
+        for done, _ in enumerate(as_completed(summaries), start=1):
+            progress(done, len(summaries))
+    elif progress:
         progress_bar(summaries)  # on stdout
         print()
     tiles = sorted(client.gather(summaries), key=lambda s: (s["row"], s["column"]))
@@ -512,7 +517,10 @@ def parser():
     where.add_argument("--scheduler", type=address,
                        help="address of a running Dask scheduler, e.g. tcp://10.0.0.1:8786 (it must answer within "
                             f"{CONNECT_SECONDS:g} s)")
-    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    shown = p.add_mutually_exclusive_group()
+    shown.add_argument("--quiet", action="store_true", help="no progress bar")
+    shown.add_argument("--progress-lines", action="store_true",
+                       help='a line "tile K of N" as each tile ends, in place of the bar (for a program reading it)')
     return p
 
 
@@ -621,6 +629,13 @@ def villages_line(villages):
             f"buildings, joined by {km:.1f} km of road")
 
 
+def shown_progress(args):
+    """How the run shows its progress: a line per tile, Dask's bar, or nothing."""
+    if args.progress_lines:
+        return lambda done, total: print(f"tile {done} of {total}", flush=True)
+    return not args.quiet
+
+
 def one_line(error):
     return " ".join(str(error).split()) or type(error).__name__
 
@@ -655,7 +670,7 @@ def main(argv=None):
             try:
                 t0 = time.perf_counter()
                 manifest = write_tiles(client, paint, plan, folder.path, seed=args.seed, terrain=terrain,
-                                       iterations=args.iterations, villages=villages, progress=not args.quiet)
+                                       iterations=args.iterations, villages=villages, progress=shown_progress(args))
                 seconds = time.perf_counter() - t0
                 here, workers = peak_memory_mb(client)
             finally:

@@ -1,0 +1,193 @@
+"""A world painted in Blender: its map of colors on the terrain, its village sites, and the files the world command
+line (``python -m worldpaint_engine.world``) fills it from.
+
+The map is a color attribute of the terrain painted with one swatch per palette color (swatch k paints the palette's
+color k); the swatches are a Blender palette ("WorldPaint World Map") the vertex paint tools show, so an artist
+paints the map with the usual brushes and may change a swatch's color. Each vertex takes the color of the swatch
+nearest its own; the labels reach the terrain's grid as one indicator per color, interpolated in the triangles, the
+largest one naming the cell's color, so a boundary follows the painted one to within a cell. A village site is an
+empty whose ``worldpaint_site`` names its village type, buildings and seed.
+"""
+
+import colorsys
+import json
+import os
+
+import bpy
+import numpy as np
+
+from . import WorldPaintError, engine, files, points, terrain
+
+SWATCH_PALETTE = "WorldPaint World Map"
+SITES_COLLECTION = "WP Village Sites"
+
+
+def swatch(index):
+    """A color (sRGB) for the palette's color ``index``, far from those of the colors before it."""
+    hue = (0.33 + index * 0.618034) % 1.0
+    return colorsys.hsv_to_rgb(hue, 0.65, 0.85 if index % 2 else 0.65)
+
+
+def swatch_palette(settings):
+    """The Blender palette of the map's swatches, one per palette color in order: made or brought to the palette's
+    length (a swatch an artist changed keeps its color)."""
+    palette = bpy.data.palettes.get(SWATCH_PALETTE) or bpy.data.palettes.new(SWATCH_PALETTE)
+    while len(palette.colors) > len(settings.palette):
+        palette.colors.remove(palette.colors[-1])
+    while len(palette.colors) < len(settings.palette):
+        palette.colors.new().color = swatch(len(palette.colors))
+    return palette
+
+
+def swatch_colors(settings):
+    """sRGB (K, 3) of the swatches, one per palette color."""
+    palette = bpy.data.palettes.get(SWATCH_PALETTE)
+    have = [] if palette is None else [tuple(c.color) for c in palette.colors]
+    return np.array([have[k] if k < len(have) else swatch(k) for k in range(len(settings.palette))], dtype=np.float64)
+
+
+def ensure_map(terrain_obj, settings, name):
+    """The terrain's map attribute, made when missing (on the vertices, every one painted with the active color's
+    swatch) and made the active color attribute; returns it."""
+    mesh = terrain_obj.data
+    attribute = mesh.color_attributes.get(name)
+    if attribute is None:
+        attribute = mesh.color_attributes.new(name, 'BYTE_COLOR', 'POINT')
+        active = min(max(settings.active_color_index, 0), len(settings.palette) - 1)
+        rgba = np.tile([*swatch_colors(settings)[active], 1.0], len(attribute.data)).astype(np.float32)
+        attribute.data.foreach_set("color_srgb", rgba)
+    mesh.color_attributes.active_color = attribute
+    return attribute
+
+
+def vertex_colors(mesh, name):
+    """sRGB (N, 3) of the map attribute ``name`` at each vertex of ``mesh`` (a corner or face attribute averaged at
+    its vertices); None when the mesh has no such color attribute."""
+    attribute = mesh.color_attributes.get(name)
+    if attribute is None:
+        return None
+    rgba = np.empty(len(attribute.data) * 4, dtype=np.float32)
+    attribute.data.foreach_get("color_srgb", rgba)
+    rgb = rgba.reshape(-1, 4)[:, :3].astype(np.float64)
+    if attribute.domain == 'POINT':
+        return rgb
+    index = np.empty(len(mesh.loops), dtype=np.int64)  # color attributes are on the points or the face corners
+    mesh.loops.foreach_get("vertex_index", index)
+    counts = np.maximum(np.bincount(index, minlength=len(mesh.vertices)), 1)
+    return np.column_stack([np.bincount(index, weights=rgb[:, c], minlength=len(mesh.vertices)) / counts
+                            for c in range(3)])
+
+
+def nearest_swatch(rgb, swatches):
+    """Index of the swatch nearest each color of ``rgb`` (N, 3)."""
+    return np.argmin(((rgb[:, None, :] - swatches[None, :, :]) ** 2).sum(axis=-1), axis=1)
+
+
+def label_grid(context, terrain_obj, settings):
+    """The map painted on the terrain as the engine's grid: (labels uint32 (ny, nx) rows along +Y, the grid's corner,
+    cell, {label: palette index}) with the terrain's own grid's cells; None when the terrain has no map attribute."""
+    depsgraph = context.evaluated_depsgraph_get()
+    evaluated = terrain_obj.evaluated_get(depsgraph)
+    mesh = evaluated.to_mesh()
+    try:
+        rgb = vertex_colors(mesh, settings.world.map_attribute)
+    finally:
+        evaluated.to_mesh_clear()
+    if rgb is None:
+        return None
+    vertices, triangles = terrain.mesh_arrays(terrain_obj, depsgraph)
+    if len(rgb) != len(vertices):
+        raise WorldPaintError(f"The map '{settings.world.map_attribute}' of the terrain '{terrain_obj.name}' does not "
+                              "follow its modifiers' vertices: apply them, or paint the map after them")
+    labels = nearest_swatch(rgb, swatch_colors(settings))
+    used = np.unique(labels)
+    ground = engine.terrain(vertices, triangles)
+    grid = ground.grid()
+    nx, ny, cell = grid["nx"], grid["ny"], grid["cell"]
+    ox, oy = grid["origin"]
+    xs, ys = np.meshgrid(ox + np.arange(nx) * cell, oy + np.arange(ny) * cell)
+    centres = np.column_stack([xs.ravel(), ys.ravel()])
+    if len(used) == 1:
+        cells = np.full(nx * ny, used[0])
+    else:
+        shares = np.empty((len(used), nx * ny))
+        for k, label in enumerate(used):
+            painted = ground.with_vertex_map("label", vertices, triangles, (labels == label).astype(np.float64))
+            shares[k] = np.nan_to_num(painted.map_at("label", centres), nan=-1.0)
+        cells = used[np.argmax(shares, axis=0)]
+    origin = (ox - 0.5 * cell, oy - 0.5 * cell)  # each sample the centre of its cell
+    return cells.reshape(ny, nx).astype(np.uint32), origin, cell, {int(k): int(k) for k in used}
+
+
+def village_sites(scene):
+    """The scene's village sites (empties marked as sites), by name."""
+    return sorted((obj for obj in scene.objects if obj.worldpaint_site.is_site), key=lambda o: o.name)
+
+
+def sites_collection(scene):
+    """The collection Add Village Site puts the sites in (inside the WorldPaint collection)."""
+    collection = bpy.data.collections.get(SITES_COLLECTION)
+    if collection is None:
+        collection = bpy.data.collections.new(SITES_COLLECTION)
+    if collection.name not in points.worldpaint_collection(scene).children:
+        points.worldpaint_collection(scene).children.link(collection)
+    return collection
+
+
+def write_ascii_labels(path, labels, origin, cell):
+    """An ESRI ASCII grid of labels (rows from the north), placed by its corner."""
+    ny, nx = labels.shape
+    with open(path, "w", encoding="ascii") as f:
+        f.write(f"ncols {nx}\nnrows {ny}\nxllcorner {origin[0]!r}\nyllcorner {origin[1]!r}\ncellsize {cell!r}\n")
+        np.savetxt(f, labels[::-1], fmt="%d")
+
+
+def write_inputs(context, folder):
+    """Writes what the world command line fills the scene's world from into ``folder``; returns its arguments (the
+    palette, the terrain, the map and its legend or the active color, the sites) and {site's place in the list:
+    its empty's name}."""
+    scene = context.scene
+    settings = scene.worldpaint
+    terrain_obj = terrain.terrain_object(context)
+    if not len(settings.palette):
+        raise WorldPaintError("The palette has no colors: learn or add a color to fill the world with")
+    colors = [engine.color_renamed(entry.json, entry.name) for entry in settings.palette]
+    with open(os.path.join(folder, "palette.json"), "w", encoding="utf-8") as f:
+        f.write(engine.palette_to_json(colors))
+    vertices, triangles = terrain.mesh_arrays(terrain_obj, context.evaluated_depsgraph_get())
+    if len(triangles) == 0:
+        raise WorldPaintError(f"The terrain '{terrain_obj.name}' has no faces")
+    grid = engine.terrain(vertices, triangles).grid()
+    np.save(os.path.join(folder, "terrain.npy"), np.asarray(grid["heights"], dtype=np.float64))
+    args = ["--palette", "palette.json", "--terrain", "terrain.npy", "--cell", repr(grid["cell"]),
+            "--origin", repr(grid["origin"][0]), repr(grid["origin"][1])]
+    painted = label_grid(context, terrain_obj, settings)
+    if painted is None:
+        active = min(max(settings.active_color_index, 0), len(settings.palette) - 1)
+        args += ["--color", settings.palette[active].name]
+    else:
+        labels, origin, cell, legend = painted
+        write_ascii_labels(os.path.join(folder, "map.asc"), labels, origin, cell)
+        with open(os.path.join(folder, "legend.json"), "w", encoding="utf-8") as f:
+            json.dump({str(label): settings.palette[k].name for label, k in legend.items()}, f)
+        args += ["--map", "map.asc", "--legend", "legend.json"]
+        if settings.world.band > 0.0:
+            args += ["--band", repr(settings.world.band)]
+    sites = village_sites(scene)
+    if sites:
+        entries = [{"x": obj.matrix_world.translation.x, "y": obj.matrix_world.translation.y,
+                    "type": obj.worldpaint_site.village_type, "buildings": obj.worldpaint_site.buildings,
+                    "seed": obj.worldpaint_site.seed} for obj in sites]
+        with open(os.path.join(folder, "sites.json"), "w", encoding="utf-8") as f:
+            json.dump(entries, f)
+        args += ["--villages", "sites.json"]
+        # as Generate Village: the panel's file, else the one the .blend holds (Learn Village's types), else none
+        path = settings.village.encyclopedia_path
+        text = settings.village.encyclopedia_text
+        if path:
+            args += ["--encyclopedia", files.absolute_path(path, "encyclopedia file")]
+        elif text is not None:
+            with open(os.path.join(folder, "encyclopedia.json"), "w", encoding="utf-8") as f:
+                f.write(text.as_string())
+            args += ["--encyclopedia", "encyclopedia.json"]
+    return args, {k: obj.name for k, obj in enumerate(sites, start=1)}

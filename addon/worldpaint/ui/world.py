@@ -1,0 +1,62 @@
+"""The World panel: the map painted on the terrain, the village sites, and filling and loading the whole world."""
+
+import bpy
+
+from ..bridge import world_map
+from .panel import MainSubpanel, enlarged
+
+
+class WORLDPAINT_PT_world(MainSubpanel, bpy.types.Panel):
+    bl_label = "World"
+    bl_options = {'DEFAULT_CLOSED'}
+
+    def draw(self, context):
+        layout = self.layout
+        settings = context.scene.worldpaint
+        world = settings.world
+        col = layout.column()
+        col.prop(world, "map_attribute")
+        col.operator("worldpaint.paint_world_map", icon='VPAINT_HLT')
+        swatches = bpy.data.palettes.get(world_map.SWATCH_PALETTE)
+        if swatches is not None and len(swatches.colors) == len(settings.palette):
+            box = layout.box()
+            for color, swatch in zip(settings.palette, swatches.colors, strict=True):
+                row = box.row()
+                row.prop(swatch, "color", text="")
+                row.label(text=color.name)
+        terrain = settings.terrain
+        if terrain is None or terrain.type != 'MESH' or world.map_attribute not in terrain.data.color_attributes:
+            active = settings.palette[settings.active_color_index].name if len(settings.palette) else "none"
+            layout.label(text=f"No map painted: the whole world is {active}", icon='INFO')
+        layout.prop(world, "band")
+
+        layout.separator()
+        sites = world_map.village_sites(context.scene)
+        layout.operator("worldpaint.add_village_site", icon='HOME')
+        site = context.object.worldpaint_site if context.object is not None else None
+        if site is not None and site.is_site:
+            box = layout.box()
+            box.label(text=context.object.name, icon='EMPTY_SINGLE_ARROW')
+            box.prop(site, "village_type")
+            row = box.row(align=True)
+            row.prop(site, "buildings")
+            row.prop(site, "seed")
+        layout.label(text=f"{len(sites)} village sites" if sites else "No village sites", icon='WORLD')
+
+        layout.separator()
+        col = layout.column()
+        col.prop(world, "directory")
+        row = col.row(align=True)
+        row.prop(world, "seed")
+        row.prop(world, "workers")
+        col.prop(world, "tile")
+        col.prop(world, "display")
+        row = col.row(align=True)
+        row.prop(world, "lod_distance", text="LOD")
+        row.prop(world, "cull_distance", text="Cull")
+        enlarged(layout.column(), invoke=True).operator("worldpaint.fill_world", icon='WORLD_DATA')
+        if world.report:
+            box = layout.box()
+            for part in world.report.split("; "):
+                box.label(text=part)
+        layout.operator("worldpaint.load_world", icon='WORLD')
