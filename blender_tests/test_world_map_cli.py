@@ -136,3 +136,99 @@ def test_a_bad_map_is_refused_with_one_line_before_any_tile(inputs, tmp_path, ca
     print(f"{case}: {run.stderr.strip()}")
     assert_refused(run, words)
     assert not out.exists()
+
+
+def square(x0, y0, x1, y1):
+    return [[x0, y0], [x1, y0], [x1, y1], [x0, y1], [x0, y0]]
+
+
+def feature(color, *rings, kind="Polygon"):
+    geometry = {"type": kind, "coordinates": list(rings) if kind == "Polygon" else [list(rings)]}
+    return {"type": "Feature", "properties": {"color": color}, "geometry": geometry}
+
+
+def polygons(*features, background="Meadow"):
+    data = {"type": "FeatureCollection", "features": list(features)}
+    if background is not None:
+        data["background"] = background
+    return data
+
+
+# the benchmark color west of x = 200 m, but for a meadow lake (a hole) in its middle; meadow elsewhere
+WEST_WITH_A_LAKE = polygons(feature("Bench", square(-50, -50, BOUNDARY, SIDE + 50), square(40, 140, 120, 260)))
+
+
+def test_a_map_of_polygons_paints_each_feature_with_its_color_and_keeps_its_holes(inputs, tmp_path):
+    path = tmp_path / "regions.geojson"
+    path.write_text(json.dumps(WEST_WITH_A_LAKE))
+    out = tmp_path / "world"
+    run = cli("--palette", inputs["palette"], "--map", path, "--region", 0, 0, SIDE, SIDE, "--tile", 100,
+              "--seed", 3, "--out", out, "--workers", 1, "--quiet")
+    assert run.returncode == 0, run.stderr
+    manifest = world.read_manifest(out)
+    assert manifest["colors"] == ["Meadow", "Bench"]
+    tiles = [engine.read_world_tile((out / t["file"]).read_bytes()) for t in manifest["tiles"]]
+    xy = np.concatenate([t["positions"] for t in tiles])
+    bush = np.concatenate([np.asarray(t["categories"])[t["category_index"]] == "Bush" for t in tiles])
+
+    def count(x0, y0, x1, y1, of_bush):
+        inside = (xy[:, 0] >= x0) & (xy[:, 0] < x1) & (xy[:, 1] >= y0) & (xy[:, 1] < y1) & (bush == of_bush)
+        return inside.sum(), (x1 - x0) * (y1 - y0)
+
+    # the benchmark color away from the lake and the boundary, the meadow east and in the lake's middle
+    n, area = count(0, 300, 120, SIDE, False)
+    assert abs(n / area / 0.1 - 1.0) < 0.1, n / area
+    n, area = count(280, 0, SIDE, SIDE, True)
+    assert abs(n / area / MEADOW_DENSITY - 1.0) < 0.25, n / area
+    assert count(280, 0, SIDE, SIDE, False)[0] == 0
+    lake, _ = count(70, 190, 90, 210, False)
+    assert lake == 0, "the benchmark color grew in the lake"
+    # a feature drawn over another paints over it: the lake as a feature of its own gives the same world
+    path.write_text(json.dumps(polygons(feature("Bench", square(-50, -50, BOUNDARY, SIDE + 50)),
+                                        feature("Meadow", square(40, 140, 120, 260)))))
+    again = tmp_path / "again"
+    run = cli("--palette", inputs["palette"], "--map", path, "--region", 0, 0, SIDE, SIDE, "--tile", 100,
+              "--seed", 3, "--out", again, "--workers", 1, "--quiet")
+    assert run.returncode == 0, run.stderr
+    assert snapshot(again) == snapshot(out)
+
+
+BAD_POLYGONS = [
+    ("not a collection", {"type": "Feature"}, ["regions.geojson", "FeatureCollection"]),
+    ("a point", polygons({"type": "Feature", "properties": {"color": "Bench"},
+                          "geometry": {"type": "Point", "coordinates": [1, 2]}}),
+     ["regions.geojson", "feature 1 is a Point", "Polygons or MultiPolygons"]),
+    ("no color", polygons({"type": "Feature", "properties": {}, "geometry": feature("x", square(0, 0, 9, 9))[
+        "geometry"]}), ["feature 1's \"color\"", "None", "Bench, Meadow"]),
+    ("unknown color", polygons(feature("Orchard", square(0, 0, 9, 9))), ["'Orchard'", "palette does not have"]),
+    ("unknown background", polygons(feature("Bench", square(0, 0, 9, 9)), background="Desert"),
+     ["the background", "'Desert'"]),
+    ("nothing behind", polygons(feature("Bench", square(0, 0, 100, 100)), background=None),
+     ["the point 100.5 0.5 lies in no feature", '"background"']),
+    ("short ring", polygons(feature("Bench", [[0, 0], [9, 0], [0, 0]])), ["feature 1", "at least 4 positions"]),
+    ("nan position", polygons(feature("Bench", [[0, 0], [float("nan"), 0], [9, 9], [0, 0]])),
+     ["feature 1", "finite numbers"]),
+    ("multipolygon of junk", polygons({"type": "Feature", "properties": {"color": "Bench"},
+                                       "geometry": {"type": "MultiPolygon", "coordinates": [["a"]]}}),
+     ["feature 1", "at least 4 positions"]),
+]
+
+
+@pytest.mark.parametrize("case, data, words", BAD_POLYGONS, ids=[c[0] for c in BAD_POLYGONS])
+def test_bad_polygons_are_refused_with_one_line_before_any_tile(inputs, tmp_path, case, data, words):
+    path = tmp_path / "regions.geojson"
+    path.write_text(json.dumps(data))
+    out = tmp_path / "world"
+    run = cli("--palette", inputs["palette"], "--map", path, "--region", 0, 0, SIDE, SIDE, "--out", out, "--quiet",
+              timeout=60)
+    print(f"{case}: {run.stderr.strip()}")
+    assert_refused(run, words)
+    assert not out.exists()
+
+
+def test_polygons_take_no_legend(inputs, tmp_path):
+    path = tmp_path / "regions.geojson"
+    path.write_text(json.dumps(WEST_WITH_A_LAKE))
+    run = cli("--palette", inputs["palette"], "--map", path, "--legend", inputs["legend"], "--region", 0, 0, SIDE,
+              SIDE, "--out", tmp_path / "world", "--quiet", timeout=60)
+    assert_refused(run, ["--legend", "name their colors themselves", "take no legend"])

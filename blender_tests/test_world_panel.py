@@ -185,3 +185,62 @@ def test_fill_world_refuses_what_it_cannot_fill(scene, tmp_path):
     with pytest.raises(RuntimeError, match="No terrain"):
         bpy.ops.worldpaint.fill_world()
     assert world_left_as_it_was(tmp_path)
+
+
+def test_the_map_sites_and_settings_survive_save_and_reload_and_the_default_folder_is_beside_the_blend(
+        scene, tmp_path):
+    bpy.ops.worldpaint.paint_world_map()
+    terrain = scene.worldpaint.terrain
+    swatches = bpy.data.palettes["WorldPaint World Map"]
+    paint_halves(terrain, [np.array(c.color) for c in swatches.colors], noise=0.0)
+    add_site(300.0, 200.0, buildings=7).name = "Hilltop"
+    world = scene.worldpaint.world
+    world.band, world.seed, world.lod_distance, world.display = 80.0, 9, 250.0, 'BOUNDS'
+    assert world.directory == "//world"
+    bpy.ops.wm.save_as_mainfile(filepath=str(tmp_path / "painted.blend"))
+    bpy.ops.wm.open_mainfile(filepath=str(tmp_path / "painted.blend"))
+
+    scene = bpy.context.scene
+    world = scene.worldpaint.world
+    assert (world.band, world.seed, world.lod_distance, world.display) == (80.0, 9, 250.0, 'BOUNDS')
+    site = bpy.data.objects["Hilltop"].worldpaint_site
+    assert site.is_site and (site.village_type, site.buildings) == ("farming", 7)
+    rgb = np.empty(len(scene.worldpaint.terrain.data.vertices) * 4, dtype=np.float32)
+    scene.worldpaint.terrain.data.color_attributes["WP World Map"].data.foreach_get("color_srgb", rgb)
+    assert len(np.unique(rgb.reshape(-1, 4)[:, :3].round(2), axis=0)) == 2
+    assert bpy.ops.worldpaint.fill_world() == {'FINISHED'}
+    manifest = json.loads((tmp_path / "world" / "manifest.json").read_text())
+    assert manifest["colors"] == ["Bench", "Meadow"] and manifest["villages"]["count"] == 1
+
+
+def test_a_map_painted_inside_drawn_curves(scene, tmp_path):
+    settings = scene.worldpaint
+    bpy.ops.curve.primitive_bezier_circle_add(radius=90.0, location=(150.0, 200.0, 0.0))
+    clearing = bpy.context.view_layer.objects.active
+    assert bpy.ops.worldpaint.paint_map_in_curves(color="Meadow") == {'FINISHED'}
+    # the map is all Bench (the active color) but for the circle, painted with the meadow
+    rgb = np.empty(len(settings.terrain.data.vertices) * 4, dtype=np.float32)
+    settings.terrain.data.color_attributes["WP World Map"].data.foreach_get("color_srgb", rgb)
+    xy = np.array([v.co[:2] for v in settings.terrain.data.vertices])
+    meadow = np.abs(rgb.reshape(-1, 4)[:, :3] - bpy.data.palettes["WorldPaint World Map"].colors[1].color).max(1) < 0.01
+    assert (meadow == (np.hypot(xy[:, 0] - 150.0, xy[:, 1] - 200.0) < 90.0)).mean() > 0.995
+
+    settings.world.directory = str(tmp_path / "world")
+    assert bpy.ops.worldpaint.fill_world() == {'FINISHED'}
+    band = json.loads((tmp_path / "world" / "manifest.json").read_text())["influence"] * 3.0
+    trees = loaded("Tree")
+    assert len(trees) > 1000
+    assert np.hypot(trees[:, 0] - 150.0, trees[:, 1] - 200.0).min() > 90.0 - band / 2.0 - CELL
+    bushes = loaded("Bush")
+    assert np.hypot(bushes[:, 0] - 150.0, bushes[:, 1] - 200.0).max() < 90.0 + band / 2.0 + CELL
+
+    # what cannot be painted is said
+    clearing.select_set(False)
+    with pytest.raises(RuntimeError, match="Select the closed curves"):
+        bpy.ops.worldpaint.paint_map_in_curves()
+    clearing.select_set(True)
+    with pytest.raises(RuntimeError, match="no color 'Orchard'"):
+        bpy.ops.worldpaint.paint_map_in_curves(color="Orchard")
+    clearing.data.splines[0].use_cyclic_u = False
+    with pytest.raises(RuntimeError, match="not closed"):
+        bpy.ops.worldpaint.paint_map_in_curves()

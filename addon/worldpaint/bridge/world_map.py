@@ -16,7 +16,7 @@ import os
 import bpy
 import numpy as np
 
-from . import WorldPaintError, engine, files, points, terrain
+from . import WorldPaintError, engine, files, geometry, points, terrain
 
 SWATCH_PALETTE = "WorldPaint World Map"
 SITES_COLLECTION = "WP Village Sites"
@@ -58,6 +58,30 @@ def ensure_map(terrain_obj, settings, name):
         attribute.data.foreach_set("color_srgb", rgba)
     mesh.color_attributes.active_color = attribute
     return attribute
+
+
+def paint_inside(terrain_obj, settings, shapes, index):
+    """Paints the map's vertices (or face corners) inside any of the regions ``shapes`` with the swatch of the
+    palette's color ``index``, as a brush would; returns how many vertices were painted."""
+    attribute = ensure_map(terrain_obj, settings, settings.world.map_attribute)
+    mesh = terrain_obj.data
+    xy = geometry.vertices_world(terrain_obj, mesh)[:, :2]
+    inside = np.zeros(len(xy), dtype=bool)
+    for shape in shapes:
+        inside |= engine.region_contains(shape, xy)
+    if attribute.domain == 'CORNER':
+        corners = np.empty(len(mesh.loops), dtype=np.int64)
+        mesh.loops.foreach_get("vertex_index", corners)
+        painted = inside[corners]
+    else:
+        painted = inside
+    rgba = np.empty(len(attribute.data) * 4, dtype=np.float32)
+    attribute.data.foreach_get("color_srgb", rgba)
+    rgba = rgba.reshape(-1, 4)
+    rgba[painted, :3] = swatch_colors(settings)[index]
+    attribute.data.foreach_set("color_srgb", rgba.ravel())
+    mesh.update()
+    return int(inside.sum())
 
 
 def vertex_colors(mesh, name):

@@ -19,7 +19,7 @@ import time
 import bpy
 from bpy.props import IntProperty, StringProperty
 
-from ..bridge import WorldPaintError, engine, files, terrain, world, world_map
+from ..bridge import WorldPaintError, engine, files, regions, terrain, world, world_map
 from .common import report_errors
 
 ENGINE_COMMAND = "worldpaint_engine.world"
@@ -54,6 +54,38 @@ class WORLDPAINT_OT_paint_world_map(bpy.types.Operator):
             first = f", all {settings.palette[settings.active_color_index].name} to begin with" if made else ""
             self.report({'INFO'}, f"Paint the map '{settings.world.map_attribute}' on '{terrain_obj.name}' with the "
                                   f"swatches of '{palette.name}'{first}")
+            return {'FINISHED'}
+
+        return report_errors(self, run)
+
+
+class WORLDPAINT_OT_paint_map_in_curves(bpy.types.Operator):
+    """Paint the world's map inside the selected closed curves with a palette color (as drawn outlines of a forest,
+    a lake shore, fields)"""
+
+    bl_idname = "worldpaint.paint_map_in_curves"
+    bl_label = "Paint Inside Curves"
+    bl_options = {'REGISTER', 'UNDO'}
+
+    color: StringProperty(name="Color", description="The palette color to paint (empty: the active one)")
+
+    def execute(self, context):
+        def run():
+            settings = context.scene.worldpaint
+            terrain_obj = terrain.terrain_object(context)
+            names = [entry.name for entry in settings.palette]
+            if not names:
+                raise WorldPaintError("The palette has no colors: learn or add the colors to paint the map with")
+            name = self.color or names[min(max(settings.active_color_index, 0), len(names) - 1)]
+            if name not in names:
+                raise WorldPaintError(f"The palette has no color '{name}' (it has {', '.join(names)})")
+            curves = [obj for obj in context.selected_objects if obj.type == 'CURVE']
+            if not curves:
+                raise WorldPaintError("Select the closed curves to paint inside")
+            shapes = [regions.curve_polygon(obj) for obj in curves]
+            world_map.swatch_palette(settings)
+            painted = world_map.paint_inside(terrain_obj, settings, shapes, names.index(name))
+            self.report({'INFO'}, f"Painted {painted:,} vertices of the map with {name}")
             return {'FINISHED'}
 
         return report_errors(self, run)
@@ -232,4 +264,5 @@ class WORLDPAINT_OT_fill_world(bpy.types.Operator):
         return outcome if outcome == {'FINISHED'} else {'CANCELLED'}
 
 
-classes = (WORLDPAINT_OT_paint_world_map, WORLDPAINT_OT_add_village_site, WORLDPAINT_OT_fill_world)
+classes = (WORLDPAINT_OT_paint_world_map, WORLDPAINT_OT_paint_map_in_curves, WORLDPAINT_OT_add_village_site,
+           WORLDPAINT_OT_fill_world)

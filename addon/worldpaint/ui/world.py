@@ -2,7 +2,7 @@
 
 import bpy
 
-from ..bridge import world_map
+from ..bridge import village, world_map
 from .panel import MainSubpanel, enlarged
 
 
@@ -16,7 +16,9 @@ class WORLDPAINT_PT_world(MainSubpanel, bpy.types.Panel):
         world = settings.world
         col = layout.column()
         col.prop(world, "map_attribute")
-        col.operator("worldpaint.paint_world_map", icon='VPAINT_HLT')
+        row = col.row(align=True)
+        row.operator("worldpaint.paint_world_map", icon='VPAINT_HLT')
+        row.operator("worldpaint.paint_map_in_curves", icon='CURVE_BEZCIRCLE')
         swatches = bpy.data.palettes.get(world_map.SWATCH_PALETTE)
         if swatches is not None and len(swatches.colors) == len(settings.palette):
             box = layout.box()
@@ -38,6 +40,9 @@ class WORLDPAINT_PT_world(MainSubpanel, bpy.types.Panel):
             box = layout.box()
             box.label(text=context.object.name, icon='EMPTY_SINGLE_ARROW')
             box.prop(site, "village_type")
+            types = village.known_types(settings.village)[0]
+            if site.village_type not in types:
+                box.label(text="Not a type of the encyclopedia: " + ", ".join(types), icon='ERROR')
             row = box.row(align=True)
             row.prop(site, "buildings")
             row.prop(site, "seed")

@@ -485,7 +485,8 @@ def parser():
     what = p.add_mutually_exclusive_group()
     what.add_argument("--color", help="the palette's color to paint (default: its only one)")
     what.add_argument("--map", help="a map of labels, .asc (placed by its header) or .npy (rows along +Y, over the "
-                                    "region): each label painted with its --legend color")
+                                    "region), each label painted with its --legend color; or .geojson polygons, "
+                                    'each feature painted with the color its "color" names')
     p.add_argument("--legend", help='the --map\'s legend, a JSON file {"label": "color name"}')
     p.add_argument("--band", type=non_negative,
                    help="width of the transition band across the --map's boundaries (m; default: three regions of "
@@ -552,9 +553,6 @@ def read_single_color(args):
 
 def read_map_paint(args, region):
     """The --map the command line fills ``region`` with, its colors named by the --legend."""
-    if args.legend is None:
-        raise _engine.InputError(f"--map {args.map}: a map needs its --legend (a JSON file "
-                                 '{"label": "color name"})')
     try:
         colors = _engine.palette_from_json(read_palette(args.palette))
     except ValueError as e:
