@@ -231,7 +231,7 @@ pub use waterfall::{
 // world: worlds of tiles
 pub use world::tile_file::{decode_tile, encode_tile};
 pub use world::{
-    check_iterations, grow_world_villages, synthesize_tile, village_side, Block, ColorMap,
-    LabelGrid, Obstacles, Paint, TileContent, TileId, VillageSite, WorldPlan, WorldVillages,
-    DEFAULT_BAND_RADII, MAX_TILES,
+    check_iterations, grow_world_villages, road_categories, synthesize_tile, village_side, Block,
+    ColorMap, LabelGrid, Obstacles, Paint, TileContent, TileId, VillageSite, WorldPlan,
+    WorldVillages, DEFAULT_BAND_RADII, MAX_TILES,
 };

@@ -10,7 +10,7 @@ use common::world_driver::fill_tiles;
 use std::collections::BTreeMap;
 use worldpaint_core::{
     decode_tile, hard_core_points, learn_color, scene_from_points, uniform_points, AnalysisOptions,
-    Color, ColorMap, DVec2, LabelGrid, Paint, Region, TileContent, TileId, WorldPlan,
+    Color, ColorMap, DVec2, LabelGrid, Obstacles, Paint, Region, TileContent, TileId, WorldPlan,
 };
 
 const WIDTH: f64 = 600.0;
@@ -76,7 +76,7 @@ fn fill(
         Ok(p) => p,
         Err(e) => panic!("plan: {e}"),
     };
-    let files = fill_tiles(&plan, map, seed, order);
+    let files = fill_tiles(&plan, map, &Obstacles::default(), seed, order);
     (plan, files)
 }
 

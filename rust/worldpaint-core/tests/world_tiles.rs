@@ -9,7 +9,7 @@ use common::world_driver::fill_tiles;
 use std::collections::BTreeMap;
 use worldpaint_core::{
     decode_tile, encode_tile, learn_color, undergrowth_scene, AnalysisOptions, Color, ColorMap,
-    DVec2, Region, TileId, WorldPlan,
+    DVec2, Obstacles, Region, TileId, WorldPlan,
 };
 
 /// The Blender benchmark's color: trees with a 3 m hard core, uniform rocks, grass in 2 m clumps; 0.1 per m².
@@ -44,7 +44,13 @@ fn plan(color: &Color) -> WorldPlan {
 
 /// Every tile's file bytes, the tiles of each phase taken in the order `order` gives them.
 fn fill(color: &Color, seed: u64, order: fn(&mut Vec<TileId>)) -> BTreeMap<TileId, Vec<u8>> {
-    fill_tiles(&plan(color), &uniform(color), seed, order)
+    fill_tiles(
+        &plan(color),
+        &uniform(color),
+        &Obstacles::default(),
+        seed,
+        order,
+    )
 }
 
 /// The world's instances of category `c`, read back from the tile files, with the tile each lies in.

@@ -27,7 +27,7 @@ use crate::error::check;
 use crate::geom::DVec2;
 use crate::paint::synthesize;
 use crate::palette::Color;
-use crate::scene::{CategoryKind, Instance, Scene};
+use crate::scene::{Category, CategoryKind, Instance, Path, Scene};
 use crate::synthesis::{mix_seed, SynthesisOptions};
 use crate::terrain::Heightfield;
 use crate::{Error, Region, Result};
@@ -287,7 +287,8 @@ pub fn check_iterations(iterations_per_instance: f64) -> Result<()> {
     )
 }
 
-/// A clear error for colors a world cannot be filled with: tiles hold instances only.
+/// A clear error for colors a world cannot be filled with: tiles hold instances, and a color's roads are the
+/// world's (its graph categories are not painted; see [`synthesize_tile`]), but a coast cannot be.
 pub(crate) fn paintable(color: &Color) -> Result<()> {
     if !color.kind.is_statistics() {
         return Err(Error::invalid(
@@ -295,15 +296,16 @@ pub(crate) fn paintable(color: &Color) -> Result<()> {
             "is an arrangement; a world is filled with colors of distributions",
         ));
     }
-    if let Some(c) = color
-        .categories
-        .iter()
-        .find(|c| c.category.kind != CategoryKind::Distribution)
-    {
+    if let Some(c) = color.categories.iter().find(|c| {
+        !matches!(
+            c.category.kind,
+            CategoryKind::Distribution | CategoryKind::Graph
+        )
+    }) {
         return Err(Error::invalid(
             format!("color '{}'", color.name),
             format!(
-                "has the road or coast category '{}'; world tiles hold instances only",
+                "has the coast or area category '{}'; world tiles hold instances and the villages' roads only",
                 c.category.name
             ),
         ));
@@ -311,11 +313,51 @@ pub(crate) fn paintable(color: &Color) -> Result<()> {
     Ok(())
 }
 
+/// The categories a world's roads are painted as: its graph categories whose name holds "road" (any case), else
+/// its only graph category (of two graph categories, a river and a stream, neither). A color that learned how its
+/// content stands from roads of such a category keeps it so from the world's roads.
+pub fn road_categories(categories: &[Category]) -> Vec<usize> {
+    let graphs: Vec<usize> = (0..categories.len())
+        .filter(|&k| categories[k].kind == CategoryKind::Graph)
+        .collect();
+    let named: Vec<usize> = graphs
+        .iter()
+        .copied()
+        .filter(|&k| categories[k].name.to_lowercase().contains("road"))
+        .collect();
+    if named.is_empty() && graphs.len() == 1 {
+        graphs
+    } else {
+        named
+    }
+}
+
+/// The categories of `color` a tile paints: its distributions (None when it has nothing else, as every color
+/// before roads could enter a world).
+fn distribution_only(color: &Color) -> Option<Vec<String>> {
+    let all = color
+        .categories
+        .iter()
+        .all(|c| c.category.kind == CategoryKind::Distribution);
+    (!all).then(|| {
+        color
+            .categories
+            .iter()
+            .filter(|c| c.category.kind == CategoryKind::Distribution)
+            .map(|c| c.category.name.clone())
+            .collect()
+    })
+}
+
 /// Synthesize tile `t` of `plan` with `map`, conditioned on `neighbours` (the border strips of its earlier
 /// neighbours), on `terrain` (at least the tile's [`WorldPlan::terrain_window`]; `None` on flat ground).
 /// `iterations_per_instance` overrides the colors' chain length. The tile's blocks are synthesized in turn, each
 /// conditioned on the blocks before it; the first draws from the tile's seed, the others from seeds derived from
 /// it and their place in the order. A block's instances on the `obstacles` (houses, roads) are removed at once.
+///
+/// The tiles paint the colors' distribution categories only: a world's roads are its villages' (the obstacles'),
+/// and they enter each block as the paths of the map's road categories ([`road_categories`]), so a color that
+/// learned how far its trees or houses stand from its roads keeps them so from the world's.
 #[allow(clippy::too_many_arguments)]
 pub fn synthesize_tile(
     plan: &WorldPlan,
@@ -334,6 +376,15 @@ pub fn synthesize_tile(
         terrain: terrain.clone(),
         ..Default::default()
     };
+    for category in road_categories(map.categories()) {
+        scene
+            .paths
+            .extend(obstacles.roads().iter().map(|points| Path {
+                category,
+                points: points.clone(),
+                locked: true,
+            }));
+    }
     for n in neighbours {
         if n.categories != names {
             return Err(Error::invalid(
@@ -371,6 +422,7 @@ pub fn synthesize_tile(
         } else {
             mix_seed(tile_seed, k as u64)
         };
+        opts.categories = distribution_only(color);
         let region = Region::Rect {
             min: block.min,
             max: block.max,

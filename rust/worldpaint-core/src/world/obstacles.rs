@@ -1,7 +1,8 @@
 //! What a world's instances keep off: the houses' footprints and the roads' carriageways (issue 43). A tile's
 //! blocks are synthesized as everywhere else and their instances on an obstacle removed at once, before the next
 //! block and the tile's border see them: the free ground keeps the color's density and pair correlation, and no
-//! tree stands on a road or in a house.
+//! tree stands on a road or in a house. The roads' polylines are kept too: a color that learned how its content
+//! stands from roads sees them as its roads (see [`super::synthesize_tile`]).
 
 use crate::geom::{polygon_contains, DVec2};
 use crate::graph::SegmentIndex;
@@ -16,6 +17,7 @@ pub struct Obstacles {
     /// Farthest a footprint's corner lies from its centre (m).
     reach: f64,
     roads: SegmentIndex,
+    road_lines: Vec<Vec<DVec2>>,
     half_width: f64,
 }
 
@@ -49,11 +51,15 @@ impl Obstacles {
             grid
         });
         let half_width = (width / 2.0).max(0.0);
+        let road_lines: Vec<Vec<DVec2>> = roads
+            .iter()
+            .filter(|r| r.len() >= 2 && r.iter().all(|p| p.is_finite()))
+            .cloned()
+            .collect();
         let segments = if half_width > 0.0 {
-            roads
+            road_lines
                 .iter()
                 .flat_map(|r| r.windows(2))
-                .filter(|s| s[0].is_finite() && s[1].is_finite())
                 .map(|s| (s[0], s[1]))
                 .collect()
         } else {
@@ -64,13 +70,19 @@ impl Obstacles {
             centres,
             reach,
             roads: SegmentIndex::new(segments),
+            road_lines,
             half_width,
         }
     }
 
     /// No obstacle at all.
     pub fn is_empty(&self) -> bool {
-        self.footprints.is_empty() && self.roads.is_empty()
+        self.footprints.is_empty() && self.road_lines.is_empty()
+    }
+
+    /// The roads' polylines (those with every coordinate finite).
+    pub fn roads(&self) -> &[Vec<DVec2>] {
+        &self.road_lines
     }
 
     /// Whether `p` lies on a footprint or a carriageway.

@@ -6,10 +6,12 @@ use worldpaint_core::{
     decode_tile, encode_tile, synthesize_tile, ColorMap, Obstacles, TileContent, TileId, WorldPlan,
 };
 
-/// Every tile's file bytes, the tiles of each phase taken in the order `order` gives them.
+/// Every tile's file bytes, the tiles of each phase taken in the order `order` gives them, keeping off the
+/// `obstacles` (and seeing their roads).
 pub fn fill_tiles(
     plan: &WorldPlan,
     map: &ColorMap,
+    obstacles: &Obstacles,
     seed: u64,
     order: fn(&mut Vec<TileId>),
 ) -> BTreeMap<TileId, Vec<u8>> {
@@ -31,19 +33,11 @@ pub fn fill_tiles(
                     Err(e) => panic!("border of {n:?}: {e}"),
                 })
                 .collect();
-            let content = match synthesize_tile(
-                plan,
-                t,
-                map,
-                &Obstacles::default(),
-                None,
-                &neighbours,
-                seed,
-                None,
-            ) {
-                Ok(c) => c,
-                Err(e) => panic!("tile {t:?}: {e}"),
-            };
+            let content =
+                match synthesize_tile(plan, t, map, obstacles, None, &neighbours, seed, None) {
+                    Ok(c) => c,
+                    Err(e) => panic!("tile {t:?}: {e}"),
+                };
             let encode = |c: &TileContent| match encode_tile(c) {
                 Ok(b) => b,
                 Err(e) => panic!("encoding {t:?}: {e}"),
