@@ -5,11 +5,14 @@
         [--overwrite]
     python -m worldpaint_engine.world --terrain heights.asc --palette palette.json --map labels.asc \\
         --legend legend.json [--band 60] --out world/ ...
+    python -m worldpaint_engine.world --terrain heights.asc --palette palette.json --map regions.geojson \\
+        --villages sites.json --out world/ ...
 
-A map (``map_files``) is a grid of labels and a legend naming each label's palette color; across each boundary
-the two colors blend over a transition band (``--band``, default three regions of influence), as the Gradient tool
-blends them. Village sites (``--villages``, ``village_sites``) grow their villages on the terrain before any tile,
-joined by roads laid over the whole world; the tiles keep off the roads' carriageways and the houses' footprints, and
+A map (``map_files``) is a grid of labels and a legend naming each label's palette color, or GeoJSON polygons
+each naming its color; across each boundary the two colors blend over a transition band (``--band``, default three
+regions of influence), as the Gradient tool blends them. Village sites (``--villages``, ``village_sites``) grow
+their villages on the terrain before any tile, joined by roads laid over the whole world; the tiles keep off the
+roads' carriageways and the houses' footprints, a color that learned roads sees them as its own, and
 the tile set holds the villages and roads in ``villages.json``.
 
 The engine cuts the world into square tiles in four checkerboard phases (``world_plan``); a tile is synthesized
