@@ -244,3 +244,27 @@ def test_a_map_painted_inside_drawn_curves(scene, tmp_path):
     clearing.data.splines[0].use_cyclic_u = False
     with pytest.raises(RuntimeError, match="not closed"):
         bpy.ops.worldpaint.paint_map_in_curves()
+
+
+@pytest.mark.parametrize("float_buffer", [False, True], ids=["byte image", "float image"])
+def test_a_map_painted_from_a_land_use_image(scene, float_buffer):
+    settings = scene.worldpaint
+    bpy.ops.worldpaint.paint_world_map()
+    swatches = bpy.data.palettes["WorldPaint World Map"].colors
+    # the land-use image's own colors, given to the swatches
+    forest, meadow = (0.15, 0.45, 0.2), (0.85, 0.8, 0.35)
+    swatches[0].color, swatches[1].color = forest, meadow
+    image = bpy.data.images.new("Land use", 60, 40, float_buffer=float_buffer)
+    srgb = np.where((np.arange(60) < 20)[None, :, None], forest, meadow) * np.ones((40, 1, 1))
+    values = srgb if not float_buffer else np.where(srgb <= 0.04045, srgb / 12.92, ((srgb + 0.055) / 1.055) ** 2.4)
+    image.pixels.foreach_set(np.concatenate([values, np.ones((40, 60, 1))], axis=2).ravel().astype(np.float32))
+    assert bpy.ops.worldpaint.paint_map_from_image(image="Land use") == {'FINISHED'}
+
+    rgb = np.empty(len(settings.terrain.data.vertices) * 4, dtype=np.float32)
+    settings.terrain.data.color_attributes["WP World Map"].data.foreach_get("color_srgb", rgb)
+    x = np.array([v.co.x for v in settings.terrain.data.vertices])
+    is_forest = np.abs(rgb.reshape(-1, 4)[:, :3] - forest).max(axis=1) < 0.01
+    # the image's first third (20 of 60 pixels) is the terrain's first 200 m
+    assert (is_forest == (x < 200.0)).all()
+    with pytest.raises(RuntimeError, match="No image 'Land usage'"):
+        bpy.ops.worldpaint.paint_map_from_image(image="Land usage")

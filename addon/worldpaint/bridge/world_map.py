@@ -60,28 +60,59 @@ def ensure_map(terrain_obj, settings, name):
     return attribute
 
 
-def paint_inside(terrain_obj, settings, shapes, index):
-    """Paints the map's vertices (or face corners) inside any of the regions ``shapes`` with the swatch of the
-    palette's color ``index``, as a brush would; returns how many vertices were painted."""
+def paint_vertices(terrain_obj, settings, labels):
+    """Paints each vertex of the terrain's map with the swatch of its palette color in ``labels`` (int (N,), -1:
+    left as it is), its face corners too when the map is on them."""
     attribute = ensure_map(terrain_obj, settings, settings.world.map_attribute)
     mesh = terrain_obj.data
-    xy = geometry.vertices_world(terrain_obj, mesh)[:, :2]
-    inside = np.zeros(len(xy), dtype=bool)
-    for shape in shapes:
-        inside |= engine.region_contains(shape, xy)
     if attribute.domain == 'CORNER':
         corners = np.empty(len(mesh.loops), dtype=np.int64)
         mesh.loops.foreach_get("vertex_index", corners)
-        painted = inside[corners]
-    else:
-        painted = inside
+        labels = labels[corners]
     rgba = np.empty(len(attribute.data) * 4, dtype=np.float32)
     attribute.data.foreach_get("color_srgb", rgba)
     rgba = rgba.reshape(-1, 4)
-    rgba[painted, :3] = swatch_colors(settings)[index]
+    painted = labels >= 0
+    rgba[painted, :3] = swatch_colors(settings)[labels[painted]]
     attribute.data.foreach_set("color_srgb", rgba.ravel())
     mesh.update()
+
+
+def paint_inside(terrain_obj, settings, shapes, index):
+    """Paints the map's vertices inside any of the regions ``shapes`` with the swatch of the palette's color
+    ``index``, as a brush would; returns how many vertices were painted."""
+    xy = geometry.vertices_world(terrain_obj)[:, :2]
+    inside = np.zeros(len(xy), dtype=bool)
+    for shape in shapes:
+        inside |= engine.region_contains(shape, xy)
+    paint_vertices(terrain_obj, settings, np.where(inside, index, -1))
     return int(inside.sum())
+
+
+def paint_from_image(terrain_obj, settings, image):
+    """Paints the map from ``image`` laid over the terrain's extent in XY (its bottom row along the terrain's south
+    edge): each vertex takes the palette color whose swatch is nearest the image's pixel under it. Returns the
+    vertices painted with each color."""
+    width, height = image.size
+    if width == 0 or height == 0 or image.channels < 3:
+        raise WorldPaintError(f"The image '{image.name}' has no color pixels (is its file missing?)")
+    pixels = np.empty(width * height * image.channels, dtype=np.float32)
+    image.pixels.foreach_get(pixels)
+    pixels = pixels.reshape(height, width, image.channels)[:, :, :3].astype(np.float64)
+    if image.is_float:  # a byte image's pixels are its file's values, a float image's are linear
+        pixels = linear_to_srgb(pixels)
+    xy = geometry.vertices_world(terrain_obj)[:, :2]
+    lo, hi = xy.min(axis=0), xy.max(axis=0)
+    span = np.maximum(hi - lo, 1e-9)
+    column = np.minimum(((xy[:, 0] - lo[0]) / span[0] * width).astype(np.int64), width - 1)
+    row = np.minimum(((xy[:, 1] - lo[1]) / span[1] * height).astype(np.int64), height - 1)
+    labels = nearest_swatch(pixels[row, column], swatch_colors(settings))
+    paint_vertices(terrain_obj, settings, labels)
+    return np.bincount(labels, minlength=len(settings.palette))
+
+
+def linear_to_srgb(c):
+    return np.where(c <= 0.0031308, 12.92 * c, 1.055 * np.power(np.clip(c, 0.0, None), 1.0 / 2.4) - 0.055)
 
 
 def vertex_colors(mesh, name):

@@ -91,6 +91,41 @@ class WORLDPAINT_OT_paint_map_in_curves(bpy.types.Operator):
         return report_errors(self, run)
 
 
+class WORLDPAINT_OT_paint_map_from_image(bpy.types.Operator):
+    """Paint the world's map from an image laid over the terrain's extent (a land-use map): each vertex takes the
+    palette color whose swatch is nearest the pixel under it (set the swatches to the image's colors first)"""
+
+    bl_idname = "worldpaint.paint_map_from_image"
+    bl_label = "Paint from Image"
+    bl_options = {'REGISTER', 'UNDO'}
+
+    image: StringProperty(name="Image", description="The image of the map, in the file's images")
+
+    def execute(self, context):
+        def run():
+            settings = context.scene.worldpaint
+            terrain_obj = terrain.terrain_object(context)
+            if not len(settings.palette):
+                raise WorldPaintError("The palette has no colors: learn or add the colors to paint the map with")
+            image = bpy.data.images.get(self.image)
+            if image is None:
+                raise WorldPaintError(f"No image '{self.image}' in the file: open the map's image first")
+            world_map.swatch_palette(settings)
+            counts = world_map.paint_from_image(terrain_obj, settings, image)
+            shares = ", ".join(f"{entry.name} {n / max(counts.sum(), 1):.0%}"
+                               for entry, n in zip(settings.palette, counts, strict=True) if n)
+            self.report({'INFO'}, f"Painted the map from '{image.name}': {shares}")
+            return {'FINISHED'}
+
+        return report_errors(self, run)
+
+    def invoke(self, context, _event):
+        return context.window_manager.invoke_props_dialog(self)
+
+    def draw(self, _context):
+        self.layout.prop_search(self, "image", bpy.data, "images")
+
+
 class WORLDPAINT_OT_add_village_site(bpy.types.Operator):
     """Add a village site at the 3D cursor, on the terrain: Fill World grows its village there before the tiles,
     joined to the other sites by roads"""
@@ -264,5 +299,5 @@ class WORLDPAINT_OT_fill_world(bpy.types.Operator):
         return outcome if outcome == {'FINISHED'} else {'CANCELLED'}
 
 
-classes = (WORLDPAINT_OT_paint_world_map, WORLDPAINT_OT_paint_map_in_curves, WORLDPAINT_OT_add_village_site,
-           WORLDPAINT_OT_fill_world)
+classes = (WORLDPAINT_OT_paint_world_map, WORLDPAINT_OT_paint_map_in_curves, WORLDPAINT_OT_paint_map_from_image,
+           WORLDPAINT_OT_add_village_site, WORLDPAINT_OT_fill_world)

@@ -19,6 +19,8 @@ class WORLDPAINT_PT_world(MainSubpanel, bpy.types.Panel):
         row = col.row(align=True)
         row.operator("worldpaint.paint_world_map", icon='VPAINT_HLT')
         row.operator("worldpaint.paint_map_in_curves", icon='CURVE_BEZCIRCLE')
+        col.operator_context = 'INVOKE_DEFAULT'
+        col.operator("worldpaint.paint_map_from_image", icon='IMAGE_DATA')
         swatches = bpy.data.palettes.get(world_map.SWATCH_PALETTE)
         if swatches is not None and len(swatches.colors) == len(settings.palette):
             box = layout.box()
