@@ -28,6 +28,11 @@ def swatch(index):
     return colorsys.hsv_to_rgb(hue, 0.65, 0.85 if index % 2 else 0.65)
 
 
+def active_index(settings):
+    """The palette's active color, within the palette (which has a color)."""
+    return min(max(settings.active_color_index, 0), len(settings.palette) - 1)
+
+
 def swatch_palette(settings):
     """The Blender palette of the map's swatches, one per palette color in order: made or brought to the palette's
     length (a swatch an artist changed keeps its color)."""
@@ -53,8 +58,7 @@ def ensure_map(terrain_obj, settings, name):
     attribute = mesh.color_attributes.get(name)
     if attribute is None:
         attribute = mesh.color_attributes.new(name, 'BYTE_COLOR', 'POINT')
-        active = min(max(settings.active_color_index, 0), len(settings.palette) - 1)
-        rgba = np.tile([*swatch_colors(settings)[active], 1.0], len(attribute.data)).astype(np.float32)
+        rgba = np.tile([*swatch_colors(settings)[active_index(settings)], 1.0], len(attribute.data)).astype(np.float32)
         attribute.data.foreach_set("color_srgb", rgba)
     mesh.color_attributes.active_color = attribute
     return attribute
@@ -218,8 +222,7 @@ def write_inputs(context, folder):
             "--origin", repr(grid["origin"][0]), repr(grid["origin"][1])]
     painted = label_grid(context, terrain_obj, settings)
     if painted is None:
-        active = min(max(settings.active_color_index, 0), len(settings.palette) - 1)
-        args += ["--color", settings.palette[active].name]
+        args += ["--color", settings.palette[active_index(settings)].name]
     else:
         labels, origin, cell, legend = painted
         write_ascii_labels(os.path.join(folder, "map.asc"), labels, origin, cell)

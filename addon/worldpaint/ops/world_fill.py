@@ -27,6 +27,17 @@ ERROR_PREFIX = f"python -m {ENGINE_COMMAND}: error: "
 PROGRESS = re.compile(r"^tile (\d+) of (\d+)$")
 
 
+def map_to_paint(context):
+    """(the scene's settings, the terrain) for painting the map, with the swatches made; a clear error without a
+    terrain or a palette color."""
+    settings = context.scene.worldpaint
+    terrain_obj = terrain.terrain_object(context)
+    if not len(settings.palette):
+        raise WorldPaintError("The palette has no colors: learn or add the colors to paint the map with")
+    world_map.swatch_palette(settings)
+    return settings, terrain_obj
+
+
 class WORLDPAINT_OT_paint_world_map(bpy.types.Operator):
     """Paint the world's map on the terrain in Vertex Paint: a color attribute with one swatch per palette color
     (swatch k paints color k); Fill World fills each painted part with its color"""
@@ -37,10 +48,7 @@ class WORLDPAINT_OT_paint_world_map(bpy.types.Operator):
 
     def execute(self, context):
         def run():
-            settings = context.scene.worldpaint
-            terrain_obj = terrain.terrain_object(context)
-            if not len(settings.palette):
-                raise WorldPaintError("The palette has no colors: learn or add the colors to paint the map with")
+            settings, terrain_obj = map_to_paint(context)
             palette = world_map.swatch_palette(settings)
             made = settings.world.map_attribute not in terrain_obj.data.color_attributes
             world_map.ensure_map(terrain_obj, settings, settings.world.map_attribute)
@@ -51,7 +59,7 @@ class WORLDPAINT_OT_paint_world_map(bpy.types.Operator):
                 context.view_layer.objects.active = terrain_obj
                 bpy.ops.object.mode_set(mode='VERTEX_PAINT')
             context.tool_settings.vertex_paint.palette = palette
-            first = f", all {settings.palette[settings.active_color_index].name} to begin with" if made else ""
+            first = f", all {settings.palette[world_map.active_index(settings)].name} to begin with" if made else ""
             self.report({'INFO'}, f"Paint the map '{settings.world.map_attribute}' on '{terrain_obj.name}' with the "
                                   f"swatches of '{palette.name}'{first}")
             return {'FINISHED'}
@@ -71,19 +79,15 @@ class WORLDPAINT_OT_paint_map_in_curves(bpy.types.Operator):
 
     def execute(self, context):
         def run():
-            settings = context.scene.worldpaint
-            terrain_obj = terrain.terrain_object(context)
+            settings, terrain_obj = map_to_paint(context)
             names = [entry.name for entry in settings.palette]
-            if not names:
-                raise WorldPaintError("The palette has no colors: learn or add the colors to paint the map with")
-            name = self.color or names[min(max(settings.active_color_index, 0), len(names) - 1)]
+            name = self.color or names[world_map.active_index(settings)]
             if name not in names:
                 raise WorldPaintError(f"The palette has no color '{name}' (it has {', '.join(names)})")
             curves = [obj for obj in context.selected_objects if obj.type == 'CURVE']
             if not curves:
                 raise WorldPaintError("Select the closed curves to paint inside")
             shapes = [regions.curve_polygon(obj) for obj in curves]
-            world_map.swatch_palette(settings)
             painted = world_map.paint_inside(terrain_obj, settings, shapes, names.index(name))
             self.report({'INFO'}, f"Painted {painted:,} vertices of the map with {name}")
             return {'FINISHED'}
@@ -103,14 +107,10 @@ class WORLDPAINT_OT_paint_map_from_image(bpy.types.Operator):
 
     def execute(self, context):
         def run():
-            settings = context.scene.worldpaint
-            terrain_obj = terrain.terrain_object(context)
-            if not len(settings.palette):
-                raise WorldPaintError("The palette has no colors: learn or add the colors to paint the map with")
+            settings, terrain_obj = map_to_paint(context)
             image = bpy.data.images.get(self.image)
             if image is None:
                 raise WorldPaintError(f"No image '{self.image}' in the file: open the map's image first")
-            world_map.swatch_palette(settings)
             counts = world_map.paint_from_image(terrain_obj, settings, image)
             shares = ", ".join(f"{entry.name} {n / max(counts.sum(), 1):.0%}"
                                for entry, n in zip(settings.palette, counts, strict=True) if n)

@@ -30,7 +30,7 @@ class WORLDPAINT_PT_world(MainSubpanel, bpy.types.Panel):
                 row.label(text=color.name)
         terrain = settings.terrain
         if terrain is None or terrain.type != 'MESH' or world.map_attribute not in terrain.data.color_attributes:
-            active = settings.palette[settings.active_color_index].name if len(settings.palette) else "none"
+            active = settings.palette[world_map.active_index(settings)].name if len(settings.palette) else "none"
             layout.label(text=f"No map painted: the whole world is {active}", icon='INFO')
         layout.prop(world, "band")
 
