@@ -418,7 +418,7 @@ fn skeleton(
                 buildings: &grown.seeds,
                 religious: &grown.religious,
                 fortress: &grown.fortress,
-                road_distance: &|p: DVec2| network.distance(p),
+                road_distance: &|p: DVec2, max: f64| network.distance_within(p, max),
                 has_roads: !network.roads.is_empty(),
             };
             // a building of the cluster share is seeded beside a standing one where there is room
@@ -715,7 +715,7 @@ pub fn interest_at(request: &InterestRequest, points: &[DVec2]) -> Result<Vec<f6
             .flat_map(|r| r.windows(2).map(|s| (s[0], s[1])))
             .collect(),
     );
-    let road_distance = |p: DVec2| index.distance(p, 1e9);
+    let road_distance = |p: DVec2, max: f64| index.distance(p, max);
     let state = VillageState {
         buildings: request.buildings,
         religious: &religious,

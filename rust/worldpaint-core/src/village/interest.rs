@@ -255,9 +255,30 @@ pub(crate) struct VillageState<'a> {
     pub religious: &'a [bool],
     /// Per building: a castle or fortress (fortification is measured to it as to an enclosure).
     pub fortress: &'a [bool],
-    /// Distance (m) to the closest road.
-    pub road_distance: &'a (dyn Fn(DVec2) -> f64 + Sync),
+    /// Distance (m) to the closest road, looked for no farther than the limit given (the limit or more beyond it).
+    pub road_distance: &'a (dyn Fn(DVec2, f64) -> f64 + Sync),
     pub has_roads: bool,
+}
+
+/// Accessibility, slope and water at `p`: what the land and the roads say, without the buildings.
+fn land_criteria(
+    land: &Land,
+    maps: &StaticInterestMaps,
+    state: &VillageState,
+    placement: &Placement,
+    p: DVec2,
+) -> [f64; 3] {
+    let accessibility = if state.has_roads {
+        // beyond the bell's far end the criterion is −1 whatever the distance: no need to look farther
+        let limit = placement.accessibility.max.max(0.0) * (1.0 + 1e-9) + 1e-6;
+        balance((state.road_distance)(p, limit), &placement.accessibility)
+    } else {
+        0.0
+    };
+    let g = land.grid();
+    let slope = balance(g.bilinear(&maps.grade, p), &placement.slope);
+    let water = close_distance(distance_at(g, &maps.water_distance, p), &placement.water);
+    [accessibility, slope, water]
 }
 
 /// The seven criterion values `f_i(p, V, B)` at `p` for a building placed by `placement`.
@@ -293,14 +314,8 @@ pub(crate) fn criteria(
     } else {
         sociability.clamp(-0.999, 1.0)
     };
-    let accessibility = if state.has_roads {
-        balance((state.road_distance)(p), &placement.accessibility)
-    } else {
-        0.0
-    };
+    let [accessibility, slope, water] = land_criteria(land, maps, state, placement, p);
     let g = land.grid();
-    let slope = balance(g.bilinear(&maps.grade, p), &placement.slope);
-    let water = close_distance(distance_at(g, &maps.water_distance, p), &placement.water);
     let enclosure = distance_at(g, &maps.enclosure_distance, p).min(nearest_fortress);
     let fortification = open_distance(enclosure, &placement.fortification);
     let domination = maps
@@ -329,6 +344,17 @@ pub(crate) fn interest(
         return 0.0;
     };
     if !land.buildable(land.grid().index(i, j)) {
+        return 0.0;
+    }
+    // most places of a large land are too far from the roads, too steep or too wet: said before the buildings
+    // are gone through (the same answer, [`combine`] forbids them as well)
+    let w = placement.weights.as_array();
+    let land_says = land_criteria(land, maps, state, placement, p);
+    if land_says
+        .iter()
+        .zip(&w[2..5])
+        .any(|(v, w)| *v <= -1.0 && *w != 0.0)
+    {
         return 0.0;
     }
     combine(&criteria(land, maps, state, placement, p), placement)

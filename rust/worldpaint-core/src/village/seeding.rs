@@ -173,7 +173,7 @@ mod tests {
         }
     }
 
-    fn no_road(_: DVec2) -> f64 {
+    fn no_road(_: DVec2, _: f64) -> f64 {
         f64::INFINITY
     }
 
