@@ -415,12 +415,34 @@ def shortfalls(report):
     if unplaced:
         kinds = ", ".join(f"{n} {name}" for name, n in sorted(unplaced.items()))
         parts.append(f"{sum(unplaced.values())} requested buildings unplaced ({kinds})")
+        for name, why in sorted(report.get("unplaced_causes", {}).items()):
+            parts.append(f"no place for the {name}: {unplaced_causes(why, report['unplaced_candidates'])}")
     dropped = report["unreachable"] + report["without_access"] + report["without_footprint"]
     if dropped:
         parts.append(f"{dropped} seeds dropped ({report['unreachable']} out of the roads' reach, "
                      f"{report['without_access']} without road access, {report['without_footprint']} with a parcel "
                      "too small)")
     return parts
+
+
+# what forbids a place, as a sentence says it
+CAUSES = {
+    "sociability": "too near another building",
+    "worship": "too near a church",
+    "accessibility": "not at the distance from a road it needs",
+    "slope": "too steep",
+    "water": "too near water",
+    "fortification": "too far from the walls",
+    "domination": "too low",
+    "land": "outside the region, in water or on a wall",
+    "no_interest": "where nothing draws it (its criteria add up to nothing)",
+}
+
+
+def unplaced_causes(why, candidates):
+    """The causes of ``why`` (a count per criterion of ``candidates`` places tried) as shares, the largest first."""
+    shares = sorted(((n / max(candidates, 1), name) for name, n in why.items() if n), reverse=True)
+    return ", ".join(f"{share:.0%} {CAUSES.get(name, name)}" for share, name in shares[:3]) or "no cause found"
 
 
 def nothing_built(report):

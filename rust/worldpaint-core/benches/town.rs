@@ -7,8 +7,8 @@
 
 use std::time::Instant;
 use worldpaint_core::{
-    demo_terrain, generate_village, DVec2, Encyclopedia, Environment, Region, Scenario,
-    ScenarioEvent, Site, VillageRequest,
+    demo_terrain, generate_village, DVec2, Encyclopedia, Environment, InterestCriterion, Region,
+    Scenario, ScenarioEvent, Site, VillageRequest, UNPLACED_CANDIDATES,
 };
 
 const ENCYCLOPEDIA: &str = include_str!("../../../assets/villages/encyclopedia.json");
@@ -91,5 +91,21 @@ fn main() {
             r.without_access,
             r.without_footprint
         );
+        for (building, counts) in &r.unplaced_causes {
+            let shares: Vec<String> = InterestCriterion::ALL
+                .iter()
+                .map(|c| c.name())
+                .chain(["off the land", "no interest"])
+                .zip(counts)
+                .filter(|(_, n)| **n > 0)
+                .map(|(c, n)| {
+                    format!(
+                        "{c} {:.0} %",
+                        100.0 * *n as f64 / UNPLACED_CANDIDATES as f64
+                    )
+                })
+                .collect();
+            println!("    no place for the {building}: {}", shares.join(", "));
+        }
     }
 }

@@ -188,7 +188,7 @@ pub use village::encyclopedia::{
 pub use village::footprint::{house_footprint, house_footprints};
 pub use village::generate::{
     generate_village, interest_at, InterestRequest, Village, VillageReport, VillageRequest,
-    VillageStage,
+    VillageStage, UNPLACED_CANDIDATES,
 };
 pub use village::house::{
     build_house, house_layout, openings_below_ground, HouseReport, OpeningKind, PlacedOpening,

@@ -8,7 +8,7 @@ use worldpaint_core::{
     village_figures, village_terrain, DVec2, EmbeddedRoad, Encyclopedia, Environment, Error,
     Heightfield, Placement, Region, Road, RoadEmbeddingOptions, RoadParams, Scenario,
     ScenarioEvent, ScenarioPresets, Site, SitedBuilding, Village, VillageFigures, VillageRequest,
-    VillageStage,
+    VillageStage, UNPLACED_CANDIDATES,
 };
 
 const ENCYCLOPEDIA: &str = include_str!("../../../assets/villages/encyclopedia.json");
@@ -313,6 +313,22 @@ fn a_request_for_more_houses_than_the_land_holds_stops_when_it_is_full() {
     );
     let positions = |v: &Village| v.seeds.iter().map(|s| s.position).collect::<Vec<_>>();
     assert_eq!(positions(&full), positions(&more));
+    // the report says why: the houses found no place near a road that was not next to another building
+    let causes = full
+        .report
+        .unplaced_causes
+        .get("house")
+        .expect("why the houses were not placed");
+    let share = |k: usize| causes[k] as f64 / UNPLACED_CANDIDATES as f64;
+    println!(
+        "no place for the houses: sociability {:.0} %, accessibility {:.0} %, slope {:.0} %, off the land {:.0} %",
+        100.0 * share(0),
+        100.0 * share(2),
+        100.0 * share(3),
+        100.0 * share(7)
+    );
+    assert!(share(0) + share(2) > 0.9, "{causes:?}");
+    assert!(causes.iter().all(|&n| n <= UNPLACED_CANDIDATES));
     // every house asked for beyond the full village is reported, none is built
     let not_built = |v: &Village| v.report.unplaced.len() + v.report.unreachable;
     assert_eq!(not_built(&more), not_built(&full) + 3600);

@@ -11,7 +11,7 @@ use worldpaint_core::{
     border_crossings, fit_village_type, interest_at, BuildingSeed, DVec2, Encyclopedia,
     Environment, FitOptions, FitTarget, Heightfield, HouseMesh, InterestCriterion, InterestRequest,
     Road, Scenario, Site, SitedBuilding, Village, VillageFigures, VillageReport, VillageRequest,
-    VillageStage,
+    VillageStage, UNPLACED_CANDIDATES,
 };
 
 const ENCYCLOPEDIA: &str = include_str!("../../../assets/villages/encyclopedia.json");
@@ -313,6 +313,20 @@ fn report_to_py<'py>(
     r.set_item("seeded", report.seeded)?;
     r.set_item("fallbacks", report.fallbacks)?;
     r.set_item("unplaced", report.unplaced.clone())?;
+    // per building type left unplaced: of UNPLACED_CANDIDATES candidates over the land, how many each criterion
+    // forbade, how many lay where nothing can be built ("land"), and how many nothing drew it to ("no_interest")
+    let causes = PyDict::new(py);
+    for (building, counts) in &report.unplaced_causes {
+        let by = PyDict::new(py);
+        for (criterion, n) in InterestCriterion::ALL.iter().zip(counts) {
+            by.set_item(criterion.name(), n)?;
+        }
+        by.set_item("land", counts[7])?;
+        by.set_item("no_interest", counts[8])?;
+        causes.set_item(building, by)?;
+    }
+    r.set_item("unplaced_causes", causes)?;
+    r.set_item("unplaced_candidates", UNPLACED_CANDIDATES)?;
     r.set_item("unreachable", report.unreachable)?;
     r.set_item("without_access", report.without_access)?;
     r.set_item("without_footprint", report.without_footprint)?;

@@ -13,7 +13,7 @@ use super::metrics::on_water;
 use super::parcels::{parcels_with, ParcelOptions, ParcelSeed};
 use super::road_index::RoadIndex;
 use super::roads::RoadNetwork;
-use super::seeding::{seed_building, Ring};
+use super::seeding::{causes, seed_building, Ring};
 use super::spurs::used_roads;
 use super::{BuildingSeed, HouseFootprint, HouseMesh, Parcel, Road};
 use crate::error::{Error, Result};
@@ -25,6 +25,7 @@ use glam::DVec2;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
+use std::collections::BTreeMap;
 use std::time::Instant;
 
 /// Candidates tried per building before the best one seen is taken (Algorithm 1's loop bound).
@@ -35,6 +36,8 @@ const CLUSTER_ATTEMPTS: usize = 1024;
 /// Failed placements of one building type in a row after which the rest of its request is reported unplaced
 /// without trying: each failure costs [`MAX_ATTEMPTS`] candidate positions.
 const MAX_FAILURES_IN_A_ROW: usize = 32;
+/// Candidates a building type left unplaced is judged by, to say why ([`VillageReport::unplaced_causes`]).
+pub const UNPLACED_CANDIDATES: usize = 4096;
 
 /// Everything a village is generated from.
 pub struct VillageRequest<'a> {
@@ -78,6 +81,11 @@ pub struct VillageReport {
     pub fallbacks: usize,
     /// Buildings for which no location had a positive interest.
     pub unplaced: Vec<String>,
+    /// Why, per building type left unplaced: of candidates drawn over the land when its first building found no
+    /// place, how many each interest criterion forbade (in [`InterestCriterion::ALL`] order), how many lay where
+    /// nothing can be built, and how many had an interest of 0 that no criterion forbade; out of
+    /// [`UNPLACED_CANDIDATES`].
+    pub unplaced_causes: BTreeMap<String, [usize; 9]>,
     /// Seeds the roads could not reach (dropped).
     pub unreachable: usize,
     /// Seeds that lost access to the roads in the parcel conquest (dropped, 3.3.2).
@@ -443,6 +451,19 @@ fn skeleton(
                 seed_building(land, &maps, &state, placement, &[], &mut rng, MAX_ATTEMPTS)
             });
             let Some(found) = found else {
+                if !report.unplaced_causes.contains_key(building) {
+                    // drawn from a generator of its own: saying why changes nothing of the village
+                    let mut why = ChaCha8Rng::seed_from_u64(mix_seed(request.seed, 0x3A7));
+                    let tally = causes(
+                        land,
+                        &maps,
+                        &state,
+                        placement,
+                        &mut why,
+                        UNPLACED_CANDIDATES,
+                    );
+                    report.unplaced_causes.insert(building.clone(), tally);
+                }
                 report.unplaced.push(building.clone());
                 failed_in_a_row += 1;
                 continue;

@@ -12,7 +12,7 @@
 //! around the standing buildings instead of over the whole land; the aggregation test is the same.
 
 use super::encyclopedia::Placement;
-use super::interest::{interest, StaticInterestMaps, VillageState};
+use super::interest::{combine, criteria, interest, StaticInterestMaps, VillageState};
 use super::land::Land;
 use glam::DVec2;
 use rand::Rng;
@@ -103,6 +103,47 @@ pub(super) fn seed_building(
         attempts += n;
     }
     best.map(|b| Seeding { attempts, ..b })
+}
+
+/// Why a building found no place: of `n` candidates drawn evenly over the land, how many each criterion forbids
+/// (in [`super::interest::InterestCriterion::ALL`] order; a candidate may count under several), then how many lie
+/// where nothing can be built (outside the region, in water, on a wall), and last how many no criterion forbids
+/// but whose weighted criteria add up to nothing (an interest of 0: nothing draws the building there).
+pub(super) fn causes(
+    land: &Land,
+    maps: &StaticInterestMaps,
+    state: &VillageState,
+    placement: &Placement,
+    rng: &mut ChaCha8Rng,
+    n: usize,
+) -> [usize; 9] {
+    let g = land.grid();
+    let (lo, hi) = (g.origin, g.point(g.nx - 1, g.ny - 1));
+    let draws: Vec<DVec2> = (0..n)
+        .map(|_| DVec2::new(rng.random_range(lo.x..=hi.x), rng.random_range(lo.y..=hi.y)))
+        .collect();
+    let w = placement.weights.as_array();
+    draws
+        .par_iter()
+        .map(|p| {
+            let mut count = [0usize; 9];
+            let buildable = g
+                .nearest(*p)
+                .is_some_and(|(i, j)| land.buildable(g.index(i, j)));
+            if !buildable {
+                count[7] = 1;
+                return count;
+            }
+            let values = criteria(land, maps, state, placement, *p);
+            for (k, v) in values.iter().enumerate() {
+                count[k] = usize::from(*v <= -1.0 && (k == 0 || w[k] != 0.0));
+            }
+            count[8] = usize::from(
+                count[..7].iter().all(|&n| n == 0) && combine(&values, placement) <= 0.0,
+            );
+            count
+        })
+        .reduce(|| [0usize; 9], |a, b| std::array::from_fn(|k| a[k] + b[k]))
 }
 
 #[cfg(test)]
