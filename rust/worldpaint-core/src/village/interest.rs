@@ -268,17 +268,29 @@ fn land_criteria(
     placement: &Placement,
     p: DVec2,
 ) -> [f64; 3] {
-    let accessibility = if state.has_roads {
-        // beyond the bell's far end the criterion is −1 whatever the distance: no need to look farther
-        let limit = placement.accessibility.max.max(0.0) * (1.0 + 1e-9) + 1e-6;
-        balance((state.road_distance)(p, limit), &placement.accessibility)
-    } else {
-        0.0
-    };
+    [0, 1, 2].map(|k| land_criterion(k, land, maps, state, placement, p))
+}
+
+/// One of [`land_criteria`]: 0 accessibility, 1 slope, 2 water.
+fn land_criterion(
+    k: usize,
+    land: &Land,
+    maps: &StaticInterestMaps,
+    state: &VillageState,
+    placement: &Placement,
+    p: DVec2,
+) -> f64 {
     let g = land.grid();
-    let slope = balance(g.bilinear(&maps.grade, p), &placement.slope);
-    let water = close_distance(distance_at(g, &maps.water_distance, p), &placement.water);
-    [accessibility, slope, water]
+    match k {
+        0 if state.has_roads => {
+            // beyond the bell's far end the criterion is −1 whatever the distance: no need to look farther
+            let limit = placement.accessibility.max.max(0.0) * (1.0 + 1e-9) + 1e-6;
+            balance((state.road_distance)(p, limit), &placement.accessibility)
+        }
+        0 => 0.0,
+        1 => balance(g.bilinear(&maps.grade, p), &placement.slope),
+        _ => close_distance(distance_at(g, &maps.water_distance, p), &placement.water),
+    }
 }
 
 /// The seven criterion values `f_i(p, V, B)` at `p` for a building placed by `placement`.
@@ -349,12 +361,9 @@ pub(crate) fn interest(
     // most places of a large land are too far from the roads, too steep or too wet: said before the buildings
     // are gone through (the same answer, [`combine`] forbids them as well)
     let w = placement.weights.as_array();
-    let land_says = land_criteria(land, maps, state, placement, p);
-    if land_says
-        .iter()
-        .zip(&w[2..5])
-        .any(|(v, w)| *v <= -1.0 && *w != 0.0)
-    {
+    let forbids =
+        |k: usize| w[2 + k] != 0.0 && land_criterion(k, land, maps, state, placement, p) <= -1.0;
+    if (0..3).any(forbids) {
         return 0.0;
     }
     combine(&criteria(land, maps, state, placement, p), placement)
