@@ -268,3 +268,16 @@ def test_a_map_painted_from_a_land_use_image(scene, float_buffer):
     assert (is_forest == (x < 200.0)).all()
     with pytest.raises(RuntimeError, match="No image 'Land usage'"):
         bpy.ops.worldpaint.paint_map_from_image(image="Land usage")
+
+
+def test_a_sites_type_is_picked_from_the_encyclopedia(scene):
+    site = add_site(300.0, 200.0)
+    assert bpy.ops.worldpaint.set_site_type(village_type="highland") == {'FINISHED'}
+    assert site.worldpaint_site.village_type == "highland"
+    with pytest.raises(RuntimeError, match="no village type 'hihgland'.*farming"):
+        bpy.ops.worldpaint.set_site_type(village_type="hihgland")
+    assert site.worldpaint_site.village_type == "highland"
+    scene.worldpaint.terrain.select_set(True)
+    bpy.context.view_layer.objects.active = scene.worldpaint.terrain
+    with pytest.raises(RuntimeError, match="Select a village site"):
+        bpy.ops.worldpaint.set_site_type(village_type="farming")

@@ -19,7 +19,7 @@ import time
 import bpy
 from bpy.props import IntProperty, StringProperty
 
-from ..bridge import WorldPaintError, engine, files, regions, terrain, world, world_map
+from ..bridge import WorldPaintError, engine, files, regions, terrain, village, world, world_map
 from .common import report_errors
 
 ENGINE_COMMAND = "worldpaint_engine.world"
@@ -164,6 +164,30 @@ class WORLDPAINT_OT_add_village_site(bpy.types.Operator):
         return report_errors(self, run)
 
 
+class WORLDPAINT_OT_set_site_type(bpy.types.Operator):
+    """Grow a village of this type at the active village site"""
+
+    bl_idname = "worldpaint.set_site_type"
+    bl_label = "Set Village Type"
+    bl_options = {'REGISTER', 'UNDO'}
+
+    village_type: StringProperty(name="Village Type", description="A village type of the scene's encyclopedia")
+
+    def execute(self, context):
+        def run():
+            site = context.object
+            if site is None or not site.worldpaint_site.is_site:
+                raise WorldPaintError("Select a village site (Add Village Site makes one)")
+            types = village.known_types(context.scene.worldpaint.village)[0]
+            if self.village_type not in types:
+                raise WorldPaintError(f"The encyclopedia has no village type '{self.village_type}' (it has "
+                                      f"{', '.join(types)})")
+            site.worldpaint_site.village_type = self.village_type
+            return {'FINISHED'}
+
+        return report_errors(self, run)
+
+
 def engine_message(stderr, site_names):
     """The world command line's one-line error as the panel says it: its village sites named by their empties."""
     lines = [line for line in stderr.strip().splitlines() if line.strip()]
@@ -300,4 +324,4 @@ class WORLDPAINT_OT_fill_world(bpy.types.Operator):
 
 
 classes = (WORLDPAINT_OT_paint_world_map, WORLDPAINT_OT_paint_map_in_curves, WORLDPAINT_OT_paint_map_from_image,
-           WORLDPAINT_OT_add_village_site, WORLDPAINT_OT_fill_world)
+           WORLDPAINT_OT_add_village_site, WORLDPAINT_OT_set_site_type, WORLDPAINT_OT_fill_world)

@@ -25,6 +25,7 @@ _classes = (
     WORLDPAINT_PT_learn_matrix,
     WORLDPAINT_PT_edit,
     WORLDPAINT_PT_display,
+    world.WORLDPAINT_MT_site_types,
     world.WORLDPAINT_PT_world,
     *village.classes,
     *place.classes,

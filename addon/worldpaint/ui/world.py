@@ -6,6 +6,16 @@ from ..bridge import village, world_map
 from .panel import MainSubpanel, enlarged
 
 
+class WORLDPAINT_MT_site_types(bpy.types.Menu):
+    """The encyclopedia's village types, for the active village site."""
+
+    bl_label = "Village Types"
+
+    def draw(self, context):
+        for name in village.known_types(context.scene.worldpaint.village)[0]:
+            self.layout.operator("worldpaint.set_site_type", text=name).village_type = name
+
+
 class WORLDPAINT_PT_world(MainSubpanel, bpy.types.Panel):
     bl_label = "World"
     bl_options = {'DEFAULT_CLOSED'}
@@ -41,7 +51,9 @@ class WORLDPAINT_PT_world(MainSubpanel, bpy.types.Panel):
         if site is not None and site.is_site:
             box = layout.box()
             box.label(text=context.object.name, icon='EMPTY_SINGLE_ARROW')
-            box.prop(site, "village_type")
+            row = box.row(align=True)
+            row.prop(site, "village_type")
+            row.menu("WORLDPAINT_MT_site_types", text="", icon='DOWNARROW_HLT')
             types = village.known_types(settings.village)[0]
             if site.village_type not in types:
                 box.label(text="Not a type of the encyclopedia: " + ", ".join(types), icon='ERROR')
