@@ -138,8 +138,15 @@ def vertex_colors(mesh, name):
 
 
 def nearest_swatch(rgb, swatches):
-    """Index of the swatch nearest each color of ``rgb`` (N, 3)."""
-    return np.argmin(((rgb[:, None, :] - swatches[None, :, :]) ** 2).sum(axis=-1), axis=1)
+    """Index of the swatch nearest each color of ``rgb`` (N, 3) (of two as near, the first), a swatch at a time: a
+    terrain of millions of vertices is not compared with every swatch at once."""
+    best = np.full(len(rgb), np.inf)
+    label = np.zeros(len(rgb), dtype=np.int64)
+    for k, swatch in enumerate(swatches):
+        d = ((rgb - swatch) ** 2).sum(axis=1)
+        closer = d < best
+        best[closer], label[closer] = d[closer], k
+    return label
 
 
 def label_grid(context, terrain_obj, settings):
