@@ -264,7 +264,7 @@ impl RoadNetwork {
         self.index.distance(p, f64::INFINITY)
     }
 
-    /// [`Network::distance`], looking no farther than `max` (`max` beyond it): a short search where only near
+    /// [`RoadNetwork::distance`], looking no farther than `max` (`max` beyond it): a short search where only near
     /// roads matter.
     pub fn distance_within(&self, p: DVec2, max: f64) -> f64 {
         self.index.distance(p, max)
