@@ -472,6 +472,10 @@ class VillageReportDict(TypedDict):
     seeded: int
     fallbacks: int
     unplaced: list[str]
+    # per building type left unplaced: of unplaced_candidates places, how many each criterion forbade, "land"
+    # (off the buildable land) and "no_interest"
+    unplaced_causes: dict[str, dict[str, int]]
+    unplaced_candidates: int
     unreachable: int
     without_access: int
     without_footprint: int
