@@ -270,6 +270,13 @@ def test_a_map_painted_from_a_land_use_image(scene, float_buffer):
         bpy.ops.worldpaint.paint_map_from_image(image="Land usage")
 
 
+def test_a_site_is_not_added_off_the_terrain(scene):
+    scene.cursor.location = (900.0, 200.0, 0.0)
+    with pytest.raises(RuntimeError, match=r"3D cursor \(900.0, 200.0\) is not over the terrain"):
+        bpy.ops.worldpaint.add_village_site()
+    assert not any(o.worldpaint_site.is_site for o in bpy.data.objects)
+
+
 def test_a_sites_type_is_picked_from_the_encyclopedia(scene):
     site = add_site(300.0, 200.0)
     assert bpy.ops.worldpaint.set_site_type(village_type="highland") == {'FINISHED'}

@@ -16,10 +16,10 @@ import os
 import bpy
 import numpy as np
 
-from . import WorldPaintError, engine, files, geometry, points, terrain
+from . import WorldPaintError, engine, files, geometry, terrain
 
 SWATCH_PALETTE = "WorldPaint World Map"
-SITES_COLLECTION = "WP Village Sites"
+SITES_COLLECTION = "WP Village Sites"  # under the WorldPaint collection
 
 
 def swatch(index):
@@ -149,10 +149,10 @@ def nearest_swatch(rgb, swatches):
     return label
 
 
-def label_grid(context, terrain_obj, settings):
-    """The map painted on the terrain as the engine's grid: (labels uint32 (ny, nx) rows along +Y, the grid's corner,
-    cell, {label: palette index}) with the terrain's own grid's cells; None when the terrain has no map attribute."""
-    depsgraph = context.evaluated_depsgraph_get()
+def label_grid(depsgraph, terrain_obj, settings, vertices, triangles, ground):
+    """The map painted on the terrain as the engine's grid: (labels uint32 (ny, nx) rows along +Y, each a palette
+    index, the grid's corner, cell, the labels used) with the cells of ``ground``, the engine's terrain of the mesh's
+    world ``vertices`` and ``triangles``; None when the terrain has no map attribute."""
     evaluated = terrain_obj.evaluated_get(depsgraph)
     mesh = evaluated.to_mesh()
     try:
@@ -161,13 +161,11 @@ def label_grid(context, terrain_obj, settings):
         evaluated.to_mesh_clear()
     if rgb is None:
         return None
-    vertices, triangles = terrain.mesh_arrays(terrain_obj, depsgraph)
     if len(rgb) != len(vertices):
         raise WorldPaintError(f"The map '{settings.world.map_attribute}' of the terrain '{terrain_obj.name}' does not "
                               "follow its modifiers' vertices: apply them, or paint the map after them")
     labels = nearest_swatch(rgb, swatch_colors(settings))
     used = np.unique(labels)
-    ground = engine.terrain(vertices, triangles)
     grid = ground.grid()
     nx, ny, cell = grid["nx"], grid["ny"], grid["cell"]
     ox, oy = grid["origin"]
@@ -182,22 +180,12 @@ def label_grid(context, terrain_obj, settings):
             shares[k] = np.nan_to_num(painted.map_at("label", centres), nan=-1.0)
         cells = used[np.argmax(shares, axis=0)]
     origin = (ox - 0.5 * cell, oy - 0.5 * cell)  # each sample the centre of its cell
-    return cells.reshape(ny, nx).astype(np.uint32), origin, cell, {int(k): int(k) for k in used}
+    return cells.reshape(ny, nx).astype(np.uint32), origin, cell, [int(k) for k in used]
 
 
 def village_sites(scene):
     """The scene's village sites (empties marked as sites), by name."""
     return sorted((obj for obj in scene.objects if obj.worldpaint_site.is_site), key=lambda o: o.name)
-
-
-def sites_collection(scene):
-    """The collection Add Village Site puts the sites in (inside the WorldPaint collection)."""
-    collection = bpy.data.collections.get(SITES_COLLECTION)
-    if collection is None:
-        collection = bpy.data.collections.new(SITES_COLLECTION)
-    if collection.name not in points.worldpaint_collection(scene).children:
-        points.worldpaint_collection(scene).children.link(collection)
-    return collection
 
 
 def write_ascii_labels(path, labels, origin, cell):
@@ -220,21 +208,23 @@ def write_inputs(context, folder):
     colors = [engine.color_renamed(entry.json, entry.name) for entry in settings.palette]
     with open(os.path.join(folder, "palette.json"), "w", encoding="utf-8") as f:
         f.write(engine.palette_to_json(colors))
-    vertices, triangles = terrain.mesh_arrays(terrain_obj, context.evaluated_depsgraph_get())
+    depsgraph = context.evaluated_depsgraph_get()
+    vertices, triangles = terrain.mesh_arrays(terrain_obj, depsgraph)
     if len(triangles) == 0:
         raise WorldPaintError(f"The terrain '{terrain_obj.name}' has no faces")
-    grid = engine.terrain(vertices, triangles).grid()
+    ground = engine.terrain(vertices, triangles)
+    grid = ground.grid()
     np.save(os.path.join(folder, "terrain.npy"), np.asarray(grid["heights"], dtype=np.float64))
     args = ["--palette", "palette.json", "--terrain", "terrain.npy", "--cell", repr(grid["cell"]),
             "--origin", repr(grid["origin"][0]), repr(grid["origin"][1])]
-    painted = label_grid(context, terrain_obj, settings)
+    painted = label_grid(depsgraph, terrain_obj, settings, vertices, triangles, ground)
     if painted is None:
         args += ["--color", settings.palette[active_index(settings)].name]
     else:
-        labels, origin, cell, legend = painted
+        labels, origin, cell, used = painted
         write_ascii_labels(os.path.join(folder, "map.asc"), labels, origin, cell)
         with open(os.path.join(folder, "legend.json"), "w", encoding="utf-8") as f:
-            json.dump({str(label): settings.palette[k].name for label, k in legend.items()}, f)
+            json.dump({str(k): settings.palette[k].name for k in used}, f)
         args += ["--map", "map.asc", "--legend", "legend.json"]
         if settings.world.band > 0.0:
             args += ["--band", repr(settings.world.band)]

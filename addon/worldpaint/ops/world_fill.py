@@ -17,9 +17,10 @@ import threading
 import time
 
 import bpy
+import numpy as np
 from bpy.props import IntProperty, StringProperty
 
-from ..bridge import WorldPaintError, engine, files, regions, terrain, village, world, world_map
+from ..bridge import WorldPaintError, engine, files, points, regions, snap, terrain, village, world, world_map
 from .common import report_errors
 
 ENGINE_COMMAND = "worldpaint_engine.world"
@@ -28,14 +29,13 @@ PROGRESS = re.compile(r"^tile (\d+) of (\d+)$")
 
 
 def map_to_paint(context):
-    """(the scene's settings, the terrain) for painting the map, with the swatches made; a clear error without a
+    """(the scene's settings, the terrain, the swatches' palette) for painting the map; a clear error without a
     terrain or a palette color."""
     settings = context.scene.worldpaint
     terrain_obj = terrain.terrain_object(context)
     if not len(settings.palette):
         raise WorldPaintError("The palette has no colors: learn or add the colors to paint the map with")
-    world_map.swatch_palette(settings)
-    return settings, terrain_obj
+    return settings, terrain_obj, world_map.swatch_palette(settings)
 
 
 class WORLDPAINT_OT_paint_world_map(bpy.types.Operator):
@@ -48,8 +48,7 @@ class WORLDPAINT_OT_paint_world_map(bpy.types.Operator):
 
     def execute(self, context):
         def run():
-            settings, terrain_obj = map_to_paint(context)
-            palette = world_map.swatch_palette(settings)
+            settings, terrain_obj, palette = map_to_paint(context)
             made = settings.world.map_attribute not in terrain_obj.data.color_attributes
             world_map.ensure_map(terrain_obj, settings, settings.world.map_attribute)
             if context.window is not None and context.mode == 'OBJECT':
@@ -79,7 +78,7 @@ class WORLDPAINT_OT_paint_map_in_curves(bpy.types.Operator):
 
     def execute(self, context):
         def run():
-            settings, terrain_obj = map_to_paint(context)
+            settings, terrain_obj, _ = map_to_paint(context)
             names = [entry.name for entry in settings.palette]
             name = self.color or names[world_map.active_index(settings)]
             if name not in names:
@@ -107,7 +106,7 @@ class WORLDPAINT_OT_paint_map_from_image(bpy.types.Operator):
 
     def execute(self, context):
         def run():
-            settings, terrain_obj = map_to_paint(context)
+            settings, terrain_obj, _ = map_to_paint(context)
             image = bpy.data.images.get(self.image)
             if image is None:
                 raise WorldPaintError(f"No image '{self.image}' in the file: open the map's image first")
@@ -142,7 +141,7 @@ class WORLDPAINT_OT_add_village_site(bpy.types.Operator):
         def run():
             terrain_obj = terrain.terrain_object(context)
             x, y, z = context.scene.cursor.location
-            height = terrain.engine_terrain(context, terrain_obj).heights_at([[x, y]])[0]
+            height = snap.surface(terrain_obj).heights(np.array([[x, y]]))[0]
             if height != height:  # NaN: off the terrain
                 raise WorldPaintError(f"The 3D cursor ({x:.1f}, {y:.1f}) is not over the terrain '{terrain_obj.name}'"
                                       ": put it where the village should grow")
@@ -151,7 +150,7 @@ class WORLDPAINT_OT_add_village_site(bpy.types.Operator):
             site.empty_display_size = 15.0
             site.rotation_euler = (3.14159265, 0.0, 0.0)  # the cone points down at the ground
             site.location = (x, y, float(height) + 15.0)
-            world_map.sites_collection(context.scene).objects.link(site)
+            points.worldpaint_child(context.scene, world_map.SITES_COLLECTION).objects.link(site)
             props = site.worldpaint_site
             props.is_site, props.village_type, props.buildings = True, self.village_type, self.buildings
             props.seed = len(world_map.village_sites(context.scene)) - 1
