@@ -104,6 +104,77 @@ impl SpatialGrid {
     }
 }
 
+/// A uniform grid of points that only grows: each cell's points in a list threaded through two arrays, so an
+/// insertion allocates nothing per cell (a million darts otherwise allocate a vector per cell they land in, and
+/// every query chases its heap block).
+#[derive(Clone, Debug)]
+pub(crate) struct GrowingPoints {
+    grid: Grid,
+    head: Vec<u32>,
+    next: Vec<u32>,
+    points: Vec<DVec2>,
+}
+
+impl GrowingPoints {
+    const NONE: u32 = u32::MAX;
+
+    /// Grid over the box `min..max` with cells of side `cell`, room for `capacity` points.
+    pub(crate) fn new(min: DVec2, max: DVec2, cell: f64, capacity: usize) -> Self {
+        let grid = Grid::buckets_covering(min, max, cell);
+        GrowingPoints {
+            grid,
+            head: vec![Self::NONE; grid.nx * grid.ny],
+            next: Vec::with_capacity(capacity),
+            points: Vec::with_capacity(capacity),
+        }
+    }
+
+    /// Adds a point (its id is the count before it).
+    pub(crate) fn push(&mut self, p: DVec2) {
+        let (cx, cy) = self.grid.bucket_of(p);
+        let cell = &mut self.head[cy * self.grid.nx + cx];
+        self.next.push(*cell);
+        *cell = self.points.len() as u32;
+        self.points.push(p);
+    }
+
+    /// The points in the order they were pushed.
+    pub(crate) fn points(&self) -> &[DVec2] {
+        &self.points
+    }
+
+    pub(crate) fn into_points(self) -> Vec<DVec2> {
+        self.points
+    }
+
+    /// Whether `found(offset, distance²)` holds for a point within `radius` of `p` (inclusive), its offset being
+    /// the point less `p`.
+    #[inline]
+    pub(crate) fn any_within(
+        &self,
+        p: DVec2,
+        radius: f64,
+        mut found: impl FnMut(DVec2, f64) -> bool,
+    ) -> bool {
+        let r2 = radius * radius;
+        let ((x0, y0), (x1, y1)) = self.grid.buckets_within(p, radius);
+        for cy in y0..=y1 {
+            for &first in &self.head[cy * self.grid.nx + x0..=cy * self.grid.nx + x1] {
+                let mut j = first;
+                while j != Self::NONE {
+                    let v = self.points[j as usize] - p;
+                    let d2 = v.length_squared();
+                    if d2 <= r2 && found(v, d2) {
+                        return true;
+                    }
+                    j = self.next[j as usize];
+                }
+            }
+        }
+        false
+    }
+}
+
 /// A static uniform grid stored flat: entries sorted by cell (struct of arrays), one offset per cell, so that
 /// consecutive cells of a row are one contiguous slice. Built once by a counting sort; read-only.
 #[derive(Clone, Debug, Default)]

@@ -7,7 +7,7 @@ use super::target::{PairTable, Target, CONTEXT_TAG};
 use super::{annealed, mix_seed};
 use crate::error::{Error, Result};
 use crate::geom::{DVec2, PreparedRegion, RegionQueries};
-use crate::spatial::{FlatGrid, GridEntry, SpatialGrid};
+use crate::spatial::{FlatGrid, GridEntry, GrowingPoints};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use tile::{run_tile, Tile};
@@ -23,7 +23,7 @@ const TAU_START: f64 = 1.0;
 const TAU_END: f64 = 0.02;
 /// Fraction of the sweeps over which the temperature decreases (it is then held at `TAU_END`).
 const ANNEALING_FRACTION: f64 = 0.75;
-/// The chain stops before a sweep once its histograms' χ² per bin is at most this (see [`converged`]).
+/// The chain stops before a phase of a sweep once its histograms' χ² per bin is at most this (see [`converged`]).
 const CONVERGED_CHI2_PER_BIN: f64 = 0.25;
 /// Tiles hold at least this many expected instances (and are at least twice the interaction radius wide).
 const MIN_TILE_INSTANCES: f64 = 256.0;
@@ -166,8 +166,15 @@ fn pair_histograms(sh: &Shared) -> Vec<f64> {
 }
 
 /// Whether a point at `p` is allowed at all (map preference non-zero, no hard core violated with the fixed
-/// content or with `own_grid`'s points).
-fn allowed(target: &Target, own_grid: &SpatialGrid, self_tag: u32, p: DVec2) -> bool {
+/// content or with the points of `own`); `reach` holds how far a pair may be forbidden, with the fixed content and
+/// with the own points ([`PairTable::forbidden_reach`]), so that a dart looks no farther.
+fn allowed(
+    target: &Target,
+    own: &GrowingPoints,
+    self_tag: u32,
+    reach: (f64, f64),
+    p: DVec2,
+) -> bool {
     if target.map_log(p) == f64::NEG_INFINITY {
         return false;
     }
@@ -180,14 +187,12 @@ fn allowed(target: &Target, own_grid: &SpatialGrid, self_tag: u32, p: DVec2) -> 
             ok = false;
         }
     };
-    target.grid.for_each_within(p, target.radius, &mut check);
+    target.grid.for_each_within(p, reach.0, &mut check);
+    if !ok {
+        return false;
+    }
     let t = &target.tables[self_tag as usize];
-    own_grid.for_each_within(p, target.radius, |e, d2| {
-        if ok && t.log_factor(e.position - p, d2) == f64::NEG_INFINITY {
-            ok = false;
-        }
-    });
-    ok
+    !own.any_within(p, reach.1, |v, d2| t.log_factor(v, d2) == f64::NEG_INFINITY)
 }
 
 /// The rdf-matching chain of one category (see "Larger regions: matching the rdf" in the module documentation).
@@ -288,11 +293,12 @@ impl<'a> RdfChain<'_, 'a> {
                     *x -= y;
                 }
             }
-            if converged(&dev, &sweeps.matched, noise_scale) {
-                break;
-            }
             let phases = tiling.phases();
             for phase in 0..phases {
+                // before each phase: a sweep's last phases are not run once the first have matched the targets
+                if converged(&dev, &sweeps.matched, noise_scale) {
+                    return Ok(own);
+                }
                 let tiles =
                     tiling.phase_tiles(&own, phase, sweep_seed, self.iterations_per_instance);
                 if tiles.is_empty() {
@@ -341,21 +347,29 @@ impl<'a> RdfChain<'_, 'a> {
                 darts / 2,
             )
         });
-        let mut own: Vec<DVec2> = Vec::with_capacity(want);
+        let reach = (
+            target
+                .tables
+                .iter()
+                .map(PairTable::forbidden_reach)
+                .fold(0.0, f64::max)
+                .min(target.radius),
+            table.forbidden_reach().min(target.radius),
+        );
         let (lo, hi) = self.grid_bounds();
-        let mut own_grid = SpatialGrid::new(lo, hi, target.cell);
+        let mut own = GrowingPoints::new(lo, hi, target.cell, want);
         let (rlo, rhi) = self.region.bbox();
         let births = self.births.map(|b| b.over(rlo, rhi));
         for dart in 0..darts {
-            if own.len() >= want {
+            if own.points().len() >= want {
                 break;
             }
             if dart % DARTS_PER_PROGRESS == DARTS_PER_PROGRESS - 1 && !progress(0.0) {
                 return Err(Error::Cancelled);
             }
             let dart = match grown {
-                Some((c, seeds, until)) if own.len() >= seeds && dart < until => {
-                    Some(own[rng.random_range(0..seeds)] + c.offset_from_seed(rng))
+                Some((c, seeds, until)) if own.points().len() >= seeds && dart < until => {
+                    Some(own.points()[rng.random_range(0..seeds)] + c.offset_from_seed(rng))
                         .filter(|p| self.region.contains(*p))
                 }
                 _ => match birth_in(self.region, births.as_ref(), rng) {
@@ -366,16 +380,11 @@ impl<'a> RdfChain<'_, 'a> {
             let Some(p) = dart else {
                 continue;
             };
-            if allowed(target, &own_grid, self_tag, p) {
-                own_grid.insert(GridEntry {
-                    position: p,
-                    tag: self_tag,
-                    id: own.len() as u32,
-                });
+            if allowed(target, &own, self_tag, reach, p) {
                 own.push(p);
             }
         }
-        Ok(own)
+        Ok(own.into_points())
     }
 
     /// The targets and weights of the matched histograms at `n` own points (see [`Matched`]).

@@ -175,6 +175,18 @@ impl PairTable {
     }
 
     #[inline]
+    /// The distance within which [`Self::log_factor`] may forbid a pair (the hard core, or the bins below the
+    /// first the example showed), a hair beyond it: no pair farther apart is forbidden.
+    pub(super) fn forbidden_reach(&self) -> f64 {
+        let a = self.angle_bins.max(1);
+        let unseen = self
+            .log_factor
+            .iter()
+            .rposition(|v| *v == f64::NEG_INFINITY)
+            .map_or(0, |idx| idx / a + 1);
+        (unseen as f64 * self.bin_width).max(self.hard_core2.sqrt()) * (1.0 + 1e-9)
+    }
+
     pub(super) fn log_factor(&self, v: DVec2, d2: f64) -> f64 {
         if d2 < self.hard_core2 {
             return f64::NEG_INFINITY;

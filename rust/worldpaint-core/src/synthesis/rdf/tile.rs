@@ -139,6 +139,9 @@ struct TileChain<'s, 'a, 'b> {
     shi: DVec2,
     /// Relocations drawn from the map-weighted intensity over `slo..shi` (uniformly without it).
     births: Option<RectProposal<'a>>,
+    /// Whether the region covers the tile with a margin of the interaction radius: then every proposal in the
+    /// tile lies inside it with its whole disc (α = 1), which need not be asked of the region proposal by proposal.
+    interior: bool,
     m: usize,
     pos: Vec<DVec2>,
     /// `1/α` per local own point: a row of `pool` (row 0: zeros, for the fixed content; row 1: ones, interior).
@@ -183,12 +186,16 @@ impl<'s, 'a, 'b> TileChain<'s, 'a, 'b> {
         }
         let (rlo, rhi) = sh.region.bbox();
         let (slo, shi) = (tile.lo.max(rlo), tile.hi.min(rhi));
+        let half = (tile.hi - tile.lo) * 0.5;
+        let reach = half.length() + sh.target.bin_width * sh.n_alpha as f64;
+        let interior = sh.region.covers_disc(tile.lo + half, reach * (1.0 + 1e-6));
         TileChain {
             sh,
             bounds,
             slo,
             shi,
             births: sh.births.map(|b| b.over(slo, shi)),
+            interior,
             m,
             pos,
             pool,
@@ -219,7 +226,7 @@ impl<'s, 'a, 'b> TileChain<'s, 'a, 'b> {
         let k = rng.random_range(0..self.m);
         let p = self.pos[k];
         let (q, hastings) = self.propose(p, rng);
-        if !self.bounds.in_tile(q) || !sh.region.contains(q) {
+        if !self.bounds.in_tile(q) || !(self.interior || sh.region.contains(q)) {
             return;
         }
         read_bins(target, q, &mut self.q_bins);
@@ -227,7 +234,8 @@ impl<'s, 'a, 'b> TileChain<'s, 'a, 'b> {
         if map_new == f64::NEG_INFINITY {
             return;
         }
-        let q_border = inverse_alphas(sh.region, q, target.bin_width, sh.n_alpha, &mut self.ia_new);
+        let q_border = !self.interior
+            && inverse_alphas(sh.region, q, target.bin_width, sh.n_alpha, &mut self.ia_new);
         self.nt = 0;
         // pairs at q (added) and at p (removed)
         let Some(ctx_new) = self.pair_changes(1.0, q, k, q_border) else {
