@@ -84,6 +84,30 @@ def test_an_instance_keeps_its_height_until_the_terrain_changes_then_stands_on_t
     assert abs(shown[k, 2] - lifted[2]) < 3.01 and shown[k, 2] < lifted[2] + 4.0, "the lifted one came down"
 
 
+def test_a_new_terrain_is_binned_once_for_the_clouds_put_on_it(monkeypatch):
+    built = []
+    make = snap.Surface.__init__
+
+    def counted(surface, *args):
+        built.append(surface)
+        make(surface, *args)
+
+    monkeypatch.setattr(snap.Surface, "__init__", counted)
+    terrain = irregular_terrain()
+    # the first evaluation of the new terrain reports its geometry as changed: its mesh is the one just binned
+    obj = painted_cloud(terrain)
+    bpy.context.view_layer.update()
+    assert len(built) == 1, "the terrain was binned, and its clouds snapped, a second time"
+    shown = instance_positions(obj)
+    assert np.abs(shown[:, 2] - surface_heights(terrain, shown[:, :2])).max() < 0.01
+    # a vertex moved by hand (the vertex count and the object's place unchanged) is a new surface
+    mesh = terrain.data
+    mesh.vertices[len(mesh.vertices) // 2].co.z += 2.0
+    mesh.update()
+    bpy.context.view_layer.update()
+    assert len(built) == 2
+
+
 def test_embed_roads_puts_the_instances_on_the_cut_and_filled_ground():
     size, cell = 120.0, 2.0
     n = int(size / cell) + 1

@@ -9,7 +9,11 @@ it is loaded.
 The snap is a vertical look-up in the evaluated terrain's triangles, exact on any mesh: the triangles are binned
 by a uniform XY grid, and each point takes the highest triangle of its cell that holds it (what a ray from above
 meets first); points over no triangle keep their height. The binned triangles are kept per terrain until it changes.
+An update that reports the terrain changed while its vertices and triangles are those of the kept surface (the first
+evaluation of a new terrain, which the first paste on it has already read) snaps nothing: its clouds stand on it.
 """
+
+import hashlib
 
 import bpy
 import numpy as np
@@ -27,6 +31,7 @@ class Surface:
     def __init__(self, vertices, triangles):
         v = np.asarray(vertices, dtype=np.float64)
         t = np.asarray(triangles, dtype=np.int64).reshape(-1, 3)
+        self.fingerprint = fingerprint(v, t)
         self.origin = v[:, :2].min(axis=0) if len(v) else np.zeros(2)
         v = v - [self.origin[0], self.origin[1], 0.0]  # float32 about the terrain's corner keeps sub-millimetre
         a, b, c = v[t[:, 0]], v[t[:, 1]], v[t[:, 2]]
@@ -40,14 +45,15 @@ class Surface:
         self.cell = max(float(np.sqrt(span[0] * span[1] * TRIANGLES_PER_CELL / max(len(a), 1))),
                         float(span.max()) / 4096)
         self.shape = tuple(int(n) for n in np.floor(span / self.cell).astype(np.int64) + 1)
-        i0, j0 = self._cells(lo, local=True)
-        i1, j1 = self._cells(hi, local=True)
+        # 32-bit indices (at most 4096² cells): a million triangles' slots are tens of megabytes fewer to allocate
+        i0, j0 = (c.astype(np.int32) for c in self._cells(lo, local=True))
+        i1, j1 = (c.astype(np.int32) for c in self._cells(hi, local=True))
         wide, tall = i1 - i0 + 1, j1 - j0 + 1
         count = wide * tall
-        tri = np.repeat(np.arange(len(a)), count)
-        k = np.arange(len(tri)) - np.repeat(np.cumsum(count) - count, count)  # rank within its triangle's cells
-        cells = (np.repeat(j0, count) + k // np.repeat(wide, count)) * self.shape[0] + np.repeat(i0, count) \
-            + k % np.repeat(wide, count)
+        tri = np.repeat(np.arange(len(a), dtype=np.int32), count)
+        k = np.arange(len(tri), dtype=np.int32) - (np.cumsum(count, dtype=np.int32) - count)[tri]  # rank in its cells
+        w = wide[tri]
+        cells = (j0[tri] + k // w) * np.int32(self.shape[0]) + i0[tri] + k % w
         by_cell = tri[np.argsort(cells, kind='stable')]
         self.start = np.concatenate([[0], np.cumsum(np.bincount(cells, minlength=self.shape[0] * self.shape[1]))])
         # per candidate slot, in cell order, the columns its test reads: corner a, both edges, 1 / det of the XY
@@ -91,18 +97,36 @@ class Surface:
         return out
 
 
+def fingerprint(vertices, triangles):
+    """A digest of a mesh's world vertices (float64) and triangles (int64)."""
+    digest = hashlib.blake2b(digest_size=16)
+    digest.update(np.ascontiguousarray(vertices, dtype=np.float64).tobytes())
+    digest.update(np.ascontiguousarray(triangles, dtype=np.int64).tobytes())
+    return digest.digest()
+
+
 # terrain object name -> (its world matrix and vertex count, Surface)
 _surfaces: dict[str, tuple[tuple[tuple[float, ...], int], Surface]] = {}
 
 
-def surface(obj, depsgraph=None):
+def surface(obj, depsgraph=None, check=False):
     """The Surface of the evaluated terrain object, kept until the terrain changes (see ``forget``); ``depsgraph``
-    (default: the context's, evaluated) is only read when the Surface is made."""
+    (default: the context's, evaluated) is only read when the Surface is made, or with ``check``: then the kept
+    Surface is returned only when it was made from the mesh's present vertices and triangles."""
     key = (tuple(v for row in obj.matrix_world for v in row), len(obj.data.vertices))
     kept = _surfaces.get(obj.name_full)
-    if kept is not None and kept[0] == key:
+    if kept is not None and kept[0] == key and not check:
         return kept[1]
-    found = Surface(*terrain.mesh_arrays(obj, depsgraph or bpy.context.evaluated_depsgraph_get()))
+    if depsgraph is None:
+        depsgraph = bpy.context.evaluated_depsgraph_get()
+        # evaluating a new terrain runs the update handler, which may have just made its Surface
+        kept = _surfaces.get(obj.name_full)
+        if kept is not None and kept[0] == key and not check:
+            return kept[1]
+    vertices, triangles = terrain.mesh_arrays(obj, depsgraph)
+    if kept is not None and kept[0] == key and kept[1].fingerprint == fingerprint(vertices, triangles):
+        return kept[1]
+    found = Surface(vertices, triangles)
     _surfaces[obj.name_full] = (key, found)
     return found
 
@@ -168,12 +192,15 @@ def snap_clouds(scene, clouds, terrain_obj, depsgraph=None):
 
 
 def snap_scene(scene, depsgraph=None, terrains=None):
-    """Snaps every cloud of the scene onto its terrain (only the clouds on ``terrains``, when given)."""
+    """Snaps every cloud of the scene onto its terrain (only the clouds on ``terrains``, when given), unless the
+    terrain's mesh is the one its clouds were last put on."""
     moved = 0
     for ground, clouds in clouds_on(scene).items():
         if terrains is None or ground.name_full in terrains:
-            forget(ground)
-            moved += snap_clouds(scene, clouds, ground, depsgraph)
+            kept = _surfaces.get(ground.name_full)
+            found = surface(ground, depsgraph, check=True)
+            if kept is None or found is not kept[1]:
+                moved += sum(snap_cloud(cloud, found) for cloud in clouds)
     return moved
 
 
