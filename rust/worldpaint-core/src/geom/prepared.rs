@@ -126,6 +126,13 @@ impl RegionQueries for PreparedRegion<'_> {
         }
     }
 
+    fn rectangle(&self) -> Option<(DVec2, DVec2)> {
+        match self.shape {
+            Prepared::Direct => self.region.rectangle(),
+            _ => None,
+        }
+    }
+
     fn bbox(&self) -> (DVec2, DVec2) {
         self.bbox
     }

@@ -39,6 +39,11 @@ pub trait RegionQueries {
     /// The axis-aligned bounding box (min, max), as [`Region::bbox`] gives it.
     fn bbox(&self) -> (DVec2, DVec2);
 
+    /// The corners (min, max) when the region is an axis-aligned rectangle, whose `α` has a closed form.
+    fn rectangle(&self) -> Option<(DVec2, DVec2)> {
+        None
+    }
+
     /// Whether `p` lies in the region at least `r` from its boundary: the whole disc `D(p, r)` is inside and the
     /// window-edge correction has nothing to correct there.
     fn covers_disc(&self, p: DVec2, r: f64) -> bool {
@@ -144,6 +149,9 @@ pub(crate) fn circle_fraction<S: RegionQueries + ?Sized>(
     if !(r > 0.0) || !r.is_finite() || near.min(r) >= r {
         return all_or_nothing;
     }
+    if let Some((lo, hi)) = region.rectangle() {
+        return rectangle_circle_fraction(lo, hi, p, r);
+    }
     let mut angles: Vec<f64> = Vec::with_capacity(8);
     region.push_circle_crossings(p, r, &mut angles);
     if angles.is_empty() {
@@ -169,6 +177,53 @@ pub(crate) fn circle_fraction<S: RegionQueries + ?Sized>(
         }
     }
     (covered / TAU).clamp(0.0, 1.0)
+}
+
+/// The fraction of the circle `C(p, r)` inside the rectangle `lo..hi`: one less the union of the arcs beyond its
+/// sides, the arc beyond a side at signed distance `d` from `p` being `2 acos(d / r)` wide about the side's normal
+/// (the crossings and midpoints of [`circle_fraction`] without their arctangents, sines and allocation).
+fn rectangle_circle_fraction(lo: DVec2, hi: DVec2, p: DVec2, r: f64) -> f64 {
+    use std::f64::consts::{FRAC_PI_2, PI};
+    let sides = [
+        (hi.x - p.x, 0.0),
+        (hi.y - p.y, FRAC_PI_2),
+        (p.x - lo.x, PI),
+        (p.y - lo.y, 3.0 * FRAC_PI_2),
+    ];
+    // the arcs beyond, in [0, 2π) (one crossing 0 split in two)
+    let mut arcs = [(0.0, 0.0); 8];
+    let mut n = 0;
+    for (d, normal) in sides {
+        if d >= r {
+            continue;
+        }
+        if d <= -r {
+            return 0.0;
+        }
+        let half = (d / r).acos();
+        let (a, b) = (normal - half, normal + half);
+        let pieces = if a < 0.0 {
+            [(a + TAU, TAU), (0.0, b)]
+        } else if b > TAU {
+            [(a, TAU), (0.0, b - TAU)]
+        } else {
+            [(a, b), (0.0, 0.0)]
+        };
+        for piece in pieces.into_iter().filter(|(a, b)| b > a) {
+            arcs[n] = piece;
+            n += 1;
+        }
+    }
+    let arcs = &mut arcs[..n];
+    arcs.sort_by(|x, y| x.0.total_cmp(&y.0));
+    let (mut beyond, mut end) = (0.0, 0.0f64);
+    for &(a, b) in arcs.iter() {
+        if b > end {
+            beyond += b - a.max(end);
+            end = b;
+        }
+    }
+    (1.0 - beyond / TAU).clamp(0.0, 1.0)
 }
 
 /// Pushes the angles at which the circle `C(p, r)` crosses the segment `a`–`b`.
@@ -303,6 +358,13 @@ pub(super) fn clipped_circle_crossings<S: RegionQueries>(
 impl RegionQueries for Region {
     fn contains(&self, p: DVec2) -> bool {
         Region::contains(self, p)
+    }
+
+    fn rectangle(&self) -> Option<(DVec2, DVec2)> {
+        match self {
+            Region::Rect { min, max } => Some((*min, *max)),
+            _ => None,
+        }
     }
 
     fn distance_to_boundary(&self, p: DVec2) -> f64 {
