@@ -31,7 +31,6 @@ class Surface:
     def __init__(self, vertices, triangles):
         v = np.asarray(vertices, dtype=np.float64)
         t = np.asarray(triangles, dtype=np.int64).reshape(-1, 3)
-        self.fingerprint = fingerprint(v, t)
         self.origin = v[:, :2].min(axis=0) if len(v) else np.zeros(2)
         v = v - [self.origin[0], self.origin[1], 0.0]  # float32 about the terrain's corner keeps sub-millimetre
         a, b, c = v[t[:, 0]], v[t[:, 1]], v[t[:, 2]]
@@ -98,15 +97,15 @@ class Surface:
 
 
 def fingerprint(vertices, triangles):
-    """A digest of a mesh's world vertices (float64) and triangles (int64)."""
+    """A digest of a mesh's world vertices and triangles."""
     digest = hashlib.blake2b(digest_size=16)
     digest.update(np.ascontiguousarray(vertices, dtype=np.float64).tobytes())
     digest.update(np.ascontiguousarray(triangles, dtype=np.int64).tobytes())
     return digest.digest()
 
 
-# terrain object name -> (its world matrix and vertex count, Surface)
-_surfaces: dict[str, tuple[tuple[tuple[float, ...], int], Surface]] = {}
+# terrain object name -> (its world matrix and vertex count, the fingerprint of its mesh, Surface)
+_surfaces: dict[str, tuple[tuple[tuple[float, ...], int], bytes, Surface]] = {}
 
 
 def surface(obj, depsgraph=None, check=False):
@@ -114,21 +113,24 @@ def surface(obj, depsgraph=None, check=False):
     (default: the context's, evaluated) is only read when the Surface is made, or with ``check``: then the kept
     Surface is returned only when it was made from the mesh's present vertices and triangles."""
     key = (tuple(v for row in obj.matrix_world for v in row), len(obj.data.vertices))
-    kept = _surfaces.get(obj.name_full)
-    if kept is not None and kept[0] == key and not check:
-        return kept[1]
-    if depsgraph is None:
+
+    def kept():
+        found = _surfaces.get(obj.name_full)
+        return found if found is not None and found[0] == key else None
+
+    if depsgraph is None and (check or kept() is None):
+        # evaluating a new terrain runs the update handler, which may make its Surface before this goes on
         depsgraph = bpy.context.evaluated_depsgraph_get()
-        # evaluating a new terrain runs the update handler, which may have just made its Surface
-        kept = _surfaces.get(obj.name_full)
-        if kept is not None and kept[0] == key and not check:
-            return kept[1]
+    found = kept()
+    if found is not None and not check:
+        return found[2]
     vertices, triangles = terrain.mesh_arrays(obj, depsgraph)
-    if kept is not None and kept[0] == key and kept[1].fingerprint == fingerprint(vertices, triangles):
-        return kept[1]
-    found = Surface(vertices, triangles)
-    _surfaces[obj.name_full] = (key, found)
-    return found
+    digest = fingerprint(vertices, triangles)
+    if found is not None and found[1] == digest:
+        return found[2]
+    made = Surface(vertices, triangles)
+    _surfaces[obj.name_full] = (key, digest, made)
+    return made
 
 
 def forget(obj=None):
@@ -199,7 +201,7 @@ def snap_scene(scene, depsgraph=None, terrains=None):
         if terrains is None or ground.name_full in terrains:
             kept = _surfaces.get(ground.name_full)
             found = surface(ground, depsgraph, check=True)
-            if kept is None or found is not kept[1]:
+            if kept is None or found is not kept[2]:
                 moved += sum(snap_cloud(cloud, found) for cloud in clouds)
     return moved
 

@@ -81,17 +81,17 @@
 //!
 //! **When to stop.** The seed sets the number of iterations by the category's density and notes that sparse
 //! categories with many interactions need more; `iterations_per_instance` is therefore a budget, and the chain
-//! stops before a sweep, or before one of a sweep's four phases, once `E` (Pearson's χ²) is at most `CONVERGED_CHI2_PER_BIN` per bin that has a target,
-//! times the paste's size in examples `k = n / n_example` (at least 1). Why `k`: the targets are the example's
-//! counts scaled up by about `k`, so each carries the example's counting noise scaled up too, a variance of about
-//! `k T` against the `T` of the paste's own counts. Matching them more closely than that copies the example's
-//! noise, not its process; the bound lets the chain leave a quarter of the variance the target already carries.
-//! On the bench color (trees, rocks and clumped grass) the grass stops one phase into its third sweep of 12 at
-//! 100k instances and at 1M (checked only before whole sweeps, it ran 3 at both), where a bound of a quarter alone
-//! ran 7 and all 12. The slope forest's
-//! rock–grass pair, which converges slowly, is left at the level of a second draw of the example (rdf L2 7.2
-//! against 7.8) rather than well below it. The bound is a quarter rather than one because at one the chain
-//! stopped while the borders of small patches were still 14 % denser than their insides.
+//! stops before any of a sweep's phases once `E` (Pearson's χ²) is at most `CONVERGED_CHI2_PER_BIN` per bin that
+//! has a target, times the paste's size in examples `k = n / n_example` (at least 1). Why `k`: the targets are the
+//! example's counts scaled up by about `k`, so each carries the example's counting noise scaled up too, a variance
+//! of about `k T` against the `T` of the paste's own counts. Matching them more closely than that copies the
+//! example's noise, not its process; the bound lets the chain leave a quarter of the variance the target already
+//! carries. On the bench color (trees, rocks and clumped grass) the grass stops one phase into its third sweep of
+//! 12 at 100k instances and at 1M (checked only before whole sweeps, it ran 3 at both), where a bound of a quarter
+//! alone ran 7 and all 12. The slope forest's rock–grass pair, which converges slowly, is left at the level of a
+//! second draw of the example (rdf L2 7.2 against 7.8) rather than well below it. The bound is a quarter rather
+//! than one because at one the chain stopped while the borders of small patches were still 14 % denser than their
+//! insides.
 //!
 //! **Interaction radius.** Each pair's rdf is cut after its last bin that differs from 1 by more than
 //! `SIGNIFICANCE` standard deviations of the exemplar's counting noise (the larger of the Poisson noise of

@@ -174,7 +174,6 @@ impl PairTable {
             / self.angle_bins.max(1) as f64
     }
 
-    #[inline]
     /// The distance within which [`Self::log_factor`] may forbid a pair (the hard core, or the bins below the
     /// first the example showed), a hair beyond it: no pair farther apart is forbidden.
     pub(super) fn forbidden_reach(&self) -> f64 {
@@ -187,6 +186,7 @@ impl PairTable {
         (unseen as f64 * self.bin_width).max(self.hard_core2.sqrt()) * (1.0 + 1e-9)
     }
 
+    #[inline]
     pub(super) fn log_factor(&self, v: DVec2, d2: f64) -> f64 {
         if d2 < self.hard_core2 {
             return f64::NEG_INFINITY;
