@@ -117,6 +117,8 @@
 //! correction). A tile's changes of `H` are exact (tiles of a phase are at least twice the radius apart, so no
 //! pair joins two moving tiles): `H` is computed in full once, then carried by the tiles' changes. Results are
 //! merged in tile order: the same seed gives the same result whatever the thread count. Small regions are one tile.
+//! An instance never leaves its tile, so a sweep sorts the instances into its tiles once, and a tile finds the
+//! instances around it among its eight neighbours' (no index of all instances is rebuilt between phases).
 //!
 //! ## Zeros of the histograms
 //! * Distances below the first non-empty bin of a pair (and below the exemplar's smallest same-category

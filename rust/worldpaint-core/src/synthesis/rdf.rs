@@ -92,8 +92,8 @@ struct Shared<'a, 'b> {
     self_tag: u32,
     n_alpha: usize,
     own: &'a [DVec2],
-    /// The own points (ids: indices into `own`).
-    own_grid: &'a FlatGrid,
+    /// The sweep's tiles and their members: a tile's halo holds own points of its eight neighbours only.
+    tiles: &'a SweepTiles,
     /// The fixed content (other categories inside the region, context outside it).
     fixed: &'a FlatGrid,
     /// Offsets of the histograms in the flat arrays (see `histogram_offsets`).
@@ -114,8 +114,8 @@ struct Shared<'a, 'b> {
 
 /// Pair histograms `H` (flat, see `histogram_offsets`) of the own points with the own points and with the fixed
 /// content inside the region: `H(k) = Σ_i Σ_j [d(x_i, y_j) in cell k] / α_{x_i}(k)` — eq. (2) before
-/// normalization.
-fn pair_histograms(sh: &Shared) -> Vec<f64> {
+/// normalization. `own_grid` holds the own points (ids: indices into `own`).
+fn pair_histograms(sh: &Shared, own_grid: &FlatGrid) -> Vec<f64> {
     use rayon::prelude::*;
     let tables = &sh.target.tables;
     let offs = sh.offs;
@@ -133,7 +133,7 @@ fn pair_histograms(sh: &Shared) -> Vec<f64> {
                 if !inverse_alphas(sh.region, p, sh.target.bin_width, sh.n_alpha, &mut ia) {
                     ia.fill(1.0);
                 }
-                for g in [sh.own_grid, sh.fixed] {
+                for g in [own_grid, sh.fixed] {
                     g.for_each_within(p, r, |i, d2| {
                         let tag = g.tags[i];
                         if tag & CONTEXT_TAG != 0 || (tag == sh.self_tag && g.ids[i] == id) {
@@ -267,7 +267,6 @@ impl<'a> RdfChain<'_, 'a> {
             n_alpha: ((r / target.bin_width).ceil() as usize).max(1),
             shift_sigma: 3.0 * target.bin_width,
         };
-        let mut own_flat = self.own_flat(&own);
         let (rlo, rhi) = self.region.bbox();
         let tile_size = (2.0 * r)
             .max((MIN_TILE_INSTANCES / (n / self.area)).sqrt())
@@ -286,9 +285,12 @@ impl<'a> RdfChain<'_, 'a> {
             let sweep_seed = mix_seed(base_seed, sweep as u64);
             let mut sweep_rng = ChaCha8Rng::seed_from_u64(sweep_seed);
             let tiling = Tiling::draw(tiled, tile_size, (rlo, rhi), &mut sweep_rng);
+            // an instance stays in its tile over the sweep: the instances are sorted into tiles once for its phases
+            let tiles = tiling.tiles(&own, sweep_seed, self.iterations_per_instance);
             // H − T: computed in full once, then carried over by the tiles' changes (see "Tiles and determinism")
             if sweep == 0 {
-                dev = pair_histograms(&sweeps.shared(&own, &own_flat, &[], tau));
+                let own_flat = self.own_flat(&own);
+                dev = pair_histograms(&sweeps.shared(&own, &tiles, &[], tau), &own_flat);
                 for (x, y) in dev.iter_mut().zip(&sweeps.matched.targets) {
                     *x -= y;
                 }
@@ -299,13 +301,10 @@ impl<'a> RdfChain<'_, 'a> {
                 if converged(&dev, &sweeps.matched, noise_scale) {
                     return Ok(own);
                 }
-                let tiles =
-                    tiling.phase_tiles(&own, phase, sweep_seed, self.iterations_per_instance);
-                if tiles.is_empty() {
+                if tiles.phase_total[phase] == 0 {
                     continue;
                 }
-                sweeps.run_phase(&tiles, &mut own, &own_flat, &mut dev, tau);
-                own_flat = self.own_flat(&own);
+                sweeps.run_phase(&tiles, phase, &mut own, &mut dev, tau);
                 // each phase, so that a cancel is heard within a phase's time, not a sweep's
                 if !progress(
                     (sweep as f64 + (phase + 1) as f64 / phases as f64) / RDF_SWEEPS as f64,
@@ -453,7 +452,7 @@ impl<'a> Sweeps<'_, 'a> {
     fn shared<'s>(
         &'s self,
         own: &'s [DVec2],
-        own_grid: &'s FlatGrid,
+        tiles: &'s SweepTiles,
         dev: &'s [f64],
         tau: f64,
     ) -> Shared<'s, 'a> {
@@ -463,7 +462,7 @@ impl<'a> Sweeps<'_, 'a> {
             self_tag: self.chain.self_tag,
             n_alpha: self.n_alpha,
             own,
-            own_grid,
+            tiles,
             fixed: &self.fixed,
             offs: &self.matched.offs,
             last_bin: &self.matched.last_bin,
@@ -479,18 +478,19 @@ impl<'a> Sweeps<'_, 'a> {
     /// The tiles of one phase in parallel, their moves and changes of `H` merged in tile order.
     fn run_phase(
         &self,
-        tiles: &[Tile],
+        tiles: &SweepTiles,
+        phase: usize,
         own: &mut [DVec2],
-        own_flat: &FlatGrid,
         dev: &mut [f64],
         tau: f64,
     ) {
         use rayon::prelude::*;
+        let active: Vec<&Tile> = tiles.tiles.iter().filter(|t| t.phase == phase).collect();
         let results: Vec<(Vec<DVec2>, Vec<f64>)> = {
-            let shared = self.shared(own, own_flat, dev, tau);
-            tiles.par_iter().map(|t| run_tile(&shared, t)).collect()
+            let shared = self.shared(own, tiles, dev, tau);
+            active.par_iter().map(|t| run_tile(&shared, t)).collect()
         };
-        for (tile, (positions, delta)) in tiles.iter().zip(results) {
+        for (tile, (positions, delta)) in active.iter().zip(results) {
             for (&g, p) in tile.members.iter().zip(positions) {
                 own[g as usize] = p;
             }
@@ -549,43 +549,70 @@ impl Tiling {
         iy * nx + ix
     }
 
-    /// The tiles of colour phase `phase` with their members among `own`, their shares of the phase's
-    /// instances, proposals and seeds; empty when the phase holds no instance.
-    fn phase_tiles(
-        &self,
-        own: &[DVec2],
-        phase: usize,
-        sweep_seed: u64,
-        iterations_per_instance: f64,
-    ) -> Vec<Tile> {
+    /// The sweep's tiles with their members among `own`, their colour phases, their shares of their phase's
+    /// instances, proposals and seeds.
+    fn tiles(&self, own: &[DVec2], sweep_seed: u64, iterations_per_instance: f64) -> SweepTiles {
         let (nx, ny) = (self.nx, self.ny);
         let mut buckets: Vec<Vec<u32>> = vec![Vec::new(); nx * ny];
         for (id, p) in own.iter().enumerate() {
             buckets[self.tile_of(*p)].push(id as u32);
         }
-        let active: Vec<usize> = (0..nx * ny)
-            .filter(|&t| !self.tiled || ((t % nx) % 2) + 2 * ((t / nx) % 2) == phase)
-            .collect();
-        let phase_total: usize = active.iter().map(|&t| buckets[t].len()).sum();
-        if phase_total == 0 {
-            return Vec::new();
+        let phase_of = |t: usize| {
+            if self.tiled {
+                ((t % nx) % 2) + 2 * ((t / nx) % 2)
+            } else {
+                0
+            }
+        };
+        let mut phase_total = [0usize; 4];
+        for (t, b) in buckets.iter().enumerate() {
+            phase_total[phase_of(t)] += b.len();
         }
-        active
-            .iter()
-            .map(|&t| {
+        let tiles = buckets
+            .into_iter()
+            .enumerate()
+            .map(|(t, members)| {
+                let phase = phase_of(t);
                 let lo = self.origin + DVec2::new((t % nx) as f64, (t / nx) as f64) * self.size;
-                let members = std::mem::take(&mut buckets[t]);
                 let count = members.len();
                 Tile {
                     lo,
                     hi: lo + self.size,
-                    share: count as f64 / phase_total as f64,
+                    index: t,
+                    phase,
+                    share: count as f64 / phase_total[phase].max(1) as f64,
                     proposals: (count as f64 * iterations_per_instance / RDF_SWEEPS as f64).ceil()
                         as usize,
                     members,
                     seed: mix_seed(sweep_seed, (phase * nx * ny + t) as u64 + 1),
                 }
             })
-            .collect()
+            .collect();
+        SweepTiles {
+            tiles,
+            nx,
+            ny,
+            phase_total,
+        }
+    }
+}
+
+/// The tiles of one sweep, row-major, and the instances of each colour phase.
+struct SweepTiles {
+    tiles: Vec<Tile>,
+    nx: usize,
+    ny: usize,
+    phase_total: [usize; 4],
+}
+
+impl SweepTiles {
+    /// The tiles next to tile `t` (its eight neighbours, fewer on the border).
+    fn neighbours(&self, t: usize) -> impl Iterator<Item = &Tile> + '_ {
+        let (ix, iy) = ((t % self.nx) as isize, (t / self.nx) as isize);
+        let (nx, ny) = (self.nx as isize, self.ny as isize);
+        (iy - 1..=iy + 1)
+            .flat_map(move |y| (ix - 1..=ix + 1).map(move |x| (x, y)))
+            .filter(move |&(x, y)| (x, y) != (ix, iy) && x >= 0 && y >= 0 && x < nx && y < ny)
+            .map(move |(x, y)| &self.tiles[(y * nx + x) as usize])
     }
 }

@@ -19,6 +19,9 @@ pub(super) struct Tile {
     pub(super) lo: DVec2,
     pub(super) hi: DVec2,
     pub(super) members: Vec<u32>,
+    /// Its index in the sweep's tiles, and its colour phase.
+    pub(super) index: usize,
+    pub(super) phase: usize,
     pub(super) share: f64,
     pub(super) proposals: usize,
     pub(super) seed: u64,
@@ -177,7 +180,7 @@ impl<'s, 'a, 'b> TileChain<'s, 'a, 'b> {
         let m = tile.members.len();
         let pos = local_points(sh, tile, &bounds);
         let (pool, slot) = weight_rows(sh, &pos);
-        let grid = static_grid(sh, &bounds, &pos[m..], &slot[m..]);
+        let grid = static_grid(sh, &bounds, &pos[m..], &slot[m..], grid_cell(sh, tile));
         let grid_len = grid.xs.len();
         let mut cells = MemberCells::new(grid.n_cells(), m);
         for (k, p) in pos[..m].iter().enumerate() {
@@ -439,16 +442,18 @@ impl<'s, 'a, 'b> TileChain<'s, 'a, 'b> {
     }
 }
 
-/// The tile's members, then the own instances in its halo.
+/// The tile's members, then the own instances in its halo: members of the neighbouring tiles, as tiles are at
+/// least twice the interaction radius wide.
 fn local_points(sh: &Shared, tile: &Tile, bounds: &Bounds) -> Vec<DVec2> {
     let mut pos: Vec<DVec2> = tile.members.iter().map(|&g| sh.own[g as usize]).collect();
-    let og = sh.own_grid;
-    og.for_each_in_box_cells(bounds.elo, bounds.ehi, |i| {
-        let p = DVec2::new(og.xs[i], og.ys[i]);
-        if bounds.in_halo(p) && !bounds.in_tile(p) {
-            pos.push(p);
-        }
-    });
+    for next in sh.tiles.neighbours(tile.index) {
+        pos.extend(
+            next.members
+                .iter()
+                .map(|&g| sh.own[g as usize])
+                .filter(|p| bounds.in_halo(*p)),
+        );
+    }
     pos
 }
 
@@ -469,9 +474,34 @@ fn weight_rows(sh: &Shared, pos: &[DVec2]) -> (Vec<f64>, Vec<u32>) {
     (pool, slot)
 }
 
-/// The static content in a grid over the halo: the own instances around the tile (`around`, with their weight
-/// rows `rows` as ids), then the fixed content in the halo (row 0).
-fn static_grid(sh: &Shared, bounds: &Bounds, around: &[DVec2], rows: &[u32]) -> FlatGrid {
+/// Own instances within the interaction radius of an instance, about, below which a neighbour search reads cells
+/// of the radius rather than of half of it.
+const SPARSE_NEIGHBOURS: f64 = 16.0;
+
+/// The side of the cells of a tile's grids: the radius where a search finds few neighbours (fewer, larger cells:
+/// the grass of the scale bench, five neighbours in 25 cells of half the radius, spent most of a search on its
+/// cells), half of it where it finds many (the archipelago's coasts, over 200 neighbours, read a quarter of the
+/// area beyond the radius).
+fn grid_cell(sh: &Shared, tile: &Tile) -> f64 {
+    let r = sh.target.radius;
+    let area = (tile.hi - tile.lo).x * (tile.hi - tile.lo).y;
+    let neighbours = tile.members.len() as f64 / area * std::f64::consts::PI * r * r;
+    if neighbours < SPARSE_NEIGHBOURS {
+        sh.target.cell
+    } else {
+        0.5 * sh.target.cell
+    }
+}
+
+/// The static content in a grid of cells of `cell` over the halo: the own instances around the tile (`around`,
+/// with their weight rows `rows` as ids), then the fixed content in the halo (row 0).
+fn static_grid(
+    sh: &Shared,
+    bounds: &Bounds,
+    around: &[DVec2],
+    rows: &[u32],
+    cell: f64,
+) -> FlatGrid {
     let mut statics: Vec<GridEntry> = around
         .iter()
         .zip(rows)
@@ -492,13 +522,7 @@ fn static_grid(sh: &Shared, bounds: &Bounds, around: &[DVec2], rows: &[u32]) -> 
             });
         }
     });
-    FlatGrid::build(
-        bounds.elo,
-        bounds.ehi,
-        0.5 * sh.target.cell,
-        statics.len(),
-        |i| statics[i],
-    )
+    FlatGrid::build(bounds.elo, bounds.ehi, cell, statics.len(), |i| statics[i])
 }
 
 /// Adds `change` to histogram index `h` of the move's `d_h`, listing `h` in `touched` the first time.
