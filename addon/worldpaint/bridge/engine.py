@@ -1,8 +1,8 @@
 """The one typed facade over the compiled engine ``worldpaint_engine``.
 
 Everything the add-on asks of the engine goes through the functions here: they take plain Python values and numpy
-arrays and return the dataclasses below, built from the engine's dicts in this one place. The engine's Scene and
-Terrain are opaque handles that are only passed back in.
+arrays and return the dataclasses below, built from the engine's dicts in this one place. The engine's Scene,
+Terrain and TerrainSurface are opaque handles that are only passed back in.
 
 The engine's exceptions are reachable here under their own names (``WorldPaintError``, ``InputError``,
 ``FileFormatError``, ``NothingToLearn``, ``Cancelled``, ``InternalError``), and so are its generators of example
@@ -69,6 +69,7 @@ if TYPE_CHECKING:
         SceneStructures,
         SketchSecondsDict,
         Terrain,
+        TerrainSurface,
         TextureVarietyDict,
         VariantsDict,
         VillageDict,
@@ -515,6 +516,17 @@ class WaterfallResult:
 def terrain(vertices: ArrayLike, triangles: ArrayLike) -> Terrain:
     """The engine's Terrain (a heightfield) of a world-space triangle mesh: vertices (N, 3), triangles (M, 3)."""
     return _lib.Terrain(vertices, triangles)
+
+
+def terrain_surface(vertices: ArrayLike, triangles: ArrayLike) -> TerrainSurface:
+    """The engine's TerrainSurface of a world-space triangle mesh, vertices (N, 3) and triangles (M, 3): its
+    triangles binned for ``surface_heights``."""
+    return _lib.TerrainSurface(vertices, triangles)
+
+
+def surface_heights(surface: TerrainSurface, xy: ArrayLike) -> NDArray[np.float64]:
+    """The height of the surface's highest triangle over each world XY point (N, 2); NaN over none."""
+    return surface.heights(np.asarray(xy, dtype=np.float64).reshape(-1, 2))
 
 
 def terrain_from_grid(origin: Sequence[float], cell: float, heights: ArrayLike) -> Terrain:

@@ -6,11 +6,12 @@ by the user, a move of the object) a depsgraph handler snaps the points of every
 once. Writing instances onto a terrain snaps them too, and a file saved with the ray-casting instancer is snapped when
 it is loaded.
 
-The snap is a vertical look-up in the evaluated terrain's triangles, exact on any mesh: the triangles are binned
-by a uniform XY grid, and each point takes the highest triangle of its cell that holds it (what a ray from above
-meets first); points over no triangle keep their height. The binned triangles are kept per terrain until it changes.
-An update that reports the terrain changed while its vertices and triangles are those of the kept surface (the first
-evaluation of a new terrain, which the first paste on it has already read) snaps nothing: its clouds stand on it.
+The snap is a vertical look-up in the evaluated terrain's triangles, exact on any mesh: the engine bins the
+triangles by a uniform XY grid (its ``TerrainSurface``), and each point takes the highest triangle of its cell that
+holds it (what a ray from above meets first); points over no triangle keep their height. The binned triangles are
+kept per terrain until it changes. An update that reports the terrain changed while its vertices and triangles are
+those of the kept surface (the first evaluation of a new terrain, which the first paste on it has already read)
+snaps nothing: its clouds stand on it.
 """
 
 import hashlib
@@ -18,82 +19,19 @@ import hashlib
 import bpy
 import numpy as np
 
-from . import geometry, points, terrain
+from . import engine, geometry, points, terrain
 from .instances import point_cloud_objects
-
-INSIDE = 1e-5  # barycentric slack (float32): a point on an edge between two triangles is in both
-TRIANGLES_PER_CELL = 4.0  # the grid's cells hold about this many triangles' bounding boxes
 
 
 class Surface:
-    """A triangle mesh in world space, binned by a uniform XY grid, answering heights under points."""
+    """A triangle mesh in world space, binned by a uniform XY grid (in the engine), answering heights under points."""
 
     def __init__(self, vertices, triangles):
-        v = np.asarray(vertices, dtype=np.float64)
-        t = np.asarray(triangles, dtype=np.int64).reshape(-1, 3)
-        self.origin = v[:, :2].min(axis=0) if len(v) else np.zeros(2)
-        v = v - [self.origin[0], self.origin[1], 0.0]  # float32 about the terrain's corner keeps sub-millimetre
-        a, b, c = v[t[:, 0]], v[t[:, 1]], v[t[:, 2]]
-        e1, e2 = b - a, c - a
-        det = e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]
-        upright = np.abs(det) > 1e-12  # a vertical triangle is never met by a vertical ray
-        a, e1, e2, det = a[upright], e1[upright], e2[upright], det[upright]
-        lo = np.minimum(np.minimum(a, a + e1), a + e2)[:, :2]
-        hi = np.maximum(np.maximum(a, a + e1), a + e2)[:, :2]
-        span = np.maximum(hi.max(axis=0), 1e-9) if len(a) else np.ones(2)
-        self.cell = max(float(np.sqrt(span[0] * span[1] * TRIANGLES_PER_CELL / max(len(a), 1))),
-                        float(span.max()) / 4096)
-        self.shape = tuple(int(n) for n in np.floor(span / self.cell).astype(np.int64) + 1)
-        # 32-bit indices (at most 4096² cells): a million triangles' slots are tens of megabytes fewer to allocate
-        i0, j0 = (c.astype(np.int32) for c in self._cells(lo, local=True))
-        i1, j1 = (c.astype(np.int32) for c in self._cells(hi, local=True))
-        wide, tall = i1 - i0 + 1, j1 - j0 + 1
-        count = wide * tall
-        tri = np.repeat(np.arange(len(a), dtype=np.int32), count)
-        k = np.arange(len(tri), dtype=np.int32) - (np.cumsum(count, dtype=np.int32) - count)[tri]  # rank in its cells
-        w = wide[tri]
-        cells = (j0[tri] + k // w) * np.int32(self.shape[0]) + i0[tri] + k % w
-        by_cell = tri[np.argsort(cells, kind='stable')]
-        self.start = np.concatenate([[0], np.cumsum(np.bincount(cells, minlength=self.shape[0] * self.shape[1]))])
-        # per candidate slot, in cell order, the columns its test reads: corner a, both edges, 1 / det of the XY
-        # edges (contiguous float32 columns, so a round gathers them in memory order)
-        per_triangle = (*a.T, *e1.T, *e2.T, 1.0 / det)
-        self.columns = [column.astype(np.float32)[by_cell] for column in per_triangle]
-
-    def _cells(self, xy, local=False):
-        ij = np.floor((xy if local else xy - self.origin) / self.cell).astype(np.int64)
-        return np.clip(ij[:, 0], 0, self.shape[0] - 1), np.clip(ij[:, 1], 0, self.shape[1] - 1)
+        self._binned = engine.terrain_surface(vertices, triangles)
 
     def heights(self, xy):
-        """The height of the surface's highest triangle over each world XY point (N, 2); NaN over none."""
-        xy = np.asarray(xy, dtype=np.float64).reshape(-1, 2)
-        if len(self.start) < 2 or self.start[-1] == 0 or len(xy) == 0:
-            return np.full(len(xy), np.nan)
-        i, j = self._cells(xy)
-        cell = j * self.shape[0] + i
-        first = self.start[cell]
-        count = self.start[cell + 1] - first
-        # the points by falling count, the ones with a k-th candidate then being a prefix (no mask per round), and
-        # by cell within a count, so that a round reads the columns in memory order
-        order = np.lexsort((cell, -count))
-        first, count = first[order], count[order]
-        local = (xy[order] - self.origin).astype(np.float32)
-        x, y = local[:, 0].copy(), local[:, 1].copy()
-        best = np.full(len(xy), -np.inf, dtype=np.float32)
-        for k in range(int(count[0])):
-            n = int(np.searchsorted(-count, -k, side='left'))  # points with more than k candidates
-            slot = first[:n] + k
-            ax, ay, az, e1x, e1y, e1z, e2x, e2y, e2z, inv = (c[slot] for c in self.columns)
-            dx, dy = x[:n] - ax, y[:n] - ay
-            u = (dx * e2y - dy * e2x) * inv
-            v = (e1x * dy - e1y * dx) * inv
-            z = az + u * e1z + v * e2z
-            hit = (u >= -INSIDE) & (v >= -INSIDE) & (u + v <= 1.0 + INSIDE) & (z > best[:n])
-            best[:n] = np.where(hit, z, best[:n])
-        out = np.full(len(xy), np.nan)
-        found = np.isfinite(best)
-        out[order[found]] = best[found]
-        return out
+        """``engine.surface_heights``: per world XY point (N, 2), the height of the highest triangle over it."""
+        return engine.surface_heights(self._binned, xy)
 
 
 def fingerprint(vertices, triangles):

@@ -14,6 +14,8 @@
 //! A synthesis asks its region these questions for every proposal: it asks them of a [`PreparedRegion`], which
 //! indexes the region's large polygons once and gives the same answers reading only the edges near each query;
 //! [`RegionQueries`] are the questions both answer.
+//!
+//! A [`VerticalLookup`] answers the height of a triangle mesh under points, as a ray from above meets it.
 
 use crate::error::{Error, Result};
 use crate::limits;
@@ -25,10 +27,12 @@ mod edge_tree;
 mod polygon_index;
 mod prepared;
 mod queries;
+mod vertical_lookup;
 
 pub use prepared::PreparedRegion;
 pub(crate) use queries::circle_fraction;
 pub use queries::RegionQueries;
+pub use vertical_lookup::VerticalLookup;
 
 /// An area of the world plane (XY) selected by the user: where an exemplar is read or where content is painted.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

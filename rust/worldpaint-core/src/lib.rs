@@ -14,7 +14,7 @@
 //! | module | part of the paper |
 //! |---|---|
 //! | `error` ([`Error`], [`Result`]) | typed errors: what was wrong, the bad value and the rule it breaks |
-//! | `geom` ([`Region`], [`PreparedRegion`]) | active regions, window-edge correction α (§3, §4.1); a region prepared once for many queries (indexed polygons) |
+//! | `geom` ([`Region`], [`PreparedRegion`], [`VerticalLookup`]) | active regions, window-edge correction α (§3, §4.1); a region prepared once for many queries (indexed polygons); the height of a triangle mesh under points |
 //! | `search` | the min-cost order of the best-first (Dijkstra, A*) searches |
 //! | `spatial` | neighbour queries behind the product simplification (§6) |
 //! | `graph` ([`Graph`], [`SegmentIndex`]) | roads and rivers as planar graphs of intersecting paths, segment queries (§4.2) |
@@ -110,10 +110,10 @@ pub use exemplar::{
 };
 // fidelity_plot
 pub use fidelity_plot::{draw_fidelity, FidelityPlot};
-// geom: regions and polygons
+// geom: regions, polygons and the height of a mesh under points
 pub use geom::{
     polygon_contains, polygon_signed_area, segment_distance, segments_distance, DVec2, DVec3,
-    PreparedRegion, Region, RegionQueries,
+    PreparedRegion, Region, RegionQueries, VerticalLookup,
 };
 // graph: roads and rivers as planar graphs
 pub use graph::{Graph, SegmentIndex};

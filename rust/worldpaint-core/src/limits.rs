@@ -29,6 +29,9 @@ pub(crate) const MAX_REGION_VERTICES: u64 = 1_000_000;
 /// Bytes of one file of a real place (a map layer, an elevation model, a tree inventory): a GeoJSON layer is held
 /// parsed in memory at several times its size.
 pub const MAX_PLACE_FILE_BYTES: u64 = 512 * 1024 * 1024;
+/// Slots of one triangle mesh binned for vertical look-ups (a triangle takes one in each cell its box meets): eight
+/// per triangle of a 4,097² terrain mesh, 40 bytes each.
+pub(crate) const MAX_BINNED_TRIANGLES: u64 = 1 << 28;
 /// Nesting depth of a region (clipped inside clipped ...).
 pub const MAX_REGION_DEPTH: u64 = 64;
 

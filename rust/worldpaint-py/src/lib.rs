@@ -287,7 +287,7 @@ mod worldpaint_engine {
         exemplar_uniform, exemplar_village,
     };
     #[pymodule_export]
-    use crate::geom::{region_area, region_bbox, region_contains};
+    use crate::geom::{region_area, region_bbox, region_contains, TerrainSurface};
     #[pymodule_export]
     use crate::interpolate::interpolate_colors;
     #[pymodule_export]

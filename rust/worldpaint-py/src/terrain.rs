@@ -166,7 +166,7 @@ impl Terrain {
 type Mesh = (Vec<[f64; 3]>, Vec<[u32; 3]>);
 
 /// World XYZ vertices (float64 (N, 3)) and triangles ((M, 3) vertex indices of any integer dtype).
-fn mesh_from_py(vertices: &ArrayArg<'_>, triangles: &ArrayArg<'_>) -> PyResult<Mesh> {
+pub(crate) fn mesh_from_py(vertices: &ArrayArg<'_>, triangles: &ArrayArg<'_>) -> PyResult<Mesh> {
     let vertices = vertices.read::<f64, Ix2>("vertices", &[3])?;
     let verts = vertices
         .as_array()

@@ -32,6 +32,7 @@ __all__ = [
     "Scene",
     "Stroke",
     "Terrain",
+    "TerrainSurface",
     "WorldPaintError",
     "__version__",
     "apply_sketch",
@@ -682,6 +683,10 @@ class Terrain:
     def map_names(self) -> list[str]: ...
     def grid(self) -> TerrainGrid: ...
     def __repr__(self) -> str: ...
+
+class TerrainSurface:
+    def __new__(cls, vertices: ArrayLike, triangles: ArrayLike) -> TerrainSurface: ...
+    def heights(self, xy: ArrayLike) -> Float64Array: ...
 
 class Scene:
     def __new__(
