@@ -86,6 +86,20 @@ pub(crate) fn finite(p: DVec2) -> bool {
     p.x.is_finite() && p.y.is_finite()
 }
 
+/// Every triangle of a mesh of `vertices` vertices names vertices of it.
+pub(crate) fn check_triangle_indices(vertices: usize, triangles: &[[u32; 3]]) -> Result<()> {
+    match triangles
+        .iter()
+        .position(|t| t.iter().any(|&i| i as usize >= vertices))
+    {
+        Some(k) => Err(Error::invalid(
+            format!("terrain mesh triangle {k}"),
+            format!("refers to a vertex beyond the {vertices} given"),
+        )),
+        None => Ok(()),
+    }
+}
+
 /// The point of the segment `a`-`b` closest to `p`.
 pub(crate) fn closest_on_segment(p: DVec2, a: DVec2, b: DVec2) -> DVec2 {
     let ab = b - a;

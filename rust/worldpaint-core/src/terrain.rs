@@ -9,7 +9,7 @@
 //! order-independent and so deterministic).
 
 use crate::error::{check, Error, Result};
-use crate::geom::Region;
+use crate::geom::{check_triangle_indices, Region};
 use crate::limits;
 use glam::DVec2;
 use rayon::prelude::*;
@@ -101,16 +101,7 @@ impl Heightfield {
                 "is not finite",
             ));
         }
-        let nv = vertices.len();
-        if let Some(k) = triangles
-            .iter()
-            .position(|t| t.iter().any(|&i| i as usize >= nv))
-        {
-            return Err(Error::invalid(
-                format!("terrain mesh triangle {k}"),
-                format!("refers to a vertex beyond the {nv} given"),
-            ));
-        }
+        check_triangle_indices(vertices.len(), triangles)?;
         if let Some(c) = cell {
             check::positive("terrain cell size", c)?;
         }

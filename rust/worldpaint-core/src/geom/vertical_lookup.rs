@@ -7,8 +7,8 @@
 //! reads its cell's candidates in one run of memory. A point takes the highest triangle of its cell that holds it.
 //! Coordinates are float32 about the mesh's XY corner, which keeps sub-millimetre precision over tens of kilometres.
 
-use super::DVec2;
-use crate::error::{Error, Result};
+use super::{check_triangle_indices, DVec2};
+use crate::error::Result;
 use crate::limits;
 use rayon::prelude::*;
 use std::ops::Range;
@@ -211,16 +211,7 @@ impl VerticalLookup {
     /// vertex that is not a finite number are left out: no ray from above meets them. The cells hold about four
     /// triangles' boxes each, and there are at most 4,096 along the longer side.
     pub fn new(vertices: &[[f64; 3]], triangles: &[[u32; 3]]) -> Result<Self> {
-        let nv = vertices.len();
-        if let Some(k) = triangles
-            .iter()
-            .position(|t| t.iter().any(|&i| i as usize >= nv))
-        {
-            return Err(Error::invalid(
-                format!("terrain mesh triangle {k}"),
-                format!("refers to a vertex beyond the {nv} given"),
-            ));
-        }
+        check_triangle_indices(vertices.len(), triangles)?;
         let origin = vertices
             .iter()
             .map(|v| DVec2::new(v[0], v[1]))
