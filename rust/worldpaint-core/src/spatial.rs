@@ -154,6 +154,19 @@ impl GrowingPoints {
         &self,
         p: DVec2,
         radius: f64,
+        found: impl FnMut(DVec2, f64) -> bool,
+    ) -> bool {
+        self.any_within_since(p, radius, 0, found)
+    }
+
+    /// [`Self::any_within`] among the points pushed from the `since`-th on (a cell lists its points newest first,
+    /// so its older ones are not read).
+    #[inline]
+    pub(crate) fn any_within_since(
+        &self,
+        p: DVec2,
+        radius: f64,
+        since: usize,
         mut found: impl FnMut(DVec2, f64) -> bool,
     ) -> bool {
         let r2 = radius * radius;
@@ -161,7 +174,7 @@ impl GrowingPoints {
         for cy in y0..=y1 {
             for &first in &self.head[cy * self.grid.nx + x0..=cy * self.grid.nx + x1] {
                 let mut j = first;
-                while j != Self::NONE {
+                while j != Self::NONE && j as usize >= since {
                     let v = self.points[j as usize] - p;
                     let d2 = v.length_squared();
                     if d2 <= r2 && found(v, d2) {
@@ -298,5 +311,32 @@ impl FlatGrid {
                 visit(i);
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Looking among the points pushed since a count finds those, and none pushed before it, whatever the cell.
+    #[test]
+    fn growing_points_since_reads_only_the_later_points() {
+        let mut grid = GrowingPoints::new(DVec2::ZERO, DVec2::splat(10.0), 1.0, 8);
+        for p in [(5.0, 5.0), (5.2, 5.0), (9.0, 9.0), (5.1, 5.1), (1.0, 1.0)] {
+            grid.push(DVec2::new(p.0, p.1));
+        }
+        let near = |since: usize| {
+            let mut seen = 0;
+            grid.any_within_since(DVec2::new(5.0, 5.0), 0.5, since, |_, _| {
+                seen += 1;
+                false
+            });
+            seen
+        };
+        assert_eq!(near(0), 3);
+        assert_eq!(near(1), 2); // (5.2, 5.0) and (5.1, 5.1)
+        assert_eq!(near(3), 1); // (5.1, 5.1)
+        assert_eq!(near(4), 0);
+        assert!(grid.any_within_since(DVec2::new(1.0, 1.0), 0.1, 4, |_, _| true));
     }
 }

@@ -2,7 +2,7 @@
 //! of [`super`]): an annealed chi-square energy between the window-corrected pair histograms and the learned
 //! ones, evaluated on tiles in parallel.
 
-use super::births::{birth_in, BirthIntensity, Clusters};
+use super::births::{birth_in, BirthIntensity, Clusters, RectProposal};
 use super::target::{PairTable, Target, CONTEXT_TAG};
 use super::{annealed, mix_seed};
 use crate::error::{Error, Result};
@@ -18,6 +18,8 @@ mod tile;
 const RDF_SWEEPS: usize = 12;
 /// Darts thrown between two progress reports (a cancel is heard within some milliseconds).
 const DARTS_PER_PROGRESS: usize = 1 << 16;
+/// Darts thrown at once by dart throwing without clusters (see [`RdfChain::dart_batches`]).
+const DARTS_PER_BATCH: usize = 4096;
 /// Temperature of the first and of the last sweeps (in units of the chi-square energy, see the module docs).
 const TAU_START: f64 = 1.0;
 const TAU_END: f64 = 0.02;
@@ -359,6 +361,9 @@ impl<'a> RdfChain<'_, 'a> {
         let mut own = GrowingPoints::new(lo, hi, target.cell, want);
         let (rlo, rhi) = self.region.bbox();
         let births = self.births.map(|b| b.over(rlo, rhi));
+        if grown.is_none() {
+            return self.dart_batches(rng, progress, (want, darts), reach, births.as_ref(), own);
+        }
         for dart in 0..darts {
             if own.points().len() >= want {
                 break;
@@ -381,6 +386,58 @@ impl<'a> RdfChain<'_, 'a> {
             };
             if allowed(target, &own, self_tag, reach, p) {
                 own.push(p);
+            }
+        }
+        Ok(own.into_points())
+    }
+
+    /// Dart throwing without clusters, in batches with the result of one dart at a time: a batch's darts are drawn
+    /// in turn, checked against the instances before the batch in parallel, then kept in turn unless an instance
+    /// kept earlier in the batch forbids them. A batch holds no more darts than instances are still wanted, so
+    /// that it draws no dart the one-at-a-time throwing would not have.
+    fn dart_batches<R: Rng>(
+        &self,
+        rng: &mut R,
+        progress: &dyn Fn(f64) -> bool,
+        (want, darts): (usize, usize),
+        reach: (f64, f64),
+        births: Option<&RectProposal>,
+        mut own: GrowingPoints,
+    ) -> Result<Vec<DVec2>> {
+        use rayon::prelude::*;
+        let (target, self_tag) = (self.target, self.self_tag);
+        let own_table = &target.tables[self_tag as usize];
+        let mut thrown = 0;
+        let mut batch = Vec::with_capacity(DARTS_PER_BATCH);
+        while thrown < darts && own.points().len() < want {
+            if thrown % DARTS_PER_PROGRESS + DARTS_PER_BATCH > DARTS_PER_PROGRESS && !progress(0.0)
+            {
+                return Err(Error::Cancelled);
+            }
+            let size = DARTS_PER_BATCH
+                .min(want - own.points().len())
+                .min(darts - thrown);
+            batch.clear();
+            batch.extend((0..size).map_while(|_| birth_in(self.region, births, rng)));
+            let exhausted = batch.len() < size;
+            thrown += batch.len();
+            let before: Vec<bool> = batch
+                .par_iter()
+                .with_min_len(256)
+                .map(|&p| allowed(target, &own, self_tag, reach, p))
+                .collect();
+            let since = own.points().len();
+            for (&p, ok) in batch.iter().zip(before) {
+                if ok
+                    && !own.any_within_since(p, reach.1, since, |v, d2| {
+                        own_table.log_factor(v, d2) == f64::NEG_INFINITY
+                    })
+                {
+                    own.push(p);
+                }
+            }
+            if exhausted {
+                break;
             }
         }
         Ok(own.into_points())
