@@ -86,14 +86,19 @@ pub(crate) fn finite(p: DVec2) -> bool {
     p.x.is_finite() && p.y.is_finite()
 }
 
-/// Every triangle of a mesh of `vertices` vertices names vertices of it.
-pub(crate) fn check_triangle_indices(vertices: usize, triangles: &[[u32; 3]]) -> Result<()> {
+/// Every triangle of a mesh of `vertices` vertices names vertices of it; a triangle that does not is refused as
+/// `what` and its index ("terrain mesh triangle 7").
+pub(crate) fn check_triangle_indices(
+    what: &str,
+    vertices: usize,
+    triangles: &[[u32; 3]],
+) -> Result<()> {
     match triangles
         .iter()
         .position(|t| t.iter().any(|&i| i as usize >= vertices))
     {
         Some(k) => Err(Error::invalid(
-            format!("terrain mesh triangle {k}"),
+            format!("{what} {k}"),
             format!("refers to a vertex beyond the {vertices} given"),
         )),
         None => Ok(()),

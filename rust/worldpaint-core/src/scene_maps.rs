@@ -7,6 +7,7 @@
 
 use crate::distance::distance_transform;
 use crate::error::{check, Error, Result};
+use crate::geom::check_triangle_indices;
 use crate::terrain::{rasterize, Heightfield};
 use glam::DVec2;
 
@@ -36,7 +37,7 @@ impl Heightfield {
                 "is not finite",
             ));
         }
-        check_triangles(triangles, vertices.len())?;
+        check_triangle_indices("triangle", vertices.len(), triangles)?;
         // the value stands in for the height: the same planar interpolation per triangle
         let lifted: Vec<[f64; 3]> = vertices
             .iter()
@@ -83,7 +84,7 @@ impl Heightfield {
                 format!("refers to a vertex beyond the {n} given"),
             ));
         }
-        check_triangles(triangles, n)?;
+        check_triangle_indices("triangle", n, triangles)?;
         let mut mask = vec![false; self.nx * self.ny];
         for v in vertices {
             self.mark(&mut mask, *v);
@@ -156,19 +157,6 @@ fn check_scene_map_name(name: &str) -> Result<()> {
         ));
     }
     Ok(())
-}
-
-fn check_triangles(triangles: &[[u32; 3]], n: usize) -> Result<()> {
-    match triangles
-        .iter()
-        .position(|t| t.iter().any(|&i| i as usize >= n))
-    {
-        Some(k) => Err(Error::invalid(
-            format!("triangle {k}"),
-            format!("refers to a vertex beyond the {n} given"),
-        )),
-        None => Ok(()),
-    }
 }
 
 #[cfg(test)]

@@ -101,7 +101,7 @@ impl Heightfield {
                 "is not finite",
             ));
         }
-        check_triangle_indices(vertices.len(), triangles)?;
+        check_triangle_indices("terrain mesh triangle", vertices.len(), triangles)?;
         if let Some(c) = cell {
             check::positive("terrain cell size", c)?;
         }

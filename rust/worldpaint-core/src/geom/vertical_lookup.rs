@@ -211,7 +211,7 @@ impl VerticalLookup {
     /// vertex that is not a finite number are left out: no ray from above meets them. The cells hold about four
     /// triangles' boxes each, and there are at most 4,096 along the longer side.
     pub fn new(vertices: &[[f64; 3]], triangles: &[[u32; 3]]) -> Result<Self> {
-        check_triangle_indices(vertices.len(), triangles)?;
+        check_triangle_indices("terrain mesh triangle", vertices.len(), triangles)?;
         let origin = vertices
             .iter()
             .map(|v| DVec2::new(v[0], v[1]))
