@@ -3,12 +3,15 @@
 //! was not, the seconds of each stage and the time per building asked (issue 44: at least 90 % built, 1,000 in at
 //! most 5 s, 100 in at most 0.5 s, the time per building about constant).
 //!
+//! The last column is a digest of the town (its roads, parcels and footprints, bit for bit): a change that should
+//! not change what is grown keeps it.
+//!
 //! `cargo bench -p worldpaint-core --bench town [-- 100 400]` (the sizes to grow; default all three)
 
 use std::time::Instant;
 use worldpaint_core::{
     demo_terrain, generate_village, DVec2, Encyclopedia, Environment, InterestCriterion, Region,
-    Scenario, ScenarioEvent, Site, VillageRequest, UNPLACED_CANDIDATES,
+    Scenario, ScenarioEvent, Site, Village, VillageRequest, UNPLACED_CANDIDATES,
 };
 
 const ENCYCLOPEDIA: &str = include_str!("../../../assets/villages/encyclopedia.json");
@@ -34,6 +37,21 @@ fn farming(n: u32) -> Scenario {
     }
 }
 
+/// FNV-1a over the bits of every road, parcel and footprint point, in order.
+fn digest(village: &Village) -> u64 {
+    let points = village
+        .roads
+        .iter()
+        .flat_map(|r| r.points.iter())
+        .chain(village.parcels.iter().flat_map(|p| p.contour.iter()))
+        .chain(village.footprints.iter().flat_map(|f| f.corners.iter()));
+    points
+        .flat_map(|p| [p.x.to_bits(), p.y.to_bits()])
+        .fold(0xcbf2_9ce4_8422_2325, |h, v| {
+            (h ^ v).wrapping_mul(0x100_0000_01b3)
+        })
+}
+
 fn main() {
     let sizes: Vec<u32> = std::env::args()
         .skip(1)
@@ -49,7 +67,9 @@ fn main() {
         Err(e) => panic!("the shipped encyclopedia: {e}"),
     };
     println!("== town summary ==");
-    println!("buildings | side km | built | skeleton s | parcels s | houses s | total s | ms / building | not built");
+    println!(
+        "buildings | side km | built | skeleton s | parcels s | houses s | total s | ms / building | not built | digest"
+    );
     for n in sizes {
         let side = 1000.0 * (n as f64 / 100.0).sqrt().round().max(1.0);
         let terrain = demo_terrain(side, 2.0, 1);
@@ -79,7 +99,7 @@ fn main() {
         let total = t0.elapsed().as_secs_f64();
         let r = &village.report;
         println!(
-            "{n} | {:.0} | {} | {:.2} | {:.2} | {:.2} | {total:.2} | {:.1} | unplaced {}, unreachable {}, without access {}, without footprint {}",
+            "{n} | {:.0} | {} | {:.2} | {:.2} | {:.2} | {total:.2} | {:.1} | unplaced {}, unreachable {}, without access {}, without footprint {} | {:016x}",
             side / 1000.0,
             village.footprints.len(),
             r.seconds[0],
@@ -89,7 +109,8 @@ fn main() {
             r.unplaced.len(),
             r.unreachable,
             r.without_access,
-            r.without_footprint
+            r.without_footprint,
+            digest(&village)
         );
         for (building, counts) in &r.unplaced_causes {
             let shares: Vec<String> = InterestCriterion::ALL

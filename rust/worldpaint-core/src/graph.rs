@@ -351,38 +351,86 @@ impl SegmentIndex {
             lo = lo.min(a.min(*b));
             hi = hi.max(a.max(*b));
         }
+        let mut index = SegmentIndex::empty_over(lo, hi, cell);
+        for (i, &(a, b)) in segments.iter().enumerate() {
+            index.list(i, a, b, None);
+        }
+        index.segments = segments;
+        index.empty_rings = chebyshev_rings(&index.cells, index.grid.nx, index.grid.ny);
+        index
+    }
+
+    /// An index without segments over the box `min..max`, with cells of about `cell` metres, that segments within
+    /// that box are then added to ([`SegmentIndex::extend`]).
+    pub(crate) fn empty_over(min: DVec2, max: DVec2, cell: f64) -> Self {
         let grid = Grid::buckets_covering(
-            lo,
-            hi,
+            min,
+            max,
             if cell.is_finite() {
                 cell.max(1e-9)
             } else {
                 0.0
             },
         );
-        let (nx, cell) = (grid.nx, grid.cell);
-        let mut index = SegmentIndex {
+        SegmentIndex {
             segments: Vec::new(),
             grid,
             cells: vec![Vec::new(); grid.len()],
-            empty_rings: Vec::new(),
-        };
-        for (i, &(a, b)) in segments.iter().enumerate() {
-            let (x0, y0) = index.cell_of(a.min(b));
-            let (x1, y1) = index.cell_of(a.max(b));
-            for cy in y0..=y1 {
-                for cx in x0..=x1 {
-                    // only the cells the segment passes near
-                    let c = index.grid.bucket_centre(cx, cy);
-                    if segment_distance(c, a, b) <= 0.75 * cell {
-                        index.cells[cy * nx + cx].push(i as u32);
+            empty_rings: vec![u16::MAX; grid.len()],
+        }
+    }
+
+    /// Adds `segments` after those the index holds (a part beyond the index's box is not found). Only the cells
+    /// around them learn how near a segment now is, so that a growing road network is indexed at the cost of its
+    /// new roads, not of all of them.
+    pub(crate) fn extend(&mut self, segments: impl IntoIterator<Item = (DVec2, DVec2)>) {
+        let nx = self.grid.nx;
+        let mut front = std::collections::VecDeque::new();
+        let mut listed = Vec::new();
+        for (a, b) in segments {
+            listed.clear();
+            self.list(self.segments.len(), a, b, Some(&mut listed));
+            for &c in &listed {
+                if self.empty_rings[c] != 0 {
+                    self.empty_rings[c] = 0;
+                    front.push_back(c);
+                }
+            }
+            self.segments.push((a, b));
+        }
+        // breadth first over the eight neighbours: the rings (Chebyshev distances) that shrink
+        while let Some(c) = front.pop_front() {
+            let (x, y) = (c % nx, c / nx);
+            let next = self.empty_rings[c].saturating_add(1);
+            for yy in y.saturating_sub(1)..=(y + 1).min(self.grid.ny - 1) {
+                for xx in x.saturating_sub(1)..=(x + 1).min(nx - 1) {
+                    let k = yy * nx + xx;
+                    if self.empty_rings[k] > next {
+                        self.empty_rings[k] = next;
+                        front.push_back(k);
                     }
                 }
             }
         }
-        index.segments = segments;
-        index.empty_rings = chebyshev_rings(&index.cells, index.grid.nx, index.grid.ny);
-        index
+    }
+
+    /// Lists segment `i` (`a`–`b`) in the cells it passes near, and those cells in `listed`.
+    fn list(&mut self, i: usize, a: DVec2, b: DVec2, mut listed: Option<&mut Vec<usize>>) {
+        let (nx, cell) = (self.grid.nx, self.grid.cell);
+        let (x0, y0) = self.cell_of(a.min(b));
+        let (x1, y1) = self.cell_of(a.max(b));
+        for cy in y0..=y1 {
+            for cx in x0..=x1 {
+                // only the cells the segment passes near
+                let c = self.grid.bucket_centre(cx, cy);
+                if segment_distance(c, a, b) <= 0.75 * cell {
+                    self.cells[cy * nx + cx].push(i as u32);
+                    if let Some(l) = listed.as_deref_mut() {
+                        l.push(cy * nx + cx);
+                    }
+                }
+            }
+        }
     }
 
     /// Whether the index holds no segment.
@@ -530,5 +578,54 @@ impl SegmentIndex {
             }
         });
         hit
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{Rng, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+
+    /// Roads added a few at a time give the rings and the distances an index of all of them at once gives.
+    #[test]
+    fn an_index_grown_road_by_road_answers_as_one_built_at_once() {
+        let mut rng = ChaCha8Rng::seed_from_u64(7);
+        let (lo, hi) = (DVec2::new(-40.0, 10.0), DVec2::new(460.0, 310.0));
+        let mut grown = SegmentIndex::empty_over(lo, hi, 8.0);
+        let mut all = Vec::new();
+        for _ in 0..30 {
+            // a short road of a few segments somewhere in the box
+            let mut p = DVec2::new(rng.random_range(lo.x..hi.x), rng.random_range(lo.y..hi.y));
+            let mut road = Vec::new();
+            for _ in 0..rng.random_range(1..6) {
+                let q =
+                    (p + DVec2::new(rng.random_range(-30.0..30.0), rng.random_range(-30.0..30.0)))
+                        .clamp(lo, hi);
+                road.push((p, q));
+                p = q;
+            }
+            all.extend(road.iter().copied());
+            grown.extend(road);
+            let mut at_once = SegmentIndex::empty_over(lo, hi, 8.0);
+            for (i, &(a, b)) in all.iter().enumerate() {
+                at_once.list(i, a, b, None);
+            }
+            let rings = chebyshev_rings(&at_once.cells, at_once.grid.nx, at_once.grid.ny);
+            assert_eq!(grown.empty_rings, rings);
+            assert_eq!(grown.cells, at_once.cells);
+        }
+        for _ in 0..2000 {
+            let p = DVec2::new(
+                rng.random_range(-100.0..520.0),
+                rng.random_range(-50.0..370.0),
+            );
+            let exact = all
+                .iter()
+                .map(|&(a, b)| segment_distance(p, a, b))
+                .fold(f64::INFINITY, f64::min);
+            assert_eq!(grown.distance(p, f64::INFINITY), exact);
+            assert_eq!(grown.distance(p, 20.0), exact.min(20.0));
+        }
     }
 }

@@ -159,6 +159,23 @@ impl GrowingPoints {
         self.any_within_since(p, radius, 0, found)
     }
 
+    /// Appends to `out` the ids of the points within `radius` of `p` (inclusive), in no particular order.
+    pub(crate) fn ids_within(&self, p: DVec2, radius: f64, out: &mut Vec<u32>) {
+        let r2 = radius * radius;
+        let ((x0, y0), (x1, y1)) = self.grid.buckets_within(p, radius);
+        for cy in y0..=y1 {
+            for &first in &self.head[cy * self.grid.nx + x0..=cy * self.grid.nx + x1] {
+                let mut j = first;
+                while j != Self::NONE {
+                    if (self.points[j as usize] - p).length_squared() <= r2 {
+                        out.push(j);
+                    }
+                    j = self.next[j as usize];
+                }
+            }
+        }
+    }
+
     /// [`Self::any_within`] among the points pushed from the `since`-th on (a cell lists its points newest first,
     /// so its older ones are not read).
     #[inline]

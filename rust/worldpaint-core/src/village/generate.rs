@@ -422,13 +422,14 @@ fn skeleton(
                 report.unplaced.push(building.clone());
                 continue;
             }
-            let state = VillageState {
-                buildings: &grown.seeds,
-                religious: &grown.religious,
-                fortress: &grown.fortress,
-                road_distance: &|p: DVec2, max: f64| network.distance_within(p, max),
-                has_roads: !network.roads.is_empty(),
-            };
+            let road_distance = |p: DVec2, max: f64| network.distance_within(p, max);
+            let state = VillageState::new(
+                &grown.seeds,
+                &grown.religious,
+                &grown.fortress,
+                &road_distance,
+                !network.roads.is_empty(),
+            );
             // a building of the cluster share is seeded beside a standing one where there is room
             let near = if !grown.seeds.is_empty()
                 && draw(request.seed, 0xC1A5, done) < placement.cluster_share
@@ -737,13 +738,13 @@ pub fn interest_at(request: &InterestRequest, points: &[DVec2]) -> Result<Vec<f6
             .collect(),
     );
     let road_distance = |p: DVec2, max: f64| index.distance(p, max);
-    let state = VillageState {
-        buildings: request.buildings,
-        religious: &religious,
-        fortress: &fortress,
-        road_distance: &road_distance,
-        has_roads: !index.is_empty(),
-    };
+    let state = VillageState::new(
+        request.buildings,
+        &religious,
+        &fortress,
+        &road_distance,
+        !index.is_empty(),
+    );
     Ok(points
         .par_iter()
         .map(|p| {

@@ -28,6 +28,7 @@ use super::encyclopedia::{Placement, Shape};
 use super::land::Land;
 use super::BuildingSeed;
 use crate::grid::Grid;
+use crate::spatial::GrowingPoints;
 use glam::DVec2;
 use rayon::prelude::*;
 use std::collections::BTreeMap;
@@ -248,16 +249,71 @@ fn distance_at(grid: &Grid, values: &[f32], p: DVec2) -> f64 {
     grid.bilinear(values, p)
 }
 
+/// Side (m) of the cells the buildings are binned in for the sociability sums: about the reach of a house's.
+const BUILDING_CELL: f64 = 32.0;
+
 /// What the dynamic criteria see of the growing village.
 pub(crate) struct VillageState<'a> {
-    pub buildings: &'a [BuildingSeed],
-    /// Per building: religious (worship is measured to it).
-    pub religious: &'a [bool],
-    /// Per building: a castle or fortress (fortification is measured to it as to an enclosure).
-    pub fortress: &'a [bool],
+    buildings: &'a [BuildingSeed],
+    /// The buildings' positions binned, in their order: a location's sociability sums the buildings within its
+    /// reach only (beyond it every term is 0), so that a candidate costs the same in a town as in a hamlet.
+    binned: GrowingPoints,
+    /// The religious buildings (worship is measured to them) and the castles and fortresses (fortification is
+    /// measured to them as to an enclosure), by index.
+    religious: Vec<usize>,
+    fortresses: Vec<usize>,
     /// Distance (m) to the closest road, looked for no farther than the limit given (the limit or more beyond it).
-    pub road_distance: &'a (dyn Fn(DVec2, f64) -> f64 + Sync),
-    pub has_roads: bool,
+    road_distance: &'a (dyn Fn(DVec2, f64) -> f64 + Sync),
+    has_roads: bool,
+}
+
+impl<'a> VillageState<'a> {
+    /// The village of `buildings`, `religious[k]` and `fortress[k]` telling whether building `k` is religious, a
+    /// castle or a fortress, with the distance to its roads (`has_roads` false: there is none yet).
+    pub(crate) fn new(
+        buildings: &'a [BuildingSeed],
+        religious: &[bool],
+        fortress: &[bool],
+        road_distance: &'a (dyn Fn(DVec2, f64) -> f64 + Sync),
+        has_roads: bool,
+    ) -> VillageState<'a> {
+        let (lo, hi) = buildings
+            .iter()
+            .map(|b| b.position)
+            .filter(|p| p.is_finite())
+            .fold(
+                (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+                |(lo, hi), p| (lo.min(p), hi.max(p)),
+            );
+        let (lo, hi) = if lo.cmple(hi).all() {
+            (lo, hi)
+        } else {
+            (DVec2::ZERO, DVec2::ZERO)
+        };
+        let mut binned = GrowingPoints::new(lo, hi, BUILDING_CELL, buildings.len());
+        buildings.iter().for_each(|b| binned.push(b.position));
+        let flagged = |flags: &[bool]| -> Vec<usize> {
+            (0..buildings.len())
+                .filter(|&k| flags.get(k).copied().unwrap_or(false))
+                .collect()
+        };
+        VillageState {
+            buildings,
+            binned,
+            religious: flagged(religious),
+            fortresses: flagged(fortress),
+            road_distance,
+            has_roads,
+        }
+    }
+}
+
+/// Distance (m) beyond which no building adds to the sociability of a building placed by `placement`.
+fn sociability_reach(placement: &Placement) -> f64 {
+    placement
+        .sociability_with
+        .values()
+        .fold(placement.sociability.max, |r, s| r.max(s.max))
 }
 
 /// Accessibility, slope and water at `p`: what the land and the roads say, without the buildings.
@@ -301,26 +357,35 @@ pub(crate) fn criteria(
     placement: &Placement,
     p: DVec2,
 ) -> [f64; 7] {
+    let mut near = Vec::new();
+    state
+        .binned
+        .ids_within(p, sociability_reach(placement), &mut near);
+    // summed in the buildings' order, as over all of them (the others add 0)
+    near.sort_unstable();
     let mut sociability = 0.0;
-    let mut worship = 0.0;
     let mut too_close = false;
-    let mut nearest_fortress = f64::INFINITY;
-    for (k, b) in state.buildings.iter().enumerate() {
-        let d = b.position.distance(p);
+    for &k in &near {
+        let b = &state.buildings[k as usize];
         let shape = placement
             .sociability_with
             .get(&b.building)
             .unwrap_or(&placement.sociability);
-        let f = attraction_repulsion(d, shape);
+        let f = attraction_repulsion(b.position.distance(p), shape);
         too_close |= f <= -1.0;
         sociability += f;
-        if state.religious.get(k).copied().unwrap_or(false) {
-            worship += attraction_repulsion(d, &placement.worship).max(-0.999);
-        }
-        if state.fortress.get(k).copied().unwrap_or(false) {
-            nearest_fortress = nearest_fortress.min(d);
-        }
     }
+    let distance = |k: &usize| state.buildings[*k].position.distance(p);
+    let worship = state
+        .religious
+        .iter()
+        .map(|k| attraction_repulsion(distance(k), &placement.worship).max(-0.999))
+        .fold(0.0, |sum, w| sum + w);
+    let nearest_fortress = state
+        .fortresses
+        .iter()
+        .map(distance)
+        .fold(f64::INFINITY, f64::min);
     let sociability = if too_close {
         -1.0
     } else {
@@ -355,15 +420,13 @@ pub(crate) fn interest(
     let Some((i, j)) = land.grid().nearest(p) else {
         return 0.0;
     };
-    if !land.buildable(land.grid().index(i, j)) {
-        return 0.0;
-    }
     // most places of a large land are too far from the roads, too steep or too wet: said before the buildings
-    // are gone through (the same answer, [`combine`] forbids them as well)
+    // are gone through (the same answer, [`combine`] forbids them as well); the roads are asked first, their
+    // index stays in the cache where the land's maps, read at random places, do not
     let w = placement.weights.as_array();
     let forbids =
         |k: usize| w[2 + k] != 0.0 && land_criterion(k, land, maps, state, placement, p) <= -1.0;
-    if (0..3).any(forbids) {
+    if forbids(0) || !land.buildable(land.grid().index(i, j)) || forbids(1) || forbids(2) {
         return 0.0;
     }
     combine(&criteria(land, maps, state, placement, p), placement)

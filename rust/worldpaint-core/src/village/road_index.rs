@@ -23,6 +23,14 @@ pub(crate) struct RoadIndex {
     index: SegmentIndex,
 }
 
+/// The segments of a road's centre line; a one-point road is a zero-length segment.
+fn road_segments(points: &[DVec2]) -> Vec<(DVec2, DVec2)> {
+    match points.len() {
+        1 => vec![(points[0], points[0])],
+        _ => polyline_segments(points).collect(),
+    }
+}
+
 fn side_of(p: DVec2, a: DVec2, b: DVec2) -> f64 {
     if (b - a).perp_dot(p - a) >= 0.0 {
         1.0
@@ -34,17 +42,26 @@ fn side_of(p: DVec2, a: DVec2, b: DVec2) -> f64 {
 impl RoadIndex {
     /// The segments of `roads` (a one-point road is a zero-length segment) in cells of about `cell` metres.
     pub(crate) fn new(roads: &[Road], cell: f64) -> RoadIndex {
-        let mut segments = Vec::new();
-        for r in roads {
-            match r.points.len() {
-                0 => {}
-                1 => segments.push((r.points[0], r.points[0])),
-                _ => segments.extend(polyline_segments(&r.points)),
-            }
-        }
+        let segments = roads
+            .iter()
+            .flat_map(|r| road_segments(&r.points))
+            .collect();
         RoadIndex {
             index: SegmentIndex::with_cell(segments, cell),
         }
+    }
+
+    /// An index without roads over the box `min..max` (cells of about `cell` metres) that roads within it are
+    /// added to one by one ([`RoadIndex::add`]).
+    pub(crate) fn over(min: DVec2, max: DVec2, cell: f64) -> RoadIndex {
+        RoadIndex {
+            index: SegmentIndex::empty_over(min, max, cell),
+        }
+    }
+
+    /// Adds the segments of `road` (the centre line from its first point) after those held.
+    pub(crate) fn add(&mut self, road: &[DVec2]) {
+        self.index.extend(road_segments(road));
     }
 
     pub(crate) fn is_empty(&self) -> bool {

@@ -30,92 +30,110 @@ impl Labels<'_> {
     /// simplification may remove. Road cells keep their owner, and closed cells stay out.
     fn smooth(&mut self) -> bool {
         let nx = self.work.grid.nx;
+        let ny = self.work.grid.ny;
         let mut any = false;
+        // the cells to look at: all of them, then those around the cells the pass before changed (no other
+        // cell's neighbourhood changed)
+        let mut around: Option<Vec<usize>> = None;
         for _ in 0..2 {
-            let (old, old_best) = (self.label.to_vec(), self.best.to_vec());
-            let lab = |i: i64, j: i64| self.work.inside(i, j).map_or(NONE, |k| old[k]);
-            // a cell off the grid's border inside its parcel or inside unclaimed land (most cells) keeps its label
-            let ny = self.work.grid.ny;
-            let uniform = |k: usize| {
-                let (i, j, l) = (k % nx, k / nx, old[k]);
-                i > 0
-                    && j > 0
-                    && i + 1 < nx
-                    && j + 1 < ny
-                    && [k - nx, k + nx]
-                        .iter()
-                        .all(|&r| old[r - 1] == l && old[r] == l && old[r + 1] == l)
-                    && old[k - 1] == l
-                    && old[k + 1] == l
+            // every change from the labels before the pass, applied after it
+            let changes: Vec<(usize, u32, f64)> = match &around {
+                None => (0..self.work.grid.len())
+                    .into_par_iter()
+                    .filter_map(|k| self.smoothed(k))
+                    .collect(),
+                Some(cells) => cells.par_iter().filter_map(|&k| self.smoothed(k)).collect(),
             };
-            // every cell from the previous labels, in parallel
-            let changes: Vec<(usize, u32, f64)> = (0..self.work.grid.len())
-                .into_par_iter()
-                .filter_map(|k| {
-                    if self.is_anchor[k]
-                        || self.work.state[k] != FREE
-                        || (self.work.edge[k] && self.owner[k] != NONE)
-                    {
-                        return None;
-                    }
-                    if uniform(k) {
-                        return None;
-                    }
-                    let (i, j) = ((k % nx) as i64, (k / nx) as i64);
-                    let mut counts = [(NONE, 0usize); 8];
-                    let mut distinct = 0;
-                    for l in N8.map(|(di, dj)| lab(i + di, j + dj)) {
-                        match counts[..distinct].iter_mut().find(|c| c.0 == l) {
-                            Some(c) => c.1 += 1,
-                            None => {
-                                counts[distinct] = (l, 1);
-                                distinct += 1;
-                            }
-                        }
-                    }
-                    let counts = &mut counts[..distinct];
-                    // the most frequent label, ties to the lower one
-                    counts.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(&b.0)));
-                    let (top, count) = counts[0];
-                    let target = if old[k] == NONE {
-                        let parcels4 = N4
-                            .iter()
-                            .filter(|&&(di, dj)| lab(i + di, j + dj) != NONE)
-                            .count();
-                        match counts.iter().find(|c| c.0 != NONE).map(|c| c.0) {
-                            Some(x) if parcels4 >= 3 && !self.work.closed_to(self.owner, x, k) => x,
-                            _ => return None,
-                        }
-                    } else if top != old[k]
-                        && count >= 5
-                        && (top == NONE || !self.work.closed_to(self.owner, top, k))
-                    {
-                        top
-                    } else {
-                        return None;
-                    };
-                    let cost = if target == NONE {
-                        f64::INFINITY
-                    } else {
-                        N8.iter()
-                            .filter_map(|&(di, dj)| self.work.inside(i + di, j + dj))
-                            .filter(|&m| old[m] == target)
-                            .map(|m| old_best[m])
-                            .fold(0.0, f64::max)
-                    };
-                    Some((k, target, cost))
-                })
-                .collect();
             if changes.is_empty() {
                 break;
             }
-            for (k, target, cost) in changes {
+            let mut next: Vec<usize> = Vec::with_capacity(9 * changes.len());
+            for &(k, target, cost) in &changes {
                 self.label[k] = target;
                 self.best[k] = cost;
+                let (i, j) = (k % nx, k / nx);
+                for jj in j.saturating_sub(1)..=(j + 1).min(ny - 1) {
+                    next.extend((i.saturating_sub(1)..=(i + 1).min(nx - 1)).map(|ii| jj * nx + ii));
+                }
             }
+            next.sort_unstable();
+            next.dedup();
+            around = Some(next);
             any = true;
         }
         any
+    }
+
+    /// What the mode filter does to cell `k`: its new label and cost, or `None` when it keeps its label.
+    fn smoothed(&self, k: usize) -> Option<(usize, u32, f64)> {
+        let (old, old_best): (&[u32], &[f64]) = (self.label, self.best);
+        let (nx, ny) = (self.work.grid.nx, self.work.grid.ny);
+        let lab = |i: i64, j: i64| self.work.inside(i, j).map_or(NONE, |k| old[k]);
+        // a cell off the grid's border inside its parcel or inside unclaimed land (most cells) keeps its label
+        let uniform = |k: usize| {
+            let (i, j, l) = (k % nx, k / nx, old[k]);
+            i > 0
+                && j > 0
+                && i + 1 < nx
+                && j + 1 < ny
+                && [k - nx, k + nx]
+                    .iter()
+                    .all(|&r| old[r - 1] == l && old[r] == l && old[r + 1] == l)
+                && old[k - 1] == l
+                && old[k + 1] == l
+        };
+        if self.is_anchor[k]
+            || self.work.state[k] != FREE
+            || (self.work.edge[k] && self.owner[k] != NONE)
+        {
+            return None;
+        }
+        if uniform(k) {
+            return None;
+        }
+        let (i, j) = ((k % nx) as i64, (k / nx) as i64);
+        let mut counts = [(NONE, 0usize); 8];
+        let mut distinct = 0;
+        for l in N8.map(|(di, dj)| lab(i + di, j + dj)) {
+            match counts[..distinct].iter_mut().find(|c| c.0 == l) {
+                Some(c) => c.1 += 1,
+                None => {
+                    counts[distinct] = (l, 1);
+                    distinct += 1;
+                }
+            }
+        }
+        let counts = &mut counts[..distinct];
+        // the most frequent label, ties to the lower one
+        counts.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(&b.0)));
+        let (top, count) = counts[0];
+        let target = if old[k] == NONE {
+            let parcels4 = N4
+                .iter()
+                .filter(|&&(di, dj)| lab(i + di, j + dj) != NONE)
+                .count();
+            match counts.iter().find(|c| c.0 != NONE).map(|c| c.0) {
+                Some(x) if parcels4 >= 3 && !self.work.closed_to(self.owner, x, k) => x,
+                _ => return None,
+            }
+        } else if top != old[k]
+            && count >= 5
+            && (top == NONE || !self.work.closed_to(self.owner, top, k))
+        {
+            top
+        } else {
+            return None;
+        };
+        let cost = if target == NONE {
+            f64::INFINITY
+        } else {
+            N8.iter()
+                .filter_map(|&(di, dj)| self.work.inside(i + di, j + dj))
+                .filter(|&m| old[m] == target)
+                .map(|m| old_best[m])
+                .fold(0.0, f64::max)
+        };
+        Some((k, target, cost))
     }
 }
 

@@ -58,6 +58,12 @@
 //! is exact; the road is then the cheapest within that corridor (never dearer than the node-level path with its
 //! turns), no longer proven the cheapest of all. In the 100-building test village this never happens.
 //!
+//! **Long roads** (our addition, `coarse.rs`). A building more than 1,000 cells from every goal node (the first
+//! road of a town, from the lowest point of the land's border) is joined first on the land sampled every fourth
+//! node, then within twelve cells of that coarse course, where the road is again the cheapest within a corridor.
+//! Across 3 × 3 km of hills the node-level search alone settled 1.6 of the 2.25 million nodes before it met the
+//! connection point (0.9 s); coarse then fine, 0.18 s, for a road 0.9 % dearer.
+//!
 //! **Cycles.** After the first road to `B`, the closest road node `p` in the cone of half-angle
 //! `cycle_angle_degrees` around the direction in which the road arrives at `B` (continuing past `B`), off the
 //! road just built and at most `cycle_max_length` away, gets a road from `B` under the same costs; it is built
@@ -91,12 +97,14 @@
 //! | `heuristic.rs` | the closed-form bound, towards one target or many sources |
 //! | `search.rs` | the state of the search, its phases |
 //! | `astar.rs` | the A* over (node, incoming move) |
+//! | `coarse.rs` | long roads: a coarse course first, then the road within its corridor |
 //! | `node_field.rs` | the node-level search and its corridor |
 //! | `network_costs.rs` | the network cost `T(r)` of re-use |
 //! | `cycles.rs` | cycle roads |
 
 mod astar;
 mod checks;
+mod coarse;
 mod cycles;
 mod grid_lines;
 mod heuristic;
@@ -203,7 +211,14 @@ impl RoadNetwork {
             connection_nodes: Vec::new(),
             on_road: vec![false; grid.len()],
             road_nodes: Vec::new(),
-            index: RoadIndex::default(),
+            // every road the network adds lies on its grid; the existing ones may reach beyond it
+            index: {
+                let (lo, hi) = existing.iter().flatten().filter(|p| finite(**p)).fold(
+                    (grid.origin, grid.point(grid.nx - 1, grid.ny - 1)),
+                    |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+                );
+                RoadIndex::over(lo, hi, 4.0 * grid.cell)
+            },
             land_mark: land_mark(land),
             search: None,
         };
@@ -246,11 +261,11 @@ impl RoadNetwork {
                     network.mark(node);
                 }
             }
+            network.index.add(line);
             network.roads.push(Road {
                 points: line.clone(),
             });
         }
-        network.rebuild_index();
         Ok(network)
     }
 
@@ -331,12 +346,8 @@ impl RoadNetwork {
             self.mark(c);
         }
         self.roads[road].points.insert(0, end);
-        self.rebuild_index();
+        self.index.add(&[end, start]);
         laid
-    }
-
-    fn rebuild_index(&mut self) {
-        self.index = RoadIndex::new(&self.roads, 4.0 * self.grid.cell);
     }
 
     /// Adds the connection point `p` (snapped to the nearest node inside `Ω`) to `Ψ`, joined to the network by the
@@ -479,12 +490,15 @@ impl RoadNetwork {
             over_max_grade,
             ..RoadConnection::default()
         };
+        let before = self.roads.len();
         let first_cells = self.add_road(search, &ctx, &path, &mut connection);
         for &c in &first_cells {
             search.flags[c] |= GOAL;
         }
         self.try_cycle(search, &ctx, b, &path, &first_cells, &mut connection);
-        self.rebuild_index();
+        for road in &self.roads[before..] {
+            self.index.add(&road.points);
+        }
         Ok(connection)
     }
 

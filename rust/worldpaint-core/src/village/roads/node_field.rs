@@ -67,7 +67,7 @@ impl Corridor {
         }
     }
 
-    fn mark(&mut self, k: usize) {
+    pub(super) fn mark(&mut self, k: usize) {
         if !self.inside[k] {
             self.inside[k] = true;
             self.marked.push(k as u32);
@@ -115,6 +115,8 @@ struct NodeMoves<'s> {
     costs: &'s mut [f32],
     flags: &'s [u8],
     source_cost: &'s [f32],
+    /// The nodes the search keeps to (`None`: anywhere).
+    corridor: Option<&'s [bool]>,
 }
 
 impl NodeMoves<'_> {
@@ -122,6 +124,9 @@ impl NodeMoves<'_> {
     /// lands on or passes over, no turn; `None` when the move is not allowed.
     fn step(&mut self, x: usize, y: usize, m: usize, g: f32) -> Option<f32> {
         let land = self.query.ctx.land;
+        if self.corridor.is_some_and(|c| !c[y]) {
+            return None;
+        }
         // the A* starts at the sources wherever they are: so must the paths here end
         if let Some(el) = self.query.ellipse {
             if self.source_cost[y] == 0.0 && el.excludes(land.grid().point_of(y)) {
@@ -143,11 +148,13 @@ impl Search {
     /// the sources under the consistent bound `towards`, until its key passes the cost, turns included, of the
     /// path to the cheapest source reached. Returns that key and that source, or `None` when no source can be
     /// reached. The settled nodes have their exact cost from `target`, and every other node `x` costs at least
-    /// the returned key less the bound from `x` to the sources.
+    /// the returned key less the bound from `x` to the sources. With `within_corridor`, the paths keep to
+    /// `Search::corridor` and the costs are those of paths that do.
     pub(super) fn node_field(
         &mut self,
         query: &Query,
         towards: &SourceBound,
+        within_corridor: bool,
     ) -> Option<(f64, usize)> {
         let land = query.ctx.land;
         let p = query.ctx.params;
@@ -161,6 +168,7 @@ impl Search {
             flags,
             source_cost,
             field,
+            corridor,
             ..
         } = self;
         let mut moves = NodeMoves {
@@ -171,6 +179,7 @@ impl Search {
             costs,
             flags,
             source_cost,
+            corridor: within_corridor.then_some(&corridor.inside[..]),
         };
         let bound = Bound::new(land, table, p, steep);
         let mut heap = MinHeap::new();

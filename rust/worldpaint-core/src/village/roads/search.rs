@@ -120,8 +120,11 @@ pub(super) struct Search {
     /// [`STATE_BUDGET`]).
     pub(super) budget: usize,
     pub(super) state_budget: usize,
-    /// Nodes near the node-level path, where an A* over [`STATE_BUDGET`] finishes (see [`Search::run`]).
+    /// Nodes near the node-level path, where an A* over [`STATE_BUDGET`] finishes (see [`Search::run`]), or
+    /// near the coarse course of a long road (see `coarse`).
     pub(super) corridor: Corridor,
+    /// Whether a long road is searched on a coarser land first (see `coarse`; not on that coarser land itself).
+    pub(super) coarse_first: bool,
 }
 
 /// What landing on `y` by move `mv` from `x` adds to `start`: the building cost of each building node passed
@@ -196,6 +199,7 @@ impl Search {
             budget: BOUND_BUDGET,
             state_budget: STATE_BUDGET,
             corridor: Corridor::new(n),
+            coarse_first: true,
             table,
         })
     }
@@ -251,11 +255,13 @@ impl Search {
                 self.source_cost[r] = v;
             }
         }
-        let found = match self.astar(query, Estimate::Bound, Some(self.budget)) {
-            Outcome::Found(s) => Some(s),
-            Outcome::Unreachable => None,
-            Outcome::OverBudget => self.run_on_field(query),
-        };
+        let found = self.along_coarse_course(query).or_else(|| {
+            match self.astar(query, Estimate::Bound, Some(self.budget)) {
+                Outcome::Found(s) => Some(s),
+                Outcome::Unreachable => None,
+                Outcome::OverBudget => self.run_on_field(query),
+            }
+        });
         let path = found.map(|state| (self.backtrack(state), self.g[state] as f64 - 1.0));
         self.reset_states();
         self.field.clear();
@@ -271,7 +277,7 @@ impl Search {
     fn run_on_field(&mut self, query: &Query) -> Option<usize> {
         self.reset_states();
         let towards = SourceBound::new(query.ctx.land, query.sources);
-        let (stop, source) = self.node_field(query, &towards)?;
+        let (stop, source) = self.node_field(query, &towards, false)?;
         let estimate = Estimate::Field(stop, &towards);
         match self.astar(query, estimate, Some(self.state_budget)) {
             Outcome::Found(s) => Some(s),

@@ -235,3 +235,75 @@ fn network_costs_kept_up_to_date_match_a_full_computation() {
     }
     assert!(cycles > 0);
 }
+
+/// A road across 2.2 km of hills, laid coarse to fine, costs little more than the cheapest road, and reaches
+/// the building from the source.
+#[test]
+fn a_long_road_laid_coarse_to_fine_costs_little_more_than_the_cheapest() {
+    let g = grid(800, 800);
+    let height = (0..g.len())
+        .map(|k| {
+            let p = g.point_of(k);
+            (25.0 * (p.x / 160.0).sin() * (p.y / 210.0).cos()
+                + 6.0 * ((p.x + 2.0 * p.y) / 75.0).sin()) as f32
+        })
+        .collect();
+    let land = Land::from_maps(
+        g,
+        height,
+        [
+            vec![true; g.len()],
+            vec![false; g.len()],
+            vec![false; g.len()],
+            vec![false; g.len()],
+        ],
+    )
+    .unwrap();
+    let params = RoadParams {
+        width: 4.0,
+        distance_weight: 1.0,
+        slope_weight: 2.0,
+        max_grade: 0.15,
+        curvature_weight: 1.0,
+        water_weight: 0.0,
+        building_cost: 0.0,
+        reuse_weight: 0.1,
+        mask_radius: 2,
+        cycle_angle_degrees: 30.0,
+        cycle_max_length: 0.0,
+        cycle_min_separation: 20.0,
+        street_length: 0.0,
+    };
+    let (source, target) = (g.index(10, 20), g.index(790, 785));
+    let ctx = Ctx {
+        land: &land,
+        params: &params,
+    };
+    let sources = [(source, 0.0)];
+    let query = Query {
+        ctx: &ctx,
+        sources: &sources,
+        target,
+        steep: false,
+        ellipse: None,
+    };
+    let cost = |coarse_first: bool| {
+        let mut search = Search::new(&land, &params).unwrap();
+        search.flags = vec![0; g.len()];
+        search.flags[source] |= GOAL;
+        search.coarse_first = coarse_first;
+        let (path, cost) = search.find(&query).unwrap();
+        assert_eq!((path[0], path[path.len() - 1]), (target, source));
+        // the moves whose cost the search needed: where it looked
+        (cost, search.costs.iter().filter(|c| **c != 0.0).count())
+    };
+    let ((coarse, looked_coarse), (cheapest, looked)) = (cost(true), cost(false));
+    assert!(
+        coarse >= cheapest - 1e-6 * cheapest && coarse <= 1.03 * cheapest,
+        "coarse to fine {coarse}, the cheapest {cheapest}"
+    );
+    assert!(
+        looked_coarse * 4 < looked,
+        "coarse to fine costed {looked_coarse} moves, the exact search {looked}"
+    );
+}
