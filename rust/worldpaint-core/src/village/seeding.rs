@@ -150,6 +150,7 @@ mod tests {
     use super::*;
     use crate::grid::Grid;
     use crate::village::encyclopedia::{InterestWeights, ParcelParams, Shape};
+    use crate::village::interest::{attraction_repulsion, open_distance};
     use crate::village::BuildingSeed;
     use rand::SeedableRng;
 
@@ -333,5 +334,80 @@ mod tests {
             .expect("pool");
         let b = pool.install(|| seed_many(&land, &p, 12, 7));
         assert_eq!(a, b);
+    }
+
+    /// The sociability, worship and fortification of a location sum the buildings within reach only: the same
+    /// values, bit for bit, as the sums over every building of the village.
+    #[test]
+    fn criteria_read_the_buildings_within_reach_as_all_of_them() {
+        let land = flat_land(200, 2.0);
+        let maps = StaticInterestMaps::new(&land, &[80.0]);
+        let mut p = placement(InterestWeights::default());
+        // farms draw a farm from farther than the others reach
+        p.sociability_with.insert(
+            "farm".into(),
+            Shape {
+                min: 25.0,
+                zero: 45.0,
+                max: 150.0,
+            },
+        );
+        let mut rng = ChaCha8Rng::seed_from_u64(11);
+        let buildings: Vec<BuildingSeed> = (0..300)
+            .map(|k| BuildingSeed {
+                building: if k % 3 == 0 { "farm" } else { "house" }.into(),
+                village_type: "test".into(),
+                position: DVec2::new(
+                    rng.random_range(-50.0..450.0),
+                    rng.random_range(-50.0..450.0),
+                ),
+            })
+            .collect();
+        let religious: Vec<bool> = (0..300).map(|k| k % 97 == 5).collect();
+        let fortress: Vec<bool> = (0..300).map(|k| k % 113 == 7).collect();
+        let state = VillageState::new(&buildings, &religious, &fortress, &no_road, false);
+        for _ in 0..2000 {
+            let at = DVec2::new(
+                rng.random_range(-20.0..420.0),
+                rng.random_range(-20.0..420.0),
+            );
+            let (mut sociability, mut worship, mut too_close, mut fort) =
+                (0.0, 0.0, false, f64::INFINITY);
+            for (k, b) in buildings.iter().enumerate() {
+                let d = b.position.distance(at);
+                let shape = p
+                    .sociability_with
+                    .get(&b.building)
+                    .unwrap_or(&p.sociability);
+                let f = attraction_repulsion(d, shape);
+                too_close |= f <= -1.0;
+                sociability += f;
+                if religious[k] {
+                    worship += attraction_repulsion(d, &p.worship).max(-0.999);
+                }
+                if fortress[k] {
+                    fort = f64::min(fort, d);
+                }
+            }
+            let sociability = if too_close {
+                -1.0
+            } else {
+                sociability.clamp(-0.999, 1.0)
+            };
+            let c = criteria(&land, &maps, &state, &p, at);
+            assert_eq!(c[0].to_bits(), sociability.to_bits(), "sociability at {at}");
+            assert_eq!(
+                c[1].to_bits(),
+                worship.clamp(-0.999, 1.0).to_bits(),
+                "worship at {at}"
+            );
+            let enclosure = f64::min(f64::INFINITY, fort);
+            let fortification = open_distance(enclosure, &p.fortification);
+            assert_eq!(
+                c[5].to_bits(),
+                fortification.to_bits(),
+                "fortification at {at}"
+            );
+        }
     }
 }
