@@ -275,8 +275,8 @@ impl<'s, 'a, 'b> TileChain<'s, 'a, 'b> {
         if map_new == f64::NEG_INFINITY {
             return;
         }
-        let q_border = !self.interior
-            && inverse_alphas(sh.region, q, target.bin_width, sh.n_alpha, &mut self.ia_new);
+        let q_border =
+            !self.interior && inverse_alphas(sh.region, q, target.bin_width, &mut self.ia_new);
         self.nt = 0;
         // pairs at q (added) and at p (removed)
         let Some(ctx_new) = self.pair_changes(1.0, q, k, q_border) else {
@@ -503,7 +503,7 @@ fn weight_rows(sh: &Shared, pos: &[DVec2]) -> (Vec<f64>, Vec<u32>) {
     let mut slot = vec![1u32; pos.len()];
     let mut scratch = vec![1.0; nb];
     for (id, p) in pos.iter().enumerate() {
-        if inverse_alphas(sh.region, *p, sh.target.bin_width, nb, &mut scratch) {
+        if inverse_alphas(sh.region, *p, sh.target.bin_width, &mut scratch) {
             slot[id] = (pool.len() / nb) as u32;
             pool.extend_from_slice(&scratch);
         }
