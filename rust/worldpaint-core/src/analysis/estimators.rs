@@ -46,18 +46,31 @@ pub(crate) fn alphas(
     bin_width: f64,
     n_bins: usize,
 ) -> Vec<f64> {
+    let mut out = vec![1.0; n_bins];
+    alphas_into(region, p, bin_width, &mut out);
+    out
+}
+
+/// α per distance bin for the point `p`, as many bins as `out` holds, written into `out`; returns false (and
+/// leaves `out` alone) when the whole disc of the bins lies inside the region (α = 1).
+pub(crate) fn alphas_into(
+    region: &impl RegionQueries,
+    p: DVec2,
+    bin_width: f64,
+    out: &mut [f64],
+) -> bool {
     // whether p is inside and how near the boundary comes are the same for every bin: asked once
-    let reach = bin_width * n_bins as f64;
+    let reach = bin_width * out.len() as f64;
     let inside = region.contains(p);
     let near = region.distance_to_boundary_within(p, reach);
     if inside && near >= reach {
-        return vec![1.0; n_bins];
+        return false;
     }
-    (0..n_bins)
-        .map(|k| {
-            circle_fraction(region, p, (k as f64 + 0.5) * bin_width, inside, near).max(ALPHA_FLOOR)
-        })
-        .collect()
+    for (k, a) in out.iter_mut().enumerate() {
+        *a =
+            circle_fraction(region, p, (k as f64 + 0.5) * bin_width, inside, near).max(ALPHA_FLOOR);
+    }
+    true
 }
 
 /// Window-corrected rdf of eq. (2) between `xs` and the points of `grid_y` (`ys`), each shell split into

@@ -48,7 +48,7 @@ mod sampling;
 pub(crate) mod structure;
 use crate::spatial::{GridEntry, SpatialGrid};
 pub use arrangement::learn_arrangement;
-pub(crate) use estimators::{alphas, folded_angle_bin, rdf};
+pub(crate) use estimators::{alphas_into, folded_angle_bin, rdf};
 use estimators::{distance_bins, map_bins};
 use radius::radius_and_bin_width;
 pub(crate) use radius::CLUSTER_EXCESS;

@@ -453,6 +453,7 @@ pub(crate) fn synthesize_keeping(request: PaintRequest<'_>) -> Result<SynthesisR
         synthesized: vec![None; color.categories.len()],
         context,
         structured: StructuredContent::near(scene, &on_terrain, influence + color.max_radius),
+        structure_values: Default::default(),
         out: SynthesisResult {
             categories: out_categories,
             ..Default::default()

@@ -7,7 +7,7 @@ use super::births::BirthIntensity;
 use super::structures::StructuredContent;
 use super::target::{
     build_target, concentration, lattice_bins, lattice_log, learned_concentration, rake_maps,
-    unseen_shares, Conditioning, Target,
+    unseen_shares, Conditioning, StructureValues, Target,
 };
 use super::{
     add_unseen, arcs, attributes, islands, mix_seed, product, rdf, Facing, SynthesisOptions,
@@ -54,6 +54,8 @@ pub(super) struct Painted {
     /// Per color category: the fixed content that conditions by product factors.
     pub(super) context: Vec<Vec<DVec2>>,
     pub(super) structured: StructuredContent,
+    /// The structures' distance maps read over the lattice so far.
+    pub(super) structure_values: StructureValues,
     pub(super) out: SynthesisResult,
 }
 
@@ -106,7 +108,7 @@ impl<'s> Painting<'s> {
         let bins = if target.maps.is_empty() {
             Vec::new()
         } else {
-            lattice_bins(&target, &self.lattice)
+            lattice_bins(&target, &self.lattice, &mut state.structure_values)
         };
         let expected = self.expected_count(ci, &target, &bins, &state.context[ci]);
         // the terrain's maps can raise the count above the density's (a map bin preferred a million-fold)

@@ -30,23 +30,14 @@ const CONVERGED_CHI2_PER_BIN: f64 = 0.25;
 /// Tiles hold at least this many expected instances (and are at least twice the interaction radius wide).
 const MIN_TILE_INSTANCES: f64 = 256.0;
 
-/// `1 / α` per distance bin at `p`, written into `out`; returns false (and leaves `out` alone) when the
-/// whole disc of the interaction radius lies inside the region (α = 1).
-fn inverse_alphas(
-    region: &PreparedRegion,
-    p: DVec2,
-    bin_width: f64,
-    n: usize,
-    out: &mut [f64],
-) -> bool {
-    if region.covers_disc(p, bin_width * n as f64) {
+/// `1 / α` per distance bin at `p`, as many bins as `out` holds, written into `out`; returns false (and leaves
+/// `out` alone) when the whole disc of the interaction radius lies inside the region (α = 1).
+fn inverse_alphas(region: &PreparedRegion, p: DVec2, bin_width: f64, out: &mut [f64]) -> bool {
+    if !crate::analysis::alphas_into(region, p, bin_width, out) {
         return false;
     }
-    for (o, a) in out
-        .iter_mut()
-        .zip(crate::analysis::alphas(region, p, bin_width, n))
-    {
-        *o = 1.0 / a;
+    for o in out.iter_mut() {
+        *o = 1.0 / *o;
     }
     true
 }
@@ -132,7 +123,7 @@ fn pair_histograms(sh: &Shared, own_grid: &FlatGrid) -> Vec<f64> {
             let mut ia = vec![1.0; sh.n_alpha];
             for (o, &p) in chunk.iter().enumerate() {
                 let id = (c * 1024 + o) as u32;
-                if !inverse_alphas(sh.region, p, sh.target.bin_width, sh.n_alpha, &mut ia) {
+                if !inverse_alphas(sh.region, p, sh.target.bin_width, &mut ia) {
                     ia.fill(1.0);
                 }
                 for g in [own_grid, sh.fixed] {

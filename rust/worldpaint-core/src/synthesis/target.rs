@@ -292,14 +292,34 @@ impl<'a> MapTable<'a> {
     }
 }
 
+impl MapField<'_> {
+    /// The value at `p` of a structure's distance map (NaN for a terrain map, which [`MapTable::value`] reads).
+    #[inline]
+    fn structure_value(&self, p: DVec2) -> f64 {
+        match self {
+            MapField::Terrain(_) => f64::NAN,
+            MapField::Graph(index, r) => graph_map_value(index, p, *r),
+            MapField::Polygons(polygons, r) => polygon_map_value(polygons, p, *r),
+        }
+    }
+
+    /// Whether both read the distance to the same structure, saturating alike.
+    fn same_structure(&self, other: &MapField) -> bool {
+        match (self, other) {
+            (MapField::Graph(a, r), MapField::Graph(b, s)) => Arc::ptr_eq(a, b) && r == s,
+            (MapField::Polygons(a, r), MapField::Polygons(b, s)) => Arc::ptr_eq(a, b) && r == s,
+            _ => false,
+        }
+    }
+}
+
 impl MapTable<'_> {
     /// The map's value at `p` (None off the terrain).
     #[inline]
     pub(super) fn value(&self, terrain: Option<&Heightfield>, p: DVec2) -> Option<f64> {
         match &self.field {
             MapField::Terrain(name) => terrain?.map_at(name, p),
-            MapField::Graph(index, r) => Some(graph_map_value(index, p, *r)),
-            MapField::Polygons(polygons, r) => Some(polygon_map_value(polygons, p, *r)),
+            structure => Some(structure.structure_value(p)),
         }
     }
 
@@ -406,21 +426,58 @@ pub(super) fn learned_concentration(target: &Target) -> f64 {
 }
 
 /// The bins each map reads over `lattice`, `bins[map][point]`: read once per category, as the expected count, the
-/// unseen shares and the raking all use them (a distance map's reads are nearest-segment searches).
-pub(super) fn lattice_bins(target: &Target, lattice: &[DVec2]) -> Vec<Vec<Option<usize>>> {
+/// unseen shares and the raking all use them (a distance map's reads are nearest-segment searches, whose values
+/// `read` keeps for the next categories).
+pub(super) fn lattice_bins(
+    target: &Target,
+    lattice: &[DVec2],
+    read: &mut StructureValues,
+) -> Vec<Vec<Option<usize>>> {
     use rayon::prelude::*;
     target
         .maps
         .iter()
-        .map(|m| {
-            lattice
+        .map(|m| match read.values(&m.field, lattice) {
+            Some(values) => values.par_iter().map(|v| m.bin_of(*v)).collect(),
+            None => lattice
                 .par_iter()
                 .map(|p| m.bin_at(target.terrain, *p))
-                .collect()
+                .collect(),
         })
         .collect()
 }
 
+/// The values of the distance maps of structures over a synthesis's lattice, read once for all its categories:
+/// the trees and the boats of an archipelago both read the distance to its islands, 40,000 nearest-segment
+/// searches each. A structure the synthesis changes is a new one (its own `Arc`), so values are never stale.
+#[derive(Default)]
+pub(super) struct StructureValues {
+    read: Vec<(MapField<'static>, Vec<f64>)>,
+}
+
+impl StructureValues {
+    /// The values of `field` over `lattice` (None for a terrain map: cheap to read, and a million a lattice).
+    fn values(&mut self, field: &MapField, lattice: &[DVec2]) -> Option<&[f64]> {
+        use rayon::prelude::*;
+        let key = match field {
+            MapField::Terrain(_) => return None,
+            MapField::Graph(index, r) => MapField::Graph(index.clone(), *r),
+            MapField::Polygons(polygons, r) => MapField::Polygons(polygons.clone(), *r),
+        };
+        let at = match self.read.iter().position(|(k, _)| k.same_structure(&key)) {
+            Some(at) => at,
+            None => {
+                let values = lattice
+                    .par_iter()
+                    .map(|p| key.structure_value(*p))
+                    .collect();
+                self.read.push((key, values));
+                self.read.len() - 1
+            }
+        };
+        Some(&self.read[at].1)
+    }
+}
 /// `ln` of the map factors at lattice point `i` of `bins` (see [`lattice_bins`]), of the terrain maps only when
 /// `terrain_only`: [`Target::maps_log`] read from the bins.
 pub(super) fn lattice_log(
