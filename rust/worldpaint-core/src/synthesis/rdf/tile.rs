@@ -27,98 +27,51 @@ pub(super) struct Tile {
     pub(super) seed: u64,
 }
 
-/// The moving instances of a tile per cell of a `FlatGrid`'s layout: each cell's members with their positions in
-/// a slice of `stride` slots, in the order they entered it, so that a search reads them in a row rather than
-/// chasing a list through the members (over 200 neighbours a search on the archipelago's coasts).
+/// The moving instances of a tile, listed per cell of a `FlatGrid`'s layout (doubly linked lists).
 struct MemberCells {
-    stride: usize,
-    len: Vec<u32>,
-    xs: Vec<f64>,
-    ys: Vec<f64>,
-    members: Vec<u32>,
+    head: Vec<u32>,
+    next: Vec<u32>,
+    prev: Vec<u32>,
     cell_of: Vec<u32>,
 }
 
+const NONE: u32 = u32::MAX;
 /// A map bin not read yet, and a map read outside its bins (see [`TileChain::bins`]).
 const UNREAD: u32 = u32::MAX;
 const NO_BIN: u32 = u32::MAX - 1;
 
 impl MemberCells {
-    /// The members at `pos` in the cells of `grid`, entered in order.
-    fn new(grid: &FlatGrid, pos: &[DVec2]) -> Self {
-        let cell_of: Vec<u32> = pos.iter().map(|p| cell_index(grid, *p) as u32).collect();
-        let mut len = vec![0u32; grid.n_cells()];
-        for &c in &cell_of {
-            len[c as usize] += 1;
+    fn new(cells: usize, members: usize) -> Self {
+        MemberCells {
+            head: vec![NONE; cells],
+            next: vec![NONE; members],
+            prev: vec![NONE; members],
+            cell_of: vec![0; members],
         }
-        // room for moves into the fullest cell before the slots are laid out again
-        let fullest = len.iter().copied().max().unwrap_or(0) as usize;
-        let mut cells = MemberCells {
-            stride: 0,
-            len: vec![0; len.len()],
-            xs: Vec::new(),
-            ys: Vec::new(),
-            members: Vec::new(),
-            cell_of: vec![0; pos.len()],
-        };
-        cells.lay_out(fullest + fullest / 2 + 2);
-        for (k, p) in pos.iter().enumerate() {
-            cells.insert(k, cell_of[k] as usize, *p);
-        }
-        cells
     }
 
-    /// Lays the cells out again with `stride` slots each, keeping their members and their order.
-    fn lay_out(&mut self, stride: usize) {
-        let n = self.len.len() * stride;
-        let (mut xs, mut ys, mut members) = (vec![0.0; n], vec![0.0; n], vec![0u32; n]);
-        for (c, &l) in self.len.iter().enumerate() {
-            let (from, to, l) = (c * self.stride, c * stride, l as usize);
-            xs[to..to + l].copy_from_slice(&self.xs[from..from + l]);
-            ys[to..to + l].copy_from_slice(&self.ys[from..from + l]);
-            members[to..to + l].copy_from_slice(&self.members[from..from + l]);
+    fn insert(&mut self, k: usize, cell: usize) {
+        let h = self.head[cell];
+        self.next[k] = h;
+        self.prev[k] = NONE;
+        if h != NONE {
+            self.prev[h as usize] = k as u32;
         }
-        (self.xs, self.ys, self.members, self.stride) = (xs, ys, members, stride);
-    }
-
-    /// The slots of cell `c` in use.
-    #[inline]
-    fn slots(&self, c: usize) -> std::ops::Range<usize> {
-        c * self.stride..c * self.stride + self.len[c] as usize
-    }
-
-    fn insert(&mut self, k: usize, cell: usize, p: DVec2) {
-        if self.len[cell] as usize == self.stride {
-            self.lay_out(2 * self.stride);
-        }
-        let at = self.slots(cell).end;
-        self.xs[at] = p.x;
-        self.ys[at] = p.y;
-        self.members[at] = k as u32;
-        self.len[cell] += 1;
+        self.head[cell] = k as u32;
         self.cell_of[k] = cell as u32;
     }
 
     fn remove(&mut self, k: usize) {
-        let cell = self.cell_of[k] as usize;
-        let slots = self.slots(cell);
-        if let Some(i) = self.members[slots.clone()]
-            .iter()
-            .position(|&j| j as usize == k)
-        {
-            let (i, end) = (slots.start + i, slots.end);
-            self.xs.copy_within(i + 1..end, i);
-            self.ys.copy_within(i + 1..end, i);
-            self.members.copy_within(i + 1..end, i);
-            self.len[cell] -= 1;
+        let (p, n) = (self.prev[k], self.next[k]);
+        if p != NONE {
+            self.next[p as usize] = n;
+        } else {
+            self.head[self.cell_of[k] as usize] = n;
+        }
+        if n != NONE {
+            self.prev[n as usize] = p;
         }
     }
-}
-
-/// The cell of `grid` that holds `p`, as an index.
-fn cell_index(grid: &FlatGrid, p: DVec2) -> usize {
-    let (cx, cy) = grid.cell_coords(p);
-    cy * grid.nx() + cx
 }
 
 /// Each map's bin at `at` into `out` (`NO_BIN` outside its bins).
@@ -229,7 +182,11 @@ impl<'s, 'a, 'b> TileChain<'s, 'a, 'b> {
         let (pool, slot) = weight_rows(sh, &pos);
         let grid = static_grid(sh, &bounds, &pos[m..], &slot[m..], grid_cell(sh, tile));
         let grid_len = grid.xs.len();
-        let cells = MemberCells::new(&grid, &pos[..m]);
+        let mut cells = MemberCells::new(grid.n_cells(), m);
+        for (k, p) in pos[..m].iter().enumerate() {
+            let (cx, cy) = grid.cell_coords(*p);
+            cells.insert(k, cy * grid.nx() + cx);
+        }
         let (rlo, rhi) = sh.region.bbox();
         let (slo, shi) = (tile.lo.max(rlo), tile.hi.min(rhi));
         let half = (tile.hi - tile.lo) * 0.5;
@@ -258,6 +215,11 @@ impl<'s, 'a, 'b> TileChain<'s, 'a, 'b> {
             bins: vec![UNREAD; m * sh.target.maps.len()],
             q_bins: vec![UNREAD; sh.target.maps.len()],
         }
+    }
+
+    fn cell_index(&self, p: DVec2) -> usize {
+        let (cx, cy) = self.grid.cell_coords(p);
+        cy * self.grid.nx() + cx
     }
 
     /// One proposal: a relocation or a shift of a random member, its change of `H`, and its acceptance.
@@ -351,9 +313,8 @@ impl<'s, 'a, 'b> TileChain<'s, 'a, 'b> {
         let self_tag = self.sh.self_tag;
         let grid = &self.grid;
         let (xs, ys, tags, ids) = (&grid.xs[..], &grid.ys[..], &grid.tags[..], &grid.ids[..]);
-        let cells = &self.cells;
-        let (mxs, mys, members) = (&cells.xs[..], &cells.ys[..], &cells.members[..]);
-        let slot = &self.slot[..];
+        let (head, next) = (&self.cells.head[..], &self.cells.next[..]);
+        let (pos, slot) = (&self.pos[..], &self.slot[..]);
         let cand = &mut self.cand[..];
         let lnx = grid.nx();
         let mut n = 0usize;
@@ -367,14 +328,15 @@ impl<'s, 'a, 'b> TileChain<'s, 'a, 'b> {
                 cand[n] = (tags[i], ids[i], v, d2);
                 n += usize::from(d2 <= r2);
             }
-            for c in cy * lnx + x0..=cy * lnx + x1 {
-                // the newest first, as the cells have always been read (the sums of `d_h` keep their order)
-                for i in cells.slots(c).rev() {
-                    let j = members[i] as usize;
-                    let v = DVec2::new(mxs[i] - at.x, mys[i] - at.y);
-                    let d2 = v.x * v.x + v.y * v.y;
-                    cand[n] = (self_tag, slot[j], v, d2);
-                    n += usize::from(d2 <= r2 && j != k);
+            for &first in &head[cy * lnx + x0..=cy * lnx + x1] {
+                let mut j = first;
+                while j != NONE {
+                    let ju = j as usize;
+                    let v = pos[ju] - at;
+                    let d2 = v.length_squared();
+                    cand[n] = (self_tag, slot[ju], v, d2);
+                    n += usize::from(d2 <= r2 && ju != k);
+                    j = next[ju];
                 }
             }
         }
@@ -463,7 +425,8 @@ impl<'s, 'a, 'b> TileChain<'s, 'a, 'b> {
     fn move_member(&mut self, k: usize, q: DVec2, q_border: bool) {
         let nb = self.sh.n_alpha;
         self.cells.remove(k);
-        self.cells.insert(k, cell_index(&self.grid, q), q);
+        let cell = self.cell_index(q);
+        self.cells.insert(k, cell);
         self.pos[k] = q;
         if q_border {
             if self.slot[k] <= 1 {
