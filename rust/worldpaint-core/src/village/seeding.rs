@@ -6,9 +6,9 @@
 //! from) and tried in turn; the first that passes its aggregation test is the one kept. Most candidates of a
 //! large land are rejected by a look-up or two (too far from the roads), so they are tried on one thread: handing
 //! batches of them to a pool cost more than trying them (0.60 s against 1.08 s over the 1,000-building town
-//! of `benches/town.rs`). After `max_attempts` failed tests the
-//! building goes to the most interesting candidate seen (if any had a positive interest) and the caller is told,
-//! so that a scenario asking for ten farms gets ten farms wherever the land allows them.
+//! of `benches/town.rs`). After `max_attempts` failed tests the building goes to the most interesting candidate
+//! seen (if any had a positive interest) and the caller is told, so that a scenario asking for ten farms gets ten
+//! farms wherever the land allows them.
 //!
 //! A building seeded beside one already there (a village type's cluster share) draws its candidates in rings
 //! around the standing buildings instead of over the whole land; the aggregation test is the same.
