@@ -161,19 +161,10 @@ impl GrowingPoints {
 
     /// Appends to `out` the ids of the points within `radius` of `p` (inclusive), in no particular order.
     pub(crate) fn ids_within(&self, p: DVec2, radius: f64, out: &mut Vec<u32>) {
-        let r2 = radius * radius;
-        let ((x0, y0), (x1, y1)) = self.grid.buckets_within(p, radius);
-        for cy in y0..=y1 {
-            for &first in &self.head[cy * self.grid.nx + x0..=cy * self.grid.nx + x1] {
-                let mut j = first;
-                while j != Self::NONE {
-                    if (self.points[j as usize] - p).length_squared() <= r2 {
-                        out.push(j);
-                    }
-                    j = self.next[j as usize];
-                }
-            }
-        }
+        self.visit_within(p, radius, 0, |j, _, _| {
+            out.push(j);
+            false
+        });
     }
 
     /// [`Self::any_within`] among the points pushed from the `since`-th on (a cell lists its points newest first,
@@ -186,6 +177,19 @@ impl GrowingPoints {
         since: usize,
         mut found: impl FnMut(DVec2, f64) -> bool,
     ) -> bool {
+        self.visit_within(p, radius, since, |_, v, d2| found(v, d2))
+    }
+
+    /// Calls `visit(id, offset, distance²)` for the points from the `since`-th on within `radius` of `p`
+    /// (inclusive) until it returns true; whether it did.
+    #[inline]
+    fn visit_within(
+        &self,
+        p: DVec2,
+        radius: f64,
+        since: usize,
+        mut visit: impl FnMut(u32, DVec2, f64) -> bool,
+    ) -> bool {
         let r2 = radius * radius;
         let ((x0, y0), (x1, y1)) = self.grid.buckets_within(p, radius);
         for cy in y0..=y1 {
@@ -194,7 +198,7 @@ impl GrowingPoints {
                 while j != Self::NONE && j as usize >= since {
                     let v = self.points[j as usize] - p;
                     let d2 = v.length_squared();
-                    if d2 <= r2 && found(v, d2) {
+                    if d2 <= r2 && visit(j, v, d2) {
                         return true;
                     }
                     j = self.next[j as usize];

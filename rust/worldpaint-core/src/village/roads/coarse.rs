@@ -93,21 +93,12 @@ impl Search {
     /// Marks the nodes within [`COURSE_CELLS`] of the polyline `course`.
     fn mark_course(&mut self, course: &[DVec2]) {
         let g = self.grid;
-        let r = COURSE_CELLS as i64;
         for w in course.windows(2) {
             let steps = (w[0].distance(w[1]) / g.cell).ceil().max(1.0) as usize;
             for s in 0..=steps {
                 let p = w[0].lerp(w[1], s as f64 / steps as f64);
-                let (i, j) = {
-                    let k = g.nearest_clamped(p);
-                    let (i, j) = g.ij(k);
-                    (i as i64, j as i64)
-                };
-                for jj in (j - r).max(0)..=(j + r).min(g.ny as i64 - 1) {
-                    for ii in (i - r).max(0)..=(i + r).min(g.nx as i64 - 1) {
-                        self.corridor.mark(g.index(ii as usize, jj as usize));
-                    }
-                }
+                self.corridor
+                    .mark_around(&g, g.nearest_clamped(p), COURSE_CELLS);
             }
         }
     }

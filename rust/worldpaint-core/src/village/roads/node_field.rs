@@ -67,10 +67,20 @@ impl Corridor {
         }
     }
 
-    pub(super) fn mark(&mut self, k: usize) {
+    fn mark(&mut self, k: usize) {
         if !self.inside[k] {
             self.inside[k] = true;
             self.marked.push(k as u32);
+        }
+    }
+
+    /// Marks the nodes of `grid` within `r` cells (a square) of node `k`.
+    pub(super) fn mark_around(&mut self, grid: &Grid, k: usize, r: usize) {
+        let (i, j) = grid.ij(k);
+        for jj in j.saturating_sub(r)..=(j + r).min(grid.ny - 1) {
+            for ii in i.saturating_sub(r)..=(i + r).min(grid.nx - 1) {
+                self.mark(grid.index(ii, jj));
+            }
         }
     }
 
@@ -245,15 +255,9 @@ impl Search {
     /// Marks the nodes within [`CORRIDOR_CELLS`] of the node-level path from `target` to `source`.
     pub(super) fn mark_corridor(&mut self, target: usize, source: usize) {
         let g = self.grid;
-        let r = CORRIDOR_CELLS as i64;
         let (mut x, mut steps) = (source, 0);
         loop {
-            let (i, j) = g.ij(x);
-            for jj in (j as i64 - r).max(0)..=(j as i64 + r).min(g.ny as i64 - 1) {
-                for ii in (i as i64 - r).max(0)..=(i as i64 + r).min(g.nx as i64 - 1) {
-                    self.corridor.mark(g.index(ii as usize, jj as usize));
-                }
-            }
+            self.corridor.mark_around(&g, x, CORRIDOR_CELLS);
             if x == target || steps > g.len() {
                 break;
             }
