@@ -52,8 +52,8 @@ from scene_kit import (  # noqa: E402
     tilt_ring,
 )
 from worldpaint.bridge import engine as facade  # noqa: E402
+from worldpaint.bridge import engine_place, snap, variety  # noqa: E402
 from worldpaint.bridge import points as wp_points  # noqa: E402
-from worldpaint.bridge import snap, variety  # noqa: E402
 from worldpaint.bridge.instances import point_cloud_arrays, point_cloud_objects  # noqa: E402
 from worldpaint.ops.common import SceneContent  # noqa: E402
 
@@ -69,6 +69,15 @@ def timed(fn):
     t0 = time.perf_counter()
     out = fn()
     return out, time.perf_counter() - t0
+
+
+def best_of(runs, fn):
+    """The result of ``fn`` and its shortest time over ``runs`` calls (the first also starts thread pools)."""
+    times = []
+    for _ in range(runs):
+        out, elapsed = timed(fn)
+        times.append(elapsed)
+    return out, min(times)
 
 
 def exemplar_color():
@@ -104,22 +113,33 @@ def poisson_disk_points(terrain_obj, count, distance_min):
     mod.node_group = group
     area = sum(p.area for p in obj.data.polygons)
     density = count / area
-    for _ in range(3):  # Poisson disk rejection lowers the count: correct the maximum density
-        dist.inputs["Density Max"].default_value = density
+    def evaluate():
         obj.update_tag()
-        t0 = time.perf_counter()
         depsgraph = bpy.context.evaluated_depsgraph_get()  # evaluates what was tagged
         evaluated = obj.evaluated_get(depsgraph)
         mesh = evaluated.to_mesh()
-        elapsed = time.perf_counter() - t0
         co = np.empty(len(mesh.vertices) * 3, np.float32)
         mesh.vertices.foreach_get("co", co)
         evaluated.to_mesh_clear()
+        return co
+
+    for _ in range(3):  # Poisson disk rejection lowers the count: correct the maximum density
+        dist.inputs["Density Max"].default_value = density
+        co = evaluate()
         got = len(co) // 3
         if abs(got - count) <= 0.02 * count:
             break
         density *= count / max(got, 1)
-    return co.reshape(-1, 3)[:, :2].astype(np.float64), elapsed
+    # timed as the engine is: the best of three evaluations (reading the points back is not counted)
+    times = []
+    for _ in range(3):
+        obj.update_tag()
+        t0 = time.perf_counter()
+        depsgraph = bpy.context.evaluated_depsgraph_get()
+        obj.evaluated_get(depsgraph).to_mesh()
+        times.append(time.perf_counter() - t0)
+        obj.evaluated_get(depsgraph).to_mesh_clear()
+    return co.reshape(-1, 3)[:, :2].astype(np.float64), min(times)
 
 
 def main():
@@ -141,7 +161,7 @@ def main():
 
     no = np.zeros((0, 2))
     empty = engine.Scene(terrain, CATEGORIES, no, np.zeros(0, np.int32))
-    result, t_engine = timed(lambda: engine.synthesize(empty, color, whole, 1))
+    result, t_engine = best_of(3, lambda: engine.synthesize(empty, color, whole, 1))
     n = len(result["positions"])
 
     def build():
@@ -186,7 +206,7 @@ def main():
     rdf_second = engine.compare(grass_color, learned_second)["max_rdf_l2"]
 
     print(f"terrain {args.size:.0f} m x {args.size:.0f} m ({len(terrain_obj.data.vertices)} vertices)")
-    print(f"engine synthesis          {n:7d} instances, 3 categories  {t_engine:7.3f} s")
+    print(f"engine synthesis          {n:7d} instances, 3 categories  {t_engine:7.3f} s   (best of 3, as GN's)")
     print(f"build point clouds + GN   {n:7d} instances               {t_build:7.3f} s   (target <= 0.5 s)")
     print(f"Paste Color operator      {n_op:7d} instances               {t_operator:7.3f} s   (extract+engine+build; "
           f"the first on a new terrain {t_first:.3f} s)")
@@ -392,7 +412,7 @@ def bench_place():
             continue
         bpy.ops.wm.read_factory_settings(use_empty=True)
         paths, elevation = [str(f) for f in layers], "" if dem is None else str(dem)
-        imported, t_engine = timed(lambda p=paths, e=elevation: facade.import_place(p, e or None))
+        imported, t_engine = timed(lambda p=paths, e=elevation: engine_place.import_place(p, e or None))
         _, t_operator = timed(lambda p=paths, e=elevation: bpy.ops.worldpaint.import_place(layers=";".join(p),
                                                                                            elevation=e))
         roads = sum(float(np.linalg.norm(np.diff(p, axis=0), axis=1).sum()) for p in imported.roads.points)

@@ -37,8 +37,8 @@
 //! map-weighted intensity `λ(x) ∝ Π_m ψ_m(m(x))` of the painted terrain instead of uniformly, and the move is
 //! accepted with the Hastings ratio of that proposal (`g(x_old) / g(x_new)` times the ratio of `f`): the chain
 //! samples the same `f`, but content starts where the terrain says instead of being moved there from uniform
-//! darts. The rdf-matching chain starts such a color, when clustered, as clusters of the size and spread its rdf
-//! shows, their first instances drawn from `λ` (module `births`).
+//! darts. The rdf-matching chain starts a clustered color, with maps or without, as clusters of the size and
+//! spread its rdf shows, their first instances drawn from `λ` (uniformly without maps; module `births`).
 //!
 //! ## Small counts: the product model of eq. (1)
 //! When the painted region holds fewer than 100 expected instances of a category (or the caller asks for it,
@@ -86,9 +86,10 @@
 //! example's counts scaled up by about `k`, so each carries the example's counting noise scaled up too, a variance
 //! of about `k T` against the `T` of the paste's own counts. Matching them more closely than that copies the
 //! example's noise, not its process; the bound lets the chain leave a quarter of the variance the target already
-//! carries. On the bench color (trees, rocks and clumped grass) the grass stops one phase into its third sweep of
-//! 12 at 100k instances and at 1M (checked only before whole sweeps, it ran 3 at both), where a bound of a quarter
-//! alone ran 7 and all 12. The slope forest's rock–grass pair, which converges slowly, is left at the level of a
+//! carries. On the bench color (trees, rocks and clumped grass) the grass, started as clusters, stops after its
+//! first sweep of 12 at 100k instances and at 1M (see "Tiles match their own pairs"; started uniformly and matched
+//! to the region's `H − T` only, it stopped one phase into its third), where a bound of a quarter alone ran 7 and
+//! all 12. The slope forest's rock–grass pair, which converges slowly, is left at the level of a
 //! second draw of the example (rdf L2 7.2 against 7.8) rather than well below it. The bound is a quarter rather
 //! than one because at one the chain stopped while the borders of small patches were still 14 % denser than their
 //! insides.
@@ -112,13 +113,25 @@
 //! (and holding ≥ `MIN_TILE_INSTANCES` expected instances), with a random offset per sweep; tiles are processed
 //! in four 2 × 2 colour phases, so tiles of a phase never share a neighbour, in parallel with rayon. Each
 //! tile moves only its own instances, inside itself, with its own ChaCha8 generator seeded from (seed,
-//! category, sweep, phase, tile). `E` is global: a tile sees the deviation `H − T` at the start of the phase
-//! plus its own changes scaled by its share of the phase's instances (it is responsible for that share of the
-//! correction). A tile's changes of `H` are exact (tiles of a phase are at least twice the radius apart, so no
-//! pair joins two moving tiles): `H` is computed in full once, then carried by the tiles' changes. Results are
-//! merged in tile order: the same seed gives the same result whatever the thread count. Small regions are one tile.
-//! An instance never leaves its tile, so a sweep sorts the instances into its tiles once, and a tile finds the
-//! instances around it among its eight neighbours' (no index of all instances is rebuilt between phases).
+//! category, sweep, phase, tile). A tile's changes of `H` are exact (tiles of a phase are at least twice the
+//! radius apart, so no pair joins two moving tiles): `H` is computed in full once, then carried by the tiles'
+//! changes, and the stopping bound is read on it. Results are merged in tile order: the same seed gives the same
+//! result whatever the thread count. Small regions are one tile. An instance never leaves its tile, so a sweep
+//! sorts the instances into its tiles once, and a tile finds the instances around it among its eight neighbours'
+//! (no index of all instances is rebuilt between phases).
+//!
+//! **Tiles match their own pairs.** Without maps a tile matches its own pair histograms — its members' pairs,
+//! counted when the phase starts and carried by its moves — to its share `f` of the targets (its count over the
+//! category's), at the weights `1 / (f max(f T, 1))`: its chi-square as the region's would read were every tile
+//! as far from its share as this one, so `τ` means what it means for one tile over the region. Matched only to
+//! the region's `H − T` (each tile its share of the correction, as before), every tile of a phase was pushed the
+//! same way whatever its own clumps, and a phase overshot to make up for the tiles still to come: a paste of 1 km²
+//! of the benchmark grass was uneven from one 62.5 m square to the next (the neighbours within 4 m of an
+//! instance spread 1.79 between squares, 1.41 in the process that made the example), 2.7–3.1 once the chain
+//! started from clusters. Matching their own pairs, the squares spread 0.94 and the chain reaches the stopping
+//! bound in one sweep. With maps the density follows the terrain, a tile's share of the pairs is not its share
+//! of the instances, and tiles see the region's `H − T` plus their own changes scaled by their share of the
+//! phase's instances; the map histograms are always read so.
 //!
 //! ## Zeros of the histograms
 //! * Distances below the first non-empty bin of a pair (and below the exemplar's smallest same-category

@@ -99,6 +99,10 @@ struct Shared<'a, 'b> {
     dev: &'a [f64],
     /// Per histogram index: weight `1 / max(T, 1)`.
     weight: &'a [f64],
+    /// Per histogram index: the target `T` over the whole region.
+    targets: &'a [f64],
+    /// Whether each tile matches its own pairs (see "Tiles match their own pairs"), or all of them the region's.
+    local_pairs: bool,
     tau: f64,
     shift_sigma: f64,
     /// Where relocations are born (uniformly in the tile without it).
@@ -261,11 +265,7 @@ impl<'a> RdfChain<'_, 'a> {
             shift_sigma: 3.0 * target.bin_width,
         };
         let (rlo, rhi) = self.region.bbox();
-        let tile_size = (2.0 * r)
-            .max((MIN_TILE_INSTANCES / (n / self.area)).sqrt())
-            .max(1e-6);
-        let ext = rhi - rlo;
-        let tiled = ext.x >= 3.0 * tile_size && ext.y >= 3.0 * tile_size;
+        let (tile_size, tiled) = self.tile_size(n);
         let base_seed: u64 = rng.random();
         let noise_scale = if self.exemplar_count > 0.0 {
             (n / self.exemplar_count).max(1.0)
@@ -309,9 +309,23 @@ impl<'a> RdfChain<'_, 'a> {
         Ok(own)
     }
 
+    /// The side of the chain's tiles at `n` own instances, and whether the region is cut into tiles (see "Tiles
+    /// and determinism").
+    fn tile_size(&self, n: f64) -> (f64, bool) {
+        let (rlo, rhi) = self.region.bbox();
+        let size = (2.0 * self.target.radius)
+            .max((MIN_TILE_INSTANCES / (n / self.area)).sqrt())
+            .max(1e-6);
+        let ext = rhi - rlo;
+        (size, ext.x >= 3.0 * size && ext.y >= 3.0 * size)
+    }
+
     /// The count (see "The count"), then dart throwing among allowed positions: uniformly without maps; with
-    /// them drawn from the map-weighted intensity, and for a clustered color only the first instance of each
-    /// cluster so, the others around them (see "Clusters" in [`super::births`]).
+    /// them drawn from the map-weighted intensity. A clustered color that follows maps, or whose tiles match
+    /// their own pairs (see "Tiles match their own pairs"), throws only the first instance of each cluster so,
+    /// the others around them (see "Clusters" in [`super::births`]); a small paste without maps builds its
+    /// clusters in the chain, against the content around it (clusters thrown blind to it would be cut at its
+    /// border).
     fn dart_throwing<R: Rng>(
         &self,
         rng: &mut R,
@@ -321,15 +335,18 @@ impl<'a> RdfChain<'_, 'a> {
         let want = self.expected.floor() as usize
             + usize::from(rng.random::<f64>() < self.expected.fract());
         let table = &target.tables[self_tag as usize];
-        let clusters = self.births.and_then(|_| {
-            Clusters::of_rdf(
-                &table.target_hist,
-                table.angle_bins,
-                table.bin_width,
-                want as f64 / self.area,
-                target.radius,
-            )
-        });
+        let own_pairs = self.tile_size(want as f64).1 && target.maps.is_empty();
+        let clusters = (self.births.is_some() || own_pairs)
+            .then(|| {
+                Clusters::of_rdf(
+                    &table.target_hist,
+                    table.angle_bins,
+                    table.bin_width,
+                    want as f64 / self.area,
+                    target.radius,
+                )
+            })
+            .flatten();
         let darts = 30 * want + 1000;
         // darts grown around the first instances of the clusters, while half the darts remain
         let grown = clusters.map(|c| {
@@ -517,6 +534,8 @@ impl<'a> Sweeps<'_, 'a> {
             log_factor: &self.matched.log_factor,
             dev,
             weight: &self.matched.weight,
+            targets: &self.matched.targets,
+            local_pairs: tiles.tiles.len() > 1 && self.chain.target.maps.is_empty(),
             tau,
             shift_sigma: self.shift_sigma,
             births: self.chain.births,

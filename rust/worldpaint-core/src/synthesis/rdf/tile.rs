@@ -102,6 +102,9 @@ pub(super) fn run_tile(sh: &Shared, tile: &Tile) -> (Vec<DVec2>, Vec<f64>) {
     }
     let mut rng = ChaCha8Rng::seed_from_u64(tile.seed);
     let mut chain = TileChain::new(sh, tile, delta);
+    if sh.local_pairs {
+        chain.count_own_pairs();
+    }
     for _ in 0..tile.proposals {
         chain.step(&mut rng);
     }
@@ -162,6 +165,10 @@ struct TileChain<'s, 'a, 'b> {
     ia_new: Vec<f64>,
     cand: Vec<Neighbour>,
     inv_share: f64,
+    /// With `local_pairs`, per pair histogram index: the tile's own pairs less its share of the targets, and the
+    /// weight of its chi-square scaled up to the region (see "Tiles match their own pairs" in [`super::super`]).
+    own_dev: Vec<f64>,
+    own_weight: Vec<f64>,
     /// Each map's bin at each member's position (`maps` a member, `UNREAD` until a move of the member reads
     /// them) and at the proposed position: the terrain is sampled once a proposal, not at both ends twice.
     bins: Vec<u32>,
@@ -212,9 +219,52 @@ impl<'s, 'a, 'b> TileChain<'s, 'a, 'b> {
             ia_new: vec![1.0; sh.n_alpha],
             cand: vec![(0, 0, DVec2::ZERO, 0.0); grid_len + m],
             inv_share: 1.0 / tile.share,
+            own_dev: Vec::new(),
+            own_weight: Vec::new(),
             bins: vec![UNREAD; m * sh.target.maps.len()],
             q_bins: vec![UNREAD; sh.target.maps.len()],
         }
+    }
+
+    /// The tile's own pair histograms, less its share `f` of the targets (its count over the own instances'),
+    /// and their weights `1 / (f max(f T, 1))`: its chi-square as the region's would read were every tile as far
+    /// from its share as this one. A member's pairs are read as a move counts them: with the own instances both
+    /// ways, halved (a pair within the tile then counts once each way, one with the halo about once), with the
+    /// fixed content one way.
+    fn count_own_pairs(&mut self) {
+        let offs = self.sh.offs;
+        let n_pairs = offs[self.sh.target.tables.len()];
+        let tag = self.sh.self_tag as usize;
+        let both_ways = offs[tag]..offs[tag + 1];
+        let frac = self.m as f64 / self.sh.own.len().max(1) as f64;
+        let mut own = vec![0.0; n_pairs];
+        for k in 0..self.m {
+            self.nt = 0;
+            // a removal is never refused: it only reads the member's pairs
+            let _ = self.pair_changes(-1.0, self.pos[k], k, false);
+            for &h in &self.touched[..self.nt] {
+                let h = h as usize;
+                if h < n_pairs {
+                    let half = if both_ways.contains(&h) { 0.5 } else { 1.0 };
+                    own[h] -= half * self.d_h[h];
+                }
+                self.d_h[h] = 0.0;
+            }
+        }
+        self.nt = 0;
+        self.own_weight = (0..n_pairs)
+            .map(|h| {
+                let t = frac * self.sh.targets[h];
+                if self.sh.weight[h] > 0.0 {
+                    1.0 / (frac * t.max(1.0))
+                } else {
+                    0.0
+                }
+            })
+            .collect();
+        self.own_dev = (0..n_pairs)
+            .map(|h| own[h] - frac * self.sh.targets[h])
+            .collect();
     }
 
     fn cell_index(&self, p: DVec2) -> usize {
@@ -406,16 +456,23 @@ impl<'s, 'a, 'b> TileChain<'s, 'a, 'b> {
         }
     }
 
-    /// `ΔE` of the move under way: the tile sees `H − T` at the start of the phase plus its own changes scaled
-    /// by its share (see "Tiles and determinism").
+    /// `ΔE` of the move under way: the tile sees its own pairs against its share of the targets where it matches
+    /// them, and otherwise `H − T` at the start of the phase plus its own changes scaled by its share (see "Tiles
+    /// match their own pairs").
     fn energy_change(&self) -> f64 {
         let sh = self.sh;
         let mut d_e = 0.0;
+        let n_own = self.own_dev.len();
         for &h in &self.touched[..self.nt] {
             let h = h as usize;
             let dh = self.d_h[h];
-            let view = sh.dev[h] + self.delta[h] * self.inv_share;
-            d_e += sh.weight[h] * (2.0 * view * dh + dh * dh * self.inv_share);
+            if h < n_own {
+                let view = self.own_dev[h] + self.delta[h];
+                d_e += self.own_weight[h] * (2.0 * view * dh + dh * dh);
+            } else {
+                let view = sh.dev[h] + self.delta[h] * self.inv_share;
+                d_e += sh.weight[h] * (2.0 * view * dh + dh * dh * self.inv_share);
+            }
         }
         d_e
     }
