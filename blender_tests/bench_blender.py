@@ -113,6 +113,7 @@ def poisson_disk_points(terrain_obj, count, distance_min):
     mod.node_group = group
     area = sum(p.area for p in obj.data.polygons)
     density = count / area
+
     def evaluate():
         obj.update_tag()
         depsgraph = bpy.context.evaluated_depsgraph_get()  # evaluates what was tagged
@@ -130,16 +131,8 @@ def poisson_disk_points(terrain_obj, count, distance_min):
         if abs(got - count) <= 0.02 * count:
             break
         density *= count / max(got, 1)
-    # timed as the engine is: the best of three evaluations (reading the points back is not counted)
-    times = []
-    for _ in range(3):
-        obj.update_tag()
-        t0 = time.perf_counter()
-        depsgraph = bpy.context.evaluated_depsgraph_get()
-        obj.evaluated_get(depsgraph).to_mesh()
-        times.append(time.perf_counter() - t0)
-        obj.evaluated_get(depsgraph).to_mesh_clear()
-    return co.reshape(-1, 3)[:, :2].astype(np.float64), min(times)
+    co, elapsed = best_of(3, evaluate)  # timed as the engine is
+    return co.reshape(-1, 3)[:, :2].astype(np.float64), elapsed
 
 
 def main():

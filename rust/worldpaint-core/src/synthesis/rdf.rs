@@ -102,7 +102,7 @@ struct Shared<'a, 'b> {
     /// Per histogram index: the target `T` over the whole region.
     targets: &'a [f64],
     /// Whether each tile matches its own pairs (see "Tiles match their own pairs"), or all of them the region's.
-    local_pairs: bool,
+    own_pairs: bool,
     tau: f64,
     shift_sigma: f64,
     /// Where relocations are born (uniformly in the tile without it).
@@ -241,6 +241,8 @@ struct Sweeps<'c, 'a> {
     fixed: FlatGrid,
     n_alpha: usize,
     shift_sigma: f64,
+    /// Whether the tiles match their own pairs (see "Tiles match their own pairs").
+    own_pairs: bool,
 }
 
 impl<'a> RdfChain<'_, 'a> {
@@ -257,15 +259,16 @@ impl<'a> RdfChain<'_, 'a> {
         if own.len() < 2 || target.matches_nothing() {
             return Ok(own);
         }
+        let (rlo, rhi) = self.region.bbox();
+        let (tile_size, tiled) = self.tile_size(n);
         let sweeps = Sweeps {
             chain: self,
             matched: self.matched_histograms(n),
             fixed: self.flat_grid(&target.grid.entries().copied().collect::<Vec<_>>()),
             n_alpha: ((r / target.bin_width).ceil() as usize).max(1),
             shift_sigma: 3.0 * target.bin_width,
+            own_pairs: self.own_pairs(tiled),
         };
-        let (rlo, rhi) = self.region.bbox();
-        let (tile_size, tiled) = self.tile_size(n);
         let base_seed: u64 = rng.random();
         let noise_scale = if self.exemplar_count > 0.0 {
             (n / self.exemplar_count).max(1.0)
@@ -320,6 +323,12 @@ impl<'a> RdfChain<'_, 'a> {
         (size, ext.x >= 3.0 * size && ext.y >= 3.0 * size)
     }
 
+    /// Whether the tiles of a tiled region match their own pairs: where no map shapes the density (see "Tiles match
+    /// their own pairs").
+    fn own_pairs(&self, tiled: bool) -> bool {
+        tiled && self.target.maps.is_empty()
+    }
+
     /// The count (see "The count"), then dart throwing among allowed positions: uniformly without maps; with
     /// them drawn from the map-weighted intensity. A clustered color that follows maps, or whose tiles match
     /// their own pairs (see "Tiles match their own pairs"), throws only the first instance of each cluster so,
@@ -335,7 +344,7 @@ impl<'a> RdfChain<'_, 'a> {
         let want = self.expected.floor() as usize
             + usize::from(rng.random::<f64>() < self.expected.fract());
         let table = &target.tables[self_tag as usize];
-        let own_pairs = self.tile_size(want as f64).1 && target.maps.is_empty();
+        let own_pairs = self.own_pairs(self.tile_size(want as f64).1);
         let clusters = (self.births.is_some() || own_pairs)
             .then(|| {
                 Clusters::of_rdf(
@@ -535,7 +544,7 @@ impl<'a> Sweeps<'_, 'a> {
             dev,
             weight: &self.matched.weight,
             targets: &self.matched.targets,
-            local_pairs: tiles.tiles.len() > 1 && self.chain.target.maps.is_empty(),
+            own_pairs: self.own_pairs,
             tau,
             shift_sigma: self.shift_sigma,
             births: self.chain.births,

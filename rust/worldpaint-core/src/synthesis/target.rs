@@ -478,6 +478,7 @@ impl StructureValues {
         Some(&self.read[at].1)
     }
 }
+
 /// `ln` of the map factors at lattice point `i` of `bins` (see [`lattice_bins`]), of the terrain maps only when
 /// `terrain_only`: [`Target::maps_log`] read from the bins.
 pub(super) fn lattice_log(

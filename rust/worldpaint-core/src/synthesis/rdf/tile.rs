@@ -102,7 +102,7 @@ pub(super) fn run_tile(sh: &Shared, tile: &Tile) -> (Vec<DVec2>, Vec<f64>) {
     }
     let mut rng = ChaCha8Rng::seed_from_u64(tile.seed);
     let mut chain = TileChain::new(sh, tile, delta);
-    if sh.local_pairs {
+    if sh.own_pairs {
         chain.count_own_pairs();
     }
     for _ in 0..tile.proposals {
@@ -165,7 +165,7 @@ struct TileChain<'s, 'a, 'b> {
     ia_new: Vec<f64>,
     cand: Vec<Neighbour>,
     inv_share: f64,
-    /// With `local_pairs`, per pair histogram index: the tile's own pairs less its share of the targets, and the
+    /// With `own_pairs`, per pair histogram index: the tile's own pairs less its share of the targets, and the
     /// weight of its chi-square scaled up to the region (see "Tiles match their own pairs" in [`super::super`]).
     own_dev: Vec<f64>,
     own_weight: Vec<f64>,
