@@ -132,6 +132,13 @@
 //! bound in one sweep. With maps the density follows the terrain, a tile's share of the pairs is not its share
 //! of the instances, and tiles see the region's `H − T` plus their own changes scaled by their share of the
 //! phase's instances; the map histograms are always read so.
+//! A tile matching its own pairs also stops on its own, once its chi-square (as the region's would read) is
+//! within the region's stopping bound: were every tile so, `H − T` would be too (its square is at most the tiles'
+//! count times the sum of theirs), and the tile is then as near its share of the targets as the example's own
+//! counting noise allows (its relative deviation per bin at most that of the example, whatever the paste's size).
+//! On the bench grass at 100k, tiles started at 70–400 times the bound and stopped after a tenth to seven tenths
+//! of their budget; the region's χ² ended at half the bound (a twentieth with every tile spending its budget),
+//! the squares spread 0.92, and the chain's phases took 4.5 ms instead of 9.
 //!
 //! ## Zeros of the histograms
 //! * Distances below the first non-empty bin of a pair (and below the exemplar's smallest same-category

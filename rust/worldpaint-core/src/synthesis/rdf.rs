@@ -2,7 +2,7 @@
 //! of [`super`]): an annealed chi-square energy between the window-corrected pair histograms and the learned
 //! ones, evaluated on tiles in parallel.
 
-use super::births::{birth_in, BirthIntensity, Clusters, RectProposal};
+use super::births::{birth_in, BirthIntensity, Clusters};
 use super::target::{PairTable, Target, CONTEXT_TAG};
 use super::{annealed, mix_seed};
 use crate::error::{Error, Result};
@@ -18,7 +18,7 @@ mod tile;
 const RDF_SWEEPS: usize = 12;
 /// Darts thrown between two progress reports (a cancel is heard within some milliseconds).
 const DARTS_PER_PROGRESS: usize = 1 << 16;
-/// Darts thrown at once by dart throwing without clusters (see [`RdfChain::dart_batches`]).
+/// Darts thrown at once (see [`RdfChain::dart_batches`]).
 const DARTS_PER_BATCH: usize = 4096;
 /// Temperature of the first and of the last sweeps (in units of the chi-square energy, see the module docs).
 const TAU_START: f64 = 1.0;
@@ -103,6 +103,9 @@ struct Shared<'a, 'b> {
     targets: &'a [f64],
     /// Whether each tile matches its own pairs (see "Tiles match their own pairs"), or all of them the region's.
     own_pairs: bool,
+    /// The χ² within the noise of the targets (see [`Matched::chi2_bound`]): a tile that matches its own pairs
+    /// stops once its chi-square, as the region's would read, is at most this (see "When to stop").
+    chi2_bound: f64,
     tau: f64,
     shift_sigma: f64,
     /// Where relocations are born (uniformly in the tile without it).
@@ -118,15 +121,14 @@ fn pair_histograms(sh: &Shared, own_grid: &FlatGrid) -> Vec<f64> {
     let offs = sh.offs;
     let n_hist = offs[offs.len() - 1];
     let r = sh.target.radius;
-    let chunks: Vec<Vec<f64>> = sh
-        .own
-        .par_chunks(1024)
-        .enumerate()
-        .map(|(c, chunk)| {
+    // in the grid's order, cell by cell: neighbouring points read the same cells
+    let chunks: Vec<Vec<f64>> = (0..sh.own.len().div_ceil(1024))
+        .into_par_iter()
+        .map(|c| {
             let mut h = vec![0.0; n_hist];
             let mut ia = vec![1.0; sh.n_alpha];
-            for (o, &p) in chunk.iter().enumerate() {
-                let id = (c * 1024 + o) as u32;
+            for i in c * 1024..((c + 1) * 1024).min(sh.own.len()) {
+                let (p, id) = (DVec2::new(own_grid.xs[i], own_grid.ys[i]), own_grid.ids[i]);
                 if !inverse_alphas(sh.region, p, sh.target.bin_width, &mut ia) {
                     ia.fill(1.0);
                 }
@@ -225,13 +227,24 @@ struct Matched {
 /// `Σ w (H − T)²` with `w = 1 / max(T, 1)`, at most [`CONVERGED_CHI2_PER_BIN`] per bin that has a target, times
 /// `noise_scale`, the paste's size in examples (see "When to stop" in the module documentation of [`super`]).
 fn converged(dev: &[f64], matched: &Matched, noise_scale: f64) -> bool {
-    let bins = matched.targets.iter().filter(|t| **t > 0.0).count();
     let chi2: f64 = dev
         .iter()
         .zip(&matched.weight)
         .map(|(d, w)| w * d * d)
         .sum();
-    bins > 0 && chi2 <= CONVERGED_CHI2_PER_BIN * noise_scale * bins as f64
+    chi2 <= matched.chi2_bound(noise_scale)
+}
+
+impl Matched {
+    /// The largest χ² that lies within the noise of the targets: [`CONVERGED_CHI2_PER_BIN`] per bin that has a
+    /// target, times `noise_scale` (negative without such a bin: nothing is within the noise of no target).
+    fn chi2_bound(&self, noise_scale: f64) -> f64 {
+        let bins = self.targets.iter().filter(|t| **t > 0.0).count();
+        if bins == 0 {
+            return -1.0;
+        }
+        CONVERGED_CHI2_PER_BIN * noise_scale * bins as f64
+    }
 }
 
 /// What every sweep of the chain shares: the matched histograms and the fixed content in a flat grid.
@@ -243,6 +256,8 @@ struct Sweeps<'c, 'a> {
     shift_sigma: f64,
     /// Whether the tiles match their own pairs (see "Tiles match their own pairs").
     own_pairs: bool,
+    /// The paste's size in examples (see [`converged`]).
+    noise_scale: f64,
 }
 
 impl<'a> RdfChain<'_, 'a> {
@@ -261,6 +276,11 @@ impl<'a> RdfChain<'_, 'a> {
         }
         let (rlo, rhi) = self.region.bbox();
         let (tile_size, tiled) = self.tile_size(n);
+        let noise_scale = if self.exemplar_count > 0.0 {
+            (n / self.exemplar_count).max(1.0)
+        } else {
+            1.0
+        };
         let sweeps = Sweeps {
             chain: self,
             matched: self.matched_histograms(n),
@@ -268,13 +288,9 @@ impl<'a> RdfChain<'_, 'a> {
             n_alpha: ((r / target.bin_width).ceil() as usize).max(1),
             shift_sigma: 3.0 * target.bin_width,
             own_pairs: self.own_pairs(tiled),
+            noise_scale,
         };
         let base_seed: u64 = rng.random();
-        let noise_scale = if self.exemplar_count > 0.0 {
-            (n / self.exemplar_count).max(1.0)
-        } else {
-            1.0
-        };
         let mut dev: Vec<f64> = Vec::new();
         for sweep in 0..RDF_SWEEPS {
             let tau = annealed(TAU_START, TAU_END, sweep, RDF_SWEEPS, ANNEALING_FRACTION);
@@ -374,55 +390,29 @@ impl<'a> RdfChain<'_, 'a> {
                 .min(target.radius),
             table.forbidden_reach().min(target.radius),
         );
-        let (lo, hi) = self.grid_bounds();
-        let mut own = GrowingPoints::new(lo, hi, target.cell, want);
-        let (rlo, rhi) = self.region.bbox();
-        let births = self.births.map(|b| b.over(rlo, rhi));
-        if grown.is_none() {
-            return self.dart_batches(rng, progress, (want, darts), reach, births.as_ref(), own);
-        }
-        for dart in 0..darts {
-            if own.points().len() >= want {
-                break;
-            }
-            if dart % DARTS_PER_PROGRESS == DARTS_PER_PROGRESS - 1 && !progress(0.0) {
-                return Err(Error::Cancelled);
-            }
-            let dart = match grown {
-                Some((c, seeds, until)) if own.points().len() >= seeds && dart < until => {
-                    Some(own.points()[rng.random_range(0..seeds)] + c.offset_from_seed(rng))
-                        .filter(|p| self.region.contains(*p))
-                }
-                _ => match birth_in(self.region, births.as_ref(), rng) {
-                    Some(p) => Some(p),
-                    None => break,
-                },
-            };
-            let Some(p) = dart else {
-                continue;
-            };
-            if allowed(target, &own, self_tag, reach, p) {
-                own.push(p);
-            }
-        }
-        Ok(own.into_points())
+        self.dart_batches(rng, progress, (want, darts), reach, grown)
     }
 
-    /// Dart throwing without clusters, in batches with the result of one dart at a time: a batch's darts are drawn
-    /// in turn, checked against the instances before the batch in parallel, then kept in turn unless an instance
-    /// kept earlier in the batch forbids them. A batch holds no more darts than instances are still wanted, so
-    /// that it draws no dart the one-at-a-time throwing would not have.
+    /// Dart throwing in batches with the result of one dart at a time: a batch's darts are drawn in turn, checked
+    /// against the instances before the batch in parallel, then kept in turn unless an instance kept earlier in
+    /// the batch forbids them. A batch holds no more darts than instances are still wanted, and none past the
+    /// first instances of the clusters (`grown`: the clusters, how many first instances, until which dart darts
+    /// are grown around them), so that every dart is drawn as the one-at-a-time throwing would have drawn it.
     fn dart_batches<R: Rng>(
         &self,
         rng: &mut R,
         progress: &dyn Fn(f64) -> bool,
         (want, darts): (usize, usize),
         reach: (f64, f64),
-        births: Option<&RectProposal>,
-        mut own: GrowingPoints,
+        grown: Option<(Clusters, usize, usize)>,
     ) -> Result<Vec<DVec2>> {
         use rayon::prelude::*;
         let (target, self_tag) = (self.target, self.self_tag);
+        let (lo, hi) = self.grid_bounds();
+        let mut own = GrowingPoints::new(lo, hi, target.cell, want);
+        let (rlo, rhi) = self.region.bbox();
+        let births = self.births.map(|b| b.over(rlo, rhi));
+        let births = births.as_ref();
         let own_table = &target.tables[self_tag as usize];
         let mut thrown = 0;
         let mut batch = Vec::with_capacity(DARTS_PER_BATCH);
@@ -431,13 +421,40 @@ impl<'a> RdfChain<'_, 'a> {
             {
                 return Err(Error::Cancelled);
             }
-            let size = DARTS_PER_BATCH
-                .min(want - own.points().len())
-                .min(darts - thrown);
+            let count = own.points().len();
+            let mut size = DARTS_PER_BATCH.min(want - count).min(darts - thrown);
+            // around the first instances of the clusters once they are all thrown, uniformly before and after
+            let around = match grown {
+                Some((c, seeds, until)) if count >= seeds && thrown < until => {
+                    size = size.min(until - thrown);
+                    Some((c, seeds))
+                }
+                Some((_, seeds, _)) if count < seeds => {
+                    size = size.min(seeds - count);
+                    None
+                }
+                _ => None,
+            };
             batch.clear();
-            batch.extend((0..size).map_while(|_| birth_in(self.region, births, rng)));
-            let exhausted = batch.len() < size;
-            thrown += batch.len();
+            let mut exhausted = false;
+            for _ in 0..size {
+                thrown += 1;
+                match around {
+                    Some((c, seeds)) => {
+                        let p = own.points()[rng.random_range(0..seeds)] + c.offset_from_seed(rng);
+                        if self.region.contains(p) {
+                            batch.push(p);
+                        }
+                    }
+                    None => match birth_in(self.region, births, rng) {
+                        Some(p) => batch.push(p),
+                        None => {
+                            exhausted = true;
+                            break;
+                        }
+                    },
+                }
+            }
             let before: Vec<bool> = batch
                 .par_iter()
                 .with_min_len(256)
@@ -545,6 +562,7 @@ impl<'a> Sweeps<'_, 'a> {
             weight: &self.matched.weight,
             targets: &self.matched.targets,
             own_pairs: self.own_pairs,
+            chi2_bound: self.matched.chi2_bound(self.noise_scale),
             tau,
             shift_sigma: self.shift_sigma,
             births: self.chain.births,

@@ -106,6 +106,10 @@ pub(super) fn run_tile(sh: &Shared, tile: &Tile) -> (Vec<DVec2>, Vec<f64>) {
         chain.count_own_pairs();
     }
     for _ in 0..tile.proposals {
+        // a tile whose own pairs lie within the targets' noise is done (see "When to stop")
+        if sh.own_pairs && chain.own_chi2 <= sh.chi2_bound {
+            break;
+        }
         chain.step(&mut rng);
     }
     let mut pos = chain.pos;
@@ -169,6 +173,8 @@ struct TileChain<'s, 'a, 'b> {
     /// weight of its chi-square scaled up to the region (see "Tiles match their own pairs" in [`super::super`]).
     own_dev: Vec<f64>,
     own_weight: Vec<f64>,
+    /// With `own_pairs`: the tile's chi-square `Σ own_weight · (own_dev + delta)²`, kept by the accepted moves.
+    own_chi2: f64,
     /// Each map's bin at each member's position (`maps` a member, `UNREAD` until a move of the member reads
     /// them) and at the proposed position: the terrain is sampled once a proposal, not at both ends twice.
     bins: Vec<u32>,
@@ -221,6 +227,7 @@ impl<'s, 'a, 'b> TileChain<'s, 'a, 'b> {
             inv_share: 1.0 / tile.share,
             own_dev: Vec::new(),
             own_weight: Vec::new(),
+            own_chi2: 0.0,
             bins: vec![UNREAD; m * sh.target.maps.len()],
             q_bins: vec![UNREAD; sh.target.maps.len()],
         }
@@ -265,6 +272,12 @@ impl<'s, 'a, 'b> TileChain<'s, 'a, 'b> {
         self.own_dev = (0..n_pairs)
             .map(|h| own[h] - frac * self.sh.targets[h])
             .collect();
+        self.own_chi2 = self
+            .own_dev
+            .iter()
+            .zip(&self.own_weight)
+            .map(|(d, w)| w * d * d)
+            .sum();
     }
 
     fn cell_index(&self, p: DVec2) -> usize {
@@ -304,7 +317,8 @@ impl<'s, 'a, 'b> TileChain<'s, 'a, 'b> {
             read_bins(target, p, &mut self.bins[k * nm..(k + 1) * nm]);
         }
         self.map_changes(k);
-        let log_accept = -self.energy_change() / sh.tau
+        let d_e = self.energy_change();
+        let log_accept = -d_e / sh.tau
             + (map_new - log_factor_of(target, &self.bins[k * nm..(k + 1) * nm]))
             + (target.ghost_log(q) - target.ghost_log(p))
             + (ctx_new.min(target.saturation) - ctx_old.min(target.saturation))
@@ -318,6 +332,8 @@ impl<'s, 'a, 'b> TileChain<'s, 'a, 'b> {
             self.d_h[h] = 0.0;
         }
         if accept {
+            // with own pairs every touched bin is the tile's own (no maps), so `d_e` is its chi-square's change
+            self.own_chi2 += d_e;
             self.move_member(k, q, q_border);
             self.bins[k * nm..(k + 1) * nm].copy_from_slice(&self.q_bins);
         }
