@@ -23,6 +23,7 @@ use crate::scene::{CategoryKind, Contour, Path, Scene};
 use crate::terrain::Heightfield;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
+use std::sync::OnceLock;
 
 /// Expected count from which synthesis matches the rdf directly (below it, the exemplar's `h` is used as the
 /// pair factor, as in the paper).
@@ -39,8 +40,9 @@ pub(super) struct Painting<'s> {
     /// Per color category: its index in the result's categories.
     scene_index: Vec<usize>,
     area: f64,
-    /// Sample points of the region (on the terrain's lattice when there is one).
-    lattice: Vec<DVec2>,
+    /// Sample points of the region (on the terrain's lattice when there is one), built when maps first read them:
+    /// a square kilometre on a terrain of 2 m cells holds a million.
+    lattice: OnceLock<Vec<DVec2>>,
     /// The exemplar region's points on the terrain, when the color was learned on it.
     exemplar_lattice: Option<Vec<DVec2>>,
     /// The region's box grown by the color's largest radius: the extent of the chains' grids.
@@ -69,10 +71,6 @@ impl<'s> Painting<'s> {
         scene_index: Vec<usize>,
     ) -> Self {
         let terrain = scene.terrain.as_deref();
-        let lattice = match terrain {
-            Some(t) => region_lattice(region.region(), t),
-            None => crate::analysis::region_samples(region.region()),
-        };
         let exemplar_lattice = terrain
             .filter(|_| opts.exemplar_on_terrain)
             .map(|t| region_lattice(&color.region, t))
@@ -88,10 +86,18 @@ impl<'s> Painting<'s> {
             terrain,
             scene_index,
             area: region.region().area(),
-            lattice,
+            lattice: OnceLock::new(),
             exemplar_lattice,
             bounds: (rlo - pad, rhi + pad),
         }
+    }
+
+    /// The region's sample points (see [`Painting::lattice`]).
+    fn lattice(&self) -> &[DVec2] {
+        self.lattice.get_or_init(|| match self.terrain {
+            Some(t) => region_lattice(self.region.region(), t),
+            None => crate::analysis::region_samples(self.region.region()),
+        })
     }
 
     /// One category in priority order: its conditioning, its target, its expected count, its chain, and its
@@ -108,7 +114,7 @@ impl<'s> Painting<'s> {
         let bins = if target.maps.is_empty() {
             Vec::new()
         } else {
-            lattice_bins(&target, &self.lattice, &mut state.structure_values)
+            lattice_bins(&target, self.lattice(), &mut state.structure_values)
         };
         let expected = self.expected_count(ci, &target, &bins, &state.context[ci]);
         // the terrain's maps can raise the count above the density's (a map bin preferred a million-fold)
@@ -127,7 +133,7 @@ impl<'s> Painting<'s> {
             Some(l) => concentration(&target, l.iter().map(|p| target.maps_log(*p, true))),
             None => learned_concentration(&target),
         };
-        if !target.maps.is_empty() && !self.lattice.is_empty() {
+        if !target.maps.is_empty() && !self.lattice().is_empty() {
             for (name, share) in unseen_shares(&target, &bins) {
                 add_unseen(&mut state.out.unseen_maps, name, share);
             }
@@ -137,7 +143,7 @@ impl<'s> Painting<'s> {
         let pair_scale = learned
             / concentration(
                 &target,
-                (0..self.lattice.len()).map(|i| lattice_log(&target, &bins, i, true)),
+                (0..bins.first().map_or(0, Vec::len)).map(|i| lattice_log(&target, &bins, i, true)),
             );
         // births where the (raked) map factors put the intensity
         let births = if target.maps.is_empty() {
@@ -150,7 +156,7 @@ impl<'s> Painting<'s> {
                 .map(|m| m.hist.values.iter().map(|v| v.exp()).collect())
                 .collect();
             BirthIntensity::new(
-                &self.lattice,
+                self.lattice(),
                 |i| {
                     factors
                         .iter()
@@ -283,7 +289,7 @@ impl<'s> Painting<'s> {
         bins: &[Vec<Option<usize>>],
         kept: &[DVec2],
     ) -> f64 {
-        let preference = if target.maps.is_empty() || self.lattice.is_empty() {
+        let preference = if target.maps.is_empty() || self.lattice().is_empty() {
             1.0
         } else {
             // relative to the exemplar region's own preference when it lies on this terrain: several maps
@@ -300,7 +306,7 @@ impl<'s> Painting<'s> {
                 })
                 .filter(|v| v.is_finite() && *v > 0.0)
                 .unwrap_or(1.0);
-            let n = self.lattice.len();
+            let n = self.lattice().len();
             (0..n)
                 .map(|i| lattice_log(target, bins, i, false).exp())
                 .sum::<f64>()
