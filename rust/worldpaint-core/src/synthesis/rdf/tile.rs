@@ -27,52 +27,112 @@ pub(super) struct Tile {
     pub(super) seed: u64,
 }
 
-/// The moving instances of a tile, listed per cell of a `FlatGrid`'s layout (doubly linked lists).
+/// The moving instances of a tile per cell of a `FlatGrid`'s layout: each cell a run of slots with room to grow,
+/// its members' positions in them, so that a neighbour search reads a cell in order (a list per cell made it
+/// chase one link per neighbour, a third of the archipelago's moves).
 struct MemberCells {
-    head: Vec<u32>,
-    next: Vec<u32>,
-    prev: Vec<u32>,
+    /// Per cell: its first slot, its members and its slots.
+    start: Vec<u32>,
+    len: Vec<u32>,
+    cap: Vec<u32>,
+    /// Per slot: the position and the member.
+    xs: Vec<f64>,
+    ys: Vec<f64>,
+    who: Vec<u32>,
+    /// Per member: its cell and its slot.
     cell_of: Vec<u32>,
+    slot_of: Vec<u32>,
+}
+
+impl MemberCells {
+    /// The members at `pos` in the cells `cell_of` (of `cells` cells).
+    fn new(cells: usize, cell_of: Vec<u32>, pos: &[DVec2]) -> Self {
+        let mut mc = MemberCells {
+            start: vec![0; cells],
+            len: vec![0; cells],
+            cap: vec![0; cells],
+            xs: Vec::new(),
+            ys: Vec::new(),
+            who: Vec::new(),
+            slot_of: vec![0; cell_of.len()],
+            cell_of,
+        };
+        mc.lay_out(pos);
+        mc
+    }
+
+    /// Slots for every cell's members and half as many more (at least two), the members written in.
+    fn lay_out(&mut self, pos: &[DVec2]) {
+        self.len.fill(0);
+        for &c in &self.cell_of {
+            self.len[c as usize] += 1;
+        }
+        let mut next = 0u32;
+        for c in 0..self.start.len() {
+            self.start[c] = next;
+            self.cap[c] = self.len[c] + self.len[c] / 2 + 2;
+            next += self.cap[c];
+            self.len[c] = 0;
+        }
+        let slots = next as usize;
+        self.xs = vec![0.0; slots];
+        self.ys = vec![0.0; slots];
+        self.who = vec![NONE; slots];
+        for k in 0..self.cell_of.len() {
+            self.place(k, pos[k]);
+        }
+    }
+
+    /// Writes member `k` at `p` into the next slot of its cell, which has room.
+    fn place(&mut self, k: usize, p: DVec2) {
+        let c = self.cell_of[k] as usize;
+        let slot = (self.start[c] + self.len[c]) as usize;
+        self.len[c] += 1;
+        self.xs[slot] = p.x;
+        self.ys[slot] = p.y;
+        self.who[slot] = k as u32;
+        self.slot_of[k] = slot as u32;
+    }
+
+    /// Member `k` moves to `p` in cell `cell` (`pos`: every member's position after the move).
+    fn move_to(&mut self, k: usize, cell: usize, p: DVec2, pos: &[DVec2]) {
+        let old = self.cell_of[k] as usize;
+        if old == cell {
+            let slot = self.slot_of[k] as usize;
+            self.xs[slot] = p.x;
+            self.ys[slot] = p.y;
+            return;
+        }
+        // the cell's last member fills the slot left
+        let (slot, last) = (
+            self.slot_of[k] as usize,
+            (self.start[old] + self.len[old] - 1) as usize,
+        );
+        self.xs[slot] = self.xs[last];
+        self.ys[slot] = self.ys[last];
+        self.who[slot] = self.who[last];
+        self.slot_of[self.who[slot] as usize] = slot as u32;
+        self.len[old] -= 1;
+        self.cell_of[k] = cell as u32;
+        if self.len[cell] < self.cap[cell] {
+            self.place(k, p);
+        } else {
+            self.lay_out(pos);
+        }
+    }
+
+    /// The slots of cell `c`'s members.
+    #[inline]
+    fn run(&self, c: usize) -> std::ops::Range<usize> {
+        let a = self.start[c] as usize;
+        a..a + self.len[c] as usize
+    }
 }
 
 const NONE: u32 = u32::MAX;
 /// A map bin not read yet, and a map read outside its bins (see [`TileChain::bins`]).
 const UNREAD: u32 = u32::MAX;
 const NO_BIN: u32 = u32::MAX - 1;
-
-impl MemberCells {
-    fn new(cells: usize, members: usize) -> Self {
-        MemberCells {
-            head: vec![NONE; cells],
-            next: vec![NONE; members],
-            prev: vec![NONE; members],
-            cell_of: vec![0; members],
-        }
-    }
-
-    fn insert(&mut self, k: usize, cell: usize) {
-        let h = self.head[cell];
-        self.next[k] = h;
-        self.prev[k] = NONE;
-        if h != NONE {
-            self.prev[h as usize] = k as u32;
-        }
-        self.head[cell] = k as u32;
-        self.cell_of[k] = cell as u32;
-    }
-
-    fn remove(&mut self, k: usize) {
-        let (p, n) = (self.prev[k], self.next[k]);
-        if p != NONE {
-            self.next[p as usize] = n;
-        } else {
-            self.head[self.cell_of[k] as usize] = n;
-        }
-        if n != NONE {
-            self.prev[n as usize] = p;
-        }
-    }
-}
 
 /// Each map's bin at `at` into `out` (`NO_BIN` outside its bins).
 fn read_bins(target: &Target, at: DVec2, out: &mut [u32]) {
@@ -195,11 +255,14 @@ impl<'s, 'a, 'b> TileChain<'s, 'a, 'b> {
         let (pool, slot) = weight_rows(sh, &pos);
         let grid = static_grid(sh, &bounds, &pos[m..], &slot[m..], grid_cell(sh, tile));
         let grid_len = grid.xs.len();
-        let mut cells = MemberCells::new(grid.n_cells(), m);
-        for (k, p) in pos[..m].iter().enumerate() {
-            let (cx, cy) = grid.cell_coords(*p);
-            cells.insert(k, cy * grid.nx() + cx);
-        }
+        let cell_of = pos[..m]
+            .iter()
+            .map(|p| {
+                let (cx, cy) = grid.cell_coords(*p);
+                (cy * grid.nx() + cx) as u32
+            })
+            .collect();
+        let cells = MemberCells::new(grid.n_cells(), cell_of, &pos[..m]);
         let (rlo, rhi) = sh.region.bbox();
         let (slo, shi) = (tile.lo.max(rlo), tile.hi.min(rhi));
         let half = (tile.hi - tile.lo) * 0.5;
@@ -379,8 +442,9 @@ impl<'s, 'a, 'b> TileChain<'s, 'a, 'b> {
         let self_tag = self.sh.self_tag;
         let grid = &self.grid;
         let (xs, ys, tags, ids) = (&grid.xs[..], &grid.ys[..], &grid.tags[..], &grid.ids[..]);
-        let (head, next) = (&self.cells.head[..], &self.cells.next[..]);
-        let (pos, slot) = (&self.pos[..], &self.slot[..]);
+        let cells = &self.cells;
+        let (mx, my, who) = (&cells.xs[..], &cells.ys[..], &cells.who[..]);
+        let slot = &self.slot[..];
         let cand = &mut self.cand[..];
         let lnx = grid.nx();
         let mut n = 0usize;
@@ -394,15 +458,13 @@ impl<'s, 'a, 'b> TileChain<'s, 'a, 'b> {
                 cand[n] = (tags[i], ids[i], v, d2);
                 n += usize::from(d2 <= r2);
             }
-            for &first in &head[cy * lnx + x0..=cy * lnx + x1] {
-                let mut j = first;
-                while j != NONE {
-                    let ju = j as usize;
-                    let v = pos[ju] - at;
-                    let d2 = v.length_squared();
-                    cand[n] = (self_tag, slot[ju], v, d2);
-                    n += usize::from(d2 <= r2 && ju != k);
-                    j = next[ju];
+            for c in cy * lnx + x0..=cy * lnx + x1 {
+                for i in cells.run(c) {
+                    let j = who[i] as usize;
+                    let v = DVec2::new(mx[i] - at.x, my[i] - at.y);
+                    let d2 = v.x * v.x + v.y * v.y;
+                    cand[n] = (self_tag, slot[j], v, d2);
+                    n += usize::from(d2 <= r2 && j != k);
                 }
             }
         }
@@ -497,10 +559,9 @@ impl<'s, 'a, 'b> TileChain<'s, 'a, 'b> {
     /// its disc, reused when it had one).
     fn move_member(&mut self, k: usize, q: DVec2, q_border: bool) {
         let nb = self.sh.n_alpha;
-        self.cells.remove(k);
         let cell = self.cell_index(q);
-        self.cells.insert(k, cell);
         self.pos[k] = q;
+        self.cells.move_to(k, cell, q, &self.pos[..self.m]);
         if q_border {
             if self.slot[k] <= 1 {
                 self.slot[k] = (self.pool.len() / nb) as u32;
