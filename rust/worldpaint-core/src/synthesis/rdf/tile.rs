@@ -78,8 +78,8 @@ impl MemberCells {
         self.xs = vec![0.0; slots];
         self.ys = vec![0.0; slots];
         self.who = vec![NONE; slots];
-        for k in 0..self.cell_of.len() {
-            self.place(k, pos[k]);
+        for (k, p) in pos.iter().enumerate() {
+            self.place(k, *p);
         }
     }
 
