@@ -92,7 +92,7 @@ impl<'s> Painting<'s> {
         }
     }
 
-    /// The region's sample points (see [`Painting::lattice`]).
+    /// The region's sample points, built by the first call (see the field `lattice`).
     fn lattice(&self) -> &[DVec2] {
         self.lattice.get_or_init(|| match self.terrain {
             Some(t) => region_lattice(self.region.region(), t),

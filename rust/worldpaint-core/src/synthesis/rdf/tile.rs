@@ -29,7 +29,7 @@ pub(super) struct Tile {
 
 /// The moving instances of a tile per cell of a `FlatGrid`'s layout: each cell a run of slots with room to grow,
 /// its members' positions in them, so that a neighbour search reads a cell in order (a list per cell made it
-/// chase one link per neighbour, a third of the archipelago's moves).
+/// chase one link per neighbour: the archipelago's coast points, about 190 neighbours a move, took 4–6 % longer).
 struct MemberCells {
     /// Per cell: its first slot, its members and its slots.
     start: Vec<u32>,
