@@ -225,14 +225,15 @@ struct Matched {
 
 /// Whether the matched histograms lie within the noise of their targets: Pearson's χ², the chain's energy
 /// `Σ w (H − T)²` with `w = 1 / max(T, 1)`, at most [`CONVERGED_CHI2_PER_BIN`] per bin that has a target, times
-/// `noise_scale`, the paste's size in examples (see "When to stop" in the module documentation of [`super`]).
-fn converged(dev: &[f64], matched: &Matched, noise_scale: f64) -> bool {
+/// `noise_scale`, the paste's size in examples (see "When to stop" in the module documentation of [`super`]):
+/// at most `bound` ([`Matched::chi2_bound`]).
+fn converged(dev: &[f64], matched: &Matched, bound: f64) -> bool {
     let chi2: f64 = dev
         .iter()
         .zip(&matched.weight)
         .map(|(d, w)| w * d * d)
         .sum();
-    chi2 <= matched.chi2_bound(noise_scale)
+    chi2 <= bound
 }
 
 impl Matched {
@@ -256,8 +257,8 @@ struct Sweeps<'c, 'a> {
     shift_sigma: f64,
     /// Whether the tiles match their own pairs (see "Tiles match their own pairs").
     own_pairs: bool,
-    /// The paste's size in examples (see [`converged`]).
-    noise_scale: f64,
+    /// The stopping bound (see [`Matched::chi2_bound`]), read once for the chain.
+    chi2_bound: f64,
 }
 
 impl<'a> RdfChain<'_, 'a> {
@@ -281,14 +282,15 @@ impl<'a> RdfChain<'_, 'a> {
         } else {
             1.0
         };
+        let matched = self.matched_histograms(n);
         let sweeps = Sweeps {
             chain: self,
-            matched: self.matched_histograms(n),
+            chi2_bound: matched.chi2_bound(noise_scale),
+            matched,
             fixed: self.flat_grid(&target.grid.entries().copied().collect::<Vec<_>>()),
             n_alpha: ((r / target.bin_width).ceil() as usize).max(1),
             shift_sigma: 3.0 * target.bin_width,
             own_pairs: self.own_pairs(tiled),
-            noise_scale,
         };
         let base_seed: u64 = rng.random();
         let mut dev: Vec<f64> = Vec::new();
@@ -310,7 +312,7 @@ impl<'a> RdfChain<'_, 'a> {
             let phases = tiling.phases();
             for phase in 0..phases {
                 // before each phase: a sweep's last phases are not run once the first have matched the targets
-                if converged(&dev, &sweeps.matched, noise_scale) {
+                if converged(&dev, &sweeps.matched, sweeps.chi2_bound) {
                     return Ok(own);
                 }
                 if tiles.phase_total[phase] == 0 {
@@ -562,7 +564,7 @@ impl<'a> Sweeps<'_, 'a> {
             weight: &self.matched.weight,
             targets: &self.matched.targets,
             own_pairs: self.own_pairs,
-            chi2_bound: self.matched.chi2_bound(self.noise_scale),
+            chi2_bound: self.chi2_bound,
             tau,
             shift_sigma: self.shift_sigma,
             births: self.chain.births,
