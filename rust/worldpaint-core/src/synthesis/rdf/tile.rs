@@ -179,6 +179,8 @@ pub(super) fn run_tile(sh: &Shared, tile: &Tile) -> (Vec<DVec2>, Vec<f64>) {
 
 /// A neighbour within the interaction radius of a moved instance: pair tag, weight row, offset, squared distance.
 type Neighbour = (u32, u32, DVec2, f64);
+/// An own moving instance within the interaction radius of a moved one: weight row, offset, squared distance.
+type OwnNeighbour = (u32, DVec2, f64);
 
 /// A tile's rectangle `[lo, hi)` and its halo `[elo, ehi]`: the rectangle grown by the interaction radius.
 #[derive(Clone, Copy)]
@@ -228,6 +230,11 @@ struct TileChain<'s, 'a, 'b> {
     nt: usize,
     ia_new: Vec<f64>,
     cand: Vec<Neighbour>,
+    own_cand: Vec<OwnNeighbour>,
+    /// Per distance bin of the own pairs (one angle bin): the own neighbours of the move under way and the sum of
+    /// their weights, zero between moves.
+    bin_count: Vec<f64>,
+    bin_weight: Vec<f64>,
     inv_share: f64,
     /// With `own_pairs`, per pair histogram index: the tile's own pairs less its share of the targets, and the
     /// weight of its chi-square scaled up to the region (see "Tiles match their own pairs" in [`super::super`]).
@@ -286,7 +293,10 @@ impl<'s, 'a, 'b> TileChain<'s, 'a, 'b> {
             delta,
             nt: 0,
             ia_new: vec![1.0; sh.n_alpha],
-            cand: vec![(0, 0, DVec2::ZERO, 0.0); grid_len + m],
+            cand: vec![(0, 0, DVec2::ZERO, 0.0); grid_len],
+            own_cand: vec![(0, DVec2::ZERO, 0.0); m],
+            bin_count: vec![0.0; sh.last_bin[sh.self_tag as usize] + 1],
+            bin_weight: vec![0.0; sh.last_bin[sh.self_tag as usize] + 1],
             inv_share: 1.0 / tile.share,
             own_dev: Vec::new(),
             own_weight: Vec::new(),
@@ -433,21 +443,21 @@ impl<'s, 'a, 'b> TileChain<'s, 'a, 'b> {
         }
     }
 
-    /// Gathers into `cand` the neighbours within the radius of `at` (member `k` left out), without branching on
-    /// the distance; returns their count. `cand` holds a slot for every local point, so it never grows here, and
-    /// the loops read local slices (writes to `cand` would otherwise make them reload every field of `self`).
-    fn gather_neighbours(&mut self, at: DVec2, k: usize) -> usize {
+    /// Gathers the neighbours within the radius of `at` (member `k` left out), without branching on the distance:
+    /// the fixed content into `cand`, the moving own instances into `own_cand`; returns their counts. Both hold a
+    /// slot for every local point, so they never grow here, and the loops read local slices (writes to them would
+    /// otherwise make them reload every field of `self`).
+    fn gather_neighbours(&mut self, at: DVec2, k: usize) -> (usize, usize) {
         let r = self.sh.target.radius;
         let r2 = r * r;
-        let self_tag = self.sh.self_tag;
         let grid = &self.grid;
         let (xs, ys, tags, ids) = (&grid.xs[..], &grid.ys[..], &grid.tags[..], &grid.ids[..]);
         let cells = &self.cells;
         let (mx, my, who) = (&cells.xs[..], &cells.ys[..], &cells.who[..]);
         let slot = &self.slot[..];
-        let cand = &mut self.cand[..];
+        let (cand, own_cand) = (&mut self.cand[..], &mut self.own_cand[..]);
         let lnx = grid.nx();
-        let mut n = 0usize;
+        let (mut n, mut no) = (0usize, 0usize);
         let (x0, y0) = grid.cell_coords(at - DVec2::splat(r));
         let (x1, y1) = grid.cell_coords(at + DVec2::splat(r));
         for cy in y0..=y1 {
@@ -463,18 +473,18 @@ impl<'s, 'a, 'b> TileChain<'s, 'a, 'b> {
                     let j = who[i] as usize;
                     let v = DVec2::new(mx[i] - at.x, my[i] - at.y);
                     let d2 = v.x * v.x + v.y * v.y;
-                    cand[n] = (self_tag, slot[j], v, d2);
-                    n += usize::from(d2 <= r2 && j != k);
+                    own_cand[no] = (slot[j], v, d2);
+                    no += usize::from(d2 <= r2 && j != k);
                 }
             }
         }
-        n
+        (n, no)
     }
 
     /// Adds (`sign` 1, member `k` born at `at`) or removes (−1, member `k` dying at `at`) its pairs in `d_h`;
     /// returns the log product factor of its pairs with the context, None when a birth breaks a hard core.
     fn pair_changes(&mut self, sign: f64, at: DVec2, k: usize, q_border: bool) -> Option<f64> {
-        let n = self.gather_neighbours(at, k);
+        let (n, no) = self.gather_neighbours(at, k);
         let sh = self.sh;
         let (tables, offs, nb) = (&sh.target.tables, sh.offs, sh.n_alpha);
         let (last_bin, log_factor) = (sh.last_bin, sh.log_factor);
@@ -485,7 +495,62 @@ impl<'s, 'a, 'b> TileChain<'s, 'a, 'b> {
             let row = if sign > 0.0 { 1 } else { self.slot[k] as usize };
             &pool[row * nb..(row + 1) * nb]
         };
-        let (d_h, touched, nt) = (&mut self.d_h[..], &mut self.touched[..], &mut self.nt);
+        let (d_h, touched, mut nt) = (&mut self.d_h[..], &mut self.touched[..], self.nt);
+        // the own instances, all of one table: its constants read once (the archipelago's coast points have
+        // about 190 of them a move)
+        let st = sh.self_tag as usize;
+        let t = &tables[st];
+        let (off, last, inv_bw, hc2, ab) = (
+            offs[st],
+            last_bin[st],
+            t.inv_bin_width,
+            t.hard_core2,
+            t.angle_bins,
+        );
+        let own = &self.own_cand[..no];
+        if ab == 1 {
+            // summed per distance bin first: a bin's weights are `1/α` of the moved instance, as many times as
+            // it has neighbours there, plus theirs
+            let (count, summed) = (&mut self.bin_count[..], &mut self.bin_weight[..]);
+            let mut nearest = f64::INFINITY;
+            for &(row, _, d2) in own {
+                let kd = ((d2.sqrt() * inv_bw) as usize).min(last);
+                count[kd] += 1.0;
+                summed[kd] += pool[row as usize * nb + kd.min(nb - 1)];
+                nearest = nearest.min(d2);
+            }
+            let mut forbidden = sign > 0.0 && nearest < hc2;
+            for kd in 0..=last {
+                if count[kd] != 0.0 {
+                    forbidden |= sign > 0.0 && log_factor[off + kd] == f64::NEG_INFINITY;
+                    let w = count[kd] * ia_x[kd.min(nb - 1)] + summed[kd];
+                    touch(d_h, touched, &mut nt, off + kd, sign * w);
+                    count[kd] = 0.0;
+                    summed[kd] = 0.0;
+                }
+            }
+            if forbidden {
+                self.nt = nt;
+                return None;
+            }
+        } else {
+            for &(row, v, d2) in own {
+                let kd = ((d2.sqrt() * inv_bw) as usize).min(last);
+                let h = off + kd * ab + folded_angle_bin(v, ab);
+                if sign > 0.0 && (d2 < hc2 || log_factor[h] == f64::NEG_INFINITY) {
+                    self.nt = nt;
+                    return None;
+                }
+                let kw = kd.min(nb - 1);
+                touch(
+                    d_h,
+                    touched,
+                    &mut nt,
+                    h,
+                    sign * (ia_x[kw] + pool[row as usize * nb + kw]),
+                );
+            }
+        }
         let mut ctx = 0.0;
         for &(tag, row, v, d2) in &self.cand[..n] {
             let ti = (tag & !CONTEXT_TAG) as usize;
@@ -503,6 +568,7 @@ impl<'s, 'a, 'b> TileChain<'s, 'a, 'b> {
                 log_factor[h]
             };
             if sign > 0.0 && lf == f64::NEG_INFINITY {
+                self.nt = nt;
                 return None;
             }
             if tag & CONTEXT_TAG != 0 {
@@ -511,8 +577,9 @@ impl<'s, 'a, 'b> TileChain<'s, 'a, 'b> {
             }
             let kd = kd.min(nb - 1);
             let w = ia_x[kd] + pool[row as usize * nb + kd];
-            touch(d_h, touched, nt, h, sign * w);
+            touch(d_h, touched, &mut nt, h, sign * w);
         }
+        self.nt = nt;
         Some(ctx)
     }
 
