@@ -190,6 +190,16 @@ fn rectangle_circle_fraction(lo: DVec2, hi: DVec2, p: DVec2, r: f64) -> f64 {
         (p.x - lo.x, PI),
         (p.y - lo.y, 3.0 * FRAC_PI_2),
     ];
+    if sides.iter().all(|(d, _)| *d >= 0.0) {
+        // inside, each arc is at most a half circle: only the arcs of neighbouring sides can overlap, by
+        // `θᵢ + θⱼ − π/2`, and no three do (a point is not beyond two opposite sides at once)
+        let half = sides.map(|(d, _)| if d >= r { 0.0 } else { (d / r).acos() });
+        let overlap: f64 = (0..4)
+            .map(|i| (half[i] + half[(i + 1) % 4] - FRAC_PI_2).max(0.0))
+            .sum();
+        let beyond = 2.0 * half.iter().sum::<f64>() - overlap;
+        return (1.0 - beyond / TAU).clamp(0.0, 1.0);
+    }
     // the arcs beyond, in [0, 2π) (one crossing 0 split in two)
     let mut arcs = [(0.0, 0.0); 8];
     let mut n = 0;
