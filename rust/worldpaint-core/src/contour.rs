@@ -142,7 +142,36 @@ impl Polygons {
         if self.contours.is_empty() {
             return (false, max);
         }
-        // the contours holding `p`, read once: inside when odd, the innermost sets `d_max`
+        let (inside, reach) = self.side_and_reach(p, max);
+        signed(inside, reach, self.border.distance(p, reach))
+    }
+
+    /// [`Polygons::side_and_signed_distance`] of every point (the nearest borders found a block of points at
+    /// a time, see [`SegmentIndex::distances`]).
+    pub(crate) fn sides_and_signed_distances(
+        &self,
+        points: &[DVec2],
+        max: f64,
+    ) -> Vec<(bool, f64)> {
+        use rayon::prelude::*;
+        if self.contours.is_empty() {
+            return vec![(false, max); points.len()];
+        }
+        let sides: Vec<(bool, f64)> = points
+            .par_iter()
+            .map(|p| self.side_and_reach(*p, max))
+            .collect();
+        let d = self.border.distances(points, |i| sides[i].1);
+        sides
+            .iter()
+            .zip(d)
+            .map(|(&(inside, reach), d)| signed(inside, reach, d))
+            .collect()
+    }
+
+    /// Whether `p` is inside, and how far its distance is read: `max` outside, inside the largest distance to the
+    /// border within its innermost contour (`d_max`). The contours holding `p` are read once: inside when odd.
+    fn side_and_reach(&self, p: DVec2, max: f64) -> (bool, f64) {
         let (mut holding, mut owner) = (0usize, None::<usize>);
         for i in self.holding(p) {
             holding += 1;
@@ -156,9 +185,9 @@ impl Polygons {
                     *self.inner[i].get_or_init(|| self.largest_inner_distance(i))
                 })
                 .max(1e-9);
-            (true, -(self.border.distance(p, d_max) / d_max).min(1.0))
+            (true, d_max)
         } else {
-            (false, self.border.distance(p, max))
+            (false, max)
         }
     }
 
@@ -168,6 +197,15 @@ impl Polygons {
             Region::Polygon { points } => Some(points.as_slice()),
             _ => None,
         })
+    }
+}
+
+/// The signed distance of a point inside (`−d / d_max`, at most 1 deep) or outside (`d`), `d` read within `reach`.
+fn signed(inside: bool, reach: f64, d: f64) -> (bool, f64) {
+    if inside {
+        (true, -(d / reach).min(1.0))
+    } else {
+        (false, d)
     }
 }
 
@@ -484,4 +522,41 @@ pub fn islands(contours: &[Vec<DVec2>]) -> Vec<Island> {
             }
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// An island with a lake and a second island: the values read a block of points at a time are those read
+    /// one point at a time, on land, in the lake and at sea.
+    #[test]
+    fn signed_distances_at_once_are_those_one_by_one() {
+        let ring = |c: DVec2, r: f64, n: usize| -> Vec<DVec2> {
+            (0..n)
+                .map(|i| c + DVec2::from_angle(i as f64 / n as f64 * std::f64::consts::TAU) * r)
+                .collect()
+        };
+        let mut lake = ring(DVec2::ZERO, 12.0, 40);
+        lake.reverse();
+        let polygons = Polygons::new(&[
+            ring(DVec2::ZERO, 50.0, 120),
+            lake,
+            ring(DVec2::new(90.0, 0.0), 20.0, 60),
+        ]);
+        let points: Vec<DVec2> = (0..120)
+            .flat_map(|j| {
+                (0..120).map(move |i| DVec2::new(i as f64 * 1.7 - 80.0, j as f64 * 1.1 - 66.0))
+            })
+            .collect();
+        let at_once = polygons.sides_and_signed_distances(&points, 15.0);
+        assert!(at_once.iter().any(|s| s.0) && at_once.iter().any(|s| !s.0));
+        for (p, s) in points.iter().zip(&at_once) {
+            let one = polygons.side_and_signed_distance(*p, 15.0);
+            assert!(
+                one.0 == s.0 && one.1.to_bits() == s.1.to_bits(),
+                "{p}: {s:?} against {one:?}"
+            );
+        }
+    }
 }

@@ -7,6 +7,8 @@
 //! angles between edges sharing a node, node degrees, connected components — are read here, and a
 //! [`SegmentIndex`] answers the distance-to-graph and crossing queries of the synthesis in constant time per query.
 
+mod distances;
+
 use crate::geom::{polyline_segments, segment_distance, segment_intersection, DVec2};
 use crate::grid::Grid;
 use std::collections::HashMap;

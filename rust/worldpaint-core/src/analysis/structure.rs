@@ -39,10 +39,44 @@ pub(crate) fn graph_map_value(index: &SegmentIndex, p: DVec2, max_radius: f64) -
 /// The value of the signed-distance map of polygons at `p`: `−d / d_max` inside (never 0: the coast belongs to
 /// the outside), `d / max_radius` outside.
 pub(crate) fn polygon_map_value(polygons: &Polygons, p: DVec2, max_radius: f64) -> f64 {
-    match polygons.side_and_signed_distance(p, 2.0 * max_radius) {
+    polygon_value(
+        polygons.side_and_signed_distance(p, 2.0 * max_radius),
+        max_radius,
+    )
+}
+
+fn polygon_value(side_and_distance: (bool, f64), max_radius: f64) -> f64 {
+    match side_and_distance {
         (true, d) => d.min(-1e-9),
         (false, d) => d / max_radius,
     }
+}
+
+/// [`graph_map_value`] at every point (read a block of points at a time, see [`SegmentIndex::distances`]).
+pub(crate) fn graph_map_values(
+    index: &SegmentIndex,
+    points: &[DVec2],
+    max_radius: f64,
+) -> Vec<f64> {
+    let max = 2.0 * max_radius;
+    index
+        .distances(points, |_| max)
+        .into_iter()
+        .map(|d| d.min(max))
+        .collect()
+}
+
+/// [`polygon_map_value`] at every point.
+pub(crate) fn polygon_map_values(
+    polygons: &Polygons,
+    points: &[DVec2],
+    max_radius: f64,
+) -> Vec<f64> {
+    polygons
+        .sides_and_signed_distances(points, 2.0 * max_radius)
+        .into_iter()
+        .map(|sd| polygon_value(sd, max_radius))
+        .collect()
 }
 
 /// The graph of every graph category and the contours of every polygon category of a scene, by category name.

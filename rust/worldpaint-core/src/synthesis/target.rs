@@ -6,7 +6,9 @@ use super::ghosts::{points_by_table, Ghosts, PairInput};
 use super::structures::StructuredContent;
 use super::{HISTOGRAM_FLOOR, SATURATION_PAIRS};
 use crate::analysis::folded_angle_bin;
-use crate::analysis::structure::{graph_map_value, polygon_map_value};
+use crate::analysis::structure::{
+    graph_map_value, graph_map_values, polygon_map_value, polygon_map_values,
+};
 use crate::contour::Polygons;
 use crate::geom::{DVec2, PreparedRegion};
 use crate::graph::SegmentIndex;
@@ -458,7 +460,6 @@ pub(super) struct StructureValues {
 impl StructureValues {
     /// The values of `field` over `lattice` (None for a terrain map: cheap to read, and a million a lattice).
     fn values(&mut self, field: &MapField, lattice: &[DVec2]) -> Option<&[f64]> {
-        use rayon::prelude::*;
         let key = match field {
             MapField::Terrain(_) => return None,
             MapField::Graph(index, r) => MapField::Graph(index.clone(), *r),
@@ -467,10 +468,11 @@ impl StructureValues {
         let at = match self.read.iter().position(|(k, _)| k.same_structure(&key)) {
             Some(at) => at,
             None => {
-                let values = lattice
-                    .par_iter()
-                    .map(|p| key.structure_value(*p))
-                    .collect();
+                let values = match &key {
+                    MapField::Graph(index, r) => graph_map_values(index, lattice, *r),
+                    MapField::Polygons(polygons, r) => polygon_map_values(polygons, lattice, *r),
+                    MapField::Terrain(_) => return None,
+                };
                 self.read.push((key, values));
                 self.read.len() - 1
             }
