@@ -508,9 +508,9 @@ impl<'s, 'a, 'b> TileChain<'s, 'a, 'b> {
             t.angle_bins,
         );
         let own = &self.own_cand[..no];
-        if ab == 1 {
-            // summed per distance bin first: a bin's weights are `1/α` of the moved instance, as many times as
-            // it has neighbours there, plus theirs
+        if ab == 1 && own.len() > last {
+            // more neighbours than bins are summed per distance bin first (a bin's weight: `1/α` of the moved
+            // instance times its neighbours there, plus theirs); fewer are cheaper one at a time
             let (count, summed) = (&mut self.bin_count[..], &mut self.bin_weight[..]);
             let mut nearest = f64::INFINITY;
             for &(row, _, d2) in own {
@@ -536,7 +536,12 @@ impl<'s, 'a, 'b> TileChain<'s, 'a, 'b> {
         } else {
             for &(row, v, d2) in own {
                 let kd = ((d2.sqrt() * inv_bw) as usize).min(last);
-                let h = off + kd * ab + folded_angle_bin(v, ab);
+                let h = off
+                    + if ab == 1 {
+                        kd
+                    } else {
+                        kd * ab + folded_angle_bin(v, ab)
+                    };
                 if sign > 0.0 && (d2 < hc2 || log_factor[h] == f64::NEG_INFINITY) {
                     self.nt = nt;
                     return None;
