@@ -485,28 +485,39 @@ impl<'s, 'a, 'b> TileChain<'s, 'a, 'b> {
     /// returns the log product factor of its pairs with the context, None when a birth breaks a hard core.
     fn pair_changes(&mut self, sign: f64, at: DVec2, k: usize, q_border: bool) -> Option<f64> {
         let (n, no) = self.gather_neighbours(at, k);
-        let sh = self.sh;
-        let (tables, offs, nb) = (&sh.target.tables, sh.offs, sh.n_alpha);
-        let (last_bin, log_factor) = (sh.last_bin, sh.log_factor);
-        let pool = &self.pool[..];
-        let ia_x: &[f64] = if sign > 0.0 && q_border {
-            &self.ia_new
+        // the moved instance's weights `1/α`: its own near the border at a new position, else a pool row (row 1
+        // of ones for a birth inside)
+        let row = if sign > 0.0 && q_border {
+            None
         } else {
+            let nb = self.sh.n_alpha;
             let row = if sign > 0.0 { 1 } else { self.slot[k] as usize };
-            &pool[row * nb..(row + 1) * nb]
+            Some(row * nb..(row + 1) * nb)
         };
-        let (d_h, touched, mut nt) = (&mut self.d_h[..], &mut self.touched[..], self.nt);
-        // the own instances, all of one table: its constants read once (the archipelago's coast points have
-        // about 190 of them a move)
+        if !self.own_changes(sign, no, row.clone()) {
+            return None;
+        }
+        self.fixed_changes(sign, n, row)
+    }
+
+    /// The pairs with the `no` own neighbours gathered (weights of the moved instance at `row` of the pool, or
+    /// `ia_new`); false when a birth breaks a hard core. All of one table, whose constants are read once (the
+    /// archipelago's coast points have about 190 own neighbours a move).
+    fn own_changes(&mut self, sign: f64, no: usize, row: Option<std::ops::Range<usize>>) -> bool {
+        let sh = self.sh;
+        let (nb, log_factor) = (sh.n_alpha, sh.log_factor);
         let st = sh.self_tag as usize;
-        let t = &tables[st];
+        let t = &sh.target.tables[st];
         let (off, last, inv_bw, hc2, ab) = (
-            offs[st],
-            last_bin[st],
+            sh.offs[st],
+            sh.last_bin[st],
             t.inv_bin_width,
             t.hard_core2,
             t.angle_bins,
         );
+        let pool = &self.pool[..];
+        let ia_x = row.map_or(&self.ia_new[..], |r| &pool[r]);
+        let (d_h, touched, nt) = (&mut self.d_h[..], &mut self.touched[..], &mut self.nt);
         let own = &self.own_cand[..no];
         if ab == 1 && own.len() > last {
             // more neighbours than bins are summed per distance bin first (a bin's weight: `1/α` of the moved
@@ -524,38 +535,45 @@ impl<'s, 'a, 'b> TileChain<'s, 'a, 'b> {
                 if count[kd] != 0.0 {
                     forbidden |= sign > 0.0 && log_factor[off + kd] == f64::NEG_INFINITY;
                     let w = count[kd] * ia_x[kd.min(nb - 1)] + summed[kd];
-                    touch(d_h, touched, &mut nt, off + kd, sign * w);
+                    touch(d_h, touched, nt, off + kd, sign * w);
                     count[kd] = 0.0;
                     summed[kd] = 0.0;
                 }
             }
-            if forbidden {
-                self.nt = nt;
-                return None;
-            }
-        } else {
-            for &(row, v, d2) in own {
-                let kd = ((d2.sqrt() * inv_bw) as usize).min(last);
-                let h = off
-                    + if ab == 1 {
-                        kd
-                    } else {
-                        kd * ab + folded_angle_bin(v, ab)
-                    };
-                if sign > 0.0 && (d2 < hc2 || log_factor[h] == f64::NEG_INFINITY) {
-                    self.nt = nt;
-                    return None;
-                }
-                let kw = kd.min(nb - 1);
-                touch(
-                    d_h,
-                    touched,
-                    &mut nt,
-                    h,
-                    sign * (ia_x[kw] + pool[row as usize * nb + kw]),
-                );
-            }
+            return !forbidden;
         }
+        for &(row, v, d2) in own {
+            let kd = ((d2.sqrt() * inv_bw) as usize).min(last);
+            let h = off
+                + if ab == 1 {
+                    kd
+                } else {
+                    kd * ab + folded_angle_bin(v, ab)
+                };
+            if sign > 0.0 && (d2 < hc2 || log_factor[h] == f64::NEG_INFINITY) {
+                return false;
+            }
+            let kw = kd.min(nb - 1);
+            let w = ia_x[kw] + pool[row as usize * nb + kw];
+            touch(d_h, touched, nt, h, sign * w);
+        }
+        true
+    }
+
+    /// The pairs with the `n` fixed neighbours gathered (see [`Self::own_changes`]): the log product factor of
+    /// those with the context, None when a birth breaks a hard core.
+    fn fixed_changes(
+        &mut self,
+        sign: f64,
+        n: usize,
+        row: Option<std::ops::Range<usize>>,
+    ) -> Option<f64> {
+        let sh = self.sh;
+        let (tables, offs, nb) = (&sh.target.tables, sh.offs, sh.n_alpha);
+        let (last_bin, log_factor) = (sh.last_bin, sh.log_factor);
+        let pool = &self.pool[..];
+        let ia_x = row.map_or(&self.ia_new[..], |r| &pool[r]);
+        let (d_h, touched, nt) = (&mut self.d_h[..], &mut self.touched[..], &mut self.nt);
         let mut ctx = 0.0;
         for &(tag, row, v, d2) in &self.cand[..n] {
             let ti = (tag & !CONTEXT_TAG) as usize;
@@ -573,7 +591,6 @@ impl<'s, 'a, 'b> TileChain<'s, 'a, 'b> {
                 log_factor[h]
             };
             if sign > 0.0 && lf == f64::NEG_INFINITY {
-                self.nt = nt;
                 return None;
             }
             if tag & CONTEXT_TAG != 0 {
@@ -582,9 +599,8 @@ impl<'s, 'a, 'b> TileChain<'s, 'a, 'b> {
             }
             let kd = kd.min(nb - 1);
             let w = ia_x[kd] + pool[row as usize * nb + kd];
-            touch(d_h, touched, &mut nt, h, sign * w);
+            touch(d_h, touched, nt, h, sign * w);
         }
-        self.nt = nt;
         Some(ctx)
     }
 
