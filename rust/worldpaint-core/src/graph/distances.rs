@@ -5,6 +5,7 @@
 
 use super::SegmentIndex;
 use crate::geom::{segment_distance, DVec2};
+use crate::spatial::{FlatGrid, GridEntry};
 use rayon::prelude::*;
 
 /// About how many points share a block.
@@ -20,14 +21,19 @@ impl SegmentIndex {
         if self.segments.is_empty() {
             return vec![f64::INFINITY; points.len()];
         }
-        let blocks = Blocks::of(points);
-        let per_block: Vec<Vec<f64>> = (0..blocks.len())
+        let blocks = blocks_of(points);
+        let nx = blocks.nx();
+        let members = |b: usize| {
+            let (first, end) = blocks.row_range(b / nx, b % nx, b % nx);
+            &blocks.ids[first..end]
+        };
+        let per_block: Vec<Vec<f64>> = (0..blocks.n_cells())
             .into_par_iter()
-            .map(|b| self.block_distances(points, blocks.members(b), &max))
+            .map(|b| self.block_distances(points, members(b), &max))
             .collect();
         let mut out: Vec<f64> = (0..points.len()).map(&max).collect();
         for (b, values) in per_block.iter().enumerate() {
-            for (&i, &v) in blocks.members(b).iter().zip(values) {
+            for (&i, &v) in members(b).iter().zip(values) {
                 out[i as usize] = v;
             }
         }
@@ -86,61 +92,28 @@ impl SegmentIndex {
     }
 }
 
-/// The finite points in square blocks of about `BLOCK_POINTS` points (their box's area shared out), each block's
-/// members listed together (non-finite points in none: their distance is their `max`).
-struct Blocks {
-    start: Vec<usize>,
-    order: Vec<u32>,
-}
-
-impl Blocks {
-    fn of(points: &[DVec2]) -> Blocks {
-        let finite = |p: &DVec2| p.x.is_finite() && p.y.is_finite();
-        let (mut lo, mut hi, mut n) = (
-            DVec2::splat(f64::INFINITY),
-            DVec2::splat(f64::NEG_INFINITY),
-            0usize,
-        );
-        for p in points.iter().filter(|p| finite(p)) {
-            lo = lo.min(*p);
-            hi = hi.max(*p);
-            n += 1;
-        }
-        let ext = (hi - lo).max(DVec2::splat(1e-9));
-        // square blocks over a box's area, or along a line of points
-        let side = (ext.x * ext.y * BLOCK_POINTS / n.max(1) as f64)
-            .sqrt()
-            .max(ext.max_element() * BLOCK_POINTS / n.max(1) as f64);
-        let cells = |e: f64| ((e / side) as usize + 1).min(1 << 12);
-        let (nx, ny) = (cells(ext.x), cells(ext.y));
-        let block_of = |p: &DVec2| {
-            let f = (*p - lo) / side;
-            ((f.y as usize).min(ny - 1)) * nx + (f.x as usize).min(nx - 1)
-        };
-        let mut start = vec![0usize; nx * ny + 1];
-        for p in points.iter().filter(|p| finite(p)) {
-            start[block_of(p) + 1] += 1;
-        }
-        for b in 0..nx * ny {
-            start[b + 1] += start[b];
-        }
-        let mut next = start.clone();
-        let mut order = vec![0u32; n];
-        for (i, p) in points.iter().enumerate().filter(|(_, p)| finite(p)) {
-            let b = block_of(p);
-            order[next[b]] = i as u32;
-            next[b] += 1;
-        }
-        Blocks { start, order }
+/// The finite points in square blocks of about `BLOCK_POINTS` points (their box's area shared out), as the cells
+/// of a grid whose ids are the points' indices (non-finite points in none: their distance is their `max`).
+fn blocks_of(points: &[DVec2]) -> FlatGrid {
+    let finite: Vec<u32> = (0..points.len() as u32)
+        .filter(|&i| points[i as usize].is_finite())
+        .collect();
+    let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
+    for &i in &finite {
+        lo = lo.min(points[i as usize]);
+        hi = hi.max(points[i as usize]);
     }
-
-    fn len(&self) -> usize {
-        self.start.len() - 1
-    }
-
-    fn members(&self, b: usize) -> &[u32] {
-        &self.order[self.start[b]..self.start[b + 1]]
-    }
+    let n = finite.len().max(1) as f64;
+    let ext = (hi - lo).max(DVec2::splat(1e-9));
+    // square blocks over a box's area, or along a line of points
+    let side = (ext.x * ext.y * BLOCK_POINTS / n)
+        .sqrt()
+        .max(ext.max_element() * BLOCK_POINTS / n);
+    FlatGrid::build(lo, hi, side, finite.len(), |k| GridEntry {
+        position: points[finite[k] as usize],
+        tag: 0,
+        id: finite[k],
+    })
 }
 
 #[cfg(test)]
