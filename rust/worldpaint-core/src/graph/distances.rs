@@ -68,12 +68,7 @@ impl SegmentIndex {
         // a margin for rounding: a candidate too many costs one distance
         let r = (d_c + 2.0 * reach).min(cap + reach) * (1.0 + 1e-9) + 1e-9;
         let mut near = Vec::new();
-        self.visit_candidates(c - DVec2::splat(r), c + DVec2::splat(r), |s| {
-            near.push(s);
-            true
-        });
-        near.sort_unstable();
-        near.dedup();
+        self.candidates(c - DVec2::splat(r), c + DVec2::splat(r), &mut near);
         let near: Vec<(DVec2, DVec2)> = near
             .into_iter()
             .map(|s| self.segments[s as usize])
