@@ -35,18 +35,19 @@ struct MemberCells {
     start: Vec<u32>,
     len: Vec<u32>,
     cap: Vec<u32>,
-    /// Per slot: the position and the member.
+    /// Per slot: the position, the member and its row of `1/α` (read with the position, not through the member).
     xs: Vec<f64>,
     ys: Vec<f64>,
     who: Vec<u32>,
+    weight_row: Vec<u32>,
     /// Per member: its cell and its slot.
     cell_of: Vec<u32>,
     slot_of: Vec<u32>,
 }
 
 impl MemberCells {
-    /// The members at `pos` in the cells `cell_of` (of `cells` cells).
-    fn new(cells: usize, cell_of: Vec<u32>, pos: &[DVec2]) -> Self {
+    /// The members at `pos` in the cells `cell_of` (of `cells` cells), with their rows of `1/α` `rows`.
+    fn new(cells: usize, cell_of: Vec<u32>, pos: &[DVec2], rows: &[u32]) -> Self {
         let mut mc = MemberCells {
             start: vec![0; cells],
             len: vec![0; cells],
@@ -54,15 +55,16 @@ impl MemberCells {
             xs: Vec::new(),
             ys: Vec::new(),
             who: Vec::new(),
+            weight_row: Vec::new(),
             slot_of: vec![0; cell_of.len()],
             cell_of,
         };
-        mc.lay_out(pos);
+        mc.lay_out(pos, rows);
         mc
     }
 
     /// Slots for every cell's members and half as many more (at least two), the members written in.
-    fn lay_out(&mut self, pos: &[DVec2]) {
+    fn lay_out(&mut self, pos: &[DVec2], rows: &[u32]) {
         self.len.fill(0);
         for &c in &self.cell_of {
             self.len[c as usize] += 1;
@@ -78,29 +80,33 @@ impl MemberCells {
         self.xs = vec![0.0; slots];
         self.ys = vec![0.0; slots];
         self.who = vec![NONE; slots];
+        self.weight_row = vec![0; slots];
         for (k, p) in pos.iter().enumerate() {
-            self.place(k, *p);
+            self.place(k, *p, rows[k]);
         }
     }
 
-    /// Writes member `k` at `p` into the next slot of its cell, which has room.
-    fn place(&mut self, k: usize, p: DVec2) {
+    /// Writes member `k` at `p` (its row of `1/α` `row`) into the next slot of its cell, which has room.
+    fn place(&mut self, k: usize, p: DVec2, row: u32) {
         let c = self.cell_of[k] as usize;
         let slot = (self.start[c] + self.len[c]) as usize;
         self.len[c] += 1;
         self.xs[slot] = p.x;
         self.ys[slot] = p.y;
         self.who[slot] = k as u32;
+        self.weight_row[slot] = row;
         self.slot_of[k] = slot as u32;
     }
 
-    /// Member `k` moves to `p` in cell `cell` (`pos`: every member's position after the move).
-    fn move_to(&mut self, k: usize, cell: usize, p: DVec2, pos: &[DVec2]) {
+    /// Member `k` moves to `p` in cell `cell` (`pos` and `rows`: every member's position and row of `1/α` after
+    /// the move).
+    fn move_to(&mut self, k: usize, cell: usize, p: DVec2, pos: &[DVec2], rows: &[u32]) {
         let old = self.cell_of[k] as usize;
         if old == cell {
             let slot = self.slot_of[k] as usize;
             self.xs[slot] = p.x;
             self.ys[slot] = p.y;
+            self.weight_row[slot] = rows[k];
             return;
         }
         // the cell's last member fills the slot left
@@ -111,13 +117,14 @@ impl MemberCells {
         self.xs[slot] = self.xs[last];
         self.ys[slot] = self.ys[last];
         self.who[slot] = self.who[last];
+        self.weight_row[slot] = self.weight_row[last];
         self.slot_of[self.who[slot] as usize] = slot as u32;
         self.len[old] -= 1;
         self.cell_of[k] = cell as u32;
         if self.len[cell] < self.cap[cell] {
-            self.place(k, p);
+            self.place(k, p, rows[k]);
         } else {
-            self.lay_out(pos);
+            self.lay_out(pos, rows);
         }
     }
 
@@ -231,10 +238,10 @@ struct TileChain<'s, 'a, 'b> {
     ia_new: Vec<f64>,
     cand: Vec<Neighbour>,
     own_cand: Vec<OwnNeighbour>,
-    /// Per distance bin of the own pairs (one angle bin): the own neighbours of the move under way and the sum of
-    /// their weights, zero between moves.
-    bin_count: Vec<f64>,
-    bin_weight: Vec<f64>,
+    /// Per distance bin of the own pairs (one angle bin): the weights of the move under way's own pairs there, in
+    /// two sums taken in turn (see [`Self::own_changes`]), zero between moves.
+    bin_even: Vec<f64>,
+    bin_odd: Vec<f64>,
     inv_share: f64,
     /// With `own_pairs`, per pair histogram index: the tile's own pairs less its share of the targets, and the
     /// weight of its chi-square scaled up to the region (see "Tiles match their own pairs" in [`super::super`]).
@@ -269,7 +276,7 @@ impl<'s, 'a, 'b> TileChain<'s, 'a, 'b> {
                 (cy * grid.nx() + cx) as u32
             })
             .collect();
-        let cells = MemberCells::new(grid.n_cells(), cell_of, &pos[..m]);
+        let cells = MemberCells::new(grid.n_cells(), cell_of, &pos[..m], &slot[..m]);
         let (rlo, rhi) = sh.region.bbox();
         let (slo, shi) = (tile.lo.max(rlo), tile.hi.min(rhi));
         let half = (tile.hi - tile.lo) * 0.5;
@@ -295,8 +302,8 @@ impl<'s, 'a, 'b> TileChain<'s, 'a, 'b> {
             ia_new: vec![1.0; sh.n_alpha],
             cand: vec![(0, 0, DVec2::ZERO, 0.0); grid_len],
             own_cand: vec![(0, DVec2::ZERO, 0.0); m],
-            bin_count: vec![0.0; sh.last_bin[sh.self_tag as usize] + 1],
-            bin_weight: vec![0.0; sh.last_bin[sh.self_tag as usize] + 1],
+            bin_even: vec![0.0; sh.last_bin[sh.self_tag as usize] + 1],
+            bin_odd: vec![0.0; sh.last_bin[sh.self_tag as usize] + 1],
             inv_share: 1.0 / tile.share,
             own_dev: Vec::new(),
             own_weight: Vec::new(),
@@ -453,8 +460,9 @@ impl<'s, 'a, 'b> TileChain<'s, 'a, 'b> {
         let grid = &self.grid;
         let (xs, ys, tags, ids) = (&grid.xs[..], &grid.ys[..], &grid.tags[..], &grid.ids[..]);
         let cells = &self.cells;
-        let (mx, my, who) = (&cells.xs[..], &cells.ys[..], &cells.who[..]);
-        let slot = &self.slot[..];
+        let (mx, my, rows) = (&cells.xs[..], &cells.ys[..], &cells.weight_row[..]);
+        // member `k` by its slot, so the loop reads no member index
+        let skip = cells.slot_of[k] as usize;
         let (cand, own_cand) = (&mut self.cand[..], &mut self.own_cand[..]);
         let lnx = grid.nx();
         let (mut n, mut no) = (0usize, 0usize);
@@ -470,11 +478,10 @@ impl<'s, 'a, 'b> TileChain<'s, 'a, 'b> {
             }
             for c in cy * lnx + x0..=cy * lnx + x1 {
                 for i in cells.run(c) {
-                    let j = who[i] as usize;
                     let v = DVec2::new(mx[i] - at.x, my[i] - at.y);
                     let d2 = v.x * v.x + v.y * v.y;
-                    own_cand[no] = (slot[j], v, d2);
-                    no += usize::from(d2 <= r2 && j != k);
+                    own_cand[no] = (rows[i], v, d2);
+                    no += usize::from(d2 <= r2 && i != skip);
                 }
             }
         }
@@ -520,24 +527,36 @@ impl<'s, 'a, 'b> TileChain<'s, 'a, 'b> {
         let (d_h, touched, nt) = (&mut self.d_h[..], &mut self.touched[..], &mut self.nt);
         let own = &self.own_cand[..no];
         if ab == 1 && own.len() > last {
-            // more neighbours than bins are summed per distance bin first (a bin's weight: `1/α` of the moved
-            // instance times its neighbours there, plus theirs); fewer are cheaper one at a time
-            let (count, summed) = (&mut self.bin_count[..], &mut self.bin_weight[..]);
+            // more neighbours than bins are summed per distance bin first, fewer are cheaper one at a time; in two
+            // sums taken in turn, as neighbours read in a cell's order often share a bin and one sum would wait
+            // on its last addition (pairs' weights are positive: a bin with none sums to zero)
+            let (even, odd) = (&mut self.bin_even[..], &mut self.bin_odd[..]);
             let mut nearest = f64::INFINITY;
-            for &(row, _, d2) in own {
+            let mut bin = |&(row, _, d2): &OwnNeighbour| {
                 let kd = ((d2.sqrt() * inv_bw) as usize).min(last);
-                count[kd] += 1.0;
-                summed[kd] += pool[row as usize * nb + kd.min(nb - 1)];
+                let kw = kd.min(nb - 1);
                 nearest = nearest.min(d2);
+                (kd, ia_x[kw] + pool[row as usize * nb + kw])
+            };
+            let pairs = own.chunks_exact(2);
+            let rest = pairs.remainder();
+            for p in pairs {
+                let ((ka, wa), (kb, wb)) = (bin(&p[0]), bin(&p[1]));
+                even[ka] += wa;
+                odd[kb] += wb;
+            }
+            for c in rest {
+                let (k, w) = bin(c);
+                even[k] += w;
             }
             let mut forbidden = sign > 0.0 && nearest < hc2;
             for kd in 0..=last {
-                if count[kd] != 0.0 {
+                let w = even[kd] + odd[kd];
+                if w != 0.0 {
                     forbidden |= sign > 0.0 && log_factor[off + kd] == f64::NEG_INFINITY;
-                    let w = count[kd] * ia_x[kd.min(nb - 1)] + summed[kd];
                     touch(d_h, touched, nt, off + kd, sign * w);
-                    count[kd] = 0.0;
-                    summed[kd] = 0.0;
+                    even[kd] = 0.0;
+                    odd[kd] = 0.0;
                 }
             }
             return !forbidden;
@@ -649,7 +668,6 @@ impl<'s, 'a, 'b> TileChain<'s, 'a, 'b> {
         let nb = self.sh.n_alpha;
         let cell = self.cell_index(q);
         self.pos[k] = q;
-        self.cells.move_to(k, cell, q, &self.pos[..self.m]);
         if q_border {
             if self.slot[k] <= 1 {
                 self.slot[k] = (self.pool.len() / nb) as u32;
@@ -661,6 +679,8 @@ impl<'s, 'a, 'b> TileChain<'s, 'a, 'b> {
         } else {
             self.slot[k] = 1;
         }
+        self.cells
+            .move_to(k, cell, q, &self.pos[..self.m], &self.slot[..self.m]);
     }
 }
 
