@@ -20,7 +20,9 @@
 //! * The type kept is not the best at the fit's seeds, which is partly the best at their luck: the finalists are
 //!   grown again at four times as many held-out seeds, which alone judge them ([`search`]); the one kept then
 //!   takes a step on its shares of turned and skewed footprints towards the real orientation to the road
-//!   ([`space::ParameterSpace::orientation_step`]), kept where it comes nearer at those seeds.
+//!   ([`space::ParameterSpace::orientation_step`]) and, where its hairpins per km are off, that step with its grade
+//!   limit moved one and two steps more towards them ([`space::ParameterSpace::grade_steps`]); the nearest of
+//!   these at those seeds is kept where it comes nearer than the point.
 
 mod grow;
 pub(crate) mod objective;

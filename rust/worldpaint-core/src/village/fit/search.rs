@@ -3,8 +3,9 @@
 //! grown at four times as many held-out seeds, and the one nearest there kept: the best at the fit's seeds is
 //! partly the best at those seeds' luck, the more so the more candidates were tried, so the fit's seeds do not
 //! judge the finalists they chose. Last, the kept point's orientation knobs take one step towards the real
-//! village's orientation to the road from the histogram its villages showed at the held-out seeds, and the step
-//! is kept where it comes nearer there.
+//! village's orientation to the road from the histogram its villages showed at the held-out seeds, and, where their
+//! hairpins per km are off, that step's grade limit one and two steps more towards the real rate; the nearest of
+//! these there is kept where it comes nearer than the point.
 
 use super::grow::{grow_village_figures, rank_village_types};
 use super::objective::objective;
@@ -26,12 +27,12 @@ const HELD_OUT_OFFSET: u64 = 1000;
 const HELD_OUT_PER_SEED: usize = 4;
 
 /// Candidates grown once the search ends: each finalist at the held-out seeds, the distribution's mean at the fit's
-/// seeds too, and the orientation step at both.
+/// seeds too, and the orientation step and the two grade steps at both.
 fn finalist_evaluations(options: &FitOptions) -> usize {
     if options.finalists == 0 {
         return 0;
     }
-    options.finalists + usize::from(options.finalists > 1) + 2
+    options.finalists + usize::from(options.finalists > 1) + 6
 }
 
 /// The finalists' cost in candidates grown at the fit's seeds.
@@ -39,7 +40,17 @@ fn finalist_cost(options: &FitOptions) -> usize {
     if options.finalists == 0 {
         return 0;
     }
-    (options.finalists + 1) * HELD_OUT_PER_SEED + usize::from(options.finalists > 1) + 1
+    (options.finalists + 3) * HELD_OUT_PER_SEED + usize::from(options.finalists > 1) + 3
+}
+
+/// The grown villages' hairpins per km, pooled as the objective judges them (NaN: none grew).
+fn pooled_hairpins(grown: &[Option<VillageFigures>]) -> f64 {
+    let villages: Vec<&VillageFigures> = grown.iter().flatten().collect();
+    villages
+        .iter()
+        .map(|v| v.network.hairpins_per_km)
+        .sum::<f64>()
+        / villages.len() as f64
 }
 
 /// The mean of the grown villages' histograms of the orientation to the road (`None`: none grew).
@@ -352,20 +363,39 @@ impl<'a> Search<'a> {
         let Some(orientation) = mean_orientation(&villages) else {
             return Ok((point, fit, Some(held)));
         };
-        let stepped = space.orientation_step(
+        // the orientation step, and with it the grade steps where the hairpins ask for them: all grown at once
+        let turned = space.orientation_step(
             &point,
             &orientation,
             &self.target.figures.orientation_to_road,
         );
-        let values: Vec<f64> = [held_out.as_slice(), &self.seeds]
+        let hairpins = pooled_hairpins(&villages);
+        let graded = space.grade_steps(
+            &turned,
+            hairpins,
+            self.target.figures.network.hairpins_per_km,
+        );
+        let steps: Vec<&[f64]> = std::iter::once(turned.as_slice())
+            .chain(graded.iter().map(Vec::as_slice))
+            .collect();
+        let jobs: Vec<(&[f64], &[u64])> = steps
+            .iter()
+            .flat_map(|x| [(*x, held_out.as_slice()), (*x, self.seeds.as_slice())])
+            .collect();
+        let values: Vec<f64> = jobs
             .par_iter()
-            .map(|seeds| self.objective_at(space, &stepped, seeds))
+            .map(|(x, seeds)| self.objective_at(space, x, seeds))
             .collect();
         self.failed()?;
-        Ok(if self.keep_going() && values[0] < held {
-            (stepped, values[1], Some(values[0]))
-        } else {
-            (point, fit, Some(held))
-        })
+        if !self.keep_going() {
+            return Ok((point, fit, Some(held)));
+        }
+        let mut kept = (point, fit, held);
+        for (x, v) in steps.iter().zip(values.chunks_exact(2)) {
+            if v[0] < kept.2 {
+                kept = (x.to_vec(), v[1], v[0]);
+            }
+        }
+        Ok((kept.0, kept.1, Some(kept.2)))
     }
 }
