@@ -134,13 +134,8 @@ pub fn objective(real: &VillageFigures, grown: &[Option<VillageFigures>]) -> f64
     if grown.is_empty() {
         return FAILED;
     }
-    let villages: Vec<&VillageFigures> = grown.iter().flatten().collect();
     let mut pooled = VillageFigures::default();
-    pooled.network.hairpins_per_km = villages
-        .iter()
-        .map(|g| g.network.hairpins_per_km)
-        .sum::<f64>()
-        / villages.len().max(1) as f64;
+    pooled.network.hairpins_per_km = pooled_hairpins(grown);
     let hairpin_error = Figure::HairpinsPerKm.error(real, &pooled);
     grown
         .iter()
@@ -151,6 +146,16 @@ pub fn objective(real: &VillageFigures, grown: &[Option<VillageFigures>]) -> f64
         })
         .sum::<f64>()
         / grown.len() as f64
+}
+
+/// The hairpins per km of villages grown at several seeds, pooled: their mean (0 when none grew).
+pub(crate) fn pooled_hairpins(grown: &[Option<VillageFigures>]) -> f64 {
+    let villages: Vec<&VillageFigures> = grown.iter().flatten().collect();
+    villages
+        .iter()
+        .map(|g| g.network.hairpins_per_km)
+        .sum::<f64>()
+        / villages.len().max(1) as f64
 }
 
 /// The error of a seed whose village could not be grown, and the most any village counts: far worse than any

@@ -8,7 +8,7 @@
 //! these there is kept where it comes nearer than the point.
 
 use super::grow::{grow_village_figures, rank_village_types};
-use super::objective::objective;
+use super::objective::{objective, pooled_hairpins};
 use super::space::{Candidate, ParameterSpace};
 use super::{scenario_for, FitOptions, FitProgress, FitTarget};
 use crate::village::encyclopedia::{Encyclopedia, Scenario};
@@ -41,16 +41,6 @@ fn finalist_cost(options: &FitOptions) -> usize {
         return 0;
     }
     (options.finalists + 3) * HELD_OUT_PER_SEED + usize::from(options.finalists > 1) + 3
-}
-
-/// The grown villages' hairpins per km, pooled as the objective judges them (NaN: none grew).
-fn pooled_hairpins(grown: &[Option<VillageFigures>]) -> f64 {
-    let villages: Vec<&VillageFigures> = grown.iter().flatten().collect();
-    villages
-        .iter()
-        .map(|v| v.network.hairpins_per_km)
-        .sum::<f64>()
-        / villages.len() as f64
 }
 
 /// The mean of the grown villages' histograms of the orientation to the road (`None`: none grew).
