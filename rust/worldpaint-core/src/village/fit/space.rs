@@ -304,6 +304,15 @@ impl ParameterSpace {
         }
     }
 
+    /// The value of `knob` at optimizer coordinates `x` (the base's where the space has no coordinate for it).
+    fn value_at(&self, x: &[f64], knob: &Knob) -> f64 {
+        self.dimensions
+            .iter()
+            .zip(x)
+            .find(|(d, _)| d.knob == *knob)
+            .map_or_else(|| self.read(knob), |(d, xi)| d.value(fold(*xi)))
+    }
+
     /// The point `x` with its orientation knobs moved by one step towards `real`'s histogram of the orientation
     /// to the road from the histogram `grown` its villages stood at: the skewed share by the share between along
     /// and across that is missing (a skewed footprint stands in every bin alike, so in those between by four in
@@ -317,13 +326,7 @@ impl ParameterSpace {
         grown: &[f64; ORIENTATION_BINS],
         real: &[f64; ORIENTATION_BINS],
     ) -> Vec<f64> {
-        let value = |knob: &Knob| {
-            self.dimensions
-                .iter()
-                .zip(x)
-                .find(|(d, _)| d.knob == *knob)
-                .map_or_else(|| self.read(knob), |(d, xi)| d.value(fold(*xi)))
-        };
+        let value = |knob: &Knob| self.value_at(x, knob);
         let between = |h: &[f64; ORIENTATION_BINS]| h[1..ORIENTATION_BINS - 1].iter().sum::<f64>();
         let across = |h: &[f64; ORIENTATION_BINS]| {
             let aligned = h[0] + h[ORIENTATION_BINS - 1];
@@ -372,13 +375,7 @@ impl ParameterSpace {
         } else {
             1.0 / (1.0 - GRADE_STEP)
         };
-        let grade = |x: &[f64]| {
-            self.dimensions
-                .iter()
-                .zip(x)
-                .find(|(d, _)| d.knob == Knob::RoadMaxGrade)
-                .map(|(d, xi)| d.value(fold(*xi)))
-        };
+        let grade = |x: &[f64]| self.value_at(x, &Knob::RoadMaxGrade);
         let mut steps: Vec<Vec<f64>> = Vec::new();
         for factor in [ratio, ratio * ratio] {
             let stepped: Vec<f64> = self
