@@ -258,7 +258,7 @@ impl<'s> Painting<'s> {
     }
 
     /// The target of category `ci` given what is painted so far, with the free-border term (and its self tag).
-    fn category_target(&self, ci: usize, state: &Painted) -> (Target<'s>, u32) {
+    pub(super) fn category_target(&self, ci: usize, state: &Painted) -> (Target<'s>, u32) {
         let conditioning = Conditioning {
             inside: &state.synthesized,
             context: &state.context,

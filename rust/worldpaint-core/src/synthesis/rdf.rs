@@ -228,12 +228,12 @@ struct Matched {
 /// `noise_scale`, the paste's size in examples (see "When to stop" in the module documentation of [`super`]):
 /// at most `bound` ([`Matched::chi2_bound`]).
 fn converged(dev: &[f64], matched: &Matched, bound: f64) -> bool {
-    let chi2: f64 = dev
-        .iter()
-        .zip(&matched.weight)
-        .map(|(d, w)| w * d * d)
-        .sum();
-    chi2 <= bound
+    chi2(dev, &matched.weight) <= bound
+}
+
+/// The chi-square `Σ w d²` of the deviations `d` at the weights `w`.
+fn chi2(dev: &[f64], weight: &[f64]) -> f64 {
+    dev.iter().zip(weight).map(|(d, w)| w * d * d).sum()
 }
 
 impl Matched {
@@ -268,52 +268,41 @@ impl<'a> RdfChain<'_, 'a> {
         rng: &mut R,
         progress: &dyn Fn(f64) -> bool,
     ) -> Result<Vec<DVec2>> {
-        let target = self.target;
-        let r = target.radius;
+        self.run_carried(rng, progress).map(|ran| ran.points)
+    }
+
+    /// [`Self::run`], with the `H − T` the chain carried to its end (empty when it made no moves) and whether it
+    /// stopped within the targets' noise.
+    fn run_carried<R: Rng>(&self, rng: &mut R, progress: &dyn Fn(f64) -> bool) -> Result<Ran> {
         let mut own = self.dart_throwing(rng, progress)?;
         let n = own.len() as f64;
-        if own.len() < 2 || target.matches_nothing() {
-            return Ok(own);
+        if own.len() < 2 || self.target.matches_nothing() {
+            return Ok(Ran::unmoved(own));
         }
-        let (rlo, rhi) = self.region.bbox();
         let (tile_size, tiled) = self.tile_size(n);
-        let noise_scale = if self.exemplar_count > 0.0 {
-            (n / self.exemplar_count).max(1.0)
-        } else {
-            1.0
-        };
-        let matched = self.matched_histograms(n);
-        let sweeps = Sweeps {
-            chain: self,
-            chi2_bound: matched.chi2_bound(noise_scale),
-            matched,
-            fixed: self.flat_grid(&target.grid.entries().copied().collect::<Vec<_>>()),
-            n_alpha: ((r / target.bin_width).ceil() as usize).max(1),
-            shift_sigma: 3.0 * target.bin_width,
-            own_pairs: self.own_pairs(tiled),
-        };
+        let sweeps = self.sweeps(n, tiled);
         let base_seed: u64 = rng.random();
         let mut dev: Vec<f64> = Vec::new();
         for sweep in 0..RDF_SWEEPS {
             let tau = annealed(TAU_START, TAU_END, sweep, RDF_SWEEPS, ANNEALING_FRACTION);
             let sweep_seed = mix_seed(base_seed, sweep as u64);
             let mut sweep_rng = ChaCha8Rng::seed_from_u64(sweep_seed);
-            let tiling = Tiling::draw(tiled, tile_size, (rlo, rhi), &mut sweep_rng);
+            let tiling = Tiling::draw(tiled, tile_size, self.region.bbox(), &mut sweep_rng);
             // an instance stays in its tile over the sweep: the instances are sorted into tiles once for its phases
             let tiles = tiling.tiles(&own, sweep_seed, self.iterations_per_instance);
             // H − T: computed in full once, then carried over by the tiles' changes (see "Tiles and determinism")
             if sweep == 0 {
-                let own_flat = self.own_flat(&own);
-                dev = pair_histograms(&sweeps.shared(&own, &tiles, &[], tau), &own_flat);
-                for (x, y) in dev.iter_mut().zip(&sweeps.matched.targets) {
-                    *x -= y;
-                }
+                dev = sweeps.deviation(&own, &tiles);
             }
             let phases = tiling.phases();
             for phase in 0..phases {
                 // before each phase: a sweep's last phases are not run once the first have matched the targets
                 if converged(&dev, &sweeps.matched, sweeps.chi2_bound) {
-                    return Ok(own);
+                    return Ok(Ran {
+                        points: own,
+                        dev,
+                        converged: true,
+                    });
                 }
                 if tiles.phase_total[phase] == 0 {
                     continue;
@@ -327,7 +316,32 @@ impl<'a> RdfChain<'_, 'a> {
                 }
             }
         }
-        Ok(own)
+        let converged = converged(&dev, &sweeps.matched, sweeps.chi2_bound);
+        Ok(Ran {
+            points: own,
+            dev,
+            converged,
+        })
+    }
+
+    /// What every sweep of a chain of `n` own instances shares (`tiled`: whether the region is cut into tiles).
+    fn sweeps(&self, n: f64, tiled: bool) -> Sweeps<'_, 'a> {
+        let target = self.target;
+        let noise_scale = if self.exemplar_count > 0.0 {
+            (n / self.exemplar_count).max(1.0)
+        } else {
+            1.0
+        };
+        let matched = self.matched_histograms(n);
+        Sweeps {
+            chain: self,
+            chi2_bound: matched.chi2_bound(noise_scale),
+            matched,
+            fixed: self.flat_grid(&target.grid.entries().copied().collect::<Vec<_>>()),
+            n_alpha: ((target.radius / target.bin_width).ceil() as usize).max(1),
+            shift_sigma: 3.0 * target.bin_width,
+            own_pairs: self.own_pairs(tiled),
+        }
     }
 
     /// The side of the chain's tiles at `n` own instances, and whether the region is cut into tiles (see "Tiles
@@ -540,7 +554,38 @@ impl<'a> RdfChain<'_, 'a> {
     }
 }
 
+/// What a chain ends with (see [`RdfChain::run_carried`]): its points, and for the tests what it carried.
+struct Ran {
+    points: Vec<DVec2>,
+    #[cfg_attr(not(test), allow(dead_code))]
+    dev: Vec<f64>,
+    #[cfg_attr(not(test), allow(dead_code))]
+    converged: bool,
+}
+
+impl Ran {
+    fn unmoved(points: Vec<DVec2>) -> Self {
+        Ran {
+            points,
+            dev: Vec::new(),
+            converged: false,
+        }
+    }
+}
+
 impl<'a> Sweeps<'_, 'a> {
+    /// `H − T` of the own instances `own` counted in full (`tiles`: the sweep's).
+    fn deviation(&self, own: &[DVec2], tiles: &SweepTiles) -> Vec<f64> {
+        let mut dev = pair_histograms(
+            &self.shared(own, tiles, &[], 0.0),
+            &self.chain.own_flat(own),
+        );
+        for (x, y) in dev.iter_mut().zip(&self.matched.targets) {
+            *x -= y;
+        }
+        dev
+    }
+
     /// The state the tiles of a phase read.
     fn shared<'s>(
         &'s self,
@@ -710,5 +755,146 @@ impl SweepTiles {
             .flat_map(move |y| (ix - 1..=ix + 1).map(move |x| (x, y)))
             .filter(move |&(x, y)| (x, y) != (ix, iy) && x >= 0 && y >= 0 && x < nx && y < ny)
             .map(move |(x, y)| &self.tiles[(y * nx + x) as usize])
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::analysis::{learn_color, AnalysisOptions};
+    use crate::exemplar::{clustered_points, scene_from_points};
+    use crate::geom::Region;
+    use crate::scene::Scene;
+    use crate::synthesis::painting::{Painted, Painting};
+    use crate::synthesis::structures::StructuredContent;
+    use crate::synthesis::{SynthesisOptions, SynthesisResult};
+
+    fn square(lo: f64, side: f64) -> Region {
+        Region::Rect {
+            min: DVec2::splat(lo),
+            max: DVec2::splat(lo + side),
+        }
+    }
+
+    /// What a chain ended with, and what its points give counted in full.
+    struct Recounted {
+        ran: Ran,
+        /// The share of its points the chain moved from where dart throwing put them.
+        moved: f64,
+        /// `H − T` of the points counted in full, its chi-square, and the chain's stopping bound.
+        dev: Vec<f64>,
+        chi2: f64,
+        bound: f64,
+        tiled: bool,
+    }
+
+    /// A clustered example's color pasted alone over a square of `side`, its chain's end recounted.
+    fn pasted(side: f64, seed: u64) -> Recounted {
+        let example = scene_from_points(
+            "shrub",
+            &clustered_points(&square(0.0, 100.0), 0.004, 8.0, 2.0, seed),
+        );
+        let color = match learn_color(
+            &example,
+            &square(0.0, 100.0),
+            "shrubs",
+            &AnalysisOptions::default(),
+        ) {
+            Ok(c) => c,
+            Err(e) => panic!("learning: {e}"),
+        };
+        let region = square(1000.0, side);
+        let prepared = PreparedRegion::new(&region);
+        let opts = SynthesisOptions::default();
+        let scene = Scene::default();
+        let painting = Painting::new(&scene, &color, &prepared, &opts, color.max_radius, vec![0]);
+        let state = Painted {
+            synthesized: vec![None],
+            context: vec![Vec::new()],
+            structured: StructuredContent::default(),
+            structure_values: Default::default(),
+            out: SynthesisResult::default(),
+        };
+        let (target, self_tag) = painting.category_target(0, &state);
+        let chain = RdfChain {
+            target: &target,
+            region: &prepared,
+            area: region.area(),
+            expected: color.categories[0].density * region.area(),
+            self_tag,
+            self_pair_scale: 1.0,
+            iterations_per_instance: opts.iterations_per_instance,
+            exemplar_count: color.categories[0].count as f64,
+            births: None,
+        };
+        let ran = match chain.run_carried(&mut ChaCha8Rng::seed_from_u64(seed), &|_| true) {
+            Ok(r) => r,
+            Err(e) => panic!("the chain: {e}"),
+        };
+        let thrown = match chain.dart_throwing(&mut ChaCha8Rng::seed_from_u64(seed), &|_| true) {
+            Ok(p) => p,
+            Err(e) => panic!("dart throwing: {e}"),
+        };
+        let n = ran.points.len() as f64;
+        let moved = thrown
+            .iter()
+            .zip(&ran.points)
+            .filter(|(a, b)| a != b)
+            .count() as f64
+            / n;
+        let tiled = chain.tile_size(n).1;
+        let sweeps = chain.sweeps(n, tiled);
+        let tiles = Tiling::draw(false, 1.0, region.bbox(), &mut ChaCha8Rng::seed_from_u64(0))
+            .tiles(&ran.points, 0, 1.0);
+        let dev = sweeps.deviation(&ran.points, &tiles);
+        Recounted {
+            chi2: chi2(&dev, &sweeps.matched.weight),
+            bound: sweeps.chi2_bound,
+            ran,
+            moved,
+            dev,
+            tiled,
+        }
+    }
+
+    /// The histograms a chain carries from move to move are those of its points, and a chain that says it stopped
+    /// within the targets' noise is there: on one tile over the region, and on tiles that match their own pairs.
+    #[test]
+    fn carried_histograms_are_a_full_count_of_the_points() {
+        for (side, want_tiled) in [(200.0, false), (600.0, true)] {
+            let r = pasted(side, 3);
+            assert_eq!(r.tiled, want_tiled, "a square of {side} m");
+            println!(
+                "{side} m: {} points, {:.0} % moved, χ² {:.2} (bound {})",
+                r.ran.points.len(),
+                100.0 * r.moved,
+                r.chi2,
+                r.bound
+            );
+            assert!(
+                r.moved > 0.1,
+                "{side} m: the chain moved {:.0} %",
+                100.0 * r.moved
+            );
+            assert_eq!(r.ran.dev.len(), r.dev.len());
+            let scale = r.dev.iter().fold(1.0f64, |m, x| m.max(x.abs()));
+            for (h, (a, b)) in r.ran.dev.iter().zip(&r.dev).enumerate() {
+                assert!(
+                    (a - b).abs() <= 1e-9 * scale,
+                    "{side} m, bin {h}: carried {a}, counted {b}"
+                );
+            }
+            assert!(
+                r.ran.converged,
+                "a square of {side} m: χ² {} above the bound {}",
+                r.chi2, r.bound
+            );
+            assert!(
+                r.chi2 <= r.bound * (1.0 + 1e-9),
+                "{side} m: χ² {} above the bound {}",
+                r.chi2,
+                r.bound
+            );
+        }
     }
 }

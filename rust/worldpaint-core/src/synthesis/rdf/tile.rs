@@ -352,12 +352,7 @@ impl<'s, 'a, 'b> TileChain<'s, 'a, 'b> {
         self.own_dev = (0..n_pairs)
             .map(|h| own[h] - frac * self.sh.targets[h])
             .collect();
-        self.own_chi2 = self
-            .own_dev
-            .iter()
-            .zip(&self.own_weight)
-            .map(|(d, w)| w * d * d)
-            .sum();
+        self.own_chi2 = super::chi2(&self.own_dev, &self.own_weight);
     }
 
     fn cell_index(&self, p: DVec2) -> usize {
