@@ -209,7 +209,8 @@ pub fn apply_sketch(
         return Err(Error::invalid("the sketch", "has no stroke"));
     }
     check_strokes(strokes)?;
-    check_camera(camera, terrain, &options.limits)?;
+    let sight = Sight::new(terrain);
+    check_camera(camera, &sight, &options.limits)?;
     let step = |fraction: f64| {
         if progress(fraction) {
             Ok(())
@@ -230,7 +231,6 @@ pub fn apply_sketch(
     step(0.0)?;
     let order = order_strokes(strokes, &options.ordering)?;
     let ordering = lap();
-    let sight = Sight::new(terrain);
     let features = detect_features(&sight, camera, &options.features)?;
     let features_seconds = lap();
     step(0.2)?;

@@ -98,11 +98,8 @@ pub(crate) fn field_of_view(camera: &Camera) -> f64 {
 
 /// Refuses a camera Blender could not have, one under the ground or too far from the terrain, and one that sees no
 /// terrain.
-pub(crate) fn check_camera(
-    camera: &Camera,
-    terrain: &Heightfield,
-    limits: &SketchLimits,
-) -> Result<()> {
+pub(crate) fn check_camera(camera: &Camera, sight: &Sight, limits: &SketchLimits) -> Result<()> {
+    let terrain = sight.terrain;
     let fov = field_of_view(camera);
     if !(MIN_FOV_DEGREES..=MAX_FOV_DEGREES).contains(&fov) {
         return Err(Error::invalid(
@@ -141,7 +138,6 @@ pub(crate) fn check_camera(
             format!("its eye is {distance:.0} m from the terrain, farther than the bound of {bound:.0} m"),
         ));
     }
-    let sight = Sight::new(terrain);
     let sees = (0..SEEN_COLUMNS).any(|k| {
         let x = (k as f64 + 0.5) / SEEN_COLUMNS as f64;
         (0..=SEEN_ROWS).any(|r| {

@@ -14,11 +14,11 @@
 //! (the far end of a hidden slope, a concave fold) can never be seen and are dropped before any ray is cast; the
 //! others are kept if their midpoint lies in the camera frame (with a margin) and the eye sees both their ends
 //! (the segment from the eye to a point a hair above each does not pass under the terrain), so that every point of
-//! a curve is visible, also where a far ridge comes out from behind a near one. That test marches the segment
-//! itself, half a cell at a time like [`Sight::hit`], but stops at the sample (a ray cast on to the end of the
-//! terrain would pay for the ground behind it; each sample is tested once, whatever the number of its edges),
-//! leaps over the blocks of 8 × 8 cells whose highest sample the segment passes above (a tenfold saving on a
-//! rough 512² terrain), and leaves out the last cell before the sample, where the bilinear surface the march
+//! a curve is visible, also where a far ridge comes out from behind a near one. That test is
+//! [`Sight::blocked_within`], the march of [`Sight::hit`] (half a cell at a time, leaping over the blocks of 8 × 8
+//! cells whose highest sample the ray passes above: a tenfold saving on a rough 512² terrain), but it stops at the
+//! sample (a ray cast on to the end of the terrain would pay for the ground behind it; each sample is tested once,
+//! whatever the number of its edges) and leaves out the last cell before the sample, where the bilinear surface the march
 //! samples and the triangles the edge belongs to differ by up to a quarter of a cell's relief. Edges are linked
 //! at shared samples into polylines split where more than two meet; curves shorter than a few cells are dropped.
 //!

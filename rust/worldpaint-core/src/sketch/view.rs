@@ -4,6 +4,7 @@
 use crate::error::{check, Error, Result};
 use crate::terrain::Heightfield;
 use glam::{DVec2, DVec3};
+use rayon::prelude::*;
 
 /// A perspective camera: its eye, an orthonormal frame (`forward` the viewing direction, `up` the image's up) and
 /// the image frame on the plane one metre in front of the eye, in units of `right` and `up` (Blender's
@@ -106,13 +107,22 @@ impl Camera {
     }
 }
 
-/// A terrain as the camera sees it: the heightfield and its highest point, which bounds every ray march.
-#[derive(Clone, Copy, Debug)]
+/// A terrain as the camera sees it: the heightfield, its highest point, which bounds every ray march, and the
+/// highest point of each block of cells, over which a march leaps where the ray passes above it.
+#[derive(Clone, Debug)]
 pub struct Sight<'a> {
     /// The terrain.
     pub terrain: &'a Heightfield,
     top: f64,
+    /// Blocks across X and Y.
+    blocks: (usize, usize),
+    /// The highest sample of each block of `BLOCK × BLOCK` cells (its border samples included), row-major.
+    block_top: Vec<f32>,
 }
+
+/// Side of the blocks (cells) whose highest sample lets a march leap over them: on a rough terrain most of a ray's
+/// way passes well above the ground, and a block is crossed in one step rather than sixteen.
+const BLOCK: usize = 8;
 
 /// Bisection steps that refine a ray's hit after the march brackets it.
 const HIT_REFINEMENT: usize = 20;
@@ -130,11 +140,87 @@ const ABOVE_REFINEMENT: usize = 12;
 impl<'a> Sight<'a> {
     /// The terrain prepared for ray casting.
     pub fn new(terrain: &'a Heightfield) -> Sight<'a> {
-        let top = terrain
-            .heights
+        let t = terrain;
+        let blocks = (
+            t.nx.saturating_sub(2) / BLOCK + 1,
+            t.ny.saturating_sub(2) / BLOCK + 1,
+        );
+        let block_top: Vec<f32> = (0..blocks.1)
+            .into_par_iter()
+            .flat_map_iter(|by| {
+                (0..blocks.0).map(move |bx| {
+                    let (i1, j1) = ((bx + 1) * BLOCK, (by + 1) * BLOCK);
+                    (by * BLOCK..=j1.min(t.ny.saturating_sub(1)))
+                        .flat_map(|j| {
+                            (bx * BLOCK..=i1.min(t.nx.saturating_sub(1)))
+                                .filter_map(move |i| t.heights.get(j * t.nx + i).copied())
+                        })
+                        .fold(f32::NEG_INFINITY, f32::max)
+                })
+            })
+            .collect();
+        let top = block_top
             .iter()
             .fold(f64::NEG_INFINITY, |m, &h| m.max(h as f64));
-        Sight { terrain, top }
+        Sight {
+            terrain,
+            top,
+            blocks,
+            block_top,
+        }
+    }
+
+    /// Marches `origin + dir·t` from `t0` (excluded) to `t1` (included), calling `probe(before, t)` at points at
+    /// most `step` apart, until it returns `Some`. Blocks of cells whose highest sample the ray passes above from
+    /// where it enters them to where it leaves are leapt over: the ray meets nothing in them.
+    fn march<R>(
+        &self,
+        origin: DVec3,
+        dir: DVec3,
+        (t0, t1): (f64, f64),
+        step: f64,
+        mut probe: impl FnMut(f64, f64) -> Option<R>,
+    ) -> Option<R> {
+        let block = BLOCK as f64 * self.terrain.cell;
+        let corner = self.terrain.origin;
+        let (o, v) = ((origin.truncate() - corner) / block, dir.truncate() / block);
+        let mut t = t0;
+        while t < t1 {
+            // the block the ray is entering at `t` (of two on a border, the one ahead) and where it leaves it
+            let f = o + v * t;
+            let index = |f: f64, v: f64, n: usize| {
+                let k = if v < 0.0 { f.ceil() - 1.0 } else { f.floor() };
+                (k.max(0.0) as usize).min(n - 1)
+            };
+            let (bx, by) = (
+                index(f.x, v.x, self.blocks.0),
+                index(f.y, v.y, self.blocks.1),
+            );
+            let mut exit = t1;
+            for (o, v, b) in [(o.x, v.x, bx), (o.y, v.y, by)] {
+                if v > 1e-15 {
+                    exit = exit.min(((b + 1) as f64 - o) / v);
+                } else if v < -1e-15 {
+                    exit = exit.min((b as f64 - o) / v);
+                }
+            }
+            let exit = exit.max(t);
+            let under = self.block_top[by * self.blocks.0 + bx] as f64;
+            if exit > t && origin.z + dir.z * t > under && origin.z + dir.z * exit > under {
+                t = exit;
+                continue;
+            }
+            // through the block (or the step, if the ray lies on a block's border) a step at a time
+            let end = if exit > t { exit } else { (t + step).min(t1) };
+            while t < end {
+                let next = (t + step).min(end);
+                if let Some(r) = probe(t, next) {
+                    return Some(r);
+                }
+                t = next;
+            }
+        }
+        None
     }
 
     /// Where the ray from `origin` along the unit `dir` first meets the terrain's (bilinear) surface: the distance
@@ -146,38 +232,52 @@ impl<'a> Sight<'a> {
     /// [`Sight::hit`] looking no farther than `t_max` along the ray: what stands in front of a point at that
     /// distance (the march stops there, which is what makes occlusion tests cheap).
     pub fn hit_within(&self, origin: DVec3, dir: DVec3, t_max: f64) -> Option<(f64, DVec3)> {
+        let (mut lo, mut hi) = self.bracket(origin, dir, t_max)?;
+        if lo < hi {
+            for _ in 0..HIT_REFINEMENT {
+                let mid = 0.5 * (lo + hi);
+                match self.above(origin, dir, mid) {
+                    Some(v) if v > 0.0 => lo = mid,
+                    _ => hi = mid,
+                }
+            }
+        }
+        Some((hi, origin + dir * hi))
+    }
+
+    /// Whether the ray from `origin` along the unit `dir` meets the terrain no farther than `t_max`: what
+    /// [`Sight::hit_within`] finds, without placing the hit.
+    pub fn blocked_within(&self, origin: DVec3, dir: DVec3, t_max: f64) -> bool {
+        self.bracket(origin, dir, t_max).is_some()
+    }
+
+    /// How far above the terrain the ray is at `t`; `None` off the grid.
+    fn above(&self, origin: DVec3, dir: DVec3, t: f64) -> Option<f64> {
+        let p = origin + dir * t;
+        self.terrain.height_at(p.truncate()).map(|h| p.z - h)
+    }
+
+    /// The march's step `(before, at)` where the ray first comes down to the surface (`before` = `at` if it starts
+    /// there): it is above it at `before` and not at `at`.
+    fn bracket(&self, origin: DVec3, dir: DVec3, t_max: f64) -> Option<(f64, f64)> {
         let (t0, t1) = self.span(origin, dir)?;
         let t1 = t1.min(t_max);
         if !(t0 <= t1) {
             return None;
         }
+        if self.above(origin, dir, t0)? <= 0.0 {
+            return Some((t0, t0));
+        }
         let horizontal = dir.truncate().length().max(0.05);
         let step = MARCH_STEP * self.terrain.cell / horizontal;
-        let above = |t: f64| -> Option<f64> {
-            let p = origin + dir * t;
-            self.terrain.height_at(p.truncate()).map(|h| p.z - h)
-        };
-        let mut t = t0;
-        if above(t)? <= 0.0 {
-            return Some((t, origin + dir * t));
-        }
-        while t < t1 {
-            let next = (t + step).min(t1);
-            let d = above(next)?;
-            if d <= 0.0 {
-                let (mut lo, mut hi) = (t, next);
-                for _ in 0..HIT_REFINEMENT {
-                    let mid = 0.5 * (lo + hi);
-                    match above(mid) {
-                        Some(v) if v > 0.0 => lo = mid,
-                        _ => hi = mid,
-                    }
-                }
-                return Some((hi, origin + dir * hi));
+        // `Some(None)`: the march left the grid
+        self.march(origin, dir, (t0, t1), step, |t, next| {
+            match self.above(origin, dir, next) {
+                None => Some(None),
+                Some(d) => (d <= 0.0).then_some(Some((t, next))),
             }
-            t = next;
-        }
-        None
+        })
+        .flatten()
     }
 
     /// The part `[t0, t1]` of the ray inside the terrain's box (its XY extent, below its highest point).

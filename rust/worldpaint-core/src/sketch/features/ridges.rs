@@ -28,15 +28,7 @@ pub fn ridges(terrain: &Heightfield, options: &FeatureOptions) -> Result<Vec<Fea
     options.check()?;
     super::check_terrain(terrain)?;
     let grid = Grid { t: terrain };
-    let candidate: Vec<bool> = (0..terrain.ny)
-        .into_par_iter()
-        .map(|j| {
-            (0..terrain.nx)
-                .map(|i| grid.is_candidate(i, j, options.ridge_window, options.ridge_directions))
-                .collect::<Vec<_>>()
-        })
-        .collect::<Vec<_>>()
-        .concat();
+    let candidate = candidates(terrain, options.ridge_window, options.ridge_directions);
     let mut segments: Vec<Segment> = (0..terrain.ny)
         .into_par_iter()
         .map(|j| grid.row_segments(j, &candidate))
@@ -75,6 +67,53 @@ pub fn ridges(terrain: &Heightfield, options: &FeatureOptions) -> Result<Vec<Fea
         .collect())
 }
 
+/// Profile recognition: the samples with, in at least `needed` of the four directions, a sample lower than
+/// themselves on each side within `window` samples. Row by row over a copy of the heights bordered by `window`
+/// samples of +∞ (never lower), so that each side's test is the minimum of `window` shifted rows, which the
+/// compiler vectorises.
+fn candidates(t: &Heightfield, window: usize, needed: usize) -> Vec<bool> {
+    let (nx, ny, w) = (t.nx, t.ny, window);
+    let stride = nx + 2 * w;
+    let mut padded = vec![f32::INFINITY; stride * (ny + 2 * w)];
+    for (row, heights) in padded[w * stride..]
+        .chunks_exact_mut(stride)
+        .zip(t.heights.chunks_exact(nx))
+    {
+        row[w..w + nx].copy_from_slice(heights);
+    }
+    (0..ny)
+        .into_par_iter()
+        .flat_map_iter(|j| {
+            let start = (j + w) * stride + w;
+            let centre = &padded[start..start + nx];
+            let mut count = vec![0u8; nx];
+            let (mut ahead, mut behind) = (vec![0f32; nx], vec![0f32; nx]);
+            for (dx, dy) in DIRECTIONS {
+                let offset = dy * stride as isize + dx;
+                ahead.fill(f32::INFINITY);
+                behind.fill(f32::INFINITY);
+                for k in 1..=w as isize {
+                    let (a, b) = (start as isize + k * offset, start as isize - k * offset);
+                    let row_a = &padded[a as usize..a as usize + nx];
+                    let row_b = &padded[b as usize..b as usize + nx];
+                    for ((m, n), (&x, &y)) in ahead
+                        .iter_mut()
+                        .zip(&mut behind)
+                        .zip(row_a.iter().zip(row_b))
+                    {
+                        *m = m.min(x);
+                        *n = n.min(y);
+                    }
+                }
+                for (((c, &h), &m), &n) in count.iter_mut().zip(centre).zip(&ahead).zip(&behind) {
+                    *c += u8::from(m < h && n < h);
+                }
+            }
+            count.into_iter().map(move |c| c as usize >= needed)
+        })
+        .collect()
+}
+
 struct Grid<'a> {
     t: &'a Heightfield,
 }
@@ -90,28 +129,6 @@ impl Grid<'_> {
         let y = j as isize + d.1 * k;
         (x >= 0 && y >= 0 && (x as usize) < self.t.nx && (y as usize) < self.t.ny)
             .then_some((x as usize, y as usize))
-    }
-
-    /// Profile recognition: in at least `needed` of the four directions, a sample lower than `(i, j)` on each
-    /// side within `window` samples.
-    fn is_candidate(&self, i: usize, j: usize, window: usize, needed: usize) -> bool {
-        let h0 = self.h(i, j);
-        let lower = |d: (isize, isize), sign: isize| {
-            (1..=window as isize).any(|k| {
-                self.step(i, j, d, sign * k)
-                    .is_some_and(|(x, y)| self.h(x, y) < h0)
-            })
-        };
-        let mut count = 0;
-        for d in DIRECTIONS {
-            if lower(d, 1) && lower(d, -1) {
-                count += 1;
-                if count >= needed {
-                    return true;
-                }
-            }
-        }
-        false
     }
 
     fn id(&self, i: usize, j: usize) -> u32 {
@@ -259,10 +276,14 @@ fn prune(forest: &mut [Vec<(u32, f64)>], min_length: f64) {
     if !(min_length > 0.0) {
         return;
     }
+    // pruning makes no leaf (a branching point keeps two branches): the leaves are found once
+    let mut leaves: Vec<u32> = (0..forest.len() as u32)
+        .filter(|&v| forest[v as usize].len() == 1)
+        .collect();
     loop {
-        let mut short: Vec<(f64, u32, Vec<u32>)> = (0..forest.len() as u32)
-            .filter(|&v| forest[v as usize].len() == 1)
-            .filter_map(|leaf| {
+        let mut short: Vec<(f64, u32, Vec<u32>)> = leaves
+            .iter()
+            .filter_map(|&leaf| {
                 let (path, length) = branch(forest, leaf, min_length);
                 let end = *path.last()? as usize;
                 (length < min_length && forest[end].len() >= 3).then_some((length, leaf, path))
@@ -287,6 +308,7 @@ fn prune(forest: &mut [Vec<(u32, f64)>], min_length: f64) {
         if !removed {
             return;
         }
+        leaves.retain(|&v| forest[v as usize].len() == 1);
     }
 }
 

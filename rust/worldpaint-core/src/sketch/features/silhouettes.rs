@@ -11,10 +11,6 @@ use rayon::prelude::*;
 
 /// How far above a sample (in cells) the visibility test aims: above the surface, not into it.
 const AIM_ABOVE: f64 = 1e-3;
-/// March step of the visibility test (cells of horizontal travel), as in [`Sight::hit`].
-const MARCH_STEP: f64 = 0.5;
-/// Side of the blocks (cells) whose highest sample lets the visibility march leap over them.
-const BLOCK: usize = 8;
 
 /// The terrain's visible silhouette curves seen from `camera`, each a polyline of grid samples in order along it.
 pub fn silhouettes(
@@ -27,7 +23,7 @@ pub fn silhouettes(
     if !(camera.eye.is_finite() && camera.forward.is_finite() && camera.right.is_finite()) {
         return Err(crate::error::Error::invalid("camera", "is not finite"));
     }
-    let mesh = Mesh::new(sight.terrain, camera);
+    let mesh = Mesh::new(sight, camera);
     let (nx, ny) = (mesh.t.nx, mesh.t.ny);
     let facing: Vec<Vec<[bool; 2]>> = (0..ny - 1)
         .into_par_iter()
@@ -68,41 +64,16 @@ pub fn silhouettes(
 struct Mesh<'a> {
     t: &'a Heightfield,
     camera: &'a Camera,
-    /// The terrain's highest sample: the visibility march starts where the segment comes below it.
-    top: f64,
-    /// Blocks across X.
-    blocks_x: usize,
-    /// The highest sample of each block of `BLOCK × BLOCK` cells (its border samples included), row-major: the
-    /// march leaps over a block when the segment passes above it.
-    block_top: Vec<f32>,
+    /// The terrain as the eye sees it, for the visibility test.
+    sight: &'a Sight<'a>,
 }
 
 impl<'a> Mesh<'a> {
-    fn new(t: &'a Heightfield, camera: &'a Camera) -> Mesh<'a> {
-        let top = t
-            .heights
-            .iter()
-            .fold(f64::NEG_INFINITY, |m, &h| m.max(h as f64));
-        let (blocks_x, blocks_y) = ((t.nx - 2) / BLOCK + 1, (t.ny - 2) / BLOCK + 1);
-        let block_top = (0..blocks_y)
-            .into_par_iter()
-            .flat_map_iter(|by| {
-                (0..blocks_x).map(move |bx| {
-                    let (i1, j1) = ((bx + 1) * BLOCK, (by + 1) * BLOCK);
-                    (by * BLOCK..=j1.min(t.ny - 1))
-                        .flat_map(|j| {
-                            (bx * BLOCK..=i1.min(t.nx - 1)).map(move |i| t.heights[j * t.nx + i])
-                        })
-                        .fold(f32::NEG_INFINITY, f32::max)
-                })
-            })
-            .collect();
+    fn new(sight: &'a Sight<'a>, camera: &'a Camera) -> Mesh<'a> {
         Mesh {
-            t,
+            t: sight.terrain,
             camera,
-            top,
-            blocks_x,
-            block_top,
+            sight,
         }
     }
 
@@ -227,69 +198,12 @@ impl<'a> Mesh<'a> {
         let eye = self.camera.eye;
         let d = target - eye;
         let horizontal = d.truncate().length();
-        let cell = self.t.cell;
-        if horizontal <= cell {
+        if horizontal <= self.t.cell {
             return true;
         }
-        let (mut t0, mut t1) = (0.0f64, 1.0 - cell / horizontal);
-        // only where the segment is below the highest sample can it meet the terrain
-        if eye.z > self.top {
-            if target.z >= self.top {
-                return true;
-            }
-            t0 = (eye.z - self.top) / (eye.z - target.z);
-        } else if target.z > self.top {
-            t1 = t1.min((self.top - eye.z) / d.z);
-        }
-        // and only over the grid
-        let (lo, hi) = self.t.bbox();
-        for (o, v, a, b) in [(eye.x, d.x, lo.x, hi.x), (eye.y, d.y, lo.y, hi.y)] {
-            if v.abs() < 1e-12 {
-                if o < a || o > b {
-                    return true;
-                }
-                continue;
-            }
-            let (ta, tb) = ((a - o) / v, (b - o) / v);
-            t0 = t0.max(ta.min(tb));
-            t1 = t1.min(ta.max(tb));
-        }
-        let step = MARCH_STEP * cell / horizontal;
-        let block = BLOCK as f64 * cell;
-        let origin = self.t.origin;
-        let mut t = t0;
-        while t <= t1 {
-            let p = eye + d * t;
-            let f = (p.truncate() - origin) / block;
-            let (bx, by) = (f.x.max(0.0) as usize, f.y.max(0.0) as usize);
-            let Some(&under) = self
-                .block_top
-                .get(by * self.blocks_x + bx.min(self.blocks_x - 1))
-            else {
-                break;
-            };
-            // leap to where the segment leaves the block if it stays above the block's highest sample there
-            let mut exit = f64::INFINITY;
-            for (o, v, b) in [(eye.x - origin.x, d.x, bx), (eye.y - origin.y, d.y, by)] {
-                if v > 1e-12 {
-                    exit = exit.min(((b + 1) as f64 * block - o) / v);
-                } else if v < -1e-12 {
-                    exit = exit.min((b as f64 * block - o) / v);
-                }
-            }
-            let exit = exit.min(t1);
-            if p.z > under as f64 && eye.z + d.z * exit > under as f64 && exit > t {
-                t = exit + 1e-3 * step;
-                continue;
-            }
-            if let Some(h) = self.t.height_at(p.truncate()) {
-                if p.z < h {
-                    return false;
-                }
-            }
-            t += step;
-        }
-        true
+        let length = d.length();
+        let reach = length * (1.0 - self.t.cell / horizontal);
+        !self.sight.blocked_within(eye, d / length, reach)
     }
 }
 
