@@ -142,7 +142,7 @@ pub(crate) fn check_camera(camera: &Camera, sight: &Sight, limits: &SketchLimits
         let x = (k as f64 + 0.5) / SEEN_COLUMNS as f64;
         (0..=SEEN_ROWS).any(|r| {
             let y = r as f64 / SEEN_ROWS as f64;
-            sight.hit(eye, camera.ray(DVec2::new(x, y))).is_some()
+            sight.blocked_within(eye, camera.ray(DVec2::new(x, y)), f64::INFINITY)
         })
     });
     if !sees {
