@@ -11,8 +11,10 @@ use crate::spatial::{FlatGrid, GridEntry, GrowingPoints};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use tile::{run_tile, Tile};
+use tiling::{SweepTiles, Tiling};
 
 mod tile;
+mod tiling;
 
 /// Sweeps of the rdf-matching chain (tiles are redrawn and the temperature lowered between sweeps).
 const RDF_SWEEPS: usize = 12;
@@ -27,6 +29,13 @@ const TAU_END: f64 = 0.02;
 const ANNEALING_FRACTION: f64 = 0.75;
 /// The chain stops before a phase of a sweep once its histograms' χ² per bin is at most this (see [`converged`]).
 const CONVERGED_CHI2_PER_BIN: f64 = 0.25;
+/// A chain is held by targets it cannot reach once a sweep lowers its χ² by less than this share while it stays
+/// above `STALLED_CHI2_PER_BIN` per bin (see "When to stop" in the module documentation of [`super`]).
+const STALLED_GAIN: f64 = 0.1;
+const STALLED_CHI2_PER_BIN: f64 = 1.0;
+/// ... once its temperature is at most this (from the sixth of the twelve sweeps on): a hot chain may gain little
+/// because it is hot.
+const STALLED_TAU: f64 = 0.1;
 /// Tiles hold at least this many expected instances (and are at least twice the interaction radius wide).
 const MIN_TILE_INSTANCES: f64 = 256.0;
 
@@ -237,14 +246,15 @@ fn chi2(dev: &[f64], weight: &[f64]) -> f64 {
 }
 
 impl Matched {
-    /// The largest χ² that lies within the noise of the targets: [`CONVERGED_CHI2_PER_BIN`] per bin that has a
-    /// target, times `noise_scale` (negative without such a bin: nothing is within the noise of no target).
-    fn chi2_bound(&self, noise_scale: f64) -> f64 {
+    /// `per_bin` times the bins that have a target, times `noise_scale` (negative without such a bin: nothing is
+    /// within the noise of no target). At [`CONVERGED_CHI2_PER_BIN`], the largest χ² that lies within the noise of
+    /// the targets.
+    fn chi2_bound(&self, per_bin: f64, noise_scale: f64) -> f64 {
         let bins = self.targets.iter().filter(|t| **t > 0.0).count();
         if bins == 0 {
             return -1.0;
         }
-        CONVERGED_CHI2_PER_BIN * noise_scale * bins as f64
+        per_bin * noise_scale * bins as f64
     }
 }
 
@@ -259,6 +269,8 @@ struct Sweeps<'c, 'a> {
     own_pairs: bool,
     /// The stopping bound (see [`Matched::chi2_bound`]), read once for the chain.
     chi2_bound: f64,
+    /// The χ² above which a chain that gains less than `STALLED_GAIN` a sweep stops.
+    stalled_above: f64,
 }
 
 impl<'a> RdfChain<'_, 'a> {
@@ -285,6 +297,7 @@ impl<'a> RdfChain<'_, 'a> {
         let sweeps = self.sweeps(n, tiled);
         let base_seed: u64 = rng.random();
         let mut dev: Vec<f64> = Vec::new();
+        let mut last_chi2 = f64::INFINITY;
         for sweep in 0..RDF_SWEEPS {
             let tau = annealed(TAU_START, TAU_END, sweep, RDF_SWEEPS, ANNEALING_FRACTION);
             let sweep_seed = mix_seed(base_seed, sweep as u64);
@@ -296,6 +309,14 @@ impl<'a> RdfChain<'_, 'a> {
             if sweep == 0 {
                 dev = sweeps.deviation(&own, &tiles);
             }
+            let now = chi2(&dev, &sweeps.matched.weight);
+            if tau <= STALLED_TAU
+                && now > sweeps.stalled_above
+                && last_chi2 - now < STALLED_GAIN * last_chi2
+            {
+                return Ok(Ran { points: own, dev });
+            }
+            last_chi2 = now;
             let phases = tiling.phases();
             for phase in 0..phases {
                 // before each phase: a sweep's last phases are not run once the first have matched the targets
@@ -328,7 +349,8 @@ impl<'a> RdfChain<'_, 'a> {
         let matched = self.matched_histograms(n);
         Sweeps {
             chain: self,
-            chi2_bound: matched.chi2_bound(noise_scale),
+            chi2_bound: matched.chi2_bound(CONVERGED_CHI2_PER_BIN, noise_scale),
+            stalled_above: matched.chi2_bound(STALLED_CHI2_PER_BIN, noise_scale),
             matched,
             fixed: self.flat_grid(&target.grid.entries().copied().collect::<Vec<_>>()),
             n_alpha: ((target.radius / target.bin_width).ceil() as usize).max(1),
@@ -623,122 +645,6 @@ impl<'a> Sweeps<'_, 'a> {
     }
 }
 
-/// The tiling of one sweep: `nx × ny` tiles of `size` from `origin`, in 2 × 2 colour phases when `tiled`
-/// (otherwise one tile over the region).
-struct Tiling {
-    tiled: bool,
-    origin: DVec2,
-    size: DVec2,
-    nx: usize,
-    ny: usize,
-}
-
-impl Tiling {
-    /// The tiling of a sweep: square tiles of `tile_size` at a random offset, or one tile over `bbox`.
-    fn draw(tiled: bool, tile_size: f64, bbox: (DVec2, DVec2), rng: &mut ChaCha8Rng) -> Self {
-        let (rlo, rhi) = bbox;
-        let (origin, size, nx, ny) = if tiled {
-            let off = DVec2::new(rng.random::<f64>(), rng.random::<f64>()) * tile_size;
-            let origin = rlo - off;
-            let nx = ((rhi.x - origin.x) / tile_size).floor() as usize + 1;
-            let ny = ((rhi.y - origin.y) / tile_size).floor() as usize + 1;
-            (origin, DVec2::splat(tile_size), nx, ny)
-        } else {
-            let ext = rhi - rlo;
-            (rlo, ext * (1.0 + 1e-9) + DVec2::splat(1e-9), 1, 1)
-        };
-        Tiling {
-            tiled,
-            origin,
-            size,
-            nx,
-            ny,
-        }
-    }
-
-    fn phases(&self) -> usize {
-        if self.tiled {
-            4
-        } else {
-            1
-        }
-    }
-
-    fn tile_of(&self, p: DVec2) -> usize {
-        let (origin, size, nx, ny) = (self.origin, self.size, self.nx, self.ny);
-        let ix = (((p.x - origin.x) / size.x).floor().max(0.0) as usize).min(nx - 1);
-        let iy = (((p.y - origin.y) / size.y).floor().max(0.0) as usize).min(ny - 1);
-        iy * nx + ix
-    }
-
-    /// The sweep's tiles with their members among `own`, their colour phases, their shares of their phase's
-    /// instances, proposals and seeds.
-    fn tiles(&self, own: &[DVec2], sweep_seed: u64, iterations_per_instance: f64) -> SweepTiles {
-        let (nx, ny) = (self.nx, self.ny);
-        let mut buckets: Vec<Vec<u32>> = vec![Vec::new(); nx * ny];
-        for (id, p) in own.iter().enumerate() {
-            buckets[self.tile_of(*p)].push(id as u32);
-        }
-        let phase_of = |t: usize| {
-            if self.tiled {
-                ((t % nx) % 2) + 2 * ((t / nx) % 2)
-            } else {
-                0
-            }
-        };
-        let mut phase_total = [0usize; 4];
-        for (t, b) in buckets.iter().enumerate() {
-            phase_total[phase_of(t)] += b.len();
-        }
-        let tiles = buckets
-            .into_iter()
-            .enumerate()
-            .map(|(t, members)| {
-                let phase = phase_of(t);
-                let lo = self.origin + DVec2::new((t % nx) as f64, (t / nx) as f64) * self.size;
-                let count = members.len();
-                Tile {
-                    lo,
-                    hi: lo + self.size,
-                    index: t,
-                    phase,
-                    share: count as f64 / phase_total[phase].max(1) as f64,
-                    proposals: (count as f64 * iterations_per_instance / RDF_SWEEPS as f64).ceil()
-                        as usize,
-                    members,
-                    seed: mix_seed(sweep_seed, (phase * nx * ny + t) as u64 + 1),
-                }
-            })
-            .collect();
-        SweepTiles {
-            tiles,
-            nx,
-            ny,
-            phase_total,
-        }
-    }
-}
-
-/// The tiles of one sweep, row-major, and the instances of each colour phase.
-struct SweepTiles {
-    tiles: Vec<Tile>,
-    nx: usize,
-    ny: usize,
-    phase_total: [usize; 4],
-}
-
-impl SweepTiles {
-    /// The tiles next to tile `t` (its eight neighbours, fewer on the border).
-    fn neighbours(&self, t: usize) -> impl Iterator<Item = &Tile> + '_ {
-        let (ix, iy) = ((t % self.nx) as isize, (t / self.nx) as isize);
-        let (nx, ny) = (self.nx as isize, self.ny as isize);
-        (iy - 1..=iy + 1)
-            .flat_map(move |y| (ix - 1..=ix + 1).map(move |x| (x, y)))
-            .filter(move |&(x, y)| (x, y) != (ix, iy) && x >= 0 && y >= 0 && x < nx && y < ny)
-            .map(move |(x, y)| &self.tiles[(y * nx + x) as usize])
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -766,11 +672,19 @@ mod tests {
         dev: Vec<f64>,
         chi2: f64,
         bound: f64,
+        stalled_above: f64,
         tiled: bool,
+        /// The last progress the chain reported (1 after its last sweep).
+        progress: f64,
     }
 
     /// A clustered example's color pasted alone over a square of `side`, its chain's end recounted.
     fn pasted(side: f64, seed: u64) -> Recounted {
+        pasted_at(side, seed, 1.0)
+    }
+
+    /// [`pasted`], the self pair's targets scaled by `pair_scale`.
+    fn pasted_at(side: f64, seed: u64, pair_scale: f64) -> Recounted {
         let example = scene_from_points(
             "shrub",
             &clustered_points(&square(0.0, 100.0), 0.004, 8.0, 2.0, seed),
@@ -803,12 +717,19 @@ mod tests {
             area: region.area(),
             expected: color.categories[0].density * region.area(),
             self_tag,
-            self_pair_scale: 1.0,
+            self_pair_scale: pair_scale,
             iterations_per_instance: opts.iterations_per_instance,
             exemplar_count: color.categories[0].count as f64,
             births: None,
         };
-        let ran = match chain.run_carried(&mut ChaCha8Rng::seed_from_u64(seed), &|_| true) {
+        let progress = std::sync::Mutex::new(0.0);
+        let report = |f: f64| {
+            if let Ok(mut p) = progress.lock() {
+                *p = f;
+            }
+            true
+        };
+        let ran = match chain.run_carried(&mut ChaCha8Rng::seed_from_u64(seed), &report) {
             Ok(r) => r,
             Err(e) => panic!("the chain: {e}"),
         };
@@ -831,11 +752,33 @@ mod tests {
         Recounted {
             chi2: chi2(&dev, &sweeps.matched.weight),
             bound: sweeps.chi2_bound,
+            stalled_above: sweeps.stalled_above,
             ran,
             moved,
             dev,
             tiled,
+            progress: progress.into_inner().unwrap_or(f64::NAN),
         }
+    }
+
+    /// A chain held by targets it cannot reach (the self pair's ten times what the count can give) stops once a
+    /// sweep of the cold chain lowers its χ² by less than a tenth, instead of spending its budget; the same chain
+    /// against the learned targets reaches them (see "When to stop").
+    #[test]
+    fn a_chain_held_by_unreachable_targets_stops_once_it_stalls() {
+        let held = pasted_at(200.0, 4, 10.0);
+        println!(
+            "targets ×10: χ² {:.0} (stalled above {:.0}), progress {:.3}",
+            held.chi2, held.stalled_above, held.progress
+        );
+        assert!(held.chi2 > held.stalled_above, "χ² {}", held.chi2);
+        assert!(
+            held.progress < 1.0,
+            "the chain ran {:.2} of its sweeps",
+            held.progress
+        );
+        let free = pasted(200.0, 4);
+        assert!(free.chi2 <= free.bound * (1.0 + 1e-9), "χ² {}", free.chi2);
     }
 
     /// The histograms a chain carries from move to move are those of its points, and a chain that stopped on them
