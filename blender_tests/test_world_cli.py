@@ -319,3 +319,24 @@ def test_an_interrupted_or_terminated_run_leaves_the_old_tile_set_as_it_was(inpu
         assert stderr.strip().splitlines() == [f"{PROG}: interrupted; {out} was left as it was"], stderr
         assert snapshot(out) == old, "a stopped run changed the old tile set"
         assert sorted(os.listdir(tmp_path)) == ["world"], "a stopped run left its staging folder"
+
+
+def test_a_terminate_signal_inside_the_import_machinery_is_answered_once_it_returns():
+    # an exception raised in a module lock's weakref callback is printed and ignored, and the run would go on: the
+    # handler sends the signal again and answers it outside the callback
+    code = compile("def callback(log):\n    import signal\n    signal.raise_signal(signal.SIGTERM)\n"
+                   "    log.append('callback returned')\n", "<frozen importlib._bootstrap>", "exec")
+    frozen = {}
+    exec(code, frozen)
+    log = []
+    previous = signal.signal(signal.SIGTERM, world.interrupt)
+    try:
+        frozen["callback"](log)
+        log.append("after the callback")
+        time.sleep(ANSWER_WITHIN)
+        log.append("never answered")
+    except KeyboardInterrupt:
+        log.append("answered")
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+    assert log == ["callback returned", "after the callback", "answered"]

@@ -46,6 +46,7 @@ import math
 import os
 import signal
 import sys
+import threading
 import time
 
 import numpy as np
@@ -642,6 +643,13 @@ def one_line(error):
 
 
 def interrupt(signum, frame):
+    # inside the import machinery (a module lock's weakref callback among it) the exception would be printed and
+    # ignored, and the run go on: the signal is sent again a moment later, to be answered outside it
+    if frame is not None and frame.f_code.co_filename.startswith("<frozen importlib"):
+        again = threading.Timer(0.01, os.kill, (os.getpid(), signum))
+        again.daemon = True
+        again.start()
+        return
     # one answer: a second signal while the first is being cleaned up would escape it
     signal.signal(signal.SIGTERM, signal.SIG_IGN)
     raise KeyboardInterrupt
