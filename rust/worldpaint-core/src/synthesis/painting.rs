@@ -181,6 +181,7 @@ impl<'s> Painting<'s> {
                 iterations_per_instance: self.opts.iterations_per_instance,
                 exemplar_count: cat.count as f64,
                 births: births.as_ref(),
+                quartered: cat.category.kind == CategoryKind::Polygon,
             };
             chain.run(&mut rng, report)?
         } else {

@@ -219,6 +219,9 @@ pub(super) struct RdfChain<'c, 'a> {
     pub(super) exemplar_count: f64,
     /// The map-weighted intensity births are drawn from (None: uniformly), see [`super::births`].
     pub(super) births: Option<&'c BirthIntensity>,
+    /// Whether one tile over the region reads the stopping rule four times a sweep (the dense points of polygons,
+    /// see "When to stop" in the module documentation of [`super`]).
+    pub(super) quartered: bool,
 }
 
 /// The matched histograms, flat (see `histogram_offsets`): their targets `T = h · cell area · n_X · n_Y / A`
@@ -302,7 +305,13 @@ impl<'a> RdfChain<'_, 'a> {
             let tau = annealed(TAU_START, TAU_END, sweep, RDF_SWEEPS, ANNEALING_FRACTION);
             let sweep_seed = mix_seed(base_seed, sweep as u64);
             let mut sweep_rng = ChaCha8Rng::seed_from_u64(sweep_seed);
-            let tiling = Tiling::draw(tiled, tile_size, self.region.bbox(), &mut sweep_rng);
+            let tiling = Tiling::draw(
+                tiled,
+                self.quartered,
+                tile_size,
+                self.region.bbox(),
+                &mut sweep_rng,
+            );
             // an instance stays in its tile over the sweep: the instances are sorted into tiles once for its phases
             let tiles = tiling.tiles(&own, sweep_seed, self.iterations_per_instance);
             // H − T: computed in full once, then carried over by the tiles' changes (see "Tiles and determinism")
@@ -721,6 +730,7 @@ mod tests {
             iterations_per_instance: opts.iterations_per_instance,
             exemplar_count: color.categories[0].count as f64,
             births: None,
+            quartered: false,
         };
         let progress = std::sync::Mutex::new(0.0);
         let report = |f: f64| {
@@ -746,8 +756,14 @@ mod tests {
             / n;
         let tiled = chain.tile_size(n).1;
         let sweeps = chain.sweeps(n, tiled);
-        let tiles = Tiling::draw(false, 1.0, region.bbox(), &mut ChaCha8Rng::seed_from_u64(0))
-            .tiles(&ran.points, 0, 1.0);
+        let tiles = Tiling::draw(
+            false,
+            false,
+            1.0,
+            region.bbox(),
+            &mut ChaCha8Rng::seed_from_u64(0),
+        )
+        .tiles(&ran.points, 0, 1.0);
         let dev = sweeps.deviation(&ran.points, &tiles);
         Recounted {
             chi2: chi2(&dev, &sweeps.matched.weight),

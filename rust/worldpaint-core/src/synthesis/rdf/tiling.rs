@@ -10,9 +10,10 @@ use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 
 /// The tiling of one sweep: `nx × ny` tiles of `size` from `origin`, in 2 × 2 colour phases when `tiled`
-/// (otherwise one tile over the region).
+/// (otherwise one tile over the region, in four phases of a quarter of its proposals when `quartered`).
 pub(super) struct Tiling {
     tiled: bool,
+    quartered: bool,
     origin: DVec2,
     size: DVec2,
     nx: usize,
@@ -23,6 +24,7 @@ impl Tiling {
     /// The tiling of a sweep: square tiles of `tile_size` at a random offset, or one tile over `bbox`.
     pub(super) fn draw(
         tiled: bool,
+        quartered: bool,
         tile_size: f64,
         bbox: (DVec2, DVec2),
         rng: &mut ChaCha8Rng,
@@ -40,6 +42,7 @@ impl Tiling {
         };
         Tiling {
             tiled,
+            quartered,
             origin,
             size,
             nx,
@@ -48,7 +51,7 @@ impl Tiling {
     }
 
     pub(super) fn phases(&self) -> usize {
-        if self.tiled {
+        if self.tiled || self.quartered {
             4
         } else {
             1
@@ -105,7 +108,12 @@ impl Tiling {
                     seed: mix_seed(sweep_seed, (phase * nx * ny + t) as u64 + 1),
                 }
             })
-            .collect();
+            .collect::<Vec<Tile>>();
+        let (tiles, phase_total) = if self.quartered && !self.tiled {
+            (quarters(tiles, sweep_seed), [phase_total[0]; 4])
+        } else {
+            (tiles, phase_total)
+        };
         SweepTiles {
             tiles,
             nx,
@@ -113,6 +121,23 @@ impl Tiling {
             phase_total,
         }
     }
+}
+
+/// The one tile over the region as four phases of a quarter of its proposals each (their own seeds), so that the
+/// chain's stopping rule is read before each, as on tiles.
+fn quarters(tiles: Vec<Tile>, sweep_seed: u64) -> Vec<Tile> {
+    let Some(tile) = tiles.into_iter().next() else {
+        return Vec::new();
+    };
+    (0..4)
+        .map(|phase| Tile {
+            phase,
+            proposals: tile.proposals.div_ceil(4),
+            members: tile.members.clone(),
+            seed: mix_seed(sweep_seed, phase as u64 + 1),
+            ..tile
+        })
+        .collect()
 }
 
 /// The tiles of one sweep, row-major, and the instances of each colour phase.
